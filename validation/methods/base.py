@@ -1,0 +1,36 @@
+"""The contract between the runner and each method adapter.
+
+An adapter module ``validation/methods/<name>.py`` defines
+
+    def run(case: Case, requests: list[Request], options: dict) -> MethodRun
+
+It translates the case into its library's own model, computes *only* the requested outputs,
+and returns their values in the case's units (angles in degrees). If the method cannot model
+the case it raises ``NotApplicable`` with the reason, which the results table records.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, NamedTuple
+
+
+class Request(NamedTuple):
+    quantity: str
+    point: str
+    level: int
+
+
+class NotApplicable(Exception):
+    """The method cannot model this case; the message says why."""
+
+
+@dataclass
+class MethodRun:
+    values: dict[Request, float]
+    converged: bool = True
+    message: str = ""
+    wall_time: float = 0.0
+    error_estimate: dict[Request, float] = field(default_factory=dict)
+    level_converged: dict[int, bool] = field(default_factory=dict)
+    level_messages: dict[int, str] = field(default_factory=dict)
+    extras: dict[str, Any] = field(default_factory=dict)  # e.g. deformed shapes for plots

@@ -1,0 +1,394 @@
+"""Case-file schema: what a TOML file under ``cases/`` may say, validated with pydantic v2.
+
+A case is one published test, example or benchmark. It describes *either* a single compliant
+``segment`` *or* a planar ``mechanism``, the ``loads`` applied along a load path, the
+``outputs`` wanted at named load levels, the ``methods`` to run with their options, and the
+published ``references`` with their source and the tolerance the project claims.
+
+Conventions (every case file uses them, whatever its unit system):
+- x runs along the undeformed segment from its fixed end, y is transverse, angles are
+  counter-clockwise positive, moments counter-clockwise positive.
+- Lengths, forces, moduli and moments are in the file's ``units`` system (see ``UNIT_SYSTEMS``);
+  angles in outputs and references are in degrees.
+- Load level ``i`` is the i-th entry of every load's path; all loads of a case have the same
+  number of levels.
+"""
+from __future__ import annotations
+
+import math
+from typing import Annotated, Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+from validation.capabilities import QUANTITIES, method_quantities
+
+UNIT_SYSTEMS: dict[str, dict[str, str]] = {
+    "in-lb": {"length": "in", "force": "lbf", "modulus": "psi", "moment": "lbf*in",
+              "energy": "lbf*in", "stiffness": "lbf*in/rad"},
+    "SI": {"length": "m", "force": "N", "modulus": "Pa", "moment": "N*m",
+           "energy": "J", "stiffness": "N*m/rad"},
+    "mm-N": {"length": "mm", "force": "N", "modulus": "MPa", "moment": "N*mm",
+             "energy": "mJ", "stiffness": "N*mm/rad"},
+    "dimensionless": {"length": "L", "force": "EI/L^2", "modulus": "E", "moment": "EI/L",
+                      "energy": "EI/L", "stiffness": "EI/L"},
+}
+
+Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+Finite = Annotated[float, Field(allow_inf_nan=False)]
+
+
+class Strict(BaseModel):
+    """Base: unknown fields are errors (a typo must not be silently ignored)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class Source(Strict):
+    """Where a number was printed: seed file, section, table, row, column (any may be omitted)."""
+
+    file: str
+    section: str | None = None
+    table: str | None = None
+    row: str | None = None
+    column: str | None = None
+    page: str | None = None
+    note: str | None = None
+
+    def label(self) -> str:
+        parts = [self.file]
+        for key in ("section", "table", "row", "column"):
+            value = getattr(self, key)
+            if value:
+                parts.append(f"{key} {value}")
+        return ", ".join(parts)
+
+
+class Layer(Strict):
+    """One sliding layer of a composite section."""
+
+    E: Positive
+    width: Positive
+    thickness: Positive
+    name: str | None = None
+
+
+class SectionSpec(Strict):
+    """A cross-section: a rectangle, I and A given directly, or a stack of sliding layers."""
+
+    kind: Literal["rectangle", "inertia", "layers"]
+    width: Positive | None = None
+    thickness: Positive | None = None
+    I: Positive | None = None
+    A: Positive | None = None
+    c: Positive | None = Field(None, description="extreme-fibre distance, for stresses")
+    layers: list[Layer] | None = None
+
+    @model_validator(mode="after")
+    def _complete(self) -> "SectionSpec":
+        need = {"rectangle": ("width", "thickness"), "inertia": ("I",), "layers": ("layers",)}[self.kind]
+        for name in need:
+            if getattr(self, name) is None:
+                raise ValueError(f"section kind '{self.kind}' needs field '{name}'")
+        if self.kind == "layers" and not self.layers:
+            raise ValueError("section kind 'layers' needs at least one layer")
+        return self
+
+    def inertia(self) -> float:
+        """Second moment of area I (for 'layers', the E-weighted stack is in ``bending_stiffness``)."""
+        if self.kind == "rectangle":
+            return self.width * self.thickness**3 / 12.0
+        if self.kind == "inertia":
+            return self.I
+        return sum(layer.width * layer.thickness**3 / 12.0 for layer in self.layers)
+
+    def area(self) -> float:
+        if self.kind == "rectangle":
+            return self.width * self.thickness
+        if self.kind == "inertia":
+            return self.A if self.A is not None else math.nan
+        return sum(layer.width * layer.thickness for layer in self.layers)
+
+
+class SegmentSpec(Strict):
+    """A single compliant segment, fixed at x = 0 and lying along +x when unloaded (if straight)."""
+
+    boundary: Literal["fixed-free", "fixed-pinned", "fixed-guided", "fixed-fixed", "pinned-pinned"]
+    length: Positive
+    E: Positive | None = Field(None, description="modulus; omit only for a 'layers' section")
+    section: SectionSpec
+    curvature: Finite = Field(0.0, description="initial curvature 1/R (1/length), 0 = straight")
+    radius: Positive | None = Field(None, description="initial radius; alternative to curvature")
+    model: str | None = Field(None, description="named PRBM model variant, e.g. 'inflection' or 'slfp'")
+
+    @model_validator(mode="after")
+    def _consistent(self) -> "SegmentSpec":
+        if self.section.kind != "layers" and self.E is None:
+            raise ValueError("field 'E' is required unless the section is a stack of layers")
+        if self.radius is not None and self.curvature != 0.0:
+            raise ValueError("give either 'curvature' or 'radius', not both")
+        return self
+
+    def initial_curvature(self) -> float:
+        return 1.0 / self.radius if self.radius is not None else self.curvature
+
+    def bending_stiffness(self) -> float:
+        """EI; for sliding layers the sum of each layer's E*I about its own centroid."""
+        if self.section.kind == "layers":
+            return sum(l.E * l.width * l.thickness**3 / 12.0 for l in self.section.layers)
+        return self.E * self.section.inertia()
+
+    def axial_stiffness(self) -> float:
+        if self.section.kind == "layers":
+            return sum(l.E * l.width * l.thickness for l in self.section.layers)
+        return self.E * self.section.area()
+
+
+class NodeSpec(Strict):
+    name: str
+    x: Finite
+    y: Finite
+
+
+class BeamSpec(Strict):
+    """A flexible member between two named nodes (straight, or an arc of given curvature)."""
+
+    name: str
+    start: str
+    end: str
+    E: Positive | None = None
+    section: SectionSpec
+    curvature: Finite = 0.0
+    segment_type: str | None = Field(None, description="PRBM segment model, e.g. 'fixed-pinned', 'slfp'")
+
+
+class LinkSpec(Strict):
+    """A rigid body through two or more named nodes."""
+
+    name: str
+    nodes: list[str] = Field(min_length=2)
+
+
+class JointSpec(Strict):
+    """A revolute joint at a node between the named members (beams or links), optional torsional spring."""
+
+    node: str
+    members: list[str] = Field(min_length=1)
+    spring: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 0.0
+
+
+class SupportSpec(Strict):
+    node: str
+    kind: Literal["fixed", "pinned", "slider", "guided"]
+    direction: tuple[Finite, Finite] | None = Field(None, description="free direction of slider/guided")
+    member: str | None = Field(None, description="the member a pinned or guided support holds")
+
+
+class MechanismSpec(Strict):
+    nodes: list[NodeSpec] = Field(min_length=2)
+    beams: list[BeamSpec] = Field(default_factory=list)
+    links: list[LinkSpec] = Field(default_factory=list)
+    joints: list[JointSpec] = Field(default_factory=list)
+    supports: list[SupportSpec] = Field(min_length=1)
+    E: Positive | None = Field(None, description="default modulus of the beams")
+
+    @model_validator(mode="after")
+    def _references_exist(self) -> "MechanismSpec":
+        names = [n.name for n in self.nodes]
+        if len(set(names)) != len(names):
+            raise ValueError("node names must be unique")
+        known = set(names)
+        members = {b.name for b in self.beams} | {l.name for l in self.links}
+        for beam in self.beams:
+            for end in (beam.start, beam.end):
+                if end not in known:
+                    raise ValueError(f"beam '{beam.name}' names unknown node '{end}'")
+            if beam.start == beam.end:
+                raise ValueError(f"beam '{beam.name}' has zero length (start = end)")
+            if beam.E is None and self.E is None and beam.section.kind != "layers":
+                raise ValueError(f"beam '{beam.name}' has no E and the mechanism gives no default E")
+        for link in self.links:
+            for node in link.nodes:
+                if node not in known:
+                    raise ValueError(f"link '{link.name}' names unknown node '{node}'")
+        for joint in self.joints:
+            if joint.node not in known:
+                raise ValueError(f"joint names unknown node '{joint.node}'")
+            for member in joint.members:
+                if member not in members:
+                    raise ValueError(f"joint at '{joint.node}' names unknown member '{member}'")
+        for support in self.supports:
+            if support.node not in known:
+                raise ValueError(f"support names unknown node '{support.node}'")
+        coords = {(round(n.x, 12), round(n.y, 12)) for n in self.nodes}
+        if len(coords) != len(self.nodes):
+            raise ValueError("two nodes share the same coordinates (coincident nodes)")
+        return self
+
+
+class Ramp(Strict):
+    start: Finite
+    stop: Finite
+    count: int = Field(ge=1)
+
+
+class LoadSpec(Strict):
+    """One load along the load path.
+
+    kind 'force': the force at level i is ``values[i] * direction`` (direction need not be a unit
+    vector, so a transverse P with axial nP is direction = [-n, 1]); 'follower' rotates it with the point.
+    kind 'moment': a couple (or input torque) ``values[i]`` at the point, on ``body`` if given.
+    kind 'displacement' / 'rotation': prescribed position change along ``direction`` / prescribed
+    rotation in degrees.
+    """
+
+    kind: Literal["force", "moment", "displacement", "rotation"]
+    point: str = "tip"
+    direction: tuple[Finite, Finite] | None = None
+    follower: bool = False
+    body: str | None = None
+    values: list[Finite] | None = None
+    ramp: Ramp | None = None
+    label: str | None = None
+
+    @model_validator(mode="after")
+    def _path(self) -> "LoadSpec":
+        if (self.values is None) == (self.ramp is None):
+            raise ValueError("give exactly one of 'values' (a list of levels) or 'ramp'")
+        if self.kind in ("force", "displacement") and self.direction is None:
+            raise ValueError(f"a '{self.kind}' load needs a 'direction' [dx, dy]")
+        if self.direction is not None and math.hypot(*self.direction) == 0.0:
+            raise ValueError("'direction' must not be the zero vector")
+        if self.follower and self.kind != "force":
+            raise ValueError("only a force can be a follower")
+        return self
+
+    def levels(self) -> list[float]:
+        if self.values is not None:
+            return list(self.values)
+        r = self.ramp
+        if r.count == 1:
+            return [r.stop]
+        return [r.start + (r.stop - r.start) * i / (r.count - 1) for i in range(r.count)]
+
+
+class OutputSpec(Strict):
+    """One quantity wanted, at a point, at some load levels, from some (default: all) methods."""
+
+    quantity: str
+    point: str = "tip"
+    levels: list[int] | Literal["all"] = "all"
+    methods: list[str] | None = None
+
+    @field_validator("quantity")
+    @classmethod
+    def _known(cls, value: str) -> str:
+        if value not in QUANTITIES:
+            raise ValueError(f"unknown quantity '{value}'; known: {', '.join(sorted(QUANTITIES))}")
+        return value
+
+
+class Tolerance(Strict):
+    rel: Annotated[float, Field(gt=0)] | None = None
+    abs: Annotated[float, Field(gt=0)] | None = None
+
+
+class ReferenceSpec(Strict):
+    """A published number, where it was printed, and which method should reproduce it how closely."""
+
+    quantity: str
+    point: str = "tip"
+    level: int = Field(ge=0)
+    value: Finite
+    label: Literal["PRBM", "ANSYS", "elliptic", "measured", "exact", "BCM", "chain", "published"]
+    source: Source
+    compare: str | None = Field(None, description="method expected to reproduce it; None = record only")
+    tolerance: Tolerance | None = None
+    finding: str | None = Field(None, description="a known misprint or disagreement, with its evidence")
+
+    @field_validator("quantity")
+    @classmethod
+    def _known(cls, value: str) -> str:
+        if value not in QUANTITIES:
+            raise ValueError(f"unknown quantity '{value}'")
+        return value
+
+    @model_validator(mode="after")
+    def _tolerance_needs_method(self) -> "ReferenceSpec":
+        if self.tolerance is not None and self.compare is None:
+            raise ValueError("a tolerance needs 'compare' (the method that should meet it)")
+        return self
+
+
+class CaseInfo(Strict):
+    id: str = Field(pattern=r"^[A-Za-z0-9_.-]+$")
+    title: str
+    group: str = Field(description="report grouping, e.g. 'chapter 3', 'chapter 9', 'benchmarks'")
+    units: str
+    description: str = ""
+    source: Source | None = None
+    assumptions: list[str] = Field(default_factory=list)
+
+    @field_validator("units")
+    @classmethod
+    def _units(cls, value: str) -> str:
+        if value not in UNIT_SYSTEMS:
+            raise ValueError(f"unknown unit system '{value}'; use one of {', '.join(UNIT_SYSTEMS)}")
+        return value
+
+
+class Case(Strict):
+    case: CaseInfo
+    segment: SegmentSpec | None = None
+    mechanism: MechanismSpec | None = None
+    loads: list[LoadSpec] = Field(default_factory=list)
+    level_labels: list[str] | None = None
+    outputs: list[OutputSpec] = Field(min_length=1)
+    methods: dict[str, dict[str, Any]] = Field(min_length=1)
+    references: list[ReferenceSpec] = Field(default_factory=list)
+
+    @model_validator(mode="after")
+    def _coherent(self) -> "Case":
+        if (self.segment is None) == (self.mechanism is None):
+            raise ValueError("a case describes exactly one of [segment] or [mechanism]")
+        n = self.n_levels()
+        for i, load in enumerate(self.loads):
+            if len(load.levels()) != n:
+                raise ValueError(f"loads.{i}: has {len(load.levels())} levels, loads.0 has {n}")
+        if self.level_labels is not None and len(self.level_labels) != n:
+            raise ValueError(f"level_labels has {len(self.level_labels)} entries for {n} load levels")
+        points = self.point_names()
+        for i, load in enumerate(self.loads):
+            if load.point not in points:
+                raise ValueError(f"loads.{i}.point: unknown point '{load.point}'")
+        for name in self.methods:
+            method_quantities(name)  # raises on an unknown method
+        for i, out in enumerate(self.outputs):
+            chosen = out.methods if out.methods is not None else list(self.methods)
+            for method in chosen:
+                if method not in self.methods:
+                    raise ValueError(f"outputs.{i}.methods: method '{method}' is not in [methods]")
+                if out.quantity not in method_quantities(method):
+                    raise ValueError(f"outputs.{i}: method '{method}' cannot give '{out.quantity}'")
+            if out.levels != "all" and any(not 0 <= lv < max(n, 1) for lv in out.levels):
+                raise ValueError(f"outputs.{i}.levels: level outside 0..{max(n, 1) - 1}")
+            if out.point not in points and QUANTITIES[out.quantity].at_point:
+                raise ValueError(f"outputs.{i}.point: unknown point '{out.point}'")
+        for i, ref in enumerate(self.references):
+            if ref.level >= max(n, 1):
+                raise ValueError(f"references.{i}.level: {ref.level} but the case has {n} load levels")
+            if ref.compare is not None and ref.compare not in self.methods:
+                raise ValueError(f"references.{i}.compare: method '{ref.compare}' is not in [methods]")
+        return self
+
+    def n_levels(self) -> int:
+        return len(self.loads[0].levels()) if self.loads else 1
+
+    def point_names(self) -> set[str]:
+        if self.segment is not None:
+            return {"tip", "root"}
+        return {n.name for n in self.mechanism.nodes} | {"input"}
+
+    def unit(self, dimension: str) -> str:
+        if dimension in ("deg", "1", "count"):
+            return dimension
+        return UNIT_SYSTEMS[self.case.units][dimension]
