@@ -1,0 +1,295 @@
+"""Discretisation of a `Model`: element nodes, DOF numbering, constraint map.
+
+Element nodes are the model nodes followed by the interior nodes of every
+member.  The full DOF vector is
+
+    u = [ux_0, uy_0, ..., ux_{n-1}, uy_{n-1},  rz_0 ... rz_{n-1},  released rz ...,  ground]
+
+(one node rotation per element node, one extra rotation per member end
+released by a revolute joint, and a last always-zero "ground" entry used by
+springs to ground).  Rotations are accumulated totals, never wrapped.
+
+Constraints are eliminated exactly (master-slave).  Every full DOF i is
+written in terms of the reduced unknowns q as
+
+    u_i = sum_w C[i, w] q[I[i, w]] + u_p,i(load)      (independent DOFs: fixed,
+                                                    sliders u = d t, prescribed)
+    x_s = x_m + R(theta_m)(X_s - X_m),  theta_s = theta_m      (rigid-link slaves)
+
+so dU/dq has at most two entries per row (``I``, ``C``; the rigid-link
+columns depend on theta_m and are refreshed by `System`).  Index ``n_red`` in
+``I`` is a dummy column that is dropped.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .local_matrices import member_local_stiffness
+from .model import Model
+from .section import Section
+
+__all__ = ["Discretisation", "discretise"]
+
+
+@dataclass
+class Discretisation:
+    X: np.ndarray            # (n_enodes, 2) reference coordinates of element nodes
+    n_model_nodes: int
+    conn: np.ndarray         # (n_el, 2) element node indices
+    edofs: np.ndarray        # (n_el, 6) full DOFs [ux1, uy1, rz1, ux2, uy2, rz2]
+    L0: np.ndarray           # (n_el,) reference chord lengths
+    beta0: np.ndarray        # (n_el,) reference chord angles
+    ka: np.ndarray           # (n_el,) axial stiffness
+    kb: np.ndarray           # (n_el, 2, 2) bending stiffness
+    el_member: np.ndarray    # (n_el,) owning member
+    el_section: list         # Section at element midpoint (for stresses)
+    member_elements: list    # element indices of each member, in order start -> end
+    n_full: int              # number of full DOFs (without the ground entry)
+    ground: int              # index of the ground entry (= n_full)
+    rot_dof: np.ndarray      # (n_enodes,) node rotation DOF
+    rotation_dofs: np.ndarray  # all rotation DOFs (bool mask over full DOFs)
+    springs: np.ndarray      # (n_sp, 2) full DOF pairs (second may be ground)
+    spring_k: np.ndarray     # (n_sp,)
+    n_red: int
+    I: np.ndarray            # (n_full+1, 2) reduced indices (dummy = n_red)
+    C: np.ndarray            # (n_full+1, 2) coefficients
+    independent: np.ndarray  # bool (n_full+1,): DOF given by the linear map
+    prescribed_dofs: np.ndarray  # (n_p,) full DOFs with prescribed values
+    prescribed_values: np.ndarray  # (n_p, n_levels)
+    constrained: np.ndarray  # bool (n_full,): supported or prescribed (reactions)
+    slaves: np.ndarray       # (n_s,) slave element nodes
+    masters: np.ndarray      # (n_s,) their (root) masters
+    node_rotation_used: np.ndarray  # bool (n_model_nodes,)
+    node_first_end_rot: np.ndarray  # (n_model_nodes,) rotation DOF of first member end
+    red_is_rotation: np.ndarray     # bool (n_red,)
+
+
+def _arc_points(P0, P1, kappa, n):
+    """n+1 points along the arc P0 -> P1 of signed curvature kappa; arc length."""
+    d = P1 - P0
+    c = np.hypot(*d)
+    chord_angle = np.arctan2(d[1], d[0])
+    if kappa == 0.0:
+        t = np.linspace(0.0, 1.0, n + 1)
+        return P0 + t[:, None] * d, c
+    phi = np.arcsin(kappa * c / 2.0)          # half the turning angle
+    S = 2.0 * phi / kappa
+    a0 = chord_angle - phi
+    s = np.linspace(0.0, S, n + 1)
+    pts = P0 + np.column_stack([np.sin(a0 + kappa * s) - np.sin(a0),
+                                np.cos(a0) - np.cos(a0 + kappa * s)]) / kappa
+    pts[-1] = P1
+    return pts, S
+
+
+def _dof_order(n_en, conn, slaves, masters, extra_owner):
+    """Full DOFs node by node in reverse Cuthill-McKee order (small bandwidth)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import reverse_cuthill_mckee
+    edges = np.vstack([conn.reshape(-1, 2), np.column_stack([slaves, masters]).reshape(-1, 2)])
+    g = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n_en, n_en))
+    order = reverse_cuthill_mckee((g + g.T).tocsr(), symmetric_mode=True)
+    extras = {}
+    for k, owner in enumerate(extra_owner):
+        extras.setdefault(owner, []).append(3 * n_en + k)
+    dofs = []
+    for n in order:
+        dofs += [2 * n, 2 * n + 1, 2 * n_en + n] + extras.get(n, [])
+    return dofs
+
+
+def discretise(model: Model, refine: int = 1) -> Discretisation:
+    n_mn = model.n_nodes
+    X = [np.asarray(model.coords, dtype=float).reshape(-1, 2)]
+    n_en = n_mn
+    conn, el_member, L0, beta0, ka, kb, el_section, member_elements = [], [], [], [], [], [], [], []
+    for im, m in enumerate(model.members):
+        n = m.n_elements * int(refine)
+        P0, P1 = X[0][m.start], X[0][m.end]
+        pts, _ = _arc_points(P0, P1, m.curvature, n)
+        ids = np.concatenate([[m.start], n_en + np.arange(n - 1), [m.end]])
+        X.append(pts[1:-1])
+        n_en += n - 1
+        seg = np.diff(pts, axis=0)
+        lengths = np.hypot(seg[:, 0], seg[:, 1])
+        s_nodes = np.concatenate([[0.0], np.cumsum(lengths)])
+        if isinstance(m.section, Section):
+            sec = m.section
+            fn = lambda xi, sec=sec: sec
+            a, b = member_local_stiffness(s_nodes, lambda xi: sec.EA + 0 * xi,
+                                          lambda xi: sec.EI + 0 * xi, intorder=4)
+        else:
+            fn = m.section
+            prop = lambda attr: (lambda xi: np.vectorize(lambda t: getattr(fn(float(t)), attr))(xi))
+            a, b = member_local_stiffness(s_nodes, prop("EA"), prop("EI"), intorder=8)
+        first = sum(len(e) for e in member_elements)
+        member_elements.append(np.arange(first, first + n))
+        conn.append(np.column_stack([ids[:-1], ids[1:]]))
+        el_member += [im] * n
+        L0.append(lengths)
+        beta0.append(np.arctan2(seg[:, 1], seg[:, 0]))
+        ka.append(a)
+        kb.append(b)
+        mid = (s_nodes[:-1] + s_nodes[1:]) / 2 / s_nodes[-1]
+        el_section += [fn(float(t)) for t in mid]
+    X = np.vstack(X)
+    conn = np.vstack(conn) if conn else np.zeros((0, 2), int)
+    n_el = len(conn)
+
+    # --- rotation DOFs: node rotations, then released member ends --------
+    rot_dof = 2 * n_en + np.arange(n_en)
+    end_rot = np.empty((n_el, 2), dtype=int)
+    end_rot[:, 0] = rot_dof[conn[:, 0]]
+    end_rot[:, 1] = rot_dof[conn[:, 1]]
+    next_dof = 3 * n_en
+    springs, spring_k, extra_owner = [], [], []
+    for j in model.joints:
+        at_node = [im for im, m in enumerate(model.members) if j.node in (m.start, m.end)]
+        released = j.members if j.members is not None else tuple(at_node[1:])
+        for im in released:
+            m = model.members[im]
+            if j.node not in (m.start, m.end):
+                raise ValueError(f"member {im} does not end at joint node {model.node_names[j.node]}")
+            els = member_elements[im]
+            for e, side in ((els[0], 0), (els[-1], 1)):
+                if conn[e, side] == j.node:
+                    end_rot[e, side] = next_dof
+            extra_owner.append(j.node)
+            if j.k > 0.0:
+                springs.append((next_dof, rot_dof[j.node]))
+                spring_k.append(j.k)
+            next_dof += 1
+        if j.k_ground > 0.0:
+            springs.append((rot_dof[j.node], -1))
+            spring_k.append(j.k_ground)
+    n_full = next_dof
+    ground = n_full
+    springs = np.array(springs, dtype=int).reshape(-1, 2)
+    springs[springs < 0] = ground
+    spring_k = np.array(spring_k, dtype=float)
+    edofs = np.column_stack([2 * conn[:, 0], 2 * conn[:, 0] + 1, end_rot[:, 0],
+                             2 * conn[:, 1], 2 * conn[:, 1] + 1, end_rot[:, 1]])
+    rotation_dofs = np.zeros(n_full + 1, dtype=bool)
+    rotation_dofs[2 * n_en:n_full] = True
+
+    # --- which node rotations carry stiffness ------------------------------
+    used = np.zeros(n_full + 1, dtype=bool)
+    used[edofs.ravel()] = True
+    used[springs.ravel()] = True
+    used[:2 * n_en] = True
+    for ld in model.loads:
+        if ld.kind == "moment" or ld.follower:
+            used[rot_dof[ld.node]] = True
+    # rigid links: resolve chains to root masters
+    parent = {}
+    for rl in model.rigid_links:
+        if rl.slave in parent:
+            raise ValueError(f"node {model.node_names[rl.slave]} is slave of two rigid links")
+        parent[rl.slave] = rl.master
+
+    def root(n):
+        seen = set()
+        while n in parent:
+            if n in seen:
+                raise ValueError("rigid links form a loop")
+            seen.add(n)
+            n = parent[n]
+        return n
+    slaves = np.array(sorted(parent), dtype=int)
+    masters = np.array([root(s) for s in slaves], dtype=int)
+    for s, m in zip(slaves, masters):
+        used[rot_dof[m]] = True
+        used[rot_dof[s]] = True
+    ground_used = used[ground]
+    used[ground] = False
+    del ground_used
+
+    # --- linear map for independent DOFs -----------------------------------
+    I = np.full((n_full + 1, 2), -1, dtype=int)
+    C = np.zeros((n_full + 1, 2))
+    independent = np.ones(n_full + 1, dtype=bool)
+    independent[ground] = False
+    fixed = np.zeros(n_full + 1, dtype=bool)
+    fixed[ground] = True
+    fixed[~used] = True
+    constrained = np.zeros(n_full, dtype=bool)
+    slave_set = set(slaves.tolist())
+    for s in slaves:
+        independent[[2 * s, 2 * s + 1, rot_dof[s]]] = False
+    slider_dirs = {}
+    for sp in model.supports:
+        if sp.node in slave_set:
+            raise ValueError(f"support on rigid-link slave node {model.node_names[sp.node]}: "
+                             "put it on the master")
+        n = sp.node
+        if sp.kind in ("fixed", "pinned"):
+            fixed[[2 * n, 2 * n + 1]] = True
+            constrained[[2 * n, 2 * n + 1]] = True
+        else:
+            slider_dirs[n] = sp.direction
+            constrained[[2 * n, 2 * n + 1]] = True
+        if sp.kind in ("fixed", "guided"):
+            fixed[rot_dof[n]] = True
+            constrained[rot_dof[n]] = True
+    p_dofs, p_vals = [], []
+    n_lev = model.n_levels
+    for p in model.prescribed:
+        if p.node in slave_set:
+            raise ValueError("prescribed DOF on a rigid-link slave node")
+        dof = 2 * p.node + p.dof if p.dof < 2 else rot_dof[p.node]
+        if p.node in slider_dirs and p.dof < 2:
+            raise ValueError("prescribed translation on a slider/guided node is not supported")
+        fixed[dof] = True
+        constrained[dof] = True
+        used[dof] = True
+        p_dofs.append(dof)
+        p_vals.append(np.broadcast_to(p.values, (n_lev,)) if len(p.values) == 1 else p.values)
+    n_red = 0
+    red_is_rot = []
+    for i in _dof_order(n_en, conn, slaves, masters, extra_owner):
+        if not independent[i] or fixed[i]:
+            continue
+        node = i // 2 if i < 2 * n_en else -1
+        if node in slider_dirs:
+            if i % 2 == 1:
+                continue
+            d = slider_dirs[node]
+            I[i, 0] = I[i + 1, 0] = n_red
+            C[i, 0], C[i + 1, 0] = d
+        else:
+            I[i, 0] = n_red
+            C[i, 0] = 1.0
+        red_is_rot.append(bool(rotation_dofs[i]))
+        n_red += 1
+    I[I < 0] = n_red
+    for s, m in zip(slaves, masters):     # slave rows: copy the master map (+ theta column)
+        I[2 * s] = [I[2 * m, 0], I[rot_dof[m], 0]]
+        I[2 * s + 1] = [I[2 * m + 1, 0], I[rot_dof[m], 0]]
+        C[2 * s] = [C[2 * m, 0], 0.0]
+        C[2 * s + 1] = [C[2 * m + 1, 0], 0.0]
+        I[rot_dof[s]] = I[rot_dof[m]]
+        C[rot_dof[s]] = C[rot_dof[m]]
+
+    first_end = np.full(n_mn, -1, dtype=int)
+    for e in range(n_el - 1, -1, -1):
+        for side in (1, 0):
+            if conn[e, side] < n_mn:
+                first_end[conn[e, side]] = edofs[e, 3 * side + 2]
+    node_rot_used = used[rot_dof[:n_mn]] | np.isin(np.arange(n_mn), slaves)
+    return Discretisation(
+        X=X, n_model_nodes=n_mn, conn=conn, edofs=edofs,
+        L0=np.concatenate(L0) if L0 else np.zeros(0),
+        beta0=np.concatenate(beta0) if beta0 else np.zeros(0),
+        ka=np.concatenate(ka) if ka else np.zeros(0),
+        kb=np.concatenate(kb) if kb else np.zeros((0, 2, 2)),
+        el_member=np.array(el_member, dtype=int), el_section=el_section,
+        member_elements=member_elements, n_full=n_full, ground=ground, rot_dof=rot_dof,
+        rotation_dofs=rotation_dofs, springs=springs, spring_k=spring_k, n_red=n_red,
+        I=I, C=C, independent=independent,
+        prescribed_dofs=np.array(p_dofs, dtype=int),
+        prescribed_values=np.array(p_vals, dtype=float).reshape(len(p_dofs), n_lev),
+        constrained=constrained, slaves=slaves, masters=masters,
+        node_rotation_used=node_rot_used, node_first_end_rot=first_end,
+        red_is_rotation=np.array(red_is_rot, dtype=bool))

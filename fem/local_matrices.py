@@ -1,0 +1,51 @@
+"""Local linear element matrices of a member, computed once with scikit-fem.
+
+Along a member the arc-length coordinate s is meshed with a `skfem.MeshLine`
+(one cell per corotational element, cell length = element chord length L0).
+In the chord frame of an element the corotational (basic) deformations are
+the stretch u_bar and the end rotations theta_1, theta_2 relative to the
+chord, with zero transverse end displacements, so the basic stiffness is
+
+    k_l = diag(k_a, k_b),   k_a = int EA phi_i' phi_j'  (P1, the (0,0) entry),
+    k_b = int EI w_i'' w_j''  restricted to the two rotation DOFs (Hermite),
+
+by Gauss quadrature, so EA(s) and EI(s) may vary along the member (tapered
+or layered sections).  For constant properties k_a = EA/L0 and
+k_b = EI/L0 [[4, 2], [2, 4]] (Crisfield 1991, sec. 7.2; Battini 2002).
+The forms are assembled here only, at model build time, never in Newton.
+"""
+from __future__ import annotations
+
+import numpy as np
+from skfem import Basis, BilinearForm, ElementLineHermite, ElementLineP1, MeshLine
+from skfem.helpers import dd, grad
+
+__all__ = ["member_local_stiffness"]
+
+
+@BilinearForm
+def _bending(u, v, w):
+    return w["EI"] * dd(u)[0, 0] * dd(v)[0, 0]
+
+
+@BilinearForm
+def _axial(u, v, w):
+    return w["EA"] * grad(u)[0] * grad(v)[0]
+
+
+def member_local_stiffness(s_nodes: np.ndarray, EA_of_xi, EI_of_xi, intorder: int = 6):
+    """Axial k_a (n_el,) and bending k_b (n_el, 2, 2) for cells with nodes s_nodes.
+
+    EA_of_xi, EI_of_xi: callables of xi = s / s_total in [0, 1] (arrays in, arrays out).
+    """
+    mesh = MeshLine(np.asarray(s_nodes, dtype=float))
+    total = float(s_nodes[-1] - s_nodes[0])
+    hermite = Basis(mesh, ElementLineHermite(), intorder=intorder)
+    linear = Basis(mesh, ElementLineP1(), intorder=intorder)
+    xi_h = (hermite.global_coordinates().value[0] - s_nodes[0]) / total
+    xi_l = (linear.global_coordinates().value[0] - s_nodes[0]) / total
+    kb_full = _bending.coo_data(hermite, EI=EI_of_xi(xi_h)).tolocal()   # (n_el, 4, 4)
+    ka_full = _axial.coo_data(linear, EA=EA_of_xi(xi_l)).tolocal()      # (n_el, 2, 2)
+    kb = kb_full[:, [1, 3]][:, :, [1, 3]]
+    ka = ka_full[:, 0, 0]
+    return ka, kb

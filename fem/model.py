@@ -1,0 +1,190 @@
+"""A planar frame/mechanism model as plain data.
+
+The model is what the user describes; nothing is discretised here.
+
+* Nodes carry a name and reference coordinates (x, y) in consistent length units.
+* A member is a flexible beam between two nodes, subdivided into
+  ``n_elements`` straight corotational elements.  An initially curved member
+  is a circular arc of signed curvature ``curvature`` (1/length; positive when
+  the arc bends to the left of the direction start -> end); its elements are
+  chords of the arc.  ``section`` is a `Section`, or a callable xi -> Section
+  (xi in [0, 1] along the member) for a tapered member.
+* A rigid link makes node ``slave`` move with node ``master`` as one rigid
+  body: x_s = x_m + R(theta_m)(X_s - X_m), theta_s = theta_m (exact, nonlinear
+  master-slave elimination, no penalty).
+* By default all members meeting at a node are rigidly connected (one
+  rotation).  A revolute joint releases the rotation of the listed members
+  (default: every member at the node except the first one added), each of
+  which then gets its own rotation; a torsional spring of stiffness ``k``
+  (moment/rad) ties each released member to the node rotation, and
+  ``k_ground`` ties the node rotation to the ground.
+* Supports: ``fixed`` (u = v = theta = 0), ``pinned`` (u = v = 0),
+  ``slider`` (roller: only translation along ``direction``), ``guided``
+  (theta = 0, translation along ``direction`` only).
+* Loads have one value per load level (arrays of length n_levels; a scalar
+  is broadcast): forces of fixed direction, follower forces (rotate with the
+  node rotation), moments, and prescribed displacements/rotations of a DOF
+  ("ux", "uy" or "rz").
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Union
+
+import numpy as np
+
+from .section import Section
+
+__all__ = ["Model", "Member", "Support", "Joint", "RigidLink", "PointLoad", "Prescribed"]
+
+DOF_NAMES = {"ux": 0, "uy": 1, "rz": 2}
+SUPPORT_KINDS = ("fixed", "pinned", "slider", "guided")
+
+
+@dataclass
+class Member:
+    start: int
+    end: int
+    section: Union[Section, Callable[[float], Section]]
+    n_elements: int = 8
+    curvature: float = 0.0
+    name: str = ""
+
+
+@dataclass
+class Support:
+    node: int
+    kind: str
+    direction: tuple = (1.0, 0.0)
+
+
+@dataclass
+class Joint:
+    node: int
+    members: tuple | None = None
+    k: float = 0.0
+    k_ground: float = 0.0
+
+
+@dataclass
+class RigidLink:
+    master: int
+    slave: int
+
+
+@dataclass
+class PointLoad:
+    node: int
+    kind: str                 # "force" or "moment"
+    values: np.ndarray        # shape (n_levels, 2) for forces, (n_levels,) for moments
+    follower: bool = False
+
+
+@dataclass
+class Prescribed:
+    node: int
+    dof: int
+    values: np.ndarray
+
+
+def _levels(values) -> np.ndarray:
+    return np.atleast_1d(np.asarray(values, dtype=float))
+
+
+@dataclass
+class Model:
+    """Plain-data description of a planar compliant mechanism or frame."""
+
+    node_names: list = field(default_factory=list)
+    coords: list = field(default_factory=list)
+    members: list = field(default_factory=list)
+    supports: list = field(default_factory=list)
+    joints: list = field(default_factory=list)
+    rigid_links: list = field(default_factory=list)
+    loads: list = field(default_factory=list)
+    prescribed: list = field(default_factory=list)
+
+    # -- building -------------------------------------------------------
+    def node(self, name) -> int:
+        """Index of a node given by name (or index)."""
+        if isinstance(name, (int, np.integer)):
+            return int(name)
+        try:
+            return self.node_names.index(str(name))
+        except ValueError:
+            raise KeyError(f"no node named {name!r}") from None
+
+    def add_node(self, name: str, x: float, y: float) -> int:
+        if str(name) in self.node_names:
+            raise ValueError(f"node {name!r} already exists")
+        self.node_names.append(str(name))
+        self.coords.append((float(x), float(y)))
+        return len(self.node_names) - 1
+
+    def add_member(self, start, end, section, n_elements: int = 8,
+                   curvature: float = 0.0, name: str = "") -> int:
+        """Flexible member start -> end; returns its index."""
+        i, j = self.node(start), self.node(end)
+        if i == j:
+            raise ValueError("a member needs two different nodes")
+        if n_elements < 1:
+            raise ValueError("n_elements must be >= 1")
+        chord = np.hypot(*np.subtract(self.coords[j], self.coords[i]))
+        if abs(curvature) * chord / 2 > 1.0:
+            raise ValueError("curvature too large for the chord length")
+        self.members.append(Member(i, j, section, int(n_elements), float(curvature),
+                                   name or f"m{len(self.members)}"))
+        return len(self.members) - 1
+
+    def add_support(self, node, kind: str, direction=(1.0, 0.0)) -> None:
+        """kind: 'fixed', 'pinned', 'slider' (free along direction), 'guided'."""
+        if kind not in SUPPORT_KINDS:
+            raise ValueError(f"support kind must be one of {SUPPORT_KINDS}")
+        d = np.asarray(direction, dtype=float)
+        d = d / np.linalg.norm(d)
+        self.supports.append(Support(self.node(node), kind, (float(d[0]), float(d[1]))))
+
+    def add_joint(self, node, members=None, k: float = 0.0, k_ground: float = 0.0) -> None:
+        """Revolute joint at node releasing `members` (indices), optional springs."""
+        mem = None if members is None else tuple(int(m) for m in members)
+        self.joints.append(Joint(self.node(node), mem, float(k), float(k_ground)))
+
+    def add_rigid_link(self, master, slave) -> None:
+        self.rigid_links.append(RigidLink(self.node(master), self.node(slave)))
+
+    def add_force(self, node, values_x, values_y, follower: bool = False) -> None:
+        """Point force per load level; a follower force rotates with the node."""
+        fx, fy = np.broadcast_arrays(_levels(values_x), _levels(values_y))
+        self.loads.append(PointLoad(self.node(node), "force",
+                                    np.column_stack([fx, fy]), bool(follower)))
+
+    def add_moment(self, node, values) -> None:
+        """Point moment (input torque) per load level, counter-clockwise positive."""
+        self.loads.append(PointLoad(self.node(node), "moment", _levels(values)))
+
+    def prescribe(self, node, dof: str, values) -> None:
+        """Prescribed displacement ('ux', 'uy') or rotation ('rz') per load level."""
+        if dof not in DOF_NAMES:
+            raise ValueError("dof must be 'ux', 'uy' or 'rz'")
+        self.prescribed.append(Prescribed(self.node(node), DOF_NAMES[dof], _levels(values)))
+
+    # -- queries ----------------------------------------------------------
+    @property
+    def n_nodes(self) -> int:
+        return len(self.node_names)
+
+    @property
+    def n_levels(self) -> int:
+        """Number of load levels implied by the load histories (1 if none)."""
+        lengths = [len(ld.values) for ld in self.loads] + [len(p.values) for p in self.prescribed]
+        lengths = [n for n in lengths if n > 1]
+        if lengths and min(lengths) != max(lengths):
+            raise ValueError(f"load histories have different lengths: {sorted(set(lengths))}")
+        return max(lengths) if lengths else 1
+
+    def characteristic_length(self) -> float:
+        """Mean member chord length (the length scale used for tolerances)."""
+        if not self.members:
+            return 1.0
+        c = np.asarray(self.coords)
+        return float(np.mean([np.hypot(*(c[m.end] - c[m.start])) for m in self.members]))

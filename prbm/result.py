@@ -1,0 +1,37 @@
+"""The result object every PRBM solve returns (modelled on scipy.optimize.OptimizeResult)."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+
+@dataclass
+class PRBMResult:
+    """Outcome of one PRBM solve over one or more load levels.
+
+    converged: True when every level converged (``level_converged`` has the detail).
+    message: why not, or a summary.
+    outputs: name -> array over load levels (e.g. 'a', 'b', 'theta0' in radians, 'Theta', 'P', 'M').
+    constants: the model constants used (gamma, K_theta, c_theta, k, ...), arrays over levels when
+        they depend on the load.
+    model: the model's name and the seed equations it implements.
+    wall_time: seconds spent in the solve.
+    roots: for problems with several valid solutions, a list (one entry per level) of lists of
+        dicts, one per root found; the first root is the one reported in ``outputs``.
+    """
+
+    converged: bool
+    message: str
+    outputs: dict[str, np.ndarray]
+    constants: dict[str, Any]
+    model: str
+    wall_time: float = 0.0
+    nit: int = 0
+    level_converged: np.ndarray | None = None
+    roots: list[list[dict[str, float]]] | None = None
+    extras: dict[str, Any] = field(default_factory=dict)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.outputs[name]

@@ -1,0 +1,235 @@
+"""Run the methods a case asks for, only on the outputs it asks for, and tabulate the comparison.
+
+``run_cases`` returns one tidy pandas table (a row per method x output x load level x reference)
+with the value, its unit, the published value and its source, the absolute and relative error,
+whether the claimed tolerance is met, the wall time, and whether the method converged.
+"""
+from __future__ import annotations
+
+import importlib
+import math
+import time
+import traceback
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pandas as pd
+
+from validation import cache
+from validation.capabilities import QUANTITIES
+from validation.loader import CaseError, LoadedCase, load_case
+from validation.methods.base import MethodRun, NotApplicable, Request
+from validation.schema import Case
+
+COLUMNS = ["case", "group", "method", "quantity", "point", "level", "level_label", "value", "unit",
+           "error_estimate", "reference_label", "reference_value", "source", "compare", "tolerance_rel",
+           "tolerance_abs", "abs_error", "rel_error", "norm_error", "within_tolerance", "finding",
+           "wall_time", "converged", "message", "cached"]
+
+
+def requests_for(case: Case, method: str) -> list[Request]:
+    """Every (quantity, point, level) the case wants from this method, in order, without repeats."""
+    wanted: dict[Request, None] = {}
+    for out in case.outputs:
+        if out.methods is not None and method not in out.methods:
+            continue
+        levels = range(case.n_levels()) if out.levels == "all" else out.levels
+        point = out.point if QUANTITIES[out.quantity].at_point else ""
+        for level in levels:
+            wanted[Request(out.quantity, point, level)] = None
+    return list(wanted)
+
+
+def run_method(case: Case, method: str) -> MethodRun:
+    """Call the adapter; a method that cannot model the case or fails returns a run that says so."""
+    options = dict(case.methods.get(method) or {})
+    requests = requests_for(case, method)
+    start = time.perf_counter()
+    try:
+        adapter = importlib.import_module(f"validation.methods.{method}")
+        run = adapter.run(case, requests, options)
+    except NotApplicable as exc:
+        return MethodRun(values={}, converged=False, message=f"not applicable: {exc}",
+                         wall_time=time.perf_counter() - start, extras={"not_applicable": True})
+    except Exception as exc:  # a solver bug must not stop the other cases
+        last = traceback.extract_tb(exc.__traceback__)[-1]
+        where = f"{Path(last.filename).name}:{last.lineno}"
+        return MethodRun(values={}, converged=False,
+                         message=f"error: {type(exc).__name__}: {exc} (at {where})",
+                         wall_time=time.perf_counter() - start)
+    if not run.wall_time:
+        run.wall_time = time.perf_counter() - start
+    missing = [r for r in requests if r not in run.values]
+    if missing and run.converged:
+        run.converged = False
+        run.message = (run.message + "; " if run.message else "") + \
+            f"did not return {len(missing)} requested output(s), e.g. {missing[0]}"
+    return run
+
+
+@dataclass
+class CaseResult:
+    loaded: LoadedCase
+    runs: dict[str, MethodRun] = field(default_factory=dict)
+    cached: dict[str, bool] = field(default_factory=dict)
+
+
+def run_case(loaded: LoadedCase, methods: list[str] | None = None, use_cache: bool = True) -> CaseResult:
+    result = CaseResult(loaded)
+    for method in loaded.case.methods:
+        if methods and method not in methods:
+            continue
+        options = dict(loaded.case.methods[method] or {})
+        key = cache.run_key(loaded.text, method, options)
+        run = cache.load(key) if use_cache else None
+        result.cached[method] = run is not None
+        if run is None:
+            run = run_method(loaded.case, method)
+            if not run.extras.get("not_applicable") and not run.message.startswith("error:"):
+                cache.store(key, run)
+        result.runs[method] = run
+    return result
+
+
+def _char_length(case: Case) -> float:
+    if case.segment is not None:
+        return case.segment.length
+    xs = [n.x for n in case.mechanism.nodes]
+    ys = [n.y for n in case.mechanism.nodes]
+    return max(max(xs) - min(xs), max(ys) - min(ys)) or 1.0
+
+
+def tabulate(result: CaseResult) -> pd.DataFrame:
+    """The tidy comparison table of one case."""
+    case = result.loaded.case
+    labels = case.level_labels or [str(i) for i in range(case.n_levels())]
+    refs: dict[tuple, list] = {}
+    for ref in case.references:
+        point = ref.point if QUANTITIES[ref.quantity].at_point else ""
+        refs.setdefault((ref.quantity, point, ref.level), []).append(ref)
+    scale = _char_length(case)
+    rows = []
+    for method, run in result.runs.items():
+        requests = requests_for(case, method)
+        if not requests:
+            rows.append(dict(case=case.case.id, group=case.case.group, method=method, quantity=None,
+                             point=None, level=None, level_label=None, value=math.nan, unit=None,
+                             wall_time=run.wall_time, converged=run.converged, message=run.message,
+                             cached=result.cached.get(method, False)))
+            continue
+        for req in requests:
+            value = run.values.get(req, math.nan)
+            dimension = QUANTITIES[req.quantity].dimension
+            base = dict(case=case.case.id, group=case.case.group, method=method, quantity=req.quantity,
+                        point=req.point, level=req.level, level_label=labels[req.level], value=value,
+                        unit=case.unit(dimension), error_estimate=run.error_estimate.get(req, math.nan),
+                        wall_time=run.wall_time,
+                        converged=run.level_converged.get(req.level, run.converged),
+                        message=run.level_messages.get(req.level, run.message),
+                        cached=result.cached.get(method, False))
+            matching = refs.get(req, [])
+            if not matching:
+                rows.append(base)
+            for ref in matching:
+                abs_error = abs(value - ref.value)
+                rel_error = abs_error / abs(ref.value) if ref.value != 0 else math.nan
+                claimed = ref.compare == method and ref.tolerance is not None
+                within = None
+                if claimed:
+                    tol = ref.tolerance
+                    ok_abs = tol.abs is not None and abs_error <= tol.abs
+                    ok_rel = tol.rel is not None and not math.isnan(rel_error) and rel_error <= tol.rel
+                    within = bool(ok_abs or ok_rel)
+                rows.append(base | dict(
+                    reference_label=ref.label, reference_value=ref.value, source=ref.source.label(),
+                    compare=ref.compare == method,
+                    tolerance_rel=ref.tolerance.rel if ref.tolerance else None,
+                    tolerance_abs=ref.tolerance.abs if ref.tolerance else None,
+                    abs_error=abs_error, rel_error=rel_error,
+                    norm_error=abs_error / scale if dimension == "length" else math.nan,
+                    within_tolerance=within, finding=ref.finding))
+    frame = pd.DataFrame(rows)
+    return frame.reindex(columns=COLUMNS)
+
+
+def _run_path(path: Path, methods: list[str] | None, use_cache: bool):
+    try:
+        loaded = load_case(path)
+    except CaseError as exc:
+        return str(path), None, str(exc)
+    return str(path), tabulate(run_case(loaded, methods, use_cache)), None
+
+
+@dataclass
+class RunOutcome:
+    table: pd.DataFrame
+    errors: list[str]
+
+    @property
+    def failed_comparisons(self) -> pd.DataFrame:
+        t = self.table
+        if t.empty:
+            return t
+        claimed = t[t["within_tolerance"].notna()]
+        return claimed[(claimed["within_tolerance"] == False) & claimed["finding"].isna()]  # noqa: E712
+
+    @property
+    def exit_status(self) -> int:
+        if self.errors:
+            return 2
+        return 1 if len(self.failed_comparisons) else 0
+
+
+def run_cases(paths: list[Path], methods: list[str] | None = None, use_cache: bool = True,
+              jobs: int = 1, progress: bool = False) -> RunOutcome:
+    """Run every case file; bad files are reported as errors and the others still run."""
+    from tqdm import tqdm
+
+    tables, errors = [], []
+    bar = tqdm(total=len(paths), unit="case", disable=not progress, leave=False)
+    if jobs > 1 and len(paths) > 1:
+        with ProcessPoolExecutor(max_workers=jobs) as pool:
+            futures = [pool.submit(_run_path, p, methods, use_cache) for p in paths]
+            for future in as_completed(futures):
+                _, table, error = future.result()
+                (errors.append(error) if error else tables.append(table))
+                bar.update()
+    else:
+        for path in paths:
+            bar.set_postfix_str(Path(path).stem)
+            _, table, error = _run_path(path, methods, use_cache)
+            (errors.append(error) if error else tables.append(table))
+            bar.update()
+    bar.close()
+    table = pd.concat(tables, ignore_index=True) if tables else pd.DataFrame(columns=COLUMNS)
+    if len(table):
+        table = table.sort_values(["group", "case", "method", "quantity", "point", "level"],
+                                  kind="stable", ignore_index=True)
+    return RunOutcome(table=table, errors=sorted(errors))
+
+
+def summary(table: pd.DataFrame) -> pd.DataFrame:
+    """One row per case: methods run, largest PRBM-to-FEM error, comparisons passed, wall times."""
+    rows = []
+    for (group, case_id), part in table.groupby(["group", "case"], sort=True):
+        values = part.drop_duplicates(["method", "quantity", "point", "level"])
+        pivot = values.pivot_table(index=["quantity", "point", "level"], columns="method",
+                                   values="value", aggfunc="first")
+        prbm_fem = math.nan
+        if {"prbm", "fem"} <= set(pivot.columns):
+            diff = (pivot["prbm"] - pivot["fem"]).abs() / pivot["fem"].abs().where(pivot["fem"] != 0)
+            prbm_fem = float(diff.max()) if diff.notna().any() else math.nan
+        claimed = part[part["within_tolerance"].notna()]
+        times = values.groupby("method")["wall_time"].first()
+        status = values.groupby("method")["converged"].first()
+        rows.append(dict(group=group, case=case_id,
+                         methods=" ".join(f"{m}{'' if status[m] else '(!)'}" for m in times.index),
+                         max_prbm_fem_rel=prbm_fem,
+                         fem_error_estimate=float(part.loc[part["method"] == "fem", "error_estimate"].max())
+                         if (part["method"] == "fem").any() else math.nan,
+                         checks=len(claimed),
+                         failed=int(((claimed["within_tolerance"] == False) & claimed["finding"].isna()).sum()),  # noqa: E712
+                         findings=int(part["finding"].notna().sum()),
+                         **{f"t_{m}_s": float(t) for m, t in times.items()}))
+    return pd.DataFrame(rows)
