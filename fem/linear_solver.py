@@ -1,0 +1,153 @@
+"""Factorisation of the reduced tangent: dense LU, banded LU or sparse LU.
+
+The tangent is assembled straight into the storage of the chosen solver
+(with precomputed flat indices, `np.bincount`):
+
+* banded LAPACK ``dgbtrf``/``dgbtrs`` when the half-bandwidth is small
+  (nodes are numbered in reverse Cuthill-McKee order), cost O(n b^2);
+* dense LAPACK ``dgetrf`` (``scipy.linalg.lu_factor``) for small systems;
+* SuperLU (``scipy.sparse.linalg.splu``) for large, wide-band systems.
+
+The sign of det K (product of U's diagonal signs times the permutation
+parity) is what the solvers watch for critical points.
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+from scipy.linalg import lapack
+
+__all__ = ["MatrixLayout", "SingularMatrix"]
+
+
+class SingularMatrix(Exception):
+    pass
+
+
+def _perm_parity(perm):
+    """+1 / -1 parity of a permutation array."""
+    perm = np.asarray(perm)
+    seen = np.zeros(len(perm), dtype=bool)
+    transpositions = 0
+    for i in range(len(perm)):
+        if not seen[i]:
+            j, length = i, 0
+            while not seen[j]:
+                seen[j] = True
+                j = perm[j]
+                length += 1
+            transpositions += length - 1
+    return -1 if transpositions % 2 else 1
+
+
+class MatrixLayout:
+    """Maps (row, col) entries of an n x n matrix to solver storage."""
+
+    def __init__(self, n, rows, cols, kind="auto"):
+        self.n = n
+        bw = int(np.max(np.abs(rows - cols))) if len(rows) else 0
+        if kind == "auto":
+            if n <= 24:
+                kind = "dense"
+            elif bw <= max(8, n // 6):
+                kind = "banded"
+            elif n <= 300:
+                kind = "dense"
+            else:
+                kind = "sparse"
+        self.kind, self.bw = kind, bw
+        if kind == "dense":
+            self.flat = rows * n + cols
+            self.size = n * n
+        elif kind == "banded":
+            kl = ku = bw
+            self.kl, self.ku = kl, ku
+            self.nrow = 2 * kl + ku + 1
+            self.flat = (kl + ku + rows - cols) * n + cols
+            self.size = self.nrow * n
+        else:
+            key = cols.astype(np.int64) * n + rows
+            uniq, inv = np.unique(key, return_inverse=True)
+            self.flat = inv
+            self.size = len(uniq)
+            self.indices = (uniq % n).astype(np.int32)
+            self.indptr = np.searchsorted(uniq // n, np.arange(n + 1)).astype(np.int32)
+
+    def assemble(self, values):
+        return np.bincount(self.flat, weights=values, minlength=self.size)
+
+    def to_dense(self, data):
+        if self.kind == "dense":
+            return data.reshape(self.n, self.n)
+        if self.kind == "sparse":
+            return sp.csc_matrix((data, self.indices, self.indptr), shape=(self.n, self.n)).toarray()
+        ab = data.reshape(self.nrow, self.n)
+        A = np.zeros((self.n, self.n))
+        for i in range(self.n):
+            for j in range(max(0, i - self.kl), min(self.n, i + self.ku + 1)):
+                A[i, j] = ab[self.kl + self.ku + i - j, j]
+        return A
+
+    def factor(self, data):
+        return Factor(self, data)
+
+
+class Factor:
+    """LU factors of the assembled matrix; ``solve(b)`` and ``det_sign``."""
+
+    def __init__(self, layout, data):
+        self.layout = layout
+        n = layout.n
+        if n == 0:
+            self.kind = "empty"
+            return
+        self.kind = layout.kind
+        if not np.all(np.isfinite(data)):
+            raise SingularMatrix("non-finite entries in the tangent")
+        if self.kind == "dense":
+            A = data.reshape(n, n)
+            lu, piv, info = lapack.dgetrf(A)
+            if info > 0:
+                raise SingularMatrix("singular tangent")
+            self.lu, self.piv = lu, piv
+            diag = np.diag(lu)
+        elif self.kind == "banded":
+            ab = data.reshape(layout.nrow, n)
+            lu, piv, info = lapack.dgbtrf(ab, layout.kl, layout.ku)
+            if info > 0:
+                raise SingularMatrix("singular tangent")
+            self.lu, self.piv = lu, piv
+            diag = lu[layout.kl + layout.ku]
+        else:
+            A = sp.csc_matrix((data, layout.indices, layout.indptr), shape=(n, n))
+            try:
+                self.lu = spla.splu(A)
+            except RuntimeError as exc:
+                raise SingularMatrix(str(exc)) from None
+            diag = self.lu.U.diagonal()
+        self.diag = diag
+        if np.any(diag == 0.0) or not np.all(np.isfinite(diag)):
+            raise SingularMatrix("singular tangent")
+
+    def solve(self, b):
+        if self.kind == "empty":
+            return np.zeros(0)
+        if self.kind == "dense":
+            x, info = lapack.dgetrs(self.lu, self.piv, b)
+            return x
+        if self.kind == "banded":
+            x, info = lapack.dgbtrs(self.lu, self.layout.kl, self.layout.ku, b, self.piv)
+            return x
+        return self.lu.solve(b)
+
+    @property
+    def det_sign(self) -> int:
+        if self.kind == "empty":
+            return 1
+        sign = -1 if np.count_nonzero(self.diag < 0) % 2 else 1
+        if self.kind in ("dense", "banded"):
+            swaps = np.count_nonzero(self.piv != np.arange(len(self.piv)))
+            return sign * (-1 if swaps % 2 else 1)
+        return sign * _perm_parity(self.lu.perm_r) * _perm_parity(self.lu.perm_c)
