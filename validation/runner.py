@@ -157,14 +157,15 @@ def _run_path(path: Path, methods: list[str] | None, use_cache: bool):
     try:
         loaded = load_case(path)
     except CaseError as exc:
-        return str(path), None, str(exc)
-    return str(path), tabulate(run_case(loaded, methods, use_cache)), None
+        return None, str(exc)
+    return run_case(loaded, methods, use_cache), None
 
 
 @dataclass
 class RunOutcome:
     table: pd.DataFrame
     errors: list[str]
+    results: list[CaseResult] = field(default_factory=list)
 
     @property
     def failed_comparisons(self) -> pd.DataFrame:
@@ -186,27 +187,30 @@ def run_cases(paths: list[Path], methods: list[str] | None = None, use_cache: bo
     """Run every case file; bad files are reported as errors and the others still run."""
     from tqdm import tqdm
 
-    tables, errors = [], []
+    results, errors = [], []
     bar = tqdm(total=len(paths), unit="case", disable=not progress, leave=False)
+
+    def collect(result, error):
+        (errors.append(error) if error else results.append(result))
+        bar.update()
+
     if jobs > 1 and len(paths) > 1:
         with ProcessPoolExecutor(max_workers=jobs) as pool:
             futures = [pool.submit(_run_path, p, methods, use_cache) for p in paths]
             for future in as_completed(futures):
-                _, table, error = future.result()
-                (errors.append(error) if error else tables.append(table))
-                bar.update()
+                collect(*future.result())
     else:
         for path in paths:
             bar.set_postfix_str(Path(path).stem)
-            _, table, error = _run_path(path, methods, use_cache)
-            (errors.append(error) if error else tables.append(table))
-            bar.update()
+            collect(*_run_path(path, methods, use_cache))
     bar.close()
+    results.sort(key=lambda r: str(r.loaded.path))
+    tables = [tabulate(r) for r in results]
     table = pd.concat(tables, ignore_index=True) if tables else pd.DataFrame(columns=COLUMNS)
     if len(table):
         table = table.sort_values(["group", "case", "method", "quantity", "point", "level"],
                                   kind="stable", ignore_index=True)
-    return RunOutcome(table=table, errors=sorted(errors))
+    return RunOutcome(table=table, errors=sorted(errors), results=results)
 
 
 def summary(table: pd.DataFrame) -> pd.DataFrame:
