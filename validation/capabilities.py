@@ -48,6 +48,8 @@ METHODS: dict[str, frozenset[str]] = {
                                              "mechanical_advantage", "dof", "prb_angle"}),
     "elastica": frozenset(_POSITIONS | _LOADS | _REACTIONS | {"strain_energy"}),
     "bcm": frozenset(_POSITIONS | _LOADS | {"strain_energy"}),
+    # peer, for benchmarks and cross-checks (the 'peer' extra)
+    "opensees": frozenset(_POSITIONS | {"limit_load"}),
 }
 
 

@@ -1,0 +1,200 @@
+"""OpenSeesPy as a peer method: corotational ``elasticBeamColumn`` on the same mesh and load steps.
+
+Only for benchmarking and cross-checks (the ``peer`` extra). It models straight or curved beams
+(curved ones as chains of straight elements on the arc), fixed and pinned supports, rigid
+corners (beams sharing a node), and proportional dead loads at nodes. Follower loads, released
+joints, rigid links, prescribed motions and non-proportional paths are outside it and raise
+``NotApplicable``. ``limit_load`` is found with displacement control of the loaded point.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from validation.methods.base import MethodRun, NotApplicable, Request
+
+SUPPORTED = {"x", "y", "dx", "dy", "rotation", "limit_load"}
+
+
+def _ops():
+    try:
+        import openseespy.opensees as ops
+    except Exception as exc:  # not installed, or a missing system BLAS
+        raise NotApplicable(f"OpenSeesPy is not available ({exc})") from None
+    return ops
+
+
+def _geometry(case, elements: int):
+    """Nodes (name -> index), coordinates, element connectivity with (EA, EI) per element."""
+    coords, names, elems = [], {}, []
+
+    def add(x, y):
+        coords.append((x, y))
+        return len(coords) - 1
+
+    if case.segment is not None:
+        seg = case.segment
+        if seg.initial_curvature() != 0.0:
+            raise NotApplicable("curved segments are not built for the OpenSees peer")
+        xs = np.linspace(0.0, seg.length, elements + 1)
+        idx = [add(x, 0.0) for x in xs]
+        names.update(root=idx[0], tip=idx[-1])
+        elems = [(idx[i], idx[i + 1], seg.axial_stiffness(), seg.bending_stiffness()) for i in range(elements)]
+        supports = {idx[0]: "fixed"}
+        return coords, names, elems, supports
+    mech = case.mechanism
+    if mech.links or any(j.spring or True for j in mech.joints):
+        if mech.links or mech.joints:
+            raise NotApplicable("released joints and rigid links are not built for the OpenSees peer")
+    for node in mech.nodes:
+        names[node.name] = add(node.x, node.y)
+    for beam in mech.beams:
+        E = beam.E or mech.E
+        EI = E * beam.section.inertia() if beam.section.kind != "layers" else \
+            sum(l.E * l.width * l.thickness**3 / 12 for l in beam.section.layers)
+        EA = E * beam.section.area() if beam.section.kind != "layers" else \
+            sum(l.E * l.width * l.thickness for l in beam.section.layers)
+        a, b = np.array(coords[names[beam.start]]), np.array(coords[names[beam.end]])
+        chain = [names[beam.start]]
+        for k in range(1, elements):
+            t = k / elements
+            if beam.curvature:
+                chord = b - a
+                c = np.linalg.norm(chord)
+                R = 1.0 / beam.curvature
+                half = math.asin(min(1.0, c / (2 * abs(R))))
+                mid = (a + b) / 2
+                normal = np.array([-chord[1], chord[0]]) / c
+                centre = mid + normal * math.copysign(abs(R) * math.cos(half), R)
+                ang0 = math.atan2(*(a - centre)[::-1])
+                sweep = math.copysign(2 * half, R)
+                p = centre + abs(R) * np.array([math.cos(ang0 + sweep * t), math.sin(ang0 + sweep * t)])
+            else:
+                p = a + t * (b - a)
+            chain.append(add(*p))
+        chain.append(names[beam.end])
+        elems += [(chain[i], chain[i + 1], EA, EI) for i in range(len(chain) - 1)]
+    supports = {}
+    for sup in mech.supports:
+        if sup.kind not in ("fixed", "pinned"):
+            raise NotApplicable(f"'{sup.kind}' supports are not built for the OpenSees peer")
+        supports[names[sup.node]] = sup.kind
+    return coords, names, elems, supports
+
+
+def _reference_loads(case, names):
+    """Proportional loads: a reference nodal load vector and the load factor of each level."""
+    if not case.loads:
+        raise NotApplicable("no loads")
+    paths = []
+    for load in case.loads:
+        if load.kind not in ("force", "moment") or load.follower:
+            raise NotApplicable(f"'{load.kind}{' follower' if load.follower else ''}' loads are outside the peer")
+        paths.append(np.asarray(load.levels(), float))
+    ref = max(paths, key=lambda p: np.abs(p).max())
+    scale = np.abs(ref).max()
+    factors = ref / scale
+    nodal = {}
+    for load, path in zip(case.loads, paths):
+        ratio = np.divide(path, factors, out=np.full_like(path, np.nan), where=factors != 0)
+        ok = np.isfinite(ratio)
+        if not np.allclose(ratio[ok], ratio[ok][0]) or np.any((factors == 0) & (path != 0)):
+            raise NotApplicable("load paths are not proportional")
+        r = ratio[ok][0]
+        vec = nodal.setdefault(names[load.point], np.zeros(3))
+        if load.kind == "force":
+            vec[:2] += r * np.asarray(load.direction, float)
+        else:
+            vec[2] += r
+    return nodal, factors
+
+
+def _build(ops, coords, elems, supports, nodal):
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    for i, (x, y) in enumerate(coords):
+        ops.node(i + 1, x, y)
+    for node, kind in supports.items():
+        ops.fix(node + 1, 1, 1, 1 if kind == "fixed" else 0)
+    ops.geomTransf("Corotational", 1)
+    for k, (i, j, EA, EI) in enumerate(elems):
+        # elasticBeamColumn takes A, E, Iz: pass E = 1 so that A = EA and Iz = EI
+        ops.element("elasticBeamColumn", k + 1, i + 1, j + 1, EA, 1.0, EI, 1)
+    ops.timeSeries("Linear", 1)
+    ops.pattern("Plain", 1, 1)
+    for node, vec in nodal.items():
+        ops.load(node + 1, *vec)
+    ops.system("BandGeneral")
+    ops.numberer("RCM")
+    ops.constraints("Plain")
+    ops.test("NormDispIncr", 1e-10, 50)
+    ops.algorithm("Newton")
+
+
+def run(case, requests: list[Request], options: dict) -> MethodRun:
+    ops = _ops()
+    if any(r.quantity not in SUPPORTED for r in requests):
+        bad = next(r.quantity for r in requests if r.quantity not in SUPPORTED)
+        raise NotApplicable(f"the OpenSees peer does not give '{bad}'")
+    elements = int(options.get("elements", 16))
+    substeps = int(options.get("steps_per_level", 10))
+    start = time.perf_counter()
+    coords, names, elems, supports = _geometry(case, elements)
+    nodal, factors = _reference_loads(case, names)
+    _build(ops, coords, elems, supports, nodal)
+    values, iterations, converged, message = {}, 0, True, ""
+    wanted = {}
+    for r in requests:
+        wanted.setdefault(r.level, []).append(r)
+    if any(r.quantity == "limit_load" for r in requests):
+        node, vec = max(nodal.items(), key=lambda kv: np.hypot(*kv[1][:2]))
+        dof = 1 if abs(vec[0]) > abs(vec[1]) else 2
+        step = -float(options.get("control_step", 0.002 * max(np.ptp(np.array(coords), axis=0))))
+        step = math.copysign(abs(step), vec[dof - 1])
+        ops.integrator("DisplacementControl", node + 1, dof, step)
+        ops.analysis("Static")
+        history = [0.0]
+        for _ in range(int(options.get("max_steps", 2000))):
+            if ops.analyze(1) != 0:
+                converged, message = False, f"OpenSees displacement control failed after {len(history)} steps"
+                break
+            iterations += ops.testIter()
+            history.append(ops.getLoadFactor(1))
+            if len(history) > 2 and history[-1] < history[-2]:
+                i = len(history) - 2  # parabola through the three points around the peak
+                y0, y1, y2 = history[i - 1], history[i], history[i + 1]
+                denom = y0 - 2 * y1 + y2
+                peak = y1 - (y0 - y2) ** 2 / (8 * denom) if denom else y1
+                scale = np.abs(np.concatenate([np.atleast_1d(np.asarray(l.levels())) for l in case.loads])).max()
+                for r in requests:
+                    if r.quantity == "limit_load":
+                        values[r] = peak * scale
+                break
+        else:
+            converged, message = False, "no limit point within max_steps"
+        return MethodRun(values=values, converged=converged, message=message,
+                         wall_time=time.perf_counter() - start, extras={"iterations": iterations})
+    ops.analysis("Static")
+    current = 0.0
+    for level, factor in enumerate(factors):
+        if factor != current:
+            n = substeps
+            ops.integrator("LoadControl", (factor - current) / n)
+            for _ in range(n):
+                if ops.analyze(1) != 0:
+                    converged = False
+                    message = f"OpenSees Newton failed between levels {level - 1} and {level}"
+                    break
+                iterations += ops.testIter()
+            if not converged:
+                break
+            current = factor
+        for r in wanted.get(level, []):
+            tag = names[r.point] + 1
+            x0, y0 = coords[tag - 1]
+            ux, uy, rz = (ops.nodeDisp(tag, k) for k in (1, 2, 3))
+            values[r] = {"x": x0 + ux, "y": y0 + uy, "dx": ux, "dy": uy, "rotation": math.degrees(rz)}[r.quantity]
+    return MethodRun(values=values, converged=converged, message=message,
+                     wall_time=time.perf_counter() - start, extras={"iterations": iterations})
