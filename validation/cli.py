@@ -133,6 +133,12 @@ def cmd_bench(args) -> int:
     return run_bench(Path(args.out), quick=args.quick)
 
 
+def cmd_stress(args) -> int:
+    from validation.stress import run_stress
+
+    return run_stress(Path(args.out), long=args.long, seed=args.seed)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="prbm-validate", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -165,6 +171,11 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--out", default="reports/bench")
     bench.add_argument("--quick", action="store_true", help="fewer meshes and repeats")
     bench.set_defaults(func=cmd_bench)
+    stress = sub.add_parser("stress", help="numerical stability, invariances and bad input")
+    stress.add_argument("--out", default="reports/stress")
+    stress.add_argument("--long", action="store_true", help="many more random cases")
+    stress.add_argument("--seed", type=int, default=20261122)
+    stress.set_defaults(func=cmd_stress)
     return parser
 
 

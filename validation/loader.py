@@ -51,11 +51,16 @@ def load_case(path: Path | str) -> LoadedCase:
     try:
         case = Case.model_validate(data)
     except ValidationError as exc:
-        err = exc.errors()[0]
-        more = f" (and {exc.error_count() - 1} more)" if exc.error_count() > 1 else ""
-        message = err["msg"].removeprefix("Value error, ")
-        raise CaseError(path, _field_path(err["loc"]), message + more) from None
+        field, message = describe(exc)
+        raise CaseError(path, field, message) from None
     return LoadedCase(path=path, text=text, case=case)
+
+
+def describe(exc: ValidationError) -> tuple[str, str]:
+    """(field path, message) of the first error of a pydantic ValidationError, for one-line reports."""
+    err = exc.errors()[0]
+    more = f" (and {exc.error_count() - 1} more)" if exc.error_count() > 1 else ""
+    return _field_path(err["loc"]), err["msg"].removeprefix("Value error, ") + more
 
 
 def find_case_files(patterns: list[str] | None = None, root: Path = CASES_DIR) -> list[Path]:

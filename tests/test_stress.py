@@ -1,0 +1,13 @@
+"""Stress suite (bounded for CI): invariances, hard paths and bad input, each a real assertion."""
+import pytest
+
+from validation.stress import bad_input_checks, hard_path_checks, invariance_checks
+
+
+@pytest.mark.parametrize("block", [invariance_checks, hard_path_checks, bad_input_checks],
+                         ids=["invariance", "hard paths", "bad input"])
+def test_stress_block(block):
+    checks = block()
+    assert checks, "a block must try something"
+    failed = [f"{c.name}: {c.detail}" for c in checks if not c.passed]
+    assert not failed, "\n".join(failed)
