@@ -338,6 +338,14 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     body.append("<h2>Reproducibility</h2>" + _html_table(pd.DataFrame(list(info.items()),
                                                                        columns=["item", "value"])))
     body.append("<p>Files: <a href='results.csv'>results.csv</a>, <a href='summary.csv'>summary.csv</a></p>")
+    extra = [(f"{name}/{page}", label) for name, page, label in
+             (("stress", "index.html", "stress report (prbm-validate stress)"),
+              ("bench", "headline.json", "benchmark headline (prbm-validate bench)"),
+              ("bench", "bench.csv", "benchmark table"))
+             if (out / name / page).exists()]
+    if extra:
+        body.append("<h2>Other pages</h2><ul>" + "".join(f"<li><a href='{link}'>{label}</a></li>"
+                                                         for link, label in extra) + "</ul>")
     md += ["\n## Reproducibility\n", _md_table(pd.DataFrame(list(info.items()), columns=["item", "value"]))]
     (out / "index.html").write_text(_page("PRBM validation report", "".join(body)))
     (out / "index.md").write_text("\n".join(md) + "\n")
