@@ -146,9 +146,31 @@ def _plot_outputs(result: CaseResult, table: pd.DataFrame, folder: Path) -> list
     return files
 
 
+def normalise_shapes(shapes) -> list[list[np.ndarray]]:
+    """Shapes as a list (per level) of lists of (n, 2) polylines.
+
+    Adapters may give a dict {level: ...} or a list per level, and per level one array or a list of
+    arrays, each (n, 2)/(n, >2) point rows or (2|3, n) coordinate rows (x, y[, theta])."""
+    if isinstance(shapes, dict):
+        shapes = [shapes[k] for k in sorted(shapes)]
+    out = []
+    for entry in shapes:
+        lines = [entry] if isinstance(entry, np.ndarray) else list(entry)
+        fixed = []
+        for line in lines:
+            line = np.asarray(line, float)
+            if line.ndim != 2:
+                continue
+            if line.shape[0] in (2, 3) and line.shape[1] > 3:
+                line = line[:2].T
+            fixed.append(line[:, :2])
+        out.append(fixed)
+    return out
+
+
 def _plot_shapes(result: CaseResult, folder: Path) -> str | None:
     """Deformed shapes: FEM beams as curves, PRB links dashed, measured tip points as markers."""
-    shapes = {m: r.extras.get("shapes") for m, r in result.runs.items() if r.extras.get("shapes")}
+    shapes = {m: normalise_shapes(r.extras["shapes"]) for m, r in result.runs.items() if r.extras.get("shapes")}
     if not shapes:
         return None
     import matplotlib
@@ -213,7 +235,7 @@ def _plot_path(result: CaseResult, folder: Path) -> str | None:
 
 def _write_vtu(result: CaseResult, folder: Path) -> list[str]:
     run = result.runs.get("fem")
-    shapes = run.extras.get("shapes") if run else None
+    shapes = normalise_shapes(run.extras["shapes"]) if run and run.extras.get("shapes") else None
     if not shapes:
         return []
     import meshio
@@ -263,8 +285,8 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
         head += "<h3>Assumptions</h3><ul>" + "".join(f"<li>{html.escape(a)}</li>"
                                                      for a in case.case.assumptions) + "</ul>"
     body = head + "<h2>Methods</h2>" + _html_table(runs)
-    if len(findings):
-        body += "<h2>Findings</h2><ul>" + "".join(
+    if len(findings) or case.case.findings:
+        body += "<h2>Findings</h2><ul>" + "".join(f"<li>{html.escape(f)}</li>" for f in case.case.findings) + "".join(
             f"<li>{html.escape(str(r['reference_label']))} {r['quantity']} level {r['level_label']}: "
             f"{html.escape(str(r['finding']))}</li>" for _, r in findings.iterrows()) + "</ul>"
     body += "<h2>Plots</h2>" + "".join(f"<p><img src='{name}' alt='{name}'></p>" for name in images)
@@ -321,13 +343,16 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
                     .replace("&lt;/a&gt;", "</a>"))
         md += [f"\n## {group}\n", _md_table(summ[summ["group"] == group].drop(columns="group"))]
     body.append("<h2>Findings: printed numbers not reproduced, and comparisons outside their tolerance</h2>")
-    items = [f"<li><b>{r['case']}</b> {r['reference_label']} {r['quantity']} level {r['level_label']}: "
+    items = [f"<li><b>{r.loaded.id}</b>: {html.escape(f)}</li>" for r in outcome.results
+             for f in r.loaded.case.case.findings]
+    items += [f"<li><b>{r['case']}</b> {r['reference_label']} {r['quantity']} level {r['level_label']}: "
              f"{html.escape(str(r['finding']))}</li>" for _, r in finding_rows.iterrows()]
     items += [f"<li class='bad'><b>{r['case']}</b> {r['method']} {r['quantity']}@{r['point']} level "
               f"{r['level_label']}: {r['value']:.6g} vs printed {r['reference_label']} {r['reference_value']:.6g} "
               f"(rel {r['rel_error']:.3g}) outside the claimed tolerance</li>" for _, r in failed.iterrows()]
     body.append("<ul>" + "".join(items) + "</ul>" if items else "<p>none</p>")
     md.append("\n## Findings\n")
+    md += [f"- {r.loaded.id}: {f}" for r in outcome.results for f in r.loaded.case.case.findings]
     md += [f"- {r['case']} {r['reference_label']} {r['quantity']} level {r['level_label']}: {r['finding']}"
            for _, r in finding_rows.iterrows()]
     md += [f"- **outside tolerance** {r['case']} {r['method']} {r['quantity']} level {r['level_label']}"

@@ -327,6 +327,8 @@ class CaseInfo(Strict):
     description: str = ""
     source: Source | None = None
     assumptions: list[str] = Field(default_factory=list)
+    findings: list[str] = Field(default_factory=list, description="case-level misprints and disagreements, "
+                                "with their evidence, that no single reference carries")
 
     @field_validator("units")
     @classmethod

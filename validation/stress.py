@@ -200,6 +200,35 @@ def hard_path_checks() -> list[Check]:
     return checks
 
 
+def column_check() -> list[Check]:
+    checks = []
+    # a column with a small imperfection, loaded past its Euler load: the post-buckled elastica
+    # (fixed-free, tip angle a, k = sin(a/2)): P/P_cr = (2K(k)/pi)^2 and lateral tip deflection 2k/K(k) L
+    from scipy.optimize import brentq
+    from scipy.special import ellipk
+
+    ratio = 1.5
+    k = brentq(lambda k: (2 * ellipk(k * k) / math.pi) ** 2 - ratio, 1e-9, 0.999999)
+    exact_delta = 2 * k / ellipk(k * k)
+    P_cr = math.pi**2 / 4  # EI = L = 1
+    run = run_method(_imperfect_column(P_cr * ratio, 1e-5), "fem")
+    delta = abs(tip(run)[1]) if run.converged else math.nan
+    checks.append(Check("hard paths", "column past its Euler load (1.5 P_cr, imperfection 1e-5 P)",
+                        run.converged and abs(delta - exact_delta) < 2e-3,
+                        f"lateral tip deflection {delta:.5f} L, post-buckled elastica {exact_delta:.5f} L"))
+    return checks
+
+
+def _imperfect_column(P: float, imperfection: float) -> Case:
+    levels = [P * f for f in (0.5, 0.9, 0.98, 1.02, 1.1, 1.25, 1.4, 1.5)]
+    data = dict(case=dict(id="stress_column", title="imperfect column", group="stress", units="dimensionless"),
+                segment=dict(boundary="fixed-free", length=1.0, E=1.0, section=dict(kind="inertia", I=1.0, A=1e6)),
+                loads=[dict(kind="force", point="tip", direction=[-1.0, imperfection], values=levels)],
+                outputs=[dict(quantity=q) for q in ("x", "y", "rotation")],
+                methods={"fem": {"elements": 32}})
+    return Case.model_validate(data)
+
+
 # --- bad input -----------------------------------------------------------------------------------
 
 def bad_input_checks() -> list[Check]:
@@ -252,7 +281,7 @@ def run_stress(out: Path, long: bool = False, seed: int = 20261122) -> int:
     n_random = 200 if long else 25
     for _ in range(n_random):
         checks.append(agreement_check(random_cantilever_params(rng)))
-    for block in (invariance_checks, hard_path_checks, bad_input_checks):
+    for block in (invariance_checks, hard_path_checks, column_check, bad_input_checks):
         checks.extend(block())
     categories = {}
     for c in checks:

@@ -161,12 +161,12 @@ def _one_line(exc: ValidationError) -> str:
     return f"{loc or '(top level)'}: {err['msg'].removeprefix('Value error, ')}{more}"
 
 
-def _row(point: dict, run_id: str, **fields) -> dict:
-    row = dict(point_id=point["id"], case=point["case"], sample=point["sample"], method=None,
+def _row(task: dict, run_id: str, **fields) -> dict:
+    row = dict(point_id=task["id"], case=task["case"], sample=task["sample"], method=None,
                quantity=None, point=None, level=None, value=math.nan, unit=None,
                error_estimate=math.nan, converged=False, status="invalid", message="",
                wall_time=math.nan, point_time=math.nan, run=run_id)
-    row.update(point["columns"])
+    row.update(task["columns"])
     row.update(fields)
     return row
 

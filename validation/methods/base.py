@@ -33,4 +33,6 @@ class MethodRun:
     error_estimate: dict[Request, float] = field(default_factory=dict)
     level_converged: dict[int, bool] = field(default_factory=dict)
     level_messages: dict[int, str] = field(default_factory=dict)
-    extras: dict[str, Any] = field(default_factory=dict)  # e.g. deformed shapes for plots
+    # extras["shapes"]: per level, the deformed shape as a list of (n, 2) polylines (the report draws them);
+    # extras["iterations"]: Newton iterations (the benchmark reads it); extras["path"]: a continuation path.
+    extras: dict[str, Any] = field(default_factory=dict)

@@ -1,0 +1,196 @@
+"""Adapter: a case -> the beam constraint model of seed 003 (``bcm``).
+
+Segments: a straight segment (fixed-free, fixed-pinned, fixed-guided, fixed-fixed) with dead tip
+forces, tip moments, and tip displacements along x or y / rotations; one quantity of each pair
+(u_x|f_x, u_y|f_y, theta|m_z) is known at every level and ``bcm.solve_mixed`` gives the rest
+(Castigliano on eq (11) for displacement-specified problems, eqs (3)-(4) otherwise).
+
+Mechanisms: one rigid link welded to straight beams that are clamped to the ground at their
+other end, optionally pinned to the ground at one of its nodes, loaded by dead forces at its
+nodes, a moment, or a prescribed rotation (``bcm.RigidBodyOnBeams``; the ``moment`` output at
+the driven point is then the torque needed). Anything else raises ``NotApplicable``.
+
+BCM is trusted for |u_y| <= 0.1 and |theta| <= 0.1 rad (seed 003 section 3); levels outside
+this range are reported in ``level_messages`` and ``extras['outside_range']`` (values kept).
+k_a = A L^2 / I of each beam's section (1e12, i.e. inextensible, if the area is not given).
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from bcm.beam import solve_mixed, strain_energy
+from bcm.mechanisms import BCMBeam, RigidBodyOnBeams
+from validation.methods.base import MethodRun, NotApplicable, Request
+from validation.schema import Case
+
+RANGE = 0.1
+
+
+def _ka(EI: float, EA: float, L: float) -> float:
+    return EA * L * L / EI if math.isfinite(EA) else 1e12
+
+
+def _segment(case: Case, requests: list[Request], options: dict) -> MethodRun:
+    seg = case.segment
+    if seg.initial_curvature() != 0.0:
+        raise NotApplicable("BCM models initially straight beams only")
+    if seg.boundary == "pinned-pinned":
+        raise NotApplicable("boundary 'pinned-pinned' is not a BCM cantilever")
+    L = seg.length
+    EI = float(options["EI"]) if "EI" in options else (
+        seg.E * float(options["I"]) if "I" in options else seg.bending_stiffness())
+    ka = _ka(EI, seg.axial_stiffness(), L)
+    f_scale, m_scale = L * L / EI, L / EI
+    values, msgs, outside = {}, {}, []
+    for level in sorted({r.level for r in requests}):
+        given = {"fx": 0.0, "fy": 0.0, "mz": 0.0}
+        disp: dict[str, float] = {}
+        for load in case.loads:
+            if load.point != "tip":
+                raise NotApplicable(f"load at '{load.point}': BCM takes tip loads only")
+            v = load.levels()[level]
+            if load.kind == "force":
+                if load.follower:
+                    raise NotApplicable("BCM has no follower force")
+                given["fx"] += v * load.direction[0] * f_scale
+                given["fy"] += v * load.direction[1] * f_scale
+            elif load.kind == "moment":
+                given["mz"] += v * m_scale
+            elif load.kind == "displacement":
+                d = np.asarray(load.direction, float) * v
+                if load.direction[0] != 0.0 and load.direction[1] != 0.0:
+                    raise NotApplicable("BCM adapter takes displacements along x or y only")
+                key = "ux" if load.direction[0] != 0.0 else "uy"
+                disp[key] = disp.get(key, 0.0) + float(d[0] if key == "ux" else d[1]) / L
+            elif load.kind == "rotation":
+                disp["theta"] = math.radians(v)
+        if seg.boundary in ("fixed-guided", "fixed-fixed"):
+            disp.setdefault("theta", 0.0)
+        if seg.boundary == "fixed-fixed":
+            disp.setdefault("ux", 0.0)
+            disp.setdefault("uy", 0.0)
+        kw = {}
+        for d, f in (("ux", "fx"), ("uy", "fy"), ("theta", "mz")):
+            kw.update({d: disp[d]} if d in disp else {f: given[f]})
+        ux, uy, th, fx, fy, mz = solve_mixed(ka, **kw)
+        if abs(uy) > RANGE or abs(th) > RANGE:
+            outside.append(level)
+            msgs[level] = f"outside the BCM range (u_y = {uy:.3g}, theta = {th:.3g} rad)"
+        table = {"x": L * (1 + ux), "y": L * uy, "dx": L * ux, "dy": L * uy,
+                 "rotation": math.degrees(th), "force_x": fx / f_scale, "force_y": fy / f_scale,
+                 "moment": mz / m_scale}
+        for req in requests:
+            if req.level != level:
+                continue
+            if req.quantity == "strain_energy":
+                values[req] = strain_energy(ux, uy, th, ka) * EI / L
+            elif req.point == "root" and req.quantity in ("x", "y", "dx", "dy", "rotation"):
+                values[req] = 0.0
+            elif req.point == "tip" and req.quantity in table:
+                values[req] = table[req.quantity]
+            else:
+                raise NotApplicable(f"'{req.quantity}' at '{req.point}' is not a BCM output")
+    return values, msgs, outside
+
+
+def _mechanism(case: Case, requests: list[Request], options: dict):
+    mech = case.mechanism
+    if len(mech.links) != 1:
+        raise NotApplicable("BCM adapter: exactly one rigid link carried by clamped beams")
+    if mech.joints:
+        raise NotApplicable("BCM adapter: released joints (pins between members) are not modelled")
+    link = mech.links[0]
+    nodes = {n.name: np.array([n.x, n.y]) for n in mech.nodes}
+    fixed = {s.node for s in mech.supports if s.kind == "fixed"}
+    pinned = [s for s in mech.supports if s.kind == "pinned"]
+    if any(s.kind not in ("fixed", "pinned") for s in mech.supports) or len(pinned) > 1:
+        raise NotApplicable("BCM adapter: supports must be clamps plus at most one pin")
+    if pinned and pinned[0].node not in link.nodes:
+        raise NotApplicable("BCM adapter: the pin must hold the rigid link")
+    beams = []
+    for b in mech.beams:
+        if b.curvature != 0.0:
+            raise NotApplicable("BCM models initially straight beams only")
+        if b.start in fixed and b.end in link.nodes:
+            ground, tip = b.start, b.end
+        elif b.end in fixed and b.start in link.nodes:
+            ground, tip = b.end, b.start
+        else:
+            raise NotApplicable(f"beam '{b.name}' does not run from a clamp to the link")
+        E = b.E if b.E is not None else mech.E
+        EI = E * b.section.inertia() if b.section.kind != "layers" else sum(
+            l.E * l.width * l.thickness**3 / 12 for l in b.section.layers)
+        EA = E * b.section.area() if b.section.kind != "layers" else sum(
+            l.E * l.width * l.thickness for l in b.section.layers)
+        L = float(np.linalg.norm(nodes[tip] - nodes[ground]))
+        beams.append(BCMBeam(tuple(nodes[ground]), tuple(nodes[tip]), EI, _ka(EI, EA, L)))
+    ref = nodes[pinned[0].node] if pinned else nodes[link.nodes[0]]
+    body = RigidBodyOnBeams(beams, tuple(ref), pinned=bool(pinned))
+    values, msgs, outside = {}, {}, []
+    q = None
+    for level in range(max(r.level for r in requests) + 1):
+        forces, moment, rotation, applied = [], 0.0, None, {}
+        drive_point = None
+        for load in case.loads:
+            point = load.point if load.point != "input" else link.nodes[0]
+            if point not in link.nodes:
+                raise NotApplicable(f"load at '{load.point}' is not on the rigid link")
+            v = load.levels()[level]
+            if load.kind == "force" and not load.follower:
+                F = v * np.asarray(load.direction, float)
+                forces.append((tuple(nodes[point]), F))
+                applied[point] = applied.get(point, np.zeros(2)) + F
+            elif load.kind == "moment":
+                moment += v
+                drive_point = point
+            elif load.kind == "rotation":
+                rotation = math.radians(v)
+                drive_point = point
+            else:
+                raise NotApplicable(f"BCM adapter: load kind '{load.kind}' on a mechanism")
+        q, needed = body.solve(forces=forces, moment=moment, rotation=rotation, guess=q)
+        states = body.beam_states(q)
+        if any(abs(s[1]) > RANGE or abs(s[2]) > RANGE for s in states):
+            outside.append(level)
+            msgs[level] = "outside the BCM range: " + ", ".join(
+                f"u_y = {s[1]:.3g}, theta = {s[2]:.3g}" for s in states)
+        for req in requests:
+            if req.level != level:
+                continue
+            if req.quantity == "strain_energy":
+                values[req] = body.strain_energy(q)
+                continue
+            point = req.point if req.point != "input" else link.nodes[0]
+            if point not in link.nodes and point not in nodes:
+                raise NotApplicable(f"unknown point '{req.point}'")
+            X = nodes[point]
+            p = body.position(X, q) if point in link.nodes else X
+            table = {"x": p[0], "y": p[1], "dx": p[0] - X[0], "dy": p[1] - X[1],
+                     "rotation": math.degrees(q[2]) if point in link.nodes else 0.0,
+                     "force_x": applied.get(point, np.zeros(2))[0],
+                     "force_y": applied.get(point, np.zeros(2))[1],
+                     "moment": needed if point == drive_point else 0.0}
+            if req.quantity not in table:
+                raise NotApplicable(f"'{req.quantity}' is not a BCM mechanism output")
+            values[req] = float(table[req.quantity])
+    return values, msgs, outside
+
+
+def run(case: Case, requests: list[Request], options: dict) -> MethodRun:
+    t0 = time.perf_counter()
+    if not requests:
+        return MethodRun(values={})
+    if case.segment is not None:
+        values, msgs, outside = _segment(case, requests, options)
+    else:
+        values, msgs, outside = _mechanism(case, requests, options)
+    levels = sorted({r.level for r in requests})
+    message = "converged" if not outside else f"BCM range exceeded at levels {outside}"
+    return MethodRun(values=values, converged=True, message=message,
+                     wall_time=time.perf_counter() - t0,
+                     level_converged={lv: True for lv in levels},
+                     level_messages={lv: msgs.get(lv, "") for lv in levels},
+                     extras={"outside_range": outside, "model": "beam constraint model (seed 003)"})

@@ -1,0 +1,143 @@
+"""Adapter: a single-segment case -> the exact inextensible elastica (``elastica.shooting``).
+
+Supported: one ``[segment]`` (straight or initially curved, any section: EI from
+``segment.bending_stiffness()``), boundaries fixed-free, fixed-pinned, fixed-guided, fixed-fixed;
+tip loads of kind force (dead or follower), moment, displacement and rotation. The load path is
+followed level by level with continuation (each level warm-starts from the previous one).
+
+Boundary handling: fixed-guided holds the tip angle at its unloaded value (unless a rotation
+load prescribes it) and the tip moment is solved for; fixed-fixed also holds both tip position
+components that no displacement load prescribes. With prescribed displacements/rotations, the
+``force_x``/``force_y``/``moment`` outputs are the tip loads needed. ``rotation`` is the change of
+the tip angle from the unloaded state (degrees); ``reaction_*`` are the support loads at the root.
+
+Options (``[methods.elastica]``): ``I`` (replaces the section's second moment of area, so
+EI = E * I), ``EI`` (replaces EI), ``rtol``, ``tol``, ``samples`` (shape points kept in extras).
+Not applicable: mechanisms, pinned-pinned segments, loads away from the tip. The elastica is
+inextensible and shear-free whatever the section's area.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from elastica.shooting import ElasticaProblem, TipConstraint, solve_path, unloaded_tip
+from validation.methods.base import MethodRun, NotApplicable, Request
+from validation.schema import Case
+
+SUPPORTED = {"fixed-free", "fixed-pinned", "fixed-guided", "fixed-fixed"}
+
+
+def _stiffness(case: Case, options: dict) -> float:
+    seg = case.segment
+    if "EI" in options:
+        return float(options["EI"])
+    if "I" in options:
+        if seg.E is None:
+            raise NotApplicable("option I needs the segment's E (a layered section has none)")
+        return seg.E * float(options["I"])
+    return seg.bending_stiffness()
+
+
+def level_problems(case: Case, options: dict) -> list[ElasticaProblem]:
+    """One ``ElasticaProblem`` per load level of a segment case (raises NotApplicable)."""
+    if case.mechanism is not None:
+        raise NotApplicable("the exact elastica solves a single segment, not a mechanism")
+    seg = case.segment
+    if seg.boundary not in SUPPORTED:
+        raise NotApplicable(f"boundary '{seg.boundary}' is not modelled by the elastica adapter")
+    L, k0 = seg.length, seg.initial_curvature()
+    EI = _stiffness(case, options)
+    x0, y0, th0 = unloaded_tip(L, k0)
+    c0, s0 = math.cos(th0), math.sin(th0)
+    for load in case.loads:
+        if load.point != "tip":
+            raise NotApplicable(f"load at '{load.point}': the elastica adapter takes tip loads only")
+        if load.body is not None:
+            raise NotApplicable("loads on a named body belong to mechanisms")
+    problems = []
+    for i in range(case.n_levels()):
+        force = np.zeros(2)
+        follower = np.zeros(2)
+        moment = 0.0
+        constraints: list[TipConstraint] = []
+        prescribed_dirs: list[np.ndarray] = []
+        tip_angle = None
+        for load in case.loads:
+            v = load.levels()[i]
+            d = np.asarray(load.direction if load.direction is not None else (0.0, 0.0), float)
+            if load.kind == "force" and not load.follower:
+                force += v * d
+            elif load.kind == "force":
+                # components in the deformed tip frame: rotate the undeformed-frame vector by -theta_tip0
+                f = v * d
+                follower += np.array([c0 * f[0] + s0 * f[1], -s0 * f[0] + c0 * f[1]])
+            elif load.kind == "moment":
+                moment += v
+            elif load.kind == "displacement":
+                u = d / np.hypot(*d)
+                constraints.append(TipConstraint(tuple(u), float(u @ [x0, y0] + v * np.hypot(*d))))
+                prescribed_dirs.append(u)
+            elif load.kind == "rotation":
+                tip_angle = th0 + math.radians(v)
+        if seg.boundary in ("fixed-guided", "fixed-fixed") and tip_angle is None:
+            tip_angle = th0
+        if seg.boundary == "fixed-fixed":
+            for u in (np.array([1.0, 0.0]), np.array([0.0, 1.0])):
+                if all(abs(u @ p) < 0.999 for p in prescribed_dirs) and len(prescribed_dirs) < 2:
+                    constraints.append(TipConstraint(tuple(u), float(u @ [x0, y0])))
+                    prescribed_dirs.append(u)
+        if len(prescribed_dirs) > 2:
+            raise NotApplicable("more than two prescribed tip-position components")
+        problems.append(ElasticaProblem(length=L, EI=EI, curvature=k0, force=tuple(force),
+                                        moment=moment, follower=tuple(follower),
+                                        constraints=tuple(constraints), tip_angle=tip_angle))
+    return problems
+
+
+def _value(res, req: Request, case: Case) -> float:
+    seg = case.segment
+    x0, y0, th0 = unloaded_tip(seg.length, seg.initial_curvature())
+    q, point = req.quantity, req.point
+    if q == "strain_energy":
+        return res.strain_energy
+    if point == "root":
+        table = {"x": 0.0, "y": 0.0, "dx": 0.0, "dy": 0.0, "rotation": 0.0,
+                 "reaction_x": res.reaction[0], "reaction_y": res.reaction[1],
+                 "reaction_moment": res.reaction[2]}
+    else:
+        table = {"x": res.x, "y": res.y, "dx": res.x - x0, "dy": res.y - y0,
+                 "rotation": math.degrees(res.theta - th0), "force_x": res.force[0],
+                 "force_y": res.force[1], "moment": res.moment}
+    if q not in table:
+        raise NotApplicable(f"'{q}' at '{point}' is not an elastica output")
+    return float(table[q])
+
+
+def run(case: Case, requests: list[Request], options: dict) -> MethodRun:
+    t0 = time.perf_counter()
+    problems = level_problems(case, options)
+    kwargs = {k: options[k] for k in ("rtol", "tol") if k in options}
+    samples = int(options.get("samples", 41))
+    wanted = sorted({r.level for r in requests})
+    last = max(wanted) if wanted else -1
+    values, level_ok, level_msg, shapes = {}, {}, {}, {}
+    previous = None
+    for level in range(last + 1):
+        res = solve_path(problems[level], start=previous, n_samples=samples, **kwargs)
+        level_ok[level], level_msg[level] = res.converged, res.message
+        if level in wanted:
+            shapes[level] = res.shape
+            for req in requests:
+                if req.level == level:
+                    values[req] = _value(res, req, case) if res.converged else math.nan
+        previous = res if res.converged else None
+    converged = all(level_ok.get(lv, False) for lv in wanted)
+    message = "; ".join(f"level {lv}: {m}" for lv, m in level_msg.items() if not level_ok[lv])
+    return MethodRun(values=values, converged=converged, message=message or "converged",
+                     wall_time=time.perf_counter() - t0,
+                     level_converged={lv: level_ok[lv] for lv in wanted},
+                     level_messages={lv: level_msg[lv] for lv in wanted},
+                     extras={"shapes": shapes, "model": "inextensible elastica, DOP853 shooting"})
