@@ -42,6 +42,9 @@ class Check:
     passed: bool
     detail: str
 
+    def __post_init__(self):
+        self.passed = bool(self.passed)
+
 
 def cantilever(length=1.0, E=1.0, width=1.0, thickness=0.01, alpha=1.0, angle_deg=90.0, moment=0.0,
                units="dimensionless", elements=16, levels=1, follower=False, methods=("fem",),
@@ -273,6 +276,45 @@ def bad_input_checks() -> list[Check]:
     return checks
 
 
+SIMPLE = {"length": [1.0], "E": [1.0e6], "slenderness": [100.0], "angle_deg": None, "alpha": None, "moment": None}
+
+
+def shrink(params: dict) -> dict:
+    """A simpler failing case: each parameter moved to a round value while the check still fails."""
+    current = dict(params)
+    for key, choices in SIMPLE.items():
+        value = current[key]
+        if choices is None:  # round to fewer digits, coarsest first
+            choices = [round(value, -1), round(value), round(value, 1)] if value else []
+        for choice in choices:
+            if choice == value or (key in ("alpha", "moment") and choice <= 0 < value):
+                continue
+            trial = current | {key: float(choice)}
+            if not agreement_check(trial).passed:
+                current = trial
+                break
+    return current
+
+
+def write_regression(params: dict, folder: Path) -> Path:
+    """Keep a shrunk failure as a case file (FEM and elastica side by side) for a developer to adopt."""
+    import hashlib
+
+    import tomli_w
+
+    h = params["length"] / params["slenderness"]
+    case = cantilever(length=params["length"], E=params["E"], width=h, thickness=h, alpha=params["alpha"],
+                      angle_deg=params["angle_deg"], moment=params["moment"], methods=("fem", "elastica"))
+    data = case.model_dump(mode="json", exclude_none=True, exclude_defaults=True)
+    tag = hashlib.sha256(json.dumps(params, sort_keys=True).encode()).hexdigest()[:8]
+    data["case"] |= {"id": f"stress_regression_{tag}", "title": "shrunk stress failure: FEM vs exact elastica",
+                     "description": "Found by prbm-validate stress; parameters " + json.dumps(params)}
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / f"stress_regression_{tag}.toml"
+    path.write_text(tomli_w.dumps(data))
+    return path
+
+
 def run_stress(out: Path, long: bool = False, seed: int = 20261122) -> int:
     out.mkdir(parents=True, exist_ok=True)
     started = time.perf_counter()
@@ -280,7 +322,13 @@ def run_stress(out: Path, long: bool = False, seed: int = 20261122) -> int:
     rng = random.Random(seed)
     n_random = 200 if long else 25
     for _ in range(n_random):
-        checks.append(agreement_check(random_cantilever_params(rng)))
+        params = random_cantilever_params(rng)
+        check = agreement_check(params)
+        if not check.passed:
+            small = shrink(params)
+            path = write_regression(small, out / "regressions")
+            check.detail += f"; shrunk to {json.dumps({k: round(v, 6) for k, v in small.items()})}, kept as {path.name}"
+        checks.append(check)
     for block in (invariance_checks, hard_path_checks, column_check, bad_input_checks):
         checks.extend(block())
     categories = {}
