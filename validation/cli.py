@@ -1,4 +1,4 @@
-"""``prbm-validate``: list, run, solve, report and bench the validation cases.
+"""``prbm-validate``: list, run, solve, report, bench, stress and sweep the validation cases.
 
 Exit status: 0 all good, 1 a comparison outside its claimed tolerance, 2 bad input.
 """
@@ -176,6 +176,10 @@ def build_parser() -> argparse.ArgumentParser:
     stress.add_argument("--long", action="store_true", help="many more random cases")
     stress.add_argument("--seed", type=int, default=20261122)
     stress.set_defaults(func=cmd_stress)
+
+    from validation.sweep import add_parser as add_sweep_parser
+
+    add_sweep_parser(sub)
     return parser
 
 

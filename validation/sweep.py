@@ -71,6 +71,7 @@ import os
 import sys
 import time
 import tomllib
+import uuid
 import zlib
 from dataclasses import dataclass
 from pathlib import Path
@@ -181,9 +182,9 @@ class Parameter(Strict):
 
 class PlotSpec(Strict):
     kind: Literal["domain", "scatter", "convergence", "none"] = "none"
-    x: str = "x"
-    y: str = "y"
-    point: str = "tip"
+    x: str | None = Field(None, description="default: x, else dx")
+    y: str | None = Field(None, description="default: y, else dy")
+    point: str | None = Field(None, description="default: the first point with both quantities")
     by: str | None = None
     levels: list[int] | None = None
 
@@ -261,7 +262,7 @@ def find_spec(name: str | Path) -> Path:
         return path
     for candidate in (SWEEPS_DIR / path, SWEEPS_DIR / f"{name}.toml"):
         if candidate.is_file():
-            return candidate
+            return Path(os.path.relpath(candidate))
     return path  # load_spec reports that it cannot be read
 
 
@@ -283,6 +284,25 @@ def _find_case(ref: str, spec_path: Path, field: str) -> Path:
             unreadable += 1
     note = f" ({unreadable} possible file(s) could not be read)" if unreadable else ""
     raise SpecError(spec_path, field, f"no case file under cases/ has id '{ref}'{note}")
+
+
+def _check_field(data: dict, param: Parameter) -> None:
+    """A path to a field the case does not set must still name a field of the schema."""
+    from validation.sweep_task import _parent, apply
+
+    node, key = _parent(data, param.path)
+    if not isinstance(node, dict) or key in node:
+        return
+    d = param.distribution
+    trial = param.grid()[0] if not param.random else (d.mean if d.mean is not None else d.low)
+    probe = json.loads(json.dumps(data))
+    apply(probe, param.path, param.mode, trial)
+    try:
+        Case.model_validate(probe)
+    except ValidationError as exc:
+        for err in exc.errors():
+            if err["type"] == "extra_forbidden" and ".".join(map(str, err["loc"])) == param.path:
+                raise PathError(f"'{param.path}': no such field in the case schema") from None
 
 
 def load_spec(path: Path | str) -> LoadedSweep:
@@ -327,6 +347,7 @@ def load_spec(path: Path | str) -> LoadedSweep:
         for j, param in enumerate(spec.parameters):
             try:
                 check_path(data, param.path, param.mode)
+                _check_field(data, param)
             except PathError as exc:
                 raise SpecError(path, f"parameters.{j}.path", f"case '{loaded.id}': {exc}") from None
         if loaded.id in cases:
@@ -446,6 +467,7 @@ def load_results(out: Path | str):
         current = set(json.loads(manifest.read_text())["point_ids"])
         frame = frame[frame["point_id"].isin(current)]
     frame = frame.drop_duplicates(["point_id", "method", "quantity", "point", "level"], keep="last")
+    frame["level"] = frame["level"].astype("Int64")
     return frame.reset_index(drop=True)
 
 
@@ -595,11 +617,17 @@ def run_sweep(spec_path: Path | str, out: Path | str | None = None, executor: An
                 "point_ids": [p["id"] for p in points]}
     manifest_path.write_text(json.dumps(manifest, indent=1, default=str))
 
-    run_id = time.strftime("%Y%m%dT%H%M%S") + f"-{os.getpid()}"
-    n_workers = 1 if executor == "serial" else (workers or os.cpu_count() or 1)
+    run_id = time.strftime("%Y%m%dT%H%M%S") + f"-{uuid.uuid4().hex[:8]}"  # unique: part names never clash
+    if executor == "serial":
+        n_workers = 1
+    elif _is_dask_client(executor):
+        n_workers = len(executor.scheduler_info()["workers"]) or 1
+    else:
+        n_workers = workers or getattr(executor, "_max_workers", None) or os.cpu_count() or 1
     size = _chunk_size(len(pending), n_workers, chunk if chunk is not None else spec.sweep.chunk)
     chunks = [pending[i:i + size] for i in range(0, len(pending), size)]
     context = {"run": run_id, "cases": loaded.cases, "methods": spec.sweep.methods,
+               "pin_blas": executor != "serial",
                "parameters": [{"path": p.path, "mode": p.mode, "name": p.column} for p in spec.parameters]}
     writer = PartWriter(out / "parts", schema, run_id, every=flush_every, seconds=flush_seconds)
     bar = tqdm(total=len(points), initial=skipped, unit="pt", disable=not progress, leave=False,
@@ -633,7 +661,7 @@ def run_sweep(spec_path: Path | str, out: Path | str | None = None, executor: An
         return status
     left = f", {record['left']} left (run again to continue)" if record["left"] else ""
     print(f"{spec.sweep.id}: {ran} point(s) run, {skipped} already done, {failed} failed{left}; "
-          f"{wall:.1f} s; results in {out}", file=sys.stderr if not progress else sys.stdout)
+          f"{wall:.1f} s; results in {out}")
     return EXIT_FAILED_POINTS if failed else EXIT_OK
 
 

@@ -219,8 +219,26 @@ def run_point(context: dict, point: dict) -> list[dict]:
     return rows
 
 
+_PINNED = False
+
+
+def _one_blas_thread() -> None:
+    """One BLAS thread per worker: the workers are the parallelism (no oversubscription)."""
+    global _PINNED
+    if not _PINNED:
+        _PINNED = True
+        try:
+            from threadpoolctl import threadpool_limits
+
+            threadpool_limits(1)
+        except ImportError:
+            pass
+
+
 def run_chunk(context: dict, points: list[dict]) -> list[dict]:
     """Rows of several points (one executor task; batching amortises the per-task overhead)."""
+    if context.get("pin_blas", True):
+        _one_blas_thread()
     rows: list[dict] = []
     for point in points:
         rows.extend(run_point(context, point))
