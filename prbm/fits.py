@@ -71,6 +71,20 @@ class PiecewiseFit:
 
     def __call__(self, n, extrapolate: str = "raise"):
         """Evaluate at load ratio(s) n (scalar or array)."""
+        if np.ndim(n) == 0:  # scalar fast path (root finders call this in their inner loop)
+            x = float(n)
+            if not (self.lower < x <= self.upper):
+                self._out_of_range(x, extrapolate)
+            branches = self.branches
+            br = branches[-1]
+            for cand in branches[:-1]:
+                if x <= cand.upper:
+                    br = cand
+                    break
+            value = 0.0
+            for c in reversed(br.coefficients):
+                value = value * x + c
+            return value
         n_arr = np.asarray(n, dtype=float)
         outside = ~((n_arr > self.lower) & (n_arr <= self.upper))
         if np.any(outside):
@@ -90,6 +104,16 @@ class PiecewiseFit:
             mask = (n_arr > lo) & (n_arr <= hi)
             out[mask] = np.polynomial.polynomial.polyval(n_arr[mask], br.coefficients)
         return float(out) if out.ndim == 0 else out
+
+    def _out_of_range(self, x: float, extrapolate: str) -> None:
+        message = (f"{self.name}: load ratio n = {x:.6g} outside the fitted range "
+                   f"{self.lower} < n <= {self.upper} ({self.source})")
+        if extrapolate == "raise":
+            raise FitRangeError(message)
+        if extrapolate == "warn":
+            warnings.warn(message + "; nearest branch extrapolated", FitRangeWarning, stacklevel=3)
+        elif extrapolate != "allow":
+            raise ValueError(f"extrapolate must be 'raise', 'warn' or 'allow', not {extrapolate!r}")
 
     def derivative(self, n):
         """d(fit)/dn (branch-wise; the jumps at breakpoints are not differentiated)."""
@@ -138,8 +162,7 @@ class FitFamily:
         g = self.gamma(n, extrapolate)
         k = self.K_theta(n, extrapolate)
         if self.c_theta is None:
-            c = np.full_like(np.asarray(g, dtype=float), np.nan)
-            c = float(c) if np.ndim(c) == 0 else c
+            c = math.nan if np.ndim(g) == 0 else np.full_like(g, np.nan)
         else:
             c = self.c_theta(n, extrapolate)
         return g, c, k

@@ -1,0 +1,48 @@
+"""Speed of the PRBM library: one segment solve at one load level, a 10,000-level sweep, the
+chapter-3 inflection solves, a four-bar torque sweep.  Run: ``.venv/bin/python bench/prbm_speed.py``.
+(Timing lives here, never in the tests.)"""
+from __future__ import annotations
+
+import math
+import timeit
+
+import numpy as np
+
+import prbm
+
+
+def best(stmt, number: int, repeat: int = 5) -> float:
+    """Best time per call, seconds."""
+    return min(timeit.repeat(stmt, number=number, repeat=repeat)) / number
+
+
+def main() -> None:
+    rows = []
+    rows.append(("fixed_pinned_tip, 1 level", best(lambda: prbm.fixed_pinned_tip(2.0, 0.5, length=1.0, EI=1.0), 2000)))
+    P = np.linspace(0.0, 5.0, 10_000)
+    rows.append(("fixed_pinned_tip, 10,000 levels", best(lambda: prbm.fixed_pinned_tip(P, 0.5, length=1.0, EI=1.0), 20)))
+    n = np.linspace(-3.9, 9.9, 10_000)
+    rows.append(("fixed_pinned_tip, 10,000 (P, n) pairs", best(lambda: prbm.fixed_pinned_tip(P, n, length=1.0, EI=1.0), 20)))
+    rows.append(("fixed_pinned_from_tip, 10,000 levels", best(lambda: prbm.fixed_pinned_from_tip(n=0.5, b=0.5 * P / 5.0, length=1.0, EI=1.0), 20)))
+    rows.append(("pure_moment_tip, 10,000 levels", best(lambda: prbm.pure_moment_tip(P, length=1.0, EI=1.0), 50)))
+    rows.append(("curved_fixed_pinned_tip, 10,000 levels", best(lambda: prbm.curved_fixed_pinned_tip(P, 0.5, length=1.0, EI=1.0, curvature=0.5), 20)))
+    rows.append(("fixed_guided_tip, 10,000 levels", best(lambda: prbm.fixed_guided_tip(P, 0.5, length=1.0, EI=1.0), 20)))
+    rows.append(("slfp_tip, 10,000 levels", best(lambda: prbm.slfp_tip(P, 0.5, flexure_length=0.1, rigid_length=1.0, EI=1.0), 20)))
+    beam = prbm.InflectionBeam(20.0, 30e6 * 1.02e-5)
+    rows.append(("inflection solve_loads (Table 3.2 Ex. 1, all roots)", best(lambda: prbm.solve_loads(beam, 3.5, 1.5, 15.0), 3, 3)))
+    rows.append(("inflection case 1 (Table 3.3 Ex. 3, all roots)",
+                 best(lambda: prbm.solve_displacements(beam, a=18.5, b=5.0, theta0=math.radians(-45)), 3, 3)))
+    rows.append(("inflection case 2c (Table 3.6 Ex. 3, all roots)",
+                 best(lambda: prbm.solve_displacements(beam, b=5.0, theta0=math.radians(-30), l1=9.0), 3, 3)))
+    fb = prbm.FourBar(3.902 - 0.8802j, 4.754 + 2.767j, 6.249 - 2.176j, 7.099 + 1.471j, 7.929 - 0.148j,
+                      springs=(38.356, 0, 0, 0), theta_free=(math.radians(15.86), -0.4958, -0.1057))
+    th = np.linspace(0.3, 0.9, 10_000)
+    rows.append(("FourBar.input_torque, 10,000 angles", best(lambda: fb.input_torque(th), 20)))
+    rows.append(("FourBar.positions_under_torque, 1 level", best(lambda: fb.positions_under_torque([9.75]), 20)))
+    width = max(len(r[0]) for r in rows)
+    for name, t in rows:
+        print(f"{name:<{width}}  {t * 1e6:12.1f} us")
+
+
+if __name__ == "__main__":
+    main()

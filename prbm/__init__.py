@@ -1,0 +1,27 @@
+"""Pseudo-rigid-body models (PRBM) of compliant segments and mechanisms; no knowledge of case files."""
+from prbm.composite import capstan_factor, composite_beam_tip, layered_bending_stiffness
+from prbm.dof import SEGMENT_MODES, PRBMTopology, Segment, grubler
+from prbm.domain import boundary_curves, fit_radius, fixed_pinned_domain
+from prbm.fits import (FAMILIES, HOWELL, PAULY_MIDHA, PURE_MOMENT_C_THETA, PURE_MOMENT_GAMMA,
+                       PURE_MOMENT_K_THETA, PURE_MOMENT_SPRING, FitFamily, FitRangeError, FitRangeWarning,
+                       PiecewiseFit, fit_family, load_angle, load_ratio)
+from prbm.inflection import InflectionBeam, inflection_state, solve_displacements, solve_loads
+from prbm.mechanisms import FourBar, SliderCrank
+from prbm.result import PRBMResult
+from prbm.segments import (curved_fixed_pinned_tip, curved_pinned_pinned, fixed_guided_monotonic_tip,
+                           fixed_guided_tip, fixed_pinned_from_tip, fixed_pinned_tip, pure_moment_from_tip,
+                           pure_moment_tip, slfp_tip, spring_angle)
+
+__all__ = [
+    "capstan_factor", "composite_beam_tip", "layered_bending_stiffness",
+    "SEGMENT_MODES", "PRBMTopology", "Segment", "grubler",
+    "boundary_curves", "fit_radius", "fixed_pinned_domain",
+    "FAMILIES", "HOWELL", "PAULY_MIDHA", "PURE_MOMENT_C_THETA", "PURE_MOMENT_GAMMA", "PURE_MOMENT_K_THETA",
+    "PURE_MOMENT_SPRING", "FitFamily", "FitRangeError", "FitRangeWarning", "PiecewiseFit", "fit_family",
+    "load_angle", "load_ratio",
+    "InflectionBeam", "inflection_state", "solve_displacements", "solve_loads",
+    "FourBar", "SliderCrank", "PRBMResult",
+    "curved_fixed_pinned_tip", "curved_pinned_pinned", "fixed_guided_monotonic_tip", "fixed_guided_tip",
+    "fixed_pinned_from_tip", "fixed_pinned_tip", "pure_moment_from_tip", "pure_moment_tip", "slfp_tip",
+    "spring_angle",
+]

@@ -1,0 +1,291 @@
+"""Fixed-guided compliant beam with one inflection point: the chapter-3 PRBM of seed 000 (Bapat 2015).
+
+The inflection point P_i carries no moment, so it is an instantaneous pin splitting the beam into
+segment 1 (clamp O to P_i, length l1, frame O-X-Y) and segment 2 (guided end E back to P_i, length
+l2, frame E-x-y), each a fixed-pinned PRBM with the Pauly-Midha fits (seed 000 eqs 83-104):
+
+  gamma_i, c_theta_i, K_theta_i = fits(n_i)                                   (83)-(92), (41)-(43)
+  n_i = -1/tan(phi_i)                                                          (93), (94)
+  (F l1^2/EI) sin(phi1 - theta10/c1) - K1 theta10/c1 = 0                        (95)
+  (F l2^2/EI) sin(phi2 - theta20/c2) - K2 theta20/c2 = 0                        (96)
+  nP + F cos(phi2 + theta0) = 0,   P - F sin(phi2 + theta0) = 0                (97), (98)
+  M - [nP cos th0 - P sin th0] g2 l2 sin(Th2) - [P cos th0 + nP sin th0][(1-g2) l2 + g2 l2 cos Th2] = 0   (99)
+  l1 + l2 = l (100);  theta10 = theta20 + theta0 (101);  phi1 = phi2 + theta0 (102)
+  b = g1 l1 sin Th1 + g2 l2 sin(Th2 + th0) + (1-g2) l2 sin th0                  (103)
+  a = (1-g1) l1 + g1 l1 cos Th1 + g2 l2 cos(Th2 + th0) + (1-g2) l2 cos th0      (104)
+
+with Th_i = theta_i0 / c_theta_i.  Sign conventions (fixed by reproducing Tables 3.2-3.6, see
+notes seed-ch2-4 section 0): the end force is (-nP, P) (nP > 0 compressive), M > 0 is the moment
+*opposing* P (clockwise for P > 0), theta0 CCW.  (97), (98), (102) give n1 = n and
+phi1 = atan2(P, -nP), F = sqrt(P^2 + (nP)^2).  No correction to eqs (83)-(104) was needed.
+
+The 18 equations are reduced to 2 or 3 residuals per problem, F being explicit from (95) whenever
+the load is unknown:
+
+==========================  ==========================  ===================  ====================
+problem                     given                       unknowns             residuals
+==========================  ==========================  ===================  ====================
+``solve_loads`` (T 3.2)      P, nP, M                    theta0, l1, theta10  (95), (96), (99)
+``solve_displacements``      a, b, theta0 (T 3.3)        phi1, l1, theta10    (96), (103), (104)
+  (case 1)
+  (case 2a/2b)               b, theta0, n (T 3.4, 3.5)   l1, theta10          (96), (103)
+  (case 2c)                  b, theta0, l1 (T 3.6)       phi1, theta10        (96), (103)
+==========================  ==========================  ===================  ====================
+
+Each problem is solved by MINPACK's hybrid method from the ``starts`` (default 20) grid points of
+smallest residual (the grid residual is evaluated vectorised); every distinct root is kept.  A root is valid when 0 < l1 < l, Theta1 > 0, Theta2 > 0, 0 < phi2 < pi,
+|theta0| < 90 deg and n, n2 lie in the fits' range -4 < n <= 10 (outside it the fits are only
+extrapolated during the iteration, and such roots are reported as rejected, never as answers).
+Roots with 0 < phi2 < pi come first (there the fits' n2 = -1/tan(phi2) describes a segment-2 load
+with positive transverse component, as the fits assume; other roots are flagged in their status),
+then by the PRBM strain energy (1/2) sum k_i Theta_i^2, k_i = g_i K_i EI/l_i (minimum total
+potential energy, seed 000 chapter 8), lowest first; ``prefer=(key, target)`` orders by closeness
+of ``key`` to ``target`` instead.  Example: Table 3.3 Ex. 3 has two valid roots, the printed one
+(nP = -35.635, U = 47.15 in-lb) and nP = 8.566, P = 3.328, M = 60.249, l1 = 7.232 (phi2 = 203.8 deg,
+U = 44.42 in-lb); the ordering reports the printed one first.
+Displacement problems search P > 0 (phi1 in (0, pi)), as in every table of the seed; for P < 0
+mirror the boundary conditions (b, theta0 -> -b, -theta0).
+"""
+from __future__ import annotations
+
+import math
+import time
+import warnings
+
+import numpy as np
+from scipy.optimize import root
+
+from prbm.fits import PAULY_MIDHA, FitFamily, fit_family
+from prbm.result import PRBMResult
+
+__all__ = ["InflectionBeam", "inflection_state", "solve_loads", "solve_displacements"]
+
+DEG = math.pi / 180.0
+
+
+class InflectionBeam:
+    """The beam: length l, bending stiffness EI, fit family (default Pauly-Midha, as in chapter 3)."""
+
+    def __init__(self, length: float, EI: float, family: str | FitFamily = PAULY_MIDHA):
+        self.length = float(length)
+        self.EI = float(EI)
+        self.family = fit_family(family)
+
+
+def inflection_state(beam: InflectionBeam, F, phi1, theta0, l1, theta10) -> dict[str, np.ndarray]:
+    """Every variable of eqs (83)-(104) from F, phi1, theta0, l1, theta10 (vectorised).
+
+    Returns the residuals r95, r96 (dimensionless) and the outputs M (eq 99, opposing-positive),
+    a, b (eqs 103, 104), P, nP, n, n2, gammas, c's, K's, Theta1, Theta2, l2, U (spring energy).
+    """
+    fam, l, EI = beam.family, beam.length, beam.EI
+    F, phi1, theta0, l1, theta10 = np.broadcast_arrays(*(np.asarray(v, float) for v in (F, phi1, theta0, l1, theta10)))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        n = -np.cos(phi1) / np.sin(phi1)
+        phi2 = phi1 - theta0
+        n2 = -np.cos(phi2) / np.sin(phi2)
+    g1, c1, K1 = fam.parameters(np.nan_to_num(n, nan=0.0, posinf=1e3, neginf=-1e3), "allow")
+    g2, c2, K2 = fam.parameters(np.nan_to_num(n2, nan=0.0, posinf=1e3, neginf=-1e3), "allow")
+    l2 = l - l1
+    theta20 = theta10 - theta0
+    Th1 = theta10 / c1
+    Th2 = theta20 / c2
+    P = F * np.sin(phi1)
+    nP = -F * np.cos(phi1)
+    r95 = F * l1**2 / EI * np.sin(phi1 - Th1) - K1 * Th1
+    r96 = F * l2**2 / EI * np.sin(phi2 - Th2) - K2 * Th2
+    ct, st = np.cos(theta0), np.sin(theta0)
+    M = (nP * ct - P * st) * g2 * l2 * np.sin(Th2) + (P * ct + nP * st) * ((1 - g2) * l2 + g2 * l2 * np.cos(Th2))
+    b = g1 * l1 * np.sin(Th1) + g2 * l2 * np.sin(Th2 + theta0) + (1 - g2) * l2 * st
+    a = (1 - g1) * l1 + g1 * l1 * np.cos(Th1) + g2 * l2 * np.cos(Th2 + theta0) + (1 - g2) * l2 * ct
+    with np.errstate(divide="ignore", invalid="ignore"):
+        U = 0.5 * (g1 * K1 * EI / l1 * Th1**2 + g2 * K2 * EI / l2 * Th2**2)
+    return {"F": F, "phi1": phi1, "phi2": phi2, "theta0": theta0, "l1": l1, "l2": l2, "theta10": theta10,
+            "theta20": theta20, "Theta1": Th1, "Theta2": Th2, "n": n, "n2": n2, "gamma1": g1, "gamma2": g2,
+            "c_theta1": c1, "c_theta2": c2, "K_theta1": K1, "K_theta2": K2, "P": P, "nP": nP, "M": M,
+            "a": a, "b": b, "r95": r95, "r96": r96, "U": U}
+
+
+def _force_from_95(beam, phi1, l1, theta10):
+    """F explicit from eq (95) (with c1, K1 at n = n(phi1))."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        n = -np.cos(phi1) / np.sin(phi1)
+    _, c1, K1 = beam.family.parameters(np.nan_to_num(n, nan=0.0, posinf=1e3, neginf=-1e3), "allow")
+    Th1 = theta10 / c1
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return K1 * Th1 * beam.EI / (l1**2 * np.sin(phi1 - Th1))
+
+
+def _valid(beam, s, tol=1e-8) -> tuple[bool, str]:
+    l, fam = beam.length, beam.family
+    checks = [
+        (np.isfinite(s["F"]) and s["F"] > 0, "F <= 0"),
+        (0 < s["phi1"] < math.pi, "P <= 0 (search is for P > 0; mirror the BCs for P < 0)"),
+        (0 < s["l1"] < l, "l1 outside (0, l)"),
+        (s["Theta1"] > 0, "Theta1 <= 0"),
+        (s["Theta2"] > 0, "Theta2 <= 0"),
+        (abs(s["theta0"]) < math.pi / 2, "|theta0| >= 90 deg"),
+        (fam.lower < s["n"] <= fam.upper, f"n = {s['n']:.4g} outside the fits' range"),
+        (fam.lower < s["n2"] <= fam.upper, f"n2 = {s['n2']:.4g} outside the fits' range"),
+    ]
+    for ok, why in checks:
+        if not ok:
+            return False, why
+    if not 0 < s["phi2"] < math.pi:
+        return True, "valid (phi2 outside (0, pi): the force on segment 2 has a negative transverse component)"
+    return True, "valid"
+
+
+def _multistart(residual, grid: np.ndarray, keep: int, xtol: float):
+    """Solve residual(x) = 0 from the `keep` grid points of smallest residual; return distinct roots."""
+    with np.errstate(all="ignore"):
+        norms = np.linalg.norm(residual(grid.T), axis=0)  # residual is vectorised over columns
+    norms = np.where(np.isfinite(norms), norms, np.inf)
+    order = np.argsort(norms)[:keep]
+    roots, nfev = [], 0
+    for i in order:
+        if not np.isfinite(norms[i]):
+            continue
+        with np.errstate(all="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            sol = root(residual, grid[i], method="hybr", options={"xtol": xtol})
+        nfev += sol.nfev
+        if not np.all(np.isfinite(sol.x)):
+            continue
+        with np.errstate(all="ignore"):
+            r = residual(sol.x)
+        if np.all(np.isfinite(r)) and np.linalg.norm(r) < 1e-9:
+            if not any(np.allclose(sol.x, x0, rtol=1e-6, atol=1e-7) for x0 in roots):
+                roots.append(sol.x)
+    return roots, nfev
+
+
+def _package(beam, states, problem, given, t0, nfev, prefer) -> PRBMResult:
+    valid, rejected, seen = [], [], []
+    for s in states:
+        if s["F"] < 0:  # the same state written with (-F, phi1 + pi)
+            s = inflection_state(beam, -s["F"], s["phi1"] + math.pi, s["theta0"], s["l1"], s["theta10"])
+        s = {k: float(v) for k, v in s.items()}
+        s["phi1"] = math.atan2(math.sin(s["phi1"]), math.cos(s["phi1"]))
+        s["phi2"] = s["phi1"] - s["theta0"]
+        key = np.array([s["P"], s["nP"], s["l1"], s["theta10"], s["theta0"]])
+        if any(np.allclose(key, k0, rtol=1e-6, atol=1e-6) for k0 in seen):
+            continue
+        seen.append(key)
+        ok, why = _valid(beam, s)
+        (valid if ok else rejected).append({**s, "status": why})
+    if prefer == "energy":
+        valid.sort(key=lambda s: (s["status"] != "valid", s["U"]))
+    elif prefer is not None:
+        key, target = prefer
+        valid.sort(key=lambda s: abs(s[key] - target))
+    wall = time.perf_counter() - t0
+    constants = {"family": beam.family.name, "length": beam.length, "EI": beam.EI}
+    if not valid:
+        msg = f"{problem}: no valid root found" + (f" ({len(rejected)} rejected: "
+                                                   + "; ".join(r['status'] for r in rejected[:3]) + ")" if rejected else "")
+        nan = {k: np.nan for k in ("a", "b", "theta0", "P", "nP", "M", "l1", "theta10", "n", "n2")}
+        return PRBMResult(False, msg, {k: np.asarray(v) for k, v in nan.items()}, constants,
+                          "fixed-guided with one inflection point, seed 000 eqs (83)-(104)", wall, nfev,
+                          np.array([False]), roots=[[]], extras={"rejected": rejected, "given": given})
+    best = valid[0]
+    msg = f"{problem}: {len(valid)} valid root(s)" + (f", {len(rejected)} rejected" if rejected else "")
+    for key in ("gamma1", "gamma2", "c_theta1", "c_theta2", "K_theta1", "K_theta2"):
+        constants[key] = best[key]
+    outputs = {k: np.asarray(v) for k, v in best.items() if k != "status"}
+    return PRBMResult(True, msg, outputs, constants,
+                      "fixed-guided with one inflection point, seed 000 eqs (83)-(104)", wall, nfev,
+                      np.array([True]), roots=[valid], extras={"rejected": rejected, "given": given})
+
+
+def solve_loads(beam: InflectionBeam, P: float, nP: float, M: float, *, prefer="energy",
+                xtol: float = 1e-12, starts: int = 20) -> PRBMResult:
+    """Load-specified problem (seed 000 section 3.5.1, Table 3.2): P, nP, M (M opposing) -> a, b, theta0.
+
+    Unknowns theta0, l1, theta10; residuals (95), (96), (99).  P < 0 is handled by mirroring.
+    """
+    t0 = time.perf_counter()
+    if P < 0:
+        res = solve_loads(beam, -P, nP, -M, prefer=prefer, xtol=xtol, starts=starts)
+        for key in ("b", "theta0", "P", "M", "theta10", "theta20", "Theta1", "Theta2"):
+            if key in res.outputs:
+                res.outputs[key] = -res.outputs[key]
+        res.message += " (mirrored, P < 0)"
+        return res
+    l, EI = beam.length, beam.EI
+    F = math.hypot(P, nP)
+    phi1 = math.atan2(P, -nP)
+
+    def residual(x):
+        s = inflection_state(beam, F, phi1, x[0], x[1] * l, x[2])
+        return np.stack([s["r95"], s["r96"], (M - s["M"]) * l / EI])
+
+    grid = np.array([(t, f, q) for t in np.linspace(-80, 80, 17) * DEG for f in np.linspace(0.15, 0.85, 8)
+                     for q in np.linspace(5, 85, 9) * DEG])
+    roots, nfev = _multistart(residual, grid, starts, xtol)
+    states = [inflection_state(beam, F, phi1, x[0], x[1] * l, x[2]) for x in roots]
+    return _package(beam, states, "load BCs", {"P": P, "nP": nP, "M": M}, t0, nfev, prefer)
+
+
+def solve_displacements(beam: InflectionBeam, *, b: float, theta0: float, a: float | None = None,
+                        n: float | None = None, l1: float | None = None, prefer="energy",
+                        xtol: float = 1e-12, starts: int = 20) -> PRBMResult:
+    """Displacement-specified problems of seed 000 section 3.5.2 (theta0 in radians).
+
+    Give b and theta0 and exactly one of: a (case 1, Table 3.3), n (cases 2a/2b, Tables 3.4/3.5;
+    n = 0 is the tables' "n1 = 0"), l1 (case 2c, Table 3.6).  Returns P, nP, M (opposing), l1,
+    theta10 and the unspecified end coordinate; every valid root is in ``result.roots[0]``.
+    """
+    t0 = time.perf_counter()
+    if sum(v is not None for v in (a, n, l1)) != 1:
+        raise ValueError("give exactly one of a (case 1), n (case 2a/2b) or l1 (case 2c)")
+    l, EI = beam.length, beam.EI
+    scale = 1.0 / l
+
+    if a is not None:
+        problem = "case 1 (a, b, theta0)"
+
+        def unpack(x):
+            return x[0], x[1] * l, x[2]
+
+        def residual(x):
+            phi1, L1, q = unpack(x)
+            s = inflection_state(beam, _force_from_95(beam, phi1, L1, q), phi1, theta0, L1, q)
+            return np.stack([s["r96"], (s["b"] - b) * scale, (s["a"] - a) * scale])
+
+        grid = np.array([(p, f, q) for p in np.linspace(10, 170, 17) * DEG for f in np.linspace(0.1, 0.9, 9)
+                         for q in np.linspace(3, 88, 12) * DEG])
+    elif n is not None:
+        problem = "case 2a/2b (b, theta0, n)"
+        phi_fixed = math.atan2(1.0, -n)
+
+        def unpack(x):
+            return phi_fixed, x[0] * l, x[1]
+
+        def residual(x):
+            phi1, L1, q = unpack(x)
+            s = inflection_state(beam, _force_from_95(beam, phi1, L1, q), phi1, theta0, L1, q)
+            return np.stack([s["r96"], (s["b"] - b) * scale])
+
+        grid = np.array([(f, q) for f in np.linspace(0.05, 0.95, 19) for q in np.linspace(2, 88, 44) * DEG])
+    else:
+        problem = "case 2c (b, theta0, l1)"
+        l1_fixed = l1
+
+        def unpack(x):
+            return x[0], l1_fixed, x[1]
+
+        def residual(x):
+            phi1, L1, q = unpack(x)
+            s = inflection_state(beam, _force_from_95(beam, phi1, L1, q), phi1, theta0, L1, q)
+            return np.stack([s["r96"], (s["b"] - b) * scale])
+
+        grid = np.array([(p, q) for p in np.linspace(5, 175, 35) * DEG for q in np.linspace(2, 88, 44) * DEG])
+
+    roots, nfev = _multistart(residual, grid, starts, xtol)
+    states = []
+    for x in roots:
+        phi1, L1, q = unpack(x)
+        states.append(inflection_state(beam, _force_from_95(beam, phi1, L1, q), phi1, theta0, L1, q))
+    given = {"b": b, "theta0": theta0, "a": a, "n": n, "l1": l1}
+    return _package(beam, states, problem, given, t0, nfev, prefer)

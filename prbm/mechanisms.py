@@ -1,0 +1,281 @@
+"""Planar pseudo-rigid-body linkages: four-bar and slider-crank with torsional springs.
+
+Four-bar (seed 000 chapters 6, 7, 9; Figs 6.2, 7.1): complex vectors Z1 (ground O2 -> O4),
+Z2 (input O2 -> A), Z3 (coupler A -> B), Z4 (output O4 -> B), Z5 (A -> coupler point P); loop
+Z2 + Z3 = Z1 + Z4.  Springs k1..k4 at O2, A, B, O4 on the joint angles of eq (183):
+beta1 = Theta2, beta2 = Theta3 - Theta2 (+ const), beta3 = Theta4 - Theta3, beta4 = Theta4, measured
+from the energy-free angles Theta20, Theta30, Theta40.
+
+  U = 1/2 sum k_i (beta_i - beta_i0)^2                                              (181)
+  T = dU/dTheta2 = sum k_i (beta_i - beta_i0) d beta_i/dTheta2                      (182), (193)
+  h3 = dTheta3/dTheta2 = R2 sin(Theta4 - Theta2) / (R3 sin(Theta3 - Theta4))
+  h4 = dTheta4/dTheta2 = R2 sin(Theta3 - Theta2) / (R4 sin(Theta3 - Theta4))
+
+Static equilibrium under an input torque T on link 2 is the stationary point of the total potential
+U - T (Theta2 - Theta20) (virtual work, eq 191): solve dU/dTheta2 = T for Theta2 (1-D, bracketed).
+Position analysis: Theta4 from the closed-form loop solution on the assembly branch of the
+reference (position-1) configuration; Theta3 from the loop.
+
+Mechanical advantage (chapter 7): rigid-body MA_R = (d_i/d_o)(omega2/omega4) = (d_i/d_o)/h4 (eq 190),
+equal to the instant-centre form (d_i/d_o)|I14 I24|/|I12 I24| (eq 202) (both are implemented and
+tested to agree); compliant MA = MA_R (1 - F_c/F_i) with F_c = T_c/d_i (eq 192), T_c from (193).
+The garbled eqs (201) and (204) are not implemented (notes seed-ch5-9 section 3.5).
+
+Slider-crank (chapter 7, Fig 7.2): crank R2 at Theta2 about O2, coupler R3 to the slider pin on the
+axis y = offset (axis along x, Theta1 = 0); springs k1 (O2), k2 (A), k3 (slider pin), f_k (slider).
+Compliance torque eq (196); MA_R = d_i/|I12 I24| (eq 199).
+"""
+from __future__ import annotations
+
+import cmath
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+
+from prbm.result import PRBMResult
+
+__all__ = ["FourBar", "SliderCrank"]
+
+
+def _wrap(x):
+    return (np.asarray(x) + np.pi) % (2 * np.pi) - np.pi
+
+
+@dataclass
+class FourBar:
+    """A four-bar from its position-1 vectors (complex, any consistent length unit), with springs.
+
+    springs: (k1, k2, k3, k4) torsional stiffnesses (moment/rad); theta_free: energy-free
+    (Theta20, Theta30, Theta40) in radians (default: position 1).
+    """
+
+    Z1: complex
+    Z2: complex
+    Z3: complex
+    Z4: complex
+    Z5: complex = 0j
+    springs: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
+    theta_free: tuple[float, float, float] | None = None
+
+    def __post_init__(self):
+        self.R1, self.R2, self.R3, self.R4 = (abs(z) for z in (self.Z1, self.Z2, self.Z3, self.Z4))
+        self.theta1 = cmath.phase(self.Z1)
+        t2, t3, t4 = (cmath.phase(z) for z in (self.Z2, self.Z3, self.Z4))
+        self.theta_ref = (t2, t3, t4)
+        # assembly branch: the circle intersection that reproduces position 1
+        self.branch = 1.0
+        err_plus = self._branch_check()
+        self.branch = -1.0
+        if self._branch_check() > err_plus:
+            self.branch = 1.0
+        # Z5 rides on the coupler: its angle minus the coupler angle *as recomputed* at position 1,
+        # so that printed vectors whose loop closes only to rounding still give P(position 1) = Z2 + Z5
+        # and coupler-point displacements Z2 (e^{i phi} - 1) + Z5 (e^{i gamma} - 1) (eqs 179, 180).
+        t3_computed = float(self.angles(t2)[0])
+        self.coupler_offset = cmath.phase(self.Z5) - t3_computed if self.Z5 != 0 else 0.0
+        self.R5 = abs(self.Z5)
+        if self.theta_free is None:
+            self.theta_free = self.theta_ref
+        self.loop_error = abs(self.Z2 + self.Z3 - self.Z1 - self.Z4)
+
+    # --- kinematics -------------------------------------------------------------------------
+    def angles(self, theta2):
+        """(Theta3, Theta4) for input angle(s) Theta2 (rad), on the position-1 assembly branch.
+
+        Loop Z2 + Z3 = Z1 + Z4: with D = Z1 - Z2 (A to O4), B = A + R3 e^{i Theta3} = O4 + R4 e^{i Theta4}.
+        Intersect circles about A (R3) and O4 (R4); NaN where the linkage cannot assemble.
+        """
+        theta2 = np.asarray(theta2, dtype=float)
+        A = self.R2 * np.exp(1j * theta2)
+        O4 = self.Z1
+        d = O4 - A
+        dist = np.abs(d)
+        cos_alpha = (self.R3**2 + dist**2 - self.R4**2) / (2 * self.R3 * dist)
+        with np.errstate(invalid="ignore"):
+            alpha = np.arccos(cos_alpha)
+        base = np.angle(d)
+        # choose the intersection on the same side as position 1
+        theta3 = base - self.branch * alpha
+        B = A + self.R3 * np.exp(1j * theta3)
+        theta4 = np.angle(B - O4)
+        return theta3, theta4
+
+    def _branch_check(self):
+        t3, t4 = self.angles(self.theta_ref[0])
+        return abs(_wrap(t3 - self.theta_ref[1])) + abs(_wrap(t4 - self.theta_ref[2]))
+
+    def coupler_point(self, theta2):
+        """Coupler point P = A + R5 e^{i(Theta3 + offset)} (complex, O2 at the origin)."""
+        theta2 = np.asarray(theta2, dtype=float)
+        theta3, _ = self.angles(theta2)
+        return self.R2 * np.exp(1j * theta2) + self.R5 * np.exp(1j * (theta3 + self.coupler_offset))
+
+    def kinematic_coefficients(self, theta2):
+        """(h3, h4) = (dTheta3/dTheta2, dTheta4/dTheta2)."""
+        t3, t4 = self.angles(theta2)
+        h3 = self.R2 * np.sin(t4 - theta2) / (self.R3 * np.sin(t3 - t4))
+        h4 = self.R2 * np.sin(t3 - theta2) / (self.R4 * np.sin(t3 - t4))
+        return h3, h4
+
+    # --- springs ----------------------------------------------------------------------------
+    def _spring_deflections(self, theta2):
+        t3, t4 = self.angles(theta2)
+        t20, t30, t40 = self.theta_free
+        d1 = theta2 - t20
+        d3a = _wrap(t3 - t30)
+        d4 = _wrap(t4 - t40)
+        return d1, _wrap(d3a - d1), _wrap(d4 - d3a), d4
+
+    def strain_energy(self, theta2):
+        """U = 1/2 sum k_i (beta_i - beta_i0)^2, eq (181)."""
+        return 0.5 * sum(k * d**2 for k, d in zip(self.springs, self._spring_deflections(theta2)))
+
+    def input_torque(self, theta2):
+        """T = dU/dTheta2 (eqs 182, 193): the input torque on link 2 holding the linkage at Theta2."""
+        d1, d2, d3, d4 = self._spring_deflections(theta2)
+        h3, h4 = self.kinematic_coefficients(theta2)
+        k1, k2, k3, k4 = self.springs
+        return k1 * d1 + k2 * d2 * (h3 - 1) + k3 * d3 * (h4 - h3) + k4 * d4 * h4
+
+    def positions_under_torque(self, torques, *, span: float = math.radians(120)) -> PRBMResult:
+        """Equilibrium input angles (and coupler points) under input torque(s) T on link 2.
+
+        Solves input_torque(Theta2) = T by Brent's method, bracketing from the energy-free angle
+        Theta20 in the direction of T, up to `span`.  Outputs theta2, theta3, theta4 (rad),
+        coupler point x, y (O2 origin), U.
+        """
+        t0 = time.perf_counter()
+        torques = np.atleast_1d(np.asarray(torques, dtype=float))
+        t20 = self.theta_free[0]
+        thetas, ok = [], []
+        for T in torques:
+            if T == 0.0:
+                thetas.append(t20)
+                ok.append(True)
+                continue
+            sgn = 1.0 if T > 0 else -1.0
+            grid = t20 + sgn * np.linspace(0.0, span, 241)
+            r = self.input_torque(grid) - T
+            idx = np.nonzero(np.isfinite(r[:-1]) & np.isfinite(r[1:]) & (np.sign(r[:-1]) != np.sign(r[1:])))[0]
+            if len(idx) == 0:
+                thetas.append(np.nan)
+                ok.append(False)
+                continue
+            i = idx[0]
+            thetas.append(brentq(lambda t: float(self.input_torque(t)) - T, grid[i], grid[i + 1], xtol=1e-14))
+            ok.append(True)
+        theta2 = np.array(thetas)
+        t3, t4 = self.angles(theta2)
+        P = self.coupler_point(theta2)
+        ok = np.array(ok)
+        out = {"theta2": theta2, "theta3": t3, "theta4": t4, "x": P.real, "y": P.imag,
+               "U": self.strain_energy(theta2), "T": torques}
+        return PRBMResult(bool(ok.all()), "equilibrium found" if ok.all() else "no equilibrium within the span",
+                          out, {"springs": self.springs, "theta_free": self.theta_free,
+                                "R": (self.R1, self.R2, self.R3, self.R4, self.R5)},
+                          "PRB four-bar, seed 000 eqs (181)-(183), (191)", time.perf_counter() - t0,
+                          level_converged=ok)
+
+    # --- mechanical advantage ---------------------------------------------------------------
+    def instant_centres(self, theta2):
+        """I12 (= O2), I14 (= O4), I24 (intersection of line I12-I14 and line I23-I34) as complex."""
+        t3, t4 = self.angles(theta2)
+        A = self.R2 * np.exp(1j * np.asarray(theta2, float))
+        B = self.Z1 + self.R4 * np.exp(1j * t4)
+        O4 = self.Z1
+        # I24 on the ground line O2-O4 (through 0 and Z1) and on the coupler line A-B
+        u = O4 / abs(O4)
+        v = B - A
+        # solve s u = A + t v
+        det = u.real * (-v.imag) - u.imag * (-v.real)
+        s = (A.real * (-v.imag) - A.imag * (-v.real)) / det
+        return 0j, O4, s * u
+
+    def rigid_ma(self, theta2, d_in: float, d_out: float, *, via: str = "coefficients"):
+        """MA_R = F_o/F_i for F_i at d_in on link 2 and F_o at d_out on link 4 (eqs 190, 202)."""
+        if via == "coefficients":
+            _, h4 = self.kinematic_coefficients(theta2)
+            return d_in / d_out / np.abs(h4)
+        I12, I14, I24 = self.instant_centres(theta2)
+        return d_in / d_out * np.abs(I14 - I24) / np.abs(I12 - I24)
+
+    def compliant_ma(self, theta2, F_in: float, d_in: float, d_out: float):
+        """MA = MA_R (1 - F_c/F_i), F_c = T_c/d_i with T_c the compliance torque (eqs 192, 193)."""
+        F_c = self.input_torque(theta2) / d_in
+        return self.rigid_ma(theta2, d_in, d_out) * (1.0 - F_c / F_in)
+
+
+@dataclass
+class SliderCrank:
+    """Slider-crank along the x axis (Theta1 = 0): crank R2 about O2 = 0, coupler R3 to the slider pin
+    on y = offset.  Position 1 given by the crank angle theta2_ref and the coupler angle theta3_ref
+    (which fixes the assembly branch).  Springs (k1, k2, k3) at O2, A, slider pin; f_k on the slider.
+    """
+
+    R2: float
+    R3: float
+    theta2_ref: float
+    theta3_ref: float
+    offset: float = 0.0
+    springs: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    f_k: float = 0.0
+
+    @classmethod
+    def from_vectors(cls, Z11: complex, Z2: complex, Z3: complex, **kw) -> "SliderCrank":
+        return cls(abs(Z2), abs(Z3), cmath.phase(Z2), cmath.phase(Z3), offset=(Z2 + Z3).imag, **kw)
+
+    def __post_init__(self):
+        self.branch = 1.0 if math.cos(self.theta3_ref) >= 0 else -1.0
+        self.x_ref = self.R2 * math.cos(self.theta2_ref) + self.R3 * math.cos(self.theta3_ref)
+
+    def theta3(self, theta2):
+        s = (self.offset - self.R2 * np.sin(theta2)) / self.R3
+        t = np.arcsin(s)
+        return t if self.branch > 0 else np.pi - t
+
+    def slider_x(self, theta2):
+        return self.R2 * np.cos(theta2) + self.R3 * np.cos(self.theta3(theta2))
+
+    def theta2_at(self, dx: float) -> float:
+        """Crank angle that moves the slider by dx from position 1 (continuation from theta2_ref)."""
+        target = self.x_ref + dx
+        grid = self.theta2_ref + np.linspace(-math.pi, math.pi, 2001)
+        r = self.slider_x(grid) - target
+        i0 = np.argmin(np.abs(grid - self.theta2_ref))
+        candidates = [i for i in range(len(grid) - 1) if np.isfinite(r[i]) and np.isfinite(r[i + 1])
+                      and np.sign(r[i]) != np.sign(r[i + 1])]
+        if not candidates:
+            raise ValueError(f"slider cannot reach dx = {dx}")
+        i = min(candidates, key=lambda j: abs(j - i0))
+        return brentq(lambda t: float(self.slider_x(t)) - target, grid[i], grid[i + 1], xtol=1e-14)
+
+    def compliance_torque(self, theta2):
+        """T_c on the crank, eq (196): k1 d2 + k2 (d3 - d2)(g3 - 1) + k3 d3 g3 + f_k (x - x1) R2 cos th2 (tan th3 - tan th2),
+        g3 = dTheta3/dTheta2 = -R2 cos th2 / (R3 cos th3)."""
+        theta2 = np.asarray(theta2, float)
+        t3 = self.theta3(theta2)
+        g3 = -self.R2 * np.cos(theta2) / (self.R3 * np.cos(t3))
+        d2 = theta2 - self.theta2_ref
+        d3 = t3 - self.theta3_ref
+        k1, k2, k3 = self.springs
+        slide = self.f_k * (self.slider_x(theta2) - self.x_ref) * self.R2 * np.cos(theta2) * (np.tan(t3) - np.tan(theta2))
+        return k1 * d2 + k2 * (d3 - d2) * (g3 - 1) + k3 * d3 * g3 + slide
+
+    def rigid_ma(self, theta2, d_in: float):
+        """MA_R = d_i/|I12 I24| (eq 199): I24 where the coupler line meets the line through O2
+        perpendicular to the slider axis; |I12 I24| = |dx/dTheta2| (slider speed per crank rate)."""
+        theta2 = np.asarray(theta2, float)
+        t3 = self.theta3(theta2)
+        A = self.R2 * np.exp(1j * theta2)
+        # coupler line A + t e^{i t3} meets x = 0
+        t = -A.real / np.cos(t3)
+        I24 = A + t * np.exp(1j * t3)
+        return d_in / np.abs(I24)
+
+    def compliant_ma(self, theta2, F_in: float, d_in: float):
+        """MA = MA_R (1 - F_c/F_i), F_c = |T_c|/d_i (compliance opposing the input; eq 192)."""
+        F_c = np.abs(self.compliance_torque(theta2)) / d_in
+        return self.rigid_ma(theta2, d_in) * (1.0 - F_c / F_in)

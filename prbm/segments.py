@@ -1,0 +1,421 @@
+"""Single-spring pseudo-rigid-body models of compliant segments, vectorised over load levels.
+
+Every model here is a rigid PRB link of radius R from a characteristic pivot, held by one torsional
+spring k (or two equal springs in series, for the fixed-guided beam), loaded by an end force
+F (cos phi, sin phi).  Equilibrium about the pivot (virtual work on the one coordinate Theta) is
+
+    F R sin(phi - Theta) = k (Theta - Theta_i),                                           (*)
+
+solved for the PRB angle Theta by a safeguarded Newton iteration on the bracket between Theta_i and
+phi, vectorised over all load levels (analytic derivative -F R cos(phi - Theta) - k).  With
+Theta_i = 0 the residual is concave on (0, phi), so the root is unique.
+
+Conventions: x along the undeformed segment from the fixed end, y transverse, CCW-positive angles;
+the end force is (-nP, P), so n > 0 is compressive (seed 000, notes to Tables 3.2-3.6);
+phi = atan2(1, -n).  For P < 0 the model is mirrored about x (b, theta0, Theta change sign) and the
+fits are evaluated at the mirrored ratio -n, so that the axial component -nP is preserved.
+Angles in radians; lengths, forces and EI in any consistent units.
+
+Models and their seed equations:
+* ``fixed_pinned_tip`` / ``fixed_pinned_from_tip``: initially straight fixed-pinned (fixed-free)
+  segment under an end force, seed 000 eqs (41)-(50) (Howell-Midha, Pauly-Midha fits), or seed 004's
+  Howell fits with ``family="howell"`` (no c_theta there: theta0 is then not available).
+* ``pure_moment_tip`` / ``pure_moment_from_tip``: end moment, seed 004 (gamma = 0.7346, k = 1.5164 EI/L).
+* ``curved_fixed_pinned_tip``: initially curved fixed-pinned, seed 000 eqs (53)-(61).  The seed omits
+  the load relation, any dependence of gamma, K_Theta, c_theta on the initial curvature, and the
+  theta0 map; assumed here (and stated in the result): k = rho K_Theta EI/l with the straight-beam
+  K_Theta(n), equilibrium (*) with R = rho l, and theta0 = kappa0 + c_theta (Theta - Theta_i).  The
+  dependence on the initial curvature is geometric only (Theta_i and rho from kappa0 = l/R_i).
+* ``fixed_guided_tip``: initially straight fixed-guided segment (end slope held at zero), seed 000
+  eq (63) (k = 2 gamma K_Theta EI/l, two springs) and seed 004 "Fixed-guided beam" (two half-PRBMs,
+  middle link gamma l, end links (1-gamma) l/2); the end moment that holds the slope is returned.
+* ``fixed_guided_monotonic_tip``: fixed-guided (or fixed-fixed) segment with monotonic curvature:
+  the curved fixed-pinned PRBM with the end moment as an equivalent initial curvature
+  kappa0 = M l / EI (+ l/R_i if initially curved), seed 000 eqs (62), (14), (17), (119).
+* ``slfp_tip``: small-length flexural pivot (straight, or initially curved), seed 000 eqs (71)-(82),
+  k = EI/l, pivot at the middle of the flexure, PRB link L + l/2.  Eq (76)'s moment arm is
+  L + l/2 (the printed F l sin(phi - theta0) of section 2.1.6 is a misprint, notes seed-ch2-4 s. 2.6).
+* ``curved_pinned_pinned``: initially curved pinned-pinned segment as two initially curved
+  fixed-pinned halves fixed at mid-span (Edwards et al., seed 000 section 2.3.5, which prints no
+  equations).  The force along the chord is a pure axial load on each half (n infinite), outside
+  every published n-fit, so constant gamma and K_Theta are used (default seed 004's averages
+  0.85 and 2.65) and reported.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from prbm.fits import (PURE_MOMENT_C_THETA, PURE_MOMENT_GAMMA, PURE_MOMENT_SPRING, FitRangeError,
+                       fit_family)
+from prbm.result import PRBMResult
+
+__all__ = [
+    "spring_angle", "fixed_pinned_tip", "fixed_pinned_from_tip", "pure_moment_tip",
+    "pure_moment_from_tip", "curved_fixed_pinned_tip", "fixed_guided_tip",
+    "fixed_guided_monotonic_tip", "slfp_tip", "curved_pinned_pinned",
+]
+
+
+def spring_angle(FR, phi, k, theta_i=0.0, *, xtol=1e-13, maxiter=60):
+    """Solve F R sin(phi - Theta) = k (Theta - Theta_i) for Theta, vectorised.
+
+    FR >= 0 (force times PRB link), phi the absolute force angle, k > 0 the spring.  The root lies
+    between Theta_i and phi (when |phi - Theta_i| < pi): safeguarded Newton on that bracket.
+    Returns (Theta, converged, iterations).
+    """
+    if all(np.ndim(v) == 0 for v in (FR, phi, k, theta_i)):
+        return _spring_angle_scalar(float(FR), float(phi), float(k), float(theta_i), xtol, maxiter)
+    FR, phi, k, theta_i = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (FR, phi, k, theta_i)))
+    lo = np.minimum(theta_i, phi).astype(float)
+    hi = np.maximum(theta_i, phi).astype(float)
+
+    def f(t):
+        return FR * np.sin(phi - t) - k * (t - theta_i)
+
+    f_lo = f(lo)
+    x = np.where(phi >= theta_i, hi, lo).copy()  # start at phi: monotone Newton for the concave case
+    done = FR == 0.0
+    x = np.where(done, theta_i, x)
+    it = 0
+    for it in range(1, maxiter + 1):
+        fx = f(x)
+        dfx = -FR * np.cos(phi - x) - k
+        # shrink the bracket with the sign of f
+        same = np.sign(fx) == np.sign(f_lo)
+        lo = np.where(same, x, lo)
+        f_lo = np.where(same, fx, f_lo)
+        hi = np.where(same, hi, x)
+        step = np.where(dfx != 0.0, fx / np.where(dfx != 0.0, dfx, 1.0), 0.0)
+        x_new = x - step
+        outside = (x_new <= np.minimum(lo, hi)) | (x_new >= np.maximum(lo, hi)) | ~np.isfinite(x_new)
+        x_new = np.where(outside, 0.5 * (lo + hi), x_new)
+        delta = np.abs(x_new - x)
+        x = np.where(done, x, x_new)
+        done = done | (delta < xtol * (1.0 + np.abs(x)))
+        if np.all(done):
+            break
+    converged = done & np.isfinite(x)
+    return x, converged, it
+
+
+def _spring_angle_scalar(FR, phi, k, theta_i, xtol, maxiter):
+    """Scalar version of ``spring_angle`` (plain floats: a single load level in a few microseconds)."""
+    if FR == 0.0:
+        return theta_i, True, 0
+    lo, hi = min(theta_i, phi), max(theta_i, phi)
+    f_lo = FR * math.sin(phi - lo) - k * (lo - theta_i)
+    x = hi if phi >= theta_i else lo
+    for it in range(1, maxiter + 1):
+        fx = FR * math.sin(phi - x) - k * (x - theta_i)
+        dfx = -FR * math.cos(phi - x) - k
+        if (fx > 0) == (f_lo > 0):
+            lo, f_lo = x, fx
+        else:
+            hi = x
+        x_new = x - fx / dfx if dfx != 0.0 else 0.5 * (lo + hi)
+        if not (min(lo, hi) < x_new < max(lo, hi)):
+            x_new = 0.5 * (lo + hi)
+        if abs(x_new - x) < xtol * (1.0 + abs(x_new)):
+            return x_new, True, it
+        x = x_new
+    return x, False, maxiter
+
+
+def _mirror(P, n):
+    P = np.asarray(P, dtype=float)
+    n = np.asarray(n, dtype=float)
+    sign = np.where(P < 0.0, -1.0, 1.0)
+    return np.abs(P), sign * n, sign
+
+
+def _scalar_or_array(d):
+    return {key: np.asarray(v, dtype=float) for key, v in d.items()}
+
+
+def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha",
+                     extrapolate: str = "raise") -> PRBMResult:
+    """Tip of an initially straight fixed-pinned (fixed-free) segment under the end force (-nP, P).
+
+    Seed 000 eqs (41)-(49): gamma, c_theta, K_theta from the n-fits; F = P sqrt(1+n^2);
+    (F l^2/EI) sin(phi - Theta) = K_theta Theta (46)-(47), i.e. (*) with R = gamma l and
+    k = gamma K_theta EI/l (45); a = l - gamma l (1 - cos Theta) (48); b = gamma l sin Theta (49);
+    theta0 = c_theta Theta (44).  Vectorised over P (and n).  Outputs a, b, theta0 (rad), Theta (rad).
+    """
+    t0 = time.perf_counter()
+    fam = fit_family(family)
+    if np.ndim(P) == 0 and np.ndim(n) == 0:  # one load level: plain floats
+        P, n = float(P), float(n)
+        sign = -1.0 if P < 0 else 1.0
+        n_eff, Pabs = sign * n, abs(P)
+        gamma, c_theta, K = fam.parameters(n_eff, extrapolate)
+        F = Pabs * math.sqrt(1.0 + n_eff * n_eff)
+        Theta, ok, nit = _spring_angle_scalar(F * length**2 / EI, math.atan2(1.0, -n_eff), K, 0.0, 1e-13, 60)
+        out = {"a": length - gamma * length * (1.0 - math.cos(Theta)), "b": sign * gamma * length * math.sin(Theta),
+               "theta0": sign * c_theta * Theta, "Theta": sign * Theta, "P": P, "n": n, "F": F}
+        return PRBMResult(ok, "converged" if ok else "spring equation did not converge",
+                          {k: np.float64(v) for k, v in out.items()},
+                          {"gamma": gamma, "c_theta": c_theta, "K_theta": K, "k": gamma * K * EI / length,
+                           "family": fam.name}, "fixed-pinned, seed 000 eqs (41)-(49)",
+                          time.perf_counter() - t0, nit, np.array([ok]))
+    Pabs, n_eff, sign = _mirror(P, n)
+    gamma, c_theta, K = fam.parameters(n_eff, extrapolate)
+    eta = np.sqrt(1.0 + n_eff**2)
+    F = Pabs * eta
+    phi = np.arctan2(1.0, -n_eff)
+    Theta, ok, nit = spring_angle(F * length**2 / EI, phi, K)
+    a = length - gamma * length * (1.0 - np.cos(Theta))
+    b = gamma * length * np.sin(Theta)
+    out = _scalar_or_array({"a": a, "b": sign * b, "theta0": sign * c_theta * Theta,
+                            "Theta": sign * Theta, "P": P, "n": n, "F": F})
+    return PRBMResult(
+        converged=bool(np.all(ok)), message="converged" if np.all(ok) else "spring equation did not converge",
+        outputs=out, constants={"gamma": gamma, "c_theta": c_theta, "K_theta": K,
+                                "k": gamma * K * EI / length, "family": fam.name},
+        model="fixed-pinned, seed 000 eqs (41)-(49)", wall_time=time.perf_counter() - t0, nit=nit,
+        level_converged=np.atleast_1d(ok))
+
+
+def fixed_pinned_from_tip(*, n=0.0, a=None, b=None, theta0=None, length: float, EI: float,
+                          family="pauly-midha", extrapolate: str = "raise") -> PRBMResult:
+    """Inverse fixed-pinned problem: tip position (a, b), or b alone, or theta0 -> P (force (-nP, P)).
+
+    Theta from eq (50) Theta = atan(b / (a - (1 - gamma) l)) when a and b are given, from eq (49)
+    when only b is (then Theta <= 90 deg is assumed: asin), from eq (44) when only theta0 is; then P = K_theta Theta EI / (l^2 eta sin(phi - Theta))
+    from (46)-(47).  Only P > 0 configurations (Theta in (0, phi)) are meaningful.
+    """
+    t0 = time.perf_counter()
+    fam = fit_family(family)
+    n = np.asarray(n, dtype=float)
+    gamma, c_theta, K = fam.parameters(n, extrapolate)
+    if a is not None and b is not None:
+        Theta = np.arctan2(np.asarray(b, float), np.asarray(a, float) - (1.0 - gamma) * length)
+    elif b is not None:
+        Theta = np.arcsin(np.asarray(b, float) / (gamma * length))
+    elif theta0 is not None:
+        Theta = np.asarray(theta0, float) / c_theta
+    else:
+        raise ValueError("give a and b, or b, or theta0")
+    phi = np.arctan2(1.0, -n)
+    eta = np.sqrt(1.0 + n**2)
+    P = K * Theta * EI / (length**2 * eta * np.sin(phi - Theta))
+    ok = np.isfinite(P) & (P > 0)
+    out = _scalar_or_array({"P": P, "Theta": Theta, "a": length - gamma * length * (1 - np.cos(Theta)),
+                            "b": gamma * length * np.sin(Theta), "theta0": c_theta * Theta, "n": n})
+    return PRBMResult(bool(np.all(ok)), "solved" if np.all(ok) else "no positive load reaches this position",
+                      out, {"gamma": gamma, "c_theta": c_theta, "K_theta": K, "family": fam.name},
+                      "fixed-pinned inverse, seed 000 eqs (44), (46)-(50)", time.perf_counter() - t0,
+                      level_converged=np.atleast_1d(ok))
+
+
+def pure_moment_tip(M, *, length: float, EI: float) -> PRBMResult:
+    """Cantilever under an end moment M (CCW): seed 004 PRBM, gamma = 0.7346, k = 1.5164 EI/L.
+
+    Theta = M / k; a = l - gamma l (1 - cos Theta); b = gamma l sin Theta; theta0 = 1.5164 Theta
+    (= M l/EI, exact).  The exact arc is in the outputs too (a_exact, b_exact) for comparison.
+    """
+    t0 = time.perf_counter()
+    M = np.asarray(M, dtype=float)
+    k = PURE_MOMENT_SPRING * EI / length
+    Theta = M / k
+    g = PURE_MOMENT_GAMMA
+    theta_exact = M * length / EI
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rho = np.where(theta_exact != 0, length / np.where(theta_exact != 0, theta_exact, 1.0), np.inf)
+        a_exact = np.where(theta_exact != 0, rho * np.sin(theta_exact), length)
+        b_exact = np.where(theta_exact != 0, rho * (1 - np.cos(theta_exact)), 0.0)
+    out = _scalar_or_array({"a": length - g * length * (1 - np.cos(Theta)), "b": g * length * np.sin(Theta),
+                            "theta0": PURE_MOMENT_C_THETA * Theta, "Theta": Theta, "M": M,
+                            "a_exact": a_exact, "b_exact": b_exact})
+    return PRBMResult(True, "closed form", out,
+                      {"gamma": g, "k": k, "spring_coefficient": PURE_MOMENT_SPRING,
+                       "c_theta": PURE_MOMENT_C_THETA},
+                      "pure end moment, seed 004", time.perf_counter() - t0,
+                      level_converged=np.ones(np.atleast_1d(M).shape, bool))
+
+
+def pure_moment_from_tip(*, length: float, EI: float, a=None, b=None, theta0=None) -> PRBMResult:
+    """Inverse of ``pure_moment_tip``: Theta from (a, b), b, or theta0, then M = k Theta."""
+    g = PURE_MOMENT_GAMMA
+    if a is not None and b is not None:
+        Theta = np.arctan2(np.asarray(b, float), np.asarray(a, float) - (1 - g) * length)
+    elif b is not None:
+        Theta = np.arcsin(np.asarray(b, float) / (g * length))
+    elif theta0 is not None:
+        Theta = np.asarray(theta0, float) / PURE_MOMENT_C_THETA
+    else:
+        raise ValueError("give a and b, or b, or theta0")
+    M = PURE_MOMENT_SPRING * EI / length * Theta
+    return PRBMResult(True, "closed form", _scalar_or_array({"M": M, "Theta": Theta}),
+                      {"gamma": g, "k": PURE_MOMENT_SPRING * EI / length}, "pure end moment inverse, seed 004")
+
+
+def curved_fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, curvature: float,
+                            family="pauly-midha", extrapolate: str = "raise") -> PRBMResult:
+    """Initially curved fixed-pinned segment (initial curvature 1/R_i, CCW positive), end force (-nP, P).
+
+    Seed 000 eqs (53)-(61): kappa0 = l/R_i (53); a_i, b_i (55)-(56); Theta_i (54); rho (57);
+    k = rho K_Theta EI/l (58); a = l - gamma l + rho l cos Theta (59); b = rho l sin Theta (60).
+    Assumed (not in the seed): equilibrium (*) with R = rho l, gamma/K_Theta/c_theta from the straight
+    fits at n, theta0 = kappa0 + c_theta (Theta - Theta_i).
+    """
+    t0 = time.perf_counter()
+    fam = fit_family(family)
+    P = np.asarray(P, dtype=float)
+    n = np.asarray(n, dtype=float) * np.ones_like(P)
+    gamma, c_theta, K = fam.parameters(np.where(P < 0, -n, n), extrapolate)
+    kappa0 = curvature * length
+    if abs(kappa0) < 1e-12:
+        a_i, b_i = length, 0.0
+    else:
+        a_i = length / kappa0 * math.sin(kappa0)
+        b_i = length / kappa0 * (1.0 - math.cos(kappa0))
+    Theta_i = np.arctan2(b_i, a_i - length * (1.0 - gamma))
+    rho = np.hypot(a_i / length - (1.0 - gamma), b_i / length)
+    F = np.abs(P) * np.sqrt(1.0 + n**2)
+    phi = np.arctan2(P, -n * P)  # absolute direction of (-nP, P)
+    phi = np.where(P == 0, Theta_i, phi)
+    k = rho * K * EI / length
+    # branch of phi closest to Theta_i (|phi - Theta_i| < pi)
+    phi = Theta_i + np.angle(np.exp(1j * (phi - Theta_i)))
+    Theta, ok, nit = spring_angle(F * rho * length, phi, k, Theta_i)
+    a = length - gamma * length + rho * length * np.cos(Theta)
+    b = rho * length * np.sin(Theta)
+    out = _scalar_or_array({"a": a, "b": b, "theta0": kappa0 + c_theta * (Theta - Theta_i), "Theta": Theta,
+                            "P": P, "n": n})
+    return PRBMResult(bool(np.all(ok)), "converged" if np.all(ok) else "not converged", out,
+                      {"gamma": gamma, "c_theta": c_theta, "K_theta": K, "rho": rho, "k": k,
+                       "Theta_i": Theta_i, "kappa0": kappa0, "family": fam.name,
+                       "assumptions": "load relation k(Theta-Theta_i) = F rho l sin(phi-Theta); "
+                                      "theta0 = kappa0 + c_theta (Theta - Theta_i); straight-beam fits"},
+                      "initially curved fixed-pinned, seed 000 eqs (53)-(61)", time.perf_counter() - t0, nit,
+                      level_converged=np.atleast_1d(ok))
+
+
+def fixed_guided_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha",
+                     extrapolate: str = "raise") -> PRBMResult:
+    """Initially straight fixed-guided segment, end slope held at 0, end force (-nP, P).
+
+    Seed 000 eq (63) and seed 004 "Fixed-guided beam": two half-beams of l/2, each a fixed-pinned
+    PRBM, so a middle link gamma l between two springs k = 2 gamma K_Theta EI/l.  Virtual work:
+    2 k Theta = F gamma l sin(phi - Theta), i.e. (F l^2/EI) sin(phi - Theta) = 4 K_Theta Theta;
+    a = l - gamma l (1 - cos Theta); b = gamma l sin Theta; theta0 = 0.  The end moment holding the
+    slope (CCW, reaction applied to the beam) is M = -k Theta - (1 - gamma) l P / 2 (-> -P l/2 for
+    small deflection).
+    """
+    t0 = time.perf_counter()
+    fam = fit_family(family)
+    Pabs, n_eff, sign = _mirror(P, n)
+    gamma, _, K = fam.parameters(n_eff, extrapolate)
+    F = Pabs * np.sqrt(1.0 + n_eff**2)
+    phi = np.arctan2(1.0, -n_eff)
+    k = 2.0 * gamma * K * EI / length
+    Theta, ok, nit = spring_angle(F * gamma * length, phi, 2.0 * k)
+    a = length - gamma * length * (1.0 - np.cos(Theta))
+    b = gamma * length * np.sin(Theta)
+    M = -(k * Theta + (1.0 - gamma) * length * Pabs / 2.0)
+    out = _scalar_or_array({"a": a, "b": sign * b, "theta0": np.zeros_like(a), "Theta": sign * Theta,
+                            "M": sign * M, "P": P, "n": n})
+    return PRBMResult(bool(np.all(ok)), "converged" if np.all(ok) else "not converged", out,
+                      {"gamma": gamma, "K_theta": K, "k_each": k, "family": fam.name},
+                      "fixed-guided (two springs), seed 000 eq (63), seed 004", time.perf_counter() - t0, nit,
+                      level_converged=np.atleast_1d(ok))
+
+
+def fixed_guided_monotonic_tip(P, n=0.0, M=0.0, *, length: float, EI: float, curvature: float = 0.0,
+                               family="pauly-midha", extrapolate: str = "raise") -> PRBMResult:
+    """Fixed-guided / fixed-fixed segment with monotonic curvature under end force (-nP, P) and end
+    moment M (CCW): the curved fixed-pinned PRBM with kappa0 = M l/EI + l/R_i (seed 000 eqs (62),
+    (14), (17), (119)).  Valid only without an inflection point (Table 2.1: P and M of the same
+    rotational sense); otherwise use ``prbm.inflection``.
+    """
+    M = np.asarray(M, dtype=float)
+    P = np.asarray(P, dtype=float)
+    kappa0 = M * length / EI + curvature * length
+    results = [curved_fixed_pinned_tip(p, nn, length=length, EI=EI, curvature=kk / length, family=family,
+                                       extrapolate=extrapolate)
+               for p, nn, kk in zip(*np.broadcast_arrays(np.atleast_1d(P), np.atleast_1d(n), np.atleast_1d(kappa0)))]
+    out = {key: np.array([r.outputs[key] for r in results]) for key in results[0].outputs}
+    out["M"] = np.broadcast_to(M, out["a"].shape).copy()
+    return PRBMResult(all(r.converged for r in results), "monotonic curvature, kappa0 = M l/EI", out,
+                      {"kappa0": np.array([r.constants["kappa0"] for r in results])},
+                      "fixed-guided monotonic, seed 000 eq (62)", sum(r.wall_time for r in results),
+                      level_converged=np.array([r.converged for r in results]))
+
+
+def slfp_tip(P, n=0.0, *, flexure_length: float, rigid_length: float, EI: float,
+             curvature: float = 0.0) -> PRBMResult:
+    """Fixed-free segment: small-length flexural pivot (length l) then a rigid segment (length L).
+
+    Seed 000 eqs (71)-(82): pivot at the middle of the flexure, link L + l/2 (71), k = EI/l (72),
+    theta0 = Theta (73).  Straight: a = l/2 + (L + l/2) cos Theta (74), b = (L + l/2) sin Theta (75),
+    k Theta = F (L + l/2) sin(phi - Theta) (76).  Curved (kappa0 = l * curvature): the pivot at the
+    chord midpoint (l/(2 kappa0)) (sin kappa0, 1 - cos kappa0) (77)-(78), Theta_i from (80)-(82),
+    k (Theta - Theta_i) = F (L + l/2) sin(phi - Theta) (79); theta0 = Theta - Theta_i + kappa0 (assumed).
+    The load is any force (-nP, P) (no n-fit is involved, so n is unrestricted).
+    """
+    t0 = time.perf_counter()
+    l, L = flexure_length, rigid_length
+    P = np.asarray(P, dtype=float)
+    n = np.asarray(n, dtype=float) * np.ones_like(P)
+    R = L + l / 2.0
+    k = EI / l
+    kappa0 = curvature * l
+    if abs(kappa0) < 1e-12:
+        px, py, Theta_i = l / 2.0, 0.0, 0.0
+    else:
+        px, py = l / (2 * kappa0) * math.sin(kappa0), l / (2 * kappa0) * (1 - math.cos(kappa0))
+        a_i = l / kappa0 * math.sin(kappa0) + L * math.cos(kappa0)
+        b_i = l / kappa0 * (1 - math.cos(kappa0)) + L * math.sin(kappa0)
+        Theta_i = math.atan2(b_i - py, a_i - px)
+    F = np.abs(P) * np.sqrt(1.0 + n**2)
+    phi = np.arctan2(P, -n * P)
+    phi = Theta_i + np.angle(np.exp(1j * (phi - Theta_i)))
+    Theta, ok, nit = spring_angle(F * R, phi, k, Theta_i)
+    out = _scalar_or_array({"a": px + R * np.cos(Theta), "b": py + R * np.sin(Theta),
+                            "theta0": Theta - Theta_i + kappa0, "Theta": Theta, "P": P, "n": n})
+    return PRBMResult(bool(np.all(ok)), "converged" if np.all(ok) else "not converged", out,
+                      {"k": k, "R": R, "Theta_i": Theta_i, "pivot": (px, py)},
+                      "small-length flexural pivot, seed 000 eqs (71)-(82)", time.perf_counter() - t0, nit,
+                      level_converged=np.atleast_1d(ok))
+
+
+def curved_pinned_pinned(F_axial, *, length: float, EI: float, curvature: float, gamma: float = 0.85,
+                         K_theta: float = 2.65) -> PRBMResult:
+    """Initially curved pinned-pinned segment (arc of length l, curvature 1/R_i) under a force F_axial
+    along its chord (positive = tension, pulling the pins apart).
+
+    Two initially curved fixed-pinned halves of l/2 fixed at the mid-span (Edwards et al., seed 000
+    section 2.3.5), each with the PRBM geometry of eqs (53)-(57), spring rho K_Theta EI/(l/2) (58)
+    and equilibrium (*).  The chord force is axial in the half's frame (n infinite, outside every
+    n-fit), so constant gamma, K_Theta are used.  Outputs: chord length, Theta of each half.
+    """
+    t0 = time.perf_counter()
+    F_axial = np.asarray(F_axial, dtype=float)
+    h = length / 2.0
+    kappa0 = curvature * h
+    if abs(kappa0) < 1e-12:
+        raise ValueError("a straight pinned-pinned segment carries a chord force axially; nothing bends")
+    a_i = h / kappa0 * math.sin(kappa0)
+    b_i = h / kappa0 * (1 - math.cos(kappa0))
+    Theta_i = math.atan2(b_i, a_i - h * (1 - gamma))
+    rho = math.hypot(a_i / h - (1 - gamma), b_i / h)
+    k = rho * K_theta * EI / h
+    # In the half's frame (tangent at mid-span along +x) the chord is along the half's end-point
+    # direction (a_i, b_i): the force is along +chord (tension) or -chord (compression).
+    chord_angle = math.atan2(b_i, a_i)
+    phi = np.where(F_axial >= 0, chord_angle, chord_angle + math.pi)
+    phi = Theta_i + np.angle(np.exp(1j * (phi - Theta_i)))
+    Theta, ok, nit = spring_angle(np.abs(F_axial) * rho * h, phi, k, Theta_i)
+    a = h - gamma * h + rho * h * np.cos(Theta)
+    b = rho * h * np.sin(Theta)
+    # chord = 2 * projection of the half's end point on the (fixed) chord direction of symmetry
+    chord = 2.0 * (a * math.cos(chord_angle) + b * math.sin(chord_angle))
+    out = _scalar_or_array({"chord": chord, "Theta": Theta, "F": F_axial})
+    return PRBMResult(bool(np.all(ok)), "converged" if np.all(ok) else "not converged", out,
+                      {"gamma": gamma, "K_theta": K_theta, "rho": rho, "k_half": k, "Theta_i": Theta_i,
+                       "chord0": 2 * math.hypot(a_i, b_i)},
+                      "curved pinned-pinned, seed 000 section 2.3.5", time.perf_counter() - t0, nit,
+                      level_converged=np.atleast_1d(ok))

@@ -1,0 +1,130 @@
+"""Invariants of the segment PRBMs: inverse of forward, vectorised = scalar, mirror symmetry, limits."""
+import math
+
+import numpy as np
+import pytest
+
+import prbm
+
+
+def test_fixed_pinned_equilibrium_and_kinematics_hold():
+    r = prbm.fixed_pinned_tip(np.array([0.5, 2.0, 3.0]), 0.5, length=2.0, EI=3.0)
+    g, c, K = (r.constants[k] for k in ("gamma", "c_theta", "K_theta"))
+    Th = r["Theta"]
+    F = r["P"] * math.sqrt(1 + 0.25)
+    phi = math.atan2(1, -0.5)
+    assert np.allclose(F * 4.0 / 3.0 * np.sin(phi - Th), K * Th, atol=1e-12)      # eqs (46)-(47)
+    assert np.allclose(r["a"], 2.0 - g * 2.0 * (1 - np.cos(Th)))                    # eq (48)
+    assert np.allclose(r["b"], g * 2.0 * np.sin(Th))                                # eq (49)
+    assert np.allclose(r["theta0"], c * Th)                                         # eq (44)
+    assert r.converged and r.wall_time > 0
+
+
+@pytest.mark.parametrize("n", [-3.5, -1.0, 0.0, 0.896, 4.0])
+def test_fixed_pinned_inverse_recovers_the_load(n):
+    P = np.array([0.1, 1.0, 2.5])
+    fwd = prbm.fixed_pinned_tip(P, n, length=1.0, EI=1.0)
+    for kw in ({"a": fwd["a"], "b": fwd["b"]}, {"theta0": fwd["theta0"]}):
+        inv = prbm.fixed_pinned_from_tip(n=n, length=1.0, EI=1.0, **kw)
+        assert np.allclose(inv["P"], P, rtol=1e-9)
+    below = fwd["Theta"] < math.pi / 2          # b alone fixes Theta only up to 90 deg (asin)
+    inv = prbm.fixed_pinned_from_tip(n=n, length=1.0, EI=1.0, b=fwd["b"][below])
+    assert np.allclose(inv["P"], P[below], rtol=1e-9)
+
+
+def test_vectorised_sweep_equals_scalar_solves():
+    P = np.linspace(0.0, 5.0, 50)
+    vec = prbm.fixed_pinned_tip(P, -0.673, length=10.0, EI=486.65)
+    for i in (0, 7, 49):
+        sc = prbm.fixed_pinned_tip(float(P[i]), -0.673, length=10.0, EI=486.65)
+        assert vec["b"][i] == pytest.approx(float(sc["b"]), abs=1e-12)
+
+
+def test_negative_force_mirrors_the_configuration():
+    up = prbm.fixed_pinned_tip(2.0, 0.5, length=1.0, EI=1.0)
+    down = prbm.fixed_pinned_tip(-2.0, -0.5, length=1.0, EI=1.0)  # same axial force -nP = -1
+    assert float(down["b"]) == pytest.approx(-float(up["b"]))
+    assert float(down["a"]) == pytest.approx(float(up["a"]))
+
+
+def test_fixed_pinned_against_independent_prbm_evaluation():
+    # notes seed-ch2-4 section 4.1 (independent re-implementation): n = 0, Pl^2/EI = 3 -> 0.7453, 0.6075, 56.36 deg
+    r = prbm.fixed_pinned_tip(3.0, 0.0, length=1.0, EI=1.0)
+    assert (round(float(r["a"]), 4), round(float(r["b"]), 4), round(math.degrees(float(r["theta0"])), 2)) == (0.7453, 0.6075, 56.36)
+
+
+def test_pure_moment_rotation_is_exact_and_inverse_works():
+    r = prbm.pure_moment_tip(np.array([0.5, 1.0, 2.0]), length=1.0, EI=1.0)
+    assert np.allclose(r["theta0"], [0.5, 1.0, 2.0])
+    inv = prbm.pure_moment_from_tip(length=1.0, EI=1.0, a=r["a"], b=r["b"])
+    assert np.allclose(inv["M"], [0.5, 1.0, 2.0])
+
+
+def test_curved_segment_unloaded_is_its_arc_and_straight_limit_matches():
+    r = prbm.curved_fixed_pinned_tip(0.0, 0.0, length=1.0, EI=1.0, curvature=0.5)
+    assert float(r["theta0"]) == pytest.approx(0.5)
+    assert float(r["a"]) == pytest.approx(2 * math.sin(0.5))
+    assert float(r["b"]) == pytest.approx(2 * (1 - math.cos(0.5)))
+    s = prbm.fixed_pinned_tip(1.5, 0.3, length=1.0, EI=1.0)
+    c = prbm.curved_fixed_pinned_tip(1.5, 0.3, length=1.0, EI=1.0, curvature=1e-12)
+    assert float(c["b"]) == pytest.approx(float(s["b"]), abs=1e-9)
+
+
+def test_fixed_guided_small_deflection_end_moment_is_minus_pl_over_two():
+    r = prbm.fixed_guided_tip(1e-6, 0.0, length=2.0, EI=1.0)
+    assert float(r["M"]) == pytest.approx(-1e-6 * 2.0 / 2, rel=1e-4)
+    assert float(r["theta0"]) == 0.0
+
+
+def test_slfp_straight_geometry_and_equilibrium():
+    r = prbm.slfp_tip(2.0, 0.0, flexure_length=0.1, rigid_length=1.0, EI=0.5)
+    Th = float(r["Theta"])
+    assert 5.0 * Th == pytest.approx(2.0 * 1.05 * math.cos(Th))          # eq (76), k = EI/l = 5
+    assert float(r["a"]) == pytest.approx(0.05 + 1.05 * math.cos(Th))    # eq (74)
+
+
+def test_curved_pinned_pinned_tension_opens_compression_closes():
+    r = prbm.curved_pinned_pinned(np.array([0.0, 1.0, -1.0]), length=1.0, EI=1.0, curvature=1.0)
+    chord = r["chord"]
+    assert chord[1] > chord[0] > chord[2]
+
+
+def test_composite_layers_and_capstan():
+    EI = prbm.layered_bending_stiffness([(550e3, 2.5, 0.125), (30e6, 1.0, 0.025), (550e3, 2.5, 0.125)])
+    assert EI == pytest.approx(486.6536, abs=1e-4)
+    assert prbm.capstan_factor(0.01, 3 * math.pi / 2) == pytest.approx(math.exp(-0.01 * 3 * math.pi / 2))
+    dead = prbm.composite_beam_tip([4.0], 0.0, length=10.0, EI=EI)
+    fol = prbm.composite_beam_tip([4.0], 0.0, length=10.0, EI=EI, follower=True)
+    assert float(fol["b"][0]) > float(dead["b"][0])   # a follower force stays more transverse
+
+
+def test_domain_cloud_and_boundaries():
+    d = prbm.fixed_pinned_domain(n_values=np.array([-3.9, 0.0, 10.0]), n_theta=21)
+    bc = prbm.boundary_curves(d["a"], d["b"], bins=10)
+    assert np.all(bc["lower"] <= bc["upper"])
+    m = d["n"] == 10.0
+    assert prbm.fit_radius(d["a"][m], d["b"][m]) == pytest.approx(prbm.PAULY_MIDHA.gamma(10.0), abs=1e-6)
+
+
+def test_four_bar_ma_by_coefficients_equals_instant_centres():
+    fb = prbm.FourBar(2.8759 + 3.0196j, 2.3244 + 4.9847j, 6.2946 + 2.0370j, 5.7432 + 4.0020j)
+    th = np.radians([60.0, 65.0, 85.0, 105.0])
+    assert np.allclose(fb.rigid_ma(th, 5.0, 1.5), fb.rigid_ma(th, 5.0, 1.5, via="ic"), rtol=1e-10)
+
+
+def test_four_bar_torque_is_the_energy_derivative():
+    fb = prbm.FourBar(2.8759 + 3.0196j, 2.3244 + 4.9847j, 6.2946 + 2.0370j, 5.7432 + 4.0020j,
+                      springs=(1.1204, 1.1204, 9.7441, 9.7441), theta_free=tuple(np.radians([55.0, -2.16, 10.17])))
+    th = math.radians(80.0)
+    h = 1e-6
+    dU = (fb.strain_energy(th + h) - fb.strain_energy(th - h)) / (2 * h)
+    assert float(fb.input_torque(th)) == pytest.approx(float(dU), rel=1e-6)
+    res = fb.positions_under_torque([5.0, 10.0])
+    assert np.allclose(fb.input_torque(res["theta2"]), [5.0, 10.0], atol=1e-9)
+
+
+def test_grubler_and_mode_table():
+    assert prbm.grubler(4, 4) == 1
+    topo = prbm.PRBMTopology(2, 0, [prbm.Segment("fixed-guided"), prbm.Segment("fixed-guided")])
+    assert topo.min_dof() == 1 and topo.max_dof() == 3
+    assert topo.expected_mode()["modes"] == (1, 1)

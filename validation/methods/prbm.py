@@ -1,0 +1,428 @@
+"""Adapter: a case -> the pseudo-rigid-body models of ``prbm`` -> the requested outputs.
+
+Segments (x along the undeformed segment from the fixed end, force = values * direction, CCW
+moments).  The tip loads of each level are summed into (F_x, F_y, M); the PRBM load ratio follows
+as P = F_y, n = -F_x/F_y (seed 000: end force (-nP, P)).
+
+* fixed-free / fixed-pinned, straight: force only -> ``fixed_pinned_tip`` (eqs 41-49; options
+  ``family`` = 'pauly-midha' (default) or 'howell' (seed 004), ``extrapolate``); moment only ->
+  ``pure_moment_tip`` (seed 004); force and moment -> ``fixed_guided_monotonic_tip`` (equivalent
+  initial curvature, valid without inflection); follower force -> ``composite_beam_tip(follower=True)``.
+  A 'layers' section uses EI = sum E_i I_i (sliding layers).  Options ``friction_mu`` and
+  ``contact_angle_deg`` apply the capstan factor exp(-mu beta) (eq 211) to the forces.
+* fixed-free, initially curved: ``curved_fixed_pinned_tip`` (eqs 53-61).
+* fixed-guided / fixed-fixed with ``segment.model = 'inflection'``: the chapter-3 PRBM (eqs 83-104).
+  Options: ``problem = 'loads'`` (default; P, nP, M from the case loads, M opposing = -moment) or
+  ``problem = 'displacement'`` with per-level lists ``b``, ``theta0_deg`` and one of ``a``, ``n``,
+  ``l1`` (Tables 3.3-3.6); ``prefer`` = 'energy' (default) or {key = value} to pick among roots.
+  All roots found are in ``extras['roots']``.
+* fixed-guided without a model: force only -> ``fixed_guided_tip`` (two springs, eq 63); with a
+  moment -> ``fixed_guided_monotonic_tip``.
+Outputs: x = a, y = b, dx, dy (from the unloaded tip), rotation = theta0 (deg), force_x = -nP,
+force_y = P, moment (CCW), prb_angle (deg), strain_energy (PRBM springs).
+
+Mechanisms: a PRB four-bar from ``[methods.prbm]`` options in the case-file format of chapters 6, 7
+and 9: ``links = {r1 = [x, y], ..., r5, r6}`` (position-1 vectors Z1..Z6), ``springs = {k1..k4}``,
+``energy_free = {theta2, theta3, theta4}`` (deg), ``coupler_point`` (node name, default 'P').
+Drive, per level: input torques (a 'moment' load at 'input' or on a body) -> equilibrium by minimum
+total potential energy; or ``precision = {phi = [...]}`` (input rotations from position 1, deg) or
+``{psi = [...]}`` (output rotations) -> the precision positions, ``free_levels`` = levels at the
+unloaded pose (``drive = 'precision'`` forces this
+when both are given).  Outputs: dx, dy of the coupler point from the unloaded pose, x, y (O2 at
+``origin``, default [0, 0]), input_angle, input_torque (eq 182), strain_energy (eq 181),
+mechanical_advantage (``ma = {F_i, d_i, d_o}``, eqs 190, 192), dof (eq 208 on the PRBM, see
+``prbm.dof``).  The unloaded pose, when ``energy_free.theta3`` is given, is placed with the printed
+energy-free angles by the dyad Z2 e^{i(theta20 - theta21)} + Z5 e^{i(theta30 - theta31)} (as the
+seed does), not re-solved from the loop (the printed vectors close only to about 0.002 in).
+"""
+from __future__ import annotations
+
+import cmath
+import math
+import time
+
+import numpy as np
+
+from validation.methods.base import MethodRun, NotApplicable, Request
+
+DEG = math.pi / 180.0
+
+
+def run(case, requests: list[Request], options: dict) -> MethodRun:
+    import prbm
+
+    t0 = time.perf_counter()
+    try:
+        if case.segment is not None:
+            values, run_info = _segment(prbm, case, requests, options)
+        else:
+            values, run_info = _mechanism(prbm, case, requests, options)
+    except prbm.FitRangeError as exc:
+        raise NotApplicable(f"PRBM fit range: {exc}") from None
+    run_info.wall_time = time.perf_counter() - t0
+    run_info.values = values
+    return run_info
+
+
+# --- segments -------------------------------------------------------------------------------------
+def _tip_loads(case, n: int):
+    Fx, Fy, M = np.zeros(n), np.zeros(n), np.zeros(n)
+    follower = False
+    for i, load in enumerate(case.loads):
+        if load.point != "tip":
+            raise NotApplicable(f"loads.{i} acts on '{load.point}'; the segment PRBMs take end loads only")
+        v = np.asarray(load.levels(), float)
+        if load.kind == "force":
+            d = np.asarray(load.direction, float)
+            Fx += v * d[0]
+            Fy += v * d[1]
+            follower |= load.follower
+        elif load.kind == "moment":
+            M += v
+        else:
+            raise NotApplicable(f"a prescribed {load.kind} at the tip: give the PRBM inverse inputs in "
+                                "[methods.prbm] options instead")
+    return Fx, Fy, M, follower
+
+
+def _segment(prbm, case, requests, options):
+    seg = case.segment
+    L = seg.length
+    EI = seg.bending_stiffness()
+    n = case.n_levels()
+    family = options.get("family", "pauly-midha")
+    extrapolate = options.get("extrapolate", "raise")
+    out: dict[str, np.ndarray] = {}
+    info = MethodRun(values={})
+    kappa = seg.initial_curvature()
+    model = seg.model
+
+    if seg.boundary in ("fixed-guided", "fixed-fixed") and model == "inflection":
+        return _inflection(prbm, case, requests, options, EI)
+
+    Fx, Fy, M, follower = _tip_loads(case, n)
+    capstan = prbm.capstan_factor(float(options.get("friction_mu", 0.0)),
+                                  math.radians(float(options.get("contact_angle_deg", 0.0))))
+    Fx, Fy = Fx * capstan, Fy * capstan
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(Fy != 0, -Fx / np.where(Fy != 0, Fy, 1.0), 0.0)
+    if np.any((Fy == 0) & (Fx != 0)):
+        raise NotApplicable("a purely axial end force: outside every PRBM n-fit (n infinite)")
+    a0, b0 = L, 0.0
+    if seg.boundary in ("fixed-free", "fixed-pinned") and kappa == 0.0:
+        has_F, has_M = np.any(Fy != 0), np.any(M != 0)
+        if follower:
+            if has_M:
+                raise NotApplicable("follower force with an end moment: no PRBM in the seeds")
+            if not np.allclose(ratio, ratio[0]):
+                raise NotApplicable("follower force with a varying load ratio")
+            res = prbm.composite_beam_tip(Fy, ratio[0], length=L, EI=EI, follower=True, family=family,
+                                          extrapolate=extrapolate)
+        elif has_F and has_M:
+            res = prbm.fixed_guided_monotonic_tip(Fy, ratio, M, length=L, EI=EI, family=family,
+                                                  extrapolate=extrapolate)
+            info.message = "force and moment: equivalent initial curvature kappa0 = M l/EI (eq 62), no inflection"
+        elif has_M:
+            res = prbm.pure_moment_tip(M, length=L, EI=EI)
+        else:
+            res = prbm.fixed_pinned_tip(Fy, ratio, length=L, EI=EI, family=family, extrapolate=extrapolate)
+    elif seg.boundary in ("fixed-free", "fixed-pinned"):
+        if np.any(M != 0):
+            kappas = M / EI + kappa
+            res = _stack([prbm.curved_fixed_pinned_tip(fy, r, length=L, EI=EI, curvature=k, family=family,
+                                                       extrapolate=extrapolate)
+                          for fy, r, k in zip(Fy, ratio, kappas)])
+        else:
+            res = prbm.curved_fixed_pinned_tip(Fy, ratio, length=L, EI=EI, curvature=kappa, family=family,
+                                               extrapolate=extrapolate)
+        a0, b0 = math.sin(kappa * L) / kappa, (1 - math.cos(kappa * L)) / kappa
+    elif seg.boundary in ("fixed-guided", "fixed-fixed"):
+        if kappa != 0.0:
+            raise NotApplicable("initially curved fixed-guided segment without model = 'inflection'")
+        if np.any(M != 0):
+            res = prbm.fixed_guided_monotonic_tip(Fy, ratio, M, length=L, EI=EI, family=family,
+                                                  extrapolate=extrapolate)
+        else:
+            res = prbm.fixed_guided_tip(Fy, ratio, length=L, EI=EI, family=family, extrapolate=extrapolate)
+    else:
+        raise NotApplicable(f"boundary '{seg.boundary}' as a single segment case: the seeds' curved "
+                            "pinned-pinned PRBM (prbm.curved_pinned_pinned) takes a chord force only")
+    o = res.outputs
+    a = np.broadcast_to(o["a"], (n,))
+    b = np.broadcast_to(o["b"], (n,))
+    out = {"x": a, "y": b, "dx": a - a0, "dy": b - b0, "force_x": Fx, "force_y": Fy, "moment": M,
+           "rotation": np.broadcast_to(np.degrees(o["theta0"]), (n,))}
+    if "Theta" in o:
+        Theta = np.broadcast_to(o["Theta"], (n,))
+        out["prb_angle"] = np.degrees(Theta)
+        k = res.constants.get("k")
+        if k is not None:
+            Ti = res.constants.get("Theta_i", 0.0)
+            out["strain_energy"] = 0.5 * np.asarray(k) * (Theta - Ti) ** 2
+    info.converged = bool(res.converged)
+    info.message = info.message or res.message
+    info.level_converged = {i: bool(np.broadcast_to(res.level_converged, (n,))[i]) for i in range(n)} \
+        if res.level_converged is not None and np.size(res.level_converged) in (1, n) else {}
+    info.extras = {"model": res.model, "constants": _plain(res.constants)}
+    return _pick(out, requests, "segment"), info
+
+
+def _stack(results):
+    from prbm.result import PRBMResult
+
+    keys = results[0].outputs.keys()
+    out = {k: np.array([float(r.outputs[k]) for r in results]) for k in keys}
+    return PRBMResult(all(r.converged for r in results), results[0].message, out, results[0].constants,
+                      results[0].model, level_converged=np.array([r.converged for r in results]))
+
+
+def _plain(d):
+    plain = {}
+    for k, v in d.items():
+        if isinstance(v, np.ndarray):
+            plain[k] = v.tolist()
+        elif isinstance(v, (np.floating, np.integer)):
+            plain[k] = v.item()
+        else:
+            plain[k] = v
+    return plain
+
+
+def _pick(out: dict, requests, what: str) -> dict:
+    values = {}
+    for req in requests:
+        if req.quantity not in out:
+            raise NotApplicable(f"the PRBM gives no '{req.quantity}' for this {what}")
+        arr = np.atleast_1d(out[req.quantity])
+        values[req] = float(arr[req.level] if arr.size > 1 else arr[0])
+    return values
+
+
+def _inflection(prbm, case, requests, options, EI):
+    seg = case.segment
+    n = case.n_levels()
+    beam = prbm.InflectionBeam(seg.length, EI, options.get("family", "pauly-midha"))
+    problem = options.get("problem", "loads")
+    prefer = options.get("prefer", "energy")
+    if isinstance(prefer, dict):
+        prefer = next(iter(prefer.items()))
+    needed = sorted({r.level for r in requests})
+    results = {}
+    if problem == "loads":
+        Fx, Fy, M, follower = _tip_loads(case, n)
+        if follower:
+            raise NotApplicable("follower loads on the chapter-3 fixed-guided PRBM")
+        for lv in needed:
+            results[lv] = prbm.solve_loads(beam, float(Fy[lv]), float(-Fx[lv]), float(-M[lv]), prefer=prefer)
+    elif problem == "displacement":
+        def per_level(key, lv):
+            v = options.get(key)
+            return None if v is None else float(v[lv] if isinstance(v, list) else v)
+
+        for lv in needed:
+            kw = {k: per_level(k, lv) for k in ("a", "n", "l1")}
+            results[lv] = prbm.solve_displacements(beam, b=per_level("b", lv),
+                                                   theta0=per_level("theta0_deg", lv) * DEG, prefer=prefer,
+                                                   **{k: v for k, v in kw.items() if v is not None})
+    else:
+        raise NotApplicable(f"unknown PRBM problem '{problem}' (use 'loads' or 'displacement')")
+    values = {}
+    info = MethodRun(values={})
+    messages = []
+    for req in requests:
+        res = results[req.level]
+        o = res.outputs
+        table = {"x": o["a"], "y": o["b"], "dx": o["a"] - seg.length, "dy": o["b"],
+                 "rotation": np.degrees(o["theta0"]), "force_x": -o["nP"], "force_y": o["P"],
+                 "moment": -o["M"], "strain_energy": o.get("U", np.nan)}
+        if req.quantity not in table:
+            raise NotApplicable(f"the chapter-3 PRBM gives no '{req.quantity}'")
+        values[req] = float(table[req.quantity])
+    for lv, res in results.items():
+        info.level_converged[lv] = bool(res.converged)
+        info.level_messages[lv] = res.message
+        messages.append(f"level {lv}: {res.message}")
+    info.converged = all(r.converged for r in results.values())
+    info.message = "; ".join(messages)
+    info.extras = {"roots": {lv: [{k: v for k, v in root.items()} for root in res.roots[0]]
+                             for lv, res in results.items()},
+                   "model": "fixed-guided with one inflection point, seed 000 eqs (83)-(104)"}
+    return values, info
+
+
+# --- mechanisms -----------------------------------------------------------------------------------
+def _complex(pair) -> complex:
+    return complex(float(pair[0]), float(pair[1]))
+
+
+def _topology(prbm, mech):
+    """PRBM topology (bodies, joints, segments) of a [mechanism] for the DOF count (eq 208)."""
+    ground_links = set()
+    fixed_nodes = {s.node for s in mech.supports if s.kind == "fixed"}
+    for link in mech.links:
+        if fixed_nodes & set(link.nodes):
+            ground_links.add(link.name)
+    bodies = 1 + len([l for l in mech.links if l.name not in ground_links])
+    joints = 0
+    pinned_ends = set()
+    beam_names = {b.name for b in mech.beams}
+    for joint in mech.joints:
+        joints += len(joint.members) - 1
+        for m in joint.members:
+            if m in beam_names:
+                pinned_ends.add((m, joint.node))
+    for s in mech.supports:
+        if s.kind == "pinned":
+            joints += 1
+            if s.member in beam_names:
+                pinned_ends.add((s.member, s.node))
+        elif s.kind in ("slider", "guided"):
+            joints += 1
+    segments = []
+    for beam in mech.beams:
+        kind = beam.segment_type
+        if kind is None:
+            pins = sum((beam.name, end) in pinned_ends for end in (beam.start, beam.end))
+            kind = {0: "fixed-guided", 1: "fixed-pinned"}.get(pins)
+            if kind is None:
+                raise NotApplicable(f"beam '{beam.name}' pinned at both ends: no PRBM segment type")
+        if kind not in prbm.SEGMENT_MODES:
+            raise NotApplicable(f"segment type '{kind}' has no mode table")
+        segments.append(prbm.Segment(kind, beam.name))
+    return prbm.PRBMTopology(bodies, joints, segments)
+
+
+def _mechanism(prbm, case, requests, options):
+    mech = case.mechanism
+    n = case.n_levels()
+    info = MethodRun(values={})
+    quantities = {r.quantity for r in requests}
+    values = {}
+    if "dof" in quantities:
+        topo = _topology(prbm, mech)
+        max_mode = int(options.get("max_mode", 2))
+        dof = topo.max_dof(max_mode)
+        info.extras["mode_table"] = topo.mode_table(max_mode)
+        info.extras["expected_mode"] = topo.expected_mode(max_mode)
+        for r in requests:
+            if r.quantity == "dof":
+                values[r] = float(dof)
+        requests = [r for r in requests if r.quantity != "dof"]
+        if not requests:
+            info.message = f"maximum DOF {dof} (Grubler on the PRBM, modes up to {max_mode})"
+            return values, info
+    links = options.get("links")
+    if links and "r11" in links:
+        return _slider(prbm, case, requests, options, links, values, info)
+    if not links or not {"r1", "r2", "r3", "r4"} <= set(links):
+        raise NotApplicable("no PRB four-bar given ([methods.prbm] links = {r1..r4}); only four-bars "
+                            "(and dof) are modelled by this adapter")
+    Z = {k: _complex(v) for k, v in links.items()}
+    sp = options.get("springs", {})
+    springs = tuple(float(sp.get(f"k{i}", 0.0)) for i in range(1, 5))
+    standard = {"k1": "O2", "k2": "A", "k3": "B", "k4": "O4"}
+    for key, joint in (options.get("spring_joints") or {}).items():
+        if standard.get(key) != joint:
+            raise NotApplicable(f"spring {key} at joint '{joint}': only k1..k4 at O2, A, B, O4 are mapped")
+    slfp = options.get("slfp")
+    if slfp and not sp:
+        E = mech.E
+        if E is None:
+            raise NotApplicable("SLFP springs need the mechanism's E")
+        # eq (186): k_i = E I_i / l_i, I_i = w t_i^3 / 12
+        springs = tuple(E * float(slfp["width"]) * t**3 / 12.0 / l for t, l in zip(slfp["t"], slfp["l"]))
+    fb = prbm.FourBar(Z["r1"], Z["r2"], Z["r3"], Z["r4"], Z.get("r5", 0j), springs=springs)
+    t21, t31, t41 = fb.theta_ref
+    ef = options.get("energy_free")
+    if ef:
+        t20 = float(ef["theta2"]) * DEG
+        t3c, t4c = (float(v) for v in fb.angles(t20))
+        t30 = float(ef["theta3"]) * DEG if "theta3" in ef else t3c
+        t40 = float(ef["theta4"]) * DEG if "theta4" in ef else t4c
+        fb.theta_free = (t20, t30, t40)
+        P_free = Z["r2"] * cmath.exp(1j * (t20 - t21)) + Z.get("r5", 0j) * cmath.exp(1j * (t30 - t31)) \
+            if "theta3" in ef else complex(fb.coupler_point(t20))
+    else:
+        t20 = t21
+        P_free = complex(fb.coupler_point(t21))
+    # drive
+    torque = None
+    for load in case.loads:
+        if load.kind == "moment":
+            torque = (torque if torque is not None else np.zeros(n)) + np.asarray(load.levels(), float)
+    precision = options.get("precision", {})
+    drive = options.get("drive", "torque" if torque is not None else "precision")
+    if drive == "torque":
+        if torque is None:
+            raise NotApplicable("drive = 'torque' but the case has no input moment")
+        res = fb.positions_under_torque(torque)
+        theta2 = res.outputs["theta2"]
+        info.level_converged = {i: bool(c) for i, c in enumerate(res.level_converged)}
+    elif "phi" in precision:
+        theta2 = t21 + np.asarray(precision["phi"], float) * DEG
+    elif "psi" in precision:
+        # output rotations from position 1 as re-solved by the loop (the printed vectors close to ~1e-3)
+        t41c = float(fb.angles(t21)[1])
+        theta2 = np.array([_theta2_for_output(fb, t41c + p * DEG, t21) for p in precision["psi"]])
+    else:
+        raise NotApplicable("no input torque and no precision positions (phi or psi) to drive the four-bar")
+    levels_free = options.get("free_levels", [])
+    theta2 = np.asarray(theta2, float)
+    if len(theta2) != n:
+        raise NotApplicable(f"{len(theta2)} precision positions for {n} load levels")
+    P = fb.coupler_point(theta2)
+    P = np.where(np.isin(np.arange(n), levels_free), P_free, P)
+    theta2 = np.where(np.isin(np.arange(n), levels_free), t20, theta2)
+    origin = complex(*options.get("origin", [0.0, 0.0]))
+    out = {"dx": (P - P_free).real, "dy": (P - P_free).imag, "x": (P + origin).real, "y": (P + origin).imag,
+           "input_angle": np.degrees(theta2), "input_torque": fb.input_torque(theta2),
+           "strain_energy": fb.strain_energy(theta2)}
+    ma = options.get("ma")
+    if ma and {"F_i", "d_i", "d_o"} <= set(ma):
+        out["mechanical_advantage"] = fb.compliant_ma(theta2, float(ma["F_i"]), float(ma["d_i"]), float(ma["d_o"]))
+    point = options.get("coupler_point", "P")
+    for r in requests:
+        if r.quantity in ("dx", "dy", "x", "y") and r.point != point:
+            raise NotApplicable(f"the PRB four-bar tracks the coupler point '{point}' only, not '{r.point}'")
+    values.update(_pick(out, requests, "four-bar"))
+    info.message = info.message or f"PRB four-bar, drive = {drive}"
+    info.extras.update({"loop_error": fb.loop_error, "theta_free_deg": [math.degrees(t) for t in fb.theta_free]})
+    return values, info
+
+
+def _slider(prbm, case, requests, options, links, values, info):
+    """Slider-crank (chapter 7): crank angle from the prescribed slider displacement of each level,
+    compliance torque eq (196) as input_torque, MA = MA_R (1 - F_c/F_i) with eq (199) (ma = {F_i, d_i})."""
+    sp = options.get("springs", {})
+    sc = prbm.SliderCrank.from_vectors(_complex(links["r11"]), _complex(links["r2"]), _complex(links["r3"]),
+                                       springs=tuple(float(sp.get(f"k{i}", 0.0)) for i in range(1, 4)),
+                                       f_k=float(sp.get("f_k", 0.0)))
+    dx = None
+    for load in case.loads:
+        if load.kind == "displacement":
+            dx = np.asarray(load.levels(), float) * float(load.direction[0]) / math.hypot(*load.direction)
+    if dx is None:
+        raise NotApplicable("slider-crank: give the slider displacement per level (a 'displacement' load)")
+    theta2 = np.array([sc.theta2_at(float(d)) for d in dx])
+    out = {"input_angle": np.degrees(theta2), "input_torque": sc.compliance_torque(theta2)}
+    ma = options.get("ma") or {}
+    if {"F_i", "d_i"} <= set(ma):
+        out["mechanical_advantage"] = sc.compliant_ma(theta2, float(ma["F_i"]), float(ma["d_i"]))
+    values.update(_pick(out, requests, "slider-crank"))
+    info.message = "PRB slider-crank, crank angle from the prescribed slider displacement (eqs 196, 199, 192)"
+    return values, info
+
+
+def _theta2_for_output(fb, theta4_target: float, theta2_start: float) -> float:
+    """Input angle giving output angle theta4_target, nearest to theta2_start (bracketed scan)."""
+    from scipy.optimize import brentq
+
+    grid = theta2_start + np.linspace(-math.pi / 2, math.pi / 2, 721)
+    r = np.angle(np.exp(1j * (fb.angles(grid)[1] - theta4_target)))
+    ok = np.isfinite(r[:-1]) & np.isfinite(r[1:]) & (np.sign(r[:-1]) != np.sign(r[1:])) & (np.abs(r[:-1] - r[1:]) < 1)
+    idx = np.nonzero(ok)[0]
+    if len(idx) == 0:
+        raise NotApplicable("output rotation not reachable")
+    i = idx[np.argmin(np.abs(grid[idx] - theta2_start))]
+    return brentq(lambda t: float(np.angle(np.exp(1j * (fb.angles(t)[1] - theta4_target)))), grid[i], grid[i + 1],
+                  xtol=1e-14)
