@@ -31,10 +31,10 @@ from validation.runner import requests_for, run_cases, run_method
 # case id -> levels benchmarked (None = all)
 BENCH_CASES: dict[str, list[int] | None] = {
     "cantilever_tip_load": [0, 4, 9],    # PL^2/EI = 1, 5, 10
-    "end_moment_full_circle": None,
+    "pure_moment_roll_up": None,
     "lee_frame": None,
-    "test1a_composite_vertical": None,
-    "test2_four_bar": None,
+    "bapat2015_test1a": None,
+    "bapat2015_test2": None,
 }
 POSITION = ("x", "y")
 
