@@ -20,8 +20,12 @@ and theta(L) = tau. The Jacobian comes from the variational equations integrated
 
 Continuation: every load and prescribed value is interpolated linearly from a start state (the
 unloaded beam, or a previous result) to the target, with a secant predictor, adaptive steps and a
-step rejection when the tip rotation jumps by more than ``max_rotation_step`` rad. This follows the
-physically connected branch (the full-circle roll-up returns a tip rotation of 2 pi, not 4 pi).
+step rejection when the tip rotation jumps by more than ``max_rotation_step`` rad or Newton
+needs more than ``max_step_iterations`` iterations (the predictor was too far from the branch).
+This follows the physically connected branch (the full-circle roll-up returns a tip rotation of
+2 pi, not 4 pi; Table 3.5 Ex. 2 stays on the branch of the unloaded beam). Intermediate steps are
+integrated at ``path_rtol``; the final corrector at ``rtol`` (1e-12), so the end conditions hold
+to ``tol`` = 1e-11 and tip values are accurate to about 1e-10 relative.
 
 Sign conventions: x along the undeformed (straight) beam from the clamp, y transverse, angles and
 moments counter-clockwise positive. The seeds' (Bapat 2015) P, nP, M for a tip are Fx = -nP,
@@ -44,12 +48,14 @@ __all__ = ["TipConstraint", "ElasticaProblem", "ElasticaResult", "solve_elastica
 class TipConstraint:
     """Prescribed tip position component: ``direction . r_tip = value`` (length units).
 
-    The force component along ``direction`` becomes an unknown (solved for); ``direction`` is
-    normalised internally.
+    A tip force of unknown magnitude along ``force_direction`` (default: ``direction``) is added
+    to the applied loads and solved for. Directions are normalised internally. Example, the
+    seed's "b, theta_0 and n given" (Table 3.5): direction (0, 1), force_direction (-n, 1).
     """
 
     direction: tuple[float, float]
     value: float
+    force_direction: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True)
@@ -107,7 +113,6 @@ def _unit(d):
 
 def _load_vector(p: ElasticaProblem) -> np.ndarray:
     """All continuation parameters of a problem, normalised: [Fx, Fy, M, ft, fn, c_1..c_k, angle]."""
-    f = p.L2_EI = None  # noqa: F841 (placeholder to keep dataclass frozen-friendly)
     scale_f = p.length**2 / p.EI
     q = [p.force[0] * scale_f, p.force[1] * scale_f, p.moment * p.length / p.EI,
          p.follower[0] * scale_f, p.follower[1] * scale_f]
@@ -141,6 +146,8 @@ class _Shooter:
     def __init__(self, p: ElasticaProblem, rtol: float, atol: float):
         self.k0 = p.curvature * p.length
         self.dirs = [_unit(c.direction) for c in p.constraints]
+        self.fdirs = [_unit(c.force_direction if c.force_direction is not None else c.direction)
+                      for c in p.constraints]
         self.nc = len(self.dirs)
         self.angle_given = p.tip_angle is not None
         self.has_follower = p.follower != (0.0, 0.0)
@@ -151,7 +158,7 @@ class _Shooter:
         """Tip force (Fx, Fy) and its derivative d(Fx, Fy)/dz (2 x n)."""
         F = np.array([q[0], q[1]])
         dF = np.zeros((2, self.n))
-        for k, d in enumerate(self.dirs):
+        for k, d in enumerate(self.fdirs):
             F = F + z[1 + k] * d
             dF[:, 1 + k] = d
         if self.has_follower:
@@ -163,23 +170,15 @@ class _Shooter:
         return F, dF
 
     def rhs(self, s, Y, Fx, Fy):
-        th, m = Y[2], Y[3]
+        """State Y = [x, y, theta, m, U, then dx, dy, dtheta, dm w.r.t. (m0, Fx, Fy) row-major]."""
+        (_, _, th, m, _, _, _, _, _, _, _, t0, t1, t2, m0_, m1_, m2_) = Y.tolist()
         c, sn = math.cos(th), math.sin(th)
-        dY = np.empty(17)
-        dY[0] = c
-        dY[1] = sn
-        dY[2] = self.k0 + m
-        dY[3] = Fx * sn - Fy * c
-        dY[4] = 0.5 * m * m
-        S = Y[5:].reshape(4, 3)      # rows: d x, d y, d theta, d m ; columns: d/d(m0, Fx, Fy)
-        dS = dY[5:].reshape(4, 3)
-        dS[0] = -sn * S[2]
-        dS[1] = c * S[2]
-        dS[2] = S[3]
-        dS[3] = (Fx * c + Fy * sn) * S[2]
-        dS[3, 1] += sn
-        dS[3, 2] -= c
-        return dY
+        g = Fx * c + Fy * sn
+        return np.array([c, sn, self.k0 + m, Fx * sn - Fy * c, 0.5 * m * m,
+                         -sn * t0, -sn * t1, -sn * t2,
+                         c * t0, c * t1, c * t2,
+                         m0_, m1_, m2_,
+                         g * t0, g * t1 + sn, g * t2 - c])
 
     def integrate(self, z, q, dense=False):
         F, dF = self.forces(z, q)
@@ -217,77 +216,81 @@ class _Shooter:
 
 
 def _newton(shooter, z, q, tol, maxiter):
-    """Damped Newton on the end conditions. Returns (z, converged, iterations, residual norm)."""
-    r, J, _ = shooter.residual(z, q)
+    """Damped Newton on the end conditions. Returns (z, converged, iterations, residual norm, tip angle)."""
+    z, ok, it, norm, sol = _newton_sol(shooter, z, q, tol, maxiter)
+    return z, ok, it, norm, (sol.y[2, -1] if sol is not None else math.nan)
+
+
+def _newton_sol(shooter, z, q, tol, maxiter):
+    r, J, sol = shooter.residual(z, q)
     if r is None:
-        return z, False, 0, math.inf
+        return z, False, 0, math.inf, None
     norm = np.linalg.norm(r)
     for it in range(1, maxiter + 1):
         try:
             dz = np.linalg.solve(J, -r)
         except np.linalg.LinAlgError:
-            return z, False, it, norm
+            return z, False, it, norm, sol
         t = 1.0
         while True:
             z_new = z + t * dz
-            r_new, J_new, _ = shooter.residual(z_new, q)
+            r_new, J_new, sol_new = shooter.residual(z_new, q)
             if r_new is not None and np.linalg.norm(r_new) < max(norm, 1e-300) * (1 - 1e-4 * t) + 1e-14:
                 break
             t *= 0.5
             if t < 1e-3:
-                return z, False, it, norm
-        z, r, J, norm = z_new, r_new, J_new, np.linalg.norm(r_new)
+                return z, False, it, norm, sol
+        z, r, J, sol, norm = z_new, r_new, J_new, sol_new, np.linalg.norm(r_new)
         step = np.linalg.norm(t * dz)
         if norm < tol and step < 1e-9 * (1.0 + np.linalg.norm(z)):
-            return z, True, it, norm
+            return z, True, it, norm, sol
         if norm < 1e-3 * tol:
-            return z, True, it, norm
-    return z, False, maxiter, norm
+            return z, True, it, norm, sol
+    return z, False, maxiter, norm, sol
 
 
 def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
                rtol: float = 1e-12, atol: float = 1e-13, tol: float = 1e-11,
                initial_step: float = 0.25, min_step: float = 1e-5, max_rotation_step: float = 0.5,
-               maxiter: int = 25, n_samples: int = 101) -> ElasticaResult:
+               max_step_iterations: int = 8,
+               maxiter: int = 25, n_samples: int = 101, path_rtol: float = 1e-7) -> ElasticaResult:
     """Continue from ``start`` (default: the unloaded beam) to ``problem`` and return the end state.
 
     ``start`` must have the same structure (same constraints, follower or not, angle given or
     not, same length/EI/curvature); its loads and prescribed values are interpolated to the
-    target's. Tolerances: ``rtol``/``atol`` of the DOP853 integration, ``tol`` on the residual
-    of the normalised end conditions.
+    target's. Tolerances: ``rtol``/``atol`` of the final DOP853 integration, ``tol`` on the
+    residual of the normalised end conditions; intermediate continuation steps use ``path_rtol``.
+    With prescribed tip positions along the tip tangent the path is staged (``_staged_start``).
     """
     t0 = time.perf_counter()
-    shooter = _Shooter(problem, rtol, atol)
+    final = _Shooter(problem, rtol, atol)
+    path = _Shooter(problem, path_rtol, path_rtol * 0.1)
     q1 = _load_vector(problem)
-    if start is not None and start.z.size == shooter.n and start.problem is not None:
+    nit = nsteps = 0
+    if start is not None and start.z.size == final.n and start.problem is not None:
         q0, z = _load_vector(start.problem), np.array(start.z, float)
     else:
-        q0, z = _start_vector(problem), np.zeros(shooter.n)
-        if shooter.has_follower:
+        q0, z = _start_vector(problem), np.zeros(final.n)
+        if final.has_follower:
             z[-1] = problem.curvature * problem.length
+        if final.nc:
+            q0, z, it, ns = _staged_start(problem, path, q0)
+            nit, nsteps = nit + it, nsteps + ns
     lam, dlam = 0.0, min(initial_step, 1.0)
     z_prev, lam_prev = None, None
-    nit = nsteps = 0
-    message = "converged"
-    converged = True
-    norm = 0.0
-    tip_angle = _tip_angle(shooter, z, q0)
+    message, converged, norm = "converged", True, 0.0
+    tip_angle = _tip_angle(path, z, q0)
     while lam < 1.0:
         lam_try = min(1.0, lam + dlam)
         q = q0 + lam_try * (q1 - q0)
-        if z_prev is not None:                      # secant predictor
-            z_guess = z + (z - z_prev) * (lam_try - lam) / (lam - lam_prev)
-        else:
-            z_guess = z
-        z_new, ok, it, norm = _newton(shooter, z_guess, q, tol, maxiter)
+        z_guess = z if z_prev is None else z + (z - z_prev) * (lam_try - lam) / (lam - lam_prev)
+        z_new, ok, it, norm, new_angle = _newton(path, z_guess, q, 10 * path_rtol, maxiter)
         nit += it
-        if ok:
-            new_angle = _tip_angle(shooter, z_new, q)
-            ok = abs(new_angle - tip_angle) <= max_rotation_step
+        ok = ok and it <= max_step_iterations and abs(new_angle - tip_angle) <= max_rotation_step
         if ok:
             z_prev, lam_prev, z, lam, tip_angle = z, lam, z_new, lam_try, new_angle
             nsteps += 1
-            if it <= 4:
+            if it <= 3:
                 dlam = min(2.0 * dlam, 1.0)
         else:
             dlam *= 0.5
@@ -295,13 +298,56 @@ def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
                 converged = False
                 message = f"continuation stalled at load fraction {lam:.6g} (residual {norm:.3g})"
                 break
-    result = _result(problem, shooter, z, q0 + lam * (q1 - q0), n_samples)
-    result.converged = converged
-    result.message = message
+    q_end = q0 + lam * (q1 - q0)
+    if converged:                                   # final corrector at full accuracy
+        z_fin, ok, it, norm, angle = _newton(final, z, q_end, tol, maxiter)
+        nit += it
+        if ok and abs(angle - tip_angle) < 1e-3:
+            z = z_fin
+        else:
+            converged, message = False, f"final corrector failed (residual {norm:.3g})"
+    result = _result(problem, final, z, q_end, n_samples)
+    result.converged, result.message = converged, message
     result.nit, result.nsteps = nit, nsteps
     result.wall_time = time.perf_counter() - t0
     result.residual = norm
     return result
+
+
+def _staged_start(problem, shooter, q0):
+    """Start of a prescribed-position path that avoids the singular straight state.
+
+    An inextensible straight beam has no axial compliance, so prescribing the tip position along
+    the tip tangent from the unloaded state is singular, and moving it in proportion with the
+    transverse values drives the path through large axial loads. So: first solve the problem
+    without the (mostly) axial constraints, whose force multipliers stay 0; then return that
+    state as the start from which only the axial prescribed values move to their targets.
+    """
+    x0, y0, th0 = unloaded_tip(1.0, problem.curvature * problem.length)
+    tangent = np.array([math.cos(th0), math.sin(th0)])
+    axial = [abs(float(d @ tangent)) >= 0.5 for d in shooter.dirs]
+    z = np.zeros(shooter.n)
+    if shooter.has_follower:
+        z[-1] = th0
+    if not any(axial):
+        return q0, z, 0, 0
+    keep = tuple(c for c, a in zip(problem.constraints, axial) if not a)
+    first = solve_path(replace(problem, constraints=keep), rtol=shooter.rtol, atol=shooter.atol,
+                       tol=1e-9, n_samples=2)
+    if not first.converged:                      # fall back to the plain path from the unloaded beam
+        return q0, z, first.nit, first.nsteps
+    q = _load_vector(problem)
+    x, y = first.x / problem.length, first.y / problem.length
+    z[0] = first.z[0]
+    kept = iter(first.z[1:1 + len(keep)])
+    for k, (d, a) in enumerate(zip(shooter.dirs, axial)):
+        if a:
+            q[5 + k] = d[0] * x + d[1] * y
+        else:
+            z[1 + k] = next(kept)
+    if shooter.has_follower:
+        z[-1] = first.z[-1]
+    return q, z, first.nit, first.nsteps
 
 
 def _tip_angle(shooter, z, q):
@@ -320,9 +366,10 @@ def _result(problem, shooter, z, q, n_samples):
     # support reaction on the beam: -F and the moment balancing the tip loads about the root
     reaction = (-F[0] * fs, -F[1] * fs, -z[0] * ms)
     return ElasticaResult(
-        converged=True, message="", x=Y[0] * L, y=Y[1] * L, theta=Y[2],
-        force=(F[0] * fs, F[1] * fs), moment=m_tip * ms, reaction=reaction,
-        strain_energy=Y[4] * ms, s=s * L, shape=np.vstack([Ys[0] * L, Ys[1] * L, Ys[2]]),
+        converged=True, message="", x=float(Y[0] * L), y=float(Y[1] * L), theta=float(Y[2]),
+        force=(float(F[0] * fs), float(F[1] * fs)), moment=float(m_tip * ms),
+        reaction=tuple(float(r) for r in reaction), strain_energy=float(Y[4] * ms),
+        s=s * L, shape=np.vstack([Ys[0] * L, Ys[1] * L, Ys[2]]),
         problem=replace(problem, moment=m_tip * ms) if shooter.angle_given else problem,
         z=np.array(z, float))
 

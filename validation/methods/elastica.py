@@ -5,9 +5,11 @@ Supported: one ``[segment]`` (straight or initially curved, any section: EI from
 tip loads of kind force (dead or follower), moment, displacement and rotation. The load path is
 followed level by level with continuation (each level warm-starts from the previous one).
 
-Boundary handling: fixed-guided holds the tip angle at its unloaded value (unless a rotation
-load prescribes it) and the tip moment is solved for; fixed-fixed also holds both tip position
-components that no displacement load prescribes. With prescribed displacements/rotations, the
+Boundary handling: a tip freedom that carries a load is load-controlled, whatever the boundary
+(the seed's load-specified "fixed-guided" beams of Tables 3.2-3.6 give P, nP and M). Otherwise
+fixed-guided holds the tip angle at its unloaded value (unless a rotation load prescribes it) and
+the tip moment is solved for; fixed-fixed also holds the tip position components (x, y) that no
+displacement or force load acts along. With prescribed displacements/rotations, the
 ``force_x``/``force_y``/``moment`` outputs are the tip loads needed. ``rotation`` is the change of
 the tip angle from the unloaded state (degrees); ``reaction_*`` are the support loads at the root.
 
@@ -82,11 +84,16 @@ def level_problems(case: Case, options: dict) -> list[ElasticaProblem]:
                 prescribed_dirs.append(u)
             elif load.kind == "rotation":
                 tip_angle = th0 + math.radians(v)
-        if seg.boundary in ("fixed-guided", "fixed-fixed") and tip_angle is None:
+        # a load on a tip freedom makes it load-controlled; the boundary holds only the others
+        has_moment = any(ld.kind == "moment" for ld in case.loads)
+        if seg.boundary in ("fixed-guided", "fixed-fixed") and tip_angle is None and not has_moment:
             tip_angle = th0
         if seg.boundary == "fixed-fixed":
+            forces = [np.asarray(ld.direction, float) for ld in case.loads if ld.kind == "force"]
             for u in (np.array([1.0, 0.0]), np.array([0.0, 1.0])):
-                if all(abs(u @ p) < 0.999 for p in prescribed_dirs) and len(prescribed_dirs) < 2:
+                free = any(abs(u @ p) >= 0.999 for p in prescribed_dirs) or any(
+                    abs(u @ f) > 1e-12 for f in forces)
+                if not free and len(prescribed_dirs) < 2:
                     constraints.append(TipConstraint(tuple(u), float(u @ [x0, y0])))
                     prescribed_dirs.append(u)
         if len(prescribed_dirs) > 2:

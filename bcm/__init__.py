@@ -1,0 +1,14 @@
+"""Beam constraint model (seed 003): strain and complementary energies, both energy theorems, examples."""
+from bcm.beam import (C0, C1, C2, C3, K0, K1, K2, axial_stiffness_parameter, bcm_residual,
+                      complementary_energy, deflections_from_complementary, deflections_from_loads,
+                      exact_compliance, loads_from_deflections, quadratic_forms, solve_mixed,
+                      strain_energy)
+from bcm.mechanisms import (BCMBeam, RigidBodyOnBeams, circular_guided_torque,
+                            circular_guided_torque_eq20, eq32_corrected, eq32_printed,
+                            slant_parallelogram)
+
+__all__ = ["C0", "C1", "C2", "C3", "K0", "K1", "K2", "axial_stiffness_parameter", "bcm_residual",
+           "complementary_energy", "deflections_from_complementary", "deflections_from_loads",
+           "exact_compliance", "loads_from_deflections", "quadratic_forms", "solve_mixed",
+           "strain_energy", "BCMBeam", "RigidBodyOnBeams", "circular_guided_torque",
+           "circular_guided_torque_eq20", "eq32_corrected", "eq32_printed", "slant_parallelogram"]

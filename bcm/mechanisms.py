@@ -1,0 +1,237 @@
+"""The two example mechanisms of seed 003 (section 4), and a rigid body carried by BCM beams.
+
+- Circular-guided mechanism (section 4.1, Table 2): beam OA clamped at O, rigid crank AB welded
+  at A and pinned at B on the beam line (B inferred at L_OA - L_AB from eq (18), see
+  notes/seed-003-004.md section 2.1). Castigliano's first theorem: T_i = dv/dbeta (eq (20)).
+- Slant parallelogram (section 4.2, Table 3): two equal beams at angle beta from the vertical
+  carry a coupler of weight F_w pushed sideways by F_h; equal load sharing (eq (22)), guided
+  beam tips, Crotti-Engesser with eq (16) or (17) (eqs (23)-(29)) and Castigliano with eq (30),
+  whose printed derivatives eq (32) are corrected here (notes/seed-003-004.md section 2.2):
+
+      f_x1 = k_a (700 u_x1 + 420 u_y1^2) / (700 + k_a u_y1^2)
+      f_y1 = k_a u_y1 (840 u_x1 + 504 u_y1^2) / (700 + k_a u_y1^2)
+             - 7 k_a^2 u_y1 (10 u_x1 + 6 u_y1^2)^2 / (700 + k_a u_y1^2)^2 + 12 u_y1
+
+  (printed: denominators 700 + u_y1^2, no factor u_y1 in the first term of f_y1, k_a not squared).
+
+``RigidBodyOnBeams`` generalises both: one rigid body joined rigidly to straight BCM beams that
+are clamped to the ground, loaded by forces and moments, optionally pinned to the ground at a
+point and driven by a prescribed rotation; equilibrium by Castigliano (dV/dq = generalised load).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import fsolve
+
+from bcm.beam import (C0, C1, C2, C3, K0, K1, K2, axial_stiffness_parameter,
+                      loads_from_deflections, strain_energy)
+
+__all__ = ["circular_guided_torque", "circular_guided_torque_eq20", "slant_parallelogram",
+           "eq32_corrected", "eq32_printed", "BCMBeam", "RigidBodyOnBeams"]
+
+
+# ------------------------------------------------------------------ circular-guided mechanism
+
+def _crank_deflections(beta, R):
+    """Eq (18): tip deflections of OA (normalised by L_OA) for crank angle beta."""
+    return R * (math.cos(beta) - 1.0), R * math.sin(beta), beta
+
+
+def circular_guided_torque(beta: float, R: float, ka: float) -> float:
+    """Normalised input torque T_i = dv/dbeta (Castigliano on eq (11) with eqs (18), (19)).
+
+    T_i = f_x du_x/dbeta + f_y du_y/dbeta + m_z, with du_x = -R sin(beta), du_y = R cos(beta);
+    the dimensional torque is T = (EI/L_OA) T_i. R = L_AB/L_OA, ka = 12 L_OA^2/T^2.
+    """
+    fx, fy, mz = loads_from_deflections(*_crank_deflections(beta, R), ka)
+    return -fx * R * math.sin(beta) + fy * R * math.cos(beta) + mz
+
+
+def circular_guided_torque_eq20(beta: float, R: float, ka: float) -> float:
+    """Eq (20) with eq (21), as printed in seed 003 (checked equal to ``circular_guided_torque``)."""
+    sb, cb = math.sin(beta), math.cos(beta)
+    k0, k1, k2 = K0, K1, K2
+    Q1 = -2 * R + k1[1, 1] * beta**2 + 2 * R * cb + 2 * k1[0, 1] * R * beta * sb + k1[0, 0] * R**2 * sb**2
+    Q2 = -1 + k2[1, 1] * ka * beta**2 + 2 * k2[0, 1] * ka * R * beta * sb + k2[0, 0] * ka * R**2 * sb**2
+
+    def term(k, shift=0.0):
+        return k[1, 1] * beta + (k[0, 1] + shift) * R * sb + R * cb * (k[0, 1] * beta + k[0, 0] * R * sb)
+
+    return (term(k0) - ka * Q1 * term(k1, -1.0) / (2 * Q2)
+            + ka**2 * Q1**2 * term(k2) / (4 * Q2**2))
+
+
+# ------------------------------------------------------------------ slant parallelogram
+
+def eq32_corrected(ux, uy, ka):
+    """(f_x1, f_y1) = grad of eq (30) at theta_z = 0 (corrected eq (32))."""
+    d = 700.0 + ka * uy * uy
+    fx = ka * (700.0 * ux + 420.0 * uy * uy) / d
+    fy = (ka * uy * (840.0 * ux + 504.0 * uy * uy) / d
+          - 7.0 * ka**2 * uy * (10.0 * ux + 6.0 * uy * uy) ** 2 / d**2 + 12.0 * uy)
+    return fx, fy
+
+
+def eq32_printed(ux, uy, ka):
+    """Eq (32) exactly as printed in seed 003 (inconsistent with eq (30); kept to show the misprint)."""
+    d = 700.0 + uy * uy
+    fx = ka * (700.0 * ux + 420.0 * uy * uy) / d
+    fy = (ka * (840.0 * ux + 504.0 * uy * uy) / d
+          - 7.0 * ka * uy * (10.0 * ux + 6.0 * uy * uy) ** 2 / d**2 + 12.0 * uy)
+    return fx, fy
+
+
+@dataclass(frozen=True)
+class SlantResult:
+    dX: float   # coupler displacement along the weight (paper X, downward), length units
+    dY: float   # coupler displacement along F_h (paper Y)
+    fx1: float
+    fy1: float
+    mz1: float
+    ux1: float
+    uy1: float
+
+
+def slant_parallelogram(F_h: float, *, F_w: float = 0.25, beta: float = 0.1, L: float = 25.0,
+                        E: float = 73e3, W: float = 5.1, T: float = 0.25,
+                        method: str = "CE3") -> SlantResult:
+    """Coupler displacement of the slant parallelogram (seed 003 section 4.2), one beam by symmetry.
+
+    Units of Table 3 as mm, N, MPa. method: 'CE2' (eq (16): eqs (23)-(27)), 'CE3' (eq (17)),
+    'castigliano' (eq (30) with the corrected eq (32)), 'castigliano-printed' (eq (32) as printed).
+    Loads per beam: eq (22); guided tip theta_z1 = 0; coupler displacement: eqs (28), (29).
+    """
+    EI = E * W * T**3 / 12.0
+    ka = axial_stiffness_parameter(L, T)
+    Fx1 = F_w * math.cos(beta) / 2.0 - F_h * math.sin(beta) / 2.0
+    Fy1 = F_w * math.sin(beta) / 2.0 + F_h * math.cos(beta) / 2.0
+    fx, fy = Fx1 * L**2 / EI, Fy1 * L**2 / EI
+    if method in ("CE2", "CE3"):
+        C, dC = C0 - fx * C1 + fx**2 * C2, -C1 + 2 * fx * C2
+        if method == "CE3":
+            C, dC = C - fx**3 * C3, dC - 3 * fx**2 * C3
+        mz = -C[0, 1] / C[1, 1] * fy                     # eq (24)/(25): theta_z1 = dv*/dm_z1 = 0
+        p = np.array([fy, mz])
+        ux = fx / ka + 0.5 * p @ dC @ p                   # eq (26)
+        uy = (C @ p)[0]                                   # eq (27)
+    elif method in ("castigliano", "castigliano-printed"):
+        law = eq32_corrected if method == "castigliano" else eq32_printed
+        guess = slant_parallelogram(F_h, F_w=F_w, beta=beta, L=L, E=E, W=W, T=T, method="CE3")
+        sol = fsolve(lambda u: np.array(law(u[0], u[1], ka)) - [fx, fy],
+                     [guess.ux1, guess.uy1], xtol=1e-14, full_output=True)
+        ux, uy = sol[0]
+        mz = (K0 + fx * K1 + fx**2 * K2)[1, 0] * uy       # eq (3), second row, theta_z1 = 0
+    else:
+        raise ValueError(f"unknown method '{method}'")
+    dY = L * (-ux * math.sin(beta) + uy * math.cos(beta))  # eq (28)
+    dX = L * (ux * math.cos(beta) + uy * math.sin(beta))   # eq (29)
+    return SlantResult(dX, dY, fx, fy, mz, ux, uy)
+
+
+# ------------------------------------------------------------------ general: one rigid body on beams
+
+@dataclass(frozen=True)
+class BCMBeam:
+    """A straight beam clamped at ``start`` and welded to the body at ``end`` (undeformed positions)."""
+
+    start: tuple[float, float]
+    end: tuple[float, float]
+    EI: float
+    ka: float
+
+    @property
+    def length(self) -> float:
+        return math.dist(self.start, self.end)
+
+
+class RigidBodyOnBeams:
+    """One rigid body joined rigidly to clamped BCM beams; q = (u, v, phi) of ``reference``.
+
+    A pin at the reference point (``pinned=True``) removes u and v. The total potential is
+    Pi = sum_i (EI_i/L_i) v_i(u_x, u_y, theta) - sum_k F_k . u(p_k) - sum M phi, and equilibrium is
+    grad Pi = 0 over the free coordinates (Castigliano's first theorem per beam).
+    """
+
+    def __init__(self, beams: list[BCMBeam], reference: tuple[float, float], pinned: bool = False):
+        self.beams, self.ref, self.pinned = beams, np.asarray(reference, float), pinned
+
+    def position(self, point, q):
+        c, s = math.cos(q[2]), math.sin(q[2])
+        r = np.asarray(point, float) - self.ref
+        return self.ref + q[:2] + np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
+
+    def _local(self, beam, q):
+        X0, X1 = np.asarray(beam.start, float), np.asarray(beam.end, float)
+        L = beam.length
+        e1 = (X1 - X0) / L
+        e2 = np.array([-e1[1], e1[0]])
+        d = self.position(X1, q) - X0
+        return (d @ e1 - L) / L, (d @ e2) / L, q[2], e1, e2, L
+
+    def strain_energy(self, q) -> float:
+        total = 0.0
+        for b in self.beams:
+            ux, uy, th, *_ = self._local(b, q)
+            total += b.EI / b.length * strain_energy(ux, uy, th, b.ka)
+        return total
+
+    def beam_states(self, q):
+        """Per beam: normalised (u_x, u_y, theta, f_x, f_y, m_z)."""
+        out = []
+        for b in self.beams:
+            ux, uy, th, *_ = self._local(b, q)
+            out.append((ux, uy, th, *loads_from_deflections(ux, uy, th, b.ka)))
+        return out
+
+    def internal_force(self, q) -> np.ndarray:
+        """dV/dq: the generalised load the beams exert back (what the external loads must supply)."""
+        g = np.zeros(3)
+        c, s = math.cos(q[2]), math.sin(q[2])
+        for b in self.beams:
+            ux, uy, th, e1, e2, L = self._local(b, q)
+            fx, fy, mz = loads_from_deflections(ux, uy, th, b.ka)
+            F = (b.EI / L**2) * (fx * e1 + fy * e2)       # force on the beam tip, global
+            r = np.asarray(b.end, float) - self.ref
+            dp_dphi = np.array([-s * r[0] - c * r[1], c * r[0] - s * r[1]])
+            g += np.array([F[0], F[1], F @ dp_dphi + (b.EI / L) * mz])
+        return g
+
+    def external_force(self, q, forces, moment: float) -> np.ndarray:
+        """Generalised load of dead forces [(point, (Fx, Fy))] and a body moment."""
+        g = np.array([0.0, 0.0, moment])
+        c, s = math.cos(q[2]), math.sin(q[2])
+        for point, F in forces:
+            r = np.asarray(point, float) - self.ref
+            dp_dphi = np.array([-s * r[0] - c * r[1], c * r[0] - s * r[1]])
+            g += np.array([F[0], F[1], np.dot(F, dp_dphi)])
+        return g
+
+    def solve(self, forces=(), moment: float = 0.0, rotation: float | None = None, guess=None):
+        """Equilibrium configuration q; with ``rotation`` prescribed, phi is fixed and the moment
+        that must be applied is returned as the second value (else the applied ``moment``)."""
+        free = [0, 1, 2] if not self.pinned else [2]
+        if rotation is not None:
+            free = [i for i in free if i != 2]
+        q = np.zeros(3) if guess is None else np.array(guess, float)
+        if rotation is not None:
+            q[2] = rotation
+
+        def res(z):
+            qq = q.copy()
+            qq[free] = z
+            r = self.internal_force(qq) - self.external_force(qq, forces, moment)
+            return r[free]
+
+        if free:
+            scale = max(b.EI / b.length**2 for b in self.beams)     # force unit of the beams
+            z, info, ok, msg = fsolve(lambda z: res(z) / scale, q[free], xtol=1e-12, full_output=True)
+            if ok != 1 and np.linalg.norm(info["fvec"]) > 1e-10:
+                raise RuntimeError(f"BCM equilibrium not found: {msg}")
+            q[free] = z
+        needed = moment
+        if rotation is not None:
+            needed = (self.internal_force(q) - self.external_force(q, forces, 0.0))[2]
+        return q, needed
