@@ -1,4 +1,4 @@
-"""``prbm-validate``: list, run, solve, report, bench, stress and sweep the validation cases.
+"""``prbm-validate``: list, run, solve, report, bench, stress, sweep and synthesize.
 
 Exit status: 0 all good, 1 a comparison outside its claimed tolerance, 2 bad input.
 """
@@ -177,9 +177,11 @@ def build_parser() -> argparse.ArgumentParser:
     stress.add_argument("--seed", type=int, default=20261122)
     stress.set_defaults(func=cmd_stress)
 
+    from synthesis.cli import add_parser as add_synthesize_parser
     from validation.sweep import add_parser as add_sweep_parser
 
     add_sweep_parser(sub)
+    add_synthesize_parser(sub)
     return parser
 
 
