@@ -36,37 +36,45 @@ def element_state(X1, X2, p, L0, beta0, beta_prev, ka, kb, need_tangent=True):
     """Internal forces f (n,6), tangent K (n,6,6) and local state of all elements.
 
     Returns dict with f, K, N, M (n,2), L, beta, theta_bar (n,2), u_bar, jumped.
+    With V = (M1 + M2)/L:  f = [-(cN + sV), -(sN - cV), M1, cN + sV, sN - cV, M2].
+    The tangent is written as K = E^T C E with E = [r; z; e3; e6] (n,4,6) and
+    the symmetric 4x4 coefficients C that follow from expanding B^T k_l B
+    (b_i = e_i - z/L) plus the geometric terms.
     """
-    d = X2 - X1 + p[:, 3:5] - p[:, 0:2]
-    L = np.hypot(d[:, 0], d[:, 1])
-    c, s = d[:, 0] / L, d[:, 1] / L
-    beta = beta_prev + wrap(np.arctan2(d[:, 1], d[:, 0]) - beta_prev)
+    dx = X2[:, 0] - X1[:, 0] + p[:, 3] - p[:, 0]
+    dy = X2[:, 1] - X1[:, 1] + p[:, 4] - p[:, 1]
+    L = np.hypot(dx, dy)
+    c, s = dx / L, dy / L
+    beta = beta_prev + wrap(np.arctan2(dy, dx) - beta_prev)
     u_bar = (L * L - L0 * L0) / (L + L0)
-    theta_raw = p[:, [2, 5]] + (beta0 - beta)[:, None]
+    theta_raw = p[:, 2::3] + (beta0 - beta)[:, None]
     theta_bar = wrap(theta_raw)
-    jumped = np.any(np.abs(theta_raw - theta_bar) > 1.0, axis=1)
+    jumped = np.abs(theta_raw - theta_bar).max(axis=1) > 1.0
     N = ka * u_bar
-    M = np.einsum("eij,ej->ei", kb, theta_bar)
-    zero = np.zeros_like(c)
-    r = np.column_stack([-c, -s, zero, c, s, zero])
-    z = np.column_stack([s, -c, zero, -s, c, zero])
-    zL = z / L[:, None]
-    b1 = -zL.copy()
-    b1[:, 2] += 1.0
-    b2 = -zL.copy()
-    b2[:, 5] += 1.0
-    f = r * N[:, None] + b1 * M[:, 0:1] + b2 * M[:, 1:2]
+    M = np.matmul(kb, theta_bar[:, :, None])[:, :, 0]
+    V = (M[:, 0] + M[:, 1]) / L
+    a = c * N + s * V
+    b = s * N - c * V
+    f = np.column_stack([-a, -b, M[:, 0], a, b, M[:, 1]])
     out = dict(f=f, N=N, M=M, L=L, beta=beta, theta_bar=theta_bar, u_bar=u_bar, jumped=jumped)
     if need_tangent:
-        K = (ka[:, None, None] * r[:, :, None] * r[:, None, :]
-             + kb[:, 0, 0, None, None] * b1[:, :, None] * b1[:, None, :]
-             + kb[:, 0, 1, None, None] * b1[:, :, None] * b2[:, None, :]
-             + kb[:, 1, 0, None, None] * b2[:, :, None] * b1[:, None, :]
-             + kb[:, 1, 1, None, None] * b2[:, :, None] * b2[:, None, :]
-             + (N / L)[:, None, None] * z[:, :, None] * z[:, None, :])
-        rz = r[:, :, None] * z[:, None, :]
-        K += ((M[:, 0] + M[:, 1]) / (L * L))[:, None, None] * (rz + rz.transpose(0, 2, 1))
-        out["K"] = K
+        n = len(L)
+        E = np.zeros((n, 4, 6))
+        E[:, 0, 0], E[:, 0, 1], E[:, 0, 3], E[:, 0, 4] = -c, -s, c, s      # r
+        E[:, 1, 0], E[:, 1, 1], E[:, 1, 3], E[:, 1, 4] = s, -c, -s, c      # z
+        E[:, 2, 2] = 1.0                                                   # e3
+        E[:, 3, 5] = 1.0                                                   # e6
+        k11, k12, k21, k22 = kb[:, 0, 0], kb[:, 0, 1], kb[:, 1, 0], kb[:, 1, 1]
+        C = np.zeros((n, 4, 4))
+        C[:, 0, 0] = ka
+        C[:, 1, 1] = (k11 + k12 + k21 + k22) / (L * L) + N / L
+        C[:, 0, 1] = C[:, 1, 0] = V / L
+        C[:, 1, 2] = -(k11 + k21) / L
+        C[:, 2, 1] = -(k11 + k12) / L
+        C[:, 1, 3] = -(k12 + k22) / L
+        C[:, 3, 1] = -(k21 + k22) / L
+        C[:, 2:, 2:] = kb
+        out["K"] = np.matmul(E.transpose(0, 2, 1), np.matmul(C, E))
     return out
 
 

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .local_matrices import member_local_stiffness
+from .local_matrices import member_local_stiffness, prismatic_local_stiffness
 from .model import Model
 from .section import Section
 
@@ -86,11 +86,27 @@ def _arc_points(P0, P1, kappa, n):
 
 def _dof_order(n_en, conn, slaves, masters, extra_owner):
     """Full DOFs node by node in reverse Cuthill-McKee order (small bandwidth)."""
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import reverse_cuthill_mckee
-    edges = np.vstack([conn.reshape(-1, 2), np.column_stack([slaves, masters]).reshape(-1, 2)])
-    g = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n_en, n_en))
-    order = reverse_cuthill_mckee((g + g.T).tocsr(), symmetric_mode=True)
+    adj = [[] for _ in range(n_en)]
+    for a, b in list(map(tuple, conn.tolist())) + list(zip(slaves.tolist(), masters.tolist())):
+        adj[a].append(b)
+        adj[b].append(a)
+    degree = [len(x) for x in adj]
+    seen = [False] * n_en
+    order = []
+    for start in sorted(range(n_en), key=degree.__getitem__):
+        if seen[start]:
+            continue
+        seen[start] = True
+        queue, head = [start], 0
+        while head < len(queue):
+            v = queue[head]
+            head += 1
+            for w in sorted(adj[v], key=degree.__getitem__):
+                if not seen[w]:
+                    seen[w] = True
+                    queue.append(w)
+        order += queue
+    order.reverse()
     extras = {}
     for k, owner in enumerate(extra_owner):
         extras.setdefault(owner, []).append(3 * n_en + k)
@@ -101,6 +117,7 @@ def _dof_order(n_en, conn, slaves, masters, extra_owner):
 
 
 def discretise(model: Model, refine: int = 1) -> Discretisation:
+    """Mesh every member with refine x n_elements elements; number and constrain the DOFs."""
     n_mn = model.n_nodes
     X = [np.asarray(model.coords, dtype=float).reshape(-1, 2)]
     n_en = n_mn
@@ -118,8 +135,7 @@ def discretise(model: Model, refine: int = 1) -> Discretisation:
         if isinstance(m.section, Section):
             sec = m.section
             fn = lambda xi, sec=sec: sec
-            a, b = member_local_stiffness(s_nodes, lambda xi: sec.EA + 0 * xi,
-                                          lambda xi: sec.EI + 0 * xi, intorder=4)
+            a, b = prismatic_local_stiffness(lengths, sec.EA, sec.EI)
         else:
             fn = m.section
             prop = lambda attr: (lambda xi: np.vectorize(lambda t: getattr(fn(float(t)), attr))(xi))
@@ -145,9 +161,22 @@ def discretise(model: Model, refine: int = 1) -> Discretisation:
     end_rot[:, 1] = rot_dof[conn[:, 1]]
     next_dof = 3 * n_en
     springs, spring_k, extra_owner = [], [], []
+    link_nodes = {n for rl in model.rigid_links for n in (rl.master, rl.slave)}
+    rot_held = {sp.node for sp in model.supports if sp.kind in ("fixed", "guided")}
     for j in model.joints:
         at_node = [im for im, m in enumerate(model.members) if j.node in (m.start, m.end)]
-        released = j.members if j.members is not None else tuple(at_node[1:])
+        listed = tuple(at_node) if j.members is None else tuple(j.members)
+        # the node rotation is carried by something else than the listed members?
+        anchored = (j.node in link_nodes or j.node in rot_held
+                    or any(im not in listed for im in at_node))
+        k_ground = j.k_ground
+        if anchored:
+            released = listed               # every listed member turns freely (+ spring k)
+        elif len(listed) >= 2:
+            released = listed[1:]           # the first listed member keeps the node rotation
+        else:
+            released = ()                   # a single member: its spring k acts to ground
+            k_ground += j.k
         for im in released:
             m = model.members[im]
             if j.node not in (m.start, m.end):
@@ -161,9 +190,9 @@ def discretise(model: Model, refine: int = 1) -> Discretisation:
                 springs.append((next_dof, rot_dof[j.node]))
                 spring_k.append(j.k)
             next_dof += 1
-        if j.k_ground > 0.0:
+        if k_ground > 0.0:
             springs.append((rot_dof[j.node], -1))
-            spring_k.append(j.k_ground)
+            spring_k.append(k_ground)
     n_full = next_dof
     ground = n_full
     springs = np.array(springs, dtype=int).reshape(-1, 2)

@@ -16,11 +16,13 @@ The forms are assembled here only, at model build time, never in Newton.
 """
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 from skfem import Basis, BilinearForm, ElementLineHermite, ElementLineP1, MeshLine
 from skfem.helpers import dd, grad
 
-__all__ = ["member_local_stiffness"]
+__all__ = ["member_local_stiffness", "prismatic_local_stiffness"]
 
 
 @BilinearForm
@@ -42,10 +44,24 @@ def member_local_stiffness(s_nodes: np.ndarray, EA_of_xi, EI_of_xi, intorder: in
     total = float(s_nodes[-1] - s_nodes[0])
     hermite = Basis(mesh, ElementLineHermite(), intorder=intorder)
     linear = Basis(mesh, ElementLineP1(), intorder=intorder)
-    xi_h = (hermite.global_coordinates().value[0] - s_nodes[0]) / total
-    xi_l = (linear.global_coordinates().value[0] - s_nodes[0]) / total
+    xi_h = (hermite.global_coordinates()[0] - s_nodes[0]) / total
+    xi_l = (linear.global_coordinates()[0] - s_nodes[0]) / total
     kb_full = _bending.coo_data(hermite, EI=EI_of_xi(xi_h)).tolocal()   # (n_el, 4, 4)
     ka_full = _axial.coo_data(linear, EA=EA_of_xi(xi_l)).tolocal()      # (n_el, 2, 2)
     kb = kb_full[:, [1, 3]][:, :, [1, 3]]
     ka = ka_full[:, 0, 0]
     return ka, kb
+
+
+@lru_cache(maxsize=1)
+def _unit_element():
+    """k_a, k_b of one element of unit length with EA = EI = 1 (by scikit-fem)."""
+    ka, kb = member_local_stiffness(np.array([0.0, 1.0]), lambda xi: 1.0 + 0 * xi,
+                                    lambda xi: 1.0 + 0 * xi, intorder=4)
+    return ka[0], kb[0]
+
+
+def prismatic_local_stiffness(L0: np.ndarray, EA: float, EI: float):
+    """Constant section: k_a = EA/L0 * k_a(1), k_b = EI/L0 * k_b(1) (exact scaling)."""
+    ka1, kb1 = _unit_element()
+    return EA * ka1 / L0, (EI / L0)[:, None, None] * kb1

@@ -6,18 +6,27 @@ The model is what the user describes; nothing is discretised here.
 * A member is a flexible beam between two nodes, subdivided into
   ``n_elements`` straight corotational elements.  An initially curved member
   is a circular arc of signed curvature ``curvature`` (1/length; positive when
-  the arc bends to the left of the direction start -> end); its elements are
-  chords of the arc.  ``section`` is a `Section`, or a callable xi -> Section
+  the member turns counter-clockwise from start to end, i.e. the centre of
+  curvature lies to the left of the chord start -> end); it must subtend less
+  than 180 degrees (split longer arcs); its elements are chords of the arc.
+  ``section`` is a `Section`, or a callable xi -> Section
   (xi in [0, 1] along the member) for a tapered member.
 * A rigid link makes node ``slave`` move with node ``master`` as one rigid
   body: x_s = x_m + R(theta_m)(X_s - X_m), theta_s = theta_m (exact, nonlinear
   master-slave elimination, no penalty).
 * By default all members meeting at a node are rigidly connected (one
-  rotation).  A revolute joint releases the rotation of the listed members
-  (default: every member at the node except the first one added), each of
-  which then gets its own rotation; a torsional spring of stiffness ``k``
-  (moment/rad) ties each released member to the node rotation, and
-  ``k_ground`` ties the node rotation to the ground.
+  rotation, the node rotation).  A revolute joint lets the listed members
+  (default: all members at the node) turn relative to each other, with a
+  torsional spring of stiffness ``k`` (moment/rad) on each hinge:
+  - if something else carries the node rotation (an unlisted member, a rigid
+    link, a fixed or guided support), every listed member is released and
+    sprung to the node rotation;
+  - otherwise the first listed member keeps the node rotation and the others
+    are released and sprung to it;
+  - a single listed member with nothing else at the node (a ground pivot):
+    ``k`` acts between the member and the ground.
+  ``k_ground`` ties the node rotation to the ground.  Moments and prescribed
+  rotations at the node act on the node rotation.
 * Supports: ``fixed`` (u = v = theta = 0), ``pinned`` (u = v = 0),
   ``slider`` (roller: only translation along ``direction``), ``guided``
   (theta = 0, translation along ``direction`` only).
@@ -144,16 +153,22 @@ class Model:
         d = d / np.linalg.norm(d)
         self.supports.append(Support(self.node(node), kind, (float(d[0]), float(d[1]))))
 
-    def add_joint(self, node, members=None, k: float = 0.0, k_ground: float = 0.0) -> None:
-        """Revolute joint at node releasing `members` (indices), optional springs."""
+    def add_joint(self, node, members=None, k: float | None = 0.0,
+                  k_ground: float | None = 0.0) -> None:
+        """Revolute joint at node between `members` (indices; default all at the
+        node), torsional springs k (between members) and k_ground (moment/rad)."""
         mem = None if members is None else tuple(int(m) for m in members)
-        self.joints.append(Joint(self.node(node), mem, float(k), float(k_ground)))
+        self.joints.append(Joint(self.node(node), mem, float(k or 0.0), float(k_ground or 0.0)))
 
     def add_rigid_link(self, master, slave) -> None:
         self.rigid_links.append(RigidLink(self.node(master), self.node(slave)))
 
     def add_force(self, node, values_x, values_y, follower: bool = False) -> None:
-        """Point force per load level; a follower force rotates with the node."""
+        """Point force per load level (consistent force units).
+
+        A follower force is given in the node's reference orientation and turns
+        with the node rotation: F = R(theta) (values_x, values_y).
+        """
         fx, fy = np.broadcast_arrays(_levels(values_x), _levels(values_y))
         self.loads.append(PointLoad(self.node(node), "force",
                                     np.column_stack([fx, fy]), bool(follower)))

@@ -1,0 +1,30 @@
+"""Geometrically nonlinear 2-D corotational beam FEM: the reference yardstick.
+
+Build a `Model` (plain data), call `solve` (or `solve_with_error_estimate`)
+and read the `FemResult`.  Consistent units throughout.  The mathematics is
+stated in each module's docstring (Crisfield 1991; Battini 2002):
+`corotational` (element), `local_matrices` (scikit-fem local stiffness),
+`discretise` (mesh, DOFs, constraints), `assembly` (reduced residual and
+tangent), `linear_solver`, `newton` (corrector, rotation continuity),
+`solver` (load / displacement / arc-length control), `critical`,
+`error_estimate` (Richardson), `warm_start`, `result`.
+
+Example::
+
+    import numpy as np, fem
+    m = fem.Model()
+    m.add_node("root", 0.0, 0.0)
+    m.add_node("tip", 1.0, 0.0)
+    m.add_member("root", "tip", fem.Section.from_EI(EA=1e9, EI=1.0), n_elements=8)
+    m.add_support("root", "fixed")
+    m.add_force("tip", 0.0, np.arange(1.0, 11.0))      # P L^2/EI = 1..10, one per level
+    est = fem.solve_with_error_estimate(m, tol=1e-6)
+    xy, err = est.position("tip", level=-1)             # extrapolated value, error estimate
+"""
+from .error_estimate import ErrorEstimate, solve_with_error_estimate
+from .model import Model
+from .result import FemResult
+from .section import Section
+from .solver import solve
+
+__all__ = ["Model", "Section", "solve", "solve_with_error_estimate", "FemResult", "ErrorEstimate"]

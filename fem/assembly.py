@@ -1,0 +1,179 @@
+"""Residual and consistent tangent of the reduced (constraint-free) system.
+
+With the full DOFs u(q) given by the constraint map of `discretise`
+(u_i = sum_w C_iw q_{I_iw} + u_p,i, rigid-link slaves x_s = x_m + R(theta_m) d0),
+and the full residual R(u) = f_int(u) - lambda f_ext(u), the reduced system is
+
+    r(q) = J^T R,        J = du/dq,
+    K_r  = J^T (K_int - lambda K_load) J + sum_s R_s . d2x_s/dtheta_m^2 ,
+
+with d2x_s/dtheta_m^2 = -(x_s - x_m) for every rigid-link slave s.
+External loads: fixed forces and moments F, and follower forces
+F_i = R(theta_i) F0_i that turn with the node rotation (load stiffness
+dF/dtheta = [-F_y, F_x], unsymmetric).  f_int comes from the corotational
+elements (`corotational.element_state`) and torsional springs
+M = k (theta_a - theta_b).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .corotational import element_state
+from .discretise import Discretisation
+from .linear_solver import MatrixLayout
+from .model import Model
+
+__all__ = ["System"]
+
+
+class System:
+    """Everything that does not change between Newton iterations."""
+
+    def __init__(self, model: Model, disc: Discretisation, solver_kind: str = "auto",
+                 n_levels: int | None = None):
+        self.model, self.disc = model, disc
+        d = disc
+        self.n_levels = model.n_levels
+        self.X1 = d.X[d.conn[:, 0]]
+        self.X2 = d.X[d.conn[:, 1]]
+        self.n = d.n_red
+        self.width = 2 if len(d.slaves) else 1
+        self.I = d.I[:, :self.width]
+        self.C0 = d.C[:, :self.width].copy()
+        nf = d.n_full + 1
+        # loads: fixed forces/moments as full vectors per level, followers as F0 per level
+        nl = self.n_levels
+        self.F_fixed = np.zeros((nl, nf))
+        fol_nodes, fol_vals = [], []
+        for ld in model.loads:
+            vals = ld.values
+            if len(vals) != nl:                         # a single value: same at every level
+                vals = np.broadcast_to(vals, (nl,) + vals.shape[1:])
+            if ld.kind == "moment":
+                self.F_fixed[:, d.rot_dof[ld.node]] += vals
+            elif ld.follower:
+                fol_nodes.append(ld.node)
+                fol_vals.append(vals)
+            else:
+                self.F_fixed[:, 2 * ld.node] += vals[:, 0]
+                self.F_fixed[:, 2 * ld.node + 1] += vals[:, 1]
+        self.fol_nodes = np.array(fol_nodes, dtype=int)
+        self.F0 = np.array(fol_vals).reshape(len(fol_nodes), nl, 2).transpose(1, 0, 2)
+        self.presc = d.prescribed_values.T.copy()               # (nl, n_p)
+        if n_levels is not None and n_levels != nl:             # proportional ramp
+            ramp = np.arange(1, n_levels + 1) / n_levels
+            self.F_fixed = ramp[:, None] * self.F_fixed[-1]
+            self.F0 = ramp[:, None, None] * self.F0[-1]
+            self.presc = ramp[:, None] * self.presc[-1]
+            self.n_levels = n_levels
+        # full-level sparsity pattern: elements, springs, follower, rigid links
+        e = d.edofs
+        ns = len(d.springs)
+        fr = np.concatenate([2 * self.fol_nodes, 2 * self.fol_nodes + 1])
+        fc = np.concatenate([d.rot_dof[self.fol_nodes]] * 2)
+        mr = d.rot_dof[d.masters]
+        self.rows_full = np.concatenate([np.repeat(e, 6, axis=1).ravel(),
+                                         np.repeat(d.springs, 2, axis=1).ravel(), fr, mr])
+        self.cols_full = np.concatenate([np.tile(e, (1, 6)).ravel(),
+                                         np.tile(d.springs, (1, 2)).ravel(), fc, mr])
+        R = self.I[self.rows_full][:, :, None]
+        Cc = self.I[self.cols_full][:, None, :]
+        R, Cc = np.broadcast_arrays(R, Cc)
+        self.valid = ((R < self.n) & (Cc < self.n)).ravel()
+        # without rigid links the constraint coefficients are constant: precompute
+        # which full entry feeds each reduced entry, and with what factor
+        w = self.width
+        self.valid_src = np.nonzero(self.valid)[0] // (w * w)
+        prod = (self.C0[self.rows_full][:, :, None] * self.C0[self.cols_full][:, None, :]).ravel()
+        self.coef_const = prod[self.valid]
+        self.layout = MatrixLayout(self.n, R.ravel()[self.valid], Cc.ravel()[self.valid],
+                                   kind=solver_kind)
+        self.spring_sign = np.array([[1.0, -1.0], [-1.0, 1.0]])
+        self.I_flat = self.I.ravel()
+        self.L_ref = model.characteristic_length()
+        # residual noise from rounding positions: ~ eps * EA per element
+        self.noise_floor = 4 * np.finfo(float).eps * float(np.max(d.ka * d.L0, initial=0.0))
+
+    # -- loads along a path ------------------------------------------------
+    def loads_at(self, level_a, level_b, t):
+        """Fixed vector, follower F0 and prescribed values between two levels.
+
+        level_a = -1 means the unloaded state.
+        """
+        def at(arr, k):
+            return np.zeros_like(arr[0]) if k < 0 else arr[k]
+        mix = lambda arr: (1.0 - t) * at(arr, level_a) + t * at(arr, level_b)
+        return mix(self.F_fixed), mix(self.F0), mix(self.presc)
+
+    # -- kinematics -----------------------------------------------------------
+    def full_displacements(self, q, presc):
+        """u (n_full+1,) and the current constraint coefficients C."""
+        d = self.disc
+        qx = np.append(q, 0.0)
+        C = self.C0
+        u = (C * qx[self.I]).sum(axis=1)
+        u[d.prescribed_dofs] = presc
+        if len(d.slaves):
+            C = C.copy()
+            s, m = d.slaves, d.masters
+            th = u[d.rot_dof[m]]
+            d0 = d.X[s] - d.X[m]
+            cs, sn = np.cos(th), np.sin(th)
+            Rd = np.column_stack([cs * d0[:, 0] - sn * d0[:, 1], sn * d0[:, 0] + cs * d0[:, 1]])
+            u[2 * s] = u[2 * m] + Rd[:, 0] - d0[:, 0]
+            u[2 * s + 1] = u[2 * m + 1] + Rd[:, 1] - d0[:, 1]
+            u[d.rot_dof[s]] = th
+            C[2 * s, 1] = -Rd[:, 1]
+            C[2 * s + 1, 1] = Rd[:, 0]
+        return u, C
+
+    def reduce(self, v_full, C):
+        """J^T v."""
+        return np.bincount(self.I_flat, weights=(C * v_full[:, None]).ravel(),
+                           minlength=self.n + 1)[:self.n]
+
+    def evaluate(self, q, beta_prev, lam, F_fixed, F0, presc, need_K=True):
+        """Residual, tangent and element state at q for load factor lam."""
+        d = self.disc
+        u, C = self.full_displacements(q, presc)
+        p = u[d.edofs]
+        el = element_state(self.X1, self.X2, p, d.L0, d.beta0, beta_prev, d.ka, d.kb, need_K)
+        nf = d.n_full + 1
+        f_int = np.bincount(d.edofs.ravel(), weights=el["f"].ravel(), minlength=nf).astype(float)
+        if len(d.springs):
+            m_sp = d.spring_k * (u[d.springs[:, 0]] - u[d.springs[:, 1]])
+            f_int += np.bincount(d.springs.ravel(), weights=np.column_stack([m_sp, -m_sp]).ravel(),
+                                 minlength=nf)
+        f_ref = F_fixed.copy()
+        if len(self.fol_nodes):
+            th = u[d.rot_dof[self.fol_nodes]]
+            cs, sn = np.cos(th), np.sin(th)
+            Fx = cs * F0[:, 0] - sn * F0[:, 1]
+            Fy = sn * F0[:, 0] + cs * F0[:, 1]
+            np.add.at(f_ref, 2 * self.fol_nodes, Fx)
+            np.add.at(f_ref, 2 * self.fol_nodes + 1, Fy)
+        f_ref[d.ground] = 0.0
+        f_int[d.ground] = 0.0
+        R_full = f_int - lam * f_ref
+        out = dict(u=u, C=C, el=el, f_int=f_int, f_ref_full=f_ref, R_full=R_full,
+                   r=self.reduce(R_full, C), f_ref=self.reduce(f_ref, C))
+        out["F_scale"] = max(np.linalg.norm(lam * f_ref), np.linalg.norm(f_int))
+        if need_K:
+            vals = [el["K"].ravel(),
+                    (d.spring_k[:, None, None] * self.spring_sign).ravel()]
+            if len(self.fol_nodes):
+                vals.append(lam * np.concatenate([Fy, -Fx]))
+            if len(d.slaves):
+                s, m = d.slaves, d.masters
+                xs = d.X[s, 0] + u[2 * s] - d.X[m, 0] - u[2 * m]
+                ys = d.X[s, 1] + u[2 * s + 1] - d.X[m, 1] - u[2 * m + 1]
+                vals.append(-(R_full[2 * s] * xs + R_full[2 * s + 1] * ys))
+            v = np.concatenate(vals)
+            if len(d.slaves):
+                Cr = C[self.rows_full][:, :, None]
+                Ccol = C[self.cols_full][:, None, :]
+                red = (v[:, None, None] * Cr * Ccol).ravel()[self.valid]
+            else:
+                red = v[self.valid_src] * self.coef_const
+            out["K"] = self.layout.assemble(red)
+        return out

@@ -1,0 +1,148 @@
+"""Newton-Raphson corrector shared by every solver, and what makes a step acceptable.
+
+One corrector solves r(q, lambda) = f_int(q) - lambda f_ref(q) = 0 for
+    mode 'load':  lambda fixed;                    dq = -K^-1 r
+    mode 'disp':  q_c = u_c* (bordered system):    K a = -r, K b = f_ref,
+                  dlambda = (u_c* - q_c - a_c)/b_c, dq = a + dlambda b
+    mode 'arc':   ||q - q0||_W = dl (Crisfield cylindrical arc length): dlambda is
+                  the root of the quadratic constraint whose increment makes the
+                  smallest angle with the current one (Crisfield 1991, sec. 9.3.4).
+Convergence: |r| <= rtol max(|lambda f_ref|, |f_int|) (+ a rounding floor
+~ eps EA), or the energy criterion |dq . r| <= (rtol F)(rtol L_ref) (Bathe),
+or corrections below 1e-13 L_ref.
+
+Rotation continuity (a converged residual is not enough: the full-circle
+roll-up has spurious equilibria with rotations 4 pi, 6 pi): a converged state
+is rejected when an element's end rotations differ from its chord by more
+than pi (a 2 pi jump between neighbouring nodes), or when a nodal rotation
+changed by more than ``max_rotation_increment`` in the step; the step is then
+cut in proportion.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .linear_solver import SingularMatrix
+
+__all__ = ["StepFailed", "Path", "newton", "accept_check", "snapshot", "det_sign", "growth"]
+
+
+class StepFailed(Exception):
+    def __init__(self, reason, iteration, cut=0.5):
+        super().__init__(reason)
+        self.reason, self.iteration, self.cut = reason, iteration, cut
+
+
+def growth(its):
+    """Step-size factor after an accepted step that took `its` iterations."""
+    return 2.0 if its <= 4 else 1.25 if its <= 6 else 1.0 if its <= 9 else 0.5
+
+
+class Path:
+    """Accepted states, per-step statistics and recorded output levels."""
+
+    def __init__(self):
+        self.snapshots, self.residuals, self.iterations = [], [], []
+        self.det_signs, self.step_lams, self.step_ctrl, self.step_s = [], [], [], []
+        self.step_slope = []
+        self.cutbacks = 0
+        self.rejected_iterations = 0
+
+
+def newton(system, q, lam, beta, loads, opts, mode="load", ctrl=None, arc=None, q_start=None):
+    """Corrector.  mode 'load' (lambda fixed), 'disp' (ctrl=(k, coef, target)),
+    'arc' (arc=(dl, w, q0)).  Returns (q, lam, ev, history, its, last factor)."""
+    F_fixed, F0, presc = loads
+    hist = []
+    dq_small = False
+    fac = None
+    rot = system.disc.red_is_rotation
+    has_rot = bool(rot.any())
+    scale = np.where(rot, 1.0, system.L_ref)
+    q_start = q.copy() if q_start is None else q_start
+    for it in range(opts["max_iter"] + 1):
+        ev = system.evaluate(q, beta, lam, F_fixed, F0, presc, need_K=True)
+        rn = float(np.linalg.norm(ev["r"]))
+        floor = system.noise_floor
+        tol = opts["rtol"] * ev["F_scale"] + floor + opts["atol"]
+        hist.append(rn / max(ev["F_scale"], 1e-300))
+        if not np.isfinite(rn):
+            raise StepFailed("residual is not finite", it)
+        if (rn <= tol or dq_small) and (it > 0 or mode == "load"):
+            return q, lam, ev, hist, it, fac
+        if it == opts["max_iter"]:
+            raise StepFailed(f"no convergence in {it} iterations (|r|/F = {hist[-1]:.2e})", it)
+        try:
+            fac = system.layout.factor(ev["K"])
+        except SingularMatrix as exc:
+            raise StepFailed(f"{exc}", it) from None
+        a = fac.solve(-ev["r"])
+        if mode == "load":
+            dq, dlam = a, 0.0
+        else:
+            b = fac.solve(ev["f_ref"])
+            if mode == "disp":
+                k, coef, target = ctrl
+                if b[k] == 0.0:
+                    raise StepFailed("control DOF does not respond to the load", it)
+                dlam = (target / coef - q[k] - a[k]) / b[k]
+            else:
+                dl, w, q0 = arc
+                Dq = q - q0
+                v = Dq + a
+                a1 = np.dot(b * w, b)
+                a2 = 2 * np.dot(b * w, v)
+                a3 = np.dot(v * w, v) - dl * dl
+                disc = a2 * a2 - 4 * a1 * a3
+                if disc < 0:
+                    raise StepFailed("arc-length constraint has no real root", it)
+                roots = (-a2 + np.array([1.0, -1.0]) * np.sqrt(disc)) / (2 * a1)
+                cosines = [np.dot((v + r_ * b) * w, Dq) for r_ in roots]
+                dlam = roots[int(np.argmax(cosines))]
+            dq = a + dlam * b
+        if it > 0 and abs(float(np.dot(dq, ev["r"]))) <= opts["rtol"] ** 2 * ev["F_scale"] * system.L_ref:
+            # energy criterion |dq . r| <= (rtol F)(rtol L): the remaining correction is
+            # negligible; this stops iterating on rounding noise of stiff axial terms
+            return q, lam, ev, hist, it, fac
+        q = q + dq
+        lam = lam + dlam
+        dq_small = bool(np.all(np.abs(dq) <= 1e-13 * scale)) and abs(dlam) <= 1e-13 * max(abs(lam), 1e-300)
+        if has_rot:
+            dth = float(np.abs(q[rot] - q_start[rot]).max())
+            limit = (2 if it == 0 else 4) * opts["max_rotation_increment"]
+            if dth > limit:   # cut now rather than iterate towards a rejected state
+                raise StepFailed(f"rotation increment {dth:.3g} rad too large", it + 1,
+                                 cut=max(0.1, 0.9 * opts["max_rotation_increment"] / dth))
+    raise AssertionError("unreachable")
+
+
+def accept_check(system, q_new, q_old, ev, opts, its):
+    """Raise StepFailed if a converged state must be rejected."""
+    el = ev["el"]
+    if el["jumped"].any():
+        e = int(np.argmax(el["jumped"]))
+        raise StepFailed(f"rotation jump of about 2 pi between the nodes of element {e}", its)
+    rot = system.disc.red_is_rotation
+    if rot.any():
+        dth = float(np.abs(q_new[rot] - q_old[rot]).max())
+        if dth > opts["max_rotation_increment"]:
+            raise StepFailed(f"rotation increment {dth:.3g} rad exceeds max_rotation_increment",
+                             its, cut=max(0.1, 0.8 * opts["max_rotation_increment"] / dth))
+
+
+def snapshot(system, q, lam, ev, level_param):
+    return dict(q=q.copy(), lam=lam, u=ev["u"].copy(), R_full=ev["R_full"].copy(),
+                N=ev["el"]["N"].copy(), M=ev["el"]["M"].copy(), L=ev["el"]["L"].copy(),
+                theta_bar=ev["el"]["theta_bar"].copy(), u_bar=ev["el"]["u_bar"].copy(),
+                level=level_param)
+
+
+def det_sign(system, ev, fac=None):
+    """Sign of det K: from the last Newton factorisation (one iteration before the
+    converged state, the same sign except exactly at a critical point) or fresh."""
+    if fac is not None:
+        return fac.det_sign
+    try:
+        return system.layout.factor(ev["K"]).det_sign
+    except SingularMatrix:
+        return 0

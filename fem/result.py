@@ -1,0 +1,186 @@
+"""`FemResult`: what a solve found and how, in the style of scipy's OptimizeResult.
+
+Per recorded load level (model nodes only, by original node index/name):
+positions x = X + u, accumulated rotations theta, support reactions
+R = f_int - lambda f_ext at constrained DOFs (Rx, Ry, Mz), member end forces
+[N, V, M] in the element chord frame (V = -(M1 + M2)/L), the strain energy
+U = sum 1/2 (k_a u_bar^2 + theta_bar^T k_b theta_bar) + sum 1/2 k dtheta^2,
+and the largest bending stress |E_i (N/EA +- M c_i/EI)| when the sections
+know E and c.  Consistent units throughout.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .corotational import strain_energy
+
+__all__ = ["FemResult"]
+
+
+@dataclass
+class FemResult:
+    converged: bool
+    message: str
+    control: str
+    steps: int
+    iterations: int
+    cutbacks: int
+    rejected_iterations: int           # Newton iterations spent on rejected (cut) steps
+    residual_history: list
+    load_factor: np.ndarray            # (n_levels,)
+    positions: np.ndarray              # (n_levels, n_nodes, 2)
+    rotations: np.ndarray              # (n_levels, n_nodes)
+    reactions: np.ndarray              # (n_levels, n_nodes, 3)
+    member_end_forces: np.ndarray      # (n_levels, n_members, 2, 3): [N, V, M] at start/end
+    strain_energy: np.ndarray          # (n_levels,)
+    max_bending_stress: np.ndarray     # (n_levels,), nan when unknown
+    critical_points: list
+    wall_time: float
+    node_names: list
+    mesh_positions: np.ndarray         # (n_levels, n_element_nodes, 2)
+    mesh_rotations: np.ndarray         # (n_levels, n_element_nodes)
+    connectivity: np.ndarray           # (n_elements, 2)
+    det_sign: np.ndarray               # (n_steps,) sign of det K at accepted steps
+    refine: int = 1
+    n_elements: int = 0
+    extra: dict = field(default_factory=dict)
+
+    # -- scipy-like conveniences -------------------------------------------
+    @property
+    def success(self) -> bool:
+        return self.converged
+
+    @property
+    def n_levels(self) -> int:
+        return len(self.load_factor)
+
+    def _node(self, node) -> int:
+        if isinstance(node, (int, np.integer)):
+            return int(node)
+        return self.node_names.index(str(node))
+
+    def position(self, node, level: int = -1) -> np.ndarray:
+        """Current (x, y) of a model node at a recorded level."""
+        return self.positions[level, self._node(node)].copy()
+
+    def displacement(self, node, level: int = -1) -> np.ndarray:
+        i = self._node(node)
+        return self.positions[level, i] - self.mesh_positions_ref[i]
+
+    @property
+    def mesh_positions_ref(self):
+        return self.extra["X"]
+
+    def rotation(self, node, level: int = -1) -> float:
+        """Accumulated rotation (rad, counter-clockwise) of a model node."""
+        return float(self.rotations[level, self._node(node)])
+
+    def reaction(self, node, level: int = -1) -> np.ndarray:
+        """(Rx, Ry, Mz) exerted by the supports/prescriptions on the node."""
+        return self.reactions[level, self._node(node)].copy()
+
+    def __repr__(self) -> str:
+        return (f"FemResult(converged={self.converged}, message={self.message!r}, "
+                f"levels={self.n_levels}, steps={self.steps}, iterations={self.iterations}, "
+                f"wall_time={self.wall_time:.3g}s)")
+
+    def to_vtu(self, prefix: str) -> list:
+        """Write one VTU file per level (deformed mesh, line cells) and a ParaView
+        collection ``prefix.pvd`` (time = level's load factor); returns the VTU paths."""
+        import meshio
+        paths = []
+        for k in range(self.n_levels):
+            pts = np.column_stack([self.mesh_positions[k], np.zeros(len(self.mesh_positions[k]))])
+            disp = pts[:, :2] - self.extra["X"]
+            mesh = meshio.Mesh(pts, [("line", self.connectivity)],
+                               point_data={"displacement": np.column_stack([disp, np.zeros(len(disp))]),
+                                           "rotation": self.mesh_rotations[k]})
+            path = f"{prefix}_{k:04d}.vtu"
+            meshio.write(path, mesh)
+            paths.append(path)
+        from pathlib import Path
+        entries = "\n".join(
+            f'    <DataSet timestep="{t:.12g}" part="0" file="{Path(p).name}"/>'
+            for t, p in zip(self.load_factor, paths))
+        Path(f"{prefix}.pvd").write_text(
+            '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
+            f"  <Collection>\n{entries}\n  </Collection>\n</VTKFile>\n")
+        return paths
+
+
+def _transfer_slave_forces(d, R, u):
+    """Move the unbalanced forces of rigid-link slaves to their masters (statics)."""
+    if not len(d.slaves):
+        return R
+    R = R.copy()
+    for s, m in zip(d.slaves, d.masters):
+        dx = d.X[s, 0] + u[2 * s] - d.X[m, 0] - u[2 * m]
+        dy = d.X[s, 1] + u[2 * s + 1] - d.X[m, 1] - u[2 * m + 1]
+        R[2 * m] += R[2 * s]
+        R[2 * m + 1] += R[2 * s + 1]
+        R[d.rot_dof[m]] += R[d.rot_dof[s]] + dx * R[2 * s + 1] - dy * R[2 * s]
+        R[[2 * s, 2 * s + 1, d.rot_dof[s]]] = 0.0
+    return R
+
+
+def build_result(model, sys, path, *, converged, message, critical_points, wall_time,
+                 control, refine) -> FemResult:
+    d = sys.disc
+    nm = d.n_model_nodes
+    snaps = path.snapshots
+    nl = len(snaps)
+    n_mem = len(model.members)
+    pos = np.zeros((nl, len(d.X), 2))
+    rot = np.zeros((nl, len(d.X)))
+    reac = np.zeros((nl, nm, 3))
+    mef = np.zeros((nl, n_mem, 2, 3))
+    energy = np.zeros(nl)
+    stress = np.full(nl, np.nan)
+    lam = np.zeros(nl)
+    node_rot_dof = np.where(d.node_rotation_used, d.rot_dof[:nm], d.node_first_end_rot)
+    rot_dofs_all = d.rot_dof.copy()
+    rot_dofs_all[:nm] = node_rot_dof
+    mask = np.zeros(d.n_full + 1)
+    mask[:d.n_full] = d.constrained
+    has_stress = bool(d.el_section) and all(sec.has_stress for sec in d.el_section)
+    by_id = {}
+    for e, sec in enumerate(d.el_section):       # elements grouped by section
+        by_id.setdefault(id(sec), (sec, []))[1].append(e)
+    groups = [(sec, np.array(idx)) for sec, idx in by_id.values()]
+    for k, s in enumerate(snaps):
+        u = s["u"]
+        pos[k] = d.X + np.column_stack([u[0:2 * len(d.X):2], u[1:2 * len(d.X):2]])
+        rot[k] = u[rot_dofs_all]
+        R = _transfer_slave_forces(d, s["R_full"], u) * mask
+        reac[k] = np.column_stack([R[0:2 * nm:2], R[1:2 * nm:2], R[d.rot_dof[:nm]]])
+        N, M, L = s["N"], s["M"], s["L"]
+        V = -(M[:, 0] + M[:, 1]) / L
+        for im, els in enumerate(d.member_elements):
+            e0, e1 = els[0], els[-1]
+            mef[k, im, 0] = [N[e0], V[e0], M[e0, 0]]
+            mef[k, im, 1] = [N[e1], V[e1], M[e1, 1]]
+        energy[k] = strain_energy(d.ka, d.kb, s["u_bar"], s["theta_bar"]).sum()
+        if len(d.springs):
+            dth = u[d.springs[:, 0]] - u[d.springs[:, 1]]
+            energy[k] += 0.5 * np.sum(d.spring_k * dth**2)
+        if has_stress:
+            Mabs = np.abs(M).max(axis=1)
+            stress[k] = max(float(np.max(sec.max_stress(N[idx], Mabs[idx])))
+                            for sec, idx in groups)
+        lam[k] = s["lam"] if control != "load" else s["level"]
+    return FemResult(
+        converged=converged, message=message, control=control,
+        steps=len(path.iterations), iterations=int(sum(path.iterations)), cutbacks=path.cutbacks,
+        rejected_iterations=path.rejected_iterations,
+        residual_history=path.residuals, load_factor=lam,
+        positions=pos[:, :nm], rotations=rot[:, :nm], reactions=reac, member_end_forces=mef,
+        strain_energy=energy, max_bending_stress=stress, critical_points=critical_points,
+        wall_time=wall_time, node_names=list(model.node_names), mesh_positions=pos,
+        mesh_rotations=rot, connectivity=d.conn.copy(), det_sign=np.array(path.det_signs),
+        refine=refine, n_elements=len(d.conn),
+        extra=dict(X=d.X.copy(), disc=d, u_full=np.array([s["u"] for s in snaps]),
+                   step_load_factor=np.array(path.step_lams),
+                   step_path_parameter=np.array(path.step_s),
+                   step_control=np.array(path.step_ctrl)))
