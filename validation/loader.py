@@ -1,6 +1,7 @@
 """Load case files: TOML -> validated ``Case``, with one-line errors naming file, field and problem."""
 from __future__ import annotations
 
+import fnmatch
 import glob
 import tomllib
 from dataclasses import dataclass
@@ -74,10 +75,25 @@ def find_case_files(patterns: list[str] | None = None, root: Path = CASES_DIR) -
         matches += [Path(p) for p in glob.glob(str(root / "**" / f"{pattern}.toml"), recursive=True)]
         matches = [m for m in matches if m.suffix == ".toml" and m.is_file()]
         if not matches:
+            matches = [path for case_id, path in _id_index(root).items() if fnmatch.fnmatchcase(case_id, pattern)]
+        if not matches:
             raise CaseError(pattern, "", "no case file matches this name or pattern")
         found.extend(sorted(set(m.resolve() for m in matches)))
     unique = list(dict.fromkeys(found))
     return unique
+
+
+def _id_index(root: Path) -> dict[str, Path]:
+    """[case].id of every readable case file under root (files that do not parse are skipped here;
+    loading them reports their error)."""
+    index = {}
+    for path in sorted(root.rglob("*.toml")):
+        try:
+            case_id = tomllib.loads(path.read_text(encoding="utf-8"))["case"]["id"]
+        except (OSError, tomllib.TOMLDecodeError, KeyError, TypeError):
+            continue
+        index.setdefault(str(case_id), path)
+    return index
 
 
 def case_by_id(case_id: str, root: Path = CASES_DIR) -> LoadedCase:

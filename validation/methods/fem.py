@@ -95,33 +95,60 @@ def _add_loads(model, case, allowed_points) -> set:
     return acted
 
 
+def _stiff_bar_links(mech) -> set[str]:
+    """Rigid links joined by a revolute joint to another rigid link: modelled as stiff bars.
+
+    Master-slave elimination cannot close a loop of rigid bodies (a node would be the slave of two
+    links), so the smaller of two pinned rigid links becomes a flexible member whose EA and EI are
+    ``rigid_ratio`` times the largest of the mechanism's beams (default 1e6): its strain is then
+    about 1e-6 of the beams', below the discretisation error, while the tangent's condition number
+    grows by the same factor, far inside double precision for the direct solvers used.
+    """
+    links = {link.name: link for link in mech.links}
+    bars = set()
+    for joint in mech.joints:
+        pinned = [m for m in joint.members if m in links]
+        if len(pinned) >= 2:
+            pinned.sort(key=lambda name: (len(links[name].nodes), name))
+            bars.update(pinned[:-1])
+    return bars
+
+
 def _mechanism_model(fem, case, elements: int, options: dict):
     mech = case.mechanism
     model = fem.Model()
+    coords = {node.name: (node.x, node.y) for node in mech.nodes}
     for node in mech.nodes:
         model.add_node(node.name, node.x, node.y)
-    member_index = {}
+    member_index, stiffest = {}, (0.0, 0.0)
     for beam in mech.beams:
         E = beam.E or mech.E
-        a = next(n for n in mech.nodes if n.name == beam.start)
-        b = next(n for n in mech.nodes if n.name == beam.end)
-        length = math.hypot(b.x - a.x, b.y - a.y)
-        member_index[beam.name] = model.add_member(beam.start, beam.end, _section(fem, beam.section, E, length,
-                                                                                  options),
-                                                   n_elements=elements, curvature=beam.curvature, name=beam.name)
-    links = {link.name: link for link in mech.links}
+        (ax, ay), (bx, by) = coords[beam.start], coords[beam.end]
+        section = _section(fem, beam.section, E, math.hypot(bx - ax, by - ay), options)
+        stiffest = (max(stiffest[0], section.EA), max(stiffest[1], section.EI))
+        member_index[beam.name] = model.add_member(beam.start, beam.end, section, n_elements=elements,
+                                                   curvature=beam.curvature, name=beam.name)
+    bars = _stiff_bar_links(mech)
+    ratio = float(options.get("rigid_ratio", 1e6))
     for link in mech.links:
+        if link.name in bars:
+            if not mech.beams:
+                raise NotApplicable("pinned rigid links need at least one flexible beam to scale their stiffness")
+            bar = fem.Section.from_EI(ratio * stiffest[0], ratio * stiffest[1])
+            first = [model.add_member(link.nodes[0], node, bar, n_elements=1, name=f"{link.name}:{node}")
+                     for node in link.nodes[1:]]
+            member_index[link.name] = first[0]
+            continue
         for node in link.nodes[1:]:
             model.add_rigid_link(link.nodes[0], node)
     for joint in mech.joints:
-        beams = [member_index[m] for m in joint.members if m in member_index]
-        if any(m in links for m in joint.members) and not beams:
-            raise NotApplicable(f"the joint at '{joint.node}' joins rigid links only; "
-                                "the FEM releases joints of flexible members")
-        model.add_joint(joint.node, beams, k=joint.spring)
+        released = [member_index[m] for m in joint.members if m in member_index]
+        if not released:
+            raise NotApplicable(f"the joint at '{joint.node}' releases no flexible member or bar")
+        model.add_joint(joint.node, released, k=joint.spring)
     for sup in mech.supports:
         model.add_support(sup.node, sup.kind, direction=sup.direction or (1.0, 0.0))
-    _add_loads(model, case, {n.name for n in mech.nodes})
+    _add_loads(model, case, set(coords))
     return model
 
 
@@ -156,34 +183,55 @@ def _applied(case, point: str, level: int) -> np.ndarray:
     return total
 
 
-def _extract(case, result, requests: list[Request], origin: dict) -> dict[Request, float]:
-    """Values of the requested outputs from a FemResult (angles in degrees)."""
+class _Fields:
+    """The nodal arrays ``_extract`` reads: a FemResult's, or its error estimates or extrapolations."""
+
+    def __init__(self, names, positions, rotations, reactions, strain_energy):
+        self.names, self.positions, self.rotations = list(names), positions, rotations
+        self.reactions, self.strain_energy = reactions, strain_energy
+
+    @classmethod
+    def of(cls, result):
+        return cls(result.node_names, result.positions, result.rotations, result.reactions, result.strain_energy)
+
+    def position(self, node, level):
+        return self.positions[level, self.names.index(node)]
+
+    def rotation(self, node, level):
+        return float(self.rotations[level, self.names.index(node)])
+
+    def reaction(self, node, level):
+        return self.reactions[level, self.names.index(node)]
+
+
+def _extract(case, fields: _Fields, requests: list[Request], origin: dict | None) -> dict[Request, float]:
+    """Values of the requested outputs (angles in degrees). With ``origin=None`` the fields are error
+    estimates: displacements then carry the position error and applied loads have none."""
     held = _prescribed_dofs(case)
     values = {}
     for req in requests:
         q, p, lv = req
         if q in ("x", "y", "dx", "dy"):
-            x, y = result.position(p, lv)
-            x0, y0 = origin[p]
-            values[req] = {"x": x, "y": y, "dx": x - x0, "dy": y - y0}[q]
+            x, y = fields.position(p, lv)
+            x0, y0 = origin[p] if origin is not None else (0.0, 0.0)
+            values[req] = float({"x": x, "y": y, "dx": x - x0, "dy": y - y0}[q])
         elif q == "rotation":
-            values[req] = math.degrees(result.rotation(p, lv))
+            values[req] = math.degrees(fields.rotation(p, lv))
         elif q in ("reaction_x", "reaction_y", "reaction_moment"):
-            values[req] = float(result.reaction(p, lv)[("reaction_x", "reaction_y", "reaction_moment").index(q)])
+            values[req] = float(fields.reaction(p, lv)[("reaction_x", "reaction_y", "reaction_moment").index(q)])
         elif q in ("force_x", "force_y", "moment"):
             k = ("force_x", "force_y", "moment").index(q)
             dof = ("ux", "uy", "rz")[k]
-            if dof in held.get(p, set()) or (case.segment is not None and p == "tip"
-                                             and _tip_held(case, dof)):
-                values[req] = float(result.reaction(p, lv)[k])  # the load needed to hold the motion
+            if dof in held.get(p, set()) or (case.segment is not None and p == "tip" and _tip_held(case, dof)):
+                values[req] = float(fields.reaction(p, lv)[k])  # the load needed to hold the motion
             else:
-                values[req] = float(_applied(case, p, lv)[k])
+                values[req] = float(_applied(case, p, lv)[k]) if origin is not None else 0.0
         elif q == "strain_energy":
-            values[req] = float(result.strain_energy[lv])
+            values[req] = float(fields.strain_energy[lv])
         elif q == "input_torque":
-            values[req] = float(result.reaction(_input_node(case), lv)[2])
+            values[req] = float(fields.reaction(_input_node(case), lv)[2])
         elif q == "input_angle":
-            values[req] = math.degrees(result.rotation(_input_node(case), lv))
+            values[req] = math.degrees(fields.rotation(_input_node(case), lv))
     return values
 
 
@@ -207,46 +255,72 @@ def _input_node(case) -> str:
     raise NotApplicable("input_torque/input_angle need a prescribed rotation or a moment (the input)")
 
 
-def _limit_load(fem, model, options: dict):
+def _limit_load(fem, case, model, options: dict):
+    """Load at the first limit point: by arc length (default) or by displacement control of the
+    loaded point along the load (``limit_control = "displacement"``, step ``control_step``)."""
+    reference = max(abs(np.asarray(ld.values)[-1]).max() for ld in model.loads)
+    if options.get("limit_control", "arclength") == "displacement":
+        load = max((ld for ld in case.loads if ld.kind == "force"), key=lambda ld: max(map(abs, ld.levels())))
+        d = np.asarray(load.direction, float)
+        dof = "ux" if abs(d[0]) > abs(d[1]) else "uy"
+        sign = math.copysign(1.0, d[0] if dof == "ux" else d[1])
+        step = float(options.get("control_step", 0.005 * model.characteristic_length()))
+        n = int(options.get("max_steps", 400))
+        res = fem.solve(model, control="displacement", control_dof=(load.point, dof),
+                        targets=sign * step * np.arange(1, n + 1))
+        lam = np.asarray(res.load_factor)
+        peaks = [i for i in range(1, len(lam) - 1) if lam[i] >= lam[i - 1] and lam[i] > lam[i + 1]]
+        if not peaks:
+            return math.nan, res, f"no limit point within {len(lam)} displacement steps ({res.message})"
+        i = peaks[0]
+        y0, y1, y2 = lam[i - 1:i + 2]
+        curvature = y0 - 2 * y1 + y2
+        peak = y1 - (y0 - y2) ** 2 / (8 * curvature) if curvature else y1  # parabola through the peak
+        return abs(peak) * reference, res, ""
     res = fem.solve(model, control="arclength", max_limit_points=1,
                     arc_length=options.get("arc_length"), max_steps=int(options.get("max_steps", 2000)))
     limits = [c for c in res.critical_points if c.get("kind") == "limit"]
     if not limits:
         return math.nan, res, f"no limit point found ({res.message})"
-    reference = max(abs(np.asarray(ld.values)[-1]).max() for ld in model.loads)
     return abs(limits[0]["load_factor"]) * reference, res, ""
 
 
-def _solve_once(case, requests, options, elements: int):
-    import fem
-
-    model = build_model(case, elements, options)
+def _solve_levels(fem, case, model, requests, options: dict):
+    """Load-controlled solve of the requested outputs, with the Richardson estimate if asked."""
     origin = {name: model.coords[i] for i, name in enumerate(model.node_names)}
-    values, message, iterations = {}, "", 0
-    limit_requests = [r for r in requests if r.quantity == "limit_load"]
-    other = [r for r in requests if r.quantity != "limit_load"]
-    result = None
-    converged = True
-    if other:
-        result = fem.solve(model, n_levels=case.n_levels(), rtol=float(options.get("rtol", 1e-10)))
-        iterations += result.iterations
-        converged = result.converged
-        message = result.message
-        if result.converged:
-            values.update(_extract(case, result, other, origin))
-        else:
-            done = result.n_levels  # levels reached before the failure are still reported
-            values.update(_extract(case, result, [r for r in other if r.level < done], origin))
-    if limit_requests:
-        limit, res, why = _limit_load(fem, model, options)
-        iterations += res.iterations
-        if why:
-            converged, message = False, why
-        else:
-            values.update({r: limit for r in limit_requests})
-            message = message or res.message
-            result = result or res
-    return values, converged, message, iterations, result
+    kwargs = dict(n_levels=case.n_levels(), rtol=float(options.get("rtol", 1e-10)))
+    if not (options.get("error_estimate") or options.get("tol")):
+        result = fem.solve(model, **kwargs)
+        done = [r for r in requests if r.level < result.n_levels]
+        return (_extract(case, _Fields.of(result), done, origin), {}, result, result.converged,
+                result.message, result.iterations)
+    tol = options.get("tol")
+    est = fem.solve_with_error_estimate(model, tol=float(tol) if tol else None,
+                                        levels=int(options.get("levels", 2)), **kwargs)
+    result = est.result
+    iterations = sum(r.iterations for r in est.results)
+    if not est.error:  # a mesh failed: report what the finest mesh reached
+        done = [r for r in requests if r.level < result.n_levels]
+        return _extract(case, _Fields.of(result), done, origin), {}, result, False, est.message, iterations
+    richardson = bool(options.get("richardson"))
+    source = est.extrapolated if richardson else {"positions": result.positions, "rotations": result.rotations,
+                                                  "reactions": result.reactions,
+                                                  "strain_energy": result.strain_energy}
+    errors = est.extrapolated_error if (richardson and est.extrapolated_error) else est.error
+    fields = [_Fields(result.node_names, f["positions"], f["rotations"], f["reactions"], f["strain_energy"])
+              for f in (source, errors)]
+    values = _extract(case, fields[0], requests, origin)
+    errs = {r: abs(v) for r, v in _extract(case, fields[1], requests, None).items()}
+    return values, errs, result, est.converged, est.message, iterations
+
+
+def _critical_note(result) -> str:
+    found = [c for c in result.critical_points if c.get("kind") == "bifurcation"]
+    if not found or result.control == "arclength":
+        return ""
+    c = found[0]
+    return (f"; warning: det K changed sign at load factor {c['load_factor']:.4g} ({c.get('kind_detail', '')}):"
+            " states beyond it may lie on an unstable branch")
 
 
 def _shapes(result) -> list:
@@ -269,38 +343,49 @@ def _shapes(result) -> list:
 
 
 def run(case, requests: list[Request], options: dict) -> MethodRun:
+    import fem
+
     start = time.perf_counter()
     elements = int(options.get("elements", 16))
-    estimate = bool(options.get("error_estimate", False) or options.get("tol"))
-    tol = options.get("tol")
-    values, converged, message, iterations, result = _solve_once(case, requests, options, elements)
-    errors = {}
-    while estimate and converged:
-        fine, ok, msg, its, fine_result = _solve_once(case, requests, options, 2 * elements)
+    model = build_model(case, elements, options)
+    values, errors, iterations, converged, messages, result = {}, {}, 0, True, [], None
+    ordinary = [r for r in requests if r.quantity != "limit_load"]
+    limit = [r for r in requests if r.quantity == "limit_load"]
+    if ordinary:
+        vals, errs, result, ok, msg, its = _solve_levels(fem, case, model, ordinary, options)
+        values.update(vals)
+        errors.update(errs)
         iterations += its
-        if not ok:
-            converged, message = False, f"refined mesh ({2 * elements} elements): {msg}"
-            break
-        errors = {r: abs(fine[r] - values[r]) / 3.0 for r in fine if r in values}
-        if options.get("richardson"):
-            fine = {r: fine[r] + (fine[r] - values[r]) / 3.0 for r in fine if r in values}
-        values, result, elements = fine, fine_result, 2 * elements
-        if tol is None or max(errors.values(), default=0.0) <= float(tol) or elements >= 1024:
-            if tol is not None and max(errors.values(), default=0.0) > float(tol):
-                converged, message = False, f"error estimate still above tol={tol} at {elements} elements"
-            break
+        converged &= ok
+        messages.append(msg + _critical_note(result))
+    if limit:
+        value, res, why = _limit_load(fem, case, model, options)
+        iterations += res.iterations
+        if why:
+            converged = False
+            messages.append(why)
+        else:
+            if options.get("error_estimate"):  # Richardson on the limit load itself (O(h^2))
+                fine, res_fine, why_fine = _limit_load(fem, case, build_model(case, 2 * elements, options), options)
+                iterations += res_fine.iterations
+                if not why_fine:
+                    errors.update({r: abs(fine - value) / 3.0 for r in limit})
+                    value = fine + (fine - value) / 3.0 if options.get("richardson") else fine
+            values.update({r: value for r in limit})
+            messages.append(f"limit load by {options.get('limit_control', 'arclength')}: {res.message}")
+        result = result or res
     extras = {"iterations": iterations, "elements": elements}
-    if result is not None and getattr(result, "mesh_positions", None) is not None and result.n_levels:
+    if result is not None and result.n_levels:
         extras["shapes"] = _shapes(result)
         path = _continuation_path(case, result)
         if path:
             extras["path"] = path
-    return MethodRun(values=values, converged=converged, message=message, error_estimate=errors,
-                     wall_time=time.perf_counter() - start, extras=extras)
+    return MethodRun(values=values, converged=converged, message="; ".join(m for m in messages if m),
+                     error_estimate=errors, wall_time=time.perf_counter() - start, extras=extras)
 
 
 def _continuation_path(case, result):
-    if result.control != "arclength":
+    if result.control == "load":
         return None
     loads = [ld for ld in case.loads if ld.kind == "force"]
     if not loads:
@@ -308,11 +393,14 @@ def _continuation_path(case, result):
     point = loads[0].point
     d = np.asarray(loads[0].direction, float)
     d = d / np.hypot(*d)
-    disp = [(result.position(point, k) - np.asarray(result.mesh_positions_ref[result._node(point)])) @ d
+    disp = [float((result.position(point, k) - result.mesh_positions_ref[result._node(point)]) @ d)
             for k in range(result.n_levels)]
     reference = max(abs(np.asarray(ld.levels())).max() for ld in loads)
+    load = list(np.asarray(result.load_factor) * reference)
     limits = [(disp[c["step"]], c["load_factor"] * reference) for c in result.critical_points
               if c.get("kind") == "limit" and 0 <= c.get("step", -1) < len(disp)]
-    return {"displacement": disp, "load": list(np.asarray(result.load_factor) * reference),
-            "limit_points": limits, "displacement_label": f"displacement of {point} along the load",
-            "load_label": "load"}
+    if result.control == "displacement" and not limits:
+        limits = [(disp[i], load[i]) for i in range(1, len(load) - 1) if load[i - 1] <= load[i] > load[i + 1]][:1]
+    return {"displacement": disp, "load": load, "limit_points": limits,
+            "displacement_label": f"displacement of {point} along the load [{case.unit('length')}]",
+            "load_label": f"load [{case.unit('force')}]"}
