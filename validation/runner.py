@@ -14,6 +14,7 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 from validation import cache
@@ -22,7 +23,7 @@ from validation.loader import CaseError, LoadedCase, load_case
 from validation.methods.base import MethodRun, NotApplicable, Request
 from validation.schema import Case
 
-COLUMNS = ["case", "group", "method", "quantity", "point", "level", "level_label", "value", "unit",
+COLUMNS = ["case", "group", "method", "quantity", "point", "level", "level_label", "value", "unit", "scale",
            "error_estimate", "reference_label", "reference_value", "source", "compare", "tolerance_rel",
            "tolerance_abs", "abs_error", "rel_error", "norm_error", "within_tolerance", "finding",
            "wall_time", "converged", "message", "cached"]
@@ -123,7 +124,8 @@ def tabulate(result: CaseResult) -> pd.DataFrame:
             dimension = QUANTITIES[req.quantity].dimension
             base = dict(case=case.case.id, group=case.case.group, method=method, quantity=req.quantity,
                         point=req.point, level=req.level, level_label=labels[req.level], value=value,
-                        unit=case.unit(dimension), error_estimate=run.error_estimate.get(req, math.nan),
+                        unit=case.unit(dimension), scale=scale,
+                        error_estimate=run.error_estimate.get(req, math.nan),
                         wall_time=run.wall_time,
                         converged=run.level_converged.get(req.level, run.converged),
                         message=run.level_messages.get(req.level, run.message),
@@ -213,23 +215,42 @@ def run_cases(paths: list[Path], methods: list[str] | None = None, use_cache: bo
     return RunOutcome(table=table, errors=sorted(errors), results=results)
 
 
+def prbm_fem_errors(part: pd.DataFrame) -> tuple[float, float]:
+    """Largest PRBM-to-FEM error of one case: (relative, length error over the characteristic length).
+
+    The relative error divides by max(|FEM|, 1 % of the largest |FEM| of the same quantity), so that a
+    quantity passing through zero (a displacement at the unloaded level, x of a closed circle) does not
+    report a meaningless huge ratio; the length-normalised error covers those."""
+    values = part.drop_duplicates(["method", "quantity", "point", "level"])
+    pivot = values.pivot_table(index=["quantity", "point", "level"], columns="method", values="value",
+                               aggfunc="first")
+    if not {"prbm", "fem"} <= set(pivot.columns):
+        return math.nan, math.nan
+    both = pivot[["prbm", "fem"]].dropna()
+    if both.empty:
+        return math.nan, math.nan
+    diff = (both["prbm"] - both["fem"]).abs()
+    scale = both["fem"].abs().groupby(level="quantity").transform("max")
+    rel = diff / np.maximum(both["fem"].abs(), 0.01 * scale).where(scale > 0)
+    lengths = [q for q in both.index.get_level_values("quantity").unique() if QUANTITIES[q].dimension == "length"]
+    char = float(part["scale"].dropna().iloc[0]) if part["scale"].notna().any() else math.nan
+    norm = diff[diff.index.get_level_values("quantity").isin(lengths)] / char
+    return (float(rel.max()) if rel.notna().any() else math.nan,
+            float(norm.max()) if len(norm) and norm.notna().any() else math.nan)
+
+
 def summary(table: pd.DataFrame) -> pd.DataFrame:
     """One row per case: methods run, largest PRBM-to-FEM error, comparisons passed, wall times."""
     rows = []
     for (group, case_id), part in table.groupby(["group", "case"], sort=True):
         values = part.drop_duplicates(["method", "quantity", "point", "level"])
-        pivot = values.pivot_table(index=["quantity", "point", "level"], columns="method",
-                                   values="value", aggfunc="first")
-        prbm_fem = math.nan
-        if {"prbm", "fem"} <= set(pivot.columns):
-            diff = (pivot["prbm"] - pivot["fem"]).abs() / pivot["fem"].abs().where(pivot["fem"] != 0)
-            prbm_fem = float(diff.max()) if diff.notna().any() else math.nan
+        prbm_fem, prbm_fem_norm = prbm_fem_errors(part)
         claimed = part[part["within_tolerance"].notna()]
         times = values.groupby("method")["wall_time"].first()
         status = values.groupby("method")["converged"].first()
         rows.append(dict(group=group, case=case_id,
                          methods=" ".join(f"{m}{'' if status[m] else '(!)'}" for m in times.index),
-                         max_prbm_fem_rel=prbm_fem,
+                         max_prbm_fem_rel=prbm_fem, max_prbm_fem_per_length=prbm_fem_norm,
                          fem_error_estimate=float(part.loc[part["method"] == "fem", "error_estimate"].max())
                          if (part["method"] == "fem").any() else math.nan,
                          checks=len(claimed),

@@ -7,8 +7,8 @@ every tip DOF that is not loaded or prescribed; pinned-pinned pins both ends. Me
 node for node: beams become members, rigid links exact master-slave constraints, joints release
 rotations (with their torsional springs), supports as given.
 
-Options (``[methods.fem]``): ``elements`` per member (default 16), ``error_estimate`` (solve on n and
-2n elements and report |u_2n - u_n|/3, the Richardson estimate of the O(h^2) error of u_2n),
+Options (``[methods.fem]``): ``elements`` per member (default 16), ``error_estimate`` (default true: solve
+on n and 2n elements and report |u_2n - u_n|/3, the Richardson estimate of the O(h^2) error of u_2n),
 ``richardson`` (report the extrapolated value instead of u_2n), ``tol`` (refine until the estimate is
 below it), ``inextensible_ratio`` (EA L^2/EI used when a section gives no area; default 1e6),
 and for ``limit_load``: ``arc_length``, ``max_steps``.
@@ -139,8 +139,12 @@ def _mechanism_model(fem, case, elements: int, options: dict):
                      for node in link.nodes[1:]]
             member_index[link.name] = first[0]
             continue
-        for node in link.nodes[1:]:
-            model.add_rigid_link(link.nodes[0], node)
+        anchored = {sup.node for sup in mech.supports} | {ld.point for ld in case.loads
+                                                           if ld.kind in ("displacement", "rotation")}
+        master = next((n for n in link.nodes if n in anchored), link.nodes[0])  # supports and prescribed
+        for node in link.nodes:                                                # motions sit on the master
+            if node != master:
+                model.add_rigid_link(master, node)
     for joint in mech.joints:
         released = [member_index[m] for m in joint.members if m in member_index]
         if not released:
@@ -289,7 +293,7 @@ def _solve_levels(fem, case, model, requests, options: dict):
     """Load-controlled solve of the requested outputs, with the Richardson estimate if asked."""
     origin = {name: model.coords[i] for i, name in enumerate(model.node_names)}
     kwargs = dict(n_levels=case.n_levels(), rtol=float(options.get("rtol", 1e-10)))
-    if not (options.get("error_estimate") or options.get("tol")):
+    if not (options.get("error_estimate", True) or options.get("tol")):
         result = fem.solve(model, **kwargs)
         done = [r for r in requests if r.level < result.n_levels]
         return (_extract(case, _Fields.of(result), done, origin), {}, result, result.converged,
@@ -365,7 +369,7 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
             converged = False
             messages.append(why)
         else:
-            if options.get("error_estimate"):  # Richardson on the limit load itself (O(h^2))
+            if options.get("error_estimate", True):  # Richardson on the limit load itself (O(h^2))
                 fine, res_fine, why_fine = _limit_load(fem, case, build_model(case, 2 * elements, options), options)
                 iterations += res_fine.iterations
                 if not why_fine:

@@ -164,6 +164,9 @@ def _segment(prbm, case, requests, options):
     info.level_converged = {i: bool(np.broadcast_to(res.level_converged, (n,))[i]) for i in range(n)} \
         if res.level_converged is not None and np.size(res.level_converged) in (1, n) else {}
     info.extras = {"model": res.model, "constants": _plain(res.constants)}
+    shapes = _segment_shapes(seg, res, n, kappa)
+    if shapes:
+        info.extras["shapes"] = shapes
     return _pick(out, requests, "segment"), info
 
 
@@ -246,7 +249,9 @@ def _inflection(prbm, case, requests, options, EI):
     info.message = "; ".join(messages)
     info.extras = {"roots": {lv: [{k: v for k, v in root.items()} for root in res.roots[0]]
                              for lv, res in results.items()},
-                   "model": "fixed-guided with one inflection point, seed 000 eqs (83)-(104)"}
+                   "model": "fixed-guided with one inflection point, seed 000 eqs (83)-(104)",
+                   "shapes": {lv: [prbm.inflection_pivots(res.outputs)] if res.converged else []
+                              for lv, res in results.items()}}
     return values, info
 
 
@@ -312,6 +317,9 @@ def _mechanism(prbm, case, requests, options):
             info.message = f"maximum DOF {dof} (Grubler on the PRBM, modes up to {max_mode})"
             return values, info
     links = options.get("links")
+    if not links and len(mech.beams) == 1:
+        values.update(_segment_with_body(prbm, case, requests, options, info))
+        return values, info
     if links and "r11" in links:
         return _slider(prbm, case, requests, options, links, values, info)
     if not links or not {"r1", "r2", "r3", "r4"} <= set(links):
@@ -385,6 +393,7 @@ def _mechanism(prbm, case, requests, options):
         if r.quantity in ("dx", "dy", "x", "y") and r.point != point:
             raise NotApplicable(f"the PRB four-bar tracks the coupler point '{point}' only, not '{r.point}'")
     values.update(_pick(out, requests, "four-bar"))
+    info.extras["shapes"] = _fourbar_shapes(fb, theta2, P, origin)
     info.message = info.message or f"PRB four-bar, drive = {drive}"
     info.extras.update({"loop_error": fb.loop_error, "theta_free_deg": [math.degrees(t) for t in fb.theta_free]})
     return values, info
@@ -426,3 +435,173 @@ def _theta2_for_output(fb, theta4_target: float, theta2_start: float) -> float:
     i = idx[np.argmin(np.abs(grid[idx] - theta2_start))]
     return brentq(lambda t: float(np.angle(np.exp(1j * (fb.angles(t)[1] - theta4_target)))), grid[i], grid[i + 1],
                   xtol=1e-14)
+
+
+# --- pseudo-rigid-body link shapes (MethodRun.extras['shapes']) ------------------------------------
+def _xy(points) -> np.ndarray:
+    """Complex points -> an (n, 2) polyline."""
+    z = np.asarray(points, complex)
+    return np.column_stack([z.real, z.imag])
+
+
+def _segment_shapes(seg, res, n: int, kappa: float) -> list | None:
+    """Per level, the PRB links of a single-segment case in the case frame (fixed end at the origin).
+
+    Fixed-free / fixed-pinned (straight): root -> characteristic pivot (1 - gamma) l -> tip.
+    Fixed-guided, two springs (eq 63): root -> pivot (1 - gamma) l/2 -> + gamma l e^{i Theta} -> tip.
+    Other models (curved, monotonic fixed-guided, composite, pure moment) give no chain here."""
+    o, c = res.outputs, res.constants
+    if kappa != 0.0 or "Theta" not in o or "gamma" not in c or np.any(np.asarray(o.get("theta0", 0.0)) != 0.0) \
+            and seg.boundary in ("fixed-guided", "fixed-fixed"):
+        return None
+    L = seg.length
+    gamma = np.broadcast_to(np.asarray(c["gamma"], float), (n,))
+    Theta = np.broadcast_to(np.asarray(o["Theta"], float), (n,))
+    tip = np.broadcast_to(np.asarray(o["a"], float), (n,)) + 1j * np.broadcast_to(np.asarray(o["b"], float), (n,))
+    shapes = []
+    for g, T, z in zip(gamma, Theta, tip):
+        if not (np.isfinite(g) and np.isfinite(T) and np.isfinite(z)):
+            shapes.append([])
+        elif seg.boundary in ("fixed-free", "fixed-pinned"):
+            shapes.append([_xy([0.0, (1 - g) * L, z])])
+        else:
+            p1 = (1 - g) * L / 2
+            shapes.append([_xy([0.0, p1, p1 + g * L * cmath.exp(1j * T), z])])
+    return shapes
+
+
+def _fourbar_shapes(fb, theta2, P, origin: complex) -> list:
+    """Per level: the PRB four-bar O2-A-B-O4 and the coupler triangle A-P-B (O2 at ``origin``)."""
+    theta3, _ = fb.angles(theta2)
+    shapes = []
+    for t2, t3, p in zip(np.atleast_1d(theta2), np.atleast_1d(theta3), np.atleast_1d(P)):
+        A = fb.R2 * cmath.exp(1j * t2)
+        B = A + fb.R3 * cmath.exp(1j * t3)
+        loop = np.array([0.0, A, B, fb.Z1]) + origin
+        shapes.append([_xy(loop), _xy(np.array([A, p, B]) + origin)] if np.isfinite(B) else [])
+    return shapes
+
+
+# --- one segment carrying a rigid body (chapter 5 Example 1) ---------------------------------------
+def _segment_with_body(prbm, case, requests, options, info) -> dict:
+    """A [mechanism] of one beam, fixed at one end, whose other end E carries the rigid links through E.
+
+    The loads of each level (forces and couples at nodes of those links, dead) are given to
+    ``prbm.solve_segment_with_body`` in the beam frame (x from the fixed end O along O->E), which
+    transfers them to E with the current offsets (M + r x F) and solves the segment model forward.
+    Segment model: ``segment_type = 'fixed-guided-inflection'`` (or option ``segment_model =
+    'inflection'``) -> the chapter-3/5 inflection PRBM (eqs 83-104 = 131-152); 'fixed-pinned',
+    'fixed-free' or none -> fixed_pinned_tip / pure_moment_tip / fixed_guided_monotonic_tip as for a
+    single segment.  Outputs at any body node (or E): x, y, dx, dy, rotation (of the body, deg),
+    strain_energy (PRBM springs).  Shapes: the PRB chain of the beam and the body through its nodes.
+    """
+    mech = case.mechanism
+    beam = mech.beams[0]
+    nodes = {nd.name: complex(nd.x, nd.y) for nd in mech.nodes}
+    fixed = {s.node for s in mech.supports if s.kind == "fixed"}
+    if len(mech.supports) != 1 or not fixed & {beam.start, beam.end}:
+        raise NotApplicable("one beam with one fixed end and nothing else supported is the only "
+                            "non-four-bar mechanism the PRBM adapter models")
+    root, end = (beam.start, beam.end) if beam.start in fixed else (beam.end, beam.start)
+    if any(j.node == end for j in mech.joints):
+        raise NotApplicable(f"a joint at the beam end '{end}': the body is not rigidly attached")
+    if beam.curvature != 0.0:
+        raise NotApplicable("an initially curved beam carrying a rigid body")
+    body_links = [lk for lk in mech.links if end in lk.nodes]
+    body = {end} | {nd for lk in body_links for nd in lk.nodes}
+    O, E = nodes[root], nodes[end]
+    L = abs(E - O)
+    to_local = cmath.exp(-1j * cmath.phase(E - O))
+    if beam.section.kind == "layers":
+        EI = sum(l.E * l.width * l.thickness**3 / 12.0 for l in beam.section.layers)
+    else:
+        EI = (beam.E or mech.E) * beam.section.inertia()
+    kind = beam.segment_type or ("fixed-guided-inflection" if options.get("segment_model") == "inflection"
+                                 else "fixed-pinned")
+    family = options.get("family", "pauly-midha")
+    if kind in ("fixed-guided-inflection", "inflection"):
+        model = prbm.InflectionBeam(L, EI, family)
+    elif kind in ("fixed-pinned", "fixed-free"):
+        model = _tip_model(prbm, L, EI, family, options.get("extrapolate", "raise"))
+    else:
+        raise NotApplicable(f"segment type '{kind}' carrying a rigid body: not modelled")
+
+    n = case.n_levels()
+    per_level = [[] for _ in range(n)]
+    for i, load in enumerate(case.loads):
+        if load.point not in body:
+            raise NotApplicable(f"loads.{i} acts on '{load.point}', not on the body carried by '{beam.name}'")
+        if load.kind not in ("force", "moment") or load.follower:
+            raise NotApplicable(f"loads.{i}: only dead forces and couples on the body are modelled")
+        r0 = (nodes[load.point] - E) * to_local
+        for lv, v in enumerate(load.levels()):
+            if load.kind == "force":
+                F = complex(*load.direction) * v * to_local
+                per_level[lv].append(prbm.BodyLoad(r0, force=F))
+            else:
+                per_level[lv].append(prbm.BodyLoad(r0, moment=v))
+    offsets = {name: (nodes[name] - E) * to_local for name in body}
+    needed = sorted({r.level for r in requests} | set(range(n)))
+    results = {lv: prbm.solve_segment_with_body(model, per_level[lv], offsets, rest=(L, 0.0, 0.0),
+                                                prefer=_prefer(options)) for lv in needed}
+    to_global = 1.0 / to_local
+    values = {}
+    for req in requests:
+        res = results[req.level]
+        if req.point not in body:
+            raise NotApplicable(f"point '{req.point}' is not on the body carried by '{beam.name}'")
+        z = O + res.extras["points"][req.point] * to_global
+        table = {"x": z.real, "y": z.imag, "dx": (z - nodes[req.point]).real, "dy": (z - nodes[req.point]).imag,
+                 "rotation": math.degrees(float(res.outputs["rotation"])),
+                 "strain_energy": float(res.outputs.get("U", res.outputs.get("strain_energy", np.nan)))}
+        if req.quantity not in table:
+            raise NotApplicable(f"the PRBM of a segment with a rigid body gives no '{req.quantity}'")
+        values[req] = float(table[req.quantity]) if res.converged else math.nan
+    shapes = []
+    link_order = [lk.nodes for lk in body_links]
+    for lv in range(n):
+        res = results[lv]
+        if not res.converged:
+            shapes.append([])
+            continue
+        seg = res.extras["segment"]
+        if seg is None:
+            chain = np.array([0.0, L])
+        elif isinstance(model, prbm.InflectionBeam):
+            chain = prbm.inflection_pivots(seg.outputs) @ np.array([1.0, 1j])
+        else:
+            g = float(np.asarray(seg.constants.get("gamma", np.nan)).ravel()[0])
+            chain = np.array([0.0, (1 - g) * L, complex(float(res.outputs["a"]), float(res.outputs["b"]))])
+        lines = [_xy(O + chain * to_global)]
+        for names in link_order:
+            lines.append(_xy([O + res.extras["points"][nm] * to_global for nm in names]))
+        shapes.append(lines)
+    info.converged = all(results[lv].converged for lv in needed)
+    info.level_converged = {lv: bool(results[lv].converged) for lv in needed}
+    info.level_messages = {lv: results[lv].message for lv in needed}
+    info.message = f"PRBM {kind} segment '{beam.name}' carrying a rigid body (M + r x F at the current pose); " + \
+        "; ".join(f"level {lv}: {results[lv].message}" for lv in needed)
+    info.extras.update({"shapes": shapes, "model": results[needed[-1]].model,
+                        "end_loads": {lv: {k: float(results[lv].outputs[k]) for k in ("Fx", "Fy", "M")}
+                                      for lv in needed}})
+    return values
+
+
+def _prefer(options):
+    prefer = options.get("prefer", "energy")
+    return next(iter(prefer.items())) if isinstance(prefer, dict) else prefer
+
+
+def _tip_model(prbm, L, EI, family, extrapolate):
+    """tip(F, M) of a straight fixed-free segment (segment frame, M CCW), as the single-segment branch."""
+    def tip(F: complex, M: float):
+        if F.imag == 0 and F.real != 0:
+            raise NotApplicable("a purely axial end force: outside every PRBM n-fit (n infinite)")
+        if F == 0:
+            return prbm.pure_moment_tip(M, length=L, EI=EI)
+        n_ratio = -F.real / F.imag
+        if M == 0:
+            return prbm.fixed_pinned_tip(F.imag, n_ratio, length=L, EI=EI, family=family, extrapolate=extrapolate)
+        return prbm.fixed_guided_monotonic_tip(F.imag, n_ratio, M, length=L, EI=EI, family=family,
+                                               extrapolate=extrapolate)
+    return tip
