@@ -203,10 +203,15 @@ def solve_loads(beam: InflectionBeam, P: float, nP: float, M: float, *, prefer="
     """Load-specified problem (seed 000 section 3.5.1, Table 3.2): P, nP, M (M opposing) -> a, b, theta0.
 
     Unknowns theta0, l1, theta10; residuals (95), (96), (99).  P < 0 is handled by mirroring.
+    ``M`` may also be a vectorised function of the end angle theta0 (radians), e.g. the moment of
+    loads carried by a rigid body on the end (``prbm.coupled_segment``); (99) then reads
+    M(theta0) - M_state = 0 and the three equations are solved together.
     """
     t0 = time.perf_counter()
+    moment = M if callable(M) else (lambda theta0, M=float(M): M + 0.0 * np.asarray(theta0))
     if P < 0:
-        res = solve_loads(beam, -P, nP, -M, prefer=prefer, xtol=xtol, starts=starts)
+        mirrored = (lambda theta0: -moment(-np.asarray(theta0))) if callable(M) else -M
+        res = solve_loads(beam, -P, nP, mirrored, prefer=prefer, xtol=xtol, starts=starts)
         for key in ("b", "theta0", "P", "M", "theta10", "theta20", "Theta1", "Theta2"):
             if key in res.outputs:
                 res.outputs[key] = -res.outputs[key]
@@ -218,13 +223,14 @@ def solve_loads(beam: InflectionBeam, P: float, nP: float, M: float, *, prefer="
 
     def residual(x):
         s = inflection_state(beam, F, phi1, x[0], x[1] * l, x[2])
-        return np.stack([s["r95"], s["r96"], (M - s["M"]) * l / EI])
+        return np.stack([s["r95"], s["r96"], (moment(x[0]) - s["M"]) * l / EI])
 
     grid = np.array([(t, f, q) for t in np.linspace(-80, 80, 17) * DEG for f in np.linspace(0.15, 0.85, 8)
                      for q in np.linspace(5, 85, 9) * DEG])
     roots, nfev = _multistart(residual, grid, starts, xtol)
     states = [inflection_state(beam, F, phi1, x[0], x[1] * l, x[2]) for x in roots]
-    return _package(beam, states, "load BCs", {"P": P, "nP": nP, "M": M}, t0, nfev, prefer)
+    given = {"P": P, "nP": nP, "M": "a function of theta0" if callable(M) else M}
+    return _package(beam, states, "load BCs", given, t0, nfev, prefer)
 
 
 def solve_displacements(beam: InflectionBeam, *, b: float, theta0: float, a: float | None = None,

@@ -34,6 +34,15 @@ mechanical_advantage (``ma = {F_i, d_i, d_o}``, eqs 190, 192), dof (eq 208 on th
 ``prbm.dof``).  The unloaded pose, when ``energy_free.theta3`` is given, is placed with the printed
 energy-free angles by the dyad Z2 e^{i(theta20 - theta21)} + Z5 e^{i(theta30 - theta31)} (as the
 seed does), not re-solved from the loop (the printed vectors close only to about 0.002 in).
+
+One beam fixed at one end whose other end carries rigid links (chapter 5 Example 1), no ``links``
+option: ``prbm.solve_segment_with_body`` (dead loads at body nodes moved to the beam end with the
+current offset, M + r x F), see ``_segment_with_body``.
+
+Shapes: ``extras['shapes']`` holds, per level, the PRB links as (n, 2) polylines in the case frame:
+fixed-pinned segment root -> pivot -> tip; two-spring fixed-guided root -> pivot -> pivot -> tip;
+inflection model root -> pivot 1 -> inflection point -> pivot 2 -> end; four-bar O2-A-B-O4 and the
+coupler A-P-B; segment + body the segment chain then each body link through its nodes.
 """
 from __future__ import annotations
 
