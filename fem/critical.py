@@ -5,7 +5,9 @@ A limit point is an extremum of the load factor lambda(s) along the path
 Its load is refined by the Hermite cubic through the two bracketing states
 with their slopes d lambda/ds = 1/||K^-1 f_ref||_W (error O(ds^4)), or a
 parabola through three states when slopes are unknown.  A sign change of
-det K without an extremum of lambda is reported as a bifurcation.
+det K without an extremum of lambda is reported as a bifurcation; so is a
+step whose unstable state was replaced by a stable one (`stability`), with the
+note ``branch_switch``.
 """
 from __future__ import annotations
 
@@ -59,4 +61,9 @@ def critical_points(path):
             if not near:
                 found.append(dict(kind="bifurcation", kind_detail="det K changes sign", step=i,
                                   load_factor=float(lams[i]), path_parameter=float(s[i])))
+    for i, note in getattr(path, "branch_switches", []):
+        # the step that crossed: its unstable state was replaced by a stable one
+        found.append(dict(kind="bifurcation", kind_detail="det K changes sign", step=i,
+                          load_factor=float(lams[i]), path_parameter=float(s[i]),
+                          branch_switch=note))
     return sorted(found, key=lambda f: f["step"])

@@ -73,9 +73,18 @@ class MatrixLayout:
             self.size = len(uniq)
             self.indices = (uniq % n).astype(np.int32)
             self.indptr = np.searchsorted(uniq // n, np.arange(n + 1)).astype(np.int32)
+        # one storage index per distinct (row, col) entry, for `to_sparse`
+        _, first = np.unique(rows.astype(np.int64) * n + cols, return_index=True)
+        self.entry_rows, self.entry_cols = rows[first], cols[first]
+        self.entry_flat = self.flat[first]
 
     def assemble(self, values):
         return np.bincount(self.flat, weights=values, minlength=self.size)
+
+    def to_sparse(self, data):
+        """The assembled matrix as scipy CSC (any storage kind)."""
+        return sp.csc_matrix((data[self.entry_flat], (self.entry_rows, self.entry_cols)),
+                             shape=(self.n, self.n))
 
     def to_dense(self, data):
         if self.kind == "dense":

@@ -46,6 +46,9 @@ class Path:
         self.det_signs, self.step_lams, self.step_ctrl, self.step_s = [], [], [], []
         self.step_slope = []
         self.cutbacks = 0
+        self.stable = True             # last accepted state stable (load/displacement control)
+        self.branch_switches = []      # (step index, note)
+        self.unassessed = []           # step indices: det K < 0 under follower loads
         self.rejected_iterations = 0
 
 

@@ -35,6 +35,7 @@ from .linear_solver import SingularMatrix
 from .model import DOF_NAMES, Model
 from .newton import Path, StepFailed, accept_check, det_sign, growth, newton, snapshot
 from .result import build_result
+from .stability import conservative, held_sign, switch_branch
 from .warm_start import chord_angles, guess_states, reduced_from_full
 
 __all__ = ["solve"]
@@ -58,6 +59,41 @@ def _try_guess(system, opts, path, u_guess, q, loads):
     return q_new, ev, hist, its, fac
 
 
+def _watch_stability(system, opts, path, st, loads, mode="load", ctrl=None, held=None):
+    """After a converged step: a stable state that became unstable (sign det K, of K_ff
+    with the control DOF `held` under displacement control, turned negative) is
+    replaced by a stable one on another branch (`stability.switch_branch`).
+
+    ``st`` (q, lam, ev, fac, sign, hist, its) is updated in place; returns None or
+    the reason why no stable state was found.  Arc-length never calls this: it traces
+    unstable branches on purpose."""
+    if not opts["check_stability"] or not path.stable or st["sign"] >= 0:
+        return None
+    if not conservative(system):
+        path.stable = False         # follower loads: the static criterion is not decisive
+        path.unassessed.append(len(path.step_lams))
+        return None
+    if held is not None:
+        try:
+            fac = st["fac"] or system.layout.factor(st["ev"]["K"])
+            if held_sign(fac, st["sign"], held) >= 0:
+                return None
+        except SingularMatrix:
+            return None
+    status, out = switch_branch(system, opts, st["q"], st["lam"], st["beta"], st["ev"], loads,
+                                mode=mode, ctrl=ctrl, held=held)
+    if status == "stable":
+        return None
+    if status == "failed":
+        return ("the converged state is unstable: a bifurcation was crossed (det K < 0, "
+                f"{out}); not returned")
+    q, lam, ev, hist, its, fac, note = out
+    path.branch_switches.append((len(path.step_lams), note))
+    st.update(q=q, lam=lam, ev=ev, fac=fac, hist=st["hist"] + hist, its=st["its"] + its,
+              sign=det_sign(system, ev, fac), switched=True)
+    return None
+
+
 def _run_load(system, opts, path):
     n_lev = system.n_levels
     q = np.zeros(system.n)
@@ -71,11 +107,17 @@ def _run_load(system, opts, path):
         if guesses is not None:
             got = _try_guess(system, opts, path, guesses[k], q, system.loads_at(a, b, 1.0))
             if got is not None:
-                q, ev, hist, its, fac = got
+                q_g, ev, hist, its, fac = got
+                st = dict(q=q_g, lam=1.0, ev=ev, fac=fac, hist=hist, its=its, beta=beta,
+                          sign=det_sign(system, ev, fac) if opts["watch_det"] else 0)
+                why = _watch_stability(system, opts, path, st, system.loads_at(a, b, 1.0))
+                if why:
+                    return f"load level {k} (warm start): {why}"
+                q, ev, hist, its = st["q"], st["ev"], st["hist"], st["its"]
                 t, beta = 1.0, ev["el"]["beta"].copy()
                 path.residuals.append(np.array(hist))
                 path.iterations.append(its)
-                path.det_signs.append(det_sign(system, ev, fac) if opts["detect_critical"] else 0)
+                path.det_signs.append(st["sign"] if opts["detect_critical"] else 0)
                 path.step_lams.append(float(k))
                 path.step_slope.append(np.nan)
         while t < 1.0:
@@ -96,11 +138,19 @@ def _run_load(system, opts, path):
                             f"{t_new:.6g} of the segment from level {a} (step < min_step), "
                             f"iteration {exc.iteration}: {exc.reason}")
                 continue
-            prev = (q_new - q, t_new - t) if opts["predictor"] == "secant" else None
+            st = dict(q=q_new, lam=1.0, ev=ev, fac=fac, hist=hist, its=its, beta=beta,
+                      sign=det_sign(system, ev, fac) if opts["watch_det"] else 0)
+            why = _watch_stability(system, opts, path, st, loads)
+            if why:
+                return (f"load level {k}: step from t = {t:.6g} to {t_new:.6g} of the segment "
+                        f"from level {a}: {why}")
+            q_new, ev, hist, its = st["q"], st["ev"], st["hist"], st["its"]
+            switched = st.get("switched", False)
+            prev = (q_new - q, t_new - t) if opts["predictor"] == "secant" and not switched else None
             q, t, beta = q_new, t_new, ev["el"]["beta"].copy()
             path.residuals.append(np.array(hist))
             path.iterations.append(its)
-            path.det_signs.append(det_sign(system, ev, fac) if opts["detect_critical"] else 0)
+            path.det_signs.append(st["sign"] if opts["detect_critical"] else 0)
             path.step_lams.append(k - 1 + t)
             path.step_slope.append(np.nan)
             dt *= growth(its)
@@ -159,8 +209,15 @@ def _run_disp(system, model, opts, path):
                     return (f"load level {lev} (control displacement {u_t:.6g}): no convergence, "
                             f"iteration {exc.iteration}: {exc.reason}")
                 continue
+            st = dict(q=q_new, lam=lam_new, ev=ev, fac=fac, hist=hist, its=its, beta=beta,
+                      sign=det_sign(system, ev, fac) if opts["watch_det"] else 0)
+            why = _watch_stability(system, opts, path, st, loads, mode="disp",
+                                   ctrl=(k, coef, u_t), held=k)
+            if why:
+                return f"load level {lev} (control displacement {u_t:.6g}): {why}"
+            q_new, lam_new, ev, hist, its, fac = (st[key] for key in ("q", "lam", "ev", "hist", "its", "fac"))
             if opts["predictor"] == "secant":
-                prev = (q_new - q, lam_new - lam, (q_new[k] - q[k]) * coef)
+                prev = None if st.get("switched") else (q_new - q, lam_new - lam, (q_new[k] - q[k]) * coef)
             q, lam, t, beta = q_new, lam_new, t_new, ev["el"]["beta"].copy()
             path.residuals.append(np.array(hist))
             path.iterations.append(its)
@@ -294,7 +351,7 @@ def solve(model: Model, n_levels: int | None = None, control: str = "load", *,
           max_steps: int = 2000, until=None, lambda_max: float | None = None,
           direction: float = 1.0, target_iterations: int = 5, solver: str = "auto",
           predictor: str = "secant", max_limit_points: int | None = None,
-          initial_guess=None):
+          initial_guess=None, check_stability: bool = True):
     """Solve the model; returns a `FemResult`.
 
     control="load": loads/prescribed values follow their per-level histories.
@@ -310,6 +367,10 @@ def solve(model: Model, n_levels: int | None = None, control: str = "load", *,
     model with half the elements per member, used as predictor (`warm_start`).
     ``refine`` multiplies every member's element count.
     Tolerance: |r| <= rtol max(|f_ext|, |f_int|) + atol.
+    ``check_stability`` (load and displacement control): a converged state that
+    lost stability (a bifurcation was crossed) is not returned; the solve switches
+    to a stable branch (noted in the critical point and the message) or returns
+    converged=False (`stability`).  Arc-length only reports det K sign changes.
     """
     t0 = time.perf_counter()
     if n_levels is not None and model.n_levels not in (1, n_levels):
@@ -322,7 +383,8 @@ def solve(model: Model, n_levels: int | None = None, control: str = "load", *,
                 arc_length=arc_length, max_arc_length=max_arc_length, max_steps=max_steps,
                 until=until, lambda_max=lambda_max, direction=direction,
                 target_iterations=target_iterations, predictor=predictor,
-                max_limit_points=max_limit_points)
+                max_limit_points=max_limit_points, check_stability=check_stability,
+                watch_det=detect_critical or check_stability)
     if initial_guess is not None and control == "load":
         opts["guesses"] = guess_states(initial_guess, disc)
     path = Path()
@@ -338,6 +400,13 @@ def solve(model: Model, n_levels: int | None = None, control: str = "load", *,
         raise ValueError("control must be 'load', 'displacement' or 'arclength'")
     critical = critical_points(path) if detect_critical else []
     message = failure or f"converged: {len(path.iterations)} steps, {sum(path.iterations)} iterations"
+    lams = path.step_lams
+    for i, note in path.branch_switches:
+        where = "level parameter" if control == "load" else "load factor"
+        message += f"; bifurcation at {where} {lams[i] if i < len(lams) else float('nan'):.6g}: {note}"
+    for i in path.unassessed:
+        message += (f"; det K changed sign at step {i + 1} under follower (non-conservative) "
+                    "loads: stability not assessed")
     return build_result(model, system, path, converged=failure is None, message=message,
                         critical_points=critical, wall_time=time.perf_counter() - t0,
                         control=control, refine=refine)

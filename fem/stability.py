@@ -1,0 +1,233 @@
+"""Stability of converged equilibria, and branch switching to a stable state.
+
+Dead (conservative) loads: an equilibrium q* of the total potential
+
+    Pi(q) = U(q) - lambda f_ref . u(q)
+
+is stable iff the reduced tangent K = d2 Pi / dq2 is positive definite (Lagrange-
+Dirichlet; prescribed DOFs are already eliminated from q, and under displacement
+control the control DOF q_c is held too, so K_ff = K without row and column c).
+
+Watching it costs nothing extra: the sign of det K comes from the LU factors the
+solvers already have (Sylvester: one eigenvalue through zero flips it), and under
+displacement control  sign det K_ff = sign det K * sign (K^-1)_cc  (Cramer), one
+back-solve.  When a step takes a stable state to sign det < 0, the lowest
+eigenpairs of K (dense `eigh` for small systems, shift-invert Lanczos about 0
+otherwise) confirm it, and the branch is switched (Riks 1984; Wagner & Wriggers
+1988): starting from  q* +- a phi_1  (phi_1 the eigenvector of the most negative
+eigenvalue, amplitudes a growing), Newton is rerun at the same load; a candidate
+counts when it converged, passes the rotation-continuity checks, left q*, and is
+stable itself.  Of the stable candidates on the two sides, the one with the lower
+Pi is kept: the side an imperfection, or the work of the loads, favours.
+
+Follower loads make K unsymmetric and the static criterion incomplete (flutter):
+there a sign change is reported, not acted on.  Limitation: two eigenvalues
+crossing zero within one step leave sign det K unchanged and go unnoticed.
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from .corotational import strain_energy
+from .linear_solver import SingularMatrix
+from .newton import StepFailed, accept_check, newton
+
+__all__ = ["conservative", "held_sign", "lowest_modes", "potential", "switch_branch"]
+
+DENSE_LIMIT = 600        # dense eigh below this many unknowns, shift-invert Lanczos above
+AMPLITUDE = 1e-3       # of L_ref: largest translation of the perturbation (no stretching)
+
+
+def conservative(system) -> bool:
+    """Dead loads only (no followers): K is symmetric, K = d2 Pi / dq2."""
+    return len(system.fol_nodes) == 0
+
+
+def held_sign(fac, det_sign, held):
+    """sign det K_ff with DOF `held` removed: sign det K * sign (K^-1)_hh (Cramer)."""
+    if held is None:
+        return det_sign
+    e = np.zeros(fac.layout.n)
+    e[held] = 1.0
+    x = fac.solve(e)[held]
+    return det_sign * (1 if x > 0 else -1 if x < 0 else 0)
+
+
+def lowest_modes(system, K, held=None, count=2):
+    """The `count` eigenvalues of K (or K_ff, DOF `held` removed) nearest the bottom
+    of the spectrum, ascending, with unit eigenvectors in reduced coordinates."""
+    A = system.layout.to_sparse(K)
+    keep = np.arange(system.n) if held is None else np.delete(np.arange(system.n), held)
+    A = A[keep][:, keep]
+    A = 0.5 * (A + A.T)
+    m = A.shape[0]
+    count = max(1, min(count, m - 1)) if m > 1 else 1
+    if m <= DENSE_LIMIT:
+        vals, vecs = sla.eigh(A.toarray(), subset_by_index=[0, count - 1])
+    else:   # eigenvalues nearest zero: the ones that just crossed
+        vals, vecs = spla.eigsh(A.tocsc(), k=count, sigma=0.0, which="LM")
+        order = np.argsort(vals)
+        vals, vecs = vals[order], vecs[:, order]
+    full = np.zeros((system.n, len(vals)))
+    full[keep] = vecs
+    return vals, full
+
+
+def potential(system, ev, lam):
+    """Total potential Pi = U - lambda f_ref . u of a state (dead loads)."""
+    d = system.disc
+    el, u = ev["el"], ev["u"]
+    energy = float(strain_energy(d.ka, d.kb, el["u_bar"], el["theta_bar"]).sum())
+    if len(d.springs):
+        dth = u[d.springs[:, 0]] - u[d.springs[:, 1]]
+        energy += 0.5 * float(np.sum(d.spring_k * dth**2))
+    return energy - lam * float(np.dot(ev["f_ref_full"][:d.n_full], u[:d.n_full]))
+
+
+def _lowest(A):
+    """Lowest eigenvalue of a symmetric sparse matrix."""
+    if A.shape[0] <= DENSE_LIMIT:
+        return float(sla.eigh(A.toarray(), eigvals_only=True, subset_by_index=[0, 0])[0])
+    vals = spla.eigsh(A.tocsc(), k=min(3, A.shape[0] - 1), sigma=0.0, which="LM",
+                      return_eigenvectors=False)
+    return float(np.min(vals))
+
+
+def _descend(system, q, lam, beta, loads, free, tol, scale, max_iter=200):
+    """Minimise Pi over the DOFs `free` from q: Newton on K + mu I (mu = 1.5 |mu_min| while
+    K_ff is indefinite, Levenberg-Marquardt) with a backtracking line search on Pi.
+    Leaves a saddle along negative curvature; ends near a minimum (a stable state).
+    Returns (q, lowest eigenvalue) or None."""
+    eye = sp.identity(len(free), format="csc")
+    ev = system.evaluate(q, beta, lam, *loads, need_K=True)
+    pi = potential(system, ev, lam)
+    for _ in range(max_iter):
+        r = ev["r"][free]
+        A = system.layout.to_sparse(ev["K"])[free][:, free]
+        A = 0.5 * (A + A.T)
+        mu_min = _lowest(A)
+        if np.linalg.norm(r) <= tol and mu_min > -1e-12 * scale:
+            return q, mu_min
+        mu = 1.5 * max(-mu_min, 0.0)
+        dq = np.zeros_like(q)
+        try:
+            dq[free] = spla.spsolve((A + mu * eye).tocsc(), -r)
+        except RuntimeError:
+            return None
+        for _ls in range(40):
+            ev_t = system.evaluate(q + dq, beta, lam, *loads, need_K=True)
+            pi_t = potential(system, ev_t, lam) if np.all(np.isfinite(ev_t["r"])) else np.inf
+            if pi_t <= pi + 1e-14 * abs(pi) or np.linalg.norm(ev_t["r"][free]) <= tol:
+                break
+            dq *= 0.5
+        else:
+            return None
+        q, ev, pi = q + dq, ev_t, pi_t
+        beta = ev["el"]["beta"]
+    return None
+
+
+def _follow_mode(system, opts, q_u, phi, side, beta, loads):
+    """Follow the branch leaving q_u along phi, with its largest component q_c held at
+    q_u,c + xi (displacement control on the mode, load factor lambda free, xi growing),
+    until lambda = 1 (the load of the step) is crossed; returns the state interpolated
+    there (a Newton start), or None with the reason, and the iterations spent."""
+    rot = system.disc.red_is_rotation
+    kc = int(np.argmax(np.where(rot, 0.0, np.abs(phi)) if (~rot).any() else np.abs(phi)))
+    phi = phi / phi[kc]
+    unit = system.L_ref if not rot[kc] else 1.0
+    xi, dxi = 0.0, 2e-3 * side * unit
+    q, lam, its_total = q_u, 1.0, 0
+    prev = None
+    while abs(xi) < 2.0 * unit:
+        xi_new = xi + dxi
+        q_pred = q_u + xi_new * phi if prev is None else q + dxi / prev[2] * prev[0]
+        lam_pred = lam if prev is None else lam + dxi / prev[2] * prev[1]
+        try:
+            q_x, lam_x, ev, _, its, _ = newton(system, q_pred, lam_pred, beta, loads, opts,
+                                               mode="disp", ctrl=(kc, 1.0, q_u[kc] + xi_new),
+                                               q_start=q)
+            its_total += its
+            accept_check(system, q_x, q, ev, opts, its)
+        except (StepFailed, SingularMatrix) as exc:
+            dxi *= 0.5
+            if abs(dxi) < 1e-6 * unit:
+                return None, f"mode control stalled at xi = {xi:.3g}: {getattr(exc, 'reason', exc)}", its_total
+            continue
+        if prev is not None and lam <= 1.0 <= lam_x:
+            w = (1.0 - lam) / (lam_x - lam)
+            return q + w * (q_x - q), "", its_total
+        if lam_x <= 0.0:
+            return None, "the branch unloads (lambda <= 0): no stable state near", its_total
+        prev = (q_x - q, lam_x - lam, dxi)
+        q, lam, xi, beta = q_x, lam_x, xi_new, ev["el"]["beta"].copy()
+        dxi *= 1.5 if its <= 6 else 1.0
+    return None, "no crossing of the step's load within |xi| < 2 L_ref", its_total
+
+
+def _stable(system, K, held, scale):
+    try:
+        vals, _ = lowest_modes(system, K, held, count=1)
+    except (ValueError, np.linalg.LinAlgError, RuntimeError):
+        return False, np.nan
+    return bool(vals[0] > -1e-12 * scale), float(vals[0])
+
+
+def switch_branch(system, opts, q_u, lam, beta, ev_u, loads, mode="load", ctrl=None, held=None):
+    """Leave the unstable equilibrium q_u along its critical eigenvector.
+
+    Returns ("stable", lowest eigenvalue) when the eigenvalues say q_u is stable after
+    all, ("switched", (q, lam, ev, hist, its, fac, note)) or ("failed", reason)."""
+    vals, vecs = lowest_modes(system, ev_u["K"], held)
+    scale = float(np.abs(system.layout.to_sparse(ev_u["K"]).diagonal()).max())
+    if vals[0] > -1e-12 * scale:
+        return "stable", float(vals[0])
+    phi = vecs[:, 0]
+    rot = system.disc.red_is_rotation
+    big = np.abs(phi[~rot]).max() / system.L_ref if (~rot).any() else 0.0
+    phi = phi / (big if big > 1e-12 else np.abs(phi).max())
+    free = np.arange(system.n) if held is None else np.delete(np.arange(system.n), held)
+    tol = opts["rtol"] * ev_u["F_scale"] + system.noise_floor + opts["atol"]
+    pi_u = potential(system, ev_u, lam)
+    found, tried, its_total = {}, [], 0
+    for side in (1.0, -1.0):
+        label = "+" if side > 0 else "-"
+        if mode == "load":
+            start_q, why, its = _follow_mode(system, opts, q_u, phi, side, beta, loads)
+        else:
+            down = _descend(system, q_u + side * AMPLITUDE * system.L_ref * phi, lam, beta,
+                            loads, free, tol, scale)
+            start_q, why, its = (None, "the descent of Pi stalled", 0) if down is None else (down[0], "", 0)
+        its_total += its
+        if start_q is None:
+            tried.append(f"{label}: {why}")
+            continue
+        try:     # the solver's own corrector and convergence test, at the same load
+            q, lam_c, ev, hist, its, fac = newton(system, start_q, lam, beta, loads, opts,
+                                                  mode=mode, ctrl=ctrl, q_start=start_q)
+            its_total += its
+            accept_check(system, q, start_q, ev, dict(opts, max_rotation_increment=np.inf), its)
+        except (StepFailed, SingularMatrix) as exc:
+            tried.append(f"{label}: {getattr(exc, 'reason', exc)}")
+            continue
+        moved = np.abs(q - q_u).max(initial=0.0) > 1e-6 * max(system.L_ref, 1.0)
+        ok, mu = _stable(system, ev["K"], held, scale)
+        if moved and ok:
+            found[side] = (q, lam_c, ev, hist, its, fac, potential(system, ev, lam_c))
+        else:
+            tried.append(f"{label}: " + ("returned to the unstable state" if not moved else
+                                         f"unstable (lowest eigenvalue {mu:.3g})"))
+    if not found:
+        return "failed", (f"lowest eigenvalue {vals[0]:.3g}; no stable state found by Newton from "
+                          f"the unstable one perturbed along the critical eigenvector "
+                          f"({'; '.join(tried)})")
+    side = min(found, key=lambda s: found[s][6])
+    q, lam_c, ev, hist, its, fac, pi = found[side]
+    other = found.get(-side)
+    note = (f"branch switch: unstable state (lowest eigenvalue {vals[0]:.3g}, Pi = {pi_u:.6g}) "
+            f"left along the critical eigenvector, side {'+' if side > 0 else '-'}; stable "
+            f"state Pi = {pi:.9g}" + (f" (other side Pi = {other[6]:.9g})" if other else ""))
+    return "switched", (q, lam_c, ev, hist, its_total, fac, note)

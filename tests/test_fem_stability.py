@@ -1,0 +1,103 @@
+"""Load control past a bifurcation: the solver leaves the unstable branch.
+
+Fixed-free column, L = EI = 1, EA = 1e6, tip load P (direction (-1, e)) through
+the Euler load P_cr = pi^2 EI / (4 L^2) to 1.5 P_cr.  The post-buckled elastica
+(tip angle a, k = sin(a/2)):  P / P_cr = (2 K(k) / pi)^2,  lateral tip deflection
+delta = 2 k / K(k) L  (Timoshenko & Gere sec. 2.7).  The near-straight state
+above P_cr is an equilibrium too, but unstable: it must not be returned.
+"""
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+from scipy.special import ellipk
+
+import fem
+
+P_CR = np.pi**2 / 4
+FRACTIONS = np.array([0.5, 0.9, 0.98, 1.02, 1.1, 1.25, 1.4, 1.5])
+EA = 1e6
+
+
+def elastica_deflection(ratio):
+    """Lateral tip deflection / L of the post-buckled fixed-free elastica at P = ratio P_cr."""
+    k = brentq(lambda k: (2 * ellipk(k * k) / np.pi) ** 2 - ratio, 1e-9, 1 - 1e-12)
+    return 2 * k / ellipk(k * k)
+
+
+def column(n, imperfection):
+    m = fem.Model()
+    m.add_node("root", 0.0, 0.0)
+    m.add_node("tip", 1.0, 0.0)
+    m.add_member("root", "tip", fem.Section.from_EI(EA, 1.0), n_elements=n)
+    m.add_support("root", "fixed")
+    P = P_CR * FRACTIONS
+    m.add_force("tip", -P, imperfection * P)
+    return m
+
+
+@pytest.fixture(scope="module")
+def runs():
+    return {(n, e): fem.solve(column(n, e)) for n in (32, 64) for e in (1e-5, -1e-5)}
+
+
+@pytest.mark.parametrize("imperfection", [1e-5, -1e-5])
+def test_imperfect_column_reaches_post_buckled_elastica(runs, imperfection):
+    exact = elastica_deflection(1.5)                       # 0.78858
+    r32, r64 = runs[32, imperfection], runs[64, imperfection]
+    for r in (r32, r64):
+        assert r.converged, r.message
+        assert "branch switch" in r.message
+        switches = [c for c in r.critical_points if "branch_switch" in c]
+        assert len(switches) == 1 and switches[0]["kind"] == "bifurcation"
+        assert 2.0 < switches[0]["load_factor"] <= 3.0     # in the step 0.98 -> 1.02 P_cr
+        assert np.all(r.det_sign > 0)                      # every returned state is stable
+    d32, d64 = (r.position("tip")[1] for r in (r32, r64))
+    # buckled towards the imperfection
+    assert np.sign(d32) == np.sign(d64) == np.sign(imperfection)
+    # O(h^2): the error of the 32-element value is ~ 4/3 |d32 - d64| (Richardson);
+    # plus the axial shortening P L / EA the inextensible elastica lacks
+    mesh_err = 4.0 / 3.0 * abs(d32 - d64)
+    stretch = 1.5 * P_CR / EA
+    assert 1e-6 < mesh_err < 1e-4
+    assert abs(abs(d32) - exact) <= 1.5 * mesh_err + stretch
+    assert abs(abs(d64) - exact) <= 1.5 * mesh_err / 4 + stretch
+    # every level: near-straight below P_cr (imperfection amplified by 1/(1 - P/P_cr)),
+    # on the elastica above it (looser at 1.02 P_cr, where d delta/dP is large and the
+    # discrete P_cr differs from pi^2/4 by O(h^2))
+    for lev, ratio in enumerate(FRACTIONS):
+        expected = elastica_deflection(ratio) if ratio > 1 else 0.0
+        assert abs(abs(r32.position("tip", lev)[1]) - expected) < 3e-3
+
+
+def test_mirrored_imperfection_mirrors_the_answer(runs):
+    a, b = runs[32, 1e-5], runs[32, -1e-5]
+    assert np.allclose(a.positions[:, :, 0], b.positions[:, :, 0], atol=1e-9)
+    assert np.allclose(a.positions[:, :, 1], -b.positions[:, :, 1], atol=1e-9)
+
+
+def test_perfect_column_switches_to_a_buckled_branch():
+    r = fem.solve(column(32, 0.0))
+    assert r.converged, r.message
+    assert "bifurcation" in r.message and "branch switch" in r.message
+    assert [c["kind"] for c in r.critical_points] == ["bifurcation"]
+    assert "branch_switch" in r.critical_points[0]
+    assert abs(abs(r.position("tip")[1]) - elastica_deflection(1.5)) < 2e-4
+    assert np.all(np.abs(r.positions[:3, 1, 1]) < 1e-12)   # straight below P_cr
+
+
+def test_without_stability_check_the_unstable_state_is_returned():
+    """The check is what moves the answer: without it Newton stays near-straight."""
+    r = fem.solve(column(16, 1e-5), check_stability=False)
+    assert r.converged
+    assert abs(r.position("tip")[1]) < 1e-3
+
+
+def test_follower_cantilever_untouched():
+    m = fem.Model()
+    m.add_node("root", 0.0, 0.0)
+    m.add_node("tip", 1.0, 0.0)
+    m.add_member("root", "tip", fem.Section.from_EI(EA, 1.0), n_elements=8)
+    m.add_support("root", "fixed")
+    m.add_force("tip", 0.0, [1.0, 2.0], follower=True)
+    r = fem.solve(m)
+    assert r.converged and "branch" not in r.message
