@@ -50,7 +50,8 @@ class System:
             if len(vals) != nl:                         # a single value: same at every level
                 vals = np.broadcast_to(vals, (nl,) + vals.shape[1:])
             if ld.kind == "moment":
-                self.F_fixed[:, d.rot_dof[ld.node]] += vals
+                dof = d.rot_dof[ld.node] if ld.member is None else d.member_end_dof(ld.member, ld.node)
+                self.F_fixed[:, dof] += vals
             elif ld.follower:
                 fol_nodes.append(ld.node)
                 fol_vals.append(vals)

@@ -66,6 +66,15 @@ class Discretisation:
     red_is_rotation: np.ndarray     # bool (n_red,)
 
 
+    def member_end_dof(self, member: int, node: int) -> int:
+        """Full rotation DOF of ``member``'s end at model node ``node`` (released or not)."""
+        els = self.member_elements[member]
+        for e, side in ((els[0], 0), (els[-1], 1)):
+            if self.conn[e, side] == node:
+                return int(self.edofs[e, 2 + 3 * side])
+        raise ValueError(f"member {member} does not end at node {node}")
+
+
 def _arc_points(P0, P1, kappa, n):
     """n+1 points along the arc P0 -> P1 of signed curvature kappa; arc length."""
     d = P1 - P0
@@ -209,7 +218,7 @@ def discretise(model: Model, refine: int = 1) -> Discretisation:
     used[springs.ravel()] = True
     used[:2 * n_en] = True
     for ld in model.loads:
-        if ld.kind == "moment" or ld.follower:
+        if (ld.kind == "moment" and ld.member is None) or ld.follower:
             used[rot_dof[ld.node]] = True
     # rigid links: resolve chains to root masters
     parent = {}

@@ -87,6 +87,7 @@ class PointLoad:
     kind: str                 # "force" or "moment"
     values: np.ndarray        # shape (n_levels, 2) for forces, (n_levels,) for moments
     follower: bool = False
+    member: int | None = None  # a moment on this member's end (its released rotation at a joint)
 
 
 @dataclass
@@ -173,9 +174,18 @@ class Model:
         self.loads.append(PointLoad(self.node(node), "force",
                                     np.column_stack([fx, fy]), bool(follower)))
 
-    def add_moment(self, node, values) -> None:
-        """Point moment (input torque) per load level, counter-clockwise positive."""
-        self.loads.append(PointLoad(self.node(node), "moment", _levels(values)))
+    def add_moment(self, node, values, member: int | None = None) -> None:
+        """Point moment (input torque) per load level, counter-clockwise positive.
+
+        With ``member`` the moment acts on that member's end at the node, which is its own rotation
+        where a joint releases it (a torque on one side of a hinge), else the node rotation."""
+        i = self.node(node)
+        if member is not None:
+            m = self.members[int(member)]
+            if i not in (m.start, m.end):
+                raise ValueError(f"member {member} does not end at node {self.node_names[i]!r}")
+            member = int(member)
+        self.loads.append(PointLoad(i, "moment", _levels(values), member=member))
 
     def prescribe(self, node, dof: str, values) -> None:
         """Prescribed displacement ('ux', 'uy') or rotation ('rz') per load level."""

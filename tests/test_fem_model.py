@@ -271,3 +271,32 @@ def test_consistent_tangent_matches_finite_differences():
         rm = sys_.evaluate(q - e, beta, 1.3, *loads, need_K=False)["r"]
         K_fd[:, j] = (rp - rm) / (2 * h)
     assert np.abs(K - K_fd).max() < 1e-6 * np.abs(K).max()
+
+
+def test_moment_on_one_side_of_a_hinge():
+    """A torque on the released end of a beam at a pin acts on that beam only.
+
+    Beam O-A (length L, EI) clamped at O, pinned at A to a rigid bar A-B that is pinned at B to
+    ground: the bar holds A fixed in translation, so the beam is a clamped-pinned beam with an end
+    moment M at A: end rotation theta_A = M L / (4 EI) (linear theory, tiny M)."""
+    import numpy as np
+
+    import fem
+
+    L, EI, M = 1.0, 2.0, 1e-6
+    m = fem.Model()
+    m.add_node("O", 0.0, 0.0); m.add_node("A", L, 0.0); m.add_node("B", L, 1.0)
+    beam = m.add_member("O", "A", fem.Section.from_EI(1e8, EI), n_elements=4)
+    m.add_support("O", "fixed")
+    m.add_support("B", "pinned")
+    m.add_rigid_link("B", "A")  # the bar: carries A's node rotation, so the joint releases the beam
+    m.add_joint("A", members=[beam])
+    m.add_moment("A", [M], member=beam)
+    r = fem.solve(m)
+    assert r.converged
+    # the torque reaches the clamp through the beam: carry-over moment M/2 at O
+    assert np.isclose(r.reaction("O")[2], M / 2, rtol=1e-6)
+    # the same torque on the node (the pin side, which nothing else holds) does not reach the beam
+    m.loads[-1] = type(m.loads[-1])(m.loads[-1].node, "moment", m.loads[-1].values)
+    r2 = fem.solve(m)
+    assert r2.converged and abs(r2.reaction("O")[2]) < 1e-6 * M

@@ -9,6 +9,7 @@ deformed configurations as VTU files for ParaView under ``vtu/<id>/``.
 from __future__ import annotations
 
 import datetime as _dt
+import hashlib
 import html
 import math
 import platform
@@ -113,16 +114,23 @@ def _level_axis(result: CaseResult) -> tuple[np.ndarray, str]:
 
 
 def _plot_outputs(result: CaseResult, table: pd.DataFrame, folder: Path) -> list[str]:
+    """One figure per case: a panel per output (value against load level), every method as a line,
+    every printed column as markers."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     axis, label = _level_axis(result)
-    files = []
-    outputs = table.dropna(subset=["quantity"]).groupby(["quantity", "point"], sort=False)
-    for (quantity, point), part in outputs:
-        fig, ax = plt.subplots(figsize=(6, 4))
+    outputs = list(table.dropna(subset=["quantity"]).groupby(["quantity", "point"], sort=False))
+    if not outputs:
+        return []
+    ncols = min(3, len(outputs))
+    nrows = -(-len(outputs) // ncols)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(4.6 * ncols, 3.4 * nrows), squeeze=False)
+    fig.subplots_adjust(left=0.09, right=0.98, bottom=0.1 / nrows ** 0.5, top=0.97, wspace=0.32,
+                        hspace=0.45)
+    for ax, ((quantity, point), part) in zip(axes.flat, outputs):
         for method, rows in part.drop_duplicates(["method", "level"]).groupby("method"):
             rows = rows.sort_values("level")
             color, style = METHOD_STYLE.get(method, ("k", "-"))
@@ -133,17 +141,17 @@ def _plot_outputs(result: CaseResult, table: pd.DataFrame, folder: Path) -> list
         for ref_label, rows in refs.groupby("reference_label"):
             ax.plot(axis[rows["level"].astype(int)], rows["reference_value"], REF_MARKER.get(ref_label, "x"),
                     mfc="none", color="k", label=f"printed {ref_label}")
-        unit = part["unit"].iloc[0]
-        ax.set_xlabel(label)
-        ax.set_ylabel(f"{quantity}{'@' + point if point else ''} [{unit}]")
+        ax.set_xlabel(label, fontsize=8)
+        ax.set_ylabel(f"{quantity}{'@' + point if point else ''} [{part['unit'].iloc[0]}]", fontsize=8)
+        ax.tick_params(labelsize=7)
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
-        name = f"{result.loaded.id}_{quantity}_{point or 'global'}.png"
-        fig.tight_layout()
-        fig.savefig(folder / name, dpi=90)
-        plt.close(fig)
-        files.append(name)
-    return files
+        ax.legend(fontsize=7)
+    for ax in list(axes.flat)[len(outputs):]:
+        ax.set_visible(False)
+    name = f"{result.loaded.id}_outputs.png"
+    fig.savefig(folder / name, dpi=80)
+    plt.close(fig)
+    return [name]
 
 
 def normalise_shapes(shapes) -> list[list[np.ndarray]]:
@@ -201,8 +209,7 @@ def _plot_shapes(result: CaseResult, folder: Path) -> str | None:
     ax.set_ylabel(f"y [{case.unit('length')}]")
     ax.legend(fontsize=8)
     name = f"{result.loaded.id}_shapes.png"
-    fig.tight_layout()
-    fig.savefig(folder / name, dpi=90)
+    fig.savefig(folder / name, dpi=80, bbox_inches="tight")
     plt.close(fig)
     return name
 
@@ -227,8 +234,7 @@ def _plot_path(result: CaseResult, folder: Path) -> str | None:
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     name = f"{result.loaded.id}_path.png"
-    fig.tight_layout()
-    fig.savefig(folder / name, dpi=90)
+    fig.savefig(folder / name, dpi=80, bbox_inches="tight")
     plt.close(fig)
     return name
 
@@ -306,6 +312,30 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
     return cid, f"cases/{cid}.html"
 
 
+def _page_job(args) -> tuple[str, str]:
+    """Write one case page unless its digest (case text and results) is unchanged since last time."""
+    result, part, out = args
+    cid = result.loaded.id
+    stable = part.drop(columns=["wall_time", "cached"])  # what a page shows, less the timings
+    digest = hashlib.sha256((result.loaded.text + stable.to_csv(index=False)).encode()).hexdigest()
+    stamp = out / "cases" / f"{cid}.digest"
+    if stamp.exists() and stamp.read_text() == digest and (out / "cases" / f"{cid}.html").exists():
+        return cid, f"cases/{cid}.html"
+    page = _case_page(result, part, out)
+    stamp.write_text(digest)
+    return page
+
+
+def _build_pages(results: list[CaseResult], table: pd.DataFrame, out: Path, jobs: int):
+    tasks = [(r, table[table["case"] == r.loaded.id], out) for r in results]
+    if jobs > 1 and len(tasks) > 1:
+        from concurrent.futures import ProcessPoolExecutor
+
+        with ProcessPoolExecutor(max_workers=jobs) as pool:
+            return list(pool.map(_page_job, tasks, chunksize=4))
+    return [_page_job(t) for t in tasks]
+
+
 def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[str] | None = None) -> int:
     started = time.perf_counter()
     out.mkdir(parents=True, exist_ok=True)
@@ -320,10 +350,7 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     except ImportError:
         pass
     summ = summary(table) if len(table) else pd.DataFrame()
-    links = {}
-    for result in outcome.results:
-        cid, link = _case_page(result, table[table["case"] == result.loaded.id], out)
-        links[cid] = link
+    links = dict(_build_pages(outcome.results, table, out, jobs))
     summ.to_csv(out / "summary.csv", index=False)
 
     failed = outcome.failed_comparisons

@@ -67,8 +67,11 @@ def _segment_model(fem, case, elements: int, options: dict):
     return model
 
 
-def _add_loads(model, case, allowed_points) -> set:
-    """Add the case's loads; returns the tip DOFs they act on (for the boundary defaults)."""
+def _add_loads(model, case, allowed_points, members: dict | None = None) -> set:
+    """Add the case's loads; returns the tip DOFs they act on (for the boundary defaults).
+
+    A moment with ``body`` naming a beam acts on that beam's end (one side of a hinge); on a rigid
+    link, or without ``body``, it acts on the node's rotation."""
     acted = set()
     for i, load in enumerate(case.loads):
         if load.point not in allowed_points:
@@ -79,7 +82,8 @@ def _add_loads(model, case, allowed_points) -> set:
             model.add_force(load.point, values * d[0], values * d[1], follower=load.follower)
             acted |= {"ux", "uy"} if d[0] and d[1] else ({"ux"} if d[0] else {"uy"})
         elif load.kind == "moment":
-            model.add_moment(load.point, values)
+            member = (members or {}).get(load.body) if load.body else None
+            model.add_moment(load.point, values, member=member)
             acted.add("rz")
         elif load.kind == "rotation":
             model.prescribe(load.point, "rz", np.radians(values))
@@ -152,7 +156,7 @@ def _mechanism_model(fem, case, elements: int, options: dict):
         model.add_joint(joint.node, released, k=joint.spring)
     for sup in mech.supports:
         model.add_support(sup.node, sup.kind, direction=sup.direction or (1.0, 0.0))
-    _add_loads(model, case, set(coords))
+    _add_loads(model, case, set(coords), {b.name: member_index[b.name] for b in mech.beams})
     return model
 
 
