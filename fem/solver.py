@@ -35,7 +35,7 @@ from .linear_solver import SingularMatrix
 from .model import DOF_NAMES, Model
 from .newton import Path, StepFailed, accept_check, det_sign, growth, newton, snapshot
 from .result import build_result
-from .stability import conservative, held_sign, switch_branch
+from .stability import DENSE_LIMIT, conservative, held_sign, lowest_modes, switch_branch
 from .warm_start import chord_angles, guess_states, reduced_from_full
 
 __all__ = ["solve"]
@@ -59,6 +59,26 @@ def _try_guess(system, opts, path, u_guess, q, loads):
     return q_new, ev, hist, its, fac
 
 
+SWITCH_STEP = 1.0 / 64    # branch switching is tried from steps no longer than this (of a level)
+
+
+def _even_crossing(system, st, held) -> bool:
+    """True when det K > 0 hides an unstable state: two (or any even number of) eigenvalues
+    crossed zero in one step, which the sign of det K cannot see. Checked by the lowest eigenvalue,
+    only where it can happen (conservative loads, some member in compression) and only for systems
+    small enough for a dense eigensolver (larger ones rely on the sign of det K)."""
+    if not conservative(system) or system.n > DENSE_LIMIT:
+        return False
+    if float(np.min(st["ev"]["el"]["N"], initial=0.0)) >= 0.0:
+        return False
+    try:
+        vals, _ = lowest_modes(system, st["ev"]["K"], held, count=1)
+    except (ValueError, np.linalg.LinAlgError, RuntimeError):
+        return False
+    scale = float(np.abs(system.layout.to_sparse(st["ev"]["K"]).diagonal()).max())
+    return bool(vals[0] < -1e-12 * scale)
+
+
 def _watch_stability(system, opts, path, st, loads, mode="load", ctrl=None, held=None):
     """After a converged step: a stable state that became unstable (sign det K, of K_ff
     with the control DOF `held` under displacement control, turned negative) is
@@ -67,7 +87,9 @@ def _watch_stability(system, opts, path, st, loads, mode="load", ctrl=None, held
     ``st`` (q, lam, ev, fac, sign, hist, its) is updated in place; returns None or
     the reason why no stable state was found.  Arc-length never calls this: it traces
     unstable branches on purpose."""
-    if not opts["check_stability"] or not path.stable or st["sign"] >= 0:
+    if not opts["check_stability"] or not path.stable:
+        return None
+    if st["sign"] >= 0 and not _even_crossing(system, st, held):
         return None
     if not conservative(system):
         path.stable = False         # follower loads: the static criterion is not decisive
@@ -141,6 +163,10 @@ def _run_load(system, opts, path):
             st = dict(q=q_new, lam=1.0, ev=ev, fac=fac, hist=hist, its=its, beta=beta,
                       sign=det_sign(system, ev, fac) if opts["watch_det"] else 0)
             why = _watch_stability(system, opts, path, st, loads)
+            if why and dt > SWITCH_STEP:   # a long step may have crossed several critical loads:
+                path.cutbacks += 1         # retry shorter, so that one is crossed at a time
+                dt *= 0.25
+                continue
             if why:
                 return (f"load level {k}: step from t = {t:.6g} to {t_new:.6g} of the segment "
                         f"from level {a}: {why}")
