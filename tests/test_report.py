@@ -25,3 +25,17 @@ def test_report_links_resolve_and_tables_match(tmp_path):
     assert f"{fem_rows['value'].iloc[0]:.6g}" in case_page  # the page shows the computed value
     md = (tmp_path / "index.md").read_text()
     assert "cantilever_tip_load" in md and "Reproducibility" in md
+
+
+def test_glance_differences_are_the_differences_of_the_values():
+    from validation.loader import case_by_id
+    from validation.report import glance
+    from validation.runner import run_case, tabulate
+
+    table = tabulate(run_case(case_by_id("cantilever_tip_load"), use_cache=False))
+    view = glance(table)
+    assert len(view) == 30  # x, y, rotation at 10 levels
+    assert ((view["PRBM - FEM"] - (view["prbm"] - view["fem"])).abs() < 1e-12).all()
+    assert ((view["FEM - exact"] - (view["fem"] - view["elastica"])).abs() < 1e-12).all()
+    row = view[(view["quantity"] == "y") & (view["load"] == "9")].iloc[0]
+    assert row["printed exact"] == 0.810609  # the reference from the case file, beside the methods

@@ -265,6 +265,37 @@ def _write_vtu(result: CaseResult, folder: Path) -> list[str]:
     return files
 
 
+def glance(table: pd.DataFrame) -> pd.DataFrame:
+    """Every output at every level in one row: each method's value, each printed column, and the
+    differences an engineer asks about first (PRBM - FEM, each model - measured, FEM - exact)."""
+    rows = table.dropna(subset=["quantity"])
+    if rows.empty:
+        return pd.DataFrame()
+    key = ["quantity", "point", "level"]
+    values = rows.drop_duplicates(key + ["method"]).pivot_table(index=key, columns="method", values="value",
+                                                                  aggfunc="first")
+    refs = rows.dropna(subset=["reference_label"]).drop_duplicates(key + ["reference_label"])
+    printed = refs.pivot_table(index=key, columns="reference_label", values="reference_value", aggfunc="first")
+    printed.columns = [f"printed {c}" for c in printed.columns]
+    out = values.join(printed, how="left")
+    fem_est = rows[rows["method"] == "fem"].drop_duplicates(key).set_index(key)["error_estimate"]
+    if len(fem_est):
+        out["fem ± (estimate)"] = fem_est
+    if {"prbm", "fem"} <= set(out.columns):
+        out["PRBM - FEM"] = out["prbm"] - out["fem"]
+    for method in ("prbm", "fem"):
+        if method in out.columns and "printed measured" in out.columns:
+            out[f"{method.upper()} - measured"] = out[method] - out["printed measured"]
+    if {"fem", "elastica"} <= set(out.columns):
+        out["FEM - exact"] = out["fem"] - out["elastica"]
+    labels = rows.drop_duplicates(key).set_index(key)["level_label"]
+    out = out.reset_index()
+    out.insert(3, "load", [labels.get((q, p, l), l) for q, p, l in zip(out["quantity"], out["point"], out["level"])])
+    units = rows.drop_duplicates(["quantity"]).set_index("quantity")["unit"]
+    out.insert(1, "unit", out["quantity"].map(units))
+    return out.drop(columns=["level"])
+
+
 def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str, str]:
     case = result.loaded.case
     cid = case.case.id
@@ -290,7 +321,12 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
     if case.case.assumptions:
         head += "<h3>Assumptions</h3><ul>" + "".join(f"<li>{html.escape(a)}</li>"
                                                      for a in case.case.assumptions) + "</ul>"
+    at_a_glance = glance(table)
     body = head + "<h2>Methods</h2>" + _html_table(runs)
+    if len(at_a_glance):
+        body += ("<h2>At a glance</h2><p>Each method's value beside the printed columns; differences are "
+                 "in the output's unit (FEM - exact uses the exact elastica where the case runs it; "
+                 "'fem ± (estimate)' is the FEM's own Richardson error estimate).</p>" + _html_table(at_a_glance))
     if len(findings) or case.case.findings:
         body += "<h2>Findings</h2><ul>" + "".join(f"<li>{html.escape(f)}</li>" for f in case.case.findings) + "".join(
             f"<li>{html.escape(str(r['reference_label']))} {r['quantity']} level {r['level_label']}: "
@@ -306,7 +342,10 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
     md = [f"# {case.case.title}\n", f"`{cid}` · {case.case.group} · units {case.case.units} · {source}\n",
           case.case.description + "\n"]
     md += [f"- {a}" for a in case.case.assumptions]
-    md += ["\n## Methods\n", _md_table(runs), "\n## Every output\n", _md_table(shown)]
+    md += ["\n## Methods\n", _md_table(runs)]
+    if len(at_a_glance):
+        md += ["\n## At a glance\n", _md_table(at_a_glance)]
+    md += ["\n## Every output\n", _md_table(shown)]
     md += [f"\n![{name}]({name})" for name in images]
     (folder / f"{cid}.md").write_text("\n".join(md) + "\n")
     return cid, f"cases/{cid}.html"
