@@ -437,6 +437,17 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     if extra:
         body.append("<h2>Other pages</h2><ul>" + "".join(f"<li><a href='{link}'>{label}</a></li>"
                                                          for link, label in extra) + "</ul>")
+    studies = sorted(p for p in (out / "sweeps").glob("*") if p.is_dir() and list(p.glob("*.png")))
+    if studies:
+        body.append("<h2>Sweep studies (prbm-validate sweep)</h2>")
+        for study in studies:
+            pictures = "".join(f"<p><img src='sweeps/{study.name}/{png.name}' alt='{png.name}'></p>"
+                               for png in sorted(study.glob("*.png")))
+            body.append(f"<h3>{html.escape(study.name)}</h3>{pictures}")
+    bench_plots = sorted((out / "bench").glob("*.png"))
+    if bench_plots:
+        body.append("<h2>Benchmark (prbm-validate bench)</h2>" + "".join(
+            f"<p><img src='bench/{png.name}' alt='{png.name}'></p>" for png in bench_plots))
     md += ["\n## Reproducibility\n", _md_table(pd.DataFrame(list(info.items()), columns=["item", "value"]))]
     (out / "index.html").write_text(_page("PRBM validation report", "".join(body)))
     (out / "index.md").write_text("\n".join(md) + "\n")
