@@ -8,12 +8,12 @@ A bad file gives one line naming the file and the field (``SpecError``).
 """
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 
+from validation.loader import read_toml_model
 from validation.schema import UNIT_SYSTEMS, Source
 
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
@@ -262,24 +262,6 @@ class Spec(Strict):
         return self
 
 
-def _field_path(location: tuple) -> str:
-    return ".".join(str(p) for p in location if not (isinstance(p, str) and p.startswith("function-"))) or "(top level)"
-
-
 def load_spec(path: Path | str) -> Spec:
     """Read and validate a specification; ``SpecError`` with a one-line message on any problem."""
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise SpecError(path, "", f"cannot read file ({exc.strerror})") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise SpecError(path, "", f"not valid TOML: {exc}") from None
-    try:
-        return Spec.model_validate(data)
-    except ValidationError as exc:
-        err = exc.errors()[0]
-        more = f" (and {exc.error_count() - 1} more)" if exc.error_count() > 1 else ""
-        raise SpecError(path, _field_path(err["loc"]), err["msg"].removeprefix("Value error, ") + more) from None
+    return read_toml_model(path, Spec, SpecError)[1]

@@ -143,7 +143,7 @@ def test_missing_file(tmp_path, capsys):
     assert "nope.toml" in capsys.readouterr().err
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=40, deadline=None, derandomize=True, database=None)
 @given(st.floats(3, 8), st.floats(40, 130), st.floats(5, 12), st.floats(50, 140),
        st.floats(5, 25), st.floats(-40, 40), st.floats(0.5, 3), st.floats(10, 30))
 def test_dyads_recover_a_known_linkage(R2, t2, R4, t4, dphi, t5, r5, dphi3):
@@ -152,8 +152,8 @@ def test_dyads_recover_a_known_linkage(R2, t2, R4, t4, dphi, t5, r5, dphi3):
     Z1 = 4.0 + 0.5j
     Z2, Z4 = polar(R2, t2), polar(R4, t4)
     Z3 = Z1 + Z4 - Z2
-    if abs(Z3) < 1.0:
-        return
+    if abs(Z3) < 1.0 or abs(Z2 - Z4) < 0.5:  # a (near-)parallelogram: the coupler never turns, the
+        return                              # motion-generation dyads are singular (gamma_j = 0)
     Z5 = Z3 * 0.5 + polar(r5, cmath.phase(Z3) * 180 / math.pi + 90 + t5)
     fb = FourBar(Z1, Z2, Z3, Z4, Z5, Z5 - Z3, [0.0], [0.0], [0.0])
     P1 = Z2 + Z5

@@ -34,27 +34,36 @@ class LoadedCase:
 
 
 def _field_path(location: tuple) -> str:
-    parts = [str(p) for p in location if not (isinstance(p, str) and p.startswith("function-"))]
-    return ".".join(parts) or "(top level)"
+    """Dotted field path of a pydantic error location, without validator and union-member tags."""
+    def is_tag(part) -> bool:
+        return isinstance(part, str) and (part.startswith("function-") or "[" in part
+                                          or part in ("str", "int", "float", "bool"))
+    return ".".join(str(p) for p in location if not is_tag(p)) or "(top level)"
 
 
-def load_case(path: Path | str) -> LoadedCase:
-    """Read and validate one case file; raise ``CaseError`` with a one-line message on any problem."""
+def read_toml_model(path: Path | str, model, error=CaseError):
+    """(text, validated model) of a TOML file; any problem raises ``error(path, field, problem)``,
+    whose ``str()`` is one line naming the file, the field path and what is wrong."""
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
-        raise CaseError(path, "", f"cannot read file ({exc.strerror})") from None
+        raise error(path, "", f"cannot read file ({exc.strerror})") from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise CaseError(path, "", f"not valid TOML: {exc}") from None
+        raise error(path, "", f"not valid TOML: {exc}") from None
     try:
-        case = Case.model_validate(data)
+        return text, model.model_validate(data)
     except ValidationError as exc:
         field, message = describe(exc)
-        raise CaseError(path, field, message) from None
-    return LoadedCase(path=path, text=text, case=case)
+        raise error(path, field, message) from None
+
+
+def load_case(path: Path | str) -> LoadedCase:
+    """Read and validate one case file; raise ``CaseError`` with a one-line message on any problem."""
+    text, case = read_toml_model(path, Case)
+    return LoadedCase(path=Path(path), text=text, case=case)
 
 
 def describe(exc: ValidationError) -> tuple[str, str]:

@@ -79,7 +79,7 @@ from typing import Any, Iterator, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
-from validation.loader import CASES_DIR, CaseError, find_case_files, load_case
+from validation.loader import CASES_DIR, CaseError, find_case_files, load_case, read_toml_model
 from validation.schema import Case, Finite, OutputSpec, Positive
 from validation.sweep_task import MODES, ROW_COLUMNS, PathError, check_path, prepare, run_chunk
 
@@ -308,20 +308,7 @@ def _check_field(data: dict, param: Parameter) -> None:
 def load_spec(path: Path | str) -> LoadedSweep:
     """Read and validate a spec and its base cases; raise ``SpecError`` with a one-line message."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise SpecError(path, "", f"cannot read file ({exc.strerror})") from None
-    try:
-        spec = SweepSpec.model_validate(tomllib.loads(text))
-    except tomllib.TOMLDecodeError as exc:
-        raise SpecError(path, "", f"not valid TOML: {exc}") from None
-    except ValidationError as exc:
-        err = exc.errors()[0]
-        loc = ".".join(str(p) for p in err["loc"]
-                       if not (isinstance(p, str) and (p.startswith("function-") or p in ("str", "list[str]"))))
-        more = f" (and {exc.error_count() - 1} more)" if exc.error_count() > 1 else ""
-        raise SpecError(path, loc or "(top level)", err["msg"].removeprefix("Value error, ") + more) from None
+    text, spec = read_toml_model(path, SweepSpec, SpecError)
     info = spec.sweep
     outputs = None if info.outputs == "case" else [o.model_dump(exclude_none=True) for o in info.outputs]
     cases, files = {}, {}
