@@ -30,11 +30,10 @@ import time
 from pathlib import Path
 
 import numpy as np
-from scipy.optimize import brentq
-from scipy.special import ellipe, ellipeinc, ellipk, ellipkinc
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import fem  # noqa: E402
+from elastica import cantilever_tip_load  # noqa: E402
 
 try:
     import openseespy.opensees as ops
@@ -48,15 +47,9 @@ EI, EA, L = 1.0, 1e9, 1.0
 
 # ---------------------------------------------------------------- references
 def elastica_tip(alpha):
-    def residual(theta0):
-        k = np.sqrt((1 + np.sin(theta0)) / 2)
-        phi1 = np.arcsin(1 / (np.sqrt(2) * k))
-        return ellipk(k * k) - ellipkinc(phi1, k * k) - np.sqrt(alpha)
-    theta0 = brentq(residual, 1e-12, np.pi / 2 - 1e-14, xtol=1e-15)
-    k = np.sqrt((1 + np.sin(theta0)) / 2)
-    phi1 = np.arcsin(1 / (np.sqrt(2) * k))
-    w = 1 - 2 / np.sqrt(alpha) * (ellipe(k * k) - ellipeinc(phi1, k * k))
-    return np.array([np.sqrt(2 * np.sin(theta0) / alpha), w]) * L
+    """Exact tip position (x, y) of the tip-loaded cantilever, PL^2/EI = alpha (elliptic integrals)."""
+    tip = cantilever_tip_load(alpha)
+    return np.array([tip.a, tip.b]) * L
 
 
 def best_time(fn):
