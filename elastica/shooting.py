@@ -19,13 +19,23 @@ and theta(L) = tau. The Jacobian comes from the variational equations integrated
 (sensitivities of the state to m(0), Fx, Fy), so each Newton iteration costs one integration.
 
 Continuation: every load and prescribed value is interpolated linearly from a start state (the
-unloaded beam, or a previous result) to the target, with a secant predictor, adaptive steps and a
-step rejection when the tip rotation jumps by more than ``max_rotation_step`` rad or Newton
-needs more than ``max_step_iterations`` iterations (the predictor was too far from the branch).
-This follows the physically connected branch (the full-circle roll-up returns a tip rotation of
-2 pi, not 4 pi; Table 3.5 Ex. 2 stays on the branch of the unloaded beam). Intermediate steps are
-integrated at ``path_rtol``; the final corrector at ``rtol`` (1e-12), so the end conditions hold
-to ``tol`` = 1e-11 and tip values are accurate to about 1e-10 relative.
+unloaded beam, or a previous result) to the target, q(lambda) = q0 + lambda (q1 - q0), with a
+tangent predictor dz/dlambda = -J^-1 (dr/dq)(q1 - q0) (both from the variational equations of
+the accepted state), adaptive steps, and a step rejection (the step halved) when the corrector
+left the path: the tip moved by more than ``max_position_step`` L or rotated by more than
+``max_rotation_step`` rad, the corrector moved the shooting unknowns z further from the
+predictor than ``max_corrector`` times the predicted change (plus a small floor), or Newton
+needed more than ``max_step_iterations`` iterations. A first-order predictor misses the path
+by O(dlambda^2), so halving the step always satisfies the corrector test on a smooth path; a
+Newton solution on another branch (a straight beam pushed back towards its clamp has several
+equilibria at the same load) is far from the predictor whatever the step. So one requested load
+is reached along the physically connected path from the start state, however large: the beam
+under a tip load pointing back towards the clamp bends the way the load's transverse component
+pushes and curls back; the full-circle roll-up returns a tip rotation of 2 pi, not 4 pi; Table
+3.5 Ex. 2 stays on the branch of the unloaded beam. The elastica's own stability is not
+checked: the path is followed, stable or not. Intermediate steps are integrated at
+``path_rtol``; the final corrector at ``rtol`` (1e-12), so the end conditions hold to ``tol`` =
+1e-11 and tip values are accurate to about 1e-10 relative.
 
 Sign conventions: x along the undeformed (straight) beam from the clamp, y transverse, angles and
 moments counter-clockwise positive. The seeds' (Bapat 2015) P, nP, M for a tip are Fx = -nP,
@@ -215,6 +225,44 @@ class _Shooter:
         return r, J, sol
 
 
+def _load_derivative(shooter, sol, z, nq):
+    """d r / d q (n x nq) at the end of the integration ``sol``: the force parameters act
+    through the sensitivities to (Fx, Fy), the others enter the end conditions directly."""
+    S = sol.y[5:, -1].reshape(4, 3)
+    dFdq = np.zeros((2, nq))
+    dFdq[0, 0] = dFdq[1, 1] = 1.0
+    if shooter.has_follower:
+        c, sn = math.cos(z[-1]), math.sin(z[-1])
+        dFdq[:, 3] = [c, sn]
+        dFdq[:, 4] = [-sn, c]
+    dYdq = S[:, 1:] @ dFdq
+    D = np.zeros((shooter.n, nq))
+    if shooter.angle_given:
+        D[0] = dYdq[2]
+        D[0, -1] -= 1.0
+    else:
+        D[0] = dYdq[3]
+        D[0, 2] -= 1.0
+    for k, d in enumerate(shooter.dirs):
+        D[1 + k] = d[0] * dYdq[0] + d[1] * dYdq[1]
+        D[1 + k, 5 + k] -= 1.0
+    if shooter.has_follower:
+        D[-1] = dYdq[2]
+    return D
+
+
+def _tangent(shooter, z, q, dq):
+    """(dz/dlambda along q(lambda) with dq/dlambda = dq, tip (x, y, theta)) at z; None if singular."""
+    r, J, sol = shooter.residual(z, q)
+    if r is None:
+        return None, None
+    tip = sol.y[:3, -1].copy()
+    try:
+        return np.linalg.solve(J, -_load_derivative(shooter, sol, z, len(q)) @ dq), tip
+    except np.linalg.LinAlgError:
+        return None, tip
+
+
 def _newton(shooter, z, q, tol, maxiter):
     """Damped Newton on the end conditions. Returns (z, converged, iterations, residual norm, tip angle)."""
     z, ok, it, norm, sol = _newton_sol(shooter, z, q, tol, maxiter)
@@ -252,6 +300,7 @@ def _newton_sol(shooter, z, q, tol, maxiter):
 def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
                rtol: float = 1e-12, atol: float = 1e-13, tol: float = 1e-11,
                initial_step: float = 0.25, min_step: float = 1e-5, max_rotation_step: float = 0.5,
+               max_position_step: float = 0.25, max_corrector: float = 0.5,
                max_step_iterations: int = 8,
                maxiter: int = 25, n_samples: int = 101, path_rtol: float = 1e-7) -> ElasticaResult:
     """Continue from ``start`` (default: the unloaded beam) to ``problem`` and return the end state.
@@ -260,6 +309,8 @@ def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
     not, same length/EI/curvature); its loads and prescribed values are interpolated to the
     target's. Tolerances: ``rtol``/``atol`` of the final DOP853 integration, ``tol`` on the
     residual of the normalised end conditions; intermediate continuation steps use ``path_rtol``.
+    Step control (module docstring): ``max_position_step`` (of L), ``max_rotation_step`` (rad),
+    ``max_corrector`` (corrector distance / predicted change), ``max_step_iterations``.
     With prescribed tip positions along the tip tangent the path is staged (``_staged_start``).
     """
     t0 = time.perf_counter()
@@ -277,19 +328,27 @@ def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
             q0, z, it, ns = _staged_start(problem, path, q0)
             nit, nsteps = nit + it, nsteps + ns
     lam, dlam = 0.0, min(initial_step, 1.0)
-    z_prev, lam_prev = None, None
     message, converged, norm = "converged", True, 0.0
-    tip_angle = _tip_angle(path, z, q0)
-    while lam < 1.0:
+    dz, tip = _tangent(path, z, q0, q1 - q0)
+    while lam < 1.0 and tip is not None:
         lam_try = min(1.0, lam + dlam)
         q = q0 + lam_try * (q1 - q0)
-        z_guess = z if z_prev is None else z + (z - z_prev) * (lam_try - lam) / (lam - lam_prev)
-        z_new, ok, it, norm, new_angle = _newton(path, z_guess, q, 10 * path_rtol, maxiter)
+        step = (lam_try - lam) * dz if dz is not None else np.zeros_like(z)
+        z_guess = z + step
+        z_new, ok, it, norm, sol = _newton_sol(path, z_guess, q, 10 * path_rtol, maxiter)
         nit += it
-        ok = ok and it <= max_step_iterations and abs(new_angle - tip_angle) <= max_rotation_step
+        if ok and sol is not None:
+            new_tip = sol.y[:3, -1]
+            moved = math.hypot(new_tip[0] - tip[0], new_tip[1] - tip[1])
+            off = np.linalg.norm(z_new - z_guess)
+            ok = (it <= max_step_iterations and abs(new_tip[2] - tip[2]) <= max_rotation_step
+                  and moved <= max_position_step
+                  and (dz is None or off <= max_corrector * np.linalg.norm(step)
+                       + 1e-6 * (1.0 + np.linalg.norm(z))))
         if ok:
-            z_prev, lam_prev, z, lam, tip_angle = z, lam, z_new, lam_try, new_angle
+            z, lam = z_new, lam_try
             nsteps += 1
+            dz, tip = _tangent(path, z, q, q1 - q0)
             if it <= 3:
                 dlam = min(2.0 * dlam, 1.0)
         else:
@@ -298,6 +357,9 @@ def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
                 converged = False
                 message = f"continuation stalled at load fraction {lam:.6g} (residual {norm:.3g})"
                 break
+    if tip is None:
+        converged, message = False, "integration failed at the start state"
+    tip_angle = tip[2] if tip is not None else math.nan
     q_end = q0 + lam * (q1 - q0)
     if converged:                                   # final corrector at full accuracy
         z_fin, ok, it, norm, angle = _newton(final, z, q_end, tol, maxiter)

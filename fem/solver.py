@@ -7,6 +7,10 @@ unknowns q (`assembly.System`) by Newton-Raphson with the consistent tangent K.
   between load levels, parameter t in [0, 1] per segment): adaptive substeps,
   cut on failure (halved, or in proportion to an excessive rotation
   increment), grown after easy steps; secant predictor within a segment.
+  A step is also cut when its increment points against the previous one
+  (it jumped to another branch), and when it lands on an unstable state
+  (a step too long for an imperfect path, or several critical loads crossed)
+  until it is no longer than ``SWITCH_STEP``; only then is the branch switched.
 * Displacement control: one DOF q_c follows prescribed targets, the load
   factor lambda is unknown.  Bordered system solved with two back-solves
   (Batoz & Dhatt 1979; Crisfield 1991 sec. 9.3.3):
@@ -60,6 +64,7 @@ def _try_guess(system, opts, path, u_guess, q, loads):
 
 
 SWITCH_STEP = 1.0 / 64    # branch switching is tried from steps no longer than this (of a level)
+JUMP_CUT_FLOOR = 64       # steps shorter than this many min_step are not cut for turning back
 
 
 def _even_crossing(system, st, held) -> bool:
@@ -79,32 +84,50 @@ def _even_crossing(system, st, held) -> bool:
     return bool(vals[0] < -1e-12 * scale)
 
 
-def _watch_stability(system, opts, path, st, loads, mode="load", ctrl=None, held=None):
-    """After a converged step: a stable state that became unstable (sign det K, of K_ff
-    with the control DOF `held` under displacement control, turned negative) is
-    replaced by a stable one on another branch (`stability.switch_branch`).
+def _turned_back(system, dq, dq_prev) -> bool:
+    """True when the increment of a load step points against the previous one (negative
+    cosine in the norm ||dq||_W, rotations weighted by the mean element length squared):
+    under load control the path does not turn back within one step, the state jumped to
+    another branch (e.g. the buckled state on the far side of an imperfect column)."""
+    d = system.disc
+    w = np.where(d.red_is_rotation, float(np.mean(d.L0)) ** 2 if len(d.L0) else 1.0, 1.0)
+    return bool(np.dot(dq * w, dq_prev) < 0.0)
 
-    ``st`` (q, lam, ev, fac, sign, hist, its) is updated in place; returns None or
-    the reason why no stable state was found.  Arc-length never calls this: it traces
-    unstable branches on purpose."""
+
+def _lost_stability(system, opts, path, st, held=None) -> bool:
+    """True when a converged step took the stable path to an unstable state: sign det K (of
+    K_ff with the control DOF `held` under displacement control) turned negative, or an even
+    number of eigenvalues crossed zero (`_even_crossing`). Dead loads only: under follower
+    loads a sign change is recorded as unassessed (the static criterion is not decisive) and
+    the path is no longer watched. Arc-length never calls this: it traces unstable branches
+    on purpose."""
     if not opts["check_stability"] or not path.stable:
-        return None
+        return False
     if st["sign"] >= 0 and not _even_crossing(system, st, held):
-        return None
+        return False
     if not conservative(system):
-        path.stable = False         # follower loads: the static criterion is not decisive
+        path.stable = False
         path.unassessed.append(len(path.step_lams))
-        return None
+        return False
     if held is not None:
         try:
             fac = st["fac"] or system.layout.factor(st["ev"]["K"])
             if held_sign(fac, st["sign"], held) >= 0:
-                return None
+                return False
         except SingularMatrix:
-            return None
+            return False
+    return True
+
+
+def _leave_unstable(system, opts, path, st, loads, q_prev, mode="load", ctrl=None, held=None):
+    """Replace the unstable state ``st`` (q, lam, ev, fac, sign, hist, its; updated in place)
+    by a stable one on another branch, preferably the one on the side of the path's last
+    stable state ``q_prev`` (`stability.switch_branch`). Returns None, or the reason why no
+    stable state was found."""
     status, out = switch_branch(system, opts, st["q"], st["lam"], st["beta"], st["ev"], loads,
-                                mode=mode, ctrl=ctrl, held=held)
-    if status == "stable":
+                                mode=mode, ctrl=ctrl, held=held, q_prev=q_prev)
+    if status == "stable":       # the eigenvalues (decisive) put it within rounding of stable
+        st["sign"] = 1
         return None
     if status == "failed":
         return ("the converged state is unstable: a bifurcation was crossed (det K < 0, "
@@ -132,9 +155,9 @@ def _run_load(system, opts, path):
                 q_g, ev, hist, its, fac = got
                 st = dict(q=q_g, lam=1.0, ev=ev, fac=fac, hist=hist, its=its, beta=beta,
                           sign=det_sign(system, ev, fac) if opts["watch_det"] else 0)
-                why = _watch_stability(system, opts, path, st, system.loads_at(a, b, 1.0))
-                if why:
-                    return f"load level {k} (warm start): {why}"
+                if _lost_stability(system, opts, path, st):
+                    got = None      # not a state of the path: step to the level instead
+            if got is not None:
                 q, ev, hist, its = st["q"], st["ev"], st["hist"], st["its"]
                 t, beta = 1.0, ev["el"]["beta"].copy()
                 path.residuals.append(np.array(hist))
@@ -160,16 +183,23 @@ def _run_load(system, opts, path):
                             f"{t_new:.6g} of the segment from level {a} (step < min_step), "
                             f"iteration {exc.iteration}: {exc.reason}")
                 continue
-            st = dict(q=q_new, lam=1.0, ev=ev, fac=fac, hist=hist, its=its, beta=beta,
-                      sign=det_sign(system, ev, fac) if opts["watch_det"] else 0)
-            why = _watch_stability(system, opts, path, st, loads)
-            if why and dt > SWITCH_STEP:   # a long step may have crossed several critical loads:
-                path.cutbacks += 1         # retry shorter, so that one is crossed at a time
+            if (prev is not None and dt > JUMP_CUT_FLOOR * opts["min_step"]
+                    and _turned_back(system, q_new - q, prev[0])):
+                path.cutbacks += 1          # left the path: jumped to another branch
+                path.rejected_iterations += its
                 dt *= 0.25
                 continue
-            if why:
-                return (f"load level {k}: step from t = {t:.6g} to {t_new:.6g} of the segment "
-                        f"from level {a}: {why}")
+            st = dict(q=q_new, lam=1.0, ev=ev, fac=fac, hist=hist, its=its, beta=beta,
+                      sign=det_sign(system, ev, fac) if opts["watch_det"] else 0)
+            if _lost_stability(system, opts, path, st):
+                if dt > SWITCH_STEP:   # a long step may have jumped off an imperfect path, or
+                    path.cutbacks += 1  # crossed several critical loads: retry shorter
+                    dt *= 0.25
+                    continue
+                why = _leave_unstable(system, opts, path, st, loads, q)
+                if why:
+                    return (f"load level {k}: step from t = {t:.6g} to {t_new:.6g} of the "
+                            f"segment from level {a}: {why}")
             q_new, ev, hist, its = st["q"], st["ev"], st["hist"], st["its"]
             switched = st.get("switched", False)
             prev = (q_new - q, t_new - t) if opts["predictor"] == "secant" and not switched else None
@@ -237,8 +267,10 @@ def _run_disp(system, model, opts, path):
                 continue
             st = dict(q=q_new, lam=lam_new, ev=ev, fac=fac, hist=hist, its=its, beta=beta,
                       sign=det_sign(system, ev, fac) if opts["watch_det"] else 0)
-            why = _watch_stability(system, opts, path, st, loads, mode="disp",
-                                   ctrl=(k, coef, u_t), held=k)
+            why = None
+            if _lost_stability(system, opts, path, st, held=k):
+                why = _leave_unstable(system, opts, path, st, loads, q, mode="disp",
+                                      ctrl=(k, coef, u_t), held=k)
             if why:
                 return f"load level {lev} (control displacement {u_t:.6g}): {why}"
             q_new, lam_new, ev, hist, its, fac = (st[key] for key in ("q", "lam", "ev", "hist", "its", "fac"))

@@ -17,8 +17,17 @@ otherwise) confirm it, and the branch is switched (Riks 1984; Wagner & Wriggers
 1988): starting from  q* +- a phi_1  (phi_1 the eigenvector of the most negative
 eigenvalue, amplitudes a growing), Newton is rerun at the same load; a candidate
 counts when it converged, passes the rotation-continuity checks, left q*, and is
-stable itself.  Of the stable candidates on the two sides, the one with the lower
-Pi is kept: the side an imperfection, or the work of the loads, favours.
+stable itself.  Of the stable candidates on the two sides, the one connected to the path
+is kept: the side s with  s phi_1 . (q_prev - q*) > 0, towards the last stable state of the
+path q_prev.  Above a critical load the near-straight equilibrium q* of an imperfect member
+is deflected against the imperfection (w = e / (1 - P/P_cr) < 0), so the connected branch,
+bent the way the imperfection pushes, lies back towards q_prev.  Neither the lower total
+potential Pi (a column pushed to +y far past its critical load has a deeper minimum at -y)
+nor the work of the loads at q*, f . phi_1 = f_int(q*) . phi_1 (it points to the side q*
+is already deflected to, against the imperfection), says which branch is connected.  Only
+when phi_1 . (q_prev - q*) vanishes (a perfect bifurcation) the lower Pi decides.  The
+solvers cut a long step that lands on an unstable state before switching: a step too long
+for an imperfect path is cured by a shorter one.
 
 Follower loads make K unsymmetric and the static criterion incomplete (flutter):
 there a sign change is reported, not acted on.  Limitation: two eigenvalues
@@ -39,6 +48,7 @@ __all__ = ["conservative", "held_sign", "lowest_modes", "potential", "switch_bra
 
 DENSE_LIMIT = 600        # dense eigh below this many unknowns, shift-invert Lanczos above
 AMPLITUDE = 1e-3       # of L_ref: largest translation of the perturbation (no stretching)
+SIDE_TOL = 1e-8        # |phi . (q_prev - q*)| / (|phi| |q_prev - q*|) below this: no side
 
 
 def conservative(system) -> bool:
@@ -176,8 +186,10 @@ def _stable(system, K, held, scale):
     return bool(vals[0] > -1e-12 * scale), float(vals[0])
 
 
-def switch_branch(system, opts, q_u, lam, beta, ev_u, loads, mode="load", ctrl=None, held=None):
-    """Leave the unstable equilibrium q_u along its critical eigenvector.
+def switch_branch(system, opts, q_u, lam, beta, ev_u, loads, mode="load", ctrl=None, held=None,
+                  q_prev=None):
+    """Leave the unstable equilibrium q_u along its critical eigenvector, preferably to the
+    side of ``q_prev`` (the last stable state of the path; see the module docstring).
 
     Returns ("stable", lowest eigenvalue) when the eigenvalues say q_u is stable after
     all, ("switched", (q, lam, ev, hist, its, fac, note)) or ("failed", reason)."""
@@ -225,9 +237,17 @@ def switch_branch(system, opts, q_u, lam, beta, ev_u, loads, mode="load", ctrl=N
                           f"the unstable one perturbed along the critical eigenvector "
                           f"({'; '.join(tried)})")
     side = min(found, key=lambda s: found[s][6])
+    back = 0.0 if q_prev is None else float(np.dot(phi, q_prev - q_u))
+    toward = float(np.sign(back)) if q_prev is not None and abs(back) > SIDE_TOL * (
+        np.linalg.norm(phi) * np.linalg.norm(q_prev - q_u)) else 0.0
+    if toward in found:
+        side = toward
     q, lam_c, ev, hist, its, fac, pi = found[side]
     other = found.get(-side)
+    why_side = ("the side of the path's last stable state" if toward == side
+                else "the lower total potential")
     note = (f"branch switch: unstable state (lowest eigenvalue {vals[0]:.3g}, Pi = {pi_u:.6g}) "
-            f"left along the critical eigenvector, side {'+' if side > 0 else '-'}; stable "
+            f"left along the critical eigenvector, side {'+' if side > 0 else '-'}, "
+            f"{why_side}; stable "
             f"state Pi = {pi:.9g}" + (f" (other side Pi = {other[6]:.9g})" if other else ""))
     return "switched", (q, lam_c, ev, hist, its_total, fac, note)

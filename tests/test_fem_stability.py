@@ -46,10 +46,11 @@ def test_imperfect_column_reaches_post_buckled_elastica(runs, imperfection):
     r32, r64 = runs[32, imperfection], runs[64, imperfection]
     for r in (r32, r64):
         assert r.converged, r.message
-        assert "branch switch" in r.message
-        switches = [c for c in r.critical_points if "branch_switch" in c]
-        assert len(switches) == 1 and switches[0]["kind"] == "bifurcation"
-        assert 2.0 < switches[0]["load_factor"] <= 3.0     # in the step 0.98 -> 1.02 P_cr
+        # an imperfect path has no bifurcation: the long step 0.98 -> 1.02 P_cr that lands on
+        # the unstable near-straight state is retried shorter, not switched, and a step that
+        # jumps to the buckled state on the far side is rejected (`solver._turned_back`)
+        assert "branch switch" not in r.message and r.critical_points == []
+        assert r.cutbacks > 0
         assert np.all(r.det_sign > 0)                      # every returned state is stable
     d32, d64 = (r.position("tip")[1] for r in (r32, r64))
     # buckled towards the imperfection
