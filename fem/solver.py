@@ -39,7 +39,7 @@ from .linear_solver import SingularMatrix
 from .model import DOF_NAMES, Model
 from .newton import Path, StepFailed, accept_check, det_sign, growth, newton, snapshot
 from .result import build_result
-from .stability import DENSE_LIMIT, conservative, held_sign, lowest_modes, switch_branch
+from .stability import DENSE_LIMIT, conservative, held_sign, lowest_modes, switch_branch, zero_eigenvalue
 from .warm_start import chord_angles, guess_states, reduced_from_full
 
 __all__ = ["solve"]
@@ -81,7 +81,7 @@ def _even_crossing(system, st, held) -> bool:
     except (ValueError, np.linalg.LinAlgError, RuntimeError):
         return False
     scale = float(np.abs(system.layout.to_sparse(st["ev"]["K"]).diagonal()).max())
-    return bool(vals[0] < -1e-12 * scale)
+    return bool(vals[0] < -zero_eigenvalue(scale, system.n))
 
 
 def _turned_back(system, dq, dq_prev) -> bool:

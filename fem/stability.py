@@ -51,6 +51,16 @@ AMPLITUDE = 1e-3       # of L_ref: largest translation of the perturbation (no s
 SIDE_TOL = 1e-8        # |phi . (q_prev - q*)| / (|phi| |q_prev - q*|) below this: no side
 
 
+def zero_eigenvalue(scale: float, n: int) -> float:
+    """The size below which an eigenvalue of a tangent with largest diagonal ``scale`` and ``n``
+    unknowns cannot be told from zero: rounding of a symmetric eigensolver, 10 n eps ||K||.
+
+    A fixed fraction of the largest diagonal (1e-12) was too coarse for slender beams: their
+    axial terms exceed the bending terms by (L/h)^2, so a genuinely negative bending eigenvalue
+    of a beam with L/h = 7e4 passed as zero."""
+    return 10.0 * n * np.finfo(float).eps * scale
+
+
 def conservative(system) -> bool:
     """Dead loads only (no followers): K is symmetric, K = d2 Pi / dq2."""
     return len(system.fol_nodes) == 0
@@ -119,7 +129,7 @@ def _descend(system, q, lam, beta, loads, free, tol, scale, max_iter=200):
         A = system.layout.to_sparse(ev["K"])[free][:, free]
         A = 0.5 * (A + A.T)
         mu_min = _lowest(A)
-        if np.linalg.norm(r) <= tol and mu_min > -1e-12 * scale:
+        if np.linalg.norm(r) <= tol and mu_min > -zero_eigenvalue(scale, len(q)):
             return q, mu_min
         mu = 1.5 * max(-mu_min, 0.0)
         dq = np.zeros_like(q)
@@ -183,7 +193,7 @@ def _stable(system, K, held, scale):
         vals, _ = lowest_modes(system, K, held, count=1)
     except (ValueError, np.linalg.LinAlgError, RuntimeError):
         return False, np.nan
-    return bool(vals[0] > -1e-12 * scale), float(vals[0])
+    return bool(vals[0] > -zero_eigenvalue(scale, system.n)), float(vals[0])
 
 
 def switch_branch(system, opts, q_u, lam, beta, ev_u, loads, mode="load", ctrl=None, held=None,
@@ -195,7 +205,7 @@ def switch_branch(system, opts, q_u, lam, beta, ev_u, loads, mode="load", ctrl=N
     all, ("switched", (q, lam, ev, hist, its, fac, note)) or ("failed", reason)."""
     vals, vecs = lowest_modes(system, ev_u["K"], held)
     scale = float(np.abs(system.layout.to_sparse(ev_u["K"]).diagonal()).max())
-    if vals[0] > -1e-12 * scale:
+    if vals[0] > -zero_eigenvalue(scale, system.n):
         return "stable", float(vals[0])
     phi = vecs[:, 0]
     rot = system.disc.red_is_rotation
