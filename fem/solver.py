@@ -80,8 +80,7 @@ def _even_crossing(system, st, held) -> bool:
         vals, _ = lowest_modes(system, st["ev"]["K"], held, count=1)
     except (ValueError, np.linalg.LinAlgError, RuntimeError):
         return False
-    scale = float(np.abs(system.layout.to_sparse(st["ev"]["K"]).diagonal()).max())
-    return bool(vals[0] < -zero_eigenvalue(scale, system.n))
+    return bool(vals[0] < -zero_eigenvalue(1.0, system.n))   # Jacobi-scaled: unit diagonal
 
 
 def _turned_back(system, dq, dq_prev) -> bool:

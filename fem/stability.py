@@ -77,12 +77,22 @@ def held_sign(fac, det_sign, held):
 
 
 def lowest_modes(system, K, held=None, count=2):
-    """The `count` eigenvalues of K (or K_ff, DOF `held` removed) nearest the bottom
-    of the spectrum, ascending, with unit eigenvectors in reduced coordinates."""
+    """The `count` lowest eigenvalues of the Jacobi-scaled K (or K_ff, DOF `held` removed),
+    S K S with S = diag(|K_ii|)^(-1/2), ascending, and the directions S psi in reduced coordinates
+    (unit length).
+
+    The scaling is a congruence, so it keeps the inertia (the signs of the eigenvalues, Sylvester)
+    while putting axial and bending terms on one scale: in a slender beam they differ by (L/h)^2,
+    which in unscaled form hides a negative bending eigenvalue below the rounding of the axial
+    ones. Eigenvalues are therefore relative to a unit diagonal (see ``zero_eigenvalue``)."""
     A = system.layout.to_sparse(K)
     keep = np.arange(system.n) if held is None else np.delete(np.arange(system.n), held)
     A = A[keep][:, keep]
     A = 0.5 * (A + A.T)
+    d = np.sqrt(np.abs(A.diagonal()))
+    d[d == 0.0] = 1.0
+    S = sp.diags(1.0 / d)
+    A = (S @ A @ S).tocsr()
     m = A.shape[0]
     count = max(1, min(count, m - 1)) if m > 1 else 1
     if m <= DENSE_LIMIT:
@@ -91,6 +101,8 @@ def lowest_modes(system, K, held=None, count=2):
         vals, vecs = spla.eigsh(A.tocsc(), k=count, sigma=0.0, which="LM")
         order = np.argsort(vals)
         vals, vecs = vals[order], vecs[:, order]
+    vecs = vecs / d[:, None]
+    vecs = vecs / np.linalg.norm(vecs, axis=0)
     full = np.zeros((system.n, len(vals)))
     full[keep] = vecs
     return vals, full
@@ -193,7 +205,7 @@ def _stable(system, K, held, scale):
         vals, _ = lowest_modes(system, K, held, count=1)
     except (ValueError, np.linalg.LinAlgError, RuntimeError):
         return False, np.nan
-    return bool(vals[0] > -zero_eigenvalue(scale, system.n)), float(vals[0])
+    return bool(vals[0] > -zero_eigenvalue(1.0, system.n)), float(vals[0])
 
 
 def switch_branch(system, opts, q_u, lam, beta, ev_u, loads, mode="load", ctrl=None, held=None,
@@ -205,7 +217,7 @@ def switch_branch(system, opts, q_u, lam, beta, ev_u, loads, mode="load", ctrl=N
     all, ("switched", (q, lam, ev, hist, its, fac, note)) or ("failed", reason)."""
     vals, vecs = lowest_modes(system, ev_u["K"], held)
     scale = float(np.abs(system.layout.to_sparse(ev_u["K"]).diagonal()).max())
-    if vals[0] > -zero_eigenvalue(scale, system.n):
+    if vals[0] > -zero_eigenvalue(1.0, system.n):   # scaled eigenvalues: unit diagonal
         return "stable", float(vals[0])
     phi = vecs[:, 0]
     rot = system.disc.red_is_rotation
