@@ -12,11 +12,26 @@ and, differentiating, the first-order system integrated here (normalised by L an
     U' = m^2 / 2   (strain energy density, so U(L) is the strain energy).
 
 Shooting unknowns z: the root moment m(0); one force multiplier mu_k per prescribed tip-position
-component (the force along that direction is unknown); the tip angle tau when a follower force
-acts (its direction depends on the unknown tip angle, F = F_dead + R(tau) f_follower). The end
-conditions are: m(L) = M (or theta(L) = prescribed angle, then M is an output), d_k . r(L) = c_k,
-and theta(L) = tau. The Jacobian comes from the variational equations integrated alongside
-(sensitivities of the state to m(0), Fx, Fy), so each Newton iteration costs one integration.
+component (the force along that direction is unknown); one force multiplier nu_j per prescribed
+section moment (below); the tip angle tau when a follower force acts (its direction depends on
+the unknown tip angle, F = F_dead + R(tau) f_follower). The end conditions are: m(L) = M (or
+theta(L) = prescribed angle, then M is an output), d_k . r(L) = c_k, m(s_j) = m_j, and
+theta(L) = tau. The Jacobian comes from the variational equations integrated alongside
+(sensitivities of the state to m(0), Fx, Fy), so each Newton iteration costs one integration
+(split at the sections s_j, where the state and its sensitivities are read).
+
+Prescribed section moment (``MomentConstraint``): m(s_j) = m_j at an arc length s_j, the
+unknown being the force along a given direction. With m_j = 0 this is the seeds' inflection
+point (Bapat 2015, section 3.5.2, Case 2c, Table 3.6: b, theta_0 and the inflection location l1
+given, nP, P, M unknown): the moment of the tip loads about r(s_j),
+
+    m(s_j) = M + Fy (x_L - x(s_j)) - Fx (y_L - y(s_j))      (CCW M, global F),
+
+vanishes. In the seeds' signs (Fx = -nP, Fy = P, clockwise M_seed = -M) the same condition
+reads M_seed + Fx (y_L - y) - Fy (x_L - x) = 0. The straight beam is singular for it (the axial
+force has no lever arm), so its path starts from a loaded state: the problem without the
+moment conditions (their forces 0), or the state under given start loads (``loaded_start``),
+from which the section moments are continued to their targets.
 
 Continuation: every load and prescribed value is interpolated linearly from a start state (the
 unloaded beam, or a previous result) to the target, q(lambda) = q0 + lambda (q1 - q0), with a
@@ -50,8 +65,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy.integrate import solve_ivp
 
-__all__ = ["TipConstraint", "ElasticaProblem", "ElasticaResult", "solve_elastica", "solve_path",
-           "unloaded_tip"]
+__all__ = ["TipConstraint", "MomentConstraint", "ElasticaProblem", "ElasticaResult",
+           "solve_elastica", "solve_path", "loaded_start", "section_moment", "unloaded_tip"]
 
 
 @dataclass(frozen=True)
@@ -69,6 +84,22 @@ class TipConstraint:
 
 
 @dataclass(frozen=True)
+class MomentConstraint:
+    """Prescribed bending moment ``m(at) = value`` (CCW, moment units) at arc length ``at``.
+
+    A tip force of unknown magnitude along ``force_direction`` is added to the applied loads and
+    solved for. ``value = 0`` makes ``at`` an inflection point of a straight beam (zero curvature
+    change). Example, the seed's Case 2c (Table 3.6, b, theta_0 and l1 given): a
+    ``TipConstraint((0, 1), b)`` (unknown P), ``tip_angle = theta_0`` (unknown M) and
+    ``MomentConstraint(l1)`` (unknown nP along (1, 0)).
+    """
+
+    at: float
+    value: float = 0.0
+    force_direction: tuple[float, float] = (1.0, 0.0)
+
+
+@dataclass(frozen=True)
 class ElasticaProblem:
     """A clamped beam with tip loads and/or prescribed tip positions (plain data, physical units).
 
@@ -78,6 +109,7 @@ class ElasticaProblem:
     follower: follower tip force (tangential, normal) components in the deformed tip frame.
     constraints: prescribed tip position components (fixed-guided, fixed-fixed, inverse problems).
     tip_angle: prescribed absolute tip angle theta(L) in rad (fixed-guided: 0 for a straight beam).
+    moment_constraints: prescribed bending moments inside the beam (inflection points).
     """
 
     length: float = 1.0
@@ -88,6 +120,7 @@ class ElasticaProblem:
     follower: tuple[float, float] = (0.0, 0.0)
     constraints: tuple[TipConstraint, ...] = ()
     tip_angle: float | None = None
+    moment_constraints: tuple[MomentConstraint, ...] = ()
 
 
 @dataclass
@@ -122,11 +155,13 @@ def _unit(d):
 
 
 def _load_vector(p: ElasticaProblem) -> np.ndarray:
-    """All continuation parameters of a problem, normalised: [Fx, Fy, M, ft, fn, c_1..c_k, angle]."""
+    """All continuation parameters of a problem, normalised:
+    [Fx, Fy, M, ft, fn, c_1..c_k, m_1..m_j, angle]."""
     scale_f = p.length**2 / p.EI
     q = [p.force[0] * scale_f, p.force[1] * scale_f, p.moment * p.length / p.EI,
          p.follower[0] * scale_f, p.follower[1] * scale_f]
     q += [c.value / p.length for c in p.constraints]
+    q += [c.value * p.length / p.EI for c in p.moment_constraints]
     q.append(p.tip_angle if p.tip_angle is not None else 0.0)
     return np.array(q)
 
@@ -146,8 +181,32 @@ def _start_vector(p: ElasticaProblem) -> np.ndarray:
     for c in p.constraints:
         d = _unit(c.direction)
         q.append(d[0] * x0 + d[1] * y0)
+    q += [0.0] * len(p.moment_constraints)          # the unloaded beam carries no moment
     q.append(th0)
     return np.array(q)
+
+
+class _Pieces:
+    """An integration over [0, 1] made of pieces split at the moment-constraint sites.
+
+    ``y`` is the last piece's (so ``y[:, -1]`` is the state at s = 1), ``states`` maps each
+    piece boundary s to the state there, ``sol(s)`` evaluates the dense output (when requested).
+    """
+
+    def __init__(self, pieces, states):
+        self.pieces, self.states = pieces, states
+        self.success = all(p.success for p in pieces) and 1.0 in states
+        self.y = pieces[-1].y
+
+    def sol(self, s):
+        s = np.atleast_1d(np.asarray(s, float))
+        out = np.empty((self.y.shape[0], s.size))
+        for piece in self.pieces:
+            a, b = piece.t[0], piece.t[-1]
+            mask = (s >= a) & (s <= b)
+            if mask.any():
+                out[:, mask] = piece.sol(s[mask])
+        return out
 
 
 class _Shooter:
@@ -159,16 +218,26 @@ class _Shooter:
         self.fdirs = [_unit(c.force_direction if c.force_direction is not None else c.direction)
                       for c in p.constraints]
         self.nc = len(self.dirs)
+        self.sites = [c.at / p.length for c in p.moment_constraints]     # s_j / L
+        if any(not 0.0 <= s <= 1.0 for s in self.sites):
+            raise ValueError("a moment constraint lies outside the beam (0 <= at <= length)")
+        self.mdirs = [_unit(c.force_direction) for c in p.moment_constraints]
+        self.nm = len(self.sites)
+        self.knots = sorted({s for s in self.sites if 0.0 < s < 1.0})
         self.angle_given = p.tip_angle is not None
         self.has_follower = p.follower != (0.0, 0.0)
-        self.n = 1 + self.nc + (1 if self.has_follower else 0)
+        self.n = 1 + self.nc + self.nm + (1 if self.has_follower else 0)
         self.rtol, self.atol = rtol, atol
+
+    def unknown_force_directions(self):
+        """Unit directions of the force multipliers, in the order of z[1:1 + nc + nm]."""
+        return self.fdirs + self.mdirs
 
     def forces(self, z, q):
         """Tip force (Fx, Fy) and its derivative d(Fx, Fy)/dz (2 x n)."""
         F = np.array([q[0], q[1]])
         dF = np.zeros((2, self.n))
-        for k, d in enumerate(self.fdirs):
+        for k, d in enumerate(self.unknown_force_directions()):
             F = F + z[1 + k] * d
             dF[:, 1 + k] = d
         if self.has_follower:
@@ -191,13 +260,24 @@ class _Shooter:
                          g * t0, g * t1 + sn, g * t2 - c])
 
     def integrate(self, z, q, dense=False):
+        """Integrate over [0, 1], split at the moment-constraint sites (``_Pieces``)."""
         F, dF = self.forces(z, q)
         Y0 = np.zeros(17)
         Y0[3] = z[0]
         Y0[5 + 9] = 1.0              # d m(0) / d m0
-        sol = solve_ivp(self.rhs, (0.0, 1.0), Y0, method="DOP853", rtol=self.rtol, atol=self.atol,
-                        args=(F[0], F[1]), dense_output=dense)
-        return sol, F, dF
+        pieces, states = [], {0.0: Y0}
+        for a, b in zip([0.0] + self.knots, self.knots + [1.0]):
+            sol = solve_ivp(self.rhs, (a, b), states[a], method="DOP853", rtol=self.rtol,
+                            atol=self.atol, args=(F[0], F[1]), dense_output=dense)
+            pieces.append(sol)
+            if not sol.success:
+                break
+            states[b] = sol.y[:, -1]
+        return _Pieces(pieces, states), F, dF
+
+    def section_state(self, sol, j):
+        """State vector at the j-th moment-constraint site of an integration ``sol``."""
+        return sol.states[self.sites[j]]
 
     def residual(self, z, q):
         sol, F, dF = self.integrate(z, q)
@@ -218,6 +298,12 @@ class _Shooter:
         for k, d in enumerate(self.dirs):
             r[1 + k] = d[0] * Y[0] + d[1] * Y[1] - q[5 + k]
             J[1 + k] = d[0] * dYdz[0] + d[1] * dYdz[1]
+        for j in range(self.nm):
+            Yj = self.section_state(sol, j)
+            Sj = Yj[5:].reshape(4, 3)
+            i = 1 + self.nc + j
+            r[i] = Yj[3] - q[5 + self.nc + j]
+            J[i] = Sj[3, 0] * np.eye(self.n)[0] + Sj[3, 1:] @ dF
         if self.has_follower:
             r[-1] = Y[2] - z[-1]
             J[-1] = dYdz[2]
@@ -246,6 +332,11 @@ def _load_derivative(shooter, sol, z, nq):
     for k, d in enumerate(shooter.dirs):
         D[1 + k] = d[0] * dYdq[0] + d[1] * dYdq[1]
         D[1 + k, 5 + k] -= 1.0
+    for j in range(shooter.nm):
+        Sj = shooter.section_state(sol, j)[5:].reshape(4, 3)
+        i = 1 + shooter.nc + j
+        D[i] = Sj[3, 1:] @ dFdq
+        D[i, 5 + shooter.nc + j] -= 1.0
     if shooter.has_follower:
         D[-1] = dYdq[2]
     return D
@@ -286,8 +377,8 @@ def _newton_sol(shooter, z, q, tol, maxiter):
             if r_new is not None and np.linalg.norm(r_new) < max(norm, 1e-300) * (1 - 1e-4 * t) + 1e-14:
                 break
             t *= 0.5
-            if t < 1e-3:
-                return z, False, it, norm, sol
+            if t < 1e-3:        # no descent left: converged only if already at the noise floor
+                return z, bool(norm < tol), it, norm, sol
         z, r, J, sol, norm = z_new, r_new, J_new, sol_new, np.linalg.norm(r_new)
         step = np.linalg.norm(t * dz)
         if norm < tol and step < 1e-9 * (1.0 + np.linalg.norm(z)):
@@ -324,7 +415,10 @@ def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
         q0, z = _start_vector(problem), np.zeros(final.n)
         if final.has_follower:
             z[-1] = problem.curvature * problem.length
-        if final.nc:
+        if final.nm:
+            q0, z, it, ns = _moment_start(problem, path, q0, z)
+            nit, nsteps = nit + it, nsteps + ns
+        elif final.nc:
             q0, z, it, ns = _staged_start(problem, path, q0)
             nit, nsteps = nit + it, nsteps + ns
     lam, dlam = 0.0, min(initial_step, 1.0)
@@ -412,6 +506,102 @@ def _staged_start(problem, shooter, q0):
     return q, z, first.nit, first.nsteps
 
 
+def _moment_start(problem, shooter, q0, z0):
+    """Start of a path with prescribed section moments: the loaded state without them.
+
+    The moment conditions are dropped (their forces stay 0) and that problem is solved from the
+    unloaded beam; its state then satisfies every other end condition of ``problem``, and the
+    section moments it carries become the start values continued to the targets.
+    """
+    first = solve_path(replace(problem, moment_constraints=()), rtol=shooter.rtol,
+                       atol=shooter.atol, tol=1e-9, n_samples=2)
+    if not first.converged:                      # fall back to the plain path from the unloaded beam
+        return q0, z0, first.nit, first.nsteps
+    z = np.zeros(shooter.n)
+    z[:1 + shooter.nc] = first.z[:1 + shooter.nc]
+    z[1 + shooter.nc + shooter.nm:] = first.z[1 + shooter.nc:]
+    q = _load_vector(problem)
+    q[5 + shooter.nc:5 + shooter.nc + shooter.nm] = _section_moments(shooter, z, q)
+    return q, z, first.nit, first.nsteps
+
+
+def _section_moments(shooter, z, q):
+    """Normalised m(s_j) at the moment-constraint sites for the unknowns z (q's m_j ignored)."""
+    q = np.array(q, float)
+    q[5 + shooter.nc:5 + shooter.nc + shooter.nm] = 0.0
+    r, _, _ = shooter.residual(z, q)
+    if r is None:
+        raise RuntimeError("integration failed")
+    return r[1 + shooter.nc:1 + shooter.nc + shooter.nm]
+
+
+def loaded_start(problem: ElasticaProblem, force: tuple[float, float], moment: float,
+                 **options) -> ElasticaResult:
+    """The beam under the tip loads ``force`` (Fx, Fy) and ``moment`` (CCW), as a start for ``problem``.
+
+    A forward (load-specified) solve from the unloaded beam, returned with the structure of
+    ``problem`` (same constraints and section moments, with the values this state has), so
+    ``solve_path(problem, start=loaded_start(problem, F0, M0))`` continues the prescribed values
+    from this state to the targets. Use it with an approximate solution (e.g. PRBM loads) as the
+    initial guess of an inverse problem. ``options`` go to the forward ``solve_path``.
+    """
+    if problem.follower != (0.0, 0.0):
+        raise ValueError("loaded_start does not handle follower forces")
+    L, EI = problem.length, problem.EI
+    forward = solve_path(ElasticaProblem(length=L, EI=EI, curvature=problem.curvature,
+                                         force=tuple(force), moment=moment), **options)
+    rtol = options.get("rtol", 1e-12)
+    shooter = _Shooter(problem, rtol, options.get("atol", 0.1 * rtol))
+    scale_f = L**2 / EI
+    F0 = np.asarray(force, float) * scale_f
+    dirs = shooter.unknown_force_directions()
+    z = np.zeros(shooter.n)
+    z[0] = forward.z[0]
+    dead = np.asarray(problem.force, float) * scale_f
+    if dirs:                                    # unknown forces take what they can of F0 - dead
+        U = np.column_stack(dirs)
+        mu = np.linalg.lstsq(U, F0 - dead, rcond=None)[0]
+        z[1:1 + len(dirs)] = mu
+        dead = F0 - U @ mu
+    else:
+        dead = F0
+    x, y = forward.x / L, forward.y / L
+    q = _load_vector(problem)
+    q[0:2] = dead
+    q[2] = moment * L / EI
+    for k, d in enumerate(shooter.dirs):
+        q[5 + k] = d[0] * x + d[1] * y
+    if shooter.angle_given:
+        q[-1] = forward.theta
+    m = _section_moments(shooter, z, q)
+    q[5 + shooter.nc:5 + shooter.nc + shooter.nm] = m
+    start = replace(problem, force=tuple(dead / scale_f), moment=moment,
+                    constraints=tuple(replace(c, value=float(q[5 + k] * L))
+                                      for k, c in enumerate(problem.constraints)),
+                    moment_constraints=tuple(replace(c, value=float(mj * EI / L))
+                                             for c, mj in zip(problem.moment_constraints, m)),
+                    tip_angle=forward.theta if shooter.angle_given else None)
+    result = _result(start, shooter, z, q, options.get("n_samples", 101))
+    result.converged, result.message = forward.converged, forward.message
+    result.nit, result.nsteps, result.wall_time = forward.nit, forward.nsteps, forward.wall_time
+    return result
+
+
+def section_moment(result: ElasticaResult, at: float) -> float:
+    """Bending moment m(at) (CCW, moment units) at arc length ``at`` of a solved beam.
+
+    Re-integrates the beam from its root moment under its total tip force, with the
+    integration split at ``at``, and reads the moment state there (m' = Fx sin(theta) -
+    Fy cos(theta), the derivative of m = M + Fy (x_L - x) - Fx (y_L - y)).
+    """
+    p = result.problem
+    plain = ElasticaProblem(length=p.length, EI=p.EI, curvature=p.curvature, force=result.force,
+                            moment=result.moment, moment_constraints=(MomentConstraint(at),))
+    shooter = _Shooter(plain, 1e-12, 1e-13)
+    z = np.array([result.z[0], 0.0])
+    return float(_section_moments(shooter, z, _load_vector(plain))[0] * p.EI / p.length)
+
+
 def _tip_angle(shooter, z, q):
     sol, _, _ = shooter.integrate(z, q)
     return sol.y[2, -1]
@@ -441,7 +631,11 @@ def solve_elastica(length: float = 1.0, EI: float = 1.0, *, curvature: float = 0
                    follower: tuple[float, float] = (0.0, 0.0),
                    tip_x: float | None = None, tip_y: float | None = None,
                    tip_angle: float | None = None,
-                   constraints: tuple[TipConstraint, ...] = (), **options) -> ElasticaResult:
+                   constraints: tuple[TipConstraint, ...] = (),
+                   inflection_at: float | None = None,
+                   moment_constraints: tuple[MomentConstraint, ...] = (),
+                   start_loads: tuple[tuple[float, float], float] | None = None,
+                   **options) -> ElasticaResult:
     """Solve one clamped-beam elastica from the unloaded state (continuation in the load).
 
     Load-specified: give ``force`` (Fx, Fy), ``moment`` and/or ``follower`` (tangential, normal).
@@ -450,6 +644,11 @@ def solve_elastica(length: float = 1.0, EI: float = 1.0, *, curvature: float = 0
     ``result.moment``. The remaining components of ``force`` are applied as given, e.g. the
     Table 3.5 inverse problem "b, theta_0 and n given" is not expressible this way; use
     ``TipConstraint`` with a direction (see ``inverse_fixed_ratio``).
+    Inflection point: ``inflection_at`` = l1 (arc length from the clamp) adds m(l1) = 0 with the
+    axial force Fx unknown (``MomentConstraint(l1)``); with ``tip_y`` and ``tip_angle`` this is
+    the seed's Case 2c (Table 3.6): b, theta_0, l1 given, (Fx, Fy, M) = (-nP, P, -M_seed) out.
+    ``start_loads`` = ((Fx, Fy), M): an approximate solution (e.g. the PRBM loads) to start the
+    continuation from (``loaded_start``); default: the problem without the section moments.
     ``options`` go to ``solve_path`` (rtol, atol, tol, initial_step, n_samples, ...).
     """
     cons = list(constraints)
@@ -457,7 +656,16 @@ def solve_elastica(length: float = 1.0, EI: float = 1.0, *, curvature: float = 0
         cons.append(TipConstraint((1.0, 0.0), tip_x))
     if tip_y is not None:
         cons.append(TipConstraint((0.0, 1.0), tip_y))
+    mcons = list(moment_constraints)
+    if inflection_at is not None:
+        mcons.append(MomentConstraint(inflection_at))
     problem = ElasticaProblem(length=length, EI=EI, curvature=curvature, force=tuple(force),
                               moment=moment, follower=tuple(follower), constraints=tuple(cons),
-                              tip_angle=tip_angle)
-    return solve_path(problem, **options)
+                              tip_angle=tip_angle, moment_constraints=tuple(mcons))
+    start = None
+    if start_loads is not None:
+        start_options = {k: v for k, v in options.items() if k in ("rtol", "atol")}
+        start = loaded_start(problem, start_loads[0], start_loads[1], **start_options)
+        if not start.converged:
+            start = None
+    return solve_path(problem, start=start, **options)

@@ -15,6 +15,15 @@ the tip angle from the unloaded state (degrees); ``reaction_*`` are the support 
 
 Options (``[methods.elastica]``): ``I`` (replaces the section's second moment of area, so
 EI = E * I), ``EI`` (replaces EI), ``rtol``, ``tol``, ``samples`` (shape points kept in extras).
+
+Inflection problem (``problem = "inflection"``, the seed's Case 2c, Table 3.6): the options give
+per level (a list, or one value for every level) the tip transverse position ``b`` (the tip's y,
+length units), the absolute tip angle ``theta0`` (degrees) and the inflection location ``l1``
+(arc length from the clamp where the bending moment vanishes). The end loads are unknowns:
+``force_x``, ``force_y``, ``moment`` are the loads needed, ``x`` the tip's x (the seed's a). The
+case's loads at each level (e.g. the PRBM loads) are not applied: they are the initial guess,
+the state the continuation starts from (zero loads: start from the problem without the
+inflection condition). Only a fixed-guided segment with force/moment loads.
 Not applicable: mechanisms, pinned-pinned segments, loads away from the tip. The elastica is
 inextensible and shear-free whatever the section's area.
 """
@@ -25,7 +34,8 @@ import time
 
 import numpy as np
 
-from elastica.shooting import ElasticaProblem, TipConstraint, solve_path, unloaded_tip
+from elastica.shooting import (ElasticaProblem, MomentConstraint, TipConstraint, loaded_start,
+                               solve_path, unloaded_tip)
 from validation.methods.base import MethodRun, NotApplicable, Request
 from validation.schema import Case
 
@@ -104,6 +114,46 @@ def level_problems(case: Case, options: dict) -> list[ElasticaProblem]:
     return problems
 
 
+def _per_level(options: dict, name: str, n: int) -> list[float]:
+    if name not in options:
+        raise NotApplicable(f"problem = 'inflection' needs the option '{name}'")
+    v = options[name]
+    values = [float(x) for x in v] if isinstance(v, (list, tuple)) else [float(v)] * n
+    if len(values) != n:
+        raise NotApplicable(f"option '{name}' has {len(values)} values for {n} load levels")
+    return values
+
+
+def inflection_problems(case: Case, options: dict) -> list[tuple[ElasticaProblem, tuple, float]]:
+    """Per level: the Case 2c problem (b, theta0, l1 given) and its start loads ((Fx, Fy), M)."""
+    if case.mechanism is not None:
+        raise NotApplicable("the exact elastica solves a single segment, not a mechanism")
+    seg = case.segment
+    if seg.boundary != "fixed-guided":
+        raise NotApplicable("problem = 'inflection' is a fixed-guided segment problem")
+    if any(ld.kind not in ("force", "moment") or ld.follower or ld.point != "tip"
+           for ld in case.loads):
+        raise NotApplicable("problem = 'inflection' takes dead tip forces/moments (the start loads) only")
+    n = case.n_levels()
+    b, theta0, l1 = (_per_level(options, k, n) for k in ("b", "theta0", "l1"))
+    L, EI, k0 = seg.length, _stiffness(case, options), seg.initial_curvature()
+    out = []
+    for i in range(n):
+        force, moment = np.zeros(2), 0.0
+        for load in case.loads:
+            v = load.levels()[i]
+            if load.kind == "force":
+                force += v * np.asarray(load.direction, float)
+            else:
+                moment += v
+        problem = ElasticaProblem(length=L, EI=EI, curvature=k0,
+                                  constraints=(TipConstraint((0.0, 1.0), b[i]),),
+                                  tip_angle=math.radians(theta0[i]),
+                                  moment_constraints=(MomentConstraint(l1[i]),))
+        out.append((problem, (float(force[0]), float(force[1])), moment))
+    return out
+
+
 def _value(res, req: Request, case: Case) -> float:
     seg = case.segment
     x0, y0, th0 = unloaded_tip(seg.length, seg.initial_curvature())
@@ -125,7 +175,10 @@ def _value(res, req: Request, case: Case) -> float:
 
 def run(case: Case, requests: list[Request], options: dict) -> MethodRun:
     t0 = time.perf_counter()
-    problems = level_problems(case, options)
+    inflection = options.get("problem") == "inflection"
+    if "problem" in options and not inflection:
+        raise NotApplicable(f"unknown elastica problem '{options['problem']}' (known: 'inflection')")
+    problems = inflection_problems(case, options) if inflection else level_problems(case, options)
     kwargs = {k: options[k] for k in ("rtol", "tol") if k in options}
     samples = int(options.get("samples", 41))
     wanted = sorted({r.level for r in requests})
@@ -133,7 +186,18 @@ def run(case: Case, requests: list[Request], options: dict) -> MethodRun:
     values, level_ok, level_msg, shapes = {}, {}, {}, {}
     previous = None
     for level in range(last + 1):
-        res = solve_path(problems[level], start=previous, n_samples=samples, **kwargs)
+        if inflection:      # each level from its own start loads; skip levels not asked for
+            if level not in wanted:
+                continue
+            problem, force, moment = problems[level]
+            start = None
+            if force != (0.0, 0.0) or moment != 0.0:
+                start = loaded_start(problem, force, moment, **{k: v for k, v in kwargs.items()
+                                                               if k == "rtol"})
+                start = start if start.converged else None
+            res = solve_path(problem, start=start, n_samples=samples, **kwargs)
+        else:
+            res = solve_path(problems[level], start=previous, n_samples=samples, **kwargs)
         level_ok[level], level_msg[level] = res.converged, res.message
         if level in wanted:
             shapes[level] = res.shape
@@ -147,4 +211,5 @@ def run(case: Case, requests: list[Request], options: dict) -> MethodRun:
                      wall_time=time.perf_counter() - t0,
                      level_converged={lv: level_ok[lv] for lv in wanted},
                      level_messages={lv: level_msg[lv] for lv in wanted},
-                     extras={"shapes": shapes, "model": "inextensible elastica, DOP853 shooting"})
+                     extras={"shapes": shapes, "model": "inextensible elastica, DOP853 shooting"
+                             + (", inverse problem with a given inflection point" if inflection else "")})
