@@ -222,6 +222,47 @@ def column_check() -> list[Check]:
     return checks
 
 
+def prbm_edge_checks() -> list[Check]:
+    """PRBM at its edges: fits at and beyond their ranges, four-bars at and past toggle, loops that
+    cannot close."""
+    import cmath
+
+    from prbm import FourBar
+    from prbm.fits import PAULY_MIDHA, FitRangeError
+
+    checks = []
+    for n, inside in ((10.0, True), (-3.999, True), (10.5, False), (-4.5, False)):
+        try:
+            gamma = PAULY_MIDHA.parameters(n)[0]
+            checks.append(Check("prbm edges", f"fit at n = {n}", inside and math.isfinite(gamma),
+                                f"gamma = {gamma:.6f}" + ("" if inside else " returned outside the range")))
+        except FitRangeError as exc:
+            checks.append(Check("prbm edges", f"fit at n = {n}", not inside, str(exc)))
+    # a crank-rocker-like linkage that cannot turn fully: finite up to toggle, NaN past it
+    Z1, Z2 = 4.0 + 0j, cmath.rect(2.5, math.radians(60))
+    B = Z1 + cmath.rect(2.0, math.radians(100))
+    fb = FourBar(Z1, Z2, B - Z2, B - Z1)
+    grid = np.radians(np.linspace(60.0, 300.0, 24001))
+    t3, t4 = fb.angles(grid)
+    ok = np.isfinite(t3)
+    edge = np.nonzero(ok[:-1] & ~ok[1:])[0]
+    if len(edge):
+        i = edge[0]
+        A = fb.R2 * np.exp(1j * grid[i])
+        closure = abs(A + fb.R3 * np.exp(1j * t3[i]) - (fb.Z1 + fb.R4 * np.exp(1j * t4[i])))
+        checks.append(Check("prbm edges", "four-bar at its toggle position", closure < 1e-9 and not ok[i + 1],
+                            f"loop closes to {closure:.1e} at {np.degrees(grid[i]):.3f} deg; NaN past it"))
+    else:
+        checks.append(Check("prbm edges", "four-bar at its toggle position", False, "no toggle found"))
+    # a loop that cannot close: a clear error, not NaN positions
+    try:
+        FourBar(Z1, Z2, 0.1 * (B - Z2), B - Z1)
+        checks.append(Check("bad input", "four-bar loop that cannot close", False, "accepted"))
+    except ValueError as exc:
+        checks.append(Check("bad input", "four-bar loop that cannot close", "close" in str(exc), str(exc)))
+    return checks
+
+
 def _imperfect_column(P: float, imperfection: float) -> Case:
     levels = [P * f for f in (0.5, 0.9, 0.98, 1.02, 1.1, 1.25, 1.4, 1.5)]
     data = dict(case=dict(id="stress_column", title="imperfect column", group="stress", units="dimensionless"),
@@ -329,7 +370,7 @@ def run_stress(out: Path, long: bool = False, seed: int = 20261122) -> int:
             path = write_regression(small, out / "regressions")
             check.detail += f"; shrunk to {json.dumps({k: round(v, 6) for k, v in small.items()})}, kept as {path.name}"
         checks.append(check)
-    for block in (invariance_checks, hard_path_checks, column_check, bad_input_checks):
+    for block in (invariance_checks, hard_path_checks, column_check, prbm_edge_checks, bad_input_checks):
         checks.extend(block())
     categories = {}
     for c in checks:
