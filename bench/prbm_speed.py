@@ -1,9 +1,12 @@
 """Speed of the PRBM library: one segment solve at one load level, a 10,000-level sweep, the
-chapter-3 inflection solves, a four-bar torque sweep.  Run: ``.venv/bin/python bench/prbm_speed.py``.
-(Timing lives here, never in the tests.)"""
+chapter-3 inflection solves, a four-bar torque sweep; then the whole adapter call
+``validation.runner.run_method(case, "prbm")`` (what ``prbm-validate bench`` times against the FEM)
+for every case under cases/ with a prbm method.  Run: ``.venv/bin/python bench/prbm_speed.py``
+(``--cases-only`` skips the library rows).  (Timing lives here, never in the tests.)"""
 from __future__ import annotations
 
 import math
+import sys
 import timeit
 
 import numpy as np
@@ -16,7 +19,24 @@ def best(stmt, number: int, repeat: int = 5) -> float:
     return min(timeit.repeat(stmt, number=number, repeat=repeat)) / number
 
 
-def main() -> None:
+def adapter_rows() -> list[tuple[str, float, str]]:
+    """(case id, best seconds per whole PRBM adapter call, the run's message) for every prbm case."""
+    from validation.loader import find_case_files, load_case
+    from validation.runner import run_method
+
+    rows = []
+    for path in find_case_files():
+        case = load_case(path).case
+        if "prbm" not in case.methods:
+            continue
+        run = run_method(case, "prbm")  # warm: imports, first-call caches
+        once = min(timeit.repeat(lambda: run_method(case, "prbm"), number=1, repeat=3))
+        number = max(1, min(200, int(0.02 / max(once, 1e-7))))
+        rows.append((case.case.id, best(lambda: run_method(case, "prbm"), number, 5), run.message))
+    return rows
+
+
+def library_rows() -> list[tuple[str, float]]:
     rows = []
     rows.append(("fixed_pinned_tip, 1 level", best(lambda: prbm.fixed_pinned_tip(2.0, 0.5, length=1.0, EI=1.0), 2000)))
     P = np.linspace(0.0, 5.0, 10_000)
@@ -39,9 +59,21 @@ def main() -> None:
     th = np.linspace(0.3, 0.9, 10_000)
     rows.append(("FourBar.input_torque, 10,000 angles", best(lambda: fb.input_torque(th), 20)))
     rows.append(("FourBar.positions_under_torque, 1 level", best(lambda: fb.positions_under_torque([9.75]), 20)))
+    return rows
+
+
+def main() -> None:
+    if "--cases-only" not in sys.argv:
+        rows = library_rows()
+        width = max(len(r[0]) for r in rows)
+        for name, t in rows:
+            print(f"{name:<{width}}  {t * 1e6:12.1f} us")
+        print()
+    rows = adapter_rows()
     width = max(len(r[0]) for r in rows)
-    for name, t in rows:
-        print(f"{name:<{width}}  {t * 1e6:12.1f} us")
+    print(f"{'case':<{width}}  {'per call':>12}  message (whole adapter call, run_method(case, 'prbm'))")
+    for name, t, message in rows:
+        print(f"{name:<{width}}  {t * 1e6:12.1f} us  {message[:70]}")
 
 
 if __name__ == "__main__":

@@ -48,6 +48,9 @@ class FitRangeWarning(UserWarning):
     """A fit was evaluated outside its published range (extrapolation requested with 'warn')."""
 
 
+_SCALAR_LOOP_MAX = 64  # up to this many load ratios, evaluate level by level in plain floats
+
+
 @dataclass(frozen=True)
 class Branch:
     lower: float  # open lower end
@@ -71,21 +74,20 @@ class PiecewiseFit:
 
     def __call__(self, n, extrapolate: str = "raise"):
         """Evaluate at load ratio(s) n (scalar or array)."""
-        if np.ndim(n) == 0:  # scalar fast path (root finders call this in their inner loop)
+        if isinstance(n, float) or np.ndim(n) == 0:  # scalar fast path (root finders call this in their inner loop)
             x = float(n)
             if not (self.lower < x <= self.upper):
                 self._out_of_range(x, extrapolate)
-            branches = self.branches
-            br = branches[-1]
-            for cand in branches[:-1]:
-                if x <= cand.upper:
-                    br = cand
-                    break
-            value = 0.0
-            for c in reversed(br.coefficients):
-                value = value * x + c
-            return value
+            return self._horner(x)
         n_arr = np.asarray(n, dtype=float)
+        if n_arr.size <= _SCALAR_LOOP_MAX:
+            # a few load levels: the scalar Horner loop once per distinct ratio (the same arithmetic as polyval)
+            ratios = n_arr.ravel().tolist()
+            distinct = set(ratios)
+            lower, upper = self.lower, self.upper
+            value = {x: self._horner(x) for x in distinct if lower < x <= upper}
+            if len(value) == len(distinct):  # all inside the range (else the array path reports it)
+                return np.array([value[x] for x in ratios], dtype=float).reshape(n_arr.shape)
         outside = ~((n_arr > self.lower) & (n_arr <= self.upper))
         if np.any(outside):
             bad = n_arr[outside] if n_arr.ndim else n_arr
@@ -104,6 +106,19 @@ class PiecewiseFit:
             mask = (n_arr > lo) & (n_arr <= hi)
             out[mask] = np.polynomial.polynomial.polyval(n_arr[mask], br.coefficients)
         return float(out) if out.ndim == 0 else out
+
+    def _horner(self, x: float) -> float:
+        """The fit at one float x (branch by the printed inequalities, nearest branch outside them)."""
+        branches = self.branches
+        br = branches[-1]
+        for cand in branches[:-1]:
+            if x <= cand.upper:
+                br = cand
+                break
+        value = 0.0
+        for c in reversed(br.coefficients):
+            value = value * x + c
+        return value
 
     def _out_of_range(self, x: float, extrapolate: str) -> None:
         message = (f"{self.name}: load ratio n = {x:.6g} outside the fitted range "

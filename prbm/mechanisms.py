@@ -14,7 +14,9 @@ from the energy-free angles Theta20, Theta30, Theta40.
 Static equilibrium under an input torque T on link 2 is the stationary point of the total potential
 U - T (Theta2 - Theta20) (virtual work, eq 191): solve dU/dTheta2 = T for Theta2 (1-D, bracketed).
 Position analysis: Theta4 from the closed-form loop solution on the assembly branch of the
-reference (position-1) configuration; Theta3 from the loop.
+reference (position-1) configuration; Theta3 from the loop.  The inverse (the input angle for a given
+output angle, ``FourBar.input_for_output``; the crank angle for a slider position,
+``SliderCrank.theta2_at``) is the same circle intersection seen from the other side, in closed form.
 
 Mechanical advantage (chapter 7): rigid-body MA_R = (d_i/d_o)(omega2/omega4) = (d_i/d_o)/h4 (eq 190),
 equal to the instant-centre form (d_i/d_o)|I14 I24|/|I12 I24| (eq 202) (both are implemented and
@@ -88,6 +90,8 @@ class FourBar:
         Loop Z2 + Z3 = Z1 + Z4: with D = Z1 - Z2 (A to O4), B = A + R3 e^{i Theta3} = O4 + R4 e^{i Theta4}.
         Intersect circles about A (R3) and O4 (R4); NaN where the linkage cannot assemble.
         """
+        if isinstance(theta2, float) or np.ndim(theta2) == 0:
+            return self._angles_scalar(float(theta2))
         theta2 = np.asarray(theta2, dtype=float)
         A = self.R2 * np.exp(1j * theta2)
         O4 = self.Z1
@@ -103,40 +107,85 @@ class FourBar:
         theta4 = np.angle(B - O4)
         return theta3, theta4
 
+    def _angles_scalar(self, theta2: float):
+        """``angles`` for one input angle in plain floats (the same construction, no numpy overhead)."""
+        A = self.R2 * cmath.exp(1j * theta2)
+        d = self.Z1 - A
+        dist = abs(d)
+        cos_alpha = (self.R3**2 + dist**2 - self.R4**2) / (2 * self.R3 * dist)
+        if not -1.0 <= cos_alpha <= 1.0:
+            return np.float64(math.nan), np.float64(math.nan)
+        theta3 = cmath.phase(d) - self.branch * math.acos(cos_alpha)
+        B = A + self.R3 * cmath.exp(1j * theta3)
+        return np.float64(theta3), np.float64(cmath.phase(B - self.Z1))
+
+    def input_for_output(self, theta4: float, near: float, *, span: float = math.pi / 2):
+        """Input angle Theta2 that puts the output link at theta4 (rad), on the position-1 assembly
+        branch, nearest to ``near`` within +-span; None if there is none.
+
+        Closed form (the inverse position problem): B = Z1 + R4 e^{i theta4} is known, so A lies on
+        the circles |A| = R2 and |B - A| = R3: Theta2 = arg B +- acos((R2^2 + |B|^2 - R3^2) / (2 R2 |B|)).
+        Each candidate is kept only if the forward solution ``angles`` (assembly branch) returns
+        theta4 there, to 1e-9 rad.
+        """
+        B = self.Z1 + self.R4 * cmath.exp(1j * theta4)
+        dist = abs(B)
+        if dist == 0.0:
+            return None
+        cos_beta = (self.R2**2 + dist**2 - self.R3**2) / (2 * self.R2 * dist)
+        if not -1.0 <= cos_beta <= 1.0:
+            return None
+        base, beta = cmath.phase(B), math.acos(cos_beta)
+        best = None
+        for t2 in (base + beta, base - beta):
+            t2 = near + math.remainder(t2 - near, 2 * math.pi)  # the representative nearest `near`
+            if abs(t2 - near) > span:
+                continue
+            t4 = float(self._angles_scalar(t2)[1])
+            if not abs(math.remainder(t4 - theta4, 2 * math.pi)) < 1e-9:
+                continue  # the other assembly branch
+            if best is None or abs(t2 - near) < abs(best - near):
+                best = t2
+        return best
+
     def _branch_check(self):
         t3, t4 = self.angles(self.theta_ref[0])
         return abs(_wrap(t3 - self.theta_ref[1])) + abs(_wrap(t4 - self.theta_ref[2]))
 
-    def coupler_point(self, theta2):
-        """Coupler point P = A + R5 e^{i(Theta3 + offset)} (complex, O2 at the origin)."""
+    def coupler_point(self, theta2, angles=None):
+        """Coupler point P = A + R5 e^{i(Theta3 + offset)} (complex, O2 at the origin).
+
+        ``angles``: (Theta3, Theta4) of these theta2 when already known (from ``angles``)."""
         theta2 = np.asarray(theta2, dtype=float)
-        theta3, _ = self.angles(theta2)
+        theta3, _ = self.angles(theta2) if angles is None else angles
         return self.R2 * np.exp(1j * theta2) + self.R5 * np.exp(1j * (theta3 + self.coupler_offset))
 
-    def kinematic_coefficients(self, theta2):
+    def kinematic_coefficients(self, theta2, angles=None):
         """(h3, h4) = (dTheta3/dTheta2, dTheta4/dTheta2)."""
-        t3, t4 = self.angles(theta2)
+        t3, t4 = self.angles(theta2) if angles is None else angles
         h3 = self.R2 * np.sin(t4 - theta2) / (self.R3 * np.sin(t3 - t4))
         h4 = self.R2 * np.sin(t3 - theta2) / (self.R4 * np.sin(t3 - t4))
         return h3, h4
 
     # --- springs ----------------------------------------------------------------------------
-    def _spring_deflections(self, theta2):
-        t3, t4 = self.angles(theta2)
+    def _spring_deflections(self, theta2, angles=None):
+        t3, t4 = self.angles(theta2) if angles is None else angles
         t20, t30, t40 = self.theta_free
         d1 = theta2 - t20
         d3a = _wrap(t3 - t30)
         d4 = _wrap(t4 - t40)
         return d1, _wrap(d3a - d1), _wrap(d4 - d3a), d4
 
-    def strain_energy(self, theta2):
+    def strain_energy(self, theta2, angles=None):
         """U = 1/2 sum k_i (beta_i - beta_i0)^2, eq (181)."""
-        return 0.5 * sum(k * d**2 for k, d in zip(self.springs, self._spring_deflections(theta2)))
+        return 0.5 * sum(k * d**2 for k, d in zip(self.springs, self._spring_deflections(theta2, angles)))
 
-    def input_torque(self, theta2):
+    def input_torque(self, theta2, angles=None):
         """T = dU/dTheta2 (eqs 182, 193): the input torque on link 2 holding the linkage at Theta2."""
-        d1, d2, d3, d4 = self._spring_deflections(theta2)
-        h3, h4 = self.kinematic_coefficients(theta2)
+        if angles is None:
+            angles = self.angles(theta2)
+        d1, d2, d3, d4 = self._spring_deflections(theta2, angles)
+        h3, h4 = self.kinematic_coefficients(theta2, angles)
         k1, k2, k3, k4 = self.springs
         return k1 * d1 + k2 * d2 * (h3 - 1) + k3 * d3 * (h4 - h3) + k4 * d4 * h4
 
@@ -194,18 +243,22 @@ class FourBar:
         s = (A.real * (-v.imag) - A.imag * (-v.real)) / det
         return 0j, O4, s * u
 
-    def rigid_ma(self, theta2, d_in: float, d_out: float, *, via: str = "coefficients"):
+    def rigid_ma(self, theta2, d_in: float, d_out: float, *, via: str = "coefficients", angles=None):
         """MA_R = F_o/F_i for F_i at d_in on link 2 and F_o at d_out on link 4 (eqs 190, 202)."""
         if via == "coefficients":
-            _, h4 = self.kinematic_coefficients(theta2)
+            _, h4 = self.kinematic_coefficients(theta2, angles)
             return d_in / d_out / np.abs(h4)
         I12, I14, I24 = self.instant_centres(theta2)
         return d_in / d_out * np.abs(I14 - I24) / np.abs(I12 - I24)
 
-    def compliant_ma(self, theta2, F_in: float, d_in: float, d_out: float):
-        """MA = MA_R (1 - F_c/F_i), F_c = T_c/d_i with T_c the compliance torque (eqs 192, 193)."""
-        F_c = self.input_torque(theta2) / d_in
-        return self.rigid_ma(theta2, d_in, d_out) * (1.0 - F_c / F_in)
+    def compliant_ma(self, theta2, F_in: float, d_in: float, d_out: float, angles=None, *, torque=None):
+        """MA = MA_R (1 - F_c/F_i), F_c = T_c/d_i with T_c the compliance torque (eqs 192, 193).
+
+        ``angles``, ``torque``: (Theta3, Theta4) and ``input_torque`` at theta2, when already known."""
+        if angles is None:
+            angles = self.angles(theta2)
+        F_c = (self.input_torque(theta2, angles) if torque is None else torque) / d_in
+        return self.rigid_ma(theta2, d_in, d_out, angles=angles) * (1.0 - F_c / F_in)
 
 
 @dataclass
@@ -240,7 +293,31 @@ class SliderCrank:
         return self.R2 * np.cos(theta2) + self.R3 * np.cos(self.theta3(theta2))
 
     def theta2_at(self, dx: float) -> float:
-        """Crank angle that moves the slider by dx from position 1 (continuation from theta2_ref)."""
+        """Crank angle that moves the slider by dx from position 1, nearest to theta2_ref (within pi).
+
+        Closed form: the slider pin S = (x_ref + dx, offset) is known, so A lies on the circles
+        |A| = R2 and |S - A| = R3: Theta2 = arg S +- acos((R2^2 + |S|^2 - R3^2) / (2 R2 |S|)); a
+        candidate is kept only if ``slider_x`` (on the coupler branch of position 1) returns S there.
+        Falls back to the bracketed scan (``_theta2_at_scan``) if no candidate is kept."""
+        target = self.x_ref + dx
+        S = complex(target, self.offset)
+        dist = abs(S)
+        best = None
+        if dist > 0.0:
+            cos_beta = (self.R2**2 + dist**2 - self.R3**2) / (2 * self.R2 * dist)
+            if -1.0 <= cos_beta <= 1.0:
+                base, beta = cmath.phase(S), math.acos(cos_beta)
+                scale = self.R2 + self.R3
+                for t2 in (base + beta, base - beta):
+                    t2 = self.theta2_ref + math.remainder(t2 - self.theta2_ref, 2 * math.pi)
+                    if abs(float(self.slider_x(t2)) - target) > 1e-9 * scale:
+                        continue  # the other coupler branch
+                    if best is None or abs(t2 - self.theta2_ref) < abs(best - self.theta2_ref):
+                        best = t2
+        return best if best is not None else self._theta2_at_scan(dx)
+
+    def _theta2_at_scan(self, dx: float) -> float:
+        """``theta2_at`` by a scan over theta2_ref +- pi and Brent (the reference implementation)."""
         target = self.x_ref + dx
         grid = self.theta2_ref + np.linspace(-math.pi, math.pi, 2001)
         r = self.slider_x(grid) - target

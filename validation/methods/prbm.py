@@ -157,12 +157,12 @@ def _segment(prbm, case, requests, options):
         raise NotApplicable(f"boundary '{seg.boundary}' as a single segment case: the seeds' curved "
                             "pinned-pinned PRBM (prbm.curved_pinned_pinned) takes a chord force only")
     o = res.outputs
-    a = np.broadcast_to(o["a"], (n,))
-    b = np.broadcast_to(o["b"], (n,))
+    a = _per_level(o["a"], n)
+    b = _per_level(o["b"], n)
     out = {"x": a, "y": b, "dx": a - a0, "dy": b - b0, "force_x": Fx, "force_y": Fy, "moment": M,
-           "rotation": np.broadcast_to(np.degrees(o["theta0"]), (n,))}
+           "rotation": _per_level(np.degrees(o["theta0"]), n)}
     if "Theta" in o:
-        Theta = np.broadcast_to(o["Theta"], (n,))
+        Theta = _per_level(o["Theta"], n)
         out["prb_angle"] = np.degrees(Theta)
         k = res.constants.get("k")
         if k is not None:
@@ -170,13 +170,20 @@ def _segment(prbm, case, requests, options):
             out["strain_energy"] = 0.5 * np.asarray(k) * (Theta - Ti) ** 2
     info.converged = bool(res.converged)
     info.message = info.message or res.message
-    info.level_converged = {i: bool(np.broadcast_to(res.level_converged, (n,))[i]) for i in range(n)} \
-        if res.level_converged is not None and np.size(res.level_converged) in (1, n) else {}
+    lc = res.level_converged
+    info.level_converged = dict(enumerate(_per_level(lc, n).tolist())) \
+        if lc is not None and np.size(lc) in (1, n) else {}
     info.extras = {"model": res.model, "constants": _plain(res.constants)}
     shapes = _segment_shapes(seg, res, n, kappa)
     if shapes:
         info.extras["shapes"] = shapes
     return _pick(out, requests, "segment"), info
+
+
+def _per_level(v, n: int) -> np.ndarray:
+    """v as an array over the n load levels (a scalar repeated); np.broadcast_to without its overhead."""
+    v = np.asarray(v)
+    return v if v.shape == (n,) else np.broadcast_to(v, (n,))
 
 
 def _stack(results):
@@ -202,11 +209,14 @@ def _plain(d):
 
 def _pick(out: dict, requests, what: str) -> dict:
     values = {}
+    columns = {}  # quantity -> its levels as plain floats (one conversion per quantity, not per request)
     for req in requests:
-        if req.quantity not in out:
-            raise NotApplicable(f"the PRBM gives no '{req.quantity}' for this {what}")
-        arr = np.atleast_1d(out[req.quantity])
-        values[req] = float(arr[req.level] if arr.size > 1 else arr[0])
+        column = columns.get(req.quantity)
+        if column is None:
+            if req.quantity not in out:
+                raise NotApplicable(f"the PRBM gives no '{req.quantity}' for this {what}")
+            column = columns[req.quantity] = np.atleast_1d(out[req.quantity]).ravel().tolist()
+        values[req] = float(column[req.level] if len(column) > 1 else column[0])
     return values
 
 
@@ -387,22 +397,26 @@ def _mechanism(prbm, case, requests, options):
     theta2 = np.asarray(theta2, float)
     if len(theta2) != n:
         raise NotApplicable(f"{len(theta2)} precision positions for {n} load levels")
-    P = fb.coupler_point(theta2)
-    P = np.where(np.isin(np.arange(n), levels_free), P_free, P)
-    theta2 = np.where(np.isin(np.arange(n), levels_free), t20, theta2)
+    free = np.zeros(n, bool)
+    free[[lv for lv in levels_free if -n <= lv < n]] = True
+    theta2 = np.where(free, t20, theta2)
+    angles = fb.angles(theta2)  # (Theta3, Theta4) at every level, shared by the outputs below
+    P = np.where(free, P_free, fb.coupler_point(theta2, angles))
     origin = complex(*options.get("origin", [0.0, 0.0]))
+    torque = fb.input_torque(theta2, angles)
     out = {"dx": (P - P_free).real, "dy": (P - P_free).imag, "x": (P + origin).real, "y": (P + origin).imag,
-           "input_angle": np.degrees(theta2), "input_torque": fb.input_torque(theta2),
-           "strain_energy": fb.strain_energy(theta2)}
+           "input_angle": np.degrees(theta2), "input_torque": torque,
+           "strain_energy": fb.strain_energy(theta2, angles)}
     ma = options.get("ma")
     if ma and {"F_i", "d_i", "d_o"} <= set(ma):
-        out["mechanical_advantage"] = fb.compliant_ma(theta2, float(ma["F_i"]), float(ma["d_i"]), float(ma["d_o"]))
+        out["mechanical_advantage"] = fb.compliant_ma(theta2, float(ma["F_i"]), float(ma["d_i"]), float(ma["d_o"]),
+                                                      angles, torque=torque)
     point = options.get("coupler_point", "P")
     for r in requests:
         if r.quantity in ("dx", "dy", "x", "y") and r.point != point:
             raise NotApplicable(f"the PRB four-bar tracks the coupler point '{point}' only, not '{r.point}'")
     values.update(_pick(out, requests, "four-bar"))
-    info.extras["shapes"] = _fourbar_shapes(fb, theta2, P, origin)
+    info.extras["shapes"] = _fourbar_shapes(fb, theta2, P, origin, angles[0])
     info.message = info.message or f"PRB four-bar, drive = {drive}"
     info.extras.update({"loop_error": fb.loop_error, "theta_free_deg": [math.degrees(t) for t in fb.theta_free]})
     return values, info
@@ -432,7 +446,15 @@ def _slider(prbm, case, requests, options, links, values, info):
 
 
 def _theta2_for_output(fb, theta4_target: float, theta2_start: float) -> float:
-    """Input angle giving output angle theta4_target, nearest to theta2_start (bracketed scan)."""
+    """Input angle giving output angle theta4_target, nearest to theta2_start (within +-90 deg):
+    the closed-form inverse ``FourBar.input_for_output``; the bracketed scan if that finds none."""
+    theta2 = fb.input_for_output(theta4_target, theta2_start)
+    return theta2 if theta2 is not None else _theta2_for_output_scan(fb, theta4_target, theta2_start)
+
+
+def _theta2_for_output_scan(fb, theta4_target: float, theta2_start: float) -> float:
+    """Input angle giving output angle theta4_target, nearest to theta2_start (bracketed scan and
+    Brent on the forward solution; the reference for ``_theta2_for_output``)."""
     from scipy.optimize import brentq
 
     grid = theta2_start + np.linspace(-math.pi / 2, math.pi / 2, 721)
@@ -464,31 +486,34 @@ def _segment_shapes(seg, res, n: int, kappa: float) -> list | None:
             and seg.boundary in ("fixed-guided", "fixed-fixed"):
         return None
     L = seg.length
-    gamma = np.broadcast_to(np.asarray(c["gamma"], float), (n,))
-    Theta = np.broadcast_to(np.asarray(o["Theta"], float), (n,))
-    tip = np.broadcast_to(np.asarray(o["a"], float), (n,)) + 1j * np.broadcast_to(np.asarray(o["b"], float), (n,))
-    shapes = []
-    for g, T, z in zip(gamma, Theta, tip):
-        if not (np.isfinite(g) and np.isfinite(T) and np.isfinite(z)):
-            shapes.append([])
-        elif seg.boundary in ("fixed-free", "fixed-pinned"):
-            shapes.append([_xy([0.0, (1 - g) * L, z])])
-        else:
-            p1 = (1 - g) * L / 2
-            shapes.append([_xy([0.0, p1, p1 + g * L * cmath.exp(1j * T), z])])
-    return shapes
+    gamma, Theta, a, b = (_per_level(np.asarray(v, float), n) for v in (c["gamma"], o["Theta"], o["a"], o["b"]))
+    if seg.boundary in ("fixed-free", "fixed-pinned"):
+        nodes = [(0.0, 0.0), ((1 - gamma) * L, 0.0), (a, b)]
+    else:
+        p1 = (1 - gamma) * L / 2
+        nodes = [(0.0, 0.0), (p1, 0.0), (p1 + gamma * L * np.cos(Theta), gamma * L * np.sin(Theta)), (a, b)]
+    # one (n, nodes, 2) array; each level's polyline is a view of it
+    chains = np.empty((n, len(nodes), 2))
+    for j, (x, y) in enumerate(nodes):
+        chains[:, j, 0] = x
+        chains[:, j, 1] = y
+    finite = np.isfinite(gamma + Theta + a + b).tolist()
+    return [[chains[i]] if finite[i] else [] for i in range(n)]
 
 
-def _fourbar_shapes(fb, theta2, P, origin: complex) -> list:
+def _fourbar_shapes(fb, theta2, P, origin: complex, theta3=None) -> list:
     """Per level: the PRB four-bar O2-A-B-O4 and the coupler triangle A-P-B (O2 at ``origin``)."""
-    theta3, _ = fb.angles(theta2)
-    shapes = []
-    for t2, t3, p in zip(np.atleast_1d(theta2), np.atleast_1d(theta3), np.atleast_1d(P)):
-        A = fb.R2 * cmath.exp(1j * t2)
-        B = A + fb.R3 * cmath.exp(1j * t3)
-        loop = np.array([0.0, A, B, fb.Z1]) + origin
-        shapes.append([_xy(loop), _xy(np.array([A, p, B]) + origin)] if np.isfinite(B) else [])
-    return shapes
+    theta2 = np.atleast_1d(theta2)
+    if theta3 is None:
+        theta3, _ = fb.angles(theta2)
+    A = fb.R2 * np.exp(1j * theta2)
+    B = A + fb.R3 * np.exp(1j * np.atleast_1d(theta3))
+    loops = np.column_stack([np.zeros_like(A), A, B, np.full_like(A, fb.Z1)]) + origin  # (n, 4)
+    triangles = np.column_stack([A, np.atleast_1d(P), B]) + origin  # (n, 3)
+    loops = np.stack([loops.real, loops.imag], axis=-1)
+    triangles = np.stack([triangles.real, triangles.imag], axis=-1)
+    finite = np.isfinite(B).tolist()
+    return [[loops[i], triangles[i]] if finite[i] else [] for i in range(len(finite))]
 
 
 # --- one segment carrying a rigid body (chapter 5 Example 1) ---------------------------------------
