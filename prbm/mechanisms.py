@@ -42,6 +42,9 @@ from prbm.result import PRBMResult
 __all__ = ["FourBar", "SliderCrank"]
 
 
+LOOP_TOLERANCE = 0.01   # printed vectors close only to their rounding (Test 2: 0.002 in on 7 in)
+
+
 def _wrap(x):
     return (np.asarray(x) + np.pi) % (2 * np.pi) - np.pi
 
@@ -82,6 +85,11 @@ class FourBar:
         if self.theta_free is None:
             self.theta_free = self.theta_ref
         self.loop_error = abs(self.Z2 + self.Z3 - self.Z1 - self.Z4)
+        longest = max(self.R1, self.R2, self.R3, self.R4)
+        if self.loop_error > LOOP_TOLERANCE * longest or not math.isfinite(t3_computed):
+            raise ValueError(f"the four-bar loop Z2 + Z3 = Z1 + Z4 does not close: |Z2 + Z3 - Z1 - Z4| = "
+                             f"{self.loop_error:.4g}, more than {LOOP_TOLERANCE:.0%} of the longest link "
+                             f"({longest:.4g}); check the vectors")
 
     # --- kinematics -------------------------------------------------------------------------
     def angles(self, theta2):
