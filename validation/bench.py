@@ -36,7 +36,7 @@ BENCH_CASES: dict[str, list[int] | None] = {
     "bapat2015_test1a": None,
     "bapat2015_test2": None,
 }
-POSITION = ("x", "y")
+POSITION = ("x", "y", "dx", "dy")
 
 
 def _pin_blas() -> dict[str, str]:
@@ -146,6 +146,7 @@ def run_bench(out: Path, quick: bool = False, cases: dict[str, list[int] | None]
             options = dict(case.methods.get(method) or {}) | extra
             sub = _restrict(case, method, options, levels)
             if not requests_for(sub, method):
+                skipped.append(f"{case_id}/{label}: no tip-position or limit-load output to time")
                 continue
             run, median, peak = _timed(sub, method, repeats)
             if not run.values:
@@ -184,8 +185,14 @@ def _headline(frame: pd.DataFrame, quick: bool) -> dict:
         for target in (1e-4, 1e-6):
             ours = min(_time_to_error(part, "fem", target), _time_to_error(part, "fem+richardson", target))
             peer = _time_to_error(part, "opensees", target)
-            headline["fem_over_opensees_time_at_error"][f"{case_id} @ {target:g} L"] = (
-                ours / peer if peer and not math.isnan(peer) else None)
+            reached = (not math.isnan(ours), not math.isnan(peer))
+            headline["fem_over_opensees_time_at_error"][f"{case_id} @ {target:g} L"] = dict(
+                fem_s=None if math.isnan(ours) else ours, opensees_s=None if math.isnan(peer) else peer,
+                ratio=ours / peer if all(reached) else None,
+                note={(True, True): "", (True, False): "OpenSees did not reach this error (up to 256 elements)",
+                      (False, True): "our FEM did not reach this error", (False, False): "neither reached it"}[reached]
+                + ("" if part["error_reference"].iloc[0] in ("elastica",) else
+                   f"; reference: {part['error_reference'].iloc[0]}"))
         prbm = part[part["method"] == "prbm"]
         fem = part[(part["method"] == "fem")]
         fem_case = part[part["method"] == "fem (case options)"]
