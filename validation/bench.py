@@ -183,7 +183,9 @@ def _headline(frame: pd.DataFrame, quick: bool) -> dict:
     headline: dict = {"fem_over_opensees_time_at_error": {}, "prbm_over_fem": {}, "growth_exponent": {}}
     for case_id, part in frame.groupby("case") if len(frame) else []:
         for target in (1e-4, 1e-6):
-            ours = min(_time_to_error(part, "fem", target), _time_to_error(part, "fem+richardson", target))
+            ours = float(np.nanmin([_time_to_error(part, "fem", target),
+                                    _time_to_error(part, "fem+richardson", target), math.inf]))
+            ours = math.nan if math.isinf(ours) else ours
             peer = _time_to_error(part, "opensees", target)
             reached = (not math.isnan(ours), not math.isnan(peer))
             headline["fem_over_opensees_time_at_error"][f"{case_id} @ {target:g} L"] = dict(
