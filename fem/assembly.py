@@ -69,7 +69,6 @@ class System:
             self.n_levels = n_levels
         # full-level sparsity pattern: elements, springs, follower, rigid links
         e = d.edofs
-        ns = len(d.springs)
         fr = np.concatenate([2 * self.fol_nodes, 2 * self.fol_nodes + 1])
         fc = np.concatenate([d.rot_dof[self.fol_nodes]] * 2)
         mr = d.rot_dof[d.masters]

@@ -31,7 +31,6 @@ A level whose loads are all zero is the unloaded pose (a, b, theta0) = ``rest``.
 from __future__ import annotations
 
 import cmath
-import math
 import time
 from dataclasses import dataclass
 from typing import Callable

@@ -22,7 +22,6 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from validation.capabilities import QUANTITIES
 from validation.loader import find_case_files
 from validation.runner import CaseResult, run_cases, summary
 

@@ -81,7 +81,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_valida
 
 from validation.loader import CASES_DIR, CaseError, find_case_files, load_case, read_toml_model
 from validation.schema import Case, Finite, OutputSpec, Positive
-from validation.sweep_task import MODES, ROW_COLUMNS, PathError, check_path, prepare, run_chunk
+from validation.sweep_task import ROW_COLUMNS, PathError, check_path, prepare, run_chunk
 
 SWEEPS_DIR = CASES_DIR.parent / "sweeps"
 EXIT_OK, EXIT_FAILED_POINTS, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130

@@ -31,6 +31,16 @@ from validation.sweep import load_results
 CHI2_2DOF_95 = 5.991464547107979  # chi-square quantile, 2 degrees of freedom, 0.95
 
 
+
+def _save(fig, path: Path) -> Path:
+    """Lay out, write and close a figure; the path written."""
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
 def _figure(rows: int = 1, cols: int = 1, size=(6.4, 4.8)):
     import matplotlib
 
@@ -86,11 +96,7 @@ def plot_domain(frame: pd.DataFrame, manifest: dict, out: Path) -> list[Path]:
         ax.set_title(f"{case}: deflection domain")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
-    path = out / "domain.png"
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return [path]
+    return [_save(fig, out / "domain.png")]
 
 
 def ellipse(mean: np.ndarray, cov: np.ndarray, scale2: float = CHI2_2DOF_95, n: int = 100) -> np.ndarray:
@@ -144,11 +150,7 @@ def plot_scatter(frame: pd.DataFrame, manifest: dict, out: Path) -> list[Path]:
         ax.set_ylabel(y)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
-    path = out / "scatter.png"
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return [path]
+    return [_save(fig, out / "scatter.png")]
 
 
 def convergence(frame: pd.DataFrame, by: str) -> pd.DataFrame:
@@ -205,11 +207,7 @@ def plot_convergence(frame: pd.DataFrame, manifest: dict, out: Path) -> list[Pat
         ax.set_title(case)
         ax.grid(alpha=0.3, which="both")
         ax.legend(fontsize=7)
-    path = out / "convergence.png"
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return [path]
+    return [_save(fig, out / "convergence.png")]
 
 
 PLOTS = {"domain": plot_domain, "scatter": plot_scatter, "convergence": plot_convergence}
