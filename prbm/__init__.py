@@ -2,7 +2,8 @@
 from prbm.composite import capstan_factor, composite_beam_tip, layered_bending_stiffness
 from prbm.coupled_segment import BodyLoad, body_end_loads, inflection_pivots, solve_segment_with_body
 from prbm.dof import SEGMENT_MODES, PRBMTopology, Segment, grubler
-from prbm.domain import boundary_curves, fit_radius, fixed_pinned_domain
+from prbm.domain import (boundary_curves, curved_fixed_pinned_domain, fit_radius, fixed_fixed_monotonic_domain,
+                         fixed_guided_domain, fixed_pinned_domain, slfp_domain)
 from prbm.fits import (FAMILIES, HOWELL, PAULY_MIDHA, PURE_MOMENT_C_THETA, PURE_MOMENT_GAMMA,
                        PURE_MOMENT_K_THETA, PURE_MOMENT_SPRING, FitFamily, FitRangeError, FitRangeWarning,
                        PiecewiseFit, fit_family, load_angle, load_ratio)
@@ -17,7 +18,8 @@ __all__ = [
     "capstan_factor", "composite_beam_tip", "layered_bending_stiffness",
     "BodyLoad", "body_end_loads", "inflection_pivots", "solve_segment_with_body",
     "SEGMENT_MODES", "PRBMTopology", "Segment", "grubler",
-    "boundary_curves", "fit_radius", "fixed_pinned_domain",
+    "boundary_curves", "curved_fixed_pinned_domain", "fit_radius", "fixed_fixed_monotonic_domain",
+    "fixed_guided_domain", "fixed_pinned_domain", "slfp_domain",
     "FAMILIES", "HOWELL", "PAULY_MIDHA", "PURE_MOMENT_C_THETA", "PURE_MOMENT_GAMMA", "PURE_MOMENT_K_THETA",
     "PURE_MOMENT_SPRING", "FitFamily", "FitRangeError", "FitRangeWarning", "PiecewiseFit", "fit_family",
     "load_angle", "load_ratio",
