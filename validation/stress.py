@@ -222,6 +222,40 @@ def column_check() -> list[Check]:
     return checks
 
 
+def bistable_check() -> list[Check]:
+    """The bistable partially-compliant four-bar of chapter 6 Example 2, driven through both stable
+    positions by its output rotation in small steps: the FEM path must be continuous (no jump
+    between steps), the strain energy must rise to a maximum and fall to the second well, and the
+    driving torque must change sign at that maximum (the snap-through a torque-driven test would show)."""
+    import tomllib
+
+    from validation.loader import case_by_id
+
+    loaded = case_by_id("bapat2015_ch6_ex2")
+    data = tomllib.loads(loaded.text)
+    angles = [float(a) for a in np.linspace(0.0, 60.0, 31)]
+    data["loads"] = [dict(data["loads"][0], values=angles)]
+    data["outputs"] = [dict(quantity="strain_energy"), dict(quantity="input_torque"),
+                       dict(quantity="x", point="B"), dict(quantity="y", point="B")]
+    data["methods"] = {"fem": dict(data["methods"]["fem"], error_estimate=False)}
+    data["references"] = []
+    data.pop("level_labels", None)
+    run = run_method(Case.model_validate(data), "fem")
+    if not run.converged:
+        return [Check("hard paths", "bistable four-bar (ch. 6 Ex. 2) through both wells", False, run.message[:200])]
+    U = np.array([run.values[Request("strain_energy", "", k)] for k in range(len(angles))])
+    T = np.array([run.values[Request("input_torque", "", k)] for k in range(len(angles))])
+    A = np.array([[run.values[Request(q, "B", k)] for q in ("x", "y")] for k in range(len(angles))])
+    jumps = np.hypot(*np.diff(A, axis=0).T)
+    peak = int(np.argmax(U))
+    sign_changes = int(np.sum(np.sign(T[1:-1]) != np.sign(T[2:])))
+    ok = (0 < peak < len(U) - 1 and U[-1] < U[peak] and sign_changes >= 1
+          and jumps.max() < 5.0 * np.median(jumps))
+    return [Check("hard paths", "bistable four-bar (ch. 6 Ex. 2) through both wells", ok,
+                  f"energy peak {U[peak]:.4g} in-lb at {angles[peak]:.0f} deg, {U[-1]:.4g} at 60 deg; torque changes "
+                  f"sign {sign_changes}x; largest step of B {jumps.max():.3g} in (median {np.median(jumps):.3g})")]
+
+
 def prbm_edge_checks() -> list[Check]:
     """PRBM at its edges: fits at and beyond their ranges, four-bars at and past toggle, loops that
     cannot close."""
@@ -370,7 +404,8 @@ def run_stress(out: Path, long: bool = False, seed: int = 20261122) -> int:
             path = write_regression(small, out / "regressions")
             check.detail += f"; shrunk to {json.dumps({k: round(v, 6) for k, v in small.items()})}, kept as {path.name}"
         checks.append(check)
-    for block in (invariance_checks, hard_path_checks, column_check, prbm_edge_checks, bad_input_checks):
+    for block in (invariance_checks, hard_path_checks, column_check, bistable_check, prbm_edge_checks,
+                  bad_input_checks):
         checks.extend(block())
     categories = {}
     for c in checks:
