@@ -33,13 +33,7 @@ def _section(fem, spec, E, length: float, options: dict):
         return fem.Section.rectangle(E, spec.width, spec.thickness)
     EI = E * spec.I
     EA = E * spec.A if spec.A is not None else float(options.get("inextensible_ratio", 1e6)) * EI / length**2
-    return fem.Section.from_EI(EA, EI, c=spec.c, E=E) if _accepts_E(fem) else fem.Section.from_EI(EA, EI, c=spec.c)
-
-
-def _accepts_E(fem) -> bool:
-    import inspect
-
-    return "E" in inspect.signature(fem.Section.from_EI).parameters
+    return fem.Section.from_EI(EA, EI, c=spec.c, E=E)
 
 
 def _segment_model(fem, case, elements: int, options: dict):
@@ -58,21 +52,48 @@ def _segment_model(fem, case, elements: int, options: dict):
     section = _section(fem, seg.section, seg.E, L, options)
     model.add_member("root", "tip", section, n_elements=elements, curvature=kappa, name="segment")
     model.add_support("root", "pinned" if seg.boundary == "pinned-pinned" else "fixed")
-    acted = _add_loads(model, case, {"tip"})
-    tip_kind = {"fixed-guided": ["rz"], "fixed-fixed": ["ux", "uy", "rz"], "pinned-pinned": ["ux", "uy"]}
-    n = case.n_levels()
-    for dof in tip_kind.get(seg.boundary, []):
-        if dof not in acted:
-            model.prescribe("tip", dof, np.zeros(n))
+    _add_loads(model, case, {"tip"})
+    for dof in _boundary_held_tip(case):
+        model.prescribe("tip", dof, np.zeros(case.n_levels()))
     return model
 
 
-def _add_loads(model, case, allowed_points, members: dict | None = None) -> set:
-    """Add the case's loads; returns the tip DOFs they act on (for the boundary defaults).
+TIP_HELD = {"fixed-guided": ("rz",), "fixed-fixed": ("ux", "uy", "rz"), "pinned-pinned": ("ux", "uy")}
+
+
+def _load_dofs(load) -> set[str]:
+    """The DOFs of its point that a load acts on or prescribes."""
+    if load.kind in ("moment", "rotation"):
+        return {"rz"}
+    d = load.direction
+    if load.kind == "displacement":
+        return {"ux" if abs(d[0]) > abs(d[1]) else "uy"}
+    return {name for name, component in zip(("ux", "uy"), d) if component}
+
+
+def _boundary_held_tip(case) -> list[str]:
+    """Tip DOFs the segment's boundary type holds because no load acts on or prescribes them."""
+    acted = set().union(*(_load_dofs(load) for load in case.loads if load.point == "tip"))
+    return [dof for dof in TIP_HELD.get(case.segment.boundary, ()) if dof not in acted]
+
+
+def _held_dofs(case) -> dict[str, set]:
+    """DOFs whose reaction is the load needed to hold them: prescribed by a load, or held by the
+    segment's boundary type."""
+    held: dict[str, set] = {}
+    for load in case.loads:
+        if load.kind in ("displacement", "rotation"):
+            held.setdefault(load.point, set()).update(_load_dofs(load))
+    if case.segment is not None:
+        held.setdefault("tip", set()).update(_boundary_held_tip(case))
+    return held
+
+
+def _add_loads(model, case, allowed_points, members: dict | None = None) -> None:
+    """Add the case's loads.
 
     A moment with ``body`` naming a beam acts on that beam's end (one side of a hinge); on a rigid
     link, or without ``body``, it acts on the node's rotation."""
-    acted = set()
     for i, load in enumerate(case.loads):
         if load.point not in allowed_points:
             raise NotApplicable(f"loads.{i} acts on '{load.point}', which the FEM model holds fixed")
@@ -80,14 +101,11 @@ def _add_loads(model, case, allowed_points, members: dict | None = None) -> set:
         if load.kind == "force":
             d = np.asarray(load.direction, float)
             model.add_force(load.point, values * d[0], values * d[1], follower=load.follower)
-            acted |= {"ux", "uy"} if d[0] and d[1] else ({"ux"} if d[0] else {"uy"})
         elif load.kind == "moment":
             member = (members or {}).get(load.body) if load.body else None
             model.add_moment(load.point, values, member=member)
-            acted.add("rz")
         elif load.kind == "rotation":
             model.prescribe(load.point, "rz", np.radians(values))
-            acted.add("rz")
         else:  # displacement along an axis
             d = np.asarray(load.direction, float)
             d = d / np.hypot(*d)
@@ -95,8 +113,6 @@ def _add_loads(model, case, allowed_points, members: dict | None = None) -> set:
                 raise NotApplicable("a prescribed displacement must be along x or along y")
             dof = "ux" if abs(d[0]) > 0.5 else "uy"
             model.prescribe(load.point, dof, values * (d[0] if dof == "ux" else d[1]))
-            acted.add(dof)
-    return acted
 
 
 def _stiff_bar_links(mech) -> set[str]:
@@ -168,16 +184,6 @@ def build_model(case, elements: int, options: dict):
     return _mechanism_model(fem, case, elements, options)
 
 
-def _prescribed_dofs(case) -> dict[str, set]:
-    out: dict[str, set] = {}
-    for load in case.loads:
-        if load.kind == "rotation":
-            out.setdefault(load.point, set()).add("rz")
-        elif load.kind == "displacement":
-            out.setdefault(load.point, set()).add("ux" if abs(load.direction[0]) > abs(load.direction[1]) else "uy")
-    return out
-
-
 def _applied(case, point: str, level: int) -> np.ndarray:
     total = np.zeros(3)
     for load in case.loads:
@@ -215,7 +221,7 @@ class _Fields:
 def _extract(case, fields: _Fields, requests: list[Request], origin: dict | None) -> dict[Request, float]:
     """Values of the requested outputs (angles in degrees). With ``origin=None`` the fields are error
     estimates: displacements then carry the position error and applied loads have none."""
-    held = _prescribed_dofs(case)
+    held = _held_dofs(case)
     values = {}
     for req in requests:
         q, p, lv = req
@@ -230,7 +236,7 @@ def _extract(case, fields: _Fields, requests: list[Request], origin: dict | None
         elif q in ("force_x", "force_y", "moment"):
             k = ("force_x", "force_y", "moment").index(q)
             dof = ("ux", "uy", "rz")[k]
-            if dof in held.get(p, set()) or (case.segment is not None and p == "tip" and _tip_held(case, dof)):
+            if dof in held.get(p, set()):
                 values[req] = float(fields.reaction(p, lv)[k])  # the load needed to hold the motion
             else:
                 values[req] = float(_applied(case, p, lv)[k]) if origin is not None else 0.0
@@ -241,19 +247,6 @@ def _extract(case, fields: _Fields, requests: list[Request], origin: dict | None
         elif q == "input_angle":
             values[req] = math.degrees(fields.rotation(_input_node(case), lv))
     return values
-
-
-def _tip_held(case, dof: str) -> bool:
-    seg = case.segment
-    acted = set()
-    for load in case.loads:
-        if load.point == "tip":
-            if load.kind in ("moment", "rotation"):
-                acted.add("rz")
-            elif load.kind == "displacement":
-                acted.add("ux" if abs(load.direction[0]) > abs(load.direction[1]) else "uy")
-    default = {"fixed-guided": {"rz"}, "fixed-fixed": {"ux", "uy", "rz"}, "pinned-pinned": {"ux", "uy"}}
-    return dof in (default.get(seg.boundary, set()) - acted) or dof in _prescribed_dofs(case).get("tip", set())
 
 
 def _input_node(case) -> str:
