@@ -91,14 +91,7 @@ class PiecewiseFit:
         outside = ~((n_arr > self.lower) & (n_arr <= self.upper))
         if np.any(outside):
             bad = n_arr[outside] if n_arr.ndim else n_arr
-            message = (f"{self.name}: load ratio n = {np.ravel(bad)[0]:.6g} outside the fitted range "
-                       f"{self.lower} < n <= {self.upper} ({self.source})")
-            if extrapolate == "raise":
-                raise FitRangeError(message)
-            if extrapolate == "warn":
-                warnings.warn(message + "; nearest branch extrapolated", FitRangeWarning, stacklevel=2)
-            elif extrapolate != "allow":
-                raise ValueError(f"extrapolate must be 'raise', 'warn' or 'allow', not {extrapolate!r}")
+            self._out_of_range(float(np.ravel(bad)[0]), extrapolate)
         out = np.empty_like(n_arr)
         for i, br in enumerate(self.branches):
             lo = -np.inf if i == 0 else br.lower

@@ -26,7 +26,7 @@ import pandas as pd
 
 from validation.loader import CaseError, case_by_id, find_case_files
 from validation.methods.base import Request
-from validation.runner import requests_for, run_cases, run_method
+from validation.runner import characteristic_length, requests_for, run_cases, run_method
 
 # case id -> levels benchmarked (None = all)
 BENCH_CASES: dict[str, list[int] | None] = {
@@ -130,8 +130,7 @@ def run_bench(out: Path, quick: bool = False, cases: dict[str, list[int] | None]
             skipped.append(f"{case_id}: {exc.problem}")
             continue
         case = loaded.case
-        scale = case.segment.length if case.segment is not None else max(
-            np.ptp([n.x for n in case.mechanism.nodes]), np.ptp([n.y for n in case.mechanism.nodes]))
+        scale = characteristic_length(case)
         exact, exact_from = _exact(case, levels)
         configs = [("prbm", {}, None), ("elastica", {}, None), ("fem (case options)", {}, None)]
         runs = []

@@ -93,7 +93,8 @@ def run_case(loaded: LoadedCase, methods: list[str] | None = None, use_cache: bo
     return result
 
 
-def _char_length(case: Case) -> float:
+def characteristic_length(case: Case) -> float:
+    """The length errors are normalised by: the segment's length, or the mechanism's extent."""
     if case.segment is not None:
         return case.segment.length
     xs = [n.x for n in case.mechanism.nodes]
@@ -109,7 +110,7 @@ def tabulate(result: CaseResult) -> pd.DataFrame:
     for ref in case.references:
         point = ref.point if QUANTITIES[ref.quantity].at_point else ""
         refs.setdefault((ref.quantity, point, ref.level), []).append(ref)
-    scale = _char_length(case)
+    scale = characteristic_length(case)
     rows = []
     for method, run in result.runs.items():
         requests = requests_for(case, method)

@@ -101,6 +101,14 @@ class SectionSpec(Strict):
             return self.I
         return sum(layer.width * layer.thickness**3 / 12.0 for layer in self.layers)
 
+    def stiffness(self, E: float | None) -> tuple[float, float]:
+        """(EA, EI) of the section with modulus E; sliding layers carry their own moduli (E unused)
+        and bend each about its own centroid."""
+        if self.kind == "layers":
+            return (sum(l.E * l.width * l.thickness for l in self.layers),
+                    sum(l.E * l.width * l.thickness**3 / 12.0 for l in self.layers))
+        return E * self.area(), E * self.inertia()
+
     def area(self) -> float:
         if self.kind == "rectangle":
             return self.width * self.thickness
@@ -133,14 +141,10 @@ class SegmentSpec(Strict):
 
     def bending_stiffness(self) -> float:
         """EI; for sliding layers the sum of each layer's E*I about its own centroid."""
-        if self.section.kind == "layers":
-            return sum(l.E * l.width * l.thickness**3 / 12.0 for l in self.section.layers)
-        return self.E * self.section.inertia()
+        return self.section.stiffness(self.E)[1]
 
     def axial_stiffness(self) -> float:
-        if self.section.kind == "layers":
-            return sum(l.E * l.width * l.thickness for l in self.section.layers)
-        return self.E * self.section.area()
+        return self.section.stiffness(self.E)[0]
 
 
 class NodeSpec(Strict):

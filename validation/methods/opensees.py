@@ -45,17 +45,12 @@ def _geometry(case, elements: int):
         supports = {idx[0]: "fixed"}
         return coords, names, elems, supports
     mech = case.mechanism
-    if mech.links or any(j.spring or True for j in mech.joints):
-        if mech.links or mech.joints:
-            raise NotApplicable("released joints and rigid links are not built for the OpenSees peer")
+    if mech.links or mech.joints:
+        raise NotApplicable("released joints and rigid links are not built for the OpenSees peer")
     for node in mech.nodes:
         names[node.name] = add(node.x, node.y)
     for beam in mech.beams:
-        E = beam.E or mech.E
-        EI = E * beam.section.inertia() if beam.section.kind != "layers" else \
-            sum(l.E * l.width * l.thickness**3 / 12 for l in beam.section.layers)
-        EA = E * beam.section.area() if beam.section.kind != "layers" else \
-            sum(l.E * l.width * l.thickness for l in beam.section.layers)
+        EA, EI = beam.section.stiffness(beam.E or mech.E)
         a, b = np.array(coords[names[beam.start]]), np.array(coords[names[beam.end]])
         chain = [names[beam.start]]
         for k in range(1, elements):
