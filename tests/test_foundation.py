@@ -89,7 +89,7 @@ BAD = {
     "unknown unit": (GOOD.replace('units = "in-lb"', 'units = "furlong"'), "case.units", "unknown unit system"),
     "output not given": (GOOD.replace('quantity = "y"\n\n[methods', 'quantity = "dof"\n\n[methods')
                          .replace("[methods.prbm]", "[methods.elastica]").replace('compare = "prbm"\n', "")
-                         .replace("tolerance = { rel = 1e-3 }\n", ""), "(top level)",
+                         .replace("tolerance = { rel = 1e-3 }\n", ""), "outputs.0",
                          "method 'elastica' cannot give 'dof'"),
     "NaN": (GOOD.replace("values = [1.0, 2.0]", "values = [1.0, nan]"), "loads.0.values.1", "finite"),
 }

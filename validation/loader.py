@@ -1,25 +1,40 @@
-"""Load case files: TOML -> validated ``Case``, with one-line errors naming file, field and problem."""
+"""Load case files: TOML -> validated ``Case``, with every error of a file listed, one line each,
+naming the file, the field and what is wrong.
+
+A case is checked completely before any solve: the schema (``validation/schema.py``), the options
+of each method (``validation/method_options.py``) and, for a mechanism, whether it is held against
+rigid-body motion (``validation/mobility.py``). Case files can live anywhere: ids, files, folders
+and globs are all accepted, and unknown names get the nearest valid ones.
+"""
 from __future__ import annotations
 
 import fnmatch
 import glob
+import re
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 from pydantic import ValidationError
 
+from validation import method_options, mobility
+from validation.names import nearest
 from validation.schema import Case
 
 CASES_DIR = Path(__file__).resolve().parent.parent / "cases"
 
 
 class CaseError(Exception):
-    """A case file that cannot be used; ``str()`` is the one-line message for the user."""
+    """A case file that cannot be used; ``str()`` has one line per problem (file: field: problem),
+    the first problem first. ``field`` and ``problem`` are the first; ``problems`` has them all."""
 
-    def __init__(self, path: Path | str, field: str, problem: str):
+    def __init__(self, path: Path | str, field: str, problem: str, more: list[tuple[str, str]] | None = None):
         self.path, self.field, self.problem = str(path), field, problem
-        super().__init__(f"{self.path}: {field}: {problem}" if field else f"{self.path}: {problem}")
+        self.problems: list[tuple[str, str]] = [(field, problem), *(more or [])]
+        super().__init__("\n".join(self._line(f, p) for f, p in self.problems))
+
+    def _line(self, field: str, problem: str) -> str:
+        return f"{self.path}: {field}: {problem}" if field else f"{self.path}: {problem}"
 
 
 @dataclass(frozen=True)
@@ -41,9 +56,36 @@ def _field_path(location: tuple) -> str:
     return ".".join(str(p) for p in location if not is_tag(p)) or "(top level)"
 
 
-def read_toml_model(path: Path | str, model, error=CaseError):
-    """(text, validated model) of a TOML file; any problem raises ``error(path, field, problem)``,
-    whose ``str()`` is one line naming the file, the field path and what is wrong."""
+_FIELD_PREFIX = re.compile(r"^([A-Za-z_][\w.]*): (.+)$")
+
+
+def describe_all(exc: ValidationError) -> list[tuple[str, str]]:
+    """(field path, message) of every error of a pydantic ValidationError, in pydantic's order.
+
+    A model-level check that found several problems reports them one per line, each as
+    ``field: message``; those lines become separate errors with their own field."""
+    problems = []
+    for err in exc.errors():
+        field = _field_path(err["loc"])
+        for part in err["msg"].removeprefix("Value error, ").split("\n"):
+            match = _FIELD_PREFIX.match(part)
+            if match and field == "(top level)":
+                problems.append((match.group(1), match.group(2)))
+            else:
+                problems.append((field, part))
+    return problems
+
+
+def describe(exc: ValidationError) -> tuple[str, str]:
+    """(field path, message) of the first error of a pydantic ValidationError."""
+    return describe_all(exc)[0]
+
+
+def read_toml_model(path: Path | str, model, error=None):
+    """(text, validated model) of a TOML file; any problem raises ``error(path, field, problem)``
+    (``CaseError`` by default), whose ``str()`` names the file, the field path and what is wrong,
+    one line per problem."""
+    error = error or CaseError
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8")
@@ -56,40 +98,68 @@ def read_toml_model(path: Path | str, model, error=CaseError):
     try:
         return text, model.model_validate(data)
     except ValidationError as exc:
-        field, message = describe(exc)
-        raise error(path, field, message) from None
+        problems = describe_all(exc)
+        (field, message), more = problems[0], problems[1:]
+        if isinstance(error, type) and issubclass(error, CaseError):
+            raise error(path, field, message, more) from None
+        raise error(path, field, "; ".join([message] + [f"{f}: {m}" for f, m in more])) from None
+
+
+def check_case(case: Case) -> list[tuple[str, str]]:
+    """(field, problem) of everything wrong with a schema-valid case that would otherwise only show
+    in a solve: the method options, and a mechanism that can move as a rigid body."""
+    return method_options.check(case.methods) + mobility.check(case)
 
 
 def load_case(path: Path | str) -> LoadedCase:
-    """Read and validate one case file; raise ``CaseError`` with a one-line message on any problem."""
+    """Read and validate one case file; raise ``CaseError`` listing every problem, one per line."""
     text, case = read_toml_model(path, Case)
+    problems = check_case(case)
+    if problems:
+        (field, message), more = problems[0], problems[1:]
+        raise CaseError(path, field, message, more)
     return LoadedCase(path=Path(path), text=text, case=case)
 
 
-def describe(exc: ValidationError) -> tuple[str, str]:
-    """(field path, message) of the first error of a pydantic ValidationError, for one-line reports."""
-    err = exc.errors()[0]
-    more = f" (and {exc.error_count() - 1} more)" if exc.error_count() > 1 else ""
-    return _field_path(err["loc"]), err["msg"].removeprefix("Value error, ") + more
+def _search_roots(patterns: list[str], root: Path) -> list[Path]:
+    """Where ids are looked up: ``root`` and every folder, or folder of a file, named alongside."""
+    roots = [root]
+    for pattern in patterns:
+        p = Path(pattern)
+        if p.is_dir():
+            roots.append(p)
+        elif p.is_file():
+            roots.append(p.parent)
+    return list(dict.fromkeys(r.resolve() for r in roots))
 
 
 def find_case_files(patterns: list[str] | None = None, root: Path = CASES_DIR) -> list[Path]:
-    """Case files matching ids, paths or globs (relative to cwd or to ``cases/``); all if none given."""
+    """Case files matching ids, files, folders (every ``*.toml`` below) or globs; all of ``root``
+    if none given. Ids are looked up under ``root`` and under the folders named alongside.
+    An unknown name raises ``CaseError`` with the nearest valid ids."""
     if not patterns:
         return sorted(root.rglob("*.toml"))
+    roots = _search_roots(patterns, root)
     found: list[Path] = []
     for pattern in patterns:
+        if Path(pattern).is_dir():
+            matches = sorted(Path(pattern).rglob("*.toml"))
+            if not matches:
+                raise CaseError(pattern, "", "the folder holds no case file (*.toml)")
+            found.extend(m.resolve() for m in matches)
+            continue
         matches = [Path(p) for p in glob.glob(pattern, recursive=True)]
         matches += [Path(p) for p in glob.glob(str(root / "**" / pattern), recursive=True)]
         matches += [Path(p) for p in glob.glob(str(root / "**" / f"{pattern}.toml"), recursive=True)]
         matches = [m for m in matches if m.suffix == ".toml" and m.is_file()]
         if not matches:
-            matches = [path for case_id, path in _id_index(root).items() if fnmatch.fnmatchcase(case_id, pattern)]
-        if not matches:
-            raise CaseError(pattern, "", "no case file matches this name or pattern")
+            index = {k: v for r in roots for k, v in _id_index(r).items()}
+            matches = [path for case_id, path in index.items() if fnmatch.fnmatchcase(case_id, pattern)]
+            if not matches:
+                raise CaseError(pattern, "", "no case file matches this id, file or pattern"
+                                + nearest(pattern, index))
         found.extend(sorted(set(m.resolve() for m in matches)))
-    unique = list(dict.fromkeys(found))
-    return unique
+    return list(dict.fromkeys(found))
 
 
 def _id_index(root: Path) -> dict[str, Path]:
@@ -106,9 +176,8 @@ def _id_index(root: Path) -> dict[str, Path]:
 
 
 def case_by_id(case_id: str, root: Path = CASES_DIR) -> LoadedCase:
-    """The case whose [case].id is ``case_id`` (for tests)."""
-    for path in find_case_files(None, root):
-        loaded = load_case(path)
-        if loaded.id == case_id:
-            return loaded
-    raise CaseError(case_id, "case.id", "no case file has this id")
+    """The case whose [case].id is ``case_id``; ``CaseError`` with the nearest ids otherwise."""
+    index = _id_index(root)
+    if case_id in index:
+        return load_case(index[case_id])
+    raise CaseError(case_id, "case.id", "no case file has this id" + nearest(case_id, index))

@@ -20,7 +20,7 @@ import pandas as pd
 from validation import cache
 from validation.capabilities import QUANTITIES
 from validation.loader import CaseError, LoadedCase, load_case
-from validation.methods.base import MethodRun, NotApplicable, Request
+from validation.methods.base import Misconfigured, MethodRun, NotApplicable, Request, RunStatus
 from validation.schema import Case
 
 COLUMNS = ["case", "group", "method", "quantity", "point", "level", "level_label", "value", "unit", "scale",
@@ -43,7 +43,8 @@ def requests_for(case: Case, method: str) -> list[Request]:
 
 
 def run_method(case: Case, method: str) -> MethodRun:
-    """Call the adapter; a method that cannot model the case or fails returns a run that says so."""
+    """Call the adapter; a method that cannot model the case, is misconfigured or fails returns a
+    run that says so in its ``status`` and ``message``."""
     options = dict(case.methods.get(method) or {})
     requests = requests_for(case, method)
     start = time.perf_counter()
@@ -52,13 +53,17 @@ def run_method(case: Case, method: str) -> MethodRun:
         run = adapter.run(case, requests, options)
     except NotApplicable as exc:
         return MethodRun(values={}, converged=False, message=f"not applicable: {exc}",
-                         wall_time=time.perf_counter() - start, extras={"not_applicable": True})
+                         wall_time=time.perf_counter() - start, extras={"not_applicable": True},
+                         status=RunStatus.NOT_APPLICABLE)
+    except Misconfigured as exc:
+        return MethodRun(values={}, converged=False, message=f"misconfigured: methods.{method}: {exc}",
+                         wall_time=time.perf_counter() - start, status=RunStatus.MISCONFIGURED)
     except Exception as exc:  # a solver bug must not stop the other cases
         last = traceback.extract_tb(exc.__traceback__)[-1]
         where = f"{Path(last.filename).name}:{last.lineno}"
         return MethodRun(values={}, converged=False,
                          message=f"error: {type(exc).__name__}: {exc} (at {where})",
-                         wall_time=time.perf_counter() - start)
+                         wall_time=time.perf_counter() - start, status=RunStatus.FAILED)
     if not run.wall_time:
         run.wall_time = time.perf_counter() - start
     missing = [r for r in requests if r not in run.values]
@@ -66,6 +71,14 @@ def run_method(case: Case, method: str) -> MethodRun:
         run.converged = False
         run.message = (run.message + "; " if run.message else "") + \
             f"did not return {len(missing)} requested output(s), e.g. {missing[0]}"
+    asked = {r.level for r in requests}
+    unconverged = sorted(lv for lv, ok in run.level_converged.items() if not ok and lv in asked)
+    if run.status is RunStatus.OK and (not run.converged or unconverged):
+        run.status = RunStatus.NOT_CONVERGED
+        run.converged = False
+        if unconverged and f"level {unconverged[0]}" not in run.message:
+            run.message = (run.message + "; " if run.message else "") + \
+                f"not converged at level(s) {unconverged}"
     return run
 
 
@@ -87,7 +100,7 @@ def run_case(loaded: LoadedCase, methods: list[str] | None = None, use_cache: bo
         result.cached[method] = run is not None
         if run is None:
             run = run_method(loaded.case, method)
-            if not run.extras.get("not_applicable") and not run.message.startswith("error:"):
+            if run.status in (RunStatus.OK, RunStatus.NOT_CONVERGED):
                 cache.store(key, run)
         result.runs[method] = run
     return result

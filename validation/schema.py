@@ -20,7 +20,8 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
-from validation.capabilities import QUANTITIES, method_quantities
+from validation.capabilities import METHODS, QUANTITIES, method_quantities
+from validation.names import nearest
 
 UNIT_SYSTEMS: dict[str, dict[str, str]] = {
     "in-lb": {"length": "in", "force": "lbf", "modulus": "psi", "moment": "lbf*in",
@@ -287,7 +288,7 @@ class OutputSpec(Strict):
     @classmethod
     def _known(cls, value: str) -> str:
         if value not in QUANTITIES:
-            raise ValueError(f"unknown quantity '{value}'; known: {', '.join(sorted(QUANTITIES))}")
+            raise ValueError(f"unknown quantity '{value}'{nearest(value, QUANTITIES)}")
         return value
 
 
@@ -313,7 +314,7 @@ class ReferenceSpec(Strict):
     @classmethod
     def _known(cls, value: str) -> str:
         if value not in QUANTITIES:
-            raise ValueError(f"unknown quantity '{value}'")
+            raise ValueError(f"unknown quantity '{value}'{nearest(value, QUANTITIES)}")
         return value
 
     @model_validator(mode="after")
@@ -356,34 +357,42 @@ class Case(Strict):
     def _coherent(self) -> "Case":
         if (self.segment is None) == (self.mechanism is None):
             raise ValueError("a case describes exactly one of [segment] or [mechanism]")
+        problems: list[str] = []  # every problem, one line each ("field: what is wrong")
         n = self.n_levels()
         for i, load in enumerate(self.loads):
             if len(load.levels()) != n:
-                raise ValueError(f"loads.{i}: has {len(load.levels())} levels, loads.0 has {n}")
+                problems.append(f"loads.{i}: has {len(load.levels())} levels, loads.0 has {n}")
         if self.level_labels is not None and len(self.level_labels) != n:
-            raise ValueError(f"level_labels has {len(self.level_labels)} entries for {n} load levels")
+            problems.append(f"level_labels has {len(self.level_labels)} entries for {n} load levels")
         points = self.point_names()
         for i, load in enumerate(self.loads):
             if load.point not in points:
-                raise ValueError(f"loads.{i}.point: unknown point '{load.point}'")
+                problems.append(f"loads.{i}.point: unknown point '{load.point}'{nearest(load.point, points)}")
         for name in self.methods:
-            method_quantities(name)  # raises on an unknown method
+            try:
+                method_quantities(name)
+            except ValueError as exc:
+                problems.append(f"methods.{name}: {exc}")
         for i, out in enumerate(self.outputs):
             chosen = out.methods if out.methods is not None else list(self.methods)
             for method in chosen:
                 if method not in self.methods:
-                    raise ValueError(f"outputs.{i}.methods: method '{method}' is not in [methods]")
-                if out.quantity not in method_quantities(method):
-                    raise ValueError(f"outputs.{i}: method '{method}' cannot give '{out.quantity}'")
+                    problems.append(f"outputs.{i}.methods: method '{method}' is not in [methods]"
+                                    f"{nearest(method, self.methods)}")
+                    continue
+                if method in METHODS and out.quantity not in method_quantities(method):
+                    problems.append(f"outputs.{i}: method '{method}' cannot give '{out.quantity}'")
             if out.levels != "all" and any(not 0 <= lv < max(n, 1) for lv in out.levels):
-                raise ValueError(f"outputs.{i}.levels: level outside 0..{max(n, 1) - 1}")
+                problems.append(f"outputs.{i}.levels: level outside 0..{max(n, 1) - 1}")
             if out.point not in points and QUANTITIES[out.quantity].at_point:
-                raise ValueError(f"outputs.{i}.point: unknown point '{out.point}'")
+                problems.append(f"outputs.{i}.point: unknown point '{out.point}'{nearest(out.point, points)}")
         for i, ref in enumerate(self.references):
             if ref.level >= max(n, 1):
-                raise ValueError(f"references.{i}.level: {ref.level} but the case has {n} load levels")
+                problems.append(f"references.{i}.level: {ref.level} but the case has {n} load levels")
             if ref.compare is not None and ref.compare not in self.methods:
-                raise ValueError(f"references.{i}.compare: method '{ref.compare}' is not in [methods]")
+                problems.append(f"references.{i}.compare: method '{ref.compare}' is not in [methods]")
+        if problems:
+            raise ValueError("\n".join(problems))
         return self
 
     def n_levels(self) -> int:

@@ -6,11 +6,14 @@ An adapter module ``validation/methods/<name>.py`` defines
 
 It translates the case into its library's own model, computes *only* the requested outputs,
 and returns their values in the case's units (angles in degrees). If the method cannot model
-the case it raises ``NotApplicable`` with the reason, which the results table records.
+the case it raises ``NotApplicable`` with the reason, which the results table records; if an
+option of ``[methods.<name>]`` is wrong (unknown name, wrong type) it raises ``Misconfigured`` naming
+the option. Every run carries a ``RunStatus``, so callers never parse the message text.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from enum import Enum
 from typing import Any, NamedTuple
 
 
@@ -22,6 +25,20 @@ class Request(NamedTuple):
 
 class NotApplicable(Exception):
     """The method cannot model this case; the message says why."""
+
+
+class Misconfigured(Exception):
+    """An option of the method is wrong (unknown, wrongly typed, out of range); the message names it."""
+
+
+class RunStatus(str, Enum):
+    """How a method run ended: the one field callers read instead of parsing ``message``."""
+
+    OK = "ok"                          # every requested output computed, converged
+    NOT_CONVERGED = "not converged"    # the solver ran but did not converge (at some level)
+    NOT_APPLICABLE = "not applicable"  # the method refused the case (NotApplicable), with the reason
+    FAILED = "failed"                  # the method raised an unexpected exception (a bug or a crash)
+    MISCONFIGURED = "misconfigured"    # a method option of the case is wrong: bad input
 
 
 @dataclass
@@ -36,3 +53,14 @@ class MethodRun:
     # extras["shapes"]: per level, the deformed shape as a list of (n, 2) polylines (the report draws them);
     # extras["iterations"]: Newton iterations (the benchmark reads it); extras["path"]: a continuation path.
     extras: dict[str, Any] = field(default_factory=dict)
+    status: RunStatus | None = None  # None: derived from ``converged`` (OK or NOT_CONVERGED)
+
+    def __post_init__(self) -> None:
+        if self.status is None:
+            self.status = RunStatus.OK if self.converged else RunStatus.NOT_CONVERGED
+        elif self.status is not RunStatus.OK:
+            self.converged = False
+
+    @property
+    def ok(self) -> bool:
+        return self.status is RunStatus.OK

@@ -1,0 +1,58 @@
+"""The exit status of every ``prbm-validate`` verb, defined once.
+
+Every verb (``list``, ``run``, ``solve``, ``report``, ``bench``, ``stress``, ``sweep``,
+``synthesize``) ends with one of these codes, so a CI job can gate on any of them:
+
+- ``0`` everything asked for ran and every comparison is inside its tolerance;
+- ``1`` a comparison is outside its tolerance, or a method failed, refused or did not converge on
+  a case that asked for it (the summary says which, in words);
+- ``2`` bad input: a case, spec or option that cannot be used, an unknown name, a missing extra;
+  found before any solve and reported in one line naming the file, the field and what is wrong;
+- ``130`` interrupted (Ctrl-C).
+
+When several apply, the largest of 0, 1, 2 wins: bad input is never hidden by a failed comparison.
+"""
+from __future__ import annotations
+
+from enum import IntEnum
+from typing import Iterable
+
+from validation.methods.base import RunStatus
+
+
+class ExitStatus(IntEnum):
+    OK = 0
+    FAILED = 1
+    BAD_INPUT = 2
+    INTERRUPTED = 130
+
+
+RULE = ("exit status (every verb): 0 everything asked for ran and every comparison is inside its "
+        "tolerance; 1 a comparison outside its tolerance, or a method that failed, refused or did not "
+        "converge on a case that asked for it; 2 bad input (case, spec, option or name), found before "
+        "any solve; 130 interrupted")
+
+
+def of_run_status(status: RunStatus) -> ExitStatus:
+    """The exit status one method run contributes: a misconfigured method is bad input (2), one
+    that did not converge, refused the case or failed is 1."""
+    if status is RunStatus.OK:
+        return ExitStatus.OK
+    if status is RunStatus.MISCONFIGURED:
+        return ExitStatus.BAD_INPUT
+    return ExitStatus.FAILED
+
+
+def combine(statuses: Iterable[int]) -> ExitStatus:
+    """The status of several outcomes: interrupted if any was, else the largest of 0, 1, 2."""
+    statuses = [ExitStatus(int(s)) for s in statuses]
+    if ExitStatus.INTERRUPTED in statuses:
+        return ExitStatus.INTERRUPTED
+    return max(statuses, default=ExitStatus.OK)
+
+
+def decide(bad_input: bool = False, failed: bool = False) -> ExitStatus:
+    """The status from the two questions every verb answers: was any input bad, did anything fail."""
+    if bad_input:
+        return ExitStatus.BAD_INPUT
+    return ExitStatus.FAILED if failed else ExitStatus.OK
