@@ -1,6 +1,9 @@
 """``prbm-validate``: list, run, solve, report, bench, stress, sweep and synthesize.
 
-Exit status: 0 all good, 1 a comparison outside its claimed tolerance, 2 bad input.
+Exit status (every verb, defined in validation/exit_status.py): 0 everything asked for ran and every
+comparison is inside its tolerance; 1 a comparison outside its tolerance, or a method that failed,
+refused or did not converge on a case that asked for it; 2 bad input (a case, spec or option that
+cannot be used, an unknown name, a missing optional dependency), found before any solve.
 """
 from __future__ import annotations
 
@@ -11,36 +14,44 @@ import sys
 import time
 from pathlib import Path
 
-from validation.loader import CaseError, find_case_files, load_case
+from validation.exit_status import RULE, ExitStatus, combine, decide, of_run_status
+from validation.loader import CaseError, find_case_files, load_case, search_roots
 
-EXIT_OK, EXIT_TOLERANCE, EXIT_BAD_INPUT = 0, 1, 2
+# kept for callers that imported them from here; the rule itself lives in validation/exit_status.py
+EXIT_OK, EXIT_TOLERANCE, EXIT_BAD_INPUT = ExitStatus.OK, ExitStatus.FAILED, ExitStatus.BAD_INPUT
+
+# optional dependency -> the extra that installs it
+EXTRAS = {"distributed": "dask", "dask": "dask", "openseespy": "peer", "pytest": "test"}
 
 
 def _paths(patterns: list[str]) -> tuple[list[Path], list[str]]:
     paths, errors = [], []
     if not patterns:
         return find_case_files(None), errors
+    roots = search_roots(patterns)  # an id may name a file in a folder given alongside
     for pattern in patterns:
         try:
-            paths.extend(find_case_files([pattern]))
+            paths.extend(find_case_files([pattern], roots=roots))
         except CaseError as exc:
             errors.append(str(exc))
     return list(dict.fromkeys(paths)), errors
 
 
 def cmd_list(args) -> int:
-    status = EXIT_OK
-    for path in find_case_files(None):
+    """One line per case; every file is loaded, so ``list FILE...`` checks files (exit 2 on a bad one)."""
+    paths, errors = _paths(args.cases)
+    for path in paths:
         try:
             case = load_case(path).case
         except CaseError as exc:
-            print(f"error: {exc}", file=sys.stderr)
-            status = EXIT_BAD_INPUT
+            errors.append(str(exc))
             continue
         kind = "segment" if case.segment is not None else "mechanism"
         print(f"{case.case.id:<40} {case.case.group:<12} {kind:<9} {','.join(case.methods):<24} "
               f"{case.case.title}")
-    return status
+    for error in errors:
+        print(f"error: {error}", file=sys.stderr)
+    return decide(bad_input=bool(errors))
 
 
 def _print_table(frame, file=sys.stdout) -> None:
@@ -51,7 +62,22 @@ def _print_table(frame, file=sys.stdout) -> None:
         print(frame.to_string(index=False), file=file)
 
 
+def method_problems(runs) -> list[str]:
+    """One sentence per run that did not end OK: '<case> <method>: <status>: <message>'."""
+    return [f"{r.case} {r.method}: {r.status}: {r.message}" for r in runs.itertuples() if r.status != "ok"]
+
+
+def outcome_status(outcome, runs) -> ExitStatus:
+    """The exit status of a set of case runs (validation/exit_status.py)."""
+    statuses = [decide(bad_input=bool(outcome.errors), failed=len(outcome.failed_comparisons) > 0)]
+    from validation.methods.base import RunStatus
+
+    statuses += [of_run_status(RunStatus(s)) for s in runs["status"]]
+    return combine(statuses)
+
+
 def cmd_run(args) -> int:
+    from validation import tables
     from validation.runner import run_cases, summary
 
     paths, errors = _paths(args.cases)
@@ -62,10 +88,9 @@ def cmd_run(args) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     outcome.table.to_csv(out / "results.csv", index=False)
-    try:
-        outcome.table.astype({"finding": "string", "message": "string"}).to_parquet(out / "results.parquet")
-    except ImportError:
-        pass
+    outcome.table.astype({"finding": "string", "message": "string"}).to_parquet(out / "results.parquet")
+    tidy = tables.tables_of(outcome.results, outcome.table)
+    tables.write(tidy, out)
     table = summary(outcome.table) if len(outcome.table) else None
     if table is not None:
         table.to_csv(out / "summary.csv", index=False)
@@ -75,50 +100,84 @@ def cmd_run(args) -> int:
         print(f"\n{len(failed)} comparison(s) outside the claimed tolerance:")
         _print_table(failed[["case", "method", "quantity", "point", "level", "value", "reference_label",
                              "reference_value", "abs_error", "rel_error", "tolerance_rel", "tolerance_abs"]])
+    problems = method_problems(tidy["runs"])
+    if problems:
+        print(f"\n{len(problems)} method run(s) did not end ok:")
+        for line in problems:
+            print(f"  {line}")
     for error in outcome.errors:
         print(f"error: {error}", file=sys.stderr)
-    print(f"\n{len(paths) - len(outcome.errors)} case(s) run in {time.perf_counter() - started:.1f} s; "
-          f"results in {out / 'results.csv'}")
-    return outcome.exit_status
+    print(f"\n{len(outcome.results)} case(s) run, {len(outcome.errors)} rejected, in "
+          f"{time.perf_counter() - started:.1f} s; results in {out / 'values.csv'} and "
+          f"{out / 'comparisons.csv'}")
+    return outcome_status(outcome, tidy["runs"])
 
 
-def cmd_solve(args) -> int:
-    from validation.runner import requests_for, run_method
+def _clean(v):
+    return None if v is None or (isinstance(v, float) and math.isnan(v)) else v
 
-    try:
-        [path] = find_case_files([args.case])[:1]
-        case = load_case(path).case
-    except CaseError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    if args.method not in case.methods:
-        print(f"error: {path}: methods: the case does not ask for method '{args.method}' "
-              f"(it has {', '.join(case.methods)})", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    run = run_method(case, args.method)
-    labels = case.level_labels or [str(i) for i in range(case.n_levels())]
 
-    def clean(v):
-        return None if v is None or (isinstance(v, float) and math.isnan(v)) else v
+def solve_document(loaded, method: str, run) -> dict:
+    """The JSON document of ``solve``: every requested output at every level, with the level's loads."""
+    from validation import tables
+    from validation.runner import requests_for
 
+    case = loaded.case
+    labels = tables.level_labels(case)
+    loads = [(tables.load_name(load, i, case), load.levels(), tables.load_unit(load, case))
+             for i, load in enumerate(case.loads)]
     levels = []
     for level in range(case.n_levels()):
         outputs = {}
-        for req in requests_for(case, args.method):
+        for req in requests_for(case, method):
             if req.level != level:
                 continue
             name = f"{req.quantity}@{req.point}" if req.point else req.quantity
-            outputs[name] = clean(run.values.get(req))
+            outputs[name] = _clean(run.values.get(req))
             if req in run.error_estimate:
-                outputs[name + ":error_estimate"] = clean(run.error_estimate[req])
+                outputs[name + ":error_estimate"] = _clean(run.error_estimate[req])
         if outputs:
-            levels.append({"level": level, "label": labels[level], "outputs": outputs})
-    document = {"case": case.case.id, "method": args.method, "units": case.case.units,
-                "converged": run.converged, "message": run.message, "wall_time_s": run.wall_time,
-                "levels": levels}
-    json.dump(document, sys.stdout, indent=2 if not args.compact else None)
-    print()
-    return EXIT_OK if run.converged else EXIT_TOLERANCE
+            levels.append({"level": level, "label": labels[level],
+                           "loads": [{"name": n, "value": v[level], "unit": u} for n, v, u in loads],
+                           "outputs": outputs})
+    return {"case": case.case.id, "file": str(loaded.path), "method": method, "units": case.case.units,
+            "status": run.status.value, "converged": run.converged, "message": run.message,
+            "wall_time_s": run.wall_time, "levels": levels}
+
+
+def cmd_solve(args) -> int:
+    from validation.runner import run_method
+
+    try:
+        paths = find_case_files([args.case])
+        if len(paths) != 1:
+            raise CaseError(args.case, "", f"names {len(paths)} case files; solve takes one")
+        loaded = load_case(paths[0])
+    except CaseError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return ExitStatus.BAD_INPUT
+    case = loaded.case
+    methods = args.method or list(case.methods)
+    unknown = [m for m in methods if m not in case.methods]
+    if unknown:
+        print(f"error: {loaded.path}: methods: the case does not ask for method '{unknown[0]}' "
+              f"(it has {', '.join(case.methods)})", file=sys.stderr)
+        return ExitStatus.BAD_INPUT
+    documents, statuses = [], []
+    for method in methods:
+        run = run_method(case, method)
+        statuses.append(of_run_status(run.status))
+        if not run.ok:
+            print(f"{case.case.id} {method}: {run.status.value}: {run.message}", file=sys.stderr)
+        documents.append(solve_document(loaded, method, run))
+    document = documents[0] if len(documents) == 1 else {"case": case.case.id, "runs": documents}
+    text = json.dumps(document, indent=None if args.compact else 2)
+    if args.out:
+        Path(args.out).parent.mkdir(parents=True, exist_ok=True)
+        Path(args.out).write_text(text + "\n", encoding="utf-8")
+    else:
+        print(text)
+    return combine(statuses)
 
 
 def cmd_report(args) -> int:
@@ -140,38 +199,45 @@ def cmd_stress(args) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="prbm-validate", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="prbm-validate", description=__doc__.splitlines()[0], epilog=RULE)
     sub = parser.add_subparsers(dest="command", required=True)
-    sub.add_parser("list", help="every case, one line each").set_defaults(func=cmd_list)
 
-    run = sub.add_parser("run", help="run cases and compare with the published numbers")
-    run.add_argument("cases", nargs="*", help="case ids, files or globs (default: all)")
+    def add(name: str, help: str) -> argparse.ArgumentParser:
+        return sub.add_parser(name, help=help, description=help, epilog=RULE)
+
+    listing = add("list", "every case (or the given ids, files, folders), one line each; checks every file")
+    listing.add_argument("cases", nargs="*", help="case ids, files, folders or globs (default: all)")
+    listing.set_defaults(func=cmd_list)
+
+    run = add("run", "run cases and compare with the published numbers")
+    run.add_argument("cases", nargs="*", help="case ids, files, folders or globs (default: all)")
     run.add_argument("--method", action="append", help="only this method (repeatable)")
-    run.add_argument("--out", default="reports/latest", help="folder for results.csv (default %(default)s)")
+    run.add_argument("--out", default="reports/latest", help="folder for the result tables (default %(default)s)")
     run.add_argument("--jobs", type=int, default=1, help="parallel processes")
     run.add_argument("--no-cache", action="store_true", help="recompute even unchanged cases")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
     run.set_defaults(func=cmd_run)
 
-    solve = sub.add_parser("solve", help="one case, one method, every requested output as JSON")
-    solve.add_argument("case")
-    solve.add_argument("--method", required=True)
-    solve.add_argument("--json", action="store_true", help="JSON on stdout (the only format)")
+    solve = add("solve", "one case, every requested output at every level with its loads, as JSON")
+    solve.add_argument("case", help="a case id, or a case file anywhere")
+    solve.add_argument("--method", action="append", help="this method (repeatable; default: every method of the case)")
+    solve.add_argument("--json", action="store_true", help="JSON (the only format)")
+    solve.add_argument("--out", help="write the JSON to this file instead of stdout")
     solve.add_argument("--compact", action="store_true")
     solve.set_defaults(func=cmd_solve)
 
-    report = sub.add_parser("report", help="run (or reuse) every case and write the report")
+    report = add("report", "run (or reuse) every case and write the report")
     report.add_argument("cases", nargs="*")
     report.add_argument("--out", default="reports")
     report.add_argument("--jobs", type=int, default=2)
     report.add_argument("--no-cache", action="store_true")
     report.set_defaults(func=cmd_report)
 
-    bench = sub.add_parser("bench", help="run time against error for every method")
+    bench = add("bench", "run time against error for every method")
     bench.add_argument("--out", default="reports/bench")
     bench.add_argument("--quick", action="store_true", help="fewer meshes and repeats")
     bench.set_defaults(func=cmd_bench)
-    stress = sub.add_parser("stress", help="numerical stability, invariances and bad input")
+    stress = add("stress", "numerical stability, invariances and bad input")
     stress.add_argument("--out", default="reports/stress")
     stress.add_argument("--long", action="store_true", help="many more random cases")
     stress.add_argument("--seed", type=int, default=20261122)
@@ -186,12 +252,26 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
     try:
-        return args.func(args)
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # argparse: 0 for --help, 2 for a bad command line
+        return int(exc.code or 0)
+    try:
+        return int(args.func(args))
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
-        return 130
+        return ExitStatus.INTERRUPTED
+    except ModuleNotFoundError as exc:
+        top = (exc.name or "").split(".")[0]
+        if top not in EXTRAS:
+            raise
+        print(f"error: '{args.command}' needs {top}, an optional dependency: "
+              f"pip install 'prbm-validate[{EXTRAS[top]}]'", file=sys.stderr)
+        return ExitStatus.BAD_INPUT
+    except OSError as exc:  # an output folder that cannot be written, a file that cannot be read
+        print(f"error: {exc}", file=sys.stderr)
+        return ExitStatus.BAD_INPUT
 
 
 if __name__ == "__main__":

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import fnmatch
 import glob
+import os
 import re
 import tomllib
 from dataclasses import dataclass
@@ -22,6 +23,7 @@ from validation.names import nearest
 from validation.schema import Case
 
 CASES_DIR = Path(__file__).resolve().parent.parent / "cases"
+SKIPPED = {"node_modules", "__pycache__", "venv", "site-packages", "reports"}  # never case folders
 
 
 class CaseError(Exception):
@@ -121,9 +123,10 @@ def load_case(path: Path | str) -> LoadedCase:
     return LoadedCase(path=Path(path), text=text, case=case)
 
 
-def _search_roots(patterns: list[str], root: Path) -> list[Path]:
-    """Where ids are looked up: ``root`` and every folder, or folder of a file, named alongside."""
-    roots = [root]
+def search_roots(patterns: list[str], root: Path = CASES_DIR) -> list[Path]:
+    """Where ids are looked up: ``root``, the current folder, and every folder (or folder of a
+    file) named alongside."""
+    roots = [root, Path.cwd()]
     for pattern in patterns:
         p = Path(pattern)
         if p.is_dir():
@@ -133,13 +136,14 @@ def _search_roots(patterns: list[str], root: Path) -> list[Path]:
     return list(dict.fromkeys(r.resolve() for r in roots))
 
 
-def find_case_files(patterns: list[str] | None = None, root: Path = CASES_DIR) -> list[Path]:
+def find_case_files(patterns: list[str] | None = None, root: Path = CASES_DIR,
+                    roots: list[Path] | None = None) -> list[Path]:
     """Case files matching ids, files, folders (every ``*.toml`` below) or globs; all of ``root``
-    if none given. Ids are looked up under ``root`` and under the folders named alongside.
-    An unknown name raises ``CaseError`` with the nearest valid ids."""
+    if none given. Ids are looked up in ``roots`` (default: ``root`` and the folders named
+    alongside). An unknown name raises ``CaseError`` with the nearest valid ids."""
     if not patterns:
         return sorted(root.rglob("*.toml"))
-    roots = _search_roots(patterns, root)
+    roots = roots or search_roots(patterns, root)
     found: list[Path] = []
     for pattern in patterns:
         if Path(pattern).is_dir():
@@ -162,11 +166,20 @@ def find_case_files(patterns: list[str] | None = None, root: Path = CASES_DIR) -
     return list(dict.fromkeys(found))
 
 
+def _toml_files(root: Path) -> list[Path]:
+    """Every ``*.toml`` under root, not looking inside hidden folders or virtual environments."""
+    found = []
+    for folder, subfolders, files in os.walk(root):
+        subfolders[:] = sorted(d for d in subfolders if not d.startswith(".") and d not in SKIPPED)
+        found.extend(Path(folder) / f for f in sorted(files) if f.endswith(".toml"))
+    return found
+
+
 def _id_index(root: Path) -> dict[str, Path]:
     """[case].id of every readable case file under root (files that do not parse are skipped here;
     loading them reports their error)."""
     index = {}
-    for path in sorted(root.rglob("*.toml")):
+    for path in _toml_files(root):
         try:
             case_id = tomllib.loads(path.read_text(encoding="utf-8"))["case"]["id"]
         except (OSError, tomllib.TOMLDecodeError, KeyError, TypeError):

@@ -85,7 +85,7 @@ from validation.sweep_task import ROW_COLUMNS, PathError, check_path, prepare, r
 
 SWEEPS_DIR = CASES_DIR.parent / "sweeps"
 EXIT_OK, EXIT_FAILED_POINTS, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
-FAILED = ("error", "invalid")
+FAILED = ("error", "invalid", "not_converged", "not_applicable")  # exit status 1 (validation/exit_status.py)
 
 
 class SpecError(CaseError):

@@ -28,6 +28,7 @@ from typing import Any
 from pydantic import ValidationError
 
 from validation.capabilities import QUANTITIES, method_quantities
+from validation.methods.base import RunStatus
 
 MODES = ("set", "scale", "offset", "angle")
 
@@ -190,12 +191,8 @@ def run_point(context: dict, point: dict) -> list[dict]:
     rows = []
     for method in context["methods"]:
         run = run_method(case, method)
-        if run.extras.get("not_applicable"):
-            status = "not_applicable"
-        elif run.message.startswith("error:"):
-            status = "error"
-        else:
-            status = None
+        status = {RunStatus.NOT_APPLICABLE: "not_applicable", RunStatus.FAILED: "error",
+                  RunStatus.MISCONFIGURED: "invalid"}.get(run.status)
         requests = requests_for(case, method) or [None]
         for req in requests:
             if req is None:
