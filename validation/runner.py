@@ -52,7 +52,8 @@ def run_method(case: Case, method: str) -> MethodRun:
         adapter = importlib.import_module(f"validation.methods.{method}")
         run = adapter.run(case, requests, options)
     except NotApplicable as exc:
-        return MethodRun(values={}, converged=False, message=f"not applicable: {exc}",
+        reason = str(exc) if str(exc).startswith("not applicable") else f"not applicable: {exc}"
+        return MethodRun(values={}, converged=False, message=reason,
                          wall_time=time.perf_counter() - start, extras={"not_applicable": True},
                          status=RunStatus.NOT_APPLICABLE)
     except Misconfigured as exc:
