@@ -62,20 +62,6 @@ def _print_table(frame, file=sys.stdout) -> None:
         print(frame.to_string(index=False), file=file)
 
 
-def method_problems(runs) -> list[str]:
-    """One sentence per run that did not end OK: '<case> <method>: <status>: <message>'."""
-    return [f"{r.case} {r.method}: {r.status}: {r.message}" for r in runs.itertuples() if r.status != "ok"]
-
-
-def outcome_status(outcome, runs) -> ExitStatus:
-    """The exit status of a set of case runs (validation/exit_status.py)."""
-    statuses = [decide(bad_input=bool(outcome.errors), failed=len(outcome.failed_comparisons) > 0)]
-    from validation.methods.base import RunStatus
-
-    statuses += [of_run_status(RunStatus(s)) for s in runs["status"]]
-    return combine(statuses)
-
-
 def cmd_run(args) -> int:
     from validation import tables
     from validation.runner import run_cases, summary
@@ -100,7 +86,7 @@ def cmd_run(args) -> int:
         print(f"\n{len(failed)} comparison(s) outside the claimed tolerance:")
         _print_table(failed[["case", "method", "quantity", "point", "level", "value", "reference_label",
                              "reference_value", "abs_error", "rel_error", "tolerance_rel", "tolerance_abs"]])
-    problems = method_problems(tidy["runs"])
+    problems = outcome.method_problems
     if problems:
         print(f"\n{len(problems)} method run(s) did not end ok:")
         for line in problems:
@@ -110,7 +96,7 @@ def cmd_run(args) -> int:
     print(f"\n{len(outcome.results)} case(s) run, {len(outcome.errors)} rejected, in "
           f"{time.perf_counter() - started:.1f} s; results in {out / 'values.csv'} and "
           f"{out / 'comparisons.csv'}")
-    return outcome_status(outcome, tidy["runs"])
+    return outcome.exit_status
 
 
 def _clean(v):

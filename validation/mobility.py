@@ -121,6 +121,7 @@ def _describe(vector: np.ndarray, idx: _Unknowns, mech: MechanismSpec) -> RigidB
     origin = xy[members[body][0]]
     if abs(w) * scale < 1e-9 * max(math.hypot(u, v), 1e-300):
         direction = np.array([u, v]) / math.hypot(u, v)
+        direction = np.where(np.abs(direction) < 1e-9, 0.0, direction) + 0.0  # no -0 or 1e-15 in the message
         return RigidBodyMode(body, f"translates along ({direction[0]:.3g}, {direction[1]:.3g})",
                              "a support or member holding that direction")
     centre = origin + np.array([-v, u]) / w

@@ -19,6 +19,7 @@ import pandas as pd
 
 from validation import cache
 from validation.capabilities import QUANTITIES
+from validation.exit_status import combine, decide, of_run_status
 from validation.loader import CaseError, LoadedCase, load_case
 from validation.methods.base import Misconfigured, MethodRun, NotApplicable, Request, RunStatus
 from validation.schema import Case
@@ -193,10 +194,18 @@ class RunOutcome:
         return claimed[(claimed["within_tolerance"] == False) & claimed["finding"].isna()]  # noqa: E712
 
     @property
+    def method_problems(self) -> list[str]:
+        """'<case> <method>: <status>: <message>' for every method run that did not end ok."""
+        return [f"{r.loaded.id} {method}: {run.status.value}: {run.message}"
+                for r in self.results for method, run in r.runs.items() if run.status is not RunStatus.OK]
+
+    @property
     def exit_status(self) -> int:
-        if self.errors:
-            return 2
-        return 1 if len(self.failed_comparisons) else 0
+        """The rule of validation/exit_status.py: bad input 2; a failed comparison or a method that
+        failed, refused or did not converge 1; else 0."""
+        statuses = [decide(bad_input=bool(self.errors), failed=len(self.failed_comparisons) > 0)]
+        statuses += [of_run_status(run.status) for r in self.results for run in r.runs.values()]
+        return int(combine(statuses))
 
 
 def run_cases(paths: list[Path], methods: list[str] | None = None, use_cache: bool = True,
