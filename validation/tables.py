@@ -189,7 +189,8 @@ def typed(frame: pd.DataFrame, table: str, keep_extra: bool = False) -> pd.DataF
     for col in columns:
         data = frame[col.name] if col.name in frame else pd.Series(pd.NA, index=frame.index)
         if col.dtype == "boolean":
-            data = data.map(lambda v: pd.NA if v is None or (isinstance(v, float) and math.isnan(v)) else bool(v))
+            data = data.map(lambda v: pd.NA if v is None or v is pd.NA or (isinstance(v, float) and math.isnan(v))
+                            else bool(v))
         data = data.astype(col.dtype)
         out[col.name] = data.mask(data == "") if col.dtype == "string" else data
     if keep_extra:

@@ -1,0 +1,117 @@
+"""The harness as a library: the pytest plugin on case files it has never seen, the Python API,
+the tidy tables against their one schema, and the README's examples."""
+from __future__ import annotations
+
+import doctest
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+import validation.api
+from validation import tables
+from validation.cli import main
+
+ROOT = Path(__file__).resolve().parent.parent
+CANTILEVER = (ROOT / "cases" / "benchmarks" / "cantilever_tip_load.toml").read_text()
+EXACT_Y_10 = "value = 0.810609"  # exact elastica y/L at PL^2/EI = 10 (notes/anchors.md 2.1)
+
+
+def user_case(tmp_path: Path, name: str, text: str) -> Path:
+    folder = tmp_path / "my_cases"
+    folder.mkdir(exist_ok=True)
+    path = folder / name
+    path.write_text(text.replace('id = "cantilever_tip_load"', f'id = "{Path(name).stem}"'))
+    return path
+
+
+def run_pytest(*args: str, cwd: Path) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", *args],
+                          cwd=cwd, capture_output=True, text=True, timeout=300)
+
+
+def test_plugin_passes_a_true_claim_and_fails_a_false_one(tmp_path):
+    assert EXACT_Y_10 in CANTILEVER
+    user_case(tmp_path, "true_claim.toml", CANTILEVER)
+    user_case(tmp_path, "false_claim.toml", CANTILEVER.replace(EXACT_Y_10, "value = 0.891670"))  # +10 %
+    (tmp_path / "my_cases" / "notes.toml").write_text("[tool]\nx = 1\n")  # not a case file: not collected
+    done = run_pytest("my_cases/", "--case-method", "elastica", "-rA", cwd=tmp_path)
+    out = done.stdout
+    assert done.returncode == 1, out + done.stderr
+    assert "1 failed, 1 passed" in out
+    assert "PASSED my_cases/true_claim.toml::true_claim[elastica]" in out
+    assert "FAILED my_cases/false_claim.toml::false_claim[elastica]" in out
+    # the message a person reads: quantity, point, level and load with unit, value, reference, error,
+    # tolerance, source
+    assert ("y at tip, level 9, force at tip = 10 EI/L^2: 0.810609 L against exact 0.89167; error 0.0811 abs, "
+            "0.0909 rel; tolerance abs 2e-06; source notes/anchors.md, section 2.1") in out
+
+
+def test_plugin_reports_a_bad_case_file_with_every_problem(tmp_path):
+    user_case(tmp_path, "bad.toml", CANTILEVER.replace("length = 1.0", "length = -1.0")
+              .replace("E = 1.0", "E = 1.0\nlenght = 2.0"))
+    done = run_pytest("my_cases/", cwd=tmp_path)
+    assert done.returncode == 1
+    assert "segment.length: Input should be greater than 0" in done.stdout
+    assert "segment.lenght: Extra inputs are not permitted" in done.stdout
+
+
+def test_plot_against_load_from_the_table_alone(tmp_path):
+    """PRBM and FEM against load with no TOML reading and no de-duplication."""
+    path = user_case(tmp_path, "mine.toml", CANTILEVER)
+    assert main(["run", str(path), "--method", "prbm", "--method", "elastica", "--quiet",
+                 "--out", str(tmp_path / "out")]) == 0
+    values = tables.read(tmp_path / "out" / "values.parquet", "values")
+    tip = values[(values["quantity"] == "y") & (values["point"] == "tip")]
+    curve = tip.pivot(index="load_value", columns="method", values="value")  # raises on duplicates
+    assert list(curve.index) == [float(p) for p in range(1, 11)]  # the file's ramp 1..10, read from the table
+    assert set(tip["load_unit"]) == {"EI/L^2"} and set(tip["load"]) == {"force at tip"}
+    assert curve.loc[10.0, "elastica"] == pytest.approx(0.810609, abs=2e-6)  # exact, anchors 2.1
+    assert curve["prbm"].is_monotonic_increasing
+
+
+@pytest.mark.parametrize("kind", ["csv", "parquet"])
+def test_written_tables_match_the_one_schema(tmp_path, kind):
+    path = user_case(tmp_path, "mine.toml", CANTILEVER)
+    assert main(["run", str(path), "--method", "elastica", "--quiet", "--out", str(tmp_path / "out")]) == 0
+    for name, columns in tables.SCHEMA.items():
+        raw = (pd.read_csv(tmp_path / "out" / f"{name}.csv") if kind == "csv"
+               else pd.read_parquet(tmp_path / "out" / f"{name}.parquet"))
+        assert list(raw.columns)[:len(columns)] == [c.name for c in columns], name
+        typed = tables.read(tmp_path / "out" / f"{name}.{kind}", name)
+        for col in columns:
+            assert str(typed[col.name].dtype) == str(pd.Series([], dtype=col.dtype).dtype), (name, col.name)
+    comparisons = tables.read(tmp_path / "out" / "comparisons.parquet", "comparisons")
+    assert comparisons["within_tolerance"].dtype == "boolean" and comparisons["within_tolerance"].all()
+    values = tables.read(tmp_path / "out" / "values.csv", "values")
+    assert not values.duplicated(["case", "method", "quantity", "point", "level"]).any()
+
+
+def test_readme_documents_the_schema():
+    readme = (ROOT / "README.md").read_text()
+    for name, columns in tables.SCHEMA.items():
+        match = re.search(rf"^`{name}`[^\n]*: (`[^\n]+)$", readme, re.MULTILINE)
+        assert match, f"README lists no columns for {name}"
+        assert re.findall(r"`([a-z_]+)`", match.group(1)) == [c.name for c in columns], name
+
+
+def test_api_and_readme_doctests():
+    assert doctest.testmod(validation.api).failed == 0
+    result = doctest.testfile(str(ROOT / "README.md"), module_relative=False)
+    assert result.attempted >= 3 and result.failed == 0
+
+
+def test_solve_json_has_the_loads(tmp_path, capsys):
+    path = user_case(tmp_path, "mine.toml", CANTILEVER)
+    assert main(["solve", str(path), "--method", "prbm", "--method", "elastica", "--out",
+                 str(tmp_path / "s.json")]) == 0
+    import json
+
+    document = json.loads((tmp_path / "s.json").read_text())
+    assert [run["method"] for run in document["runs"]] == ["prbm", "elastica"]
+    last = document["runs"][1]["levels"][-1]
+    assert last["loads"] == [{"name": "force at tip", "value": 10.0, "unit": "EI/L^2"}]
+    assert last["outputs"]["y@tip"] == pytest.approx(0.810609, abs=2e-6)
