@@ -183,10 +183,14 @@ def run(case: Case, requests: list[Request], options: dict) -> MethodRun:
     t0 = time.perf_counter()
     if not requests:
         return MethodRun(values={})
-    if case.segment is not None:
-        values, msgs, outside = _segment(case, requests, options)
-    else:
-        values, msgs, outside = _mechanism(case, requests, options)
+    try:
+        if case.segment is not None:
+            values, msgs, outside = _segment(case, requests, options)
+        else:
+            values, msgs, outside = _mechanism(case, requests, options)
+    except RuntimeError as exc:  # the library's solver found no equilibrium: say so, never a bare crash
+        return MethodRun(values={}, converged=False, wall_time=time.perf_counter() - t0,
+                         message=f"not converged: {exc} (the load path leaves what the BCM equations solve)")
     levels = sorted({r.level for r in requests})
     message = "converged" if not outside else f"BCM range exceeded at levels {outside}"
     return MethodRun(values=values, converged=True, message=message,
