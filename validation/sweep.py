@@ -665,6 +665,12 @@ def cmd_sweep(args) -> int:
         out = args.out or Path("reports") / "sweeps" / load_spec(find_spec(args.spec)).spec.sweep.id
         for path in plot_sweep(out):
             print(f"plot: {path}")
+    if status in (EXIT_OK, EXIT_FAILED_POINTS):
+        from validation.sweep_plot import sensitivity_summary
+
+        out = args.out or Path("reports") / "sweeps" / load_spec(find_spec(args.spec)).spec.sweep.id
+        for line in sensitivity_summary(out):
+            print(f"note: {line}")
     return status
 
 

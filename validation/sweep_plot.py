@@ -15,6 +15,11 @@ draws one of:
   (then the finest point is left out). Log-log, with the observed order between the two finest
   meshes; the numbers go to ``convergence.csv``.
 
+Whatever the kind, every output that does not depend on the swept parameters for some method is
+found (``validation/sweep_sensitivity.py``), written to ``invariance.csv`` and said in the plots'
+legends and the summary, instead of being drawn as a zero spread; quantities other than the plot's
+axes (an input torque, an energy) get their own spread plot per level, ``quantities.png``.
+
 Only rows with status 'ok' are plotted; failed points stay in the dataset.
 """
 from __future__ import annotations
@@ -27,6 +32,7 @@ import numpy as np
 import pandas as pd
 
 from validation.sweep import load_results
+from validation.sweep_sensitivity import invariance, summary_lines
 
 CHI2_2DOF_95 = 5.991464547107979  # chi-square quantile, 2 degrees of freedom, 0.95
 
@@ -122,8 +128,20 @@ def spread(frame: pd.DataFrame, x: str, y: str, point: str) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def parameter_columns(manifest: dict) -> list[str]:
+    return [p.get("name") or p["path"] for p in manifest["parameters"]]
+
+
+def _constant(frame: pd.DataFrame, manifest: dict) -> set[tuple]:
+    """(case, method, quantity, point) of every output that no swept parameter changes."""
+    table = invariance(frame, parameter_columns(manifest))
+    return {tuple(r) for r in table[~table["varies"].astype(bool)][["case", "method", "quantity", "point"]]
+            .itertuples(index=False)}
+
+
 def plot_scatter(frame: pd.DataFrame, manifest: dict, out: Path) -> list[Path]:
     x, y, point = axes_of(frame, manifest["plot"])
+    constant = _constant(frame, manifest)
     wide = _positions(frame, x, y, point)
     if wide.empty or x not in wide or y not in wide:
         return []
@@ -139,7 +157,10 @@ def plot_scatter(frame: pd.DataFrame, manifest: dict, out: Path) -> list[Path]:
             mean = xy.mean(axis=0)
             ax.scatter(xy[:, 0], xy[:, 1], s=5, color=color, alpha=0.4)
             label = f"{method}: n={len(xy)}"
-            if len(xy) > 2:
+            case = rows["case"].iloc[0]
+            if {(case, method, x, point), (case, method, y, point)} <= constant:
+                label += ": does not depend on the swept parameters (zero spread by construction)"
+            elif len(xy) > 2:
                 sd = xy.std(axis=0, ddof=1)
                 label += f", std=({sd[0]:.3g}, {sd[1]:.3g})"
                 ring = ellipse(mean, np.cov(xy.T))
@@ -210,7 +231,47 @@ def plot_convergence(frame: pd.DataFrame, manifest: dict, out: Path) -> list[Pat
     return [_save(fig, out / "convergence.png")]
 
 
+def plot_quantities(frame: pd.DataFrame, manifest: dict, out: Path, skip: set[str]) -> list[Path]:
+    """Spread of every quantity not on the main plot's axes, per level and method: the samples, their
+    mean and standard deviation, or the words 'constant' where no parameter changes it."""
+    ok = frame[(frame["status"] == "ok") & frame["quantity"].notna() & ~frame["quantity"].isin(skip)]
+    if ok.empty:
+        return []
+    constant = _constant(frame, manifest)
+    groups = list(ok.groupby(["case", "quantity", "point"], dropna=False))
+    plt, fig, axes = _figure(1, len(groups), size=(5.0, 4.2))
+    for ax, ((case, quantity, point), part) in zip(axes, groups):
+        for k, (method, rows) in enumerate(part.groupby("method")):
+            levels = rows.groupby("level")["value"]
+            mean, sd = levels.mean(), levels.std(ddof=1).fillna(0.0)
+            ax.scatter(rows["level"] + 0.08 * k, rows["value"], s=5, color=f"C{k}", alpha=0.35)
+            label = f"{method}: mean, +-2 std"
+            if (case, method, quantity, point) in constant:
+                label = f"{method}: constant, does not depend on the swept parameters"
+            ax.errorbar(mean.index + 0.08 * k, mean, yerr=2 * sd, color=f"C{k}", capsize=3, label=label)
+        where = f" at {point}" if isinstance(point, str) and point else ""
+        unit = part["unit"].dropna().iloc[0] if part["unit"].notna().any() else ""
+        ax.set_title(f"{case}: {quantity}{where}")
+        ax.set_xlabel("load level")
+        ax.set_ylabel(f"{quantity} [{unit}]")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    return [_save(fig, out / "quantities.png")]
+
+
 PLOTS = {"domain": plot_domain, "scatter": plot_scatter, "convergence": plot_convergence}
+
+
+def sensitivity_summary(out: Path | str) -> list[str]:
+    """Write ``invariance.csv``; one line per case and method whose outputs no parameter changes."""
+    out = Path(out)
+    manifest = json.loads((out / "sweep.json").read_text())
+    frame = load_results(out)
+    if frame.empty:
+        return []
+    table = invariance(frame, parameter_columns(manifest))
+    table.to_csv(out / "invariance.csv", index=False)
+    return summary_lines(table, parameter_columns(manifest))
 
 
 def plot_sweep(out: Path | str) -> list[Path]:
@@ -224,4 +285,8 @@ def plot_sweep(out: Path | str) -> list[Path]:
     frame = load_results(out)
     if draw is None or frame.empty:
         return []
-    return draw(frame, manifest, out)
+    written = draw(frame, manifest, out)
+    if manifest["plot"]["kind"] == "scatter":
+        x, y, _ = axes_of(frame, manifest["plot"])
+        written += plot_quantities(frame, manifest, out, skip={x, y})
+    return written

@@ -242,8 +242,12 @@ def _extract(case, fields: _Fields, requests: list[Request], origin: dict | None
                 values[req] = float(_applied(case, p, lv)[k]) if origin is not None else 0.0
         elif q == "strain_energy":
             values[req] = float(fields.strain_energy[lv])
-        elif q == "input_torque":
-            values[req] = float(fields.reaction(_input_node(case), lv)[2])
+        elif q == "input_torque":  # the torque holding a prescribed input rotation, else the applied one
+            node = _input_node(case)
+            if "rz" in held.get(node, set()):
+                values[req] = float(fields.reaction(node, lv)[2])
+            else:
+                values[req] = float(_applied(case, node, lv)[2]) if origin is not None else 0.0
         elif q == "input_angle":
             values[req] = math.degrees(fields.rotation(_input_node(case), lv))
     return values
