@@ -31,6 +31,7 @@ import math
 
 import numpy as np
 from scipy.optimize import fsolve
+from bcm.checks import checked
 
 __all__ = ["K0", "K1", "K2", "C0", "C1", "C2", "C3", "quadratic_forms", "strain_energy",
            "loads_from_deflections", "bcm_residual", "deflections_from_loads",
@@ -60,12 +61,14 @@ def quadratic_forms(uy, theta):
     return q @ K0 @ q, q @ K1 @ q, q @ K2 @ q
 
 
+@checked(positive=('ka',), finite=('ux', 'uy', 'theta'))
 def strain_energy(ux, uy, theta, ka):
     """v(u_x, u_y, theta_z) of eq (11), in EI/L."""
     S0, S1, S2 = quadratic_forms(uy, theta)
     return ka * (2.0 * ux + S1) ** 2 / (8.0 * (1.0 - ka * S2)) + 0.5 * S0
 
 
+@checked(positive=('ka',), finite=('ux', 'uy', 'theta'))
 def loads_from_deflections(ux, uy, theta, ka):
     """Castigliano's first theorem on eq (11): (f_x, f_y, m_z) = grad v.
 
@@ -86,6 +89,7 @@ def bcm_residual(ux, uy, theta, fx, fy, mz, ka):
     return np.array([r12[0], r12[1], fx / ka - 0.5 * S1 - fx * S2 - ux])
 
 
+@checked(positive=('ka',), finite=('fx', 'fy', 'mz'))
 def deflections_from_loads(fx, fy, mz, ka):
     """Eqs (3), (4) solved for the deflections: linear in (u_y, theta_z) once f_x is known."""
     uy, theta = np.linalg.solve(K0 + fx * K1 + fx * fx * K2, [fy, mz])
@@ -93,6 +97,7 @@ def deflections_from_loads(fx, fy, mz, ka):
     return fx / ka - 0.5 * S1 - fx * S2, uy, theta
 
 
+@checked(positive=('ka',), finite=('fx', 'fy', 'mz'))
 def complementary_energy(fx, fy, mz, ka, order: int = 3):
     """v*(f_x, f_y, m_z): eq (16) (order 2) or eq (17) (order 3), in EI/L."""
     p = np.array([fy, mz])
@@ -102,6 +107,7 @@ def complementary_energy(fx, fy, mz, ka, order: int = 3):
     return v
 
 
+@checked(positive=('ka',), finite=('fx', 'fy', 'mz'))
 def deflections_from_complementary(fx, fy, mz, ka, order: int = 3):
     """Crotti-Engesser on eq (16)/(17): (u_x, u_y, theta_z) = grad v* (closed-form derivatives)."""
     p = np.array([fy, mz])
@@ -136,6 +142,7 @@ def exact_compliance(fx):
     return np.array([[c11, c12], [c12, c22]])
 
 
+@checked(positive=('ka',), finite=('ux', 'uy', 'theta', 'fx', 'fy', 'mz'))
 def solve_mixed(ka, *, ux=None, uy=None, theta=None, fx=None, fy=None, mz=None):
     """BCM with one quantity of each conjugate pair (u_x|f_x, u_y|f_y, theta|m_z) given.
 

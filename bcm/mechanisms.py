@@ -28,6 +28,7 @@ from scipy.optimize import fsolve
 
 from bcm.beam import (C0, C1, C2, C3, K0, K1, K2, axial_stiffness_parameter,
                       loads_from_deflections, strain_energy)
+from bcm.checks import checked
 
 __all__ = ["circular_guided_torque", "circular_guided_torque_eq20", "slant_parallelogram",
            "eq32_corrected", "eq32_printed", "BCMBeam", "RigidBodyOnBeams"]
@@ -40,6 +41,7 @@ def _crank_deflections(beta, R):
     return R * (math.cos(beta) - 1.0), R * math.sin(beta), beta
 
 
+@checked(positive=('R', 'ka'), finite=('beta',))
 def circular_guided_torque(beta: float, R: float, ka: float) -> float:
     """Normalised input torque T_i = dv/dbeta (Castigliano on eq (11) with eqs (18), (19)).
 

@@ -23,6 +23,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.optimize import brentq
 from scipy.special import ellipeinc, ellipkinc
+from elastica.checks import checked
 
 __all__ = ["EllipticTip", "pure_moment_tip", "cantilever_tip_load", "fixed_pinned_from_angle",
            "fixed_pinned_tip", "curved_fixed_pinned_from_angle", "curved_fixed_pinned_tip",
@@ -99,6 +100,7 @@ def fixed_pinned_from_angle(theta0: float, load_ratio: float = 0.0) -> EllipticT
     return EllipticTip((-n * eta * bracket + root) / den, (eta * bracket + n * root) / den, theta0, alpha)
 
 
+@checked(positive=(), finite=('load',))
 def cantilever_tip_load(load: float) -> EllipticTip:
     """Section 2.1.1: straight cantilever, transverse end load P (load = P l^2/EI > 0), n = 0.
 
@@ -107,8 +109,17 @@ def cantilever_tip_load(load: float) -> EllipticTip:
     return fixed_pinned_tip(load, 0.0)
 
 
+@checked(positive=(), finite=('load', 'load_ratio'))
 def fixed_pinned_tip(load: float, load_ratio: float = 0.0) -> EllipticTip:
-    """Section 2.1.2 with P (load = P l^2/EI > 0) and n given: root-find theta_0 in (0, phi)."""
+    """Section 2.1.2 with P (load = P l^2/EI) and n given: root-find theta_0 in (0, phi).
+
+    A zero load gives the undeformed tip (1, 0, 0); a negative load the mirror image (about the
+    axis) of the positive one: force (-nP, P) with P < 0 is the mirror of |P| with ratio -n."""
+    if load == 0.0:
+        return EllipticTip(1.0, 0.0, 0.0, 0.0)
+    if load < 0.0:
+        mirror = fixed_pinned_tip(-load, -load_ratio)
+        return mirror._replace(b=-mirror.b, theta0=-mirror.theta0)
     n = load_ratio
     target = math.sqrt(load)
     phi = _phi(n)

@@ -64,6 +64,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.integrate import solve_ivp
+from elastica.checks import checked
 
 __all__ = ["TipConstraint", "MomentConstraint", "ElasticaProblem", "ElasticaResult",
            "solve_elastica", "solve_path", "loaded_start", "section_moment", "unloaded_tip"]
@@ -626,6 +627,7 @@ def _result(problem, shooter, z, q, n_samples):
         z=np.array(z, float))
 
 
+@checked(positive=('length', 'EI'), finite=('curvature', 'force', 'moment', 'follower', 'tip_x', 'tip_y', 'tip_angle', 'inflection_at'))
 def solve_elastica(length: float = 1.0, EI: float = 1.0, *, curvature: float = 0.0,
                    force: tuple[float, float] = (0.0, 0.0), moment: float = 0.0,
                    follower: tuple[float, float] = (0.0, 0.0),

@@ -43,6 +43,7 @@ from typing import Callable, Union
 import numpy as np
 
 from .section import Section
+from .checks import checked
 
 __all__ = ["Model", "Member", "Support", "Joint", "RigidLink", "PointLoad", "Prescribed"]
 
@@ -124,6 +125,7 @@ class Model:
         except ValueError:
             raise KeyError(f"no node named {name!r}") from None
 
+    @checked(positive=(), finite=('x', 'y'))
     def add_node(self, name: str, x: float, y: float) -> int:
         if str(name) in self.node_names:
             raise ValueError(f"node {name!r} already exists")
@@ -131,6 +133,7 @@ class Model:
         self.coords.append((float(x), float(y)))
         return len(self.node_names) - 1
 
+    @checked(positive=('n_elements',), finite=('curvature',))
     def add_member(self, start, end, section, n_elements: int = 8,
                    curvature: float = 0.0, name: str = "") -> int:
         """Flexible member start -> end; returns its index."""
@@ -140,6 +143,8 @@ class Model:
         if n_elements < 1:
             raise ValueError("n_elements must be >= 1")
         chord = np.hypot(*np.subtract(self.coords[j], self.coords[i]))
+        if not chord > 0.0:
+            raise ValueError(f"add_member: nodes {start!r} and {end!r} coincide (zero length)")
         if abs(curvature) * chord / 2 > 1.0:
             raise ValueError("curvature too large for the chord length")
         self.members.append(Member(i, j, section, int(n_elements), float(curvature),
@@ -164,6 +169,7 @@ class Model:
     def add_rigid_link(self, master, slave) -> None:
         self.rigid_links.append(RigidLink(self.node(master), self.node(slave)))
 
+    @checked(positive=(), finite=('values_x', 'values_y'))
     def add_force(self, node, values_x, values_y, follower: bool = False) -> None:
         """Point force per load level (consistent force units).
 
@@ -174,6 +180,7 @@ class Model:
         self.loads.append(PointLoad(self.node(node), "force",
                                     np.column_stack([fx, fy]), bool(follower)))
 
+    @checked(positive=(), finite=('values',))
     def add_moment(self, node, values, member: int | None = None) -> None:
         """Point moment (input torque) per load level, counter-clockwise positive.
 

@@ -39,6 +39,12 @@ class Section:
     EI: float
     stress_layers: tuple = ()
 
+    def __post_init__(self) -> None:
+        for name in ("EA", "EI"):
+            value = getattr(self, name)
+            if not (np.isfinite(value) and value > 0):
+                raise ValueError(f"Section: {name} must be finite and > 0, got {value!r}")
+
     @classmethod
     def from_EI(cls, EA: float, EI: float, c: float | None = None,
                 E: float | None = None) -> "Section":

@@ -52,6 +52,7 @@ import numpy as np
 from prbm.fits import (PURE_MOMENT_C_THETA, PURE_MOMENT_GAMMA, PURE_MOMENT_SPRING, FitRangeError,
                        fit_family)
 from prbm.result import PRBMResult
+from prbm.checks import checked
 
 __all__ = [
     "spring_angle", "fixed_pinned_tip", "fixed_pinned_from_tip", "pure_moment_tip",
@@ -251,6 +252,7 @@ def _scalar_or_array(d):
     return {key: np.asarray(v, dtype=float) for key, v in d.items()}
 
 
+@checked(positive=('length', 'EI'), finite=('P', 'n'))
 def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha",
                      extrapolate: str = "raise") -> PRBMResult:
     """Tip of an initially straight fixed-pinned (fixed-free) segment under the end force (-nP, P).
@@ -294,6 +296,7 @@ def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
         level_converged=np.atleast_1d(ok))
 
 
+@checked(positive=('length', 'EI'), finite=('n', 'a', 'b', 'theta0'))
 def fixed_pinned_from_tip(*, n=0.0, a=None, b=None, theta0=None, length: float, EI: float,
                           family="pauly-midha", extrapolate: str = "raise") -> PRBMResult:
     """Inverse fixed-pinned problem: tip position (a, b), or b alone, or theta0 -> P (force (-nP, P)).
@@ -326,6 +329,7 @@ def fixed_pinned_from_tip(*, n=0.0, a=None, b=None, theta0=None, length: float, 
                       level_converged=np.atleast_1d(ok))
 
 
+@checked(positive=('length', 'EI'), finite=('M',))
 def pure_moment_tip(M, *, length: float, EI: float) -> PRBMResult:
     """Cantilever under an end moment M (CCW): seed 004 PRBM, gamma = 0.7346, k = 1.5164 EI/L.
 
@@ -352,6 +356,7 @@ def pure_moment_tip(M, *, length: float, EI: float) -> PRBMResult:
                       level_converged=np.ones(np.atleast_1d(M).shape, bool))
 
 
+@checked(positive=('length', 'EI'), finite=('a', 'b', 'theta0'))
 def pure_moment_from_tip(*, length: float, EI: float, a=None, b=None, theta0=None) -> PRBMResult:
     """Inverse of ``pure_moment_tip``: Theta from (a, b), b, or theta0, then M = k Theta."""
     g = PURE_MOMENT_GAMMA
@@ -368,6 +373,7 @@ def pure_moment_from_tip(*, length: float, EI: float, a=None, b=None, theta0=Non
                       {"gamma": g, "k": PURE_MOMENT_SPRING * EI / length}, "pure end moment inverse, seed 004")
 
 
+@checked(positive=('length', 'EI'), finite=('P', 'n', 'curvature'))
 def curved_fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, curvature: float,
                             family="pauly-midha", extrapolate: str = "raise") -> PRBMResult:
     """Initially curved fixed-pinned segment (initial curvature 1/R_i, CCW positive), end force (-nP, P).
@@ -410,6 +416,7 @@ def curved_fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, curvature: fl
                       level_converged=np.atleast_1d(ok))
 
 
+@checked(positive=('length', 'EI'), finite=('P', 'n'))
 def fixed_guided_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha",
                      extrapolate: str = "raise") -> PRBMResult:
     """Initially straight fixed-guided segment, end slope held at 0, end force (-nP, P).
@@ -440,6 +447,7 @@ def fixed_guided_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
                       level_converged=np.atleast_1d(ok))
 
 
+@checked(positive=('length', 'EI'), finite=('P', 'n', 'M', 'curvature'))
 def fixed_guided_monotonic_tip(P, n=0.0, M=0.0, *, length: float, EI: float, curvature: float = 0.0,
                                family="pauly-midha", extrapolate: str = "raise") -> PRBMResult:
     """Fixed-guided / fixed-fixed segment with monotonic curvature under end force (-nP, P) and end
@@ -461,6 +469,7 @@ def fixed_guided_monotonic_tip(P, n=0.0, M=0.0, *, length: float, EI: float, cur
                       level_converged=np.array([r.converged for r in results]))
 
 
+@checked(positive=('flexure_length', 'rigid_length', 'EI'), finite=('P', 'n', 'curvature'))
 def slfp_tip(P, n=0.0, *, flexure_length: float, rigid_length: float, EI: float,
              curvature: float = 0.0) -> PRBMResult:
     """Fixed-free segment: small-length flexural pivot (length l) then a rigid segment (length L).
@@ -498,6 +507,7 @@ def slfp_tip(P, n=0.0, *, flexure_length: float, rigid_length: float, EI: float,
                       level_converged=np.atleast_1d(ok))
 
 
+@checked(positive=('length', 'EI', 'gamma', 'K_theta'), finite=('F_axial', 'curvature'))
 def curved_pinned_pinned(F_axial, *, length: float, EI: float, curvature: float, gamma: float = 0.85,
                          K_theta: float = 2.65) -> PRBMResult:
     """Initially curved pinned-pinned segment (arc of length l, curvature 1/R_i) under a force F_axial
