@@ -98,3 +98,48 @@ def test_unknown_point_lists_nearest_points(tmp_path):
     message = str(info.value)
     assert "unknown point 'PP'; nearest: P" in message
     assert "unknown point 'a'; valid: A, B, C, O4, P, input" in message
+
+
+PARALLEL_GUIDED = """
+[case]
+id = "parallel_guided"
+title = "two clamped parallel beams carrying a rigid stage"
+group = "tests"
+units = "SI"
+
+[mechanism]
+E = 2.0e11
+nodes = [{ name = "G1", x = 0.0, y = 0.0 }, { name = "G2", x = 0.0, y = 0.02 },
+         { name = "T1", x = 0.1, y = 0.0 }, { name = "T2", x = 0.1, y = 0.02 }]
+beams = [
+  { name = "lower", start = "G1", end = "T1", section = { kind = "rectangle", width = 0.01, thickness = 0.001 } },
+  { name = "upper", start = "G2", end = "T2", section = { kind = "rectangle", width = 0.01, thickness = 0.001 } },
+]
+links = [{ name = "stage", nodes = ["T1", "T2"] }]
+supports = [{ node = "G1", kind = "fixed" }, { node = "G2", kind = "fixed" }]
+
+[[loads]]
+kind = "force"
+point = "T1"
+direction = [0.0, 1.0]
+values = [0.0, 10.0, 1000.0]
+
+[[outputs]]
+quantity = "dy"
+point = "T1"
+
+[methods.bcm]
+"""
+
+
+def test_bcm_beyond_its_equations_is_a_run_that_did_not_converge_not_a_crash(tmp_path):
+    from validation.methods.base import Request, RunStatus
+    from validation.runner import run_method
+
+    case = load_case(write(tmp_path, "pg.toml", PARALLEL_GUIDED)).case
+    run = run_method(case, "bcm")
+    assert run.status is RunStatus.NOT_CONVERGED and "no BCM equilibrium from level 2" in run.message
+    # the levels before still stand: two guided beams, P L^3 / (24 EI) at small load
+    EI = 2.0e11 * 0.01 * 0.001**3 / 12
+    assert run.values[Request("dy", "T1", 1)] == pytest.approx(10.0 * 0.1**3 / (24 * EI), rel=0.01)
+    assert run.level_converged == {0: True, 1: True, 2: False}

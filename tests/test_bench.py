@@ -7,7 +7,8 @@ from validation.bench import run_bench
 
 
 def test_bench_quick_writes_csv_json_and_plots(tmp_path):
-    assert run_bench(tmp_path, quick=True, cases={"cantilever_tip_load": [0, 9], "no_such_case": None}) == 0
+    # an unknown case is bad input (exit status 2, validation/exit_status.py); the others still run
+    assert run_bench(tmp_path, quick=True, cases={"cantilever_tip_load": [0, 9], "no_such_case": None}) == 2
     headline = json.loads((tmp_path / "headline.json").read_text())
     assert any("no_such_case" in s for s in headline["skipped"])
     frame = pd.read_csv(tmp_path / "bench.csv")

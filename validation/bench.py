@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from validation.exit_status import decide
 from validation.loader import CaseError, case_by_id, find_case_files
 from validation.methods.base import Request
 from validation.runner import characteristic_length, requests_for, run_cases, run_method
@@ -123,11 +124,13 @@ def run_bench(out: Path, quick: bool = False, cases: dict[str, list[int] | None]
     meshes = [2, 4, 8, 16, 32] if quick else [2, 4, 8, 16, 32, 64, 128, 256]
     repeats = 1 if quick else 5
     rows, skipped = [], []
+    unusable, failed = [], []  # exit status 1 and 2 (validation/exit_status.py)
     for case_id, levels in (cases or BENCH_CASES).items():
         try:
             loaded = case_by_id(case_id)
         except CaseError as exc:
             skipped.append(f"{case_id}: {exc.problem}")
+            unusable.append(case_id)
             continue
         case = loaded.case
         scale = characteristic_length(case)
@@ -148,6 +151,8 @@ def run_bench(out: Path, quick: bool = False, cases: dict[str, list[int] | None]
                 skipped.append(f"{case_id}/{label}: no tip-position or limit-load output to time")
                 continue
             run, median, peak = _timed(sub, method, repeats)
+            if not run.converged and method in case.methods:
+                failed.append(f"{case_id}/{label} n={n}: {run.message}")
             if not run.values:
                 skipped.append(f"{case_id}/{label} n={n}: {run.message}")
                 continue
@@ -175,7 +180,9 @@ def run_bench(out: Path, quick: bool = False, cases: dict[str, list[int] | None]
     print(json.dumps({k: v for k, v in headline.items() if k != "skipped"}, indent=2, default=float))
     for s in skipped:
         print(f"skipped: {s}")
-    return 0
+    for f in failed:
+        print(f"did not converge: {f}")
+    return int(decide(bad_input=bool(unusable), failed=bool(failed)))
 
 
 def _headline(frame: pd.DataFrame, quick: bool) -> dict:

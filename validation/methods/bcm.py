@@ -151,7 +151,11 @@ def _mechanism(case: Case, requests: list[Request], options: dict):
                 drive_point = point
             else:
                 raise NotApplicable(f"BCM adapter: load kind '{load.kind}' on a mechanism")
-        q, needed = body.solve(forces=forces, moment=moment, rotation=rotation, guess=q)
+        try:
+            q, needed = body.solve(forces=forces, moment=moment, rotation=rotation, guess=q)
+        except RuntimeError as exc:  # no equilibrium from here on: the levels so far stand
+            msgs[level] = f"level {level}: {exc}"
+            break
         states = body.beam_states(q)
         if any(abs(s[1]) > RANGE or abs(s[2]) > RANGE for s in states):
             outside.append(level)
@@ -190,11 +194,15 @@ def run(case: Case, requests: list[Request], options: dict) -> MethodRun:
             values, msgs, outside = _mechanism(case, requests, options)
     except RuntimeError as exc:  # the library's solver found no equilibrium: say so, never a bare crash
         return MethodRun(values={}, converged=False, wall_time=time.perf_counter() - t0,
-                         message=f"not converged: {exc} (the load path leaves what the BCM equations solve)")
+                         message=f"{exc} (the load path leaves what the BCM equations solve)")
     levels = sorted({r.level for r in requests})
+    solved = {lv: all(r in values for r in requests if r.level == lv) for lv in levels}
     message = "converged" if not outside else f"BCM range exceeded at levels {outside}"
-    return MethodRun(values=values, converged=True, message=message,
+    if not all(solved.values()):
+        first = min(lv for lv, ok in solved.items() if not ok)
+        message = f"no BCM equilibrium from level {first} on: {msgs.get(first, '')}"
+    return MethodRun(values=values, converged=all(solved.values()), message=message,
                      wall_time=time.perf_counter() - t0,
-                     level_converged={lv: True for lv in levels},
+                     level_converged=solved,
                      level_messages={lv: msgs.get(lv, "") for lv in levels},
                      extras={"outside_range": outside, "model": "beam constraint model (seed 003)"})
