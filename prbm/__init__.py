@@ -1,4 +1,19 @@
-"""Pseudo-rigid-body models (PRBM) of compliant segments and mechanisms; no knowledge of case files."""
+"""Pseudo-rigid-body models (PRBM) of compliant segments and mechanisms; no knowledge of case files.
+
+Lengths and forces in any consistent units; angles in radians (degrees only in case files and
+reports). Results are ``PRBMResult`` (``converged``, ``message``, ``outputs``, ``constants``).
+
+>>> import prbm
+>>> tip = prbm.fixed_pinned_tip(0.0, length=2.0, EI=1.0)     # no load: the undeformed tip
+>>> tip.converged, float(tip.outputs["a"]), float(tip.outputs["b"])
+(True, 2.0, 0.0)
+>>> tip.constants["gamma"]                                   # Pauly-Midha fit at n = 0 (Howell: 0.8517)
+0.851892
+>>> prbm.fixed_pinned_tip(1.0, length=1.0, EI=-1.0)
+Traceback (most recent call last):
+...
+ValueError: fixed_pinned_tip: EI must be finite and > 0, got -1.0
+"""
 from prbm.composite import capstan_factor, composite_beam_tip, layered_bending_stiffness
 from prbm.coupled_segment import BodyLoad, body_end_loads, inflection_pivots, solve_segment_with_body
 from prbm.dof import SEGMENT_MODES, PRBMTopology, Segment, grubler

@@ -79,3 +79,13 @@ def test_negative_load_is_the_mirror_in_every_library():
         x, y, theta = up[name]
         assert y > 0.05 and theta > 0.05, name  # the positive load really bends it
         assert down[name] == pytest.approx((x, -y, -theta), rel=1e-9, abs=1e-12), name
+
+
+@pytest.mark.parametrize("module", ["prbm", "elastica", "fem", "bcm", "prbm.checks", "elastica.checks",
+                                    "fem.checks", "bcm.checks"])
+def test_package_docstring_examples_run(module):
+    import doctest
+    import importlib
+
+    result = doctest.testmod(importlib.import_module(module))
+    assert result.attempted >= 3 and result.failed == 0
