@@ -162,3 +162,21 @@ def test_real_solver_end_to_end(tmp_path, capsys):
     assert wrong != text
     assert main(["run", str(write(tmp_path, "w.toml", wrong)), "--method", "elastica", "--quiet",
                  "--out", str(tmp_path / "o")]) == 1
+
+
+@pytest.mark.parametrize("behaviour, expected", [("ok", 0), ("not converged", 1), ("refuses", 1)])
+def test_sweep_follows_the_rule(tmp_path, monkeypatch, behaviour, expected):
+    from test_sweep import CASE, SPEC
+
+    from validation.sweep import run_sweep
+
+    def run(case, requests, options):
+        return BEHAVIOURS[behaviour]([1.0, 2.0], requests)
+
+    module = types.ModuleType("validation.methods.elastica")
+    module.run = run
+    monkeypatch.setitem(sys.modules, "validation.methods.elastica", module)
+    (tmp_path / "toy.toml").write_text(CASE)
+    spec = write(tmp_path, "toy_sweep.toml", SPEC.replace("samples = 100", "samples = 2")
+                 .replace("linspace = { start = 0.5, stop = 2.0, num = 10 }", "values = [1.0]"))
+    assert run_sweep(spec, tmp_path / "out", executor="serial", progress=False) == expected
