@@ -115,3 +115,15 @@ def test_solve_json_has_the_loads(tmp_path, capsys):
     last = document["runs"][1]["levels"][-1]
     assert last["loads"] == [{"name": "force at tip", "value": 10.0, "unit": "EI/L^2"}]
     assert last["outputs"]["y@tip"] == pytest.approx(0.810609, abs=2e-6)
+
+
+def test_every_named_load_as_a_column():
+    """Table 3.1's load combination (P and a moment per level) as columns beside each value."""
+    result = validation.api.validate(ROOT / "cases" / "chapter3" / "table3_1_load_combination.toml",
+                                     methods=["prbm"])
+    wide = result.values_with_loads
+    columns = [c for c in wide.columns if c.endswith("]")]
+    assert columns == ["-M (printed M > 0 is clockwise, opposing P) [lbf*in]", "P [lbf]"]
+    last = wide[wide["level"] == 2].iloc[0]
+    assert last["P [lbf]"] == 6.652 and last["-M (printed M > 0 is clockwise, opposing P) [lbf*in]"] == -71.16
+    assert len(wide) == len(result.values)

@@ -71,6 +71,11 @@ class Validation:
     def passed(self) -> bool:
         return self.status is ExitStatus.OK
 
+    @property
+    def values_with_loads(self) -> pd.DataFrame:
+        """``values`` with one column per named load of the case, ``"<name> [<unit>]"``."""
+        return tables.with_loads(self.values, self.loads)
+
     def method_differences(self, method: str, against: str) -> pd.DataFrame:
         """``method`` against ``against`` at every quantity, point and level both gave: the values,
         the absolute error and the relative error |a - b| / |b| (NaN where b is 0)."""

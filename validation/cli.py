@@ -73,8 +73,10 @@ def cmd_run(args) -> int:
     outcome.errors = sorted(errors + outcome.errors)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    outcome.table.to_csv(out / "results.csv", index=False)
-    outcome.table.astype({"finding": "string", "message": "string"}).to_parquet(out / "results.parquet")
+    results = outcome.table.astype({"within_tolerance": "boolean", "compare": "boolean", "converged": "boolean",
+                                    "finding": "string", "message": "string", "source": "string"})
+    results.to_csv(out / "results.csv", index=False)
+    results.to_parquet(out / "results.parquet")
     tidy = tables.tables_of(outcome.results, outcome.table)
     tables.write(tidy, out)
     table = summary(outcome.table) if len(outcome.table) else None

@@ -200,6 +200,16 @@ def typed(frame: pd.DataFrame, table: str, keep_extra: bool = False) -> pd.DataF
     return out.reset_index(drop=True)
 
 
+def with_loads(values: pd.DataFrame, loads: pd.DataFrame) -> pd.DataFrame:
+    """The values table with one column per named load, ``"<name> [<unit>]"``, holding its value at
+    the row's level (for one case, or cases that share their load names)."""
+    if loads.empty:
+        return values
+    named = loads.assign(column=loads["load"] + " [" + loads["unit"].fillna("") + "]")
+    wide = named.pivot_table(index=["case", "level"], columns="column", values="value", aggfunc="first")
+    return values.merge(wide.reset_index(), on=["case", "level"], how="left")
+
+
 def write(tables: dict[str, pd.DataFrame], out: Path) -> None:
     """Each table as ``<name>.csv`` and ``<name>.parquet`` under ``out``."""
     out.mkdir(parents=True, exist_ok=True)
