@@ -31,7 +31,7 @@ import math
 
 import numpy as np
 from scipy.optimize import fsolve
-from bcm.checks import checked
+from argcheck import checked
 
 __all__ = ["K0", "K1", "K2", "C0", "C1", "C2", "C3", "quadratic_forms", "strain_energy",
            "loads_from_deflections", "bcm_residual", "deflections_from_loads",

@@ -28,7 +28,7 @@ from scipy.optimize import fsolve
 
 from bcm.beam import (C0, C1, C2, C3, K0, K1, K2, axial_stiffness_parameter,
                       loads_from_deflections, strain_energy)
-from bcm.checks import checked
+from argcheck import checked
 
 __all__ = ["circular_guided_torque", "circular_guided_torque_eq20", "slant_parallelogram",
            "eq32_corrected", "eq32_printed", "BCMBeam", "RigidBodyOnBeams"]

@@ -23,7 +23,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.optimize import brentq
 from scipy.special import ellipeinc, ellipkinc
-from elastica.checks import checked
+from argcheck import checked
 
 __all__ = ["EllipticTip", "pure_moment_tip", "cantilever_tip_load", "fixed_pinned_from_angle",
            "fixed_pinned_tip", "curved_fixed_pinned_from_angle", "curved_fixed_pinned_tip",

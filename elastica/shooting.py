@@ -64,7 +64,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.integrate import solve_ivp
-from elastica.checks import checked
+from argcheck import checked
 
 __all__ = ["TipConstraint", "MomentConstraint", "ElasticaProblem", "ElasticaResult",
            "solve_elastica", "solve_path", "loaded_start", "section_moment", "unloaded_tip"]

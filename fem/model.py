@@ -43,7 +43,7 @@ from typing import Callable, Union
 import numpy as np
 
 from .section import Section
-from .checks import checked
+from argcheck import checked
 
 __all__ = ["Model", "Member", "Support", "Joint", "RigidLink", "PointLoad", "Prescribed"]
 

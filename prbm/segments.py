@@ -52,7 +52,7 @@ import numpy as np
 from prbm.fits import (PURE_MOMENT_C_THETA, PURE_MOMENT_GAMMA, PURE_MOMENT_SPRING, FitRangeError,
                        fit_family)
 from prbm.result import PRBMResult
-from prbm.checks import checked
+from argcheck import checked
 
 __all__ = [
     "spring_angle", "fixed_pinned_tip", "fixed_pinned_from_tip", "pure_moment_tip",

@@ -17,38 +17,7 @@ from validation.cli import main
 from validation.exit_status import RULE, ExitStatus, combine, of_run_status
 from validation.methods.base import Misconfigured, MethodRun, NotApplicable, RunStatus
 
-GOOD = """
-[case]
-id = "toy"
-title = "toy cantilever"
-group = "tests"
-units = "in-lb"
-
-[segment]
-boundary = "fixed-free"
-length = 10.0
-E = 30e6
-section = { kind = "rectangle", width = 0.5, thickness = 0.0625 }
-
-[[loads]]
-kind = "force"
-direction = [0.0, 1.0]
-values = [1.0, 2.0]
-
-[[outputs]]
-quantity = "y"
-
-[methods.prbm]
-
-[[references]]
-quantity = "y"
-level = 1
-value = 4.0
-label = "PRBM"
-source = { file = "000_x.txt", table = "9.9", row = "2", column = "b" }
-compare = "prbm"
-tolerance = { rel = 1e-3 }
-"""
+from test_foundation import GOOD  # the toy cantilever with one PRBM claim
 
 BEHAVIOURS = {
     "ok": lambda levels, requests: MethodRun(values={r: 2.0 * levels[r.level] for r in requests}),

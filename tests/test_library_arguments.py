@@ -81,11 +81,18 @@ def test_negative_load_is_the_mirror_in_every_library():
         assert down[name] == pytest.approx((x, -y, -theta), rel=1e-9, abs=1e-12), name
 
 
-@pytest.mark.parametrize("module", ["prbm", "elastica", "fem", "bcm", "prbm.checks", "elastica.checks",
-                                    "fem.checks", "bcm.checks"])
+@pytest.mark.parametrize("module", ["prbm", "elastica", "fem", "bcm", "argcheck"])
 def test_package_docstring_examples_run(module):
     import doctest
     import importlib
 
     result = doctest.testmod(importlib.import_module(module))
     assert result.attempted >= 3 and result.failed == 0
+
+
+def test_argcheck_is_a_leaf():
+    """The shared checks import nothing of the project, so the libraries stay independent."""
+    from test_independence import ROOT, imported_top_levels
+
+    assert not imported_top_levels(ROOT / "argcheck" / "__init__.py") & {
+        "prbm", "fem", "elastica", "bcm", "validation", "synthesis"}

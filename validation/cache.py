@@ -16,7 +16,8 @@ from pathlib import Path
 from validation.methods.base import MethodRun
 
 ROOT = Path(__file__).resolve().parent.parent
-LIBRARIES = {"fem": ["fem"], "prbm": ["prbm"], "elastica": ["elastica"], "bcm": ["bcm"]}
+LIBRARIES = {"fem": ["fem", "argcheck"], "prbm": ["prbm", "argcheck"], "elastica": ["elastica", "argcheck"],
+             "bcm": ["bcm", "argcheck"]}
 
 
 def cache_dir() -> Path:

@@ -1,8 +1,10 @@
-"""Argument checks at the public entry points of ``fem``: a NaN or infinite value, or a zero or
-negative stiffness, length or section, is a ValueError naming the function and the argument, never
-a result that says it converged. (Each library has its own copy: the libraries import no one.)
+"""Argument checks at the public entry points of the libraries (prbm, fem, elastica, bcm).
 
->>> from fem.checks import checked
+A NaN or infinite value, or a zero or negative stiffness, length or section, is a ValueError naming
+the function and the argument, never a result that says it converged. A leaf package: it imports
+nothing of the project, so the libraries stay independent of each other.
+
+>>> from argcheck import checked
 >>> @checked(positive=("length",), finite=("load",))
 ... def tip(load, *, length):
 ...     return load * length
