@@ -169,7 +169,10 @@ def comparisons_table(results_rows: pd.DataFrame, loads: pd.DataFrame) -> pd.Dat
         return typed(pd.DataFrame(), "comparisons")
     elsewhere = ("load", "load_value", "load_unit", "group", "scale", "error_estimate", "compare", "wall_time",
                  "converged", "message", "cached")  # in values and runs
-    rows = results_rows[results_rows["reference_label"].notna()].drop(
+    compared = results_rows["reference_label"].notna()
+    if "within_tolerance" in results_rows:  # any row the runner judged is a comparison
+        compared |= results_rows["within_tolerance"].notna()
+    rows = results_rows[compared].drop(
         columns=[c for c in elsewhere if c in results_rows])
     rows = rows.merge(loads, on=["case", "level"], how="left") if len(loads) else rows
     return typed(rows, "comparisons", keep_extra=True)
