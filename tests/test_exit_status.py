@@ -149,3 +149,10 @@ def test_sweep_follows_the_rule(tmp_path, monkeypatch, behaviour, expected):
     spec = write(tmp_path, "toy_sweep.toml", SPEC.replace("samples = 100", "samples = 2")
                  .replace("linspace = { start = 0.5, stop = 2.0, num = 10 }", "values = [1.0]"))
     assert run_sweep(spec, tmp_path / "out", executor="serial", progress=False) == expected
+
+
+def test_unknown_method_option_on_the_command_line_exits_2(tmp_path, capsys):
+    path = write(tmp_path, "toy.toml", GOOD)
+    assert main(["run", str(path), "--method", "femm", "--quiet", "--out", str(tmp_path / "o")]) == 2
+    assert "--method femm: unknown method; nearest: fem" in capsys.readouterr().err
+    assert main(["solve", str(path), "--method", "fem"]) == 2  # the case does not ask for it

@@ -15,7 +15,9 @@ import time
 from pathlib import Path
 
 from validation.exit_status import RULE, ExitStatus, combine, decide, of_run_status
+from validation.capabilities import METHODS
 from validation.loader import CaseError, find_case_files, load_case, search_roots
+from validation.names import nearest
 
 # kept for callers that imported them from here; the rule itself lives in validation/exit_status.py
 EXIT_OK, EXIT_TOLERANCE, EXIT_BAD_INPUT = ExitStatus.OK, ExitStatus.FAILED, ExitStatus.BAD_INPUT
@@ -62,10 +64,19 @@ def _print_table(frame, file=sys.stdout) -> None:
         print(frame.to_string(index=False), file=file)
 
 
+def unknown_methods(methods: list[str] | None) -> list[str]:
+    """One error line per --method that names no method, with the nearest names."""
+    return [f"--method {m}: unknown method{nearest(m, METHODS)}" for m in methods or [] if m not in METHODS]
+
+
 def cmd_run(args) -> int:
     from validation import tables
     from validation.runner import run_cases, summary
 
+    if unknown_methods(args.method):
+        for line in unknown_methods(args.method):
+            print(f"error: {line}", file=sys.stderr)
+        return ExitStatus.BAD_INPUT
     paths, errors = _paths(args.cases)
     started = time.perf_counter()
     outcome = run_cases(paths, methods=args.method, use_cache=not args.no_cache, jobs=args.jobs,
