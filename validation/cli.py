@@ -14,13 +14,10 @@ import sys
 import time
 from pathlib import Path
 
-from validation.exit_status import RULE, ExitStatus, combine, decide, of_run_status
 from validation.capabilities import METHODS
+from validation.exit_status import RULE, ExitStatus, combine, decide, of_run_status
 from validation.loader import CaseError, find_case_files, load_case, search_roots
 from validation.names import nearest
-
-# kept for callers that imported them from here; the rule itself lives in validation/exit_status.py
-EXIT_OK, EXIT_TOLERANCE, EXIT_BAD_INPUT = ExitStatus.OK, ExitStatus.FAILED, ExitStatus.BAD_INPUT
 
 # optional dependency -> the extra that installs it
 EXTRAS = {"distributed": "dask", "dask": "dask", "openseespy": "peer", "pytest": "test"}
