@@ -146,6 +146,16 @@ class ElasticaResult:
     problem: ElasticaProblem | None = None
     z: np.ndarray = field(default_factory=lambda: np.zeros(0))  # shooting unknowns (warm start)
 
+    # the result protocol every library's solve result shares: converged, status, message,
+    # iterations, wall_time
+    @property
+    def status(self) -> str:
+        return "ok" if self.converged else "not converged"
+
+    @property
+    def iterations(self) -> int:
+        return self.nit
+
 
 # --------------------------------------------------------------------------------------------
 # normalised problem data (L = 1, EI = 1)

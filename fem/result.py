@@ -53,6 +53,11 @@ class FemResult:
         return self.converged
 
     @property
+    def status(self) -> str:
+        """The result protocol shared by the libraries: 'ok' or 'not converged'."""
+        return "ok" if self.converged else "not converged"
+
+    @property
     def n_levels(self) -> int:
         return len(self.load_factor)
 

@@ -35,3 +35,13 @@ class PRBMResult:
 
     def __getitem__(self, name: str) -> np.ndarray:
         return self.outputs[name]
+
+    # the result protocol every library's solve result shares: converged, status, message,
+    # iterations, wall_time
+    @property
+    def status(self) -> str:
+        return "ok" if self.converged else "not converged"
+
+    @property
+    def iterations(self) -> int:
+        return self.nit

@@ -96,3 +96,20 @@ def test_argcheck_is_a_leaf():
 
     assert not imported_top_levels(ROOT / "argcheck" / "__init__.py") & {
         "prbm", "fem", "elastica", "bcm", "validation", "synthesis"}
+
+
+def test_one_result_protocol_across_the_libraries():
+    """Like scipy's TestOptimizeResultAttributes: every solve result answers the same questions."""
+    model = fem.Model()
+    model.add_node("root", 0.0, 0.0)
+    model.add_node("tip", 1.0, 0.0)
+    model.add_member("root", "tip", fem.Section.from_EI(1e7, 1.0), n_elements=4)
+    model.add_support("root", "fixed")
+    model.add_force("tip", 0.0, [1.0])
+    results = {"prbm": prbm.fixed_pinned_tip(1.0, length=1.0, EI=1.0),
+               "elastica": elastica.solve_elastica(1.0, 1.0, force=(0.0, 1.0)), "fem": fem.solve(model)}
+    for name, result in results.items():
+        assert result.converged is True and result.status == "ok", name
+        assert isinstance(result.message, str) and result.message, name
+        assert isinstance(result.iterations, (int, np.integer)) and result.iterations >= 0, name
+        assert result.wall_time > 0.0, name
