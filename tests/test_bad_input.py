@@ -143,3 +143,47 @@ def test_bcm_beyond_its_equations_is_a_run_that_did_not_converge_not_a_crash(tmp
     EI = 2.0e11 * 0.01 * 0.001**3 / 12
     assert run.values[Request("dy", "T1", 1)] == pytest.approx(10.0 * 0.1**3 / (24 * EI), rel=0.01)
     assert run.level_converged == {0: True, 1: True, 2: False}
+
+
+def beams_case(nodes, beams, supports, joints=(), links=()) -> Case:
+    """A small SI mechanism of steel strips (no case file has these)."""
+    section = {"kind": "rectangle", "width": 0.01, "thickness": 0.001}
+    return Case.model_validate({
+        "case": {"id": "frame", "title": "t", "group": "tests", "units": "SI"},
+        "mechanism": {"E": 2e11, "nodes": [{"name": n, "x": x, "y": y} for n, (x, y) in nodes.items()],
+                      "beams": [{"name": b, "start": s, "end": e, "section": section} for b, (s, e) in beams.items()],
+                      "links": [{"name": k, "nodes": list(v)} for k, v in dict(links).items()],
+                      "joints": [{"node": n, "members": list(m)} for n, m in joints],
+                      "supports": list(supports)},
+        "outputs": [{"quantity": "dy", "point": list(nodes)[-1]}], "methods": {"fem": {}}})
+
+
+LINE = {"A": (0.0, 0.0), "B": (0.1, 0.0), "C": (0.2, 0.0)}
+
+
+@pytest.mark.parametrize("name, case, expected", [
+    ("cantilever", beams_case(LINE, {"ab": ("A", "B"), "bc": ("B", "C")}, [{"node": "A", "kind": "fixed"}]), None),
+    ("simply supported", beams_case(LINE, {"ab": ("A", "B"), "bc": ("B", "C")},
+                                    [{"node": "A", "kind": "pinned"}, {"node": "C", "kind": "slider"}]), None),
+    ("one pin", beams_case(LINE, {"ab": ("A", "B"), "bc": ("B", "C")}, [{"node": "A", "kind": "pinned"}]),
+     "rotates about node 'A'"),
+    ("hinge at B", beams_case(LINE, {"ab": ("A", "B"), "bc": ("B", "C")}, [{"node": "A", "kind": "fixed"}],
+                              joints=[("B", ("ab", "bc"))]), "body 'bc' rotates about node 'B'"),
+    ("roller only", beams_case(LINE, {"ab": ("A", "B"), "bc": ("B", "C")},
+                               [{"node": "A", "kind": "guided", "direction": [1.0, 0.0]}]), "translates along (1, 0)"),
+    ("three-hinge arch", beams_case({"A": (0.0, 0.0), "B": (0.1, 0.05), "C": (0.2, 0.0)},
+                                    {"ab": ("A", "B"), "bc": ("B", "C")},
+                                    [{"node": "A", "kind": "pinned"}, {"node": "C", "kind": "pinned"}],
+                                    joints=[("B", ("ab", "bc"))]), None),
+    ("flat three-hinge", beams_case(LINE, {"ab": ("A", "B"), "bc": ("B", "C")},
+                                    [{"node": "A", "kind": "pinned"}, {"node": "C", "kind": "pinned"}],
+                                    joints=[("B", ("ab", "bc"))]), "rotates about"),
+])
+def test_rigid_body_check_on_frames_no_case_file_has(name, case, expected):
+    from validation.mobility import check
+
+    problems = check(case)
+    if expected is None:
+        assert problems == [], name
+    else:
+        assert len(problems) == 1 and expected in problems[0][1], (name, problems)
