@@ -34,29 +34,27 @@ def run_pytest(*args: str, cwd: Path) -> subprocess.CompletedProcess:
 
 
 def test_plugin_passes_a_true_claim_and_fails_a_false_one(tmp_path):
+    """``pytest my_cases/`` on files the project has never seen: one item per case and method."""
     assert EXACT_Y_10 in CANTILEVER
     user_case(tmp_path, "true_claim.toml", CANTILEVER)
     user_case(tmp_path, "false_claim.toml", CANTILEVER.replace(EXACT_Y_10, "value = 0.891670"))  # +10 %
+    user_case(tmp_path, "bad.toml", CANTILEVER.replace("length = 1.0", "length = -1.0")
+              .replace("E = 1.0", "E = 1.0\nlenght = 2.0"))
     (tmp_path / "my_cases" / "notes.toml").write_text("[tool]\nx = 1\n")  # not a case file: not collected
     done = run_pytest("my_cases/", "--case-method", "elastica", "-rA", cwd=tmp_path)
     out = done.stdout
     assert done.returncode == 1, out + done.stderr
-    assert "1 failed, 1 passed" in out
+    assert "2 failed, 1 passed" in out
     assert "PASSED my_cases/true_claim.toml::true_claim[elastica]" in out
     assert "FAILED my_cases/false_claim.toml::false_claim[elastica]" in out
     # the message a person reads: quantity, point, level and load with unit, value, reference, error,
     # tolerance, source
     assert ("y at tip, level 9, force at tip = 10 EI/L^2: 0.810609 L against exact 0.89167; error 0.0811 abs, "
             "0.0909 rel; tolerance abs 2e-06; source notes/anchors.md, section 2.1") in out
-
-
-def test_plugin_reports_a_bad_case_file_with_every_problem(tmp_path):
-    user_case(tmp_path, "bad.toml", CANTILEVER.replace("length = 1.0", "length = -1.0")
-              .replace("E = 1.0", "E = 1.0\nlenght = 2.0"))
-    done = run_pytest("my_cases/", cwd=tmp_path)
-    assert done.returncode == 1
-    assert "segment.length: Input should be greater than 0" in done.stdout
-    assert "segment.lenght: Extra inputs are not permitted" in done.stdout
+    # a bad file is one failing item listing every problem
+    assert "FAILED my_cases/bad.toml::input" in out
+    assert "segment.length: Input should be greater than 0" in out
+    assert "segment.lenght: Extra inputs are not permitted" in out
 
 
 def test_plot_against_load_from_the_table_alone(tmp_path):
