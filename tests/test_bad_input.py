@@ -187,3 +187,12 @@ def test_rigid_body_check_on_frames_no_case_file_has(name, case, expected):
         assert problems == [], name
     else:
         assert len(problems) == 1 and expected in problems[0][1], (name, problems)
+
+
+def test_cli_prints_every_problem_as_its_own_error_line(tmp_path, capsys):
+    text = (GOOD.replace("thickness = 0.0625", "thickness = -0.0625")
+                .replace("E = 30e6", "E = 30e6\nlenght = 3.0"))
+    path = write(tmp_path, "two.toml", text)
+    assert main(["list", str(path)]) == 2
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 2 and all(line.startswith(f"error: {path}: segment.") for line in lines)

@@ -15,7 +15,7 @@ import time
 from pathlib import Path
 
 from validation.capabilities import METHODS
-from validation.exit_status import RULE, ExitStatus, combine, decide, of_run_status
+from validation.exit_status import RULE, ExitStatus, combine, decide, of_run_status, print_error
 from validation.loader import CaseError, find_case_files, load_case, search_roots
 from validation.names import nearest
 
@@ -49,7 +49,7 @@ def cmd_list(args) -> int:
         print(f"{case.case.id:<40} {case.case.group:<12} {kind:<9} {','.join(case.methods):<24} "
               f"{case.case.title}")
     for error in errors:
-        print(f"error: {error}", file=sys.stderr)
+        print_error(error)
     return decide(bad_input=bool(errors))
 
 
@@ -72,7 +72,7 @@ def cmd_run(args) -> int:
 
     if unknown_methods(args.method):
         for line in unknown_methods(args.method):
-            print(f"error: {line}", file=sys.stderr)
+            print_error(line)
         return ExitStatus.BAD_INPUT
     paths, errors = _paths(args.cases)
     started = time.perf_counter()
@@ -102,7 +102,7 @@ def cmd_run(args) -> int:
         for line in problems:
             print(f"  {line}")
     for error in outcome.errors:
-        print(f"error: {error}", file=sys.stderr)
+        print_error(error)
     print(f"\n{len(outcome.results)} case(s) run, {len(outcome.errors)} rejected, in "
           f"{time.perf_counter() - started:.1f} s; results in {out / 'values.csv'} and "
           f"{out / 'comparisons.csv'}")
@@ -150,7 +150,7 @@ def cmd_solve(args) -> int:
             raise CaseError(args.case, "", f"names {len(paths)} case files; solve takes one")
         loaded = load_case(paths[0])
     except CaseError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print_error(exc)
         return ExitStatus.BAD_INPUT
     case = loaded.case
     methods = args.method or list(case.methods)
@@ -266,7 +266,7 @@ def main(argv: list[str] | None = None) -> int:
               f"pip install 'prbm-validate[{EXTRAS[top]}]'", file=sys.stderr)
         return ExitStatus.BAD_INPUT
     except OSError as exc:  # an output folder that cannot be written, a file that cannot be read
-        print(f"error: {exc}", file=sys.stderr)
+        print_error(exc)
         return ExitStatus.BAD_INPUT
 
 

@@ -14,6 +14,7 @@ When several apply, the largest of 0, 1, 2 wins: bad input is never hidden by a 
 """
 from __future__ import annotations
 
+import sys
 from enum import IntEnum
 from typing import Iterable
 
@@ -56,3 +57,10 @@ def decide(bad_input: bool = False, failed: bool = False) -> ExitStatus:
     if bad_input:
         return ExitStatus.BAD_INPUT
     return ExitStatus.FAILED if failed else ExitStatus.OK
+
+
+def print_error(message: object) -> None:
+    """Print an error to stderr, every line of it prefixed 'error: ' (a case file with three problems
+    is three lines, each naming the file and the field)."""
+    for line in str(message).splitlines() or [""]:
+        print(f"error: {line}", file=sys.stderr)

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from validation.exit_status import print_error
 from validation.loader import find_case_files
 from validation.runner import CaseResult, run_cases, summary
 
@@ -451,7 +452,7 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     (out / "index.html").write_text(_page("PRBM validation report", "".join(body)))
     (out / "index.md").write_text("\n".join(md) + "\n")
     for error in outcome.errors:
-        print(f"error: {error}", file=sys.stderr)
+        print_error(error)
     print(f"report: {out / 'index.html'} ({len(outcome.results)} cases, "
           f"{time.perf_counter() - started:.1f} s)")
     return outcome.exit_status

@@ -79,6 +79,7 @@ from typing import Any, Iterator, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
+from validation.exit_status import print_error
 from validation.loader import CASES_DIR, CaseError, find_case_files, load_case, read_toml_model
 from validation.schema import Case, Finite, OutputSpec, Positive
 from validation.sweep_task import ROW_COLUMNS, PathError, check_path, prepare, run_chunk
@@ -575,7 +576,7 @@ def run_sweep(spec_path: Path | str, out: Path | str | None = None, executor: An
     try:
         loaded = load_spec(find_spec(spec_path))
     except (CaseError, ValueError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print_error(exc)
         return EXIT_BAD_INPUT
     spec = loaded.spec
     out = Path(out) if out is not None else Path("reports") / "sweeps" / spec.sweep.id
