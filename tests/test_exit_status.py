@@ -101,13 +101,14 @@ def test_misspelled_or_mistyped_option_exits_2_naming_it(tmp_path, capsys, optio
     assert main(["solve", str(path)]) == 2
 
 
-def test_report_follows_the_rule(tmp_path, fake):
+def test_report_follows_the_rule(tmp_path, capsys, fake):
     from validation.report import build_report
 
     good = write(tmp_path, "toy.toml", GOOD)
     assert build_report(tmp_path / "r", use_cache=False, jobs=1, cases=[str(good)]) == 0
     fake["behaviour"] = "refuses"
     assert build_report(tmp_path / "r", use_cache=False, jobs=1, cases=[str(good)]) == 1
+    assert "not ok: toy prbm: not applicable: cannot model a toy" in capsys.readouterr().out
     bad = write(tmp_path, "bad.toml", GOOD.replace("E = 30e6", "E = -1"))
     assert build_report(tmp_path / "r", use_cache=False, jobs=1, cases=[str(bad)]) == 2
 
