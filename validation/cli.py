@@ -164,7 +164,7 @@ def cmd_solve(args) -> int:
         run = run_method(case, method)
         statuses.append(of_run_status(run.status))
         if not run.ok:
-            print(f"{case.case.id} {method}: {run.status.value}: {run.message}", file=sys.stderr)
+            print(f"{case.case.id} {method}: {run.summary()}", file=sys.stderr)
         documents.append(solve_document(loaded, method, run))
     document = documents[0] if len(documents) == 1 else {"case": case.case.id, "runs": documents}
     text = json.dumps(document, indent=None if args.compact else 2)

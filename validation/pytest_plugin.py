@@ -90,7 +90,7 @@ class CaseItem(pytest.Item):
 
 def run_problems(result) -> list[str]:
     """One line per method run that did not end ok: method, status, message."""
-    return [f"{run.method} {run.status}: {run.message}" for run in result.method_problems.itertuples()]
+    return [f"{method} {run.summary()}" for method, run in result.result.runs.items() if not run.ok]
 
 
 def comparison_failures(result) -> list[str]:

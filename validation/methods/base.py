@@ -64,3 +64,7 @@ class MethodRun:
     @property
     def ok(self) -> bool:
         return self.status is RunStatus.OK
+
+    def summary(self) -> str:
+        """'<status>: <message>' in words, without saying the status twice."""
+        return f"{self.status.value}: {self.message.removeprefix(self.status.value + ': ')}"
