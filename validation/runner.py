@@ -196,7 +196,8 @@ class RunOutcome:
     @property
     def method_problems(self) -> list[str]:
         """'<case> <method>: <status>: <message>' for every method run that did not end ok."""
-        return [f"{r.loaded.id} {method}: {run.summary()}" for r in self.results for method, run in r.runs.items() if run.status is not RunStatus.OK]
+        return [f"{r.loaded.id} {method}: {run.summary()}"
+                for r in self.results for method, run in r.runs.items() if not run.ok]
 
     @property
     def exit_status(self) -> int:
