@@ -126,7 +126,13 @@ class ElasticaProblem:
 
 @dataclass
 class ElasticaResult:
-    """Outcome of one solve; loads and positions in the problem's units, angles in rad."""
+    """Outcome of one solve; loads and positions in the problem's units, angles in rad.
+
+    ``force`` and ``moment`` act on the beam at its tip (s = L); ``reaction`` = (Rx, Ry, M) is what
+    the clamp exerts on the beam at its root (s = 0), counter-clockwise positive, so that
+    reaction + force = 0 for the forces. (The FEM's ``FemResult.reaction(node)`` is what the supports
+    and prescriptions exert at the node asked for.)
+    """
 
     converged: bool
     message: str

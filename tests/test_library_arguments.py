@@ -113,3 +113,11 @@ def test_one_result_protocol_across_the_libraries():
         assert isinstance(result.message, str) and result.message, name
         assert isinstance(result.iterations, (int, np.integer)) and result.iterations >= 0, name
         assert result.wall_time > 0.0, name
+
+
+def test_elastica_reaction_is_the_clamp_on_the_beam_at_the_root():
+    """Static equilibrium of the whole beam: R + F = 0 and M_root + M_tip + (x, y) x F = 0."""
+    r = elastica.solve_elastica(1.0, 1.0, force=(0.3, 1.0), moment=0.2)
+    Rx, Ry, M_root = r.reaction
+    assert (Rx, Ry) == pytest.approx((-0.3, -1.0), abs=1e-12)
+    assert M_root + r.moment + (r.x * 1.0 - r.y * 0.3) == pytest.approx(0.0, abs=1e-9)
