@@ -29,10 +29,10 @@ import numpy as np
 import pandas as pd
 
 from validation import tables
-from validation.exit_status import ExitStatus, combine, decide, of_run_status
+from validation.exit_status import ExitStatus
 from validation.loader import CaseError, LoadedCase, check_case, find_case_files, load_case
 from validation.methods.base import RunStatus
-from validation.runner import CaseResult, run_case, tabulate
+from validation.runner import CaseResult, RunOutcome, run_case, tabulate
 from validation.schema import Case
 
 
@@ -50,10 +50,14 @@ class Validation:
     comparisons: pd.DataFrame
 
     @property
+    def outcome(self) -> RunOutcome:
+        """The runner's outcome of this one case: what ``prbm-validate run`` judges."""
+        return RunOutcome(table=self.results, errors=[], results=[self.result])
+
+    @property
     def failures(self) -> pd.DataFrame:
-        """Comparison rows outside their claimed tolerance with no recorded finding."""
-        c = self.comparisons
-        return c[(c["within_tolerance"] == False) & c["finding"].isna()]  # noqa: E712
+        """Comparisons the runner judges failed (outside their claimed tolerance), with the load."""
+        return tables.comparisons_table(self.outcome.failed_comparisons, tables.driving_loads([self.result]))
 
     @property
     def method_problems(self) -> pd.DataFrame:
@@ -63,9 +67,7 @@ class Validation:
     @property
     def status(self) -> ExitStatus:
         """The exit status ``prbm-validate run`` would give on this case alone."""
-        statuses = [decide(failed=len(self.failures) > 0)]
-        statuses += [of_run_status(RunStatus(s)) for s in self.runs["status"]]
-        return combine(statuses)
+        return ExitStatus(self.outcome.exit_status)
 
     @property
     def passed(self) -> bool:
