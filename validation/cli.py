@@ -115,12 +115,12 @@ def _clean(v):
 
 def solve_document(loaded, method: str, run) -> dict:
     """The JSON document of ``solve``: every requested output at every level, with the level's loads."""
-    from validation import tables
+    from validation.loads import level_labels, load_name, load_unit
     from validation.runner import requests_for
 
     case = loaded.case
-    labels = tables.level_labels(case)
-    loads = [(tables.load_name(load, i, case), load.levels(), tables.load_unit(load, case))
+    labels = level_labels(case)
+    loads = [(load_name(load, i, case), load.levels(), load_unit(load, case))
              for i, load in enumerate(case.loads)]
     levels = []
     for level in range(case.n_levels()):

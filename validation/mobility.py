@@ -23,7 +23,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import null_space
 
 from validation.schema import Case, MechanismSpec
 
@@ -134,10 +133,19 @@ def _describe(vector: np.ndarray, idx: _Unknowns, mech: MechanismSpec) -> RigidB
                          "a support or member resisting that rotation")
 
 
+def null_space(C: np.ndarray, rcond: float = 1e-10) -> np.ndarray:
+    """Orthonormal basis of the null space of C (columns), from its singular value decomposition."""
+    if C.shape[0] == 0:
+        return np.eye(C.shape[1])
+    _, sigma, vt = np.linalg.svd(C)
+    rank = int(np.sum(sigma > rcond * sigma.max())) if sigma.size else 0
+    return vt[rank:].T
+
+
 def rigid_body_modes(case: Case) -> list[RigidBodyMode]:
     """Every independent rigid-body motion of a mechanism case (empty when it is held)."""
     C, idx, _ = constraint_matrix(case)
-    basis = null_space(C, rcond=1e-10)
+    basis = null_space(C)
     return [_describe(basis[:, k], idx, case.mechanism) for k in range(basis.shape[1])]
 
 

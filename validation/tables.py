@@ -25,7 +25,8 @@ import pandas as pd
 
 from validation.capabilities import QUANTITIES
 from validation.runner import CaseResult, requests_for
-from validation.schema import Case, LoadSpec
+from validation.loads import driving_load, level_labels, load_name, load_unit
+from validation.schema import Case
 
 
 @dataclass(frozen=True)
@@ -78,39 +79,6 @@ SCHEMA: dict[str, list[Column]] = {
         Column("within_tolerance", "boolean", "the claimed tolerance holds; empty when only recorded"),
         Column("finding", "string", "known misprint or disagreement that explains a miss")],
 }
-
-LOAD_UNITS = {"force": "force", "moment": "moment", "displacement": "length"}
-
-
-def load_name(load: LoadSpec, index: int, case: Case) -> str:
-    """A load's name: its label, else 'kind at point' (with its index when that repeats)."""
-    if load.label:
-        return load.label
-    name = f"{load.kind} at {load.point}"
-    same = [i for i, other in enumerate(case.loads) if not other.label
-            and (other.kind, other.point) == (load.kind, load.point)]
-    return name if len(same) == 1 else f"{name} #{index}"
-
-
-def load_unit(load: LoadSpec, case: Case) -> str:
-    if load.kind == "rotation":
-        return "deg"
-    dimension = LOAD_UNITS.get(load.kind)
-    return case.unit(dimension) if dimension else ""
-
-
-def driving_load(case: Case) -> int | None:
-    """Index of the load plotted against: the first whose value changes along the path, else the first."""
-    for i, load in enumerate(case.loads):
-        levels = load.levels()
-        if max(levels) != min(levels):
-            return i
-    return 0 if case.loads else None
-
-
-def level_labels(case: Case) -> list[str]:
-    return case.level_labels or [str(i) for i in range(case.n_levels())]
-
 
 def loads_table(case: Case) -> pd.DataFrame:
     labels = level_labels(case)
