@@ -20,6 +20,7 @@ import numpy as np
 
 from .corotational import element_state
 from .discretise import Discretisation
+from .kernel import scatter
 from .linear_solver import MatrixLayout
 from .model import Model
 
@@ -173,7 +174,7 @@ class System:
                 Cr = C[self.rows_full][:, :, None]
                 Ccol = C[self.cols_full][:, None, :]
                 red = (v[:, None, None] * Cr * Ccol).ravel()[self.valid]
-            else:
-                red = v[self.valid_src] * self.coef_const
-            out["K"] = self.layout.assemble(red)
+                out["K"] = self.layout.assemble(red)
+            else:   # constant constraint coefficients: one compiled scatter into solver storage
+                out["K"] = scatter(self.layout.flat, self.valid_src, self.coef_const, v, self.layout.size)
         return out

@@ -39,7 +39,7 @@ from .linear_solver import SingularMatrix
 from .model import DOF_NAMES, Model
 from .newton import Path, StepFailed, accept_check, det_sign, growth, newton, snapshot
 from .result import build_result
-from .stability import DENSE_LIMIT, conservative, held_sign, lowest_modes, switch_branch, zero_eigenvalue
+from .stability import DENSE_LIMIT, conservative, eigenvalue_below, held_sign, switch_branch, zero_eigenvalue
 from .warm_start import chord_angles, guess_states, reduced_from_full
 
 __all__ = ["solve"]
@@ -69,18 +69,17 @@ JUMP_CUT_FLOOR = 64       # steps shorter than this many min_step are not cut fo
 
 def _even_crossing(system, st, held) -> bool:
     """True when det K > 0 hides an unstable state: two (or any even number of) eigenvalues
-    crossed zero in one step, which the sign of det K cannot see. Checked by the lowest eigenvalue,
-    only where it can happen (conservative loads, some member in compression) and only for systems
+    crossed zero in one step, which the sign of det K cannot see. Checked by a Cholesky
+    factorisation of the shifted, scaled tangent (`stability.eigenvalue_below`), only where it can happen (conservative loads, some member in compression) and only for systems
     small enough for a dense eigensolver (larger ones rely on the sign of det K)."""
     if not conservative(system) or system.n > DENSE_LIMIT:
         return False
     if float(np.min(st["ev"]["el"]["N"], initial=0.0)) >= 0.0:
         return False
-    try:
-        vals, _ = lowest_modes(system, st["ev"]["K"], held, count=1)
+    try:   # Jacobi-scaled: unit diagonal
+        return eigenvalue_below(system, st["ev"]["K"], held, zero_eigenvalue(1.0, system.n))
     except (ValueError, np.linalg.LinAlgError, RuntimeError):
         return False
-    return bool(vals[0] < -zero_eigenvalue(1.0, system.n))   # Jacobi-scaled: unit diagonal
 
 
 def _turned_back(system, dq, dq_prev) -> bool:
