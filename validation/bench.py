@@ -8,8 +8,10 @@ per level, halved only on failure, failed tries counted in the time) both run on
 rows (``fem+richardson``: the FEM's own n/2n solve; ``opensees+richardson``: the peer's n and 2n runs,
 time of both). Beside them: the PRBM, the exact elastica and the FEM with the case's own options.
 
-Each configuration is timed in this process with ``time.perf_counter``: one warm-up, then the best
-(smallest) of ``repeats`` runs (and their median, for the noise); its error is the largest
+Each configuration is timed in this process: one warm-up, then the best (smallest) CPU time of this
+process (``time.process_time``; BLAS and the compiled kernels run on one thread, so on an idle machine
+it is the wall time, and on a shared one it leaves out the waits for a core) over ``repeats`` runs,
+their median (for the noise) and the best wall time; its error is the largest
 tip-position error over the benchmarked load levels, over the characteristic length, against the
 exact solution (the elastica method on the same case, or the case's 'exact' references). Peak Python
 memory is measured in a separate run with ``tracemalloc``. BLAS threads are pinned to one and recorded.
@@ -105,27 +107,31 @@ def _restrict(case, method: str, options: dict, levels: list[int] | None):
 
 @dataclass
 class Timing:
-    """One configuration timed: the last run, the best and median wall time, the peak Python memory."""
+    """One configuration timed: the last run, the best and median CPU time of this process around
+    the run, the best wall time, the peak Python memory."""
     run: MethodRun
     best: float
     median: float
     repeats: int
     peak_bytes: int
+    wall: float = math.nan
 
 
 def _timed(case, method: str, repeats: int) -> Timing:
     first = run_method(case, method)  # warm-up (imports, caches, compiled kernels)
     if first.wall_time > 1.0:        # a slow configuration: its noise is small against its time
         repeats = 1
-    times, run = [], first
+    times, walls, run = [], [], first
     for _ in range(repeats):
+        start = time.process_time()
         run = run_method(case, method)
-        times.append(run.wall_time)
+        times.append(time.process_time() - start)
+        walls.append(run.wall_time)
     tracemalloc.start()
     run_method(case, method)
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
-    return Timing(run, min(times), statistics.median(times), repeats, peak)
+    return Timing(run, min(times), statistics.median(times), repeats, peak, min(walls))
 
 
 def _exact(case, levels) -> tuple[dict, str]:
@@ -185,6 +191,7 @@ def _row(case_label, label, n, timing: Timing, exact_from) -> dict:
     run = timing.run
     iterations = run.extras.get("iterations", math.nan)
     return dict(case=case_label, method=label, elements=n, time_s=timing.best, time_median_s=timing.median,
+                wall_s=timing.wall,
                 repeats=timing.repeats, error=math.nan, error_reference=exact_from, iterations=iterations,
                 failed_iterations=run.extras.get("rejected_iterations", 0),
                 peak_memory_mb=timing.peak_bytes / 2**20, converged=run.converged, message=run.message[:200])
@@ -225,7 +232,7 @@ def _sweep(case, bench: BenchCase, method: str, meshes: list[int], repeats: int,
                                     extras={"iterations": coarse.run.extras.get("iterations", 0)
                                             + fine.run.extras.get("iterations", 0)}),
                           coarse.best + fine.best, coarse.median + fine.median, fine.repeats,
-                          max(coarse.peak_bytes, fine.peak_bytes))
+                          max(coarse.peak_bytes, fine.peak_bytes), coarse.wall + fine.wall)
             row = _row(bench.label, labels[1], n // 2, both, exact[1])
             row["error"] = _error(both.run.values, exact[0], scale)
             rows.append(row)
@@ -391,7 +398,7 @@ def _config(c: dict | None) -> str:
 
 
 def _print_headline(headline: dict) -> None:
-    print("\nfem / OpenSees time to reach the error (best of each; configurations beside):")
+    print("\nfem / OpenSees CPU time to reach the error (best of each; configurations beside):")
     for key, h in headline["fem_over_opensees_time_at_error"].items():
         ratio = "   -  " if h["ratio"] is None else f"{h['ratio']:6.2f}"
         print(f"  {key:<52} {ratio}   fem: {_config(h['fem'])}   opensees: {_config(h['opensees'])}"
