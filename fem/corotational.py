@@ -39,9 +39,13 @@ def element_state(X1, X2, p, L0, beta0, beta_prev, ka, kb, need_tangent=True):
     `kernel.element_kernel` (the same formulas as `element_state_numpy`, element by element).
 
     Returns dict with f, K, N, M (n,2), L, beta, theta_bar (n,2), u_bar, jumped."""
-    f, K, N, M, L, beta, theta_bar, u_bar, jumped = element_kernel(
-        X1, X2, np.ascontiguousarray(p, dtype=float), L0, beta0, beta_prev, ka, kb, bool(need_tangent))
-    out = dict(f=f, N=N, M=M, L=L, beta=beta, theta_bar=theta_bar, u_bar=u_bar, jumped=jumped)
+    n = len(L0)
+    out = dict(f=np.empty((n, 6)), N=np.empty(n), M=np.empty((n, 2)), L=np.empty(n), beta=np.empty(n),
+               theta_bar=np.empty((n, 2)), u_bar=np.empty(n), jumped=np.empty(n, dtype=bool))
+    K = np.zeros((n, 6, 6) if need_tangent else (0, 6, 6))
+    element_kernel(X1, X2, np.ascontiguousarray(p, dtype=float), L0, beta0, beta_prev, ka, kb, bool(need_tangent),
+                   out["f"], K, out["N"], out["M"], out["L"], out["beta"], out["theta_bar"], out["u_bar"],
+                   out["jumped"])
     if need_tangent:
         out["K"] = K
     return out

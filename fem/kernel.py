@@ -23,7 +23,7 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["element_kernel", "scatter"]
+__all__ = ["element_kernel", "scatter", "scatter_add"]
 
 
 @njit(cache=True, inline="always")
@@ -33,19 +33,13 @@ def _wrap(a):
 
 
 @njit(cache=True)
-def element_kernel(X1, X2, p, L0, beta0, beta_prev, ka, kb, need_tangent):
-    """Internal forces f (n,6), tangent K (n,6,6) (zeros when not needed), and the local state:
-    N (n,), M (n,2), L, beta, theta_bar (n,2), u_bar, jumped (n,) of all elements."""
+def element_kernel(X1, X2, p, L0, beta0, beta_prev, ka, kb, need_tangent,
+                   f, K, N, M, L, beta, theta_bar, u_bar, jumped):
+    """Into the given arrays: internal forces f (n,6), tangent K (n,6,6) (untouched when not
+    needed), and the local state N (n,), M (n,2), L, beta, theta_bar (n,2), u_bar, jumped (n,) of
+    all elements. (Outputs are passed in, not returned: returning arrays from numba costs more
+    than the loop for small meshes.)"""
     n = L0.shape[0]
-    f = np.empty((n, 6))
-    K = np.zeros((n, 6, 6)) if need_tangent else np.zeros((0, 6, 6))
-    N = np.empty(n)
-    M = np.empty((n, 2))
-    L = np.empty(n)
-    beta = np.empty(n)
-    theta_bar = np.empty((n, 2))
-    u_bar = np.empty(n)
-    jumped = np.zeros(n, dtype=np.bool_)
     E = np.zeros((4, 6))
     C = np.zeros((4, 4))
     CE = np.empty((4, 6))
@@ -96,14 +90,18 @@ def element_kernel(X1, X2, p, L0, beta0, beta_prev, ka, kb, need_tangent):
                     for k in range(4):
                         acc += E[k, i] * CE[k, j]
                     K[e, i, j] = acc
-    return f, K, N, M, L, beta, theta_bar, u_bar, jumped
 
 
 @njit(cache=True)
-def scatter(target, source, factor, values, size):
-    """out[target[j]] += values[source[j]] * factor[j], out of length ``size`` (the assembly of
-    element entries into solver storage through precomputed index maps, in the order of j)."""
-    out = np.zeros(size)
+def scatter_add(target, source, factor, values, out):
+    """out[target[j]] += values[source[j]] * factor[j], in the order of j (the assembly of element
+    entries into solver storage through precomputed index maps)."""
     for j in range(target.shape[0]):
         out[target[j]] += values[source[j]] * factor[j]
+
+
+def scatter(target, source, factor, values, size):
+    """A new vector of length ``size``: zeros, then `scatter_add`."""
+    out = np.zeros(size)
+    scatter_add(target, source, factor, values, out)
     return out
