@@ -63,7 +63,8 @@ def _rms(v):
 
 
 @njit(cache=True)
-def _dop853(y0, t0, t1, Fx, Fy, k0, rtol, atol, A, B, C, E3, E5):
+def _dop853(y0, t0, t1, Fx, Fy, k0, rtol, atol):
+    A, B, C, E3, E5 = _A, _B, _C, _E3, _E5     # global arrays: compile-time constants for numba
     n = y0.size
     K = np.empty((A.shape[0] + 1, n))
     f = np.empty(n)
@@ -143,19 +144,19 @@ def _dop853(y0, t0, t1, Fx, Fy, k0, rtol, atol, A, B, C, E3, E5):
 
 
 def integrate_dop853(y0, a: float, b: float, Fx: float, Fy: float, k0: float, rtol: float, atol: float):
-    """The state at s = b from y0 at s = a, and whether the integration succeeded (False: the step
-    fell below the rounding of s)."""
-    return _dop853(np.asarray(y0, dtype=float), float(a), float(b), float(Fx), float(Fy), float(k0),
-                   float(rtol), float(atol), _A, _B, _C, _E3, _E5)
+    """The state at s = b from y0 (float array) at s = a, and whether the integration succeeded
+    (False: the step fell below the rounding of s). Called once per shooting residual: no argument
+    conversion here, numba's dispatch checks the types."""
+    return _dop853(y0, a, b, Fx, Fy, k0, rtol, atol)
 
 
 @njit(cache=True)
-def _samples(y0, s, Fx, Fy, k0, rtol, atol, A, B, C, E3, E5):
+def _samples(y0, s, Fx, Fy, k0, rtol, atol):
     out = np.empty((s.size, y0.size))
     out[0] = y0
     y = y0.copy()
     for k in range(1, s.size):
-        y, ok = _dop853(y, s[k - 1], s[k], Fx, Fy, k0, rtol, atol, A, B, C, E3, E5)
+        y, ok = _dop853(y, s[k - 1], s[k], Fx, Fy, k0, rtol, atol)
         if not ok:
             return out, False
         out[k] = y
@@ -166,4 +167,4 @@ def integrate_samples(y0, s, Fx: float, Fy: float, k0: float, rtol: float, atol:
     """The states (len(s), STATE_SIZE) at the increasing arc lengths ``s`` (s[0]: the start of
     y0), integrated from sample to sample, and whether every interval succeeded."""
     return _samples(np.asarray(y0, dtype=float), np.ascontiguousarray(s, dtype=float), float(Fx), float(Fy),
-                    float(k0), float(rtol), float(atol), _A, _B, _C, _E3, _E5)
+                    float(k0), float(rtol), float(atol))

@@ -223,7 +223,7 @@ class _Shooter:
     """Residual and Jacobian of the end conditions for one problem structure (normalised)."""
 
     def __init__(self, p: ElasticaProblem, rtol: float, atol: float):
-        self.k0 = p.curvature * p.length
+        self.k0 = float(p.curvature * p.length)
         self.dirs = [_unit(c.direction) for c in p.constraints]
         self.fdirs = [_unit(c.force_direction if c.force_direction is not None else c.direction)
                       for c in p.constraints]
@@ -237,7 +237,7 @@ class _Shooter:
         self.angle_given = p.tip_angle is not None
         self.has_follower = p.follower != (0.0, 0.0)
         self.n = 1 + self.nc + self.nm + (1 if self.has_follower else 0)
-        self.rtol, self.atol = rtol, atol
+        self.rtol, self.atol = float(rtol), float(atol)
 
     def unknown_force_directions(self):
         """Unit directions of the force multipliers, in the order of z[1:1 + nc + nm]."""
@@ -277,7 +277,8 @@ class _Shooter:
                 sol = solve_ivp(self.rhs, (a, b), states[a], method="DOP853", rtol=self.rtol,
                                 atol=self.atol, args=(F[0], F[1]), dense_output=True)
             else:
-                y_end, ok = integrate_dop853(states[a], a, b, F[0], F[1], self.k0, self.rtol, self.atol)
+                y_end, ok = integrate_dop853(states[a], float(a), float(b), float(F[0]), float(F[1]), self.k0,
+                                             self.rtol, self.atol)
                 sol = _EndState(np.array([a, b]), y_end[:, None], ok)
             pieces.append(sol)
             if not sol.success:
