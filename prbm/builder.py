@@ -231,8 +231,11 @@ def build(geometry: Geometry, rules: Rules = Rules()) -> PRBModel:
                     break
             if beam.name in pivot_at:
                 break
-    base = (f"the PRB model has zero mobility (coordinates {model.network.n}, rank of the joint "
-            f"Jacobian {model.network.n - model.network.mobility()}): the standard pivots and the ground pins lock it")
+    net = model.network
+    base = (f"the PRB model has zero mobility ({net.n} coordinates, rank of the joint Jacobian "
+            f"{net.n - net.first_order_mobility()} at the unloaded pose"
+            + (", and its first-order motion does not extend to second order (links in line)"
+               if net.first_order_mobility() else "") + "): the standard pivots and the ground pins lock it")
     if not pivot_at:
         raise LockedNetwork(base + "; no beam's far body turns about a ground pin on the beam's line, "
                             "so the notes' workaround (pivot at that pin) does not apply")

@@ -272,9 +272,48 @@ class Network:
         rank = int(np.sum(d > rtol * max(d[0], 1.0))) if d.size else 0
         return rank, np.sort(piv[:rank])
 
-    def mobility(self) -> int:
-        """Degrees of freedom of the network at the unloaded pose: coordinates - rank of the joints."""
+    def first_order_mobility(self) -> int:
+        """Coordinates - rank of the joints' Jacobian at the unloaded pose (instantaneous freedoms)."""
         return self.n - self.joint_rank()[0]
+
+    def mobility(self) -> int:
+        """Degrees of freedom of the network at the unloaded pose.
+
+        First order: coordinates - rank J. At a singular pose (e.g. links in line) a first-order motion
+        v may not extend to a finite one; each null direction v of J is kept only if the second-order
+        compatibility J w = -(v^T hess Phi_i v)_i has a solution (second-order test of rigidity),
+        so a network that locks at a dead-centre pose reports zero mobility."""
+        rank, rows = self.joint_rank()
+        m = self.n - rank
+        if m == 0:
+            return 0
+        q = np.zeros(self.n)
+        _, J, _ = self.joint_constraints(q)  # every row: a row dependent at this pose may curve away
+        if not J.shape[0]:
+            return self.n
+        null = np.linalg.svd(J)[2][rank:]
+        length = self.length_scale()
+        kept = 0
+        unit = np.eye(J.shape[0])
+        hessians = [self.joint_constraints(q, unit[r])[2] for r in range(J.shape[0])]
+        for v in null:
+            curvature = np.array([v @ H @ v for H in hessians])
+            size = float(np.linalg.norm(curvature))
+            if size <= 1e-12 * length:
+                kept += 1
+                continue
+            w, *_ = np.linalg.lstsq(J, -curvature, rcond=None)
+            if np.linalg.norm(J @ w + curvature) <= 1e-8 * size:
+                kept += 1
+        return kept
+
+    def length_scale(self) -> float:
+        """Largest distance between two points or pins of the unloaded pose."""
+        pts = [xy for _, xy in self.points.values()] + [p.at for p in self.pins]
+        if len(pts) < 2:
+            return 1.0
+        P = np.asarray(pts, float)
+        return float(np.max(np.linalg.norm(P - P.mean(axis=0), axis=1))) * 2 or 1.0
 
     # --- energy ---------------------------------------------------------------------------------
     def spring_deflections(self, q: np.ndarray) -> np.ndarray:
@@ -370,6 +409,7 @@ class _Problem:
         self.force_arms = [network.point_arm(f.point) for f in self.forces]
         self.disp_arms = [network.point_arm(d.point) for d in self.disps]
         self.n_prescribed = len(self.disps) + len(self.rots)
+        self.length = network.length_scale()
 
     @staticmethod
     def _at(values, t: float) -> float:
@@ -497,7 +537,8 @@ def _newton(problem, rows, q, lam, t, *, rtol, max_iter, scale=1.0):
             return q, lam, False, it
         if size <= rtol * ref:
             g, Phi, _, _ = _residual(problem, rows, q, lam, t, scale)
-            return q, lam, True, it
+            closed = not Phi.size or float(np.max(np.abs(Phi))) <= 1e-9 * problem.length
+            return q, lam, closed, it
     return q, lam, False, max_iter
 
 
