@@ -3,7 +3,7 @@
 The geometry the FEM reads (nodes, beams with their section and E, rigid links, joints, supports)
 becomes ``prbm.Geometry``; the builder applies the seeds' rules to each beam (see ``prbm.builder``)
 and the general rigid-link network solver finds the equilibrium at every load level. No
-``[methods.prbm]`` input is needed; options may override the rules:
+``[methods.prbm]`` input is needed; ``rules = {...}`` may override the builder's rules:
 
   gamma, K_theta, slfp_ratio        defaults of every beam
   beams = { name = { model, gamma, K_theta, stiffness, clamp } }   per beam
@@ -30,6 +30,12 @@ from validation.methods.base import MethodRun, NotApplicable
 from prbm import builder as pb
 
 
+#: a beam's ``segment_type`` -> the builder's model; 'fixed-guided-inflection' (chapter 3/5, a pivot that
+#: moves with the load) is no fixed network, so such a beam gets the builder's rule (stated in its record)
+SEGMENT_TYPES = {"fixed-pinned": "fixed-pinned", "fixed-free": "fixed-free", "fixed-guided": "fixed-guided",
+                 "fixed-fixed": "fixed-guided", "slfp": "slfp", "pinned-pinned": "rigid"}
+
+
 def geometry(mech) -> pb.Geometry:
     """prbm's plain geometry from a schema ``MechanismSpec``."""
     beams = []
@@ -46,17 +52,27 @@ def geometry(mech) -> pb.Geometry:
 
 
 def rules(options: dict, mech) -> pb.Rules:
+    """The builder's rules from ``[methods.prbm] rules = {gamma, K_theta, slfp_ratio, beams}``."""
+    given = options.get("rules") or {}
+    unknown = set(given) - {"gamma", "K_theta", "slfp_ratio", "beams"}
+    if unknown:
+        raise NotApplicable(f"[methods.prbm] rules: unknown option(s) {sorted(unknown)} "
+                            "(known: gamma, K_theta, slfp_ratio, beams)")
     per_beam = {}
     names = {b.name for b in mech.beams}
-    for name, over in (options.get("beams") or {}).items():
+    for name, over in (given.get("beams") or {}).items():
         if name not in names:
             raise NotApplicable(f"[methods.prbm] beams.{name}: no beam of that name")
         unknown = set(over) - {"model", "gamma", "K_theta", "stiffness", "clamp"}
         if unknown:
             raise NotApplicable(f"[methods.prbm] beams.{name}: unknown option(s) {sorted(unknown)}")
         per_beam[name] = pb.BeamRule(**over)
-    return pb.Rules(gamma=float(options.get("gamma", pb.GAMMA)), K_theta=float(options.get("K_theta", pb.K_THETA)),
-                    slfp_ratio=float(options.get("slfp_ratio", pb.SLFP_RATIO)), beams=per_beam)
+    for beam in mech.beams:  # the case's own segment_type picks the model unless the rules do
+        model = SEGMENT_TYPES.get(beam.segment_type or "")
+        if model and beam.name not in per_beam:
+            per_beam[beam.name] = pb.BeamRule(model=model)
+    return pb.Rules(gamma=float(given.get("gamma", pb.GAMMA)), K_theta=float(given.get("K_theta", pb.K_THETA)),
+                    slfp_ratio=float(given.get("slfp_ratio", pb.SLFP_RATIO)), beams=per_beam)
 
 
 def _body_for(model: pb.PRBModel, load) -> str:
