@@ -174,6 +174,15 @@ class Network:
         self._pin_ra = at - self.X0[self._pin_a]
         self._pin_rb = at - self.X0[self._pin_b]
         self._pin_at = at
+        k = np.arange(len(self.pins))
+        width = 3 * len(self.bodies) + 3
+        rx, ry = 2 * k * width, (2 * k + 1) * width
+        ca, cb = 3 * self._pin_a, 3 * self._pin_b
+        # flat indices of J: (x_a in row x, y_a in row y, -x_b, -y_b) = (+1, +1, -1, -1), then phi_a, phi_b
+        self._pin_flat = np.concatenate([rx + ca, ry + ca + 1, rx + cb, ry + cb + 1,
+                                         rx + ca + 2, ry + ca + 2, rx + cb + 2, ry + cb + 2])
+        self._pin_ones = np.concatenate([np.ones(2 * len(k)), -np.ones(2 * len(k))])
+        self._joint_rows = 2 * len(self.pins) + sum(1 + s.guided for s in self.sliders)
         # springs: a constant matrix D (rows: springs, columns: phi of the bodies)
         self._spring_k = np.array([s.k for s in self.springs], float)
         self._spring_rest = np.array([s.rest for s in self.springs], float)
@@ -184,7 +193,7 @@ class Network:
         self._spring_D = D[:, :nb]
         self._spring_H = np.zeros((self.n, self.n))
         self._spring_H[2::3, 2::3] = self._spring_D.T @ (self._spring_k[:, None] * self._spring_D)
-        self._kept_rows = None
+        self._analysis = None  # (mobility, rank, independent joint rows), computed once by solve
 
     # --- geometry -------------------------------------------------------------------------------
     def point_arm(self, point: str) -> tuple[int, np.ndarray]:
@@ -210,36 +219,37 @@ class Network:
 
     # --- constraints ----------------------------------------------------------------------------
     def joint_constraints(self, q: np.ndarray, lam: np.ndarray | None = None):
-        """(Phi, J, H_lam) of the pins and sliders: residual, Jacobian, and sum lam_i hess Phi_i."""
+        """(Phi, J, H_lam) of the pins and sliders: residual, Jacobian, and sum lam_i hess Phi_i.
+
+        Pin k, rows 2k (x) and 2k+1 (y): Phi = X_a + R_a r_a - X_b - R_b r_b;
+        dPhi/d(x_a, y_a, phi_a) = [I, (-R_a r_a)_y, (R_a r_a)_x], the b side with the opposite sign;
+        d2 Phi/dphi_a2 = -R_a r_a (so H[phi_a, phi_a] = -lam . R_a r_a), +R_b r_b for b.
+        Entries never collide (a != b), so J is filled by one assignment at precomputed flat indices;
+        the ground's three columns are written and then dropped."""
         nb = len(self.bodies)
-        X, phi = self.state_arrays(q)
+        width = 3 * nb + 3
         m_pin = 2 * len(self.pins)
-        rows = m_pin + sum(1 + s.guided for s in self.sliders)
+        rows = self._joint_rows
         Phi = np.empty(rows)
-        J = np.zeros((rows, 3 * nb + 3))  # last three columns: the ground, dropped at the end
-        H = np.zeros((3 * nb + 3, 3 * nb + 3)) if lam is not None else None
-        if self.pins:
+        J = np.zeros((rows, width))
+        H = np.zeros(width) if lam is not None else None
+        X = np.zeros((nb + 1, 2))
+        X[:nb] = self.X0[:nb] + q.reshape(nb, 3)[:, :2]
+        phi = np.zeros(nb + 1)
+        phi[:nb] = q[2::3]
+        if m_pin:
             ia, ib = self._pin_a, self._pin_b
             ca, sa, cb, sb = np.cos(phi[ia]), np.sin(phi[ia]), np.cos(phi[ib]), np.sin(phi[ib])
             ra, rb = self._pin_ra, self._pin_rb
-            Ra = np.column_stack([ca * ra[:, 0] - sa * ra[:, 1], sa * ra[:, 0] + ca * ra[:, 1]])
-            Rb = np.column_stack([cb * rb[:, 0] - sb * rb[:, 1], sb * rb[:, 0] + cb * rb[:, 1]])
-            Phi[:m_pin] = (X[ia] + Ra - X[ib] - Rb).ravel()
-            k = np.arange(len(self.pins))
-            rx, ry = 2 * k, 2 * k + 1
-            J[rx, 3 * ia] += 1.0
-            J[ry, 3 * ia + 1] += 1.0
-            J[rx, 3 * ia + 2] += -Ra[:, 1]
-            J[ry, 3 * ia + 2] += Ra[:, 0]
-            J[rx, 3 * ib] -= 1.0
-            J[ry, 3 * ib + 1] -= 1.0
-            J[rx, 3 * ib + 2] -= -Rb[:, 1]
-            J[ry, 3 * ib + 2] -= Rb[:, 0]
+            Rax, Ray = ca * ra[:, 0] - sa * ra[:, 1], sa * ra[:, 0] + ca * ra[:, 1]
+            Rbx, Rby = cb * rb[:, 0] - sb * rb[:, 1], sb * rb[:, 0] + cb * rb[:, 1]
+            Phi[0:m_pin:2] = X[ia, 0] + Rax - X[ib, 0] - Rbx
+            Phi[1:m_pin:2] = X[ia, 1] + Ray - X[ib, 1] - Rby
+            J.flat[self._pin_flat] = np.concatenate([self._pin_ones, -Ray, Rax, Rby, -Rbx])
             if H is not None:
-                lp = lam[:m_pin].reshape(-1, 2)
-                # d2(R r)/dphi2 = -R r
-                np.add.at(H, (3 * ia + 2, 3 * ia + 2), -(lp * Ra).sum(axis=1))
-                np.add.at(H, (3 * ib + 2, 3 * ib + 2), (lp * Rb).sum(axis=1))
+                lx, ly = lam[0:m_pin:2], lam[1:m_pin:2]
+                H += np.bincount(3 * ia + 2, -(lx * Rax + ly * Ray), minlength=width)
+                H -= np.bincount(3 * ib + 2, -(lx * Rbx + ly * Rby), minlength=width)
         row = m_pin
         for s in self.sliders:
             i = self.index[s.a]
@@ -252,14 +262,14 @@ class Network:
             J[row, 3 * i:3 * i + 2] = nrm
             J[row, 3 * i + 2] = nrm @ np.array([-Rr[1], Rr[0]])
             if H is not None:
-                H[3 * i + 2, 3 * i + 2] += -lam[row] * (nrm @ Rr)
+                H[3 * i + 2] += -lam[row] * (nrm @ Rr)
             row += 1
             if s.guided:
                 Phi[row] = phi[i]
                 J[row, 3 * i + 2] = 1.0
                 row += 1
         n = 3 * nb
-        return Phi, J[:, :n], (H[:n, :n] if H is not None else None)
+        return Phi, J[:, :n], (np.diag(H[:n]) if H is not None else None)
 
     def joint_rank(self, q: np.ndarray | None = None, rtol: float = 1e-9) -> tuple[int, np.ndarray]:
         """Rank of the joints' Jacobian and the indices of a maximal independent set of its rows."""
@@ -492,59 +502,62 @@ class _Problem:
 
 
 def _residual(problem: _Problem, rows: np.ndarray, q, lam, t, scale=1.0):
-    """KKT residual and matrix at (q, lam) for load parameter t."""
+    """KKT residual and matrix at (q, lam) for load parameter t, and the force scale of the residual
+    (the largest of the spring, applied and constraint generalised forces)."""
     net = problem.net
     nj = len(rows)
-    Phi_j, J_j, H_j = net.joint_constraints(q, _expand(lam[:nj], rows, net))
-    Phi_p, J_p = problem.prescribed(q, t, scale)
-    Phi = np.concatenate([Phi_j[rows], Phi_p])
-    J = np.vstack([J_j[rows], J_p])
+    full = np.zeros(net._joint_rows)
+    full[rows] = lam[:nj]
+    Phi_j, J_j, H_j = net.joint_constraints(q, full)
     Q, dQ = problem.generalised_forces(q, t, scale)
-    g = net.spring_gradient(q) - Q + J.T @ lam
-    K = net._spring_H - dQ + H_j + problem.prescribed_hessian(q, lam[nj:])
-    return g, Phi, K, J
-
-
-def _expand(lam_rows: np.ndarray, rows: np.ndarray, net: Network) -> np.ndarray:
-    """Multipliers of the kept joint rows scattered to all joint rows (dropped rows carry zero)."""
-    m = 2 * len(net.pins) + sum(1 + s.guided for s in net.sliders)
-    full = np.zeros(m)
-    full[rows] = lam_rows
-    return full
+    grad = net.spring_gradient(q)
+    K = net._spring_H - dQ + H_j
+    if problem.n_prescribed:
+        Phi_p, J_p = problem.prescribed(q, t, scale)
+        Phi = np.concatenate([Phi_j[rows], Phi_p])
+        J = np.vstack([J_j[rows], J_p])
+        K += problem.prescribed_hessian(q, lam[nj:])
+    else:
+        Phi, J = Phi_j[rows], J_j[rows]
+    reaction = J.T @ lam
+    g = grad - Q + reaction
+    force = max(float(np.max(np.abs(grad))), float(np.max(np.abs(Q))), float(np.max(np.abs(reaction)))) \
+        if net.n else 0.0
+    return g, Phi, K, J, force
 
 
 def _newton(problem, rows, q, lam, t, *, rtol, max_iter, scale=1.0):
-    """Newton on the KKT system at fixed load parameter t. Returns (q, lam, converged, iterations)."""
+    """Newton on the KKT system at fixed load parameter t, until the residual is below rtol times its
+    force scale and the loop closes to rtol times the network's size (a step-size test alone can stop
+    on a singular system). Returns (q, lam, converged, linear solves)."""
     n = problem.net.n
-    ref = None
-    for it in range(1, max_iter + 1):
-        g, Phi, K, J = _residual(problem, rows, q, lam, t, scale)
+    closure = rtol * problem.length
+    for it in range(max_iter + 1):
+        g, Phi, K, J, force = _residual(problem, rows, q, lam, t, scale)
+        if not (np.all(np.isfinite(g)) and np.all(np.isfinite(Phi))):
+            return q, lam, False, it
+        if float(np.max(np.abs(g), initial=0.0)) <= rtol * force and \
+                float(np.max(np.abs(Phi), initial=0.0)) <= closure:
+            return q, lam, True, it
+        if it == max_iter:
+            break
         m = len(Phi)
         A = np.zeros((n + m, n + m))
         A[:n, :n] = K
         A[:n, n:] = J.T
         A[n:, :n] = J
-        rhs = -np.concatenate([g, Phi])
         try:
-            step = np.linalg.solve(A, rhs)
+            step = np.linalg.solve(A, -np.concatenate([g, Phi]))
         except np.linalg.LinAlgError:
             return q, lam, False, it
         q = q + step[:n]
         lam = lam + step[n:]
-        size = float(np.max(np.abs(step[:n]))) if n else 0.0
-        ref = max(ref or 0.0, float(np.max(np.abs(q))) if n else 0.0, 1e-3)
-        if not np.all(np.isfinite(step)):
-            return q, lam, False, it
-        if size <= rtol * ref:
-            g, Phi, _, _ = _residual(problem, rows, q, lam, t, scale)
-            closed = not Phi.size or float(np.max(np.abs(Phi))) <= 1e-9 * problem.length
-            return q, lam, closed, it
     return q, lam, False, max_iter
 
 
 def _stability(problem, rows, q, lam, t, scale=1.0) -> tuple[bool | None, float]:
     """Positive definiteness of the Hessian on the constraints' tangent space (Z^T K Z)."""
-    _, _, K, J = _residual(problem, rows, q, lam, t, scale)
+    _, _, K, J, _ = _residual(problem, rows, q, lam, t, scale)
     n = problem.net.n
     if J.shape[0]:
         _, s, vt = np.linalg.svd(J)
@@ -561,16 +574,18 @@ def _stability(problem, rows, q, lam, t, scale=1.0) -> tuple[bool | None, float]
 
 
 def _check_mobility(network: Network, problem: _Problem) -> tuple[int, np.ndarray]:
-    rank, rows = network.joint_rank()
-    mobility = network.n - rank
+    if network._analysis is None:
+        rank, rows = network.joint_rank()
+        network._analysis = (network.mobility(), rank, rows)
+    mobility, rank, rows = network._analysis
     if problem.n_prescribed > mobility:
-        raise LockedNetwork(f"the network has {mobility} degree(s) of freedom (coordinates {network.n}, "
+        raise LockedNetwork(f"the network has {mobility} degree(s) of freedom ({network.n} coordinates, "
                             f"rank of the joint Jacobian {rank}) but {problem.n_prescribed} motion(s) are "
                             "prescribed: it locks")
     return mobility, rows
 
 
-def solve(network: Network, loads: list, n_levels: int, *, rtol: float = 1e-12, max_iter: int = 30,
+def solve(network: Network, loads: list, n_levels: int, *, rtol: float = 1e-11, max_iter: int = 30,
           max_cuts: int = 12, stability: bool = True) -> NetworkResult:
     """Equilibrium at every load level by Newton with load stepping (each level from the last one;
     a failed step is halved up to ``max_cuts`` times). Raises LockedNetwork if the prescribed motions
@@ -584,6 +599,7 @@ def solve(network: Network, loads: list, n_levels: int, *, rtol: float = 1e-12, 
     total_it = 0
     messages = []
     t_prev = -1.0
+    history: list[tuple[float, np.ndarray, np.ndarray]] = [(t_prev, q, lam)]
     for level in range(n_levels):
         t_target = float(level)
         t = t_prev
@@ -593,11 +609,22 @@ def solve(network: Network, loads: list, n_levels: int, *, rtol: float = 1e-12, 
         its = 0
         while t < t_target - 1e-15:
             dt = min(step, t_target - t)
-            q_new, lam_new, conv, it = _newton(problem, rows, q.copy(), lam.copy(), t + dt,
+            if len(history) >= 2 and cuts == 0:  # secant predictor along the last two states
+                (t0_, q0_, l0_), (t1_, q1_, l1_) = history[-2], history[-1]
+                f = dt / (t1_ - t0_)
+                guess = (q + f * (q1_ - q0_), lam + f * (l1_ - l0_))
+            else:
+                guess = (q, lam)
+            q_new, lam_new, conv, it = _newton(problem, rows, guess[0].copy(), guess[1].copy(), t + dt,
                                                rtol=rtol, max_iter=max_iter)
             its += it
+            if not conv and guess[0] is not q:
+                q_new, lam_new, conv, it = _newton(problem, rows, q.copy(), lam.copy(), t + dt,
+                                                   rtol=rtol, max_iter=max_iter)
+                its += it
             if conv:
                 q, lam, t = q_new, lam_new, t + dt
+                history.append((t, q, lam))
             else:
                 cuts += 1
                 step = dt / 2
@@ -638,10 +665,10 @@ def trace(network: Network, loads: list, *, steps: int = 200, ds: float = 0.05, 
 
     def F(z):
         q, lam, lf = z[:n], z[n:n + m], z[-1]
-        g, Phi, K, J = _residual(problem, rows, q, lam, t_last, lf)
+        g, Phi, K, J, _ = _residual(problem, rows, q, lam, t_last, lf)
         # d/d lambda of (g, Phi): loads are linear in the scale
-        g1, Phi1, _, _ = _residual(problem, rows, q, lam, t_last, 1.0)
-        g0, Phi0, _, _ = _residual(problem, rows, q, lam, t_last, 0.0)
+        g1, Phi1, _, _, _ = _residual(problem, rows, q, lam, t_last, 1.0)
+        g0, Phi0, _, _, _ = _residual(problem, rows, q, lam, t_last, 0.0)
         A = np.zeros((n + m, n + m + 1))
         A[:n, :n] = K
         A[:n, n:n + m] = J.T
