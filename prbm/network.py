@@ -45,7 +45,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.linalg import qr
 
-__all__ = ["Pin", "Slider", "TorsionSpring", "Force", "Couple", "PrescribedDisplacement",
+__all__ = ["Pin", "Slider", "TorsionSpring", "LinearSpring", "Force", "Couple", "PrescribedDisplacement",
            "PrescribedRotation", "Network", "NetworkState", "NetworkResult", "LockedNetwork", "GROUND",
            "solve", "trace"]
 
@@ -86,6 +86,17 @@ class TorsionSpring:
     b: str
     k: float
     rest: float = 0.0
+    name: str = ""
+
+
+@dataclass(frozen=True)
+class LinearSpring:
+    """Spring of stiffness k (force/length) on the displacement of a named point along a fixed
+    ground direction (e.g. a slider's spring): U = 1/2 k (e . (p - p0))^2."""
+
+    point: str
+    direction: tuple[float, float]
+    k: float
     name: str = ""
 
 
@@ -140,6 +151,7 @@ class Network:
     sliders: list[Slider] = field(default_factory=list)
     springs: list[TorsionSpring] = field(default_factory=list)
     origins: dict[str, tuple[float, float]] = field(default_factory=dict)
+    linear_springs: list[LinearSpring] = field(default_factory=list)
 
     def __post_init__(self):
         if GROUND in self.bodies:
@@ -194,6 +206,9 @@ class Network:
         self._spring_H = np.zeros((self.n, self.n))
         self._spring_H[2::3, 2::3] = self._spring_D.T @ (self._spring_k[:, None] * self._spring_D)
         self._analysis = None  # (mobility, rank, independent joint rows), computed once by solve
+        for ls in self.linear_springs:
+            if ls.point not in self.points:
+                raise ValueError(f"linear spring {ls.name or ''} at unknown point '{ls.point}'")
 
     # --- geometry -------------------------------------------------------------------------------
     def point_arm(self, point: str) -> tuple[int, np.ndarray]:
@@ -329,14 +344,59 @@ class Network:
     def spring_deflections(self, q: np.ndarray) -> np.ndarray:
         return self._spring_D @ q[2::3] - self._spring_rest
 
+    def _linear_spring_terms(self, q: np.ndarray):
+        """For each linear spring: (body index, stretch s = e . (p - p0), e . dp/dq on the body's three
+        coordinates, e . d2p/dphi2)."""
+        nb = len(self.bodies)
+        out = []
+        for ls in self.linear_springs:
+            i, r = self.point_arm(ls.point)
+            e = np.asarray(ls.direction, float) / math.hypot(*ls.direction)
+            if i == nb:
+                continue
+            phi = q[3 * i + 2]
+            c, sn = math.cos(phi), math.sin(phi)
+            Rr = np.array([c * r[0] - sn * r[1], sn * r[0] + c * r[1]])
+            stretch = float(e @ (q[3 * i:3 * i + 2] + Rr - r))
+            out.append((i, ls.k, stretch, np.array([e[0], e[1], e @ np.array([-Rr[1], Rr[0]])]), -float(e @ Rr)))
+        return out
+
     def strain_energy(self, q: np.ndarray) -> float:
         d = self.spring_deflections(q)
-        return 0.5 * float(self._spring_k @ (d * d))
+        U = 0.5 * float(self._spring_k @ (d * d))
+        for _, k, stretch, _, _ in self._linear_spring_terms(q):
+            U += 0.5 * k * stretch**2
+        return U
 
     def spring_gradient(self, q: np.ndarray) -> np.ndarray:
         g = np.zeros(self.n)
         g[2::3] = self._spring_D.T @ (self._spring_k * self.spring_deflections(q))
+        for i, k, stretch, de, _ in self._linear_spring_terms(q):
+            g[3 * i:3 * i + 3] += k * stretch * de
         return g
+
+    def spring_hessian(self, q: np.ndarray) -> np.ndarray:
+        if not self.linear_springs:
+            return self._spring_H
+        H = self._spring_H.copy()
+        for i, k, stretch, de, d2 in self._linear_spring_terms(q):
+            H[3 * i:3 * i + 3, 3 * i:3 * i + 3] += k * np.outer(de, de)
+            H[3 * i + 2, 3 * i + 2] += k * stretch * d2
+        return H
+
+    def driving_torque(self, q: np.ndarray, body: str) -> float:
+        """The torque on ``body`` that holds the springs at the configuration q (joints closed), by
+        virtual work: T = grad U . v with v the joint-compatible velocity of unit rotation rate of
+        ``body`` (J v = 0, v_phi(body) = 1); a least-squares v where the joints are redundant."""
+        _, J, _ = self.joint_constraints(q)
+        i = self.index[body]
+        drive = np.zeros((1, self.n))
+        drive[0, 3 * i + 2] = 1.0
+        A = np.vstack([J, drive])
+        rhs = np.zeros(A.shape[0])
+        rhs[-1] = 1.0
+        v, *_ = np.linalg.lstsq(A, rhs, rcond=None)
+        return float(self.spring_gradient(q) @ v)
 
 
 @dataclass
@@ -511,7 +571,7 @@ def _residual(problem: _Problem, rows: np.ndarray, q, lam, t, scale=1.0):
     Phi_j, J_j, H_j = net.joint_constraints(q, full)
     Q, dQ = problem.generalised_forces(q, t, scale)
     grad = net.spring_gradient(q)
-    K = net._spring_H - dQ + H_j
+    K = net.spring_hessian(q) - dQ + H_j
     if problem.n_prescribed:
         Phi_p, J_p = problem.prescribed(q, t, scale)
         Phi = np.concatenate([Phi_j[rows], Phi_p])
