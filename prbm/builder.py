@@ -223,7 +223,8 @@ def build(geometry: Geometry, rules: Rules = Rules()) -> PRBModel:
                 O, A = coords[root], coords[tip]
                 L = float(np.linalg.norm(A - O))
                 s = float(np.dot(G - O, A - O)) / L
-                off = abs(float(np.cross(A - O, G - O))) / L
+                u, w = A - O, G - O
+                off = abs(float(u[0] * w[1] - u[1] * w[0])) / L
                 if off <= 1e-9 * L and 0.0 < s < L:
                     pivot_at[beam.name] = (root, tuple(G))
                     notes.append(f"beam '{beam.name}': pivot moved to the ground pin of its far body at "

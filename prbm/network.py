@@ -736,9 +736,21 @@ def trace(network: Network, loads: list, *, steps: int = 200, ds: float = 0.05, 
         A[:, -1] = np.concatenate([g1 - g0, Phi1 - Phi0])
         return np.concatenate([g, Phi]), A
 
+    # arc length measured in the coordinates and the load factor (the multipliers are forces and
+    # would dominate the metric): weights 1 on q and lambda, 0 on the multipliers
+    weight = np.ones(n + m + 1)
+    weight[n:n + m] = 0.0
+
+    def unit_tangent(A, previous=None):
+        t = _null_vector(A)
+        t = t / max(float(np.linalg.norm(weight * t)), 1e-300)
+        if previous is not None and (weight * t) @ (weight * previous) < 0:
+            t = -t
+        return t
+
     z = np.zeros(n + m + 1)
     _, A = F(z)
-    tangent = _null_vector(A)
+    tangent = unit_tangent(A)
     if tangent[-1] < 0:
         tangent = -tangent
     states, lfs, total = [], [], 0
@@ -749,22 +761,20 @@ def trace(network: Network, loads: list, *, steps: int = 200, ds: float = 0.05, 
         ok = False
         for it in range(1, max_iter + 1):
             r, A = F(zz)
-            full = np.vstack([A, tangent])
-            rhs = -np.concatenate([r, [tangent @ (zz - pred)]])
+            full = np.vstack([A, weight * tangent])
+            rhs = -np.concatenate([r, [(weight * tangent) @ (zz - pred)]])
             dz = np.linalg.solve(full, rhs)
             zz = zz + dz
             total += 1
-            if np.max(np.abs(dz)) <= rtol * max(np.max(np.abs(zz)), 1e-3):
+            if np.max(np.abs(dz[:n])) <= rtol * max(np.max(np.abs(zz[:n])), 1e-3) and \
+                    abs(dz[-1]) <= rtol * max(abs(zz[-1]), 1e-3):
                 ok = True
                 break
         if not ok:
             converged, message = False, f"arc-length step did not converge at load factor {z[-1]:.6g}"
             break
         _, A = F(zz)
-        new_tangent = _null_vector(A)
-        if new_tangent @ tangent < 0:
-            new_tangent = -new_tangent
-        z, tangent = zz, new_tangent
+        z, tangent = zz, unit_tangent(A, tangent)
         q, lam = z[:n], z[n:n + m]
         stable, ev = _stability(problem, rows, q, lam, t_last, z[-1])
         states.append(NetworkState(q.copy(), lam.copy(), True, it, stable, ev))
