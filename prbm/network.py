@@ -195,6 +195,9 @@ class Network:
                                          rx + ca + 2, ry + ca + 2, rx + cb + 2, ry + cb + 2])
         self._pin_ones = np.concatenate([np.ones(2 * len(k)), -np.ones(2 * len(k))])
         self._joint_rows = 2 * len(self.pins) + sum(1 + s.guided for s in self.sliders)
+        self._X0_list = self.X0.tolist()
+        self._pin_list = [(int(a), int(b), *map(float, ra), *map(float, rb))
+                          for a, b, ra, rb in zip(self._pin_a, self._pin_b, self._pin_ra, self._pin_rb)]
         # springs: a constant matrix D (rows: springs, columns: phi of the bodies)
         self._spring_k = np.array([s.k for s in self.springs], float)
         self._spring_rest = np.array([s.rest for s in self.springs], float)
@@ -239,32 +242,40 @@ class Network:
         Pin k, rows 2k (x) and 2k+1 (y): Phi = X_a + R_a r_a - X_b - R_b r_b;
         dPhi/d(x_a, y_a, phi_a) = [I, (-R_a r_a)_y, (R_a r_a)_x], the b side with the opposite sign;
         d2 Phi/dphi_a2 = -R_a r_a (so H[phi_a, phi_a] = -lam . R_a r_a), +R_b r_b for b.
-        Entries never collide (a != b), so J is filled by one assignment at precomputed flat indices;
-        the ground's three columns are written and then dropped."""
+        A PRB network has a handful of pins, so this is a loop over them in plain floats (numpy's
+        per-call overhead would dominate); the ground's three columns are written and then dropped."""
         nb = len(self.bodies)
         width = 3 * nb + 3
         m_pin = 2 * len(self.pins)
-        rows = self._joint_rows
-        Phi = np.empty(rows)
-        J = np.zeros((rows, width))
-        H = np.zeros(width) if lam is not None else None
-        X = np.zeros((nb + 1, 2))
-        X[:nb] = self.X0[:nb] + q.reshape(nb, 3)[:, :2]
-        phi = np.zeros(nb + 1)
-        phi[:nb] = q[2::3]
-        if m_pin:
-            ia, ib = self._pin_a, self._pin_b
-            ca, sa, cb, sb = np.cos(phi[ia]), np.sin(phi[ia]), np.cos(phi[ib]), np.sin(phi[ib])
-            ra, rb = self._pin_ra, self._pin_rb
-            Rax, Ray = ca * ra[:, 0] - sa * ra[:, 1], sa * ra[:, 0] + ca * ra[:, 1]
-            Rbx, Rby = cb * rb[:, 0] - sb * rb[:, 1], sb * rb[:, 0] + cb * rb[:, 1]
-            Phi[0:m_pin:2] = X[ia, 0] + Rax - X[ib, 0] - Rbx
-            Phi[1:m_pin:2] = X[ia, 1] + Ray - X[ib, 1] - Rby
-            J.flat[self._pin_flat] = np.concatenate([self._pin_ones, -Ray, Rax, Rby, -Rbx])
-            if H is not None:
-                lx, ly = lam[0:m_pin:2], lam[1:m_pin:2]
-                H += np.bincount(3 * ia + 2, -(lx * Rax + ly * Ray), minlength=width)
-                H -= np.bincount(3 * ib + 2, -(lx * Rbx + ly * Rby), minlength=width)
+        Phi = np.empty(self._joint_rows)
+        J = np.zeros((self._joint_rows, width))
+        Hd = [0.0] * width if lam is not None else None
+        lv = lam.tolist() if lam is not None else None
+        qv = q.tolist() + [0.0, 0.0, 0.0]
+        X0 = self._X0_list
+        for k, (ia, ib, rax, ray, rbx, rby) in enumerate(self._pin_list):
+            ca, sa = math.cos(qv[3 * ia + 2]), math.sin(qv[3 * ia + 2])
+            cb, sb = math.cos(qv[3 * ib + 2]), math.sin(qv[3 * ib + 2])
+            Rax, Ray = ca * rax - sa * ray, sa * rax + ca * ray
+            Rbx, Rby = cb * rbx - sb * rby, sb * rbx + cb * rby
+            Phi[2 * k] = X0[ia][0] + qv[3 * ia] + Rax - X0[ib][0] - qv[3 * ib] - Rbx
+            Phi[2 * k + 1] = X0[ia][1] + qv[3 * ia + 1] + Ray - X0[ib][1] - qv[3 * ib + 1] - Rby
+            rx, ry = J[2 * k], J[2 * k + 1]
+            rx[3 * ia] = 1.0
+            ry[3 * ia + 1] = 1.0
+            rx[3 * ia + 2] = -Ray
+            ry[3 * ia + 2] = Rax
+            rx[3 * ib] = -1.0
+            ry[3 * ib + 1] = -1.0
+            rx[3 * ib + 2] = Rby
+            ry[3 * ib + 2] = -Rbx
+            if Hd is not None:
+                lx, ly = lv[2 * k], lv[2 * k + 1]
+                Hd[3 * ia + 2] -= lx * Rax + ly * Ray
+                Hd[3 * ib + 2] += lx * Rbx + ly * Rby
+        H = np.array(Hd) if Hd is not None else None
+        phi = q[2::3]
+        X = self.X0[:nb] + q.reshape(nb, 3)[:, :2] if self.sliders else None
         row = m_pin
         for s in self.sliders:
             i = self.index[s.a]
@@ -581,8 +592,7 @@ def _residual(problem: _Problem, rows: np.ndarray, q, lam, t, scale=1.0):
         Phi, J = Phi_j[rows], J_j[rows]
     reaction = J.T @ lam
     g = grad - Q + reaction
-    force = max(float(np.max(np.abs(grad))), float(np.max(np.abs(Q))), float(np.max(np.abs(reaction)))) \
-        if net.n else 0.0
+    force = float(np.abs(np.concatenate((grad, Q, reaction))).max()) if net.n else 0.0
     return g, Phi, K, J, force
 
 
@@ -594,10 +604,11 @@ def _newton(problem, rows, q, lam, t, *, rtol, max_iter, scale=1.0):
     closure = rtol * problem.length
     for it in range(max_iter + 1):
         g, Phi, K, J, force = _residual(problem, rows, q, lam, t, scale)
-        if not (np.all(np.isfinite(g)) and np.all(np.isfinite(Phi))):
+        g_size = float(np.abs(g).max()) if n else 0.0
+        phi_size = float(np.abs(Phi).max()) if Phi.size else 0.0
+        if not (math.isfinite(g_size) and math.isfinite(phi_size)):
             return q, lam, False, it
-        if float(np.max(np.abs(g), initial=0.0)) <= rtol * force and \
-                float(np.max(np.abs(Phi), initial=0.0)) <= closure:
+        if g_size <= rtol * force and phi_size <= closure:
             return q, lam, True, it
         if it == max_iter:
             break
