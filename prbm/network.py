@@ -44,6 +44,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.linalg import qr
+from scipy.linalg.lapack import dgesv
 
 __all__ = ["Pin", "Slider", "TorsionSpring", "LinearSpring", "Force", "Couple", "PrescribedDisplacement",
            "PrescribedRotation", "Network", "NetworkState", "NetworkResult", "LockedNetwork", "GROUND",
@@ -209,6 +210,7 @@ class Network:
         self._spring_H = np.zeros((self.n, self.n))
         self._spring_H[2::3, 2::3] = self._spring_D.T @ (self._spring_k[:, None] * self._spring_D)
         self._analysis = None  # (mobility, rank, independent joint rows), computed once by solve
+        self._length = None
         for ls in self.linear_springs:
             if ls.point not in self.points:
                 raise ValueError(f"linear spring {ls.name or ''} at unknown point '{ls.point}'")
@@ -344,12 +346,13 @@ class Network:
         return kept
 
     def length_scale(self) -> float:
-        """Largest distance between two points or pins of the unloaded pose."""
-        pts = [xy for _, xy in self.points.values()] + [p.at for p in self.pins]
-        if len(pts) < 2:
-            return 1.0
-        P = np.asarray(pts, float)
-        return float(np.max(np.linalg.norm(P - P.mean(axis=0), axis=1))) * 2 or 1.0
+        """Twice the largest distance of a point or pin from their centroid in the unloaded pose."""
+        if self._length is None:
+            pts = [xy for _, xy in self.points.values()] + [p.at for p in self.pins]
+            P = np.asarray(pts, float).reshape(-1, 2)
+            size = float(np.max(np.linalg.norm(P - P.mean(axis=0), axis=1))) * 2 if len(P) > 1 else 0.0
+            self._length = size or 1.0
+        return self._length
 
     # --- energy ---------------------------------------------------------------------------------
     def spring_deflections(self, q: np.ndarray) -> np.ndarray:
@@ -617,9 +620,8 @@ def _newton(problem, rows, q, lam, t, *, rtol, max_iter, scale=1.0):
         A[:n, :n] = K
         A[:n, n:] = J.T
         A[n:, :n] = J
-        try:
-            step = np.linalg.solve(A, -np.concatenate([g, Phi]))
-        except np.linalg.LinAlgError:
+        _, _, step, info = dgesv(A, -np.concatenate([g, Phi]))  # LAPACK LU, without numpy's wrapper cost
+        if info != 0:
             return q, lam, False, it
         q = q + step[:n]
         lam = lam + step[n:]
