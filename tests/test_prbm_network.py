@@ -276,3 +276,25 @@ def test_network_slider_crank_equals_eq_196():
     eq196 = (3.0 * d2 + 1.0 * (d3 - d2) * (g3 - 1) + 2.0 * d3 * g3
              + 5.0 * (x - sc.x_ref) * R2 * np.cos(th) * (np.tan(t3s) - np.tan(th)))
     assert np.allclose(sc.compliance_torque(th), eq196, rtol=1e-9, atol=1e-12)
+
+
+# notes/seed-003-004.md sec. 2.1, column "T_elastica [N mm]" (axially extensible, solve_bvp and shooting)
+CIRCULAR_EXACT = [0.5159, 1.0318, 1.5478, 2.0638, 2.5799, 3.0960, 3.6123, 4.1286, 4.6450, 5.1616]
+
+
+def test_elastica_mechanism_reproduces_the_circular_guided_reference():
+    case = load_case(ROOT / "cases/seed003/circular_guided.toml").case
+    run = run_method(case, "elastica")
+    assert run.converged, run.message
+    for level, T in enumerate(CIRCULAR_EXACT):
+        assert run.values[Request("moment", "B", level)] == pytest.approx(T, abs=6e-5)
+
+
+def test_parallel_guided_fem_error_is_its_own_estimate_against_the_exact_mechanism():
+    case = load_case(ROOT / "cases/seed004/parallel_guided.toml").case
+    fem, exact = run_method(case, "fem"), run_method(case, "elastica")
+    assert fem.converged and exact.converged, (fem.message, exact.message)
+    for req, value in fem.values.items():
+        if req.quantity in ("dx", "dy", "strain_energy"):
+            error = abs(value - exact.values[req])
+            assert 0.9 * fem.error_estimate[req] <= error <= 1.05 * fem.error_estimate[req], req
