@@ -28,7 +28,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.integrate import solve_ivp
-from scipy.optimize import root
 
 __all__ = ["ElasticBeam", "RigidBody", "BodyPin", "PointForce", "BodyCouple", "NodeCouple", "BodyRotation", "NodeDisplacement",
            "Mechanism", "MechanismSolution", "solve_mechanism", "GROUND"]
@@ -84,7 +83,7 @@ class BodyCouple:
 
 @dataclass(frozen=True)
 class NodeCouple:
-    """Couple (CCW) per level at a free beam end."""
+    """Couple (CCW) per level on a beam's free or pinned end (on the beam's side of the pin)."""
 
     node: str
     m: tuple[float, ...]
@@ -255,7 +254,7 @@ class _System:
                 add(beam.end_body, -F, -end[3], pL)
             elif beam.end_kind == "pinned":
                 r[3 * i:3 * i + 2] = pL - self.node_position(u, beam.end_body, beam.end)
-                r[3 * i + 2] = end[3]
+                r[3 * i + 2] = end[3] - couples.get(("node", beam.end), 0.0)  # a couple on the beam's side
                 add(beam.end_body, -F, 0.0, pL)
             else:
                 load = applied.pop(beam.end, np.zeros(3))
@@ -337,21 +336,31 @@ def solve_mechanism(mech: Mechanism, loads: list, n_levels: int, *, rtol: float 
     u = np.zeros(system.size)  # the unloaded mechanism: no loads, every pose and beam angle as built
     positions, rots, drivers, energies, shapes, ok_levels = [], [], [], [], [], []
     t, messages = -1.0, []
+    jac = None
+    typical = _unknown_scale(system, scale_F)
+    history = [(t, u)]
     for level in range(n_levels):
         step, cuts = 1.0, 0
         converged = True
         while t < level - 1e-12:
             target = min(t + step, float(level))
             scaled = lambda x: system.residual(x, level_loads(target, x)) / scale  # noqa: E731
-            sol = root(scaled, u, method="hybr", options={"xtol": 1e-13, "maxfev": 400 * (system.size + 1)})
-            if sol.success and np.max(np.abs(scaled(sol.x))) <= 1e-9:
-                u, t = sol.x, target
+            guess = u
+            if len(history) >= 2 and cuts == 0:  # secant predictor along the last two states
+                (t0_, u0_), (t1_, u1_) = history[-2], history[-1]
+                guess = u + (target - t) / (t1_ - t0_) * (u1_ - u0_)
+            x, ok, jac, why = _chord_newton(scaled, guess, jac, typical)
+            if not ok and guess is not u:
+                x, ok, jac, why = _chord_newton(scaled, u, jac, typical)
+            if ok:
+                u, t = x, target
+                history.append((t, u))
             else:
                 cuts += 1
                 step /= 2
                 if cuts > max_cuts:
                     converged = False
-                    messages.append(f"level {level}: no convergence after {max_cuts} step halvings ({sol.message})")
+                    messages.append(f"level {level}: no convergence after {max_cuts} step halvings ({why})")
                     break
         ok_levels.append(converged)
         if not converged:
@@ -378,6 +387,63 @@ def solve_mechanism(mech: Mechanism, loads: list, n_levels: int, *, rtol: float 
     done = all(ok_levels) and len(ok_levels) == n_levels
     return MechanismSolution(done, "; ".join(messages) or f"converged at {n_levels} level(s)", positions, rots,
                              drivers, energies, shapes, time.perf_counter() - t0, ok_levels)
+
+
+def _chord_newton(f, x, jac, typical, tol: float = 1e-10, max_iter: int = 40):
+    """Newton on f(x) = 0 with a finite-difference Jacobian kept between iterations and load steps,
+    updated by Broyden's rank-one formula, and refreshed when a step does not halve the residual. Returns (x, converged,
+    Jacobian, why not)."""
+    r = f(x)
+    fresh = False
+    for _ in range(max_iter):
+        size = float(np.max(np.abs(r)))
+        if not math.isfinite(size):
+            return x, False, None, "the residual is not finite"
+        if size <= tol:
+            return x, True, jac, ""
+        if jac is None:
+            jac, fresh = _fd_jacobian(f, x, r, typical), True
+        try:
+            dx = np.linalg.solve(jac, -r)
+        except np.linalg.LinAlgError:
+            return x, False, None, "singular Jacobian"
+        x_try = x + dx
+        r_try = f(x_try)
+        new = float(np.max(np.abs(r_try)))
+        if new <= 0.5 * size or (fresh and new < size):
+            jac = jac + np.outer(r_try - r - jac @ dx, dx) / float(dx @ dx)  # Broyden's update
+            x, r, fresh = x_try, r_try, False
+        elif not fresh:
+            jac, fresh = _fd_jacobian(f, x, r, typical), True
+        else:
+            return x, False, jac, f"the residual stalled at {size:.3g}"
+    return x, False, jac, f"{max_iter} iterations"
+
+
+def _fd_jacobian(f, x, r, typical) -> np.ndarray:
+    J = np.empty((len(r), len(x)))
+    for j in range(len(x)):
+        h = 1e-7 * max(abs(x[j]), typical[j])
+        xp = x.copy()
+        xp[j] += h
+        J[:, j] = (f(xp) - r) / h
+    return J
+
+
+def _unknown_scale(system: _System, scale_F: float) -> np.ndarray:
+    """Typical size of each unknown: forces by the load scale, moments by load x length, poses by
+    the length (translations) and 1 (angles)."""
+    L = max(v[2] for v in system.tangent0.values())
+    F = max(scale_F, 1e-3)
+    s = np.empty(system.size)
+    for i, beam in enumerate(system.m.beams):
+        s[3 * i:3 * i + 2] = F
+        s[3 * i + 2] = F * L if beam.start_kind == "clamped" else 1.0
+    s[system.i_body:system.i_pin] = np.tile([L, L, 1.0], (system.i_pin - system.i_body) // 3)
+    s[system.i_pin:system.i_rot] = F
+    s[system.i_rot:system.i_disp] = F * L
+    s[system.i_disp:] = F
+    return s
 
 
 def _scale(system: _System, scale_F: float) -> np.ndarray:

@@ -77,11 +77,12 @@ def model(case) -> tuple[em.Mechanism, dict[str, str]]:
             EA = None
         ends = []
         for nd in (beam.start, beam.end):
-            joint = any(j.node == nd and beam.name in j.members for j in mech.joints)
+            joint = next((j for j in mech.joints if j.node == nd and beam.name in j.members), None)
             pinned_support = any(s.node == nd and s.kind == "pinned" and s.member in (None, beam.name)
                                  for s in mech.supports)
             body = owner.get(nd)
             if joint:
+                body = next((link_body[m] for m in joint.members if m in link_body), body)
                 if body is None:
                     raise NotApplicable(f"beam '{beam.name}' pinned at '{nd}' to no rigid link")
                 ends.append((body, "pinned"))
