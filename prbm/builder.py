@@ -331,6 +331,24 @@ def _build(geometry: Geometry, rules: Rules, pivot_at: dict) -> PRBModel:
 
     records: list[BeamModel] = []
     pending_pins: list[tuple[str, str, Beam]] = []  # (node, beam body) for pinned ends with no owner yet
+    # a body held by nothing but one clamped beam end rides on that beam: the beam is fixed-free there
+    held_by: dict[str, int] = {}
+    for beam in geometry.beams:
+        for nd in (beam.start, beam.end):
+            end = end_of(beam, nd)
+            if end.body not in (None, GROUND):
+                held_by[end.body] = held_by.get(end.body, 0) + 1
+    for pin in pins:
+        for b in (pin.a, pin.b):
+            held_by[b] = held_by.get(b, 0) + 1
+    for sup in geometry.supports:
+        owner = node_body.get(sup.node)
+        if owner not in (None, GROUND):
+            held_by[owner] = held_by.get(owner, 0) + 1
+
+    def carried(end: _End) -> bool:
+        return end.kind == "clamped" and end.body not in (None, GROUND) and held_by.get(end.body, 0) == 1
+
     for beam in geometry.beams:
         A, B = coords[beam.start], coords[beam.end]
         L = _arc_length(A, B, beam.curvature)
@@ -345,7 +363,9 @@ def _build(geometry: Geometry, rules: Rules, pivot_at: dict) -> PRBModel:
         if beam.name in pivot_at:
             chosen = "pivot-at-pin"
         elif chosen is None:
-            if kinds == ["clamped", "clamped"]:
+            if kinds == ["clamped", "clamped"] and (carried(e0) or carried(e1)) and e0.body != e1.body:
+                chosen = "fixed-free"
+            elif kinds == ["clamped", "clamped"]:
                 if e0.body == e1.body:
                     chosen = "rigid-both-ends-on-one-body"
                 elif L <= rules.slfp_ratio * min(_size(geometry, coords, e0.body, uf),
@@ -364,7 +384,7 @@ def _build(geometry: Geometry, rules: Rules, pivot_at: dict) -> PRBModel:
         if chosen in ("fixed-pinned", "fixed-free"):
             if "clamped" not in ends:
                 raise ValueError(f"beam '{beam.name}': model '{chosen}' needs a clamped end ({ends})")
-            root, tip, er, et = (beam.start, beam.end, e0, e1) if e0.kind == "clamped" else \
+            root, tip, er, et = (beam.start, beam.end, e0, e1) if e0.kind == "clamped" and not carried(e0) else \
                 (beam.end, beam.start, e1, e0)
             if rule.clamp is not None and rule.clamp in (beam.start, beam.end) and rule.clamp != root:
                 root, tip, er, et = tip, root, et, er
@@ -380,10 +400,14 @@ def _build(geometry: Geometry, rules: Rules, pivot_at: dict) -> PRBModel:
                 k = rule.stiffness or rho * K_theta * beam.EI / L
                 why = (f"initially curved, clamped at {root}: pivot (1-gamma)L along the clamp tangent, "
                        f"rho = {rho:.4f}, K = rho K_Theta EI/L (seed 000 eqs 53-58)")
-            bodies.append(name)
+            if carried(et):  # the body at the tip rides on the PRB link: it is the link
+                name = et.body
+                why += f"; the body at {tip} is held by this beam only, so it rides on the PRB link"
+            else:
+                bodies.append(name)
+                _attach_far_end(beam, tip, et, name, coords, points, pins, pending_pins, node_body)
             springs.append(TorsionSpring(name, er.body, k, name=f"{beam.name} pivot"))
             pins.append(Pin(name, er.body, tuple(P), name=f"{beam.name} pivot"))
-            _attach_far_end(beam, tip, et, name, coords, points, pins, pending_pins, node_body)
             member_body[(beam.name, root)] = er.body
             member_body[(beam.name, tip)] = name
             records.append(BeamModel(beam.name, chosen, ends, (tuple(P),), (k,), gamma, K_theta, why))
@@ -503,6 +527,9 @@ def _attach_far_end(beam, nd, end: _End, body, coords, points, pins, pending, no
         points[nd] = (body, tuple(coords[nd]))
     elif end.kind == "pinned" and end.body is not None:
         pins.append(Pin(body, end.body, tuple(coords[nd]), name=f"{beam.name} end {nd}"))
+        if nd not in points:  # a pinned support on a beam end: the node is on the ground
+            node_body[nd] = end.body
+            points[nd] = (end.body, tuple(coords[nd]))
     elif end.kind == "pinned":
         pending.append((nd, body, beam))
     else:  # clamped at the far end of a one-pivot model

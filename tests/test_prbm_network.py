@@ -298,3 +298,40 @@ def test_parallel_guided_fem_error_is_its_own_estimate_against_the_exact_mechani
         if req.quantity in ("dx", "dy", "strain_energy"):
             error = abs(value - exact.values[req])
             assert 0.9 * fem.error_estimate[req] <= error <= 1.05 * fem.error_estimate[req], req
+
+
+def test_a_body_carried_by_one_beam_rides_on_its_prb_link():
+    # beam O-E (L = 2, EI = 3) clamped at O; a rigid body E-Q welded at E, held by nothing else; force at Q
+    L, EI = 2.0, 3.0
+    geo = pb.Geometry(nodes=(pb.Node("O", 0.0, 0.0), pb.Node("E", L, 0.0), pb.Node("Q", L + 0.5, 0.4)),
+                      beams=(pb.Beam("b", "O", "E", EI),), links=(pb.RigidLink("body", ("E", "Q")),),
+                      supports=(pb.Support("O", "fixed"),))
+    model = pb.build(geo)
+    (record,) = model.beams
+    assert record.model == "fixed-free" and "rides on the PRB link" in record.reason
+    assert model.network.mobility() == 1
+    K = GAMMA * K_THETA * EI / L
+    pivot = np.array([(1 - GAMMA) * L, 0.0])
+    arm = np.array([L + 0.5, 0.4]) - pivot
+    F = np.array([-0.3, 1.2])
+    res = prbm.solve(model.network, [prbm.Force("Q", (F[0],), (F[1],))], 1)
+
+    def moment(theta):  # K Theta = (Q(Theta) - pivot) x F
+        a = _rot(arm, theta)
+        return K * theta - (a[0] * F[1] - a[1] * F[0])
+
+    theta = brentq(moment, 0.0, 1.5)
+    assert np.allclose(res.position("Q", 0), pivot + _rot(arm, theta), atol=1e-10)
+
+
+def test_a_beam_pinned_to_the_ground_and_clamped_to_a_link_is_fixed_pinned_from_the_clamp():
+    # chapter 6 Example 2's input segment: O2 pinned to the ground, F clamped to the coupler
+    case = load_case(ROOT / "cases/chapter6/example2.toml").case
+    from validation.methods import prbm_network
+    model = pb.build(prbm_network.geometry(case.mechanism))
+    (record,) = model.beams
+    O2, F = np.array([0.0, 0.0]), np.array([-2.4609, 2.9328])
+    L = float(np.linalg.norm(F - O2))
+    assert record.model == "fixed-pinned" and record.ends == ("pinned", "clamped")
+    assert np.allclose(record.pivots[0], F + (1 - GAMMA) * (O2 - F))
+    assert model.network.mobility() == 1
