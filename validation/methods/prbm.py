@@ -53,6 +53,7 @@ import time
 import numpy as np
 
 from validation.methods.base import MethodRun, NotApplicable, Request
+from validation.quantities import boundary_held_tip, unloaded_tip_angle
 
 DEG = math.pi / 180.0
 
@@ -136,6 +137,8 @@ def _segment(prbm, case, requests, options):
         else:
             res = prbm.fixed_pinned_tip(Fy, ratio, length=L, EI=EI, family=family, extrapolate=extrapolate)
     elif seg.boundary in ("fixed-free", "fixed-pinned"):
+        if follower:
+            raise NotApplicable("a follower force on an initially curved segment: no PRBM in the seeds")
         if np.any(M != 0):
             kappas = M / EI + kappa
             res = _stack([prbm.curved_fixed_pinned_tip(fy, r, length=L, EI=EI, curvature=k, family=family,
@@ -146,21 +149,38 @@ def _segment(prbm, case, requests, options):
                                                extrapolate=extrapolate)
         a0, b0 = math.sin(kappa * L) / kappa, (1 - math.cos(kappa * L)) / kappa
     elif seg.boundary in ("fixed-guided", "fixed-fixed"):
+        translations = [dof for dof in boundary_held_tip(case) if dof != "rz"]
+        if translations:
+            raise NotApplicable(f"fixed-fixed tip with {', '.join(translations)} held: the seeds' "
+                                "fixed-guided PRBMs leave the tip free to translate")
         if kappa != 0.0:
             raise NotApplicable("initially curved fixed-guided segment without model = 'inflection'")
+        if follower:
+            raise NotApplicable("a follower force on a fixed-guided segment: no PRBM in the seeds")
         if np.any(M != 0):
             res = prbm.fixed_guided_monotonic_tip(Fy, ratio, M, length=L, EI=EI, family=family,
                                                   extrapolate=extrapolate)
         else:
             res = prbm.fixed_guided_tip(Fy, ratio, length=L, EI=EI, family=family, extrapolate=extrapolate)
+            res.constants["k"] = 2.0 * np.asarray(res.constants["k_each"])  # U = 2 (k_each Theta^2/2)
     else:
         raise NotApplicable(f"boundary '{seg.boundary}' as a single segment case: the seeds' curved "
                             "pinned-pinned PRBM (prbm.curved_pinned_pinned) takes a chord force only")
     o = res.outputs
     a = _per_level(o["a"], n)
     b = _per_level(o["b"], n)
+    # the quantity contract (validation/quantities.py): rotation from the unloaded tangent angle,
+    # a held tip freedom reports the load that holds it
+    rotation = _per_level(o["theta0"] - unloaded_tip_angle(L, kappa), n)
+    if follower:  # the force the tip receives has turned with it
+        Fx, Fy = Fx * np.cos(rotation) - Fy * np.sin(rotation), Fx * np.sin(rotation) + Fy * np.cos(rotation)
     out = {"x": a, "y": b, "dx": a - a0, "dy": b - b0, "force_x": Fx, "force_y": Fy, "moment": M,
-           "rotation": _per_level(np.degrees(o["theta0"]), n)}
+           "rotation": np.degrees(rotation)}
+    held = boundary_held_tip(case)
+    if "rz" in held:
+        if "M" not in o:
+            raise NotApplicable(f"the PRBM ({res.model}) gives no moment holding the {seg.boundary} tip")
+        out["moment"] = _per_level(o["M"], n)
     if "Theta" in o:
         Theta = _per_level(o["Theta"], n)
         out["prb_angle"] = np.degrees(Theta)
@@ -174,10 +194,28 @@ def _segment(prbm, case, requests, options):
     info.level_converged = dict(enumerate(_per_level(lc, n).tolist())) \
         if lc is not None and np.size(lc) in (1, n) else {}
     info.extras = {"model": res.model, "constants": _plain(res.constants)}
+    _warn_inflection(info, M, Fx, Fy, a, b)
     shapes = _segment_shapes(seg, res, n, kappa)
     if shapes:
         info.extras["shapes"] = shapes
     return _pick(out, requests, "segment"), info
+
+
+INFLECTION_WARNING = ("inflection point expected: the bending moment changes sign between tip and root "
+                      "(seed 000 Table 2.1, eq (12)); the monotonic-curvature PRBM (eq 62) does not fit this load, "
+                      "use segment.model = 'inflection' (fixed-guided)")
+
+
+def _warn_inflection(info: MethodRun, M, Fx, Fy, a, b) -> None:
+    """Mark the levels whose end force and moment give an inflection point in the deformed PRBM state:
+    the moment at the tip (M) and at the root (M + F_y a - F_x b) of opposite signs (Table 2.1's
+    opposite senses, and the sufficient condition (12) evaluated on the PRBM's own deformed shape)."""
+    root = M + Fy * a - Fx * b
+    inflected = np.nonzero((M * root) < 0)[0]
+    for level in inflected.tolist():
+        info.level_messages[level] = INFLECTION_WARNING
+    if len(inflected):
+        info.extras["inflection_levels"] = inflected.tolist()
 
 
 def _per_level(v, n: int) -> np.ndarray:
@@ -256,7 +294,9 @@ def _inflection(prbm, case, requests, options, EI):
         o = res.outputs
         table = {"x": o["a"], "y": o["b"], "dx": o["a"] - seg.length, "dy": o["b"],
                  "rotation": np.degrees(o["theta0"]), "force_x": -o["nP"], "force_y": o["P"],
-                 "moment": -o["M"], "strain_energy": o.get("U", np.nan)}
+                 "moment": -o["M"]}
+        if "U" in o:
+            table["strain_energy"] = o["U"]
         if req.quantity not in table:
             raise NotApplicable(f"the chapter-3 PRBM gives no '{req.quantity}'")
         values[req] = float(table[req.quantity])
