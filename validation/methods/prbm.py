@@ -376,6 +376,10 @@ def _mechanism(prbm, case, requests, options):
             info.message = f"maximum DOF {dof} (Grubler on the PRBM, modes up to {max_mode})"
             return values, info
     links = options.get("links")
+    kinds = sorted(sup.kind for sup in mech.supports)
+    if not links and not mech.links and len(mech.beams) == 1 and kinds == ["pinned", "slider"]:
+        values.update(_pinned_pinned_beam(prbm, case, requests, info))
+        return values, info
     if not links and len(mech.beams) == 1:
         values.update(_segment_with_body(prbm, case, requests, options, info))
         return values, info
@@ -597,6 +601,9 @@ def _segment_with_body(prbm, case, requests, options, info) -> dict:
         model = prbm.InflectionBeam(L, EI, family)
     elif kind in ("fixed-pinned", "fixed-free"):
         model = _tip_model(prbm, L, EI, family, options.get("extrapolate", "raise"))
+    elif kind == "slfp":  # the beam is the flexure; the body is the rigid segment (eqs 71-76)
+        def model(F: complex, M: float):
+            return prbm.slfp_end_tip(F, M, flexure_length=L, EI=EI)
     else:
         raise NotApplicable(f"segment type '{kind}' carrying a rigid body: not modelled")
 
@@ -644,7 +651,7 @@ def _segment_with_body(prbm, case, requests, options, info) -> dict:
         elif isinstance(model, prbm.InflectionBeam):
             chain = prbm.inflection_pivots(seg.outputs) @ np.array([1.0, 1j])
         else:
-            g = float(np.asarray(seg.constants.get("gamma", np.nan)).ravel()[0])
+            g = float(np.asarray(seg.constants.get("gamma", 0.5 if kind == "slfp" else np.nan)).ravel()[0])
             chain = np.array([0.0, (1 - g) * L, complex(float(res.outputs["a"]), float(res.outputs["b"]))])
         lines = [_xy(O + chain * to_global)]
         for names in link_order:
@@ -658,6 +665,56 @@ def _segment_with_body(prbm, case, requests, options, info) -> dict:
     info.extras.update({"shapes": shapes, "model": results[needed[-1]].model,
                         "end_loads": {lv: {k: float(results[lv].outputs[k]) for k in ("Fx", "Fy", "M")}
                                       for lv in needed}})
+    return values
+
+
+def _pinned_pinned_beam(prbm, case, requests, info) -> dict:
+    """One initially curved beam pinned at one end and on a slider along its chord at the other, a
+    force along the chord at the slider: ``prbm.curved_pinned_pinned`` (two curved fixed-pinned halves
+    fixed at mid-span, seed 000 section 2.3.5). Outputs at the slider node: x, y, dx, dy (the chord's
+    change along the chord), force_x, force_y (the applied force)."""
+    mech = case.mechanism
+    beam = mech.beams[0]
+    nodes = {nd.name: complex(nd.x, nd.y) for nd in mech.nodes}
+    slider = next(s for s in mech.supports if s.kind == "slider")
+    if slider.node not in (beam.start, beam.end):
+        raise NotApplicable("the slider does not hold the beam's end")
+    pin = beam.start if slider.node == beam.end else beam.end
+    chord_vector = nodes[slider.node] - nodes[pin]
+    chord0 = abs(chord_vector)
+    along = chord_vector / chord0
+    if slider.direction is None or abs(abs(complex(*slider.direction) / abs(complex(*slider.direction))
+                                           * along.conjugate()) - 1.0) > 1e-9 \
+            or abs((complex(*slider.direction) * along.conjugate()).imag) > 1e-9 * abs(complex(*slider.direction)):
+        raise NotApplicable("the slider's free direction is not along the chord")
+    if beam.curvature == 0.0:
+        raise NotApplicable("a straight pinned-pinned beam under a chord force does not bend (no PRBM)")
+    n = case.n_levels()
+    force = np.zeros(n, complex)
+    for i, load in enumerate(case.loads):
+        if load.point != slider.node or load.kind != "force" or load.follower:
+            raise NotApplicable(f"loads.{i}: only a dead force at the slider '{slider.node}' is modelled")
+        force += np.asarray(load.levels(), float) * complex(*load.direction)
+    if np.any(np.abs((force * along.conjugate()).imag) > 1e-12 * np.maximum(np.abs(force), 1e-300)):
+        raise NotApplicable("the force at the slider is not along the chord")
+    F_axial = (force * along.conjugate()).real  # + pulls the pins apart
+    EI = beam.section.stiffness(beam.E or mech.E)[1]
+    kappa = beam.curvature
+    length = 2.0 / abs(kappa) * math.asin(min(1.0, abs(kappa) * chord0 / 2.0))  # arc over the chord
+    res = prbm.curved_pinned_pinned(F_axial, length=length, EI=EI, curvature=abs(kappa))
+    chord = np.broadcast_to(res.outputs["chord"], (n,))
+    tip = nodes[pin] + chord * along
+    table = {"x": tip.real, "y": tip.imag, "dx": (tip - nodes[slider.node]).real,
+             "dy": (tip - nodes[slider.node]).imag, "force_x": force.real, "force_y": force.imag}
+    values = {}
+    for req in requests:
+        if req.point != slider.node or req.quantity not in table:
+            raise NotApplicable(f"the curved pinned-pinned PRBM gives no '{req.quantity}' at '{req.point}'")
+        values[req] = float(table[req.quantity][req.level])
+    info.converged = bool(res.converged)
+    info.level_converged = {lv: bool(ok) for lv, ok in enumerate(np.broadcast_to(res.level_converged, (n,)))}
+    info.message = f"{res.model}; constant gamma = {res.constants['gamma']}, K_Theta = {res.constants['K_theta']}"
+    info.extras.update({"model": res.model, "constants": _plain(res.constants)})
     return values
 
 
