@@ -21,6 +21,7 @@ A method that raises NotApplicable is only accepted where ``applicable`` says it
 """
 from __future__ import annotations
 
+import importlib.util
 import math
 import random
 
@@ -45,7 +46,8 @@ UNIT_RANGES = {  # (length range, modulus range) of plausible segments in each u
     "in-lb": ((0.5, 40.0), (1.5e5, 3e7)),
     "dimensionless": ((1.0, 1.0), (1.0, 1.0)),
 }
-METHODS = ("fem", "elastica", "prbm", "bcm")
+# the OpenSees peer (the 'peer' extra) is held to the contract where it is installed
+METHODS = ("fem", "elastica", "prbm", "bcm") + (("opensees",) if importlib.util.find_spec("openseespy") else ())
 TIP = ("x", "y", "dx", "dy", "rotation", "force_x", "force_y", "moment")
 ROOT = ("reaction_x", "reaction_y", "reaction_moment")
 # PRBM linear-limit error, a fraction of the motion scale: the straight fixed-pinned fit gives
@@ -310,6 +312,9 @@ def applicable(method: str, c: Configuration) -> bool:
         return straight and c.boundary != "pinned-pinned" and c.load != "follower"
     if method == "prbm":
         return _prbm_applicable(c)
+    if method == "opensees":  # straight, clamped root, free tip, proportional dead forces and moments
+        return straight and c.load in ("transverse", "oblique", "tension", "compression", "moment", "force_moment") \
+            and not boundary_held_tip(build_case(c, ("fem",))) and c.boundary != "pinned-pinned"
     return False
 
 
