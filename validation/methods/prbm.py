@@ -456,6 +456,9 @@ def _mechanism(prbm, case, requests, options):
         out["mechanical_advantage"] = fb.compliant_ma(theta2, float(ma["F_i"]), float(ma["d_i"]), float(ma["d_o"]),
                                                       angles, torque=torque)
     point = options.get("coupler_point", "P")
+    if "origin" not in options and any(r.quantity in ("x", "y") for r in requests):
+        raise NotApplicable("x, y of the PRB four-bar are in its own frame (O2 at the origin): give "
+                            "[methods.prbm] origin = [x, y], where O2 is in the case frame")
     for r in requests:
         if r.quantity in ("dx", "dy", "x", "y") and r.point != point:
             raise NotApplicable(f"the PRB four-bar tracks the coupler point '{point}' only, not '{r.point}'")
