@@ -91,6 +91,9 @@ def level_problems(case: Case, options: dict) -> list[ElasticaProblem]:
                 moment += v
             elif load.kind == "displacement":
                 u = d / np.hypot(*d)
+                if k0 == 0.0 and abs(u[0]) > 0.999 and v != 0.0:
+                    raise NotApplicable("a prescribed axial displacement of a straight segment: the "
+                                        "inextensible elastica has no unbuckled solution")
                 constraints.append(TipConstraint(tuple(u), float(u @ [x0, y0] + v * np.hypot(*d))))
                 prescribed_dirs.append(u)
             elif load.kind == "rotation":
@@ -107,6 +110,9 @@ def level_problems(case: Case, options: dict) -> list[ElasticaProblem]:
                 if not free and len(prescribed_dirs) < 2:
                     constraints.append(TipConstraint(tuple(u), float(u @ [x0, y0])))
                     prescribed_dirs.append(u)
+        if k0 == 0.0 and seg.boundary == "fixed-fixed" and any(abs(u[0]) > 0.999 for u in prescribed_dirs):
+            raise NotApplicable("a straight fixed-fixed segment whose tip cannot move axially: the "
+                                "inextensible elastica cannot bend (only an extensible model can)")
         if len(prescribed_dirs) > 2:
             raise NotApplicable("more than two prescribed tip-position components")
         problems.append(ElasticaProblem(length=L, EI=EI, curvature=k0, force=tuple(force),
