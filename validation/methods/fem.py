@@ -11,7 +11,8 @@ Options (``[methods.fem]``): ``elements`` per member (default 16), ``error_estim
 on n and 2n elements and report |u_2n - u_n|/3, the Richardson estimate of the O(h^2) error of u_2n),
 ``richardson`` (report the extrapolated value instead of u_2n), ``tol`` (refine until the estimate is
 below it), ``inextensible_ratio`` (EA L^2/EI used when a section gives no area; default 1e6),
-and for ``limit_load``: ``arc_length``, ``max_steps``.
+and for ``limit_load``: ``arc_length``, ``max_steps``. ``slfp = {length, E, thickness_ratio}``: build every
+sprung joint of a mechanism as a small-length flexural pivot of that length (``validation.slfp``).
 
 Inverse tip problem (option table ``inverse``, see ``validation.inverse_problem``): per level a
 clamped segment whose tip has y = ``b`` and absolute slope ``theta0_deg`` prescribed (displacement
@@ -32,6 +33,7 @@ import numpy as np
 
 from validation.inverse_problem import LOAD_OUTPUTS, InverseLevel, InverseSpec, Tie, inverse_spec, merge_runs
 from validation.methods.base import MethodRun, NotApplicable, Request
+from validation.slfp import with_flexures
 
 ROTATION_DOF = "rz"
 
@@ -461,8 +463,27 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
     return merge_runs(forward, _run_inverse(fem, case, spec, loads, options))
 
 
+def _realised(case, options: dict):
+    """The case's mechanism with its sprung joints built as flexures (option ``slfp``), else the case."""
+    spec = options.get("slfp")
+    if spec is None:
+        return case
+    if case.mechanism is None:
+        raise NotApplicable("methods.fem.slfp: realises the sprung joints of a mechanism; this case is a segment")
+    unknown = sorted(set(spec) - {"length", "E", "thickness_ratio"})
+    if unknown or "length" not in spec or ("E" not in spec and case.mechanism.E is None):
+        raise NotApplicable("methods.fem.slfp: give length (and E unless the mechanism has one; optional "
+                            f"thickness_ratio){'; unknown: ' + ', '.join(unknown) if unknown else ''}")
+    try:
+        return with_flexures(case, float(spec["length"]), float(spec.get("E", case.mechanism.E or 0.0)),
+                             float(spec.get("thickness_ratio", 0.1)))
+    except ValueError as exc:
+        raise NotApplicable(f"methods.fem.slfp: {exc}") from None
+
+
 def _run_forward(fem, case, requests: list[Request], options: dict) -> MethodRun:
     start = time.perf_counter()
+    case = _realised(case, options)
     elements = int(options.get("elements", 16))
     model = build_model(case, elements, options)
     values, errors, iterations, converged, messages, result = {}, {}, 0, True, [], None
