@@ -17,8 +17,8 @@ condition g(F) = 0 per load level:
   with (F_x, F_y, M) the total tip load; g = m(node). Bapat 2015, Case 2c (Table 3.6): b, theta_0
   and the inflection location l1 prescribed, nP along x unknown.
 
-* ``Position``: the load on the free DOF is what brings the tip to a given position along it,
-  g = x_tip - value (the same problem as prescribing that DOF, by another path: useful where
+* ``Position``: the load on the free DOF is what brings the tip (or another node) to a given
+  position along x or y, g = x_node - value (the same problem as prescribing that DOF, by another path: useful where
   displacement control of every tip DOF meets a singular state on its way, e.g. a beam pushed
   past a buckling load of its clamped-clamped configuration).
 
@@ -71,11 +71,14 @@ class ZeroMoment:
 
 @dataclass(frozen=True)
 class Position:
-    """The load on ``free_dof`` ('ux' or 'uy') is what puts the tip at ``value`` (one per level,
-    or one for all) along it (absolute coordinate)."""
+    """The load on ``free_dof`` of the tip is what puts ``node`` (default: the tip) at ``value``
+    (absolute coordinate, one per level or one for all) along ``direction`` ('ux' or 'uy'; default:
+    the free DOF itself). E.g. the input torque of a mechanism that brings its slider to a position."""
 
     free_dof: str
     value: np.ndarray | float
+    node: str | None = None
+    direction: str | None = None
 
 
 @dataclass
@@ -128,7 +131,7 @@ def _residual(model: Model, result: FemResult, tip: str, tie, tied: np.ndarray) 
         ref = loads[:, DOF_NAMES[tie.reference_dof]]
         return tied - np.broadcast_to(tie.ratio, tied.shape) * ref, scale
     if isinstance(tie, Position):
-        x = result.positions[:, model.node(tip), DOF_NAMES[tie.free_dof]]
+        x = result.positions[:, model.node(tie.node or tip), DOF_NAMES[tie.direction or tie.free_dof]]
         return x - np.broadcast_to(tie.value, tied.shape), np.full(len(x), model.characteristic_length())
     i, k = model.node(tip), model.node(tie.node)
     lever = result.positions[:, i, :] - result.positions[:, k, :]
@@ -137,23 +140,25 @@ def _residual(model: Model, result: FemResult, tip: str, tie, tied: np.ndarray) 
 
 
 def solve_tip_inverse(model: Model, tip: str, tie: LoadRatio | ZeroMoment | Position | None = None, *,
-                      guess=None, tie_rtol: float = 1e-7, max_iter: int = 40, **solve_options) -> TipInverseResult:
+                      guess=None, tie_rtol: float = 1e-7, max_iter: int = 40, n_levels: int | None = None,
+                      **solve_options) -> TipInverseResult:
     """Solve the inverse tip problem of ``model`` (its prescribed tip DOFs are the pose).
 
     ``tie``: the condition fixing the load on the one tip DOF that is neither prescribed nor
     loaded by the model (None: no such load). ``guess``: the tied load per level to start from
-    (default 0). Other keyword arguments go to ``fem.solve`` (e.g. ``refine``, ``rtol``).
+    (default 0). ``n_levels``: the number of levels when the model's own loads do not set it (a
+    model whose only load is the tied one). Other keyword arguments go to ``fem.solve``.
     """
     t0 = time.perf_counter()
-    n = model.n_levels
+    n = n_levels or model.n_levels
     if tie is None:
         result = solve(model, n_levels=n, **solve_options)
         done = result.converged and result.n_levels == n
         zeros = np.zeros(n)
         return TipInverseResult(done, result.message, result, tip_loads(model, result, tip)
                                 if done else np.full((n, 3), np.nan), zeros, zeros, 0, 1, time.perf_counter() - t0)
-    if tie.free_dof not in DOF_NAMES or (isinstance(tie, Position) and tie.free_dof == "rz"):
-        raise ValueError(f"free_dof must be one of {sorted(DOF_NAMES)} ('ux' or 'uy' for a Position)")
+    if tie.free_dof not in DOF_NAMES or (isinstance(tie, Position) and (tie.direction or tie.free_dof) == "rz"):
+        raise ValueError(f"free_dof must be one of {sorted(DOF_NAMES)}; a Position is measured along 'ux' or 'uy'")
     prescribed = {(p.node, p.dof) for p in model.prescribed}
     if (model.node(tip), DOF_NAMES[tie.free_dof]) in prescribed:
         raise ValueError(f"the tied DOF {tie.free_dof!r} of {tip!r} is prescribed")

@@ -70,3 +70,36 @@ def test_bad_sizes_are_named():
     case = _case([10.0], {"E": E})
     with pytest.raises(NotApplicable, match="methods.fem.slfp: give length"):
         fem_adapter.run(case, [Request("input_torque", "", 0)], dict(case.methods["fem"]))
+
+
+def test_position_reached_by_an_input_moment():
+    """methods.fem.input_moment_at: the bar's far end T is sent to the x a pure-moment flexure reaches
+    at rotation theta (exact arc: the flexure end at O- + (l/theta)(sin theta u + (1 - cos theta) v),
+    the bar then along the rotated u); the moment found must be k theta (to the O(h^2) error of the
+    chord elements' arc, about 2e-6 with 16 elements)."""
+    length, theta = 0.4, math.radians(35.0)
+    u, v = (0.6, 0.8), (-0.8, 0.6)                      # along O -> T, and its normal
+    base = (-0.5 * length * u[0], -0.5 * length * u[1])
+    arc = (length / theta * math.sin(theta), length / theta * (1 - math.cos(theta)))
+    bar = 5.0 - 0.5 * length                            # |T - O+|
+    along = (math.cos(theta), math.sin(theta))
+    x_T = base[0] + (arc[0] + bar * along[0]) * u[0] + (arc[1] + bar * along[1]) * v[0]
+    case = Case.model_validate({
+        "case": {"id": "slfp_drive", "title": "t", "group": "g", "units": "in-lb"},
+        "mechanism": {
+            "nodes": [{"name": "O", "x": 0.0, "y": 0.0}, {"name": "T", "x": 3.0, "y": 4.0}],
+            "links": [{"name": "bar", "nodes": ["O", "T"]}],
+            "joints": [{"node": "O", "members": ["bar"], "spring": K}],
+            "supports": [{"node": "O", "kind": "pinned", "member": "bar"}],
+        },
+        "loads": [{"kind": "displacement", "point": "T", "direction": [1.0, 0.0], "values": [0.0, x_T - 3.0]}],
+        "outputs": [{"quantity": "input_torque"}, {"quantity": "y", "point": "T"}],
+        "methods": {"fem": {"elements": 16, "error_estimate": False, "input_moment_at": "O+",
+                            "slfp": {"length": length, "E": E}}},
+    })
+    requests = [Request("input_torque", "", 1), Request("y", "T", 1)]
+    run = fem_adapter.run(case, requests, dict(case.methods["fem"]))
+    assert run.converged, run.message
+    assert run.values[requests[0]] == pytest.approx(K * theta, rel=2e-5)
+    y_T = base[1] + (arc[0] + bar * along[0]) * u[1] + (arc[1] + bar * along[1]) * v[1]
+    assert run.values[requests[1]] == pytest.approx(y_T, abs=1e-4)   # 2e-5 in theta times the 5 in lever

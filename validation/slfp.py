@@ -18,10 +18,12 @@ Construction, for every joint with a spring k > 0 at pivot node N:
   the nearest other node of the joint's last-listed member (the flexure is that member's end);
 * between two members: the end N- = N - (l/2) u joins the other members (which take N- in place of
   N), the end N+ = N + (l/2) u joins the last member (which takes N+);
-* a single member at a pinned support (a spring to ground): N- is clamped (a fixed support) and N+
-  joins the member;
+* a single member at a support (a spring to ground): N+ joins the member and N- is the ground side:
+  clamped for a pinned support, a guided support (translation along the slider, no rotation) for a
+  slider or guided one, i.e. the sliding block;
 * the joint itself disappears (the flexure is the hinge) and so does the pivot node N (no material
-  there); loads at N move to N+ (the member's side), outputs at N are not available.
+  there); loads at N move to N+ (the member's side; to N-, the block, at a slider), outputs at N are
+  not available.
 Section: I = k l / E, thickness t = ``thickness_ratio`` l (default 0.1: slender, t << l << L), width
 w = 12 I / t^3.
 """
@@ -63,8 +65,9 @@ def with_flexures(case: Case, length: float, E: float, thickness_ratio: float = 
         if math.hypot(xy[far][0] - xy[N][0], xy[far][1] - xy[N][1]) <= length / 2:
             raise ValueError(f"flexure at '{N}' (length {length:g}) longer than twice the distance to '{far}'")
         minus, plus = f"{N}-", f"{N}+"
-        nodes.append(NodeSpec(name=minus, x=xy[N][0] - 0.5 * length * ux, y=xy[N][1] - 0.5 * length * uy))
-        nodes.append(NodeSpec(name=plus, x=xy[N][0] + 0.5 * length * ux, y=xy[N][1] + 0.5 * length * uy))
+        for name, sign in ((minus, -0.5), (plus, 0.5)):
+            xy[name] = (xy[N][0] + sign * length * ux, xy[N][1] + sign * length * uy)
+            nodes.append(NodeSpec(name=name, x=xy[name][0], y=xy[name][1]))
         I = joint.spring * length / E
         t = thickness_ratio * length
         section = SectionSpec(kind="rectangle", width=12.0 * I / t**3, thickness=t)
@@ -72,12 +75,18 @@ def with_flexures(case: Case, length: float, E: float, thickness_ratio: float = 
         members[last] = [plus if m == N else m for m in members[last]]
         for name in joint.members[:-1]:
             members[name] = [minus if m == N else m for m in members[name]]
+        renamed[N] = plus
         if len(joint.members) == 1:
             held = [s for s in supports if s.node == N]
             if not held:
                 raise ValueError(f"joint at '{N}' springs a single member but '{N}' has no support")
-            supports = [s for s in supports if s.node != N] + [SupportSpec(node=minus, kind="fixed")]
-        renamed[N] = plus
+            ground = held[0]
+            if ground.kind in ("slider", "guided"):   # a sliding block: it translates, never turns
+                base = SupportSpec(node=minus, kind="guided", direction=ground.direction)
+                renamed[N] = minus                    # loads on the pivot act on the block
+            else:
+                base = SupportSpec(node=minus, kind="fixed")
+            supports = [s for s in supports if s.node != N] + [base]
     links = [lk.model_copy(update={"nodes": members[lk.name]}) for lk in mech.links]
     beams = [b.model_copy(update={"start": members[b.name][0], "end": members[b.name][1]})
              if b.name in members and not b.name.startswith("flexure:") else b for b in beams]

@@ -13,6 +13,8 @@ on n and 2n elements and report |u_2n - u_n|/3, the Richardson estimate of the O
 below it), ``inextensible_ratio`` (EA L^2/EI used when a section gives no area; default 1e6),
 and for ``limit_load``: ``arc_length``, ``max_steps``. ``slfp = {length, E, thickness_ratio}``: build every
 sprung joint of a mechanism as a small-length flexural pivot of that length (``validation.slfp``).
+``input_moment_at = "<node>"``: the case's one prescribed displacement (e.g. a slider position) is not
+imposed but reached by a moment at that node, found by an outer solve; the moment is ``input_torque``.
 
 Inverse tip problem (option table ``inverse``, see ``validation.inverse_problem``): per level a
 clamped segment whose tip has y = ``b`` and absolute slope ``theta0_deg`` prescribed (displacement
@@ -451,9 +453,63 @@ def _run_inverse(fem, case, spec: InverseSpec, requests: list[Request], options:
                      level_converged=ok, level_messages=msg, extras={"iterations": iterations})
 
 
+def _run_moment_driven(fem, case, requests: list[Request], options: dict) -> MethodRun:
+    """The case's one prescribed displacement reached by a moment at the input node (option
+    ``input_moment_at``), found by the outer secant of ``fem.solve_tip_inverse`` (a Position tie); the
+    moment is the ``input_torque`` output, on n and 2n elements with the Richardson estimate."""
+    t0 = time.perf_counter()
+    node = str(options["input_moment_at"])
+    case = _realised(case, options)
+    moved = [ld for ld in case.loads if ld.kind == "displacement"]
+    if len(moved) != 1 or any(ld.kind == "rotation" for ld in case.loads):
+        raise NotApplicable("methods.fem.input_moment_at: needs exactly one prescribed displacement (the target) "
+                            "and no prescribed rotation")
+    target = moved[0]
+    d = np.asarray(target.direction, float) / math.hypot(*target.direction)
+    if min(abs(d[0]), abs(d[1])) > 1e-12:
+        raise NotApplicable("methods.fem.input_moment_at: the prescribed displacement must be along x or y")
+    axis = 0 if abs(d[0]) > 0.5 else 1
+    driven = case.model_copy(update={"loads": [ld for ld in case.loads if ld is not target]})
+    elements = int(options.get("elements", 16))
+    estimate = bool(options.get("error_estimate", True))
+    n = case.n_levels()
+    results, model = [], None
+    for count in ((elements, 2 * elements) if estimate else (elements,)):
+        model = build_model(driven, count, options)
+        if node not in model.node_names:
+            raise NotApplicable(f"methods.fem.input_moment_at: no node '{node}' in the FEM model")
+        origin = model.coords[model.node(target.point)][axis]
+        goal = origin + np.asarray(target.levels(), float) * d[axis]
+        res = fem.solve_tip_inverse(model, node, fem.Position("rz", goal, node=target.point,
+                                                              direction=("ux", "uy")[axis]),
+                                    guess=results[-1].tied if results else None, n_levels=n,
+                                    rtol=float(options.get("rtol", 1e-10)))
+        results.append(res)
+        if not res.converged:
+            break
+    final = results[-1]
+    torque = final.tied
+    error = np.abs(torque - results[0].tied) / 3.0 if len(results) == 2 and final.converged else None
+    origin_xy = {name: model.coords[i] for i, name in enumerate(model.node_names)}
+    others = [r for r in requests if r.quantity != "input_torque"]
+    values = _extract(driven, _Fields.of(final.result), others, origin_xy) if final.converged else {}
+    errors = {}
+    for req in requests:
+        if req.quantity == "input_torque":
+            values[req] = float(torque[req.level]) if final.converged else math.nan
+            if error is not None:
+                errors[req] = float(error[req.level])
+    return MethodRun(values=values, converged=final.converged, error_estimate=errors,
+                     message=f"input moment at '{node}' found by an outer solve: {final.message}",
+                     wall_time=time.perf_counter() - t0,
+                     extras={"iterations": sum(r.result.iterations for r in results), "elements": elements})
+
+
 def run(case, requests: list[Request], options: dict) -> MethodRun:
     import fem
 
+    if "input_moment_at" in options:
+        return _run_moment_driven(fem, case, requests, options)
     spec = inverse_spec(case, options, "fem")
     if spec is None:
         return _run_forward(fem, case, requests, options)
