@@ -21,15 +21,18 @@ K = 12.5          # in-lb/rad
 E = 450000.0      # psi
 
 
+BAR = {   # a rigid bar O -> T pinned at O to the ground with a torsional spring K
+    "nodes": [{"name": "O", "x": 0.0, "y": 0.0}, {"name": "T", "x": 3.0, "y": 4.0}],
+    "links": [{"name": "bar", "nodes": ["O", "T"]}],
+    "joints": [{"node": "O", "members": ["bar"], "spring": K}],
+    "supports": [{"node": "O", "kind": "pinned", "member": "bar"}],
+}
+
+
 def _case(rotations_deg, slfp):
     return Case.model_validate({
         "case": {"id": "slfp_probe", "title": "t", "group": "g", "units": "in-lb"},
-        "mechanism": {
-            "nodes": [{"name": "O", "x": 0.0, "y": 0.0}, {"name": "T", "x": 3.0, "y": 4.0}],
-            "links": [{"name": "bar", "nodes": ["O", "T"]}],
-            "joints": [{"node": "O", "members": ["bar"], "spring": K}],
-            "supports": [{"node": "O", "kind": "pinned", "member": "bar"}],
-        },
+        "mechanism": BAR,
         "loads": [{"kind": "rotation", "point": "T", "body": "bar", "values": rotations_deg}],
         "outputs": [{"quantity": "input_torque"}],
         "methods": {"fem": {"elements": 4, "error_estimate": False, "slfp": slfp}},
@@ -86,12 +89,7 @@ def test_position_reached_by_an_input_moment():
     x_T = base[0] + (arc[0] + bar * along[0]) * u[0] + (arc[1] + bar * along[1]) * v[0]
     case = Case.model_validate({
         "case": {"id": "slfp_drive", "title": "t", "group": "g", "units": "in-lb"},
-        "mechanism": {
-            "nodes": [{"name": "O", "x": 0.0, "y": 0.0}, {"name": "T", "x": 3.0, "y": 4.0}],
-            "links": [{"name": "bar", "nodes": ["O", "T"]}],
-            "joints": [{"node": "O", "members": ["bar"], "spring": K}],
-            "supports": [{"node": "O", "kind": "pinned", "member": "bar"}],
-        },
+        "mechanism": BAR,
         "loads": [{"kind": "displacement", "point": "T", "direction": [1.0, 0.0], "values": [0.0, x_T - 3.0]}],
         "outputs": [{"quantity": "input_torque"}, {"quantity": "y", "point": "T"}],
         "methods": {"fem": {"elements": 16, "error_estimate": False, "input_moment_at": "O+",

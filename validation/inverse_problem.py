@@ -17,7 +17,8 @@ by exactly one of
 In a case file it is the option table ``inverse`` of ``[methods.fem]`` or ``[methods.elastica]``,
 each entry a per-level list (or one value for every level), e.g.
 ``inverse = { b = [12.0, 12.0], theta0_deg = [40.0, 40.0], n = [0.25, 1.25] }``. Optional ``I``
-or ``EI`` give the section the inverse problem is solved with (default: the method's own). The
+or ``EI`` give the section the inverse problem is solved with (default: the method's own); the FEM
+also takes ``elements`` and ``richardson`` there (its mesh and extrapolation for this problem). The
 method then reports the loads needed (``force_x``, ``force_y``, ``moment`` at the tip: the total
 load acting on the tip) from the inverse problem, and every other output from its forward solve
 under the case's loads, so the seed's forward columns (analyses under the PRBM loads) are kept.
@@ -25,7 +26,7 @@ under the case's loads, so the seed's forward columns (analyses under the PRBM l
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from enum import Enum
 
 from validation.methods.base import MethodRun, NotApplicable
@@ -57,9 +58,11 @@ class InverseSpec:
     levels: tuple[InverseLevel, ...]
     I: float | None = None
     EI: float | None = None
+    method_options: dict = field(default_factory=dict)   # the method's own keys (FEM: elements, richardson)
 
 
 KNOWN = {"b", "theta0_deg", "I", "EI"} | {t.value for t in Tie}
+METHOD_KEYS = {"fem": {"elements", "richardson"}, "elastica": set()}
 
 
 def _per_level(table: dict, name: str, n: int, where: str) -> list[float]:
@@ -80,9 +83,10 @@ def inverse_spec(case, options: dict, method: str) -> InverseSpec | None:
     where = f"methods.{method}.inverse"
     if not isinstance(table, dict):
         raise NotApplicable(f"{where}: must be a table of per-level lists")
-    unknown = sorted(set(table) - KNOWN)
+    known = KNOWN | METHOD_KEYS.get(method, set())
+    unknown = sorted(set(table) - known)
     if unknown:
-        raise NotApplicable(f"{where}: unknown field(s) {', '.join(unknown)}; known: {', '.join(sorted(KNOWN))}")
+        raise NotApplicable(f"{where}: unknown field(s) {', '.join(unknown)}; known: {', '.join(sorted(known))}")
     if case.segment is None:
         raise NotApplicable(f"{where}: the inverse tip problem is posed on a single segment")
     if case.segment.boundary == "pinned-pinned":
@@ -105,7 +109,8 @@ def inverse_spec(case, options: dict, method: str) -> InverseSpec | None:
     stiff = {k: float(table[k]) for k in ("I", "EI") if k in table}
     if any(v <= 0 or not math.isfinite(v) for v in stiff.values()):
         raise NotApplicable(f"{where}: I and EI must be positive")
-    return InverseSpec(levels, stiff.get("I"), stiff.get("EI"))
+    own = {k: table[k] for k in METHOD_KEYS.get(method, set()) if k in table}
+    return InverseSpec(levels, stiff.get("I"), stiff.get("EI"), own)
 
 
 def merge_runs(forward: MethodRun | None, inverse: MethodRun) -> MethodRun:

@@ -23,8 +23,9 @@ tied load F_x = -n F_y (``n``) or the F_x that puts a zero bending moment at arc
 (a mesh node is placed there), both found by the outer secant solve of ``fem.solve_tip_inverse``.
 Each level is its own problem, solved from the unloaded segment; the tip loads (``force_x``,
 ``force_y``, ``moment``) are those of the inverse problem, on n and 2n elements per member with
-the Richardson estimate |F_2n - F_n|/3 (unless ``error_estimate = false``); every other output
-comes from the forward solve under the case's loads.
+the Richardson estimate |F_2n - F_n|/3 (unless ``error_estimate = false``; n and extrapolation from
+``inverse.elements``/``inverse.richardson``, else the method's); every other output comes from the
+forward solve under the case's loads.
 """
 from __future__ import annotations
 
@@ -410,8 +411,9 @@ def _tie(fem, level: InverseLevel):
 def _run_inverse(fem, case, spec: InverseSpec, requests: list[Request], options: dict) -> MethodRun:
     """Tip loads of the inverse problem, level by level, on n and 2n elements (Richardson)."""
     t0 = time.perf_counter()
-    elements = int(options.get("elements", 16))
+    elements = int(spec.method_options.get("elements", options.get("elements", 16)))
     estimate = bool(options.get("error_estimate", True))
+    richardson = bool(spec.method_options.get("richardson", options.get("richardson", False)))
     solve_options = dict(rtol=float(options.get("rtol", 1e-10)))
     values, errors, ok, msg, iterations = {}, {}, {}, {}, 0
     for lv in sorted({r.level for r in requests}):
@@ -439,7 +441,7 @@ def _run_inverse(fem, case, spec: InverseSpec, requests: list[Request], options:
         ok[lv], msg[lv] = final.converged, final.message
         loads = final.tip_loads[0]
         error = abs(loads - results[0].tip_loads[0]) / 3.0 if len(results) == 2 and final.converged else None
-        if options.get("richardson") and error is not None:
+        if richardson and error is not None:
             loads = loads + (loads - results[0].tip_loads[0]) / 3.0
         for req in requests:
             if req.level == lv:
