@@ -335,6 +335,16 @@ class CaseInfo(Strict):
     assumptions: list[str] = Field(default_factory=list)
     findings: list[str] = Field(default_factory=list, description="case-level misprints and disagreements, "
                                 "with their evidence, that no single reference carries")
+    no_prbm_fem: str | None = Field(None, description="why this case has no PRBM-vs-FEM number, in one line: "
+                                    "no seed PRBM for this configuration, geometry not in the seed, or an "
+                                    "FEM-only benchmark validating the FEM itself")
+
+    @field_validator("no_prbm_fem")
+    @classmethod
+    def _one_line(cls, value: str | None) -> str | None:
+        if value is not None and (not value.strip() or "\n" in value):
+            raise ValueError("give the reason in one non-empty line")
+        return value
 
     @field_validator("units")
     @classmethod

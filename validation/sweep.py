@@ -181,7 +181,7 @@ class Parameter(Strict):
 
 
 class PlotSpec(Strict):
-    kind: Literal["domain", "scatter", "convergence", "none"] = "none"
+    kind: Literal["domain", "scatter", "convergence", "difference", "none"] = "none"
     x: str | None = Field(None, description="default: x, else dx")
     y: str | None = Field(None, description="default: y, else dy")
     point: str | None = Field(None, description="default: the first point with both quantities")

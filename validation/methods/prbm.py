@@ -51,6 +51,7 @@ import math
 import time
 
 import numpy as np
+from scipy.optimize import brentq
 
 from validation.methods import prbm_network
 from validation.methods.base import MethodRun, NotApplicable, Request
@@ -425,9 +426,15 @@ def _mechanism(prbm, case, requests, options):
     for load in case.loads:
         if load.kind == "moment":
             torque = (torque if torque is not None else np.zeros(n)) + np.asarray(load.levels(), float)
+    force_at_A = _link2_end_forces(case, fb, t20, complex(*options.get("origin", [0.0, 0.0])))
     precision = options.get("precision", {})
-    drive = options.get("drive", "torque" if torque is not None else "precision")
-    if drive == "torque":
+    drive = options.get("drive", "torque" if torque is not None or force_at_A is not None else "precision")
+    if drive == "torque" and force_at_A is not None:
+        base = torque if torque is not None else np.zeros(n)
+        theta2 = np.array([_theta2_under_force(fb, complex(f), float(t), t20) for f, t in zip(force_at_A, base)])
+        info.level_converged = {i: bool(np.isfinite(t)) for i, t in enumerate(theta2)}
+        info.message = "PRB four-bar under a dead force at the end of PRB link 2 (its moment about O2 follows the link)"
+    elif drive == "torque":
         if torque is None:
             raise NotApplicable("drive = 'torque' but the case has no input moment")
         res = fb.positions_under_torque(torque)
@@ -471,6 +478,41 @@ def _mechanism(prbm, case, requests, options):
     info.message = info.message or f"PRB four-bar, drive = {drive}"
     info.extras.update({"loop_error": fb.loop_error, "theta_free_deg": [math.degrees(t) for t in fb.theta_free]})
     return values, info
+
+
+def _link2_end_forces(case, fb, theta20: float, origin: complex):
+    """Per level, the dead force (complex) on the node at the end of PRB link 2 (A = O2 + R2 e^{i theta20}
+    in the unloaded pose), or None when the case has no force; a force elsewhere is not modelled."""
+    forces = [ld for ld in case.loads if ld.kind == "force"]
+    if not forces:
+        return None
+    nodes = {nd.name: complex(nd.x, nd.y) for nd in case.mechanism.nodes}
+    A = origin + fb.R2 * cmath.exp(1j * theta20)
+    total = np.zeros(case.n_levels(), complex)
+    for load in forces:
+        if load.follower or abs(nodes.get(load.point, complex(math.inf)) - A) > 1e-3 * fb.R2:
+            raise NotApplicable(f"a force at '{load.point}': the PRB four-bar takes dead forces at the end of "
+                                "PRB link 2 only (the segment tip of a fixed-pinned input segment)")
+        total += np.asarray(load.levels(), float) * complex(*load.direction)
+    return total
+
+
+def _theta2_under_force(fb, force: complex, torque: float, theta20: float, span: float = math.radians(120)) -> float:
+    """Input angle where the spring torque dU/dtheta2 (eq 182) balances a couple plus the moment about O2
+    of a dead force at A = R2 e^{i theta2}: Im(conj(A) F). The first root from theta20 in the direction
+    the load turns link 2 (Brent on a bracketing grid), nan if none within ``span``."""
+    def unbalanced(t):
+        A = fb.R2 * np.exp(1j * np.asarray(t))
+        return fb.input_torque(t) - torque - (np.conj(A) * force).imag
+    start = -float(unbalanced(theta20))
+    if start == 0.0:
+        return theta20
+    grid = theta20 + math.copysign(1.0, start) * np.linspace(0.0, span, 241)
+    r = unbalanced(grid)
+    idx = np.nonzero(np.isfinite(r[:-1]) & np.isfinite(r[1:]) & (np.sign(r[:-1]) != np.sign(r[1:])))[0]
+    if len(idx) == 0:
+        return math.nan
+    return brentq(lambda t: float(unbalanced(t)), grid[idx[0]], grid[idx[0] + 1], xtol=1e-14)
 
 
 def _slider(prbm, case, requests, options, links, values, info):
