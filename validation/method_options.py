@@ -36,6 +36,12 @@ class FemOptions(Options):
     max_steps: Count | None = None
     limit_control: Literal["arclength", "displacement"] = "arclength"
     control_step: Positive | None = None
+    inverse: dict[str, Any] | None = Field(None, description="inverse tip problem; keys checked by "
+                                           "validation.inverse_problem")
+    slfp: dict[str, Any] | None = Field(None, description="sprung joints built as small-length flexural "
+                                        "pivots (validation.slfp)")
+    input_moment_at: str | None = Field(None, description="reach the prescribed displacement by a moment "
+                                        "at this node")
 
 
 class ElasticaOptions(Options):
@@ -48,6 +54,8 @@ class ElasticaOptions(Options):
     b: PerLevel | None = None
     theta0: PerLevel | None = None
     l1: PerLevel | None = None
+    inverse: dict[str, Any] | None = Field(None, description="inverse tip problem; keys checked by "
+                                           "validation.inverse_problem")
 
 
 class BcmOptions(Options):
@@ -59,6 +67,7 @@ class OpenSeesOptions(Options):
     elements: Count = 16
     max_steps: Count | None = None
     steps_per_level: Count | None = None
+    max_halvings: Annotated[int, Field(ge=0)] = Field(12, description="load-step halvings on failure")
     control_step: Positive | None = None
 
 
