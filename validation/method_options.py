@@ -98,6 +98,10 @@ class PrbmOptions(Options):
     ma: dict[str, float | str] | None = None
     max_mode: Count = 2
     segment_model: Literal["inflection", "fixed-pinned", "fixed-free"] | None = None
+    model: Literal["network"] | None = Field(None, description="solve a mechanism by the general network "
+                                             "built from the geometry even where a special path applies")
+    rules: dict[str, Any] | None = Field(None, description="the PRB builder's rules; keys checked by "
+                                         "validation.methods.prbm_network.rules")
     # the seeds' synthesis data (chapters 5-7), kept beside the model for the reader and the synthesis;
     # the forward PRBM does not read them
     input: str | None = None
