@@ -92,7 +92,7 @@ def test_run_and_solve_exit_1_on_tolerance_and_2_on_bad_case(tmp_path, capsys, f
 @pytest.mark.parametrize("option, words", [('elemnts = 8', "methods.fem.elemnts: unknown option of method "
                                             "'fem'; nearest: elements"),
                                            ('elements = "many"', "methods.fem.elements: Input should be a "
-                                            "valid integer (got 'many')")])
+                                            "valid integer")])
 def test_misspelled_or_mistyped_option_exits_2_naming_it(tmp_path, capsys, option, words):
     text = GOOD.replace("[methods.prbm]", f"[methods.fem]\n{option}").replace('compare = "prbm"', 'compare = "fem"')
     path = write(tmp_path, "opt.toml", text)

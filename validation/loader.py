@@ -1,8 +1,8 @@
 """Load case files: TOML -> validated ``Case``, with every error of a file listed, one line each,
 naming the file, the field and what is wrong.
 
-A case is checked completely before any solve: the schema (``validation/schema.py``), the options
-of each method (``validation/method_options.py``) and, for a mechanism, whether it is held against
+A case is checked completely before any solve: the schema (``validation/schema.py``, with the options
+of each method, ``validation/method_options.py``) and, for a mechanism, whether it is held against
 rigid-body motion (``validation/mobility.py``). Case files can live anywhere: ids, files, folders
 and globs are all accepted, and unknown names get the nearest valid ones.
 """
@@ -18,7 +18,7 @@ from pathlib import Path
 
 from pydantic import ValidationError
 
-from validation import method_options, mobility
+from validation import mobility
 from validation.names import nearest
 from validation.schema import Case
 
@@ -69,6 +69,8 @@ def describe_all(exc: ValidationError) -> list[tuple[str, str]]:
     problems = []
     for err in exc.errors():
         field = _field_path(err["loc"])
+        below = (err.get("ctx") or {}).get("field")  # a method option's path below 'methods'
+        field = f"{field}.{below}" if below else field
         for part in err["msg"].removeprefix("Value error, ").split("\n"):
             match = _FIELD_PREFIX.match(part)
             if match and field == "(top level)":
@@ -108,9 +110,9 @@ def read_toml_model(path: Path | str, model, error=None):
 
 
 def check_case(case: Case) -> list[tuple[str, str]]:
-    """(field, problem) of everything wrong with a schema-valid case that would otherwise only show
-    in a solve: the method options, and a mechanism that can move as a rigid body."""
-    return method_options.check(case.methods) + mobility.check(case)
+    """(field, problem) of everything wrong with a schema-valid case (the schema checks the method
+    options) that would otherwise only show in a solve: a mechanism that can move as a rigid body."""
+    return mobility.check(case)
 
 
 def load_case(path: Path | str) -> LoadedCase:
