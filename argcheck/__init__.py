@@ -22,7 +22,9 @@ import numpy as np
 
 
 def _values(value) -> np.ndarray:
-    return np.asarray(value, dtype=float)
+    """The value as a numeric array (complex loads stay complex: finite means both parts finite)."""
+    values = np.asarray(value)
+    return values if np.issubdtype(values.dtype, np.number) else values.astype(float)
 
 
 def checked(positive: tuple[str, ...] = (), finite: tuple[str, ...] = ()):

@@ -121,3 +121,9 @@ def test_elastica_reaction_is_the_clamp_on_the_beam_at_the_root():
     Rx, Ry, M_root = r.reaction
     assert (Rx, Ry) == pytest.approx((-0.3, -1.0), abs=1e-12)
     assert M_root + r.moment + (r.x * 1.0 - r.y * 0.3) == pytest.approx(0.0, abs=1e-9)
+
+
+def test_complex_loads_are_checked_as_numbers():
+    with pytest.raises(ValueError, match="F must be finite"):
+        prbm.slfp_end_tip(complex(math.nan, 1.0), 0.0, flexure_length=0.25, EI=1.0)
+    assert prbm.slfp_end_tip(complex(0.0, 0.0), 0.0, flexure_length=0.25, EI=1.0).converged
