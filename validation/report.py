@@ -48,8 +48,8 @@ td.absent{color:#777;font-size:12px;text-align:left;max-width:14em}
 display:inline-block}.lead{font-size:1.15em;margin:0.4em 0 0.8em}ul.evidence{font-size:12px;color:#444}
 details{margin:0.6em 0}summary{cursor:pointer;font-weight:600}.caption{font-size:12px;color:#444;max-width:60em}
 code{background:#f4f4f4;padding:1px 3px}"""
-SORT_JS = """document.querySelectorAll('table.sortable th').forEach((th,i)=>th.addEventListener('click',()=>{
-const body=th.closest('table').tBodies[0],asc=!th.classList.contains('asc');
+SORT_JS = """document.querySelectorAll('table.sortable th').forEach(th=>th.addEventListener('click',()=>{
+const i=th.cellIndex,body=th.closest('table').tBodies[0],asc=!th.classList.contains('asc');
 th.closest('tr').querySelectorAll('th').forEach(h=>h.classList.remove('asc','desc'));
 th.classList.add(asc?'asc':'desc');
 const key=r=>{const c=r.children[i],v=c.dataset.value!==undefined?c.dataset.value:c.innerText;
