@@ -189,6 +189,7 @@ def render_series(pvd_files: list[Path], png: Path, title: str = "") -> Path | N
         import pyvista as pv
     except ImportError:
         return None
+    pv.vtk_verbosity("error")  # no "bad X server connection" warning on a headless machine
     colours = {"fem": "steelblue", "prbm": "darkorange", "elastica": "seagreen"}
     plotter = pv.Plotter(off_screen=True, window_size=(640, 420))
     plotter.set_background("white")
@@ -198,7 +199,7 @@ def render_series(pvd_files: list[Path], png: Path, title: str = "") -> Path | N
         reader.set_active_time_point(len(reader.time_values) - 1)
         mesh = reader.read()[0]
         if method == "fem" and "bending_moment" in mesh.point_data:
-            plotter.add_mesh(mesh, scalars="bending_moment", line_width=6, cmap="viridis",
+            plotter.add_mesh(mesh, scalars="bending_moment", line_width=6, cmap="viridis", label="FEM",
                              scalar_bar_args={"title": "FEM bending moment", "color": "black"})
             undeformed = pvd.with_name("fem_undeformed.vtu")
             if undeformed.exists():

@@ -159,7 +159,7 @@ def _row_html(row: CaseSummary, link: str) -> str:
                        f"{METHOD_NAMES.get(m, m)}</span>" for m, b, w in row.methods)
     length_pct = 100 * row.prbm_fem_length
     if math.isnan(length_pct):
-        why = row.no_prbm_fem or "not compared (the case does not run both PRBM and FEM on a length)"
+        why = row.no_prbm_fem or _why_not_compared(row)
         error_cell = f"<td class='absent' title='{html.escape(why, quote=True)}'>{html.escape(_short(why, 60))}</td>"
     else:
         error_cell = (f"<td data-value='{length_pct:.6g}' style='background:{error_colour(length_pct)}'>"
@@ -176,6 +176,18 @@ def _row_html(row: CaseSummary, link: str) -> str:
     cells += [f"<td data-value='{_raw(row.times.get(m, math.nan))}'>{seconds(row.times.get(m, math.nan))}</td>"
               for m in ("prbm", "fem", "elastica")]
     return "<tr>" + "".join(cells) + "</tr>"
+
+
+def _why_not_compared(row: CaseSummary) -> str:
+    """Why a case has no PRBM-vs-FEM number, in a few words."""
+    state = {m: b for m, b, _ in row.methods}
+    missing = [METHOD_NAMES[m] for m in ("prbm", "fem") if m not in state]
+    if missing:
+        return f"no {' or '.join(missing)} in this case"
+    refused = [METHOD_NAMES[m] for m in ("prbm", "fem") if state[m] is not Badge.AGREES]
+    if refused:
+        return f"{' and '.join(refused)} gave no answer"
+    return "no position that both give"
 
 
 def _raw(value: float) -> str:
@@ -218,7 +230,7 @@ class Finding:
 def findings(results: list[CaseResult], table: pd.DataFrame) -> list[Finding]:
     """Case-level findings and reference findings, each once, with the printed and computed numbers."""
     out = []
-    for result in results:
+    for result in sorted(results, key=lambda r: (group_order(r.loaded.case.case.group), r.loaded.id)):
         cid = result.loaded.id
         out += [Finding(cid, text, []) for text in result.loaded.case.case.findings]
         part = table[(table["case"] == cid) & table["finding"].notna()]
