@@ -107,16 +107,25 @@ class FemFields:
                    [result.nodal_fields(k) for k in range(result.n_levels)])
 
 
-def _polylines(level_shapes) -> list[np.ndarray]:
-    entry = level_shapes
-    lines = [entry] if isinstance(entry, np.ndarray) else list(entry)
+def normalise_shapes(shapes) -> list[list[np.ndarray]]:
+    """Shapes as a list (per level) of lists of (n, 2) polylines.
+
+    Adapters may give a dict {level: ...} or a list per level, and per level one array or a list of
+    arrays, each (n, 2)/(n, >2) point rows or (2|3, n) coordinate rows (x, y[, theta])."""
+    if isinstance(shapes, dict):
+        shapes = [shapes[k] for k in sorted(shapes)]
     out = []
-    for line in lines:
-        line = np.asarray(line, float)
-        if line.ndim == 2 and line.shape[0] in (2, 3) and line.shape[1] > 3:
-            line = line[:2].T
-        if line.ndim == 2 and len(line) >= 2:
-            out.append(line[:, :2])
+    for entry in shapes:
+        lines = [entry] if isinstance(entry, np.ndarray) else list(entry)
+        fixed = []
+        for line in lines:
+            line = np.asarray(line, float)
+            if line.ndim != 2:
+                continue
+            if line.shape[0] in (2, 3) and line.shape[1] > 3:
+                line = line[:2].T
+            fixed.append(line[:, :2])
+        out.append(fixed)
     return out
 
 
@@ -124,11 +133,10 @@ def prbm_series(case: Case, shapes) -> ShapeSeries | None:
     """The PRB links of every level as line cells, every link end and pivot as a vertex."""
     if not shapes:
         return None
-    per_level = [shapes[k] for k in sorted(shapes)] if isinstance(shapes, dict) else list(shapes)
     frames = []
-    for entry in per_level:
+    for polylines in normalise_shapes(shapes):
         points, lines = [], []
-        for line in _polylines(entry):
+        for line in (line for line in polylines if len(line) >= 2):
             start = len(points)
             points.extend(line.tolist())
             lines.extend([start + j, start + j + 1] for j in range(len(line) - 1))

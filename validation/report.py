@@ -1,10 +1,12 @@
 """Build the report an engineer reads: a summary page, a page per case, findings, reproducibility.
 
 ``prbm-validate report`` runs (or reuses the cached results of) every case and writes, under the
-output folder: ``index.html`` and ``index.md`` (summary grouped by group, findings, machine and
-versions), ``cases/<id>.html`` and ``.md`` (every output at every level for every method beside the
-printed values, with errors, and plots), ``results.csv`` (and ``results.parquet``), and the FEM's
-deformed configurations as VTU files for ParaView under ``vtu/<id>/``.
+output folder: ``index.html`` and ``index.md`` (a headline, the picture of the whole validation from
+``report_overview``, the per-chapter summary and the findings with their evidence from
+``report_summary``, machine and versions), ``cases/<id>.html`` and ``.md`` (the one-sentence result,
+plots, findings, then every output at every level for every method beside the printed values, folded),
+``results.csv`` (and ``results.parquet``), ``summary.csv``, and the ParaView series of every method
+under ``vtu/<id>/`` (``paraview``), rendered off-screen for the case page.
 """
 from __future__ import annotations
 
@@ -23,6 +25,7 @@ import numpy as np
 import pandas as pd
 
 from validation import paraview
+from validation.paraview import normalise_shapes  # noqa: F401  (also used by tests)
 from validation.loader import find_case_files
 from validation.report_format import run_badge, sig
 from validation.report_overview import CLAIMS, overview_points, plot_overview
@@ -169,28 +172,6 @@ def _plot_outputs(result: CaseResult, table: pd.DataFrame, folder: Path) -> list
     fig.savefig(folder / name, dpi=80)
     plt.close(fig)
     return [name]
-
-
-def normalise_shapes(shapes) -> list[list[np.ndarray]]:
-    """Shapes as a list (per level) of lists of (n, 2) polylines.
-
-    Adapters may give a dict {level: ...} or a list per level, and per level one array or a list of
-    arrays, each (n, 2)/(n, >2) point rows or (2|3, n) coordinate rows (x, y[, theta])."""
-    if isinstance(shapes, dict):
-        shapes = [shapes[k] for k in sorted(shapes)]
-    out = []
-    for entry in shapes:
-        lines = [entry] if isinstance(entry, np.ndarray) else list(entry)
-        fixed = []
-        for line in lines:
-            line = np.asarray(line, float)
-            if line.ndim != 2:
-                continue
-            if line.shape[0] in (2, 3) and line.shape[1] > 3:
-                line = line[:2].T
-            fixed.append(line[:, :2])
-        out.append(fixed)
-    return out
 
 
 def _plot_shapes(result: CaseResult, folder: Path) -> str | None:
