@@ -187,7 +187,9 @@ def _why_not_compared(row: CaseSummary) -> str:
     refused = [METHOD_NAMES[m] for m in ("prbm", "fem") if state[m] is not Badge.AGREES]
     if refused:
         return f"{' and '.join(refused)} gave no answer"
-    return "no position that both give"
+    if not math.isnan(row.prbm_fem_relative):
+        return "no position that both give; other outputs: see the relative error"
+    return "no output that both give"
 
 
 def _raw(value: float) -> str:
