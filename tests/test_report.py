@@ -174,3 +174,10 @@ def test_report_in_a_real_browser(built_report):
             assert len(values) == 2 and values[0] != values[1] and values == order(values)
     finally:
         browser.quit()
+
+
+def test_messages_in_the_summary_keep_four_significant_digits():
+    from validation.report_summary import round_numbers
+
+    text = "no convergence between t = 0.209595 and 0.3 at theta20 = 15.86, EI 1.0172526e-5, r1..r4"
+    assert round_numbers(text) == "no convergence between t = 0.2096 and 0.3 at theta20 = 15.86, EI 1.017e-05, r1..r4"

@@ -100,12 +100,21 @@ def case_sentence(result: CaseResult, part: pd.DataFrame) -> str:
         clauses.append(f"{len(findings) + len(result.loaded.case.case.findings)} finding(s) below")
     if not clauses:
         return "Every method ran; no printed number to compare with."
-    sentence = "; ".join(clauses)
+    sentence = round_numbers("; ".join(clauses))
     return sentence[0].upper() + sentence[1:] + "."
 
 
+DECIMAL = re.compile(r"(?<![\w.])-?\d+\.\d+(?:[eE][+-]?\d+)?(?![\w.])")
+
+
+def round_numbers(text: str, digits: int = 4) -> str:
+    """Every decimal number in a message to at most ``digits`` significant digits."""
+    return DECIMAL.sub(lambda m: f"{float(m.group()):.{digits}g}", text)
+
+
 def _short(text: str, limit: int = 140) -> str:
-    text = re.sub(r"\s+", " ", text).strip()
+    """A message for a table cell: one line, numbers to four significant digits, at most ``limit`` long."""
+    text = round_numbers(re.sub(r"\s+", " ", text).strip())
     return text if len(text) <= limit else text[:limit - 1].rstrip() + "…"
 
 
