@@ -422,7 +422,8 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     info = reproducibility()
     body = ["<h1>PRBM validation report</h1>", f"<p class='lead'>{html.escape(headline(rows))}</p>",
             "<p><img id='overview' src='overview.png' alt='PRBM error against deflection, every case and load "
-            "level'></p>", f"<p class='caption'>{html.escape(OVERVIEW_CAPTION)}</p>",
+            "level'></p>", f"<p class='caption'>{html.escape(OVERVIEW_CAPTION)} <a href='overview.svg'>The same "
+            "picture as SVG</a>: click a dot to open its case.</p>",
             "<h2>Cases</h2><p class='caption'>Click a header to sort. Colour: PRBM error from green (at most "
             "0.5 % of L) to red (10 % of L or more). Hover a status or a method for the reason.</p>",
             summary_tables_html(rows, links),

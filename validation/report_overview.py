@@ -102,7 +102,8 @@ def overview_points(results: list[CaseResult], table: pd.DataFrame) -> list[Over
 
 
 def plot_overview(points: list[OverviewPoint], png: Path) -> Path:
-    """The picture (PNG); an empty validation still gets axes and the claims."""
+    """The picture as PNG, and as SVG whose dots link to their case pages; an empty validation still
+    gets axes and the claims."""
     points = [p for p in points if p.deflection > 1e-9]  # an unloaded level says nothing
     fig, ax = plt.subplots(figsize=(12.0, 4.4))
     fig.subplots_adjust(left=0.06, right=0.56, bottom=0.12, top=0.93)
@@ -110,9 +111,10 @@ def plot_overview(points: list[OverviewPoint], png: Path) -> Path:
     colours = plt.get_cmap("tab10")
     for k, model in enumerate(models):
         mine = [p for p in points if p.model == model]
-        ax.scatter([p.deflection for p in mine], [max(p.error_percent, FLOOR_PERCENT) for p in mine], s=22,
-                   color=colours(k % 10), edgecolor="k", linewidth=0.3,
-                   label=f"{model} ({len({p.case for p in mine})} case(s))")
+        dots = ax.scatter([p.deflection for p in mine], [max(p.error_percent, FLOOR_PERCENT) for p in mine],
+                          s=22, color=colours(k % 10), edgecolor="k", linewidth=0.3,
+                          label=f"{model} ({len({p.case for p in mine})} case(s))")
+        dots.set_urls([f"cases/{p.case}.html" for p in mine])  # the SVG's dots open their case page
     x_max = max([p.deflection for p in points] + [1.2]) * 1.05
     for k, claim in enumerate(CLAIMS):
         style = dict(color="0.2", lw=1.2, ls=("--", ":", "-.")[k % 3], label=claim.label)
@@ -131,5 +133,6 @@ def plot_overview(points: list[OverviewPoint], png: Path) -> Path:
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), frameon=False)
     fig.savefig(png, dpi=90)
+    fig.savefig(png.with_suffix(".svg"))
     plt.close(fig)
     return png
