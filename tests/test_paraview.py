@@ -117,3 +117,22 @@ def test_test2_file_holds_the_prbm_links(tmp_path):
     # the four-bar O2-A-B-O4 (3 links) and the coupler triangle A-P-B (2 segments)
     assert len(mesh.cells_dict["line"]) == 5
     assert not math.isnan(mesh.points.sum())
+
+
+def test_all_methods_collection_has_one_part_per_method(cantilever_files):
+    result, files = cantilever_files
+    root = ET.parse(files[0].parent / "all_methods.pvd").getroot()
+    parts = {}
+    for entry in root.iter("DataSet"):
+        parts.setdefault(entry.get("part"), []).append(entry.get("file"))
+    assert sorted(len(v) for v in parts.values()) == [10, 10, 10]
+    assert {f.split("_")[0] for files_ in parts.values() for f in files_} == {"fem", "prbm", "elastica"}
+    assert all((files[0].parent / f).exists() for files_ in parts.values() for f in files_)
+
+
+def test_a_method_that_drew_some_levels_keeps_their_load_as_time(cantilever_files):
+    result, _ = cantilever_files
+    shapes = result.runs["elastica"].extras["shapes"]
+    some = {9: shapes[9], 2: shapes[2]}
+    series = paraview.elastica_series(result.loaded.case, some)
+    assert series.times == [3.0, 10.0]  # levels 2 and 9 of P L^2/EI = 1..10

@@ -9,10 +9,11 @@ For each method that gave deformed shapes, ``write_case_series`` writes under ``
 - ``prbm.pvd``: the pseudo-rigid-body links (line cells) and their pivots and link ends (vertex
   cells), point data ``pivot`` (1 at a pivot or link end);
 - ``elastica.pvd``: the exact centreline with its rotation (degrees), curvature d(theta)/ds,
-  bending moment EI kappa and displacement from the undeformed (straight or circular) segment.
+  bending moment EI kappa and displacement from the undeformed (straight or circular) segment;
+- ``all_methods.pvd``: the same files, one part per method, where more than one method drew a shape.
 
 Time is the case's first load at each level (its unit in the case's unit system), or the level index
-when the case has no load.  Units are the case file's; rotations in degrees as everywhere in the
+when the case has no load; a FEM continuation (limit load) is timed by its load factor.  Units are the case file's; rotations in degrees as everywhere in the
 harness.  ``render_series`` draws the last level of every series off-screen with pyvista.
 """
 from __future__ import annotations
@@ -55,14 +56,17 @@ def _mesh(frame: ShapeFrame) -> meshio.Mesh:
 def write_pvd(series: ShapeSeries, folder: Path) -> Path:
     """``<method>.pvd`` with ``<method>_<k>.vtu`` per level (and ``<method>_undeformed.vtu``)."""
     folder.mkdir(parents=True, exist_ok=True)
-    entries = []
-    for k, (time, frame) in enumerate(zip(series.times, series.frames)):
-        name = f"{series.method}_{k:04d}.vtu"
-        meshio.write(folder / name, _mesh(frame))
-        entries.append(f'    <DataSet timestep="{time:.12g}" part="0" file="{name}"/>')
+    for k, frame in enumerate(series.frames):
+        meshio.write(folder / f"{series.method}_{k:04d}.vtu", _mesh(frame))
     if series.undeformed is not None:
         meshio.write(folder / f"{series.method}_undeformed.vtu", _mesh(series.undeformed))
-    target = folder / f"{series.method}.pvd"
+    return _collection(folder / f"{series.method}.pvd", [series])
+
+
+def _collection(target: Path, parts: list[ShapeSeries]) -> Path:
+    """A ParaView collection: each series is one part, each of its frames one time step."""
+    entries = [f'    <DataSet timestep="{time:.12g}" part="{part}" file="{series.method}_{k:04d}.vtu"/>'
+               for part, series in enumerate(parts) for k, time in enumerate(series.times)]
     target.write_text('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
                       "  <Collection>\n" + "\n".join(entries) + "\n  </Collection>\n</VTKFile>\n")
     return target
@@ -75,9 +79,15 @@ def level_times(case: Case) -> list[float]:
     return [float(k) for k in range(case.n_levels())]
 
 
-def _times(case: Case, count: int) -> list[float]:
+def _times(case: Case, levels: list[int]) -> list[float]:
+    """The time values of the given levels (the level index where the case's levels do not reach)."""
     times = level_times(case)
-    return times if len(times) == count else [float(k) for k in range(count)]
+    return [times[k] if k < len(times) else float(k) for k in levels]
+
+
+def _levels(shapes) -> list[int]:
+    """The load levels of an adapter's shapes: a dict's keys, or every level of a list."""
+    return sorted(shapes) if isinstance(shapes, dict) else list(range(len(shapes)))
 
 
 def fem_series(case: Case, fields) -> ShapeSeries | None:
@@ -90,7 +100,11 @@ def fem_series(case: Case, fields) -> ShapeSeries | None:
         data["rotation"] = np.degrees(data["rotation"])
         frames.append(ShapeFrame(positions, fields.connectivity, point_data=data))
     undeformed = ShapeFrame(fields.reference, fields.connectivity)
-    return ShapeSeries("fem", _times(case, len(frames)), frames, undeformed)
+    if len(frames) == case.n_levels():
+        times = _times(case, list(range(len(frames))))
+    else:  # a continuation (limit load): its own steps, timed by the load factor
+        times = [float(t) for t in fields.load_factor]
+    return ShapeSeries("fem", times, frames, undeformed)
 
 
 @dataclass
@@ -100,11 +114,12 @@ class FemFields:
     connectivity: np.ndarray     # (m, 2)
     positions: np.ndarray        # (levels, n, 2)
     nodal: list                  # fem.result.NodalFields per level
+    load_factor: np.ndarray      # (levels,) the solver's load factor (or level) of each
 
     @classmethod
     def of(cls, result) -> "FemFields":
         return cls(result.extra["X"].copy(), result.connectivity.copy(), result.mesh_positions.copy(),
-                   [result.nodal_fields(k) for k in range(result.n_levels)])
+                   [result.nodal_fields(k) for k in range(result.n_levels)], np.asarray(result.load_factor, float))
 
 
 def normalise_shapes(shapes) -> list[list[np.ndarray]]:
@@ -145,14 +160,14 @@ def prbm_series(case: Case, shapes) -> ShapeSeries | None:
         points = np.asarray(points)
         frames.append(ShapeFrame(points, np.asarray(lines), np.arange(len(points)),
                                  {"pivot": np.ones(len(points))}))
-    return ShapeSeries("prbm", _times(case, len(frames)), frames)
+    return ShapeSeries("prbm", _times(case, _levels(shapes)), frames)
 
 
 def elastica_series(case: Case, shapes) -> ShapeSeries | None:
     """The exact centreline (x, y, theta rows of the elastica adapter) with its point data."""
     if not shapes or case.segment is None:
         return None
-    per_level = [shapes[k] for k in sorted(shapes)] if isinstance(shapes, dict) else list(shapes)
+    per_level = [shapes[k] for k in _levels(shapes)]
     _, EI = case.segment.section.stiffness(case.segment.E)
     kappa0 = case.segment.initial_curvature()
     frames = []
@@ -173,7 +188,7 @@ def elastica_series(case: Case, shapes) -> ShapeSeries | None:
                                  point_data={"displacement": np.column_stack([displacement, np.zeros(len(x))]),
                                              "rotation": np.degrees(theta), "curvature": curvature,
                                              "bending_moment": EI * (curvature - kappa0)}))
-    return ShapeSeries("elastica", _times(case, len(frames)), frames)
+    return ShapeSeries("elastica", _times(case, _levels(shapes)), frames)
 
 
 def write_case_series(case: Case, runs: dict, folder: Path) -> list[Path]:
@@ -181,12 +196,15 @@ def write_case_series(case: Case, runs: dict, folder: Path) -> list[Path]:
     builders = {"fem": lambda run: fem_series(case, run.extras.get("fields")),
                 "prbm": lambda run: prbm_series(case, run.extras.get("shapes")),
                 "elastica": lambda run: elastica_series(case, run.extras.get("shapes"))}
-    written = []
+    written, parts = [], []
     for method, build in builders.items():
         run = runs.get(method)
         series = build(run) if run is not None else None
         if series is not None and series.frames:
             written.append(write_pvd(series, folder))
+            parts.append(series)
+    if len(parts) > 1:  # every method in one file, one part each, to scrub through the load together
+        _collection(folder / "all_methods.pvd", parts)
     return written
 
 
