@@ -16,7 +16,7 @@ import numpy as np
 
 from .corotational import strain_energy
 
-__all__ = ["FemResult", "NodalFields"]
+__all__ = ["FemResult", "NodalFields", "FieldSeries"]
 
 
 @dataclass
@@ -119,6 +119,12 @@ class FemResult:
                            curvature=at_nodes(-M[:, 0] / EI, M[:, 1] / EI),
                            axial_force=at_nodes(N, N), bending_stress=stress)
 
+    def field_series(self) -> "FieldSeries":
+        """Every level's element-node positions and ``nodal_fields``: plain data, without the solver."""
+        return FieldSeries(self.extra["X"].copy(), self.connectivity.copy(), self.mesh_positions.copy(),
+                           [self.nodal_fields(k) for k in range(self.n_levels)],
+                           np.asarray(self.load_factor, float))
+
     def to_vtu(self, prefix: str) -> list:
         """Write one VTU file per level (deformed mesh, line cells, the point data of
         ``nodal_fields``), ``prefix_undeformed.vtu`` and a ParaView collection ``prefix.pvd``
@@ -165,6 +171,16 @@ class NodalFields:
         if self.bending_stress is not None:
             data["bending_stress"] = self.bending_stress
         return data
+
+
+@dataclass
+class FieldSeries:
+    """The deformed mesh and its point data at every recorded level (what a ParaView series needs)."""
+    reference: np.ndarray        # (n, 2) undeformed element nodes
+    connectivity: np.ndarray     # (m, 2)
+    positions: np.ndarray        # (levels, n, 2)
+    nodal: list                  # NodalFields per level
+    load_factor: np.ndarray      # (levels,) the load factor (or level) of each
 
 
 def _transfer_slave_forces(d, R, u):

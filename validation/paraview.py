@@ -91,7 +91,7 @@ def _levels(shapes) -> list[int]:
 
 
 def fem_series(case: Case, fields) -> ShapeSeries | None:
-    """From the FEM adapter's ``extras['fields']`` (a ``FemFields``)."""
+    """From the FEM adapter's ``extras['fields']`` (a ``fem.result.FieldSeries``)."""
     if fields is None or not len(fields.nodal):
         return None
     frames = []
@@ -105,21 +105,6 @@ def fem_series(case: Case, fields) -> ShapeSeries | None:
     else:  # a continuation (limit load): its own steps, timed by the load factor
         times = [float(t) for t in fields.load_factor]
     return ShapeSeries("fem", times, frames, undeformed)
-
-
-@dataclass
-class FemFields:
-    """What the report needs of a FEM solve to write its series (kept in the cached run)."""
-    reference: np.ndarray        # (n, 2) undeformed element nodes
-    connectivity: np.ndarray     # (m, 2)
-    positions: np.ndarray        # (levels, n, 2)
-    nodal: list                  # fem.result.NodalFields per level
-    load_factor: np.ndarray      # (levels,) the solver's load factor (or level) of each
-
-    @classmethod
-    def of(cls, result) -> "FemFields":
-        return cls(result.extra["X"].copy(), result.connectivity.copy(), result.mesh_positions.copy(),
-                   [result.nodal_fields(k) for k in range(result.n_levels)], np.asarray(result.load_factor, float))
 
 
 def normalise_shapes(shapes) -> list[list[np.ndarray]]:

@@ -21,7 +21,6 @@ import time
 import numpy as np
 
 from validation.methods.base import MethodRun, NotApplicable, Request
-from validation.paraview import FemFields
 
 ROTATION_DOF = "rz"
 
@@ -379,7 +378,7 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
     extras = {"iterations": iterations, "elements": elements}
     if result is not None and result.n_levels:
         extras["shapes"] = _shapes(result)
-        extras["fields"] = FemFields.of(result)  # point data for the ParaView series
+        extras["fields"] = result.field_series()  # point data for the ParaView series
         path = _continuation_path(case, result)
         if path:
             extras["path"] = path
