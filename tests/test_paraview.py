@@ -136,3 +136,14 @@ def test_a_method_that_drew_some_levels_keeps_their_load_as_time(cantilever_file
     some = {9: shapes[9], 2: shapes[2]}
     series = paraview.elastica_series(result.loaded.case, some)
     assert series.times == [3.0, 10.0]  # levels 2 and 9 of P L^2/EI = 1..10
+
+
+def test_fem_library_export_writes_the_series(tip_loaded_cantilever, tmp_path):
+    result, _ = tip_loaded_cantilever
+    paths = result.to_vtu(str(tmp_path / "beam"))
+    assert _times(tmp_path / "beam.pvd") == pytest.approx(list(result.load_factor))
+    last = meshio.read(paths[-1])
+    assert set(last.point_data) == {"displacement", "rotation", "curvature", "bending_moment", "axial_force",
+                                    "bending_stress"}  # a rectangle knows E and c: stress too
+    np.testing.assert_allclose(last.point_data["bending_moment"], result.nodal_fields(1).bending_moment)
+    assert len(meshio.read(tmp_path / "beam_undeformed.vtu").points) == len(last.points)

@@ -74,8 +74,9 @@ def case_sentence(result: CaseResult, part: pd.DataFrame) -> str:
     by_level = prbm_fem_by_level(part).dropna()
     clauses = []
     if len(by_level):
-        last = int(by_level.index.max())
-        clauses.append(f"PRBM within {percent(by_level.max())} of L of the FEM up to {level_phrase(result, last)}")
+        last, worst = int(by_level.index.max()), int(by_level.idxmax())
+        clauses.append(f"PRBM within {percent(by_level.max())} of L of the FEM up to {level_phrase(result, last)}"
+                       + (f" (largest at {level_phrase(result, worst)})" if worst != last else ""))
         prbm_rows = part[(part["method"] == "prbm") & part["level"].notna()]
         missing = prbm_rows[prbm_rows["value"].isna()]
         if len(missing):
