@@ -181,6 +181,8 @@ def write_case_series(case: Case, runs: dict, folder: Path) -> list[Path]:
     builders = {"fem": lambda run: fem_series(case, run.extras.get("fields")),
                 "prbm": lambda run: prbm_series(case, run.extras.get("shapes")),
                 "elastica": lambda run: elastica_series(case, run.extras.get("shapes"))}
+    for stale in [*folder.glob("*.vtu"), *folder.glob("*.pvd")]:  # a level or method that is gone
+        stale.unlink()
     written, parts = [], []
     for method, build in builders.items():
         run = runs.get(method)
