@@ -389,7 +389,8 @@ def headline(rows) -> str:
     counts = {}
     for r in rows:
         counts[r.badge.value] = counts.get(r.badge.value, 0) + 1
-    states = ", ".join(f"{n} {state}" for state, n in counts.items())
+    words = {"agrees": "agree", "finding": "with findings", "refused": "with a method refused", "failed": "failed"}
+    states = ", ".join(f"{n} {words[state]}" for state, n in counts.items())
     if not compared:
         return f"{len(rows)} cases ({states}); none compares the PRBM with the FEM on a position."
     worst = max(compared, key=lambda r: r.prbm_fem_length)
