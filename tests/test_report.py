@@ -7,8 +7,13 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from validation.report import build_report
-from validation.runner import summary
+from validation.loader import case_by_id
+from validation.methods.base import MethodRun
+from validation.report import build_report, glance
+from validation.report_format import Badge, run_badge
+from validation.report_overview import overview_points
+from validation.report_summary import round_numbers
+from validation.runner import run_case, summary, tabulate
 
 REPORT_CASES = ["cantilever_tip_load", "follower_tip_load", "bapat2015_test2"]
 
@@ -42,10 +47,6 @@ def test_report_links_resolve_and_tables_match(built_report):
 
 
 def test_glance_differences_are_the_differences_of_the_values():
-    from validation.loader import case_by_id
-    from validation.report import glance
-    from validation.runner import run_case, tabulate
-
     table = tabulate(run_case(case_by_id("cantilever_tip_load"), use_cache=False))
     view = glance(table)
     assert len(view) == 30  # x, y, rotation at 10 levels
@@ -53,10 +54,6 @@ def test_glance_differences_are_the_differences_of_the_values():
     assert ((view["FEM - exact"] - (view["fem"] - view["elastica"])).abs() < 1e-12).all()
     row = view[(view["quantity"] == "y") & (view["load"] == "9")].iloc[0]
     assert row["printed exact"] == 0.810609  # the reference from the case file, beside the methods
-
-
-def _section(text: str, start: str, end: str) -> str:
-    return text[text.index(start):text.index(end)]
 
 
 def test_summary_reads_in_words_and_short_numbers(built_report):
@@ -91,10 +88,6 @@ def test_summary_numbers_and_sentence_say_what_the_results_say(built_report):
 
 
 def test_overview_axes_are_the_fem_deflection_and_the_prbm_error():
-    from validation.loader import case_by_id
-    from validation.report_overview import overview_points
-    from validation.runner import run_case, tabulate
-
     result = run_case(case_by_id("cantilever_tip_load"), use_cache=False)
     table = tabulate(result)
     points = {p.level: p for p in overview_points([result], table)}
@@ -109,9 +102,6 @@ def test_overview_axes_are_the_fem_deflection_and_the_prbm_error():
 
 
 def test_run_badge_reads_the_state_of_a_run():
-    from validation.methods.base import MethodRun
-    from validation.report_format import Badge, run_badge
-
     assert run_badge(MethodRun(values={}))[0] is Badge.AGREES
     refused = MethodRun(values={}, converged=False, message="not applicable: no PRBM for a closed ring",
                         extras={"not_applicable": True})
@@ -177,7 +167,5 @@ def test_report_in_a_real_browser(built_report):
 
 
 def test_messages_in_the_summary_keep_four_significant_digits():
-    from validation.report_summary import round_numbers
-
     text = "no convergence between t = 0.209595 and 0.3 at theta20 = 15.86, EI 1.0172526e-5, r1..r4"
     assert round_numbers(text) == "no convergence between t = 0.2096 and 0.3 at theta20 = 15.86, EI 1.017e-05, r1..r4"

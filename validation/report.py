@@ -18,9 +18,11 @@ import platform
 import subprocess
 import sys
 import time
+from concurrent.futures import ProcessPoolExecutor
 from importlib import metadata
 from pathlib import Path
 
+import matplotlib
 import numpy as np
 import pandas as pd
 
@@ -32,6 +34,9 @@ from validation.report_overview import CLAIMS, overview_points, plot_overview
 from validation.report_summary import (METHOD_NAMES, case_sentence, findings, findings_html, summarise,
                                        summary_markdown, summary_tables_html)
 from validation.runner import CaseResult, run_cases, summary
+
+matplotlib.use("Agg")  # files only, no display
+import matplotlib.pyplot as plt  # noqa: E402
 
 DEPENDENCIES = ["numpy", "scipy", "scikit-fem", "meshio", "pyvista", "pandas", "matplotlib", "pydantic",
                 "tqdm", "openseespy", "pyarrow"]
@@ -136,11 +141,6 @@ def _level_axis(result: CaseResult) -> tuple[np.ndarray, str]:
 def _plot_outputs(result: CaseResult, table: pd.DataFrame, folder: Path) -> list[str]:
     """One figure per case: a panel per output (value against load level), every method as a line,
     every printed column as markers."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     axis, label = _level_axis(result)
     outputs = list(table.dropna(subset=["quantity"]).groupby(["quantity", "point"], sort=False))
     if not outputs:
@@ -179,11 +179,6 @@ def _plot_shapes(result: CaseResult, folder: Path) -> str | None:
     shapes = {m: normalise_shapes(r.extras["shapes"]) for m, r in result.runs.items() if r.extras.get("shapes")}
     if not shapes:
         return None
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     fig, ax = plt.subplots(figsize=(6, 5))
     for method, per_level in shapes.items():
         color, style = METHOD_STYLE.get(method, ("k", "-"))
@@ -218,11 +213,6 @@ def _plot_path(result: CaseResult, folder: Path) -> str | None:
     path = run.extras.get("path") if run else None
     if not path:
         return None
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.plot(path["displacement"], path["load"], "-", color="C0", label="FEM path")
     for k, (d, p) in enumerate(path.get("limit_points", [])):
@@ -368,8 +358,6 @@ def _page_job(args) -> tuple[str, str]:
 def _build_pages(results: list[CaseResult], table: pd.DataFrame, out: Path, jobs: int):
     tasks = [(r, table[table["case"] == r.loaded.id], out) for r in results]
     if jobs > 1 and len(tasks) > 1:
-        from concurrent.futures import ProcessPoolExecutor
-
         with ProcessPoolExecutor(max_workers=jobs) as pool:
             return list(pool.map(_page_job, tasks, chunksize=4))
     return [_page_job(t) for t in tasks]
