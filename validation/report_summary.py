@@ -22,6 +22,14 @@ from validation.runner import CaseResult, fem_error_relative, prbm_fem_errors
 METHOD_NAMES = {"fem": "FEM", "prbm": "PRBM", "elastica": "exact elastica", "bcm": "BCM", "opensees": "OpenSees"}
 
 
+@dataclass(frozen=True)
+class MethodState:
+    """One method's badge in one case, with the reason when it is not 'agrees'."""
+    method: str
+    badge: Badge
+    reason: str
+
+
 @dataclass
 class CaseSummary:
     """One summary row."""
@@ -30,7 +38,7 @@ class CaseSummary:
     title: str
     badge: Badge
     reason: str
-    methods: list[tuple[str, Badge, str]]
+    methods: list[MethodState]
     sentence: str
     prbm_fem_length: float        # fraction of the characteristic length
     prbm_fem_relative: float
@@ -121,20 +129,20 @@ def _short(text: str, limit: int = 140) -> str:
 
 def summarise(result: CaseResult, part: pd.DataFrame) -> CaseSummary:
     case = result.loaded.case
-    methods = [(m, *run_badge(r)) for m, r in result.runs.items()]
+    methods = [MethodState(m, *run_badge(r)) for m, r in result.runs.items()]
     claimed = part[part["within_tolerance"].notna()]
     outside = claimed[(claimed["within_tolerance"] == False) & claimed["finding"].isna()]  # noqa: E712
     findings = part["finding"].dropna().unique()
     n_findings = len(findings) + len(case.case.findings)
-    if len(outside) or any(b is Badge.FAILED for _, b, _ in methods):
+    if len(outside) or any(s.badge is Badge.FAILED for s in methods):
         badge = Badge.FAILED
-        reason = "; ".join(f"{m}: {_short(w)}" for m, b, w in methods if b is Badge.FAILED) or \
+        reason = "; ".join(f"{s.method}: {_short(s.reason)}" for s in methods if s.badge is Badge.FAILED) or \
             f"{len(outside)} comparison(s) outside the stated tolerance"
     elif n_findings:
         badge, reason = Badge.FINDING, f"{n_findings} finding(s)"
-    elif any(b is Badge.REFUSED for _, b, _ in methods):
+    elif any(s.badge is Badge.REFUSED for s in methods):
         badge = Badge.REFUSED
-        reason = "; ".join(f"{m}: {_short(w)}" for m, b, w in methods if b is Badge.REFUSED)
+        reason = "; ".join(f"{s.method}: {_short(s.reason)}" for s in methods if s.badge is Badge.REFUSED)
     else:
         badge, reason = Badge.AGREES, ""
     if len(part):
@@ -164,9 +172,9 @@ HEADERS = ["Case", "Status", "Methods", "Result", "PRBM vs FEM, max % of L", "PR
 
 
 def _row_html(row: CaseSummary, link: str) -> str:
-    methods = " ".join(f"<span class='method' style='border-color:{b.colour}' title='"
-                       f"{html.escape(b.value + (': ' + w if w else ''), quote=True)}'>"
-                       f"{METHOD_NAMES.get(m, m)}</span>" for m, b, w in row.methods)
+    methods = " ".join(f"<span class='method' style='border-color:{s.badge.colour}' title='"
+                       f"{html.escape(s.badge.value + (': ' + s.reason if s.reason else ''), quote=True)}'>"
+                       f"{METHOD_NAMES.get(s.method, s.method)}</span>" for s in row.methods)
     length_pct = 100 * row.prbm_fem_length
     if math.isnan(length_pct):
         why = row.no_prbm_fem or _why_not_compared(row)
@@ -190,7 +198,7 @@ def _row_html(row: CaseSummary, link: str) -> str:
 
 def _why_not_compared(row: CaseSummary) -> str:
     """Why a case has no PRBM-vs-FEM number, in a few words."""
-    state = {m: b for m, b, _ in row.methods}
+    state = {s.method: s.badge for s in row.methods}
     missing = [METHOD_NAMES[m] for m in ("prbm", "fem") if m not in state]
     if missing:
         return f"no {' or '.join(missing)} in this case"
