@@ -375,7 +375,8 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
             values.update({r: value for r in limit})
             messages.append(f"limit load by {options.get('limit_control', 'arclength')}: {res.message}")
         result = result or res
-    extras = {"iterations": iterations, "elements": elements}
+    extras = {"iterations": iterations, "elements": elements,
+              "rejected_iterations": getattr(result, "rejected_iterations", 0)}
     if result is not None and result.n_levels:
         extras["shapes"] = _shapes(result)
         extras["fields"] = result.field_series()  # point data for the ParaView series
