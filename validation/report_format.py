@@ -41,7 +41,7 @@ def run_badge(run) -> tuple[Badge, str]:
     name = str(getattr(status, "name", status or "")).lower()
     if name:
         if "refus" in name or "applicable" in name:
-            return Badge.REFUSED, run.message
+            return Badge.REFUSED, run.message.removeprefix("not applicable: ")
         if name not in ("ok", "converged", "agrees", "success"):
             return Badge.FAILED, run.message
         return Badge.AGREES, ""

@@ -53,9 +53,12 @@ class MethodRun:
     # extras["shapes"]: per level, the deformed shape as a list of (n, 2) polylines (the report draws them);
     # extras["iterations"]: Newton iterations (the benchmark reads it); extras["path"]: a continuation path.
     extras: dict[str, Any] = field(default_factory=dict)
-    status: RunStatus | None = None  # None: derived from ``converged`` (OK or NOT_CONVERGED)
+    # None: derived from extras["not_applicable"] (NOT_APPLICABLE) or ``converged`` (OK or NOT_CONVERGED)
+    status: RunStatus | None = None
 
     def __post_init__(self) -> None:
+        if self.status is None and self.extras.get("not_applicable"):
+            self.status = RunStatus.NOT_APPLICABLE
         if self.status is None:
             self.status = RunStatus.OK if self.converged else RunStatus.NOT_CONVERGED
         elif self.status is not RunStatus.OK:
