@@ -342,7 +342,9 @@ def run_bench(out: Path, quick: bool = False, cases: list[BenchCase] | dict | No
             case_rows += got
             skipped += why
             if method == PEER and not got:
-                peer_notes[bench.label] = "peer not applicable: " + (why[0].split(": ", 1)[-1] if why else "no run")
+                reason = why[0].split(": ", 1)[-1] if why else "no run"
+                peer_notes[bench.label] = "peer " + (reason if reason.startswith("not applicable") else
+                                                     f"not applicable: {reason}")
         rows += case_rows
         if bench == BENCH_CASES[0]:
             per_iteration = _per_iteration(case, bench, repeats, not peer_status, cap)
