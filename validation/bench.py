@@ -28,6 +28,7 @@ against elements with the fitted growth exponent) under the output folder.
 """
 from __future__ import annotations
 
+import importlib
 import json
 import math
 import os
@@ -277,7 +278,7 @@ def _per_iteration(case, bench: BenchCase, repeats: int, with_peer: bool, cap: i
 def _peer_status() -> str:
     """'' when the OpenSeesPy peer can run here, else why not."""
     try:
-        import openseespy.opensees  # noqa: F401
+        importlib.import_module("openseespy.opensees")
     except Exception as exc:  # not installed, or a missing system BLAS
         return f"peer unavailable: OpenSeesPy cannot be imported ({exc})"
     return ""
