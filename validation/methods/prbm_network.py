@@ -192,6 +192,7 @@ def run_mechanism(case, requests, options: dict, info: MethodRun) -> dict:
                       for b in model.beams],
         "lock": model.lock,
         "stable": {i: s.stable for i, s in enumerate(result.states)},
+        "spring_torques": {i: result.spring_torques(i) for i, s in enumerate(result.states) if s.converged},
         "iterations": result.iterations,
         "shapes": _shapes(model, result),
     })
