@@ -238,8 +238,9 @@ class Network:
         return X[i] + np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
 
     # --- constraints ----------------------------------------------------------------------------
-    def joint_constraints(self, q: np.ndarray, lam: np.ndarray | None = None):
-        """(Phi, J, H_lam) of the pins and sliders: residual, Jacobian, and sum lam_i hess Phi_i.
+    def joint_constraints(self, q: np.ndarray, lam: np.ndarray | None = None, diagonal: bool = False):
+        """(Phi, J, H_lam) of the pins and sliders: residual, Jacobian, and sum lam_i hess Phi_i (it is
+        diagonal, on the rotations: ``diagonal=True`` returns that diagonal only).
 
         Pin k, rows 2k (x) and 2k+1 (y): Phi = X_a + R_a r_a - X_b - R_b r_b;
         dPhi/d(x_a, y_a, phi_a) = [I, (-R_a r_a)_y, (R_a r_a)_x], the b side with the opposite sign;
@@ -297,7 +298,8 @@ class Network:
                 J[row, 3 * i + 2] = 1.0
                 row += 1
         n = 3 * nb
-        return Phi, J[:, :n], (np.diag(H[:n]) if H is not None else None)
+        H = None if H is None else (H[:n] if diagonal else np.diag(H[:n]))
+        return Phi, J[:, :n], H
 
     def joint_rank(self, q: np.ndarray | None = None, rtol: float = 1e-9) -> tuple[int, np.ndarray]:
         """Rank of the joints' Jacobian and the indices of a maximal independent set of its rows."""
@@ -580,19 +582,26 @@ def _residual(problem: _Problem, rows: np.ndarray, q, lam, t, scale=1.0):
     (the largest of the spring, applied and constraint generalised forces)."""
     net = problem.net
     nj = len(rows)
-    full = np.zeros(net._joint_rows)
-    full[rows] = lam[:nj]
-    Phi_j, J_j, H_j = net.joint_constraints(q, full)
+    every_row = nj == net._joint_rows  # no redundant joint rows dropped (the usual case)
+    if every_row:
+        full = lam[:nj]
+    else:
+        full = np.zeros(net._joint_rows)
+        full[rows] = lam[:nj]
+    Phi_j, J_j, H_j = net.joint_constraints(q, full, diagonal=True)
+    if not every_row:
+        Phi_j, J_j = Phi_j[rows], J_j[rows]
     Q, dQ = problem.generalised_forces(q, t, scale)
     grad = net.spring_gradient(q)
-    K = net.spring_hessian(q) - dQ + H_j
+    K = net.spring_hessian(q) - dQ
+    K.flat[::net.n + 1] += H_j
     if problem.n_prescribed:
         Phi_p, J_p = problem.prescribed(q, t, scale)
-        Phi = np.concatenate([Phi_j[rows], Phi_p])
-        J = np.vstack([J_j[rows], J_p])
+        Phi = np.concatenate([Phi_j, Phi_p])
+        J = np.vstack([J_j, J_p])
         K += problem.prescribed_hessian(q, lam[nj:])
     else:
-        Phi, J = Phi_j[rows], J_j[rows]
+        Phi, J = Phi_j, J_j
     reaction = J.T @ lam
     g = grad - Q + reaction
     force = float(np.abs(np.concatenate((grad, Q, reaction))).max()) if net.n else 0.0
