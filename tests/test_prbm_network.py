@@ -337,3 +337,34 @@ def test_a_beam_pinned_to_the_ground_and_clamped_to_a_link_is_fixed_pinned_from_
     assert record.model == "fixed-pinned" and record.ends == ("pinned", "clamped")
     assert np.allclose(record.pivots[0], F + (1 - GAMMA) * (O2 - F))
     assert model.network.mobility() == 1
+
+
+def test_compliant_slider_crank_by_rule_against_virtual_work():
+    # a fixed-pinned beam as the crank (clamp C), a coupler A-S, the slider S on a ground line along x;
+    # the slider is pushed by dx: the force it needs is dU/dTheta2 / (dx/dTheta2) (virtual work, eq 196)
+    L, EI, angle = 3.0, 2.0, math.radians(70.0)
+    C = np.array([0.5, -0.2])
+    A = C + L * np.array([math.cos(angle), math.sin(angle)])
+    S = np.array([C[0] + 4.0, C[1] + 0.3])
+    geo = pb.Geometry(
+        nodes=(pb.Node("C", *C), pb.Node("A", *A), pb.Node("S", *S)),
+        beams=(pb.Beam("crank", "C", "A", EI),), links=(pb.RigidLink("coupler", ("A", "S")),),
+        joints=(pb.Joint("A", ("crank", "coupler")),),
+        supports=(pb.Support("C", "fixed"), pb.Support("S", "slider", direction=(1.0, 0.0))))
+    model = pb.build(geo)
+    assert [b.model for b in model.beams] == ["fixed-pinned"] and model.network.mobility() == 1
+    K = GAMMA * K_THETA * EI / L
+    O2 = C + (1 - GAMMA) * L * np.array([math.cos(angle), math.sin(angle)])
+    t3 = math.atan2(S[1] - A[1], S[0] - A[0])
+    sc = prbm.SliderCrank(GAMMA * L, float(np.linalg.norm(S - A)), angle, t3, offset=float(S[1] - O2[1]),
+                          springs=(K, 0.0, 0.0))
+    dx = (-0.2, 0.15, 0.4)
+    res = prbm.solve(model.network, [prbm.PrescribedDisplacement("S", "x", dx)], 3)
+    assert res.converged
+    for i, d in enumerate(dx):
+        theta2 = sc.theta2_at(d)
+        t3i = float(sc.theta3(theta2))
+        dx_dtheta = GAMMA * L * math.cos(theta2) * (math.tan(t3i) - math.tan(theta2))
+        force = -res.states[i].lam[-1]
+        assert force == pytest.approx(K * (theta2 - angle) / dx_dtheta, rel=1e-8)
+        assert res.position("S", i)[1] == pytest.approx(S[1], abs=1e-12)
