@@ -496,6 +496,7 @@ class _Problem:
         self.disp_arms = [network.point_arm(d.point) for d in self.disps]
         self.n_prescribed = len(self.disps) + len(self.rots)
         self.length = network.length_scale()
+        self.last_kkt = None
 
     @staticmethod
     def _at(values, t: float) -> float:
@@ -621,6 +622,7 @@ def _newton(problem, rows, q, lam, t, *, rtol, max_iter, scale=1.0):
         if not (math.isfinite(g_size) and math.isfinite(phi_size)):
             return q, lam, False, it
         if g_size <= rtol * force and phi_size <= closure:
+            problem.last_kkt = (K, J)  # the converged state's Hessian and Jacobian, for its stability
             return q, lam, True, it
         if it == max_iter:
             break
@@ -637,9 +639,10 @@ def _newton(problem, rows, q, lam, t, *, rtol, max_iter, scale=1.0):
     return q, lam, False, max_iter
 
 
-def _stability(problem, rows, q, lam, t, scale=1.0) -> tuple[bool | None, float]:
-    """Positive definiteness of the Hessian on the constraints' tangent space (Z^T K Z)."""
-    _, _, K, J, _ = _residual(problem, rows, q, lam, t, scale)
+def _stability(problem, rows, q, lam, t, scale=1.0, kkt=None) -> tuple[bool | None, float]:
+    """Positive definiteness of the Hessian on the constraints' tangent space (Z^T K Z); ``kkt``:
+    (K, J) at this state when already known."""
+    K, J = kkt if kkt is not None else _residual(problem, rows, q, lam, t, scale)[2:4]
     n = problem.net.n
     if J.shape[0]:
         _, s, vt = np.linalg.svd(J)
@@ -720,7 +723,8 @@ def solve(network: Network, loads: list, n_levels: int, *, rtol: float = 1e-11, 
             for lv in range(level, n_levels):
                 states.append(NetworkState(np.full(network.n, np.nan), lam * np.nan, False, 0, None, math.nan))
             break
-        stable, ev = _stability(problem, rows, q, lam, t_target) if stability else (None, math.nan)
+        stable, ev = _stability(problem, rows, q, lam, t_target, kkt=problem.last_kkt) if stability \
+            else (None, math.nan)
         states.append(NetworkState(q.copy(), lam.copy(), True, its, stable, ev))
         t_prev = t_target
     converged = all(s.converged for s in states)
