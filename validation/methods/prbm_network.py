@@ -153,6 +153,8 @@ def run_mechanism(case, requests, options: dict, info: MethodRun) -> dict:
         result = prbm.solve(model.network, network_loads(case, model), n)
     except prbm.LockedNetwork as exc:
         raise NotApplicable(f"PRB model locked under the prescribed motions: {exc} ({model.describe()})") from None
+    except ValueError as exc:  # a load the PRB model cannot take (e.g. a prescribed rotation of the ground)
+        raise NotApplicable(f"PRB model: {exc}") from None
     net = model.network
     inputs = [ld for ld in case.loads if ld.kind in ("rotation", "moment")]
     values = {}
