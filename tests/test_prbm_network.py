@@ -368,3 +368,20 @@ def test_compliant_slider_crank_by_rule_against_virtual_work():
         force = -res.states[i].lam[-1]
         assert force == pytest.approx(K * (theta2 - angle) / dx_dtheta, rel=1e-8)
         assert res.position("S", i)[1] == pytest.approx(S[1], abs=1e-12)
+
+
+def test_the_rotation_of_a_free_beam_end_is_not_the_prb_link_angle():
+    # quantity contract: rotation = change of the tangent angle at the point; the PRB link's angle is not it
+    from validation.methods import prbm_network
+    from validation.methods.base import MethodRun, NotApplicable
+    case = load_case(ROOT / "cases/seed004/parallel_guided.toml").case
+    mech = case.mechanism.model_copy(update={"links": [], "supports": case.mechanism.supports[:1],
+                                             "beams": case.mechanism.beams[:1],
+                                             "nodes": [n for n in case.mechanism.nodes if n.name in ("G1", "C1")]})
+    load = case.loads[0].model_copy(update={"point": "C1"})
+    one = case.model_copy(update={"mechanism": mech, "loads": [load]})
+    values = prbm_network.run_mechanism(one, [Request("dy", "C1", 0)], {}, MethodRun(values={}))
+    theta = brentq(lambda t: GAMMA * K_THETA * t - 2.0 * GAMMA * math.cos(t), 0.0, 1.5)
+    assert values[Request("dy", "C1", 0)] == pytest.approx(GAMMA * math.sin(theta), rel=1e-9)
+    with pytest.raises(NotApplicable, match="end slope"):
+        prbm_network.run_mechanism(one, [Request("rotation", "C1", 0)], {}, MethodRun(values={}))
