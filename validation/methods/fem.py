@@ -24,8 +24,9 @@ tied load F_x = -n F_y (``n``) or the F_x that puts a zero bending moment at arc
 Each level is its own problem, solved from the unloaded segment; the tip loads (``force_x``,
 ``force_y``, ``moment``) are those of the inverse problem, on n and 2n elements per member with
 the Richardson estimate |F_2n - F_n|/3 (unless ``error_estimate = false``; n and extrapolation from
-``inverse.elements``/``inverse.richardson``, else the method's); every other output comes from the
-forward solve under the case's loads.
+``inverse.elements``/``inverse.richardson``, else the method's; with extrapolation the estimate stays
+|F_2n - F_n|/3, the error of F_2n, a conservative bound for the extrapolated value); every other
+output comes from the forward solve under the case's loads.
 """
 from __future__ import annotations
 
