@@ -41,6 +41,7 @@ import numpy as np
 
 from elastica.shooting import (ElasticaProblem, MomentConstraint, TipConstraint, loaded_start,
                                solve_path, unloaded_tip)
+from validation.methods import elastica_network
 from validation.inverse_problem import LOAD_OUTPUTS, InverseSpec, Tie, inverse_spec, merge_runs
 from validation.methods.base import MethodRun, NotApplicable, Request
 from validation.schema import Case
@@ -96,6 +97,9 @@ def level_problems(case: Case, options: dict) -> list[ElasticaProblem]:
                 moment += v
             elif load.kind == "displacement":
                 u = d / np.hypot(*d)
+                if k0 == 0.0 and abs(u[0]) > 0.999 and v != 0.0:
+                    raise NotApplicable("a prescribed axial displacement of a straight segment: the "
+                                        "inextensible elastica has no unbuckled solution")
                 constraints.append(TipConstraint(tuple(u), float(u @ [x0, y0] + v * np.hypot(*d))))
                 prescribed_dirs.append(u)
             elif load.kind == "rotation":
@@ -112,6 +116,9 @@ def level_problems(case: Case, options: dict) -> list[ElasticaProblem]:
                 if not free and len(prescribed_dirs) < 2:
                     constraints.append(TipConstraint(tuple(u), float(u @ [x0, y0])))
                     prescribed_dirs.append(u)
+        if k0 == 0.0 and seg.boundary == "fixed-fixed" and any(abs(u[0]) > 0.999 for u in prescribed_dirs):
+            raise NotApplicable("a straight fixed-fixed segment whose tip cannot move axially: the "
+                                "inextensible elastica cannot bend (only an extensible model can)")
         if len(prescribed_dirs) > 2:
             raise NotApplicable("more than two prescribed tip-position components")
         problems.append(ElasticaProblem(length=L, EI=EI, curvature=k0, force=tuple(force),
@@ -246,6 +253,10 @@ def run(case: Case, requests: list[Request], options: dict) -> MethodRun:
 
 def _run_forward(case: Case, requests: list[Request], options: dict) -> MethodRun:
     t0 = time.perf_counter()
+    if case.mechanism is not None:  # beams coupled through rigid links: validation/methods/elastica_network.py
+        run = elastica_network.run_mechanism(case, requests, options)
+        run.wall_time = time.perf_counter() - t0
+        return run
     inflection = options.get("problem") == "inflection"
     if "problem" in options and not inflection:
         raise NotApplicable(f"unknown elastica problem '{options['problem']}' (known: 'inflection')")

@@ -37,6 +37,8 @@ import numpy as np
 
 from validation.inverse_problem import LOAD_OUTPUTS, InverseLevel, InverseSpec, Tie, inverse_spec, merge_runs
 from validation.methods.base import MethodRun, NotApplicable, Request
+from validation.quantities import boundary_held_tip as _boundary_held_tip
+from validation.quantities import load_dofs as _load_dofs
 from validation.slfp import with_flexures
 
 ROTATION_DOF = "rz"
@@ -73,25 +75,6 @@ def _segment_model(fem, case, elements: int, options: dict):
     for dof in _boundary_held_tip(case):
         model.prescribe("tip", dof, np.zeros(case.n_levels()))
     return model
-
-
-TIP_HELD = {"fixed-guided": ("rz",), "fixed-fixed": ("ux", "uy", "rz"), "pinned-pinned": ("ux", "uy")}
-
-
-def _load_dofs(load) -> set[str]:
-    """The DOFs of its point that a load acts on or prescribes."""
-    if load.kind in ("moment", "rotation"):
-        return {"rz"}
-    d = load.direction
-    if load.kind == "displacement":
-        return {"ux" if abs(d[0]) > abs(d[1]) else "uy"}
-    return {name for name, component in zip(("ux", "uy"), d) if component}
-
-
-def _boundary_held_tip(case) -> list[str]:
-    """Tip DOFs the segment's boundary type holds because no load acts on or prescribes them."""
-    acted = set().union(*(_load_dofs(load) for load in case.loads if load.point == "tip"))
-    return [dof for dof in TIP_HELD.get(case.segment.boundary, ()) if dof not in acted]
 
 
 def _held_dofs(case) -> dict[str, set]:
@@ -201,14 +184,17 @@ def build_model(case, elements: int, options: dict):
     return _mechanism_model(fem, case, elements, options)
 
 
-def _applied(case, point: str, level: int) -> np.ndarray:
+def _applied(case, point: str, level: int, rotation: float = 0.0) -> np.ndarray:
+    """Applied (Fx, Fy, M) at a point; a follower force turned with the point's ``rotation`` (rad)."""
     total = np.zeros(3)
+    c, s = math.cos(rotation), math.sin(rotation)
     for load in case.loads:
         if load.point != point:
             continue
         v = load.levels()[level]
-        if load.kind == "force" and not load.follower:
-            total[:2] += v * np.asarray(load.direction, float)
+        if load.kind == "force":
+            fx, fy = v * np.asarray(load.direction, float)
+            total[:2] += (c * fx - s * fy, s * fx + c * fy) if load.follower else (fx, fy)
         elif load.kind == "moment":
             total[2] += v
     return total
@@ -256,7 +242,7 @@ def _extract(case, fields: _Fields, requests: list[Request], origin: dict | None
             if dof in held.get(p, set()):
                 values[req] = float(fields.reaction(p, lv)[k])  # the load needed to hold the motion
             else:
-                values[req] = float(_applied(case, p, lv)[k]) if origin is not None else 0.0
+                values[req] = float(_applied(case, p, lv, fields.rotation(p, lv))[k]) if origin is not None else 0.0
         elif q == "strain_energy":
             values[req] = float(fields.strain_energy[lv])
         elif q == "input_torque":
@@ -571,7 +557,8 @@ def _run_forward(fem, case, requests: list[Request], options: dict) -> MethodRun
             values.update({r: value for r in limit})
             messages.append(f"limit load by {options.get('limit_control', 'arclength')}: {res.message}")
         result = result or res
-    extras = {"iterations": iterations, "elements": elements}
+    extras = {"iterations": iterations, "elements": elements,
+              "rejected_iterations": getattr(result, "rejected_iterations", 0)}
     if result is not None and result.n_levels:
         extras["shapes"] = _shapes(result)
         path = _continuation_path(case, result)
