@@ -11,6 +11,11 @@ and, differentiating, the first-order system integrated here (normalised by L an
     x' = cos(theta),   y' = sin(theta),   theta' = kappa0 + m,   m' = Fx sin(theta) - Fy cos(theta),
     U' = m^2 / 2   (strain energy density, so U(L) is the strain energy).
 
+A uniform dead distributed load w = (wx, wy) per unit length (e.g. self-weight) adds its outboard
+resultant to the force carried across the section, N(s) = F + w (L - s), so m' = Nx sin(theta) -
+Ny cos(theta) with N in place of F; its components are two more continuation parameters, with
+their own variational equations (d m'/d wx = (L - s) sin(theta) + ..., d m'/d wy = -(L - s) cos(theta) + ...).
+
 Shooting unknowns z: the root moment m(0); one force multiplier mu_k per prescribed tip-position
 component (the force along that direction is unknown); one force multiplier nu_j per prescribed
 section moment (below); the tip angle tau when a follower force acts (its direction depends on
@@ -105,6 +110,7 @@ class ElasticaProblem:
 
     force: dead tip force (Fx, Fy) in the global frame (its components along constrained
         directions are added to the unknown reactions, so they may be left 0).
+    distributed: uniform dead load (wx, wy) per unit length along the whole beam, global frame.
     moment: applied tip moment (CCW), ignored when ``tip_angle`` is given.
     follower: follower tip force (tangential, normal) components in the deformed tip frame.
     constraints: prescribed tip position components (fixed-guided, fixed-fixed, inverse problems).
@@ -121,6 +127,7 @@ class ElasticaProblem:
     constraints: tuple[TipConstraint, ...] = ()
     tip_angle: float | None = None
     moment_constraints: tuple[MomentConstraint, ...] = ()
+    distributed: tuple[float, float] = (0.0, 0.0)
 
 
 @dataclass
@@ -154,15 +161,19 @@ def _unit(d):
     return d / math.hypot(*d)
 
 
+ANGLE = -3        # index of the prescribed tip angle in a load vector; the last two are (wx, wy)
+
+
 def _load_vector(p: ElasticaProblem) -> np.ndarray:
     """All continuation parameters of a problem, normalised:
-    [Fx, Fy, M, ft, fn, c_1..c_k, m_1..m_j, angle]."""
+    [Fx, Fy, M, ft, fn, c_1..c_k, m_1..m_j, angle, wx, wy]."""
     scale_f = p.length**2 / p.EI
     q = [p.force[0] * scale_f, p.force[1] * scale_f, p.moment * p.length / p.EI,
          p.follower[0] * scale_f, p.follower[1] * scale_f]
     q += [c.value / p.length for c in p.constraints]
     q += [c.value * p.length / p.EI for c in p.moment_constraints]
     q.append(p.tip_angle if p.tip_angle is not None else 0.0)
+    q += [p.distributed[0] * p.length**3 / p.EI, p.distributed[1] * p.length**3 / p.EI]
     return np.array(q)
 
 
@@ -182,7 +193,7 @@ def _start_vector(p: ElasticaProblem) -> np.ndarray:
         d = _unit(c.direction)
         q.append(d[0] * x0 + d[1] * y0)
     q += [0.0] * len(p.moment_constraints)          # the unloaded beam carries no moment
-    q.append(th0)
+    q += [th0, 0.0, 0.0]
     return np.array(q)
 
 
@@ -248,27 +259,30 @@ class _Shooter:
             dF[:, -1] = [-s * ft - c * fn, c * ft - s * fn]
         return F, dF
 
-    def rhs(self, s, Y, Fx, Fy):
-        """State Y = [x, y, theta, m, U, then dx, dy, dtheta, dm w.r.t. (m0, Fx, Fy) row-major]."""
-        (_, _, th, m, _, _, _, _, _, _, _, t0, t1, t2, m0_, m1_, m2_) = Y.tolist()
+    def rhs(self, s, Y, Fx, Fy, wx=0.0, wy=0.0):
+        """State Y = [x, y, theta, m, U, then dx, dy, dtheta, dm w.r.t. (m0, Fx, Fy, wx, wy) row-major]."""
+        (_, _, th, m, _, _, _, _, _, _, _, _, _, _, _, t0, t1, t2, t3, t4,
+         m0_, m1_, m2_, m3_, m4_) = Y.tolist()
         c, sn = math.cos(th), math.sin(th)
-        g = Fx * c + Fy * sn
-        return np.array([c, sn, self.k0 + m, Fx * sn - Fy * c, 0.5 * m * m,
-                         -sn * t0, -sn * t1, -sn * t2,
-                         c * t0, c * t1, c * t2,
-                         m0_, m1_, m2_,
-                         g * t0, g * t1 + sn, g * t2 - c])
+        out = 1.0 - s                                   # outboard length carrying the distributed load
+        Nx, Ny = Fx + wx * out, Fy + wy * out
+        g = Nx * c + Ny * sn
+        return np.array([c, sn, self.k0 + m, Nx * sn - Ny * c, 0.5 * m * m,
+                         -sn * t0, -sn * t1, -sn * t2, -sn * t3, -sn * t4,
+                         c * t0, c * t1, c * t2, c * t3, c * t4,
+                         m0_, m1_, m2_, m3_, m4_,
+                         g * t0, g * t1 + sn, g * t2 - c, g * t3 + out * sn, g * t4 - out * c])
 
     def integrate(self, z, q, dense=False):
         """Integrate over [0, 1], split at the moment-constraint sites (``_Pieces``)."""
         F, dF = self.forces(z, q)
-        Y0 = np.zeros(17)
+        Y0 = np.zeros(25)
         Y0[3] = z[0]
-        Y0[5 + 9] = 1.0              # d m(0) / d m0
+        Y0[5 + 15] = 1.0             # d m(0) / d m0
         pieces, states = [], {0.0: Y0}
         for a, b in zip([0.0] + self.knots, self.knots + [1.0]):
             sol = solve_ivp(self.rhs, (a, b), states[a], method="DOP853", rtol=self.rtol,
-                            atol=self.atol, args=(F[0], F[1]), dense_output=dense)
+                            atol=self.atol, args=(F[0], F[1], q[-2], q[-1]), dense_output=dense)
             pieces.append(sol)
             if not sol.success:
                 break
@@ -284,13 +298,13 @@ class _Shooter:
         if not sol.success:
             return None, None, sol
         Y = sol.y[:, -1]
-        S = Y[5:].reshape(4, 3)
-        # d(state at L)/dz = S[:, 0] e_0^T + S[:, 1:] dF
-        dYdz = np.outer(S[:, 0], np.eye(self.n)[0]) + S[:, 1:] @ dF
+        S = Y[5:].reshape(4, 5)
+        # d(state at L)/dz = S[:, 0] e_0^T + S[:, 1:3] dF
+        dYdz = np.outer(S[:, 0], np.eye(self.n)[0]) + S[:, 1:3] @ dF
         r = np.empty(self.n)
         J = np.empty((self.n, self.n))
         if self.angle_given:
-            r[0] = Y[2] - q[-1]
+            r[0] = Y[2] - q[ANGLE]
             J[0] = dYdz[2]
         else:
             r[0] = Y[3] - q[2]
@@ -300,10 +314,10 @@ class _Shooter:
             J[1 + k] = d[0] * dYdz[0] + d[1] * dYdz[1]
         for j in range(self.nm):
             Yj = self.section_state(sol, j)
-            Sj = Yj[5:].reshape(4, 3)
+            Sj = Yj[5:].reshape(4, 5)
             i = 1 + self.nc + j
             r[i] = Yj[3] - q[5 + self.nc + j]
-            J[i] = Sj[3, 0] * np.eye(self.n)[0] + Sj[3, 1:] @ dF
+            J[i] = Sj[3, 0] * np.eye(self.n)[0] + Sj[3, 1:3] @ dF
         if self.has_follower:
             r[-1] = Y[2] - z[-1]
             J[-1] = dYdz[2]
@@ -314,18 +328,19 @@ class _Shooter:
 def _load_derivative(shooter, sol, z, nq):
     """d r / d q (n x nq) at the end of the integration ``sol``: the force parameters act
     through the sensitivities to (Fx, Fy), the others enter the end conditions directly."""
-    S = sol.y[5:, -1].reshape(4, 3)
+    S = sol.y[5:, -1].reshape(4, 5)
     dFdq = np.zeros((2, nq))
     dFdq[0, 0] = dFdq[1, 1] = 1.0
     if shooter.has_follower:
         c, sn = math.cos(z[-1]), math.sin(z[-1])
         dFdq[:, 3] = [c, sn]
         dFdq[:, 4] = [-sn, c]
-    dYdq = S[:, 1:] @ dFdq
+    dYdq = S[:, 1:3] @ dFdq
+    dYdq[:, -2:] += S[:, 3:5]                       # the distributed load (wx, wy)
     D = np.zeros((shooter.n, nq))
     if shooter.angle_given:
         D[0] = dYdq[2]
-        D[0, -1] -= 1.0
+        D[0, ANGLE] -= 1.0
     else:
         D[0] = dYdq[3]
         D[0, 2] -= 1.0
@@ -333,9 +348,10 @@ def _load_derivative(shooter, sol, z, nq):
         D[1 + k] = d[0] * dYdq[0] + d[1] * dYdq[1]
         D[1 + k, 5 + k] -= 1.0
     for j in range(shooter.nm):
-        Sj = shooter.section_state(sol, j)[5:].reshape(4, 3)
+        Sj = shooter.section_state(sol, j)[5:].reshape(4, 5)
         i = 1 + shooter.nc + j
-        D[i] = Sj[3, 1:] @ dFdq
+        D[i] = Sj[3, 1:3] @ dFdq
+        D[i, -2:] += Sj[3, 3:5]
         D[i, 5 + shooter.nc + j] -= 1.0
     if shooter.has_follower:
         D[-1] = dYdq[2]
@@ -549,7 +565,8 @@ def loaded_start(problem: ElasticaProblem, force: tuple[float, float], moment: f
         raise ValueError("loaded_start does not handle follower forces")
     L, EI = problem.length, problem.EI
     forward = solve_path(ElasticaProblem(length=L, EI=EI, curvature=problem.curvature,
-                                         force=tuple(force), moment=moment), **options)
+                                         force=tuple(force), moment=moment,
+                                         distributed=problem.distributed), **options)
     rtol = options.get("rtol", 1e-12)
     shooter = _Shooter(problem, rtol, options.get("atol", 0.1 * rtol))
     scale_f = L**2 / EI
@@ -572,7 +589,7 @@ def loaded_start(problem: ElasticaProblem, force: tuple[float, float], moment: f
     for k, d in enumerate(shooter.dirs):
         q[5 + k] = d[0] * x + d[1] * y
     if shooter.angle_given:
-        q[-1] = forward.theta
+        q[ANGLE] = forward.theta
     m = _section_moments(shooter, z, q)
     q[5 + shooter.nc:5 + shooter.nc + shooter.nm] = m
     start = replace(problem, force=tuple(dead / scale_f), moment=moment,
@@ -596,7 +613,8 @@ def section_moment(result: ElasticaResult, at: float) -> float:
     """
     p = result.problem
     plain = ElasticaProblem(length=p.length, EI=p.EI, curvature=p.curvature, force=result.force,
-                            moment=result.moment, moment_constraints=(MomentConstraint(at),))
+                            moment=result.moment, moment_constraints=(MomentConstraint(at),),
+                            distributed=p.distributed)
     shooter = _Shooter(plain, 1e-12, 1e-13)
     z = np.array([result.z[0], 0.0])
     return float(_section_moments(shooter, z, _load_vector(plain))[0] * p.EI / p.length)
@@ -615,8 +633,8 @@ def _result(problem, shooter, z, q, n_samples):
     L, EI = problem.length, problem.EI
     fs, ms = EI / L**2, EI / L
     m_tip = Y[3]
-    # support reaction on the beam: -F and the moment balancing the tip loads about the root
-    reaction = (-F[0] * fs, -F[1] * fs, -z[0] * ms)
+    # support reaction on the beam: -(F + w L) and the moment balancing the loads about the root
+    reaction = (-(F[0] + q[-2]) * fs, -(F[1] + q[-1]) * fs, -z[0] * ms)
     return ElasticaResult(
         converged=True, message="", x=float(Y[0] * L), y=float(Y[1] * L), theta=float(Y[2]),
         force=(float(F[0] * fs), float(F[1] * fs)), moment=float(m_tip * ms),
@@ -635,10 +653,12 @@ def solve_elastica(length: float = 1.0, EI: float = 1.0, *, curvature: float = 0
                    inflection_at: float | None = None,
                    moment_constraints: tuple[MomentConstraint, ...] = (),
                    start_loads: tuple[tuple[float, float], float] | None = None,
+                   distributed: tuple[float, float] = (0.0, 0.0),
                    **options) -> ElasticaResult:
     """Solve one clamped-beam elastica from the unloaded state (continuation in the load).
 
-    Load-specified: give ``force`` (Fx, Fy), ``moment`` and/or ``follower`` (tangential, normal).
+    Load-specified: give ``force`` (Fx, Fy), ``moment`` and/or ``follower`` (tangential, normal),
+    and/or ``distributed`` (wx, wy): a uniform dead load per unit length (e.g. self-weight).
     Displacement-specified: give ``tip_x`` (the seeds' a), ``tip_y`` (b) and/or ``tip_angle``
     (theta_0, rad); the conjugate loads are then unknowns, returned in ``result.force`` and
     ``result.moment``. The remaining components of ``force`` are applied as given, e.g. the
@@ -661,7 +681,8 @@ def solve_elastica(length: float = 1.0, EI: float = 1.0, *, curvature: float = 0
         mcons.append(MomentConstraint(inflection_at))
     problem = ElasticaProblem(length=length, EI=EI, curvature=curvature, force=tuple(force),
                               moment=moment, follower=tuple(follower), constraints=tuple(cons),
-                              tip_angle=tip_angle, moment_constraints=tuple(mcons))
+                              tip_angle=tip_angle, moment_constraints=tuple(mcons),
+                              distributed=tuple(distributed))
     start = None
     if start_loads is not None:
         start_options = {k: v for k, v in options.items() if k in ("rtol", "atol")}
