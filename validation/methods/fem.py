@@ -55,7 +55,27 @@ def _segment_model(fem, case, elements: int, options: dict):
     _add_loads(model, case, {"tip"})
     for dof in _boundary_held_tip(case):
         model.prescribe("tip", dof, np.zeros(case.n_levels()))
+    _add_distributed(model, case, {None: (0, seg.section)})
     return model
+
+
+def _add_distributed(model, case, beams: dict) -> None:
+    """Distributed and self-weight loads; ``beams`` maps a beam name (None for a segment's only
+    beam) to (member index, schema section). Self-weight is the weight per unit length of each beam's
+    section along the gravity direction; rigid links carry none."""
+    for load in case.loads:
+        if load.kind not in ("distributed", "self_weight"):
+            continue
+        d = np.asarray(load.direction, float)
+        values = np.asarray(load.levels(), float)
+        if load.kind == "self_weight":
+            d = d / np.hypot(*d)
+        for name, (member, section) in beams.items():
+            if load.member not in (None, name):
+                continue
+            scale = section.weight_per_length() if load.kind == "self_weight" else 1.0
+            model.add_distributed(scale * values * d[0], scale * values * d[1], member=member,
+                                  follower=load.follower)
 
 
 TIP_HELD = {"fixed-guided": ("rz",), "fixed-fixed": ("ux", "uy", "rz"), "pinned-pinned": ("ux", "uy")}
@@ -63,6 +83,10 @@ TIP_HELD = {"fixed-guided": ("rz",), "fixed-fixed": ("ux", "uy", "rz"), "pinned-
 
 def _load_dofs(load) -> set[str]:
     """The DOFs of its point that a load acts on or prescribes."""
+    if load.kind in ("distributed", "self_weight"):
+        return set()                       # along the beam, not at the point
+    if load.toward is not None or load.follower:
+        return {"ux", "uy"}                # the direction turns: both components
     if load.kind in ("moment", "rotation"):
         return {"rz"}
     d = load.direction
@@ -90,17 +114,25 @@ def _held_dofs(case) -> dict[str, set]:
 
 
 def _add_loads(model, case, allowed_points, members: dict | None = None) -> None:
-    """Add the case's loads.
+    """Add the case's point loads (distributed ones: `_add_distributed`).
 
     A moment with ``body`` naming a beam acts on that beam's end (one side of a hinge); on a rigid
-    link, or without ``body``, it acts on the node's rotation."""
+    link, or without ``body``, it acts on the node's rotation. A follower force with ``body`` turns
+    with that member's end rotation (a beam, or a link modelled as stiff bars), else with the node's.
+    A force ``toward`` a fixed point pulls along the current line to it, turned by ``angle``."""
     for i, load in enumerate(case.loads):
+        if load.kind in ("distributed", "self_weight"):
+            continue
         if load.point not in allowed_points:
             raise NotApplicable(f"loads.{i} acts on '{load.point}', which the FEM model holds fixed")
         values = np.asarray(load.levels(), float)
-        if load.kind == "force":
+        if load.kind == "force" and load.toward is not None:
+            model.add_pointed_force(load.point, values, load.toward, angle=math.radians(load.angle))
+        elif load.kind == "force":
             d = np.asarray(load.direction, float)
-            model.add_force(load.point, values * d[0], values * d[1], follower=load.follower)
+            member = (members or {}).get((load.body, load.point)) if load.body else None
+            model.add_force(load.point, values * d[0], values * d[1], follower=load.follower,
+                            member=member)
         elif load.kind == "moment":
             member = (members or {}).get(load.body) if load.body else None
             model.add_moment(load.point, values, member=member)
@@ -165,6 +197,16 @@ def _mechanism_model(fem, case, elements: int, options: dict):
         for node in link.nodes:                                                # motions sit on the master
             if node != master:
                 model.add_rigid_link(master, node)
+    ends = {}                                            # (body, node) -> the member ending there
+    for name, index in member_index.items():
+        if name in bars:
+            link = next(l for l in mech.links if l.name == name)
+            for k, node in enumerate(link.nodes[1:]):
+                ends[(name, node)] = index + k
+            ends[(name, link.nodes[0])] = index
+        else:
+            beam = next(b for b in mech.beams if b.name == name)
+            ends[(name, beam.start)] = ends[(name, beam.end)] = index
     for joint in mech.joints:
         released = [member_index[m] for m in joint.members if m in member_index]
         if not released:
@@ -172,7 +214,8 @@ def _mechanism_model(fem, case, elements: int, options: dict):
         model.add_joint(joint.node, released, k=joint.spring)
     for sup in mech.supports:
         model.add_support(sup.node, sup.kind, direction=sup.direction or (1.0, 0.0))
-    _add_loads(model, case, set(coords), {b.name: member_index[b.name] for b in mech.beams})
+    _add_loads(model, case, set(coords), {b.name: member_index[b.name] for b in mech.beams} | ends)
+    _add_distributed(model, case, {b.name: (member_index[b.name], b.section) for b in mech.beams})
     return model
 
 
@@ -190,6 +233,9 @@ def _applied(case, point: str, level: int) -> np.ndarray:
         if load.point != point:
             continue
         v = load.levels()[level]
+        if load.kind == "force" and load.toward is not None:
+            raise NotApplicable(f"the force at '{point}' pulls toward a fixed point: its components "
+                                "depend on the solution")
         if load.kind == "force" and not load.follower:
             total[:2] += v * np.asarray(load.direction, float)
         elif load.kind == "moment":
@@ -388,7 +434,7 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
 def _continuation_path(case, result):
     if result.control == "load":
         return None
-    loads = [ld for ld in case.loads if ld.kind == "force"]
+    loads = [ld for ld in case.loads if ld.kind == "force" and ld.direction is not None]
     if not loads:
         return None
     point = loads[0].point

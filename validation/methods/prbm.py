@@ -52,7 +52,7 @@ import time
 
 import numpy as np
 
-from validation.methods.base import MethodRun, NotApplicable, Request
+from validation.methods.base import MethodRun, NotApplicable, Request, reject_loads_along_beams
 
 DEG = math.pi / 180.0
 
@@ -61,6 +61,7 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
     import prbm
 
     t0 = time.perf_counter()
+    reject_loads_along_beams(case, "the PRBM")
     try:
         if case.segment is not None:
             values, run_info = _segment(prbm, case, requests, options)
