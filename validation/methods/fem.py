@@ -27,6 +27,8 @@ ROTATION_DOF = "rz"
 
 def _section(fem, spec, E, length: float, options: dict):
     """A ``fem.Section`` from a schema section (E may be None for layers)."""
+    if spec.kind == "layers" and spec.bonded:         # one section: (EA, EI) of the transformed stack
+        return fem.Section.from_EI(*spec.stiffness(None))
     if spec.kind == "layers":
         return fem.Section.layers([(l.E, l.width, l.thickness) for l in spec.layers])
     if spec.kind == "rectangle":
