@@ -11,7 +11,8 @@ Options (``[methods.fem]``): ``elements`` per member (default 16), ``error_estim
 on n and 2n elements and report |u_2n - u_n|/3, the Richardson estimate of the O(h^2) error of u_2n),
 ``richardson`` (report the extrapolated value instead of u_2n), ``tol`` (refine until the estimate is
 below it), ``inextensible_ratio`` (EA L^2/EI used when a section gives no area; default 1e6),
-and for ``limit_load``: ``arc_length``, ``max_steps``.
+and for ``limit_load``: ``arc_length``, ``max_steps``; for ``mechanical_advantage``: ``ma`` (see
+`fem_outputs`, which also gives ``max_stress`` and ``inflection_points`` from the finest mesh).
 """
 from __future__ import annotations
 
@@ -20,6 +21,7 @@ import time
 
 import numpy as np
 
+from validation.methods import fem_outputs
 from validation.methods.base import MethodRun, NotApplicable, Request
 
 ROTATION_DOF = "rz"
@@ -398,15 +400,17 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
     elements = int(options.get("elements", 16))
     model = build_model(case, elements, options)
     values, errors, iterations, converged, messages, result = {}, {}, 0, True, [], None
-    ordinary = [r for r in requests if r.quantity != "limit_load"]
+    ordinary = [r for r in requests if r.quantity != "limit_load" and r.quantity not in BEAM_OUTPUTS]
+    beam_outputs = [r for r in requests if r.quantity in BEAM_OUTPUTS]
     limit = [r for r in requests if r.quantity == "limit_load"]
-    if ordinary:
+    if ordinary or beam_outputs:
         vals, errs, result, ok, msg, its = _solve_levels(fem, case, model, ordinary, options)
         values.update(vals)
         errors.update(errs)
         iterations += its
         converged &= ok
         messages.append(msg + _critical_note(result))
+        values.update(_beam_outputs(fem, case, model, result, beam_outputs, elements, options))
     if limit:
         value, res, why = _limit_load(fem, case, model, options)
         iterations += res.iterations
@@ -431,6 +435,36 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
             extras["path"] = path
     return MethodRun(values=values, converged=converged, message="; ".join(m for m in messages if m),
                      error_estimate=errors, wall_time=time.perf_counter() - start, extras=extras)
+
+
+BEAM_OUTPUTS = ("max_stress", "inflection_points", "mechanical_advantage")
+
+
+def _beam_outputs(fem, case, model, result, requests, elements: int, options: dict) -> dict:
+    """max_stress and inflection_points of the finest mesh; mechanical_advantage by an increment
+    of the input load (`fem_outputs`)."""
+    values = {}
+    beams = [i for i, m in enumerate(model.members) if ":" not in m.name]    # stiff bars are 'link:node'
+    ma = None
+    for req in requests:
+        if req.level >= result.n_levels:
+            continue
+        if req.quantity == "max_stress":
+            values[req] = fem_outputs.max_stress(result, req.level)
+        elif req.quantity == "inflection_points":
+            values[req] = float(fem_outputs.inflection_points(result, model, beams, req.level))
+        else:
+            if ma is None:
+                raised_case, delta, load = fem_outputs.incremented_case(case, options)
+                solves = [fem.solve(m, n_levels=case.n_levels(), rtol=float(options.get("rtol", 1e-10)))
+                          for m in (model, build_model(raised_case, elements, options))]
+                if not all(r.converged for r in solves):
+                    raise NotApplicable("mechanical_advantage: a solve of the increment did not converge: "
+                                        + "; ".join(r.message for r in solves))
+                forces = [fem_outputs.output_force(case, options, r.reaction) for r in solves]
+                ma = fem_outputs.mechanical_advantage(case, options, forces[0], forces[1], delta, load)
+            values[req] = float(ma[req.level])
+    return values
 
 
 def _continuation_path(case, result):
