@@ -46,7 +46,7 @@ _REACTIONS = {"reaction_x", "reaction_y", "reaction_moment"}
 METHODS: dict[str, frozenset[str]] = {
     "fem": frozenset(_POSITIONS | _LOADS | _REACTIONS | {"strain_energy", "input_angle",
                                                          "input_torque", "limit_load", "max_stress",
-                                                         "inflection_points", "mechanical_advantage"}),
+                                                         "inflection_points", "mechanical_advantage", "dof"}),
     "prbm": frozenset(_POSITIONS | _LOADS | {"strain_energy", "input_angle", "input_torque",
                                              "mechanical_advantage", "dof", "prb_angle"}),
     "elastica": frozenset(_POSITIONS | _LOADS | _REACTIONS | {"strain_energy"}),

@@ -400,6 +400,12 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
     elements = int(options.get("elements", 16))
     model = build_model(case, elements, options)
     values, errors, iterations, converged, messages, result = {}, {}, 0, True, [], None
+    dof = [r for r in requests if r.quantity == "dof"]
+    if dof:
+        count, note = _soft_mode_count(case, model, options)
+        values.update({r: float(count) for r in dof})
+        messages.append(note)
+        requests = [r for r in requests if r.quantity != "dof"]
     ordinary = [r for r in requests if r.quantity != "limit_load" and r.quantity not in BEAM_OUTPUTS]
     beam_outputs = [r for r in requests if r.quantity in BEAM_OUTPUTS]
     limit = [r for r in requests if r.quantity == "limit_load"]
@@ -438,6 +444,25 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
 
 
 BEAM_OUTPUTS = ("max_stress", "inflection_points", "mechanical_advantage")
+
+
+def _soft_mode_count(case, model, options: dict) -> tuple[int, str]:
+    """dof: soft modes of the unloaded tangent condensed to the actuation points (``fem.soft_modes``),
+    ``[methods.fem] dof = {points = [...], ratio = 1e-2}``; the stretching reference is the largest
+    EA/l of the case's beams."""
+    from fem.soft_modes import soft_modes
+
+    spec = options.get("dof") or {}
+    points = spec.get("points")
+    if not points or case.mechanism is None:
+        raise NotApplicable("dof by the FEM needs a mechanism and [methods.fem] dof = {points = [...]}")
+    ratio = float(spec.get("ratio", 1e-2))
+    reference = max(m.section.EA / math.dist(model.coords[m.start], model.coords[m.end])
+                    for m in model.members if ":" not in m.name)
+    found = soft_modes(model, [(p, d) for p in points for d in ("ux", "uy", "rz")], ratio=ratio,
+                       reference_stiffness=reference)
+    return found.count, (f"dof: {found.count} soft mode(s) of the tangent condensed to {', '.join(points)}, "
+                         f"k/k_ref = {', '.join(f'{r:.2e}' for r in found.ratios)}, threshold {ratio:g}")
 
 
 def _beam_outputs(fem, case, model, result, requests, elements: int, options: dict) -> dict:
