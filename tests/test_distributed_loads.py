@@ -170,7 +170,14 @@ def test_rope_force_points_at_its_pulley_and_matches_the_elastica():
     assert math.hypot(*(tip - [1.0, 0.0])) > 0.3           # a large deflection
 
 
-def _case(loads, extra=""):
+LAYERS = ('{ kind = "layers", layers = [{ E = 1.0, width = 1.0, thickness = 2.0, weight_density = 0.5 }, '
+          '{ E = 3.0, width = 2.0, thickness = 1.0, weight_density = 0.25 }] }')
+
+
+def _case(loads, section=LAYERS):
+    """A one-segment case (dimensionless, fixed-free, L = 1) with the given section and [[loads]] text."""
+    import tomllib
+
     text = f'''
 [case]
 id = "t"
@@ -180,8 +187,8 @@ units = "dimensionless"
 [segment]
 boundary = "fixed-free"
 length = 1.0
-section = {{ kind = "layers", layers = [{{ E = 1.0, width = 1.0, thickness = 2.0, weight_density = 0.5 }},
-                                       {{ E = 3.0, width = 2.0, thickness = 1.0, weight_density = 0.25 }}] {extra} }}
+E = 1.0
+section = {section}
 {loads}
 [[outputs]]
 quantity = "y"
@@ -189,7 +196,6 @@ quantity = "y"
 elements = 8
 error_estimate = false
 '''
-    import tomllib
     return Case.model_validate(tomllib.loads(text))
 
 
@@ -223,25 +229,8 @@ def test_bonded_layers_bend_as_one_section():
     ('[[loads]]\nkind = "self_weight"\nfollower = true\ndirection = [0.0, -1.0]\nvalues = [1.0]', "follower"),
 ])
 def test_bad_distributed_or_attached_loads_are_named(loads, message):
-    import tomllib
-    text = f'''
-[case]
-id = "t"
-title = "t"
-group = "tests"
-units = "dimensionless"
-[segment]
-boundary = "fixed-free"
-length = 1.0
-E = 1.0
-section = {{ kind = "inertia", I = 1.0 }}
-{loads}
-[[outputs]]
-quantity = "y"
-[methods.fem]
-'''
     with pytest.raises(ValueError, match=message):
-        Case.model_validate(tomllib.loads(text))
+        _case(loads, section='{ kind = "inertia", I = 1.0 }')
 
 
 def test_point_load_methods_refuse_loads_along_the_beam():
