@@ -309,6 +309,8 @@ def _input_node(case) -> str:
 def _limit_load(fem, case, model, options: dict):
     """Load at the first limit point: by arc length (default) or by displacement control of the
     loaded point along the load (``limit_control = "displacement"``, step ``control_step``)."""
+    if not model.loads:
+        raise NotApplicable("limit_load scales the point loads; this case has none (distributed loads only)")
     reference = max(abs(np.asarray(ld.values)[-1]).max() for ld in model.loads)
     if options.get("limit_control", "arclength") == "displacement":
         load = max((ld for ld in case.loads if ld.kind == "force"), key=lambda ld: max(map(abs, ld.levels())))
