@@ -98,3 +98,48 @@ def test_mechanical_advantage_needs_its_output():
     text = LEVER.format(a=0.3, b=0.1).replace('ma = { output = "B", direction = [0.0, 1.0] }', '')
     with pytest.raises(NotApplicable, match="ma = "):
         _run(text)
+
+
+SPRUNG_LEVER = '''
+[case]
+id = "sprung_lever"
+title = "sprung lever"
+group = "tests"
+units = "SI"
+[mechanism]
+E = 2.0e11
+nodes = [{{ name = "O", x = 0.0, y = 0.0 }}, {{ name = "B", x = {b}, y = 0.0 }}, {{ name = "A", x = {a}, y = 0.0 }}]
+beams = [
+  {{ name = "OB", start = "O", end = "B", section = {{ kind = "rectangle", width = 0.05, thickness = 0.05 }} }},
+  {{ name = "BA", start = "B", end = "A", section = {{ kind = "rectangle", width = 0.05, thickness = 0.05 }} }},
+]
+joints = [{{ node = "O", members = ["OB"], spring = {k} }}]
+supports = [{{ node = "O", kind = "pinned", member = "OB" }}]
+[[loads]]
+kind = "force"
+point = "A"
+direction = [0.0, -1.0]
+values = [50.0, 100.0]
+[[loads]]
+kind = "displacement"
+point = "B"
+direction = [0.0, 1.0]
+values = [-{delta}, -{delta}]
+[[outputs]]
+quantity = "mechanical_advantage"
+[methods.fem]
+elements = 4
+ma = {{ output = "B", direction = [0.0, -1.0], definition = "{definition}" }}
+'''
+
+
+@pytest.mark.parametrize("definition", ["secant", "tangent"])
+def test_secant_mechanical_advantage_carries_the_compliance(definition):
+    """Lever O-B-A with a torsional spring k at its ground pivot O, output B held pushed down by
+    delta: the input F down at a gives, by moments about O, F_out = (F a - k delta/b)/b (rotation
+    delta/b = 0.01), so the secant MA is a/b - k delta/(F b^2) and the tangent one a/b."""
+    a, b, k, delta = 0.3, 0.1, 200.0, 0.001
+    run = _run(SPRUNG_LEVER.format(a=a, b=b, k=k, delta=delta, definition=definition))
+    for level, F in enumerate((50.0, 100.0)):
+        expected = a / b - k * delta / (F * b * b) if definition == "secant" else a / b
+        assert run.values[("mechanical_advantage", "", level)] == pytest.approx(expected, rel=2e-3)

@@ -481,7 +481,11 @@ def _beam_outputs(fem, case, model, result, requests, elements: int, options: di
         elif req.quantity == "inflection_points":
             values[req] = float(fem_outputs.inflection_points(result, model, beams, req.level))
         else:
-            if ma is None:
+            if ma is None and fem_outputs.definition(options) == "secant":
+                load = case.loads[fem_outputs.input_load_index(case, options)]
+                ma = fem_outputs.secant_mechanical_advantage(
+                    options, fem_outputs.output_force(case, options, result.reaction), load)
+            elif ma is None:
                 raised_case, delta, load = fem_outputs.incremented_case(case, options)
                 solves = [fem.solve(m, n_levels=case.n_levels(), rtol=float(options.get("rtol", 1e-10)))
                           for m in (model, build_model(raised_case, elements, options))]
@@ -490,7 +494,8 @@ def _beam_outputs(fem, case, model, result, requests, elements: int, options: di
                                         + "; ".join(r.message for r in solves))
                 forces = [fem_outputs.output_force(case, options, r.reaction) for r in solves]
                 ma = fem_outputs.mechanical_advantage(case, options, forces[0], forces[1], delta, load)
-            values[req] = float(ma[req.level])
+            if np.isfinite(ma[req.level]):                      # secant: undefined without input load
+                values[req] = float(ma[req.level])
     return values
 
 

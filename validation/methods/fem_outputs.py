@@ -12,7 +12,10 @@ of inflection points, and the mechanical advantage by a small increment of the i
   input load; by a second solve with the input load raised by ``step`` x its largest value
   (``[methods.fem] ma = {output = "S", direction = [1, 0], input = 0, step = 1e-4}``; ``input`` is the
   index of the load in ``[[loads]]``, default the first force or moment). With a moment as input and
-  ``d_i`` given, F_in = T/d_i (the seed's Type 1 input force at distance d_i).
+  ``d_i`` given, F_in = T/d_i (the seed's Type 1 input force at distance d_i). ``definition =
+  "secant"`` gives instead MA = F_out/F_in at each level, the ratio the seed's eq (192) uses when the
+  output is held at a prescribed position: the compliance of the mechanism then takes its share of
+  the input (MA = MA_R (1 - F_c/F_i)), which the tangent ratio does not see.
 """
 from __future__ import annotations
 
@@ -84,12 +87,29 @@ def output_force(case, options: dict, reaction_of) -> np.ndarray:
     return -np.array([reaction_of(ma["output"], level)[:2] @ d for level in range(case.n_levels())])
 
 
-def mechanical_advantage(case, options: dict, base, raised, delta: float, input_load) -> np.ndarray:
-    """MA per level from the output forces of the base and raised solves (arrays per level)."""
-    dF_in = delta
+def definition(options: dict) -> str:
+    kind = (options.get("ma") or {}).get("definition", "tangent")
+    if kind not in ("tangent", "secant"):
+        raise NotApplicable(f"ma.definition = '{kind}': use 'tangent' or 'secant'")
+    return kind
+
+
+def _input_force(options: dict, input_load, load_values):
     d_i = (options.get("ma") or {}).get("d_i")
-    if input_load.kind == "moment":
-        if d_i is None:
-            raise NotApplicable("an input moment needs ma.d_i (the input force's distance) for a force ratio")
-        dF_in = delta / float(d_i)
-    return (raised - base) / dF_in
+    if input_load.kind != "moment":
+        return load_values
+    if d_i is None:
+        raise NotApplicable("an input moment needs ma.d_i (the input force's distance) for a force ratio")
+    return load_values / float(d_i)
+
+
+def mechanical_advantage(case, options: dict, base, raised, delta: float, input_load) -> np.ndarray:
+    """Tangent MA per level from the output forces of the base and raised solves (arrays per level)."""
+    return (raised - base) / _input_force(options, input_load, delta)
+
+
+def secant_mechanical_advantage(options: dict, base, input_load) -> np.ndarray:
+    """F_out / F_in per level; NaN where the input load is zero (the caller leaves those out)."""
+    f_in = _input_force(options, input_load, np.asarray(input_load.levels(), float))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(f_in != 0.0, base / np.where(f_in != 0.0, f_in, 1.0), np.nan)
