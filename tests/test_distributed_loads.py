@@ -243,3 +243,46 @@ def test_point_load_methods_refuse_loads_along_the_beam():
     follower = case.model_copy(update={"loads": [case.loads[0].model_copy(update={"follower": True})]})
     with pytest.raises(NotApplicable, match="follower distributed"):
         elastica_adapter.level_problems(follower, {})
+
+
+BODY_CASE = '''
+[case]
+id = "t"
+title = "t"
+group = "tests"
+units = "dimensionless"
+[mechanism]
+E = 1.0
+nodes = [{{ name = "root", x = 0.0, y = 0.0 }}, {{ name = "A", x = 1.0, y = 0.0 }}, {{ name = "P", x = 1.5, y = 0.0 }}]
+beams = [{{ name = "b", start = "root", end = "A", section = {{ kind = "inertia", I = 1.0, A = 1e8 }} }}]
+links = [{{ name = "ext", nodes = ["A", "P"] }}]
+supports = [{{ node = "root", kind = "fixed" }}]
+[[loads]]
+kind = "force"
+point = "{point}"
+direction = [0.0, 1.0]
+values = [1.0, 2.0]
+{attached}
+[[outputs]]
+quantity = "dy"
+point = "P"
+[methods.fem]
+elements = 8
+error_estimate = false
+'''
+
+
+@pytest.mark.parametrize("point, body", [("P", "ext"), ("A", "b")])
+def test_follower_force_on_a_named_body_turns_with_it(point, body):
+    """A force kept at its angle to a rigid link (or to a beam end) is the follower force of the point
+    it acts on, which turns with that body; a dead force lands elsewhere."""
+    import tomllib
+
+    def tip(attached):
+        case = Case.model_validate(tomllib.loads(BODY_CASE.format(point=point, attached=attached)))
+        run = fem_adapter.run(case, requests_for(case, "fem"), {"error_estimate": False})
+        return np.array([run.values[("dy", "P", k)] for k in (0, 1)])
+
+    on_body = tip(f'follower = true\nbody = "{body}"')
+    assert on_body == pytest.approx(tip("follower = true"), rel=1e-9)
+    assert np.abs(on_body - tip("")).max() > 0.05
