@@ -106,9 +106,11 @@ def _level_axis(result: CaseResult) -> tuple[np.ndarray, str]:
     case = result.loaded.case
     if case.loads:
         load = case.loads[0]
-        dim = {"force": "force", "moment": "moment", "displacement": "length", "rotation": "deg"}[load.kind]
+        dim = {"force": "force", "moment": "moment", "displacement": "length", "rotation": "deg"}.get(load.kind)
+        unit = case.unit(dim) if dim else {"distributed": f"{case.unit('force')}/{case.unit('length')}",
+                                           "self_weight": "x weight"}[load.kind]
         name = load.label or f"{load.kind} at {load.point}"
-        return np.asarray(load.levels(), float), f"{name} [{case.unit(dim)}]"
+        return np.asarray(load.levels(), float), f"{name} [{unit}]"
     return np.arange(case.n_levels(), dtype=float), "load level"
 
 
