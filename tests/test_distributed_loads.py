@@ -286,3 +286,15 @@ def test_follower_force_on_a_named_body_turns_with_it(point, body):
     on_body = tip(f'follower = true\nbody = "{body}"')
     assert on_body == pytest.approx(tip("follower = true"), rel=1e-9)
     assert np.abs(on_body - tip("")).max() > 0.05
+
+
+def test_zero_level_measures_positions_from_that_level():
+    """zero_level = 0: a scale zeroed under the self-weight; y(level) - y(0) of the plain run."""
+    case = _case('[[loads]]\nkind = "self_weight"\ndirection = [0.0, -1.0]\nvalues = [1.0, 1.0]\n'
+                 '[[loads]]\nkind = "force"\ndirection = [0.0, 1.0]\nvalues = [0.0, 2.0]')
+    plain = fem_adapter.run(case, requests_for(case, "fem"), {"error_estimate": False})
+    zeroed = fem_adapter.run(case, requests_for(case, "fem"), {"error_estimate": False, "zero_level": 0})
+    sag = plain.values[("y", "tip", 0)]
+    assert sag < -0.1
+    assert zeroed.values[("y", "tip", 0)] == 0.0
+    assert zeroed.values[("y", "tip", 1)] == pytest.approx(plain.values[("y", "tip", 1)] - sag, rel=1e-12)

@@ -12,7 +12,10 @@ on n and 2n elements and report |u_2n - u_n|/3, the Richardson estimate of the O
 ``richardson`` (report the extrapolated value instead of u_2n), ``tol`` (refine until the estimate is
 below it), ``inextensible_ratio`` (EA L^2/EI used when a section gives no area; default 1e6),
 and for ``limit_load``: ``arc_length``, ``max_steps``; for ``mechanical_advantage``: ``ma`` (see
-`fem_outputs`, which also gives ``max_stress`` and ``inflection_points`` from the finest mesh).
+`fem_outputs`, which also gives ``max_stress`` and ``inflection_points`` from the finest mesh);
+``zero_level``: positions (x, y, dx, dy) measured from the state of that level instead of the unloaded
+one (an experiment zeroed its scale under a load already present, e.g. self-weight): x = X0 + x(level)
+- x(zero_level).
 """
 from __future__ import annotations
 
@@ -402,6 +405,12 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
     elements = int(options.get("elements", 16))
     model = build_model(case, elements, options)
     values, errors, iterations, converged, messages, result = {}, {}, 0, True, [], None
+    zero = options.get("zero_level")
+    if zero is not None:
+        if not 0 <= int(zero) < case.n_levels():
+            raise NotApplicable(f"zero_level = {zero}: the case has {case.n_levels()} load levels")
+        shifted = [r for r in requests if r.quantity in ZEROED]
+        requests = list(dict.fromkeys(requests + [Request(r.quantity, r.point, int(zero)) for r in shifted]))
     dof = [r for r in requests if r.quantity == "dof"]
     if dof:
         count, note = _soft_mode_count(case, model, options)
@@ -435,6 +444,13 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
             values.update({r: value for r in limit})
             messages.append(f"limit load by {options.get('limit_control', 'arclength')}: {res.message}")
         result = result or res
+    if zero is not None:
+        at_zero = {r: values.get(Request(r.quantity, r.point, int(zero))) for r in shifted}
+        origin = {name: model.coords[i] for i, name in enumerate(model.node_names)}
+        for r in shifted:
+            if r in values and at_zero[r] is not None:
+                unloaded = {"x": origin[r.point][0], "y": origin[r.point][1]}.get(r.quantity, 0.0)
+                values[r] = values[r] - at_zero[r] + unloaded
     extras = {"iterations": iterations, "elements": elements}
     if result is not None and result.n_levels:
         extras["shapes"] = _shapes(result)
@@ -446,6 +462,7 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
 
 
 BEAM_OUTPUTS = ("max_stress", "inflection_points", "mechanical_advantage")
+ZEROED = ("x", "y", "dx", "dy")
 
 
 def _soft_mode_count(case, model, options: dict) -> tuple[int, str]:
