@@ -23,6 +23,7 @@ import numpy as np
 import pandas as pd
 
 from validation.loader import find_case_files
+from validation.readings import readings_groups
 from validation.runner import CaseResult, run_cases, summary
 
 DEPENDENCIES = ["numpy", "scipy", "scikit-fem", "meshio", "pyvista", "pandas", "matplotlib", "pydantic",
@@ -376,6 +377,23 @@ def _build_pages(results: list[CaseResult], table: pd.DataFrame, out: Path, jobs
     return [_page_job(t) for t in tasks]
 
 
+def _readings_section(results, table: pd.DataFrame, links: dict) -> tuple[list[str], list[str]]:
+    """Readings of one experiment side by side against the measured points (`readings`)."""
+    groups = readings_groups(results, table)
+    if not groups:
+        return [], []
+    body = ["<h2>Load readings against the measurements</h2>"]
+    md = ["\n## Load readings against the measurements\n"]
+    for group in groups:
+        best = group.table.groupby("method", sort=False).head(1)        # sorted by rms: each method's closest
+        note = "closest: " + "; ".join(f"{r['method']}: {r['case']}, rms {r['rms']:.4g}, largest {r['max']:.4g} "
+                                       f"over {r['levels']} levels" for _, r in best.iterrows())
+        body += [f"<h3>{html.escape(group.experiment)}</h3><p>{html.escape(note)}</p>",
+                 _html_table(group.table, lambda r: "good" if r["closest"] else "")]
+        md += [f"\n### {group.experiment}\n", note + "\n", _md_table(group.table)]
+    return body, md
+
+
 def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[str] | None = None) -> int:
     started = time.perf_counter()
     out.mkdir(parents=True, exist_ok=True)
@@ -409,6 +427,9 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
                     .replace("&lt;a href=&#x27;", "<a href='").replace("&#x27;&gt;", "'>")
                     .replace("&lt;/a&gt;", "</a>"))
         md += [f"\n## {group}\n", _md_table(summ[summ["group"] == group].drop(columns="group"))]
+    body_readings, md_readings = _readings_section(outcome.results, table, links)
+    body += body_readings
+    md += md_readings
     body.append("<h2>Findings: printed numbers not reproduced, and comparisons outside their tolerance</h2>")
     items = [f"<li><b>{r.loaded.id}</b>: {html.escape(f)}</li>" for r in outcome.results
              for f in r.loaded.case.case.findings]

@@ -385,6 +385,8 @@ class CaseInfo(Strict):
     assumptions: list[str] = Field(default_factory=list)
     findings: list[str] = Field(default_factory=list, description="case-level misprints and disagreements, "
                                 "with their evidence, that no single reference carries")
+    readings_of: str | None = Field(None, description="id of the base case of an experiment this case is "
+                                    "one loading reading of (the report sets them side by side)")
 
     @field_validator("units")
     @classmethod
