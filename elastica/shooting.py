@@ -70,6 +70,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from .integrator import STATE_SIZE, elastica_rhs, integrate_dop853, integrate_samples
+
 __all__ = ["TipConstraint", "MomentConstraint", "ElasticaProblem", "ElasticaResult",
            "solve_elastica", "solve_path", "loaded_start", "section_moment", "unloaded_tip"]
 
@@ -197,6 +199,11 @@ def _start_vector(p: ElasticaProblem) -> np.ndarray:
     return np.array(q)
 
 
+def _sensitivities(Y) -> np.ndarray:
+    """(4, 5): d(x, y, theta, m)/d(m0, Fx, Fy, wx, wy) from a state vector (`integrator` layout)."""
+    return np.hstack([Y[5:17].reshape(4, 3), Y[17:25].reshape(4, 2)])
+
+
 class _Pieces:
     """An integration over [0, 1] made of pieces split at the moment-constraint sites.
 
@@ -220,11 +227,19 @@ class _Pieces:
         return out
 
 
+@dataclass(frozen=True)
+class _EndState:
+    """One compiled integration: the interval ``t``, the end state as the last column of ``y``."""
+    t: np.ndarray
+    y: np.ndarray
+    success: bool
+
+
 class _Shooter:
     """Residual and Jacobian of the end conditions for one problem structure (normalised)."""
 
     def __init__(self, p: ElasticaProblem, rtol: float, atol: float):
-        self.k0 = p.curvature * p.length
+        self.k0 = float(p.curvature * p.length)
         self.dirs = [_unit(c.direction) for c in p.constraints]
         self.fdirs = [_unit(c.force_direction if c.force_direction is not None else c.direction)
                       for c in p.constraints]
@@ -238,7 +253,7 @@ class _Shooter:
         self.angle_given = p.tip_angle is not None
         self.has_follower = p.follower != (0.0, 0.0)
         self.n = 1 + self.nc + self.nm + (1 if self.has_follower else 0)
-        self.rtol, self.atol = rtol, atol
+        self.rtol, self.atol = float(rtol), float(atol)
 
     def unknown_force_directions(self):
         """Unit directions of the force multipliers, in the order of z[1:1 + nc + nm]."""
@@ -260,29 +275,27 @@ class _Shooter:
         return F, dF
 
     def rhs(self, s, Y, Fx, Fy, wx=0.0, wy=0.0):
-        """State Y = [x, y, theta, m, U, then dx, dy, dtheta, dm w.r.t. (m0, Fx, Fy, wx, wy) row-major]."""
-        (_, _, th, m, _, _, _, _, _, _, _, _, _, _, _, t0, t1, t2, t3, t4,
-         m0_, m1_, m2_, m3_, m4_) = Y.tolist()
-        c, sn = math.cos(th), math.sin(th)
-        out = 1.0 - s                                   # outboard length carrying the distributed load
-        Nx, Ny = Fx + wx * out, Fy + wy * out
-        g = Nx * c + Ny * sn
-        return np.array([c, sn, self.k0 + m, Nx * sn - Ny * c, 0.5 * m * m,
-                         -sn * t0, -sn * t1, -sn * t2, -sn * t3, -sn * t4,
-                         c * t0, c * t1, c * t2, c * t3, c * t4,
-                         m0_, m1_, m2_, m3_, m4_,
-                         g * t0, g * t1 + sn, g * t2 - c, g * t3 + out * sn, g * t4 - out * c])
+        """dY/ds (`integrator.elastica_rhs`), for scipy's dense-output integration."""
+        out = np.empty(STATE_SIZE)
+        elastica_rhs(s, Y, Fx, Fy, self.k0, out, wx, wy)
+        return out
 
     def integrate(self, z, q, dense=False):
-        """Integrate over [0, 1], split at the moment-constraint sites (``_Pieces``)."""
+        """Integrate over [0, 1], split at the moment-constraint sites (``_Pieces``): by the compiled
+        DOP853 (`integrator`), or by scipy's DOP853 when the dense output is wanted (the samples)."""
         F, dF = self.forces(z, q)
-        Y0 = np.zeros(25)
+        Y0 = np.zeros(STATE_SIZE)
         Y0[3] = z[0]
-        Y0[5 + 15] = 1.0             # d m(0) / d m0
+        Y0[5 + 9] = 1.0              # d m(0) / d m0
         pieces, states = [], {0.0: Y0}
         for a, b in zip([0.0] + self.knots, self.knots + [1.0]):
-            sol = solve_ivp(self.rhs, (a, b), states[a], method="DOP853", rtol=self.rtol,
-                            atol=self.atol, args=(F[0], F[1], q[-2], q[-1]), dense_output=dense)
+            if dense:
+                sol = solve_ivp(self.rhs, (a, b), states[a], method="DOP853", rtol=self.rtol,
+                                atol=self.atol, args=(F[0], F[1], q[-2], q[-1]), dense_output=True)
+            else:
+                y_end, ok = integrate_dop853(states[a], float(a), float(b), float(F[0]), float(F[1]), self.k0,
+                                             self.rtol, self.atol, float(q[-2]), float(q[-1]))
+                sol = _EndState(np.array([a, b]), y_end[:, None], ok)
             pieces.append(sol)
             if not sol.success:
                 break
@@ -298,7 +311,7 @@ class _Shooter:
         if not sol.success:
             return None, None, sol
         Y = sol.y[:, -1]
-        S = Y[5:].reshape(4, 5)
+        S = _sensitivities(Y)
         # d(state at L)/dz = S[:, 0] e_0^T + S[:, 1:3] dF
         dYdz = np.outer(S[:, 0], np.eye(self.n)[0]) + S[:, 1:3] @ dF
         r = np.empty(self.n)
@@ -314,7 +327,7 @@ class _Shooter:
             J[1 + k] = d[0] * dYdz[0] + d[1] * dYdz[1]
         for j in range(self.nm):
             Yj = self.section_state(sol, j)
-            Sj = Yj[5:].reshape(4, 5)
+            Sj = _sensitivities(Yj)
             i = 1 + self.nc + j
             r[i] = Yj[3] - q[5 + self.nc + j]
             J[i] = Sj[3, 0] * np.eye(self.n)[0] + Sj[3, 1:3] @ dF
@@ -328,7 +341,7 @@ class _Shooter:
 def _load_derivative(shooter, sol, z, nq):
     """d r / d q (n x nq) at the end of the integration ``sol``: the force parameters act
     through the sensitivities to (Fx, Fy), the others enter the end conditions directly."""
-    S = sol.y[5:, -1].reshape(4, 5)
+    S = _sensitivities(sol.y[:, -1])
     dFdq = np.zeros((2, nq))
     dFdq[0, 0] = dFdq[1, 1] = 1.0
     if shooter.has_follower:
@@ -348,7 +361,7 @@ def _load_derivative(shooter, sol, z, nq):
         D[1 + k] = d[0] * dYdq[0] + d[1] * dYdq[1]
         D[1 + k, 5 + k] -= 1.0
     for j in range(shooter.nm):
-        Sj = shooter.section_state(sol, j)[5:].reshape(4, 5)
+        Sj = _sensitivities(shooter.section_state(sol, j))
         i = 1 + shooter.nc + j
         D[i] = Sj[3, 1:3] @ dFdq
         D[i, -2:] += Sj[3, 3:5]
@@ -626,9 +639,13 @@ def _tip_angle(shooter, z, q):
 
 
 def _result(problem, shooter, z, q, n_samples):
-    sol, F, _ = shooter.integrate(z, q, dense=True)
+    """The result at the converged unknowns z: tip values from the same integration as the last
+    residual, the shape sampled by integrating from sample to sample (compiled)."""
+    sol, F, _ = shooter.integrate(z, q)
     s = np.linspace(0.0, 1.0, n_samples)
-    Ys = sol.sol(s)
+    samples, _ = integrate_samples(sol.states[0.0], s, F[0], F[1], shooter.k0, shooter.rtol, shooter.atol,
+                                   q[-2], q[-1])
+    Ys = samples.T
     Y = sol.y[:, -1]
     L, EI = problem.length, problem.EI
     fs, ms = EI / L**2, EI / L

@@ -38,6 +38,7 @@ import numpy as np
 
 from elastica.shooting import (ElasticaProblem, MomentConstraint, TipConstraint, loaded_start,
                                solve_path, unloaded_tip)
+from validation.methods import elastica_network
 from validation.methods.base import MethodRun, NotApplicable, Request
 from validation.schema import Case
 
@@ -187,6 +188,10 @@ def _value(res, req: Request, case: Case) -> float:
 
 def run(case: Case, requests: list[Request], options: dict) -> MethodRun:
     t0 = time.perf_counter()
+    if case.mechanism is not None:  # beams coupled through rigid links: validation/methods/elastica_network.py
+        run = elastica_network.run_mechanism(case, requests, options)
+        run.wall_time = time.perf_counter() - t0
+        return run
     inflection = options.get("problem") == "inflection"
     if "problem" in options and not inflection:
         raise NotApplicable(f"unknown elastica problem '{options['problem']}' (known: 'inflection')")

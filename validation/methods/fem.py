@@ -451,7 +451,8 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
             if r in values and at_zero[r] is not None:
                 unloaded = {"x": origin[r.point][0], "y": origin[r.point][1]}.get(r.quantity, 0.0)
                 values[r] = values[r] - at_zero[r] + unloaded
-    extras = {"iterations": iterations, "elements": elements}
+    extras = {"iterations": iterations, "elements": elements,
+              "rejected_iterations": getattr(result, "rejected_iterations", 0)}
     if result is not None and result.n_levels:
         extras["shapes"] = _shapes(result)
         path = _continuation_path(case, result)

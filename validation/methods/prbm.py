@@ -52,6 +52,7 @@ import time
 
 import numpy as np
 
+from validation.methods import prbm_network
 from validation.methods.base import MethodRun, NotApplicable, Request, reject_loads_along_beams
 
 DEG = math.pi / 180.0
@@ -342,14 +343,17 @@ def _mechanism(prbm, case, requests, options):
                             f"{first['f_r']} + {first['f_e']})")
             return values, info
     links = options.get("links")
-    if not links and len(mech.beams) == 1:
+    if not links and _one_beam_carrying_a_body(mech) and options.get("model") != "network":
         values.update(_segment_with_body(prbm, case, requests, options, info))
         return values, info
     if links and "r11" in links:
         return _slider(prbm, case, requests, options, links, values, info)
-    if not links or not {"r1", "r2", "r3", "r4"} <= set(links):
-        raise NotApplicable("no PRB four-bar given ([methods.prbm] links = {r1..r4}); only four-bars "
-                            "(and dof) are modelled by this adapter")
+    if not links or options.get("model") == "network":
+        values.update(prbm_network.run_mechanism(case, requests, options, info))
+        return values, info
+    if not {"r1", "r2", "r3", "r4"} <= set(links):
+        raise NotApplicable("[methods.prbm] links: a PRB four-bar needs r1..r4 (or give no links: the PRB "
+                            "model is then built from the geometry)")
     Z = {k: _complex(v) for k, v in links.items()}
     sp = options.get("springs", {})
     springs = tuple(float(sp.get(f"k{i}", 0.0)) for i in range(1, 5))
@@ -625,6 +629,19 @@ def _segment_with_body(prbm, case, requests, options, info) -> dict:
                         "end_loads": {lv: {k: float(results[lv].outputs[k]) for k in ("Fx", "Fy", "M")}
                                       for lv in needed}})
     return values
+
+
+def _one_beam_carrying_a_body(mech) -> bool:
+    """One beam, fixed at one end by the only support, its other end not released by a joint
+    (chapter 5 Example 1): the segment-with-body path and its chapter-3/5 models apply."""
+    if len(mech.beams) != 1 or len(mech.supports) != 1 or mech.supports[0].kind != "fixed":
+        return False
+    beam = mech.beams[0]
+    root = mech.supports[0].node
+    if root not in (beam.start, beam.end):
+        return False
+    end = beam.end if root == beam.start else beam.start
+    return not any(j.node == end for j in mech.joints)
 
 
 def _prefer(options):
