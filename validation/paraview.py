@@ -8,14 +8,15 @@ For each method that gave deformed shapes, ``write_case_series`` writes under ``
   ``fem_undeformed.vtu``, the reference mesh;
 - ``prbm.pvd``: the pseudo-rigid-body links (line cells) and their pivots and link ends (vertex
   cells), point data ``pivot`` (1 at a pivot or link end);
-- ``elastica.pvd``: the exact centreline with its rotation (degrees), curvature d(theta)/ds (a mechanism's
-  beams: the tangent angle and curvature of each centreline),
-  bending moment EI kappa and displacement from the undeformed (straight or circular) segment;
+- ``elastica.pvd``: the exact centreline; a segment's with its rotation (degrees), curvature
+  d(theta)/ds, bending moment EI (kappa - kappa0) and displacement from the undeformed (straight or
+  circular) segment; a mechanism's beams with the tangent angle and curvature of each centreline;
 - ``all_methods.pvd``: the same files, one part per method, where more than one method drew a shape.
 
 Time is the case's first load at each level (its unit in the case's unit system), or the level index
-when the case has no load; a FEM continuation (limit load) is timed by its load factor.  Units are the case file's; rotations in degrees as everywhere in the
-harness.  ``render_series`` draws the last level of every series off-screen with pyvista.
+when the case has no load; a FEM continuation (limit load) is timed by its load factor.  Units are the
+case file's; rotations in degrees as everywhere in the harness.  ``render_series`` draws the last level
+of every series off-screen with pyvista.
 """
 from __future__ import annotations
 
