@@ -77,7 +77,9 @@ def newton(system, q, lam, beta, loads, opts, mode="load", ctrl=None, arc=None, 
         hist.append(rn / max(ev["F_scale"], 1e-300))
         if not math.isfinite(rn):
             raise StepFailed("residual is not finite", it)
-        if (rn <= tol or dq_small) and (it > 0 or mode == "load"):
+        # before the first correction the rounding floor does not count: a load below it (4 eps EA) would
+        # otherwise leave the unloaded state accepted as converged
+        if (rn <= tol or dq_small) and (it > 0 or mode == "load" and rn <= opts["rtol"] * ev["F_scale"] + opts["atol"]):
             return q, lam, ev, hist, it, fac
         if it == opts["max_iter"]:
             raise StepFailed(f"no convergence in {it} iterations (|r|/F = {hist[-1]:.2e})", it)

@@ -15,7 +15,7 @@ from prbm.network import (GROUND, Couple, Force, LockedNetwork, Network, Network
 from prbm.result import PRBMResult
 from prbm.segments import (curved_fixed_pinned_tip, curved_pinned_pinned, fixed_guided_monotonic_tip,
                            fixed_guided_tip, fixed_pinned_from_tip, fixed_pinned_tip, pure_moment_from_tip,
-                           pure_moment_tip, slfp_tip, spring_angle)
+                           pure_moment_tip, slfp_end_tip, slfp_tip, spring_angle)
 
 __all__ = [
     "capstan_factor", "composite_beam_tip", "layered_bending_stiffness",
@@ -32,6 +32,6 @@ __all__ = [
     "GROUND", "Couple", "Force", "LockedNetwork", "Network", "NetworkResult", "Pin", "PrescribedDisplacement",
     "PrescribedRotation", "Slider", "TorsionSpring", "solve", "trace",
     "curved_fixed_pinned_tip", "curved_pinned_pinned", "fixed_guided_monotonic_tip", "fixed_guided_tip",
-    "fixed_pinned_from_tip", "fixed_pinned_tip", "pure_moment_from_tip", "pure_moment_tip", "slfp_tip",
+    "fixed_pinned_from_tip", "fixed_pinned_tip", "pure_moment_from_tip", "pure_moment_tip", "slfp_end_tip", "slfp_tip",
     "spring_angle",
 ]

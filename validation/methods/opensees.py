@@ -23,6 +23,7 @@ import time
 import numpy as np
 
 from validation.methods.base import MethodRun, NotApplicable, Request
+from validation.quantities import boundary_held_tip
 
 SUPPORTED = {"x", "y", "dx", "dy", "rotation", "limit_load"}
 
@@ -85,6 +86,10 @@ def _geometry(case, elements: int):
         seg = case.segment
         if seg.initial_curvature() != 0.0:
             raise NotApplicable("curved segments are not built for the OpenSees peer")
+        held = boundary_held_tip(case)
+        if held or seg.boundary == "pinned-pinned":  # the peer builds a clamped root and a free tip only
+            raise NotApplicable(f"a {seg.boundary} segment (tip {', '.join(held) or 'root pin'} held) is not "
+                                "built for the OpenSees peer")
         xs = np.linspace(0.0, seg.length, elements + 1)
         idx = [add(x, 0.0) for x in xs]
         names.update(root=idx[0], tip=idx[-1])
