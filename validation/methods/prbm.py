@@ -21,6 +21,11 @@ as P = F_y, n = -F_x/F_y (seed 000: end force (-nP, P)).
 Outputs: x = a, y = b, dx, dy (from the unloaded tip), rotation = theta0 (deg), force_x = -nP,
 force_y = P, moment (CCW), prb_angle (deg), strain_energy (PRBM springs).
 
+Mechanisms with no hand-given ``links`` (and not the one-beam-with-body case below): the PRB model
+is built from the geometry by the seeds' rules and solved as a general rigid-link network
+(``validation/methods/prbm_network.py``, ``prbm.build``, ``prbm.solve``); ``model = 'network'``
+does so even when links are given.
+
 Mechanisms: a PRB four-bar from ``[methods.prbm]`` options in the case-file format of chapters 6, 7
 and 9: ``links = {r1 = [x, y], ..., r5, r6}`` (position-1 vectors Z1..Z6), ``springs = {k1..k4}``,
 ``energy_free = {theta2, theta3, theta4}`` (deg), ``coupler_point`` (node name, default 'P').
