@@ -1,4 +1,4 @@
-"""``prbm-validate``: list, run, solve, report, bench, stress, sweep and synthesize.
+"""``prbm-validate``: list, run, solve, report, bench, stress, audit, sweep and synthesize.
 
 Exit status: 0 all good, 1 a comparison outside its claimed tolerance, 2 bad input.
 """
@@ -178,8 +178,10 @@ def build_parser() -> argparse.ArgumentParser:
     stress.set_defaults(func=cmd_stress)
 
     from synthesis.cli import add_parser as add_synthesize_parser
+    from validation.audit import add_parser as add_audit_parser
     from validation.sweep import add_parser as add_sweep_parser
 
+    add_audit_parser(sub)
     add_sweep_parser(sub)
     add_synthesize_parser(sub)
     return parser

@@ -485,3 +485,17 @@ class Case(Strict):
         if dimension in ("deg", "1", "count"):
             return dimension
         return UNIT_SYSTEMS[self.case.units][dimension]
+
+
+def without_checks(data: dict, methods: list[str]) -> dict:
+    """Case data (as read from TOML) restricted to ``methods`` for a derived run (a sweep point, a stress
+    variant): references and agreements dropped, ``case.unchecked`` / ``case.expected_failure`` kept only
+    for the methods that remain. Modifies and returns ``data``."""
+    data["references"] = []
+    data["agreements"] = []
+    info = data.get("case") or {}
+    for key in ("unchecked", "expected_failure"):
+        if key in info:
+            info[key] = {m: why for m, why in info[key].items() if m in methods}
+    return data
+

@@ -1,0 +1,117 @@
+"""``prbm-validate audit``: plant errors in one method at a time and count the cases that catch them.
+
+For each plant of ``validation.plants`` (adapter outputs x 1.10, sign flips, library constants
+x 1.10) every case that lists the planted method is run in a fresh worker process with the error in
+place and judged by the suite's own rule (``validation.compare.case_verdict``). The table has one row
+per plant and one column per case group: caught / cases of the group that run the method. A planted
+error that no case of a group catches, in a group where its method runs, is a hole in the suite.
+The unplanted baseline runs first; a case failing there is reported, since it cannot catch anything.
+"""
+from __future__ import annotations
+
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+
+import pandas as pd
+
+from validation import plants
+from validation.compare import case_verdict
+from validation.loader import CaseError, find_case_files, load_case
+from validation.runner import run_case, tabulate
+
+BASELINE = "none"
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """One case under one plant."""
+
+    plant: str
+    case: str
+    group: str
+    failed: bool
+    first_problem: str
+
+
+def _judge(plant: str, path: Path) -> Verdict:
+    loaded = load_case(path)
+    result = run_case(loaded, use_cache=False)
+    problems = case_verdict(loaded.case, result.runs, tabulate(result))
+    return Verdict(plant, loaded.id, loaded.case.case.group, bool(problems), problems[0][:200] if problems else "")
+
+
+def _initialise(plant: str) -> None:
+    if plant != BASELINE:
+        plants.apply(plant)
+
+
+def run_plant(plant: str, paths: list[Path], jobs: int) -> list[Verdict]:
+    """Every case of ``paths`` in worker processes that carry the planted error."""
+    with ProcessPoolExecutor(max_workers=jobs, initializer=_initialise, initargs=(plant,)) as pool:
+        return list(pool.map(_judge, [plant] * len(paths), paths))
+
+
+def audit(paths: list[Path], names: list[str], jobs: int = 2) -> pd.DataFrame:
+    """Verdicts of the baseline and of each named plant, one row per (plant, case)."""
+    methods = {}
+    for path in paths:
+        try:
+            methods[path] = set(load_case(path).case.methods)
+        except CaseError as exc:
+            raise SystemExit(f"error: {exc}")
+    rows = [v.__dict__ for v in run_plant(BASELINE, paths, jobs)]
+    for name in names:
+        wanted = [p for p in paths if plants.PLANTS[name].method in methods[p]]
+        if wanted:
+            rows += [v.__dict__ for v in run_plant(name, wanted, jobs)]
+    return pd.DataFrame(rows)
+
+
+def by_group(verdicts: pd.DataFrame) -> pd.DataFrame:
+    """caught / run per (plant, group); the baseline row counts failures that need no plant."""
+    table = verdicts.groupby(["plant", "group"])["failed"].agg(["sum", "count"])
+    cells = table.apply(lambda r: f"{int(r['sum'])}/{int(r['count'])}", axis=1).unstack("group").fillna("-")
+    order = [BASELINE] + [p for p in plants.PLANTS if p in cells.index]
+    return cells.reindex(order)
+
+
+def holes(verdicts: pd.DataFrame) -> list[str]:
+    """(plant, group) pairs where the method runs and no case fails."""
+    planted = verdicts[verdicts["plant"] != BASELINE]
+    caught = planted.groupby(["plant", "group"])["failed"].any()
+    return [f"{plant} in {group}" for (plant, group), hit in caught.items() if not hit]
+
+
+def cmd_audit(args) -> int:
+    names = args.plant or list(plants.PLANTS)
+    paths = find_case_files(args.cases or None)
+    started = time.perf_counter()
+    verdicts = audit(paths, names, jobs=args.jobs)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    verdicts.to_csv(out / "audit.csv", index=False)
+    table = by_group(verdicts)
+    print("cases failing under each planted error, by group (failing / running the method):")
+    print(table.to_string())
+    baseline = verdicts[(verdicts["plant"] == BASELINE) & verdicts["failed"]]
+    for _, row in baseline.iterrows():
+        print(f"baseline failure (catches nothing): {row['case']}: {row['first_problem']}", file=sys.stderr)
+    missed = holes(verdicts)
+    for hole in missed:
+        print(f"not caught: {hole}")
+    print(f"\n{len(names)} plant(s) over {len(paths)} case(s) in {time.perf_counter() - started:.0f} s; "
+          f"verdicts in {out / 'audit.csv'}")
+    return 1 if missed or len(baseline) else 0
+
+
+def add_parser(subparsers) -> None:
+    audit_parser = subparsers.add_parser("audit", help="plant errors in each method and count the cases that catch them")
+    audit_parser.add_argument("cases", nargs="*", help="case ids, files or globs (default: all)")
+    audit_parser.add_argument("--plant", action="append", choices=list(plants.PLANTS),
+                              help="only this planted error (repeatable; default: all)")
+    audit_parser.add_argument("--jobs", type=int, default=2, help="worker processes")
+    audit_parser.add_argument("--out", default="reports/audit", help="folder for audit.csv (default %(default)s)")
+    audit_parser.set_defaults(func=cmd_audit)
