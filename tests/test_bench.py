@@ -1,9 +1,14 @@
-"""The benchmark runs and writes its files (timings are measured there, never asserted here)."""
+"""The benchmark runs and writes its files (timings are measured there, never asserted here).
+
+A smoke run, out of the default suite (marker ``bench``): ``pytest -m bench``."""
 import json
 
 import pandas as pd
+import pytest
 
 from validation.bench import run_bench
+
+pytestmark = pytest.mark.bench
 
 
 def test_bench_quick_writes_csv_json_and_plots(tmp_path):
