@@ -152,3 +152,27 @@ def test_results_table_rows_carry_the_check():
     assert row["within_tolerance"] == False and row["tolerance_rel"] == 0.05  # noqa: E712
     assert row["source"] == "made up" and math.isclose(row["rel_error"], 0.2)
     assert isinstance(table, pd.DataFrame)
+
+
+def test_one_beam_per_case():
+    """No case gives a method its own I or EI: every difference in the table compares the same beam
+    (a column that needs another I is a finding with ``reproduce_with``, or another case). A per-beam
+    EI table of a mechanism must repeat the beams' own E I."""
+    from validation.loader import find_case_files, load_case
+
+    other = []
+    for path in find_case_files(None):
+        case = load_case(path).case
+        for method, options in case.methods.items():
+            for key in ("I", "EI"):
+                given = (options or {}).get(key)
+                if given is None:
+                    continue
+                if isinstance(given, dict) and case.mechanism is not None:
+                    beams = {b.name: b for b in case.mechanism.beams}
+                    own = {name: beams[name].section.stiffness(beams[name].E or case.mechanism.E)[1]
+                           for name in given}
+                    if all(abs(given[name] - own[name]) <= 1e-3 * own[name] for name in given):
+                        continue
+                other.append((path.name, method, key))
+    assert not other, other

@@ -44,6 +44,12 @@ def _judge(plant: str, path: Path) -> Verdict:
 
 
 def _initialise(plant: str) -> None:
+    try:  # one BLAS thread per worker: the FEM's systems are small and the workers share the cores
+        from threadpoolctl import threadpool_limits
+    except ImportError:
+        pass
+    else:
+        threadpool_limits(1)
     if plant != BASELINE:
         plants.apply(plant)
 
