@@ -4,11 +4,13 @@ For each plant of ``validation.plants`` (adapter outputs x 1.10, sign flips, lib
 x 1.10) every case that lists the planted method is run in a fresh worker process with the error in
 place and judged by the suite's own rule (``validation.compare.case_verdict``). The table has one row
 per plant and one column per case group: caught / cases of the group that run the method. A planted
-error that no case of a group catches, in a group where its method runs, is a hole in the suite.
+error that changes some value in a group but fails no case there is a hole in the suite; one that
+changes no value (the planted constant is not on the group's code path) is marked 'not exercised'.
 The unplanted baseline runs first; a case failing there is reported, since it cannot catch anything.
 """
 from __future__ import annotations
 
+import hashlib
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -34,13 +36,20 @@ class Verdict:
     group: str
     failed: bool
     first_problem: str
+    fingerprints: dict[str, str]   # method -> digest of its values, to tell whether a plant changed anything
+
+
+def _fingerprint(run) -> str:
+    values = sorted((tuple(req), round(float(v), 9)) for req, v in run.values.items())
+    return hashlib.sha1(repr(values).encode()).hexdigest()
 
 
 def _judge(plant: str, path: Path) -> Verdict:
     loaded = load_case(path)
     result = run_case(loaded, use_cache=False)
     problems = case_verdict(loaded.case, result.runs, tabulate(result))
-    return Verdict(plant, loaded.id, loaded.case.case.group, bool(problems), problems[0][:200] if problems else "")
+    return Verdict(plant, loaded.id, loaded.case.case.group, bool(problems), problems[0][:200] if problems else "",
+                   {method: _fingerprint(run) for method, run in result.runs.items()})
 
 
 def _initialise(plant: str) -> None:
@@ -68,25 +77,42 @@ def audit(paths: list[Path], names: list[str], jobs: int = 2) -> pd.DataFrame:
             methods[path] = set(load_case(path).case.methods)
         except CaseError as exc:
             raise SystemExit(f"error: {exc}")
-    rows = [v.__dict__ for v in run_plant(BASELINE, paths, jobs)]
+    baseline = run_plant(BASELINE, paths, jobs)
+    before = {v.case: v.fingerprints for v in baseline}
+    rows = [_row(v, exercised=True) for v in baseline]
     for name in names:
-        wanted = [p for p in paths if plants.PLANTS[name].method in methods[p]]
+        method = plants.PLANTS[name].method
+        wanted = [p for p in paths if method in methods[p]]
         if wanted:
-            rows += [v.__dict__ for v in run_plant(name, wanted, jobs)]
+            rows += [_row(v, exercised=v.fingerprints.get(method) != before[v.case].get(method))
+                     for v in run_plant(name, wanted, jobs)]
     return pd.DataFrame(rows)
 
 
+def _row(verdict: Verdict, exercised: bool) -> dict:
+    return dict(plant=verdict.plant, case=verdict.case, group=verdict.group, failed=verdict.failed,
+                exercised=exercised, first_problem=verdict.first_problem)
+
+
 def by_group(verdicts: pd.DataFrame) -> pd.DataFrame:
-    """caught / run per (plant, group); the baseline row counts failures that need no plant."""
-    table = verdicts.groupby(["plant", "group"])["failed"].agg(["sum", "count"])
-    cells = table.apply(lambda r: f"{int(r['sum'])}/{int(r['count'])}", axis=1).unstack("group").fillna("-")
+    """'failing/running' per (plant, group), the baseline row counting failures that need no plant;
+    '(not exercised)' where the plant changed no value of any case of the group (the planted constant
+    is not on that group's code path)."""
+    grouped = verdicts.groupby(["plant", "group"])
+    table = grouped["failed"].agg(["sum", "count"]).join(grouped["exercised"].any())
+
+    def cell(r) -> str:
+        text = f"{int(r['sum'])}/{int(r['count'])}"
+        return text if r["exercised"] else text + " (not exercised)"
+
+    cells = table.apply(cell, axis=1).unstack("group").fillna("-")
     order = [BASELINE] + [p for p in plants.PLANTS if p in cells.index]
     return cells.reindex(order)
 
 
 def holes(verdicts: pd.DataFrame) -> list[str]:
-    """(plant, group) pairs where the method runs and no case fails."""
-    planted = verdicts[verdicts["plant"] != BASELINE]
+    """(plant, group) pairs where the plant changed some value and no case fails."""
+    planted = verdicts[(verdicts["plant"] != BASELINE) & verdicts["exercised"]]
     caught = planted.groupby(["plant", "group"])["failed"].any()
     return [f"{plant} in {group}" for (plant, group), hit in caught.items() if not hit]
 
