@@ -176,3 +176,12 @@ def test_one_beam_per_case():
                         continue
                 other.append((path.name, method, key))
     assert not other, other
+
+
+def test_an_agreement_that_compares_nothing_fails_the_case():
+    case = _case(methods={"prbm": {}, "fem": {}}, outputs=[{"quantity": "y"}],
+                 agreements=[{"method": "prbm", "against": "fem", "quantities": ["x"],
+                              "tolerance": {"rel": 0.05}, "basis": "made up"}],
+                 case={"unchecked": {"prbm": "x", "fem": "x"}})
+    problems = _verdict(case, {"prbm": _run({0: 0.0, 1: 1.0, 2: 2.0}), "fem": _run({0: 0.0, 1: 1.0, 2: 2.0})})
+    assert len(problems) == 1 and "compares nothing" in problems[0]

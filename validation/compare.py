@@ -195,6 +195,10 @@ def case_verdict(case: Case, runs: dict[str, MethodRun], table) -> list[str]:
                         f"{row['value']:.6g} against {row['reference_label']} {row['reference_value']:.6g} "
                         f"(|error| {row['abs_error']:.3g}, rel {row['rel_error']:.3g}; tolerance abs "
                         f"{row['tolerance_abs']}, rel {row['tolerance_rel']}) {row['message'] or ''}".rstrip())
+    for i, agreement in enumerate(case.agreements):
+        if agreement.method in runs and not agreement_checks(case, agreement, runs):
+            problems.append(f"agreements.{i} ({agreement.method} against {agreement.against}) compares nothing: "
+                            f"no level where both sides have {', '.join(agreement.quantities)}")
     loaded = loaded_levels(case)
     for method, run in runs.items():
         failed = not run.converged or not run.values

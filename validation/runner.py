@@ -24,7 +24,7 @@ from validation.compare import agreement_checks, fem_elastica_checks, reference_
 from validation.capabilities import QUANTITIES
 from validation.loader import CaseError, LoadedCase, load_case
 from validation.methods.base import MethodRun, NotApplicable, Request
-from validation.schema import Case, ReferenceSpec
+from validation.schema import Case
 from validation.sweep_task import apply as apply_field
 
 COLUMNS = ["case", "group", "method", "quantity", "point", "level", "level_label", "value", "unit", "scale",
@@ -172,7 +172,7 @@ def tabulate(result: CaseResult) -> pd.DataFrame:
             for index, ref in matching:
                 if ref.compare == method and ref.tolerance is not None:
                     check = reference_check(ref, value, result.reproduced.get(index))
-                    rows.append(base | _check_row(check, dimension, scale, compare=True))
+                    rows.append(base | _check_row(check, dimension, scale))
                     continue
                 abs_error = abs(value - ref.value)
                 rows.append(base | dict(
@@ -182,19 +182,18 @@ def tabulate(result: CaseResult) -> pd.DataFrame:
                     norm_error=abs_error / scale if dimension == "length" else math.nan,
                     within_tolerance=None, finding=ref.finding.text if ref.finding else ref.note))
             if method == "fem" and req in automatic:
-                rows.append(base | _check_row(automatic[req], dimension, scale, compare=True))
+                rows.append(base | _check_row(automatic[req], dimension, scale))
         for req, check in agreed.get(method, []):
             if req in bases:
-                rows.append(bases[req] | _check_row(check, QUANTITIES[req.quantity].dimension, scale,
-                                                    compare=True))
+                rows.append(bases[req] | _check_row(check, QUANTITIES[req.quantity].dimension, scale))
     frame = pd.DataFrame(rows)
     return frame.reindex(columns=COLUMNS)
 
 
-def _check_row(check, dimension: str, scale: float, compare: bool) -> dict:
+def _check_row(check, dimension: str, scale: float) -> dict:
     """The comparison columns of one enforced check."""
     row = dict(reference_label=check.reference_label, reference_value=check.reference_value,
-               source=check.source, compare=compare,
+               source=check.source, compare=True,
                tolerance_rel=check.tolerance.rel if check.tolerance else None,
                tolerance_abs=check.tolerance.abs if check.tolerance else None,
                abs_error=check.abs_error, rel_error=check.rel_error,
