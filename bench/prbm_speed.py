@@ -1,5 +1,7 @@
 """Speed of the PRBM library: one segment solve at one load level, a 10,000-level sweep, the
-chapter-3 inflection solves, a four-bar torque sweep; then the whole adapter call
+chapter-3 inflection solves, a four-bar torque sweep; one load level of four-link PRB networks
+(``network_rows``: the parallel-guided mechanism built from its geometry and the chapter-9 Test 2
+four-bar, beside the FEM's time for the same case, target <= 0.5 ms); then the whole adapter call
 ``validation.runner.run_method(case, "prbm")`` (what ``prbm-validate bench`` times against the FEM)
 for every case under cases/ with a prbm method.  Run: ``.venv/bin/python bench/prbm_speed.py``
 (``--cases-only`` skips the library rows).  (Timing lives here, never in the tests.)"""
@@ -56,14 +58,54 @@ def library_rows() -> list[tuple[str, float]]:
                  best(lambda: prbm.solve_displacements(beam, b=5.0, theta0=math.radians(-30), l1=9.0), 3, 3)))
     fb = prbm.FourBar(3.902 - 0.8802j, 4.754 + 2.767j, 6.249 - 2.176j, 7.099 + 1.471j, 7.929 - 0.148j,
                       springs=(38.356, 0, 0, 0), theta_free=(math.radians(15.86), -0.4958, -0.1057))
-    th = np.linspace(0.3, 0.9, 10_000)
-    rows.append(("FourBar.input_torque, 10,000 angles", best(lambda: fb.input_torque(th), 20)))
+    th = np.linspace(0.3, 0.9, 100)
+    rows.append(("FourBar.input_torque (network virtual work), 100 angles", best(lambda: fb.input_torque(th), 5)))
     rows.append(("FourBar.positions_under_torque, 1 level", best(lambda: fb.positions_under_torque([9.75]), 20)))
+    return rows
+
+
+def network_rows() -> list[tuple[str, float, float | None]]:
+    """(what, best seconds per load level of the PRB network after warm-up, FEM seconds per level of
+    the same case or None): the network built by rule for seed004_parallel_guided (ground, two middle
+    links, coupler: four links), solved one level at a time and over its 8 levels; the chapter-9
+    Test 2 four-bar under one design torque."""
+    from validation.loader import case_by_id
+    from validation.methods import prbm_network
+    from validation.runner import run_method
+
+    rows = []
+    case = case_by_id("seed004_parallel_guided").case
+    model = prbm.build(prbm_network.geometry(case.mechanism), prbm_network.rules({}, case.mechanism))
+    net = model.network
+    all_loads = prbm_network.network_loads(case, model)
+    n = case.n_levels()
+    one = [prbm.Force("M", (0.0,), (8.0,))]
+    prbm.solve(net, one, 1)  # warm-up: the network's mobility analysis is done once
+    run_method(case, "fem")
+    fem = min(timeit.repeat(lambda: run_method(case, "fem"), number=1, repeat=3)) / n
+    rows.append(("parallel-guided network, 1 level from the unloaded pose", best(lambda: prbm.solve(net, one, 1), 50), fem))
+    rows.append(("parallel-guided network, per level of 8 (stability on)",
+                 best(lambda: prbm.solve(net, all_loads, n), 20) / n, fem))
+    rows.append(("parallel-guided network, per level of 8 (stability off)",
+                 best(lambda: prbm.solve(net, all_loads, n, stability=False), 20) / n, fem))
+    fb = prbm.FourBar(3.902 - 0.8802j, 4.754 + 2.767j, 6.249 - 2.176j, 7.099 + 1.471j, 7.929 - 0.148j,
+                      springs=(38.356, 0, 0, 0), theta_free=(math.radians(15.86), -0.4958, -0.1057))
+    net4 = fb.network()
+    torque = [prbm.Couple("link2", (9.75,))]
+    prbm.solve(net4, torque, 1)
+    rows.append(("Test 2 four-bar network, 1 design torque", best(lambda: prbm.solve(net4, torque, 1), 50), None))
     return rows
 
 
 def main() -> None:
     if "--cases-only" not in sys.argv:
+        rows = network_rows()
+        width = max(len(r[0]) for r in rows)
+        print(f"{'PRB network (one load level, after warm-up)':<{width}}  {'PRBM':>10}  {'FEM same case':>14}")
+        for name, t, fem in rows:
+            fem_text = f"{fem * 1e3:11.1f} ms" if fem is not None else ""
+            print(f"{name:<{width}}  {t * 1e3:7.3f} ms  {fem_text:>14}")
+        print()
         rows = library_rows()
         width = max(len(r[0]) for r in rows)
         for name, t in rows:

@@ -65,6 +65,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from .integrator import STATE_SIZE, elastica_rhs, integrate_dop853, integrate_samples
+
 __all__ = ["TipConstraint", "MomentConstraint", "ElasticaProblem", "ElasticaResult",
            "solve_elastica", "solve_path", "loaded_start", "section_moment", "unloaded_tip"]
 
@@ -209,11 +211,19 @@ class _Pieces:
         return out
 
 
+@dataclass(frozen=True)
+class _EndState:
+    """One compiled integration: the interval ``t``, the end state as the last column of ``y``."""
+    t: np.ndarray
+    y: np.ndarray
+    success: bool
+
+
 class _Shooter:
     """Residual and Jacobian of the end conditions for one problem structure (normalised)."""
 
     def __init__(self, p: ElasticaProblem, rtol: float, atol: float):
-        self.k0 = p.curvature * p.length
+        self.k0 = float(p.curvature * p.length)
         self.dirs = [_unit(c.direction) for c in p.constraints]
         self.fdirs = [_unit(c.force_direction if c.force_direction is not None else c.direction)
                       for c in p.constraints]
@@ -227,7 +237,7 @@ class _Shooter:
         self.angle_given = p.tip_angle is not None
         self.has_follower = p.follower != (0.0, 0.0)
         self.n = 1 + self.nc + self.nm + (1 if self.has_follower else 0)
-        self.rtol, self.atol = rtol, atol
+        self.rtol, self.atol = float(rtol), float(atol)
 
     def unknown_force_directions(self):
         """Unit directions of the force multipliers, in the order of z[1:1 + nc + nm]."""
@@ -249,26 +259,27 @@ class _Shooter:
         return F, dF
 
     def rhs(self, s, Y, Fx, Fy):
-        """State Y = [x, y, theta, m, U, then dx, dy, dtheta, dm w.r.t. (m0, Fx, Fy) row-major]."""
-        (_, _, th, m, _, _, _, _, _, _, _, t0, t1, t2, m0_, m1_, m2_) = Y.tolist()
-        c, sn = math.cos(th), math.sin(th)
-        g = Fx * c + Fy * sn
-        return np.array([c, sn, self.k0 + m, Fx * sn - Fy * c, 0.5 * m * m,
-                         -sn * t0, -sn * t1, -sn * t2,
-                         c * t0, c * t1, c * t2,
-                         m0_, m1_, m2_,
-                         g * t0, g * t1 + sn, g * t2 - c])
+        """dY/ds (`integrator.elastica_rhs`), for scipy's dense-output integration."""
+        out = np.empty(STATE_SIZE)
+        elastica_rhs(s, Y, Fx, Fy, self.k0, out)
+        return out
 
     def integrate(self, z, q, dense=False):
-        """Integrate over [0, 1], split at the moment-constraint sites (``_Pieces``)."""
+        """Integrate over [0, 1], split at the moment-constraint sites (``_Pieces``): by the compiled
+        DOP853 (`integrator`), or by scipy's DOP853 when the dense output is wanted (the samples)."""
         F, dF = self.forces(z, q)
-        Y0 = np.zeros(17)
+        Y0 = np.zeros(STATE_SIZE)
         Y0[3] = z[0]
         Y0[5 + 9] = 1.0              # d m(0) / d m0
         pieces, states = [], {0.0: Y0}
         for a, b in zip([0.0] + self.knots, self.knots + [1.0]):
-            sol = solve_ivp(self.rhs, (a, b), states[a], method="DOP853", rtol=self.rtol,
-                            atol=self.atol, args=(F[0], F[1]), dense_output=dense)
+            if dense:
+                sol = solve_ivp(self.rhs, (a, b), states[a], method="DOP853", rtol=self.rtol,
+                                atol=self.atol, args=(F[0], F[1]), dense_output=True)
+            else:
+                y_end, ok = integrate_dop853(states[a], float(a), float(b), float(F[0]), float(F[1]), self.k0,
+                                             self.rtol, self.atol)
+                sol = _EndState(np.array([a, b]), y_end[:, None], ok)
             pieces.append(sol)
             if not sol.success:
                 break
@@ -608,9 +619,12 @@ def _tip_angle(shooter, z, q):
 
 
 def _result(problem, shooter, z, q, n_samples):
-    sol, F, _ = shooter.integrate(z, q, dense=True)
+    """The result at the converged unknowns z: tip values from the same integration as the last
+    residual, the shape sampled by integrating from sample to sample (compiled)."""
+    sol, F, _ = shooter.integrate(z, q)
     s = np.linspace(0.0, 1.0, n_samples)
-    Ys = sol.sol(s)
+    samples, _ = integrate_samples(sol.states[0.0], s, F[0], F[1], shooter.k0, shooter.rtol, shooter.atol)
+    Ys = samples.T
     Y = sol.y[:, -1]
     L, EI = problem.length, problem.EI
     fs, ms = EI / L**2, EI / L

@@ -7,7 +7,8 @@ stated in each module's docstring (Crisfield 1991; Battini 2002):
 `discretise` (mesh, DOFs, constraints), `assembly` (reduced residual and
 tangent), `linear_solver`, `newton` (corrector, rotation continuity),
 `solver` (load / displacement / arc-length control), `critical`,
-`error_estimate` (Richardson), `warm_start`, `result`.
+`error_estimate` (Richardson), `warm_start`, `result`, `tip_inverse` (the end loads that
+hold a prescribed tip pose, with a tied load found by an outer secant solve).
 
 Example::
 
@@ -26,5 +27,7 @@ from .model import Model
 from .result import FemResult
 from .section import Section
 from .solver import solve
+from .tip_inverse import LoadRatio, Position, TipInverseResult, ZeroMoment, solve_tip_inverse
 
-__all__ = ["Model", "Section", "solve", "solve_with_error_estimate", "FemResult", "ErrorEstimate"]
+__all__ = ["Model", "Section", "solve", "solve_with_error_estimate", "FemResult", "ErrorEstimate",
+           "solve_tip_inverse", "LoadRatio", "ZeroMoment", "Position", "TipInverseResult"]

@@ -16,10 +16,13 @@ M = k (theta_a - theta_b).
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .corotational import element_state
 from .discretise import Discretisation
+from .kernel import scatter
 from .linear_solver import MatrixLayout
 from .model import Model
 
@@ -157,7 +160,8 @@ class System:
         R_full = f_int - lam * f_ref
         out = dict(u=u, C=C, el=el, f_int=f_int, f_ref_full=f_ref, R_full=R_full,
                    r=self.reduce(R_full, C), f_ref=self.reduce(f_ref, C))
-        out["F_scale"] = max(np.linalg.norm(lam * f_ref), np.linalg.norm(f_int))
+        f_ext = lam * f_ref       # norms as np.linalg.norm computes them, sqrt(x . x), without its overhead
+        out["F_scale"] = max(math.sqrt(float(f_ext.dot(f_ext))), math.sqrt(float(f_int.dot(f_int))))
         if need_K:
             vals = [el["K"].ravel(),
                     (d.spring_k[:, None, None] * self.spring_sign).ravel()]
@@ -173,7 +177,7 @@ class System:
                 Cr = C[self.rows_full][:, :, None]
                 Ccol = C[self.cols_full][:, None, :]
                 red = (v[:, None, None] * Cr * Ccol).ravel()[self.valid]
-            else:
-                red = v[self.valid_src] * self.coef_const
-            out["K"] = self.layout.assemble(red)
+                out["K"] = self.layout.assemble(red)
+            else:   # constant constraint coefficients: one compiled scatter into solver storage
+                out["K"] = scatter(self.layout.flat, self.valid_src, self.coef_const, v, self.layout.size)
         return out

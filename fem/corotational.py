@@ -24,7 +24,9 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["element_state", "wrap"]
+from .kernel import element_kernel
+
+__all__ = ["element_state", "element_state_numpy", "wrap"]
 
 
 def wrap(a):
@@ -33,7 +35,24 @@ def wrap(a):
 
 
 def element_state(X1, X2, p, L0, beta0, beta_prev, ka, kb, need_tangent=True):
-    """Internal forces f (n,6), tangent K (n,6,6) and local state of all elements.
+    """Internal forces f (n,6), tangent K (n,6,6) and local state of all elements, by the compiled
+    `kernel.element_kernel` (the same formulas as `element_state_numpy`, element by element).
+
+    Returns dict with f, K, N, M (n,2), L, beta, theta_bar (n,2), u_bar, jumped."""
+    n = len(L0)
+    out = dict(f=np.empty((n, 6)), N=np.empty(n), M=np.empty((n, 2)), L=np.empty(n), beta=np.empty(n),
+               theta_bar=np.empty((n, 2)), u_bar=np.empty(n), jumped=np.empty(n, dtype=bool))
+    K = np.zeros((n, 6, 6) if need_tangent else (0, 6, 6))
+    element_kernel(X1, X2, np.ascontiguousarray(p, dtype=float), L0, beta0, beta_prev, ka, kb, bool(need_tangent),
+                   out["f"], K, out["N"], out["M"], out["L"], out["beta"], out["theta_bar"], out["u_bar"],
+                   out["jumped"])
+    if need_tangent:
+        out["K"] = K
+    return out
+
+
+def element_state_numpy(X1, X2, p, L0, beta0, beta_prev, ka, kb, need_tangent=True):
+    """Internal forces f (n,6), tangent K (n,6,6) and local state of all elements, vectorised NumPy.
 
     Returns dict with f, K, N, M (n,2), L, beta, theta_bar (n,2), u_bar, jumped.
     With V = (M1 + M2)/L:  f = [-(cN + sV), -(sN - cV), M1, cN + sV, sN - cV, M2].

@@ -39,7 +39,7 @@ from .linear_solver import SingularMatrix
 from .model import DOF_NAMES, Model
 from .newton import Path, StepFailed, accept_check, det_sign, growth, newton, snapshot
 from .result import build_result
-from .stability import DENSE_LIMIT, conservative, held_sign, lowest_modes, switch_branch, zero_eigenvalue
+from .stability import DENSE_LIMIT, conservative, eigenvalue_below, held_sign, switch_branch, zero_eigenvalue
 from .warm_start import chord_angles, guess_states, reduced_from_full
 
 __all__ = ["solve"]
@@ -69,18 +69,17 @@ JUMP_CUT_FLOOR = 64       # steps shorter than this many min_step are not cut fo
 
 def _even_crossing(system, st, held) -> bool:
     """True when det K > 0 hides an unstable state: two (or any even number of) eigenvalues
-    crossed zero in one step, which the sign of det K cannot see. Checked by the lowest eigenvalue,
-    only where it can happen (conservative loads, some member in compression) and only for systems
+    crossed zero in one step, which the sign of det K cannot see. Checked by a Cholesky
+    factorisation of the shifted, scaled tangent (`stability.eigenvalue_below`), only where it can happen (conservative loads, some member in compression) and only for systems
     small enough for a dense eigensolver (larger ones rely on the sign of det K)."""
     if not conservative(system) or system.n > DENSE_LIMIT:
         return False
     if float(np.min(st["ev"]["el"]["N"], initial=0.0)) >= 0.0:
         return False
-    try:
-        vals, _ = lowest_modes(system, st["ev"]["K"], held, count=1)
+    try:   # Jacobi-scaled: unit diagonal
+        return eigenvalue_below(system, st["ev"]["K"], held, zero_eigenvalue(1.0, system.n))
     except (ValueError, np.linalg.LinAlgError, RuntimeError):
         return False
-    return bool(vals[0] < -zero_eigenvalue(1.0, system.n))   # Jacobi-scaled: unit diagonal
 
 
 def _turned_back(system, dq, dq_prev) -> bool:
@@ -402,7 +401,8 @@ def _run_arc(system, model, opts, path):
 def solve(model: Model, n_levels: int | None = None, control: str = "load", *,
           refine: int = 1, rtol: float = 1e-10, atol: float = 0.0, max_iter: int = 20,
           initial_step: float = 1.0, min_step: float = 1e-7,
-          max_rotation_increment: float = 1.0, detect_critical: bool = True,
+          max_rotation_increment: float = np.pi, max_iteration_rotation: float = 1.0,
+          detect_critical: bool = True,
           control_dof=None, targets=None,
           arc_length: float | None = None, max_arc_length: float | None = None,
           max_steps: int = 2000, until=None, lambda_max: float | None = None,
@@ -424,6 +424,11 @@ def solve(model: Model, n_levels: int | None = None, control: str = "load", *,
     model with half the elements per member, used as predictor (`warm_start`).
     ``refine`` multiplies every member's element count.
     Tolerance: |r| <= rtol max(|f_ext|, |f_int|) + atol.
+    Step control: each level is tried in one step; a Newton correction that turns a node by more
+    than ``max_iteration_rotation`` (rad) is scaled down to it (a far-off linear predictor is walked
+    in rather than the step cut), and a converged step is rejected and cut only when a nodal
+    rotation changed by more than ``max_rotation_increment`` (default pi: an equilibrium 2 pi away
+    at some node, a spurious copy, is then always further than the cap from the last state).
     ``check_stability`` (load and displacement control): a converged state that
     lost stability (a bifurcation was crossed) is not returned; the solve switches
     to a stable branch (noted in the critical point and the message) or returns
@@ -436,6 +441,7 @@ def solve(model: Model, n_levels: int | None = None, control: str = "load", *,
     system = System(model, disc, solver_kind=solver, n_levels=n_levels)
     opts = dict(rtol=rtol, atol=atol, max_iter=max_iter, initial_step=initial_step,
                 min_step=min_step, max_rotation_increment=max_rotation_increment,
+                max_iteration_rotation=max_iteration_rotation,
                 detect_critical=detect_critical, control_dof=control_dof, targets=targets,
                 arc_length=arc_length, max_arc_length=max_arc_length, max_steps=max_steps,
                 until=until, lambda_max=lambda_max, direction=direction,

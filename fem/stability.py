@@ -39,12 +39,13 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from scipy.linalg import lapack
 
 from .corotational import strain_energy
 from .linear_solver import SingularMatrix
 from .newton import StepFailed, accept_check, newton
 
-__all__ = ["conservative", "held_sign", "lowest_modes", "potential", "switch_branch"]
+__all__ = ["conservative", "eigenvalue_below", "held_sign", "lowest_modes", "potential", "switch_branch"]
 
 DENSE_LIMIT = 600        # dense eigh below this many unknowns, shift-invert Lanczos above
 AMPLITUDE = 1e-3       # of L_ref: largest translation of the perturbation (no stretching)
@@ -106,6 +107,49 @@ def lowest_modes(system, K, held=None, count=2):
     full = np.zeros((system.n, len(vals)))
     full[keep] = vecs
     return vals, full
+
+
+def eigenvalue_below(system, K, held, tol: float) -> bool:
+    """True when the Jacobi-scaled K (K_ff with DOF ``held`` removed, see `lowest_modes`) has an
+    eigenvalue below -tol, without an eigensolver: Cholesky of  S K S + tol I  succeeds iff every
+    eigenvalue of S K S exceeds -tol (Sylvester's law of inertia). The held DOF's row and column are
+    replaced by a unit diagonal (one positive eigenvalue, the others those of K_ff). Banded storage
+    is factorised as a band (LAPACK dpbtrf, O(n b^2)), dense storage by dpotrf; sparse storage by
+    the lowest eigenvalue (`lowest_modes`). K is symmetric (dead loads): its upper triangle is used."""
+    layout, n = system.layout, system.n
+    if layout.kind == "banded":
+        ab = K.reshape(layout.nrow, n)
+        ku = layout.ku
+        upper = ab[layout.kl:layout.kl + ku + 1].copy()        # upper[ku + i - j, j] = K[i, j], i <= j
+        d = np.sqrt(np.abs(upper[ku]))
+        d[d == 0.0] = 1.0
+        j = np.arange(n)
+        for r in range(ku + 1):
+            i = j + r - ku
+            ok = i >= 0
+            upper[r, ok] /= d[i[ok]] * d[j[ok]]
+            if held is not None:
+                upper[r, ok & ((i == held) | (j == held))] = 0.0
+        if held is not None:
+            upper[ku, held] = 1.0
+        upper[ku] += tol
+        _, info = lapack.dpbtrf(upper, lower=0, overwrite_ab=1)
+        return info > 0
+    if layout.kind == "dense":
+        A = K.reshape(n, n)
+        A = 0.5 * (A + A.T)
+        d = np.sqrt(np.abs(np.diag(A)))
+        d[d == 0.0] = 1.0
+        A = A / d[:, None] / d[None, :]
+        if held is not None:
+            A[held, :] = 0.0
+            A[:, held] = 0.0
+            A[held, held] = 1.0
+        A[np.diag_indices(n)] += tol
+        _, info = lapack.dpotrf(A, lower=0, overwrite_a=1)
+        return info > 0
+    vals, _ = lowest_modes(system, K, held, count=1)
+    return bool(vals[0] < -tol)
 
 
 def potential(system, ev, lam):

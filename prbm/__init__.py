@@ -8,11 +8,14 @@ from prbm.fits import (FAMILIES, HOWELL, PAULY_MIDHA, PURE_MOMENT_C_THETA, PURE_
                        PURE_MOMENT_K_THETA, PURE_MOMENT_SPRING, FitFamily, FitRangeError, FitRangeWarning,
                        PiecewiseFit, fit_family, load_angle, load_ratio)
 from prbm.inflection import InflectionBeam, inflection_state, solve_displacements, solve_loads
+from prbm.builder import BeamModel, BeamRule, Geometry, PRBModel, Rules, build
 from prbm.mechanisms import FourBar, SliderCrank
+from prbm.network import (GROUND, Couple, Force, LockedNetwork, Network, NetworkResult, Pin,
+                          PrescribedDisplacement, PrescribedRotation, Slider, TorsionSpring, solve, trace)
 from prbm.result import PRBMResult
 from prbm.segments import (curved_fixed_pinned_tip, curved_pinned_pinned, fixed_guided_monotonic_tip,
                            fixed_guided_tip, fixed_pinned_from_tip, fixed_pinned_tip, pure_moment_from_tip,
-                           pure_moment_tip, slfp_tip, spring_angle)
+                           pure_moment_tip, slfp_end_tip, slfp_tip, spring_angle)
 
 __all__ = [
     "capstan_factor", "composite_beam_tip", "layered_bending_stiffness",
@@ -25,7 +28,10 @@ __all__ = [
     "load_angle", "load_ratio",
     "InflectionBeam", "inflection_state", "solve_displacements", "solve_loads",
     "FourBar", "SliderCrank", "PRBMResult",
+    "BeamModel", "BeamRule", "Geometry", "PRBModel", "Rules", "build",
+    "GROUND", "Couple", "Force", "LockedNetwork", "Network", "NetworkResult", "Pin", "PrescribedDisplacement",
+    "PrescribedRotation", "Slider", "TorsionSpring", "solve", "trace",
     "curved_fixed_pinned_tip", "curved_pinned_pinned", "fixed_guided_monotonic_tip", "fixed_guided_tip",
-    "fixed_pinned_from_tip", "fixed_pinned_tip", "pure_moment_from_tip", "pure_moment_tip", "slfp_tip",
+    "fixed_pinned_from_tip", "fixed_pinned_tip", "pure_moment_from_tip", "pure_moment_tip", "slfp_end_tip", "slfp_tip",
     "spring_angle",
 ]

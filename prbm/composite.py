@@ -70,13 +70,18 @@ def composite_beam_tip(force, n=0.0, *, length: float, layers=None, EI: float | 
         res.model = "composite fixed-pinned, seed 000 section 9.3 with eqs (41)-(49), (211)"
         return res
     fam = fit_family(family)
-    gamma, c_theta, K = fam.parameters(n, extrapolate)
-    phi = math.atan2(1.0, -float(n))
+    # P < 0: the model mirrored about x (b, theta0, Theta change sign), fits at -n so that -nP is kept
+    sign = np.where(np.asarray(P) < 0, -1.0, 1.0)
+    n_eff = np.atleast_1d(float(n) * sign)
+    gamma, c_theta, K = (np.broadcast_to(v, n_eff.shape) for v in fam.parameters(n_eff, extrapolate))
+    phi = np.arctan2(1.0, -n_eff)
     beta = np.atleast_1d(np.abs(P) * eta * length**2 / EI)
-    Theta = np.array([0.0 if bb == 0 else brentq(lambda t: bb * math.sin(phi + (c_theta - 1) * t) - K * t,
-                                                 0.0, (bb + 1.0) / K, xtol=1e-14) for bb in beta])
+    Theta = np.array([0.0 if bb == 0 else brentq(lambda t: bb * math.sin(ph + (c - 1) * t) - k * t,
+                                                 0.0, (bb + 1.0) / k, xtol=1e-14)
+                      for bb, ph, c, k in zip(beta, phi, c_theta, K)])
     ok, nit = np.ones(Theta.shape, bool), 0
-    Theta = Theta.reshape(np.shape(P))
+    Theta = Theta.reshape(np.shape(P)) * sign
+    gamma, c_theta, K = (v.reshape(np.shape(P)) if np.ndim(P) else float(v[0]) for v in (gamma, c_theta, K))
     out = {"a": length - gamma * length * (1 - np.cos(Theta)), "b": gamma * length * np.sin(Theta),
            "theta0": c_theta * Theta, "Theta": Theta, "P": P}
     return PRBMResult(bool(np.all(ok)), "converged" if np.all(ok) else "not converged",

@@ -37,6 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
+from prbm.network import GROUND, Couple, LinearSpring, Network, Pin, Slider, TorsionSpring, solve
 from prbm.result import PRBMResult
 
 __all__ = ["FourBar", "SliderCrank"]
@@ -65,7 +66,13 @@ class FourBar:
     springs: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
     theta_free: tuple[float, float, float] | None = None
 
+    def __setattr__(self, name, value):
+        if name in ("springs", "theta_free"):  # the network is built from them: rebuild on change
+            object.__setattr__(self, "_network", None)
+        object.__setattr__(self, name, value)
+
     def __post_init__(self):
+        self._network = None
         self.R1, self.R2, self.R3, self.R4 = (abs(z) for z in (self.Z1, self.Z2, self.Z3, self.Z4))
         self.theta1 = cmath.phase(self.Z1)
         t2, t3, t4 = (cmath.phase(z) for z in (self.Z2, self.Z3, self.Z4))
@@ -175,66 +182,87 @@ class FourBar:
         h4 = self.R2 * np.sin(t3 - theta2) / (self.R4 * np.sin(t3 - t4))
         return h3, h4
 
-    # --- springs ----------------------------------------------------------------------------
-    def _spring_deflections(self, theta2, angles=None):
-        t3, t4 = self.angles(theta2) if angles is None else angles
-        t20, t30, t40 = self.theta_free
-        d1 = theta2 - t20
-        d3a = _wrap(t3 - t30)
-        d4 = _wrap(t4 - t40)
-        return d1, _wrap(d3a - d1), _wrap(d4 - d3a), d4
+    # --- springs and equilibrium: the general network (prbm.network) -----------------------
+    def network(self) -> Network:
+        """This four-bar as a general rigid-link network: bodies 'link2' (O2-A), 'coupler' (A-B-P),
+        'link4' (O4-B), built in the energy-free pose (input angle Theta20, the loop re-solved there);
+        springs k1 (link2-ground), k2 (coupler-link2), k3 (link4-coupler), k4 (link4-ground) on the
+        joint angles of eq (183), free at the energy-free angles (Theta20, Theta30, Theta40) as given."""
+        if self._network is None:
+            t20, t30, t40 = self.theta_free
+            t3, t4 = (float(v) for v in self._angles_scalar(t20))
+            A = self.R2 * cmath.exp(1j * t20)
+            B = A + self.R3 * cmath.exp(1j * t3)
+            P = A + self.R5 * cmath.exp(1j * (t3 + self.coupler_offset))
+            xy = lambda z: (z.real, z.imag)  # noqa: E731
+            r3, r4 = float(_wrap(t30 - t3)), float(_wrap(t40 - t4))  # printed angles off the loop
+            k1, k2, k3, k4 = self.springs
+            self._pose = (t20, t3, t4)
+            self._network = Network(
+                ["link2", "coupler", "link4"],
+                {"O2": (GROUND, (0.0, 0.0)), "A": ("link2", xy(A)), "B": ("coupler", xy(B)),
+                 "P": ("coupler", xy(P)), "O4": (GROUND, xy(self.Z1))},
+                pins=[Pin("link2", GROUND, (0.0, 0.0), "O2"), Pin("coupler", "link2", xy(A), "A"),
+                      Pin("link4", "coupler", xy(B), "B"), Pin("link4", GROUND, xy(self.Z1), "O4")],
+                springs=[TorsionSpring("link2", GROUND, k1, 0.0, "k1"), TorsionSpring("coupler", "link2", k2, r3, "k2"),
+                         TorsionSpring("link4", "coupler", k3, r4 - r3, "k3"), TorsionSpring("link4", GROUND, k4, r4, "k4")],
+                origins={"link2": (0.0, 0.0), "coupler": xy(A), "link4": xy(self.Z1)})
+        return self._network
+
+    def _configuration(self, theta2: float, angles=None) -> np.ndarray:
+        """Network coordinates of the pose at input angle theta2 (closed-form loop, assembly branch)."""
+        net = self.network()
+        t20, t30c, t40c = self._pose
+        t3, t4 = self._angles_scalar(theta2) if angles is None else angles
+        A = self.R2 * cmath.exp(1j * theta2)
+        q = np.zeros(net.n)
+        q[2] = theta2 - t20
+        dA = A - self.R2 * cmath.exp(1j * t20)
+        q[3:6] = dA.real, dA.imag, float(_wrap(t3 - t30c))
+        q[8] = float(_wrap(t4 - t40c))
+        return q
 
     def strain_energy(self, theta2, angles=None):
-        """U = 1/2 sum k_i (beta_i - beta_i0)^2, eq (181)."""
-        return 0.5 * sum(k * d**2 for k, d in zip(self.springs, self._spring_deflections(theta2, angles)))
+        """U = 1/2 sum k_i (beta_i - beta_i0)^2 (eq 181), from the network's springs."""
+        return self._per_angle(theta2, angles, lambda q: self.network().strain_energy(q))
 
     def input_torque(self, theta2, angles=None):
-        """T = dU/dTheta2 (eqs 182, 193): the input torque on link 2 holding the linkage at Theta2."""
+        """T on link 2 holding the linkage at Theta2 (eqs 182, 193): the network's driving torque
+        (virtual work with the joint-compatible velocity of unit input rate)."""
+        return self._per_angle(theta2, angles, lambda q: self.network().driving_torque(q, "link2"))
+
+    def _per_angle(self, theta2, angles, f):
+        theta2 = np.asarray(theta2, float)
         if angles is None:
             angles = self.angles(theta2)
-        d1, d2, d3, d4 = self._spring_deflections(theta2, angles)
-        h3, h4 = self.kinematic_coefficients(theta2, angles)
-        k1, k2, k3, k4 = self.springs
-        return k1 * d1 + k2 * d2 * (h3 - 1) + k3 * d3 * (h4 - h3) + k4 * d4 * h4
+        t3, t4 = (np.asarray(a, float) for a in angles)
+        flat = [f(self._configuration(float(a), (float(b), float(c)))) if math.isfinite(float(b)) else math.nan
+                for a, b, c in zip(theta2.ravel(), np.broadcast_to(t3, theta2.shape).ravel(),
+                                   np.broadcast_to(t4, theta2.shape).ravel())]
+        out = np.array(flat).reshape(theta2.shape)
+        return out if out.ndim else np.float64(out)
 
-    def positions_under_torque(self, torques, *, span: float = math.radians(120)) -> PRBMResult:
-        """Equilibrium input angles (and coupler points) under input torque(s) T on link 2.
-
-        Solves input_torque(Theta2) = T by Brent's method, bracketing from the energy-free angle
-        Theta20 in the direction of T, up to `span`.  Outputs theta2, theta3, theta4 (rad),
-        coupler point x, y (O2 origin), U.
-        """
+    def positions_under_torque(self, torques) -> PRBMResult:
+        """Equilibrium under input torque(s) T on link 2: the general network solver (Newton with load
+        stepping from the energy-free pose; ``prbm.network.solve``). Outputs theta2, theta3, theta4
+        (rad), coupler point x, y (O2 origin), U, T; ``extras['network']`` the network result."""
         t0 = time.perf_counter()
         torques = np.atleast_1d(np.asarray(torques, dtype=float))
-        t20 = self.theta_free[0]
-        thetas, ok = [], []
-        for T in torques:
-            if T == 0.0:
-                thetas.append(t20)
-                ok.append(True)
-                continue
-            sgn = 1.0 if T > 0 else -1.0
-            grid = t20 + sgn * np.linspace(0.0, span, 241)
-            r = self.input_torque(grid) - T
-            idx = np.nonzero(np.isfinite(r[:-1]) & np.isfinite(r[1:]) & (np.sign(r[:-1]) != np.sign(r[1:])))[0]
-            if len(idx) == 0:
-                thetas.append(np.nan)
-                ok.append(False)
-                continue
-            i = idx[0]
-            thetas.append(brentq(lambda t: float(self.input_torque(t)) - T, grid[i], grid[i + 1], xtol=1e-14))
-            ok.append(True)
-        theta2 = np.array(thetas)
-        t3, t4 = self.angles(theta2)
-        P = self.coupler_point(theta2)
-        ok = np.array(ok)
+        net = self.network()
+        res = solve(net, [Couple("link2", tuple(torques))], len(torques))
+        t20, t3c, t4c = self._pose
+        q = np.array([s.q for s in res.states])
+        theta2, t3, t4 = t20 + q[:, 2], t3c + q[:, 5], t4c + q[:, 8]
+        P = np.array([complex(*res.position("P", i)) for i in range(len(torques))])
+        ok = np.array([s.converged for s in res.states])
         out = {"theta2": theta2, "theta3": t3, "theta4": t4, "x": P.real, "y": P.imag,
-               "U": self.strain_energy(theta2), "T": torques}
-        return PRBMResult(bool(ok.all()), "equilibrium found" if ok.all() else "no equilibrium within the span",
-                          out, {"springs": self.springs, "theta_free": self.theta_free,
-                                "R": (self.R1, self.R2, self.R3, self.R4, self.R5)},
-                          "PRB four-bar, seed 000 eqs (181)-(183), (191)", time.perf_counter() - t0,
-                          level_converged=ok)
+               "U": np.array([res.strain_energy(i) for i in range(len(torques))]), "T": torques}
+        return PRBMResult(bool(ok.all()), res.message, out,
+                          {"springs": self.springs, "theta_free": self.theta_free,
+                           "R": (self.R1, self.R2, self.R3, self.R4, self.R5)},
+                          "PRB four-bar as a rigid-link network, seed 000 eqs (181)-(183), (191)",
+                          time.perf_counter() - t0, nit=res.iterations, level_converged=ok,
+                          extras={"network": res})
 
     # --- mechanical advantage ---------------------------------------------------------------
     def instant_centres(self, theta2):
@@ -288,7 +316,13 @@ class SliderCrank:
     def from_vectors(cls, Z11: complex, Z2: complex, Z3: complex, **kw) -> "SliderCrank":
         return cls(abs(Z2), abs(Z3), cmath.phase(Z2), cmath.phase(Z3), offset=(Z2 + Z3).imag, **kw)
 
+    def __setattr__(self, name, value):
+        if name in ("springs", "f_k", "theta2_ref", "theta3_ref", "R2", "R3", "offset"):
+            object.__setattr__(self, "_network", None)  # the network is built from them
+        object.__setattr__(self, name, value)
+
     def __post_init__(self):
+        self._network = None
         self.branch = 1.0 if math.cos(self.theta3_ref) >= 0 else -1.0
         self.x_ref = self.R2 * math.cos(self.theta2_ref) + self.R3 * math.cos(self.theta3_ref)
 
@@ -337,17 +371,41 @@ class SliderCrank:
         i = min(candidates, key=lambda j: abs(j - i0))
         return brentq(lambda t: float(self.slider_x(t)) - target, grid[i], grid[i + 1], xtol=1e-14)
 
+    def network(self) -> Network:
+        """This slider-crank as a general network in position 1 (its energy-free pose): bodies 'crank'
+        (O2-A) and 'coupler' (A-S), the slider pin S on the ground line y = offset; springs k1
+        (crank-ground), k2 (coupler-crank), k3 (coupler-ground: the slider block does not turn) and the
+        linear spring f_k on the slider's travel."""
+        if self._network is None:
+            A = self.R2 * cmath.exp(1j * self.theta2_ref)
+            S = A + self.R3 * cmath.exp(1j * self.theta3_ref)
+            k1, k2, k3 = self.springs
+            self._network = Network(
+                ["crank", "coupler"],
+                {"O2": (GROUND, (0.0, 0.0)), "A": ("crank", (A.real, A.imag)), "S": ("coupler", (S.real, S.imag))},
+                pins=[Pin("crank", GROUND, (0.0, 0.0), "O2"), Pin("coupler", "crank", (A.real, A.imag), "A")],
+                sliders=[Slider("coupler", (S.real, S.imag), (1.0, 0.0), name="slider")],
+                springs=[TorsionSpring("crank", GROUND, k1, name="k1"), TorsionSpring("coupler", "crank", k2, name="k2"),
+                         TorsionSpring("coupler", GROUND, k3, name="k3")],
+                origins={"crank": (0.0, 0.0), "coupler": (A.real, A.imag)},
+                linear_springs=[LinearSpring("S", (1.0, 0.0), self.f_k, "f_k")] if self.f_k else [])
+        return self._network
+
     def compliance_torque(self, theta2):
-        """T_c on the crank, eq (196): k1 d2 + k2 (d3 - d2)(g3 - 1) + k3 d3 g3 + f_k (x - x1) R2 cos th2 (tan th3 - tan th2),
-        g3 = dTheta3/dTheta2 = -R2 cos th2 / (R3 cos th3)."""
+        """T_c on the crank (eq 196, = dU/dTheta2): the network's driving torque at the pose of each
+        crank angle (coupler angle on the branch of position 1)."""
+        net = self.network()
         theta2 = np.asarray(theta2, float)
         t3 = self.theta3(theta2)
-        g3 = -self.R2 * np.cos(theta2) / (self.R3 * np.cos(t3))
-        d2 = theta2 - self.theta2_ref
-        d3 = t3 - self.theta3_ref
-        k1, k2, k3 = self.springs
-        slide = self.f_k * (self.slider_x(theta2) - self.x_ref) * self.R2 * np.cos(theta2) * (np.tan(t3) - np.tan(theta2))
-        return k1 * d2 + k2 * (d3 - d2) * (g3 - 1) + k3 * d3 * g3 + slide
+        A0 = self.R2 * cmath.exp(1j * self.theta2_ref)
+        out = np.empty(theta2.size)
+        for j, (a, b) in enumerate(zip(theta2.ravel(), np.broadcast_to(t3, theta2.shape).ravel())):
+            q = np.zeros(net.n)
+            dA = self.R2 * cmath.exp(1j * a) - A0
+            q[2], q[3], q[4], q[5] = a - self.theta2_ref, dA.real, dA.imag, b - self.theta3_ref
+            out[j] = net.driving_torque(q, "crank") if math.isfinite(b) else math.nan
+        out = out.reshape(theta2.shape)
+        return out if out.ndim else np.float64(out)
 
     def rigid_ma(self, theta2, d_in: float):
         """MA_R = d_i/|I12 I24| (eq 199): I24 where the coupler line meets the line through O2

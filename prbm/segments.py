@@ -48,6 +48,7 @@ import math
 import time
 
 import numpy as np
+from scipy.optimize import brentq
 
 from prbm.fits import (PURE_MOMENT_C_THETA, PURE_MOMENT_GAMMA, PURE_MOMENT_SPRING, FitRangeError,
                        fit_family)
@@ -56,7 +57,7 @@ from prbm.result import PRBMResult
 __all__ = [
     "spring_angle", "fixed_pinned_tip", "fixed_pinned_from_tip", "pure_moment_tip",
     "pure_moment_from_tip", "curved_fixed_pinned_tip", "fixed_guided_tip",
-    "fixed_guided_monotonic_tip", "slfp_tip", "curved_pinned_pinned",
+    "fixed_guided_monotonic_tip", "slfp_tip", "slfp_end_tip", "curved_pinned_pinned",
 ]
 
 
@@ -498,6 +499,30 @@ def slfp_tip(P, n=0.0, *, flexure_length: float, rigid_length: float, EI: float,
                       level_converged=np.atleast_1d(ok))
 
 
+def slfp_end_tip(F: complex, M: float, *, flexure_length: float, EI: float, xtol: float = 1e-13) -> PRBMResult:
+    """Small-length flexural pivot alone, loaded at its end E by a force F (complex, Fx + i Fy) and a
+    couple M (CCW): seed 000 eqs (71)-(76) with whatever the flexure carries folded into (F, M) at E.
+
+    Pivot at the middle of the flexure (l/2, 0), link l/2 to E, spring k = EI/l (72), theta0 = Theta (73);
+    equilibrium about the pivot: k Theta = M + (l/2) (F_y cos Theta - F_x sin Theta), which with M the
+    moment of a force F at a rigid arm L is eq (76), k Theta = F (L + l/2) sin(phi - Theta).  Root by
+    Brent in the bracket [(M - R|F|)/k, (M + R|F|)/k], R = l/2 (the right side lies between them).
+    Outputs a = l/2 (1 + cos Theta), b = (l/2) sin Theta, theta0 = Theta, Theta.
+    """
+    t0 = time.perf_counter()
+    l = flexure_length
+    R, k = l / 2.0, EI / l
+
+    def residual(theta):
+        return k * theta - M - R * (F.imag * math.cos(theta) - F.real * math.sin(theta))
+
+    lo, hi = (M - R * abs(F)) / k, (M + R * abs(F)) / k
+    Theta = lo if lo == hi else brentq(residual, lo, hi, xtol=xtol)
+    out = {"a": R * (1.0 + math.cos(Theta)), "b": R * math.sin(Theta), "theta0": Theta, "Theta": Theta}
+    return PRBMResult(True, "converged", out, {"k": k, "R": R, "Theta_i": 0.0},
+                      "small-length flexural pivot, end loads, seed 000 eqs (71)-(76)", time.perf_counter() - t0)
+
+
 def curved_pinned_pinned(F_axial, *, length: float, EI: float, curvature: float, gamma: float = 0.85,
                          K_theta: float = 2.65) -> PRBMResult:
     """Initially curved pinned-pinned segment (arc of length l, curvature 1/R_i) under a force F_axial
@@ -519,19 +544,17 @@ def curved_pinned_pinned(F_axial, *, length: float, EI: float, curvature: float,
     Theta_i = math.atan2(b_i, a_i - h * (1 - gamma))
     rho = math.hypot(a_i / h - (1 - gamma), b_i / h)
     k = rho * K_theta * EI / h
-    # In the half's frame (tangent at mid-span along +x) the chord is along the half's end-point
-    # direction (a_i, b_i): the force is along +chord (tension) or -chord (compression).
-    chord_angle = math.atan2(b_i, a_i)
-    phi = np.where(F_axial >= 0, chord_angle, chord_angle + math.pi)
+    # In the half's frame the tangent at mid-span is along +x and, by the symmetry of the arc, parallel
+    # to the full chord: the force is along +x (tension) or -x (compression), and the chord is 2 a.
+    phi = np.where(F_axial >= 0, 0.0, math.pi)
     phi = Theta_i + np.angle(np.exp(1j * (phi - Theta_i)))
     Theta, ok, nit = spring_angle(np.abs(F_axial) * rho * h, phi, k, Theta_i)
     a = h - gamma * h + rho * h * np.cos(Theta)
     b = rho * h * np.sin(Theta)
-    # chord = 2 * projection of the half's end point on the (fixed) chord direction of symmetry
-    chord = 2.0 * (a * math.cos(chord_angle) + b * math.sin(chord_angle))
+    chord = 2.0 * a  # the half's end point projected on the chord (the mid-span tangent)
     out = _scalar_or_array({"chord": chord, "Theta": Theta, "F": F_axial})
     return PRBMResult(bool(np.all(ok)), "converged" if np.all(ok) else "not converged", out,
                       {"gamma": gamma, "K_theta": K_theta, "rho": rho, "k_half": k, "Theta_i": Theta_i,
-                       "chord0": 2 * math.hypot(a_i, b_i)},
+                       "chord0": 2 * a_i},
                       "curved pinned-pinned, seed 000 section 2.3.5", time.perf_counter() - t0, nit,
                       level_converged=np.atleast_1d(ok))

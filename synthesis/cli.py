@@ -13,10 +13,12 @@ import json
 import math
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from synthesis.design import Design, compare_printed, design
-from synthesis.dyads import SynthesisError
 from synthesis.spec import SpecError, load_spec
+
+if TYPE_CHECKING:
+    from synthesis.design import Design
 
 
 def _jsonable(v):
@@ -111,6 +113,10 @@ def _markdown(d: Design, printed: list[dict], fem: dict | None, case_path: Path 
 
 def synthesize(spec_path, out_dir, *, run_fem: bool | None = None, stream=None) -> int:
     """Design from ``spec_path`` into ``out_dir``; the exit status (0 ok, 1 no solution, 2 bad file)."""
+    # the solvers (scipy.optimize) only when a design is made: `prbm-validate` builds its parser without them
+    from synthesis.design import compare_printed, design
+    from synthesis.dyads import SynthesisError
+
     stream = stream or sys.stdout
     err = sys.stderr
     try:

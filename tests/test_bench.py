@@ -1,19 +1,50 @@
-"""The benchmark runs and writes its files (timings are measured there, never asserted here).
-
-A smoke run, out of the default suite (marker ``bench``): ``pytest -m bench``."""
+"""The benchmark runs and writes its files, and its headline is honest (timings are measured there,
+never asserted here)."""
 import json
 
 import pandas as pd
 import pytest
 
-from validation.bench import run_bench
-
-pytestmark = pytest.mark.bench
+from validation import bench
+from validation.methods.base import MethodRun, Request
 
 
 def test_bench_quick_writes_csv_json_and_plots(tmp_path):
-    assert run_bench(tmp_path, quick=True, cases={"cantilever_tip_load": [0, 9], "no_such_case": None}) == 0
+    cases = {"cantilever_tip_load": [0, 9], "no_such_case": None}
+    assert bench.run_bench(tmp_path, quick=True, cases=cases, max_elements=8) == 0
     headline = json.loads((tmp_path / "headline.json").read_text())
     assert any("no_such_case" in s for s in headline["skipped"])
     frame = pd.read_csv(tmp_path / "bench.csv")
     assert set(frame.columns) >= {"case", "method", "elements", "time_s", "error", "iterations", "peak_memory_mb"}
+    assert frame["elements"].max() <= 8
+    plain = frame[frame["method"] == "fem"].sort_values("elements")
+    assert plain["error"].is_monotonic_decreasing     # O(h^2): each doubling cuts the error
+
+
+def test_unavailable_peer_is_reported_as_unavailable_not_as_did_not_reach(tmp_path, monkeypatch):
+    monkeypatch.setattr(bench, "_peer_status", lambda: "peer unavailable: OpenSeesPy cannot be imported (test)")
+    one = [bench.BenchCase("cantilever_tip_load", [0], single_level=True)]
+    bench.run_bench(tmp_path, quick=True, cases=one, max_elements=4)
+    headline = json.loads((tmp_path / "headline.json").read_text())
+    for entry in headline["fem_over_opensees_time_at_error"].values():
+        assert entry["note"].startswith("peer unavailable") and entry["ratio"] is None
+    frame = pd.read_csv(tmp_path / "bench.csv")
+    assert not frame["method"].str.startswith("opensees").any()
+
+
+def test_richardson_step_removes_an_h_squared_error():
+    # u_n = a + c/n^2: the step u_2n + (u_2n - u_n)/3 gives a exactly
+    r = Request("y", "tip", 0)
+    a, c, n = 0.75, 0.3, 8
+    coarse, fine = MethodRun(values={r: a + c / n**2}), MethodRun(values={r: a + c / (2 * n) ** 2})
+    assert bench._richardson(coarse, fine)[r] == pytest.approx(a, abs=1e-15)
+
+
+def test_last_level_only_keeps_the_last_load_and_its_references():
+    case = bench.case_by_id("cantilever_tip_load").case
+    single = bench._last_level_only(case)
+    assert single.n_levels() == 1
+    assert single.loads[0].levels() == [case.loads[0].levels()[-1]]
+    last = case.n_levels() - 1
+    assert {(r.quantity, r.value) for r in single.references} == {
+        (r.quantity, r.value) for r in case.references if r.level == last}

@@ -14,7 +14,7 @@ from validation.methods.base import Request
 from validation.runner import run_method
 
 CASES = Path(__file__).resolve().parent.parent / "cases"
-TABLE_FILES = sorted(p for p in (CASES / "chapter3").glob("*.toml") if "[methods.prbm]" in p.read_text()) + [CASES / "chapter9" / "test2_partially_compliant_fourbar.toml"] \
+TABLE_FILES = sorted(p for p in (CASES / "chapter3").glob("*.toml") if 'compare = "prbm"' in p.read_text()) + [CASES / "chapter9" / "test2_partially_compliant_fourbar.toml"] \
     + sorted((CASES / "chapter9").glob("test3_*.toml"))
 _RUNS = {}
 

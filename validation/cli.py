@@ -136,7 +136,8 @@ def cmd_bench(args) -> int:
 def cmd_stress(args) -> int:
     from validation.stress import run_stress
 
-    return run_stress(Path(args.out), long=args.long, seed=args.seed)
+    return run_stress(Path(args.out), long=args.long, seed=args.seed, configurations=args.configurations,
+                      executor="dask" if args.dask else "process", workers=args.workers, scheduler=args.scheduler)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -175,6 +176,11 @@ def build_parser() -> argparse.ArgumentParser:
     stress.add_argument("--out", default="reports/stress")
     stress.add_argument("--long", action="store_true", help="many more random cases")
     stress.add_argument("--seed", type=int, default=20261122)
+    stress.add_argument("--configurations", type=int, default=10_000,
+                        help="generated configurations of the quantity contract with --long (default %(default)s)")
+    stress.add_argument("--workers", type=int, default=None, help="worker processes (default 2)")
+    stress.add_argument("--dask", action="store_true", help="run --long on a local Dask cluster")
+    stress.add_argument("--scheduler", default=None, help="run --long on the Dask cluster at this address")
     stress.set_defaults(func=cmd_stress)
 
     from synthesis.cli import add_parser as add_synthesize_parser

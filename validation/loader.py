@@ -70,7 +70,9 @@ def describe(exc: ValidationError) -> tuple[str, str]:
     """(field path, message) of the first error of a pydantic ValidationError, for one-line reports."""
     err = exc.errors()[0]
     more = f" (and {exc.error_count() - 1} more)" if exc.error_count() > 1 else ""
-    return _field_path(err["loc"]), err["msg"].removeprefix("Value error, ") + more
+    path = _field_path(err["loc"])
+    below = (err.get("ctx") or {}).get("field")  # a method option's path below 'methods'
+    return (f"{path}.{below}" if below else path), err["msg"].removeprefix("Value error, ") + more
 
 
 def find_case_files(patterns: list[str] | None = None, root: Path = CASES_DIR) -> list[Path]:

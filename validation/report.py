@@ -295,6 +295,19 @@ def glance(table: pd.DataFrame) -> pd.DataFrame:
     return out.drop(columns=["level"])
 
 
+def _prb_model(result: CaseResult) -> tuple[pd.DataFrame | None, str | None]:
+    """The PRBM adapter's record of the model it built for each beam (mechanisms without hand-given
+    links): beam, model, how its ends are held, pivots, springs, gamma, K_Theta and why."""
+    run = result.runs.get("prbm")
+    if run is None or not run.extras.get("prb_model"):
+        return None, None
+    rows = [{"beam": b["beam"], "model": b["model"], "ends": "-".join(b["ends"]),
+             "pivots": "; ".join(f"({x:.4g}, {y:.4g})" for x, y in b["pivots"]),
+             "springs": "; ".join(f"{k:.4g}" for k in b["springs"]), "gamma": b["gamma"], "K_theta": b["K_theta"],
+             "why": b["reason"]} for b in run.extras["prb_model"]]
+    return pd.DataFrame(rows), run.extras.get("lock")
+
+
 def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str, str]:
     case = result.loaded.case
     cid = case.case.id
@@ -322,6 +335,10 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
                                                      for a in case.case.assumptions) + "</ul>"
     at_a_glance = glance(table)
     body = head + "<h2>Methods</h2>" + _html_table(runs)
+    prb_model, prb_lock = _prb_model(result)
+    if prb_model is not None:
+        body += ("<h2>PRB model built from the geometry</h2>"
+                 + (f"<p><b>Lock:</b> {html.escape(prb_lock)}</p>" if prb_lock else "") + _html_table(prb_model))
     if len(at_a_glance):
         body += ("<h2>At a glance</h2><p>Each method's value beside the printed columns; differences are "
                  "in the output's unit (FEM - exact uses the exact elastica where the case runs it; "
@@ -342,6 +359,9 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
           case.case.description + "\n"]
     md += [f"- {a}" for a in case.case.assumptions]
     md += ["\n## Methods\n", _md_table(runs)]
+    if prb_model is not None:
+        md += ["\n## PRB model built from the geometry\n"] + ([f"Lock: {prb_lock}\n"] if prb_lock else []) \
+            + [_md_table(prb_model)]
     if len(at_a_glance):
         md += ["\n## At a glance\n", _md_table(at_a_glance)]
     md += ["\n## Every output\n", _md_table(shown)]

@@ -15,9 +15,9 @@ import traceback
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 
 from validation import cache
 from validation.compare import agreement_checks, fem_elastica_checks, reference_check
@@ -26,6 +26,9 @@ from validation.loader import CaseError, LoadedCase, load_case
 from validation.methods.base import MethodRun, NotApplicable, Request
 from validation.schema import Case
 from validation.sweep_task import apply as apply_field
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 COLUMNS = ["case", "group", "method", "quantity", "point", "level", "level_label", "value", "unit", "scale",
            "error_estimate", "reference_label", "reference_value", "source", "compare", "tolerance_rel",
@@ -132,6 +135,8 @@ def characteristic_length(case: Case) -> float:
 
 def tabulate(result: CaseResult) -> pd.DataFrame:
     """The tidy comparison table of one case."""
+    import pandas as pd   # the tables only: `solve` and the adapters start without pandas
+
     case = result.loaded.case
     labels = case.level_labels or [str(i) for i in range(case.n_levels())]
     refs: dict[tuple, list] = {}
@@ -236,6 +241,7 @@ class RunOutcome:
 def run_cases(paths: list[Path], methods: list[str] | None = None, use_cache: bool = True,
               jobs: int = 1, progress: bool = False) -> RunOutcome:
     """Run every case file; bad files are reported as errors and the others still run."""
+    import pandas as pd
     from tqdm import tqdm
 
     results, errors = [], []
@@ -305,6 +311,7 @@ def fem_error_relative(part: pd.DataFrame) -> float:
 
 def summary(table: pd.DataFrame) -> pd.DataFrame:
     """One row per case: methods run, largest PRBM-to-FEM error, comparisons passed, wall times."""
+    import pandas as pd
     rows = []
     for (group, case_id), part in table.groupby(["group", "case"], sort=True):
         values = part.drop_duplicates(["method", "quantity", "point", "level"])

@@ -18,9 +18,11 @@ from __future__ import annotations
 import math
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic_core import PydanticCustomError
 
 from validation.capabilities import QUANTITIES, method_quantities
+from validation.method_options import OPTIONS
 
 UNIT_SYSTEMS: dict[str, dict[str, str]] = {
     "in-lb": {"length": "in", "force": "lbf", "modulus": "psi", "moment": "lbf*in",
@@ -404,6 +406,16 @@ class CaseInfo(Strict):
                                       "none of its values at a loaded level can be checked")
     expected_failure: dict[str, str] = Field(default_factory=dict, description="method -> why it is "
                                              "expected not to converge or not to apply on this case")
+    no_prbm_fem: str | None = Field(None, description="why this case has no PRBM-vs-FEM number, in one line: "
+                                    "no seed PRBM for this configuration, geometry not in the seed, or an "
+                                    "FEM-only benchmark validating the FEM itself")
+
+    @field_validator("no_prbm_fem")
+    @classmethod
+    def _one_line(cls, value: str | None) -> str | None:
+        if value is not None and (not value.strip() or "\n" in value):
+            raise ValueError("give the reason in one non-empty line")
+        return value
 
     @field_validator("units")
     @classmethod
@@ -423,6 +435,26 @@ class Case(Strict):
     methods: dict[str, dict[str, Any]] = Field(min_length=1)
     references: list[ReferenceSpec] = Field(default_factory=list)
     agreements: list[Agreement] = Field(default_factory=list)
+
+    @field_validator("methods")
+    @classmethod
+    def _options(cls, methods: dict[str, dict[str, Any]]) -> dict[str, dict[str, Any]]:
+        """Each method's options against its typed model (validation/method_options.py); the error's
+        ``ctx['field']`` carries the option's path below ``methods`` for the one-line message."""
+        for name, options in methods.items():
+            model = OPTIONS.get(name)
+            if model is None:
+                continue  # an unknown method is reported by _coherent
+            try:
+                model.model_validate(options or {})
+            except ValidationError as exc:
+                err = exc.errors()[0]
+                message = err["msg"]
+                if err["type"] == "extra_forbidden":
+                    message = f"unknown option; known: {', '.join(model.model_fields)}"
+                raise PydanticCustomError("method_option", "{message}", {
+                    "message": message, "field": ".".join([name, *map(str, err["loc"])])}) from None
+        return methods
 
     @model_validator(mode="after")
     def _coherent(self) -> "Case":

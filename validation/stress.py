@@ -31,6 +31,7 @@ from validation.loader import describe
 from validation.methods.base import Request
 from validation.runner import run_method
 from validation.schema import Case, without_checks
+from validation.stress_contract import run_contract_stress
 
 IN, LBF, PSI = 0.0254, 4.4482216152605, 6894.757293168361
 
@@ -390,10 +391,18 @@ def write_regression(params: dict, folder: Path) -> Path:
     return path
 
 
-def run_stress(out: Path, long: bool = False, seed: int = 20261122) -> int:
+def run_stress(out: Path, long: bool = False, seed: int = 20261122, *, configurations: int = 10_000,
+               executor: str = "process", workers: int | None = None, scheduler: str | None = None) -> int:
+    """The checks below; with ``long``, also the quantity contract on ``configurations`` generated
+    configurations on the sweep executors (``validation.stress_contract``)."""
     out.mkdir(parents=True, exist_ok=True)
     started = time.perf_counter()
     checks: list[Check] = []
+    contract = None
+    if long:
+        rows, contract = run_contract_stress(out, seed=seed, count=configurations, executor=executor,
+                                             workers=workers, scheduler=scheduler)
+        checks.extend(Check(r["category"], r["name"], r["passed"], r["detail"]) for r in rows)
     rng = random.Random(seed)
     n_random = 200 if long else 25
     for _ in range(n_random):
@@ -413,11 +422,14 @@ def run_stress(out: Path, long: bool = False, seed: int = 20261122) -> int:
         tally["tried"] += 1
         tally["passed" if c.passed else "failed"] += 1
     document = {"seed": seed, "long": long, "wall_time_s": time.perf_counter() - started,
-                "categories": categories, "checks": [asdict(c) for c in checks]}
+                "categories": categories, "contract": contract, "checks": [asdict(c) for c in checks]}
     (out / "stress.json").write_text(json.dumps(document, indent=2))
     _write_page(out, document)
     for cat, t in categories.items():
-        print(f"{cat:<12} tried {t['tried']:4d}  passed {t['passed']:4d}  failed {t['failed']:4d}")
+        print(f"{cat:<18} tried {t['tried']:5d}  passed {t['passed']:5d}  failed {t['failed']:5d}")
+    if contract:
+        print(f"contract: {contract['configurations']} configurations, {contract['compared_values']} values compared, "
+              f"{contract['wall_time_s']:.0f} s on {contract['executor']} ({contract['workers']} workers)")
     for c in checks:
         if not c.passed:
             print(f"FAILED {c.category}: {c.name}: {c.detail}")

@@ -181,7 +181,7 @@ class Parameter(Strict):
 
 
 class PlotSpec(Strict):
-    kind: Literal["domain", "scatter", "convergence", "none"] = "none"
+    kind: Literal["domain", "scatter", "convergence", "difference", "none"] = "none"
     x: str | None = Field(None, description="default: x, else dx")
     y: str | None = Field(None, description="default: y, else dy")
     point: str | None = Field(None, description="default: the first point with both quantities")
@@ -472,11 +472,11 @@ def _is_dask_client(obj: Any) -> bool:
     return type(obj).__name__ == "Client" and type(obj).__module__.startswith("distributed")
 
 
-def _dask_completed(client, context, chunks) -> Iterator[tuple[list[dict], list[dict] | BaseException]]:
+def _dask_completed(client, context, chunks, task=run_chunk) -> Iterator[tuple[list[dict], list[dict] | BaseException]]:
     from distributed import as_completed
 
     shared = client.scatter(context, broadcast=True)
-    futures = {client.submit(run_chunk, shared, chunk, pure=False): i for i, chunk in enumerate(chunks)}
+    futures = {client.submit(task, shared, chunk, pure=False): i for i, chunk in enumerate(chunks)}
     try:
         for future in as_completed(futures):
             chunk = chunks[futures[future]]
@@ -488,10 +488,10 @@ def _dask_completed(client, context, chunks) -> Iterator[tuple[list[dict], list[
         client.cancel(list(futures))
 
 
-def _pool_completed(pool, context, chunks) -> Iterator[tuple[list[dict], list[dict] | BaseException]]:
+def _pool_completed(pool, context, chunks, task=run_chunk) -> Iterator[tuple[list[dict], list[dict] | BaseException]]:
     from concurrent.futures import as_completed
 
-    futures = {pool.submit(run_chunk, context, chunk): i for i, chunk in enumerate(chunks)}
+    futures = {pool.submit(task, context, chunk): i for i, chunk in enumerate(chunks)}
     try:
         for future in as_completed(futures):
             chunk = chunks[futures[future]]
@@ -505,13 +505,14 @@ def _pool_completed(pool, context, chunks) -> Iterator[tuple[list[dict], list[di
 
 
 def completed(executor: Any, context: dict, chunks: list[list[dict]], workers: int | None = None,
-              scheduler: str | None = None) -> Iterator[tuple[list[dict], list[dict] | BaseException]]:
+              scheduler: str | None = None, task=run_chunk) -> Iterator[tuple[list[dict], list[dict] | BaseException]]:
     """(chunk, rows or exception) for every chunk, in the order they finish.
 
     ``executor``: 'serial' (this process), 'process' (a ProcessPoolExecutor of ``workers``),
     'dask' (a new ``distributed.LocalCluster`` of ``workers`` processes, or the cluster at
     ``scheduler``), or an object you own: a ``concurrent.futures.Executor`` or a
-    ``distributed.Client``.
+    ``distributed.Client``. ``task(context, chunk) -> rows`` is what a worker runs (default: sweep
+    points; ``prbm-validate stress --long`` passes its own).
     """
     if scheduler is not None or executor == "dask":
         import logging
@@ -526,26 +527,26 @@ def completed(executor: Any, context: dict, chunks: list[list[dict]], workers: i
                                    dashboard_address=None, silence_logs=logging.ERROR)
             client = Client(cluster)
         try:
-            yield from _dask_completed(client, context, chunks)
+            yield from _dask_completed(client, context, chunks, task)
         finally:
             client.close()
             if cluster is not None:
                 cluster.close()
     elif executor == "serial":
         for chunk in chunks:
-            yield chunk, run_chunk(context, chunk)
+            yield chunk, task(context, chunk)
     elif executor == "process":
         from concurrent.futures import ProcessPoolExecutor
 
         pool = ProcessPoolExecutor(max_workers=workers or os.cpu_count())
         try:
-            yield from _pool_completed(pool, context, chunks)
+            yield from _pool_completed(pool, context, chunks, task)
         finally:
             pool.shutdown(wait=True, cancel_futures=True)
     elif _is_dask_client(executor):
-        yield from _dask_completed(executor, context, chunks)
+        yield from _dask_completed(executor, context, chunks, task)
     elif hasattr(executor, "submit"):
-        yield from _pool_completed(executor, context, chunks)
+        yield from _pool_completed(executor, context, chunks, task)
     else:
         raise ValueError(f"unknown executor {executor!r}: use 'serial', 'process', 'dask' or an executor")
 

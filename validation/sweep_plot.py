@@ -14,6 +14,9 @@ draws one of:
   reference is the exact elastica of the same case if the sweep ran it, else the finest mesh
   (then the finest point is left out). Log-log, with the observed order between the two finest
   meshes; the numbers go to ``convergence.csv``.
+* ``difference``: the model error of the first method of the sweep against the second (e.g. the
+  PRBM against the FEM) over the swept parameter ``plot.by``: |a - b| / |b| for each case and
+  quantity, the largest over points and load levels (|b| > 0); the numbers go to ``difference.csv``.
 
 Only rows with status 'ok' are plotted; failed points stay in the dataset.
 """
@@ -210,7 +213,39 @@ def plot_convergence(frame: pd.DataFrame, manifest: dict, out: Path) -> list[Pat
     return [_save(fig, out / "convergence.png")]
 
 
-PLOTS = {"domain": plot_domain, "scatter": plot_scatter, "convergence": plot_convergence}
+def difference(frame: pd.DataFrame, by: str, methods: list[str]) -> pd.DataFrame:
+    """Largest |a - b| / |b| over levels and points per case, quantity and value of ``by``."""
+    ok = frame[(frame["status"] == "ok") & frame["quantity"].notna() & frame["method"].isin(methods[:2])]
+    wide = ok.pivot_table(index=["case", "quantity", "point", "level", by], columns="method", values="value",
+                          aggfunc="first").dropna()
+    if len(methods) < 2 or not set(methods[:2]) <= set(wide.columns):
+        return pd.DataFrame()
+    a, b = wide[methods[0]], wide[methods[1]]
+    rel = ((a - b).abs() / b.abs()).where(b.abs() > 0).rename("relative_difference").dropna()
+    return rel.groupby(level=["case", "quantity", by]).max().reset_index()
+
+
+def plot_difference(frame: pd.DataFrame, manifest: dict, out: Path) -> list[Path]:
+    by = manifest["plot"].get("by") or next((p.get("name") or p["path"] for p in manifest["parameters"]), None)
+    methods = list(manifest.get("methods") or [])
+    table = difference(frame, by, methods)
+    if table.empty:
+        return []
+    table.to_csv(out / "difference.csv", index=False)
+    plt, fig, axes = _figure(1, 1, size=(6.0, 4.4))
+    ax = axes[0]
+    for (case, quantity), line in table.groupby(["case", "quantity"]):
+        line = line.sort_values(by)
+        ax.plot(line[by], 100 * line["relative_difference"], marker="o", label=f"{case} {quantity}")
+    ax.set_xlabel(by)
+    ax.set_ylabel(f"|{methods[0]} - {methods[1]}| / |{methods[1]}| [%] (largest over levels)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    return [_save(fig, out / "difference.png")]
+
+
+PLOTS = {"domain": plot_domain, "scatter": plot_scatter, "convergence": plot_convergence,
+         "difference": plot_difference}
 
 
 def plot_sweep(out: Path | str) -> list[Path]:

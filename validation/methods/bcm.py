@@ -24,6 +24,7 @@ import numpy as np
 from bcm.beam import solve_mixed, strain_energy
 from bcm.mechanisms import BCMBeam, RigidBodyOnBeams
 from validation.methods.base import MethodRun, NotApplicable, Request
+from validation.quantities import boundary_held_tip
 from validation.schema import Case
 
 RANGE = 0.1
@@ -67,11 +68,8 @@ def _segment(case: Case, requests: list[Request], options: dict) -> MethodRun:
                 disp[key] = disp.get(key, 0.0) + float(d[0] if key == "ux" else d[1]) / L
             elif load.kind == "rotation":
                 disp["theta"] = math.radians(v)
-        if seg.boundary in ("fixed-guided", "fixed-fixed"):
-            disp.setdefault("theta", 0.0)
-        if seg.boundary == "fixed-fixed":
-            disp.setdefault("ux", 0.0)
-            disp.setdefault("uy", 0.0)
+        for dof in boundary_held_tip(case):  # the contract's rule (validation/quantities.py)
+            disp.setdefault({"rz": "theta"}.get(dof, dof), 0.0)
         kw = {}
         for d, f in (("ux", "fx"), ("uy", "fy"), ("theta", "mz")):
             kw.update({d: disp[d]} if d in disp else {f: given[f]})

@@ -24,6 +24,11 @@ length units), the absolute tip angle ``theta0`` (degrees) and the inflection lo
 case's loads at each level (e.g. the PRBM loads) are not applied: they are the initial guess,
 the state the continuation starts from (zero loads: start from the problem without the
 inflection condition). Only a fixed-guided segment with force/moment loads.
+Inverse tip problem (option table ``inverse``, ``validation.inverse_problem``: tip y ``b``, slope
+``theta0_deg`` and one of ``a``, ``n``, ``axial_load``, ``l1`` per level): the tip loads
+(``force_x``, ``force_y``, ``moment``) are those that hold the prescribed tip, each level solved on
+its own from the unloaded beam (``l1``: from the case's loads, as for ``problem = 'inflection'``);
+the other outputs come from the forward solve under the case's loads.
 Not applicable: mechanisms, pinned-pinned segments, loads away from the tip. The elastica is
 inextensible and shear-free whatever the section's area.
 """
@@ -36,6 +41,8 @@ import numpy as np
 
 from elastica.shooting import (ElasticaProblem, MomentConstraint, TipConstraint, loaded_start,
                                solve_path, unloaded_tip)
+from validation.methods import elastica_network
+from validation.inverse_problem import LOAD_OUTPUTS, InverseSpec, Tie, inverse_spec, merge_runs
 from validation.methods.base import MethodRun, NotApplicable, Request
 from validation.schema import Case
 
@@ -90,6 +97,9 @@ def level_problems(case: Case, options: dict) -> list[ElasticaProblem]:
                 moment += v
             elif load.kind == "displacement":
                 u = d / np.hypot(*d)
+                if k0 == 0.0 and abs(u[0]) > 0.999 and v != 0.0:
+                    raise NotApplicable("a prescribed axial displacement of a straight segment: the "
+                                        "inextensible elastica has no unbuckled solution")
                 constraints.append(TipConstraint(tuple(u), float(u @ [x0, y0] + v * np.hypot(*d))))
                 prescribed_dirs.append(u)
             elif load.kind == "rotation":
@@ -106,6 +116,9 @@ def level_problems(case: Case, options: dict) -> list[ElasticaProblem]:
                 if not free and len(prescribed_dirs) < 2:
                     constraints.append(TipConstraint(tuple(u), float(u @ [x0, y0])))
                     prescribed_dirs.append(u)
+        if k0 == 0.0 and seg.boundary == "fixed-fixed" and any(abs(u[0]) > 0.999 for u in prescribed_dirs):
+            raise NotApplicable("a straight fixed-fixed segment whose tip cannot move axially: the "
+                                "inextensible elastica cannot bend (only an extensible model can)")
         if len(prescribed_dirs) > 2:
             raise NotApplicable("more than two prescribed tip-position components")
         problems.append(ElasticaProblem(length=L, EI=EI, curvature=k0, force=tuple(force),
@@ -173,8 +186,77 @@ def _value(res, req: Request, case: Case) -> float:
     return float(table[q])
 
 
-def run(case: Case, requests: list[Request], options: dict) -> MethodRun:
+def inverse_problems(case: Case, spec: InverseSpec, options: dict) -> list[ElasticaProblem]:
+    """One ``ElasticaProblem`` per level for the inverse tip problem ``spec``."""
+    seg = case.segment
+    EI = spec.EI if spec.EI is not None else (
+        seg.E * spec.I if spec.I is not None and seg.E is not None else _stiffness(case, options))
+    out = []
+    for lv in spec.levels:
+        y = TipConstraint((0.0, 1.0), lv.b)
+        common = dict(length=seg.length, EI=EI, curvature=seg.initial_curvature(), tip_angle=lv.theta0)
+        if lv.tie is Tie.POSITION_X:
+            problem = ElasticaProblem(constraints=(TipConstraint((1.0, 0.0), lv.value), y), **common)
+        elif lv.tie is Tie.LOAD_RATIO:
+            problem = ElasticaProblem(constraints=(TipConstraint((0.0, 1.0), lv.b, (-lv.value, 1.0)),), **common)
+        elif lv.tie is Tie.AXIAL_LOAD:
+            problem = ElasticaProblem(force=(lv.value, 0.0), constraints=(y,), **common)
+        else:
+            problem = ElasticaProblem(constraints=(y,), moment_constraints=(MomentConstraint(lv.value),), **common)
+        out.append(problem)
+    return out
+
+
+def _start_loads(case: Case, level: int) -> tuple[tuple[float, float], float]:
+    force, moment = np.zeros(2), 0.0
+    for load in case.loads:
+        if load.kind == "force" and not load.follower:
+            force += load.levels()[level] * np.asarray(load.direction, float)
+        elif load.kind == "moment":
+            moment += load.levels()[level]
+    return (float(force[0]), float(force[1])), moment
+
+
+def _run_inverse(case: Case, spec: InverseSpec, requests: list[Request], options: dict) -> MethodRun:
+    """The tip loads of the inverse problem, each level from its own start."""
     t0 = time.perf_counter()
+    kwargs = {k: options[k] for k in ("rtol", "tol") if k in options}
+    problems = inverse_problems(case, spec, options)
+    values, ok, msg = {}, {}, {}
+    for level in sorted({r.level for r in requests}):
+        problem, start = problems[level], None
+        if problem.moment_constraints:
+            force, moment = _start_loads(case, level)
+            if force != (0.0, 0.0) or moment != 0.0:
+                start = loaded_start(problem, force, moment, **{k: v for k, v in kwargs.items() if k == "rtol"})
+                start = start if start.converged else None
+        res = solve_path(problem, start=start, **kwargs)
+        ok[level], msg[level] = res.converged, res.message
+        loads = {"force_x": res.force[0], "force_y": res.force[1], "moment": res.moment}
+        for req in requests:
+            if req.level == level:
+                values[req] = float(loads[req.quantity]) if res.converged else math.nan
+    bad = "; ".join(f"inverse level {lv}: {m}" for lv, m in msg.items() if not ok[lv])
+    return MethodRun(values=values, converged=all(ok.values()), message=bad or "converged",
+                     wall_time=time.perf_counter() - t0, level_converged=ok, level_messages=msg)
+
+
+def run(case: Case, requests: list[Request], options: dict) -> MethodRun:
+    spec = inverse_spec(case, options, "elastica")
+    if spec is None:
+        return _run_forward(case, requests, options)
+    loads = [r for r in requests if r.quantity in LOAD_OUTPUTS and r.point == "tip"]
+    others = [r for r in requests if r not in loads]
+    forward = _run_forward(case, others, options) if others else None
+    return merge_runs(forward, _run_inverse(case, spec, loads, options))
+
+
+def _run_forward(case: Case, requests: list[Request], options: dict) -> MethodRun:
+    t0 = time.perf_counter()
+    if case.mechanism is not None:  # beams coupled through rigid links: validation/methods/elastica_network.py
+        run = elastica_network.run_mechanism(case, requests, options)
+        run.wall_time = time.perf_counter() - t0
+        return run
     inflection = options.get("problem") == "inflection"
     if "problem" in options and not inflection:
         raise NotApplicable(f"unknown elastica problem '{options['problem']}' (known: 'inflection')")

@@ -11,7 +11,21 @@ Options (``[methods.fem]``): ``elements`` per member (default 16), ``error_estim
 on n and 2n elements and report |u_2n - u_n|/3, the Richardson estimate of the O(h^2) error of u_2n),
 ``richardson`` (report the extrapolated value instead of u_2n), ``tol`` (refine until the estimate is
 below it), ``inextensible_ratio`` (EA L^2/EI used when a section gives no area; default 1e6),
-and for ``limit_load``: ``arc_length``, ``max_steps``.
+and for ``limit_load``: ``arc_length``, ``max_steps``. ``slfp = {length, E, thickness_ratio}``: build every
+sprung joint of a mechanism as a small-length flexural pivot of that length (``validation.slfp``).
+``input_moment_at = "<node>"``: the case's one prescribed displacement (e.g. a slider position) is not
+imposed but reached by a moment at that node, found by an outer solve; the moment is ``input_torque``.
+
+Inverse tip problem (option table ``inverse``, see ``validation.inverse_problem``): per level a
+clamped segment whose tip has y = ``b`` and absolute slope ``theta0_deg`` prescribed (displacement
+control), and x prescribed (``a``), loaded by a fixed axial load (``axial_load``), or carrying the
+tied load F_x = -n F_y (``n``) or the F_x that puts a zero bending moment at arc length ``l1``
+(a mesh node is placed there), both found by the outer secant solve of ``fem.solve_tip_inverse``.
+Each level is its own problem, solved from the unloaded segment; the tip loads (``force_x``,
+``force_y``, ``moment``) are those of the inverse problem, on n and 2n elements per member with
+the Richardson estimate |F_2n - F_n|/3 (unless ``error_estimate = false``; n and extrapolation from
+``inverse.elements``/``inverse.richardson``, else the method's); every other output comes from the
+forward solve under the case's loads.
 """
 from __future__ import annotations
 
@@ -20,7 +34,11 @@ import time
 
 import numpy as np
 
+from validation.inverse_problem import LOAD_OUTPUTS, InverseLevel, InverseSpec, Tie, inverse_spec, merge_runs
 from validation.methods.base import MethodRun, NotApplicable, Request
+from validation.quantities import boundary_held_tip as _boundary_held_tip
+from validation.quantities import load_dofs as _load_dofs
+from validation.slfp import with_flexures
 
 ROTATION_DOF = "rz"
 
@@ -56,25 +74,6 @@ def _segment_model(fem, case, elements: int, options: dict):
     for dof in _boundary_held_tip(case):
         model.prescribe("tip", dof, np.zeros(case.n_levels()))
     return model
-
-
-TIP_HELD = {"fixed-guided": ("rz",), "fixed-fixed": ("ux", "uy", "rz"), "pinned-pinned": ("ux", "uy")}
-
-
-def _load_dofs(load) -> set[str]:
-    """The DOFs of its point that a load acts on or prescribes."""
-    if load.kind in ("moment", "rotation"):
-        return {"rz"}
-    d = load.direction
-    if load.kind == "displacement":
-        return {"ux" if abs(d[0]) > abs(d[1]) else "uy"}
-    return {name for name, component in zip(("ux", "uy"), d) if component}
-
-
-def _boundary_held_tip(case) -> list[str]:
-    """Tip DOFs the segment's boundary type holds because no load acts on or prescribes them."""
-    acted = set().union(*(_load_dofs(load) for load in case.loads if load.point == "tip"))
-    return [dof for dof in TIP_HELD.get(case.segment.boundary, ()) if dof not in acted]
 
 
 def _held_dofs(case) -> dict[str, set]:
@@ -184,14 +183,17 @@ def build_model(case, elements: int, options: dict):
     return _mechanism_model(fem, case, elements, options)
 
 
-def _applied(case, point: str, level: int) -> np.ndarray:
+def _applied(case, point: str, level: int, rotation: float = 0.0) -> np.ndarray:
+    """Applied (Fx, Fy, M) at a point; a follower force turned with the point's ``rotation`` (rad)."""
     total = np.zeros(3)
+    c, s = math.cos(rotation), math.sin(rotation)
     for load in case.loads:
         if load.point != point:
             continue
         v = load.levels()[level]
-        if load.kind == "force" and not load.follower:
-            total[:2] += v * np.asarray(load.direction, float)
+        if load.kind == "force":
+            fx, fy = v * np.asarray(load.direction, float)
+            total[:2] += (c * fx - s * fy, s * fx + c * fy) if load.follower else (fx, fy)
         elif load.kind == "moment":
             total[2] += v
     return total
@@ -239,7 +241,7 @@ def _extract(case, fields: _Fields, requests: list[Request], origin: dict | None
             if dof in held.get(p, set()):
                 values[req] = float(fields.reaction(p, lv)[k])  # the load needed to hold the motion
             else:
-                values[req] = float(_applied(case, p, lv)[k]) if origin is not None else 0.0
+                values[req] = float(_applied(case, p, lv, fields.rotation(p, lv))[k]) if origin is not None else 0.0
         elif q == "strain_energy":
             values[req] = float(fields.strain_energy[lv])
         elif q == "input_torque":
@@ -343,10 +345,189 @@ def _shapes(result) -> list:
     return shapes
 
 
+def _arc_point(kappa: float, s: float) -> tuple[float, float]:
+    """Unloaded position at arc length s of a segment along +x from the origin (an arc if kappa != 0)."""
+    if kappa == 0.0:
+        return s, 0.0
+    return math.sin(kappa * s) / kappa, (1.0 - math.cos(kappa * s)) / kappa
+
+
+def _inverse_model(fem, case, spec: InverseSpec, level: InverseLevel, elements: int, options: dict):
+    """The clamped segment with the prescribed tip of one level (a node 'inflection' at l1)."""
+    seg = case.segment
+    L, kappa = seg.length, seg.initial_curvature()
+    if abs(kappa * L) >= 2 * math.pi:
+        raise NotApplicable("an initially curved segment closing on itself")
+    section = _section(fem, seg.section, seg.E, L, options)
+    if spec.EI is not None or spec.I is not None:
+        if spec.EI is None and seg.E is None:
+            raise NotApplicable("methods.fem.inverse.I needs the segment's E (a layered section has none)")
+        EI = spec.EI if spec.EI is not None else seg.E * spec.I
+        section = fem.Section.from_EI(section.EA, EI, E=seg.E)
+    model = fem.Model()
+    model.add_node("root", 0.0, 0.0)
+    tip = _arc_point(kappa, L)
+    model.add_node("tip", *tip)
+    if level.tie is Tie.INFLECTION:
+        model.add_node("inflection", *_arc_point(kappa, level.value))
+        n1 = min(max(1, round(elements * level.value / L)), elements - 1) if elements > 1 else 1
+        model.add_member("root", "inflection", section, n_elements=n1, curvature=kappa, name="segment:root")
+        model.add_member("inflection", "tip", section, n_elements=max(1, elements - n1), curvature=kappa,
+                         name="segment:tip")
+    else:
+        model.add_member("root", "tip", section, n_elements=elements, curvature=kappa, name="segment")
+    model.add_support("root", "fixed")
+    model.prescribe("tip", "uy", [level.b - tip[1]])
+    model.prescribe("tip", "rz", [level.theta0 - kappa * L])
+    if level.tie is Tie.POSITION_X:
+        model.prescribe("tip", "ux", [level.value - tip[0]])
+    elif level.tie is Tie.AXIAL_LOAD:
+        model.add_force("tip", [level.value], [0.0])
+    return model
+
+
+def _tie(fem, level: InverseLevel):
+    if level.tie is Tie.LOAD_RATIO:
+        return fem.LoadRatio("ux", "uy", -level.value)      # F_x = -n F_y
+    if level.tie is Tie.INFLECTION:
+        return fem.ZeroMoment("ux", "inflection")
+    return None
+
+
+def _run_inverse(fem, case, spec: InverseSpec, requests: list[Request], options: dict) -> MethodRun:
+    """Tip loads of the inverse problem, level by level, on n and 2n elements (Richardson)."""
+    t0 = time.perf_counter()
+    elements = int(spec.method_options.get("elements", options.get("elements", 16)))
+    estimate = bool(options.get("error_estimate", True))
+    richardson = bool(spec.method_options.get("richardson", options.get("richardson", False)))
+    solve_options = dict(rtol=float(options.get("rtol", 1e-10)))
+    values, errors, ok, msg, iterations = {}, {}, {}, {}, 0
+    for lv in sorted({r.level for r in requests}):
+        level = spec.levels[lv]
+        guess = _applied(case, "tip", lv)[0]
+        results = []
+        for n in ((elements, 2 * elements) if estimate else (elements,)):
+            model = _inverse_model(fem, case, spec, level, n, options)
+            res = fem.solve_tip_inverse(model, "tip", _tie(fem, level), guess=guess, **solve_options)
+            if not res.converged and level.tie is Tie.POSITION_X:
+                # displacement control of x met a singular state (a buckling load of the clamped-
+                # clamped beam on the straight path to the target): reach the same x by the
+                # axial load that puts the tip there
+                free = _inverse_model(fem, case, spec, InverseLevel(level.b, level.theta0, Tie.AXIAL_LOAD, 0.0),
+                                      n, options)
+                res = fem.solve_tip_inverse(free, "tip", fem.Position("ux", level.value), guess=guess,
+                                            **solve_options)
+                res.message = f"x reached by its axial load (displacement control of x failed): {res.message}"
+            iterations += res.result.iterations
+            results.append(res)
+            if not res.converged:
+                break
+            guess = res.tied[0]
+        final = results[-1]
+        ok[lv], msg[lv] = final.converged, final.message
+        loads = final.tip_loads[0]
+        error = abs(loads - results[0].tip_loads[0]) / 3.0 if len(results) == 2 and final.converged else None
+        if richardson and error is not None:
+            loads = loads + (loads - results[0].tip_loads[0]) / 3.0
+        for req in requests:
+            if req.level == lv:
+                k = LOAD_OUTPUTS.index(req.quantity)
+                values[req] = float(loads[k]) if final.converged else math.nan
+                if error is not None:
+                    errors[req] = float(error[k])
+    bad = "; ".join(f"inverse level {lv}: {m}" for lv, m in msg.items() if not ok[lv])
+    return MethodRun(values=values, converged=all(ok.values()), message=bad or "converged",
+                     error_estimate=errors, wall_time=time.perf_counter() - t0,
+                     level_converged=ok, level_messages=msg, extras={"iterations": iterations})
+
+
+def _run_moment_driven(fem, case, requests: list[Request], options: dict) -> MethodRun:
+    """The case's one prescribed displacement reached by a moment at the input node (option
+    ``input_moment_at``), found by the outer secant of ``fem.solve_tip_inverse`` (a Position tie); the
+    moment is the ``input_torque`` output, on n and 2n elements with the Richardson estimate."""
+    t0 = time.perf_counter()
+    node = str(options["input_moment_at"])
+    case = _realised(case, options)
+    moved = [ld for ld in case.loads if ld.kind == "displacement"]
+    if len(moved) != 1 or any(ld.kind == "rotation" for ld in case.loads):
+        raise NotApplicable("methods.fem.input_moment_at: needs exactly one prescribed displacement (the target) "
+                            "and no prescribed rotation")
+    target = moved[0]
+    d = np.asarray(target.direction, float) / math.hypot(*target.direction)
+    if min(abs(d[0]), abs(d[1])) > 1e-12:
+        raise NotApplicable("methods.fem.input_moment_at: the prescribed displacement must be along x or y")
+    axis = 0 if abs(d[0]) > 0.5 else 1
+    driven = case.model_copy(update={"loads": [ld for ld in case.loads if ld is not target]})
+    elements = int(options.get("elements", 16))
+    estimate = bool(options.get("error_estimate", True))
+    n = case.n_levels()
+    results, model = [], None
+    for count in ((elements, 2 * elements) if estimate else (elements,)):
+        model = build_model(driven, count, options)
+        if node not in model.node_names:
+            raise NotApplicable(f"methods.fem.input_moment_at: no node '{node}' in the FEM model")
+        origin = model.coords[model.node(target.point)][axis]
+        goal = origin + np.asarray(target.levels(), float) * d[axis]
+        res = fem.solve_tip_inverse(model, node, fem.Position("rz", goal, node=target.point,
+                                                              direction=("ux", "uy")[axis]),
+                                    guess=results[-1].tied if results else None, n_levels=n,
+                                    rtol=float(options.get("rtol", 1e-10)))
+        results.append(res)
+        if not res.converged:
+            break
+    final = results[-1]
+    torque = final.tied
+    error = np.abs(torque - results[0].tied) / 3.0 if len(results) == 2 and final.converged else None
+    origin_xy = {name: model.coords[i] for i, name in enumerate(model.node_names)}
+    others = [r for r in requests if r.quantity != "input_torque"]
+    values = _extract(driven, _Fields.of(final.result), others, origin_xy) if final.converged else {}
+    errors = {}
+    for req in requests:
+        if req.quantity == "input_torque":
+            values[req] = float(torque[req.level]) if final.converged else math.nan
+            if error is not None:
+                errors[req] = float(error[req.level])
+    return MethodRun(values=values, converged=final.converged, error_estimate=errors,
+                     message=f"input moment at '{node}' found by an outer solve: {final.message}",
+                     wall_time=time.perf_counter() - t0,
+                     extras={"iterations": sum(r.result.iterations for r in results), "elements": elements})
+
+
 def run(case, requests: list[Request], options: dict) -> MethodRun:
     import fem
 
+    if "input_moment_at" in options:
+        return _run_moment_driven(fem, case, requests, options)
+    spec = inverse_spec(case, options, "fem")
+    if spec is None:
+        return _run_forward(fem, case, requests, options)
+    loads = [r for r in requests if r.quantity in LOAD_OUTPUTS and r.point == "tip"]
+    others = [r for r in requests if r not in loads]
+    forward = _run_forward(fem, case, others, options) if others else None
+    return merge_runs(forward, _run_inverse(fem, case, spec, loads, options))
+
+
+def _realised(case, options: dict):
+    """The case's mechanism with its sprung joints built as flexures (option ``slfp``), else the case."""
+    spec = options.get("slfp")
+    if spec is None:
+        return case
+    if case.mechanism is None:
+        raise NotApplicable("methods.fem.slfp: realises the sprung joints of a mechanism; this case is a segment")
+    unknown = sorted(set(spec) - {"length", "E", "thickness_ratio"})
+    if unknown or "length" not in spec or ("E" not in spec and case.mechanism.E is None):
+        raise NotApplicable("methods.fem.slfp: give length (and E unless the mechanism has one; optional "
+                            f"thickness_ratio){'; unknown: ' + ', '.join(unknown) if unknown else ''}")
+    try:
+        return with_flexures(case, float(spec["length"]), float(spec.get("E", case.mechanism.E or 0.0)),
+                             float(spec.get("thickness_ratio", 0.1)))
+    except ValueError as exc:
+        raise NotApplicable(f"methods.fem.slfp: {exc}") from None
+
+
+def _run_forward(fem, case, requests: list[Request], options: dict) -> MethodRun:
     start = time.perf_counter()
+    case = _realised(case, options)
     elements = int(options.get("elements", 16))
     model = build_model(case, elements, options)
     values, errors, iterations, converged, messages, result = {}, {}, 0, True, [], None
@@ -375,7 +556,8 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
             values.update({r: value for r in limit})
             messages.append(f"limit load by {options.get('limit_control', 'arclength')}: {res.message}")
         result = result or res
-    extras = {"iterations": iterations, "elements": elements}
+    extras = {"iterations": iterations, "elements": elements,
+              "rejected_iterations": getattr(result, "rejected_iterations", 0)}
     if result is not None and result.n_levels:
         extras["shapes"] = _shapes(result)
         path = _continuation_path(case, result)

@@ -5,15 +5,25 @@ Only for benchmarking and cross-checks (the ``peer`` extra). It models straight 
 corners (beams sharing a node), and proportional dead loads at nodes. Follower loads, released
 joints, rigid links, prescribed motions and non-proportional paths are outside it and raise
 ``NotApplicable``. ``limit_load`` is found with displacement control of the loaded point.
+
+Load stepping is what a competent user does: one load step per level (``steps_per_level``,
+default 1), halved on failure (OpenSees reverts the failed try to the last converged state) up to
+``max_halvings`` times; the failed tries' iterations are counted and their time is in the wall time.
+OpenSees is kept quiet: its log goes to the null device (no warnings on the console) and its
+"Process 0 Terminating" at interpreter exit is dropped.
 """
 from __future__ import annotations
 
+import atexit
 import math
+import os
+import sys
 import time
 
 import numpy as np
 
 from validation.methods.base import MethodRun, NotApplicable, Request
+from validation.quantities import boundary_held_tip
 
 SUPPORTED = {"x", "y", "dx", "dy", "rotation", "limit_load"}
 
@@ -23,7 +33,45 @@ def _ops():
         import openseespy.opensees as ops
     except Exception as exc:  # not installed, or a missing system BLAS
         raise NotApplicable(f"OpenSeesPy is not available ({exc})") from None
+    global _QUIET
+    if not _QUIET:
+        ops.logFile(os.devnull, "-noEcho")     # warnings and failed-step messages off the console
+        atexit.register(_drop_exit_banner)
+        _QUIET = True
     return ops
+
+
+_QUIET = False
+
+
+def _drop_exit_banner() -> None:
+    """OpenSees prints "Process 0 Terminating" to stderr from a C++ destructor after Python's
+    exit handlers: point file descriptor 2 at the null device once everything else is written."""
+    sys.stderr.flush()
+    null = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(null, 2)
+    os.close(null)
+
+
+def load_to(ops, current: float, target: float, steps: int, max_halvings: int) -> tuple[bool, int, float]:
+    """Load control from load factor ``current`` to ``target`` in ``steps`` equal steps, each failed
+    step halved and retried (at most ``max_halvings`` halvings in all). Returns (converged, Newton
+    iterations including the failed tries', load factor reached)."""
+    step = (target - current) / steps
+    iterations, halvings = 0, 0
+    while abs(target - current) > 1e-12 * max(abs(target), 1.0):
+        inc = target - current if abs(target - current) <= abs(step) * (1 + 1e-9) else step
+        ops.integrator("LoadControl", inc)
+        ok = ops.analyze(1)
+        iterations += ops.testIter()
+        if ok == 0:
+            current += inc
+            continue
+        halvings += 1
+        if halvings > max_halvings:
+            return False, iterations, current
+        step = inc / 2
+    return True, iterations, target
 
 
 def _geometry(case, elements: int):
@@ -38,6 +86,10 @@ def _geometry(case, elements: int):
         seg = case.segment
         if seg.initial_curvature() != 0.0:
             raise NotApplicable("curved segments are not built for the OpenSees peer")
+        held = boundary_held_tip(case)
+        if held or seg.boundary == "pinned-pinned":  # the peer builds a clamped root and a free tip only
+            raise NotApplicable(f"a {seg.boundary} segment (tip {', '.join(held) or 'root pin'} held) is not "
+                                "built for the OpenSees peer")
         xs = np.linspace(0.0, seg.length, elements + 1)
         idx = [add(x, 0.0) for x in xs]
         names.update(root=idx[0], tip=idx[-1])
@@ -134,7 +186,8 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
         bad = next(r.quantity for r in requests if r.quantity not in SUPPORTED)
         raise NotApplicable(f"the OpenSees peer does not give '{bad}'")
     elements = int(options.get("elements", 16))
-    substeps = int(options.get("steps_per_level", 10))
+    substeps = int(options.get("steps_per_level", 1))
+    max_halvings = int(options.get("max_halvings", 12))
     start = time.perf_counter()
     coords, names, elems, supports = _geometry(case, elements)
     nodal, factors = _reference_loads(case, names)
@@ -175,17 +228,13 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
     current = 0.0
     for level, factor in enumerate(factors):
         if factor != current:
-            n = substeps
-            ops.integrator("LoadControl", (factor - current) / n)
-            for _ in range(n):
-                if ops.analyze(1) != 0:
-                    converged = False
-                    message = f"OpenSees Newton failed between levels {level - 1} and {level}"
-                    break
-                iterations += ops.testIter()
-            if not converged:
+            ok, its, current = load_to(ops, current, factor, substeps, max_halvings)
+            iterations += its
+            if not ok:
+                converged = False
+                message = (f"OpenSees Newton failed between levels {level - 1} and {level} "
+                           f"(load factor {current:.6g} reached, {max_halvings} halvings)")
                 break
-            current = factor
         for r in wanted.get(level, []):
             tag = names[r.point] + 1
             x0, y0 = coords[tag - 1]

@@ -51,8 +51,11 @@ import math
 import time
 
 import numpy as np
+from scipy.optimize import brentq
 
+from validation.methods import prbm_network
 from validation.methods.base import MethodRun, NotApplicable, Request
+from validation.quantities import boundary_held_tip, unloaded_tip_angle
 
 DEG = math.pi / 180.0
 
@@ -136,6 +139,8 @@ def _segment(prbm, case, requests, options):
         else:
             res = prbm.fixed_pinned_tip(Fy, ratio, length=L, EI=EI, family=family, extrapolate=extrapolate)
     elif seg.boundary in ("fixed-free", "fixed-pinned"):
+        if follower:
+            raise NotApplicable("a follower force on an initially curved segment: no PRBM in the seeds")
         if np.any(M != 0):
             kappas = M / EI + kappa
             res = _stack([prbm.curved_fixed_pinned_tip(fy, r, length=L, EI=EI, curvature=k, family=family,
@@ -146,21 +151,38 @@ def _segment(prbm, case, requests, options):
                                                extrapolate=extrapolate)
         a0, b0 = math.sin(kappa * L) / kappa, (1 - math.cos(kappa * L)) / kappa
     elif seg.boundary in ("fixed-guided", "fixed-fixed"):
+        translations = [dof for dof in boundary_held_tip(case) if dof != "rz"]
+        if translations:
+            raise NotApplicable(f"fixed-fixed tip with {', '.join(translations)} held: the seeds' "
+                                "fixed-guided PRBMs leave the tip free to translate")
         if kappa != 0.0:
             raise NotApplicable("initially curved fixed-guided segment without model = 'inflection'")
+        if follower:
+            raise NotApplicable("a follower force on a fixed-guided segment: no PRBM in the seeds")
         if np.any(M != 0):
             res = prbm.fixed_guided_monotonic_tip(Fy, ratio, M, length=L, EI=EI, family=family,
                                                   extrapolate=extrapolate)
         else:
             res = prbm.fixed_guided_tip(Fy, ratio, length=L, EI=EI, family=family, extrapolate=extrapolate)
+            res.constants["k"] = 2.0 * np.asarray(res.constants["k_each"])  # U = 2 (k_each Theta^2/2)
     else:
         raise NotApplicable(f"boundary '{seg.boundary}' as a single segment case: the seeds' curved "
                             "pinned-pinned PRBM (prbm.curved_pinned_pinned) takes a chord force only")
     o = res.outputs
     a = _per_level(o["a"], n)
     b = _per_level(o["b"], n)
+    # the quantity contract (validation/quantities.py): rotation from the unloaded tangent angle,
+    # a held tip freedom reports the load that holds it
+    rotation = _per_level(o["theta0"] - unloaded_tip_angle(L, kappa), n)
+    if follower:  # the force the tip receives has turned with it
+        Fx, Fy = Fx * np.cos(rotation) - Fy * np.sin(rotation), Fx * np.sin(rotation) + Fy * np.cos(rotation)
     out = {"x": a, "y": b, "dx": a - a0, "dy": b - b0, "force_x": Fx, "force_y": Fy, "moment": M,
-           "rotation": _per_level(np.degrees(o["theta0"]), n)}
+           "rotation": np.degrees(rotation)}
+    held = boundary_held_tip(case)
+    if "rz" in held:
+        if "M" not in o:
+            raise NotApplicable(f"the PRBM ({res.model}) gives no moment holding the {seg.boundary} tip")
+        out["moment"] = _per_level(o["M"], n)
     if "Theta" in o:
         Theta = _per_level(o["Theta"], n)
         out["prb_angle"] = np.degrees(Theta)
@@ -174,10 +196,28 @@ def _segment(prbm, case, requests, options):
     info.level_converged = dict(enumerate(_per_level(lc, n).tolist())) \
         if lc is not None and np.size(lc) in (1, n) else {}
     info.extras = {"model": res.model, "constants": _plain(res.constants)}
+    _warn_inflection(info, M, Fx, Fy, a, b)
     shapes = _segment_shapes(seg, res, n, kappa)
     if shapes:
         info.extras["shapes"] = shapes
     return _pick(out, requests, "segment"), info
+
+
+INFLECTION_WARNING = ("inflection point expected: the bending moment changes sign between tip and root "
+                      "(seed 000 Table 2.1, eq (12)); the monotonic-curvature PRBM (eq 62) does not fit this load, "
+                      "use segment.model = 'inflection' (fixed-guided)")
+
+
+def _warn_inflection(info: MethodRun, M, Fx, Fy, a, b) -> None:
+    """Mark the levels whose end force and moment give an inflection point in the deformed PRBM state:
+    the moment at the tip (M) and at the root (M + F_y a - F_x b) of opposite signs (Table 2.1's
+    opposite senses, and the sufficient condition (12) evaluated on the PRBM's own deformed shape)."""
+    root = M + Fy * a - Fx * b
+    inflected = np.nonzero((M * root) < 0)[0]
+    for level in inflected.tolist():
+        info.level_messages[level] = INFLECTION_WARNING
+    if len(inflected):
+        info.extras["inflection_levels"] = inflected.tolist()
 
 
 def _per_level(v, n: int) -> np.ndarray:
@@ -256,7 +296,9 @@ def _inflection(prbm, case, requests, options, EI):
         o = res.outputs
         table = {"x": o["a"], "y": o["b"], "dx": o["a"] - seg.length, "dy": o["b"],
                  "rotation": np.degrees(o["theta0"]), "force_x": -o["nP"], "force_y": o["P"],
-                 "moment": -o["M"], "strain_energy": o.get("U", np.nan)}
+                 "moment": -o["M"]}
+        if "U" in o:
+            table["strain_energy"] = o["U"]
         if req.quantity not in table:
             raise NotApplicable(f"the chapter-3 PRBM gives no '{req.quantity}'")
         values[req] = float(table[req.quantity])
@@ -336,14 +378,21 @@ def _mechanism(prbm, case, requests, options):
             info.message = f"maximum DOF {dof} (Grubler on the PRBM, modes up to {max_mode})"
             return values, info
     links = options.get("links")
-    if not links and len(mech.beams) == 1:
+    kinds = sorted(sup.kind for sup in mech.supports)
+    if not links and not mech.links and len(mech.beams) == 1 and kinds == ["pinned", "slider"]:
+        values.update(_pinned_pinned_beam(prbm, case, requests, info))
+        return values, info
+    if not links and _one_beam_carrying_a_body(mech) and options.get("model") != "network":
         values.update(_segment_with_body(prbm, case, requests, options, info))
         return values, info
     if links and "r11" in links:
         return _slider(prbm, case, requests, options, links, values, info)
-    if not links or not {"r1", "r2", "r3", "r4"} <= set(links):
-        raise NotApplicable("no PRB four-bar given ([methods.prbm] links = {r1..r4}); only four-bars "
-                            "(and dof) are modelled by this adapter")
+    if not links or options.get("model") == "network":
+        values.update(prbm_network.run_mechanism(case, requests, options, info))
+        return values, info
+    if not {"r1", "r2", "r3", "r4"} <= set(links):
+        raise NotApplicable("[methods.prbm] links: a PRB four-bar needs r1..r4 (or give no links: the PRB "
+                            "model is then built from the geometry)")
     Z = {k: _complex(v) for k, v in links.items()}
     sp = options.get("springs", {})
     springs = tuple(float(sp.get(f"k{i}", 0.0)) for i in range(1, 5))
@@ -377,9 +426,15 @@ def _mechanism(prbm, case, requests, options):
     for load in case.loads:
         if load.kind == "moment":
             torque = (torque if torque is not None else np.zeros(n)) + np.asarray(load.levels(), float)
+    force_at_A = _link2_end_forces(case, fb, t20, complex(*options.get("origin", [0.0, 0.0])))
     precision = options.get("precision", {})
-    drive = options.get("drive", "torque" if torque is not None else "precision")
-    if drive == "torque":
+    drive = options.get("drive", "torque" if torque is not None or force_at_A is not None else "precision")
+    if drive == "torque" and force_at_A is not None:
+        base = torque if torque is not None else np.zeros(n)
+        theta2 = np.array([_theta2_under_force(fb, complex(f), float(t), t20) for f, t in zip(force_at_A, base)])
+        info.level_converged = {i: bool(np.isfinite(t)) for i, t in enumerate(theta2)}
+        info.message = "PRB four-bar under a dead force at the end of PRB link 2 (its moment about O2 follows the link)"
+    elif drive == "torque":
         if torque is None:
             raise NotApplicable("drive = 'torque' but the case has no input moment")
         res = fb.positions_under_torque(torque)
@@ -412,6 +467,9 @@ def _mechanism(prbm, case, requests, options):
         out["mechanical_advantage"] = fb.compliant_ma(theta2, float(ma["F_i"]), float(ma["d_i"]), float(ma["d_o"]),
                                                       angles, torque=torque)
     point = options.get("coupler_point", "P")
+    if "origin" not in options and any(r.quantity in ("x", "y") for r in requests):
+        raise NotApplicable("x, y of the PRB four-bar are in its own frame (O2 at the origin): give "
+                            "[methods.prbm] origin = [x, y], where O2 is in the case frame")
     for r in requests:
         if r.quantity in ("dx", "dy", "x", "y") and r.point != point:
             raise NotApplicable(f"the PRB four-bar tracks the coupler point '{point}' only, not '{r.point}'")
@@ -420,6 +478,41 @@ def _mechanism(prbm, case, requests, options):
     info.message = info.message or f"PRB four-bar, drive = {drive}"
     info.extras.update({"loop_error": fb.loop_error, "theta_free_deg": [math.degrees(t) for t in fb.theta_free]})
     return values, info
+
+
+def _link2_end_forces(case, fb, theta20: float, origin: complex):
+    """Per level, the dead force (complex) on the node at the end of PRB link 2 (A = O2 + R2 e^{i theta20}
+    in the unloaded pose), or None when the case has no force; a force elsewhere is not modelled."""
+    forces = [ld for ld in case.loads if ld.kind == "force"]
+    if not forces:
+        return None
+    nodes = {nd.name: complex(nd.x, nd.y) for nd in case.mechanism.nodes}
+    A = origin + fb.R2 * cmath.exp(1j * theta20)
+    total = np.zeros(case.n_levels(), complex)
+    for load in forces:
+        if load.follower or abs(nodes.get(load.point, complex(math.inf)) - A) > 1e-3 * fb.R2:
+            raise NotApplicable(f"a force at '{load.point}': the PRB four-bar takes dead forces at the end of "
+                                "PRB link 2 only (the segment tip of a fixed-pinned input segment)")
+        total += np.asarray(load.levels(), float) * complex(*load.direction)
+    return total
+
+
+def _theta2_under_force(fb, force: complex, torque: float, theta20: float, span: float = math.radians(120)) -> float:
+    """Input angle where the spring torque dU/dtheta2 (eq 182) balances a couple plus the moment about O2
+    of a dead force at A = R2 e^{i theta2}: Im(conj(A) F). The first root from theta20 in the direction
+    the load turns link 2 (Brent on a bracketing grid), nan if none within ``span``."""
+    def unbalanced(t):
+        A = fb.R2 * np.exp(1j * np.asarray(t))
+        return fb.input_torque(t) - torque - (np.conj(A) * force).imag
+    start = -float(unbalanced(theta20))
+    if start == 0.0:
+        return theta20
+    grid = theta20 + math.copysign(1.0, start) * np.linspace(0.0, span, 241)
+    r = unbalanced(grid)
+    idx = np.nonzero(np.isfinite(r[:-1]) & np.isfinite(r[1:]) & (np.sign(r[:-1]) != np.sign(r[1:])))[0]
+    if len(idx) == 0:
+        return math.nan
+    return brentq(lambda t: float(unbalanced(t)), grid[idx[0]], grid[idx[0] + 1], xtol=1e-14)
 
 
 def _slider(prbm, case, requests, options, links, values, info):
@@ -557,6 +650,9 @@ def _segment_with_body(prbm, case, requests, options, info) -> dict:
         model = prbm.InflectionBeam(L, EI, family)
     elif kind in ("fixed-pinned", "fixed-free"):
         model = _tip_model(prbm, L, EI, family, options.get("extrapolate", "raise"))
+    elif kind == "slfp":  # the beam is the flexure; the body is the rigid segment (eqs 71-76)
+        def model(F: complex, M: float):
+            return prbm.slfp_end_tip(F, M, flexure_length=L, EI=EI)
     else:
         raise NotApplicable(f"segment type '{kind}' carrying a rigid body: not modelled")
 
@@ -604,7 +700,7 @@ def _segment_with_body(prbm, case, requests, options, info) -> dict:
         elif isinstance(model, prbm.InflectionBeam):
             chain = prbm.inflection_pivots(seg.outputs) @ np.array([1.0, 1j])
         else:
-            g = float(np.asarray(seg.constants.get("gamma", np.nan)).ravel()[0])
+            g = float(np.asarray(seg.constants.get("gamma", 0.5 if kind == "slfp" else np.nan)).ravel()[0])
             chain = np.array([0.0, (1 - g) * L, complex(float(res.outputs["a"]), float(res.outputs["b"]))])
         lines = [_xy(O + chain * to_global)]
         for names in link_order:
@@ -618,6 +714,69 @@ def _segment_with_body(prbm, case, requests, options, info) -> dict:
     info.extras.update({"shapes": shapes, "model": results[needed[-1]].model,
                         "end_loads": {lv: {k: float(results[lv].outputs[k]) for k in ("Fx", "Fy", "M")}
                                       for lv in needed}})
+    return values
+
+
+def _one_beam_carrying_a_body(mech) -> bool:
+    """One beam, fixed at one end by the only support, its other end not released by a joint
+    (chapter 5 Example 1): the segment-with-body path and its chapter-3/5 models apply."""
+    if len(mech.beams) != 1 or len(mech.supports) != 1 or mech.supports[0].kind != "fixed":
+        return False
+    beam = mech.beams[0]
+    root = mech.supports[0].node
+    if root not in (beam.start, beam.end):
+        return False
+    end = beam.end if root == beam.start else beam.start
+    return not any(j.node == end for j in mech.joints)
+
+
+def _pinned_pinned_beam(prbm, case, requests, info) -> dict:
+    """One initially curved beam pinned at one end and on a slider along its chord at the other, a
+    force along the chord at the slider: ``prbm.curved_pinned_pinned`` (two curved fixed-pinned halves
+    fixed at mid-span, seed 000 section 2.3.5). Outputs at the slider node: x, y, dx, dy (the chord's
+    change along the chord), force_x, force_y (the applied force)."""
+    mech = case.mechanism
+    beam = mech.beams[0]
+    nodes = {nd.name: complex(nd.x, nd.y) for nd in mech.nodes}
+    slider = next(s for s in mech.supports if s.kind == "slider")
+    if slider.node not in (beam.start, beam.end):
+        raise NotApplicable("the slider does not hold the beam's end")
+    pin = beam.start if slider.node == beam.end else beam.end
+    chord_vector = nodes[slider.node] - nodes[pin]
+    chord0 = abs(chord_vector)
+    along = chord_vector / chord0
+    if slider.direction is None or abs(abs(complex(*slider.direction) / abs(complex(*slider.direction))
+                                           * along.conjugate()) - 1.0) > 1e-9 \
+            or abs((complex(*slider.direction) * along.conjugate()).imag) > 1e-9 * abs(complex(*slider.direction)):
+        raise NotApplicable("the slider's free direction is not along the chord")
+    if beam.curvature == 0.0:
+        raise NotApplicable("a straight pinned-pinned beam under a chord force does not bend (no PRBM)")
+    n = case.n_levels()
+    force = np.zeros(n, complex)
+    for i, load in enumerate(case.loads):
+        if load.point != slider.node or load.kind != "force" or load.follower:
+            raise NotApplicable(f"loads.{i}: only a dead force at the slider '{slider.node}' is modelled")
+        force += np.asarray(load.levels(), float) * complex(*load.direction)
+    if np.any(np.abs((force * along.conjugate()).imag) > 1e-12 * np.maximum(np.abs(force), 1e-300)):
+        raise NotApplicable("the force at the slider is not along the chord")
+    F_axial = (force * along.conjugate()).real  # + pulls the pins apart
+    EI = beam.section.stiffness(beam.E or mech.E)[1]
+    kappa = beam.curvature
+    length = 2.0 / abs(kappa) * math.asin(min(1.0, abs(kappa) * chord0 / 2.0))  # arc over the chord
+    res = prbm.curved_pinned_pinned(F_axial, length=length, EI=EI, curvature=abs(kappa))
+    chord = np.broadcast_to(res.outputs["chord"], (n,))
+    tip = nodes[pin] + chord * along
+    table = {"x": tip.real, "y": tip.imag, "dx": (tip - nodes[slider.node]).real,
+             "dy": (tip - nodes[slider.node]).imag, "force_x": force.real, "force_y": force.imag}
+    values = {}
+    for req in requests:
+        if req.point != slider.node or req.quantity not in table:
+            raise NotApplicable(f"the curved pinned-pinned PRBM gives no '{req.quantity}' at '{req.point}'")
+        values[req] = float(table[req.quantity][req.level])
+    info.converged = bool(res.converged)
+    info.level_converged = {lv: bool(ok) for lv, ok in enumerate(np.broadcast_to(res.level_converged, (n,)))}
+    info.message = f"{res.model}; constant gamma = {res.constants['gamma']}, K_Theta = {res.constants['K_theta']}"
+    info.extras.update({"model": res.model, "constants": _plain(res.constants)})
     return values
 
 

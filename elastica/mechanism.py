@@ -1,0 +1,465 @@
+"""Exact elastica of a planar compliant mechanism: beams coupled through rigid bodies, by shooting.
+
+Every beam is an (optionally axially extensible) elastica integrated from its start, where the
+pose is that of the body holding it, under the force F carried through it (the force the body at
+its end applies to it, constant along the beam: no distributed load). With N = F . t the axial
+force (tension positive, t the tangent) and e = N/EA the axial strain (0 if inextensible):
+
+    x' = (1 + e) cos(theta),  y' = (1 + e) sin(theta),  theta' = kappa0 + m/EI,
+    m' = (1 + e) (Fx sin(theta) - Fy cos(theta)),   U' = m^2/(2 EI) + N^2/(2 EA),
+
+m the bending moment (the moment the outboard part applies to the inboard part, CCW). The beam
+applies F and m(0) to the body at its start, -F and -m(L) to the body at its end.
+
+Unknowns: per beam (Fx, Fy) and m(0) (clamped start) or theta(0) (pinned start); per free rigid body
+its pose (x, y, phi) (reference node displacement, rotation from the unloaded pose); per pin between
+bodies its force; per prescribed rotation its couple, per prescribed displacement its force.
+Equations: per beam its end condition (clamped: position and angle of the end body's node; pinned:
+position and m(L) = 0; free: F and m(L) equal to the loads applied there); per body its force and
+moment balance; per pin the coincidence of its node on both bodies; the prescribed motions.
+They are solved by Newton (finite-difference Jacobian, scipy's ``root``) level after level from
+the unloaded mechanism, halving the load step where a level does not converge.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+__all__ = ["ElasticBeam", "RigidBody", "BodyPin", "PointForce", "BodyCouple", "NodeCouple", "BodyRotation", "NodeDisplacement",
+           "Mechanism", "MechanismSolution", "solve_mechanism", "GROUND"]
+
+GROUND = "ground"
+
+
+@dataclass(frozen=True)
+class ElasticBeam:
+    """A beam from node ``start`` to node ``end``; each end 'clamped' or 'pinned' to a body (or GROUND),
+    or 'free' (body None). EA None: inextensible. ``curvature``: initial curvature (CCW from start)."""
+
+    name: str
+    start: str
+    end: str
+    EI: float
+    start_body: str | None
+    end_body: str | None
+    start_kind: str = "clamped"
+    end_kind: str = "clamped"
+    EA: float | None = None
+    curvature: float = 0.0
+
+
+@dataclass(frozen=True)
+class RigidBody:
+    name: str
+    nodes: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class BodyPin:
+    """Revolute joint at ``node`` between two bodies (``b`` may be GROUND)."""
+
+    a: str
+    b: str
+    node: str
+
+
+@dataclass(frozen=True)
+class PointForce:
+    node: str
+    fx: tuple[float, ...]
+    fy: tuple[float, ...]
+    follower: bool = False
+
+
+@dataclass(frozen=True)
+class BodyCouple:
+    body: str
+    m: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class NodeCouple:
+    """Couple (CCW) per level on a beam's free or pinned end (on the beam's side of the pin)."""
+
+    node: str
+    m: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class BodyRotation:
+    """Prescribed rotation (rad) per level of a body."""
+
+    body: str
+    values: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class NodeDisplacement:
+    """Prescribed displacement per level of a body's node along 'x' or 'y'."""
+
+    node: str
+    axis: str
+    values: tuple[float, ...]
+
+
+@dataclass
+class Mechanism:
+    nodes: dict[str, tuple[float, float]]
+    beams: list[ElasticBeam]
+    bodies: list[RigidBody] = field(default_factory=list)
+    pins: list[BodyPin] = field(default_factory=list)
+
+    def __post_init__(self):
+        self.body_of: dict[str, str] = {}
+        for body in self.bodies:
+            if body.name == GROUND:
+                raise ValueError("the ground is not a movable body")
+            for nd in body.nodes:
+                if nd not in self.nodes:
+                    raise ValueError(f"body '{body.name}' names unknown node '{nd}'")
+                self.body_of.setdefault(nd, body.name)
+        names = {b.name for b in self.bodies} | {GROUND}
+        for beam in self.beams:
+            for nd, body, kind in ((beam.start, beam.start_body, beam.start_kind), (beam.end, beam.end_body, beam.end_kind)):
+                if nd not in self.nodes:
+                    raise ValueError(f"beam '{beam.name}' names unknown node '{nd}'")
+                if kind not in ("clamped", "pinned", "free"):
+                    raise ValueError(f"beam '{beam.name}': end kind '{kind}'")
+                if (kind == "free") != (body is None) or (body is not None and body not in names):
+                    raise ValueError(f"beam '{beam.name}' at '{nd}': {kind} end on body {body!r}")
+            if beam.start_kind == "free":
+                raise ValueError(f"beam '{beam.name}': give its held end as the start")
+        self.index = {b.name: i for i, b in enumerate(self.bodies)}
+        self.origin = {b.name: np.asarray(self.nodes[b.nodes[0]], float) for b in self.bodies}
+
+
+@dataclass
+class MechanismSolution:
+    """Per level: node positions, body rotations, beam end loads, prescribed-motion loads, energy."""
+
+    converged: bool
+    message: str
+    positions: list[dict[str, np.ndarray]]
+    rotations: list[dict[str, float]]
+    driver_loads: list[list[float]]       # per level: the load each prescribed motion needs, in order
+    strain_energy: list[float]
+    beam_shapes: list[dict[str, np.ndarray]]
+    wall_time: float
+    level_converged: list[bool]
+
+
+class _System:
+    """Unknown layout, residual and integration of one mechanism under the loads of one level."""
+
+    def __init__(self, mech: Mechanism, forces, couples, rotations, displacements, rtol: float):
+        self.m = mech
+        self.forces, self.couples, self.rotations, self.displacements = forces, couples, rotations, displacements
+        self.rtol = rtol
+        nb, nbeam, npin = len(mech.bodies), len(mech.beams), len(mech.pins)
+        self.i_body = 3 * nbeam
+        self.i_pin = self.i_body + 3 * nb
+        self.i_rot = self.i_pin + 2 * npin
+        self.i_disp = self.i_rot + len(rotations)
+        self.size = self.i_disp + len(displacements)
+        self.tangent0 = {}
+        for beam in mech.beams:
+            A, B = (np.asarray(mech.nodes[n], float) for n in (beam.start, beam.end))
+            chord = B - A
+            L = float(np.linalg.norm(chord))
+            if beam.curvature:
+                half = L * abs(beam.curvature) / 2
+                if half >= 1.0:
+                    raise ValueError(f"beam '{beam.name}': chord longer than the arc's diameter")
+                arc = 2 * math.asin(half) / abs(beam.curvature)
+                angle0 = math.atan2(chord[1], chord[0]) - beam.curvature * arc / 2
+            else:
+                arc, angle0 = L, math.atan2(chord[1], chord[0])
+            self.tangent0[beam.name] = (angle0, angle0 + beam.curvature * arc, arc)
+
+    # poses
+    def pose(self, u, body):
+        if body == GROUND:
+            return np.zeros(2), 0.0
+        i = self.i_body + 3 * self.m.index[body]
+        return u[i:i + 2], u[i + 2]
+
+    def node_position(self, u, body, node):
+        p0 = np.asarray(self.m.nodes[node], float)
+        if body == GROUND:
+            return p0
+        d, phi = self.pose(u, body)
+        c, s = math.cos(phi), math.sin(phi)
+        r = p0 - self.m.origin[body]
+        return self.m.origin[body] + d + np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
+
+    def integrate(self, beam, u, dense=False):
+        """End state (x, y, theta, m, U) of a beam from its start under the unknowns u."""
+        k = 3 * self.m.beams.index(beam)
+        Fx, Fy, a = u[k:k + 3]
+        angle0, _, L = self.tangent0[beam.name]
+        p = self.node_position(u, beam.start_body, beam.start)
+        _, phi = self.pose(u, beam.start_body)
+        if beam.start_kind == "clamped":
+            theta0, m0 = angle0 + phi, a
+        else:
+            theta0, m0 = angle0 + a, 0.0
+        EI, EA, k0 = beam.EI, beam.EA, beam.curvature
+
+        def rhs(s, Y):
+            th, m = Y[2], Y[3]
+            c, sn = math.cos(th), math.sin(th)
+            N = Fx * c + Fy * sn
+            stretch = 1.0 + (N / EA if EA else 0.0)
+            return [stretch * c, stretch * sn, k0 + m / EI, stretch * (Fx * sn - Fy * c),
+                    m * m / (2 * EI) + (N * N / (2 * EA) if EA else 0.0)]
+
+        sol = solve_ivp(rhs, (0.0, L), [p[0], p[1], theta0, m0, 0.0], method="DOP853", rtol=self.rtol,
+                        atol=self.rtol * 1e-3 * max(L, 1.0), dense_output=dense)
+        if not sol.success:
+            raise RuntimeError(f"beam '{beam.name}': integration failed ({sol.message})")
+        return sol.y[:, -1], sol
+
+    def residual(self, u, level_loads):
+        forces, couples, rot_values, disp_values = level_loads
+        m = self.m
+        r = np.zeros(self.size)
+        wrench = {b.name: np.zeros(3) for b in m.bodies}   # (Fx, Fy, M about the body's current origin)
+
+        def add(body, F, M, at):
+            if body == GROUND or body is None:
+                return
+            d, _ = self.pose(u, body)
+            lever = at - (m.origin[body] + d)
+            wrench[body] += (F[0], F[1], M + lever[0] * F[1] - lever[1] * F[0])
+
+        applied = {}
+        for node, F in forces.items():
+            applied[node] = applied.get(node, np.zeros(3)) + (F[0], F[1], 0.0)
+        for i, beam in enumerate(m.beams):
+            end, _ = self.integrate(beam, u)
+            F = u[3 * i:3 * i + 2]
+            start_state_m = u[3 * i + 2] if beam.start_kind == "clamped" else 0.0
+            p_start = self.node_position(u, beam.start_body, beam.start)
+            add(beam.start_body, F, start_state_m, p_start)
+            pL = end[:2]
+            if beam.end_kind == "clamped":
+                target = self.node_position(u, beam.end_body, beam.end)
+                _, phi = self.pose(u, beam.end_body)
+                r[3 * i:3 * i + 2] = pL - target
+                r[3 * i + 2] = end[2] - (self.tangent0[beam.name][1] + phi)
+                add(beam.end_body, -F, -end[3], pL)
+            elif beam.end_kind == "pinned":
+                r[3 * i:3 * i + 2] = pL - self.node_position(u, beam.end_body, beam.end)
+                r[3 * i + 2] = end[3] - couples.get(("node", beam.end), 0.0)  # a couple on the beam's side
+                add(beam.end_body, -F, 0.0, pL)
+            else:
+                load = applied.pop(beam.end, np.zeros(3))
+                M_end = couples.get(("node", beam.end), 0.0)
+                r[3 * i:3 * i + 2] = F - load[:2]
+                r[3 * i + 2] = end[3] - M_end
+        for node, load in applied.items():
+            body = m.body_of.get(node)
+            if body is None:
+                raise ValueError(f"a force at node '{node}', which is on no rigid body and at no free beam end")
+            add(body, load[:2], 0.0, self.node_position(u, body, node))
+        for (kind, name), value in couples.items():
+            if kind == "body":
+                add(name, np.zeros(2), value, np.zeros(2))
+        for j, pin in enumerate(m.pins):
+            R = u[self.i_pin + 2 * j:self.i_pin + 2 * j + 2]
+            pa = self.node_position(u, pin.a, pin.node)
+            pb = self.node_position(u, pin.b, pin.node)
+            r[self.i_pin + 2 * j:self.i_pin + 2 * j + 2] = pa - pb
+            add(pin.a, R, 0.0, pa)
+            add(pin.b, -R, 0.0, pb)
+        for j, (rot, value) in enumerate(zip(self.rotations, rot_values)):
+            M = u[self.i_rot + j]
+            _, phi = self.pose(u, rot.body)
+            r[self.i_rot + j] = phi - value
+            add(rot.body, np.zeros(2), M, np.zeros(2))
+        for j, (disp, value) in enumerate(zip(self.displacements, disp_values)):
+            P = u[self.i_disp + j]
+            body = m.body_of[disp.node]
+            axis = 0 if disp.axis == "x" else 1
+            p = self.node_position(u, body, disp.node)
+            r[self.i_disp + j] = p[axis] - m.nodes[disp.node][axis] - value
+            F = np.zeros(2)
+            F[axis] = P
+            add(body, F, 0.0, p)
+        for body in m.bodies:
+            i = self.i_body + 3 * m.index[body.name]
+            r[i:i + 3] = wrench[body.name]
+        return r
+
+
+def solve_mechanism(mech: Mechanism, loads: list, n_levels: int, *, rtol: float = 1e-11,
+                    max_cuts: int = 8) -> MechanismSolution:
+    """Equilibrium at every load level (loads: PointForce, BodyCouple, BodyRotation, NodeDisplacement,
+    each with one value per level)."""
+    t0 = time.perf_counter()
+    forces = [ld for ld in loads if isinstance(ld, PointForce)]
+    couples = [ld for ld in loads if isinstance(ld, (BodyCouple, NodeCouple))]
+    rotations = [ld for ld in loads if isinstance(ld, BodyRotation)]
+    displacements = [ld for ld in loads if isinstance(ld, NodeDisplacement)]
+    system = _System(mech, forces, couples, rotations, displacements, rtol)
+    scale_F = max([abs(v) for f in forces for v in (*f.fx, *f.fy)] + [1e-300])
+
+    def level_loads(t: float, u):
+        """Loads at load parameter t (level index, linear between levels, from zero below level 0)."""
+        def at(values):
+            if t < 0:
+                return values[0] * (t + 1.0)
+            i = min(int(t), n_levels - 1)
+            f = t - i
+            return values[i] if i >= n_levels - 1 else values[i] * (1 - f) + values[i + 1] * f
+        F = {}
+        for f in forces:
+            vec = np.array([at(f.fx), at(f.fy)])
+            if f.follower:
+                body = mech.body_of.get(f.node)
+                phi = system.pose(u, body)[1] if body else _free_end_angle(system, u, f.node)
+                c, s = math.cos(phi), math.sin(phi)
+                vec = np.array([c * vec[0] - s * vec[1], s * vec[0] + c * vec[1]])
+            F[f.node] = F.get(f.node, np.zeros(2)) + vec
+        C = {}
+        for c in couples:
+            key = ("body", c.body) if isinstance(c, BodyCouple) else ("node", c.node)
+            C[key] = C.get(key, 0.0) + at(c.m)
+        return F, C, [at(r.values) for r in rotations], [at(d.values) for d in displacements]
+
+    scale_F = max([scale_F] + [abs(v) for c in couples for v in c.m])
+    scale = _scale(system, scale_F)
+    u = np.zeros(system.size)  # the unloaded mechanism: no loads, every pose and beam angle as built
+    positions, rots, drivers, energies, shapes, ok_levels = [], [], [], [], [], []
+    t, messages = -1.0, []
+    jac = None
+    typical = _unknown_scale(system, scale_F)
+    history = [(t, u)]
+    for level in range(n_levels):
+        step, cuts = 1.0, 0
+        converged = True
+        while t < level - 1e-12:
+            target = min(t + step, float(level))
+            scaled = lambda x: system.residual(x, level_loads(target, x)) / scale  # noqa: E731
+            guess = u
+            if len(history) >= 2 and cuts == 0:  # secant predictor along the last two states
+                (t0_, u0_), (t1_, u1_) = history[-2], history[-1]
+                guess = u + (target - t) / (t1_ - t0_) * (u1_ - u0_)
+            x, ok, jac, why = _chord_newton(scaled, guess, jac, typical)
+            if not ok and guess is not u:
+                x, ok, jac, why = _chord_newton(scaled, u, jac, typical)
+            if ok:
+                u, t = x, target
+                history.append((t, u))
+            else:
+                cuts += 1
+                step /= 2
+                if cuts > max_cuts:
+                    converged = False
+                    messages.append(f"level {level}: no convergence after {max_cuts} step halvings ({why})")
+                    break
+        ok_levels.append(converged)
+        if not converged:
+            break
+        pos, shape, U = {}, {}, 0.0
+        for beam in mech.beams:
+            end, sol_b = system.integrate(beam, u, dense=True)
+            U += end[4]
+            s = np.linspace(0.0, system.tangent0[beam.name][2], 33)
+            shape[beam.name] = sol_b.sol(s)[:2].T
+            pos[beam.end] = end[:2].copy()
+            pos[beam.start] = system.node_position(u, beam.start_body, beam.start)
+        for node in mech.nodes:
+            body = mech.body_of.get(node)
+            if body is not None:
+                pos[node] = system.node_position(u, body, node)
+            elif node not in pos:
+                pos[node] = np.asarray(mech.nodes[node], float)
+        positions.append(pos)
+        rots.append({b.name: float(system.pose(u, b.name)[1]) for b in mech.bodies})
+        drivers.append([float(x) for x in u[system.i_rot:system.size]])
+        energies.append(U)
+        shapes.append(shape)
+    done = all(ok_levels) and len(ok_levels) == n_levels
+    return MechanismSolution(done, "; ".join(messages) or f"converged at {n_levels} level(s)", positions, rots,
+                             drivers, energies, shapes, time.perf_counter() - t0, ok_levels)
+
+
+def _chord_newton(f, x, jac, typical, tol: float = 1e-10, max_iter: int = 40):
+    """Newton on f(x) = 0 with a finite-difference Jacobian kept between iterations and load steps,
+    updated by Broyden's rank-one formula, and refreshed when a step does not halve the residual. Returns (x, converged,
+    Jacobian, why not)."""
+    r = f(x)
+    fresh = False
+    for _ in range(max_iter):
+        size = float(np.max(np.abs(r)))
+        if not math.isfinite(size):
+            return x, False, None, "the residual is not finite"
+        if size <= tol:
+            return x, True, jac, ""
+        if jac is None:
+            jac, fresh = _fd_jacobian(f, x, r, typical), True
+        try:
+            dx = np.linalg.solve(jac, -r)
+        except np.linalg.LinAlgError:
+            return x, False, None, "singular Jacobian"
+        x_try = x + dx
+        r_try = f(x_try)
+        new = float(np.max(np.abs(r_try)))
+        if new <= 0.5 * size or (fresh and new < size):
+            jac = jac + np.outer(r_try - r - jac @ dx, dx) / float(dx @ dx)  # Broyden's update
+            x, r, fresh = x_try, r_try, False
+        elif not fresh:
+            jac, fresh = _fd_jacobian(f, x, r, typical), True
+        else:
+            return x, False, jac, f"the residual stalled at {size:.3g}"
+    return x, False, jac, f"{max_iter} iterations"
+
+
+def _fd_jacobian(f, x, r, typical) -> np.ndarray:
+    J = np.empty((len(r), len(x)))
+    for j in range(len(x)):
+        h = 1e-7 * max(abs(x[j]), typical[j])
+        xp = x.copy()
+        xp[j] += h
+        J[:, j] = (f(xp) - r) / h
+    return J
+
+
+def _unknown_scale(system: _System, scale_F: float) -> np.ndarray:
+    """Typical size of each unknown: forces by the load scale, moments by load x length, poses by
+    the length (translations) and 1 (angles)."""
+    L = max(v[2] for v in system.tangent0.values())
+    F = max(scale_F, 1e-3)
+    s = np.empty(system.size)
+    for i, beam in enumerate(system.m.beams):
+        s[3 * i:3 * i + 2] = F
+        s[3 * i + 2] = F * L if beam.start_kind == "clamped" else 1.0
+    s[system.i_body:system.i_pin] = np.tile([L, L, 1.0], (system.i_pin - system.i_body) // 3)
+    s[system.i_pin:system.i_rot] = F
+    s[system.i_rot:system.i_disp] = F * L
+    s[system.i_disp:] = F
+    return s
+
+
+def _scale(system: _System, scale_F: float) -> np.ndarray:
+    """Residual scaling: positions by the largest beam length, angles by 1, loads by the load scale."""
+    L = max(v[2] for v in system.tangent0.values())
+    s = np.ones(system.size)
+    for i, beam in enumerate(system.m.beams):
+        s[3 * i:3 * i + 2] = L if beam.end_kind != "free" else max(scale_F, 1.0)
+    s[system.i_body:system.i_pin] = max(scale_F, 1.0)
+    s[system.i_pin:system.i_rot] = L
+    return s
+
+
+def _free_end_angle(system: _System, u, node: str) -> float:
+    for beam in system.m.beams:
+        if beam.end == node and beam.end_kind == "free":
+            end, _ = system.integrate(beam, u)
+            return end[2] - system.tangent0[beam.name][1]
+    return 0.0

@@ -1,0 +1,578 @@
+"""The PRB model of a compliant mechanism built from its geometry by the seeds' rules.
+
+Input: plain geometry (nodes, beams with their bending stiffness EI, rigid links, joints,
+supports), the same description the FEM reads. Output: a ``prbm.network.Network`` of rigid bodies,
+pins and torsion springs, and for every beam the model chosen, its pivots, spring constants and why.
+
+How each end of a beam is held decides its model:
+  clamped  - to the ground (a fixed support), to a rigid link, or to other beams welded at the node
+  pinned   - a joint at the node releases the beam, or a pinned support holds it
+  free     - nothing else at the node
+Rules (gamma = 0.85, K_Theta = 2.65 by default; seed 000 ch. 2 eqs (41)-(49), seed 004 sec. 3):
+  clamped-free, clamped-pinned: one pivot (1 - gamma) L from the clamp, characteristic radius gamma L,
+      K = gamma K_Theta EI / L (fixed-pinned / fixed-free PRBM). Initially curved: the pivot
+      (1 - gamma) L along the clamp tangent, characteristic radius rho L to the end,
+      K = rho K_Theta EI / L (seed 000 eqs (53)-(58)).
+  clamped-clamped: two pivots (1 - gamma) L / 2 from each end, a middle link gamma L, each spring
+      2 gamma K_Theta EI / L (the fixed-guided PRBM of seed 004 sec. 3.3; for a body that also
+      rotates, seed 004 sec. 3.5 says to keep 0.85 and check against the FEM).
+  clamped-clamped and short (L <= slfp_ratio x the shorter of the two bodies it joins): a
+      small-length flexural pivot at its middle, K = EI / L (seed 000 eq (186)).
+  pinned-pinned (or pinned-free): a rigid link along the chord, no spring.
+Every choice can be overridden per beam (``BeamRule``).
+
+Lock (seed 003 case 4.1, notes seed-003-004 sec. 4.1): a beam clamped to the ground whose other end
+is clamped to a body pinned to the ground at G makes, with the standard pivots, a zero-mobility
+network. The lock is found from the rank of the joints' Jacobian (``Network.mobility``); the
+workaround the notes derive puts the beam's single pivot at G (gamma = |G end| / L when G lies on
+the beam between the clamp and the end), stated in the beam's record. If no such G exists the
+build raises ``LockedNetwork`` naming the beams.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from prbm.network import GROUND, LockedNetwork, Network, Pin, Slider, TorsionSpring
+
+__all__ = ["Node", "Beam", "RigidLink", "Joint", "Support", "Geometry", "BeamRule", "Rules", "BeamModel",
+           "PRBModel", "build"]
+
+GAMMA = 0.85       # seed 004 sec. 3.1 (Howell and Midha's average)
+K_THETA = 2.65     # seed 000 ch. 2; seed 004: "gamma K_Theta ~ 2.25"
+SLFP_RATIO = 0.1   # a flexure at most a tenth of the links it joins is "short" (seed 000 sec. 2.4)
+
+
+@dataclass(frozen=True)
+class Node:
+    name: str
+    x: float
+    y: float
+
+
+@dataclass(frozen=True)
+class Beam:
+    """A flexible member: bending stiffness EI, initial curvature (1/length, CCW from start)."""
+
+    name: str
+    start: str
+    end: str
+    EI: float
+    curvature: float = 0.0
+
+
+@dataclass(frozen=True)
+class RigidLink:
+    name: str
+    nodes: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class Joint:
+    """A revolute joint at a node between the named members, with an optional torsion spring."""
+
+    node: str
+    members: tuple[str, ...]
+    spring: float = 0.0
+
+
+@dataclass(frozen=True)
+class Support:
+    """kind: 'fixed', 'pinned', 'slider' (pin on a line along ``direction``) or 'guided'."""
+
+    node: str
+    kind: str
+    direction: tuple[float, float] | None = None
+    member: str | None = None
+
+
+@dataclass(frozen=True)
+class Geometry:
+    nodes: tuple[Node, ...]
+    beams: tuple[Beam, ...] = ()
+    links: tuple[RigidLink, ...] = ()
+    joints: tuple[Joint, ...] = ()
+    supports: tuple[Support, ...] = ()
+
+
+@dataclass(frozen=True)
+class BeamRule:
+    """Per-beam overrides: model ('fixed-pinned', 'fixed-guided', 'slfp', 'rigid'), gamma, K_theta,
+    or the spring constant(s) directly (``stiffness``, moment/rad)."""
+
+    model: str | None = None
+    gamma: float | None = None
+    K_theta: float | None = None
+    stiffness: float | None = None
+    clamp: str | None = None  # for a one-pivot model of a clamped-clamped beam: the clamped end's node
+
+
+@dataclass(frozen=True)
+class Rules:
+    gamma: float = GAMMA
+    K_theta: float = K_THETA
+    slfp_ratio: float = SLFP_RATIO
+    beams: dict[str, BeamRule] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class BeamModel:
+    """What the builder made of one beam."""
+
+    beam: str
+    model: str
+    ends: tuple[str, str]               # how the start and end are held
+    pivots: tuple[tuple[float, float], ...]
+    springs: tuple[float, ...]          # moment/rad, one per pivot
+    gamma: float | None
+    K_theta: float | None
+    reason: str
+
+    def describe(self) -> str:
+        piv = ", ".join(f"({x:.4g}, {y:.4g})" for x, y in self.pivots)
+        k = ", ".join(f"{s:.4g}" for s in self.springs)
+        return f"{self.beam}: {self.model} ({self.ends[0]}-{self.ends[1]}); pivots {piv or 'none'}; " \
+               f"K {k or 'none'}; {self.reason}"
+
+
+@dataclass
+class PRBModel:
+    network: Network
+    beams: list[BeamModel]
+    node_body: dict[str, str]          # the body each node moves with
+    member_body: dict[tuple[str, str], str]  # (member, node) -> the body that member has at that node
+    lock: str | None = None            # the lock found and the workaround applied, if any
+
+    def describe(self) -> str:
+        text = "; ".join(b.describe() for b in self.beams)
+        return (f"LOCK: {self.lock}. " if self.lock else "") + text
+
+
+# --- ends --------------------------------------------------------------------------------------------
+class _Union:
+    def __init__(self):
+        self.parent: dict[str, str] = {}
+
+    def find(self, a: str) -> str:
+        self.parent.setdefault(a, a)
+        while self.parent[a] != a:
+            self.parent[a] = self.parent[self.parent[a]]
+            a = self.parent[a]
+        return a
+
+    def union(self, a: str, b: str) -> None:
+        ra, rb = self.find(a), self.find(b)
+        if ra != rb:
+            if rb == GROUND:
+                ra, rb = rb, ra
+            self.parent[rb] = ra
+
+
+def _released(geometry: Geometry, node: str, member: str) -> bool:
+    return any(j.node == node and member in j.members for j in geometry.joints)
+
+
+def _rigid_bodies(geometry: Geometry) -> tuple[_Union, dict[str, list[str]]]:
+    """Rigid links welded where they share a node without a joint; a fixed support welds to ground.
+    Returns the union-find over link names (and GROUND) and node -> the link names through it."""
+    uf = _Union()
+    uf.find(GROUND)
+    at: dict[str, list[str]] = {}
+    for link in geometry.links:
+        uf.find(link.name)
+        for nd in link.nodes:
+            at.setdefault(nd, []).append(link.name)
+    for nd, names in at.items():
+        kept = [nm for nm in names if not _released(geometry, nd, nm)]
+        for other in kept[1:]:
+            uf.union(kept[0], other)
+        for sup in geometry.supports:
+            if sup.node == nd and sup.kind == "fixed":
+                for nm in kept:
+                    uf.union(GROUND, nm)
+    return uf, at
+
+
+@dataclass
+class _End:
+    kind: str       # 'clamped', 'pinned', 'free'
+    body: str | None
+
+
+def build(geometry: Geometry, rules: Rules = Rules()) -> PRBModel:
+    """The PRB network of a mechanism, with the record of every beam's model. Raises ValueError on an
+    inconsistent geometry and LockedNetwork when the PRB model cannot move and no workaround applies."""
+    model = _build(geometry, rules, pivot_at={})
+    if model.network.mobility() > 0 or not geometry.beams:
+        return model
+    # locked: look for beams clamped to the ground whose far body turns about a ground pin on the beam
+    pivot_at, notes = {}, []
+    ground_pins = _ground_pins(geometry, model)
+    for bm in model.beams:
+        beam = next(b for b in geometry.beams if b.name == bm.beam)
+        if bm.ends[0] != "clamped" or bm.ends[1] != "clamped" or beam.curvature != 0.0:
+            continue
+        coords = {nd.name: np.array([nd.x, nd.y]) for nd in geometry.nodes}
+        for root, tip in ((beam.start, beam.end), (beam.end, beam.start)):
+            if model.member_body.get((beam.name, root)) != GROUND:
+                continue
+            far = model.member_body.get((beam.name, tip))
+            for G in ground_pins.get(far, []):
+                O, A = coords[root], coords[tip]
+                L = float(np.linalg.norm(A - O))
+                s = float(np.dot(G - O, A - O)) / L
+                u, w = A - O, G - O
+                off = abs(float(u[0] * w[1] - u[1] * w[0])) / L
+                if off <= 1e-9 * L and 0.0 < s < L:
+                    pivot_at[beam.name] = (root, tuple(G))
+                    notes.append(f"beam '{beam.name}': pivot moved to the ground pin of its far body at "
+                                 f"({G[0]:.4g}, {G[1]:.4g}), gamma = |G {tip}|/L = {(L - s) / L:.4f}")
+                    break
+            if beam.name in pivot_at:
+                break
+    net = model.network
+    base = (f"the PRB model has zero mobility ({net.n} coordinates, rank of the joint Jacobian "
+            f"{net.n - net.first_order_mobility()} at the unloaded pose"
+            + (", and its first-order motion does not extend to second order (links in line)"
+               if net.first_order_mobility() else "") + "): the standard pivots and the ground pins lock it")
+    if not pivot_at:
+        raise LockedNetwork(base + "; no beam's far body turns about a ground pin on the beam's line, "
+                            "so the notes' workaround (pivot at that pin) does not apply")
+    fixed = _build(geometry, rules, pivot_at=pivot_at)
+    if fixed.network.mobility() == 0:
+        raise LockedNetwork(base + "; still locked after " + "; ".join(notes))
+    fixed.lock = base + "; workaround (notes seed-003-004 sec. 4.1 option (a)): " + "; ".join(notes)
+    return fixed
+
+
+def _ground_pins(geometry: Geometry, model: PRBModel) -> dict[str, list[np.ndarray]]:
+    out: dict[str, list[np.ndarray]] = {}
+    for pin in model.network.pins:
+        if pin.b == GROUND:
+            out.setdefault(pin.a, []).append(np.asarray(pin.at, float))
+    return out
+
+
+def _build(geometry: Geometry, rules: Rules, pivot_at: dict) -> PRBModel:
+    coords = {nd.name: np.array([nd.x, nd.y], float) for nd in geometry.nodes}
+    uf, links_at = _rigid_bodies(geometry)
+    beams_at: dict[str, list[Beam]] = {}
+    for beam in geometry.beams:
+        for nd in (beam.start, beam.end):
+            if nd not in coords:
+                raise ValueError(f"beam '{beam.name}' names unknown node '{nd}'")
+            beams_at.setdefault(nd, []).append(beam)
+    supports_at: dict[str, list[Support]] = {}
+    for sup in geometry.supports:
+        supports_at.setdefault(sup.node, []).append(sup)
+
+    bodies: list[str] = []
+    points: dict[str, tuple[str, tuple[float, float]]] = {}
+    pins: list[Pin] = []
+    sliders: list[Slider] = []
+    springs: list[TorsionSpring] = []
+    node_body: dict[str, str] = {}
+
+    def body_of_link(name: str) -> str:
+        root = uf.find(name)
+        if root != GROUND and root not in bodies:
+            bodies.append(root)
+        return root
+
+    # the body that owns each node (a link, the ground, or a junction of welded beams)
+    for nd in coords:
+        kept = [l for l in links_at.get(nd, []) if not _released(geometry, nd, l)]
+        fixed = any(s.kind == "fixed" for s in supports_at.get(nd, []))
+        clamped_beams = [b for b in beams_at.get(nd, []) if not _released(geometry, nd, b.name)]
+        if fixed:
+            node_body[nd] = GROUND
+        elif kept:
+            node_body[nd] = body_of_link(kept[0])
+        elif links_at.get(nd):
+            node_body[nd] = body_of_link(links_at[nd][0])
+        elif len(clamped_beams) >= 2 or (clamped_beams and any(s.kind in ("slider", "guided")
+                                                                 for s in supports_at.get(nd, []))):
+            node_body[nd] = f"junction:{nd}"
+            bodies.append(node_body[nd])
+    for nd, body in node_body.items():
+        points[nd] = (body, tuple(coords[nd]))
+    # links released at a node (a joint naming them) are pinned to the node's owner there
+    pinned_pairs = set()
+    for j in geometry.joints:
+        names = [m for m in j.members if m in {l.name for l in geometry.links}]
+        owner = node_body.get(j.node)
+        for nm in names:
+            b = body_of_link(nm)
+            if owner is not None and b != owner and (b, owner, j.node) not in pinned_pairs:
+                pins.append(Pin(b, owner, tuple(coords[j.node]), name=f"joint {j.node}"))
+                pinned_pairs.add((b, owner, j.node))
+                if j.spring:
+                    springs.append(TorsionSpring(b, owner, j.spring, name=f"joint {j.node}"))
+
+    member_body: dict[tuple[str, str], str] = {}
+    for link in geometry.links:
+        for nd in link.nodes:
+            member_body[(link.name, nd)] = body_of_link(link.name)
+
+    def end_of(beam: Beam, nd: str) -> _End:
+        owner = node_body.get(nd)
+        sups = supports_at.get(nd, [])
+        if _released(geometry, nd, beam.name):
+            return _End("pinned", owner)
+        if any(s.kind == "pinned" and s.member in (None, beam.name) for s in sups) and owner is None:
+            return _End("pinned", GROUND)
+        if any(s.kind == "slider" for s in sups) and owner is None:
+            return _End("pinned", None)  # resolved below with a slider on the beam's own body
+        if owner is not None:
+            return _End("clamped", owner)
+        return _End("free", None)
+
+    records: list[BeamModel] = []
+    pending_pins: list[tuple[str, str, Beam]] = []  # (node, beam body) for pinned ends with no owner yet
+    # a body held by nothing but one clamped beam end rides on that beam: the beam is fixed-free there
+    held_by: dict[str, int] = {}
+    for beam in geometry.beams:
+        for nd in (beam.start, beam.end):
+            end = end_of(beam, nd)
+            if end.body not in (None, GROUND):
+                held_by[end.body] = held_by.get(end.body, 0) + 1
+    for pin in pins:
+        for b in (pin.a, pin.b):
+            held_by[b] = held_by.get(b, 0) + 1
+    for sup in geometry.supports:
+        owner = node_body.get(sup.node)
+        if owner not in (None, GROUND):
+            held_by[owner] = held_by.get(owner, 0) + 1
+
+    def carried(end: _End) -> bool:
+        return end.kind == "clamped" and end.body not in (None, GROUND) and held_by.get(end.body, 0) == 1
+
+    for beam in geometry.beams:
+        A, B = coords[beam.start], coords[beam.end]
+        L = _arc_length(A, B, beam.curvature)
+        rule = rules.beams.get(beam.name, BeamRule())
+        gamma = rule.gamma if rule.gamma is not None else rules.gamma
+        K_theta = rule.K_theta if rule.K_theta is not None else rules.K_theta
+        e0, e1 = end_of(beam, beam.start), end_of(beam, beam.end)
+        ends = (e0.kind, e1.kind)
+        kinds = sorted(ends)
+        name = f"prb:{beam.name}"
+        chosen = rule.model
+        if beam.name in pivot_at:
+            chosen = "pivot-at-pin"
+        elif chosen is None:
+            if kinds == ["clamped", "clamped"] and (carried(e0) or carried(e1)) and e0.body != e1.body:
+                chosen = "fixed-free"
+            elif kinds == ["clamped", "clamped"]:
+                if e0.body == e1.body:
+                    chosen = "rigid-both-ends-on-one-body"
+                elif L <= rules.slfp_ratio * min(_size(geometry, coords, e0.body, uf),
+                                                 _size(geometry, coords, e1.body, uf)):
+                    chosen = "slfp"
+                else:
+                    chosen = "fixed-guided"
+            elif "clamped" in kinds:
+                chosen = "fixed-pinned" if "pinned" in kinds else "fixed-free"
+            else:
+                chosen = "rigid"
+        if chosen == "rigid-both-ends-on-one-body":
+            records.append(BeamModel(beam.name, "rigid", ends, (), (), None, None,
+                                     "both ends clamped to the same rigid body: the beam cannot deflect"))
+            continue
+        if chosen in ("fixed-pinned", "fixed-free"):
+            if "clamped" not in ends:
+                raise ValueError(f"beam '{beam.name}': model '{chosen}' needs a clamped end ({ends})")
+            root, tip, er, et = (beam.start, beam.end, e0, e1) if e0.kind == "clamped" and not carried(e0) else \
+                (beam.end, beam.start, e1, e0)
+            if rule.clamp is not None and rule.clamp in (beam.start, beam.end) and rule.clamp != root:
+                root, tip, er, et = tip, root, et, er
+            O, E = coords[root], coords[tip]
+            kappa = beam.curvature if root == beam.start else -beam.curvature
+            tangent = _tangent(O, E, kappa, L)
+            P = O + (1.0 - gamma) * L * tangent
+            rho = float(np.linalg.norm(E - P)) / L
+            if kappa == 0.0:
+                k = rule.stiffness or gamma * K_theta * beam.EI / L
+                why = f"clamped at {root}, {et.kind} at {tip}: one pivot (1-gamma)L from the clamp, K = gamma K_Theta EI/L"
+            else:
+                k = rule.stiffness or rho * K_theta * beam.EI / L
+                why = (f"initially curved, clamped at {root}: pivot (1-gamma)L along the clamp tangent, "
+                       f"rho = {rho:.4f}, K = rho K_Theta EI/L (seed 000 eqs 53-58)")
+            if carried(et):  # the body at the tip rides on the PRB link: it is the link
+                name = et.body
+                why += f"; the body at {tip} is held by this beam only, so it rides on the PRB link"
+            else:
+                bodies.append(name)
+                _attach_far_end(beam, tip, et, name, coords, points, pins, pending_pins, node_body)
+            springs.append(TorsionSpring(name, er.body, k, name=f"{beam.name} pivot"))
+            pins.append(Pin(name, er.body, tuple(P), name=f"{beam.name} pivot"))
+            member_body[(beam.name, root)] = er.body
+            member_body[(beam.name, tip)] = name
+            records.append(BeamModel(beam.name, chosen, ends, (tuple(P),), (k,), gamma, K_theta, why))
+        elif chosen == "pivot-at-pin":
+            root, G = pivot_at[beam.name]
+            tip = beam.end if root == beam.start else beam.start
+            O, E = coords[root], coords[tip]
+            g_eff = float(np.linalg.norm(E - np.asarray(G))) / L
+            k = rule.stiffness or g_eff * K_theta * beam.EI / L
+            far = node_body[tip]
+            springs.append(TorsionSpring(far, GROUND, k, name=f"{beam.name} pivot"))
+            member_body[(beam.name, root)] = GROUND
+            member_body[(beam.name, tip)] = far
+            records.append(BeamModel(beam.name, "fixed-pinned (pivot at the far body's ground pin)", ends,
+                                     (tuple(G),), (k,), g_eff, K_theta,
+                                     f"lock workaround: gamma = {g_eff:.4f}, K = gamma K_Theta EI/L; the pin "
+                                     "there is the beam's pivot"))
+        elif chosen == "fixed-guided":
+            if ends != ("clamped", "clamped"):
+                raise ValueError(f"beam '{beam.name}': model 'fixed-guided' needs both ends clamped ({ends})")
+            if beam.curvature != 0.0:
+                raise ValueError(f"beam '{beam.name}': no fixed-guided PRBM for an initially curved beam "
+                                 "in the seeds")
+            u = (B - A) / L
+            P1 = A + (1.0 - gamma) * L / 2 * u
+            P2 = B - (1.0 - gamma) * L / 2 * u
+            k = rule.stiffness or 2.0 * gamma * K_theta * beam.EI / L
+            bodies.append(name)
+            pins += [Pin(name, e0.body, tuple(P1), name=f"{beam.name} pivot 1"),
+                     Pin(name, e1.body, tuple(P2), name=f"{beam.name} pivot 2")]
+            springs += [TorsionSpring(name, e0.body, k, name=f"{beam.name} pivot 1"),
+                        TorsionSpring(name, e1.body, k, name=f"{beam.name} pivot 2")]
+            member_body[(beam.name, beam.start)] = e0.body
+            member_body[(beam.name, beam.end)] = e1.body
+            records.append(BeamModel(beam.name, "fixed-guided", ends, (tuple(P1), tuple(P2)), (k, k), gamma,
+                                     K_theta, "clamped at both ends to different bodies: two pivots "
+                                     "(1-gamma)L/2 from the ends, K = 2 gamma K_Theta EI/L each (seed 004 3.3)"))
+        elif chosen == "slfp":
+            if ends != ("clamped", "clamped"):
+                raise ValueError(f"beam '{beam.name}': model 'slfp' needs both ends clamped ({ends})")
+            P = _midpoint(A, B, beam.curvature, L)
+            k = rule.stiffness or beam.EI / L
+            pins.append(Pin(e0.body, e1.body, tuple(P), name=f"{beam.name} SLFP"))
+            springs.append(TorsionSpring(e0.body, e1.body, k, name=f"{beam.name} SLFP"))
+            member_body[(beam.name, beam.start)] = e0.body
+            member_body[(beam.name, beam.end)] = e1.body
+            records.append(BeamModel(beam.name, "slfp", ends, (tuple(P),), (k,), None, None,
+                                     f"short flexure (L <= {rules.slfp_ratio:g} x the bodies it joins): one "
+                                     "pivot at its middle, K = EI/L (seed 000 eq 186)"))
+        elif chosen == "rigid":
+            bodies.append(name)
+            for nd, end in ((beam.start, e0), (beam.end, e1)):
+                _attach_far_end(beam, nd, end, name, coords, points, pins, pending_pins, node_body)
+                member_body[(beam.name, nd)] = name
+            if beam.name not in {p for _, _, b in pending_pins for p in [b.name]} and \
+                    not any(p.a == name or p.b == name for p in pins):
+                raise ValueError(f"beam '{beam.name}': a rigid link held by nothing")
+            records.append(BeamModel(beam.name, "rigid link", ends, (), (), None, None,
+                                     f"{ends[0]}-{ends[1]}: a two-force member along its chord, no spring"))
+        else:
+            raise ValueError(f"beam '{beam.name}': unknown PRB model '{chosen}' (use fixed-pinned, "
+                             "fixed-free, fixed-guided, slfp or rigid)")
+    # pinned ends that found no owner: the first beam body at the node owns it, the others pin to it
+    by_node: dict[str, list[str]] = {}
+    for nd, body, beam in pending_pins:
+        by_node.setdefault(nd, []).append(body)
+    for nd, bodies_here in by_node.items():
+        owner = node_body.get(nd)
+        sups = supports_at.get(nd, [])
+        if owner is None:
+            owner = bodies_here[0]
+            node_body[nd] = owner
+            points[nd] = (owner, tuple(coords[nd]))
+            rest = bodies_here[1:]
+        else:
+            rest = bodies_here
+        for b in rest:
+            if b != owner:
+                pins.append(Pin(b, owner, tuple(coords[nd]), name=f"joint {nd}"))
+        for s in sups:
+            if s.kind == "pinned" and owner != GROUND:
+                pins.append(Pin(owner, GROUND, tuple(coords[nd]), name=f"support {nd}"))
+            elif s.kind in ("slider", "guided"):
+                d = s.direction or (1.0, 0.0)
+                sliders.append(Slider(owner, tuple(coords[nd]), tuple(d), guided=s.kind == "guided",
+                                      name=f"support {nd}"))
+    # supports on nodes owned by a link or junction
+    for sup in geometry.supports:
+        owner = node_body.get(sup.node)
+        if owner is None or owner == GROUND or sup.node in by_node:
+            continue
+        if sup.kind == "pinned":
+            target = owner
+            if sup.member is not None and (sup.member, sup.node) in member_body:
+                target = member_body[(sup.member, sup.node)]
+            pins.append(Pin(target, GROUND, tuple(coords[sup.node]), name=f"support {sup.node}"))
+        elif sup.kind in ("slider", "guided"):
+            sliders.append(Slider(owner, tuple(coords[sup.node]), tuple(sup.direction or (1.0, 0.0)),
+                                  guided=sup.kind == "guided", name=f"support {sup.node}"))
+    for nd in coords:
+        if nd not in points:
+            raise ValueError(f"node '{nd}' belongs to no member")
+    used = {p.a for p in pins} | {p.b for p in pins} | {s.a for s in sliders} | {s.a for s in springs}
+    bodies = [b for b in dict.fromkeys(bodies) if b in used or any(v[0] == b for v in points.values())]
+    for b in bodies:
+        if b not in used:
+            raise ValueError(f"body '{b}' is held by no joint or support: the mechanism floats")
+    net = Network(bodies, points, pins, sliders, springs)
+    return PRBModel(net, records, node_body, member_body)
+
+
+def _attach_far_end(beam, nd, end: _End, body, coords, points, pins, pending, node_body) -> None:
+    """The beam's PRB body reaches node nd: free -> the node moves with it; pinned -> a pin to the
+    node's owner (or pending, when the node has none yet)."""
+    if end.kind == "free":
+        node_body[nd] = body
+        points[nd] = (body, tuple(coords[nd]))
+    elif end.kind == "pinned" and end.body is not None:
+        pins.append(Pin(body, end.body, tuple(coords[nd]), name=f"{beam.name} end {nd}"))
+        if nd not in points:  # a pinned support on a beam end: the node is on the ground
+            node_body[nd] = end.body
+            points[nd] = (end.body, tuple(coords[nd]))
+    elif end.kind == "pinned":
+        pending.append((nd, body, beam))
+    else:  # clamped at the far end of a one-pivot model
+        raise ValueError(f"beam '{beam.name}': both ends clamped, but a one-pivot model was chosen")
+
+
+def _arc_length(A, B, kappa: float) -> float:
+    chord = float(np.linalg.norm(B - A))
+    if kappa == 0.0:
+        return chord
+    half = chord * abs(kappa) / 2
+    if half >= 1.0:
+        raise ValueError("an initially curved beam whose chord exceeds its diameter")
+    return 2.0 * math.asin(half) / abs(kappa)
+
+
+def _tangent(O, E, kappa: float, L: float) -> np.ndarray:
+    """Unit tangent at O of the arc O -> E of curvature kappa (CCW positive)."""
+    u = (E - O) / np.linalg.norm(E - O)
+    half_angle = kappa * L / 2
+    c, s = math.cos(-half_angle), math.sin(-half_angle)
+    return np.array([c * u[0] - s * u[1], s * u[0] + c * u[1]])
+
+
+def _midpoint(A, B, kappa: float, L: float) -> np.ndarray:
+    if kappa == 0.0:
+        return (A + B) / 2
+    t = _tangent(A, B, kappa, L)
+    n = np.array([-t[1], t[0]])
+    R = 1.0 / kappa
+    C = A + R * n
+    ang = kappa * L / 2
+    c, s = math.cos(ang), math.sin(ang)
+    r = A - C
+    return C + np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
+
+
+def _size(geometry: Geometry, coords, body: str | None, uf) -> float:
+    """Largest distance between two nodes of a body (infinite for the ground)."""
+    if body is None or body == GROUND:
+        return math.inf
+    nodes = [nd for link in geometry.links if uf.find(link.name) == body for nd in link.nodes]
+    pts = np.array([coords[nd] for nd in dict.fromkeys(nodes)])
+    if len(pts) < 2:
+        return 0.0
+    return float(np.max(np.linalg.norm(pts[:, None] - pts[None], axis=-1)))

@@ -1,0 +1,805 @@
+"""Planar rigid-link networks with torsion springs: equilibrium, stability and lock detection.
+
+The model (plain data, no knowledge of case files): rigid bodies, each with the coordinates
+q_b = (x_b, y_b, phi_b), the position of its reference point and its rotation from the unloaded
+pose (phi_b = 0 there); the ground is a body with no coordinates. Every point is given by its
+global position in the unloaded pose, so a point r of body b sits at
+
+    p(q) = X_b + R(phi_b) (r0 - X_b0),        R(phi) = [[cos, -sin], [sin, cos]].
+
+Joints are holonomic constraints Phi(q) = 0:
+  pin      p_a(q) - p_b(q) = 0                                   (2 rows; b may be the ground)
+  slider   n . (p_a(q) - p_0) = 0, n the normal of a ground line (1 row; ``guided`` adds phi_a = 0)
+Prescribed motions of the load path are constraints too (displacement of a point along x or y,
+rotation of a body); their multipliers are the loads needed to hold them.
+
+Torsion springs act on relative rotations: U = 1/2 sum k_s (phi_a - phi_b - rest_s)^2.
+External loads: dead forces at points (work F . p(q)), follower forces that turn with their body,
+couples on bodies (work M phi_b).
+
+Equilibrium is the stationary point of the total potential Pi = U - W under Phi = 0 (Lagrange):
+
+    G(q, lam) = grad U - Q(q) + J^T lam = 0,   Phi(q) = 0,          J = dPhi/dq,
+
+solved by Newton on the KKT system [[K, J^T], [J, 0]] with K = hess U - dQ/dq + sum lam_i hess Phi_i,
+level after level (load stepping with step halving), or by pseudo-arclength continuation in the
+load factor (``trace``), which passes limit points. Constraint rows that are linearly dependent
+(redundant joints) are dropped by a rank-revealing QR of J at the unloaded pose.
+
+Stability of a state: the Hessian K restricted to the tangent space of the constraints,
+Z^T K Z with Z a basis of null(J) (including prescribed motions), positive definite = stable.
+Mobility (degrees of freedom) = number of coordinates - rank J of the joints alone; a network
+whose mobility is smaller than the number of prescribed motions is locked (``mobility``,
+``LockedNetwork``).
+
+Sign conventions: angles CCW positive, rotations are changes from the unloaded pose; the load
+received at a point is the total external load applied there (applied forces and couples, plus
+what a prescribed motion there needs).
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.linalg import qr
+from scipy.linalg.lapack import dgesv
+
+__all__ = ["Pin", "Slider", "TorsionSpring", "LinearSpring", "Force", "Couple", "PrescribedDisplacement",
+           "PrescribedRotation", "Network", "NetworkState", "NetworkResult", "LockedNetwork", "GROUND",
+           "solve", "trace"]
+
+GROUND = "ground"
+
+
+class LockedNetwork(ValueError):
+    """The network cannot move as its prescribed motions ask (zero or too little mobility)."""
+
+
+@dataclass(frozen=True)
+class Pin:
+    """Revolute joint between bodies ``a`` and ``b`` (``b`` may be GROUND) at ``at`` (unloaded pose)."""
+
+    a: str
+    b: str
+    at: tuple[float, float]
+    name: str = ""
+
+
+@dataclass(frozen=True)
+class Slider:
+    """Point ``at`` of body ``a`` slides on the ground line through ``at`` along ``direction``;
+    ``guided``: the body's rotation is held as well (a guided support)."""
+
+    a: str
+    at: tuple[float, float]
+    direction: tuple[float, float]
+    guided: bool = False
+    name: str = ""
+
+
+@dataclass(frozen=True)
+class TorsionSpring:
+    """Torsion spring of stiffness k (moment/rad) on phi_a - phi_b, free at phi_a - phi_b = rest (rad)."""
+
+    a: str
+    b: str
+    k: float
+    rest: float = 0.0
+    name: str = ""
+
+
+@dataclass(frozen=True)
+class LinearSpring:
+    """Spring of stiffness k (force/length) on the displacement of a named point along a fixed
+    ground direction (e.g. a slider's spring): U = 1/2 k (e . (p - p0))^2."""
+
+    point: str
+    direction: tuple[float, float]
+    k: float
+    name: str = ""
+
+
+@dataclass(frozen=True)
+class Force:
+    """Force (fx, fy) per level at a named point; ``follower`` turns it with the point's body."""
+
+    point: str
+    fx: tuple[float, ...]
+    fy: tuple[float, ...]
+    follower: bool = False
+
+
+@dataclass(frozen=True)
+class Couple:
+    """Couple (CCW) per level on a body."""
+
+    body: str
+    m: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class PrescribedDisplacement:
+    """Displacement per level of a named point along ``axis`` ('x' or 'y') from the unloaded pose."""
+
+    point: str
+    axis: str
+    values: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class PrescribedRotation:
+    """Rotation per level (rad, CCW, from the unloaded pose) of a body."""
+
+    body: str
+    values: tuple[float, ...]
+
+
+Load = Force | Couple | PrescribedDisplacement | PrescribedRotation
+
+
+@dataclass
+class Network:
+    """Bodies, named points (name -> (body, (x, y)) in the unloaded pose), joints and springs.
+
+    ``origins``: each body's reference point (default: its first point); the ground needs none.
+    """
+
+    bodies: list[str]
+    points: dict[str, tuple[str, tuple[float, float]]]
+    pins: list[Pin] = field(default_factory=list)
+    sliders: list[Slider] = field(default_factory=list)
+    springs: list[TorsionSpring] = field(default_factory=list)
+    origins: dict[str, tuple[float, float]] = field(default_factory=dict)
+    linear_springs: list[LinearSpring] = field(default_factory=list)
+
+    def __post_init__(self):
+        if GROUND in self.bodies:
+            raise ValueError(f"'{GROUND}' is the fixed frame, not a movable body")
+        if len(set(self.bodies)) != len(self.bodies):
+            raise ValueError("body names must be unique")
+        self.index = {b: i for i, b in enumerate(self.bodies)}
+        self.index[GROUND] = len(self.bodies)
+        for name, (body, _) in self.points.items():
+            if body not in self.index:
+                raise ValueError(f"point '{name}' is on unknown body '{body}'")
+        for item in [*self.pins, *self.sliders, *self.springs]:
+            for body in (item.a, getattr(item, "b", GROUND)):
+                if body not in self.index:
+                    raise ValueError(f"{type(item).__name__} {item.name or item}: unknown body '{body}'")
+        for body in self.bodies:
+            if body not in self.origins:
+                first = next((xy for b, xy in self.points.values() if b == body), None)
+                if first is None:
+                    first = next((p.at for p in self.pins if body in (p.a, p.b)), (0.0, 0.0))
+                self.origins[body] = first
+        nb = len(self.bodies)
+        self.n = 3 * nb
+        self.X0 = np.zeros((nb + 1, 2))
+        for body, xy in self.origins.items():
+            if body in self.index and body != GROUND:
+                self.X0[self.index[body]] = xy
+        # pins, vectorised: body indices and arms (r0 - X_b0) on each side
+        self._pin_a = np.array([self.index[p.a] for p in self.pins], int)
+        self._pin_b = np.array([self.index[p.b] for p in self.pins], int)
+        at = np.array([p.at for p in self.pins], float).reshape(-1, 2)
+        self._pin_ra = at - self.X0[self._pin_a]
+        self._pin_rb = at - self.X0[self._pin_b]
+        self._pin_at = at
+        k = np.arange(len(self.pins))
+        width = 3 * len(self.bodies) + 3
+        rx, ry = 2 * k * width, (2 * k + 1) * width
+        ca, cb = 3 * self._pin_a, 3 * self._pin_b
+        # flat indices of J: (x_a in row x, y_a in row y, -x_b, -y_b) = (+1, +1, -1, -1), then phi_a, phi_b
+        self._pin_flat = np.concatenate([rx + ca, ry + ca + 1, rx + cb, ry + cb + 1,
+                                         rx + ca + 2, ry + ca + 2, rx + cb + 2, ry + cb + 2])
+        self._pin_ones = np.concatenate([np.ones(2 * len(k)), -np.ones(2 * len(k))])
+        self._joint_rows = 2 * len(self.pins) + sum(1 + s.guided for s in self.sliders)
+        self._X0_list = self.X0.tolist()
+        self._pin_list = [(int(a), int(b), *map(float, ra), *map(float, rb))
+                          for a, b, ra, rb in zip(self._pin_a, self._pin_b, self._pin_ra, self._pin_rb)]
+        # springs: a constant matrix D (rows: springs, columns: phi of the bodies)
+        self._spring_k = np.array([s.k for s in self.springs], float)
+        self._spring_rest = np.array([s.rest for s in self.springs], float)
+        D = np.zeros((len(self.springs), nb + 1))
+        for i, s in enumerate(self.springs):
+            D[i, self.index[s.a]] += 1.0
+            D[i, self.index[s.b]] -= 1.0
+        self._spring_D = D[:, :nb]
+        self._spring_H = np.zeros((self.n, self.n))
+        self._spring_H[2::3, 2::3] = self._spring_D.T @ (self._spring_k[:, None] * self._spring_D)
+        self._analysis = None  # (mobility, rank, independent joint rows), computed once by solve
+        self._length = None
+        for ls in self.linear_springs:
+            if ls.point not in self.points:
+                raise ValueError(f"linear spring {ls.name or ''} at unknown point '{ls.point}'")
+
+    # --- geometry -------------------------------------------------------------------------------
+    def point_arm(self, point: str) -> tuple[int, np.ndarray]:
+        body, xy = self.points[point]
+        i = self.index[body]
+        return i, np.asarray(xy, float) - self.X0[i]
+
+    def state_arrays(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(X, phi) of every body and the ground (last row) for coordinates q."""
+        nb = len(self.bodies)
+        X = np.empty((nb + 1, 2))
+        phi = np.zeros(nb + 1)
+        X[:nb] = self.X0[:nb] + q.reshape(nb, 3)[:, :2]
+        X[nb] = 0.0
+        phi[:nb] = q[2::3]
+        return X, phi
+
+    def position(self, q: np.ndarray, point: str) -> np.ndarray:
+        i, r = self.point_arm(point)
+        X, phi = self.state_arrays(q)
+        c, s = math.cos(phi[i]), math.sin(phi[i])
+        return X[i] + np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
+
+    # --- constraints ----------------------------------------------------------------------------
+    def joint_constraints(self, q: np.ndarray, lam: np.ndarray | None = None):
+        """(Phi, J, H_lam) of the pins and sliders: residual, Jacobian, and sum lam_i hess Phi_i.
+
+        Pin k, rows 2k (x) and 2k+1 (y): Phi = X_a + R_a r_a - X_b - R_b r_b;
+        dPhi/d(x_a, y_a, phi_a) = [I, (-R_a r_a)_y, (R_a r_a)_x], the b side with the opposite sign;
+        d2 Phi/dphi_a2 = -R_a r_a (so H[phi_a, phi_a] = -lam . R_a r_a), +R_b r_b for b.
+        A PRB network has a handful of pins, so this is a loop over them in plain floats (numpy's
+        per-call overhead would dominate); the ground's three columns are written and then dropped."""
+        nb = len(self.bodies)
+        width = 3 * nb + 3
+        m_pin = 2 * len(self.pins)
+        Phi = np.empty(self._joint_rows)
+        J = np.zeros((self._joint_rows, width))
+        Hd = [0.0] * width if lam is not None else None
+        lv = lam.tolist() if lam is not None else None
+        qv = q.tolist() + [0.0, 0.0, 0.0]
+        X0 = self._X0_list
+        for k, (ia, ib, rax, ray, rbx, rby) in enumerate(self._pin_list):
+            ca, sa = math.cos(qv[3 * ia + 2]), math.sin(qv[3 * ia + 2])
+            cb, sb = math.cos(qv[3 * ib + 2]), math.sin(qv[3 * ib + 2])
+            Rax, Ray = ca * rax - sa * ray, sa * rax + ca * ray
+            Rbx, Rby = cb * rbx - sb * rby, sb * rbx + cb * rby
+            Phi[2 * k] = X0[ia][0] + qv[3 * ia] + Rax - X0[ib][0] - qv[3 * ib] - Rbx
+            Phi[2 * k + 1] = X0[ia][1] + qv[3 * ia + 1] + Ray - X0[ib][1] - qv[3 * ib + 1] - Rby
+            rx, ry = J[2 * k], J[2 * k + 1]
+            rx[3 * ia] = 1.0
+            ry[3 * ia + 1] = 1.0
+            rx[3 * ia + 2] = -Ray
+            ry[3 * ia + 2] = Rax
+            rx[3 * ib] = -1.0
+            ry[3 * ib + 1] = -1.0
+            rx[3 * ib + 2] = Rby
+            ry[3 * ib + 2] = -Rbx
+            if Hd is not None:
+                lx, ly = lv[2 * k], lv[2 * k + 1]
+                Hd[3 * ia + 2] -= lx * Rax + ly * Ray
+                Hd[3 * ib + 2] += lx * Rbx + ly * Rby
+        H = np.array(Hd) if Hd is not None else None
+        phi = q[2::3]
+        X = self.X0[:nb] + q.reshape(nb, 3)[:, :2] if self.sliders else None
+        row = m_pin
+        for s in self.sliders:
+            i = self.index[s.a]
+            d = np.asarray(s.direction, float)
+            nrm = np.array([-d[1], d[0]]) / math.hypot(*d)
+            r = np.asarray(s.at, float) - self.X0[i]
+            c, sn = math.cos(phi[i]), math.sin(phi[i])
+            Rr = np.array([c * r[0] - sn * r[1], sn * r[0] + c * r[1]])
+            Phi[row] = nrm @ (X[i] + Rr - np.asarray(s.at, float))
+            J[row, 3 * i:3 * i + 2] = nrm
+            J[row, 3 * i + 2] = nrm @ np.array([-Rr[1], Rr[0]])
+            if H is not None:
+                H[3 * i + 2] += -lam[row] * (nrm @ Rr)
+            row += 1
+            if s.guided:
+                Phi[row] = phi[i]
+                J[row, 3 * i + 2] = 1.0
+                row += 1
+        n = 3 * nb
+        return Phi, J[:, :n], (np.diag(H[:n]) if H is not None else None)
+
+    def joint_rank(self, q: np.ndarray | None = None, rtol: float = 1e-9) -> tuple[int, np.ndarray]:
+        """Rank of the joints' Jacobian and the indices of a maximal independent set of its rows."""
+        q = np.zeros(self.n) if q is None else q
+        _, J, _ = self.joint_constraints(q)
+        if J.shape[0] == 0:
+            return 0, np.zeros(0, int)
+        _, R, piv = qr(J.T, pivoting=True, mode="economic")
+        d = np.abs(np.diag(R))
+        rank = int(np.sum(d > rtol * max(d[0], 1.0))) if d.size else 0
+        return rank, np.sort(piv[:rank])
+
+    def first_order_mobility(self) -> int:
+        """Coordinates - rank of the joints' Jacobian at the unloaded pose (instantaneous freedoms)."""
+        return self.n - self.joint_rank()[0]
+
+    def mobility(self) -> int:
+        """Degrees of freedom of the network at the unloaded pose.
+
+        First order: coordinates - rank J. At a singular pose (e.g. links in line) a first-order motion
+        v may not extend to a finite one; each null direction v of J is kept only if the second-order
+        compatibility J w = -(v^T hess Phi_i v)_i has a solution (second-order test of rigidity),
+        so a network that locks at a dead-centre pose reports zero mobility."""
+        rank, rows = self.joint_rank()
+        m = self.n - rank
+        if m == 0:
+            return 0
+        q = np.zeros(self.n)
+        _, J, _ = self.joint_constraints(q)  # every row: a row dependent at this pose may curve away
+        if not J.shape[0]:
+            return self.n
+        null = np.linalg.svd(J)[2][rank:]
+        length = self.length_scale()
+        kept = 0
+        unit = np.eye(J.shape[0])
+        hessians = [self.joint_constraints(q, unit[r])[2] for r in range(J.shape[0])]
+        for v in null:
+            curvature = np.array([v @ H @ v for H in hessians])
+            size = float(np.linalg.norm(curvature))
+            if size <= 1e-12 * length:
+                kept += 1
+                continue
+            w, *_ = np.linalg.lstsq(J, -curvature, rcond=None)
+            if np.linalg.norm(J @ w + curvature) <= 1e-8 * size:
+                kept += 1
+        return kept
+
+    def length_scale(self) -> float:
+        """Twice the largest distance of a point or pin from their centroid in the unloaded pose."""
+        if self._length is None:
+            pts = [xy for _, xy in self.points.values()] + [p.at for p in self.pins]
+            P = np.asarray(pts, float).reshape(-1, 2)
+            size = float(np.max(np.linalg.norm(P - P.mean(axis=0), axis=1))) * 2 if len(P) > 1 else 0.0
+            self._length = size or 1.0
+        return self._length
+
+    # --- energy ---------------------------------------------------------------------------------
+    def spring_deflections(self, q: np.ndarray) -> np.ndarray:
+        return self._spring_D @ q[2::3] - self._spring_rest
+
+    def _linear_spring_terms(self, q: np.ndarray):
+        """For each linear spring: (body index, stretch s = e . (p - p0), e . dp/dq on the body's three
+        coordinates, e . d2p/dphi2)."""
+        nb = len(self.bodies)
+        out = []
+        for ls in self.linear_springs:
+            i, r = self.point_arm(ls.point)
+            e = np.asarray(ls.direction, float) / math.hypot(*ls.direction)
+            if i == nb:
+                continue
+            phi = q[3 * i + 2]
+            c, sn = math.cos(phi), math.sin(phi)
+            Rr = np.array([c * r[0] - sn * r[1], sn * r[0] + c * r[1]])
+            stretch = float(e @ (q[3 * i:3 * i + 2] + Rr - r))
+            out.append((i, ls.k, stretch, np.array([e[0], e[1], e @ np.array([-Rr[1], Rr[0]])]), -float(e @ Rr)))
+        return out
+
+    def strain_energy(self, q: np.ndarray) -> float:
+        d = self.spring_deflections(q)
+        U = 0.5 * float(self._spring_k @ (d * d))
+        for _, k, stretch, _, _ in self._linear_spring_terms(q):
+            U += 0.5 * k * stretch**2
+        return U
+
+    def spring_gradient(self, q: np.ndarray) -> np.ndarray:
+        g = np.zeros(self.n)
+        g[2::3] = self._spring_D.T @ (self._spring_k * self.spring_deflections(q))
+        for i, k, stretch, de, _ in self._linear_spring_terms(q):
+            g[3 * i:3 * i + 3] += k * stretch * de
+        return g
+
+    def spring_hessian(self, q: np.ndarray) -> np.ndarray:
+        if not self.linear_springs:
+            return self._spring_H
+        H = self._spring_H.copy()
+        for i, k, stretch, de, d2 in self._linear_spring_terms(q):
+            H[3 * i:3 * i + 3, 3 * i:3 * i + 3] += k * np.outer(de, de)
+            H[3 * i + 2, 3 * i + 2] += k * stretch * d2
+        return H
+
+    def driving_torque(self, q: np.ndarray, body: str) -> float:
+        """The torque on ``body`` that holds the springs at the configuration q (joints closed), by
+        virtual work: T = grad U . v with v the joint-compatible velocity of unit rotation rate of
+        ``body`` (J v = 0, v_phi(body) = 1); a least-squares v where the joints are redundant."""
+        _, J, _ = self.joint_constraints(q)
+        i = self.index[body]
+        drive = np.zeros((1, self.n))
+        drive[0, 3 * i + 2] = 1.0
+        A = np.vstack([J, drive])
+        rhs = np.zeros(A.shape[0])
+        rhs[-1] = 1.0
+        v, *_ = np.linalg.lstsq(A, rhs, rcond=None)
+        return float(self.spring_gradient(q) @ v)
+
+
+@dataclass
+class NetworkState:
+    """One equilibrium: coordinates, multipliers, and how it was found."""
+
+    q: np.ndarray
+    lam: np.ndarray
+    converged: bool
+    iterations: int
+    stable: bool | None
+    min_reduced_eigenvalue: float
+
+
+@dataclass
+class NetworkResult:
+    """Outcome of a solve over load levels (scipy-style: success flag and message, never silent)."""
+
+    network: Network
+    states: list[NetworkState]
+    converged: bool
+    message: str
+    wall_time: float
+    iterations: int
+    mobility: int
+    load_factor: np.ndarray | None = None
+
+    @property
+    def n_levels(self) -> int:
+        return len(self.states)
+
+    def position(self, point: str, level: int) -> np.ndarray:
+        return self.network.position(self.states[level].q, point)
+
+    def displacement(self, point: str, level: int) -> np.ndarray:
+        return self.position(point, level) - np.asarray(self.network.points[point][1], float)
+
+    def rotation(self, body: str, level: int) -> float:
+        """Rotation of a body from the unloaded pose (rad, CCW)."""
+        if body == GROUND:
+            return 0.0
+        return float(self.states[level].q[3 * self.network.index[body] + 2])
+
+    def strain_energy(self, level: int) -> float:
+        return self.network.strain_energy(self.states[level].q)
+
+    def spring_torques(self, level: int) -> dict[str, float]:
+        """Torque k (phi_a - phi_b - rest) carried by each spring (name or index)."""
+        d = self.network.spring_deflections(self.states[level].q)
+        return {s.name or str(i): float(k * x) for i, (s, k, x) in
+                enumerate(zip(self.network.springs, self.network._spring_k, d))}
+
+
+# --- the problem: loads of one level as generalised forces and prescribed-motion constraints ---------
+class _Problem:
+    """Loads along the path, evaluated at a load parameter t (level index, fractional between levels)."""
+
+    def __init__(self, network: Network, loads: list, n_levels: int):
+        self.net = network
+        self.n_levels = n_levels
+        self.forces = [ld for ld in loads if isinstance(ld, Force)]
+        self.couples = [ld for ld in loads if isinstance(ld, Couple)]
+        self.disps = [ld for ld in loads if isinstance(ld, PrescribedDisplacement)]
+        self.rots = [ld for ld in loads if isinstance(ld, PrescribedRotation)]
+        for ld in loads:
+            values = [getattr(ld, f) for f in ("fx", "fy", "m", "values") if hasattr(ld, f)]
+            for v in values:
+                if len(v) != n_levels:
+                    raise ValueError(f"{ld}: {len(v)} values for {n_levels} load levels")
+            body = getattr(ld, "body", None)
+            if body is not None and body not in network.index:
+                raise ValueError(f"{type(ld).__name__} on unknown body '{body}'")
+            point = getattr(ld, "point", None)
+            if point is not None and point not in network.points:
+                raise ValueError(f"{type(ld).__name__} at unknown point '{point}'")
+            if isinstance(ld, PrescribedDisplacement) and ld.axis not in ("x", "y"):
+                raise ValueError(f"prescribed displacement axis '{ld.axis}': use 'x' or 'y'")
+            if isinstance(ld, PrescribedRotation) and ld.body == GROUND:
+                raise ValueError("a prescribed rotation of the ground")
+        self.force_arms = [network.point_arm(f.point) for f in self.forces]
+        self.disp_arms = [network.point_arm(d.point) for d in self.disps]
+        self.n_prescribed = len(self.disps) + len(self.rots)
+        self.length = network.length_scale()
+
+    @staticmethod
+    def _at(values, t: float) -> float:
+        """values at the load parameter t: level i at t = i, linear in between, from 0 below level 0."""
+        if t <= 0.0:
+            return values[0] * max(t + 1.0, 0.0) if t < 0.0 else values[0]
+        i = min(int(t), len(values) - 1)
+        if i >= len(values) - 1:
+            return values[-1]
+        f = t - i
+        return values[i] * (1.0 - f) + values[i + 1] * f
+
+    def generalised_forces(self, q: np.ndarray, t: float, scale: float = 1.0):
+        """(Q, dQ/dq) of the applied forces and couples at load parameter t (times ``scale``)."""
+        net = self.net
+        n = net.n
+        Q = np.zeros(n)
+        dQ = np.zeros((n, n))
+        nb = len(net.bodies)
+        for f, (i, r) in zip(self.forces, self.force_arms):
+            if i == nb:
+                continue
+            Fx, Fy = scale * self._at(f.fx, t), scale * self._at(f.fy, t)
+            phi = q[3 * i + 2]
+            c, s = math.cos(phi), math.sin(phi)
+            Rr = (c * r[0] - s * r[1], s * r[0] + c * r[1])
+            if f.follower:
+                Fx, Fy = c * Fx - s * Fy, s * Fx + c * Fy
+                Q[3 * i] += Fx
+                Q[3 * i + 1] += Fy
+                Q[3 * i + 2] += r[0] * (scale * self._at(f.fy, t)) - r[1] * (scale * self._at(f.fx, t))
+                dQ[3 * i, 3 * i + 2] += -Fy
+                dQ[3 * i + 1, 3 * i + 2] += Fx
+            else:
+                Q[3 * i] += Fx
+                Q[3 * i + 1] += Fy
+                Q[3 * i + 2] += Rr[0] * Fy - Rr[1] * Fx
+                dQ[3 * i + 2, 3 * i + 2] += -(Rr[0] * Fx + Rr[1] * Fy)
+        for cp in self.couples:
+            i = net.index[cp.body]
+            if i < nb:
+                Q[3 * i + 2] += scale * self._at(cp.m, t)
+        return Q, dQ
+
+    def prescribed(self, q: np.ndarray, t: float, scale: float = 1.0):
+        """(Phi, J) of the prescribed motions at load parameter t."""
+        net = self.net
+        m = self.n_prescribed
+        Phi = np.empty(m)
+        J = np.zeros((m, net.n))
+        nb = len(net.bodies)
+        for k, (d, (i, r)) in enumerate(zip(self.disps, self.disp_arms)):
+            axis = 0 if d.axis == "x" else 1
+            target = scale * self._at(d.values, t)
+            if i == nb:
+                raise LockedNetwork(f"prescribed displacement of '{d.point}', which is on the ground")
+            phi = q[3 * i + 2]
+            c, s = math.cos(phi), math.sin(phi)
+            Rr = (c * r[0] - s * r[1], s * r[0] + c * r[1])
+            Phi[k] = q[3 * i + axis] + Rr[axis] - r[axis] - target
+            J[k, 3 * i + axis] = 1.0
+            J[k, 3 * i + 2] = -Rr[1] if axis == 0 else Rr[0]
+        for k, rot in enumerate(self.rots, start=len(self.disps)):
+            i = net.index[rot.body]
+            Phi[k] = q[3 * i + 2] - scale * self._at(rot.values, t)
+            J[k, 3 * i + 2] = 1.0
+        return Phi, J
+
+    def prescribed_hessian(self, q: np.ndarray, lam: np.ndarray) -> np.ndarray:
+        """sum lam_k hess Phi_k of the prescribed displacements (rotations are linear)."""
+        net = self.net
+        H = np.zeros((net.n, net.n))
+        for k, (d, (i, r)) in enumerate(zip(self.disps, self.disp_arms)):
+            axis = 0 if d.axis == "x" else 1
+            phi = q[3 * i + 2]
+            c, s = math.cos(phi), math.sin(phi)
+            Rr = (c * r[0] - s * r[1], s * r[0] + c * r[1])
+            H[3 * i + 2, 3 * i + 2] += -lam[k] * Rr[axis]
+        return H
+
+
+def _residual(problem: _Problem, rows: np.ndarray, q, lam, t, scale=1.0):
+    """KKT residual and matrix at (q, lam) for load parameter t, and the force scale of the residual
+    (the largest of the spring, applied and constraint generalised forces)."""
+    net = problem.net
+    nj = len(rows)
+    full = np.zeros(net._joint_rows)
+    full[rows] = lam[:nj]
+    Phi_j, J_j, H_j = net.joint_constraints(q, full)
+    Q, dQ = problem.generalised_forces(q, t, scale)
+    grad = net.spring_gradient(q)
+    K = net.spring_hessian(q) - dQ + H_j
+    if problem.n_prescribed:
+        Phi_p, J_p = problem.prescribed(q, t, scale)
+        Phi = np.concatenate([Phi_j[rows], Phi_p])
+        J = np.vstack([J_j[rows], J_p])
+        K += problem.prescribed_hessian(q, lam[nj:])
+    else:
+        Phi, J = Phi_j[rows], J_j[rows]
+    reaction = J.T @ lam
+    g = grad - Q + reaction
+    force = float(np.abs(np.concatenate((grad, Q, reaction))).max()) if net.n else 0.0
+    return g, Phi, K, J, force
+
+
+def _newton(problem, rows, q, lam, t, *, rtol, max_iter, scale=1.0):
+    """Newton on the KKT system at fixed load parameter t, until the residual is below rtol times its
+    force scale and the loop closes to rtol times the network's size (a step-size test alone can stop
+    on a singular system). Returns (q, lam, converged, linear solves)."""
+    n = problem.net.n
+    closure = rtol * problem.length
+    for it in range(max_iter + 1):
+        g, Phi, K, J, force = _residual(problem, rows, q, lam, t, scale)
+        g_size = float(np.abs(g).max()) if n else 0.0
+        phi_size = float(np.abs(Phi).max()) if Phi.size else 0.0
+        if not (math.isfinite(g_size) and math.isfinite(phi_size)):
+            return q, lam, False, it
+        if g_size <= rtol * force and phi_size <= closure:
+            return q, lam, True, it
+        if it == max_iter:
+            break
+        m = len(Phi)
+        A = np.zeros((n + m, n + m))
+        A[:n, :n] = K
+        A[:n, n:] = J.T
+        A[n:, :n] = J
+        _, _, step, info = dgesv(A, -np.concatenate([g, Phi]))  # LAPACK LU, without numpy's wrapper cost
+        if info != 0:
+            return q, lam, False, it
+        q = q + step[:n]
+        lam = lam + step[n:]
+    return q, lam, False, max_iter
+
+
+def _stability(problem, rows, q, lam, t, scale=1.0) -> tuple[bool | None, float]:
+    """Positive definiteness of the Hessian on the constraints' tangent space (Z^T K Z)."""
+    _, _, K, J, _ = _residual(problem, rows, q, lam, t, scale)
+    n = problem.net.n
+    if J.shape[0]:
+        _, s, vt = np.linalg.svd(J)
+        rank = int(np.sum(s > 1e-10 * max(s[0], 1.0)))
+        Z = vt[rank:].T
+    else:
+        Z = np.eye(n)
+    if Z.shape[1] == 0:
+        return True, math.inf
+    Kr = Z.T @ (0.5 * (K + K.T)) @ Z
+    ev = float(np.linalg.eigvalsh(Kr)[0])
+    scale_k = max(float(np.max(np.abs(Kr))), 1e-300)
+    return ev > -1e-10 * scale_k, ev
+
+
+def _check_mobility(network: Network, problem: _Problem) -> tuple[int, np.ndarray]:
+    if network._analysis is None:
+        rank, rows = network.joint_rank()
+        network._analysis = (network.mobility(), rank, rows)
+    mobility, rank, rows = network._analysis
+    if problem.n_prescribed > mobility:
+        raise LockedNetwork(f"the network has {mobility} degree(s) of freedom ({network.n} coordinates, "
+                            f"rank of the joint Jacobian {rank}) but {problem.n_prescribed} motion(s) are "
+                            "prescribed: it locks")
+    return mobility, rows
+
+
+def solve(network: Network, loads: list, n_levels: int, *, rtol: float = 1e-11, max_iter: int = 30,
+          max_cuts: int = 12, stability: bool = True) -> NetworkResult:
+    """Equilibrium at every load level by Newton with load stepping (each level from the last one;
+    a failed step is halved up to ``max_cuts`` times). Raises LockedNetwork if the prescribed motions
+    exceed the mobility."""
+    t0 = time.perf_counter()
+    problem = _Problem(network, list(loads), n_levels)
+    mobility, rows = _check_mobility(network, problem)
+    q = np.zeros(network.n)
+    lam = np.zeros(len(rows) + problem.n_prescribed)
+    states: list[NetworkState] = []
+    total_it = 0
+    messages = []
+    t_prev = -1.0
+    history: list[tuple[float, np.ndarray, np.ndarray]] = [(t_prev, q, lam)]
+    for level in range(n_levels):
+        t_target = float(level)
+        t = t_prev
+        step = t_target - t_prev
+        ok = True
+        cuts = 0
+        its = 0
+        while t < t_target - 1e-15:
+            dt = min(step, t_target - t)
+            if len(history) >= 2 and cuts == 0:  # secant predictor along the last two states
+                (t0_, q0_, l0_), (t1_, q1_, l1_) = history[-2], history[-1]
+                f = dt / (t1_ - t0_)
+                guess = (q + f * (q1_ - q0_), lam + f * (l1_ - l0_))
+            else:
+                guess = (q, lam)
+            q_new, lam_new, conv, it = _newton(problem, rows, guess[0].copy(), guess[1].copy(), t + dt,
+                                               rtol=rtol, max_iter=max_iter)
+            its += it
+            if not conv and guess[0] is not q:
+                q_new, lam_new, conv, it = _newton(problem, rows, q.copy(), lam.copy(), t + dt,
+                                                   rtol=rtol, max_iter=max_iter)
+                its += it
+            if conv:
+                q, lam, t = q_new, lam_new, t + dt
+                history.append((t, q, lam))
+            else:
+                cuts += 1
+                step = dt / 2
+                if cuts > max_cuts:
+                    ok = False
+                    break
+        total_it += its
+        if not ok:
+            messages.append(f"level {level}: Newton did not converge after {max_cuts} step halvings "
+                            f"(load parameter {t:.6g} of {t_target:g})")
+            for lv in range(level, n_levels):
+                states.append(NetworkState(np.full(network.n, np.nan), lam * np.nan, False, 0, None, math.nan))
+            break
+        stable, ev = _stability(problem, rows, q, lam, t_target) if stability else (None, math.nan)
+        states.append(NetworkState(q.copy(), lam.copy(), True, its, stable, ev))
+        t_prev = t_target
+    converged = all(s.converged for s in states)
+    message = "; ".join(messages) if messages else f"converged at {n_levels} level(s), {total_it} Newton iterations"
+    unstable = [i for i, s in enumerate(states) if s.stable is False]
+    if unstable:
+        message += f"; unstable equilibrium at level(s) {unstable}"
+    return NetworkResult(network, states, converged, message, time.perf_counter() - t0, total_it, mobility)
+
+
+def trace(network: Network, loads: list, *, steps: int = 200, ds: float = 0.05, t_max: float = 1.0,
+          rtol: float = 1e-11, max_iter: int = 25) -> NetworkResult:
+    """Pseudo-arclength continuation in the load factor lambda (loads = lambda x the last level of
+    ``loads``), from the unloaded pose until lambda reaches ``t_max`` or ``steps`` are taken; passes
+    limit points. Unknowns z = (q, lam, lambda); the extra equation is t_prev . (z - z_pred) = 0
+    with t_prev the unit tangent of the last step (Keller)."""
+    t0 = time.perf_counter()
+    n_levels = max(len(getattr(ld, f)) for ld in loads for f in ("fx", "fy", "m", "values") if hasattr(ld, f))
+    problem = _Problem(network, list(loads), n_levels)
+    mobility, rows = _check_mobility(network, problem)
+    n = network.n
+    m = len(rows) + problem.n_prescribed
+    t_last = float(n_levels - 1)
+
+    def F(z):
+        q, lam, lf = z[:n], z[n:n + m], z[-1]
+        g, Phi, K, J, _ = _residual(problem, rows, q, lam, t_last, lf)
+        # d/d lambda of (g, Phi): loads are linear in the scale
+        g1, Phi1, _, _, _ = _residual(problem, rows, q, lam, t_last, 1.0)
+        g0, Phi0, _, _, _ = _residual(problem, rows, q, lam, t_last, 0.0)
+        A = np.zeros((n + m, n + m + 1))
+        A[:n, :n] = K
+        A[:n, n:n + m] = J.T
+        A[n:, :n] = J
+        A[:, -1] = np.concatenate([g1 - g0, Phi1 - Phi0])
+        return np.concatenate([g, Phi]), A
+
+    # arc length measured in the coordinates and the load factor (the multipliers are forces and
+    # would dominate the metric): weights 1 on q and lambda, 0 on the multipliers
+    weight = np.ones(n + m + 1)
+    weight[n:n + m] = 0.0
+
+    def unit_tangent(A, previous=None):
+        t = _null_vector(A)
+        t = t / max(float(np.linalg.norm(weight * t)), 1e-300)
+        if previous is not None and (weight * t) @ (weight * previous) < 0:
+            t = -t
+        return t
+
+    z = np.zeros(n + m + 1)
+    _, A = F(z)
+    tangent = unit_tangent(A)
+    if tangent[-1] < 0:
+        tangent = -tangent
+    states, lfs, total = [], [], 0
+    converged, message = True, ""
+    for _ in range(steps):
+        pred = z + ds * tangent
+        zz = pred.copy()
+        ok = False
+        for it in range(1, max_iter + 1):
+            r, A = F(zz)
+            full = np.vstack([A, weight * tangent])
+            rhs = -np.concatenate([r, [(weight * tangent) @ (zz - pred)]])
+            dz = np.linalg.solve(full, rhs)
+            zz = zz + dz
+            total += 1
+            if np.max(np.abs(dz[:n])) <= rtol * max(np.max(np.abs(zz[:n])), 1e-3) and \
+                    abs(dz[-1]) <= rtol * max(abs(zz[-1]), 1e-3):
+                ok = True
+                break
+        if not ok:
+            converged, message = False, f"arc-length step did not converge at load factor {z[-1]:.6g}"
+            break
+        _, A = F(zz)
+        z, tangent = zz, unit_tangent(A, tangent)
+        q, lam = z[:n], z[n:n + m]
+        stable, ev = _stability(problem, rows, q, lam, t_last, z[-1])
+        states.append(NetworkState(q.copy(), lam.copy(), True, it, stable, ev))
+        lfs.append(z[-1])
+        if z[-1] >= t_max:
+            break
+    message = message or f"{len(states)} arc-length steps to load factor {lfs[-1] if lfs else 0.0:.6g}"
+    return NetworkResult(network, states, converged, message, time.perf_counter() - t0, total, mobility,
+                         load_factor=np.array(lfs))
+
+
+def _null_vector(A: np.ndarray) -> np.ndarray:
+    """Unit vector spanning the null space of a full-row-rank (k, k+1) matrix."""
+    _, _, vt = np.linalg.svd(A)
+    return vt[-1]

@@ -1,0 +1,28 @@
+"""Start-up: the CLI builds its parser and solves one case without the heavy libraries it does not use
+(a fresh interpreter, so that other tests' imports do not count)."""
+import subprocess
+import sys
+
+SCRIPT = """
+import sys
+from validation.cli import build_parser
+build_parser()
+from validation.loader import case_by_id
+from validation.runner import run_method
+run = run_method(case_by_id("cantilever_tip_load").case, "prbm")
+assert run.values, run.message
+print(" ".join(sorted(m for m in ("pandas", "synthesis.design", "matplotlib", "fem", "elastica", "numba")
+                      if m in sys.modules)))
+"""
+
+
+def test_parser_and_a_prbm_solve_load_no_pandas_synthesis_solvers_or_other_methods():
+    out = subprocess.run([sys.executable, "-c", SCRIPT], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == []
+
+
+def test_synthesis_names_are_still_exported():
+    import synthesis
+
+    assert callable(synthesis.design) and callable(synthesis.compare_printed)
+    assert issubclass(synthesis.SynthesisError, Exception)

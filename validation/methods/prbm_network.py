@@ -1,0 +1,224 @@
+"""The mechanism part of the PRBM adapter: a case's ``[mechanism]`` -> ``prbm.build`` -> ``prbm.solve``.
+
+The geometry the FEM reads (nodes, beams with their section and E, rigid links, joints, supports)
+becomes ``prbm.Geometry``; the builder applies the seeds' rules to each beam (see ``prbm.builder``)
+and the general rigid-link network solver finds the equilibrium at every load level. No
+``[methods.prbm]`` input is needed; ``rules = {...}`` may override the builder's rules:
+
+  gamma, K_theta, slfp_ratio        defaults of every beam
+  beams = { name = { model, gamma, K_theta, stiffness, clamp } }   per beam
+
+Loads, as the FEM takes them: forces at nodes (dead, or ``follower``: turning with the node's body),
+moments (on ``body`` if given: a link, or a beam's end at that node; else the node's body),
+prescribed displacements along x or y and prescribed rotations (of ``body``, else of the node's body).
+
+Outputs (quantity contract): x, y, dx, dy of any node (global frame; from the unloaded pose);
+rotation of the body the node moves with (change from the unloaded angle, CCW, deg); force_x,
+force_y, moment at a node = the total external load it receives (applied, plus what a prescribed
+motion there needs); input_angle and input_torque of the input (the prescribed rotation or the
+applied moment); strain_energy (sum of 1/2 K (Delta Theta)^2). The model chosen for every beam is
+in the message and in ``extras['prb_model']``; each state's stability in ``extras['stable']``.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+import prbm
+from validation.methods.base import MethodRun, NotApplicable
+from prbm import builder as pb
+
+
+#: a beam's ``segment_type`` -> the builder's model; 'fixed-guided-inflection' (chapter 3/5, a pivot that
+#: moves with the load) is no fixed network, so such a beam gets the builder's rule (stated in its record)
+SEGMENT_TYPES = {"fixed-pinned": "fixed-pinned", "fixed-free": "fixed-free", "fixed-guided": "fixed-guided",
+                 "fixed-fixed": "fixed-guided", "slfp": "slfp", "pinned-pinned": "rigid"}
+
+
+def geometry(mech) -> pb.Geometry:
+    """prbm's plain geometry from a schema ``MechanismSpec``."""
+    beams = []
+    for beam in mech.beams:
+        EI = beam.section.stiffness(beam.E or mech.E)[1]
+        beams.append(pb.Beam(beam.name, beam.start, beam.end, EI, beam.curvature))
+    return pb.Geometry(
+        nodes=tuple(pb.Node(n.name, n.x, n.y) for n in mech.nodes),
+        beams=tuple(beams),
+        links=tuple(pb.RigidLink(l.name, tuple(l.nodes)) for l in mech.links),
+        joints=tuple(pb.Joint(j.node, tuple(j.members), j.spring) for j in mech.joints),
+        supports=tuple(pb.Support(s.node, s.kind, tuple(s.direction) if s.direction else None, s.member)
+                       for s in mech.supports))
+
+
+def rules(options: dict, mech) -> pb.Rules:
+    """The builder's rules from ``[methods.prbm] rules = {gamma, K_theta, slfp_ratio, beams}``."""
+    given = options.get("rules") or {}
+    unknown = set(given) - {"gamma", "K_theta", "slfp_ratio", "beams"}
+    if unknown:
+        raise NotApplicable(f"[methods.prbm] rules: unknown option(s) {sorted(unknown)} "
+                            "(known: gamma, K_theta, slfp_ratio, beams)")
+    per_beam = {}
+    names = {b.name for b in mech.beams}
+    for name, over in (given.get("beams") or {}).items():
+        if name not in names:
+            raise NotApplicable(f"[methods.prbm] beams.{name}: no beam of that name")
+        unknown = set(over) - {"model", "gamma", "K_theta", "stiffness", "clamp"}
+        if unknown:
+            raise NotApplicable(f"[methods.prbm] beams.{name}: unknown option(s) {sorted(unknown)}")
+        per_beam[name] = pb.BeamRule(**over)
+    for beam in mech.beams:  # the case's own segment_type picks the model unless the rules do
+        model = SEGMENT_TYPES.get(beam.segment_type or "")
+        if model and beam.name not in per_beam:
+            per_beam[beam.name] = pb.BeamRule(model=model)
+    return pb.Rules(gamma=float(given.get("gamma", pb.GAMMA)), K_theta=float(given.get("K_theta", pb.K_THETA)),
+                    slfp_ratio=float(given.get("slfp_ratio", pb.SLFP_RATIO)), beams=per_beam)
+
+
+def _body_for(model: pb.PRBModel, load) -> str:
+    if load.body is not None:
+        body = model.member_body.get((load.body, load.point))
+        if body is None:
+            raise NotApplicable(f"a load on '{load.body}' at '{load.point}': that member does not reach that node")
+        return body
+    return model.node_body[load.point]
+
+
+def network_loads(case, model: pb.PRBModel) -> list:
+    loads = []
+    for i, load in enumerate(case.loads):
+        v = np.asarray(load.levels(), float)
+        if load.kind == "force":
+            d = np.asarray(load.direction, float)
+            loads.append(prbm.Force(load.point, tuple(v * d[0]), tuple(v * d[1]), follower=load.follower))
+        elif load.kind == "moment":
+            loads.append(prbm.Couple(_body_for(model, load), tuple(v)))
+        elif load.kind == "rotation":
+            loads.append(prbm.PrescribedRotation(_body_for(model, load), tuple(np.radians(v))))
+        else:
+            d = np.asarray(load.direction, float) / math.hypot(*load.direction)
+            if abs(d[0]) > 1e-12 and abs(d[1]) > 1e-12:
+                raise NotApplicable(f"loads.{i}: a prescribed displacement must be along x or along y")
+            axis = "x" if abs(d[0]) > 0.5 else "y"
+            loads.append(prbm.PrescribedDisplacement(load.point, axis, tuple(v * (d[0] if axis == "x" else d[1]))))
+    return loads
+
+
+def _received(case, model, result, point: str, level: int) -> np.ndarray:
+    """(Fx, Fy, M) received at a node: the applied loads there plus the multipliers of the prescribed
+    motions there (the load a driver must apply: minus the multiplier)."""
+    total = np.zeros(3)
+    n_joint = len(result.states[level].lam) - sum(ld.kind in ("displacement", "rotation") for ld in case.loads)
+    k = n_joint
+    disp = [ld for ld in case.loads if ld.kind == "displacement"]
+    rots = [ld for ld in case.loads if ld.kind == "rotation"]
+    lam = result.states[level].lam
+    for ld in case.loads:
+        if ld.point != point or ld.kind not in ("force", "moment"):
+            continue
+        v = ld.levels()[level]
+        if ld.kind == "force":
+            d = np.asarray(ld.direction, float)
+            F = v * d
+            if ld.follower:
+                phi = result.rotation(model.node_body[point], level)
+                c, s = math.cos(phi), math.sin(phi)
+                F = np.array([c * F[0] - s * F[1], s * F[0] + c * F[1]])
+            total[:2] += F
+        else:
+            total[2] += v
+    for ld in disp:
+        if ld.point == point:
+            d = np.asarray(ld.direction, float)
+            total[0 if abs(d[0]) > 0.5 * math.hypot(*d) else 1] += -lam[k]
+        k += 1
+    for ld in rots:
+        if ld.point == point:
+            total[2] += -lam[k]
+        k += 1
+    return total
+
+
+def run_mechanism(case, requests, options: dict, info: MethodRun) -> dict:
+    """Values of the requested outputs of a mechanism case from the PRB model built by rule."""
+    mech = case.mechanism
+    try:
+        model = pb.build(geometry(mech), rules(options, mech))
+    except prbm.LockedNetwork as exc:
+        raise NotApplicable(f"PRB model locked: {exc}") from None
+    except ValueError as exc:
+        raise NotApplicable(f"PRB model not built: {exc}") from None
+    n = case.n_levels()
+    try:
+        result = prbm.solve(model.network, network_loads(case, model), n)
+    except prbm.LockedNetwork as exc:
+        raise NotApplicable(f"PRB model locked under the prescribed motions: {exc} ({model.describe()})") from None
+    net = model.network
+    inputs = [ld for ld in case.loads if ld.kind in ("rotation", "moment")]
+    values = {}
+    for req in requests:
+        q, p, lv = req
+        state = result.states[lv]
+        if not state.converged:
+            continue
+        if q in ("x", "y", "dx", "dy"):
+            if p not in net.points:
+                raise NotApplicable(f"point '{p}' is not in the PRB model")
+            xy = result.position(p, lv)
+            d = xy - np.asarray(net.points[p][1])
+            values[req] = float({"x": xy[0], "y": xy[1], "dx": d[0], "dy": d[1]}[q])
+        elif q == "rotation":
+            values[req] = math.degrees(result.rotation(model.node_body[p], lv))
+        elif q in ("force_x", "force_y", "moment"):
+            values[req] = float(_received(case, model, result, p, lv)[("force_x", "force_y", "moment").index(q)])
+        elif q == "strain_energy":
+            values[req] = result.strain_energy(lv)
+        elif q in ("input_angle", "input_torque"):
+            if not inputs:
+                raise NotApplicable("input_angle/input_torque need a prescribed rotation or a moment (the input)")
+            ld = inputs[0]
+            if q == "input_torque":
+                values[req] = float(_received(case, model, result, ld.point, lv)[2])
+            else:
+                values[req] = math.degrees(result.rotation(_body_for(model, ld), lv))
+        else:
+            raise NotApplicable(f"the PRB network gives no '{q}'")
+    info.converged = result.converged
+    info.level_converged = {i: s.converged for i, s in enumerate(result.states)}
+    info.message = (f"PRB model built by rule ({result.mobility} DOF): {model.describe()}; {result.message}")
+    info.extras.update({
+        "prb_model": [{"beam": b.beam, "model": b.model, "ends": list(b.ends), "pivots": [list(p) for p in b.pivots],
+                       "springs": list(b.springs), "gamma": b.gamma, "K_theta": b.K_theta, "reason": b.reason}
+                      for b in model.beams],
+        "lock": model.lock,
+        "stable": {i: s.stable for i, s in enumerate(result.states)},
+        "iterations": result.iterations,
+        "shapes": _shapes(model, result),
+    })
+    return values
+
+
+def _shapes(model: pb.PRBModel, result) -> list:
+    """Per level, each PRB body as a polyline through its pins and points (unloaded order)."""
+    net = model.network
+    shapes = []
+    per_body: dict[str, list[str]] = {}
+    for name, (body, _) in net.points.items():
+        per_body.setdefault(body, []).append(name)
+    for lv, state in enumerate(result.states):
+        if not state.converged:
+            shapes.append([])
+            continue
+        lines = []
+        for body in net.bodies:
+            pts = [p.at for p in net.pins if body in (p.a, p.b)] + [net.points[nm][1] for nm in per_body.get(body, [])]
+            if len(pts) < 2:
+                continue
+            i = net.index[body]
+            X, phi = net.state_arrays(state.q)
+            c, s = math.cos(phi[i]), math.sin(phi[i])
+            r = np.asarray(pts, float) - net.X0[i]
+            moved = X[i] + np.column_stack([c * r[:, 0] - s * r[:, 1], s * r[:, 0] + c * r[:, 1]])
+            lines.append(moved)
+        shapes.append(lines)
+    return shapes
