@@ -118,8 +118,18 @@ def holes(verdicts: pd.DataFrame) -> list[str]:
 
 
 def cmd_audit(args) -> int:
+    """The ``prbm-validate audit`` command (its arguments are declared in validation/cli.py)."""
     names = args.plant or list(plants.PLANTS)
-    paths = find_case_files(args.cases or None)
+    unknown = [name for name in names if name not in plants.PLANTS]
+    if unknown:
+        print(f"error: --plant: unknown planted error {', '.join(unknown)}; known: {', '.join(plants.PLANTS)}",
+              file=sys.stderr)
+        return 2
+    try:
+        paths = find_case_files(args.cases or None)
+    except CaseError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
     started = time.perf_counter()
     verdicts = audit(paths, names, jobs=args.jobs)
     out = Path(args.out)
@@ -137,13 +147,3 @@ def cmd_audit(args) -> int:
     print(f"\n{len(names)} plant(s) over {len(paths)} case(s) in {time.perf_counter() - started:.0f} s; "
           f"verdicts in {out / 'audit.csv'}")
     return 1 if missed or len(baseline) else 0
-
-
-def add_parser(subparsers) -> None:
-    audit_parser = subparsers.add_parser("audit", help="plant errors in each method and count the cases that catch them")
-    audit_parser.add_argument("cases", nargs="*", help="case ids, files or globs (default: all)")
-    audit_parser.add_argument("--plant", action="append", choices=list(plants.PLANTS),
-                              help="only this planted error (repeatable; default: all)")
-    audit_parser.add_argument("--jobs", type=int, default=2, help="worker processes")
-    audit_parser.add_argument("--out", default="reports/audit", help="folder for audit.csv (default %(default)s)")
-    audit_parser.set_defaults(func=cmd_audit)
