@@ -16,7 +16,7 @@ import numpy as np
 
 from .corotational import strain_energy
 
-__all__ = ["FemResult"]
+__all__ = ["FemResult", "NodalFields", "FieldSeries"]
 
 
 @dataclass
@@ -86,21 +86,62 @@ class FemResult:
                 f"levels={self.n_levels}, steps={self.steps}, iterations={self.iterations}, "
                 f"wall_time={self.wall_time:.3g}s)")
 
+    def nodal_fields(self, level: int) -> "NodalFields":
+        """Fields at the element nodes of one recorded level (what a ParaView user colours by).
+
+        The internal bending moment at an element end follows from the local end moments
+        (a pure bend of curvature kappa gives M1 = -EI kappa, M2 = +EI kappa): -M1 at the start
+        node, +M2 at the end node, so M = EI kappa with kappa = d(theta)/ds; the axial force is
+        N = k_a u_bar (tension positive).  A node shared by elements takes their mean."""
+        disc = self.extra["disc"]
+        N = self.extra["element_axial_force"][level]
+        M = self.extra["element_end_moments"][level]
+        conn = self.connectivity
+        n = len(self.mesh_positions[level])
+        EI = np.array([sec.EI for sec in disc.el_section])
+        count = np.bincount(conn.ravel(), minlength=n).astype(float)
+        count[count == 0] = np.nan
+
+        def at_nodes(start, end):
+            return (np.bincount(conn[:, 0], start, n) + np.bincount(conn[:, 1], end, n)) / count
+
+        moment = at_nodes(-M[:, 0], M[:, 1])
+        stress = None
+        if disc.el_section and all(sec.has_stress for sec in disc.el_section):
+            sigma = np.array([float(np.max(sec.max_stress(N[e:e + 1], np.abs(M[e])))) for e, sec
+                              in enumerate(disc.el_section)])
+            stress = np.full(n, 0.0)  # the largest stress of the elements meeting at a node
+            np.maximum.at(stress, conn[:, 0], sigma)
+            np.maximum.at(stress, conn[:, 1], sigma)
+        return NodalFields(displacement=self.mesh_positions[level] - self.extra["X"],
+                           rotation=self.mesh_rotations[level].copy(),
+                           bending_moment=moment,
+                           curvature=at_nodes(-M[:, 0] / EI, M[:, 1] / EI),
+                           axial_force=at_nodes(N, N), bending_stress=stress)
+
+    def field_series(self) -> "FieldSeries":
+        """Every level's element-node positions and ``nodal_fields``: plain data, without the solver."""
+        return FieldSeries(self.extra["X"].copy(), self.connectivity.copy(), self.mesh_positions.copy(),
+                           [self.nodal_fields(k) for k in range(self.n_levels)],
+                           np.asarray(self.load_factor, float))
+
     def to_vtu(self, prefix: str) -> list:
-        """Write one VTU file per level (deformed mesh, line cells) and a ParaView
-        collection ``prefix.pvd`` (time = level's load factor); returns the VTU paths."""
+        """Write one VTU file per level (deformed mesh, line cells, the point data of
+        ``nodal_fields``), ``prefix_undeformed.vtu`` and a ParaView collection ``prefix.pvd``
+        (time = level's load factor); returns the per-level VTU paths."""
         import meshio
+        from pathlib import Path
+
+        def write(path, xy, point_data):
+            meshio.write(path, meshio.Mesh(np.column_stack([xy, np.zeros(len(xy))]),
+                                           [("line", self.connectivity)], point_data=point_data))
+
+        write(f"{prefix}_undeformed.vtu", self.extra["X"], {})
         paths = []
         for k in range(self.n_levels):
-            pts = np.column_stack([self.mesh_positions[k], np.zeros(len(self.mesh_positions[k]))])
-            disp = pts[:, :2] - self.extra["X"]
-            mesh = meshio.Mesh(pts, [("line", self.connectivity)],
-                               point_data={"displacement": np.column_stack([disp, np.zeros(len(disp))]),
-                                           "rotation": self.mesh_rotations[k]})
             path = f"{prefix}_{k:04d}.vtu"
-            meshio.write(path, mesh)
+            write(path, self.mesh_positions[k], self.nodal_fields(k).point_data())
             paths.append(path)
-        from pathlib import Path
         entries = "\n".join(
             f'    <DataSet timestep="{t:.12g}" part="0" file="{Path(p).name}"/>'
             for t, p in zip(self.load_factor, paths))
@@ -108,6 +149,38 @@ class FemResult:
             '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
             f"  <Collection>\n{entries}\n  </Collection>\n</VTKFile>\n")
         return paths
+
+
+@dataclass
+class NodalFields:
+    """Point data at the element nodes of one level, in the model's consistent units
+    (rotation in radians, counter-clockwise; tension positive; bending stress None when the
+    sections do not know E and the extreme-fibre distance)."""
+    displacement: np.ndarray            # (n, 2)
+    rotation: np.ndarray                # (n,)
+    curvature: np.ndarray               # (n,)
+    bending_moment: np.ndarray          # (n,)
+    axial_force: np.ndarray             # (n,)
+    bending_stress: np.ndarray | None   # (n,) largest |sigma| on the sections meeting at the node
+
+    def point_data(self) -> dict:
+        """VTK point arrays (3-component displacement, as ParaView's Warp By Vector expects)."""
+        data = {"displacement": np.column_stack([self.displacement, np.zeros(len(self.displacement))]),
+                "rotation": self.rotation, "curvature": self.curvature,
+                "bending_moment": self.bending_moment, "axial_force": self.axial_force}
+        if self.bending_stress is not None:
+            data["bending_stress"] = self.bending_stress
+        return data
+
+
+@dataclass
+class FieldSeries:
+    """The deformed mesh and its point data at every recorded level (what a ParaView series needs)."""
+    reference: np.ndarray        # (n, 2) undeformed element nodes
+    connectivity: np.ndarray     # (m, 2)
+    positions: np.ndarray        # (levels, n, 2)
+    nodal: list                  # NodalFields per level
+    load_factor: np.ndarray      # (levels,) the load factor (or level) of each
 
 
 def _transfer_slave_forces(d, R, u):
@@ -181,6 +254,8 @@ def build_result(model, sys, path, *, converged, message, critical_points, wall_
         mesh_rotations=rot, connectivity=d.conn.copy(), det_sign=np.array(path.det_signs),
         refine=refine, n_elements=len(d.conn),
         extra=dict(X=d.X.copy(), disc=d, u_full=np.array([s["u"] for s in snaps]),
+                   element_axial_force=np.array([s["N"] for s in snaps]),
+                   element_end_moments=np.array([s["M"] for s in snaps]),
                    step_load_factor=np.array(path.step_lams),
                    step_path_parameter=np.array(path.step_s),
                    step_control=np.array(path.step_ctrl)))

@@ -1,14 +1,33 @@
-"""The report: every image and link resolves, and its tables say what the results say."""
+"""The report: every image and link resolves, its tables say what the results say, the summary
+reads in words and short numbers, and it works in a real browser (headless Chromium)."""
 import re
+import shutil
+from pathlib import Path
 
 import pandas as pd
+import pytest
 
-from validation.report import build_report
-from validation.runner import summary
+from validation.loader import case_by_id
+from validation.methods.base import MethodRun
+from validation.report import build_report, glance
+from validation.report_format import Badge, run_badge
+from validation.report_overview import overview_points
+from validation.report_summary import round_numbers
+from validation.runner import run_case, summary, tabulate
+
+REPORT_CASES = ["cantilever_tip_load", "follower_tip_load", "bapat2015_test2"]
 
 
-def test_report_links_resolve_and_tables_match(tmp_path):
-    build_report(tmp_path, use_cache=False, jobs=1, cases=["cantilever_tip_load"])
+@pytest.fixture(scope="module")
+def built_report(tmp_path_factory) -> Path:
+    """One report of two benchmark segments (one with the PRBM) and a mechanism case with findings."""
+    folder = tmp_path_factory.mktemp("report")
+    build_report(folder, use_cache=False, jobs=1, cases=REPORT_CASES)
+    return folder
+
+
+def test_report_links_resolve_and_tables_match(built_report):
+    tmp_path = built_report
     pages = [tmp_path / "index.html", *sorted((tmp_path / "cases").glob("*.html"))]
     assert len(pages) >= 2
     for page in pages:
@@ -28,10 +47,6 @@ def test_report_links_resolve_and_tables_match(tmp_path):
 
 
 def test_glance_differences_are_the_differences_of_the_values():
-    from validation.loader import case_by_id
-    from validation.report import glance
-    from validation.runner import run_case, tabulate
-
     table = tabulate(run_case(case_by_id("cantilever_tip_load"), use_cache=False))
     view = glance(table)
     assert len(view) == 30  # x, y, rotation at 10 levels
@@ -39,3 +54,118 @@ def test_glance_differences_are_the_differences_of_the_values():
     assert ((view["FEM - exact"] - (view["fem"] - view["elastica"])).abs() < 1e-12).all()
     row = view[(view["quantity"] == "y") & (view["load"] == "9")].iloc[0]
     assert row["printed exact"] == 0.810609  # the reference from the case file, beside the methods
+
+
+def test_summary_reads_in_words_and_short_numbers(built_report):
+    index = (built_report / "index.html").read_text()
+    tables = re.findall(r"<table class='summary sortable'>.*?</table>", index, flags=re.S)
+    assert len(tables) == 2  # chapter 9, benchmarks
+    headers = {h for t in tables for h in re.findall(r"<th>(.*?)</th>", t)}
+    assert "PRBM vs FEM, max % of L" in headers and "FEM time" in headers
+    assert not [h for h in headers if "_" in h or re.fullmatch(r"[a-z]+", h)], headers  # no code identifiers
+    generated = "".join(tables) + "".join(re.findall(r"<ul class='evidence'>.*?</ul>", index, flags=re.S))
+    shown = re.sub(r"<[^>]+>", " ", generated)  # cell text, not attributes (data-value keeps the raw number)
+    numbers = re.findall(r"(?<![\w.])\d[\d.]*(?:e[+-]?\d+)?", shown)
+    assert numbers
+    too_long = [n for n in numbers if len(re.sub(r"^[0.]+", "", n.split("e")[0]).replace(".", "")) > 4]
+    assert not too_long, too_long
+
+
+def test_summary_numbers_and_sentence_say_what_the_results_say(built_report):
+    expected = summary(pd.read_csv(built_report / "results.csv")).set_index("case")
+    index = (built_report / "index.html").read_text()
+    for case in ("cantilever_tip_load", "bapat2015_test2"):
+        row = re.search(rf">{case}</a></td>(.*?)</tr>", index, flags=re.S).group(1)
+        pct = 100 * expected.loc[case, "max_prbm_fem_per_length"]
+        assert f"{pct:.3g} %</td>" in row  # the colour-scaled cell
+        assert f"PRBM within {pct:.3g} % of L of the FEM" in row  # the one-sentence result
+        page = (built_report / "cases" / f"{case}.html").read_text()
+        assert re.search(rf"<p class='lead'><b>PRBM within {re.escape(f'{pct:.3g}')} % of L", page)
+    cantilever = re.search(r">cantilever_tip_load</a></td>(.*?)</tr>", index, flags=re.S).group(1)
+    assert "agrees" in cantilever and "31 of 31" in cantilever
+    test2 = re.search(r">bapat2015_test2</a></td>(.*?)</tr>", index, flags=re.S).group(1)
+    assert ">finding<" in test2
+
+
+def test_overview_axes_are_the_fem_deflection_and_the_prbm_error():
+    result = run_case(case_by_id("cantilever_tip_load"), use_cache=False)
+    table = tabulate(result)
+    points = {p.level: p for p in overview_points([result], table)}
+    assert sorted(points) == list(range(10))
+    fem = table[table["method"] == "fem"].drop_duplicates(["quantity", "level"]).set_index(["quantity", "level"])
+    prbm = table[table["method"] == "prbm"].drop_duplicates(["quantity", "level"]).set_index(["quantity", "level"])
+    for level in (0, 9):  # the tip moves most (L = 1); the error is the larger of |dx| and |dy|
+        x, y = fem.loc[("x", level), "value"], fem.loc[("y", level), "value"]
+        assert points[level].deflection == pytest.approx(((x - 1.0) ** 2 + y ** 2) ** 0.5, rel=1e-9)
+        error = max(abs(prbm.loc[(q, level), "value"] - fem.loc[(q, level), "value"]) for q in ("x", "y"))
+        assert points[level].error_percent == pytest.approx(100 * error, rel=1e-9)
+
+
+def test_run_badge_reads_the_state_of_a_run():
+    assert run_badge(MethodRun(values={}))[0] is Badge.AGREES
+    refused = MethodRun(values={}, converged=False, message="not applicable: no PRBM for a closed ring",
+                        extras={"not_applicable": True})
+    assert run_badge(refused) == (Badge.REFUSED, "no PRBM for a closed ring")
+    assert run_badge(MethodRun(values={}, converged=False, message="error: ValueError: x"))[0] is Badge.FAILED
+    assert run_badge(MethodRun(values={}, converged=False, message="Newton stalled"))[0] is Badge.FAILED
+    status = type("Status", (), {"name": "REFUSED"})()  # a status enum, as MethodRun may carry
+    with_status = MethodRun(values={}, message="why")
+    with_status.status = status
+    assert run_badge(with_status) == (Badge.REFUSED, "why")
+
+
+def _chromium():
+    """A headless Chromium driven by selenium, or a skip saying what is missing."""
+    webdriver = pytest.importorskip("selenium.webdriver", reason="selenium is not installed")
+    binary = shutil.which("chromium") or shutil.which("chromium-browser")
+    driver_path = shutil.which("chromedriver")
+    if not binary or not driver_path:
+        pytest.skip("Chromium or chromedriver is absent (Debian: apt-get install chromium chromium-driver)")
+    from selenium.webdriver.chrome.service import Service
+
+    options = webdriver.ChromeOptions()
+    options.binary_location = binary
+    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+                 "--disable-component-update", "--no-first-run", "--window-size=1280,800"):
+        options.add_argument(flag)
+    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    return webdriver.Chrome(service=Service(driver_path), options=options)
+
+
+def test_report_in_a_real_browser(built_report):
+    browser = _chromium()
+    try:
+        pages = [built_report / "index.html", *sorted((built_report / "cases").glob("*.html"))]
+        for page in pages:
+            browser.get(page.as_uri())
+            broken = browser.execute_script(
+                "return [...document.images].filter(i => !(i.complete && i.naturalWidth > 0)).map(i => i.src)")
+            assert broken == [], f"{page.name}: images that do not load: {broken}"
+            errors = [e for e in browser.get_log("browser") if e["level"] == "SEVERE"]
+            assert errors == [], f"{page.name}: console errors {errors}"
+        browser.get((built_report / "index.html").as_uri())
+        # the first screen shows the picture of the whole validation
+        top, bottom, height = browser.execute_script(
+            "const r = document.getElementById('overview').getBoundingClientRect();"
+            "return [r.top, r.bottom, window.innerHeight]")
+        assert 0 <= top and bottom <= height, (top, bottom, height)
+        # sorting a column: click the FEM-time header of the benchmarks table (two cases), twice
+        column, table = "FEM time", 1
+        index = browser.execute_script(
+            "return [...document.querySelectorAll('table.summary')[arguments[1]].tHead.rows[0].cells]"
+            ".findIndex(c => c.innerText.trim() === arguments[0])", column, table)
+        assert index > 0
+        read = ("return [...document.querySelectorAll('table.summary')[arguments[1]].tBodies[0].rows]"
+                ".map(r => r.cells[arguments[0]].dataset.value)")
+        click = "document.querySelectorAll('table.summary')[arguments[1]].tHead.rows[0].cells[arguments[0]].click()"
+        for order in (sorted, lambda v: sorted(v, reverse=True)):
+            browser.execute_script(click, index, table)
+            values = [float(v) for v in browser.execute_script(read, index, table)]
+            assert len(values) == 2 and values[0] != values[1] and values == order(values)
+    finally:
+        browser.quit()
+
+
+def test_messages_in_the_summary_keep_four_significant_digits():
+    text = "no convergence between t = 0.209595 and 0.3 at theta20 = 15.86, EI 1.0172526e-5, r1..r4"
+    assert round_numbers(text) == "no convergence between t = 0.2096 and 0.3 at theta20 = 15.86, EI 1.017e-05, r1..r4"

@@ -28,6 +28,7 @@ against elements with the fitted growth exponent) under the output folder.
 """
 from __future__ import annotations
 
+import importlib
 import json
 import math
 import os
@@ -277,7 +278,7 @@ def _per_iteration(case, bench: BenchCase, repeats: int, with_peer: bool, cap: i
 def _peer_status() -> str:
     """'' when the OpenSeesPy peer can run here, else why not."""
     try:
-        import openseespy.opensees  # noqa: F401
+        importlib.import_module("openseespy.opensees")
     except Exception as exc:  # not installed, or a missing system BLAS
         return f"peer unavailable: OpenSeesPy cannot be imported ({exc})"
     return ""
@@ -342,7 +343,9 @@ def run_bench(out: Path, quick: bool = False, cases: list[BenchCase] | dict | No
             case_rows += got
             skipped += why
             if method == PEER and not got:
-                peer_notes[bench.label] = "peer not applicable: " + (why[0].split(": ", 1)[-1] if why else "no run")
+                reason = why[0].split(": ", 1)[-1] if why else "no run"
+                peer_notes[bench.label] = "peer " + (reason if reason.startswith("not applicable") else
+                                                     f"not applicable: {reason}")
         rows += case_rows
         if bench == BENCH_CASES[0]:
             per_iteration = _per_iteration(case, bench, repeats, not peer_status, cap)

@@ -1,10 +1,12 @@
 """Build the report an engineer reads: a summary page, a page per case, findings, reproducibility.
 
 ``prbm-validate report`` runs (or reuses the cached results of) every case and writes, under the
-output folder: ``index.html`` and ``index.md`` (summary grouped by group, findings, machine and
-versions), ``cases/<id>.html`` and ``.md`` (every output at every level for every method beside the
-printed values, with errors, and plots), ``results.csv`` (and ``results.parquet``), and the FEM's
-deformed configurations as VTU files for ParaView under ``vtu/<id>/``.
+output folder: ``index.html`` and ``index.md`` (a headline, the picture of the whole validation from
+``report_overview``, the per-chapter summary and the findings with their evidence from
+``report_summary``, machine and versions), ``cases/<id>.html`` and ``.md`` (the one-sentence result,
+plots, findings, then every output at every level for every method beside the printed values, folded),
+``results.csv`` (and ``results.parquet``), ``summary.csv``, and the ParaView series of every method
+under ``vtu/<id>/`` (``paraview``), rendered off-screen for the case page.
 """
 from __future__ import annotations
 
@@ -16,14 +18,25 @@ import platform
 import subprocess
 import sys
 import time
+from concurrent.futures import ProcessPoolExecutor
 from importlib import metadata
 from pathlib import Path
 
+import matplotlib
 import numpy as np
 import pandas as pd
 
+from validation import paraview
+from validation.paraview import normalise_shapes  # noqa: F401  (also used by tests)
 from validation.loader import find_case_files
+from validation.report_format import run_badge, sig
+from validation.report_overview import CLAIMS, overview_points, plot_overview
+from validation.report_summary import (METHOD_NAMES, case_sentence, findings, findings_html, summarise,
+                                       summary_markdown, summary_tables_html)
 from validation.runner import CaseResult, run_cases, summary
+
+matplotlib.use("Agg")  # files only, no display
+import matplotlib.pyplot as plt  # noqa: E402
 
 DEPENDENCIES = ["numpy", "scipy", "scikit-fem", "meshio", "pyvista", "pandas", "matplotlib", "pydantic",
                 "tqdm", "openseespy", "pyarrow"]
@@ -31,35 +44,48 @@ METHOD_STYLE = {"fem": ("C0", "-"), "prbm": ("C1", "--"), "elastica": ("C2", ":"
 REF_MARKER = {"PRBM": "s", "ANSYS": "^", "elliptic": "D", "measured": "o", "exact": "*", "BCM": "v",
               "chain": "P", "published": "X"}
 
-CSS = """body{font-family:system-ui,sans-serif;margin:2em;max-width:1200px;color:#222}
-table{border-collapse:collapse;margin:1em 0;font-size:13px}th,td{border:1px solid #ccc;padding:3px 6px;
-text-align:right}th{background:#eee;cursor:pointer}td:first-child,th:first-child{text-align:left}
+CSS = """body{font-family:system-ui,sans-serif;margin:1.5em 2em;max-width:1400px;color:#222}
+table{border-collapse:collapse;margin:0.6em 0;font-size:13px}th,td{border:1px solid #ccc;padding:3px 6px;
+text-align:right;vertical-align:top}th{background:#eee;cursor:pointer;user-select:none}
+th.asc::after{content:" \\25B2"}th.desc::after{content:" \\25BC"}
+td:first-child,th:first-child{text-align:left}td.sentence{text-align:left;max-width:34em}
+td.absent{color:#777;font-size:12px;text-align:left;max-width:14em}
 .bad{background:#fdd}.good{background:#dfd}.finding{background:#ffd}img{max-width:100%;border:1px solid #ddd}
+.badge{color:#fff;border-radius:3px;padding:1px 6px;font-size:12px;white-space:nowrap}
+.method{border:2px solid;border-radius:3px;padding:0 4px;margin:1px;font-size:12px;white-space:nowrap;
+display:inline-block}.lead{font-size:1.15em;margin:0.4em 0 0.8em}ul.evidence{font-size:12px;color:#444}
+details{margin:0.6em 0}summary{cursor:pointer;font-weight:600}.caption{font-size:12px;color:#444;max-width:60em}
 code{background:#f4f4f4;padding:1px 3px}"""
-SORT_JS = """document.querySelectorAll('th').forEach(th=>th.onclick=()=>{const t=th.closest('table'),
-i=[...th.parentNode.children].indexOf(th),rows=[...t.querySelectorAll('tr')].slice(1),a=th.asc=!th.asc;
-rows.sort((x,y)=>{let p=x.children[i].innerText,q=y.children[i].innerText,m=parseFloat(p),n=parseFloat(q);
-return (isNaN(m)||isNaN(n)?p.localeCompare(q):m-n)*(a?1:-1)});rows.forEach(r=>t.appendChild(r))});"""
+SORT_JS = """document.querySelectorAll('table.sortable th').forEach(th=>th.addEventListener('click',()=>{
+const i=th.cellIndex,body=th.closest('table').tBodies[0],asc=!th.classList.contains('asc');
+th.closest('tr').querySelectorAll('th').forEach(h=>h.classList.remove('asc','desc'));
+th.classList.add(asc?'asc':'desc');
+const key=r=>{const c=r.children[i],v=c.dataset.value!==undefined?c.dataset.value:c.innerText;
+const n=parseFloat(v);return v!==''&&!isNaN(n)?n:v.toLowerCase()};
+[...body.rows].sort((x,y)=>{const a=key(x),b=key(y);if(a===b)return 0;
+if(a===''||b==='')return a===''?1:-1;
+return (typeof a==typeof b?(a<b?-1:1):(typeof a=='number'?-1:1))*(asc?1:-1)})
+.forEach(r=>body.appendChild(r))}));"""
 
 
-def _fmt(value) -> str:
+def _fmt(value, digits: int = 6) -> str:
     if value is None or (isinstance(value, float) and math.isnan(value)):
         return ""
     if isinstance(value, (bool, np.bool_)):
         return "yes" if value else "no"
     if isinstance(value, (float, np.floating)):
-        return f"{value:.6g}"
+        return f"{value:.{digits}g}"
     return str(value)
 
 
-def _html_table(frame: pd.DataFrame, row_class=None) -> str:
+def _html_table(frame: pd.DataFrame, row_class=None, digits: int = 4) -> str:
     head = "".join(f"<th>{html.escape(str(c))}</th>" for c in frame.columns)
     body = []
     for _, row in frame.iterrows():
         cls = row_class(row) if row_class else ""
-        cells = "".join(f"<td>{html.escape(_fmt(v))}</td>" for v in row.values)
+        cells = "".join(f"<td>{html.escape(_fmt(v, digits))}</td>" for v in row.values)
         body.append(f"<tr class='{cls}'>{cells}</tr>")
-    return f"<table><tr>{head}</tr>{''.join(body)}</table>"
+    return f"<table class='sortable'><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
 
 
 def _md_table(frame: pd.DataFrame) -> str:
@@ -115,11 +141,6 @@ def _level_axis(result: CaseResult) -> tuple[np.ndarray, str]:
 def _plot_outputs(result: CaseResult, table: pd.DataFrame, folder: Path) -> list[str]:
     """One figure per case: a panel per output (value against load level), every method as a line,
     every printed column as markers."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     axis, label = _level_axis(result)
     outputs = list(table.dropna(subset=["quantity"]).groupby(["quantity", "point"], sort=False))
     if not outputs:
@@ -153,38 +174,11 @@ def _plot_outputs(result: CaseResult, table: pd.DataFrame, folder: Path) -> list
     return [name]
 
 
-def normalise_shapes(shapes) -> list[list[np.ndarray]]:
-    """Shapes as a list (per level) of lists of (n, 2) polylines.
-
-    Adapters may give a dict {level: ...} or a list per level, and per level one array or a list of
-    arrays, each (n, 2)/(n, >2) point rows or (2|3, n) coordinate rows (x, y[, theta])."""
-    if isinstance(shapes, dict):
-        shapes = [shapes[k] for k in sorted(shapes)]
-    out = []
-    for entry in shapes:
-        lines = [entry] if isinstance(entry, np.ndarray) else list(entry)
-        fixed = []
-        for line in lines:
-            line = np.asarray(line, float)
-            if line.ndim != 2:
-                continue
-            if line.shape[0] in (2, 3) and line.shape[1] > 3:
-                line = line[:2].T
-            fixed.append(line[:, :2])
-        out.append(fixed)
-    return out
-
-
 def _plot_shapes(result: CaseResult, folder: Path) -> str | None:
     """Deformed shapes: FEM beams as curves, PRB links dashed, measured tip points as markers."""
     shapes = {m: normalise_shapes(r.extras["shapes"]) for m, r in result.runs.items() if r.extras.get("shapes")}
     if not shapes:
         return None
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     fig, ax = plt.subplots(figsize=(6, 5))
     for method, per_level in shapes.items():
         color, style = METHOD_STYLE.get(method, ("k", "-"))
@@ -219,11 +213,6 @@ def _plot_path(result: CaseResult, folder: Path) -> str | None:
     path = run.extras.get("path") if run else None
     if not path:
         return None
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.plot(path["displacement"], path["load"], "-", color="C0", label="FEM path")
     for k, (d, p) in enumerate(path.get("limit_points", [])):
@@ -236,32 +225,6 @@ def _plot_path(result: CaseResult, folder: Path) -> str | None:
     fig.savefig(folder / name, dpi=80, bbox_inches="tight")
     plt.close(fig)
     return name
-
-
-def _write_vtu(result: CaseResult, folder: Path) -> list[str]:
-    run = result.runs.get("fem")
-    shapes = normalise_shapes(run.extras["shapes"]) if run and run.extras.get("shapes") else None
-    if not shapes:
-        return []
-    import meshio
-
-    target = folder / result.loaded.id
-    target.mkdir(parents=True, exist_ok=True)
-    files = []
-    for level, polylines in enumerate(shapes):
-        points, cells = [], []
-        for line in polylines:
-            line = np.asarray(line, float)
-            start = len(points)
-            points.extend(line.tolist())
-            cells.extend([[start + k, start + k + 1] for k in range(len(line) - 1)])
-        if not cells:
-            continue
-        xyz = np.column_stack([np.asarray(points), np.zeros(len(points))])
-        name = target / f"level_{level:03d}.vtu"
-        meshio.write(name, meshio.Mesh(xyz, [("line", np.asarray(cells))]))
-        files.append(str(name.relative_to(folder.parent)))
-    return files
 
 
 def glance(table: pd.DataFrame) -> pd.DataFrame:
@@ -295,6 +258,15 @@ def glance(table: pd.DataFrame) -> pd.DataFrame:
     return out.drop(columns=["level"])
 
 
+def _case_files(result: CaseResult, out: Path) -> tuple[list[str], str | None]:
+    """The ParaView series of the case under ``vtu/<id>/`` and their off-screen rendering (or None)."""
+    cid = result.loaded.id
+    pvds = paraview.write_case_series(result.loaded.case, result.runs, out / "vtu" / cid)
+    render = paraview.render_series(pvds, out / "cases" / f"{cid}_render.png",
+                                    f"{cid}: last level") if pvds else None
+    return [str(p.relative_to(out)) for p in pvds], render.name if render else None
+
+
 def _prb_model(result: CaseResult) -> tuple[pd.DataFrame | None, str | None]:
     """The PRBM adapter's record of the model it built for each beam (mechanisms without hand-given
     links): beam, model, how its ends are held, pivots, springs, gamma, K_Theta and why."""
@@ -313,50 +285,64 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
     cid = case.case.id
     folder = out / "cases"
     images = _plot_outputs(result, table, folder)
-    for extra in (_plot_shapes(result, folder), _plot_path(result, folder)):
+    for extra in (_plot_path(result, folder), _plot_shapes(result, folder)):
         if extra:
             images.insert(0, extra)
-    vtus = _write_vtu(result, out / "vtu")
-    cols = ["method", "quantity", "point", "level_label", "value", "unit", "error_estimate",
-            "reference_label", "reference_value", "abs_error", "rel_error", "norm_error", "within_tolerance",
-            "converged"]
-    shown = table.dropna(subset=["quantity"])[cols].rename(columns={"level_label": "level"})
-    runs = pd.DataFrame([dict(method=m, converged=r.converged, wall_time_s=r.wall_time,
-                              message=r.message[:300]) for m, r in result.runs.items()])
+    pvds, render = _case_files(result, out)
+    if render:
+        images.append(render)
+    cols = {"method": "method", "quantity": "quantity", "point": "point", "level_label": "load level",
+            "value": "value", "unit": "unit", "error_estimate": "FEM error estimate",
+            "reference_label": "printed column", "reference_value": "printed value",
+            "abs_error": "absolute error", "rel_error": "relative error",
+            "norm_error": "error / characteristic length", "within_tolerance": "within stated tolerance",
+            "converged": "converged"}
+    shown = table.dropna(subset=["quantity"])[list(cols)].rename(columns=cols)
+    badges = [(m, *run_badge(r), r) for m, r in result.runs.items()]
+    runs = pd.DataFrame([{"method": METHOD_NAMES.get(m, m), "status": b.value, "time [s]": r.wall_time,
+                          "message": r.message[:300]} for m, b, _, r in badges])
     source = case.case.source.label() if case.case.source else ""
-    findings = table.dropna(subset=["finding"]).drop_duplicates(["quantity", "point", "level",
-                                                                 "reference_label"])
-    head = (f"<p><a href='../index.html'>all cases</a></p><h1>{html.escape(case.case.title)}</h1>"
+    items = findings([result], table)
+    sentence = case_sentence(result, table)
+    status = " ".join(f"{METHOD_NAMES.get(m, m)} {b.html(w)}" for m, b, w, _ in badges)
+    body = (f"<p><a href='../index.html'>all cases</a></p><h1>{html.escape(case.case.title)}</h1>"
+            f"<p class='lead'><b>{html.escape(sentence)}</b></p><p>{status}</p>"
             f"<p><b>id</b> <code>{cid}</code> &middot; <b>group</b> {html.escape(case.case.group)} &middot; "
-            f"<b>units</b> {case.case.units} &middot; <b>source</b> {html.escape(source)}</p>"
-            f"<p>{html.escape(case.case.description)}</p>")
+            f"<b>units</b> {case.case.units} &middot; <b>source</b> {html.escape(source)}</p>")
+    body += "".join(f"<p><img src='{name}' alt='{name}'></p>" for name in images[:2])
+    if items:
+        body += "<h2>Findings</h2>" + findings_html(items, {cid: f"{cid}.html"}, shown=6)
+    body += "".join(f"<p><img src='{name}' alt='{name}'></p>" for name in images[2:])
+    details = f"<p>{html.escape(case.case.description)}</p>"
     if case.case.assumptions:
-        head += "<h3>Assumptions</h3><ul>" + "".join(f"<li>{html.escape(a)}</li>"
-                                                     for a in case.case.assumptions) + "</ul>"
+        details += "<h3>Assumptions</h3><ul>" + "".join(f"<li>{html.escape(a)}</li>"
+                                                        for a in case.case.assumptions) + "</ul>"
+    body += f"<details><summary>Description and assumptions</summary>{details}</details>"
+    body += f"<details><summary>Methods: status, time, message</summary>{_html_table(runs)}</details>"
     at_a_glance = glance(table)
-    body = head + "<h2>Methods</h2>" + _html_table(runs)
     prb_model, prb_lock = _prb_model(result)
     if prb_model is not None:
         body += ("<h2>PRB model built from the geometry</h2>"
-                 + (f"<p><b>Lock:</b> {html.escape(prb_lock)}</p>" if prb_lock else "") + _html_table(prb_model))
+                 + (f"<p><b>Lock:</b> {html.escape(prb_lock)}</p>" if prb_lock else "")
+                 + f"<details><summary>Each beam's model, pivots and springs</summary>{_html_table(prb_model)}"
+                 "</details>")
     if len(at_a_glance):
-        body += ("<h2>At a glance</h2><p>Each method's value beside the printed columns; differences are "
-                 "in the output's unit (FEM - exact uses the exact elastica where the case runs it; "
-                 "'fem ± (estimate)' is the FEM's own Richardson error estimate).</p>" + _html_table(at_a_glance))
-    if len(findings) or case.case.findings:
-        body += "<h2>Findings</h2><ul>" + "".join(f"<li>{html.escape(f)}</li>" for f in case.case.findings) + "".join(
-            f"<li>{html.escape(str(r['reference_label']))} {r['quantity']} level {r['level_label']}: "
-            f"{html.escape(str(r['finding']))}</li>" for _, r in findings.iterrows()) + "</ul>"
-    body += "<h2>Plots</h2>" + "".join(f"<p><img src='{name}' alt='{name}'></p>" for name in images)
-    body += ("<h2>Every output</h2><p>rel_error is relative to the printed value; norm_error is the "
-             "absolute error over the characteristic length (useful where a value is near zero).</p>")
-    body += _html_table(shown, lambda r: "" if pd.isna(r["within_tolerance"])
-                        else ("good" if r["within_tolerance"] else "bad"))
-    if vtus:
-        body += "<h2>ParaView</h2><ul>" + "".join(f"<li><a href='../{v}'>{v}</a></li>" for v in vtus) + "</ul>"
+        body += ("<details><summary>At a glance: every method beside the printed columns</summary><p>Differences "
+                 "are in the output's unit (FEM - exact uses the exact elastica where the case runs it; "
+                 "'fem ± (estimate)' is the FEM's own Richardson error estimate).</p>"
+                 + _html_table(at_a_glance) + "</details>")
+    body += ("<details><summary>Every output (full precision)</summary><p>The relative error is relative to "
+             "the printed value; error / characteristic length is the absolute error over the segment length "
+             "or the mechanism's extent (useful where a value is near zero).</p>")
+    body += _html_table(shown, lambda r: "" if pd.isna(r["within stated tolerance"])
+                        else ("good" if r["within stated tolerance"] else "bad"), digits=6) + "</details>"
+    if pvds:
+        body += ("<details><summary>ParaView files</summary><p>One <code>.pvd</code> series per method, "
+                 "time = the case's first load; open it in ParaView and colour by the point data.</p><ul>"
+                 + "".join(f"<li><a href='../{v}'>{v}</a></li>" for v in pvds) + "</ul></details>")
     (folder / f"{cid}.html").write_text(_page(case.case.title, body))
-    md = [f"# {case.case.title}\n", f"`{cid}` · {case.case.group} · units {case.case.units} · {source}\n",
-          case.case.description + "\n"]
+    md = [f"# {case.case.title}\n", f"**{sentence}**\n",
+          f"`{cid}` · {case.case.group} · units {case.case.units} · {source}\n", case.case.description + "\n"]
     md += [f"- {a}" for a in case.case.assumptions]
     md += ["\n## Methods\n", _md_table(runs)]
     if prb_model is not None:
@@ -370,12 +356,19 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
     return cid, f"cases/{cid}.html"
 
 
+def _code_digest() -> str:
+    """The source of the modules that draw a case page: a page is rewritten when they change."""
+    here = Path(__file__).parent
+    names = ["report.py", "report_format.py", "report_summary.py", "paraview.py"]
+    return hashlib.sha256(b"".join((here / n).read_bytes() for n in names)).hexdigest()
+
+
 def _page_job(args) -> tuple[str, str]:
     """Write one case page unless its digest (case text and results) is unchanged since last time."""
     result, part, out = args
     cid = result.loaded.id
     stable = part.drop(columns=["wall_time", "cached"])  # what a page shows, less the timings
-    digest = hashlib.sha256((result.loaded.text + stable.to_csv(index=False)).encode()).hexdigest()
+    digest = hashlib.sha256((result.loaded.text + stable.to_csv(index=False) + _code_digest()).encode()).hexdigest()
     stamp = out / "cases" / f"{cid}.digest"
     if stamp.exists() and stamp.read_text() == digest and (out / "cases" / f"{cid}.html").exists():
         return cid, f"cases/{cid}.html"
@@ -387,11 +380,34 @@ def _page_job(args) -> tuple[str, str]:
 def _build_pages(results: list[CaseResult], table: pd.DataFrame, out: Path, jobs: int):
     tasks = [(r, table[table["case"] == r.loaded.id], out) for r in results]
     if jobs > 1 and len(tasks) > 1:
-        from concurrent.futures import ProcessPoolExecutor
-
         with ProcessPoolExecutor(max_workers=jobs) as pool:
             return list(pool.map(_page_job, tasks, chunksize=4))
     return [_page_job(t) for t in tasks]
+
+
+OVERVIEW_CAPTION = (
+    "Each dot is one load level of one case where both the PRBM and the FEM give a position: x is the "
+    "largest FEM displacement over the characteristic length L, y the largest PRBM-to-FEM position "
+    "difference in % of L; colour = the PRBM segment model. Lines: the seeds' printed accuracy claims ("
+    + "; ".join(c.label for c in CLAIMS) + "). Seed 004 (the lecture) prints no numeric accuracy, only that "
+    "its n-fits work 'comfortably and quite accurately' within their n-ranges.")
+
+
+def headline(rows) -> str:
+    """The first sentence of the summary: how far the PRBM is from the FEM, over how many cases."""
+    compared = [r for r in rows if not math.isnan(r.prbm_fem_length)]
+    counts = {}
+    for r in rows:
+        counts[r.badge.value] = counts.get(r.badge.value, 0) + 1
+    words = {"agrees": "agree", "finding": "with findings", "refused": "with a method refused", "failed": "failed"}
+    states = ", ".join(f"{n} {words[state]}" for state, n in counts.items())
+    if not compared:
+        return f"{len(rows)} cases ({states}); none compares the PRBM with the FEM on a position."
+    worst = max(compared, key=lambda r: r.prbm_fem_length)
+    within = sum(r.prbm_fem_length <= 0.01 for r in compared)
+    return (f"{len(rows)} cases ({states}). The PRBM is within 1 % of L of the FEM on {within} of the "
+            f"{len(compared)} cases that compare positions; the largest difference is "
+            f"{sig(100 * worst.prbm_fem_length, 3)} % of L ({worst.case}).")
 
 
 def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[str] | None = None) -> int:
@@ -410,38 +426,31 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     summ = summary(table) if len(table) else pd.DataFrame()
     links = dict(_build_pages(outcome.results, table, out, jobs))
     summ.to_csv(out / "summary.csv", index=False)
-
+    rows = [summarise(r, table[table["case"] == r.loaded.id]) for r in outcome.results]
+    plot_overview(overview_points(outcome.results, table), out / "overview.png")
+    items = findings(outcome.results, table)
     failed = outcome.failed_comparisons
-    finding_rows = table.dropna(subset=["finding"]).drop_duplicates(
-        ["case", "quantity", "point", "level", "reference_label"])
     info = reproducibility()
-    body = ["<h1>PRBM validation report</h1>",
-            f"<p>{len(outcome.results)} cases, {len(table)} result rows, built in "
-            f"{time.perf_counter() - started:.1f} s.</p>"]
-    md = ["# PRBM validation report\n", f"{len(outcome.results)} cases.\n"]
-    for group, part in summ.groupby("group", sort=True) if len(summ) else []:
-        part = part.copy()
-        part["case"] = [f"<a href='{links.get(c, '#')}'>{c}</a>" for c in part["case"]]
-        body.append(f"<h2>{html.escape(group)}</h2>")
-        body.append(_html_table(part.drop(columns="group"), lambda r: "bad" if r["failed"] else "")
-                    .replace("&lt;a href=&#x27;", "<a href='").replace("&#x27;&gt;", "'>")
-                    .replace("&lt;/a&gt;", "</a>"))
-        md += [f"\n## {group}\n", _md_table(summ[summ["group"] == group].drop(columns="group"))]
-    body.append("<h2>Findings: printed numbers not reproduced, and comparisons outside their tolerance</h2>")
-    items = [f"<li><b>{r.loaded.id}</b>: {html.escape(f)}</li>" for r in outcome.results
-             for f in r.loaded.case.case.findings]
-    items += [f"<li><b>{r['case']}</b> {r['reference_label']} {r['quantity']} level {r['level_label']}: "
-             f"{html.escape(str(r['finding']))}</li>" for _, r in finding_rows.iterrows()]
-    items += [f"<li class='bad'><b>{r['case']}</b> {r['method']} {r['quantity']}@{r['point']} level "
-              f"{r['level_label']}: {r['value']:.6g} vs printed {r['reference_label']} {r['reference_value']:.6g} "
-              f"(rel {r['rel_error']:.3g}) outside the claimed tolerance</li>" for _, r in failed.iterrows()]
-    body.append("<ul>" + "".join(items) + "</ul>" if items else "<p>none</p>")
-    md.append("\n## Findings\n")
-    md += [f"- {r.loaded.id}: {f}" for r in outcome.results for f in r.loaded.case.case.findings]
-    md += [f"- {r['case']} {r['reference_label']} {r['quantity']} level {r['level_label']}: {r['finding']}"
-           for _, r in finding_rows.iterrows()]
-    md += [f"- **outside tolerance** {r['case']} {r['method']} {r['quantity']} level {r['level_label']}"
-           for _, r in failed.iterrows()]
+    body = ["<h1>PRBM validation report</h1>", f"<p class='lead'>{html.escape(headline(rows))}</p>",
+            "<p><img id='overview' src='overview.png' alt='PRBM error against deflection, every case and load "
+            "level'></p>", f"<p class='caption'>{html.escape(OVERVIEW_CAPTION)} <a href='overview.svg'>The same "
+            "picture as SVG</a>: click a dot to open its case.</p>",
+            "<h2>Cases</h2><p class='caption'>Click a header to sort. Colour: PRBM error from green (at most "
+            "0.5 % of L) to red (10 % of L or more). Hover a status or a method for the reason.</p>",
+            summary_tables_html(rows, links),
+            "<h2>Findings and their evidence</h2><p class='caption'>Printed numbers not reproduced, misprints, "
+            "and readings of the source that decide the answer.</p>", findings_html(items, links)]
+    md = ["# PRBM validation report\n", headline(rows) + "\n", "![overview](overview.png)\n",
+          OVERVIEW_CAPTION + "\n", summary_markdown(rows), "\n## Findings\n"]
+    md += [f"- {f.case}: {f.text}" + "".join(f"\n  - {e}" for e in f.evidence[:3]) for f in items]
+    if len(failed):
+        body.append("<h2>Comparisons outside their stated tolerance</h2><ul>" + "".join(
+            f"<li class='bad'><a href='{links.get(r['case'], '#')}'>{r['case']}</a> "
+            f"{METHOD_NAMES.get(r['method'], r['method'])} {r['quantity']} at {r['level_label']}: "
+            f"{sig(r['value'])} against printed {r['reference_label']} {sig(r['reference_value'])}</li>"
+            for _, r in failed.iterrows()) + "</ul>")
+        md += [f"- **outside tolerance** {r['case']} {r['method']} {r['quantity']} at {r['level_label']}"
+               for _, r in failed.iterrows()]
     if outcome.errors:
         body.append("<h2>Bad case files</h2><ul>" + "".join(f"<li>{html.escape(e)}</li>"
                                                               for e in outcome.errors) + "</ul>")

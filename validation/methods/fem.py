@@ -560,6 +560,7 @@ def _run_forward(fem, case, requests: list[Request], options: dict) -> MethodRun
               "rejected_iterations": getattr(result, "rejected_iterations", 0)}
     if result is not None and result.n_levels:
         extras["shapes"] = _shapes(result)
+        extras["fields"] = result.field_series()  # point data for the ParaView series
         path = _continuation_path(case, result)
         if path:
             extras["path"] = path

@@ -1,0 +1,149 @@
+"""ParaView files: the FEM's point data obey statics, the series read back with meshio and pyvista
+hold the arrays, lengths and time values the case implies, and the PRBM links are written."""
+import math
+import xml.etree.ElementTree as ET
+
+import meshio
+import numpy as np
+import pytest
+
+import fem
+from validation import paraview
+from validation.loader import case_by_id
+from validation.runner import run_case
+
+
+@pytest.fixture(scope="module")
+def tip_loaded_cantilever():
+    """A rectangular cantilever (E = 1e4, 1 x 0.05, L = 1) with an upward tip force P = 0.5, 1."""
+    model = fem.Model()
+    model.add_node("root", 0.0, 0.0)
+    model.add_node("tip", 1.0, 0.0)
+    model.add_member("root", "tip", fem.Section.rectangle(1e4, 1.0, 0.05), n_elements=32)
+    model.add_support("root", "fixed")
+    model.add_force("tip", 0.0, np.array([0.5, 1.0]))
+    return fem.solve(model), 1.0
+
+
+def test_fem_nodal_fields_obey_statics(tip_loaded_cantilever):
+    result, P = tip_loaded_cantilever
+    fields = result.nodal_fields(1)
+    xy = result.mesh_positions[1]
+    x_tip, y_tip = result.position("tip", 1)
+    # a vertical tip force P: the bending moment at any section is P times the horizontal lever arm
+    np.testing.assert_allclose(fields.bending_moment, P * (x_tip - xy[:, 0]), atol=1e-9 * P)
+    EI = 1e4 * 0.05**3 / 12
+    np.testing.assert_allclose(fields.curvature, fields.bending_moment / EI, rtol=1e-9, atol=1e-12)
+    # the axial force of an element is the force's component along its chord, P sin(beta) (tension
+    # positive); a node takes the mean of the elements meeting there
+    conn = result.connectivity
+    chord = xy[conn[:, 1]] - xy[conn[:, 0]]
+    along = P * chord[:, 1] / np.hypot(*chord.T)
+    count = np.bincount(conn.ravel(), minlength=len(xy))
+    expected = (np.bincount(conn[:, 0], along, len(xy)) + np.bincount(conn[:, 1], along, len(xy))) / count
+    np.testing.assert_allclose(fields.axial_force, expected, atol=1e-6 * P)
+    # displacement is position minus the undeformed mesh; the tip's is (x_tip - 1, y_tip)
+    tip = np.argmin(np.hypot(*(xy - [x_tip, y_tip]).T))
+    np.testing.assert_allclose(fields.displacement[tip], [x_tip - 1.0, y_tip], atol=1e-12)
+    # the largest bending stress at the root: M c / I + N / A of the first element
+    root = np.argmin(np.hypot(*xy.T))
+    c, I, A = 0.025, 0.05**3 / 12, 0.05
+    expected = fields.bending_moment[root] * c / I + abs(fields.axial_force[root]) / A
+    assert fields.bending_stress[root] == pytest.approx(expected, rel=1e-9)  # one element meets the root
+
+
+@pytest.fixture(scope="module")
+def cantilever_files(tmp_path_factory):
+    result = run_case(case_by_id("cantilever_tip_load"), use_cache=False)
+    folder = tmp_path_factory.mktemp("vtu")
+    return result, paraview.write_case_series(result.loaded.case, result.runs, folder)
+
+
+def _times(pvd):
+    return [float(d.get("timestep")) for d in ET.parse(pvd).getroot().iter("DataSet")]
+
+
+def test_cantilever_series_read_back(cantilever_files):
+    result, files = cantilever_files
+    assert sorted(p.name for p in files) == ["elastica.pvd", "fem.pvd", "prbm.pvd"]
+    case = result.loaded.case
+    loads = list(case.loads[0].levels())
+    fem_pvd = next(p for p in files if p.stem == "fem")
+    assert _times(fem_pvd) == pytest.approx(loads)  # one time per load level, the load's value
+    folder = fem_pvd.parent
+    for k in range(case.n_levels()):
+        mesh = meshio.read(folder / f"fem_{k:04d}.vtu")
+        arrays = set(mesh.point_data)
+        assert {"displacement", "rotation", "bending_moment", "axial_force", "curvature"} <= arrays
+        assert all(len(v) == len(mesh.points) for v in mesh.point_data.values())
+    last = meshio.read(folder / f"fem_{case.n_levels() - 1:04d}.vtu")
+    tip = np.argmax(last.points[:, 0] - last.point_data["displacement"][:, 0])  # undeformed x = L
+    run = result.runs["fem"]
+    y_tip = next(v for r, v in run.values.items() if r.quantity == "y" and r.level == case.n_levels() - 1)
+    rotation = next(v for r, v in run.values.items() if r.quantity == "rotation" and r.level == case.n_levels() - 1)
+    assert last.point_data["displacement"][tip, 1] == pytest.approx(y_tip, rel=1e-3)
+    assert last.point_data["rotation"][tip] == pytest.approx(rotation, rel=1e-3)  # degrees, as the outputs
+    undeformed = meshio.read(folder / "fem_undeformed.vtu")
+    assert np.allclose(undeformed.points[:, 1], 0.0) and undeformed.points[:, 0].max() == pytest.approx(1.0)
+    prbm = meshio.read(folder / "prbm_0009.vtu")
+    assert len(prbm.cells_dict["line"]) == 2 and len(prbm.cells_dict["vertex"]) == 3  # two links, pivots
+    elastica = meshio.read(folder / "elastica_0009.vtu")
+    length = np.hypot(*np.diff(elastica.points[:, :2], axis=0).T).sum()
+    assert length == pytest.approx(1.0, rel=1e-3)  # the inextensible centreline keeps its length
+
+
+def test_pyvista_opens_the_series_and_renders(cantilever_files, tmp_path):
+    pv = pytest.importorskip("pyvista")
+    result, files = cantilever_files
+    fem_pvd = next(p for p in files if p.stem == "fem")
+    reader = pv.get_reader(str(fem_pvd))
+    assert len(reader.time_values) == result.loaded.case.n_levels()
+    reader.set_active_time_point(len(reader.time_values) - 1)
+    block = reader.read()
+    assert len(block[0].point_data.keys()) >= 4
+    png = paraview.render_series(files, tmp_path / "render.png", "cantilever")
+    if png is None:
+        pytest.skip("pyvista cannot render here")
+    picture = pv.read(str(png))
+    pixels = np.asarray(picture.point_data[picture.point_data.keys()[0]])
+    assert pixels.std() > 0  # not a blank picture
+
+
+def test_test2_file_holds_the_prbm_links(tmp_path):
+    result = run_case(case_by_id("bapat2015_test2"), methods=["prbm"], use_cache=False)
+    files = paraview.write_case_series(result.loaded.case, result.runs, tmp_path)
+    assert [p.stem for p in files] == ["prbm"]
+    mesh = meshio.read(tmp_path / "prbm_0000.vtu")
+    # the four-bar O2-A-B-O4 (3 links) and the coupler triangle A-P-B (2 segments)
+    assert len(mesh.cells_dict["line"]) == 5
+    assert not math.isnan(mesh.points.sum())
+
+
+def test_all_methods_collection_has_one_part_per_method(cantilever_files):
+    result, files = cantilever_files
+    root = ET.parse(files[0].parent / "all_methods.pvd").getroot()
+    parts = {}
+    for entry in root.iter("DataSet"):
+        parts.setdefault(entry.get("part"), []).append(entry.get("file"))
+    assert sorted(len(v) for v in parts.values()) == [10, 10, 10]
+    assert {f.split("_")[0] for files_ in parts.values() for f in files_} == {"fem", "prbm", "elastica"}
+    assert all((files[0].parent / f).exists() for files_ in parts.values() for f in files_)
+
+
+def test_a_method_that_drew_some_levels_keeps_their_load_as_time(cantilever_files):
+    result, _ = cantilever_files
+    shapes = result.runs["elastica"].extras["shapes"]
+    some = {9: shapes[9], 2: shapes[2]}
+    series = paraview.elastica_series(result.loaded.case, some)
+    assert series.times == [3.0, 10.0]  # levels 2 and 9 of P L^2/EI = 1..10
+
+
+def test_fem_library_export_writes_the_series(tip_loaded_cantilever, tmp_path):
+    result, _ = tip_loaded_cantilever
+    paths = result.to_vtu(str(tmp_path / "beam"))
+    assert _times(tmp_path / "beam.pvd") == pytest.approx(list(result.load_factor))
+    last = meshio.read(paths[-1])
+    assert set(last.point_data) == {"displacement", "rotation", "curvature", "bending_moment", "axial_force",
+                                    "bending_stress"}  # a rectangle knows E and c: stress too
+    np.testing.assert_allclose(last.point_data["bending_moment"], result.nodal_fields(1).bending_moment)
+    assert len(meshio.read(tmp_path / "beam_undeformed.vtu").points) == len(last.points)
