@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import sys
+import time
 import timeit
 
 import numpy as np
@@ -19,6 +20,13 @@ import prbm
 def best(stmt, number: int, repeat: int = 5) -> float:
     """Best time per call, seconds."""
     return min(timeit.repeat(stmt, number=number, repeat=repeat)) / number
+
+
+def best_cpu(stmt, number: int, repeat: int = 5) -> float:
+    """Best CPU time per call, seconds (``time.process_time``: on a machine shared by other jobs the
+    wall time also counts the time this process waits for a core)."""
+    timer = timeit.Timer(stmt, timer=time.process_time)
+    return min(timer.repeat(number=number, repeat=repeat)) / number
 
 
 def adapter_rows() -> list[tuple[str, float, str]]:
@@ -64,9 +72,9 @@ def library_rows() -> list[tuple[str, float]]:
     return rows
 
 
-def network_rows() -> list[tuple[str, float, float | None]]:
-    """(what, best seconds per load level of the PRB network after warm-up, FEM seconds per level of
-    the same case or None): the network built by rule for seed004_parallel_guided (ground, two middle
+def network_rows() -> list[tuple[str, float, float, float | None]]:
+    """(what, best wall and CPU seconds per load level of the PRB network after warm-up, FEM wall
+    seconds per level of the same case or None): the network built by rule for seed004_parallel_guided (ground, two middle
     links, coupler: four links), solved one level at a time and over its 8 levels; the chapter-9
     Test 2 four-bar under one design torque."""
     from validation.loader import case_by_id
@@ -83,17 +91,21 @@ def network_rows() -> list[tuple[str, float, float | None]]:
     prbm.solve(net, one, 1)  # warm-up: the network's mobility analysis is done once
     run_method(case, "fem")
     fem = min(timeit.repeat(lambda: run_method(case, "fem"), number=1, repeat=3)) / n
-    rows.append(("parallel-guided network, 1 level from the unloaded pose", best(lambda: prbm.solve(net, one, 1), 50), fem))
+    rows.append(("parallel-guided network, 1 level from the unloaded pose",
+                 best(lambda: prbm.solve(net, one, 1), 50), best_cpu(lambda: prbm.solve(net, one, 1), 50), fem))
     rows.append(("parallel-guided network, per level of 8 (stability on)",
-                 best(lambda: prbm.solve(net, all_loads, n), 20) / n, fem))
+                 best(lambda: prbm.solve(net, all_loads, n), 20) / n,
+                 best_cpu(lambda: prbm.solve(net, all_loads, n), 20) / n, fem))
     rows.append(("parallel-guided network, per level of 8 (stability off)",
-                 best(lambda: prbm.solve(net, all_loads, n, stability=False), 20) / n, fem))
+                 best(lambda: prbm.solve(net, all_loads, n, stability=False), 20) / n,
+                 best_cpu(lambda: prbm.solve(net, all_loads, n, stability=False), 20) / n, fem))
     fb = prbm.FourBar(3.902 - 0.8802j, 4.754 + 2.767j, 6.249 - 2.176j, 7.099 + 1.471j, 7.929 - 0.148j,
                       springs=(38.356, 0, 0, 0), theta_free=(math.radians(15.86), -0.4958, -0.1057))
     net4 = fb.network()
     torque = [prbm.Couple("link2", (9.75,))]
     prbm.solve(net4, torque, 1)
-    rows.append(("Test 2 four-bar network, 1 design torque", best(lambda: prbm.solve(net4, torque, 1), 50), None))
+    rows.append(("Test 2 four-bar network, 1 design torque", best(lambda: prbm.solve(net4, torque, 1), 50),
+                 best_cpu(lambda: prbm.solve(net4, torque, 1), 50), None))
     return rows
 
 
@@ -101,10 +113,11 @@ def main() -> None:
     if "--cases-only" not in sys.argv:
         rows = network_rows()
         width = max(len(r[0]) for r in rows)
-        print(f"{'PRB network (one load level, after warm-up)':<{width}}  {'PRBM':>10}  {'FEM same case':>14}")
-        for name, t, fem in rows:
+        print(f"{'PRB network (one load level, after warm-up)':<{width}}  {'PRBM wall':>10}  {'PRBM CPU':>10}  "
+              f"{'FEM same case':>14}")
+        for name, t, cpu, fem in rows:
             fem_text = f"{fem * 1e3:11.1f} ms" if fem is not None else ""
-            print(f"{name:<{width}}  {t * 1e3:7.3f} ms  {fem_text:>14}")
+            print(f"{name:<{width}}  {t * 1e3:7.3f} ms  {cpu * 1e3:7.3f} ms  {fem_text:>14}")
         print()
         rows = library_rows()
         width = max(len(r[0]) for r in rows)

@@ -2,12 +2,18 @@
 shooting calls once per Newton iteration.
 
 ``elastica_rhs`` is the one place the beam equations are written (normalised by L and EI; `shooting`
-explains them), with the variational equations of the state w.r.t. (m(0), Fx, Fy):
+explains them), with the variational equations of the state w.r.t. (m(0), Fx, Fy) and the uniform
+distributed load (wx, wy), whose outboard resultant adds to the force carried across the section,
+N(s) = F + w (1 - s):
 
-    x' = cos(theta),  y' = sin(theta),  theta' = kappa0 + m,  m' = Fx sin(theta) - Fy cos(theta),
+    x' = cos(theta),  y' = sin(theta),  theta' = kappa0 + m,  m' = Nx sin(theta) - Ny cos(theta),
     U' = m^2/2,
     (dx)' = -sin(theta) dtheta,  (dy)' = cos(theta) dtheta,  (dtheta)' = dm,
-    (dm)' = (Fx cos(theta) + Fy sin(theta)) dtheta + [0, sin(theta), -cos(theta)].
+    (dm)' = (Nx cos(theta) + Ny sin(theta)) dtheta + [0, sin(theta), -cos(theta), (1 - s) sin(theta),
+            -(1 - s) cos(theta)].
+
+State layout (STATE_SIZE = 25): [x, y, theta, m, U], then the sensitivities of (x, y, theta, m) to
+(m0, Fx, Fy) row-major (indices 5-16), then their sensitivities to (wx, wy) row-major (17-24).
 
 ``dop853`` is scipy's ``solve_ivp(method="DOP853")`` (Hairer, Norsett & Wanner, Solving ODEs I,
 sec. II.5 and II.4 for the first step) step for step: the same coefficients (scipy's own tables),
@@ -25,7 +31,7 @@ from scipy.integrate._ivp import dop853_coefficients as _coef   # the tables sci
 
 __all__ = ["STATE_SIZE", "elastica_rhs", "integrate_dop853", "integrate_samples"]
 
-STATE_SIZE = 17
+STATE_SIZE = 25
 _N_STAGES = _coef.N_STAGES
 _A = np.ascontiguousarray(_coef.A[:_N_STAGES, :_N_STAGES])
 _B = np.ascontiguousarray(_coef.B)
@@ -36,16 +42,18 @@ SAFETY, MIN_FACTOR, MAX_FACTOR, ERROR_EXPONENT = 0.9, 0.2, 10.0, -1.0 / 8.0
 
 
 @njit(cache=True)
-def elastica_rhs(s, Y, Fx, Fy, k0, out):
-    """dY/ds into ``out``. Y = [x, y, theta, m, U, then dx, dy, dtheta, dm w.r.t. (m0, Fx, Fy)
-    row-major]; tip force (Fx, Fy), initial curvature k0 (all normalised)."""
+def elastica_rhs(s, Y, Fx, Fy, k0, out, wx=0.0, wy=0.0):
+    """dY/ds into ``out`` (layout in the module docstring); tip force (Fx, Fy), initial curvature k0,
+    distributed load (wx, wy) per unit length (all normalised)."""
     th, m = Y[2], Y[3]
     c, sn = math.cos(th), math.sin(th)
-    g = Fx * c + Fy * sn
+    outboard = 1.0 - s
+    Nx, Ny = Fx + wx * outboard, Fy + wy * outboard
+    g = Nx * c + Ny * sn
     out[0] = c
     out[1] = sn
     out[2] = k0 + m
-    out[3] = Fx * sn - Fy * c
+    out[3] = Nx * sn - Ny * c
     out[4] = 0.5 * m * m
     for k in range(3):
         t_k = Y[11 + k]
@@ -55,6 +63,14 @@ def elastica_rhs(s, Y, Fx, Fy, k0, out):
         out[14 + k] = g * t_k
     out[15] += sn
     out[16] -= c
+    for k in range(2):                      # sensitivities to (wx, wy)
+        t_k = Y[21 + k]
+        out[17 + k] = -sn * t_k
+        out[19 + k] = c * t_k
+        out[21 + k] = Y[23 + k]
+        out[23 + k] = g * t_k
+    out[23] += outboard * sn
+    out[24] -= outboard * c
 
 
 @njit(cache=True)
@@ -63,12 +79,12 @@ def _rms(v):
 
 
 @njit(cache=True)
-def _dop853(y0, t0, t1, Fx, Fy, k0, rtol, atol):
+def _dop853(y0, t0, t1, Fx, Fy, k0, rtol, atol, wx, wy):
     A, B, C, E3, E5 = _A, _B, _C, _E3, _E5     # global arrays: compile-time constants for numba
     n = y0.size
     K = np.empty((A.shape[0] + 1, n))
     f = np.empty(n)
-    elastica_rhs(t0, y0, Fx, Fy, k0, f)
+    elastica_rhs(t0, y0, Fx, Fy, k0, f, wx, wy)
     y = y0.copy()
     interval = t1 - t0
     if interval <= 0.0:
@@ -79,7 +95,7 @@ def _dop853(y0, t0, t1, Fx, Fy, k0, rtol, atol):
     h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
     h0 = min(h0, interval)
     f1 = np.empty(n)
-    elastica_rhs(t0 + h0, y0 + h0 * f, Fx, Fy, k0, f1)
+    elastica_rhs(t0 + h0, y0 + h0 * f, Fx, Fy, k0, f1, wx, wy)
     d2 = _rms((f1 - f) / scale) / h0
     if d1 <= 1e-15 and d2 <= 1e-15:
         h1 = max(1e-6, h0 * 1e-3)
@@ -109,13 +125,13 @@ def _dop853(y0, t0, t1, Fx, Fy, k0, rtol, atol):
                     for j in range(s):
                         acc += K[j, i] * A[s, j]
                     stage[i] = y[i] + acc * h
-                elastica_rhs(t + C[s] * h, stage, Fx, Fy, k0, K[s])
+                elastica_rhs(t + C[s] * h, stage, Fx, Fy, k0, K[s], wx, wy)
             for i in range(n):
                 acc = 0.0
                 for j in range(B.size):
                     acc += K[j, i] * B[j]
                 y_new[i] = y[i] + h * acc
-            elastica_rhs(t + h, y_new, Fx, Fy, k0, K[K.shape[0] - 1])
+            elastica_rhs(t + h, y_new, Fx, Fy, k0, K[K.shape[0] - 1], wx, wy)
             e5, e3 = 0.0, 0.0
             for i in range(n):
                 sc = atol + max(abs(y[i]), abs(y_new[i])) * rtol
@@ -143,28 +159,30 @@ def _dop853(y0, t0, t1, Fx, Fy, k0, rtol, atol):
     return y, True
 
 
-def integrate_dop853(y0, a: float, b: float, Fx: float, Fy: float, k0: float, rtol: float, atol: float):
+def integrate_dop853(y0, a: float, b: float, Fx: float, Fy: float, k0: float, rtol: float, atol: float,
+                     wx: float = 0.0, wy: float = 0.0):
     """The state at s = b from y0 (float array) at s = a, and whether the integration succeeded
     (False: the step fell below the rounding of s). Called once per shooting residual: no argument
     conversion here, numba's dispatch checks the types."""
-    return _dop853(y0, a, b, Fx, Fy, k0, rtol, atol)
+    return _dop853(y0, a, b, Fx, Fy, k0, rtol, atol, wx, wy)
 
 
 @njit(cache=True)
-def _samples(y0, s, Fx, Fy, k0, rtol, atol):
+def _samples(y0, s, Fx, Fy, k0, rtol, atol, wx, wy):
     out = np.empty((s.size, y0.size))
     out[0] = y0
     y = y0.copy()
     for k in range(1, s.size):
-        y, ok = _dop853(y, s[k - 1], s[k], Fx, Fy, k0, rtol, atol)
+        y, ok = _dop853(y, s[k - 1], s[k], Fx, Fy, k0, rtol, atol, wx, wy)
         if not ok:
             return out, False
         out[k] = y
     return out, True
 
 
-def integrate_samples(y0, s, Fx: float, Fy: float, k0: float, rtol: float, atol: float):
+def integrate_samples(y0, s, Fx: float, Fy: float, k0: float, rtol: float, atol: float,
+                      wx: float = 0.0, wy: float = 0.0):
     """The states (len(s), STATE_SIZE) at the increasing arc lengths ``s`` (s[0]: the start of
     y0), integrated from sample to sample, and whether every interval succeeded."""
     return _samples(np.asarray(y0, dtype=float), np.ascontiguousarray(s, dtype=float), float(Fx), float(Fy),
-                    float(k0), float(rtol), float(atol))
+                    float(k0), float(rtol), float(atol), float(wx), float(wy))

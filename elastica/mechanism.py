@@ -355,6 +355,7 @@ def solve_mechanism(mech: Mechanism, loads: list, n_levels: int, *, rtol: float 
             if ok:
                 u, t = x, target
                 history.append((t, u))
+                step = min(2.0 * step, 1.0)
             else:
                 cuts += 1
                 step /= 2
@@ -389,7 +390,7 @@ def solve_mechanism(mech: Mechanism, loads: list, n_levels: int, *, rtol: float 
                              drivers, energies, shapes, time.perf_counter() - t0, ok_levels)
 
 
-def _chord_newton(f, x, jac, typical, tol: float = 1e-10, max_iter: int = 40):
+def _chord_newton(f, x, jac, typical, tol: float = 1e-10, max_iter: int = 30):
     """Newton on f(x) = 0 with a finite-difference Jacobian kept between iterations and load steps,
     updated by Broyden's rank-one formula, and refreshed when a step does not halve the residual. Returns (x, converged,
     Jacobian, why not)."""
@@ -410,7 +411,15 @@ def _chord_newton(f, x, jac, typical, tol: float = 1e-10, max_iter: int = 40):
         x_try = x + dx
         r_try = f(x_try)
         new = float(np.max(np.abs(r_try)))
-        if new <= 0.5 * size or (fresh and new < size):
+        if fresh:  # a fresh Jacobian: backtrack along its step until the residual falls
+            for _ in range(6):
+                if math.isfinite(new) and new < size:
+                    break
+                dx = dx / 2
+                x_try = x + dx
+                r_try = f(x_try)
+                new = float(np.max(np.abs(r_try)))
+        if new <= 0.5 * size or (fresh and math.isfinite(new) and new < size):
             jac = jac + np.outer(r_try - r - jac @ dx, dx) / float(dx @ dx)  # Broyden's update
             x, r, fresh = x_try, r_try, False
         elif not fresh:

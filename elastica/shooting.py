@@ -11,6 +11,11 @@ and, differentiating, the first-order system integrated here (normalised by L an
     x' = cos(theta),   y' = sin(theta),   theta' = kappa0 + m,   m' = Fx sin(theta) - Fy cos(theta),
     U' = m^2 / 2   (strain energy density, so U(L) is the strain energy).
 
+A uniform dead distributed load w = (wx, wy) per unit length (e.g. self-weight) adds its outboard
+resultant to the force carried across the section, N(s) = F + w (L - s), so m' = Nx sin(theta) -
+Ny cos(theta) with N in place of F; its components are two more continuation parameters, with
+their own variational equations (d m'/d wx = (L - s) sin(theta) + ..., d m'/d wy = -(L - s) cos(theta) + ...).
+
 Shooting unknowns z: the root moment m(0); one force multiplier mu_k per prescribed tip-position
 component (the force along that direction is unknown); one force multiplier nu_j per prescribed
 section moment (below); the tip angle tau when a follower force acts (its direction depends on
@@ -107,6 +112,7 @@ class ElasticaProblem:
 
     force: dead tip force (Fx, Fy) in the global frame (its components along constrained
         directions are added to the unknown reactions, so they may be left 0).
+    distributed: uniform dead load (wx, wy) per unit length along the whole beam, global frame.
     moment: applied tip moment (CCW), ignored when ``tip_angle`` is given.
     follower: follower tip force (tangential, normal) components in the deformed tip frame.
     constraints: prescribed tip position components (fixed-guided, fixed-fixed, inverse problems).
@@ -123,6 +129,7 @@ class ElasticaProblem:
     constraints: tuple[TipConstraint, ...] = ()
     tip_angle: float | None = None
     moment_constraints: tuple[MomentConstraint, ...] = ()
+    distributed: tuple[float, float] = (0.0, 0.0)
 
 
 @dataclass
@@ -156,15 +163,19 @@ def _unit(d):
     return d / math.hypot(*d)
 
 
+ANGLE = -3        # index of the prescribed tip angle in a load vector; the last two are (wx, wy)
+
+
 def _load_vector(p: ElasticaProblem) -> np.ndarray:
     """All continuation parameters of a problem, normalised:
-    [Fx, Fy, M, ft, fn, c_1..c_k, m_1..m_j, angle]."""
+    [Fx, Fy, M, ft, fn, c_1..c_k, m_1..m_j, angle, wx, wy]."""
     scale_f = p.length**2 / p.EI
     q = [p.force[0] * scale_f, p.force[1] * scale_f, p.moment * p.length / p.EI,
          p.follower[0] * scale_f, p.follower[1] * scale_f]
     q += [c.value / p.length for c in p.constraints]
     q += [c.value * p.length / p.EI for c in p.moment_constraints]
     q.append(p.tip_angle if p.tip_angle is not None else 0.0)
+    q += [p.distributed[0] * p.length**3 / p.EI, p.distributed[1] * p.length**3 / p.EI]
     return np.array(q)
 
 
@@ -184,8 +195,13 @@ def _start_vector(p: ElasticaProblem) -> np.ndarray:
         d = _unit(c.direction)
         q.append(d[0] * x0 + d[1] * y0)
     q += [0.0] * len(p.moment_constraints)          # the unloaded beam carries no moment
-    q.append(th0)
+    q += [th0, 0.0, 0.0]
     return np.array(q)
+
+
+def _sensitivities(Y) -> np.ndarray:
+    """(4, 5): d(x, y, theta, m)/d(m0, Fx, Fy, wx, wy) from a state vector (`integrator` layout)."""
+    return np.hstack([Y[5:17].reshape(4, 3), Y[17:25].reshape(4, 2)])
 
 
 class _Pieces:
@@ -258,10 +274,10 @@ class _Shooter:
             dF[:, -1] = [-s * ft - c * fn, c * ft - s * fn]
         return F, dF
 
-    def rhs(self, s, Y, Fx, Fy):
+    def rhs(self, s, Y, Fx, Fy, wx=0.0, wy=0.0):
         """dY/ds (`integrator.elastica_rhs`), for scipy's dense-output integration."""
         out = np.empty(STATE_SIZE)
-        elastica_rhs(s, Y, Fx, Fy, self.k0, out)
+        elastica_rhs(s, Y, Fx, Fy, self.k0, out, wx, wy)
         return out
 
     def integrate(self, z, q, dense=False):
@@ -275,10 +291,10 @@ class _Shooter:
         for a, b in zip([0.0] + self.knots, self.knots + [1.0]):
             if dense:
                 sol = solve_ivp(self.rhs, (a, b), states[a], method="DOP853", rtol=self.rtol,
-                                atol=self.atol, args=(F[0], F[1]), dense_output=True)
+                                atol=self.atol, args=(F[0], F[1], q[-2], q[-1]), dense_output=True)
             else:
                 y_end, ok = integrate_dop853(states[a], float(a), float(b), float(F[0]), float(F[1]), self.k0,
-                                             self.rtol, self.atol)
+                                             self.rtol, self.atol, float(q[-2]), float(q[-1]))
                 sol = _EndState(np.array([a, b]), y_end[:, None], ok)
             pieces.append(sol)
             if not sol.success:
@@ -295,13 +311,13 @@ class _Shooter:
         if not sol.success:
             return None, None, sol
         Y = sol.y[:, -1]
-        S = Y[5:].reshape(4, 3)
-        # d(state at L)/dz = S[:, 0] e_0^T + S[:, 1:] dF
-        dYdz = np.outer(S[:, 0], np.eye(self.n)[0]) + S[:, 1:] @ dF
+        S = _sensitivities(Y)
+        # d(state at L)/dz = S[:, 0] e_0^T + S[:, 1:3] dF
+        dYdz = np.outer(S[:, 0], np.eye(self.n)[0]) + S[:, 1:3] @ dF
         r = np.empty(self.n)
         J = np.empty((self.n, self.n))
         if self.angle_given:
-            r[0] = Y[2] - q[-1]
+            r[0] = Y[2] - q[ANGLE]
             J[0] = dYdz[2]
         else:
             r[0] = Y[3] - q[2]
@@ -311,10 +327,10 @@ class _Shooter:
             J[1 + k] = d[0] * dYdz[0] + d[1] * dYdz[1]
         for j in range(self.nm):
             Yj = self.section_state(sol, j)
-            Sj = Yj[5:].reshape(4, 3)
+            Sj = _sensitivities(Yj)
             i = 1 + self.nc + j
             r[i] = Yj[3] - q[5 + self.nc + j]
-            J[i] = Sj[3, 0] * np.eye(self.n)[0] + Sj[3, 1:] @ dF
+            J[i] = Sj[3, 0] * np.eye(self.n)[0] + Sj[3, 1:3] @ dF
         if self.has_follower:
             r[-1] = Y[2] - z[-1]
             J[-1] = dYdz[2]
@@ -325,18 +341,19 @@ class _Shooter:
 def _load_derivative(shooter, sol, z, nq):
     """d r / d q (n x nq) at the end of the integration ``sol``: the force parameters act
     through the sensitivities to (Fx, Fy), the others enter the end conditions directly."""
-    S = sol.y[5:, -1].reshape(4, 3)
+    S = _sensitivities(sol.y[:, -1])
     dFdq = np.zeros((2, nq))
     dFdq[0, 0] = dFdq[1, 1] = 1.0
     if shooter.has_follower:
         c, sn = math.cos(z[-1]), math.sin(z[-1])
         dFdq[:, 3] = [c, sn]
         dFdq[:, 4] = [-sn, c]
-    dYdq = S[:, 1:] @ dFdq
+    dYdq = S[:, 1:3] @ dFdq
+    dYdq[:, -2:] += S[:, 3:5]                       # the distributed load (wx, wy)
     D = np.zeros((shooter.n, nq))
     if shooter.angle_given:
         D[0] = dYdq[2]
-        D[0, -1] -= 1.0
+        D[0, ANGLE] -= 1.0
     else:
         D[0] = dYdq[3]
         D[0, 2] -= 1.0
@@ -344,9 +361,10 @@ def _load_derivative(shooter, sol, z, nq):
         D[1 + k] = d[0] * dYdq[0] + d[1] * dYdq[1]
         D[1 + k, 5 + k] -= 1.0
     for j in range(shooter.nm):
-        Sj = shooter.section_state(sol, j)[5:].reshape(4, 3)
+        Sj = _sensitivities(shooter.section_state(sol, j))
         i = 1 + shooter.nc + j
-        D[i] = Sj[3, 1:] @ dFdq
+        D[i] = Sj[3, 1:3] @ dFdq
+        D[i, -2:] += Sj[3, 3:5]
         D[i, 5 + shooter.nc + j] -= 1.0
     if shooter.has_follower:
         D[-1] = dYdq[2]
@@ -560,7 +578,8 @@ def loaded_start(problem: ElasticaProblem, force: tuple[float, float], moment: f
         raise ValueError("loaded_start does not handle follower forces")
     L, EI = problem.length, problem.EI
     forward = solve_path(ElasticaProblem(length=L, EI=EI, curvature=problem.curvature,
-                                         force=tuple(force), moment=moment), **options)
+                                         force=tuple(force), moment=moment,
+                                         distributed=problem.distributed), **options)
     rtol = options.get("rtol", 1e-12)
     shooter = _Shooter(problem, rtol, options.get("atol", 0.1 * rtol))
     scale_f = L**2 / EI
@@ -583,7 +602,7 @@ def loaded_start(problem: ElasticaProblem, force: tuple[float, float], moment: f
     for k, d in enumerate(shooter.dirs):
         q[5 + k] = d[0] * x + d[1] * y
     if shooter.angle_given:
-        q[-1] = forward.theta
+        q[ANGLE] = forward.theta
     m = _section_moments(shooter, z, q)
     q[5 + shooter.nc:5 + shooter.nc + shooter.nm] = m
     start = replace(problem, force=tuple(dead / scale_f), moment=moment,
@@ -607,7 +626,8 @@ def section_moment(result: ElasticaResult, at: float) -> float:
     """
     p = result.problem
     plain = ElasticaProblem(length=p.length, EI=p.EI, curvature=p.curvature, force=result.force,
-                            moment=result.moment, moment_constraints=(MomentConstraint(at),))
+                            moment=result.moment, moment_constraints=(MomentConstraint(at),),
+                            distributed=p.distributed)
     shooter = _Shooter(plain, 1e-12, 1e-13)
     z = np.array([result.z[0], 0.0])
     return float(_section_moments(shooter, z, _load_vector(plain))[0] * p.EI / p.length)
@@ -623,14 +643,15 @@ def _result(problem, shooter, z, q, n_samples):
     residual, the shape sampled by integrating from sample to sample (compiled)."""
     sol, F, _ = shooter.integrate(z, q)
     s = np.linspace(0.0, 1.0, n_samples)
-    samples, _ = integrate_samples(sol.states[0.0], s, F[0], F[1], shooter.k0, shooter.rtol, shooter.atol)
+    samples, _ = integrate_samples(sol.states[0.0], s, F[0], F[1], shooter.k0, shooter.rtol, shooter.atol,
+                                   q[-2], q[-1])
     Ys = samples.T
     Y = sol.y[:, -1]
     L, EI = problem.length, problem.EI
     fs, ms = EI / L**2, EI / L
     m_tip = Y[3]
-    # support reaction on the beam: -F and the moment balancing the tip loads about the root
-    reaction = (-F[0] * fs, -F[1] * fs, -z[0] * ms)
+    # support reaction on the beam: -(F + w L) and the moment balancing the loads about the root
+    reaction = (-(F[0] + q[-2]) * fs, -(F[1] + q[-1]) * fs, -z[0] * ms)
     return ElasticaResult(
         converged=True, message="", x=float(Y[0] * L), y=float(Y[1] * L), theta=float(Y[2]),
         force=(float(F[0] * fs), float(F[1] * fs)), moment=float(m_tip * ms),
@@ -649,10 +670,12 @@ def solve_elastica(length: float = 1.0, EI: float = 1.0, *, curvature: float = 0
                    inflection_at: float | None = None,
                    moment_constraints: tuple[MomentConstraint, ...] = (),
                    start_loads: tuple[tuple[float, float], float] | None = None,
+                   distributed: tuple[float, float] = (0.0, 0.0),
                    **options) -> ElasticaResult:
     """Solve one clamped-beam elastica from the unloaded state (continuation in the load).
 
-    Load-specified: give ``force`` (Fx, Fy), ``moment`` and/or ``follower`` (tangential, normal).
+    Load-specified: give ``force`` (Fx, Fy), ``moment`` and/or ``follower`` (tangential, normal),
+    and/or ``distributed`` (wx, wy): a uniform dead load per unit length (e.g. self-weight).
     Displacement-specified: give ``tip_x`` (the seeds' a), ``tip_y`` (b) and/or ``tip_angle``
     (theta_0, rad); the conjugate loads are then unknowns, returned in ``result.force`` and
     ``result.moment``. The remaining components of ``force`` are applied as given, e.g. the
@@ -675,7 +698,8 @@ def solve_elastica(length: float = 1.0, EI: float = 1.0, *, curvature: float = 0
         mcons.append(MomentConstraint(inflection_at))
     problem = ElasticaProblem(length=length, EI=EI, curvature=curvature, force=tuple(force),
                               moment=moment, follower=tuple(follower), constraints=tuple(cons),
-                              tip_angle=tip_angle, moment_constraints=tuple(mcons))
+                              tip_angle=tip_angle, moment_constraints=tuple(mcons),
+                              distributed=tuple(distributed))
     start = None
     if start_loads is not None:
         start_options = {k: v for k, v in options.items() if k in ("rtol", "atol")}

@@ -8,9 +8,15 @@ and the full residual R(u) = f_int(u) - lambda f_ext(u), the reduced system is
     K_r  = J^T (K_int - lambda K_load) J + sum_s R_s . d2x_s/dtheta_m^2 ,
 
 with d2x_s/dtheta_m^2 = -(x_s - x_m) for every rigid-link slave s.
-External loads: fixed forces and moments F, and follower forces
-F_i = R(theta_i) F0_i that turn with the node rotation (load stiffness
-dF/dtheta = [-F_y, F_x], unsymmetric).  f_int comes from the corotational
+External loads: fixed forces and moments F, follower forces
+F_i = R(theta_i) F0_i that turn with the node (or member-end) rotation (load
+stiffness dF/dtheta = [-F_y, F_x], unsymmetric), forces of magnitude T toward a
+fixed point P turned by alpha, F = T R(alpha) e, e = (P - x)/l, l = |P - x|
+(load stiffness dF/dx = -T R(alpha)(I - e e^T)/l; symmetric for a rope, alpha = 0),
+and uniform distributed loads (consistent nodal loads and load stiffness of
+`distributed.element_loads`).  The configuration-dependent intensities (follower
+F0, pointed magnitudes [T, 0], distributed q) are the rows of ``F0`` in that
+order, so they follow the load path like every other load.  f_int comes from the corotational
 elements (`corotational.element_state`) and torsional springs
 M = k (theta_a - theta_b).
 """
@@ -21,6 +27,7 @@ import math
 import numpy as np
 
 from .corotational import element_state
+from .distributed import element_loads
 from .discretise import Discretisation
 from .kernel import scatter
 from .linear_solver import MatrixLayout
@@ -62,7 +69,20 @@ class System:
                 self.F_fixed[:, 2 * ld.node] += vals[:, 0]
                 self.F_fixed[:, 2 * ld.node + 1] += vals[:, 1]
         self.fol_nodes = np.array(fol_nodes, dtype=int)
-        self.F0 = np.array(fol_vals).reshape(len(fol_nodes), nl, 2).transpose(1, 0, 2)
+        self.fol_rot = np.array([d.rot_dof[ld.node] if ld.member is None else d.member_end_dof(ld.member, ld.node)
+                                 for ld in model.loads if ld.kind == "force" and ld.follower], dtype=int)
+        self.pt_nodes = np.array([ld.node for ld in model.pointed], dtype=int)
+        self.pt_toward = np.array([ld.toward for ld in model.pointed], dtype=float).reshape(-1, 2)
+        self.pt_angle = np.array([ld.angle for ld in model.pointed], dtype=float)
+        for ld in model.pointed:
+            fol_vals.append(np.column_stack([np.broadcast_to(ld.values, (nl,)), np.zeros(nl)]))
+        n_el = len(d.L0)
+        self.dist_members = np.zeros((len(model.distributed), n_el))   # which elements each load covers
+        self.dist_follower = np.array([ld.follower for ld in model.distributed], dtype=bool)
+        for k, ld in enumerate(model.distributed):
+            self.dist_members[k, d.member_elements[ld.member] if ld.member is not None else slice(None)] = 1.0
+            fol_vals.append(np.broadcast_to(ld.values, (nl, 2)))
+        self.F0 = np.array(fol_vals).reshape(len(fol_vals), nl, 2).transpose(1, 0, 2)
         self.presc = d.prescribed_values.T.copy()               # (nl, n_p)
         if n_levels is not None and n_levels != nl:             # proportional ramp
             ramp = np.arange(1, n_levels + 1) / n_levels
@@ -73,7 +93,10 @@ class System:
         # full-level sparsity pattern: elements, springs, follower, rigid links
         e = d.edofs
         fr = np.concatenate([2 * self.fol_nodes, 2 * self.fol_nodes + 1])
-        fc = np.concatenate([d.rot_dof[self.fol_nodes]] * 2)
+        fc = np.concatenate([self.fol_rot] * 2)
+        pt = np.column_stack([2 * self.pt_nodes, 2 * self.pt_nodes + 1])   # 2x2 block per pointed force
+        fr = np.concatenate([fr, np.repeat(pt, 2, axis=1).ravel()])
+        fc = np.concatenate([fc, np.tile(pt, (1, 2)).ravel()])
         mr = d.rot_dof[d.masters]
         self.rows_full = np.concatenate([np.repeat(e, 6, axis=1).ravel(),
                                          np.repeat(d.springs, 2, axis=1).ravel(), fr, mr])
@@ -130,6 +153,22 @@ class System:
             C[2 * s + 1, 1] = Rd[:, 0]
         return u, C
 
+    def _pointed(self, u, magnitude):
+        """Forces toward fixed points, F = T R(alpha) e, and their stiffness dF/dx (n_pt, 2, 2)."""
+        n = self.pt_nodes
+        x = self.disc.X[n] + np.column_stack([u[2 * n], u[2 * n + 1]])
+        r = self.pt_toward - x
+        length = np.hypot(r[:, 0], r[:, 1])
+        if np.any(length == 0.0):
+            raise ValueError("a force toward a fixed point reached that point (direction undefined)")
+        e = r / length[:, None]
+        cs, sn = np.cos(self.pt_angle), np.sin(self.pt_angle)
+        rot = np.stack([np.column_stack([cs, -sn]), np.column_stack([sn, cs])], axis=1)   # R(alpha)
+        F = magnitude[:, None] * np.einsum("kij,kj->ki", rot, e)
+        proj = np.eye(2)[None] - e[:, :, None] * e[:, None, :]
+        K = -(magnitude / length)[:, None, None] * np.matmul(rot, proj)
+        return F, K
+
     def reduce(self, v_full, C):
         """J^T v."""
         return np.bincount(self.I_flat, weights=(C * v_full[:, None]).ravel(),
@@ -148,13 +187,27 @@ class System:
             f_int += np.bincount(d.springs.ravel(), weights=np.column_stack([m_sp, -m_sp]).ravel(),
                                  minlength=nf)
         f_ref = F_fixed.copy()
-        if len(self.fol_nodes):
-            th = u[d.rot_dof[self.fol_nodes]]
+        n_fol, n_pt = len(self.fol_nodes), len(self.pt_nodes)
+        if n_fol:
+            th = u[self.fol_rot]
             cs, sn = np.cos(th), np.sin(th)
-            Fx = cs * F0[:, 0] - sn * F0[:, 1]
-            Fy = sn * F0[:, 0] + cs * F0[:, 1]
+            Fx = cs * F0[:n_fol, 0] - sn * F0[:n_fol, 1]
+            Fy = sn * F0[:n_fol, 0] + cs * F0[:n_fol, 1]
             np.add.at(f_ref, 2 * self.fol_nodes, Fx)
             np.add.at(f_ref, 2 * self.fol_nodes + 1, Fy)
+        if n_pt:
+            F_pt, K_pt = self._pointed(u, F0[n_fol:n_fol + n_pt, 0])
+            np.add.at(f_ref, 2 * self.pt_nodes, F_pt[:, 0])
+            np.add.at(f_ref, 2 * self.pt_nodes + 1, F_pt[:, 1])
+        K_el = el["K"] if need_K else None
+        if len(self.dist_follower):
+            q = F0[n_fol + n_pt:]
+            q_dead = self.dist_members[~self.dist_follower].T @ q[~self.dist_follower]
+            q_fol = self.dist_members[self.dist_follower].T @ q[self.dist_follower]
+            f_q, K_q = element_loads(self.X1, self.X2, p, d.L0, d.beta0, el["beta"], q_dead, q_fol)
+            f_ref += np.bincount(d.edofs.ravel(), weights=f_q.ravel(), minlength=nf)
+            if need_K:
+                K_el = K_el - lam * K_q
         f_ref[d.ground] = 0.0
         f_int[d.ground] = 0.0
         R_full = f_int - lam * f_ref
@@ -163,10 +216,12 @@ class System:
         f_ext = lam * f_ref       # norms as np.linalg.norm computes them, sqrt(x . x), without its overhead
         out["F_scale"] = max(math.sqrt(float(f_ext.dot(f_ext))), math.sqrt(float(f_int.dot(f_int))))
         if need_K:
-            vals = [el["K"].ravel(),
+            vals = [K_el.ravel(),
                     (d.spring_k[:, None, None] * self.spring_sign).ravel()]
-            if len(self.fol_nodes):
+            if n_fol:
                 vals.append(lam * np.concatenate([Fy, -Fx]))
+            if n_pt:
+                vals.append(-lam * K_pt.ravel())
             if len(d.slaves):
                 s, m = d.slaves, d.masters
                 xs = d.X[s, 0] + u[2 * s] - d.X[m, 0] - u[2 * m]

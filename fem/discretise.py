@@ -218,7 +218,7 @@ def discretise(model: Model, refine: int = 1) -> Discretisation:
     used[springs.ravel()] = True
     used[:2 * n_en] = True
     for ld in model.loads:
-        if (ld.kind == "moment" and ld.member is None) or ld.follower:
+        if ld.member is None and (ld.kind == "moment" or ld.follower):
             used[rot_dof[ld.node]] = True
     # rigid links: resolve chains to root masters
     parent = {}

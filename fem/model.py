@@ -32,8 +32,12 @@ The model is what the user describes; nothing is discretised here.
   (theta = 0, translation along ``direction`` only).
 * Loads have one value per load level (arrays of length n_levels; a scalar
   is broadcast): forces of fixed direction, follower forces (rotate with the
-  node rotation), moments, and prescribed displacements/rotations of a DOF
-  ("ux", "uy" or "rz").
+  node rotation, or with one member's end rotation at the node), moments,
+  forces toward a fixed point (a rope over a pulley; optionally at a fixed
+  angle to the line to that point), uniform distributed loads per unit
+  reference length on a member or on all members (dead, or follower turning
+  with each element's chord; `distributed`), and prescribed
+  displacements/rotations of a DOF ("ux", "uy" or "rz").
 """
 from __future__ import annotations
 
@@ -44,7 +48,8 @@ import numpy as np
 
 from .section import Section
 
-__all__ = ["Model", "Member", "Support", "Joint", "RigidLink", "PointLoad", "Prescribed"]
+__all__ = ["Model", "Member", "Support", "Joint", "RigidLink", "PointLoad", "PointedForce",
+           "DistributedLoad", "Prescribed"]
 
 DOF_NAMES = {"ux": 0, "uy": 1, "rz": 2}
 SUPPORT_KINDS = ("fixed", "pinned", "slider", "guided")
@@ -87,7 +92,31 @@ class PointLoad:
     kind: str                 # "force" or "moment"
     values: np.ndarray        # shape (n_levels, 2) for forces, (n_levels,) for moments
     follower: bool = False
-    member: int | None = None  # a moment on this member's end (its released rotation at a joint)
+    member: int | None = None  # a moment on this member's end (its released rotation at a joint);
+                               # a follower force turning with this member's end rotation
+
+
+@dataclass
+class PointedForce:
+    """A force of magnitude ``values`` (per level) from a node toward a fixed point ``toward``,
+    turned by ``angle`` (rad, counter-clockwise) from that line: a rope over a pulley (angle 0), or a
+    force that stays at a fixed angle to the line joining a fixed pivot (angle pi/2)."""
+
+    node: int
+    values: np.ndarray        # (n_levels,)
+    toward: tuple
+    angle: float = 0.0
+
+
+@dataclass
+class DistributedLoad:
+    """Uniform load per unit reference length, (qx, qy) per level, on one member or all (None).
+
+    A follower load is given in the reference orientation and turns with each element's chord."""
+
+    values: np.ndarray        # (n_levels, 2)
+    member: int | None = None
+    follower: bool = False
 
 
 @dataclass
@@ -113,6 +142,8 @@ class Model:
     rigid_links: list = field(default_factory=list)
     loads: list = field(default_factory=list)
     prescribed: list = field(default_factory=list)
+    pointed: list = field(default_factory=list)
+    distributed: list = field(default_factory=list)
 
     # -- building -------------------------------------------------------
     def node(self, name) -> int:
@@ -164,15 +195,41 @@ class Model:
     def add_rigid_link(self, master, slave) -> None:
         self.rigid_links.append(RigidLink(self.node(master), self.node(slave)))
 
-    def add_force(self, node, values_x, values_y, follower: bool = False) -> None:
+    def add_force(self, node, values_x, values_y, follower: bool = False,
+                  member: int | None = None) -> None:
         """Point force per load level (consistent force units).
 
         A follower force is given in the node's reference orientation and turns
-        with the node rotation: F = R(theta) (values_x, values_y).
+        with the node rotation: F = R(theta) (values_x, values_y); with ``member``
+        it turns with that member's end rotation at the node (one side of a hinge).
         """
         fx, fy = np.broadcast_arrays(_levels(values_x), _levels(values_y))
-        self.loads.append(PointLoad(self.node(node), "force",
-                                    np.column_stack([fx, fy]), bool(follower)))
+        i = self.node(node)
+        if member is not None:
+            if not follower:
+                raise ValueError("only a follower force turns with a member end")
+            m = self.members[int(member)]
+            if i not in (m.start, m.end):
+                raise ValueError(f"member {member} does not end at node {self.node_names[i]!r}")
+            member = int(member)
+        self.loads.append(PointLoad(i, "force", np.column_stack([fx, fy]), bool(follower),
+                                    member=member))
+
+    def add_pointed_force(self, node, values, toward, angle: float = 0.0) -> None:
+        """Force of magnitude ``values`` (per level) toward the fixed point ``toward`` (x, y),
+        turned by ``angle`` rad from the line node -> toward (a rope over a pulley: angle 0)."""
+        tx, ty = (float(v) for v in toward)
+        self.pointed.append(PointedForce(self.node(node), _levels(values), (tx, ty), float(angle)))
+
+    def add_distributed(self, values_x, values_y, member: int | None = None,
+                        follower: bool = False) -> None:
+        """Uniform load per unit reference length (qx, qy) per level on ``member`` (default: every
+        member); a follower load turns with each element's chord from its reference orientation."""
+        qx, qy = np.broadcast_arrays(_levels(values_x), _levels(values_y))
+        if member is not None and not 0 <= int(member) < len(self.members):
+            raise ValueError(f"no member {member}")
+        self.distributed.append(DistributedLoad(np.column_stack([qx, qy]),
+                                                None if member is None else int(member), bool(follower)))
 
     def add_moment(self, node, values, member: int | None = None) -> None:
         """Point moment (input torque) per load level, counter-clockwise positive.
@@ -201,7 +258,8 @@ class Model:
     @property
     def n_levels(self) -> int:
         """Number of load levels implied by the load histories (1 if none)."""
-        lengths = [len(ld.values) for ld in self.loads] + [len(p.values) for p in self.prescribed]
+        lengths = ([len(ld.values) for ld in self.loads] + [len(p.values) for p in self.prescribed]
+                   + [len(ld.values) for ld in self.pointed] + [len(ld.values) for ld in self.distributed])
         lengths = [n for n in lengths if n > 1]
         if lengths and min(lengths) != max(lengths):
             raise ValueError(f"load histories have different lengths: {sorted(set(lengths))}")

@@ -258,4 +258,5 @@ def build_result(model, sys, path, *, converged, message, critical_points, wall_
                    element_end_moments=np.array([s["M"] for s in snaps]),
                    step_load_factor=np.array(path.step_lams),
                    step_path_parameter=np.array(path.step_s),
-                   step_control=np.array(path.step_ctrl)))
+                   step_control=np.array(path.step_ctrl),
+                   element_moments=np.array([s["M"] for s in snaps]).reshape(nl, len(d.conn), 2)))

@@ -1,7 +1,7 @@
 """Pseudo-rigid-body models (PRBM) of compliant segments and mechanisms; no knowledge of case files."""
 from prbm.composite import capstan_factor, composite_beam_tip, layered_bending_stiffness
 from prbm.coupled_segment import BodyLoad, body_end_loads, inflection_pivots, solve_segment_with_body
-from prbm.dof import SEGMENT_MODES, PRBMTopology, Segment, grubler
+from prbm.dof import SEGMENT_MODES, ModeShape, PRBMTopology, Segment, grubler
 from prbm.domain import (boundary_curves, curved_fixed_pinned_domain, fit_radius, fixed_fixed_monotonic_domain,
                          fixed_guided_domain, fixed_pinned_domain, slfp_domain)
 from prbm.fits import (FAMILIES, HOWELL, PAULY_MIDHA, PURE_MOMENT_C_THETA, PURE_MOMENT_GAMMA,
@@ -20,7 +20,7 @@ from prbm.segments import (curved_fixed_pinned_tip, curved_pinned_pinned, fixed_
 __all__ = [
     "capstan_factor", "composite_beam_tip", "layered_bending_stiffness",
     "BodyLoad", "body_end_loads", "inflection_pivots", "solve_segment_with_body",
-    "SEGMENT_MODES", "PRBMTopology", "Segment", "grubler",
+    "SEGMENT_MODES", "ModeShape", "PRBMTopology", "Segment", "grubler",
     "boundary_curves", "curved_fixed_pinned_domain", "fit_radius", "fixed_fixed_monotonic_domain",
     "fixed_guided_domain", "fixed_pinned_domain", "slfp_domain",
     "FAMILIES", "HOWELL", "PAULY_MIDHA", "PURE_MOMENT_C_THETA", "PURE_MOMENT_GAMMA", "PURE_MOMENT_K_THETA",

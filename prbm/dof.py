@@ -1,9 +1,17 @@
 """Degrees of freedom and static mode shapes of a compliant mechanism from its PRBM (seed 000 ch. 8).
 
 Grubler (207): F = 3(n - 1) - 2j - h, n bodies including the ground, j lower pairs, h higher pairs.
-Eq (208): F_C = f_r + f_e, both by (207) on the PRBM (Prasanna et al.); the seed does not print the
-rules that split F_C into f_r and f_e, so only F_C is computed: Grubler's count on the whole PRBM in
-which every compliant segment is replaced by the PRBM of its static mode shape:
+Eq (208): F_C = f_r + f_e, both by (207) on the PRBM (Prasanna et al.). F_C is Grubler's count on the
+whole PRBM in which every compliant segment is replaced by the PRBM of its static mode shape. The seed
+does not print the rule that splits it (refs [97, 98]); this module reads it off (207) itself: with
+n_r rigid bodies (ground included), j_r rigid-body joints, and l_k links and p_k pivots for segment k,
+
+    F_C = [3(n_r - 1) - 2 j_r - h] + sum_k (3 l_k - 2 p_k) = f_r + f_e,
+
+f_r the rigid-body mechanism's count, f_e the flexible members' (3 - 2 = 1 for a fixed-pinned
+segment, -2 for an SLFP, -1 / 0 / +1 for a fixed-guided segment in mode 1 / 2 / 3). With no
+rigid-body joint there is no rigid-body mechanism and f_r = 0 ("for active compliance systems
+f_r = 0", section 8.4), so then f_e = F_C. This split is our reading of (208), labelled as such.
 
   segment (mode)                       PRB links  PRB pivots   source
   fixed-pinned (1, only mode)              1          1        Figs 8.1, 8.3; eqs (41)-(50)
@@ -16,13 +24,21 @@ The maximum DOF (Table 9.5's "Maximum DOF by PRBM approach") is the largest F_C 
 mode combinations (modes up to ``max_mode``, default 2); the expected mode shape under one load or
 displacement BC is the lowest-energy one, i.e. the combination with the fewest inflection points
 that gives F_C >= 1 (section 8.5, steps 1-4: F_C <= 0 is infeasible, raise a segment's mode).
+
+Mode shapes ranked by energy (section 8.2: a segment's strain energy rises with its mode number,
+mode k having k - 1 inflection points): combinations are ordered by their total number of inflection
+points, then by the highest single mode (one segment in mode 3 stores more than two in mode 2), then
+by the modes themselves. ``procedure`` runs the chapter-8 steps in that order: step 3 computes F_C,
+step 4 rejects F_C <= 0 and raises a segment's mode, the first feasible combination is the first
+static mode shape (the minimum DOF), and steps 5-7 list the higher feasible shapes, each F_C being
+the number of load or displacement boundary conditions it needs; the maximum DOF is the largest.
 """
 from __future__ import annotations
 
 import itertools
 from dataclasses import dataclass
 
-__all__ = ["grubler", "Segment", "PRBMTopology", "SEGMENT_MODES"]
+__all__ = ["grubler", "Segment", "PRBMTopology", "SEGMENT_MODES", "ModeShape"]
 
 #: (PRB links, PRB pivots) per segment kind and mode
 SEGMENT_MODES: dict[str, dict[int, tuple[int, int]]] = {
@@ -45,6 +61,23 @@ class Segment:
     name: str = ""
 
 
+@dataclass(frozen=True)
+class ModeShape:
+    """One combination of segment modes: its DOF (eq 208 split), inflection count and energy rank."""
+
+    modes: tuple[int, ...]
+    F_C: int
+    f_r: int
+    f_e: int
+    inflections: int
+    rank: int = 0               # 1 = lowest energy
+
+    @property
+    def feasible(self) -> bool:
+        """Step 4: F_C <= 0 is not a possible static mode shape."""
+        return self.F_C >= 1
+
+
 @dataclass
 class PRBMTopology:
     """Rigid bodies (including the ground), rigid-body lower pairs, higher pairs and compliant segments."""
@@ -55,14 +88,41 @@ class PRBMTopology:
     higher_pairs: int = 0
 
     def mobility(self, modes: tuple[int, ...]) -> dict[str, int]:
-        """F_C, f_r, f_e for one mode per segment."""
+        """F_C, f_r, f_e for one mode per segment (eq 208, split as in the module docstring)."""
         links = joints = 0
         for seg, mode in zip(self.segments, modes):
             l, j = SEGMENT_MODES[seg.kind][mode]
             links += l
             joints += j
         F_C = grubler(self.rigid_bodies + links, self.rigid_joints + joints, self.higher_pairs)
-        return {"F_C": F_C}
+        f_r = grubler(self.rigid_bodies, self.rigid_joints, self.higher_pairs) if self.rigid_joints else 0
+        return {"F_C": F_C, "f_r": f_r, "f_e": F_C - f_r}
+
+    def ranked_modes(self, max_mode: int = 2) -> list[ModeShape]:
+        """Every mode combination up to ``max_mode``, lowest energy first (module docstring)."""
+        choices = [[m for m in SEGMENT_MODES[s.kind] if m <= max_mode] for s in self.segments]
+        shapes = []
+        for modes in itertools.product(*choices):
+            counts = self.mobility(modes)
+            shapes.append(ModeShape(modes, counts["F_C"], counts["f_r"], counts["f_e"],
+                                    sum(m - 1 for m in modes)))
+        shapes.sort(key=lambda s: (s.inflections, max(s.modes, default=1), s.modes))
+        return [ModeShape(s.modes, s.F_C, s.f_r, s.f_e, s.inflections, rank) for rank, s in enumerate(shapes, 1)]
+
+    def procedure(self, max_mode: int = 2) -> list[dict]:
+        """Section 8.5 steps in energy order: each combination with F_C, f_r, f_e and the verdict."""
+        steps, first = [], None
+        for shape in self.ranked_modes(max_mode):
+            if not shape.feasible:
+                verdict = "F_C <= 0: infeasible (step 4), raise a segment's mode"
+            elif first is None:
+                first = shape
+                verdict = f"first static mode shape: {shape.F_C} boundary condition(s) (minimum DOF)"
+            else:
+                verdict = f"higher static mode shape: {shape.F_C} boundary condition(s) (steps 5-7)"
+            steps.append({"modes": shape.modes, "rank": shape.rank, "inflections": shape.inflections,
+                          "F_C": shape.F_C, "f_r": shape.f_r, "f_e": shape.f_e, "verdict": verdict})
+        return steps
 
     def mode_table(self, max_mode: int = 2) -> list[dict]:
         choices = [[m for m in SEGMENT_MODES[s.kind] if m <= max_mode] for s in self.segments]
@@ -78,8 +138,9 @@ class PRBMTopology:
         return max(r["F_C"] for r in self.mode_table(max_mode))
 
     def min_dof(self, max_mode: int = 2) -> int:
-        feasible = [r["F_C"] for r in self.mode_table(max_mode) if r["F_C"] >= 1]
-        return min(feasible) if feasible else 0
+        """DOF of the first (lowest-energy) feasible static mode shape; 0 when none is feasible."""
+        feasible = [s for s in self.ranked_modes(max_mode) if s.feasible]
+        return feasible[0].F_C if feasible else 0
 
     def expected_mode(self, max_mode: int = 2) -> dict:
         """Lowest-energy feasible mode shape: fewest inflection points with F_C >= 1 (section 8.5)."""

@@ -238,8 +238,9 @@ class Network:
         return X[i] + np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
 
     # --- constraints ----------------------------------------------------------------------------
-    def joint_constraints(self, q: np.ndarray, lam: np.ndarray | None = None):
-        """(Phi, J, H_lam) of the pins and sliders: residual, Jacobian, and sum lam_i hess Phi_i.
+    def joint_constraints(self, q: np.ndarray, lam: np.ndarray | None = None, diagonal: bool = False):
+        """(Phi, J, H_lam) of the pins and sliders: residual, Jacobian, and sum lam_i hess Phi_i (it is
+        diagonal, on the rotations: ``diagonal=True`` returns that diagonal only).
 
         Pin k, rows 2k (x) and 2k+1 (y): Phi = X_a + R_a r_a - X_b - R_b r_b;
         dPhi/d(x_a, y_a, phi_a) = [I, (-R_a r_a)_y, (R_a r_a)_x], the b side with the opposite sign;
@@ -297,7 +298,8 @@ class Network:
                 J[row, 3 * i + 2] = 1.0
                 row += 1
         n = 3 * nb
-        return Phi, J[:, :n], (np.diag(H[:n]) if H is not None else None)
+        H = None if H is None else (H[:n] if diagonal else np.diag(H[:n]))
+        return Phi, J[:, :n], H
 
     def joint_rank(self, q: np.ndarray | None = None, rtol: float = 1e-9) -> tuple[int, np.ndarray]:
         """Rank of the joints' Jacobian and the indices of a maximal independent set of its rows."""
@@ -494,6 +496,7 @@ class _Problem:
         self.disp_arms = [network.point_arm(d.point) for d in self.disps]
         self.n_prescribed = len(self.disps) + len(self.rots)
         self.length = network.length_scale()
+        self.last_kkt = None
 
     @staticmethod
     def _at(values, t: float) -> float:
@@ -580,19 +583,26 @@ def _residual(problem: _Problem, rows: np.ndarray, q, lam, t, scale=1.0):
     (the largest of the spring, applied and constraint generalised forces)."""
     net = problem.net
     nj = len(rows)
-    full = np.zeros(net._joint_rows)
-    full[rows] = lam[:nj]
-    Phi_j, J_j, H_j = net.joint_constraints(q, full)
+    every_row = nj == net._joint_rows  # no redundant joint rows dropped (the usual case)
+    if every_row:
+        full = lam[:nj]
+    else:
+        full = np.zeros(net._joint_rows)
+        full[rows] = lam[:nj]
+    Phi_j, J_j, H_j = net.joint_constraints(q, full, diagonal=True)
+    if not every_row:
+        Phi_j, J_j = Phi_j[rows], J_j[rows]
     Q, dQ = problem.generalised_forces(q, t, scale)
     grad = net.spring_gradient(q)
-    K = net.spring_hessian(q) - dQ + H_j
+    K = net.spring_hessian(q) - dQ
+    K.flat[::net.n + 1] += H_j
     if problem.n_prescribed:
         Phi_p, J_p = problem.prescribed(q, t, scale)
-        Phi = np.concatenate([Phi_j[rows], Phi_p])
-        J = np.vstack([J_j[rows], J_p])
+        Phi = np.concatenate([Phi_j, Phi_p])
+        J = np.vstack([J_j, J_p])
         K += problem.prescribed_hessian(q, lam[nj:])
     else:
-        Phi, J = Phi_j[rows], J_j[rows]
+        Phi, J = Phi_j, J_j
     reaction = J.T @ lam
     g = grad - Q + reaction
     force = float(np.abs(np.concatenate((grad, Q, reaction))).max()) if net.n else 0.0
@@ -612,6 +622,7 @@ def _newton(problem, rows, q, lam, t, *, rtol, max_iter, scale=1.0):
         if not (math.isfinite(g_size) and math.isfinite(phi_size)):
             return q, lam, False, it
         if g_size <= rtol * force and phi_size <= closure:
+            problem.last_kkt = (K, J)  # the converged state's Hessian and Jacobian, for its stability
             return q, lam, True, it
         if it == max_iter:
             break
@@ -628,9 +639,10 @@ def _newton(problem, rows, q, lam, t, *, rtol, max_iter, scale=1.0):
     return q, lam, False, max_iter
 
 
-def _stability(problem, rows, q, lam, t, scale=1.0) -> tuple[bool | None, float]:
-    """Positive definiteness of the Hessian on the constraints' tangent space (Z^T K Z)."""
-    _, _, K, J, _ = _residual(problem, rows, q, lam, t, scale)
+def _stability(problem, rows, q, lam, t, scale=1.0, kkt=None) -> tuple[bool | None, float]:
+    """Positive definiteness of the Hessian on the constraints' tangent space (Z^T K Z); ``kkt``:
+    (K, J) at this state when already known."""
+    K, J = kkt if kkt is not None else _residual(problem, rows, q, lam, t, scale)[2:4]
     n = problem.net.n
     if J.shape[0]:
         _, s, vt = np.linalg.svd(J)
@@ -711,7 +723,8 @@ def solve(network: Network, loads: list, n_levels: int, *, rtol: float = 1e-11, 
             for lv in range(level, n_levels):
                 states.append(NetworkState(np.full(network.n, np.nan), lam * np.nan, False, 0, None, math.nan))
             break
-        stable, ev = _stability(problem, rows, q, lam, t_target) if stability else (None, math.nan)
+        stable, ev = _stability(problem, rows, q, lam, t_target, kkt=problem.last_kkt) if stability \
+            else (None, math.nan)
         states.append(NetworkState(q.copy(), lam.copy(), True, its, stable, ev))
         t_prev = t_target
     converged = all(s.converged for s in states)

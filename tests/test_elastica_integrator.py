@@ -32,19 +32,21 @@ def test_compiled_dop853_matches_scipy_to_rounding(m0, Fx, Fy, k0, a, b):
 
 
 def test_rhs_matches_finite_differences_of_its_own_state():
-    """The variational rows of elastica_rhs are the derivatives of its state rows w.r.t. (m0, Fx, Fy):
-    integrate, perturb m(0), Fx, Fy, and compare the end-state differences with the sensitivities."""
+    """The variational rows of elastica_rhs are the derivatives of its state rows w.r.t. (m0, Fx, Fy)
+    and the distributed load (wx, wy): integrate, perturb each, and compare the end-state differences
+    with the sensitivities."""
     y0 = np.zeros(STATE_SIZE)
-    m0, Fx, Fy, h = -3.0, 1.0, 4.0, 1e-6
+    m0, Fx, Fy, wx, wy, h = -3.0, 1.0, 4.0, 0.5, -2.0, 1e-6
     y0[3], y0[14] = m0, 1.0
-    base, _ = integrate_dop853(y0, 0.0, 1.0, Fx, Fy, 0.2, 1e-12, 1e-13)
-    S = base[5:].reshape(4, 3)
-    for k, (dm, dfx, dfy) in enumerate([(h, 0, 0), (0, h, 0), (0, 0, h)]):
+    base, _ = integrate_dop853(y0, 0.0, 1.0, Fx, Fy, 0.2, 1e-12, 1e-13, wx, wy)
+    S = np.hstack([base[5:17].reshape(4, 3), base[17:].reshape(4, 2)])
+    for k, step in enumerate(np.eye(5) * h):
+        dm, dfx, dfy, dwx, dwy = step
         yp, ym = y0.copy(), y0.copy()
         yp[3] += dm
         ym[3] -= dm
-        plus, _ = integrate_dop853(yp, 0.0, 1.0, Fx + dfx, Fy + dfy, 0.2, 1e-12, 1e-13)
-        minus, _ = integrate_dop853(ym, 0.0, 1.0, Fx - dfx, Fy - dfy, 0.2, 1e-12, 1e-13)
+        plus, _ = integrate_dop853(yp, 0.0, 1.0, Fx + dfx, Fy + dfy, 0.2, 1e-12, 1e-13, wx + dwx, wy + dwy)
+        minus, _ = integrate_dop853(ym, 0.0, 1.0, Fx - dfx, Fy - dfy, 0.2, 1e-12, 1e-13, wx - dwx, wy - dwy)
         fd = (plus[:4] - minus[:4]) / (2 * h)      # x, y, theta, m
         np.testing.assert_allclose(S[:, k], fd, rtol=1e-6, atol=1e-7)
 

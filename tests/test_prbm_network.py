@@ -292,6 +292,8 @@ def test_elastica_mechanism_reproduces_the_circular_guided_reference():
 
 def test_parallel_guided_fem_error_is_its_own_estimate_against_the_exact_mechanism():
     case = load_case(ROOT / "cases/seed004/parallel_guided.toml").case
+    load = case.loads[0].model_copy(update={"ramp": None, "values": [2.0, 8.0, 16.0]})
+    case = case.model_copy(update={"loads": [load], "level_labels": None})  # three of its levels
     fem, exact = run_method(case, "fem"), run_method(case, "elastica")
     assert fem.converged and exact.converged, (fem.message, exact.message)
     for req, value in fem.values.items():
@@ -335,3 +337,51 @@ def test_a_beam_pinned_to_the_ground_and_clamped_to_a_link_is_fixed_pinned_from_
     assert record.model == "fixed-pinned" and record.ends == ("pinned", "clamped")
     assert np.allclose(record.pivots[0], F + (1 - GAMMA) * (O2 - F))
     assert model.network.mobility() == 1
+
+
+def test_compliant_slider_crank_by_rule_against_virtual_work():
+    # a fixed-pinned beam as the crank (clamp C), a coupler A-S, the slider S on a ground line along x;
+    # the slider is pushed by dx: the force it needs is dU/dTheta2 / (dx/dTheta2) (virtual work, eq 196)
+    L, EI, angle = 3.0, 2.0, math.radians(70.0)
+    C = np.array([0.5, -0.2])
+    A = C + L * np.array([math.cos(angle), math.sin(angle)])
+    S = np.array([C[0] + 4.0, C[1] + 0.3])
+    geo = pb.Geometry(
+        nodes=(pb.Node("C", *C), pb.Node("A", *A), pb.Node("S", *S)),
+        beams=(pb.Beam("crank", "C", "A", EI),), links=(pb.RigidLink("coupler", ("A", "S")),),
+        joints=(pb.Joint("A", ("crank", "coupler")),),
+        supports=(pb.Support("C", "fixed"), pb.Support("S", "slider", direction=(1.0, 0.0))))
+    model = pb.build(geo)
+    assert [b.model for b in model.beams] == ["fixed-pinned"] and model.network.mobility() == 1
+    K = GAMMA * K_THETA * EI / L
+    O2 = C + (1 - GAMMA) * L * np.array([math.cos(angle), math.sin(angle)])
+    t3 = math.atan2(S[1] - A[1], S[0] - A[0])
+    sc = prbm.SliderCrank(GAMMA * L, float(np.linalg.norm(S - A)), angle, t3, offset=float(S[1] - O2[1]),
+                          springs=(K, 0.0, 0.0))
+    dx = (-0.2, 0.15, 0.4)
+    res = prbm.solve(model.network, [prbm.PrescribedDisplacement("S", "x", dx)], 3)
+    assert res.converged
+    for i, d in enumerate(dx):
+        theta2 = sc.theta2_at(d)
+        t3i = float(sc.theta3(theta2))
+        dx_dtheta = GAMMA * L * math.cos(theta2) * (math.tan(t3i) - math.tan(theta2))
+        force = -res.states[i].lam[-1]
+        assert force == pytest.approx(K * (theta2 - angle) / dx_dtheta, rel=1e-8)
+        assert res.position("S", i)[1] == pytest.approx(S[1], abs=1e-12)
+
+
+def test_the_rotation_of_a_free_beam_end_is_not_the_prb_link_angle():
+    # quantity contract: rotation = change of the tangent angle at the point; the PRB link's angle is not it
+    from validation.methods import prbm_network
+    from validation.methods.base import MethodRun, NotApplicable
+    case = load_case(ROOT / "cases/seed004/parallel_guided.toml").case
+    mech = case.mechanism.model_copy(update={"links": [], "supports": case.mechanism.supports[:1],
+                                             "beams": case.mechanism.beams[:1],
+                                             "nodes": [n for n in case.mechanism.nodes if n.name in ("G1", "C1")]})
+    load = case.loads[0].model_copy(update={"point": "C1"})
+    one = case.model_copy(update={"mechanism": mech, "loads": [load]})
+    values = prbm_network.run_mechanism(one, [Request("dy", "C1", 0)], {}, MethodRun(values={}))
+    theta = brentq(lambda t: GAMMA * K_THETA * t - 2.0 * GAMMA * math.cos(t), 0.0, 1.5)
+    assert values[Request("dy", "C1", 0)] == pytest.approx(GAMMA * math.sin(theta), rel=1e-9)
+    with pytest.raises(NotApplicable, match="end slope"):
+        prbm_network.run_mechanism(one, [Request("rotation", "C1", 0)], {}, MethodRun(values={}))

@@ -1,5 +1,5 @@
 """The PRBM reproduces the published PRBM columns (read from the case files) of Tables 3.1-3.6, 9.4,
-9.5, 6.1/6.2 (chapter-6 cases) and the seed-004 constants; known misprints are checked to be what
+6.1/6.2 (chapter-6 cases) and the seed-004 constants; known misprints are checked to be what
 their findings say, never hidden by a looser tolerance."""
 import math
 from pathlib import Path
@@ -14,8 +14,9 @@ from validation.methods.base import Request
 from validation.runner import run_method
 
 CASES = Path(__file__).resolve().parent.parent / "cases"
-TABLE_FILES = sorted(p for p in (CASES / "chapter3").glob("*.toml") if 'compare = "prbm"' in p.read_text()) + [CASES / "chapter9" / "test2_partially_compliant_fourbar.toml"] \
-    + sorted((CASES / "chapter9").glob("test3_*.toml"))
+# Table 9.5 (Test 3) is not here: its specimens are not in the seed, and stand-in geometries chosen to
+# give the printed DOF would make agreement circular (cases/chapter9/README.md).
+TABLE_FILES = sorted(p for p in (CASES / "chapter3").glob("*.toml") if 'compare = "prbm"' in p.read_text()) + [CASES / "chapter9" / "test2_partially_compliant_fourbar.toml"]
 _RUNS = {}
 
 

@@ -35,6 +35,8 @@ QUANTITIES: dict[str, Quantity] = {
     "dof": Quantity("count", False, "maximum degrees of freedom"),
     "prb_angle": Quantity("deg", False, "pseudo-rigid-body angle Theta"),
     "limit_load": Quantity("force", False, "load at the first limit point"),
+    "max_stress": Quantity("modulus", False, "largest bending stress |E (N/EA +- M c/EI)| over every beam"),
+    "inflection_points": Quantity("count", False, "number of curvature sign changes along the beams"),
 }
 
 _POSITIONS = {"x", "y", "dx", "dy", "rotation"}
@@ -43,7 +45,8 @@ _REACTIONS = {"reaction_x", "reaction_y", "reaction_moment"}
 
 METHODS: dict[str, frozenset[str]] = {
     "fem": frozenset(_POSITIONS | _LOADS | _REACTIONS | {"strain_energy", "input_angle",
-                                                         "input_torque", "limit_load"}),
+                                                         "input_torque", "limit_load", "max_stress",
+                                                         "inflection_points", "mechanical_advantage", "dof"}),
     "prbm": frozenset(_POSITIONS | _LOADS | {"strain_energy", "input_angle", "input_torque",
                                              "mechanical_advantage", "dof", "prb_angle"}),
     "elastica": frozenset(_POSITIONS | _LOADS | _REACTIONS | {"strain_energy"}),

@@ -23,6 +23,24 @@ class Options(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
 
+class MechanicalAdvantageOptions(Options):
+    """``[methods.fem] ma``: the FEM's mechanical advantage (validation.methods.fem_outputs)."""
+
+    output: str = Field(description="the held output point")
+    direction: tuple[float, float] = Field(description="the output force's direction")
+    input: Annotated[int, Field(ge=0)] | None = Field(None, description="index of the input load in [[loads]]")
+    step: Positive = Field(1e-4, description="tangent: input increment over its largest value")
+    d_i: Positive | None = Field(None, description="input force distance, for an input moment")
+    definition: Literal["tangent", "secant"] = "tangent"
+
+
+class SoftModeOptions(Options):
+    """``[methods.fem] dof``: soft modes of the tangent condensed to actuation points (fem.soft_modes)."""
+
+    points: list[str] = Field(min_length=1, description="actuation points (ux, uy, rz each)")
+    ratio: Positive = Field(1e-2, description="soft: stiffness below ratio x the members' largest EA/l")
+
+
 class FemOptions(Options):
     elements: Count = Field(16, description="elements per member")
     error_estimate: bool = Field(True, description="solve on n and 2n elements, report |u_2n - u_n|/3")
@@ -42,6 +60,10 @@ class FemOptions(Options):
                                         "pivots (validation.slfp)")
     input_moment_at: str | None = Field(None, description="reach the prescribed displacement by a moment "
                                         "at this node")
+    zero_level: Annotated[int, Field(ge=0)] | None = Field(None, description="positions measured from this "
+                                                          "level's state (a scale zeroed under self-weight)")
+    ma: MechanicalAdvantageOptions | None = None
+    dof: SoftModeOptions | None = None
 
 
 class ElasticaOptions(Options):

@@ -79,6 +79,10 @@ TIP_HELD: dict[str, tuple[str, ...]] = {
 
 def load_dofs(load) -> set[str]:
     """The freedoms ('ux', 'uy', 'rz') of its point that a load acts on or prescribes."""
+    if load.kind in ("distributed", "self_weight"):
+        return set()                       # along the beam, not at the point
+    if load.toward is not None or load.follower:
+        return {"ux", "uy"}                # the direction turns: both components
     if load.kind in ("moment", "rotation"):
         return {"rz"}
     d = load.direction

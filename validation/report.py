@@ -29,6 +29,7 @@ import pandas as pd
 from validation import paraview
 from validation.paraview import normalise_shapes  # noqa: F401  (also used by tests)
 from validation.loader import find_case_files
+from validation.readings import readings_groups
 from validation.report_format import run_badge, sig
 from validation.report_overview import CLAIMS, overview_points, plot_overview
 from validation.report_summary import (METHOD_NAMES, case_sentence, findings, findings_html, summarise,
@@ -132,9 +133,11 @@ def _level_axis(result: CaseResult) -> tuple[np.ndarray, str]:
     case = result.loaded.case
     if case.loads:
         load = case.loads[0]
-        dim = {"force": "force", "moment": "moment", "displacement": "length", "rotation": "deg"}[load.kind]
+        dim = {"force": "force", "moment": "moment", "displacement": "length", "rotation": "deg"}.get(load.kind)
+        unit = case.unit(dim) if dim else {"distributed": f"{case.unit('force')}/{case.unit('length')}",
+                                           "self_weight": "x weight"}[load.kind]
         name = load.label or f"{load.kind} at {load.point}"
-        return np.asarray(load.levels(), float), f"{name} [{case.unit(dim)}]"
+        return np.asarray(load.levels(), float), f"{name} [{unit}]"
     return np.arange(case.n_levels(), dtype=float), "load level"
 
 
@@ -385,6 +388,23 @@ def _build_pages(results: list[CaseResult], table: pd.DataFrame, out: Path, jobs
     return [_page_job(t) for t in tasks]
 
 
+def _readings_section(results, table: pd.DataFrame, links: dict) -> tuple[list[str], list[str]]:
+    """Readings of one experiment side by side against the measured points (`readings`)."""
+    groups = readings_groups(results, table)
+    if not groups:
+        return [], []
+    body = ["<h2>Load readings against the measurements</h2>"]
+    md = ["\n## Load readings against the measurements\n"]
+    for group in groups:
+        best = group.table.groupby("method", sort=False).head(1)        # sorted by rms: each method's closest
+        note = "closest: " + "; ".join(f"{r['method']}: {r['case']}, rms {r['rms']:.4g}, largest {r['max']:.4g} "
+                                       f"over {r['levels']} levels" for _, r in best.iterrows())
+        body += [f"<h3>{html.escape(group.experiment)}</h3><p>{html.escape(note)}</p>",
+                 _html_table(group.table, lambda r: "good" if r["closest"] else "")]
+        md += [f"\n### {group.experiment}\n", note + "\n", _md_table(group.table)]
+    return body, md
+
+
 OVERVIEW_CAPTION = (
     "Each dot is one load level of one case where both the PRBM and the FEM give a position: x is the "
     "largest FEM displacement over the characteristic length L, y the largest PRBM-to-FEM position "
@@ -431,17 +451,18 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     items = findings(outcome.results, table)
     failed = outcome.failed_comparisons
     info = reproducibility()
+    body_readings, md_readings = _readings_section(outcome.results, table, links)
     body = ["<h1>PRBM validation report</h1>", f"<p class='lead'>{html.escape(headline(rows))}</p>",
             "<p><img id='overview' src='overview.png' alt='PRBM error against deflection, every case and load "
             "level'></p>", f"<p class='caption'>{html.escape(OVERVIEW_CAPTION)} <a href='overview.svg'>The same "
             "picture as SVG</a>: click a dot to open its case.</p>",
             "<h2>Cases</h2><p class='caption'>Click a header to sort. Colour: PRBM error from green (at most "
             "0.5 % of L) to red (10 % of L or more). Hover a status or a method for the reason.</p>",
-            summary_tables_html(rows, links),
+            summary_tables_html(rows, links), *body_readings,
             "<h2>Findings and their evidence</h2><p class='caption'>Printed numbers not reproduced, misprints, "
             "and readings of the source that decide the answer.</p>", findings_html(items, links)]
     md = ["# PRBM validation report\n", headline(rows) + "\n", "![overview](overview.png)\n",
-          OVERVIEW_CAPTION + "\n", summary_markdown(rows), "\n## Findings\n"]
+          OVERVIEW_CAPTION + "\n", summary_markdown(rows), *md_readings, "\n## Findings\n"]
     md += [f"- {f.case}: {f.text}" + "".join(f"\n  - {e}" for e in f.evidence[:3]) for f in items]
     if len(failed):
         body.append("<h2>Comparisons outside their stated tolerance</h2><ul>" + "".join(

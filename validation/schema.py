@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 from typing import Annotated, Any, Literal
 
+import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 from pydantic_core import PydanticCustomError
 
@@ -72,6 +73,7 @@ class Layer(Strict):
     width: Positive
     thickness: Positive
     name: str | None = None
+    weight_density: Positive | None = Field(None, description="weight per unit volume (force/length^3), for self-weight")
 
 
 class SectionSpec(Strict):
@@ -84,6 +86,9 @@ class SectionSpec(Strict):
     A: Positive | None = None
     c: Positive | None = Field(None, description="extreme-fibre distance, for stresses")
     layers: list[Layer] | None = None
+    bonded: bool = Field(False, description="layers bonded (one section bending about the E-weighted "
+                         "neutral axis) instead of sliding on each other")
+    weight_density: Positive | None = Field(None, description="weight per unit volume (force/length^3), for self-weight")
 
     @model_validator(mode="after")
     def _complete(self) -> "SectionSpec":
@@ -93,7 +98,17 @@ class SectionSpec(Strict):
                 raise ValueError(f"section kind '{self.kind}' needs field '{name}'")
         if self.kind == "layers" and not self.layers:
             raise ValueError("section kind 'layers' needs at least one layer")
+        if self.bonded and self.kind != "layers":
+            raise ValueError("'bonded' applies to a section of kind 'layers'")
         return self
+
+    def weight_per_length(self) -> float | None:
+        """Weight per unit length (sum of weight density x area), None when a density is missing."""
+        if self.kind != "layers":
+            return None if self.weight_density is None else self.weight_density * self.area()
+        if any(layer.weight_density is None for layer in self.layers):
+            return None
+        return sum(layer.weight_density * layer.width * layer.thickness for layer in self.layers)
 
     def inertia(self) -> float:
         """Second moment of area I (for 'layers', the E-weighted stack is in ``bending_stiffness``)."""
@@ -106,6 +121,13 @@ class SectionSpec(Strict):
     def stiffness(self, E: float | None) -> tuple[float, float]:
         """(EA, EI) of the section with modulus E; sliding layers carry their own moduli (E unused)
         and bend each about its own centroid."""
+        if self.kind == "layers" and self.bonded:      # stacked bottom to top, transformed section
+            EA = sum(l.E * l.width * l.thickness for l in self.layers)
+            tops = np.cumsum([l.thickness for l in self.layers])
+            mids = tops - np.array([l.thickness for l in self.layers]) / 2
+            axis = sum(l.E * l.width * l.thickness * z for l, z in zip(self.layers, mids)) / EA
+            return EA, sum(l.E * l.width * (l.thickness**3 / 12.0 + l.thickness * (z - axis) ** 2)
+                           for l, z in zip(self.layers, mids))
         if self.kind == "layers":
             return (sum(l.E * l.width * l.thickness for l in self.layers),
                     sum(l.E * l.width * l.thickness**3 / 12.0 for l in self.layers))
@@ -245,13 +267,29 @@ class LoadSpec(Strict):
     kind 'moment': a couple (or input torque) ``values[i]`` at the point, on ``body`` if given.
     kind 'displacement' / 'rotation': prescribed position change along ``direction`` / prescribed
     rotation in degrees.
+
+    Loads attached to bodies: a follower force with ``body`` (a beam or link ending at the point)
+    turns with that body's rotation there, so it keeps its angle to the body. A force with
+    ``toward = [x, y]`` pulls with magnitude ``values[i]`` from the point toward that fixed point
+    (a rope over a pulley), turned by ``angle`` degrees (counter-clockwise) from that line: angle
+    90 keeps it perpendicular to the line joining a fixed pivot (no ``direction``).
+
+    kind 'distributed': a uniform load per unit length ``values[i] * direction`` along the whole
+    segment, or along the beam ``member``; ``follower = true`` turns it with the beam (a pressure
+    stays normal to it; ``direction`` is then given in the unloaded beam's frame).
+    kind 'self_weight': the weight of the beams (``section.weight_density`` or every layer's, force
+    per unit volume, times the area) along the gravity ``direction``, scaled by ``values[i]`` (1 =
+    full gravity at that level; use the same value at every level for a load present throughout).
     """
 
-    kind: Literal["force", "moment", "displacement", "rotation"]
+    kind: Literal["force", "moment", "displacement", "rotation", "distributed", "self_weight"]
     point: str = "tip"
     direction: tuple[Finite, Finite] | None = None
     follower: bool = False
     body: str | None = None
+    member: str | None = Field(None, description="distributed/self-weight: the beam carrying it (default: all)")
+    toward: tuple[Finite, Finite] | None = Field(None, description="force: the fixed point it pulls toward")
+    angle: Finite = Field(0.0, description="force toward a point: angle (deg, CCW) from the line to it")
     values: list[Finite] | None = None
     ramp: Ramp | None = None
     label: str | None = None
@@ -260,12 +298,25 @@ class LoadSpec(Strict):
     def _path(self) -> "LoadSpec":
         if (self.values is None) == (self.ramp is None):
             raise ValueError("give exactly one of 'values' (a list of levels) or 'ramp'")
-        if self.kind in ("force", "displacement") and self.direction is None:
+        if self.toward is not None:
+            if self.kind != "force" or self.follower or self.direction is not None:
+                raise ValueError("'toward' makes a force pull toward a fixed point: a 'force' load "
+                                 "without 'direction' or 'follower'")
+        elif self.angle != 0.0:
+            raise ValueError("'angle' is the angle from the line to the point 'toward', which is missing")
+        needs_direction = ("force", "displacement", "distributed", "self_weight")
+        if self.kind in needs_direction and self.direction is None and self.toward is None:
             raise ValueError(f"a '{self.kind}' load needs a 'direction' [dx, dy]")
         if self.direction is not None and math.hypot(*self.direction) == 0.0:
             raise ValueError("'direction' must not be the zero vector")
-        if self.follower and self.kind != "force":
-            raise ValueError("only a force can be a follower")
+        if self.follower and self.kind not in ("force", "distributed"):
+            raise ValueError("only a force or a distributed load can be a follower")
+        if self.member is not None and self.kind not in ("distributed", "self_weight"):
+            raise ValueError("'member' names the beam of a distributed or self-weight load")
+        if self.body is not None and self.kind == "force" and not self.follower:
+            raise ValueError("a force on a 'body' must be a follower (it turns with that body)")
+        if self.kind == "self_weight" and self.follower:
+            raise ValueError("self-weight is a dead load (gravity keeps its direction)")
         return self
 
     def levels(self) -> list[float]:
@@ -406,6 +457,8 @@ class CaseInfo(Strict):
                                       "none of its values at a loaded level can be checked")
     expected_failure: dict[str, str] = Field(default_factory=dict, description="method -> why it is "
                                              "expected not to converge or not to apply on this case")
+    readings_of: str | None = Field(None, description="id of the base case of an experiment this case is "
+                                    "one loading reading of (the report sets them side by side)")
     no_prbm_fem: str | None = Field(None, description="why this case has no PRBM-vs-FEM number, in one line: "
                                     "no seed PRBM for this configuration, geometry not in the seed, or an "
                                     "FEM-only benchmark validating the FEM itself")
@@ -470,6 +523,7 @@ class Case(Strict):
         for i, load in enumerate(self.loads):
             if load.point not in points:
                 raise ValueError(f"loads.{i}.point: unknown point '{load.point}'")
+            self._check_body_load(i, load)
         for name in self.methods:
             method_quantities(name)  # raises on an unknown method
         for i, out in enumerate(self.outputs):
@@ -504,6 +558,32 @@ class Case(Strict):
                 if method not in self.methods:
                     raise ValueError(f"case.{field_name}: method '{method}' is not in [methods]")
         return self
+
+    def _check_body_load(self, i: int, load: LoadSpec) -> None:
+        """The beam of a distributed load, the body of a follower force and the weight densities exist."""
+        beams = {} if self.mechanism is None else {b.name: b for b in self.mechanism.beams}
+        if load.member is not None:
+            if self.segment is not None:
+                raise ValueError(f"loads.{i}.member: a segment case has one beam; omit 'member'")
+            if load.member not in beams:
+                raise ValueError(f"loads.{i}.member: unknown beam '{load.member}'")
+        if load.kind == "force" and load.body is not None:
+            if self.segment is not None:
+                raise ValueError(f"loads.{i}.body: a segment case has one body; omit 'body'")
+            bodies = {b.name: (b.start, b.end) for b in self.mechanism.beams}
+            bodies.update({l.name: tuple(l.nodes) for l in self.mechanism.links})
+            if load.body not in bodies:
+                raise ValueError(f"loads.{i}.body: unknown beam or link '{load.body}'")
+            if load.point not in bodies[load.body]:
+                raise ValueError(f"loads.{i}.body: '{load.body}' does not reach point '{load.point}'")
+        if load.kind == "self_weight":
+            sections = ([("segment.section", self.segment.section)] if self.segment is not None else
+                        [(f"beam '{b.name}'", b.section) for b in self.mechanism.beams
+                         if load.member in (None, b.name)])
+            for where, section in sections:
+                if section.weight_per_length() is None:
+                    raise ValueError(f"loads.{i}: self_weight needs the weight_density of {where} "
+                                     "(or of each of its layers)")
 
     def n_levels(self) -> int:
         return len(self.loads[0].levels()) if self.loads else 1

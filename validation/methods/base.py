@@ -36,3 +36,16 @@ class MethodRun:
     # extras["shapes"]: per level, the deformed shape as a list of (n, 2) polylines (the report draws them);
     # extras["iterations"]: Newton iterations (the benchmark reads it); extras["path"]: a continuation path.
     extras: dict[str, Any] = field(default_factory=dict)
+
+
+def reject_loads_along_beams(case, method: str) -> None:
+    """Raise NotApplicable for the loads a point-load method cannot take: distributed and self-weight
+    loads, forces toward a fixed point, forces turning with a named body."""
+    for i, load in enumerate(case.loads):
+        if load.kind in ("distributed", "self_weight"):
+            raise NotApplicable(f"loads.{i}: {method} takes no {load.kind.replace('_', '-')} load "
+                                "(a load along the beam)")
+        if load.toward is not None:
+            raise NotApplicable(f"loads.{i}: {method} takes no force toward a fixed point")
+        if load.kind == "force" and load.body is not None:
+            raise NotApplicable(f"loads.{i}: {method} takes no force turning with body '{load.body}'")

@@ -23,7 +23,7 @@ import numpy as np
 
 from bcm.beam import solve_mixed, strain_energy
 from bcm.mechanisms import BCMBeam, RigidBodyOnBeams
-from validation.methods.base import MethodRun, NotApplicable, Request
+from validation.methods.base import MethodRun, NotApplicable, Request, reject_loads_along_beams
 from validation.quantities import boundary_held_tip
 from validation.schema import Case
 
@@ -181,6 +181,7 @@ def run(case: Case, requests: list[Request], options: dict) -> MethodRun:
     t0 = time.perf_counter()
     if not requests:
         return MethodRun(values={})
+    reject_loads_along_beams(case, "the BCM")
     if case.segment is not None:
         values, msgs, outside = _segment(case, requests, options)
     else:

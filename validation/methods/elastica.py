@@ -2,7 +2,9 @@
 
 Supported: one ``[segment]`` (straight or initially curved, any section: EI from
 ``segment.bending_stiffness()``), boundaries fixed-free, fixed-pinned, fixed-guided, fixed-fixed;
-tip loads of kind force (dead or follower), moment, displacement and rotation. The load path is
+tip loads of kind force (dead or follower), moment, displacement and rotation, and a uniform dead
+distributed load along the segment (kind distributed, or self_weight from the section's weight
+density). Not applicable: a follower distributed load, a force toward a fixed point. The load path is
 followed level by level with continuation (each level warm-starts from the previous one).
 
 Boundary handling: a tip freedom that carries a load is load-controlled, whatever the boundary
@@ -76,6 +78,10 @@ def level_problems(case: Case, options: dict) -> list[ElasticaProblem]:
             raise NotApplicable(f"load at '{load.point}': the elastica adapter takes tip loads only")
         if load.body is not None:
             raise NotApplicable("loads on a named body belong to mechanisms")
+        if load.kind == "distributed" and load.follower:
+            raise NotApplicable("a follower distributed load is not in the elastica's shooting equations")
+        if load.toward is not None:
+            raise NotApplicable("a force toward a fixed point is not modelled by the elastica adapter")
     problems = []
     for i in range(case.n_levels()):
         force = np.zeros(2)
@@ -84,10 +90,15 @@ def level_problems(case: Case, options: dict) -> list[ElasticaProblem]:
         constraints: list[TipConstraint] = []
         prescribed_dirs: list[np.ndarray] = []
         tip_angle = None
+        distributed = np.zeros(2)
         for load in case.loads:
             v = load.levels()[i]
             d = np.asarray(load.direction if load.direction is not None else (0.0, 0.0), float)
-            if load.kind == "force" and not load.follower:
+            if load.kind == "distributed":
+                distributed += v * d
+            elif load.kind == "self_weight":
+                distributed += v * seg.section.weight_per_length() * d / np.hypot(*d)
+            elif load.kind == "force" and not load.follower:
                 force += v * d
             elif load.kind == "force":
                 # components in the deformed tip frame: rotate the undeformed-frame vector by -theta_tip0
@@ -123,7 +134,8 @@ def level_problems(case: Case, options: dict) -> list[ElasticaProblem]:
             raise NotApplicable("more than two prescribed tip-position components")
         problems.append(ElasticaProblem(length=L, EI=EI, curvature=k0, force=tuple(force),
                                         moment=moment, follower=tuple(follower),
-                                        constraints=tuple(constraints), tip_angle=tip_angle))
+                                        constraints=tuple(constraints), tip_angle=tip_angle,
+                                        distributed=tuple(distributed)))
     return problems
 
 

@@ -11,7 +11,11 @@ Options (``[methods.fem]``): ``elements`` per member (default 16), ``error_estim
 on n and 2n elements and report |u_2n - u_n|/3, the Richardson estimate of the O(h^2) error of u_2n),
 ``richardson`` (report the extrapolated value instead of u_2n), ``tol`` (refine until the estimate is
 below it), ``inextensible_ratio`` (EA L^2/EI used when a section gives no area; default 1e6),
-and for ``limit_load``: ``arc_length``, ``max_steps``. ``slfp = {length, E, thickness_ratio}``: build every
+and for ``limit_load``: ``arc_length``, ``max_steps``; for ``mechanical_advantage``: ``ma`` (see
+`fem_outputs`, which also gives ``max_stress`` and ``inflection_points`` from the finest mesh);
+``zero_level``: positions (x, y, dx, dy) measured from the state of that level instead of the unloaded
+one (an experiment zeroed its scale under a load already present, e.g. self-weight): x = X0 + x(level)
+- x(zero_level). ``slfp = {length, E, thickness_ratio}``: build every
 sprung joint of a mechanism as a small-length flexural pivot of that length (``validation.slfp``).
 ``input_moment_at = "<node>"``: the case's one prescribed displacement (e.g. a slider position) is not
 imposed but reached by a moment at that node, found by an outer solve; the moment is ``input_torque``.
@@ -24,8 +28,9 @@ tied load F_x = -n F_y (``n``) or the F_x that puts a zero bending moment at arc
 Each level is its own problem, solved from the unloaded segment; the tip loads (``force_x``,
 ``force_y``, ``moment``) are those of the inverse problem, on n and 2n elements per member with
 the Richardson estimate |F_2n - F_n|/3 (unless ``error_estimate = false``; n and extrapolation from
-``inverse.elements``/``inverse.richardson``, else the method's); every other output comes from the
-forward solve under the case's loads.
+``inverse.elements``/``inverse.richardson``, else the method's; with extrapolation the estimate stays
+|F_2n - F_n|/3, the error of F_2n, a conservative bound for the extrapolated value); every other
+output comes from the forward solve under the case's loads.
 """
 from __future__ import annotations
 
@@ -35,6 +40,7 @@ import time
 import numpy as np
 
 from validation.inverse_problem import LOAD_OUTPUTS, InverseLevel, InverseSpec, Tie, inverse_spec, merge_runs
+from validation.methods import fem_outputs
 from validation.methods.base import MethodRun, NotApplicable, Request
 from validation.quantities import boundary_held_tip as _boundary_held_tip
 from validation.quantities import load_dofs as _load_dofs
@@ -45,6 +51,8 @@ ROTATION_DOF = "rz"
 
 def _section(fem, spec, E, length: float, options: dict):
     """A ``fem.Section`` from a schema section (E may be None for layers)."""
+    if spec.kind == "layers" and spec.bonded:         # one section: (EA, EI) of the transformed stack
+        return fem.Section.from_EI(*spec.stiffness(None))
     if spec.kind == "layers":
         return fem.Section.layers([(l.E, l.width, l.thickness) for l in spec.layers])
     if spec.kind == "rectangle":
@@ -73,7 +81,27 @@ def _segment_model(fem, case, elements: int, options: dict):
     _add_loads(model, case, {"tip"})
     for dof in _boundary_held_tip(case):
         model.prescribe("tip", dof, np.zeros(case.n_levels()))
+    _add_distributed(model, case, {None: (0, seg.section)})
     return model
+
+
+def _add_distributed(model, case, beams: dict) -> None:
+    """Distributed and self-weight loads; ``beams`` maps a beam name (None for a segment's only
+    beam) to (member index, schema section). Self-weight is the weight per unit length of each beam's
+    section along the gravity direction; rigid links carry none."""
+    for load in case.loads:
+        if load.kind not in ("distributed", "self_weight"):
+            continue
+        d = np.asarray(load.direction, float)
+        values = np.asarray(load.levels(), float)
+        if load.kind == "self_weight":
+            d = d / np.hypot(*d)
+        for name, (member, section) in beams.items():
+            if load.member not in (None, name):
+                continue
+            scale = section.weight_per_length() if load.kind == "self_weight" else 1.0
+            model.add_distributed(scale * values * d[0], scale * values * d[1], member=member,
+                                  follower=load.follower)
 
 
 def _held_dofs(case) -> dict[str, set]:
@@ -89,17 +117,25 @@ def _held_dofs(case) -> dict[str, set]:
 
 
 def _add_loads(model, case, allowed_points, members: dict | None = None) -> None:
-    """Add the case's loads.
+    """Add the case's point loads (distributed ones: `_add_distributed`).
 
     A moment with ``body`` naming a beam acts on that beam's end (one side of a hinge); on a rigid
-    link, or without ``body``, it acts on the node's rotation."""
+    link, or without ``body``, it acts on the node's rotation. A follower force with ``body`` turns
+    with that member's end rotation (a beam, or a link modelled as stiff bars), else with the node's.
+    A force ``toward`` a fixed point pulls along the current line to it, turned by ``angle``."""
     for i, load in enumerate(case.loads):
+        if load.kind in ("distributed", "self_weight"):
+            continue
         if load.point not in allowed_points:
             raise NotApplicable(f"loads.{i} acts on '{load.point}', which the FEM model holds fixed")
         values = np.asarray(load.levels(), float)
-        if load.kind == "force":
+        if load.kind == "force" and load.toward is not None:
+            model.add_pointed_force(load.point, values, load.toward, angle=math.radians(load.angle))
+        elif load.kind == "force":
             d = np.asarray(load.direction, float)
-            model.add_force(load.point, values * d[0], values * d[1], follower=load.follower)
+            member = (members or {}).get((load.body, load.point)) if load.body else None
+            model.add_force(load.point, values * d[0], values * d[1], follower=load.follower,
+                            member=member)
         elif load.kind == "moment":
             member = (members or {}).get(load.body) if load.body else None
             model.add_moment(load.point, values, member=member)
@@ -164,6 +200,16 @@ def _mechanism_model(fem, case, elements: int, options: dict):
         for node in link.nodes:                                                # motions sit on the master
             if node != master:
                 model.add_rigid_link(master, node)
+    ends = {}                                            # (body, node) -> the member ending there
+    for name, index in member_index.items():
+        if name in bars:
+            link = next(l for l in mech.links if l.name == name)
+            for k, node in enumerate(link.nodes[1:]):
+                ends[(name, node)] = index + k
+            ends[(name, link.nodes[0])] = index
+        else:
+            beam = next(b for b in mech.beams if b.name == name)
+            ends[(name, beam.start)] = ends[(name, beam.end)] = index
     for joint in mech.joints:
         released = [member_index[m] for m in joint.members if m in member_index]
         if not released:
@@ -171,7 +217,8 @@ def _mechanism_model(fem, case, elements: int, options: dict):
         model.add_joint(joint.node, released, k=joint.spring)
     for sup in mech.supports:
         model.add_support(sup.node, sup.kind, direction=sup.direction or (1.0, 0.0))
-    _add_loads(model, case, set(coords), {b.name: member_index[b.name] for b in mech.beams})
+    _add_loads(model, case, set(coords), {b.name: member_index[b.name] for b in mech.beams} | ends)
+    _add_distributed(model, case, {b.name: (member_index[b.name], b.section) for b in mech.beams})
     return model
 
 
@@ -191,6 +238,9 @@ def _applied(case, point: str, level: int, rotation: float = 0.0) -> np.ndarray:
         if load.point != point:
             continue
         v = load.levels()[level]
+        if load.kind == "force" and load.toward is not None:
+            raise NotApplicable(f"the force at '{point}' pulls toward a fixed point: its components "
+                                "depend on the solution")
         if load.kind == "force":
             fx, fy = v * np.asarray(load.direction, float)
             total[:2] += (c * fx - s * fy, s * fx + c * fy) if load.follower else (fx, fy)
@@ -261,6 +311,8 @@ def _input_node(case) -> str:
 def _limit_load(fem, case, model, options: dict):
     """Load at the first limit point: by arc length (default) or by displacement control of the
     loaded point along the load (``limit_control = "displacement"``, step ``control_step``)."""
+    if not model.loads:
+        raise NotApplicable("limit_load scales the point loads; this case has none (distributed loads only)")
     reference = max(abs(np.asarray(ld.values)[-1]).max() for ld in model.loads)
     if options.get("limit_control", "arclength") == "displacement":
         load = max((ld for ld in case.loads if ld.kind == "force"), key=lambda ld: max(map(abs, ld.levels())))
@@ -531,15 +583,29 @@ def _run_forward(fem, case, requests: list[Request], options: dict) -> MethodRun
     elements = int(options.get("elements", 16))
     model = build_model(case, elements, options)
     values, errors, iterations, converged, messages, result = {}, {}, 0, True, [], None
-    ordinary = [r for r in requests if r.quantity != "limit_load"]
+    zero = options.get("zero_level")
+    if zero is not None:
+        if not 0 <= int(zero) < case.n_levels():
+            raise NotApplicable(f"zero_level = {zero}: the case has {case.n_levels()} load levels")
+        shifted = [r for r in requests if r.quantity in ZEROED]
+        requests = list(dict.fromkeys(requests + [Request(r.quantity, r.point, int(zero)) for r in shifted]))
+    dof = [r for r in requests if r.quantity == "dof"]
+    if dof:
+        count, note = _soft_mode_count(case, model, options)
+        values.update({r: float(count) for r in dof})
+        messages.append(note)
+        requests = [r for r in requests if r.quantity != "dof"]
+    ordinary = [r for r in requests if r.quantity != "limit_load" and r.quantity not in BEAM_OUTPUTS]
+    beam_outputs = [r for r in requests if r.quantity in BEAM_OUTPUTS]
     limit = [r for r in requests if r.quantity == "limit_load"]
-    if ordinary:
+    if ordinary or beam_outputs:
         vals, errs, result, ok, msg, its = _solve_levels(fem, case, model, ordinary, options)
         values.update(vals)
         errors.update(errs)
         iterations += its
         converged &= ok
         messages.append(msg + _critical_note(result))
+        values.update(_beam_outputs(fem, case, model, result, beam_outputs, elements, options))
     if limit:
         value, res, why = _limit_load(fem, case, model, options)
         iterations += res.iterations
@@ -556,6 +622,13 @@ def _run_forward(fem, case, requests: list[Request], options: dict) -> MethodRun
             values.update({r: value for r in limit})
             messages.append(f"limit load by {options.get('limit_control', 'arclength')}: {res.message}")
         result = result or res
+    if zero is not None:
+        at_zero = {r: values.get(Request(r.quantity, r.point, int(zero))) for r in shifted}
+        origin = {name: model.coords[i] for i, name in enumerate(model.node_names)}
+        for r in shifted:
+            if r in values and at_zero[r] is not None:
+                unloaded = {"x": origin[r.point][0], "y": origin[r.point][1]}.get(r.quantity, 0.0)
+                values[r] = values[r] - at_zero[r] + unloaded
     extras = {"iterations": iterations, "elements": elements,
               "rejected_iterations": getattr(result, "rejected_iterations", 0)}
     if result is not None and result.n_levels:
@@ -568,10 +641,65 @@ def _run_forward(fem, case, requests: list[Request], options: dict) -> MethodRun
                      error_estimate=errors, wall_time=time.perf_counter() - start, extras=extras)
 
 
+BEAM_OUTPUTS = ("max_stress", "inflection_points", "mechanical_advantage")
+ZEROED = ("x", "y", "dx", "dy")
+
+
+def _soft_mode_count(case, model, options: dict) -> tuple[int, str]:
+    """dof: soft modes of the unloaded tangent condensed to the actuation points (``fem.soft_modes``),
+    ``[methods.fem] dof = {points = [...], ratio = 1e-2}``; the stretching reference is the largest
+    EA/l of the case's beams."""
+    from fem.soft_modes import soft_modes
+
+    spec = options.get("dof") or {}
+    points = spec.get("points")
+    if not points or case.mechanism is None:
+        raise NotApplicable("dof by the FEM needs a mechanism and [methods.fem] dof = {points = [...]}")
+    ratio = float(spec.get("ratio", 1e-2))
+    reference = max(m.section.EA / math.dist(model.coords[m.start], model.coords[m.end])
+                    for m in model.members if ":" not in m.name)
+    found = soft_modes(model, [(p, d) for p in points for d in ("ux", "uy", "rz")], ratio=ratio,
+                       reference_stiffness=reference)
+    return found.count, (f"dof: {found.count} soft mode(s) of the tangent condensed to {', '.join(points)}, "
+                         f"k/k_ref = {', '.join(f'{r:.2e}' for r in found.ratios)}, threshold {ratio:g}")
+
+
+def _beam_outputs(fem, case, model, result, requests, elements: int, options: dict) -> dict:
+    """max_stress and inflection_points of the finest mesh; mechanical_advantage by an increment
+    of the input load (`fem_outputs`)."""
+    values = {}
+    beams = [i for i, m in enumerate(model.members) if ":" not in m.name]    # stiff bars are 'link:node'
+    ma = None
+    for req in requests:
+        if req.level >= result.n_levels:
+            continue
+        if req.quantity == "max_stress":
+            values[req] = fem_outputs.max_stress(result, req.level)
+        elif req.quantity == "inflection_points":
+            values[req] = float(fem_outputs.inflection_points(result, model, beams, req.level))
+        else:
+            if ma is None and fem_outputs.definition(options) == "secant":
+                load = case.loads[fem_outputs.input_load_index(case, options)]
+                ma = fem_outputs.secant_mechanical_advantage(
+                    options, fem_outputs.output_force(case, options, result.reaction), load)
+            elif ma is None:
+                raised_case, delta, load = fem_outputs.incremented_case(case, options)
+                solves = [fem.solve(m, n_levels=case.n_levels(), rtol=float(options.get("rtol", 1e-10)))
+                          for m in (model, build_model(raised_case, elements, options))]
+                if not all(r.converged for r in solves):
+                    raise NotApplicable("mechanical_advantage: a solve of the increment did not converge: "
+                                        + "; ".join(r.message for r in solves))
+                forces = [fem_outputs.output_force(case, options, r.reaction) for r in solves]
+                ma = fem_outputs.mechanical_advantage(case, options, forces[0], forces[1], delta, load)
+            if np.isfinite(ma[req.level]):                      # secant: undefined without input load
+                values[req] = float(ma[req.level])
+    return values
+
+
 def _continuation_path(case, result):
     if result.control == "load":
         return None
-    loads = [ld for ld in case.loads if ld.kind == "force"]
+    loads = [ld for ld in case.loads if ld.kind == "force" and ld.direction is not None]
     if not loads:
         return None
     point = loads[0].point

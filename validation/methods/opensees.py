@@ -22,7 +22,7 @@ import time
 
 import numpy as np
 
-from validation.methods.base import MethodRun, NotApplicable, Request
+from validation.methods.base import MethodRun, NotApplicable, Request, reject_loads_along_beams
 from validation.quantities import boundary_held_tip
 
 SUPPORTED = {"x", "y", "dx", "dy", "rotation", "limit_load"}
@@ -181,6 +181,7 @@ def _build(ops, coords, elems, supports, nodal):
 
 
 def run(case, requests: list[Request], options: dict) -> MethodRun:
+    reject_loads_along_beams(case, "the OpenSees peer")
     ops = _ops()
     if any(r.quantity not in SUPPORTED for r in requests):
         bad = next(r.quantity for r in requests if r.quantity not in SUPPORTED)

@@ -21,6 +21,11 @@ as P = F_y, n = -F_x/F_y (seed 000: end force (-nP, P)).
 Outputs: x = a, y = b, dx, dy (from the unloaded tip), rotation = theta0 (deg), force_x = -nP,
 force_y = P, moment (CCW), prb_angle (deg), strain_energy (PRBM springs).
 
+Mechanisms with no hand-given ``links`` (and not the one-beam-with-body case below): the PRB model
+is built from the geometry by the seeds' rules and solved as a general rigid-link network
+(``validation/methods/prbm_network.py``, ``prbm.build``, ``prbm.solve``); ``model = 'network'``
+does so even when links are given.
+
 Mechanisms: a PRB four-bar from ``[methods.prbm]`` options in the case-file format of chapters 6, 7
 and 9: ``links = {r1 = [x, y], ..., r5, r6}`` (position-1 vectors Z1..Z6), ``springs = {k1..k4}``,
 ``energy_free = {theta2, theta3, theta4}`` (deg), ``coupler_point`` (node name, default 'P').
@@ -54,7 +59,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from validation.methods import prbm_network
-from validation.methods.base import MethodRun, NotApplicable, Request
+from validation.methods.base import MethodRun, NotApplicable, Request, reject_loads_along_beams
 from validation.quantities import boundary_held_tip, unloaded_tip_angle
 
 DEG = math.pi / 180.0
@@ -64,6 +69,7 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
     import prbm
 
     t0 = time.perf_counter()
+    reject_loads_along_beams(case, "the PRBM")
     try:
         if case.segment is not None:
             values, run_info = _segment(prbm, case, requests, options)
@@ -369,13 +375,18 @@ def _mechanism(prbm, case, requests, options):
         max_mode = int(options.get("max_mode", 2))
         dof = topo.max_dof(max_mode)
         info.extras["mode_table"] = topo.mode_table(max_mode)
+        info.extras["procedure"] = topo.procedure(max_mode)      # chapter 8 steps, energy order
+        info.extras["min_dof"] = topo.min_dof(max_mode)
         info.extras["expected_mode"] = topo.expected_mode(max_mode)
         for r in requests:
             if r.quantity == "dof":
                 values[r] = float(dof)
         requests = [r for r in requests if r.quantity != "dof"]
         if not requests:
-            info.message = f"maximum DOF {dof} (Grubler on the PRBM, modes up to {max_mode})"
+            first = next(step for step in info.extras["procedure"] if step["F_C"] >= 1)
+            info.message = (f"maximum DOF {dof}, minimum {topo.min_dof(max_mode)} (Grubler on the PRBM, modes up "
+                            f"to {max_mode}; first static mode {first['modes']}: F_C = f_r + f_e = "
+                            f"{first['f_r']} + {first['f_e']})")
             return values, info
     links = options.get("links")
     kinds = sorted(sup.kind for sup in mech.supports)

@@ -153,6 +153,8 @@ def run_mechanism(case, requests, options: dict, info: MethodRun) -> dict:
         result = prbm.solve(model.network, network_loads(case, model), n)
     except prbm.LockedNetwork as exc:
         raise NotApplicable(f"PRB model locked under the prescribed motions: {exc} ({model.describe()})") from None
+    except ValueError as exc:  # a load the PRB model cannot take (e.g. a prescribed rotation of the ground)
+        raise NotApplicable(f"PRB model: {exc}") from None
     net = model.network
     inputs = [ld for ld in case.loads if ld.kind in ("rotation", "moment")]
     values = {}
@@ -168,7 +170,11 @@ def run_mechanism(case, requests, options: dict, info: MethodRun) -> dict:
             d = xy - np.asarray(net.points[p][1])
             values[req] = float({"x": xy[0], "y": xy[1], "dx": d[0], "dy": d[1]}[q])
         elif q == "rotation":
-            values[req] = math.degrees(result.rotation(model.node_body[p], lv))
+            body = model.node_body[p]
+            if body.startswith("prb:"):  # a free beam end riding on its PRB link
+                raise NotApplicable(f"the rotation of '{p}': the PRB link's angle Theta is not the beam's end "
+                                    "slope (theta_0 = c_theta Theta needs a c_theta the builder's model does not carry)")
+            values[req] = math.degrees(result.rotation(body, lv))
         elif q in ("force_x", "force_y", "moment"):
             values[req] = float(_received(case, model, result, p, lv)[("force_x", "force_y", "moment").index(q)])
         elif q == "strain_energy":
@@ -192,6 +198,7 @@ def run_mechanism(case, requests, options: dict, info: MethodRun) -> dict:
                       for b in model.beams],
         "lock": model.lock,
         "stable": {i: s.stable for i, s in enumerate(result.states)},
+        "spring_torques": {i: result.spring_torques(i) for i, s in enumerate(result.states) if s.converged},
         "iterations": result.iterations,
         "shapes": _shapes(model, result),
     })

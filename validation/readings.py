@@ -1,0 +1,67 @@
+"""Readings of one experiment side by side: how far each case's computed points land from the measured ones.
+
+An experiment whose loading the source leaves open is written as one case per plausible reading; each
+reading names the base case in ``[case] readings_of``. For every case of the group and every method,
+the distance |r_computed - r_measured| at a point is taken per load level over the position pairs
+the references give (x with y, dx with dy; label ``measured``), levels whose reference carries a
+finding (a mis-copied row) and the first level when every reading matches it exactly (the unloaded
+state) left out; the group's table lists the rms and the largest distance, and marks the closest reading.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+PAIRS = (("x", "y"), ("dx", "dy"))
+
+
+@dataclass
+class ReadingsGroup:
+    experiment: str               # the base case id
+    table: pd.DataFrame           # case, title, method, levels, rms, max, closest
+
+    def closest(self) -> str | None:
+        best = self.table[self.table["closest"]]
+        return None if best.empty else str(best["case"].iloc[0])
+
+
+def _distances(rows: pd.DataFrame) -> pd.DataFrame:
+    """Per (case, method, point, level): the distance over the position pair the rows hold."""
+    measured = rows[(rows["reference_label"] == "measured") & rows["finding"].isna()
+                    & rows["value"].notna() & rows["reference_value"].notna()]
+    frames = []
+    for a, b in PAIRS:
+        pair = measured[measured["quantity"].isin((a, b))]
+        if pair.empty:
+            continue
+        squared = (pair["value"] - pair["reference_value"]) ** 2
+        grouped = pair.assign(sq=squared).groupby(["case", "method", "point", "level"])
+        both = grouped["quantity"].nunique() == 2
+        frames.append(np.sqrt(grouped["sq"].sum())[both].rename("distance").reset_index())
+    return pd.concat(frames) if frames else pd.DataFrame(columns=["case", "method", "point", "level", "distance"])
+
+
+def readings_groups(results, table: pd.DataFrame) -> list[ReadingsGroup]:
+    """One group per base case that other cases name in ``readings_of``."""
+    members: dict[str, list] = {}
+    cases = {r.loaded.id: r.loaded.case for r in results}
+    for case_id, case in cases.items():
+        base = case.case.readings_of
+        if base is not None and base in cases:
+            members.setdefault(base, [base]).append(case_id)
+    groups = []
+    for base, ids in sorted(members.items()):
+        dist = _distances(table[table["case"].isin(ids)])
+        if dist.empty:
+            continue
+        first = dist["level"].min()                                  # the unloaded state, when every
+        if dist.loc[dist["level"] == first, "distance"].max() <= 1e-9:  # reading matches it exactly
+            dist = dist[dist["level"] != first]
+        summary = dist.groupby(["case", "method"])["distance"].agg(
+            levels="count", rms=lambda d: float(np.sqrt(np.mean(np.square(d)))), max="max").reset_index()
+        summary.insert(1, "title", [cases[c].case.title for c in summary["case"]])
+        summary["closest"] = summary["rms"] == summary["rms"].min()
+        groups.append(ReadingsGroup(base, summary.sort_values("rms").reset_index(drop=True)))
+    return groups
