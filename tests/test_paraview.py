@@ -147,3 +147,16 @@ def test_fem_library_export_writes_the_series(tip_loaded_cantilever, tmp_path):
                                     "bending_stress"}  # a rectangle knows E and c: stress too
     np.testing.assert_allclose(last.point_data["bending_moment"], result.nodal_fields(1).bending_moment)
     assert len(meshio.read(tmp_path / "beam_undeformed.vtu").points) == len(last.points)
+
+
+def test_a_mechanism_elastica_centreline_has_its_tangent_angle():
+    """Beam centrelines given as (x, y) points: a quarter circle of radius 2 has tangent angle 0..90 deg
+    and curvature 1/2 (the exact circle, sampled)."""
+    phi = np.linspace(0.0, np.pi / 2, 201)
+    arc = np.column_stack([2 * np.sin(phi), 2 * (1 - np.cos(phi))])
+    case = case_by_id("bapat2015_test2").case
+    series = paraview.elastica_series(case, [[arc]] * case.n_levels())
+    frame = series.frames[0]
+    assert len(frame.lines) == 200
+    np.testing.assert_allclose(frame.point_data["rotation"][[0, 100, 200]], [0.0, 45.0, 90.0], atol=0.01)
+    np.testing.assert_allclose(frame.point_data["curvature"][1:-1], 0.5, rtol=1e-3)

@@ -1,5 +1,6 @@
 """The report: every image and link resolves, its tables say what the results say, the summary
 reads in words and short numbers, and it works in a real browser (headless Chromium)."""
+import math
 import re
 import shutil
 from pathlib import Path
@@ -12,7 +13,7 @@ from validation.methods.base import MethodRun
 from validation.report import build_report, glance
 from validation.report_format import Badge, run_badge
 from validation.report_overview import overview_points
-from validation.report_summary import round_numbers
+from validation.report_summary import CaseSummary, MethodState, round_numbers, summary_tables_html
 from validation.runner import run_case, summary, tabulate
 
 REPORT_CASES = ["cantilever_tip_load", "follower_tip_load", "bapat2015_test2"]
@@ -172,3 +173,14 @@ def test_report_in_a_real_browser(built_report):
 def test_messages_in_the_summary_keep_four_significant_digits():
     text = "no convergence between t = 0.209595 and 0.3 at theta20 = 15.86, EI 1.0172526e-5, r1..r4"
     assert round_numbers(text) == "no convergence between t = 0.2096 and 0.3 at theta20 = 15.86, EI 1.017e-05, r1..r4"  # the input, not output, rounded
+
+
+def test_an_absent_prbm_fem_number_shows_the_case_reason():
+    row = CaseSummary(group="chapter 9", case="x", title="t", badge=Badge.AGREES, reason="",
+                      methods=[MethodState("prbm", Badge.AGREES, "")], sentence="s.", prbm_fem_length=math.nan,
+                      prbm_fem_relative=math.nan, fem_estimate=math.nan, checks=0, checks_passed=0, findings=0,
+                      no_prbm_fem="geometry not in the seed")
+    cell = re.search(r"<td class='absent'[^>]*>(.*?)</td>", summary_tables_html([row], {})).group(1)
+    assert cell == "geometry not in the seed"
+    without = summary_tables_html([CaseSummary(**{**row.__dict__, "no_prbm_fem": ""})], {})
+    assert "no FEM in this case" in without

@@ -8,13 +8,15 @@ For each method that gave deformed shapes, ``write_case_series`` writes under ``
   ``fem_undeformed.vtu``, the reference mesh;
 - ``prbm.pvd``: the pseudo-rigid-body links (line cells) and their pivots and link ends (vertex
   cells), point data ``pivot`` (1 at a pivot or link end);
-- ``elastica.pvd``: the exact centreline with its rotation (degrees), curvature d(theta)/ds,
-  bending moment EI kappa and displacement from the undeformed (straight or circular) segment;
+- ``elastica.pvd``: the exact centreline; a segment's with its rotation (degrees), curvature
+  d(theta)/ds, bending moment EI (kappa - kappa0) and displacement from the undeformed (straight or
+  circular) segment; a mechanism's beams with the tangent angle and curvature of each centreline;
 - ``all_methods.pvd``: the same files, one part per method, where more than one method drew a shape.
 
 Time is the case's first load at each level (its unit in the case's unit system), or the level index
-when the case has no load; a FEM continuation (limit load) is timed by its load factor.  Units are the case file's; rotations in degrees as everywhere in the
-harness.  ``render_series`` draws the last level of every series off-screen with pyvista.
+when the case has no load; a FEM continuation (limit load) is timed by its load factor.  Units are the
+case file's; rotations in degrees as everywhere in the harness.  ``render_series`` draws the last level
+of every series off-screen with pyvista.
 """
 from __future__ import annotations
 
@@ -148,10 +150,35 @@ def prbm_series(case: Case, shapes) -> ShapeSeries | None:
     return ShapeSeries("prbm", _times(case, _levels(shapes)), frames)
 
 
-def elastica_series(case: Case, shapes) -> ShapeSeries | None:
-    """The exact centreline (x, y, theta rows of the elastica adapter) with its point data."""
-    if not shapes or case.segment is None:
+def _lines_frame(polylines: list[np.ndarray]) -> ShapeFrame | None:
+    """Polylines as one frame of line cells, with each point's tangent angle (degrees) and the
+    curvature d(angle)/ds along its polyline."""
+    points, lines, angle, curvature = [], [], [], []
+    for line in (line for line in polylines if len(line) >= 3):
+        start = len(points)
+        points.extend(line.tolist())
+        lines.extend([start + j, start + j + 1] for j in range(len(line) - 1))
+        s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(line, axis=0).T))])
+        theta = np.unwrap(np.arctan2(np.gradient(line[:, 1], s, edge_order=2),
+                                     np.gradient(line[:, 0], s, edge_order=2)))
+        angle.extend(np.degrees(theta))
+        curvature.extend(np.gradient(theta, s, edge_order=2))
+    if not lines:
         return None
+    return ShapeFrame(np.asarray(points), np.asarray(lines),
+                      point_data={"rotation": np.asarray(angle), "curvature": np.asarray(curvature)})
+
+
+def elastica_series(case: Case, shapes) -> ShapeSeries | None:
+    """The exact centreline with its point data: a segment's (x, y, theta) rows, or a mechanism's beam
+    centrelines (x, y) with the tangent angle and curvature read off them."""
+    if not shapes:
+        return None
+    if case.segment is None:
+        frames = [_lines_frame(polylines) for polylines in normalise_shapes(shapes)]
+        if not frames or any(f is None for f in frames):
+            return None
+        return ShapeSeries("elastica", _times(case, _levels(shapes)), frames)
     per_level = [shapes[k] for k in _levels(shapes)]
     _, EI = case.segment.section.stiffness(case.segment.E)
     kappa0 = case.segment.initial_curvature()
@@ -166,7 +193,7 @@ def elastica_series(case: Case, shapes) -> ShapeSeries | None:
             reference = np.column_stack([np.sin(kappa0 * s) / kappa0, (1 - np.cos(kappa0 * s)) / kappa0])
         else:
             reference = np.column_stack([s, np.zeros_like(s)])
-        curvature = np.gradient(theta, s)
+        curvature = np.gradient(theta, s, edge_order=2)
         displacement = np.column_stack([x, y]) - reference
         frames.append(ShapeFrame(np.column_stack([x, y]), np.column_stack([np.arange(len(x) - 1),
                                                                            np.arange(1, len(x))]),
