@@ -74,7 +74,7 @@ def fake_prbm(monkeypatch):
 def test_good_case_loads_and_derives(tmp_path):
     case = load_case(write(tmp_path, "good.toml", GOOD)).case
     assert case.n_levels() == 2
-    assert case.segment.bending_stiffness() == pytest.approx(30e6 * 0.5 * 0.0625**3 / 12)
+    assert case.segment.bending_stiffness() == pytest.approx(30e6 * 0.5 * 0.0625**3 / 12)   # derived: E w h^3/12 of the case file
     assert case.unit("length") == "in" and case.unit("moment") == "lbf*in"
 
 

@@ -59,7 +59,7 @@ def test_chapter5_example1_shapes_follow_the_body():
     for lv, (chain, coupler) in enumerate(shapes):
         # O, pivot 1, inflection point, pivot 2, E (unloaded: O, E); then the coupler E-P-Q
         assert chain.shape == ((2, 2) if lv == 0 else (5, 2)) and coupler.shape == (3, 2)
-        assert chain[0] == pytest.approx([-3.6315, -13.8811])
+        assert chain[0] == pytest.approx([-3.6315, -13.8811])   # the clamp O as given in the case file (input, not output)
         assert chain[-1] == pytest.approx(coupler[0])                   # the body hangs on the segment end
         assert coupler[1] == pytest.approx([run.values[Request("x", "P", lv)], run.values[Request("y", "P", lv)]])
         lengths = np.hypot(*np.diff(chain, axis=0).T)

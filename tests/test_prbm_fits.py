@@ -41,10 +41,10 @@ def test_range_endpoints_follow_the_printed_inequalities():
 
 def test_breakpoint_jumps_are_those_of_the_published_fits():
     jumps = {f: dict(getattr(PAULY_MIDHA, f).breakpoint_jumps()) for f in ("gamma", "c_theta", "K_theta")}
-    assert jumps["gamma"][-1.5] == pytest.approx(-0.0002475, abs=1e-9)
-    assert jumps["gamma"][-0.5] == pytest.approx(0.002432, abs=1e-9)
-    assert jumps["c_theta"][-0.5] == pytest.approx(-0.0002805625, abs=1e-12)
-    assert jumps["K_theta"][-0.5] == pytest.approx(-0.00096509375, abs=1e-12)
+    assert jumps["gamma"][-1.5] == pytest.approx(-0.0002475, abs=1e-9)   # derived from the printed coefficients of eqs (41)-(43) at the breakpoints
+    assert jumps["gamma"][-0.5] == pytest.approx(0.002432, abs=1e-9)   # derived from the printed coefficients of eq (41)-(43)
+    assert jumps["c_theta"][-0.5] == pytest.approx(-0.0002805625, abs=1e-12)   # derived from the printed coefficients of eq (41)-(43)
+    assert jumps["K_theta"][-0.5] == pytest.approx(-0.00096509375, abs=1e-12)   # derived from the printed coefficients of eq (41)-(43)
     h = dict(HOWELL.gamma.breakpoint_jumps())
     assert h[0.5] == pytest.approx(-0.0046265, abs=1e-9)
     assert abs(h[-1.8316]) < 3e-6            # continuous to the printed digits
@@ -56,8 +56,8 @@ def test_breakpoint_jumps_are_those_of_the_published_fits():
 def test_breakpoint_belongs_to_the_lower_branch_and_jump_is_visible():
     below = PAULY_MIDHA.gamma(-0.5)
     above = PAULY_MIDHA.gamma(-0.5 + 1e-12)
-    assert below == pytest.approx(0.852138 + 0.018615 * 0.5, abs=1e-12)
-    assert above - below == pytest.approx(0.002432, abs=1e-9)
+    assert below == pytest.approx(0.852138 + 0.018615 * 0.5, abs=1e-12)   # derived from the printed coefficients of eq (41)-(43)
+    assert above - below == pytest.approx(0.002432, abs=1e-9)   # derived from the printed coefficients of eq (41)-(43)
 
 
 def test_vectorised_equals_scalar():

@@ -14,6 +14,7 @@ CASES = Path(__file__).resolve().parent.parent / "cases" / "seed004"
 
 
 def test_pure_moment_constants():
+    """Printed in seed 004 (PRB lecture, pure-moment slide): gamma = 0.7346, k = 1.5164 EI/L."""
     assert prbm.PURE_MOMENT_GAMMA == 0.7346
     assert prbm.PURE_MOMENT_SPRING == 1.5164
     assert prbm.PURE_MOMENT_K_THETA == pytest.approx(2.0643, abs=1e-4)   # Howell's K_Theta = k/(gamma EI/L)

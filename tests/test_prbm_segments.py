@@ -91,7 +91,7 @@ def test_curved_pinned_pinned_tension_opens_compression_closes():
 
 def test_composite_layers_and_capstan():
     EI = prbm.layered_bending_stiffness([(550e3, 2.5, 0.125), (30e6, 1.0, 0.025), (550e3, 2.5, 0.125)])
-    assert EI == pytest.approx(486.6536, abs=1e-4)
+    assert EI == pytest.approx(486.6536, abs=1e-4)   # derived: 2 x 550e3 x 2.5 x 0.125^3/12 + 30e6 x 1 x 0.025^3/12
     assert prbm.capstan_factor(0.01, 3 * math.pi / 2) == pytest.approx(math.exp(-0.01 * 3 * math.pi / 2))
     dead = prbm.composite_beam_tip([4.0], 0.0, length=10.0, EI=EI)
     fol = prbm.composite_beam_tip([4.0], 0.0, length=10.0, EI=EI, follower=True)

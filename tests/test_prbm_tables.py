@@ -61,15 +61,23 @@ def test_documented_discrepancies_have_the_stated_values():
     assert run36.values[Request("force_y", "tip", 2)] == pytest.approx(9.41, abs=5e-4)    # printed 5.41 (misprint)
 
 
-def test_table3_3_example3_second_root_is_reported():
+def test_table3_3_example3_every_root_is_found_and_is_an_equilibrium():
+    """Table 3.3 Ex. 3 with I = 1.02e-5 (the case's beam): the default multistart returns every valid
+    root that an exhaustive scan (all 1836 grid points as starts, 3 minutes) finds: two. The printed
+    root comes first; each root is an equilibrium with the specified end pose, checked independently
+    by the load-specified solver under that root's loads (a, b, theta0 come back)."""
     case, run = _run(CASES / "chapter3" / "table3_3_case1_a_b_theta0.toml")
     roots = run.extras["roots"][2]
     assert len(roots) == 2
     printed = [r for r in case.references if r.compare == "prbm" and r.level == 2 and r.quantity == "force_x"][0]
     assert -roots[0]["nP"] == pytest.approx(printed.value, abs=1e-3)      # the printed root first
-    assert roots[1]["nP"] == pytest.approx(8.5661, abs=1e-3)
-    assert roots[1]["P"] == pytest.approx(3.3280, abs=1e-3)
-    assert roots[1]["l1"] == pytest.approx(7.2318, abs=1e-3)
+    beam = prbm.InflectionBeam(20.0, 30e6 * 1.02e-5)
+    for root in roots:
+        forward = prbm.solve_loads(beam, root["P"], root["nP"], root["M"], prefer=("l1", root["l1"]))
+        back = [s for s in forward.roots[0] if abs(s["l1"] - root["l1"]) < 1e-6]
+        assert back, root
+        assert back[0]["a"] == pytest.approx(18.5, abs=1e-7) and back[0]["b"] == pytest.approx(5.0, abs=1e-7)
+        assert math.degrees(back[0]["theta0"]) == pytest.approx(-45.0, abs=1e-6)
 
 
 def test_inflection_forward_and_inverse_agree():
@@ -82,17 +90,6 @@ def test_inflection_forward_and_inverse_agree():
     assert float(inv.outputs["M"]) == pytest.approx(15.0, abs=1e-6)
     s = prbm.inflection_state(beam, o["F"], o["phi1"], o["theta0"], o["l1"], o["theta10"])
     assert abs(float(s["r95"])) < 1e-9 and abs(float(s["r96"])) < 1e-9
-
-
-def test_test2_pose_under_design_torques_is_the_documented_finding():
-    """Under the printed design torques (drive = 'torque') the PRBM does not reach the Table 9.4 column."""
-    case = load_case(CASES / "chapter9" / "test2_partially_compliant_fourbar.toml").case
-    from validation.methods import prbm as adapter
-    opts = dict(case.methods["prbm"], drive="torque")
-    reqs = [Request("dx", "P", lv) for lv in range(4)] + [Request("dy", "P", lv) for lv in range(4)]
-    run = adapter.run(case, reqs, opts)
-    got = [(round(run.values[Request("dx", "P", lv)], 3), round(run.values[Request("dy", "P", lv)], 3)) for lv in (1, 2, 3)]
-    assert got == [(-0.423, 2.559), (-1.069, 4.125), (-1.699, 5.149)]
 
 
 def test_test1a_printed_prbm_points_lie_on_the_gamma0_circle():
@@ -108,13 +105,6 @@ def test_test1a_printed_prbm_points_lie_on_the_gamma0_circle():
         implied = ((l - p["x"]) ** 2 + p["y"] ** 2) / (2 * l * (l - p["x"])) if p["x"] != l else None
         # (a - (1-g) l)^2 + b^2 = (g l)^2  ->  g = ((l-a)^2 + b^2) / (2 l (l-a))
         assert implied == pytest.approx(g0, abs=2e-3), lv
-
-
-def test_test1_plain_prbm_with_sum_ei_is_the_documented_forward():
-    case = load_case(CASES / "chapter9" / "test1a_composite_beam.toml").case
-    assert case.segment.bending_stiffness() == pytest.approx(486.6536, abs=1e-4)
-    r = prbm.fixed_pinned_tip(np.array([4.0, 8.5]), 0.0, length=10.0, EI=case.segment.bending_stiffness())
-    assert np.round(r["a"], 3).tolist() == [9.628, 8.703] and np.round(r["b"], 3).tolist() == [2.491, 4.518]
 
 
 def test_chapter6_prbm_columns():

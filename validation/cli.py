@@ -1,4 +1,4 @@
-"""``prbm-validate``: list, run, solve, report, bench, stress, sweep and synthesize.
+"""``prbm-validate``: list, run, solve, report, bench, stress, audit, sweep and synthesize.
 
 Exit status (every verb, defined in validation/exit_status.py): 0 everything asked for ran and every
 comparison is inside its tolerance; 1 a comparison outside its tolerance, or a method that failed,
@@ -188,6 +188,12 @@ def cmd_bench(args) -> int:
     return run_bench(Path(args.out), quick=args.quick)
 
 
+def cmd_audit(args) -> int:
+    from validation.audit import cmd_audit as run_audit
+
+    return run_audit(args)
+
+
 def cmd_stress(args) -> int:
     from validation.stress import run_stress
 
@@ -248,6 +254,13 @@ def build_parser() -> argparse.ArgumentParser:
     from synthesis.cli import add_parser as add_synthesize_parser
     from validation.sweep import add_parser as add_sweep_parser
 
+    audit = sub.add_parser("audit", help="plant errors in each method and count the cases that catch them")
+    audit.add_argument("cases", nargs="*", help="case ids, files or globs (default: all)")
+    audit.add_argument("--plant", action="append",
+                       help="only this planted error (repeatable; default: all; names in validation/plants.py)")
+    audit.add_argument("--jobs", type=int, default=2, help="worker processes")
+    audit.add_argument("--out", default="reports/audit", help="folder for audit.csv (default %(default)s)")
+    audit.set_defaults(func=cmd_audit)
     add_sweep_parser(sub)
     add_synthesize_parser(sub)
     return parser

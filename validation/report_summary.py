@@ -96,7 +96,8 @@ def case_sentence(result: CaseResult, part: pd.DataFrame) -> str:
         claimed = part[part["within_tolerance"].notna()]
         if len(claimed):
             good = int((claimed["within_tolerance"] == True).sum())  # noqa: E712
-            clauses.append(f"{good} of {len(claimed)} printed numbers reproduced within their stated tolerance")
+            clauses.append(f"{good} of {len(claimed)} enforced checks met (printed numbers, findings, "
+                           f"agreements, FEM against the exact elastica)")
         reason = getattr(result.loaded.case.case, "no_prbm_fem", None)
         if reason:
             clauses.append(f"no PRBM-vs-FEM comparison: {reason}")

@@ -350,8 +350,39 @@ class Tolerance(Strict):
     abs: Annotated[float, Field(gt=0)] | None = None
 
 
+class Finding(Strict):
+    """A known disagreement between a printed number and the method that should reproduce it, with
+    the evidence that explains it, both halves checked by the suite.
+
+    The printed value must still disagree with the method (outside the reference's tolerance: a
+    finding on a comparison that passes is stale), and the explanation must reproduce:
+    ``computed``: the method's value equals this number (the corrected entry, e.g. printed 5.41,
+    computed 9.41; or an independent computation named in ``text``) within ``tolerance``;
+    ``reproduce_with``: the method re-run with these case fields set (dotted paths as in sweeps,
+    e.g. ``segment.section.I``) meets the printed value within ``tolerance``.
+    ``tolerance`` defaults to the reference's."""
+
+    text: str = Field(min_length=1)
+    computed: Finite | None = None
+    reproduce_with: dict[str, Any] | None = None
+    tolerance: Tolerance | None = None
+
+    @model_validator(mode="after")
+    def _explains(self) -> "Finding":
+        if (self.computed is None) == (self.reproduce_with is None):
+            raise ValueError("a finding states exactly one of 'computed' (the value the method gives "
+                             "instead) or 'reproduce_with' (the inputs that reproduce the printed value); "
+                             "a remark that is not a disagreement is a 'note'")
+        if self.reproduce_with is not None and not self.reproduce_with:
+            raise ValueError("'reproduce_with' is empty")
+        return self
+
+
 class ReferenceSpec(Strict):
-    """A published number, where it was printed, and which method should reproduce it how closely."""
+    """A published number, where it was printed, and which method should reproduce it how closely.
+
+    ``finding``: a disagreement the suite asserts (see ``Finding``); ``note``: a remark (convergence,
+    provenance) that leaves the comparison enforced."""
 
     quantity: str
     point: str = "tip"
@@ -361,7 +392,8 @@ class ReferenceSpec(Strict):
     source: Source
     compare: str | None = Field(None, description="method expected to reproduce it; None = record only")
     tolerance: Tolerance | None = None
-    finding: str | None = Field(None, description="a known misprint or disagreement, with its evidence")
+    finding: Finding | None = Field(None, description="a known misprint or disagreement, with its evidence")
+    note: str | None = Field(None, description="a remark that is not a disagreement; the check stays enforced")
 
     @field_validator("quantity")
     @classmethod
@@ -374,6 +406,41 @@ class ReferenceSpec(Strict):
     def _tolerance_needs_method(self) -> "ReferenceSpec":
         if self.tolerance is not None and self.compare is None:
             raise ValueError("a tolerance needs 'compare' (the method that should meet it)")
+        if self.finding is not None and self.tolerance is None:
+            raise ValueError("a finding needs 'compare' and 'tolerance' (the check it explains the failure of)")
+        return self
+
+
+class Agreement(Strict):
+    """An acceptance limit between two methods, or a method and a printed column, checked like a
+    reference: ``method`` against ``against`` (another method of the case, or the references with
+    that label, e.g. 'measured') on each quantity at each level where both have a value.
+
+    Error measures are the report's: ``abs`` in the quantity's unit; ``rel`` relative to
+    max(|against|, 1 % of the largest |against| of the quantity over the compared levels), so a
+    quantity passing through zero is judged on its scale. Either limit met passes. ``basis`` says
+    where the limit comes from (a source, or a derivation)."""
+
+    method: str
+    against: str
+    quantities: list[str] = Field(min_length=1)
+    point: str = "tip"
+    levels: list[int] | Literal["all"] = "all"
+    tolerance: Tolerance
+    basis: str = Field(min_length=1)
+
+    @field_validator("quantities")
+    @classmethod
+    def _known(cls, value: list[str]) -> list[str]:
+        for q in value:
+            if q not in QUANTITIES:
+                raise ValueError(f"unknown quantity '{q}'")
+        return value
+
+    @model_validator(mode="after")
+    def _has_limit(self) -> "Agreement":
+        if self.tolerance.rel is None and self.tolerance.abs is None:
+            raise ValueError("the tolerance needs 'rel' and/or 'abs'")
         return self
 
 
@@ -387,6 +454,10 @@ class CaseInfo(Strict):
     assumptions: list[str] = Field(default_factory=list)
     findings: list[str] = Field(default_factory=list, description="case-level misprints and disagreements, "
                                 "with their evidence, that no single reference carries")
+    unchecked: dict[str, str] = Field(default_factory=dict, description="method -> the one-line reason "
+                                      "none of its values at a loaded level can be checked")
+    expected_failure: dict[str, str] = Field(default_factory=dict, description="method -> why it is "
+                                             "expected not to converge or not to apply on this case")
     readings_of: str | None = Field(None, description="id of the base case of an experiment this case is "
                                     "one loading reading of (the report sets them side by side)")
     no_prbm_fem: str | None = Field(None, description="why this case has no PRBM-vs-FEM number, in one line: "
@@ -417,6 +488,7 @@ class Case(Strict):
     outputs: list[OutputSpec] = Field(min_length=1)
     methods: dict[str, dict[str, Any]] = Field(min_length=1)
     references: list[ReferenceSpec] = Field(default_factory=list)
+    agreements: list[Agreement] = Field(default_factory=list)
 
     @field_validator("methods")
     @classmethod
@@ -480,6 +552,21 @@ class Case(Strict):
                 problems.append(f"references.{i}.level: {ref.level} but the case has {n} load levels")
             if ref.compare is not None and ref.compare not in self.methods:
                 problems.append(f"references.{i}.compare: method '{ref.compare}' is not in [methods]")
+        labels = {ref.label for ref in self.references}
+        for i, agr in enumerate(self.agreements):
+            if agr.method not in self.methods:
+                problems.append(f"agreements.{i}.method: method '{agr.method}' is not in [methods]")
+            if agr.against not in self.methods and agr.against not in labels:
+                problems.append(f"agreements.{i}.against: '{agr.against}' is neither a method in [methods] "
+                                 f"nor a reference label of this case")
+            if agr.against == agr.method:
+                problems.append(f"agreements.{i}: a method against itself checks nothing")
+            if agr.levels != "all" and any(not 0 <= lv < max(n, 1) for lv in agr.levels):
+                problems.append(f"agreements.{i}.levels: level outside 0..{max(n, 1) - 1}")
+        for field_name in ("unchecked", "expected_failure"):
+            for method in getattr(self.case, field_name):
+                if method not in self.methods:
+                    problems.append(f"case.{field_name}: method '{method}' is not in [methods]")
         if problems:
             raise ValueError("\n".join(problems))
         return self
@@ -522,3 +609,17 @@ class Case(Strict):
         if dimension in ("deg", "1", "count"):
             return dimension
         return UNIT_SYSTEMS[self.case.units][dimension]
+
+
+def without_checks(data: dict, methods: list[str]) -> dict:
+    """Case data (as read from TOML) restricted to ``methods`` for a derived run (a sweep point, a stress
+    variant): references and agreements dropped, ``case.unchecked`` / ``case.expected_failure`` kept only
+    for the methods that remain. Modifies and returns ``data``."""
+    data["references"] = []
+    data["agreements"] = []
+    info = data.get("case") or {}
+    for key in ("unchecked", "expected_failure"):
+        if key in info:
+            info[key] = {m: why for m, why in info[key].items() if m in methods}
+    return data
+

@@ -29,6 +29,7 @@ from pydantic import ValidationError
 
 from validation.capabilities import QUANTITIES, method_quantities
 from validation.methods.base import RunStatus
+from validation.schema import without_checks
 
 MODES = ("set", "scale", "offset", "angle")
 
@@ -133,7 +134,7 @@ def apply(data: dict, path: str, mode: str, value: Any) -> None:
 
 
 def prepare(base: dict, methods: list[str], options: dict[str, dict], outputs: list[dict] | None) -> dict:
-    """The base case restricted to the sweep's methods and outputs, references dropped.
+    """The base case restricted to the sweep's methods and outputs, references and agreements dropped.
 
     With the case's own outputs (``outputs`` None), each output keeps only the sweep methods that
     can give its quantity; an output no sweep method can give is dropped.
@@ -141,7 +142,7 @@ def prepare(base: dict, methods: list[str], options: dict[str, dict], outputs: l
     data = copy.deepcopy(base)
     own = data.get("methods") or {}
     data["methods"] = {m: {**(own.get(m) or {}), **(options.get(m) or {})} for m in methods}
-    data["references"] = []
+    without_checks(data, methods)
     if outputs is not None:
         data["outputs"] = copy.deepcopy(outputs)
     else:
