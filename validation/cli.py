@@ -96,9 +96,9 @@ def cmd_run(args) -> int:
         print(f"\n{len(failed)} comparison(s) outside the claimed tolerance:")
         _print_table(failed[["case", "method", "quantity", "point", "level", "value", "reference_label",
                              "reference_value", "abs_error", "rel_error", "tolerance_rel", "tolerance_abs"]])
-    problems = outcome.method_problems
+    problems = outcome.unexpected_problems
     if problems:
-        print(f"\n{len(problems)} method run(s) did not end ok:")
+        print(f"\n{len(problems)} method run(s) did not end ok (and their case does not expect it):")
         for line in problems:
             print(f"  {line}")
     for error in outcome.errors:

@@ -503,7 +503,7 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     (out / "index.md").write_text("\n".join(md) + "\n")
     for error in outcome.errors:
         print_error(error)
-    for line in outcome.method_problems:  # what makes the exit status 1, in words
+    for line in outcome.unexpected_problems:  # what makes the exit status 1, in words
         print(f"not ok: {line}")
     print(f"report: {out / 'index.html'} ({len(outcome.results)} cases, "
           f"{time.perf_counter() - started:.1f} s)")
