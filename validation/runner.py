@@ -256,17 +256,20 @@ class RunOutcome:
     def unexpected_problems(self) -> list[str]:
         """``method_problems`` less the runs whose case records that outcome as expected
         (``case.expected_failure``, with its reason; the suite checks that they do fail)."""
-        return [f"{r.loaded.id} {method}: {run.summary()}"
-                for r in self.results for method, run in r.runs.items()
-                if not run.ok and method not in r.loaded.case.case.expected_failure]
+        return [f"{case_id} {method}: {run.summary()}"
+                for case_id, method, run in self._runs_not_expected_to_fail() if not run.ok]
+
+    def _runs_not_expected_to_fail(self):
+        """(case id, method, run) for every run whose case does not record it in expected_failure."""
+        return [(r.loaded.id, method, run) for r in self.results for method, run in r.runs.items()
+                if method not in r.loaded.case.case.expected_failure]
 
     @property
     def exit_status(self) -> int:
         """The rule of validation/exit_status.py: bad input 2; a failed comparison or a method that
         failed, refused or did not converge where its case does not expect it 1; else 0."""
         statuses = [decide(bad_input=bool(self.errors), failed=len(self.failed_comparisons) > 0)]
-        statuses += [of_run_status(run.status) for r in self.results for method, run in r.runs.items()
-                     if method not in r.loaded.case.case.expected_failure]
+        statuses += [of_run_status(run.status) for _, _, run in self._runs_not_expected_to_fail()]
         return int(combine(statuses))
 
 
