@@ -27,11 +27,12 @@ cantilever at P L^2/EI = 10 is (0.445, 0.810609)):
 (0.81061, True)
 """
 from .error_estimate import ErrorEstimate, solve_with_error_estimate
+from .free_motion import FreeMotion
 from .model import Model
 from .result import FemResult
 from .section import Section
 from .solver import solve
 from .tip_inverse import LoadRatio, Position, TipInverseResult, ZeroMoment, solve_tip_inverse
 
-__all__ = ["Model", "Section", "solve", "solve_with_error_estimate", "FemResult", "ErrorEstimate",
+__all__ = ["Model", "Section", "solve", "FreeMotion", "solve_with_error_estimate", "FemResult", "ErrorEstimate",
            "solve_tip_inverse", "LoadRatio", "ZeroMoment", "Position", "TipInverseResult"]

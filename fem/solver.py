@@ -35,6 +35,7 @@ import numpy as np
 from .assembly import System
 from .critical import critical_points
 from .discretise import discretise
+from .free_motion import check_held
 from .linear_solver import SingularMatrix
 from .model import DOF_NAMES, Model
 from .newton import Path, StepFailed, accept_check, det_sign, growth, newton, snapshot
@@ -439,6 +440,7 @@ def solve(model: Model, n_levels: int | None = None, control: str = "load", *,
         raise ValueError(f"n_levels={n_levels} but the load histories have {model.n_levels}")
     disc = discretise(model, refine=refine)
     system = System(model, disc, solver_kind=solver, n_levels=n_levels)
+    check_held(system)
     opts = dict(rtol=rtol, atol=atol, max_iter=max_iter, initial_step=initial_step,
                 min_step=min_step, max_rotation_increment=max_rotation_increment,
                 max_iteration_rotation=max_iteration_rotation,
