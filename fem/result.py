@@ -61,17 +61,18 @@ class FemResult:
     def n_levels(self) -> int:
         return len(self.load_factor)
 
-    def _node(self, node) -> int:
+    def node_index(self, node) -> int:
+        """Index of a model node given by name (or index)."""
         if isinstance(node, (int, np.integer)):
             return int(node)
         return self.node_names.index(str(node))
 
     def position(self, node, level: int = -1) -> np.ndarray:
         """Current (x, y) of a model node at a recorded level."""
-        return self.positions[level, self._node(node)].copy()
+        return self.positions[level, self.node_index(node)].copy()
 
     def displacement(self, node, level: int = -1) -> np.ndarray:
-        i = self._node(node)
+        i = self.node_index(node)
         return self.positions[level, i] - self.mesh_positions_ref[i]
 
     @property
@@ -80,11 +81,11 @@ class FemResult:
 
     def rotation(self, node, level: int = -1) -> float:
         """Accumulated rotation (rad, counter-clockwise) of a model node."""
-        return float(self.rotations[level, self._node(node)])
+        return float(self.rotations[level, self.node_index(node)])
 
     def reaction(self, node, level: int = -1) -> np.ndarray:
         """(Rx, Ry, Mz) exerted by the supports/prescriptions on the node."""
-        return self.reactions[level, self._node(node)].copy()
+        return self.reactions[level, self.node_index(node)].copy()
 
     def __repr__(self) -> str:
         return (f"FemResult(converged={self.converged}, message={self.message!r}, "

@@ -207,9 +207,9 @@ def test_bifurcation_detected_in_load_control():
     m.add_force("tip", 0.0, -Pcr * np.array([0.9, 1.1]))
     r = fem.solve(m, initial_step=0.05)
     assert r.converged, r.message
-    assert [c["kind"] for c in r.critical_points] == ["bifurcation"]
+    assert [c.kind for c in r.critical_points] == ["bifurcation"]
     # the det K sign change lies between the levels 0.9 Pcr and 1.1 Pcr
-    assert 0.0 < r.critical_points[0]["load_factor"] <= 1.0
+    assert 0.0 < r.critical_points[0].load_factor <= 1.0
 
 
 def test_vtu_export(tmp_path):
