@@ -39,6 +39,8 @@ import time
 
 import numpy as np
 
+import fem
+from fem.soft_modes import soft_modes
 from validation.methods.inverse_problem import LOAD_OUTPUTS, InverseLevel, InverseSpec, Tie, inverse_spec, merge_runs
 from validation.methods import fem_outputs
 from validation.methods.base import MethodRun, NotApplicable, Request
@@ -223,8 +225,6 @@ def _mechanism_model(fem, case, elements: int, options: dict):
 
 
 def build_model(case, elements: int, options: dict):
-    import fem
-
     if case.segment is not None:
         return _segment_model(fem, case, elements, options)
     return _mechanism_model(fem, case, elements, options)
@@ -550,8 +550,6 @@ def _run_moment_driven(fem, case, requests: list[Request], options: dict) -> Met
 
 
 def run(case, requests: list[Request], options: dict) -> MethodRun:
-    import fem
-
     if "input_moment_at" in options:
         return _run_moment_driven(fem, case, requests, options)
     spec = inverse_spec(case, options, "fem")
@@ -653,8 +651,6 @@ def _soft_mode_count(case, model, options: dict) -> tuple[int, str]:
     """dof: soft modes of the unloaded tangent condensed to the actuation points (``fem.soft_modes``),
     ``[methods.fem] dof = {points = [...], ratio = 1e-2}``; the stretching reference is the largest
     EA/l of the case's beams."""
-    from fem.soft_modes import soft_modes
-
     spec = options.get("dof") or {}
     points = spec.get("points")
     if not points or case.mechanism is None:
