@@ -29,6 +29,7 @@ import numpy as np
 from .corotational import element_state
 from .distributed import element_loads
 from .discretise import Discretisation
+from .compiled_newton import CompiledLayout
 from .kernel import scatter
 from .linear_solver import MatrixLayout
 from .model import Model
@@ -112,13 +113,17 @@ class System:
         self.valid_src = np.nonzero(self.valid)[0] // (w * w)
         prod = (self.C0[self.rows_full][:, :, None] * self.C0[self.cols_full][:, None, :]).ravel()
         self.coef_const = prod[self.valid]
-        self.layout = MatrixLayout(self.n, R.ravel()[self.valid], Cc.ravel()[self.valid],
-                                   kind=solver_kind)
+        rows, cols = R.ravel()[self.valid], Cc.ravel()[self.valid]
+        self.layout = MatrixLayout(self.n, rows, cols, kind=solver_kind)
         self.spring_sign = np.array([[1.0, -1.0], [-1.0, 1.0]])
         self.I_flat = self.I.ravel()
         self.L_ref = model.characteristic_length()
         # residual noise from rounding positions: ~ eps * EA per element
         self.noise_floor = 4 * np.finfo(float).eps * float(np.max(d.ka * d.L0, initial=0.0))
+        # the compiled load-control corrector (`compiled_newton`), where it applies
+        self.I0 = np.ascontiguousarray(self.I[:, 0])
+        self.C0_flat = np.ascontiguousarray(self.C0[:, 0])
+        self.compiled = CompiledLayout(self.layout, rows, cols) if CompiledLayout.applies(self) else None
 
     # -- loads along a path ------------------------------------------------
     def loads_at(self, level_a, level_b, t):

@@ -27,6 +27,7 @@ import math
 
 import numpy as np
 
+from . import compiled_newton as cn
 from .linear_solver import SingularMatrix
 from .options import NewtonOutcome, SolveOptions
 
@@ -87,7 +88,10 @@ class Path:
 def newton(system, q, lam, beta, loads, opts: SolveOptions, mode="load", ctrl=None, arc=None,
            q_start=None) -> NewtonOutcome:
     """Corrector.  mode 'load' (lambda fixed), 'disp' (ctrl=(k, coef, target)),
-    'arc' (arc=(dl, w, q0)).  Raises `StepFailed` when it does not converge."""
+    'arc' (arc=(dl, w, q0)).  Raises `StepFailed` when it does not converge. Under load control a
+    system the compiled corrector handles (`compiled_newton`) is solved there, with the same steps."""
+    if mode == "load" and system.compiled is not None:
+        return _newton_compiled(system, q, lam, beta, loads, opts, q_start)
     F_fixed, F0, presc = loads
     hist = []
     dq_small = False
@@ -158,6 +162,49 @@ def newton(system, q, lam, beta, loads, opts: SolveOptions, mode="load", ctrl=No
                 raise StepFailed(f"rotation increment {dth:.3g} rad too large", it + 1,
                                  cut=max(0.1, 0.9 * opts.max_rotation_increment / dth))
     raise AssertionError("unreachable")
+
+
+class _Sign:
+    """The sign of det K of the compiled corrector's last factorisation (what load control reads
+    of a `linear_solver.Factor`)."""
+
+    def __init__(self, det_sign: int):
+        self.det_sign = det_sign
+
+
+def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start) -> NewtonOutcome:
+    """`newton` under load control by `compiled_newton.newton_load`: the same outcome or failure."""
+    F_fixed, _, presc = loads
+    c, d = system.compiled, system.disc
+    q = np.array(q, dtype=float)
+    q_start = q.copy() if q_start is None else q_start
+    n_el, nf, n = len(d.L0), d.n_full + 1, system.n
+    el = dict(f=np.empty((n_el, 6)), K=np.zeros((n_el, 6, 6)), N=np.empty(n_el), M=np.empty((n_el, 2)),
+              L=np.empty(n_el), beta=np.empty(n_el), theta_bar=np.empty((n_el, 2)), u_bar=np.empty(n_el),
+              jumped=np.empty(n_el, dtype=bool))
+    K, u, f_int, f_ref, R = np.empty(c.size), np.empty(nf), np.empty(nf), np.empty(nf), np.empty(nf)
+    r, fr, hist = np.empty(n), np.empty(n), np.empty(opts.max_iter + 1)
+    status, it, sign, scale, dth = cn.newton_load(
+        q, q_start, np.asarray(presc, dtype=float), float(lam), F_fixed, beta, system.I0, system.C0_flat,
+        d.prescribed_dofs, d.edofs, system.X1, system.X2, d.L0, d.beta0, d.ka, d.kb, d.springs,
+        d.spring_k, d.ground, c.flat, system.valid_src, system.coef_const, c.banded, c.kl, c.ku, c.ld,
+        d.red_is_rotation, opts.rtol, opts.atol, system.noise_floor, system.L_ref, opts.max_iter,
+        float(opts.max_iteration_rotation or 0.0), opts.max_rotation_increment, K, u, f_int, f_ref, R, r,
+        fr, el["f"], el["K"], el["N"], el["M"], el["L"], el["beta"], el["theta_bar"], el["u_bar"],
+        el["jumped"], hist)
+    history = hist[:it + 1].tolist()
+    if status == cn.NOT_FINITE:
+        raise StepFailed("residual is not finite", it)
+    if status == cn.NO_CONVERGENCE:
+        raise StepFailed(f"no convergence in {it} iterations (|r|/F = {history[-1]:.2e})", it)
+    if status in (cn.SINGULAR, cn.NON_FINITE_TANGENT):
+        raise StepFailed("singular tangent" if status == cn.SINGULAR else "non-finite entries in the tangent", it)
+    if status == cn.ROTATION_TOO_LARGE:
+        raise StepFailed(f"rotation increment {dth:.3g} rad too large", it,
+                         cut=max(0.1, 0.9 * opts.max_rotation_increment / dth))
+    ev = dict(u=u, C=system.C0, el=el, f_int=f_int, f_ref_full=f_ref, R_full=R, r=r, f_ref=fr,
+              F_scale=scale, K=c.row_major(K))
+    return NewtonOutcome(q, lam, ev, history, it, None if sign == 2 else _Sign(sign))
 
 
 def accept_check(system, q_new, q_old, ev, opts: SolveOptions, its):
