@@ -121,6 +121,8 @@ class System:
         # residual noise from rounding positions: ~ eps * EA per element
         self.noise_floor = 4 * np.finfo(float).eps * float(np.max(d.ka * d.L0, initial=0.0))
         # the compiled load-control corrector (`compiled_newton`), where it applies
+        self.dead_loads = (len(self.fol_nodes) == 0 and not np.any(self.pt_angle)
+                           and not np.any(self.dist_follower))     # `stability.conservative`
         self.I0 = np.ascontiguousarray(self.I[:, 0])
         self.C0_flat = np.ascontiguousarray(self.C0[:, 0])
         self.compiled = CompiledLayout(self.layout, rows, cols) if CompiledLayout.applies(self) else None

@@ -27,7 +27,7 @@ from numba.extending import get_cython_function_address
 
 from .kernel import element_kernel
 
-__all__ = ["CompiledLayout", "newton_load", "CONVERGED", "NOT_FINITE", "NO_CONVERGENCE", "SINGULAR",
+__all__ = ["CompiledLayout", "newton_load", "unloaded_pivots", "CONVERGED", "NOT_FINITE", "NO_CONVERGENCE", "SINGULAR",
            "NON_FINITE_TANGENT", "ROTATION_TOO_LARGE"]
 
 CONVERGED, NOT_FINITE, NO_CONVERGENCE, SINGULAR, NON_FINITE_TANGENT, ROTATION_TOO_LARGE = range(6)
@@ -249,3 +249,35 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
             if dth > limit:
                 return ROTATION_TOO_LARGE, it + 1, sign, scale, dth
     return NO_CONVERGENCE, max_iter, sign, 0.0, 0.0
+
+
+@njit(cache=True)
+def unloaded_pivots(presc, F_fixed, beta0, I0, C0, p_dofs, edofs, X1, X2, L0, ka, kb, springs, spring_k,
+                    ground, flat, valid_src, coef, banded, kl, ku, ld, n, ratios, column):
+    """The tangent at the unloaded state (q = 0, lambda = 0) factorised: ``ratios[j]`` = |u_jj| over
+    the largest entry of column j (the pivot of elimination step j), ``column[j]`` that largest
+    entry; returns LAPACK's info (> 0: an exactly zero pivot at column info - 1)."""
+    n_el, nf = edofs.shape[0], I0.shape[0]
+    K = np.empty(ld * n)
+    u, f_int, f_ref, R = np.empty(nf), np.empty(nf), np.empty(nf), np.empty(nf)
+    r, fr, sp = np.empty(n), np.empty(n), np.empty(nf)
+    fe, Ke = np.empty((n_el, 6)), np.zeros((n_el, 6, 6))
+    N, L, beta, u_bar = np.empty(n_el), np.empty(n_el), np.empty(n_el), np.empty(n_el)
+    M, theta_bar, jumped = np.empty((n_el, 2)), np.empty((n_el, 2)), np.empty(n_el, np.bool_)
+    _evaluate(np.zeros(n), presc, 0.0, F_fixed, beta0, I0, C0, p_dofs, edofs, X1, X2, L0, beta0, ka, kb,
+              springs, spring_k, ground, flat, valid_src, coef, K, u, f_int, f_ref, R, r, fr, fe, Ke, N, M,
+              L, beta, theta_bar, u_bar, jumped, sp)
+    for j in range(n):
+        big = 0.0
+        for i in range(ld):
+            big = max(big, abs(K[j * ld + i]))
+        column[j] = big
+    ipiv = np.empty(n, np.int32)
+    ints = np.zeros(6, np.int32)
+    info = np.zeros(1, np.int32)
+    _factor(K, banded, n, kl, ku, ld, ipiv, ints, info)
+    if info[0] == 0:
+        for j in range(n):
+            d = K[j * ld + (kl + ku if banded else j)]
+            ratios[j] = abs(d) / column[j] if column[j] > 0.0 else 0.0
+    return info[0]

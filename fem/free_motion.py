@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import compiled_newton as cn
 from .linear_solver import SingularMatrix
 
 __all__ = ["FreeMotion", "check_held"]
@@ -54,9 +55,30 @@ def _interior(system, node: int) -> str:
     return f"an interior node of member {member.name!r}"
 
 
+def _compiled_check(system) -> int | None:
+    """The same test by the compiled kernel: None when held, else the reduced DOF to name."""
+    c, d = system.compiled, system.disc
+    ratios, column = np.zeros(system.n), np.zeros(system.n)
+    zero = system.loads_at(-1, 0, 0.0)
+    info = cn.unloaded_pivots(np.asarray(zero[2], dtype=float), zero[0], d.beta0, system.I0, system.C0_flat,
+                              d.prescribed_dofs, d.edofs, system.X1, system.X2, d.L0, d.ka, d.kb, d.springs,
+                              d.spring_k, d.ground, c.flat, system.valid_src, system.coef_const, c.banded,
+                              c.kl, c.ku, c.ld, system.n, ratios, column)
+    if column.min() == 0.0:      # a DOF nothing touches
+        return int(np.argmin(column))
+    if info > 0:
+        return int(info - 1)
+    return None if ratios.min() > PIVOT_TOL else int(np.argmin(ratios))
+
+
 def check_held(system) -> None:
     """Raise `FreeMotion` naming the free DOF when the unloaded reduced stiffness is singular."""
     if system.n == 0:
+        return
+    if system.compiled is not None:
+        k = _compiled_check(system)
+        if k is not None:
+            raise FreeMotion(_message(system, k))
         return
     zero = system.loads_at(-1, 0, 0.0)
     ev = system.evaluate(np.zeros(system.n), system.disc.beta0.copy(), 0.0, *zero, need_K=True)
@@ -73,6 +95,10 @@ def check_held(system) -> None:
             return
     if column.min() == 0.0:      # a DOF nothing touches
         k = int(np.argmin(column))
-    raise FreeMotion(f"the model can move without deforming (a rigid-body motion or a mechanism): "
-                     f"no stiffness holds {_dof_label(system, k)} at the unloaded state; "
-                     "add a support, a joint spring or a member there")
+    raise FreeMotion(_message(system, k))
+
+
+def _message(system, k: int) -> str:
+    return (f"the model can move without deforming (a rigid-body motion or a mechanism): "
+            f"no stiffness holds {_dof_label(system, k)} at the unloaded state; "
+            "add a support, a joint spring or a member there")

@@ -13,6 +13,8 @@ parity) is what the solvers watch for critical points.
 """
 from __future__ import annotations
 
+from functools import cached_property
+
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
@@ -78,10 +80,25 @@ class MatrixLayout:
             self.size = len(uniq)
             self.indices = (uniq % n).astype(np.int32)
             self.indptr = np.searchsorted(uniq // n, np.arange(n + 1)).astype(np.int32)
-        # one storage index per distinct (row, col) entry, for `to_sparse`
-        _, first = np.unique(rows.astype(np.int64) * n + cols, return_index=True)
-        self.entry_rows, self.entry_cols = rows[first], cols[first]
-        self.entry_flat = self.flat[first]
+        self._rows, self._cols = rows, cols
+
+    @cached_property
+    def _entries(self):
+        """One storage index per distinct (row, col) entry (for `to_sparse`, `column_max`)."""
+        _, first = np.unique(self._rows.astype(np.int64) * self.n + self._cols, return_index=True)
+        return self._rows[first], self._cols[first], self.flat[first]
+
+    @property
+    def entry_rows(self):
+        return self._entries[0]
+
+    @property
+    def entry_cols(self):
+        return self._entries[1]
+
+    @property
+    def entry_flat(self):
+        return self._entries[2]
 
     def column_max(self, data):
         """max_i |A[i, j]| of every column j of the assembled matrix (any storage kind)."""

@@ -69,8 +69,7 @@ def conservative(system) -> bool:
     """Dead loads only (no followers, no force at an angle to the line to a fixed point): K is
     symmetric, K = d2 Pi / dq2 (a rope force toward a fixed point and a dead distributed load are
     conservative)."""
-    return (len(system.fol_nodes) == 0 and not np.any(system.pt_angle)
-            and not np.any(system.dist_follower))
+    return system.dead_loads
 
 
 def held_sign(fac, det_sign, held):
