@@ -121,6 +121,8 @@ class System:
         # residual noise from rounding positions: ~ eps * EA per element
         self.noise_floor = 4 * np.finfo(float).eps * float(np.max(d.ka * d.L0, initial=0.0))
         # the compiled load-control corrector (`compiled_newton`), where it applies
+        # W of the path norm ||dq||_W: rotations weighted by the mean element length squared
+        self.path_weights = np.where(d.red_is_rotation, float(np.mean(d.L0)) ** 2 if len(d.L0) else 1.0, 1.0)
         self.dead_loads = (len(self.fol_nodes) == 0 and not np.any(self.pt_angle)
                            and not np.any(self.dist_follower))     # `stability.conservative`
         self.I0 = np.ascontiguousarray(self.I[:, 0])

@@ -23,6 +23,7 @@ columns depend on theta_m and are refreshed by `System`).  Index ``n_red`` in
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -65,6 +66,14 @@ class Discretisation:
     node_first_end_rot: np.ndarray  # (n_model_nodes,) rotation DOF of first member end
     red_is_rotation: np.ndarray     # bool (n_red,)
 
+
+    @cached_property
+    def section_groups(self) -> list:
+        """(section, element indices) of the elements that share a section (for stresses)."""
+        by_id = {}
+        for e, sec in enumerate(self.el_section):
+            by_id.setdefault(id(sec), (sec, []))[1].append(e)
+        return [(sec, np.array(idx)) for sec, idx in by_id.values()]
 
     def member_end_dof(self, member: int, node: int) -> int:
         """Full rotation DOF of ``member``'s end at model node ``node`` (released or not)."""

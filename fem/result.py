@@ -114,8 +114,10 @@ class FemResult:
         moment = at_nodes(-M[:, 0], M[:, 1])
         stress = None
         if disc.el_section and all(sec.has_stress for sec in disc.el_section):
-            sigma = np.array([float(np.max(sec.max_stress(N[e:e + 1], np.abs(M[e])))) for e, sec
-                              in enumerate(disc.el_section)])
+            sigma = np.empty(len(conn))      # the larger of the two element ends
+            for sec, idx in disc.section_groups:
+                sigma[idx] = np.maximum(sec.max_stress(N[idx], np.abs(M[idx, 0])),
+                                        sec.max_stress(N[idx], np.abs(M[idx, 1])))
             stress = np.full(n, 0.0)  # the largest stress of the elements meeting at a node
             np.maximum.at(stress, conn[:, 0], sigma)
             np.maximum.at(stress, conn[:, 1], sigma)
@@ -224,10 +226,7 @@ def build_result(model, sys, path, *, converged, message, critical_points, wall_
     mask = np.zeros(d.n_full + 1)
     mask[:d.n_full] = d.constrained
     has_stress = bool(d.el_section) and all(sec.has_stress for sec in d.el_section)
-    by_id = {}
-    for e, sec in enumerate(d.el_section):       # elements grouped by section
-        by_id.setdefault(id(sec), (sec, []))[1].append(e)
-    groups = [(sec, np.array(idx)) for sec, idx in by_id.values()]
+    groups = d.section_groups
     for k, s in enumerate(snaps):
         u = s["u"]
         pos[k] = d.X + np.column_stack([u[0:2 * len(d.X):2], u[1:2 * len(d.X):2]])

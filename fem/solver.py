@@ -53,8 +53,7 @@ JUMP_CUT_FLOOR = 64       # steps shorter than this many min_step are not cut fo
 
 def _path_weights(system) -> np.ndarray:
     """W of the norm ||dq||_W: rotations weighted by the mean element length squared."""
-    d = system.disc
-    return np.where(d.red_is_rotation, float(np.mean(d.L0)) ** 2 if len(d.L0) else 1.0, 1.0)
+    return system.path_weights
 
 
 def _step_state(system, opts: SolveOptions, out, beta) -> StepState:
