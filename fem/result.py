@@ -133,31 +133,6 @@ class FemResult:
                            [self.nodal_fields(k) for k in range(self.n_levels)],
                            np.asarray(self.load_factor, float))
 
-    def to_vtu(self, prefix: str) -> list:
-        """Write one VTU file per level (deformed mesh, line cells, the point data of
-        ``nodal_fields``), ``prefix_undeformed.vtu`` and a ParaView collection ``prefix.pvd``
-        (time = level's load factor); returns the per-level VTU paths."""
-        import meshio
-        from pathlib import Path
-
-        def write(path, xy, point_data):
-            meshio.write(path, meshio.Mesh(np.column_stack([xy, np.zeros(len(xy))]),
-                                           [("line", self.connectivity)], point_data=point_data))
-
-        write(f"{prefix}_undeformed.vtu", self.extra["X"], {})
-        paths = []
-        for k in range(self.n_levels):
-            path = f"{prefix}_{k:04d}.vtu"
-            write(path, self.mesh_positions[k], self.nodal_fields(k).point_data())
-            paths.append(path)
-        entries = "\n".join(
-            f'    <DataSet timestep="{t:.12g}" part="0" file="{Path(p).name}"/>'
-            for t, p in zip(self.load_factor, paths))
-        Path(f"{prefix}.pvd").write_text(
-            '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
-            f"  <Collection>\n{entries}\n  </Collection>\n</VTKFile>\n")
-        return paths
-
 
 @dataclass
 class NodalFields:
