@@ -22,7 +22,8 @@ import pandas as pd
 from validation.stress import plants
 from validation.run.compare import case_verdict
 from validation.case.loader import CaseError, find_case_files, load_case
-from validation.run.runner import run_case, tabulate
+from validation.run.runner import run_case
+from validation.run.outcome import tabulate
 
 BASELINE = "none"
 

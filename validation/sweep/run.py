@@ -82,7 +82,8 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_valida
 from validation.run.exit_status import print_error
 from validation.case.loader import CASES_DIR, CaseError, find_case_files, load_case, read_toml_model
 from validation.case.schema import Case, Finite, OutputSpec, Positive
-from validation.sweep.task import ROW_COLUMNS, PathError, check_path, prepare, run_chunk
+from validation.case.overrides import PathError, parent_of, apply, check_path
+from validation.sweep.task import ROW_COLUMNS, prepare, run_chunk
 
 SWEEPS_DIR = CASES_DIR / "sweeps"
 EXIT_OK, EXIT_FAILED_POINTS, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
@@ -289,9 +290,8 @@ def _find_case(ref: str, spec_path: Path, field: str) -> Path:
 
 def _check_field(data: dict, param: Parameter) -> None:
     """A path to a field the case does not set must still name a field of the schema."""
-    from validation.sweep.task import _parent, apply
 
-    node, key = _parent(data, param.path)
+    node, key = parent_of(data, param.path)
     if not isinstance(node, dict) or key in node:
         return
     d = param.distribution
