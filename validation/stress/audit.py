@@ -18,12 +18,13 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pandas as pd
+from threadpoolctl import threadpool_limits
 
-from validation.stress import plants
-from validation.run.compare import case_verdict
 from validation.case.loader import CaseError, find_case_files, load_case
-from validation.run.runner import run_case
+from validation.run.compare import case_verdict
 from validation.run.outcome import tabulate
+from validation.run.runner import run_case
+from validation.stress import plants
 
 BASELINE = "none"
 
@@ -54,12 +55,7 @@ def _judge(plant: str, path: Path) -> Verdict:
 
 
 def _initialise(plant: str) -> None:
-    try:  # one BLAS thread per worker: the FEM's systems are small and the workers share the cores
-        from threadpoolctl import threadpool_limits
-    except ImportError:
-        pass
-    else:
-        threadpool_limits(1)
+    threadpool_limits(1)  # one BLAS thread per worker: the FEM's systems are small and the workers share the cores
     if plant != BASELINE:
         plants.apply(plant)
 

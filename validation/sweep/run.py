@@ -66,6 +66,7 @@ from __future__ import annotations
 import hashlib
 import itertools
 import json
+import logging
 import math
 import os
 import sys
@@ -73,17 +74,26 @@ import time
 import tomllib
 import uuid
 import zlib
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterator, Literal
 
+import numpy as np
+import pandas as pd
+import pyarrow as pa
+import pyarrow.parquet as pq
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from scipy.special import ndtr, ndtri
+from tqdm import tqdm
 
-from validation.run.exit_status import print_error
+from validation.case.capabilities import method_quantities
 from validation.case.loader import CASES_DIR, CaseError, find_case_files, load_case, read_toml_model
+from validation.case.overrides import PathError, apply, check_path, parent_of
 from validation.case.schema import Case, Finite, OutputSpec, Positive
-from validation.case.overrides import PathError, parent_of, apply, check_path
-from validation.sweep.task import ROW_COLUMNS, prepare, run_chunk
+from validation.run.cache import code_hash, package_version
+from validation.run.exit_status import print_error
+from validation.sweep.task import ROW_COLUMNS, _row, prepare, run_chunk
 
 SWEEPS_DIR = CASES_DIR / "sweeps"
 EXIT_OK, EXIT_FAILED_POINTS, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
@@ -126,8 +136,6 @@ class Distribution(Strict):
 
     def draw(self, n: int, seed: int, stream: str) -> list[float]:
         """n draws by inverse CDF of seeded uniforms: the first k draws do not depend on n."""
-        import numpy as np
-        from scipy.special import ndtr, ndtri
 
         rng = np.random.default_rng([seed, zlib.crc32(stream.encode())])
         u = np.clip(rng.random(n), 1e-15, 1 - 1e-15)
@@ -205,7 +213,6 @@ class SweepInfo(Strict):
 
     @model_validator(mode="after")
     def _coherent(self) -> "SweepInfo":
-        from validation.case.capabilities import method_quantities
 
         for method in self.methods:
             method_quantities(method)  # ValueError naming an unknown method
@@ -352,7 +359,6 @@ def _jsonable(value: Any) -> Any:
 
 
 def _code_hashes(methods: list[str]) -> dict[str, str]:
-    from validation.run.cache import code_hash, package_version
 
     return {m: code_hash(m) for m in methods} | {"version": package_version()}
 
@@ -382,7 +388,6 @@ def make_points(loaded: LoadedSweep) -> list[dict]:
 
 
 def arrow_schema(spec: SweepSpec):
-    import pyarrow as pa
 
     types = {"string": pa.string(), "int64": pa.int64(), "float64": pa.float64(), "bool": pa.bool_()}
     fields = [pa.field(name, types[kind]) for name, kind in ROW_COLUMNS.items()]
@@ -412,8 +417,6 @@ class PartWriter:
             self.flush()
 
     def flush(self) -> None:
-        import pyarrow as pa
-        import pyarrow.parquet as pq
 
         self.last = time.monotonic()
         if not self.rows:
@@ -432,7 +435,6 @@ def _parts(out: Path) -> list[Path]:
 
 
 def _done_ids(out: Path) -> set[str]:
-    import pyarrow.parquet as pq
 
     done: set[str] = set()
     for part in _parts(out):
@@ -442,8 +444,6 @@ def _done_ids(out: Path) -> set[str]:
 
 def load_results(out: Path | str):
     """The sweep's rows as a pandas DataFrame: current points only, latest row per output."""
-    import pandas as pd
-    import pyarrow.parquet as pq
 
     out = Path(out)
     parts = _parts(out)
@@ -463,7 +463,6 @@ def load_results(out: Path | str):
 
 
 def _failed_chunk(chunk: list[dict], run_id: str, exc: BaseException) -> list[dict]:
-    from validation.sweep.task import _row
 
     message = f"task failed: {type(exc).__name__}: {exc}".replace("\n", " ")
     return [_row(p, run_id, status="error", message=message) for p in chunk]
@@ -490,7 +489,6 @@ def _dask_completed(client, context, chunks, task=run_chunk) -> Iterator[tuple[l
 
 
 def _pool_completed(pool, context, chunks, task=run_chunk) -> Iterator[tuple[list[dict], list[dict] | BaseException]]:
-    from concurrent.futures import as_completed
 
     futures = {pool.submit(task, context, chunk): i for i, chunk in enumerate(chunks)}
     try:
@@ -516,7 +514,6 @@ def completed(executor: Any, context: dict, chunks: list[list[dict]], workers: i
     points; ``prbm-validate stress --long`` passes its own).
     """
     if scheduler is not None or executor == "dask":
-        import logging
 
         from distributed import Client, LocalCluster
 
@@ -537,7 +534,6 @@ def completed(executor: Any, context: dict, chunks: list[list[dict]], workers: i
         for chunk in chunks:
             yield chunk, task(context, chunk)
     elif executor == "process":
-        from concurrent.futures import ProcessPoolExecutor
 
         pool = ProcessPoolExecutor(max_workers=workers or os.cpu_count())
         try:
@@ -571,7 +567,6 @@ def run_sweep(spec_path: Path | str, out: Path | str | None = None, executor: An
     ``resume=False`` deletes the part files first. ``limit`` runs at most that many pending
     points (the rest on the next run). Bad specs print one line to stderr and return 2.
     """
-    from tqdm import tqdm
 
     started = time.perf_counter()
     try:

@@ -24,8 +24,8 @@ import copy
 import math
 import time
 
-
 from pydantic import ValidationError
+from threadpoolctl import threadpool_limits
 
 from validation.case.capabilities import QUANTITIES, method_quantities
 from validation.case.overrides import PathError, apply
@@ -133,12 +133,7 @@ def _one_blas_thread() -> None:
     global _PINNED
     if not _PINNED:
         _PINNED = True
-        try:
-            from threadpoolctl import threadpool_limits
-
-            threadpool_limits(1)
-        except ImportError:
-            pass
+        threadpool_limits(1)
 
 
 def run_chunk(context: dict, points: list[dict]) -> list[dict]:
