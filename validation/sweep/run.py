@@ -558,6 +558,45 @@ def _chunk_size(n: int, workers: int, asked: int) -> int:
 # ---------------------------------------------------------------- the sweep
 
 
+def _prepare_folder(out: Path, schema, resume: bool) -> bool:
+    """Delete earlier parts (no resume), or refuse a folder holding another sweep's results."""
+    manifest_path = out / "sweep.json"
+    if not resume:
+        for part in _parts(out):
+            part.unlink()
+    elif manifest_path.is_file():
+        earlier = json.loads(manifest_path.read_text())
+        if earlier.get("schema") != schema.to_string() and _parts(out):
+            print(f"error: {out}: holds results of a sweep with other parameters; use another --out "
+                  f"or --restart", file=sys.stderr)
+            return False
+    return True
+
+
+def _write_manifest(out: Path, loaded: "LoadedSweep", schema, points: list[dict]) -> None:
+    spec = loaded.spec
+    out.mkdir(parents=True, exist_ok=True)
+    manifest = {"spec_file": str(loaded.path), "spec": loaded.text, "sweep": spec.sweep.id,
+                "cases": loaded.case_files, "plot": spec.plot.model_dump(),
+                "parameters": [p.model_dump(exclude_none=True) for p in spec.parameters],
+                "methods": spec.sweep.methods, "schema": schema.to_string(),
+                "point_ids": [p["id"] for p in points]}
+    (out / "sweep.json").write_text(json.dumps(manifest, indent=1, default=str))
+
+
+def _worker_count(executor: Any, workers: int | None) -> int:
+    if executor == "serial":
+        return 1
+    if _is_dask_client(executor):
+        return len(executor.scheduler_info()["workers"]) or 1
+    return workers or getattr(executor, "_max_workers", None) or os.cpu_count() or 1
+
+
+def _append_record(out: Path, record: dict) -> None:
+    with (out / "runs.jsonl").open("a") as handle:
+        handle.write(json.dumps(record) + "\n")
+
+
 def run_sweep(spec_path: Path | str, out: Path | str | None = None, executor: Any = "process",
               scheduler: str | None = None, workers: int | None = None, resume: bool = True,
               progress: bool = True, *, chunk: int | None = None, limit: int | None = None,
@@ -578,36 +617,16 @@ def run_sweep(spec_path: Path | str, out: Path | str | None = None, executor: An
     out = Path(out) if out is not None else Path("reports") / "sweeps" / spec.sweep.id
     points = make_points(loaded)
     schema = arrow_schema(spec)
-    manifest_path = out / "sweep.json"
-    if not resume:
-        for part in _parts(out):
-            part.unlink()
-    elif manifest_path.is_file():
-        earlier = json.loads(manifest_path.read_text())
-        if earlier.get("schema") != schema.to_string() and _parts(out):
-            print(f"error: {out}: holds results of a sweep with other parameters; use another --out "
-                  f"or --restart", file=sys.stderr)
-            return EXIT_BAD_INPUT
+    if not _prepare_folder(out, schema, resume):
+        return EXIT_BAD_INPUT
     done = _done_ids(out) if resume else set()
     pending = [p for p in points if p["id"] not in done]
     skipped = len(points) - len(pending)
     if limit is not None:
         pending = pending[:limit]
-    out.mkdir(parents=True, exist_ok=True)
-    manifest = {"spec_file": str(loaded.path), "spec": loaded.text, "sweep": spec.sweep.id,
-                "cases": loaded.case_files, "plot": spec.plot.model_dump(),
-                "parameters": [p.model_dump(exclude_none=True) for p in spec.parameters],
-                "methods": spec.sweep.methods, "schema": schema.to_string(),
-                "point_ids": [p["id"] for p in points]}
-    manifest_path.write_text(json.dumps(manifest, indent=1, default=str))
-
+    _write_manifest(out, loaded, schema, points)
     run_id = time.strftime("%Y%m%dT%H%M%S") + f"-{uuid.uuid4().hex[:8]}"  # unique: part names never clash
-    if executor == "serial":
-        n_workers = 1
-    elif _is_dask_client(executor):
-        n_workers = len(executor.scheduler_info()["workers"]) or 1
-    else:
-        n_workers = workers or getattr(executor, "_max_workers", None) or os.cpu_count() or 1
+    n_workers = _worker_count(executor, workers)
     size = _chunk_size(len(pending), n_workers, chunk if chunk is not None else spec.sweep.chunk)
     chunks = [pending[i:i + size] for i in range(0, len(pending), size)]
     context = {"run": run_id, "cases": loaded.cases, "methods": spec.sweep.methods,
@@ -637,8 +656,7 @@ def run_sweep(spec_path: Path | str, out: Path | str | None = None, executor: An
               "scheduler": scheduler, "workers": n_workers, "chunk": size, "points": len(points),
               "skipped": skipped, "ran": ran, "failed": failed, "left": len(points) - skipped - ran,
               "wall_time_s": round(wall, 3), "interrupted": status == EXIT_INTERRUPTED}
-    with (out / "runs.jsonl").open("a") as handle:
-        handle.write(json.dumps(record) + "\n")
+    _append_record(out, record)
     if status == EXIT_INTERRUPTED:
         print(f"interrupted: {skipped + ran} of {len(points)} points are in {out}; run the same command "
               f"again to resume", file=sys.stderr)
