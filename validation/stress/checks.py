@@ -38,6 +38,7 @@ from prbm.fits import PAULY_MIDHA, FitRangeError
 from validation.case.loader import case_by_id, describe
 from validation.case.schema import Case, without_checks
 from validation.methods.base import Request
+from validation.run.exit_status import decide
 from validation.run.runner import run_method
 from validation.stress.contract_run import run_contract_stress
 
@@ -432,7 +433,7 @@ def run_stress(out: Path, long: bool = False, seed: int = 20261122, *, configura
     for c in checks:
         if not c.passed:
             print(f"FAILED {c.category}: {c.name}: {c.detail}")
-    return 0 if all(c.passed for c in checks) else 1
+    return int(decide(failed=not all(c.passed for c in checks)))
 
 
 def _write_page(out: Path, document: dict) -> None:

@@ -92,11 +92,12 @@ from validation.case.loader import CASES_DIR, CaseError, find_case_files, load_c
 from validation.case.overrides import PathError, apply, check_path, parent_of
 from validation.case.schema import Case, Finite, OutputSpec, Positive
 from validation.run.cache import code_hash, package_version
-from validation.run.exit_status import print_error
+from validation.run.exit_status import ExitStatus, print_error
 from validation.sweep.task import ROW_COLUMNS, _row, prepare, run_chunk
 
 SWEEPS_DIR = CASES_DIR / "sweeps"
-EXIT_OK, EXIT_FAILED_POINTS, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
+EXIT_OK, EXIT_FAILED_POINTS, EXIT_BAD_INPUT, EXIT_INTERRUPTED = (ExitStatus.OK, ExitStatus.FAILED, ExitStatus.BAD_INPUT,
+                                                        ExitStatus.INTERRUPTED)  # the rule, in sweep words
 FAILED = ("error", "invalid", "not_converged", "not_applicable")  # exit status 1 (validation/run/exit_status.py)
 
 
