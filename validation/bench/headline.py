@@ -15,7 +15,7 @@ it is the wall time, and on a shared one it leaves out the waits for a core) ove
 their median (for the noise) and the best wall time; its error is the largest
 tip-position error over the benchmarked load levels, over the characteristic length, against the
 exact solution (the elastica method on the same case, or the case's 'exact' references). Peak Python
-memory is measured in a separate run with ``tracemalloc``. BLAS threads are pinned to one and recorded.
+memory is measured in a separate run with ``tracemalloc``. The BLAS thread settings are recorded.
 
 The headline, at each target error, is our best time over the peer's best, with both configurations
 beside it; a peer that cannot run (not installed, no system BLAS) is "peer unavailable", a case it
@@ -38,8 +38,12 @@ import tracemalloc
 from dataclasses import dataclass
 from pathlib import Path
 
+import matplotlib
 import numpy as np
 import pandas as pd
+
+matplotlib.use("Agg")  # files only, no display
+import matplotlib.pyplot as plt  # noqa: E402
 
 from validation.run.exit_status import decide
 from validation.case.loader import CaseError, case_by_id, find_case_files
@@ -88,12 +92,9 @@ CONFIGURATIONS = {      # how each code is driven (printed beside the headline)
 
 
 def _pin_blas() -> dict[str, str]:
-    try:
-        from threadpoolctl import threadpool_limits
-
-        threadpool_limits(1)
-    except ImportError:
-        pass
+    """The BLAS thread settings of the environment, recorded with the results (set
+    OPENBLAS_NUM_THREADS=1 before the run to pin them: the factorisations here are small, and both codes
+    call LAPACK on one thread either way)."""
     return {k: os.environ.get(k, "") for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
                                                "OPENBLAS_CORETYPE")}
 
@@ -297,6 +298,33 @@ def _peer_status() -> str:
     return ""
 
 
+def _log(row) -> None:
+    print(f"  {row['case']:<40} {row['method']:<20} n={row['elements']!s:<5} {row['time_s'] * 1e3:10.2f} ms  "
+          f"error={row['error']:.2e}  iterations={row['iterations']}", flush=True)
+
+
+def _case_option_rows(case, bench: BenchCase, repeats: int, exact, skipped: list, failed: list) -> list:
+    """(row, run) of the PRBM, the elastica and the FEM with the case's own options (errors filled in
+    later, against the exact solution)."""
+    fixed = []
+    for label in ("prbm", "elastica", "fem"):
+        if label not in case.methods:
+            continue
+        sub = _restrict(case, label, dict(case.methods.get(label) or {}), bench.levels)
+        if not requests_for(sub, label):
+            skipped.append(f"{bench.label}/{label}: no tip-position or limit-load output to time")
+            continue
+        timing = _timed(sub, label, repeats)
+        if not timing.run.converged:  # a method of the case, with the case's own options
+            failed.append(f"{bench.label}/{label}: {timing.run.message}")
+        if not timing.run.values:
+            skipped.append(f"{bench.label}/{label}: {timing.run.message}")
+            continue
+        fixed.append((_row(bench.label, label if label != "fem" else "fem (case options)", None, timing,
+                           exact[1]), timing.run))
+    return fixed
+
+
 def run_bench(out: Path, quick: bool = False, cases: list[BenchCase] | dict | None = None,
               max_elements: int | None = None) -> int:
     """Run the benchmark into ``out``; ``max_elements`` caps the mesh doubling (default 1024, 256 quick)."""
@@ -311,10 +339,6 @@ def run_bench(out: Path, quick: bool = False, cases: list[BenchCase] | dict | No
     rows, skipped, peer_notes, per_iteration = [], [], {}, {}
     unusable, failed = [], []  # exit status 2 and 1 (validation/run/exit_status.py)
 
-    def log(row):
-        print(f"  {row['case']:<40} {row['method']:<20} n={row['elements']!s:<5} {row['time_s'] * 1e3:10.2f} ms  "
-              f"error={row['error']:.2e}  iterations={row['iterations']}", flush=True)
-
     for bench in cases or BENCH_CASES:
         try:
             case = case_by_id(bench.case_id).case
@@ -326,22 +350,7 @@ def run_bench(out: Path, quick: bool = False, cases: list[BenchCase] | dict | No
             case = _last_level_only(case)
         scale = characteristic_length(case)
         exact = _exact(case, bench.levels)
-        fixed = []
-        for label in ("prbm", "elastica", "fem"):
-            if label not in case.methods:
-                continue
-            sub = _restrict(case, label, dict(case.methods.get(label) or {}), bench.levels)
-            if not requests_for(sub, label):
-                skipped.append(f"{bench.label}/{label}: no tip-position or limit-load output to time")
-                continue
-            timing = _timed(sub, label, repeats)
-            if not timing.run.converged:  # a method of the case, with the case's own options
-                failed.append(f"{bench.label}/{label}: {timing.run.message}")
-            if not timing.run.values:
-                skipped.append(f"{bench.label}/{label}: {timing.run.message}")
-                continue
-            fixed.append((_row(bench.label, label if label != "fem" else "fem (case options)", None, timing,
-                               exact[1]), timing.run))
+        fixed = _case_option_rows(case, bench, repeats, exact, skipped, failed)
         if not exact[0]:  # no exact solution (a mechanism): the finest extrapolated FEM is the reference
             sub = _restrict(case, "fem", dict(case.methods.get("fem") or {}) | {
                 "elements": meshes[-1], "error_estimate": True, "richardson": True}, bench.levels)
@@ -349,14 +358,14 @@ def run_bench(out: Path, quick: bool = False, cases: list[BenchCase] | dict | No
         for row, run in fixed:
             row["error"] = _error(run.values, exact[0], scale)
             row["error_reference"] = exact[1]
-            log(row)
+            _log(row)
             rows.append(row)
         case_rows = []
         for method in ("fem", PEER):
             if method == PEER and peer_status:
                 peer_notes[bench.label] = peer_status
                 continue
-            got, why = _sweep(case, bench, method, meshes, repeats, exact, scale, log)
+            got, why = _sweep(case, bench, method, meshes, repeats, exact, scale, _log)
             case_rows += got
             skipped += why
             if method == PEER and not got:
@@ -454,11 +463,6 @@ def _print_headline(headline: dict) -> None:
 def _plots(frame: pd.DataFrame, out: Path) -> None:
     if frame.empty:
         return
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     for case_id, part in frame.groupby("case"):
         part = part[part["error"] > 0]
         if part.empty:
