@@ -11,7 +11,9 @@ know E and c.  Consistent units throughout.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 
+import meshio
 import numpy as np
 
 from .corotational import strain_energy
@@ -132,6 +134,28 @@ class FemResult:
         return FieldSeries(self.extra["X"].copy(), self.connectivity.copy(), self.mesh_positions.copy(),
                            [self.nodal_fields(k) for k in range(self.n_levels)],
                            np.asarray(self.load_factor, float))
+
+    def to_vtu(self, prefix: str) -> list:
+        """Write one VTU file per level (deformed mesh, line cells, the point data of
+        ``nodal_fields``), ``prefix_undeformed.vtu`` and a ParaView collection ``prefix.pvd``
+        (time = level's load factor); returns the per-level VTU paths."""
+        def write(path, xy, point_data):
+            meshio.write(path, meshio.Mesh(np.column_stack([xy, np.zeros(len(xy))]),
+                                           [("line", self.connectivity)], point_data=point_data))
+
+        write(f"{prefix}_undeformed.vtu", self.extra["X"], {})
+        paths = []
+        for k in range(self.n_levels):
+            path = f"{prefix}_{k:04d}.vtu"
+            write(path, self.mesh_positions[k], self.nodal_fields(k).point_data())
+            paths.append(path)
+        entries = "\n".join(
+            f'    <DataSet timestep="{t:.12g}" part="0" file="{Path(p).name}"/>'
+            for t, p in zip(self.load_factor, paths))
+        Path(f"{prefix}.pvd").write_text(
+            '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
+            f"  <Collection>\n{entries}\n  </Collection>\n</VTKFile>\n")
+        return paths
 
 
 @dataclass

@@ -77,8 +77,10 @@ class Section:
             return np.full(np.shape(M), np.nan)
         eps = np.asarray(N) / self.EA
         kappa = np.asarray(M) / self.EI
-        return np.max([np.abs(E * eps) + np.abs(E * kappa * c) for E, c in self.stress_layers],
-                      axis=0)
+        layer = (-1,) + (1,) * max(eps.ndim, kappa.ndim)      # layers along the first axis
+        E = np.array([E for E, _ in self.stress_layers]).reshape(layer)
+        c = np.array([c for _, c in self.stress_layers]).reshape(layer)
+        return np.max(np.abs(E * eps) + np.abs(E * kappa * c), axis=0)
 
     def scaled(self, factor_EA: float = 1.0, factor_EI: float = 1.0) -> "Section":
         return Section(self.EA * factor_EA, self.EI * factor_EI, self.stress_layers)
