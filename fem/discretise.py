@@ -183,8 +183,11 @@ def _mesh(model: Model, refine: int) -> _Mesh:
         mesh.beta0.append(np.arctan2(seg[:, 1], seg[:, 0]))
         mesh.ka.append(a)
         mesh.kb.append(b)
-        mid = (s_nodes[:-1] + s_nodes[1:]) / 2 / s_nodes[-1]
-        mesh.el_section += [fn(float(t)) for t in mid]
+        if isinstance(m.section, Section):      # prismatic: one section object for every element
+            mesh.el_section += [m.section] * n
+        else:
+            mid = (s_nodes[:-1] + s_nodes[1:]) / 2 / s_nodes[-1]
+            mesh.el_section += [fn(float(t)) for t in mid]
     mesh.X = np.vstack(X)
     mesh.conn = np.vstack(mesh.conn) if mesh.conn else np.zeros((0, 2), int)
     return mesh
@@ -334,21 +337,19 @@ def _constraint_map(n_en, n_full, order, independent, held: _Held, rotation_dofs
     rotations."""
     I = np.full((n_full + 1, 2), -1, dtype=int)
     C = np.zeros((n_full + 1, 2))
-    n_red, red_is_rot = 0, []
-    for i in order:
-        if not independent[i] or held.fixed[i]:
-            continue
-        node = i // 2 if i < 2 * n_en else -1
-        if node in held.slider_dirs:
-            if i % 2 == 1:
-                continue
-            I[i, 0] = I[i + 1, 0] = n_red
-            C[i, 0], C[i + 1, 0] = held.slider_dirs[node]
-        else:
-            I[i, 0] = n_red
-            C[i, 0] = 1.0
-        red_is_rot.append(bool(rotation_dofs[i]))
-        n_red += 1
+    order = np.asarray(order, dtype=int)
+    free = order[independent[order] & ~held.fixed[order]]
+    node = np.where(free < 2 * n_en, free // 2, -1)
+    slider = np.isin(node, np.array(list(held.slider_dirs), dtype=int))
+    keep = ~(slider & (free % 2 == 1))          # a slider's one unknown t sits on its x DOF
+    free, slider = free[keep], slider[keep]
+    n_red = len(free)
+    I[free, 0] = np.arange(n_red)
+    C[free, 0] = 1.0
+    for i in free[slider]:          # slider: u = d t on both translations
+        I[i + 1, 0] = I[i, 0]
+        C[i, 0], C[i + 1, 0] = held.slider_dirs[i // 2]
+    red_is_rot = rotation_dofs[free]
     I[I < 0] = n_red
     for s, m in zip(slaves, masters):     # slave rows: copy the master map (+ theta column)
         I[2 * s] = [I[2 * m, 0], I[rot_dof[m], 0]]
@@ -357,7 +358,7 @@ def _constraint_map(n_en, n_full, order, independent, held: _Held, rotation_dofs
         C[2 * s + 1] = [C[2 * m + 1, 0], 0.0]
         I[rot_dof[s]] = I[rot_dof[m]]
         C[rot_dof[s]] = C[rot_dof[m]]
-    return I, C, n_red, np.array(red_is_rot, dtype=bool)
+    return I, C, n_red, np.asarray(red_is_rot, dtype=bool)
 
 
 def _first_member_ends(n_mn, conn, edofs) -> np.ndarray:
