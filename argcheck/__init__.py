@@ -33,6 +33,8 @@ def _ok(value, positive: bool) -> bool:
     case at a library's entry point, a few hundred nanoseconds), anything else through numpy."""
     if type(value) in _PLAIN:
         return math.isfinite(value) and (not positive or value > 0)
+    if type(value) is np.ndarray and value.dtype.kind in "fiu":  # a real array: ndarray methods, no dispatch
+        return bool(np.isfinite(value).all()) and (not positive or bool((value > 0).all()))
     values = _values(value)
     return bool(np.all(np.isfinite(values))) and (not positive or bool(np.all(values > 0)))
 
