@@ -47,7 +47,7 @@ from validation.methods.base import MethodRun, NotApplicable, Request, reject_lo
 from validation.methods.prbm_common import DEG, pick, plain
 from validation.methods.prbm_common import per_level as _per_level
 from validation.methods.prbm_common import prefer as prefer_option
-from validation.quantities import boundary_held_tip, unloaded_tip_angle
+from validation.case.quantities import boundary_held_tip, unloaded_tip_angle
 
 
 def run(case, requests: list[Request], options: dict) -> MethodRun:
@@ -219,7 +219,7 @@ def _guided(case, loads: TipLoads, ratio, L: float, EI: float, kappa: float, fit
 
 
 def _segment_outputs(case, loads: TipLoads, solved: SegmentSolve, n: int) -> dict:
-    """Every output of a segment over the levels, under the quantity contract (validation/quantities.py):
+    """Every output of a segment over the levels, under the quantity contract (validation/case/quantities.py):
     rotation from the unloaded tangent angle, a held tip freedom reports the load that holds it."""
     seg = case.segment
     res = solved.res
