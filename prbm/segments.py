@@ -302,9 +302,8 @@ def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
 def _fixed_pinned_levels(P, n, length: float, EI: float, fam, extrapolate: str, t0: float) -> PRBMResult:
     """``fixed_pinned_tip`` over a few load levels in plain floats: the one-level arithmetic level by
     level, the fits evaluated once per distinct load ratio (numpy's per-call cost would dominate)."""
-    P_arr, n_arr = np.asarray(P, float), np.asarray(n, float)
-    if P_arr.shape != n_arr.shape:
-        P_arr, n_arr = np.broadcast_arrays(P_arr, n_arr)
+    P_given, n_given = np.asarray(P, float), np.asarray(n, float)
+    P_arr, n_arr = (P_given, n_given) if P_given.shape == n_given.shape else np.broadcast_arrays(P_given, n_given)
     shape = P_arr.shape
     per_ratio: dict[float, tuple[float, float, float, float, float]] = {}
     columns: list[tuple[float, ...]] = []
@@ -322,15 +321,14 @@ def _fixed_pinned_levels(P, n, length: float, EI: float, fam, extrapolate: str, 
         ok_all &= ok
         nit_max = max(nit_max, nit)
         columns.append((length - gamma * length * (1.0 - math.cos(Theta)), sign * gamma * length * math.sin(Theta),
-                        sign * c_theta * Theta, sign * Theta, F, gamma, c_theta, K, ok))
-    table = np.array(columns, float).T.reshape((9, *shape))  # one array: a numpy call per column costs more
-    a, b, theta0, Theta, F, gamma, c_theta, K, ok = table
-    out = {"a": a, "b": b, "theta0": theta0, "Theta": Theta, "P": np.asarray(P, float), "n": np.asarray(n, float),
-           "F": F}
+                        sign * c_theta * Theta, sign * Theta, F, gamma, c_theta, K, gamma * K * EI / length, ok))
+    table = np.array(columns, float).T.reshape((10, *shape))  # one array: a numpy call per column costs more
+    a, b, theta0, Theta, F, gamma, c_theta, K, k, ok = table
+    out = {"a": a, "b": b, "theta0": theta0, "Theta": Theta, "P": P_given, "n": n_given, "F": F}
     return PRBMResult(ok_all, "converged" if ok_all else "spring equation did not converge", out,
-                      {"gamma": gamma, "c_theta": c_theta, "K_theta": K, "k": gamma * K * EI / length,
-                       "family": fam.name}, "fixed-pinned, seed 000 eqs (41)-(49)", time.perf_counter() - t0,
-                      nit_max, np.atleast_1d(ok.astype(bool)))
+                      {"gamma": gamma, "c_theta": c_theta, "K_theta": K, "k": k, "family": fam.name},
+                      "fixed-pinned, seed 000 eqs (41)-(49)", time.perf_counter() - t0, nit_max,
+                      np.atleast_1d(ok != 0.0))
 
 
 @checked(positive=('length', 'EI'), finite=('n', 'a', 'b', 'theta0'))

@@ -68,27 +68,25 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
 # --- segments -------------------------------------------------------------------------------------
 @dataclass
 class TipLoads:
-    """The end loads of every level, summed, in the segment frame (x along the undeformed segment)."""
+    """The end loads of every level, summed, in the segment frame (x along the undeformed segment);
+    whether any level has a transverse force or an end moment."""
 
     Fx: np.ndarray
     Fy: np.ndarray
     M: np.ndarray
     follower: bool
-
-    @property
-    def has_force(self) -> bool:
-        return bool(self.Fy.any())
-
-    @property
-    def has_moment(self) -> bool:
-        return bool(self.M.any())
+    has_force: bool
+    has_moment: bool
 
     def ratio(self) -> np.ndarray:
-        """The load ratio n = -F_x/F_y of every level (0 where F_y = 0; a purely axial force is refused)."""
-        transverse = self.Fy != 0
-        if (~transverse & (self.Fx != 0)).any():
-            raise NotApplicable("a purely axial end force: outside every PRBM n-fit (n infinite)")
-        return np.where(transverse, -self.Fx / np.where(transverse, self.Fy, 1.0), 0.0)
+        """The load ratio n = -F_x/F_y of every level (0 where F_y = 0; a purely axial force is refused).
+        Level by level in plain floats (a few levels: numpy's per-call cost would dominate)."""
+        ratio = []
+        for fx, fy in zip(self.Fx.tolist(), self.Fy.tolist()):
+            if fy == 0.0 and fx != 0.0:
+                raise NotApplicable("a purely axial end force: outside every PRBM n-fit (n infinite)")
+            ratio.append(-fx / fy if fy != 0.0 else 0.0)
+        return np.array(ratio)
 
 
 def _tip_loads(case, n: int) -> TipLoads:
@@ -108,7 +106,7 @@ def _tip_loads(case, n: int) -> TipLoads:
         else:
             raise NotApplicable(f"a prescribed {load.kind} at the tip: give the PRBM inverse inputs in "
                                 "[methods.prbm] options instead")
-    return TipLoads(Fx, Fy, M, follower)
+    return TipLoads(Fx, Fy, M, follower, bool(Fy.any()), bool(M.any()))
 
 
 @dataclass
@@ -153,7 +151,10 @@ def _segment(case, requests, options):
     else:
         raise NotApplicable(f"boundary '{seg.boundary}' as a single segment case: the seeds' curved "
                             "pinned-pinned PRBM (prbm.curved_pinned_pinned) takes a chord force only")
-    out = _segment_outputs(case, loads, solved, n)
+    wanted = {r.quantity for r in requests}
+    if loads.has_moment:  # the inflection check below reads the forces the tip receives
+        wanted |= {"force_x", "force_y"}
+    out = _segment_outputs(case, loads, solved, n, wanted)
     res = solved.res
     info = MethodRun(values={}, converged=bool(res.converged), message=solved.message or res.message)
     lc = res.level_converged
@@ -218,25 +219,31 @@ def _guided(case, loads: TipLoads, ratio, L: float, EI: float, kappa: float, fit
     return SegmentSolve(res, L, 0.0)
 
 
-def _segment_outputs(case, loads: TipLoads, solved: SegmentSolve, n: int) -> dict:
-    """Every output of a segment over the levels, under the quantity contract (validation/case/quantities.py):
-    rotation from the unloaded tangent angle, a held tip freedom reports the load that holds it."""
+def _segment_outputs(case, loads: TipLoads, solved: SegmentSolve, n: int, wanted: set[str]) -> dict:
+    """The ``wanted`` outputs of a segment over the levels (always x, y), under the quantity contract
+    (validation/case/quantities.py): rotation from the unloaded tangent angle, a held tip freedom
+    reports the load that holds it."""
     seg = case.segment
     res = solved.res
     o = res.outputs
     a = _per_level(o["a"], n)
     b = _per_level(o["b"], n)
-    rotation = _per_level(o["theta0"] - unloaded_tip_angle(seg.length, seg.initial_curvature()), n)
-    Fx, Fy = loads.Fx, loads.Fy
-    if loads.follower:  # the force the tip receives has turned with it
-        Fx, Fy = Fx * np.cos(rotation) - Fy * np.sin(rotation), Fx * np.sin(rotation) + Fy * np.cos(rotation)
-    out = {"x": a, "y": b, "dx": a - solved.a0, "dy": b - solved.b0, "force_x": Fx, "force_y": Fy,
-           "moment": loads.M, "rotation": np.degrees(rotation)}
+    out = {"x": a, "y": b, "moment": loads.M}
+    if "dx" in wanted:
+        out["dx"] = a - solved.a0
+    if "dy" in wanted:
+        out["dy"] = b - solved.b0
+    if wanted & {"rotation", "force_x", "force_y"}:
+        rotation = _per_level(o["theta0"] - unloaded_tip_angle(seg.length, seg.initial_curvature()), n)
+        Fx, Fy = loads.Fx, loads.Fy
+        if loads.follower:  # the force the tip receives has turned with it
+            Fx, Fy = Fx * np.cos(rotation) - Fy * np.sin(rotation), Fx * np.sin(rotation) + Fy * np.cos(rotation)
+        out.update({"force_x": Fx, "force_y": Fy, "rotation": np.degrees(rotation)})
     if "rz" in boundary_held_tip(case):
         if "M" not in o:
             raise NotApplicable(f"the PRBM ({res.model}) gives no moment holding the {seg.boundary} tip")
         out["moment"] = _per_level(o["M"], n)
-    if "Theta" in o:
+    if "Theta" in o and wanted & {"prb_angle", "strain_energy"}:
         Theta = _per_level(o["Theta"], n)
         out["prb_angle"] = np.degrees(Theta)
         k = res.constants.get("k")
