@@ -582,6 +582,7 @@ class _Builder:
                     d = s.direction or (1.0, 0.0)
                     self.sliders.append(Slider(owner, tuple(self.coords[nd]), tuple(d), guided=s.kind == "guided",
                                                name=f"support {nd}"))
+                    self.ground_nodes[f"support {nd}"] = nd
 
     def _owned_supports(self) -> None:
         """Supports on nodes owned by a link or junction."""
@@ -598,6 +599,7 @@ class _Builder:
             elif sup.kind in ("slider", "guided"):
                 self.sliders.append(Slider(owner, xy, tuple(sup.direction or (1.0, 0.0)),
                                            guided=sup.kind == "guided", name=f"support {sup.node}"))
+                self.ground_nodes[f"support {sup.node}"] = sup.node
 
     def _network(self) -> PRBModel:
         for nd in self.coords:
