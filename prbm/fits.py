@@ -222,6 +222,12 @@ def fit_family(name: str | FitFamily) -> FitFamily:
         raise ValueError(f"unknown fit family {name!r}; known: {', '.join(FAMILIES)}") from None
 
 
+# The PRB angle range of the fixed-pinned fits: the only range the seed prints for them is that of the
+# Theta-dependent K_Theta fits (51)-(52), "0 < Theta <= 65 deg" (seed 000 section 2.3.1); past it the
+# end-point error grows quickly (notes seed-ch2-4 section 4.1: 0.2-1.4 % of l up to Theta ~ 60 deg,
+# 3.8 % and 7.7 % at 97 and 120 deg).
+THETA_RANGE = math.radians(65.0)
+
 # Pure end moment, seed 004 ("Cantilever with a pure end moment").
 PURE_MOMENT_GAMMA = 0.7346
 PURE_MOMENT_SPRING = 1.5164          # k = 1.5164 EI/L (seed 004 wording: "torsion spring constant")

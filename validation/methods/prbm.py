@@ -41,9 +41,11 @@ from dataclasses import dataclass
 import numpy as np
 
 import prbm
+from prbm.fits import THETA_RANGE, fit_family
 from prbm.result import PRBMResult
 from validation.methods import prbm_body, prbm_fourbar, prbm_network
-from validation.methods.base import MethodRun, NotApplicable, Request, reject_loads_along_beams
+from validation.methods.base import (Applicability, MethodRun, NotApplicable, Request,
+                                     reject_loads_along_beams)
 from validation.methods.prbm_common import DEG, pick, plain
 from validation.methods.prbm_common import per_level as _per_level
 from validation.methods.prbm_common import prefer as prefer_option
@@ -163,6 +165,7 @@ def _segment(case, requests, options):
     info.extras = {"model": res.model, "constants": plain(res.constants)}
     if loads.has_moment:  # no end moment: the bending moment cannot change sign (eq 12)
         _warn_inflection(info, loads.M, out["force_x"], out["force_y"], out["x"], out["y"])
+    _flag_fit_range(info, loads, ratio, res, fit, n)
     shapes = _segment_shapes(seg, res, n, kappa)
     if shapes:
         info.extras["shapes"] = shapes
@@ -258,6 +261,24 @@ INFLECTION_WARNING = ("inflection point expected: the bending moment changes sig
                       "use segment.model = 'inflection' (fixed-guided)")
 
 
+def _flag_fit_range(info: MethodRun, loads: TipLoads, ratio, res: PRBMResult, fit: FitOptions, n: int) -> None:
+    """Flag the levels a model with the n-fits (seed 000 eqs 41-43, seed 004) solved outside the fits'
+    ranges: the load ratio n outside the family's published range (reached only with ``extrapolate``
+    'warn' or 'allow'; 'raise' refuses the case), or the PRB angle |Theta - Theta_i| past the printed
+    Theta range of the fits (``prbm.fits.THETA_RANGE``, 65 deg)."""
+    if "K_theta" not in res.constants or "family" not in res.constants or not loads.has_force:
+        return  # not a model of the n-fits (pure moment: its own constants, seed 004)
+    family = fit_family(res.constants["family"])
+    effective = np.where(loads.Fy < 0, -ratio, ratio)  # the fits are evaluated at the mirrored ratio for P < 0
+    outside = ~((effective > family.lower) & (effective <= family.upper)) & (loads.Fy != 0)
+    for level in np.nonzero(outside)[0].tolist():
+        info.flag(level, Applicability.LOAD_RATIO)
+    if "Theta" in res.outputs:
+        turned = np.abs(_per_level(res.outputs["Theta"], n) - res.constants.get("Theta_i", 0.0))
+        for level in np.nonzero(turned > THETA_RANGE)[0].tolist():
+            info.flag(level, Applicability.DEFLECTION)
+
+
 def _warn_inflection(info: MethodRun, M, Fx, Fy, a, b) -> None:
     """Mark the levels whose end force and moment give an inflection point in the deformed PRBM state:
     the moment at the tip (M) and at the root (M + F_y a - F_x b) of opposite signs (Table 2.1's
@@ -266,6 +287,7 @@ def _warn_inflection(info: MethodRun, M, Fx, Fy, a, b) -> None:
     inflected = np.nonzero((M * root) < 0)[0]
     for level in inflected.tolist():
         info.level_messages[level] = INFLECTION_WARNING
+        info.flag(level, Applicability.INFLECTION)
     if len(inflected):
         info.extras["inflection_levels"] = inflected.tolist()
 

@@ -31,8 +31,9 @@ import math
 import numpy as np
 
 import prbm
+from prbm.fits import THETA_RANGE
 from validation.methods import fem_outputs
-from validation.methods.base import MethodRun, NotApplicable
+from validation.methods.base import Applicability, MethodRun, NotApplicable
 from prbm import builder as pb
 
 
@@ -269,6 +270,17 @@ def _value(case, model: pb.PRBModel, result, req, inputs: list, options: dict, m
     raise NotApplicable(f"the PRB network gives no '{q}'")
 
 
+def _flag_deflection(model: pb.PRBModel, result, info: MethodRun) -> None:
+    """Flag the levels where a beam's PRB spring (a fixed-pinned, fixed-free or fixed-guided pivot) has
+    turned past the printed Theta range of the fits (``prbm.fits.THETA_RANGE``, 65 deg)."""
+    beam_springs = [i for i, sp in enumerate(model.network.springs) if sp.name.endswith(("pivot", "pivot 1", "pivot 2"))]
+    if not beam_springs:
+        return
+    for level, state in enumerate(result.states):
+        if state.converged and np.abs(model.network.spring_deflections(state.q)[beam_springs]).max() > THETA_RANGE:
+            info.flag(level, Applicability.DEFLECTION)
+
+
 def run_mechanism(case, requests, options: dict, info: MethodRun) -> dict:
     """Values of the requested outputs of a mechanism case from the PRB model built by rule."""
     model = built_model(case.mechanism, options)
@@ -278,6 +290,7 @@ def run_mechanism(case, requests, options: dict, info: MethodRun) -> dict:
     for req in requests:
         if result.states[req.level].converged:
             values[req] = _value(case, model, result, req, inputs, options, memo)
+    _flag_deflection(model, result, info)
     info.converged = result.converged
     info.level_converged = {i: s.converged for i, s in enumerate(result.states)}
     info.message = (f"PRB model built by rule ({result.mobility} DOF): {model.describe()}; {result.message}")
