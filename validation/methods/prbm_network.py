@@ -148,11 +148,15 @@ def _received(case, model, result, point: str, level: int) -> np.ndarray:
 
 _MODELS: dict[str, pb.PRBModel] = {}  # the PRB models built, by geometry and rules (a model is plain data)
 _MODELS_KEPT = 64
+_LAST: dict[str, tuple] = {}  # the last mechanism object asked for, its rules option and its model
 
 
 def built_model(mech, options: dict) -> pb.PRBModel:
     """The PRB model of the mechanism by the builder's rules; the same geometry and rules give the same
     model, so it is built (and its mobility analysed) once per process."""
+    same = _LAST.get("key")
+    if same is not None and same[0] is mech and same[1] == options.get("rules"):
+        return same[2]  # the same mechanism object as the last call (a repeated run): no rebuild, no key
     geo, rl = geometry(mech), rules(options, mech)
     key = repr((geo, rl))
     model = _MODELS.get(key)
@@ -166,6 +170,7 @@ def built_model(mech, options: dict) -> pb.PRBModel:
         if len(_MODELS) >= _MODELS_KEPT:
             _MODELS.pop(next(iter(_MODELS)))
         _MODELS[key] = model
+    _LAST["key"] = (mech, options.get("rules"), model)
     return model
 
 
@@ -310,24 +315,24 @@ def run_mechanism(case, requests, options: dict, info: MethodRun) -> dict:
 def _shapes(model: pb.PRBModel, result) -> list:
     """Per level, each PRB body as a polyline through its pins and points (unloaded order)."""
     net = model.network
-    shapes = []
     per_body: dict[str, list[str]] = {}
     for name, (body, _) in net.points.items():
         per_body.setdefault(body, []).append(name)
-    for lv, state in enumerate(result.states):
+    arms = {}  # body -> its index and the polyline's points relative to its reference point (unloaded)
+    for body in net.bodies:
+        pts = [p.at for p in net.pins if body in (p.a, p.b)] + [net.points[nm][1] for nm in per_body.get(body, [])]
+        if len(pts) >= 2:
+            i = net.index[body]
+            arms[body] = (i, np.asarray(pts, float) - net.X0[i])
+    shapes = []
+    for state in result.states:
         if not state.converged:
             shapes.append([])
             continue
+        X, phi = net.state_arrays(state.q)
         lines = []
-        for body in net.bodies:
-            pts = [p.at for p in net.pins if body in (p.a, p.b)] + [net.points[nm][1] for nm in per_body.get(body, [])]
-            if len(pts) < 2:
-                continue
-            i = net.index[body]
-            X, phi = net.state_arrays(state.q)
+        for i, r in arms.values():
             c, s = math.cos(phi[i]), math.sin(phi[i])
-            r = np.asarray(pts, float) - net.X0[i]
-            moved = X[i] + np.column_stack([c * r[:, 0] - s * r[:, 1], s * r[:, 0] + c * r[:, 1]])
-            lines.append(moved)
+            lines.append(X[i] + np.column_stack([c * r[:, 0] - s * r[:, 1], s * r[:, 0] + c * r[:, 1]]))
         shapes.append(lines)
     return shapes
