@@ -123,18 +123,6 @@ class PiecewiseFit:
         elif extrapolate != "allow":
             raise ValueError(f"extrapolate must be 'raise', 'warn' or 'allow', not {extrapolate!r}")
 
-    def derivative(self, n):
-        """d(fit)/dn (branch-wise; the jumps at breakpoints are not differentiated)."""
-        n_arr = np.asarray(n, dtype=float)
-        out = np.empty_like(n_arr)
-        for i, br in enumerate(self.branches):
-            lo = -np.inf if i == 0 else br.lower
-            hi = np.inf if i == len(self.branches) - 1 else br.upper
-            mask = (n_arr > lo) & (n_arr <= hi)
-            d = np.polynomial.polynomial.polyder(br.coefficients)
-            out[mask] = np.polynomial.polynomial.polyval(n_arr[mask], d)
-        return float(out) if out.ndim == 0 else out
-
     def breakpoint_jumps(self) -> list[tuple[float, float]]:
         """(n_b, value just above n_b minus value at n_b) for every internal breakpoint."""
         jumps = []
