@@ -117,7 +117,8 @@ class PrbmOptions(Options):
     drive: Literal["torque", "precision"] | None = None
     coupler_point: str = "P"
     origin: tuple[float, float] = (0.0, 0.0)
-    ma: dict[str, float | str] | None = None
+    ma: dict[str, Any] | None = Field(None, description="four-bar: {F_i, d_i, d_o} (eqs 190, 192); network: "
+                                          "as [methods.fem] ma, {output, direction, input, step, d_i, definition}")
     max_mode: Count = 2
     segment_model: Literal["inflection", "fixed-pinned", "fixed-free"] | None = None
     model: Literal["network"] | None = Field(None, description="solve a mechanism by the general network "
