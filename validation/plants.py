@@ -16,6 +16,7 @@ library constants the FEM's bending stiffness EI x 1.10 (every member the FEM bu
 from __future__ import annotations
 
 import importlib
+import inspect
 from dataclasses import dataclass
 from typing import Callable
 
@@ -86,8 +87,7 @@ def _prbm_fit(prefix: str, pure_moment: tuple[str, ...], builder: str, keyword: 
                 if hasattr(module, name):
                     setattr(module, name, getattr(module, name) * FACTOR)
         setattr(prbm.builder, builder, getattr(prbm.builder, builder) * FACTOR)
-        for function in (prbm.segments.curved_pinned_pinned,):
-            function.__kwdefaults__[keyword] *= FACTOR
+        inspect.unwrap(prbm.segments.curved_pinned_pinned).__kwdefaults__[keyword] *= FACTOR
     return apply
 
 
