@@ -7,28 +7,32 @@ point (three pivots: two characteristic pivots and the instantaneous pin at the 
 seed 000 eqs (131)-(152) = (83)-(104), ``prbm.inflection``).
 
 Forward model (the seed's verification: "specifying the transverse deflection and rotation of the
-rigid coupler", Tables 5.5-5.6).  The coupler is given its X motion and rotation gamma; its Y motion
-is free and carries no external force.  For a trial Y the coupler pose fixes every segment end:
+rigid coupler", Tables 5.5-5.6).  The coupler point is moved by s along a unit direction u and the
+coupler turned by gamma; its motion t along w = i u is free and carries no external force.  For a
+trial t the coupler pose fixes every segment end (the vector loop of eq 154):
 
-    E_j = P + (E_j0 - P_0) e^{i gamma},   z_j = (E_j - O_j) e^{-i theta1_j},
-    a_j = Re z_j,  b_j = Im z_j,  theta0_j = gamma                       (the vector loop of eq 154)
+    P = P_0 + s u + t w,   E_j = P + (E_j0 - P_0) e^{i gamma},   z_j = (E_j - O_j) e^{-i theta1_j},
+    a_j = Re z_j,  b_j = Im z_j,  theta0_j = gamma,
 
 with theta1_j = arg(E_j0 - O_j) the undeformed segment direction (eq 156).  The displacement-specified
 problem of each segment (case 1: a, b, theta0 -> P, nP, M; ``solve_displacements``, eqs (143)-(152))
-gives the end load (-nP, P) applied to the beam in its own frame; in the global frame
-F_j = (-nP_j + i P_j) e^{i theta1_j} (eqs (171)-(172)).  The coupler receives -F_j from each segment, so
-its free Y direction is in equilibrium when
+gives the end load (-nP, P) applied to the beam in its own frame, F_j = (-nP_j + i P_j) e^{i theta1_j}
+in the global frame (eqs (171)-(172)).  The coupler receives -F_j from each segment, so its free
+direction is in equilibrium when
 
-    sum_j Im F_j = 0,                                                    (the Y-free condition)
+    sum_j Re(conj(w) F_j) = 0,                                           (the free-direction condition)
 
-one equation in Y, solved by a scan for a sign change and Brent's method.  The strain energy is the
-PRBM springs' (eq 165, = (1/2) sum k_i Theta_i^2 per segment).  A segment with b < 0 is solved as
-its mirror image (b, theta0 -> -b, -theta0), which flips P, M and the angles and keeps nP.
+one equation in t.  The strain energy is the PRBM springs' (eq 165, = (1/2) sum k_i Theta_i^2 per
+segment).  A segment with b < 0 is solved as its mirror image (b, theta0 -> -b, -theta0), which flips
+P, M and the angles and keeps nP.
 
-Validity: each segment's root must be valid in ``prbm.inflection`` (load ratios n, n2 inside the fits'
-range -4 < n <= 10, 0 < l1 < l, Theta_i > 0); where a trial Y admits no valid root for some segment,
-the residual is undefined there, and a pose with no valid Y is reported as not converged with the
-reason (never a placeholder).
+Where each segment can be.  Inside the fits' range (-4 < n <= 10, eqs 131-140) the PRBM is nearly
+inextensible: for a given (b, theta0) its end coordinate a moves only a little as n runs over the range
+(the axial force is bounded by n).  So each segment reaches only a window of t, found by the case-2
+problem (b, theta0, n -> a; Tables 3.4-3.5) at load ratios across the range (``reachable_window``).
+A coupler whose segments' windows do not overlap has no PRBM state within the fits: that is reported
+as not converged with both windows (never a placeholder); otherwise the equilibrium is found by a scan
+of the overlap for a sign change and Brent's method.
 """
 from __future__ import annotations
 
@@ -43,10 +47,12 @@ from scipy.optimize import brentq
 from prbm.inflection import InflectionBeam, solve_displacements
 from prbm.result import PRBMResult
 
-__all__ = ["GuidedSegment", "CouplerPose", "SegmentState", "segment_state", "coupler_y_force", "solve_y_free"]
+__all__ = ["GuidedSegment", "CouplerDrive", "SegmentState", "Window", "segment_state", "reachable_window",
+           "free_force", "solve_coupler"]
 
 MODEL = ("fixed-guided segments with one inflection point (seed 000 eqs (131)-(152)) on one rigid coupler, "
-         "coupler X and rotation prescribed, Y free (seed 000 section 5.5)")
+         "one coupler translation and its rotation prescribed, the other translation free (seed 000 section 5.5)")
+RATIOS = (-3.95, -3.0, -2.0, -1.0, -0.5, 0.0, 0.5, 1.0, 2.0, 3.0, 5.0, 7.0, 10.0)
 
 
 @dataclass(frozen=True)
@@ -68,20 +74,40 @@ class GuidedSegment:
     def theta1(self) -> float:
         return cmath.phase(self.end - self.root)
 
+    def beam(self) -> InflectionBeam:
+        return InflectionBeam(self.length, self.EI, self.family)
+
 
 @dataclass(frozen=True)
-class CouplerPose:
-    """The coupler's motion from its unloaded pose: translation (dx, dy) of the point P0, rotation gamma (rad)."""
+class CouplerDrive:
+    """The coupler's prescribed motion: point P0 moved by s along the unit direction ``along``, the
+    coupler turned by gamma (rad); the translation t along i * along is free."""
 
     point: complex
-    dx: float
-    dy: float
+    along: complex
+    s: float
     gamma: float
+
+    @property
+    def free(self) -> complex:
+        return 1j * self.along / abs(self.along)
+
+    def position(self, t: float) -> complex:
+        return self.point + self.s * self.along / abs(self.along) + t * self.free
+
+    def end(self, seg: GuidedSegment, t: float) -> complex:
+        """E_j (global) at the free translation t."""
+        return self.position(t) + (seg.end - self.point) * cmath.exp(1j * self.gamma)
+
+    def segment_end(self, seg: GuidedSegment, t: float) -> tuple[float, float, float]:
+        """(a, b, theta0) of the segment end in the segment's frame (eq 154)."""
+        z = (self.end(seg, t) - seg.root) * cmath.exp(-1j * seg.theta1)
+        return z.real, z.imag, self.gamma
 
 
 @dataclass
 class SegmentState:
-    """One segment at one coupler pose: the end in its own frame, the PRBM loads, validity."""
+    """One segment at one coupler pose: the end in its own frame, the PRBM end loads, validity."""
 
     segment: GuidedSegment
     a: float
@@ -90,12 +116,11 @@ class SegmentState:
     valid: bool
     message: str
     P: float = math.nan          # transverse end force on the beam (segment frame)
-    nP: float = math.nan         # axial (compressive +) end force on the beam
+    nP: float = math.nan         # axial end force on the beam, compressive positive
     moment: float = math.nan     # CCW end moment on the beam
-    energy: float = math.nan     # PRBM spring energy
+    energy: float = math.nan     # PRBM spring energy (eq 165)
+    n: float = math.nan
     l1: float = math.nan
-    roots: int = 0
-    extras: dict = field(default_factory=dict)
 
     @property
     def force(self) -> complex:
@@ -103,92 +128,123 @@ class SegmentState:
         return complex(-self.nP, self.P) * cmath.exp(1j * self.segment.theta1)
 
 
-def segment_end(seg: GuidedSegment, pose: CouplerPose) -> tuple[float, float, float]:
-    """(a, b, theta0) of the segment end in its own frame for a coupler pose (the vector loop, eq 154)."""
-    E = segment_tip(seg, pose.point + complex(pose.dx, pose.dy), pose.point, pose.gamma)
-    z = (E - seg.root) * cmath.exp(-1j * seg.theta1)
-    return z.real, z.imag, pose.gamma
+@dataclass(frozen=True)
+class Window:
+    """The free translations t a segment reaches with n inside the fits (t at each load ratio tried)."""
+
+    segment: str
+    t: tuple[float, ...]
+    ratios: tuple[float, ...]
+
+    @property
+    def empty(self) -> bool:
+        return not self.t
+
+    @property
+    def low(self) -> float:
+        return min(self.t)
+
+    @property
+    def high(self) -> float:
+        return max(self.t)
 
 
-def segment_state(seg: GuidedSegment, pose: CouplerPose, *, prefer="energy") -> SegmentState:
-    """The chapter-3 case-1 problem (a, b, theta0 -> P, nP, M) of one segment at a coupler pose."""
-    a, b, theta0 = segment_end(seg, pose)
+def _mirrored(seg: GuidedSegment, a: float, b: float, theta0: float):
+    """sign, (b, theta0) as solved: the displacement problems search P > 0 (prbm.inflection)."""
     sign = -1.0 if b < 0 else 1.0
-    beam = InflectionBeam(seg.length, seg.EI, seg.family)
-    res = solve_displacements(beam, a=a, b=sign * b, theta0=sign * theta0, prefer=prefer)
+    return sign, sign * b, sign * theta0
+
+
+def segment_state(seg: GuidedSegment, drive: CouplerDrive, t: float) -> SegmentState:
+    """The case-1 problem (a, b, theta0 -> P, nP, M) of one segment at the free translation t."""
+    a, b, theta0 = drive.segment_end(seg, t)
+    sign, b_s, th_s = _mirrored(seg, a, b, theta0)
+    res = solve_displacements(seg.beam(), a=a, b=b_s, theta0=th_s)
     if not res.converged:
         return SegmentState(seg, a, b, theta0, False, f"segment '{seg.name}': {res.message}")
     o = res.outputs
     # eq (147)'s M opposes P (clockwise for P > 0): the CCW moment on the beam is -M; mirrored: P, M flip
     return SegmentState(seg, a, b, theta0, True, res.message, P=sign * float(o["P"]), nP=float(o["nP"]),
-                        moment=-sign * float(o["M"]), energy=float(o["U"]), l1=float(o["l1"]),
-                        roots=len(res.roots[0]),
-                        extras={"Theta1": float(o["Theta1"]), "Theta2": float(o["Theta2"]), "n": float(o["n"]),
-                                "n2": float(o["n2"])})
+                        moment=-sign * float(o["M"]), energy=float(o["U"]), n=float(o["n"]), l1=float(o["l1"]))
 
 
-def coupler_y_force(segments: list[GuidedSegment], pose: CouplerPose) -> tuple[float, list[SegmentState]]:
-    """sum_j Im F_j, the Y force the segments need from the coupler (NaN where a segment has no valid root)."""
-    states = [segment_state(s, pose) for s in segments]
+def _t_at_ratio(seg: GuidedSegment, drive: CouplerDrive, n: float) -> float | None:
+    """The free translation at which the segment's case-2 end (b, theta0, n -> a) meets the coupler's."""
+    w = drive.free * cmath.exp(-1j * seg.theta1)   # the free direction in the segment frame
+    if abs(w.real) < 1e-3:
+        return None   # the free motion hardly changes a: a single segment cannot fix it
+    t = 0.0
+    for _ in range(30):
+        a, b, theta0 = drive.segment_end(seg, t)
+        _, b_s, th_s = _mirrored(seg, a, b, theta0)
+        res = solve_displacements(seg.beam(), b=b_s, theta0=th_s, n=n)  # n of the problem solved (mirrored: -n)
+        if not res.converged:
+            return None
+        step = (float(res.outputs["a"]) - a) / w.real
+        t += step
+        if abs(step) < 1e-12 * seg.length:
+            return t
+    return None
+
+
+def reachable_window(seg: GuidedSegment, drive: CouplerDrive, ratios=RATIOS) -> Window:
+    """The t the segment reaches with its load ratio n at each of ``ratios`` (case 2, Tables 3.4-3.5)."""
+    found = [(n, _t_at_ratio(seg, drive, n)) for n in ratios]
+    found = [(n, t) for n, t in found if t is not None]
+    return Window(seg.name, tuple(t for _, t in found), tuple(n for n, _ in found))
+
+
+def free_force(segments: list[GuidedSegment], drive: CouplerDrive, t: float) -> tuple[float, list[SegmentState]]:
+    """sum_j Re(conj(w) F_j): the free-direction force the segments need (NaN if a segment has no valid root)."""
+    states = [segment_state(s, drive, t) for s in segments]
     if not all(st.valid for st in states):
         return math.nan, states
-    return sum(st.force.imag for st in states), states
+    w = drive.free
+    return sum((st.force * w.conjugate()).real for st in states), states
 
 
-def solve_y_free(segments: list[GuidedSegment], point: complex, dx: float, gamma: float, *,
-                 span: float | None = None, samples: int = 41) -> PRBMResult:
-    """The coupler Y at which the Y force vanishes, for prescribed dx and gamma (rad).
+def solve_coupler(segments: list[GuidedSegment], drive: CouplerDrive, *, samples: int = 9) -> PRBMResult:
+    """The free translation t at which the coupler needs no force along it (see the module docstring).
 
-    Scans dy over [-span, span] (default half the shortest segment) for a sign change of
-    ``coupler_y_force`` between two valid samples, the one nearest dy = 0 first, then Brent's method.
-    Outputs: dy, dx, gamma, strain_energy (sum of the segments' PRBM springs), Fx, moment (the
-    coupler's prescribed-motion reactions: the load the mechanism needs at P, global, moment CCW about P).
-    """
+    Outputs: t, strain_energy (sum of the segments' PRBM springs), force_along and moment (the load the
+    coupler needs at P to hold the prescribed translation and rotation; moment CCW about P).
+    ``extras``: windows, states, the bracket."""
     t0 = time.perf_counter()
-    span = span if span is not None else 0.5 * min(s.length for s in segments)
-    grid = np.linspace(-span, span, samples)
-    grid = grid[np.argsort(np.abs(grid))]  # nearest the unloaded Y first
-    values = {}
-
-    def f(dy: float) -> float:
-        if dy not in values:
-            values[dy] = coupler_y_force(segments, CouplerPose(point, dx, dy, gamma))[0]
-        return values[dy]
-
-    ordered = np.sort(grid)
-    [f(float(y)) for y in ordered]
-    brackets = [(float(y0), float(y1)) for y0, y1 in zip(ordered[:-1], ordered[1:])
-                if np.isfinite(f(float(y0))) and np.isfinite(f(float(y1))) and f(float(y0)) * f(float(y1)) <= 0]
-    wall = time.perf_counter() - t0
+    windows = [reachable_window(s, drive) for s in segments]
+    text = "; ".join(f"{w.segment}: t in [{w.low:.4g}, {w.high:.4g}]" if not w.empty else f"{w.segment}: none"
+                     for w in windows)
+    low, high = (max(w.low for w in windows), min(w.high for w in windows)) if not any(w.empty for w in windows) \
+        else (math.inf, -math.inf)
+    if not low < high:
+        return _failed(f"no PRBM state within the fits (-4 < n <= 10): the segments reach disjoint windows of "
+                       f"the free translation ({text})", windows, t0)
+    pad = 1e-6 * (high - low)
+    grid = np.linspace(low + pad, high - pad, samples)
+    values = [free_force(segments, drive, float(t))[0] for t in grid]
+    brackets = [(float(grid[i]), float(grid[i + 1])) for i in range(samples - 1)
+                if np.isfinite(values[i]) and np.isfinite(values[i + 1]) and values[i] * values[i + 1] <= 0]
     if not brackets:
-        valid = sum(np.isfinite(v) for v in values.values())
-        reason = (f"no Y in [-{span:.4g}, {span:.4g}] balances the coupler: the Y force keeps one sign over the "
-                  f"{valid} of {samples} trial Y with a valid PRBM root for every segment")
-        return PRBMResult(False, reason, {}, {}, MODEL, wall, len(values), np.array([False]))
-    y0, y1 = min(brackets, key=lambda br: abs(br[0] + br[1]))
-    dy = brentq(f, y0, y1, xtol=1e-12 * span, rtol=1e-12) if f(y0) * f(y1) < 0 else (y0 if f(y0) == 0 else y1)
-    force, states = coupler_y_force(segments, CouplerPose(point, dx, dy, gamma))
-    scale = max(abs(st.force) for st in states)
-    ok = abs(force) <= 1e-6 * max(scale, 1e-300)
-    P = point + complex(dx, dy)
-    # the coupler's equilibrium: the load it needs at P is what the segment ends receive from it
-    Fx = sum(st.force.real for st in states)
-    moment = sum(st.moment + _cross(segment_tip(st.segment, P, point, gamma) - P, st.force) for st in states)
-    out = {"dx": np.asarray(dx), "dy": np.asarray(dy), "gamma": np.asarray(gamma),
-           "strain_energy": np.asarray(sum(st.energy for st in states)), "Fx": np.asarray(Fx),
+        return _failed(f"the free-direction force keeps one sign over the overlap of the windows ({text})", windows, t0)
+    lo, hi = min(brackets, key=lambda br: abs(br[0] + br[1]))
+    t = brentq(lambda x: free_force(segments, drive, x)[0], lo, hi, xtol=1e-12 * max(abs(lo), 1.0), rtol=1e-12)
+    force, states = free_force(segments, drive, t)
+    ok = all(st.valid for st in states) and abs(force) <= 1e-6 * max(abs(st.force) for st in states)
+    P = drive.position(t)
+    total = sum(st.force for st in states)
+    moment = sum(st.moment + _cross(drive.end(st.segment, t) - P, st.force) for st in states)
+    out = {"t": np.asarray(t), "strain_energy": np.asarray(sum(st.energy for st in states)),
+           "force_along": np.asarray((total * (drive.along / abs(drive.along)).conjugate()).real),
            "moment": np.asarray(moment)}
-    message = (f"Y-free coupler: {len(brackets)} sign change(s) of the Y force in the scan; "
-               + "; ".join(f"{st.segment.name}: {st.message}, n = {st.extras['n']:.3g}" for st in states))
-    if not ok:
-        message = f"Y force {force:.3g} left at the bracket (a jump between PRBM roots, not a root); " + message
-    return PRBMResult(ok, message, out, {"segments": [s.name for s in segments]}, MODEL,
-                      time.perf_counter() - t0, len(values), np.array([ok]),
-                      extras={"states": states, "brackets": brackets, "span": span})
+    message = (f"coupler equilibrium at t = {t:.6g} ({text}); "
+               + "; ".join(f"{st.segment.name}: n = {st.n:.3g}, {st.message}" for st in states))
+    return PRBMResult(ok, message if ok else "free-direction force left at a jump between PRBM roots; " + message,
+                      out, {"segments": [s.name for s in segments]}, MODEL, time.perf_counter() - t0, 0,
+                      np.array([ok]), extras={"windows": windows, "states": states, "bracket": (lo, hi)})
 
 
-def segment_tip(seg: GuidedSegment, P: complex, point0: complex, gamma: float) -> complex:
-    """The segment end E (global) with the coupler point at P and the coupler turned by gamma."""
-    return P + (seg.end - point0) * cmath.exp(1j * gamma)
+def _failed(message: str, windows: list[Window], t0: float) -> PRBMResult:
+    return PRBMResult(False, message, {}, {}, MODEL, time.perf_counter() - t0, 0, np.array([False]),
+                      extras={"windows": windows})
 
 
 def _cross(r: complex, F: complex) -> float:

@@ -202,7 +202,7 @@ def _segment(prbm, case, requests, options):
     info.level_converged = dict(enumerate(_per_level(lc, n).tolist())) \
         if lc is not None and np.size(lc) in (1, n) else {}
     info.extras = {"model": res.model, "constants": _plain(res.constants)}
-    _warn_inflection(info, M, Fx, Fy, a, b)
+    _warn_inflection(info, M, Fx, Fy, a, b, a0, b0)
     shapes = _segment_shapes(seg, res, n, kappa)
     if shapes:
         info.extras["shapes"] = shapes
@@ -214,12 +214,14 @@ INFLECTION_WARNING = ("inflection point expected: the bending moment changes sig
                       "use segment.model = 'inflection' (fixed-guided)")
 
 
-def _warn_inflection(info: MethodRun, M, Fx, Fy, a, b) -> None:
-    """Mark the levels whose end force and moment give an inflection point in the deformed PRBM state:
-    the moment at the tip (M) and at the root (M + F_y a - F_x b) of opposite signs (Table 2.1's
-    opposite senses, and the sufficient condition (12) evaluated on the PRBM's own deformed shape)."""
+def _warn_inflection(info: MethodRun, M, Fx, Fy, a, b, a0, b0) -> None:
+    """Mark the levels whose end force and moment give an inflection point: the moment at the tip (M) and
+    at the root (M + F_y a - F_x b) of opposite signs (Table 2.1's opposite senses, and the sufficient
+    condition (12)), on the PRBM's own deformed state or on the unloaded one (a0, b0): the monotonic
+    model's state can land on the branch without the inflection that the beam has."""
     root = M + Fy * a - Fx * b
-    inflected = np.nonzero((M * root) < 0)[0]
+    unloaded = M + Fy * a0 - Fx * b0
+    inflected = np.nonzero(((M * root) < 0) | ((M * unloaded) < 0))[0]
     for level in inflected.tolist():
         info.level_messages[level] = INFLECTION_WARNING
     if len(inflected):

@@ -527,6 +527,9 @@ def _prbm_large(c: Configuration, case: Case, run: MethodRun, at_last: MethodRun
     if last in run.extras.get("inflection_levels", ()):
         return ContractResult("prbm", True, 0, [], f"warned: inflection point expected (PRBM error {worst:.3g} "
                                                    "of the motion scale, recorded, not judged)")
+    if not applicable("prbm", c):
+        return ContractResult("prbm", True, 0, ["prbm gave values where it has no model (expected NotApplicable "
+                                                f"or an inflection warning); PRBM error {worst:.3g}"])
     n, failures = _compare("prbm", at_last, ref, prbm_scale, eps=0.0, estimate_factor=0.0,
                            include_stretch=False, relative=CONVENTION_LIMIT, against="elastica")
     return ContractResult("prbm", True, n, failures, f"PRBM error {worst:.3g} of the motion scale")
