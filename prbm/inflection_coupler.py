@@ -42,9 +42,9 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import brentq
+from scipy.optimize import brentq, root
 
-from prbm.inflection import InflectionBeam, solve_displacements
+from prbm.inflection import InflectionBeam, _valid, inflection_state, solve_displacements
 from prbm.result import PRBMResult
 
 __all__ = ["GuidedSegment", "CouplerDrive", "SegmentState", "Window", "segment_state", "reachable_window",
@@ -149,26 +149,130 @@ class Window:
         return max(self.t)
 
 
+class _Warm:
+    """A segment's last PRBM root, to start the next solve from (the states along a scan are close);
+    the multistart solve of ``prbm.inflection`` is the fallback when the warm start fails or gives an
+    invalid root, so the answer is the same, only found faster."""
+
+    def __init__(self):
+        self.x = None
+        self.t = None        # the free translation of the last case-1 root
+        self.given = None    # (n, b, theta0) of the last case-2 root
+
+    def case1(self, beam: InflectionBeam, ends, t: float):
+        """The case-1 state at the free translation t (``ends(t)`` = (a, b, theta0) as solved): continued
+        from the last root in 1, 4 or 16 steps of t, else the multistart; or the multistart's message."""
+        if self.x is not None and self.t is not None:
+            for steps in (1, 4, 16):
+                state = self._continue(beam, ends, t, steps)
+                if state is not None:
+                    return state
+        a, b, theta0 = ends(t)
+        res = solve_displacements(beam, a=a, b=b, theta0=theta0)
+        if not res.converged:
+            return res.message
+        o = res.outputs
+        self.x, self.t = np.array([float(o["phi1"]), float(o["l1"]) / beam.length, float(o["theta10"])]), t
+        return {k: float(v) for k, v in o.items()} | {"message": res.message}
+
+    def _continue(self, beam: InflectionBeam, ends, t: float, steps: int):
+        x, state = self.x, None
+        for k in range(1, steps + 1):
+            a, b, theta0 = ends(self.t + (t - self.t) * k / steps)
+            state = _warm_root(beam, x, lambda y: _case1_residual(beam, y, a, b, theta0), 3)
+            if state is None:
+                return None
+            x = np.array([state["phi1"], state["l1"] / beam.length, state["theta10"]])
+        self.x, self.t = x, t
+        return state
+
+    def case2(self, beam: InflectionBeam, b: float, theta0: float, n: float):
+        """(b, theta0, n) -> the state dict of the valid root, or None: continued from the last case-2 root
+        in 1, 4 or 16 steps of (n, b, theta0), else the multistart."""
+        given = np.array([n, b, theta0])
+        if self.x is not None and getattr(self, "given", None) is not None:
+            for steps in (1, 4, 16):
+                x, state = self.x[1:], None
+                for k in range(1, steps + 1):
+                    nk, bk, thk = self.given + (given - self.given) * k / steps
+                    phi1 = math.atan2(1.0, -nk)
+                    state = _warm_root(beam, x, lambda y: _case1_residual(beam, np.r_[phi1, y], None, bk, thk), 2,
+                                       phi1=phi1)
+                    if state is None:
+                        break
+                    x = np.array([state["l1"] / beam.length, state["theta10"]])
+                if state is not None:
+                    self.x, self.given = np.r_[math.atan2(1.0, -n), x], given
+                    return state
+        res = solve_displacements(beam, b=b, theta0=theta0, n=n)
+        if not res.converged:
+            return None
+        o = res.outputs
+        self.x, self.given = np.array([math.atan2(1.0, -n), float(o["l1"]) / beam.length, float(o["theta10"])]), given
+        return {k: float(v) for k, v in o.items()}
+
+
+def _state(beam: InflectionBeam, phi1: float, l1_ratio: float, theta10: float, theta0: float) -> dict:
+    """Every variable of eqs (131)-(152) with F from eq (143) (as ``prbm.inflection`` does)."""
+    l1 = l1_ratio * beam.length
+    n = -math.cos(phi1) / math.sin(phi1)
+    _, c1, K1 = beam.family.parameters(n, "allow")
+    Th1 = theta10 / c1
+    F = K1 * Th1 * beam.EI / (l1 * l1 * math.sin(phi1 - Th1))
+    return {k: float(v) for k, v in inflection_state(beam, F, phi1, theta0, l1, theta10).items()}
+
+
+def _case1_residual(beam, x, a, b, theta0):
+    """Residuals (144), (151), (152) (without (152) when a is None) of the state at x = (phi1, l1/l, theta10)."""
+    with np.errstate(all="ignore"):
+        st = _state(beam, x[0], x[1], x[2], theta0)
+    r = [st["r96"], (st["b"] - b) / beam.length]
+    if a is not None:
+        r.append((st["a"] - a) / beam.length)
+    return np.array(r), st
+
+
+def _warm_root(beam, x0, residual, size, phi1=None):
+    """Newton-type solve (MINPACK hybrd) from x0; the state if it converged to a valid root, else None."""
+    full = (lambda x: np.r_[phi1, x]) if phi1 is not None else (lambda x: x)
+    try:
+        with np.errstate(all="ignore"):
+            sol = root(lambda x: residual(x)[0], np.asarray(x0, float), method="hybr", options={"xtol": 1e-12})
+        r, st = residual(sol.x)
+    except (ValueError, ZeroDivisionError, ArithmeticError):
+        return None
+    if not np.all(np.isfinite(r)) or np.linalg.norm(r) > 1e-9 or len(r) != size:
+        return None
+    if st["F"] < 0 or not _valid(beam, st)[0]:
+        return None
+    x = full(sol.x)
+    return st | {"phi1": float(x[0]), "message": "valid (warm start)"}
+
+
 def _mirrored(seg: GuidedSegment, a: float, b: float, theta0: float):
     """sign, (b, theta0) as solved: the displacement problems search P > 0 (prbm.inflection)."""
     sign = -1.0 if b < 0 else 1.0
     return sign, sign * b, sign * theta0
 
 
-def segment_state(seg: GuidedSegment, drive: CouplerDrive, t: float) -> SegmentState:
+def segment_state(seg: GuidedSegment, drive: CouplerDrive, t: float, warm: _Warm | None = None) -> SegmentState:
     """The case-1 problem (a, b, theta0 -> P, nP, M) of one segment at the free translation t."""
     a, b, theta0 = drive.segment_end(seg, t)
-    sign, b_s, th_s = _mirrored(seg, a, b, theta0)
-    res = solve_displacements(seg.beam(), a=a, b=b_s, theta0=th_s)
-    if not res.converged:
-        return SegmentState(seg, a, b, theta0, False, f"segment '{seg.name}': {res.message}")
-    o = res.outputs
+    sign = -1.0 if b < 0 else 1.0
+
+    def ends(tk: float) -> tuple[float, float, float]:
+        ak, bk, thk = drive.segment_end(seg, tk)
+        return ak, sign * bk, sign * thk    # mirrored when b < 0 (the search is for P > 0)
+
+    o = (warm or _Warm()).case1(seg.beam(), ends, t)
+    if isinstance(o, str):
+        return SegmentState(seg, a, b, theta0, False, f"segment '{seg.name}': {o}")
     # eq (147)'s M opposes P (clockwise for P > 0): the CCW moment on the beam is -M; mirrored: P, M flip
-    return SegmentState(seg, a, b, theta0, True, res.message, P=sign * float(o["P"]), nP=float(o["nP"]),
-                        moment=-sign * float(o["M"]), energy=float(o["U"]), n=float(o["n"]), l1=float(o["l1"]))
+    return SegmentState(seg, a, b, theta0, True, o["message"], P=sign * o["P"], nP=o["nP"],
+                        moment=-sign * o["M"], energy=o["U"], n=o["n"], l1=o["l1"])
 
 
-def _t_at_ratio(seg: GuidedSegment, drive: CouplerDrive, n: float) -> float | None:
+def _t_at_ratio(seg: GuidedSegment, drive: CouplerDrive, n: float, warm: _Warm) -> float | None:
     """The free translation at which the segment's case-2 end (b, theta0, n -> a) meets the coupler's."""
     w = drive.free * cmath.exp(-1j * seg.theta1)   # the free direction in the segment frame
     if abs(w.real) < 1e-3:
@@ -177,26 +281,29 @@ def _t_at_ratio(seg: GuidedSegment, drive: CouplerDrive, n: float) -> float | No
     for _ in range(30):
         a, b, theta0 = drive.segment_end(seg, t)
         _, b_s, th_s = _mirrored(seg, a, b, theta0)
-        res = solve_displacements(seg.beam(), b=b_s, theta0=th_s, n=n)  # n of the problem solved (mirrored: -n)
-        if not res.converged:
+        state = warm.case2(seg.beam(), b_s, th_s, n)  # n of the problem solved (mirrored: -n)
+        if state is None:
             return None
-        step = (float(res.outputs["a"]) - a) / w.real
+        step = (state["a"] - a) / w.real
         t += step
-        if abs(step) < 1e-12 * seg.length:
+        if abs(step) < 1e-9 * seg.length:
             return t
     return None
 
 
 def reachable_window(seg: GuidedSegment, drive: CouplerDrive, ratios=RATIOS) -> Window:
     """The t the segment reaches with its load ratio n at each of ``ratios`` (case 2, Tables 3.4-3.5)."""
-    found = [(n, _t_at_ratio(seg, drive, n)) for n in ratios]
+    warm = _Warm()
+    found = [(n, _t_at_ratio(seg, drive, n, warm)) for n in ratios]
     found = [(n, t) for n, t in found if t is not None]
     return Window(seg.name, tuple(t for _, t in found), tuple(n for n, _ in found))
 
 
-def free_force(segments: list[GuidedSegment], drive: CouplerDrive, t: float) -> tuple[float, list[SegmentState]]:
+def free_force(segments: list[GuidedSegment], drive: CouplerDrive, t: float,
+               warms: list[_Warm] | None = None) -> tuple[float, list[SegmentState]]:
     """sum_j Re(conj(w) F_j): the free-direction force the segments need (NaN if a segment has no valid root)."""
-    states = [segment_state(s, drive, t) for s in segments]
+    warms = warms or [_Warm() for _ in segments]
+    states = [segment_state(s, drive, t, wm) for s, wm in zip(segments, warms)]
     if not all(st.valid for st in states):
         return math.nan, states
     w = drive.free
@@ -220,14 +327,15 @@ def solve_coupler(segments: list[GuidedSegment], drive: CouplerDrive, *, samples
                        f"the free translation ({text})", windows, t0)
     pad = 1e-6 * (high - low)
     grid = np.linspace(low + pad, high - pad, samples)
-    values = [free_force(segments, drive, float(t))[0] for t in grid]
+    warms = [_Warm() for _ in segments]
+    values = [free_force(segments, drive, float(t), warms)[0] for t in grid]
     brackets = [(float(grid[i]), float(grid[i + 1])) for i in range(samples - 1)
                 if np.isfinite(values[i]) and np.isfinite(values[i + 1]) and values[i] * values[i + 1] <= 0]
     if not brackets:
         return _failed(f"the free-direction force keeps one sign over the overlap of the windows ({text})", windows, t0)
     lo, hi = min(brackets, key=lambda br: abs(br[0] + br[1]))
-    t = brentq(lambda x: free_force(segments, drive, x)[0], lo, hi, xtol=1e-12 * max(abs(lo), 1.0), rtol=1e-12)
-    force, states = free_force(segments, drive, t)
+    t = brentq(lambda x: free_force(segments, drive, x, warms)[0], lo, hi, xtol=1e-12 * max(abs(lo), 1.0), rtol=1e-12)
+    force, states = free_force(segments, drive, t, warms)
     ok = all(st.valid for st in states) and abs(force) <= 1e-6 * max(abs(st.force) for st in states)
     P = drive.position(t)
     total = sum(st.force for st in states)

@@ -58,7 +58,7 @@ import time
 import numpy as np
 from scipy.optimize import brentq
 
-from validation.methods import prbm_network
+from validation.methods import prbm_inflection, prbm_network
 from validation.methods.base import MethodRun, NotApplicable, Request, reject_loads_along_beams
 from validation.case.quantities import boundary_held_tip, unloaded_tip_angle
 
@@ -390,6 +390,9 @@ def _mechanism(prbm, case, requests, options):
                             f"to {max_mode}; first static mode {first['modes']}: F_C = f_r + f_e = "
                             f"{first['f_r']} + {first['f_e']})")
             return values, info
+    if prbm_inflection.applies(case, options):  # chapter 5: inflection segments on one rigid coupler
+        values.update(prbm_inflection.run_coupler(case, requests, info))
+        return values, info
     links = options.get("links")
     kinds = sorted(sup.kind for sup in mech.supports)
     if not links and not mech.links and len(mech.beams) == 1 and kinds == ["pinned", "slider"]:
