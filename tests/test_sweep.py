@@ -16,8 +16,8 @@ from pathlib import Path
 import pytest
 
 from validation.methods.base import MethodRun
-from validation.sweep import SpecError, add_parser, load_results, load_spec, make_points, run_sweep
-from validation.sweep_task import apply
+from validation.sweep.run import SpecError, add_parser, load_results, load_spec, make_points, run_sweep
+from validation.sweep.task import apply
 
 CASE = """
 [case]
