@@ -58,7 +58,7 @@ import time
 import numpy as np
 from scipy.optimize import brentq
 
-from validation.methods import prbm_network
+from validation.methods import prbm_alternatives, prbm_network
 from validation.methods.base import MethodRun, NotApplicable, Request, reject_loads_along_beams
 from validation.case.quantities import boundary_held_tip, unloaded_tip_angle
 
@@ -70,6 +70,8 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
 
     t0 = time.perf_counter()
     reject_loads_along_beams(case, "the PRBM")
+    if options.get("model") in prbm_alternatives.MODELS:  # seed 000 chapter 2's other segment models
+        return prbm_alternatives.run(case, requests, options)
     try:
         if case.segment is not None:
             values, run_info = _segment(prbm, case, requests, options)
