@@ -110,3 +110,34 @@ def lyon_from_tip(*, b: float, theta0: float, length: float, EI: float) -> PRBMR
                       {"gamma_A": s["gA"], "gamma_B": s["gB"], "c_A": s["cA"], "c_B": s["cB"], "K_A": s["KA"],
                        "K_B": s["KB"]}, "Lyon et al. fixed-guided PRBM, seed 000 eqs (64)-(70)",
                       time.perf_counter() - t0, int(best.nfev), np.array([True]))
+
+
+def lyon_tip(Fx: float, Fy: float, *, length: float, EI: float) -> PRBMResult:
+    """End position, end angle and end moment of the fixed-guided segment under the end force (Fx, Fy)
+    alone (global frame, x along the undeformed beam, Fy > 0: mirror the problem otherwise).  Unknowns
+    l_A, theta_A, theta_B from (66), (67*), (69), started from the symmetric shape.  Outputs a, b,
+    theta0 (rad), M (CCW, the moment the model's end carries), l_A, theta_A, theta_B, n_B.  Raises
+    FitRangeError when n or n_B lies outside the Pauly-Midha fits."""
+    t0 = time.perf_counter()
+    if not (length > 0 and EI > 0 and math.isfinite(Fx) and math.isfinite(Fy)):
+        raise ValueError(f"lyon_tip: need length > 0, EI > 0, finite forces; got {length}, {EI}, {Fx}, {Fy}")
+    if Fy <= 0.0:
+        raise ValueError(f"lyon_tip: Fy must be > 0 (mirror the problem), got {Fy}")
+    F, phi = math.hypot(Fx, Fy), math.atan2(Fy, Fx)
+    PAULY_MIDHA.parameters(load_ratio(phi))  # raises FitRangeError for n outside the fits
+    start = F * length**2 / (EI * 4 * 2.65 * 4)  # small-angle Theta of Howell's guided beam
+    sol = root(lambda x: _state(x, F, phi, length, EI)[0], [0.5 * length, start, start], method="hybr",
+               tol=1e-13)
+    residual, s = _state(sol.x, F, phi, length, EI)
+    ok = bool(sol.success) and max(abs(r) for r in residual) < 1e-9 * max(1.0, F * length) \
+        and 0.0 < s["lA"] < length
+    PAULY_MIDHA.parameters(s["nB"])
+    pin, end = _kinematics(s)
+    r = end - pin
+    out = {"a": end[0], "b": end[1], "theta0": s["thE"], "M": -(r[0] * Fy - r[1] * Fx), "l_A": s["lA"],
+           "theta_A": s["thA"], "theta_B": s["thB"], "n_B": s["nB"]}
+    message = "converged" if ok else f"not converged: {sol.message} (l_A = {s['lA']:.4g})"
+    return PRBMResult(ok, message, {k: np.float64(v) for k, v in out.items()},
+                      {"gamma_A": s["gA"], "gamma_B": s["gB"], "c_A": s["cA"], "c_B": s["cB"], "K_A": s["KA"],
+                       "K_B": s["KB"]}, "Lyon et al. fixed-guided PRBM, seed 000 eqs (64)-(70)",
+                      time.perf_counter() - t0, int(sol.nfev), np.array([ok]))
