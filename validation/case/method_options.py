@@ -120,9 +120,10 @@ class PrbmOptions(Options):
     ma: dict[str, float | str] | None = None
     max_mode: Count = 2
     segment_model: Literal["inflection", "fixed-pinned", "fixed-free"] | None = None
-    model: Literal["network", "chain", "theta-dependent", "lyon"] | None = Field(
+    model: Literal["network", "chain", "theta-dependent", "lyon", "feasible-l1"] | None = Field(
         None, description="'network': solve a mechanism by the general network built from the geometry even where "
-        "a special path applies; 'chain', 'theta-dependent', 'lyon': seed 000 chapter 2's other segment models "
+        "a special path applies; 'chain', 'theta-dependent', 'lyon': seed 000 chapter 2's other segment models, "
+        "'feasible-l1': section 3.6's vector loop "
         "(validation.methods.prbm_alternatives)")
     theta_fit: Literal["51", "52", "52-tension"] = Field("51", description="K_Theta(n, Theta) of seed 000 eq (51) or "
                                                          "(52) for model = 'theta-dependent'")

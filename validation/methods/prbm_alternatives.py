@@ -9,6 +9,9 @@
   increments, default 10).  ``problem = "displacement"`` with ``b``, ``theta0_deg`` and ``n`` (per
   level) solves for the tip loads instead (the Chain row of Table 3.1).
 * ``model = "lyon"``: Lyon et al.'s fixed-guided PRBM, eqs (64)-(70) (``prbm.lyon``), under a tip force.
+* ``model = "feasible-l1"``: section 3.6's vector loop, eqs (105)-(107) (``prbm.feasible_l1``), for the
+  fixed-guided beam with ``b``, ``theta0_deg`` and ``l1`` given (per level): the end's x (a = l - R5) and
+  the PRB angle Theta1; a level whose l1 is not feasible is NotApplicable with the reason.
 
 Frames and signs as in ``validation/methods/prbm.py``: x along the undeformed segment from the clamp,
 force = values x direction, CCW moments; outputs x = a, y = b, dx, dy, rotation (deg), force_x, force_y,
@@ -22,12 +25,13 @@ import time
 import numpy as np
 
 from prbm import chain as chain_model
+from prbm import feasible_l1
 from prbm import lyon as lyon_model
 from prbm import theta_dependent
 from prbm.fits import FitRangeError
 from validation.methods.base import MethodRun, NotApplicable, Request
 
-MODELS = ("theta-dependent", "chain", "lyon")
+MODELS = ("theta-dependent", "chain", "lyon", "feasible-l1")
 
 
 def run(case, requests: list[Request], options: dict) -> MethodRun:
@@ -40,6 +44,8 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
         raise NotApplicable(f"model '{model}': the seed gives it for initially straight segments only")
     if model == "chain" and options.get("problem", "loads") == "displacement":
         rows = _chain_inverse(case, requests, options)
+    elif model == "feasible-l1":
+        rows = _loop(case, requests, options)
     else:
         loads = _tip_loads(case)
         solve = {"theta-dependent": _theta_dependent, "chain": _chain, "lyon": _lyon}[model]
@@ -168,3 +174,31 @@ def _lyon(case, load, options):
         raise NotApplicable(f"PRBM fit range: {exc}") from None
     o = res.outputs
     return _table(case, float(o["a"]), float(o["b"]), float(o["theta0"]), Fx, Fy, float(o["M"])), res
+
+
+def _loop(case, requests, options):
+    seg = case.segment
+    if seg.boundary not in ("fixed-guided", "fixed-fixed"):
+        raise NotApplicable(f"the section 3.6 vector loop is a fixed-guided model, not {seg.boundary}")
+    rows = []
+    for lv in range(case.n_levels()):
+        if lv not in _levels(requests):
+            rows.append(None)
+            continue
+        b, theta0 = _per_level(options, "b", lv), math.radians(_per_level(options, "theta0_deg", lv))
+        st = feasible_l1.loop_closure(length=seg.length, b=b, theta0=theta0, l1=_per_level(options, "l1", lv))
+        if not st.feasible:
+            raise NotApplicable(f"level {lv}: l1 = {st.l1:g} is not feasible: {st.reason}")
+        res = _LoopResult(True, "feasible", "section 3.6 vector loop, seed 000 eqs (105)-(107)")
+        table = _table(case, st.a, b, theta0, 0.0, 0.0, 0.0, prb_angle=math.degrees(st.Theta1))
+        for key in ("force_x", "force_y", "moment"):  # the loop is kinematic: it gives no loads
+            del table[key]
+        rows.append((table, res))
+    return rows
+
+
+class _LoopResult:
+    """The few fields run() reads from a library result, for the loop (which solves no loads)."""
+
+    def __init__(self, converged: bool, message: str, model: str) -> None:
+        self.converged, self.message, self.model = converged, message, model
