@@ -103,7 +103,7 @@ def theta_dependent_tip(P: float, n: float = 0.0, *, length: float, EI: float, f
         raise ValueError(f"theta_dependent_tip: fit must be one of {sorted(THETA_FITS)}, got {fit!r}")
     kfit = THETA_FITS[fit]
     sign = -1.0 if P < 0 else 1.0
-    Pabs = abs(P)
+    Pabs, n = abs(P), sign * n  # mirror image about x: the force (-nP, P) becomes (-(-n)|P|, |P|)
     kfit.check(n, THETA_MAX)  # the load ratio first, before any solve
     gamma, c_theta, _ = PAULY_MIDHA.parameters(n)
     F = Pabs * math.sqrt(1.0 + n * n)
@@ -122,7 +122,7 @@ def theta_dependent_tip(P: float, n: float = 0.0, *, length: float, EI: float, f
     Theta, info = brentq(residual, 1e-9, hi, xtol=1e-14, full_output=True)
     kfit.check(n, Theta)
     out = {"a": length - gamma * length * (1.0 - math.cos(Theta)), "b": sign * gamma * length * math.sin(Theta),
-           "theta0": sign * c_theta * Theta, "Theta": sign * Theta, "P": P, "n": n, "F": F,
+           "theta0": sign * c_theta * Theta, "Theta": sign * Theta, "P": P, "n": sign * n, "F": F,
            "K_theta": kfit.torque_polynomial(n, Theta) / Theta}
     K = out["K_theta"]
     return PRBMResult(bool(info.converged), "converged" if info.converged else "brentq did not converge",

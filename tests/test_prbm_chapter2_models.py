@@ -11,7 +11,7 @@ import elastica
 import prbm
 from prbm.chain import ChainBeam, NodalLoads, chain_from_tip, chain_tip
 from prbm.fits import FitRangeError
-from prbm.lyon import lyon_tip
+from prbm.lyon import lyon_from_tip, lyon_tip
 from prbm.theta_dependent import EQ51, EQ52, theta_dependent_tip
 
 EI_34 = 30e6 * 1.02e-5  # section 3.4 beam: E = 30e6 psi, I = 1.02e-5 in^4, l = 20 in
@@ -137,3 +137,18 @@ def test_lyon_moment_is_the_guided_beams_held_moment():
     r = lyon_tip(0.0, 5.0, length=1.0, EI=1.0)
     g = prbm.fixed_guided_tip(5.0, 0.0, length=1.0, EI=1.0)
     assert float(r["M"]) == pytest.approx(float(g["M"]), rel=1e-9)
+
+
+def test_theta_dependent_mirror_image():
+    # P < 0 with the force (-nP, P) is the mirror image about x of (-(-n)|P|, |P|)
+    up = theta_dependent_tip(1.0, 0.5, length=1.0, EI=1.0)
+    down = theta_dependent_tip(-1.0, -0.5, length=1.0, EI=1.0)
+    assert float(down["a"]) == pytest.approx(float(up["a"]), abs=1e-12)
+    assert float(down["b"]) == pytest.approx(-float(up["b"]), abs=1e-12)
+
+
+def test_lyon_two_condition_problem_leaves_the_fits_on_table_3_5():
+    # the finding recorded in cases/chapter2/lyon_fixed_guided.toml: with b = 12 in, theta0 = 40 deg
+    # (Table 3.5's conditions) the equal-torque condition (69) needs a load ratio outside -4 < n <= 10
+    with pytest.raises(FitRangeError):
+        lyon_from_tip(b=12.0, theta0=math.radians(40.0), length=20.0, EI=EI_34)
