@@ -152,3 +152,26 @@ def test_lyon_two_condition_problem_leaves_the_fits_on_table_3_5():
     # (Table 3.5's conditions) the equal-torque condition (69) needs a load ratio outside -4 < n <= 10
     with pytest.raises(FitRangeError):
         lyon_from_tip(b=12.0, theta0=math.radians(40.0), length=20.0, EI=EI_34)
+
+
+@pytest.mark.parametrize("n", [0.5, -2.0])
+def test_chain_inverse_recovers_the_elastica_loads(n):
+    # the exact tip (b, theta0) under P = 4, nP, M = -30 (one inflection point); the Chain Algorithm's
+    # inverse for that b, theta0 and n returns P and M within its 40-element discretisation error
+    P, M = 4.0, -30.0
+    exact = elastica.solve_elastica(20.0, EI_34, force=(-n * P, P), moment=M)
+    r = chain_from_tip(ChainBeam(20.0, EI_34, 40), b=exact.y, theta0=exact.theta, n=n)
+    assert r.converged
+    assert float(r["P"]) == pytest.approx(P, rel=0.01)
+    assert float(r["M"]) == pytest.approx(M, rel=0.01)
+    assert float(r["a"]) == pytest.approx(exact.x, abs=0.002 * 20.0)
+
+
+def test_chain_inverse_converges_where_the_inverse_is_ill_conditioned():
+    # n = 1.5: the exact end is at theta0 = 90 deg, where the loads for given (b, theta0) are sensitive
+    # (40 elements: P off by 1.2 %); the error still falls at second order with the element count
+    P, M, n = 4.0, -30.0, 1.5
+    exact = elastica.solve_elastica(20.0, EI_34, force=(-n * P, P), moment=M)
+    err = [abs(float(chain_from_tip(ChainBeam(20.0, EI_34, N), b=exact.y, theta0=exact.theta, n=n)["P"]) - P)
+           for N in (40, 80)]
+    assert err[0] / err[1] > 3.0
