@@ -5,7 +5,6 @@ nothing here is calibrated to this code's output.
 """
 from __future__ import annotations
 
-import argparse
 import cmath
 import importlib.util
 import math
@@ -16,7 +15,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from validation.synthesis.cli import add_parser, synthesize
+from validation.cli.arguments import build_parser
+from validation.synthesis.synthesize import synthesize
 from validation.synthesis.design import compare_printed, design
 from validation.synthesis.spec import load_spec
 from prbm.synthesis.compliance import four_bar_springs
@@ -218,10 +218,8 @@ def test_torque_rates_match_finite_differences():
 
 
 def test_cli_parser_registers_synthesize():
-    parser = argparse.ArgumentParser()
-    add_parser(parser.add_subparsers(dest="command"))
-    args = parser.parse_args(["synthesize", "specs/x.toml", "--no-fem"])
-    assert args.spec == "specs/x.toml" and args.no_fem and callable(args.func)
+    args = build_parser().parse_args(["synthesize", "cases/specs/x.toml", "--no-fem"])
+    assert args.command == "synthesize" and args.spec == "cases/specs/x.toml" and args.no_fem
 
 
 def test_outputs_written_and_case_file_valid(tmp_path):

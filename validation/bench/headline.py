@@ -44,7 +44,8 @@ import pandas as pd
 from validation.run.exit_status import decide
 from validation.case.loader import CaseError, case_by_id, find_case_files
 from validation.methods.base import MethodRun, Request
-from validation.run.runner import characteristic_length, requests_for, run_cases, run_method
+from validation.run.runner import characteristic_length, requests_for, run_method
+from validation.run.outcome import run_cases
 
 
 @dataclass(frozen=True)

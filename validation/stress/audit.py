@@ -18,11 +18,14 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pandas as pd
+from threadpoolctl import threadpool_limits
 
-from validation.stress import plants
-from validation.run.compare import case_verdict
 from validation.case.loader import CaseError, find_case_files, load_case
-from validation.run.runner import run_case, tabulate
+from validation.run.compare import case_verdict
+from validation.run.exit_status import ExitStatus, decide
+from validation.run.outcome import tabulate
+from validation.run.runner import run_case
+from validation.stress import plants
 
 BASELINE = "none"
 
@@ -53,12 +56,7 @@ def _judge(plant: str, path: Path) -> Verdict:
 
 
 def _initialise(plant: str) -> None:
-    try:  # one BLAS thread per worker: the FEM's systems are small and the workers share the cores
-        from threadpoolctl import threadpool_limits
-    except ImportError:
-        pass
-    else:
-        threadpool_limits(1)
+    threadpool_limits(1)  # one BLAS thread per worker: the FEM's systems are small and the workers share the cores
     if plant != BASELINE:
         plants.apply(plant)
 
@@ -124,12 +122,12 @@ def cmd_audit(args) -> int:
     if unknown:
         print(f"error: --plant: unknown planted error {', '.join(unknown)}; known: {', '.join(plants.PLANTS)}",
               file=sys.stderr)
-        return 2
+        return ExitStatus.BAD_INPUT
     try:
         paths = find_case_files(args.cases or None)
     except CaseError as exc:
         print(f"error: {exc}", file=sys.stderr)
-        return 2
+        return ExitStatus.BAD_INPUT
     started = time.perf_counter()
     verdicts = audit(paths, names, jobs=args.jobs)
     out = Path(args.out)
@@ -146,4 +144,4 @@ def cmd_audit(args) -> int:
         print(f"not caught: {hole}")
     print(f"\n{len(names)} plant(s) over {len(paths)} case(s) in {time.perf_counter() - started:.0f} s; "
           f"verdicts in {out / 'audit.csv'}")
-    return 1 if missed or len(baseline) else 0
+    return decide(failed=bool(missed) or len(baseline) > 0)
