@@ -43,7 +43,7 @@ import numpy as np
 import prbm
 from prbm.fits import THETA_RANGE, fit_family
 from prbm.result import PRBMResult
-from validation.methods import prbm_body, prbm_fourbar, prbm_inflection, prbm_network
+from validation.methods import prbm_alternatives, prbm_body, prbm_fourbar, prbm_inflection, prbm_network
 from validation.methods.base import (Applicability, MethodRun, NotApplicable, Request,
                                      reject_loads_along_beams)
 from validation.methods.prbm_common import DEG, pick, plain
@@ -55,6 +55,8 @@ from validation.case.quantities import boundary_held_tip, unloaded_tip_angle
 def run(case, requests: list[Request], options: dict) -> MethodRun:
     t0 = time.perf_counter()
     reject_loads_along_beams(case, "the PRBM")
+    if options.get("model") in prbm_alternatives.MODELS:  # seed 000 chapter 2's other segment models
+        return prbm_alternatives.run(case, requests, options)
     try:
         if case.segment is not None:
             values, run_info = _segment(case, requests, options)
