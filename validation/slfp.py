@@ -24,11 +24,12 @@ Construction, for every joint with a spring k > 0 at pivot node N:
 * the joint itself disappears (the flexure is the hinge) and so does the pivot node N (no material
   there); loads at N move to N+ (the member's side; to N-, the block, at a slider), outputs at N are
   not available.
-* a slider whose travel a ``displacement`` load prescribes (a work piece holding the slider at a
-  location, chapter 7's Type 1 MA): the block N- gets no support but three prescribed freedoms, the
-  travel along the slider and zero motion across it and zero rotation (the FEM prescribes no
-  translation on a sliding node, and the block held there is the same thing); its reaction along
-  the slider is the work piece's force.
+* a slider whose travel a ``displacement`` load prescribes while a force or moment drives the
+  mechanism (a work piece holding the slider at a location, chapter 7's Type 1 MA): the block N- gets
+  no support but three prescribed freedoms, the travel along the slider and zero motion across it and
+  zero rotation (the FEM prescribes no translation on a sliding node, and the block held there is the
+  same thing); its reaction along the slider is the work piece's force.  A travel that is the only
+  load stays on the guided block: it is the target of an outer solve (``input_moment_at``).
 Section: I = k l / E, thickness t = ``thickness_ratio`` l (default 0.1: slender, t << l << L), width
 w = 12 I / t^3.
 """
@@ -103,7 +104,8 @@ def with_flexures(case: Case, length: float, E: float, thickness_ratio: float = 
             ground = held[0]
             if ground.kind in ("slider", "guided"):   # a sliding block: it translates, never turns
                 renamed[N] = minus                    # loads on the pivot act on the block
-                held_travel = [ld for ld in case.loads if ld.point == N and ld.kind == "displacement"]
+                driven = any(ld.kind in ("force", "moment") for ld in case.loads)
+                held_travel = [ld for ld in case.loads if ld.point == N and ld.kind == "displacement" and driven]
                 base = [] if held_travel else [SupportSpec(node=minus, kind="guided", direction=ground.direction)]
                 extra_loads += _held_block(minus, ground.direction, held_travel, case.n_levels())
             else:
