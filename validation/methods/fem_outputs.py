@@ -86,6 +86,7 @@ def incremented_case(case, options: dict):
 def output_force(case, options: dict, reaction_of) -> np.ndarray:
     """Per level, the force the mechanism exerts on the output support along ``ma.direction``."""
     ma = options.get("ma") or {}
+    reaction_of = _converged_only(reaction_of)
     if "output" in ma and ma.get("moment_arm") is not None:
         sense = float(ma.get("sense", 1))
         return np.array([-sense * reaction_of(ma["output"], level)[2] / float(ma["moment_arm"])
@@ -96,6 +97,17 @@ def output_force(case, options: dict, reaction_of) -> np.ndarray:
     d = np.asarray(ma["direction"], float)
     d = d / np.hypot(*d)
     return -np.array([reaction_of(ma["output"], level)[:2] @ d for level in range(case.n_levels())])
+
+
+def _converged_only(reaction_of):
+    """``reaction_of`` that says which level the solve did not reach instead of an IndexError."""
+    def reaction(point, level):
+        try:
+            return reaction_of(point, level)
+        except IndexError:
+            raise NotApplicable(f"mechanical_advantage: the FEM solve stopped before level {level} "
+                                "(no converged state to read the output force from)") from None
+    return reaction
 
 
 def definition(options: dict) -> str:

@@ -58,7 +58,7 @@ import time
 import numpy as np
 from scipy.optimize import brentq
 
-from validation.methods import prbm_network
+from validation.methods import prbm_ma, prbm_network
 from validation.methods.base import MethodRun, NotApplicable, Request, reject_loads_along_beams
 from validation.quantities import boundary_held_tip, unloaded_tip_angle
 
@@ -71,7 +71,9 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
     t0 = time.perf_counter()
     reject_loads_along_beams(case, "the PRBM")
     try:
-        if case.segment is not None:
+        if prbm_ma.handles(case, options):                      # chapter 7 MA by prbm.compliance
+            values, run_info = prbm_ma.run(case, requests, options)
+        elif case.segment is not None:
             values, run_info = _segment(prbm, case, requests, options)
         else:
             values, run_info = _mechanism(prbm, case, requests, options)
