@@ -8,10 +8,10 @@ import tomli_w
 
 import pytest
 
-from validation.cli import main
-from validation.loader import CaseError, case_by_id, find_case_files, load_case
-from validation.mobility import rigid_body_modes
-from validation.schema import Case
+from validation.cli.main import main
+from validation.case.loader import CaseError, case_by_id, find_case_files, load_case
+from validation.case.mobility import rigid_body_modes
+from validation.case.schema import Case
 
 from test_exit_status import GOOD, write
 
@@ -134,7 +134,7 @@ point = "T1"
 
 def test_bcm_beyond_its_equations_is_a_run_that_did_not_converge_not_a_crash(tmp_path):
     from validation.methods.base import Request, RunStatus
-    from validation.runner import run_method
+    from validation.run.runner import run_method
 
     case = load_case(write(tmp_path, "pg.toml", PARALLEL_GUIDED)).case
     run = run_method(case, "bcm")
@@ -180,7 +180,7 @@ LINE = {"A": (0.0, 0.0), "B": (0.1, 0.0), "C": (0.2, 0.0)}
                                     joints=[("B", ("ab", "bc"))]), "rotates about"),
 ])
 def test_rigid_body_check_on_frames_no_case_file_has(name, case, expected):
-    from validation.mobility import check
+    from validation.case.mobility import check
 
     problems = check(case)
     if expected is None:

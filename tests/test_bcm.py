@@ -15,7 +15,7 @@ from bcm import (C0, K0, K1, K2, axial_stiffness_parameter, bcm_residual, circul
                  circular_guided_torque_eq20, complementary_energy, deflections_from_complementary,
                  deflections_from_loads, eq32_corrected, eq32_printed, exact_compliance,
                  loads_from_deflections, slant_parallelogram, solve_mixed, strain_energy)
-from validation.loader import load_case
+from validation.case.loader import load_case
 from validation.methods import bcm as adapter
 from validation.methods.base import NotApplicable, Request
 

@@ -5,13 +5,13 @@ import json
 import pandas as pd
 import pytest
 
-from validation import bench
+from validation.bench import headline as bench
 from validation.methods.base import MethodRun, Request
 
 
 def test_bench_quick_writes_csv_json_and_plots(tmp_path):
     cases = {"cantilever_tip_load": [0, 9], "no_such_case": None}
-    # an unknown case is bad input (exit status 2, validation/exit_status.py); the others still run
+    # an unknown case is bad input (exit status 2, validation/run/exit_status.py); the others still run
     assert bench.run_bench(tmp_path, quick=True, cases=cases, max_elements=8) == 2
     headline = json.loads((tmp_path / "headline.json").read_text())
     assert any("no_such_case" in s for s in headline["skipped"])

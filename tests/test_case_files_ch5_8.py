@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from validation.loader import load_case
+from validation.case.loader import load_case
 
 CASES = Path(__file__).resolve().parent.parent / "cases"
 FOLDERS = ["chapter5", "chapter6", "chapter7", "chapter8"]

@@ -1,7 +1,7 @@
 """The validation suite: every case file through every method it asks for, by the pytest plugin's
 checks (validation/pytest_plugin.py; ``pytest cases/`` runs the same files as one item per method).
 
-A case fails (``validation.compare.case_verdict``) when any enforced check fails: a printed number
+A case fails (``validation.run.compare.case_verdict``) when any enforced check fails: a printed number
 with a claimed tolerance, a finding (the printed value must still disagree and the explanation must
 reproduce), an agreement between methods, or the automatic FEM-against-elastica check; when a method
 it lists does not converge or does not apply, unless the case records that as the expected outcome;
@@ -11,11 +11,11 @@ from __future__ import annotations
 
 import pytest
 
-from validation.api import validate
-from validation.compare import case_verdict
-from validation.loader import find_case_files, load_case
+from validation.run.api import validate
+from validation.run.compare import case_verdict
+from validation.case.loader import find_case_files, load_case
 from validation.pytest_plugin import comparison_failures
-from validation.runner import requests_for
+from validation.run.runner import requests_for
 
 CASE_FILES = find_case_files(None)
 

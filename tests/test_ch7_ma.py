@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 import prbm
-from validation.loader import case_by_id
-from validation.runner import run_method
-from validation.slfp import with_flexures
+from validation.case.loader import case_by_id
+from validation.run.runner import run_method
+from validation.methods.slfp import with_flexures
 
 
 def _values(run) -> list[float]:

@@ -10,12 +10,13 @@ import pandas as pd
 import pytest
 from pydantic import ValidationError
 
-from validation.compare import (FEM_ESTIMATE_MULTIPLE, agreement_checks, axial_strain_bound, case_verdict,
+from validation.run.compare import (FEM_ESTIMATE_MULTIPLE, agreement_checks, axial_strain_bound, case_verdict,
                                 fem_elastica_checks, reference_check)
 from validation.methods.base import MethodRun, Request
-from validation.runner import CaseResult, tabulate
-from validation.loader import LoadedCase
-from validation.schema import Case
+from validation.run.runner import CaseResult
+from validation.run.outcome import tabulate
+from validation.case.loader import LoadedCase
+from validation.case.schema import Case
 
 
 def _case(**extra) -> Case:
@@ -158,7 +159,7 @@ def test_one_beam_per_case():
     """No case gives a method its own I or EI: every difference in the table compares the same beam
     (a column that needs another I is a finding with ``reproduce_with``, or another case). A per-beam
     EI table of a mechanism must repeat the beams' own E I."""
-    from validation.loader import find_case_files, load_case
+    from validation.case.loader import find_case_files, load_case
 
     other = []
     for path in find_case_files(None):

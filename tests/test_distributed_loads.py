@@ -19,11 +19,11 @@ from scipy.integrate import solve_bvp
 import fem
 from fem.assembly import System
 from fem.discretise import discretise
-from validation.loader import case_by_id
+from validation.case.loader import case_by_id
 from validation.methods import elastica as elastica_adapter
 from validation.methods import fem as fem_adapter
-from validation.runner import requests_for
-from validation.schema import Case, SectionSpec
+from validation.run.runner import requests_for
+from validation.case.schema import Case, SectionSpec
 
 
 def collocation_elastica(loads, follower=False):

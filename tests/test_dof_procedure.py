@@ -12,7 +12,7 @@ import pytest
 import fem
 import prbm
 from fem.soft_modes import soft_modes
-from validation.loader import case_by_id
+from validation.case.loader import case_by_id
 from validation.methods.fem import build_model
 
 

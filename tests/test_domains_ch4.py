@@ -1,5 +1,5 @@
 """Chapter 4 deflection domains from the exact elliptic solutions (elastica.domains), the printed PRB
-bounds (prbm.domain_bounds) and the study that holds them together (validation.domain_study).
+bounds (prbm.domain_bounds) and the study that holds them together (validation.sweep.domain_study).
 
 Expected values: seed 000 eqs (112), (116), (123), (127) evaluated by hand, the shooting solver
 (elastica.solve_elastica, an independent integration), and the first integral of the elastica
@@ -13,6 +13,7 @@ import elastica
 from elastica.domains import (curved_fixed_pinned_cloud, fixed_guided_inflection_cloud, fixed_pinned_cloud,
                               kappa_min, kappa_range, su_theta0_max)
 from prbm.domain import fit_radius
+from validation.sweep.domain_study import run_study
 from prbm.domain_bounds import clamp_arc, inflection_lower_bound, prbm_arc, slfp_arc_radius
 
 DEG = math.pi / 180
@@ -117,7 +118,6 @@ def test_extreme_n_trajectories_against_the_printed_gammas():
 
 def test_domain_study_on_a_small_grid(tmp_path):
     """The study reads its printed values and grids from the data file and writes every number."""
-    from validation.domain_study import run_study
     data = tmp_path / "small.toml"
     data.write_text("""
 [beam]

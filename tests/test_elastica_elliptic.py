@@ -15,7 +15,7 @@ from elastica import solve_elastica
 from elastica.elliptic import (cantilever_tip_load, curved_fixed_pinned_tip, fixed_guided_inflection_tips,
                                fixed_guided_monotonic_tip, fixed_pinned_from_angle, fixed_pinned_tip,
                                pure_moment_tip, slfp_tip)
-from validation.loader import load_case
+from validation.case.loader import load_case
 
 CASES = Path(__file__).resolve().parent.parent / "cases"
 

@@ -189,7 +189,7 @@ def test_moment_constraint_api_and_loaded_start():
 
 
 def test_adapter_on_the_case_file(exact):
-    from validation.loader import load_case
+    from validation.case.loader import load_case
     from validation.methods import elastica as adapter
     from validation.methods.base import NotApplicable, Request
 

@@ -12,8 +12,8 @@ and the axial stretch P L / EA the inextensible elastica lacks, here EA/EI = 1.2
 import numpy as np
 import pytest
 
-from validation.runner import run_method
-from validation.stress import cantilever, tip
+from validation.run.runner import run_method
+from validation.stress.checks import cantilever, tip
 
 EXAMPLES = [(29.0, 177.0), (40.0, 170.0), (10.0, 190.0)]   # (alpha, load angle in degrees)
 H = 0.01                                                   # square section, L/h = 100

@@ -9,7 +9,7 @@ import pytest
 from scipy.integrate import solve_bvp
 
 from elastica import ElasticaProblem, TipConstraint, solve_elastica, solve_path
-from validation.loader import load_case
+from validation.case.loader import load_case
 from validation.methods import elastica as adapter
 from validation.methods.base import NotApplicable, Request
 
@@ -133,7 +133,7 @@ values = [0.05, 0.3]
 quantity = "force_y"
 [methods.elastica]
 """
-    from validation.schema import Case
+    from validation.case.schema import Case
     import tomllib
     case = Case.model_validate(tomllib.loads(text))
     reqs = [Request("force_y", "tip", 0), Request("moment", "tip", 0), Request("force_y", "tip", 1),

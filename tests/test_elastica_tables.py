@@ -145,7 +145,7 @@ KNOWN_MISSES = {("table3_3_case1_a_b_theta0.toml", 2), ("table3_6_case2c_b_theta
 
 @pytest.mark.parametrize("name, inertia", CH3_FILES)
 def test_chapter3_case_files_elliptic_columns(name, inertia):
-    from validation.loader import load_case
+    from validation.case.loader import load_case
     from validation.methods import elastica as adapter
     from validation.methods.base import Request
 

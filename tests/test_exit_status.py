@@ -1,4 +1,4 @@
-"""One exit-status rule for every verb (validation/exit_status.py): 0 all good, 1 a comparison
+"""One exit-status rule for every verb (validation/run/exit_status.py): 0 all good, 1 a comparison
 outside tolerance or a method that failed, refused or did not converge, 2 bad input.
 
 The harness logic is tested with fake adapters (the solvers are not what is under test here); one
@@ -12,9 +12,9 @@ from pathlib import Path
 
 import pytest
 
-from validation import cache
-from validation.cli import main
-from validation.exit_status import RULE, ExitStatus, combine, of_run_status
+from validation.run import cache
+from validation.cli.main import main
+from validation.run.exit_status import RULE, ExitStatus, combine, of_run_status
 from validation.methods.base import Misconfigured, MethodRun, NotApplicable, RunStatus
 
 from test_foundation import GOOD  # the toy cantilever with one PRBM claim
@@ -102,7 +102,7 @@ def test_misspelled_or_mistyped_option_exits_2_naming_it(tmp_path, capsys, optio
 
 
 def test_report_follows_the_rule(tmp_path, capsys, fake):
-    from validation.report import build_report
+    from validation.report.build import build_report
 
     good = write(tmp_path, "toy.toml", GOOD)
     assert build_report(tmp_path / "r", use_cache=False, jobs=1, cases=[str(good)]) == 0
@@ -139,7 +139,7 @@ def test_real_solver_end_to_end(tmp_path, capsys):
 def test_sweep_follows_the_rule(tmp_path, monkeypatch, behaviour, expected):
     from test_sweep import CASE, SPEC
 
-    from validation.sweep import run_sweep
+    from validation.sweep.run import run_sweep
 
     def run(case, requests, options):
         return BEHAVIOURS[behaviour]([1.0, 2.0], requests)

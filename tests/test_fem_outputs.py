@@ -11,8 +11,8 @@ import tomllib
 import pytest
 
 from validation.methods import fem as fem_adapter
-from validation.runner import requests_for
-from validation.schema import Case
+from validation.run.runner import requests_for
+from validation.case.schema import Case
 
 SEGMENT = '''
 [case]

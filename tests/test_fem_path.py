@@ -13,8 +13,8 @@ the exact elastica in 40 levels (differs by the FEM's O(h^2) error and the axial
 import numpy as np
 import pytest
 
-from validation.runner import run_method
-from validation.stress import cantilever, tip
+from validation.run.runner import run_method
+from validation.stress.checks import cantilever, tip
 
 EXAMPLES = [(29.0, 177.0), (40.0, 170.0), (10.0, 190.0)]   # (alpha, load angle in degrees)
 H = 0.01

@@ -8,11 +8,12 @@ from pathlib import Path
 
 import pytest
 
-from validation import cache
-from validation.cli import main
-from validation.loader import CaseError, find_case_files, load_case
+from validation.run import cache
+from validation.cli.main import main
+from validation.case.loader import CaseError, find_case_files, load_case
 from validation.methods.base import MethodRun, NotApplicable
-from validation.runner import requests_for, run_case, run_cases, tabulate
+from validation.run.runner import requests_for, run_case
+from validation.run.outcome import run_cases, tabulate
 
 GOOD = """
 [case]

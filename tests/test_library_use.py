@@ -11,9 +11,9 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-import validation.api
-from validation import tables
-from validation.cli import main
+import validation.run.api
+from validation.run import tables
+from validation.cli.main import main
 
 ROOT = Path(__file__).resolve().parent.parent
 CANTILEVER = (ROOT / "cases" / "benchmarks" / "cantilever_tip_load.toml").read_text()
@@ -97,7 +97,7 @@ def test_readme_documents_the_schema():
 
 
 def test_api_and_readme_doctests():
-    assert doctest.testmod(validation.api).failed == 0
+    assert doctest.testmod(validation.run.api).failed == 0
     result = doctest.testfile(str(ROOT / "README.md"), module_relative=False)
     assert result.attempted >= 3 and result.failed == 0
 
@@ -117,7 +117,7 @@ def test_solve_json_has_the_loads(tmp_path, capsys):
 
 def test_every_named_load_as_a_column():
     """Table 3.1's load combination (P and a moment per level) as columns beside each value."""
-    result = validation.api.validate(ROOT / "cases" / "chapter3" / "table3_1_load_combination.toml",
+    result = validation.run.api.validate(ROOT / "cases" / "chapter3" / "table3_1_load_combination.toml",
                                      methods=["prbm"])
     wide = result.values_with_loads
     columns = [c for c in wide.columns if c.endswith("]")]

@@ -1,14 +1,14 @@
-"""Strict method options (validation/method_options.py) and a cache key that cannot go stale."""
+"""Strict method options (validation/case/method_options.py) and a cache key that cannot go stale."""
 import re
 import shutil
 from pathlib import Path
 
 import pytest
 
-from validation import cache
-from validation.cli import main
-from validation.loader import CaseError, load_case
-from validation.method_options import OPTIONS
+from validation.run import cache
+from validation.cli.main import main
+from validation.case.loader import CaseError, load_case
+from validation.case.method_options import OPTIONS
 
 ROOT = Path(__file__).resolve().parent.parent
 CASE = """\
@@ -78,12 +78,12 @@ def test_every_option_an_adapter_reads_is_declared():
 
 def test_the_cache_key_covers_schema_contract_options_adapter_and_library():
     names = {p.relative_to(cache.ROOT).as_posix() for p in cache.source_files("prbm")}
-    assert {"validation/schema.py", "validation/quantities.py", "validation/method_options.py",
+    assert {"validation/case/schema.py", "validation/case/quantities.py", "validation/case/method_options.py",
             "validation/methods/prbm.py", "validation/methods/base.py", "prbm/segments.py"} <= names
     assert "fem/solver.py" not in names  # another method's library does not invalidate this one
 
 
-@pytest.mark.parametrize("edited", ["validation/schema.py", "validation/quantities.py", "fem/newton.py",
+@pytest.mark.parametrize("edited", ["validation/case/schema.py", "validation/case/quantities.py", "fem/newton.py",
                                     "validation/methods/fem.py"])
 def test_an_edit_invalidates_the_cache(tmp_path, monkeypatch, edited):
     copy = tmp_path / "repo"

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 import fem
-from validation import paraview
-from validation.loader import case_by_id
-from validation.runner import run_case
+from validation.report import paraview
+from validation.case.loader import case_by_id
+from validation.run.runner import run_case
 
 
 @pytest.fixture(scope="module")

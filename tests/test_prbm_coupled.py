@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 import prbm
-from validation.loader import load_case
+from validation.case.loader import load_case
 from validation.methods import prbm as adapter
 from validation.methods.base import Request
-from validation.report import normalise_shapes
+from validation.report.build import normalise_shapes
 
 L, EI = 12.895, 450000.0 * 6.735e-4          # chapter 5 Example 1 strip
 

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 import prbm
-from validation.loader import load_case
+from validation.case.loader import load_case
 from validation.methods import prbm as prbm_adapter
 from validation.methods.base import Request
 

@@ -23,9 +23,9 @@ from scipy.optimize import brentq
 
 import prbm
 from prbm import builder as pb
-from validation.loader import load_case
+from validation.case.loader import load_case
 from validation.methods.base import Request
-from validation.runner import run_method
+from validation.run.runner import run_method
 
 ROOT = Path(__file__).resolve().parent.parent
 GAMMA, K_THETA = 0.85, 2.65

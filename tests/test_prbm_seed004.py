@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import prbm
-from validation.loader import load_case
+from validation.case.loader import load_case
 from validation.methods.base import Request
-from validation.runner import run_method
+from validation.run.runner import run_method
 
 CASES = Path(__file__).resolve().parent.parent / "cases" / "seed004"
 

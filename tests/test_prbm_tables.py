@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 import prbm
-from validation.capabilities import QUANTITIES
-from validation.loader import load_case
+from validation.case.capabilities import QUANTITIES
+from validation.case.loader import load_case
 from validation.methods.base import Request
-from validation.runner import run_method
+from validation.run.runner import run_method
 
 CASES = Path(__file__).resolve().parent.parent / "cases"
 # Table 9.5 (Test 3) is not here: its specimens are not in the seed, and stand-in geometries chosen to

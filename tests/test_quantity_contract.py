@@ -1,6 +1,6 @@
-"""Every method held to the quantity contract (validation/quantities.py) on generated configurations.
+"""Every method held to the quantity contract (validation/case/quantities.py) on generated configurations.
 
-The reference is linear beam theory from the textbook unit-load method (validation/linear_beam.py),
+The reference is linear beam theory from the textbook unit-load method (validation/stress/linear_beam.py),
 itself checked here against the closed forms of Gere & Timoshenko (Mechanics of Materials, table of
 cantilever and guided-beam deflections) and a Castigliano derivation for the quarter circle:
 
@@ -17,13 +17,13 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from validation import contract
-from validation.contract import (Configuration, build_case, large_deflection_check, linear_limit_check,
+from validation.stress import contract
+from validation.stress.contract import (Configuration, build_case, large_deflection_check, linear_limit_check,
                                  random_configuration)
-from validation.linear_beam import flexibility, solve_tip
+from validation.stress.linear_beam import flexibility, solve_tip
 from validation.methods.base import Request
-from validation.runner import run_method
-from validation.schema import Case
+from validation.run.runner import run_method
+from validation.case.schema import Case
 
 CHEAP = dict(deadline=None, derandomize=True, database=None,
              suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])

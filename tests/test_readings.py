@@ -1,4 +1,4 @@
-"""Readings of one experiment side by side (validation.readings): distances to the measured points."""
+"""Readings of one experiment side by side (validation.case.readings): distances to the measured points."""
 from __future__ import annotations
 
 import math
@@ -7,7 +7,7 @@ from types import SimpleNamespace
 import pandas as pd
 import pytest
 
-from validation.readings import readings_groups
+from validation.case.readings import readings_groups
 
 
 def _result(case_id, readings_of=None):

@@ -8,13 +8,14 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from validation.loader import case_by_id
+from validation.case.loader import case_by_id
 from validation.methods.base import MethodRun
-from validation.report import build_report, glance
-from validation.report_format import Badge, run_badge
-from validation.report_overview import overview_points
-from validation.report_summary import CaseSummary, MethodState, round_numbers, summary_tables_html
-from validation.runner import run_case, summary, tabulate
+from validation.report.build import build_report, glance
+from validation.report.format import Badge, run_badge
+from validation.report.overview import overview_points
+from validation.report.summary import CaseSummary, MethodState, round_numbers, summary_tables_html
+from validation.run.runner import run_case
+from validation.run.outcome import summary, tabulate
 
 REPORT_CASES = ["cantilever_tip_load", "follower_tip_load", "bapat2015_test2"]
 

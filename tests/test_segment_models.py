@@ -6,9 +6,9 @@ from scipy.integrate import quad
 from scipy.optimize import brentq
 
 import prbm
-from validation.loader import case_by_id
+from validation.case.loader import case_by_id
 from validation.methods.base import Request
-from validation.runner import run_method
+from validation.run.runner import run_method
 
 
 def test_curved_pinned_pinned_has_no_offset_and_the_arch_compliance():

@@ -1,4 +1,4 @@
-"""Sprung joints realised as small-length flexural pivots (validation/slfp.py) for the FEM.
+"""Sprung joints realised as small-length flexural pivots (validation/methods/slfp.py) for the FEM.
 
 A rigid link pinned to the ground with a torsional spring k, turned by a prescribed rotation at its
 far end and otherwise free: the flexure (k = E I / l, seed 000 eq 186) carries a pure end moment,
@@ -14,8 +14,8 @@ import pytest
 
 from validation.methods import fem as fem_adapter
 from validation.methods.base import NotApplicable, Request
-from validation.schema import Case
-from validation.slfp import with_flexures
+from validation.case.schema import Case
+from validation.methods.slfp import with_flexures
 
 K = 12.5          # in-lb/rad
 E = 450000.0      # psi

@@ -5,13 +5,13 @@ import sys
 
 SCRIPT = """
 import sys
-from validation.cli import build_parser
+from validation.cli.main import build_parser
 build_parser()
-from validation.loader import case_by_id
-from validation.runner import run_method
+from validation.case.loader import case_by_id
+from validation.run.runner import run_method
 run = run_method(case_by_id("cantilever_tip_load").case, "prbm")
 assert run.values, run.message
-print(" ".join(sorted(m for m in ("pandas", "synthesis.design", "matplotlib", "fem", "elastica", "numba")
+print(" ".join(sorted(m for m in ("pandas", "validation.synthesis.design", "matplotlib", "fem", "elastica", "numba")
                       if m in sys.modules)))
 """
 
@@ -20,9 +20,3 @@ def test_parser_and_a_prbm_solve_load_no_pandas_synthesis_solvers_or_other_metho
     out = subprocess.run([sys.executable, "-c", SCRIPT], capture_output=True, text=True, check=True)
     assert out.stdout.split() == []
 
-
-def test_synthesis_names_are_still_exported():
-    import synthesis
-
-    assert callable(synthesis.design) and callable(synthesis.compare_printed)
-    assert issubclass(synthesis.SynthesisError, Exception)

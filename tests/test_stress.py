@@ -1,7 +1,7 @@
 """Stress suite (bounded for CI): invariances, hard paths and bad input, each a real assertion."""
 import pytest
 
-from validation.stress import (bad_input_checks, bistable_check, column_check, hard_path_checks,
+from validation.stress.checks import (bad_input_checks, bistable_check, column_check, hard_path_checks,
                                invariance_checks, prbm_edge_checks)
 
 

@@ -8,7 +8,7 @@ a message. Hypothesis shrinks any failure to a minimal case.
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from validation.stress import agreement_check
+from validation.stress.checks import agreement_check
 
 force = st.fixed_dictionaries(dict(
     length=st.floats(1e-2, 1e2), E=st.floats(1e3, 1e12), slenderness=st.floats(10.0, 1e5),

@@ -1,14 +1,14 @@
-"""``stress --long`` machinery (validation/stress_contract.py) and the PRBM's model applicability."""
+"""``stress --long`` machinery (validation/stress/contract_run.py) and the PRBM's model applicability."""
 import math
 
 import pytest
 
-from validation import stress_contract
-from validation.contract import Configuration, ContractResult
-from validation.loader import load_case
+from validation.stress import contract_run as stress_contract
+from validation.stress.contract import Configuration, ContractResult
+from validation.case.loader import load_case
 from validation.methods.base import Request
-from validation.runner import run_method
-from validation.schema import Case
+from validation.run.runner import run_method
+from validation.case.schema import Case
 
 
 def test_every_category_runs_and_passes_on_an_executor(tmp_path):

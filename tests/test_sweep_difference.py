@@ -6,7 +6,7 @@ from __future__ import annotations
 import pandas as pd
 import pytest
 
-from validation.sweep_plot import difference
+from validation.sweep.plot import difference
 
 
 def _rows():

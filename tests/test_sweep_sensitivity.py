@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from validation.sweep_sensitivity import invariance, summary_lines
+from validation.sweep.sensitivity import invariance, summary_lines
 
 
 def rows(method: str, quantity: str, values) -> list[dict]:

@@ -1,10 +1,10 @@
-"""Every sweep spec shipped under sweeps/ is valid; a missing base case is a one-line error."""
+"""Every sweep spec shipped under cases/sweeps/ is valid; a missing base case is a one-line error."""
 from __future__ import annotations
 
 import pytest
 
-from validation.loader import CaseError, find_case_files, load_case
-from validation.sweep import SWEEPS_DIR, SpecError, load_spec, make_points
+from validation.case.loader import CaseError, find_case_files, load_case
+from validation.sweep.run import SWEEPS_DIR, SpecError, load_spec, make_points
 
 
 def _case_ids() -> set[str]:

@@ -1,11 +1,10 @@
 """Synthesis (project issue 10): the printed designs of seed 000 from their specifications.
 
-Expected values are the ``[[printed]]`` entries of ``specs/*.toml`` (each with its seed source);
+Expected values are the ``[[printed]]`` entries of ``cases/specs/*.toml`` (each with its seed source);
 nothing here is calibrated to this code's output.
 """
 from __future__ import annotations
 
-import argparse
 import cmath
 import importlib.util
 import math
@@ -16,12 +15,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from synthesis import compare_printed, design, load_spec, synthesize
-from synthesis.cli import add_parser
-from synthesis.compliance import four_bar_springs
-from synthesis.dyads import FourBar, four_bar_position, motion_generation, path_generation_timed, polar, rot
+from validation.cli.arguments import build_parser
+from validation.synthesis.synthesize import synthesize
+from validation.synthesis.design import compare_printed, design
+from validation.synthesis.spec import load_spec
+from prbm.synthesis.compliance import four_bar_springs
+from prbm.synthesis.dyads import FourBar, four_bar_position, motion_generation, path_generation_timed, polar, rot
 
-SPECS = Path(__file__).resolve().parent.parent / "specs"
+SPECS = Path(__file__).resolve().parent.parent / "cases" / "specs"
 SPEC_FILES = sorted(SPECS.glob("*.toml"))
 
 
@@ -60,7 +61,7 @@ def test_ch6_ex3_springs_agree_with_printed_to_four_digits_and_meet_the_energies
     assert d.values["k1"] == d.values["k2"] and d.values["k3"] == d.values["k4"]
     assert d.springs.achieved == pytest.approx(spec.compliance.values, abs=1e-9)
     # the printed springs meet the energies nearly as well (finding k1: an ill-conditioned 2x2 system)
-    from synthesis.compliance import design_rows
+    from prbm.synthesis.compliance import design_rows
 
     k_printed = np.array([printed["k1"], printed["k1"], printed["k3"], printed["k3"]])
     U_printed = design_rows(d.mechanism, d.free_state, d.positions, "energy") @ k_printed
@@ -217,14 +218,12 @@ def test_torque_rates_match_finite_differences():
 
 
 def test_cli_parser_registers_synthesize():
-    parser = argparse.ArgumentParser()
-    add_parser(parser.add_subparsers(dest="command"))
-    args = parser.parse_args(["synthesize", "specs/x.toml", "--no-fem"])
-    assert args.spec == "specs/x.toml" and args.no_fem and callable(args.func)
+    args = build_parser().parse_args(["synthesize", "cases/specs/x.toml", "--no-fem"])
+    assert args.command == "synthesize" and args.spec == "cases/specs/x.toml" and args.no_fem
 
 
 def test_outputs_written_and_case_file_valid(tmp_path):
-    from validation.loader import load_case
+    from validation.case.loader import load_case
 
     status = synthesize(SPECS / "bapat2015_ch6_ex3.toml", tmp_path, run_fem=False)
     assert status == 0
@@ -256,8 +255,8 @@ def test_fem_check_beside_printed_ansys(tmp_path, stem, quantity):
 
 def test_design_table_counting_names_missing_free_choices():
     """Design table 5.1: three positions of motion generation need free choices; too few -> message."""
-    from synthesis.dyads import SynthesisError
-    from synthesis.framework import solve_framework
+    from prbm.synthesis.dyads import SynthesisError
+    from prbm.synthesis.framework import solve_framework
 
     with pytest.raises(SynthesisError, match="specify 1 more free choice"):
         solve_framework(theta1=90.0, delta=[-3 - 0.75j, -3.5 - 1j, -4.5 - 1.75j], gamma=[10.0, 12.5, 20.0],

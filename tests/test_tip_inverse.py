@@ -22,11 +22,11 @@ import pytest
 from scipy.optimize import brentq
 
 from elastica.shooting import ElasticaProblem, section_moment, solve_path
-from validation.inverse_problem import inverse_spec
+from validation.methods.inverse_problem import inverse_spec
 from validation.methods import elastica as elastica_adapter
 from validation.methods import fem as fem_adapter
 from validation.methods.base import NotApplicable, Request
-from validation.schema import Case
+from validation.case.schema import Case
 
 KAPPA = 0.4
 LOADS = ("force_x", "force_y", "moment")

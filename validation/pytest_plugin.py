@@ -17,8 +17,8 @@ from pathlib import Path
 
 import pytest
 
-from validation.api import validate
-from validation.loader import CaseError, load_case
+from validation.run.api import validate
+from validation.case.loader import CaseError, load_case
 
 
 def pytest_addoption(parser) -> None:

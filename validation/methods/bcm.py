@@ -24,8 +24,8 @@ import numpy as np
 from bcm.beam import solve_mixed, strain_energy
 from bcm.mechanisms import BCMBeam, RigidBodyOnBeams
 from validation.methods.base import MethodRun, NotApplicable, Request, reject_loads_along_beams
-from validation.quantities import boundary_held_tip
-from validation.schema import Case
+from validation.case.quantities import boundary_held_tip
+from validation.case.schema import Case
 
 RANGE = 0.1
 
@@ -68,7 +68,7 @@ def _segment(case: Case, requests: list[Request], options: dict) -> MethodRun:
                 disp[key] = disp.get(key, 0.0) + float(d[0] if key == "ux" else d[1]) / L
             elif load.kind == "rotation":
                 disp["theta"] = math.radians(v)
-        for dof in boundary_held_tip(case):  # the contract's rule (validation/quantities.py)
+        for dof in boundary_held_tip(case):  # the contract's rule (validation/case/quantities.py)
             disp.setdefault({"rz": "theta"}.get(dof, dof), 0.0)
         kw = {}
         for d, f in (("ux", "fx"), ("uy", "fy"), ("theta", "mz")):

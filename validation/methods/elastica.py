@@ -26,7 +26,7 @@ length units), the absolute tip angle ``theta0`` (degrees) and the inflection lo
 case's loads at each level (e.g. the PRBM loads) are not applied: they are the initial guess,
 the state the continuation starts from (zero loads: start from the problem without the
 inflection condition). Only a fixed-guided segment with force/moment loads.
-Inverse tip problem (option table ``inverse``, ``validation.inverse_problem``: tip y ``b``, slope
+Inverse tip problem (option table ``inverse``, ``validation.methods.inverse_problem``: tip y ``b``, slope
 ``theta0_deg`` and one of ``a``, ``n``, ``axial_load``, ``l1`` per level): the tip loads
 (``force_x``, ``force_y``, ``moment``) are those that hold the prescribed tip, each level solved on
 its own from the unloaded beam (``l1``: from the case's loads, as for ``problem = 'inflection'``);
@@ -44,9 +44,9 @@ import numpy as np
 from elastica.shooting import (ElasticaProblem, MomentConstraint, TipConstraint, loaded_start,
                                solve_path, unloaded_tip)
 from validation.methods import elastica_network
-from validation.inverse_problem import LOAD_OUTPUTS, InverseSpec, Tie, inverse_spec, merge_runs
+from validation.methods.inverse_problem import LOAD_OUTPUTS, InverseSpec, Tie, inverse_spec, merge_runs
 from validation.methods.base import MethodRun, NotApplicable, Request
-from validation.schema import Case
+from validation.case.schema import Case
 
 SUPPORTED = {"fixed-free", "fixed-pinned", "fixed-guided", "fixed-fixed"}
 

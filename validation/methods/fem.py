@@ -16,11 +16,11 @@ and for ``limit_load``: ``arc_length``, ``max_steps``; for ``mechanical_advantag
 ``zero_level``: positions (x, y, dx, dy) measured from the state of that level instead of the unloaded
 one (an experiment zeroed its scale under a load already present, e.g. self-weight): x = X0 + x(level)
 - x(zero_level). ``slfp = {length, E, thickness_ratio}``: build every
-sprung joint of a mechanism as a small-length flexural pivot of that length (``validation.slfp``).
+sprung joint of a mechanism as a small-length flexural pivot of that length (``validation.methods.slfp``).
 ``input_moment_at = "<node>"``: the case's one prescribed displacement (e.g. a slider position) is not
 imposed but reached by a moment at that node, found by an outer solve; the moment is ``input_torque``.
 
-Inverse tip problem (option table ``inverse``, see ``validation.inverse_problem``): per level a
+Inverse tip problem (option table ``inverse``, see ``validation.methods.inverse_problem``): per level a
 clamped segment whose tip has y = ``b`` and absolute slope ``theta0_deg`` prescribed (displacement
 control), and x prescribed (``a``), loaded by a fixed axial load (``axial_load``), or carrying the
 tied load F_x = -n F_y (``n``) or the F_x that puts a zero bending moment at arc length ``l1``
@@ -39,12 +39,12 @@ import time
 
 import numpy as np
 
-from validation.inverse_problem import LOAD_OUTPUTS, InverseLevel, InverseSpec, Tie, inverse_spec, merge_runs
+from validation.methods.inverse_problem import LOAD_OUTPUTS, InverseLevel, InverseSpec, Tie, inverse_spec, merge_runs
 from validation.methods import fem_outputs
 from validation.methods.base import MethodRun, NotApplicable, Request
-from validation.quantities import boundary_held_tip as _boundary_held_tip
-from validation.quantities import load_dofs as _load_dofs
-from validation.slfp import with_flexures
+from validation.case.quantities import boundary_held_tip as _boundary_held_tip
+from validation.case.quantities import load_dofs as _load_dofs
+from validation.methods.slfp import with_flexures
 
 ROTATION_DOF = "rz"
 

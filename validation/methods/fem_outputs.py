@@ -16,7 +16,7 @@ of inflection points, and the mechanical advantage by a small increment of the i
   "secant"`` gives instead MA = F_out/F_in at each level, the ratio the seed's eq (192) uses when the
   output is held at a prescribed position: the compliance of the mechanism then takes its share of
   the input (MA = MA_R (1 - F_c/F_i)), which the tangent ratio does not see.  The secant ratio is the
-  sign convention of ``validation.quantities.MEANINGS['mechanical_advantage']``: F_in = |input load|
+  sign convention of ``validation.case.quantities.MEANINGS['mechanical_advantage']``: F_in = |input load|
   (an input moment T counts as |T|/d_i), F_out along the working motion.
 - An output held in rotation (a prescribed ``rotation`` of a link at the point ``output``: the work
   piece on a rocker at distance d_o): ``ma = {output = "OUT", moment_arm = d_o, sense = 1}``,

@@ -23,7 +23,7 @@ import time
 import numpy as np
 
 from validation.methods.base import MethodRun, NotApplicable, Request, reject_loads_along_beams
-from validation.quantities import boundary_held_tip
+from validation.case.quantities import boundary_held_tip
 
 SUPPORTED = {"x", "y", "dx", "dy", "rotation", "limit_load"}
 

@@ -60,7 +60,7 @@ from scipy.optimize import brentq
 
 from validation.methods import prbm_ma, prbm_network
 from validation.methods.base import MethodRun, NotApplicable, Request, reject_loads_along_beams
-from validation.quantities import boundary_held_tip, unloaded_tip_angle
+from validation.case.quantities import boundary_held_tip, unloaded_tip_angle
 
 DEG = math.pi / 180.0
 
@@ -179,7 +179,7 @@ def _segment(prbm, case, requests, options):
     o = res.outputs
     a = _per_level(o["a"], n)
     b = _per_level(o["b"], n)
-    # the quantity contract (validation/quantities.py): rotation from the unloaded tangent angle,
+    # the quantity contract (validation/case/quantities.py): rotation from the unloaded tangent angle,
     # a held tip freedom reports the load that holds it
     rotation = _per_level(o["theta0"] - unloaded_tip_angle(L, kappa), n)
     if follower:  # the force the tip receives has turned with it

@@ -1,0 +1,480 @@
+"""``prbm-validate bench``: run time against error for every method, on the same cases, in one run.
+
+Each code is driven the way its best user would drive it, and the same post-processing is offered to
+both: our FEM (adaptive load steps from one step per level) and the OpenSeesPy peer (one load step
+per level, halved only on failure, failed tries counted in the time) both run on meshes of 2, 4, 8,
+... elements per member, doubled until the method has reached every target error or 1024 elements
+(256 with ``--quick``), or until two doublings in a row no longer halve the error (an error floor:
+the reference's precision), plain and with Richardson extrapolation on the n and 2n results, as separate
+rows (``fem+richardson``: the FEM's own n/2n solve; ``opensees+richardson``: the peer's n and 2n runs,
+time of both). Beside them: the PRBM, the exact elastica and the FEM with the case's own options.
+
+Each configuration is timed in this process: one warm-up, then the best (smallest) CPU time of this
+process (``time.process_time``; BLAS and the compiled kernels run on one thread, so on an idle machine
+it is the wall time, and on a shared one it leaves out the waits for a core) over ``repeats`` runs,
+their median (for the noise) and the best wall time; its error is the largest
+tip-position error over the benchmarked load levels, over the characteristic length, against the
+exact solution (the elastica method on the same case, or the case's 'exact' references). Peak Python
+memory is measured in a separate run with ``tracemalloc``. BLAS threads are pinned to one and recorded.
+
+The headline, at each target error, is our best time over the peer's best, with both configurations
+beside it; a peer that cannot run (not installed, no system BLAS) is "peer unavailable", a case it
+cannot model "peer not applicable", never "did not reach". Also the time of one Newton iteration
+(time over iterations, failed tries included) of both codes at 8 to 256 elements, on the
+single-level cantilever.
+
+Writes ``bench.csv``, ``headline.json`` and plots (error against time with the Pareto front; time
+against elements with the fitted growth exponent) under the output folder.
+"""
+from __future__ import annotations
+
+import importlib
+import json
+import math
+import os
+import statistics
+import time
+import tracemalloc
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from validation.run.exit_status import decide
+from validation.case.loader import CaseError, case_by_id, find_case_files
+from validation.methods.base import MethodRun, Request
+from validation.run.runner import characteristic_length, requests_for, run_method
+from validation.run.outcome import run_cases
+
+
+@dataclass(frozen=True)
+class BenchCase:
+    """A case of the benchmark: which levels are compared, and whether only the last level is loaded
+    (``single_level``: the loads jump from zero to their last value in one level)."""
+    case_id: str
+    levels: list[int] | None = None     # None = all
+    single_level: bool = False
+
+    @property
+    def label(self) -> str:
+        return f"{self.case_id} (last level only)" if self.single_level else self.case_id
+
+
+BENCH_CASES: list[BenchCase] = [
+    BenchCase("cantilever_tip_load", [0], single_level=True),   # PL^2/EI = 10 in one level
+    BenchCase("cantilever_tip_load", [0, 4, 9]),                # PL^2/EI = 1..10, ten levels
+    BenchCase("pure_moment_roll_up"),
+    BenchCase("lee_frame"),
+    BenchCase("bapat2015_test1a"),
+    BenchCase("bapat2015_test2"),
+]
+POSITION = ("x", "y", "dx", "dy")
+TARGETS = (1e-4, 1e-6)
+PEER = "opensees"
+ITERATION_MESHES = (8, 16, 32, 64, 128, 256)
+RUN_BUDGET_S = 20.0     # a method's mesh doubling stops after a run slower than this
+
+
+def _pin_blas() -> dict[str, str]:
+    try:
+        from threadpoolctl import threadpool_limits
+
+        threadpool_limits(1)
+    except ImportError:
+        pass
+    return {k: os.environ.get(k, "") for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
+                                               "OPENBLAS_CORETYPE")}
+
+
+def _last_level_only(case):
+    """The case with every load jumping from zero to its last value in one level (level 0), and the
+    references of the last level moved to level 0."""
+    last = case.n_levels() - 1
+    loads = [load.model_copy(update={"values": [load.levels()[-1]], "ramp": None}) for load in case.loads]
+    outputs = [out.model_copy(update={"levels": "all"}) for out in case.outputs]
+    refs = [r.model_copy(update={"level": 0}) for r in case.references if r.level == last]
+    labels = None if case.level_labels is None else [case.level_labels[-1]]
+    return case.model_copy(update={"loads": loads, "outputs": outputs, "references": refs, "level_labels": labels})
+
+
+def _restrict(case, method: str, options: dict, levels: list[int] | None):
+    outputs = []
+    for out in case.outputs:
+        if out.quantity in POSITION + ("limit_load",):
+            update = {"methods": None}
+            if levels is not None and out.quantity != "limit_load":
+                update["levels"] = levels
+            outputs.append(out.model_copy(update=update))
+    return case.model_copy(update={"methods": {method: options}, "outputs": outputs})
+
+
+@dataclass
+class Timing:
+    """One configuration timed: the last run, the best and median CPU time of this process around
+    the run, the best wall time, the peak Python memory."""
+    run: MethodRun
+    best: float
+    median: float
+    repeats: int
+    peak_bytes: int
+    wall: float = math.nan
+
+
+def _timed(case, method: str, repeats: int) -> Timing:
+    first = run_method(case, method)  # warm-up (imports, caches, compiled kernels)
+    if first.wall_time > 1.0:        # a slow configuration: its noise is small against its time
+        repeats = 1
+    times, walls, run = [], [], first
+    for _ in range(repeats):
+        start = time.process_time()
+        run = run_method(case, method)
+        times.append(time.process_time() - start)
+        walls.append(run.wall_time)
+    tracemalloc.start()
+    run_method(case, method)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    return Timing(run, min(times), statistics.median(times), repeats, peak, min(walls))
+
+
+def _exact(case, levels) -> tuple[dict, str]:
+    """Exact tip positions: the elastica on this case, else the case's 'exact' references."""
+    if "elastica" in case.methods:
+        run = run_method(_restrict(case, "elastica", dict(case.methods["elastica"] or {}), levels), "elastica")
+        if run.converged and run.values:
+            return run.values, "elastica"
+    refs = {Request(r.quantity, r.point if r.quantity != "limit_load" else "", r.level): r.value
+            for r in case.references
+            if r.label in ("exact", "elliptic") or (r.quantity == "limit_load" and r.label == "published")}
+    return refs, "references"
+
+
+def _error(values: dict, exact: dict, scale: float) -> float:
+    """Largest tip-position (or limit-load) error over the levels, relative to the scale."""
+    worst = 0.0
+    found = False
+    by_point = {}
+    for req, value in values.items():
+        if req.quantity == "limit_load" and req in exact:
+            worst = max(worst, abs(value - exact[req]) / abs(exact[req]))
+            found = True
+        elif req.quantity in POSITION and req in exact:
+            by_point.setdefault((req.point, req.level), {})[req.quantity] = value - exact[req]
+    for diffs in by_point.values():
+        worst = max(worst, math.hypot(*diffs.values()) / scale)
+        found = True
+    return worst if found else math.nan
+
+
+def _pareto(frame: pd.DataFrame) -> pd.Series:
+    order = frame.sort_values("time_s")
+    best, flags = math.inf, {}
+    for idx, row in order.iterrows():
+        flags[idx] = row["error"] < best
+        best = min(best, row["error"]) if not math.isnan(row["error"]) else best
+    return pd.Series(flags).reindex(frame.index)
+
+
+def _best_at_error(frame: pd.DataFrame, methods: tuple[str, ...], target: float) -> dict | None:
+    """The fastest row of these methods whose error is at most the target, as a configuration."""
+    rows = frame[frame["method"].isin(methods) & (frame["error"] <= target)]
+    if not len(rows):
+        return None
+    row = rows.loc[rows["time_s"].idxmin()]
+    return dict(method=row["method"], elements=int(row["elements"]), time_s=float(row["time_s"]),
+                error=float(row["error"]), iterations=None if pd.isna(row["iterations"]) else int(row["iterations"]))
+
+
+def _richardson(coarse: MethodRun, fine: MethodRun) -> dict:
+    """u_2n + (u_2n - u_n)/3 on every value both runs gave (the O(h^2) Richardson step)."""
+    return {r: v + (v - coarse.values[r]) / 3.0 for r, v in fine.values.items() if r in coarse.values}
+
+
+def _row(case_label, label, n, timing: Timing, exact_from) -> dict:
+    run = timing.run
+    iterations = run.extras.get("iterations", math.nan)
+    return dict(case=case_label, method=label, elements=n, time_s=timing.best, time_median_s=timing.median,
+                wall_s=timing.wall,
+                repeats=timing.repeats, error=math.nan, error_reference=exact_from, iterations=iterations,
+                failed_iterations=run.extras.get("rejected_iterations", 0),
+                peak_memory_mb=timing.peak_bytes / 2**20, converged=run.converged, message=run.message[:200])
+
+
+def _sweep(case, bench: BenchCase, method: str, meshes: list[int], repeats: int, exact, scale, log):
+    """Plain and Richardson rows of one method on doubling meshes, until every target is reached."""
+    rows, skipped, plain = [], [], {}
+    base = dict(case.methods.get(method) or {}) if method in case.methods else {}
+    labels = (f"{method}", f"{method}+richardson")
+    reached = {label: False for label in labels}
+    errors = {label: [] for label in labels}
+
+    def done(label, error, slow):
+        """Reached the smallest target, too slow, or on an error floor (two doublings in a row
+        that did not halve the error: the reference's own precision, or the solver's, is reached)."""
+        errors[label].append(error)
+        e = errors[label]
+        floor = len(e) >= 3 and e[-1] > 0.5 * e[-2] and e[-2] > 0.5 * e[-3]
+        return error <= min(TARGETS) or slow or floor
+
+    for n in meshes:
+        if method == "fem":
+            configs = [(labels[0], {"elements": n, "error_estimate": False}),
+                       (labels[1], {"elements": n, "error_estimate": True, "richardson": True})]
+        else:
+            configs = [(labels[0], {"elements": n})]
+        for label, extra in configs:
+            if reached[label]:
+                continue
+            sub = _restrict(case, method, base | extra, bench.levels)
+            timing = _timed(sub, method, repeats)
+            if not timing.run.values:
+                skipped.append(f"{bench.label}/{label} n={n}: {timing.run.message}")
+                reached[label] = True           # nothing more to learn from finer meshes
+                continue
+            row = _row(bench.label, label, n, timing, exact[1])
+            row["error"] = _error(timing.run.values, exact[0], scale)
+            rows.append(row)
+            log(row)
+            reached[label] = done(label, row["error"], timing.best > RUN_BUDGET_S)
+            if label == labels[0]:
+                plain[n] = timing
+        if method != "fem" and n // 2 in plain and n in plain and not reached[labels[1]]:
+            coarse, fine = plain[n // 2], plain[n]
+            both = Timing(MethodRun(values=_richardson(coarse.run, fine.run), converged=fine.run.converged,
+                                    message=fine.run.message,
+                                    extras={"iterations": coarse.run.extras.get("iterations", 0)
+                                            + fine.run.extras.get("iterations", 0)}),
+                          coarse.best + fine.best, coarse.median + fine.median, fine.repeats,
+                          max(coarse.peak_bytes, fine.peak_bytes), coarse.wall + fine.wall)
+            row = _row(bench.label, labels[1], n // 2, both, exact[1])
+            row["error"] = _error(both.run.values, exact[0], scale)
+            rows.append(row)
+            log(row)
+            reached[labels[1]] = done(labels[1], row["error"], both.best > RUN_BUDGET_S)
+        if all(reached.values()):
+            break
+    return rows, skipped
+
+
+def _per_iteration(case, bench: BenchCase, repeats: int, with_peer: bool, cap: int) -> dict:
+    """Wall time over Newton iterations (failed tries included) of the plain FEM and the peer on the
+    same meshes of this case."""
+    cost = {}
+    for n in (m for m in ITERATION_MESHES if m <= cap):
+        entry = {}
+        for method in ("fem",) + ((PEER,) if with_peer else ()):
+            extra = {"elements": n, "error_estimate": False} if method == "fem" else {"elements": n}
+            sub = _restrict(case, method, dict(case.methods.get(method) or {}) | extra, bench.levels)
+            timing = _timed(sub, method, repeats)
+            if not timing.run.values:
+                continue
+            its = timing.run.extras.get("iterations", 0) + timing.run.extras.get("rejected_iterations", 0)
+            entry[method] = dict(time_s=timing.best, iterations=its, per_iteration_s=timing.best / max(its, 1))
+        if len(entry) == 2:
+            entry["ratio"] = entry["fem"]["per_iteration_s"] / entry[PEER]["per_iteration_s"]
+        cost[str(n)] = entry
+    return cost
+
+
+def _peer_status() -> str:
+    """'' when the OpenSeesPy peer can run here, else why not."""
+    try:
+        importlib.import_module("openseespy.opensees")
+    except Exception as exc:  # not installed, or a missing system BLAS
+        return f"peer unavailable: OpenSeesPy cannot be imported ({exc})"
+    return ""
+
+
+def run_bench(out: Path, quick: bool = False, cases: list[BenchCase] | dict | None = None,
+              max_elements: int | None = None) -> int:
+    """Run the benchmark into ``out``; ``max_elements`` caps the mesh doubling (default 1024, 256 quick)."""
+    out.mkdir(parents=True, exist_ok=True)
+    blas = _pin_blas()
+    cap = max_elements or (256 if quick else 1024)
+    meshes = [n for n in (2, 4, 8, 16, 32, 64, 128, 256, 512, 1024) if n <= cap]
+    repeats = 1 if quick else 5
+    if isinstance(cases, dict):  # {case id: levels}
+        cases = [BenchCase(case_id, levels) for case_id, levels in cases.items()]
+    peer_status = _peer_status()
+    rows, skipped, peer_notes, per_iteration = [], [], {}, {}
+    unusable, failed = [], []  # exit status 2 and 1 (validation/run/exit_status.py)
+
+    def log(row):
+        print(f"  {row['case']:<40} {row['method']:<20} n={row['elements']!s:<5} {row['time_s'] * 1e3:10.2f} ms  "
+              f"error={row['error']:.2e}  iterations={row['iterations']}", flush=True)
+
+    for bench in cases or BENCH_CASES:
+        try:
+            case = case_by_id(bench.case_id).case
+        except CaseError as exc:
+            skipped.append(f"{bench.case_id}: {exc.problem}")
+            unusable.append(bench.case_id)
+            continue
+        if bench.single_level:
+            case = _last_level_only(case)
+        scale = characteristic_length(case)
+        exact = _exact(case, bench.levels)
+        fixed = []
+        for label in ("prbm", "elastica", "fem"):
+            if label not in case.methods:
+                continue
+            sub = _restrict(case, label, dict(case.methods.get(label) or {}), bench.levels)
+            if not requests_for(sub, label):
+                skipped.append(f"{bench.label}/{label}: no tip-position or limit-load output to time")
+                continue
+            timing = _timed(sub, label, repeats)
+            if not timing.run.converged:  # a method of the case, with the case's own options
+                failed.append(f"{bench.label}/{label}: {timing.run.message}")
+            if not timing.run.values:
+                skipped.append(f"{bench.label}/{label}: {timing.run.message}")
+                continue
+            fixed.append((_row(bench.label, label if label != "fem" else "fem (case options)", None, timing,
+                               exact[1]), timing.run))
+        if not exact[0]:  # no exact solution (a mechanism): the finest extrapolated FEM is the reference
+            sub = _restrict(case, "fem", dict(case.methods.get("fem") or {}) | {
+                "elements": meshes[-1], "error_estimate": True, "richardson": True}, bench.levels)
+            exact = (run_method(sub, "fem").values, f"fem+richardson at {meshes[-1]} elements (finest)")
+        for row, run in fixed:
+            row["error"] = _error(run.values, exact[0], scale)
+            row["error_reference"] = exact[1]
+            log(row)
+            rows.append(row)
+        case_rows = []
+        for method in ("fem", PEER):
+            if method == PEER and peer_status:
+                peer_notes[bench.label] = peer_status
+                continue
+            got, why = _sweep(case, bench, method, meshes, repeats, exact, scale, log)
+            case_rows += got
+            skipped += why
+            if method == PEER and not got:
+                reason = why[0].split(": ", 1)[-1] if why else "no run"
+                peer_notes[bench.label] = "peer " + (reason if reason.startswith("not applicable") else
+                                                     f"not applicable: {reason}")
+        rows += case_rows
+        if bench == BENCH_CASES[0]:
+            per_iteration = _per_iteration(case, bench, repeats, not peer_status, cap)
+    frame = pd.DataFrame(rows)
+    frame.to_csv(out / "bench.csv", index=False)
+    headline = _headline(frame, quick, peer_notes, max(meshes))
+    headline["per_iteration"] = per_iteration
+    headline["blas"] = blas
+    headline["skipped"] = skipped
+    (out / "headline.json").write_text(json.dumps(headline, indent=2, default=float))
+    _plots(frame, out)
+    _print_headline(headline)
+    for s in skipped:
+        print(f"skipped: {s}")
+    for f in failed:
+        print(f"did not converge: {f}")
+    return int(decide(bad_input=bool(unusable), failed=bool(failed)))
+
+
+def _headline(frame: pd.DataFrame, quick: bool, peer_notes: dict, max_elements: int) -> dict:
+    headline: dict = {"fem_over_opensees_time_at_error": {}, "per_iteration": {}, "prbm_over_fem": {},
+                      "growth_exponent": {}}
+    for case_id, part in frame.groupby("case", sort=False) if len(frame) else []:
+        for target in TARGETS:
+            ours = _best_at_error(part, ("fem", "fem+richardson"), target)
+            peer = _best_at_error(part, (PEER, f"{PEER}+richardson"), target)
+            if case_id in peer_notes:
+                note = peer_notes[case_id]
+            elif ours is None or peer is None:
+                note = {(True, False): f"OpenSees did not reach this error (up to {max_elements} elements, or its error stopped falling)",
+                        (False, True): f"our FEM did not reach this error (up to {max_elements} elements, or its error stopped falling)",
+                        (False, False): "neither reached it"}.get((ours is not None, peer is not None), "")
+            else:
+                note = ""
+            reference = part["error_reference"].iloc[0]
+            headline["fem_over_opensees_time_at_error"][f"{case_id} @ {target:g} L"] = dict(
+                ratio=ours["time_s"] / peer["time_s"] if ours and peer else None, fem=ours, opensees=peer,
+                note=note, reference=reference)
+        prbm = part[part["method"] == "prbm"]
+        fem_case = part[part["method"] == "fem (case options)"]
+        if len(prbm) and len(fem_case):
+            headline["prbm_over_fem"][case_id] = dict(
+                prbm_time_s=float(prbm["time_s"].iloc[0]), fem_time_s=float(fem_case["time_s"].iloc[0]),
+                ratio=float(prbm["time_s"].iloc[0] / fem_case["time_s"].iloc[0]))
+        fem = part[part["method"] == "fem"]
+        big = fem[fem["elements"] >= 16]
+        if len(big) >= 2:
+            slope = np.polyfit(np.log(big["elements"].astype(float)), np.log(big["time_s"]), 1)[0]
+            headline["growth_exponent"][case_id] = float(slope)
+    if not quick:
+        paths = find_case_files(None)
+        start = time.perf_counter()
+        cold = run_cases(paths, use_cache=False, jobs=2)
+        headline["suite_cold_s"] = time.perf_counter() - start
+        start = time.perf_counter()
+        run_cases(paths, use_cache=True, jobs=2)
+        headline["suite_warm_s"] = time.perf_counter() - start
+        headline["suite_cases"] = len(cold.results)
+    return headline
+
+
+def _config(c: dict | None) -> str:
+    if c is None:
+        return "-"
+    return f"{c['method']} n={c['elements']} {c['time_s'] * 1e3:.2f} ms ({c['iterations']} it, error {c['error']:.1e})"
+
+
+def _print_headline(headline: dict) -> None:
+    print("\nfem / OpenSees CPU time to reach the error (best of each; configurations beside):")
+    for key, h in headline["fem_over_opensees_time_at_error"].items():
+        ratio = "   -  " if h["ratio"] is None else f"{h['ratio']:6.2f}"
+        print(f"  {key:<52} {ratio}   fem: {_config(h['fem'])}   opensees: {_config(h['opensees'])}"
+              + (f"   [{h['note']}]" if h["note"] else ""))
+    if headline["per_iteration"]:
+        print("time of one Newton iteration, single-level cantilever (fem / OpenSees):")
+        for n, c in headline["per_iteration"].items():
+            parts = [f"{m} {c[m]['per_iteration_s'] * 1e6:.1f} us ({c[m]['iterations']:.0f} it)" for m in ("fem", PEER)
+                     if m in c]
+            print(f"  n={n:>4}: " + ", ".join(parts) + (f", ratio {c['ratio']:.2f}" if "ratio" in c else ""))
+    for key in ("suite_cold_s", "suite_warm_s"):
+        if key in headline:
+            print(f"{key}: {headline[key]:.1f}")
+
+
+def _plots(frame: pd.DataFrame, out: Path) -> None:
+    if frame.empty:
+        return
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    for case_id, part in frame.groupby("case"):
+        part = part[part["error"] > 0]
+        if part.empty:
+            continue
+        fig, ax = plt.subplots(figsize=(6, 4.5))
+        for method, rows in part.groupby("method"):
+            rows = rows.sort_values("time_s")
+            ax.loglog(rows["time_s"], rows["error"], "o-" if rows["elements"].notna().any() else "s",
+                      label=method)
+        front = part[_pareto(part).astype(bool)].sort_values("time_s")
+        ax.loglog(front["time_s"], front["error"], "k--", lw=1, label="Pareto front")
+        ax.set_xlabel("median wall time [s]")
+        ax.set_ylabel("tip-position error / L")
+        ax.set_title(case_id)
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(out / f"{case_id}_error_vs_time.png", dpi=90)
+        plt.close(fig)
+    fem = frame[frame["method"].isin(["fem", "opensees"]) & frame["elements"].notna()]
+    if len(fem):
+        fig, ax = plt.subplots(figsize=(6, 4.5))
+        for (case_id, method), rows in fem.groupby(["case", "method"]):
+            rows = rows.sort_values("elements")
+            big = rows[rows["elements"] >= 16]
+            slope = np.polyfit(np.log(big["elements"]), np.log(big["time_s"]), 1)[0] if len(big) >= 2 else math.nan
+            ax.loglog(rows["elements"], rows["time_s"], "o-", label=f"{case_id} {method} (slope {slope:.2f})")
+        ax.set_xlabel("elements per member")
+        ax.set_ylabel("median wall time [s]")
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(out / "time_vs_elements.png", dpi=90)
+        plt.close(fig)

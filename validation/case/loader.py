@@ -1,0 +1,203 @@
+"""Load case files: TOML -> validated ``Case``, with every error of a file listed, one line each,
+naming the file, the field and what is wrong.
+
+A case is checked completely before any solve: the schema (``validation/case/schema.py``, with the options
+of each method, ``validation/case/method_options.py``) and, for a mechanism, whether it is held against
+rigid-body motion (``validation/case/mobility.py``). Case files can live anywhere: ids, files, folders
+and globs are all accepted, and unknown names get the nearest valid ones.
+"""
+from __future__ import annotations
+
+import fnmatch
+import glob
+import os
+import re
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+from pydantic import ValidationError
+
+from validation.case import mobility
+from validation.case.names import nearest
+from validation.case.schema import Case
+
+CASES_DIR = Path(__file__).resolve().parents[2] / "cases"
+SKIPPED = {"node_modules", "__pycache__", "venv", "site-packages", "reports"}  # never case folders
+# the project's data folders kept with the cases: design specifications and sweep studies, not cases
+DATA_FOLDERS = (CASES_DIR / "specs", CASES_DIR / "sweeps")
+
+
+class CaseError(Exception):
+    """A case file that cannot be used; ``str()`` has one line per problem (file: field: problem),
+    the first problem first. ``field`` and ``problem`` are the first; ``problems`` has them all."""
+
+    def __init__(self, path: Path | str, field: str, problem: str, more: list[tuple[str, str]] | None = None):
+        self.path, self.field, self.problem = str(path), field, problem
+        self.problems: list[tuple[str, str]] = [(field, problem), *(more or [])]
+        super().__init__("\n".join(self._line(f, p) for f, p in self.problems))
+
+    def _line(self, field: str, problem: str) -> str:
+        return f"{self.path}: {field}: {problem}" if field else f"{self.path}: {problem}"
+
+
+@dataclass(frozen=True)
+class LoadedCase:
+    path: Path
+    text: str
+    case: Case
+
+    @property
+    def id(self) -> str:
+        return self.case.case.id
+
+
+def _field_path(location: tuple) -> str:
+    """Dotted field path of a pydantic error location, without validator and union-member tags."""
+    def is_tag(part) -> bool:
+        return isinstance(part, str) and (part.startswith("function-") or "[" in part
+                                          or part in ("str", "int", "float", "bool"))
+    return ".".join(str(p) for p in location if not is_tag(p)) or "(top level)"
+
+
+_FIELD_PREFIX = re.compile(r"^([A-Za-z_][\w.]*): (.+)$")
+
+
+def describe_all(exc: ValidationError) -> list[tuple[str, str]]:
+    """(field path, message) of every error of a pydantic ValidationError, in pydantic's order.
+
+    A model-level check that found several problems reports them one per line, each as
+    ``field: message``; those lines become separate errors with their own field."""
+    problems = []
+    for err in exc.errors():
+        field = _field_path(err["loc"])
+        below = (err.get("ctx") or {}).get("field")  # a method option's path below 'methods'
+        field = f"{field}.{below}" if below else field
+        for part in err["msg"].removeprefix("Value error, ").split("\n"):
+            match = _FIELD_PREFIX.match(part)
+            if match and field == "(top level)":
+                problems.append((match.group(1), match.group(2)))
+            else:
+                problems.append((field, part))
+    return problems
+
+
+def describe(exc: ValidationError) -> tuple[str, str]:
+    """(field path, message) of the first error of a pydantic ValidationError."""
+    return describe_all(exc)[0]
+
+
+def read_toml_model(path: Path | str, model, error=None):
+    """(text, validated model) of a TOML file; any problem raises ``error(path, field, problem)``
+    (``CaseError`` by default), whose ``str()`` names the file, the field path and what is wrong,
+    one line per problem."""
+    error = error or CaseError
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise error(path, "", f"cannot read file ({exc.strerror})") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise error(path, "", f"not valid TOML: {exc}") from None
+    try:
+        return text, model.model_validate(data)
+    except ValidationError as exc:
+        problems = describe_all(exc)
+        (field, message), more = problems[0], problems[1:]
+        if isinstance(error, type) and issubclass(error, CaseError):
+            raise error(path, field, message, more) from None
+        raise error(path, field, "; ".join([message] + [f"{f}: {m}" for f, m in more])) from None
+
+
+def check_case(case: Case) -> list[tuple[str, str]]:
+    """(field, problem) of everything wrong with a schema-valid case (the schema checks the method
+    options) that would otherwise only show in a solve: a mechanism that can move as a rigid body."""
+    return mobility.check(case)
+
+
+def load_case(path: Path | str) -> LoadedCase:
+    """Read and validate one case file; raise ``CaseError`` listing every problem, one per line."""
+    text, case = read_toml_model(path, Case)
+    problems = check_case(case)
+    if problems:
+        (field, message), more = problems[0], problems[1:]
+        raise CaseError(path, field, message, more)
+    return LoadedCase(path=Path(path), text=text, case=case)
+
+
+def search_roots(patterns: list[str], root: Path = CASES_DIR) -> list[Path]:
+    """Where ids are looked up: ``root``, the current folder, and every folder (or folder of a
+    file) named alongside."""
+    roots = [root, Path.cwd()]
+    for pattern in patterns:
+        p = Path(pattern)
+        if p.is_dir():
+            roots.append(p)
+        elif p.is_file():
+            roots.append(p.parent)
+    return list(dict.fromkeys(r.resolve() for r in roots))
+
+
+def find_case_files(patterns: list[str] | None = None, root: Path = CASES_DIR,
+                    roots: list[Path] | None = None) -> list[Path]:
+    """Case files matching ids, files, folders (every ``*.toml`` below) or globs; all of ``root``
+    if none given. Ids are looked up in ``roots`` (default: ``root`` and the folders named
+    alongside). An unknown name raises ``CaseError`` with the nearest valid ids."""
+    if not patterns:
+        return _toml_files(root)
+    roots = roots or search_roots(patterns, root)
+    found: list[Path] = []
+    for pattern in patterns:
+        if Path(pattern).is_dir():
+            matches = _toml_files(Path(pattern))
+            if not matches:
+                raise CaseError(pattern, "", "the folder holds no case file (*.toml)")
+            found.extend(m.resolve() for m in matches)
+            continue
+        matches = [Path(p) for p in glob.glob(pattern, recursive=True)]
+        matches += [Path(p) for p in glob.glob(str(root / "**" / pattern), recursive=True)]
+        matches += [Path(p) for p in glob.glob(str(root / "**" / f"{pattern}.toml"), recursive=True)]
+        matches = [m for m in matches if m.suffix == ".toml" and m.is_file()]
+        if not matches:
+            index = {k: v for r in roots for k, v in _id_index(r).items()}
+            matches = [path for case_id, path in index.items() if fnmatch.fnmatchcase(case_id, pattern)]
+            if not matches:
+                raise CaseError(pattern, "", "no case file matches this id, file or pattern"
+                                + nearest(pattern, index))
+        found.extend(sorted(set(m.resolve() for m in matches)))
+    return list(dict.fromkeys(found))
+
+
+def _toml_files(root: Path) -> list[Path]:
+    """Every ``*.toml`` under root, not looking inside hidden folders, virtual environments or the
+    project's data folders (``cases/specs``, ``cases/sweeps``) unless root is one of them."""
+    found = []
+    root = Path(root).resolve()
+    for folder, subfolders, files in os.walk(root):
+        subfolders[:] = sorted(d for d in subfolders if not d.startswith(".") and d not in SKIPPED
+                               and (Path(folder) / d).resolve() not in DATA_FOLDERS)
+        found.extend(Path(folder) / f for f in sorted(files) if f.endswith(".toml"))
+    return found
+
+
+def _id_index(root: Path) -> dict[str, Path]:
+    """[case].id of every readable case file under root (files that do not parse are skipped here;
+    loading them reports their error)."""
+    index = {}
+    for path in _toml_files(root):
+        try:
+            case_id = tomllib.loads(path.read_text(encoding="utf-8"))["case"]["id"]
+        except (OSError, tomllib.TOMLDecodeError, KeyError, TypeError):
+            continue
+        index.setdefault(str(case_id), path)
+    return index
+
+
+def case_by_id(case_id: str, root: Path = CASES_DIR) -> LoadedCase:
+    """The case whose [case].id is ``case_id``; ``CaseError`` with the nearest ids otherwise."""
+    index = _id_index(root)
+    if case_id in index:
+        return load_case(index[case_id])
+    raise CaseError(case_id, "case.id", "no case file has this id" + nearest(case_id, index))

@@ -1,0 +1,51 @@
+"""``prbm-validate``: list, run, solve, report, bench, stress, audit, sweep and synthesize.
+
+Exit status (every verb, defined in validation/run/exit_status.py): 0 everything asked for ran and every
+comparison is inside its tolerance; 1 a comparison outside its tolerance, or a method that failed,
+refused or did not converge on a case that asked for it; 2 bad input (a case, spec or option that
+cannot be used, an unknown name, a missing optional dependency), found before any solve.
+"""
+from __future__ import annotations
+
+import importlib
+import sys
+
+from validation.cli.arguments import build_parser
+from validation.run.exit_status import ExitStatus, print_error
+
+# optional dependency -> the extra that installs it
+EXTRAS = {"distributed": "dask", "dask": "dask", "openseespy": "peer", "pytest": "test"}
+# verb -> the module that runs it (``run(args) -> int``), loaded only when the verb is asked for
+COMMANDS = {"list": "validation.cli.list_cases", "run": "validation.cli.run", "solve": "validation.cli.solve",
+            "report": "validation.cli.report", "bench": "validation.cli.bench", "stress": "validation.cli.stress",
+            "audit": "validation.cli.audit", "sweep": "validation.cli.sweep",
+            "synthesize": "validation.cli.synthesize"}
+
+__all__ = ["COMMANDS", "build_parser", "main"]
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # argparse: 0 for --help, 2 for a bad command line
+        return int(exc.code or 0)
+    try:
+        return int(importlib.import_module(COMMANDS[args.command]).run(args))
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return ExitStatus.INTERRUPTED
+    except ModuleNotFoundError as exc:
+        top = (exc.name or "").split(".")[0]
+        if top not in EXTRAS:
+            raise
+        print(f"error: '{args.command}' needs {top}, an optional dependency: "
+              f"pip install 'prbm-validate[{EXTRAS[top]}]'", file=sys.stderr)
+        return ExitStatus.BAD_INPUT
+    except OSError as exc:  # an output folder that cannot be written, a file that cannot be read
+        print_error(exc)
+        return ExitStatus.BAD_INPUT
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,511 @@
+"""Build the report an engineer reads: a summary page, a page per case, findings, reproducibility.
+
+``prbm-validate report`` runs (or reuses the cached results of) every case and writes, under the
+output folder: ``index.html`` and ``index.md`` (a headline, the picture of the whole validation from
+``report_overview``, the per-chapter summary and the findings with their evidence from
+``report_summary``, machine and versions), ``cases/<id>.html`` and ``.md`` (the one-sentence result,
+plots, findings, then every output at every level for every method beside the printed values, folded),
+``results.csv`` (and ``results.parquet``), ``summary.csv``, and the ParaView series of every method
+under ``vtu/<id>/`` (``paraview``), rendered off-screen for the case page.
+"""
+from __future__ import annotations
+
+import datetime as _dt
+import hashlib
+import html
+import math
+import platform
+import subprocess
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
+from importlib import metadata
+from pathlib import Path
+
+import matplotlib
+import numpy as np
+import pandas as pd
+
+from validation.report import paraview
+from validation.run.exit_status import print_error
+from validation.report.paraview import normalise_shapes  # noqa: F401  (also used by tests)
+from validation.case.loader import find_case_files
+from validation.case.readings import readings_groups
+from validation.report.format import run_badge, sig
+from validation.report.overview import CLAIMS, overview_points, plot_overview
+from validation.report.summary import (METHOD_NAMES, case_sentence, findings, findings_html, summarise,
+                                       summary_markdown, summary_tables_html)
+from validation.run.runner import CaseResult
+from validation.run.outcome import run_cases, summary
+
+matplotlib.use("Agg")  # files only, no display
+import matplotlib.pyplot as plt  # noqa: E402
+
+DEPENDENCIES = ["numpy", "scipy", "scikit-fem", "meshio", "pyvista", "pandas", "matplotlib", "pydantic",
+                "tqdm", "openseespy", "pyarrow"]
+METHOD_STYLE = {"fem": ("C0", "-"), "prbm": ("C1", "--"), "elastica": ("C2", ":"), "bcm": ("C4", "-.")}
+REF_MARKER = {"PRBM": "s", "ANSYS": "^", "elliptic": "D", "measured": "o", "exact": "*", "BCM": "v",
+              "chain": "P", "published": "X"}
+
+CSS = """body{font-family:system-ui,sans-serif;margin:1.5em 2em;max-width:1400px;color:#222}
+table{border-collapse:collapse;margin:0.6em 0;font-size:13px}th,td{border:1px solid #ccc;padding:3px 6px;
+text-align:right;vertical-align:top}th{background:#eee;cursor:pointer;user-select:none}
+th.asc::after{content:" \\25B2"}th.desc::after{content:" \\25BC"}
+td:first-child,th:first-child{text-align:left}td.sentence{text-align:left;max-width:34em}
+td.absent{color:#777;font-size:12px;text-align:left;max-width:14em}
+.bad{background:#fdd}.good{background:#dfd}.finding{background:#ffd}img{max-width:100%;border:1px solid #ddd}
+.badge{color:#fff;border-radius:3px;padding:1px 6px;font-size:12px;white-space:nowrap}
+.method{border:2px solid;border-radius:3px;padding:0 4px;margin:1px;font-size:12px;white-space:nowrap;
+display:inline-block}.lead{font-size:1.15em;margin:0.4em 0 0.8em}ul.evidence{font-size:12px;color:#444}
+details{margin:0.6em 0}summary{cursor:pointer;font-weight:600}.caption{font-size:12px;color:#444;max-width:60em}
+code{background:#f4f4f4;padding:1px 3px}"""
+SORT_JS = """document.querySelectorAll('table.sortable th').forEach(th=>th.addEventListener('click',()=>{
+const i=th.cellIndex,body=th.closest('table').tBodies[0],asc=!th.classList.contains('asc');
+th.closest('tr').querySelectorAll('th').forEach(h=>h.classList.remove('asc','desc'));
+th.classList.add(asc?'asc':'desc');
+const key=r=>{const c=r.children[i],v=c.dataset.value!==undefined?c.dataset.value:c.innerText;
+const n=parseFloat(v);return v!==''&&!isNaN(n)?n:v.toLowerCase()};
+[...body.rows].sort((x,y)=>{const a=key(x),b=key(y);if(a===b)return 0;
+if(a===''||b==='')return a===''?1:-1;
+return (typeof a==typeof b?(a<b?-1:1):(typeof a=='number'?-1:1))*(asc?1:-1)})
+.forEach(r=>body.appendChild(r))}));"""
+
+
+def _fmt(value, digits: int = 6) -> str:
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return ""
+    if isinstance(value, (bool, np.bool_)):
+        return "yes" if value else "no"
+    if isinstance(value, (float, np.floating)):
+        return f"{value:.{digits}g}"
+    return str(value)
+
+
+def _html_table(frame: pd.DataFrame, row_class=None, digits: int = 4) -> str:
+    head = "".join(f"<th>{html.escape(str(c))}</th>" for c in frame.columns)
+    body = []
+    for _, row in frame.iterrows():
+        cls = row_class(row) if row_class else ""
+        cells = "".join(f"<td>{html.escape(_fmt(v, digits))}</td>" for v in row.values)
+        body.append(f"<tr class='{cls}'>{cells}</tr>")
+    return f"<table class='sortable'><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
+
+
+def _md_table(frame: pd.DataFrame) -> str:
+    if frame.empty:
+        return "_none_\n"
+    lines = ["| " + " | ".join(map(str, frame.columns)) + " |", "|" + "---|" * len(frame.columns)]
+    for _, row in frame.iterrows():
+        lines.append("| " + " | ".join(_fmt(v).replace("|", "/") for v in row.values) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def _page(title: str, body: str) -> str:
+    return (f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
+            f"<style>{CSS}</style></head><body>{body}<script>{SORT_JS}</script></body></html>")
+
+
+def reproducibility() -> dict[str, str]:
+    info = {"date": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+            "python": sys.version.split()[0], "platform": platform.platform()}
+    cpu = platform.processor()
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    info["processor"] = cpu or "unknown"
+    try:
+        info["git commit"] = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
+                                            text=True, check=True, cwd=Path(__file__).parent).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        info["git commit"] = "unknown"
+    for name in DEPENDENCIES:
+        try:
+            info[name] = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            info[name] = "not installed"
+    info["command"] = "prbm-validate report"
+    return info
+
+
+def _level_axis(result: CaseResult) -> tuple[np.ndarray, str]:
+    case = result.loaded.case
+    if case.loads:
+        load = case.loads[0]
+        dim = {"force": "force", "moment": "moment", "displacement": "length", "rotation": "deg"}.get(load.kind)
+        unit = case.unit(dim) if dim else {"distributed": f"{case.unit('force')}/{case.unit('length')}",
+                                           "self_weight": "x weight"}[load.kind]
+        name = load.label or f"{load.kind} at {load.point}"
+        return np.asarray(load.levels(), float), f"{name} [{unit}]"
+    return np.arange(case.n_levels(), dtype=float), "load level"
+
+
+def _plot_outputs(result: CaseResult, table: pd.DataFrame, folder: Path) -> list[str]:
+    """One figure per case: a panel per output (value against load level), every method as a line,
+    every printed column as markers."""
+    axis, label = _level_axis(result)
+    outputs = list(table.dropna(subset=["quantity"]).groupby(["quantity", "point"], sort=False))
+    if not outputs:
+        return []
+    ncols = min(3, len(outputs))
+    nrows = -(-len(outputs) // ncols)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(4.6 * ncols, 3.4 * nrows), squeeze=False)
+    fig.subplots_adjust(left=0.09, right=0.98, bottom=0.1 / nrows ** 0.5, top=0.97, wspace=0.32,
+                        hspace=0.45)
+    for ax, ((quantity, point), part) in zip(axes.flat, outputs):
+        for method, rows in part.drop_duplicates(["method", "level"]).groupby("method"):
+            rows = rows.sort_values("level")
+            color, style = METHOD_STYLE.get(method, ("k", "-"))
+            ax.plot(axis[rows["level"].astype(int)], rows["value"], style, color=color, marker=".",
+                    label=method)
+        refs = part.dropna(subset=["reference_value"]).drop_duplicates(["reference_label", "level",
+                                                                          "reference_value"])
+        for ref_label, rows in refs.groupby("reference_label"):
+            ax.plot(axis[rows["level"].astype(int)], rows["reference_value"], REF_MARKER.get(ref_label, "x"),
+                    mfc="none", color="k", label=f"printed {ref_label}")
+        ax.set_xlabel(label, fontsize=8)
+        ax.set_ylabel(f"{quantity}{'@' + point if point else ''} [{part['unit'].iloc[0]}]", fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    for ax in list(axes.flat)[len(outputs):]:
+        ax.set_visible(False)
+    name = f"{result.loaded.id}_outputs.png"
+    fig.savefig(folder / name, dpi=80)
+    plt.close(fig)
+    return [name]
+
+
+def _plot_shapes(result: CaseResult, folder: Path) -> str | None:
+    """Deformed shapes: FEM beams as curves, PRB links dashed, measured tip points as markers."""
+    shapes = {m: normalise_shapes(r.extras["shapes"]) for m, r in result.runs.items() if r.extras.get("shapes")}
+    if not shapes:
+        return None
+    fig, ax = plt.subplots(figsize=(6, 5))
+    for method, per_level in shapes.items():
+        color, style = METHOD_STYLE.get(method, ("k", "-"))
+        for i, polylines in enumerate(per_level):
+            for j, line in enumerate(polylines):
+                line = np.asarray(line)
+                if line.size:
+                    ax.plot(line[:, 0], line[:, 1], style, color=color, lw=1,
+                            label=method if i == 0 and j == 0 else None)
+    case = result.loaded.case
+    measured = {}
+    for ref in case.references:
+        if ref.label == "measured" and ref.quantity in ("x", "y"):
+            measured.setdefault((ref.point, ref.level), {})[ref.quantity] = ref.value
+    pts = [(v["x"], v["y"]) for v in measured.values() if "x" in v and "y" in v]
+    if pts:
+        ax.plot(*zip(*pts), "o", mfc="none", color="k", label="measured")
+    ax.set_aspect("equal")
+    ax.grid(alpha=0.3)
+    ax.set_xlabel(f"x [{case.unit('length')}]")
+    ax.set_ylabel(f"y [{case.unit('length')}]")
+    ax.legend(fontsize=8)
+    name = f"{result.loaded.id}_shapes.png"
+    fig.savefig(folder / name, dpi=80, bbox_inches="tight")
+    plt.close(fig)
+    return name
+
+
+def _plot_path(result: CaseResult, folder: Path) -> str | None:
+    """Equilibrium path of a continuation run, limit points marked."""
+    run = result.runs.get("fem")
+    path = run.extras.get("path") if run else None
+    if not path:
+        return None
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(path["displacement"], path["load"], "-", color="C0", label="FEM path")
+    for k, (d, p) in enumerate(path.get("limit_points", [])):
+        ax.plot([d], [p], "rv", label="limit point" if k == 0 else None)
+    ax.set_xlabel(path.get("displacement_label", "control displacement"))
+    ax.set_ylabel(path.get("load_label", "load"))
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    name = f"{result.loaded.id}_path.png"
+    fig.savefig(folder / name, dpi=80, bbox_inches="tight")
+    plt.close(fig)
+    return name
+
+
+def glance(table: pd.DataFrame) -> pd.DataFrame:
+    """Every output at every level in one row: each method's value, each printed column, and the
+    differences an engineer asks about first (PRBM - FEM, each model - measured, FEM - exact)."""
+    rows = table.dropna(subset=["quantity"])
+    if rows.empty:
+        return pd.DataFrame()
+    key = ["quantity", "point", "level"]
+    values = rows.drop_duplicates(key + ["method"]).pivot_table(index=key, columns="method", values="value",
+                                                                  aggfunc="first")
+    refs = rows.dropna(subset=["reference_label"]).drop_duplicates(key + ["reference_label"])
+    printed = refs.pivot_table(index=key, columns="reference_label", values="reference_value", aggfunc="first")
+    printed.columns = [f"printed {c}" for c in printed.columns]
+    out = values.join(printed, how="left")
+    fem_est = rows[rows["method"] == "fem"].drop_duplicates(key).set_index(key)["error_estimate"]
+    if len(fem_est):
+        out["fem ± (estimate)"] = fem_est
+    if {"prbm", "fem"} <= set(out.columns):
+        out["PRBM - FEM"] = out["prbm"] - out["fem"]
+    for method in ("prbm", "fem"):
+        if method in out.columns and "printed measured" in out.columns:
+            out[f"{method.upper()} - measured"] = out[method] - out["printed measured"]
+    if {"fem", "elastica"} <= set(out.columns):
+        out["FEM - exact"] = out["fem"] - out["elastica"]
+    labels = rows.drop_duplicates(key).set_index(key)["level_label"]
+    out = out.reset_index()
+    out.insert(3, "load", [labels.get((q, p, l), l) for q, p, l in zip(out["quantity"], out["point"], out["level"])])
+    units = rows.drop_duplicates(["quantity"]).set_index("quantity")["unit"]
+    out.insert(1, "unit", out["quantity"].map(units))
+    return out.drop(columns=["level"])
+
+
+def _case_files(result: CaseResult, out: Path) -> tuple[list[str], str | None]:
+    """The ParaView series of the case under ``vtu/<id>/`` and their off-screen rendering (or None)."""
+    cid = result.loaded.id
+    pvds = paraview.write_case_series(result.loaded.case, result.runs, out / "vtu" / cid)
+    render = paraview.render_series(pvds, out / "cases" / f"{cid}_render.png",
+                                    f"{cid}: last level") if pvds else None
+    return [str(p.relative_to(out)) for p in pvds], render.name if render else None
+
+
+def _prb_model(result: CaseResult) -> tuple[pd.DataFrame | None, str | None]:
+    """The PRBM adapter's record of the model it built for each beam (mechanisms without hand-given
+    links): beam, model, how its ends are held, pivots, springs, gamma, K_Theta and why."""
+    run = result.runs.get("prbm")
+    if run is None or not run.extras.get("prb_model"):
+        return None, None
+    rows = [{"beam": b["beam"], "model": b["model"], "ends": "-".join(b["ends"]),
+             "pivots": "; ".join(f"({x:.4g}, {y:.4g})" for x, y in b["pivots"]),
+             "springs": "; ".join(f"{k:.4g}" for k in b["springs"]), "gamma": b["gamma"], "K_theta": b["K_theta"],
+             "why": b["reason"]} for b in run.extras["prb_model"]]
+    return pd.DataFrame(rows), run.extras.get("lock")
+
+
+def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str, str]:
+    case = result.loaded.case
+    cid = case.case.id
+    folder = out / "cases"
+    images = _plot_outputs(result, table, folder)
+    for extra in (_plot_path(result, folder), _plot_shapes(result, folder)):
+        if extra:
+            images.insert(0, extra)
+    pvds, render = _case_files(result, out)
+    if render:
+        images.append(render)
+    cols = {"method": "method", "quantity": "quantity", "point": "point", "level_label": "load level",
+            "value": "value", "unit": "unit", "error_estimate": "FEM error estimate",
+            "reference_label": "printed column", "reference_value": "printed value",
+            "abs_error": "absolute error", "rel_error": "relative error",
+            "norm_error": "error / characteristic length", "within_tolerance": "within stated tolerance",
+            "converged": "converged"}
+    shown = table.dropna(subset=["quantity"])[list(cols)].rename(columns=cols)
+    badges = [(m, *run_badge(r), r) for m, r in result.runs.items()]
+    runs = pd.DataFrame([{"method": METHOD_NAMES.get(m, m), "status": b.value, "time [s]": r.wall_time,
+                          "message": r.message[:300]} for m, b, _, r in badges])
+    source = case.case.source.label() if case.case.source else ""
+    items = findings([result], table)
+    sentence = case_sentence(result, table)
+    status = " ".join(f"{METHOD_NAMES.get(m, m)} {b.html(w)}" for m, b, w, _ in badges)
+    body = (f"<p><a href='../index.html'>all cases</a></p><h1>{html.escape(case.case.title)}</h1>"
+            f"<p class='lead'><b>{html.escape(sentence)}</b></p><p>{status}</p>"
+            f"<p><b>id</b> <code>{cid}</code> &middot; <b>group</b> {html.escape(case.case.group)} &middot; "
+            f"<b>units</b> {case.case.units} &middot; <b>source</b> {html.escape(source)}</p>")
+    body += "".join(f"<p><img src='{name}' alt='{name}'></p>" for name in images[:2])
+    if items:
+        body += "<h2>Findings</h2>" + findings_html(items, {cid: f"{cid}.html"}, shown=6)
+    body += "".join(f"<p><img src='{name}' alt='{name}'></p>" for name in images[2:])
+    details = f"<p>{html.escape(case.case.description)}</p>"
+    if case.case.assumptions:
+        details += "<h3>Assumptions</h3><ul>" + "".join(f"<li>{html.escape(a)}</li>"
+                                                        for a in case.case.assumptions) + "</ul>"
+    body += f"<details><summary>Description and assumptions</summary>{details}</details>"
+    body += f"<details><summary>Methods: status, time, message</summary>{_html_table(runs)}</details>"
+    at_a_glance = glance(table)
+    prb_model, prb_lock = _prb_model(result)
+    if prb_model is not None:
+        body += ("<h2>PRB model built from the geometry</h2>"
+                 + (f"<p><b>Lock:</b> {html.escape(prb_lock)}</p>" if prb_lock else "")
+                 + f"<details><summary>Each beam's model, pivots and springs</summary>{_html_table(prb_model)}"
+                 "</details>")
+    if len(at_a_glance):
+        body += ("<details><summary>At a glance: every method beside the printed columns</summary><p>Differences "
+                 "are in the output's unit (FEM - exact uses the exact elastica where the case runs it; "
+                 "'fem ± (estimate)' is the FEM's own Richardson error estimate).</p>"
+                 + _html_table(at_a_glance) + "</details>")
+    body += ("<details><summary>Every output (full precision)</summary><p>The relative error is relative to "
+             "the printed value; error / characteristic length is the absolute error over the segment length "
+             "or the mechanism's extent (useful where a value is near zero).</p>")
+    body += _html_table(shown, lambda r: "" if pd.isna(r["within stated tolerance"])
+                        else ("good" if r["within stated tolerance"] else "bad"), digits=6) + "</details>"
+    if pvds:
+        body += ("<details><summary>ParaView files</summary><p>One <code>.pvd</code> series per method, "
+                 "time = the case's first load; open it in ParaView and colour by the point data.</p><ul>"
+                 + "".join(f"<li><a href='../{v}'>{v}</a></li>" for v in pvds) + "</ul></details>")
+    (folder / f"{cid}.html").write_text(_page(case.case.title, body))
+    md = [f"# {case.case.title}\n", f"**{sentence}**\n",
+          f"`{cid}` · {case.case.group} · units {case.case.units} · {source}\n", case.case.description + "\n"]
+    md += [f"- {a}" for a in case.case.assumptions]
+    md += ["\n## Methods\n", _md_table(runs)]
+    if prb_model is not None:
+        md += ["\n## PRB model built from the geometry\n"] + ([f"Lock: {prb_lock}\n"] if prb_lock else []) \
+            + [_md_table(prb_model)]
+    if len(at_a_glance):
+        md += ["\n## At a glance\n", _md_table(at_a_glance)]
+    md += ["\n## Every output\n", _md_table(shown)]
+    md += [f"\n![{name}]({name})" for name in images]
+    (folder / f"{cid}.md").write_text("\n".join(md) + "\n")
+    return cid, f"cases/{cid}.html"
+
+
+def _code_digest() -> str:
+    """The source of the modules that draw a case page: a page is rewritten when they change."""
+    here = Path(__file__).parent
+    names = ["build.py", "format.py", "summary.py", "paraview.py"]
+    return hashlib.sha256(b"".join((here / n).read_bytes() for n in names)).hexdigest()
+
+
+def _page_job(args) -> tuple[str, str]:
+    """Write one case page unless its digest (case text and results) is unchanged since last time."""
+    result, part, out = args
+    cid = result.loaded.id
+    stable = part.drop(columns=["wall_time", "cached"])  # what a page shows, less the timings
+    digest = hashlib.sha256((result.loaded.text + stable.to_csv(index=False) + _code_digest()).encode()).hexdigest()
+    stamp = out / "cases" / f"{cid}.digest"
+    if stamp.exists() and stamp.read_text() == digest and (out / "cases" / f"{cid}.html").exists():
+        return cid, f"cases/{cid}.html"
+    page = _case_page(result, part, out)
+    stamp.write_text(digest)
+    return page
+
+
+def _build_pages(results: list[CaseResult], table: pd.DataFrame, out: Path, jobs: int):
+    tasks = [(r, table[table["case"] == r.loaded.id], out) for r in results]
+    if jobs > 1 and len(tasks) > 1:
+        with ProcessPoolExecutor(max_workers=jobs) as pool:
+            return list(pool.map(_page_job, tasks, chunksize=4))
+    return [_page_job(t) for t in tasks]
+
+
+def _readings_section(results, table: pd.DataFrame, links: dict) -> tuple[list[str], list[str]]:
+    """Readings of one experiment side by side against the measured points (`readings`)."""
+    groups = readings_groups(results, table)
+    if not groups:
+        return [], []
+    body = ["<h2>Load readings against the measurements</h2>"]
+    md = ["\n## Load readings against the measurements\n"]
+    for group in groups:
+        best = group.table.groupby("method", sort=False).head(1)        # sorted by rms: each method's closest
+        note = "closest: " + "; ".join(f"{r['method']}: {r['case']}, rms {r['rms']:.4g}, largest {r['max']:.4g} "
+                                       f"over {r['levels']} levels" for _, r in best.iterrows())
+        body += [f"<h3>{html.escape(group.experiment)}</h3><p>{html.escape(note)}</p>",
+                 _html_table(group.table, lambda r: "good" if r["closest"] else "")]
+        md += [f"\n### {group.experiment}\n", note + "\n", _md_table(group.table)]
+    return body, md
+
+
+OVERVIEW_CAPTION = (
+    "Each dot is one load level of one case where both the PRBM and the FEM give a position: x is the "
+    "largest FEM displacement over the characteristic length L, y the largest PRBM-to-FEM position "
+    "difference in % of L; colour = the PRBM segment model. Lines: the seeds' printed accuracy claims ("
+    + "; ".join(c.label for c in CLAIMS) + "). Seed 004 (the lecture) prints no numeric accuracy, only that "
+    "its n-fits work 'comfortably and quite accurately' within their n-ranges.")
+
+
+def headline(rows) -> str:
+    """The first sentence of the summary: how far the PRBM is from the FEM, over how many cases."""
+    compared = [r for r in rows if not math.isnan(r.prbm_fem_length)]
+    counts = {}
+    for r in rows:
+        counts[r.badge.value] = counts.get(r.badge.value, 0) + 1
+    words = {"agrees": "agree", "finding": "with findings", "refused": "with a method refused", "failed": "failed"}
+    states = ", ".join(f"{n} {words[state]}" for state, n in counts.items())
+    if not compared:
+        return f"{len(rows)} cases ({states}); none compares the PRBM with the FEM on a position."
+    worst = max(compared, key=lambda r: r.prbm_fem_length)
+    within = sum(r.prbm_fem_length <= 0.01 for r in compared)
+    return (f"{len(rows)} cases ({states}). The PRBM is within 1 % of L of the FEM on {within} of the "
+            f"{len(compared)} cases that compare positions; the largest difference is "
+            f"{sig(100 * worst.prbm_fem_length, 3)} % of L ({worst.case}).")
+
+
+def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[str] | None = None) -> int:
+    started = time.perf_counter()
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "cases").mkdir(exist_ok=True)
+    paths = find_case_files(cases or None)
+    outcome = run_cases(paths, use_cache=use_cache, jobs=jobs, progress=True)
+    table = outcome.table
+    table.to_csv(out / "results.csv", index=False)
+    try:
+        table.astype({"finding": "string", "message": "string", "source": "string"}).to_parquet(
+            out / "results.parquet")
+    except ImportError:
+        pass
+    summ = summary(table) if len(table) else pd.DataFrame()
+    links = dict(_build_pages(outcome.results, table, out, jobs))
+    summ.to_csv(out / "summary.csv", index=False)
+    rows = [summarise(r, table[table["case"] == r.loaded.id]) for r in outcome.results]
+    plot_overview(overview_points(outcome.results, table), out / "overview.png")
+    items = findings(outcome.results, table)
+    failed = outcome.failed_comparisons
+    info = reproducibility()
+    body_readings, md_readings = _readings_section(outcome.results, table, links)
+    body = ["<h1>PRBM validation report</h1>", f"<p class='lead'>{html.escape(headline(rows))}</p>",
+            "<p><img id='overview' src='overview.png' alt='PRBM error against deflection, every case and load "
+            "level'></p>", f"<p class='caption'>{html.escape(OVERVIEW_CAPTION)} <a href='overview.svg'>The same "
+            "picture as SVG</a>: click a dot to open its case.</p>",
+            "<h2>Cases</h2><p class='caption'>Click a header to sort. Colour: PRBM error from green (at most "
+            "0.5 % of L) to red (10 % of L or more). Hover a status or a method for the reason.</p>",
+            summary_tables_html(rows, links), *body_readings,
+            "<h2>Findings and their evidence</h2><p class='caption'>Printed numbers not reproduced, misprints, "
+            "and readings of the source that decide the answer.</p>", findings_html(items, links)]
+    md = ["# PRBM validation report\n", headline(rows) + "\n", "![overview](overview.png)\n",
+          OVERVIEW_CAPTION + "\n", summary_markdown(rows), *md_readings, "\n## Findings\n"]
+    md += [f"- {f.case}: {f.text}" + "".join(f"\n  - {e}" for e in f.evidence[:3]) for f in items]
+    if len(failed):
+        body.append("<h2>Comparisons outside their stated tolerance</h2><ul>" + "".join(
+            f"<li class='bad'><a href='{links.get(r['case'], '#')}'>{r['case']}</a> "
+            f"{METHOD_NAMES.get(r['method'], r['method'])} {r['quantity']} at {r['level_label']}: "
+            f"{sig(r['value'])} against printed {r['reference_label']} {sig(r['reference_value'])}</li>"
+            for _, r in failed.iterrows()) + "</ul>")
+        md += [f"- **outside tolerance** {r['case']} {r['method']} {r['quantity']} at {r['level_label']}"
+               for _, r in failed.iterrows()]
+    if outcome.errors:
+        body.append("<h2>Bad case files</h2><ul>" + "".join(f"<li>{html.escape(e)}</li>"
+                                                              for e in outcome.errors) + "</ul>")
+    body.append("<h2>Reproducibility</h2>" + _html_table(pd.DataFrame(list(info.items()),
+                                                                       columns=["item", "value"])))
+    body.append("<p>Files: <a href='results.csv'>results.csv</a>, <a href='summary.csv'>summary.csv</a></p>")
+    extra = [(f"{name}/{page}", label) for name, page, label in
+             (("stress", "index.html", "stress report (prbm-validate stress)"),
+              ("bench", "headline.json", "benchmark headline (prbm-validate bench)"),
+              ("bench", "bench.csv", "benchmark table"))
+             if (out / name / page).exists()]
+    if extra:
+        body.append("<h2>Other pages</h2><ul>" + "".join(f"<li><a href='{link}'>{label}</a></li>"
+                                                         for link, label in extra) + "</ul>")
+    studies = sorted(p for p in (out / "sweeps").glob("*") if p.is_dir() and list(p.glob("*.png")))
+    if studies:
+        body.append("<h2>Sweep studies (prbm-validate sweep)</h2>")
+        for study in studies:
+            pictures = "".join(f"<p><img src='sweeps/{study.name}/{png.name}' alt='{png.name}'></p>"
+                               for png in sorted(study.glob("*.png")))
+            body.append(f"<h3>{html.escape(study.name)}</h3>{pictures}")
+    bench_plots = sorted((out / "bench").glob("*.png"))
+    if bench_plots:
+        body.append("<h2>Benchmark (prbm-validate bench)</h2>" + "".join(
+            f"<p><img src='bench/{png.name}' alt='{png.name}'></p>" for png in bench_plots))
+    md += ["\n## Reproducibility\n", _md_table(pd.DataFrame(list(info.items()), columns=["item", "value"]))]
+    (out / "index.html").write_text(_page("PRBM validation report", "".join(body)))
+    (out / "index.md").write_text("\n".join(md) + "\n")
+    for error in outcome.errors:
+        print_error(error)
+    for line in outcome.unexpected_problems:  # what makes the exit status 1, in words
+        print(f"not ok: {line}")
+    print(f"report: {out / 'index.html'} ({len(outcome.results)} cases, "
+          f"{time.perf_counter() - started:.1f} s)")
+    return outcome.exit_status

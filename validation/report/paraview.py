@@ -1,0 +1,256 @@
+"""ParaView files of a case: one ``.pvd`` series per method with the load level as time.
+
+For each method that gave deformed shapes, ``write_case_series`` writes under ``vtu/<case>/``:
+
+- ``fem.pvd`` + ``fem_<k>.vtu``: the deformed FEM mesh (line cells) with the point data of
+  ``fem.result.NodalFields`` (displacement, rotation in degrees, curvature, bending moment, axial force
+  and, where the section knows E and its extreme-fibre distance, the largest bending stress), and
+  ``fem_undeformed.vtu``, the reference mesh;
+- ``prbm.pvd``: the pseudo-rigid-body links (line cells) and their pivots and link ends (vertex
+  cells), point data ``pivot`` (1 at a pivot or link end);
+- ``elastica.pvd``: the exact centreline; a segment's with its rotation (degrees), curvature
+  d(theta)/ds, bending moment EI (kappa - kappa0) and displacement from the undeformed (straight or
+  circular) segment; a mechanism's beams with the tangent angle and curvature of each centreline;
+- ``all_methods.pvd``: the same files, one part per method, where more than one method drew a shape.
+
+Time is the case's first load at each level (its unit in the case's unit system), or the level index
+when the case has no load; a FEM continuation (limit load) is timed by its load factor.  Units are the
+case file's; rotations in degrees as everywhere in the harness.  ``render_series`` draws the last level
+of every series off-screen with pyvista.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import meshio
+import numpy as np
+
+from validation.case.schema import Case
+
+
+@dataclass
+class ShapeFrame:
+    """One level of one method: points (n, 2), line cells (m, 2), vertex cells (k,), point arrays."""
+    points: np.ndarray
+    lines: np.ndarray
+    vertices: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
+    point_data: dict[str, np.ndarray] = field(default_factory=dict)
+
+
+@dataclass
+class ShapeSeries:
+    """A method's frames, one per load level, with the level's time value."""
+    method: str
+    times: list[float]
+    frames: list[ShapeFrame]
+    undeformed: ShapeFrame | None = None
+
+
+def _mesh(frame: ShapeFrame) -> meshio.Mesh:
+    cells = [("line", np.asarray(frame.lines, int).reshape(-1, 2))]
+    if len(frame.vertices):
+        cells.append(("vertex", np.asarray(frame.vertices, int).reshape(-1, 1)))
+    xyz = np.column_stack([frame.points, np.zeros(len(frame.points))])
+    return meshio.Mesh(xyz, cells, point_data={k: np.asarray(v, float) for k, v in frame.point_data.items()})
+
+
+def write_pvd(series: ShapeSeries, folder: Path) -> Path:
+    """``<method>.pvd`` with ``<method>_<k>.vtu`` per level (and ``<method>_undeformed.vtu``)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    for k, frame in enumerate(series.frames):
+        meshio.write(folder / f"{series.method}_{k:04d}.vtu", _mesh(frame))
+    if series.undeformed is not None:
+        meshio.write(folder / f"{series.method}_undeformed.vtu", _mesh(series.undeformed))
+    return _collection(folder / f"{series.method}.pvd", [series])
+
+
+def _collection(target: Path, parts: list[ShapeSeries]) -> Path:
+    """A ParaView collection: each series is one part, each of its frames one time step."""
+    entries = [f'    <DataSet timestep="{time:.12g}" part="{part}" file="{series.method}_{k:04d}.vtu"/>'
+               for part, series in enumerate(parts) for k, time in enumerate(series.times)]
+    target.write_text('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
+                      "  <Collection>\n" + "\n".join(entries) + "\n  </Collection>\n</VTKFile>\n")
+    return target
+
+
+def level_times(case: Case) -> list[float]:
+    """The time value of each level: the first load's value, or the level index."""
+    if case.loads:
+        return [float(v) for v in case.loads[0].levels()]
+    return [float(k) for k in range(case.n_levels())]
+
+
+def _times(case: Case, levels: list[int]) -> list[float]:
+    """The time values of the given levels (the level index where the case's levels do not reach)."""
+    times = level_times(case)
+    return [times[k] if k < len(times) else float(k) for k in levels]
+
+
+def _levels(shapes) -> list[int]:
+    """The load levels of an adapter's shapes: a dict's keys, or every level of a list."""
+    return sorted(shapes) if isinstance(shapes, dict) else list(range(len(shapes)))
+
+
+def fem_series(case: Case, fields) -> ShapeSeries | None:
+    """From the FEM adapter's ``extras['fields']`` (a ``fem.result.FieldSeries``)."""
+    if fields is None or not len(fields.nodal):
+        return None
+    frames = []
+    for positions, nodal in zip(fields.positions, fields.nodal):
+        data = nodal.point_data()
+        data["rotation"] = np.degrees(data["rotation"])
+        frames.append(ShapeFrame(positions, fields.connectivity, point_data=data))
+    undeformed = ShapeFrame(fields.reference, fields.connectivity)
+    if len(frames) == case.n_levels():
+        times = _times(case, list(range(len(frames))))
+    else:  # a continuation (limit load): its own steps, timed by the load factor
+        times = [float(t) for t in fields.load_factor]
+    return ShapeSeries("fem", times, frames, undeformed)
+
+
+def normalise_shapes(shapes) -> list[list[np.ndarray]]:
+    """Shapes as a list (per level) of lists of (n, 2) polylines.
+
+    Adapters may give a dict {level: ...} or a list per level, and per level one array or a list of
+    arrays, each (n, 2)/(n, >2) point rows or (2|3, n) coordinate rows (x, y[, theta])."""
+    if isinstance(shapes, dict):
+        shapes = [shapes[k] for k in sorted(shapes)]
+    out = []
+    for entry in shapes:
+        lines = [entry] if isinstance(entry, np.ndarray) else list(entry)
+        fixed = []
+        for line in lines:
+            line = np.asarray(line, float)
+            if line.ndim != 2:
+                continue
+            if line.shape[0] in (2, 3) and line.shape[1] > 3:
+                line = line[:2].T
+            fixed.append(line[:, :2])
+        out.append(fixed)
+    return out
+
+
+def prbm_series(case: Case, shapes) -> ShapeSeries | None:
+    """The PRB links of every level as line cells, every link end and pivot as a vertex."""
+    if not shapes:
+        return None
+    frames = []
+    for polylines in normalise_shapes(shapes):
+        points, lines = [], []
+        for line in (line for line in polylines if len(line) >= 2):
+            start = len(points)
+            points.extend(line.tolist())
+            lines.extend([start + j, start + j + 1] for j in range(len(line) - 1))
+        if not lines:
+            return None  # a level without links: no series rather than an empty frame
+        points = np.asarray(points)
+        frames.append(ShapeFrame(points, np.asarray(lines), np.arange(len(points)),
+                                 {"pivot": np.ones(len(points))}))
+    return ShapeSeries("prbm", _times(case, _levels(shapes)), frames)
+
+
+def _lines_frame(polylines: list[np.ndarray]) -> ShapeFrame | None:
+    """Polylines as one frame of line cells, with each point's tangent angle (degrees) and the
+    curvature d(angle)/ds along its polyline."""
+    points, lines, angle, curvature = [], [], [], []
+    for line in (line for line in polylines if len(line) >= 3):
+        start = len(points)
+        points.extend(line.tolist())
+        lines.extend([start + j, start + j + 1] for j in range(len(line) - 1))
+        s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(line, axis=0).T))])
+        theta = np.unwrap(np.arctan2(np.gradient(line[:, 1], s, edge_order=2),
+                                     np.gradient(line[:, 0], s, edge_order=2)))
+        angle.extend(np.degrees(theta))
+        curvature.extend(np.gradient(theta, s, edge_order=2))
+    if not lines:
+        return None
+    return ShapeFrame(np.asarray(points), np.asarray(lines),
+                      point_data={"rotation": np.asarray(angle), "curvature": np.asarray(curvature)})
+
+
+def elastica_series(case: Case, shapes) -> ShapeSeries | None:
+    """The exact centreline with its point data: a segment's (x, y, theta) rows, or a mechanism's beam
+    centrelines (x, y) with the tangent angle and curvature read off them."""
+    if not shapes:
+        return None
+    if case.segment is None:
+        frames = [_lines_frame(polylines) for polylines in normalise_shapes(shapes)]
+        if not frames or any(f is None for f in frames):
+            return None
+        return ShapeSeries("elastica", _times(case, _levels(shapes)), frames)
+    per_level = [shapes[k] for k in _levels(shapes)]
+    _, EI = case.segment.section.stiffness(case.segment.E)
+    kappa0 = case.segment.initial_curvature()
+    frames = []
+    for shape in per_level:
+        shape = np.asarray(shape, float)
+        if shape.ndim != 2 or shape.shape[0] != 3:
+            return None
+        x, y, theta = shape
+        s = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(x), np.diff(y)))])  # inextensible: arc length
+        if kappa0:
+            reference = np.column_stack([np.sin(kappa0 * s) / kappa0, (1 - np.cos(kappa0 * s)) / kappa0])
+        else:
+            reference = np.column_stack([s, np.zeros_like(s)])
+        curvature = np.gradient(theta, s, edge_order=2)
+        displacement = np.column_stack([x, y]) - reference
+        frames.append(ShapeFrame(np.column_stack([x, y]), np.column_stack([np.arange(len(x) - 1),
+                                                                           np.arange(1, len(x))]),
+                                 point_data={"displacement": np.column_stack([displacement, np.zeros(len(x))]),
+                                             "rotation": np.degrees(theta), "curvature": curvature,
+                                             "bending_moment": EI * (curvature - kappa0)}))
+    return ShapeSeries("elastica", _times(case, _levels(shapes)), frames)
+
+
+def write_case_series(case: Case, runs: dict, folder: Path) -> list[Path]:
+    """Every method's series of one case under ``folder``; returns the ``.pvd`` paths."""
+    builders = {"fem": lambda run: fem_series(case, run.extras.get("fields")),
+                "prbm": lambda run: prbm_series(case, run.extras.get("shapes")),
+                "elastica": lambda run: elastica_series(case, run.extras.get("shapes"))}
+    for stale in [*folder.glob("*.vtu"), *folder.glob("*.pvd")]:  # a level or method that is gone
+        stale.unlink()
+    written, parts = [], []
+    for method, build in builders.items():
+        run = runs.get(method)
+        series = build(run) if run is not None else None
+        if series is not None and series.frames:
+            written.append(write_pvd(series, folder))
+            parts.append(series)
+    if len(parts) > 1:  # every method in one file, one part each, to scrub through the load together
+        _collection(folder / "all_methods.pvd", parts)
+    return written
+
+
+def render_series(pvd_files: list[Path], png: Path, title: str = "") -> Path | None:
+    """The last level of every series (and the FEM's undeformed mesh) in one off-screen picture;
+    None when pyvista (VTK) cannot render here."""
+    try:
+        import pyvista as pv
+    except ImportError:
+        return None
+    pv.vtk_verbosity("error")  # no "bad X server connection" warning on a headless machine
+    colours = {"fem": "steelblue", "prbm": "darkorange", "elastica": "seagreen"}
+    plotter = pv.Plotter(off_screen=True, window_size=(640, 420))
+    plotter.set_background("white")
+    for pvd in pvd_files:
+        method = pvd.stem
+        reader = pv.get_reader(str(pvd))
+        reader.set_active_time_point(len(reader.time_values) - 1)
+        mesh = reader.read()[0]
+        if method == "fem" and "bending_moment" in mesh.point_data:
+            plotter.add_mesh(mesh, scalars="bending_moment", line_width=6, cmap="viridis", label="FEM",
+                             scalar_bar_args={"title": "FEM bending moment", "color": "black"})
+            undeformed = pvd.with_name("fem_undeformed.vtu")
+            if undeformed.exists():
+                plotter.add_mesh(pv.read(str(undeformed)), color="grey", line_width=2, label="undeformed")
+        else:
+            plotter.add_mesh(mesh, color=colours.get(method, "black"), line_width=3, label=method,
+                             point_size=10, render_points_as_spheres=True)
+    if title:
+        plotter.add_text(title, font_size=10, color="black")
+    plotter.view_xy()
+    plotter.add_legend(bcolor="white", face="line")
+    plotter.screenshot(str(png))
+    plotter.close()
+    return png

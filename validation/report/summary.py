@@ -1,0 +1,284 @@
+"""The summary an engineer reads first: per chapter, one row per case with headers in words, numbers
+to at most four significant digits, a colour scale on the PRBM error, a status badge, a one-sentence
+result, and beneath the tables the findings with their evidence.
+
+The numbers come from ``validation.run.runner`` (``prbm_fem_errors``, ``fem_error_relative``) so the
+summary page and ``summary.csv`` say the same thing.
+"""
+from __future__ import annotations
+
+import html
+import math
+import re
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from validation.case.capabilities import QUANTITIES
+from validation.report.format import Badge, error_colour, percent, run_badge, seconds, sig
+from validation.run.runner import CaseResult
+from validation.run.outcome import fem_error_relative, prbm_fem_errors
+
+METHOD_NAMES = {"fem": "FEM", "prbm": "PRBM", "elastica": "exact elastica", "bcm": "BCM", "opensees": "OpenSees"}
+
+
+@dataclass(frozen=True)
+class MethodState:
+    """One method's badge in one case, with the reason when it is not 'agrees'."""
+    method: str
+    badge: Badge
+    reason: str
+
+
+@dataclass
+class CaseSummary:
+    """One summary row."""
+    group: str
+    case: str
+    title: str
+    badge: Badge
+    reason: str
+    methods: list[MethodState]
+    sentence: str
+    prbm_fem_length: float        # fraction of the characteristic length
+    prbm_fem_relative: float
+    fem_estimate: float
+    checks: int
+    checks_passed: int
+    findings: int
+    times: dict[str, float] = field(default_factory=dict)
+    no_prbm_fem: str = ""
+
+
+def level_phrase(result: CaseResult, level: int) -> str:
+    """'force at tip = 10 lbf' for a level, or 'level <label>' when the case has no load."""
+    case = result.loaded.case
+    if case.loads:
+        load = case.loads[0]
+        dim = {"force": "force", "moment": "moment", "displacement": "length", "rotation": "deg"}[load.kind]
+        unit = case.unit(dim)
+        name = load.label or f"{load.kind} at {load.point}"
+        return f"{name} = {sig(load.levels()[level])}{' ' + unit if unit and unit != 'dimensionless' else ''}"
+    labels = case.level_labels or [str(i) for i in range(case.n_levels())]
+    return f"level {labels[level]}"
+
+
+def prbm_fem_by_level(part: pd.DataFrame) -> pd.Series:
+    """Largest |PRBM - FEM| of the length outputs at each level, over the characteristic length."""
+    rows = part[part["quantity"].map(lambda q: isinstance(q, str) and QUANTITIES[q].dimension == "length")]
+    values = rows.drop_duplicates(["method", "quantity", "point", "level"])
+    if values.empty:
+        return pd.Series(dtype=float)
+    pivot = values.pivot_table(index=["quantity", "point", "level"], columns="method", values="value",
+                               aggfunc="first")
+    if not {"prbm", "fem"} <= set(pivot.columns):
+        return pd.Series(dtype=float)
+    diff = (pivot["prbm"] - pivot["fem"]).abs() / float(values["scale"].dropna().iloc[0])
+    return diff.groupby(level="level").max()
+
+
+def case_sentence(result: CaseResult, part: pd.DataFrame) -> str:
+    """The case's answer in one sentence."""
+    by_level = prbm_fem_by_level(part).dropna()
+    clauses = []
+    if len(by_level):
+        last, worst = int(by_level.index.max()), int(by_level.idxmax())
+        clauses.append(f"PRBM within {percent(by_level.max())} of L of the FEM up to {level_phrase(result, last)}"
+                       + (f" (largest at {level_phrase(result, worst)})" if worst != last else ""))
+        prbm_rows = part[(part["method"] == "prbm") & part["level"].notna()]
+        missing = prbm_rows[prbm_rows["value"].isna()]
+        if len(missing):
+            first = int(missing["level"].min())
+            why = str(missing.sort_values("level")["message"].iloc[0] or "")
+            clauses.append(f"no PRBM answer from {level_phrase(result, first)}"
+                           + (f" ({_short(why)})" if why else ""))
+    else:
+        claimed = part[part["within_tolerance"].notna()]
+        if len(claimed):
+            good = int((claimed["within_tolerance"] == True).sum())  # noqa: E712
+            clauses.append(f"{good} of {len(claimed)} enforced checks met (printed numbers, findings, "
+                           f"agreements, FEM against the exact elastica)")
+        reason = getattr(result.loaded.case.case, "no_prbm_fem", None)
+        if reason:
+            clauses.append(f"no PRBM-vs-FEM comparison: {reason}")
+    for method, run in result.runs.items():
+        badge, why = run_badge(run)
+        if badge is not Badge.AGREES:
+            clauses.append(f"{METHOD_NAMES.get(method, method)} {badge.value}: {_short(why)}")
+    findings = part["finding"].dropna().unique()
+    if len(findings) or result.loaded.case.case.findings:
+        clauses.append(f"{len(findings) + len(result.loaded.case.case.findings)} finding(s) below")
+    if not clauses:
+        return "Every method ran; no printed number to compare with."
+    sentence = round_numbers("; ".join(clauses))
+    return sentence[0].upper() + sentence[1:] + "."
+
+
+DECIMAL = re.compile(r"(?<![\w.])-?\d+\.\d+(?:[eE][+-]?\d+)?(?![\w.])")
+
+
+def round_numbers(text: str, digits: int = 4) -> str:
+    """Every decimal number in a message to at most ``digits`` significant digits."""
+    return DECIMAL.sub(lambda m: f"{float(m.group()):.{digits}g}", text)
+
+
+def _short(text: str, limit: int = 140) -> str:
+    """A message for a table cell: one line, numbers to four significant digits, at most ``limit`` long."""
+    text = round_numbers(re.sub(r"\s+", " ", text).strip())
+    return text if len(text) <= limit else text[:limit - 1].rstrip() + "…"
+
+
+def summarise(result: CaseResult, part: pd.DataFrame) -> CaseSummary:
+    case = result.loaded.case
+    methods = [MethodState(m, *run_badge(r)) for m, r in result.runs.items()]
+    claimed = part[part["within_tolerance"].notna()]
+    outside = claimed[(claimed["within_tolerance"] == False) & claimed["finding"].isna()]  # noqa: E712
+    findings = part["finding"].dropna().unique()
+    n_findings = len(findings) + len(case.case.findings)
+    if len(outside) or any(s.badge is Badge.FAILED for s in methods):
+        badge = Badge.FAILED
+        reason = "; ".join(f"{s.method}: {_short(s.reason)}" for s in methods if s.badge is Badge.FAILED) or \
+            f"{len(outside)} comparison(s) outside the stated tolerance"
+    elif n_findings:
+        badge, reason = Badge.FINDING, f"{n_findings} finding(s)"
+    elif any(s.badge is Badge.REFUSED for s in methods):
+        badge = Badge.REFUSED
+        reason = "; ".join(f"{s.method}: {_short(s.reason)}" for s in methods if s.badge is Badge.REFUSED)
+    else:
+        badge, reason = Badge.AGREES, ""
+    if len(part):
+        relative, length = prbm_fem_errors(part)
+        estimate = fem_error_relative(part)
+    else:
+        relative = length = estimate = math.nan
+    return CaseSummary(group=case.case.group, case=case.case.id, title=case.case.title, badge=badge,
+                       reason=reason, methods=methods, sentence=case_sentence(result, part),
+                       prbm_fem_length=length, prbm_fem_relative=relative, fem_estimate=estimate,
+                       checks=len(claimed), checks_passed=int((claimed["within_tolerance"] == True).sum()),  # noqa: E712
+                       findings=n_findings, times={m: r.wall_time for m, r in result.runs.items()},
+                       no_prbm_fem=getattr(case.case, "no_prbm_fem", None) or "")
+
+
+def group_order(group: str) -> tuple:
+    """Chapters in number order, then the other seeds, then the classic benchmarks."""
+    match = re.match(r"chapter\s+(\d+)", group)
+    if match:
+        return (0, int(match.group(1)), group)
+    return (1 if group.startswith("seed") else 2, 0, group)
+
+
+HEADERS = ["Case", "Status", "Methods", "Result", "PRBM vs FEM, max % of L", "PRBM vs FEM, max relative error",
+           "FEM error estimate", "Printed numbers reproduced", "Findings", "PRBM time", "FEM time",
+           "Exact (elastica) time"]
+
+
+def _row_html(row: CaseSummary, link: str) -> str:
+    methods = " ".join(f"<span class='method' style='border-color:{s.badge.colour}' title='"
+                       f"{html.escape(s.badge.value + (': ' + s.reason if s.reason else ''), quote=True)}'>"
+                       f"{METHOD_NAMES.get(s.method, s.method)}</span>" for s in row.methods)
+    length_pct = 100 * row.prbm_fem_length
+    if math.isnan(length_pct):
+        why = row.no_prbm_fem or _why_not_compared(row)
+        error_cell = f"<td class='absent' title='{html.escape(why, quote=True)}'>{html.escape(_short(why, 60))}</td>"
+    else:
+        error_cell = (f"<td data-value='{length_pct:.6g}' style='background:{error_colour(length_pct)}'>"
+                      f"{sig(length_pct, 3)} %</td>")
+    cells = [f"<td><a href='{html.escape(link, quote=True)}' title='{html.escape(row.title, quote=True)}'>"
+             f"{html.escape(row.case)}</a></td>",
+             f"<td data-value='{row.badge.value}'>{row.badge.html(row.reason)}</td>",
+             f"<td>{methods}</td>", f"<td class='sentence'>{html.escape(row.sentence)}</td>", error_cell,
+             f"<td data-value='{_raw(row.prbm_fem_relative)}'>{percent(row.prbm_fem_relative)}</td>",
+             f"<td data-value='{_raw(row.fem_estimate)}'>{percent(row.fem_estimate)}</td>",
+             f"<td data-value='{row.checks_passed}'>{row.checks_passed} of {row.checks}</td>"
+             if row.checks else "<td data-value='-1'></td>",
+             f"<td>{row.findings or ''}</td>"]
+    cells += [f"<td data-value='{_raw(row.times.get(m, math.nan))}'>{seconds(row.times.get(m, math.nan))}</td>"
+              for m in ("prbm", "fem", "elastica")]
+    return "<tr>" + "".join(cells) + "</tr>"
+
+
+def _why_not_compared(row: CaseSummary) -> str:
+    """Why a case has no PRBM-vs-FEM number, in a few words."""
+    state = {s.method: s.badge for s in row.methods}
+    missing = [METHOD_NAMES[m] for m in ("prbm", "fem") if m not in state]
+    if missing:
+        return f"no {' or '.join(missing)} in this case"
+    refused = [METHOD_NAMES[m] for m in ("prbm", "fem") if state[m] is not Badge.AGREES]
+    if refused:
+        return f"{' and '.join(refused)} gave no answer"
+    if not math.isnan(row.prbm_fem_relative):
+        return "no position that both give; other outputs: see the relative error"
+    return "no output that both give"
+
+
+def _raw(value: float) -> str:
+    return "" if value is None or math.isnan(value) else f"{value:.6g}"
+
+
+def summary_tables_html(rows: list[CaseSummary], links: dict[str, str]) -> str:
+    """Per group, a sortable table (click a header) of the case rows."""
+    out = []
+    groups = sorted({r.group for r in rows}, key=group_order)
+    for group in groups:
+        part = [r for r in rows if r.group == group]
+        head = "".join(f"<th>{h}</th>" for h in HEADERS)
+        body = "".join(_row_html(r, links.get(r.case, "#")) for r in part)
+        out.append(f"<h3>{html.escape(group.capitalize())}</h3>"
+                   f"<table class='summary sortable'><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>")
+    return "".join(out)
+
+
+def summary_markdown(rows: list[CaseSummary]) -> str:
+    lines = []
+    for group in sorted({r.group for r in rows}, key=group_order):
+        lines += [f"\n### {group.capitalize()}\n", "| Case | Status | Result | PRBM vs FEM, max % of L | "
+                  "FEM error estimate | Printed numbers reproduced |", "|---|---|---|---|---|---|"]
+        for r in (r for r in rows if r.group == group):
+            pct = "" if math.isnan(r.prbm_fem_length) else f"{sig(100 * r.prbm_fem_length, 3)} %"
+            lines.append(f"| {r.case} | {r.badge.value} | {r.sentence.replace('|', '/')} | {pct} | "
+                         f"{percent(r.fem_estimate)} | {f'{r.checks_passed} of {r.checks}' if r.checks else ''} |")
+    return "\n".join(lines) + "\n"
+
+
+@dataclass
+class Finding:
+    """One finding of one case, with the evidence of every row that carries it."""
+    case: str
+    text: str
+    evidence: list[str]
+
+
+def findings(results: list[CaseResult], table: pd.DataFrame) -> list[Finding]:
+    """Case-level findings and reference findings, each once, with the printed and computed numbers."""
+    out = []
+    for result in sorted(results, key=lambda r: (group_order(r.loaded.case.case.group), r.loaded.id)):
+        cid = result.loaded.id
+        out += [Finding(cid, text, []) for text in result.loaded.case.case.findings]
+        part = table[(table["case"] == cid) & table["finding"].notna()]
+        for text, rows in part.groupby("finding", sort=False):
+            rows = rows.drop_duplicates(["method", "quantity", "point", "level", "reference_label"])
+            evidence = [f"{r['quantity']}{'@' + r['point'] if r['point'] else ''} at {r['level_label']}: "
+                        f"{METHOD_NAMES.get(r['method'], r['method'])} {sig(r['value'])} against printed "
+                        f"{r['reference_label']} {sig(r['reference_value'])}"
+                        + (f" ({percent(r['rel_error'])} apart)" if not np.isnan(r["rel_error"]) else "")
+                        for _, r in rows.iterrows()]
+            out.append(Finding(cid, str(text), evidence))
+    return out
+
+
+def findings_html(items: list[Finding], links: dict[str, str], shown: int = 3) -> str:
+    if not items:
+        return "<p>none</p>"
+    parts = []
+    for item in items:
+        evidence = ""
+        if item.evidence:
+            first = "".join(f"<li>{html.escape(e)}</li>" for e in item.evidence[:shown])
+            rest = item.evidence[shown:]
+            more = (f"<details><summary>{len(rest)} more row(s)</summary><ul>"
+                    + "".join(f"<li>{html.escape(e)}</li>" for e in rest) + "</ul></details>") if rest else ""
+            evidence = f"<ul class='evidence'>{first}</ul>{more}"
+        parts.append(f"<li><a href='{html.escape(links.get(item.case, '#'), quote=True)}'>{html.escape(item.case)}"
+                     f"</a>: {html.escape(item.text)}{evidence}</li>")
+    return "<ul class='findings'>" + "".join(parts) + "</ul>"

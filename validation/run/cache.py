@@ -1,0 +1,125 @@
+"""On-disk cache of method runs, keyed by case content, method, options, package version and code.
+
+A key changes whenever the case file text, the method's options, the package version, the version
+of a numerical library, or any repository source file the method's run imports (found by following
+the imports of its adapter and of the runner: schema, quantity contract, options, the library)
+changes, so a cached result is never stale.
+"""
+from __future__ import annotations
+
+import ast
+import hashlib
+import json
+import os
+import pickle
+from functools import lru_cache
+from importlib import metadata
+from pathlib import Path
+
+from validation.methods.base import MethodRun
+
+ROOT = Path(__file__).resolve().parents[2]
+PACKAGES = ("validation", "prbm", "fem", "elastica", "bcm", "argcheck")
+# third-party libraries whose version can change a result
+LIBRARY_VERSIONS = ("numpy", "scipy", "scikit-fem", "pydantic", "numba", "openseespy")
+
+
+def cache_dir() -> Path:
+    return Path(os.environ.get("PRBM_VALIDATE_CACHE", ROOT / ".cache" / "runs"))
+
+
+def package_version() -> str:
+    try:
+        return metadata.version("prbm-validate")
+    except metadata.PackageNotFoundError:
+        return "0+unknown"
+
+
+def _module_file(name: str, root: Path) -> Path | None:
+    """The source file of a module of this repository (a package's ``__init__.py``), or None."""
+    if name.split(".")[0] not in PACKAGES:
+        return None
+    base = root.joinpath(*name.split("."))
+    for path in (base.with_suffix(".py"), base / "__init__.py"):
+        if path.is_file():
+            return path
+    return None
+
+
+def _imports(path: Path, root: Path) -> set[Path]:
+    """Repository source files a file imports (anywhere in it, also inside functions), with the
+    ``__init__.py`` of every package on the way."""
+    found = set()
+    package = path.relative_to(root).with_suffix("").parts[:-1]
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        names = []
+        if isinstance(node, ast.Import):
+            names = [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = ".".join(package[:len(package) - node.level + 1]) if node.level else ""
+            module = ".".join(p for p in (base, node.module or "") if p)
+            names = [module] + [f"{module}.{alias.name}" for alias in node.names]
+        for name in names:
+            parts = name.split(".")
+            for i in range(1, len(parts) + 1):
+                file = _module_file(".".join(parts[:i]), root)
+                if file is not None:
+                    found.add(file)
+    return found
+
+
+def source_files(method: str, root: Path | None = None) -> list[Path]:
+    """Every repository source file a method's results can depend on: its adapter, the runner that
+    calls it, and everything they import, transitively (schema, quantity contract, options, the library)."""
+    root = root or ROOT
+    start = [root / "validation" / "methods" / f"{method}.py", root / "validation" / "run" / "runner.py"]
+    seen: set[Path] = set()
+    todo = [p for p in start if p.is_file()]
+    while todo:
+        path = todo.pop()
+        if path in seen:
+            continue
+        seen.add(path)
+        todo.extend(_imports(path, root) - seen)
+    return sorted(seen)
+
+
+@lru_cache(maxsize=None)
+def code_hash(method: str) -> str:
+    """Hash of every source file the method's results depend on, and of the third-party versions."""
+    digest = hashlib.sha256()
+    for path in source_files(method):
+        digest.update(path.relative_to(ROOT).as_posix().encode())
+        digest.update(path.read_bytes())
+    for name in LIBRARY_VERSIONS:
+        try:
+            digest.update(f"{name}=={metadata.version(name)}".encode())
+        except metadata.PackageNotFoundError:
+            continue
+    return digest.hexdigest()
+
+
+def run_key(case_text: str, method: str, options: dict) -> str:
+    payload = json.dumps([case_text, method, options, package_version(), code_hash(method)],
+                         sort_keys=True, default=str)
+    return hashlib.sha256(payload.encode()).hexdigest()[:32]
+
+
+def load(key: str) -> MethodRun | None:
+    path = cache_dir() / f"{key}.pkl"
+    if not path.is_file():
+        return None
+    try:
+        with path.open("rb") as handle:
+            return pickle.load(handle)
+    except Exception:  # a corrupt or incompatible entry is simply recomputed
+        return None
+
+
+def store(key: str, run: MethodRun) -> None:
+    folder = cache_dir()
+    folder.mkdir(parents=True, exist_ok=True)
+    tmp = folder / f"{key}.pkl.tmp{os.getpid()}"
+    with tmp.open("wb") as handle:
+        pickle.dump(run, handle)
+    tmp.replace(folder / f"{key}.pkl")
