@@ -40,7 +40,7 @@ import numpy as np
 
 import prbm
 from elastica.domains import (DomainCloud, curved_fixed_pinned_cloud, fixed_guided_inflection_cloud,
-                              fixed_pinned_cloud)
+                              fixed_pinned_cloud, kappa_range)
 from prbm.domain import boundary_curves, fit_radius
 from prbm.domain_bounds import clamp_arc, inflection_lower_bound, prbm_arc
 
@@ -169,6 +169,18 @@ def _beam_EI(data: dict) -> tuple[float, float]:
     return beam["length"], beam["E"] * beam["width"] * beam["thickness"] ** 3 / 12.0
 
 
+def _kappa_note(spec: dict) -> str:
+    """The routine of section 4.6.1 (eqs 123, 124; Figs 4.16-4.22 missing) over its grid, -4 <= n <= 10 and
+    -60 <= theta0 <= 60 deg, beside the adopted range of eq (126)."""
+    pairs = [kappa_range(t * DEG, n) for n in _grid(spec["n"]) for t in np.arange(-60.0, 61.0, 5.0)]
+    lo, hi = np.array(pairs).T
+    k126 = spec["kappa"]
+    return (f"kappa bounds by eqs (123)-(124) and the routine of 4.6.1 over -4 <= n <= 10, -60 <= theta0 <= 60 deg "
+            f"(kappa = M^2/(2 F EI)): kappa_min from {lo.min():.3f} to {lo.max():.3f}, kappa_max from {hi.min():.3f} "
+            f"to {hi.max():.3f} (a negative value: (120) holds at that theta_i for every kappa >= 0); eq (126) adopts "
+            f"{k126['start']} <= kappa <= {k126['stop']}")
+
+
 def inflection_domain(data: dict, sample: int = 40, bins: int = 40) -> tuple[DomainResult, DomainCloud]:
     spec = data["fixed_guided_inflection"]
     length, EI = _beam_EI(data)
@@ -189,6 +201,7 @@ def inflection_domain(data: dict, sample: int = 40, bins: int = 40) -> tuple[Dom
         res.notes.append(f"{label} against the exact lower boundary for {lo} <= b/l <= {hi}: max |error| "
                          f"{dev.max():.2%}, mean {dev.mean():.2%} (printed claim for (117): within "
                          f"{spec['lower_fit_claim']:.0%})")
+    res.notes.append(_kappa_note(spec))
     beam = prbm.InflectionBeam(1.0, 1.0)
 
     def tip(i):
