@@ -27,7 +27,12 @@ class MechanicalAdvantageOptions(Options):
     """``[methods.fem] ma``: the FEM's mechanical advantage (validation.methods.fem_outputs)."""
 
     output: str = Field(description="the held output point")
-    direction: tuple[float, float] = Field(description="the output force's direction")
+    direction: tuple[float, float] | None = Field(None, description="the output force's direction "
+                                                  "(the working motion of a held output point)")
+    moment_arm: Positive | None = Field(None, description="d_o: the output is a held rotation at 'output'; "
+                                        "F_o = its holding moment / d_o")
+    sense: Literal[1, -1] = Field(1, description="with moment_arm: +1 if the working motion of the output "
+                                  "is counter-clockwise, -1 if clockwise")
     input: Annotated[int, Field(ge=0)] | None = Field(None, description="index of the input load in [[loads]]")
     step: Positive = Field(1e-4, description="tangent: input increment over its largest value")
     d_i: Positive | None = Field(None, description="input force distance, for an input moment")

@@ -43,7 +43,8 @@ import numpy as np
 import prbm
 from prbm.fits import THETA_RANGE, fit_family
 from prbm.result import PRBMResult
-from validation.methods import prbm_alternatives, prbm_body, prbm_fourbar, prbm_inflection, prbm_network
+from validation.methods import (prbm_alternatives, prbm_body, prbm_fourbar, prbm_inflection, prbm_ma,
+                                prbm_network)
 from validation.methods.base import (Applicability, MethodRun, NotApplicable, Request,
                                      reject_loads_along_beams)
 from validation.methods.prbm_common import DEG, pick, plain
@@ -58,7 +59,9 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
     if options.get("model") in prbm_alternatives.MODELS:  # seed 000 chapter 2's other segment models
         return prbm_alternatives.run(case, requests, options)
     try:
-        if case.segment is not None:
+        if prbm_ma.handles(case, options):                      # chapter 7 MA by prbm.compliance
+            values, run_info = prbm_ma.run(case, requests, options)
+        elif case.segment is not None:
             values, run_info = _segment(case, requests, options)
         else:
             values, run_info = _mechanism(case, requests, options)
