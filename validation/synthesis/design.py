@@ -222,10 +222,6 @@ def compare_printed(d: Design) -> list[dict]:
     return rows
 
 
-def describe_angle(z: complex) -> str:
-    return f"{abs(z):.4f} at {arg_deg(z):.3f} deg"
-
-
 def framework_design(spec: Spec) -> Design:
     """Chapter 5: every beam of ``[framework]`` solved on its own (they share delta_j and gamma_j)."""
 
