@@ -72,6 +72,7 @@ BENCH_CASES: list[BenchCase] = [
     BenchCase("lee_frame"),
     BenchCase("bapat2015_test1a"),
     BenchCase("bapat2015_test2"),
+    BenchCase("seed004_parallel_guided", [0], single_level=True),  # a four-link PRB network: F L^2/EI = 16 in one level
 ]
 POSITION = ("x", "y", "dx", "dy")
 TARGETS = (1e-4, 1e-6)
