@@ -55,8 +55,12 @@ def test_follower_case_file_against_independent_bvp():
 
 
 def test_inverse_problem_round_trip():
-    """Table 3.3 style: given the tip a, b, theta0 find (Fx, Fy, M); the forward solve returns them."""
+    """Table 3.3 style: given the tip a, b, theta0 find (Fx, Fy, M); the forward solve returns them.
+    The loads are Table 3.2 Ex. 1's (seed 000; EI = 30e6 x 1.02e-5 = 306), whose elliptic-integral
+    column prints the forward tip a = 12.336, b = 14.422, theta0 = 58.231 deg."""
     fwd = solve_elastica(20.0, 306.0, force=(-1.5, 3.5), moment=-15.0)
+    assert fwd.x == pytest.approx(12.336, abs=5e-4) and fwd.y == pytest.approx(14.422, abs=5e-4)
+    assert math.degrees(fwd.theta) == pytest.approx(58.231, abs=5e-4)
     inv = solve_elastica(20.0, 306.0, tip_x=fwd.x, tip_y=fwd.y, tip_angle=fwd.theta)
     assert inv.converged
     assert np.allclose(inv.force, (-1.5, 3.5), atol=1e-8) and abs(inv.moment + 15.0) < 1e-8

@@ -47,10 +47,19 @@ def test_negative_force_mirrors_the_configuration():
     assert float(down["a"]) == pytest.approx(float(up["a"]))
 
 
-def test_fixed_pinned_against_independent_prbm_evaluation():
-    # notes seed-ch2-4 section 4.1 (independent re-implementation): n = 0, Pl^2/EI = 3 -> 0.7453, 0.6075, 56.36 deg
-    r = prbm.fixed_pinned_tip(3.0, 0.0, length=1.0, EI=1.0)
-    assert (round(float(r["a"]), 4), round(float(r["b"]), 4), round(math.degrees(float(r["theta0"])), 2)) == (0.7453, 0.6075, 56.36)
+# notes seed-ch2-4 section 4.4 (the notes' independent re-implementation of eqs 41-47, PRBM column):
+# (n, P l^2/EI) -> (a/l, b/l, theta0 in degrees), printed to 4 and 2 decimals
+NOTES_4_4 = [(-1.0, 1.5, (0.9510, 0.2880, 23.79)), (0.0, 0.5, (0.9854, 0.1571, 13.17)),
+             (0.0, 3.0, (0.7453, 0.6075, 56.36)), (1.0, 1.5, (0.7363, 0.6094, 58.31)),
+             (1.0, 3.0, (0.3337, 0.8187, 97.55)), (3.0, 1.5, (0.0871, 0.8183, 120.64))]
+
+
+@pytest.mark.parametrize("n, load, expected", NOTES_4_4)
+def test_fixed_pinned_against_independent_prbm_evaluation(n, load, expected):
+    r = prbm.fixed_pinned_tip(load, n, length=1.0, EI=1.0)
+    assert float(r["a"]) == pytest.approx(expected[0], abs=5e-5)
+    assert float(r["b"]) == pytest.approx(expected[1], abs=5e-5)
+    assert math.degrees(float(r["theta0"])) == pytest.approx(expected[2], abs=5e-3)
 
 
 def test_pure_moment_rotation_is_exact_and_inverse_works():

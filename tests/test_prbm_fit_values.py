@@ -1,0 +1,133 @@
+"""The PRBM fits and the spring-angle solver against independent evaluations (issue 25, mutation run).
+
+Fits: every branch of every published fit, away from n = 0, against the printed polynomial evaluated
+here term by term from the coefficients as printed: seed 000 eqs (41) gamma, (42) c_theta, (43)
+K_Theta (Pauly-Midha, transcript lines 1025-1036); seed 004 slide 'arbitrary tip-load' (Howell, lines
+44-46). Their derivatives against the derivative of the printed polynomials. Scalar, few-level and
+many-level inputs take different code paths; all must give the printed polynomial.
+
+Spring angle: F R sin(phi - Theta) = k (Theta - Theta_i) (seed 000 eq 47 with an initial angle),
+against scipy's brentq on the same residual, bracketed by Theta_i and phi.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from prbm import HOWELL, PAULY_MIDHA, FitRangeError
+from prbm.segments import _spring_angle_reference, spring_angle
+
+# (fit, [(lower, upper, printed coefficients c0, c1, ...)]) as printed in the seeds
+PRINTED = {
+    ("pauly-midha", "gamma"): [(-4.0, -1.5, (0.855651, -0.016438)), (-1.5, -0.5, (0.852138, -0.018615)),
+                               (-0.5, 10.0, (0.851892, -0.020805, 0.005867, -0.000895, 0.000069, -0.000002))],
+    ("pauly-midha", "c_theta"): [(-4.0, -0.5, (1.238945, 0.012035, 0.00454)),
+                                 (-0.5, 10.0, (1.238845, 0.009113, -0.001929, 0.000191, -0.000007))],
+    ("pauly-midha", "K_theta"): [(-4.0, -0.5, (2.66041, -0.069005, -0.002268)),
+                                 (-0.5, 10.0, (2.648834, -0.074727, 0.026328, -0.004609, 0.000390, -0.000013))],
+    ("howell", "gamma"): [(-5.0, -1.8316, (0.912364, 0.0145928)), (-1.8316, 0.5, (0.852144, -0.0182867)),
+                          (0.5, 9.99, (0.841655, -0.0067807, 0.000438))],
+    ("howell", "K_theta"): [(-5.0, -2.5, (3.024112, 0.121290, 0.003169)),
+                            (-2.5, -1.0, (1.967647, -2.616021, -3.738166, -2.649437, -0.891906, -0.113063)),
+                            (-1.0, 10.0, (2.654855, -0.0509896, 0.0126749, -0.00142039, 0.0000584525))],
+}
+FAMILY = {"pauly-midha": PAULY_MIDHA, "howell": HOWELL}
+
+
+def printed(coefficients, n):
+    return sum(c * n**i for i, c in enumerate(coefficients))
+
+
+def printed_slope(coefficients, n):
+    return sum(i * c * n ** (i - 1) for i, c in enumerate(coefficients) if i)
+
+
+def inner_points(lower, upper):
+    """Three points inside (lower, upper] including the closed upper end."""
+    return [lower + 0.25 * (upper - lower), lower + 0.7 * (upper - lower), upper]
+
+
+CASES = [(family, name, lo, hi, coeffs) for (family, name), branches in PRINTED.items()
+         for lo, hi, coeffs in branches]
+
+
+@pytest.mark.parametrize("family, name, lo, hi, coeffs", CASES, ids=lambda v: str(v) if isinstance(v, str) else None)
+def test_every_branch_is_the_printed_polynomial(family, name, lo, hi, coeffs):
+    fit = getattr(FAMILY[family], name)
+    points = inner_points(lo, hi)
+    expected = [printed(coeffs, n) for n in points]
+    for n, want in zip(points, expected):
+        assert fit(n) == pytest.approx(want, rel=1e-13, abs=1e-15)              # scalar path
+    assert fit(np.array(points)) == pytest.approx(expected, rel=1e-13)          # few levels
+    many = np.linspace(points[0], points[1], 200)                               # the array path (> 64)
+    assert fit(many) == pytest.approx([printed(coeffs, n) for n in many], rel=1e-12)
+    assert fit.derivative(np.array(points[:2])) == pytest.approx([printed_slope(coeffs, n) for n in points[:2]],
+                                                                 rel=1e-12, abs=1e-15)
+    assert fit.derivative(points[0]) == pytest.approx(printed_slope(coeffs, points[0]), rel=1e-12, abs=1e-15)
+
+
+def test_family_parameters_are_gamma_c_theta_k_theta_in_that_order():
+    n = 2.0
+    g, c, k = PAULY_MIDHA.parameters(n)
+    assert g == pytest.approx(printed(PRINTED["pauly-midha", "gamma"][2][2], n), rel=1e-13)
+    assert c == pytest.approx(printed(PRINTED["pauly-midha", "c_theta"][1][2], n), rel=1e-13)
+    assert k == pytest.approx(printed(PRINTED["pauly-midha", "K_theta"][1][2], n), rel=1e-13)
+    g, c, k = HOWELL.parameters(np.array([2.0, -3.0]))
+    assert np.isnan(c).all() and c.shape == (2,)       # seed 004 prints no c_theta
+    assert k[1] == pytest.approx(printed(PRINTED["howell", "K_theta"][0][2], -3.0), rel=1e-13)
+    assert g[0] == pytest.approx(printed(PRINTED["howell", "gamma"][2][2], 2.0), rel=1e-13)
+
+
+def test_out_of_range_message_names_the_fit_and_its_range_and_bad_mode_is_refused():
+    with pytest.raises(FitRangeError, match=r"gamma\(n\): load ratio n = 12 outside the fitted range -4.0 < n <= 10.0"):
+        PAULY_MIDHA.gamma(12.0)
+    with pytest.raises(FitRangeError, match="n = -6"):
+        PAULY_MIDHA.K_theta(np.array([1.0, -6.0] + [0.0] * 100))
+    with pytest.raises(ValueError, match="extrapolate must be"):
+        PAULY_MIDHA.gamma(12.0, extrapolate="quietly")
+    # 'allow' evaluates the nearest branch's printed polynomial
+    assert PAULY_MIDHA.gamma(12.0, extrapolate="allow") == pytest.approx(
+        printed(PRINTED["pauly-midha", "gamma"][2][2], 12.0), rel=1e-13)
+    assert PAULY_MIDHA.gamma(-6.0, extrapolate="allow") == pytest.approx(
+        printed(PRINTED["pauly-midha", "gamma"][0][2], -6.0), rel=1e-13)
+
+
+def brentq_angle(FR, phi, k, theta_i):
+    if FR == 0.0:
+        return theta_i
+    return brentq(lambda t: FR * math.sin(phi - t) - k * (t - theta_i), min(theta_i, phi), max(theta_i, phi),
+                  xtol=1e-15, rtol=1e-15)
+
+
+# (F R, phi, k, Theta_i): tension/compression sides, a stiff and a soft spring, an initial angle, phi < Theta_i
+PROBLEMS = [(1.0, 0.5 * math.pi, 2.65 * 0.85, 0.0), (8.0, 2.0, 2.0, 0.0), (0.3, 0.2, 5.0, 0.0),
+            (20.0, 2.9, 1.0, 0.0), (4.0, 1.2, 2.0, 0.4), (3.0, -1.0, 2.5, 0.3), (0.0, 1.0, 2.0, 0.25)]
+
+
+@pytest.mark.parametrize("solver, most", [(spring_angle, 8), (_spring_angle_reference, 60)],
+                         ids=["spring_angle", "reference"])
+def test_spring_angle_is_the_root_of_the_moment_balance(solver, most):
+    """``most``: the Newton iterations allowed; spring_angle starts on the monotone side of a concave
+    residual (its docstring), so it converges quadratically; the old reference may bisect."""
+    expected = [brentq_angle(*p) for p in PROBLEMS]
+    for p, want in zip(PROBLEMS, expected):                                  # scalars
+        theta, ok, iterations = solver(*p)
+        assert ok and theta == pytest.approx(want, abs=1e-12)
+        assert iterations <= most and (p[0] == 0.0) == (iterations == 0)
+    columns = [np.array(c) for c in zip(*PROBLEMS)]                           # a few levels at once
+    theta, ok, _ = solver(*columns)
+    assert ok.all() and theta == pytest.approx(expected, abs=1e-12)
+    reps = 60                                                                 # > 256 levels: the array path
+    theta, ok, _ = solver(*(np.tile(c, reps) for c in columns))
+    assert ok.all() and theta == pytest.approx(np.tile(expected, reps), abs=1e-12)
+    theta, ok, _ = solver(np.linspace(0.1, 30.0, 300), 2.0, 2.0)              # broadcast scalars
+    assert ok.all() and theta == pytest.approx([brentq_angle(f, 2.0, 2.0, 0.0) for f in np.linspace(0.1, 30.0, 300)],
+                                               abs=1e-12)
+
+
+def test_spring_angle_reports_no_convergence_when_out_of_iterations():
+    theta, ok, iterations = spring_angle(20.0, 2.9, 1.0, maxiter=1)
+    assert not ok and iterations == 1
