@@ -5,7 +5,6 @@ injected into ``sys.modules``; forked pool workers and in-process Dask workers i
 """
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import sys
@@ -16,8 +15,10 @@ from pathlib import Path
 import pytest
 
 from validation.methods.base import MethodRun
-from validation.sweep.run import SpecError, add_parser, load_results, load_spec, make_points, run_sweep
-from validation.sweep.task import apply
+from validation.cli import sweep as sweep_verb
+from validation.cli.arguments import build_parser
+from validation.sweep.run import SpecError, load_results, load_spec, make_points, run_sweep
+from validation.case.overrides import apply
 
 CASE = """
 [case]
@@ -219,14 +220,13 @@ def test_bad_spec_gives_one_line_naming_file_and_field(spec, capsys, name):
 
 
 def test_cli_subcommand_runs_and_plots(spec, tmp_path, fake, capsys):
-    parser = argparse.ArgumentParser(prog="prbm-validate")
-    add_parser(parser.add_subparsers(dest="command", required=True))
+    parser = build_parser()
     (tmp_path / "toy.toml").write_text(CASE.replace('quantity = "y"', 'quantity = "x"\n[[outputs]]\nquantity = "y"'))
     text = spec.read_text().replace("samples = 100", "samples = 3")
     spec.write_text(text)
     out = tmp_path / "cli"
     args = parser.parse_args(["sweep", str(spec), "--out", str(out), "--serial", "--quiet"])
-    assert args.func(args) == 0
+    assert sweep_verb.run(args) == 0
     assert (out / "domain.png").is_file()
     assert "plot:" in capsys.readouterr().out
 

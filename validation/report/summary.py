@@ -17,7 +17,8 @@ import pandas as pd
 
 from validation.case.capabilities import QUANTITIES
 from validation.report.format import Badge, error_colour, percent, run_badge, seconds, sig
-from validation.run.runner import CaseResult, fem_error_relative, prbm_fem_errors
+from validation.run.runner import CaseResult
+from validation.run.outcome import fem_error_relative, prbm_fem_errors
 
 METHOD_NAMES = {"fem": "FEM", "prbm": "PRBM", "elastica": "exact elastica", "bcm": "BCM", "opensees": "OpenSees"}
 

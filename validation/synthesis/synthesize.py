@@ -1,24 +1,25 @@
 """``prbm-validate synthesize SPEC.toml``: design, write, verify with the FEM, report.
 
 ``synthesize(spec_path, out_dir)`` returns the exit status: 0 the design was written (and verified
-when the FEM is available), 1 the specification has no solution or the design misses its
+by the FEM unless the specification or the caller turns the check off), 1 the specification has no solution or the design misses its
 specification (the message says why), 2 the specification file is invalid (one line naming the
 file and the field).  Output in ``out_dir``: ``<id>.json`` and ``<id>.md`` (the PRBM design, the
 printed numbers beside the synthesized ones, the FEM check) and the case file ``synth_<id>.toml``.
 """
 from __future__ import annotations
 
-import importlib.util
 import json
 import math
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING
 
+from prbm.synthesis.dyads import SynthesisError
+from validation.case.loader import CaseError, load_case
+from validation.run.exit_status import ExitStatus
+from validation.run.runner import run_method
+from validation.synthesis.casefile import write_case
+from validation.synthesis.design import Design, compare_printed, design
 from validation.synthesis.spec import SpecError, load_spec
-
-if TYPE_CHECKING:
-    from validation.synthesis.design import Design
 
 
 def _jsonable(v):
@@ -37,12 +38,6 @@ def _jsonable(v):
 
 def fem_check(case_path: Path, d: Design) -> dict:
     """Run the FEM on the generated case through the validation runner; a clear status if it cannot."""
-    if importlib.util.find_spec("validation.methods.fem") is None or importlib.util.find_spec("fem") is None:
-        return {"status": "unavailable", "message": "FEM check skipped: the 'fem' method is not available yet "
-                "(validation/methods/fem.py or the fem package is missing); the case file is written for later"}
-    from validation.case.loader import CaseError, load_case
-    from validation.run.runner import run_method
-
     try:
         loaded = load_case(case_path)
     except CaseError as exc:
@@ -113,28 +108,23 @@ def _markdown(d: Design, printed: list[dict], fem: dict | None, case_path: Path 
 
 def synthesize(spec_path, out_dir, *, run_fem: bool | None = None, stream=None) -> int:
     """Design from ``spec_path`` into ``out_dir``; the exit status (0 ok, 1 no solution, 2 bad file)."""
-    # the solvers (scipy.optimize) only when a design is made: `prbm-validate` builds its parser without them
-    from validation.synthesis.design import compare_printed, design
-    from prbm.synthesis.dyads import SynthesisError
-
     stream = stream or sys.stdout
     err = sys.stderr
     try:
         spec = load_spec(spec_path)
     except SpecError as exc:
         print(f"error: {exc}", file=err)
-        return 2
+        return ExitStatus.BAD_INPUT
     try:
         d = design(spec)
     except SynthesisError as exc:
         print(f"no solution: {Path(spec_path).name}: {exc}", file=err)
-        return 1
+        return ExitStatus.FAILED
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     printed = compare_printed(d)
     case_path, fem = None, None
     if spec.kinematics is not None and spec.compliance is not None and spec.segments:
-        from validation.synthesis.casefile import write_case
         try:
             case_path = write_case(d, spec_path, out)
         except SynthesisError as exc:
@@ -164,17 +154,4 @@ def synthesize(spec_path, out_dir, *, run_fem: bool | None = None, stream=None) 
             extra = "" if r["printed_ansys"] is None else f", printed ANSYS {r['printed_ansys']:.5g}"
             prbm = "" if r["prbm"] is None else f" (PRBM {r['prbm']:.5g})"
             print(f"    {r['position']}: {r['quantity']} {r['point']} FEM {r['fem']:.5g}{prbm}{extra}", file=stream)
-    return 0 if d.success else 1
-
-
-def cmd_synthesize(args) -> int:
-    return synthesize(args.spec, args.out, run_fem=False if args.no_fem else None)
-
-
-def add_parser(subparsers) -> None:
-    """Register ``synthesize`` on the CLI's subparsers."""
-    p = subparsers.add_parser("synthesize", help="design a compliant mechanism from a specification and check it with the FEM")
-    p.add_argument("spec", help="design specification (TOML), e.g. cases/specs/bapat2015_ch6_ex3.toml")
-    p.add_argument("--out", default="reports/synthesis", help="output folder (default %(default)s)")
-    p.add_argument("--no-fem", action="store_true", help="skip the FEM check")
-    p.set_defaults(func=cmd_synthesize)
+    return ExitStatus.OK if d.success else ExitStatus.FAILED

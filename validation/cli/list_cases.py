@@ -1,0 +1,23 @@
+"""``prbm-validate list``: one line per case; every file is loaded, so it checks files."""
+from __future__ import annotations
+
+from validation.case.loader import CaseError, load_case
+from validation.cli.common import case_paths
+from validation.run.exit_status import decide, print_error
+
+
+def run(args) -> int:
+    """One line per case; every file is loaded, so ``list FILE...`` checks files (exit 2 on a bad one)."""
+    paths, errors = case_paths(args.cases)
+    for path in paths:
+        try:
+            case = load_case(path).case
+        except CaseError as exc:
+            errors.append(str(exc))
+            continue
+        kind = "segment" if case.segment is not None else "mechanism"
+        print(f"{case.case.id:<40} {case.case.group:<12} {kind:<9} {','.join(case.methods):<24} "
+              f"{case.case.title}")
+    for error in errors:
+        print_error(error)
+    return decide(bad_input=bool(errors))

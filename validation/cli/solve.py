@@ -1,0 +1,74 @@
+"""``prbm-validate solve``: one case, every requested output at every level with its loads, as JSON."""
+from __future__ import annotations
+
+import json
+import math
+import sys
+from pathlib import Path
+
+from validation.case.loader import CaseError, find_case_files, load_case
+from validation.case.loads import level_labels, load_name, load_unit
+from validation.run.exit_status import ExitStatus, combine, of_run_status, print_error
+from validation.run.runner import requests_for, run_method
+
+
+def _clean(v):
+    return None if v is None or (isinstance(v, float) and math.isnan(v)) else v
+
+
+def solve_document(loaded, method: str, run) -> dict:
+    """The JSON document of ``solve``: every requested output at every level, with the level's loads."""
+    case = loaded.case
+    labels = level_labels(case)
+    loads = [(load_name(load, i, case), load.levels(), load_unit(load, case))
+             for i, load in enumerate(case.loads)]
+    levels = []
+    for level in range(case.n_levels()):
+        outputs = {}
+        for req in requests_for(case, method):
+            if req.level != level:
+                continue
+            name = f"{req.quantity}@{req.point}" if req.point else req.quantity
+            outputs[name] = _clean(run.values.get(req))
+            if req in run.error_estimate:
+                outputs[name + ":error_estimate"] = _clean(run.error_estimate[req])
+        if outputs:
+            levels.append({"level": level, "label": labels[level],
+                           "loads": [{"name": n, "value": v[level], "unit": u} for n, v, u in loads],
+                           "outputs": outputs})
+    return {"case": case.case.id, "file": str(loaded.path), "method": method, "units": case.case.units,
+            "status": run.status.value, "converged": run.converged, "message": run.message,
+            "wall_time_s": run.wall_time, "levels": levels}
+
+
+def run(args) -> int:
+    try:
+        paths = find_case_files([args.case])
+        if len(paths) != 1:
+            raise CaseError(args.case, "", f"names {len(paths)} case files; solve takes one")
+        loaded = load_case(paths[0])
+    except CaseError as exc:
+        print_error(exc)
+        return ExitStatus.BAD_INPUT
+    case = loaded.case
+    methods = args.method or list(case.methods)
+    unknown = [m for m in methods if m not in case.methods]
+    if unknown:
+        print(f"error: {loaded.path}: methods: the case does not ask for method '{unknown[0]}' "
+              f"(it has {', '.join(case.methods)})", file=sys.stderr)
+        return ExitStatus.BAD_INPUT
+    documents, statuses = [], []
+    for method in methods:
+        run = run_method(case, method)
+        statuses.append(of_run_status(run.status))
+        if not run.ok:
+            print(f"{case.case.id} {method}: {run.summary()}", file=sys.stderr)
+        documents.append(solve_document(loaded, method, run))
+    document = documents[0] if len(documents) == 1 else {"case": case.case.id, "runs": documents}
+    text = json.dumps(document, indent=None if args.compact else 2)
+    if args.out:
+        Path(args.out).parent.mkdir(parents=True, exist_ok=True)
+        Path(args.out).write_text(text + "\n", encoding="utf-8")
+    else:
+        print(text)
+    return combine(statuses)
