@@ -10,11 +10,15 @@ few integers, not case data):
   and held to the conventions (``large_deflection_check``);
 * ``contract mechanism``: the same segment written as a one-beam ``[mechanism]`` turned by an angle
   phi in the global frame: the FEM's positions, rotation and root reactions must be the segment's,
-  turned by phi (linear theory at a small load, the elastica at a large one).
+  turned by phi (linear theory at a small load, the elastica at a large one), each quantity within 3x
+  the FEM's own estimate of that quantity; where the elastica stalls (a limit point under load
+  control, where the FEM too reports no convergence) nothing is judged.
 
 Tasks run on the sweep executors (``validation.sweep.run.completed``: local processes, a local Dask
 cluster, or a Dask scheduler). Each failure is shrunk (unit system, size, slenderness, curvature,
-load rounded, one at a time while it still fails) and kept as a case file under ``regressions/``.
+load rounded, one at a time while it still fails) and kept as a case file under ``regressions/``,
+stating the failure in ``case.findings`` and its configuration and status in the description (the
+ones kept in ``cases/regressions/`` are re-run by ``tests/test_contract_regressions.py``).
 """
 from __future__ import annotations
 
