@@ -21,8 +21,18 @@ ROWS = [_row("with_length", length=0.002, relative=0.03), _row("relative_only", 
 
 
 def test_only_cases_with_neither_error_are_counted():
-    assert [r.case for r in without_prbm_fem(ROWS)] == ["benchmark", "no_prbm"]
-    assert without_prbm_fem_line(ROWS) == "2 of 4 cases have no PRBM-vs-FEM number, each with its reason:"
+    assert [r.case for r in without_prbm_fem(ROWS)] == ["no_prbm", "benchmark"]   # other cases first
+    assert without_prbm_fem_line(ROWS) == ("2 of 4 cases have no PRBM-vs-FEM number (1 other case, 1 FEM-validation "
+                                           "benchmark), each with its reason:")
+
+
+def test_a_loading_reading_points_to_its_base_case():
+    reading = _row("test1a_rope", methods=("fem",))
+    reading.readings_of = "test1a"
+    line = without_prbm_fem_line(ROWS + [reading])
+    assert "1 loading reading of an experiment (its base case carries the number)" in line
+    html = summary_tables_html(ROWS + [reading], {})
+    assert "test1a_rope</a>: a loading reading of test1a (FEM only): the PRBM-vs-FEM number is in the row of test1a" in html
 
 
 def test_the_closing_list_gives_each_reason_in_html_and_markdown():
