@@ -33,13 +33,18 @@ problem (b, theta0, n -> a; Tables 3.4-3.5) at load ratios across the range (``r
 A coupler whose segments' windows do not overlap has no PRBM state within the fits: that is reported
 as not converged with both windows (never a placeholder); otherwise the equilibrium is found by a scan
 of the overlap for a sign change and Brent's method.
+
+Speed: along a scan each segment's solve is continued from its previous root (MINPACK hybrd from the
+last state, in 1, 4 or 16 steps of the given end), the multistart of ``prbm.inflection`` the fallback;
+a continued root is accepted only when it is valid by the same rules, so where several valid roots
+exist the one reported is the one the scan follows.
 """
 from __future__ import annotations
 
 import cmath
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import brentq, root
@@ -190,7 +195,7 @@ class _Warm:
         """(b, theta0, n) -> the state dict of the valid root, or None: continued from the last case-2 root
         in 1, 4 or 16 steps of (n, b, theta0), else the multistart."""
         given = np.array([n, b, theta0])
-        if self.x is not None and getattr(self, "given", None) is not None:
+        if self.x is not None and self.given is not None:
             for steps in (1, 4, 16):
                 x, state = self.x[1:], None
                 for k in range(1, steps + 1):

@@ -49,6 +49,7 @@ class CaseSummary:
     findings: int
     times: dict[str, float] = field(default_factory=dict)
     no_prbm_fem: str = ""
+    readings_of: str = ""         # the base case of an experiment this case is one loading reading of
 
 
 def level_phrase(result: CaseResult, level: int) -> str:
@@ -157,7 +158,8 @@ def summarise(result: CaseResult, part: pd.DataFrame) -> CaseSummary:
                        prbm_fem_length=length, prbm_fem_relative=relative, fem_estimate=estimate,
                        checks=len(claimed), checks_passed=int((claimed["within_tolerance"] == True).sum()),  # noqa: E712
                        findings=n_findings, times={m: r.wall_time for m, r in result.runs.items()},
-                       no_prbm_fem=getattr(case.case, "no_prbm_fem", None) or "")
+                       no_prbm_fem=getattr(case.case, "no_prbm_fem", None) or "",
+                       readings_of=case.case.readings_of or "")
 
 
 def group_order(group: str) -> tuple:
@@ -235,20 +237,50 @@ def summary_tables_html(rows: list[CaseSummary], links: dict[str, str]) -> str:
 
 
 def without_prbm_fem(rows: list[CaseSummary]) -> list[CaseSummary]:
-    """The cases with neither a PRBM-vs-FEM length error nor a relative error."""
-    return [r for r in rows if math.isnan(r.prbm_fem_length) and math.isnan(r.prbm_fem_relative)]
+    """The cases with neither a PRBM-vs-FEM length error nor a relative error, other cases first, then the
+    FEM-validation benchmarks, the stress-contract regressions and the loading readings."""
+    order = [kind for kind, _, _ in KINDS]
+    missing = [r for r in rows if math.isnan(r.prbm_fem_length) and math.isnan(r.prbm_fem_relative)]
+    return sorted(missing, key=lambda r: order.index(_kind(r)))
 
 
 def missing_reason(row: CaseSummary) -> str:
     """The one-line reason a case has no PRBM-vs-FEM number: the case's own, else what the runs say."""
-    return row.no_prbm_fem or _why_not_compared(row)
+    if row.no_prbm_fem:
+        return row.no_prbm_fem
+    if row.readings_of:
+        return (f"a loading reading of {row.readings_of} (FEM only): the PRBM-vs-FEM number is in the row of "
+                f"{row.readings_of}")
+    if row.group == REGRESSIONS:
+        return f"a stress-contract regression: {_why_not_compared(row)} (see its findings)"
+    return _why_not_compared(row)
+
+
+REGRESSIONS = "stress regressions"
+KINDS = (("case", "other case", "other cases"),
+         ("FEM-validation benchmark", "FEM-validation benchmark", "FEM-validation benchmarks"),
+         ("regression", "stress-contract regression", "stress-contract regressions"),
+         ("loading reading", "loading reading of an experiment (its base case carries the number)",
+          "loading readings of an experiment (their base case carries the number)"))
+
+
+def _kind(row: CaseSummary) -> str:
+    if row.no_prbm_fem.startswith("FEM-only benchmark"):
+        return "FEM-validation benchmark"
+    if row.readings_of:
+        return "loading reading"
+    return "regression" if row.group == REGRESSIONS else "case"
 
 
 def without_prbm_fem_line(rows: list[CaseSummary]) -> str:
-    """The closing count: how many cases have no PRBM-vs-FEM number (each listed with its reason)."""
+    """The closing count: how many cases have no PRBM-vs-FEM number, by kind (each listed with its reason)."""
     missing = without_prbm_fem(rows)
-    return (f"{len(missing)} of {len(rows)} cases have no PRBM-vs-FEM number"
-            + (", each with its reason:" if missing else "."))
+    if not missing:
+        return f"0 of {len(rows)} cases have no PRBM-vs-FEM number."
+    counts = {kind: sum(_kind(r) == kind for r in missing) for kind, _, _ in KINDS}
+    parts = [f"{counts[kind]} {one if counts[kind] == 1 else many}" for kind, one, many in KINDS if counts[kind]]
+    return (f"{len(missing)} of {len(rows)} cases have no PRBM-vs-FEM number ({', '.join(parts)}), "
+            "each with its reason:")
 
 
 def summary_markdown(rows: list[CaseSummary]) -> str:

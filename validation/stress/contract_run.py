@@ -10,11 +10,15 @@ few integers, not case data):
   and held to the conventions (``large_deflection_check``);
 * ``contract mechanism``: the same segment written as a one-beam ``[mechanism]`` turned by an angle
   phi in the global frame: the FEM's positions, rotation and root reactions must be the segment's,
-  turned by phi (linear theory at a small load, the elastica at a large one).
+  turned by phi (linear theory at a small load, the elastica at a large one), each quantity within 3x
+  the FEM's own estimate of that quantity; where the elastica stalls (a limit point under load
+  control, where the FEM too reports no convergence) nothing is judged.
 
 Tasks run on the sweep executors (``validation.sweep.run.completed``: local processes, a local Dask
 cluster, or a Dask scheduler). Each failure is shrunk (unit system, size, slenderness, curvature,
-load rounded, one at a time while it still fails) and kept as a case file under ``regressions/``.
+load rounded, one at a time while it still fails) and kept as a case file under ``regressions/``,
+stating the failure in ``case.findings`` and its configuration and status in the description (the
+ones kept in ``cases/regressions/`` are re-run by ``tests/test_contract_regressions.py``).
 """
 from __future__ import annotations
 
@@ -29,8 +33,9 @@ from pathlib import Path
 import numpy as np
 import tomli_w
 
-from validation.stress.contract import (Configuration, ContractResult, build_case, large_deflection_check,
-                                 linear_limit_check, linear_reference, random_configuration)
+from validation.stress.contract import (Configuration, ContractResult, applicable, build_case,
+                                        large_deflection_check, linear_limit_check, linear_reference,
+                                        random_configuration)
 from validation.methods.base import Request
 from validation.run.runner import run_method
 from validation.case.schema import Case
@@ -187,18 +192,44 @@ def shrink(category: str, c: Configuration, phi: float) -> tuple[Configuration, 
     return c, phi
 
 
-def write_regression(category: str, c: Configuration, phi: float, folder: Path) -> Path:
-    """Keep a shrunk failure as a case file, every method side by side, for a developer to adopt."""
+REGRESSION_MARK = "stress-contract regression: "
+
+
+def write_regression(category: str, c: Configuration, phi: float, folder: Path, failures: list[str]) -> Path:
+    """Keep a shrunk failure as a case file, every method side by side: the failure it showed in
+    ``case.findings``, and the configuration in the description after ``REGRESSION_MARK`` as JSON
+    ({category, phi, configuration, status}), so ``tests/test_contract_regressions.py`` can re-run the
+    contract check on it (status 'open': it must still fail; 'fixed': it must pass)."""
+    methods = tuple(m for m in ("fem", "elastica", "prbm", "bcm") if applicable(m, c))
     case = mechanism_case(c, phi) if category == "contract mechanism" else build_case(
-        c, levels=1 if category == "contract linear" else 4)
+        c, methods, levels=1 if category == "contract linear" else 4)
     data = case.model_dump(mode="json", exclude_none=True)
     tag = hashlib.sha256(json.dumps([category, asdict(c), phi], sort_keys=True).encode()).hexdigest()[:8]
+    record = {"category": category, "phi": phi, "configuration": asdict(c), "status": "open"}
+    reason = ("a shrunk stress-contract failure: what it showed is in case.findings; the contract check itself is "
+              "re-run on this configuration by tests/test_contract_regressions.py")
     data["case"] |= {"id": f"contract_regression_{tag}", "title": f"shrunk {category} failure",
-                     "description": f"Found by prbm-validate stress --long: {c.label()}, phi={phi}"}
+                     "group": "stress regressions",
+                     "description": f"Found by prbm-validate stress --long. {REGRESSION_MARK}{json.dumps(record)}",
+                     "findings": [f"{category}: {f}" for f in failures] or [f"{category}: the check raised"],
+                     "unchecked": {m: reason for m in data["methods"]}}
     folder.mkdir(parents=True, exist_ok=True)
     path = folder / f"contract_regression_{tag}.toml"
     path.write_text(tomli_w.dumps(data))
     return path
+
+
+def regression_record(description: str) -> dict:
+    """The {category, phi, configuration, status} a regression case file carries (see write_regression)."""
+    return json.loads(description.split(REGRESSION_MARK, 1)[1])
+
+
+def failures_of(category: str, c: Configuration, phi: float) -> list[str]:
+    """The contract failures of one configuration (a crash is a failure with its reason)."""
+    try:
+        return [f for r in check(category, c, phi) for f in r.failures]
+    except Exception as exc:  # noqa: BLE001 - the reason is the result
+        return [f"{type(exc).__name__}: {exc}"]
 
 
 def run_contract_stress(out: Path, *, seed: int, count: int = 10_000, executor: str = "process",
@@ -226,7 +257,8 @@ def run_contract_stress(out: Path, *, seed: int, count: int = 10_000, executor: 
         if not row["passed"]:
             c, phi = configuration_for(row["category"], row["seed"])
             small, turn = shrink(row["category"], c, phi)
-            path = write_regression(row["category"], small, turn, out / "regressions")
+            path = write_regression(row["category"], small, turn, out / "regressions",
+                                    failures_of(row["category"], small, turn))
             row["detail"] += f"; shrunk to {small.label()}, kept as {path.name}"
     summary = {"configurations": len(rows), "executor": scheduler or executor, "workers": workers,
                "chunk": size, "wall_time_s": time.perf_counter() - started,
