@@ -21,6 +21,7 @@ point and driven by a prescribed rotation; equilibrium by Castigliano (dV/dq = g
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -88,6 +89,8 @@ def eq32_printed(ux, uy, ka):
 
 @dataclass(frozen=True)
 class SlantResult:
+    """The slant parallelogram's coupler displacement, with the result protocol the libraries share
+    (converged, status, message, iterations, wall_time)."""
     dX: float   # coupler displacement along the weight (paper X, downward), length units
     dY: float   # coupler displacement along F_h (paper Y)
     fx1: float
@@ -95,6 +98,14 @@ class SlantResult:
     mz1: float
     ux1: float
     uy1: float
+    converged: bool = True
+    message: str = "closed form"
+    iterations: int = 0         # function evaluations of the root find (Castigliano forms); 0 closed form
+    wall_time: float = 0.0
+
+    @property
+    def status(self) -> str:
+        return "ok" if self.converged else "not converged"
 
 
 def slant_parallelogram(F_h: float, *, F_w: float = 0.25, beta: float = 0.1, L: float = 25.0,
@@ -106,8 +117,10 @@ def slant_parallelogram(F_h: float, *, F_w: float = 0.25, beta: float = 0.1, L: 
     'castigliano' (eq (30) with the corrected eq (32)), 'castigliano-printed' (eq (32) as printed).
     Loads per beam: eq (22); guided tip theta_z1 = 0; coupler displacement: eqs (28), (29).
     """
+    start = time.perf_counter()
     EI = E * W * T**3 / 12.0
     ka = axial_stiffness_parameter(L, T)
+    converged, message, iterations = True, f"closed form ({method})", 0
     Fx1 = F_w * math.cos(beta) / 2.0 - F_h * math.sin(beta) / 2.0
     Fy1 = F_w * math.sin(beta) / 2.0 + F_h * math.cos(beta) / 2.0
     fx, fy = Fx1 * L**2 / EI, Fy1 * L**2 / EI
@@ -125,12 +138,14 @@ def slant_parallelogram(F_h: float, *, F_w: float = 0.25, beta: float = 0.1, L: 
         sol = fsolve(lambda u: np.array(law(u[0], u[1], ka)) - [fx, fy],
                      [guess.ux1, guess.uy1], xtol=1e-14, full_output=True)
         ux, uy = sol[0]
+        converged, message, iterations = sol[2] == 1, f"{method}: {sol[3]}", int(sol[1]["nfev"])
         mz = (K0 + fx * K1 + fx**2 * K2)[1, 0] * uy       # eq (3), second row, theta_z1 = 0
     else:
         raise ValueError(f"unknown method '{method}'")
     dY = L * (-ux * math.sin(beta) + uy * math.cos(beta))  # eq (28)
     dX = L * (ux * math.cos(beta) + uy * math.sin(beta))   # eq (29)
-    return SlantResult(dX, dY, fx, fy, mz, ux, uy)
+    return SlantResult(dX, dY, fx, fy, mz, ux, uy, converged=bool(converged), message=message,
+                       iterations=iterations, wall_time=time.perf_counter() - start)
 
 
 # ------------------------------------------------------------------ general: one rigid body on beams

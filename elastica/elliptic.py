@@ -17,7 +17,9 @@ the seed prints the complete integrals without the sin^2 in the integrand (a mis
 """
 from __future__ import annotations
 
+import functools
 import math
+import time
 from typing import NamedTuple
 
 import numpy as np
@@ -32,13 +34,48 @@ __all__ = ["EllipticTip", "pure_moment_tip", "cantilever_tip_load", "fixed_pinne
 
 
 class EllipticTip(NamedTuple):
-    """End of a segment (normalised by l and EI): position a, b; slope theta0 (rad); alpha = sqrt(Pl^2/EI)."""
+    """End of a segment (normalised by l and EI): position a, b; slope theta0 (rad); alpha = sqrt(Pl^2/EI).
+
+    It answers the result protocol the libraries share (converged, status, message, iterations,
+    wall_time): a closed form converges when its position is a real number; ``iterations`` is 0 (the
+    bracketing root finds on theta0 are not counted) and ``wall_time`` is the public call's time."""
 
     a: float
     b: float
     theta0: float
     alpha: float
     kappa: float = 0.0
+    wall_time: float = 0.0
+
+    @property
+    def converged(self) -> bool:
+        return math.isfinite(self.a) and math.isfinite(self.b)
+
+    @property
+    def status(self) -> str:
+        return "ok" if self.converged else "not converged"
+
+    @property
+    def message(self) -> str:
+        return "closed form (elliptic integrals)" if self.converged else \
+            "no real solution of the elliptic equations at these arguments"
+
+    @property
+    def iterations(self) -> int:
+        return 0
+
+
+def _timed(function):
+    """Record the call's wall time on the EllipticTip (or each of a list) it returns."""
+    @functools.wraps(function)
+    def timed(*args, **kwargs):
+        start = time.perf_counter()
+        result = function(*args, **kwargs)
+        elapsed = time.perf_counter() - start
+        if isinstance(result, EllipticTip):
+            return result._replace(wall_time=elapsed)
+        return [tip._replace(wall_time=elapsed) for tip in result]
+    return timed
 
 
 def _F(g, t):
@@ -59,6 +96,7 @@ def _asin_sqrt(x: float) -> float:
     return math.asin(math.sqrt(min(x, 1.0)))
 
 
+@_timed
 def pure_moment_tip(moment: float) -> EllipticTip:
     """Closed form for a straight cantilever under an end moment m = M l / EI (a circular arc).
 
@@ -100,6 +138,7 @@ def fixed_pinned_from_angle(theta0: float, load_ratio: float = 0.0) -> EllipticT
     return EllipticTip((-n * eta * bracket + root) / den, (eta * bracket + n * root) / den, theta0, alpha)
 
 
+@_timed
 @checked(positive=(), finite=('load',))
 def cantilever_tip_load(load: float) -> EllipticTip:
     """Section 2.1.1: straight cantilever, transverse end load P (load = P l^2/EI > 0), n = 0.
@@ -109,6 +148,7 @@ def cantilever_tip_load(load: float) -> EllipticTip:
     return fixed_pinned_tip(load, 0.0)
 
 
+@_timed
 @checked(positive=(), finite=('load', 'load_ratio'))
 def fixed_pinned_tip(load: float, load_ratio: float = 0.0) -> EllipticTip:
     """Section 2.1.2 with P (load = P l^2/EI) and n given: root-find theta_0 in (0, phi).
@@ -192,6 +232,7 @@ def _solve_theta0(residual, lo, hi, samples=400):
     return roots
 
 
+@_timed
 def curved_fixed_pinned_tip(load: float, load_ratio: float, kappa0: float) -> EllipticTip:
     """Section 2.1.3 with P (load = P l^2/EI), n and end curvature kappa0 = l/R_i given.
 
@@ -252,6 +293,7 @@ def fixed_guided_inflection_from_angle(theta0: float, load_ratio: float, kappa: 
     return EllipticTip(a, b, theta0, alpha, kappa)
 
 
+@_timed
 def fixed_guided_inflection_tips(load: float, load_ratio: float, opposing_moment: float) -> list[EllipticTip]:
     """Section 2.1.4 with loads given: P (load = P l^2/EI > 0), n and the opposing moment M l/EI > 0.
 
@@ -272,6 +314,7 @@ def fixed_guided_inflection_tips(load: float, load_ratio: float, opposing_moment
     return [fixed_guided_inflection_from_angle(r, n, kappa) for r in sorted(roots, key=abs)]
 
 
+@_timed
 def fixed_guided_monotonic_tip(load: float, load_ratio: float, moment: float,
                                initial_curvature: float = 0.0) -> EllipticTip:
     """Section 2.1.4/2.1.5, monotonic curvature (no inflection): the curved fixed-pinned form.
@@ -284,6 +327,7 @@ def fixed_guided_monotonic_tip(load: float, load_ratio: float, moment: float,
 
 # ---------------------------------------------------------------------------- sections 2.1.6/2.1.7
 
+@_timed
 def slfp_tip(load: float, load_ratio: float, rigid_length: float,
              initial_curvature: float = 0.0) -> EllipticTip:
     """Small-length flexural pivot (flexible l = 1) carrying a rigid segment L = ``rigid_length`` (in l).

@@ -13,7 +13,8 @@ from pydantic import ValidationError
 from validation.run.compare import (FEM_ESTIMATE_MULTIPLE, agreement_checks, axial_strain_bound, case_verdict,
                                 fem_elastica_checks, reference_check)
 from validation.methods.base import MethodRun, Request
-from validation.run.runner import CaseResult, tabulate
+from validation.run.runner import CaseResult
+from validation.run.outcome import tabulate
 from validation.case.loader import LoadedCase
 from validation.case.schema import Case
 

@@ -10,8 +10,9 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 PACKAGES = ("prbm", "fem", "elastica", "bcm", "argcheck", "validation")
-# the optional extras of pyproject.toml (peer, dask, test, mutation): imported where used
-OPTIONAL = {"openseespy", "dask", "distributed", "selenium", "hypothesis", "pytest", "mutmut"}
+# the optional extras of pyproject.toml (peer, dask, test, mutation), and pyvista, which needs the
+# system's GL libraries to import (a report without them still runs): imported where used
+OPTIONAL = {"openseespy", "dask", "distributed", "selenium", "hypothesis", "pytest", "mutmut", "pyvista"}
 LONG_FUNCTION = 80
 MAX_LONG_FUNCTIONS = 3
 

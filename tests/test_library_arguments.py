@@ -107,7 +107,11 @@ def test_one_result_protocol_across_the_libraries():
     model.add_support("root", "fixed")
     model.add_force("tip", 0.0, [1.0])
     results = {"prbm": prbm.fixed_pinned_tip(1.0, length=1.0, EI=1.0),
-               "elastica": elastica.solve_elastica(1.0, 1.0, force=(0.0, 1.0)), "fem": fem.solve(model)}
+               "elastica": elastica.solve_elastica(1.0, 1.0, force=(0.0, 1.0)), "fem": fem.solve(model),
+               "elastica elliptic": elastica.cantilever_tip_load(1.0),
+               "elastica elliptic (several roots)": elastica.fixed_guided_inflection_tips(5.0, 0.0, 2.0)[0],
+               "bcm closed form": bcm.slant_parallelogram(1.0, method="CE3"),
+               "bcm root find": bcm.slant_parallelogram(1.0, method="castigliano")}
     for name, result in results.items():
         assert result.converged is True and result.status == "ok", name
         assert isinstance(result.message, str) and result.message, name

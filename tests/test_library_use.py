@@ -125,3 +125,30 @@ def test_every_named_load_as_a_column():
     last = wide[wide["level"] == 2].iloc[0]
     assert last["P [lbf]"] == 6.652 and last["-M (printed M > 0 is clockwise, opposing P) [lbf*in]"] == -71.16
     assert len(wide) == len(result.values)
+
+
+UNIFORM = (ROOT / "cases" / "benchmarks" / "cantilever_uniform_load.toml").read_text()
+
+
+def test_plugin_judges_like_the_suite_expected_failures_and_unchecked(tmp_path):
+    """The plugin applies the suite's rule (compare.verdict_by_method): the PRBM has no model for a
+    distributed load, so a case asking for it fails, unless the case records that refusal as its
+    expected outcome; the FEM's item is judged on its own checks either way."""
+    asks_prbm = (UNIFORM.replace("[methods.elastica]", "[methods.elastica]\n[methods.prbm]")
+                 .replace('[[outputs]]\nquantity = "reaction_y"\npoint = "root"',
+                          '[[outputs]]\nquantity = "reaction_y"\npoint = "root"\nmethods = ["fem", "elastica"]')
+                 .replace('[[outputs]]\nquantity = "reaction_moment"\npoint = "root"',
+                          '[[outputs]]\nquantity = "reaction_moment"\npoint = "root"\nmethods = ["fem", "elastica"]'))
+    assert asks_prbm != UNIFORM
+    expects = asks_prbm.replace('group = "benchmarks"', 'group = "benchmarks"\nexpected_failure = { prbm = '
+                                '"no seed PRBM for a distributed load" }')
+    assert expects != asks_prbm
+    user_case(tmp_path, "refused.toml", asks_prbm.replace('id = "cantilever_uniform_load"', 'id = "refused"'))
+    user_case(tmp_path, "expected.toml", expects.replace('id = "cantilever_uniform_load"', 'id = "expected"'))
+    done = run_pytest("my_cases/", "--case-method", "prbm", "--case-method", "elastica", "-rA", cwd=tmp_path)
+    out = done.stdout
+    assert done.returncode == 1, out + done.stderr
+    assert "FAILED my_cases/refused.toml::refused[prbm]" in out
+    assert "prbm did not give every value: not applicable" in out
+    assert "PASSED my_cases/expected.toml::expected[prbm]" in out
+    assert "PASSED my_cases/refused.toml::refused[elastica]" in out

@@ -14,7 +14,8 @@ from validation.report.build import build_report, glance
 from validation.report.format import Badge, run_badge
 from validation.report.overview import overview_points
 from validation.report.summary import CaseSummary, MethodState, round_numbers, summary_tables_html
-from validation.run.runner import run_case, summary, tabulate
+from validation.run.runner import run_case
+from validation.run.outcome import summary, tabulate
 
 REPORT_CASES = ["cantilever_tip_load", "follower_tip_load", "bapat2015_test2"]
 

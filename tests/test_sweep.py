@@ -18,7 +18,7 @@ from validation.methods.base import MethodRun
 from validation.cli import sweep as sweep_verb
 from validation.cli.arguments import build_parser
 from validation.sweep.run import SpecError, load_results, load_spec, make_points, run_sweep
-from validation.sweep.task import apply
+from validation.case.overrides import apply
 
 CASE = """
 [case]

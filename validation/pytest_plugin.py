@@ -1,11 +1,14 @@
 """pytest plugin (entry point ``pytest11``): case files are tests.
 
 ``pytest some_folder/`` collects every case file (a TOML file with a ``[case]`` table) under the
-folder as test items, one per case and method: ``mine.toml::my_case[fem]``. An item passes when the
-method ran (status ok) and every comparison the runner made for it with a claimed tolerance holds
-(``within_tolerance`` of its rows, unless the reference records a ``finding``); it fails with a
-message naming quantity, point, load with its unit, value, reference, error, tolerance and source.
-A case file with bad input is one failing item listing every problem.
+folder as test items, one per case and method: ``mine.toml::my_case[fem]``. The methods of a file run
+once (shared by its items), and each item is judged by the same rule as the project's own suite
+(``validation.run.compare.verdict_by_method``): every enforced check of the method holds (printed
+numbers with a tolerance, findings, agreements between methods, FEM against the elastica); the method
+ran, unless the case records its failure as expected (``case.expected_failure``); a method with
+values has an enforced check at a loaded level, unless ``case.unchecked`` says why. A failure names
+quantity, point, load with its unit, value, reference, error, tolerance and source. A case file with
+bad input is one failing item listing every problem.
 
 Options: ``--case-method NAME`` (repeatable) runs only those methods; ``--case-cache`` reuses the
 on-disk cache of method runs (default: recompute).
@@ -17,8 +20,9 @@ from pathlib import Path
 
 import pytest
 
-from validation.run.api import validate
-from validation.case.loader import CaseError, load_case
+from validation.case.loader import CaseError, LoadedCase, load_case
+from validation.run.api import Validation, validate
+from validation.run.compare import verdict_by_method
 
 
 def pytest_addoption(parser) -> None:
@@ -56,10 +60,30 @@ class CaseFile(pytest.File):
             yield BadCaseItem.from_parent(self, name="input", error=exc)
             return
         chosen = self.config.getoption("case_method")
-        for method in loaded.case.methods:
-            if chosen and method not in chosen:
-                continue
-            yield CaseItem.from_parent(self, name=f"{loaded.id}[{method}]", loaded=loaded, method=method)
+        methods = [m for m in loaded.case.methods if not chosen or m in chosen]
+        shared = SharedRun(loaded, methods, self.config.getoption("case_cache"))
+        for method in methods:
+            yield CaseItem.from_parent(self, name=f"{loaded.id}[{method}]", loaded=loaded, method=method,
+                                       shared=shared)
+
+
+class SharedRun:
+    """The methods of one case file, run once for all its items, and the verdict per method."""
+
+    def __init__(self, loaded: LoadedCase, methods: list[str], use_cache: bool):
+        self.loaded, self.methods, self.use_cache = loaded, methods, use_cache
+        self._result: Validation | None = None
+
+    @property
+    def result(self) -> Validation:
+        if self._result is None:
+            self._result = validate(self.loaded, methods=self.methods, use_cache=self.use_cache)
+        return self._result
+
+    def problems(self, method: str) -> list[str]:
+        result = self.result
+        verdict = verdict_by_method(self.loaded.case, result.result.runs, result.results)
+        return verdict.get(method, [])
 
 
 class CaseFailure(Exception):
@@ -67,14 +91,14 @@ class CaseFailure(Exception):
 
 
 class CaseItem(pytest.Item):
-    def __init__(self, *, loaded, method: str, **kwargs):
+    def __init__(self, *, loaded, method: str, shared: SharedRun, **kwargs):
         super().__init__(**kwargs)
-        self.loaded, self.method = loaded, method
+        self.loaded, self.method, self.shared = loaded, method, shared
 
     def runtest(self) -> None:
-        result = validate(self.loaded, methods=[self.method],
-                          use_cache=self.config.getoption("case_cache"))
-        lines = run_problems(result) + comparison_failures(result)
+        readable = [line for line in comparison_failures(self.shared.result) if line.startswith(f"{self.method}:")]
+        lines = self.shared.problems(self.method)
+        lines += readable if lines else []
         if lines:
             raise CaseFailure(f"{self.loaded.id} ({self.loaded.path}), method {self.method}:\n  "
                               + "\n  ".join(lines))
@@ -86,11 +110,6 @@ class CaseItem(pytest.Item):
 
     def reportinfo(self):
         return self.path, None, f"case {self.loaded.id} with {self.method}"
-
-
-def run_problems(result) -> list[str]:
-    """One line per method run that did not end ok: method, status, message."""
-    return [f"{method} {run.summary()}" for method, run in result.result.runs.items() if not run.ok]
 
 
 def comparison_failures(result) -> list[str]:

@@ -27,6 +27,7 @@ from __future__ import annotations
 import cmath
 import itertools
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -35,73 +36,75 @@ from prbm.synthesis.dyads import DEG, SynthesisError
 from prbm.synthesis.fixed_guided import pauly_midha
 
 
-def solve_framework(*, theta1: float, delta: list[complex], gamma: list[float], n1: list[float],
-                    fixed: dict[str, float] | None = None, energy: list[float] | None = None,
-                    force: list[float] | None = None, max_roots: int = 1) -> list[dict]:
-    """Roots of the chapter-5 equations; angles in degrees in and out.  ``fixed`` names free choices
-    'R2_j', 'Theta2_j', 'R3_j', 'Theta3_j' (j = 2, 3, ...)."""
-    fixed = dict(fixed or {})
-    npos = len(delta)
-    js = list(range(2, 2 + npos))
-    th1 = theta1 * DEG
-    gam = [g * DEG for g in gamma]
-    phi1 = [math.atan2(1.0, -n) for n in n1]
-    phi2 = [p - g for p, g in zip(phi1, gam)]
-    n2 = [-math.cos(p) / math.sin(p) for p in phi2]
-    P1 = [pauly_midha(n) for n in n1]
-    P2 = [pauly_midha(n) for n in n2]
-    need_EI = energy is not None or force is not None
-    names = [f"{v}_{j}" for j in js for v in ("R2", "Theta2", "R3", "Theta3") if f"{v}_{j}" not in fixed]
-    names += ["R5", "Theta5", "R6"] + (["EI"] if need_EI else [])
-    n_eq = npos * (4 + (1 if energy is not None else 0) + (2 if force is not None else 0))
-    if n_eq != len(names):
-        raise SynthesisError(f"{n_eq} equations but {len(names)} unknowns ({', '.join(names)}): "
-                             f"specify {len(names) - n_eq} more free choice(s)" if len(names) > n_eq else
-                             f"{n_eq} equations but {len(names)} unknowns: too many free choices")
+@dataclass
+class _Framework:
+    """The chapter-5 equations for given precision positions: the unknowns' names, the residual of
+    eqs (160), (163), (164) (and (165) with energies, (166)-(167) with forces), bounds and guesses."""
+    th1: float
+    gam: list[float]
+    phi1: list[float]
+    phi2: list[float]
+    n2: list[float]
+    P1: list[tuple[float, float, float]]
+    P2: list[tuple[float, float, float]]
+    delta: list[complex]
+    fixed: dict[str, float]
+    names: list[str]
+    energy: list[float] | None
+    force: list[float] | None
 
-    def unpack(x):
-        v = dict(fixed)
-        v.update(zip(names, x))
+    @property
+    def js(self) -> list[int]:
+        return list(range(2, 2 + len(self.delta)))
+
+    @property
+    def need_EI(self) -> bool:
+        return self.energy is not None or self.force is not None
+
+    def unpack(self, x) -> dict[str, float]:
+        v = dict(self.fixed)
+        v.update(zip(self.names, x))
         for k in list(v):
             if k.startswith("Theta"):
                 v[k + "_rad"] = v[k] * DEG
         return v
 
-    def residual(x):
-        v = unpack(x)
-        EI = math.exp(v["EI"]) if need_EI else 1.0
+    def residual(self, x) -> list[float]:
+        v = self.unpack(x)
+        EI = math.exp(v["EI"]) if self.need_EI else 1.0
         out = []
-        for i, j in enumerate(js):
-            g1, c1, K1 = P1[i]
-            g2, c2, K2 = P2[i]
+        e1 = cmath.exp(1j * self.th1)
+        for i, j in enumerate(self.js):
+            g1, c1, K1 = self.P1[i]
+            g2, c2, K2 = self.P2[i]
+            gam = self.gam[i]
             R2, R3 = v[f"R2_{j}"], v[f"R3_{j}"]
             T2, T3 = v[f"Theta2_{j}_rad"], v[f"Theta3_{j}_rad"]
-            e1 = cmath.exp(1j * th1)
             loop = (R2 * e1 * ((1 - g1) / g1 + cmath.exp(1j * T2))
-                    + R3 * e1 * ((1 - g2) / g2 * cmath.exp(1j * gam[i]) + cmath.exp(1j * T3))
-                    + v["R5"] * cmath.exp(1j * v["Theta5_rad"]) * (cmath.exp(1j * gam[i]) - 1)
-                    - v["R6"] * e1 - delta[i])
-            out += [loop.real, loop.imag, (R2 / g1 + R3 / g2 - v["R6"]), T2 * c1 - (T3 - gam[i]) * c2 - gam[i]]
-            if energy is not None:
-                U = 0.5 * (g1 * g1 * K1 * EI / R2 * T2 ** 2 + g2 * g2 * K2 * EI / R3 * (T3 - gam[i]) ** 2)
-                out.append(U / energy[i] - 1.0)
-            if force is not None:
-                out.append(force[i] * R2 ** 2 / (EI * g1 * g1) * math.sin(phi1[i] - T2) - K1 * T2)
-                out.append(force[i] * R3 ** 2 / (EI * g2 * g2) * math.sin(phi2[i] - T3 + gam[i]) - K2 * (T3 - gam[i]))
+                    + R3 * e1 * ((1 - g2) / g2 * cmath.exp(1j * gam) + cmath.exp(1j * T3))
+                    + v["R5"] * cmath.exp(1j * v["Theta5_rad"]) * (cmath.exp(1j * gam) - 1)
+                    - v["R6"] * e1 - self.delta[i])
+            out += [loop.real, loop.imag, (R2 / g1 + R3 / g2 - v["R6"]), T2 * c1 - (T3 - gam) * c2 - gam]
+            if self.energy is not None:
+                U = 0.5 * (g1 * g1 * K1 * EI / R2 * T2 ** 2 + g2 * g2 * K2 * EI / R3 * (T3 - gam) ** 2)
+                out.append(U / self.energy[i] - 1.0)
+            if self.force is not None:
+                out.append(self.force[i] * R2 ** 2 / (EI * g1 * g1) * math.sin(self.phi1[i] - T2) - K1 * T2)
+                out.append(self.force[i] * R3 ** 2 / (EI * g2 * g2) * math.sin(self.phi2[i] - T3 + gam)
+                           - K2 * (T3 - gam))
         return out
 
-    scale = max(abs(d) for d in delta)
-    lo = {"R": 1e-6, "Theta": -89.0, "EI": -30.0}
-    hi = {"R": 200.0 * scale, "Theta": 180.0, "EI": 40.0}
-    bounds = ([lo["EI"] if n == "EI" else (-180.0 if n == "Theta5" else lo[n.rstrip("_0123456789")[:5] if n.startswith("Theta") else "R"])
-               for n in names],
-              [hi["EI"] if n == "EI" else (180.0 if n == "Theta5" else hi["Theta" if n.startswith("Theta") else "R"])
-               for n in names])
-    roots = []
-    for R6, R5f, th5, s, ang in itertools.product((2.0, 4.0, 8.0), (0.3, 1.0), range(-150, 180, 60),
-                                                  (0.3, 0.6), (10.0, 25.0)):
+    def bounds(self, scale: float) -> tuple[list[float], list[float]]:
+        def low(n: str) -> float:
+            return -30.0 if n == "EI" else -180.0 if n == "Theta5" else -89.0 if n.startswith("Theta") else 1e-6
+
+        def high(n: str) -> float:
+            return 40.0 if n == "EI" else 180.0 if n.startswith("Theta") else 200.0 * scale
+        return [low(n) for n in self.names], [high(n) for n in self.names]
+
+    def guess(self, scale: float, R6: float, R5f: float, th5: float, s: float, ang: float) -> list[float]:
         x0 = []
-        for n in names:
+        for n in self.names:
             if n.startswith("R2_"):
                 x0.append(R6 * scale * s * 0.85)
             elif n.startswith("R3_"):
@@ -113,25 +116,61 @@ def solve_framework(*, theta1: float, delta: list[complex], gamma: list[float], 
             elif n == "R6":
                 x0.append(R6 * scale)
             else:  # log EI
-                x0.append(math.log(max(abs(force[0]) if force else 1.0, 1e-3) * (R6 * scale) ** 2))
-        x0 = np.clip(x0, np.array(bounds[0]) + 1e-9, np.array(bounds[1]) - 1e-9)
+                x0.append(math.log(max(abs(self.force[0]) if self.force else 1.0, 1e-3) * (R6 * scale) ** 2))
+        return x0
+
+    def solution(self, x) -> dict[str, float] | None:
+        """The root as named values (EI, Theta5 normalised), or None where it is not a mechanism."""
+        v = self.unpack(x)
+        ok = all(v[f"R2_{j}"] > 0 and v[f"R3_{j}"] > 0 for j in self.js) and v["R5"] > 0 and v["R6"] > 0
+        ok &= all(-4 < n <= 10 for n in self.n2)
+        if not ok:
+            return None
+        sol = {k: float(v[k]) for k in self.names + list(self.fixed)}
+        sol["Theta5"] = (sol["Theta5"] + 180.0) % 360.0 - 180.0
+        if self.need_EI:
+            sol["EI"] = math.exp(v["EI"])
+        return sol
+
+
+def _framework(theta1, delta, gamma, n1, fixed, energy, force) -> _Framework:
+    """The unknowns left by the free choices; a one-line error when equations and unknowns differ."""
+    npos = len(delta)
+    gam = [g * DEG for g in gamma]
+    phi1 = [math.atan2(1.0, -n) for n in n1]
+    phi2 = [p - g for p, g in zip(phi1, gam)]
+    n2 = [-math.cos(p) / math.sin(p) for p in phi2]
+    names = [f"{v}_{j}" for j in range(2, 2 + npos) for v in ("R2", "Theta2", "R3", "Theta3") if f"{v}_{j}" not in fixed]
+    names += ["R5", "Theta5", "R6"] + (["EI"] if energy is not None or force is not None else [])
+    n_eq = npos * (4 + (1 if energy is not None else 0) + (2 if force is not None else 0))
+    if n_eq != len(names):
+        raise SynthesisError(f"{n_eq} equations but {len(names)} unknowns ({', '.join(names)}): "
+                             f"specify {len(names) - n_eq} more free choice(s)" if len(names) > n_eq else
+                             f"{n_eq} equations but {len(names)} unknowns: too many free choices")
+    return _Framework(th1=theta1 * DEG, gam=gam, phi1=phi1, phi2=phi2, n2=n2, P1=[pauly_midha(n) for n in n1],
+                      P2=[pauly_midha(n) for n in n2], delta=list(delta), fixed=fixed, names=names,
+                      energy=energy, force=force)
+
+
+def solve_framework(*, theta1: float, delta: list[complex], gamma: list[float], n1: list[float],
+                    fixed: dict[str, float] | None = None, energy: list[float] | None = None,
+                    force: list[float] | None = None, max_roots: int = 1) -> list[dict]:
+    """Roots of the chapter-5 equations; angles in degrees in and out.  ``fixed`` names free choices
+    'R2_j', 'Theta2_j', 'R3_j', 'Theta3_j' (j = 2, 3, ...)."""
+    problem = _framework(theta1, delta, gamma, n1, dict(fixed or {}), energy, force)
+    scale = max(abs(d) for d in delta)
+    bounds = problem.bounds(scale)
+    roots = []
+    for start in itertools.product((2.0, 4.0, 8.0), (0.3, 1.0), range(-150, 180, 60), (0.3, 0.6), (10.0, 25.0)):
+        x0 = np.clip(problem.guess(scale, *start), np.array(bounds[0]) + 1e-9, np.array(bounds[1]) - 1e-9)
         try:
-            res = least_squares(residual, x0, bounds=bounds, xtol=1e-14, ftol=1e-14, gtol=1e-14, max_nfev=400)
+            res = least_squares(problem.residual, x0, bounds=bounds, xtol=1e-14, ftol=1e-14, gtol=1e-14,
+                                max_nfev=400)
         except (ValueError, OverflowError, ZeroDivisionError):
             continue
-        if max(abs(r) for r in res.fun) > 1e-9:
-            continue
-        v = unpack(res.x)
-        ok = all(v[f"R2_{j}"] > 0 and v[f"R3_{j}"] > 0 for j in js) and v["R5"] > 0 and v["R6"] > 0
-        ok &= all(-4 < n <= 10 for n in n2)
-        if not ok:
-            continue
-        sol = {k: float(v[k]) for k in names + list(fixed)}
-        sol["Theta5"] = (sol["Theta5"] + 180.0) % 360.0 - 180.0
-        if need_EI:
-            sol["EI"] = math.exp(v["EI"])
-        if not any(abs(sol["R6"] - r["R6"]) < 1e-6 * sol["R6"] and abs(sol["R5"] - r["R5"]) < 1e-6 * sol["R6"]
-                   for r in roots):
+        sol = problem.solution(res.x) if max(abs(r) for r in res.fun) <= 1e-9 else None
+        if sol is not None and not any(abs(sol["R6"] - r["R6"]) < 1e-6 * sol["R6"]
+                                       and abs(sol["R5"] - r["R5"]) < 1e-6 * sol["R6"] for r in roots):
             roots.append(sol)
         if len(roots) >= max_roots:
             break

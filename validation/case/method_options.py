@@ -27,7 +27,12 @@ class MechanicalAdvantageOptions(Options):
     """``[methods.fem] ma``: the FEM's mechanical advantage (validation.methods.fem_outputs)."""
 
     output: str = Field(description="the held output point")
-    direction: tuple[float, float] = Field(description="the output force's direction")
+    direction: tuple[float, float] | None = Field(None, description="the output force's direction "
+                                                  "(the working motion of a held output point)")
+    moment_arm: Positive | None = Field(None, description="d_o: the output is a held rotation at 'output'; "
+                                        "F_o = its holding moment / d_o")
+    sense: Literal[1, -1] = Field(1, description="with moment_arm: +1 if the working motion of the output "
+                                  "is counter-clockwise, -1 if clockwise")
     input: Annotated[int, Field(ge=0)] | None = Field(None, description="index of the input load in [[loads]]")
     step: Positive = Field(1e-4, description="tangent: input increment over its largest value")
     d_i: Positive | None = Field(None, description="input force distance, for an input moment")
@@ -121,8 +126,15 @@ class PrbmOptions(Options):
                                           "as [methods.fem] ma, {output, direction, input, step, d_i, definition}")
     max_mode: Count = 2
     segment_model: Literal["inflection", "fixed-pinned", "fixed-free"] | None = None
-    model: Literal["network"] | None = Field(None, description="solve a mechanism by the general network "
-                                             "built from the geometry even where a special path applies")
+    model: Literal["network", "chain", "theta-dependent", "lyon", "feasible-l1"] | None = Field(
+        None, description="'network': solve a mechanism by the general network built from the geometry even where "
+        "a special path applies; 'chain', 'theta-dependent', 'lyon': seed 000 chapter 2's other segment models, "
+        "'feasible-l1': section 3.6's vector loop "
+        "(validation.methods.prbm_alternatives)")
+    theta_fit: Literal["51", "52", "52-tension"] = Field("51", description="K_Theta(n, Theta) of seed 000 eq (51) or "
+                                                         "(52) for model = 'theta-dependent'")
+    chain_elements: Count = Field(40, description="Chain Algorithm elements (section 3.4 used 40)")
+    chain_steps: Count = Field(10, description="Chain Algorithm load (or displacement) increments")
     rules: dict[str, Any] | None = Field(None, description="the PRB builder's rules; keys checked by "
                                          "validation.methods.prbm_network.rules")
     # the seeds' synthesis data (chapters 5-7), kept beside the model for the reader and the synthesis;

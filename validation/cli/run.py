@@ -10,7 +10,7 @@ import pandas as pd
 from validation.cli.common import case_paths, unknown_methods
 from validation.run import tables
 from validation.run.exit_status import ExitStatus, print_error
-from validation.run.runner import run_cases, summary
+from validation.run.outcome import run_cases, summary
 
 
 def _print_table(frame, file=None) -> None:

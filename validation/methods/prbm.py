@@ -43,7 +43,8 @@ import numpy as np
 import prbm
 from prbm.fits import THETA_RANGE, fit_family
 from prbm.result import PRBMResult
-from validation.methods import prbm_body, prbm_fourbar, prbm_network
+from validation.methods import (prbm_alternatives, prbm_body, prbm_fourbar, prbm_inflection, prbm_ma,
+                                prbm_network)
 from validation.methods.base import (Applicability, MethodRun, NotApplicable, Request,
                                      reject_loads_along_beams)
 from validation.methods.prbm_common import DEG, pick, plain
@@ -55,8 +56,12 @@ from validation.case.quantities import boundary_held_tip, unloaded_tip_angle
 def run(case, requests: list[Request], options: dict) -> MethodRun:
     t0 = time.perf_counter()
     reject_loads_along_beams(case, "the PRBM")
+    if options.get("model") in prbm_alternatives.MODELS:  # seed 000 chapter 2's other segment models
+        return prbm_alternatives.run(case, requests, options)
     try:
-        if case.segment is not None:
+        if prbm_ma.handles(case, options):                      # chapter 7 MA by prbm.compliance
+            values, run_info = prbm_ma.run(case, requests, options)
+        elif case.segment is not None:
             values, run_info = _segment(case, requests, options)
         else:
             values, run_info = _mechanism(case, requests, options)
@@ -164,7 +169,7 @@ def _segment(case, requests, options):
         if lc is not None and np.size(lc) in (1, n) else {}
     info.extras = {"model": res.model, "constants": plain(res.constants)}
     if loads.has_moment:  # no end moment: the bending moment cannot change sign (eq 12)
-        _warn_inflection(info, loads.M, out["force_x"], out["force_y"], out["x"], out["y"])
+        _warn_inflection(info, loads.M, out["force_x"], out["force_y"], out["x"], out["y"], solved.a0, solved.b0)
     _flag_fit_range(info, loads, ratio, res, fit, n)
     shapes = _segment_shapes(seg, res, n, kappa)
     if shapes:
@@ -279,12 +284,14 @@ def _flag_fit_range(info: MethodRun, loads: TipLoads, ratio, res: PRBMResult, fi
             info.flag(level, Applicability.DEFLECTION)
 
 
-def _warn_inflection(info: MethodRun, M, Fx, Fy, a, b) -> None:
-    """Mark the levels whose end force and moment give an inflection point in the deformed PRBM state:
-    the moment at the tip (M) and at the root (M + F_y a - F_x b) of opposite signs (Table 2.1's
-    opposite senses, and the sufficient condition (12) evaluated on the PRBM's own deformed shape)."""
+def _warn_inflection(info: MethodRun, M, Fx, Fy, a, b, a0, b0) -> None:
+    """Mark the levels whose end force and moment give an inflection point: the moment at the tip (M) and
+    at the root (M + F_y a - F_x b) of opposite signs (Table 2.1's opposite senses, and the sufficient
+    condition (12)), on the PRBM's own deformed state or on the unloaded one (a0, b0): the monotonic
+    model's state can land on the branch without the inflection that the beam has."""
     root = M + Fy * a - Fx * b
-    inflected = np.nonzero((M * root) < 0)[0]
+    unloaded = M + Fy * a0 - Fx * b0
+    inflected = np.nonzero(((M * root) < 0) | ((M * unloaded) < 0))[0]
     for level in inflected.tolist():
         info.level_messages[level] = INFLECTION_WARNING
         info.flag(level, Applicability.INFLECTION)
@@ -390,6 +397,9 @@ def _mechanism(case, requests, options):
         values, requests = prbm_fourbar.dof_values(mech, requests, options, info)
         if not requests:
             return values, info
+    if prbm_inflection.applies(case, options):  # chapter 5: inflection segments on one rigid coupler
+        values.update(prbm_inflection.run_coupler(case, requests, info))
+        return values, info
     links = options.get("links")
     kinds = sorted(sup.kind for sup in mech.supports)
     if not links and not mech.links and len(mech.beams) == 1 and kinds == ["pinned", "slider"]:

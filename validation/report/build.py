@@ -35,7 +35,8 @@ from validation.report.format import run_badge, sig
 from validation.report.overview import CLAIMS, overview_points, plot_overview
 from validation.report.summary import (METHOD_NAMES, case_sentence, findings, findings_html, summarise,
                                        summary_markdown, summary_tables_html)
-from validation.run.runner import CaseResult, run_cases, summary
+from validation.run.runner import CaseResult
+from validation.run.outcome import run_cases, summary
 
 matplotlib.use("Agg")  # files only, no display
 import matplotlib.pyplot as plt  # noqa: E402

@@ -181,32 +181,35 @@ def loaded_levels(case: Case) -> set[int]:
     return {i for i in range(case.n_levels()) if any(load.levels()[i] != 0.0 for load in case.loads)}
 
 
-def case_verdict(case: Case, runs: dict[str, MethodRun], table) -> list[str]:
+def verdict_by_method(case: Case, runs: dict[str, MethodRun], table) -> dict[str, list[str]]:
     """Why a case fails, one line each (empty: it passes). A case fails when an enforced check fails;
     when a method it lists does not converge or does not apply, unless ``case.expected_failure`` says so
     (and then it fails if the method does converge); when a method with values has no enforced check at
-    a loaded level, unless ``case.unchecked`` gives the reason."""
-    problems = []
+    a loaded level, unless ``case.unchecked`` gives the reason. Each problem is filed under the method
+    it is about (an agreement under the method it holds to the other)."""
+    problems: dict[str, list[str]] = {method: [] for method in runs}
     claimed = table[table["within_tolerance"].notna()]
     for _, row in claimed[claimed["within_tolerance"] == False].iterrows():  # noqa: E712
         if row["method"] in case.case.expected_failure and math.isnan(row["value"]):
             continue  # no value where the method is expected to fail: the expectation is checked below
-        problems.append(f"{row['check']} {row['method']} {row['quantity']} level {row['level']}: "
+        problems.setdefault(row["method"], []).append(
+            f"{row['check']} {row['method']} {row['quantity']} level {row['level']}: "
                         f"{row['value']:.6g} against {row['reference_label']} {row['reference_value']:.6g} "
                         f"(|error| {row['abs_error']:.3g}, rel {row['rel_error']:.3g}; tolerance abs "
                         f"{row['tolerance_abs']}, rel {row['tolerance_rel']}) {row['message'] or ''}".rstrip())
     for i, agreement in enumerate(case.agreements):
-        if agreement.method in runs and not agreement_checks(case, agreement, runs):
-            problems.append(f"agreements.{i} ({agreement.method} against {agreement.against}) compares nothing: "
+        against_ran = agreement.against in runs or agreement.against not in case.methods
+        if agreement.method in runs and against_ran and not agreement_checks(case, agreement, runs):
+            problems[agreement.method].append(f"agreements.{i} ({agreement.method} against {agreement.against}) compares nothing: "
                             f"no level where both sides have {', '.join(agreement.quantities)}")
     loaded = loaded_levels(case)
     for method, run in runs.items():
         failed = not run.converged or not run.values
         expected = case.case.expected_failure.get(method)
         if failed and expected is None:
-            problems.append(f"{method} did not give every value: {run.message or 'no message'}")
+            problems[method].append(f"{method} did not give every value: {run.message or 'no message'}")
         elif expected is not None and not failed:
-            problems.append(f"{method} was expected to fail ({expected}) but converged")
+            problems[method].append(f"{method} was expected to fail ({expected}) but converged")
         if not run.values or method in case.case.unchecked:
             continue
         mine = claimed[claimed["method"] == method]
@@ -214,6 +217,11 @@ def case_verdict(case: Case, runs: dict[str, MethodRun], table) -> list[str]:
                                                                                         "fem-elastica"])]
         levels = set(mine["level"].dropna().astype(int)) | set(others["level"].dropna().astype(int))
         if not levels & loaded:
-            problems.append(f"{method} has values but no enforced check at a loaded level, and "
+            problems[method].append(f"{method} has values but no enforced check at a loaded level, and "
                             f"case.unchecked gives no reason")
     return problems
+
+
+def case_verdict(case: Case, runs: dict[str, MethodRun], table) -> list[str]:
+    """Why a case fails, one line each (empty: it passes); ``verdict_by_method`` says for which method."""
+    return [line for lines in verdict_by_method(case, runs, table).values() for line in lines]

@@ -11,18 +11,23 @@ The unplanted baseline runs first; a case failing there is reported, since it ca
 from __future__ import annotations
 
 import hashlib
+import os
 import sys
+import tempfile
 import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
 import pandas as pd
+from threadpoolctl import threadpool_limits
 
-from validation.stress import plants
-from validation.run.compare import case_verdict
 from validation.case.loader import CaseError, find_case_files, load_case
-from validation.run.runner import run_case, tabulate
+from validation.run.compare import case_verdict
+from validation.run.exit_status import ExitStatus, decide
+from validation.run.outcome import tabulate
+from validation.run.runner import run_case
+from validation.stress import plants
 
 BASELINE = "none"
 
@@ -52,20 +57,18 @@ def _judge(plant: str, path: Path) -> Verdict:
                    {method: _fingerprint(run) for method, run in result.runs.items()})
 
 
-def _initialise(plant: str) -> None:
-    try:  # one BLAS thread per worker: the FEM's systems are small and the workers share the cores
-        from threadpoolctl import threadpool_limits
-    except ImportError:
-        pass
-    else:
-        threadpool_limits(1)
+def _initialise(plant: str, cache: str) -> None:
+    # planted runs must never reach the project's run cache (the runner stores every fresh run)
+    os.environ["PRBM_VALIDATE_CACHE"] = cache
+    threadpool_limits(1)  # one BLAS thread per worker: the FEM's systems are small and the workers share the cores
     if plant != BASELINE:
         plants.apply(plant)
 
 
 def run_plant(plant: str, paths: list[Path], jobs: int) -> list[Verdict]:
     """Every case of ``paths`` in worker processes that carry the planted error."""
-    with ProcessPoolExecutor(max_workers=jobs, initializer=_initialise, initargs=(plant,)) as pool:
+    with tempfile.TemporaryDirectory(prefix="prbm-audit-") as cache, \
+            ProcessPoolExecutor(max_workers=jobs, initializer=_initialise, initargs=(plant, cache)) as pool:
         return list(pool.map(_judge, [plant] * len(paths), paths))
 
 
@@ -124,12 +127,12 @@ def cmd_audit(args) -> int:
     if unknown:
         print(f"error: --plant: unknown planted error {', '.join(unknown)}; known: {', '.join(plants.PLANTS)}",
               file=sys.stderr)
-        return 2
+        return ExitStatus.BAD_INPUT
     try:
         paths = find_case_files(args.cases or None)
     except CaseError as exc:
         print(f"error: {exc}", file=sys.stderr)
-        return 2
+        return ExitStatus.BAD_INPUT
     started = time.perf_counter()
     verdicts = audit(paths, names, jobs=args.jobs)
     out = Path(args.out)
@@ -146,4 +149,4 @@ def cmd_audit(args) -> int:
         print(f"not caught: {hole}")
     print(f"\n{len(names)} plant(s) over {len(paths)} case(s) in {time.perf_counter() - started:.0f} s; "
           f"verdicts in {out / 'audit.csv'}")
-    return 1 if missed or len(baseline) else 0
+    return decide(failed=bool(missed) or len(baseline) > 0)

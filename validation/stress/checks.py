@@ -16,21 +16,30 @@ The cases are built as case data and run through the same adapters as the valida
 """
 from __future__ import annotations
 
+import cmath
+import hashlib
+import html
 import json
 import math
 import random
 import time
+import tomllib
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
-
+import tomli_w
 from pydantic import ValidationError
+from scipy.optimize import brentq
+from scipy.special import ellipk
 
-from validation.case.loader import describe
-from validation.methods.base import Request
-from validation.run.runner import run_method
+from prbm import FourBar
+from prbm.fits import PAULY_MIDHA, FitRangeError
+from validation.case.loader import case_by_id, describe
 from validation.case.schema import Case, without_checks
+from validation.methods.base import Request
+from validation.run.exit_status import decide
+from validation.run.runner import run_method
 from validation.stress.contract_run import run_contract_stress
 
 IN, LBF, PSI = 0.0254, 4.4482216152605, 6894.757293168361
@@ -208,8 +217,6 @@ def column_check() -> list[Check]:
     checks = []
     # a column with a small imperfection, loaded past its Euler load: the post-buckled elastica
     # (fixed-free, tip angle a, k = sin(a/2)): P/P_cr = (2K(k)/pi)^2 and lateral tip deflection 2k/K(k) L
-    from scipy.optimize import brentq
-    from scipy.special import ellipk
 
     ratio = 1.5
     k = brentq(lambda k: (2 * ellipk(k * k) / math.pi) ** 2 - ratio, 1e-9, 0.999999)
@@ -228,9 +235,7 @@ def bistable_check() -> list[Check]:
     positions by its output rotation in small steps: the FEM path must be continuous (no jump
     between steps), the strain energy must rise to a maximum and fall to the second well, and the
     driving torque must change sign at that maximum (the snap-through a torque-driven test would show)."""
-    import tomllib
 
-    from validation.case.loader import case_by_id
 
     loaded = case_by_id("bapat2015_ch6_ex2")
     data = tomllib.loads(loaded.text)
@@ -260,10 +265,7 @@ def bistable_check() -> list[Check]:
 def prbm_edge_checks() -> list[Check]:
     """PRBM at its edges: fits at and beyond their ranges, four-bars at and past toggle, loops that
     cannot close."""
-    import cmath
 
-    from prbm import FourBar
-    from prbm.fits import PAULY_MIDHA, FitRangeError
 
     checks = []
     for n, inside in ((10.0, True), (-3.999, True), (10.5, False), (-4.5, False)):
@@ -374,9 +376,7 @@ def shrink(params: dict) -> dict:
 
 def write_regression(params: dict, folder: Path) -> Path:
     """Keep a shrunk failure as a case file (FEM and elastica side by side) for a developer to adopt."""
-    import hashlib
 
-    import tomli_w
 
     h = params["length"] / params["slenderness"]
     case = cantilever(length=params["length"], E=params["E"], width=h, thickness=h, alpha=params["alpha"],
@@ -433,11 +433,10 @@ def run_stress(out: Path, long: bool = False, seed: int = 20261122, *, configura
     for c in checks:
         if not c.passed:
             print(f"FAILED {c.category}: {c.name}: {c.detail}")
-    return 0 if all(c.passed for c in checks) else 1
+    return int(decide(failed=not all(c.passed for c in checks)))
 
 
 def _write_page(out: Path, document: dict) -> None:
-    import html
 
     rows = "".join(f"<tr class='{'good' if c['passed'] else 'bad'}'><td>{html.escape(c['category'])}</td>"
                    f"<td>{html.escape(c['name'])}</td><td>{'pass' if c['passed'] else 'FAIL'}</td>"

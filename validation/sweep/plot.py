@@ -36,6 +36,9 @@ import pandas as pd
 
 from validation.sweep.run import load_results
 from validation.sweep.sensitivity import invariance, summary_lines
+import matplotlib
+matplotlib.use("Agg")  # files only, no display
+import matplotlib.pyplot as plt  # noqa: E402
 
 CHI2_2DOF_95 = 5.991464547107979  # chi-square quantile, 2 degrees of freedom, 0.95
 
@@ -43,19 +46,12 @@ CHI2_2DOF_95 = 5.991464547107979  # chi-square quantile, 2 degrees of freedom, 0
 
 def _save(fig, path: Path) -> Path:
     """Lay out, write and close a figure; the path written."""
-    import matplotlib.pyplot as plt
-
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return path
 
 def _figure(rows: int = 1, cols: int = 1, size=(6.4, 4.8)):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     fig, axes = plt.subplots(rows, cols, figsize=(size[0] * cols, size[1] * rows), squeeze=False)
     return plt, fig, axes.ravel()
 

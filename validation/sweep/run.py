@@ -66,6 +66,7 @@ from __future__ import annotations
 import hashlib
 import itertools
 import json
+import logging
 import math
 import os
 import sys
@@ -73,19 +74,30 @@ import time
 import tomllib
 import uuid
 import zlib
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterator, Literal
 
+import numpy as np
+import pandas as pd
+import pyarrow as pa
+import pyarrow.parquet as pq
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from scipy.special import ndtr, ndtri
+from tqdm import tqdm
 
-from validation.run.exit_status import print_error
+from validation.case.capabilities import method_quantities
 from validation.case.loader import CASES_DIR, CaseError, find_case_files, load_case, read_toml_model
+from validation.case.overrides import PathError, apply, check_path, parent_of
 from validation.case.schema import Case, Finite, OutputSpec, Positive
-from validation.sweep.task import ROW_COLUMNS, PathError, check_path, prepare, run_chunk
+from validation.run.cache import code_hash, package_version
+from validation.run.exit_status import ExitStatus, print_error
+from validation.sweep.task import ROW_COLUMNS, _row, prepare, run_chunk
 
 SWEEPS_DIR = CASES_DIR / "sweeps"
-EXIT_OK, EXIT_FAILED_POINTS, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
+EXIT_OK, EXIT_FAILED_POINTS, EXIT_BAD_INPUT, EXIT_INTERRUPTED = (ExitStatus.OK, ExitStatus.FAILED, ExitStatus.BAD_INPUT,
+                                                        ExitStatus.INTERRUPTED)  # the rule, in sweep words
 FAILED = ("error", "invalid", "not_converged", "not_applicable")  # exit status 1 (validation/run/exit_status.py)
 
 
@@ -125,8 +137,6 @@ class Distribution(Strict):
 
     def draw(self, n: int, seed: int, stream: str) -> list[float]:
         """n draws by inverse CDF of seeded uniforms: the first k draws do not depend on n."""
-        import numpy as np
-        from scipy.special import ndtr, ndtri
 
         rng = np.random.default_rng([seed, zlib.crc32(stream.encode())])
         u = np.clip(rng.random(n), 1e-15, 1 - 1e-15)
@@ -204,7 +214,6 @@ class SweepInfo(Strict):
 
     @model_validator(mode="after")
     def _coherent(self) -> "SweepInfo":
-        from validation.case.capabilities import method_quantities
 
         for method in self.methods:
             method_quantities(method)  # ValueError naming an unknown method
@@ -289,9 +298,8 @@ def _find_case(ref: str, spec_path: Path, field: str) -> Path:
 
 def _check_field(data: dict, param: Parameter) -> None:
     """A path to a field the case does not set must still name a field of the schema."""
-    from validation.sweep.task import _parent, apply
 
-    node, key = _parent(data, param.path)
+    node, key = parent_of(data, param.path)
     if not isinstance(node, dict) or key in node:
         return
     d = param.distribution
@@ -352,7 +360,6 @@ def _jsonable(value: Any) -> Any:
 
 
 def _code_hashes(methods: list[str]) -> dict[str, str]:
-    from validation.run.cache import code_hash, package_version
 
     return {m: code_hash(m) for m in methods} | {"version": package_version()}
 
@@ -382,7 +389,6 @@ def make_points(loaded: LoadedSweep) -> list[dict]:
 
 
 def arrow_schema(spec: SweepSpec):
-    import pyarrow as pa
 
     types = {"string": pa.string(), "int64": pa.int64(), "float64": pa.float64(), "bool": pa.bool_()}
     fields = [pa.field(name, types[kind]) for name, kind in ROW_COLUMNS.items()]
@@ -412,8 +418,6 @@ class PartWriter:
             self.flush()
 
     def flush(self) -> None:
-        import pyarrow as pa
-        import pyarrow.parquet as pq
 
         self.last = time.monotonic()
         if not self.rows:
@@ -432,7 +436,6 @@ def _parts(out: Path) -> list[Path]:
 
 
 def _done_ids(out: Path) -> set[str]:
-    import pyarrow.parquet as pq
 
     done: set[str] = set()
     for part in _parts(out):
@@ -442,8 +445,6 @@ def _done_ids(out: Path) -> set[str]:
 
 def load_results(out: Path | str):
     """The sweep's rows as a pandas DataFrame: current points only, latest row per output."""
-    import pandas as pd
-    import pyarrow.parquet as pq
 
     out = Path(out)
     parts = _parts(out)
@@ -463,7 +464,6 @@ def load_results(out: Path | str):
 
 
 def _failed_chunk(chunk: list[dict], run_id: str, exc: BaseException) -> list[dict]:
-    from validation.sweep.task import _row
 
     message = f"task failed: {type(exc).__name__}: {exc}".replace("\n", " ")
     return [_row(p, run_id, status="error", message=message) for p in chunk]
@@ -490,7 +490,6 @@ def _dask_completed(client, context, chunks, task=run_chunk) -> Iterator[tuple[l
 
 
 def _pool_completed(pool, context, chunks, task=run_chunk) -> Iterator[tuple[list[dict], list[dict] | BaseException]]:
-    from concurrent.futures import as_completed
 
     futures = {pool.submit(task, context, chunk): i for i, chunk in enumerate(chunks)}
     try:
@@ -516,7 +515,6 @@ def completed(executor: Any, context: dict, chunks: list[list[dict]], workers: i
     points; ``prbm-validate stress --long`` passes its own).
     """
     if scheduler is not None or executor == "dask":
-        import logging
 
         from distributed import Client, LocalCluster
 
@@ -537,7 +535,6 @@ def completed(executor: Any, context: dict, chunks: list[list[dict]], workers: i
         for chunk in chunks:
             yield chunk, task(context, chunk)
     elif executor == "process":
-        from concurrent.futures import ProcessPoolExecutor
 
         pool = ProcessPoolExecutor(max_workers=workers or os.cpu_count())
         try:
@@ -562,6 +559,45 @@ def _chunk_size(n: int, workers: int, asked: int) -> int:
 # ---------------------------------------------------------------- the sweep
 
 
+def _prepare_folder(out: Path, schema, resume: bool) -> bool:
+    """Delete earlier parts (no resume), or refuse a folder holding another sweep's results."""
+    manifest_path = out / "sweep.json"
+    if not resume:
+        for part in _parts(out):
+            part.unlink()
+    elif manifest_path.is_file():
+        earlier = json.loads(manifest_path.read_text())
+        if earlier.get("schema") != schema.to_string() and _parts(out):
+            print(f"error: {out}: holds results of a sweep with other parameters; use another --out "
+                  f"or --restart", file=sys.stderr)
+            return False
+    return True
+
+
+def _write_manifest(out: Path, loaded: "LoadedSweep", schema, points: list[dict]) -> None:
+    spec = loaded.spec
+    out.mkdir(parents=True, exist_ok=True)
+    manifest = {"spec_file": str(loaded.path), "spec": loaded.text, "sweep": spec.sweep.id,
+                "cases": loaded.case_files, "plot": spec.plot.model_dump(),
+                "parameters": [p.model_dump(exclude_none=True) for p in spec.parameters],
+                "methods": spec.sweep.methods, "schema": schema.to_string(),
+                "point_ids": [p["id"] for p in points]}
+    (out / "sweep.json").write_text(json.dumps(manifest, indent=1, default=str))
+
+
+def _worker_count(executor: Any, workers: int | None) -> int:
+    if executor == "serial":
+        return 1
+    if _is_dask_client(executor):
+        return len(executor.scheduler_info()["workers"]) or 1
+    return workers or getattr(executor, "_max_workers", None) or os.cpu_count() or 1
+
+
+def _append_record(out: Path, record: dict) -> None:
+    with (out / "runs.jsonl").open("a") as handle:
+        handle.write(json.dumps(record) + "\n")
+
+
 def run_sweep(spec_path: Path | str, out: Path | str | None = None, executor: Any = "process",
               scheduler: str | None = None, workers: int | None = None, resume: bool = True,
               progress: bool = True, *, chunk: int | None = None, limit: int | None = None,
@@ -571,7 +607,6 @@ def run_sweep(spec_path: Path | str, out: Path | str | None = None, executor: An
     ``resume=False`` deletes the part files first. ``limit`` runs at most that many pending
     points (the rest on the next run). Bad specs print one line to stderr and return 2.
     """
-    from tqdm import tqdm
 
     started = time.perf_counter()
     try:
@@ -583,36 +618,16 @@ def run_sweep(spec_path: Path | str, out: Path | str | None = None, executor: An
     out = Path(out) if out is not None else Path("reports") / "sweeps" / spec.sweep.id
     points = make_points(loaded)
     schema = arrow_schema(spec)
-    manifest_path = out / "sweep.json"
-    if not resume:
-        for part in _parts(out):
-            part.unlink()
-    elif manifest_path.is_file():
-        earlier = json.loads(manifest_path.read_text())
-        if earlier.get("schema") != schema.to_string() and _parts(out):
-            print(f"error: {out}: holds results of a sweep with other parameters; use another --out "
-                  f"or --restart", file=sys.stderr)
-            return EXIT_BAD_INPUT
+    if not _prepare_folder(out, schema, resume):
+        return EXIT_BAD_INPUT
     done = _done_ids(out) if resume else set()
     pending = [p for p in points if p["id"] not in done]
     skipped = len(points) - len(pending)
     if limit is not None:
         pending = pending[:limit]
-    out.mkdir(parents=True, exist_ok=True)
-    manifest = {"spec_file": str(loaded.path), "spec": loaded.text, "sweep": spec.sweep.id,
-                "cases": loaded.case_files, "plot": spec.plot.model_dump(),
-                "parameters": [p.model_dump(exclude_none=True) for p in spec.parameters],
-                "methods": spec.sweep.methods, "schema": schema.to_string(),
-                "point_ids": [p["id"] for p in points]}
-    manifest_path.write_text(json.dumps(manifest, indent=1, default=str))
-
+    _write_manifest(out, loaded, schema, points)
     run_id = time.strftime("%Y%m%dT%H%M%S") + f"-{uuid.uuid4().hex[:8]}"  # unique: part names never clash
-    if executor == "serial":
-        n_workers = 1
-    elif _is_dask_client(executor):
-        n_workers = len(executor.scheduler_info()["workers"]) or 1
-    else:
-        n_workers = workers or getattr(executor, "_max_workers", None) or os.cpu_count() or 1
+    n_workers = _worker_count(executor, workers)
     size = _chunk_size(len(pending), n_workers, chunk if chunk is not None else spec.sweep.chunk)
     chunks = [pending[i:i + size] for i in range(0, len(pending), size)]
     context = {"run": run_id, "cases": loaded.cases, "methods": spec.sweep.methods,
@@ -642,8 +657,7 @@ def run_sweep(spec_path: Path | str, out: Path | str | None = None, executor: An
               "scheduler": scheduler, "workers": n_workers, "chunk": size, "points": len(points),
               "skipped": skipped, "ran": ran, "failed": failed, "left": len(points) - skipped - ran,
               "wall_time_s": round(wall, 3), "interrupted": status == EXIT_INTERRUPTED}
-    with (out / "runs.jsonl").open("a") as handle:
-        handle.write(json.dumps(record) + "\n")
+    _append_record(out, record)
     if status == EXIT_INTERRUPTED:
         print(f"interrupted: {skipped + ran} of {len(points)} points are in {out}; run the same command "
               f"again to resume", file=sys.stderr)

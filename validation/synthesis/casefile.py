@@ -146,6 +146,66 @@ def _ground_link(b: _Builder, name: str, G: complex, M: complex, theta: float, s
     return f"link{tag}"
 
 
+def _drive(b: "_Builder", drive: str, positions, free_angles, rigid, P: complex, P_j: list[complex]):
+    """The loads that drive the mechanism through the precision positions, and the outputs wanted."""
+    t20, t30, t40 = free_angles
+    rigid2, rigid4 = rigid
+    loads, outputs = [], []
+    if drive == "input-rotation":
+        if rigid2 is None:
+            raise SynthesisError("drive 'input-rotation' needs a rigid input link 2 (SLFPs or pins on Z2)")
+        start = next(l for l in b.links if l["name"] == rigid2)["nodes"][0]
+        loads.append({"kind": "rotation", "point": start, "body": rigid2,
+                      "values": [a[0] - t20 for a in positions], "label": "input rotation Theta2j - Theta20 (deg)"})
+        outputs += [{"quantity": "input_torque"}, {"quantity": "strain_energy"},
+                    {"quantity": "dx", "point": "P"}, {"quantity": "dy", "point": "P"}]
+    elif drive == "output-rotation":
+        if rigid4 is None:
+            raise SynthesisError("drive 'output-rotation' needs a rigid link 4")
+        start = next(l for l in b.links if l["name"] == rigid4)["nodes"][0]
+        loads.append({"kind": "rotation", "point": start, "body": rigid4,
+                      "values": [a[2] - t40 for a in positions], "label": "output rotation Theta4j - Theta40 (deg)"})
+        outputs += [{"quantity": "strain_energy"}, {"quantity": "dx", "point": "P"}, {"quantity": "dy", "point": "P"}]
+    else:
+        loads.append({"kind": "displacement", "point": "P", "direction": [1.0, 0.0],
+                      "values": [(p - P).real for p in P_j], "label": "prescribed coupler-point X"})
+        loads.append({"kind": "rotation", "point": "P", "body": "coupler",
+                      "values": [a[1] - t30 for a in positions], "label": "prescribed coupler rotation (deg)"})
+        outputs += [{"quantity": "strain_energy"}, {"quantity": "dy", "point": "P"}]
+    return loads, outputs
+
+
+def _references(d, name: str, outputs: list[dict], P: complex, P_j: list[complex], levels: list[int]) -> list[dict]:
+    """The synthesized PRBM's values (and any printed ANSYS values) as the case's references."""
+    spec, m = d.spec, d.mechanism
+    c = spec.compliance
+    references = []
+    quantity = {"energy": "strain_energy", "torque": "input_torque"}[c.kind]
+    if any(o["quantity"] == quantity for o in outputs):
+        for j, v in enumerate(c.values):
+            references.append({"quantity": quantity, "level": j, "value": float(d.springs.achieved[j]), "label": "PRBM",
+                               "source": {"file": name, "section": "synthesis", "note": f"specified {v:g}"}})
+    if c.kind == "torque" and any(o["quantity"] == "strain_energy" for o in outputs):
+        U = cp.design_rows(m, d.free_state, d.positions, "energy") @ d.springs.k
+        for j, u in enumerate(U):
+            references.append({"quantity": "strain_energy", "level": j, "value": float(u), "label": "PRBM",
+                               "source": {"file": name, "section": "synthesis", "note": "eq. 181 with the springs"}})
+    wanted = {o["quantity"] for o in outputs}
+    for j, p in enumerate(P_j):
+        for q, v in (("dx", (p - P).real), ("dy", (p - P).imag)):
+            if q in wanted:
+                references.append({"quantity": q, "point": "P", "level": j, "value": v, "label": "PRBM",
+                                   "source": {"file": name, "section": "synthesis", "note": "precision position"}})
+    for pr in spec.printed:
+        if pr.name.startswith("fem.") and pr.label == "ANSYS":
+            _, q, lab = pr.name.split(".")
+            level = int(lab.lstrip("P")) - 1
+            if q in {o["quantity"] for o in outputs} and level in levels:
+                references.append({"quantity": q, "level": level, "value": float(pr.value), "label": "ANSYS",
+                                   "source": pr.source.model_dump(exclude_none=True)})
+    return references
+
+
 def build_case(d, spec_path: Path | str) -> dict:
     """The case as a dict in the schema's structure (``toml_text`` writes it)."""
     spec, m = d.spec, d.mechanism
@@ -174,54 +234,9 @@ def build_case(d, spec_path: Path | str) -> dict:
     drive = spec.verification.drive
     positions = [c.angles for c in d.positions]
     P_j = [polar(abs(m.Z2), a[0]) + polar(abs(m.Z5), arg_deg(m.Z5) + a[1] - arg_deg(m.Z3)) for a in positions]
-    loads, outputs = [], []
-    if drive == "input-rotation":
-        if rigid2 is None:
-            raise SynthesisError("drive 'input-rotation' needs a rigid input link 2 (SLFPs or pins on Z2)")
-        start = next(l for l in b.links if l["name"] == rigid2)["nodes"][0]
-        loads.append({"kind": "rotation", "point": start, "body": rigid2,
-                      "values": [a[0] - t20 for a in positions], "label": "input rotation Theta2j - Theta20 (deg)"})
-        outputs += [{"quantity": "input_torque"}, {"quantity": "strain_energy"},
-                    {"quantity": "dx", "point": "P"}, {"quantity": "dy", "point": "P"}]
-    elif drive == "output-rotation":
-        if rigid4 is None:
-            raise SynthesisError("drive 'output-rotation' needs a rigid link 4")
-        start = next(l for l in b.links if l["name"] == rigid4)["nodes"][0]
-        loads.append({"kind": "rotation", "point": start, "body": rigid4,
-                      "values": [a[2] - t40 for a in positions], "label": "output rotation Theta4j - Theta40 (deg)"})
-        outputs += [{"quantity": "strain_energy"}, {"quantity": "dx", "point": "P"}, {"quantity": "dy", "point": "P"}]
-    else:
-        loads.append({"kind": "displacement", "point": "P", "direction": [1.0, 0.0],
-                      "values": [(p - P).real for p in P_j], "label": "prescribed coupler-point X"})
-        loads.append({"kind": "rotation", "point": "P", "body": "coupler",
-                      "values": [a[1] - t30 for a in positions], "label": "prescribed coupler rotation (deg)"})
-        outputs += [{"quantity": "strain_energy"}, {"quantity": "dy", "point": "P"}]
+    loads, outputs = _drive(b, drive, positions, (t20, t30, t40), (rigid2, rigid4), P, P_j)
     name = Path(spec_path).name
-    c = spec.compliance
-    references = []
-    quantity = {"energy": "strain_energy", "torque": "input_torque"}[c.kind]
-    if any(o["quantity"] == quantity for o in outputs):
-        for j, v in enumerate(c.values):
-            references.append({"quantity": quantity, "level": j, "value": float(d.springs.achieved[j]), "label": "PRBM",
-                               "source": {"file": name, "section": "synthesis", "note": f"specified {v:g}"}})
-    if c.kind == "torque" and any(o["quantity"] == "strain_energy" for o in outputs):
-        U = cp.design_rows(m, d.free_state, d.positions, "energy") @ d.springs.k
-        for j, u in enumerate(U):
-            references.append({"quantity": "strain_energy", "level": j, "value": float(u), "label": "PRBM",
-                               "source": {"file": name, "section": "synthesis", "note": "eq. 181 with the springs"}})
-    wanted = {o["quantity"] for o in outputs}
-    for j, p in enumerate(P_j):
-        for q, v in (("dx", (p - P).real), ("dy", (p - P).imag)):
-            if q in wanted:
-                references.append({"quantity": q, "point": "P", "level": j, "value": v, "label": "PRBM",
-                                   "source": {"file": name, "section": "synthesis", "note": "precision position"}})
-    for pr in spec.printed:
-        if pr.name.startswith("fem.") and pr.label == "ANSYS":
-            _, q, lab = pr.name.split(".")
-            level = int(lab.lstrip("P")) - 1
-            if q in {o["quantity"] for o in outputs} and level in levels:
-                references.append({"quantity": q, "level": level, "value": float(pr.value), "label": "ANSYS",
-                                   "source": pr.source.model_dump(exclude_none=True)})
+    references = _references(d, name, outputs, P, P_j, levels)
     info = {"id": f"synth_{spec.design.id}", "title": f"Synthesized: {spec.design.title}",
             "group": "synthesis", "units": spec.design.units,
             "description": f"Generated by 'prbm-validate synthesize {name}': the PRBM design built as a compliant "

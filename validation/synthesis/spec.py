@@ -8,6 +8,7 @@ A bad file gives one line naming the file and the field (``SpecError``).
 """
 from __future__ import annotations
 
+import re
 from pathlib import Path
 from typing import Annotated, Literal
 
@@ -208,7 +209,6 @@ class FrameworkSegment(Strict):
 
     @model_validator(mode="after")
     def _names(self) -> "FrameworkSegment":
-        import re
         for key in self.fixed:
             if not re.fullmatch(r"(R2|Theta2|R3|Theta3)_[2-9]", key):
                 raise ValueError(f"unknown free choice '{key}' (use R2_j, Theta2_j, R3_j or Theta3_j, j >= 2)")

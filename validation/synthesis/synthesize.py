@@ -15,6 +15,7 @@ from pathlib import Path
 
 from prbm.synthesis.dyads import SynthesisError
 from validation.case.loader import CaseError, load_case
+from validation.run.exit_status import ExitStatus
 from validation.run.runner import run_method
 from validation.synthesis.casefile import write_case
 from validation.synthesis.design import Design, compare_printed, design
@@ -113,12 +114,12 @@ def synthesize(spec_path, out_dir, *, run_fem: bool | None = None, stream=None) 
         spec = load_spec(spec_path)
     except SpecError as exc:
         print(f"error: {exc}", file=err)
-        return 2
+        return ExitStatus.BAD_INPUT
     try:
         d = design(spec)
     except SynthesisError as exc:
         print(f"no solution: {Path(spec_path).name}: {exc}", file=err)
-        return 1
+        return ExitStatus.FAILED
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     printed = compare_printed(d)
@@ -153,4 +154,4 @@ def synthesize(spec_path, out_dir, *, run_fem: bool | None = None, stream=None) 
             extra = "" if r["printed_ansys"] is None else f", printed ANSYS {r['printed_ansys']:.5g}"
             prbm = "" if r["prbm"] is None else f" (PRBM {r['prbm']:.5g})"
             print(f"    {r['position']}: {r['quantity']} {r['point']} FEM {r['fem']:.5g}{prbm}{extra}", file=stream)
-    return 0 if d.success else 1
+    return ExitStatus.OK if d.success else ExitStatus.FAILED

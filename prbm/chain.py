@@ -1,0 +1,209 @@
+"""The Chain Algorithm (Midha, Her et al.; seed 000 section 2.2, eqs 26-40) for a cantilevered segment.
+
+The segment is cut into N elements; element i runs from node i-1 to node i, has length L_i, stiffness
+E_i I_i and undeformed orientation theta_i.  Marching from the clamp, each element is deflected as a
+small-deflection cantilever clamped at the deflected node i-1, and every element beyond it is given the
+rigid rotation of that node:
+
+    psi_i = theta_i + Dtheta_{i-1}                                                          (29)
+    (P_ax)_i = Fx cos psi_i + Fy sin psi_i,   (P_tr)_i = -Fx sin psi_i + Fy cos psi_i         (26), (27)
+    M_i = sum_j m_j + sum_j [(f_y)_j (x_j - x_i) - (f_x)_j (y_j - y_i)]                        (28)
+    (P_tr)_eq = (P_tr)_i / (1 - alpha_i),  alpha_i = 4 C_i L_i^2 / (E_i I_i pi^2)              (30), (31)
+    delta_tr = [(P_tr)_eq L^3/3 + M_i L^2/2] / EI,  dtheta_i = [(P_tr)_eq L^2/2 + M_i L] / EI  (32), (33)
+    X_i = X_{i-1} + L_i (cos psi_i, sin psi_i) + delta_tr (-sin psi_i, cos psi_i)            (34)-(40)
+    Dtheta_i = Dtheta_{i-1} + dtheta_i                                                       (36)
+
+with (Fx, Fy) = sum over the loads outboard of node i (j >= i), the moments m_j and the lever arms
+(x_j - x_i, y_j - y_i) taken on the deformed chain (global frame O-X-Y).  The element is inextensible
+(delta_ax = 0, as the seed says is typical).
+
+Readings where the printed equations are incomplete (notes seed-ch2-4 section 3):
+
+* The sums of (26)-(28) run over the loads outboard of node i (j >= i): printed j = 1..n, which would
+  load every element with every load, including loads applied inboard of it.
+* (29) mixes the indices i and j; read psi_i = theta_i + Dtheta_{i-1}.  (36) uses Dtheta_i for both the
+  cumulative and the elemental rotation; read as above.
+* (31) amplifies the transverse load by 1/(1 - alpha_i): the beam-column magnification under
+  *compression* (a cantilever element buckles at pi^2 EI/(4 L^2)), while (26) gives tension positive.
+  Here C_i = -(P_ax)_i is the compressive axial force, so tension reduces the element's deflection.
+* The deformed-geometry loop of (28) (the lever arms depend on the deflected shape) is not described;
+  here it is one nonlinear system in the node positions, X = G(X; loads), solved by Powell's hybrid
+  method with the loads applied in steps (continuation from the previous step's shape).
+* The shooting method of Her et al. [24] for displacement boundary conditions is not given; here the
+  unknown tip loads join the node positions in the same system, with the end position/angle
+  conditions as extra equations, continued in steps from the unloaded shape.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import root
+
+from prbm.result import PRBMResult
+
+
+@dataclass(frozen=True)
+class ChainBeam:
+    """A cantilevered segment cut into ``elements`` equal elements, clamped at the origin.
+
+    ``orientations``: the undeformed element angles theta_i (rad), one per element (default: a straight
+    beam along +x).  EI may vary per element (a sequence of N values)."""
+
+    length: float
+    EI: float | tuple[float, ...]
+    elements: int = 40
+    orientations: tuple[float, ...] | None = None
+
+    def __post_init__(self) -> None:
+        if not (self.length > 0 and math.isfinite(self.length)):
+            raise ValueError(f"ChainBeam: length must be finite and > 0, got {self.length}")
+        if self.elements < 1:
+            raise ValueError(f"ChainBeam: elements must be >= 1, got {self.elements}")
+        if np.any(np.asarray(self.EI, float) <= 0) or not np.all(np.isfinite(self.EI)):
+            raise ValueError(f"ChainBeam: EI must be finite and > 0, got {self.EI}")
+        if np.size(self.EI) not in (1, self.elements):
+            raise ValueError(f"ChainBeam: EI has {np.size(self.EI)} values for {self.elements} elements")
+        if self.orientations is not None and len(self.orientations) != self.elements:
+            raise ValueError(f"ChainBeam: {len(self.orientations)} orientations for {self.elements} elements")
+
+    @property
+    def element_length(self) -> float:
+        return self.length / self.elements
+
+    def theta(self) -> np.ndarray:
+        return np.zeros(self.elements) if self.orientations is None else np.asarray(self.orientations, float)
+
+    def stiffness(self) -> np.ndarray:
+        return np.broadcast_to(np.asarray(self.EI, float), (self.elements,))
+
+    def undeformed(self) -> np.ndarray:
+        """Node positions (N+1, 2) of the unloaded chain."""
+        t = self.theta()
+        steps = self.element_length * np.column_stack([np.cos(t), np.sin(t)])
+        return np.vstack([[0.0, 0.0], np.cumsum(steps, axis=0)])
+
+
+@dataclass(frozen=True)
+class NodalLoads:
+    """Dead loads at the nodes in the global frame: arrays of N+1 values (node 0 is the clamp)."""
+
+    fx: np.ndarray
+    fy: np.ndarray
+    m: np.ndarray
+
+    @classmethod
+    def at_tip(cls, beam: ChainBeam, fx: float = 0.0, fy: float = 0.0, m: float = 0.0) -> "NodalLoads":
+        z = np.zeros(beam.elements + 1)
+        fxa, fya, ma = z.copy(), z.copy(), z.copy()
+        fxa[-1], fya[-1], ma[-1] = fx, fy, m
+        return cls(fxa, fya, ma)
+
+    def scaled(self, s: float) -> "NodalLoads":
+        return NodalLoads(self.fx * s, self.fy * s, self.m * s)
+
+
+@dataclass
+class ChainState:
+    nodes: np.ndarray                      # (N+1, 2) deformed node positions
+    rotations: np.ndarray                  # (N+1,) cumulative rotation Dtheta at each node (node 0: 0)
+    extras: dict = field(default_factory=dict)
+
+
+def march(beam: ChainBeam, loads: NodalLoads, nodes: np.ndarray) -> ChainState:
+    """One pass of eqs (26)-(40): the chain deflected under ``loads`` with lever arms taken on ``nodes``."""
+    N, L = beam.elements, beam.element_length
+    EI, theta = beam.stiffness(), beam.theta()
+    # outboard sums (j >= i) for i = 1..N: reverse cumulative sums over nodes 1..N
+    Fx = np.cumsum(loads.fx[:0:-1])[::-1]
+    Fy = np.cumsum(loads.fy[:0:-1])[::-1]
+    m_out = np.cumsum(loads.m[:0:-1])[::-1]
+    # eq (28) about node i: sum_j fy_j x_j - fx_j y_j over j >= i, minus (Fx, Fy) x position of node i
+    mom_j = loads.fy[1:] * nodes[1:, 0] - loads.fx[1:] * nodes[1:, 1]
+    M = m_out + np.cumsum(mom_j[::-1])[::-1] - (Fy * nodes[1:, 0] - Fx * nodes[1:, 1])
+    out = np.empty((N + 1, 2))
+    out[0] = 0.0
+    rot = np.zeros(N + 1)
+    for i in range(N):
+        psi = theta[i] + rot[i]                                           # (29)
+        c, s = math.cos(psi), math.sin(psi)
+        P_ax = Fx[i] * c + Fy[i] * s                                      # (26), tension positive
+        P_tr = -Fx[i] * s + Fy[i] * c                                     # (27)
+        alpha = -4.0 * P_ax * L * L / (EI[i] * math.pi**2)                # (31), compression positive
+        P_eq = P_tr / (1.0 - alpha)                                       # (30)
+        d_tr = (P_eq * L**3 / 3.0 + M[i] * L * L / 2.0) / EI[i]           # (32)
+        d_th = (P_eq * L * L / 2.0 + M[i] * L) / EI[i]                    # (33)
+        out[i + 1, 0] = out[i, 0] + L * c - d_tr * s                      # (34), (37), (39)
+        out[i + 1, 1] = out[i, 1] + L * s + d_tr * c                      # (35), (38), (40)
+        rot[i + 1] = rot[i] + d_th                                        # (36)
+    return ChainState(out, rot)
+
+
+def _forward_step(beam, loads, guess: np.ndarray, tol: float):
+    def residual(x):
+        nodes = np.vstack([[0.0, 0.0], x.reshape(-1, 2)])
+        return (march(beam, loads, nodes).nodes[1:] - nodes[1:]).ravel()
+
+    sol = root(residual, guess[1:].ravel(), method="hybr", tol=tol)
+    nodes = np.vstack([[0.0, 0.0], sol.x.reshape(-1, 2)])
+    ok = bool(sol.success) and float(np.max(np.abs(residual(sol.x)))) < 1e-8 * beam.length
+    return nodes, ok, int(sol.nfev), sol.message
+
+
+def chain_tip(beam: ChainBeam, loads: NodalLoads, *, steps: int = 10, tol: float = 1e-12) -> PRBMResult:
+    """Forward analysis: the deflected chain under dead nodal loads, applied in ``steps`` equal increments.
+    Outputs a, b (tip position), theta0 (tip rotation, rad), and the node positions in ``extras``."""
+    t0 = time.perf_counter()
+    nodes = beam.undeformed()
+    nfev, ok, message = 0, True, "converged"
+    for k in range(1, steps + 1):
+        nodes, ok, n, msg = _forward_step(beam, loads.scaled(k / steps), nodes, tol)
+        nfev += n
+        if not ok:
+            message = f"load step {k}/{steps}: {msg}"
+            break
+    state = march(beam, loads, nodes)
+    out = {"a": state.nodes[-1, 0], "b": state.nodes[-1, 1], "theta0": state.rotations[-1]}
+    return PRBMResult(ok, message, {k: np.float64(v) for k, v in out.items()},
+                      {"elements": beam.elements}, "Chain Algorithm, seed 000 eqs (26)-(40)",
+                      time.perf_counter() - t0, nfev, np.array([ok]), extras={"nodes": state.nodes})
+
+
+def chain_from_tip(beam: ChainBeam, *, b: float, theta0: float, n: float = 0.0, steps: int = 10,
+                   tol: float = 1e-12) -> PRBMResult:
+    """Displacement boundary conditions (Table 3.1's Chain row): the tip force (-nP, P) and tip moment M
+    (CCW) that put the tip at height b with rotation theta0 (rad), for a given load ratio n.  Unknowns
+    are the node positions and (P, M); the targets are reached in ``steps`` increments from zero.
+    Outputs a, b, theta0, P, M (CCW)."""
+    t0 = time.perf_counter()
+    if not all(math.isfinite(v) for v in (b, theta0, n)):
+        raise ValueError(f"chain_from_tip: b, theta0, n must be finite, got {b}, {theta0}, {n}")
+    N = beam.elements
+    x = np.concatenate([beam.undeformed()[1:].ravel(), [0.0, 0.0]])
+    nfev, ok, message = 0, True, "converged"
+
+    def residual(x, b_k, th_k):
+        P, M = x[-2], x[-1]
+        nodes = np.vstack([[0.0, 0.0], x[:-2].reshape(-1, 2)])
+        st = march(beam, NodalLoads.at_tip(beam, -n * P, P, M), nodes)
+        scale = beam.length
+        return np.concatenate([(st.nodes[1:] - nodes[1:]).ravel(),
+                               [(st.nodes[-1, 1] - b_k) / scale, st.rotations[-1] - th_k]])
+
+    for k in range(1, steps + 1):
+        sol = root(residual, x, args=(b * k / steps, theta0 * k / steps), method="hybr", tol=tol)
+        nfev += int(sol.nfev)
+        ok = bool(sol.success) and float(np.max(np.abs(residual(sol.x, b * k / steps, theta0 * k / steps)))) < 1e-8
+        if not ok:
+            message = f"displacement step {k}/{steps}: {sol.message}"
+            break
+        x = sol.x
+    P, M = float(x[-2]), float(x[-1])
+    state = march(beam, NodalLoads.at_tip(beam, -n * P, P, M), np.vstack([[0.0, 0.0], x[:-2].reshape(-1, 2)]))
+    out = {"a": state.nodes[-1, 0], "b": state.nodes[-1, 1], "theta0": state.rotations[-1], "P": P,
+           "nP": n * P, "M": M}
+    return PRBMResult(ok, message, {k: np.float64(v) for k, v in out.items()}, {"elements": N},
+                      "Chain Algorithm with tip displacement conditions, seed 000 eqs (26)-(40)",
+                      time.perf_counter() - t0, nfev, np.array([ok]), extras={"nodes": state.nodes})
