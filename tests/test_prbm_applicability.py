@@ -20,7 +20,8 @@ import pytest
 from validation.case.loader import LoadedCase
 from validation.case.schema import Case
 from validation.methods.base import Applicability, Request
-from validation.run.runner import run_case, run_method, tabulate
+from validation.run.outcome import tabulate
+from validation.run.runner import run_case, run_method
 
 CANTILEVER = """
 [case]
