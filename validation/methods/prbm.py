@@ -20,6 +20,12 @@ as P = F_y, n = -F_x/F_y (seed 000: end force (-nP, P)).
   moment -> ``fixed_guided_monotonic_tip``.
 Outputs: x = a, y = b, dx, dy (from the unloaded tip), rotation = theta0 (deg), force_x = -nP,
 force_y = P, moment (CCW), prb_angle (deg), strain_energy (PRBM springs).
+Applicability (issue 14 item 3; ``MethodRun.applicability``, per level, the results table's column):
+``INFLECTION`` where a force and an end moment bend the PRBM's deformed state through an inflection
+point (tip and root moments of opposite signs: Table 2.1 and eq (12)) while the monotonic model
+(eq 62) was used; ``LOAD_RATIO`` where n lies outside the fit family's range (only reached with
+``extrapolate`` = 'warn' or 'allow'; 'raise' refuses the case); ``DEFLECTION`` where |Theta - Theta_i|
+passes the fits' printed 65 deg (eqs 51-52).
 
 Mechanisms (``_mechanism`` dispatches): 'dof' requests and hand-given four-bars and slider-cranks
 (``links`` option) -> ``prbm_fourbar.py``; one beam carrying a rigid body (chapter 5 Example 1) and

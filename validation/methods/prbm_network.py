@@ -7,6 +7,10 @@ and the general rigid-link network solver finds the equilibrium at every load le
 
   gamma, K_theta, slfp_ratio        defaults of every beam
   beams = { name = { model, gamma, K_theta, stiffness, clamp } }   per beam
+A straight beam with a free end loaded by one dead force of one sense has a defined load ratio n
+(``load_ratios``): the builder then takes gamma(n), K_Theta(n) of the Pauly-Midha fits (seed 000
+eqs 41, 43) and says so in the beam's record. A beam spring turned past the fits' 65 deg flags the
+level (``Applicability.DEFLECTION``).
 
 Loads, as the FEM takes them: forces at nodes (dead, or ``follower``: turning with the node's body),
 moments (on ``body`` if given: a link, or a beam's end at that node; else the node's body),
