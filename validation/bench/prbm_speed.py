@@ -15,6 +15,9 @@ import timeit
 import numpy as np
 
 import prbm
+from validation.case.loader import case_by_id, find_case_files, load_case
+from validation.methods import prbm_network
+from validation.run.runner import run_method
 
 
 def best(stmt, number: int, repeat: int = 5) -> float:
@@ -31,9 +34,6 @@ def best_cpu(stmt, number: int, repeat: int = 5) -> float:
 
 def adapter_rows() -> list[tuple[str, float, str]]:
     """(case id, best seconds per whole PRBM adapter call, the run's message) for every prbm case."""
-    from validation.case.loader import find_case_files, load_case
-    from validation.run.runner import run_method
-
     rows = []
     for path in find_case_files():
         case = load_case(path).case
@@ -77,10 +77,6 @@ def network_rows() -> list[tuple[str, float, float, float | None]]:
     seconds per level of the same case or None): the network built by rule for seed004_parallel_guided (ground, two middle
     links, coupler: four links), solved one level at a time and over its 8 levels; the chapter-9
     Test 2 four-bar under one design torque."""
-    from validation.case.loader import case_by_id
-    from validation.methods import prbm_network
-    from validation.run.runner import run_method
-
     rows = []
     case = case_by_id("seed004_parallel_guided").case
     model = prbm.build(prbm_network.geometry(case.mechanism), prbm_network.rules({}, case.mechanism))
