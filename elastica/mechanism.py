@@ -296,6 +296,74 @@ class _System:
         return r
 
 
+@dataclass
+class _LoadPath:
+    """The loads along the path, at a load parameter t (level index, linear between levels, from zero
+    below level 0); follower forces turn with their body (or the free beam end they act at)."""
+
+    mech: Mechanism
+    system: "_System"
+    forces: list
+    couples: list
+    rotations: list
+    displacements: list
+    n_levels: int
+
+    def value(self, values, t: float) -> float:
+        if t < 0:
+            return values[0] * (t + 1.0)
+        i = min(int(t), self.n_levels - 1)
+        f = t - i
+        return values[i] if i >= self.n_levels - 1 else values[i] * (1 - f) + values[i + 1] * f
+
+    def __call__(self, t: float, u):
+        F = {}
+        for f in self.forces:
+            vec = np.array([self.value(f.fx, t), self.value(f.fy, t)])
+            if f.follower:
+                body = self.mech.body_of.get(f.node)
+                phi = self.system.pose(u, body)[1] if body else _free_end_angle(self.system, u, f.node)
+                c, s = math.cos(phi), math.sin(phi)
+                vec = np.array([c * vec[0] - s * vec[1], s * vec[0] + c * vec[1]])
+            F[f.node] = F.get(f.node, np.zeros(2)) + vec
+        C = {}
+        for c in self.couples:
+            key = ("body", c.body) if isinstance(c, BodyCouple) else ("node", c.node)
+            C[key] = C.get(key, 0.0) + self.value(c.m, t)
+        return F, C, [self.value(r.values, t) for r in self.rotations], \
+            [self.value(d.values, t) for d in self.displacements]
+
+
+@dataclass
+class _LevelState:
+    """One solved level: node positions, body rotations, driver multipliers, strain energy, beam shapes."""
+
+    positions: dict
+    rotations: dict
+    drivers: list
+    energy: float
+    shape: dict
+
+
+def _level_state(mech: Mechanism, system: "_System", u) -> _LevelState:
+    pos, shape, U = {}, {}, 0.0
+    for beam in mech.beams:
+        end, sol_b = system.integrate(beam, u, dense=True)
+        U += end[4]
+        s = np.linspace(0.0, system.tangent0[beam.name][2], 33)
+        shape[beam.name] = sol_b.sol(s)[:2].T
+        pos[beam.end] = end[:2].copy()
+        pos[beam.start] = system.node_position(u, beam.start_body, beam.start)
+    for node in mech.nodes:
+        body = mech.body_of.get(node)
+        if body is not None:
+            pos[node] = system.node_position(u, body, node)
+        elif node not in pos:
+            pos[node] = np.asarray(mech.nodes[node], float)
+    return _LevelState(pos, {b.name: float(system.pose(u, b.name)[1]) for b in mech.bodies},
+                       [float(x) for x in u[system.i_rot:system.size]], U, shape)
+
+
 def solve_mechanism(mech: Mechanism, loads: list, n_levels: int, *, rtol: float = 1e-11,
                     max_cuts: int = 8) -> MechanismSolution:
     """Equilibrium at every load level (loads: PointForce, BodyCouple, BodyRotation, NodeDisplacement,
@@ -306,35 +374,12 @@ def solve_mechanism(mech: Mechanism, loads: list, n_levels: int, *, rtol: float 
     rotations = [ld for ld in loads if isinstance(ld, BodyRotation)]
     displacements = [ld for ld in loads if isinstance(ld, NodeDisplacement)]
     system = _System(mech, forces, couples, rotations, displacements, rtol)
+    level_loads = _LoadPath(mech, system, forces, couples, rotations, displacements, n_levels)
     scale_F = max([abs(v) for f in forces for v in (*f.fx, *f.fy)] + [1e-300])
-
-    def level_loads(t: float, u):
-        """Loads at load parameter t (level index, linear between levels, from zero below level 0)."""
-        def at(values):
-            if t < 0:
-                return values[0] * (t + 1.0)
-            i = min(int(t), n_levels - 1)
-            f = t - i
-            return values[i] if i >= n_levels - 1 else values[i] * (1 - f) + values[i + 1] * f
-        F = {}
-        for f in forces:
-            vec = np.array([at(f.fx), at(f.fy)])
-            if f.follower:
-                body = mech.body_of.get(f.node)
-                phi = system.pose(u, body)[1] if body else _free_end_angle(system, u, f.node)
-                c, s = math.cos(phi), math.sin(phi)
-                vec = np.array([c * vec[0] - s * vec[1], s * vec[0] + c * vec[1]])
-            F[f.node] = F.get(f.node, np.zeros(2)) + vec
-        C = {}
-        for c in couples:
-            key = ("body", c.body) if isinstance(c, BodyCouple) else ("node", c.node)
-            C[key] = C.get(key, 0.0) + at(c.m)
-        return F, C, [at(r.values) for r in rotations], [at(d.values) for d in displacements]
-
     scale_F = max([scale_F] + [abs(v) for c in couples for v in c.m])
     scale = _scale(system, scale_F)
     u = np.zeros(system.size)  # the unloaded mechanism: no loads, every pose and beam angle as built
-    positions, rots, drivers, energies, shapes, ok_levels = [], [], [], [], [], []
+    states, ok_levels = [], []
     t, messages = -1.0, []
     jac = None
     typical = _unknown_scale(system, scale_F)
@@ -366,28 +411,12 @@ def solve_mechanism(mech: Mechanism, loads: list, n_levels: int, *, rtol: float 
         ok_levels.append(converged)
         if not converged:
             break
-        pos, shape, U = {}, {}, 0.0
-        for beam in mech.beams:
-            end, sol_b = system.integrate(beam, u, dense=True)
-            U += end[4]
-            s = np.linspace(0.0, system.tangent0[beam.name][2], 33)
-            shape[beam.name] = sol_b.sol(s)[:2].T
-            pos[beam.end] = end[:2].copy()
-            pos[beam.start] = system.node_position(u, beam.start_body, beam.start)
-        for node in mech.nodes:
-            body = mech.body_of.get(node)
-            if body is not None:
-                pos[node] = system.node_position(u, body, node)
-            elif node not in pos:
-                pos[node] = np.asarray(mech.nodes[node], float)
-        positions.append(pos)
-        rots.append({b.name: float(system.pose(u, b.name)[1]) for b in mech.bodies})
-        drivers.append([float(x) for x in u[system.i_rot:system.size]])
-        energies.append(U)
-        shapes.append(shape)
+        states.append(_level_state(mech, system, u))
     done = all(ok_levels) and len(ok_levels) == n_levels
-    return MechanismSolution(done, "; ".join(messages) or f"converged at {n_levels} level(s)", positions, rots,
-                             drivers, energies, shapes, time.perf_counter() - t0, ok_levels)
+    return MechanismSolution(done, "; ".join(messages) or f"converged at {n_levels} level(s)",
+                             [s.positions for s in states], [s.rotations for s in states],
+                             [s.drivers for s in states], [s.energy for s in states], [s.shape for s in states],
+                             time.perf_counter() - t0, ok_levels)
 
 
 def _chord_newton(f, x, jac, typical, tol: float = 1e-10, max_iter: int = 30):

@@ -8,7 +8,10 @@ How each end of a beam is held decides its model:
   clamped  - to the ground (a fixed support), to a rigid link, or to other beams welded at the node
   pinned   - a joint at the node releases the beam, or a pinned support holds it
   free     - nothing else at the node
-Rules (gamma = 0.85, K_Theta = 2.65 by default; seed 000 ch. 2 eqs (41)-(49), seed 004 sec. 3):
+Rules (gamma = 0.85, K_Theta = 2.65 by default; seed 000 ch. 2 eqs (41)-(49), seed 004 sec. 3; a straight
+one-pivot beam whose end load ratio n is known (``BeamRule.load_ratio``: a free end loaded by dead forces
+of one direction) takes gamma(n), K_Theta(n) of the Pauly-Midha fits (eqs 41, 43) instead, stated in its
+record):
   clamped-free, clamped-pinned: one pivot (1 - gamma) L from the clamp, characteristic radius gamma L,
       K = gamma K_Theta EI / L (fixed-pinned / fixed-free PRBM). Initially curved: the pivot
       (1 - gamma) L along the clamp tangent, characteristic radius rho L to the end,
@@ -35,6 +38,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from prbm.fits import PAULY_MIDHA
 from prbm.network import GROUND, LockedNetwork, Network, Pin, Slider, TorsionSpring
 
 __all__ = ["Node", "Beam", "RigidLink", "Joint", "Support", "Geometry", "BeamRule", "Rules", "BeamModel",
@@ -107,6 +111,7 @@ class BeamRule:
     K_theta: float | None = None
     stiffness: float | None = None
     clamp: str | None = None  # for a one-pivot model of a clamped-clamped beam: the clamped end's node
+    load_ratio: float | None = None  # n of the end force (-nP, P) in the beam frame, where the loads define it
 
 
 @dataclass(frozen=True)
@@ -437,12 +442,26 @@ class _Builder:
         K_theta = rule.K_theta if rule.K_theta is not None else self.rules.K_theta
         return gamma, K_theta
 
+    def _fitted(self, rule: BeamRule) -> tuple[float, float, str]:
+        """gamma and K_Theta of a straight one-pivot beam: the rule's, else the Pauly-Midha fits at the
+        beam's load ratio where the loads define one inside the fits' range (seed 000 eqs 41, 43), else
+        the defaults; and the sentence that says which."""
+        n = rule.load_ratio
+        if rule.gamma is None and rule.K_theta is None and n is not None:
+            if PAULY_MIDHA.lower < n <= PAULY_MIDHA.upper:
+                return (PAULY_MIDHA.gamma(n), PAULY_MIDHA.K_theta(n),
+                        f"; gamma(n), K_Theta(n) of seed 000 eqs 41, 43 at the end load's ratio n = {n:.4g}")
+            gamma, K_theta = self._parameters(rule)
+            return gamma, K_theta, (f"; the end load's ratio n = {n:.4g} is outside the fits' range "
+                                    f"({PAULY_MIDHA.lower:g} < n <= {PAULY_MIDHA.upper:g}): the defaults")
+        return (*self._parameters(rule), "")
+
     def _one_pivot(self, beam: Beam, chosen: str, e0: _End, e1: _End, L: float, rule: BeamRule) -> None:
         """Fixed-pinned / fixed-free: one pivot (1 - gamma) L from the clamp (eqs 41-49, 53-58)."""
         ends = (e0.kind, e1.kind)
         if "clamped" not in ends:
             raise ValueError(f"beam '{beam.name}': model '{chosen}' needs a clamped end ({ends})")
-        gamma, K_theta = self._parameters(rule)
+        gamma, K_theta, fitted = self._fitted(rule) if beam.curvature == 0.0 else (*self._parameters(rule), "")
         root, tip, er, et = (beam.start, beam.end, e0, e1) if e0.kind == "clamped" and not self.carried(e0) else \
             (beam.end, beam.start, e1, e0)
         if rule.clamp is not None and rule.clamp in (beam.start, beam.end) and rule.clamp != root:
@@ -453,7 +472,8 @@ class _Builder:
         rho = float(np.linalg.norm(E - P)) / L
         if kappa == 0.0:
             k = rule.stiffness or gamma * K_theta * beam.EI / L
-            why = f"clamped at {root}, {et.kind} at {tip}: one pivot (1-gamma)L from the clamp, K = gamma K_Theta EI/L"
+            why = (f"clamped at {root}, {et.kind} at {tip}: one pivot (1-gamma)L from the clamp, "
+                   f"K = gamma K_Theta EI/L{fitted}")
         else:
             k = rule.stiffness or rho * K_theta * beam.EI / L
             why = (f"initially curved, clamped at {root}: pivot (1-gamma)L along the clamp tangent, "

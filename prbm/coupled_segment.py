@@ -120,14 +120,18 @@ def solve_segment_with_body(segment: InflectionBeam | Callable[[complex, float],
             return float(np.asarray(segment(F, float(moment(theta0))).outputs["theta0"]).ravel()[0])
 
         first = theta_of(t_rest)
-        sol = root_scalar(lambda t: theta_of(t) - t, x0=first, x1=theta_of(first), method="secant",
-                          xtol=xtol, maxiter=maxiter)
-        seg = segment(F, float(moment(sol.root)))
+        second = theta_of(first)
+        if second == first:  # the end moment does not turn with the end (every load at E): no iteration
+            root, found, flag, nit = first, True, "the end loads do not depend on theta0", 1
+        else:
+            sol = root_scalar(lambda t: theta_of(t) - t, x0=first, x1=second, method="secant",
+                              xtol=xtol, maxiter=maxiter)
+            root, found, flag, nit = sol.root, sol.converged, sol.flag, sol.iterations
+        seg = segment(F, float(moment(root)))
         o = seg.outputs
         a, b, t0 = (float(np.asarray(o[k]).ravel()[0]) for k in ("a", "b", "theta0"))
-        ok = bool(sol.converged and seg.converged and abs(t0 - sol.root) < 1e-8)
-        msg = f"secant on theta0: {sol.flag}; segment: {seg.message}"
-        nit = sol.iterations
+        ok = bool(found and seg.converged and abs(t0 - root) < 1e-8)
+        msg = f"secant on theta0: {flag}; segment: {seg.message}"
         outputs = {k: v for k, v in o.items() if k not in ("M", "P", "nP", "n")}
     rotation = t0 - t_rest
     end = complex(a, b)

@@ -40,7 +40,7 @@ from scipy.optimize import brentq
 from prbm.network import GROUND, Couple, LinearSpring, Network, Pin, Slider, TorsionSpring, solve
 from prbm.result import PRBMResult
 
-__all__ = ["FourBar", "SliderCrank"]
+__all__ = ["FourBar", "SliderCrank", "four_bar_rates", "slider_crank_rate"]
 
 
 LOOP_TOLERANCE = 0.01   # printed vectors close only to their rounding (Test 2: 0.002 in on 7 in)
@@ -48,6 +48,21 @@ LOOP_TOLERANCE = 0.01   # printed vectors close only to their rounding (Test 2: 
 
 def _wrap(x):
     return (np.asarray(x) + np.pi) % (2 * np.pi) - np.pi
+
+
+def four_bar_rates(R2, R3, R4, theta2, theta3, theta4):
+    """(h3, h4) = (dTheta3/dTheta2, dTheta4/dTheta2) of a four-bar at its link angles (rad; floats or
+    arrays): h3 = R2 sin(Theta4 - Theta2) / (R3 sin(Theta3 - Theta4)), h4 = R2 sin(Theta3 - Theta2) /
+    (R4 sin(Theta3 - Theta4)); the joint-angle rates of eq (183) follow (1, h3 - 1, h4 - h3, h4)."""
+    h3 = R2 * np.sin(theta4 - theta2) / (R3 * np.sin(theta3 - theta4))
+    h4 = R2 * np.sin(theta3 - theta2) / (R4 * np.sin(theta3 - theta4))
+    return h3, h4
+
+
+def slider_crank_rate(R2, R3, theta2, theta3):
+    """g3 = dTheta3/dTheta2 = -R2 cos Theta2 / (R3 cos Theta3) of a slider-crank whose axis is along its
+    x axis (from R2 sin Theta2 + R3 sin Theta3 = offset); the spring rates of eq (196) are (1, g3 - 1, g3)."""
+    return -R2 * np.cos(theta2) / (R3 * np.cos(theta3))
 
 
 @dataclass
@@ -178,9 +193,7 @@ class FourBar:
     def kinematic_coefficients(self, theta2, angles=None):
         """(h3, h4) = (dTheta3/dTheta2, dTheta4/dTheta2)."""
         t3, t4 = self.angles(theta2) if angles is None else angles
-        h3 = self.R2 * np.sin(t4 - theta2) / (self.R3 * np.sin(t3 - t4))
-        h4 = self.R2 * np.sin(t3 - theta2) / (self.R4 * np.sin(t3 - t4))
-        return h3, h4
+        return four_bar_rates(self.R2, self.R3, self.R4, theta2, t3, t4)
 
     # --- springs and equilibrium: the general network (prbm.network) -----------------------
     def network(self) -> Network:

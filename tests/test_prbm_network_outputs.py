@@ -13,11 +13,14 @@ derived here.
   to it, the output B (distance b on the other side) held by a slider across the lever: the force the
   lever exerts on the output support is F a / b, so MA = a/b, tangent and secant alike.
 """
+import math
 import tomllib
 from pathlib import Path
 
 import numpy as np
 import pytest
+
+import prbm
 
 from validation.case.loader import load_case
 from validation.case.schema import Case
@@ -98,3 +101,58 @@ def test_lever_mechanical_advantage_is_the_arm_ratio(definition):
     assert run.ok, run.message
     for level in (0, 1):
         assert run.values[Request("mechanical_advantage", "", level)] == pytest.approx(2.0 / 0.5, rel=1e-6)
+
+
+CANTILEVER_BY_RULE = """
+[case]
+id = "cantilever_by_rule"
+title = "a cantilever written as a mechanism, an oblique dead force at its free end"
+group = "test"
+units = "dimensionless"
+description = "the builder takes gamma(n), K_Theta(n) where the end load defines n"
+[mechanism]
+E = 3.0
+nodes = [ { name = "O", x = 0.0, y = 0.0 }, { name = "T", x = TX, y = TY } ]
+beams = [ { name = "b", start = "O", end = "T", section = { kind = "inertia", I = 1.0, A = 1.0e8 } } ]
+supports = [ { node = "O", kind = "fixed" } ]
+[[loads]]
+kind = "force"
+point = "T"
+direction = [DX, DY]
+values = [1.0, 2.5]
+[[outputs]]
+quantity = "dx"
+point = "T"
+[[outputs]]
+quantity = "dy"
+point = "T"
+[methods.prbm]
+"""
+
+
+@pytest.mark.parametrize("n", [0.75, -1.2])
+@pytest.mark.parametrize("path", ["segment with body", "network"])
+def test_a_free_end_with_a_dead_force_takes_the_n_fits(n, path):
+    """The one-beam mechanism, by the segment-with-body path and by the network built by rule, equals
+    ``prbm.fixed_pinned_tip`` (seed 000 eqs 41-49, Pauly-Midha) at the end load's ratio: the same
+    one-pivot equilibrium, solved by different code."""
+    angle, L, EI = 0.5, 2.0, 3.0
+    c, s = math.cos(angle), math.sin(angle)
+    local = np.array([-n, 1.0]) / math.hypot(n, 1.0)  # (-nP, P) in the beam frame
+    d = (c * local[0] - s * local[1], s * local[0] + c * local[1])
+    text = (CANTILEVER_BY_RULE.replace("TX", repr(L * c)).replace("TY", repr(L * s))
+            .replace("DX", repr(float(d[0]))).replace("DY", repr(float(d[1]))))
+    if path == "network":
+        text = text.replace("[methods.prbm]", '[methods.prbm]\nmodel = "network"')
+    case = Case.model_validate(tomllib.loads(text))
+    run = run_method(case, "prbm")
+    assert run.ok, run.message
+    if path == "network":
+        assert f"n = {n:.4g}" in run.message
+    for level, F in enumerate((1.0, 2.5)):
+        P = F / math.hypot(n, 1.0)
+        tip = prbm.fixed_pinned_tip(P, n, length=L, EI=EI)
+        a, b = float(tip.outputs["a"]), float(tip.outputs["b"])
+        expected = (c * a - s * b - L * c, s * a + c * b - L * s)
+        assert run.values[Request("dx", "T", level)] == pytest.approx(expected[0], abs=1e-9 * L)
+        assert run.values[Request("dy", "T", level)] == pytest.approx(expected[1], abs=1e-9 * L)

@@ -22,7 +22,7 @@ from validation.synthesis.synthesize import synthesize
 from validation.synthesis.design import compare_printed, design
 from validation.synthesis.spec import load_spec
 from prbm.synthesis.compliance import four_bar_springs
-from prbm.synthesis.dyads import FourBar, four_bar_position, motion_generation, path_generation_timed, polar, rot
+from prbm.synthesis.dyads import FourBarDesign, four_bar_position, motion_generation, path_generation_timed, polar, rot
 
 SPECS = Path(__file__).resolve().parent.parent / "cases" / "specs"
 SPEC_FILES = sorted(SPECS.glob("*.toml"))
@@ -179,7 +179,7 @@ def test_dyads_recover_a_known_linkage(R2, t2, R4, t4, dphi, t5, r5, dphi3):
     if abs(Z3) < 1.0 or abs(Z2 - Z4) < 0.5:  # a (near-)parallelogram: the coupler never turns, the
         return                              # motion-generation dyads are singular (gamma_j = 0)
     Z5 = Z3 * 0.5 + polar(r5, cmath.phase(Z3) * 180 / math.pi + 90 + t5)
-    fb = FourBar(Z1, Z2, Z3, Z4, Z5, Z5 - Z3, [0.0], [0.0], [0.0])
+    fb = FourBarDesign(Z1, Z2, Z3, Z4, Z5, Z5 - Z3, [0.0], [0.0], [0.0])
     P1 = Z2 + Z5
     deltas, gammas, phis = [], [], []
     near = (cmath.phase(Z3) * 180 / math.pi, t4)

@@ -30,23 +30,22 @@ from typing import Callable
 import numpy as np
 from scipy.optimize import lsq_linear, minimize
 
-from prbm.synthesis.dyads import DEG, FourBar, SliderCrank, four_bar_position, slider_position
+from prbm.mechanisms import four_bar_rates, slider_crank_rate
+from prbm.synthesis.dyads import DEG, FourBarDesign, SliderCrankDesign, four_bar_position, slider_position
 
 
-def four_bar_springs(fb: FourBar, theta2: float, theta3: float, theta4: float) -> tuple[np.ndarray, np.ndarray]:
+def four_bar_springs(fb: FourBarDesign, theta2: float, theta3: float, theta4: float) -> tuple[np.ndarray, np.ndarray]:
     """(beta, d beta / d Theta2) of the four springs at O2, A, B, O4 (radians; eq. 183 and 182)."""
     t2, t3, t4 = theta2 * DEG, theta3 * DEG, theta4 * DEG
-    R2, R3, R4 = abs(fb.Z2), abs(fb.Z3), abs(fb.Z4)
-    h3 = R2 * math.sin(t4 - t2) / (R3 * math.sin(t3 - t4))
-    h4 = R2 * math.sin(t3 - t2) / (R4 * math.sin(t3 - t4))
+    h3, h4 = four_bar_rates(abs(fb.Z2), abs(fb.Z3), abs(fb.Z4), t2, t3, t4)  # the one copy, prbm.mechanisms
     beta = np.array([t2, math.pi - (t2 - t3), t4 - t3, t4])
     return beta, np.array([1.0, h3 - 1.0, h4 - h3, h4])
 
 
-def slider_springs(sc: SliderCrank, theta2: float, theta3: float) -> tuple[np.ndarray, np.ndarray]:
+def slider_springs(sc: SliderCrankDesign, theta2: float, theta3: float) -> tuple[np.ndarray, np.ndarray]:
     """(beta, d beta / d Theta2) of the springs at O2, A and the slider pin (radians; eq. 196)."""
     t2, t3 = theta2 * DEG, theta3 * DEG
-    g3 = -abs(sc.Z2) * math.cos(t2) / (abs(sc.Z3) * math.cos(t3))
+    g3 = slider_crank_rate(abs(sc.Z2), abs(sc.Z3), t2, t3)  # the one copy, prbm.mechanisms
     return np.array([t2, t3 - t2, t3]), np.array([1.0, g3 - 1.0, g3])
 
 
@@ -58,7 +57,7 @@ class Configuration:
     angles: tuple[float, ...]
 
 
-def four_bar_configurations(fb: FourBar, energy_free_theta2: float | None = None
+def four_bar_configurations(fb: FourBarDesign, energy_free_theta2: float | None = None
                             ) -> tuple[Configuration, list[Configuration]]:
     """(energy-free state, precision positions) of a four-bar.  The energy-free state is position 1
     unless an input angle Theta20 is given (then Theta30, Theta40 follow by position analysis)."""
@@ -69,7 +68,7 @@ def four_bar_configurations(fb: FourBar, energy_free_theta2: float | None = None
     return Configuration("energy-free", (energy_free_theta2, t3, t4)), positions
 
 
-def slider_configurations(sc: SliderCrank, extra_x: list[float] = ()) -> tuple[Configuration, list[Configuration]]:
+def slider_configurations(sc: SliderCrankDesign, extra_x: list[float] = ()) -> tuple[Configuration, list[Configuration]]:
     """(energy-free = position 1, [P1, P2, then the slider at each extra displacement])."""
     t21, t31 = sc.angles(0)
     out = [Configuration(f"P{j + 1}", sc.angles(j)) for j in range(len(sc.phi))]
@@ -80,7 +79,7 @@ def slider_configurations(sc: SliderCrank, extra_x: list[float] = ()) -> tuple[C
 
 
 def springs_at(mech, config: Configuration) -> tuple[np.ndarray, np.ndarray]:
-    if isinstance(mech, SliderCrank):
+    if isinstance(mech, SliderCrankDesign):
         return slider_springs(mech, *config.angles)
     return four_bar_springs(mech, *config.angles)
 

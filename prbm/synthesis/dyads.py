@@ -178,7 +178,7 @@ def _number(dyads: list[Dyad]) -> list[Dyad]:
 
 
 @dataclass
-class FourBar:
+class FourBarDesign:
     """A synthesized four-bar at position 1 with its rotations at every precision position (deg)."""
 
     Z1: complex
@@ -215,18 +215,18 @@ def _pick(dyads: list[Dyad], branch: int | None, what: str) -> Dyad:
     return dyads[branch]
 
 
-def four_bar_from_dyads(left: Dyad, right: Dyad, deltas: list[complex]) -> FourBar:
+def four_bar_from_dyads(left: Dyad, right: Dyad, deltas: list[complex]) -> FourBarDesign:
     """Assemble a four-bar from its left (Z2, Z5; phi, gamma) and right (Z4, Z6; psi, gamma) dyads."""
     if max(abs(g1 - g2) for g1, g2 in zip(left.b, right.b)) > 1e-6:
         raise SynthesisError("left and right dyads disagree on the coupler rotations")
     Z3 = left.W - right.W
     Z1 = left.Z + left.W - right.W - right.Z
-    return FourBar(Z1=Z1, Z2=left.Z, Z3=Z3, Z4=right.Z, Z5=left.W, Z6=right.W,
+    return FourBarDesign(Z1=Z1, Z2=left.Z, Z3=Z3, Z4=right.Z, Z5=left.W, Z6=right.W,
                    phi=left.a, gamma=left.b, psi=right.a, deltas=list(deltas))
 
 
 def motion_generation(deltas, gamma, *, Z2=None, Z4=None, phi=None, psi=None,
-                      branch_left=None, branch_right=None) -> FourBar:
+                      branch_left=None, branch_right=None) -> FourBarDesign:
     """Motion generation (delta_j, gamma_j given).  Per dyad, either the link vector (Z2, Z4) or
     its rotations (phi, psi; three positions, or two positions with the link vector too)."""
     left = _side(deltas, gamma, Z2, phi, branch_left, "left dyad (Z2, Z5)")
@@ -245,7 +245,7 @@ def _side(deltas, gamma, Z, rotations, branch, what) -> Dyad:
 
 
 def path_generation_timed(deltas, phi, *, Z2=None, gamma=None, Z4=None, psi=None,
-                          branch_left=None, branch_right=None) -> FourBar:
+                          branch_left=None, branch_right=None) -> FourBarDesign:
     """Path generation with prescribed timing (delta_j, phi_j given).  Left dyad: Z2 chosen
     (gamma found) or gamma chosen; right dyad as in motion generation with the gamma found."""
     if gamma is not None:
@@ -261,7 +261,7 @@ def path_generation_timed(deltas, phi, *, Z2=None, gamma=None, Z4=None, psi=None
 
 
 def path_generation(deltas, *, phi, gamma=None, Z2=None, Z4=None, psi=None,
-                    branch_left=None, branch_right=None) -> FourBar:
+                    branch_left=None, branch_right=None) -> FourBarDesign:
     """Path generation (only delta_j given): the input rotations phi_j are free choices, after
     which it is path generation with prescribed timing."""
     return path_generation_timed(deltas, phi, Z2=Z2, gamma=gamma, Z4=Z4, psi=psi,
@@ -269,7 +269,7 @@ def path_generation(deltas, *, phi, gamma=None, Z2=None, Z4=None, psi=None,
 
 
 def function_generation(phi, psi, *, theta2: float, theta3: float, R4: float, gamma2: float,
-                        branch=None, scan: int = 3600) -> FourBar:
+                        branch=None, scan: int = 3600) -> FourBarDesign:
     """Function generation at three positions, eq. (178), with the seed's free choices (section 6.7
     Example 2): directions Theta21, Theta31 of Z2, Z3, length R4 and coupler rotation gamma2.
 
@@ -327,12 +327,12 @@ def function_generation(phi, psi, *, theta2: float, theta3: float, R4: float, ga
     Z2, Z3 = polar(R2, theta2), polar(R3, theta3)
     Z1 = Z2 + Z3 - Z4
     # the coupler point is not specified in function generation: it is put at the middle of the coupler
-    return FourBar(Z1=Z1, Z2=Z2, Z3=Z3, Z4=Z4, Z5=Z3 / 2, Z6=-Z3 / 2, phi=[0.0, *phi], gamma=[0.0, gamma2, g3],
+    return FourBarDesign(Z1=Z1, Z2=Z2, Z3=Z3, Z4=Z4, Z5=Z3 / 2, Z6=-Z3 / 2, phi=[0.0, *phi], gamma=[0.0, gamma2, g3],
                    psi=[0.0, *psi], notes=[f"{len(candidates)} solution(s) with positive link lengths; "
                                            f"gamma3 = {', '.join(f'{c[0]:.4f}' for c in candidates)} deg"])
 
 
-def four_bar_position(fb: FourBar, theta2: float, near: tuple[float, float]) -> tuple[float, float]:
+def four_bar_position(fb: FourBarDesign, theta2: float, near: tuple[float, float]) -> tuple[float, float]:
     """(Theta3, Theta4) for input angle theta2 (deg): circle intersection, the assembly closest to
     ``near`` = (Theta3, Theta4) of a reference configuration."""
     A = polar(abs(fb.Z2), theta2)
@@ -355,7 +355,7 @@ def four_bar_position(fb: FourBar, theta2: float, near: tuple[float, float]) -> 
 
 
 @dataclass
-class SliderCrank:
+class SliderCrankDesign:
     """Crank Z2 (O2->A), coupler Z3 (A->slider pin C), slider axis along Theta1 through O2 (offset 0):
     Z2 + Z3 = Z11 at position 1; slider displacement delta_j along the axis (seed Figs 7.2-7.4)."""
 
@@ -375,7 +375,7 @@ class SliderCrank:
 
 
 def slider_crank_timed(delta: float, phi2: float, *, R2: float, theta3: float, theta1: float = 0.0,
-                       offset: float = 0.0, branch: int | None = None) -> SliderCrank:
+                       offset: float = 0.0, branch: int | None = None) -> SliderCrankDesign:
     """Two-position slider-crank path generation with prescribed timing (seed 000 chapter 7 Example 1):
     the slider pin moves delta along the axis while the crank turns phi2.  Free choices R2, Theta31.
     Unknowns Theta21, R3, gamma2 from the dyad  Z2 (e^{i phi2} - 1) + Z3 (e^{i gamma2} - 1) = delta e^{i theta1}
@@ -412,10 +412,10 @@ def slider_crank_timed(delta: float, phi2: float, *, R2: float, theta3: float, t
         d = sols[branch]
     else:
         raise SynthesisError(f"slider-crank: branch {branch} requested, {len(sols)} exist")
-    return SliderCrank(Z11=(d.Z + d.W), Z2=d.Z, Z3=d.W, phi=d.a, gamma=d.b, deltas=[delta * axis], theta1=theta1)
+    return SliderCrankDesign(Z11=(d.Z + d.W), Z2=d.Z, Z3=d.W, phi=d.a, gamma=d.b, deltas=[delta * axis], theta1=theta1)
 
 
-def slider_position(sc: SliderCrank, x: float, near: tuple[float, float]) -> tuple[float, float]:
+def slider_position(sc: SliderCrankDesign, x: float, near: tuple[float, float]) -> tuple[float, float]:
     """(Theta2, Theta3) with the slider pin at x along the axis from O2 (offset 0), closest to ``near``."""
     R2, R3 = abs(sc.Z2), abs(sc.Z3)
     C = x * rot(sc.theta1)

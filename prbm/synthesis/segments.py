@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 
 @dataclass
-class Segment:
+class SegmentDesign:
     """One sized segment: its type, the springs it realises, and its dimensions (consistent units)."""
 
     kind: str                  # 'slfp', 'fixed-pinned' or 'fixed-guided'
@@ -51,7 +51,7 @@ def slfp(k: float, *, R: float, E: float, width: float, fraction: float = 0.05, 
     L = R / (1.0 + fraction)
     l = fraction * L
     I = k * l / E
-    return Segment("slfp", link, springs or [], k, E, width, l, I, rectangle_thickness(I, width), rigid_length=L)
+    return SegmentDesign("slfp", link, springs or [], k, E, width, l, I, rectangle_thickness(I, width), rigid_length=L)
 
 
 def fixed_pinned(k: float, *, R: float, E: float, width: float, gamma: float, K_theta: float,
@@ -59,7 +59,7 @@ def fixed_pinned(k: float, *, R: float, E: float, width: float, gamma: float, K_
     """Fixed-pinned segment: l = R / gamma, I = k l / (gamma K_Theta E) (eq. 187)."""
     l = R / gamma
     I = k * l / (gamma * K_theta * E)
-    return Segment("fixed-pinned", link, springs or [], k, E, width, l, I, rectangle_thickness(I, width),
+    return SegmentDesign("fixed-pinned", link, springs or [], k, E, width, l, I, rectangle_thickness(I, width),
                    gamma=gamma, K_theta=K_theta)
 
 
@@ -68,7 +68,7 @@ def fixed_guided(k: float, *, R: float, E: float, width: float, gamma: float, K_
     """Fixed-guided segment (two springs k): l = R / gamma, I = k l / (2 gamma K_Theta E) (eq. 188)."""
     l = R / gamma
     I = k * l / (2.0 * gamma * K_theta * E)
-    return Segment("fixed-guided", link, springs or [], k, E, width, l, I, rectangle_thickness(I, width),
+    return SegmentDesign("fixed-guided", link, springs or [], k, E, width, l, I, rectangle_thickness(I, width),
                    gamma=gamma, K_theta=K_theta)
 
 

@@ -20,6 +20,12 @@ as P = F_y, n = -F_x/F_y (seed 000: end force (-nP, P)).
   moment -> ``fixed_guided_monotonic_tip``.
 Outputs: x = a, y = b, dx, dy (from the unloaded tip), rotation = theta0 (deg), force_x = -nP,
 force_y = P, moment (CCW), prb_angle (deg), strain_energy (PRBM springs).
+Applicability (issue 14 item 3; ``MethodRun.applicability``, per level, the results table's column):
+``INFLECTION`` where a force and an end moment bend the PRBM's deformed state through an inflection
+point (tip and root moments of opposite signs: Table 2.1 and eq (12)) while the monotonic model
+(eq 62) was used; ``LOAD_RATIO`` where n lies outside the fit family's range (only reached with
+``extrapolate`` = 'warn' or 'allow'; 'raise' refuses the case); ``DEFLECTION`` where |Theta - Theta_i|
+passes the fits' printed 65 deg (eqs 51-52).
 
 Mechanisms (``_mechanism`` dispatches): 'dof' requests and hand-given four-bars and slider-cranks
 (``links`` option) -> ``prbm_fourbar.py``; one beam carrying a rigid body (chapter 5 Example 1) and
@@ -273,15 +279,17 @@ def _flag_fit_range(info: MethodRun, loads: TipLoads, ratio, res: PRBMResult, fi
     Theta range of the fits (``prbm.fits.THETA_RANGE``, 65 deg)."""
     if "K_theta" not in res.constants or "family" not in res.constants or not loads.has_force:
         return  # not a model of the n-fits (pure moment: its own constants, seed 004)
-    family = fit_family(res.constants["family"])
-    effective = np.where(loads.Fy < 0, -ratio, ratio)  # the fits are evaluated at the mirrored ratio for P < 0
-    outside = ~((effective > family.lower) & (effective <= family.upper)) & (loads.Fy != 0)
-    for level in np.nonzero(outside)[0].tolist():
-        info.flag(level, Applicability.LOAD_RATIO)
+    if fit.extrapolate != "raise":  # with 'raise' a ratio outside the fits has refused the case already
+        family = fit_family(res.constants["family"])
+        effective = np.where(loads.Fy < 0, -ratio, ratio)  # the fits are evaluated at the mirrored ratio for P < 0
+        outside = ~((effective > family.lower) & (effective <= family.upper)) & (loads.Fy != 0)
+        for level in np.nonzero(outside)[0].tolist():
+            info.flag(level, Applicability.LOAD_RATIO)
     if "Theta" in res.outputs:
-        turned = np.abs(_per_level(res.outputs["Theta"], n) - res.constants.get("Theta_i", 0.0))
-        for level in np.nonzero(turned > THETA_RANGE)[0].tolist():
-            info.flag(level, Applicability.DEFLECTION)
+        turned = np.abs(_per_level(res.outputs["Theta"], n) - res.constants.get("Theta_i", 0.0)).tolist()
+        for level, angle in enumerate(turned):
+            if angle > THETA_RANGE:
+                info.flag(level, Applicability.DEFLECTION)
 
 
 def _warn_inflection(info: MethodRun, M, Fx, Fy, a, b, a0, b0) -> None:

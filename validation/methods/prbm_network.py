@@ -7,6 +7,10 @@ and the general rigid-link network solver finds the equilibrium at every load le
 
   gamma, K_theta, slfp_ratio        defaults of every beam
   beams = { name = { model, gamma, K_theta, stiffness, clamp } }   per beam
+A straight beam with a free end loaded by one dead force of one sense has a defined load ratio n
+(``load_ratios``): the builder then takes gamma(n), K_Theta(n) of the Pauly-Midha fits (seed 000
+eqs 41, 43) and says so in the beam's record. A beam spring turned past the fits' 65 deg flags the
+level (``Applicability.DEFLECTION``).
 
 Loads, as the FEM takes them: forces at nodes (dead, or ``follower``: turning with the node's body),
 moments (on ``body`` if given: a link, or a beam's end at that node; else the node's body),
@@ -27,6 +31,7 @@ in the message and in ``extras['prb_model']``; each state's stability in ``extra
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -58,8 +63,36 @@ def geometry(mech) -> pb.Geometry:
                        for s in mech.supports))
 
 
-def rules(options: dict, mech) -> pb.Rules:
-    """The builder's rules from ``[methods.prbm] rules = {gamma, K_theta, slfp_ratio, beams}``."""
+def load_ratios(mech, loads) -> dict[str, float]:
+    """The load ratio n of each straight beam whose end load the case defines: a free end (no support,
+    link, joint or other beam there) loaded by one dead force of one sense at every level; n = -F_x'/|F_y'|
+    in the beam frame (x' from the other end to the free end), as the segment PRBMs take it."""
+    held = {s.node for s in mech.supports} | {nd for l in mech.links for nd in l.nodes} | {j.node for j in mech.joints}
+    ends = [nd for b in mech.beams for nd in (b.start, b.end)]
+    out = {}
+    for beam in mech.beams:
+        for free, root in ((beam.end, beam.start), (beam.start, beam.end)):
+            at = [ld for ld in loads if ld.point == free]
+            if beam.curvature != 0.0 or free in held or ends.count(free) > 1 or len(at) != 1:
+                continue
+            load = at[0]
+            values = [v for v in load.levels() if v != 0.0]
+            if load.kind != "force" or load.follower or load.body is not None or load.toward is not None \
+                    or not values or min(values) * max(values) < 0:
+                continue
+            xy = {nd.name: np.array([nd.x, nd.y]) for nd in mech.nodes}
+            t = xy[free] - xy[root]
+            t = t / math.hypot(*t)
+            d = np.sign(values[0]) * np.asarray(load.direction, float)
+            along, across = float(d @ t), float(d[1] * t[0] - d[0] * t[1])
+            if across != 0.0:
+                out[beam.name] = -along / abs(across)
+    return out
+
+
+def rules(options: dict, mech, loads=()) -> pb.Rules:
+    """The builder's rules from ``[methods.prbm] rules = {gamma, K_theta, slfp_ratio, beams}``, and each
+    beam's load ratio where the loads define it (``load_ratios``)."""
     given = options.get("rules") or {}
     unknown = set(given) - {"gamma", "K_theta", "slfp_ratio", "beams"}
     if unknown:
@@ -78,6 +111,8 @@ def rules(options: dict, mech) -> pb.Rules:
         model = SEGMENT_TYPES.get(beam.segment_type or "")
         if model and beam.name not in per_beam:
             per_beam[beam.name] = pb.BeamRule(model=model)
+    for name, n in load_ratios(mech, loads).items():
+        per_beam[name] = replace(per_beam.get(name, pb.BeamRule()), load_ratio=n)
     return pb.Rules(gamma=float(given.get("gamma", pb.GAMMA)), K_theta=float(given.get("K_theta", pb.K_THETA)),
                     slfp_ratio=float(given.get("slfp_ratio", pb.SLFP_RATIO)), beams=per_beam)
 
@@ -151,13 +186,13 @@ _MODELS_KEPT = 64
 _LAST: dict[str, tuple] = {}  # the last mechanism object asked for, its rules option and its model
 
 
-def built_model(mech, options: dict) -> pb.PRBModel:
+def built_model(mech, options: dict, loads=()) -> pb.PRBModel:
     """The PRB model of the mechanism by the builder's rules; the same geometry and rules give the same
     model, so it is built (and its mobility analysed) once per process."""
     same = _LAST.get("key")
-    if same is not None and same[0] is mech and same[1] == options.get("rules"):
-        return same[2]  # the same mechanism object as the last call (a repeated run): no rebuild, no key
-    geo, rl = geometry(mech), rules(options, mech)
+    if same is not None and same[0] is mech and same[1] is loads and same[2] == options.get("rules"):
+        return same[3]  # the same mechanism and loads as the last call (a repeated run): no rebuild, no key
+    geo, rl = geometry(mech), rules(options, mech, loads)
     key = repr((geo, rl))
     model = _MODELS.get(key)
     if model is None:
@@ -170,7 +205,7 @@ def built_model(mech, options: dict) -> pb.PRBModel:
         if len(_MODELS) >= _MODELS_KEPT:
             _MODELS.pop(next(iter(_MODELS)))
         _MODELS[key] = model
-    _LAST["key"] = (mech, options.get("rules"), model)
+    _LAST["key"] = (mech, loads, options.get("rules"), model)
     return model
 
 
@@ -288,7 +323,7 @@ def _flag_deflection(model: pb.PRBModel, result, info: MethodRun) -> None:
 
 def run_mechanism(case, requests, options: dict, info: MethodRun) -> dict:
     """Values of the requested outputs of a mechanism case from the PRB model built by rule."""
-    model = built_model(case.mechanism, options)
+    model = built_model(case.mechanism, options, case.loads)
     result = solve_case(case, model)
     inputs = [ld for ld in case.loads if ld.kind in ("rotation", "moment")]
     values, memo = {}, {}

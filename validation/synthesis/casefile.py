@@ -20,7 +20,7 @@ import math
 from pathlib import Path
 
 from prbm.synthesis import compliance as cp
-from prbm.synthesis.dyads import FourBar, SynthesisError, arg_deg, polar
+from prbm.synthesis.dyads import FourBarDesign, SynthesisError, arg_deg, polar
 
 
 def _fmt(value) -> str:
@@ -209,7 +209,7 @@ def _references(d, name: str, outputs: list[dict], P: complex, P_j: list[complex
 def build_case(d, spec_path: Path | str) -> dict:
     """The case as a dict in the schema's structure (``toml_text`` writes it)."""
     spec, m = d.spec, d.mechanism
-    if not isinstance(m, FourBar):
+    if not isinstance(m, FourBarDesign):
         raise SynthesisError("case generation is implemented for four-bar designs only")
     if not d.segments:
         raise SynthesisError("no [[segments]] in the specification: nothing compliant to build")

@@ -20,8 +20,8 @@ import numpy as np
 from prbm.synthesis import compliance as cp
 from prbm.synthesis import fixed_guided as fixed_guided_prbm
 from prbm.synthesis import segments as sg
-from prbm.synthesis.dyads import (DEG, FourBar, SliderCrank, SynthesisError, function_generation, motion_generation,
-                                  path_generation, path_generation_timed, polar, slider_crank_timed)
+from prbm.synthesis.dyads import (DEG, FourBarDesign, SliderCrankDesign, SynthesisError, function_generation,
+                                  motion_generation, path_generation, path_generation_timed, polar, slider_crank_timed)
 from prbm.synthesis.framework import solve_framework
 from prbm.synthesis.segments import rectangle_thickness
 from validation.synthesis.spec import Spec
@@ -33,18 +33,18 @@ SPRING_LINK = {1: ("Z2", "ground"), 2: ("Z2", "moving"), 3: ("Z4", "moving"), 4:
 @dataclass
 class Design:
     spec: Spec
-    mechanism: FourBar | SliderCrank | None = None
+    mechanism: FourBarDesign | SliderCrankDesign | None = None
     free_state: cp.Configuration | None = None
     positions: list[cp.Configuration] = field(default_factory=list)
     springs: cp.SpringResult | None = None
-    segments: list[sg.Segment] = field(default_factory=list)
+    segments: list[sg.SegmentDesign] = field(default_factory=list)
     values: dict[str, float | complex] = field(default_factory=dict)
     messages: list[str] = field(default_factory=list)
     success: bool = True
     extra: dict = field(default_factory=dict)
 
 
-def rigid_body(spec: Spec) -> FourBar | SliderCrank:
+def rigid_body(spec: Spec) -> FourBarDesign | SliderCrankDesign:
     """Section 6.4 with the specification's free choices."""
     k, f = spec.kinematics, spec.kinematics.free
     deltas = [complex(*d) for d in k.delta] if k.delta is not None else []
@@ -83,7 +83,7 @@ def _record_kinematics(d: Design) -> None:
     for j in range(1, n):
         v[f"phi{j + 1}"] = m.phi[j]
         v[f"gamma{j + 1}"] = m.gamma[j]
-        if isinstance(m, FourBar):
+        if isinstance(m, FourBarDesign):
             v[f"psi{j + 1}"] = m.psi[j]
     for j, c in enumerate(d.positions):
         for i, a in enumerate(c.angles):
@@ -93,7 +93,7 @@ def _record_kinematics(d: Design) -> None:
             v[f"Theta{i + 2}0"] = a
 
 
-def _segment_for(spec: Spec, d: Design, choice) -> sg.Segment:
+def _segment_for(spec: Spec, d: Design, choice) -> sg.SegmentDesign:
     m, mat = d.mechanism, spec.material
     R = abs(getattr(m, choice.link))
     ks = [d.springs.k[s - 1] for s in choice.springs]
@@ -149,7 +149,7 @@ def design(spec: Spec) -> Design:
     d.mechanism = rigid_body(spec)
     m = d.mechanism
     c = spec.compliance
-    if isinstance(m, SliderCrank):
+    if isinstance(m, SliderCrankDesign):
         extra = [e.slider for e in c.extra] if c is not None else []
         d.free_state, d.positions = cp.slider_configurations(m, extra)
     else:
