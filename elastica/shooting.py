@@ -650,11 +650,6 @@ def section_moment(result: ElasticaResult, at: float) -> float:
     return float(_section_moments(shooter, z, _load_vector(plain))[0] * p.EI / p.length)
 
 
-def _tip_angle(shooter, z, q):
-    sol, _, _ = shooter.integrate(z, q)
-    return sol.y[2, -1]
-
-
 def _result(problem, shooter, z, q, n_samples):
     """The result at the converged unknowns z: tip values from the same integration as the last
     residual, the shape sampled by integrating from sample to sample (compiled)."""

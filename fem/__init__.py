@@ -1,14 +1,17 @@
 """Geometrically nonlinear 2-D corotational beam FEM: the reference yardstick.
 
-Build a `Model` (plain data), call `solve` (or `solve_with_error_estimate`)
-and read the `FemResult`.  Consistent units throughout.  The mathematics is
-stated in each module's docstring (Crisfield 1991; Battini 2002):
-`corotational` (element), `local_matrices` (scikit-fem local stiffness),
-`discretise` (mesh, DOFs, constraints), `assembly` (reduced residual and
-tangent), `linear_solver`, `newton` (corrector, rotation continuity),
-`solver` (load / displacement / arc-length control), `critical`,
-`error_estimate` (Richardson), `warm_start`, `result`, `tip_inverse` (the end loads that
-hold a prescribed tip pose, with a tied load found by an outer secant solve).
+Build a `Model` (plain data), call `solve` (or `solve_load`, `solve_displacement`,
+`solve_arclength` with their options objects, or `solve_with_error_estimate`) and read the
+`FemResult`.  Consistent units throughout.  The mathematics is stated in each module's docstring
+(Crisfield 1991; Battini 2002): `corotational` (element) and `kernel` (the same, compiled),
+`local_matrices` (local stiffness by scikit-fem quadrature), `discretise` (mesh, DOF numbering in
+reverse Cuthill-McKee order, constraints), `assembly` (reduced residual and tangent),
+`linear_solver`, `free_motion` (a model that can move without deforming is refused before any
+solve), `newton` (corrector, rotation continuity) and `compiled_newton` (the load-control
+corrector compiled whole), `options` (typed options and state), `solver` (load / displacement /
+arc-length control), `stability`, `critical`, `error_estimate` (Richardson), `warm_start`,
+`result`, `soft_modes`, `tip_inverse` (the end loads that hold a prescribed tip pose, with a tied
+load found by an outer secant solve).
 
 Angles are in radians (degrees only in case files and reports). Example (the exact tip of the
 cantilever at P L^2/EI = 10 is (0.445, 0.810609)):
@@ -27,11 +30,14 @@ cantilever at P L^2/EI = 10 is (0.445, 0.810609)):
 (0.81061, True)
 """
 from .error_estimate import ErrorEstimate, solve_with_error_estimate
+from .free_motion import FreeMotion
 from .model import Model
 from .result import FemResult
 from .section import Section
-from .solver import solve
+from .options import ArcLengthControl, DisplacementControl, LoadControl, SolveOptions
+from .solver import solve, solve_arclength, solve_displacement, solve_load
 from .tip_inverse import LoadRatio, Position, TipInverseResult, ZeroMoment, solve_tip_inverse
 
-__all__ = ["Model", "Section", "solve", "solve_with_error_estimate", "FemResult", "ErrorEstimate",
+__all__ = ["Model", "Section", "solve", "solve_load", "solve_displacement", "solve_arclength",
+           "SolveOptions", "LoadControl", "DisplacementControl", "ArcLengthControl", "FreeMotion", "solve_with_error_estimate", "FemResult", "ErrorEstimate",
            "solve_tip_inverse", "LoadRatio", "ZeroMoment", "Position", "TipInverseResult"]

@@ -29,6 +29,7 @@ import numpy as np
 from .corotational import element_state
 from .distributed import element_loads
 from .discretise import Discretisation
+from .compiled_newton import CompiledLayout
 from .kernel import scatter
 from .linear_solver import MatrixLayout
 from .model import Model
@@ -50,6 +51,28 @@ class System:
         self.width = 2 if len(d.slaves) else 1
         self.I = d.I[:, :self.width]
         self.C0 = d.C[:, :self.width].copy()
+        self._load_tables(model, n_levels)
+        rows, cols = self._sparsity()
+        self.layout = MatrixLayout(self.n, rows, cols, kind=solver_kind)
+        self.spring_sign = np.array([[1.0, -1.0], [-1.0, 1.0]])
+        self.I_flat = self.I.ravel()
+        self.L_ref = model.characteristic_length()
+        # residual noise from rounding positions: ~ eps * EA per element
+        self.noise_floor = 4 * np.finfo(float).eps * float(np.max(d.ka * d.L0, initial=0.0))
+        # W of the path norm ||dq||_W: rotations weighted by the mean element length squared
+        self.path_weights = np.where(d.red_is_rotation, float(np.mean(d.L0)) ** 2 if len(d.L0) else 1.0, 1.0)
+        self.dead_loads = (len(self.fol_nodes) == 0 and not np.any(self.pt_angle)
+                           and not np.any(self.dist_follower))     # `stability.conservative`
+        self.I0 = np.ascontiguousarray(self.I[:, 0])
+        self.C0_flat = np.ascontiguousarray(self.C0[:, 0])
+        # the compiled load-control corrector (`compiled_newton`), where it applies
+        self.compiled = CompiledLayout(self.layout, rows, cols) if CompiledLayout.applies(self) else None
+
+    def _load_tables(self, model: Model, n_levels: int | None) -> None:
+        """Fixed forces and moments as full vectors per level (``F_fixed``), the configuration-dependent
+        intensities per level (``F0``: followers, pointed magnitudes, distributed loads), prescribed
+        values per level, scaled in ``n_levels`` equal levels when asked."""
+        d = self.disc
         nf = d.n_full + 1
         # loads: fixed forces/moments as full vectors per level, followers as F0 per level
         nl = self.n_levels
@@ -90,6 +113,12 @@ class System:
             self.F0 = ramp[:, None, None] * self.F0[-1]
             self.presc = ramp[:, None] * self.presc[-1]
             self.n_levels = n_levels
+
+    def _sparsity(self):
+        """Rows and columns of the reduced tangent's entries (elements, springs, follower and pointed
+        loads, rigid links), with which full entry feeds each and the constant factor without rigid
+        links."""
+        d = self.disc
         # full-level sparsity pattern: elements, springs, follower, rigid links
         e = d.edofs
         fr = np.concatenate([2 * self.fol_nodes, 2 * self.fol_nodes + 1])
@@ -112,13 +141,8 @@ class System:
         self.valid_src = np.nonzero(self.valid)[0] // (w * w)
         prod = (self.C0[self.rows_full][:, :, None] * self.C0[self.cols_full][:, None, :]).ravel()
         self.coef_const = prod[self.valid]
-        self.layout = MatrixLayout(self.n, R.ravel()[self.valid], Cc.ravel()[self.valid],
-                                   kind=solver_kind)
-        self.spring_sign = np.array([[1.0, -1.0], [-1.0, 1.0]])
-        self.I_flat = self.I.ravel()
-        self.L_ref = model.characteristic_length()
-        # residual noise from rounding positions: ~ eps * EA per element
-        self.noise_floor = 4 * np.finfo(float).eps * float(np.max(d.ka * d.L0, initial=0.0))
+        return R.ravel()[self.valid], Cc.ravel()[self.valid]
+
 
     # -- loads along a path ------------------------------------------------
     def loads_at(self, level_a, level_b, t):

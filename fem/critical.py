@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .options import CriticalPoint
+
 __all__ = ["critical_points", "refine_extremum"]
 
 
@@ -40,8 +42,8 @@ def refine_extremum(x, y, dy):
     return c0 + c1 * xm + c2 * xm * xm, x[1] + xm
 
 
-def critical_points(path):
-    """Limit points (extremum of lambda with det sign change) and bifurcations."""
+def critical_points(path) -> list[CriticalPoint]:
+    """Limit points (extremum of lambda with det sign change) and bifurcations, by step."""
     lams = np.array(path.step_lams)
     s = np.array(path.step_s) if path.step_s else np.arange(len(lams), dtype=float)
     signs = np.array(path.det_signs)
@@ -52,18 +54,17 @@ def critical_points(path):
         d1, d2 = lams[i] - lams[i - 1], lams[i + 1] - lams[i]
         if d1 * d2 < 0:
             lam_c, s_c = refine_extremum(s[i - 1:i + 2], lams[i - 1:i + 2], slopes[i - 1:i + 2])
-            found.append(dict(kind="limit", kind_detail="maximum" if d1 > 0 else "minimum",
-                              step=i, load_factor=float(lam_c), path_parameter=float(s_c)))
-    limit_steps = {f["step"] for f in found}
+            found.append(CriticalPoint("limit", "maximum" if d1 > 0 else "minimum", i, float(lam_c),
+                                       float(s_c)))
+    limit_steps = {f.step for f in found}
     for i in range(1, n):
         if signs[i] * signs[i - 1] < 0:
             near = any(abs(i - j) <= 1 or abs(i - 1 - j) <= 1 for j in limit_steps)
             if not near:
-                found.append(dict(kind="bifurcation", kind_detail="det K changes sign", step=i,
-                                  load_factor=float(lams[i]), path_parameter=float(s[i])))
-    for i, note in getattr(path, "branch_switches", []):
+                found.append(CriticalPoint("bifurcation", "det K changes sign", i, float(lams[i]),
+                                           float(s[i])))
+    for i, note in path.branch_switches:
         # the step that crossed: its unstable state was replaced by a stable one
-        found.append(dict(kind="bifurcation", kind_detail="det K changes sign", step=i,
-                          load_factor=float(lams[i]), path_parameter=float(s[i]),
-                          branch_switch=note))
-    return sorted(found, key=lambda f: f["step"])
+        found.append(CriticalPoint("bifurcation", "det K changes sign", i, float(lams[i]), float(s[i]),
+                                   branch_switch=note))
+    return sorted(found, key=lambda f: f.step)

@@ -23,6 +23,7 @@ columns depend on theta_m and are refreshed by `System`).  Index ``n_red`` in
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -65,6 +66,14 @@ class Discretisation:
     node_first_end_rot: np.ndarray  # (n_model_nodes,) rotation DOF of first member end
     red_is_rotation: np.ndarray     # bool (n_red,)
 
+
+    @cached_property
+    def section_groups(self) -> list:
+        """(section, element indices) of the elements that share a section (for stresses)."""
+        by_id = {}
+        for e, sec in enumerate(self.el_section):
+            by_id.setdefault(id(sec), (sec, []))[1].append(e)
+        return [(sec, np.array(idx)) for sec, idx in by_id.values()]
 
     def member_end_dof(self, member: int, node: int) -> int:
         """Full rotation DOF of ``member``'s end at model node ``node`` (released or not)."""
@@ -125,51 +134,79 @@ def _dof_order(n_en, conn, slaves, masters, extra_owner):
     return dofs
 
 
-def discretise(model: Model, refine: int = 1) -> Discretisation:
-    """Mesh every member with refine x n_elements elements; number and constrain the DOFs."""
-    n_mn = model.n_nodes
+@dataclass
+class _Mesh:
+    """Element nodes, connectivity and element properties of every member."""
+    X: np.ndarray
+    conn: np.ndarray
+    el_member: list
+    L0: list
+    beta0: list
+    ka: list
+    kb: list
+    el_section: list
+    member_elements: list
+
+
+def _member_stiffness(m, lengths, s_nodes):
+    """Section function of a member and its elements' k_a, k_b (`local_matrices`)."""
+    if isinstance(m.section, Section):
+        sec = m.section
+        a, b = prismatic_local_stiffness(lengths, sec.EA, sec.EI)
+        return (lambda xi, sec=sec: sec), a, b
+    fn = m.section
+    prop = lambda attr: (lambda xi: np.vectorize(lambda t: getattr(fn(float(t)), attr))(xi))
+    a, b = member_local_stiffness(s_nodes, prop("EA"), prop("EI"), intorder=8)
+    return fn, a, b
+
+
+def _mesh(model: Model, refine: int) -> _Mesh:
+    """Mesh every member with refine x n_elements elements (interior nodes after the model nodes)."""
     X = [np.asarray(model.coords, dtype=float).reshape(-1, 2)]
-    n_en = n_mn
-    conn, el_member, L0, beta0, ka, kb, el_section, member_elements = [], [], [], [], [], [], [], []
+    n_en = model.n_nodes
+    mesh = _Mesh(None, [], [], [], [], [], [], [], [])
     for im, m in enumerate(model.members):
         n = m.n_elements * int(refine)
-        P0, P1 = X[0][m.start], X[0][m.end]
-        pts, _ = _arc_points(P0, P1, m.curvature, n)
+        pts, _ = _arc_points(X[0][m.start], X[0][m.end], m.curvature, n)
         ids = np.concatenate([[m.start], n_en + np.arange(n - 1), [m.end]])
         X.append(pts[1:-1])
         n_en += n - 1
         seg = np.diff(pts, axis=0)
         lengths = np.hypot(seg[:, 0], seg[:, 1])
         s_nodes = np.concatenate([[0.0], np.cumsum(lengths)])
-        if isinstance(m.section, Section):
-            sec = m.section
-            fn = lambda xi, sec=sec: sec
-            a, b = prismatic_local_stiffness(lengths, sec.EA, sec.EI)
-        else:
-            fn = m.section
-            prop = lambda attr: (lambda xi: np.vectorize(lambda t: getattr(fn(float(t)), attr))(xi))
-            a, b = member_local_stiffness(s_nodes, prop("EA"), prop("EI"), intorder=8)
-        first = sum(len(e) for e in member_elements)
-        member_elements.append(np.arange(first, first + n))
-        conn.append(np.column_stack([ids[:-1], ids[1:]]))
-        el_member += [im] * n
-        L0.append(lengths)
-        beta0.append(np.arctan2(seg[:, 1], seg[:, 0]))
-        ka.append(a)
-        kb.append(b)
+        fn, a, b = _member_stiffness(m, lengths, s_nodes)
+        first = sum(len(e) for e in mesh.member_elements)
+        mesh.member_elements.append(np.arange(first, first + n))
+        mesh.conn.append(np.column_stack([ids[:-1], ids[1:]]))
+        mesh.el_member += [im] * n
+        mesh.L0.append(lengths)
+        mesh.beta0.append(np.arctan2(seg[:, 1], seg[:, 0]))
+        mesh.ka.append(a)
+        mesh.kb.append(b)
         mid = (s_nodes[:-1] + s_nodes[1:]) / 2 / s_nodes[-1]
-        el_section += [fn(float(t)) for t in mid]
-    X = np.vstack(X)
-    conn = np.vstack(conn) if conn else np.zeros((0, 2), int)
-    n_el = len(conn)
+        mesh.el_section += [fn(float(t)) for t in mid]
+    mesh.X = np.vstack(X)
+    mesh.conn = np.vstack(mesh.conn) if mesh.conn else np.zeros((0, 2), int)
+    return mesh
 
-    # --- rotation DOFs: node rotations, then released member ends --------
-    rot_dof = 2 * n_en + np.arange(n_en)
-    end_rot = np.empty((n_el, 2), dtype=int)
-    end_rot[:, 0] = rot_dof[conn[:, 0]]
-    end_rot[:, 1] = rot_dof[conn[:, 1]]
-    next_dof = 3 * n_en
-    springs, spring_k, extra_owner = [], [], []
+
+@dataclass
+class _Joints:
+    """Member-end rotation DOFs (released ends get their own), joint springs, and the owner node of
+    every released-end DOF."""
+    end_rot: np.ndarray
+    springs: list
+    spring_k: list
+    extra_owner: list
+    n_full: int
+
+
+def _joints(model: Model, mesh: _Mesh, rot_dof: np.ndarray) -> _Joints:
+    """Release member ends at revolute joints: a released end turns on its own DOF, tied to the node
+    rotation by the joint spring k; an unanchored single member's spring acts to ground."""
+    conn = mesh.conn
+    end_rot = np.column_stack([rot_dof[conn[:, 0]], rot_dof[conn[:, 1]]]).astype(int)
+    out = _Joints(end_rot, [], [], [], 3 * len(mesh.X))
     link_nodes = {n for rl in model.rigid_links for n in (rl.master, rl.slave)}
     rot_held = {sp.node for sp in model.supports if sp.kind in ("fixed", "guided")}
     for j in model.joints:
@@ -178,49 +215,39 @@ def discretise(model: Model, refine: int = 1) -> Discretisation:
         # the node rotation is carried by something else than the listed members?
         anchored = (j.node in link_nodes or j.node in rot_held
                     or any(im not in listed for im in at_node))
-        k_ground = j.k_ground
+        k_ground = j.k
         if anchored:
-            released = listed               # every listed member turns freely (+ spring k)
+            released, k_ground = listed, j.k_ground     # every listed member turns freely (+ spring k)
         elif len(listed) >= 2:
-            released = listed[1:]           # the first listed member keeps the node rotation
+            released, k_ground = listed[1:], j.k_ground  # the first listed member keeps the node rotation
         else:
-            released = ()                   # a single member: its spring k acts to ground
-            k_ground += j.k
+            released, k_ground = (), j.k_ground + j.k    # a single member: its spring k acts to ground
         for im in released:
-            m = model.members[im]
-            if j.node not in (m.start, m.end):
-                raise ValueError(f"member {im} does not end at joint node {model.node_names[j.node]}")
-            els = member_elements[im]
-            for e, side in ((els[0], 0), (els[-1], 1)):
-                if conn[e, side] == j.node:
-                    end_rot[e, side] = next_dof
-            extra_owner.append(j.node)
-            if j.k > 0.0:
-                springs.append((next_dof, rot_dof[j.node]))
-                spring_k.append(j.k)
-            next_dof += 1
+            _release(model, mesh, out, im, j, rot_dof)
         if k_ground > 0.0:
-            springs.append((rot_dof[j.node], -1))
-            spring_k.append(k_ground)
-    n_full = next_dof
-    ground = n_full
-    springs = np.array(springs, dtype=int).reshape(-1, 2)
-    springs[springs < 0] = ground
-    spring_k = np.array(spring_k, dtype=float)
-    edofs = np.column_stack([2 * conn[:, 0], 2 * conn[:, 0] + 1, end_rot[:, 0],
-                             2 * conn[:, 1], 2 * conn[:, 1] + 1, end_rot[:, 1]])
-    rotation_dofs = np.zeros(n_full + 1, dtype=bool)
-    rotation_dofs[2 * n_en:n_full] = True
+            out.springs.append((rot_dof[j.node], -1))
+            out.spring_k.append(k_ground)
+    return out
 
-    # --- which node rotations carry stiffness ------------------------------
-    used = np.zeros(n_full + 1, dtype=bool)
-    used[edofs.ravel()] = True
-    used[springs.ravel()] = True
-    used[:2 * n_en] = True
-    for ld in model.loads:
-        if ld.member is None and (ld.kind == "moment" or ld.follower):
-            used[rot_dof[ld.node]] = True
-    # rigid links: resolve chains to root masters
+
+def _release(model, mesh, out: _Joints, im, j, rot_dof) -> None:
+    """Give member ``im``'s end at joint ``j`` its own rotation DOF (the next one)."""
+    m = model.members[im]
+    if j.node not in (m.start, m.end):
+        raise ValueError(f"member {im} does not end at joint node {model.node_names[j.node]}")
+    els = mesh.member_elements[im]
+    for e, side in ((els[0], 0), (els[-1], 1)):
+        if mesh.conn[e, side] == j.node:
+            out.end_rot[e, side] = out.n_full
+    out.extra_owner.append(j.node)
+    if j.k > 0.0:
+        out.springs.append((out.n_full, rot_dof[j.node]))
+        out.spring_k.append(j.k)
+    out.n_full += 1
+
+
+def _rigid_link_roots(model: Model):
+    """Slave nodes of rigid links and their root masters (chains resolved)."""
     parent = {}
     for rl in model.rigid_links:
         if rl.slave in parent:
@@ -236,27 +263,43 @@ def discretise(model: Model, refine: int = 1) -> Discretisation:
             n = parent[n]
         return n
     slaves = np.array(sorted(parent), dtype=int)
-    masters = np.array([root(s) for s in slaves], dtype=int)
+    return slaves, np.array([root(s) for s in slaves], dtype=int)
+
+
+def _used_dofs(model, n_en, n_full, edofs, springs, rot_dof, slaves, masters) -> np.ndarray:
+    """Full DOFs that carry stiffness or load: translations, element and spring ends, loaded node
+    rotations, rigid-link rotations (the ground entry excluded)."""
+    used = np.zeros(n_full + 1, dtype=bool)
+    used[edofs.ravel()] = True
+    used[springs.ravel()] = True
+    used[:2 * n_en] = True
+    for ld in model.loads:
+        if ld.member is None and (ld.kind == "moment" or ld.follower):
+            used[rot_dof[ld.node]] = True
     for s, m in zip(slaves, masters):
         used[rot_dof[m]] = True
         used[rot_dof[s]] = True
-    ground_used = used[ground]
-    used[ground] = False
-    del ground_used
+    used[n_full] = False
+    return used
 
-    # --- linear map for independent DOFs -----------------------------------
-    I = np.full((n_full + 1, 2), -1, dtype=int)
-    C = np.zeros((n_full + 1, 2))
-    independent = np.ones(n_full + 1, dtype=bool)
-    independent[ground] = False
+
+@dataclass
+class _Held:
+    """What the supports and prescribed motions hold."""
+    fixed: np.ndarray
+    constrained: np.ndarray
+    slider_dirs: dict
+    p_dofs: list
+    p_vals: list
+
+
+def _supports(model: Model, n_full, used, rot_dof, slaves) -> _Held:
+    """Fixed, slider and prescribed DOFs."""
     fixed = np.zeros(n_full + 1, dtype=bool)
-    fixed[ground] = True
+    fixed[n_full] = True
     fixed[~used] = True
-    constrained = np.zeros(n_full, dtype=bool)
+    held = _Held(fixed, np.zeros(n_full, dtype=bool), {}, [], [])
     slave_set = set(slaves.tolist())
-    for s in slaves:
-        independent[[2 * s, 2 * s + 1, rot_dof[s]]] = False
-    slider_dirs = {}
     for sp in model.supports:
         if sp.node in slave_set:
             raise ValueError(f"support on rigid-link slave node {model.node_names[sp.node]}: "
@@ -264,38 +307,43 @@ def discretise(model: Model, refine: int = 1) -> Discretisation:
         n = sp.node
         if sp.kind in ("fixed", "pinned"):
             fixed[[2 * n, 2 * n + 1]] = True
-            constrained[[2 * n, 2 * n + 1]] = True
         else:
-            slider_dirs[n] = sp.direction
-            constrained[[2 * n, 2 * n + 1]] = True
+            held.slider_dirs[n] = sp.direction
+        held.constrained[[2 * n, 2 * n + 1]] = True
         if sp.kind in ("fixed", "guided"):
             fixed[rot_dof[n]] = True
-            constrained[rot_dof[n]] = True
-    p_dofs, p_vals = [], []
+            held.constrained[rot_dof[n]] = True
     n_lev = model.n_levels
     for p in model.prescribed:
         if p.node in slave_set:
             raise ValueError("prescribed DOF on a rigid-link slave node")
         dof = 2 * p.node + p.dof if p.dof < 2 else rot_dof[p.node]
-        if p.node in slider_dirs and p.dof < 2:
+        if p.node in held.slider_dirs and p.dof < 2:
             raise ValueError("prescribed translation on a slider/guided node is not supported")
         fixed[dof] = True
-        constrained[dof] = True
+        held.constrained[dof] = True
         used[dof] = True
-        p_dofs.append(dof)
-        p_vals.append(np.broadcast_to(p.values, (n_lev,)) if len(p.values) == 1 else p.values)
-    n_red = 0
-    red_is_rot = []
-    for i in _dof_order(n_en, conn, slaves, masters, extra_owner):
-        if not independent[i] or fixed[i]:
+        held.p_dofs.append(dof)
+        held.p_vals.append(np.broadcast_to(p.values, (n_lev,)) if len(p.values) == 1 else p.values)
+    return held
+
+
+def _constraint_map(n_en, n_full, order, independent, held: _Held, rotation_dofs, slaves, masters, rot_dof):
+    """I, C of u_i = sum_w C[i, w] q[I[i, w]] in the DOF ``order`` (free DOFs, sliders u = d t, then
+    the rigid-link slave rows copied from their masters); the number of unknowns and which are
+    rotations."""
+    I = np.full((n_full + 1, 2), -1, dtype=int)
+    C = np.zeros((n_full + 1, 2))
+    n_red, red_is_rot = 0, []
+    for i in order:
+        if not independent[i] or held.fixed[i]:
             continue
         node = i // 2 if i < 2 * n_en else -1
-        if node in slider_dirs:
+        if node in held.slider_dirs:
             if i % 2 == 1:
                 continue
-            d = slider_dirs[node]
             I[i, 0] = I[i + 1, 0] = n_red
-            C[i, 0], C[i + 1, 0] = d
+            C[i, 0], C[i + 1, 0] = held.slider_dirs[node]
         else:
             I[i, 0] = n_red
             C[i, 0] = 1.0
@@ -309,25 +357,57 @@ def discretise(model: Model, refine: int = 1) -> Discretisation:
         C[2 * s + 1] = [C[2 * m + 1, 0], 0.0]
         I[rot_dof[s]] = I[rot_dof[m]]
         C[rot_dof[s]] = C[rot_dof[m]]
+    return I, C, n_red, np.array(red_is_rot, dtype=bool)
 
+
+def _first_member_ends(n_mn, conn, edofs) -> np.ndarray:
+    """Rotation DOF of the first member end at every model node (-1: none)."""
     first_end = np.full(n_mn, -1, dtype=int)
-    for e in range(n_el - 1, -1, -1):
+    for e in range(len(conn) - 1, -1, -1):
         for side in (1, 0):
             if conn[e, side] < n_mn:
                 first_end[conn[e, side]] = edofs[e, 3 * side + 2]
-    node_rot_used = used[rot_dof[:n_mn]] | np.isin(np.arange(n_mn), slaves)
+    return first_end
+
+
+def discretise(model: Model, refine: int = 1) -> Discretisation:
+    """Mesh every member with refine x n_elements elements; number and constrain the DOFs."""
+    n_mn = model.n_nodes
+    mesh = _mesh(model, refine)
+    X, conn = mesh.X, mesh.conn
+    n_en = len(X)
+    rot_dof = 2 * n_en + np.arange(n_en)         # node rotations, then released member ends
+    joints = _joints(model, mesh, rot_dof)
+    n_full = ground = joints.n_full
+    springs = np.array(joints.springs, dtype=int).reshape(-1, 2)
+    springs[springs < 0] = ground
+    edofs = np.column_stack([2 * conn[:, 0], 2 * conn[:, 0] + 1, joints.end_rot[:, 0],
+                             2 * conn[:, 1], 2 * conn[:, 1] + 1, joints.end_rot[:, 1]])
+    rotation_dofs = np.zeros(n_full + 1, dtype=bool)
+    rotation_dofs[2 * n_en:n_full] = True
+    slaves, masters = _rigid_link_roots(model)
+    used = _used_dofs(model, n_en, n_full, edofs, springs, rot_dof, slaves, masters)
+    independent = np.ones(n_full + 1, dtype=bool)
+    independent[ground] = False
+    for s in slaves:
+        independent[[2 * s, 2 * s + 1, rot_dof[s]]] = False
+    held = _supports(model, n_full, used, rot_dof, slaves)
+    order = _dof_order(n_en, conn, slaves, masters, joints.extra_owner)
+    I, C, n_red, red_is_rot = _constraint_map(n_en, n_full, order, independent, held, rotation_dofs,
+                                              slaves, masters, rot_dof)
+    n_lev = model.n_levels
     return Discretisation(
         X=X, n_model_nodes=n_mn, conn=conn, edofs=edofs,
-        L0=np.concatenate(L0) if L0 else np.zeros(0),
-        beta0=np.concatenate(beta0) if beta0 else np.zeros(0),
-        ka=np.concatenate(ka) if ka else np.zeros(0),
-        kb=np.concatenate(kb) if kb else np.zeros((0, 2, 2)),
-        el_member=np.array(el_member, dtype=int), el_section=el_section,
-        member_elements=member_elements, n_full=n_full, ground=ground, rot_dof=rot_dof,
-        rotation_dofs=rotation_dofs, springs=springs, spring_k=spring_k, n_red=n_red,
-        I=I, C=C, independent=independent,
-        prescribed_dofs=np.array(p_dofs, dtype=int),
-        prescribed_values=np.array(p_vals, dtype=float).reshape(len(p_dofs), n_lev),
-        constrained=constrained, slaves=slaves, masters=masters,
-        node_rotation_used=node_rot_used, node_first_end_rot=first_end,
-        red_is_rotation=np.array(red_is_rot, dtype=bool))
+        L0=np.concatenate(mesh.L0) if mesh.L0 else np.zeros(0),
+        beta0=np.concatenate(mesh.beta0) if mesh.beta0 else np.zeros(0),
+        ka=np.concatenate(mesh.ka) if mesh.ka else np.zeros(0),
+        kb=np.concatenate(mesh.kb) if mesh.kb else np.zeros((0, 2, 2)),
+        el_member=np.array(mesh.el_member, dtype=int), el_section=mesh.el_section,
+        member_elements=mesh.member_elements, n_full=n_full, ground=ground, rot_dof=rot_dof,
+        rotation_dofs=rotation_dofs, springs=springs, spring_k=np.array(joints.spring_k, dtype=float),
+        n_red=n_red, I=I, C=C, independent=independent,
+        prescribed_dofs=np.array(held.p_dofs, dtype=int),
+        prescribed_values=np.array(held.p_vals, dtype=float).reshape(len(held.p_dofs), n_lev),
+        constrained=held.constrained, slaves=slaves, masters=masters,
+        node_rotation_used=used[rot_dof[:n_mn]] | np.isin(np.arange(n_mn), slaves),
+        node_first_end_rot=_first_member_ends(n_mn, conn, edofs), red_is_rotation=red_is_rot)

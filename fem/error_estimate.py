@@ -59,7 +59,7 @@ class ErrorEstimate:
         return float(np.max(errs["positions"], initial=0.0)) if errs else np.inf
 
     def _pick(self, name, node, level):
-        i = self.result._node(node)
+        i = self.result.node_index(node)
         return self.extrapolated[name][level, i], self.error[name][level, i]
 
     def position(self, node, level=-1):

@@ -13,6 +13,8 @@ parity) is what the solvers watch for critical points.
 """
 from __future__ import annotations
 
+from functools import cached_property
+
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
@@ -22,7 +24,12 @@ __all__ = ["MatrixLayout", "SingularMatrix"]
 
 
 class SingularMatrix(Exception):
-    pass
+    """The tangent cannot be factorised; ``column``: the matrix column of the first zero pivot,
+    when known."""
+
+    def __init__(self, message: str, column: int | None = None):
+        super().__init__(message)
+        self.column = column
 
 
 def _perm_parity(perm):
@@ -73,10 +80,31 @@ class MatrixLayout:
             self.size = len(uniq)
             self.indices = (uniq % n).astype(np.int32)
             self.indptr = np.searchsorted(uniq // n, np.arange(n + 1)).astype(np.int32)
-        # one storage index per distinct (row, col) entry, for `to_sparse`
-        _, first = np.unique(rows.astype(np.int64) * n + cols, return_index=True)
-        self.entry_rows, self.entry_cols = rows[first], cols[first]
-        self.entry_flat = self.flat[first]
+        self._rows, self._cols = rows, cols
+
+    @cached_property
+    def _entries(self):
+        """One storage index per distinct (row, col) entry (for `to_sparse`, `column_max`)."""
+        _, first = np.unique(self._rows.astype(np.int64) * self.n + self._cols, return_index=True)
+        return self._rows[first], self._cols[first], self.flat[first]
+
+    @property
+    def entry_rows(self):
+        return self._entries[0]
+
+    @property
+    def entry_cols(self):
+        return self._entries[1]
+
+    @property
+    def entry_flat(self):
+        return self._entries[2]
+
+    def column_max(self, data):
+        """max_i |A[i, j]| of every column j of the assembled matrix (any storage kind)."""
+        out = np.zeros(self.n)
+        np.maximum.at(out, self.entry_cols, np.abs(data[self.entry_flat]))
+        return out
 
     def assemble(self, values):
         return np.bincount(self.flat, weights=values, minlength=self.size)
@@ -118,14 +146,14 @@ class Factor:
             A = data.reshape(n, n)
             lu, piv, info = lapack.dgetrf(A)
             if info > 0:
-                raise SingularMatrix("singular tangent")
+                raise SingularMatrix("singular tangent", column=info - 1)
             self.lu, self.piv = lu, piv
             diag = np.diag(lu)
         elif self.kind == "banded":
             ab = data.reshape(layout.nrow, n)
             lu, piv, info = lapack.dgbtrf(ab, layout.kl, layout.ku)
             if info > 0:
-                raise SingularMatrix("singular tangent")
+                raise SingularMatrix("singular tangent", column=info - 1)
             self.lu, self.piv = lu, piv
             diag = lu[layout.kl + layout.ku]
         else:
@@ -135,7 +163,9 @@ class Factor:
             except RuntimeError as exc:
                 raise SingularMatrix(str(exc)) from None
             diag = self.lu.U.diagonal()
-        self.diag = diag
+        self.diag = diag        # the pivots, in elimination order
+        # the column of the matrix eliminated at each step (SuperLU permutes the columns)
+        self.columns = self.lu.perm_c if self.kind == "sparse" else np.arange(n)
         if np.any(diag == 0.0) or not np.all(np.isfinite(diag)):
             raise SingularMatrix("singular tangent")
 

@@ -27,7 +27,9 @@ import math
 
 import numpy as np
 
+from . import compiled_newton as cn
 from .linear_solver import SingularMatrix
+from .options import NewtonOutcome, SolveOptions
 
 __all__ = ["StepFailed", "Path", "newton", "accept_check", "snapshot", "det_sign", "growth"]
 
@@ -56,10 +58,40 @@ class Path:
         self.unassessed = []           # step indices: det K < 0 under follower loads
         self.rejected_iterations = 0
 
+    def record(self, history, iterations: int, sign: int, load: float, slope: float = np.nan,
+               control: float | None = None, parameter: float | None = None) -> None:
+        """The per-step statistics of one accepted step (the same for every control mode)."""
+        self.residuals.append(np.array(history))
+        self.iterations.append(iterations)
+        self.det_signs.append(sign)
+        self.step_lams.append(load)
+        self.step_slope.append(slope)
+        if control is not None:
+            self.step_ctrl.append(control)
+        if parameter is not None:
+            self.step_s.append(parameter)
 
-def newton(system, q, lam, beta, loads, opts, mode="load", ctrl=None, arc=None, q_start=None):
+    def mark_start(self) -> None:
+        """The unloaded start of an arc-length trace: a state of the path, not a step."""
+        self.det_signs.append(1)
+        self.step_lams.append(0.0)
+        self.step_slope.append(np.nan)
+        self.step_ctrl.append(0.0)
+        self.step_s.append(0.0)
+
+    def reject(self, iterations: int) -> None:
+        """A step that was tried and cut: its iterations count."""
+        self.cutbacks += 1
+        self.rejected_iterations += iterations
+
+
+def newton(system, q, lam, beta, loads, opts: SolveOptions, mode="load", ctrl=None, arc=None,
+           q_start=None) -> NewtonOutcome:
     """Corrector.  mode 'load' (lambda fixed), 'disp' (ctrl=(k, coef, target)),
-    'arc' (arc=(dl, w, q0)).  Returns (q, lam, ev, history, its, last factor)."""
+    'arc' (arc=(dl, w, q0)).  Raises `StepFailed` when it does not converge. Under load control a
+    system the compiled corrector handles (`compiled_newton`) is solved there, with the same steps."""
+    if mode == "load" and system.compiled is not None:
+        return _newton_compiled(system, q, lam, beta, loads, opts, q_start)
     F_fixed, F0, presc = loads
     hist = []
     dq_small = False
@@ -68,20 +100,20 @@ def newton(system, q, lam, beta, loads, opts, mode="load", ctrl=None, arc=None, 
     has_rot = bool(rot.any())
     scale = np.where(rot, 1.0, system.L_ref)
     q_start = q.copy() if q_start is None else q_start
-    for it in range(opts["max_iter"] + 1):
+    for it in range(opts.max_iter + 1):
         ev = system.evaluate(q, beta, lam, F_fixed, F0, presc, need_K=True)
         r = ev["r"]
         rn = math.sqrt(float(r.dot(r)))    # = np.linalg.norm(r) (its own formula), without its overhead
         floor = system.noise_floor
-        tol = opts["rtol"] * ev["F_scale"] + floor + opts["atol"]
+        tol = opts.rtol * ev["F_scale"] + floor + opts.atol
         hist.append(rn / max(ev["F_scale"], 1e-300))
         if not math.isfinite(rn):
             raise StepFailed("residual is not finite", it)
         # before the first correction the rounding floor does not count: a load below it (4 eps EA) would
         # otherwise leave the unloaded state accepted as converged
-        if (rn <= tol or dq_small) and (it > 0 or mode == "load" and rn <= opts["rtol"] * ev["F_scale"] + opts["atol"]):
-            return q, lam, ev, hist, it, fac
-        if it == opts["max_iter"]:
+        if (rn <= tol or dq_small) and (it > 0 or mode == "load" and rn <= opts.rtol * ev["F_scale"] + opts.atol):
+            return NewtonOutcome(q, lam, ev, hist, it, fac)
+        if it == opts.max_iter:
             raise StepFailed(f"no convergence in {it} iterations (|r|/F = {hist[-1]:.2e})", it)
         try:
             fac = system.layout.factor(ev["K"])
@@ -90,7 +122,7 @@ def newton(system, q, lam, beta, loads, opts, mode="load", ctrl=None, arc=None, 
         a = fac.solve(-ev["r"])
         if mode == "load":
             dq, dlam = a, 0.0
-            damp = opts.get("max_iteration_rotation")
+            damp = opts.max_iteration_rotation
             if damp and has_rot:    # rotation-limited correction: a far-off predictor is walked in
                 big = float(np.abs(dq[rot]).max())
                 if big > damp:
@@ -116,23 +148,66 @@ def newton(system, q, lam, beta, loads, opts, mode="load", ctrl=None, arc=None, 
                 cosines = [np.dot((v + r_ * b) * w, Dq) for r_ in roots]
                 dlam = roots[int(np.argmax(cosines))]
             dq = a + dlam * b
-        if it > 0 and abs(float(np.dot(dq, ev["r"]))) <= opts["rtol"] ** 2 * ev["F_scale"] * system.L_ref:
+        if it > 0 and abs(float(np.dot(dq, ev["r"]))) <= opts.rtol ** 2 * ev["F_scale"] * system.L_ref:
             # energy criterion |dq . r| <= (rtol F)(rtol L): the remaining correction is
             # negligible; this stops iterating on rounding noise of stiff axial terms
-            return q, lam, ev, hist, it, fac
+            return NewtonOutcome(q, lam, ev, hist, it, fac)
         q = q + dq
         lam = lam + dlam
         dq_small = bool(np.all(np.abs(dq) <= 1e-13 * scale)) and abs(dlam) <= 1e-13 * max(abs(lam), 1e-300)
         if has_rot:
             dth = float(np.abs(q[rot] - q_start[rot]).max())
-            limit = (2 if it == 0 else 4) * opts["max_rotation_increment"]
+            limit = (2 if it == 0 else 4) * opts.max_rotation_increment
             if dth > limit:   # cut now rather than iterate towards a rejected state
                 raise StepFailed(f"rotation increment {dth:.3g} rad too large", it + 1,
-                                 cut=max(0.1, 0.9 * opts["max_rotation_increment"] / dth))
+                                 cut=max(0.1, 0.9 * opts.max_rotation_increment / dth))
     raise AssertionError("unreachable")
 
 
-def accept_check(system, q_new, q_old, ev, opts, its):
+class _Sign:
+    """The sign of det K of the compiled corrector's last factorisation (what load control reads
+    of a `linear_solver.Factor`)."""
+
+    def __init__(self, det_sign: int):
+        self.det_sign = det_sign
+
+
+def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start) -> NewtonOutcome:
+    """`newton` under load control by `compiled_newton.newton_load`: the same outcome or failure."""
+    F_fixed, _, presc = loads
+    c, d = system.compiled, system.disc
+    q = np.array(q, dtype=float)
+    q_start = q.copy() if q_start is None else q_start
+    n_el, nf, n = len(d.L0), d.n_full + 1, system.n
+    el = dict(f=np.empty((n_el, 6)), K=np.zeros((n_el, 6, 6)), N=np.empty(n_el), M=np.empty((n_el, 2)),
+              L=np.empty(n_el), beta=np.empty(n_el), theta_bar=np.empty((n_el, 2)), u_bar=np.empty(n_el),
+              jumped=np.empty(n_el, dtype=bool))
+    K, u, f_int, f_ref, R = np.empty(c.size), np.empty(nf), np.empty(nf), np.empty(nf), np.empty(nf)
+    r, fr, hist = np.empty(n), np.empty(n), np.empty(opts.max_iter + 1)
+    status, it, sign, scale, dth = cn.newton_load(
+        q, q_start, np.asarray(presc, dtype=float), float(lam), F_fixed, beta, system.I0, system.C0_flat,
+        d.prescribed_dofs, d.edofs, system.X1, system.X2, d.L0, d.beta0, d.ka, d.kb, d.springs,
+        d.spring_k, d.ground, c.flat, system.valid_src, system.coef_const, c.banded, c.kl, c.ku, c.ld,
+        d.red_is_rotation, opts.rtol, opts.atol, system.noise_floor, system.L_ref, opts.max_iter,
+        float(opts.max_iteration_rotation or 0.0), opts.max_rotation_increment, K, u, f_int, f_ref, R, r,
+        fr, el["f"], el["K"], el["N"], el["M"], el["L"], el["beta"], el["theta_bar"], el["u_bar"],
+        el["jumped"], hist)
+    history = hist[:it + 1].tolist()
+    if status == cn.NOT_FINITE:
+        raise StepFailed("residual is not finite", it)
+    if status == cn.NO_CONVERGENCE:
+        raise StepFailed(f"no convergence in {it} iterations (|r|/F = {history[-1]:.2e})", it)
+    if status in (cn.SINGULAR, cn.NON_FINITE_TANGENT):
+        raise StepFailed("singular tangent" if status == cn.SINGULAR else "non-finite entries in the tangent", it)
+    if status == cn.ROTATION_TOO_LARGE:
+        raise StepFailed(f"rotation increment {dth:.3g} rad too large", it,
+                         cut=max(0.1, 0.9 * opts.max_rotation_increment / dth))
+    ev = dict(u=u, C=system.C0, el=el, f_int=f_int, f_ref_full=f_ref, R_full=R, r=r, f_ref=fr,
+              F_scale=scale, K=c.row_major(K))
+    return NewtonOutcome(q, lam, ev, history, it, None if sign == 2 else _Sign(sign))
+
+
+def accept_check(system, q_new, q_old, ev, opts: SolveOptions, its):
     """Raise StepFailed if a converged state must be rejected."""
     el = ev["el"]
     if el["jumped"].any():
@@ -141,9 +216,9 @@ def accept_check(system, q_new, q_old, ev, opts, its):
     rot = system.disc.red_is_rotation
     if rot.any():
         dth = float(np.abs(q_new[rot] - q_old[rot]).max())
-        if dth > opts["max_rotation_increment"]:
+        if dth > opts.max_rotation_increment:
             raise StepFailed(f"rotation increment {dth:.3g} rad exceeds max_rotation_increment",
-                             its, cut=max(0.1, 0.8 * opts["max_rotation_increment"] / dth))
+                             its, cut=max(0.1, 0.8 * opts.max_rotation_increment / dth))
 
 
 def snapshot(system, q, lam, ev, level_param):

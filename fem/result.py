@@ -61,17 +61,18 @@ class FemResult:
     def n_levels(self) -> int:
         return len(self.load_factor)
 
-    def _node(self, node) -> int:
+    def node_index(self, node) -> int:
+        """Index of a model node given by name (or index)."""
         if isinstance(node, (int, np.integer)):
             return int(node)
         return self.node_names.index(str(node))
 
     def position(self, node, level: int = -1) -> np.ndarray:
         """Current (x, y) of a model node at a recorded level."""
-        return self.positions[level, self._node(node)].copy()
+        return self.positions[level, self.node_index(node)].copy()
 
     def displacement(self, node, level: int = -1) -> np.ndarray:
-        i = self._node(node)
+        i = self.node_index(node)
         return self.positions[level, i] - self.mesh_positions_ref[i]
 
     @property
@@ -80,11 +81,11 @@ class FemResult:
 
     def rotation(self, node, level: int = -1) -> float:
         """Accumulated rotation (rad, counter-clockwise) of a model node."""
-        return float(self.rotations[level, self._node(node)])
+        return float(self.rotations[level, self.node_index(node)])
 
     def reaction(self, node, level: int = -1) -> np.ndarray:
         """(Rx, Ry, Mz) exerted by the supports/prescriptions on the node."""
-        return self.reactions[level, self._node(node)].copy()
+        return self.reactions[level, self.node_index(node)].copy()
 
     def __repr__(self) -> str:
         return (f"FemResult(converged={self.converged}, message={self.message!r}, "
@@ -113,8 +114,10 @@ class FemResult:
         moment = at_nodes(-M[:, 0], M[:, 1])
         stress = None
         if disc.el_section and all(sec.has_stress for sec in disc.el_section):
-            sigma = np.array([float(np.max(sec.max_stress(N[e:e + 1], np.abs(M[e])))) for e, sec
-                              in enumerate(disc.el_section)])
+            sigma = np.empty(len(conn))      # the larger of the two element ends
+            for sec, idx in disc.section_groups:
+                sigma[idx] = np.maximum(sec.max_stress(N[idx], np.abs(M[idx, 0])),
+                                        sec.max_stress(N[idx], np.abs(M[idx, 1])))
             stress = np.full(n, 0.0)  # the largest stress of the elements meeting at a node
             np.maximum.at(stress, conn[:, 0], sigma)
             np.maximum.at(stress, conn[:, 1], sigma)
@@ -129,31 +132,6 @@ class FemResult:
         return FieldSeries(self.extra["X"].copy(), self.connectivity.copy(), self.mesh_positions.copy(),
                            [self.nodal_fields(k) for k in range(self.n_levels)],
                            np.asarray(self.load_factor, float))
-
-    def to_vtu(self, prefix: str) -> list:
-        """Write one VTU file per level (deformed mesh, line cells, the point data of
-        ``nodal_fields``), ``prefix_undeformed.vtu`` and a ParaView collection ``prefix.pvd``
-        (time = level's load factor); returns the per-level VTU paths."""
-        import meshio
-        from pathlib import Path
-
-        def write(path, xy, point_data):
-            meshio.write(path, meshio.Mesh(np.column_stack([xy, np.zeros(len(xy))]),
-                                           [("line", self.connectivity)], point_data=point_data))
-
-        write(f"{prefix}_undeformed.vtu", self.extra["X"], {})
-        paths = []
-        for k in range(self.n_levels):
-            path = f"{prefix}_{k:04d}.vtu"
-            write(path, self.mesh_positions[k], self.nodal_fields(k).point_data())
-            paths.append(path)
-        entries = "\n".join(
-            f'    <DataSet timestep="{t:.12g}" part="0" file="{Path(p).name}"/>'
-            for t, p in zip(self.load_factor, paths))
-        Path(f"{prefix}.pvd").write_text(
-            '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
-            f"  <Collection>\n{entries}\n  </Collection>\n</VTKFile>\n")
-        return paths
 
 
 @dataclass
@@ -223,10 +201,7 @@ def build_result(model, sys, path, *, converged, message, critical_points, wall_
     mask = np.zeros(d.n_full + 1)
     mask[:d.n_full] = d.constrained
     has_stress = bool(d.el_section) and all(sec.has_stress for sec in d.el_section)
-    by_id = {}
-    for e, sec in enumerate(d.el_section):       # elements grouped by section
-        by_id.setdefault(id(sec), (sec, []))[1].append(e)
-    groups = [(sec, np.array(idx)) for sec, idx in by_id.values()]
+    groups = d.section_groups
     for k, s in enumerate(snaps):
         u = s["u"]
         pos[k] = d.X + np.column_stack([u[0:2 * len(d.X):2], u[1:2 * len(d.X):2]])

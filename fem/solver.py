@@ -35,73 +35,84 @@ import numpy as np
 from .assembly import System
 from .critical import critical_points
 from .discretise import discretise
+from .free_motion import check_held
 from .linear_solver import SingularMatrix
 from .model import DOF_NAMES, Model
 from .newton import Path, StepFailed, accept_check, det_sign, growth, newton, snapshot
-from .result import build_result
+from .options import (ArcLengthControl, DisplacementControl, LoadControl, SolveOptions, StepState,
+                      SwitchStatus)
+from .result import FemResult, build_result
 from .stability import DENSE_LIMIT, conservative, eigenvalue_below, held_sign, switch_branch, zero_eigenvalue
 from .warm_start import chord_angles, guess_states, reduced_from_full
 
-__all__ = ["solve"]
-
-
-def _try_guess(system, opts, path, u_guess, q, loads):
-    """Newton from a warm-start guess of a whole level; None if not acceptable."""
-    d = system.disc
-    q_g = reduced_from_full(d, u_guess)
-    beta_g = chord_angles(d, u_guess, system.X1, system.X2)
-    try:
-        q_new, lam, ev, hist, its, fac = newton(system, q_g, 1.0, beta_g, loads, opts, q_start=q_g)
-    except StepFailed as exc:
-        path.rejected_iterations += exc.iteration
-        return None
-    rot = d.red_is_rotation
-    same_branch = not rot.any() or np.abs(q_new[rot] - q_g[rot]).max() < 0.1
-    if ev["el"]["jumped"].any() or not same_branch:
-        path.rejected_iterations += its
-        return None
-    return q_new, ev, hist, its, fac
-
+__all__ = ["solve", "solve_load", "solve_displacement", "solve_arclength"]
 
 SWITCH_STEP = 1.0 / 64    # branch switching is tried from steps no longer than this (of a level)
 JUMP_CUT_FLOOR = 64       # steps shorter than this many min_step are not cut for turning back
 
 
-def _even_crossing(system, st, held) -> bool:
+def _path_weights(system) -> np.ndarray:
+    """W of the norm ||dq||_W: rotations weighted by the mean element length squared."""
+    return system.path_weights
+
+
+def _step_state(system, opts: SolveOptions, out, beta) -> StepState:
+    """A converged step with the sign of det K (from its last factorisation) when it is watched."""
+    return StepState.of(out, beta, det_sign(system, out.ev, out.factor) if opts.watch_det else 0)
+
+
+def _try_guess(system, opts: SolveOptions, path, u_guess, loads):
+    """Newton from a warm-start guess of a whole level; None if not acceptable."""
+    d = system.disc
+    q_g = reduced_from_full(d, u_guess)
+    beta_g = chord_angles(d, u_guess, system.X1, system.X2)
+    try:
+        out = newton(system, q_g, 1.0, beta_g, loads, opts, q_start=q_g)
+    except StepFailed as exc:
+        path.rejected_iterations += exc.iteration
+        return None
+    rot = d.red_is_rotation
+    same_branch = not rot.any() or np.abs(out.q[rot] - q_g[rot]).max() < 0.1
+    if out.ev["el"]["jumped"].any() or not same_branch:
+        path.rejected_iterations += out.iterations
+        return None
+    return out
+
+
+def _even_crossing(system, st: StepState, held) -> bool:
     """True when det K > 0 hides an unstable state: two (or any even number of) eigenvalues
     crossed zero in one step, which the sign of det K cannot see. Checked by a Cholesky
-    factorisation of the shifted, scaled tangent (`stability.eigenvalue_below`), only where it can happen (conservative loads, some member in compression) and only for systems
-    small enough for a dense eigensolver (larger ones rely on the sign of det K)."""
+    factorisation of the shifted, scaled tangent (`stability.eigenvalue_below`), only where it can
+    happen (conservative loads, some member in compression) and only for systems small enough for a
+    dense eigensolver (larger ones rely on the sign of det K)."""
     if not conservative(system) or system.n > DENSE_LIMIT:
         return False
-    if float(np.min(st["ev"]["el"]["N"], initial=0.0)) >= 0.0:
+    if float(np.min(st.ev["el"]["N"], initial=0.0)) >= 0.0:
         return False
     try:   # Jacobi-scaled: unit diagonal
-        return eigenvalue_below(system, st["ev"]["K"], held, zero_eigenvalue(1.0, system.n))
+        return eigenvalue_below(system, st.ev["K"], held, zero_eigenvalue(1.0, system.n))
     except (ValueError, np.linalg.LinAlgError, RuntimeError):
         return False
 
 
 def _turned_back(system, dq, dq_prev) -> bool:
     """True when the increment of a load step points against the previous one (negative
-    cosine in the norm ||dq||_W, rotations weighted by the mean element length squared):
-    under load control the path does not turn back within one step, the state jumped to
-    another branch (e.g. the buckled state on the far side of an imperfect column)."""
-    d = system.disc
-    w = np.where(d.red_is_rotation, float(np.mean(d.L0)) ** 2 if len(d.L0) else 1.0, 1.0)
-    return bool(np.dot(dq * w, dq_prev) < 0.0)
+    cosine in the norm ||dq||_W): under load control the path does not turn back within one step,
+    the state jumped to another branch (e.g. the buckled state on the far side of an imperfect
+    column)."""
+    return bool(np.dot(dq * _path_weights(system), dq_prev) < 0.0)
 
 
-def _lost_stability(system, opts, path, st, held=None) -> bool:
+def _lost_stability(system, opts: SolveOptions, path, st: StepState, held=None) -> bool:
     """True when a converged step took the stable path to an unstable state: sign det K (of
     K_ff with the control DOF `held` under displacement control) turned negative, or an even
     number of eigenvalues crossed zero (`_even_crossing`). Dead loads only: under follower
     loads a sign change is recorded as unassessed (the static criterion is not decisive) and
     the path is no longer watched. Arc-length never calls this: it traces unstable branches
     on purpose."""
-    if not opts["check_stability"] or not path.stable:
+    if not opts.check_stability or not path.stable:
         return False
-    if st["sign"] >= 0 and not _even_crossing(system, st, held):
+    if st.sign >= 0 and not _even_crossing(system, st, held):
         return False
     if not conservative(system):
         path.stable = False
@@ -109,109 +120,113 @@ def _lost_stability(system, opts, path, st, held=None) -> bool:
         return False
     if held is not None:
         try:
-            fac = st["fac"] or system.layout.factor(st["ev"]["K"])
-            if held_sign(fac, st["sign"], held) >= 0:
+            fac = st.factor or system.layout.factor(st.ev["K"])
+            if held_sign(fac, st.sign, held) >= 0:
                 return False
         except SingularMatrix:
             return False
     return True
 
 
-def _leave_unstable(system, opts, path, st, loads, q_prev, mode="load", ctrl=None, held=None):
-    """Replace the unstable state ``st`` (q, lam, ev, fac, sign, hist, its; updated in place)
-    by a stable one on another branch, preferably the one on the side of the path's last
-    stable state ``q_prev`` (`stability.switch_branch`). Returns None, or the reason why no
-    stable state was found."""
-    status, out = switch_branch(system, opts, st["q"], st["lam"], st["beta"], st["ev"], loads,
-                                mode=mode, ctrl=ctrl, held=held, q_prev=q_prev)
-    if status == "stable":       # the eigenvalues (decisive) put it within rounding of stable
-        st["sign"] = 1
+def _leave_unstable(system, opts: SolveOptions, path, st: StepState, loads, q_prev, mode="load",
+                    ctrl=None, held=None):
+    """Replace the unstable state ``st`` (updated in place) by a stable one on another branch,
+    preferably the one on the side of the path's last stable state ``q_prev``
+    (`stability.switch_branch`). Returns None, or the reason why no stable state was found."""
+    out = switch_branch(system, opts, st.q, st.lam, st.beta, st.ev, loads, mode=mode, ctrl=ctrl,
+                        held=held, q_prev=q_prev)
+    if out.status is SwitchStatus.STABLE:   # the eigenvalues (decisive) put it within rounding of stable
+        st.sign = 1
         return None
-    if status == "failed":
+    if out.status is SwitchStatus.FAILED:
         return ("the converged state is unstable: a bifurcation was crossed (det K < 0, "
-                f"{out}); not returned")
-    q, lam, ev, hist, its, fac, note = out
-    path.branch_switches.append((len(path.step_lams), note))
-    st.update(q=q, lam=lam, ev=ev, fac=fac, hist=st["hist"] + hist, its=st["its"] + its,
-              sign=det_sign(system, ev, fac), switched=True)
+                f"{out.reason}); not returned")
+    new = out.outcome
+    path.branch_switches.append((len(path.step_lams), out.note))
+    st.q, st.lam, st.ev, st.factor = new.q, new.lam, new.ev, new.factor
+    st.history, st.iterations = st.history + new.history, st.iterations + new.iterations
+    st.sign, st.switched = det_sign(system, new.ev, new.factor), True
     return None
 
 
-def _run_load(system, opts, path):
-    n_lev = system.n_levels
+# ---------------------------------------------------------------------------------- load control
+def _guessed_level(system, opts, path, guess, k, beta):
+    """The level k solved in one Newton run from its warm-start guess, or None (step to it)."""
+    out = _try_guess(system, opts, path, guess, system.loads_at(k - 1, k, 1.0))
+    if out is None:
+        return None
+    st = _step_state(system, opts, out, beta)
+    if _lost_stability(system, opts, path, st):
+        return None      # not a state of the path: step to the level instead
+    path.record(st.history, st.iterations, st.sign if opts.detect_critical else 0, float(k))
+    return st
+
+
+class NoStableBranch(Exception):
+    """A converged step is unstable and no stable state was found beside it."""
+
+
+def _load_step(system, opts, path, q, beta, k, t, t_new, dt, prev):
+    """One load step (length dt) from t to t_new of the segment to level k: the accepted
+    `StepState`, or the factor (float) to cut the step by. Raises StepFailed when Newton fails,
+    NoStableBranch when it lands on an unstable state with no stable one beside it."""
+    loads = system.loads_at(k - 1, k, t_new)
+    q_pred = q if prev is None else q + (t_new - t) / prev[1] * prev[0]
+    out = newton(system, q_pred, 1.0, beta, loads, opts, q_start=q)
+    accept_check(system, out.q, q, out.ev, opts, out.iterations)
+    if (prev is not None and dt > JUMP_CUT_FLOOR * opts.min_step
+            and _turned_back(system, out.q - q, prev[0])):
+        path.reject(out.iterations)            # left the path: jumped to another branch
+        return 0.25
+    st = _step_state(system, opts, out, beta)
+    if _lost_stability(system, opts, path, st):
+        if dt > SWITCH_STEP:          # a long step may have jumped off an imperfect path, or
+            path.cutbacks += 1        # crossed several critical loads: retry shorter
+            return 0.25
+        why = _leave_unstable(system, opts, path, st, loads, q)
+        if why:
+            raise NoStableBranch(why)
+    return st
+
+
+def _run_load(system, opts: SolveOptions, path, guesses=None):
     q = np.zeros(system.n)
     beta = system.disc.beta0.copy()
-    dt = opts["initial_step"]
-    guesses = opts.get("guesses")
-    for k in range(n_lev):
-        a, b = k - 1, k
-        t = 0.0
-        prev = None
-        if guesses is not None:
-            got = _try_guess(system, opts, path, guesses[k], q, system.loads_at(a, b, 1.0))
-            if got is not None:
-                q_g, ev, hist, its, fac = got
-                st = dict(q=q_g, lam=1.0, ev=ev, fac=fac, hist=hist, its=its, beta=beta,
-                          sign=det_sign(system, ev, fac) if opts["watch_det"] else 0)
-                if _lost_stability(system, opts, path, st):
-                    got = None      # not a state of the path: step to the level instead
-            if got is not None:
-                q, ev, hist, its = st["q"], st["ev"], st["hist"], st["its"]
-                t, beta = 1.0, ev["el"]["beta"].copy()
-                path.residuals.append(np.array(hist))
-                path.iterations.append(its)
-                path.det_signs.append(st["sign"] if opts["detect_critical"] else 0)
-                path.step_lams.append(float(k))
-                path.step_slope.append(np.nan)
+    dt = opts.initial_step
+    for k in range(system.n_levels):
+        t, prev = 0.0, None
+        got = None if guesses is None else _guessed_level(system, opts, path, guesses[k], k, beta)
+        if got is not None:
+            q, t, beta, ev = got.q, 1.0, got.ev["el"]["beta"].copy(), got.ev
         while t < 1.0:
             dt = min(dt, 1.0 - t)
             t_new = 1.0 if 1.0 - (t + dt) < 1e-12 else t + dt
-            loads = system.loads_at(a, b, t_new)
-            q_pred = q if prev is None else q + (t_new - t) / prev[1] * prev[0]
             try:
-                q_new, lam, ev, hist, its, fac = newton(
-                    system, q_pred, 1.0, beta, loads, opts, q_start=q)
-                accept_check(system, q_new, q, ev, opts, its)
+                st = _load_step(system, opts, path, q, beta, k, t, t_new, dt, prev)
+            except NoStableBranch as exc:
+                return (f"load level {k}: step from t = {t:.6g} to {t_new:.6g} of the "
+                        f"segment from level {k - 1}: {exc}")
             except StepFailed as exc:
-                path.cutbacks += 1
-                path.rejected_iterations += exc.iteration
+                path.reject(exc.iteration)
                 dt *= exc.cut
-                if dt < opts["min_step"]:
+                if dt < opts.min_step:
                     return (f"load level {k}: no convergence between t = {t:.6g} and "
-                            f"{t_new:.6g} of the segment from level {a} (step < min_step), "
+                            f"{t_new:.6g} of the segment from level {k - 1} (step < min_step), "
                             f"iteration {exc.iteration}: {exc.reason}")
                 continue
-            if (prev is not None and dt > JUMP_CUT_FLOOR * opts["min_step"]
-                    and _turned_back(system, q_new - q, prev[0])):
-                path.cutbacks += 1          # left the path: jumped to another branch
-                path.rejected_iterations += its
-                dt *= 0.25
+            if isinstance(st, float):
+                dt *= st
                 continue
-            st = dict(q=q_new, lam=1.0, ev=ev, fac=fac, hist=hist, its=its, beta=beta,
-                      sign=det_sign(system, ev, fac) if opts["watch_det"] else 0)
-            if _lost_stability(system, opts, path, st):
-                if dt > SWITCH_STEP:   # a long step may have jumped off an imperfect path, or
-                    path.cutbacks += 1  # crossed several critical loads: retry shorter
-                    dt *= 0.25
-                    continue
-                why = _leave_unstable(system, opts, path, st, loads, q)
-                if why:
-                    return (f"load level {k}: step from t = {t:.6g} to {t_new:.6g} of the "
-                            f"segment from level {a}: {why}")
-            q_new, ev, hist, its = st["q"], st["ev"], st["hist"], st["its"]
-            switched = st.get("switched", False)
-            prev = (q_new - q, t_new - t) if opts["predictor"] == "secant" and not switched else None
-            q, t, beta = q_new, t_new, ev["el"]["beta"].copy()
-            path.residuals.append(np.array(hist))
-            path.iterations.append(its)
-            path.det_signs.append(st["sign"] if opts["detect_critical"] else 0)
-            path.step_lams.append(k - 1 + t)
-            path.step_slope.append(np.nan)
-            dt *= growth(its)
+            secant = opts.predictor == "secant" and not st.switched
+            prev = (st.q - q, t_new - t) if secant else None
+            q, t, beta, ev = st.q, t_new, st.ev["el"]["beta"].copy(), st.ev
+            path.record(st.history, st.iterations, st.sign if opts.detect_critical else 0, k - 1 + t)
+            dt *= growth(st.iterations)
         path.snapshots.append(snapshot(system, q, 1.0, ev, float(k)))
     return None
 
 
+# -------------------------------------------------------------------------- displacement control
 def _control_index(system, model, control):
     node, dof = control
     node = model.node(node)
@@ -230,186 +245,244 @@ def _reference_loads(system):
     return system.F_fixed[-1], system.F0[-1], system.presc[-1] * 0.0
 
 
-def _run_disp(system, model, opts, path):
-    k, coef = _control_index(system, model, opts["control_dof"])
-    targets = np.atleast_1d(np.asarray(opts["targets"], dtype=float))
+def _critical_slope(system, st: StepState, k, coef):
+    """sign det K and d lambda / d u_c = 1 / (K^-1 f_ref)_c at an accepted displacement step."""
+    try:
+        fac = st.factor or system.layout.factor(st.ev["K"])
+        bb = fac.solve(st.ev["f_ref"])
+        return fac.det_sign, (1.0 / (bb[k] * coef) if bb[k] != 0 else np.nan)
+    except SingularMatrix:
+        return 0, np.nan
+
+
+def _disp_step(system, opts, path, q, lam, beta, loads, ctrl, prev):
+    """One displacement step to the control value ctrl[2]: the accepted `StepState`. Raises
+    StepFailed (Newton) or NoStableBranch."""
+    k, coef, u_t = ctrl
+    q_pred, lam_pred = q, lam
+    if prev is not None and prev[2] != 0.0:
+        ratio = (u_t - q[k] * coef) / prev[2]
+        q_pred, lam_pred = q + ratio * prev[0], lam + ratio * prev[1]
+    out = newton(system, q_pred, lam_pred, beta, loads, opts, mode="disp", ctrl=ctrl, q_start=q)
+    accept_check(system, out.q, q, out.ev, opts, out.iterations)
+    st = _step_state(system, opts, out, beta)
+    if _lost_stability(system, opts, path, st, held=k):
+        why = _leave_unstable(system, opts, path, st, loads, q, mode="disp", ctrl=ctrl, held=k)
+        if why:
+            raise NoStableBranch(why)
+    return st
+
+
+def _run_disp(system, model, control: DisplacementControl, opts: SolveOptions, path):
+    k, coef = _control_index(system, model, control.control_dof)
+    targets = np.atleast_1d(np.asarray(control.targets, dtype=float))
     loads = _reference_loads(system)
-    q = np.zeros(system.n)
-    lam = 0.0
-    beta = system.disc.beta0.copy()
-    frac = opts["initial_step"]
-    prev = None
+    q, lam, beta = np.zeros(system.n), 0.0, system.disc.beta0.copy()
+    frac, prev = opts.initial_step, None
     for lev, target in enumerate(targets):
-        u_a = q[k] * coef
-        t = 0.0
+        u_a, t = q[k] * coef, 0.0
         while t < 1.0:
             frac = min(frac, 1.0 - t)
             t_new = 1.0 if 1.0 - (t + frac) < 1e-12 else t + frac
             u_t = u_a + t_new * (target - u_a)
-            q_pred, lam_pred = q, lam
-            if prev is not None and prev[2] != 0.0:
-                ratio = (u_t - q[k] * coef) / prev[2]
-                q_pred, lam_pred = q + ratio * prev[0], lam + ratio * prev[1]
             try:
-                q_new, lam_new, ev, hist, its, fac = newton(
-                    system, q_pred, lam_pred, beta, loads, opts, mode="disp",
-                    ctrl=(k, coef, u_t), q_start=q)
-                accept_check(system, q_new, q, ev, opts, its)
+                st = _disp_step(system, opts, path, q, lam, beta, loads, (k, coef, u_t), prev)
+            except NoStableBranch as exc:
+                return f"load level {lev} (control displacement {u_t:.6g}): {exc}"
             except StepFailed as exc:
-                path.cutbacks += 1
-                path.rejected_iterations += exc.iteration
+                path.reject(exc.iteration)
                 frac *= exc.cut
-                if frac < opts["min_step"]:
+                if frac < opts.min_step:
                     return (f"load level {lev} (control displacement {u_t:.6g}): no convergence, "
                             f"iteration {exc.iteration}: {exc.reason}")
                 continue
-            st = dict(q=q_new, lam=lam_new, ev=ev, fac=fac, hist=hist, its=its, beta=beta,
-                      sign=det_sign(system, ev, fac) if opts["watch_det"] else 0)
-            why = None
-            if _lost_stability(system, opts, path, st, held=k):
-                why = _leave_unstable(system, opts, path, st, loads, q, mode="disp",
-                                      ctrl=(k, coef, u_t), held=k)
-            if why:
-                return f"load level {lev} (control displacement {u_t:.6g}): {why}"
-            q_new, lam_new, ev, hist, its, fac = (st[key] for key in ("q", "lam", "ev", "hist", "its", "fac"))
-            if opts["predictor"] == "secant":
-                prev = None if st.get("switched") else (q_new - q, lam_new - lam, (q_new[k] - q[k]) * coef)
-            q, lam, t, beta = q_new, lam_new, t_new, ev["el"]["beta"].copy()
-            path.residuals.append(np.array(hist))
-            path.iterations.append(its)
-            sign, slope = 0, np.nan
-            if opts["detect_critical"]:
-                try:
-                    fac = fac or system.layout.factor(ev["K"])
-                    sign, bb = fac.det_sign, fac.solve(ev["f_ref"])
-                    slope = 1.0 / (bb[k] * coef) if bb[k] != 0 else np.nan
-                except SingularMatrix:
-                    pass
-            path.det_signs.append(sign)
-            path.step_slope.append(slope)
-            path.step_lams.append(lam)
-            path.step_ctrl.append(u_t)
-            path.step_s.append(u_t)
-            frac *= growth(its)
+            if opts.predictor == "secant":
+                prev = None if st.switched else (st.q - q, st.lam - lam, (st.q[k] - q[k]) * coef)
+            q, lam, t, beta, ev = st.q, st.lam, t_new, st.ev["el"]["beta"].copy(), st.ev
+            sign, slope = _critical_slope(system, st, k, coef) if opts.detect_critical else (0, np.nan)
+            path.record(st.history, st.iterations, sign, lam, slope, control=u_t, parameter=u_t)
+            frac *= growth(st.iterations)
         path.snapshots.append(snapshot(system, q, lam, ev, float(lev)))
     return None
 
 
-def _run_arc(system, model, opts, path):
+# ------------------------------------------------------------------------------------ arc length
+class _Arc:
+    """The state of an arc-length trace between steps."""
+
+    def __init__(self, system, model, control: ArcLengthControl):
+        self.w = _path_weights(system)
+        self.q, self.lam, self.beta = np.zeros(system.n), 0.0, system.disc.beta0.copy()
+        self.dl = control.arc_length or 0.05 * system.L_ref
+        self.dl_max = control.max_arc_length or 20 * self.dl
+        self.dl_min = self.dl * 1e-6
+        self.Dq_prev = None
+        self.sign = float(np.sign(control.direction) or 1.0)
+        self.s_total, self.n_limits = 0.0, 0
+        self.cached = None                     # (factor, K^-1 f_ref) at the current state
+        self.hist3 = [(0.0, self.q.copy(), self.lam)]
+        self.stop = None
+        if control.until is not None:
+            self.stop = (*_control_index(system, model, control.until[:2]), float(control.until[2]))
+
+
+def _arc_predictor(system, arc: _Arc, loads, opts: SolveOptions):
+    """Tangent predictor Delta lambda = +-dl/||b||_W (b = K^-1 f_ref, sign following the path), or
+    quadratic extrapolation through the last three states."""
+    if arc.cached is None:
+        ev0 = system.evaluate(arc.q, arc.beta, arc.lam, *loads, need_K=True)
+        fac = system.layout.factor(ev0["K"])
+        b = fac.solve(ev0["f_ref"])
+    else:
+        fac, b = arc.cached
+    nb = np.sqrt(np.dot(b * arc.w, b))
+    if arc.Dq_prev is not None:
+        arc.sign = 1.0 if np.dot(b * arc.w, arc.Dq_prev) >= 0 else -1.0
+    dlam = arc.sign * arc.dl / nb
+    if opts.predictor == "secant" and len(arc.hist3) == 3:
+        # quadratic extrapolation along the path (error O(dl^3) instead of
+        # O(dl^2)): smaller axial overshoot of slender members
+        (s0, q0, l0), (s1, q1, l1), (s2, q2, l2) = arc.hist3
+        x = s2 + arc.dl
+        c0 = (x - s1) * (x - s2) / ((s0 - s1) * (s0 - s2))
+        c1 = (x - s0) * (x - s2) / ((s1 - s0) * (s1 - s2))
+        c2 = (x - s0) * (x - s1) / ((s2 - s0) * (s2 - s1))
+        return c0 * q0 + c1 * q1 + c2 * q2, c0 * l0 + c1 * l1 + c2 * l2
+    return arc.q + dlam * b, arc.lam + dlam
+
+
+def _arc_accept(system, arc: _Arc, out, path) -> None:
+    """Move the trace to the converged state and record the step (det K sign and path slope from
+    K^-1 f_ref, cached for the next predictor)."""
+    arc.Dq_prev = out.q - arc.q
+    arc.q, arc.lam, arc.beta = out.q, out.lam, out.ev["el"]["beta"].copy()
+    arc.s_total += float(np.sqrt(np.dot(arc.Dq_prev * arc.w, arc.Dq_prev)))
+    arc.hist3 = (arc.hist3 + [(arc.s_total, arc.q.copy(), arc.lam)])[-3:]
+    try:
+        fac = out.factor or system.layout.factor(out.ev["K"])
+        b = fac.solve(out.ev["f_ref"])
+        arc.cached = (fac, b)
+        travel = 1.0 if np.dot(b * arc.w, arc.Dq_prev) >= 0 else -1.0
+        sign, slope = fac.det_sign, travel / np.sqrt(np.dot(b * arc.w, b))
+    except SingularMatrix:
+        arc.cached, sign, slope = None, 0, np.nan
+    ctrl = arc.q[arc.stop[0]] * arc.stop[1] if arc.stop is not None else np.nan
+    path.record(out.history, out.iterations, sign, arc.lam, slope, control=ctrl, parameter=arc.s_total)
+    path.snapshots.append(snapshot(system, arc.q, arc.lam, out.ev, float(len(path.snapshots))))
+
+
+def _arc_stopped(arc: _Arc, control: ArcLengthControl, path) -> bool:
+    """The stop crossing, |lambda| >= lambda_max, or the max_limit_points-th limit point."""
+    if arc.stop is not None:
+        u_stop = arc.stop[2]
+        if (path.step_ctrl[-2] - u_stop) * (path.step_ctrl[-1] - u_stop) <= 0 and len(path.iterations) > 1:
+            return True
+    if control.lambda_max is not None and abs(arc.lam) >= control.lambda_max:
+        return True
+    if control.max_limit_points is not None and len(path.step_lams) >= 3:
+        l3 = path.step_lams[-3:]
+        if (l3[1] - l3[0]) * (l3[2] - l3[1]) < 0:
+            arc.n_limits += 1
+            return arc.n_limits >= control.max_limit_points
+    return False
+
+
+def _run_arc(system, model, control: ArcLengthControl, opts: SolveOptions, path):
     loads = _reference_loads(system)
-    d = system.disc
-    w = np.where(d.red_is_rotation, float(np.mean(d.L0)) ** 2 if len(d.L0) else 1.0, 1.0)
-    stop = opts.get("until")
-    if stop is not None:
-        k_stop, c_stop = _control_index(system, model, stop[:2])
-        u_stop = float(stop[2])
-    q = np.zeros(system.n)
-    lam = 0.0
-    beta = d.beta0.copy()
-    dl = opts["arc_length"] or 0.05 * system.L_ref
-    dl_max = opts["max_arc_length"] or 20 * dl
-    dl_min = dl * 1e-6
-    Dq_prev = None
-    sign = float(np.sign(opts["direction"]) or 1.0)
-    s_total = 0.0
-    n_limits = 0
-    path.snapshots.append(snapshot(system, q, lam, system.evaluate(q, beta, lam, *loads, need_K=False), 0.0))
-    path.step_lams.append(0.0)
-    path.step_s.append(0.0)
-    path.det_signs.append(1)
-    path.step_ctrl.append(0.0)
-    path.step_slope.append(np.nan)
-    cached = None
-    hist3 = [(0.0, q.copy(), lam)]
-    while len(path.iterations) < opts["max_steps"]:
+    arc = _Arc(system, model, control)
+    path.snapshots.append(snapshot(system, arc.q, arc.lam,
+                                   system.evaluate(arc.q, arc.beta, arc.lam, *loads, need_K=False), 0.0))
+    path.mark_start()
+    while len(path.iterations) < control.max_steps:
         try:
-            if cached is None:
-                ev0 = system.evaluate(q, beta, lam, *loads, need_K=True)
-                fac = system.layout.factor(ev0["K"])
-                b = fac.solve(ev0["f_ref"])
-            else:
-                fac, b = cached
-            nb = np.sqrt(np.dot(b * w, b))
-            if Dq_prev is not None:
-                sign = 1.0 if np.dot(b * w, Dq_prev) >= 0 else -1.0
-            dlam = sign * dl / nb
-            q_pred, lam_pred = q + dlam * b, lam + dlam
-            if opts["predictor"] == "secant" and len(hist3) == 3:
-                # quadratic extrapolation along the path (error O(dl^3) instead of
-                # O(dl^2)): smaller axial overshoot of slender members
-                (s0, q0, l0), (s1, q1, l1), (s2, q2, l2) = hist3
-                x = s2 + dl
-                c0 = (x - s1) * (x - s2) / ((s0 - s1) * (s0 - s2))
-                c1 = (x - s0) * (x - s2) / ((s1 - s0) * (s1 - s2))
-                c2 = (x - s0) * (x - s1) / ((s2 - s0) * (s2 - s1))
-                q_pred, lam_pred = c0 * q0 + c1 * q1 + c2 * q2, c0 * l0 + c1 * l1 + c2 * l2
-            q_new, lam_new, ev, hist, its, fac = newton(
-                system, q_pred, lam_pred, beta, loads, opts, mode="arc",
-                arc=(dl, w, q), q_start=q)
-            accept_check(system, q_new, q, ev, opts, its)
+            q_pred, lam_pred = _arc_predictor(system, arc, loads, opts)
+            out = newton(system, q_pred, lam_pred, arc.beta, loads, opts, mode="arc",
+                         arc=(arc.dl, arc.w, arc.q), q_start=arc.q)
+            accept_check(system, out.q, arc.q, out.ev, opts, out.iterations)
         except (StepFailed, SingularMatrix) as exc:
-            path.cutbacks += 1
-            path.rejected_iterations += getattr(exc, "iteration", 0)
-            hist3 = hist3[-1:]
-            cached = None
-            dl *= getattr(exc, "cut", 0.5)
-            if dl < dl_min:
-                it = getattr(exc, "iteration", 0)
-                return (f"arc-length step {len(path.iterations) + 1} (load factor {lam:.6g}): "
-                        f"no convergence, iteration {it}: {getattr(exc, 'reason', exc)}")
+            path.reject(getattr(exc, "iteration", 0))
+            arc.hist3, arc.cached = arc.hist3[-1:], None
+            arc.dl *= getattr(exc, "cut", 0.5)
+            if arc.dl < arc.dl_min:
+                return (f"arc-length step {len(path.iterations) + 1} (load factor {arc.lam:.6g}): "
+                        f"no convergence, iteration {getattr(exc, 'iteration', 0)}: "
+                        f"{getattr(exc, 'reason', exc)}")
             continue
-        Dq_prev = q_new - q
-        q, lam, beta = q_new, lam_new, ev["el"]["beta"].copy()
-        s_total += float(np.sqrt(np.dot(Dq_prev * w, Dq_prev)))
-        hist3 = (hist3 + [(s_total, q.copy(), lam)])[-3:]
-        path.residuals.append(np.array(hist))
-        path.iterations.append(its)
-        try:
-            fac = fac or system.layout.factor(ev["K"])
-            b = fac.solve(ev["f_ref"])
-            cached = (fac, b)
-            nb = np.sqrt(np.dot(b * w, b))
-            travel = 1.0 if np.dot(b * w, Dq_prev) >= 0 else -1.0
-            path.det_signs.append(fac.det_sign)
-            path.step_slope.append(travel / nb)
-        except SingularMatrix:
-            cached = None
-            path.det_signs.append(0)
-            path.step_slope.append(np.nan)
-        path.step_lams.append(lam)
-        path.step_s.append(s_total)
-        path.step_ctrl.append(q[k_stop] * c_stop if stop is not None else np.nan)
-        path.snapshots.append(snapshot(system, q, lam, ev, float(len(path.snapshots))))
-        dl = min(dl * float(np.clip(opts["target_iterations"] / max(its, 1), 0.5, 2.0)), dl_max)
-        if stop is not None:
-            u0 = path.step_ctrl[-2]
-            if (u0 - u_stop) * (path.step_ctrl[-1] - u_stop) <= 0 and len(path.iterations) > 1:
-                return None
-        if opts["lambda_max"] is not None and abs(lam) >= opts["lambda_max"]:
+        _arc_accept(system, arc, out, path)
+        arc.dl = min(arc.dl * float(np.clip(opts.target_iterations / max(out.iterations, 1), 0.5, 2.0)),
+                     arc.dl_max)
+        if _arc_stopped(arc, control, path):
             return None
-        if opts["max_limit_points"] is not None and len(path.step_lams) >= 3:
-            l3 = path.step_lams[-3:]
-            if (l3[1] - l3[0]) * (l3[2] - l3[1]) < 0:
-                n_limits += 1
-                if n_limits >= opts["max_limit_points"]:
-                    return None
-    if stop is None and opts["lambda_max"] is None and opts["max_limit_points"] is None:
+    if not control.has_stop:
         return None
-    return f"arc-length: max_steps = {opts['max_steps']} reached before the stop condition"
+    return f"arc-length: max_steps = {control.max_steps} reached before the stop condition"
+
+
+# ------------------------------------------------------------------------------- entry points
+def _prepare(model: Model, opts: SolveOptions, n_levels: int | None = None):
+    if n_levels is not None and model.n_levels not in (1, n_levels):
+        raise ValueError(f"n_levels={n_levels} but the load histories have {model.n_levels}")
+    disc = discretise(model, refine=opts.refine)
+    system = System(model, disc, solver_kind=opts.solver, n_levels=n_levels)
+    check_held(system)
+    return system
+
+
+def _finish(model, system, path, opts: SolveOptions, failure, control: str, t0: float) -> FemResult:
+    """The result of a path: critical points, the message (steps, branch switches, unassessed sign
+    changes) and the recorded levels."""
+    critical = critical_points(path) if opts.detect_critical else []
+    message = failure or f"converged: {len(path.iterations)} steps, {sum(path.iterations)} iterations"
+    lams = path.step_lams
+    where = "level parameter" if control == "load" else "load factor"
+    for i, note in path.branch_switches:
+        message += f"; bifurcation at {where} {lams[i] if i < len(lams) else float('nan'):.6g}: {note}"
+    for i in path.unassessed:
+        message += (f"; det K changed sign at step {i + 1} under follower (non-conservative) "
+                    "loads: stability not assessed")
+    return build_result(model, system, path, converged=failure is None, message=message,
+                        critical_points=critical, wall_time=time.perf_counter() - t0,
+                        control=control, refine=opts.refine)
+
+
+def solve_load(model: Model, control: LoadControl = LoadControl(),
+               opts: SolveOptions = SolveOptions()) -> FemResult:
+    """Load control: the loads and prescribed values follow their per-level histories."""
+    t0 = time.perf_counter()
+    system = _prepare(model, opts, control.n_levels)
+    guesses = None if control.initial_guess is None else guess_states(control.initial_guess, system.disc)
+    path = Path()
+    failure = _run_load(system, opts, path, guesses)
+    return _finish(model, system, path, opts, failure, "load", t0)
+
+
+def solve_displacement(model: Model, control: DisplacementControl,
+                       opts: SolveOptions = SolveOptions()) -> FemResult:
+    """Displacement control: one DOF follows its targets, the load factor is free."""
+    t0 = time.perf_counter()
+    system = _prepare(model, opts)
+    path = Path()
+    failure = _run_disp(system, model, control, opts, path)
+    return _finish(model, system, path, opts, failure, "displacement", t0)
+
+
+def solve_arclength(model: Model, control: ArcLengthControl = ArcLengthControl(),
+                    opts: SolveOptions = SolveOptions()) -> FemResult:
+    """Arc-length control of the model's load pattern (its loads at the last level)."""
+    t0 = time.perf_counter()
+    system = _prepare(model, opts)
+    path = Path()
+    failure = _run_arc(system, model, control, opts, path)
+    return _finish(model, system, path, opts, failure, "arclength", t0)
 
 
 def solve(model: Model, n_levels: int | None = None, control: str = "load", *,
-          refine: int = 1, rtol: float = 1e-10, atol: float = 0.0, max_iter: int = 20,
-          initial_step: float = 1.0, min_step: float = 1e-7,
-          max_rotation_increment: float = np.pi, max_iteration_rotation: float = 1.0,
-          detect_critical: bool = True,
-          control_dof=None, targets=None,
-          arc_length: float | None = None, max_arc_length: float | None = None,
-          max_steps: int = 2000, until=None, lambda_max: float | None = None,
-          direction: float = 1.0, target_iterations: int = 5, solver: str = "auto",
-          predictor: str = "secant", max_limit_points: int | None = None,
-          initial_guess=None, check_stability: bool = True):
-    """Solve the model; returns a `FemResult`.
+          control_dof=None, targets=None, initial_guess=None, arc_length: float | None = None,
+          max_arc_length: float | None = None, max_steps: int = 2000, until=None,
+          lambda_max: float | None = None, direction: float = 1.0,
+          max_limit_points: int | None = None, **options) -> FemResult:
+    """Solve the model; returns a `FemResult` (the keyword form of `solve_load`,
+    `solve_displacement` and `solve_arclength`; ``options`` are the fields of `SolveOptions`).
 
     control="load": loads/prescribed values follow their per-level histories.
     ``n_levels`` given for a model whose loads have a single value applies them
@@ -434,42 +507,16 @@ def solve(model: Model, n_levels: int | None = None, control: str = "load", *,
     to a stable branch (noted in the critical point and the message) or returns
     converged=False (`stability`).  Arc-length only reports det K sign changes.
     """
-    t0 = time.perf_counter()
+    opts = SolveOptions(**options)
+    if control == "load":
+        return solve_load(model, LoadControl(n_levels, initial_guess), opts)
     if n_levels is not None and model.n_levels not in (1, n_levels):
         raise ValueError(f"n_levels={n_levels} but the load histories have {model.n_levels}")
-    disc = discretise(model, refine=refine)
-    system = System(model, disc, solver_kind=solver, n_levels=n_levels)
-    opts = dict(rtol=rtol, atol=atol, max_iter=max_iter, initial_step=initial_step,
-                min_step=min_step, max_rotation_increment=max_rotation_increment,
-                max_iteration_rotation=max_iteration_rotation,
-                detect_critical=detect_critical, control_dof=control_dof, targets=targets,
-                arc_length=arc_length, max_arc_length=max_arc_length, max_steps=max_steps,
-                until=until, lambda_max=lambda_max, direction=direction,
-                target_iterations=target_iterations, predictor=predictor,
-                max_limit_points=max_limit_points, check_stability=check_stability,
-                watch_det=detect_critical or check_stability)
-    if initial_guess is not None and control == "load":
-        opts["guesses"] = guess_states(initial_guess, disc)
-    path = Path()
-    if control == "load":
-        failure = _run_load(system, opts, path)
-    elif control == "displacement":
+    if control == "displacement":
         if control_dof is None or targets is None:
             raise ValueError("displacement control needs control_dof and targets")
-        failure = _run_disp(system, model, opts, path)
-    elif control == "arclength":
-        failure = _run_arc(system, model, opts, path)
-    else:
-        raise ValueError("control must be 'load', 'displacement' or 'arclength'")
-    critical = critical_points(path) if detect_critical else []
-    message = failure or f"converged: {len(path.iterations)} steps, {sum(path.iterations)} iterations"
-    lams = path.step_lams
-    for i, note in path.branch_switches:
-        where = "level parameter" if control == "load" else "load factor"
-        message += f"; bifurcation at {where} {lams[i] if i < len(lams) else float('nan'):.6g}: {note}"
-    for i in path.unassessed:
-        message += (f"; det K changed sign at step {i + 1} under follower (non-conservative) "
-                    "loads: stability not assessed")
-    return build_result(model, system, path, converged=failure is None, message=message,
-                        critical_points=critical, wall_time=time.perf_counter() - t0,
-                        control=control, refine=refine)
+        return solve_displacement(model, DisplacementControl(tuple(control_dof), tuple(np.atleast_1d(targets))), opts)
+    if control == "arclength":
+        return solve_arclength(model, ArcLengthControl(arc_length, max_arc_length, max_steps, until,
+                                                       lambda_max, direction, max_limit_points), opts)
+    raise ValueError("control must be 'load', 'displacement' or 'arclength'")

@@ -35,6 +35,8 @@ crossing zero within one step leave sign det K unchanged and go unnoticed.
 """
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
@@ -44,6 +46,7 @@ from scipy.linalg import lapack
 from .corotational import strain_energy
 from .linear_solver import SingularMatrix
 from .newton import StepFailed, accept_check, newton
+from .options import BranchSwitch, NewtonOutcome, SwitchStatus
 
 __all__ = ["conservative", "eigenvalue_below", "held_sign", "lowest_modes", "potential", "switch_branch"]
 
@@ -66,8 +69,7 @@ def conservative(system) -> bool:
     """Dead loads only (no followers, no force at an angle to the line to a fixed point): K is
     symmetric, K = d2 Pi / dq2 (a rope force toward a fixed point and a dead distributed load are
     conservative)."""
-    return (len(system.fol_nodes) == 0 and not np.any(system.pt_angle)
-            and not np.any(system.dist_follower))
+    return system.dead_loads
 
 
 def held_sign(fac, det_sign, held):
@@ -226,9 +228,9 @@ def _follow_mode(system, opts, q_u, phi, side, beta, loads):
         q_pred = q_u + xi_new * phi if prev is None else q + dxi / prev[2] * prev[0]
         lam_pred = lam if prev is None else lam + dxi / prev[2] * prev[1]
         try:
-            q_x, lam_x, ev, _, its, _ = newton(system, q_pred, lam_pred, beta, loads, opts,
-                                               mode="disp", ctrl=(kc, 1.0, q_u[kc] + xi_new),
-                                               q_start=q)
+            out = newton(system, q_pred, lam_pred, beta, loads, opts, mode="disp",
+                         ctrl=(kc, 1.0, q_u[kc] + xi_new), q_start=q)
+            q_x, lam_x, ev, its = out.q, out.lam, out.ev, out.iterations
             its_total += its
             accept_check(system, q_x, q, ev, opts, its)
         except (StepFailed, SingularMatrix) as exc:
@@ -260,18 +262,18 @@ def switch_branch(system, opts, q_u, lam, beta, ev_u, loads, mode="load", ctrl=N
     """Leave the unstable equilibrium q_u along its critical eigenvector, preferably to the
     side of ``q_prev`` (the last stable state of the path; see the module docstring).
 
-    Returns ("stable", lowest eigenvalue) when the eigenvalues say q_u is stable after
-    all, ("switched", (q, lam, ev, hist, its, fac, note)) or ("failed", reason)."""
+    Returns a `BranchSwitch`: STABLE when the eigenvalues say q_u is stable after all, SWITCHED
+    with the stable state found, or FAILED with the reason."""
     vals, vecs = lowest_modes(system, ev_u["K"], held)
     scale = float(np.abs(system.layout.to_sparse(ev_u["K"]).diagonal()).max())
     if vals[0] > -zero_eigenvalue(1.0, system.n):   # scaled eigenvalues: unit diagonal
-        return "stable", float(vals[0])
+        return BranchSwitch(SwitchStatus.STABLE, float(vals[0]))
     phi = vecs[:, 0]
     rot = system.disc.red_is_rotation
     big = np.abs(phi[~rot]).max() / system.L_ref if (~rot).any() else 0.0
     phi = phi / (big if big > 1e-12 else np.abs(phi).max())
     free = np.arange(system.n) if held is None else np.delete(np.arange(system.n), held)
-    tol = opts["rtol"] * ev_u["F_scale"] + system.noise_floor + opts["atol"]
+    tol = opts.rtol * ev_u["F_scale"] + system.noise_floor + opts.atol
     pi_u = potential(system, ev_u, lam)
     found, tried, its_total = {}, [], 0
     for side in (1.0, -1.0):
@@ -287,36 +289,37 @@ def switch_branch(system, opts, q_u, lam, beta, ev_u, loads, mode="load", ctrl=N
             tried.append(f"{label}: {why}")
             continue
         try:     # the solver's own corrector and convergence test, at the same load
-            q, lam_c, ev, hist, its, fac = newton(system, start_q, lam, beta, loads, opts,
-                                                  mode=mode, ctrl=ctrl, q_start=start_q)
-            its_total += its
-            accept_check(system, q, start_q, ev, dict(opts, max_rotation_increment=np.inf), its)
+            out = newton(system, start_q, lam, beta, loads, opts, mode=mode, ctrl=ctrl, q_start=start_q)
+            its_total += out.iterations
+            accept_check(system, out.q, start_q, out.ev, replace(opts, max_rotation_increment=np.inf),
+                         out.iterations)
         except (StepFailed, SingularMatrix) as exc:
             tried.append(f"{label}: {getattr(exc, 'reason', exc)}")
             continue
-        moved = np.abs(q - q_u).max(initial=0.0) > 1e-6 * max(system.L_ref, 1.0)
-        ok, mu = _stable(system, ev["K"], held, scale)
+        moved = np.abs(out.q - q_u).max(initial=0.0) > 1e-6 * max(system.L_ref, 1.0)
+        ok, mu = _stable(system, out.ev["K"], held, scale)
         if moved and ok:
-            found[side] = (q, lam_c, ev, hist, its, fac, potential(system, ev, lam_c))
+            found[side] = (out, potential(system, out.ev, out.lam))
         else:
             tried.append(f"{label}: " + ("returned to the unstable state" if not moved else
                                          f"unstable (lowest eigenvalue {mu:.3g})"))
     if not found:
-        return "failed", (f"lowest eigenvalue {vals[0]:.3g}; no stable state found by Newton from "
-                          f"the unstable one perturbed along the critical eigenvector "
-                          f"({'; '.join(tried)})")
-    side = min(found, key=lambda s: found[s][6])
+        return BranchSwitch(SwitchStatus.FAILED, float(vals[0]), reason=(
+            f"lowest eigenvalue {vals[0]:.3g}; no stable state found by Newton from "
+            f"the unstable one perturbed along the critical eigenvector ({'; '.join(tried)})"))
+    side = min(found, key=lambda s: found[s][1])
     back = 0.0 if q_prev is None else float(np.dot(phi, q_prev - q_u))
     toward = float(np.sign(back)) if q_prev is not None and abs(back) > SIDE_TOL * (
         np.linalg.norm(phi) * np.linalg.norm(q_prev - q_u)) else 0.0
     if toward in found:
         side = toward
-    q, lam_c, ev, hist, its, fac, pi = found[side]
+    out, pi = found[side]
     other = found.get(-side)
     why_side = ("the side of the path's last stable state" if toward == side
                 else "the lower total potential")
     note = (f"branch switch: unstable state (lowest eigenvalue {vals[0]:.3g}, Pi = {pi_u:.6g}) "
             f"left along the critical eigenvector, side {'+' if side > 0 else '-'}, "
             f"{why_side}; stable "
-            f"state Pi = {pi:.9g}" + (f" (other side Pi = {other[6]:.9g})" if other else ""))
-    return "switched", (q, lam_c, ev, hist, its_total, fac, note)
+            f"state Pi = {pi:.9g}" + (f" (other side Pi = {other[1]:.9g})" if other else ""))
+    return BranchSwitch(SwitchStatus.SWITCHED, float(vals[0]), note=note, outcome=NewtonOutcome(
+        out.q, out.lam, out.ev, out.history, its_total, out.factor))

@@ -144,6 +144,7 @@ class PRBModel:
     node_body: dict[str, str]          # the body each node moves with
     member_body: dict[tuple[str, str], str]  # (member, node) -> the body that member has at that node
     lock: str | None = None            # the lock found and the workaround applied, if any
+    ground_nodes: dict[str, str] = field(default_factory=dict)  # joint/spring to the ground -> its support node
 
     def describe(self) -> str:
         text = "; ".join(b.describe() for b in self.beams)
@@ -256,284 +257,362 @@ def _ground_pins(geometry: Geometry, model: PRBModel) -> dict[str, list[np.ndarr
 
 
 def _build(geometry: Geometry, rules: Rules, pivot_at: dict) -> PRBModel:
-    coords = {nd.name: np.array([nd.x, nd.y], float) for nd in geometry.nodes}
-    uf, links_at = _rigid_bodies(geometry)
-    beams_at: dict[str, list[Beam]] = {}
-    for beam in geometry.beams:
-        for nd in (beam.start, beam.end):
-            if nd not in coords:
-                raise ValueError(f"beam '{beam.name}' names unknown node '{nd}'")
-            beams_at.setdefault(nd, []).append(beam)
-    supports_at: dict[str, list[Support]] = {}
-    for sup in geometry.supports:
-        supports_at.setdefault(sup.node, []).append(sup)
+    return _Builder(geometry, rules, pivot_at).model()
 
-    bodies: list[str] = []
-    points: dict[str, tuple[str, tuple[float, float]]] = {}
-    pins: list[Pin] = []
-    sliders: list[Slider] = []
-    springs: list[TorsionSpring] = []
-    node_body: dict[str, str] = {}
 
-    def body_of_link(name: str) -> str:
-        root = uf.find(name)
-        if root != GROUND and root not in bodies:
-            bodies.append(root)
+class _Builder:
+    """One build: the bodies, points, joints and springs of the network as they are made, beam by beam.
+    Every joint or spring to the ground is recorded with the support node it belongs to (``ground_nodes``:
+    name -> node), so the reactions at a support can be summed from the network's multipliers."""
+
+    def __init__(self, geometry: Geometry, rules: Rules, pivot_at: dict):
+        self.geometry, self.rules, self.pivot_at = geometry, rules, pivot_at
+        self.coords = {nd.name: np.array([nd.x, nd.y], float) for nd in geometry.nodes}
+        self.uf, self.links_at = _rigid_bodies(geometry)
+        self.beams_at: dict[str, list[Beam]] = {}
+        for beam in geometry.beams:
+            for nd in (beam.start, beam.end):
+                if nd not in self.coords:
+                    raise ValueError(f"beam '{beam.name}' names unknown node '{nd}'")
+                self.beams_at.setdefault(nd, []).append(beam)
+        self.supports_at: dict[str, list[Support]] = {}
+        for sup in geometry.supports:
+            self.supports_at.setdefault(sup.node, []).append(sup)
+        self.bodies: list[str] = []
+        self.points: dict[str, tuple[str, tuple[float, float]]] = {}
+        self.pins: list[Pin] = []
+        self.sliders: list[Slider] = []
+        self.springs: list[TorsionSpring] = []
+        self.node_body: dict[str, str] = {}
+        self.member_body: dict[tuple[str, str], str] = {}
+        self.records: list[BeamModel] = []
+        self.pending: list[tuple[str, str, Beam]] = []  # (node, beam body, beam): pinned ends with no owner yet
+        self.by_node: dict[str, list[str]] = {}
+        self.held_by: dict[str, int] = {}
+        self.ground_nodes: dict[str, str] = {}
+
+    # --- recording ---------------------------------------------------------------------------------
+    def pin(self, pin: Pin, node: str) -> None:
+        self.pins.append(pin)
+        if GROUND in (pin.a, pin.b):
+            self.ground_nodes[pin.name] = node
+
+    def spring(self, spring: TorsionSpring, node: str) -> None:
+        self.springs.append(spring)
+        if GROUND in (spring.a, spring.b):
+            self.ground_nodes[spring.name] = node
+
+    def body_of_link(self, name: str) -> str:
+        root = self.uf.find(name)
+        if root != GROUND and root not in self.bodies:
+            self.bodies.append(root)
         return root
 
-    # the body that owns each node (a link, the ground, or a junction of welded beams)
-    for nd in coords:
-        kept = [l for l in links_at.get(nd, []) if not _released(geometry, nd, l)]
-        fixed = any(s.kind == "fixed" for s in supports_at.get(nd, []))
-        clamped_beams = [b for b in beams_at.get(nd, []) if not _released(geometry, nd, b.name)]
-        if fixed:
-            node_body[nd] = GROUND
-        elif kept:
-            node_body[nd] = body_of_link(kept[0])
-        elif links_at.get(nd):
-            node_body[nd] = body_of_link(links_at[nd][0])
-        elif len(clamped_beams) >= 2 or (clamped_beams and any(s.kind in ("slider", "guided")
-                                                                 for s in supports_at.get(nd, []))):
-            node_body[nd] = f"junction:{nd}"
-            bodies.append(node_body[nd])
-    for nd, body in node_body.items():
-        points[nd] = (body, tuple(coords[nd]))
-    # links released at a node (a joint naming them) are pinned to the node's owner there
-    pinned_pairs = set()
-    for j in geometry.joints:
-        names = [m for m in j.members if m in {l.name for l in geometry.links}]
-        owner = node_body.get(j.node)
-        for nm in names:
-            b = body_of_link(nm)
-            if owner is not None and b != owner and (b, owner, j.node) not in pinned_pairs:
-                pins.append(Pin(b, owner, tuple(coords[j.node]), name=f"joint {j.node}"))
-                pinned_pairs.add((b, owner, j.node))
-                if j.spring:
-                    springs.append(TorsionSpring(b, owner, j.spring, name=f"joint {j.node}"))
+    # --- the steps ---------------------------------------------------------------------------------
+    def model(self) -> PRBModel:
+        self._node_bodies()
+        self._released_links()
+        for link in self.geometry.links:
+            for nd in link.nodes:
+                self.member_body[(link.name, nd)] = self.body_of_link(link.name)
+        self.held_by = self._holders()
+        for beam in self.geometry.beams:
+            self._beam(beam)
+        self._pending_ends()
+        self._owned_supports()
+        return self._network()
 
-    member_body: dict[tuple[str, str], str] = {}
-    for link in geometry.links:
-        for nd in link.nodes:
-            member_body[(link.name, nd)] = body_of_link(link.name)
+    def _node_bodies(self) -> None:
+        """The body that owns each node (a link, the ground, or a junction of welded beams)."""
+        geometry = self.geometry
+        for nd in self.coords:
+            kept = [l for l in self.links_at.get(nd, []) if not _released(geometry, nd, l)]
+            sups = self.supports_at.get(nd, [])
+            clamped_beams = [b for b in self.beams_at.get(nd, []) if not _released(geometry, nd, b.name)]
+            if any(s.kind == "fixed" for s in sups):
+                self.node_body[nd] = GROUND
+            elif kept:
+                self.node_body[nd] = self.body_of_link(kept[0])
+            elif self.links_at.get(nd):
+                self.node_body[nd] = self.body_of_link(self.links_at[nd][0])
+            elif len(clamped_beams) >= 2 or (clamped_beams and any(s.kind in ("slider", "guided") for s in sups)):
+                self.node_body[nd] = f"junction:{nd}"
+                self.bodies.append(self.node_body[nd])
+        for nd, body in self.node_body.items():
+            self.points[nd] = (body, tuple(self.coords[nd]))
 
-    def end_of(beam: Beam, nd: str) -> _End:
-        owner = node_body.get(nd)
-        sups = supports_at.get(nd, [])
-        if _released(geometry, nd, beam.name):
+    def _released_links(self) -> None:
+        """Links released at a node (a joint naming them) are pinned to the node's owner there."""
+        pinned_pairs = set()
+        link_names = {l.name for l in self.geometry.links}
+        for j in self.geometry.joints:
+            owner = self.node_body.get(j.node)
+            for nm in [m for m in j.members if m in link_names]:
+                b = self.body_of_link(nm)
+                if owner is not None and b != owner and (b, owner, j.node) not in pinned_pairs:
+                    self.pin(Pin(b, owner, tuple(self.coords[j.node]), name=f"joint {j.node}"), j.node)
+                    pinned_pairs.add((b, owner, j.node))
+                    if j.spring:
+                        self.spring(TorsionSpring(b, owner, j.spring, name=f"joint {j.node}"), j.node)
+
+    def end_of(self, beam: Beam, nd: str) -> _End:
+        owner = self.node_body.get(nd)
+        sups = self.supports_at.get(nd, [])
+        if _released(self.geometry, nd, beam.name):
             return _End("pinned", owner)
         if any(s.kind == "pinned" and s.member in (None, beam.name) for s in sups) and owner is None:
             return _End("pinned", GROUND)
         if any(s.kind == "slider" for s in sups) and owner is None:
-            return _End("pinned", None)  # resolved below with a slider on the beam's own body
+            return _End("pinned", None)  # resolved later with a slider on the beam's own body
         if owner is not None:
             return _End("clamped", owner)
         return _End("free", None)
 
-    records: list[BeamModel] = []
-    pending_pins: list[tuple[str, str, Beam]] = []  # (node, beam body) for pinned ends with no owner yet
-    # a body held by nothing but one clamped beam end rides on that beam: the beam is fixed-free there
-    held_by: dict[str, int] = {}
-    for beam in geometry.beams:
-        for nd in (beam.start, beam.end):
-            end = end_of(beam, nd)
-            if end.body not in (None, GROUND):
-                held_by[end.body] = held_by.get(end.body, 0) + 1
-    for pin in pins:
-        for b in (pin.a, pin.b):
-            held_by[b] = held_by.get(b, 0) + 1
-    for sup in geometry.supports:
-        owner = node_body.get(sup.node)
-        if owner not in (None, GROUND):
-            held_by[owner] = held_by.get(owner, 0) + 1
+    def _holders(self) -> dict[str, int]:
+        """How many beam ends, pins and supports hold each body: a body held by nothing but one clamped
+        beam end rides on that beam (the beam is fixed-free there)."""
+        held_by: dict[str, int] = {}
+        for beam in self.geometry.beams:
+            for nd in (beam.start, beam.end):
+                end = self.end_of(beam, nd)
+                if end.body not in (None, GROUND):
+                    held_by[end.body] = held_by.get(end.body, 0) + 1
+        for pin in self.pins:
+            for b in (pin.a, pin.b):
+                held_by[b] = held_by.get(b, 0) + 1
+        for sup in self.geometry.supports:
+            owner = self.node_body.get(sup.node)
+            if owner not in (None, GROUND):
+                held_by[owner] = held_by.get(owner, 0) + 1
+        return held_by
 
-    def carried(end: _End) -> bool:
-        return end.kind == "clamped" and end.body not in (None, GROUND) and held_by.get(end.body, 0) == 1
+    def carried(self, end: _End) -> bool:
+        return end.kind == "clamped" and end.body not in (None, GROUND) and self.held_by.get(end.body, 0) == 1
 
-    for beam in geometry.beams:
-        A, B = coords[beam.start], coords[beam.end]
+    def _choose(self, beam: Beam, e0: _End, e1: _End, L: float, rule: BeamRule) -> str:
+        """The beam's model by how its ends are held (module docstring), unless the rule names one."""
+        if beam.name in self.pivot_at:
+            return "pivot-at-pin"
+        if rule.model is not None:
+            return rule.model
+        kinds = sorted((e0.kind, e1.kind))
+        if kinds == ["clamped", "clamped"] and (self.carried(e0) or self.carried(e1)) and e0.body != e1.body:
+            return "fixed-free"
+        if kinds == ["clamped", "clamped"]:
+            if e0.body == e1.body:
+                return "rigid-both-ends-on-one-body"
+            short = self.rules.slfp_ratio * min(_size(self.geometry, self.coords, e0.body, self.uf),
+                                                _size(self.geometry, self.coords, e1.body, self.uf))
+            return "slfp" if L <= short else "fixed-guided"
+        if "clamped" in kinds:
+            return "fixed-pinned" if "pinned" in kinds else "fixed-free"
+        return "rigid"
+
+    def _beam(self, beam: Beam) -> None:
+        A, B = self.coords[beam.start], self.coords[beam.end]
         L = _arc_length(A, B, beam.curvature)
-        rule = rules.beams.get(beam.name, BeamRule())
-        gamma = rule.gamma if rule.gamma is not None else rules.gamma
-        K_theta = rule.K_theta if rule.K_theta is not None else rules.K_theta
-        e0, e1 = end_of(beam, beam.start), end_of(beam, beam.end)
+        rule = self.rules.beams.get(beam.name, BeamRule())
+        e0, e1 = self.end_of(beam, beam.start), self.end_of(beam, beam.end)
         ends = (e0.kind, e1.kind)
-        kinds = sorted(ends)
-        name = f"prb:{beam.name}"
-        chosen = rule.model
-        if beam.name in pivot_at:
-            chosen = "pivot-at-pin"
-        elif chosen is None:
-            if kinds == ["clamped", "clamped"] and (carried(e0) or carried(e1)) and e0.body != e1.body:
-                chosen = "fixed-free"
-            elif kinds == ["clamped", "clamped"]:
-                if e0.body == e1.body:
-                    chosen = "rigid-both-ends-on-one-body"
-                elif L <= rules.slfp_ratio * min(_size(geometry, coords, e0.body, uf),
-                                                 _size(geometry, coords, e1.body, uf)):
-                    chosen = "slfp"
-                else:
-                    chosen = "fixed-guided"
-            elif "clamped" in kinds:
-                chosen = "fixed-pinned" if "pinned" in kinds else "fixed-free"
-            else:
-                chosen = "rigid"
+        chosen = self._choose(beam, e0, e1, L, rule)
         if chosen == "rigid-both-ends-on-one-body":
-            records.append(BeamModel(beam.name, "rigid", ends, (), (), None, None,
-                                     "both ends clamped to the same rigid body: the beam cannot deflect"))
-            continue
-        if chosen in ("fixed-pinned", "fixed-free"):
-            if "clamped" not in ends:
-                raise ValueError(f"beam '{beam.name}': model '{chosen}' needs a clamped end ({ends})")
-            root, tip, er, et = (beam.start, beam.end, e0, e1) if e0.kind == "clamped" and not carried(e0) else \
-                (beam.end, beam.start, e1, e0)
-            if rule.clamp is not None and rule.clamp in (beam.start, beam.end) and rule.clamp != root:
-                root, tip, er, et = tip, root, et, er
-            O, E = coords[root], coords[tip]
-            kappa = beam.curvature if root == beam.start else -beam.curvature
-            tangent = _tangent(O, E, kappa, L)
-            P = O + (1.0 - gamma) * L * tangent
-            rho = float(np.linalg.norm(E - P)) / L
-            if kappa == 0.0:
-                k = rule.stiffness or gamma * K_theta * beam.EI / L
-                why = f"clamped at {root}, {et.kind} at {tip}: one pivot (1-gamma)L from the clamp, K = gamma K_Theta EI/L"
-            else:
-                k = rule.stiffness or rho * K_theta * beam.EI / L
-                why = (f"initially curved, clamped at {root}: pivot (1-gamma)L along the clamp tangent, "
-                       f"rho = {rho:.4f}, K = rho K_Theta EI/L (seed 000 eqs 53-58)")
-            if carried(et):  # the body at the tip rides on the PRB link: it is the link
-                name = et.body
-                why += f"; the body at {tip} is held by this beam only, so it rides on the PRB link"
-            else:
-                bodies.append(name)
-                _attach_far_end(beam, tip, et, name, coords, points, pins, pending_pins, node_body)
-            springs.append(TorsionSpring(name, er.body, k, name=f"{beam.name} pivot"))
-            pins.append(Pin(name, er.body, tuple(P), name=f"{beam.name} pivot"))
-            member_body[(beam.name, root)] = er.body
-            member_body[(beam.name, tip)] = name
-            records.append(BeamModel(beam.name, chosen, ends, (tuple(P),), (k,), gamma, K_theta, why))
+            self.records.append(BeamModel(beam.name, "rigid", ends, (), (), None, None,
+                                          "both ends clamped to the same rigid body: the beam cannot deflect"))
+        elif chosen in ("fixed-pinned", "fixed-free"):
+            self._one_pivot(beam, chosen, e0, e1, L, rule)
         elif chosen == "pivot-at-pin":
-            root, G = pivot_at[beam.name]
-            tip = beam.end if root == beam.start else beam.start
-            O, E = coords[root], coords[tip]
-            g_eff = float(np.linalg.norm(E - np.asarray(G))) / L
-            k = rule.stiffness or g_eff * K_theta * beam.EI / L
-            far = node_body[tip]
-            springs.append(TorsionSpring(far, GROUND, k, name=f"{beam.name} pivot"))
-            member_body[(beam.name, root)] = GROUND
-            member_body[(beam.name, tip)] = far
-            records.append(BeamModel(beam.name, "fixed-pinned (pivot at the far body's ground pin)", ends,
-                                     (tuple(G),), (k,), g_eff, K_theta,
-                                     f"lock workaround: gamma = {g_eff:.4f}, K = gamma K_Theta EI/L; the pin "
-                                     "there is the beam's pivot"))
+            self._pivot_at_pin(beam, ends, L, rule)
         elif chosen == "fixed-guided":
-            if ends != ("clamped", "clamped"):
-                raise ValueError(f"beam '{beam.name}': model 'fixed-guided' needs both ends clamped ({ends})")
-            if beam.curvature != 0.0:
-                raise ValueError(f"beam '{beam.name}': no fixed-guided PRBM for an initially curved beam "
-                                 "in the seeds")
-            u = (B - A) / L
-            P1 = A + (1.0 - gamma) * L / 2 * u
-            P2 = B - (1.0 - gamma) * L / 2 * u
-            k = rule.stiffness or 2.0 * gamma * K_theta * beam.EI / L
-            bodies.append(name)
-            pins += [Pin(name, e0.body, tuple(P1), name=f"{beam.name} pivot 1"),
-                     Pin(name, e1.body, tuple(P2), name=f"{beam.name} pivot 2")]
-            springs += [TorsionSpring(name, e0.body, k, name=f"{beam.name} pivot 1"),
-                        TorsionSpring(name, e1.body, k, name=f"{beam.name} pivot 2")]
-            member_body[(beam.name, beam.start)] = e0.body
-            member_body[(beam.name, beam.end)] = e1.body
-            records.append(BeamModel(beam.name, "fixed-guided", ends, (tuple(P1), tuple(P2)), (k, k), gamma,
-                                     K_theta, "clamped at both ends to different bodies: two pivots "
-                                     "(1-gamma)L/2 from the ends, K = 2 gamma K_Theta EI/L each (seed 004 3.3)"))
+            self._fixed_guided(beam, e0, e1, L, rule)
         elif chosen == "slfp":
-            if ends != ("clamped", "clamped"):
-                raise ValueError(f"beam '{beam.name}': model 'slfp' needs both ends clamped ({ends})")
-            P = _midpoint(A, B, beam.curvature, L)
-            k = rule.stiffness or beam.EI / L
-            pins.append(Pin(e0.body, e1.body, tuple(P), name=f"{beam.name} SLFP"))
-            springs.append(TorsionSpring(e0.body, e1.body, k, name=f"{beam.name} SLFP"))
-            member_body[(beam.name, beam.start)] = e0.body
-            member_body[(beam.name, beam.end)] = e1.body
-            records.append(BeamModel(beam.name, "slfp", ends, (tuple(P),), (k,), None, None,
-                                     f"short flexure (L <= {rules.slfp_ratio:g} x the bodies it joins): one "
-                                     "pivot at its middle, K = EI/L (seed 000 eq 186)"))
+            self._slfp(beam, e0, e1, L, rule)
         elif chosen == "rigid":
-            bodies.append(name)
-            for nd, end in ((beam.start, e0), (beam.end, e1)):
-                _attach_far_end(beam, nd, end, name, coords, points, pins, pending_pins, node_body)
-                member_body[(beam.name, nd)] = name
-            if beam.name not in {p for _, _, b in pending_pins for p in [b.name]} and \
-                    not any(p.a == name or p.b == name for p in pins):
-                raise ValueError(f"beam '{beam.name}': a rigid link held by nothing")
-            records.append(BeamModel(beam.name, "rigid link", ends, (), (), None, None,
-                                     f"{ends[0]}-{ends[1]}: a two-force member along its chord, no spring"))
+            self._rigid(beam, e0, e1)
         else:
             raise ValueError(f"beam '{beam.name}': unknown PRB model '{chosen}' (use fixed-pinned, "
                              "fixed-free, fixed-guided, slfp or rigid)")
-    # pinned ends that found no owner: the first beam body at the node owns it, the others pin to it
-    by_node: dict[str, list[str]] = {}
-    for nd, body, beam in pending_pins:
-        by_node.setdefault(nd, []).append(body)
-    for nd, bodies_here in by_node.items():
-        owner = node_body.get(nd)
-        sups = supports_at.get(nd, [])
-        if owner is None:
-            owner = bodies_here[0]
-            node_body[nd] = owner
-            points[nd] = (owner, tuple(coords[nd]))
-            rest = bodies_here[1:]
+
+    def _parameters(self, rule: BeamRule) -> tuple[float, float]:
+        gamma = rule.gamma if rule.gamma is not None else self.rules.gamma
+        K_theta = rule.K_theta if rule.K_theta is not None else self.rules.K_theta
+        return gamma, K_theta
+
+    def _one_pivot(self, beam: Beam, chosen: str, e0: _End, e1: _End, L: float, rule: BeamRule) -> None:
+        """Fixed-pinned / fixed-free: one pivot (1 - gamma) L from the clamp (eqs 41-49, 53-58)."""
+        ends = (e0.kind, e1.kind)
+        if "clamped" not in ends:
+            raise ValueError(f"beam '{beam.name}': model '{chosen}' needs a clamped end ({ends})")
+        gamma, K_theta = self._parameters(rule)
+        root, tip, er, et = (beam.start, beam.end, e0, e1) if e0.kind == "clamped" and not self.carried(e0) else \
+            (beam.end, beam.start, e1, e0)
+        if rule.clamp is not None and rule.clamp in (beam.start, beam.end) and rule.clamp != root:
+            root, tip, er, et = tip, root, et, er
+        O, E = self.coords[root], self.coords[tip]
+        kappa = beam.curvature if root == beam.start else -beam.curvature
+        P = O + (1.0 - gamma) * L * _tangent(O, E, kappa, L)
+        rho = float(np.linalg.norm(E - P)) / L
+        if kappa == 0.0:
+            k = rule.stiffness or gamma * K_theta * beam.EI / L
+            why = f"clamped at {root}, {et.kind} at {tip}: one pivot (1-gamma)L from the clamp, K = gamma K_Theta EI/L"
         else:
-            rest = bodies_here
-        for b in rest:
-            if b != owner:
-                pins.append(Pin(b, owner, tuple(coords[nd]), name=f"joint {nd}"))
-        for s in sups:
-            if s.kind == "pinned" and owner != GROUND:
-                pins.append(Pin(owner, GROUND, tuple(coords[nd]), name=f"support {nd}"))
-            elif s.kind in ("slider", "guided"):
-                d = s.direction or (1.0, 0.0)
-                sliders.append(Slider(owner, tuple(coords[nd]), tuple(d), guided=s.kind == "guided",
-                                      name=f"support {nd}"))
-    # supports on nodes owned by a link or junction
-    for sup in geometry.supports:
-        owner = node_body.get(sup.node)
-        if owner is None or owner == GROUND or sup.node in by_node:
-            continue
-        if sup.kind == "pinned":
-            target = owner
-            if sup.member is not None and (sup.member, sup.node) in member_body:
-                target = member_body[(sup.member, sup.node)]
-            pins.append(Pin(target, GROUND, tuple(coords[sup.node]), name=f"support {sup.node}"))
-        elif sup.kind in ("slider", "guided"):
-            sliders.append(Slider(owner, tuple(coords[sup.node]), tuple(sup.direction or (1.0, 0.0)),
-                                  guided=sup.kind == "guided", name=f"support {sup.node}"))
-    for nd in coords:
-        if nd not in points:
-            raise ValueError(f"node '{nd}' belongs to no member")
-    used = {p.a for p in pins} | {p.b for p in pins} | {s.a for s in sliders} | {s.a for s in springs}
-    bodies = [b for b in dict.fromkeys(bodies) if b in used or any(v[0] == b for v in points.values())]
-    for b in bodies:
-        if b not in used:
-            raise ValueError(f"body '{b}' is held by no joint or support: the mechanism floats")
-    net = Network(bodies, points, pins, sliders, springs)
-    return PRBModel(net, records, node_body, member_body)
+            k = rule.stiffness or rho * K_theta * beam.EI / L
+            why = (f"initially curved, clamped at {root}: pivot (1-gamma)L along the clamp tangent, "
+                   f"rho = {rho:.4f}, K = rho K_Theta EI/L (seed 000 eqs 53-58)")
+        name = f"prb:{beam.name}"
+        if self.carried(et):  # the body at the tip rides on the PRB link: it is the link
+            name = et.body
+            why += f"; the body at {tip} is held by this beam only, so it rides on the PRB link"
+        else:
+            self.bodies.append(name)
+            self._attach_far_end(beam, tip, et, name)
+        self.spring(TorsionSpring(name, er.body, k, name=f"{beam.name} pivot"), root)
+        self.pin(Pin(name, er.body, tuple(P), name=f"{beam.name} pivot"), root)
+        self.member_body[(beam.name, root)] = er.body
+        self.member_body[(beam.name, tip)] = name
+        self.records.append(BeamModel(beam.name, chosen, ends, (tuple(P),), (k,), gamma, K_theta, why))
 
+    def _pivot_at_pin(self, beam: Beam, ends: tuple[str, str], L: float, rule: BeamRule) -> None:
+        """The lock workaround: the beam's pivot at its far body's ground pin G (module docstring)."""
+        _, K_theta = self._parameters(rule)
+        root, G = self.pivot_at[beam.name]
+        tip = beam.end if root == beam.start else beam.start
+        g_eff = float(np.linalg.norm(self.coords[tip] - np.asarray(G))) / L
+        k = rule.stiffness or g_eff * K_theta * beam.EI / L
+        far = self.node_body[tip]
+        self.spring(TorsionSpring(far, GROUND, k, name=f"{beam.name} pivot"), root)
+        self.member_body[(beam.name, root)] = GROUND
+        self.member_body[(beam.name, tip)] = far
+        self.records.append(BeamModel(beam.name, "fixed-pinned (pivot at the far body's ground pin)", ends,
+                                      (tuple(G),), (k,), g_eff, K_theta,
+                                      f"lock workaround: gamma = {g_eff:.4f}, K = gamma K_Theta EI/L; the pin "
+                                      "there is the beam's pivot"))
 
-def _attach_far_end(beam, nd, end: _End, body, coords, points, pins, pending, node_body) -> None:
-    """The beam's PRB body reaches node nd: free -> the node moves with it; pinned -> a pin to the
-    node's owner (or pending, when the node has none yet)."""
-    if end.kind == "free":
-        node_body[nd] = body
-        points[nd] = (body, tuple(coords[nd]))
-    elif end.kind == "pinned" and end.body is not None:
-        pins.append(Pin(body, end.body, tuple(coords[nd]), name=f"{beam.name} end {nd}"))
-        if nd not in points:  # a pinned support on a beam end: the node is on the ground
-            node_body[nd] = end.body
-            points[nd] = (end.body, tuple(coords[nd]))
-    elif end.kind == "pinned":
-        pending.append((nd, body, beam))
-    else:  # clamped at the far end of a one-pivot model
-        raise ValueError(f"beam '{beam.name}': both ends clamped, but a one-pivot model was chosen")
+    def _fixed_guided(self, beam: Beam, e0: _End, e1: _End, L: float, rule: BeamRule) -> None:
+        """Clamped-clamped: two pivots (1 - gamma) L/2 from the ends, 2 gamma K_Theta EI/L each (seed 004)."""
+        ends = (e0.kind, e1.kind)
+        if ends != ("clamped", "clamped"):
+            raise ValueError(f"beam '{beam.name}': model 'fixed-guided' needs both ends clamped ({ends})")
+        if beam.curvature != 0.0:
+            raise ValueError(f"beam '{beam.name}': no fixed-guided PRBM for an initially curved beam "
+                             "in the seeds")
+        gamma, K_theta = self._parameters(rule)
+        A, B = self.coords[beam.start], self.coords[beam.end]
+        u = (B - A) / L
+        P1 = A + (1.0 - gamma) * L / 2 * u
+        P2 = B - (1.0 - gamma) * L / 2 * u
+        k = rule.stiffness or 2.0 * gamma * K_theta * beam.EI / L
+        name = f"prb:{beam.name}"
+        self.bodies.append(name)
+        self.pin(Pin(name, e0.body, tuple(P1), name=f"{beam.name} pivot 1"), beam.start)
+        self.pin(Pin(name, e1.body, tuple(P2), name=f"{beam.name} pivot 2"), beam.end)
+        self.spring(TorsionSpring(name, e0.body, k, name=f"{beam.name} pivot 1"), beam.start)
+        self.spring(TorsionSpring(name, e1.body, k, name=f"{beam.name} pivot 2"), beam.end)
+        self.member_body[(beam.name, beam.start)] = e0.body
+        self.member_body[(beam.name, beam.end)] = e1.body
+        self.records.append(BeamModel(beam.name, "fixed-guided", ends, (tuple(P1), tuple(P2)), (k, k), gamma,
+                                      K_theta, "clamped at both ends to different bodies: two pivots "
+                                      "(1-gamma)L/2 from the ends, K = 2 gamma K_Theta EI/L each (seed 004 3.3)"))
+
+    def _slfp(self, beam: Beam, e0: _End, e1: _End, L: float, rule: BeamRule) -> None:
+        """A short flexure: one pivot at its middle, K = EI/L (seed 000 eq 186)."""
+        ends = (e0.kind, e1.kind)
+        if ends != ("clamped", "clamped"):
+            raise ValueError(f"beam '{beam.name}': model 'slfp' needs both ends clamped ({ends})")
+        P = _midpoint(self.coords[beam.start], self.coords[beam.end], beam.curvature, L)
+        k = rule.stiffness or beam.EI / L
+        grounded = beam.start if e0.body == GROUND else beam.end
+        self.pin(Pin(e0.body, e1.body, tuple(P), name=f"{beam.name} SLFP"), grounded)
+        self.spring(TorsionSpring(e0.body, e1.body, k, name=f"{beam.name} SLFP"), grounded)
+        self.member_body[(beam.name, beam.start)] = e0.body
+        self.member_body[(beam.name, beam.end)] = e1.body
+        self.records.append(BeamModel(beam.name, "slfp", ends, (tuple(P),), (k,), None, None,
+                                      f"short flexure (L <= {self.rules.slfp_ratio:g} x the bodies it joins): one "
+                                      "pivot at its middle, K = EI/L (seed 000 eq 186)"))
+
+    def _rigid(self, beam: Beam, e0: _End, e1: _End) -> None:
+        """Pinned-pinned (or pinned-free): a two-force member along its chord, no spring."""
+        name = f"prb:{beam.name}"
+        self.bodies.append(name)
+        for nd, end in ((beam.start, e0), (beam.end, e1)):
+            self._attach_far_end(beam, nd, end, name)
+            self.member_body[(beam.name, nd)] = name
+        if beam.name not in {b.name for _, _, b in self.pending} and \
+                not any(p.a == name or p.b == name for p in self.pins):
+            raise ValueError(f"beam '{beam.name}': a rigid link held by nothing")
+        ends = (e0.kind, e1.kind)
+        self.records.append(BeamModel(beam.name, "rigid link", ends, (), (), None, None,
+                                      f"{ends[0]}-{ends[1]}: a two-force member along its chord, no spring"))
+
+    def _attach_far_end(self, beam: Beam, nd: str, end: _End, body: str) -> None:
+        """The beam's PRB body reaches node nd: free -> the node moves with it; pinned -> a pin to the
+        node's owner (or pending, when the node has none yet)."""
+        if end.kind == "free":
+            self.node_body[nd] = body
+            self.points[nd] = (body, tuple(self.coords[nd]))
+        elif end.kind == "pinned" and end.body is not None:
+            self.pin(Pin(body, end.body, tuple(self.coords[nd]), name=f"{beam.name} end {nd}"), nd)
+            if nd not in self.points:  # a pinned support on a beam end: the node is on the ground
+                self.node_body[nd] = end.body
+                self.points[nd] = (end.body, tuple(self.coords[nd]))
+        elif end.kind == "pinned":
+            self.pending.append((nd, body, beam))
+        else:  # clamped at the far end of a one-pivot model
+            raise ValueError(f"beam '{beam.name}': both ends clamped, but a one-pivot model was chosen")
+
+    def _pending_ends(self) -> None:
+        """Pinned ends that found no owner: the first beam body at the node owns it, the others pin to it."""
+        for nd, body, _ in self.pending:
+            self.by_node.setdefault(nd, []).append(body)
+        for nd, bodies_here in self.by_node.items():
+            owner = self.node_body.get(nd)
+            if owner is None:
+                owner = bodies_here[0]
+                self.node_body[nd] = owner
+                self.points[nd] = (owner, tuple(self.coords[nd]))
+                rest = bodies_here[1:]
+            else:
+                rest = bodies_here
+            for b in rest:
+                if b != owner:
+                    self.pin(Pin(b, owner, tuple(self.coords[nd]), name=f"joint {nd}"), nd)
+            for s in self.supports_at.get(nd, []):
+                if s.kind == "pinned" and owner != GROUND:
+                    self.pin(Pin(owner, GROUND, tuple(self.coords[nd]), name=f"support {nd}"), nd)
+                elif s.kind in ("slider", "guided"):
+                    d = s.direction or (1.0, 0.0)
+                    self.sliders.append(Slider(owner, tuple(self.coords[nd]), tuple(d), guided=s.kind == "guided",
+                                               name=f"support {nd}"))
+                    self.ground_nodes[f"support {nd}"] = nd
+
+    def _owned_supports(self) -> None:
+        """Supports on nodes owned by a link or junction."""
+        for sup in self.geometry.supports:
+            owner = self.node_body.get(sup.node)
+            if owner is None or owner == GROUND or sup.node in self.by_node:
+                continue
+            xy = tuple(self.coords[sup.node])
+            if sup.kind == "pinned":
+                target = owner
+                if sup.member is not None and (sup.member, sup.node) in self.member_body:
+                    target = self.member_body[(sup.member, sup.node)]
+                self.pin(Pin(target, GROUND, xy, name=f"support {sup.node}"), sup.node)
+            elif sup.kind in ("slider", "guided"):
+                self.sliders.append(Slider(owner, xy, tuple(sup.direction or (1.0, 0.0)),
+                                           guided=sup.kind == "guided", name=f"support {sup.node}"))
+                self.ground_nodes[f"support {sup.node}"] = sup.node
+
+    def _network(self) -> PRBModel:
+        for nd in self.coords:
+            if nd not in self.points:
+                raise ValueError(f"node '{nd}' belongs to no member")
+        pins, sliders, springs = self.pins, self.sliders, self.springs
+        used = {p.a for p in pins} | {p.b for p in pins} | {s.a for s in sliders} | {s.a for s in springs}
+        bodies = [b for b in dict.fromkeys(self.bodies) if b in used or any(v[0] == b for v in self.points.values())]
+        for b in bodies:
+            if b not in used:
+                raise ValueError(f"body '{b}' is held by no joint or support: the mechanism floats")
+        net = Network(bodies, self.points, pins, sliders, springs)
+        return PRBModel(net, self.records, self.node_body, self.member_body, ground_nodes=self.ground_nodes)
 
 
 def _arc_length(A, B, kappa: float) -> float:

@@ -123,18 +123,6 @@ class PiecewiseFit:
         elif extrapolate != "allow":
             raise ValueError(f"extrapolate must be 'raise', 'warn' or 'allow', not {extrapolate!r}")
 
-    def derivative(self, n):
-        """d(fit)/dn (branch-wise; the jumps at breakpoints are not differentiated)."""
-        n_arr = np.asarray(n, dtype=float)
-        out = np.empty_like(n_arr)
-        for i, br in enumerate(self.branches):
-            lo = -np.inf if i == 0 else br.lower
-            hi = np.inf if i == len(self.branches) - 1 else br.upper
-            mask = (n_arr > lo) & (n_arr <= hi)
-            d = np.polynomial.polynomial.polyder(br.coefficients)
-            out[mask] = np.polynomial.polynomial.polyval(n_arr[mask], d)
-        return float(out) if out.ndim == 0 else out
-
     def breakpoint_jumps(self) -> list[tuple[float, float]]:
         """(n_b, value just above n_b minus value at n_b) for every internal breakpoint."""
         jumps = []
@@ -221,6 +209,12 @@ def fit_family(name: str | FitFamily) -> FitFamily:
     except KeyError:
         raise ValueError(f"unknown fit family {name!r}; known: {', '.join(FAMILIES)}") from None
 
+
+# The PRB angle range of the fixed-pinned fits: the only range the seed prints for them is that of the
+# Theta-dependent K_Theta fits (51)-(52), "0 < Theta <= 65 deg" (seed 000 section 2.3.1); past it the
+# end-point error grows quickly (notes seed-ch2-4 section 4.1: 0.2-1.4 % of l up to Theta ~ 60 deg,
+# 3.8 % and 7.7 % at 97 and 120 deg).
+THETA_RANGE = math.radians(65.0)
 
 # Pure end moment, seed 004 ("Cantilever with a pure end moment").
 PURE_MOMENT_GAMMA = 0.7346

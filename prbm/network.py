@@ -47,7 +47,7 @@ from scipy.linalg import qr
 from scipy.linalg.lapack import dgesv
 
 __all__ = ["Pin", "Slider", "TorsionSpring", "LinearSpring", "Force", "Couple", "PrescribedDisplacement",
-           "PrescribedRotation", "Network", "NetworkState", "NetworkResult", "LockedNetwork", "GROUND",
+           "PrescribedRotation", "Network", "NetworkState", "NetworkResult", "GroundLoad", "LockedNetwork", "GROUND",
            "solve", "trace"]
 
 GROUND = "ground"
@@ -427,6 +427,18 @@ class NetworkState:
     min_reduced_eigenvalue: float
 
 
+@dataclass(frozen=True)
+class GroundLoad:
+    """A load the ground exerts on the network through one joint or spring: the force (fx, fy) at the
+    point ``at`` (None for a spring's couple) and the couple ``moment`` (CCW)."""
+
+    name: str
+    at: tuple[float, float] | None
+    fx: float
+    fy: float
+    moment: float
+
+
 @dataclass
 class NetworkResult:
     """Outcome of a solve over load levels (scipy-style: success flag and message, never silent)."""
@@ -458,6 +470,49 @@ class NetworkResult:
 
     def strain_energy(self, level: int) -> float:
         return self.network.strain_energy(self.states[level].q)
+
+    def ground_loads(self, level: int) -> list["GroundLoad"]:
+        """The loads the ground exerts on the network at a level, one per joint or spring to the ground.
+
+        From the multipliers: the generalised constraint force on the bodies is -J^T lam, so a pin
+        (a, ground) pushes body a with -lam_k (+lam_k when the ground is its first body); a slider
+        with -n lam along its normal n at its current contact point (a guided slider adds the couple
+        -lam); a spring to the ground turns its body with -k (phi_a - phi_b - rest) (the sign
+        follows which side the ground is). Raises ValueError where joint rows were dropped as
+        redundant: the PRB model is then statically indeterminate and the split is not unique."""
+        net = self.network
+        rows = net._analysis[2]
+        if len(rows) != net._joint_rows:
+            raise ValueError("redundant joints in the PRB model: the loads through its ground joints are "
+                             "statically indeterminate")
+        state = self.states[level]
+        lam = state.lam
+        out: list[GroundLoad] = []
+        for k, pin in enumerate(net.pins):
+            if GROUND in (pin.a, pin.b) and pin.a != pin.b:
+                sign = -1.0 if pin.b == GROUND else 1.0
+                out.append(GroundLoad(pin.name, pin.at, sign * float(lam[2 * k]), sign * float(lam[2 * k + 1]), 0.0))
+        row = 2 * len(net.pins)
+        for sl in net.sliders:
+            d = np.asarray(sl.direction, float)
+            normal = np.array([-d[1], d[0]]) / math.hypot(*d)
+            contact = self._slider_point(sl, state.q)
+            moment = -float(lam[row + 1]) if sl.guided else 0.0
+            out.append(GroundLoad(sl.name, contact, *(-normal * float(lam[row])), moment))
+            row += 1 + sl.guided
+        torques = net.spring_deflections(state.q) * net._spring_k
+        for spring, torque in zip(net.springs, torques.tolist()):
+            if GROUND in (spring.a, spring.b) and spring.a != spring.b:
+                out.append(GroundLoad(spring.name, None, 0.0, 0.0, -torque if spring.b == GROUND else torque))
+        return out
+
+    def _slider_point(self, slider: "Slider", q: np.ndarray) -> tuple[float, float]:
+        net = self.network
+        i = net.index[slider.a]
+        r = np.asarray(slider.at, float) - net.X0[i]
+        X, phi = net.state_arrays(q)
+        c, s = math.cos(phi[i]), math.sin(phi[i])
+        return (float(X[i][0] + c * r[0] - s * r[1]), float(X[i][1] + s * r[0] + c * r[1]))
 
     def spring_torques(self, level: int) -> dict[str, float]:
         """Torque k (phi_a - phi_b - rest) carried by each spring (name or index)."""

@@ -279,6 +279,8 @@ def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
                           {"gamma": gamma, "c_theta": c_theta, "K_theta": K, "k": gamma * K * EI / length,
                            "family": fam.name}, "fixed-pinned, seed 000 eqs (41)-(49)",
                           time.perf_counter() - t0, nit, np.array([ok]))
+    if np.size(P) * np.size(n) <= _SCALAR_LOOP_MAX:  # a few levels: the plain-float path level by level
+        return _fixed_pinned_levels(P, n, length, EI, fam, extrapolate, t0)
     Pabs, n_eff, sign = _mirror(P, n)
     gamma, c_theta, K = fam.parameters(n_eff, extrapolate)
     eta = np.sqrt(1.0 + n_eff**2)
@@ -295,6 +297,38 @@ def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
                                 "k": gamma * K * EI / length, "family": fam.name},
         model="fixed-pinned, seed 000 eqs (41)-(49)", wall_time=time.perf_counter() - t0, nit=nit,
         level_converged=np.atleast_1d(ok))
+
+
+def _fixed_pinned_levels(P, n, length: float, EI: float, fam, extrapolate: str, t0: float) -> PRBMResult:
+    """``fixed_pinned_tip`` over a few load levels in plain floats: the one-level arithmetic level by
+    level, the fits evaluated once per distinct load ratio (numpy's per-call cost would dominate)."""
+    P_given, n_given = np.asarray(P, float), np.asarray(n, float)
+    P_arr, n_arr = (P_given, n_given) if P_given.shape == n_given.shape else np.broadcast_arrays(P_given, n_given)
+    shape = P_arr.shape
+    per_ratio: dict[float, tuple[float, float, float, float, float]] = {}
+    columns: list[tuple[float, ...]] = []
+    ok_all, nit_max = True, 0
+    for p, m in zip(P_arr.ravel().tolist(), n_arr.ravel().tolist()):
+        sign = -1.0 if p < 0.0 else 1.0
+        n_eff = sign * m
+        fit = per_ratio.get(n_eff)
+        if fit is None:
+            gamma, c_theta, K = fam.parameters(n_eff, extrapolate)
+            fit = per_ratio[n_eff] = (gamma, c_theta, K, math.sqrt(1.0 + n_eff * n_eff), math.atan2(1.0, -n_eff))
+        gamma, c_theta, K, eta, phi = fit
+        F = abs(p) * eta
+        Theta, ok, nit = _spring_angle_scalar(F * length**2 / EI, phi, K, 0.0, 1e-13, 60)
+        ok_all &= ok
+        nit_max = max(nit_max, nit)
+        columns.append((length - gamma * length * (1.0 - math.cos(Theta)), sign * gamma * length * math.sin(Theta),
+                        sign * c_theta * Theta, sign * Theta, F, gamma, c_theta, K, gamma * K * EI / length, ok))
+    table = np.array(columns, float).T.reshape((10, *shape))  # one array: a numpy call per column costs more
+    a, b, theta0, Theta, F, gamma, c_theta, K, k, ok = table
+    out = {"a": a, "b": b, "theta0": theta0, "Theta": Theta, "P": P_given, "n": n_given, "F": F}
+    return PRBMResult(ok_all, "converged" if ok_all else "spring equation did not converge", out,
+                      {"gamma": gamma, "c_theta": c_theta, "K_theta": K, "k": k, "family": fam.name},
+                      "fixed-pinned, seed 000 eqs (41)-(49)", time.perf_counter() - t0, nit_max,
+                      np.atleast_1d(ok != 0.0))
 
 
 @checked(positive=('length', 'EI'), finite=('n', 'a', 'b', 'theta0'))

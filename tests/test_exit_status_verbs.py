@@ -10,7 +10,7 @@ from validation.cli.main import main
 from validation.stress import checks as stress_checks
 from validation.stress.checks import Check, run_stress
 
-from test_exit_status import fake  # noqa: F401  (the fake 'prbm' adapter fixture)
+from test_exit_status import fake  # noqa: F401,F811  (the fake prbm adapter fixture)
 
 
 @pytest.fixture

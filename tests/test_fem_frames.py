@@ -44,11 +44,11 @@ def test_lee_frame_both_limit_points_continuous_path():
     pmax, pmin = [], []
     for r in results:
         assert r.converged, r.message
-        limits = [c for c in r.critical_points if c["kind"] == "limit"]
-        kinds = [c["kind_detail"] for c in limits]
+        limits = [c for c in r.critical_points if c.kind == "limit"]
+        kinds = [c.detail for c in limits]
         assert kinds[:2] == ["maximum", "minimum"], kinds
-        pmax.append(limits[0]["load_factor"])
-        pmin.append(limits[1]["load_factor"])
+        pmax.append(limits[0].load_factor)
+        pmin.append(limits[1].load_factor)
         # the path reached v = -100 without turning back or jumping
         v = r.positions[:, 2, 1] - 120.0
         assert v[-1] <= -100.0
@@ -90,10 +90,10 @@ def test_arch_215_limit_load():
         r = fem.solve(arch(n), control="arclength", arc_length=2.0, max_limit_points=1)
         assert r.converged, r.message
         lim = r.critical_points[0]
-        assert lim["kind"] == "limit" and lim["kind_detail"] == "maximum"
-        p.append(lim["load_factor"])
+        assert lim.kind == "limit" and lim.detail == "maximum"
+        p.append(lim.load_factor)
         if n == 40:   # crown displacement at the limit point (DaDeppo: u/R = 0.6116, v/R = 1.1372)
-            k = lim["step"]
+            k = lim.step
             d = r.position("crown", k) - [0.0, R]
             assert abs(abs(d[0]) / R - 0.6116) < 0.01 and abs(-d[1] / R - 1.1372) < 0.01
     extrap = p[1] + (p[1] - p[0]) / 3
@@ -107,11 +107,11 @@ def test_lee_displacement_control_first_limit():
     r = fem.solve(lee_frame(10), control="displacement", control_dof=("P", "uy"),
                   targets=np.linspace(-5.0, -55.0, 11))
     assert r.converged, r.message
-    limits = [c for c in r.critical_points if c["kind"] == "limit"]
-    assert limits and limits[0]["kind_detail"] == "maximum"
+    limits = [c for c in r.critical_points if c.kind == "limit"]
+    assert limits and limits[0].detail == "maximum"
     # same mesh as the arc-length run: both find the same discrete limit load
     arc = trace_lee(10)
-    assert abs(limits[0]["load_factor"] - arc.critical_points[0]["load_factor"]) < 1e-4
+    assert abs(limits[0].load_factor - arc.critical_points[0].load_factor) < 1e-4
 
 
 def test_load_control_beyond_limit_reports_failure():

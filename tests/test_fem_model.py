@@ -207,12 +207,18 @@ def test_bifurcation_detected_in_load_control():
     m.add_force("tip", 0.0, -Pcr * np.array([0.9, 1.1]))
     r = fem.solve(m, initial_step=0.05)
     assert r.converged, r.message
-    assert [c["kind"] for c in r.critical_points] == ["bifurcation"]
+    assert [c.kind for c in r.critical_points] == ["bifurcation"]
     # the det K sign change lies between the levels 0.9 Pcr and 1.1 Pcr
-    assert 0.0 < r.critical_points[0]["load_factor"] <= 1.0
+    assert 0.0 < r.critical_points[0].load_factor <= 1.0
 
 
 def test_vtu_export(tmp_path):
+    """The result's field series written by the one VTU writer (validation.report.paraview) reads back
+    with the solver's positions and rotations, one data set per level."""
+    import meshio
+
+    from validation.report.paraview import ShapeFrame, ShapeSeries, write_pvd
+
     m = fem.Model()
     m.add_node("root", 0.0, 0.0)
     m.add_node("tip", 1.0, 0.0)
@@ -220,13 +226,15 @@ def test_vtu_export(tmp_path):
     m.add_support("root", "fixed")
     m.add_force("tip", 0.0, [1.0, 2.0])
     r = fem.solve(m)
-    paths = r.to_vtu(str(tmp_path / "cantilever"))
-    assert len(paths) == 2
-    import meshio
-    mesh = meshio.read(paths[1])
+    fields = r.field_series()
+    frames = [ShapeFrame(p, fields.connectivity, point_data=nodal.point_data())
+              for p, nodal in zip(fields.positions, fields.nodal)]
+    pvd = write_pvd(ShapeSeries("cantilever", list(fields.load_factor), frames,
+                                ShapeFrame(fields.reference, fields.connectivity)), tmp_path)
+    mesh = meshio.read(tmp_path / "cantilever_0001.vtu")
     assert np.allclose(mesh.points[:, :2], r.mesh_positions[1])
     assert np.allclose(mesh.point_data["rotation"], r.mesh_rotations[1])
-    assert (tmp_path / "cantilever.pvd").read_text().count("<DataSet") == 2
+    assert pvd.read_text().count("<DataSet") == 2
 
 
 def test_fem_does_not_import_prbm_or_validation():

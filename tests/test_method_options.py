@@ -70,7 +70,8 @@ def test_a_bad_option_exits_2_and_the_good_case_loads(tmp_path, capsys):
 def test_every_option_an_adapter_reads_is_declared():
     pattern = re.compile(r"""options\.get\(\s*["'](\w+)["']|options\[\s*["'](\w+)["']\s*\]|["'](\w+)["']\s+in\s+options""")
     for method, model in OPTIONS.items():
-        source = (ROOT / "validation" / "methods" / f"{method}.py").read_text()
+        folder = ROOT / "validation" / "methods"  # the adapter and its parts (prbm_fourbar.py, ...)
+        source = "\n".join(p.read_text() for p in [folder / f"{method}.py", *sorted(folder.glob(f"{method}_*.py"))])
         read = {next(g for g in m.groups() if g) for m in pattern.finditer(source)}
         assert read, method
         assert read <= set(model.model_fields), f"{method}: undeclared {sorted(read - set(model.model_fields))}"

@@ -15,7 +15,7 @@ import pytest
 
 import prbm
 from prbm.segments import _spring_angle_reference, _spring_angle_vector
-from validation.methods.prbm import _theta2_for_output_scan
+from validation.methods.prbm_fourbar import _theta2_for_output_scan
 
 RTOL = 1e-9
 

@@ -54,9 +54,9 @@ def test_prbm_reproduces_printed_prbm_columns(path):
 
 def test_documented_discrepancies_have_the_stated_values():
     _, run32 = _run(CASES / "chapter3" / "table3_2_load_specified.toml")
-    assert run32.values[Request("y", "tip", 1)] == pytest.approx(6.0833, abs=5e-5)      # printed 6.082
+    assert run32.values[Request("y", "tip", 1)] == pytest.approx(6.0833, abs=5e-5)      # printed 6.082; notes seed-ch2-4 5.2 (independent code): 6.0833
     _, run33 = _run(CASES / "chapter3" / "table3_3_case1_a_b_theta0.toml")
-    assert run33.values[Request("force_y", "tip", 0)] == pytest.approx(5.4017, abs=5e-5)  # printed 5.403
+    assert run33.values[Request("force_y", "tip", 0)] == pytest.approx(5.4017, abs=5e-5)  # printed 5.403; notes seed-ch2-4 5.3 (independent code): 5.4017
     _, run36 = _run(CASES / "chapter3" / "table3_6_case2c_b_theta0_l1.toml")
     assert run36.values[Request("force_y", "tip", 2)] == pytest.approx(9.41, abs=5e-4)    # printed 5.41 (misprint)
 
@@ -81,9 +81,15 @@ def test_table3_3_example3_every_root_is_found_and_is_an_equilibrium():
 
 
 def test_inflection_forward_and_inverse_agree():
+    """Table 3.2 Ex. 1 (seed 000, PRBM column): P = 3.5, nP = 1.5, M = 15 give a = 12.287,
+    b = 14.523, theta0 = 58.60 deg; the inverse (displacement-specified) solve of that pose returns
+    the loads."""
     beam = prbm.InflectionBeam(20.0, 30e6 * 1.02e-5)
     fwd = prbm.solve_loads(beam, 3.5, 1.5, 15.0)
     o = fwd.outputs
+    assert float(o["a"]) == pytest.approx(12.287, abs=5e-4)          # Table 3.2 Ex. 1, printed digits
+    assert float(o["b"]) == pytest.approx(14.523, abs=5e-4)
+    assert math.degrees(float(o["theta0"])) == pytest.approx(58.60, abs=5e-3)
     inv = prbm.solve_displacements(beam, a=float(o["a"]), b=float(o["b"]), theta0=float(o["theta0"]))
     assert float(inv.outputs["P"]) == pytest.approx(3.5, abs=1e-7)
     assert float(inv.outputs["nP"]) == pytest.approx(1.5, abs=1e-7)

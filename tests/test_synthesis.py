@@ -6,6 +6,7 @@ nothing here is calibrated to this code's output.
 from __future__ import annotations
 
 import cmath
+import functools
 import importlib.util
 import math
 from pathlib import Path
@@ -16,6 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from validation.cli.arguments import build_parser
+from validation.synthesis import synthesize as synthesize_module
 from validation.synthesis.synthesize import synthesize
 from validation.synthesis.design import compare_printed, design
 from validation.synthesis.spec import load_spec
@@ -26,17 +28,25 @@ SPECS = Path(__file__).resolve().parent.parent / "cases" / "specs"
 SPEC_FILES = sorted(SPECS.glob("*.toml"))
 
 
+@functools.lru_cache(maxsize=None)
+def _designed(path: Path):
+    """``design`` of a spec file, once per test process: the chapter-5 root search is a multistart
+    that tries every start when a beam has no root (Ex. 2's beam 2), 10-30 s each time."""
+    return design(load_spec(path))
+
+
 def _decimals(value: float) -> int:
     """Digits after the decimal point of a printed number."""
     text = repr(float(value))
     return 0 if "e" in text else len(text.split(".")[1].rstrip("0"))
 
 
-@pytest.mark.parametrize("path", SPEC_FILES, ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", [pytest.param(p, marks=pytest.mark.xdist_group(p.stem)) for p in SPEC_FILES],
+                         ids=lambda p: p.stem)
 def test_printed_numbers(path):
     """Every printed number marked 'reproduce' is reproduced to its printed digits; every one marked
     'misprint' or 'not-reproduced' really disagrees (the finding is not stale)."""
-    d = design(load_spec(path))
+    d = _designed(path)
     rows = compare_printed(d)
     bad = [r for r in rows if r["expect"] == "reproduce" and not r["agrees"]]
     assert not bad, [(r["name"], r["printed"], r["synthesized"]) for r in bad]
@@ -263,7 +273,15 @@ def test_design_table_counting_names_missing_free_choices():
                         n1=[-1.0, -1.0, -1.0], fixed={"Theta3_3": 29.0, "Theta3_4": 40.0})
 
 
-def test_chapter5_unsolvable_beam_is_a_message(tmp_path, capsys):
-    status = synthesize(SPECS / "bapat2015_ch5_ex2.toml", tmp_path)
+@pytest.mark.xdist_group("bapat2015_ch5_ex2")
+def test_chapter5_unsolvable_beam_is_a_message(tmp_path, capsys, monkeypatch):
+    path = SPECS / "bapat2015_ch5_ex2.toml"
+
+    def designed_once(spec):   # the same design() on the same spec, computed once with test_printed_numbers
+        assert spec == load_spec(path)
+        return _designed(path)
+
+    monkeypatch.setattr(synthesize_module, "design", designed_once)
+    status = synthesize(path, tmp_path)
     out = capsys.readouterr().out
     assert status == 1 and "beam2" in out and "no fixed-guided beam" in out

@@ -68,12 +68,24 @@ BENCH_CASES: list[BenchCase] = [
     BenchCase("lee_frame"),
     BenchCase("bapat2015_test1a"),
     BenchCase("bapat2015_test2"),
+    BenchCase("seed004_parallel_guided", [0], single_level=True),  # a four-link PRB network: F L^2/EI = 16 in one level
 ]
 POSITION = ("x", "y", "dx", "dy")
 TARGETS = (1e-4, 1e-6)
 PEER = "opensees"
 ITERATION_MESHES = (8, 16, 32, 64, 128, 256)
 RUN_BUDGET_S = 20.0     # a method's mesh doubling stops after a run slower than this
+CONFIGURATIONS = {      # how each code is driven (printed beside the headline)
+    "fem": ("corotational Euler-Bernoulli beams (validation.methods.fem); load control: each level tried in "
+            "one step, cut only on failure (failed tries counted), Newton with the consistent tangent "
+            "compiled whole (numba + LAPACK dgetrf/dgbtrf, RCM-banded), |r| <= 1e-10 max(|f_ext|, |f_int|); "
+            "limit loads by arc length; fem+richardson: the n and 2n solves (warm-started) extrapolated"),
+    "opensees": ("OpenSeesPy elasticBeamColumn with the Corotational transformation "
+                 "(validation.methods.opensees); LoadControl one step per level, halved on failure (up to 12 "
+                 "halvings, failed tries counted), Newton, NormDispIncr 1e-10 (50 iterations), BandGeneral, "
+                 "RCM numbering; limit loads by DisplacementControl and a parabola through the peak; "
+                 "opensees+richardson: the n and 2n runs extrapolated, time of both"),
+}
 
 
 def _pin_blas() -> dict[str, str]:
@@ -360,6 +372,7 @@ def run_bench(out: Path, quick: bool = False, cases: list[BenchCase] | dict | No
     headline = _headline(frame, quick, peer_notes, max(meshes))
     headline["per_iteration"] = per_iteration
     headline["blas"] = blas
+    headline["configurations"] = CONFIGURATIONS
     headline["skipped"] = skipped
     (out / "headline.json").write_text(json.dumps(headline, indent=2, default=float))
     _plots(frame, out)
@@ -420,6 +433,9 @@ def _config(c: dict | None) -> str:
 
 
 def _print_headline(headline: dict) -> None:
+    print("\nconfigurations:")
+    for code, text in CONFIGURATIONS.items():
+        print(f"  {code}: {text}")
     print("\nfem / OpenSees CPU time to reach the error (best of each; configurations beside):")
     for key, h in headline["fem_over_opensees_time_at_error"].items():
         ratio = "   -  " if h["ratio"] is None else f"{h['ratio']:6.2f}"

@@ -27,7 +27,12 @@ class MechanicalAdvantageOptions(Options):
     """``[methods.fem] ma``: the FEM's mechanical advantage (validation.methods.fem_outputs)."""
 
     output: str = Field(description="the held output point")
-    direction: tuple[float, float] = Field(description="the output force's direction")
+    direction: tuple[float, float] | None = Field(None, description="the output force's direction "
+                                                  "(the working motion of a held output point)")
+    moment_arm: Positive | None = Field(None, description="d_o: the output is a held rotation at 'output'; "
+                                        "F_o = its holding moment / d_o")
+    sense: Literal[1, -1] = Field(1, description="with moment_arm: +1 if the working motion of the output "
+                                  "is counter-clockwise, -1 if clockwise")
     input: Annotated[int, Field(ge=0)] | None = Field(None, description="index of the input load in [[loads]]")
     step: Positive = Field(1e-4, description="tangent: input increment over its largest value")
     d_i: Positive | None = Field(None, description="input force distance, for an input moment")
@@ -117,7 +122,8 @@ class PrbmOptions(Options):
     drive: Literal["torque", "precision"] | None = None
     coupler_point: str = "P"
     origin: tuple[float, float] = (0.0, 0.0)
-    ma: dict[str, float | str] | None = None
+    ma: dict[str, Any] | None = Field(None, description="four-bar: {F_i, d_i, d_o} (eqs 190, 192); network: "
+                                          "as [methods.fem] ma, {output, direction, input, step, d_i, definition}")
     max_mode: Count = 2
     segment_model: Literal["inflection", "fixed-pinned", "fixed-free"] | None = None
     model: Literal["network", "chain", "theta-dependent", "lyon", "feasible-l1"] | None = Field(

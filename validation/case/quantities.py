@@ -67,6 +67,14 @@ MEANINGS: dict[str, Meaning] = {
     "reaction_y": Meaning("force", Reference.SUPPORT, "+y"),
     "reaction_moment": Meaning("moment", Reference.SUPPORT, CCW),
     "strain_energy": Meaning("energy", Reference.UNLOADED, "non-negative", frame="none"),
+    # seed 000 eq (189): MA = F_o / F_i. F_i > 0 is the input force in the sense that drives the working
+    # motion (an input torque T at distance d_i counts as |T| / d_i); F_o is the force the output port
+    # exerts on the work piece along the working motion (a held output rotation: its moment / d_o), so
+    # MA > 0 when the output pushes the work piece the way the input drives it, and MA = MA_R (1 - F_c/F_i)
+    # (eq 192) with F_c the compliance force opposing the input. The same in the PRBM and the FEM.
+    "mechanical_advantage": Meaning("dimensionless", Reference.NONE,
+                                    "F_o / F_i, F_i > 0 in the driving sense, F_o along the working motion",
+                                    frame="none"),
 }
 
 # Tip freedoms each segment boundary holds, unless a load acts on or prescribes them

@@ -32,7 +32,8 @@ def run(args) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     results = outcome.table.astype({"within_tolerance": "boolean", "compare": "boolean", "converged": "boolean",
-                                    "finding": "string", "message": "string", "source": "string"})
+                                    "finding": "string", "message": "string", "source": "string",
+                                    "applicability": "string"})
     results.to_csv(out / "results.csv", index=False)
     results.to_parquet(out / "results.parquet")
     tidy = tables.tables_of(outcome.results, outcome.table)

@@ -41,6 +41,15 @@ class RunStatus(str, Enum):
     MISCONFIGURED = "misconfigured"    # a method option of the case is wrong: bad input
 
 
+class Applicability(str, Enum):
+    """Why a method's value at a level lies outside what its model was made for (a structured flag the
+    results table carries in its ``applicability`` column, beside the human message)."""
+
+    INFLECTION = "inflection expected"            # the load bends the segment through an inflection point
+    LOAD_RATIO = "load ratio outside the fit"     # n outside the published fit's range (extrapolated)
+    DEFLECTION = "PRB angle beyond the fit"       # the pseudo-rigid-body angle past the fit's printed range
+
+
 @dataclass
 class MethodRun:
     values: dict[Request, float]
@@ -53,6 +62,8 @@ class MethodRun:
     # extras["shapes"]: per level, the deformed shape as a list of (n, 2) polylines (the report draws them);
     # extras["iterations"]: Newton iterations (the benchmark reads it); extras["path"]: a continuation path.
     extras: dict[str, Any] = field(default_factory=dict)
+    # per level, the model-applicability flags (empty: the model was made for this load)
+    applicability: dict[int, list[Applicability]] = field(default_factory=dict)
     # None: derived from extras["not_applicable"] (NOT_APPLICABLE) or ``converged`` (OK or NOT_CONVERGED)
     status: RunStatus | None = None
 
@@ -63,6 +74,12 @@ class MethodRun:
             self.status = RunStatus.OK if self.converged else RunStatus.NOT_CONVERGED
         elif self.status is not RunStatus.OK:
             self.converged = False
+
+    def flag(self, level: int, flag: Applicability) -> None:
+        """Mark a level as outside what the model was made for (once per flag)."""
+        flags = self.applicability.setdefault(level, [])
+        if flag not in flags:
+            flags.append(flag)
 
     @property
     def ok(self) -> bool:

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -94,8 +95,32 @@ def _segment(case: Case, requests: list[Request], options: dict) -> MethodRun:
     return values, msgs, outside
 
 
-def _mechanism(case: Case, requests: list[Request], options: dict):
-    mech = case.mechanism
+@dataclass
+class LinkOnBeams:
+    """The BCM mechanism: the rigid link, node positions, and the link on its beams."""
+
+    link: object
+    nodes: dict[str, np.ndarray]
+    body: RigidBodyOnBeams
+
+    def point(self, name: str) -> str:
+        """A node name, 'input' meaning the link's first node."""
+        return name if name != "input" else self.link.nodes[0]
+
+
+@dataclass
+class LevelLoads:
+    """One level's loads on the link: dead forces (at, F), the couple, the prescribed rotation (rad),
+    the applied force at each node, and the node the couple or rotation drives."""
+
+    forces: list = field(default_factory=list)
+    moment: float = 0.0
+    rotation: float | None = None
+    applied: dict[str, np.ndarray] = field(default_factory=dict)
+    drive_point: str | None = None
+
+
+def _link_on_beams(mech) -> LinkOnBeams:
     if len(mech.links) != 1:
         raise NotApplicable("BCM adapter: exactly one rigid link carried by clamped beams")
     if mech.joints:
@@ -118,66 +143,74 @@ def _mechanism(case: Case, requests: list[Request], options: dict):
             ground, tip = b.end, b.start
         else:
             raise NotApplicable(f"beam '{b.name}' does not run from a clamp to the link")
-        E = b.E if b.E is not None else mech.E
-        EI = E * b.section.inertia() if b.section.kind != "layers" else sum(
-            l.E * l.width * l.thickness**3 / 12 for l in b.section.layers)
-        EA = E * b.section.area() if b.section.kind != "layers" else sum(
-            l.E * l.width * l.thickness for l in b.section.layers)
+        EA, EI = b.section.stiffness(b.E if b.E is not None else mech.E)
         L = float(np.linalg.norm(nodes[tip] - nodes[ground]))
         beams.append(BCMBeam(tuple(nodes[ground]), tuple(nodes[tip]), EI, _ka(EI, EA, L)))
     ref = nodes[pinned[0].node] if pinned else nodes[link.nodes[0]]
-    body = RigidBodyOnBeams(beams, tuple(ref), pinned=bool(pinned))
+    return LinkOnBeams(link, nodes, RigidBodyOnBeams(beams, tuple(ref), pinned=bool(pinned)))
+
+
+def _level_loads(case: Case, mech: LinkOnBeams, level: int) -> LevelLoads:
+    loads = LevelLoads()
+    for load in case.loads:
+        point = mech.point(load.point)
+        if point not in mech.link.nodes:
+            raise NotApplicable(f"load at '{load.point}' is not on the rigid link")
+        v = load.levels()[level]
+        if load.kind == "force" and not load.follower:
+            F = v * np.asarray(load.direction, float)
+            loads.forces.append((tuple(mech.nodes[point]), F))
+            loads.applied[point] = loads.applied.get(point, np.zeros(2)) + F
+        elif load.kind == "moment":
+            loads.moment += v
+            loads.drive_point = point
+        elif load.kind == "rotation":
+            loads.rotation = math.radians(v)
+            loads.drive_point = point
+        else:
+            raise NotApplicable(f"BCM adapter: load kind '{load.kind}' on a mechanism")
+    return loads
+
+
+def _mechanism_value(mech: LinkOnBeams, req: Request, q, needed: float, loads: LevelLoads) -> float:
+    """One requested value at a solved level (q: the link's (x, y, phi); needed: the driving moment)."""
+    if req.quantity == "strain_energy":
+        return mech.body.strain_energy(q)
+    point = mech.point(req.point)
+    on_link = point in mech.link.nodes
+    if not on_link and point not in mech.nodes:
+        raise NotApplicable(f"unknown point '{req.point}'")
+    X = mech.nodes[point]
+    p = mech.body.position(X, q) if on_link else X
+    applied = loads.applied.get(point, np.zeros(2))
+    table = {"x": p[0], "y": p[1], "dx": p[0] - X[0], "dy": p[1] - X[1],
+             "rotation": math.degrees(q[2]) if on_link else 0.0,
+             "force_x": applied[0], "force_y": applied[1],
+             "moment": needed if point == loads.drive_point else 0.0}
+    if req.quantity not in table:
+        raise NotApplicable(f"'{req.quantity}' is not a BCM mechanism output")
+    return float(table[req.quantity])
+
+
+def _mechanism(case: Case, requests: list[Request], options: dict):
+    mech = _link_on_beams(case.mechanism)
     values, msgs, outside = {}, {}, []
     q = None
     for level in range(max(r.level for r in requests) + 1):
-        forces, moment, rotation, applied = [], 0.0, None, {}
-        drive_point = None
-        for load in case.loads:
-            point = load.point if load.point != "input" else link.nodes[0]
-            if point not in link.nodes:
-                raise NotApplicable(f"load at '{load.point}' is not on the rigid link")
-            v = load.levels()[level]
-            if load.kind == "force" and not load.follower:
-                F = v * np.asarray(load.direction, float)
-                forces.append((tuple(nodes[point]), F))
-                applied[point] = applied.get(point, np.zeros(2)) + F
-            elif load.kind == "moment":
-                moment += v
-                drive_point = point
-            elif load.kind == "rotation":
-                rotation = math.radians(v)
-                drive_point = point
-            else:
-                raise NotApplicable(f"BCM adapter: load kind '{load.kind}' on a mechanism")
+        loads = _level_loads(case, mech, level)
         try:
-            q, needed = body.solve(forces=forces, moment=moment, rotation=rotation, guess=q)
+            q, needed = mech.body.solve(forces=loads.forces, moment=loads.moment, rotation=loads.rotation, guess=q)
         except RuntimeError as exc:  # no equilibrium from here on: the levels so far stand
             msgs[level] = f"level {level}: {exc}"
             break
-        states = body.beam_states(q)
+        states = mech.body.beam_states(q)
         if any(abs(s[1]) > RANGE or abs(s[2]) > RANGE for s in states):
             outside.append(level)
             msgs[level] = "outside the BCM range: " + ", ".join(
                 f"u_y = {s[1]:.3g}, theta = {s[2]:.3g}" for s in states)
         for req in requests:
-            if req.level != level:
-                continue
-            if req.quantity == "strain_energy":
-                values[req] = body.strain_energy(q)
-                continue
-            point = req.point if req.point != "input" else link.nodes[0]
-            if point not in link.nodes and point not in nodes:
-                raise NotApplicable(f"unknown point '{req.point}'")
-            X = nodes[point]
-            p = body.position(X, q) if point in link.nodes else X
-            table = {"x": p[0], "y": p[1], "dx": p[0] - X[0], "dy": p[1] - X[1],
-                     "rotation": math.degrees(q[2]) if point in link.nodes else 0.0,
-                     "force_x": applied.get(point, np.zeros(2))[0],
-                     "force_y": applied.get(point, np.zeros(2))[1],
-                     "moment": needed if point == drive_point else 0.0}
-            if req.quantity not in table:
-                raise NotApplicable(f"'{req.quantity}' is not a BCM mechanism output")
-            values[req] = float(table[req.quantity])
+            if req.level == level:
+                values[req] = _mechanism_value(mech, req, q, needed, loads)
     return values, msgs, outside
 
 

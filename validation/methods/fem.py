@@ -39,6 +39,8 @@ import time
 
 import numpy as np
 
+import fem
+from fem.soft_modes import soft_modes
 from validation.methods.inverse_problem import LOAD_OUTPUTS, InverseLevel, InverseSpec, Tie, inverse_spec, merge_runs
 from validation.methods import fem_outputs
 from validation.methods.base import MethodRun, NotApplicable, Request
@@ -223,8 +225,6 @@ def _mechanism_model(fem, case, elements: int, options: dict):
 
 
 def build_model(case, elements: int, options: dict):
-    import fem
-
     if case.segment is not None:
         return _segment_model(fem, case, elements, options)
     return _mechanism_model(fem, case, elements, options)
@@ -338,10 +338,10 @@ def _limit_load(fem, case, model, options: dict):
         return abs(peak) * reference, res, ""
     res = fem.solve(model, control="arclength", max_limit_points=1,
                     arc_length=options.get("arc_length"), max_steps=int(options.get("max_steps", 2000)))
-    limits = [c for c in res.critical_points if c.get("kind") == "limit"]
+    limits = [c for c in res.critical_points if c.kind == "limit"]
     if not limits:
         return math.nan, res, f"no limit point found ({res.message})"
-    return abs(limits[0]["load_factor"]) * reference, res, ""
+    return abs(limits[0].load_factor) * reference, res, ""
 
 
 def _solve_levels(fem, case, model, requests, options: dict):
@@ -374,11 +374,11 @@ def _solve_levels(fem, case, model, requests, options: dict):
 
 
 def _critical_note(result) -> str:
-    found = [c for c in result.critical_points if c.get("kind") == "bifurcation"]
+    found = [c for c in result.critical_points if c.kind == "bifurcation"]
     if not found or result.control == "arclength":
         return ""
     c = found[0]
-    return (f"; warning: det K changed sign at load factor {c['load_factor']:.4g} ({c.get('kind_detail', '')}):"
+    return (f"; warning: det K changed sign at load factor {c.load_factor:.4g} ({c.detail}):"
             " states beyond it may lie on an unstable branch")
 
 
@@ -550,8 +550,6 @@ def _run_moment_driven(fem, case, requests: list[Request], options: dict) -> Met
 
 
 def run(case, requests: list[Request], options: dict) -> MethodRun:
-    import fem
-
     if "input_moment_at" in options:
         return _run_moment_driven(fem, case, requests, options)
     spec = inverse_spec(case, options, "fem")
@@ -653,8 +651,6 @@ def _soft_mode_count(case, model, options: dict) -> tuple[int, str]:
     """dof: soft modes of the unloaded tangent condensed to the actuation points (``fem.soft_modes``),
     ``[methods.fem] dof = {points = [...], ratio = 1e-2}``; the stretching reference is the largest
     EA/l of the case's beams."""
-    from fem.soft_modes import soft_modes
-
     spec = options.get("dof") or {}
     points = spec.get("points")
     if not points or case.mechanism is None:
@@ -709,12 +705,12 @@ def _continuation_path(case, result):
     point = loads[0].point
     d = np.asarray(loads[0].direction, float)
     d = d / np.hypot(*d)
-    disp = [float((result.position(point, k) - result.mesh_positions_ref[result._node(point)]) @ d)
+    disp = [float((result.position(point, k) - result.mesh_positions_ref[result.node_index(point)]) @ d)
             for k in range(result.n_levels)]
     reference = max(abs(np.asarray(ld.levels())).max() for ld in loads)
     load = list(np.asarray(result.load_factor) * reference)
-    limits = [(disp[c["step"]], c["load_factor"] * reference) for c in result.critical_points
-              if c.get("kind") == "limit" and 0 <= c.get("step", -1) < len(disp)]
+    limits = [(disp[c.step], c.load_factor * reference) for c in result.critical_points
+              if c.kind == "limit" and 0 <= c.step < len(disp)]
     if result.control == "displacement" and not limits:
         limits = [(disp[i], load[i]) for i in range(1, len(load) - 1) if load[i - 1] <= load[i] > load[i + 1]][:1]
     return {"displacement": disp, "load": load, "limit_points": limits,

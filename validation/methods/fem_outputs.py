@@ -15,7 +15,13 @@ of inflection points, and the mechanical advantage by a small increment of the i
   ``d_i`` given, F_in = T/d_i (the seed's Type 1 input force at distance d_i). ``definition =
   "secant"`` gives instead MA = F_out/F_in at each level, the ratio the seed's eq (192) uses when the
   output is held at a prescribed position: the compliance of the mechanism then takes its share of
-  the input (MA = MA_R (1 - F_c/F_i)), which the tangent ratio does not see.
+  the input (MA = MA_R (1 - F_c/F_i)), which the tangent ratio does not see.  The secant ratio is the
+  sign convention of ``validation.case.quantities.MEANINGS['mechanical_advantage']``: F_in = |input load|
+  (an input moment T counts as |T|/d_i), F_out along the working motion.
+- An output held in rotation (a prescribed ``rotation`` of a link at the point ``output``: the work
+  piece on a rocker at distance d_o): ``ma = {output = "OUT", moment_arm = d_o, sense = 1}``,
+  F_out = -sense M_hold / d_o with M_hold the moment the prescribed rotation needs (the mechanism
+  presses on the work piece with the opposite moment; sense +1 for a counter-clockwise working motion).
 """
 from __future__ import annotations
 
@@ -80,11 +86,28 @@ def incremented_case(case, options: dict):
 def output_force(case, options: dict, reaction_of) -> np.ndarray:
     """Per level, the force the mechanism exerts on the output support along ``ma.direction``."""
     ma = options.get("ma") or {}
-    if "output" not in ma or "direction" not in ma:
-        raise NotApplicable("mechanical_advantage needs [methods.fem] ma = {output = point, direction = [dx, dy]}")
+    reaction_of = _converged_only(reaction_of)
+    if "output" in ma and ma.get("moment_arm") is not None:
+        sense = float(ma.get("sense", 1))
+        return np.array([-sense * reaction_of(ma["output"], level)[2] / float(ma["moment_arm"])
+                         for level in range(case.n_levels())])
+    if "output" not in ma or ma.get("direction") is None:
+        raise NotApplicable("mechanical_advantage needs [methods.fem] ma = {output = point, direction = [dx, dy]} "
+                            "or {output = point, moment_arm = d_o}")
     d = np.asarray(ma["direction"], float)
     d = d / np.hypot(*d)
     return -np.array([reaction_of(ma["output"], level)[:2] @ d for level in range(case.n_levels())])
+
+
+def _converged_only(reaction_of):
+    """``reaction_of`` that says which level the solve did not reach instead of an IndexError."""
+    def reaction(point, level):
+        try:
+            return reaction_of(point, level)
+        except IndexError:
+            raise NotApplicable(f"mechanical_advantage: the FEM solve stopped before level {level} "
+                                "(no converged state to read the output force from)") from None
+    return reaction
 
 
 def definition(options: dict) -> str:
@@ -109,7 +132,8 @@ def mechanical_advantage(case, options: dict, base, raised, delta: float, input_
 
 
 def secant_mechanical_advantage(options: dict, base, input_load) -> np.ndarray:
-    """F_out / F_in per level; NaN where the input load is zero (the caller leaves those out)."""
-    f_in = _input_force(options, input_load, np.asarray(input_load.levels(), float))
+    """F_out / F_in per level, F_in = |input load| (quantities.MEANINGS['mechanical_advantage']); NaN where
+    the input load is zero (the caller leaves those out)."""
+    f_in = np.abs(_input_force(options, input_load, np.asarray(input_load.levels(), float)))
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(f_in != 0.0, base / np.where(f_in != 0.0, f_in, 1.0), np.nan)

@@ -16,7 +16,12 @@ Outputs (quantity contract): x, y, dx, dy of any node (global frame; from the un
 rotation of the body the node moves with (change from the unloaded angle, CCW, deg); force_x,
 force_y, moment at a node = the total external load it receives (applied, plus what a prescribed
 motion there needs); input_angle and input_torque of the input (the prescribed rotation or the
-applied moment); strain_energy (sum of 1/2 K (Delta Theta)^2). The model chosen for every beam is
+applied moment); strain_energy (sum of 1/2 K (Delta Theta)^2); reaction_x, reaction_y, reaction_moment at a
+support = the load the support exerts on the mechanism (the ground joints and springs the builder made
+for it, from the multipliers; moment about the support node); mechanical_advantage as the FEM defines
+it (``ma = {output, direction, input, step, d_i, definition}``, ``validation/methods/fem_outputs.py``).
+The model built for a geometry and rules is kept for the process (``built_model``), so a second run of
+the same mechanism only solves. The model chosen for every beam is
 in the message and in ``extras['prb_model']``; each state's stability in ``extras['stable']``.
 """
 from __future__ import annotations
@@ -26,7 +31,9 @@ import math
 import numpy as np
 
 import prbm
-from validation.methods.base import MethodRun, NotApplicable
+from prbm.fits import THETA_RANGE
+from validation.methods import fem_outputs
+from validation.methods.base import Applicability, MethodRun, NotApplicable
 from prbm import builder as pb
 
 
@@ -139,56 +146,156 @@ def _received(case, model, result, point: str, level: int) -> np.ndarray:
     return total
 
 
-def run_mechanism(case, requests, options: dict, info: MethodRun) -> dict:
-    """Values of the requested outputs of a mechanism case from the PRB model built by rule."""
-    mech = case.mechanism
+_MODELS: dict[str, pb.PRBModel] = {}  # the PRB models built, by geometry and rules (a model is plain data)
+_MODELS_KEPT = 64
+_LAST: dict[str, tuple] = {}  # the last mechanism object asked for, its rules option and its model
+
+
+def built_model(mech, options: dict) -> pb.PRBModel:
+    """The PRB model of the mechanism by the builder's rules; the same geometry and rules give the same
+    model, so it is built (and its mobility analysed) once per process."""
+    same = _LAST.get("key")
+    if same is not None and same[0] is mech and same[1] == options.get("rules"):
+        return same[2]  # the same mechanism object as the last call (a repeated run): no rebuild, no key
+    geo, rl = geometry(mech), rules(options, mech)
+    key = repr((geo, rl))
+    model = _MODELS.get(key)
+    if model is None:
+        try:
+            model = pb.build(geo, rl)
+        except prbm.LockedNetwork as exc:
+            raise NotApplicable(f"PRB model locked: {exc}") from None
+        except ValueError as exc:
+            raise NotApplicable(f"PRB model not built: {exc}") from None
+        if len(_MODELS) >= _MODELS_KEPT:
+            _MODELS.pop(next(iter(_MODELS)))
+        _MODELS[key] = model
+    _LAST["key"] = (mech, options.get("rules"), model)
+    return model
+
+
+def solve_case(case, model: pb.PRBModel) -> prbm.NetworkResult:
     try:
-        model = pb.build(geometry(mech), rules(options, mech))
-    except prbm.LockedNetwork as exc:
-        raise NotApplicable(f"PRB model locked: {exc}") from None
-    except ValueError as exc:
-        raise NotApplicable(f"PRB model not built: {exc}") from None
-    n = case.n_levels()
-    try:
-        result = prbm.solve(model.network, network_loads(case, model), n)
+        return prbm.solve(model.network, network_loads(case, model), case.n_levels())
     except prbm.LockedNetwork as exc:
         raise NotApplicable(f"PRB model locked under the prescribed motions: {exc} ({model.describe()})") from None
     except ValueError as exc:  # a load the PRB model cannot take (e.g. a prescribed rotation of the ground)
         raise NotApplicable(f"PRB model: {exc}") from None
-    net = model.network
-    inputs = [ld for ld in case.loads if ld.kind in ("rotation", "moment")]
-    values = {}
-    for req in requests:
-        q, p, lv = req
-        state = result.states[lv]
-        if not state.converged:
+
+
+def _support_of(mech, node: str) -> str | None:
+    """The support a ground joint at ``node`` belongs to: the node's own, else the one fixed support on
+    a rigid link through the node (None when there is none or several)."""
+    supported = {s.node for s in mech.supports}
+    if node in supported:
+        return node
+    found = {nd for link in mech.links if node in link.nodes for nd in link.nodes if nd in supported}
+    return found.pop() if len(found) == 1 else None
+
+
+def reaction(case, model: pb.PRBModel, result, node: str, level: int) -> np.ndarray:
+    """(R_x, R_y, M) the support at ``node`` exerts on the mechanism (moment about the node, CCW): the sum
+    of the loads through the ground joints and springs of that support (``NetworkResult.ground_loads``)."""
+    mech = case.mechanism
+    if not any(s.node == node for s in mech.supports):
+        raise NotApplicable(f"no support at '{node}': reactions are given at supports")
+    if model.lock:
+        raise NotApplicable("reactions of a locked PRB model: the lock workaround carries the clamp's force "
+                            "through the pin it moved the pivot to")
+    try:
+        loads = result.ground_loads(level)
+    except ValueError as exc:
+        raise NotApplicable(str(exc)) from None
+    X = np.array(next((nd.x, nd.y) for nd in mech.nodes if nd.name == node))
+    total = np.zeros(3)
+    for load in loads:
+        recorded = model.ground_nodes.get(load.name)
+        owner = _support_of(mech, recorded) if recorded is not None else None
+        if owner is None:
+            raise NotApplicable(f"the ground joint '{load.name}' belongs to no single support")
+        if owner != node:
             continue
-        if q in ("x", "y", "dx", "dy"):
-            if p not in net.points:
-                raise NotApplicable(f"point '{p}' is not in the PRB model")
-            xy = result.position(p, lv)
-            d = xy - np.asarray(net.points[p][1])
-            values[req] = float({"x": xy[0], "y": xy[1], "dx": d[0], "dy": d[1]}[q])
-        elif q == "rotation":
-            body = model.node_body[p]
-            if body.startswith("prb:"):  # a free beam end riding on its PRB link
-                raise NotApplicable(f"the rotation of '{p}': the PRB link's angle Theta is not the beam's end "
-                                    "slope (theta_0 = c_theta Theta needs a c_theta the builder's model does not carry)")
-            values[req] = math.degrees(result.rotation(body, lv))
-        elif q in ("force_x", "force_y", "moment"):
-            values[req] = float(_received(case, model, result, p, lv)[("force_x", "force_y", "moment").index(q)])
-        elif q == "strain_energy":
-            values[req] = result.strain_energy(lv)
-        elif q in ("input_angle", "input_torque"):
-            if not inputs:
-                raise NotApplicable("input_angle/input_torque need a prescribed rotation or a moment (the input)")
-            ld = inputs[0]
-            if q == "input_torque":
-                values[req] = float(_received(case, model, result, ld.point, lv)[2])
-            else:
-                values[req] = math.degrees(result.rotation(_body_for(model, ld), lv))
-        else:
-            raise NotApplicable(f"the PRB network gives no '{q}'")
+        total += (load.fx, load.fy, load.moment)
+        if load.at is not None:
+            r = np.asarray(load.at, float) - X
+            total[2] += r[0] * load.fy - r[1] * load.fx
+    return total
+
+
+def mechanical_advantage(case, options: dict, model: pb.PRBModel, result) -> np.ndarray:
+    """MA per level as the FEM defines it (``validation/methods/fem_outputs.py``, ``ma = {output,
+    direction, input, step, d_i, definition}``): the force the mechanism exerts on the held output
+    along ``direction`` over the input load, tangent (a second solve with the input raised) or secant."""
+    n = case.n_levels()
+    base = fem_outputs.output_force(case, options, lambda node, lv: reaction(case, model, result, node, lv))
+    input_load = case.loads[fem_outputs.input_load_index(case, options)]
+    if fem_outputs.definition(options) == "secant":
+        return fem_outputs.secant_mechanical_advantage(options, base, input_load)
+    raised_case, delta, _ = fem_outputs.incremented_case(case, options)
+    raised = solve_case(raised_case, model)
+    if not raised.converged:
+        raise NotApplicable(f"mechanical advantage: the solve with the input raised did not converge ({raised.message})")
+    up = fem_outputs.output_force(raised_case, options,
+                                  lambda node, lv: reaction(raised_case, model, raised, node, lv))
+    return fem_outputs.mechanical_advantage(case, options, base[:n], up[:n], delta, input_load)
+
+
+def _value(case, model: pb.PRBModel, result, req, inputs: list, options: dict, memo: dict) -> float:
+    """One requested value at a converged level (quantity contract)."""
+    net = model.network
+    q, p, lv = req
+    if q in ("x", "y", "dx", "dy"):
+        if p not in net.points:
+            raise NotApplicable(f"point '{p}' is not in the PRB model")
+        xy = result.position(p, lv)
+        d = xy - np.asarray(net.points[p][1])
+        return float({"x": xy[0], "y": xy[1], "dx": d[0], "dy": d[1]}[q])
+    if q == "rotation":
+        body = model.node_body[p]
+        if body.startswith("prb:"):  # a free beam end riding on its PRB link
+            raise NotApplicable(f"the rotation of '{p}': the PRB link's angle Theta is not the beam's end "
+                                "slope (theta_0 = c_theta Theta needs a c_theta the builder's model does not carry)")
+        return math.degrees(result.rotation(body, lv))
+    if q in ("force_x", "force_y", "moment"):
+        return float(_received(case, model, result, p, lv)[("force_x", "force_y", "moment").index(q)])
+    if q in ("reaction_x", "reaction_y", "reaction_moment"):
+        return float(reaction(case, model, result, p, lv)[("reaction_x", "reaction_y", "reaction_moment").index(q)])
+    if q == "strain_energy":
+        return result.strain_energy(lv)
+    if q in ("input_angle", "input_torque"):
+        if not inputs:
+            raise NotApplicable("input_angle/input_torque need a prescribed rotation or a moment (the input)")
+        if q == "input_torque":
+            return float(_received(case, model, result, inputs[0].point, lv)[2])
+        return math.degrees(result.rotation(_body_for(model, inputs[0]), lv))
+    if q == "mechanical_advantage":
+        if "ma" not in memo:
+            memo["ma"] = mechanical_advantage(case, options, model, result)
+        return float(memo["ma"][lv])
+    raise NotApplicable(f"the PRB network gives no '{q}'")
+
+
+def _flag_deflection(model: pb.PRBModel, result, info: MethodRun) -> None:
+    """Flag the levels where a beam's PRB spring (a fixed-pinned, fixed-free or fixed-guided pivot) has
+    turned past the printed Theta range of the fits (``prbm.fits.THETA_RANGE``, 65 deg)."""
+    beam_springs = [i for i, sp in enumerate(model.network.springs) if sp.name.endswith(("pivot", "pivot 1", "pivot 2"))]
+    if not beam_springs:
+        return
+    for level, state in enumerate(result.states):
+        if state.converged and np.abs(model.network.spring_deflections(state.q)[beam_springs]).max() > THETA_RANGE:
+            info.flag(level, Applicability.DEFLECTION)
+
+
+def run_mechanism(case, requests, options: dict, info: MethodRun) -> dict:
+    """Values of the requested outputs of a mechanism case from the PRB model built by rule."""
+    model = built_model(case.mechanism, options)
+    result = solve_case(case, model)
+    inputs = [ld for ld in case.loads if ld.kind in ("rotation", "moment")]
+    values, memo = {}, {}
+    for req in requests:
+        if result.states[req.level].converged:
+            values[req] = _value(case, model, result, req, inputs, options, memo)
+    _flag_deflection(model, result, info)
     info.converged = result.converged
     info.level_converged = {i: s.converged for i, s in enumerate(result.states)}
     info.message = (f"PRB model built by rule ({result.mobility} DOF): {model.describe()}; {result.message}")
@@ -208,24 +315,24 @@ def run_mechanism(case, requests, options: dict, info: MethodRun) -> dict:
 def _shapes(model: pb.PRBModel, result) -> list:
     """Per level, each PRB body as a polyline through its pins and points (unloaded order)."""
     net = model.network
-    shapes = []
     per_body: dict[str, list[str]] = {}
     for name, (body, _) in net.points.items():
         per_body.setdefault(body, []).append(name)
-    for lv, state in enumerate(result.states):
+    arms = {}  # body -> its index and the polyline's points relative to its reference point (unloaded)
+    for body in net.bodies:
+        pts = [p.at for p in net.pins if body in (p.a, p.b)] + [net.points[nm][1] for nm in per_body.get(body, [])]
+        if len(pts) >= 2:
+            i = net.index[body]
+            arms[body] = (i, np.asarray(pts, float) - net.X0[i])
+    shapes = []
+    for state in result.states:
         if not state.converged:
             shapes.append([])
             continue
+        X, phi = net.state_arrays(state.q)
         lines = []
-        for body in net.bodies:
-            pts = [p.at for p in net.pins if body in (p.a, p.b)] + [net.points[nm][1] for nm in per_body.get(body, [])]
-            if len(pts) < 2:
-                continue
-            i = net.index[body]
-            X, phi = net.state_arrays(state.q)
+        for i, r in arms.values():
             c, s = math.cos(phi[i]), math.sin(phi[i])
-            r = np.asarray(pts, float) - net.X0[i]
-            moved = X[i] + np.column_stack([c * r[:, 0] - s * r[:, 1], s * r[:, 0] + c * r[:, 1]])
-            lines.append(moved)
+            lines.append(X[i] + np.column_stack([c * r[:, 0] - s * r[:, 1], s * r[:, 0] + c * r[:, 1]]))
         shapes.append(lines)
     return shapes

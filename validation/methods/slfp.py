@@ -24,6 +24,12 @@ Construction, for every joint with a spring k > 0 at pivot node N:
 * the joint itself disappears (the flexure is the hinge) and so does the pivot node N (no material
   there); loads at N move to N+ (the member's side; to N-, the block, at a slider), outputs at N are
   not available.
+* a slider whose travel a ``displacement`` load prescribes while a force or moment drives the
+  mechanism (a work piece holding the slider at a location, chapter 7's Type 1 MA): the block N- gets
+  no support but three prescribed freedoms, the travel along the slider and zero motion across it and
+  zero rotation (the FEM prescribes no translation on a sliding node, and the block held there is the
+  same thing); its reaction along the slider is the work piece's force.  A travel that is the only
+  load stays on the guided block: it is the target of an outer solve (``input_moment_at``).
 Section: I = k l / E, thickness t = ``thickness_ratio`` l (default 0.1: slender, t << l << L), width
 w = 12 I / t^3.
 """
@@ -31,12 +37,26 @@ from __future__ import annotations
 
 import math
 
-from validation.case.schema import BeamSpec, Case, MechanismSpec, NodeSpec, SectionSpec, SupportSpec
+from validation.case.schema import BeamSpec, Case, LoadSpec, MechanismSpec, NodeSpec, SectionSpec, SupportSpec
 
 
 def _unit(dx: float, dy: float) -> tuple[float, float]:
     r = math.hypot(dx, dy)
     return dx / r, dy / r
+
+
+def _held_block(node: str, direction, travel: list, n_levels: int) -> list:
+    """Zero displacement across the slider and zero rotation at a block whose travel is prescribed."""
+    if not travel:
+        return []
+    d = direction or (1.0, 0.0)
+    if min(abs(d[0]), abs(d[1])) > 1e-12:
+        raise ValueError(f"a held slider at '{node}' must run along x or y (the FEM prescribes axis motions)")
+    across = (0.0, 1.0) if abs(d[0]) > abs(d[1]) else (1.0, 0.0)
+    zero = [0.0] * n_levels
+    return [LoadSpec(kind="displacement", point=node, direction=across, values=zero,
+                     label="slider block: no motion across the slider"),
+            LoadSpec(kind="rotation", point=node, values=zero, label="slider block: does not turn")]
 
 
 def with_flexures(case: Case, length: float, E: float, thickness_ratio: float = 0.1) -> Case:
@@ -50,6 +70,7 @@ def with_flexures(case: Case, length: float, E: float, thickness_ratio: float = 
     beams = list(mech.beams)
     supports = list(mech.supports)
     joints = []
+    extra_loads: list = []
     renamed: dict[str, str] = {}
     for joint in mech.joints:
         if joint.spring <= 0:
@@ -82,16 +103,19 @@ def with_flexures(case: Case, length: float, E: float, thickness_ratio: float = 
                 raise ValueError(f"joint at '{N}' springs a single member but '{N}' has no support")
             ground = held[0]
             if ground.kind in ("slider", "guided"):   # a sliding block: it translates, never turns
-                base = SupportSpec(node=minus, kind="guided", direction=ground.direction)
                 renamed[N] = minus                    # loads on the pivot act on the block
+                driven = any(ld.kind in ("force", "moment") for ld in case.loads)
+                held_travel = [ld for ld in case.loads if ld.point == N and ld.kind == "displacement" and driven]
+                base = [] if held_travel else [SupportSpec(node=minus, kind="guided", direction=ground.direction)]
+                extra_loads += _held_block(minus, ground.direction, held_travel, case.n_levels())
             else:
-                base = SupportSpec(node=minus, kind="fixed")
-            supports = [s for s in supports if s.node != N] + [base]
+                base = [SupportSpec(node=minus, kind="fixed")]
+            supports = [s for s in supports if s.node != N] + base
     links = [lk.model_copy(update={"nodes": members[lk.name]}) for lk in mech.links]
     beams = [b.model_copy(update={"start": members[b.name][0], "end": members[b.name][1]})
              if b.name in members and not b.name.startswith("flexure:") else b for b in beams]
     supports = [s.model_copy(update={"node": renamed.get(s.node, s.node)}) for s in supports]
-    loads = [ld.model_copy(update={"point": renamed.get(ld.point, ld.point)}) for ld in case.loads]
+    loads = [ld.model_copy(update={"point": renamed.get(ld.point, ld.point)}) for ld in case.loads] + extra_loads
     nodes = [n for n in nodes if n.name not in renamed]
     new_mech = MechanismSpec(nodes=nodes, beams=beams, links=links, joints=joints, supports=supports, E=mech.E)
     return case.model_copy(update={"mechanism": new_mech, "loads": loads})

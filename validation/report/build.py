@@ -302,6 +302,9 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
             "abs_error": "absolute error", "rel_error": "relative error",
             "norm_error": "error / characteristic length", "within_tolerance": "within stated tolerance",
             "converged": "converged"}
+    # issue 14 item 3: a value whose model was not made for its load says so in its row
+    if "applicability" in table and table["applicability"].fillna("").ne("").any():
+        cols["applicability"] = "outside the model's range"
     shown = table.dropna(subset=["quantity"])[list(cols)].rename(columns=cols)
     badges = [(m, *run_badge(r), r) for m, r in result.runs.items()]
     runs = pd.DataFrame([{"method": METHOD_NAMES.get(m, m), "status": b.value, "time [s]": r.wall_time,
@@ -441,7 +444,7 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     table = outcome.table
     table.to_csv(out / "results.csv", index=False)
     try:
-        table.astype({"finding": "string", "message": "string", "source": "string"}).to_parquet(
+        table.astype({"finding": "string", "message": "string", "source": "string", "applicability": "string"}).to_parquet(
             out / "results.parquet")
     except ImportError:
         pass

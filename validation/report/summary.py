@@ -226,7 +226,29 @@ def summary_tables_html(rows: list[CaseSummary], links: dict[str, str]) -> str:
         body = "".join(_row_html(r, links.get(r.case, "#")) for r in part)
         out.append(f"<h3>{html.escape(group.capitalize())}</h3>"
                    f"<table class='summary sortable'><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>")
+    missing = without_prbm_fem(rows)
+    items = "".join(f"<li><a href='{html.escape(links.get(r.case, '#'), quote=True)}'>{html.escape(r.case)}</a>: "
+                    f"{html.escape(missing_reason(r))}</li>" for r in missing)
+    out.append(f"<p class='caption' id='without-prbm-fem'>{html.escape(without_prbm_fem_line(rows))}</p>"
+               + (f"<ul>{items}</ul>" if items else ""))
     return "".join(out)
+
+
+def without_prbm_fem(rows: list[CaseSummary]) -> list[CaseSummary]:
+    """The cases with neither a PRBM-vs-FEM length error nor a relative error."""
+    return [r for r in rows if math.isnan(r.prbm_fem_length) and math.isnan(r.prbm_fem_relative)]
+
+
+def missing_reason(row: CaseSummary) -> str:
+    """The one-line reason a case has no PRBM-vs-FEM number: the case's own, else what the runs say."""
+    return row.no_prbm_fem or _why_not_compared(row)
+
+
+def without_prbm_fem_line(rows: list[CaseSummary]) -> str:
+    """The closing count: how many cases have no PRBM-vs-FEM number (each listed with its reason)."""
+    missing = without_prbm_fem(rows)
+    return (f"{len(missing)} of {len(rows)} cases have no PRBM-vs-FEM number"
+            + (", each with its reason:" if missing else "."))
 
 
 def summary_markdown(rows: list[CaseSummary]) -> str:
@@ -235,10 +257,21 @@ def summary_markdown(rows: list[CaseSummary]) -> str:
         lines += [f"\n### {group.capitalize()}\n", "| Case | Status | Result | PRBM vs FEM, max % of L | "
                   "FEM error estimate | Printed numbers reproduced |", "|---|---|---|---|---|---|"]
         for r in (r for r in rows if r.group == group):
-            pct = "" if math.isnan(r.prbm_fem_length) else f"{sig(100 * r.prbm_fem_length, 3)} %"
+            pct = _markdown_error(r)
             lines.append(f"| {r.case} | {r.badge.value} | {r.sentence.replace('|', '/')} | {pct} | "
                          f"{percent(r.fem_estimate)} | {f'{r.checks_passed} of {r.checks}' if r.checks else ''} |")
+    lines += ["", without_prbm_fem_line(rows)]
+    lines += [f"- {r.case}: {missing_reason(r)}" for r in without_prbm_fem(rows)]
     return "\n".join(lines) + "\n"
+
+
+def _markdown_error(row: CaseSummary) -> str:
+    """The PRBM-vs-FEM cell: % of L, else the relative error, else the reason there is none."""
+    if not math.isnan(row.prbm_fem_length):
+        return f"{sig(100 * row.prbm_fem_length, 3)} %"
+    if not math.isnan(row.prbm_fem_relative):
+        return f"relative {percent(row.prbm_fem_relative)}"
+    return f"none: {_short(missing_reason(row), 100)}".replace("|", "/")
 
 
 @dataclass

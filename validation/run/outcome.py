@@ -27,7 +27,7 @@ from validation.run.runner import CaseResult, characteristic_length, requests_fo
 COLUMNS = ["case", "group", "method", "quantity", "point", "level", "level_label", "value", "unit", "scale",
            "error_estimate", "reference_label", "reference_value", "source", "compare", "tolerance_rel",
            "tolerance_abs", "abs_error", "rel_error", "norm_error", "within_tolerance", "finding",
-           "wall_time", "converged", "message", "cached", "check"]
+           "wall_time", "converged", "message", "applicability", "cached", "check"]
 
 
 def tabulate(result: CaseResult) -> pd.DataFrame:
@@ -64,6 +64,7 @@ def tabulate(result: CaseResult) -> pd.DataFrame:
                         wall_time=run.wall_time,
                         converged=run.level_converged.get(req.level, run.converged),
                         message=run.level_messages.get(req.level, run.message),
+                        applicability="; ".join(f.value for f in getattr(run, "applicability", {}).get(req.level, ())),
                         cached=result.cached.get(method, False))
             bases[req] = base
             matching = refs.get(req, [])

@@ -11,7 +11,9 @@ The unplanted baseline runs first; a case failing there is reported, since it ca
 from __future__ import annotations
 
 import hashlib
+import os
 import sys
+import tempfile
 import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
@@ -55,7 +57,9 @@ def _judge(plant: str, path: Path) -> Verdict:
                    {method: _fingerprint(run) for method, run in result.runs.items()})
 
 
-def _initialise(plant: str) -> None:
+def _initialise(plant: str, cache: str) -> None:
+    # planted runs must never reach the project's run cache (the runner stores every fresh run)
+    os.environ["PRBM_VALIDATE_CACHE"] = cache
     threadpool_limits(1)  # one BLAS thread per worker: the FEM's systems are small and the workers share the cores
     if plant != BASELINE:
         plants.apply(plant)
@@ -63,7 +67,8 @@ def _initialise(plant: str) -> None:
 
 def run_plant(plant: str, paths: list[Path], jobs: int) -> list[Verdict]:
     """Every case of ``paths`` in worker processes that carry the planted error."""
-    with ProcessPoolExecutor(max_workers=jobs, initializer=_initialise, initargs=(plant,)) as pool:
+    with tempfile.TemporaryDirectory(prefix="prbm-audit-") as cache, \
+            ProcessPoolExecutor(max_workers=jobs, initializer=_initialise, initargs=(plant, cache)) as pool:
         return list(pool.map(_judge, [plant] * len(paths), paths))
 
 

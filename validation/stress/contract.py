@@ -8,13 +8,15 @@ each method to the contract on it:
   against linear beam theory (``validation.stress.linear_beam``, Castigliano from the textbook): the FEM
   within 3x its own error estimate plus O(eps); the elastica and the BCM within O(eps) plus the
   axial stretch |N| L/EA the inextensible models leave out; the PRBM within its own known
-  linear-limit error ``PRBM_LINEAR_ERROR`` of the motion scale, with the sign of linear theory on every
-  component that is not small, and no offset (zero motion at zero load).
+  linear-limit error ``PRBM_LINEAR_ERROR`` of its load's compliance scale (``compliance_scale``:
+  sigma_1 |f|, the largest motion a load of that size produces), with the sign of linear theory on
+  every component that is not small, and no offset (zero motion at zero load).
 * ``large_deflection_check``: at a large load, the FEM against the elastica within 3x the FEM's
   error estimate plus the axial stretch; the PRBM against the elastica recorded (its error is the
   finding) but never a convention error: same sign of every clear component and an error below
-  ``CONVENTION_LIMIT`` of the motion scale (a reversed sign or an absolute-instead-of-relative angle
-  is 100 % or more).
+  ``CONVENTION_LIMIT`` of the motion scale, the larger of the elastica's motion and the load's
+  compliance scale capped at L (a reversed sign or an absolute-instead-of-relative angle is 100 % or
+  more of it).
 
 Both are used by ``tests/test_quantity_contract.py`` (hypothesis) and ``prbm-validate stress --long``.
 A method that raises NotApplicable is only accepted where ``applicable`` says it may.
@@ -26,10 +28,10 @@ import math
 import random
 
 import numpy as np
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 
 from validation.case.capabilities import method_quantities
-from validation.stress.linear_beam import LinearTip, solve_tip
+from validation.stress.linear_beam import FREEDOMS, LinearTip, flexibility, solve_tip
 from validation.methods.base import MethodRun
 from validation.case.quantities import boundary_held_tip
 from validation.run.runner import requests_for, run_method
@@ -50,16 +52,17 @@ UNIT_RANGES = {  # (length range, modulus range) of plausible segments in each u
 METHODS = ("fem", "elastica", "prbm", "bcm") + (("opensees",) if importlib.util.find_spec("openseespy") else ())
 TIP = ("x", "y", "dx", "dy", "rotation", "force_x", "force_y", "moment")
 ROOT = ("reaction_x", "reaction_y", "reaction_moment")
-# PRBM linear-limit error, a fraction of the motion scale: the straight fixed-pinned fit gives
-# b = gamma P l^3/(K_Theta EI) = 0.321 P l^3/EI against 1/3 (3.8 %), theta0 = c_theta/K_Theta = 0.468
-# against 1/2 (6.4 %) (seed 000 eqs (41)-(49), gamma = 0.85, c_theta = 1.24, K_Theta = 2.65 at n = 0);
-# the n-fits and the curved and guided models add their own: 20 % bounds every model tried.
+# The PRBM is judged against the compliance scale of its load, not the motion of that one load
+# (``compliance_scale``): a one-DOF PRBM is a rank-one stand-in for the segment's 3x3 tip compliance,
+# so along the segment's stiff direction (a force near the chord of a curved segment) the true motion
+# is small and the PRBM's error, though small against what a load of that size does elsewhere, is
+# several times that motion (kappa L = 1.6, a force at 60 deg: 5x; found by this contract). Against
+# sigma_1 |f| (the largest motion a load of that magnitude produces) the linear-limit error of the
+# straight fixed-pinned fit is 2 % of position and 6 % of rotation (gamma = 0.85, c_theta/K_Theta =
+# 0.468 against 1/2; seed 000 eqs (41)-(49)); the initially curved model (eqs (53)-(61) with its
+# assumed theta0 map) reaches 6 % of position and 15 % of rotation at kappa L = 1.6 (measured over
+# every force direction inside the n-fits). 20 % bounds every model tried.
 PRBM_LINEAR_ERROR = 0.20
-# The initially curved model uses the straight-beam fits (seed 000 eqs (53)-(61) give no curvature
-# dependence) and an assumed tip-angle map theta0 = kappa0 + c_theta (Theta - Theta_i): in the linear
-# limit its rotation and axial motion are off by up to about half of the motion scale for
-# kappa0 = 0.5..1.6 and oblique loads (found by this contract); the sign and the offset still hold.
-PRBM_CURVED_ERROR = 0.60
 CONVENTION_LIMIT = 0.60
 
 
@@ -271,6 +274,23 @@ def scales(c: Configuration, tip: LinearTip) -> Scales:
                   energy=max(abs(tip.strain_energy), 1e-300))
 
 
+def compliance_scale(c: Configuration, case: Case, tip: LinearTip) -> float:
+    """sigma_1 |f|: the largest tip motion (u_x, u_y, theta L) that a tip load of this one's size
+    (F_x, F_y, M/L) produces in the linear limit, the boundary's held tip freedoms condensed out of the
+    compliance (the PRBM's error scale, see ``PRBM_LINEAR_ERROR``)."""
+    EI, EA = c.stiffness()
+    L = case.segment.length
+    D = np.diag([1.0, 1.0, L])
+    C = D @ flexibility(L, case.segment.initial_curvature(), EI, EA) @ D
+    held = [i for i, name in enumerate(FREEDOMS) if name in boundary_held_tip(case)]
+    free = [i for i in range(3) if i not in held]
+    Cf = C[np.ix_(free, free)]
+    if held:
+        Cf = Cf - C[np.ix_(free, held)] @ np.linalg.solve(C[np.ix_(held, held)], C[np.ix_(held, free)])
+    f = (np.asarray(tip.load) / np.array([1.0, 1.0, L]))[free]
+    return float(np.linalg.norm(Cf, 2) * np.linalg.norm(f))
+
+
 @dataclass
 class ContractResult:
     """One method on one configuration: compared quantities, the failures (empty = conforms)."""
@@ -347,7 +367,8 @@ def _inflection_expected(c: Configuration) -> bool:
 
 def _compare(method: str, run: MethodRun, reference: dict, sc: Scales, *, eps: float, estimate_factor: float,
              include_stretch: bool, relative: float | None = None,
-             rotation_relative: float | None = None, axial_stiffness: float = 0.0) -> tuple[int, list[str]]:
+             rotation_relative: float | None = None, axial_stiffness: float = 0.0,
+             against: str = "linear theory") -> tuple[int, list[str]]:
     failures, compared = [], 0
     for req, value in run.values.items():
         key = (req.quantity, req.point)
@@ -370,10 +391,10 @@ def _compare(method: str, run: MethodRun, reference: dict, sc: Scales, *, eps: f
                 tol += 2.0 * sc.stretch_of(req.quantity)
         compared += 1
         if not math.isfinite(value) or abs(value - want) > tol:
-            failures.append(f"{method} {req.quantity}@{req.point or '-'} = {value:.6g}, linear theory {want:.6g} "
+            failures.append(f"{method} {req.quantity}@{req.point or '-'} = {value:.6g}, {against} {want:.6g} "
                             f"(allowed {tol:.3g})")
         elif relative is not None and abs(want) > 0.3 * scale and value * want < 0:
-            failures.append(f"{method} {req.quantity}@{req.point} = {value:.6g}: sign opposite to linear theory {want:.6g}")
+            failures.append(f"{method} {req.quantity}@{req.point} = {value:.6g}: sign opposite to {against} {want:.6g}")
     return compared, failures
 
 
@@ -422,9 +443,10 @@ def linear_limit_check(c: Configuration, methods=METHODS) -> list[ContractResult
             results.append(ContractResult(method, True, 0, [f"{method} did not converge: {run.message}"]))
             continue
         if method == "prbm":
-            n, failures = _compare(method, run, ref, sc, eps=c.magnitude, estimate_factor=0.0,
+            prbm_scale = replace(sc, motion=max(sc.motion, compliance_scale(c, case, tip)))
+            n, failures = _compare(method, run, ref, prbm_scale, eps=c.magnitude, estimate_factor=0.0,
                                    include_stretch=False,
-                                   relative=PRBM_CURVED_ERROR if c.kappa_L else PRBM_LINEAR_ERROR)
+                                   relative=PRBM_LINEAR_ERROR)
             failures += _prbm_offset(c, methods)
         else:
             n, failures = _compare(method, run, inextensible if method == "elastica" else ref, sc,
@@ -481,13 +503,33 @@ def large_deflection_check(c: Configuration, methods=("fem", "elastica", "prbm")
         at_last = MethodRun(values={r: v for r, v in run.values.items() if r.level == last},
                             error_estimate={r: v for r, v in run.error_estimate.items() if r.level == last})
         if method == "prbm":
-            n, failures = _compare(method, at_last, ref, sc, eps=0.0, estimate_factor=0.0, include_stretch=False,
-                                   relative=CONVENTION_LIMIT)
-            worst = max((abs(v - ref[(r.quantity, r.point)]) / sc.of(r.quantity)
-                         for r, v in at_last.values.items() if (r.quantity, r.point) in ref
-                         and r.quantity in ("x", "y", "rotation")), default=math.nan)
-            results.append(ContractResult(method, True, n, failures, f"PRBM error {worst:.3g} of the motion scale"))
+            results.append(_prbm_large(c, case, run, at_last, ref, sc, last))
         else:
-            n, failures = _compare(method, at_last, ref, sc, eps=0.0, estimate_factor=3.0, include_stretch=True)
+            n, failures = _compare(method, at_last, ref, sc, eps=0.0, estimate_factor=3.0, include_stretch=True,
+                                   against="elastica")
             results.append(ContractResult(method, True, n, failures))
     return results
+
+
+def _prbm_large(c: Configuration, case: Case, run: MethodRun, at_last: MethodRun, ref: dict, sc: Scales,
+                last: int) -> ContractResult:
+    """The PRBM at a large load: its error against the elastica recorded; judged for conventions only
+    (``CONVENTION_LIMIT`` of the larger of the elastica's motion and the load's compliance scale, at
+    most L). Where the PRBM itself warns that its deformed state has an inflection point (the
+    monotonic force-and-moment model, eq (62), does not fit: seed 000 Table 2.1, eq (12)), the
+    error is recorded and not judged, as in the linear limit."""
+    L = case.segment.length
+    reach = min(compliance_scale(c, case, linear_reference(c, case)), L)
+    prbm_scale = replace(sc, motion=max(sc.motion, reach))
+    worst = max((abs(v - ref[(r.quantity, r.point)]) / prbm_scale.of(r.quantity)
+                 for r, v in at_last.values.items() if (r.quantity, r.point) in ref
+                 and r.quantity in ("x", "y", "rotation")), default=math.nan)
+    if last in run.extras.get("inflection_levels", ()):
+        return ContractResult("prbm", True, 0, [], f"warned: inflection point expected (PRBM error {worst:.3g} "
+                                                   "of the motion scale, recorded, not judged)")
+    if not applicable("prbm", c):
+        return ContractResult("prbm", True, 0, ["prbm gave values where it has no model (expected NotApplicable "
+                                                f"or an inflection warning); PRBM error {worst:.3g}"])
+    n, failures = _compare("prbm", at_last, ref, prbm_scale, eps=0.0, estimate_factor=0.0,
+                           include_stretch=False, relative=CONVENTION_LIMIT, against="elastica")
+    return ContractResult("prbm", True, n, failures, f"PRBM error {worst:.3g} of the motion scale")

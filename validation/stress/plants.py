@@ -7,17 +7,21 @@ adapter outputs   every value a method's adapter returns x 1.10, or the transver
                   rotation, moments, transverse forces, input torque) with their sign flipped;
 library constants the FEM's bending stiffness EI x 1.10 (every member the FEM builds), the PRBM's
                   stiffness coefficient K_Theta x 1.10 and characteristic radius factor gamma x 1.10
-                  (every fit family and the pure-moment constants), the elastica's EI x 1.10.
+                  (every fit family, the pure-moment constants, the rule builder's defaults that the
+                  networks built from geometry use, and the constant-parameter curved pinned-pinned
+                  model's defaults), the elastica's EI x 1.10.
 
 ``validation.stress.audit`` runs the case suite under each plant; a good suite fails on every one of them.
 """
 from __future__ import annotations
 
 import importlib
+import inspect
 from dataclasses import dataclass
 from typing import Callable
 
 import fem.model
+import prbm.builder
 import prbm.fits
 import prbm.segments
 
@@ -66,7 +70,10 @@ def _fem_EI() -> None:
     fem.model.Model.add_member = add_member
 
 
-def _prbm_fit(prefix: str, pure_moment: tuple[str, ...]) -> Callable[[], None]:
+def _prbm_fit(prefix: str, pure_moment: tuple[str, ...], builder: str, keyword: str) -> Callable[[], None]:
+    """The fitted value of every family whose name starts with ``prefix``, the pure-moment constants
+    ``pure_moment``, the rule builder's default ``builder`` (prbm.builder, read when a network is built)
+    and the ``keyword`` default of the constant-parameter segment models (prbm.segments), all x FACTOR."""
     def apply() -> None:
         original = prbm.fits.PiecewiseFit.__call__
 
@@ -79,6 +86,8 @@ def _prbm_fit(prefix: str, pure_moment: tuple[str, ...]) -> Callable[[], None]:
             for name in pure_moment:
                 if hasattr(module, name):
                     setattr(module, name, getattr(module, name) * FACTOR)
+        setattr(prbm.builder, builder, getattr(prbm.builder, builder) * FACTOR)
+        inspect.unwrap(prbm.segments.curved_pinned_pinned).__kwdefaults__[keyword] *= FACTOR
     return apply
 
 
@@ -94,10 +103,12 @@ PLANTS: dict[str, Plant] = {p.name: p for p in [
     Plant("fem-EI-x1.10", "fem", "FEM library: every member's EI x 1.10", _fem_EI),
     Plant("prbm-outputs-x1.10", "prbm", "PRBM adapter: every output x 1.10", _scaled_outputs("prbm")),
     Plant("prbm-sign-flip", "prbm", "PRBM adapter: transverse outputs with the sign flipped", _flipped_outputs("prbm")),
-    Plant("prbm-K_theta-x1.10", "prbm", "PRBM library: K_Theta x 1.10 (fits and pure-moment spring)",
-          _prbm_fit("K_theta", ("PURE_MOMENT_SPRING", "PURE_MOMENT_K_THETA"))),
-    Plant("prbm-gamma-x1.10", "prbm", "PRBM library: gamma x 1.10 (fits and pure-moment gamma)",
-          _prbm_fit("gamma", ("PURE_MOMENT_GAMMA",))),
+    Plant("prbm-K_theta-x1.10", "prbm",
+          "PRBM library: K_Theta x 1.10 (fits, pure-moment spring, rule-builder and constant-model defaults)",
+          _prbm_fit("K_theta", ("PURE_MOMENT_SPRING", "PURE_MOMENT_K_THETA"), "K_THETA", "K_theta")),
+    Plant("prbm-gamma-x1.10", "prbm",
+          "PRBM library: gamma x 1.10 (fits, pure-moment gamma, rule-builder and constant-model defaults)",
+          _prbm_fit("gamma", ("PURE_MOMENT_GAMMA",), "GAMMA", "gamma")),
     Plant("elastica-outputs-x1.10", "elastica", "elastica adapter: every output x 1.10", _scaled_outputs("elastica")),
     Plant("elastica-sign-flip", "elastica", "elastica adapter: transverse outputs with the sign flipped",
           _flipped_outputs("elastica")),

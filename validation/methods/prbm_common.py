@@ -1,0 +1,61 @@
+"""Small pieces the PRBM adapter's parts share: picking the requested values out of per-level
+columns, plain (JSON-able) constants, polylines for the shapes, the root preference option.
+
+Nothing here knows a model; ``prbm.py`` (segments), ``prbm_fourbar.py`` (hand-given four-bars and
+slider-cranks), ``prbm_body.py`` (one beam carrying a rigid body, the curved pinned-pinned beam) and
+``prbm_network.py`` (mechanisms built by rule) use it.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from validation.methods.base import NotApplicable
+
+DEG = math.pi / 180.0
+
+
+def pick(out: dict, requests, what: str) -> dict:
+    """The requested values from ``out`` (quantity -> its levels, or one value for every level)."""
+    values = {}
+    columns = {}  # quantity -> its levels as plain floats (one conversion per quantity, not per request)
+    for req in requests:
+        column = columns.get(req.quantity)
+        if column is None:
+            if req.quantity not in out:
+                raise NotApplicable(f"the PRBM gives no '{req.quantity}' for this {what}")
+            column = columns[req.quantity] = np.atleast_1d(out[req.quantity]).ravel().tolist()
+        values[req] = float(column[req.level] if len(column) > 1 else column[0])
+    return values
+
+
+def per_level(v, n: int) -> np.ndarray:
+    """v as an array over the n load levels (a scalar repeated); np.broadcast_to without its overhead."""
+    v = np.asarray(v)
+    return v if v.shape == (n,) else np.broadcast_to(v, (n,))
+
+
+def plain(d: dict) -> dict:
+    """The dict with numpy arrays and scalars turned into lists and Python numbers."""
+    out = {}
+    for k, v in d.items():
+        if isinstance(v, np.ndarray):
+            out[k] = v.tolist()
+        elif isinstance(v, (np.floating, np.integer)):
+            out[k] = v.item()
+        else:
+            out[k] = v
+    return out
+
+
+def polyline(points) -> np.ndarray:
+    """Complex points -> an (n, 2) polyline."""
+    z = np.asarray(points, complex)
+    return np.column_stack([z.real, z.imag])
+
+
+def prefer(options: dict):
+    """The ``prefer`` option: 'energy' (default), another rule's name, or {key = value} -> (key, value)."""
+    chosen = options.get("prefer", "energy")
+    return next(iter(chosen.items())) if isinstance(chosen, dict) else chosen

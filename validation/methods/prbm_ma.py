@@ -1,0 +1,125 @@
+"""PRBM adapter for chapter 7's mechanical advantage evaluated with ``prbm.compliance`` (seed 000
+eqs 192-198, 205), selected by ``[methods.prbm] ma = {model = "compliance", ...}``.
+
+* Slider mechanism (``links`` with r11, r2, r3; springs k1..k3, f_k), Type 1: the levels are work-piece
+  locations, the slider travel dx of a ``displacement`` load; the crank angle follows from the loop
+  (``prbm.SliderCrank.theta2_at``), the coupler angle is taken on the branch of position 1 *and* in
+  the same turn as its printed angle, the compliance torque is eq (196) and MA_R = d_i/|I12 I24|
+  (eq 199/206).  With the input torque T_i = sigma F_i d_i (sigma the sign of the case's input
+  moment, +1 without one) the held slider gives F_o v_o = (T_i - T_c) omega2, so
+  MA = MA_R (1 - T_c/(sigma F_i d_i)) (eq 192 with signs: the compliance opposes the input when T_c
+  has the input's sense).  Outputs ``mechanical_advantage``, ``input_torque`` (T_c), ``input_angle``.
+* Four-bar with the input on link 4 and two output ports on links 2 and 3 (Compliers, Example 3),
+  Type 2: one work-piece location, link 4 turned by ``ma.location_deg`` from the measured pose (the
+  energy-free pose, Theta20 etc. = position 1); the levels are the input forces F_i of a ``force``
+  load's values (its point and direction are not used: the input force is F_i at d_in normal to
+  link 4); MA_R by eq (205), T_c by eq (195) (the virtual-work form, ``prbm.compliance``), and
+  MA = MA_R (1 - T_c/(sigma F_i d_in)), sigma the sense of the closing rotation.
+
+Options (``ma``): F_i, d_i (slider) or d_in, d_out2, d_out3, location_deg (four-bar).
+"""
+from __future__ import annotations
+
+import cmath
+import math
+
+import numpy as np
+
+import prbm
+from prbm.compliance import (FourBarPose, SliderPose, compliant_ma, fourbar_compliance_torque,
+                             slider_compliance, two_port_rigid_ma)
+from validation.methods.base import MethodRun, NotApplicable
+
+DEG = math.pi / 180.0
+
+
+def handles(case, options: dict) -> bool:
+    """True when the case asks for this adapter: a mechanism with ma.model = 'compliance'."""
+    return case.mechanism is not None and (options.get("ma") or {}).get("model") == "compliance"
+
+
+def _complex(pair) -> complex:
+    return complex(float(pair[0]), float(pair[1]))
+
+
+def _require(ma: dict, keys: tuple[str, ...], what: str) -> None:
+    missing = [k for k in keys if k not in ma]
+    if missing:
+        raise NotApplicable(f"[methods.prbm] ma: {what} needs {', '.join(missing)}")
+
+
+def _input_sense(case) -> float:
+    moments = [ld for ld in case.loads if ld.kind == "moment"]
+    if not moments:
+        return 1.0
+    total = sum(np.asarray(ld.levels(), float) for ld in moments)
+    signs = np.sign(total[total != 0.0])
+    if signs.size == 0 or np.any(signs != signs[0]):
+        raise NotApplicable("the input moment changes sign over the levels: no single driving sense")
+    return float(signs[0])
+
+
+def _slider(case, options: dict) -> dict[str, np.ndarray]:
+    links, ma, sp = options.get("links") or {}, options["ma"], options.get("springs") or {}
+    _require(ma, ("F_i", "d_i"), "a slider Type 1 MA")
+    Z11, Z2, Z3 = (_complex(links[k]) for k in ("r11", "r2", "r3"))
+    springs = tuple(float(sp.get(f"k{i}", 0.0)) for i in range(1, 4))
+    sc = prbm.SliderCrank.from_vectors(Z11, Z2, Z3)
+    travel = [ld for ld in case.loads if ld.kind == "displacement"]
+    if len(travel) != 1:
+        raise NotApplicable("slider Type 1 MA: give the work-piece locations as one 'displacement' load")
+    d = np.asarray(travel[0].direction, float)
+    dx = np.asarray(travel[0].levels(), float) * d[0] / math.hypot(*d)
+    theta2 = np.array([sc.theta2_at(float(x)) for x in dx])
+    raw = np.asarray(sc.theta3(theta2), float)
+    theta3 = sc.theta3_ref + np.remainder(raw - sc.theta3_ref + math.pi, 2.0 * math.pi) - math.pi
+    pose = SliderPose(sc.R2, sc.R3, theta2, theta3, sc.theta2_ref, sc.theta3_ref, sc.x_ref)
+    T_c = slider_compliance(pose, springs, float(sp.get("f_k", 0.0)), "crank")
+    F_i, d_i = float(ma["F_i"]), float(ma["d_i"])
+    rigid = sc.rigid_ma(theta2, d_i)
+    return {"mechanical_advantage": compliant_ma(rigid, T_c / d_i, _input_sense(case) * F_i),
+            "input_torque": T_c, "input_angle": np.degrees(theta2)}
+
+
+def _compliers(case, options: dict) -> dict[str, np.ndarray]:
+    links, ma, sp = options.get("links") or {}, options["ma"], options.get("springs") or {}
+    _require(ma, ("d_in", "d_out2", "d_out3", "location_deg"), "a two-port Type 2 MA (eq 205)")
+    fb = prbm.FourBar(*(_complex(links[k]) for k in ("r1", "r2", "r3", "r4")))
+    t20, t30, t40 = fb.theta_ref
+    target = t40 + float(ma["location_deg"]) * DEG
+    theta2 = fb.input_for_output(target, t20)
+    if theta2 is None:
+        raise NotApplicable(f"the four-bar cannot turn link 4 by {ma['location_deg']} deg from its measured pose")
+    theta3 = float(fb.angles(theta2)[0])
+    pose = FourBarPose(fb.R2, fb.R3, fb.R4, theta2, theta3, target, t20, t30, t40)
+    springs = tuple(float(sp.get(f"k{i}", 0.0)) for i in range(1, 5))
+    T_c = float(fourbar_compliance_torque(pose, springs, input_link=4))
+    rigid = float(two_port_rigid_ma(pose, fb.Z1, float(ma["d_in"]), float(ma["d_out2"]), float(ma["d_out3"])))
+    forces = [ld for ld in case.loads if ld.kind == "force"]
+    if len(forces) != 1:
+        raise NotApplicable("Type 2 MA: give the input forces F_i as the values of one 'force' load")
+    F_i = np.asarray(forces[0].levels(), float)
+    if np.any(F_i <= 0.0):
+        raise NotApplicable("Type 2 MA: the input forces must be positive (magnitudes)")
+    sense = math.copysign(1.0, float(ma["location_deg"]))
+    n = case.n_levels()
+    return {"mechanical_advantage": compliant_ma(rigid, T_c / float(ma["d_in"]), sense * F_i),
+            "input_torque": np.full(n, T_c), "input_angle": np.full(n, math.degrees(target))}
+
+
+def run(case, requests, options: dict) -> tuple[dict, MethodRun]:
+    """Values per request and the run record (see the module docstring)."""
+    links = options.get("links") or {}
+    if "r11" in links:
+        out, what = _slider(case, options), "PRB slider, eqs (192), (196), (199)"
+    elif {"r1", "r2", "r3", "r4"} <= set(links):
+        out, what = _compliers(case, options), "PRB four-bar, input on link 4, eqs (192), (195), (205)"
+    else:
+        raise NotApplicable("ma.model = 'compliance' needs [methods.prbm] links: r11, r2, r3 (slider) or r1..r4")
+    values = {}
+    for req in requests:
+        if req.quantity not in out:
+            raise NotApplicable(f"the PRB MA model gives no '{req.quantity}'")
+        column = np.atleast_1d(out[req.quantity])
+        values[req] = float(column[req.level] if column.size > 1 else column[0])
+    return values, MethodRun(values=values, message=f"{what} (prbm.compliance)")
