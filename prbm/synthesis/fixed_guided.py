@@ -17,7 +17,7 @@ M is explicit in (99), so four residuals (95), (96), (108), (109) in (l, I, l1, 
 ``scipy.optimize.least_squares`` from a grid of starts.  The seed's end displacements dX', dY' are in a
 frame rotated by the beam orientation alpha; the transverse deflection and axial shortening are
 b = dX' sin(alpha) + dY' cos(alpha) and delta = dX' cos(alpha) - dY' sin(alpha) (for alpha = 45 deg:
-b = (dX' + dY')/sqrt 2, delta = (dX' - dY')/sqrt 2; ../shared/notes/seed-ch2-4.md section 5.9).
+b = (dX' + dY')/sqrt 2, delta = (dX' - dY')/sqrt 2; notes/seed-ch2-4.md section 5.9).
 The l-I pair is ill-conditioned (a family of nearly equivalent designs): the result reports the
 residual and the spread of the roots found.
 """
@@ -28,6 +28,7 @@ import math
 import numpy as np
 from scipy.optimize import least_squares
 
+from prbm import inflection as prbm_inflection
 from prbm.fits import PAULY_MIDHA
 from prbm.synthesis.dyads import DEG, SynthesisError
 
@@ -37,26 +38,15 @@ def pauly_midha(n: float) -> tuple[float, float, float]:
 
 
 def inflection_state(*, E, I, l, l1, theta10, P, n, theta0):
-    """Every quantity of the chapter-3 PRBM for a trial (l, I, l1, theta10); angles in radians."""
-    nP = n * P
-    F = math.hypot(P, nP)
-    phi1 = math.atan2(P, -nP)
-    phi2 = phi1 - theta0
-    n2 = -math.cos(phi2) / math.sin(phi2)
-    g1, c1, K1 = pauly_midha(n)
-    g2, c2, K2 = pauly_midha(n2)
-    l2 = l - l1
-    Th1 = theta10 / c1
-    Th2 = (theta10 - theta0) / c2
-    EI = E * I
-    r95 = F * l1**2 / EI * math.sin(phi1 - Th1) - K1 * Th1
-    r96 = F * l2**2 / EI * math.sin(phi2 - Th2) - K2 * Th2
-    M = ((nP * math.cos(theta0) - P * math.sin(theta0)) * g2 * l2 * math.sin(Th2)
-         + (P * math.cos(theta0) + nP * math.sin(theta0)) * ((1 - g2) * l2 + g2 * l2 * math.cos(Th2)))
-    b = g1 * l1 * math.sin(Th1) + g2 * l2 * math.sin(Th2 + theta0) + (1 - g2) * l2 * math.sin(theta0)
-    a = (1 - g1) * l1 + g1 * l1 * math.cos(Th1) + g2 * l2 * math.cos(Th2 + theta0) + (1 - g2) * l2 * math.cos(theta0)
-    return dict(F=F, phi1=phi1, phi2=phi2, n2=n2, gamma1=g1, gamma2=g2, c1=c1, c2=c2, K1=K1, K2=K2,
-                l2=l2, Theta1=Th1, Theta2=Th2, r95=r95, r96=r96, M=M, b=b, a=a)
+    """Every quantity of the chapter-3 PRBM for a trial (l, I, l1, theta10); angles in radians.
+    The equations are ``prbm.inflection.inflection_state`` (eqs 83-104); this names them for the
+    synthesis residuals (floats, the end force (-nP, P) from P and n)."""
+    state = prbm_inflection.inflection_state(prbm_inflection.InflectionBeam(l, E * I), math.hypot(P, n * P),
+                                             math.atan2(P, -n * P), theta0, l1, theta10)
+    names = {"F": "F", "phi1": "phi1", "phi2": "phi2", "n2": "n2", "gamma1": "gamma1", "gamma2": "gamma2",
+             "c1": "c_theta1", "c2": "c_theta2", "K1": "K_theta1", "K2": "K_theta2", "l2": "l2",
+             "Theta1": "Theta1", "Theta2": "Theta2", "r95": "r95", "r96": "r96", "M": "M", "b": "b", "a": "a"}
+    return {mine: float(state[theirs]) for mine, theirs in names.items()}
 
 
 def solve_two_position(*, E, P, n, theta0_deg, b, delta, guess=None):

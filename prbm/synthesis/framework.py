@@ -13,7 +13,7 @@ optionally with the energy (165) U_j = 1/2[g1j^2 K1j (EI/R2j) Th2j^2 + g2j^2 K2j
 or the effecting force (166) (F_j R2j^2/(EI g1j^2)) sin(phi1j - Th2j) = K1j Th2j and
 (167) (F_j R3j^2/(EI g2j^2)) sin(phi2j - Th3j + gam_j) = K2j (Th3j - gam_j).
 Misprint followed: eqs (161)/(162) print cos/sin(Th3j + gam_j); the correct term, from (160), is
-Th3j + th1 (../shared/notes/seed-ch5-9.md section 3.3; only (160) reproduces the printed examples).
+Th3j + th1 (notes/seed-ch5-9.md section 3.3; only (160) reproduces the printed examples).
 The fits g, c, K are eqs (41)-(43) at n1j (a free choice) and n2j = -1/tan(phi2j), phi2j = phi1j - gam_j
 (150), phi1j = atan2(1, -n1j).
 

@@ -41,6 +41,10 @@ class CaseError(Exception):
         return f"{self.path}: {field}: {problem}" if field else f"{self.path}: {problem}"
 
 
+class SpecError(CaseError):
+    """A sweep spec or a design specification that cannot be used (same lines as ``CaseError``)."""
+
+
 @dataclass(frozen=True)
 class LoadedCase:
     path: Path

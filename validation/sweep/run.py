@@ -83,14 +83,14 @@ import numpy as np
 import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import Field, ValidationError, model_validator
 from scipy.special import ndtr, ndtri
 from tqdm import tqdm
 
 from validation.case.capabilities import method_quantities
-from validation.case.loader import CASES_DIR, CaseError, find_case_files, load_case, read_toml_model
+from validation.case.loader import CASES_DIR, CaseError, SpecError, find_case_files, load_case, read_toml_model
 from validation.case.overrides import PathError, apply, check_path, parent_of
-from validation.case.schema import Case, Finite, OutputSpec, Positive
+from validation.case.schema import Case, Finite, OutputSpec, Positive, Strict
 from validation.run.cache import code_hash, package_version
 from validation.run.exit_status import ExitStatus, print_error
 from validation.sweep.task import ROW_COLUMNS, _row, prepare, run_chunk
@@ -99,14 +99,6 @@ SWEEPS_DIR = CASES_DIR / "sweeps"
 EXIT_OK, EXIT_FAILED_POINTS, EXIT_BAD_INPUT, EXIT_INTERRUPTED = (ExitStatus.OK, ExitStatus.FAILED, ExitStatus.BAD_INPUT,
                                                         ExitStatus.INTERRUPTED)  # the rule, in sweep words
 FAILED = ("error", "invalid", "not_converged", "not_applicable")  # exit status 1 (validation/run/exit_status.py)
-
-
-class SpecError(CaseError):
-    """A sweep spec that cannot be used; ``str()`` is the one-line message (file: field: problem)."""
-
-
-class Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
 
 
 class Linspace(Strict):

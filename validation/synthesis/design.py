@@ -20,10 +20,10 @@ import numpy as np
 from prbm.synthesis import compliance as cp
 from prbm.synthesis import fixed_guided as fixed_guided_prbm
 from prbm.synthesis import segments as sg
+from prbm.synthesis.dyads import (DEG, FourBar, SliderCrank, SynthesisError, function_generation, motion_generation,
+                                  path_generation, path_generation_timed, polar, slider_crank_timed)
 from prbm.synthesis.framework import solve_framework
 from prbm.synthesis.segments import rectangle_thickness
-from prbm.synthesis.dyads import (DEG, FourBar, SliderCrank, SynthesisError, arg_deg, function_generation, motion_generation,
-                             path_generation, path_generation_timed, polar, slider_crank_timed)
 from validation.synthesis.spec import Spec
 
 # joint -> (link it belongs to, which end): 1 O2 and 2 A on Z2, 4 O4 and 3 B on Z4
@@ -220,10 +220,6 @@ def compare_printed(d: Design) -> list[dict]:
                      "allowed": p.allowed(), "agrees": diff <= p.allowed(), "expect": p.expect,
                      "source": p.source.label(), "finding": p.finding})
     return rows
-
-
-def describe_angle(z: complex) -> str:
-    return f"{abs(z):.4f} at {arg_deg(z):.3f} deg"
 
 
 def framework_design(spec: Spec) -> Design:

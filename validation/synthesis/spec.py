@@ -10,28 +10,14 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import Field, model_validator
 
-from validation.case.loader import read_toml_model
-from validation.case.schema import UNIT_SYSTEMS, Source
+from validation.case.loader import SpecError, read_toml_model
+from validation.case.schema import UNIT_SYSTEMS, Finite, Positive, Source, Strict
 
-Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
-Finite = Annotated[float, Field(allow_inf_nan=False)]
 Point = tuple[Finite, Finite]
-
-
-class Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-
-class SpecError(Exception):
-    """A specification that cannot be used; ``str()`` is the one-line message."""
-
-    def __init__(self, path, field: str, problem: str):
-        self.path, self.field, self.problem = str(path), field, problem
-        super().__init__(f"{self.path}: {field}: {problem}" if field else f"{self.path}: {problem}")
 
 
 class DesignInfo(Strict):

@@ -15,7 +15,7 @@ from pathlib import Path
 
 from prbm.synthesis.dyads import SynthesisError
 from validation.case.loader import CaseError, load_case
-from validation.run.exit_status import ExitStatus
+from validation.run.exit_status import ExitStatus, print_error
 from validation.run.runner import run_method
 from validation.synthesis.casefile import write_case
 from validation.synthesis.design import Design, compare_printed, design
@@ -113,7 +113,7 @@ def synthesize(spec_path, out_dir, *, run_fem: bool | None = None, stream=None) 
     try:
         spec = load_spec(spec_path)
     except SpecError as exc:
-        print(f"error: {exc}", file=err)
+        print_error(exc)
         return ExitStatus.BAD_INPUT
     try:
         d = design(spec)
