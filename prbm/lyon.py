@@ -86,15 +86,18 @@ def lyon_from_tip(*, b: float, theta0: float, length: float, EI: float) -> PRBMR
         return [r / (EI / length) for r in res[:2]] + [res[2], s["thE"] - theta0, (end[1] - b) / length]
 
     best = None
-    for phi0 in (math.pi / 2, math.pi / 3, 2 * math.pi / 3):  # start: symmetric shape, transverse force
-        t_start = math.asin(min(0.95, abs(b) / length))
-        x0 = [0.5 * length, t_start, t_start, 16 * 2.65 * t_start, phi0]
-        sol = root(residual, x0, method="hybr", tol=1e-13)
-        if sol.success and 0 < sol.x[0] < length and 0 < sol.x[4] < math.pi and max(map(abs, residual(sol.x))) < 1e-9:
+    t_start = math.asin(min(0.95, abs(b) / length))
+    starts = [(lA, phi0, scale) for lA in (0.5, 0.25, 0.75) for scale in (4.0, 16.0)
+              for phi0 in (math.pi / 2, math.pi / 3, 2 * math.pi / 3)]
+    for lA, phi0, scale in starts:  # f = F l^2/EI ~ 4 K Theta (guided beam), or stiffer
+        sol = root(residual, [lA * length, t_start, t_start, scale * 2.65 * t_start, phi0], method="hybr", tol=1e-13)
+        sol.x[4] = sol.x[4] % (2 * math.pi)  # the force angle, modulo a turn
+        ok = sol.success and 0 < sol.x[0] < length and sol.x[3] > 0 and 0 < sol.x[4] < math.pi
+        if ok and max(map(abs, residual(sol.x))) < 1e-9:  # a force F > 0 with P = F sin(phi) > 0
             best = sol
             break
     if best is None:
-        return PRBMResult(False, "no solution of eqs (64)-(70) found from the symmetric starts", {}, {},
+        return PRBMResult(False, "no solution of eqs (64)-(70) with F > 0 and P > 0 found from the starts tried", {}, {},
                           "Lyon et al. fixed-guided PRBM, seed 000 eqs (64)-(70)", time.perf_counter() - t0)
     lA, tA, tB, f, phi = best.x
     F = f * EI / length**2
@@ -125,7 +128,7 @@ def lyon_tip(Fx: float, Fy: float, *, length: float, EI: float) -> PRBMResult:
         raise ValueError(f"lyon_tip: Fy must be > 0 (mirror the problem), got {Fy}")
     F, phi = math.hypot(Fx, Fy), math.atan2(Fy, Fx)
     PAULY_MIDHA.parameters(load_ratio(phi))  # raises FitRangeError for n outside the fits
-    start = F * length**2 / (EI * 4 * 2.65 * 4)  # small-angle Theta of Howell's guided beam
+    start = min(1.0, F * length**2 / (EI * 4 * 2.65))  # small-angle Theta of the guided beam, (F l^2/EI) = 4 K Theta
     sol = root(lambda x: _state(x, F, phi, length, EI)[0], [0.5 * length, start, start], method="hybr",
                tol=1e-13)
     residual, s = _state(sol.x, F, phi, length, EI)
