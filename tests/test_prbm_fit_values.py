@@ -3,7 +3,7 @@
 Fits: every branch of every published fit, away from n = 0, against the printed polynomial evaluated
 here term by term from the coefficients as printed: seed 000 eqs (41) gamma, (42) c_theta, (43)
 K_Theta (Pauly-Midha, transcript lines 1025-1036); seed 004 slide 'arbitrary tip-load' (Howell, lines
-44-46). Their derivatives against the derivative of the printed polynomials. Scalar, few-level and
+44-46). Scalar, few-level and
 many-level inputs take different code paths; all must give the printed polynomial.
 
 Spring angle: F R sin(phi - Theta) = k (Theta - Theta_i) (seed 000 eq 47 with an initial angle),
@@ -64,9 +64,6 @@ def test_every_branch_is_the_printed_polynomial(family, name, lo, hi, coeffs):
     assert fit(np.array(points)) == pytest.approx(expected, rel=1e-13)          # few levels
     many = np.linspace(points[0], points[1], 200)                               # the array path (> 64)
     assert fit(many) == pytest.approx([printed(coeffs, n) for n in many], rel=1e-12)
-    assert fit.derivative(np.array(points[:2])) == pytest.approx([printed_slope(coeffs, n) for n in points[:2]],
-                                                                 rel=1e-12, abs=1e-15)
-    assert fit.derivative(points[0]) == pytest.approx(printed_slope(coeffs, points[0]), rel=1e-12, abs=1e-15)
 
 
 def test_family_parameters_are_gamma_c_theta_k_theta_in_that_order():
