@@ -306,7 +306,7 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
     if "applicability" in table and table["applicability"].fillna("").ne("").any():
         cols["applicability"] = "outside the model's range"
     shown = table.dropna(subset=["quantity"])[list(cols)].rename(columns=cols)
-    badges = [(m, *run_badge(r), r) for m, r in result.runs.items()]
+    badges = [(m, *run_badge(r, case.case.expected_failure.get(m)), r) for m, r in result.runs.items()]
     runs = pd.DataFrame([{"method": METHOD_NAMES.get(m, m), "status": b.value, "time [s]": r.wall_time,
                           "message": r.message[:300]} for m, b, _, r in badges])
     source = case.case.source.label() if case.case.source else ""
@@ -424,7 +424,8 @@ def headline(rows) -> str:
     counts = {}
     for r in rows:
         counts[r.badge.value] = counts.get(r.badge.value, 0) + 1
-    words = {"agrees": "agree", "finding": "with findings", "refused": "with a method refused", "failed": "failed"}
+    words = {"agrees": "agree", "finding": "with findings", "refused": "with a method refused",
+             "expected failure": "with a failure they expect", "failed": "failed"}
     states = ", ".join(f"{n} {words[state]}" for state, n in counts.items())
     if not compared:
         return f"{len(rows)} cases ({states}); none compares the PRBM with the FEM on a position."

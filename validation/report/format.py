@@ -23,20 +23,30 @@ class Badge(enum.Enum):
     AGREES = "agrees"
     FINDING = "finding"
     REFUSED = "refused"
+    EXPECTED = "expected failure"
     FAILED = "failed"
 
     @property
     def colour(self) -> str:
-        return {"agrees": "#2e7d32", "finding": "#b26a00", "refused": "#5f6b7a", "failed": "#c62828"}[self.value]
+        return {"agrees": "#2e7d32", "finding": "#b26a00", "refused": "#5f6b7a", "expected failure": "#4a6fa5",
+                "failed": "#c62828"}[self.value]
 
     def html(self, reason: str = "") -> str:
         title = f" title='{html.escape(reason, quote=True)}'" if reason else ""
         return (f"<span class='badge' style='background:{self.colour}'{title}>{self.value}</span>")
 
 
-def run_badge(run) -> tuple[Badge, str]:
+def run_badge(run, expected: str | None = None) -> tuple[Badge, str]:
     """(badge, reason) of one method run: refused (the method cannot model the case), failed
-    (crashed or did not converge), or agrees."""
+    (crashed or did not converge), or agrees; a refusal or failure the case records as its expected
+    outcome (``case.expected_failure``, passed as ``expected``) is an expected failure, with the reason."""
+    badge, reason = _run_badge(run)
+    if expected and badge in (Badge.REFUSED, Badge.FAILED):
+        return Badge.EXPECTED, f"expected: {expected} ({reason})" if reason else f"expected: {expected}"
+    return badge, reason
+
+
+def _run_badge(run) -> tuple[Badge, str]:
     status = getattr(run, "status", None)
     name = str(getattr(status, "name", status or "")).lower()
     if name:

@@ -103,8 +103,9 @@ def case_sentence(result: CaseResult, part: pd.DataFrame) -> str:
         reason = getattr(result.loaded.case.case, "no_prbm_fem", None)
         if reason:
             clauses.append(f"no PRBM-vs-FEM comparison: {reason}")
+    expected = result.loaded.case.case.expected_failure
     for method, run in result.runs.items():
-        badge, why = run_badge(run)
+        badge, why = run_badge(run, expected.get(method))
         if badge is not Badge.AGREES:
             clauses.append(f"{METHOD_NAMES.get(method, method)} {badge.value}: {_short(why)}")
     findings = part["finding"].dropna().unique()
@@ -132,9 +133,11 @@ def _short(text: str, limit: int = 140) -> str:
 
 def summarise(result: CaseResult, part: pd.DataFrame) -> CaseSummary:
     case = result.loaded.case
-    methods = [MethodState(m, *run_badge(r)) for m, r in result.runs.items()]
+    methods = [MethodState(m, *run_badge(r, case.case.expected_failure.get(m))) for m, r in result.runs.items()]
     claimed = part[part["within_tolerance"].notna()]
     outside = claimed[(claimed["within_tolerance"] == False) & claimed["finding"].isna()]  # noqa: E712
+    expected = claimed["method"].isin(list(case.case.expected_failure)) & claimed["value"].isna()
+    outside = outside[~expected.reindex(outside.index, fill_value=False)]  # no value where a failure is expected
     findings = part["finding"].dropna().unique()
     n_findings = len(findings) + len(case.case.findings)
     if len(outside) or any(s.badge is Badge.FAILED for s in methods):
@@ -146,6 +149,9 @@ def summarise(result: CaseResult, part: pd.DataFrame) -> CaseSummary:
     elif any(s.badge is Badge.REFUSED for s in methods):
         badge = Badge.REFUSED
         reason = "; ".join(f"{s.method}: {_short(s.reason)}" for s in methods if s.badge is Badge.REFUSED)
+    elif any(s.badge is Badge.EXPECTED for s in methods):
+        badge = Badge.EXPECTED
+        reason = "; ".join(f"{s.method}: {_short(s.reason)}" for s in methods if s.badge is Badge.EXPECTED)
     else:
         badge, reason = Badge.AGREES, ""
     if len(part):

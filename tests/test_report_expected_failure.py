@@ -1,0 +1,34 @@
+"""The report shows a failure the case records as expected (``case.expected_failure``) as an expected
+failure, with the case's reason, never as 'failed'; an unexpected failure stays 'failed'."""
+from __future__ import annotations
+
+from test_exit_status import fake, write  # noqa: F401  (the fake prbm adapter fixture)
+from test_foundation import GOOD
+
+from validation.case.loader import load_case
+from validation.report.format import Badge
+from validation.report.summary import summarise
+from validation.run.outcome import tabulate
+from validation.run.runner import run_case
+
+REASON = "the toy model stops at level 1 (a stated limit point)"
+
+
+def summary_of(tmp_path, text):
+    result = run_case(load_case(write(tmp_path, "toy.toml", text)), use_cache=False)
+    return summarise(result, tabulate(result))
+
+
+def test_expected_failure_is_shown_as_expected_with_its_reason(tmp_path, fake):  # noqa: F811
+    fake["behaviour"] = "not converged"
+    expecting = GOOD.replace('group = "tests"', f'group = "tests"\nexpected_failure = {{ prbm = "{REASON}" }}')
+    assert expecting != GOOD
+    shown = summary_of(tmp_path, expecting)
+    assert shown.badge is Badge.EXPECTED and REASON in shown.reason
+    assert [s.badge for s in shown.methods] == [Badge.EXPECTED]
+
+
+def test_unexpected_failure_stays_failed(tmp_path, fake):  # noqa: F811
+    fake["behaviour"] = "not converged"
+    shown = summary_of(tmp_path, GOOD)
+    assert shown.badge is Badge.FAILED and "no convergence at level 1" in shown.reason
