@@ -186,7 +186,10 @@ def _row_html(row: CaseSummary, link: str) -> str:
                        f"{html.escape(s.badge.value + (': ' + s.reason if s.reason else ''), quote=True)}'>"
                        f"{METHOD_NAMES.get(s.method, s.method)}</span>" for s in row.methods)
     length_pct = 100 * row.prbm_fem_length
-    if math.isnan(length_pct):
+    if math.isnan(length_pct) and not math.isnan(row.prbm_fem_relative):
+        error_cell = ("<td class='absent' data-value='-1' title='the PRBM and the FEM share no position output; "
+                      "their relative error is in the next column'>no position compared</td>")
+    elif math.isnan(length_pct):
         why = row.no_prbm_fem or _why_not_compared(row)
         error_cell = f"<td class='absent' title='{html.escape(why, quote=True)}'>{html.escape(_short(why, 60))}</td>"
     else:
