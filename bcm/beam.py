@@ -24,6 +24,8 @@ Eq (15), the exact compliance behind C0..C3, is misprinted in the seed: its (1,1
 (r - tanh k)/r^3 and its (2,2) entry r^2 cosh r / tanh r; the corrected entries (notes/seed-003-004.md
 section 1.6, verified by the series of eqs (16), (17)) are (r - tanh r)/r^3 and tanh r / r, r = sqrt(f_x),
 implemented in ``exact_compliance`` (with the compressive form for f_x < 0).
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

@@ -17,6 +17,8 @@
 ``RigidBodyOnBeams`` generalises both: one rigid body joined rigidly to straight BCM beams that
 are clamped to the ground, loaded by forces and moments, optionally pinned to the ground at a
 point and driven by a prescribed rotation; equilibrium by Castigliano (dV/dq = generalised load).
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

@@ -29,6 +29,8 @@ Normalised as ``elastica.elliptic`` (l = EI = 1, so alpha^2 = P l^2/EI, position
 
 Each cloud function returns a ``DomainCloud``: the points (a, b, theta0, alpha, n, kappa), plus the
 count of grid points left out and why (``excluded``: outside the formula's or Su's range).
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

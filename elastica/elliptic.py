@@ -14,6 +14,8 @@ with lambda = kappa + sin(theta_0) - n cos(theta_0) and kappa = theta'(l)^2 / (2
 
 F(g, t), E(g, t) are the incomplete elliptic integrals with *modulus* t (scipy takes m = t^2);
 the seed prints the complete integrals without the sin^2 in the integrand (a misprint).
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

@@ -20,6 +20,8 @@ sec. II.5 and II.4 for the first step) step for step: the same coefficients (sci
 the same first-step choice, error norm (the 5th- and 3rd-order estimates combined) and step-size
 factors (safety 0.9, between 0.2 and 10, exponent -1/8), so the end state agrees with scipy's to
 rounding, without the Python cost of each stage.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

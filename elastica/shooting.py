@@ -60,6 +60,8 @@ checked: the path is followed, stable or not. Intermediate steps are integrated 
 Sign conventions: x along the undeformed (straight) beam from the clamp, y transverse, angles and
 moments counter-clockwise positive. The seeds' (Bapat 2015) P, nP, M for a tip are Fx = -nP,
 Fy = +P and a CCW moment -M (their tabulated M > 0 is clockwise, "opposing" P).
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

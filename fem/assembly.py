@@ -19,6 +19,8 @@ F0, pointed magnitudes [T, 0], distributed q) are the rows of ``F0`` in that
 order, so they follow the load path like every other load.  f_int comes from the corotational
 elements (`corotational.element_state`) and torsional springs
 M = k (theta_a - theta_b).
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

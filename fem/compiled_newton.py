@@ -15,6 +15,8 @@ and back-substitution by ``dgetrs``/``dgbtrs`` (scipy's own LAPACK, called throu
 products are BLAS ``ddot`` as in NumPy, so the numbers are those of the NumPy corrector.
 
 It returns a status code; `newton` turns it into the same `NewtonOutcome` or `StepFailed`.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

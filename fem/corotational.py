@@ -19,6 +19,8 @@ Element DOFs  p = [u1, v1, theta1, u2, v2, theta2]  (global, theta accumulated).
 Only the relative angle is wrapped.  ``jumped`` flags elements where the
 wrap was active (|theta_i + beta0 - beta| > pi): two neighbouring rotations
 differ by about 2 pi, a spurious equilibrium that the solver rejects.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

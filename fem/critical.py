@@ -8,6 +8,8 @@ parabola through three states when slopes are unknown.  A sign change of
 det K without an extremum of lambda is reported as a bifurcation; so is a
 step whose unstable state was replaced by a stable one (`stability`), with the
 note ``branch_switch``.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

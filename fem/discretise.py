@@ -19,6 +19,8 @@ written in terms of the reduced unknowns q as
 so dU/dq has at most two entries per row (``I``, ``C``; the rigid-link
 columns depend on theta_m and are refreshed by `System`).  Index ``n_red`` in
 ``I`` is a dummy column that is dropped.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

@@ -31,6 +31,8 @@ adds to the dead-load terms
 
 an unsymmetric (non-conservative) load stiffness. Element DOFs are p = [u1, v1, theta1, u2, v2, theta2]
 as in `corotational`; every array carries the element axis first.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

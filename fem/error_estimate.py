@@ -16,6 +16,8 @@ Q_n, Q_2n (and Q_4n) on n, 2n (and 4n) elements per member:
 best value returned: e of the fine mesh for levels=2, e_3 for levels=3; the
 meshes are doubled until it is met.  Load or displacement control only (the
 levels of every mesh must mean the same loads).
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

@@ -13,6 +13,8 @@ smallest pivot is at least its softest stiffness over its stiffest one, which fo
 thickness h and element length l_e is of order (h / l_e)^2 / n^2 -- far above 1e-13 for the
 meshes the models use. The DOF of that column (node and 'ux' | 'uy' | 'rz') is named in the
 error, before any Newton iteration.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

@@ -15,6 +15,8 @@ element by element so that one call does what took some thirty NumPy calls:
 
 The numbers are those of the NumPy expressions to rounding; the first call compiles (a few
 seconds) and writes the machine code to numba's cache beside this module, so later processes load it.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

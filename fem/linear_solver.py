@@ -10,6 +10,8 @@ The tangent is assembled straight into the storage of the chosen solver
 
 The sign of det K (product of U's diagonal signs times the permutation
 parity) is what the solvers watch for critical points.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

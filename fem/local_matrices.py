@@ -13,6 +13,8 @@ by Gauss quadrature, so EA(s) and EI(s) may vary along the member (tapered
 or layered sections).  For constant properties k_a = EA/L0 and
 k_b = EI/L0 [[4, 2], [2, 4]] (Crisfield 1991, sec. 7.2; Battini 2002).
 The forms are assembled here only, at model build time, never in Newton.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

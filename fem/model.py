@@ -38,6 +38,8 @@ The model is what the user describes; nothing is discretised here.
   reference length on a member or on all members (dead, or follower turning
   with each element's chord; `distributed`), and prescribed
   displacements/rotations of a DOF ("ux", "uy" or "rz").
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

@@ -20,6 +20,8 @@ cut in proportion. Under load control a correction that turns a node by more tha
 ``max_iteration_rotation`` is scaled down to it (a damped Newton step): one step per level
 converges from a linear predictor that is far off (a cantilever at PL^2/EI = 10 is predicted at
 5 rad) instead of landing on a 2 pi jump.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

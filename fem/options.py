@@ -5,6 +5,8 @@ watch); `LoadControl`, `DisplacementControl` and `ArcLengthControl` hold what on
 `NewtonOutcome` is what one corrector run returns, `StepState` a converged step on its way to being
 accepted (possibly replaced by a stable state on another branch, `BranchSwitch`), `CriticalPoint` a
 limit point or bifurcation found along the path.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

@@ -7,6 +7,8 @@ R = f_int - lambda f_ext at constrained DOFs (Rx, Ry, Mz), member end forces
 U = sum 1/2 (k_a u_bar^2 + theta_bar^T k_b theta_bar) + sum 1/2 k dtheta^2,
 and the largest bending stress |E_i (N/EA +- M c_i/EI)| when the sections
 know E and c.  Consistent units throughout.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

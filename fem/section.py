@@ -17,6 +17,8 @@ with the common axial strain eps = N/EA.  A rectangle is the one-layer stack.
 `Section.from_EI(EA, EI, c, E)` gives the stiffnesses directly; the bending
 stress sigma = E (eps +- kappa c) is available only when both the extreme-fibre
 distance c and the modulus E are given.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

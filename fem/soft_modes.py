@@ -14,6 +14,8 @@ when artificially stiff bars stand in for rigid links). Bending to stretching st
 and length l is of order (t/l)^2, so ``ratio = 1e-2`` separates them for t/l < 0.1 (stated with every
 count). The count is the number of independent ways the actuation points can be moved without
 stretching a member: the mechanism's mobility as the FEM sees it.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

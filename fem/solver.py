@@ -25,6 +25,8 @@ unknowns q (`assembly.System`) by Newton-Raphson with the consistent tangent K.
 
 The corrector, the convergence tests and the rotation-continuity checks are
 in `newton`; limit points and bifurcations are found by `critical`.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

@@ -32,6 +32,8 @@ for an imperfect path is cured by a shorter one.
 Follower loads make K unsymmetric and the static criterion incomplete (flutter):
 there a sign change is reported, not acted on.  Limitation: two eigenvalues
 crossing zero within one step leave sign det K unchanged and go unnoticed.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

@@ -34,6 +34,8 @@ The result says how it was obtained (scipy style): ``converged``, ``message``, `
 iterations, ``nfev`` FEM solves, the final ``FemResult`` (``result``), the total tip loads per
 level ``tip_loads`` (n_levels, 3) = (F_x, F_y, M) acting on the tip, the tied load per level and
 its residual.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

@@ -13,6 +13,8 @@ by least squares through the constraint map, q_k = sum C_ik u_i / sum C_ik^2
 (exact for free DOFs and sliders u = d t).  The solver uses the guess as the
 predictor of each load level and checks that the converged state stays on the
 same branch; otherwise it falls back to ordinary load stepping.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 
