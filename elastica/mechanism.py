@@ -19,6 +19,8 @@ position and m(L) = 0; free: F and m(L) equal to the loads applied there); per b
 moment balance; per pin the coincidence of its node on both bodies; the prescribed motions.
 They are solved by Newton (finite-difference Jacobian, scipy's ``root``) level after level from
 the unloaded mechanism, halving the load step where a level does not converge.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 
@@ -419,13 +421,13 @@ def solve_mechanism(mech: Mechanism, loads: list, n_levels: int, *, rtol: float 
                              time.perf_counter() - t0, ok_levels)
 
 
-def _chord_newton(f, x, jac, typical, tol: float = 1e-10, max_iter: int = 30):
+def _chord_newton(f, x, jac, typical, tol: float = 1e-10, maxiter: int = 30):
     """Newton on f(x) = 0 with a finite-difference Jacobian kept between iterations and load steps,
     updated by Broyden's rank-one formula, and refreshed when a step does not halve the residual. Returns (x, converged,
     Jacobian, why not)."""
     r = f(x)
     fresh = False
-    for _ in range(max_iter):
+    for _ in range(maxiter):
         size = float(np.max(np.abs(r)))
         if not math.isfinite(size):
             return x, False, None, "the residual is not finite"
@@ -455,7 +457,7 @@ def _chord_newton(f, x, jac, typical, tol: float = 1e-10, max_iter: int = 30):
             jac, fresh = _fd_jacobian(f, x, r, typical), True
         else:
             return x, False, jac, f"the residual stalled at {size:.3g}"
-    return x, False, jac, f"{max_iter} iterations"
+    return x, False, jac, f"{maxiter} iterations"
 
 
 def _fd_jacobian(f, x, r, typical) -> np.ndarray:

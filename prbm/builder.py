@@ -30,6 +30,8 @@ network. The lock is found from the rank of the joints' Jacobian (``Network.mobi
 workaround the notes derive puts the beam's single pivot at G (gamma = |G end| / L when G lies on
 the beam between the clamp and the end), stated in the beam's record. If no such G exists the
 build raises ``LockedNetwork`` naming the beams.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

@@ -32,6 +32,8 @@ Readings where the printed equations are incomplete (notes seed-ch2-4 section 3)
 * The shooting method of Her et al. [24] for displacement boundary conditions is not given; here the
   unknown tip loads join the node positions in the same system, with the end position/angle
   conditions as extra equations, continued in steps from the unloaded shape.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

@@ -46,6 +46,8 @@ force on links 2 and 3 at d_out2, d_out3 (the Compliers of Example 3):
 MA_R = d_i / ((|I14 I24|/|I12 I24|) d_out2 + (|I14 I34|/|I13 I34|) d_out3), i.e. d_i omega4 =
 F_o (d_out2 omega2 + d_out3 omega3)/F_i with omega2/omega4 = 1/h4 and omega3/omega4 = h3/h4
 (``two_port_rigid_ma``, both forms).
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

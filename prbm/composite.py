@@ -19,6 +19,8 @@ Finding (notes seed-ch5-9 section 8.1, re-checked here): Tables 9.1-9.3's PRBM c
 reproduced by any fixed-direction, follower or constant-friction variant with constant EI; the EI
 back-solved from eq (47) row by row drifts with load (438 -> 462 lb in^2 for Test 1(a)).  What does
 hold is that Test 1(a)'s printed PRBM points lie on the PRBM circle of gamma(0) (eq 48-50).
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

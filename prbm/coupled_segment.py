@@ -27,6 +27,8 @@ Segment models:
   by the secant method from the rotation under the loads transferred with the undeformed offsets.
 
 A level whose loads are all zero is the unloaded pose (a, b, theta0) = ``rest``.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

@@ -32,6 +32,8 @@ by the modes themselves. ``procedure`` runs the chapter-8 steps in that order: s
 step 4 rejects F_C <= 0 and raises a segment's mode, the first feasible combination is the first
 static mode shape (the minimum DOF), and steps 5-7 list the higher feasible shapes, each F_C being
 the number of load or displacement boundary conditions it needs; the maximum DOF is the largest.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

@@ -28,6 +28,8 @@ length, the sweep parameters per point, the load level), the boundary curves of 
 ``boundary_curves`` (``boundary_b``, ``boundary_lower``, ``boundary_upper``), and ``excluded``, the
 number of grid points dropped because their load ratio n lies outside the fit family's published
 range (never extrapolated), plus any other exclusion count named after its reason.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

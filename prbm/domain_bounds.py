@@ -13,6 +13,8 @@
   l/2 + L about the middle of the flexure (eq 127; a length, not a factor).
 
 Where b/l exceeds the arc's radius the arcs return NaN (the arc does not reach that height).
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

@@ -21,6 +21,8 @@ Theta1, g(Theta1) = R2 sin Theta1 + R3 sin(Theta1 - theta0/c_theta + theta0) + R
 is feasible when it has a root with Theta1 > 0 and Theta2 > 0 (Fig. 3.11's flowchart is missing; this is
 the algorithm the text states).  "Average PRBM parameters [33, 38, 40]" are used without values; the
 defaults here are the Pauly-Midha constants at n = 0 (eqs 41, 42): gamma = 0.851892, c_theta = 1.238845.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

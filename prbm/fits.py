@@ -30,6 +30,8 @@ Pure end moment (seed 004, "Cantilever with a pure end moment"): gamma = 0.7346 
 spring of 1.5164 EI/L.  Seed 004 calls 1.5164 the spring constant in units of EI/L; in Howell's
 notation k = gamma K_Theta EI/L, so its K_Theta would be 1.5164/0.7346 = 2.0643.  Since the exact
 tip slope of a cantilever under an end moment is ML/EI = 1.5164 Theta, c_theta = 1.5164 follows.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

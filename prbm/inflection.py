@@ -45,6 +45,8 @@ of ``key`` to ``target`` instead.  Example: Table 3.3 Ex. 3 has two valid roots,
 U = 44.42 in-lb); the ordering reports the printed one first.
 Displacement problems search P > 0 (phi1 in (0, pi)), as in every table of the seed; for P < 0
 mirror the boundary conditions (b, theta0 -> -b, -theta0).
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

@@ -38,6 +38,8 @@ Speed: along a scan each segment's solve is continued from its previous root (MI
 last state, in 1, 4 or 16 steps of the given end), the multistart of ``prbm.inflection`` the fallback;
 a continued root is accepted only when it is valid by the same rules, so where several valid roots
 exist the one reported is the one the scan follows.
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

@@ -28,6 +28,8 @@ What the seed leaves open (its Fig. 2.19 is missing), and the reading taken here
 
 Unknowns l_A, theta_A, theta_B; equations (66), (67*), (69); solved by Powell's hybrid method from the
 symmetric guided-beam start (l_A = l/2, theta_A = theta_B).
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

@@ -26,6 +26,8 @@ The garbled eqs (201) and (204) are not implemented (notes seed-ch5-9 section 3.
 Slider-crank (chapter 7, Fig 7.2): crank R2 at Theta2 about O2, coupler R3 to the slider pin on the
 axis y = offset (axis along x, Theta1 = 0); springs k1 (O2), k2 (A), k3 (slider pin), f_k (slider).
 Compliance torque eq (196); MA_R = d_i/|I12 I24| (eq 199).
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 

@@ -35,6 +35,8 @@ whose mobility is smaller than the number of prescribed motions is locked (``mob
 Sign conventions: angles CCW positive, rotations are changes from the unloaded pose; the load
 received at a point is the total external load applied there (applied forces and couples, plus
 what a prescribed motion there needs).
+
+Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 
@@ -664,13 +666,13 @@ def _residual(problem: _Problem, rows: np.ndarray, q, lam, t, scale=1.0):
     return g, Phi, K, J, force
 
 
-def _newton(problem, rows, q, lam, t, *, rtol, max_iter, scale=1.0):
+def _newton(problem, rows, q, lam, t, *, rtol, maxiter, scale=1.0):
     """Newton on the KKT system at fixed load parameter t, until the residual is below rtol times its
     force scale and the loop closes to rtol times the network's size (a step-size test alone can stop
     on a singular system). Returns (q, lam, converged, linear solves)."""
     n = problem.net.n
     closure = rtol * problem.length
-    for it in range(max_iter + 1):
+    for it in range(maxiter + 1):
         g, Phi, K, J, force = _residual(problem, rows, q, lam, t, scale)
         g_size = float(np.abs(g).max()) if n else 0.0
         phi_size = float(np.abs(Phi).max()) if Phi.size else 0.0
@@ -679,7 +681,7 @@ def _newton(problem, rows, q, lam, t, *, rtol, max_iter, scale=1.0):
         if g_size <= rtol * force and phi_size <= closure:
             problem.last_kkt = (K, J)  # the converged state's Hessian and Jacobian, for its stability
             return q, lam, True, it
-        if it == max_iter:
+        if it == maxiter:
             break
         m = len(Phi)
         A = np.zeros((n + m, n + m))
@@ -691,7 +693,7 @@ def _newton(problem, rows, q, lam, t, *, rtol, max_iter, scale=1.0):
             return q, lam, False, it
         q = q + step[:n]
         lam = lam + step[n:]
-    return q, lam, False, max_iter
+    return q, lam, False, maxiter
 
 
 def _stability(problem, rows, q, lam, t, scale=1.0, kkt=None) -> tuple[bool | None, float]:
@@ -725,7 +727,7 @@ def _check_mobility(network: Network, problem: _Problem) -> tuple[int, np.ndarra
     return mobility, rows
 
 
-def solve(network: Network, loads: list, n_levels: int, *, rtol: float = 1e-11, max_iter: int = 30,
+def solve(network: Network, loads: list, n_levels: int, *, rtol: float = 1e-11, maxiter: int = 30,
           max_cuts: int = 12, stability: bool = True) -> NetworkResult:
     """Equilibrium at every load level by Newton with load stepping (each level from the last one;
     a failed step is halved up to ``max_cuts`` times). Raises LockedNetwork if the prescribed motions
@@ -756,11 +758,11 @@ def solve(network: Network, loads: list, n_levels: int, *, rtol: float = 1e-11, 
             else:
                 guess = (q, lam)
             q_new, lam_new, conv, it = _newton(problem, rows, guess[0].copy(), guess[1].copy(), t + dt,
-                                               rtol=rtol, max_iter=max_iter)
+                                               rtol=rtol, maxiter=maxiter)
             its += it
             if not conv and guess[0] is not q:
                 q_new, lam_new, conv, it = _newton(problem, rows, q.copy(), lam.copy(), t + dt,
-                                                   rtol=rtol, max_iter=max_iter)
+                                                   rtol=rtol, maxiter=maxiter)
                 its += it
             if conv:
                 q, lam, t = q_new, lam_new, t + dt
@@ -791,7 +793,7 @@ def solve(network: Network, loads: list, n_levels: int, *, rtol: float = 1e-11, 
 
 
 def trace(network: Network, loads: list, *, steps: int = 200, ds: float = 0.05, t_max: float = 1.0,
-          rtol: float = 1e-11, max_iter: int = 25) -> NetworkResult:
+          rtol: float = 1e-11, maxiter: int = 25) -> NetworkResult:
     """Pseudo-arclength continuation in the load factor lambda (loads = lambda x the last level of
     ``loads``), from the unloaded pose until lambda reaches ``t_max`` or ``steps`` are taken; passes
     limit points. Unknowns z = (q, lam, lambda); the extra equation is t_prev . (z - z_pred) = 0
@@ -840,7 +842,7 @@ def trace(network: Network, loads: list, *, steps: int = 200, ds: float = 0.05, 
         pred = z + ds * tangent
         zz = pred.copy()
         ok = False
-        for it in range(1, max_iter + 1):
+        for it in range(1, maxiter + 1):
             r, A = F(zz)
             full = np.vstack([A, weight * tangent])
             rhs = -np.concatenate([r, [(weight * tangent) @ (zz - pred)]])

@@ -1,4 +1,7 @@
-"""The result object every PRBM solve returns (modelled on scipy.optimize.OptimizeResult)."""
+"""The result object every PRBM solve returns (modelled on scipy.optimize.OptimizeResult).
+
+Angles are in radians (degrees appear only in case files and reports).
+"""
 from __future__ import annotations
 
 from dataclasses import dataclass, field

@@ -20,6 +20,8 @@ parametrisation) and inequality constraints g(k) <= 0 (e.g. the stress of the se
 spring, see ``prbm.synthesis.segments``), by SLSQP from several starts (the bounded linear least-squares
 solution among them).  Section 6.6: a final F far from zero means the energies/torques do not
 agree with the link rotations -- the result says so and in which direction to change them.
+
+Angles are in degrees here, as in the seed's synthesis tables (chapters 3, 5, 6); the PRBM library they feed works in radians.
 """
 from __future__ import annotations
 

@@ -29,6 +29,8 @@ closed form for the usual sets of free choices:
 
 A triangle that does not close (|c| outside [||p| - |q||, |p| + |q|]) means the precision positions
 are incompatible with the free choices: that is returned as a failed result with a message.
+
+Angles are in degrees here, as in the seed's synthesis tables (chapters 3, 5, 6); the PRBM library they feed works in radians.
 """
 from __future__ import annotations
 

@@ -20,6 +20,8 @@ b = dX' sin(alpha) + dY' cos(alpha) and delta = dX' cos(alpha) - dY' sin(alpha) 
 b = (dX' + dY')/sqrt 2, delta = (dX' - dY')/sqrt 2; notes/seed-ch2-4.md section 5.9).
 The l-I pair is ill-conditioned (a family of nearly equivalent designs): the result reports the
 residual and the spread of the roots found.
+
+Angles are in degrees here, as in the seed's synthesis tables (chapters 3, 5, 6); the PRBM library they feed works in radians.
 """
 from __future__ import annotations
 

@@ -21,6 +21,8 @@ Unknowns: every R2j, Th2j, R3j, Th3j not given as a free choice, R5, th5, R6, an
 forces are specified.  The equations must be as many as the unknowns (design tables 5.1-5.3); the
 system is solved by ``least_squares`` from a grid of starts and every valid root (R > 0, Th3j > gam_j
 and load ratios n2j inside the fits' range) is returned, the first ``max_roots`` found.
+
+Angles are in degrees here, as in the seed's synthesis tables (chapters 3, 5, 6); the PRBM library they feed works in radians.
 """
 from __future__ import annotations
 

@@ -11,6 +11,8 @@ Seed 000 (Bapat 2015):
 For the fixed-pinned and fixed-guided segments the stress is estimated the same way, from the spring
 torque M = k Delta-beta and sigma = M c / I -- a PRBM estimate, not the clamp moment of the elastica.
 A rectangular section of width w gives t = (12 I / w)^(1/3) and c = t/2.
+
+Angles are in degrees here, as in the seed's synthesis tables (chapters 3, 5, 6); the PRBM library they feed works in radians.
 """
 from __future__ import annotations
 
