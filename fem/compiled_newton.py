@@ -181,7 +181,7 @@ def _evaluate(q, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, 
 @njit(cache=True)
 def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, L0, beta0,
                 ka, kb, springs, spring_k, ground, flat, valid_src, coef, banded, kl, ku, ld, rot,
-                rtol, atol, floor, L_ref, max_iter, damp, max_rot_inc,
+                rtol, atol, floor, L_ref, maxiter, damp, max_rot_inc,
                 K, u, f_int, f_ref, R, r, fr, fe, Ke, N, M, L, beta, theta_bar, u_bar, jumped, hist):
     """Every iteration of the load-control corrector from q (updated in place). Returns
     (status, iterations, det sign of the last factorisation (2: none), F_scale, rotation increment
@@ -199,7 +199,7 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
             has_rot = True
     dq_small = False
     sign = 2
-    for it in range(max_iter + 1):
+    for it in range(maxiter + 1):
         scale = _evaluate(q, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, L0, beta0,
                           ka, kb, springs, spring_k, ground, flat, valid_src, coef, K, u, f_int, f_ref,
                           R, r, fr, fe, Ke, N, M, L, beta, theta_bar, u_bar, jumped, sp)
@@ -210,7 +210,7 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
             return NOT_FINITE, it, sign, scale, 0.0
         if (rn <= tol or dq_small) and (it > 0 or rn <= rtol * scale + atol):
             return CONVERGED, it, sign, scale, 0.0
-        if it == max_iter:
+        if it == maxiter:
             return NO_CONVERGENCE, it, sign, scale, 0.0
         for j in range(K.shape[0]):
             if not math.isfinite(K[j]):
@@ -248,7 +248,7 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
             limit = (2.0 if it == 0 else 4.0) * max_rot_inc
             if dth > limit:
                 return ROTATION_TOO_LARGE, it + 1, sign, scale, dth
-    return NO_CONVERGENCE, max_iter, sign, 0.0, 0.0
+    return NO_CONVERGENCE, maxiter, sign, 0.0, 0.0
 
 
 @njit(cache=True)

@@ -100,7 +100,7 @@ def newton(system, q, lam, beta, loads, opts: SolveOptions, mode="load", ctrl=No
     has_rot = bool(rot.any())
     scale = np.where(rot, 1.0, system.L_ref)
     q_start = q.copy() if q_start is None else q_start
-    for it in range(opts.max_iter + 1):
+    for it in range(opts.maxiter + 1):
         ev = system.evaluate(q, beta, lam, F_fixed, F0, presc, need_K=True)
         r = ev["r"]
         rn = math.sqrt(float(r.dot(r)))    # = np.linalg.norm(r) (its own formula), without its overhead
@@ -113,7 +113,7 @@ def newton(system, q, lam, beta, loads, opts: SolveOptions, mode="load", ctrl=No
         # otherwise leave the unloaded state accepted as converged
         if (rn <= tol or dq_small) and (it > 0 or mode == "load" and rn <= opts.rtol * ev["F_scale"] + opts.atol):
             return NewtonOutcome(q, lam, ev, hist, it, fac)
-        if it == opts.max_iter:
+        if it == opts.maxiter:
             raise StepFailed(f"no convergence in {it} iterations (|r|/F = {hist[-1]:.2e})", it)
         try:
             fac = system.layout.factor(ev["K"])
@@ -183,12 +183,12 @@ def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start) -
               L=np.empty(n_el), beta=np.empty(n_el), theta_bar=np.empty((n_el, 2)), u_bar=np.empty(n_el),
               jumped=np.empty(n_el, dtype=bool))
     K, u, f_int, f_ref, R = np.empty(c.size), np.empty(nf), np.empty(nf), np.empty(nf), np.empty(nf)
-    r, fr, hist = np.empty(n), np.empty(n), np.empty(opts.max_iter + 1)
+    r, fr, hist = np.empty(n), np.empty(n), np.empty(opts.maxiter + 1)
     status, it, sign, scale, dth = cn.newton_load(
         q, q_start, np.asarray(presc, dtype=float), float(lam), F_fixed, beta, system.I0, system.C0_flat,
         d.prescribed_dofs, d.edofs, system.X1, system.X2, d.L0, d.beta0, d.ka, d.kb, d.springs,
         d.spring_k, d.ground, c.flat, system.valid_src, system.coef_const, c.banded, c.kl, c.ku, c.ld,
-        d.red_is_rotation, opts.rtol, opts.atol, system.noise_floor, system.L_ref, opts.max_iter,
+        d.red_is_rotation, opts.rtol, opts.atol, system.noise_floor, system.L_ref, opts.maxiter,
         float(opts.max_iteration_rotation or 0.0), opts.max_rotation_increment, K, u, f_int, f_ref, R, r,
         fr, el["f"], el["K"], el["N"], el["M"], el["L"], el["beta"], el["theta_bar"], el["u_bar"],
         el["jumped"], hist)

@@ -9,7 +9,7 @@ limit point or bifurcation found along the path.
 from __future__ import annotations
 
 import enum
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -22,7 +22,7 @@ class SolveOptions:
     """Shared by the three control modes. Tolerance |r| <= rtol max(|f_ext|, |f_int|) + atol."""
     rtol: float = 1e-10
     atol: float = 0.0
-    max_iter: int = 20
+    maxiter: int = 20
     initial_step: float = 1.0            # of a level (load control) or of the path to a target
     min_step: float = 1e-7
     max_rotation_increment: float = np.pi    # rad, per accepted step at any node

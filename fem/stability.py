@@ -177,7 +177,7 @@ def _lowest(A):
     return float(np.min(vals))
 
 
-def _descend(system, q, lam, beta, loads, free, tol, scale, max_iter=200):
+def _descend(system, q, lam, beta, loads, free, tol, scale, maxiter=200):
     """Minimise Pi over the DOFs `free` from q: Newton on K + mu I (mu = 1.5 |mu_min| while
     K_ff is indefinite, Levenberg-Marquardt) with a backtracking line search on Pi.
     Leaves a saddle along negative curvature; ends near a minimum (a stable state).
@@ -185,7 +185,7 @@ def _descend(system, q, lam, beta, loads, free, tol, scale, max_iter=200):
     eye = sp.identity(len(free), format="csc")
     ev = system.evaluate(q, beta, lam, *loads, need_K=True)
     pi = potential(system, ev, lam)
-    for _ in range(max_iter):
+    for _ in range(maxiter):
         r = ev["r"][free]
         A = system.layout.to_sparse(ev["K"])[free][:, free]
         A = 0.5 * (A + A.T)

@@ -140,7 +140,7 @@ def _residual(model: Model, result: FemResult, tip: str, tie, tied: np.ndarray) 
 
 
 def solve_tip_inverse(model: Model, tip: str, tie: LoadRatio | ZeroMoment | Position | None = None, *,
-                      guess=None, tie_rtol: float = 1e-7, max_iter: int = 40, n_levels: int | None = None,
+                      guess=None, tie_rtol: float = 1e-7, maxiter: int = 40, n_levels: int | None = None,
                       **solve_options) -> TipInverseResult:
     """Solve the inverse tip problem of ``model`` (its prescribed tip DOFs are the pose).
 
@@ -189,7 +189,7 @@ def solve_tip_inverse(model: Model, tip: str, tie: LoadRatio | ZeroMoment | Posi
         f1 = f0 + 1e-3 * np.where(load_scale > 0, load_scale, 1.0)
     f_prev, g_prev = f0, g0
     f, res, g, scale, trial = f1, None, None, scale0, trial0
-    for it in range(1, max_iter + 1):
+    for it in range(1, maxiter + 1):
         step = f - f_prev
         for _ in range(8):
             res, g, scale, trial = evaluate(f)
@@ -207,8 +207,8 @@ def solve_tip_inverse(model: Model, tip: str, tie: LoadRatio | ZeroMoment | Posi
         slope = (g - g_prev) / np.where(f != f_prev, f - f_prev, np.nan)
         f_next = np.where(done | ~np.isfinite(slope) | (slope == 0), f, f - g / slope)
         f_prev, g_prev, f = f, g, f_next
-    return _failed(res, f, max_iter, nfev, t0,
-                   f"tied load not converged in {max_iter} secant iterations: residual {np.abs(g).max():.3g}")
+    return _failed(res, f, maxiter, nfev, t0,
+                   f"tied load not converged in {maxiter} secant iterations: residual {np.abs(g).max():.3g}")
 
 
 def _failed(result, tied, nit, nfev, t0, message) -> TipInverseResult:
