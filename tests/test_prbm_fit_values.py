@@ -41,10 +41,6 @@ def printed(coefficients, n):
     return sum(c * n**i for i, c in enumerate(coefficients))
 
 
-def printed_slope(coefficients, n):
-    return sum(i * c * n ** (i - 1) for i, c in enumerate(coefficients) if i)
-
-
 def inner_points(lower, upper):
     """Three points inside (lower, upper] including the closed upper end."""
     return [lower + 0.25 * (upper - lower), lower + 0.7 * (upper - lower), upper]
@@ -128,3 +124,39 @@ def test_spring_angle_is_the_root_of_the_moment_balance(solver, most):
 def test_spring_angle_reports_no_convergence_when_out_of_iterations():
     theta, ok, iterations = spring_angle(20.0, 2.9, 1.0, maxiter=1)
     assert not ok and iterations == 1
+
+
+@pytest.mark.parametrize("family, name", sorted(PRINTED), ids=lambda v: str(v))
+def test_breakpoints_and_nearest_branch_on_every_path(family, name):
+    """A breakpoint belongs to the lower branch (lower < n <= upper, as printed) on the scalar, the
+    few-level and the array path; outside the range 'allow' evaluates the
+    nearest branch's printed polynomial on every path."""
+    fit = getattr(FAMILY[family], name)
+    branches = PRINTED[family, name]
+    for (_, upper, coeffs), (_, _, above) in zip(branches[:-1], branches[1:]):
+        many = np.full(100, upper)
+        assert fit(upper) == pytest.approx(printed(coeffs, upper), rel=1e-13)
+        assert fit(many) == pytest.approx(np.full(100, printed(coeffs, upper)), rel=1e-12)
+        just_above = np.full(100, upper + 1e-3)
+        assert fit(just_above) == pytest.approx(np.full(100, printed(above, upper + 1e-3)), rel=1e-12)
+    below, above = branches[0][0] - 0.5, branches[-1][1] + 0.5
+    outside = np.array([below, above] * 40)
+    want = np.array([printed(branches[0][2], below), printed(branches[-1][2], above)] * 40)
+    assert fit(outside, extrapolate="allow") == pytest.approx(want, rel=1e-12)
+    assert fit(outside[:2], extrapolate="allow") == pytest.approx(want[:2], rel=1e-12)
+
+
+def test_parameters_pass_the_extrapolation_choice_to_every_fit():
+    g, c, k = PAULY_MIDHA.parameters(12.0, extrapolate="allow")
+    assert (g, c, k) == pytest.approx((printed(PRINTED["pauly-midha", "gamma"][2][2], 12.0),
+                                       1.238845 + 0.009113 * 12 - 0.001929 * 144 + 0.000191 * 12**3 - 0.000007 * 12**4,
+                                       printed(PRINTED["pauly-midha", "K_theta"][1][2], 12.0)), rel=1e-12)
+    with pytest.warns(UserWarning, match="nearest branch extrapolated"):
+        PAULY_MIDHA.parameters(12.0, extrapolate="warn")
+
+
+def test_unknown_family_names_the_known_ones():
+    from prbm.fits import fit_family
+    with pytest.raises(ValueError, match="unknown fit family 'midha'; known: pauly-midha, howell"):
+        fit_family("midha")
+    assert fit_family("howell") is HOWELL and fit_family(PAULY_MIDHA) is PAULY_MIDHA
