@@ -23,7 +23,7 @@ coarser where stated):
 
 ``run_study(out)`` writes ``summary.json`` (every number), ``domains.png`` (clouds, boundaries and
 the printed arcs overlaid) and returns the ``DomainStudy``.  ``python -m validation.sweep.domain_study
---out DIR``; by default it writes under reports/latest/sweeps/chapter4_domains, where the report
+--out DIR``; by default it writes under reports/sweeps/chapter4_domains, where the report
 page shows the figure with the sweep studies.
 """
 from __future__ import annotations
@@ -48,7 +48,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 DATA = Path(__file__).resolve().parents[2] / "cases" / "sweeps" / "studies" / "chapter4_domains.toml"
-DEFAULT_OUT = Path("reports/latest/sweeps/chapter4_domains")
+DEFAULT_OUT = Path("reports/sweeps/chapter4_domains")
 DEG = math.pi / 180.0
 
 
