@@ -9,18 +9,17 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import Field
 
-Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+from validation.case.strict import Positive, Strict
+
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
 Count = Annotated[int, Field(ge=1)]
 PerLevel = float | list[float]  # one value for every level, or one per level
 
 
-class Options(BaseModel):
+class Options(Strict):
     """Base: unknown options are errors."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True)
 
 
 class MechanicalAdvantageOptions(Options):

@@ -19,12 +19,13 @@ import math
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic import Field, ValidationError, field_validator, model_validator
 from pydantic_core import PydanticCustomError
 
 from validation.case.capabilities import METHODS, QUANTITIES, method_quantities
 from validation.case.method_options import OPTIONS
 from validation.case.names import nearest
+from validation.case.strict import Finite, Positive, Strict
 
 UNIT_SYSTEMS: dict[str, dict[str, str]] = {
     "in-lb": {"length": "in", "force": "lbf", "modulus": "psi", "moment": "lbf*in",
@@ -37,14 +38,6 @@ UNIT_SYSTEMS: dict[str, dict[str, str]] = {
                       "energy": "EI/L", "stiffness": "EI/L"},
 }
 
-Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
-Finite = Annotated[float, Field(allow_inf_nan=False)]
-
-
-class Strict(BaseModel):
-    """Base: unknown fields are errors (a typo must not be silently ignored)."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True)
 
 
 class Source(Strict):

@@ -20,7 +20,6 @@ Options (``ma``): F_i, d_i (slider) or d_in, d_out2, d_out3, location_deg (four-
 """
 from __future__ import annotations
 
-import cmath
 import math
 
 import numpy as np
