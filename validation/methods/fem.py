@@ -40,6 +40,7 @@ import time
 import numpy as np
 
 import fem
+from fem.critical import refine_extremum
 from fem.soft_modes import soft_modes
 from validation.methods.inverse_problem import LOAD_OUTPUTS, InverseLevel, InverseSpec, Tie, inverse_spec, merge_runs
 from validation.methods import fem_outputs
@@ -332,9 +333,7 @@ def _limit_load(fem, case, model, options: dict):
         if not peaks:
             return math.nan, res, f"no limit point within {len(lam)} displacement steps ({res.message})"
         i = peaks[0]
-        y0, y1, y2 = lam[i - 1:i + 2]
-        curvature = y0 - 2 * y1 + y2
-        peak = y1 - (y0 - y2) ** 2 / (8 * curvature) if curvature else y1  # parabola through the peak
+        peak, _ = refine_extremum(np.arange(-1.0, 2.0), lam[i - 1:i + 2], np.full(3, np.nan))  # parabola
         return abs(peak) * reference, res, ""
     res = fem.solve(model, control="arclength", max_limit_points=1,
                     arc_length=options.get("arc_length"), max_steps=int(options.get("max_steps", 2000)))

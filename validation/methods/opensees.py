@@ -22,6 +22,7 @@ import time
 
 import numpy as np
 
+from fem.critical import refine_extremum
 from validation.methods.base import MethodRun, NotApplicable, Request, reject_loads_along_beams
 from validation.case.quantities import boundary_held_tip
 
@@ -212,10 +213,8 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
             iterations += ops.testIter()
             history.append(ops.getLoadFactor(1))
             if len(history) > 2 and history[-1] < history[-2]:
-                i = len(history) - 2  # parabola through the three points around the peak
-                y0, y1, y2 = history[i - 1], history[i], history[i + 1]
-                denom = y0 - 2 * y1 + y2
-                peak = y1 - (y0 - y2) ** 2 / (8 * denom) if denom else y1
+                i = len(history) - 2  # the same parabola through the three points around the peak as our FEM
+                peak, _ = refine_extremum(np.arange(-1.0, 2.0), np.asarray(history[i - 1:i + 2]), np.full(3, np.nan))
                 scale = np.abs(np.concatenate([np.atleast_1d(np.asarray(l.levels())) for l in case.loads])).max()
                 for r in requests:
                     if r.quantity == "limit_load":
