@@ -27,6 +27,7 @@ import numpy as np
 import pandas as pd
 
 from validation.report import paraview
+from validation.sweep.domain_study import run_study as run_domain_study
 from validation.run.exit_status import print_error
 from validation.report.paraview import normalise_shapes  # noqa: F401  (also used by tests)
 from validation.case.loader import find_case_files
@@ -436,6 +437,14 @@ def headline(rows) -> str:
             f"{sig(100 * worst.prbm_fem_length, 3)} % of L ({worst.case}).")
 
 
+def _domain_study(folder: Path) -> None:
+    """Seed 000 chapter 4's deflection domains (exact, FEM-free, ~15 s): run once, kept in ``folder``
+    until it is deleted (``python -m validation.sweep.domain_study`` re-runs it)."""
+    if not (folder / "domains.png").is_file():
+        print("chapter-4 deflection domains (validation.sweep.domain_study) ...", flush=True)
+        run_domain_study(folder)
+
+
 def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[str] | None = None) -> int:
     started = time.perf_counter()
     out.mkdir(parents=True, exist_ok=True)
@@ -451,6 +460,8 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
         pass
     summ = summary(table) if len(table) else pd.DataFrame()
     links = dict(_build_pages(outcome.results, table, out, jobs))
+    if not cases:  # the whole report: the chapter-4 deflection-domain study beside the sweep studies
+        _domain_study(out / "sweeps" / "chapter4_domains")
     summ.to_csv(out / "summary.csv", index=False)
     rows = [summarise(r, table[table["case"] == r.loaded.id]) for r in outcome.results]
     plot_overview(overview_points(outcome.results, table), out / "overview.png")
