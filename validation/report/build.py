@@ -27,7 +27,8 @@ import numpy as np
 import pandas as pd
 
 from validation.report import paraview
-from validation.sweep.domain_study import run_study as run_domain_study
+from validation.sweep import domain_study
+from validation.run import cache
 from validation.run.exit_status import print_error
 from validation.report.paraview import normalise_shapes  # noqa: F401  (also used by tests)
 from validation.case.loader import find_case_files
@@ -438,11 +439,15 @@ def headline(rows) -> str:
 
 
 def _domain_study(folder: Path) -> None:
-    """Seed 000 chapter 4's deflection domains (exact, FEM-free, ~15 s): run once, kept in ``folder``
-    until it is deleted (``python -m validation.sweep.domain_study`` re-runs it)."""
-    if not (folder / "domains.png").is_file():
-        print("chapter-4 deflection domains (validation.sweep.domain_study) ...", flush=True)
-        run_domain_study(folder)
+    """Seed 000 chapter 4's deflection domains (exact, FEM-free, ~15 s), kept in ``folder`` and run again
+    only when its figure is missing or a source it depends on (code or data) has changed."""
+    stamp = folder / "sources.sha256"
+    digest = cache.digest_of(cache.sources_of([Path(domain_study.__file__)]) + [domain_study.DATA])
+    if (folder / "domains.png").is_file() and stamp.is_file() and stamp.read_text() == digest:
+        return
+    print("chapter-4 deflection domains (validation.sweep.domain_study) ...", flush=True)
+    domain_study.run_study(folder)
+    stamp.write_text(digest)
 
 
 def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[str] | None = None) -> int:

@@ -135,9 +135,9 @@ def summarise(result: CaseResult, part: pd.DataFrame) -> CaseSummary:
     case = result.loaded.case
     methods = [MethodState(m, *run_badge(r, case.case.expected_failure.get(m))) for m, r in result.runs.items()]
     claimed = part[part["within_tolerance"].notna()]
-    outside = claimed[(claimed["within_tolerance"] == False) & claimed["finding"].isna()]  # noqa: E712
     expected = claimed["method"].isin(list(case.case.expected_failure)) & claimed["value"].isna()
-    outside = outside[~expected.reindex(outside.index, fill_value=False)]  # no value where a failure is expected
+    outside = claimed[(claimed["within_tolerance"] == False) & claimed["finding"].isna()  # noqa: E712
+                      & ~expected]  # no value where a failure is expected is not a comparison outside
     findings = part["finding"].dropna().unique()
     n_findings = len(findings) + len(case.case.findings)
     if len(outside) or any(s.badge is Badge.FAILED for s in methods):

@@ -68,11 +68,10 @@ def _imports(path: Path, root: Path) -> set[Path]:
     return found
 
 
-def source_files(method: str, root: Path | None = None) -> list[Path]:
-    """Every repository source file a method's results can depend on: its adapter, the runner that
-    calls it, and everything they import, transitively (schema, quantity contract, options, the library)."""
+def sources_of(start: list[Path], root: Path | None = None) -> list[Path]:
+    """Every repository source file the files ``start`` depend on: themselves and everything they
+    import, transitively."""
     root = root or ROOT
-    start = [root / "validation" / "methods" / f"{method}.py", root / "validation" / "run" / "runner.py"]
     seen: set[Path] = set()
     todo = [p for p in start if p.is_file()]
     while todo:
@@ -84,11 +83,18 @@ def source_files(method: str, root: Path | None = None) -> list[Path]:
     return sorted(seen)
 
 
-@lru_cache(maxsize=None)
-def code_hash(method: str) -> str:
-    """Hash of every source file the method's results depend on, and of the third-party versions."""
+def source_files(method: str, root: Path | None = None) -> list[Path]:
+    """Every repository source file a method's results can depend on: its adapter, the runner that
+    calls it, and everything they import, transitively (schema, quantity contract, options, the library)."""
+    root = root or ROOT
+    return sources_of([root / "validation" / "methods" / f"{method}.py", root / "validation" / "run" / "runner.py"],
+                      root)
+
+
+def digest_of(paths: list[Path]) -> str:
+    """Hash of the files (names and contents) and of the third-party versions that can change a result."""
     digest = hashlib.sha256()
-    for path in source_files(method):
+    for path in paths:
         digest.update(path.relative_to(ROOT).as_posix().encode())
         digest.update(path.read_bytes())
     for name in LIBRARY_VERSIONS:
@@ -97,6 +103,12 @@ def code_hash(method: str) -> str:
         except metadata.PackageNotFoundError:
             continue
     return digest.hexdigest()
+
+
+@lru_cache(maxsize=None)
+def code_hash(method: str) -> str:
+    """Hash of every source file the method's results depend on, and of the third-party versions."""
+    return digest_of(source_files(method))
 
 
 def run_key(case_text: str, method: str, options: dict) -> str:
