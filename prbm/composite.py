@@ -29,11 +29,13 @@ import time
 from typing import Iterable
 
 import numpy as np
-from scipy.optimize import brentq
 
 from prbm.fits import fit_family
 from prbm.result import PRBMResult
 from prbm.segments import fixed_pinned_tip
+from prbm.lazy import LazyModule
+
+optimize = LazyModule("scipy.optimize")  # brentq: imported at its first use
 
 __all__ = ["layered_bending_stiffness", "capstan_factor", "composite_beam_tip"]
 
@@ -78,7 +80,7 @@ def composite_beam_tip(force, n=0.0, *, length: float, layers=None, EI: float | 
     gamma, c_theta, K = (np.broadcast_to(v, n_eff.shape) for v in fam.parameters(n_eff, extrapolate))
     phi = np.arctan2(1.0, -n_eff)
     beta = np.atleast_1d(np.abs(P) * eta * length**2 / EI)
-    Theta = np.array([0.0 if bb == 0 else brentq(lambda t: bb * math.sin(ph + (c - 1) * t) - k * t,
+    Theta = np.array([0.0 if bb == 0 else optimize.brentq(lambda t: bb * math.sin(ph + (c - 1) * t) - k * t,
                                                  0.0, (bb + 1.0) / k, xtol=1e-14)
                       for bb, ph, c, k in zip(beta, phi, c_theta, K)])
     ok, nit = np.ones(Theta.shape, bool), 0

@@ -48,12 +48,14 @@ import math
 import time
 
 import numpy as np
-from scipy.optimize import brentq
 
 from prbm.fits import (PURE_MOMENT_C_THETA, PURE_MOMENT_GAMMA, PURE_MOMENT_SPRING, FitRangeError,
                        fit_family)
 from prbm.result import PRBMResult
 from argcheck import checked
+from prbm.lazy import LazyModule
+
+optimize = LazyModule("scipy.optimize")  # brentq: imported at its first use
 
 __all__ = [
     "spring_angle", "fixed_pinned_tip", "fixed_pinned_from_tip", "pure_moment_tip",
@@ -561,7 +563,7 @@ def slfp_end_tip(F: complex, M: float, *, flexure_length: float, EI: float, xtol
         return k * theta - M - R * (F.imag * math.cos(theta) - F.real * math.sin(theta))
 
     lo, hi = (M - R * abs(F)) / k, (M + R * abs(F)) / k
-    Theta = lo if lo == hi else brentq(residual, lo, hi, xtol=xtol)
+    Theta = lo if lo == hi else optimize.brentq(residual, lo, hi, xtol=xtol)
     out = {"a": R * (1.0 + math.cos(Theta)), "b": R * math.sin(Theta), "theta0": Theta, "Theta": Theta}
     return PRBMResult(True, "converged", out, {"k": k, "R": R, "Theta_i": 0.0},
                       "small-length flexural pivot, end loads, seed 000 eqs (71)-(76)", time.perf_counter() - t0)

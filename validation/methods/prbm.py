@@ -43,20 +43,29 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 import prbm
 from prbm.fits import THETA_RANGE, fit_family
+from prbm.lazy import LazyModule
 from prbm.result import PRBMResult
-from validation.methods import (prbm_alternatives, prbm_body, prbm_fourbar, prbm_inflection, prbm_ma,
-                                prbm_network)
+from validation.methods import prbm_alternatives, prbm_ma
 from validation.methods.base import (Applicability, MethodRun, NotApplicable, Request,
                                      reject_loads_along_beams)
 from validation.methods.prbm_common import DEG, pick, plain
 from validation.methods.prbm_common import per_level as _per_level
 from validation.methods.prbm_common import prefer as prefer_option
 from validation.case.quantities import boundary_held_tip, unloaded_tip_angle
+
+if TYPE_CHECKING:  # loaded at first use (below); named here for the static import walks (run-cache hash)
+    from validation.methods import prbm_body, prbm_fourbar, prbm_inflection, prbm_network
+else:  # the mechanism parts import scipy and the network solver: a segment case does not load them
+    prbm_body = LazyModule("validation.methods.prbm_body")
+    prbm_fourbar = LazyModule("validation.methods.prbm_fourbar")
+    prbm_inflection = LazyModule("validation.methods.prbm_inflection")
+    prbm_network = LazyModule("validation.methods.prbm_network")
 
 
 def run(case, requests: list[Request], options: dict) -> MethodRun:

@@ -22,14 +22,24 @@ from __future__ import annotations
 import math
 import time
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
-from prbm import chain as chain_model
-from prbm import feasible_l1
-from prbm import lyon as lyon_model
-from prbm import theta_dependent
 from prbm.fits import FitRangeError
+from prbm.lazy import LazyModule
 from validation.methods.base import MethodRun, NotApplicable, Request
+
+if TYPE_CHECKING:  # loaded at first use (below); named here for the static import walks (run-cache hash)
+    from prbm import chain as chain_model
+    from prbm import feasible_l1
+    from prbm import lyon as lyon_model
+    from prbm import theta_dependent
+else:  # these models import scipy.optimize: only a case that asks for one pays for it
+    chain_model = LazyModule("prbm.chain")
+    feasible_l1 = LazyModule("prbm.feasible_l1")
+    lyon_model = LazyModule("prbm.lyon")
+    theta_dependent = LazyModule("prbm.theta_dependent")
 
 MODELS = ("theta-dependent", "chain", "lyon", "feasible-l1")
 

@@ -24,10 +24,16 @@ import math
 
 import numpy as np
 
+from typing import TYPE_CHECKING
+
 import prbm
-from prbm.compliance import (FourBarPose, SliderPose, compliant_ma, fourbar_compliance_torque,
-                             slider_compliance, two_port_rigid_ma)
+from prbm.lazy import LazyModule
 from validation.methods.base import MethodRun, NotApplicable
+
+if TYPE_CHECKING:  # loaded at first use (below); named here for the static import walks (run-cache hash)
+    from prbm import compliance
+else:  # imports scipy.optimize: only a case that asks for the compliance MA pays for it
+    compliance = LazyModule("prbm.compliance")
 
 DEG = math.pi / 180.0
 
@@ -72,11 +78,11 @@ def _slider(case, options: dict) -> dict[str, np.ndarray]:
     theta2 = np.array([sc.theta2_at(float(x)) for x in dx])
     raw = np.asarray(sc.theta3(theta2), float)
     theta3 = sc.theta3_ref + np.remainder(raw - sc.theta3_ref + math.pi, 2.0 * math.pi) - math.pi
-    pose = SliderPose(sc.R2, sc.R3, theta2, theta3, sc.theta2_ref, sc.theta3_ref, sc.x_ref)
-    T_c = slider_compliance(pose, springs, float(sp.get("f_k", 0.0)), "crank")
+    pose = compliance.SliderPose(sc.R2, sc.R3, theta2, theta3, sc.theta2_ref, sc.theta3_ref, sc.x_ref)
+    T_c = compliance.slider_compliance(pose, springs, float(sp.get("f_k", 0.0)), "crank")
     F_i, d_i = float(ma["F_i"]), float(ma["d_i"])
     rigid = sc.rigid_ma(theta2, d_i)
-    return {"mechanical_advantage": compliant_ma(rigid, T_c / d_i, _input_sense(case) * F_i),
+    return {"mechanical_advantage": compliance.compliant_ma(rigid, T_c / d_i, _input_sense(case) * F_i),
             "input_torque": T_c, "input_angle": np.degrees(theta2)}
 
 
@@ -90,10 +96,11 @@ def _compliers(case, options: dict) -> dict[str, np.ndarray]:
     if theta2 is None:
         raise NotApplicable(f"the four-bar cannot turn link 4 by {ma['location_deg']} deg from its measured pose")
     theta3 = float(fb.angles(theta2)[0])
-    pose = FourBarPose(fb.R2, fb.R3, fb.R4, theta2, theta3, target, t20, t30, t40)
+    pose = compliance.FourBarPose(fb.R2, fb.R3, fb.R4, theta2, theta3, target, t20, t30, t40)
     springs = tuple(float(sp.get(f"k{i}", 0.0)) for i in range(1, 5))
-    T_c = float(fourbar_compliance_torque(pose, springs, input_link=4))
-    rigid = float(two_port_rigid_ma(pose, fb.Z1, float(ma["d_in"]), float(ma["d_out2"]), float(ma["d_out3"])))
+    T_c = float(compliance.fourbar_compliance_torque(pose, springs, input_link=4))
+    rigid = float(compliance.two_port_rigid_ma(pose, fb.Z1, float(ma["d_in"]), float(ma["d_out2"]),
+                                               float(ma["d_out3"])))
     forces = [ld for ld in case.loads if ld.kind == "force"]
     if len(forces) != 1:
         raise NotApplicable("Type 2 MA: give the input forces F_i as the values of one 'force' load")
@@ -102,7 +109,7 @@ def _compliers(case, options: dict) -> dict[str, np.ndarray]:
         raise NotApplicable("Type 2 MA: the input forces must be positive (magnitudes)")
     sense = math.copysign(1.0, float(ma["location_deg"]))
     n = case.n_levels()
-    return {"mechanical_advantage": compliant_ma(rigid, T_c / float(ma["d_in"]), sense * F_i),
+    return {"mechanical_advantage": compliance.compliant_ma(rigid, T_c / float(ma["d_in"]), sense * F_i),
             "input_torque": np.full(n, T_c), "input_angle": np.full(n, math.degrees(target))}
 
 
