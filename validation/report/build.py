@@ -19,6 +19,7 @@ import subprocess
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
 from importlib import metadata
 from pathlib import Path
 
@@ -38,7 +39,7 @@ from validation.report.overview import CLAIMS, overview_points, plot_overview
 from validation.report.summary import (METHOD_NAMES, case_sentence, findings, findings_html, summarise,
                                        summary_markdown, summary_tables_html)
 from validation.run.runner import CaseResult
-from validation.run.outcome import run_cases, summary
+from validation.run.outcome import run_cases, summary, tabulate
 
 matplotlib.use("Agg")  # files only, no display
 import matplotlib.pyplot as plt  # noqa: E402
@@ -387,12 +388,32 @@ def _page_job(args) -> tuple[str, str]:
     return page
 
 
-def _build_pages(results: list[CaseResult], table: pd.DataFrame, out: Path, jobs: int):
-    tasks = [(r, table[table["case"] == r.loaded.id], out) for r in results]
+@dataclass(frozen=True)
+class PageWriter:
+    """``run_cases``' ``after``: a case's page drawn in the worker that ran the case, right after it
+    (so pages are drawn while other cases still run). Its rows are ``tabulate`` of the case in the
+    order of the whole table (which ``run_cases`` sorts by group, case, method, quantity, point, level)."""
+
+    out: Path
+
+    def __call__(self, result: CaseResult) -> str:
+        part = tabulate(result)
+        if len(part):
+            part = part.sort_values(["group", "case", "method", "quantity", "point", "level"], kind="stable",
+                                    ignore_index=True)
+        return _page_job((result, part, self.out))[1]
+
+
+def _build_pages(results: list[CaseResult], table: pd.DataFrame, out: Path, jobs: int, done: dict | None = None):
+    """(case id, page link) of every case; the pages not in ``done`` (already drawn) are drawn here."""
+    done = done or {}
+    tasks = [(r, table[table["case"] == r.loaded.id], out) for r in results if r.loaded.id not in done]
     if jobs > 1 and len(tasks) > 1:
         with ProcessPoolExecutor(max_workers=jobs) as pool:
-            return list(pool.map(_page_job, tasks, chunksize=4))
-    return [_page_job(t) for t in tasks]
+            drawn = list(pool.map(_page_job, tasks, chunksize=4))
+    else:
+        drawn = [_page_job(t) for t in tasks]
+    return list(done.items()) + drawn
 
 
 def _readings_section(results, table: pd.DataFrame, links: dict) -> tuple[list[str], list[str]]:
@@ -438,16 +459,22 @@ def headline(rows) -> str:
             f"{sig(100 * worst.prbm_fem_length, 3)} % of L ({worst.case}).")
 
 
-def _domain_study(folder: Path) -> None:
+@dataclass(frozen=True)
+class DomainStudy:
     """Seed 000 chapter 4's deflection domains (exact, FEM-free, ~15 s), kept in ``folder`` and run again
-    only when its figure is missing or a source it depends on (code or data) has changed."""
-    stamp = folder / "sources.sha256"
-    digest = cache.digest_of(cache.sources_of([Path(domain_study.__file__)]) + [domain_study.DATA])
-    if (folder / "domains.png").is_file() and stamp.is_file() and stamp.read_text() == digest:
-        return
-    print("chapter-4 deflection domains (validation.sweep.domain_study) ...", flush=True)
-    domain_study.run_study(folder)
-    stamp.write_text(digest)
+    only when its figure is missing or a source it depends on (code or data) has changed; a task of
+    ``run_cases``' pool, run beside the cases."""
+
+    folder: Path
+
+    def __call__(self) -> None:
+        stamp = self.folder / "sources.sha256"
+        digest = cache.digest_of(cache.sources_of([Path(domain_study.__file__)]) + [domain_study.DATA])
+        if (self.folder / "domains.png").is_file() and stamp.is_file() and stamp.read_text() == digest:
+            return
+        print("chapter-4 deflection domains (validation.sweep.domain_study) ...", flush=True)
+        domain_study.run_study(self.folder)
+        stamp.write_text(digest)
 
 
 def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[str] | None = None) -> int:
@@ -455,7 +482,9 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     out.mkdir(parents=True, exist_ok=True)
     (out / "cases").mkdir(exist_ok=True)
     paths = find_case_files(cases or None)
-    outcome = run_cases(paths, use_cache=use_cache, jobs=jobs, progress=True)
+    # the whole report: the chapter-4 deflection-domain study beside the sweep studies, run beside the cases
+    extra = [] if cases else [DomainStudy(out / "sweeps" / "chapter4_domains")]
+    outcome = run_cases(paths, use_cache=use_cache, jobs=jobs, progress=True, after=PageWriter(out), extra=extra)
     table = outcome.table
     table.to_csv(out / "results.csv", index=False)
     try:
@@ -464,9 +493,7 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     except ImportError:
         pass
     summ = summary(table) if len(table) else pd.DataFrame()
-    links = dict(_build_pages(outcome.results, table, out, jobs))
-    if not cases:  # the whole report: the chapter-4 deflection-domain study beside the sweep studies
-        _domain_study(out / "sweeps" / "chapter4_domains")
+    links = dict(_build_pages(outcome.results, table, out, jobs, done=outcome.after))
     summ.to_csv(out / "summary.csv", index=False)
     rows = [summarise(r, table[table["case"] == r.loaded.id]) for r in outcome.results]
     plot_overview(overview_points(outcome.results, table), out / "overview.png")

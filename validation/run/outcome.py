@@ -9,7 +9,6 @@ whether the claimed tolerance is met, the wall time, and whether the method conv
 from __future__ import annotations
 
 import math
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -18,10 +17,10 @@ import pandas as pd
 from tqdm import tqdm
 
 from validation.case.capabilities import QUANTITIES
-from validation.case.loader import CaseError, load_case
 from validation.run.compare import agreement_checks, fem_elastica_checks, reference_check
 from validation.run.exit_status import combine, decide, of_run_status
-from validation.run.runner import CaseResult, characteristic_length, requests_for, run_case
+from validation.run.parallel import PathRun, run_paths
+from validation.run.runner import CaseResult, characteristic_length, requests_for
 
 
 COLUMNS = ["case", "group", "method", "quantity", "point", "level", "level_label", "value", "unit", "scale",
@@ -105,19 +104,12 @@ def _check_row(check, dimension: str, scale: float) -> dict:
     return row
 
 
-def _run_path(path: Path, methods: list[str] | None, use_cache: bool):
-    try:
-        loaded = load_case(path)
-    except CaseError as exc:
-        return None, str(exc)
-    return run_case(loaded, methods, use_cache), None
-
-
 @dataclass
 class RunOutcome:
     table: pd.DataFrame
     errors: list[str]
     results: list[CaseResult] = field(default_factory=list)
+    after: dict[str, object] = field(default_factory=dict)  # case id -> what run_cases' ``after`` returned
 
     @property
     def failed_comparisons(self) -> pd.DataFrame:
@@ -155,32 +147,27 @@ class RunOutcome:
 
 
 def run_cases(paths: list[Path], methods: list[str] | None = None, use_cache: bool = True,
-              jobs: int = 1, progress: bool = False) -> RunOutcome:
-    """Run every case file; bad files are reported as errors and the others still run."""
-    results, errors = [], []
+              jobs: int = 1, progress: bool = False, after=None, extra=()) -> RunOutcome:
+    """Run every case file; bad files are reported as errors and the others still run. ``jobs`` worker
+    processes, scheduled by ``validation.run.parallel`` (compiled methods compiled once, ``extra`` tasks
+    beside the cases, ``after(result)`` in the worker after each case)."""
     bar = tqdm(total=len(paths), unit="case", disable=not progress, leave=False)
 
-    def collect(result, error):
-        (errors.append(error) if error else results.append(result))
+    def advance(run: PathRun) -> None:
+        bar.set_postfix_str(run.path.stem)
         bar.update()
 
-    if jobs > 1 and len(paths) > 1:
-        with ProcessPoolExecutor(max_workers=jobs) as pool:
-            futures = [pool.submit(_run_path, p, methods, use_cache) for p in paths]
-            for future in as_completed(futures):
-                collect(*future.result())
-    else:
-        for path in paths:
-            bar.set_postfix_str(Path(path).stem)
-            collect(*_run_path(path, methods, use_cache))
+    runs = run_paths(paths, methods, use_cache, jobs, after=after, extra=list(extra), progress=advance)
     bar.close()
-    results.sort(key=lambda r: str(r.loaded.path))
+    results = sorted((r.result for r in runs if r.result is not None), key=lambda r: str(r.loaded.path))
+    errors = [r.error for r in runs if r.error is not None]
     tables = [tabulate(r) for r in results]
     table = pd.concat(tables, ignore_index=True) if tables else pd.DataFrame(columns=COLUMNS)
     if len(table):
         table = table.sort_values(["group", "case", "method", "quantity", "point", "level"],
                                   kind="stable", ignore_index=True)
-    return RunOutcome(table=table, errors=sorted(errors), results=results)
+    return RunOutcome(table=table, errors=sorted(errors), results=results,
+                      after={r.result.loaded.id: r.after for r in runs if r.result is not None and r.after is not None})
 
 
 def prbm_fem_errors(part: pd.DataFrame) -> tuple[float, float]:
