@@ -485,6 +485,7 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     # the whole report: the chapter-4 deflection-domain study beside the sweep studies, run beside the cases
     extra = [] if cases else [DomainStudy(out / "sweeps" / "chapter4_domains")]
     outcome = run_cases(paths, use_cache=use_cache, jobs=jobs, progress=True, after=PageWriter(out), extra=extra)
+    pooled = time.perf_counter() - started  # cases, their pages and the domain study, on ``jobs`` processes
     table = outcome.table
     table.to_csv(out / "results.csv", index=False)
     try:
@@ -553,6 +554,6 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
         print_error(error)
     for line in outcome.unexpected_problems:  # what makes the exit status 1, in words
         print(f"not ok: {line}")
-    print(f"report: {out / 'index.html'} ({len(outcome.results)} cases, "
-          f"{time.perf_counter() - started:.1f} s)")
+    print(f"report: {out / 'index.html'} ({len(outcome.results)} cases, {time.perf_counter() - started:.1f} s, "
+          f"of which {pooled:.1f} s the cases, their pages and the domain study on {jobs} process(es))")
     return outcome.exit_status

@@ -19,6 +19,7 @@ order of ``paths``; a case file that cannot be used comes back as its error line
 """
 from __future__ import annotations
 
+import re
 import tomllib
 from concurrent.futures import Future, ProcessPoolExecutor, as_completed, wait
 from dataclasses import dataclass, field
@@ -51,10 +52,13 @@ class Schedule:
     compiled: list[Path] = field(default_factory=list)
 
 
+NUMBA_IMPORT = re.compile(r"^\s*(from|import)\s+numba\b", re.MULTILINE)
+
+
 @lru_cache(maxsize=None)
 def compiled_method(method: str) -> bool:
-    """True when the method's code (its adapter and everything it imports) uses numba."""
-    return any("numba" in path.read_text(encoding="utf-8") for path in cache.source_files(method))
+    """True when the method's code (its adapter and everything it imports) imports numba."""
+    return any(NUMBA_IMPORT.search(path.read_text(encoding="utf-8")) for path in cache.source_files(method))
 
 
 def _methods_of(path: Path) -> list[str]:

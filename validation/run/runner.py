@@ -25,13 +25,17 @@ from validation.case.overrides import apply as apply_field
 def requests_for(case: Case, method: str) -> list[Request]:
     """Every (quantity, point, level) the case wants from this method, in order, without repeats."""
     wanted: dict[Request, None] = {}
+    every = None  # range(case.n_levels()), built at most once (n_levels builds the load's level list)
     for out in case.outputs:
         if out.methods is not None and method not in out.methods:
             continue
-        levels = range(case.n_levels()) if out.levels == "all" else out.levels
-        point = out.point if QUANTITIES[out.quantity].at_point else ""
-        for level in levels:
-            wanted[Request(out.quantity, point, level)] = None
+        if out.levels == "all":
+            levels = every = every if every is not None else range(case.n_levels())
+        else:
+            levels = out.levels
+        quantity = out.quantity
+        point = out.point if QUANTITIES[quantity].at_point else ""
+        wanted.update(dict.fromkeys([Request(quantity, point, level) for level in levels]))
     return list(wanted)
 
 
