@@ -1,0 +1,104 @@
+"""Start-up and scheduling (issue 15, items 4 and the report budget): heavy imports only where used,
+and the parallel run of many cases gives the same results as the serial one.
+
+- ``import prbm`` and a PRBM solve of a straight segment load no solver library (scipy.optimize ~0.7 s
+  to import): the names of ``prbm`` load their module at first use (PEP 562), the adapter's mechanism
+  parts and scipy.optimize through ``prbm.lazy.LazyModule``;
+- the run cache's source walk still sees every module loaded that way (a result must not go stale);
+- ``validation.run.parallel`` compiles each numba method once (one primer per method whose sources
+  import numba) and returns, on two workers, exactly the values of the serial run.
+(No timing here: speed is measured by the benchmarks, never asserted in a test.)"""
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import prbm
+from prbm.lazy import LazyModule
+from validation.case.loader import case_by_id
+from validation.run import cache
+from validation.run.parallel import compiled_method, run_paths, schedule
+
+ROOT = Path(__file__).resolve().parent.parent
+HEAVY = ("scipy.optimize", "scipy.integrate", "pandas", "numba", "skfem", "matplotlib", "prbm.network", "fem",
+         "elastica")
+
+
+def loaded_after(code: str) -> list[str]:
+    """The HEAVY modules imported by a fresh interpreter after running ``code``."""
+    probe = f"{code}\nimport sys, json\nprint(json.dumps([m for m in {HEAVY!r} if m in sys.modules]))"
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True, cwd=ROOT)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def test_import_prbm_and_a_segment_solve_load_no_solver_library():
+    assert loaded_after("import prbm") == []
+    assert loaded_after("import prbm; prbm.fixed_pinned_tip(2.0, 0.5, length=1.0, EI=1.0)") == []
+
+
+def test_solve_of_a_segment_case_by_the_prbm_imports_no_heavy_module(tmp_path):
+    out = tmp_path / "solve.json"
+    code = ("from validation.cli.main import main\n"
+            f"assert main(['solve', 'cantilever_tip_load', '--method', 'prbm', '--out', {str(out)!r}]) == 0")
+    assert loaded_after(code) == []
+    document = json.loads(out.read_text())
+    assert document["method"] == "prbm" and document["levels"]
+
+
+def test_every_public_name_of_prbm_is_its_module_object():
+    for name in prbm.__all__:
+        value = getattr(prbm, name)
+        module = prbm._EXPORTS[name]
+        assert value is getattr(sys.modules[module], name), name
+    assert set(prbm.__all__) <= set(dir(prbm))
+    with pytest.raises(AttributeError, match="no attribute 'not_a_model'"):
+        prbm.not_a_model  # noqa: B018
+
+
+def test_a_lazy_module_imports_at_first_attribute_read():
+    lazy = LazyModule("json")
+    assert "not imported" in repr(lazy)
+    assert lazy.dumps([1]) == "[1]"
+    assert "imported" in repr(lazy) and "not" not in repr(lazy)
+
+
+def test_the_run_cache_hashes_the_modules_loaded_lazily():
+    files = {p.relative_to(ROOT).as_posix() for p in cache.source_files("prbm")}
+    for lazy in ("prbm/chain.py", "prbm/compliance.py", "prbm/segments.py", "prbm/network.py",
+                 "validation/methods/prbm_network.py", "validation/methods/prbm_fourbar.py", "prbm/lazy.py"):
+        assert lazy in files, lazy
+
+
+def test_primers_compile_each_numba_method_once():
+    assert compiled_method("fem") and compiled_method("elastica")  # fem/kernel.py, elastica/integrator.py
+    assert not compiled_method("prbm")
+    paths = [case_by_id(i).path for i in ("cantilever_tip_load", "bapat2015_table3_1", "seed004_parallel_guided")]
+    plan = schedule(paths, None)
+    assert sorted(m for m, _ in plan.primers) == ["elastica", "fem"]
+    assert set(plan.free) | set(plan.compiled) == set(paths) and not set(plan.free) & set(plan.compiled)
+    assert [m for m, _ in schedule(paths, ["prbm"]).primers] == []  # asked for the PRBM only: nothing to compile
+
+
+def _values(runs) -> dict:
+    return {(r.result.loaded.id, method, req): value for r in runs for method, run in r.result.runs.items()
+            for req, value in run.values.items()}
+
+
+def case_id(result) -> str:
+    return result.loaded.id
+
+
+def test_two_workers_give_the_values_of_the_serial_run(tmp_path):
+    paths = [case_by_id(i).path for i in ("bapat2015_table3_1", "segment_curved_fixed_pinned_compressive",
+                                          "bapat2015_theta_dependent_k_tension_baseline")]
+    paths.append(tmp_path / "broken.toml")
+    paths[-1].write_text("[case]\nid = 'broken'\n")
+    serial = run_paths(paths, use_cache=False, jobs=1, after=case_id)
+    parallel = run_paths(paths, use_cache=False, jobs=2, after=case_id)
+    assert [r.path for r in parallel] == paths
+    assert _values(parallel) == _values(serial) and _values(serial)
+    assert [r.after for r in parallel] == [r.after for r in serial] == [
+        "bapat2015_table3_1", "segment_curved_fixed_pinned_compressive", "bapat2015_theta_dependent_k_tension_baseline", None]
+    assert parallel[-1].error and "broken.toml" in parallel[-1].error
