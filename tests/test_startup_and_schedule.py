@@ -82,7 +82,8 @@ def test_primers_compile_each_numba_method_once():
 
 
 def _values(runs) -> dict:
-    return {(r.result.loaded.id, method, req): value for r in runs for method, run in r.result.runs.items()
+    return {(r.result.loaded.id, method, req): value for r in runs if r.result is not None
+            for method, run in r.result.runs.items()
             for req, value in run.values.items()}
 
 
