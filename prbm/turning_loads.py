@@ -21,8 +21,8 @@ the tip; the turning load is in equilibrium when the law at that tip gives back 
 one equation in the force's direction angle psi, solved by Brent's method on the sign change of r
 nearest to the direction at the unloaded tip (scanned both ways in steps of ``step``).  So the fits
 are evaluated at the load ratio of the force that acts at equilibrium, and every root satisfies the
-PRBM equilibrium about the characteristic pivot, K_Theta Theta EI/l = gamma l (F_y cos Theta -
-F_x sin Theta) with (F_x, F_y) = F u.  A root that needs a load ratio outside the fits' range raises
+PRBM equilibrium about the characteristic pivot (spring k = gamma K_Theta EI/l, eq 45),
+k Theta = gamma l (F_y cos Theta - F_x sin Theta) with (F_x, F_y) = F u.  A root that needs a load ratio outside the fits' range raises
 ``FitRangeError``.  As F -> 0 the answer tends to the dead force u(unloaded tip): tip deflection
 F_perp l^3 gamma/(K_Theta EI), the linear beam's F_perp l^3/(3 EI) times 3 gamma/K_Theta.
 

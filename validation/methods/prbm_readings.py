@@ -8,7 +8,7 @@ characteristic pivot, at ``[methods.prbm] origin`` of the case frame.
   point, turned by ``angle``): the fixed-pinned PRBM (seed 000 eqs 41-49) of the dead force that acts at
   equilibrium, whose tip gives back that force's direction by the load law
   (``prbm.turning_loads.fixed_pinned_turning_tip``): the fits at the equilibrium load ratio n,
-  K_Theta Theta EI/l = gamma l (F_y cos Theta - F_x sin Theta).  The capstan options ``friction_mu``,
+  gamma K_Theta (EI/l) Theta = gamma l (F_y cos Theta - F_x sin Theta).  The capstan options ``friction_mu``,
   ``contact_angle_deg`` scale the magnitude (eq 211).  Other end loads beside it are refused.
 * A straight cantilevered segment with distributed or self-weight loads, ``model = 'chain'``: the Chain
   Algorithm (seed 000 section 2.2, eqs 26-40), the one segment model of the seeds that takes loads
@@ -157,9 +157,10 @@ def _chain_loads(case, beam: chain_model.ChainBeam, level: int) -> chain_model.N
 def _chain(case, requests, options) -> MethodRun:
     seg = case.segment
     if options.get("model") != "chain":
-        raise NotApplicable("a load along the segment: the seeds' one-spring PRBMs take end loads only; the "
-                            "Chain Algorithm (seed 000 section 2.2) takes loads at its nodes: give "
-                            "[methods.prbm] model = 'chain'")
+        i, load = next((i, ld) for i, ld in enumerate(case.loads) if ld.kind in ALONG_BEAM)
+        raise NotApplicable(f"loads.{i}: a {load.kind.replace('_', '-')} load along the segment: the seeds' "
+                            "one-spring PRBMs take end loads only; the Chain Algorithm (seed 000 section 2.2) "
+                            "takes loads at its nodes: give [methods.prbm] model = 'chain'")
     if seg.boundary not in ("fixed-free", "fixed-pinned"):
         raise NotApplicable(f"a load along a {seg.boundary} segment: the Chain Algorithm here models a "
                             "cantilever (free end)")
