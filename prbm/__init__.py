@@ -34,6 +34,8 @@ if TYPE_CHECKING:  # what a type checker and the static import walks see; at run
     from prbm.network import (GROUND, Couple, Force, LockedNetwork, Network, NetworkResult, Pin,
                               PrescribedDisplacement, PrescribedRotation, Slider, TorsionSpring, solve, trace)
     from prbm.result import PRBMResult
+    from prbm.turning_loads import (DeadDirection, FollowerDirection, TipPose, TowardPoint, fixed_pinned_turning_tip,
+                                    input_angle_under_turning_forces)
     from prbm.segments import (curved_fixed_pinned_tip, curved_pinned_pinned, fixed_guided_monotonic_tip,
                                fixed_guided_tip, fixed_pinned_from_tip, fixed_pinned_tip, pure_moment_from_tip,
                                pure_moment_tip, slfp_end_tip, slfp_tip, spring_angle)
@@ -55,6 +57,8 @@ __all__ = [
     "curved_fixed_pinned_tip", "curved_pinned_pinned", "fixed_guided_monotonic_tip", "fixed_guided_tip",
     "fixed_pinned_from_tip", "fixed_pinned_tip", "pure_moment_from_tip", "pure_moment_tip", "slfp_end_tip", "slfp_tip",
     "spring_angle",
+    "DeadDirection", "FollowerDirection", "TipPose", "TowardPoint", "fixed_pinned_turning_tip",
+    "input_angle_under_turning_forces",
 ]
 
 _EXPORTS = {  # public name -> the module that defines it (imported at the first use of a name)
@@ -74,6 +78,8 @@ _EXPORTS = {  # public name -> the module that defines it (imported at the first
     **dict.fromkeys(('GROUND', 'Couple', 'Force', 'LockedNetwork', 'Network', 'NetworkResult', 'Pin',
                      'PrescribedDisplacement', 'PrescribedRotation', 'Slider', 'TorsionSpring', 'solve', 'trace'), 'prbm.network'),
     **dict.fromkeys(('PRBMResult',), 'prbm.result'),
+    **dict.fromkeys(('DeadDirection', 'FollowerDirection', 'TipPose', 'TowardPoint', 'fixed_pinned_turning_tip',
+                     'input_angle_under_turning_forces'), 'prbm.turning_loads'),
     **dict.fromkeys(('curved_fixed_pinned_tip', 'curved_pinned_pinned', 'fixed_guided_monotonic_tip',
                      'fixed_guided_tip', 'fixed_pinned_from_tip', 'fixed_pinned_tip', 'pure_moment_from_tip',
                      'pure_moment_tip', 'slfp_end_tip', 'slfp_tip', 'spring_angle'), 'prbm.segments'),
