@@ -72,7 +72,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from argcheck import checked
 
-from . import shooting_kernel as kernel
+from . import integrator as kernel
 from .integrator import integrate_samples
 
 __all__ = ["TipConstraint", "MomentConstraint", "ElasticaProblem", "ElasticaResult",
@@ -219,7 +219,7 @@ def _start_vector(p: ElasticaProblem) -> np.ndarray:
 
 
 class _Shooter:
-    """One problem structure (normalised) as the arrays of ``shooting_kernel``, and its compiled
+    """One problem structure (normalised) as the arrays of ``integrator``, and its compiled
     residual, Newton corrector and tangent predictor at integration tolerances ``rtol``/``atol``."""
 
     def __init__(self, p: ElasticaProblem, rtol: float, atol: float):
@@ -241,8 +241,8 @@ class _Shooter:
         self.has_follower = p.follower != (0.0, 0.0)
         self.n = 1 + self.nc + self.nm + (1 if self.has_follower else 0)
         self.rtol, self.atol = float(rtol), float(atol)
-        self._tail = (self.k0, self.dirs, self.fdirs, self.mdirs, self.site_at, self.angle_given,
-                      self.has_follower, self.bounds, self.rtol, self.atol)
+        self.structure = (self.k0, self.dirs, self.fdirs, self.mdirs, self.site_at, self.angle_given,
+                          self.has_follower, self.bounds)
 
     def unknown_force_directions(self):
         """Unit directions of the force multipliers, in the order of z[1:1 + nc + nm]."""
@@ -250,26 +250,15 @@ class _Shooter:
 
     def integrate(self, z, q):
         """(states at the piece boundaries: row 0 at s = 0, the last at s = 1; tip force; ok)."""
-        return kernel.integrate(np.asarray(z, float), np.asarray(q, float), self.k0, self.fdirs, self.mdirs,
-                                self.has_follower, self.bounds, self.rtol, self.atol)
+        _, _, states, F, ok = kernel.residual(np.asarray(z, float), np.asarray(q, float), *self.structure,
+                                              self.rtol, self.atol)
+        return states, F, ok
 
     def residual(self, z, q):
         """End-condition residual (n,), or None when the integration failed."""
-        r, _, _, _, ok = kernel.residual(np.asarray(z, float), np.asarray(q, float), *self._tail)
+        r, _, _, _, ok = kernel.residual(np.asarray(z, float), np.asarray(q, float), *self.structure,
+                                          self.rtol, self.atol)
         return r if ok else None
-
-    def newton(self, z, q, tol, maxiter):
-        """(z, converged, iterations, residual norm, tip (x, y, theta) or None if it cannot start)."""
-        z, status, it, norm, tip = kernel.newton(np.asarray(z, float), np.asarray(q, float), float(tol),
-                                                 int(maxiter), *self._tail)
-        return z, status == kernel.CONVERGED, it, norm, (None if status == kernel.NO_START else tip)
-
-    def tangent(self, z, q, dq):
-        """(dz/dlambda along q(lambda) with dq/dlambda = dq, tip (x, y, theta)) at z; dz None if the
-        Jacobian is singular, both None if the integration failed."""
-        dz, tip, status = kernel.tangent(np.asarray(z, float), np.asarray(q, float), np.asarray(dq, float),
-                                         *self._tail)
-        return (dz if status == 0 else None), (tip if status < 2 else None)
 
 
 def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
@@ -305,46 +294,17 @@ def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
         elif final.nc:
             q0, z, it, ns = _staged_start(problem, path, q0)
             nit, nsteps = nit + it, nsteps + ns
-    lam, dlam = 0.0, min(initial_step, 1.0)
-    message, converged, norm = "converged", True, 0.0
-    dz, tip = path.tangent(z, q0, q1 - q0)
-    while lam < 1.0 and tip is not None:
-        lam_try = min(1.0, lam + dlam)
-        q = q0 + lam_try * (q1 - q0)
-        step = (lam_try - lam) * dz if dz is not None else np.zeros_like(z)
-        z_guess = z + step
-        z_new, ok, it, norm, new_tip = path.newton(z_guess, q, 10 * path_rtol, maxiter)
-        nit += it
-        if ok and new_tip is not None:
-            moved = math.hypot(new_tip[0] - tip[0], new_tip[1] - tip[1])
-            off = np.linalg.norm(z_new - z_guess)
-            ok = (it <= max_step_iterations and abs(new_tip[2] - tip[2]) <= max_rotation_step
-                  and moved <= max_position_step
-                  and (dz is None or off <= max_corrector * np.linalg.norm(step)
-                       + 1e-6 * (1.0 + np.linalg.norm(z))))
-        if ok:
-            z, lam = z_new, lam_try
-            nsteps += 1
-            dz, tip = path.tangent(z, q, q1 - q0)
-            if it <= 3:
-                dlam = min(2.0 * dlam, 1.0)
-        else:
-            dlam *= 0.5
-            if dlam < min_step:
-                converged = False
-                message = f"continuation stalled at load fraction {lam:.6g} (residual {norm:.3g})"
-                break
-    if tip is None:
-        converged, message = False, "integration failed at the start state"
-    tip_angle = tip[2] if tip is not None else math.nan
+    z, status, lam, it, ns, norm = kernel.follow_path(
+        np.array(z, float), np.asarray(q0, float), q1, *final.structure, final.rtol, final.atol, float(tol),
+        float(path_rtol), float(initial_step), float(min_step), float(max_rotation_step),
+        float(max_position_step), float(max_corrector), int(max_step_iterations), int(maxiter))
+    nit, nsteps = nit + it, nsteps + ns
+    converged, message = status == kernel.PATH_CONVERGED, {
+        kernel.PATH_CONVERGED: "converged",
+        kernel.PATH_STALLED: f"continuation stalled at load fraction {lam:.6g} (residual {norm:.3g})",
+        kernel.PATH_NO_START: "integration failed at the start state",
+        kernel.PATH_FINAL_FAILED: f"final corrector failed (residual {norm:.3g})"}[status]
     q_end = q0 + lam * (q1 - q0)
-    if converged:                                   # final corrector at full accuracy
-        z_fin, ok, it, norm, fin_tip = final.newton(z, q_end, tol, maxiter)
-        nit += it
-        if ok and fin_tip is not None and abs(fin_tip[2] - tip_angle) < 1e-3:
-            z = z_fin
-        else:
-            converged, message = False, f"final corrector failed (residual {norm:.3g})"
     result = _result(problem, final, z, q_end, n_samples)
     result.converged, result.message = converged, message
     result.nit, result.nsteps = nit, nsteps
