@@ -57,6 +57,10 @@ checked: the path is followed, stable or not. Intermediate steps are integrated 
 ``path_rtol``; the final corrector at ``rtol`` (1e-12), so the end conditions hold to ``tol`` =
 1e-11 and tip values are accurate to about 1e-10 relative.
 
+This module sets the problem up (normalised structure arrays, start states, staging) and reads the
+result; the continuation itself, with its Newton corrector and the integrations, runs compiled
+(``integrator.follow_path``).
+
 Sign conventions: x along the undeformed (straight) beam from the clamp, y transverse, angles and
 moments counter-clockwise positive. The seeds' (Bapat 2015) P, nP, M for a tip are Fx = -nP,
 Fy = +P and a CCW moment -M (their tabulated M > 0 is clockwise, "opposing" P).
