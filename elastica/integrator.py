@@ -141,17 +141,9 @@ def _rms(v):
 
 
 @njit(cache=True)
-def _dop853(y0, t0, t1, P, rtol, atol):
-    A, B, C, E3, E5 = _A, _B, _C, _E3, _E5     # global arrays: compile-time constants for numba
+def _first_step(y0, f, t0, interval, P, rtol, atol):
+    """scipy's select_initial_step (order 7)."""
     n = y0.size
-    K = np.empty((A.shape[0] + 1, n))
-    f = np.empty(n)
-    _rhs(t0, y0, P, f)
-    y = y0.copy()
-    interval = t1 - t0
-    if interval <= 0.0:
-        return y, True
-    # first step (scipy's select_initial_step, order 7)
     scale = atol + np.abs(y0) * rtol
     d0, d1 = _rms(y0 / scale), _rms(f / scale)
     h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
@@ -163,7 +155,24 @@ def _dop853(y0, t0, t1, P, rtol, atol):
         h1 = max(1e-6, h0 * 1e-3)
     else:
         h1 = (0.01 / max(d1, d2)) ** (1.0 / 8.0)
-    h_abs = min(100 * h0, h1, interval)
+    return min(100 * h0, h1, interval)
+
+
+@njit(cache=True)
+def _dop853(y0, t0, t1, P, rtol, atol, h_start=0.0):
+    """State at t1 from y0 at t0, success, and the step size the controller proposes next.
+    ``h_start`` > 0: the first step to try (a previous interval's proposal) instead of scipy's
+    initial-step selection."""
+    A, B, C, E3, E5 = _A, _B, _C, _E3, _E5     # global arrays: compile-time constants for numba
+    n = y0.size
+    K = np.empty((A.shape[0] + 1, n))
+    f = np.empty(n)
+    _rhs(t0, y0, P, f)
+    y = y0.copy()
+    interval = t1 - t0
+    if interval <= 0.0:
+        return y, True, h_start
+    h_abs = _first_step(y0, f, t0, interval, P, rtol, atol) if h_start <= 0.0 else h_start
     t = t0
     stage = np.empty(n)
     y_new = np.empty(n)
@@ -174,7 +183,7 @@ def _dop853(y0, t0, t1, P, rtol, atol):
         rejected = False
         while True:
             if h_abs < min_step:
-                return y, False
+                return y, False, h_abs
             t_new = t + h_abs
             if t_new > t1:
                 t_new = t1
@@ -218,24 +227,28 @@ def _dop853(y0, t0, t1, P, rtol, atol):
         t = t_new
         y[:] = y_new
         f[:] = K[K.shape[0] - 1]
-    return y, True
+    return y, True, h_abs
 
 
 def integrate_beam(y0, length: float, Fx: float, Fy: float, k0: float, EI: float, EA: float,
                    rtol: float, atol: float):
     """A mechanism beam's state (x, y, theta, m, U) at s = length from y0 at s = 0 (physical units,
     EA = 0: inextensible), and whether the integration succeeded."""
-    return _dop853(np.asarray(y0, dtype=float), 0.0, float(length),
-                   np.array([Fx, Fy, k0, 0.0, 0.0, EI, EA], dtype=float), float(rtol), float(atol))
+    y, ok, _ = _dop853(np.asarray(y0, dtype=float), 0.0, float(length),
+                       np.array([Fx, Fy, k0, 0.0, 0.0, EI, EA], dtype=float), float(rtol), float(atol))
+    return y, ok
 
 
 @njit(cache=True)
 def _samples(y0, s, P, rtol, atol):
+    """States at the arc lengths s, integrated from sample to sample; each interval starts with the
+    step the previous one proposed (the first with scipy's initial-step selection)."""
     out = np.empty((s.size, y0.size))
     out[0] = y0
     y = y0.copy()
+    h = 0.0
     for k in range(1, s.size):
-        y, ok = _dop853(y, s[k - 1], s[k], P, rtol, atol)
+        y, ok, h = _dop853(y, s[k - 1], s[k], P, rtol, atol, h)
         if not ok:
             return out, False
         out[k] = y
@@ -364,7 +377,7 @@ def residual(z, q, k0, dirs, fdirs, mdirs, site_at, angle_given, follower, bound
     states[0, 5 + 9] = 1.0              # d m(0) / d m0
     P = np.array([F[0], F[1], k0, q[q.size - 2], q[q.size - 1], 1.0, 0.0])
     for i in range(bounds.size - 1):
-        y, ok = _dop853(states[i], bounds[i], bounds[i + 1], P, rtol, atol)
+        y, ok, _ = _dop853(states[i], bounds[i], bounds[i + 1], P, rtol, atol)
         if not ok:
             return r, J, states, F, False
         states[i + 1] = y
@@ -445,37 +458,37 @@ def _tangent(z, J, states, dq, dirs, mdirs, site_at, angle_given, follower):
 def _newton(z, q, tol, maxiter, k0, dirs, fdirs, mdirs, site_at, angle_given, follower, bounds, rtol,
             atol):
     """Damped Newton on the end conditions (module docstring). Returns (z, status, iterations,
-    residual norm, Jacobian and boundary states at z): z is the last accepted point (with maxiter = 0
+    residual norm, Jacobian, boundary states and tip force at z): z is the last accepted point (with maxiter = 0
     the start point, evaluated). One residual call site (the start point, then every trial point), so
     the compiled code holds one copy of the integrator."""
     it, t, norm, started = 0, 1.0, math.inf, False
     dz = np.zeros_like(z)
     z_try = z
     while True:
-        r_new, J_new, states_new, _, ok = residual(z_try, q, k0, dirs, fdirs, mdirs, site_at,
+        r_new, J_new, states_new, F_new, ok = residual(z_try, q, k0, dirs, fdirs, mdirs, site_at,
                                                    angle_given, follower, bounds, rtol, atol)
         if not started:
             if not ok:
-                return z, NO_START, 0, math.inf, J_new, states_new
+                return z, NO_START, 0, math.inf, J_new, states_new, F_new
             started = True
-            r, J, states, norm = r_new, J_new, states_new, _norm(r_new)
+            r, J, states, F, norm = r_new, J_new, states_new, F_new, _norm(r_new)
         elif ok and _norm(r_new) < max(norm, 1e-300) * (1 - 1e-4 * t) + 1e-14:
-            z, r, J, states, norm = z_try, r_new, J_new, states_new, _norm(r_new)
+            z, r, J, states, F, norm = z_try, r_new, J_new, states_new, F_new, _norm(r_new)
             step = _norm(t * dz)
             if (norm < tol and step < 1e-9 * (1.0 + _norm(z))) or norm < 1e-3 * tol:
-                return z, CONVERGED, it, norm, J, states
+                return z, CONVERGED, it, norm, J, states, F
         else:
             t *= 0.5
             if t < 1e-3:        # no descent left: converged only if already at the noise floor
-                return z, CONVERGED if norm < tol else NOT_CONVERGED, it, norm, J, states
+                return z, CONVERGED if norm < tol else NOT_CONVERGED, it, norm, J, states, F
             z_try = z + t * dz
             continue
         it += 1
         if it > maxiter:
-            return z, NOT_CONVERGED, maxiter, norm, J, states
+            return z, NOT_CONVERGED, maxiter, norm, J, states, F
         dz, regular = _solve(J, -r)
         if not regular:
-            return z, NOT_CONVERGED, it, norm, J, states
+            return z, NOT_CONVERGED, it, norm, J, states, F
         t = 1.0
         z_try = z + t * dz
 
@@ -493,7 +506,8 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
     Jacobian of the last accepted point), Newton corrector at ``path_rtol`` with the step rejections,
     then the final corrector at ``rtol``/``tol``. One Newton call site (the start point is evaluated by
     a Newton of 0 iterations; the final corrector is the last call): one compiled copy of it.
-    Returns (z, status, load fraction reached, Newton iterations, accepted steps, residual norm)."""
+    Returns (z, status, load fraction reached, Newton iterations, accepted steps, residual norm,
+    and when converged the boundary states and tip force at z)."""
     path_atol = path_rtol * 0.1
     last = bounds.size - 1
     dq = q1 - q0
@@ -512,20 +526,20 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
             q = q0 + lam_try * dq
             step = (lam_try - lam) * dz if regular else np.zeros_like(z)
             z_guess, ntol, nrtol, natol, nmax = z + step, 10 * path_rtol, path_rtol, path_atol, maxiter
-        z_new, nstat, it, norm, J, states = _newton(z_guess, q, ntol, nmax, k0, dirs, fdirs, mdirs,
-                                                    site_at, angle_given, follower, bounds, nrtol, natol)
+        z_new, nstat, it, norm, J, states, F = _newton(z_guess, q, ntol, nmax, k0, dirs, fdirs, mdirs,
+                                                       site_at, angle_given, follower, bounds, nrtol, natol)
         new_tip = states[last, :3]
         ok = nstat == CONVERGED
         if not started:
             if nstat == NO_START:
-                return z, PATH_NO_START, lam, nit, nsteps, norm
+                return z, PATH_NO_START, lam, nit, nsteps, norm, states, F
             started, ok, norm = True, True, 0.0
         else:
             nit += it
             if final:
                 if ok and abs(new_tip[2] - tip[2]) < 1e-3:
-                    return z_new, PATH_CONVERGED, lam, nit, nsteps, norm
-                return z, PATH_FINAL_FAILED, lam, nit, nsteps, norm
+                    return z_new, PATH_CONVERGED, lam, nit, nsteps, norm, states, F
+                return z, PATH_FINAL_FAILED, lam, nit, nsteps, norm, states, F
             if ok:
                 moved = math.hypot(new_tip[0] - tip[0], new_tip[1] - tip[1])
                 off = _norm(z_new - z_guess)
@@ -543,4 +557,4 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
         else:
             dlam *= 0.5
             if dlam < min_step:
-                return z, PATH_STALLED, lam, nit, nsteps, norm
+                return z, PATH_STALLED, lam, nit, nsteps, norm, states, F

@@ -298,7 +298,7 @@ def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
         elif final.nc:
             q0, z, it, ns = _staged_start(problem, path, q0)
             nit, nsteps = nit + it, nsteps + ns
-    z, status, lam, it, ns, norm = kernel.follow_path(
+    z, status, lam, it, ns, norm, states, F = kernel.follow_path(
         np.array(z, float), np.asarray(q0, float), q1, *final.structure, final.rtol, final.atol, float(tol),
         float(path_rtol), float(initial_step), float(min_step), float(max_rotation_step),
         float(max_position_step), float(max_corrector), int(max_step_iterations), int(maxiter))
@@ -309,7 +309,7 @@ def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
         kernel.PATH_NO_START: "integration failed at the start state",
         kernel.PATH_FINAL_FAILED: f"final corrector failed (residual {norm:.3g})"}[status]
     q_end = q0 + lam * (q1 - q0)
-    result = _result(problem, final, z, q_end, n_samples)
+    result = _result(problem, final, z, q_end, n_samples, (states, F) if converged else None)
     result.converged, result.message = converged, message
     result.nit, result.nsteps = nit, nsteps
     result.wall_time = time.perf_counter() - t0
@@ -451,10 +451,11 @@ def section_moment(result: ElasticaResult, at: float) -> float:
     return float(_section_moments(shooter, z, _load_vector(plain))[0] * p.EI / p.length)
 
 
-def _result(problem, shooter, z, q, n_samples):
-    """The result at the converged unknowns z: tip values from the same integration as the last
-    residual, the shape sampled by integrating from sample to sample (compiled)."""
-    states, F, _ = shooter.integrate(z, q)
+def _result(problem, shooter, z, q, n_samples, evaluated=None):
+    """The result at the unknowns z: tip values from the integration of the last residual
+    (``evaluated`` = (boundary states, tip force) at z, else integrated here), the shape sampled by
+    integrating from sample to sample (compiled)."""
+    states, F = evaluated if evaluated is not None else shooter.integrate(z, q)[:2]
     s = np.linspace(0.0, 1.0, n_samples)
     samples, _ = integrate_samples(states[0], s, F[0], F[1], shooter.k0, shooter.rtol, shooter.atol,
                                    q[-2], q[-1])
