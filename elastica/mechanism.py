@@ -183,26 +183,31 @@ class _System:
             else:
                 arc, angle0 = L, math.atan2(chord[1], chord[0])
             self.tangent0[beam.name] = (angle0, angle0 + beam.curvature * arc, arc)
+        self.beam_index = {beam.name: i for i, beam in enumerate(mech.beams)}
+        self.pose_at = {b.name: self.i_body + 3 * i for i, b in enumerate(mech.bodies)}
+        self.p0 = {name: np.asarray(xy, float) for name, xy in mech.nodes.items()}
+        self.arm = {(b.name, nd): self.p0[nd] - mech.origin[b.name] for b in mech.bodies for nd in mech.nodes}
 
     # poses
     def pose(self, u, body):
         if body == GROUND:
             return np.zeros(2), 0.0
-        i = self.i_body + 3 * self.m.index[body]
+        i = self.pose_at[body]
         return u[i:i + 2], u[i + 2]
 
     def node_position(self, u, body, node):
-        p0 = np.asarray(self.m.nodes[node], float)
+        """Current position of a node carried by ``body``: origin + d + R(phi) (p0 - origin)."""
         if body == GROUND:
-            return p0
-        d, phi = self.pose(u, body)
-        c, s = math.cos(phi), math.sin(phi)
-        r = p0 - self.m.origin[body]
-        return self.m.origin[body] + d + np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
+            return self.p0[node].copy()
+        i = self.pose_at[body]
+        c, s = math.cos(u[i + 2]), math.sin(u[i + 2])
+        r = self.arm[(body, node)]
+        o = self.m.origin[body]
+        return np.array([o[0] + u[i] + (c * r[0] - s * r[1]), o[1] + u[i + 1] + (s * r[0] + c * r[1])])
 
     def start_state(self, beam, u):
         """State (x, y, theta, m, U) at a beam's start under the unknowns u, and the beam's (Fx, Fy)."""
-        k = 3 * self.m.beams.index(beam)
+        k = 3 * self.beam_index[beam.name]
         Fx, Fy, a = u[k:k + 3]
         angle0 = self.tangent0[beam.name][0]
         p = self.node_position(u, beam.start_body, beam.start)
@@ -240,14 +245,16 @@ class _System:
         forces, couples, rot_values, disp_values = level_loads
         m = self.m
         r = np.zeros(self.size)
-        wrench = {b.name: np.zeros(3) for b in m.bodies}   # (Fx, Fy, M about the body's current origin)
+        wrench = {b.name: [0.0, 0.0, 0.0] for b in m.bodies}   # (Fx, Fy, M about the body's current origin)
 
         def add(body, F, M, at):
             if body == GROUND or body is None:
                 return
-            d, _ = self.pose(u, body)
-            lever = at - (m.origin[body] + d)
-            wrench[body] += (F[0], F[1], M + lever[0] * F[1] - lever[1] * F[0])
+            i, o, w = self.pose_at[body], m.origin[body], wrench[body]
+            lever_x, lever_y = at[0] - (o[0] + u[i]), at[1] - (o[1] + u[i + 1])
+            w[0] += F[0]
+            w[1] += F[1]
+            w[2] += M + lever_x * F[1] - lever_y * F[0]
 
         applied = {}
         for node, F in forces.items():
