@@ -31,6 +31,7 @@ import numpy as np
 
 from .local_matrices import member_local_stiffness, prismatic_local_stiffness
 from .model import Model
+from .numbering import rcm_order
 from .section import Section
 
 __all__ = ["Discretisation", "discretise"]
@@ -105,33 +106,16 @@ def _arc_points(P0, P1, kappa, n):
 
 
 def _dof_order(n_en, conn, slaves, masters, extra_owner):
-    """Full DOFs node by node in reverse Cuthill-McKee order (small bandwidth)."""
-    adj = [[] for _ in range(n_en)]
-    for a, b in list(map(tuple, conn.tolist())) + list(zip(slaves.tolist(), masters.tolist())):
-        adj[a].append(b)
-        adj[b].append(a)
-    degree = [len(x) for x in adj]
-    seen = [False] * n_en
-    order = []
-    for start in sorted(range(n_en), key=degree.__getitem__):
-        if seen[start]:
-            continue
-        seen[start] = True
-        queue, head = [start], 0
-        while head < len(queue):
-            v = queue[head]
-            head += 1
-            for w in sorted(adj[v], key=degree.__getitem__):
-                if not seen[w]:
-                    seen[w] = True
-                    queue.append(w)
-        order += queue
-    order.reverse()
+    """Full DOFs node by node in reverse Cuthill-McKee order (small bandwidth; `numbering`): per node
+    [ux, uy, rz] and the released member-end rotations it owns."""
+    order = rcm_order(n_en, conn, slaves, masters)
+    if not len(extra_owner):
+        return np.column_stack([2 * order, 2 * order + 1, 2 * n_en + order]).ravel()
     extras = {}
     for k, owner in enumerate(extra_owner):
         extras.setdefault(owner, []).append(3 * n_en + k)
     dofs = []
-    for n in order:
+    for n in order.tolist():
         dofs += [2 * n, 2 * n + 1, 2 * n_en + n] + extras.get(n, [])
     return dofs
 
