@@ -157,9 +157,14 @@ class System:
 
         level_a = -1 means the unloaded state.
         """
-        def at(arr, k):
-            return np.zeros_like(arr[0]) if k < 0 else arr[k]
-        mix = lambda arr: (1.0 - t) * at(arr, level_a) + t * at(arr, level_b)
+        def mix(arr):
+            if t == 1.0:            # (1 - t) a + t b = b exactly
+                return arr[level_b].copy()
+            if t == 0.0:
+                return np.zeros_like(arr[0]) if level_a < 0 else arr[level_a].copy()
+            if level_a < 0:         # (1 - t) 0 + t b = t b exactly
+                return t * arr[level_b]
+            return (1.0 - t) * arr[level_a] + t * arr[level_b]
         return mix(self.F_fixed), mix(self.F0), mix(self.presc)
 
     # -- kinematics -----------------------------------------------------------
