@@ -31,8 +31,7 @@ import numpy as np
 from .corotational import element_state
 from .distributed import element_loads
 from .discretise import Discretisation
-from .compiled_newton import CompiledLayout
-from .kernel import scatter
+from .kernel import CompiledLayout, scatter
 from .linear_solver import MatrixLayout
 from .model import Model
 
@@ -69,7 +68,7 @@ class System:
                            and not np.any(self.dist_follower))     # `stability.conservative`
         self.I0 = np.ascontiguousarray(self.I[:, 0])
         self.C0_flat = np.ascontiguousarray(self.C0[:, 0])
-        # the compiled load-control corrector (`compiled_newton`), where it applies
+        # the compiled load-control corrector (`kernel.newton_load`), where it applies
         self.compiled = CompiledLayout(self.layout, rows, cols) if CompiledLayout.applies(self) else None
 
     def _load_tables(self, model: Model, n_levels: int | None) -> None:
