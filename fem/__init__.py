@@ -3,12 +3,12 @@
 Build a `Model` (plain data), call `solve` (or `solve_load`, `solve_displacement`,
 `solve_arclength` with their options objects, or `solve_with_error_estimate`) and read the
 `FemResult`.  Consistent units throughout.  The mathematics is stated in each module's docstring
-(Crisfield 1991; Battini 2002): `corotational` (element) and `kernel` (the same, compiled),
+(Crisfield 1991; Battini 2002): `corotational` (element) and `kernel` (the element loop and the
+load-control corrector, compiled: one module, so numba's cache cannot go stale across files),
 `local_matrices` (local stiffness by scikit-fem quadrature), `discretise` (mesh, DOF numbering in
 reverse Cuthill-McKee order, constraints), `assembly` (reduced residual and tangent),
 `linear_solver`, `free_motion` (a model that can move without deforming is refused before any
-solve), `newton` (corrector, rotation continuity) and `compiled_newton` (the load-control
-corrector compiled whole), `options` (typed options and state), `solver` (load / displacement /
+solve), `newton` (corrector, rotation continuity), `options` (typed options and state), `solver` (load / displacement /
 arc-length control), `stability`, `critical`, `error_estimate` (Richardson), `warm_start`,
 `result`, `soft_modes`, `tip_inverse` (the end loads that hold a prescribed tip pose, with a tied
 load found by an outer secant solve).

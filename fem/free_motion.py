@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import compiled_newton as cn
+from . import kernel as cn
 from .linear_solver import SingularMatrix
 
 __all__ = ["FreeMotion", "check_held"]

@@ -1,5 +1,11 @@
-"""Compiled (numba, ``cache=True``) per-iteration kernels: the corotational element loop and the
-scatter of element entries into solver storage.
+"""Everything numba compiles (``cache=True``) for the FEM Newton corrector, in one module: the
+corotational element loop, the scatter of element entries into solver storage, and the
+load-control Newton corrector compiled whole.
+
+One module on purpose: numba's cache is keyed on the source file of each compiled function only,
+so a cached function calling a compiled function of another file keeps running the old machine
+code after that file is edited (numba's "Notes on caching"). `tests/test_compiled_cache.py`
+checks that no cached function calls into another module.
 
 The mathematics is that of `corotational` (Crisfield 1991 ch. 7; Battini 2002 ch. 2), written
 element by element so that one call does what took some thirty NumPy calls:
@@ -16,16 +22,37 @@ element by element so that one call does what took some thirty NumPy calls:
 The numbers are those of the NumPy expressions to rounding; the first call compiles (a few
 seconds) and writes the machine code to numba's cache beside this module, so later processes load it.
 
+The load-control Newton corrector of `newton` compiled whole (`newton_load`), for the
+common system: no rigid links (constant constraint coefficients), dead loads only (no followers,
+no forces toward points, no distributed loads), a dense or banded tangent.
+
+One call runs every iteration of
+
+    r(q) = J^T (f_int(q) - lambda f_ext),   K(q) dq = -r,   q <- q + dq
+
+with the same steps, in the same order, as the NumPy corrector: the element loop above,
+the scatter of the element forces and tangents into the full vector and into the solver's
+storage (here column-major, as LAPACK reads it), the factorisation by LAPACK ``dgetrf``/``dgbtrf``
+and back-substitution by ``dgetrs``/``dgbtrs`` (scipy's own LAPACK, called through
+``scipy.linalg.cython_lapack``), the rotation-limited correction, and the convergence tests
+(residual, energy, negligible correction) and rotation-increment cut of `newton`. Norms and dot
+products are BLAS ``ddot`` as in NumPy, so the numbers are those of the NumPy corrector.
+
+It returns a status code; `newton` turns it into the same `NewtonOutcome` or `StepFailed`.
+
 Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 
 import math
 
+import llvmlite.binding as llvm
 import numpy as np
-from numba import njit
+from numba import njit, types
+from numba.extending import get_cython_function_address
 
-__all__ = ["element_kernel", "scatter", "scatter_add"]
+__all__ = ["element_kernel", "scatter", "scatter_add", "CompiledLayout", "newton_load", "unloaded_pivots", "CONVERGED",
+           "NOT_FINITE", "NO_CONVERGENCE", "SINGULAR", "NON_FINITE_TANGENT", "ROTATION_TOO_LARGE"]
 
 
 @njit(cache=True, inline="always")
@@ -42,8 +69,6 @@ def element_kernel(X1, X2, p, L0, beta0, beta_prev, ka, kb, need_tangent,
     all elements. (Outputs are passed in, not returned: returning arrays from numba costs more
     than the loop for small meshes.)"""
     n = L0.shape[0]
-    E = np.zeros((4, 6))
-    C = np.zeros((4, 4))
     CE = np.empty((4, 6))
     for e in range(n):
         dx = X2[e, 0] - X1[e, 0] + p[e, 3] - p[e, 0]
@@ -67,31 +92,41 @@ def element_kernel(X1, X2, p, L0, beta0, beta_prev, ka, kb, need_tangent,
         N[e], M[e, 0], M[e, 1], L[e], beta[e] = Ne, M1, M2, Le, b
         theta_bar[e, 0], theta_bar[e, 1], u_bar[e] = t1, t2, ub
         if need_tangent:
-            E[0, 0], E[0, 1], E[0, 3], E[0, 4] = -c, -s, c, s      # r
-            E[1, 0], E[1, 1], E[1, 3], E[1, 4] = s, -c, -s, c      # z
-            E[2, 2] = 1.0                                          # e3
-            E[3, 5] = 1.0                                          # e6
-            C[0, 0] = ka[e]
-            C[1, 1] = (k11 + k12 + k21 + k22) / (Le * Le) + Ne / Le
-            C[0, 1] = V / Le
-            C[1, 0] = V / Le
-            C[1, 2] = -(k11 + k21) / Le
-            C[2, 1] = -(k11 + k12) / Le
-            C[1, 3] = -(k12 + k22) / Le
-            C[3, 1] = -(k21 + k22) / Le
-            C[2, 2], C[2, 3], C[3, 2], C[3, 3] = k11, k12, k21, k22
-            for i in range(4):
-                for j in range(6):
-                    acc = 0.0
-                    for k in range(4):
-                        acc += C[i, k] * E[k, j]
-                    CE[i, j] = acc
-            for i in range(6):
-                for j in range(6):
-                    acc = 0.0
-                    for k in range(4):
-                        acc += E[k, i] * CE[k, j]
-                    K[e, i, j] = acc
+            _tangent(K, CE, e, c, s, ka[e], Ne, V, Le, k11, k12, k21, k22)
+
+
+@njit(cache=True, inline="always")
+def _tangent(K, CE, e, c, s, ka, N, V, L, k11, k12, k21, k22):
+    """K[e] = E^T C E with E = [r; z; e3; e6]: the products of the dense loops with the zero entries
+    of E and C left out (adding an exact zero changes no bit, so the sums are those of the dense
+    loops, term for term and in the same order)."""
+    r = (-c, -s, 0.0, c, s, 0.0)
+    z = (s, -c, 0.0, -s, c, 0.0)
+    c01 = V / L
+    c11 = (k11 + k12 + k21 + k22) / (L * L) + N / L
+    c12, c13 = -(k11 + k21) / L, -(k12 + k22) / L
+    c21, c31 = -(k11 + k12) / L, -(k21 + k22) / L
+    # CE = C E, row by row (C[0] = [ka, c01, 0, 0], C[1] = [c01, c11, c12, c13],
+    # C[2] = [0, c21, k11, k12], C[3] = [0, c31, k21, k22])
+    ce0, ce1, ce2, ce3 = CE[0], CE[1], CE[2], CE[3]
+    for j in range(6):
+        e3 = 1.0 if j == 2 else 0.0
+        e6 = 1.0 if j == 5 else 0.0
+        ce0[j] = 0.0 + ka * r[j] + c01 * z[j] + 0.0 * e3 + 0.0 * e6
+        ce1[j] = 0.0 + c01 * r[j] + c11 * z[j] + c12 * e3 + c13 * e6
+        ce2[j] = 0.0 + 0.0 * r[j] + c21 * z[j] + k11 * e3 + k12 * e6
+        ce3[j] = 0.0 + 0.0 * r[j] + c31 * z[j] + k21 * e3 + k22 * e6
+    for i in range(6):
+        ri, zi = r[i], z[i]
+        if i == 2:
+            for j in range(6):
+                K[e, i, j] = 0.0 + ce2[j]
+        elif i == 5:
+            for j in range(6):
+                K[e, i, j] = 0.0 + ce3[j]
+        else:
+            for j in range(6):
+                K[e, i, j] = 0.0 + ri * ce0[j] + zi * ce1[j]
 
 
 @njit(cache=True)
@@ -107,3 +142,254 @@ def scatter(target, source, factor, values, size):
     out = np.zeros(size)
     scatter_add(target, source, factor, values, out)
     return out
+
+CONVERGED, NOT_FINITE, NO_CONVERGENCE, SINGULAR, NON_FINITE_TANGENT, ROTATION_TOO_LARGE = range(6)
+
+
+
+def _lapack(name: str, n_args: int):
+    """scipy's LAPACK routine ``name`` as a function compiled code calls by symbol (so that numba
+    can cache the machine code: the symbol is bound to the address again in every process)."""
+    symbol = f"fem_lapack_{name}"
+    llvm.add_symbol(symbol, get_cython_function_address("scipy.linalg.cython_lapack", name))
+    return types.ExternalFunction(symbol, types.void(*[types.voidptr] * n_args))
+
+
+_dgetrf = _lapack("dgetrf", 6)
+_dgetrs = _lapack("dgetrs", 9)
+_dgbtrf = _lapack("dgbtrf", 8)
+_dgbtrs = _lapack("dgbtrs", 11)
+
+
+class CompiledLayout:
+    """Column-major storage indices of the reduced tangent for LAPACK (dense: A[i, j] at j n + i;
+    banded: the LAPACK band, ab[kl + ku + i - j, j] at j (2 kl + ku + 1) + kl + ku + i - j), and
+    how to turn it back into the row-major storage of `linear_solver.MatrixLayout`.
+    ``applies(system)``: the system is one the compiled corrector handles."""
+
+    @staticmethod
+    def applies(system) -> bool:
+        return (system.width == 1 and system.layout.kind in ("dense", "banded") and system.n > 0
+                and len(system.fol_nodes) == 0 and len(system.pt_nodes) == 0
+                and len(system.dist_follower) == 0)
+
+    def __init__(self, layout, rows, cols):
+        n = layout.n
+        self.banded = layout.kind == "banded"
+        if self.banded:
+            self.kl, self.ku, self.ld = layout.kl, layout.ku, layout.nrow
+            self.flat = cols * layout.nrow + (layout.kl + layout.ku + rows - cols)
+        else:
+            self.kl, self.ku, self.ld = 0, 0, n
+            self.flat = cols * n + rows
+        self.size, self.n = layout.size, n
+
+    def row_major(self, data: np.ndarray) -> np.ndarray:
+        """The storage of `MatrixLayout` (row-major) from the column-major one."""
+        return np.ascontiguousarray(data.reshape(self.n, self.ld).T).ravel()
+
+
+@njit(cache=True)
+def _factor(work, banded, n, kl, ku, ld, ipiv, ints, info):
+    """LU of the column-major matrix in ``work`` (in place); info[0] > 0: an exactly zero pivot."""
+    ints[0], ints[1], ints[2], ints[3] = n, kl, ku, ld
+    if banded:
+        _dgbtrf(ints[0:].ctypes, ints[0:].ctypes, ints[1:].ctypes, ints[2:].ctypes, work.ctypes,
+                ints[3:].ctypes, ipiv.ctypes, info.ctypes)
+    else:
+        _dgetrf(ints[0:].ctypes, ints[0:].ctypes, work.ctypes, ints[3:].ctypes, ipiv.ctypes, info.ctypes)
+
+
+@njit(cache=True)
+def _back_solve(work, banded, ipiv, ints, info, x):
+    """x <- K^-1 x with the factors in ``work``."""
+    trans = np.empty(1, np.uint8)
+    trans[0] = 78     # 'N'
+    ints[4] = 1
+    if banded:
+        _dgbtrs(trans.ctypes, ints[0:].ctypes, ints[1:].ctypes, ints[2:].ctypes, ints[4:].ctypes,
+                work.ctypes, ints[3:].ctypes, ipiv.ctypes, x.ctypes, ints[0:].ctypes, info.ctypes)
+    else:
+        _dgetrs(trans.ctypes, ints[0:].ctypes, ints[4:].ctypes, work.ctypes, ints[3:].ctypes,
+                ipiv.ctypes, x.ctypes, ints[0:].ctypes, info.ctypes)
+
+
+@njit(cache=True)
+def _det_sign(work, banded, n, kl, ku, ld, ipiv):
+    """Sign of det K from the LU factors: signs of U's diagonal times the pivot parity; 0 when a
+    pivot is zero or not finite."""
+    sign = 1
+    for j in range(n):
+        d = work[j * ld + (kl + ku if banded else j)]
+        if d == 0.0 or not math.isfinite(d):
+            return 0
+        if d < 0.0:
+            sign = -sign
+        if ipiv[j] - 1 != j:
+            sign = -sign
+    return sign
+
+
+@njit(cache=True)
+def _evaluate(q, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, L0, beta0, ka, kb,
+              springs, spring_k, ground, flat, valid_src, coef, K, u, f_int, f_ref, R, r, fr,
+              fe, Ke, N, M, L, beta, theta_bar, u_bar, jumped, sp):
+    """Residual r, reduced reference load fr and tangent K (column-major storage) at q; returns
+    F_scale = max(|lambda f_ref|, |f_int|). Every output array is filled in place."""
+    n, nf = q.shape[0], u.shape[0]
+    for i in range(nf):
+        k = I0[i]
+        u[i] = C0[i] * q[k] if k < n else C0[i] * 0.0
+    for j in range(p_dofs.shape[0]):
+        u[p_dofs[j]] = presc[j]
+    n_el = edofs.shape[0]
+    p = np.empty((n_el, 6))
+    for e in range(n_el):
+        for j in range(6):
+            p[e, j] = u[edofs[e, j]]
+    element_kernel(X1, X2, p, L0, beta0, beta_prev, ka, kb, True, fe, Ke, N, M, L, beta, theta_bar,
+                   u_bar, jumped)
+    f_int[:] = 0.0
+    for e in range(n_el):
+        for j in range(6):
+            f_int[edofs[e, j]] += fe[e, j]
+    if springs.shape[0]:
+        sp[:] = 0.0
+        for s in range(springs.shape[0]):
+            m = spring_k[s] * (u[springs[s, 0]] - u[springs[s, 1]])
+            sp[springs[s, 0]] += m
+            sp[springs[s, 1]] += -m
+        for i in range(nf):
+            f_int[i] += sp[i]
+    for i in range(nf):
+        f_ref[i] = F_fixed[i]
+    f_ref[ground] = 0.0
+    f_int[ground] = 0.0
+    for i in range(nf):
+        R[i] = f_int[i] - lam * f_ref[i]
+    r[:] = 0.0
+    fr[:] = 0.0
+    for i in range(nf):
+        k = I0[i]
+        if k < n:
+            r[k] += C0[i] * R[i]
+            fr[k] += C0[i] * f_ref[i]
+    f_ext = lam * f_ref
+    scale = max(math.sqrt(np.dot(f_ext, f_ext)), math.sqrt(np.dot(f_int, f_int)))
+    K[:] = 0.0
+    n_ke = n_el * 36
+    ke = Ke.reshape(n_ke)       # the element tangents as one flat, row-major vector (a view)
+    for j in range(flat.shape[0]):
+        src = valid_src[j]
+        if src < n_ke:
+            v = ke[src]
+        else:
+            s = (src - n_ke) // 4
+            v = spring_k[s] * (1.0 if (src - n_ke) % 4 in (0, 3) else -1.0)
+        K[flat[j]] += v * coef[j]
+    return scale
+
+
+@njit(cache=True)
+def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, L0, beta0,
+                ka, kb, springs, spring_k, ground, flat, valid_src, coef, banded, kl, ku, ld, rot,
+                rtol, atol, floor, L_ref, maxiter, damp, max_rot_inc,
+                K, u, f_int, f_ref, R, r, fr, fe, Ke, N, M, L, beta, theta_bar, u_bar, jumped, hist):
+    """Every iteration of the load-control corrector from q (updated in place). Returns
+    (status, iterations, det sign of the last factorisation (2: none), F_scale, rotation increment
+    of a ROTATION_TOO_LARGE cut); the evaluation at the final q is left in the output arrays."""
+    n, nf = q.shape[0], u.shape[0]
+    work = np.empty(K.shape[0])
+    ipiv = np.empty(max(n, 1), np.int32)
+    ints = np.zeros(6, np.int32)
+    info = np.zeros(1, np.int32)
+    sp = np.empty(nf)
+    dq = np.empty(n)
+    has_rot = False
+    for k in range(n):
+        if rot[k]:
+            has_rot = True
+    dq_small = False
+    sign = 2
+    for it in range(maxiter + 1):
+        scale = _evaluate(q, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, L0, beta0,
+                          ka, kb, springs, spring_k, ground, flat, valid_src, coef, K, u, f_int, f_ref,
+                          R, r, fr, fe, Ke, N, M, L, beta, theta_bar, u_bar, jumped, sp)
+        rn = math.sqrt(np.dot(r, r))
+        tol = rtol * scale + floor + atol
+        hist[it] = rn / max(scale, 1e-300)
+        if not math.isfinite(rn):
+            return NOT_FINITE, it, sign, scale, 0.0
+        if (rn <= tol or dq_small) and (it > 0 or rn <= rtol * scale + atol):
+            return CONVERGED, it, sign, scale, 0.0
+        if it == maxiter:
+            return NO_CONVERGENCE, it, sign, scale, 0.0
+        for j in range(K.shape[0]):
+            if not math.isfinite(K[j]):
+                return NON_FINITE_TANGENT, it, sign, scale, 0.0
+            work[j] = K[j]
+        _factor(work, banded, n, kl, ku, ld, ipiv, ints, info)
+        if info[0] > 0:
+            return SINGULAR, it, sign, scale, 0.0
+        sign = _det_sign(work, banded, n, kl, ku, ld, ipiv)
+        if sign == 0:
+            return SINGULAR, it, 2, scale, 0.0
+        for k in range(n):
+            dq[k] = -r[k]
+        _back_solve(work, banded, ipiv, ints, info, dq)
+        if damp > 0.0 and has_rot:
+            big = 0.0
+            for k in range(n):
+                if rot[k]:
+                    big = max(big, abs(dq[k]))
+            if big > damp:
+                for k in range(n):
+                    dq[k] = dq[k] * (damp / big)
+        if it > 0 and abs(np.dot(dq, r)) <= rtol ** 2 * scale * L_ref:
+            return CONVERGED, it, sign, scale, 0.0
+        dq_small = True
+        for k in range(n):
+            q[k] = q[k] + dq[k]
+            if abs(dq[k]) > 1e-13 * (1.0 if rot[k] else L_ref):
+                dq_small = False
+        if has_rot:
+            dth = 0.0
+            for k in range(n):
+                if rot[k]:
+                    dth = max(dth, abs(q[k] - q_start[k]))
+            limit = (2.0 if it == 0 else 4.0) * max_rot_inc
+            if dth > limit:
+                return ROTATION_TOO_LARGE, it + 1, sign, scale, dth
+    return NO_CONVERGENCE, maxiter, sign, 0.0, 0.0
+
+
+@njit(cache=True)
+def unloaded_pivots(presc, F_fixed, beta0, I0, C0, p_dofs, edofs, X1, X2, L0, ka, kb, springs, spring_k,
+                    ground, flat, valid_src, coef, banded, kl, ku, ld, n, ratios, column):
+    """The tangent at the unloaded state (q = 0, lambda = 0) factorised: ``ratios[j]`` = |u_jj| over
+    the largest entry of column j (the pivot of elimination step j), ``column[j]`` that largest
+    entry; returns LAPACK's info (> 0: an exactly zero pivot at column info - 1)."""
+    n_el, nf = edofs.shape[0], I0.shape[0]
+    K = np.empty(ld * n)
+    u, f_int, f_ref, R = np.empty(nf), np.empty(nf), np.empty(nf), np.empty(nf)
+    r, fr, sp = np.empty(n), np.empty(n), np.empty(nf)
+    fe, Ke = np.empty((n_el, 6)), np.zeros((n_el, 6, 6))
+    N, L, beta, u_bar = np.empty(n_el), np.empty(n_el), np.empty(n_el), np.empty(n_el)
+    M, theta_bar, jumped = np.empty((n_el, 2)), np.empty((n_el, 2)), np.empty(n_el, np.bool_)
+    _evaluate(np.zeros(n), presc, 0.0, F_fixed, beta0, I0, C0, p_dofs, edofs, X1, X2, L0, beta0, ka, kb,
+              springs, spring_k, ground, flat, valid_src, coef, K, u, f_int, f_ref, R, r, fr, fe, Ke, N, M,
+              L, beta, theta_bar, u_bar, jumped, sp)
+    for j in range(n):
+        big = 0.0
+        for i in range(ld):
+            big = max(big, abs(K[j * ld + i]))
+        column[j] = big
+    ipiv = np.empty(n, np.int32)
+    ints = np.zeros(6, np.int32)
+    info = np.zeros(1, np.int32)
+    _factor(K, banded, n, kl, ku, ld, ipiv, ints, info)
+    if info[0] == 0:
+        for j in range(n):
+            d = K[j * ld + (kl + ku if banded else j)]
+            ratios[j] = abs(d) / column[j] if column[j] > 0.0 else 0.0
+    return info[0]

@@ -29,7 +29,7 @@ import math
 
 import numpy as np
 
-from . import compiled_newton as cn
+from . import kernel as cn
 from .linear_solver import SingularMatrix
 from .options import NewtonOutcome, SolveOptions
 
@@ -91,7 +91,7 @@ def newton(system, q, lam, beta, loads, opts: SolveOptions, mode="load", ctrl=No
            q_start=None) -> NewtonOutcome:
     """Corrector.  mode 'load' (lambda fixed), 'disp' (ctrl=(k, coef, target)),
     'arc' (arc=(dl, w, q0)).  Raises `StepFailed` when it does not converge. Under load control a
-    system the compiled corrector handles (`compiled_newton`) is solved there, with the same steps."""
+    system the compiled corrector handles (`kernel.newton_load`) is solved there, with the same steps."""
     if mode == "load" and system.compiled is not None:
         return _newton_compiled(system, q, lam, beta, loads, opts, q_start)
     F_fixed, F0, presc = loads
@@ -175,7 +175,7 @@ class _Sign:
 
 
 def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start) -> NewtonOutcome:
-    """`newton` under load control by `compiled_newton.newton_load`: the same outcome or failure."""
+    """`newton` under load control by `kernel.newton_load`: the same outcome or failure."""
     F_fixed, _, presc = loads
     c, d = system.compiled, system.disc
     q = np.array(q, dtype=float)
