@@ -12,12 +12,13 @@ against scipy's brentq on the same residual, bracketed by Theta_i and phi.
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from prbm import HOWELL, PAULY_MIDHA, FitRangeError
+from prbm import HOWELL, PAULY_MIDHA, FitRangeError, FitRangeWarning
 from prbm.segments import _spring_angle_reference, spring_angle
 
 # (fit, [(lower, upper, printed coefficients c0, c1, ...)]) as printed in the seeds
@@ -160,3 +161,44 @@ def test_unknown_family_names_the_known_ones():
     with pytest.raises(ValueError, match="unknown fit family 'midha'; known: pauly-midha, howell"):
         fit_family("midha")
     assert fit_family("howell") is HOWELL and fit_family(PAULY_MIDHA) is PAULY_MIDHA
+
+
+def test_spring_angle_array_path_counts_its_iterations():
+    """The numpy path (> 256 levels) reports the iterations it took, as the scalar path does.  Derivation:
+    with F R = 1e-12 the linear start Theta_i + F R sin(phi - Theta_i)/(F R cos(phi - Theta_i) + k) is
+    within ~1e-24 of the root, so the first Newton step is below xtol: one iteration.  Problem 4 of
+    PROBLEMS needs more than two (from its linear start), so two allowed iterations end unconverged."""
+    many = 300
+    theta, ok, iterations = spring_angle(np.full(many, 1e-12), 1.0, 2.0)
+    assert ok.all() and iterations == 1
+    assert theta == pytest.approx(np.full(many, 1e-12 * math.sin(1.0) / 2.0), rel=1e-9)
+    stiff = [np.full(many, v) for v in PROBLEMS[3]]
+    for maxiter in (1, 2):
+        theta, ok, iterations = spring_angle(*stiff, maxiter=maxiter)
+        assert not ok.any() and iterations == maxiter
+    theta, ok, iterations = spring_angle(*stiff)
+    assert ok.all() and 2 < iterations <= 8
+
+
+def test_spring_angle_array_path_warns_of_nothing_when_the_linear_start_divides_by_zero():
+    """F R cos(phi - Theta_i) + k = 0 exactly (k = -cos 2, F R = 1, phi = 2): the linear start is
+    undefined, the solver starts at phi instead, silently, and finds the root."""
+    many = 300
+    k = -math.cos(2.0)
+    assert 1.0 * math.cos(2.0) + k == 0.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        theta, ok, _ = spring_angle(np.ones(many), 2.0, k)
+    assert ok.all() and theta == pytest.approx(np.full(many, brentq_angle(1.0, 2.0, k, 0.0)), abs=1e-12)
+
+
+def test_extrapolation_warning_says_what_was_done_and_points_at_the_caller():
+    """'warn' (prbm.fits docstring): a FitRangeWarning saying the nearest branch was extrapolated, reported
+    at the line that called the fit (not inside prbm/fits.py)."""
+    with pytest.warns(FitRangeWarning) as record:
+        value = PAULY_MIDHA.gamma(12.0, extrapolate="warn")
+    [warning] = record
+    assert "outside the fitted range" in str(warning.message) and "nearest branch extrapolated" in str(warning.message)
+    assert warning.filename == __file__
+    last = PAULY_MIDHA.gamma.branches[-1].coefficients                 # eq (41), branch -0.5 < n <= 10
+    assert value == pytest.approx(sum(c * 12.0**i for i, c in enumerate(last)), rel=1e-14)
