@@ -202,3 +202,23 @@ def test_extrapolation_warning_says_what_was_done_and_points_at_the_caller():
     assert warning.filename == __file__
     last = PAULY_MIDHA.gamma.branches[-1].coefficients                 # eq (41), branch -0.5 < n <= 10
     assert value == pytest.approx(sum(c * 12.0**i for i, c in enumerate(last)), rel=1e-14)
+
+
+@pytest.mark.parametrize("count", [5, 300], ids=["few", "many"])
+def test_spring_angle_broadcasts_its_arguments(count):
+    """Vectorised like numpy: any argument may be a scalar or an array, arrays of different shapes broadcast;
+    each level is the root of its own moment balance (brentq on the bracket, as above)."""
+    FR = np.linspace(0.5, 20.0, count)
+    theta, ok, _ = spring_angle(3.0, np.linspace(0.3, 2.8, count), 2.0)          # a scalar F R, an array phi
+    assert ok.all() and theta.shape == (count,)
+    assert theta == pytest.approx([brentq_angle(3.0, p, 2.0, 0.0) for p in np.linspace(0.3, 2.8, count)], abs=1e-12)
+    phis = np.array([0.4, 1.5, 2.7])
+    theta, ok, _ = spring_angle(FR[:, None], phis, 2.0)                          # (count, 1) with (3,)
+    assert ok.shape == theta.shape == (count, 3) and ok.all()
+    want = [[brentq_angle(f, p, 2.0, 0.0) for p in phis] for f in FR]
+    assert theta == pytest.approx(np.array(want), abs=1e-12)
+
+
+def test_spring_angle_of_no_levels_is_empty():
+    theta, ok, iterations = spring_angle(np.array([]), 1.0, 2.0)
+    assert theta.shape == ok.shape == (0,) and iterations == 0

@@ -176,12 +176,14 @@ def test_fixed_pinned_outputs_and_constants_on_every_path(path):
 
 @pytest.mark.parametrize("path", ["few", "many"])
 def test_fixed_pinned_unloaded_levels_take_the_fits_at_n_and_no_iteration(path):
-    """P = 0 is not mirrored: the fits at the given n (eqs 41-43), Theta = 0 exactly, no iteration."""
-    zeros = np.zeros(PATHS[path])
+    """P = 0 is not mirrored: the fits at the given n (eqs 41-43), Theta = 0 exactly, no iteration; integer
+    loads come back as floats like every other output."""
+    zeros = np.zeros(PATHS[path], dtype=int)
     r = prbm.fixed_pinned_tip(zeros, 1.0, length=1.0, EI=1.0)
     g, _, K = prbm.PAULY_MIDHA.parameters(1.0)
     assert np.all(r.constants["gamma"] == g) and np.all(r.constants["K_theta"] == K)
     assert np.all(r["Theta"] == 0.0) and np.all(r["a"] == 1.0) and r.nit == 0
+    assert r["P"].dtype == r["n"].dtype == np.float64
 
 
 @pytest.mark.parametrize("path", PATHS)
