@@ -81,9 +81,17 @@ def test_curved_segment_unloaded_is_its_arc_and_straight_limit_matches():
 
 
 def test_fixed_guided_small_deflection_end_moment_is_minus_pl_over_two():
-    r = prbm.fixed_guided_tip(1e-6, 0.0, length=2.0, EI=1.0)
-    assert float(r["M"]) == pytest.approx(-1e-6 * 2.0 / 2, rel=1e-4)
+    """Small deflection: M -> -P l/2 (statics of the guided beam); eq (63) linearised, 4 K_Theta Theta =
+    P l^2/EI, gives b = gamma l Theta = gamma/(4 K_Theta) P l^3/EI with the n = 0 constants of eqs (41),
+    (43) (0.851892, 2.648834), which is within 4 % of the exact linear-theory guided deflection P l^3/(12 EI)."""
+    P, length, EI = 1e-6, 2.0, 3.0
+    r = prbm.fixed_guided_tip(P, 0.0, length=length, EI=EI)
+    assert float(r["M"]) == pytest.approx(-P * length / 2, rel=1e-4)
     assert float(r["theta0"]) == 0.0
+    derived = 0.851892 / (4 * 2.648834) * P * length**3 / EI
+    assert float(r["b"]) == pytest.approx(derived, rel=1e-6)
+    assert float(r["b"]) == pytest.approx(P * length**3 / (12 * EI), rel=0.04)
+    assert float(prbm.fixed_guided_tip(-P, 0.0, length=length, EI=EI)["b"]) == pytest.approx(-derived, rel=1e-6)
 
 
 def test_slfp_straight_geometry_and_equilibrium():
@@ -94,9 +102,20 @@ def test_slfp_straight_geometry_and_equilibrium():
 
 
 def test_curved_pinned_pinned_tension_opens_compression_closes():
-    r = prbm.curved_pinned_pinned(np.array([0.0, 1.0, -1.0]), length=1.0, EI=1.0, curvature=1.0)
+    """Derived from eqs (53)-(58) on each half (h = l/2, kappa0 = h/R_i; gamma = 0.85, K_Theta = 2.65, the
+    documented defaults): unloaded chord 2 a_i = 2 (h/kappa0) sin kappa0; for a small chord force F,
+    k dTheta = -F rho h sin Theta_i with k = rho K_Theta EI/h, so d(chord)/dF = 2 (rho h sin Theta_i)^2 / k."""
+    F = 1e-6
+    r = prbm.curved_pinned_pinned(np.array([0.0, F, -F, 1.0, -1.0]), length=1.0, EI=1.0, curvature=1.0)
     chord = r["chord"]
-    assert chord[1] > chord[0] > chord[2]
+    assert chord[3] > chord[0] > chord[4]
+    h, kappa0, gamma, K = 0.5, 0.5, 0.85, 2.65
+    a_i, b_i = h / kappa0 * math.sin(kappa0), h / kappa0 * (1 - math.cos(kappa0))
+    theta_i = math.atan2(b_i, a_i - h * (1 - gamma))
+    rho = math.hypot(a_i / h - (1 - gamma), b_i / h)
+    assert chord[0] == pytest.approx(2 * a_i, rel=1e-12)
+    slope = 2 * (rho * h * math.sin(theta_i)) ** 2 / (rho * K / h)
+    assert (chord[1] - chord[2]) / (2 * F) == pytest.approx(slope, rel=1e-5)
 
 
 def test_composite_layers_and_capstan():
