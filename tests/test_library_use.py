@@ -40,13 +40,10 @@ UNIFORM = (ROOT / "cases" / "benchmarks" / "cantilever_uniform_load.toml").read_
 
 
 def _uniform_files(tmp_path: Path) -> None:
-    """The second test's files: a case asking the PRBM for a distributed load it has no model for, and the
-    same case recording that refusal as its expected outcome."""
-    asks_prbm = (UNIFORM.replace("[methods.elastica]", "[methods.elastica]\n[methods.prbm]")
-                 .replace('[[outputs]]\nquantity = "reaction_y"\npoint = "root"',
-                          '[[outputs]]\nquantity = "reaction_y"\npoint = "root"\nmethods = ["fem", "elastica"]')
-                 .replace('[[outputs]]\nquantity = "reaction_moment"\npoint = "root"',
-                          '[[outputs]]\nquantity = "reaction_moment"\npoint = "root"\nmethods = ["fem", "elastica"]'))
+    """The second test's files: a case asking the PRBM for a distributed load without the Chain Algorithm
+    (model = 'chain', the only PRBM that takes one), and the same case recording that refusal as its
+    expected outcome."""
+    asks_prbm = UNIFORM.replace('model = "chain"', "")
     assert asks_prbm != UNIFORM
     expects = asks_prbm.replace('group = "benchmarks"', 'group = "benchmarks"\nexpected_failure = { prbm = '
                                 '"no seed PRBM for a distributed load" }')
@@ -170,9 +167,10 @@ def test_every_named_load_as_a_column():
 
 @pytest.mark.xdist_group("plugin_run")
 def test_plugin_judges_like_the_suite_expected_failures_and_unchecked(plugin_run):
-    """The plugin applies the suite's rule (compare.verdict_by_method): the PRBM has no model for a
-    distributed load, so a case asking for it fails, unless the case records that refusal as its
-    expected outcome (``_uniform_files``); the FEM's item is judged on its own checks either way."""
+    """The plugin applies the suite's rule (compare.verdict_by_method): the PRBM has no one-spring model
+    for a distributed load (only the Chain Algorithm, model = 'chain', takes it), so a case asking for the
+    PRBM without the chain fails, unless the case records that refusal as its expected outcome
+    (``_uniform_files``); the FEM's item is judged on its own checks either way."""
     done = plugin_run
     out = done.stdout
     assert done.returncode == 1, out + done.stderr
