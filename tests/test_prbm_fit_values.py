@@ -222,3 +222,27 @@ def test_spring_angle_broadcasts_its_arguments(count):
 def test_spring_angle_of_no_levels_is_empty():
     theta, ok, iterations = spring_angle(np.array([]), 1.0, 2.0)
     assert theta.shape == ok.shape == (0,) and iterations == 0
+
+
+@pytest.mark.parametrize("count", [1, 5, 300], ids=["one", "few", "many"])
+def test_spring_angle_iteration_limit_is_the_number_of_newton_steps_allowed(count):
+    """Derivation as above: F R = 1e-12 converges in one Newton step from the linear start, so maxiter = 1
+    suffices and the solver says it took 1; maxiter = 0 allows no step, so a loaded level is not converged
+    and 0 iterations are reported."""
+    FR = 1e-12 if count == 1 else np.full(count, 1e-12)
+    theta, ok, iterations = spring_angle(FR, 1.0, 2.0, maxiter=1)
+    assert np.all(ok) and iterations == 1
+    assert theta == pytest.approx(np.full(count, 1e-12 * math.sin(1.0) / 2.0) if count > 1 else 1e-12 * math.sin(1.0) / 2.0,
+                                  rel=1e-9)
+    theta, ok, iterations = spring_angle(FR, 1.0, 2.0, maxiter=0)
+    assert not np.any(ok) and iterations == 0
+
+
+def test_fits_of_integer_ratios_are_the_fits_of_the_same_floats():
+    """An integer n (one, or an integer array on either array path) gives the printed polynomials' values,
+    a Python float for one n (eq 41 at n = 0 is its constant 0.851892)."""
+    assert PAULY_MIDHA.gamma(0) == 0.851892 and type(PAULY_MIDHA.gamma(0)) is float
+    for count in (8, 200):                                                # the small-array and polyval paths
+        ints = np.arange(count) % 10 - 3                                  # -3 ... 6, inside -4 < n <= 10
+        for fit in (PAULY_MIDHA.gamma, PAULY_MIDHA.K_theta, PAULY_MIDHA.c_theta, HOWELL.K_theta):
+            assert np.array_equal(fit(ints), fit(ints.astype(float)))
