@@ -38,6 +38,8 @@ from .model import Model
 
 __all__ = ["System"]
 
+EPS = float(np.finfo(float).eps)
+
 
 class System:
     """Everything that does not change between Newton iterations."""
@@ -60,7 +62,7 @@ class System:
         self.I_flat = self.I.ravel()
         self.L_ref = model.characteristic_length()
         # residual noise from rounding positions: ~ eps * EA per element
-        self.noise_floor = 4 * np.finfo(float).eps * float(np.max(d.ka * d.L0, initial=0.0))
+        self.noise_floor = 4 * EPS * float(np.max(d.ka * d.L0, initial=0.0))
         # W of the path norm ||dq||_W: rotations weighted by the mean element length squared
         self.path_weights = np.where(d.red_is_rotation, float(np.mean(d.L0)) ** 2 if len(d.L0) else 1.0, 1.0)
         self.dead_loads = (len(self.fol_nodes) == 0 and not np.any(self.pt_angle)
@@ -133,17 +135,20 @@ class System:
                                          np.repeat(d.springs, 2, axis=1).ravel(), fr, mr])
         self.cols_full = np.concatenate([np.tile(e, (1, 6)).ravel(),
                                          np.tile(d.springs, (1, 2)).ravel(), fc, mr])
-        R = self.I[self.rows_full][:, :, None]
-        Cc = self.I[self.cols_full][:, None, :]
-        R, Cc = np.broadcast_arrays(R, Cc)
-        self.valid = ((R < self.n) & (Cc < self.n)).ravel()
+        w = self.width
+        if w == 1:      # one column per row: the same arrays as the broadcast below, without it
+            R, Cc = self.I[self.rows_full, 0], self.I[self.cols_full, 0]
+            prod = self.C0[self.rows_full, 0] * self.C0[self.cols_full, 0]
+        else:
+            R, Cc = np.broadcast_arrays(self.I[self.rows_full][:, :, None], self.I[self.cols_full][:, None, :])
+            R, Cc = R.ravel(), Cc.ravel()
+            prod = (self.C0[self.rows_full][:, :, None] * self.C0[self.cols_full][:, None, :]).ravel()
+        self.valid = (R < self.n) & (Cc < self.n)
         # without rigid links the constraint coefficients are constant: precompute
         # which full entry feeds each reduced entry, and with what factor
-        w = self.width
         self.valid_src = np.nonzero(self.valid)[0] // (w * w)
-        prod = (self.C0[self.rows_full][:, :, None] * self.C0[self.cols_full][:, None, :]).ravel()
         self.coef_const = prod[self.valid]
-        return R.ravel()[self.valid], Cc.ravel()[self.valid]
+        return R[self.valid], Cc[self.valid]
 
 
     # -- loads along a path ------------------------------------------------
@@ -152,9 +157,14 @@ class System:
 
         level_a = -1 means the unloaded state.
         """
-        def at(arr, k):
-            return np.zeros_like(arr[0]) if k < 0 else arr[k]
-        mix = lambda arr: (1.0 - t) * at(arr, level_a) + t * at(arr, level_b)
+        def mix(arr):
+            if t == 1.0:            # (1 - t) a + t b = b exactly
+                return arr[level_b].copy()
+            if t == 0.0:
+                return np.zeros_like(arr[0]) if level_a < 0 else arr[level_a].copy()
+            if level_a < 0:         # (1 - t) 0 + t b = t b exactly
+                return t * arr[level_b]
+            return (1.0 - t) * arr[level_a] + t * arr[level_b]
         return mix(self.F_fixed), mix(self.F0), mix(self.presc)
 
     # -- kinematics -----------------------------------------------------------

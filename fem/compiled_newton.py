@@ -167,12 +167,11 @@ def _evaluate(q, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, 
     scale = max(math.sqrt(np.dot(f_ext, f_ext)), math.sqrt(np.dot(f_int, f_int)))
     K[:] = 0.0
     n_ke = n_el * 36
+    ke = Ke.reshape(n_ke)       # the element tangents as one flat, row-major vector (a view)
     for j in range(flat.shape[0]):
         src = valid_src[j]
         if src < n_ke:
-            e = src // 36
-            rest = src - 36 * e
-            v = Ke[e, rest // 6, rest % 6]
+            v = ke[src]
         else:
             s = (src - n_ke) // 4
             v = spring_k[s] * (1.0 if (src - n_ke) % 4 in (0, 3) else -1.0)

@@ -31,6 +31,7 @@ import numpy as np
 
 from .local_matrices import member_local_stiffness, prismatic_local_stiffness
 from .model import Model
+from .numbering import rcm_order
 from .section import Section
 
 __all__ = ["Discretisation", "discretise"]
@@ -105,33 +106,16 @@ def _arc_points(P0, P1, kappa, n):
 
 
 def _dof_order(n_en, conn, slaves, masters, extra_owner):
-    """Full DOFs node by node in reverse Cuthill-McKee order (small bandwidth)."""
-    adj = [[] for _ in range(n_en)]
-    for a, b in list(map(tuple, conn.tolist())) + list(zip(slaves.tolist(), masters.tolist())):
-        adj[a].append(b)
-        adj[b].append(a)
-    degree = [len(x) for x in adj]
-    seen = [False] * n_en
-    order = []
-    for start in sorted(range(n_en), key=degree.__getitem__):
-        if seen[start]:
-            continue
-        seen[start] = True
-        queue, head = [start], 0
-        while head < len(queue):
-            v = queue[head]
-            head += 1
-            for w in sorted(adj[v], key=degree.__getitem__):
-                if not seen[w]:
-                    seen[w] = True
-                    queue.append(w)
-        order += queue
-    order.reverse()
+    """Full DOFs node by node in reverse Cuthill-McKee order (small bandwidth; `numbering`): per node
+    [ux, uy, rz] and the released member-end rotations it owns."""
+    order = rcm_order(n_en, conn, slaves, masters)
+    if not len(extra_owner):
+        return np.column_stack([2 * order, 2 * order + 1, 2 * n_en + order]).ravel()
     extras = {}
     for k, owner in enumerate(extra_owner):
         extras.setdefault(owner, []).append(3 * n_en + k)
     dofs = []
-    for n in order:
+    for n in order.tolist():
         dofs += [2 * n, 2 * n + 1, 2 * n_en + n] + extras.get(n, [])
     return dofs
 
@@ -210,7 +194,7 @@ def _joints(model: Model, mesh: _Mesh, rot_dof: np.ndarray) -> _Joints:
     """Release member ends at revolute joints: a released end turns on its own DOF, tied to the node
     rotation by the joint spring k; an unanchored single member's spring acts to ground."""
     conn = mesh.conn
-    end_rot = np.column_stack([rot_dof[conn[:, 0]], rot_dof[conn[:, 1]]]).astype(int)
+    end_rot = rot_dof[conn].astype(int)
     out = _Joints(end_rot, [], [], [], 3 * len(mesh.X))
     link_nodes = {n for rl in model.rigid_links for n in (rl.master, rl.slave)}
     rot_held = {sp.node for sp in model.supports if sp.kind in ("fixed", "guided")}
@@ -342,7 +326,8 @@ def _constraint_map(n_en, n_full, order, independent, held: _Held, rotation_dofs
     order = np.asarray(order, dtype=int)
     free = order[independent[order] & ~held.fixed[order]]
     node = np.where(free < 2 * n_en, free // 2, -1)
-    slider = np.isin(node, np.array(list(held.slider_dirs), dtype=int))
+    slider = (np.isin(node, np.array(list(held.slider_dirs), dtype=int)) if held.slider_dirs
+              else np.zeros(len(free), dtype=bool))
     keep = ~(slider & (free % 2 == 1))          # a slider's one unknown t sits on its x DOF
     free, slider = free[keep], slider[keep]
     n_red = len(free)
@@ -373,6 +358,13 @@ def _first_member_ends(n_mn, conn, edofs) -> np.ndarray:
     return first_end
 
 
+def _marked(n: int, indices: np.ndarray) -> np.ndarray:
+    """Boolean mask of length n, True at the given indices (those in range)."""
+    mask = np.zeros(n, dtype=bool)
+    mask[indices[(indices >= 0) & (indices < n)]] = True
+    return mask
+
+
 def discretise(model: Model, refine: int = 1) -> Discretisation:
     """Mesh every member with refine x n_elements elements; number and constrain the DOFs."""
     n_mn = model.n_nodes
@@ -384,8 +376,10 @@ def discretise(model: Model, refine: int = 1) -> Discretisation:
     n_full = ground = joints.n_full
     springs = np.array(joints.springs, dtype=int).reshape(-1, 2)
     springs[springs < 0] = ground
-    edofs = np.column_stack([2 * conn[:, 0], 2 * conn[:, 0] + 1, joints.end_rot[:, 0],
-                             2 * conn[:, 1], 2 * conn[:, 1] + 1, joints.end_rot[:, 1]])
+    edofs = np.empty((len(conn), 6), dtype=int)
+    edofs[:, 0], edofs[:, 3] = 2 * conn[:, 0], 2 * conn[:, 1]
+    edofs[:, 1], edofs[:, 4] = edofs[:, 0] + 1, edofs[:, 3] + 1
+    edofs[:, 2], edofs[:, 5] = joints.end_rot[:, 0], joints.end_rot[:, 1]
     rotation_dofs = np.zeros(n_full + 1, dtype=bool)
     rotation_dofs[2 * n_en:n_full] = True
     slaves, masters = _rigid_link_roots(model)
@@ -412,5 +406,5 @@ def discretise(model: Model, refine: int = 1) -> Discretisation:
         prescribed_dofs=np.array(held.p_dofs, dtype=int),
         prescribed_values=np.array(held.p_vals, dtype=float).reshape(len(held.p_dofs), n_lev),
         constrained=held.constrained, slaves=slaves, masters=masters,
-        node_rotation_used=used[rot_dof[:n_mn]] | np.isin(np.arange(n_mn), slaves),
+        node_rotation_used=used[rot_dof[:n_mn]] | _marked(n_mn, slaves),
         node_first_end_rot=_first_member_ends(n_mn, conn, edofs), red_is_rotation=red_is_rot)

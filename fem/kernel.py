@@ -42,8 +42,6 @@ def element_kernel(X1, X2, p, L0, beta0, beta_prev, ka, kb, need_tangent,
     all elements. (Outputs are passed in, not returned: returning arrays from numba costs more
     than the loop for small meshes.)"""
     n = L0.shape[0]
-    E = np.zeros((4, 6))
-    C = np.zeros((4, 4))
     CE = np.empty((4, 6))
     for e in range(n):
         dx = X2[e, 0] - X1[e, 0] + p[e, 3] - p[e, 0]
@@ -67,31 +65,41 @@ def element_kernel(X1, X2, p, L0, beta0, beta_prev, ka, kb, need_tangent,
         N[e], M[e, 0], M[e, 1], L[e], beta[e] = Ne, M1, M2, Le, b
         theta_bar[e, 0], theta_bar[e, 1], u_bar[e] = t1, t2, ub
         if need_tangent:
-            E[0, 0], E[0, 1], E[0, 3], E[0, 4] = -c, -s, c, s      # r
-            E[1, 0], E[1, 1], E[1, 3], E[1, 4] = s, -c, -s, c      # z
-            E[2, 2] = 1.0                                          # e3
-            E[3, 5] = 1.0                                          # e6
-            C[0, 0] = ka[e]
-            C[1, 1] = (k11 + k12 + k21 + k22) / (Le * Le) + Ne / Le
-            C[0, 1] = V / Le
-            C[1, 0] = V / Le
-            C[1, 2] = -(k11 + k21) / Le
-            C[2, 1] = -(k11 + k12) / Le
-            C[1, 3] = -(k12 + k22) / Le
-            C[3, 1] = -(k21 + k22) / Le
-            C[2, 2], C[2, 3], C[3, 2], C[3, 3] = k11, k12, k21, k22
-            for i in range(4):
-                for j in range(6):
-                    acc = 0.0
-                    for k in range(4):
-                        acc += C[i, k] * E[k, j]
-                    CE[i, j] = acc
-            for i in range(6):
-                for j in range(6):
-                    acc = 0.0
-                    for k in range(4):
-                        acc += E[k, i] * CE[k, j]
-                    K[e, i, j] = acc
+            _tangent(K, CE, e, c, s, ka[e], Ne, V, Le, k11, k12, k21, k22)
+
+
+@njit(cache=True, inline="always")
+def _tangent(K, CE, e, c, s, ka, N, V, L, k11, k12, k21, k22):
+    """K[e] = E^T C E with E = [r; z; e3; e6]: the products of the dense loops with the zero entries
+    of E and C left out (adding an exact zero changes no bit, so the sums are those of the dense
+    loops, term for term and in the same order)."""
+    r = (-c, -s, 0.0, c, s, 0.0)
+    z = (s, -c, 0.0, -s, c, 0.0)
+    c01 = V / L
+    c11 = (k11 + k12 + k21 + k22) / (L * L) + N / L
+    c12, c13 = -(k11 + k21) / L, -(k12 + k22) / L
+    c21, c31 = -(k11 + k12) / L, -(k21 + k22) / L
+    # CE = C E, row by row (C[0] = [ka, c01, 0, 0], C[1] = [c01, c11, c12, c13],
+    # C[2] = [0, c21, k11, k12], C[3] = [0, c31, k21, k22])
+    ce0, ce1, ce2, ce3 = CE[0], CE[1], CE[2], CE[3]
+    for j in range(6):
+        e3 = 1.0 if j == 2 else 0.0
+        e6 = 1.0 if j == 5 else 0.0
+        ce0[j] = 0.0 + ka * r[j] + c01 * z[j] + 0.0 * e3 + 0.0 * e6
+        ce1[j] = 0.0 + c01 * r[j] + c11 * z[j] + c12 * e3 + c13 * e6
+        ce2[j] = 0.0 + 0.0 * r[j] + c21 * z[j] + k11 * e3 + k12 * e6
+        ce3[j] = 0.0 + 0.0 * r[j] + c31 * z[j] + k21 * e3 + k22 * e6
+    for i in range(6):
+        ri, zi = r[i], z[i]
+        if i == 2:
+            for j in range(6):
+                K[e, i, j] = 0.0 + ce2[j]
+        elif i == 5:
+            for j in range(6):
+                K[e, i, j] = 0.0 + ce3[j]
+        else:
+            for j in range(6):
+                K[e, i, j] = 0.0 + ri * ce0[j] + zi * ce1[j]
 
 
 @njit(cache=True)

@@ -132,9 +132,41 @@ class FemResult:
                            axial_force=at_nodes(N, N), bending_stress=stress)
 
     def field_series(self) -> "FieldSeries":
-        """Every level's element-node positions and ``nodal_fields``: plain data, without the solver."""
-        return FieldSeries(self.extra["X"].copy(), self.connectivity.copy(), self.mesh_positions.copy(),
-                           [self.nodal_fields(k) for k in range(self.n_levels)],
+        """Every level's element-node positions and ``nodal_fields`` (all levels at once, the same
+        sums in the same order as `nodal_fields`): plain data, without the solver."""
+        disc = self.extra["disc"]
+        N = self.extra["element_axial_force"]           # (levels, elements)
+        M = self.extra["element_end_moments"]           # (levels, elements, 2)
+        conn = self.connectivity
+        n, levels = self.mesh_positions.shape[1], self.n_levels
+        EI = np.array([sec.EI for sec in disc.el_section])
+        count = np.bincount(conn.ravel(), minlength=n).astype(float)
+        count[count == 0] = np.nan
+
+        def at_nodes(start, end):
+            first, second = np.zeros((levels, n)), np.zeros((levels, n))
+            np.add.at(first, (slice(None), conn[:, 0]), start)
+            np.add.at(second, (slice(None), conn[:, 1]), end)
+            return (first + second) / count
+
+        moment = at_nodes(-M[:, :, 0], M[:, :, 1])
+        curvature = at_nodes(-M[:, :, 0] / EI, M[:, :, 1] / EI)
+        axial = at_nodes(N, N)
+        stress = [None] * levels
+        if disc.el_section and all(sec.has_stress for sec in disc.el_section):
+            sigma = np.empty((levels, len(conn)))
+            for sec, idx in disc.section_groups:
+                sigma[:, idx] = np.maximum(sec.max_stress(N[:, idx], np.abs(M[:, idx, 0])),
+                                           sec.max_stress(N[:, idx], np.abs(M[:, idx, 1])))
+            top = np.zeros((levels, n))
+            np.maximum.at(top, (slice(None), conn[:, 0]), sigma)
+            np.maximum.at(top, (slice(None), conn[:, 1]), sigma)
+            stress = list(top)
+        shift = self.mesh_positions - self.extra["X"]
+        nodal = [NodalFields(displacement=shift[k], rotation=self.mesh_rotations[k].copy(), bending_moment=moment[k],
+                             curvature=curvature[k], axial_force=axial[k], bending_stress=stress[k])
+                 for k in range(levels)]
+        return FieldSeries(self.extra["X"].copy(), conn.copy(), self.mesh_positions.copy(), nodal,
                            np.asarray(self.load_factor, float))
 
     def to_vtu(self, prefix: str) -> list:
@@ -213,42 +245,35 @@ def build_result(model, sys, path, *, converged, message, critical_points, wall_
     nm = d.n_model_nodes
     snaps = path.snapshots
     nl = len(snaps)
-    n_mem = len(model.members)
-    pos = np.zeros((nl, len(d.X), 2))
-    rot = np.zeros((nl, len(d.X)))
-    reac = np.zeros((nl, nm, 3))
-    mef = np.zeros((nl, n_mem, 2, 3))
-    energy = np.zeros(nl)
-    stress = np.full(nl, np.nan)
-    lam = np.zeros(nl)
+    n_x = len(d.X)
+    U = np.array([s["u"] for s in snaps]).reshape(nl, d.n_full + 1)
+    N_all = np.array([s["N"] for s in snaps]).reshape(nl, len(d.conn))
+    M_all = np.array([s["M"] for s in snaps]).reshape(nl, len(d.conn), 2)
+    pos = d.X + U[:, :2 * n_x].reshape(nl, n_x, 2)
     node_rot_dof = np.where(d.node_rotation_used, d.rot_dof[:nm], d.node_first_end_rot)
     rot_dofs_all = d.rot_dof.copy()
     rot_dofs_all[:nm] = node_rot_dof
+    rot = U[:, rot_dofs_all]
     mask = np.zeros(d.n_full + 1)
     mask[:d.n_full] = d.constrained
-    has_stress = bool(d.el_section) and all(sec.has_stress for sec in d.el_section)
-    groups = d.section_groups
+    R = np.array([_transfer_slave_forces(d, s["R_full"], s["u"]) for s in snaps]).reshape(nl, d.n_full + 1)
+    R *= mask
+    reac = np.empty((nl, nm, 3))
+    reac[:, :, :2] = R[:, :2 * nm].reshape(nl, nm, 2)
+    reac[:, :, 2] = R[:, d.rot_dof[:nm]]
+    mef = _member_end_forces(d, N_all, M_all, np.array([s["L"] for s in snaps]).reshape(nl, len(d.conn)))
+    energy = np.zeros(nl)
     for k, s in enumerate(snaps):
-        u = s["u"]
-        pos[k] = d.X + np.column_stack([u[0:2 * len(d.X):2], u[1:2 * len(d.X):2]])
-        rot[k] = u[rot_dofs_all]
-        R = _transfer_slave_forces(d, s["R_full"], u) * mask
-        reac[k] = np.column_stack([R[0:2 * nm:2], R[1:2 * nm:2], R[d.rot_dof[:nm]]])
-        N, M, L = s["N"], s["M"], s["L"]
-        V = -(M[:, 0] + M[:, 1]) / L
-        for im, els in enumerate(d.member_elements):
-            e0, e1 = els[0], els[-1]
-            mef[k, im, 0] = [N[e0], V[e0], M[e0, 0]]
-            mef[k, im, 1] = [N[e1], V[e1], M[e1, 1]]
         energy[k] = strain_energy(d.ka, d.kb, s["u_bar"], s["theta_bar"]).sum()
         if len(d.springs):
-            dth = u[d.springs[:, 0]] - u[d.springs[:, 1]]
+            dth = s["u"][d.springs[:, 0]] - s["u"][d.springs[:, 1]]
             energy[k] += 0.5 * np.sum(d.spring_k * dth**2)
-        if has_stress:
-            Mabs = np.abs(M).max(axis=1)
-            stress[k] = max(float(np.max(sec.max_stress(N[idx], Mabs[idx])))
-                            for sec, idx in groups)
-        lam[k] = s["lam"] if control != "load" else s["level"]
+    stress = np.full(nl, np.nan)
+    if nl and d.el_section and all(sec.has_stress for sec in d.el_section):
+        Mabs = np.abs(M_all).max(axis=2)
+        stress = np.max([np.max(sec.max_stress(N_all[:, idx], Mabs[:, idx]), axis=1)
+                         for sec, idx in d.section_groups], axis=0)
+    lam = np.array([s["lam"] if control != "load" else s["level"] for s in snaps], dtype=float)
     return FemResult(
         converged=converged, message=message, control=control,
         steps=len(path.iterations), iterations=int(sum(path.iterations)), cutbacks=path.cutbacks,
@@ -259,10 +284,23 @@ def build_result(model, sys, path, *, converged, message, critical_points, wall_
         wall_time=wall_time, node_names=list(model.node_names), mesh_positions=pos,
         mesh_rotations=rot, connectivity=d.conn.copy(), det_sign=np.array(path.det_signs),
         refine=refine, n_elements=len(d.conn),
-        extra=dict(X=d.X.copy(), disc=d, u_full=np.array([s["u"] for s in snaps]),
-                   element_axial_force=np.array([s["N"] for s in snaps]),
-                   element_end_moments=np.array([s["M"] for s in snaps]),
+        extra=dict(X=d.X.copy(), disc=d, u_full=U,
+                   element_axial_force=N_all,
+                   element_end_moments=M_all,
                    step_load_factor=np.array(path.step_lams),
                    step_path_parameter=np.array(path.step_s),
                    step_control=np.array(path.step_ctrl),
-                   element_moments=np.array([s["M"] for s in snaps]).reshape(nl, len(d.conn), 2)))
+                   element_moments=M_all.copy()))
+
+
+def _member_end_forces(d, N, M, L) -> np.ndarray:
+    """[N, V, M] at the start and the end of every member, V = -(M1 + M2)/L (levels, members, 2, 3)."""
+    first = np.array([els[0] for els in d.member_elements], dtype=int)
+    last = np.array([els[-1] for els in d.member_elements], dtype=int)
+    V = -(M[:, :, 0] + M[:, :, 1]) / L
+    mef = np.empty((len(N), len(first), 2, 3))
+    for side, els in enumerate((first, last)):
+        mef[:, :, side, 0] = N[:, els]
+        mef[:, :, side, 1] = V[:, els]
+        mef[:, :, side, 2] = M[:, els, side]
+    return mef

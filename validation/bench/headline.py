@@ -83,7 +83,8 @@ CONFIGURATIONS = {      # how each code is driven (printed beside the headline)
     "fem": ("corotational Euler-Bernoulli beams (validation.methods.fem); load control: each level tried in "
             "one step, cut only on failure (failed tries counted), Newton with the consistent tangent "
             "compiled whole (numba + LAPACK dgetrf/dgbtrf, RCM-banded), |r| <= 1e-10 max(|f_ext|, |f_int|); "
-            "limit loads by arc length; fem+richardson: the n and 2n solves (warm-started) extrapolated"),
+            "limit loads by arc length (its corrector, and any model with rigid links or follower loads, in NumPy, "
+            "not compiled); fem+richardson: the n and 2n solves (warm-started) extrapolated"),
     "opensees": ("OpenSeesPy elasticBeamColumn with the Corotational transformation "
                  "(validation.methods.opensees); LoadControl one step per level, halved on failure (up to 12 "
                  "halvings, failed tries counted), Newton, NormDispIncr 1e-10 (50 iterations), BandGeneral, "

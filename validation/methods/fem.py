@@ -384,20 +384,16 @@ def _critical_note(result) -> str:
 def _shapes(result) -> list:
     """Per level, the deformed mesh as polylines (chains of consecutive elements)."""
     conn = np.asarray(result.connectivity)
-    shapes = []
-    for level in range(result.n_levels):
-        pts = result.mesh_positions[level]
-        lines, current = [], [conn[0, 0], conn[0, 1]] if len(conn) else []
-        for a, b in conn[1:]:
-            if a == current[-1]:
-                current.append(b)
-            else:
-                lines.append(pts[current].copy())
-                current = [a, b]
-        if current:
-            lines.append(pts[current].copy())
-        shapes.append(lines)
-    return shapes
+    chains, current = [], [conn[0, 0], conn[0, 1]] if len(conn) else []
+    for a, b in conn[1:].tolist():
+        if a == current[-1]:
+            current.append(b)
+        else:
+            chains.append(np.array(current))
+            current = [a, b]
+    if current:
+        chains.append(np.array(current))
+    return [[pts[chain] for chain in chains] for pts in result.mesh_positions[:result.n_levels]]
 
 
 def _arc_point(kappa: float, s: float) -> tuple[float, float]:

@@ -1,0 +1,79 @@
+"""Node numbering in reverse Cuthill-McKee order (small bandwidth of the banded tangent), compiled
+(numba, ``cache=True``).
+
+The graph: element nodes joined by elements and by rigid links (slave to master). Cuthill-McKee
+(Cuthill & McKee 1969): starting from the unvisited node of smallest degree, a breadth-first search
+that visits each node's neighbours in order of increasing degree; every connected component in
+turn; the order reversed (George 1971). Ties are broken by position: nodes by index, neighbours in
+the order their edges are listed (stable sorts), so the numbering is a function of the model alone.
+
+Angles are in radians (degrees appear only in case files and reports).
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = ["rcm_order"]
+
+
+@njit(cache=True)
+def _stable_by_degree(items, degree):
+    """Insertion sort of ``items`` (in place) by degree, equal degrees kept in their order."""
+    for i in range(1, items.shape[0]):
+        v = items[i]
+        j = i - 1
+        while j >= 0 and degree[items[j]] > degree[v]:
+            items[j + 1] = items[j]
+            j -= 1
+        items[j + 1] = v
+
+
+@njit(cache=True)
+def _rcm(n_nodes, a, b):
+    """Reverse Cuthill-McKee order of the nodes 0 .. n_nodes-1 of the graph with edges (a[k], b[k])."""
+    degree = np.zeros(n_nodes, np.int64)
+    for k in range(a.shape[0]):
+        degree[a[k]] += 1
+        degree[b[k]] += 1
+    start = np.zeros(n_nodes + 1, np.int64)
+    for v in range(n_nodes):
+        start[v + 1] = start[v] + degree[v]
+    fill = start[:-1].copy()
+    adj = np.empty(start[n_nodes], np.int64)
+    for k in range(a.shape[0]):        # neighbours in the order the edges are listed
+        adj[fill[a[k]]] = b[k]
+        fill[a[k]] += 1
+        adj[fill[b[k]]] = a[k]
+        fill[b[k]] += 1
+    for v in range(n_nodes):
+        _stable_by_degree(adj[start[v]:start[v + 1]], degree)
+    roots = np.argsort(degree, kind="mergesort")
+    seen = np.zeros(n_nodes, np.bool_)
+    order = np.empty(n_nodes, np.int64)
+    tail = 0
+    for r in roots:
+        if seen[r]:
+            continue
+        seen[r] = True
+        head = tail
+        order[tail] = r
+        tail += 1
+        while head < tail:
+            v = order[head]
+            head += 1
+            for k in range(start[v], start[v + 1]):
+                w = adj[k]
+                if not seen[w]:
+                    seen[w] = True
+                    order[tail] = w
+                    tail += 1
+    return order[::-1].copy()
+
+
+def rcm_order(n_nodes: int, conn: np.ndarray, slaves: np.ndarray, masters: np.ndarray) -> np.ndarray:
+    """Nodes in reverse Cuthill-McKee order, for the elements ``conn`` (n_el, 2) and the rigid links
+    (``slaves[k]`` to ``masters[k]``)."""
+    a = np.concatenate([np.asarray(conn[:, 0], np.int64), np.asarray(slaves, np.int64)])
+    b = np.concatenate([np.asarray(conn[:, 1], np.int64), np.asarray(masters, np.int64)])
+    return _rcm(int(n_nodes), a, b)
