@@ -94,7 +94,7 @@ def run_coupler(case, requests: list[Request], info: MethodRun) -> dict:
     info.message = "; ".join(failed + messages) or "unloaded"
     info.extras.update({"model": "fixed-guided segments with one inflection point on a rigid coupler, seed 000 "
                                  "eqs (131)-(152), section 5.5", "windows": {
-                            lv: {w.segment: [w.low, w.high] for w in r.extras["windows"]}
+                            lv: {w.segment: None if w.empty else [w.low, w.high] for w in r.extras["windows"]}
                             for lv, r in results.items() if r is not None}})
     return values
 
