@@ -243,3 +243,21 @@ def test_the_two_port_ma_takes_the_work_piece_location_as_its_load(tmp_path):
                                  f'values = [{1.1 * dx}, {1.1 * dx}]', "F_i = [10.0, 40.0], ")
     run = run_method(wrong, "prbm")
     assert run.status is RunStatus.NOT_APPLICABLE and "location_deg" in run.message
+
+
+TABLES = ["table3_3_case1_a_b_theta0", "table3_4_case2a_b_theta0_n0", "table3_5_case2b_b_theta0_n",
+          "table3_6_case2c_b_theta0_l1", "table3_6_exact_inverse"]
+
+
+@pytest.mark.parametrize("name", TABLES)
+def test_tables_3_3_to_3_6_give_the_fem_the_prbms_displacement_problem(name):
+    """Seed 000 Tables 3.3-3.6 specify the tip (b, theta0 and a, n or l1) and ask for the loads: the FEM's
+    inverse problem must be the PRBM's, level for level, and both must report the three tip loads."""
+    case = load_case(f"cases/chapter3/{name}.toml").case
+    prbm, inverse = case.methods["prbm"], case.methods["fem"]["inverse"]
+    assert prbm["problem"] == "displacement"
+    posed = {k: v for k, v in prbm.items() if k in ("a", "b", "theta0_deg", "n", "l1")}
+    assert posed and {k: inverse.get(k) for k in posed} == posed
+    for quantity in ("force_x", "force_y", "moment"):
+        assert any(o.quantity == quantity and {"prbm", "fem"} <= set(o.methods or case.methods)
+                   for o in case.outputs), quantity
