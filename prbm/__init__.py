@@ -28,6 +28,8 @@ from prbm.mechanisms import FourBar, SliderCrank
 from prbm.network import (GROUND, Couple, Force, LockedNetwork, Network, NetworkResult, Pin,
                           PrescribedDisplacement, PrescribedRotation, Slider, TorsionSpring, solve, trace)
 from prbm.result import PRBMResult
+from prbm.turning_loads import (DeadDirection, FollowerDirection, TipPose, TowardPoint, fixed_pinned_turning_tip,
+                                input_angle_under_turning_forces)
 from prbm.segments import (curved_fixed_pinned_tip, curved_pinned_pinned, fixed_guided_monotonic_tip,
                            fixed_guided_tip, fixed_pinned_from_tip, fixed_pinned_tip, pure_moment_from_tip,
                            pure_moment_tip, slfp_end_tip, slfp_tip, spring_angle)
@@ -49,4 +51,6 @@ __all__ = [
     "curved_fixed_pinned_tip", "curved_pinned_pinned", "fixed_guided_monotonic_tip", "fixed_guided_tip",
     "fixed_pinned_from_tip", "fixed_pinned_tip", "pure_moment_from_tip", "pure_moment_tip", "slfp_end_tip", "slfp_tip",
     "spring_angle",
+    "DeadDirection", "FollowerDirection", "TipPose", "TowardPoint", "fixed_pinned_turning_tip",
+    "input_angle_under_turning_forces",
 ]

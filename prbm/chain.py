@@ -106,6 +106,20 @@ class NodalLoads:
     def scaled(self, s: float) -> "NodalLoads":
         return NodalLoads(self.fx * s, self.fy * s, self.m * s)
 
+    def plus(self, other: "NodalLoads") -> "NodalLoads":
+        return NodalLoads(self.fx + other.fx, self.fy + other.fy, self.m + other.m)
+
+
+def lumped_uniform_load(beam: ChainBeam, qx: float, qy: float) -> NodalLoads:
+    """A dead load (qx, qy) per unit undeformed length along the whole chain, lumped at the element ends:
+    each element's q L_i goes half to each of its nodes (node 0, the clamp, takes its half into the
+    support), so the nodal loads keep the resultant q l; the moment of the lumped loads about any node
+    differs from the distributed one by O(L_i^2) (the trapezoid rule).  The seed's chain takes loads at
+    its nodes only (eqs 26-28: (f_x)_j, (f_y)_j, m_j at node j)."""
+    weights = np.full(beam.elements + 1, beam.element_length)
+    weights[0] = weights[-1] = 0.5 * beam.element_length
+    return NodalLoads(qx * weights, qy * weights, np.zeros(beam.elements + 1))
+
 
 @dataclass
 class ChainState:

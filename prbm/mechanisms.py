@@ -342,9 +342,13 @@ class SliderCrank:
         self.x_ref = self.R2 * math.cos(self.theta2_ref) + self.R3 * math.cos(self.theta3_ref)
 
     def theta3(self, theta2):
+        """Coupler angle on the assembly branch of position 1, in the turn of theta3_ref (within pi
+        of it), so theta3 - theta3_ref is the coupler's rotation from position 1 whatever the
+        quadrant the reference was given in."""
         s = (self.offset - self.R2 * np.sin(theta2)) / self.R3
         t = np.arcsin(s)
-        return t if self.branch > 0 else np.pi - t
+        t = t if self.branch > 0 else np.pi - t
+        return self.theta3_ref + np.remainder(t - self.theta3_ref + np.pi, 2.0 * np.pi) - np.pi
 
     def slider_x(self, theta2):
         return self.R2 * np.cos(theta2) + self.R3 * np.cos(self.theta3(theta2))

@@ -131,14 +131,11 @@ UNIFORM = (ROOT / "cases" / "benchmarks" / "cantilever_uniform_load.toml").read_
 
 
 def test_plugin_judges_like_the_suite_expected_failures_and_unchecked(tmp_path):
-    """The plugin applies the suite's rule (compare.verdict_by_method): the PRBM has no model for a
-    distributed load, so a case asking for it fails, unless the case records that refusal as its
-    expected outcome; the FEM's item is judged on its own checks either way."""
-    asks_prbm = (UNIFORM.replace("[methods.elastica]", "[methods.elastica]\n[methods.prbm]")
-                 .replace('[[outputs]]\nquantity = "reaction_y"\npoint = "root"',
-                          '[[outputs]]\nquantity = "reaction_y"\npoint = "root"\nmethods = ["fem", "elastica"]')
-                 .replace('[[outputs]]\nquantity = "reaction_moment"\npoint = "root"',
-                          '[[outputs]]\nquantity = "reaction_moment"\npoint = "root"\nmethods = ["fem", "elastica"]'))
+    """The plugin applies the suite's rule (compare.verdict_by_method): the PRBM has no one-spring model
+    for a distributed load (only the Chain Algorithm, model = 'chain', takes it), so a case asking for the
+    PRBM without the chain fails, unless the case records that refusal as its expected outcome; the FEM's
+    item is judged on its own checks either way."""
+    asks_prbm = UNIFORM.replace('model = "chain"', "")
     assert asks_prbm != UNIFORM
     expects = asks_prbm.replace('group = "benchmarks"', 'group = "benchmarks"\nexpected_failure = { prbm = '
                                 '"no seed PRBM for a distributed load" }')

@@ -134,6 +134,8 @@ class PrbmOptions(Options):
                                                          "(52) for model = 'theta-dependent'")
     chain_elements: Count = Field(40, description="Chain Algorithm elements (section 3.4 used 40)")
     chain_steps: Count = Field(10, description="Chain Algorithm load (or displacement) increments")
+    zero_level: Annotated[int, Field(ge=0)] | None = Field(None, description="positions measured from this "
+                                                          "level's state, as the FEM option (prbm_readings)")
     rules: dict[str, Any] | None = Field(None, description="the PRB builder's rules; keys checked by "
                                          "validation.methods.prbm_network.rules")
     # the seeds' synthesis data (chapters 5-7), kept beside the model for the reader and the synthesis;

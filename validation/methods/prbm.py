@@ -50,7 +50,7 @@ import prbm
 from prbm.fits import THETA_RANGE, fit_family
 from prbm.result import PRBMResult
 from validation.methods import (prbm_alternatives, prbm_body, prbm_fourbar, prbm_inflection, prbm_ma,
-                                prbm_network)
+                                prbm_network, prbm_readings)
 from validation.methods.base import (Applicability, MethodRun, NotApplicable, Request,
                                      reject_loads_along_beams)
 from validation.methods.prbm_common import DEG, pick, plain
@@ -61,7 +61,10 @@ from validation.case.quantities import boundary_held_tip, unloaded_tip_angle
 
 def run(case, requests: list[Request], options: dict) -> MethodRun:
     t0 = time.perf_counter()
-    reject_loads_along_beams(case, "the PRBM")
+    if prbm_readings.handles(case, options):  # loads along the segment, a force toward a point (issue 20)
+        return prbm_readings.run(case, requests, options)
+    if not prbm_readings.turning_fourbar(case, options):
+        reject_loads_along_beams(case, "the PRBM")
     if options.get("model") in prbm_alternatives.MODELS:  # seed 000 chapter 2's other segment models
         return prbm_alternatives.run(case, requests, options)
     try:
@@ -190,9 +193,11 @@ def _free_straight(loads: TipLoads, ratio, L: float, EI: float, fit: FitOptions)
     if loads.follower:
         if has_M:
             raise NotApplicable("follower force with an end moment: no PRBM in the seeds")
-        if not np.allclose(ratio, ratio[0]):
+        loaded = ratio[loads.Fy != 0.0]  # an unloaded level has no ratio (n = 0 there is a placeholder)
+        if len(loaded) and not np.allclose(loaded, loaded[0]):
             raise NotApplicable("follower force with a varying load ratio")
-        return SegmentSolve(prbm.composite_beam_tip(loads.Fy, ratio[0], follower=True, **kw), L, 0.0)
+        return SegmentSolve(prbm.composite_beam_tip(loads.Fy, loaded[0] if len(loaded) else 0.0, follower=True,
+                                                    **kw), L, 0.0)
     if has_F and has_M:
         return SegmentSolve(prbm.fixed_guided_monotonic_tip(loads.Fy, ratio, loads.M, **kw), L, 0.0,
                             "force and moment: equivalent initial curvature kappa0 = M l/EI (eq 62), no inflection")

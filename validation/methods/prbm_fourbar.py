@@ -29,6 +29,7 @@ from scipy.optimize import brentq
 
 import prbm
 from validation.methods.base import MethodRun, NotApplicable
+from validation.methods import prbm_readings
 from validation.methods.prbm_common import DEG, pick
 
 def _complex(pair) -> complex:
@@ -161,10 +162,16 @@ def fourbar_drive(case, setup: FourBarSetup, options: dict, info: MethodRun) -> 
     fb, t20, t21 = setup.fb, setup.theta20, setup.theta21
     n = case.n_levels()
     torque = _input_torques(case)
-    force_at_A = _link2_end_forces(case, fb, t20, complex(*options.get("origin", [0.0, 0.0])))
+    turning = prbm_readings.link2_turning_forces(case, fb.R2, t20, options)  # follower / rope at A (issue 20)
+    force_at_A = None if turning else _link2_end_forces(case, fb, t20, complex(*options.get("origin", [0.0, 0.0])))
     precision = options.get("precision", {})
-    drive = options.get("drive", "torque" if torque is not None or force_at_A is not None else "precision")
-    if drive == "torque" and force_at_A is not None:
+    drive = options.get("drive", "torque" if torque is not None or force_at_A is not None or turning else "precision")
+    if drive == "torque" and turning:
+        theta2 = prbm_readings.theta2_under_turning_forces(fb, turning, torque if torque is not None else np.zeros(n),
+                                                           t20, options)
+        info.level_converged = {i: bool(np.isfinite(t)) for i, t in enumerate(theta2)}
+        info.message = "PRB four-bar under a turning force at the end of PRB link 2 (eq (**) of prbm.turning_loads)"
+    elif drive == "torque" and force_at_A is not None:
         base = torque if torque is not None else np.zeros(n)
         theta2 = np.array([_theta2_under_force(fb, complex(f), float(t), t20) for f, t in zip(force_at_A, base)])
         info.level_converged = {i: bool(np.isfinite(t)) for i, t in enumerate(theta2)}

@@ -3,8 +3,8 @@ eqs 192-198, 205), selected by ``[methods.prbm] ma = {model = "compliance", ...}
 
 * Slider mechanism (``links`` with r11, r2, r3; springs k1..k3, f_k), Type 1: the levels are work-piece
   locations, the slider travel dx of a ``displacement`` load; the crank angle follows from the loop
-  (``prbm.SliderCrank.theta2_at``), the coupler angle is taken on the branch of position 1 *and* in
-  the same turn as its printed angle, the compliance torque is eq (196) and MA_R = d_i/|I12 I24|
+  (``prbm.SliderCrank.theta2_at``), the coupler angle on the branch of position 1 in the turn of its
+  printed angle (``prbm.SliderCrank.theta3``), the compliance torque is eq (196) and MA_R = d_i/|I12 I24|
   (eq 199/206).  With the input torque T_i = sigma F_i d_i (sigma the sign of the case's input
   moment, +1 without one) the held slider gives F_o v_o = (T_i - T_c) omega2, so
   MA = MA_R (1 - T_c/(sigma F_i d_i)) (eq 192 with signs: the compliance opposes the input when T_c
@@ -74,8 +74,7 @@ def _slider(case, options: dict) -> dict[str, np.ndarray]:
     d = np.asarray(travel[0].direction, float)
     dx = np.asarray(travel[0].levels(), float) * d[0] / math.hypot(*d)
     theta2 = np.array([sc.theta2_at(float(x)) for x in dx])
-    raw = np.asarray(sc.theta3(theta2), float)
-    theta3 = sc.theta3_ref + np.remainder(raw - sc.theta3_ref + math.pi, 2.0 * math.pi) - math.pi
+    theta3 = np.asarray(sc.theta3(theta2), float)
     pose = SliderPose(sc.R2, sc.R3, theta2, theta3, sc.theta2_ref, sc.theta3_ref, sc.x_ref)
     T_c = slider_compliance(pose, springs, float(sp.get("f_k", 0.0)), "crank")
     F_i, d_i = float(ma["F_i"]), float(ma["d_i"])

@@ -1,0 +1,277 @@
+"""The PRBM adapter for loads that turn with the structure or act along the beam (issue 20).
+
+Frames as in ``validation/methods/prbm.py``: a segment's x runs along the undeformed segment from its
+fixed end (the origin), forces are ``values x direction``, CCW moments; a four-bar's frame has O2, the
+characteristic pivot, at ``[methods.prbm] origin`` of the case frame.
+
+* A straight fixed-free / fixed-pinned segment with an end force ``toward = [x, y]`` (a rope to a fixed
+  point, turned by ``angle``): the fixed-pinned PRBM (seed 000 eqs 41-49) of the dead force that acts at
+  equilibrium, whose tip gives back that force's direction by the load law
+  (``prbm.turning_loads.fixed_pinned_turning_tip``): the fits at the equilibrium load ratio n,
+  gamma K_Theta (EI/l) Theta = gamma l (F_y cos Theta - F_x sin Theta).  The capstan options ``friction_mu``,
+  ``contact_angle_deg`` scale the magnitude (eq 211).  Other end loads beside it are refused.
+* A straight cantilevered segment with distributed or self-weight loads, ``model = 'chain'``: the Chain
+  Algorithm (seed 000 section 2.2, eqs 26-40), the one segment model of the seeds that takes loads
+  along the segment (at its nodes): each element's q L_i lumped half to each of its end nodes
+  (``prbm.chain.lumped_uniform_load``; self-weight q = section weight per length x gravity direction),
+  dead end forces and moments at the last node.  Without ``model = 'chain'`` such a case is refused:
+  no seed gives a one-spring PRBM for a load along the segment.  Follower (pressure) loads are refused:
+  the chain's nodal loads are dead loads in the global frame.
+* The input segment of a PRB four-bar (``[methods.prbm] links``) with a follower force (``body`` = the
+  segment) or a force ``toward`` a point at A, the end of PRB link 2 (``link2_turning_forces``, used by
+  ``prbm_fourbar.fourbar_drive``): equilibrium (**) of ``prbm.turning_loads``, the moment about O2 of
+  the force at A = O2 + R2 e^{i theta2}; the segment end turns by c_theta (theta2 - theta20), c_theta
+  of the fit family at n = 0 (the ratio whose gamma and K_Theta set the printed k1).
+
+Option ``zero_level``: positions measured from that level's state (x = X0 + x(level) - x(zero_level)),
+as the FEM's option of the same name (an experiment zeroed under a load present throughout).
+Outputs: x, y, dx, dy, rotation (deg), force_x, force_y (the end force acting at equilibrium), moment
+(the end moment); with a force toward a point also prb_angle (deg) and strain_energy (the PRBM spring).
+"""
+from __future__ import annotations
+
+import cmath
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+import prbm
+from prbm import chain as chain_model
+from prbm import turning_loads
+from prbm.fits import THETA_RANGE, FitRangeError, fit_family
+from validation.methods.base import Applicability, MethodRun, NotApplicable, Request
+from validation.methods.prbm_common import pick
+
+ALONG_BEAM = ("distributed", "self_weight")
+
+
+def handles(case, options: dict) -> bool:
+    """A segment case with a load along the segment or a force toward a fixed point (this module runs it)."""
+    return case.segment is not None and any(ld.kind in ALONG_BEAM or ld.toward is not None for ld in case.loads)
+
+
+def turning_fourbar(case, options: dict) -> bool:
+    """A hand-given PRB four-bar with a follower force or a force toward a point (``link2_turning_forces``)."""
+    return case.mechanism is not None and bool(options.get("links")) and any(
+        ld.kind == "force" and (ld.follower or ld.toward is not None) for ld in case.loads)
+
+
+def run(case, requests: list[Request], options: dict) -> MethodRun:
+    t0 = time.perf_counter()
+    seg = case.segment
+    if seg.initial_curvature() != 0.0:
+        raise NotApplicable("a load along the segment or toward a point on an initially curved segment: "
+                            "no seed PRBM")
+    try:
+        if any(ld.kind in ALONG_BEAM for ld in case.loads):
+            info = _chain(case, _with_zero_level(requests, options), options)
+        else:
+            info = _turning_segment(case, _with_zero_level(requests, options), options)
+    except FitRangeError as exc:
+        raise NotApplicable(f"PRBM fit range: {exc}") from None
+    _apply_zero_level(info, requests, options, case)
+    info.wall_time = time.perf_counter() - t0
+    return info
+
+
+# --- a force toward a fixed point on a fixed-pinned segment ----------------------------------------
+def _turning_segment(case, requests, options) -> MethodRun:
+    seg = case.segment
+    if seg.boundary not in ("fixed-free", "fixed-pinned"):
+        raise NotApplicable(f"a force toward a fixed point on a {seg.boundary} segment: the seeds' turning-load "
+                            "PRBM here is the fixed-pinned one (eqs 41-49)")
+    loads = [ld for ld in case.loads if ld.kind != "force" or ld.toward is None]
+    turning = [ld for ld in case.loads if ld.kind == "force" and ld.toward is not None]
+    if loads or len(turning) != 1:
+        raise NotApplicable("a force toward a fixed point together with other end loads: the PRBM here takes "
+                            "that one force alone")
+    load = turning[0]
+    if load.point != "tip":
+        raise NotApplicable(f"a force toward a fixed point at '{load.point}': the segment PRBM takes end loads only")
+    law = turning_loads.TowardPoint(complex(*load.toward), math.radians(load.angle))
+    F = np.asarray(load.levels(), float) * prbm.capstan_factor(float(options.get("friction_mu", 0.0)),
+                                                               math.radians(float(options.get("contact_angle_deg", 0.0))))
+    L, EI = seg.length, seg.bending_stiffness()
+    res = turning_loads.fixed_pinned_turning_tip(F, law, length=L, EI=EI, family=options.get("family", "pauly-midha"),
+                                                 extrapolate=options.get("extrapolate", "raise"))
+    o, c = res.outputs, res.constants
+    out = {"x": o["a"], "y": o["b"], "dx": o["a"] - L, "dy": o["b"], "rotation": np.degrees(o["theta0"]),
+           "force_x": o["Fx"], "force_y": o["Fy"], "moment": np.zeros(len(F)), "prb_angle": np.degrees(o["Theta"]),
+           "strain_energy": 0.5 * c["k"] * o["Theta"] ** 2}
+    out["strain_energy"] = np.where(F == 0.0, 0.0, out["strain_energy"])
+    info = MethodRun(values=pick(out, requests, "segment"), converged=bool(res.converged), message=res.message)
+    info.level_converged = {lv: bool(ok) for lv, ok in enumerate(res.level_converged.tolist())}
+    info.extras = {"model": res.model, "constants": {k: np.asarray(v).tolist() if k != "family" else v
+                                                      for k, v in c.items()},
+                   "shapes": [[np.array([[0.0, 0.0], [(1 - g) * L, 0.0], [a, b]])] if np.isfinite(g) else []
+                              for g, a, b in zip(c["gamma"].tolist(), o["a"].tolist(), o["b"].tolist())]}
+    for lv, angle in enumerate(np.abs(o["Theta"]).tolist()):
+        if angle > THETA_RANGE:
+            info.flag(lv, Applicability.DEFLECTION)
+    info.message = f"{res.model}: {res.message}"
+    return info
+
+
+# --- loads along the segment: the Chain Algorithm with lumped loads ----------------------------------
+@dataclass
+class ChainLevel:
+    """One level's chain solve and the nodal loads it carried."""
+
+    res: object
+    loads: chain_model.NodalLoads
+
+
+def _chain_loads(case, beam: chain_model.ChainBeam, level: int) -> chain_model.NodalLoads:
+    """The nodal loads of one level: distributed and self-weight loads lumped, end loads at the tip."""
+    seg = case.segment
+    total = chain_model.NodalLoads.at_tip(beam)
+    for i, load in enumerate(case.loads):
+        v = float(load.levels()[level])
+        if load.kind in ALONG_BEAM:
+            if load.follower:
+                raise NotApplicable(f"loads.{i}: a follower distributed load (pressure): the Chain Algorithm's "
+                                    "nodal loads are dead loads (seed 000 eqs 26-28)")
+            d = np.asarray(load.direction, float)
+            if load.kind == "self_weight":
+                weight = seg.section.weight_per_length()
+                if weight is None:
+                    raise NotApplicable(f"loads.{i}: self-weight without the section's weight density")
+                d = d / math.hypot(*d) * weight
+            total = total.plus(chain_model.lumped_uniform_load(beam, v * d[0], v * d[1]))
+        elif load.point != "tip":
+            raise NotApplicable(f"loads.{i} acts on '{load.point}'; the chain takes end loads and loads along the segment")
+        elif load.kind == "force" and (load.follower or load.toward is not None or load.body is not None):
+            raise NotApplicable(f"loads.{i}: a turning end force with a load along the segment: not modelled "
+                                "(the chain's nodal loads are dead loads)")
+        elif load.kind == "force":
+            total = total.plus(chain_model.NodalLoads.at_tip(beam, v * load.direction[0], v * load.direction[1]))
+        elif load.kind == "moment":
+            total = total.plus(chain_model.NodalLoads.at_tip(beam, m=v))
+        else:
+            raise NotApplicable(f"loads.{i}: a prescribed {load.kind}; the chain takes forces and moments here")
+    return total
+
+
+def _chain(case, requests, options) -> MethodRun:
+    seg = case.segment
+    if options.get("model") != "chain":
+        i, load = next((i, ld) for i, ld in enumerate(case.loads) if ld.kind in ALONG_BEAM)
+        raise NotApplicable(f"loads.{i}: a {load.kind.replace('_', '-')} load along the segment: the seeds' "
+                            "one-spring PRBMs take end loads only; the Chain Algorithm (seed 000 section 2.2) "
+                            "takes loads at its nodes: give [methods.prbm] model = 'chain'")
+    if seg.boundary not in ("fixed-free", "fixed-pinned"):
+        raise NotApplicable(f"a load along a {seg.boundary} segment: the Chain Algorithm here models a "
+                            "cantilever (free end)")
+    beam = chain_model.ChainBeam(seg.length, seg.bending_stiffness(), int(options.get("chain_elements", 40)))
+    steps = int(options.get("chain_steps", 10))
+    levels = sorted({r.level for r in requests})
+    solved = {}
+    for lv in levels:
+        loads = _chain_loads(case, beam, lv)
+        solved[lv] = ChainLevel(chain_model.chain_tip(beam, loads, steps=steps), loads)
+    info = MethodRun(values={})
+    for req in requests:
+        table = _chain_table(seg.length, solved[req.level])
+        if req.quantity not in table or req.point != "tip":
+            raise NotApplicable(f"the Chain Algorithm gives no '{req.quantity}' at '{req.point}'")
+        info.values[req] = table[req.quantity]
+    info.level_converged = {lv: bool(s.res.converged) for lv, s in solved.items()}
+    info.level_messages = {lv: s.res.message for lv, s in solved.items()}
+    info.converged = all(info.level_converged.values())
+    info.message = (f"Chain Algorithm (seed 000 eqs 26-40), {beam.elements} elements, loads along the segment "
+                    "lumped half to each element end; " + "; ".join(f"level {lv}: {m}" for lv, m in info.level_messages.items()))
+    info.extras = {"model": "Chain Algorithm with lumped loads, seed 000 section 2.2",
+                   "shapes": [[solved[lv].res.extras["nodes"]] if lv in solved else [] for lv in range(case.n_levels())]}
+    return info
+
+
+def _chain_table(L: float, level: ChainLevel) -> dict[str, float]:
+    """x, y, dx, dy, rotation at the tip and the tip's applied end loads."""
+    o, f = level.res.outputs, level.loads
+    a, b = float(o["a"]), float(o["b"])
+    return {"x": a, "y": b, "dx": a - L, "dy": b, "rotation": math.degrees(float(o["theta0"])),
+            "force_x": float(f.fx[-1]), "force_y": float(f.fy[-1]), "moment": float(f.m[-1])}
+
+
+# --- zero_level --------------------------------------------------------------------------------------
+ZEROED = ("x", "y", "dx", "dy")
+
+
+def _with_zero_level(requests, options) -> list[Request]:
+    zero = options.get("zero_level")
+    if zero is None:
+        return list(requests)
+    extra = [Request(r.quantity, r.point, int(zero)) for r in requests if r.quantity in ZEROED]
+    return list(dict.fromkeys(list(requests) + extra))
+
+
+def _apply_zero_level(info: MethodRun, requests, options, case) -> None:
+    """Positions from the zero level's state: v(level) - (v(zero) - v(unloaded)), as the FEM option."""
+    zero = options.get("zero_level")
+    if zero is None:
+        return
+    if not 0 <= int(zero) < case.n_levels():
+        raise NotApplicable(f"zero_level = {zero}: the case has {case.n_levels()} load levels")
+    unloaded = {"x": case.segment.length, "y": 0.0, "dx": 0.0, "dy": 0.0}
+    shifted = {}
+    for req in requests:
+        value = info.values[req]
+        if req.quantity in ZEROED:
+            value -= info.values[Request(req.quantity, req.point, int(zero))] - unloaded[req.quantity]
+        shifted[req] = value
+    info.values = shifted
+
+
+# --- the input segment of a PRB four-bar ----------------------------------------------------------------
+@dataclass(frozen=True)
+class LinkForce:
+    """A force at the end A of PRB link 2: its magnitudes per level and its law (four-bar frame)."""
+
+    values: np.ndarray
+    law: object
+
+
+def link2_turning_forces(case, R2: float, theta20: float, options: dict) -> list[LinkForce] | None:
+    """The forces at A = O2 + R2 e^{i theta20} as laws in the four-bar frame (O2 at the origin), or None
+    when none of them turns (dead forces keep their own path in ``prbm_fourbar``)."""
+    forces = [ld for ld in case.loads if ld.kind == "force"]
+    if not any(ld.follower or ld.toward is not None for ld in forces):
+        return None
+    origin = complex(*options.get("origin", [0.0, 0.0]))
+    nodes = {nd.name: complex(nd.x, nd.y) for nd in case.mechanism.nodes}
+    beams = {b.name for b in case.mechanism.beams}
+    A = origin + R2 * cmath.exp(1j * theta20)
+    out = []
+    for i, load in enumerate(forces):
+        if abs(nodes.get(load.point, complex(math.inf)) - A) > 1e-3 * R2:
+            raise NotApplicable(f"a force at '{load.point}': the PRB four-bar takes forces at the end of PRB link 2 "
+                                "only (the tip of its fixed-pinned input segment)")
+        if load.toward is not None:
+            law = turning_loads.TowardPoint(complex(*load.toward) - origin, math.radians(load.angle))
+        elif load.follower:
+            if load.body is not None and load.body not in beams:
+                raise NotApplicable(f"a follower force turning with '{load.body}': the PRB four-bar maps only the "
+                                    "input segment's end rotation, c_theta (theta2 - theta20)")
+            law = turning_loads.FollowerDirection(complex(*load.direction))
+        else:
+            law = turning_loads.DeadDirection(complex(*load.direction))
+        scale = math.hypot(*load.direction) if load.direction is not None else 1.0
+        out.append(LinkForce(np.asarray(load.levels(), float) * scale, law))
+    return out
+
+
+def theta2_under_turning_forces(fb, forces: list[LinkForce], torques: np.ndarray, theta20: float,
+                                options: dict) -> np.ndarray:
+    """The input angle of every level under the forces at A and the couples (eq (**) of
+    ``prbm.turning_loads``); c_theta of the fit family at n = 0."""
+    c_theta = float(fit_family(options.get("family", "pauly-midha")).parameters(0.0)[1])
+    if not math.isfinite(c_theta):
+        raise NotApplicable("a follower force on the four-bar's segment needs c_theta; the fit family gives none")
+    theta2 = []
+    for lv, torque in enumerate(np.asarray(torques, float).tolist()):
+        active = [(float(f.values[lv]), f.law) for f in forces if f.values[lv] != 0.0]
+        theta2.append(turning_loads.input_angle_under_turning_forces(fb, active, theta20=theta20, c_theta=c_theta,
+                                                                     torque=torque))
+    return np.array(theta2)
