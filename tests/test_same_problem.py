@@ -82,7 +82,7 @@ def test_every_case_without_a_number_gets_its_reason_in_the_summary(tmp_path):
     table = summary(pd.concat([tabulate(r) for r in results]), results).set_index("case")
     assert table.loc["toy_bench", "no_prbm_fem_reason"].startswith("FEM-validation benchmark")
     assert table.loc["toy_alone", "no_prbm_fem_reason"].startswith("no PRBM")
-    assert table.loc["toy_both", "no_prbm_fem_reason"] == "" and table.loc["toy_both", "max_prbm_fem_per_length"] > 0
+    assert pd.isna(table.loc["toy_both", "no_prbm_fem_reason"]) and table.loc["toy_both", "max_prbm_fem_per_length"] > 0
 
 
 def test_a_refusing_prbm_is_named_with_its_message(tmp_path):

@@ -254,14 +254,14 @@ def no_prbm_fem_reason(result: CaseResult) -> str:
 def summary(table: pd.DataFrame, results: list[CaseResult] | None = None) -> pd.DataFrame:
     """One row per case: methods run, largest PRBM-to-FEM error, comparisons passed, wall times, and
     (given the case ``results``) ``no_prbm_fem_reason``: the one-line reason a case without a
-    PRBM-vs-FEM number has none, empty where the number exists."""
+    PRBM-vs-FEM number has none, missing (NaN, as an empty CSV cell reads back) where the number exists."""
     by_id = {r.loaded.id: r for r in results or []}
     rows = []
     for (group, case_id), part in table.groupby(["group", "case"], sort=True):
         values = part.drop_duplicates(["method", "quantity", "point", "level"])
         prbm_fem, prbm_fem_norm = prbm_fem_errors(part)
         absent = math.isnan(prbm_fem) and math.isnan(prbm_fem_norm)
-        reason = no_prbm_fem_reason(by_id[case_id]) if absent and case_id in by_id else ""
+        reason = no_prbm_fem_reason(by_id[case_id]) if absent and case_id in by_id else math.nan  # NaN: none
         claimed = part[part["within_tolerance"].notna()]
         times = values.groupby("method")["wall_time"].first()
         status = values.groupby("method")["converged"].first()
