@@ -17,8 +17,9 @@ bodies its force; per prescribed rotation its couple, per prescribed displacemen
 Equations: per beam its end condition (clamped: position and angle of the end body's node; pinned:
 position and m(L) = 0; free: F and m(L) equal to the loads applied there); per body its force and
 moment balance; per pin the coincidence of its node on both bodies; the prescribed motions.
-They are solved by Newton (finite-difference Jacobian, scipy's ``root``) level after level from
-the unloaded mechanism, halving the load step where a level does not converge.
+They are solved by Newton (finite-difference Jacobian kept and updated by Broyden's formula) level
+after level from the unloaded mechanism, halving the load step where a level does not converge. Each
+beam is integrated by the compiled DOP853 of ``elastica.integrator`` (scipy's DOP853 step for step).
 
 Angles are in radians (degrees appear only in case files and reports).
 """
@@ -29,7 +30,8 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.integrate import solve_ivp
+
+from .integrator import beam_samples, integrate_beam
 
 __all__ = ["ElasticBeam", "RigidBody", "BodyPin", "PointForce", "BodyCouple", "NodeCouple", "BodyRotation", "NodeDisplacement",
            "Mechanism", "MechanismSolution", "solve_mechanism", "GROUND"]
@@ -181,68 +183,84 @@ class _System:
             else:
                 arc, angle0 = L, math.atan2(chord[1], chord[0])
             self.tangent0[beam.name] = (angle0, angle0 + beam.curvature * arc, arc)
+        self.beam_index = {beam.name: i for i, beam in enumerate(mech.beams)}
+        self.pose_at = {b.name: self.i_body + 3 * i for i, b in enumerate(mech.bodies)}
+        self.p0 = {name: np.asarray(xy, float) for name, xy in mech.nodes.items()}
+        self.arm = {(b.name, nd): self.p0[nd] - mech.origin[b.name] for b in mech.bodies for nd in mech.nodes}
 
     # poses
     def pose(self, u, body):
         if body == GROUND:
             return np.zeros(2), 0.0
-        i = self.i_body + 3 * self.m.index[body]
+        i = self.pose_at[body]
         return u[i:i + 2], u[i + 2]
 
     def node_position(self, u, body, node):
-        p0 = np.asarray(self.m.nodes[node], float)
+        """Current position of a node carried by ``body``: origin + d + R(phi) (p0 - origin)."""
         if body == GROUND:
-            return p0
-        d, phi = self.pose(u, body)
-        c, s = math.cos(phi), math.sin(phi)
-        r = p0 - self.m.origin[body]
-        return self.m.origin[body] + d + np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
+            return self.p0[node].copy()
+        i = self.pose_at[body]
+        c, s = math.cos(u[i + 2]), math.sin(u[i + 2])
+        r = self.arm[(body, node)]
+        o = self.m.origin[body]
+        return np.array([o[0] + u[i] + (c * r[0] - s * r[1]), o[1] + u[i + 1] + (s * r[0] + c * r[1])])
 
-    def integrate(self, beam, u, dense=False):
-        """End state (x, y, theta, m, U) of a beam from its start under the unknowns u."""
-        k = 3 * self.m.beams.index(beam)
+    def start_state(self, beam, u):
+        """State (x, y, theta, m, U) at a beam's start under the unknowns u, and the beam's (Fx, Fy)."""
+        k = 3 * self.beam_index[beam.name]
         Fx, Fy, a = u[k:k + 3]
-        angle0, _, L = self.tangent0[beam.name]
+        angle0 = self.tangent0[beam.name][0]
         p = self.node_position(u, beam.start_body, beam.start)
         _, phi = self.pose(u, beam.start_body)
         if beam.start_kind == "clamped":
             theta0, m0 = angle0 + phi, a
         else:
             theta0, m0 = angle0 + a, 0.0
-        EI, EA, k0 = beam.EI, beam.EA, beam.curvature
+        return np.array([p[0], p[1], theta0, m0, 0.0]), float(Fx), float(Fy)
 
-        def rhs(s, Y):
-            th, m = Y[2], Y[3]
-            c, sn = math.cos(th), math.sin(th)
-            N = Fx * c + Fy * sn
-            stretch = 1.0 + (N / EA if EA else 0.0)
-            return [stretch * c, stretch * sn, k0 + m / EI, stretch * (Fx * sn - Fy * c),
-                    m * m / (2 * EI) + (N * N / (2 * EA) if EA else 0.0)]
+    def atol(self, beam) -> float:
+        return self.rtol * 1e-3 * max(self.tangent0[beam.name][2], 1.0)
 
-        sol = solve_ivp(rhs, (0.0, L), [p[0], p[1], theta0, m0, 0.0], method="DOP853", rtol=self.rtol,
-                        atol=self.rtol * 1e-3 * max(L, 1.0), dense_output=dense)
-        if not sol.success:
-            raise RuntimeError(f"beam '{beam.name}': integration failed ({sol.message})")
-        return sol.y[:, -1], sol
+    def integrate(self, beam, u):
+        """End state (x, y, theta, m, U) of a beam from its start under the unknowns u (the compiled
+        DOP853 of ``elastica.integrator``)."""
+        y0, Fx, Fy = self.start_state(beam, u)
+        end, ok = integrate_beam(y0, self.tangent0[beam.name][2], Fx, Fy, beam.curvature, beam.EI,
+                                 beam.EA or 0.0, self.rtol, self.atol(beam))
+        if not ok:
+            raise RuntimeError(f"beam '{beam.name}': integration failed (step below the rounding of s)")
+        return end
+
+    def shape(self, beam, u, n: int):
+        """(n, 2) positions along a beam at n equally spaced arc lengths (start to end)."""
+        y0, Fx, Fy = self.start_state(beam, u)
+        s = np.linspace(0.0, self.tangent0[beam.name][2], n)
+        states, ok = beam_samples(y0, s, Fx, Fy, beam.curvature, beam.EI, beam.EA or 0.0, self.rtol,
+                                  self.atol(beam))
+        if not ok:
+            raise RuntimeError(f"beam '{beam.name}': integration failed (step below the rounding of s)")
+        return states[:, :2]
 
     def residual(self, u, level_loads):
         forces, couples, rot_values, disp_values = level_loads
         m = self.m
         r = np.zeros(self.size)
-        wrench = {b.name: np.zeros(3) for b in m.bodies}   # (Fx, Fy, M about the body's current origin)
+        wrench = {b.name: [0.0, 0.0, 0.0] for b in m.bodies}   # (Fx, Fy, M about the body's current origin)
 
         def add(body, F, M, at):
             if body == GROUND or body is None:
                 return
-            d, _ = self.pose(u, body)
-            lever = at - (m.origin[body] + d)
-            wrench[body] += (F[0], F[1], M + lever[0] * F[1] - lever[1] * F[0])
+            i, o, w = self.pose_at[body], m.origin[body], wrench[body]
+            lever_x, lever_y = at[0] - (o[0] + u[i]), at[1] - (o[1] + u[i + 1])
+            w[0] += F[0]
+            w[1] += F[1]
+            w[2] += M + lever_x * F[1] - lever_y * F[0]
 
         applied = {}
         for node, F in forces.items():
             applied[node] = applied.get(node, np.zeros(3)) + (F[0], F[1], 0.0)
         for i, beam in enumerate(m.beams):
-            end, _ = self.integrate(beam, u)
+            end = self.integrate(beam, u)
             F = u[3 * i:3 * i + 2]
             start_state_m = u[3 * i + 2] if beam.start_kind == "clamped" else 0.0
             p_start = self.node_position(u, beam.start_body, beam.start)
@@ -350,10 +368,9 @@ class _LevelState:
 def _level_state(mech: Mechanism, system: "_System", u) -> _LevelState:
     pos, shape, U = {}, {}, 0.0
     for beam in mech.beams:
-        end, sol_b = system.integrate(beam, u, dense=True)
+        end = system.integrate(beam, u)
         U += end[4]
-        s = np.linspace(0.0, system.tangent0[beam.name][2], 33)
-        shape[beam.name] = sol_b.sol(s)[:2].T
+        shape[beam.name] = system.shape(beam, u, 33)
         pos[beam.end] = end[:2].copy()
         pos[beam.start] = system.node_position(u, beam.start_body, beam.start)
     for node in mech.nodes:
@@ -500,6 +517,6 @@ def _scale(system: _System, scale_F: float) -> np.ndarray:
 def _free_end_angle(system: _System, u, node: str) -> float:
     for beam in system.m.beams:
         if beam.end == node and beam.end_kind == "free":
-            end, _ = system.integrate(beam, u)
+            end = system.integrate(beam, u)
             return end[2] - system.tangent0[beam.name][1]
     return 0.0

@@ -57,6 +57,10 @@ checked: the path is followed, stable or not. Intermediate steps are integrated 
 ``path_rtol``; the final corrector at ``rtol`` (1e-12), so the end conditions hold to ``tol`` =
 1e-11 and tip values are accurate to about 1e-10 relative.
 
+This module sets the problem up (normalised structure arrays, start states, staging) and reads the
+result; the continuation itself, with its Newton corrector and the integrations, runs compiled
+(``integrator.follow_path``).
+
 Sign conventions: x along the undeformed (straight) beam from the clamp, y transverse, angles and
 moments counter-clockwise positive. The seeds' (Bapat 2015) P, nP, M for a tip are Fx = -nP,
 Fy = +P and a CCW moment -M (their tabulated M > 0 is clockwise, "opposing" P).
@@ -70,10 +74,10 @@ import time
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from scipy.integrate import solve_ivp
 from argcheck import checked
 
-from .integrator import STATE_SIZE, elastica_rhs, integrate_dop853, integrate_samples
+from . import integrator as kernel
+from .integrator import integrate_samples
 
 __all__ = ["TipConstraint", "MomentConstraint", "ElasticaProblem", "ElasticaResult",
            "solve_elastica", "solve_path", "loaded_start", "section_moment", "unloaded_tip"]
@@ -182,7 +186,7 @@ def _unit(d):
     return d / math.hypot(*d)
 
 
-ANGLE = -3        # index of the prescribed tip angle in a load vector; the last two are (wx, wy)
+ANGLE = kernel.ANGLE    # index of the prescribed tip angle in a load vector; the last two are (wx, wy)
 
 
 def _load_vector(p: ElasticaProblem) -> np.ndarray:
@@ -218,222 +222,47 @@ def _start_vector(p: ElasticaProblem) -> np.ndarray:
     return np.array(q)
 
 
-def _sensitivities(Y) -> np.ndarray:
-    """(4, 5): d(x, y, theta, m)/d(m0, Fx, Fy, wx, wy) from a state vector (`integrator` layout)."""
-    return np.hstack([Y[5:17].reshape(4, 3), Y[17:25].reshape(4, 2)])
-
-
-class _Pieces:
-    """An integration over [0, 1] made of pieces split at the moment-constraint sites.
-
-    ``y`` is the last piece's (so ``y[:, -1]`` is the state at s = 1), ``states`` maps each
-    piece boundary s to the state there, ``sol(s)`` evaluates the dense output (when requested).
-    """
-
-    def __init__(self, pieces, states):
-        self.pieces, self.states = pieces, states
-        self.success = all(p.success for p in pieces) and 1.0 in states
-        self.y = pieces[-1].y
-
-    def sol(self, s):
-        s = np.atleast_1d(np.asarray(s, float))
-        out = np.empty((self.y.shape[0], s.size))
-        for piece in self.pieces:
-            a, b = piece.t[0], piece.t[-1]
-            mask = (s >= a) & (s <= b)
-            if mask.any():
-                out[:, mask] = piece.sol(s[mask])
-        return out
-
-
-@dataclass(frozen=True)
-class _EndState:
-    """One compiled integration: the interval ``t``, the end state as the last column of ``y``."""
-    t: np.ndarray
-    y: np.ndarray
-    success: bool
-
-
 class _Shooter:
-    """Residual and Jacobian of the end conditions for one problem structure (normalised)."""
+    """One problem structure (normalised) as the arrays of ``integrator``, and its compiled
+    residual, Newton corrector and tangent predictor at integration tolerances ``rtol``/``atol``."""
 
     def __init__(self, p: ElasticaProblem, rtol: float, atol: float):
         self.k0 = float(p.curvature * p.length)
-        self.dirs = [_unit(c.direction) for c in p.constraints]
-        self.fdirs = [_unit(c.force_direction if c.force_direction is not None else c.direction)
-                      for c in p.constraints]
+        self.dirs = np.array([_unit(c.direction) for c in p.constraints], float).reshape(-1, 2)
+        self.fdirs = np.array([_unit(c.force_direction if c.force_direction is not None else c.direction)
+                               for c in p.constraints], float).reshape(-1, 2)
         self.nc = len(self.dirs)
-        self.sites = [c.at / p.length for c in p.moment_constraints]     # s_j / L
-        if any(not 0.0 <= s <= 1.0 for s in self.sites):
+        sites = [c.at / p.length for c in p.moment_constraints]     # s_j / L
+        if any(not 0.0 <= s <= 1.0 for s in sites):
             raise ValueError("a moment constraint lies outside the beam (0 <= at <= length)")
-        self.mdirs = [_unit(c.force_direction) for c in p.moment_constraints]
-        self.nm = len(self.sites)
-        self.knots = sorted({s for s in self.sites if 0.0 < s < 1.0})
+        self.mdirs = np.array([_unit(c.force_direction) for c in p.moment_constraints], float).reshape(-1, 2)
+        self.nm = len(sites)
+        knots = sorted({s for s in sites if 0.0 < s < 1.0})
+        self.bounds = np.array([0.0] + knots + [1.0])
+        self.site_at = np.array([0 if s == 0.0 else len(self.bounds) - 1 if s == 1.0 else 1 + knots.index(s)
+                                 for s in sites], dtype=np.int64)
         self.angle_given = p.tip_angle is not None
         self.has_follower = p.follower != (0.0, 0.0)
         self.n = 1 + self.nc + self.nm + (1 if self.has_follower else 0)
         self.rtol, self.atol = float(rtol), float(atol)
+        self.structure = (self.k0, self.dirs, self.fdirs, self.mdirs, self.site_at, self.angle_given,
+                          self.has_follower, self.bounds)
 
     def unknown_force_directions(self):
         """Unit directions of the force multipliers, in the order of z[1:1 + nc + nm]."""
-        return self.fdirs + self.mdirs
+        return list(self.fdirs) + list(self.mdirs)
 
-    def forces(self, z, q):
-        """Tip force (Fx, Fy) and its derivative d(Fx, Fy)/dz (2 x n)."""
-        F = np.array([q[0], q[1]])
-        dF = np.zeros((2, self.n))
-        for k, d in enumerate(self.unknown_force_directions()):
-            F = F + z[1 + k] * d
-            dF[:, 1 + k] = d
-        if self.has_follower:
-            tau = z[-1]
-            c, s = math.cos(tau), math.sin(tau)
-            ft, fn = q[3], q[4]
-            F = F + np.array([c * ft - s * fn, s * ft + c * fn])
-            dF[:, -1] = [-s * ft - c * fn, c * ft - s * fn]
-        return F, dF
-
-    def rhs(self, s, Y, Fx, Fy, wx=0.0, wy=0.0):
-        """dY/ds (`integrator.elastica_rhs`), for scipy's dense-output integration."""
-        out = np.empty(STATE_SIZE)
-        elastica_rhs(s, Y, Fx, Fy, self.k0, out, wx, wy)
-        return out
-
-    def integrate(self, z, q, dense=False):
-        """Integrate over [0, 1], split at the moment-constraint sites (``_Pieces``): by the compiled
-        DOP853 (`integrator`), or by scipy's DOP853 when the dense output is wanted (the samples)."""
-        F, dF = self.forces(z, q)
-        Y0 = np.zeros(STATE_SIZE)
-        Y0[3] = z[0]
-        Y0[5 + 9] = 1.0              # d m(0) / d m0
-        pieces, states = [], {0.0: Y0}
-        for a, b in zip([0.0] + self.knots, self.knots + [1.0]):
-            if dense:
-                sol = solve_ivp(self.rhs, (a, b), states[a], method="DOP853", rtol=self.rtol,
-                                atol=self.atol, args=(F[0], F[1], q[-2], q[-1]), dense_output=True)
-            else:
-                y_end, ok = integrate_dop853(states[a], float(a), float(b), float(F[0]), float(F[1]), self.k0,
-                                             self.rtol, self.atol, float(q[-2]), float(q[-1]))
-                sol = _EndState(np.array([a, b]), y_end[:, None], ok)
-            pieces.append(sol)
-            if not sol.success:
-                break
-            states[b] = sol.y[:, -1]
-        return _Pieces(pieces, states), F, dF
-
-    def section_state(self, sol, j):
-        """State vector at the j-th moment-constraint site of an integration ``sol``."""
-        return sol.states[self.sites[j]]
+    def integrate(self, z, q):
+        """(states at the piece boundaries: row 0 at s = 0, the last at s = 1; tip force; ok)."""
+        _, _, states, F, ok = kernel.residual(np.asarray(z, float), np.asarray(q, float), *self.structure,
+                                              self.rtol, self.atol)
+        return states, F, ok
 
     def residual(self, z, q):
-        sol, F, dF = self.integrate(z, q)
-        if not sol.success:
-            return None, None, sol
-        Y = sol.y[:, -1]
-        S = _sensitivities(Y)
-        # d(state at L)/dz = S[:, 0] e_0^T + S[:, 1:3] dF
-        dYdz = np.outer(S[:, 0], np.eye(self.n)[0]) + S[:, 1:3] @ dF
-        r = np.empty(self.n)
-        J = np.empty((self.n, self.n))
-        if self.angle_given:
-            r[0] = Y[2] - q[ANGLE]
-            J[0] = dYdz[2]
-        else:
-            r[0] = Y[3] - q[2]
-            J[0] = dYdz[3]
-        for k, d in enumerate(self.dirs):
-            r[1 + k] = d[0] * Y[0] + d[1] * Y[1] - q[5 + k]
-            J[1 + k] = d[0] * dYdz[0] + d[1] * dYdz[1]
-        for j in range(self.nm):
-            Yj = self.section_state(sol, j)
-            Sj = _sensitivities(Yj)
-            i = 1 + self.nc + j
-            r[i] = Yj[3] - q[5 + self.nc + j]
-            J[i] = Sj[3, 0] * np.eye(self.n)[0] + Sj[3, 1:3] @ dF
-        if self.has_follower:
-            r[-1] = Y[2] - z[-1]
-            J[-1] = dYdz[2]
-            J[-1, -1] -= 1.0
-        return r, J, sol
-
-
-def _load_derivative(shooter, sol, z, nq):
-    """d r / d q (n x nq) at the end of the integration ``sol``: the force parameters act
-    through the sensitivities to (Fx, Fy), the others enter the end conditions directly."""
-    S = _sensitivities(sol.y[:, -1])
-    dFdq = np.zeros((2, nq))
-    dFdq[0, 0] = dFdq[1, 1] = 1.0
-    if shooter.has_follower:
-        c, sn = math.cos(z[-1]), math.sin(z[-1])
-        dFdq[:, 3] = [c, sn]
-        dFdq[:, 4] = [-sn, c]
-    dYdq = S[:, 1:3] @ dFdq
-    dYdq[:, -2:] += S[:, 3:5]                       # the distributed load (wx, wy)
-    D = np.zeros((shooter.n, nq))
-    if shooter.angle_given:
-        D[0] = dYdq[2]
-        D[0, ANGLE] -= 1.0
-    else:
-        D[0] = dYdq[3]
-        D[0, 2] -= 1.0
-    for k, d in enumerate(shooter.dirs):
-        D[1 + k] = d[0] * dYdq[0] + d[1] * dYdq[1]
-        D[1 + k, 5 + k] -= 1.0
-    for j in range(shooter.nm):
-        Sj = _sensitivities(shooter.section_state(sol, j))
-        i = 1 + shooter.nc + j
-        D[i] = Sj[3, 1:3] @ dFdq
-        D[i, -2:] += Sj[3, 3:5]
-        D[i, 5 + shooter.nc + j] -= 1.0
-    if shooter.has_follower:
-        D[-1] = dYdq[2]
-    return D
-
-
-def _tangent(shooter, z, q, dq):
-    """(dz/dlambda along q(lambda) with dq/dlambda = dq, tip (x, y, theta)) at z; None if singular."""
-    r, J, sol = shooter.residual(z, q)
-    if r is None:
-        return None, None
-    tip = sol.y[:3, -1].copy()
-    try:
-        return np.linalg.solve(J, -_load_derivative(shooter, sol, z, len(q)) @ dq), tip
-    except np.linalg.LinAlgError:
-        return None, tip
-
-
-def _newton(shooter, z, q, tol, maxiter):
-    """Damped Newton on the end conditions. Returns (z, converged, iterations, residual norm, tip angle)."""
-    z, ok, it, norm, sol = _newton_sol(shooter, z, q, tol, maxiter)
-    return z, ok, it, norm, (sol.y[2, -1] if sol is not None else math.nan)
-
-
-def _newton_sol(shooter, z, q, tol, maxiter):
-    r, J, sol = shooter.residual(z, q)
-    if r is None:
-        return z, False, 0, math.inf, None
-    norm = np.linalg.norm(r)
-    for it in range(1, maxiter + 1):
-        try:
-            dz = np.linalg.solve(J, -r)
-        except np.linalg.LinAlgError:
-            return z, False, it, norm, sol
-        t = 1.0
-        while True:
-            z_new = z + t * dz
-            r_new, J_new, sol_new = shooter.residual(z_new, q)
-            if r_new is not None and np.linalg.norm(r_new) < max(norm, 1e-300) * (1 - 1e-4 * t) + 1e-14:
-                break
-            t *= 0.5
-            if t < 1e-3:        # no descent left: converged only if already at the noise floor
-                return z, bool(norm < tol), it, norm, sol
-        z, r, J, sol, norm = z_new, r_new, J_new, sol_new, np.linalg.norm(r_new)
-        step = np.linalg.norm(t * dz)
-        if norm < tol and step < 1e-9 * (1.0 + np.linalg.norm(z)):
-            return z, True, it, norm, sol
-        if norm < 1e-3 * tol:
-            return z, True, it, norm, sol
-    return z, False, maxiter, norm, sol
+        """End-condition residual (n,), or None when the integration failed."""
+        r, _, _, _, ok = kernel.residual(np.asarray(z, float), np.asarray(q, float), *self.structure,
+                                          self.rtol, self.atol)
+        return r if ok else None
 
 
 def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
@@ -469,48 +298,18 @@ def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
         elif final.nc:
             q0, z, it, ns = _staged_start(problem, path, q0)
             nit, nsteps = nit + it, nsteps + ns
-    lam, dlam = 0.0, min(initial_step, 1.0)
-    message, converged, norm = "converged", True, 0.0
-    dz, tip = _tangent(path, z, q0, q1 - q0)
-    while lam < 1.0 and tip is not None:
-        lam_try = min(1.0, lam + dlam)
-        q = q0 + lam_try * (q1 - q0)
-        step = (lam_try - lam) * dz if dz is not None else np.zeros_like(z)
-        z_guess = z + step
-        z_new, ok, it, norm, sol = _newton_sol(path, z_guess, q, 10 * path_rtol, maxiter)
-        nit += it
-        if ok and sol is not None:
-            new_tip = sol.y[:3, -1]
-            moved = math.hypot(new_tip[0] - tip[0], new_tip[1] - tip[1])
-            off = np.linalg.norm(z_new - z_guess)
-            ok = (it <= max_step_iterations and abs(new_tip[2] - tip[2]) <= max_rotation_step
-                  and moved <= max_position_step
-                  and (dz is None or off <= max_corrector * np.linalg.norm(step)
-                       + 1e-6 * (1.0 + np.linalg.norm(z))))
-        if ok:
-            z, lam = z_new, lam_try
-            nsteps += 1
-            dz, tip = _tangent(path, z, q, q1 - q0)
-            if it <= 3:
-                dlam = min(2.0 * dlam, 1.0)
-        else:
-            dlam *= 0.5
-            if dlam < min_step:
-                converged = False
-                message = f"continuation stalled at load fraction {lam:.6g} (residual {norm:.3g})"
-                break
-    if tip is None:
-        converged, message = False, "integration failed at the start state"
-    tip_angle = tip[2] if tip is not None else math.nan
+    z, status, lam, it, ns, norm, states, F = kernel.follow_path(
+        np.array(z, float), np.asarray(q0, float), q1, *final.structure, final.rtol, final.atol, float(tol),
+        float(path_rtol), float(initial_step), float(min_step), float(max_rotation_step),
+        float(max_position_step), float(max_corrector), int(max_step_iterations), int(maxiter))
+    nit, nsteps = nit + it, nsteps + ns
+    converged, message = status == kernel.PATH_CONVERGED, {
+        kernel.PATH_CONVERGED: "converged",
+        kernel.PATH_STALLED: f"continuation stalled at load fraction {lam:.6g} (residual {norm:.3g})",
+        kernel.PATH_NO_START: "integration failed at the start state",
+        kernel.PATH_FINAL_FAILED: f"final corrector failed (residual {norm:.3g})"}[status]
     q_end = q0 + lam * (q1 - q0)
-    if converged:                                   # final corrector at full accuracy
-        z_fin, ok, it, norm, angle = _newton(final, z, q_end, tol, maxiter)
-        nit += it
-        if ok and abs(angle - tip_angle) < 1e-3:
-            z = z_fin
-        else:
-            converged, message = False, f"final corrector failed (residual {norm:.3g})"
-    result = _result(problem, final, z, q_end, n_samples)
+    result = _result(problem, final, z, q_end, n_samples, (states, F) if converged else None)
     result.converged, result.message = converged, message
     result.nit, result.nsteps = nit, nsteps
     result.wall_time = time.perf_counter() - t0
@@ -577,7 +376,7 @@ def _section_moments(shooter, z, q):
     """Normalised m(s_j) at the moment-constraint sites for the unknowns z (q's m_j ignored)."""
     q = np.array(q, float)
     q[5 + shooter.nc:5 + shooter.nc + shooter.nm] = 0.0
-    r, _, _ = shooter.residual(z, q)
+    r = shooter.residual(z, q)
     if r is None:
         raise RuntimeError("integration failed")
     return r[1 + shooter.nc:1 + shooter.nc + shooter.nm]
@@ -652,15 +451,16 @@ def section_moment(result: ElasticaResult, at: float) -> float:
     return float(_section_moments(shooter, z, _load_vector(plain))[0] * p.EI / p.length)
 
 
-def _result(problem, shooter, z, q, n_samples):
-    """The result at the converged unknowns z: tip values from the same integration as the last
-    residual, the shape sampled by integrating from sample to sample (compiled)."""
-    sol, F, _ = shooter.integrate(z, q)
+def _result(problem, shooter, z, q, n_samples, evaluated=None):
+    """The result at the unknowns z: tip values from the integration of the last residual
+    (``evaluated`` = (boundary states, tip force) at z, else integrated here), the shape sampled by
+    integrating from sample to sample (compiled)."""
+    states, F = evaluated if evaluated is not None else shooter.integrate(z, q)[:2]
     s = np.linspace(0.0, 1.0, n_samples)
-    samples, _ = integrate_samples(sol.states[0.0], s, F[0], F[1], shooter.k0, shooter.rtol, shooter.atol,
+    samples, _ = integrate_samples(states[0], s, F[0], F[1], shooter.k0, shooter.rtol, shooter.atol,
                                    q[-2], q[-1])
     Ys = samples.T
-    Y = sol.y[:, -1]
+    Y = states[-1]
     L, EI = problem.length, problem.EI
     fs, ms = EI / L**2, EI / L
     m_tip = Y[3]

@@ -1,11 +1,19 @@
-"""The compiled DOP853 of the elastica against scipy's solve_ivp(DOP853) on the same right-hand side,
-and whole shooting solves against the same solves integrated by scipy (the solver before #15)."""
+"""The compiled DOP853 of the elastica and of a mechanism beam against scipy's solve_ivp(DOP853) on the
+same right-hand side, and the elastica's variational equations against finite differences. (Whole
+compiled shooting solves against closed forms and a slow scipy reference: test_elastica_compiled.py.)"""
+import math
+
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from elastica import shooting
-from elastica.integrator import STATE_SIZE, elastica_rhs, integrate_dop853
+from elastica.integrator import STATE_SIZE, beam_samples, elastica_rhs, integrate_beam, integrate_samples
+
+
+def integrate_dop853(y0, a, b, Fx, Fy, k0, rtol, atol, wx=0.0, wy=0.0):
+    """The compiled integration from s = a to s = b (one interval of ``integrate_samples``)."""
+    states, ok = integrate_samples(y0, [a, b], Fx, Fy, k0, rtol, atol, wx, wy)
+    return states[-1], ok
 
 
 def _rhs(k0):
@@ -51,32 +59,38 @@ def test_rhs_matches_finite_differences_of_its_own_state():
         np.testing.assert_allclose(S[:, k], fd, rtol=1e-6, atol=1e-7)
 
 
-class _ScipyShooter(shooting._Shooter):
-    """Today's shooter before the compiled integrator: every integration by solve_ivp(DOP853)."""
+def _beam_rhs(Fx, Fy, k0, EI, EA):
+    """The mechanism beam's equations as elastica/mechanism.py wrote them for scipy before issue 15."""
+    def rhs(s, Y):
+        th, m = Y[2], Y[3]
+        c, sn = math.cos(th), math.sin(th)
+        N = Fx * c + Fy * sn
+        stretch = 1.0 + (N / EA if EA else 0.0)
+        return [stretch * c, stretch * sn, k0 + m / EI, stretch * (Fx * sn - Fy * c),
+                m * m / (2 * EI) + (N * N / (2 * EA) if EA else 0.0)]
+    return rhs
 
-    def integrate(self, z, q, dense=False):
-        return super().integrate(z, q, dense=True)
 
-
-@pytest.mark.parametrize("kwargs", [
-    dict(force=(0.0, 10.0)),                                   # cantilever PL^2/EI = 10
-    dict(force=(-2.0, 3.0), moment=-1.0, curvature=0.5),      # curved, combined loads
-    dict(moment=2 * np.pi),                                    # full roll-up
-    dict(follower=(0.0, 4.0)),                                 # follower force
+@pytest.mark.parametrize("Fx, Fy, k0, EI, EA, L, m0", [
+    (3.0, -2.0, 0.1, 2.5, 1e4, 1.3, 0.7),        # extensible, curved, combined load
+    (0.5, 40.0, 0.0, 1.0, 0.0, 1.0, -40.0),      # inextensible (EA = 0), large deflection
+    (-1e3, 5.0, 0.0, 3.0e3, 1e6, 0.05, 1.2),     # short stiff beam in compression
 ])
-def test_shooting_with_the_compiled_integrator_agrees_with_scipy_to_1e10(kwargs, monkeypatch):
-    fast = shooting.solve_elastica(**kwargs)
-    monkeypatch.setattr(shooting, "_Shooter", _ScipyShooter)
-    slow = shooting.solve_elastica(**kwargs)
-    assert fast.converged and slow.converged
-    for key in ("x", "y", "theta", "strain_energy"):
-        assert abs(getattr(fast, key) - getattr(slow, key)) <= 1e-10, key
-    np.testing.assert_allclose(fast.force + (fast.moment,), slow.force + (slow.moment,), rtol=0, atol=1e-10)
+def test_compiled_mechanism_beam_matches_scipy_to_rounding(Fx, Fy, k0, EI, EA, L, m0):
+    y0 = [0.1, 0.2, 0.3, m0, 0.0]
+    atol = 1e-14 * max(L, 1.0)
+    ref = solve_ivp(_beam_rhs(Fx, Fy, k0, EI, EA), (0.0, L), y0, method="DOP853", rtol=1e-11, atol=atol,
+                    dense_output=True)
+    got, ok = integrate_beam(y0, L, Fx, Fy, k0, EI, EA, 1e-11, atol)
+    assert ok and ref.success
+    np.testing.assert_allclose(got, ref.y[:, -1], rtol=1e-12, atol=1e-12)
+    s = np.linspace(0.0, L, 9)
+    samples, ok = beam_samples(y0, s, Fx, Fy, k0, EI, EA, 1e-11, atol)
+    assert ok
+    np.testing.assert_allclose(samples.T, ref.sol(s), rtol=0, atol=1e-9)
 
 
 def test_sampled_shape_matches_scipys_dense_output():
-    from elastica.integrator import integrate_samples
-
     y0 = np.zeros(STATE_SIZE)
     y0[3], y0[14] = -4.0, 1.0
     s = np.linspace(0.0, 1.0, 41)
