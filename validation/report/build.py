@@ -463,7 +463,7 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
             out / "results.parquet")
     except ImportError:
         pass
-    summ = summary(table) if len(table) else pd.DataFrame()
+    summ = summary(table, outcome.results) if len(table) else pd.DataFrame()
     links = dict(_build_pages(outcome.results, table, out, jobs))
     if not cases:  # the whole report: the chapter-4 deflection-domain study beside the sweep studies
         _domain_study(out / "sweeps" / "chapter4_domains")
