@@ -156,6 +156,8 @@ def _spring_angle_vector(FR, phi, k, theta_i, xtol, maxiter):
     x = np.where((d > 0.0) & (lo < lin) & (lin < hi), lin, phi)
     done = (FR == 0.0) | (phi == theta_i)
     x = np.where(done, theta_i, x)
+    if done.all():  # no level loaded: Theta = Theta_i without an iteration (as the scalar path reports)
+        return x, done, 0
     it = 0
     for it in range(1, maxiter + 1):
         fx = FR * np.sin(phi - x) - k * (x - theta_i)

@@ -7,6 +7,7 @@ Expected values are derivations, not our output:
 * the mirror image of a configuration about the Y axis (x -> -x, gamma -> -gamma) has the same Y;
 * the case-2 problem (b, theta0, n -> a) at the equilibrium's n gives back the coupler's end a.
 """
+import functools
 import math
 
 import pytest
@@ -28,6 +29,13 @@ EX2 = [GuidedSegment("segA", complex(0.6653, -8.1814), complex(0.6653, -0.7114),
        GuidedSegment("segB", complex(2.9957, -12.2001), complex(2.9957, -3.8701), _EI(0.175))]
 
 
+@functools.lru_cache(maxsize=None)
+def _ex2_segment_a_alone():
+    """Example 2's segment A alone, coupler X -3, rotation +10 deg: solved once per worker for the two tests
+    that use it (they share an xdist group)."""
+    return solve_coupler(EX2[:1], CouplerDrive(0j, 1 + 0j, -3.0, math.radians(10.0)))
+
+
 @pytest.mark.parametrize("seg", [EX3_A, EX3_B], ids=["85deg", "110deg"])
 def test_one_segment_alone_carries_a_horizontal_end_force(seg):
     res = solve_coupler([seg], CouplerDrive(0j, 1 + 0j, -1.5, math.radians(-10.0)))
@@ -42,10 +50,11 @@ def test_one_segment_alone_carries_a_horizontal_end_force(seg):
     assert float(back.outputs["a"]) == pytest.approx(a, abs=1e-8 * seg.length)
 
 
+@pytest.mark.xdist_group("ex2_segment_a_alone")
 def test_the_mirror_image_has_the_same_free_motion():
     seg = EX2[0]
     mirrored = GuidedSegment("m", complex(-seg.root.real, seg.root.imag), complex(-seg.end.real, seg.end.imag), seg.EI)
-    right = solve_coupler([seg], CouplerDrive(0j, 1 + 0j, -3.0, math.radians(10.0)))
+    right = _ex2_segment_a_alone()
     left = solve_coupler([mirrored], CouplerDrive(0j, 1 + 0j, 3.0, math.radians(-10.0)))
     assert right.converged and left.converged
     assert float(left.outputs["t"]) == pytest.approx(float(right.outputs["t"]), abs=1e-9)
@@ -53,11 +62,12 @@ def test_the_mirror_image_has_the_same_free_motion():
     assert float(left.outputs["force_along"]) == pytest.approx(-float(right.outputs["force_along"]), rel=1e-9)
 
 
+@pytest.mark.xdist_group("ex2_segment_a_alone")
 def test_two_segments_with_disjoint_windows_have_no_state_and_say_why():
     res = solve_coupler(EX2, CouplerDrive(0j, 1 + 0j, -3.0, math.radians(10.0)))
     assert not res.converged and "disjoint" in res.message and not res.outputs
     low_a, high_a = res.extras["windows"][0].low, res.extras["windows"][0].high
-    alone = solve_coupler(EX2[:1], CouplerDrive(0j, 1 + 0j, -3.0, math.radians(10.0)))
+    alone = _ex2_segment_a_alone()
     assert low_a <= float(alone.outputs["t"]) <= high_a
 
 

@@ -94,3 +94,11 @@ def test_readme_architecture_names_every_package():
                        for p in (ROOT / package).rglob("__init__.py")})
     missing = [p for p in packages if f"{p}/" not in section]
     assert not missing, f"README architecture section does not name {missing}"
+
+
+@pytest.mark.xdist_group("layout-group-check")
+def test_a_grouped_test_carries_its_group_on_the_workers(request):
+    """``xdist_group`` works under pytest 9 (tests/conftest.py): a grouped test's node id ends in
+    '@group' when the run distributes by group, so the tests sharing an expensive result share a worker."""
+    if getattr(request.config.option, "loadgroup", False):
+        assert request.node.nodeid.endswith("@layout-group-check")

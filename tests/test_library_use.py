@@ -29,30 +29,68 @@ def user_case(tmp_path: Path, name: str, text: str) -> Path:
 
 
 def run_pytest(*args: str, cwd: Path) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", *args],
-                          cwd=cwd, capture_output=True, text=True, timeout=300)
+    """``pytest -q ARGS`` in a fresh interpreter in ``cwd``, as a user runs it (the plugin found through its
+    ``pytest11`` entry point); hypothesis's and pytest-benchmark's plugins, which a case-file run never
+    uses, are not loaded (a few CPU-seconds of imports on the shared machine)."""
+    return subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-p", "no:hypothesispytest",
+                           "-p", "no:benchmark", *args], cwd=cwd, capture_output=True, text=True, timeout=300)
 
 
-def test_plugin_passes_a_true_claim_and_fails_a_false_one(tmp_path):
-    """``pytest my_cases/`` on files the project has never seen: one item per case and method."""
+UNIFORM = (ROOT / "cases" / "benchmarks" / "cantilever_uniform_load.toml").read_text()
+
+
+def _uniform_files(tmp_path: Path) -> None:
+    """The second test's files: a case asking the PRBM for a distributed load without the Chain Algorithm
+    (model = 'chain', the only PRBM that takes one), and the same case recording that refusal as its
+    expected outcome."""
+    asks_prbm = UNIFORM.replace('model = "chain"', "")
+    assert asks_prbm != UNIFORM
+    expects = asks_prbm.replace('group = "benchmarks"', 'group = "benchmarks"\nexpected_failure = { prbm = '
+                                '"no seed PRBM for a distributed load" }')
+    assert expects != asks_prbm
+    user_case(tmp_path, "refused.toml", asks_prbm.replace('id = "cantilever_uniform_load"', 'id = "refused"'))
+    user_case(tmp_path, "expected.toml", expects.replace('id = "cantilever_uniform_load"', 'id = "expected"'))
+
+
+@pytest.fixture(scope="module")
+def plugin_run(tmp_path_factory) -> subprocess.CompletedProcess:
+    """One ``pytest my_cases/ --case-method elastica --case-method prbm -rA`` over the files of both plugin
+    tests (one interpreter start instead of two; the tests share an xdist group, so it runs once)."""
+    tmp_path = tmp_path_factory.mktemp("plugin")
     assert EXACT_Y_10 in CANTILEVER
     user_case(tmp_path, "true_claim.toml", CANTILEVER)
     user_case(tmp_path, "false_claim.toml", CANTILEVER.replace(EXACT_Y_10, "value = 0.891670"))  # +10 %
     user_case(tmp_path, "bad.toml", CANTILEVER.replace("length = 1.0", "length = -1.0")
               .replace("E = 1.0", "E = 1.0\nlenght = 2.0"))
     (tmp_path / "my_cases" / "notes.toml").write_text("[tool]\nx = 1\n")  # not a case file: not collected
-    done = run_pytest("my_cases/", "--case-method", "elastica", "-rA", cwd=tmp_path)
-    out = done.stdout
+    _uniform_files(tmp_path)
+    return run_pytest("my_cases/", "--case-method", "elastica", "--case-method", "prbm", "-rA", cwd=tmp_path)
+
+
+def _outcomes(out: str) -> set[str]:
+    """The short summary's 'PASSED/FAILED item' lines (without the reason after ' - ')."""
+    return {line.split(" - ")[0] for line in out.splitlines() if line.startswith(("PASSED ", "FAILED "))}
+
+
+@pytest.mark.xdist_group("plugin_run")
+def test_plugin_passes_a_true_claim_and_fails_a_false_one(plugin_run):
+    """``pytest my_cases/`` on files the project has never seen: one item per case and method."""
+    done, out = plugin_run, plugin_run.stdout
     assert done.returncode == 1, out + done.stderr
-    assert "2 failed, 1 passed" in out
-    assert "PASSED my_cases/true_claim.toml::true_claim[elastica]" in out
-    assert "FAILED my_cases/false_claim.toml::false_claim[elastica]" in out
+    # one item per (case file, method it lists and the run chose), one for a bad file, none for notes.toml
+    assert _outcomes(out) == {
+        "PASSED my_cases/true_claim.toml::true_claim[elastica]", "FAILED my_cases/false_claim.toml::false_claim[elastica]",
+        # the PRBM's own check (its agreement with the elastica) holds in both: the false claim is the elastica's
+        "PASSED my_cases/true_claim.toml::true_claim[prbm]", "PASSED my_cases/false_claim.toml::false_claim[prbm]",
+        "FAILED my_cases/bad.toml::input", "PASSED my_cases/refused.toml::refused[elastica]",
+        "FAILED my_cases/refused.toml::refused[prbm]", "PASSED my_cases/expected.toml::expected[elastica]",
+        "PASSED my_cases/expected.toml::expected[prbm]"}
+    assert "3 failed, 6 passed" in out
     # the message a person reads: quantity, point, level and load with unit, value, reference, error,
     # tolerance, source
     assert ("y at tip, level 9, force at tip = 10 EI/L^2: 0.810609 L against exact 0.89167; error 0.0811 abs, "
             "0.0909 rel; tolerance abs 2e-06; source notes/anchors.md, section 2.1") in out
     # a bad file is one failing item listing every problem
-    assert "FAILED my_cases/bad.toml::input" in out
     assert "segment.length: Input should be greater than 0" in out
     assert "segment.lenght: Extra inputs are not permitted" in out
 
@@ -127,22 +165,13 @@ def test_every_named_load_as_a_column():
     assert len(wide) == len(result.values)
 
 
-UNIFORM = (ROOT / "cases" / "benchmarks" / "cantilever_uniform_load.toml").read_text()
-
-
-def test_plugin_judges_like_the_suite_expected_failures_and_unchecked(tmp_path):
+@pytest.mark.xdist_group("plugin_run")
+def test_plugin_judges_like_the_suite_expected_failures_and_unchecked(plugin_run):
     """The plugin applies the suite's rule (compare.verdict_by_method): the PRBM has no one-spring model
     for a distributed load (only the Chain Algorithm, model = 'chain', takes it), so a case asking for the
-    PRBM without the chain fails, unless the case records that refusal as its expected outcome; the FEM's
-    item is judged on its own checks either way."""
-    asks_prbm = UNIFORM.replace('model = "chain"', "")
-    assert asks_prbm != UNIFORM
-    expects = asks_prbm.replace('group = "benchmarks"', 'group = "benchmarks"\nexpected_failure = { prbm = '
-                                '"no seed PRBM for a distributed load" }')
-    assert expects != asks_prbm
-    user_case(tmp_path, "refused.toml", asks_prbm.replace('id = "cantilever_uniform_load"', 'id = "refused"'))
-    user_case(tmp_path, "expected.toml", expects.replace('id = "cantilever_uniform_load"', 'id = "expected"'))
-    done = run_pytest("my_cases/", "--case-method", "prbm", "--case-method", "elastica", "-rA", cwd=tmp_path)
+    PRBM without the chain fails, unless the case records that refusal as its expected outcome
+    (``_uniform_files``); the FEM's item is judged on its own checks either way."""
+    done = plugin_run
     out = done.stdout
     assert done.returncode == 1, out + done.stderr
     assert "FAILED my_cases/refused.toml::refused[prbm]" in out

@@ -12,12 +12,14 @@ against scipy's brentq on the same residual, bracketed by Theta_i and phi.
 from __future__ import annotations
 
 import math
+import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from prbm import HOWELL, PAULY_MIDHA, FitRangeError
+from prbm import HOWELL, PAULY_MIDHA, FitRangeError, FitRangeWarning
 from prbm.segments import _spring_angle_reference, spring_angle
 
 # (fit, [(lower, upper, printed coefficients c0, c1, ...)]) as printed in the seeds
@@ -160,3 +162,89 @@ def test_unknown_family_names_the_known_ones():
     with pytest.raises(ValueError, match="unknown fit family 'midha'; known: pauly-midha, howell"):
         fit_family("midha")
     assert fit_family("howell") is HOWELL and fit_family(PAULY_MIDHA) is PAULY_MIDHA
+
+
+def test_spring_angle_array_path_counts_its_iterations():
+    """The numpy path (> 256 levels) reports the iterations it took, as the scalar path does.  Derivation:
+    with F R = 1e-12 the linear start Theta_i + F R sin(phi - Theta_i)/(F R cos(phi - Theta_i) + k) is
+    within ~1e-24 of the root, so the first Newton step is below xtol: one iteration.  Problem 4 of
+    PROBLEMS needs more than two (from its linear start), so two allowed iterations end unconverged."""
+    many = 300
+    theta, ok, iterations = spring_angle(np.full(many, 1e-12), 1.0, 2.0)
+    assert ok.all() and iterations == 1
+    assert theta == pytest.approx(np.full(many, 1e-12 * math.sin(1.0) / 2.0), rel=1e-9)
+    stiff = [np.full(many, v) for v in PROBLEMS[3]]
+    for maxiter in (1, 2):
+        theta, ok, iterations = spring_angle(*stiff, maxiter=maxiter)
+        assert not ok.any() and iterations == maxiter
+    theta, ok, iterations = spring_angle(*stiff)
+    assert ok.all() and 2 < iterations <= 8
+
+
+def test_spring_angle_array_path_warns_of_nothing_when_the_linear_start_divides_by_zero():
+    """F R cos(phi - Theta_i) + k = 0 exactly (k = -cos 2, F R = 1, phi = 2): the linear start is
+    undefined, the solver starts at phi instead, silently, and finds the root."""
+    many = 300
+    k = -math.cos(2.0)
+    assert 1.0 * math.cos(2.0) + k == 0.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        theta, ok, _ = spring_angle(np.ones(many), 2.0, k)
+    assert ok.all() and theta == pytest.approx(np.full(many, brentq_angle(1.0, 2.0, k, 0.0)), abs=1e-12)
+
+
+def test_extrapolation_warning_says_what_was_done_and_points_at_the_caller():
+    """'warn' (prbm.fits docstring): a FitRangeWarning saying the nearest branch was extrapolated, reported
+    at the line that called the fit (not inside prbm/fits.py)."""
+    with pytest.warns(FitRangeWarning) as record:
+        value = PAULY_MIDHA.gamma(12.0, extrapolate="warn")
+    [warning] = record
+    assert "outside the fitted range" in str(warning.message) and "nearest branch extrapolated" in str(warning.message)
+    # at the caller, not inside the library (exactly this file in a plain run; mutmut's trampoline adds a frame)
+    assert "prbm" not in Path(warning.filename).parts
+    last = PAULY_MIDHA.gamma.branches[-1].coefficients                 # eq (41), branch -0.5 < n <= 10
+    assert value == pytest.approx(sum(c * 12.0**i for i, c in enumerate(last)), rel=1e-14)
+
+
+@pytest.mark.parametrize("count", [5, 300], ids=["few", "many"])
+def test_spring_angle_broadcasts_its_arguments(count):
+    """Vectorised like numpy: any argument may be a scalar or an array, arrays of different shapes broadcast;
+    each level is the root of its own moment balance (brentq on the bracket, as above)."""
+    FR = np.linspace(0.5, 20.0, count)
+    theta, ok, _ = spring_angle(3.0, np.linspace(0.3, 2.8, count), 2.0)          # a scalar F R, an array phi
+    assert ok.all() and theta.shape == (count,)
+    assert theta == pytest.approx([brentq_angle(3.0, p, 2.0, 0.0) for p in np.linspace(0.3, 2.8, count)], abs=1e-12)
+    phis = np.array([0.4, 1.5, 2.7])
+    theta, ok, _ = spring_angle(FR[:, None], phis, 2.0)                          # (count, 1) with (3,)
+    assert ok.shape == theta.shape == (count, 3) and ok.all()
+    want = [[brentq_angle(f, p, 2.0, 0.0) for p in phis] for f in FR]
+    assert theta == pytest.approx(np.array(want), abs=1e-12)
+
+
+def test_spring_angle_of_no_levels_is_empty():
+    theta, ok, iterations = spring_angle(np.array([]), 1.0, 2.0)
+    assert theta.shape == ok.shape == (0,) and iterations == 0
+
+
+@pytest.mark.parametrize("count", [1, 5, 300], ids=["one", "few", "many"])
+def test_spring_angle_iteration_limit_is_the_number_of_newton_steps_allowed(count):
+    """Derivation as above: F R = 1e-12 converges in one Newton step from the linear start, so maxiter = 1
+    suffices and the solver says it took 1; maxiter = 0 allows no step, so a loaded level is not converged
+    and 0 iterations are reported."""
+    FR = 1e-12 if count == 1 else np.full(count, 1e-12)
+    theta, ok, iterations = spring_angle(FR, 1.0, 2.0, maxiter=1)
+    assert np.all(ok) and iterations == 1
+    assert theta == pytest.approx(np.full(count, 1e-12 * math.sin(1.0) / 2.0) if count > 1 else 1e-12 * math.sin(1.0) / 2.0,
+                                  rel=1e-9)
+    theta, ok, iterations = spring_angle(FR, 1.0, 2.0, maxiter=0)
+    assert not np.any(ok) and iterations == 0
+
+
+def test_fits_of_integer_ratios_are_the_fits_of_the_same_floats():
+    """An integer n (one, or an integer array on either array path) gives the printed polynomials' values,
+    a Python float for one n (eq 41 at n = 0 is its constant 0.851892)."""
+    assert PAULY_MIDHA.gamma(0) == 0.851892 and type(PAULY_MIDHA.gamma(0)) is float
+    for count in (8, 200):                                                # the small-array and polyval paths
+        ints = np.arange(count) % 10 - 3                                  # -3 ... 6, inside -4 < n <= 10
+        for fit in (PAULY_MIDHA.gamma, PAULY_MIDHA.K_theta, PAULY_MIDHA.c_theta, HOWELL.K_theta):
+            assert np.array_equal(fit(ints), fit(ints.astype(float)))

@@ -1,5 +1,6 @@
 """Invariants of the segment PRBMs: inverse of forward, vectorised = scalar, mirror symmetry, limits."""
 import math
+import time
 
 import numpy as np
 import pytest
@@ -80,9 +81,17 @@ def test_curved_segment_unloaded_is_its_arc_and_straight_limit_matches():
 
 
 def test_fixed_guided_small_deflection_end_moment_is_minus_pl_over_two():
-    r = prbm.fixed_guided_tip(1e-6, 0.0, length=2.0, EI=1.0)
-    assert float(r["M"]) == pytest.approx(-1e-6 * 2.0 / 2, rel=1e-4)
+    """Small deflection: M -> -P l/2 (statics of the guided beam); eq (63) linearised, 4 K_Theta Theta =
+    P l^2/EI, gives b = gamma l Theta = gamma/(4 K_Theta) P l^3/EI with the n = 0 constants of eqs (41),
+    (43) (0.851892, 2.648834), which is within 4 % of the exact linear-theory guided deflection P l^3/(12 EI)."""
+    P, length, EI = 1e-6, 2.0, 3.0
+    r = prbm.fixed_guided_tip(P, 0.0, length=length, EI=EI)
+    assert float(r["M"]) == pytest.approx(-P * length / 2, rel=1e-4)
     assert float(r["theta0"]) == 0.0
+    derived = 0.851892 / (4 * 2.648834) * P * length**3 / EI
+    assert float(r["b"]) == pytest.approx(derived, rel=1e-6)
+    assert float(r["b"]) == pytest.approx(P * length**3 / (12 * EI), rel=0.04)
+    assert float(prbm.fixed_guided_tip(-P, 0.0, length=length, EI=EI)["b"]) == pytest.approx(-derived, rel=1e-6)
 
 
 def test_slfp_straight_geometry_and_equilibrium():
@@ -93,9 +102,20 @@ def test_slfp_straight_geometry_and_equilibrium():
 
 
 def test_curved_pinned_pinned_tension_opens_compression_closes():
-    r = prbm.curved_pinned_pinned(np.array([0.0, 1.0, -1.0]), length=1.0, EI=1.0, curvature=1.0)
+    """Derived from eqs (53)-(58) on each half (h = l/2, kappa0 = h/R_i; gamma = 0.85, K_Theta = 2.65, the
+    documented defaults): unloaded chord 2 a_i = 2 (h/kappa0) sin kappa0; for a small chord force F,
+    k dTheta = -F rho h sin Theta_i with k = rho K_Theta EI/h, so d(chord)/dF = 2 (rho h sin Theta_i)^2 / k."""
+    F = 1e-6
+    r = prbm.curved_pinned_pinned(np.array([0.0, F, -F, 1.0, -1.0]), length=1.0, EI=1.0, curvature=1.0)
     chord = r["chord"]
-    assert chord[1] > chord[0] > chord[2]
+    assert chord[3] > chord[0] > chord[4]
+    h, kappa0, gamma, K = 0.5, 0.5, 0.85, 2.65
+    a_i, b_i = h / kappa0 * math.sin(kappa0), h / kappa0 * (1 - math.cos(kappa0))
+    theta_i = math.atan2(b_i, a_i - h * (1 - gamma))
+    rho = math.hypot(a_i / h - (1 - gamma), b_i / h)
+    assert chord[0] == pytest.approx(2 * a_i, rel=1e-12)
+    slope = 2 * (rho * h * math.sin(theta_i)) ** 2 / (rho * K / h)
+    assert (chord[1] - chord[2]) / (2 * F) == pytest.approx(slope, rel=1e-5)
 
 
 def test_composite_layers_and_capstan():
@@ -137,3 +157,69 @@ def test_grubler_and_mode_table():
     topo = prbm.PRBMTopology(2, 0, [prbm.Segment("fixed-guided"), prbm.Segment("fixed-guided")])
     assert topo.min_dof() == 1 and topo.max_dof() == 3
     assert topo.expected_mode()["modes"] == (1, 1)
+
+
+# the three code paths of fixed_pinned_tip: one level (plain floats), a few levels (plain floats level by
+# level), many levels (numpy); 300 > segments._SCALAR_LOOP_MAX
+PATHS = {"one": 1, "few": 3, "many": 300}
+
+
+@pytest.mark.parametrize("path", PATHS)
+def test_fixed_pinned_outputs_and_constants_on_every_path(path):
+    """Seed 000 eqs (41)-(49) with the model's mirror convention (module docstring of prbm.segments): for
+    P < 0 the configuration is mirrored about x and the fits are taken at the mirrored ratio -n, so the
+    axial component -nP is kept; a level with P >= 0 uses n itself.  F = |P| sqrt(1 + n^2) (eq 46);
+    k = gamma K_Theta EI / l (eq 45); the equilibrium (*) is solved by ``spring_angle``, whose iteration
+    count the result reports (0 when no level is loaded: Theta = 0 needs none)."""
+    count, n, length, EI = PATHS[path], 0.8, 2.5, 7.0
+    P = np.linspace(0.3, 3.0, count)
+    P_in = float(P[0]) if count == 1 else P
+    up = prbm.fixed_pinned_tip(P_in, n, length=length, EI=EI)
+    down = prbm.fixed_pinned_tip(-P_in, -n, length=length, EI=EI)   # the same axial force -nP
+    g, c, K = prbm.PAULY_MIDHA.parameters(n)
+    for r, sign in ((up, 1.0), (down, -1.0)):
+        assert r.converged and r.message == "converged" and "seed 000 eqs (41)-(49)" in r.model
+        assert np.allclose(r.constants["gamma"], g, rtol=0, atol=0) and np.allclose(r.constants["K_theta"], K, atol=0)
+        assert np.allclose(r.constants["k"], g * K * EI / length, rtol=1e-15)                      # eq (45)
+        assert np.allclose(r["F"], P * math.sqrt(1 + n * n), rtol=1e-15)                          # eq (46)
+        assert np.array_equal(r["P"], sign * P_in) and np.array_equal(r["n"], sign * n)
+        Theta, _, nit = prbm.spring_angle(P * math.sqrt(1 + n * n) * length**2 / EI, math.atan2(1, -n), K)
+        assert np.allclose(r["Theta"], sign * Theta, rtol=1e-12)
+        assert np.allclose(r["b"], sign * g * length * np.sin(Theta), rtol=1e-12)                  # eq (49)
+        assert np.allclose(r["a"], length - g * length * (1 - np.cos(Theta)), rtol=1e-12)          # eq (48)
+        assert np.allclose(r["theta0"], sign * c * Theta, rtol=1e-12)                              # eq (44)
+        assert r.nit == nit and r.nit > 0
+        assert np.array_equal(r.level_converged, np.ones(count, bool))
+        assert np.asarray(r["a"]).dtype == np.float64 and np.asarray(r["P"]).dtype == np.float64
+
+
+@pytest.mark.parametrize("path", ["few", "many"])
+def test_fixed_pinned_unloaded_levels_take_the_fits_at_n_and_no_iteration(path):
+    """P = 0 is not mirrored: the fits at the given n (eqs 41-43), Theta = 0 exactly, no iteration; integer
+    loads come back as floats like every other output."""
+    zeros = np.zeros(PATHS[path], dtype=int)
+    r = prbm.fixed_pinned_tip(zeros, 1.0, length=1.0, EI=1.0)
+    g, _, K = prbm.PAULY_MIDHA.parameters(1.0)
+    assert np.all(r.constants["gamma"] == g) and np.all(r.constants["K_theta"] == K)
+    assert np.all(r["Theta"] == 0.0) and np.all(r["a"] == 1.0) and r.nit == 0
+    assert r["P"].dtype == r["n"].dtype == np.float64
+
+
+@pytest.mark.parametrize("path", PATHS)
+def test_fixed_pinned_passes_the_extrapolation_choice_on_every_path(path):
+    """n = 12 is outside eqs (41)-(43)'s -4 < n <= 10: 'raise' refuses, 'warn' warns and evaluates."""
+    P = 1.0 if PATHS[path] == 1 else np.linspace(0.5, 1.0, PATHS[path])
+    with pytest.raises(prbm.FitRangeError):
+        prbm.fixed_pinned_tip(P, 12.0, length=1.0, EI=1.0)
+    with pytest.warns(prbm.FitRangeWarning):
+        r = prbm.fixed_pinned_tip(P, 12.0, length=1.0, EI=1.0, extrapolate="warn")
+    assert r.converged
+
+
+def test_fixed_pinned_keeps_the_shape_of_the_load_and_times_itself():
+    P = np.linspace(0.1, 1.2, 6).reshape(2, 3)
+    t0 = time.perf_counter()
+    r = prbm.fixed_pinned_tip(P, 0.0, length=1.0, EI=1.0)
+    elapsed = time.perf_counter() - t0
+    assert r["a"].shape == r["b"].shape == r["Theta"].shape == (2, 3)
+    assert 0.0 <= r.wall_time <= elapsed

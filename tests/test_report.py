@@ -18,6 +18,8 @@ from validation.run.runner import run_case
 from validation.run.outcome import summary, tabulate
 
 REPORT_CASES = ["cantilever_tip_load", "follower_tip_load", "bapat2015_test2"]
+# one worker for the whole module, so the report (``built_report``, module scope) is built once, not once per worker
+pytestmark = pytest.mark.xdist_group("report")
 
 
 @pytest.fixture(scope="module")

@@ -8,15 +8,16 @@ from validation.report.summary import (CaseSummary, MethodState, summary_markdow
                                        without_prbm_fem, without_prbm_fem_line)
 
 
-def _row(case, length=math.nan, relative=math.nan, reason="", methods=("prbm", "fem")):
+def _row(case, length=math.nan, relative=math.nan, reason="", methods=("prbm", "fem"), fem_validation=False):
     return CaseSummary(group="chapter 5", case=case, title="t", badge=Badge.AGREES, reason="",
                        methods=[MethodState(m, Badge.AGREES, "") for m in methods], sentence="s.",
                        prbm_fem_length=length, prbm_fem_relative=relative, fem_estimate=math.nan, checks=0,
-                       checks_passed=0, findings=0, no_prbm_fem=reason)
+                       checks_passed=0, findings=0, no_prbm_fem=reason, fem_validation=fem_validation)
 
 
 ROWS = [_row("with_length", length=0.002, relative=0.03), _row("relative_only", relative=2.0),
-        _row("benchmark", reason="FEM-only benchmark validating the FEM itself"),
+        _row("benchmark", reason="FEM-validation benchmark: a limit load checked against print",
+             fem_validation=True),
         _row("no_prbm", methods=("fem",))]
 
 
@@ -38,13 +39,13 @@ def test_a_loading_reading_points_to_its_base_case():
 def test_the_closing_list_gives_each_reason_in_html_and_markdown():
     html = summary_tables_html(ROWS, {})
     closing = html[html.index("id='without-prbm-fem'"):]
-    assert "benchmark</a>: FEM-only benchmark validating the FEM itself" in closing
+    assert "benchmark</a>: FEM-validation benchmark: a limit load checked against print" in closing
     assert "no_prbm</a>: no PRBM in this case" in closing
     assert "with_length" not in closing and "relative_only" not in closing
     md = summary_markdown(ROWS)
-    assert "- benchmark: FEM-only benchmark validating the FEM itself" in md
+    assert "- benchmark: FEM-validation benchmark: a limit load checked against print" in md
     assert "| relative_only | agrees | s. | relative " in md        # the relative error stands in for % of L
-    assert "none: FEM-only benchmark" in md
+    assert "none: FEM-validation benchmark" in md
 
 
 def test_every_case_with_a_number_says_so():

@@ -456,6 +456,10 @@ class CaseInfo(Strict):
     no_prbm_fem: str | None = Field(None, description="why this case has no PRBM-vs-FEM number, in one line: "
                                     "no seed PRBM for this configuration, geometry not in the seed, or an "
                                     "FEM-only benchmark validating the FEM itself")
+    purpose: Literal["prbm-comparison", "fem-validation"] = Field(
+        "prbm-comparison", description="'fem-validation': a benchmark that validates the FEM itself (against "
+        "published or exact results) and runs no PRBM, so it has no PRBM-vs-FEM number by design; the summary "
+        "labels it so")
 
     @field_validator("no_prbm_fem")
     @classmethod
@@ -556,6 +560,9 @@ class Case(Strict):
                 problems.append(f"agreements.{i}: a method against itself checks nothing")
             if agr.levels != "all" and any(not 0 <= lv < max(n, 1) for lv in agr.levels):
                 problems.append(f"agreements.{i}.levels: level outside 0..{max(n, 1) - 1}")
+        if self.case.purpose == "fem-validation" and "prbm" in self.methods:
+            problems.append("case.purpose: a 'fem-validation' benchmark runs no PRBM (remove [methods.prbm] "
+                            "or the purpose)")
         for field_name in ("unchecked", "expected_failure"):
             for method in getattr(self.case, field_name):
                 if method not in self.methods:

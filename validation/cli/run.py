@@ -38,7 +38,7 @@ def run(args) -> int:
     results.to_parquet(out / "results.parquet")
     tidy = tables.tables_of(outcome.results, outcome.table)
     tables.write(tidy, out)
-    table = summary(outcome.table) if len(outcome.table) else None
+    table = summary(outcome.table, outcome.results) if len(outcome.table) else None
     if table is not None:
         table.to_csv(out / "summary.csv", index=False)
         _print_table(table)

@@ -29,8 +29,9 @@ Each level is its own problem, solved from the unloaded segment; the tip loads (
 ``force_y``, ``moment``) are those of the inverse problem, on n and 2n elements per member with
 the Richardson estimate |F_2n - F_n|/3 (unless ``error_estimate = false``; n and extrapolation from
 ``inverse.elements``/``inverse.richardson``, else the method's; with extrapolation the estimate stays
-|F_2n - F_n|/3, the error of F_2n, a conservative bound for the extrapolated value); every other
-output comes from the forward solve under the case's loads.
+|F_2n - F_n|/3, the error of F_2n, a conservative bound for the extrapolated value); with
+``inverse.tip_x = true`` the tip's ``x`` is that of the inverse solution too (same estimate); every
+other output comes from the forward solve under the case's loads.
 """
 from __future__ import annotations
 
@@ -42,7 +43,8 @@ import numpy as np
 import fem
 from fem.critical import refine_extremum
 from fem.soft_modes import soft_modes
-from validation.methods.inverse_problem import LOAD_OUTPUTS, InverseLevel, InverseSpec, Tie, inverse_spec, merge_runs
+from validation.methods.inverse_problem import (LOAD_OUTPUTS, POSITION_OUTPUT, InverseLevel, InverseSpec, Tie,
+                                               inverse_spec, merge_runs)
 from validation.methods import fem_outputs
 from validation.methods.base import MethodRun, NotApplicable, Request
 from validation.case.quantities import boundary_held_tip as _boundary_held_tip
@@ -456,7 +458,7 @@ def _run_inverse(fem, case, spec: InverseSpec, requests: list[Request], options:
     for lv in sorted({r.level for r in requests}):
         level = spec.levels[lv]
         guess = _applied(case, "tip", lv)[0]
-        results = []
+        results, tip_xs = [], []
         for n in ((elements, 2 * elements) if estimate else (elements,)):
             model = _inverse_model(fem, case, spec, level, n, options)
             res = fem.solve_tip_inverse(model, "tip", _tie(fem, level), guess=guess, **solve_options)
@@ -471,19 +473,21 @@ def _run_inverse(fem, case, spec: InverseSpec, requests: list[Request], options:
                 res.message = f"x reached by its axial load (displacement control of x failed): {res.message}"
             iterations += res.result.iterations
             results.append(res)
+            tip_xs.append(float(res.result.positions[0, model.node("tip"), 0]) if res.converged else math.nan)
             if not res.converged:
                 break
             guess = res.tied[0]
         final = results[-1]
         ok[lv], msg[lv] = final.converged, final.message
-        loads = final.tip_loads[0]
-        error = abs(loads - results[0].tip_loads[0]) / 3.0 if len(results) == 2 and final.converged else None
+        state = np.append(final.tip_loads[0], tip_xs[-1])          # F_x, F_y, M, x of the inverse solution
+        coarse = np.append(results[0].tip_loads[0], tip_xs[0])
+        error = abs(state - coarse) / 3.0 if len(results) == 2 and final.converged else None
         if richardson and error is not None:
-            loads = loads + (loads - results[0].tip_loads[0]) / 3.0
+            state = state + (state - coarse) / 3.0
         for req in requests:
             if req.level == lv:
-                k = LOAD_OUTPUTS.index(req.quantity)
-                values[req] = float(loads[k]) if final.converged else math.nan
+                k = (*LOAD_OUTPUTS, POSITION_OUTPUT).index(req.quantity)
+                values[req] = float(state[k]) if final.converged else math.nan
                 if error is not None:
                     errors[req] = float(error[k])
     bad = "; ".join(f"inverse level {lv}: {m}" for lv, m in msg.items() if not ok[lv])
@@ -550,7 +554,8 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
     spec = inverse_spec(case, options, "fem")
     if spec is None:
         return _run_forward(fem, case, requests, options)
-    loads = [r for r in requests if r.quantity in LOAD_OUTPUTS and r.point == "tip"]
+    inverse_outputs = LOAD_OUTPUTS + ((POSITION_OUTPUT,) if spec.tip_x else ())
+    loads = [r for r in requests if r.quantity in inverse_outputs and r.point == "tip"]
     others = [r for r in requests if r not in loads]
     forward = _run_forward(fem, case, others, options) if others else None
     return merge_runs(forward, _run_inverse(fem, case, spec, loads, options))

@@ -22,6 +22,9 @@ also takes ``elements`` and ``richardson`` there (its mesh and extrapolation for
 method then reports the loads needed (``force_x``, ``force_y``, ``moment`` at the tip: the total
 load acting on the tip) from the inverse problem, and every other output from its forward solve
 under the case's loads, so the seed's forward columns (analyses under the PRBM loads) are kept.
+With ``tip_x = true`` (FEM) the tip's ``x`` is that of the inverse solution too: the end position
+a that b, theta0 and the tie lead to (section 3.6's vector loop asks for the same a; with the tie
+``a`` the x is prescribed, so ``tip_x`` is refused there).
 """
 from __future__ import annotations
 
@@ -32,6 +35,7 @@ from enum import Enum
 from validation.methods.base import MethodRun, NotApplicable
 
 LOAD_OUTPUTS = ("force_x", "force_y", "moment")
+POSITION_OUTPUT = "x"          # the tip's x of the inverse solution, with ``tip_x = true``
 
 
 class Tie(Enum):
@@ -59,10 +63,11 @@ class InverseSpec:
     I: float | None = None
     EI: float | None = None
     method_options: dict = field(default_factory=dict)   # the method's own keys (FEM: elements, richardson)
+    tip_x: bool = False       # the tip's x is reported from the inverse solution (FEM)
 
 
 KNOWN = {"b", "theta0_deg", "I", "EI"} | {t.value for t in Tie}
-METHOD_KEYS = {"fem": {"elements", "richardson"}, "elastica": set()}
+METHOD_KEYS = {"fem": {"elements", "richardson", "tip_x"}, "elastica": set()}
 
 
 def _per_level(table: dict, name: str, n: int, where: str) -> list[float]:
@@ -109,8 +114,13 @@ def inverse_spec(case, options: dict, method: str) -> InverseSpec | None:
     stiff = {k: float(table[k]) for k in ("I", "EI") if k in table}
     if any(v <= 0 or not math.isfinite(v) for v in stiff.values()):
         raise NotApplicable(f"{where}: I and EI must be positive")
-    own = {k: table[k] for k in METHOD_KEYS.get(method, set()) if k in table}
-    return InverseSpec(levels, stiff.get("I"), stiff.get("EI"), own)
+    own = {k: table[k] for k in METHOD_KEYS.get(method, set()) - {"tip_x"} if k in table}
+    tip_x = table.get("tip_x", False)
+    if not isinstance(tip_x, bool):
+        raise NotApplicable(f"{where}.tip_x: must be true or false")
+    if tip_x and tie is Tie.POSITION_X:
+        raise NotApplicable(f"{where}.tip_x: the tip's x is prescribed (a); it is no result of the inverse problem")
+    return InverseSpec(levels, stiff.get("I"), stiff.get("EI"), own, tip_x)
 
 
 def merge_runs(forward: MethodRun | None, inverse: MethodRun) -> MethodRun:

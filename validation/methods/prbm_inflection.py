@@ -12,8 +12,9 @@ The model is ``prbm.inflection_coupler`` (every segment the chapter-3/5 three-pi
 Outputs at any coupler node (quantity contract): x, y, dx, dy (global, from the unloaded pose),
 rotation (of the coupler, deg); strain_energy (the PRBM springs, eq 165); force_x, force_y, moment at
 the driven node (the load the prescribed motions need there; moment CCW). A level with no motion is
-the unloaded pose. Where the PRBM has no state within its fits at a loaded level, NotApplicable with
-the reason (each segment's reachable window of the free translation).
+the unloaded pose. Where the PRBM has no state within its fits at a loaded level, that level has no
+value and says why (each segment's reachable window of the free translation; the run is then not
+converged, per level); where it has none at any loaded level, NotApplicable with those reasons.
 """
 from __future__ import annotations
 
@@ -79,17 +80,21 @@ def run_coupler(case, requests: list[Request], info: MethodRun) -> dict:
         res = solve_coupler(segments, CouplerDrive(P0, along, shifts[lv], turns[lv]))
         results[lv] = res
         (messages if res.converged else failed).append(f"level {lv}: {res.message}")
-    if failed:
+    solved = {lv for lv, res in results.items() if res is not None and res.converged}
+    if failed and not solved:
         raise NotApplicable("; ".join(failed))
     values = {}
     for req in requests:
-        values[req] = _value(req, results[req.level], nodes, P0, point, along, shifts[req.level], turns[req.level])
-    info.converged = True
-    info.level_converged = {lv: True for lv in results}
-    info.message = "; ".join(messages) or "unloaded"
+        if results[req.level] is None or req.level in solved:
+            values[req] = _value(req, results[req.level], nodes, P0, point, along, shifts[req.level],
+                                 turns[req.level])
+    info.converged = not failed
+    info.level_converged = {lv: res is None or lv in solved for lv, res in results.items()}
+    info.level_messages = {lv: "unloaded" if res is None else res.message for lv, res in results.items()}
+    info.message = "; ".join(failed + messages) or "unloaded"
     info.extras.update({"model": "fixed-guided segments with one inflection point on a rigid coupler, seed 000 "
                                  "eqs (131)-(152), section 5.5", "windows": {
-                            lv: {w.segment: [w.low, w.high] for w in r.extras["windows"]}
+                            lv: {w.segment: None if w.empty else [w.low, w.high] for w in r.extras["windows"]}
                             for lv, r in results.items() if r is not None}})
     return values
 

@@ -14,12 +14,16 @@ eqs 192-198, 205), selected by ``[methods.prbm] ma = {model = "compliance", ...}
   energy-free pose, Theta20 etc. = position 1); the levels are the input forces F_i of a ``force``
   load's values (its point and direction are not used: the input force is F_i at d_in normal to
   link 4); MA_R by eq (205), T_c by eq (195) (the virtual-work form, ``prbm.compliance``), and
-  MA = MA_R (1 - T_c/(sigma F_i d_in)), sigma the sense of the closing rotation.
+  MA = MA_R (1 - T_c/(sigma F_i d_in)), sigma the sense of the closing rotation.  The input forces may
+  instead be ``ma.F_i`` (one per level) when the case's load is the work-piece location itself, a
+  ``displacement`` of a point on link 4 (what the FEM holds to find T_c as the moment at O4): that
+  displacement must be the one link 4 turned by ``location_deg`` gives the point, else NotApplicable.
 
 Options (``ma``): F_i, d_i (slider) or d_in, d_out2, d_out3, location_deg (four-bar).
 """
 from __future__ import annotations
 
+import cmath
 import math
 from typing import TYPE_CHECKING
 
@@ -99,16 +103,50 @@ def _compliers(case, options: dict) -> dict[str, np.ndarray]:
     T_c = float(compliance.fourbar_compliance_torque(pose, springs, input_link=4))
     rigid = float(compliance.two_port_rigid_ma(pose, fb.Z1, float(ma["d_in"]), float(ma["d_out2"]),
                                                float(ma["d_out3"])))
-    forces = [ld for ld in case.loads if ld.kind == "force"]
-    if len(forces) != 1:
-        raise NotApplicable("Type 2 MA: give the input forces F_i as the values of one 'force' load")
-    F_i = np.asarray(forces[0].levels(), float)
+    _check_location(case, float(ma["location_deg"]) * DEG)
+    F_i = _input_forces(case, ma)
     if np.any(F_i <= 0.0):
         raise NotApplicable("Type 2 MA: the input forces must be positive (magnitudes)")
     sense = math.copysign(1.0, float(ma["location_deg"]))
     n = case.n_levels()
     return {"mechanical_advantage": compliance.compliant_ma(rigid, T_c / float(ma["d_in"]), sense * F_i),
             "input_torque": np.full(n, T_c), "input_angle": np.full(n, math.degrees(target))}
+
+
+def _input_forces(case, ma: dict) -> np.ndarray:
+    """F_i per level: ``ma.F_i`` or the values of the case's one 'force' load."""
+    forces = [ld for ld in case.loads if ld.kind == "force"]
+    if "F_i" in ma:
+        if forces:
+            raise NotApplicable("Type 2 MA: give F_i either as ma.F_i or as a 'force' load, not both")
+        F_i = np.broadcast_to(np.asarray(ma["F_i"], float), (case.n_levels(),))
+    elif len(forces) == 1:
+        F_i = np.asarray(forces[0].levels(), float)
+    else:
+        raise NotApplicable("Type 2 MA: give the input forces F_i as the values of one 'force' load (or ma.F_i)")
+    return F_i
+
+
+def _check_location(case, turn: float) -> None:
+    """A 'displacement' load on the case must be the motion of its point when the link carrying it (link 4,
+    pinned at a support) turns by ``turn`` (rad) from the measured pose: the work-piece location the PRBM
+    evaluates."""
+    mech = case.mechanism
+    nodes = {nd.name: complex(nd.x, nd.y) for nd in mech.nodes}
+    for i, ld in enumerate(case.loads):
+        if ld.kind != "displacement":
+            continue
+        pivots = [s.node for link in mech.links if ld.point in link.nodes
+                  for s in mech.supports if s.node in link.nodes and s.node != ld.point]
+        if len(pivots) != 1:
+            raise NotApplicable(f"loads.{i}: the work-piece location must move a point of the input link, "
+                                "pinned at one support")
+        arm = nodes[ld.point] - nodes[pivots[0]]
+        d = complex(*ld.direction) / abs(complex(*ld.direction))
+        expected = (arm * (cmath.exp(1j * turn) - 1.0) * d.conjugate()).real
+        if any(abs(v - expected) > 1e-4 * abs(arm) for v in ld.levels()):
+            raise NotApplicable(f"loads.{i}: displacement {ld.levels()[0]:.6g} of '{ld.point}' is not the "
+                                f"{expected:.6g} that the input link turned by location_deg gives it")
 
 
 def run(case, requests, options: dict) -> tuple[dict, MethodRun]:

@@ -493,7 +493,7 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
             out / "results.parquet")
     except ImportError:
         pass
-    summ = summary(table) if len(table) else pd.DataFrame()
+    summ = summary(table, outcome.results) if len(table) else pd.DataFrame()
     links = dict(_build_pages(outcome.results, table, out, jobs, done=outcome.after))
     summ.to_csv(out / "summary.csv", index=False)
     rows = [summarise(r, table[table["case"] == r.loaded.id]) for r in outcome.results]

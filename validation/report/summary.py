@@ -18,7 +18,7 @@ import pandas as pd
 from validation.case.capabilities import QUANTITIES
 from validation.report.format import Badge, error_colour, percent, run_badge, seconds, sig
 from validation.run.runner import CaseResult
-from validation.run.outcome import fem_error_relative, prbm_fem_errors
+from validation.run.outcome import FEM_VALIDATION, fem_error_relative, no_prbm_fem_reason, prbm_fem_errors
 
 METHOD_NAMES = {"fem": "FEM", "prbm": "PRBM", "elastica": "exact elastica", "bcm": "BCM", "opensees": "OpenSees"}
 
@@ -50,6 +50,7 @@ class CaseSummary:
     times: dict[str, float] = field(default_factory=dict)
     no_prbm_fem: str = ""
     readings_of: str = ""         # the base case of an experiment this case is one loading reading of
+    fem_validation: bool = False  # case.purpose = 'fem-validation': a benchmark of the FEM itself
 
 
 def level_phrase(result: CaseResult, level: int) -> str:
@@ -164,8 +165,10 @@ def summarise(result: CaseResult, part: pd.DataFrame) -> CaseSummary:
                        prbm_fem_length=length, prbm_fem_relative=relative, fem_estimate=estimate,
                        checks=len(claimed), checks_passed=int((claimed["within_tolerance"] == True).sum()),  # noqa: E712
                        findings=n_findings, times={m: r.wall_time for m, r in result.runs.items()},
-                       no_prbm_fem=getattr(case.case, "no_prbm_fem", None) or "",
-                       readings_of=case.case.readings_of or "")
+                       no_prbm_fem=no_prbm_fem_reason(result) if case.case.purpose == "fem-validation"
+                       else case.case.no_prbm_fem or "",
+                       readings_of=case.case.readings_of or "",
+                       fem_validation=case.case.purpose == "fem-validation")
 
 
 def group_order(group: str) -> tuple:
@@ -267,15 +270,15 @@ def missing_reason(row: CaseSummary) -> str:
 
 REGRESSIONS = "stress regressions"
 KINDS = (("case", "other case", "other cases"),
-         ("FEM-validation benchmark", "FEM-validation benchmark", "FEM-validation benchmarks"),
+         (FEM_VALIDATION, "FEM-validation benchmark", "FEM-validation benchmarks"),
          ("regression", "stress-contract regression", "stress-contract regressions"),
          ("loading reading", "loading reading of an experiment (its base case carries the number)",
           "loading readings of an experiment (their base case carries the number)"))
 
 
 def _kind(row: CaseSummary) -> str:
-    if row.no_prbm_fem.startswith("FEM-only benchmark"):
-        return "FEM-validation benchmark"
+    if row.fem_validation:
+        return FEM_VALIDATION
     if row.readings_of:
         return "loading reading"
     return "regression" if row.group == REGRESSIONS else "case"

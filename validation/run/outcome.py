@@ -17,6 +17,7 @@ import pandas as pd
 from tqdm import tqdm
 
 from validation.case.capabilities import QUANTITIES
+from validation.methods.base import RunStatus
 from validation.run.compare import agreement_checks, fem_elastica_checks, reference_check
 from validation.run.exit_status import combine, decide, of_run_status
 from validation.run.parallel import PathRun, run_paths
@@ -209,18 +210,52 @@ def fem_error_relative(part: pd.DataFrame) -> float:
     return float(ratio.max()) if ratio.notna().any() else math.nan
 
 
-def summary(table: pd.DataFrame) -> pd.DataFrame:
-    """One row per case: methods run, largest PRBM-to-FEM error, comparisons passed, wall times."""
+FEM_VALIDATION = "FEM-validation benchmark"
+METHOD_WORDS = {"prbm": "PRBM", "fem": "FEM"}
+
+
+def no_prbm_fem_reason(result: CaseResult) -> str:
+    """The one-line reason a case has no PRBM-vs-FEM number (asked only when it has none): a
+    FEM-validation benchmark (``case.purpose``), the case's own reason (``case.no_prbm_fem``), a
+    loading reading whose base case carries the number (``case.readings_of``), else what the runs say:
+    a method missing from the case, a method that refused or failed (its message), or no shared output."""
+    info = result.loaded.case.case
+    if info.purpose == "fem-validation":
+        return FEM_VALIDATION + (f": {info.no_prbm_fem}" if info.no_prbm_fem else " (runs no PRBM)")
+    if info.no_prbm_fem:
+        return info.no_prbm_fem
+    if info.readings_of:
+        return (f"a loading reading of {info.readings_of} (FEM only): the PRBM-vs-FEM number is in the row of "
+                f"{info.readings_of}")
+    missing = [METHOD_WORDS[m] for m in ("prbm", "fem") if m not in result.runs]
+    if missing:
+        return f"no {' or '.join(missing)} in this case (the case states no reason)"
+    for method in ("prbm", "fem"):
+        run = result.runs[method]
+        if not run.ok:
+            verb = "refuses" if run.status is RunStatus.NOT_APPLICABLE else "gave no answer"
+            return f"{METHOD_WORDS[method]} {verb}: {' '.join(run.message.split())}"
+    return "the PRBM and the FEM share no output"
+
+
+def summary(table: pd.DataFrame, results: list[CaseResult] | None = None) -> pd.DataFrame:
+    """One row per case: methods run, largest PRBM-to-FEM error, comparisons passed, wall times, and
+    (given the case ``results``) ``no_prbm_fem_reason``: the one-line reason a case without a
+    PRBM-vs-FEM number has none, missing (NaN, as an empty CSV cell reads back) where the number exists."""
+    by_id = {r.loaded.id: r for r in results or []}
     rows = []
     for (group, case_id), part in table.groupby(["group", "case"], sort=True):
         values = part.drop_duplicates(["method", "quantity", "point", "level"])
         prbm_fem, prbm_fem_norm = prbm_fem_errors(part)
+        absent = math.isnan(prbm_fem) and math.isnan(prbm_fem_norm)
+        reason = no_prbm_fem_reason(by_id[case_id]) if absent and case_id in by_id else math.nan  # NaN: none
         claimed = part[part["within_tolerance"].notna()]
         times = values.groupby("method")["wall_time"].first()
         status = values.groupby("method")["converged"].first()
         rows.append(dict(group=group, case=case_id,
                          methods=" ".join(f"{m}{'' if status[m] else '(!)'}" for m in times.index),
                          max_prbm_fem_rel=prbm_fem, max_prbm_fem_per_length=prbm_fem_norm,
+                         no_prbm_fem_reason=reason,
                          fem_error_est_rel=fem_error_relative(part),
                          checks=len(claimed),
                          failed=int((claimed["within_tolerance"] == False).sum()),  # noqa: E712
