@@ -160,9 +160,10 @@ def find_case_files(patterns: list[str] | None = None, root: Path = CASES_DIR,
                 raise CaseError(pattern, "", "the folder holds no case file (*.toml)")
             found.extend(m.resolve() for m in matches)
             continue
-        matches = [Path(p) for p in glob.glob(pattern, recursive=True)]
-        matches += [Path(p) for p in glob.glob(str(root / "**" / pattern), recursive=True)]
-        matches += [Path(p) for p in glob.glob(str(root / "**" / f"{pattern}.toml"), recursive=True)]
+        matches = [Path(p) for p in glob.glob(pattern, recursive=True)]           # a path as given
+        below = glob.glob(str(root / "**" / pattern), recursive=True)             # a name found below root
+        below += glob.glob(str(root / "**" / f"{pattern}.toml"), recursive=True)
+        matches += [Path(p) for p in below if not _in_data_folder(Path(p))]
         matches = [m for m in matches if m.suffix == ".toml" and m.is_file()]
         if not matches:
             index = {k: v for r in roots for k, v in _id_index(r).items()}
@@ -172,6 +173,12 @@ def find_case_files(patterns: list[str] | None = None, root: Path = CASES_DIR,
                                 + nearest(pattern, index))
         found.extend(sorted(set(m.resolve() for m in matches)))
     return list(dict.fromkeys(found))
+
+
+def _in_data_folder(path: Path) -> bool:
+    """The file lies in one of the project's data folders (design specifications, sweeps)."""
+    resolved = path.resolve()
+    return any(folder.resolve() in resolved.parents for folder in DATA_FOLDERS)
 
 
 def _toml_files(root: Path) -> list[Path]:
