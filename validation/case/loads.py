@@ -21,6 +21,10 @@ def load_unit(load: LoadSpec, case: Case) -> str:
     """Unit of a load's values in the case's unit system (degrees for a prescribed rotation)."""
     if load.kind == "rotation":
         return "deg"
+    if load.kind == "distributed":                       # per unit length of the beam
+        return f"{case.unit('force')}/{case.unit('length')}"
+    if load.kind == "self_weight":                       # a multiple of full gravity
+        return "x gravity"
     dimension = LOAD_UNITS.get(load.kind)
     return case.unit(dimension) if dimension else ""
 

@@ -30,7 +30,7 @@ import pandas as pd
 from validation.report import paraview
 from validation.sweep import domain_study
 from validation.run import cache
-from validation.run.exit_status import print_error
+from validation.run.exit_status import ExitStatus, print_error
 from validation.report.paraview import normalise_shapes  # noqa: F401  (also used by tests)
 from validation.case.loader import find_case_files
 from validation.case.readings import readings_groups
@@ -374,18 +374,35 @@ def _code_digest() -> str:
     return hashlib.sha256(b"".join((here / n).read_bytes() for n in names)).hexdigest()
 
 
-def _page_job(args) -> tuple[str, str]:
-    """Write one case page unless its digest (case text and results) is unchanged since last time."""
+@dataclass(frozen=True)
+class PageLink:
+    """Where a case's page is, and why it could not be drawn (None: it was)."""
+
+    case: str
+    link: str
+    error: str | None = None
+
+
+def _page_job(args) -> PageLink:
+    """Write one case page unless its digest (case text and results) is unchanged since last time.
+    A page that cannot be drawn becomes a page saying why, so one case never costs the others'."""
     result, part, out = args
     cid = result.loaded.id
     stable = part.drop(columns=["wall_time", "cached"])  # what a page shows, less the timings
     digest = hashlib.sha256((result.loaded.text + stable.to_csv(index=False) + _code_digest()).encode()).hexdigest()
     stamp = out / "cases" / f"{cid}.digest"
     if stamp.exists() and stamp.read_text() == digest and (out / "cases" / f"{cid}.html").exists():
-        return cid, f"cases/{cid}.html"
-    page = _case_page(result, part, out)
+        return PageLink(cid, f"cases/{cid}.html")
+    try:
+        _, link = _case_page(result, part, out)
+    except Exception as exc:  # noqa: BLE001 - any drawing error is reported, the other pages go on
+        error = f"{cid}: its page could not be drawn: {type(exc).__name__}: {exc}"
+        link = f"cases/{cid}.html"
+        (out / link).write_text(_page(cid, f"<h1>{html.escape(cid)}</h1><p class='bad'>{html.escape(error)}</p>"))
+        stamp.unlink(missing_ok=True)
+        return PageLink(cid, link, error)
     stamp.write_text(digest)
-    return page
+    return PageLink(cid, link)
 
 
 @dataclass(frozen=True)
@@ -396,16 +413,17 @@ class PageWriter:
 
     out: Path
 
-    def __call__(self, result: CaseResult) -> str:
+    def __call__(self, result: CaseResult) -> PageLink:
         part = tabulate(result)
         if len(part):
             part = part.sort_values(["group", "case", "method", "quantity", "point", "level"], kind="stable",
                                     ignore_index=True)
-        return _page_job((result, part, self.out))[1]
+        return _page_job((result, part, self.out))
 
 
-def _build_pages(results: list[CaseResult], table: pd.DataFrame, out: Path, jobs: int, done: dict | None = None):
-    """(case id, page link) of every case; the pages not in ``done`` (already drawn) are drawn here."""
+def _build_pages(results: list[CaseResult], table: pd.DataFrame, out: Path, jobs: int,
+                 done: dict | None = None) -> list[PageLink]:
+    """The page of every case; the pages not in ``done`` (already drawn) are drawn here."""
     done = done or {}
     tasks = [(r, table[table["case"] == r.loaded.id], out) for r in results if r.loaded.id not in done]
     if jobs > 1 and len(tasks) > 1:
@@ -413,7 +431,7 @@ def _build_pages(results: list[CaseResult], table: pd.DataFrame, out: Path, jobs
             drawn = list(pool.map(_page_job, tasks, chunksize=4))
     else:
         drawn = [_page_job(t) for t in tasks]
-    return list(done.items()) + drawn
+    return list(done.values()) + drawn
 
 
 def _readings_section(results, table: pd.DataFrame, links: dict) -> tuple[list[str], list[str]]:
@@ -494,7 +512,9 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     except ImportError:
         pass
     summ = summary(table, outcome.results) if len(table) else pd.DataFrame()
-    links = dict(_build_pages(outcome.results, table, out, jobs, done=outcome.after))
+    pages = _build_pages(outcome.results, table, out, jobs, done=outcome.after)
+    links = {page.case: page.link for page in pages}
+    page_errors = [page.error for page in pages if page.error]
     summ.to_csv(out / "summary.csv", index=False)
     rows = [summarise(r, table[table["case"] == r.loaded.id]) for r in outcome.results]
     plot_overview(overview_points(outcome.results, table), out / "overview.png")
@@ -525,6 +545,9 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     if outcome.errors:
         body.append("<h2>Bad case files</h2><ul>" + "".join(f"<li>{html.escape(e)}</li>"
                                                               for e in outcome.errors) + "</ul>")
+    if page_errors:
+        body.append("<h2>Pages that could not be drawn</h2><ul>" + "".join(
+            f"<li class='bad'>{html.escape(e)}</li>" for e in page_errors) + "</ul>")
     body.append("<h2>Reproducibility</h2>" + _html_table(pd.DataFrame(list(info.items()),
                                                                        columns=["item", "value"])))
     body.append("<p>Files: <a href='results.csv'>results.csv</a>, <a href='summary.csv'>summary.csv</a></p>")
@@ -552,8 +575,10 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     (out / "index.md").write_text("\n".join(md) + "\n")
     for error in outcome.errors:
         print_error(error)
-    for line in outcome.unexpected_problems:  # what makes the exit status 1, in words
+    for line in outcome.unexpected_problems + page_errors:  # what makes the exit status 1, in words
         print(f"not ok: {line}")
     print(f"report: {out / 'index.html'} ({len(outcome.results)} cases, {time.perf_counter() - started:.1f} s, "
           f"of which {pooled:.1f} s the cases, their pages and the domain study on {jobs} process(es))")
+    if page_errors and outcome.exit_status == ExitStatus.OK:
+        return ExitStatus.FAILED
     return outcome.exit_status

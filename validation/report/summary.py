@@ -16,6 +16,7 @@ import numpy as np
 import pandas as pd
 
 from validation.case.capabilities import QUANTITIES
+from validation.case.loads import driving_load, load_name, load_unit
 from validation.report.format import Badge, error_colour, percent, run_badge, seconds, sig
 from validation.run.runner import CaseResult
 from validation.run.outcome import FEM_VALIDATION, fem_error_relative, no_prbm_fem_reason, prbm_fem_errors
@@ -57,11 +58,10 @@ def level_phrase(result: CaseResult, level: int) -> str:
     """'force at tip = 10 lbf' for a level, or 'level <label>' when the case has no load."""
     case = result.loaded.case
     if case.loads:
-        load = case.loads[0]
-        dim = {"force": "force", "moment": "moment", "displacement": "length", "rotation": "deg"}[load.kind]
-        unit = case.unit(dim)
-        name = load.label or f"{load.kind} at {load.point}"
-        return f"{name} = {sig(load.levels()[level])}{' ' + unit if unit and unit != 'dimensionless' else ''}"
+        index = driving_load(case)
+        load = case.loads[index]
+        unit = load_unit(load, case)
+        return f"{load_name(load, index, case)} = {sig(load.levels()[level])}{' ' + unit if unit else ''}"
     labels = case.level_labels or [str(i) for i in range(case.n_levels())]
     return f"level {labels[level]}"
 
