@@ -182,13 +182,20 @@ class RigidBodyOnBeams:
         r = np.asarray(point, float) - self.ref
         return self.ref + q[:2] + np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
 
+    def displacement(self, point, q):
+        """Displacement of a body point, u = (u, v) + (R(phi) - I) r, formed without the point's
+        coordinates (cos phi - 1 = -2 sin^2(phi/2)), so a small motion keeps its relative accuracy."""
+        r = np.asarray(point, float) - self.ref
+        s, c1 = math.sin(q[2]), -2.0 * math.sin(q[2] / 2.0) ** 2
+        return q[:2] + np.array([c1 * r[0] - s * r[1], s * r[0] + c1 * r[1]])
+
     def _local(self, beam, q):
         X0, X1 = np.asarray(beam.start, float), np.asarray(beam.end, float)
         L = beam.length
         e1 = (X1 - X0) / L
         e2 = np.array([-e1[1], e1[0]])
-        d = self.position(X1, q) - X0
-        return (d @ e1 - L) / L, (d @ e2) / L, q[2], e1, e2, L
+        u = self.displacement(X1, q)                    # d = X1 - X0 + u, with (X1 - X0) . e1 = L
+        return (u @ e1) / L, (u @ e2) / L, q[2], e1, e2, L
 
     def strain_energy(self, q) -> float:
         total = 0.0
