@@ -6,9 +6,9 @@ code is compiled twice.
 
 1. the methods whose code is compiled with numba (``compiled_method``: the adapter's sources, as the
    run cache walks them, import numba) are compiled first, each by one worker ("primer": that method
-   alone on the smallest case file that asks for it, its run kept in the run cache), so that two
-   workers never spend the same ~10 s compiling the same kernels; numba's on-disk cache
-   (``cache=True``) then serves every other process;
+   alone on the smallest case file that asks for it, its run discarded so that no case's recorded
+   time includes the compile), so that two workers never spend the same ~10 s compiling the same
+   kernels; numba's on-disk cache (``cache=True``) then serves every other process;
 2. while the primers compile, the other workers take the extra tasks (``extra``, e.g. the report's
    chapter-4 domain study) and the cases that need no compiled method;
 3. once every primer is done, the cases that need a compiled method.
@@ -29,7 +29,7 @@ from typing import Any, Callable
 
 from validation.case.loader import CaseError, load_case
 from validation.run import cache
-from validation.run.runner import CaseResult, run_case
+from validation.run.runner import CaseResult, run_case, run_method
 
 
 @dataclass
@@ -86,6 +86,16 @@ def schedule(paths: list[Path], methods: list[str] | None) -> Schedule:
     return plan
 
 
+def prime(path: Path, method: str) -> None:
+    """Compile ``method``'s numba code by running it once on ``path``; the run is not kept (its wall
+    time is mostly the compile), and a case file that cannot be used is reported by its own run."""
+    try:
+        loaded = load_case(path)
+    except CaseError:
+        return
+    run_method(loaded.case, method)
+
+
 def run_path(path: Path, methods: list[str] | None, use_cache: bool,
              after: Callable[[CaseResult], Any] | None = None) -> PathRun:
     """One case file: load, run, then ``after`` on its result."""
@@ -118,7 +128,7 @@ def run_paths(paths: list[Path], methods: list[str] | None = None, use_cache: bo
         return [done[p] for p in paths]
     plan = schedule(paths, methods)
     with ProcessPoolExecutor(max_workers=jobs) as pool:
-        primers = [pool.submit(run_path, path, [method], use_cache) for method, path in plan.primers]
+        primers = [pool.submit(prime, path, method) for method, path in plan.primers]
         futures: list[Future] = [pool.submit(task) for task in extra]
         futures += [pool.submit(run_path, path, methods, use_cache, after) for path in plan.free]
         wait(primers)
