@@ -178,9 +178,8 @@ class RigidBodyOnBeams:
         self.beams, self.ref, self.pinned = beams, np.asarray(reference, float), pinned
 
     def position(self, point, q):
-        c, s = math.cos(q[2]), math.sin(q[2])
-        r = np.asarray(point, float) - self.ref
-        return self.ref + q[:2] + np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
+        """Where a body point is: its undeformed position plus its displacement."""
+        return np.asarray(point, float) + self.displacement(point, q)
 
     def displacement(self, point, q):
         """Displacement of a body point, u = (u, v) + (R(phi) - I) r, formed without the point's
