@@ -249,20 +249,10 @@ def _link2_end_forces(case, fb, theta20: float, origin: complex):
 
 def _theta2_under_force(fb, force: complex, torque: float, theta20: float, span: float = math.radians(120)) -> float:
     """Input angle where the spring torque dU/dtheta2 (eq 182) balances a couple plus the moment about O2
-    of a dead force at A = R2 e^{i theta2}: Im(conj(A) F). The first root from theta20 in the direction
-    the load turns link 2 (Brent on a bracketing grid), nan if none within ``span``."""
-    def unbalanced(t):
-        A = fb.R2 * np.exp(1j * np.asarray(t))
-        return fb.input_torque(t) - torque - (np.conj(A) * force).imag
-    start = -float(unbalanced(theta20))
-    if start == 0.0:
-        return theta20
-    grid = theta20 + math.copysign(1.0, start) * np.linspace(0.0, span, 241)
-    r = unbalanced(grid)
-    idx = np.nonzero(np.isfinite(r[:-1]) & np.isfinite(r[1:]) & (np.sign(r[:-1]) != np.sign(r[1:])))[0]
-    if len(idx) == 0:
-        return math.nan
-    return brentq(lambda t: float(unbalanced(t)), grid[idx[0]], grid[idx[0] + 1], xtol=1e-14)
+    of a dead force at A = R2 e^{i theta2}: the dead-force case of
+    ``prbm.input_angle_under_turning_forces`` (the same first-root search from theta20)."""
+    forces = [(abs(force), prbm.DeadDirection(force))] if force != 0 else []
+    return prbm.input_angle_under_turning_forces(fb, forces, theta20=theta20, c_theta=1.0, torque=torque, span=span)
 
 
 def run_slider(case, requests, options: dict, info: MethodRun) -> dict:
