@@ -5,7 +5,10 @@ reading names the base case in ``[case] readings_of``. For every case of the gro
 the distance |r_computed - r_measured| at a point is taken per load level over the position pairs
 the references give (x with y, dx with dy; label ``measured``), levels whose reference carries a
 finding (a mis-copied row) and the first level when every reading matches it exactly (the unloaded
-state) left out; the group's table lists the rms and the largest distance, and marks the closest reading.
+state) left out; the group's table lists the rms and the largest distance, and marks, for each method,
+the reading closest to the measurements (smallest rms among that method's rows): the question a reading
+answers is "which loading makes this model match the experiment", so a PRBM row never takes the mark
+from the FEM's closest reading nor the other way round.
 """
 from __future__ import annotations
 
@@ -20,10 +23,11 @@ PAIRS = (("x", "y"), ("dx", "dy"))
 @dataclass
 class ReadingsGroup:
     experiment: str               # the base case id
-    table: pd.DataFrame           # case, title, method, levels, rms, max, closest
+    table: pd.DataFrame           # case, title, method, levels, rms, max, closest (per method)
 
-    def closest(self) -> str | None:
-        best = self.table[self.table["closest"]]
+    def closest(self, method: str) -> str | None:
+        """The reading whose ``method`` rows lie closest to the measurements (None: no such rows)."""
+        best = self.table[self.table["closest"] & (self.table["method"] == method)]
         return None if best.empty else str(best["case"].iloc[0])
 
 
@@ -62,6 +66,6 @@ def readings_groups(results, table: pd.DataFrame) -> list[ReadingsGroup]:
         summary = dist.groupby(["case", "method"])["distance"].agg(
             levels="count", rms=lambda d: float(np.sqrt(np.mean(np.square(d)))), max="max").reset_index()
         summary.insert(1, "title", [cases[c].case.title for c in summary["case"]])
-        summary["closest"] = summary["rms"] == summary["rms"].min()
+        summary["closest"] = summary["rms"] == summary.groupby("method")["rms"].transform("min")
         groups.append(ReadingsGroup(base, summary.sort_values("rms").reset_index(drop=True)))
     return groups
