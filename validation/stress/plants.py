@@ -9,19 +9,30 @@ library constants the FEM's bending stiffness EI x 1.10 (every member the FEM bu
                   stiffness coefficient K_Theta x 1.10 and characteristic radius factor gamma x 1.10
                   (every fit family, the pure-moment constants, the rule builder's defaults that the
                   networks built from geometry use, and the constant-parameter curved pinned-pinned
-                  model's defaults), the elastica's EI x 1.10.
+                  model's defaults), the Chain Algorithm's element EI x 1.10 (prbm.chain, the
+                  'chain' model of the PRBM adapter), the elastica's EI x 1.10 (segments and every
+                  beam of the elastica mechanism model), the BCM's linear stiffness coefficients
+                  K0 x 1.10 with their compliance C0 / 1.10 (seed 003 Table 1, eqs (3), (16): the
+                  linear term of EI x 1.10).
+
+Methods that are options of another method's adapter carry that method's plants: the small-length
+flexural pivot joints (``validation.methods.slfp``, an FEM option) are FEM members, the turning-load
+and Chain Algorithm readings (``validation.methods.prbm_readings``) run inside the PRBM adapter.
 
 ``validation.stress.audit`` runs the case suite under each plant; a good suite fails on every one of them.
 """
 from __future__ import annotations
 
+import dataclasses
 import importlib
 import inspect
 from dataclasses import dataclass
 from typing import Callable
 
+import bcm.beam
 import fem.model
 import prbm.builder
+import prbm.chain
 import prbm.fits
 import prbm.segments
 
@@ -87,14 +98,46 @@ def _prbm_fit(prefix: str, pure_moment: tuple[str, ...], builder: str, keyword: 
                 if hasattr(module, name):
                     setattr(module, name, getattr(module, name) * FACTOR)
         setattr(prbm.builder, builder, getattr(prbm.builder, builder) * FACTOR)
+        _scale_rules_default(builder.lower() if builder == "GAMMA" else "K_theta")
         inspect.unwrap(prbm.segments.curved_pinned_pinned).__kwdefaults__[keyword] *= FACTOR
     return apply
+
+
+def _scale_rules_default(field_name: str) -> None:
+    """``prbm.builder.Rules``' default for ``field_name`` x FACTOR: a dataclass bakes its defaults into
+    ``__init__`` when the class is made, so re-binding the module constant alone changes nothing."""
+    init = prbm.builder.Rules.__init__
+    names = [f.name for f in dataclasses.fields(prbm.builder.Rules)]
+    defaults = list(init.__defaults__)
+    first = len(names) - len(defaults)             # the defaults belong to the last fields
+    index = names.index(field_name) - first
+    defaults[index] = defaults[index] * FACTOR
+    init.__defaults__ = tuple(defaults)
+
+
+def _chain_EI() -> None:
+    original = prbm.chain.ChainBeam.stiffness
+    prbm.chain.ChainBeam.stiffness = lambda self: FACTOR * original(self)
 
 
 def _elastica_EI() -> None:
     adapter = importlib.import_module("validation.methods.elastica")
     original = adapter._stiffness
     adapter._stiffness = lambda case, options: FACTOR * original(case, options)
+    network = importlib.import_module("validation.methods.elastica_network")
+    build = network.model
+
+    def model(case):
+        mech, owner = build(case)
+        mech.beams = [dataclasses.replace(beam, EI=FACTOR * beam.EI) for beam in mech.beams]
+        return mech, owner
+
+    network.model = model
+
+
+def _bcm_K0() -> None:
+    bcm.beam.K0 *= FACTOR   # in place: bcm.mechanisms holds the same arrays
+    bcm.beam.C0 /= FACTOR
 
 
 PLANTS: dict[str, Plant] = {p.name: p for p in [
@@ -109,10 +152,15 @@ PLANTS: dict[str, Plant] = {p.name: p for p in [
     Plant("prbm-gamma-x1.10", "prbm",
           "PRBM library: gamma x 1.10 (fits, pure-moment gamma, rule-builder and constant-model defaults)",
           _prbm_fit("gamma", ("PURE_MOMENT_GAMMA",), "GAMMA", "gamma")),
+    Plant("prbm-chain-EI-x1.10", "prbm", "PRBM library: the Chain Algorithm's element EI x 1.10", _chain_EI),
     Plant("elastica-outputs-x1.10", "elastica", "elastica adapter: every output x 1.10", _scaled_outputs("elastica")),
     Plant("elastica-sign-flip", "elastica", "elastica adapter: transverse outputs with the sign flipped",
           _flipped_outputs("elastica")),
-    Plant("elastica-EI-x1.10", "elastica", "elastica: EI x 1.10", _elastica_EI),
+    Plant("elastica-EI-x1.10", "elastica", "elastica: EI x 1.10 (segments and mechanism beams)", _elastica_EI),
+    Plant("bcm-outputs-x1.10", "bcm", "BCM adapter: every output x 1.10", _scaled_outputs("bcm")),
+    Plant("bcm-sign-flip", "bcm", "BCM adapter: transverse outputs with the sign flipped", _flipped_outputs("bcm")),
+    Plant("bcm-K0-x1.10", "bcm", "BCM library: linear stiffness K0 x 1.10, compliance C0 / 1.10 (seed 003 Table 1)",
+          _bcm_K0),
 ]}
 
 

@@ -1,0 +1,84 @@
+"""Each library-constant plant of ``validation.stress.plants`` reaches the value it names.
+
+A plant that patches a name nobody reads plants nothing, and the audit would report the method's
+cases as 'not exercised' or, worse, count a caught error that another patch caused. Checked in one
+throw-away interpreter (plants have no undo), against the seeds' constants:
+
+* the rule builder's defaults gamma = 0.85, K_Theta = 2.65 (prbm.builder, seed 004 sec. 3.1): a
+  ``Rules()`` made after the plant carries 0.935 / 2.915 (a dataclass bakes its defaults into
+  ``__init__``, so re-binding the module constant alone would leave 0.85);
+* the pure-moment constants gamma = 0.7346, k = 1.5164 EI/L (seed 004);
+* the Chain Algorithm's element stiffness EI (seed 000 eqs 32-33) x 1.10;
+* the BCM's K0 = [[12, -6], [-6, 4]] and C0 = [[1/3, 1/2], [1/2, 1]] (seed 003 Table 1, eq (16)),
+  read through bcm.mechanisms as well;
+* the elastica mechanism model's beam EI (validation.methods.elastica_network) x 1.10.
+"""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from validation.case.loader import find_case_files, load_case
+from validation.stress import plants
+
+PROBE = r"""
+import json
+from validation.stress import plants
+for name in ("prbm-gamma-x1.10", "prbm-K_theta-x1.10", "prbm-chain-EI-x1.10", "bcm-K0-x1.10", "elastica-EI-x1.10"):
+    plants.apply(name)
+import bcm.mechanisms, prbm.builder, prbm.chain, prbm.fits
+from validation.case.loader import find_case_files, load_case
+from validation.methods import elastica_network
+rules = prbm.builder.Rules()
+beam = prbm.chain.ChainBeam(20.0, 306.0, 4)
+case = load_case(find_case_files(["bapat2015_test2_perpendicular"])[0]).case
+mech, _ = elastica_network.model(case)
+E, t, w = 550000.0, 0.121, 1.5
+print(json.dumps(dict(
+    gamma=rules.gamma, K_theta=rules.K_theta,
+    pm_gamma=prbm.fits.PURE_MOMENT_GAMMA, pm_spring=prbm.fits.PURE_MOMENT_SPRING,
+    chain=[float(v) for v in beam.stiffness()],
+    K0=bcm.mechanisms.K0.tolist(), C0=bcm.mechanisms.C0.tolist(),
+    beam_EI=mech.beams[0].EI, section_EI=E * w * t**3 / 12.0)))
+"""
+
+
+@pytest.fixture(scope="module")
+def planted() -> dict:
+    out = subprocess.run([sys.executable, "-c", PROBE], capture_output=True, text=True, check=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def test_the_rule_builder_defaults_are_planted(planted):
+    assert planted["gamma"] == pytest.approx(0.85 * 1.10, rel=1e-12)
+    assert planted["K_theta"] == pytest.approx(2.65 * 1.10, rel=1e-12)
+
+
+def test_the_pure_moment_constants_are_planted(planted):
+    assert planted["pm_gamma"] == pytest.approx(0.7346 * 1.10, rel=1e-12)
+    assert planted["pm_spring"] == pytest.approx(1.5164 * 1.10, rel=1e-12)
+
+
+def test_the_chain_stiffness_is_planted(planted):
+    assert planted["chain"] == pytest.approx([306.0 * 1.10] * 4, rel=1e-12)
+
+
+def test_the_bcm_linear_coefficients_are_planted_where_the_mechanisms_read_them(planted):
+    assert sum(planted["K0"], []) == pytest.approx([13.2, -6.6, -6.6, 4.4], rel=1e-12)
+    assert sum(planted["C0"], []) == pytest.approx([1 / 3.3, 1 / 2.2, 1 / 2.2, 1 / 1.1], rel=1e-12)
+
+
+def test_the_elastica_mechanism_beams_are_planted(planted):
+    # Test 2's segment: E = 550 ksi, 1.5 x 0.121 in (seed 000 section 9.3.5)
+    assert planted["beam_EI"] == pytest.approx(1.10 * planted["section_EI"], rel=1e-9)
+
+
+def test_every_method_a_case_runs_has_output_and_sign_plants():
+    run = {method for path in find_case_files(None) for method in load_case(path).case.methods}
+    for method in run:
+        assert f"{method}-outputs-x1.10" in plants.PLANTS and f"{method}-sign-flip" in plants.PLANTS, method
+        assert any(p.method == method and "-x1.10" in p.name and "outputs" not in p.name
+                   for p in plants.PLANTS.values()), f"{method}: no library-constant plant"
