@@ -94,7 +94,7 @@ def test_prbm_follower_force_downwards_bends_downwards():
 def test_fem_resolves_a_load_below_the_rounding_floor():
     """A load of 1e-12 EI/L^2 (below 4 eps EA): the FEM must still deflect by P L^3/3EI, not stop at 0."""
     case = _segment_case("fixed-free", [dict(kind="force", direction=[0.0, 1.0], values=[1e-12])], outputs=("y",))
-    assert run_method(case, "fem").values[Request("y", "tip", 0)] == pytest.approx(1e-12 / 3, rel=1e-6)
+    assert run_method(case, "fem").values[Request("y", "tip", 0)] == pytest.approx(1e-12 / 3, rel=1e-6, abs=0.0)
 
 
 def _assert_conforms(results, label):
