@@ -53,11 +53,13 @@ def planted() -> dict:
 
 
 def test_the_rule_builder_defaults_are_planted(planted):
+    # seed 004 sec. 3.1 / seed 000 ch. 2: gamma = 0.85, K_Theta = 2.65
     assert planted["gamma"] == pytest.approx(0.85 * 1.10, rel=1e-12)
     assert planted["K_theta"] == pytest.approx(2.65 * 1.10, rel=1e-12)
 
 
 def test_the_pure_moment_constants_are_planted(planted):
+    # seed 004, pure end moment: gamma = 0.7346, k = 1.5164 EI/L
     assert planted["pm_gamma"] == pytest.approx(0.7346 * 1.10, rel=1e-12)
     assert planted["pm_spring"] == pytest.approx(1.5164 * 1.10, rel=1e-12)
 
