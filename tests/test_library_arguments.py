@@ -79,6 +79,14 @@ def test_negative_load_is_the_mirror_in_every_library():
         x, y, theta = up[name]
         assert y > 0.05 and theta > 0.05, name  # the positive load really bends it
         assert down[name] == pytest.approx((x, -y, -theta), rel=1e-9, abs=1e-12), name
+    # and the upward tip itself is right (a mirror alone passes with a 10 % error on both sides):
+    exact = up["elliptic"]                                    # closed form (elliptic integrals, Bisshopp-Drucker)
+    assert up["shooting"] == pytest.approx(exact, abs=1e-9)   # the exact elastica by shooting
+    assert up["fem"] == pytest.approx(exact, abs=1e-3)        # 4 elements: discretisation error ~2e-4
+    # BCM with f_x = 0: eq (3) of seed 003 is linear, u_y = f_y/3, theta = f_y/2 (linear beam theory)
+    assert up["bcm"][1:] == pytest.approx((0.5 / 3, 0.5 / 2), rel=1e-9)
+    # PRBM: known small-deflection error 3 gamma/K_Theta - 1 = -3.8 % of b (derived, eqs 41-49)
+    assert up["prbm"][1] == pytest.approx(exact[1], rel=0.05)
 
 
 @pytest.mark.parametrize("module", ["prbm", "elastica", "fem", "bcm", "argcheck"])
