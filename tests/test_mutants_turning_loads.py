@@ -1,0 +1,78 @@
+"""prbm.turning_loads: what the mutation run found unchecked (issue 25 item 6), each with a derived value.
+
+* ``_unit``: a load law's direction is the unit vector of the one given: (3 + 4i)/5 = 0.6 + 0.8i (the
+  3-4-5 triangle); the tests elsewhere gave unit or near-unit vectors and read the direction back
+  through the same law, so u * |u| survived in place of u / |u|. A zero or infinite vector is refused,
+  naming the law.
+* The four-bar's input angle under a couple alone: with the only spring k1 at the ground pivot O2 of
+  link 2 (springs = (k1, 0, 0, 0)) the spring torque is k1 (theta2 - theta20) (eq 181), so a couple T
+  gives theta2 = theta20 + T/k1 exactly, in either direction (the sign of T decides the search side).
+* The fit family reaches the segment model: with Howell's fits (seed 004, 'arbitrary tip-load' slide)
+  and a transverse dead force (n = 0), gamma = 0.852144 and K_Theta = 2.654855 (the printed constant
+  terms), not Pauly-Midha's 0.851892 / 2.648834 (seed 000 eqs 41, 43).
+* A level without load is the unloaded tip exactly (a = l, b = theta0 = Theta = Fx = Fy = 0); a level
+  whose equilibrium direction is not found in the scanned span is NaN, never the unloaded tip.
+"""
+from __future__ import annotations
+
+import cmath
+import math
+
+import numpy as np
+import pytest
+
+import prbm
+from prbm.turning_loads import (DeadDirection, FollowerDirection, TipPose, TowardPoint,
+                                fixed_pinned_turning_tip, input_angle_under_turning_forces)
+
+POSE = TipPose(complex(2.0, 0.5), 0.5)
+
+
+def test_a_law_gives_the_unit_vector_of_its_direction():
+    assert DeadDirection(complex(3.0, 4.0)).direction(POSE) == pytest.approx(complex(0.6, 0.8), abs=1e-15)
+    turned = complex(0.6, 0.8) * cmath.exp(0.5j)        # kept at its angle to the end tangent, turned by 0.5 rad
+    assert FollowerDirection(complex(3.0, 4.0)).direction(POSE) == pytest.approx(turned, abs=1e-15)
+
+
+@pytest.mark.parametrize("law, name", [(DeadDirection, "DeadDirection"), (FollowerDirection, "FollowerDirection")])
+@pytest.mark.parametrize("u0", [0j, complex(math.inf, 0.0)])
+def test_a_law_refuses_a_zero_or_infinite_direction(law, name, u0):
+    with pytest.raises(ValueError, match=f"^{name}: the direction must be a finite non-zero vector"):
+        law(u0).direction(POSE)
+
+
+def test_a_follower_needs_the_end_rotation():
+    with pytest.raises(ValueError, match="^FollowerDirection: the end tangent's rotation is not available"):
+        FollowerDirection(1j).direction(TipPose(complex(1.0, 0.0), math.nan))
+
+
+@pytest.mark.parametrize("torque", [0.3, -0.3])
+def test_a_couple_alone_turns_link_2_by_T_over_k1(torque):
+    A, O4, B = 1.5 * cmath.exp(1j * math.radians(60.0)), complex(4.0, 0.0), complex(3.5, 2.5)
+    k1 = 2.0
+    fb = prbm.FourBar(O4, A, B - A, B - O4, 0.5 * (B - A), springs=(k1, 0.0, 0.0, 0.0))
+    theta20 = math.radians(60.0)
+    theta2 = input_angle_under_turning_forces(fb, [], theta20=theta20, c_theta=1.238845, torque=torque)
+    assert theta2 == pytest.approx(theta20 + torque / k1, abs=1e-12)
+
+
+@pytest.mark.parametrize("family, gamma, K", [("howell", 0.852144, 2.654855), ("pauly-midha", 0.851892, 2.648834)])
+def test_the_fit_family_reaches_the_segment(family, gamma, K):
+    # printed constant terms: seed 004 (Howell), seed 000 eqs 41, 43 (Pauly-Midha); n = 0 for a transverse force
+    res = fixed_pinned_turning_tip([0.5], DeadDirection(1j), length=1.0, EI=1.0, family=family)
+    assert res.constants["family"] == family
+    assert float(res.outputs["n"][0]) == pytest.approx(0.0, abs=1e-12)
+    assert float(res.constants["gamma"][0]) == pytest.approx(gamma, rel=1e-12)
+    assert float(res.constants["K_theta"][0]) == pytest.approx(K, rel=1e-12)
+
+
+def test_unloaded_and_unsolved_levels():
+    L = 3.0
+    # a span of 2e-4 rad around the unloaded direction holds no equilibrium of F = 1 toward (4, 6)
+    res = fixed_pinned_turning_tip([0.0, 1.0], TowardPoint(complex(4.0, 6.0)), length=L, EI=7.5,
+                                   step=1e-4, span=2e-4)
+    o = res.outputs
+    assert [o[k][0] for k in ("a", "b", "theta0", "Theta", "Fx", "Fy")] == [L, 0.0, 0.0, 0.0, 0.0, 0.0]
+    assert all(np.isnan(o[k][1]) for k in ("a", "b", "theta0", "Theta", "Fx", "Fy", "n"))
+    assert list(res.level_converged) == [True, False] and not res.converged
+    assert "no equilibrium direction found" in res.message
