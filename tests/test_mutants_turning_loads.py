@@ -76,3 +76,25 @@ def test_unloaded_and_unsolved_levels():
     assert all(np.isnan(o[k][1]) for k in ("a", "b", "theta0", "Theta", "Fx", "Fy", "n"))
     assert list(res.level_converged) == [True, False] and not res.converged
     assert "no equilibrium direction found" in res.message
+
+
+def test_the_result_record_names_the_model_and_says_it_converged():
+    res = fixed_pinned_turning_tip([0.5, 1.0], DeadDirection(1j), length=1.0, EI=1.0)
+    assert res.converged and res.message == "converged" and list(res.level_converged) == [True, True]
+    assert res.model == ("fixed-pinned under a turning end force, seed 000 eqs (41)-(49) at the equilibrium "
+                         "load ratio")
+    assert res.iterations == 0 and res.wall_time > 0.0
+    assert set(res.constants) == {"gamma", "c_theta", "K_theta", "k", "family"}
+
+
+@pytest.mark.parametrize("length, EI, F", [(0.0, 1.0, 1.0), (1.0, 0.0, 1.0), (math.inf, 1.0, 1.0),
+                                           (1.0, math.inf, 1.0), (1.0, 1.0, math.nan)])
+def test_bad_arguments_are_refused_by_name(length, EI, F):
+    with pytest.raises(ValueError, match="^fixed_pinned_turning_tip: (length and EI|F) must be finite"):
+        fixed_pinned_turning_tip([F], DeadDirection(1j), length=length, EI=EI)
+
+
+def test_toward_point_names_itself_when_undefined():
+    with pytest.raises(ValueError, match=r"^TowardPoint: the loaded point is at the point the force pulls toward "
+                                         r"\(direction undefined\)$"):
+        TowardPoint(complex(1.0, 0.0)).direction(TipPose(complex(1.0, 0.0), 0.0))
