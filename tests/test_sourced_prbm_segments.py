@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 import prbm
+from prbm.theta_dependent import theta_dependent_tip
 
 # (n, P l^2/EI, (a/l, b/l, theta0 deg)), notes seed-ch2-4 section 4.4
 NOTES_4_4 = [(-1.0, 1.5, (0.9510, 0.2880, 23.79)), (0.0, 0.5, (0.9854, 0.1571, 13.17)),
@@ -58,3 +59,23 @@ def test_pure_moment_tip_and_its_inverse_use_seed_004s_constants():
     inv = prbm.pure_moment_from_tip(length=length, EI=EI, a=length - 0.7346 * length * (1 - math.cos(0.4)),
                                     b=0.7346 * length * math.sin(0.4))
     assert float(inv["M"]) == pytest.approx(0.4 * 1.5164 * EI / length, rel=1e-12)
+
+
+def test_theta_dependent_tip_solves_eq_51_as_printed_and_mirrors():
+    """Seed 000 eq (51) as printed: K_Theta Theta = p(n, Theta) = 0.004233 - 0.012972 n + 2.567095 Theta
+    + 0.003993 n^2 - 0.037173 Theta^2 - 0.000297 n^3 + 0.117997 Theta^3 - 0.034678 n Theta
+    + 0.003467 n^2 Theta - 0.009474 n Theta^2, and the torque balance (46)-(47)
+    (P l^2/EI) sqrt(1 + n^2) sin(phi - Theta) = p(n, Theta), phi = atan2(1, -n); then b = gamma l sin Theta
+    (49) with gamma of eq (41). The mirrored load (-P, -n) gives the mirrored tip (the mirror alone would
+    pass with any error in p)."""
+    n, P = 0.5, 1.0
+    up = theta_dependent_tip(P, n, length=1.0, EI=1.0)
+    T = float(up["Theta"])
+    p = (0.004233 - 0.012972 * n + 2.567095 * T + 0.003993 * n**2 - 0.037173 * T**2 - 0.000297 * n**3
+         + 0.117997 * T**3 - 0.034678 * n * T + 0.003467 * n**2 * T - 0.009474 * n * T**2)
+    assert P * math.sqrt(1 + n * n) * math.sin(math.atan2(1.0, -n) - T) == pytest.approx(p, rel=1e-9)
+    gamma = 0.851892 - 0.020805 * n + 0.005867 * n**2 - 0.000895 * n**3 + 0.000069 * n**4 - 0.000002 * n**5  # eq (41)
+    assert float(up["b"]) == pytest.approx(gamma * math.sin(T), rel=1e-12)
+    down = theta_dependent_tip(-P, -n, length=1.0, EI=1.0)
+    assert float(down["a"]) == pytest.approx(float(up["a"]), abs=1e-12)
+    assert float(down["b"]) == pytest.approx(-float(up["b"]), abs=1e-12)
