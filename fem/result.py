@@ -50,6 +50,9 @@ class FemResult:
     refine: int = 1
     n_elements: int = 0
     extra: dict = field(default_factory=dict)
+    # CPU seconds of the load stepping alone (Newton iterations and step control), without the model's
+    # set-up (mesh, DOF numbering, sparsity) and without building this result
+    analysis_time: float = 0.0
 
     # -- scipy-like conveniences -------------------------------------------
     @property
@@ -240,7 +243,7 @@ def _transfer_slave_forces(d, R, u):
 
 
 def build_result(model, sys, path, *, converged, message, critical_points, wall_time,
-                 control, refine) -> FemResult:
+                 control, refine, analysis_time: float = 0.0) -> FemResult:
     d = sys.disc
     nm = d.n_model_nodes
     snaps = path.snapshots
@@ -290,7 +293,7 @@ def build_result(model, sys, path, *, converged, message, critical_points, wall_
                    step_load_factor=np.array(path.step_lams),
                    step_path_parameter=np.array(path.step_s),
                    step_control=np.array(path.step_ctrl),
-                   element_moments=M_all.copy()))
+                   element_moments=M_all.copy()), analysis_time=analysis_time)
 
 
 def _member_end_forces(d, N, M, L) -> np.ndarray:
