@@ -146,10 +146,14 @@ class FemResult:
         count = np.bincount(conn.ravel(), minlength=n).astype(float)
         count[count == 0] = np.nan
 
+        # node k of level l is bin l n + k: one bincount sums every level, element by element in order
+        # (the order, and so the sums, of np.add.at level by level)
+        offset = (np.arange(levels) * n)[:, None]
+        starts, ends = (offset + conn[:, 0]).ravel(), (offset + conn[:, 1]).ravel()
+
         def at_nodes(start, end):
-            first, second = np.zeros((levels, n)), np.zeros((levels, n))
-            np.add.at(first, (slice(None), conn[:, 0]), start)
-            np.add.at(second, (slice(None), conn[:, 1]), end)
+            first = np.bincount(starts, weights=np.ravel(start), minlength=levels * n).reshape(levels, n)
+            second = np.bincount(ends, weights=np.ravel(end), minlength=levels * n).reshape(levels, n)
             return (first + second) / count
 
         moment = at_nodes(-M[:, :, 0], M[:, :, 1])
