@@ -156,7 +156,7 @@ class System:
         self.valid = (R < self.n) & (Cc < self.n)
         # without rigid links the constraint coefficients are constant: precompute
         # which full entry feeds each reduced entry, and with what factor
-        self.valid_src = np.flatnonzero(self.valid)
+        self.valid_src = self.valid.nonzero()[0]
         if w != 1:
             self.valid_src //= w * w
         self.coef_const = prod[self.valid]

@@ -112,7 +112,9 @@ def _dof_order(n_en, conn, slaves, masters, extra_owner):
     [ux, uy, rz] and the released member-end rotations it owns."""
     order = rcm_order(n_en, conn, slaves, masters)
     if not len(extra_owner):
-        return np.column_stack([2 * order, 2 * order + 1, 2 * n_en + order]).ravel()
+        dofs = np.empty((len(order), 3), dtype=order.dtype)
+        dofs[:, 0], dofs[:, 1], dofs[:, 2] = 2 * order, 2 * order + 1, 2 * n_en + order
+        return dofs.ravel()
     extras = {}
     for k, owner in enumerate(extra_owner):
         extras.setdefault(owner, []).append(3 * n_en + k)
@@ -370,7 +372,7 @@ def _first_member_ends(n_mn, conn, edofs) -> np.ndarray:
     first_end = np.full(n_mn, -1, dtype=int)
     ends = conn.ravel()                        # (e0 start, e0 end, e1 start, ...)
     dofs = edofs[:, [2, 5]].ravel()
-    for k in np.flatnonzero(ends < n_mn)[::-1].tolist():   # the ends at model nodes: two per member
+    for k in (ends < n_mn).nonzero()[0][::-1].tolist():   # the ends at model nodes: two per member
         first_end[ends[k]] = dofs[k]
     return first_end
 

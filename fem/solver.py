@@ -89,7 +89,7 @@ def _even_crossing(system, st: StepState, held) -> bool:
     dense eigensolver (larger ones rely on the sign of det K)."""
     if not conservative(system) or system.n > DENSE_LIMIT:
         return False
-    if float(np.min(st.ev["el"]["N"], initial=0.0)) >= 0.0:
+    if float(st.ev["el"]["N"].min(initial=0.0)) >= 0.0:
         return False
     try:   # Jacobi-scaled: unit diagonal
         return eigenvalue_below(system, st.ev["K"], held, zero_eigenvalue(1.0, system.n))
