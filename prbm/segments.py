@@ -46,6 +46,7 @@ from __future__ import annotations
 
 import math
 import time
+from math import cos, sin
 
 import numpy as np
 
@@ -99,23 +100,24 @@ _SCALAR_LOOP_MAX = 256  # up to this many levels the plain-float loop beats the 
 
 def _spring_start(FR, phi, k, theta_i, lo, hi):
     """Linear solution of (*) about Theta_i (the first Newton step from Theta_i), if inside (lo, hi)."""
-    d = FR * math.cos(phi - theta_i) + k
+    d = FR * cos(phi - theta_i) + k
     if d > 0.0:
-        x = theta_i + FR * math.sin(phi - theta_i) / d
+        x = theta_i + FR * sin(phi - theta_i) / d
         if lo < x < hi:
             return x
     return phi
 
 
 def _spring_angle_scalar(FR, phi, k, theta_i, xtol, maxiter):
-    """``spring_angle`` for one level in plain floats (a few microseconds)."""
+    """``spring_angle`` for one level in plain floats (a few microseconds; called once per load level,
+    so its names are module globals and each quantity is computed once per iteration)."""
     if FR == 0.0 or phi == theta_i:
         return theta_i, True, 0
     lo, hi = (theta_i, phi) if theta_i < phi else (phi, theta_i)
     x = _spring_start(FR, phi, k, theta_i, lo, hi)
     toward_phi = phi > theta_i  # g > 0 between Theta_i and the root, g < 0 between the root and phi
     for it in range(1, maxiter + 1):
-        s = math.sin(phi - x)
+        s = sin(phi - x)
         fx = FR * s - k * (x - theta_i)
         if fx == 0.0:
             return x, True, it
@@ -129,13 +131,14 @@ def _spring_angle_scalar(FR, phi, k, theta_i, xtol, maxiter):
             hi = x
         else:
             lo = x
-        dfx = -FR * math.cos(phi - x) - k
+        dfx = -FR * cos(phi - x) - k
         step = fx / dfx if dfx != 0.0 else math.inf
         x_new = x - step
         tol = xtol * (1.0 + abs(x))
+        size = abs(step)
         # done when the step is below tol, or when the quadratic error left after it,
         # |g''| step^2 / (2 |g'|) with g'' = -F R sin(phi - x), is ten times below tol
-        if abs(step) <= tol or (abs(step) < 1e-4 and 5.0 * FR * abs(s) * step * step <= tol * abs(dfx)):
+        if size <= tol or (size < 1e-4 and 5.0 * FR * abs(s) * step * step <= tol * abs(dfx)):
             return x_new, True, it
         if not (lo < x_new < hi):
             x_new = 0.5 * (lo + hi)

@@ -43,10 +43,17 @@ def per_level(v, n: int) -> np.ndarray:
 
 def levels(v, n: int) -> list:
     """v over the n load levels as a list of Python numbers (a scalar or a one-element array repeated)."""
-    if type(v) is list and len(v) == n:
+    kind = type(v)
+    if kind is list and len(v) == n:
         return v
+    if kind is float:
+        return [v] * n
     v = np.asarray(v)
-    return (v if v.shape == (n,) else np.broadcast_to(v, (n,))).tolist()
+    if v.shape == (n,):
+        return v.tolist()
+    if v.size == 1 and v.ndim <= 1:  # one value for every level (np.broadcast_to without its cost)
+        return [v.reshape(()).item()] * n
+    return np.broadcast_to(v, (n,)).tolist()
 
 
 def plain(d: dict) -> dict:
