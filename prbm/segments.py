@@ -286,7 +286,7 @@ def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
                           {"gamma": gamma, "c_theta": c_theta, "K_theta": K, "k": gamma * K * EI / length,
                            "family": fam.name}, "fixed-pinned, seed 000 eqs (41)-(49)",
                           time.perf_counter() - t0, nit, np.array([ok]))
-    if np.size(P) * np.size(n) <= _SCALAR_LOOP_MAX:  # a few levels: the plain-float path level by level
+    if 0 < np.size(P) * np.size(n) <= _SCALAR_LOOP_MAX:  # a few levels: the plain-float path level by level
         return _fixed_pinned_levels(P, n, length, EI, fam, extrapolate, t0)
     Pabs, n_eff, sign = _mirror(P, n)
     gamma, c_theta, K = fam.parameters(n_eff, extrapolate)
@@ -328,7 +328,7 @@ def _fixed_pinned_levels(P, n, length: float, EI: float, fam, extrapolate: str, 
     P_list, n_list, shape = _level_lists(P, n)
     L2 = length**2
     per_ratio: dict[float, tuple[float, ...]] = {}
-    a, b, theta0, Theta, F_out, gam, ct, Kt, kk, ok_levels = ([] for _ in range(10))
+    rows, fits = [], []  # per level: (a, b, theta0, Theta, F, converged), the ratio's constants
     nit_max = 0
     for p, m in zip(P_list, n_list):
         sign = -1.0 if p < 0.0 else 1.0
@@ -336,26 +336,20 @@ def _fixed_pinned_levels(P, n, length: float, EI: float, fam, extrapolate: str, 
         fit = per_ratio.get(n_eff)
         if fit is None:
             gamma, c_theta, K = fam.parameters(n_eff, extrapolate)
-            fit = per_ratio[n_eff] = (gamma, c_theta, K, math.sqrt(1.0 + n_eff * n_eff), math.atan2(1.0, -n_eff),
-                                      gamma * length, gamma * K * EI / length)
-        gamma, c_theta, K, eta, phi, gl, k = fit
+            fit = per_ratio[n_eff] = (gamma, c_theta, K, gamma * K * EI / length, math.sqrt(1.0 + n_eff * n_eff),
+                                      math.atan2(1.0, -n_eff), gamma * length)
+        gamma, c_theta, K, k, eta, phi, gl = fit
         F = abs(p) * eta
         T, ok, nit = _spring_angle_scalar(F * L2 / EI, phi, K, 0.0, 1e-13, 60)
-        nit_max = max(nit_max, nit)
-        a.append(length - gl * (1.0 - math.cos(T)))
-        b.append(sign * gl * math.sin(T))
-        theta0.append(sign * c_theta * T)
-        Theta.append(sign * T)
-        F_out.append(F)
-        gam.append(gamma)
-        ct.append(c_theta)
-        Kt.append(K)
-        kk.append(k)
-        ok_levels.append(ok)
+        if nit > nit_max:
+            nit_max = nit
+        rows.append((length - gl * (1.0 - cos(T)), sign * gl * sin(T), sign * c_theta * T, sign * T, F, ok))
+        fits.append(fit)
+    a, b, theta0, Theta, F_out, ok_levels = zip(*rows)
     ok_all = all(ok_levels)
     out = _arrays({"a": a, "b": b, "theta0": theta0, "Theta": Theta}, shape)
     out.update({"P": np.asarray(P, float), "n": np.asarray(n, float), "F": _arrays({"F": F_out}, shape)["F"]})
-    constants = _arrays({"gamma": gam, "c_theta": ct, "K_theta": Kt, "k": kk}, shape)
+    constants = _arrays(dict(zip(("gamma", "c_theta", "K_theta", "k"), list(zip(*fits))[:4])), shape)
     constants["family"] = fam.name
     return PRBMResult(ok_all, "converged" if ok_all else "spring equation did not converge", out, constants,
                       "fixed-pinned, seed 000 eqs (41)-(49)", time.perf_counter() - t0, nit_max,
