@@ -77,7 +77,7 @@ import numpy as np
 from argcheck import checked
 
 from . import integrator as kernel
-from .integrator import integrate_samples
+from .integrator import plain_samples
 
 __all__ = ["TipConstraint", "MomentConstraint", "ElasticaProblem", "ElasticaResult",
            "solve_elastica", "solve_path", "loaded_start", "section_moment", "unloaded_tip"]
@@ -253,16 +253,15 @@ class _Shooter:
         return list(self.fdirs) + list(self.mdirs)
 
     def integrate(self, z, q):
-        """(states at the piece boundaries: row 0 at s = 0, the last at s = 1; tip force; ok)."""
-        _, _, states, F, ok = kernel.residual(np.asarray(z, float), np.asarray(q, float), *self.structure,
-                                              self.rtol, self.atol)
+        """(plain states (x, y, theta, m, U) at the piece boundaries: row 0 at s = 0, the last at
+        s = 1; tip force; ok): the shooting's pieces, without sensitivities."""
+        z, q = np.asarray(z, float), np.asarray(q, float)
+        F, _ = kernel.tip_force(z, q, self.fdirs, self.mdirs, self.has_follower)
+        y0 = np.zeros(kernel.BEAM_STATE_SIZE)
+        y0[3] = z[0]
+        states, ok = plain_samples(y0, self.bounds, F[0], F[1], self.k0, self.rtol, self.atol, q[-2], q[-1],
+                                   restart=True)
         return states, F, ok
-
-    def residual(self, z, q):
-        """End-condition residual (n,), or None when the integration failed."""
-        r, _, _, _, ok = kernel.residual(np.asarray(z, float), np.asarray(q, float), *self.structure,
-                                          self.rtol, self.atol)
-        return r if ok else None
 
 
 def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
@@ -374,12 +373,10 @@ def _moment_start(problem, shooter, q0, z0):
 
 def _section_moments(shooter, z, q):
     """Normalised m(s_j) at the moment-constraint sites for the unknowns z (q's m_j ignored)."""
-    q = np.array(q, float)
-    q[5 + shooter.nc:5 + shooter.nc + shooter.nm] = 0.0
-    r = shooter.residual(z, q)
-    if r is None:
+    states, _, ok = shooter.integrate(z, q)
+    if not ok:
         raise RuntimeError("integration failed")
-    return r[1 + shooter.nc:1 + shooter.nc + shooter.nm]
+    return states[shooter.site_at, 3]
 
 
 def loaded_start(problem: ElasticaProblem, force: tuple[float, float], moment: float,
@@ -457,7 +454,10 @@ def _result(problem, shooter, z, q, n_samples, evaluated=None):
     integrating from sample to sample (compiled)."""
     states, F = evaluated if evaluated is not None else shooter.integrate(z, q)[:2]
     s = np.linspace(0.0, 1.0, n_samples)
-    samples, _ = integrate_samples(states[0], s, F[0], F[1], shooter.k0, shooter.rtol, shooter.atol,
+    if n_samples == 2:          # the ends: the boundary states themselves
+        samples = states[[0, -1], :kernel.BEAM_STATE_SIZE]
+    else:
+        samples, _ = plain_samples(states[0], s, F[0], F[1], shooter.k0, shooter.rtol, shooter.atol,
                                    q[-2], q[-1])
     Ys = samples.T
     Y = states[-1]
