@@ -611,7 +611,7 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
     last = bounds.size - 1
     dq = _axpy(q1, -1.0, q0)
     n_state = STATE_SIZE if (dq[dq.size - 2] != 0.0 or dq[dq.size - 1] != 0.0) else FORCE_STATE_SIZE
-    lam, dlam, lam_try = 0.0, min(initial_step, 1.0), 0.0
+    lam, dlam, lam_try, lam_prev, curvature = 0.0, min(initial_step, 1.0), 0.0, 0.0, 0.0
     nit, nsteps, norm = 0, 0, 0.0
     started, regular = False, True
     dz, tip, step = np.zeros_like(z), np.zeros(3), np.zeros_like(z)
@@ -625,7 +625,9 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
             lam_try = min(1.0, lam + dlam)
             q = _axpy(q0, lam_try, dq)
             step = _axpy(np.zeros_like(z), lam_try - lam, dz) if regular else np.zeros_like(z)
-            z_guess, ntol, nrtol, natol, nmax = _axpy(z, 1.0, step), 10 * path_rtol, path_rtol, path_atol, maxiter
+            # a step whose corrector needs more than max_step_iterations is rejected: stop there
+            z_guess, ntol, nrtol, natol = _axpy(z, 1.0, step), 10 * path_rtol, path_rtol, path_atol
+            nmax = min(maxiter, max_step_iterations)
         z_new, nstat, it, norm, J, states, F = _newton(z_guess, q, ntol, 1e-9 if final else ntol, not final,
                                                        nmax, k0, dirs, fdirs, mdirs, site_at, angle_given,
                                                        follower, bounds, n_state, nrtol, natol)
@@ -644,16 +646,20 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
             if ok:
                 moved = math.hypot(new_tip[0] - tip[0], new_tip[1] - tip[1])
                 off = _norm(_axpy(z_new, -1.0, z_guess))
+                bend = curvature * (lam_try - lam) ** 2         # twice the predictor's expected miss
                 ok = (it <= max_step_iterations and abs(new_tip[2] - tip[2]) <= max_rotation_step
                       and moved <= max_position_step
-                      and (not regular or off <= max_corrector * _norm(step) + 1e-6 * (1.0 + _norm(z))))
+                      and (not regular or off <= max_corrector * _norm(step) + bend + 1e-6 * (1.0 + _norm(z))))
             if ok:
-                z, lam = z_new, lam_try
+                z, lam_prev, lam = z_new, lam, lam_try
                 nsteps += 1
                 if it <= 3:
                     dlam = min(2.0 * dlam, 1.0)
-        if ok:                  # the tangent at the new point
+        if ok:                  # the tangent at the new point, and the path's curvature |z''| since the last
+            dz_prev, was_regular = dz, regular
             dz, regular = _tangent(z, J, states, dq, dirs, mdirs, site_at, angle_given, follower)
+            if nsteps > 0 and regular and was_regular:
+                curvature = _norm(_axpy(dz, -1.0, dz_prev)) / (lam - lam_prev)
             tip = new_tip.copy()
         else:
             dlam *= 0.5
