@@ -44,9 +44,11 @@ tangent predictor dz/dlambda = -J^-1 (dr/dq)(q1 - q0) (both from the variational
 the accepted state), adaptive steps, and a step rejection (the step halved) when the corrector
 left the path: the tip moved by more than ``max_position_step`` L or rotated by more than
 ``max_rotation_step`` rad, the corrector moved the shooting unknowns z further from the
-predictor than ``max_corrector`` times the predicted change (plus a small floor), or Newton
-needed more than ``max_step_iterations`` iterations. A first-order predictor misses the path
-by O(dlambda^2), so halving the step always satisfies the corrector test on a smooth path; a
+predictor than ``max_corrector`` times the predicted change plus the predictor's expected miss
+|z''| dlambda^2 (|z''| from the tangents at the last two accepted points, so an unknown that is
+stationary along the path does not shrink the step) and a small floor, or Newton needed more
+than ``max_step_iterations`` iterations. A first-order predictor misses the path by
+O(dlambda^2), so halving the step always satisfies the corrector test on a smooth path; a
 Newton solution on another branch (a straight beam pushed back towards its clamp has several
 equilibria at the same load) is far from the predictor whatever the step. So one requested load
 is reached along the physically connected path from the start state, however large: the beam
@@ -54,8 +56,10 @@ under a tip load pointing back towards the clamp bends the way the load's transv
 pushes and curls back; the full-circle roll-up returns a tip rotation of 2 pi, not 4 pi; Table
 3.5 Ex. 2 stays on the branch of the unloaded beam. The elastica's own stability is not
 checked: the path is followed, stable or not. Intermediate steps are integrated at
-``path_rtol``; the final corrector at ``rtol`` (1e-12), so the end conditions hold to ``tol`` =
-1e-11 and tip values are accurate to about 1e-10 relative.
+``path_rtol`` and their corrector stops once the Newton step from the point is below the path
+tolerance; the final corrector runs at ``rtol`` (1e-12), so the end conditions hold to ``tol`` =
+1e-11 and tip values are accurate to about 1e-10 relative. The shape samples are integrated on the
+plain state (x, y, theta, m, U), without the sensitivities the shooting needs.
 
 This module sets the problem up (normalised structure arrays, start states, staging) and reads the
 result; the continuation itself, with its Newton corrector and the integrations, runs compiled
