@@ -661,7 +661,7 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
             if nsteps > 0 and regular and was_regular:
                 curvature = _norm(_axpy(dz, -1.0, dz_prev)) / (lam - lam_prev)
             tip = new_tip.copy()
-        else:
-            dlam *= 0.5
+        else:                   # halve the step tried (dlam itself may reach past lambda = 1)
+            dlam = 0.5 * (lam_try - lam)
             if dlam < min_step:
                 return z, PATH_STALLED, lam, nit, nsteps, norm, states, F
