@@ -38,6 +38,8 @@ from .model import Model
 __all__ = ["System"]
 
 EPS = float(np.finfo(float).eps)
+SPRING_SIGN = np.array([[1.0, -1.0], [-1.0, 1.0]])   # d(k (theta_a - theta_b)) / d(theta_a, theta_b)
+SPRING_SIGN.flags.writeable = False
 
 
 class System:
@@ -54,20 +56,20 @@ class System:
         self.width = 2 if len(d.slaves) else 1
         self.I = d.I[:, :self.width]
         self.C0 = d.C[:, :self.width].copy()
+        self.I0 = np.ascontiguousarray(d.I[:, 0])
+        self.C0_flat = np.ascontiguousarray(self.C0[:, 0])
         self._load_tables(model, n_levels)
         rows, cols = self._sparsity()
         self.layout = MatrixLayout(self.n, rows, cols, kind=solver_kind)
-        self.spring_sign = np.array([[1.0, -1.0], [-1.0, 1.0]])
+        self.spring_sign = SPRING_SIGN
         self.I_flat = self.I.ravel()
         self.L_ref = model.characteristic_length()
         # residual noise from rounding positions: ~ eps * EA per element
         self.noise_floor = 4 * EPS * float(np.max(d.ka * d.L0, initial=0.0))
         # W of the path norm ||dq||_W: rotations weighted by the mean element length squared
-        self.path_weights = np.where(d.red_is_rotation, float(np.mean(d.L0)) ** 2 if len(d.L0) else 1.0, 1.0)
-        self.dead_loads = (len(self.fol_nodes) == 0 and not np.any(self.pt_angle)
-                           and not np.any(self.dist_follower))     # `stability.conservative`
-        self.I0 = np.ascontiguousarray(self.I[:, 0])
-        self.C0_flat = np.ascontiguousarray(self.C0[:, 0])
+        self.path_weights = np.where(d.red_is_rotation, float(d.L0.sum() / len(d.L0)) ** 2 if len(d.L0) else 1.0, 1.0)
+        self.dead_loads = (len(self.fol_nodes) == 0 and not self.pt_angle.any()
+                           and not self.dist_follower.any())     # `stability.conservative`
         # the compiled load-control corrector (`kernel.newton_load`), where it applies
         self.compiled = CompiledLayout(self.layout, rows, cols) if CompiledLayout.applies(self) else None
 
@@ -122,22 +124,31 @@ class System:
         loads, rigid links), with which full entry feeds each and the constant factor without rigid
         links."""
         d = self.disc
-        # full-level sparsity pattern: elements, springs, follower, rigid links
+        # full-level sparsity pattern: elements, springs, follower, rigid links (only the parts present)
         e = d.edofs
-        fr = np.concatenate([2 * self.fol_nodes, 2 * self.fol_nodes + 1])
-        fc = np.concatenate([self.fol_rot] * 2)
-        pt = np.column_stack([2 * self.pt_nodes, 2 * self.pt_nodes + 1])   # 2x2 block per pointed force
-        fr = np.concatenate([fr, np.repeat(pt, 2, axis=1).ravel()])
-        fc = np.concatenate([fc, np.tile(pt, (1, 2)).ravel()])
-        mr = d.rot_dof[d.masters]
-        self.rows_full = np.concatenate([np.repeat(e, 6, axis=1).ravel(),
-                                         np.repeat(d.springs, 2, axis=1).ravel(), fr, mr])
-        self.cols_full = np.concatenate([np.tile(e, (1, 6)).ravel(),
-                                         np.tile(d.springs, (1, 2)).ravel(), fc, mr])
+        n_el = len(e)
+        rows = [np.broadcast_to(e[:, :, None], (n_el, 6, 6)).ravel()]      # = np.repeat(e, 6, axis=1)
+        cols = [np.broadcast_to(e[:, None, :], (n_el, 6, 6)).ravel()]      # = np.tile(e, (1, 6))
+        if len(d.springs):
+            rows.append(np.repeat(d.springs, 2, axis=1).ravel())
+            cols.append(np.tile(d.springs, (1, 2)).ravel())
+        if len(self.fol_nodes):
+            rows.append(np.concatenate([2 * self.fol_nodes, 2 * self.fol_nodes + 1]))
+            cols.append(np.concatenate([self.fol_rot] * 2))
+        if len(self.pt_nodes):
+            pt = np.column_stack([2 * self.pt_nodes, 2 * self.pt_nodes + 1])   # 2x2 block per pointed force
+            rows.append(np.repeat(pt, 2, axis=1).ravel())
+            cols.append(np.tile(pt, (1, 2)).ravel())
+        if len(d.masters):
+            mr = d.rot_dof[d.masters]
+            rows.append(mr)
+            cols.append(mr)
+        self.rows_full = np.concatenate(rows) if len(rows) > 1 else rows[0]
+        self.cols_full = np.concatenate(cols) if len(cols) > 1 else cols[0]
         w = self.width
         if w == 1:      # one column per row: the same arrays as the broadcast below, without it
-            R, Cc = self.I[self.rows_full, 0], self.I[self.cols_full, 0]
-            prod = self.C0[self.rows_full, 0] * self.C0[self.cols_full, 0]
+            R, Cc = self.I0[self.rows_full], self.I0[self.cols_full]
+            prod = self.C0_flat[self.rows_full] * self.C0_flat[self.cols_full]
         else:
             R, Cc = np.broadcast_arrays(self.I[self.rows_full][:, :, None], self.I[self.cols_full][:, None, :])
             R, Cc = R.ravel(), Cc.ravel()
@@ -145,7 +156,9 @@ class System:
         self.valid = (R < self.n) & (Cc < self.n)
         # without rigid links the constraint coefficients are constant: precompute
         # which full entry feeds each reduced entry, and with what factor
-        self.valid_src = np.nonzero(self.valid)[0] // (w * w)
+        self.valid_src = self.valid.nonzero()[0]
+        if w != 1:
+            self.valid_src //= w * w
         self.coef_const = prod[self.valid]
         return R[self.valid], Cc[self.valid]
 

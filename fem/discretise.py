@@ -88,13 +88,15 @@ class Discretisation:
 
 
 def _arc_points(P0, P1, kappa, n):
-    """n+1 points along the arc P0 -> P1 of signed curvature kappa; arc length."""
+    """n+1 points along the arc P0 -> P1 of signed curvature kappa; arc length (None when straight: the
+    sum of the chords)."""
     d = P1 - P0
+    if kappa == 0.0:     # t = np.linspace(0, 1, n + 1), computed as linspace does (t_k = k (1/n), t_n = 1)
+        t = np.arange(n + 1) * (1.0 / n)
+        t[-1] = 1.0
+        return P0 + t[:, None] * d, None
     c = np.hypot(*d)
     chord_angle = np.arctan2(d[1], d[0])
-    if kappa == 0.0:
-        t = np.linspace(0.0, 1.0, n + 1)
-        return P0 + t[:, None] * d, c
     phi = np.arcsin(kappa * c / 2.0)          # half the turning angle
     S = 2.0 * phi / kappa
     a0 = chord_angle - phi
@@ -110,7 +112,9 @@ def _dof_order(n_en, conn, slaves, masters, extra_owner):
     [ux, uy, rz] and the released member-end rotations it owns."""
     order = rcm_order(n_en, conn, slaves, masters)
     if not len(extra_owner):
-        return np.column_stack([2 * order, 2 * order + 1, 2 * n_en + order]).ravel()
+        dofs = np.empty((len(order), 3), dtype=order.dtype)
+        dofs[:, 0], dofs[:, 1], dofs[:, 2] = 2 * order, 2 * order + 1, 2 * n_en + order
+        return dofs.ravel()
     extras = {}
     for k, owner in enumerate(extra_owner):
         extras.setdefault(owner, []).append(3 * n_en + k)
@@ -134,13 +138,14 @@ class _Mesh:
     member_elements: list
 
 
-def _member_stiffness(m, lengths, s_nodes):
+def _member_stiffness(m, lengths):
     """Section function of a member and its elements' k_a, k_b (`local_matrices`)."""
     if isinstance(m.section, Section):
         sec = m.section
         a, b = prismatic_local_stiffness(lengths, sec.EA, sec.EI)
         return (lambda xi, sec=sec: sec), a, b
     fn = m.section
+    s_nodes = np.concatenate([[0.0], np.cumsum(lengths)])
     prop = lambda attr: (lambda xi: np.vectorize(lambda t: getattr(fn(float(t)), attr))(xi))
     a, b = member_local_stiffness(s_nodes, prop("EA"), prop("EI"), intorder=8)
     return fn, a, b
@@ -151,19 +156,22 @@ def _mesh(model: Model, refine: int) -> _Mesh:
     X = [np.asarray(model.coords, dtype=float).reshape(-1, 2)]
     n_en = model.n_nodes
     mesh = _Mesh(None, [], [], [], [], [], [], [], [])
+    first = 0
     for im, m in enumerate(model.members):
         n = m.n_elements * int(refine)
         pts, _ = _arc_points(X[0][m.start], X[0][m.end], m.curvature, n)
-        ids = np.concatenate([[m.start], n_en + np.arange(n - 1), [m.end]])
+        ids = np.arange(n_en - 1, n_en + n)         # [start, interior nodes n_en .. n_en + n - 2, end]
+        ids[0], ids[-1] = m.start, m.end
         X.append(pts[1:-1])
         n_en += n - 1
-        seg = np.diff(pts, axis=0)
+        seg = pts[1:] - pts[:-1]
         lengths = np.hypot(seg[:, 0], seg[:, 1])
-        s_nodes = np.concatenate([[0.0], np.cumsum(lengths)])
-        fn, a, b = _member_stiffness(m, lengths, s_nodes)
-        first = sum(len(e) for e in mesh.member_elements)
+        fn, a, b = _member_stiffness(m, lengths)
         mesh.member_elements.append(np.arange(first, first + n))
-        mesh.conn.append(np.column_stack([ids[:-1], ids[1:]]))
+        first += n
+        conn = np.empty((n, 2), dtype=int)
+        conn[:, 0], conn[:, 1] = ids[:-1], ids[1:]
+        mesh.conn.append(conn)
         mesh.el_member += [im] * n
         mesh.L0.append(lengths)
         mesh.beta0.append(np.arctan2(seg[:, 1], seg[:, 0]))
@@ -172,11 +180,19 @@ def _mesh(model: Model, refine: int) -> _Mesh:
         if isinstance(m.section, Section):      # prismatic: one section object for every element
             mesh.el_section += [m.section] * n
         else:
+            s_nodes = np.concatenate([[0.0], np.cumsum(lengths)])
             mid = (s_nodes[:-1] + s_nodes[1:]) / 2 / s_nodes[-1]
             mesh.el_section += [fn(float(t)) for t in mid]
-    mesh.X = np.vstack(X)
-    mesh.conn = np.vstack(mesh.conn) if mesh.conn else np.zeros((0, 2), int)
+    mesh.X = np.concatenate(X) if len(X) > 1 else X[0]
+    mesh.conn = _joined(mesh.conn, np.zeros((0, 2), int))
     return mesh
+
+
+def _joined(parts: list, empty: np.ndarray) -> np.ndarray:
+    """The arrays of every member end to end (the one array itself when there is one member)."""
+    if len(parts) == 1:
+        return parts[0]
+    return np.concatenate(parts) if parts else empty
 
 
 @dataclass
@@ -325,11 +341,13 @@ def _constraint_map(n_en, n_full, order, independent, held: _Held, rotation_dofs
     C = np.zeros((n_full + 1, 2))
     order = np.asarray(order, dtype=int)
     free = order[independent[order] & ~held.fixed[order]]
-    node = np.where(free < 2 * n_en, free // 2, -1)
-    slider = (np.isin(node, np.array(list(held.slider_dirs), dtype=int)) if held.slider_dirs
-              else np.zeros(len(free), dtype=bool))
-    keep = ~(slider & (free % 2 == 1))          # a slider's one unknown t sits on its x DOF
-    free, slider = free[keep], slider[keep]
+    if held.slider_dirs:
+        node = np.where(free < 2 * n_en, free // 2, -1)
+        slider = np.isin(node, np.array(list(held.slider_dirs), dtype=int))
+        keep = ~(slider & (free % 2 == 1))          # a slider's one unknown t sits on its x DOF
+        free, slider = free[keep], slider[keep]
+    else:
+        slider = np.zeros(len(free), dtype=bool)
     n_red = len(free)
     I[free, 0] = np.arange(n_red)
     C[free, 0] = 1.0
@@ -349,12 +367,13 @@ def _constraint_map(n_en, n_full, order, independent, held: _Held, rotation_dofs
 
 
 def _first_member_ends(n_mn, conn, edofs) -> np.ndarray:
-    """Rotation DOF of the first member end at every model node (-1: none)."""
+    """Rotation DOF of the first member end at every model node (-1: none): of the element ends
+    in the order (element, start before end), the first one at the node."""
     first_end = np.full(n_mn, -1, dtype=int)
-    for e in range(len(conn) - 1, -1, -1):
-        for side in (1, 0):
-            if conn[e, side] < n_mn:
-                first_end[conn[e, side]] = edofs[e, 3 * side + 2]
+    ends = conn.ravel()                        # (e0 start, e0 end, e1 start, ...)
+    dofs = edofs[:, [2, 5]].ravel()
+    for k in (ends < n_mn).nonzero()[0][::-1].tolist():   # the ends at model nodes: two per member
+        first_end[ends[k]] = dofs[k]
     return first_end
 
 
@@ -395,10 +414,8 @@ def discretise(model: Model, refine: int = 1) -> Discretisation:
     n_lev = model.n_levels
     return Discretisation(
         X=X, n_model_nodes=n_mn, conn=conn, edofs=edofs,
-        L0=np.concatenate(mesh.L0) if mesh.L0 else np.zeros(0),
-        beta0=np.concatenate(mesh.beta0) if mesh.beta0 else np.zeros(0),
-        ka=np.concatenate(mesh.ka) if mesh.ka else np.zeros(0),
-        kb=np.concatenate(mesh.kb) if mesh.kb else np.zeros((0, 2, 2)),
+        L0=_joined(mesh.L0, np.zeros(0)), beta0=_joined(mesh.beta0, np.zeros(0)),
+        ka=_joined(mesh.ka, np.zeros(0)), kb=_joined(mesh.kb, np.zeros((0, 2, 2))),
         el_member=np.array(mesh.el_member, dtype=int), el_section=mesh.el_section,
         member_elements=mesh.member_elements, n_full=n_full, ground=ground, rot_dof=rot_dof,
         rotation_dofs=rotation_dofs, springs=springs, spring_k=np.array(joints.spring_k, dtype=float),

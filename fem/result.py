@@ -50,6 +50,9 @@ class FemResult:
     refine: int = 1
     n_elements: int = 0
     extra: dict = field(default_factory=dict)
+    # CPU seconds of the load stepping alone (Newton iterations and step control), without the model's
+    # set-up (mesh, DOF numbering, sparsity) and without building this result
+    analysis_time: float = 0.0
 
     # -- scipy-like conveniences -------------------------------------------
     @property
@@ -143,10 +146,14 @@ class FemResult:
         count = np.bincount(conn.ravel(), minlength=n).astype(float)
         count[count == 0] = np.nan
 
+        # node k of level l is bin l n + k: one bincount sums every level, element by element in order
+        # (the order, and so the sums, of np.add.at level by level)
+        offset = (np.arange(levels) * n)[:, None]
+        starts, ends = (offset + conn[:, 0]).ravel(), (offset + conn[:, 1]).ravel()
+
         def at_nodes(start, end):
-            first, second = np.zeros((levels, n)), np.zeros((levels, n))
-            np.add.at(first, (slice(None), conn[:, 0]), start)
-            np.add.at(second, (slice(None), conn[:, 1]), end)
+            first = np.bincount(starts, weights=np.ravel(start), minlength=levels * n).reshape(levels, n)
+            second = np.bincount(ends, weights=np.ravel(end), minlength=levels * n).reshape(levels, n)
             return (first + second) / count
 
         moment = at_nodes(-M[:, :, 0], M[:, :, 1])
@@ -240,7 +247,7 @@ def _transfer_slave_forces(d, R, u):
 
 
 def build_result(model, sys, path, *, converged, message, critical_points, wall_time,
-                 control, refine) -> FemResult:
+                 control, refine, analysis_time: float = 0.0) -> FemResult:
     d = sys.disc
     nm = d.n_model_nodes
     snaps = path.snapshots
@@ -290,7 +297,7 @@ def build_result(model, sys, path, *, converged, message, critical_points, wall_
                    step_load_factor=np.array(path.step_lams),
                    step_path_parameter=np.array(path.step_s),
                    step_control=np.array(path.step_ctrl),
-                   element_moments=M_all.copy()))
+                   element_moments=M_all.copy()), analysis_time=analysis_time)
 
 
 def _member_end_forces(d, N, M, L) -> np.ndarray:

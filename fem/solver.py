@@ -89,7 +89,7 @@ def _even_crossing(system, st: StepState, held) -> bool:
     dense eigensolver (larger ones rely on the sign of det K)."""
     if not conservative(system) or system.n > DENSE_LIMIT:
         return False
-    if float(np.min(st.ev["el"]["N"], initial=0.0)) >= 0.0:
+    if float(st.ev["el"]["N"].min(initial=0.0)) >= 0.0:
         return False
     try:   # Jacobi-scaled: unit diagonal
         return eigenvalue_below(system, st.ev["K"], held, zero_eigenvalue(1.0, system.n))
@@ -430,9 +430,10 @@ def _prepare(model: Model, opts: SolveOptions, n_levels: int | None = None):
     return system
 
 
-def _finish(model, system, path, opts: SolveOptions, failure, control: str, t0: float) -> FemResult:
+def _finish(model, system, path, opts: SolveOptions, failure, control: str, t0: float,
+            analysis_time: float) -> FemResult:
     """The result of a path: critical points, the message (steps, branch switches, unassessed sign
-    changes) and the recorded levels."""
+    changes) and the recorded levels; ``analysis_time``: CPU seconds of the load stepping."""
     critical = critical_points(path) if opts.detect_critical else []
     message = failure or f"converged: {len(path.iterations)} steps, {sum(path.iterations)} iterations"
     lams = path.step_lams
@@ -444,7 +445,7 @@ def _finish(model, system, path, opts: SolveOptions, failure, control: str, t0: 
                     "loads: stability not assessed")
     return build_result(model, system, path, converged=failure is None, message=message,
                         critical_points=critical, wall_time=time.perf_counter() - t0,
-                        control=control, refine=opts.refine)
+                        control=control, refine=opts.refine, analysis_time=analysis_time)
 
 
 def solve_load(model: Model, control: LoadControl = LoadControl(),
@@ -454,8 +455,9 @@ def solve_load(model: Model, control: LoadControl = LoadControl(),
     system = _prepare(model, opts, control.n_levels)
     guesses = None if control.initial_guess is None else guess_states(control.initial_guess, system.disc)
     path = Path()
+    cpu = time.process_time()
     failure = _run_load(system, opts, path, guesses)
-    return _finish(model, system, path, opts, failure, "load", t0)
+    return _finish(model, system, path, opts, failure, "load", t0, time.process_time() - cpu)
 
 
 def solve_displacement(model: Model, control: DisplacementControl,
@@ -464,8 +466,9 @@ def solve_displacement(model: Model, control: DisplacementControl,
     t0 = time.perf_counter()
     system = _prepare(model, opts)
     path = Path()
+    cpu = time.process_time()
     failure = _run_disp(system, model, control, opts, path)
-    return _finish(model, system, path, opts, failure, "displacement", t0)
+    return _finish(model, system, path, opts, failure, "displacement", t0, time.process_time() - cpu)
 
 
 def solve_arclength(model: Model, control: ArcLengthControl = ArcLengthControl(),
@@ -474,8 +477,9 @@ def solve_arclength(model: Model, control: ArcLengthControl = ArcLengthControl()
     t0 = time.perf_counter()
     system = _prepare(model, opts)
     path = Path()
+    cpu = time.process_time()
     failure = _run_arc(system, model, control, opts, path)
-    return _finish(model, system, path, opts, failure, "arclength", t0)
+    return _finish(model, system, path, opts, failure, "arclength", t0, time.process_time() - cpu)
 
 
 def solve(model: Model, n_levels: int | None = None, control: str = "load", *,

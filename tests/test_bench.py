@@ -49,3 +49,14 @@ def test_last_level_only_keeps_the_last_load_and_its_references():
     last = case.n_levels() - 1
     assert {(r.quantity, r.value) for r in single.references} == {
         (r.quantity, r.value) for r in case.references if r.level == last}
+
+
+def test_per_iteration_times_the_load_stepping_of_both_codes_within_their_runs():
+    # the stepping time (Newton iterations and step control, set-up and results left out) is part of
+    # the run: positive and at most the whole run's CPU time, for our FEM and for the peer alike
+    case = bench._last_level_only(bench.case_by_id("cantilever_tip_load").case)
+    cost = bench._per_iteration(case, bench.BENCH_CASES[0], 2, bench._peer_status() == "", 8)
+    entry = cost["8"]
+    for method in ("fem", bench.PEER) if bench._peer_status() == "" else ("fem",):
+        assert 0.0 < entry[method]["analysis_s"] <= entry[method]["time_s"]
+        assert entry[method]["loop_per_iteration_s"] == entry[method]["analysis_s"] / entry[method]["iterations"]

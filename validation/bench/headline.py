@@ -28,6 +28,7 @@ against elements with the fitted growth exponent) under the output folder.
 """
 from __future__ import annotations
 
+import gc
 import importlib
 import json
 import math
@@ -79,6 +80,8 @@ TARGETS = (1e-4, 1e-6)
 PEER = "opensees"
 ITERATION_MESHES = (8, 16, 32, 64, 128, 256)
 RUN_BUDGET_S = 20.0     # a method's mesh doubling stops after a run slower than this
+SLOW_RUN_S = 0.2        # a configuration slower than this is timed once after its warm-up
+QUICK_REPEATS = 3       # timed runs per configuration with --quick (5 without)
 CONFIGURATIONS = {      # how each code is driven (printed beside the headline)
     "fem": ("corotational Euler-Bernoulli beams (validation.methods.fem); load control: each level tried in "
             "one step, cut only on failure (failed tries counted), Newton with the consistent tangent "
@@ -126,30 +129,45 @@ def _restrict(case, method: str, options: dict, levels: list[int] | None):
 @dataclass
 class Timing:
     """One configuration timed: the last run, the best and median CPU time of this process around
-    the run, the best wall time, the peak Python memory."""
+    the run, the best wall time, the peak Python memory, and the best CPU time of the load stepping
+    alone (``analysis``: the adapter's ``analysis_cpu_s``, without model set-up and results)."""
     run: MethodRun
     best: float
     median: float
     repeats: int
     peak_bytes: int
     wall: float = math.nan
+    analysis: float = math.nan
+
+
+def _one_run(case, method: str) -> tuple[MethodRun, float]:
+    """One run and its CPU time, with the garbage collector off while it runs (as ``timeit`` does:
+    a collection walks the whole process's heap, this benchmark's tables included, whichever code
+    happens to trigger it)."""
+    gc.disable()
+    try:
+        start = time.process_time()
+        run = run_method(case, method)
+        return run, time.process_time() - start
+    finally:
+        gc.enable()
 
 
 def _timed(case, method: str, repeats: int) -> Timing:
     first = run_method(case, method)  # warm-up (imports, caches, compiled kernels)
-    if first.wall_time > 1.0:        # a slow configuration: its noise is small against its time
+    if first.wall_time > SLOW_RUN_S:  # a slow configuration: its noise is small against its time
         repeats = 1
-    times, walls, run = [], [], first
+    times, walls, analyses, run = [], [], [], first
     for _ in range(repeats):
-        start = time.process_time()
-        run = run_method(case, method)
-        times.append(time.process_time() - start)
+        run, cpu = _one_run(case, method)
+        times.append(cpu)
         walls.append(run.wall_time)
+        analyses.append(run.extras.get("analysis_cpu_s", math.nan))
     tracemalloc.start()
     run_method(case, method)
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
-    return Timing(run, min(times), statistics.median(times), repeats, peak, min(walls))
+    return Timing(run, min(times), statistics.median(times), repeats, peak, min(walls), min(analyses))
 
 
 def _exact(case, levels) -> tuple[dict, str]:
@@ -284,9 +302,11 @@ def _per_iteration(case, bench: BenchCase, repeats: int, with_peer: bool, cap: i
             if not timing.run.values:
                 continue
             its = timing.run.extras.get("iterations", 0) + timing.run.extras.get("rejected_iterations", 0)
-            entry[method] = dict(time_s=timing.best, iterations=its, per_iteration_s=timing.best / max(its, 1))
+            entry[method] = dict(time_s=timing.best, iterations=its, per_iteration_s=timing.best / max(its, 1),
+                                 analysis_s=timing.analysis, loop_per_iteration_s=timing.analysis / max(its, 1))
         if len(entry) == 2:
             entry["ratio"] = entry["fem"]["per_iteration_s"] / entry[PEER]["per_iteration_s"]
+            entry["loop_ratio"] = entry["fem"]["loop_per_iteration_s"] / entry[PEER]["loop_per_iteration_s"]
         cost[str(n)] = entry
     return cost
 
@@ -334,7 +354,7 @@ def run_bench(out: Path, quick: bool = False, cases: list[BenchCase] | dict | No
     blas = _pin_blas()
     cap = max_elements or (256 if quick else 1024)
     meshes = [n for n in (2, 4, 8, 16, 32, 64, 128, 256, 512, 1024) if n <= cap]
-    repeats = 1 if quick else 5
+    repeats = QUICK_REPEATS if quick else 5
     if isinstance(cases, dict):  # {case id: levels}
         cases = [BenchCase(case_id, levels) for case_id, levels in cases.items()]
     peer_status = _peer_status()
@@ -452,11 +472,14 @@ def _print_headline(headline: dict) -> None:
         print(f"  {key:<52} {ratio}   fem: {_config(h['fem'])}   opensees: {_config(h['opensees'])}"
               + (f"   [{h['note']}]" if h["note"] else ""))
     if headline["per_iteration"]:
-        print("time of one Newton iteration, single-level cantilever (fem / OpenSees):")
+        print("time of one Newton iteration, single-level cantilever (fem / OpenSees): the whole run over its "
+              "iterations, and the load stepping alone (Newton iterations and step control, without model "
+              "set-up and results) over its iterations:")
         for n, c in headline["per_iteration"].items():
-            parts = [f"{m} {c[m]['per_iteration_s'] * 1e6:.1f} us ({c[m]['iterations']:.0f} it)" for m in ("fem", PEER)
-                     if m in c]
-            print(f"  n={n:>4}: " + ", ".join(parts) + (f", ratio {c['ratio']:.2f}" if "ratio" in c else ""))
+            parts = [f"{m} {c[m]['per_iteration_s'] * 1e6:.1f} us run / {c[m]['loop_per_iteration_s'] * 1e6:.1f} us "
+                     f"stepping ({c[m]['iterations']:.0f} it)" for m in ("fem", PEER) if m in c]
+            ratios = (f", ratio {c['ratio']:.2f} run / {c['loop_ratio']:.2f} stepping" if "ratio" in c else "")
+            print(f"  n={n:>4}: " + ", ".join(parts) + ratios)
     for key in ("suite_cold_s", "suite_warm_s"):
         if key in headline:
             print(f"{key}: {headline[key]:.1f}")

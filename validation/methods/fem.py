@@ -353,15 +353,17 @@ def _solve_levels(fem, case, model, requests, options: dict):
         result = fem.solve(model, **kwargs)
         done = [r for r in requests if r.level < result.n_levels]
         return (_extract(case, _Fields.of(result), done, origin), {}, result, result.converged,
-                result.message, result.iterations)
+                result.message, result.iterations, result.analysis_time)
     tol = options.get("tol")
     est = fem.solve_with_error_estimate(model, tol=float(tol) if tol else None,
                                         levels=int(options.get("levels", 2)), **kwargs)
     result = est.result
     iterations = sum(r.iterations for r in est.results)
+    analysis = sum(r.analysis_time for r in est.results)
     if not est.error:  # a mesh failed: report what the finest mesh reached
         done = [r for r in requests if r.level < result.n_levels]
-        return _extract(case, _Fields.of(result), done, origin), {}, result, False, est.message, iterations
+        return (_extract(case, _Fields.of(result), done, origin), {}, result, False, est.message, iterations,
+                analysis)
     richardson = bool(options.get("richardson"))
     source = est.extrapolated if richardson else {"positions": result.positions, "rotations": result.rotations,
                                                   "reactions": result.reactions,
@@ -371,7 +373,7 @@ def _solve_levels(fem, case, model, requests, options: dict):
               for f in (source, errors)]
     values = _extract(case, fields[0], requests, origin)
     errs = {r: abs(v) for r, v in _extract(case, fields[1], requests, None).items()}
-    return values, errs, result, est.converged, est.message, iterations
+    return values, errs, result, est.converged, est.message, iterations, analysis
 
 
 def _critical_note(result) -> str:
@@ -585,6 +587,7 @@ def _run_forward(fem, case, requests: list[Request], options: dict) -> MethodRun
     elements = int(options.get("elements", 16))
     model = build_model(case, elements, options)
     values, errors, iterations, converged, messages, result = {}, {}, 0, True, [], None
+    analysis = 0.0     # CPU seconds of the load stepping of every solve (without set-up and results)
     zero = options.get("zero_level")
     if zero is not None:
         if not 0 <= int(zero) < case.n_levels():
@@ -601,7 +604,7 @@ def _run_forward(fem, case, requests: list[Request], options: dict) -> MethodRun
     beam_outputs = [r for r in requests if r.quantity in BEAM_OUTPUTS]
     limit = [r for r in requests if r.quantity == "limit_load"]
     if ordinary or beam_outputs:
-        vals, errs, result, ok, msg, its = _solve_levels(fem, case, model, ordinary, options)
+        vals, errs, result, ok, msg, its, analysis = _solve_levels(fem, case, model, ordinary, options)
         values.update(vals)
         errors.update(errs)
         iterations += its
@@ -611,6 +614,7 @@ def _run_forward(fem, case, requests: list[Request], options: dict) -> MethodRun
     if limit:
         value, res, why = _limit_load(fem, case, model, options)
         iterations += res.iterations
+        analysis += res.analysis_time
         if why:
             converged = False
             messages.append(why)
@@ -618,6 +622,7 @@ def _run_forward(fem, case, requests: list[Request], options: dict) -> MethodRun
             if options.get("error_estimate", True):  # Richardson on the limit load itself (O(h^2))
                 fine, res_fine, why_fine = _limit_load(fem, case, build_model(case, 2 * elements, options), options)
                 iterations += res_fine.iterations
+                analysis += res_fine.analysis_time
                 if not why_fine:
                     errors.update({r: abs(fine - value) / 3.0 for r in limit})
                     value = fine + (fine - value) / 3.0 if options.get("richardson") else fine
@@ -632,7 +637,7 @@ def _run_forward(fem, case, requests: list[Request], options: dict) -> MethodRun
                 unloaded = {"x": origin[r.point][0], "y": origin[r.point][1]}.get(r.quantity, 0.0)
                 values[r] = values[r] - at_zero[r] + unloaded
     extras = {"iterations": iterations, "elements": elements,
-              "rejected_iterations": getattr(result, "rejected_iterations", 0)}
+              "rejected_iterations": getattr(result, "rejected_iterations", 0), "analysis_cpu_s": analysis}
     if result is not None and result.n_levels:
         extras["shapes"] = _shapes(result)
         extras["fields"] = result.field_series()  # point data for the ParaView series

@@ -1,0 +1,56 @@
+"""The FEM's set-up and result shortcuts compute exactly what their plain definitions compute
+(bit for bit: they exist for speed only)."""
+import numpy as np
+import pytest
+
+import fem
+from fem.discretise import _arc_points, _first_member_ends, discretise
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 7, 8, 64, 255, 1024])
+def test_straight_member_points_are_those_of_linspace(n):
+    for p0, p1 in (((0.0, 0.0), (1.0, 0.0)), ((0.3, -1.7), (2.9, 0.41)), ((-5.0, 2.0), (-5.0, -3.3))):
+        P0, P1 = np.array(p0), np.array(p1)
+        pts, _ = _arc_points(P0, P1, 0.0, n)
+        expected = P0 + np.linspace(0.0, 1.0, n + 1)[:, None] * (P1 - P0)   # the definition
+        assert np.array_equal(pts, expected)
+
+
+def _frame(elements: int) -> fem.Model:
+    model = fem.Model()
+    for name, x, y in (("a", 0.0, 0.0), ("b", 0.0, 1.0), ("c", 1.2, 1.0), ("d", 1.2, 0.0)):
+        model.add_node(name, x, y)
+    section = fem.Section.from_EI(1e4, 1.0)
+    for start, end in (("a", "b"), ("c", "b"), ("c", "d")):   # 'b' is the end of two members
+        model.add_member(start, end, section, n_elements=elements)
+    model.add_support("a", "fixed")
+    model.add_support("d", "pinned")
+    model.add_force("b", [0.5, 1.0], [0.0, -0.2])
+    return model
+
+
+def test_first_member_end_at_each_model_node_is_the_first_element_end_there():
+    d = discretise(_frame(5))
+    expected = np.full(d.n_model_nodes, -1)
+    for e in range(len(d.conn) - 1, -1, -1):          # the definition: the last write wins
+        for side in (1, 0):
+            if d.conn[e, side] < d.n_model_nodes:
+                expected[d.conn[e, side]] = d.edofs[e, 3 * side + 2]
+    assert np.array_equal(_first_member_ends(d.n_model_nodes, d.conn, d.edofs), expected)
+    assert (expected >= 0).all()
+
+
+def test_field_series_sums_are_those_of_add_at_level_by_level():
+    result = fem.solve(_frame(4))
+    assert result.converged and result.n_levels == 2
+    series = result.field_series()
+    conn, N = result.connectivity, result.extra["element_axial_force"]
+    n = result.mesh_positions.shape[1]
+    count = np.bincount(conn.ravel(), minlength=n).astype(float)
+    count[count == 0] = np.nan
+    for k in range(result.n_levels):                   # the definition: np.add.at on one level
+        first, second = np.zeros(n), np.zeros(n)
+        np.add.at(first, conn[:, 0], N[k])
+        np.add.at(second, conn[:, 1], N[k])
+        assert np.array_equal(series.nodal[k].axial_force, (first + second) / count, equal_nan=True)
+        assert np.array_equal(series.nodal[k].axial_force, result.nodal_fields(k).axial_force, equal_nan=True)
