@@ -13,18 +13,23 @@ section, N(s) = F + w (1 - s):
             -(1 - s) cos(theta)].
 
 State layout (STATE_SIZE = 25): [x, y, theta, m, U], then the sensitivities of (x, y, theta, m) to
-(m0, Fx, Fy) row-major (indices 5-16), then their sensitivities to (wx, wy) row-major (17-24).
+(m0, Fx, Fy) row-major (indices 5-16), then their sensitivities to (wx, wy) row-major (17-24). The
+first FORCE_STATE_SIZE = 17 entries are a state of their own: the same equations without the
+sensitivities to the distributed load, integrated when the continuation does not change (wx, wy)
+(the tangent predictor is the only user of those sensitivities).
 
-``beam_rhs`` is a beam of a mechanism (`mechanism` explains it): physical units, optionally axially
-extensible (EA > 0; EA = 0 stands for inextensible), no sensitivities, state (x, y, theta, m, U)
-(BEAM_STATE_SIZE = 5). With N = F . t the axial force and e = N/EA:
+``beam_rhs`` is the plain beam (x, y, theta, m, U) (BEAM_STATE_SIZE = 5), no sensitivities: a beam of
+a mechanism (`mechanism` explains it; physical units, optionally axially extensible, EA > 0; EA = 0
+stands for inextensible) and the elastica's shape samples and section moments (EI = 1, EA = 0). With
+the section force N(s) = F + w (l - s) (a uniform dead load w per unit length over the length l
+outboard of s; 0 for a mechanism beam), Nt = N . t the axial force and e = Nt/EA:
 
     x' = (1 + e) cos(theta),  y' = (1 + e) sin(theta),  theta' = kappa0 + m/EI,
-    m' = (1 + e) (Fx sin(theta) - Fy cos(theta)),   U' = m^2/(2 EI) + N^2/(2 EA).
+    m' = (1 + e) (Nx sin(theta) - Ny cos(theta)),   U' = m^2/(2 EI) + Nt^2/(2 EA).
 
-The integrator picks the equations by the state's length (25: the elastica, 5: a mechanism beam);
-the loads travel in one parameter array P = (Fx, Fy, kappa0, wx, wy, EI, EA) (the elastica ignores EI
-and EA, a mechanism beam wx and wy).
+The integrator picks the equations by the state's length (25 or 17: the elastica with its
+sensitivities, 5: the plain beam); the loads travel in one parameter array
+P = (Fx, Fy, kappa0, wx, wy, EI, EA, l) (the elastica's sensitivities ignore EI, EA and l: L = EI = 1).
 
 ``dop853`` is scipy's ``solve_ivp(method="DOP853")`` (Hairer, Norsett & Wanner, Solving ODEs I,
 sec. II.5 and II.4 for the first step) step for step: the same coefficients (scipy's own tables),
@@ -35,7 +40,15 @@ rounding, without the Python cost of each stage.
 The shooting on these integrations (``shooting`` sets it up and reads the result): residual,
 Jacobian, Newton corrector and the whole continuation (``follow_path``) are in this one module
 because numba's cache only notices changes to the file that defines a cached function, not to the
-files of the compiled functions it calls. One problem structure (normalised by L and EI, ``shooting`` derives the equations) is plain arrays:
+files of the compiled functions it calls.
+
+Compile cost: numba compiles every jitted function on its own and links a copy of each callee into
+its caller, where LLVM optimises it again, so a chain follow_path -> newton -> residual -> dop853
+optimised the integrator once per level of the chain (31 CPU-s cold). Here only two functions are
+entry points (``follow_path`` and ``_samples``); the large functions they call once are inlined
+into them by numba (``inline='always'``: typed and optimised only as part of the caller), and the
+code uses loops instead of whole-array expressions, whose broadcasting checks drag numba's string
+formatting of error messages into every function that has one. One problem structure (normalised by L and EI, ``shooting`` derives the equations) is plain arrays:
 
 * ``dirs`` (nc, 2): unit directions d_k of the prescribed tip-position components, end condition
   d_k . r(1) = c_k; ``fdirs`` (nc, 2): the directions of their unknown forces (multipliers mu_k);
@@ -52,7 +65,9 @@ carries (``elastica_rhs``). The Jacobian of the residual r(z, q) w.r.t. z and it
 (the tangent predictor dz/dlambda = -J^-1 (dr/dq) dq) come from the same sensitivities.
 
 Newton: full step, halved (down to 1/1000) until the residual norm falls by the Armijo factor
-1 - 1e-4 t; converged when |r| < tol and the step is below 1e-9 (1 + |z|), or |r| < 1e-3 tol.
+1 - 1e-4 t; a point z is converged when |r(z)| < tol and the Newton step from z, J(z)^-1 r(z), is
+below ``step_tol`` (1 + |z|) (1e-9 for the final corrector, the path tolerance for the points along
+the path, which only start the next step), or |r| < 1e-3 tol.
 A singular Jacobian or a failed integration ends it (status codes below).
 
 Angles are in radians (degrees appear only in case files and reports).
@@ -65,10 +80,12 @@ import numpy as np
 from numba import njit
 from scipy.integrate._ivp import dop853_coefficients as _coef   # the tables scipy's DOP853 uses
 
-__all__ = ["STATE_SIZE", "BEAM_STATE_SIZE", "ANGLE", "elastica_rhs", "beam_rhs",
-           "integrate_samples", "integrate_beam", "beam_samples", "residual", "follow_path"]
+__all__ = ["STATE_SIZE", "FORCE_STATE_SIZE", "BEAM_STATE_SIZE", "ANGLE", "elastica_rhs", "beam_rhs",
+           "integrate_samples", "integrate_beam", "beam_samples", "plain_samples", "tip_force",
+           "follow_path"]
 
 STATE_SIZE = 25
+FORCE_STATE_SIZE = 17
 BEAM_STATE_SIZE = 5
 _N_STAGES = _coef.N_STAGES
 _A = np.ascontiguousarray(_coef.A[:_N_STAGES, :_N_STAGES])
@@ -79,9 +96,10 @@ _E5 = np.ascontiguousarray(_coef.E5)
 SAFETY, MIN_FACTOR, MAX_FACTOR, ERROR_EXPONENT = 0.9, 0.2, 10.0, -1.0 / 8.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def elastica_rhs(s, Y, Fx, Fy, k0, out, wx=0.0, wy=0.0):
-    """dY/ds into ``out`` (layout in the module docstring); tip force (Fx, Fy), initial curvature k0,
+    """dY/ds into ``out`` (layout in the module docstring: STATE_SIZE entries, or FORCE_STATE_SIZE
+    without the sensitivities to the distributed load); tip force (Fx, Fy), initial curvature k0,
     distributed load (wx, wy) per unit length (all normalised)."""
     th, m = Y[2], Y[3]
     c, sn = math.cos(th), math.sin(th)
@@ -101,6 +119,8 @@ def elastica_rhs(s, Y, Fx, Fy, k0, out, wx=0.0, wy=0.0):
         out[14 + k] = g * t_k
     out[15] += sn
     out[16] -= c
+    if Y.size < STATE_SIZE:
+        return
     for k in range(2):                      # sensitivities to (wx, wy)
         t_k = Y[21 + k]
         out[17 + k] = -sn * t_k
@@ -111,46 +131,56 @@ def elastica_rhs(s, Y, Fx, Fy, k0, out, wx=0.0, wy=0.0):
     out[24] -= outboard * c
 
 
-@njit(cache=True)
-def beam_rhs(s, Y, Fx, Fy, k0, EI, EA, out):
-    """dY/ds into ``out`` for a mechanism beam (module docstring): tip force (Fx, Fy), initial
-    curvature k0, bending stiffness EI, axial stiffness EA (0: inextensible), physical units."""
+@njit(cache=True, inline="always")
+def beam_rhs(s, Y, Fx, Fy, k0, EI, EA, out, wx=0.0, wy=0.0, length=0.0):
+    """dY/ds into ``out`` for the plain beam (module docstring): tip force (Fx, Fy), initial
+    curvature k0, bending stiffness EI, axial stiffness EA (0: inextensible), a uniform dead load
+    (wx, wy) per unit length over [s, length]."""
     th, m = Y[2], Y[3]
     c, sn = math.cos(th), math.sin(th)
-    N = Fx * c + Fy * sn
+    outboard = length - s
+    Nx, Ny = Fx + wx * outboard, Fy + wy * outboard
+    N = Nx * c + Ny * sn
     stretch = 1.0 + (N / EA if EA != 0.0 else 0.0)
     out[0] = stretch * c
     out[1] = stretch * sn
     out[2] = k0 + m / EI
-    out[3] = stretch * (Fx * sn - Fy * c)
+    out[3] = stretch * (Nx * sn - Ny * c)
     out[4] = m * m / (2 * EI) + (N * N / (2 * EA) if EA != 0.0 else 0.0)
 
 
 @njit(cache=True)
 def _rhs(s, Y, P, out):
-    """The equations the state's length names (STATE_SIZE: elastica, else a mechanism beam)."""
-    if Y.size == STATE_SIZE:
-        elastica_rhs(s, Y, P[0], P[1], P[2], out, P[3], P[4])
+    """The equations the state's length names (BEAM_STATE_SIZE: the plain beam, else the elastica
+    with its sensitivities)."""
+    if Y.size == BEAM_STATE_SIZE:
+        beam_rhs(s, Y, P[0], P[1], P[2], P[5], P[6], out, P[3], P[4], P[7])
     else:
-        beam_rhs(s, Y, P[0], P[1], P[2], P[5], P[6], out)
+        elastica_rhs(s, Y, P[0], P[1], P[2], out, P[3], P[4])
 
 
-@njit(cache=True)
-def _rms(v):
-    return math.sqrt(np.sum(v * v) / v.size)
-
-
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _first_step(y0, f, t0, interval, P, rtol, atol):
-    """scipy's select_initial_step (order 7)."""
+    """scipy's select_initial_step (order 7); rms norms as plain loops."""
     n = y0.size
-    scale = atol + np.abs(y0) * rtol
-    d0, d1 = _rms(y0 / scale), _rms(f / scale)
+    f1 = np.empty(n)
+    y1 = np.empty(n)
+    d0 = d1 = 0.0
+    for i in range(n):
+        sc = atol + abs(y0[i]) * rtol
+        d0 += (y0[i] / sc) ** 2
+        d1 += (f[i] / sc) ** 2
+    d0, d1 = math.sqrt(d0 / n), math.sqrt(d1 / n)
     h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
     h0 = min(h0, interval)
-    f1 = np.empty(n)
-    _rhs(t0 + h0, y0 + h0 * f, P, f1)
-    d2 = _rms((f1 - f) / scale) / h0
+    for i in range(n):
+        y1[i] = y0[i] + h0 * f[i]
+    _rhs(t0 + h0, y1, P, f1)
+    d2 = 0.0
+    for i in range(n):
+        sc = atol + abs(y0[i]) * rtol
+        d2 += ((f1[i] - f[i]) / sc) ** 2
+    d2 = math.sqrt(d2 / n) / h0
     if d1 <= 1e-15 and d2 <= 1e-15:
         h1 = max(1e-6, h0 * 1e-3)
     else:
@@ -158,12 +188,30 @@ def _first_step(y0, f, t0, interval, P, rtol, atol):
     return min(100 * h0, h1, interval)
 
 
-@njit(cache=True)
-def _dop853(y0, t0, t1, P, rtol, atol, h_start=0.0):
+@njit(cache=True, inline="always")
+def _error_norm(K, y, y_new, h, rtol, atol):
+    """scipy's DOP853 error norm of a step from y to y_new with the stage derivatives K."""
+    n = y.size
+    e5, e3 = 0.0, 0.0
+    for i in range(n):
+        sc = atol + max(abs(y[i]), abs(y_new[i])) * rtol
+        a5, a3 = 0.0, 0.0
+        for j in range(K.shape[0]):
+            a5 += K[j, i] * _E5[j]
+            a3 += K[j, i] * _E3[j]
+        e5 += (a5 / sc) ** 2
+        e3 += (a3 / sc) ** 2
+    if e5 == 0.0 and e3 == 0.0:
+        return 0.0
+    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)
+
+
+@njit(cache=True, inline="always")
+def _dop853(y0, t0, t1, P, rtol, atol, h_start):
     """State at t1 from y0 at t0, success, and the step size the controller proposes next.
     ``h_start`` > 0: the first step to try (a previous interval's proposal) instead of scipy's
     initial-step selection."""
-    A, B, C, E3, E5 = _A, _B, _C, _E3, _E5     # global arrays: compile-time constants for numba
+    A, B, C = _A, _B, _C     # global arrays: compile-time constants for numba
     n = y0.size
     K = np.empty((A.shape[0] + 1, n))
     f = np.empty(n)
@@ -176,6 +224,7 @@ def _dop853(y0, t0, t1, P, rtol, atol, h_start=0.0):
     t = t0
     stage = np.empty(n)
     y_new = np.empty(n)
+    last = K.shape[0] - 1
     while t < t1:
         min_step = 10 * abs(np.nextafter(t, np.inf) - t)
         if h_abs < min_step:
@@ -189,7 +238,8 @@ def _dop853(y0, t0, t1, P, rtol, atol, h_start=0.0):
                 t_new = t1
             h = t_new - t
             h_abs = abs(h)
-            K[0] = f
+            for i in range(n):
+                K[0, i] = f[i]
             for s in range(1, A.shape[0]):
                 for i in range(n):
                     acc = 0.0
@@ -202,20 +252,8 @@ def _dop853(y0, t0, t1, P, rtol, atol, h_start=0.0):
                 for j in range(B.size):
                     acc += K[j, i] * B[j]
                 y_new[i] = y[i] + h * acc
-            _rhs(t + h, y_new, P, K[K.shape[0] - 1])
-            e5, e3 = 0.0, 0.0
-            for i in range(n):
-                sc = atol + max(abs(y[i]), abs(y_new[i])) * rtol
-                a5, a3 = 0.0, 0.0
-                for j in range(K.shape[0]):
-                    a5 += K[j, i] * E5[j]
-                    a3 += K[j, i] * E3[j]
-                e5 += (a5 / sc) ** 2
-                e3 += (a3 / sc) ** 2
-            if e5 == 0.0 and e3 == 0.0:
-                error_norm = 0.0
-            else:
-                error_norm = abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)
+            _rhs(t + h, y_new, P, K[last])
+            error_norm = _error_norm(K, y, y_new, h, rtol, atol)
             if error_norm < 1.0:
                 factor = MAX_FACTOR if error_norm == 0.0 else min(MAX_FACTOR, SAFETY * error_norm ** ERROR_EXPONENT)
                 if rejected:
@@ -225,49 +263,72 @@ def _dop853(y0, t0, t1, P, rtol, atol, h_start=0.0):
             h_abs *= max(MIN_FACTOR, SAFETY * error_norm ** ERROR_EXPONENT)
             rejected = True
         t = t_new
-        y[:] = y_new
-        f[:] = K[K.shape[0] - 1]
+        for i in range(n):
+            y[i] = y_new[i]
+            f[i] = K[last, i]
     return y, True, h_abs
+
+
+@njit(cache=True)
+def _samples(y0, s, P, rtol, atol, restart):
+    """States at the arc lengths s, integrated from sample to sample; each interval starts with the
+    step the previous one proposed (the first, and every one when ``restart``, with scipy's
+    initial-step selection). The one compiled entry point of the integrator besides the shooting."""
+    n = y0.size
+    out = np.empty((s.size, n))
+    y = y0.copy()
+    for i in range(n):
+        out[0, i] = y0[i]
+    h = 0.0
+    for k in range(1, s.size):
+        y, ok, h = _dop853(y, s[k - 1], s[k], P, rtol, atol, 0.0 if restart else h)
+        if not ok:
+            return out, False
+        for i in range(n):
+            out[k, i] = y[i]
+    return out, True
+
+
+def _parameters(Fx, Fy, k0, wx=0.0, wy=0.0, EI=1.0, EA=0.0, length=1.0):
+    """The parameter array P (module docstring)."""
+    return np.array([Fx, Fy, k0, wx, wy, EI, EA, length], dtype=float)
 
 
 def integrate_beam(y0, length: float, Fx: float, Fy: float, k0: float, EI: float, EA: float,
                    rtol: float, atol: float):
     """A mechanism beam's state (x, y, theta, m, U) at s = length from y0 at s = 0 (physical units,
     EA = 0: inextensible), and whether the integration succeeded."""
-    y, ok, _ = _dop853(np.asarray(y0, dtype=float), 0.0, float(length),
-                       np.array([Fx, Fy, k0, 0.0, 0.0, EI, EA], dtype=float), float(rtol), float(atol))
-    return y, ok
-
-
-@njit(cache=True)
-def _samples(y0, s, P, rtol, atol):
-    """States at the arc lengths s, integrated from sample to sample; each interval starts with the
-    step the previous one proposed (the first with scipy's initial-step selection)."""
-    out = np.empty((s.size, y0.size))
-    out[0] = y0
-    y = y0.copy()
-    h = 0.0
-    for k in range(1, s.size):
-        y, ok, h = _dop853(y, s[k - 1], s[k], P, rtol, atol, h)
-        if not ok:
-            return out, False
-        out[k] = y
-    return out, True
+    states, ok = _samples(np.asarray(y0, dtype=float), np.array([0.0, float(length)]),
+                          _parameters(Fx, Fy, k0, EI=EI, EA=EA, length=length), float(rtol), float(atol),
+                          True)
+    return states[-1], ok
 
 
 def integrate_samples(y0, s, Fx: float, Fy: float, k0: float, rtol: float, atol: float,
                       wx: float = 0.0, wy: float = 0.0):
-    """The elastica states (len(s), STATE_SIZE) at the increasing arc lengths ``s`` (s[0]: the start
-    of y0), integrated from sample to sample, and whether every interval succeeded."""
+    """The elastica states (len(s), len(y0): STATE_SIZE or FORCE_STATE_SIZE) at the increasing arc
+    lengths ``s`` (s[0]: the start of y0), integrated from sample to sample, and whether every
+    interval succeeded."""
     return _samples(np.asarray(y0, dtype=float), np.ascontiguousarray(s, dtype=float),
-                    np.array([Fx, Fy, k0, wx, wy, 1.0, 0.0], dtype=float), float(rtol), float(atol))
+                    _parameters(Fx, Fy, k0, wx, wy), float(rtol), float(atol), False)
+
+
+def plain_samples(y0, s, Fx: float, Fy: float, k0: float, rtol: float, atol: float,
+                  wx: float = 0.0, wy: float = 0.0, restart: bool = False):
+    """The elastica's plain states (x, y, theta, m, U) (normalised, L = EI = 1, no sensitivities) at
+    the increasing arc lengths ``s`` from y0 at s[0]; ``restart``: every interval starts with
+    scipy's initial-step selection (as the shooting's pieces do). And whether every interval
+    succeeded."""
+    return _samples(np.asarray(y0, dtype=float)[:BEAM_STATE_SIZE], np.ascontiguousarray(s, dtype=float),
+                    _parameters(Fx, Fy, k0, wx, wy), float(rtol), float(atol), bool(restart))
 
 
 def beam_samples(y0, s, Fx: float, Fy: float, k0: float, EI: float, EA: float, rtol: float, atol: float):
     """A mechanism beam's states (len(s), BEAM_STATE_SIZE) at the increasing arc lengths ``s``
     (s[0]: the start of y0), integrated from sample to sample, and whether every interval succeeded."""
-    return _samples(np.asarray(y0, dtype=float), np.ascontiguousarray(s, dtype=float),
-                    np.array([Fx, Fy, k0, 0.0, 0.0, EI, EA], dtype=float), float(rtol), float(atol))
+    s = np.ascontiguousarray(s, dtype=float)
+    return _samples(np.asarray(y0, dtype=float), s, _parameters(Fx, Fy, k0, EI=EI, EA=EA, length=s[-1]),
+                    float(rtol), float(atol), False)
 
 
 # ------------------------------------------------------------------ shooting (residual, Newton, path)
@@ -287,15 +348,12 @@ def _norm(v):
 
 
 @njit(cache=True)
-def _matmul(A, B):
-    """A @ B for small dense matrices (loops, no BLAS binding to compile)."""
-    C = np.zeros((A.shape[0], B.shape[1]))
-    for i in range(A.shape[0]):
-        for k in range(A.shape[1]):
-            a = A[i, k]
-            for j in range(B.shape[1]):
-                C[i, j] += a * B[k, j]
-    return C
+def _axpy(x, a, d):
+    """x + a d as a new array (a loop: no broadcasting checks to compile)."""
+    out = np.empty(x.size)
+    for i in range(x.size):
+        out[i] = x[i] + a * d[i]
+    return out
 
 
 @njit(cache=True)
@@ -330,167 +388,207 @@ def _solve(A, b):
 
 
 @njit(cache=True)
-def _forces(z, q, fdirs, mdirs, follower):
-    """Tip force F (2,) and dF/dz (2, n) for the unknowns z."""
+def tip_force(z, q, fdirs, mdirs, follower):
+    """Tip force F (2,) and dF/dz (2, n) for the unknowns z (normalised)."""
     n = z.size
-    F = np.array([q[0], q[1]])
+    F = np.zeros(2)
+    F[0], F[1] = q[0], q[1]
     dF = np.zeros((2, n))
     nc = fdirs.shape[0]
     for k in range(nc + mdirs.shape[0]):
-        d = fdirs[k] if k < nc else mdirs[k - nc]
-        F = F + z[1 + k] * d
-        dF[0, 1 + k] = d[0]
-        dF[1, 1 + k] = d[1]
+        d0, d1 = (fdirs[k, 0], fdirs[k, 1]) if k < nc else (mdirs[k - nc, 0], mdirs[k - nc, 1])
+        F[0] += z[1 + k] * d0
+        F[1] += z[1 + k] * d1
+        dF[0, 1 + k] = d0
+        dF[1, 1 + k] = d1
     if follower:
         tau = z[n - 1]
         c, s = math.cos(tau), math.sin(tau)
         ft, fn = q[3], q[4]
-        F = F + np.array([c * ft - s * fn, s * ft + c * fn])
+        F[0] += c * ft - s * fn
+        F[1] += s * ft + c * fn
         dF[0, n - 1] = -s * ft - c * fn
         dF[1, n - 1] = c * ft - s * fn
     return F, dF
 
 
 @njit(cache=True)
-def _sensitivities(Y):
-    """(4, 5): d(x, y, theta, m)/d(m0, Fx, Fy, wx, wy) from a state vector (``integrator`` layout)."""
-    S = np.empty((4, 5))
+def _through_force(Y, dF):
+    """(4, m): d(x, y, theta, m)/d(parameters) of the state Y (``integrator`` layout) when the tip
+    force depends on them by dF = dF/d(parameters) (2, m)."""
+    D = np.zeros((4, dF.shape[1]))
     for i in range(4):
-        for j in range(3):
-            S[i, j] = Y[5 + 3 * i + j]
-        for j in range(2):
-            S[i, 3 + j] = Y[17 + 2 * i + j]
-    return S
+        sx, sy = Y[5 + 3 * i + 1], Y[5 + 3 * i + 2]      # d(row i)/dFx, d(row i)/dFy
+        for j in range(dF.shape[1]):
+            D[i, j] = sx * dF[0, j] + sy * dF[1, j]
+    return D
 
 
 @njit(cache=True)
-def residual(z, q, k0, dirs, fdirs, mdirs, site_at, angle_given, follower, bounds, rtol, atol):
+def _unknowns_derivative(Y, dF):
+    """(4, n): d(x, y, theta, m)/dz of the state Y: through the tip force (dF = dF/dz) and, in
+    column 0, through m(0) = z[0]."""
+    D = _through_force(Y, dF)
+    for i in range(4):
+        D[i, 0] += Y[5 + 3 * i]
+    return D
+
+
+@njit(cache=True, inline="always")
+def _integrate_pieces(z, F, q, k0, bounds, n_state, rtol, atol):
+    """The states at the piece boundaries (bounds.size, STATE_SIZE; the first ``n_state`` entries
+    integrated, the rest 0) from m(0) = z[0] under the tip force F, and whether all succeeded."""
+    y = np.zeros(n_state)
+    y[3] = z[0]
+    y[5 + 9] = 1.0              # d m(0) / d m0
+    P = np.zeros(8)
+    P[0], P[1], P[2], P[3], P[4], P[5], P[7] = F[0], F[1], k0, q[q.size - 2], q[q.size - 1], 1.0, 1.0
+    restart = bounds.size > 1   # every piece from scipy's first step (a run-time bool, as Python passes it)
+    pieces, ok = _samples(y, bounds, P, rtol, atol, restart)
+    states = np.zeros((bounds.size, STATE_SIZE))
+    for i in range(bounds.size):
+        for j in range(n_state):
+            states[i, j] = pieces[i, j]
+    return states, ok
+
+
+@njit(cache=True, inline="always")
+def _residual(z, q, k0, dirs, fdirs, mdirs, site_at, angle_given, follower, bounds, n_state, rtol, atol):
     """End-condition residual r (n,), Jacobian dr/dz (n, n), the states at the piece boundaries
     (row 0: s = 0, the last: s = 1) and the tip force F; ok False when the integration failed."""
     n = z.size
     nc, nm = dirs.shape[0], mdirs.shape[0]
-    F, dF = _forces(z, q, fdirs, mdirs, follower)
+    F, dF = tip_force(z, q, fdirs, mdirs, follower)
     r = np.zeros(n)
     J = np.zeros((n, n))
-    states = np.zeros((bounds.size, STATE_SIZE))
-    states[0, 3] = z[0]
-    states[0, 5 + 9] = 1.0              # d m(0) / d m0
-    P = np.array([F[0], F[1], k0, q[q.size - 2], q[q.size - 1], 1.0, 0.0])
-    for i in range(bounds.size - 1):
-        y, ok, _ = _dop853(states[i], bounds[i], bounds[i + 1], P, rtol, atol)
-        if not ok:
-            return r, J, states, F, False
-        states[i + 1] = y
+    states, ok = _integrate_pieces(z, F, q, k0, bounds, n_state, rtol, atol)
+    if not ok:
+        return r, J, states, F, False
     Y = states[bounds.size - 1]
-    S = _sensitivities(Y)
-    dYdz = _matmul(S[:, 1:3], dF)
-    dYdz[:, 0] += S[:, 0]
+    dYdz = _unknowns_derivative(Y, dF)
+    row = 3
     if angle_given:
         r[0] = Y[2] - q[q.size + ANGLE]
-        J[0] = dYdz[2]
+        row = 2
     else:
         r[0] = Y[3] - q[2]
-        J[0] = dYdz[3]
+    for j in range(n):
+        J[0, j] = dYdz[row, j]
     for k in range(nc):
-        d = dirs[k]
-        r[1 + k] = d[0] * Y[0] + d[1] * Y[1] - q[5 + k]
-        J[1 + k] = d[0] * dYdz[0] + d[1] * dYdz[1]
-    for j in range(nm):
-        Yj = states[site_at[j]]
-        Sj = _sensitivities(Yj)
-        i = 1 + nc + j
-        r[i] = Yj[3] - q[5 + nc + j]
-        J[i] = _matmul(Sj[3:4, 1:3], dF)[0]
-        J[i, 0] += Sj[3, 0]
+        d0, d1 = dirs[k, 0], dirs[k, 1]
+        r[1 + k] = d0 * Y[0] + d1 * Y[1] - q[5 + k]
+        for j in range(n):
+            J[1 + k, j] = d0 * dYdz[0, j] + d1 * dYdz[1, j]
+    for i in range(nm):
+        Yi = states[site_at[i]]
+        dYi = _unknowns_derivative(Yi, dF)
+        r[1 + nc + i] = Yi[3] - q[5 + nc + i]
+        for j in range(n):
+            J[1 + nc + i, j] = dYi[3, j]
     if follower:
         r[n - 1] = Y[2] - z[n - 1]
-        J[n - 1] = dYdz[2]
+        for j in range(n):
+            J[n - 1, j] = dYdz[2, j]
         J[n - 1, n - 1] -= 1.0
     return r, J, states, F, True
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _load_derivative(z, states, dirs, mdirs, site_at, angle_given, follower, nq):
     """d r / d q (n x nq): the force parameters act through the sensitivities to (Fx, Fy) (and the
-    follower's through the tip angle), the others enter the end conditions directly."""
+    follower's through the tip angle), the distributed load (the last two) through its own, the
+    others enter the end conditions directly."""
     n = z.size
     nc, nm = dirs.shape[0], mdirs.shape[0]
-    S = _sensitivities(states[states.shape[0] - 1])
     dFdq = np.zeros((2, nq))
     dFdq[0, 0] = dFdq[1, 1] = 1.0
     if follower:
         c, sn = math.cos(z[n - 1]), math.sin(z[n - 1])
         dFdq[0, 3], dFdq[1, 3] = c, sn
         dFdq[0, 4], dFdq[1, 4] = -sn, c
-    dYdq = _matmul(S[:, 1:3], dFdq)
-    dYdq[:, nq - 2:] += S[:, 3:5]                       # the distributed load (wx, wy)
+    Y = states[states.shape[0] - 1]
+    dYdq = _through_force(Y, dFdq)
+    for i in range(4):                              # the distributed load (wx, wy)
+        dYdq[i, nq - 2] += Y[17 + 2 * i]
+        dYdq[i, nq - 1] += Y[18 + 2 * i]
     D = np.zeros((n, nq))
-    if angle_given:
-        D[0] = dYdq[2]
-        D[0, nq + ANGLE] -= 1.0
-    else:
-        D[0] = dYdq[3]
-        D[0, 2] -= 1.0
+    row = 2 if angle_given else 3
+    for j in range(nq):
+        D[0, j] = dYdq[row, j]
+    D[0, nq + ANGLE if angle_given else 2] -= 1.0
     for k in range(nc):
-        d = dirs[k]
-        D[1 + k] = d[0] * dYdq[0] + d[1] * dYdq[1]
+        for j in range(nq):
+            D[1 + k, j] = dirs[k, 0] * dYdq[0, j] + dirs[k, 1] * dYdq[1, j]
         D[1 + k, 5 + k] -= 1.0
-    for j in range(nm):
-        Sj = _sensitivities(states[site_at[j]])
-        i = 1 + nc + j
-        D[i] = _matmul(Sj[3:4, 1:3], dFdq)[0]
-        D[i, nq - 2:] += Sj[3, 3:5]
-        D[i, 5 + nc + j] -= 1.0
+    for i in range(nm):
+        Yi = states[site_at[i]]
+        dYi = _through_force(Yi, dFdq)
+        for j in range(nq):
+            D[1 + nc + i, j] = dYi[3, j]
+        D[1 + nc + i, nq - 2] += Yi[17 + 6]
+        D[1 + nc + i, nq - 1] += Yi[18 + 6]
+        D[1 + nc + i, 5 + nc + i] -= 1.0
     if follower:
-        D[n - 1] = dYdq[2]
+        for j in range(nq):
+            D[n - 1, j] = dYdq[2, j]
     return D
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _tangent(z, J, states, dq, dirs, mdirs, site_at, angle_given, follower):
     """dz/dlambda along q(lambda) with dq/dlambda = dq, from the Jacobian J and the states of the
     residual at z; False when J is singular."""
     D = _load_derivative(z, states, dirs, mdirs, site_at, angle_given, follower, dq.size)
-    return _solve(J, -_matmul(D, dq.reshape(-1, 1))[:, 0])
+    rhs = np.zeros(z.size)
+    for i in range(z.size):
+        for j in range(dq.size):
+            rhs[i] -= D[i, j] * dq[j]
+    return _solve(J, rhs)
 
 
-@njit(cache=True)
-def _newton(z, q, tol, maxiter, k0, dirs, fdirs, mdirs, site_at, angle_given, follower, bounds, rtol,
-            atol):
-    """Damped Newton on the end conditions (module docstring). Returns (z, status, iterations,
-    residual norm, Jacobian, boundary states and tip force at z): z is the last accepted point (with maxiter = 0
-    the start point, evaluated). One residual call site (the start point, then every trial point), so
-    the compiled code holds one copy of the integrator."""
+@njit(cache=True, inline="always")
+def _newton(z, q, tol, step_tol, ahead, maxiter, k0, dirs, fdirs, mdirs, site_at, angle_given, follower,
+            bounds, n_state, rtol, atol):
+    """Damped Newton on the end conditions (module docstring). Converged: |r| < 1e-3 tol, or |r| <
+    tol and a step below ``step_tol`` (1 + |z|): the step that led to z, or with ``ahead`` the step
+    from z (J^-1 r, known before integrating again: a path point stops one integration earlier).
+    Returns (z, status, iterations, residual norm, Jacobian, boundary states and tip force at z): z
+    is the last accepted point (with maxiter = 0 the start point, evaluated). One residual call site
+    (the start point, then every trial point), so the compiled code holds one copy of the integrator."""
     it, t, norm, started = 0, 1.0, math.inf, False
     dz = np.zeros_like(z)
     z_try = z
     while True:
-        r_new, J_new, states_new, F_new, ok = residual(z_try, q, k0, dirs, fdirs, mdirs, site_at,
-                                                   angle_given, follower, bounds, rtol, atol)
+        r_new, J_new, states_new, F_new, ok = _residual(z_try, q, k0, dirs, fdirs, mdirs, site_at,
+                                                        angle_given, follower, bounds, n_state, rtol, atol)
         if not started:
             if not ok:
                 return z, NO_START, 0, math.inf, J_new, states_new, F_new
             started = True
             r, J, states, F, norm = r_new, J_new, states_new, F_new, _norm(r_new)
+            if maxiter == 0:
+                return z, NOT_CONVERGED, 0, norm, J, states, F
         elif ok and _norm(r_new) < max(norm, 1e-300) * (1 - 1e-4 * t) + 1e-14:
             z, r, J, states, F, norm = z_try, r_new, J_new, states_new, F_new, _norm(r_new)
-            step = _norm(t * dz)
-            if (norm < tol and step < 1e-9 * (1.0 + _norm(z))) or norm < 1e-3 * tol:
+            if (norm < tol and t * _norm(dz) < step_tol * (1.0 + _norm(z))) or norm < 1e-3 * tol:
                 return z, CONVERGED, it, norm, J, states, F
         else:
             t *= 0.5
             if t < 1e-3:        # no descent left: converged only if already at the noise floor
                 return z, CONVERGED if norm < tol else NOT_CONVERGED, it, norm, J, states, F
-            z_try = z + t * dz
+            z_try = _axpy(z, t, dz)
             continue
+        minus_r = np.empty(r.size)
+        for i in range(r.size):
+            minus_r[i] = -r[i]
+        dz, regular = _solve(J, minus_r)
+        if ahead and regular and norm < tol and _norm(dz) < step_tol * (1.0 + _norm(z)):
+            return z, CONVERGED, it, norm, J, states, F
         it += 1
-        if it > maxiter:
-            return z, NOT_CONVERGED, maxiter, norm, J, states, F
-        dz, regular = _solve(J, -r)
-        if not regular:
-            return z, NOT_CONVERGED, it, norm, J, states, F
+        if it > maxiter or not regular:
+            return z, NOT_CONVERGED, min(it, maxiter), norm, J, states, F
         t = 1.0
-        z_try = z + t * dz
+        z_try = _axpy(z, 1.0, dz)
 
 
 # follow_path status: converged, continuation stalled, integration failed at the start, final
@@ -506,12 +604,14 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
     Jacobian of the last accepted point), Newton corrector at ``path_rtol`` with the step rejections,
     then the final corrector at ``rtol``/``tol``. One Newton call site (the start point is evaluated by
     a Newton of 0 iterations; the final corrector is the last call): one compiled copy of it.
+    The sensitivities to the distributed load are integrated only when the path changes it.
     Returns (z, status, load fraction reached, Newton iterations, accepted steps, residual norm,
     and when converged the boundary states and tip force at z)."""
     path_atol = path_rtol * 0.1
     last = bounds.size - 1
-    dq = q1 - q0
-    lam, dlam, lam_try = 0.0, min(initial_step, 1.0), 0.0
+    dq = _axpy(q1, -1.0, q0)
+    n_state = STATE_SIZE if (dq[dq.size - 2] != 0.0 or dq[dq.size - 1] != 0.0) else FORCE_STATE_SIZE
+    lam, dlam, lam_try, lam_prev, curvature = 0.0, min(initial_step, 1.0), 0.0, 0.0, 0.0
     nit, nsteps, norm = 0, 0, 0.0
     started, regular = False, True
     dz, tip, step = np.zeros_like(z), np.zeros(3), np.zeros_like(z)
@@ -520,14 +620,17 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
         if not started:
             q, z_guess, ntol, nrtol, natol, nmax = q0, z, 0.0, path_rtol, path_atol, 0
         elif final:       # final corrector at full accuracy
-            q, z_guess, ntol, nrtol, natol, nmax = q0 + lam * dq, z, tol, rtol, atol, maxiter
+            q, z_guess, ntol, nrtol, natol, nmax = _axpy(q0, lam, dq), z, tol, rtol, atol, maxiter
         else:
             lam_try = min(1.0, lam + dlam)
-            q = q0 + lam_try * dq
-            step = (lam_try - lam) * dz if regular else np.zeros_like(z)
-            z_guess, ntol, nrtol, natol, nmax = z + step, 10 * path_rtol, path_rtol, path_atol, maxiter
-        z_new, nstat, it, norm, J, states, F = _newton(z_guess, q, ntol, nmax, k0, dirs, fdirs, mdirs,
-                                                       site_at, angle_given, follower, bounds, nrtol, natol)
+            q = _axpy(q0, lam_try, dq)
+            step = _axpy(np.zeros_like(z), lam_try - lam, dz) if regular else np.zeros_like(z)
+            # a step whose corrector needs more than max_step_iterations is rejected: stop there
+            z_guess, ntol, nrtol, natol = _axpy(z, 1.0, step), 10 * path_rtol, path_rtol, path_atol
+            nmax = min(maxiter, max_step_iterations)
+        z_new, nstat, it, norm, J, states, F = _newton(z_guess, q, ntol, 1e-9 if final else ntol, not final,
+                                                       nmax, k0, dirs, fdirs, mdirs, site_at, angle_given,
+                                                       follower, bounds, n_state, nrtol, natol)
         new_tip = states[last, :3]
         ok = nstat == CONVERGED
         if not started:
@@ -542,19 +645,23 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
                 return z, PATH_FINAL_FAILED, lam, nit, nsteps, norm, states, F
             if ok:
                 moved = math.hypot(new_tip[0] - tip[0], new_tip[1] - tip[1])
-                off = _norm(z_new - z_guess)
+                off = _norm(_axpy(z_new, -1.0, z_guess))
+                bend = curvature * (lam_try - lam) ** 2         # twice the predictor's expected miss
                 ok = (it <= max_step_iterations and abs(new_tip[2] - tip[2]) <= max_rotation_step
                       and moved <= max_position_step
-                      and (not regular or off <= max_corrector * _norm(step) + 1e-6 * (1.0 + _norm(z))))
+                      and (not regular or off <= max_corrector * _norm(step) + bend + 1e-6 * (1.0 + _norm(z))))
             if ok:
-                z, lam = z_new, lam_try
+                z, lam_prev, lam = z_new, lam, lam_try
                 nsteps += 1
                 if it <= 3:
                     dlam = min(2.0 * dlam, 1.0)
-        if ok:                  # the tangent at the new point
+        if ok:                  # the tangent at the new point, and the path's curvature |z''| since the last
+            dz_prev, was_regular = dz, regular
             dz, regular = _tangent(z, J, states, dq, dirs, mdirs, site_at, angle_given, follower)
+            if nsteps > 0 and regular and was_regular:
+                curvature = _norm(_axpy(dz, -1.0, dz_prev)) / (lam - lam_prev)
             tip = new_tip.copy()
-        else:
-            dlam *= 0.5
+        else:                   # halve the step tried (dlam itself may reach past lambda = 1)
+            dlam = 0.5 * (lam_try - lam)
             if dlam < min_step:
                 return z, PATH_STALLED, lam, nit, nsteps, norm, states, F

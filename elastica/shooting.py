@@ -44,9 +44,11 @@ tangent predictor dz/dlambda = -J^-1 (dr/dq)(q1 - q0) (both from the variational
 the accepted state), adaptive steps, and a step rejection (the step halved) when the corrector
 left the path: the tip moved by more than ``max_position_step`` L or rotated by more than
 ``max_rotation_step`` rad, the corrector moved the shooting unknowns z further from the
-predictor than ``max_corrector`` times the predicted change (plus a small floor), or Newton
-needed more than ``max_step_iterations`` iterations. A first-order predictor misses the path
-by O(dlambda^2), so halving the step always satisfies the corrector test on a smooth path; a
+predictor than ``max_corrector`` times the predicted change plus the predictor's expected miss
+|z''| dlambda^2 (|z''| from the tangents at the last two accepted points, so an unknown that is
+stationary along the path does not shrink the step) and a small floor, or Newton needed more
+than ``max_step_iterations`` iterations. A first-order predictor misses the path by
+O(dlambda^2), so halving the step always satisfies the corrector test on a smooth path; a
 Newton solution on another branch (a straight beam pushed back towards its clamp has several
 equilibria at the same load) is far from the predictor whatever the step. So one requested load
 is reached along the physically connected path from the start state, however large: the beam
@@ -54,8 +56,10 @@ under a tip load pointing back towards the clamp bends the way the load's transv
 pushes and curls back; the full-circle roll-up returns a tip rotation of 2 pi, not 4 pi; Table
 3.5 Ex. 2 stays on the branch of the unloaded beam. The elastica's own stability is not
 checked: the path is followed, stable or not. Intermediate steps are integrated at
-``path_rtol``; the final corrector at ``rtol`` (1e-12), so the end conditions hold to ``tol`` =
-1e-11 and tip values are accurate to about 1e-10 relative.
+``path_rtol`` and their corrector stops once the Newton step from the point is below the path
+tolerance; the final corrector runs at ``rtol`` (1e-12), so the end conditions hold to ``tol`` =
+1e-11 and tip values are accurate to about 1e-10 relative. The shape samples are integrated on the
+plain state (x, y, theta, m, U), without the sensitivities the shooting needs.
 
 This module sets the problem up (normalised structure arrays, start states, staging) and reads the
 result; the continuation itself, with its Newton corrector and the integrations, runs compiled
@@ -77,7 +81,7 @@ import numpy as np
 from argcheck import checked
 
 from . import integrator as kernel
-from .integrator import integrate_samples
+from .integrator import plain_samples
 
 __all__ = ["TipConstraint", "MomentConstraint", "ElasticaProblem", "ElasticaResult",
            "solve_elastica", "solve_path", "loaded_start", "section_moment", "unloaded_tip"]
@@ -253,16 +257,15 @@ class _Shooter:
         return list(self.fdirs) + list(self.mdirs)
 
     def integrate(self, z, q):
-        """(states at the piece boundaries: row 0 at s = 0, the last at s = 1; tip force; ok)."""
-        _, _, states, F, ok = kernel.residual(np.asarray(z, float), np.asarray(q, float), *self.structure,
-                                              self.rtol, self.atol)
+        """(plain states (x, y, theta, m, U) at the piece boundaries: row 0 at s = 0, the last at
+        s = 1; tip force; ok): the shooting's pieces, without sensitivities."""
+        z, q = np.asarray(z, float), np.asarray(q, float)
+        F, _ = kernel.tip_force(z, q, self.fdirs, self.mdirs, self.has_follower)
+        y0 = np.zeros(kernel.BEAM_STATE_SIZE)
+        y0[3] = z[0]
+        states, ok = plain_samples(y0, self.bounds, F[0], F[1], self.k0, self.rtol, self.atol, q[-2], q[-1],
+                                   restart=True)
         return states, F, ok
-
-    def residual(self, z, q):
-        """End-condition residual (n,), or None when the integration failed."""
-        r, _, _, _, ok = kernel.residual(np.asarray(z, float), np.asarray(q, float), *self.structure,
-                                          self.rtol, self.atol)
-        return r if ok else None
 
 
 def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
@@ -374,12 +377,10 @@ def _moment_start(problem, shooter, q0, z0):
 
 def _section_moments(shooter, z, q):
     """Normalised m(s_j) at the moment-constraint sites for the unknowns z (q's m_j ignored)."""
-    q = np.array(q, float)
-    q[5 + shooter.nc:5 + shooter.nc + shooter.nm] = 0.0
-    r = shooter.residual(z, q)
-    if r is None:
+    states, _, ok = shooter.integrate(z, q)
+    if not ok:
         raise RuntimeError("integration failed")
-    return r[1 + shooter.nc:1 + shooter.nc + shooter.nm]
+    return states[shooter.site_at, 3]
 
 
 def loaded_start(problem: ElasticaProblem, force: tuple[float, float], moment: float,
@@ -457,7 +458,10 @@ def _result(problem, shooter, z, q, n_samples, evaluated=None):
     integrating from sample to sample (compiled)."""
     states, F = evaluated if evaluated is not None else shooter.integrate(z, q)[:2]
     s = np.linspace(0.0, 1.0, n_samples)
-    samples, _ = integrate_samples(states[0], s, F[0], F[1], shooter.k0, shooter.rtol, shooter.atol,
+    if n_samples == 2:          # the ends: the boundary states themselves
+        samples = states[[0, -1], :kernel.BEAM_STATE_SIZE]
+    else:
+        samples, _ = plain_samples(states[0], s, F[0], F[1], shooter.k0, shooter.rtol, shooter.atol,
                                    q[-2], q[-1])
     Ys = samples.T
     Y = states[-1]

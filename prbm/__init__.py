@@ -63,16 +63,14 @@ __all__ = [
 
 _EXPORTS = {  # public name -> the module that defines it (imported at the first use of a name)
     **dict.fromkeys(('capstan_factor', 'composite_beam_tip', 'layered_bending_stiffness'), 'prbm.composite'),
-    **dict.fromkeys(('BodyLoad', 'body_end_loads', 'inflection_pivots', 'solve_segment_with_body'
-                     'BodyLoad', 'body_end_loads', 'inflection_pivots', 'solve_segment_with_body'), 'prbm.coupled_segment'),
+    **dict.fromkeys(('BodyLoad', 'body_end_loads', 'inflection_pivots', 'solve_segment_with_body'), 'prbm.coupled_segment'),
     **dict.fromkeys(('SEGMENT_MODES', 'ModeShape', 'PRBMTopology', 'Segment', 'grubler'), 'prbm.dof'),
     **dict.fromkeys(('boundary_curves', 'curved_fixed_pinned_domain', 'fit_radius',
                      'fixed_fixed_monotonic_domain', 'fixed_guided_domain', 'fixed_pinned_domain', 'slfp_domain'), 'prbm.domain'),
     **dict.fromkeys(('FAMILIES', 'HOWELL', 'PAULY_MIDHA', 'PURE_MOMENT_C_THETA', 'PURE_MOMENT_GAMMA',
                      'PURE_MOMENT_K_THETA', 'PURE_MOMENT_SPRING', 'FitFamily', 'FitRangeError',
                      'FitRangeWarning', 'PiecewiseFit', 'fit_family', 'load_angle', 'load_ratio'), 'prbm.fits'),
-    **dict.fromkeys(('InflectionBeam', 'inflection_state', 'solve_displacements', 'solve_loads'
-                     'InflectionBeam', 'inflection_state', 'solve_displacements', 'solve_loads'), 'prbm.inflection'),
+    **dict.fromkeys(('InflectionBeam', 'inflection_state', 'solve_displacements', 'solve_loads'), 'prbm.inflection'),
     **dict.fromkeys(('BeamModel', 'BeamRule', 'Geometry', 'PRBModel', 'Rules', 'build'), 'prbm.builder'),
     **dict.fromkeys(('FourBar', 'SliderCrank'), 'prbm.mechanisms'),
     **dict.fromkeys(('GROUND', 'Couple', 'Force', 'LockedNetwork', 'Network', 'NetworkResult', 'Pin',

@@ -53,11 +53,13 @@ from __future__ import annotations
 import math
 import time
 import warnings
+from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 from scipy.optimize import root
 
-from prbm.fits import PAULY_MIDHA, FitFamily, fit_family
+from prbm.fits import PAULY_MIDHA, FitFamily, PiecewiseFit, fit_family
 from prbm.result import PRBMResult
 
 __all__ = ["InflectionBeam", "inflection_state", "solve_loads", "solve_displacements"]
@@ -72,6 +74,7 @@ class InflectionBeam:
         self.length = float(length)
         self.EI = float(EI)
         self.family = fit_family(family)
+        self.fits = _plain_parameters(self.family)   # (gamma, c_theta, K_theta) at one float n
 
 
 def inflection_state(beam: InflectionBeam, F, phi1, theta0, l1, theta10) -> dict[str, np.ndarray]:
@@ -118,6 +121,120 @@ def _force_from_95(beam, phi1, l1, theta10):
         return K1 * Th1 * beam.EI / (l1**2 * np.sin(phi1 - Th1))
 
 
+
+def _ratio(cos_phi: float, sin_phi: float) -> float:
+    """n = -cos(phi)/sin(phi) (eqs 93, 94) in plain floats, infinite or NaN where numpy's division is."""
+    if sin_phi != 0.0 or math.isnan(sin_phi):
+        return -cos_phi / sin_phi
+    if cos_phi == 0.0 or math.isnan(cos_phi):
+        return math.nan
+    return math.copysign(math.inf, -cos_phi) * math.copysign(1.0, sin_phi)
+
+
+def _fit_ratio(n: float) -> float:
+    """The load ratio the fits are evaluated at (as ``np.nan_to_num(n, nan=0, posinf=1e3, neginf=-1e3)``)."""
+    if math.isnan(n):
+        return 0.0
+    return math.copysign(1e3, n) if math.isinf(n) else n
+
+
+def _horner(fit: PiecewiseFit) -> Callable[[float], float]:
+    """One fit at one float, as ``PiecewiseFit`` evaluates it (branch by the printed inequalities, the
+    nearest branch outside them, Horner's rule; the same arithmetic), without its per-call checks."""
+    uppers = tuple(br.upper for br in fit.branches[:-1])
+    coefficients = tuple(tuple(reversed(br.coefficients)) for br in fit.branches)
+    last = coefficients[-1]
+
+    def value(x: float) -> float:
+        chosen = last
+        for upper, cs in zip(uppers, coefficients):
+            if x <= upper:
+                chosen = cs
+                break
+        v = 0.0
+        for c in chosen:
+            v = v * x + c
+        return v
+    return value
+
+
+_PLAIN_FITS: dict[int, tuple[FitFamily, Callable[[float], tuple[float, float, float]]]] = {}
+
+
+def _plain_parameters(family: FitFamily) -> Callable[[float], tuple[float, float, float]]:
+    """(gamma, c_theta, K_theta) at one float n, extrapolating (``family.parameters(n, 'allow')``)."""
+    known = _PLAIN_FITS.get(id(family))
+    if known is not None and known[0] is family:
+        return known[1]
+    gamma, K = _horner(family.gamma), _horner(family.K_theta)
+    c = _horner(family.c_theta) if family.c_theta is not None else (lambda x: math.nan)
+
+    def parameters(n: float) -> tuple[float, float, float]:
+        return gamma(n), c(n), K(n)
+    _PLAIN_FITS[id(family)] = (family, parameters)
+    return parameters
+
+
+def _point_force(beam, phi1: float, l1: float, theta10: float) -> float:
+    """``_force_from_95`` at one point in plain floats (the root finders' inner loop)."""
+    try:
+        _, c1, K1 = beam.fits(_fit_ratio(_ratio(math.cos(phi1), math.sin(phi1))))
+        Th1 = theta10 / c1
+        return K1 * Th1 * beam.EI / (l1 * l1 * math.sin(phi1 - Th1))
+    except (ValueError, ZeroDivisionError, OverflowError):  # numpy's inf/NaN arithmetic where math raises
+        with np.errstate(all="ignore"):
+            return float(_force_from_95(beam, phi1, l1, theta10))
+
+
+def _point_state(beam, F: float, phi1: float, theta0: float, l1: float, theta10: float) -> dict[str, float]:
+    """``inflection_state`` at one point in plain floats: the same equations (95)-(104), the same keys.
+
+    The root finders evaluate one point at a time, where numpy's per-call overhead is most of the cost;
+    where ``math`` raises (an infinite angle, a zero length) the numpy state is returned instead."""
+    try:
+        return _point_equations(beam, F, phi1, theta0, l1, theta10)
+    except (ValueError, ZeroDivisionError, OverflowError):
+        with np.errstate(all="ignore"):
+            return {k: float(v) for k, v in inflection_state(beam, F, phi1, theta0, l1, theta10).items()}
+
+
+def _point_equations(beam, F, phi1, theta0, l1, theta10) -> dict[str, float]:
+    l, EI = beam.length, beam.EI
+    sin1, cos1 = math.sin(phi1), math.cos(phi1)
+    phi2 = phi1 - theta0
+    n, n2 = _ratio(cos1, sin1), _ratio(math.cos(phi2), math.sin(phi2))
+    g1, c1, K1 = beam.fits(_fit_ratio(n))
+    g2, c2, K2 = beam.fits(_fit_ratio(n2))
+    l2 = l - l1
+    theta20 = theta10 - theta0
+    Th1, Th2 = theta10 / c1, theta20 / c2
+    P, nP = F * sin1, -F * cos1
+    r95 = F * (l1 * l1) / EI * math.sin(phi1 - Th1) - K1 * Th1
+    r96 = F * (l2 * l2) / EI * math.sin(phi2 - Th2) - K2 * Th2
+    ct, st = math.cos(theta0), math.sin(theta0)
+    sT2, cT2 = math.sin(Th2), math.cos(Th2)
+    M = (nP * ct - P * st) * g2 * l2 * sT2 + (P * ct + nP * st) * ((1 - g2) * l2 + g2 * l2 * cT2)
+    b = g1 * l1 * math.sin(Th1) + g2 * l2 * math.sin(Th2 + theta0) + (1 - g2) * l2 * st
+    a = (1 - g1) * l1 + g1 * l1 * math.cos(Th1) + g2 * l2 * math.cos(Th2 + theta0) + (1 - g2) * l2 * ct
+    U = 0.5 * (g1 * K1 * EI / l1 * Th1 * Th1 + g2 * K2 * EI / l2 * Th2 * Th2)
+    return {"F": F, "phi1": phi1, "phi2": phi2, "theta0": theta0, "l1": l1, "l2": l2, "theta10": theta10,
+            "theta20": theta20, "Theta1": Th1, "Theta2": Th2, "n": n, "n2": n2, "gamma1": g1, "gamma2": g2,
+            "c_theta1": c1, "c_theta2": c2, "K_theta1": K1, "K_theta2": K2, "P": P, "nP": nP, "M": M,
+            "a": a, "b": b, "r95": r95, "r96": r96, "U": U}
+
+
+@dataclass(frozen=True)
+class _Kernel:
+    """The state of eqs (95)-(104) and F from eq (95): vectorised (numpy) or at one point (floats)."""
+
+    state: Callable
+    force: Callable
+
+
+VECTOR = _Kernel(inflection_state, _force_from_95)
+POINT = _Kernel(_point_state, _point_force)
+
+
 def _valid(beam, s, tol=1e-8) -> tuple[bool, str]:
     l, fam = beam.length, beam.family
     checks = [
@@ -139,23 +256,30 @@ def _valid(beam, s, tol=1e-8) -> tuple[bool, str]:
 
 
 def _multistart(residual, grid: np.ndarray, keep: int, xtol: float):
-    """Solve residual(x) = 0 from the `keep` grid points of smallest residual; return distinct roots."""
+    """Solve residual(x) = 0 from the `keep` grid points of smallest residual; return distinct roots.
+
+    ``residual(x, kernel)`` gives the residual list: with ``VECTOR`` over the grid's columns at once,
+    with ``POINT`` at one point in plain floats (MINPACK's calls)."""
     with np.errstate(all="ignore"):
-        norms = np.linalg.norm(residual(grid.T), axis=0)  # residual is vectorised over columns
+        norms = np.linalg.norm(np.stack(residual(grid.T, VECTOR)), axis=0)
     norms = np.where(np.isfinite(norms), norms, np.inf)
     order = np.argsort(norms)[:keep]
+
+    def point(x):
+        return np.array(residual(x, POINT), dtype=float)
+
     roots, nfev = [], 0
     for i in order:
         if not np.isfinite(norms[i]):
             continue
         with np.errstate(all="ignore"), warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            sol = root(residual, grid[i], method="hybr", options={"xtol": xtol})
+            sol = root(point, grid[i], method="hybr", options={"xtol": xtol})
         nfev += sol.nfev
         if not np.all(np.isfinite(sol.x)):
             continue
         with np.errstate(all="ignore"):
-            r = residual(sol.x)
+            r = point(sol.x)
         if np.all(np.isfinite(r)) and np.linalg.norm(r) < 1e-9:
             if not any(np.allclose(sol.x, x0, rtol=1e-6, atol=1e-7) for x0 in roots):
                 roots.append(sol.x)
@@ -223,9 +347,9 @@ def solve_loads(beam: InflectionBeam, P: float, nP: float, M: float, *, prefer="
     F = math.hypot(P, nP)
     phi1 = math.atan2(P, -nP)
 
-    def residual(x):
-        s = inflection_state(beam, F, phi1, x[0], x[1] * l, x[2])
-        return np.stack([s["r95"], s["r96"], (moment(x[0]) - s["M"]) * l / EI])
+    def residual(x, kernel=VECTOR):
+        s = kernel.state(beam, F, phi1, x[0], x[1] * l, x[2])
+        return [s["r95"], s["r96"], (moment(x[0]) - s["M"]) * l / EI]
 
     grid = np.array([(t, f, q) for t in np.linspace(-80, 80, 17) * DEG for f in np.linspace(0.15, 0.85, 8)
                      for q in np.linspace(5, 85, 9) * DEG])
@@ -256,10 +380,10 @@ def solve_displacements(beam: InflectionBeam, *, b: float, theta0: float, a: flo
         def unpack(x):
             return x[0], x[1] * l, x[2]
 
-        def residual(x):
+        def residual(x, kernel=VECTOR):
             phi1, L1, q = unpack(x)
-            s = inflection_state(beam, _force_from_95(beam, phi1, L1, q), phi1, theta0, L1, q)
-            return np.stack([s["r96"], (s["b"] - b) * scale, (s["a"] - a) * scale])
+            s = kernel.state(beam, kernel.force(beam, phi1, L1, q), phi1, theta0, L1, q)
+            return [s["r96"], (s["b"] - b) * scale, (s["a"] - a) * scale]
 
         grid = np.array([(p, f, q) for p in np.linspace(10, 170, 17) * DEG for f in np.linspace(0.1, 0.9, 9)
                          for q in np.linspace(3, 88, 12) * DEG])
@@ -270,10 +394,10 @@ def solve_displacements(beam: InflectionBeam, *, b: float, theta0: float, a: flo
         def unpack(x):
             return phi_fixed, x[0] * l, x[1]
 
-        def residual(x):
+        def residual(x, kernel=VECTOR):
             phi1, L1, q = unpack(x)
-            s = inflection_state(beam, _force_from_95(beam, phi1, L1, q), phi1, theta0, L1, q)
-            return np.stack([s["r96"], (s["b"] - b) * scale])
+            s = kernel.state(beam, kernel.force(beam, phi1, L1, q), phi1, theta0, L1, q)
+            return [s["r96"], (s["b"] - b) * scale]
 
         grid = np.array([(f, q) for f in np.linspace(0.05, 0.95, 19) for q in np.linspace(2, 88, 44) * DEG])
     else:
@@ -283,10 +407,10 @@ def solve_displacements(beam: InflectionBeam, *, b: float, theta0: float, a: flo
         def unpack(x):
             return x[0], l1_fixed, x[1]
 
-        def residual(x):
+        def residual(x, kernel=VECTOR):
             phi1, L1, q = unpack(x)
-            s = inflection_state(beam, _force_from_95(beam, phi1, L1, q), phi1, theta0, L1, q)
-            return np.stack([s["r96"], (s["b"] - b) * scale])
+            s = kernel.state(beam, kernel.force(beam, phi1, L1, q), phi1, theta0, L1, q)
+            return [s["r96"], (s["b"] - b) * scale]
 
         grid = np.array([(p, q) for p in np.linspace(5, 175, 35) * DEG for q in np.linspace(2, 88, 44) * DEG])
 

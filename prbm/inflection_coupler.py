@@ -51,7 +51,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq, root
 
-from prbm.inflection import InflectionBeam, _valid, inflection_state, solve_displacements
+from prbm.inflection import InflectionBeam, _point_force, _point_state, _valid, solve_displacements
 from prbm.result import PRBMResult
 
 __all__ = ["GuidedSegment", "CouplerDrive", "SegmentState", "Window", "segment_state", "reachable_window",
@@ -220,13 +220,9 @@ class _Warm:
 
 
 def _state(beam: InflectionBeam, phi1: float, l1_ratio: float, theta10: float, theta0: float) -> dict:
-    """Every variable of eqs (131)-(152) with F from eq (143) (as ``prbm.inflection`` does)."""
+    """Every variable of eqs (131)-(152) with F from eq (143) (as ``prbm.inflection`` does), in plain floats."""
     l1 = l1_ratio * beam.length
-    n = -math.cos(phi1) / math.sin(phi1)
-    _, c1, K1 = beam.family.parameters(n, "allow")
-    Th1 = theta10 / c1
-    F = K1 * Th1 * beam.EI / (l1 * l1 * math.sin(phi1 - Th1))
-    return {k: float(v) for k, v in inflection_state(beam, F, phi1, theta0, l1, theta10).items()}
+    return _point_state(beam, _point_force(beam, phi1, l1, theta10), phi1, theta0, l1, theta10)
 
 
 def _case1_residual(beam, x, a, b, theta0):

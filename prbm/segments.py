@@ -46,6 +46,7 @@ from __future__ import annotations
 
 import math
 import time
+from math import cos, sin
 
 import numpy as np
 
@@ -99,23 +100,24 @@ _SCALAR_LOOP_MAX = 256  # up to this many levels the plain-float loop beats the 
 
 def _spring_start(FR, phi, k, theta_i, lo, hi):
     """Linear solution of (*) about Theta_i (the first Newton step from Theta_i), if inside (lo, hi)."""
-    d = FR * math.cos(phi - theta_i) + k
+    d = FR * cos(phi - theta_i) + k
     if d > 0.0:
-        x = theta_i + FR * math.sin(phi - theta_i) / d
+        x = theta_i + FR * sin(phi - theta_i) / d
         if lo < x < hi:
             return x
     return phi
 
 
 def _spring_angle_scalar(FR, phi, k, theta_i, xtol, maxiter):
-    """``spring_angle`` for one level in plain floats (a few microseconds)."""
+    """``spring_angle`` for one level in plain floats (a few microseconds; called once per load level,
+    so its names are module globals and each quantity is computed once per iteration)."""
     if FR == 0.0 or phi == theta_i:
         return theta_i, True, 0
     lo, hi = (theta_i, phi) if theta_i < phi else (phi, theta_i)
     x = _spring_start(FR, phi, k, theta_i, lo, hi)
     toward_phi = phi > theta_i  # g > 0 between Theta_i and the root, g < 0 between the root and phi
     for it in range(1, maxiter + 1):
-        s = math.sin(phi - x)
+        s = sin(phi - x)
         fx = FR * s - k * (x - theta_i)
         if fx == 0.0:
             return x, True, it
@@ -129,13 +131,14 @@ def _spring_angle_scalar(FR, phi, k, theta_i, xtol, maxiter):
             hi = x
         else:
             lo = x
-        dfx = -FR * math.cos(phi - x) - k
+        dfx = -FR * cos(phi - x) - k
         step = fx / dfx if dfx != 0.0 else math.inf
         x_new = x - step
         tol = xtol * (1.0 + abs(x))
+        size = abs(step)
         # done when the step is below tol, or when the quadratic error left after it,
         # |g''| step^2 / (2 |g'|) with g'' = -F R sin(phi - x), is ten times below tol
-        if abs(step) <= tol or (abs(step) < 1e-4 and 5.0 * FR * abs(s) * step * step <= tol * abs(dfx)):
+        if size <= tol or (size < 1e-4 and 5.0 * FR * abs(s) * step * step <= tol * abs(dfx)):
             return x_new, True, it
         if not (lo < x_new < hi):
             x_new = 0.5 * (lo + hi)
@@ -283,7 +286,7 @@ def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
                           {"gamma": gamma, "c_theta": c_theta, "K_theta": K, "k": gamma * K * EI / length,
                            "family": fam.name}, "fixed-pinned, seed 000 eqs (41)-(49)",
                           time.perf_counter() - t0, nit, np.array([ok]))
-    if np.size(P) * np.size(n) <= _SCALAR_LOOP_MAX:  # a few levels: the plain-float path level by level
+    if 0 < np.size(P) * np.size(n) <= _SCALAR_LOOP_MAX:  # a few levels: the plain-float path level by level
         return _fixed_pinned_levels(P, n, length, EI, fam, extrapolate, t0)
     Pabs, n_eff, sign = _mirror(P, n)
     gamma, c_theta, K = fam.parameters(n_eff, extrapolate)
@@ -303,36 +306,54 @@ def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
         level_converged=np.atleast_1d(ok))
 
 
+def _level_lists(P, n) -> tuple[list[float], list[float], tuple[int, ...]]:
+    """P and n over the levels as two equally long lists of floats, and the levels' shape."""
+    P_arr, n_arr = np.asarray(P, float), np.asarray(n, float)
+    if P_arr.shape != n_arr.shape:
+        P_arr, n_arr = np.broadcast_arrays(P_arr, n_arr)
+    return P_arr.ravel().tolist(), n_arr.ravel().tolist(), P_arr.shape
+
+
+def _arrays(columns: dict[str, list], shape: tuple[int, ...]) -> dict[str, np.ndarray]:
+    """Each column of floats as an array of the levels' shape."""
+    if len(shape) == 1:
+        return {key: np.array(column, dtype=float) for key, column in columns.items()}
+    return {key: np.array(column, dtype=float).reshape(shape) for key, column in columns.items()}
+
+
 def _fixed_pinned_levels(P, n, length: float, EI: float, fam, extrapolate: str, t0: float) -> PRBMResult:
     """``fixed_pinned_tip`` over a few load levels in plain floats: the one-level arithmetic level by
-    level, the fits evaluated once per distinct load ratio (numpy's per-call cost would dominate)."""
-    P_given, n_given = np.asarray(P, float), np.asarray(n, float)
-    P_arr, n_arr = (P_given, n_given) if P_given.shape == n_given.shape else np.broadcast_arrays(P_given, n_given)
-    shape = P_arr.shape
-    per_ratio: dict[float, tuple[float, float, float, float, float]] = {}
-    columns: list[tuple[float, ...]] = []
-    ok_all, nit_max = True, 0
-    for p, m in zip(P_arr.ravel().tolist(), n_arr.ravel().tolist()):
+    level, the fits and every per-ratio constant evaluated once per distinct load ratio (numpy's
+    per-call cost would dominate)."""
+    P_list, n_list, shape = _level_lists(P, n)
+    L2 = length**2
+    per_ratio: dict[float, tuple[float, ...]] = {}
+    rows, fits = [], []  # per level: (a, b, theta0, Theta, F, converged), the ratio's constants
+    nit_max = 0
+    for p, m in zip(P_list, n_list):
         sign = -1.0 if p < 0.0 else 1.0
         n_eff = sign * m
         fit = per_ratio.get(n_eff)
         if fit is None:
             gamma, c_theta, K = fam.parameters(n_eff, extrapolate)
-            fit = per_ratio[n_eff] = (gamma, c_theta, K, math.sqrt(1.0 + n_eff * n_eff), math.atan2(1.0, -n_eff))
-        gamma, c_theta, K, eta, phi = fit
+            fit = per_ratio[n_eff] = (gamma, c_theta, K, gamma * K * EI / length, math.sqrt(1.0 + n_eff * n_eff),
+                                      math.atan2(1.0, -n_eff), gamma * length)
+        gamma, c_theta, K, k, eta, phi, gl = fit
         F = abs(p) * eta
-        Theta, ok, nit = _spring_angle_scalar(F * length**2 / EI, phi, K, 0.0, 1e-13, 60)
-        ok_all &= ok
-        nit_max = max(nit_max, nit)
-        columns.append((length - gamma * length * (1.0 - math.cos(Theta)), sign * gamma * length * math.sin(Theta),
-                        sign * c_theta * Theta, sign * Theta, F, gamma, c_theta, K, gamma * K * EI / length, ok))
-    table = np.array(columns, float).T.reshape((10, *shape))  # one array: a numpy call per column costs more
-    a, b, theta0, Theta, F, gamma, c_theta, K, k, ok = table
-    out = {"a": a, "b": b, "theta0": theta0, "Theta": Theta, "P": P_given, "n": n_given, "F": F}
-    return PRBMResult(ok_all, "converged" if ok_all else "spring equation did not converge", out,
-                      {"gamma": gamma, "c_theta": c_theta, "K_theta": K, "k": k, "family": fam.name},
+        T, ok, nit = _spring_angle_scalar(F * L2 / EI, phi, K, 0.0, 1e-13, 60)
+        if nit > nit_max:
+            nit_max = nit
+        rows.append((length - gl * (1.0 - cos(T)), sign * gl * sin(T), sign * c_theta * T, sign * T, F, ok))
+        fits.append(fit)
+    a, b, theta0, Theta, F_out, ok_levels = zip(*rows)
+    ok_all = all(ok_levels)
+    out = _arrays({"a": a, "b": b, "theta0": theta0, "Theta": Theta}, shape)
+    out.update({"P": np.asarray(P, float), "n": np.asarray(n, float), "F": _arrays({"F": F_out}, shape)["F"]})
+    constants = _arrays(dict(zip(("gamma", "c_theta", "K_theta", "k"), list(zip(*fits))[:4])), shape)
+    constants["family"] = fam.name
+    return PRBMResult(ok_all, "converged" if ok_all else "spring equation did not converge", out, constants,
                       "fixed-pinned, seed 000 eqs (41)-(49)", time.perf_counter() - t0, nit_max,
-                      np.atleast_1d(ok != 0.0))
+                      np.array(ok_levels, dtype=bool).reshape(shape))
 
 
 @checked(positive=('length', 'EI'), finite=('n', 'a', 'b', 'theta0'))
@@ -378,6 +399,38 @@ def pure_moment_tip(M, *, length: float, EI: float) -> PRBMResult:
     t0 = time.perf_counter()
     M = np.asarray(M, dtype=float)
     k = PURE_MOMENT_SPRING * EI / length
+    g = PURE_MOMENT_GAMMA
+    if 0 < M.ndim and M.size <= _SCALAR_LOOP_MAX:  # a few levels: plain floats
+        out = _arrays(_pure_moment_levels(M.ravel().tolist(), length, EI, k), M.shape)
+    else:
+        out = _pure_moment_arrays(M, length, EI, k)
+    return PRBMResult(True, "closed form", out,
+                      {"gamma": g, "k": k, "spring_coefficient": PURE_MOMENT_SPRING,
+                       "c_theta": PURE_MOMENT_C_THETA},
+                      "pure end moment, seed 004", time.perf_counter() - t0,
+                      level_converged=np.ones(np.atleast_1d(M).shape, bool))
+
+
+def _pure_moment_levels(M: list[float], length: float, EI: float, k: float) -> dict[str, list]:
+    """The outputs of ``pure_moment_tip`` level by level in plain floats (the array arithmetic's order)."""
+    g = PURE_MOMENT_GAMMA
+    cols = {key: [] for key in ("a", "b", "theta0", "Theta", "M", "a_exact", "b_exact")}
+    for m in M:
+        Theta = m / k
+        theta_exact = m * length / EI
+        if theta_exact != 0:
+            rho = length / theta_exact
+            a_exact, b_exact = rho * math.sin(theta_exact), rho * (1 - math.cos(theta_exact))
+        else:
+            a_exact, b_exact = length, 0.0
+        for key, value in zip(cols, (length - g * length * (1 - math.cos(Theta)), g * length * math.sin(Theta),
+                                     PURE_MOMENT_C_THETA * Theta, Theta, m, a_exact, b_exact)):
+            cols[key].append(value)
+    return cols
+
+
+def _pure_moment_arrays(M: np.ndarray, length: float, EI: float, k: float) -> dict[str, np.ndarray]:
+    """The outputs of ``pure_moment_tip`` over an array of levels (or one level)."""
     Theta = M / k
     g = PURE_MOMENT_GAMMA
     theta_exact = M * length / EI
@@ -385,14 +438,9 @@ def pure_moment_tip(M, *, length: float, EI: float) -> PRBMResult:
         rho = np.where(theta_exact != 0, length / np.where(theta_exact != 0, theta_exact, 1.0), np.inf)
         a_exact = np.where(theta_exact != 0, rho * np.sin(theta_exact), length)
         b_exact = np.where(theta_exact != 0, rho * (1 - np.cos(theta_exact)), 0.0)
-    out = _scalar_or_array({"a": length - g * length * (1 - np.cos(Theta)), "b": g * length * np.sin(Theta),
-                            "theta0": PURE_MOMENT_C_THETA * Theta, "Theta": Theta, "M": M,
-                            "a_exact": a_exact, "b_exact": b_exact})
-    return PRBMResult(True, "closed form", out,
-                      {"gamma": g, "k": k, "spring_coefficient": PURE_MOMENT_SPRING,
-                       "c_theta": PURE_MOMENT_C_THETA},
-                      "pure end moment, seed 004", time.perf_counter() - t0,
-                      level_converged=np.ones(np.atleast_1d(M).shape, bool))
+    return _scalar_or_array({"a": length - g * length * (1 - np.cos(Theta)), "b": g * length * np.sin(Theta),
+                             "theta0": PURE_MOMENT_C_THETA * Theta, "Theta": Theta, "M": M,
+                             "a_exact": a_exact, "b_exact": b_exact})
 
 
 @checked(positive=('length', 'EI'), finite=('a', 'b', 'theta0'))
@@ -426,8 +474,18 @@ def curved_fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, curvature: fl
     fam = fit_family(family)
     P = np.asarray(P, dtype=float)
     n = np.asarray(n, dtype=float) * np.ones_like(P)
-    gamma, c_theta, K = fam.parameters(np.where(P < 0, -n, n), extrapolate)
     kappa0 = curvature * length
+    if 0 < P.ndim and P.shape == n.shape and P.size <= _SCALAR_LOOP_MAX:  # a few levels: plain floats
+        columns, constants, ok, nit = _curved_levels(P.ravel().tolist(), n.ravel().tolist(), [kappa0] * P.size,
+                                                     length, EI, fam, extrapolate)
+        out = _arrays(columns, P.shape)
+        out.update({"P": P, "n": n})
+        constants = _arrays(constants, P.shape)
+        constants.update({"kappa0": kappa0, "family": fam.name, "assumptions": CURVED_ASSUMPTIONS})
+        return PRBMResult(all(ok), "converged" if all(ok) else "not converged", out, constants,
+                          "initially curved fixed-pinned, seed 000 eqs (53)-(61)", time.perf_counter() - t0, nit,
+                          level_converged=np.array(ok, dtype=bool).reshape(P.shape))
+    gamma, c_theta, K = fam.parameters(np.where(P < 0, -n, n), extrapolate)
     if abs(kappa0) < 1e-12:
         a_i, b_i = length, 0.0
     else:
@@ -448,11 +506,57 @@ def curved_fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, curvature: fl
                             "P": P, "n": n})
     return PRBMResult(bool(np.all(ok)), "converged" if np.all(ok) else "not converged", out,
                       {"gamma": gamma, "c_theta": c_theta, "K_theta": K, "rho": rho, "k": k,
-                       "Theta_i": Theta_i, "kappa0": kappa0, "family": fam.name,
-                       "assumptions": "load relation k(Theta-Theta_i) = F rho l sin(phi-Theta); "
-                                      "theta0 = kappa0 + c_theta (Theta - Theta_i); straight-beam fits"},
+                       "Theta_i": Theta_i, "kappa0": kappa0, "family": fam.name, "assumptions": CURVED_ASSUMPTIONS},
                       "initially curved fixed-pinned, seed 000 eqs (53)-(61)", time.perf_counter() - t0, nit,
                       level_converged=np.atleast_1d(ok))
+
+
+CURVED_ASSUMPTIONS = ("load relation k(Theta-Theta_i) = F rho l sin(phi-Theta); "
+                      "theta0 = kappa0 + c_theta (Theta - Theta_i); straight-beam fits")
+
+
+def _curved_levels(P: list[float], n: list[float], kappa0: list[float], length: float, EI: float, fam,
+                   extrapolate: str) -> tuple[dict[str, list], dict[str, list], list[bool], int]:
+    """``curved_fixed_pinned_tip`` level by level in plain floats, each level with its own kappa0 = l/R_i
+    (``fixed_guided_monotonic_tip`` adds M l/EI): the array arithmetic in the same order, the geometry
+    (a_i, b_i, Theta_i, rho) and the fits once per distinct (kappa0, load ratio).  Returns the output
+    columns (a, b, theta0, Theta), the constants' columns, each level's convergence and the iterations."""
+    fits: dict[float, tuple[float, float, float]] = {}
+    geometry: dict[tuple[float, float], tuple[float, ...]] = {}
+    cols = {key: [] for key in ("a", "b", "theta0", "Theta")}
+    consts = {key: [] for key in ("gamma", "c_theta", "K_theta", "rho", "k", "Theta_i")}
+    ok_levels, nit_max = [], 0
+    for p, m, k0 in zip(P, n, kappa0):
+        key = (k0, -m if p < 0 else m)
+        g = geometry.get(key)
+        if g is None:
+            fit = fits.get(key[1])
+            if fit is None:
+                fit = fits[key[1]] = fam.parameters(key[1], extrapolate)
+            gamma, c_theta, K = fit
+            if abs(k0) < 1e-12:
+                a_i, b_i = length, 0.0
+            else:
+                a_i = length / k0 * math.sin(k0)
+                b_i = length / k0 * (1.0 - math.cos(k0))
+            rho = float(np.hypot(a_i / length - (1.0 - gamma), b_i / length))  # numpy's hypot, as the array path
+            g = geometry[key] = (gamma, c_theta, K, math.atan2(b_i, a_i - length * (1.0 - gamma)), rho,
+                                 rho * K * EI / length)
+        gamma, c_theta, K, Theta_i, rho, k = g
+        F = abs(p) * math.sqrt(1.0 + m * m)
+        phi = Theta_i if p == 0 else math.atan2(p, -m * p)  # absolute direction of (-nP, P)
+        d = phi - Theta_i
+        phi = Theta_i + math.atan2(math.sin(d), math.cos(d))  # the branch of phi within pi of Theta_i
+        Theta, ok, nit = _spring_angle_scalar(F * rho * length, phi, k, Theta_i, 1e-13, 60)
+        nit_max = max(nit_max, nit)
+        ok_levels.append(ok)
+        cols["a"].append(length - gamma * length + rho * length * math.cos(Theta))
+        cols["b"].append(rho * length * math.sin(Theta))
+        cols["theta0"].append(k0 + c_theta * (Theta - Theta_i))
+        cols["Theta"].append(Theta)
+        for name, value in zip(("gamma", "c_theta", "K_theta", "rho", "k", "Theta_i"), (gamma, c_theta, K, rho, k, Theta_i)):
+            consts[name].append(value)
+    return cols, consts, ok_levels, nit_max
 
 
 @checked(positive=('length', 'EI'), finite=('P', 'n'))
@@ -469,6 +573,8 @@ def fixed_guided_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
     """
     t0 = time.perf_counter()
     fam = fit_family(family)
+    if 0 < np.ndim(P) and np.size(P) * np.size(n) <= _SCALAR_LOOP_MAX:  # a few levels: plain floats
+        return _fixed_guided_levels(P, n, length, EI, fam, extrapolate, t0)
     Pabs, n_eff, sign = _mirror(P, n)
     gamma, _, K = fam.parameters(n_eff, extrapolate)
     F = Pabs * np.sqrt(1.0 + n_eff**2)
@@ -486,6 +592,44 @@ def fixed_guided_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
                       level_converged=np.atleast_1d(ok))
 
 
+def _fixed_guided_levels(P, n, length: float, EI: float, fam, extrapolate: str, t0: float) -> PRBMResult:
+    """``fixed_guided_tip`` over a few load levels in plain floats: the array arithmetic level by level in
+    the same order, the fits and the per-ratio constants once per distinct load ratio."""
+    P_list, n_list, shape = _level_lists(P, n)
+    per_ratio: dict[float, tuple[float, ...]] = {}
+    cols = {key: [] for key in ("a", "b", "theta0", "Theta", "M")}
+    consts = {key: [] for key in ("gamma", "K_theta", "k_each")}
+    ok_levels, nit_max = [], 0
+    for p, m in zip(P_list, n_list):
+        sign = -1.0 if p < 0.0 else 1.0
+        n_eff, Pabs = sign * m, abs(p)
+        fit = per_ratio.get(n_eff)
+        if fit is None:
+            gamma, _, K = fam.parameters(n_eff, extrapolate)
+            fit = per_ratio[n_eff] = (gamma, K, math.sqrt(1.0 + n_eff * n_eff), math.atan2(1.0, -n_eff),
+                                      2.0 * gamma * K * EI / length)
+        gamma, K, eta, phi, k = fit
+        Theta, ok, nit = _spring_angle_scalar(Pabs * eta * gamma * length, phi, 2.0 * k, 0.0, 1e-13, 60)
+        nit_max = max(nit_max, nit)
+        ok_levels.append(ok)
+        cols["a"].append(length - gamma * length * (1.0 - math.cos(Theta)))
+        cols["b"].append(sign * (gamma * length * math.sin(Theta)))
+        cols["theta0"].append(0.0)
+        cols["Theta"].append(sign * Theta)
+        cols["M"].append(sign * -(k * Theta + (1.0 - gamma) * length * Pabs / 2.0))
+        consts["gamma"].append(gamma)
+        consts["K_theta"].append(K)
+        consts["k_each"].append(k)
+    out = _arrays(cols, shape)
+    out.update({"P": np.asarray(P, float), "n": np.asarray(n, float)})
+    constants = _arrays(consts, shape)
+    constants["family"] = fam.name
+    ok_all = all(ok_levels)
+    return PRBMResult(ok_all, "converged" if ok_all else "not converged", out, constants,
+                      "fixed-guided (two springs), seed 000 eq (63), seed 004", time.perf_counter() - t0, nit_max,
+                      level_converged=np.array(ok_levels, dtype=bool).reshape(shape))
+
+
 @checked(positive=('length', 'EI'), finite=('P', 'n', 'M', 'curvature'))
 def fixed_guided_monotonic_tip(P, n=0.0, M=0.0, *, length: float, EI: float, curvature: float = 0.0,
                                family="pauly-midha", extrapolate: str = "raise") -> PRBMResult:
@@ -494,18 +638,19 @@ def fixed_guided_monotonic_tip(P, n=0.0, M=0.0, *, length: float, EI: float, cur
     (14), (17), (119)).  Valid only without an inflection point (Table 2.1: P and M of the same
     rotational sense); otherwise use ``prbm.inflection``.
     """
+    t0 = time.perf_counter()
     M = np.asarray(M, dtype=float)
     P = np.asarray(P, dtype=float)
-    kappa0 = M * length / EI + curvature * length
-    results = [curved_fixed_pinned_tip(p, nn, length=length, EI=EI, curvature=kk / length, family=family,
-                                       extrapolate=extrapolate)
-               for p, nn, kk in zip(*np.broadcast_arrays(np.atleast_1d(P), np.atleast_1d(n), np.atleast_1d(kappa0)))]
-    out = {key: np.array([r.outputs[key] for r in results]) for key in results[0].outputs}
+    levels = [v.ravel().tolist() for v in np.broadcast_arrays(np.atleast_1d(P), np.atleast_1d(n), np.atleast_1d(M))]
+    P_list, n_list = levels[0], levels[1]
+    # kappa0 = M l/EI + l/R_i, through the curvature kappa0/l and back, as the per-level solve receives it
+    kappa0 = [(m * length / EI + curvature * length) / length * length for m in levels[2]]
+    columns, _, ok, _ = _curved_levels(P_list, n_list, kappa0, length, EI, fit_family(family), extrapolate)
+    out = _arrays({**columns, "P": P_list, "n": n_list}, (len(P_list),))
     out["M"] = np.broadcast_to(M, out["a"].shape).copy()
-    return PRBMResult(all(r.converged for r in results), "monotonic curvature, kappa0 = M l/EI", out,
-                      {"kappa0": np.array([r.constants["kappa0"] for r in results])},
-                      "fixed-guided monotonic, seed 000 eq (62)", sum(r.wall_time for r in results),
-                      level_converged=np.array([r.converged for r in results]))
+    return PRBMResult(all(ok), "monotonic curvature, kappa0 = M l/EI", out, {"kappa0": np.array(kappa0)},
+                      "fixed-guided monotonic, seed 000 eq (62)", time.perf_counter() - t0,
+                      level_converged=np.array(ok, dtype=bool))
 
 
 @checked(positive=('flexure_length', 'rigid_length', 'EI'), finite=('P', 'n', 'curvature'))

@@ -9,6 +9,11 @@ computed once.  pytest-xdist marks a grouped test by appending ``@name`` to its 
 workers (``item._nodeid``); pytest 9 keeps the node id in ``item._id`` instead, so that assignment is
 lost and every group is silently spread over both workers.  ``pytest_collection_modifyitems`` below
 appends the suffix where pytest 9 reads it (and does nothing where xdist's own suffix took).
+
+Load balance: xdist hands the work units (a group, or one test) out one at a time in collection order
+(``--no-loadscope-reorder`` in pyproject keeps that order), so a long test collected last can leave one
+worker running alone at the end.  ``LONGEST_FIRST`` lists the tests measured slowest, longest first; they
+are moved to the front (stable: everything else keeps its order; a module's or group's tests stay together).
 """
 import os
 
@@ -31,7 +36,42 @@ def group_suffix(item) -> str:
     return "@" + "_".join(sorted(names)) if names else ""
 
 
+# Node-id fragments of the slowest tests, longest first (measured with --durations; update when they change).
+LONGEST_FIRST = (
+    "test_synthesis.py::test_printed_numbers[bapat2015_ch5_ex2]",
+    "test_synthesis.py::test_chapter5_unsolvable_beam_is_a_message",
+    "tests/test_report.py::",
+    "test_quantity_contract.py::test_every_method_meets_linear_theory_in_the_small_load_limit",
+    "test_library_use.py::test_plugin_",
+    "test_cases.py::test_case[example3_0]",
+    "test_synthesis.py::test_printed_numbers[bapat2015_ch5_ex3]",
+    "test_prbm_chapter2_models.py::test_chain_inverse_converges_where_the_inverse_is_ill_conditioned",
+    "tests/test_layout.py::",
+    "test_compiled_cache.py::",
+    "test_exit_status.py::test_report_follows_the_rule",
+    "test_exit_status_verbs.py::test_bench_",
+    "test_startup_and_schedule.py::",
+    "test_fem_kernel.py::test_kernel_equals_the_numpy_element_on_random_states",
+    "test_bench.py::",
+    "test_cases.py::test_case[test1",
+    "test_cases.py::test_case[cantilever_uniform_load]",
+    "test_fem_model.py::",
+    "tests/test_paraview.py::",
+    "test_same_problem.py::test_the_coupler_prbm",
+    "test_synthesis.py::test_fem_check_beside_printed_ansys",
+    "test_method_options.py::test_an_edit_invalidates_the_cache",
+    "test_sweep.py::test_thousand_points_locally_and_on_dask_identical",
+    "test_cases.py::test_case[example2",
+    "test_cases.py::test_case[example3",
+)
+
+
+def _rank(nodeid: str) -> int:
+    return next((i for i, fragment in enumerate(LONGEST_FIRST) if fragment in nodeid), len(LONGEST_FIRST))
+
+
 def pytest_collection_modifyitems(config, items):
+    items.sort(key=lambda item: _rank(item.nodeid))   # stable: the rest keep their order
     if NodeId is None or not getattr(config.option, "loadgroup", False):
         return
     for item in items:

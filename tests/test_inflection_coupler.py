@@ -82,3 +82,26 @@ def test_two_equal_segments_side_by_side_balance_at_the_single_answer():
     one = solve_coupler([seg], drive)
     assert float(both.outputs["t"]) == pytest.approx(float(one.outputs["t"]), abs=1e-9)
     assert float(both.outputs["strain_energy"]) == pytest.approx(2 * float(one.outputs["strain_energy"]), rel=1e-6)
+
+
+@pytest.mark.parametrize("family", ["pauly-midha", "howell"])
+def test_the_root_finders_float_kernel_is_the_numpy_state(family):
+    """The plain-float state the root finders iterate on (``prbm.inflection._point_state``, F from eq 95 by
+    ``_point_force``) is eqs (95)-(104) as ``inflection_state`` evaluates them: every output at points across
+    and outside the fits' range, phi1 = pi/2 (n = 0), phi1 = pi (sin = 0: n infinite), theta10 = 0."""
+    import numpy as np
+    from prbm.inflection import _force_from_95, _point_force, _point_state, inflection_state
+
+    beam = InflectionBeam(7.4, 85.0, family)
+    rng = np.random.default_rng(5)
+    points = [(rng.uniform(0.05, 3.1), rng.uniform(-1.4, 1.4), rng.uniform(0.3, 7.1), rng.uniform(-1, 1.5))
+              for _ in range(200)] + [(math.pi / 2, 0.1, 3.0, 0.5), (math.pi, 0.2, 3.0, 0.4), (1.0, 0.0, 3.0, 0.0)]
+    for phi1, theta0, l1, theta10 in points:
+        with np.errstate(all="ignore"):
+            F = float(_force_from_95(beam, phi1, l1, theta10))
+            want = {k: float(v) for k, v in inflection_state(beam, F, phi1, theta0, l1, theta10).items()}
+        assert _point_force(beam, phi1, l1, theta10) == pytest.approx(F, rel=1e-12, nan_ok=True)
+        got = _point_state(beam, F, phi1, theta0, l1, theta10)
+        assert got.keys() == want.keys()
+        for key, value in want.items():
+            assert got[key] == pytest.approx(value, rel=1e-12, abs=1e-300, nan_ok=True), (key, phi1, theta0)

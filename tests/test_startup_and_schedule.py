@@ -116,3 +116,7 @@ def test_a_primer_compiles_without_keeping_its_run(tmp_path, monkeypatch):
     assert cache.load(key) is None
     parallel.run_path(path, ["prbm"], use_cache=True)
     assert cache.load(key) is not None          # an ordinary run is kept (the check can fail)
+
+
+def test_the_lazy_export_table_names_exactly_the_public_names():
+    assert set(prbm._EXPORTS) == set(prbm.__all__)  # a missing comma once glued two names into one key

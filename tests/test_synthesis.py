@@ -288,3 +288,22 @@ def test_chapter5_unsolvable_beam_is_a_message(tmp_path, capsys, monkeypatch):
     status = synthesize(path, tmp_path)
     out = capsys.readouterr().out
     assert status == 1 and "beam2" in out and "no fixed-guided beam" in out
+
+
+@pytest.mark.parametrize("energy, force, fixed", [
+    (None, None, {"Theta3_2": 20.0, "Theta3_3": 29.0, "R2_2": 2.0}),
+    ([20.0, 40.0], None, {"Theta3_2": 20.0, "Theta3_3": 29.0}),
+    (None, [3.0, 5.0], {}),
+])
+def test_framework_jacobian_matches_finite_differences(energy, force, fixed):
+    """The analytic Jacobian of eqs (160), (163)-(167) that the least-squares search uses equals a
+    central difference of the residual (a wrong sign or factor in any entry is 1e-1 off, not 1e-7)."""
+    from scipy.optimize._numdiff import approx_derivative
+    from prbm.synthesis.framework import _framework
+
+    problem = _framework(90.0, [-1.5 - 0.5j, -2 - 1j], [-10.0, -20.0], [-1.0, 0.5], fixed, energy, force)
+    rng = np.random.default_rng(3)
+    x = np.array([rng.uniform(10, 60) if n.startswith("Theta") else 2.0 if n == "EI" else rng.uniform(1, 3)
+                  for n in problem.names])
+    numeric = approx_derivative(lambda y: np.array(problem.residual(y)), x, method="3-point")
+    assert np.max(np.abs(problem.jacobian(x) - numeric)) <= 1e-7 * np.max(np.abs(numeric))

@@ -96,6 +96,49 @@ class _Framework:
                            - K2 * (T3 - gam))
         return out
 
+    def jacobian(self, x) -> np.ndarray:
+        """d residual / d x, analytically (the unknowns' angles in degrees, EI as its logarithm)."""
+        v = self.unpack(x)
+        col = {name: k for k, name in enumerate(self.names)}
+        EI = math.exp(v["EI"]) if self.need_EI else 1.0
+        rows: list[dict[str, float | complex]] = []
+        e1 = cmath.exp(1j * self.th1)
+        e5 = cmath.exp(1j * v["Theta5_rad"])
+        for i, j in enumerate(self.js):
+            g1, c1, K1 = self.P1[i]
+            g2, c2, K2 = self.P2[i]
+            gam = self.gam[i]
+            R2, R3 = v[f"R2_{j}"], v[f"R3_{j}"]
+            T2, T3 = v[f"Theta2_{j}_rad"], v[f"Theta3_{j}_rad"]
+            eg, e2, e3 = cmath.exp(1j * gam), cmath.exp(1j * T2), cmath.exp(1j * T3)
+            loop = {f"R2_{j}": e1 * ((1 - g1) / g1 + e2), f"Theta2_{j}": R2 * e1 * 1j * e2 * DEG,
+                    f"R3_{j}": e1 * ((1 - g2) / g2 * eg + e3), f"Theta3_{j}": R3 * e1 * 1j * e3 * DEG,
+                    "R5": e5 * (eg - 1), "Theta5": v["R5"] * 1j * e5 * (eg - 1) * DEG, "R6": -e1}
+            rows += [{k: d.real for k, d in loop.items()}, {k: d.imag for k, d in loop.items()},
+                     {f"R2_{j}": 1 / g1, f"R3_{j}": 1 / g2, "R6": -1.0},
+                     {f"Theta2_{j}": c1 * DEG, f"Theta3_{j}": -c2 * DEG}]
+            if self.energy is not None:
+                k2, k3 = g1 * g1 * K1 * EI, g2 * g2 * K2 * EI
+                U = 0.5 * (k2 / R2 * T2 ** 2 + k3 / R3 * (T3 - gam) ** 2)
+                rows.append({f"R2_{j}": -0.5 * k2 * T2 ** 2 / R2 ** 2 / self.energy[i],
+                             f"Theta2_{j}": k2 / R2 * T2 * DEG / self.energy[i],
+                             f"R3_{j}": -0.5 * k3 * (T3 - gam) ** 2 / R3 ** 2 / self.energy[i],
+                             f"Theta3_{j}": k3 / R3 * (T3 - gam) * DEG / self.energy[i], "EI": U / self.energy[i]})
+            if self.force is not None:
+                F = self.force[i]
+                s2, s3 = math.sin(self.phi1[i] - T2), math.sin(self.phi2[i] - T3 + gam)
+                a2, a3 = F * R2 ** 2 / (EI * g1 * g1), F * R3 ** 2 / (EI * g2 * g2)
+                rows.append({f"R2_{j}": 2 * a2 / R2 * s2, "EI": -a2 * s2,
+                             f"Theta2_{j}": (-a2 * math.cos(self.phi1[i] - T2) - K1) * DEG})
+                rows.append({f"R3_{j}": 2 * a3 / R3 * s3, "EI": -a3 * s3,
+                             f"Theta3_{j}": (-a3 * math.cos(self.phi2[i] - T3 + gam) - K2) * DEG})
+        J = np.zeros((len(rows), len(self.names)))
+        for r, row in enumerate(rows):
+            for name, d in row.items():
+                if name in col:
+                    J[r, col[name]] = d
+        return J
+
     def bounds(self, scale: float) -> tuple[list[float], list[float]]:
         def low(n: str) -> float:
             return -30.0 if n == "EI" else -180.0 if n == "Theta5" else -89.0 if n.startswith("Theta") else 1e-6
@@ -166,7 +209,7 @@ def solve_framework(*, theta1: float, delta: list[complex], gamma: list[float], 
     for start in itertools.product((2.0, 4.0, 8.0), (0.3, 1.0), range(-150, 180, 60), (0.3, 0.6), (10.0, 25.0)):
         x0 = np.clip(problem.guess(scale, *start), np.array(bounds[0]) + 1e-9, np.array(bounds[1]) - 1e-9)
         try:
-            res = least_squares(problem.residual, x0, bounds=bounds, xtol=1e-14, ftol=1e-14, gtol=1e-14,
+            res = least_squares(problem.residual, x0, jac=problem.jacobian, bounds=bounds, xtol=1e-14, ftol=1e-14, gtol=1e-14,
                                 max_nfev=400)
         except (ValueError, OverflowError, ZeroDivisionError):
             continue

@@ -240,9 +240,10 @@ def _run_inverse(case: Case, spec: InverseSpec, requests: list[Request], options
         if problem.moment_constraints:
             force, moment = _start_loads(case, level)
             if force != (0.0, 0.0) or moment != 0.0:
-                start = loaded_start(problem, force, moment, **{k: v for k, v in kwargs.items() if k == "rtol"})
+                start = loaded_start(problem, force, moment, n_samples=2,
+                                     **{k: v for k, v in kwargs.items() if k == "rtol"})
                 start = start if start.converged else None
-        res = solve_path(problem, start=start, **kwargs)
+        res = solve_path(problem, start=start, n_samples=2, **kwargs)     # loads only: no shape
         ok[level], msg[level] = res.converged, res.message
         loads = {"force_x": res.force[0], "force_y": res.force[1], "moment": res.moment}
         for req in requests:
@@ -286,8 +287,8 @@ def _run_forward(case: Case, requests: list[Request], options: dict) -> MethodRu
             problem, force, moment = problems[level]
             start = None
             if force != (0.0, 0.0) or moment != 0.0:
-                start = loaded_start(problem, force, moment, **{k: v for k, v in kwargs.items()
-                                                               if k == "rtol"})
+                start = loaded_start(problem, force, moment, n_samples=2,
+                                     **{k: v for k, v in kwargs.items() if k == "rtol"})
                 start = start if start.converged else None
             res = solve_path(problem, start=start, n_samples=samples, **kwargs)
         else:

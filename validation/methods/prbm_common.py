@@ -17,16 +17,21 @@ DEG = math.pi / 180.0
 
 
 def pick(out: dict, requests, what: str) -> dict:
-    """The requested values from ``out`` (quantity -> its levels, or one value for every level)."""
+    """The requested values from ``out`` (quantity -> its levels as a list of floats or an array, or one
+    value for every level)."""
     values = {}
     columns = {}  # quantity -> its levels as plain floats (one conversion per quantity, not per request)
     for req in requests:
-        column = columns.get(req.quantity)
+        quantity, _, level = req
+        column = columns.get(quantity)
         if column is None:
-            if req.quantity not in out:
-                raise NotApplicable(f"the PRBM gives no '{req.quantity}' for this {what}")
-            column = columns[req.quantity] = np.atleast_1d(out[req.quantity]).ravel().tolist()
-        values[req] = float(column[req.level] if len(column) > 1 else column[0])
+            if quantity not in out:
+                raise NotApplicable(f"the PRBM gives no '{quantity}' for this {what}")
+            column = out[quantity]
+            if type(column) is not list:
+                column = np.atleast_1d(column).ravel().tolist()
+            columns[quantity] = column
+        values[req] = float(column[level] if len(column) > 1 else column[0])
     return values
 
 
@@ -34,6 +39,21 @@ def per_level(v, n: int) -> np.ndarray:
     """v as an array over the n load levels (a scalar repeated); np.broadcast_to without its overhead."""
     v = np.asarray(v)
     return v if v.shape == (n,) else np.broadcast_to(v, (n,))
+
+
+def levels(v, n: int) -> list:
+    """v over the n load levels as a list of Python numbers (a scalar or a one-element array repeated)."""
+    kind = type(v)
+    if kind is list and len(v) == n:
+        return v
+    if kind is float:
+        return [v] * n
+    v = np.asarray(v)
+    if v.shape == (n,):
+        return v.tolist()
+    if v.size == 1 and v.ndim <= 1:  # one value for every level (np.broadcast_to without its cost)
+        return [v.reshape(()).item()] * n
+    return np.broadcast_to(v, (n,)).tolist()
 
 
 def plain(d: dict) -> dict:

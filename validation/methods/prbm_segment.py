@@ -1,0 +1,316 @@
+"""PRBM adapter, single segments under end loads: a case -> the segment models of ``prbm.segments`` ->
+the requested outputs.
+
+Frames: x along the undeformed segment from the fixed end, force = values * direction, CCW moments.
+The tip loads of each level are summed into (F_x, F_y, M); the PRBM load ratio follows as P = F_y,
+n = -F_x/F_y (seed 000: end force (-nP, P)).
+
+* fixed-free / fixed-pinned, straight: force only -> ``fixed_pinned_tip`` (eqs 41-49; options
+  ``family`` = 'pauly-midha' (default) or 'howell' (seed 004), ``extrapolate``); moment only ->
+  ``pure_moment_tip`` (seed 004); force and moment -> ``fixed_guided_monotonic_tip`` (equivalent
+  initial curvature, valid without inflection); follower force -> ``composite_beam_tip(follower=True)``.
+  A 'layers' section uses EI = sum E_i I_i (sliding layers).  Options ``friction_mu`` and
+  ``contact_angle_deg`` apply the capstan factor exp(-mu beta) (eq 211) to the forces.
+* fixed-free, initially curved: ``curved_fixed_pinned_tip`` (eqs 53-61).
+* fixed-guided without a model: force only -> ``fixed_guided_tip`` (two springs, eq 63); with a
+  moment -> ``fixed_guided_monotonic_tip``.
+Outputs: x = a, y = b, dx, dy (from the unloaded tip), rotation = theta0 (deg), force_x = -nP,
+force_y = P, moment (CCW), prb_angle (deg), strain_energy (PRBM springs).
+Applicability (issue 14 item 3; ``MethodRun.applicability``, per level): ``INFLECTION`` where a force
+and an end moment bend the PRBM's deformed state through an inflection point (tip and root moments of
+opposite signs: Table 2.1 and eq (12)) while the monotonic model (eq 62) was used; ``LOAD_RATIO`` where
+n lies outside the fit family's range (only reached with ``extrapolate`` = 'warn' or 'allow'; 'raise'
+refuses the case); ``DEFLECTION`` where |Theta - Theta_i| passes the fits' printed 65 deg (eqs 51-52).
+Shapes: ``extras['shapes']`` holds, per level, the PRB links as (n, 2) polylines in the case frame:
+fixed-pinned segment root -> pivot -> tip; two-spring fixed-guided root -> pivot -> pivot -> tip.
+
+Speed (issue 15 item 5): a case has a few load levels, so everything between the case and the library
+call, and between the library's result and the requested values, is plain Python floats level by level
+(a numpy call costs about a microsecond whatever the length of a 10-level array); the library is called
+once over all the levels.  The arithmetic is that of the array expressions it replaces, in the same
+order, so the values are the same to the last bit.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+import prbm
+from prbm.fits import THETA_RANGE, fit_family
+from prbm.result import PRBMResult
+from validation.case.quantities import boundary_held_tip, unloaded_tip_angle
+from validation.methods.base import Applicability, MethodRun, NotApplicable
+from validation.methods.prbm_common import levels, pick, plain
+
+INFLECTION_WARNING = ("inflection point expected: the bending moment changes sign between tip and root "
+                      "(seed 000 Table 2.1, eq (12)); the monotonic-curvature PRBM (eq 62) does not fit this load, "
+                      "use segment.model = 'inflection' (fixed-guided)")
+
+
+@dataclass
+class TipLoads:
+    """The end loads of every level, summed, in the segment frame (x along the undeformed segment), as
+    plain floats; whether any level has a transverse force or an end moment."""
+
+    Fx: list[float]
+    Fy: list[float]
+    M: list[float]
+    follower: bool
+    has_force: bool
+    has_moment: bool
+
+    def ratio(self) -> list[float]:
+        """The load ratio n = -F_x/F_y of every level (0 where F_y = 0; a purely axial force is refused)."""
+        ratio = []
+        for fx, fy in zip(self.Fx, self.Fy):
+            if fy == 0.0 and fx != 0.0:
+                raise NotApplicable("a purely axial end force: outside every PRBM n-fit (n infinite)")
+            ratio.append(-fx / fy if fy != 0.0 else 0.0)
+        return ratio
+
+    def scaled(self, factor: float) -> "TipLoads":
+        """The forces times ``factor`` (the capstan factor), the moments unchanged."""
+        return TipLoads([f * factor for f in self.Fx], [f * factor for f in self.Fy], self.M, self.follower,
+                        self.has_force, self.has_moment)
+
+
+def tip_loads(case, n: int) -> TipLoads:
+    """The case's tip loads summed per level (0 + each load's value times its direction component)."""
+    Fx = Fy = M = [0.0] * n
+    follower = False
+    for i, load in enumerate(case.loads):
+        if load.point != "tip":
+            raise NotApplicable(f"loads.{i} acts on '{load.point}'; the segment PRBMs take end loads only")
+        values = load.levels()
+        if load.kind == "force":
+            dx, dy = float(load.direction[0]), float(load.direction[1])
+            Fx = [f + v * dx for f, v in zip(Fx, values)]
+            Fy = [f + v * dy for f, v in zip(Fy, values)]
+            follower |= load.follower
+        elif load.kind == "moment":
+            M = [m + float(v) for m, v in zip(M, values)]
+        else:
+            raise NotApplicable(f"a prescribed {load.kind} at the tip: give the PRBM inverse inputs in "
+                                "[methods.prbm] options instead")
+    return TipLoads(Fx, Fy, M, follower, any(f != 0.0 for f in Fy), any(m != 0.0 for m in M))
+
+
+@dataclass
+class SegmentSolve:
+    """A segment model's result, the unloaded tip (a0, b0) and what the adapter says about the choice."""
+
+    res: PRBMResult
+    a0: float
+    b0: float
+    message: str = ""
+
+
+@dataclass(frozen=True)
+class FitOptions:
+    """The fit options every segment model takes: ``family`` and ``extrapolate``."""
+
+    family: str
+    extrapolate: str
+
+
+def run_segment(case, requests, options: dict, n: int) -> tuple[dict, MethodRun]:
+    """The requested values and the run of a single segment under end loads (not the inflection model)."""
+    seg = case.segment
+    L, EI, kappa = seg.length, seg.bending_stiffness(), seg.initial_curvature()
+    fit = FitOptions(options.get("family", "pauly-midha"), options.get("extrapolate", "raise"))
+    loads = tip_loads(case, n)
+    mu, contact = options.get("friction_mu", 0.0), options.get("contact_angle_deg", 0.0)
+    if mu or contact:
+        capstan = prbm.capstan_factor(float(mu), math.radians(float(contact)))
+        if capstan != 1.0:
+            loads = loads.scaled(capstan)
+    ratio = loads.ratio()
+    if seg.boundary in ("fixed-free", "fixed-pinned") and kappa == 0.0:
+        solved = _free_straight(loads, ratio, L, EI, fit)
+    elif seg.boundary in ("fixed-free", "fixed-pinned"):
+        solved = _free_curved(loads, ratio, L, EI, kappa, fit)
+    elif seg.boundary in ("fixed-guided", "fixed-fixed"):
+        solved = _guided(case, loads, ratio, L, EI, kappa, fit)
+    else:
+        raise NotApplicable(f"boundary '{seg.boundary}' as a single segment case: the seeds' curved "
+                            "pinned-pinned PRBM (prbm.curved_pinned_pinned) takes a chord force only")
+    wanted = {r.quantity for r in requests}
+    if loads.has_moment:  # the inflection check below reads the forces the tip receives
+        wanted |= {"force_x", "force_y"}
+    out = _segment_outputs(case, loads, solved, n, wanted)
+    res = solved.res
+    info = MethodRun(values={}, converged=bool(res.converged), message=solved.message or res.message)
+    lc = res.level_converged
+    if lc is not None and np.size(lc) in (1, n):
+        info.level_converged = dict(enumerate(levels(lc, n)))
+    info.extras = {"model": res.model, "constants": plain(res.constants)}
+    if loads.has_moment:  # no end moment: the bending moment cannot change sign (eq 12)
+        _warn_inflection(info, loads.M, out["force_x"], out["force_y"], out["x"], out["y"], solved.a0, solved.b0)
+    _flag_fit_range(info, loads, ratio, res, fit, n)
+    shapes = _segment_shapes(seg, res, n, kappa)
+    if shapes:
+        info.extras["shapes"] = shapes
+    return pick(out, requests, "segment"), info
+
+
+def _free_straight(loads: TipLoads, ratio: list[float], L: float, EI: float, fit: FitOptions) -> SegmentSolve:
+    """A straight fixed-free (fixed-pinned) segment: the model that fits its load (module docstring)."""
+    kw = {"length": L, "EI": EI, "family": fit.family, "extrapolate": fit.extrapolate}
+    has_F, has_M = loads.has_force, loads.has_moment
+    if loads.follower:
+        if has_M:
+            raise NotApplicable("follower force with an end moment: no PRBM in the seeds")
+        loaded = [r for r, fy in zip(ratio, loads.Fy) if fy != 0.0]  # an unloaded level has no ratio
+        if loaded and not all(abs(r - loaded[0]) <= 1e-8 + 1e-5 * abs(loaded[0]) for r in loaded):  # np.allclose
+            raise NotApplicable("follower force with a varying load ratio")
+        return SegmentSolve(prbm.composite_beam_tip(np.array(loads.Fy), loaded[0] if loaded else 0.0,
+                                                    follower=True, **kw), L, 0.0)
+    if has_F and has_M:
+        return SegmentSolve(prbm.fixed_guided_monotonic_tip(np.array(loads.Fy), np.array(ratio), np.array(loads.M),
+                                                            **kw), L, 0.0,
+                            "force and moment: equivalent initial curvature kappa0 = M l/EI (eq 62), no inflection")
+    if has_M:
+        return SegmentSolve(prbm.pure_moment_tip(np.array(loads.M), length=L, EI=EI), L, 0.0)
+    return SegmentSolve(prbm.fixed_pinned_tip(np.array(loads.Fy), np.array(ratio), **kw), L, 0.0)
+
+
+def _free_curved(loads: TipLoads, ratio: list[float], L: float, EI: float, kappa: float,
+                 fit: FitOptions) -> SegmentSolve:
+    """An initially curved fixed-free segment (eqs 53-61); an end moment adds to the curvature (eq 62)."""
+    if loads.follower:
+        raise NotApplicable("a follower force on an initially curved segment: no PRBM in the seeds")
+    kw = {"length": L, "EI": EI, "family": fit.family, "extrapolate": fit.extrapolate}
+    if loads.has_moment:
+        res = _stack([prbm.curved_fixed_pinned_tip(fy, r, curvature=m / EI + kappa, **kw)
+                      for fy, r, m in zip(loads.Fy, ratio, loads.M)])
+    else:
+        res = prbm.curved_fixed_pinned_tip(np.array(loads.Fy), np.array(ratio), curvature=kappa, **kw)
+    return SegmentSolve(res, math.sin(kappa * L) / kappa, (1 - math.cos(kappa * L)) / kappa)
+
+
+def _guided(case, loads: TipLoads, ratio: list[float], L: float, EI: float, kappa: float,
+            fit: FitOptions) -> SegmentSolve:
+    """A straight fixed-guided segment: two springs (eq 63), or monotonic with an end moment (eq 62)."""
+    translations = [dof for dof in boundary_held_tip(case) if dof != "rz"]
+    if translations:
+        raise NotApplicable(f"fixed-fixed tip with {', '.join(translations)} held: the seeds' "
+                            "fixed-guided PRBMs leave the tip free to translate")
+    if kappa != 0.0:
+        raise NotApplicable("initially curved fixed-guided segment without model = 'inflection'")
+    if loads.follower:
+        raise NotApplicable("a follower force on a fixed-guided segment: no PRBM in the seeds")
+    kw = {"length": L, "EI": EI, "family": fit.family, "extrapolate": fit.extrapolate}
+    if loads.has_moment:
+        return SegmentSolve(prbm.fixed_guided_monotonic_tip(np.array(loads.Fy), np.array(ratio), np.array(loads.M),
+                                                            **kw), L, 0.0)
+    res = prbm.fixed_guided_tip(np.array(loads.Fy), np.array(ratio), **kw)
+    res.constants["k"] = 2.0 * np.asarray(res.constants["k_each"])  # U = 2 (k_each Theta^2/2)
+    return SegmentSolve(res, L, 0.0)
+
+
+def _segment_outputs(case, loads: TipLoads, solved: SegmentSolve, n: int, wanted: set[str]) -> dict:
+    """The ``wanted`` outputs of a segment over the levels (always x, y), as lists of floats, under the
+    quantity contract (validation/case/quantities.py): rotation from the unloaded tangent angle, a held
+    tip freedom reports the load that holds it."""
+    seg = case.segment
+    res = solved.res
+    o = res.outputs
+    a, b = levels(o["a"], n), levels(o["b"], n)
+    out = {"x": a, "y": b, "moment": loads.M}
+    if "dx" in wanted:
+        out["dx"] = [v - solved.a0 for v in a]
+    if "dy" in wanted:
+        out["dy"] = [v - solved.b0 for v in b]
+    if wanted & {"rotation", "force_x", "force_y"}:
+        unloaded = unloaded_tip_angle(seg.length, seg.initial_curvature())
+        rotation = [t - unloaded for t in levels(o["theta0"], n)]
+        Fx, Fy = loads.Fx, loads.Fy
+        if loads.follower:  # the force the tip receives has turned with it
+            r, fx, fy = np.array(rotation), np.array(Fx), np.array(Fy)
+            Fx, Fy = (fx * np.cos(r) - fy * np.sin(r)).tolist(), (fx * np.sin(r) + fy * np.cos(r)).tolist()
+        out.update({"force_x": Fx, "force_y": Fy, "rotation": [math.degrees(t) for t in rotation]})
+    if "rz" in boundary_held_tip(case):
+        if "M" not in o:
+            raise NotApplicable(f"the PRBM ({res.model}) gives no moment holding the {seg.boundary} tip")
+        out["moment"] = levels(o["M"], n)
+    if "Theta" in o and wanted & {"prb_angle", "strain_energy"}:
+        Theta = levels(o["Theta"], n)
+        out["prb_angle"] = [math.degrees(t) for t in Theta]
+        k = res.constants.get("k")
+        if k is not None:
+            Ti = levels(res.constants.get("Theta_i", 0.0), n)
+            out["strain_energy"] = [0.5 * kk * ((t - ti) * (t - ti)) for kk, t, ti in zip(levels(k, n), Theta, Ti)]
+    return out
+
+
+def _flag_fit_range(info: MethodRun, loads: TipLoads, ratio: list[float], res: PRBMResult, fit: FitOptions,
+                    n: int) -> None:
+    """Flag the levels a model with the n-fits (seed 000 eqs 41-43, seed 004) solved outside the fits'
+    ranges: the load ratio n outside the family's published range (reached only with ``extrapolate``
+    'warn' or 'allow'; 'raise' refuses the case), or the PRB angle |Theta - Theta_i| past the printed
+    Theta range of the fits (``prbm.fits.THETA_RANGE``, 65 deg)."""
+    if "K_theta" not in res.constants or "family" not in res.constants or not loads.has_force:
+        return  # not a model of the n-fits (pure moment: its own constants, seed 004)
+    if fit.extrapolate != "raise":  # with 'raise' a ratio outside the fits has refused the case already
+        family = fit_family(res.constants["family"])
+        lower, upper = family.lower, family.upper
+        for level, (r, fy) in enumerate(zip(ratio, loads.Fy)):
+            effective = -r if fy < 0 else r  # the fits are evaluated at the mirrored ratio for P < 0
+            if fy != 0 and not (lower < effective <= upper):
+                info.flag(level, Applicability.LOAD_RATIO)
+    if "Theta" in res.outputs:
+        Ti = levels(res.constants.get("Theta_i", 0.0), n)
+        for level, (t, ti) in enumerate(zip(levels(res.outputs["Theta"], n), Ti)):
+            if abs(t - ti) > THETA_RANGE:
+                info.flag(level, Applicability.DEFLECTION)
+
+
+def _warn_inflection(info: MethodRun, M, Fx, Fy, a, b, a0: float, b0: float) -> None:
+    """Mark the levels whose end force and moment give an inflection point: the moment at the tip (M) and
+    at the root (M + F_y a - F_x b) of opposite signs (Table 2.1's opposite senses, and the sufficient
+    condition (12)), on the PRBM's own deformed state or on the unloaded one (a0, b0): the monotonic
+    model's state can land on the branch without the inflection that the beam has."""
+    inflected = [level for level, (m, fx, fy, x, y) in enumerate(zip(M, Fx, Fy, a, b))
+                 if m * (m + fy * x - fx * y) < 0 or m * (m + fy * a0 - fx * b0) < 0]
+    for level in inflected:
+        info.level_messages[level] = INFLECTION_WARNING
+        info.flag(level, Applicability.INFLECTION)
+    if inflected:
+        info.extras["inflection_levels"] = inflected
+
+
+def _stack(results: list[PRBMResult]) -> PRBMResult:
+    """One result over the levels from one result per level."""
+    keys = results[0].outputs.keys()
+    out = {k: np.array([float(r.outputs[k]) for r in results]) for k in keys}
+    return PRBMResult(all(r.converged for r in results), results[0].message, out, results[0].constants,
+                      results[0].model, level_converged=np.array([r.converged for r in results]))
+
+
+def _segment_shapes(seg, res: PRBMResult, n: int, kappa: float) -> list | None:
+    """Per level, the PRB links of a single-segment case in the case frame (fixed end at the origin).
+
+    Fixed-free / fixed-pinned (straight): root -> characteristic pivot (1 - gamma) l -> tip.
+    Fixed-guided, two springs (eq 63): root -> pivot (1 - gamma) l/2 -> + gamma l e^{i Theta} -> tip.
+    Other models (curved, monotonic fixed-guided, composite, pure moment) give no chain here."""
+    o, c = res.outputs, res.constants
+    if kappa != 0.0 or "Theta" not in o or "gamma" not in c:
+        return None
+    guided = seg.boundary in ("fixed-guided", "fixed-fixed")
+    if guided and any(t != 0.0 for t in levels(o.get("theta0", 0.0), n)):
+        return None
+    L = seg.length
+    gamma, Theta, a, b = (levels(v, n) for v in (c["gamma"], o["Theta"], o["a"], o["b"]))
+    points = []  # (level, point, x/y) flattened: one array for all the levels, each level's polyline a view
+    if guided:
+        cos, sin = np.cos(Theta).tolist(), np.sin(Theta).tolist()
+        for g, ct, st, x, y in zip(gamma, cos, sin, a, b):
+            p1 = (1 - g) * L / 2
+            points += (0.0, 0.0, p1, 0.0, p1 + g * L * ct, g * L * st, x, y)
+    else:
+        for g, x, y in zip(gamma, a, b):
+            points += (0.0, 0.0, (1 - g) * L, 0.0, x, y)
+    chains = np.array(points).reshape(n, -1, 2)
+    return [[chains[i]] if math.isfinite(g + t + x + y) else [] for i, (g, t, x, y) in enumerate(zip(gamma, Theta, a, b))]
