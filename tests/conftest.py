@@ -14,8 +14,16 @@ Load balance: xdist hands the work units (a group, or one test) out one at a tim
 (``--no-loadscope-reorder`` in pyproject keeps that order), so a long test collected last can leave one
 worker running alone at the end.  ``LONGEST_FIRST`` lists the tests measured slowest, longest first; they
 are moved to the front (stable: everything else keeps its order; a module's or group's tests stay together).
+
+Bytecode: with PYTHONDONTWRITEBYTECODE set in the environment, every worker re-compiles every module and
+pytest re-rewrites the asserts of every test module on every run (collection 12 s instead of 6.7 s a
+worker, measured). The test processes write their bytecode caches whatever that variable says; a
+read-only tree only means the caches are not written.
 """
 import os
+import sys
+
+sys.dont_write_bytecode = False
 
 for _name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_name, "1")
