@@ -185,20 +185,24 @@ def _plot_outputs(result: CaseResult, table: pd.DataFrame, folder: Path) -> list
     return [name]
 
 
+def _joined(polylines: list[np.ndarray]) -> np.ndarray:
+    """Polylines as one (n, 2) array with a NaN row between them: one line to draw instead of many."""
+    parts = [np.vstack([line[:, :2], [[np.nan, np.nan]]]) for line in polylines if line.size]
+    return np.concatenate(parts) if parts else np.zeros((0, 2))
+
+
 def _plot_shapes(result: CaseResult, folder: Path) -> str | None:
-    """Deformed shapes: FEM beams as curves, PRB links dashed, measured tip points as markers."""
+    """Deformed shapes: FEM beams as curves, PRB links dashed, measured tip points as markers; every
+    level of a method as one line (NaN-separated), not one line per polyline."""
     shapes = {m: normalise_shapes(r.extras["shapes"]) for m, r in result.runs.items() if r.extras.get("shapes")}
     if not shapes:
         return None
     fig, ax = plt.subplots(figsize=(6, 5))
     for method, per_level in shapes.items():
         color, style = METHOD_STYLE.get(method, ("k", "-"))
-        for i, polylines in enumerate(per_level):
-            for j, line in enumerate(polylines):
-                line = np.asarray(line)
-                if line.size:
-                    ax.plot(line[:, 0], line[:, 1], style, color=color, lw=1,
-                            label=method if i == 0 and j == 0 else None)
+        points = _joined([np.asarray(line) for polylines in per_level for line in polylines])
+        if len(points):
+            ax.plot(points[:, 0], points[:, 1], style, color=color, lw=1, label=method)
     case = result.loaded.case
     measured = {}
     for ref in case.references:
