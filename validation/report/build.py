@@ -37,7 +37,7 @@ from validation.run.exit_status import ExitStatus, print_error
 from validation.report.paraview import normalise_shapes  # noqa: F401  (also used by tests)
 from validation.case.loader import find_case_files
 from validation.case.readings import readings_groups
-from validation.report.format import run_badge, sig
+from validation.report.format import by_case, rows_of, run_badge, sig
 from validation.report.overview import CLAIMS, overview_points, plot_overview
 from validation.report.summary import (METHOD_NAMES, case_sentence, findings, findings_html, summarise,
                                        summary_markdown, summary_tables_html)
@@ -434,7 +434,8 @@ def _build_pages(results: list[CaseResult], table: pd.DataFrame, out: Path, jobs
                  done: dict | None = None) -> list[PageLink]:
     """The page of every case; the pages not in ``done`` (already drawn) are drawn here."""
     done = done or {}
-    tasks = [(r, table[table["case"] == r.loaded.id], out) for r in results if r.loaded.id not in done]
+    parts = by_case(table)
+    tasks = [(r, rows_of(parts, table, r.loaded.id), out) for r in results if r.loaded.id not in done]
     if jobs > 1 and len(tasks) > 1:
         with ProcessPoolExecutor(max_workers=jobs) as pool:
             drawn = list(pool.map(_page_job, tasks, chunksize=4))
@@ -582,7 +583,8 @@ def _write_index(outcome, pages: list[PageLink], out: Path) -> None:
     table = outcome.table
     links = {page.case: page.link for page in pages}
     page_errors = [page.error for page in pages if page.error]
-    rows = [summarise(r, table[table["case"] == r.loaded.id]) for r in outcome.results]
+    parts = by_case(table)
+    rows = [summarise(r, rows_of(parts, table, r.loaded.id)) for r in outcome.results]
     plot_overview(overview_points(outcome.results, table), out / "overview.png")
     items = findings(outcome.results, table)
     failed = outcome.failed_comparisons
