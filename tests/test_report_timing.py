@@ -46,6 +46,7 @@ def test_the_breakdown_adds_up_what_was_timed():
     busy = 10 + 30 + 2 + 1 + 4 + 6                                                        # pooled work only
     assert f"workers busy {busy:.1f} s of 2 x 34.0 s" in text                             # 0 .. 34 s
     rows = csv_text(records).splitlines()
+    # derived: the longest record first, its wall (the input 30.0 s above) written with four decimals
     assert rows[0] == "kind,name,wall,cpu,start,pid" and rows[1].startswith("compile,elastica,30.0000")
 
 
