@@ -27,6 +27,11 @@ Normalised as ``elastica.elliptic`` (l = EI = 1, so alpha^2 = P l^2/EI, position
   > 0: kappa_min with theta_i = theta0 + 5 deg, kappa_max with theta_i = 85 deg; theta0 < 0: kappa_min
   with theta_i = 5 deg), with phi = atan2(1, -n), and kappa normalised by F as in (120).
 
+The clouds are computed on arrays, one expression over the whole grid (``fixed_pinned_arrays``,
+``curved_fixed_pinned_arrays``, ``fixed_guided_inflection_arrays``: the formulas of
+``elastica.elliptic``'s ``*_from_angle`` with scipy's elliptic integrals on arrays; the tests hold them
+to the scalar functions point by point), not point by point in Python (~1.2 million points).
+
 Each cloud function returns a ``DomainCloud``: the points (a, b, theta0, alpha, n, kappa), plus the
 count of grid points left out and why (``excluded``: outside the formula's or Su's range).
 
@@ -39,8 +44,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from elastica.elliptic import (curved_fixed_pinned_from_angle, fixed_guided_inflection_from_angle,
-                               fixed_pinned_from_angle)
+from scipy.special import ellipeinc, ellipkinc
 
 __all__ = ["DomainCloud", "su_theta0_max", "fixed_pinned_cloud", "curved_fixed_pinned_cloud",
            "fixed_guided_inflection_cloud", "kappa_min", "kappa_range"]
@@ -76,46 +80,115 @@ def su_theta0_max(load_ratio, kappa_force):
     return np.where(k > 2.0, np.inf, bound)
 
 
-def _cloud(rows: list[tuple], excluded: dict[str, int]) -> DomainCloud:
-    data = np.array(rows, float).reshape(-1, 6)
-    return DomainCloud(*(data[:, i] for i in range(6)), excluded=excluded)
+def _grid(*axes) -> list[np.ndarray]:
+    """Every combination of the axes' values, flat, the first axis outermost (the order of nested loops)."""
+    return [g.ravel() for g in np.meshgrid(*(np.atleast_1d(np.asarray(a, float)) for a in axes), indexing="ij")]
+
+
+def _cloud(keep: np.ndarray, columns: tuple, excluded: dict[str, int]) -> DomainCloud:
+    """The points where ``keep`` holds, columns (a, b, theta0, alpha, n, kappa)."""
+    return DomainCloud(*(np.broadcast_to(np.asarray(c, float), keep.shape)[keep] for c in columns),
+                       excluded=excluded)
+
+
+def _asin_sqrt(x: np.ndarray) -> np.ndarray:
+    """asin(sqrt(x)), NaN outside 0 <= x <= 1 + 1e-14 (``elastica.elliptic``'s rule, on arrays)."""
+    inside = (x >= 0.0) & (x <= 1.0 + 1e-14)
+    return np.where(inside, np.arcsin(np.sqrt(np.clip(x, 0.0, 1.0))), np.nan)
+
+
+def _F(g, t):
+    return ellipkinc(g, t * t)
+
+
+def _E(g, t):
+    return ellipeinc(g, t * t)
+
+
+def fixed_pinned_arrays(theta0, n) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(a, b, alpha) of ``elastica.elliptic.fixed_pinned_from_angle`` (eqs 6, 7, corrected g) on arrays."""
+    eta = np.hypot(1.0, n)
+    lam = np.sin(theta0) - n * np.cos(theta0)
+    t = np.sqrt((eta + lam) / (2.0 * eta))
+    g = _asin_sqrt((eta - n) / (eta + lam))
+    Kt, Et = _F(math.pi / 2, t), _E(math.pi / 2, t)
+    Fg, Eg = _F(g, t), _E(g, t)
+    alpha = (Kt - Fg) / np.sqrt(eta)
+    bracket = Kt - Fg + 2.0 * (Eg - Et)
+    root = np.sqrt(2.0 * eta * (eta + lam)) * np.cos(g)
+    den = alpha * eta**2.5
+    return (-n * eta * bracket + root) / den, (eta * bracket + n * root) / den, alpha
+
+
+def curved_fixed_pinned_arrays(theta0, n, kappa) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(a, b, alpha) of ``elastica.elliptic.curved_fixed_pinned_from_angle`` on arrays: case A
+    (lambda <= eta, eqs 8, 9 with eta^(5/2)) and case B (eqs 10, 11, NaN beyond 90 deg + atan n)."""
+    eta = np.hypot(1.0, n)
+    s0 = np.sin(theta0) - n * np.cos(theta0)
+    lam = kappa + s0
+    t = np.sqrt((eta + lam) / (2.0 * eta))                         # case A
+    g1, g2 = _asin_sqrt((eta - n) / (eta + lam)), _asin_sqrt((eta + s0) / (eta + lam))
+    dF = _F(g2, t) - _F(g1, t)
+    alpha_a = dF / np.sqrt(eta)
+    bracket = dF + 2.0 * (_E(g1, t) - _E(g2, t))
+    root = np.sqrt(2.0 * eta * (eta + lam)) * (np.cos(g1) - np.cos(g2))
+    den = alpha_a * eta**2.5
+    a_a, b_a = (-n * eta * bracket + root) / den, (eta * bracket + n * root) / den
+    r = np.sqrt(2.0 * eta / (eta + lam))                           # case B
+    p1, p2 = _asin_sqrt((eta - n) / (2.0 * eta)), _asin_sqrt((eta + s0) / (2.0 * eta))
+    dF = _F(p2, r) - _F(p1, r)
+    alpha_b = np.sqrt(2.0 / (lam + eta)) * dF
+    bracket = lam / (eta + lam) * dF + _E(p1, r) - _E(p2, r)
+    roots = np.sqrt(1.0 - (eta - n) / (eta + lam)) - np.sqrt(1.0 - (eta + s0) / (eta + lam))
+    pre = np.sqrt(2.0 * (eta + lam)) / (alpha_b * eta**2)
+    a_b, b_b = pre * (-n * bracket + roots), pre * (bracket + n * roots)
+    case_a, beyond = lam <= eta, theta0 > math.pi / 2 + np.arctan(n)
+    pick = [case_a, ~case_a & ~beyond]
+    return (np.select(pick, [a_a, a_b], np.nan), np.select(pick, [b_a, b_b], np.nan),
+            np.select(pick, [alpha_a, alpha_b], np.nan))
+
+
+def fixed_guided_inflection_arrays(theta0, n, kappa) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(a, b, alpha) of ``elastica.elliptic.fixed_guided_inflection_from_angle`` (the corrected
+    Kimball-Tsai form) on arrays; NaN where its domain is left."""
+    eta = np.hypot(1.0, n)
+    s = np.sin(theta0) - n * np.cos(theta0)
+    lam = kappa + s
+    k = np.sqrt((eta + lam) / (2.0 * eta))
+    g1 = _asin_sqrt(2.0 * eta * (lam + n) / ((lam + eta) * (eta + n)))
+    g2 = _asin_sqrt(2.0 * eta * kappa / ((lam + eta) * (eta - s)))
+    F12 = _F(g1, k) + _F(g2, k)
+    E12 = _E(g1, k) + _E(g2, k)
+    alpha = F12 / np.sqrt(eta)
+    q1 = np.sqrt((eta - n) / (eta + n))
+    q2 = np.sqrt((eta + s) / (eta - s))
+    sl, sk, s2 = np.sqrt(lam + n), np.sqrt(kappa), np.sqrt(2.0 * eta)
+    den = alpha * eta**2.5
+    b = (eta * F12 - 2.0 * eta * E12 + s2 * (sl * (q1 + n) + sk * (q2 + n))) / den
+    a = (-n * eta * F12 + 2.0 * n * eta * E12 + s2 * (-sl * (n * q1 - 1.0) - sk * (n * q2 - 1.0))) / den
+    valid = (lam + n >= 0.0) & (eta - s > 0.0) & (lam + eta > 0.0) & (k < 1.0) & ~np.isnan(g1) & ~np.isnan(g2)
+    return np.where(valid, a, np.nan), np.where(valid, b, np.nan), np.where(valid, alpha, np.nan)
 
 
 def fixed_pinned_cloud(n_values, theta0_values) -> DomainCloud:
     """Section 4.4: eqs (6), (7) at every (n, theta0) with 0 < theta0 < phi(n)."""
-    rows, outside = [], 0
-    for n in np.atleast_1d(np.asarray(n_values, float)):
-        phi = float(_phi(n))
-        for th in np.atleast_1d(np.asarray(theta0_values, float)):
-            if not 0.0 < th < phi:
-                outside += 1
-                continue
-            tip = fixed_pinned_from_angle(float(th), float(n))
-            if not np.isfinite(tip.a + tip.b + tip.alpha):
-                outside += 1
-                continue
-            rows.append((tip.a, tip.b, th, tip.alpha, n, 0.0))
-    return _cloud(rows, {"theta0 outside (0, phi)": outside})
+    n, th = _grid(n_values, theta0_values)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        a, b, alpha = fixed_pinned_arrays(th, n)
+        keep = (th > 0.0) & (th < _phi(n)) & np.isfinite(a + b + alpha)
+    return _cloud(keep, (a, b, th, alpha, n, 0.0), {"theta0 outside (0, phi)": int(keep.size - keep.sum())})
 
 
 def curved_fixed_pinned_cloud(n_values, theta0_values, kappa_values) -> DomainCloud:
     """Section 4.5: eqs (8)-(11) at every (n, theta0, kappa = M^2/(2 P EI)) within Su's bound (112)."""
-    rows, beyond_su, invalid = [], 0, 0
-    for n in np.atleast_1d(np.asarray(n_values, float)):
-        eta = math.hypot(1.0, n)
-        for kappa in np.atleast_1d(np.asarray(kappa_values, float)):
-            limit = float(su_theta0_max(n, kappa / eta))
-            for th in np.atleast_1d(np.asarray(theta0_values, float)):
-                if th > limit:
-                    beyond_su += 1
-                    continue
-                tip = curved_fixed_pinned_from_angle(float(th), float(n), float(kappa))
-                if not (np.isfinite(tip.a + tip.b + tip.alpha) and tip.alpha > 0.0):
-                    invalid += 1
-                    continue
-                rows.append((tip.a, tip.b, th, tip.alpha, n, kappa))
-    return _cloud(rows, {"beyond Su's theta0max (eq 112)": beyond_su,
-                         "outside the elliptic form's range": invalid})
+    n, kappa, th = _grid(n_values, kappa_values, theta0_values)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        within = th <= su_theta0_max(n, kappa / np.hypot(1.0, n))
+        a, b, alpha = curved_fixed_pinned_arrays(th, n, kappa)
+        valid = np.isfinite(a + b + alpha) & (alpha > 0.0)
+    keep = within & valid
+    return _cloud(keep, (a, b, th, alpha, n, kappa), {"beyond Su's theta0max (eq 112)": int((~within).sum()),
+                                                      "outside the elliptic form's range": int((within & ~valid).sum())})
 
 
 def fixed_guided_inflection_cloud(n_values, theta0_values, kappa_values, load_range=(0.0, np.inf),
@@ -123,21 +196,15 @@ def fixed_guided_inflection_cloud(n_values, theta0_values, kappa_values, load_ra
     """Section 4.6, one inflection point: the Kimball-Tsai form at every (n, theta0, kappa), kept when
     alpha^2 = P l^2/EI lies in ``load_range`` (and, by default, the end in the first quadrant, as the
     routine of section 4.6.1)."""
-    rows, invalid, out_of_range = [], 0, 0
+    n, kappa, th = _grid(n_values, kappa_values, theta0_values)
     lo, hi = load_range
-    for n in np.atleast_1d(np.asarray(n_values, float)):
-        for kappa in np.atleast_1d(np.asarray(kappa_values, float)):
-            for th in np.atleast_1d(np.asarray(theta0_values, float)):
-                tip = fixed_guided_inflection_from_angle(float(th), float(n), float(kappa))
-                if not (np.isfinite(tip.a + tip.b + tip.alpha) and tip.alpha > 0.0):
-                    invalid += 1
-                    continue
-                if not lo <= tip.alpha**2 <= hi or (first_quadrant and (tip.a < 0.0 or tip.b < 0.0)):
-                    out_of_range += 1
-                    continue
-                rows.append((tip.a, tip.b, th, tip.alpha, n, kappa))
-    return _cloud(rows, {"outside the elliptic form's range": invalid,
-                         "load or end outside the range asked": out_of_range})
+    with np.errstate(invalid="ignore", divide="ignore"):
+        a, b, alpha = fixed_guided_inflection_arrays(th, n, kappa)
+        valid = np.isfinite(a + b + alpha) & (alpha > 0.0)
+        inside = (lo <= alpha**2) & (alpha**2 <= hi) & np.logical_or(not first_quadrant, (a >= 0.0) & (b >= 0.0))
+    keep = valid & inside
+    return _cloud(keep, (a, b, th, alpha, n, kappa), {"outside the elliptic form's range": int((~valid).sum()),
+                                                      "load or end outside the range asked": int((valid & ~inside).sum())})
 
 
 def kappa_min(theta0, load_ratio, theta_i):

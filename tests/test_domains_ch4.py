@@ -153,3 +153,27 @@ theta0_deg = { start = -50.0, stop = 50.0, step = 10.0 }
     assert study.results[0].bounds[0].printed == 0.8053
     for r in study.results:
         assert r.points > 0 and r.prbm_error.samples > 0
+
+
+def test_the_array_forms_are_the_scalar_elliptic_solutions_point_by_point():
+    """The clouds are computed on arrays (elastica.domains.*_arrays); each point must be the scalar
+    closed form of elastica.elliptic (same formulas), NaN exactly where the scalar form has no solution."""
+    from elastica.elliptic import (curved_fixed_pinned_from_angle, fixed_guided_inflection_from_angle,
+                                   fixed_pinned_from_angle)
+    from elastica.domains import curved_fixed_pinned_arrays, fixed_guided_inflection_arrays, fixed_pinned_arrays
+    rng = np.random.default_rng(7)
+    n, th, kappa = rng.uniform(-4.0, 10.0, 600), rng.uniform(-1.2, 2.2, 600), rng.uniform(0.0, 5.0, 600)
+    pinned_th = rng.uniform(0.01, 1.5, 600)
+    pairs = [(curved_fixed_pinned_arrays, curved_fixed_pinned_from_angle, (th, n, kappa)),
+             (fixed_guided_inflection_arrays, fixed_guided_inflection_from_angle, (th, n, kappa)),
+             (fixed_pinned_arrays, fixed_pinned_from_angle, (pinned_th, n))]
+    for arrays, scalar, args in pairs:
+        with np.errstate(invalid="ignore", divide="ignore"):
+            got = np.column_stack(arrays(*args))
+            inside = [i for i in range(600) if arrays is not fixed_pinned_arrays or pinned_th[i] < math.atan2(1, -n[i])]
+            expected = np.array([scalar(*(float(a[i]) for a in args))[:4] for i in inside])[:, [0, 1, 3]]
+        got = got[inside]
+        assert (np.isfinite(got) == np.isfinite(expected)).all(), arrays.__name__
+        finite = np.isfinite(expected)
+        assert finite.sum() > 300, arrays.__name__                       # the comparison is not empty
+        assert np.abs(got[finite] - expected[finite]).max() < 1e-12 * np.abs(expected[finite]).max()

@@ -120,3 +120,49 @@ def test_a_primer_compiles_without_keeping_its_run(tmp_path, monkeypatch):
 
 def test_the_lazy_export_table_names_exactly_the_public_names():
     assert set(prbm._EXPORTS) == set(prbm.__all__)  # a missing comma once glued two names into one key
+
+
+def test_the_serial_path_primes_before_any_case(monkeypatch):
+    """``jobs`` = 1 compiles each numba method by a primer before the first case, so no case's method
+    time holds the compile (the parallel path does the same on its workers)."""
+    order = []
+    monkeypatch.setattr(parallel, "prime", lambda path, method: order.append(("prime", method)) or
+                        parallel.Timed("compile", method, 0.0))
+    monkeypatch.setattr(parallel, "run_path", lambda path, methods, use_cache, after=None:
+                        order.append(("case", path.stem)) or parallel.PathRun(path))
+    paths = [case_by_id(i).path for i in ("bapat2015_table3_1", "cantilever_tip_load", "seed004_parallel_guided")]
+    timeline = []
+    run_paths(paths, use_cache=False, jobs=1, timeline=timeline)
+    kinds = [kind for kind, _ in order]
+    assert sorted(m for kind, m in order if kind == "prime") == ["elastica", "fem"]
+    assert kinds.index("case") == 2 and kinds.count("case") == 3          # both primers before the first case
+    assert [r.kind for r in timeline] == ["compile", "compile"]
+
+
+def test_no_primer_for_a_method_whose_runs_are_all_cached(tmp_path, monkeypatch):
+    """A primer compiles only what will run: a case whose FEM run is in the run cache needs no FEM primer."""
+    monkeypatch.setenv("PRBM_VALIDATE_CACHE", str(tmp_path / "runs"))
+    path = case_by_id("cantilever_tip_load").path
+    assert sorted(m for m, _ in schedule([path], None, use_cache=True).primers) == ["elastica", "fem"]
+    loaded = load_case(path)
+    for method in ("fem", "elastica"):
+        key = cache.run_key(loaded.text, method, dict(loaded.case.methods[method] or {}))
+        cache.store(key, parallel.run_method(case_by_id("bapat2015_table3_1").case, "prbm"))  # any stored run
+    plan = schedule([path], None, use_cache=True)
+    assert plan.primers == [] and plan.free == [path]
+    assert sorted(m for m, _ in schedule([path], None, use_cache=False).primers) == ["elastica", "fem"]
+
+
+def test_cases_are_scheduled_longest_first_by_their_last_times():
+    ids = ("bapat2015_table3_1", "segment_curved_fixed_pinned_compressive", "cantilever_tip_load",
+           "bapat2015_test2")
+    paths = [case_by_id(i).path for i in ids]
+    costs = {"bapat2015_table3_1": 0.1, "segment_curved_fixed_pinned_compressive": 3.0, "cantilever_tip_load": 2.0,
+             "bapat2015_test2": 5.0}
+    plan = schedule(paths, None, costs=costs)
+    ordered = plan.free + plan.compiled
+    for part in (plan.free, plan.compiled):
+        times = [costs[parallel.CaseFile.read(p).id] for p in part]
+        assert times == sorted(times, reverse=True)
+    assert set(ordered) == set(paths)
+    assert all(plan.waits_for[p] for p in plan.compiled) and not set(plan.waits_for) & set(plan.free)

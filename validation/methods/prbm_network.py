@@ -347,8 +347,22 @@ def run_mechanism(case, requests, options: dict, info: MethodRun) -> dict:
     return values
 
 
+def _outline(points: np.ndarray) -> np.ndarray:
+    """A body's pins and points in an order whose polyline does not cross itself: along the line when
+    they are collinear, else around their centroid and closed (a rigid body's outline)."""
+    centred = points - points.mean(axis=0)
+    if len(points) < 3:
+        return points
+    _, sizes, axes = np.linalg.svd(centred)
+    if sizes[1] <= 1e-9 * sizes[0]:
+        return points[np.argsort(centred @ axes[0])]
+    order = np.argsort(np.arctan2(centred[:, 1], centred[:, 0]))
+    return points[np.append(order, order[0])]
+
+
 def _shapes(model: pb.PRBModel, result) -> list:
-    """Per level, each PRB body as a polyline through its pins and points (unloaded order)."""
+    """Per level, each PRB body as a polyline through its pins and points, around its outline (unloaded
+    order, ``_outline``)."""
     net = model.network
     per_body: dict[str, list[str]] = {}
     for name, (body, _) in net.points.items():
@@ -358,7 +372,7 @@ def _shapes(model: pb.PRBModel, result) -> list:
         pts = [p.at for p in net.pins if body in (p.a, p.b)] + [net.points[nm][1] for nm in per_body.get(body, [])]
         if len(pts) >= 2:
             i = net.index[body]
-            arms[body] = (i, np.asarray(pts, float) - net.X0[i])
+            arms[body] = (i, _outline(np.asarray(pts, float)) - net.X0[i])
     shapes = []
     for state in result.states:
         if not state.converged:

@@ -6,7 +6,9 @@ output folder: ``index.html`` and ``index.md`` (a headline, the picture of the w
 ``report_summary``, machine and versions), ``cases/<id>.html`` and ``.md`` (the one-sentence result,
 plots, findings, then every output at every level for every method beside the printed values, folded),
 ``results.csv`` (and ``results.parquet``), ``summary.csv``, and the ParaView series of every method
-under ``vtu/<id>/`` (``paraview``), rendered off-screen for the case page.
+under ``vtu/<id>/`` (``paraview``), rendered off-screen for the case page; ``timing.csv`` and
+``timing.txt``: where the run's time went (``validation.run.timeline``), the CSV also ordering the next
+report's cases longest first.
 """
 from __future__ import annotations
 
@@ -14,6 +16,7 @@ import datetime as _dt
 import hashlib
 import html
 import math
+import os
 import platform
 import subprocess
 import sys
@@ -34,16 +37,18 @@ from validation.run.exit_status import ExitStatus, print_error
 from validation.report.paraview import normalise_shapes  # noqa: F401  (also used by tests)
 from validation.case.loader import find_case_files
 from validation.case.readings import readings_groups
-from validation.report.format import run_badge, sig
+from validation.report.format import by_case, rows_of, run_badge, sig
 from validation.report.overview import CLAIMS, overview_points, plot_overview
 from validation.report.summary import (METHOD_NAMES, case_sentence, findings, findings_html, summarise,
                                        summary_markdown, summary_tables_html)
 from validation.run.runner import CaseResult
 from validation.run.outcome import run_cases, summary, tabulate
+from validation.run.timeline import Timed, breakdown, csv_text, timed
 
 matplotlib.use("Agg")  # files only, no display
 import matplotlib.pyplot as plt  # noqa: E402
 
+TIMING_CSV = "timing.csv"
 DEPENDENCIES = ["numpy", "scipy", "scikit-fem", "meshio", "pyvista", "pandas", "matplotlib", "pydantic",
                 "tqdm", "openseespy", "pyarrow"]
 METHOD_STYLE = {"fem": ("C0", "-"), "prbm": ("C1", "--"), "elastica": ("C2", ":"), "bcm": ("C4", "-.")}
@@ -182,20 +187,24 @@ def _plot_outputs(result: CaseResult, table: pd.DataFrame, folder: Path) -> list
     return [name]
 
 
+def _joined(polylines: list[np.ndarray]) -> np.ndarray:
+    """Polylines as one (n, 2) array with a NaN row between them: one line to draw instead of many."""
+    parts = [np.vstack([line[:, :2], [[np.nan, np.nan]]]) for line in polylines if line.size]
+    return np.concatenate(parts) if parts else np.zeros((0, 2))
+
+
 def _plot_shapes(result: CaseResult, folder: Path) -> str | None:
-    """Deformed shapes: FEM beams as curves, PRB links dashed, measured tip points as markers."""
+    """Deformed shapes: FEM beams as curves, PRB links dashed, measured tip points as markers; every
+    level of a method as one line (NaN-separated), not one line per polyline."""
     shapes = {m: normalise_shapes(r.extras["shapes"]) for m, r in result.runs.items() if r.extras.get("shapes")}
     if not shapes:
         return None
     fig, ax = plt.subplots(figsize=(6, 5))
     for method, per_level in shapes.items():
         color, style = METHOD_STYLE.get(method, ("k", "-"))
-        for i, polylines in enumerate(per_level):
-            for j, line in enumerate(polylines):
-                line = np.asarray(line)
-                if line.size:
-                    ax.plot(line[:, 0], line[:, 1], style, color=color, lw=1,
-                            label=method if i == 0 and j == 0 else None)
+        points = _joined([np.asarray(line) for polylines in per_level for line in polylines])
+        if len(points):
+            ax.plot(points[:, 0], points[:, 1], style, color=color, lw=1, label=method)
     case = result.loaded.case
     measured = {}
     for ref in case.references:
@@ -425,7 +434,8 @@ def _build_pages(results: list[CaseResult], table: pd.DataFrame, out: Path, jobs
                  done: dict | None = None) -> list[PageLink]:
     """The page of every case; the pages not in ``done`` (already drawn) are drawn here."""
     done = done or {}
-    tasks = [(r, table[table["case"] == r.loaded.id], out) for r in results if r.loaded.id not in done]
+    parts = by_case(table)
+    tasks = [(r, rows_of(parts, table, r.loaded.id), out) for r in results if r.loaded.id not in done]
     if jobs > 1 and len(tasks) > 1:
         with ProcessPoolExecutor(max_workers=jobs) as pool:
             drawn = list(pool.map(_page_job, tasks, chunksize=4))
@@ -484,6 +494,7 @@ class DomainStudy:
     ``run_cases``' pool, run beside the cases."""
 
     folder: Path
+    label: str = "chapter-4 domain study"
 
     def __call__(self) -> None:
         stamp = self.folder / "sources.sha256"
@@ -495,15 +506,21 @@ class DomainStudy:
         stamp.write_text(digest)
 
 
-def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[str] | None = None) -> int:
-    started = time.perf_counter()
-    out.mkdir(parents=True, exist_ok=True)
-    (out / "cases").mkdir(exist_ok=True)
-    paths = find_case_files(cases or None)
-    # the whole report: the chapter-4 deflection-domain study beside the sweep studies, run beside the cases
-    extra = [] if cases else [DomainStudy(out / "sweeps" / "chapter4_domains")]
-    outcome = run_cases(paths, use_cache=use_cache, jobs=jobs, progress=True, after=PageWriter(out), extra=extra)
-    pooled = time.perf_counter() - started  # cases, their pages and the domain study, on ``jobs`` processes
+def _last_costs(out: Path) -> dict[str, float]:
+    """Each case's seconds (its run and its page) in the last report's ``timing.csv``, which orders
+    this run's cases longest first; empty when there is none."""
+    try:
+        last = pd.read_csv(out / TIMING_CSV)
+    except (OSError, ValueError, pd.errors.ParserError):
+        return {}
+    if not {"kind", "name", "wall"} <= set(last.columns):
+        return {}
+    work = last[last["kind"].isin(["case", "page"])]
+    return {str(k): float(v) for k, v in work.groupby("name")["wall"].sum().items()}
+
+
+def _write_tables(outcome, out: Path) -> pd.DataFrame:
+    """``results.csv`` (and ``.parquet``) and ``summary.csv``; returns the summary."""
     table = outcome.table
     table.to_csv(out / "results.csv", index=False)
     try:
@@ -512,11 +529,62 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     except ImportError:
         pass
     summ = summary(table, outcome.results) if len(table) else pd.DataFrame()
-    pages = _build_pages(outcome.results, table, out, jobs, done=outcome.after)
+    summ.to_csv(out / "summary.csv", index=False)
+    return summ
+
+
+def _write_timing(timeline: list[Timed], out: Path, jobs: int, started: float, cpu: float) -> str:
+    """``timing.csv`` (every piece of work) and ``timing.txt`` (the breakdown, headed by the whole
+    run's wall and CPU seconds, this process and its workers); returns the text."""
+    times = os.times()
+    total_cpu = times.user + times.system + times.children_user + times.children_system - cpu
+    head = (f"report: {time.perf_counter() - started:.1f} s wall, {total_cpu:.1f} s CPU (this process and its "
+            f"{jobs} worker(s)); load average {' '.join(f'{x:.1f}' for x in os.getloadavg())}")
+    text = head + "\n" + breakdown(timeline, jobs)
+    (out / TIMING_CSV).write_text(csv_text(timeline))
+    (out / "timing.txt").write_text(text + "\n")
+    return text
+
+
+def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[str] | None = None) -> int:
+    """Run (or reuse) the cases and write the report (module docstring); prints where the time went."""
+    started, times = time.perf_counter(), os.times()
+    cpu = times.user + times.system + times.children_user + times.children_system
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "cases").mkdir(exist_ok=True)
+    paths = find_case_files(cases or None)
+    # the whole report: the chapter-4 deflection-domain study beside the sweep studies, run beside the cases
+    extra = [] if cases else [DomainStudy(out / "sweeps" / "chapter4_domains")]
+    outcome = run_cases(paths, use_cache=use_cache, jobs=jobs, progress=True, after=PageWriter(out), extra=extra,
+                        costs=_last_costs(out))
+    pooled = time.perf_counter() - started  # cases, their pages and the domain study, on ``jobs`` processes
+    timeline = outcome.timeline
+    with timed("main", "tables (results.csv, summary.csv)", timeline):
+        _write_tables(outcome, out)
+    with timed("main", "pages not drawn in the workers", timeline):
+        pages = _build_pages(outcome.results, outcome.table, out, jobs, done=outcome.after)
+    with timed("main", "index page and overview figure", timeline):
+        _write_index(outcome, pages, out)
+    page_errors = [page.error for page in pages if page.error]
+    for error in outcome.errors:
+        print_error(error)
+    for line in outcome.unexpected_problems + page_errors:  # what makes the exit status 1, in words
+        print(f"not ok: {line}")
+    print(_write_timing(timeline, out, jobs, started, cpu))
+    print(f"report: {out / 'index.html'} ({len(outcome.results)} cases, {time.perf_counter() - started:.1f} s, "
+          f"of which {pooled:.1f} s the cases, their pages and the domain study on {jobs} process(es))")
+    if page_errors and outcome.exit_status == ExitStatus.OK:
+        return ExitStatus.FAILED
+    return outcome.exit_status
+
+
+def _write_index(outcome, pages: list[PageLink], out: Path) -> None:
+    """``index.html``, ``index.md`` and the overview figure."""
+    table = outcome.table
     links = {page.case: page.link for page in pages}
     page_errors = [page.error for page in pages if page.error]
-    summ.to_csv(out / "summary.csv", index=False)
-    rows = [summarise(r, table[table["case"] == r.loaded.id]) for r in outcome.results]
+    parts = by_case(table)
+    rows = [summarise(r, rows_of(parts, table, r.loaded.id)) for r in outcome.results]
     plot_overview(overview_points(outcome.results, table), out / "overview.png")
     items = findings(outcome.results, table)
     failed = outcome.failed_comparisons
@@ -573,12 +641,3 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     md += ["\n## Reproducibility\n", _md_table(pd.DataFrame(list(info.items()), columns=["item", "value"]))]
     (out / "index.html").write_text(_page("PRBM validation report", "".join(body)))
     (out / "index.md").write_text("\n".join(md) + "\n")
-    for error in outcome.errors:
-        print_error(error)
-    for line in outcome.unexpected_problems + page_errors:  # what makes the exit status 1, in words
-        print(f"not ok: {line}")
-    print(f"report: {out / 'index.html'} ({len(outcome.results)} cases, {time.perf_counter() - started:.1f} s, "
-          f"of which {pooled:.1f} s the cases, their pages and the domain study on {jobs} process(es))")
-    if page_errors and outcome.exit_status == ExitStatus.OK:
-        return ExitStatus.FAILED
-    return outcome.exit_status

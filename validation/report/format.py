@@ -12,6 +12,7 @@ import html
 import math
 
 import numpy as np
+import pandas as pd
 
 # PRBM error colour scale, in % of the characteristic length: green at or below LOW, red at HIGH and
 # above, logarithmic in between (0.5 % is the seed's target for the PRBM's end-point error).
@@ -99,3 +100,14 @@ def error_colour(percent_of_length: float) -> str:
     t = min(max(t, 0.0), 1.0)
     # green (120 deg) through yellow to red (0 deg), light enough to read black text on
     return f"hsl({120 * (1 - t):.0f},70%,80%)"
+
+
+def by_case(table: pd.DataFrame) -> dict[str, pd.DataFrame]:
+    """Each case's rows of the whole table (its row order and index kept, as ``table[table["case"] ==
+    id]`` gives them) in one pass, not one scan of the whole table per case."""
+    return {str(case): part for case, part in table.groupby("case", sort=False)}
+
+
+def rows_of(parts: dict[str, pd.DataFrame], table: pd.DataFrame, case: str) -> pd.DataFrame:
+    """The rows of ``case`` from ``by_case`` (none: the table's empty slice)."""
+    return parts[case] if case in parts else table.iloc[0:0]

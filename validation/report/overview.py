@@ -35,6 +35,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
+from validation.report.format import by_case, rows_of  # noqa: E402
 from validation.report.summary import prbm_fem_by_level  # noqa: E402
 from validation.run.runner import CaseResult  # noqa: E402
 
@@ -83,10 +84,11 @@ def segment_model(result: CaseResult) -> str:
 def overview_points(results: list[CaseResult], table: pd.DataFrame) -> list[OverviewPoint]:
     """Every (case, level) where the PRBM and the FEM both give a length output."""
     points = []
+    parts = by_case(table)
     for result in results:
         fem = result.runs.get("fem")
         fields = fem.extras.get("fields") if fem else None
-        part = table[table["case"] == result.loaded.id]
+        part = rows_of(parts, table, result.loaded.id)
         errors = prbm_fem_by_level(part).dropna()
         if fields is None or errors.empty:
             continue

@@ -17,7 +17,7 @@ import pandas as pd
 
 from validation.case.capabilities import QUANTITIES
 from validation.case.loads import driving_load, load_name, load_unit
-from validation.report.format import Badge, error_colour, percent, run_badge, seconds, sig
+from validation.report.format import Badge, by_case, error_colour, percent, rows_of, run_badge, seconds, sig
 from validation.run.runner import CaseResult
 from validation.run.outcome import FEM_VALIDATION, fem_error_relative, no_prbm_fem_reason, prbm_fem_errors
 
@@ -329,10 +329,12 @@ class Finding:
 def findings(results: list[CaseResult], table: pd.DataFrame) -> list[Finding]:
     """Case-level findings and reference findings, each once, with the printed and computed numbers."""
     out = []
+    noted = table[table["finding"].notna()]
+    parts = by_case(noted)
     for result in sorted(results, key=lambda r: (group_order(r.loaded.case.case.group), r.loaded.id)):
         cid = result.loaded.id
         out += [Finding(cid, text, []) for text in result.loaded.case.case.findings]
-        part = table[(table["case"] == cid) & table["finding"].notna()]
+        part = rows_of(parts, noted, cid)
         for text, rows in part.groupby("finding", sort=False):
             rows = rows.drop_duplicates(["method", "quantity", "point", "level", "reference_label"])
             evidence = [f"{r['quantity']}{'@' + r['point'] if r['point'] else ''} at {r['level_label']}: "

@@ -128,6 +128,11 @@ def load(key: str) -> MethodRun | None:
         return None
 
 
+def has(key: str) -> bool:
+    """Whether a run is stored under ``key`` (without reading it)."""
+    return (cache_dir() / f"{key}.pkl").is_file()
+
+
 def store(key: str, run: MethodRun) -> None:
     folder = cache_dir()
     folder.mkdir(parents=True, exist_ok=True)

@@ -22,6 +22,7 @@ from validation.run.compare import agreement_checks, fem_elastica_checks, refere
 from validation.run.exit_status import combine, decide, of_run_status
 from validation.run.parallel import PathRun, run_paths
 from validation.run.runner import CaseResult, characteristic_length, requests_for
+from validation.run.timeline import Timed
 
 
 COLUMNS = ["case", "group", "method", "quantity", "point", "level", "level_label", "value", "unit", "scale",
@@ -111,6 +112,7 @@ class RunOutcome:
     errors: list[str]
     results: list[CaseResult] = field(default_factory=list)
     after: dict[str, object] = field(default_factory=dict)  # case id -> what run_cases' ``after`` returned
+    timeline: list[Timed] = field(default_factory=list)     # every primer, case, method, page, extra task
 
     @property
     def failed_comparisons(self) -> pd.DataFrame:
@@ -148,17 +150,20 @@ class RunOutcome:
 
 
 def run_cases(paths: list[Path], methods: list[str] | None = None, use_cache: bool = True,
-              jobs: int = 1, progress: bool = False, after=None, extra=()) -> RunOutcome:
+              jobs: int = 1, progress: bool = False, after=None, extra=(),
+              costs: dict[str, float] | None = None) -> RunOutcome:
     """Run every case file; bad files are reported as errors and the others still run. ``jobs`` worker
     processes, scheduled by ``validation.run.parallel`` (compiled methods compiled once, ``extra`` tasks
-    beside the cases, ``after(result)`` in the worker after each case)."""
+    beside the cases, ``after(result)`` in the worker after each case, longest first by ``costs``)."""
     bar = tqdm(total=len(paths), unit="case", disable=not progress, leave=False)
 
     def advance(run: PathRun) -> None:
         bar.set_postfix_str(run.path.stem)
         bar.update()
 
-    runs = run_paths(paths, methods, use_cache, jobs, after=after, extra=list(extra), progress=advance)
+    timeline: list[Timed] = []
+    runs = run_paths(paths, methods, use_cache, jobs, after=after, extra=list(extra), progress=advance,
+                     timeline=timeline, costs=costs)
     bar.close()
     results = sorted((r.result for r in runs if r.result is not None), key=lambda r: str(r.loaded.path))
     errors = [r.error for r in runs if r.error is not None]
@@ -168,7 +173,8 @@ def run_cases(paths: list[Path], methods: list[str] | None = None, use_cache: bo
         table = table.sort_values(["group", "case", "method", "quantity", "point", "level"],
                                   kind="stable", ignore_index=True)
     return RunOutcome(table=table, errors=sorted(errors), results=results,
-                      after={r.result.loaded.id: r.after for r in runs if r.result is not None and r.after is not None})
+                      after={r.result.loaded.id: r.after for r in runs if r.result is not None and r.after is not None},
+                      timeline=timeline)
 
 
 def prbm_fem_errors(part: pd.DataFrame) -> tuple[float, float]:

@@ -6,22 +6,26 @@ code is compiled twice.
 
 1. the methods whose code is compiled with numba (``compiled_method``: the adapter's sources, as the
    run cache walks them, import numba) are compiled first, each by one worker ("primer": that method
-   alone on the smallest case file that asks for it, its run discarded so that no case's recorded
-   time includes the compile), so that two workers never spend the same ~10 s compiling the same
-   kernels; numba's on-disk cache (``cache=True``) then serves every other process;
+   alone on the smallest case file that will run it (not in the run cache), its run discarded so that
+   no case's recorded time includes the compile), so that two workers never spend the same ~10 s
+   compiling the same kernels; numba's on-disk cache (``cache=True``) then serves every other process;
 2. while the primers compile, the other workers take the extra tasks (``extra``, e.g. the report's
-   chapter-4 domain study) and the cases that need no compiled method;
-3. once every primer is done, the cases that need a compiled method.
+   chapter-4 domain study) and the cases that need no compiled method, longest first (``estimate``);
+3. each case that needs compiled methods as soon as their primers are done, longest first.
 
 ``after(result)`` (a picklable callable, e.g. the report's page writer) runs in the worker right after
 its case, so the report's pages are drawn while other cases still run. Results come back in the
 order of ``paths``; a case file that cannot be used comes back as its error line.
+
+With ``jobs`` = 1 the primers run first too, in this process, so that in neither path does a case
+report numba's compile as its method's time. Every primer, case, method run, ``after`` and extra
+task is timed (``validation.run.timeline``) into the ``timeline`` list given.
 """
 from __future__ import annotations
 
 import re
 import tomllib
-from concurrent.futures import Future, ProcessPoolExecutor, as_completed, wait
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
@@ -30,6 +34,7 @@ from typing import Any, Callable
 from validation.case.loader import CaseError, load_case
 from validation.run import cache
 from validation.run.runner import CaseResult, run_case, run_method
+from validation.run.timeline import Timed, timed
 
 
 @dataclass
@@ -41,15 +46,18 @@ class PathRun:
     result: CaseResult | None = None
     error: str | None = None
     after: Any = None
+    times: list[Timed] = field(default_factory=list)
 
 
 @dataclass
 class Schedule:
-    """The order of the work: primers (method, path), cases that need no compiled method, the rest."""
+    """The order of the work: primers (method, path), cases that need no compiled method, the rest
+    with the compiled methods each waits for; each list longest first (``estimate``)."""
 
     primers: list[tuple[str, Path]] = field(default_factory=list)
     free: list[Path] = field(default_factory=list)
     compiled: list[Path] = field(default_factory=list)
+    waits_for: dict[Path, frozenset[str]] = field(default_factory=dict)
 
 
 NUMBA_IMPORT = re.compile(r"^\s*(from|import)\s+numba\b", re.MULTILINE)
@@ -61,80 +69,145 @@ def compiled_method(method: str) -> bool:
     return any(NUMBA_IMPORT.search(path.read_text(encoding="utf-8")) for path in cache.source_files(method))
 
 
-def _methods_of(path: Path) -> list[str]:
-    """The methods a case file asks for, read without validating it (a bad file: none; its task
-    reports the error)."""
-    try:
-        return list(tomllib.loads(Path(path).read_text(encoding="utf-8")).get("methods", {}))
-    except (OSError, tomllib.TOMLDecodeError, AttributeError):
-        return []
+@dataclass(frozen=True)
+class CaseFile:
+    """What the schedule reads of a case file without validating it: its id (the file's stem when it
+    has none), text and methods with their options (a bad file: none; its task reports the error)."""
+
+    path: Path
+    id: str
+    text: str = ""
+    methods: dict[str, Any] = field(default_factory=dict)
+
+    @classmethod
+    def read(cls, path: Path) -> CaseFile:
+        try:
+            text = Path(path).read_text(encoding="utf-8")
+            data = tomllib.loads(text)
+            methods = dict(data.get("methods", {}))
+            return cls(Path(path), str(data.get("case", {}).get("id", Path(path).stem)), text, methods)
+        except (OSError, tomllib.TOMLDecodeError, AttributeError, TypeError, ValueError):
+            return cls(Path(path), Path(path).stem)
+
+    def to_run(self, methods: list[str] | None, use_cache: bool) -> list[str]:
+        """The methods that will run (asked for, and not in the run cache when it is used)."""
+        return [m for m, options in self.methods.items() if (not methods or m in methods)
+                and not (use_cache and cache.has(cache.run_key(self.text, m, dict(options or {}))))]
 
 
-def schedule(paths: list[Path], methods: list[str] | None) -> Schedule:
-    """Primers for the compiled methods the run needs, then the cases without and with them."""
+def estimate(case: CaseFile, costs: dict[str, float] | None = None) -> float:
+    """The expected seconds of a case: its time in ``costs`` (e.g. the last report's timing), else its
+    file's size in kB (a longer file holds more levels, outputs and references) times the number of
+    its methods; only the order matters."""
+    if costs and case.id in costs:
+        return costs[case.id]
+    return len(case.text) / 1000.0 * max(1, len(case.methods))
+
+
+def schedule(paths: list[Path], methods: list[str] | None, use_cache: bool = False,
+             costs: dict[str, float] | None = None) -> Schedule:
+    """Primers for the compiled methods the run will run, on the smallest case file that runs each;
+    then the cases without and with them, each list longest first."""
     plan = Schedule()
     smallest: dict[str, tuple[int, Path]] = {}
-    for path in paths:
-        wanted = [m for m in _methods_of(path) if not methods or m in methods]
-        compiled = [m for m in wanted if compiled_method(m)]
-        (plan.compiled if compiled else plan.free).append(path)
-        size = Path(path).stat().st_size if compiled else 0
+    files = sorted((CaseFile.read(p) for p in paths), key=lambda c: -estimate(c, costs))
+    for case in files:
+        compiled = frozenset(m for m in case.to_run(methods, use_cache) if compiled_method(m))
+        (plan.compiled if compiled else plan.free).append(case.path)
+        if compiled:
+            plan.waits_for[case.path] = compiled
         for method in compiled:
-            if method not in smallest or size < smallest[method][0]:
-                smallest[method] = (size, path)
-    plan.primers = [(method, path) for method, (_, path) in smallest.items()]
+            if method not in smallest or len(case.text) < smallest[method][0]:
+                smallest[method] = (len(case.text), case.path)
+    plan.primers = sorted(((method, path) for method, (_, path) in smallest.items()), key=lambda mp: mp[0])
     return plan
 
 
-def prime(path: Path, method: str) -> None:
+def prime(path: Path, method: str) -> Timed:
     """Compile ``method``'s numba code by running it once on ``path``; the run is not kept (its wall
-    time is mostly the compile), and a case file that cannot be used is reported by its own run."""
-    try:
-        loaded = load_case(path)
-    except CaseError:
-        return
-    run_method(loaded.case, method)
+    time is mostly the compile), and a case file that cannot be used is reported by its own run.
+    Returns the primer's time."""
+    with timed("compile", method) as watch:
+        try:
+            run_method(load_case(path).case, method)
+        except CaseError:
+            pass
+    return watch.record
+
+
+def run_extra(task: Callable[[], Any]) -> Timed:
+    """An extra task, timed under its ``label`` (else its type's name)."""
+    with timed("extra", getattr(task, "label", type(task).__name__)) as watch:
+        task()
+    return watch.record
 
 
 def run_path(path: Path, methods: list[str] | None, use_cache: bool,
              after: Callable[[CaseResult], Any] | None = None) -> PathRun:
-    """One case file: load, run, then ``after`` on its result."""
+    """One case file: load, run, then ``after`` on its result; each step timed."""
     try:
         loaded = load_case(path)
     except CaseError as exc:
         return PathRun(Path(path), error=str(exc))
-    result = run_case(loaded, methods, use_cache)
-    return PathRun(Path(path), result, after=after(result) if after is not None else None)
+    times: list[Timed] = []
+    with timed("case", loaded.id, times) as watch:
+        result = run_case(loaded, methods, use_cache)
+    times += [Timed("method", f"{loaded.id}:{method}", run.wall_time, start=watch.record.start,
+                    pid=watch.record.pid)
+              for method, run in result.runs.items() if not result.cached.get(method)]
+    value = None
+    if after is not None:
+        with timed("page", loaded.id, times):
+            value = after(result)
+    return PathRun(Path(path), result, after=value, times=times)
 
 
 def run_paths(paths: list[Path], methods: list[str] | None = None, use_cache: bool = True, jobs: int = 1,
               after: Callable[[CaseResult], Any] | None = None, extra: list[Callable[[], Any]] = (),
-              progress: Callable[[PathRun], None] | None = None) -> list[PathRun]:
+              progress: Callable[[PathRun], None] | None = None, timeline: list[Timed] | None = None,
+              costs: dict[str, float] | None = None) -> list[PathRun]:
     """Every case file run (module docstring); ``extra`` tasks run beside them; returns the runs in the
-    order of ``paths``."""
+    order of ``paths``. Every piece of work's time is appended to ``timeline``; ``costs`` (case id ->
+    seconds, e.g. from the last run) orders the cases longest first."""
     paths = [Path(p) for p in paths]
+    timeline = timeline if timeline is not None else []
     done: dict[Path, PathRun] = {}
 
-    def collect(run: PathRun) -> None:
-        done[run.path] = run
+    def collect(value: PathRun | Timed) -> None:
+        if isinstance(value, Timed):
+            timeline.append(value)
+            return
+        done[value.path] = value
+        timeline.extend(value.times)
         if progress is not None:
-            progress(run)
+            progress(value)
 
+    plan = schedule(paths, methods, use_cache, costs)
     if jobs <= 1 or len(paths) + len(extra) <= 1:
-        for task in extra:
-            task()
+        timeline += [prime(path, method) for method, path in plan.primers]
+        timeline += [run_extra(task) for task in extra]
         for path in paths:
             collect(run_path(path, methods, use_cache, after))
-        return [done[p] for p in paths]
-    plan = schedule(paths, methods)
-    with ProcessPoolExecutor(max_workers=jobs) as pool:
-        primers = [pool.submit(prime, path, method) for method, path in plan.primers]
-        futures: list[Future] = [pool.submit(task) for task in extra]
-        futures += [pool.submit(run_path, path, methods, use_cache, after) for path in plan.free]
-        wait(primers)
-        futures += [pool.submit(run_path, path, methods, use_cache, after) for path in plan.compiled]
-        for future in as_completed(futures):
-            value = future.result()
-            if isinstance(value, PathRun):
-                collect(value)
+    else:
+        _run_pool(plan, jobs, extra, lambda path: (run_path, path, methods, use_cache, after), collect)
     return [done[p] for p in paths]
+
+
+def _run_pool(plan: Schedule, jobs: int, extra, task_of: Callable[[Path], tuple], collect) -> None:
+    """The parallel run: primers first, then the extra tasks and the free cases (longest first), and
+    each compiled case as soon as the primers of its methods are done."""
+    with ProcessPoolExecutor(max_workers=jobs) as pool:
+        primers: dict[Future, str] = {pool.submit(prime, path, method): method for method, path in plan.primers}
+        pending: set[Future] = set(primers)
+        pending |= {pool.submit(run_extra, task) for task in extra}
+        pending |= {pool.submit(*task_of(path)) for path in plan.free}
+        ready: set[str] = set()
+        waiting = list(plan.compiled)
+        while pending:
+            finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+            for future in finished:
+                collect(future.result())
+                ready |= {primers[future]} if future in primers else set()
+            startable = [path for path in waiting if plan.waits_for[path] <= ready]
+            waiting = [path for path in waiting if path not in startable]
+            pending |= {pool.submit(*task_of(path)) for path in startable}

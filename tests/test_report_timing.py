@@ -1,0 +1,58 @@
+"""The report's time breakdown (validation/run/timeline.py) and the shapes figure's PRB outlines.
+
+The breakdown must add up what was timed (no timing is asserted: speed is measured by the report
+run itself), and a PRB body's outline must not cross itself (a Z across the slant parallelogram's
+coupler was drawn when its pins and points were joined in the order they were listed)."""
+import numpy as np
+
+from validation.methods.prbm_network import _outline
+from validation.run.timeline import Timed, breakdown, csv_text, timed
+
+
+def _through_the_body(polyline: np.ndarray) -> int:
+    """How many segments of the polyline cut through the body: other points lie on both sides of them
+    (an outline of points in convex position has none)."""
+    count = 0
+    for p, q in zip(polyline[:-1], polyline[1:]):
+        sides = [(q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]) for r in polyline]
+        count += max(sides) > 1e-9 and min(sides) < -1e-9
+    return count
+
+
+def test_a_body_outline_does_not_cross_itself():
+    listed = np.array([[-2.277, -23.013], [17.723, -23.013], [-2.464, -24.878], [17.536, -24.878],
+                       [7.536, -24.878]])          # pins first, then points: a Z through the coupler as listed
+    assert _through_the_body(listed) == 1
+    outline = _outline(listed)
+    assert _through_the_body(outline) == 0
+    assert len(outline) == len(listed) + 1 and (outline[0] == outline[-1]).all()       # closed
+    assert {tuple(p) for p in outline} == {tuple(p) for p in listed}                   # every point kept
+    line = np.array([[0.0, 0.0], [2.0, 0.0], [1.0, 0.0]])                              # collinear: along the line
+    assert _outline(line)[:, 0].tolist() == [0.0, 1.0, 2.0]
+
+
+def test_the_breakdown_adds_up_what_was_timed():
+    records = [Timed("compile", "fem", 10.0, 9.5, 0.0, 1), Timed("compile", "elastica", 30.0, 29.0, 0.0, 2),
+               Timed("case", "a", 2.0, 1.9, 10.0, 1), Timed("method", "a:fem", 1.5, start=10.0, pid=1),
+               Timed("method", "a:prbm", 0.25, start=10.0, pid=1), Timed("page", "a", 1.0, 0.9, 12.0, 1),
+               Timed("case", "b", 4.0, 3.0, 30.0, 2), Timed("method", "b:prbm", 3.5, start=30.0, pid=2),
+               Timed("extra", "chapter-4 domain study", 6.0, 5.0, 0.0, 3)]
+    text = breakdown(records, jobs=2)
+    assert "numba compile (primer) elastica" in text and "numba compile (primer) fem" in text
+    assert "cases (run, incl. findings' re-runs) (2)" in text and "6.0 s wall" in text   # 2 + 4 s
+    prbm = next(line for line in text.splitlines() if "method prbm" in line)
+    assert "3.8 s wall" in prbm                                                          # 0.25 + 3.5
+    assert "chapter-4 domain study" in text and "slowest cases: b 4.0, a 2.0" in text
+    busy = 10 + 30 + 2 + 1 + 4 + 6                                                        # pooled work only
+    assert f"workers busy {busy:.1f} s of 2 x 34.0 s" in text                             # 0 .. 34 s
+    rows = csv_text(records).splitlines()
+    # derived: the longest record first, its wall (the input 30.0 s above) written with four decimals
+    assert rows[0] == "kind,name,wall,cpu,start,pid" and rows[1].startswith("compile,elastica,30.0000")
+
+
+def test_timed_records_wall_and_cpu_of_its_block():
+    into = []
+    with timed("main", "work", into) as watch:
+        sum(i * i for i in range(200000))
+    assert into == [watch.record] and watch.record.kind == "main"
+    assert watch.record.wall > 0 and watch.record.cpu > 0 and watch.record.end >= watch.record.start
