@@ -139,9 +139,9 @@ def march(beam: ChainBeam, loads: NodalLoads, nodes: np.ndarray) -> ChainState:
     # eq (28) about node i: sum_j fy_j x_j - fx_j y_j over j >= i, minus (Fx, Fy) x position of node i
     mom_j = loads.fy[1:] * nodes[1:, 0] - loads.fx[1:] * nodes[1:, 1]
     M = m_out + np.cumsum(mom_j[::-1])[::-1] - (Fy * nodes[1:, 0] - Fx * nodes[1:, 1])
-    out = np.empty((N + 1, 2))
-    out[0] = 0.0
-    rot = np.zeros(N + 1)
+    # plain floats in the sequential march (numpy scalar indexing costs more than the arithmetic)
+    Fx, Fy, M, EI, theta = Fx.tolist(), Fy.tolist(), M.tolist(), EI.tolist(), theta.tolist()
+    x, y, rot = [0.0] * (N + 1), [0.0] * (N + 1), [0.0] * (N + 1)
     for i in range(N):
         psi = theta[i] + rot[i]                                           # (29)
         c, s = math.cos(psi), math.sin(psi)
@@ -151,9 +151,11 @@ def march(beam: ChainBeam, loads: NodalLoads, nodes: np.ndarray) -> ChainState:
         P_eq = P_tr / (1.0 - alpha)                                       # (30)
         d_tr = (P_eq * L**3 / 3.0 + M[i] * L * L / 2.0) / EI[i]           # (32)
         d_th = (P_eq * L * L / 2.0 + M[i] * L) / EI[i]                    # (33)
-        out[i + 1, 0] = out[i, 0] + L * c - d_tr * s                      # (34), (37), (39)
-        out[i + 1, 1] = out[i, 1] + L * s + d_tr * c                      # (35), (38), (40)
+        x[i + 1] = x[i] + L * c - d_tr * s                                # (34), (37), (39)
+        y[i + 1] = y[i] + L * s + d_tr * c                                # (35), (38), (40)
         rot[i + 1] = rot[i] + d_th                                        # (36)
+    out = np.column_stack([x, y])
+    rot = np.array(rot)
     return ChainState(out, rot)
 
 
