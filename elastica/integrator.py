@@ -189,18 +189,34 @@ def _first_step(y0, f, t0, interval, P, rtol, atol):
 
 
 @njit(cache=True, inline="always")
+def _combine(K, w, count, out):
+    """out[i] = sum_{j < count} K[j, i] w[j], summed in the order of j (as the loop over j inside
+    the loop over i that scipy's dot products amount to), but with the components i in the inner
+    loop: independent sums the processor overlaps, instead of one chain of dependent additions.
+    Zero weights (a third of DOP853's table) are skipped: adding 0 K[j, i] changes no sum."""
+    for i in range(out.size):
+        out[i] = 0.0
+    for j in range(count):
+        wj = w[j]
+        if wj == 0.0:
+            continue
+        for i in range(out.size):
+            out[i] += K[j, i] * wj
+
+
+@njit(cache=True, inline="always")
 def _error_norm(K, y, y_new, h, rtol, atol):
     """scipy's DOP853 error norm of a step from y to y_new with the stage derivatives K."""
     n = y.size
+    a5 = np.empty(n)
+    a3 = np.empty(n)
+    _combine(K, _E5, K.shape[0], a5)
+    _combine(K, _E3, K.shape[0], a3)
     e5, e3 = 0.0, 0.0
     for i in range(n):
         sc = atol + max(abs(y[i]), abs(y_new[i])) * rtol
-        a5, a3 = 0.0, 0.0
-        for j in range(K.shape[0]):
-            a5 += K[j, i] * _E5[j]
-            a3 += K[j, i] * _E3[j]
-        e5 += (a5 / sc) ** 2
-        e3 += (a3 / sc) ** 2
+        e5 += (a5[i] / sc) ** 2
+        e3 += (a3[i] / sc) ** 2
     if e5 == 0.0 and e3 == 0.0:
         return 0.0
     return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)
@@ -224,6 +240,7 @@ def _dop853(y0, t0, t1, P, rtol, atol, h_start):
     t = t0
     stage = np.empty(n)
     y_new = np.empty(n)
+    acc = np.empty(n)
     last = K.shape[0] - 1
     while t < t1:
         min_step = 10 * abs(np.nextafter(t, np.inf) - t)
@@ -241,17 +258,13 @@ def _dop853(y0, t0, t1, P, rtol, atol, h_start):
             for i in range(n):
                 K[0, i] = f[i]
             for s in range(1, A.shape[0]):
+                _combine(K, A[s], s, acc)
                 for i in range(n):
-                    acc = 0.0
-                    for j in range(s):
-                        acc += K[j, i] * A[s, j]
-                    stage[i] = y[i] + acc * h
+                    stage[i] = y[i] + acc[i] * h
                 _rhs(t + C[s] * h, stage, P, K[s])
+            _combine(K, B, B.size, acc)
             for i in range(n):
-                acc = 0.0
-                for j in range(B.size):
-                    acc += K[j, i] * B[j]
-                y_new[i] = y[i] + h * acc
+                y_new[i] = y[i] + h * acc[i]
             _rhs(t + h, y_new, P, K[last])
             error_norm = _error_norm(K, y, y_new, h, rtol, atol)
             if error_norm < 1.0:
