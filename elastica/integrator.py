@@ -361,6 +361,15 @@ def _norm(v):
 
 
 @njit(cache=True)
+def _distance(a, b):
+    """Euclidean distance |a - b| (a plain loop)."""
+    total = 0.0
+    for i in range(a.size):
+        total += (a[i] - b[i]) ** 2
+    return math.sqrt(total)
+
+
+@njit(cache=True)
 def _axpy(x, a, d):
     """x + a d as a new array (a loop: no broadcasting checks to compile)."""
     out = np.empty(x.size)
@@ -560,17 +569,31 @@ def _tangent(z, J, states, dq, dirs, mdirs, site_at, angle_given, follower):
 
 
 @njit(cache=True, inline="always")
-def _newton(z, q, tol, step_tol, ahead, maxiter, k0, dirs, fdirs, mdirs, site_at, angle_given, follower,
-            bounds, n_state, rtol, atol):
+def _trial(z, t, dz, center, radius):
+    """The trial point z + t dz, t halved until it lies within ``radius`` of ``center`` (or t < 1e-3)."""
+    z_try = _axpy(z, t, dz)
+    while _distance(z_try, center) > radius and t >= 1e-3:
+        t *= 0.5
+        z_try = _axpy(z, t, dz)
+    return z_try, t
+
+
+@njit(cache=True, inline="always")
+def _newton(z, q, tol, step_tol, ahead, maxiter, radius, k0, dirs, fdirs, mdirs, site_at, angle_given,
+            follower, bounds, n_state, rtol, atol):
     """Damped Newton on the end conditions (module docstring). Converged: |r| < 1e-3 tol, or |r| <
     tol and a step below ``step_tol`` (1 + |z|): the step that led to z, or with ``ahead`` the step
     from z (J^-1 r, known before integrating again: a path point stops one integration earlier).
+    Trust region: a trial point farther than ``radius`` from the start point z counts as a failed
+    trial (the step halved) without being integrated; a step halved below 1/1000 that way ends
+    the corrector, not converged (the continuation rejects a corrector that leaves this ball
+    anyway, so the integrations of a corrector wandering off the path are not paid).
     Returns (z, status, iterations, residual norm, Jacobian, boundary states and tip force at z): z
     is the last accepted point (with maxiter = 0 the start point, evaluated). One residual call site
     (the start point, then every trial point), so the compiled code holds one copy of the integrator."""
     it, t, norm, started = 0, 1.0, math.inf, False
     dz = np.zeros_like(z)
-    z_try = z
+    z_try, center = z, z
     while True:
         r_new, J_new, states_new, F_new, ok = _residual(z_try, q, k0, dirs, fdirs, mdirs, site_at,
                                                         angle_given, follower, bounds, n_state, rtol, atol)
@@ -586,10 +609,9 @@ def _newton(z, q, tol, step_tol, ahead, maxiter, k0, dirs, fdirs, mdirs, site_at
             if (norm < tol and t * _norm(dz) < step_tol * (1.0 + _norm(z))) or norm < 1e-3 * tol:
                 return z, CONVERGED, it, norm, J, states, F
         else:
-            t *= 0.5
+            z_try, t = _trial(z, 0.5 * t, dz, center, radius)
             if t < 1e-3:        # no descent left: converged only if already at the noise floor
                 return z, CONVERGED if norm < tol else NOT_CONVERGED, it, norm, J, states, F
-            z_try = _axpy(z, t, dz)
             continue
         minus_r = np.empty(r.size)
         for i in range(r.size):
@@ -600,8 +622,9 @@ def _newton(z, q, tol, step_tol, ahead, maxiter, k0, dirs, fdirs, mdirs, site_at
         it += 1
         if it > maxiter or not regular:
             return z, NOT_CONVERGED, min(it, maxiter), norm, J, states, F
-        t = 1.0
-        z_try = _axpy(z, 1.0, dz)
+        z_try, t = _trial(z, 1.0, dz, center, radius)
+        if t < 1e-3:            # every descent step leaves the trust region
+            return z, NOT_CONVERGED, it, norm, J, states, F
 
 
 # follow_path status: converged, continuation stalled, integration failed at the start, final
@@ -630,6 +653,7 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
     dz, tip, step = np.zeros_like(z), np.zeros(3), np.zeros_like(z)
     while True:
         final = started and lam >= 1.0
+        radius = math.inf
         if not started:
             q, z_guess, ntol, nrtol, natol, nmax = q0, z, 0.0, path_rtol, path_atol, 0
         elif final:       # final corrector at full accuracy
@@ -641,8 +665,11 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
             # a step whose corrector needs more than max_step_iterations is rejected: stop there
             z_guess, ntol, nrtol, natol = _axpy(z, 1.0, step), 10 * path_rtol, path_rtol, path_atol
             nmax = min(maxiter, max_step_iterations)
-        z_new, nstat, it, norm, J, states, F = _newton(z_guess, q, ntol, 1e-9 if final else ntol, not final,
-                                                       nmax, k0, dirs, fdirs, mdirs, site_at, angle_given,
+            if regular:     # the corrector may move z this far from the predictor (the step test below)
+                bend = curvature * (lam_try - lam) ** 2         # twice the predictor's expected miss
+                radius = max_corrector * _norm(step) + bend + 1e-6 * (1.0 + _norm(z))
+        z_new, nstat, it, norm, J, states, F = _newton(z_guess, q, ntol, 1e-9 if final else ntol, not final, nmax,
+                                                       radius, k0, dirs, fdirs, mdirs, site_at, angle_given,
                                                        follower, bounds, n_state, nrtol, natol)
         new_tip = states[last, :3]
         ok = nstat == CONVERGED
@@ -658,11 +685,8 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
                 return z, PATH_FINAL_FAILED, lam, nit, nsteps, norm, states, F
             if ok:
                 moved = math.hypot(new_tip[0] - tip[0], new_tip[1] - tip[1])
-                off = _norm(_axpy(z_new, -1.0, z_guess))
-                bend = curvature * (lam_try - lam) ** 2         # twice the predictor's expected miss
                 ok = (it <= max_step_iterations and abs(new_tip[2] - tip[2]) <= max_rotation_step
-                      and moved <= max_position_step
-                      and (not regular or off <= max_corrector * _norm(step) + bend + 1e-6 * (1.0 + _norm(z))))
+                      and moved <= max_position_step and _distance(z_new, z_guess) <= radius)
             if ok:
                 z, lam_prev, lam = z_new, lam, lam_try
                 nsteps += 1
