@@ -65,7 +65,8 @@ carries (``elastica_rhs``). The Jacobian of the residual r(z, q) w.r.t. z and it
 (the tangent predictor dz/dlambda = -J^-1 (dr/dq) dq) come from the same sensitivities.
 
 Newton: full step, halved (down to 1/1000) until the residual norm falls by the Armijo factor
-1 - 1e-4 t; a point z is converged when |r(z)| < tol and the Newton step from z, J(z)^-1 r(z), is
+1 - 1e-4 t (the start and the final corrector; a corrector along the path is not damped and stays
+within its trust region, ``_newton``); a point z is converged when |r(z)| < tol and the Newton step from z, J(z)^-1 r(z), is
 below ``step_tol`` (1 + |z|) (1e-9 for the final corrector, the path tolerance for the points along
 the path, which only start the next step), or |r| < 1e-3 tol.
 A singular Jacobian or a failed integration ends it (status codes below).
@@ -517,7 +518,7 @@ def _residual(z, q, k0, dirs, fdirs, mdirs, site_at, angle_given, follower, boun
 
 @njit(cache=True, inline="always")
 def _load_derivative(z, states, dirs, mdirs, site_at, angle_given, follower, nq):
-    """d r / d q (n x nq): the force parameters act through the sensitivities to (Fx, Fy) (and the
+    """d r / d q (n x nq), and d(x, y, theta, m)(1) / d q (4 x nq): the force parameters act through the sensitivities to (Fx, Fy) (and the
     follower's through the tip angle), the distributed load (the last two) through its own, the
     others enter the end conditions directly."""
     n = z.size
@@ -553,19 +554,29 @@ def _load_derivative(z, states, dirs, mdirs, site_at, angle_given, follower, nq)
     if follower:
         for j in range(nq):
             D[n - 1, j] = dYdq[2, j]
-    return D
+    return D, dYdq
 
 
 @njit(cache=True, inline="always")
-def _tangent(z, J, states, dq, dirs, mdirs, site_at, angle_given, follower):
+def _tangent(z, q, J, states, dq, dirs, fdirs, mdirs, site_at, angle_given, follower):
     """dz/dlambda along q(lambda) with dq/dlambda = dq, from the Jacobian J and the states of the
-    residual at z; False when J is singular."""
-    D = _load_derivative(z, states, dirs, mdirs, site_at, angle_given, follower, dq.size)
+    residual at z; False when J is singular; and the tip's rate d(x, y, theta)(1)/dlambda =
+    (dY/dz) dz/dlambda + (dY/dq) dq (normalised)."""
+    D, dYdq = _load_derivative(z, states, dirs, mdirs, site_at, angle_given, follower, dq.size)
     rhs = np.zeros(z.size)
     for i in range(z.size):
         for j in range(dq.size):
             rhs[i] -= D[i, j] * dq[j]
-    return _solve(J, rhs)
+    dz, regular = _solve(J, rhs)
+    _, dF = tip_force(z, q, fdirs, mdirs, follower)
+    dYdz = _unknowns_derivative(states[states.shape[0] - 1], dF)
+    rate = np.zeros(3)
+    for i in range(3):
+        for j in range(z.size):
+            rate[i] += dYdz[i, j] * dz[j]
+        for j in range(dq.size):
+            rate[i] += dYdq[i, j] * dq[j]
+    return dz, regular, rate
 
 
 @njit(cache=True, inline="always")
@@ -584,10 +595,12 @@ def _newton(z, q, tol, step_tol, ahead, maxiter, radius, k0, dirs, fdirs, mdirs,
     """Damped Newton on the end conditions (module docstring). Converged: |r| < 1e-3 tol, or |r| <
     tol and a step below ``step_tol`` (1 + |z|): the step that led to z, or with ``ahead`` the step
     from z (J^-1 r, known before integrating again: a path point stops one integration earlier).
-    Trust region: a trial point farther than ``radius`` from the start point z counts as a failed
-    trial (the step halved) without being integrated; a step halved below 1/1000 that way ends
-    the corrector, not converged (the continuation rejects a corrector that leaves this ball
-    anyway, so the integrations of a corrector wandering off the path are not paid).
+    A path corrector (finite ``radius``) is not damped: a trial point farther than ``radius`` from
+    the start point z (the continuation rejects a corrector that leaves this ball anyway) counts as
+    a failed trial, the step halved without integrating it, and a full step whose residual does not
+    fall ends the corrector, not converged: a corrector that needs damping is a sign of a step
+    too long for the predictor, which the continuation then halves (the integrations of a corrector
+    wandering off the path are not paid).
     Returns (z, status, iterations, residual norm, Jacobian, boundary states and tip force at z): z
     is the last accepted point (with maxiter = 0 the start point, evaluated). One residual call site
     (the start point, then every trial point), so the compiled code holds one copy of the integrator."""
@@ -608,6 +621,8 @@ def _newton(z, q, tol, step_tol, ahead, maxiter, radius, k0, dirs, fdirs, mdirs,
             z, r, J, states, F, norm = z_try, r_new, J_new, states_new, F_new, _norm(r_new)
             if (norm < tol and t * _norm(dz) < step_tol * (1.0 + _norm(z))) or norm < 1e-3 * tol:
                 return z, CONVERGED, it, norm, J, states, F
+        elif radius < math.inf:     # a path corrector that needs damping: the step is too long
+            return z, NOT_CONVERGED, it, norm, J, states, F
         else:
             z_try, t = _trial(z, 0.5 * t, dz, center, radius)
             if t < 1e-3:        # no descent left: converged only if already at the noise floor
@@ -625,6 +640,15 @@ def _newton(z, q, tol, step_tol, ahead, maxiter, radius, k0, dirs, fdirs, mdirs,
         z_try, t = _trial(z, 1.0, dz, center, radius)
         if t < 1e-3:            # every descent step leaves the trust region
             return z, NOT_CONVERGED, it, norm, J, states, F
+
+
+@njit(cache=True)
+def _reach(speed, accel, limit):
+    """The largest step h whose predicted tip motion, speed h + accel h^2 / 2 (a second-order
+    Taylor bound along the path), stays within ``limit``."""
+    if speed <= 0.0 and accel <= 0.0:
+        return math.inf
+    return 2.0 * limit / (speed + math.sqrt(speed * speed + 2.0 * accel * limit))
 
 
 # follow_path status: converged, continuation stalled, integration failed at the start, final
@@ -650,7 +674,8 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
     lam, dlam, lam_try, lam_prev, curvature = 0.0, min(initial_step, 1.0), 0.0, 0.0, 0.0
     nit, nsteps, norm = 0, 0, 0.0
     started, regular = False, True
-    dz, tip, step = np.zeros_like(z), np.zeros(3), np.zeros_like(z)
+    dz, tip, step, rate = np.zeros_like(z), np.zeros(3), np.zeros_like(z), np.zeros(3)
+    reach = math.inf
     while True:
         final = started and lam >= 1.0
         radius = math.inf
@@ -659,7 +684,7 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
         elif final:       # final corrector at full accuracy
             q, z_guess, ntol, nrtol, natol, nmax = _axpy(q0, lam, dq), z, tol, rtol, atol, maxiter
         else:
-            lam_try = min(1.0, lam + dlam)
+            lam_try = min(1.0, lam + min(dlam, reach))
             q = _axpy(q0, lam_try, dq)
             step = _axpy(np.zeros_like(z), lam_try - lam, dz) if regular else np.zeros_like(z)
             # a step whose corrector needs more than max_step_iterations is rejected: stop there
@@ -694,9 +719,16 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
                     dlam = min(2.0 * dlam, 1.0)
         if ok:                  # the tangent at the new point, and the path's curvature |z''| since the last
             dz_prev, was_regular = dz, regular
-            dz, regular = _tangent(z, J, states, dq, dirs, mdirs, site_at, angle_given, follower)
+            rate_prev = rate
+            dz, regular, rate = _tangent(z, _axpy(q0, lam, dq), J, states, dq, dirs, fdirs, mdirs, site_at,
+                                         angle_given, follower)
+            accel = np.zeros(3)             # the tip's d2/dlambda2, from the rates at the last two points
             if nsteps > 0 and regular and was_regular:
                 curvature = _norm(_axpy(dz, -1.0, dz_prev)) / (lam - lam_prev)
+                accel = _axpy(np.zeros(3), 1.0 / (lam - lam_prev), _axpy(rate, -1.0, rate_prev))
+            reach = min(_reach(abs(rate[2]), abs(accel[2]), max_rotation_step),
+                        _reach(math.hypot(rate[0], rate[1]), math.hypot(accel[0], accel[1]),
+                               max_position_step)) if regular else math.inf
             tip = new_tip.copy()
         else:                   # halve the step tried (dlam itself may reach past lambda = 1)
             dlam = 0.5 * (lam_try - lam)
