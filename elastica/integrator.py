@@ -48,7 +48,11 @@ optimised the integrator once per level of the chain (31 CPU-s cold). Here only 
 entry points (``follow_path`` and ``_samples``); the large functions they call once are inlined
 into them by numba (``inline='always'``: typed and optimised only as part of the caller), and the
 code uses loops instead of whole-array expressions, whose broadcasting checks drag numba's string
-formatting of error messages into every function that has one. One problem structure (normalised by L and EI, ``shooting`` derives the equations) is plain arrays:
+formatting of error messages into every function that has one. Small helpers called from several
+places (``_combine``, ``_trial``) stay separate functions (LLVM inlines them anyway; numba's inlining
+would type a copy per call site). ``error_model="numpy"``: a float division by zero gives inf/nan
+instead of raising, so no exception branch per division is generated (every division here has a
+nonzero divisor by construction). One problem structure (normalised by L and EI, ``shooting`` derives the equations) is plain arrays:
 
 * ``dirs`` (nc, 2): unit directions d_k of the prescribed tip-position components, end condition
   d_k . r(1) = c_k; ``fdirs`` (nc, 2): the directions of their unknown forces (multipliers mu_k);
@@ -97,7 +101,7 @@ _E5 = np.ascontiguousarray(_coef.E5)
 SAFETY, MIN_FACTOR, MAX_FACTOR, ERROR_EXPONENT = 0.9, 0.2, 10.0, -1.0 / 8.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def elastica_rhs(s, Y, Fx, Fy, k0, out, wx=0.0, wy=0.0):
     """dY/ds into ``out`` (layout in the module docstring: STATE_SIZE entries, or FORCE_STATE_SIZE
     without the sensitivities to the distributed load); tip force (Fx, Fy), initial curvature k0,
@@ -132,7 +136,7 @@ def elastica_rhs(s, Y, Fx, Fy, k0, out, wx=0.0, wy=0.0):
     out[24] -= outboard * c
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def beam_rhs(s, Y, Fx, Fy, k0, EI, EA, out, wx=0.0, wy=0.0, length=0.0):
     """dY/ds into ``out`` for the plain beam (module docstring): tip force (Fx, Fy), initial
     curvature k0, bending stiffness EI, axial stiffness EA (0: inextensible), a uniform dead load
@@ -150,7 +154,7 @@ def beam_rhs(s, Y, Fx, Fy, k0, EI, EA, out, wx=0.0, wy=0.0, length=0.0):
     out[4] = m * m / (2 * EI) + (N * N / (2 * EA) if EA != 0.0 else 0.0)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _rhs(s, Y, P, out):
     """The equations the state's length names (BEAM_STATE_SIZE: the plain beam, else the elastica
     with its sensitivities)."""
@@ -160,7 +164,7 @@ def _rhs(s, Y, P, out):
         elastica_rhs(s, Y, P[0], P[1], P[2], out, P[3], P[4])
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _first_step(y0, f, t0, interval, P, rtol, atol):
     """scipy's select_initial_step (order 7); rms norms as plain loops."""
     n = y0.size
@@ -189,7 +193,7 @@ def _first_step(y0, f, t0, interval, P, rtol, atol):
     return min(100 * h0, h1, interval)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def _combine(K, w, count, out):
     """out[i] = sum_{j < count} K[j, i] w[j], summed in the order of j (as the loop over j inside
     the loop over i that scipy's dot products amount to), but with the components i in the inner
@@ -205,7 +209,7 @@ def _combine(K, w, count, out):
             out[i] += K[j, i] * wj
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _error_norm(K, y, y_new, h, rtol, atol):
     """scipy's DOP853 error norm of a step from y to y_new with the stage derivatives K."""
     n = y.size
@@ -223,7 +227,7 @@ def _error_norm(K, y, y_new, h, rtol, atol):
     return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _dop853(y0, t0, t1, P, rtol, atol, h_start):
     """State at t1 from y0 at t0, success, and the step size the controller proposes next.
     ``h_start`` > 0: the first step to try (a previous interval's proposal) instead of scipy's
@@ -283,7 +287,7 @@ def _dop853(y0, t0, t1, P, rtol, atol, h_start):
     return y, True, h_abs
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _samples(y0, s, P, rtol, atol, restart):
     """States at the arc lengths s, integrated from sample to sample; each interval starts with the
     step the previous one proposed (the first, and every one when ``restart``, with scipy's
@@ -352,7 +356,7 @@ ANGLE = -3          # index of the prescribed tip angle in q; the last two are (
 CONVERGED, NOT_CONVERGED, NO_START = 0, 1, 2
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _norm(v):
     """Euclidean norm (a plain loop: the systems have at most a handful of unknowns)."""
     total = 0.0
@@ -361,7 +365,7 @@ def _norm(v):
     return math.sqrt(total)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _distance(a, b):
     """Euclidean distance |a - b| (a plain loop)."""
     total = 0.0
@@ -370,7 +374,7 @@ def _distance(a, b):
     return math.sqrt(total)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _axpy(x, a, d):
     """x + a d as a new array (a loop: no broadcasting checks to compile)."""
     out = np.empty(x.size)
@@ -379,7 +383,7 @@ def _axpy(x, a, d):
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _solve(A, b):
     """x with A x = b by Gaussian elimination with partial pivoting, and False when a pivot is
     exactly zero (singular, as LAPACK's gesv reports it)."""
@@ -410,7 +414,7 @@ def _solve(A, b):
     return x, True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def tip_force(z, q, fdirs, mdirs, follower):
     """Tip force F (2,) and dF/dz (2, n) for the unknowns z (normalised)."""
     n = z.size
@@ -435,7 +439,7 @@ def tip_force(z, q, fdirs, mdirs, follower):
     return F, dF
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _through_force(Y, dF):
     """(4, m): d(x, y, theta, m)/d(parameters) of the state Y (``integrator`` layout) when the tip
     force depends on them by dF = dF/d(parameters) (2, m)."""
@@ -447,7 +451,7 @@ def _through_force(Y, dF):
     return D
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _unknowns_derivative(Y, dF):
     """(4, n): d(x, y, theta, m)/dz of the state Y: through the tip force (dF = dF/dz) and, in
     column 0, through m(0) = z[0]."""
@@ -457,7 +461,7 @@ def _unknowns_derivative(Y, dF):
     return D
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _integrate_pieces(z, F, q, k0, bounds, n_state, rtol, atol):
     """The states at the piece boundaries (bounds.size, STATE_SIZE; the first ``n_state`` entries
     integrated, the rest 0) from m(0) = z[0] under the tip force F, and whether all succeeded."""
@@ -475,7 +479,7 @@ def _integrate_pieces(z, F, q, k0, bounds, n_state, rtol, atol):
     return states, ok
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _residual(z, q, k0, dirs, fdirs, mdirs, site_at, angle_given, follower, bounds, n_state, rtol, atol):
     """End-condition residual r (n,), Jacobian dr/dz (n, n), the states at the piece boundaries
     (row 0: s = 0, the last: s = 1) and the tip force F; ok False when the integration failed."""
@@ -516,7 +520,7 @@ def _residual(z, q, k0, dirs, fdirs, mdirs, site_at, angle_given, follower, boun
     return r, J, states, F, True
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _load_derivative(z, states, dirs, mdirs, site_at, angle_given, follower, nq):
     """d r / d q (n x nq), and d(x, y, theta, m)(1) / d q (4 x nq): the force parameters act through the sensitivities to (Fx, Fy) (and the
     follower's through the tip angle), the distributed load (the last two) through its own, the
@@ -557,7 +561,7 @@ def _load_derivative(z, states, dirs, mdirs, site_at, angle_given, follower, nq)
     return D, dYdq
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _tangent(z, q, J, states, dq, dirs, fdirs, mdirs, site_at, angle_given, follower):
     """dz/dlambda along q(lambda) with dq/dlambda = dq, from the Jacobian J and the states of the
     residual at z; False when J is singular; and the tip's rate d(x, y, theta)(1)/dlambda =
@@ -579,7 +583,7 @@ def _tangent(z, q, J, states, dq, dirs, fdirs, mdirs, site_at, angle_given, foll
     return dz, regular, rate
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def _trial(z, t, dz, center, radius):
     """The trial point z + t dz, t halved until it lies within ``radius`` of ``center`` (or t < 1e-3)."""
     z_try = _axpy(z, t, dz)
@@ -589,7 +593,7 @@ def _trial(z, t, dz, center, radius):
     return z_try, t
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _newton(z, q, tol, step_tol, ahead, maxiter, radius, k0, dirs, fdirs, mdirs, site_at, angle_given,
             follower, bounds, n_state, rtol, atol):
     """Damped Newton on the end conditions (module docstring). Converged: |r| < 1e-3 tol, or |r| <
@@ -642,7 +646,7 @@ def _newton(z, q, tol, step_tol, ahead, maxiter, radius, k0, dirs, fdirs, mdirs,
             return z, NOT_CONVERGED, it, norm, J, states, F
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _reach(speed, accel, limit):
     """The largest step h whose predicted tip motion, speed h + accel h^2 / 2 (a second-order
     Taylor bound along the path), stays within ``limit``."""
@@ -656,7 +660,7 @@ def _reach(speed, accel, limit):
 PATH_CONVERGED, PATH_STALLED, PATH_NO_START, PATH_FINAL_FAILED = 0, 1, 2, 3
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, follower, bounds, rtol, atol,
                 tol, path_rtol, initial_step, min_step, max_rotation_step, max_position_step,
                 max_corrector, max_step_iterations, maxiter):
