@@ -572,15 +572,21 @@ def _tangent(z, q, J, states, dq, dirs, fdirs, mdirs, site_at, angle_given, foll
         for j in range(dq.size):
             rhs[i] -= D[i, j] * dq[j]
     dz, regular = _solve(J, rhs)
+    return dz, regular, _tip_rate(z, q, states[states.shape[0] - 1], dz, dYdq, dq, fdirs, mdirs, follower)
+
+
+@njit(cache=True, error_model="numpy")
+def _tip_rate(z, q, Y, dz, dYdq, dq, fdirs, mdirs, follower):
+    """d(x, y, theta)(1)/dlambda = (dY/dz) dz/dlambda + (dY/dq) dq at the tip state Y."""
     _, dF = tip_force(z, q, fdirs, mdirs, follower)
-    dYdz = _unknowns_derivative(states[states.shape[0] - 1], dF)
+    dYdz = _unknowns_derivative(Y, dF)
     rate = np.zeros(3)
     for i in range(3):
         for j in range(z.size):
             rate[i] += dYdz[i, j] * dz[j]
         for j in range(dq.size):
             rate[i] += dYdq[i, j] * dq[j]
-    return dz, regular, rate
+    return rate
 
 
 @njit(cache=True, error_model="numpy")
@@ -644,6 +650,18 @@ def _newton(z, q, tol, step_tol, ahead, maxiter, radius, k0, dirs, fdirs, mdirs,
         z_try, t = _trial(z, 1.0, dz, center, radius)
         if t < 1e-3:            # every descent step leaves the trust region
             return z, NOT_CONVERGED, it, norm, J, states, F
+
+
+@njit(cache=True, error_model="numpy")
+def _step_cap(rate, rate_prev, dlam, max_rotation_step, max_position_step):
+    """The longest step whose predicted tip motion stays within both limits: the tip's rate and,
+    when ``dlam`` > 0, its change (rate - rate_prev)/dlam since the previous point."""
+    accel = np.zeros(3)
+    if dlam > 0.0:
+        for i in range(3):
+            accel[i] = (rate[i] - rate_prev[i]) / dlam
+    return min(_reach(abs(rate[2]), abs(accel[2]), max_rotation_step),
+               _reach(math.hypot(rate[0], rate[1]), math.hypot(accel[0], accel[1]), max_position_step))
 
 
 @njit(cache=True, error_model="numpy")
@@ -726,13 +744,11 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
             rate_prev = rate
             dz, regular, rate = _tangent(z, _axpy(q0, lam, dq), J, states, dq, dirs, fdirs, mdirs, site_at,
                                          angle_given, follower)
-            accel = np.zeros(3)             # the tip's d2/dlambda2, from the rates at the last two points
-            if nsteps > 0 and regular and was_regular:
+            secant = nsteps > 0 and regular and was_regular   # the last two points give z'' and the tip's
+            if secant:
                 curvature = _norm(_axpy(dz, -1.0, dz_prev)) / (lam - lam_prev)
-                accel = _axpy(np.zeros(3), 1.0 / (lam - lam_prev), _axpy(rate, -1.0, rate_prev))
-            reach = min(_reach(abs(rate[2]), abs(accel[2]), max_rotation_step),
-                        _reach(math.hypot(rate[0], rate[1]), math.hypot(accel[0], accel[1]),
-                               max_position_step)) if regular else math.inf
+            reach = _step_cap(rate, rate_prev, lam - lam_prev if secant else 0.0, max_rotation_step,
+                              max_position_step) if regular else math.inf
             tip = new_tip.copy()
         else:                   # halve the step tried (dlam itself may reach past lambda = 1)
             dlam = 0.5 * (lam_try - lam)
