@@ -98,6 +98,7 @@ _B = np.ascontiguousarray(_coef.B)
 _C = np.ascontiguousarray(_coef.C[:_N_STAGES])
 _E3 = np.ascontiguousarray(_coef.E3)
 _E5 = np.ascontiguousarray(_coef.E5)
+_AB = np.ascontiguousarray(np.vstack([_A, _B]))     # the stage rows of A, then B (one stage-sum site)
 SAFETY, MIN_FACTOR, MAX_FACTOR, ERROR_EXPONENT = 0.9, 0.2, 10.0, -1.0 / 8.0
 
 
@@ -193,7 +194,7 @@ def _first_step(y0, f, t0, interval, P, rtol, atol):
     return min(100 * h0, h1, interval)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy")
 def _combine(K, w, count, out):
     """out[i] = sum_{j < count} K[j, i] w[j], summed in the order of j (as the loop over j inside
     the loop over i that scipy's dot products amount to), but with the components i in the inner
@@ -213,15 +214,15 @@ def _combine(K, w, count, out):
 def _error_norm(K, y, y_new, h, rtol, atol):
     """scipy's DOP853 error norm of a step from y to y_new with the stage derivatives K."""
     n = y.size
-    a5 = np.empty(n)
-    a3 = np.empty(n)
-    _combine(K, _E5, K.shape[0], a5)
-    _combine(K, _E3, K.shape[0], a3)
     e5, e3 = 0.0, 0.0
     for i in range(n):
         sc = atol + max(abs(y[i]), abs(y_new[i])) * rtol
-        e5 += (a5[i] / sc) ** 2
-        e3 += (a3[i] / sc) ** 2
+        a5, a3 = 0.0, 0.0
+        for j in range(K.shape[0]):
+            a5 += K[j, i] * _E5[j]
+            a3 += K[j, i] * _E3[j]
+        e5 += (a5 / sc) ** 2
+        e3 += (a3 / sc) ** 2
     if e5 == 0.0 and e3 == 0.0:
         return 0.0
     return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)
@@ -232,9 +233,9 @@ def _dop853(y0, t0, t1, P, rtol, atol, h_start):
     """State at t1 from y0 at t0, success, and the step size the controller proposes next.
     ``h_start`` > 0: the first step to try (a previous interval's proposal) instead of scipy's
     initial-step selection."""
-    A, B, C = _A, _B, _C     # global arrays: compile-time constants for numba
+    AB, C = _AB, _C     # global arrays: compile-time constants for numba
     n = y0.size
-    K = np.empty((A.shape[0] + 1, n))
+    K = np.empty((AB.shape[0], n))
     f = np.empty(n)
     _rhs(t0, y0, P, f)
     y = y0.copy()
@@ -262,14 +263,15 @@ def _dop853(y0, t0, t1, P, rtol, atol, h_start):
             h_abs = abs(h)
             for i in range(n):
                 K[0, i] = f[i]
-            for s in range(1, A.shape[0]):
-                _combine(K, A[s], s, acc)
-                for i in range(n):
-                    stage[i] = y[i] + acc[i] * h
-                _rhs(t + C[s] * h, stage, P, K[s])
-            _combine(K, B, B.size, acc)
-            for i in range(n):
-                y_new[i] = y[i] + h * acc[i]
+            for s in range(1, AB.shape[0]):     # the stages, then (the last row, B) the new state
+                _combine(K, AB[s], s, acc)
+                if s < last:
+                    for i in range(n):
+                        stage[i] = y[i] + acc[i] * h
+                    _rhs(t + C[s] * h, stage, P, K[s])
+                else:
+                    for i in range(n):
+                        y_new[i] = y[i] + h * acc[i]
             _rhs(t + h, y_new, P, K[last])
             error_norm = _error_norm(K, y, y_new, h, rtol, atol)
             if error_norm < 1.0:
