@@ -99,39 +99,35 @@ def spring_angle(FR, phi, k, theta_i=0.0, *, xtol=1e-13, maxiter=60):
 _SCALAR_LOOP_MAX = 256  # up to this many levels the plain-float loop beats the numpy iteration
 
 
-def _spring_start(FR, phi, k, theta_i, lo, hi):
-    """Linear solution of (*) about Theta_i (the first Newton step from Theta_i), if inside (lo, hi)."""
-    d = FR * cos(phi - theta_i) + k
-    if d > 0.0:
-        x = theta_i + FR * sin(phi - theta_i) / d
-        if lo < x < hi:
-            return x
-    return phi
-
-
 def _spring_angle_scalar(FR, phi, k, theta_i, xtol, maxiter):
-    """``spring_angle`` for one level in plain floats (a few microseconds; called once per load level,
-    so its names are module globals and each quantity is computed once per iteration)."""
+    """``spring_angle`` for one level in plain floats (a few microseconds; called once per load level by
+    every segment model's level kernel, so it is written for CPython: module-global math functions,
+    each quantity computed once per iteration, no helper calls).
+
+    Start: the linear solution of (*) about Theta_i, Theta_i + F R sin(phi - Theta_i) / (F R cos(phi -
+    Theta_i) + k) (the first Newton step from Theta_i), when inside the bracket, else phi.  The residual
+    g decreases through the root in the bracket, so g > 0 puts x below the root (lo = x), g < 0 above."""
     if FR == 0.0 or phi == theta_i:
         return theta_i, True, 0
-    lo, hi = (theta_i, phi) if theta_i < phi else (phi, theta_i)
-    x = _spring_start(FR, phi, k, theta_i, lo, hi)
-    toward_phi = phi > theta_i  # g > 0 between Theta_i and the root, g < 0 between the root and phi
+    if theta_i < phi:
+        lo, hi = theta_i, phi
+    else:
+        lo, hi = phi, theta_i
+    x = phi
+    d = FR * cos(phi - theta_i) + k
+    if d > 0.0:
+        x0 = theta_i + FR * sin(phi - theta_i) / d
+        if lo < x0 < hi:
+            x = x0
     for it in range(1, maxiter + 1):
         s = sin(phi - x)
         fx = FR * s - k * (x - theta_i)
         if fx == 0.0:
             return x, True, it
-        # shrink the bracket: x lies on the Theta_i side of the root where g has the sign of (phi - Theta_i)
-        if (fx > 0.0) == toward_phi:
-            if toward_phi:
-                lo = x
-            else:
-                hi = x
-        elif toward_phi:
-            hi = x
-        else:
+        if fx > 0.0:  # shrink the bracket
             lo = x
+        else:
+            hi = x
         dfx = -FR * cos(phi - x) - k
         step = fx / dfx if dfx != 0.0 else math.inf
         x_new = x - step

@@ -76,14 +76,17 @@ class TipLoads:
                         self.has_force, self.has_moment)
 
 
-def tip_loads(case, n: int) -> TipLoads:
-    """The case's tip loads summed per level (0 + each load's value times its direction component)."""
+def tip_loads(case, n: int | None = None) -> TipLoads:
+    """The case's tip loads summed per level (0 + each load's value times its direction component);
+    ``n`` the number of levels (``case.n_levels()``, the first load's levels, when not given)."""
+    per_load = [load.levels() for load in case.loads]
+    if n is None:
+        n = len(per_load[0]) if per_load else 1
     Fx = Fy = M = [0.0] * n
     follower = False
-    for i, load in enumerate(case.loads):
+    for i, (load, values) in enumerate(zip(case.loads, per_load)):
         if load.point != "tip":
             raise NotApplicable(f"loads.{i} acts on '{load.point}'; the segment PRBMs take end loads only")
-        values = load.levels()
         if load.kind == "force":
             dx, dy = float(load.direction[0]), float(load.direction[1])
             Fx = [f + v * dx for f, v in zip(Fx, values)]
@@ -115,12 +118,13 @@ class FitOptions:
     extrapolate: str
 
 
-def run_segment(case, requests, options: dict, n: int) -> tuple[dict, MethodRun]:
+def run_segment(case, requests, options: dict) -> tuple[dict, MethodRun]:
     """The requested values and the run of a single segment under end loads (not the inflection model)."""
     seg = case.segment
     L, EI, kappa = seg.length, seg.bending_stiffness(), seg.initial_curvature()
     fit = FitOptions(options.get("family", "pauly-midha"), options.get("extrapolate", "raise"))
-    loads = tip_loads(case, n)
+    loads = tip_loads(case)
+    n = len(loads.Fy)
     mu, contact = options.get("friction_mu", 0.0), options.get("contact_angle_deg", 0.0)
     if mu or contact:
         capstan = prbm.capstan_factor(float(mu), math.radians(float(contact)))
