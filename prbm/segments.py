@@ -270,6 +270,17 @@ def _arrays(columns: dict[str, list], shape: tuple[int, ...]) -> dict[str, np.nd
     return {key: np.array(column, dtype=float).reshape(shape) for key, column in columns.items()}
 
 
+def _table(rows: list[tuple], names: tuple[str, ...], shape: tuple[int, ...]) -> dict[str, np.ndarray]:
+    """Per-level rows (one tuple of floats a level) -> one array of the levels' shape a name (the rows'
+    first len(names) entries), through one array of all the rows (one numpy call, not one a column)."""
+    if not rows:
+        return {name: np.empty(shape) for name in names}
+    table = np.array(rows, dtype=float).T.copy()  # (columns, levels), each column contiguous
+    if len(shape) == 1:
+        return {name: table[j] for j, name in enumerate(names)}
+    return {name: table[j].reshape(shape) for j, name in enumerate(names)}
+
+
 def _columns(rows: list[tuple], names: tuple[str, ...]) -> dict[str, list]:
     """Per-level rows (one tuple a level) -> one list a name (the rows' first len(names) entries)."""
     if not rows:
@@ -338,16 +349,15 @@ def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
         fits.append(c)
     ok_levels = [row[5] for row in rows]
     ok_all = all(ok_levels)
-    columns = _columns(rows, ("a", "b", "theta0", "Theta", "F"))
-    constants = _columns(fits, ("gamma", "c_theta", "K_theta", "k"))
+    names, constant_names = ("a", "b", "theta0", "Theta", "F"), ("gamma", "c_theta", "K_theta", "k")
     if shape == ():  # one level given as scalars
-        out = {key: np.float64(v[0]) for key, v in columns.items()}
+        out = {key: np.float64(v) for key, v in zip(names, rows[0])}
         out.update({"P": np.float64(P_list[0]), "n": np.float64(n_list[0])})
-        constants = {key: v[0] for key, v in constants.items()}
+        constants = dict(zip(constant_names, fits[0]))
     else:
-        out = _arrays(columns, shape)
+        out = _table(rows, names, shape)
         out.update({"P": np.asarray(P, float), "n": np.asarray(n, float)})
-        constants = _arrays(constants, shape)
+        constants = _table(fits, constant_names, shape)
     constants["family"] = fam.name
     return PRBMResult(ok_all, "converged" if ok_all else "spring equation did not converge", out, constants,
                       "fixed-pinned, seed 000 eqs (41)-(49)", time.perf_counter() - t0,
@@ -401,7 +411,7 @@ def pure_moment_tip(M, *, length: float, EI: float) -> PRBMResult:
     M = np.asarray(M, dtype=float)
     k = PURE_MOMENT_SPRING * EI / length
     rows = [_pure_moment_level(m, length, EI, k) for m in M.ravel().tolist()]
-    out = _arrays(_columns(rows, ("a", "b", "theta0", "Theta", "M", "a_exact", "b_exact")), M.shape)
+    out = _table(rows, ("a", "b", "theta0", "Theta", "M", "a_exact", "b_exact"), M.shape)
     return PRBMResult(True, "closed form", out,
                       {"gamma": PURE_MOMENT_GAMMA, "k": k, "spring_coefficient": PURE_MOMENT_SPRING,
                        "c_theta": PURE_MOMENT_C_THETA},
@@ -560,9 +570,9 @@ def fixed_guided_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
             c = per_ratio[n_eff] = _fixed_guided_ratio(n_eff, length, EI, fam, extrapolate)
         rows.append(_fixed_guided_level(abs(p), sign, c, length))
         fits.append(c)
-    out = _arrays(_columns(rows, ("a", "b", "theta0", "Theta", "M")), shape)
+    out = _table(rows, ("a", "b", "theta0", "Theta", "M"), shape)
     out.update({"P": np.asarray(P, float), "n": np.asarray(n, float)})
-    constants = _arrays(_columns(fits, ("gamma", "K_theta", "k_each")), shape)
+    constants = _table(fits, ("gamma", "K_theta", "k_each"), shape)
     constants["family"] = fam.name
     ok_levels = [row[5] for row in rows]
     ok_all = all(ok_levels)
