@@ -1,4 +1,4 @@
-"""Single-spring pseudo-rigid-body models of compliant segments, vectorised over load levels.
+"""Single-spring pseudo-rigid-body models of compliant segments, over any number of load levels.
 
 Every model here is a rigid PRB link of radius R from a characteristic pivot, held by one torsional
 spring k (or two equal springs in series, for the fixed-guided beam), loaded by an end force
@@ -8,8 +8,15 @@ F (cos phi, sin phi).  Equilibrium about the pivot (virtual work on the one coor
 
 solved for the PRB angle Theta by a safeguarded Newton iteration on the bracket between Theta_i and
 phi, started from the linear solution (analytic derivative -F R cos(phi - Theta) - k; quadratic
-convergence, at most ~8 iterations), over all load levels.  With Theta_i = 0 the residual is concave
-on (0, phi), so the root is unique.
+convergence, at most ~8 iterations).  With Theta_i = 0 the residual is concave on (0, phi), so the
+root is unique.
+
+Structure: each model's level equations have one implementation, a plain-float kernel for one load
+level (``_fixed_pinned_level``, ``_pure_moment_level``, ``_curved_level``, ``_fixed_guided_level``), fed
+the constants of its load ratio (the n-fits and what follows from them, evaluated once per distinct
+ratio); the public functions loop it over the levels (a case has a few; a numpy call costs about a
+microsecond whatever its length, more than a level's arithmetic).  ``spring_angle`` itself keeps a numpy
+iteration for long arrays given to it directly (``slfp_tip``, ``curved_pinned_pinned``).
 
 Conventions: x along the undeformed segment from the fixed end, y transverse, CCW-positive angles;
 the end force is (-nP, P), so n > 0 is compressive (seed 000, notes to Tables 3.2-3.6);
