@@ -53,8 +53,9 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import dataclass
 from math import cos, sin
-from typing import NamedTuple
+from typing import Callable, NamedTuple
 
 import numpy as np
 
@@ -299,6 +300,34 @@ def _scalar_or_array(d):
     return {key: np.asarray(v, dtype=float) for key, v in d.items()}
 
 
+@dataclass(frozen=True, slots=True)
+class _Ops:
+    """What a level kernel evaluates with: ``FLOATS`` for one level in plain floats (math, the scalar
+    spring solve), ``ARRAYS`` for all the levels at once (numpy, the vectorised spring solve)."""
+
+    sin: Callable
+    cos: Callable
+    sqrt: Callable
+    atan2: Callable
+    hypot: Callable
+    where: Callable
+    spring: Callable  # spring(FR, phi, k, Theta_i) -> (Theta, converged, iterations) of (*)
+
+
+def _pick(condition, yes, no):
+    return yes if condition else no
+
+
+def _spring_levels(FR, phi, k, theta_i):
+    return _spring_angle_vector(*np.broadcast_arrays(*(np.asarray(v, float) for v in (FR, phi, k, theta_i))),
+                                1e-13, 60)
+
+
+_FLOATS = _Ops(math.sin, math.cos, math.sqrt, math.atan2, lambda x, y: float(np.hypot(x, y)), _pick,
+               lambda FR, phi, k, theta_i: _spring_angle_scalar(FR, phi, k, theta_i, 1e-13, 60))
+_ARRAYS = _Ops(np.sin, np.cos, np.sqrt, np.arctan2, np.hypot, np.where, _spring_levels)
+
+
 class _FixedPinnedRatio(NamedTuple):
     """The constants of one (mirrored) load ratio n of the fixed-pinned model: gamma, c_theta, K_theta
     from the fits (41)-(43), the spring k = gamma K_theta EI/l (45), eta = sqrt(1 + n^2) and the force
@@ -313,20 +342,21 @@ class _FixedPinnedRatio(NamedTuple):
     gl: float
 
 
-def _fixed_pinned_ratio(n_eff: float, length: float, EI: float, fam, extrapolate: str) -> _FixedPinnedRatio:
+def _fixed_pinned_ratio(xp: _Ops, n_eff, length: float, EI: float, fam, extrapolate: str) -> _FixedPinnedRatio:
     gamma, c_theta, K = fam.parameters(n_eff, extrapolate)
-    return _FixedPinnedRatio(gamma, c_theta, K, gamma * K * EI / length, math.sqrt(1.0 + n_eff * n_eff),
-                             math.atan2(1.0, -n_eff), gamma * length)
+    return _FixedPinnedRatio(gamma, c_theta, K, gamma * K * EI / length, xp.sqrt(1.0 + n_eff * n_eff),
+                             xp.atan2(1.0, -n_eff), gamma * length)
 
 
-def _fixed_pinned_level(Pabs: float, sign: float, c: _FixedPinnedRatio, length: float, EI: float) -> tuple:
-    """One level of the fixed-pinned model (seed 000 eqs (44)-(49)), the load mirrored to P >= 0 (sign
-    restores it): F = P eta, (F l^2/EI) sin(phi - Theta) = K_theta Theta, a = l - gamma l (1 - cos Theta),
-    b = gamma l sin Theta, theta0 = c_theta Theta.  Returns (a, b, theta0, Theta, F, converged, iterations)."""
+def _fixed_pinned_level(xp: _Ops, Pabs, sign, c: _FixedPinnedRatio, length: float, EI: float) -> tuple:
+    """The fixed-pinned model at a level (floats) or at all levels (arrays) (seed 000 eqs (44)-(49)), the
+    load mirrored to P >= 0 (sign restores it): F = P eta, (F l^2/EI) sin(phi - Theta) = K_theta Theta,
+    a = l - gamma l (1 - cos Theta), b = gamma l sin Theta, theta0 = c_theta Theta.
+    Returns (a, b, theta0, Theta, F, converged, iterations)."""
     F = Pabs * c.eta
-    T, ok, nit = _spring_angle_scalar(F * length**2 / EI, c.phi, c.K, 0.0, 1e-13, 60)
+    T, ok, nit = xp.spring(F * length**2 / EI, c.phi, c.K, 0.0)
     gl = c.gl
-    return length - gl * (1.0 - cos(T)), sign * gl * sin(T), sign * c.c_theta * T, sign * T, F, ok, nit
+    return length - gl * (1.0 - xp.cos(T)), sign * gl * xp.sin(T), sign * c.c_theta * T, sign * T, F, ok, nit
 
 
 @checked(positive=('length', 'EI'), finite=('P', 'n'))
@@ -343,6 +373,8 @@ def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
     """
     t0 = time.perf_counter()
     fam = fit_family(family)
+    if np.size(P) * np.size(n) > _SCALAR_LOOP_MAX:  # many levels: the kernel once over arrays
+        return _fixed_pinned_arrays(P, n, length, EI, fam, extrapolate, t0)
     P_list, n_list, shape = _level_lists(P, n)
     per_ratio: dict[float, _FixedPinnedRatio] = {}
     rows, fits = [], []
@@ -351,8 +383,8 @@ def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
         n_eff = sign * m
         c = per_ratio.get(n_eff)
         if c is None:
-            c = per_ratio[n_eff] = _fixed_pinned_ratio(n_eff, length, EI, fam, extrapolate)
-        rows.append(_fixed_pinned_level(abs(p), sign, c, length, EI))
+            c = per_ratio[n_eff] = _fixed_pinned_ratio(_FLOATS, n_eff, length, EI, fam, extrapolate)
+        rows.append(_fixed_pinned_level(_FLOATS, abs(p), sign, c, length, EI))
         fits.append(c)
     ok_levels = [row[5] for row in rows]
     ok_all = all(ok_levels)
@@ -369,6 +401,20 @@ def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
     return PRBMResult(ok_all, "converged" if ok_all else "spring equation did not converge", out, constants,
                       "fixed-pinned, seed 000 eqs (41)-(49)", time.perf_counter() - t0,
                       max((row[6] for row in rows), default=0), np.array(ok_levels, dtype=bool).reshape(shape or (1,)))
+
+
+def _fixed_pinned_arrays(P, n, length: float, EI: float, fam, extrapolate: str, t0: float) -> PRBMResult:
+    """``fixed_pinned_tip`` over many levels: the same kernel evaluated once on numpy arrays."""
+    P_arr, n_arr = np.broadcast_arrays(np.asarray(P, float), np.asarray(n, float))
+    sign = np.where(P_arr < 0.0, -1.0, 1.0)
+    c = _fixed_pinned_ratio(_ARRAYS, sign * n_arr, length, EI, fam, extrapolate)
+    a, b, theta0, Theta, F, ok, nit = _fixed_pinned_level(_ARRAYS, np.abs(P_arr), sign, c, length, EI)
+    out = {"a": a, "b": b, "theta0": theta0, "Theta": Theta, "F": F, "P": np.asarray(P, float),
+           "n": np.asarray(n, float)}
+    constants = {"gamma": c.gamma, "c_theta": c.c_theta, "K_theta": c.K, "k": c.k, "family": fam.name}
+    ok_all = bool(np.all(ok))
+    return PRBMResult(ok_all, "converged" if ok_all else "spring equation did not converge", out, constants,
+                      "fixed-pinned, seed 000 eqs (41)-(49)", time.perf_counter() - t0, nit, ok)
 
 
 @checked(positive=('length', 'EI'), finite=('n', 'a', 'b', 'theta0'))
@@ -417,8 +463,11 @@ def pure_moment_tip(M, *, length: float, EI: float) -> PRBMResult:
     t0 = time.perf_counter()
     M = np.asarray(M, dtype=float)
     k = PURE_MOMENT_SPRING * EI / length
-    rows = [_pure_moment_level(m, length, EI, k) for m in M.ravel().tolist()]
-    out = _table(rows, ("a", "b", "theta0", "Theta", "M", "a_exact", "b_exact"), M.shape)
+    names = ("a", "b", "theta0", "Theta", "M", "a_exact", "b_exact")
+    if M.size > _SCALAR_LOOP_MAX:  # many levels: the kernel once over the array
+        out = dict(zip(names, _pure_moment_level(_ARRAYS, M, length, EI, k)))
+    else:
+        out = _table([_pure_moment_level(_FLOATS, m, length, EI, k) for m in M.ravel().tolist()], names, M.shape)
     return PRBMResult(True, "closed form", out,
                       {"gamma": PURE_MOMENT_GAMMA, "k": k, "spring_coefficient": PURE_MOMENT_SPRING,
                        "c_theta": PURE_MOMENT_C_THETA},
@@ -426,18 +475,18 @@ def pure_moment_tip(M, *, length: float, EI: float) -> PRBMResult:
                       level_converged=np.ones(np.atleast_1d(M).shape, bool))
 
 
-def _pure_moment_level(m: float, length: float, EI: float, k: float) -> tuple:
-    """One level of ``pure_moment_tip``: (a, b, theta0, Theta, M, a_exact, b_exact); the exact circular arc
-    of curvature M/EI: rho = EI/M, a = rho sin(M l/EI), b = rho (1 - cos(M l/EI))."""
+def _pure_moment_level(xp: _Ops, m, length: float, EI: float, k: float) -> tuple:
+    """``pure_moment_tip`` at a level (floats) or at all levels (arrays): (a, b, theta0, Theta, M, a_exact,
+    b_exact); the exact circular arc of curvature M/EI: rho = EI/M, a = rho sin(M l/EI),
+    b = rho (1 - cos(M l/EI)) (a = l, b = 0 without a moment)."""
     g = PURE_MOMENT_GAMMA
     Theta = m / k
     theta_exact = m * length / EI
-    if theta_exact != 0:
-        rho = length / theta_exact
-        a_exact, b_exact = rho * math.sin(theta_exact), rho * (1 - math.cos(theta_exact))
-    else:
-        a_exact, b_exact = length, 0.0
-    return (length - g * length * (1 - math.cos(Theta)), g * length * math.sin(Theta), PURE_MOMENT_C_THETA * Theta,
+    bent = theta_exact != 0
+    rho = length / xp.where(bent, theta_exact, 1.0)
+    a_exact = xp.where(bent, rho * xp.sin(theta_exact), length)
+    b_exact = xp.where(bent, rho * (1 - xp.cos(theta_exact)), 0.0)
+    return (length - g * length * (1 - xp.cos(Theta)), g * length * xp.sin(Theta), PURE_MOMENT_C_THETA * Theta,
             Theta, m, a_exact, b_exact)
 
 
@@ -475,6 +524,8 @@ def curved_fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, curvature: fl
     P, n = np.broadcast_arrays(np.asarray(P, dtype=float), np.asarray(n, dtype=float))
     P, n = P.copy(), n.copy()
     kappa0 = curvature * length
+    if P.size > _SCALAR_LOOP_MAX:  # many levels: the kernel once over arrays
+        return _curved_arrays(P, n, kappa0, length, EI, fam, extrapolate, t0)
     columns, constants, ok, nit = _curved_levels(P.ravel().tolist(), n.ravel().tolist(), [kappa0] * P.size,
                                                  length, EI, fam, extrapolate)
     out = _arrays(columns, P.shape)
@@ -490,6 +541,20 @@ CURVED_ASSUMPTIONS = ("load relation k(Theta-Theta_i) = F rho l sin(phi-Theta); 
                       "theta0 = kappa0 + c_theta (Theta - Theta_i); straight-beam fits")
 
 
+def _curved_arrays(P: np.ndarray, n: np.ndarray, kappa0: float, length: float, EI: float, fam, extrapolate: str,
+                   t0: float) -> PRBMResult:
+    """``curved_fixed_pinned_tip`` over many levels: the same kernel evaluated once on numpy arrays."""
+    c = _curved_ratio(_ARRAYS, kappa0, fam.parameters(np.where(P < 0, -n, n), extrapolate), length, EI)
+    a, b, theta0, Theta, ok, nit = _curved_level(_ARRAYS, P, n, kappa0, c, length)
+    ok_all = bool(np.all(ok))
+    return PRBMResult(ok_all, "converged" if ok_all else "not converged",
+                      {"a": a, "b": b, "theta0": theta0, "Theta": Theta, "P": P, "n": n},
+                      {"gamma": c.gamma, "c_theta": c.c_theta, "K_theta": c.K, "rho": c.rho, "k": c.k,
+                       "Theta_i": c.Theta_i, "kappa0": kappa0, "family": fam.name, "assumptions": CURVED_ASSUMPTIONS},
+                      "initially curved fixed-pinned, seed 000 eqs (53)-(61)", time.perf_counter() - t0, nit,
+                      level_converged=ok)
+
+
 class _CurvedRatio(NamedTuple):
     """The constants of one (kappa0, mirrored load ratio n) of the curved model: the fits gamma, c_theta,
     K_theta (41)-(43), rho (57), the spring k = rho K_theta EI/l (58) and Theta_i (54)."""
@@ -502,30 +567,31 @@ class _CurvedRatio(NamedTuple):
     Theta_i: float
 
 
-def _curved_ratio(kappa0: float, fit: tuple[float, float, float], length: float, EI: float) -> _CurvedRatio:
-    """Eqs (54)-(58) for the initial curvature kappa0 = l/R_i and the fits ``fit`` = (gamma, c_theta, K)."""
+def _curved_ratio(xp: _Ops, kappa0: float, fit: tuple, length: float, EI: float) -> _CurvedRatio:
+    """Eqs (54)-(58) for the initial curvature kappa0 = l/R_i and the fits ``fit`` = (gamma, c_theta, K)
+    (floats, or arrays over the levels)."""
     gamma, c_theta, K = fit
     if abs(kappa0) < 1e-12:
         a_i, b_i = length, 0.0
     else:
         a_i = length / kappa0 * math.sin(kappa0)
         b_i = length / kappa0 * (1.0 - math.cos(kappa0))
-    rho = float(np.hypot(a_i / length - (1.0 - gamma), b_i / length))  # numpy's hypot (bit-for-bit as before)
-    return _CurvedRatio(gamma, c_theta, K, rho, rho * K * EI / length, math.atan2(b_i, a_i - length * (1.0 - gamma)))
+    rho = xp.hypot(a_i / length - (1.0 - gamma), b_i / length)  # numpy's hypot on both paths (as before)
+    return _CurvedRatio(gamma, c_theta, K, rho, rho * K * EI / length, xp.atan2(b_i, a_i - length * (1.0 - gamma)))
 
 
-def _curved_level(p: float, m: float, kappa0: float, c: _CurvedRatio, length: float) -> tuple:
-    """One level of the curved model: phi the direction of (-nP, P) on its branch within pi of Theta_i,
-    F rho l sin(phi - Theta) = k (Theta - Theta_i), a = l - gamma l + rho l cos Theta (59),
-    b = rho l sin Theta (60), theta0 = kappa0 + c_theta (Theta - Theta_i).
+def _curved_level(xp: _Ops, p, m, kappa0: float, c: _CurvedRatio, length: float) -> tuple:
+    """The curved model at a level (floats) or at all levels (arrays): phi the direction of (-nP, P) on
+    its branch within pi of Theta_i, F rho l sin(phi - Theta) = k (Theta - Theta_i),
+    a = l - gamma l + rho l cos Theta (59), b = rho l sin Theta (60), theta0 = kappa0 + c_theta (Theta - Theta_i).
     Returns (a, b, theta0, Theta, converged, iterations)."""
     Theta_i, rho = c.Theta_i, c.rho
-    F = abs(p) * math.sqrt(1.0 + m * m)
-    phi = Theta_i if p == 0 else math.atan2(p, -m * p)  # absolute direction of (-nP, P)
+    F = abs(p) * xp.sqrt(1.0 + m * m)
+    phi = xp.where(p == 0, Theta_i, xp.atan2(p, -m * p))  # absolute direction of (-nP, P)
     d = phi - Theta_i
-    phi = Theta_i + math.atan2(math.sin(d), math.cos(d))  # the branch of phi within pi of Theta_i
-    Theta, ok, nit = _spring_angle_scalar(F * rho * length, phi, c.k, Theta_i, 1e-13, 60)
-    return (length - c.gamma * length + rho * length * math.cos(Theta), rho * length * math.sin(Theta),
+    phi = Theta_i + xp.atan2(xp.sin(d), xp.cos(d))  # the branch of phi within pi of Theta_i
+    Theta, ok, nit = xp.spring(F * rho * length, phi, c.k, Theta_i)
+    return (length - c.gamma * length + rho * length * xp.cos(Theta), rho * length * xp.sin(Theta),
             kappa0 + c.c_theta * (Theta - Theta_i), Theta, ok, nit)
 
 
@@ -545,8 +611,8 @@ def _curved_levels(P: list[float], n: list[float], kappa0: list[float], length: 
             fit = fits.get(key[1])
             if fit is None:
                 fit = fits[key[1]] = fam.parameters(key[1], extrapolate)
-            c = geometry[key] = _curved_ratio(k0, fit, length, EI)
-        rows.append(_curved_level(p, m, k0, c, length))
+            c = geometry[key] = _curved_ratio(_FLOATS, k0, fit, length, EI)
+        rows.append(_curved_level(_FLOATS, p, m, k0, c, length))
         per_level.append(c)
     names = ("gamma", "c_theta", "K_theta", "rho", "k", "Theta_i")
     return _columns(rows, ("a", "b", "theta0", "Theta")), _columns(per_level, names), [row[4] for row in rows], max((row[5] for row in rows), default=0)
@@ -566,6 +632,8 @@ def fixed_guided_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
     """
     t0 = time.perf_counter()
     fam = fit_family(family)
+    if np.size(P) * np.size(n) > _SCALAR_LOOP_MAX:  # many levels: the kernel once over arrays
+        return _fixed_guided_arrays(P, n, length, EI, fam, extrapolate, t0)
     P_list, n_list, shape = _level_lists(P, n)
     per_ratio: dict[float, _FixedGuidedRatio] = {}
     rows, fits = [], []
@@ -574,8 +642,8 @@ def fixed_guided_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
         n_eff = sign * m
         c = per_ratio.get(n_eff)
         if c is None:
-            c = per_ratio[n_eff] = _fixed_guided_ratio(n_eff, length, EI, fam, extrapolate)
-        rows.append(_fixed_guided_level(abs(p), sign, c, length))
+            c = per_ratio[n_eff] = _fixed_guided_ratio(_FLOATS, n_eff, length, EI, fam, extrapolate)
+        rows.append(_fixed_guided_level(_FLOATS, abs(p), sign, c, length))
         fits.append(c)
     out = _table(rows, ("a", "b", "theta0", "Theta", "M"), shape)
     out.update({"P": np.asarray(P, float), "n": np.asarray(n, float)})
@@ -601,20 +669,37 @@ class _FixedGuidedRatio(NamedTuple):
     phi: float
 
 
-def _fixed_guided_ratio(n_eff: float, length: float, EI: float, fam, extrapolate: str) -> _FixedGuidedRatio:
+def _fixed_guided_ratio(xp: _Ops, n_eff, length: float, EI: float, fam, extrapolate: str) -> _FixedGuidedRatio:
     gamma, _, K = fam.parameters(n_eff, extrapolate)
-    return _FixedGuidedRatio(gamma, K, 2.0 * gamma * K * EI / length, math.sqrt(1.0 + n_eff * n_eff),
-                             math.atan2(1.0, -n_eff))
+    return _FixedGuidedRatio(gamma, K, 2.0 * gamma * K * EI / length, xp.sqrt(1.0 + n_eff * n_eff),
+                             xp.atan2(1.0, -n_eff))
 
 
-def _fixed_guided_level(Pabs: float, sign: float, c: _FixedGuidedRatio, length: float) -> tuple:
-    """One level of the two-spring fixed-guided model, the load mirrored to P >= 0 (sign restores it):
-    F gamma l sin(phi - Theta) = 2 k Theta, a = l - gamma l (1 - cos Theta), b = gamma l sin Theta,
-    theta0 = 0, M = -(k Theta + (1 - gamma) l P/2).  Returns (a, b, theta0, Theta, M, converged, iterations)."""
+def _fixed_guided_level(xp: _Ops, Pabs, sign, c: _FixedGuidedRatio, length: float) -> tuple:
+    """The two-spring fixed-guided model at a level (floats) or at all levels (arrays), the load mirrored
+    to P >= 0 (sign restores it): F gamma l sin(phi - Theta) = 2 k Theta, a = l - gamma l (1 - cos Theta),
+    b = gamma l sin Theta, theta0 = 0, M = -(k Theta + (1 - gamma) l P/2).
+    Returns (a, b, theta0, Theta, M, converged, iterations)."""
     gamma, k = c.gamma, c.k
-    Theta, ok, nit = _spring_angle_scalar(Pabs * c.eta * gamma * length, c.phi, 2.0 * k, 0.0, 1e-13, 60)
-    return (length - gamma * length * (1.0 - math.cos(Theta)), sign * (gamma * length * math.sin(Theta)), 0.0,
+    Theta, ok, nit = xp.spring(Pabs * c.eta * gamma * length, c.phi, 2.0 * k, 0.0)
+    theta0 = xp.where(True, 0.0, Theta)  # the end slope held at 0 (0.0, or zeros of the levels' shape)
+    return (length - gamma * length * (1.0 - xp.cos(Theta)), sign * (gamma * length * xp.sin(Theta)), theta0,
             sign * Theta, sign * -(k * Theta + (1.0 - gamma) * length * Pabs / 2.0), ok, nit)
+
+
+def _fixed_guided_arrays(P, n, length: float, EI: float, fam, extrapolate: str, t0: float) -> PRBMResult:
+    """``fixed_guided_tip`` over many levels: the same kernel evaluated once on numpy arrays."""
+    P_arr, n_arr = np.broadcast_arrays(np.asarray(P, float), np.asarray(n, float))
+    sign = np.where(P_arr < 0.0, -1.0, 1.0)
+    c = _fixed_guided_ratio(_ARRAYS, sign * n_arr, length, EI, fam, extrapolate)
+    a, b, theta0, Theta, M, ok, nit = _fixed_guided_level(_ARRAYS, np.abs(P_arr), sign, c, length)
+    ok_all = bool(np.all(ok))
+    return PRBMResult(ok_all, "converged" if ok_all else "not converged",
+                      {"a": a, "b": b, "theta0": theta0, "Theta": Theta, "M": M, "P": np.asarray(P, float),
+                       "n": np.asarray(n, float)},
+                      {"gamma": c.gamma, "K_theta": c.K, "k_each": c.k, "family": fam.name},
+                      "fixed-guided (two springs), seed 000 eq (63), seed 004", time.perf_counter() - t0, nit,
+                      level_converged=ok)
 
 
 @checked(positive=('length', 'EI'), finite=('P', 'n', 'M', 'curvature'))

@@ -1,7 +1,8 @@
-"""The segment models' level kernels (``prbm.segments``: one plain-float implementation of each model's
-level equations, looped over the levels whatever their number) against an independent array evaluation
-of the same seed equations written here with numpy, the spring equation (*) solved by the independent
-reference solver ``_spring_angle_reference`` (safeguarded Newton from phi, the previous solver).
+"""The segment models' level kernels (``prbm.segments``: one implementation of each model's level
+equations, evaluated level by level in plain floats for a case's few levels, once on numpy arrays past
+``_SCALAR_LOOP_MAX`` levels) on both paths against an independent array evaluation of the same seed
+equations written here with numpy, the spring equation (*) solved by the independent reference solver
+``_spring_angle_reference`` (safeguarded Newton from phi, the previous solver).
 
 * fixed-pinned: seed 000 eqs (41)-(49), mirrored about x for P < 0 with the fits at -n;
 * two-spring fixed-guided: seed 000 eq (63) / seed 004, (F l^2/EI) sin(phi - Theta) = 4 K_Theta Theta,
@@ -11,9 +12,10 @@ reference solver ``_spring_angle_reference`` (safeguarded Newton from phi, the p
 
 Both solvers stop at a Newton step below 1e-13 (1 + |Theta|), so Theta and what follows agree to 1e-12
 relative; a planted error in any equation (a sign, a factor) fails by far more.  The loads cover both
-signs of P, P = 0, several load ratios (the per-ratio caches see more than one entry); the results must
-not depend on how many levels are solved at once (one scalar, a few, 300), and ``fixed_guided_monotonic_tip``
-is the curved solve with kappa0 = M l/EI + l/R_i level by level (seed 000 eq (62)).
+signs of P, P = 0, several load ratios (the per-ratio caches see more than one entry); a level solved
+alone (plain floats) equals the same level among 300 (arrays) to 1e-12 (the two spring iterations may
+stop one Newton step apart), and ``fixed_guided_monotonic_tip`` is the curved solve with
+kappa0 = M l/EI + l/R_i level by level (seed 000 eq (62)).
 """
 import math
 
@@ -21,11 +23,18 @@ import numpy as np
 import pytest
 
 import prbm
-from prbm.segments import _spring_angle_reference
+from prbm.segments import _SCALAR_LOOP_MAX, _spring_angle_reference
 
-P = np.array([0.0, 0.3, 1.0, 2.5, -1.7, 4.0, 7.5, -0.2, 10.0, 3.3])
-N = np.array([0.0, 0.0, 0.5, -0.4, 0.5, 2.0, 0.0, -1.2, 0.5, 9.0])
+P10 = np.array([0.0, 0.3, 1.0, 2.5, -1.7, 4.0, 7.5, -0.2, 10.0, 3.3])
+N10 = np.array([0.0, 0.0, 0.5, -0.4, 0.5, 2.0, 0.0, -1.2, 0.5, 9.0])
+P, N = P10, N10
 RTOL = 1e-12
+# the level loop (10 levels) and the array evaluation (past the loop's limit) of the same kernels
+COUNTS = [10, _SCALAR_LOOP_MAX + 14]
+
+
+def _levels(count: int) -> tuple[np.ndarray, np.ndarray]:
+    return np.resize(P10, count), np.resize(N10, count)
 
 
 def _close(got, expected) -> bool:
@@ -44,8 +53,10 @@ def _mirrored(P, n, family):
     return sign, n_eff, gamma, c_theta, K
 
 
+@pytest.mark.parametrize("count", COUNTS)
 @pytest.mark.parametrize("family", ["pauly-midha", "howell"])
-def test_fixed_pinned_kernel_equals_the_seed_equations(family):
+def test_fixed_pinned_kernel_equals_the_seed_equations(family, count):
+    P, N = _levels(count)
     n = np.clip(N, -0.9, 9.0)  # inside both families' ranges
     length, EI = 2.0, 3.0
     r = prbm.fixed_pinned_tip(P, n, length=length, EI=EI, family=family)
@@ -62,8 +73,10 @@ def test_fixed_pinned_kernel_equals_the_seed_equations(family):
     assert _close(r.constants["k"], gamma * K * EI / length)                           # eq (45)
 
 
+@pytest.mark.parametrize("count", COUNTS)
 @pytest.mark.parametrize("family", ["pauly-midha", "howell"])
-def test_fixed_guided_kernel_equals_the_seed_equations(family):
+def test_fixed_guided_kernel_equals_the_seed_equations(family, count):
+    P, N = _levels(count)
     n = np.clip(N, -0.9, 9.0)
     length, EI = 2.0, 3.0
     r = prbm.fixed_guided_tip(P, n, length=length, EI=EI, family=family)
@@ -83,8 +96,10 @@ def test_fixed_guided_kernel_equals_the_seed_equations(family):
     assert np.all(np.abs(residual) <= 1e-10 * (1.0 + F * length**2 / EI))
 
 
+@pytest.mark.parametrize("count", COUNTS)
 @pytest.mark.parametrize("curvature", [0.0, 0.4, -0.9])
-def test_curved_kernel_equals_the_seed_equations(curvature):
+def test_curved_kernel_equals_the_seed_equations(curvature, count):
+    P, N = _levels(count)
     length, EI = 1.5, 2.0
     r = prbm.curved_fixed_pinned_tip(P, N, length=length, EI=EI, curvature=curvature)
     gamma, c_theta, K = prbm.PAULY_MIDHA.parameters(np.where(P < 0.0, -N, N))
@@ -110,8 +125,9 @@ def test_curved_kernel_equals_the_seed_equations(curvature):
         assert _close(r.constants[key], value), key
 
 
-def test_pure_moment_kernel_equals_the_closed_form():
-    M, length, EI = np.array([0.0, 0.5, -1.2, 3.0, 1e-9]), 1.3, 0.7
+@pytest.mark.parametrize("count", [5, _SCALAR_LOOP_MAX + 5])
+def test_pure_moment_kernel_equals_the_closed_form(count):
+    M, length, EI = np.resize([0.0, 0.5, -1.2, 3.0, 1e-9], count), 1.3, 0.7
     r = prbm.pure_moment_tip(M, length=length, EI=EI)
     Theta = M / (1.5164 * EI / length)                                                 # seed 004: k = 1.5164 EI/L
     assert _close(r["a"], length - 0.7346 * length * (1.0 - np.cos(Theta)))          # gamma = 0.7346
@@ -124,13 +140,13 @@ def test_pure_moment_kernel_equals_the_closed_form():
 
 
 @pytest.mark.parametrize("model", [prbm.fixed_pinned_tip, prbm.fixed_guided_tip, prbm.curved_fixed_pinned_tip])
-def test_a_level_gives_the_same_numbers_alone_or_among_many(model):
+def test_a_level_alone_equals_the_same_level_among_many(model):
     kw = {"length": 1.1, "EI": 0.8} | ({"curvature": 0.3} if model is prbm.curved_fixed_pinned_tip else {})
-    many = model(np.resize(P, 300), np.resize(N, 300), **kw)
-    for i in (0, 3, 4, 9):
-        alone = model(float(P[i]), float(N[i]), **kw)
+    many = model(*_levels(300), **kw)
+    for i in range(10):
+        alone = model(float(P10[i]), float(N10[i]), **kw)
         for key in ("a", "b", "theta0", "Theta"):
-            assert float(alone[key]) == many[key][i] == many[key][i + 10], (i, key)
+            assert _close(float(alone[key]), many[key][i]) and many[key][i] == many[key][i + 10], (i, key)
         assert bool(alone.converged) and many.level_converged[i]
 
 

@@ -159,8 +159,8 @@ def test_grubler_and_mode_table():
     assert topo.expected_mode()["modes"] == (1, 1)
 
 
-# fixed_pinned_tip on one scalar level (np.float64 outputs, float constants), a few levels and many
-# levels (arrays; 300 levels was the numpy path before the level kernel served every length)
+# the three code paths of fixed_pinned_tip: one level (plain floats), a few levels (plain floats level by
+# level), many levels (numpy); 300 > segments._SCALAR_LOOP_MAX
 PATHS = {"one": 1, "few": 3, "many": 300}
 
 
@@ -183,9 +183,7 @@ def test_fixed_pinned_outputs_and_constants_on_every_path(path):
         assert np.allclose(r.constants["k"], g * K * EI / length, rtol=1e-15)                      # eq (45)
         assert np.allclose(r["F"], P * math.sqrt(1 + n * n), rtol=1e-15)                          # eq (46)
         assert np.array_equal(r["P"], sign * P_in) and np.array_equal(r["n"], sign * n)
-        Theta, _, _ = prbm.spring_angle(P * math.sqrt(1 + n * n) * length**2 / EI, math.atan2(1, -n), K)
-        nit = max(prbm.spring_angle(float(p) * math.sqrt(1 + n * n) * length**2 / EI, math.atan2(1, -n), K)[2]
-                  for p in P)  # the most iterations any level took
+        Theta, _, nit = prbm.spring_angle(P * math.sqrt(1 + n * n) * length**2 / EI, math.atan2(1, -n), K)
         assert np.allclose(r["Theta"], sign * Theta, rtol=1e-12)
         assert np.allclose(r["b"], sign * g * length * np.sin(Theta), rtol=1e-12)                  # eq (49)
         assert np.allclose(r["a"], length - g * length * (1 - np.cos(Theta)), rtol=1e-12)          # eq (48)
