@@ -105,9 +105,10 @@ def spring_angle(FR, phi, k, theta_i=0.0, *, xtol=1e-13, maxiter=60):
 
 
 _SCALAR_LOOP_MAX = 256  # up to this many levels the plain-float loop beats the numpy iteration
+_PLAIN = (float, int, np.float64)  # one load level given as a number
 
 
-def _spring_angle_scalar(FR, phi, k, theta_i, xtol, maxiter):
+def _spring_angle_scalar(FR, phi, k, theta_i, xtol=1e-13, maxiter=60):
     """``spring_angle`` for one level in plain floats (a few microseconds; called once per load level by
     every segment model's level kernel, so it is written for CPython: module-global math functions,
     each quantity computed once per iteration, no helper calls).
@@ -280,13 +281,12 @@ def _arrays(columns: dict[str, list], shape: tuple[int, ...]) -> dict[str, np.nd
 
 def _table(rows: list[tuple], names: tuple[str, ...], shape: tuple[int, ...]) -> dict[str, np.ndarray]:
     """Per-level rows (one tuple of floats a level) -> one array of the levels' shape a name (the rows'
-    first len(names) entries), through one array of all the rows (one numpy call, not one a column)."""
+    first len(names) entries)."""
     if not rows:
         return {name: np.empty(shape) for name in names}
-    table = np.array(rows, dtype=float).T.copy()  # (columns, levels), each column contiguous
-    if len(shape) == 1:
-        return {name: table[j] for j, name in enumerate(names)}
-    return {name: table[j].reshape(shape) for j, name in enumerate(names)}
+    if len(shape) == 1:  # one array a column (numpy is slow to read a list of tuples as one 2-d array)
+        return {name: np.array(column, dtype=float) for name, column in zip(names, zip(*rows))}
+    return {name: np.array(column, dtype=float).reshape(shape) for name, column in zip(names, zip(*rows))}
 
 
 def _columns(rows: list[tuple], names: tuple[str, ...]) -> dict[str, list]:
@@ -324,7 +324,7 @@ def _spring_levels(FR, phi, k, theta_i):
 
 
 _FLOATS = _Ops(math.sin, math.cos, math.sqrt, math.atan2, lambda x, y: float(np.hypot(x, y)), _pick,
-               lambda FR, phi, k, theta_i: _spring_angle_scalar(FR, phi, k, theta_i, 1e-13, 60))
+               _spring_angle_scalar)
 _ARRAYS = _Ops(np.sin, np.cos, np.sqrt, np.arctan2, np.hypot, np.where, _spring_levels)
 
 
@@ -353,10 +353,10 @@ def _fixed_pinned_level(xp: _Ops, Pabs, sign, c: _FixedPinnedRatio, length: floa
     load mirrored to P >= 0 (sign restores it): F = P eta, (F l^2/EI) sin(phi - Theta) = K_theta Theta,
     a = l - gamma l (1 - cos Theta), b = gamma l sin Theta, theta0 = c_theta Theta.
     Returns (a, b, theta0, Theta, F, converged, iterations)."""
-    F = Pabs * c.eta
-    T, ok, nit = xp.spring(F * length**2 / EI, c.phi, c.K, 0.0)
-    gl = c.gl
-    return length - gl * (1.0 - xp.cos(T)), sign * gl * xp.sin(T), sign * c.c_theta * T, sign * T, F, ok, nit
+    _, c_theta, K, _, eta, phi, gl = c
+    F = Pabs * eta
+    T, ok, nit = xp.spring(F * length**2 / EI, phi, K, 0.0)
+    return length - gl * (1.0 - xp.cos(T)), sign * gl * xp.sin(T), sign * c_theta * T, sign * T, F, ok, nit
 
 
 @checked(positive=('length', 'EI'), finite=('P', 'n'))
@@ -373,9 +373,12 @@ def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
     """
     t0 = time.perf_counter()
     fam = fit_family(family)
-    if np.size(P) * np.size(n) > _SCALAR_LOOP_MAX:  # many levels: the kernel once over arrays
-        return _fixed_pinned_arrays(P, n, length, EI, fam, extrapolate, t0)
-    P_list, n_list, shape = _level_lists(P, n)
+    if type(P) in _PLAIN and type(n) in _PLAIN:  # one level given as numbers: no array round trip
+        P_list, n_list, shape = [float(P)], [float(n)], ()
+    else:
+        P_list, n_list, shape = _level_lists(P, n)
+        if len(P_list) > _SCALAR_LOOP_MAX:  # many levels: the kernel once over arrays
+            return _fixed_pinned_arrays(P, n, length, EI, fam, extrapolate, t0)
     per_ratio: dict[float, _FixedPinnedRatio] = {}
     rows, fits = [], []
     for p, m in zip(P_list, n_list):
@@ -585,14 +588,14 @@ def _curved_level(xp: _Ops, p, m, kappa0: float, c: _CurvedRatio, length: float)
     its branch within pi of Theta_i, F rho l sin(phi - Theta) = k (Theta - Theta_i),
     a = l - gamma l + rho l cos Theta (59), b = rho l sin Theta (60), theta0 = kappa0 + c_theta (Theta - Theta_i).
     Returns (a, b, theta0, Theta, converged, iterations)."""
-    Theta_i, rho = c.Theta_i, c.rho
+    gamma, c_theta, _, rho, k, Theta_i = c
     F = abs(p) * xp.sqrt(1.0 + m * m)
     phi = xp.where(p == 0, Theta_i, xp.atan2(p, -m * p))  # absolute direction of (-nP, P)
     d = phi - Theta_i
     phi = Theta_i + xp.atan2(xp.sin(d), xp.cos(d))  # the branch of phi within pi of Theta_i
-    Theta, ok, nit = xp.spring(F * rho * length, phi, c.k, Theta_i)
-    return (length - c.gamma * length + rho * length * xp.cos(Theta), rho * length * xp.sin(Theta),
-            kappa0 + c.c_theta * (Theta - Theta_i), Theta, ok, nit)
+    Theta, ok, nit = xp.spring(F * rho * length, phi, k, Theta_i)
+    return (length - gamma * length + rho * length * xp.cos(Theta), rho * length * xp.sin(Theta),
+            kappa0 + c_theta * (Theta - Theta_i), Theta, ok, nit)
 
 
 def _curved_levels(P: list[float], n: list[float], kappa0: list[float], length: float, EI: float, fam,
@@ -632,9 +635,9 @@ def fixed_guided_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
     """
     t0 = time.perf_counter()
     fam = fit_family(family)
-    if np.size(P) * np.size(n) > _SCALAR_LOOP_MAX:  # many levels: the kernel once over arrays
-        return _fixed_guided_arrays(P, n, length, EI, fam, extrapolate, t0)
     P_list, n_list, shape = _level_lists(P, n)
+    if len(P_list) > _SCALAR_LOOP_MAX:  # many levels: the kernel once over arrays
+        return _fixed_guided_arrays(P, n, length, EI, fam, extrapolate, t0)
     per_ratio: dict[float, _FixedGuidedRatio] = {}
     rows, fits = [], []
     for p, m in zip(P_list, n_list):
@@ -680,8 +683,8 @@ def _fixed_guided_level(xp: _Ops, Pabs, sign, c: _FixedGuidedRatio, length: floa
     to P >= 0 (sign restores it): F gamma l sin(phi - Theta) = 2 k Theta, a = l - gamma l (1 - cos Theta),
     b = gamma l sin Theta, theta0 = 0, M = -(k Theta + (1 - gamma) l P/2).
     Returns (a, b, theta0, Theta, M, converged, iterations)."""
-    gamma, k = c.gamma, c.k
-    Theta, ok, nit = xp.spring(Pabs * c.eta * gamma * length, c.phi, 2.0 * k, 0.0)
+    gamma, _, k, eta, phi = c
+    Theta, ok, nit = xp.spring(Pabs * eta * gamma * length, phi, 2.0 * k, 0.0)
     theta0 = xp.where(True, 0.0, Theta)  # the end slope held at 0 (0.0, or zeros of the levels' shape)
     return (length - gamma * length * (1.0 - xp.cos(Theta)), sign * (gamma * length * xp.sin(Theta)), theta0,
             sign * Theta, sign * -(k * Theta + (1.0 - gamma) * length * Pabs / 2.0), ok, nit)
