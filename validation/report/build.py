@@ -26,7 +26,6 @@ from dataclasses import dataclass
 from importlib import metadata
 from pathlib import Path
 
-import matplotlib
 import numpy as np
 import pandas as pd
 
@@ -37,6 +36,8 @@ from validation.run.exit_status import ExitStatus, print_error
 from validation.report.paraview import normalise_shapes  # noqa: F401  (also used by tests)
 from validation.case.loader import find_case_files
 from validation.case.readings import readings_groups
+from validation.report.charts import (PLOTLY_JS, Chart, ShapeLine, install_plotly, outputs_chart, path_chart,
+                                      shapes_chart)
 from validation.report.format import by_case, rows_of, run_badge, sig
 from validation.report.overview import CLAIMS, overview_points, plot_overview
 from validation.report.summary import (METHOD_NAMES, case_sentence, findings, findings_html, summarise,
@@ -45,16 +46,9 @@ from validation.run.runner import CaseResult
 from validation.run.outcome import run_cases, summary, tabulate
 from validation.run.timeline import Timed, breakdown, csv_text, timed
 
-matplotlib.use("Agg")  # files only, no display
-import matplotlib.pyplot as plt  # noqa: E402
-
 TIMING_CSV = "timing.csv"
-DEPENDENCIES = ["numpy", "scipy", "scikit-fem", "meshio", "pyvista", "pandas", "matplotlib", "pydantic",
+DEPENDENCIES = ["numpy", "scipy", "scikit-fem", "meshio", "pyvista", "pandas", "matplotlib", "plotly", "pydantic",
                 "tqdm", "openseespy", "pyarrow"]
-METHOD_STYLE = {"fem": ("C0", "-"), "prbm": ("C1", "--"), "elastica": ("C2", ":"), "bcm": ("C4", "-.")}
-REF_MARKER = {"PRBM": "s", "ANSYS": "^", "elliptic": "D", "measured": "o", "exact": "*", "BCM": "v",
-              "chain": "P", "published": "X"}
-
 CSS = """body{font-family:system-ui,sans-serif;margin:1.5em 2em;max-width:1400px;color:#222}
 table{border-collapse:collapse;margin:0.6em 0;font-size:13px}th,td{border:1px solid #ccc;padding:3px 6px;
 text-align:right;vertical-align:top}th{background:#eee;cursor:pointer;user-select:none}
@@ -108,9 +102,9 @@ def _md_table(frame: pd.DataFrame) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _page(title: str, body: str) -> str:
+def _page(title: str, body: str, head: str = "") -> str:
     return (f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
-            f"<style>{CSS}</style></head><body>{body}<script>{SORT_JS}</script></body></html>")
+            f"<style>{CSS}</style>{head}</head><body>{body}<script>{SORT_JS}</script></body></html>")
 
 
 def reproducibility() -> dict[str, str]:
@@ -151,40 +145,10 @@ def _level_axis(result: CaseResult) -> tuple[np.ndarray, str]:
     return np.arange(case.n_levels(), dtype=float), "load level"
 
 
-def _plot_outputs(result: CaseResult, table: pd.DataFrame, folder: Path) -> list[str]:
-    """One figure per case: a panel per output (value against load level), every method as a line,
-    every printed column as markers."""
+def _output_chart(result: CaseResult, table: pd.DataFrame) -> Chart | None:
+    """A panel per output (value against the first load), every method a line, printed columns as markers."""
     axis, label = _level_axis(result)
-    outputs = list(table.dropna(subset=["quantity"]).groupby(["quantity", "point"], sort=False))
-    if not outputs:
-        return []
-    ncols = min(3, len(outputs))
-    nrows = -(-len(outputs) // ncols)
-    fig, axes = plt.subplots(nrows, ncols, figsize=(4.6 * ncols, 3.4 * nrows), squeeze=False)
-    fig.subplots_adjust(left=0.09, right=0.98, bottom=0.1 / nrows ** 0.5, top=0.97, wspace=0.32,
-                        hspace=0.45)
-    for ax, ((quantity, point), part) in zip(axes.flat, outputs):
-        for method, rows in part.drop_duplicates(["method", "level"]).groupby("method"):
-            rows = rows.sort_values("level")
-            color, style = METHOD_STYLE.get(method, ("k", "-"))
-            ax.plot(axis[rows["level"].astype(int)], rows["value"], style, color=color, marker=".",
-                    label=method)
-        refs = part.dropna(subset=["reference_value"]).drop_duplicates(["reference_label", "level",
-                                                                          "reference_value"])
-        for ref_label, rows in refs.groupby("reference_label"):
-            ax.plot(axis[rows["level"].astype(int)], rows["reference_value"], REF_MARKER.get(ref_label, "x"),
-                    mfc="none", color="k", label=f"printed {ref_label}")
-        ax.set_xlabel(label, fontsize=8)
-        ax.set_ylabel(f"{quantity}{'@' + point if point else ''} [{part['unit'].iloc[0]}]", fontsize=8)
-        ax.tick_params(labelsize=7)
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
-    for ax in list(axes.flat)[len(outputs):]:
-        ax.set_visible(False)
-    name = f"{result.loaded.id}_outputs.png"
-    fig.savefig(folder / name, dpi=80)
-    plt.close(fig)
-    return [name]
+    return outputs_chart("outputs", axis, label, table)
 
 
 def _joined(polylines: list[np.ndarray]) -> np.ndarray:
@@ -193,55 +157,35 @@ def _joined(polylines: list[np.ndarray]) -> np.ndarray:
     return np.concatenate(parts) if parts else np.zeros((0, 2))
 
 
-def _plot_shapes(result: CaseResult, folder: Path) -> str | None:
-    """Deformed shapes: FEM beams as curves, PRB links dashed, measured tip points as markers; every
-    level of a method as one line (NaN-separated), not one line per polyline."""
+def _shape_chart(result: CaseResult) -> Chart | None:
+    """Deformed shapes: every level of a method as one line (gaps between polylines; a continuation's
+    steps thinned as its ParaView series), measured tip points as markers."""
     shapes = {m: normalise_shapes(r.extras["shapes"]) for m, r in result.runs.items() if r.extras.get("shapes")}
     if not shapes:
         return None
-    fig, ax = plt.subplots(figsize=(6, 5))
+    lines = []
     for method, per_level in shapes.items():
-        color, style = METHOD_STYLE.get(method, ("k", "-"))
+        fields = result.runs[method].extras.get("fields")
+        load = fields.load_factor if fields is not None and len(fields.load_factor) == len(per_level) else \
+            np.arange(len(per_level))
+        per_level = [per_level[k] for k in paraview.frames_shown(load)]  # a continuation: as its ParaView series
         points = _joined([np.asarray(line) for polylines in per_level for line in polylines])
         if len(points):
-            ax.plot(points[:, 0], points[:, 1], style, color=color, lw=1, label=method)
+            lines.append(ShapeLine(method, points[:, 0], points[:, 1]))
     case = result.loaded.case
     measured = {}
     for ref in case.references:
         if ref.label == "measured" and ref.quantity in ("x", "y"):
             measured.setdefault((ref.point, ref.level), {})[ref.quantity] = ref.value
-    pts = [(v["x"], v["y"]) for v in measured.values() if "x" in v and "y" in v]
-    if pts:
-        ax.plot(*zip(*pts), "o", mfc="none", color="k", label="measured")
-    ax.set_aspect("equal")
-    ax.grid(alpha=0.3)
-    ax.set_xlabel(f"x [{case.unit('length')}]")
-    ax.set_ylabel(f"y [{case.unit('length')}]")
-    ax.legend(fontsize=8)
-    name = f"{result.loaded.id}_shapes.png"
-    fig.savefig(folder / name, dpi=80, bbox_inches="tight")
-    plt.close(fig)
-    return name
+    points = [(v["x"], v["y"]) for v in measured.values() if "x" in v and "y" in v]
+    return shapes_chart("shapes", lines, points, case.unit("length"))
 
 
-def _plot_path(result: CaseResult, folder: Path) -> str | None:
+def _path_chart(result: CaseResult) -> Chart | None:
     """Equilibrium path of a continuation run, limit points marked."""
     run = result.runs.get("fem")
     path = run.extras.get("path") if run else None
-    if not path:
-        return None
-    fig, ax = plt.subplots(figsize=(6, 4))
-    ax.plot(path["displacement"], path["load"], "-", color="C0", label="FEM path")
-    for k, (d, p) in enumerate(path.get("limit_points", [])):
-        ax.plot([d], [p], "rv", label="limit point" if k == 0 else None)
-    ax.set_xlabel(path.get("displacement_label", "control displacement"))
-    ax.set_ylabel(path.get("load_label", "load"))
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    name = f"{result.loaded.id}_path.png"
-    fig.savefig(folder / name, dpi=80, bbox_inches="tight")
-    plt.close(fig)
-    return name
+    return path_chart("path", path) if path else None
 
 
 def glance(table: pd.DataFrame) -> pd.DataFrame:
@@ -301,13 +245,9 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
     case = result.loaded.case
     cid = case.case.id
     folder = out / "cases"
-    images = _plot_outputs(result, table, folder)
-    for extra in (_plot_path(result, folder), _plot_shapes(result, folder)):
-        if extra:
-            images.insert(0, extra)
+    charts = [c for c in (_path_chart(result), _shape_chart(result), _output_chart(result, table)) if c]
     pvds, render = _case_files(result, out)
-    if render:
-        images.append(render)
+    images = [render] if render else []
     cols = {"method": "method", "quantity": "quantity", "point": "point", "level_label": "load level",
             "value": "value", "unit": "unit", "error_estimate": "FEM error estimate",
             "reference_label": "printed column", "reference_value": "printed value",
@@ -329,10 +269,11 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
             f"<p class='lead'><b>{html.escape(sentence)}</b></p><p>{status}</p>"
             f"<p><b>id</b> <code>{cid}</code> &middot; <b>group</b> {html.escape(case.case.group)} &middot; "
             f"<b>units</b> {case.case.units} &middot; <b>source</b> {html.escape(source)}</p>")
-    body += "".join(f"<p><img src='{name}' alt='{name}'></p>" for name in images[:2])
+    body += "".join(chart.html() for chart in charts[:2])
     if items:
         body += "<h2>Findings</h2>" + findings_html(items, {cid: f"{cid}.html"}, shown=6)
-    body += "".join(f"<p><img src='{name}' alt='{name}'></p>" for name in images[2:])
+    body += "".join(chart.html() for chart in charts[2:])
+    body += "".join(f"<p><img src='{name}' alt='{name}'></p>" for name in images)
     details = f"<p>{html.escape(case.case.description)}</p>"
     if case.case.assumptions:
         details += "<h3>Assumptions</h3><ul>" + "".join(f"<li>{html.escape(a)}</li>"
@@ -360,7 +301,8 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
         body += ("<details><summary>ParaView files</summary><p>One <code>.pvd</code> series per method, "
                  "time = the case's first load; open it in ParaView and colour by the point data.</p><ul>"
                  + "".join(f"<li><a href='../{v}'>{v}</a></li>" for v in pvds) + "</ul></details>")
-    (folder / f"{cid}.html").write_text(_page(case.case.title, body))
+    install_plotly(out)
+    (folder / f"{cid}.html").write_text(_page(case.case.title, body, f"<script src='../{PLOTLY_JS}'></script>"))
     md = [f"# {case.case.title}\n", f"**{sentence}**\n",
           f"`{cid}` · {case.case.group} · units {case.case.units} · {source}\n", case.case.description + "\n"]
     md += [f"- {a}" for a in case.case.assumptions]
@@ -371,6 +313,8 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
     if len(at_a_glance):
         md += ["\n## At a glance\n", _md_table(at_a_glance)]
     md += ["\n## Every output\n", _md_table(shown)]
+    if charts:
+        md += [f"\nCharts ({', '.join(chart.id for chart in charts)}): drawn in [the HTML page]({cid}.html)."]
     md += [f"\n![{name}]({name})" for name in images]
     (folder / f"{cid}.md").write_text("\n".join(md) + "\n")
     return cid, f"cases/{cid}.html"
@@ -379,7 +323,7 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
 def _code_digest() -> str:
     """The source of the modules that draw a case page: a page is rewritten when they change."""
     here = Path(__file__).parent
-    names = ["build.py", "format.py", "summary.py", "paraview.py"]
+    names = ["build.py", "charts.py", "format.py", "summary.py", "paraview.py"]
     return hashlib.sha256(b"".join((here / n).read_bytes() for n in names)).hexdigest()
 
 
@@ -552,6 +496,7 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     cpu = times.user + times.system + times.children_user + times.children_system
     out.mkdir(parents=True, exist_ok=True)
     (out / "cases").mkdir(exist_ok=True)
+    install_plotly(out)  # the charts' library, before the workers draw pages
     paths = find_case_files(cases or None)
     # the whole report: the chapter-4 deflection-domain study beside the sweep studies, run beside the cases
     extra = [] if cases else [DomainStudy(out / "sweeps" / "chapter4_domains")]
