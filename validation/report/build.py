@@ -24,6 +24,7 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from importlib import metadata
+from operator import itemgetter
 from pathlib import Path
 
 import numpy as np
@@ -188,22 +189,47 @@ def _path_chart(result: CaseResult) -> Chart | None:
     return path_chart("path", path) if path else None
 
 
+def _first_by(rows: list[tuple], key, column: int, value: int) -> dict[tuple, dict[str, float]]:
+    """The first ``value`` of each (key, ``column``) pair of ``rows`` (``column`` not NA), by key."""
+    out: dict[tuple, dict[str, float]] = {}
+    for row in rows:
+        label = row[column]
+        if not pd.isna(label):
+            out.setdefault(key(row), {}).setdefault(label, row[value])
+    return out
+
+
+def _spread(by_key: dict[tuple, dict[str, float]], prefix: str = "") -> pd.DataFrame:
+    """A table indexed by the sorted keys with a column per label (sorted): the rows and columns with
+    at least one number (``pivot_table``'s result)."""
+    labels = sorted({label for part in by_key.values() for label in part
+                     if not all(pd.isna(p.get(label, np.nan)) for p in by_key.values())})
+    keys = sorted(k for k, part in by_key.items() if any(not pd.isna(part.get(c, np.nan)) for c in labels))
+    index = pd.MultiIndex.from_tuples(keys, names=GLANCE_KEY) if keys else \
+        pd.MultiIndex.from_arrays([[], [], []], names=GLANCE_KEY)
+    return pd.DataFrame({prefix + c: np.array([by_key[k].get(c, np.nan) for k in keys], float) for c in labels},
+                        index=index)
+
+
+GLANCE_KEY = ["quantity", "point", "level"]
+GLANCE_COLUMNS = GLANCE_KEY + ["method", "value", "reference_label", "reference_value", "error_estimate",
+                               "level_label", "unit"]
+
+
 def glance(table: pd.DataFrame) -> pd.DataFrame:
     """Every output at every level in one row: each method's value, each printed column, and the
     differences an engineer asks about first (PRBM - FEM, each model - measured, FEM - exact)."""
-    rows = table.dropna(subset=["quantity"])
-    if rows.empty:
+    if table.empty or table["quantity"].isna().all():
         return pd.DataFrame()
-    key = ["quantity", "point", "level"]
-    values = rows.drop_duplicates(key + ["method"]).pivot_table(index=key, columns="method", values="value",
-                                                                  aggfunc="first")
-    refs = rows.dropna(subset=["reference_label"]).drop_duplicates(key + ["reference_label"])
-    printed = refs.pivot_table(index=key, columns="reference_label", values="reference_value", aggfunc="first")
-    printed.columns = [f"printed {c}" for c in printed.columns]
-    out = values.join(printed, how="left")
-    fem_est = rows[rows["method"] == "fem"].drop_duplicates(key).set_index(key)["error_estimate"]
-    if len(fem_est):
-        out["fem ± (estimate)"] = fem_est
+    rows = [row for row in table[GLANCE_COLUMNS].itertuples(index=False, name=None) if not pd.isna(row[0])]
+    key = itemgetter(0, 1, 2)
+    out = _spread(_first_by(rows, key, 3, 4)).join(_spread(_first_by(rows, key, 5, 6), "printed "), how="left")
+    fem_est = {}
+    for row in rows:
+        if row[3] == "fem":
+            fem_est.setdefault(key(row), row[7])
+    if fem_est:
+        out["fem ± (estimate)"] = [fem_est.get(k, np.nan) for k in out.index]
     if {"prbm", "fem"} <= set(out.columns):
         out["PRBM - FEM"] = out["prbm"] - out["fem"]
     for method in ("prbm", "fem"):
@@ -211,10 +237,12 @@ def glance(table: pd.DataFrame) -> pd.DataFrame:
             out[f"{method.upper()} - measured"] = out[method] - out["printed measured"]
     if {"fem", "elastica"} <= set(out.columns):
         out["FEM - exact"] = out["fem"] - out["elastica"]
-    labels = rows.drop_duplicates(key).set_index(key)["level_label"]
+    labels, units = {}, {}
+    for row in rows:
+        labels.setdefault(key(row), row[8])
+        units.setdefault(row[0], row[9])
     out = out.reset_index()
-    out.insert(3, "load", [labels.get((q, p, l), l) for q, p, l in zip(out["quantity"], out["point"], out["level"])])
-    units = rows.drop_duplicates(["quantity"]).set_index("quantity")["unit"]
+    out.insert(3, "load", [labels.get(k, k[2]) for k in zip(out["quantity"], out["point"], out["level"])])
     out.insert(1, "unit", out["quantity"].map(units))
     return out.drop(columns=["level"])
 

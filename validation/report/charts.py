@@ -118,30 +118,56 @@ def _trace(x, y, name: str, panel: int, shown: set[str], **style) -> dict:
     return trace
 
 
+OUTPUT_COLUMNS = ["quantity", "point", "method", "level", "value", "reference_label", "reference_value", "unit"]
+
+
+@dataclass
+class Panel:
+    """One output's numbers: each method's (level, value) and each printed column's (level, value), in
+    the table's order, first of each level; its unit."""
+
+    unit: str
+    methods: dict[str, dict[int, float]]
+    printed: dict[str, list[tuple[int, float]]]
+
+
+def _panels(table: pd.DataFrame) -> dict[tuple[str, str], Panel]:
+    """The table's outputs (quantity, point) in order of first appearance, each as a ``Panel``."""
+    panels: dict[tuple[str, str], Panel] = {}
+    seen: set[tuple] = set()
+    for quantity, point, method, level, value, label, printed, unit in \
+            table[OUTPUT_COLUMNS].itertuples(index=False, name=None):
+        if pd.isna(quantity):
+            continue
+        panel = panels.setdefault((quantity, point), Panel(unit, {}, {}))
+        panel.methods.setdefault(method, {}).setdefault(int(level), value)
+        if not pd.isna(printed) and not pd.isna(label) and (quantity, point, label, level, printed) not in seen:
+            seen.add((quantity, point, label, level, printed))
+            panel.printed.setdefault(label, []).append((int(level), printed))
+    return panels
+
+
 def outputs_chart(chart_id: str, axis: np.ndarray, axis_label: str, table: pd.DataFrame) -> Chart | None:
     """A panel per output, every method as a line and every printed column as markers (module docstring);
     ``axis`` is the x value of each level. None when the table has no output."""
-    outputs = list(table.dropna(subset=["quantity"]).groupby(["quantity", "point"], sort=False))
-    if not outputs:
+    panels = _panels(table)
+    if not panels:
         return None
-    ncols = min(3, len(outputs))
-    nrows = -(-len(outputs) // ncols)
+    ncols = min(3, len(panels))
+    nrows = -(-len(panels) // ncols)
     data, titles, shown = [], [], set()
-    for panel, ((quantity, point), part) in enumerate(outputs):
-        for method, rows in part.drop_duplicates(["method", "level"]).groupby("method"):
-            rows = rows.sort_values("level")
+    for index, ((quantity, point), panel) in enumerate(panels.items()):
+        for method in sorted(panel.methods):
+            levels = sorted(panel.methods[method])
             color, dash = METHOD_STYLE.get(method, ("#000000", "solid"))
-            data.append(_trace(axis[rows["level"].astype(int)], rows["value"], method, panel, shown,
+            data.append(_trace(axis[levels], [panel.methods[method][k] for k in levels], method, index, shown,
                                mode="lines+markers", line={"color": color, "dash": dash, "width": 2},
                                marker={"size": 4}))
-        refs = part.dropna(subset=["reference_value"]).drop_duplicates(["reference_label", "level",
-                                                                          "reference_value"])
-        for ref_label, rows in refs.groupby("reference_label"):
-            data.append(_trace(axis[rows["level"].astype(int)], rows["reference_value"], f"printed {ref_label}",
-                               panel, shown, mode="markers",
-                               marker={"symbol": REF_MARKER.get(ref_label, "x-open"), "size": 8,
-                                       "color": "black"}))
-        titles.append((axis_label, f"{quantity}{'@' + point if point else ''} [{part['unit'].iloc[0]}]"))
+        for label in sorted(panel.printed):
+            levels, values = zip(*panel.printed[label])
+            data.append(_trace(axis[list(levels)], values, f"printed {label}", index, shown, mode="markers",
+                               marker={"symbol": REF_MARKER.get(label, "x-open"), "size": 8, "color": "black"}))
+        titles.append((axis_label, f"{quantity}{'@' + point if point else ''} [{panel.unit}]"))
     height = PANEL_HEIGHT * nrows + 60
     layout = _grid_layout(titles, ncols, height)
     layout["width"] = PANEL_WIDTH * ncols + 90
