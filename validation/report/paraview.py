@@ -249,25 +249,52 @@ FEM_COLOURMAP = "viridis"
 FEM_LEGEND_COLOUR = "#21918c"   # viridis at the middle of its range: the FEM line's colour at a mean moment
 UNDEFORMED_COLOUR = "grey"
 
-_PLOTTERS: dict[tuple[int, int], object] = {}  # window size -> this process's off-screen plotter
+@dataclass
+class Canvas:
+    """This process's off-screen plotter and what stays on it between pictures: the title (one corner
+    text whose words change), one legend per set of entries (pyvista normalises a legend's symbols at
+    ~10 ms an entry), and the picture's own actors (meshes, the shown legend), removed for the next."""
+
+    plotter: object
+    title: object
+    legends: dict[tuple, object] = field(default_factory=dict)
+    shown: list = field(default_factory=list)
+
+    def clear(self) -> None:
+        self.plotter.remove_actor(self.shown, reset_camera=False, render=False)
+        self.plotter.scalar_bars.clear()
+        self.shown = []
+
+    def legend(self, entries: tuple[tuple[str, str], ...]) -> None:
+        """Show the legend of ``entries`` (label, colour), made the first time it is asked for."""
+        actor = self.legends.get(entries)
+        if actor is None:
+            actor = self.legends[entries] = self.plotter.add_legend([list(e) for e in entries], bcolor="white",
+                                                                    face="line", size=(0.34, 0.07 * len(entries)))
+        else:
+            self.plotter.add_actor(actor, reset_camera=False, pickable=False)
+        self.shown.append(actor)
 
 
-def _plotter(pv, size: tuple[int, int] = (640, 420)):
-    """This process's off-screen plotter, made once and emptied for each picture: a new VTK render
+_CANVASES: dict[tuple[int, int], Canvas] = {}  # window size -> this process's canvas
+
+
+def _canvas(pv, size: tuple[int, int] = (640, 420)) -> Canvas:
+    """This process's off-screen canvas, made once and emptied for each picture: a new VTK render
     window per page costs about as much again as the rendering (its OpenGL context and shaders); one
     sample per pixel (pyvista's default 8-sample anti-aliasing doubles the software rendering's time
     for lines that read the same)."""
-    plotter = _PLOTTERS.get(size)
-    if plotter is None:
+    canvas = _CANVASES.get(size)
+    if canvas is None:
         samples, pv.global_theme.multi_samples = pv.global_theme.multi_samples, 1  # no 8x MSAA: half the time
-        plotter = _PLOTTERS[size] = pv.Plotter(off_screen=True, window_size=size)
+        plotter = pv.Plotter(off_screen=True, window_size=size)
         pv.global_theme.multi_samples = samples
         plotter.set_background("white")
+        title = plotter.add_text(" ", font_size=10, color="black", name="title")
+        canvas = _CANVASES[size] = Canvas(plotter, title)
     else:
-        plotter.clear_actors()          # meshes and the title text
-        plotter.remove_legend()
-        plotter.scalar_bars.clear()
-    return plotter
+        canvas.clear()
+    return canvas
 
 
 def render_series(pvd_files: list[Path], png: Path, title: str = "") -> Path | None:
@@ -278,7 +305,8 @@ def render_series(pvd_files: list[Path], png: Path, title: str = "") -> Path | N
     except ImportError:
         return None
     pv.vtk_verbosity("error")  # no "bad X server connection" warning on a headless machine
-    plotter = _plotter(pv)
+    canvas = _canvas(pv)
+    plotter = canvas.plotter
     legend = []   # (label, colour): each entry in its line's colour (pyvista's own legend gives a line
     for pvd in pvd_files:  # coloured by scalars the mesh's default colour, a light blue)
         method = pvd.stem
@@ -286,20 +314,22 @@ def render_series(pvd_files: list[Path], png: Path, title: str = "") -> Path | N
         reader.set_active_time_point(len(reader.time_values) - 1)
         mesh = reader.read()[0]
         if method == "fem" and "bending_moment" in mesh.point_data:
-            plotter.add_mesh(mesh, scalars="bending_moment", line_width=6, cmap=FEM_COLOURMAP,
-                             scalar_bar_args={"title": "FEM bending moment", "color": "black"})
+            bar = {"title": "FEM bending moment", "color": "black"}
+            canvas.shown.append(plotter.add_mesh(mesh, scalars="bending_moment", line_width=6, cmap=FEM_COLOURMAP,
+                                                 scalar_bar_args=bar))
             legend.append(("FEM (colour: bending moment)", FEM_LEGEND_COLOUR))
             undeformed = pvd.with_name("fem_undeformed.vtu")
             if undeformed.exists():
-                plotter.add_mesh(pv.read(str(undeformed)), color=UNDEFORMED_COLOUR, line_width=2)
+                canvas.shown.append(plotter.add_mesh(pv.read(str(undeformed)), color=UNDEFORMED_COLOUR,
+                                                     line_width=2))
                 legend.append(("undeformed", UNDEFORMED_COLOUR))
         else:
             colour = RENDER_COLOURS.get(method, "black")
-            plotter.add_mesh(mesh, color=colour, line_width=3, point_size=10, render_points_as_spheres=True)
+            canvas.shown.append(plotter.add_mesh(mesh, color=colour, line_width=3, point_size=10,
+                                                 render_points_as_spheres=True))
             legend.append((method, colour))
-    if title:
-        plotter.add_text(title, font_size=10, color="black")
+    canvas.title.set_text("upper_left", title or " ")
     plotter.view_xy()
-    plotter.add_legend([list(entry) for entry in legend], bcolor="white", face="line")
+    canvas.legend(tuple(legend))
     plotter.screenshot(str(png))
     return png
