@@ -41,8 +41,8 @@ from validation.report.charts import (PLOTLY_JS, Chart, ShapeLine, install_plotl
                                       shapes_chart)
 from validation.report.format import by_case, rows_of, run_badge, sig
 from validation.report.overview import CLAIMS, overview_points, plot_overview
-from validation.report.summary import (METHOD_NAMES, case_sentence, findings, findings_html, summarise,
-                                       summary_markdown, summary_tables_html)
+from validation.report.summary import (METHOD_NAMES, CaseSummary, case_sentence, findings, findings_html,
+                                       summarise, summary_markdown, summary_tables_html)
 from validation.run.runner import CaseResult
 from validation.run.outcome import run_cases, summary, tabulate
 from validation.run.timeline import Timed, breakdown, csv_text, timed
@@ -357,11 +357,13 @@ def _code_digest() -> str:
 
 @dataclass(frozen=True)
 class PageLink:
-    """Where a case's page is, and why it could not be drawn (None: it was)."""
+    """Where a case's page is, why it could not be drawn (None: it was) and the case's row of the index
+    (``summarise``), worked out in the worker that drew the page (None: the index works it out)."""
 
     case: str
     link: str
     error: str | None = None
+    summary: CaseSummary | None = None
 
 
 def _page_job(args) -> PageLink:
@@ -373,7 +375,7 @@ def _page_job(args) -> PageLink:
     digest = hashlib.sha256((result.loaded.text + stable.to_csv(index=False) + _code_digest()).encode()).hexdigest()
     stamp = out / "cases" / f"{cid}.digest"
     if stamp.exists() and stamp.read_text() == digest and (out / "cases" / f"{cid}.html").exists():
-        return PageLink(cid, f"cases/{cid}.html")
+        return PageLink(cid, f"cases/{cid}.html", summary=summarise(result, part))
     try:
         _, link = _case_page(result, part, out)
     except Exception as exc:  # noqa: BLE001 - any drawing error is reported, the other pages go on
@@ -383,7 +385,7 @@ def _page_job(args) -> PageLink:
         stamp.unlink(missing_ok=True)
         return PageLink(cid, link, error)
     stamp.write_text(digest)
-    return PageLink(cid, link)
+    return PageLink(cid, link, summary=summarise(result, part))
 
 
 @dataclass(frozen=True)
@@ -557,7 +559,8 @@ def _write_index(outcome, pages: list[PageLink], out: Path) -> None:
     links = {page.case: page.link for page in pages}
     page_errors = [page.error for page in pages if page.error]
     parts = by_case(table)
-    rows = [summarise(r, rows_of(parts, table, r.loaded.id)) for r in outcome.results]
+    drawn = {page.case: page.summary for page in pages if page.summary is not None}
+    rows = [drawn.get(r.loaded.id) or summarise(r, rows_of(parts, table, r.loaded.id)) for r in outcome.results]
     plot_overview(overview_points(outcome.results, table), out / "overview.png")
     items = findings(outcome.results, table)
     failed = outcome.failed_comparisons
