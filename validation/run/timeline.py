@@ -10,6 +10,8 @@ its CPU is not measured apart from its case's.
 """
 from __future__ import annotations
 
+import csv
+import io
 import math
 import os
 import time
@@ -58,11 +60,13 @@ def timed(kind: str, name: str, into: list[Timed] | None = None) -> Iterator[Sto
 def csv_text(records: list[Timed]) -> str:
     """The records as CSV (header: the ``Timed`` fields), longest first."""
     names = [f.name for f in fields(Timed)]
-    rows = [",".join(names)]
+    text = io.StringIO()
+    writer = csv.writer(text, lineterminator="\n")   # quotes a name with a comma ("tables (results.csv, ...)")
+    writer.writerow(names)
     for r in sorted(records, key=lambda r: -r.wall):
-        rows.append(",".join(f"{getattr(r, n):.4f}" if isinstance(getattr(r, n), float) else str(getattr(r, n))
-                             for n in names))
-    return "\n".join(rows) + "\n"
+        writer.writerow([f"{getattr(r, n):.4f}" if isinstance(getattr(r, n), float) else str(getattr(r, n))
+                         for n in names])
+    return text.getvalue()
 
 
 def _sum(records: list[Timed]) -> tuple[float, float]:
