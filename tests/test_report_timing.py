@@ -47,6 +47,8 @@ def test_the_breakdown_adds_up_what_was_timed():
     assert "chapter-4 domain study" in text and "slowest cases: b 4.0, a 2.0" in text
     busy = 10 + 30 + 2 + 1 + 4 + 6                                                        # pooled work only
     assert f"workers busy {busy:.1f} s of 2 x 34.0 s" in text                             # 0 .. 34 s
+    # the last to finish is process 2 (case b ends at 34 s): its compile 30 s + case 4 s, idle 0 s
+    assert "critical path: the last worker to finish 34.0 s (compile 30.0 s + case 4.0 s, idle 0.0 s)" in text
     rows = csv_text(records).splitlines()
     # derived: the longest record first, its wall (the input 30.0 s above) written with four decimals
     assert rows[0] == "kind,name,wall,cpu,start,pid" and rows[1].startswith("compile,elastica,30.0000")
