@@ -2,6 +2,7 @@
 line (the FEM line is coloured by its bending moment on viridis: its entry takes viridis's middle
 colour, not the light blue pyvista gives a scalar-coloured mesh), and one canvas serves many pictures."""
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 from matplotlib import colormaps
@@ -37,3 +38,15 @@ def test_the_legend_gives_each_series_its_line_colour(tmp_path: Path):
     assert canvas.title.GetText(2) == "second"
     meshes = [a for a in canvas.plotter.renderer.actors.values() if a in canvas.shown]
     assert len(meshes) == 3   # the FEM mesh, the undeformed mesh and the legend
+
+
+def test_without_plotly_the_report_says_so_in_one_line(tmp_path, monkeypatch, capsys):
+    """The charts need the plotly.js bundle of the plotly package: without it, one line naming it."""
+    from validation.report import build, charts
+
+    no_plotly = SimpleNamespace(util=SimpleNamespace(find_spec=lambda name: None))  # find_spec finds no plotly
+    monkeypatch.setattr(charts, "importlib", no_plotly)
+    status = build.build_report(tmp_path, use_cache=True, jobs=1, cases=["cantilever_tip_load"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert status == 1 and len(err) == 1
+    assert "plotly" in err[0] and "pip install plotly" in err[0]

@@ -37,8 +37,8 @@ from validation.run.exit_status import ExitStatus, print_error
 from validation.report.paraview import normalise_shapes  # noqa: F401  (also used by tests)
 from validation.case.loader import find_case_files
 from validation.case.readings import readings_groups
-from validation.report.charts import (PLOTLY_JS, Chart, ShapeLine, install_plotly, outputs_chart, path_chart,
-                                      shapes_chart)
+from validation.report.charts import (PLOTLY_JS, Chart, PlotlyMissing, ShapeLine, install_plotly, outputs_chart,
+                                      path_chart, shapes_chart)
 from validation.report.format import by_case, rows_of, run_badge, sig
 from validation.report.overview import CLAIMS, overview_points, plot_overview
 from validation.report.summary import (METHOD_NAMES, CaseSummary, case_sentence, findings, findings_html,
@@ -526,7 +526,11 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     cpu = times.user + times.system + times.children_user + times.children_system
     out.mkdir(parents=True, exist_ok=True)
     (out / "cases").mkdir(exist_ok=True)
-    install_plotly(out)  # the charts' library, before the workers draw pages
+    try:
+        install_plotly(out)  # the charts' library, before the workers draw pages
+    except PlotlyMissing as exc:
+        print_error(f"prbm-validate report: {exc}")
+        return ExitStatus.FAILED
     paths = find_case_files(cases or None)
     # the whole report: the chapter-4 deflection-domain study beside the sweep studies, run beside the cases
     extra = [] if cases else [DomainStudy(out / "sweeps" / "chapter4_domains")]
