@@ -4,7 +4,8 @@
 output folder: ``index.html`` and ``index.md`` (a headline, the picture of the whole validation from
 ``report_overview``, the per-chapter summary and the findings with their evidence from
 ``report_summary``, machine and versions), ``cases/<id>.html`` and ``.md`` (the one-sentence result,
-plots, findings, then every output at every level for every method beside the printed values, folded),
+charts drawn by the browser from the page's numbers (``charts``: plotly.js under ``js/``), findings, then
+every output at every level for every method beside the printed values, folded),
 ``results.csv`` (and ``results.parquet``), ``summary.csv``, and the ParaView series of every method
 under ``vtu/<id>/`` (``paraview``), rendered off-screen for the case page; ``timing.csv`` and
 ``timing.txt``: where the run's time went (``validation.run.timeline``), the CSV also ordering the next

@@ -18,7 +18,8 @@ when the case has no load; a FEM continuation (limit load) is timed by its load 
 of steps thinned to the frames its case page draws (``frames_shown``: at most ``MAX_FRAMES`` evenly
 spaced ones and every limit point).  Units are the
 case file's; rotations in degrees as everywhere in the harness.  ``render_series`` draws the last level
-of every series off-screen with pyvista, on one plotter per process emptied between pictures.
+of every series off-screen with pyvista, on one canvas per process (plotter, title, legends) emptied
+between pictures, its legend giving each series the colour of its line.
 """
 from __future__ import annotations
 
