@@ -19,7 +19,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from bcm import C0, C1, C2, exact_compliance, slant_parallelogram
+from bcm import C0, C1, C2, axial_stiffness_parameter, exact_compliance, slant_parallelogram, strain_energy
+from bcm.mechanisms import BCMBeam, RigidBodyOnBeams
 
 
 @pytest.mark.parametrize("fx", [5e-7, -5e-7, 0.0])
@@ -74,3 +75,21 @@ def test_slant_parallelogram_default_is_eq_17_and_the_record_says_how_it_was_sol
             assert cast.message.startswith(f"{method}: ") and 0.0 <= cast.wall_time < 60.0
     with pytest.raises(ValueError, match="^unknown method 'CE4'$"):
         slant_parallelogram(0.5, method="CE4")
+
+
+def test_axial_stiffness_parameter_of_the_table_2_beam():
+    # seed 003 after eq (4): k_a = A L^2 / I = 12 L^2 / T^2; Table 2/3 beam L = 25 mm, T = 0.25 mm
+    assert axial_stiffness_parameter(25.0, 0.25) == pytest.approx(120000.0, rel=1e-15)
+    assert axial_stiffness_parameter(2.0, 0.1) == pytest.approx(4800.0, rel=1e-15)
+
+
+def test_strain_energy_of_a_rigid_body_on_beams_is_the_work_of_its_load():
+    """Clapeyron in the linear limit: a guide of two beams (EI = L = 1, k_a = 1e4) under a transverse force
+    f = 1e-6 at its reference stores U = f v / 2, v the reference's travel; U is also eq (11) summed over
+    the beams (EI/L) v_i, with each beam's (u_x, u_y, theta) = (u - phi (y_i - 0.25), v, phi)."""
+    guide = RigidBodyOnBeams([BCMBeam((0.0, y), (1.0, y), 1.0, 1e4) for y in (0.0, 0.5)], (1.0, 0.25))
+    f = 1e-6
+    q, _ = guide.solve(forces=[((1.0, 0.25), (0.0, f))])
+    assert guide.strain_energy(q) == pytest.approx(0.5 * f * q[1], rel=1e-5)
+    by_beam = sum(strain_energy(q[0] - q[2] * (y - 0.25), q[1], q[2], 1e4) for y in (0.0, 0.5))
+    assert guide.strain_energy(q) == pytest.approx(by_beam, rel=1e-12)
