@@ -93,3 +93,24 @@ def test_strain_energy_of_a_rigid_body_on_beams_is_the_work_of_its_load():
     assert guide.strain_energy(q) == pytest.approx(0.5 * f * q[1], rel=1e-5)
     by_beam = sum(strain_energy(q[0] - q[2] * (y - 0.25), q[1], q[2], 1e4) for y in (0.0, 0.5))
     assert guide.strain_energy(q) == pytest.approx(by_beam, rel=1e-12)
+
+
+def test_a_ramped_solve_returns_the_body_coordinates(monkeypatch):
+    """Seed 004's parallel guide with k_a = 1e6 at F L^2/EI = 2 (tests/test_bcm_stiff_axial.py): Newton from
+    rest fails (it walks to a residual of 188 EI/L^2) and the load ramp finds the equilibrium; what the ramp
+    returns is the body's (u, v, phi), near the linear dx = F L^3/(24 EI) (0.5 % at u = 0.083 L)."""
+    calls = []
+    ramped = RigidBodyOnBeams._ramped
+
+    def spy(self, *args):
+        calls.append(args[-1])
+        return ramped(self, *args)
+
+    monkeypatch.setattr(RigidBodyOnBeams, "_ramped", spy)
+    guide = RigidBodyOnBeams([BCMBeam((x, 0.0), (x, 1.0), 1.0, 1e6) for x in (0.0, 0.5)], (0.25, 1.0))
+    forces = [((0.25, 1.0), (2.0, 0.0))]
+    q, moment = guide.solve(forces=forces)
+    assert len(calls) == 1 and "BCM equilibrium not found" in str(calls[0])
+    assert q.shape == (3,) and moment == 0.0
+    assert q[0] == pytest.approx(2.0 / 24.0, rel=5e-3)
+    assert np.max(np.abs(guide.internal_force(q) - guide.external_force(q, forces, 0.0))) <= 1e-10 * 2.0
