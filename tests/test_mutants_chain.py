@@ -1,0 +1,54 @@
+"""prbm.chain and bcm's rigid body: what the mutation run of session 6 found unchecked, each with a derivation.
+
+* ``NodalLoads.plus`` adds every component (only f_y sums were ever used: f_x - other.f_x and m - other.m
+  survived); ``lumped_uniform_load`` lumps an axial load q_x like a transverse one (q_x / weights
+  survived): q L_i per element, half to each end node, total q_x l (its docstring; trapezoid rule).
+* ``RigidBodyOnBeams.displacement`` is (R(phi) - I) r + (u, v): a point one unit above the reference,
+  turned a quarter turn counter-clockwise, goes to one unit left of it, so it moves by (-1, -1); its
+  v-component's cos(phi) - 1 term never showed at the small angles of the other tests.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from bcm.mechanisms import BCMBeam, RigidBodyOnBeams
+from prbm.chain import ChainBeam, NodalLoads, chain_tip, lumped_uniform_load
+
+
+def test_nodal_loads_add_every_component():
+    one = NodalLoads(np.array([1.0, 2.0]), np.array([3.0, 4.0]), np.array([5.0, 6.0]))
+    two = NodalLoads(np.array([10.0, 20.0]), np.array([30.0, 40.0]), np.array([50.0, 60.0]))
+    total = one.plus(two)
+    assert list(total.fx) == [11.0, 22.0] and list(total.fy) == [33.0, 44.0] and list(total.m) == [55.0, 66.0]
+
+
+def test_an_axial_uniform_load_is_lumped_like_a_transverse_one():
+    beam = ChainBeam(2.0, 3.0, 4)                       # elements of 0.5
+    loads = lumped_uniform_load(beam, 0.8, -0.2)
+    assert loads.fx == pytest.approx([0.2, 0.4, 0.4, 0.4, 0.2], rel=1e-15)    # 0.8 x 0.5, halves at the ends
+    assert loads.fy == pytest.approx([-0.05, -0.1, -0.1, -0.1, -0.05], rel=1e-15)
+    assert loads.fx.sum() == pytest.approx(0.8 * 2.0) and not loads.m.any()
+
+
+def test_a_tip_moment_and_an_axial_pull_reach_the_march_through_plus():
+    """Linear limit of eqs (32)-(33) on an exact chain: a tip moment m bends the beam to theta0 = m l/EI
+    and b = m l^2/(2 EI); a tip pull adds nothing transverse (tension only reduces (31)'s amplification
+    of a zero transverse load)."""
+    L, EI, m = 2.0, 5.0, 1e-6
+    beam = ChainBeam(L, EI, 8)
+    loads = NodalLoads.at_tip(beam, fx=1e-6).plus(NodalLoads.at_tip(beam, m=m))
+    r = chain_tip(beam, loads, steps=1)
+    assert float(r["theta0"]) == pytest.approx(m * L / EI, rel=1e-6)
+    assert float(r["b"]) == pytest.approx(m * L**2 / (2 * EI), rel=1e-6)
+
+
+def test_a_body_point_turned_a_quarter_turn_moves_by_its_rotation():
+    body = RigidBodyOnBeams([BCMBeam((0.0, 0.0), (1.0, 0.0), 1.0, 1e4)], (1.0, 0.0))
+    q = np.array([0.0, 0.0, math.pi / 2])
+    assert body.displacement((1.0, 1.0), q) == pytest.approx([-1.0, -1.0], abs=1e-15)
+    assert body.position((1.0, 1.0), q) == pytest.approx([0.0, 0.0], abs=1e-15)
+    q = np.array([0.3, -0.2, math.pi])                  # half a turn plus a translation
+    assert body.position((3.0, 0.5), q) == pytest.approx([1.0 - 2.0 + 0.3, -0.5 - 0.2], abs=1e-15)
