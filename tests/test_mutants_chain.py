@@ -52,3 +52,24 @@ def test_a_body_point_turned_a_quarter_turn_moves_by_its_rotation():
     assert body.position((1.0, 1.0), q) == pytest.approx([0.0, 0.0], abs=1e-15)
     q = np.array([0.3, -0.2, math.pi])                  # half a turn plus a translation
     assert body.position((3.0, 0.5), q) == pytest.approx([1.0 - 2.0 + 0.3, -0.5 - 0.2], abs=1e-15)
+
+
+def test_a_load_applied_in_one_step_that_the_solver_cannot_reach_is_reported():
+    """P L^2/EI = 100 in one step from the straight chain: MINPACK's hybrid method stalls (its own
+    words, on one line, after the step that failed); in 20 steps, each started from the last shape,
+    it converges. The tip is then nearly along the force (b close to l)."""
+    beam = ChainBeam(1.0, 1.0, 6)
+    loads = NodalLoads.at_tip(beam, 0.0, 100.0)
+    one = chain_tip(beam, loads, steps=1)
+    assert not one.converged and list(one.level_converged) == [False]
+    assert one.message.startswith("load step 1/1: The iteration is not making good progress") and "\n" not in one.message
+    many = chain_tip(beam, loads, steps=20)
+    assert many.converged and many.message == "converged" and 0.95 < float(many["b"]) < 1.0
+
+
+def test_function_evaluations_add_up_over_the_load_steps():
+    # each step's hybrid solve evaluates the residual at least once per unknown (its finite-difference
+    # Jacobian: 2N node coordinates) plus once at its start
+    beam = ChainBeam(2.0, 5.0, 8)
+    r = chain_tip(beam, NodalLoads.at_tip(beam, 0.0, 1e-4, -3e-4), steps=10)
+    assert r.nit >= 10 * (2 * 8 + 1)
