@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from bcm.mechanisms import BCMBeam, RigidBodyOnBeams
-from prbm.chain import ChainBeam, NodalLoads, chain_tip, lumped_uniform_load
+from prbm.chain import ChainBeam, NodalLoads, chain_from_tip, chain_tip, lumped_uniform_load
 
 
 def test_nodal_loads_add_every_component():
@@ -73,3 +73,22 @@ def test_function_evaluations_add_up_over_the_load_steps():
     beam = ChainBeam(2.0, 5.0, 8)
     r = chain_tip(beam, NodalLoads.at_tip(beam, 0.0, 1e-4, -3e-4), steps=10)
     assert r.nit >= 10 * (2 * 8 + 1)
+
+
+@pytest.mark.parametrize("inverse", [False, True])
+def test_the_result_record_of_both_chain_solves(inverse):
+    """What a Chain result carries besides the tip: the model's name and equations, the element count,
+    one level's convergence, the wall time, and the deflected node positions ending at the tip (a, b)."""
+    beam = ChainBeam(2.0, 5.0, 8)
+    if inverse:
+        r = chain_from_tip(beam, b=1e-4, theta0=2e-4, steps=2)
+        model = "Chain Algorithm with tip displacement conditions, seed 000 eqs (26)-(40)"
+    else:
+        r = chain_tip(beam, NodalLoads.at_tip(beam, 0.0, 1e-4), steps=2)
+        model = "Chain Algorithm, seed 000 eqs (26)-(40)"
+    assert r.converged and r.message == "converged" and list(r.level_converged) == [True]
+    assert r.model == model and r.constants == {"elements": 8}
+    assert 0.0 < r.wall_time < 60.0 and r.nit >= 2 * (2 * 8 + 1)
+    nodes = r.extras["nodes"]
+    assert nodes.shape == (9, 2) and list(nodes[0]) == [0.0, 0.0]
+    assert nodes[-1] == pytest.approx([float(r["a"]), float(r["b"])], abs=1e-15)
