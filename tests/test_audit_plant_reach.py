@@ -21,6 +21,7 @@ throw-away interpreter (plants have no undo), against the seeds' constants:
 from __future__ import annotations
 
 import json
+import math
 import subprocess
 import sys
 
@@ -50,7 +51,8 @@ print(json.dumps(dict(
     beam_EI=mech.beams[0].EI, section_EI=E * w * t**3 / 12.0,
     inflection=list(prbm.inflection.InflectionBeam(20.0, 306.0).fits(0.0)),
     howell=[prbm.fits.HOWELL.gamma(-3.0), prbm.fits.HOWELL.K_theta(-3.0)],
-    loop_gamma=prbm.feasible_l1.GAMMA_AVERAGE)))
+    loop_gamma=prbm.feasible_l1.GAMMA_AVERAGE,
+    loop_theta=prbm.feasible_l1.loop_closure(length=20.0, b=6.0, theta0=0.0, l1=10.0).Theta1)))
 """
 
 
@@ -99,3 +101,6 @@ def test_the_fits_are_planted_on_every_evaluation_path(planted):
     assert planted["howell"] == pytest.approx([(0.912364 - 3 * 0.0145928) * 1.10,
                                                (3.024112 - 3 * 0.121290 + 9 * 0.003169) * 1.10], rel=1e-12)
     assert planted["loop_gamma"] == pytest.approx(0.851892 * 1.10, rel=1e-12)
+    # the loop as the adapter calls it (no gamma given): the symmetric loop b = gamma l sin Theta
+    # (tests/test_prbm_feasible_l1.py) with l = 20, b = 6 gives the planted gamma back
+    assert 6.0 / (20.0 * math.sin(planted["loop_theta"])) == pytest.approx(0.851892 * 1.10, rel=1e-9)

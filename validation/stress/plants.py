@@ -92,7 +92,7 @@ def _prbm_fit(prefix: str, pure_moment: tuple[str, ...], builder: str, keyword: 
     the polynomial's value is x FACTOR exactly), in place on the shared fit objects: every evaluation
     path reads them, including the plain-float Horner twins that bypass ``PiecewiseFit.__call__``
     (prbm.inflection, the chapter-3/5 inflection models) and the module constants computed from them
-    at import (prbm.feasible_l1's averages, re-derived here)."""
+    at import (prbm.feasible_l1's average gamma, which its functions also hold as a keyword default)."""
     def apply() -> None:
         for family in prbm.fits.FAMILIES.values():
             for fit in (family.gamma, family.c_theta, family.K_theta):
@@ -100,7 +100,7 @@ def _prbm_fit(prefix: str, pure_moment: tuple[str, ...], builder: str, keyword: 
                     _scale_fit(fit)
         prbm.inflection._PLAIN_FITS.clear()        # Horner twins made before the plant hold the old coefficients
         if prefix == "gamma":
-            prbm.feasible_l1.GAMMA_AVERAGE *= FACTOR
+            _scale_loop_gamma()
         for module in (prbm.fits, prbm.segments):
             for name in pure_moment:
                 if hasattr(module, name):
@@ -109,6 +109,16 @@ def _prbm_fit(prefix: str, pure_moment: tuple[str, ...], builder: str, keyword: 
         _scale_rules_default(builder.lower() if builder == "GAMMA" else "K_theta")
         inspect.unwrap(prbm.segments.curved_pinned_pinned).__kwdefaults__[keyword] *= FACTOR
     return apply
+
+
+def _scale_loop_gamma() -> None:
+    """Section 3.6's loop average gamma(0) x FACTOR: the module constant and the keyword default that
+    ``loop_closure``, ``feasible_l1`` and ``approximate_domain`` bound to it at import (the adapter
+    calls them without a gamma)."""
+    module = prbm.feasible_l1
+    module.GAMMA_AVERAGE *= FACTOR
+    for function in (module.loop_closure, module.feasible_l1, module.approximate_domain):
+        inspect.unwrap(function).__kwdefaults__["gamma"] *= FACTOR
 
 
 def _scale_fit(fit: prbm.fits.PiecewiseFit) -> None:
