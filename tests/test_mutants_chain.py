@@ -92,3 +92,33 @@ def test_the_result_record_of_both_chain_solves(inverse):
     nodes = r.extras["nodes"]
     assert nodes.shape == (9, 2) and list(nodes[0]) == [0.0, 0.0]
     assert nodes[-1] == pytest.approx([float(r["a"]), float(r["b"])], abs=1e-15)
+
+
+@pytest.mark.parametrize("make, message", [
+    (lambda: ChainBeam(0.0, 1.0), r"^ChainBeam: length must be finite and > 0, got 0\.0$"),
+    (lambda: ChainBeam(math.inf, 1.0), r"^ChainBeam: length must be finite and > 0, got inf$"),
+    (lambda: ChainBeam(1.0, 1.0, 0), r"^ChainBeam: elements must be >= 1, got 0$"),
+    (lambda: ChainBeam(1.0, -2.0), r"^ChainBeam: EI must be finite and > 0, got -2\.0$"),
+    (lambda: ChainBeam(1.0, math.nan), r"^ChainBeam: EI must be finite and > 0, got nan$"),
+    (lambda: ChainBeam(1.0, (1.0, 2.0), 3), r"^ChainBeam: EI has 2 values for 3 elements$"),
+    (lambda: ChainBeam(1.0, 1.0, 2, (0.0,)), r"^ChainBeam: 1 orientations for 2 elements$"),
+    (lambda: chain_from_tip(ChainBeam(1.0, 1.0, 2), b=math.nan, theta0=0.1),
+     r"^chain_from_tip: b, theta0, n must be finite, got nan, 0\.1, 0\.0$"),
+])
+def test_bad_chain_input_names_the_field_and_the_value(make, message):
+    with pytest.raises(ValueError, match=message):
+        make()
+
+
+def test_a_chain_with_per_element_stiffness_and_orientation():
+    """Two elements at 90 deg (a straight beam along +y, the chain's theta_i), EI = (2, 1): a tiny tip
+    moment m turns element i by m L_i/EI_i (eq 33 with no force), so the tip turns by m (0.5/2 + 0.5/1)
+    and moves along -x by m (0.5^2/(2*2) + 0.5 * 0.5/2 + 0.5^2/(2*1)) (eq 32 and the rigid turn of
+    element 2 by element 1's rotation: the cantilever under a moment, piece by piece)."""
+    m = 1e-7
+    beam = ChainBeam(1.0, (2.0, 1.0), 2, (math.pi / 2, math.pi / 2))
+    assert list(beam.stiffness()) == [2.0, 1.0] and beam.undeformed()[-1] == pytest.approx([0.0, 1.0], abs=1e-15)
+    r = chain_tip(beam, NodalLoads.at_tip(beam, m=m), steps=1)
+    assert float(r["theta0"]) == pytest.approx(m * (0.5 / 2.0 + 0.5 / 1.0), rel=1e-6)
+    assert float(r["a"]) == pytest.approx(-m * (0.25 / 4.0 + 0.25 / 2.0 + 0.25 / 2.0), rel=1e-6)
+    assert float(r["b"]) == pytest.approx(1.0, abs=1e-12)
