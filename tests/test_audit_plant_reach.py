@@ -97,6 +97,7 @@ def test_every_method_a_case_runs_has_output_and_sign_plants():
 
 
 def test_the_fits_are_planted_on_every_evaluation_path(planted):
+    # printed constant terms of seed 000 eqs (41)-(43) at n = 0 and seed 004's Howell fits at n = -3
     assert planted["inflection"] == pytest.approx([0.851892 * 1.10, 1.238845, 2.648834 * 1.10], rel=1e-12)
     assert planted["howell"] == pytest.approx([(0.912364 - 3 * 0.0145928) * 1.10,
                                                (3.024112 - 3 * 0.121290 + 9 * 0.003169) * 1.10], rel=1e-12)
