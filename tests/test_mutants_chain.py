@@ -122,3 +122,16 @@ def test_a_chain_with_per_element_stiffness_and_orientation():
     assert float(r["theta0"]) == pytest.approx(m * (0.5 / 2.0 + 0.5 / 1.0), rel=1e-6)
     assert float(r["a"]) == pytest.approx(-m * (0.25 / 4.0 + 0.25 / 2.0 + 0.25 / 2.0), rel=1e-6)
     assert float(r["b"]) == pytest.approx(1.0, abs=1e-12)
+
+
+@pytest.mark.parametrize("phi", [0.0, math.pi / 2, 2.0])
+def test_the_generalised_moment_of_a_body_force_is_its_turned_arm_cross_the_force(phi):
+    """Virtual work of a dead force F at body point p: d(p)/d(phi) . F = (R(phi) r) x F, r = p - reference
+    (the moment about the reference of the force at the point's current place), plus any body moment;
+    its terms in sin(phi) vanish at phi = 0, so a quarter turn and phi = 2 rad are needed to see them."""
+    body = RigidBodyOnBeams([BCMBeam((0.0, 0.0), (1.0, 0.0), 1.0, 1e4)], (1.0, 0.0))
+    r, F, M = np.array([1.0, 0.5]), np.array([2.0, 3.0]), 0.7
+    c, s = math.cos(phi), math.sin(phi)
+    turned = np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
+    g = body.external_force(np.array([0.1, -0.2, phi]), [((2.0, 0.5), tuple(F))], M)
+    assert g == pytest.approx([2.0, 3.0, turned[0] * F[1] - turned[1] * F[0] + M], rel=1e-14, abs=1e-14)
