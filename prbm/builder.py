@@ -209,9 +209,11 @@ class _End:
     body: str | None
 
 
-def build(geometry: Geometry, rules: Rules = Rules()) -> PRBModel:
-    """The PRB network of a mechanism, with the record of every beam's model. Raises ValueError on an
+def build(geometry: Geometry, rules: Rules | None = None) -> PRBModel:
+    """The PRB network of a mechanism, with the record of every beam's model (``rules``: the default
+    ``Rules()`` made at the call, so it reads the fit constants as they are then). Raises ValueError on an
     inconsistent geometry and LockedNetwork when the PRB model cannot move and no workaround applies."""
+    rules = Rules() if rules is None else rules
     model = _build(geometry, rules, pivot_at={})
     if model.network.mobility() > 0 or not geometry.beams:
         return model

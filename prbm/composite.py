@@ -77,7 +77,7 @@ def composite_beam_tip(force, n=0.0, *, length: float, layers=None, EI: float | 
     # P < 0: the model mirrored about x (b, theta0, Theta change sign), fits at -n so that -nP is kept
     sign = np.where(np.asarray(P) < 0, -1.0, 1.0)
     n_eff = np.atleast_1d(float(n) * sign)
-    gamma, c_theta, K = (np.broadcast_to(v, n_eff.shape) for v in fam.parameters(n_eff, extrapolate))
+    gamma, c_theta, K = (np.broadcast_to(v, n_eff.shape) for v in fam.model_parameters(n_eff, extrapolate))
     phi = np.arctan2(1.0, -n_eff)
     beta = np.atleast_1d(np.abs(P) * eta * length**2 / EI)
     Theta = np.array([0.0 if bb == 0 else optimize.brentq(lambda t: bb * math.sin(ph + (c - 1) * t) - k * t,

@@ -165,6 +165,26 @@ class FitFamily:
             c = self.c_theta(n, extrapolate)
         return g, c, k
 
+    def model_parameters(self, n, extrapolate: str = "raise"):
+        """``parameters`` for a segment model: extrapolated values that give no PRB model (gamma <= 0 or
+        K_theta <= 0, which the polynomials reach far outside their ranges) raise FitRangeError.  (A
+        solver's trial point may read ``parameters`` there; a model's answer may not.)"""
+        g, c, k = self.parameters(n, extrapolate)
+        if extrapolate != "raise" and not (np.all(g > 0.0) and np.all(k > 0.0)):
+            raise FitRangeError(_unphysical(self.name, n, g, k))
+        return g, c, k
+
+
+def _unphysical(family: str, n, gamma, K_theta) -> str:
+    """Why an extrapolated fit gives no PRB model: a characteristic radius or a spring that is not
+    positive (the fits' polynomials reach that far outside their published ranges; the spring equation
+    (*) has no meaningful root with k <= 0)."""
+    bad = ~((np.asarray(gamma) > 0.0) & (np.asarray(K_theta) > 0.0))
+    i = int(np.flatnonzero(np.atleast_1d(bad))[0])
+    pick = [float(np.atleast_1d(v)[i]) for v in np.broadcast_arrays(n, gamma, K_theta)]
+    return (f"{family} fits extrapolated to n = {pick[0]:g} give gamma = {pick[1]:.4g} and K_theta = "
+            f"{pick[2]:.4g}: no PRB model there (it needs gamma > 0 and K_theta > 0)")
+
 
 _S000 = "seed 000 (Bapat 2015) eq"
 PAULY_MIDHA = FitFamily(

@@ -115,7 +115,10 @@ def _spring_angle_scalar(FR, phi, k, theta_i, xtol=1e-13, maxiter=60):
 
     Start: the linear solution of (*) about Theta_i, Theta_i + F R sin(phi - Theta_i) / (F R cos(phi -
     Theta_i) + k) (the first Newton step from Theta_i), when inside the bracket, else phi.  The residual
-    g decreases through the root in the bracket, so g > 0 puts x below the root (lo = x), g < 0 above."""
+    g decreases through the root in the bracket, so g > 0 puts x below the root (lo = x), g < 0 above.
+    A spring k <= 0 (or NaN) has no such root: not converged, Theta NaN."""
+    if not k > 0.0:
+        return math.nan, False, 0
     if FR == 0.0 or phi == theta_i:
         return theta_i, True, 0
     if theta_i < phi:
@@ -163,10 +166,11 @@ def _spring_angle_vector(FR, phi, k, theta_i, xtol, maxiter):
     with np.errstate(divide="ignore", invalid="ignore"):
         lin = theta_i + FR * np.sin(phi - theta_i) / d
     x = np.where((d > 0.0) & (lo < lin) & (lin < hi), lin, phi)
-    done = (FR == 0.0) | (phi == theta_i)
-    x = np.where(done, theta_i, x)
+    no_spring = ~(k > 0.0)  # no root (scalar version): not converged, NaN
+    done = (FR == 0.0) | (phi == theta_i) | no_spring
+    x = np.where(no_spring, np.nan, np.where(done, theta_i, x))
     if done.all():  # no level loaded: Theta = Theta_i without an iteration (as the scalar path reports)
-        return x, done, 0
+        return x, done & ~no_spring, 0
     it = 0
     for it in range(1, maxiter + 1):
         fx = FR * np.sin(phi - x) - k * (x - theta_i)
@@ -343,7 +347,7 @@ class _FixedPinnedRatio(NamedTuple):
 
 
 def _fixed_pinned_ratio(xp: _Ops, n_eff, length: float, EI: float, fam, extrapolate: str) -> _FixedPinnedRatio:
-    gamma, c_theta, K = fam.parameters(n_eff, extrapolate)
+    gamma, c_theta, K = fam.model_parameters(n_eff, extrapolate)
     return _FixedPinnedRatio(gamma, c_theta, K, gamma * K * EI / length, xp.sqrt(1.0 + n_eff * n_eff),
                              xp.atan2(1.0, -n_eff), gamma * length)
 
@@ -432,7 +436,7 @@ def fixed_pinned_from_tip(*, n=0.0, a=None, b=None, theta0=None, length: float, 
     t0 = time.perf_counter()
     fam = fit_family(family)
     n = np.asarray(n, dtype=float)
-    gamma, c_theta, K = fam.parameters(n, extrapolate)
+    gamma, c_theta, K = fam.model_parameters(n, extrapolate)
     if a is not None and b is not None:
         Theta = np.arctan2(np.asarray(b, float), np.asarray(a, float) - (1.0 - gamma) * length)
     elif b is not None:
@@ -547,7 +551,7 @@ CURVED_ASSUMPTIONS = ("load relation k(Theta-Theta_i) = F rho l sin(phi-Theta); 
 def _curved_arrays(P: np.ndarray, n: np.ndarray, kappa0: float, length: float, EI: float, fam, extrapolate: str,
                    t0: float) -> PRBMResult:
     """``curved_fixed_pinned_tip`` over many levels: the same kernel evaluated once on numpy arrays."""
-    c = _curved_ratio(_ARRAYS, kappa0, fam.parameters(np.where(P < 0, -n, n), extrapolate), length, EI)
+    c = _curved_ratio(_ARRAYS, kappa0, fam.model_parameters(np.where(P < 0, -n, n), extrapolate), length, EI)
     a, b, theta0, Theta, ok, nit = _curved_level(_ARRAYS, P, n, kappa0, c, length)
     ok_all = bool(np.all(ok))
     return PRBMResult(ok_all, "converged" if ok_all else "not converged",
@@ -613,7 +617,7 @@ def _curved_levels(P: list[float], n: list[float], kappa0: list[float], length: 
         if c is None:
             fit = fits.get(key[1])
             if fit is None:
-                fit = fits[key[1]] = fam.parameters(key[1], extrapolate)
+                fit = fits[key[1]] = fam.model_parameters(key[1], extrapolate)
             c = geometry[key] = _curved_ratio(_FLOATS, k0, fit, length, EI)
         rows.append(_curved_level(_FLOATS, p, m, k0, c, length))
         per_level.append(c)
@@ -673,7 +677,7 @@ class _FixedGuidedRatio(NamedTuple):
 
 
 def _fixed_guided_ratio(xp: _Ops, n_eff, length: float, EI: float, fam, extrapolate: str) -> _FixedGuidedRatio:
-    gamma, _, K = fam.parameters(n_eff, extrapolate)
+    gamma, _, K = fam.model_parameters(n_eff, extrapolate)
     return _FixedGuidedRatio(gamma, K, 2.0 * gamma * K * EI / length, xp.sqrt(1.0 + n_eff * n_eff),
                              xp.atan2(1.0, -n_eff))
 
