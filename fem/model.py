@@ -280,6 +280,10 @@ class Model:
         """Mean member chord length (the length scale used for tolerances)."""
         if not self.members:
             return 1.0
+        if len(self.members) == 1:      # the same float64 difference and hypot, the sum of one chord
+            m = self.members[0]
+            (xi, yi), (xj, yj) = self.coords[m.start], self.coords[m.end]
+            return float(np.hypot(xj - xi, yj - yi))
         c = np.asarray(self.coords)
         ends = np.array([(m.start, m.end) for m in self.members])
         chords = np.hypot(*(c[ends[:, 1]] - c[ends[:, 0]]).T)
