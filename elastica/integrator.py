@@ -48,7 +48,11 @@ optimised the integrator once per level of the chain (31 CPU-s cold). Here only 
 entry points (``follow_path`` and ``_samples``); the large functions they call once are inlined
 into them by numba (``inline='always'``: typed and optimised only as part of the caller), and the
 code uses loops instead of whole-array expressions, whose broadcasting checks drag numba's string
-formatting of error messages into every function that has one. One problem structure (normalised by L and EI, ``shooting`` derives the equations) is plain arrays:
+formatting of error messages into every function that has one. Small helpers called from several
+places (``_combine``, ``_trial``) stay separate functions (LLVM inlines them anyway; numba's inlining
+would type a copy per call site). ``error_model="numpy"``: a float division by zero gives inf/nan
+instead of raising, so no exception branch per division is generated (every division here has a
+nonzero divisor by construction). One problem structure (normalised by L and EI, ``shooting`` derives the equations) is plain arrays:
 
 * ``dirs`` (nc, 2): unit directions d_k of the prescribed tip-position components, end condition
   d_k . r(1) = c_k; ``fdirs`` (nc, 2): the directions of their unknown forces (multipliers mu_k);
@@ -65,7 +69,8 @@ carries (``elastica_rhs``). The Jacobian of the residual r(z, q) w.r.t. z and it
 (the tangent predictor dz/dlambda = -J^-1 (dr/dq) dq) come from the same sensitivities.
 
 Newton: full step, halved (down to 1/1000) until the residual norm falls by the Armijo factor
-1 - 1e-4 t; a point z is converged when |r(z)| < tol and the Newton step from z, J(z)^-1 r(z), is
+1 - 1e-4 t (the start and the final corrector; a corrector along the path is not damped and stays
+within its trust region, ``_newton``); a point z is converged when |r(z)| < tol and the Newton step from z, J(z)^-1 r(z), is
 below ``step_tol`` (1 + |z|) (1e-9 for the final corrector, the path tolerance for the points along
 the path, which only start the next step), or |r| < 1e-3 tol.
 A singular Jacobian or a failed integration ends it (status codes below).
@@ -93,10 +98,11 @@ _B = np.ascontiguousarray(_coef.B)
 _C = np.ascontiguousarray(_coef.C[:_N_STAGES])
 _E3 = np.ascontiguousarray(_coef.E3)
 _E5 = np.ascontiguousarray(_coef.E5)
+_AB = np.ascontiguousarray(np.vstack([_A, _B]))     # the stage rows of A, then B (one stage-sum site)
 SAFETY, MIN_FACTOR, MAX_FACTOR, ERROR_EXPONENT = 0.9, 0.2, 10.0, -1.0 / 8.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def elastica_rhs(s, Y, Fx, Fy, k0, out, wx=0.0, wy=0.0):
     """dY/ds into ``out`` (layout in the module docstring: STATE_SIZE entries, or FORCE_STATE_SIZE
     without the sensitivities to the distributed load); tip force (Fx, Fy), initial curvature k0,
@@ -131,7 +137,7 @@ def elastica_rhs(s, Y, Fx, Fy, k0, out, wx=0.0, wy=0.0):
     out[24] -= outboard * c
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def beam_rhs(s, Y, Fx, Fy, k0, EI, EA, out, wx=0.0, wy=0.0, length=0.0):
     """dY/ds into ``out`` for the plain beam (module docstring): tip force (Fx, Fy), initial
     curvature k0, bending stiffness EI, axial stiffness EA (0: inextensible), a uniform dead load
@@ -149,7 +155,7 @@ def beam_rhs(s, Y, Fx, Fy, k0, EI, EA, out, wx=0.0, wy=0.0, length=0.0):
     out[4] = m * m / (2 * EI) + (N * N / (2 * EA) if EA != 0.0 else 0.0)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _rhs(s, Y, P, out):
     """The equations the state's length names (BEAM_STATE_SIZE: the plain beam, else the elastica
     with its sensitivities)."""
@@ -159,7 +165,7 @@ def _rhs(s, Y, P, out):
         elastica_rhs(s, Y, P[0], P[1], P[2], out, P[3], P[4])
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _first_step(y0, f, t0, interval, P, rtol, atol):
     """scipy's select_initial_step (order 7); rms norms as plain loops."""
     n = y0.size
@@ -188,7 +194,23 @@ def _first_step(y0, f, t0, interval, P, rtol, atol):
     return min(100 * h0, h1, interval)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
+def _combine(K, w, count, out):
+    """out[i] = sum_{j < count} K[j, i] w[j], summed in the order of j (as the loop over j inside
+    the loop over i that scipy's dot products amount to), but with the components i in the inner
+    loop: independent sums the processor overlaps, instead of one chain of dependent additions.
+    Zero weights (a third of DOP853's table) are skipped: adding 0 K[j, i] changes no sum."""
+    for i in range(out.size):
+        out[i] = 0.0
+    for j in range(count):
+        wj = w[j]
+        if wj == 0.0:
+            continue
+        for i in range(out.size):
+            out[i] += K[j, i] * wj
+
+
+@njit(cache=True, inline="always", error_model="numpy")
 def _error_norm(K, y, y_new, h, rtol, atol):
     """scipy's DOP853 error norm of a step from y to y_new with the stage derivatives K."""
     n = y.size
@@ -206,14 +228,14 @@ def _error_norm(K, y, y_new, h, rtol, atol):
     return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _dop853(y0, t0, t1, P, rtol, atol, h_start):
     """State at t1 from y0 at t0, success, and the step size the controller proposes next.
     ``h_start`` > 0: the first step to try (a previous interval's proposal) instead of scipy's
     initial-step selection."""
-    A, B, C = _A, _B, _C     # global arrays: compile-time constants for numba
+    AB, C = _AB, _C     # global arrays: compile-time constants for numba
     n = y0.size
-    K = np.empty((A.shape[0] + 1, n))
+    K = np.empty((AB.shape[0], n))
     f = np.empty(n)
     _rhs(t0, y0, P, f)
     y = y0.copy()
@@ -224,6 +246,7 @@ def _dop853(y0, t0, t1, P, rtol, atol, h_start):
     t = t0
     stage = np.empty(n)
     y_new = np.empty(n)
+    acc = np.empty(n)
     last = K.shape[0] - 1
     while t < t1:
         min_step = 10 * abs(np.nextafter(t, np.inf) - t)
@@ -240,18 +263,15 @@ def _dop853(y0, t0, t1, P, rtol, atol, h_start):
             h_abs = abs(h)
             for i in range(n):
                 K[0, i] = f[i]
-            for s in range(1, A.shape[0]):
-                for i in range(n):
-                    acc = 0.0
-                    for j in range(s):
-                        acc += K[j, i] * A[s, j]
-                    stage[i] = y[i] + acc * h
-                _rhs(t + C[s] * h, stage, P, K[s])
-            for i in range(n):
-                acc = 0.0
-                for j in range(B.size):
-                    acc += K[j, i] * B[j]
-                y_new[i] = y[i] + h * acc
+            for s in range(1, AB.shape[0]):     # the stages, then (the last row, B) the new state
+                _combine(K, AB[s], s, acc)
+                if s < last:
+                    for i in range(n):
+                        stage[i] = y[i] + acc[i] * h
+                    _rhs(t + C[s] * h, stage, P, K[s])
+                else:
+                    for i in range(n):
+                        y_new[i] = y[i] + h * acc[i]
             _rhs(t + h, y_new, P, K[last])
             error_norm = _error_norm(K, y, y_new, h, rtol, atol)
             if error_norm < 1.0:
@@ -269,7 +289,7 @@ def _dop853(y0, t0, t1, P, rtol, atol, h_start):
     return y, True, h_abs
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _samples(y0, s, P, rtol, atol, restart):
     """States at the arc lengths s, integrated from sample to sample; each interval starts with the
     step the previous one proposed (the first, and every one when ``restart``, with scipy's
@@ -338,7 +358,7 @@ ANGLE = -3          # index of the prescribed tip angle in q; the last two are (
 CONVERGED, NOT_CONVERGED, NO_START = 0, 1, 2
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _norm(v):
     """Euclidean norm (a plain loop: the systems have at most a handful of unknowns)."""
     total = 0.0
@@ -347,7 +367,16 @@ def _norm(v):
     return math.sqrt(total)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
+def _distance(a, b):
+    """Euclidean distance |a - b| (a plain loop)."""
+    total = 0.0
+    for i in range(a.size):
+        total += (a[i] - b[i]) ** 2
+    return math.sqrt(total)
+
+
+@njit(cache=True, error_model="numpy")
 def _axpy(x, a, d):
     """x + a d as a new array (a loop: no broadcasting checks to compile)."""
     out = np.empty(x.size)
@@ -356,7 +385,7 @@ def _axpy(x, a, d):
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _solve(A, b):
     """x with A x = b by Gaussian elimination with partial pivoting, and False when a pivot is
     exactly zero (singular, as LAPACK's gesv reports it)."""
@@ -387,7 +416,7 @@ def _solve(A, b):
     return x, True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def tip_force(z, q, fdirs, mdirs, follower):
     """Tip force F (2,) and dF/dz (2, n) for the unknowns z (normalised)."""
     n = z.size
@@ -412,7 +441,7 @@ def tip_force(z, q, fdirs, mdirs, follower):
     return F, dF
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _through_force(Y, dF):
     """(4, m): d(x, y, theta, m)/d(parameters) of the state Y (``integrator`` layout) when the tip
     force depends on them by dF = dF/d(parameters) (2, m)."""
@@ -424,7 +453,7 @@ def _through_force(Y, dF):
     return D
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _unknowns_derivative(Y, dF):
     """(4, n): d(x, y, theta, m)/dz of the state Y: through the tip force (dF = dF/dz) and, in
     column 0, through m(0) = z[0]."""
@@ -434,7 +463,7 @@ def _unknowns_derivative(Y, dF):
     return D
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _integrate_pieces(z, F, q, k0, bounds, n_state, rtol, atol):
     """The states at the piece boundaries (bounds.size, STATE_SIZE; the first ``n_state`` entries
     integrated, the rest 0) from m(0) = z[0] under the tip force F, and whether all succeeded."""
@@ -452,7 +481,7 @@ def _integrate_pieces(z, F, q, k0, bounds, n_state, rtol, atol):
     return states, ok
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _residual(z, q, k0, dirs, fdirs, mdirs, site_at, angle_given, follower, bounds, n_state, rtol, atol):
     """End-condition residual r (n,), Jacobian dr/dz (n, n), the states at the piece boundaries
     (row 0: s = 0, the last: s = 1) and the tip force F; ok False when the integration failed."""
@@ -493,9 +522,9 @@ def _residual(z, q, k0, dirs, fdirs, mdirs, site_at, angle_given, follower, boun
     return r, J, states, F, True
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _load_derivative(z, states, dirs, mdirs, site_at, angle_given, follower, nq):
-    """d r / d q (n x nq): the force parameters act through the sensitivities to (Fx, Fy) (and the
+    """d r / d q (n x nq), and d(x, y, theta, m)(1) / d q (4 x nq): the force parameters act through the sensitivities to (Fx, Fy) (and the
     follower's through the tip angle), the distributed load (the last two) through its own, the
     others enter the end conditions directly."""
     n = z.size
@@ -531,33 +560,65 @@ def _load_derivative(z, states, dirs, mdirs, site_at, angle_given, follower, nq)
     if follower:
         for j in range(nq):
             D[n - 1, j] = dYdq[2, j]
-    return D
+    return D, dYdq
 
 
-@njit(cache=True, inline="always")
-def _tangent(z, J, states, dq, dirs, mdirs, site_at, angle_given, follower):
+@njit(cache=True, inline="always", error_model="numpy")
+def _tangent(z, q, J, states, dq, dirs, fdirs, mdirs, site_at, angle_given, follower):
     """dz/dlambda along q(lambda) with dq/dlambda = dq, from the Jacobian J and the states of the
-    residual at z; False when J is singular."""
-    D = _load_derivative(z, states, dirs, mdirs, site_at, angle_given, follower, dq.size)
+    residual at z; False when J is singular; and the tip's rate d(x, y, theta)(1)/dlambda =
+    (dY/dz) dz/dlambda + (dY/dq) dq (normalised)."""
+    D, dYdq = _load_derivative(z, states, dirs, mdirs, site_at, angle_given, follower, dq.size)
     rhs = np.zeros(z.size)
     for i in range(z.size):
         for j in range(dq.size):
             rhs[i] -= D[i, j] * dq[j]
-    return _solve(J, rhs)
+    dz, regular = _solve(J, rhs)
+    return dz, regular, _tip_rate(z, q, states[states.shape[0] - 1], dz, dYdq, dq, fdirs, mdirs, follower)
 
 
-@njit(cache=True, inline="always")
-def _newton(z, q, tol, step_tol, ahead, maxiter, k0, dirs, fdirs, mdirs, site_at, angle_given, follower,
-            bounds, n_state, rtol, atol):
+@njit(cache=True, error_model="numpy")
+def _tip_rate(z, q, Y, dz, dYdq, dq, fdirs, mdirs, follower):
+    """d(x, y, theta)(1)/dlambda = (dY/dz) dz/dlambda + (dY/dq) dq at the tip state Y."""
+    _, dF = tip_force(z, q, fdirs, mdirs, follower)
+    dYdz = _unknowns_derivative(Y, dF)
+    rate = np.zeros(3)
+    for i in range(3):
+        for j in range(z.size):
+            rate[i] += dYdz[i, j] * dz[j]
+        for j in range(dq.size):
+            rate[i] += dYdq[i, j] * dq[j]
+    return rate
+
+
+@njit(cache=True, error_model="numpy")
+def _trial(z, t, dz, center, radius):
+    """The trial point z + t dz, t halved until it lies within ``radius`` of ``center`` (or t < 1e-3)."""
+    z_try = _axpy(z, t, dz)
+    while _distance(z_try, center) > radius and t >= 1e-3:
+        t *= 0.5
+        z_try = _axpy(z, t, dz)
+    return z_try, t
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _newton(z, q, tol, step_tol, ahead, maxiter, radius, k0, dirs, fdirs, mdirs, site_at, angle_given,
+            follower, bounds, n_state, rtol, atol):
     """Damped Newton on the end conditions (module docstring). Converged: |r| < 1e-3 tol, or |r| <
     tol and a step below ``step_tol`` (1 + |z|): the step that led to z, or with ``ahead`` the step
     from z (J^-1 r, known before integrating again: a path point stops one integration earlier).
+    A path corrector (finite ``radius``) is not damped: a trial point farther than ``radius`` from
+    the start point z (the continuation rejects a corrector that leaves this ball anyway) counts as
+    a failed trial, the step halved without integrating it, and a full step whose residual does not
+    fall ends the corrector, not converged: a corrector that needs damping is a sign of a step
+    too long for the predictor, which the continuation then halves (the integrations of a corrector
+    wandering off the path are not paid).
     Returns (z, status, iterations, residual norm, Jacobian, boundary states and tip force at z): z
     is the last accepted point (with maxiter = 0 the start point, evaluated). One residual call site
     (the start point, then every trial point), so the compiled code holds one copy of the integrator."""
     it, t, norm, started = 0, 1.0, math.inf, False
     dz = np.zeros_like(z)
-    z_try = z
+    z_try, center = z, z
     while True:
         r_new, J_new, states_new, F_new, ok = _residual(z_try, q, k0, dirs, fdirs, mdirs, site_at,
                                                         angle_given, follower, bounds, n_state, rtol, atol)
@@ -572,11 +633,12 @@ def _newton(z, q, tol, step_tol, ahead, maxiter, k0, dirs, fdirs, mdirs, site_at
             z, r, J, states, F, norm = z_try, r_new, J_new, states_new, F_new, _norm(r_new)
             if (norm < tol and t * _norm(dz) < step_tol * (1.0 + _norm(z))) or norm < 1e-3 * tol:
                 return z, CONVERGED, it, norm, J, states, F
+        elif radius < math.inf:     # a path corrector that needs damping: the step is too long
+            return z, NOT_CONVERGED, it, norm, J, states, F
         else:
-            t *= 0.5
+            z_try, t = _trial(z, 0.5 * t, dz, center, radius)
             if t < 1e-3:        # no descent left: converged only if already at the noise floor
                 return z, CONVERGED if norm < tol else NOT_CONVERGED, it, norm, J, states, F
-            z_try = _axpy(z, t, dz)
             continue
         minus_r = np.empty(r.size)
         for i in range(r.size):
@@ -587,8 +649,30 @@ def _newton(z, q, tol, step_tol, ahead, maxiter, k0, dirs, fdirs, mdirs, site_at
         it += 1
         if it > maxiter or not regular:
             return z, NOT_CONVERGED, min(it, maxiter), norm, J, states, F
-        t = 1.0
-        z_try = _axpy(z, 1.0, dz)
+        z_try, t = _trial(z, 1.0, dz, center, radius)
+        if t < 1e-3:            # every descent step leaves the trust region
+            return z, NOT_CONVERGED, it, norm, J, states, F
+
+
+@njit(cache=True, error_model="numpy")
+def _step_cap(rate, rate_prev, dlam, max_rotation_step, max_position_step):
+    """The longest step whose predicted tip motion stays within both limits: the tip's rate and,
+    when ``dlam`` > 0, its change (rate - rate_prev)/dlam since the previous point."""
+    accel = np.zeros(3)
+    if dlam > 0.0:
+        for i in range(3):
+            accel[i] = (rate[i] - rate_prev[i]) / dlam
+    return min(_reach(abs(rate[2]), abs(accel[2]), max_rotation_step),
+               _reach(math.hypot(rate[0], rate[1]), math.hypot(accel[0], accel[1]), max_position_step))
+
+
+@njit(cache=True, error_model="numpy")
+def _reach(speed, accel, limit):
+    """The largest step h whose predicted tip motion, speed h + accel h^2 / 2 (a second-order
+    Taylor bound along the path), stays within ``limit``."""
+    if speed <= 0.0 and accel <= 0.0:
+        return math.inf
+    return 2.0 * limit / (speed + math.sqrt(speed * speed + 2.0 * accel * limit))
 
 
 # follow_path status: converged, continuation stalled, integration failed at the start, final
@@ -596,7 +680,7 @@ def _newton(z, q, tol, step_tol, ahead, maxiter, k0, dirs, fdirs, mdirs, site_at
 PATH_CONVERGED, PATH_STALLED, PATH_NO_START, PATH_FINAL_FAILED = 0, 1, 2, 3
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, follower, bounds, rtol, atol,
                 tol, path_rtol, initial_step, min_step, max_rotation_step, max_position_step,
                 max_corrector, max_step_iterations, maxiter):
@@ -614,22 +698,27 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
     lam, dlam, lam_try, lam_prev, curvature = 0.0, min(initial_step, 1.0), 0.0, 0.0, 0.0
     nit, nsteps, norm = 0, 0, 0.0
     started, regular = False, True
-    dz, tip, step = np.zeros_like(z), np.zeros(3), np.zeros_like(z)
+    dz, tip, step, rate = np.zeros_like(z), np.zeros(3), np.zeros_like(z), np.zeros(3)
+    reach = math.inf
     while True:
         final = started and lam >= 1.0
+        radius = math.inf
         if not started:
             q, z_guess, ntol, nrtol, natol, nmax = q0, z, 0.0, path_rtol, path_atol, 0
         elif final:       # final corrector at full accuracy
             q, z_guess, ntol, nrtol, natol, nmax = _axpy(q0, lam, dq), z, tol, rtol, atol, maxiter
         else:
-            lam_try = min(1.0, lam + dlam)
+            lam_try = min(1.0, lam + min(dlam, reach))
             q = _axpy(q0, lam_try, dq)
             step = _axpy(np.zeros_like(z), lam_try - lam, dz) if regular else np.zeros_like(z)
             # a step whose corrector needs more than max_step_iterations is rejected: stop there
             z_guess, ntol, nrtol, natol = _axpy(z, 1.0, step), 10 * path_rtol, path_rtol, path_atol
             nmax = min(maxiter, max_step_iterations)
-        z_new, nstat, it, norm, J, states, F = _newton(z_guess, q, ntol, 1e-9 if final else ntol, not final,
-                                                       nmax, k0, dirs, fdirs, mdirs, site_at, angle_given,
+            if regular:     # the corrector may move z this far from the predictor (the step test below)
+                bend = curvature * (lam_try - lam) ** 2         # twice the predictor's expected miss
+                radius = max_corrector * _norm(step) + bend + 1e-6 * (1.0 + _norm(z))
+        z_new, nstat, it, norm, J, states, F = _newton(z_guess, q, ntol, 1e-9 if final else ntol, not final, nmax,
+                                                       radius, k0, dirs, fdirs, mdirs, site_at, angle_given,
                                                        follower, bounds, n_state, nrtol, natol)
         new_tip = states[last, :3]
         ok = nstat == CONVERGED
@@ -645,11 +734,8 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
                 return z, PATH_FINAL_FAILED, lam, nit, nsteps, norm, states, F
             if ok:
                 moved = math.hypot(new_tip[0] - tip[0], new_tip[1] - tip[1])
-                off = _norm(_axpy(z_new, -1.0, z_guess))
-                bend = curvature * (lam_try - lam) ** 2         # twice the predictor's expected miss
                 ok = (it <= max_step_iterations and abs(new_tip[2] - tip[2]) <= max_rotation_step
-                      and moved <= max_position_step
-                      and (not regular or off <= max_corrector * _norm(step) + bend + 1e-6 * (1.0 + _norm(z))))
+                      and moved <= max_position_step and _distance(z_new, z_guess) <= radius)
             if ok:
                 z, lam_prev, lam = z_new, lam, lam_try
                 nsteps += 1
@@ -657,9 +743,14 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
                     dlam = min(2.0 * dlam, 1.0)
         if ok:                  # the tangent at the new point, and the path's curvature |z''| since the last
             dz_prev, was_regular = dz, regular
-            dz, regular = _tangent(z, J, states, dq, dirs, mdirs, site_at, angle_given, follower)
-            if nsteps > 0 and regular and was_regular:
+            rate_prev = rate
+            dz, regular, rate = _tangent(z, _axpy(q0, lam, dq), J, states, dq, dirs, fdirs, mdirs, site_at,
+                                         angle_given, follower)
+            secant = nsteps > 0 and regular and was_regular   # the last two points give z'' and the tip's
+            if secant:
                 curvature = _norm(_axpy(dz, -1.0, dz_prev)) / (lam - lam_prev)
+            reach = _step_cap(rate, rate_prev, lam - lam_prev if secant else 0.0, max_rotation_step,
+                              max_position_step) if regular else math.inf
             tip = new_tip.copy()
         else:                   # halve the step tried (dlam itself may reach past lambda = 1)
             dlam = 0.5 * (lam_try - lam)

@@ -47,7 +47,13 @@ left the path: the tip moved by more than ``max_position_step`` L or rotated by 
 predictor than ``max_corrector`` times the predicted change plus the predictor's expected miss
 |z''| dlambda^2 (|z''| from the tangents at the last two accepted points, so an unknown that is
 stationary along the path does not shrink the step) and a small floor, or Newton needed more
-than ``max_step_iterations`` iterations. A first-order predictor misses the path by
+than ``max_step_iterations`` iterations. Step size: doubled after a corrector of at most 3
+iterations, halved on a rejection, and never longer than the tip's predicted motion allows: the tip
+rate d(x, y, theta)/dlambda (from the tangent and the sensitivities) and its change since the last
+point give a second-order estimate of the motion, held within ``max_position_step`` and
+``max_rotation_step``, so the limits cap the step before the corrector runs rather than reject it
+after. The corrector is not damped along the path: a trial point outside the ball the step test
+accepts is not integrated, and a full Newton step that does not lower the residual rejects the step. A first-order predictor misses the path by
 O(dlambda^2), so halving the step always satisfies the corrector test on a smooth path; a
 Newton solution on another branch (a straight beam pushed back towards its clamp has several
 equilibria at the same load) is far from the predictor whatever the step. So one requested load

@@ -180,7 +180,7 @@ def chain_tip(beam: ChainBeam, loads: NodalLoads, *, steps: int = 10, tol: float
         nodes, ok, n, msg = _forward_step(beam, loads.scaled(k / steps), nodes, tol)
         nfev += n
         if not ok:
-            message = f"load step {k}/{steps}: {msg}"
+            message = f"load step {k}/{steps}: " + " ".join(str(msg).split())
             break
     state = march(beam, loads, nodes)
     out = {"a": state.nodes[-1, 0], "b": state.nodes[-1, 1], "theta0": state.rotations[-1]}
@@ -215,7 +215,7 @@ def chain_from_tip(beam: ChainBeam, *, b: float, theta0: float, n: float = 0.0, 
         nfev += int(sol.nfev)
         ok = bool(sol.success) and float(np.max(np.abs(residual(sol.x, b * k / steps, theta0 * k / steps)))) < 1e-8
         if not ok:
-            message = f"displacement step {k}/{steps}: {sol.message}"
+            message = f"displacement step {k}/{steps}: " + " ".join(str(sol.message).split())
             break
         x = sol.x
     P, M = float(x[-2]), float(x[-1])

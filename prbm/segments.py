@@ -1,4 +1,4 @@
-"""Single-spring pseudo-rigid-body models of compliant segments, vectorised over load levels.
+"""Single-spring pseudo-rigid-body models of compliant segments, over any number of load levels.
 
 Every model here is a rigid PRB link of radius R from a characteristic pivot, held by one torsional
 spring k (or two equal springs in series, for the fixed-guided beam), loaded by an end force
@@ -8,8 +8,15 @@ F (cos phi, sin phi).  Equilibrium about the pivot (virtual work on the one coor
 
 solved for the PRB angle Theta by a safeguarded Newton iteration on the bracket between Theta_i and
 phi, started from the linear solution (analytic derivative -F R cos(phi - Theta) - k; quadratic
-convergence, at most ~8 iterations), over all load levels.  With Theta_i = 0 the residual is concave
-on (0, phi), so the root is unique.
+convergence, at most ~8 iterations).  With Theta_i = 0 the residual is concave on (0, phi), so the
+root is unique.
+
+Structure: each model's level equations have one implementation, a plain-float kernel for one load
+level (``_fixed_pinned_level``, ``_pure_moment_level``, ``_curved_level``, ``_fixed_guided_level``), fed
+the constants of its load ratio (the n-fits and what follows from them, evaluated once per distinct
+ratio); the public functions loop it over the levels (a case has a few; a numpy call costs about a
+microsecond whatever its length, more than a level's arithmetic).  ``spring_angle`` itself keeps a numpy
+iteration for long arrays given to it directly (``slfp_tip``, ``curved_pinned_pinned``).
 
 Conventions: x along the undeformed segment from the fixed end, y transverse, CCW-positive angles;
 the end force is (-nP, P), so n > 0 is compressive (seed 000, notes to Tables 3.2-3.6);
@@ -46,7 +53,9 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import dataclass
 from math import cos, sin
+from typing import Callable, NamedTuple
 
 import numpy as np
 
@@ -96,41 +105,38 @@ def spring_angle(FR, phi, k, theta_i=0.0, *, xtol=1e-13, maxiter=60):
 
 
 _SCALAR_LOOP_MAX = 256  # up to this many levels the plain-float loop beats the numpy iteration
+_PLAIN = (float, int, np.float64)  # one load level given as a number
 
 
-def _spring_start(FR, phi, k, theta_i, lo, hi):
-    """Linear solution of (*) about Theta_i (the first Newton step from Theta_i), if inside (lo, hi)."""
-    d = FR * cos(phi - theta_i) + k
-    if d > 0.0:
-        x = theta_i + FR * sin(phi - theta_i) / d
-        if lo < x < hi:
-            return x
-    return phi
+def _spring_angle_scalar(FR, phi, k, theta_i, xtol=1e-13, maxiter=60):
+    """``spring_angle`` for one level in plain floats (a few microseconds; called once per load level by
+    every segment model's level kernel, so it is written for CPython: module-global math functions,
+    each quantity computed once per iteration, no helper calls).
 
-
-def _spring_angle_scalar(FR, phi, k, theta_i, xtol, maxiter):
-    """``spring_angle`` for one level in plain floats (a few microseconds; called once per load level,
-    so its names are module globals and each quantity is computed once per iteration)."""
+    Start: the linear solution of (*) about Theta_i, Theta_i + F R sin(phi - Theta_i) / (F R cos(phi -
+    Theta_i) + k) (the first Newton step from Theta_i), when inside the bracket, else phi.  The residual
+    g decreases through the root in the bracket, so g > 0 puts x below the root (lo = x), g < 0 above."""
     if FR == 0.0 or phi == theta_i:
         return theta_i, True, 0
-    lo, hi = (theta_i, phi) if theta_i < phi else (phi, theta_i)
-    x = _spring_start(FR, phi, k, theta_i, lo, hi)
-    toward_phi = phi > theta_i  # g > 0 between Theta_i and the root, g < 0 between the root and phi
+    if theta_i < phi:
+        lo, hi = theta_i, phi
+    else:
+        lo, hi = phi, theta_i
+    x = phi
+    d = FR * cos(phi - theta_i) + k
+    if d > 0.0:
+        x0 = theta_i + FR * sin(phi - theta_i) / d
+        if lo < x0 < hi:
+            x = x0
     for it in range(1, maxiter + 1):
         s = sin(phi - x)
         fx = FR * s - k * (x - theta_i)
         if fx == 0.0:
             return x, True, it
-        # shrink the bracket: x lies on the Theta_i side of the root where g has the sign of (phi - Theta_i)
-        if (fx > 0.0) == toward_phi:
-            if toward_phi:
-                lo = x
-            else:
-                hi = x
-        elif toward_phi:
-            hi = x
-        else:
+        if fx > 0.0:  # shrink the bracket
             lo = x
+        else:
+            hi = x
         dfx = -FR * cos(phi - x) - k
         step = fx / dfx if dfx != 0.0 else math.inf
         x_new = x - step
@@ -249,61 +255,13 @@ def _spring_angle_reference_scalar(FR, phi, k, theta_i, xtol, maxiter):
     return x, False, maxiter
 
 
-def _mirror(P, n):
-    P = np.asarray(P, dtype=float)
-    n = np.asarray(n, dtype=float)
-    sign = np.where(P < 0.0, -1.0, 1.0)
-    return np.abs(P), sign * n, sign
-
-
-def _scalar_or_array(d):
-    return {key: np.asarray(v, dtype=float) for key, v in d.items()}
-
-
-@checked(positive=('length', 'EI'), finite=('P', 'n'))
-def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha",
-                     extrapolate: str = "raise") -> PRBMResult:
-    """Tip of an initially straight fixed-pinned (fixed-free) segment under the end force (-nP, P).
-
-    Seed 000 eqs (41)-(49): gamma, c_theta, K_theta from the n-fits; F = P sqrt(1+n^2);
-    (F l^2/EI) sin(phi - Theta) = K_theta Theta (46)-(47), i.e. (*) with R = gamma l and
-    k = gamma K_theta EI/l (45); a = l - gamma l (1 - cos Theta) (48); b = gamma l sin Theta (49);
-    theta0 = c_theta Theta (44).  Vectorised over P (and n).  Outputs a, b, theta0 (rad), Theta (rad).
-    """
-    t0 = time.perf_counter()
-    fam = fit_family(family)
-    if np.ndim(P) == 0 and np.ndim(n) == 0:  # one load level: plain floats
-        P, n = float(P), float(n)
-        sign = -1.0 if P < 0 else 1.0
-        n_eff, Pabs = sign * n, abs(P)
-        gamma, c_theta, K = fam.parameters(n_eff, extrapolate)
-        F = Pabs * math.sqrt(1.0 + n_eff * n_eff)
-        Theta, ok, nit = _spring_angle_scalar(F * length**2 / EI, math.atan2(1.0, -n_eff), K, 0.0, 1e-13, 60)
-        out = {"a": length - gamma * length * (1.0 - math.cos(Theta)), "b": sign * gamma * length * math.sin(Theta),
-               "theta0": sign * c_theta * Theta, "Theta": sign * Theta, "P": P, "n": n, "F": F}
-        return PRBMResult(ok, "converged" if ok else "spring equation did not converge",
-                          {k: np.float64(v) for k, v in out.items()},
-                          {"gamma": gamma, "c_theta": c_theta, "K_theta": K, "k": gamma * K * EI / length,
-                           "family": fam.name}, "fixed-pinned, seed 000 eqs (41)-(49)",
-                          time.perf_counter() - t0, nit, np.array([ok]))
-    if 0 < np.size(P) * np.size(n) <= _SCALAR_LOOP_MAX:  # a few levels: the plain-float path level by level
-        return _fixed_pinned_levels(P, n, length, EI, fam, extrapolate, t0)
-    Pabs, n_eff, sign = _mirror(P, n)
-    gamma, c_theta, K = fam.parameters(n_eff, extrapolate)
-    eta = np.sqrt(1.0 + n_eff**2)
-    F = Pabs * eta
-    phi = np.arctan2(1.0, -n_eff)
-    Theta, ok, nit = spring_angle(F * length**2 / EI, phi, K)
-    a = length - gamma * length * (1.0 - np.cos(Theta))
-    b = gamma * length * np.sin(Theta)
-    out = _scalar_or_array({"a": a, "b": sign * b, "theta0": sign * c_theta * Theta,
-                            "Theta": sign * Theta, "P": P, "n": n, "F": F})
-    return PRBMResult(
-        converged=bool(np.all(ok)), message="converged" if np.all(ok) else "spring equation did not converge",
-        outputs=out, constants={"gamma": gamma, "c_theta": c_theta, "K_theta": K,
-                                "k": gamma * K * EI / length, "family": fam.name},
-        model="fixed-pinned, seed 000 eqs (41)-(49)", wall_time=time.perf_counter() - t0, nit=nit,
-        level_converged=np.atleast_1d(ok))
+# --- the level kernels --------------------------------------------------------------------------
+# Each model below has ONE implementation of its level equations: a plain-float kernel for one load
+# level (``_fixed_pinned_level``, ``_pure_moment_level``, ``_curved_level``, ``_fixed_guided_level``),
+# given the constants of its load ratio (the n-fits and what follows from them, evaluated once per
+# distinct ratio: ``_fixed_pinned_ratio``, ``_curved_ratio``, ``_fixed_guided_ratio``).  The public
+# functions loop the kernel over the levels whatever their number (a single float, a few levels of a
+# case, or a long sweep).
 
 
 def _level_lists(P, n) -> tuple[list[float], list[float], tuple[int, ...]]:
@@ -315,45 +273,151 @@ def _level_lists(P, n) -> tuple[list[float], list[float], tuple[int, ...]]:
 
 
 def _arrays(columns: dict[str, list], shape: tuple[int, ...]) -> dict[str, np.ndarray]:
-    """Each column of floats as an array of the levels' shape."""
+    """Each column of floats as an array of the levels' shape (a 0-d array for one scalar level)."""
     if len(shape) == 1:
         return {key: np.array(column, dtype=float) for key, column in columns.items()}
     return {key: np.array(column, dtype=float).reshape(shape) for key, column in columns.items()}
 
 
-def _fixed_pinned_levels(P, n, length: float, EI: float, fam, extrapolate: str, t0: float) -> PRBMResult:
-    """``fixed_pinned_tip`` over a few load levels in plain floats: the one-level arithmetic level by
-    level, the fits and every per-ratio constant evaluated once per distinct load ratio (numpy's
-    per-call cost would dominate)."""
-    P_list, n_list, shape = _level_lists(P, n)
-    L2 = length**2
-    per_ratio: dict[float, tuple[float, ...]] = {}
-    rows, fits = [], []  # per level: (a, b, theta0, Theta, F, converged), the ratio's constants
-    nit_max = 0
+def _table(rows: list[tuple], names: tuple[str, ...], shape: tuple[int, ...]) -> dict[str, np.ndarray]:
+    """Per-level rows (one tuple of floats a level) -> one array of the levels' shape a name (the rows'
+    first len(names) entries)."""
+    if not rows:
+        return {name: np.empty(shape) for name in names}
+    if len(shape) == 1:  # one array a column (numpy is slow to read a list of tuples as one 2-d array)
+        return {name: np.array(column, dtype=float) for name, column in zip(names, zip(*rows))}
+    return {name: np.array(column, dtype=float).reshape(shape) for name, column in zip(names, zip(*rows))}
+
+
+def _columns(rows: list[tuple], names: tuple[str, ...]) -> dict[str, list]:
+    """Per-level rows (one tuple a level) -> one list a name (the rows' first len(names) entries)."""
+    if not rows:
+        return {name: [] for name in names}
+    return dict(zip(names, (list(column) for column in zip(*rows))))
+
+
+def _scalar_or_array(d):
+    return {key: np.asarray(v, dtype=float) for key, v in d.items()}
+
+
+@dataclass(frozen=True, slots=True)
+class _Ops:
+    """What a level kernel evaluates with: ``FLOATS`` for one level in plain floats (math, the scalar
+    spring solve), ``ARRAYS`` for all the levels at once (numpy, the vectorised spring solve)."""
+
+    sin: Callable
+    cos: Callable
+    sqrt: Callable
+    atan2: Callable
+    hypot: Callable
+    where: Callable
+    spring: Callable  # spring(FR, phi, k, Theta_i) -> (Theta, converged, iterations) of (*)
+
+
+def _pick(condition, yes, no):
+    return yes if condition else no
+
+
+def _spring_levels(FR, phi, k, theta_i):
+    return _spring_angle_vector(*np.broadcast_arrays(*(np.asarray(v, float) for v in (FR, phi, k, theta_i))),
+                                1e-13, 60)
+
+
+_FLOATS = _Ops(math.sin, math.cos, math.sqrt, math.atan2, lambda x, y: float(np.hypot(x, y)), _pick,
+               _spring_angle_scalar)
+_ARRAYS = _Ops(np.sin, np.cos, np.sqrt, np.arctan2, np.hypot, np.where, _spring_levels)
+
+
+class _FixedPinnedRatio(NamedTuple):
+    """The constants of one (mirrored) load ratio n of the fixed-pinned model: gamma, c_theta, K_theta
+    from the fits (41)-(43), the spring k = gamma K_theta EI/l (45), eta = sqrt(1 + n^2) and the force
+    angle phi = atan2(1, -n) (46)-(47), the PRB link gamma l."""
+
+    gamma: float
+    c_theta: float
+    K: float
+    k: float
+    eta: float
+    phi: float
+    gl: float
+
+
+def _fixed_pinned_ratio(xp: _Ops, n_eff, length: float, EI: float, fam, extrapolate: str) -> _FixedPinnedRatio:
+    gamma, c_theta, K = fam.parameters(n_eff, extrapolate)
+    return _FixedPinnedRatio(gamma, c_theta, K, gamma * K * EI / length, xp.sqrt(1.0 + n_eff * n_eff),
+                             xp.atan2(1.0, -n_eff), gamma * length)
+
+
+def _fixed_pinned_level(xp: _Ops, Pabs, sign, c: _FixedPinnedRatio, length: float, EI: float) -> tuple:
+    """The fixed-pinned model at a level (floats) or at all levels (arrays) (seed 000 eqs (44)-(49)), the
+    load mirrored to P >= 0 (sign restores it): F = P eta, (F l^2/EI) sin(phi - Theta) = K_theta Theta,
+    a = l - gamma l (1 - cos Theta), b = gamma l sin Theta, theta0 = c_theta Theta.
+    Returns (a, b, theta0, Theta, F, converged, iterations)."""
+    _, c_theta, K, _, eta, phi, gl = c
+    F = Pabs * eta
+    T, ok, nit = xp.spring(F * length**2 / EI, phi, K, 0.0)
+    return length - gl * (1.0 - xp.cos(T)), sign * gl * xp.sin(T), sign * c_theta * T, sign * T, F, ok, nit
+
+
+@checked(positive=('length', 'EI'), finite=('P', 'n'))
+def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha",
+                     extrapolate: str = "raise") -> PRBMResult:
+    """Tip of an initially straight fixed-pinned (fixed-free) segment under the end force (-nP, P).
+
+    Seed 000 eqs (41)-(49): gamma, c_theta, K_theta from the n-fits; F = P sqrt(1+n^2);
+    (F l^2/EI) sin(phi - Theta) = K_theta Theta (46)-(47), i.e. (*) with R = gamma l and
+    k = gamma K_theta EI/l (45); a = l - gamma l (1 - cos Theta) (48); b = gamma l sin Theta (49);
+    theta0 = c_theta Theta (44).  Over P (and n): the level kernel ``_fixed_pinned_level`` level by
+    level, the fits once per distinct load ratio.  Outputs a, b, theta0 (rad), Theta (rad), F; scalars
+    (np.float64 outputs, float constants) for scalar P and n, else arrays of the levels' shape.
+    """
+    t0 = time.perf_counter()
+    fam = fit_family(family)
+    if type(P) in _PLAIN and type(n) in _PLAIN:  # one level given as numbers: no array round trip
+        P_list, n_list, shape = [float(P)], [float(n)], ()
+    else:
+        P_list, n_list, shape = _level_lists(P, n)
+        if len(P_list) > _SCALAR_LOOP_MAX:  # many levels: the kernel once over arrays
+            return _fixed_pinned_arrays(P, n, length, EI, fam, extrapolate, t0)
+    per_ratio: dict[float, _FixedPinnedRatio] = {}
+    rows, fits = [], []
     for p, m in zip(P_list, n_list):
         sign = -1.0 if p < 0.0 else 1.0
         n_eff = sign * m
-        fit = per_ratio.get(n_eff)
-        if fit is None:
-            gamma, c_theta, K = fam.parameters(n_eff, extrapolate)
-            fit = per_ratio[n_eff] = (gamma, c_theta, K, gamma * K * EI / length, math.sqrt(1.0 + n_eff * n_eff),
-                                      math.atan2(1.0, -n_eff), gamma * length)
-        gamma, c_theta, K, k, eta, phi, gl = fit
-        F = abs(p) * eta
-        T, ok, nit = _spring_angle_scalar(F * L2 / EI, phi, K, 0.0, 1e-13, 60)
-        if nit > nit_max:
-            nit_max = nit
-        rows.append((length - gl * (1.0 - cos(T)), sign * gl * sin(T), sign * c_theta * T, sign * T, F, ok))
-        fits.append(fit)
-    a, b, theta0, Theta, F_out, ok_levels = zip(*rows)
+        c = per_ratio.get(n_eff)
+        if c is None:
+            c = per_ratio[n_eff] = _fixed_pinned_ratio(_FLOATS, n_eff, length, EI, fam, extrapolate)
+        rows.append(_fixed_pinned_level(_FLOATS, abs(p), sign, c, length, EI))
+        fits.append(c)
+    ok_levels = [row[5] for row in rows]
     ok_all = all(ok_levels)
-    out = _arrays({"a": a, "b": b, "theta0": theta0, "Theta": Theta}, shape)
-    out.update({"P": np.asarray(P, float), "n": np.asarray(n, float), "F": _arrays({"F": F_out}, shape)["F"]})
-    constants = _arrays(dict(zip(("gamma", "c_theta", "K_theta", "k"), list(zip(*fits))[:4])), shape)
+    names, constant_names = ("a", "b", "theta0", "Theta", "F"), ("gamma", "c_theta", "K_theta", "k")
+    if shape == ():  # one level given as scalars
+        out = {key: np.float64(v) for key, v in zip(names, rows[0])}
+        out.update({"P": np.float64(P_list[0]), "n": np.float64(n_list[0])})
+        constants = dict(zip(constant_names, fits[0]))
+    else:
+        out = _table(rows, names, shape)
+        out.update({"P": np.asarray(P, float), "n": np.asarray(n, float)})
+        constants = _table(fits, constant_names, shape)
     constants["family"] = fam.name
     return PRBMResult(ok_all, "converged" if ok_all else "spring equation did not converge", out, constants,
-                      "fixed-pinned, seed 000 eqs (41)-(49)", time.perf_counter() - t0, nit_max,
-                      np.array(ok_levels, dtype=bool).reshape(shape))
+                      "fixed-pinned, seed 000 eqs (41)-(49)", time.perf_counter() - t0,
+                      max((row[6] for row in rows), default=0), np.array(ok_levels, dtype=bool).reshape(shape or (1,)))
+
+
+def _fixed_pinned_arrays(P, n, length: float, EI: float, fam, extrapolate: str, t0: float) -> PRBMResult:
+    """``fixed_pinned_tip`` over many levels: the same kernel evaluated once on numpy arrays."""
+    P_arr, n_arr = np.broadcast_arrays(np.asarray(P, float), np.asarray(n, float))
+    sign = np.where(P_arr < 0.0, -1.0, 1.0)
+    c = _fixed_pinned_ratio(_ARRAYS, sign * n_arr, length, EI, fam, extrapolate)
+    a, b, theta0, Theta, F, ok, nit = _fixed_pinned_level(_ARRAYS, np.abs(P_arr), sign, c, length, EI)
+    out = {"a": a, "b": b, "theta0": theta0, "Theta": Theta, "F": F, "P": np.asarray(P, float),
+           "n": np.asarray(n, float)}
+    constants = {"gamma": c.gamma, "c_theta": c.c_theta, "K_theta": c.K, "k": c.k, "family": fam.name}
+    ok_all = bool(np.all(ok))
+    return PRBMResult(ok_all, "converged" if ok_all else "spring equation did not converge", out, constants,
+                      "fixed-pinned, seed 000 eqs (41)-(49)", time.perf_counter() - t0, nit, ok)
 
 
 @checked(positive=('length', 'EI'), finite=('n', 'a', 'b', 'theta0'))
@@ -389,58 +453,44 @@ def fixed_pinned_from_tip(*, n=0.0, a=None, b=None, theta0=None, length: float, 
                       level_converged=np.atleast_1d(ok))
 
 
+
+
 @checked(positive=('length', 'EI'), finite=('M',))
 def pure_moment_tip(M, *, length: float, EI: float) -> PRBMResult:
     """Cantilever under an end moment M (CCW): seed 004 PRBM, gamma = 0.7346, k = 1.5164 EI/L.
 
     Theta = M / k; a = l - gamma l (1 - cos Theta); b = gamma l sin Theta; theta0 = 1.5164 Theta
-    (= M l/EI, exact).  The exact arc is in the outputs too (a_exact, b_exact) for comparison.
+    (= M l/EI, exact).  The exact arc is in the outputs too (a_exact, b_exact) for comparison.  Level by
+    level with ``_pure_moment_level``.
     """
     t0 = time.perf_counter()
     M = np.asarray(M, dtype=float)
     k = PURE_MOMENT_SPRING * EI / length
-    g = PURE_MOMENT_GAMMA
-    if 0 < M.ndim and M.size <= _SCALAR_LOOP_MAX:  # a few levels: plain floats
-        out = _arrays(_pure_moment_levels(M.ravel().tolist(), length, EI, k), M.shape)
+    names = ("a", "b", "theta0", "Theta", "M", "a_exact", "b_exact")
+    if M.size > _SCALAR_LOOP_MAX:  # many levels: the kernel once over the array
+        out = dict(zip(names, _pure_moment_level(_ARRAYS, M, length, EI, k)))
     else:
-        out = _pure_moment_arrays(M, length, EI, k)
+        out = _table([_pure_moment_level(_FLOATS, m, length, EI, k) for m in M.ravel().tolist()], names, M.shape)
     return PRBMResult(True, "closed form", out,
-                      {"gamma": g, "k": k, "spring_coefficient": PURE_MOMENT_SPRING,
+                      {"gamma": PURE_MOMENT_GAMMA, "k": k, "spring_coefficient": PURE_MOMENT_SPRING,
                        "c_theta": PURE_MOMENT_C_THETA},
                       "pure end moment, seed 004", time.perf_counter() - t0,
                       level_converged=np.ones(np.atleast_1d(M).shape, bool))
 
 
-def _pure_moment_levels(M: list[float], length: float, EI: float, k: float) -> dict[str, list]:
-    """The outputs of ``pure_moment_tip`` level by level in plain floats (the array arithmetic's order)."""
+def _pure_moment_level(xp: _Ops, m, length: float, EI: float, k: float) -> tuple:
+    """``pure_moment_tip`` at a level (floats) or at all levels (arrays): (a, b, theta0, Theta, M, a_exact,
+    b_exact); the exact circular arc of curvature M/EI: rho = EI/M, a = rho sin(M l/EI),
+    b = rho (1 - cos(M l/EI)) (a = l, b = 0 without a moment)."""
     g = PURE_MOMENT_GAMMA
-    cols = {key: [] for key in ("a", "b", "theta0", "Theta", "M", "a_exact", "b_exact")}
-    for m in M:
-        Theta = m / k
-        theta_exact = m * length / EI
-        if theta_exact != 0:
-            rho = length / theta_exact
-            a_exact, b_exact = rho * math.sin(theta_exact), rho * (1 - math.cos(theta_exact))
-        else:
-            a_exact, b_exact = length, 0.0
-        for key, value in zip(cols, (length - g * length * (1 - math.cos(Theta)), g * length * math.sin(Theta),
-                                     PURE_MOMENT_C_THETA * Theta, Theta, m, a_exact, b_exact)):
-            cols[key].append(value)
-    return cols
-
-
-def _pure_moment_arrays(M: np.ndarray, length: float, EI: float, k: float) -> dict[str, np.ndarray]:
-    """The outputs of ``pure_moment_tip`` over an array of levels (or one level)."""
-    Theta = M / k
-    g = PURE_MOMENT_GAMMA
-    theta_exact = M * length / EI
-    with np.errstate(invalid="ignore", divide="ignore"):
-        rho = np.where(theta_exact != 0, length / np.where(theta_exact != 0, theta_exact, 1.0), np.inf)
-        a_exact = np.where(theta_exact != 0, rho * np.sin(theta_exact), length)
-        b_exact = np.where(theta_exact != 0, rho * (1 - np.cos(theta_exact)), 0.0)
-    return _scalar_or_array({"a": length - g * length * (1 - np.cos(Theta)), "b": g * length * np.sin(Theta),
-                             "theta0": PURE_MOMENT_C_THETA * Theta, "Theta": Theta, "M": M,
-                             "a_exact": a_exact, "b_exact": b_exact})
+    Theta = m / k
+    theta_exact = m * length / EI
+    bent = theta_exact != 0
+    rho = length / xp.where(bent, theta_exact, 1.0)
+    a_exact = xp.where(bent, rho * xp.sin(theta_exact), length)
+    b_exact = xp.where(bent, rho * (1 - xp.cos(theta_exact)), 0.0)
+    return (length - g * length * (1 - xp.cos(Theta)), g * length * xp.sin(Theta), PURE_MOMENT_C_THETA * Theta,
+            Theta, m, a_exact, b_exact)
 
 
 @checked(positive=('length', 'EI'), finite=('a', 'b', 'theta0'))
@@ -460,6 +510,8 @@ def pure_moment_from_tip(*, length: float, EI: float, a=None, b=None, theta0=Non
                       {"gamma": g, "k": PURE_MOMENT_SPRING * EI / length}, "pure end moment inverse, seed 004")
 
 
+
+
 @checked(positive=('length', 'EI'), finite=('P', 'n', 'curvature'))
 def curved_fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, curvature: float,
                             family="pauly-midha", extrapolate: str = "raise") -> PRBMResult:
@@ -468,95 +520,105 @@ def curved_fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, curvature: fl
     Seed 000 eqs (53)-(61): kappa0 = l/R_i (53); a_i, b_i (55)-(56); Theta_i (54); rho (57);
     k = rho K_Theta EI/l (58); a = l - gamma l + rho l cos Theta (59); b = rho l sin Theta (60).
     Assumed (not in the seed): equilibrium (*) with R = rho l, gamma/K_Theta/c_theta from the straight
-    fits at n, theta0 = kappa0 + c_theta (Theta - Theta_i).
+    fits at n, theta0 = kappa0 + c_theta (Theta - Theta_i).  Level by level with ``_curved_level``.
     """
     t0 = time.perf_counter()
     fam = fit_family(family)
-    P = np.asarray(P, dtype=float)
-    n = np.asarray(n, dtype=float) * np.ones_like(P)
+    P, n = np.broadcast_arrays(np.asarray(P, dtype=float), np.asarray(n, dtype=float))
+    P, n = P.copy(), n.copy()
     kappa0 = curvature * length
-    if 0 < P.ndim and P.shape == n.shape and P.size <= _SCALAR_LOOP_MAX:  # a few levels: plain floats
-        columns, constants, ok, nit = _curved_levels(P.ravel().tolist(), n.ravel().tolist(), [kappa0] * P.size,
-                                                     length, EI, fam, extrapolate)
-        out = _arrays(columns, P.shape)
-        out.update({"P": P, "n": n})
-        constants = _arrays(constants, P.shape)
-        constants.update({"kappa0": kappa0, "family": fam.name, "assumptions": CURVED_ASSUMPTIONS})
-        return PRBMResult(all(ok), "converged" if all(ok) else "not converged", out, constants,
-                          "initially curved fixed-pinned, seed 000 eqs (53)-(61)", time.perf_counter() - t0, nit,
-                          level_converged=np.array(ok, dtype=bool).reshape(P.shape))
-    gamma, c_theta, K = fam.parameters(np.where(P < 0, -n, n), extrapolate)
-    if abs(kappa0) < 1e-12:
-        a_i, b_i = length, 0.0
-    else:
-        a_i = length / kappa0 * math.sin(kappa0)
-        b_i = length / kappa0 * (1.0 - math.cos(kappa0))
-    Theta_i = np.arctan2(b_i, a_i - length * (1.0 - gamma))
-    rho = np.hypot(a_i / length - (1.0 - gamma), b_i / length)
-    F = np.abs(P) * np.sqrt(1.0 + n**2)
-    phi = np.arctan2(P, -n * P)  # absolute direction of (-nP, P)
-    phi = np.where(P == 0, Theta_i, phi)
-    k = rho * K * EI / length
-    # branch of phi closest to Theta_i (|phi - Theta_i| < pi)
-    phi = Theta_i + np.angle(np.exp(1j * (phi - Theta_i)))
-    Theta, ok, nit = spring_angle(F * rho * length, phi, k, Theta_i)
-    a = length - gamma * length + rho * length * np.cos(Theta)
-    b = rho * length * np.sin(Theta)
-    out = _scalar_or_array({"a": a, "b": b, "theta0": kappa0 + c_theta * (Theta - Theta_i), "Theta": Theta,
-                            "P": P, "n": n})
-    return PRBMResult(bool(np.all(ok)), "converged" if np.all(ok) else "not converged", out,
-                      {"gamma": gamma, "c_theta": c_theta, "K_theta": K, "rho": rho, "k": k,
-                       "Theta_i": Theta_i, "kappa0": kappa0, "family": fam.name, "assumptions": CURVED_ASSUMPTIONS},
+    if P.size > _SCALAR_LOOP_MAX:  # many levels: the kernel once over arrays
+        return _curved_arrays(P, n, kappa0, length, EI, fam, extrapolate, t0)
+    columns, constants, ok, nit = _curved_levels(P.ravel().tolist(), n.ravel().tolist(), [kappa0] * P.size,
+                                                 length, EI, fam, extrapolate)
+    out = _arrays(columns, P.shape)
+    out.update({"P": P, "n": n})
+    constants = _arrays(constants, P.shape)
+    constants.update({"kappa0": kappa0, "family": fam.name, "assumptions": CURVED_ASSUMPTIONS})
+    return PRBMResult(all(ok), "converged" if all(ok) else "not converged", out, constants,
                       "initially curved fixed-pinned, seed 000 eqs (53)-(61)", time.perf_counter() - t0, nit,
-                      level_converged=np.atleast_1d(ok))
+                      level_converged=np.array(ok, dtype=bool).reshape(P.shape))
 
 
 CURVED_ASSUMPTIONS = ("load relation k(Theta-Theta_i) = F rho l sin(phi-Theta); "
                       "theta0 = kappa0 + c_theta (Theta - Theta_i); straight-beam fits")
 
 
+def _curved_arrays(P: np.ndarray, n: np.ndarray, kappa0: float, length: float, EI: float, fam, extrapolate: str,
+                   t0: float) -> PRBMResult:
+    """``curved_fixed_pinned_tip`` over many levels: the same kernel evaluated once on numpy arrays."""
+    c = _curved_ratio(_ARRAYS, kappa0, fam.parameters(np.where(P < 0, -n, n), extrapolate), length, EI)
+    a, b, theta0, Theta, ok, nit = _curved_level(_ARRAYS, P, n, kappa0, c, length)
+    ok_all = bool(np.all(ok))
+    return PRBMResult(ok_all, "converged" if ok_all else "not converged",
+                      {"a": a, "b": b, "theta0": theta0, "Theta": Theta, "P": P, "n": n},
+                      {"gamma": c.gamma, "c_theta": c.c_theta, "K_theta": c.K, "rho": c.rho, "k": c.k,
+                       "Theta_i": c.Theta_i, "kappa0": kappa0, "family": fam.name, "assumptions": CURVED_ASSUMPTIONS},
+                      "initially curved fixed-pinned, seed 000 eqs (53)-(61)", time.perf_counter() - t0, nit,
+                      level_converged=ok)
+
+
+class _CurvedRatio(NamedTuple):
+    """The constants of one (kappa0, mirrored load ratio n) of the curved model: the fits gamma, c_theta,
+    K_theta (41)-(43), rho (57), the spring k = rho K_theta EI/l (58) and Theta_i (54)."""
+
+    gamma: float
+    c_theta: float
+    K: float
+    rho: float
+    k: float
+    Theta_i: float
+
+
+def _curved_ratio(xp: _Ops, kappa0: float, fit: tuple, length: float, EI: float) -> _CurvedRatio:
+    """Eqs (54)-(58) for the initial curvature kappa0 = l/R_i and the fits ``fit`` = (gamma, c_theta, K)
+    (floats, or arrays over the levels)."""
+    gamma, c_theta, K = fit
+    if abs(kappa0) < 1e-12:
+        a_i, b_i = length, 0.0
+    else:
+        a_i = length / kappa0 * math.sin(kappa0)
+        b_i = length / kappa0 * (1.0 - math.cos(kappa0))
+    rho = xp.hypot(a_i / length - (1.0 - gamma), b_i / length)  # numpy's hypot on both paths (as before)
+    return _CurvedRatio(gamma, c_theta, K, rho, rho * K * EI / length, xp.atan2(b_i, a_i - length * (1.0 - gamma)))
+
+
+def _curved_level(xp: _Ops, p, m, kappa0: float, c: _CurvedRatio, length: float) -> tuple:
+    """The curved model at a level (floats) or at all levels (arrays): phi the direction of (-nP, P) on
+    its branch within pi of Theta_i, F rho l sin(phi - Theta) = k (Theta - Theta_i),
+    a = l - gamma l + rho l cos Theta (59), b = rho l sin Theta (60), theta0 = kappa0 + c_theta (Theta - Theta_i).
+    Returns (a, b, theta0, Theta, converged, iterations)."""
+    gamma, c_theta, _, rho, k, Theta_i = c
+    F = abs(p) * xp.sqrt(1.0 + m * m)
+    phi = xp.where(p == 0, Theta_i, xp.atan2(p, -m * p))  # absolute direction of (-nP, P)
+    d = phi - Theta_i
+    phi = Theta_i + xp.atan2(xp.sin(d), xp.cos(d))  # the branch of phi within pi of Theta_i
+    Theta, ok, nit = xp.spring(F * rho * length, phi, k, Theta_i)
+    return (length - gamma * length + rho * length * xp.cos(Theta), rho * length * xp.sin(Theta),
+            kappa0 + c_theta * (Theta - Theta_i), Theta, ok, nit)
+
+
 def _curved_levels(P: list[float], n: list[float], kappa0: list[float], length: float, EI: float, fam,
                    extrapolate: str) -> tuple[dict[str, list], dict[str, list], list[bool], int]:
-    """``curved_fixed_pinned_tip`` level by level in plain floats, each level with its own kappa0 = l/R_i
-    (``fixed_guided_monotonic_tip`` adds M l/EI): the array arithmetic in the same order, the geometry
-    (a_i, b_i, Theta_i, rho) and the fits once per distinct (kappa0, load ratio).  Returns the output
-    columns (a, b, theta0, Theta), the constants' columns, each level's convergence and the iterations."""
+    """``_curved_level`` over the levels, each with its own kappa0 = l/R_i (``fixed_guided_monotonic_tip``
+    adds M l/EI); the fits once per distinct load ratio, the geometry once per distinct (kappa0, ratio).
+    Returns the output columns (a, b, theta0, Theta), the constants' columns, each level's convergence
+    and the iterations."""
     fits: dict[float, tuple[float, float, float]] = {}
-    geometry: dict[tuple[float, float], tuple[float, ...]] = {}
-    cols = {key: [] for key in ("a", "b", "theta0", "Theta")}
-    consts = {key: [] for key in ("gamma", "c_theta", "K_theta", "rho", "k", "Theta_i")}
-    ok_levels, nit_max = [], 0
+    geometry: dict[tuple[float, float], _CurvedRatio] = {}
+    rows, per_level = [], []
     for p, m, k0 in zip(P, n, kappa0):
         key = (k0, -m if p < 0 else m)
-        g = geometry.get(key)
-        if g is None:
+        c = geometry.get(key)
+        if c is None:
             fit = fits.get(key[1])
             if fit is None:
                 fit = fits[key[1]] = fam.parameters(key[1], extrapolate)
-            gamma, c_theta, K = fit
-            if abs(k0) < 1e-12:
-                a_i, b_i = length, 0.0
-            else:
-                a_i = length / k0 * math.sin(k0)
-                b_i = length / k0 * (1.0 - math.cos(k0))
-            rho = float(np.hypot(a_i / length - (1.0 - gamma), b_i / length))  # numpy's hypot, as the array path
-            g = geometry[key] = (gamma, c_theta, K, math.atan2(b_i, a_i - length * (1.0 - gamma)), rho,
-                                 rho * K * EI / length)
-        gamma, c_theta, K, Theta_i, rho, k = g
-        F = abs(p) * math.sqrt(1.0 + m * m)
-        phi = Theta_i if p == 0 else math.atan2(p, -m * p)  # absolute direction of (-nP, P)
-        d = phi - Theta_i
-        phi = Theta_i + math.atan2(math.sin(d), math.cos(d))  # the branch of phi within pi of Theta_i
-        Theta, ok, nit = _spring_angle_scalar(F * rho * length, phi, k, Theta_i, 1e-13, 60)
-        nit_max = max(nit_max, nit)
-        ok_levels.append(ok)
-        cols["a"].append(length - gamma * length + rho * length * math.cos(Theta))
-        cols["b"].append(rho * length * math.sin(Theta))
-        cols["theta0"].append(k0 + c_theta * (Theta - Theta_i))
-        cols["Theta"].append(Theta)
-        for name, value in zip(("gamma", "c_theta", "K_theta", "rho", "k", "Theta_i"), (gamma, c_theta, K, rho, k, Theta_i)):
-            consts[name].append(value)
-    return cols, consts, ok_levels, nit_max
+            c = geometry[key] = _curved_ratio(_FLOATS, k0, fit, length, EI)
+        rows.append(_curved_level(_FLOATS, p, m, k0, c, length))
+        per_level.append(c)
+    names = ("gamma", "c_theta", "K_theta", "rho", "k", "Theta_i")
+    return _columns(rows, ("a", "b", "theta0", "Theta")), _columns(per_level, names), [row[4] for row in rows], max((row[5] for row in rows), default=0)
 
 
 @checked(positive=('length', 'EI'), finite=('P', 'n'))
@@ -569,65 +631,78 @@ def fixed_guided_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
     2 k Theta = F gamma l sin(phi - Theta), i.e. (F l^2/EI) sin(phi - Theta) = 4 K_Theta Theta;
     a = l - gamma l (1 - cos Theta); b = gamma l sin Theta; theta0 = 0.  The end moment holding the
     slope (CCW, reaction applied to the beam) is M = -k Theta - (1 - gamma) l P / 2 (-> -P l/2 for
-    small deflection).
+    small deflection).  Level by level with ``_fixed_guided_level``, the fits once per distinct ratio.
     """
     t0 = time.perf_counter()
     fam = fit_family(family)
-    if 0 < np.ndim(P) and np.size(P) * np.size(n) <= _SCALAR_LOOP_MAX:  # a few levels: plain floats
-        return _fixed_guided_levels(P, n, length, EI, fam, extrapolate, t0)
-    Pabs, n_eff, sign = _mirror(P, n)
-    gamma, _, K = fam.parameters(n_eff, extrapolate)
-    F = Pabs * np.sqrt(1.0 + n_eff**2)
-    phi = np.arctan2(1.0, -n_eff)
-    k = 2.0 * gamma * K * EI / length
-    Theta, ok, nit = spring_angle(F * gamma * length, phi, 2.0 * k)
-    a = length - gamma * length * (1.0 - np.cos(Theta))
-    b = gamma * length * np.sin(Theta)
-    M = -(k * Theta + (1.0 - gamma) * length * Pabs / 2.0)
-    out = _scalar_or_array({"a": a, "b": sign * b, "theta0": np.zeros_like(a), "Theta": sign * Theta,
-                            "M": sign * M, "P": P, "n": n})
-    return PRBMResult(bool(np.all(ok)), "converged" if np.all(ok) else "not converged", out,
-                      {"gamma": gamma, "K_theta": K, "k_each": k, "family": fam.name},
-                      "fixed-guided (two springs), seed 000 eq (63), seed 004", time.perf_counter() - t0, nit,
-                      level_converged=np.atleast_1d(ok))
-
-
-def _fixed_guided_levels(P, n, length: float, EI: float, fam, extrapolate: str, t0: float) -> PRBMResult:
-    """``fixed_guided_tip`` over a few load levels in plain floats: the array arithmetic level by level in
-    the same order, the fits and the per-ratio constants once per distinct load ratio."""
     P_list, n_list, shape = _level_lists(P, n)
-    per_ratio: dict[float, tuple[float, ...]] = {}
-    cols = {key: [] for key in ("a", "b", "theta0", "Theta", "M")}
-    consts = {key: [] for key in ("gamma", "K_theta", "k_each")}
-    ok_levels, nit_max = [], 0
+    if len(P_list) > _SCALAR_LOOP_MAX:  # many levels: the kernel once over arrays
+        return _fixed_guided_arrays(P, n, length, EI, fam, extrapolate, t0)
+    per_ratio: dict[float, _FixedGuidedRatio] = {}
+    rows, fits = [], []
     for p, m in zip(P_list, n_list):
         sign = -1.0 if p < 0.0 else 1.0
-        n_eff, Pabs = sign * m, abs(p)
-        fit = per_ratio.get(n_eff)
-        if fit is None:
-            gamma, _, K = fam.parameters(n_eff, extrapolate)
-            fit = per_ratio[n_eff] = (gamma, K, math.sqrt(1.0 + n_eff * n_eff), math.atan2(1.0, -n_eff),
-                                      2.0 * gamma * K * EI / length)
-        gamma, K, eta, phi, k = fit
-        Theta, ok, nit = _spring_angle_scalar(Pabs * eta * gamma * length, phi, 2.0 * k, 0.0, 1e-13, 60)
-        nit_max = max(nit_max, nit)
-        ok_levels.append(ok)
-        cols["a"].append(length - gamma * length * (1.0 - math.cos(Theta)))
-        cols["b"].append(sign * (gamma * length * math.sin(Theta)))
-        cols["theta0"].append(0.0)
-        cols["Theta"].append(sign * Theta)
-        cols["M"].append(sign * -(k * Theta + (1.0 - gamma) * length * Pabs / 2.0))
-        consts["gamma"].append(gamma)
-        consts["K_theta"].append(K)
-        consts["k_each"].append(k)
-    out = _arrays(cols, shape)
+        n_eff = sign * m
+        c = per_ratio.get(n_eff)
+        if c is None:
+            c = per_ratio[n_eff] = _fixed_guided_ratio(_FLOATS, n_eff, length, EI, fam, extrapolate)
+        rows.append(_fixed_guided_level(_FLOATS, abs(p), sign, c, length))
+        fits.append(c)
+    out = _table(rows, ("a", "b", "theta0", "Theta", "M"), shape)
     out.update({"P": np.asarray(P, float), "n": np.asarray(n, float)})
-    constants = _arrays(consts, shape)
+    constants = _table(fits, ("gamma", "K_theta", "k_each"), shape)
     constants["family"] = fam.name
+    ok_levels = [row[5] for row in rows]
     ok_all = all(ok_levels)
     return PRBMResult(ok_all, "converged" if ok_all else "not converged", out, constants,
-                      "fixed-guided (two springs), seed 000 eq (63), seed 004", time.perf_counter() - t0, nit_max,
+                      "fixed-guided (two springs), seed 000 eq (63), seed 004", time.perf_counter() - t0,
+                      max((row[6] for row in rows), default=0),
                       level_converged=np.array(ok_levels, dtype=bool).reshape(shape))
+
+
+class _FixedGuidedRatio(NamedTuple):
+    """The constants of one (mirrored) load ratio n of the two-spring fixed-guided model: gamma and
+    K_theta from the fits, the spring of each half k = 2 gamma K_theta EI/l (63), eta = sqrt(1 + n^2),
+    phi = atan2(1, -n)."""
+
+    gamma: float
+    K: float
+    k: float
+    eta: float
+    phi: float
+
+
+def _fixed_guided_ratio(xp: _Ops, n_eff, length: float, EI: float, fam, extrapolate: str) -> _FixedGuidedRatio:
+    gamma, _, K = fam.parameters(n_eff, extrapolate)
+    return _FixedGuidedRatio(gamma, K, 2.0 * gamma * K * EI / length, xp.sqrt(1.0 + n_eff * n_eff),
+                             xp.atan2(1.0, -n_eff))
+
+
+def _fixed_guided_level(xp: _Ops, Pabs, sign, c: _FixedGuidedRatio, length: float) -> tuple:
+    """The two-spring fixed-guided model at a level (floats) or at all levels (arrays), the load mirrored
+    to P >= 0 (sign restores it): F gamma l sin(phi - Theta) = 2 k Theta, a = l - gamma l (1 - cos Theta),
+    b = gamma l sin Theta, theta0 = 0, M = -(k Theta + (1 - gamma) l P/2).
+    Returns (a, b, theta0, Theta, M, converged, iterations)."""
+    gamma, _, k, eta, phi = c
+    Theta, ok, nit = xp.spring(Pabs * eta * gamma * length, phi, 2.0 * k, 0.0)
+    theta0 = xp.where(True, 0.0, Theta)  # the end slope held at 0 (0.0, or zeros of the levels' shape)
+    return (length - gamma * length * (1.0 - xp.cos(Theta)), sign * (gamma * length * xp.sin(Theta)), theta0,
+            sign * Theta, sign * -(k * Theta + (1.0 - gamma) * length * Pabs / 2.0), ok, nit)
+
+
+def _fixed_guided_arrays(P, n, length: float, EI: float, fam, extrapolate: str, t0: float) -> PRBMResult:
+    """``fixed_guided_tip`` over many levels: the same kernel evaluated once on numpy arrays."""
+    P_arr, n_arr = np.broadcast_arrays(np.asarray(P, float), np.asarray(n, float))
+    sign = np.where(P_arr < 0.0, -1.0, 1.0)
+    c = _fixed_guided_ratio(_ARRAYS, sign * n_arr, length, EI, fam, extrapolate)
+    a, b, theta0, Theta, M, ok, nit = _fixed_guided_level(_ARRAYS, np.abs(P_arr), sign, c, length)
+    ok_all = bool(np.all(ok))
+    return PRBMResult(ok_all, "converged" if ok_all else "not converged",
+                      {"a": a, "b": b, "theta0": theta0, "Theta": Theta, "M": M, "P": np.asarray(P, float),
+                       "n": np.asarray(n, float)},
+                      {"gamma": c.gamma, "K_theta": c.K, "k_each": c.k, "family": fam.name},
+                      "fixed-guided (two springs), seed 000 eq (63), seed 004", time.perf_counter() - t0, nit,
+                      level_converged=ok)
 
 
 @checked(positive=('length', 'EI'), finite=('P', 'n', 'M', 'curvature'))

@@ -227,7 +227,8 @@ def fixed_pinned_turning_tip(F, law: LoadLaw, *, length: float, EI: float, famil
     constants = {k: table.pop(k) for k in ("gamma", "c_theta", "K_theta", "k")}
     constants["family"] = fit_family(family).name
     all_ok = all(ok)
-    return PRBMResult(all_ok, "converged" if all_ok else "; ".join(m for m in messages if m != "converged"),
+    failures = "; ".join(m for m, level_ok in zip(messages, ok) if not level_ok)
+    return PRBMResult(all_ok, "converged" if all_ok else failures,
                       table, constants, "fixed-pinned under a turning end force, seed 000 eqs (41)-(49) at "
                       "the equilibrium load ratio", time.perf_counter() - t0, 0, np.array(ok))
 

@@ -19,9 +19,18 @@ Bytecode: with PYTHONDONTWRITEBYTECODE set in the environment, every worker re-c
 pytest re-rewrites the asserts of every test module on every run (collection 12 s instead of 6.7 s a
 worker, measured). The test processes write their bytecode caches whatever that variable says; a
 read-only tree only means the caches are not written.
+
+Compile once: numba compiles the FEM and elastica kernels on first use and caches them beside the sources.
+In a fresh clone each xdist worker would compile both itself (about 16 + 17 CPU-s each, measured); so the
+controller process, before the workers start, compiles them in two processes at once, one per library,
+each running the methods on a few case files that take their main code paths (``PRIMERS``).  The workers then
+load the compiled code from the cache.  With a warm cache the primers only load it (about a second); without
+xdist (``-n 0``) nothing is primed ahead, the one process compiles as it goes.
 """
 import os
+import subprocess
 import sys
+from pathlib import Path
 
 sys.dont_write_bytecode = False
 
@@ -72,6 +81,39 @@ LONGEST_FIRST = (
     "test_cases.py::test_case[example2",
     "test_cases.py::test_case[example3",
 )
+
+
+ROOT = Path(__file__).resolve().parent.parent
+
+# method -> case files whose runs take the method's compiled code paths (load control, arc length, rigid
+# links, a mechanism, an inverse problem); the first one compiles almost everything.
+PRIMERS = {
+    "fem": ("benchmarks/cantilever_tip_load.toml", "benchmarks/lee_frame.toml", "benchmarks/williams_toggle.toml",
+            "chapter9/test2_partially_compliant_fourbar.toml", "benchmarks/arch_215_clamped_hinged.toml"),
+    "elastica": ("benchmarks/cantilever_tip_load.toml", "chapter3/table3_3_case1_a_b_theta0.toml",
+                 "chapter4/fourbar_fixed_pinned_segment.toml", "chapter3/table3_6_exact_inverse.toml"),
+}
+
+PRIME = ("import sys; from pathlib import Path; from validation.run.parallel import prime\n"
+         "for path in sys.argv[2:]: prime(Path(path), sys.argv[1])")
+
+
+def prime_compiled_code() -> None:
+    """Compile (or load) each library's numba code in its own process, all at once, and wait for them.
+    A primer that fails only costs the time: the tests that use that code report the failure."""
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}   # see "Bytecode" above
+    primers = [subprocess.Popen([sys.executable, "-c", PRIME, method, *(str(ROOT / "cases" / f) for f in files)],
+                                cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+               for method, files in PRIMERS.items()]
+    for process in primers:
+        process.wait()
+
+
+def pytest_configure(config):
+    """In the xdist controller, before the workers start: compile the numba code once (module docstring)."""
+    workers = getattr(config.option, "numprocesses", None)
+    if not hasattr(config, "workerinput") and workers and getattr(config.option, "dist", "no") != "no":
+        prime_compiled_code()
 
 
 def _rank(nodeid: str) -> int:

@@ -17,12 +17,14 @@ from __future__ import annotations
 
 import cmath
 import math
+import warnings
 
 import numpy as np
 import pytest
 
 import prbm
-from prbm.turning_loads import (DeadDirection, FollowerDirection, TipPose, TowardPoint,
+from prbm.fits import FitRangeError, FitRangeWarning, fit_family
+from prbm.turning_loads import (DeadDirection, FollowerDirection, TipPose, TowardPoint, _SegmentModel,
                                 fixed_pinned_turning_tip, input_angle_under_turning_forces)
 
 POSE = TipPose(complex(2.0, 0.5), 0.5)
@@ -98,3 +100,82 @@ def test_toward_point_names_itself_when_undefined():
     with pytest.raises(ValueError, match=r"^TowardPoint: the loaded point is at the point the force pulls toward "
                                          r"\(direction undefined\)$"):
         TowardPoint(complex(1.0, 0.0)).direction(TipPose(complex(1.0, 0.0), 0.0))
+
+
+# --- the second mutation run (session 6): which error, which message, the extrapolate option ---------------
+L3, EI3 = 3.0, 7.5
+
+
+def test_an_axial_dead_force_has_no_direction_inside_the_fits():
+    """A dead force along the unloaded segment (u = +x): its only equilibrium direction is psi = 0, where
+    n = -cos(psi)/sin(psi) is infinite (seed 000 eq 43 where-clause), outside -4 < n <= 10 (eqs 41-43).
+    Scanned +-30 deg, each side leaves the fits' range and comes back into it (n = -4 at psi = 14.0 deg,
+    n = 10 at psi = -5.7 deg), so a reading that forgot the directions outside the range on the way
+    would report 'no equilibrium' where the answer is 'outside the fits'."""
+    message = (r"^turning end force \|F\| = 1: no equilibrium direction inside the n-fits' range "
+               r"\(seed 000 eqs 41-43\)$")
+    for span in (math.radians(30.0), math.pi):
+        with pytest.raises(FitRangeError, match=message):
+            fixed_pinned_turning_tip([1.0], DeadDirection(complex(1.0, 0.0)), length=L3, EI=EI3, span=span)
+
+
+def test_an_axial_force_is_refused_by_the_segment_model_itself():
+    model = _SegmentModel(L3, EI3, "pauly-midha", "raise")
+    with pytest.raises(FitRangeError, match=r"^end force along the segment \(direction 180\.000 deg\): "
+                                            r"n infinite, outside every n-fit$"):
+        model.tip(1.0, math.pi)
+
+
+def test_the_failure_message_lists_only_the_levels_that_failed():
+    """Level 0 carries no load (converged by definition, the unloaded tip); level 1 has no equilibrium
+    in the scanned 2e-4 rad: the message names level 1's failure and nothing else (it once read
+    'no load; ...')."""
+    res = fixed_pinned_turning_tip([0.0, 1.0], TowardPoint(complex(4.0, 6.0)), length=L3, EI=EI3,
+                                   step=1e-4, span=2e-4)
+    assert res.message == "turning end force |F| = 1: no equilibrium direction found"
+    loaded_only = fixed_pinned_turning_tip([0.0, 1.0], TowardPoint(complex(4.0, 6.0)), length=L3, EI=EI3)
+    assert loaded_only.converged and loaded_only.message == "converged"
+
+
+PULLEY_AHEAD = complex(13.0, 1.2)   # ahead on the axis: the rope pulls nearly axially, n ~ -9 to -10
+
+
+def _extrapolated_equilibrium(res):
+    """The fixed-pinned PRBM at the returned force, with the fits evaluated past their range by the
+    nearest branch (what 'allow' and 'warn' mean, prbm.fits): eq (47) k Theta = gamma l (F_y cos Theta -
+    F_x sin Theta), eqs (44), (48), (49).  (Past n = -52.7 the extrapolated K_Theta of eq (43) turns
+    negative and the spring equation has no root: a pulley that far out would test nothing.)"""
+    for level in range(len(res.outputs["a"])):
+        o = {k: float(v[level]) for k, v in res.outputs.items()}
+        n = -o["Fx"] / o["Fy"]
+        gamma, c_theta, K = fit_family("pauly-midha").parameters(n, extrapolate="allow")
+        Theta = o["Theta"]
+        assert -52.0 < n < -4.0                           # outside the range: the option mattered
+        assert gamma * K * EI3 / L3 * Theta == pytest.approx(
+            gamma * L3 * (o["Fy"] * math.cos(Theta) - o["Fx"] * math.sin(Theta)), rel=1e-9)
+        assert o["a"] == pytest.approx(L3 - gamma * L3 * (1 - math.cos(Theta)), rel=1e-12)
+        assert o["b"] == pytest.approx(gamma * L3 * math.sin(Theta), rel=1e-12)
+        assert o["theta0"] == pytest.approx(c_theta * Theta, rel=1e-12)
+        tip = complex(o["a"], o["b"])
+        assert cmath.phase(complex(o["Fx"], o["Fy"]) / (PULLEY_AHEAD - tip)) == pytest.approx(0.0, abs=1e-9)
+
+
+def test_extrapolate_allow_reaches_the_fits():
+    """The rope needs n ~ -9: outside the fits, refused by default; with extrapolate='allow' the segment
+    model evaluates the fits there instead, silently."""
+    with pytest.raises(FitRangeError):
+        fixed_pinned_turning_tip([1.0, 3.0], TowardPoint(PULLEY_AHEAD), length=L3, EI=EI3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        res = fixed_pinned_turning_tip([1.0, 3.0], TowardPoint(PULLEY_AHEAD), length=L3, EI=EI3,
+                                       extrapolate="allow")
+    assert res.converged
+    _extrapolated_equilibrium(res)
+
+
+def test_extrapolate_warn_warns_and_gives_the_same_tip():
+    with pytest.warns(FitRangeWarning, match=r"outside the fitted range -4\.0 < n <= 10\.0 .*nearest branch "
+                                             r"extrapolated$"):
+        res = fixed_pinned_turning_tip([1.0, 3.0], TowardPoint(PULLEY_AHEAD), length=L3, EI=EI3,
+                                       extrapolate="warn")
+    _extrapolated_equilibrium(res)

@@ -139,14 +139,6 @@ def test_lyon_moment_is_the_guided_beams_held_moment():
     assert float(r["M"]) == pytest.approx(float(g["M"]), rel=1e-9)
 
 
-def test_theta_dependent_mirror_image():
-    # P < 0 with the force (-nP, P) is the mirror image about x of (-(-n)|P|, |P|)
-    up = theta_dependent_tip(1.0, 0.5, length=1.0, EI=1.0)
-    down = theta_dependent_tip(-1.0, -0.5, length=1.0, EI=1.0)
-    assert float(down["a"]) == pytest.approx(float(up["a"]), abs=1e-12)
-    assert float(down["b"]) == pytest.approx(-float(up["b"]), abs=1e-12)
-
-
 def test_lyon_two_condition_problem_leaves_the_fits_on_table_3_5():
     # the finding recorded in cases/chapter2/lyon_fixed_guided.toml: with b = 12 in, theta0 = 40 deg
     # (Table 3.5's conditions) the equal-torque condition (69) needs a load ratio outside -4 < n <= 10

@@ -158,3 +158,20 @@ def test_ten_thousand_point_domain_timing(kind, make, record_property):
     record_property(f"{kind} 10k-point domain [s]", elapsed)  # measured, not asserted
     print(f"{kind}: 10,000 points in {elapsed * 1e3:.1f} ms")
     assert math.isfinite(elapsed)
+
+
+def test_fixed_pinned_domain_points_are_eqs_47_to_49_with_the_printed_fits():
+    """Each point of Fig. 4.3's cloud is the fixed-pinned PRBM at its (n, Theta): a = 1 - gamma (1 - cos
+    Theta), b = gamma sin Theta (48, 49) and alpha^2 sqrt(1 + n^2) sin(phi - Theta) = K_Theta Theta (46-47),
+    phi = atan2(1, -n); gamma and K_Theta written out from the printed eqs (41), (43) at n = 0 and n = 1."""
+    printed = {0.0: (0.851892, 2.648834),
+               1.0: (0.851892 - 0.020805 + 0.005867 - 0.000895 + 0.000069 - 0.000002,
+                     2.648834 - 0.074727 + 0.026328 - 0.004609 + 0.000390 - 0.000013)}
+    d = prbm.fixed_pinned_domain(n_values=np.array(list(printed)), n_theta=7)
+    assert d["a"].size == 14 and np.ptp(d["Theta"]) > 1.0
+    for a, b, n, Theta, alpha2 in zip(d["a"], d["b"], d["n"], d["Theta"], d["alpha2"]):
+        gamma, K = printed[float(n)]
+        assert a == pytest.approx(1.0 - gamma * (1.0 - math.cos(Theta)), rel=1e-12)
+        assert b == pytest.approx(gamma * math.sin(Theta), rel=1e-12, abs=1e-15)
+        phi = math.atan2(1.0, -n)
+        assert alpha2 * math.sqrt(1.0 + n * n) * math.sin(phi - Theta) == pytest.approx(K * Theta, rel=1e-9, abs=1e-14)

@@ -52,6 +52,12 @@ def test_domain_points_are_feasible_loops():
     pts = approximate_domain(length=L, theta0=math.radians(20.0), b_values=[4.0, 8.0], samples=20)
     assert pts.shape[1] == 2 and len(pts) > 10
     assert set(pts[:, 1]) <= {4.0, 8.0} and (pts[:, 0] < L).all()
+    # theta0 = 0 with the one trial l1 = l/2 (samples = 1): the symmetric loop, Howell's guided beam
+    # b = gamma l sin Theta, a = l - gamma l (1 - cos Theta), gamma = 0.851892 (eq 41 at n = 0)
+    one = approximate_domain(length=L, theta0=0.0, b_values=[4.0, 8.0], samples=1)
+    for b, (a_got, b_got) in zip((4.0, 8.0), one):
+        Theta = math.asin(b / (0.851892 * L))
+        assert b_got == b and a_got == pytest.approx(L - 0.851892 * L * (1 - math.cos(Theta)), rel=1e-12)
 
 
 def test_bad_input():

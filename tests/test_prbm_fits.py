@@ -69,8 +69,39 @@ def test_vectorised_equals_scalar():
             assert v[i] == pytest.approx(s, abs=1e-15)
 
 
+def test_every_evaluation_path_gives_the_printed_polynomials():
+    """The scalar path, the few-levels loop (<= 64 ratios) and the array path (101 ratios) against the
+    printed polynomials of eqs (41)-(43) written out at n = 1 (the sum of the upper branch's
+    coefficients) and n = -2 (the lower branches): equal paths alone would pass any common error."""
+    gamma_1 = 0.851892 - 0.020805 + 0.005867 - 0.000895 + 0.000069 - 0.000002          # eq (41), n = 1
+    c_1 = 1.238845 + 0.009113 - 0.001929 + 0.000191 - 0.000007                         # eq (42), n = 1
+    K_1 = 2.648834 - 0.074727 + 0.026328 - 0.004609 + 0.000390 - 0.000013              # eq (43), n = 1
+    gamma_m2 = 0.855651 - 0.016438 * -2.0                                              # eq (41), -4 < n <= -1.5
+    c_m2 = 1.238945 + 0.012035 * -2.0 + 0.00454 * 4.0                                  # eq (42), -4 < n <= -0.5
+    K_m2 = 2.66041 - 0.069005 * -2.0 - 0.002268 * 4.0                                  # eq (43), -4 < n <= -0.5
+    expected = {1.0: (gamma_1, c_1, K_1), -2.0: (gamma_m2, c_m2, K_m2)}
+    for n, values in expected.items():
+        few = np.array([n, 0.0, n])
+        many = np.full(101, n)
+        for path in (n, few, many):
+            got = PAULY_MIDHA.parameters(path)
+            for fit, want in zip(got, values):
+                assert np.ravel(fit)[0] == pytest.approx(want, rel=1e-12)
+                assert np.ravel(fit)[-1] == pytest.approx(want, rel=1e-12)
+
+
 def test_load_angle_and_ratio_are_inverse():
     n = np.array([-3.0, -0.5, 0.0, 0.896, 7.0])
     assert np.allclose(load_ratio(load_angle(n)), n)
     assert load_angle(0.0) == pytest.approx(math.pi / 2)
     assert load_angle(1.0) == pytest.approx(3 * math.pi / 4)   # n > 0 compressive: force points back
+
+
+def test_load_ratio_of_a_direction_is_minus_cot_phi():
+    """Seed 000 eqs 93/94: n = -1/tan(phi). A force at 60 deg (forward, tensile) has n = -1/sqrt(3); at
+    135 deg (pointing back, compressive) n = +1; the array path agrees; and load_angle(-1) = 45 deg."""
+    assert load_ratio(math.pi / 3) == pytest.approx(-1.0 / math.sqrt(3.0), rel=1e-12)
+    assert load_ratio(np.array([math.pi / 3, 3 * math.pi / 4])) == pytest.approx([-1.0 / math.sqrt(3.0), 1.0],
+                                                                                 rel=1e-12)
+    assert load_angle(-1.0) == pytest.approx(math.pi / 4, rel=1e-12)
+    assert load_angle(np.array([-1.0, 1.0])) == pytest.approx([math.pi / 4, 3 * math.pi / 4], rel=1e-12)

@@ -19,8 +19,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
-import prbm
+from scipy.optimize import brentq
 
 from validation.case.loader import load_case
 from validation.case.schema import Case
@@ -130,12 +129,24 @@ point = "T"
 """
 
 
+# seed 000 eq (41) gamma and eq (43) K_Theta at n = 0.75 (branches -0.5 < n <= 10) and n = -1.2 (gamma:
+# -1.5 < n <= -0.5; K_Theta: -4 < n <= -0.5), from the printed coefficients
+PRINTED_FITS = {
+    0.75: (0.851892 - 0.020805 * 0.75 + 0.005867 * 0.75**2 - 0.000895 * 0.75**3 + 0.000069 * 0.75**4
+           - 0.000002 * 0.75**5,
+           2.648834 - 0.074727 * 0.75 + 0.026328 * 0.75**2 - 0.004609 * 0.75**3 + 0.000390 * 0.75**4
+           - 0.000013 * 0.75**5),
+    -1.2: (0.852138 - 0.018615 * -1.2, 2.66041 - 0.069005 * -1.2 - 0.002268 * 1.44),
+}
+
+
 @pytest.mark.parametrize("n", [0.75, -1.2])
 @pytest.mark.parametrize("path", ["segment with body", "network"])
 def test_a_free_end_with_a_dead_force_takes_the_n_fits(n, path):
-    """The one-beam mechanism, by the segment-with-body path and by the network built by rule, equals
-    ``prbm.fixed_pinned_tip`` (seed 000 eqs 41-49, Pauly-Midha) at the end load's ratio: the same
-    one-pivot equilibrium, solved by different code."""
+    """The one-beam mechanism, by the segment-with-body path and by the network built by rule, is the
+    fixed-pinned PRBM (seed 000 eqs 41-49, Pauly-Midha) at the end load's ratio, written out here: gamma
+    and K_Theta from the printed polynomials at n, Theta the root of (F l^2/EI) sin(phi - Theta) =
+    K_Theta Theta (46)-(47), a = l - gamma l (1 - cos Theta), b = gamma l sin Theta (48)-(49)."""
     angle, L, EI = 0.5, 2.0, 3.0
     c, s = math.cos(angle), math.sin(angle)
     local = np.array([-n, 1.0]) / math.hypot(n, 1.0)  # (-nP, P) in the beam frame
@@ -151,8 +162,10 @@ def test_a_free_end_with_a_dead_force_takes_the_n_fits(n, path):
         assert f"n = {n:.4g}" in run.message
     for level, F in enumerate((1.0, 2.5)):
         P = F / math.hypot(n, 1.0)
-        tip = prbm.fixed_pinned_tip(P, n, length=L, EI=EI)
-        a, b = float(tip.outputs["a"]), float(tip.outputs["b"])
+        gamma, K = PRINTED_FITS[n]
+        phi = math.atan2(1.0, -n)
+        Theta = brentq(lambda t: F * L**2 / EI * math.sin(phi - t) - K * t, 0.0, phi)
+        a, b = L - gamma * L * (1.0 - math.cos(Theta)), gamma * L * math.sin(Theta)
         expected = (c * a - s * b - L * c, s * a + c * b - L * s)
         assert run.values[Request("dx", "T", level)] == pytest.approx(expected[0], abs=1e-9 * L)
         assert run.values[Request("dy", "T", level)] == pytest.approx(expected[1], abs=1e-9 * L)

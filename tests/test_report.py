@@ -5,12 +5,15 @@ import re
 import shutil
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pytest
 
 from validation.case.loader import case_by_id
 from validation.methods.base import MethodRun
 from validation.report.build import build_report, glance
+from validation.report.charts import outputs_chart
+from validation.report.paraview import MAX_FRAMES, frames_shown
 from validation.report.format import Badge, run_badge
 from validation.report.overview import overview_points
 from validation.report.summary import CaseSummary, MethodState, round_numbers, summary_tables_html
@@ -94,6 +97,38 @@ def test_summary_numbers_and_sentence_say_what_the_results_say(built_report):
     assert ">finding<" in test2
 
 
+def test_output_chart_draws_the_values_against_the_load_with_units():
+    """The outputs chart's numbers are the results' (7 significant digits) against the case's load levels
+    (cantilever_tip_load: PL^2/EI = 1..10, notes/anchors.md section 2.1), one legend entry per method."""
+    result = run_case(case_by_id("cantilever_tip_load"), use_cache=False)
+    table = tabulate(result)
+    chart = outputs_chart("outputs", np.arange(1.0, 11.0), "force at tip [EI/L^2]", table)
+    titles = {k: v["title"]["text"] for k, v in chart.layout.items() if k.startswith("yaxis")}
+    panel = next(k for k, t in titles.items() if t == "y@tip [L]")
+    suffix = panel.removeprefix("yaxis")
+    fem = next(t for t in chart.data if t["name"] == "fem" and t["yaxis"] == f"y{suffix}")
+    rows = table[(table["method"] == "fem") & (table["quantity"] == "y")].drop_duplicates("level").sort_values("level")
+    assert fem["y"] == pytest.approx(rows["value"].tolist(), rel=1e-6)
+    assert fem["x"] == pytest.approx(list(range(1, 11)))
+    assert chart.layout[f"xaxis{suffix}"]["title"]["text"] == "force at tip [EI/L^2]"
+    exact = next(t for t in chart.data if t["name"] == "printed exact" and t["yaxis"] == f"y{suffix}")
+    assert exact["y"][-1] == 0.810609   # the case file's printed value at PL^2/EI = 10
+    legend = [t["name"] for t in chart.data if t["showlegend"]]
+    assert sorted(legend) == sorted(set(t["name"] for t in chart.data))   # each name once in the legend
+    assert {"fem", "prbm", "elastica"} <= set(legend)
+
+
+def test_a_continuation_writes_and_draws_its_limit_points_and_a_few_dozen_frames():
+    """A continuation of hundreds of steps: its ParaView series keeps evenly spaced steps, the first, the
+    last and every turning point of the load (a limit point), not every step."""
+    load = np.concatenate([np.linspace(0, 3, 150), np.linspace(3, 2, 100), np.linspace(2, 9, 150)])
+    kept = frames_shown(load)
+    assert kept[0] == 0 and kept[-1] == len(load) - 1
+    assert {149, 249} <= set(kept)              # the load's maximum and minimum
+    assert len(kept) <= MAX_FRAMES + 2
+    assert frames_shown(np.arange(12.0)) == list(range(12))   # a short series: every frame
+
+
 def test_overview_axes_are_the_fem_deflection_and_the_prbm_error():
     result = run_case(case_by_id("cantilever_tip_load"), use_cache=False)
     table = tabulate(result)
@@ -150,6 +185,21 @@ def test_report_in_a_real_browser(built_report):
             assert broken == [], f"{page.name}: images that do not load: {broken}"
             errors = [e for e in browser.get_log("browser") if e["level"] == "SEVERE"]
             assert errors == [], f"{page.name}: console errors {errors}"
+            # every chart drawn by plotly.js: its axes titled with units, a legend entry per method
+            charts = browser.execute_script(
+                "return [...document.querySelectorAll('div.chart')].map(c => [c.id, "
+                "c.querySelectorAll('svg.main-svg').length, "
+                "[...c.querySelectorAll('.g-xtitle, .g-ytitle, [class*=\"g-x\"][class*=\"title\"], "
+                "[class*=\"g-y\"][class*=\"title\"]')].map(t => t.textContent), "
+                "[...c.querySelectorAll('.legend .traces .legendtext')].map(t => t.textContent)])")
+            for chart_id, svgs, titles, legend in charts:
+                assert svgs > 0, f"{page.name}: chart {chart_id} not drawn"
+                assert titles and all("[" in t for t in titles if t), f"{page.name} {chart_id}: {titles}"
+                assert legend, f"{page.name}: chart {chart_id} has no legend"
+            if page.name == "cantilever_tip_load.html":
+                by_id = {c[0]: c for c in charts}
+                assert {"fem", "prbm", "elastica", "printed exact"} <= set(by_id["outputs"][3])
+                assert {"fem", "prbm", "elastica"} <= set(by_id["shapes"][3])
         browser.get((built_report / "index.html").as_uri())
         # the first screen shows the picture of the whole validation
         top, bottom, height = browser.execute_script(

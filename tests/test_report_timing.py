@@ -4,8 +4,10 @@ The breakdown must add up what was timed (no timing is asserted: speed is measur
 run itself), and a PRB body's outline must not cross itself (a Z across the slant parallelogram's
 coupler was drawn when its pins and points were joined in the order they were listed)."""
 import numpy as np
+import pandas as pd
 
 from validation.methods.prbm_network import _outline
+from validation.report import build
 from validation.run.timeline import Timed, breakdown, csv_text, timed
 
 
@@ -45,9 +47,22 @@ def test_the_breakdown_adds_up_what_was_timed():
     assert "chapter-4 domain study" in text and "slowest cases: b 4.0, a 2.0" in text
     busy = 10 + 30 + 2 + 1 + 4 + 6                                                        # pooled work only
     assert f"workers busy {busy:.1f} s of 2 x 34.0 s" in text                             # 0 .. 34 s
+    # the last to finish is process 2 (case b ends at 34 s): its compile 30 s + case 4 s, idle 0 s
+    assert "critical path: the last worker to finish 34.0 s (compile 30.0 s + case 4.0 s, idle 0.0 s)" in text
     rows = csv_text(records).splitlines()
     # derived: the longest record first, its wall (the input 30.0 s above) written with four decimals
     assert rows[0] == "kind,name,wall,cpu,start,pid" and rows[1].startswith("compile,elastica,30.0000")
+
+
+def test_timing_csv_reads_back_with_a_comma_in_a_name(tmp_path):
+    """The main process's step 'tables (results.csv, summary.csv)' has a comma: the CSV quotes it, so the
+    next report reads its cases' costs back (an unquoted one made every later read fail)."""
+    records = [Timed("main", "tables (results.csv, summary.csv)", 4.0, 3.0, 0.0, 1),
+               Timed("case", "a", 2.0, 1.9, 10.0, 1), Timed("page", "a", 0.5, 0.4, 12.0, 1)]
+    (tmp_path / "timing.csv").write_text(csv_text(records))
+    back = pd.read_csv(tmp_path / "timing.csv")
+    assert back["name"].tolist()[0] == "tables (results.csv, summary.csv)"
+    assert build._last_costs(tmp_path) == {"a": 2.5}          # the case's run and its page
 
 
 def test_timed_records_wall_and_cpu_of_its_block():

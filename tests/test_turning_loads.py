@@ -66,6 +66,11 @@ def test_rope_force_turns_the_way_the_tip_moves():
     res = fixed_pinned_turning_tip([1.0, 3.0], TowardPoint(complex(L, 4.0)), length=L, EI=EI)
     assert np.all(res.outputs["a"] < L)
     assert 0.0 < res.outputs["Fx"][0] < res.outputs["Fx"][1]
+    for level in range(2):      # and each state is the PRBM's equilibrium with the rope aimed at the pulley
+        _check_equilibrium(res, level)
+        tip = complex(res.outputs["a"][level], res.outputs["b"][level])
+        force = complex(res.outputs["Fx"][level], res.outputs["Fy"][level])
+        assert cmath.phase(force / (complex(L, 4.0) - tip)) == pytest.approx(0.0, abs=1e-9)
 
 
 def test_angle_to_the_line_keeps_the_force_perpendicular():

@@ -75,7 +75,7 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
 def _segment(case, requests, options):
     if case.segment.boundary in ("fixed-guided", "fixed-fixed") and case.segment.model == "inflection":
         return _inflection(case, requests, options, case.segment.bending_stiffness())
-    return prbm_segment.run_segment(case, requests, options, case.n_levels())
+    return prbm_segment.run_segment(case, requests, options)
 
 
 def _inflection(case, requests, options, EI):

@@ -207,15 +207,20 @@ def run_fourbar(case, requests, options: dict, info: MethodRun) -> dict:
     angles = fb.angles(theta2)  # (Theta3, Theta4) at every level, shared by the outputs below
     P = np.where(free, setup.P_free, fb.coupler_point(theta2, angles))
     origin = complex(*options.get("origin", [0.0, 0.0]))
-    torque = fb.input_torque(theta2, angles)
     P_free = setup.P_free
     out = {"dx": (P - P_free).real, "dy": (P - P_free).imag, "x": (P + origin).real, "y": (P + origin).imag,
-           "input_angle": np.degrees(theta2), "input_torque": torque,
-           "strain_energy": fb.strain_energy(theta2, angles)}
+           "input_angle": np.degrees(theta2)}
+    wanted = {r.quantity for r in requests}
     ma = options.get("ma")
-    if ma and {"F_i", "d_i", "d_o"} <= set(ma):
+    has_ma = bool(ma) and {"F_i", "d_i", "d_o"} <= set(ma)
+    # the network virtual work (eq 182) and the energy only when the case asks for them
+    if "input_torque" in wanted or (has_ma and "mechanical_advantage" in wanted):
+        out["input_torque"] = fb.input_torque(theta2, angles)
+    if "strain_energy" in wanted:
+        out["strain_energy"] = fb.strain_energy(theta2, angles)
+    if has_ma and "mechanical_advantage" in wanted:
         out["mechanical_advantage"] = fb.compliant_ma(theta2, float(ma["F_i"]), float(ma["d_i"]), float(ma["d_o"]),
-                                                      angles, torque=torque)
+                                                      angles, torque=out["input_torque"])
     point = options.get("coupler_point", "P")
     if "origin" not in options and any(r.quantity in ("x", "y") for r in requests):
         raise NotApplicable("x, y of the PRB four-bar are in its own frame (O2 at the origin): give "

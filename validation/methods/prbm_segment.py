@@ -42,7 +42,7 @@ from prbm.fits import THETA_RANGE, fit_family
 from prbm.result import PRBMResult
 from validation.case.quantities import boundary_held_tip, unloaded_tip_angle
 from validation.methods.base import Applicability, MethodRun, NotApplicable
-from validation.methods.prbm_common import levels, pick, plain
+from validation.methods.prbm_common import levels, per_level, pick, plain
 
 INFLECTION_WARNING = ("inflection point expected: the bending moment changes sign between tip and root "
                       "(seed 000 Table 2.1, eq (12)); the monotonic-curvature PRBM (eq 62) does not fit this load, "
@@ -76,14 +76,17 @@ class TipLoads:
                         self.has_force, self.has_moment)
 
 
-def tip_loads(case, n: int) -> TipLoads:
-    """The case's tip loads summed per level (0 + each load's value times its direction component)."""
+def tip_loads(case, n: int | None = None) -> TipLoads:
+    """The case's tip loads summed per level (0 + each load's value times its direction component);
+    ``n`` the number of levels (``case.n_levels()``, the first load's levels, when not given)."""
+    per_load = [load.levels() for load in case.loads]
+    if n is None:
+        n = len(per_load[0]) if per_load else 1
     Fx = Fy = M = [0.0] * n
     follower = False
-    for i, load in enumerate(case.loads):
+    for i, (load, values) in enumerate(zip(case.loads, per_load)):
         if load.point != "tip":
             raise NotApplicable(f"loads.{i} acts on '{load.point}'; the segment PRBMs take end loads only")
-        values = load.levels()
         if load.kind == "force":
             dx, dy = float(load.direction[0]), float(load.direction[1])
             Fx = [f + v * dx for f, v in zip(Fx, values)]
@@ -115,12 +118,13 @@ class FitOptions:
     extrapolate: str
 
 
-def run_segment(case, requests, options: dict, n: int) -> tuple[dict, MethodRun]:
+def run_segment(case, requests, options: dict) -> tuple[dict, MethodRun]:
     """The requested values and the run of a single segment under end loads (not the inflection model)."""
     seg = case.segment
     L, EI, kappa = seg.length, seg.bending_stiffness(), seg.initial_curvature()
     fit = FitOptions(options.get("family", "pauly-midha"), options.get("extrapolate", "raise"))
-    loads = tip_loads(case, n)
+    loads = tip_loads(case)
+    n = len(loads.Fy)
     mu, contact = options.get("friction_mu", 0.0), options.get("contact_angle_deg", 0.0)
     if mu or contact:
         capstan = prbm.capstan_factor(float(mu), math.radians(float(contact)))
@@ -302,15 +306,18 @@ def _segment_shapes(seg, res: PRBMResult, n: int, kappa: float) -> list | None:
     if guided and any(t != 0.0 for t in levels(o.get("theta0", 0.0), n)):
         return None
     L = seg.length
-    gamma, Theta, a, b = (levels(v, n) for v in (c["gamma"], o["Theta"], o["a"], o["b"]))
-    points = []  # (level, point, x/y) flattened: one array for all the levels, each level's polyline a view
+    gamma, Theta, a, b = (per_level(np.asarray(v, float).ravel(), n) for v in (c["gamma"], o["Theta"], o["a"], o["b"]))
+    # (level, point, x/y): one array for all the levels, each level's polyline a view; the arithmetic is
+    # elementwise (+, -, *, /: the same bits as in plain floats)
+    chains = np.zeros((n, 4 if guided else 3, 2))
     if guided:
-        cos, sin = np.cos(Theta).tolist(), np.sin(Theta).tolist()
-        for g, ct, st, x, y in zip(gamma, cos, sin, a, b):
-            p1 = (1 - g) * L / 2
-            points += (0.0, 0.0, p1, 0.0, p1 + g * L * ct, g * L * st, x, y)
+        p1 = (1 - gamma) * L / 2
+        chains[:, 1, 0] = p1
+        chains[:, 2, 0] = p1 + gamma * L * np.cos(Theta)
+        chains[:, 2, 1] = gamma * L * np.sin(Theta)
     else:
-        for g, x, y in zip(gamma, a, b):
-            points += (0.0, 0.0, (1 - g) * L, 0.0, x, y)
-    chains = np.array(points).reshape(n, -1, 2)
-    return [[chains[i]] if math.isfinite(g + t + x + y) else [] for i, (g, t, x, y) in enumerate(zip(gamma, Theta, a, b))]
+        chains[:, 1, 0] = (1 - gamma) * L
+    chains[:, -1, 0] = a
+    chains[:, -1, 1] = b
+    finite = np.isfinite(gamma + Theta + a + b).tolist()
+    return [[chains[i]] if ok else [] for i, ok in enumerate(finite)]

@@ -4,7 +4,8 @@
 output folder: ``index.html`` and ``index.md`` (a headline, the picture of the whole validation from
 ``report_overview``, the per-chapter summary and the findings with their evidence from
 ``report_summary``, machine and versions), ``cases/<id>.html`` and ``.md`` (the one-sentence result,
-plots, findings, then every output at every level for every method beside the printed values, folded),
+charts drawn by the browser from the page's numbers (``charts``: plotly.js under ``js/``), findings, then
+every output at every level for every method beside the printed values, folded),
 ``results.csv`` (and ``results.parquet``), ``summary.csv``, and the ParaView series of every method
 under ``vtu/<id>/`` (``paraview``), rendered off-screen for the case page; ``timing.csv`` and
 ``timing.txt``: where the run's time went (``validation.run.timeline``), the CSV also ordering the next
@@ -24,9 +25,9 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from importlib import metadata
+from operator import itemgetter
 from pathlib import Path
 
-import matplotlib
 import numpy as np
 import pandas as pd
 
@@ -37,24 +38,19 @@ from validation.run.exit_status import ExitStatus, print_error
 from validation.report.paraview import normalise_shapes  # noqa: F401  (also used by tests)
 from validation.case.loader import find_case_files
 from validation.case.readings import readings_groups
+from validation.report.charts import (PLOTLY_JS, Chart, PlotlyMissing, ShapeLine, install_plotly, outputs_chart,
+                                      path_chart, shapes_chart)
 from validation.report.format import by_case, rows_of, run_badge, sig
 from validation.report.overview import CLAIMS, overview_points, plot_overview
-from validation.report.summary import (METHOD_NAMES, case_sentence, findings, findings_html, summarise,
-                                       summary_markdown, summary_tables_html)
+from validation.report.summary import (METHOD_NAMES, CaseSummary, case_sentence, findings, findings_html,
+                                       summarise, summary_markdown, summary_tables_html)
 from validation.run.runner import CaseResult
 from validation.run.outcome import run_cases, summary, tabulate
 from validation.run.timeline import Timed, breakdown, csv_text, timed
 
-matplotlib.use("Agg")  # files only, no display
-import matplotlib.pyplot as plt  # noqa: E402
-
 TIMING_CSV = "timing.csv"
-DEPENDENCIES = ["numpy", "scipy", "scikit-fem", "meshio", "pyvista", "pandas", "matplotlib", "pydantic",
+DEPENDENCIES = ["numpy", "scipy", "scikit-fem", "meshio", "pyvista", "pandas", "matplotlib", "plotly", "pydantic",
                 "tqdm", "openseespy", "pyarrow"]
-METHOD_STYLE = {"fem": ("C0", "-"), "prbm": ("C1", "--"), "elastica": ("C2", ":"), "bcm": ("C4", "-.")}
-REF_MARKER = {"PRBM": "s", "ANSYS": "^", "elliptic": "D", "measured": "o", "exact": "*", "BCM": "v",
-              "chain": "P", "published": "X"}
-
 CSS = """body{font-family:system-ui,sans-serif;margin:1.5em 2em;max-width:1400px;color:#222}
 table{border-collapse:collapse;margin:0.6em 0;font-size:13px}th,td{border:1px solid #ccc;padding:3px 6px;
 text-align:right;vertical-align:top}th{background:#eee;cursor:pointer;user-select:none}
@@ -108,9 +104,9 @@ def _md_table(frame: pd.DataFrame) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _page(title: str, body: str) -> str:
+def _page(title: str, body: str, head: str = "") -> str:
     return (f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
-            f"<style>{CSS}</style></head><body>{body}<script>{SORT_JS}</script></body></html>")
+            f"<style>{CSS}</style>{head}</head><body>{body}<script>{SORT_JS}</script></body></html>")
 
 
 def reproducibility() -> dict[str, str]:
@@ -151,40 +147,10 @@ def _level_axis(result: CaseResult) -> tuple[np.ndarray, str]:
     return np.arange(case.n_levels(), dtype=float), "load level"
 
 
-def _plot_outputs(result: CaseResult, table: pd.DataFrame, folder: Path) -> list[str]:
-    """One figure per case: a panel per output (value against load level), every method as a line,
-    every printed column as markers."""
+def _output_chart(result: CaseResult, table: pd.DataFrame) -> Chart | None:
+    """A panel per output (value against the first load), every method a line, printed columns as markers."""
     axis, label = _level_axis(result)
-    outputs = list(table.dropna(subset=["quantity"]).groupby(["quantity", "point"], sort=False))
-    if not outputs:
-        return []
-    ncols = min(3, len(outputs))
-    nrows = -(-len(outputs) // ncols)
-    fig, axes = plt.subplots(nrows, ncols, figsize=(4.6 * ncols, 3.4 * nrows), squeeze=False)
-    fig.subplots_adjust(left=0.09, right=0.98, bottom=0.1 / nrows ** 0.5, top=0.97, wspace=0.32,
-                        hspace=0.45)
-    for ax, ((quantity, point), part) in zip(axes.flat, outputs):
-        for method, rows in part.drop_duplicates(["method", "level"]).groupby("method"):
-            rows = rows.sort_values("level")
-            color, style = METHOD_STYLE.get(method, ("k", "-"))
-            ax.plot(axis[rows["level"].astype(int)], rows["value"], style, color=color, marker=".",
-                    label=method)
-        refs = part.dropna(subset=["reference_value"]).drop_duplicates(["reference_label", "level",
-                                                                          "reference_value"])
-        for ref_label, rows in refs.groupby("reference_label"):
-            ax.plot(axis[rows["level"].astype(int)], rows["reference_value"], REF_MARKER.get(ref_label, "x"),
-                    mfc="none", color="k", label=f"printed {ref_label}")
-        ax.set_xlabel(label, fontsize=8)
-        ax.set_ylabel(f"{quantity}{'@' + point if point else ''} [{part['unit'].iloc[0]}]", fontsize=8)
-        ax.tick_params(labelsize=7)
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
-    for ax in list(axes.flat)[len(outputs):]:
-        ax.set_visible(False)
-    name = f"{result.loaded.id}_outputs.png"
-    fig.savefig(folder / name, dpi=80)
-    plt.close(fig)
-    return [name]
+    return outputs_chart("outputs", axis, label, table)
 
 
 def _joined(polylines: list[np.ndarray]) -> np.ndarray:
@@ -193,73 +159,78 @@ def _joined(polylines: list[np.ndarray]) -> np.ndarray:
     return np.concatenate(parts) if parts else np.zeros((0, 2))
 
 
-def _plot_shapes(result: CaseResult, folder: Path) -> str | None:
-    """Deformed shapes: FEM beams as curves, PRB links dashed, measured tip points as markers; every
-    level of a method as one line (NaN-separated), not one line per polyline."""
+def _shape_chart(result: CaseResult) -> Chart | None:
+    """Deformed shapes: every level of a method as one line (gaps between polylines; a continuation's
+    steps thinned as its ParaView series), measured tip points as markers."""
     shapes = {m: normalise_shapes(r.extras["shapes"]) for m, r in result.runs.items() if r.extras.get("shapes")}
     if not shapes:
         return None
-    fig, ax = plt.subplots(figsize=(6, 5))
+    lines = []
     for method, per_level in shapes.items():
-        color, style = METHOD_STYLE.get(method, ("k", "-"))
+        fields = result.runs[method].extras.get("fields")
+        load = fields.load_factor if fields is not None and len(fields.load_factor) == len(per_level) else \
+            np.arange(len(per_level))
+        per_level = [per_level[k] for k in paraview.frames_shown(load)]  # a continuation: as its ParaView series
         points = _joined([np.asarray(line) for polylines in per_level for line in polylines])
         if len(points):
-            ax.plot(points[:, 0], points[:, 1], style, color=color, lw=1, label=method)
+            lines.append(ShapeLine(method, points[:, 0], points[:, 1]))
     case = result.loaded.case
     measured = {}
     for ref in case.references:
         if ref.label == "measured" and ref.quantity in ("x", "y"):
             measured.setdefault((ref.point, ref.level), {})[ref.quantity] = ref.value
-    pts = [(v["x"], v["y"]) for v in measured.values() if "x" in v and "y" in v]
-    if pts:
-        ax.plot(*zip(*pts), "o", mfc="none", color="k", label="measured")
-    ax.set_aspect("equal")
-    ax.grid(alpha=0.3)
-    ax.set_xlabel(f"x [{case.unit('length')}]")
-    ax.set_ylabel(f"y [{case.unit('length')}]")
-    ax.legend(fontsize=8)
-    name = f"{result.loaded.id}_shapes.png"
-    fig.savefig(folder / name, dpi=80, bbox_inches="tight")
-    plt.close(fig)
-    return name
+    points = [(v["x"], v["y"]) for v in measured.values() if "x" in v and "y" in v]
+    return shapes_chart("shapes", lines, points, case.unit("length"))
 
 
-def _plot_path(result: CaseResult, folder: Path) -> str | None:
+def _path_chart(result: CaseResult) -> Chart | None:
     """Equilibrium path of a continuation run, limit points marked."""
     run = result.runs.get("fem")
     path = run.extras.get("path") if run else None
-    if not path:
-        return None
-    fig, ax = plt.subplots(figsize=(6, 4))
-    ax.plot(path["displacement"], path["load"], "-", color="C0", label="FEM path")
-    for k, (d, p) in enumerate(path.get("limit_points", [])):
-        ax.plot([d], [p], "rv", label="limit point" if k == 0 else None)
-    ax.set_xlabel(path.get("displacement_label", "control displacement"))
-    ax.set_ylabel(path.get("load_label", "load"))
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    name = f"{result.loaded.id}_path.png"
-    fig.savefig(folder / name, dpi=80, bbox_inches="tight")
-    plt.close(fig)
-    return name
+    return path_chart("path", path) if path else None
+
+
+def _first_by(rows: list[tuple], key, column: int, value: int) -> dict[tuple, dict[str, float]]:
+    """The first ``value`` of each (key, ``column``) pair of ``rows`` (``column`` not NA), by key."""
+    out: dict[tuple, dict[str, float]] = {}
+    for row in rows:
+        label = row[column]
+        if not pd.isna(label):
+            out.setdefault(key(row), {}).setdefault(label, row[value])
+    return out
+
+
+def _spread(by_key: dict[tuple, dict[str, float]], prefix: str = "") -> pd.DataFrame:
+    """A table indexed by the sorted keys with a column per label (sorted): the rows and columns with
+    at least one number (``pivot_table``'s result)."""
+    labels = sorted({label for part in by_key.values() for label in part
+                     if not all(pd.isna(p.get(label, np.nan)) for p in by_key.values())})
+    keys = sorted(k for k, part in by_key.items() if any(not pd.isna(part.get(c, np.nan)) for c in labels))
+    index = pd.MultiIndex.from_tuples(keys, names=GLANCE_KEY) if keys else \
+        pd.MultiIndex.from_arrays([[], [], []], names=GLANCE_KEY)
+    return pd.DataFrame({prefix + c: np.array([by_key[k].get(c, np.nan) for k in keys], float) for c in labels},
+                        index=index)
+
+
+GLANCE_KEY = ["quantity", "point", "level"]
+GLANCE_COLUMNS = GLANCE_KEY + ["method", "value", "reference_label", "reference_value", "error_estimate",
+                               "level_label", "unit"]
 
 
 def glance(table: pd.DataFrame) -> pd.DataFrame:
     """Every output at every level in one row: each method's value, each printed column, and the
     differences an engineer asks about first (PRBM - FEM, each model - measured, FEM - exact)."""
-    rows = table.dropna(subset=["quantity"])
-    if rows.empty:
+    if table.empty or table["quantity"].isna().all():
         return pd.DataFrame()
-    key = ["quantity", "point", "level"]
-    values = rows.drop_duplicates(key + ["method"]).pivot_table(index=key, columns="method", values="value",
-                                                                  aggfunc="first")
-    refs = rows.dropna(subset=["reference_label"]).drop_duplicates(key + ["reference_label"])
-    printed = refs.pivot_table(index=key, columns="reference_label", values="reference_value", aggfunc="first")
-    printed.columns = [f"printed {c}" for c in printed.columns]
-    out = values.join(printed, how="left")
-    fem_est = rows[rows["method"] == "fem"].drop_duplicates(key).set_index(key)["error_estimate"]
-    if len(fem_est):
-        out["fem ± (estimate)"] = fem_est
+    rows = [row for row in table[GLANCE_COLUMNS].itertuples(index=False, name=None) if not pd.isna(row[0])]
+    key = itemgetter(0, 1, 2)
+    out = _spread(_first_by(rows, key, 3, 4)).join(_spread(_first_by(rows, key, 5, 6), "printed "), how="left")
+    fem_est = {}
+    for row in rows:
+        if row[3] == "fem":
+            fem_est.setdefault(key(row), row[7])
+    if fem_est:
+        out["fem ± (estimate)"] = [fem_est.get(k, np.nan) for k in out.index]
     if {"prbm", "fem"} <= set(out.columns):
         out["PRBM - FEM"] = out["prbm"] - out["fem"]
     for method in ("prbm", "fem"):
@@ -267,10 +238,12 @@ def glance(table: pd.DataFrame) -> pd.DataFrame:
             out[f"{method.upper()} - measured"] = out[method] - out["printed measured"]
     if {"fem", "elastica"} <= set(out.columns):
         out["FEM - exact"] = out["fem"] - out["elastica"]
-    labels = rows.drop_duplicates(key).set_index(key)["level_label"]
+    labels, units = {}, {}
+    for row in rows:
+        labels.setdefault(key(row), row[8])
+        units.setdefault(row[0], row[9])
     out = out.reset_index()
-    out.insert(3, "load", [labels.get((q, p, l), l) for q, p, l in zip(out["quantity"], out["point"], out["level"])])
-    units = rows.drop_duplicates(["quantity"]).set_index("quantity")["unit"]
+    out.insert(3, "load", [labels.get(k, k[2]) for k in zip(out["quantity"], out["point"], out["level"])])
     out.insert(1, "unit", out["quantity"].map(units))
     return out.drop(columns=["level"])
 
@@ -301,13 +274,9 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
     case = result.loaded.case
     cid = case.case.id
     folder = out / "cases"
-    images = _plot_outputs(result, table, folder)
-    for extra in (_plot_path(result, folder), _plot_shapes(result, folder)):
-        if extra:
-            images.insert(0, extra)
+    charts = [c for c in (_path_chart(result), _shape_chart(result), _output_chart(result, table)) if c]
     pvds, render = _case_files(result, out)
-    if render:
-        images.append(render)
+    images = [render] if render else []
     cols = {"method": "method", "quantity": "quantity", "point": "point", "level_label": "load level",
             "value": "value", "unit": "unit", "error_estimate": "FEM error estimate",
             "reference_label": "printed column", "reference_value": "printed value",
@@ -329,10 +298,11 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
             f"<p class='lead'><b>{html.escape(sentence)}</b></p><p>{status}</p>"
             f"<p><b>id</b> <code>{cid}</code> &middot; <b>group</b> {html.escape(case.case.group)} &middot; "
             f"<b>units</b> {case.case.units} &middot; <b>source</b> {html.escape(source)}</p>")
-    body += "".join(f"<p><img src='{name}' alt='{name}'></p>" for name in images[:2])
+    body += "".join(chart.html() for chart in charts[:2])
     if items:
         body += "<h2>Findings</h2>" + findings_html(items, {cid: f"{cid}.html"}, shown=6)
-    body += "".join(f"<p><img src='{name}' alt='{name}'></p>" for name in images[2:])
+    body += "".join(chart.html() for chart in charts[2:])
+    body += "".join(f"<p><img src='{name}' alt='{name}'></p>" for name in images)
     details = f"<p>{html.escape(case.case.description)}</p>"
     if case.case.assumptions:
         details += "<h3>Assumptions</h3><ul>" + "".join(f"<li>{html.escape(a)}</li>"
@@ -360,7 +330,8 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
         body += ("<details><summary>ParaView files</summary><p>One <code>.pvd</code> series per method, "
                  "time = the case's first load; open it in ParaView and colour by the point data.</p><ul>"
                  + "".join(f"<li><a href='../{v}'>{v}</a></li>" for v in pvds) + "</ul></details>")
-    (folder / f"{cid}.html").write_text(_page(case.case.title, body))
+    install_plotly(out)
+    (folder / f"{cid}.html").write_text(_page(case.case.title, body, f"<script src='../{PLOTLY_JS}'></script>"))
     md = [f"# {case.case.title}\n", f"**{sentence}**\n",
           f"`{cid}` · {case.case.group} · units {case.case.units} · {source}\n", case.case.description + "\n"]
     md += [f"- {a}" for a in case.case.assumptions]
@@ -371,6 +342,8 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
     if len(at_a_glance):
         md += ["\n## At a glance\n", _md_table(at_a_glance)]
     md += ["\n## Every output\n", _md_table(shown)]
+    if charts:
+        md += [f"\nCharts ({', '.join(chart.id for chart in charts)}): drawn in [the HTML page]({cid}.html)."]
     md += [f"\n![{name}]({name})" for name in images]
     (folder / f"{cid}.md").write_text("\n".join(md) + "\n")
     return cid, f"cases/{cid}.html"
@@ -379,17 +352,19 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
 def _code_digest() -> str:
     """The source of the modules that draw a case page: a page is rewritten when they change."""
     here = Path(__file__).parent
-    names = ["build.py", "format.py", "summary.py", "paraview.py"]
+    names = ["build.py", "charts.py", "format.py", "summary.py", "paraview.py"]
     return hashlib.sha256(b"".join((here / n).read_bytes() for n in names)).hexdigest()
 
 
 @dataclass(frozen=True)
 class PageLink:
-    """Where a case's page is, and why it could not be drawn (None: it was)."""
+    """Where a case's page is, why it could not be drawn (None: it was) and the case's row of the index
+    (``summarise``), worked out in the worker that drew the page (None: the index works it out)."""
 
     case: str
     link: str
     error: str | None = None
+    summary: CaseSummary | None = None
 
 
 def _page_job(args) -> PageLink:
@@ -401,7 +376,7 @@ def _page_job(args) -> PageLink:
     digest = hashlib.sha256((result.loaded.text + stable.to_csv(index=False) + _code_digest()).encode()).hexdigest()
     stamp = out / "cases" / f"{cid}.digest"
     if stamp.exists() and stamp.read_text() == digest and (out / "cases" / f"{cid}.html").exists():
-        return PageLink(cid, f"cases/{cid}.html")
+        return PageLink(cid, f"cases/{cid}.html", summary=summarise(result, part))
     try:
         _, link = _case_page(result, part, out)
     except Exception as exc:  # noqa: BLE001 - any drawing error is reported, the other pages go on
@@ -411,7 +386,7 @@ def _page_job(args) -> PageLink:
         stamp.unlink(missing_ok=True)
         return PageLink(cid, link, error)
     stamp.write_text(digest)
-    return PageLink(cid, link)
+    return PageLink(cid, link, summary=summarise(result, part))
 
 
 @dataclass(frozen=True)
@@ -552,6 +527,11 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     cpu = times.user + times.system + times.children_user + times.children_system
     out.mkdir(parents=True, exist_ok=True)
     (out / "cases").mkdir(exist_ok=True)
+    try:
+        install_plotly(out)  # the charts' library, before the workers draw pages
+    except PlotlyMissing as exc:
+        print_error(f"prbm-validate report: {exc}")
+        return ExitStatus.FAILED
     paths = find_case_files(cases or None)
     # the whole report: the chapter-4 deflection-domain study beside the sweep studies, run beside the cases
     extra = [] if cases else [DomainStudy(out / "sweeps" / "chapter4_domains")]
@@ -584,7 +564,8 @@ def _write_index(outcome, pages: list[PageLink], out: Path) -> None:
     links = {page.case: page.link for page in pages}
     page_errors = [page.error for page in pages if page.error]
     parts = by_case(table)
-    rows = [summarise(r, rows_of(parts, table, r.loaded.id)) for r in outcome.results]
+    drawn = {page.case: page.summary for page in pages if page.summary is not None}
+    rows = [drawn.get(r.loaded.id) or summarise(r, rows_of(parts, table, r.loaded.id)) for r in outcome.results]
     plot_overview(overview_points(outcome.results, table), out / "overview.png")
     items = findings(outcome.results, table)
     failed = outcome.failed_comparisons

@@ -14,9 +14,12 @@ For each method that gave deformed shapes, ``write_case_series`` writes under ``
 - ``all_methods.pvd``: the same files, one part per method, where more than one method drew a shape.
 
 Time is the case's first load at each level (its unit in the case's unit system), or the level index
-when the case has no load; a FEM continuation (limit load) is timed by its load factor.  Units are the
+when the case has no load; a FEM continuation (limit load) is timed by its load factor, its hundreds
+of steps thinned to the frames its case page draws (``frames_shown``: at most ``MAX_FRAMES`` evenly
+spaced ones and every limit point).  Units are the
 case file's; rotations in degrees as everywhere in the harness.  ``render_series`` draws the last level
-of every series off-screen with pyvista, on one plotter per process emptied between pictures.
+of every series off-screen with pyvista, on one canvas per process (plotter, title, legends) emptied
+between pictures, its legend giving each series the colour of its line.
 """
 from __future__ import annotations
 
@@ -27,6 +30,8 @@ import meshio
 import numpy as np
 
 from validation.case.schema import Case
+
+MAX_FRAMES = 41  # frames of a continuation's series (evenly spaced, with its limit points)
 
 
 @dataclass
@@ -92,20 +97,38 @@ def _levels(shapes) -> list[int]:
     return sorted(shapes) if isinstance(shapes, dict) else list(range(len(shapes)))
 
 
+def frames_shown(load: np.ndarray, most: int = MAX_FRAMES) -> list[int]:
+    """The frames of a long series that are written and drawn: all of them up to ``most``, else ``most``
+    evenly spaced ones (the first and the last among them) and every turning point of ``load`` (a limit
+    point of a continuation: the load stops rising or falling there)."""
+    load = np.asarray(load, float)
+    n = len(load)
+    if n <= most:
+        return list(range(n))
+    steps = np.flatnonzero(np.diff(load) != 0)          # a repeated load (a plateau) turns nothing
+    rise = np.sign(np.diff(load)[steps])
+    turning = steps[np.flatnonzero(rise[1:] != rise[:-1])] + 1   # the last frame before the load turns
+    return sorted(set(np.linspace(0, n - 1, most).round().astype(int).tolist()) | set(turning.tolist()))
+
+
 def fem_series(case: Case, fields) -> ShapeSeries | None:
-    """From the FEM adapter's ``extras['fields']`` (a ``fem.result.FieldSeries``)."""
+    """From the FEM adapter's ``extras['fields']`` (a ``fem.result.FieldSeries``); a continuation's
+    hundreds of steps thinned to the frames the case page draws (``frames_shown``)."""
     if fields is None or not len(fields.nodal):
         return None
+    continuation = len(fields.nodal) != case.n_levels()
+    kept = frames_shown(fields.load_factor if continuation else np.arange(len(fields.nodal)),
+                        most=MAX_FRAMES if continuation else len(fields.nodal))
     frames = []
-    for positions, nodal in zip(fields.positions, fields.nodal):
-        data = nodal.point_data()
+    for k in kept:
+        data = fields.nodal[k].point_data()
         data["rotation"] = np.degrees(data["rotation"])
-        frames.append(ShapeFrame(positions, fields.connectivity, point_data=data))
+        frames.append(ShapeFrame(fields.positions[k], fields.connectivity, point_data=data))
     undeformed = ShapeFrame(fields.reference, fields.connectivity)
-    if len(frames) == case.n_levels():
-        times = _times(case, list(range(len(frames))))
-    else:  # a continuation (limit load): its own steps, timed by the load factor
-        times = [float(t) for t in fields.load_factor]
+    if continuation:  # a continuation (limit load): its own steps, timed by the load factor
+        times = [float(fields.load_factor[k]) for k in kept]
+    else:
+        times = _times(case, kept)
     return ShapeSeries("fem", times, frames, undeformed)
 
 
@@ -222,25 +245,57 @@ def write_case_series(case: Case, runs: dict, folder: Path) -> list[Path]:
     return written
 
 
-_PLOTTERS: dict[tuple[int, int], object] = {}  # window size -> this process's off-screen plotter
+RENDER_COLOURS = {"fem": "steelblue", "prbm": "darkorange", "elastica": "seagreen"}
+FEM_COLOURMAP = "viridis"
+FEM_LEGEND_COLOUR = "#21918c"   # viridis at the middle of its range: the FEM line's colour at a mean moment
+UNDEFORMED_COLOUR = "grey"
+
+@dataclass
+class Canvas:
+    """This process's off-screen plotter and what stays on it between pictures: the title (one corner
+    text whose words change), one legend per set of entries (pyvista normalises a legend's symbols at
+    ~10 ms an entry), and the picture's own actors (meshes, the shown legend), removed for the next."""
+
+    plotter: object
+    title: object
+    legends: dict[tuple, object] = field(default_factory=dict)
+    shown: list = field(default_factory=list)
+
+    def clear(self) -> None:
+        self.plotter.remove_actor(self.shown, reset_camera=False, render=False)
+        self.plotter.scalar_bars.clear()
+        self.shown = []
+
+    def legend(self, entries: tuple[tuple[str, str], ...]) -> None:
+        """Show the legend of ``entries`` (label, colour), made the first time it is asked for."""
+        actor = self.legends.get(entries)
+        if actor is None:
+            actor = self.legends[entries] = self.plotter.add_legend([list(e) for e in entries], bcolor="white",
+                                                                    face="line", size=(0.34, 0.07 * len(entries)))
+        else:
+            self.plotter.add_actor(actor, reset_camera=False, pickable=False)
+        self.shown.append(actor)
 
 
-def _plotter(pv, size: tuple[int, int] = (640, 420)):
-    """This process's off-screen plotter, made once and emptied for each picture: a new VTK render
+_CANVASES: dict[tuple[int, int], Canvas] = {}  # window size -> this process's canvas
+
+
+def _canvas(pv, size: tuple[int, int] = (640, 420)) -> Canvas:
+    """This process's off-screen canvas, made once and emptied for each picture: a new VTK render
     window per page costs about as much again as the rendering (its OpenGL context and shaders); one
     sample per pixel (pyvista's default 8-sample anti-aliasing doubles the software rendering's time
     for lines that read the same)."""
-    plotter = _PLOTTERS.get(size)
-    if plotter is None:
+    canvas = _CANVASES.get(size)
+    if canvas is None:
         samples, pv.global_theme.multi_samples = pv.global_theme.multi_samples, 1  # no 8x MSAA: half the time
-        plotter = _PLOTTERS[size] = pv.Plotter(off_screen=True, window_size=size)
+        plotter = pv.Plotter(off_screen=True, window_size=size)
         pv.global_theme.multi_samples = samples
         plotter.set_background("white")
+        title = plotter.add_text(" ", font_size=10, color="black", name="title")
+        canvas = _CANVASES[size] = Canvas(plotter, title)
     else:
-        plotter.clear_actors()          # meshes and the title text
-        plotter.remove_legend()
-        plotter.scalar_bars.clear()
-    return plotter
+        canvas.clear()
+    return canvas
 
 
 def render_series(pvd_files: list[Path], png: Path, title: str = "") -> Path | None:
@@ -251,25 +306,31 @@ def render_series(pvd_files: list[Path], png: Path, title: str = "") -> Path | N
     except ImportError:
         return None
     pv.vtk_verbosity("error")  # no "bad X server connection" warning on a headless machine
-    colours = {"fem": "steelblue", "prbm": "darkorange", "elastica": "seagreen"}
-    plotter = _plotter(pv)
-    for pvd in pvd_files:
+    canvas = _canvas(pv)
+    plotter = canvas.plotter
+    legend = []   # (label, colour): each entry in its line's colour (pyvista's own legend gives a line
+    for pvd in pvd_files:  # coloured by scalars the mesh's default colour, a light blue)
         method = pvd.stem
         reader = pv.get_reader(str(pvd))
         reader.set_active_time_point(len(reader.time_values) - 1)
         mesh = reader.read()[0]
         if method == "fem" and "bending_moment" in mesh.point_data:
-            plotter.add_mesh(mesh, scalars="bending_moment", line_width=6, cmap="viridis", label="FEM",
-                             scalar_bar_args={"title": "FEM bending moment", "color": "black"})
+            bar = {"title": "FEM bending moment", "color": "black"}
+            canvas.shown.append(plotter.add_mesh(mesh, scalars="bending_moment", line_width=6, cmap=FEM_COLOURMAP,
+                                                 scalar_bar_args=bar))
+            legend.append(("FEM (colour: bending moment)", FEM_LEGEND_COLOUR))
             undeformed = pvd.with_name("fem_undeformed.vtu")
             if undeformed.exists():
-                plotter.add_mesh(pv.read(str(undeformed)), color="grey", line_width=2, label="undeformed")
+                canvas.shown.append(plotter.add_mesh(pv.read(str(undeformed)), color=UNDEFORMED_COLOUR,
+                                                     line_width=2))
+                legend.append(("undeformed", UNDEFORMED_COLOUR))
         else:
-            plotter.add_mesh(mesh, color=colours.get(method, "black"), line_width=3, label=method,
-                             point_size=10, render_points_as_spheres=True)
-    if title:
-        plotter.add_text(title, font_size=10, color="black")
+            colour = RENDER_COLOURS.get(method, "black")
+            canvas.shown.append(plotter.add_mesh(mesh, color=colour, line_width=3, point_size=10,
+                                                 render_points_as_spheres=True))
+            legend.append((method, colour))
+    canvas.title.set_text("upper_left", title or " ")
     plotter.view_xy()
-    plotter.add_legend(bcolor="white", face="line")
+    canvas.legend(tuple(legend))
     plotter.screenshot(str(png))
     return png

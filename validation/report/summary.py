@@ -66,18 +66,38 @@ def level_phrase(result: CaseResult, level: int) -> str:
     return f"level {labels[level]}"
 
 
+LEVEL_COLUMNS = ["method", "quantity", "point", "level", "value", "scale"]
+
+
 def prbm_fem_by_level(part: pd.DataFrame) -> pd.Series:
-    """Largest |PRBM - FEM| of the length outputs at each level, over the characteristic length."""
-    rows = part[part["quantity"].map(lambda q: isinstance(q, str) and QUANTITIES[q].dimension == "length")]
-    values = rows.drop_duplicates(["method", "quantity", "point", "level"])
-    if values.empty:
+    """Largest |PRBM - FEM| of the length outputs at each level, over the characteristic length (the
+    first value of each method, output and level; the first characteristic length given), indexed by the
+    sorted levels with a difference; read in one pass over the rows (a pandas pivot costs ~20 ms)."""
+    values: dict[str, dict[tuple, float]] = {"prbm": {}, "fem": {}}
+    scale = math.nan
+    any_length = False
+    for method, quantity, point, level, value, row_scale in part[LEVEL_COLUMNS].itertuples(index=False, name=None):
+        if not (isinstance(quantity, str) and QUANTITIES[quantity].dimension == "length"):
+            continue
+        any_length = True
+        if math.isnan(scale) and not pd.isna(row_scale):
+            scale = float(row_scale)
+        if method in values:
+            values[method].setdefault((quantity, point, level), value)
+    prbm, fem = values["prbm"], values["fem"]
+    if not any_length or not _has_number(prbm) or not _has_number(fem):
         return pd.Series(dtype=float)
-    pivot = values.pivot_table(index=["quantity", "point", "level"], columns="method", values="value",
-                               aggfunc="first")
-    if not {"prbm", "fem"} <= set(pivot.columns):
-        return pd.Series(dtype=float)
-    diff = (pivot["prbm"] - pivot["fem"]).abs() / float(values["scale"].dropna().iloc[0])
-    return diff.groupby(level="level").max()
+    worst: dict[int, float] = {}
+    for key in prbm.keys() & fem.keys():
+        diff = abs(prbm[key] - fem[key]) / scale
+        if not math.isnan(diff):
+            worst[key[2]] = max(worst.get(key[2], -math.inf), diff)
+    levels = sorted(worst)
+    return pd.Series([worst[k] for k in levels], index=pd.Index(levels, name="level"), dtype=float)
+
+
+def _has_number(values: dict) -> bool:
+    return any(not pd.isna(v) for v in values.values())
 
 
 def case_sentence(result: CaseResult, part: pd.DataFrame) -> str:

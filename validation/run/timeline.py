@@ -10,6 +10,8 @@ its CPU is not measured apart from its case's.
 """
 from __future__ import annotations
 
+import csv
+import io
 import math
 import os
 import time
@@ -58,11 +60,13 @@ def timed(kind: str, name: str, into: list[Timed] | None = None) -> Iterator[Sto
 def csv_text(records: list[Timed]) -> str:
     """The records as CSV (header: the ``Timed`` fields), longest first."""
     names = [f.name for f in fields(Timed)]
-    rows = [",".join(names)]
+    text = io.StringIO()
+    writer = csv.writer(text, lineterminator="\n")   # quotes a name with a comma ("tables (results.csv, ...)")
+    writer.writerow(names)
     for r in sorted(records, key=lambda r: -r.wall):
-        rows.append(",".join(f"{getattr(r, n):.4f}" if isinstance(getattr(r, n), float) else str(getattr(r, n))
-                             for n in names))
-    return "\n".join(rows) + "\n"
+        writer.writerow([f"{getattr(r, n):.4f}" if isinstance(getattr(r, n), float) else str(getattr(r, n))
+                         for n in names])
+    return text.getvalue()
 
 
 def _sum(records: list[Timed]) -> tuple[float, float]:
@@ -86,9 +90,28 @@ def _pool_use(records: list[Timed], jobs: int) -> str:
             f"({len({r.pid for r in pooled})} process(es))")
 
 
+def critical_path(records: list[Timed]) -> str:
+    """What the run waited for: the worker that finished last (its compile, cases, pages and extra
+    tasks, and the time it sat idle from the first pooled start to its end), then the main process's
+    steps after the pool; empty without pooled work."""
+    pooled = [r for r in records if r.kind in ("compile", "case", "page", "extra") and not math.isnan(r.start)]
+    if not pooled:
+        return ""
+    first = min(r.start for r in pooled)
+    last_pid = max(pooled, key=lambda r: r.end).pid
+    mine = [r for r in pooled if r.pid == last_pid]
+    span = max(r.end for r in mine) - first
+    parts = {kind: sum(r.wall for r in mine if r.kind == kind) for kind in ("compile", "case", "page", "extra")}
+    idle = span - sum(parts.values())
+    main = sum(r.wall for r in records if r.kind == "main")
+    words = " + ".join(f"{kind} {wall:.1f} s" for kind, wall in parts.items() if wall > 0)
+    return (f"  critical path: the last worker to finish {span:.1f} s ({words}, idle {max(idle, 0.0):.1f} s), then "
+            f"the main process's steps {main:.1f} s")
+
+
 def breakdown(records: list[Timed], jobs: int, top: int = 8) -> str:
     """The text summary: compile per method, cases (and their methods per method), pages, extra tasks,
-    the main process's steps, the slowest cases and pages, and how busy the workers were."""
+    the main process's steps, the slowest cases and pages, how busy the workers were and the critical path."""
     by_kind: dict[str, list[Timed]] = {}
     for r in records:
         by_kind.setdefault(r.kind, []).append(r)
@@ -117,4 +140,7 @@ def breakdown(records: list[Timed], jobs: int, top: int = 8) -> str:
     use = _pool_use(records, jobs)
     if use:
         lines.append(use)
+    path = critical_path(records)
+    if path:
+        lines.append(path)
     return "\n".join(lines)

@@ -33,7 +33,9 @@ import bcm.beam
 import fem.model
 import prbm.builder
 import prbm.chain
+import prbm.feasible_l1
 import prbm.fits
+import prbm.inflection
 import prbm.segments
 
 FACTOR = 1.10
@@ -84,15 +86,21 @@ def _fem_EI() -> None:
 def _prbm_fit(prefix: str, pure_moment: tuple[str, ...], builder: str, keyword: str) -> Callable[[], None]:
     """The fitted value of every family whose name starts with ``prefix``, the pure-moment constants
     ``pure_moment``, the rule builder's default ``builder`` (prbm.builder, read when a network is built)
-    and the ``keyword`` default of the constant-parameter segment models (prbm.segments), all x FACTOR."""
+    and the ``keyword`` default of the constant-parameter segment models (prbm.segments), all x FACTOR.
+
+    The fits are planted in their printed coefficients (every coefficient of every branch x FACTOR, so
+    the polynomial's value is x FACTOR exactly), in place on the shared fit objects: every evaluation
+    path reads them, including the plain-float Horner twins that bypass ``PiecewiseFit.__call__``
+    (prbm.inflection, the chapter-3/5 inflection models) and the module constants computed from them
+    at import (prbm.feasible_l1's average gamma, which its functions also hold as a keyword default)."""
     def apply() -> None:
-        original = prbm.fits.PiecewiseFit.__call__
-
-        def call(self, n, extrapolate="raise"):
-            value = original(self, n, extrapolate)
-            return value * FACTOR if self.name.startswith(prefix) else value
-
-        prbm.fits.PiecewiseFit.__call__ = call
+        for family in prbm.fits.FAMILIES.values():
+            for fit in (family.gamma, family.c_theta, family.K_theta):
+                if fit is not None and fit.name.startswith(prefix):
+                    _scale_fit(fit)
+        prbm.inflection._PLAIN_FITS.clear()        # Horner twins made before the plant hold the old coefficients
+        if prefix == "gamma":
+            _scale_loop_gamma()
         for module in (prbm.fits, prbm.segments):
             for name in pure_moment:
                 if hasattr(module, name):
@@ -101,6 +109,23 @@ def _prbm_fit(prefix: str, pure_moment: tuple[str, ...], builder: str, keyword: 
         _scale_rules_default(builder.lower() if builder == "GAMMA" else "K_theta")
         inspect.unwrap(prbm.segments.curved_pinned_pinned).__kwdefaults__[keyword] *= FACTOR
     return apply
+
+
+def _scale_loop_gamma() -> None:
+    """Section 3.6's loop average gamma(0) x FACTOR: the module constant and the keyword default that
+    ``loop_closure``, ``feasible_l1`` and ``approximate_domain`` bound to it at import (the adapter
+    calls them without a gamma)."""
+    module = prbm.feasible_l1
+    module.GAMMA_AVERAGE *= FACTOR
+    for function in (module.loop_closure, module.feasible_l1, module.approximate_domain):
+        inspect.unwrap(function).__kwdefaults__["gamma"] *= FACTOR
+
+
+def _scale_fit(fit: prbm.fits.PiecewiseFit) -> None:
+    """Every printed coefficient of ``fit`` x FACTOR, in place (the fit objects are frozen and shared)."""
+    scaled = tuple(dataclasses.replace(branch, coefficients=tuple(FACTOR * c for c in branch.coefficients))
+                   for branch in fit.branches)
+    object.__setattr__(fit, "branches", scaled)
 
 
 def _scale_rules_default(field_name: str) -> None:
