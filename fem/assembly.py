@@ -65,7 +65,7 @@ class System:
         self.I_flat = self.I.ravel()
         self.L_ref = model.characteristic_length()
         # residual noise from rounding positions: ~ eps * EA per element
-        self.noise_floor = 4 * EPS * float(np.max(d.ka * d.L0, initial=0.0))
+        self.noise_floor = 4 * EPS * float((d.ka * d.L0).max(initial=0.0))
         # W of the path norm ||dq||_W: rotations weighted by the mean element length squared
         self.path_weights = np.where(d.red_is_rotation, float(d.L0.sum() / len(d.L0)) ** 2 if len(d.L0) else 1.0, 1.0)
         self.dead_loads = (len(self.fol_nodes) == 0 and not self.pt_angle.any()

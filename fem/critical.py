@@ -46,6 +46,8 @@ def refine_extremum(x, y, dy):
 
 def critical_points(path) -> list[CriticalPoint]:
     """Limit points (extremum of lambda with det sign change) and bifurcations, by step."""
+    if len(path.step_lams) < 2 and not path.branch_switches:
+        return []       # one step (or none): no extremum, no sign change between steps
     lams = np.array(path.step_lams)
     s = np.array(path.step_s) if path.step_s else np.arange(len(lams), dtype=float)
     signs = np.array(path.det_signs)

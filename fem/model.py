@@ -43,6 +43,7 @@ Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Callable, Union
 
@@ -175,7 +176,8 @@ class Model:
             raise ValueError("a member needs two different nodes")
         if n_elements < 1:
             raise ValueError("n_elements must be >= 1")
-        chord = np.hypot(*np.subtract(self.coords[j], self.coords[i]))
+        (xi, yi), (xj, yj) = self.coords[i], self.coords[j]
+        chord = math.hypot(xj - xi, yj - yi)        # checked only, not stored
         if not chord > 0.0:
             raise ValueError(f"add_member: nodes {start!r} and {end!r} coincide (zero length)")
         if abs(curvature) * chord / 2 > 1.0:
@@ -189,7 +191,7 @@ class Model:
         if kind not in SUPPORT_KINDS:
             raise ValueError(f"support kind must be one of {SUPPORT_KINDS}")
         d = np.asarray(direction, dtype=float)
-        d = d / np.linalg.norm(d)
+        d = d / math.sqrt(d.dot(d))     # = d / np.linalg.norm(d), the same dot and square root
         self.supports.append(Support(self.node(node), kind, (float(d[0]), float(d[1]))))
 
     def add_joint(self, node, members=None, k: float | None = 0.0,
@@ -278,6 +280,10 @@ class Model:
         """Mean member chord length (the length scale used for tolerances)."""
         if not self.members:
             return 1.0
+        if len(self.members) == 1:      # the same float64 difference and hypot, the sum of one chord
+            m = self.members[0]
+            (xi, yi), (xj, yj) = self.coords[m.start], self.coords[m.end]
+            return float(np.hypot(xj - xi, yj - yi))
         c = np.asarray(self.coords)
         ends = np.array([(m.start, m.end) for m in self.members])
         chords = np.hypot(*(c[ends[:, 1]] - c[ends[:, 0]]).T)

@@ -13,6 +13,7 @@ Angles are in radians (degrees appear only in case files and reports).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 
 import meshio
@@ -136,45 +137,14 @@ class FemResult:
 
     def field_series(self) -> "FieldSeries":
         """Every level's element-node positions and ``nodal_fields`` (all levels at once, the same
-        sums in the same order as `nodal_fields`): plain data, without the solver."""
+        sums in the same order as `nodal_fields`): plain data, without the solver. The point data
+        are computed when first read (`FieldSeries.nodal`): most runs never draw them."""
         disc = self.extra["disc"]
-        N = self.extra["element_axial_force"]           # (levels, elements)
-        M = self.extra["element_end_moments"]           # (levels, elements, 2)
-        conn = self.connectivity
-        n, levels = self.mesh_positions.shape[1], self.n_levels
-        EI = np.array([sec.EI for sec in disc.el_section])
-        count = np.bincount(conn.ravel(), minlength=n).astype(float)
-        count[count == 0] = np.nan
-
-        # node k of level l is bin l n + k: one bincount sums every level, element by element in order
-        # (the order, and so the sums, of np.add.at level by level)
-        offset = (np.arange(levels) * n)[:, None]
-        starts, ends = (offset + conn[:, 0]).ravel(), (offset + conn[:, 1]).ravel()
-
-        def at_nodes(start, end):
-            first = np.bincount(starts, weights=np.ravel(start), minlength=levels * n).reshape(levels, n)
-            second = np.bincount(ends, weights=np.ravel(end), minlength=levels * n).reshape(levels, n)
-            return (first + second) / count
-
-        moment = at_nodes(-M[:, :, 0], M[:, :, 1])
-        curvature = at_nodes(-M[:, :, 0] / EI, M[:, :, 1] / EI)
-        axial = at_nodes(N, N)
-        stress = [None] * levels
-        if disc.el_section and all(sec.has_stress for sec in disc.el_section):
-            sigma = np.empty((levels, len(conn)))
-            for sec, idx in disc.section_groups:
-                sigma[:, idx] = np.maximum(sec.max_stress(N[:, idx], np.abs(M[:, idx, 0])),
-                                           sec.max_stress(N[:, idx], np.abs(M[:, idx, 1])))
-            top = np.zeros((levels, n))
-            np.maximum.at(top, (slice(None), conn[:, 0]), sigma)
-            np.maximum.at(top, (slice(None), conn[:, 1]), sigma)
-            stress = list(top)
-        shift = self.mesh_positions - self.extra["X"]
-        nodal = [NodalFields(displacement=shift[k], rotation=self.mesh_rotations[k].copy(), bending_moment=moment[k],
-                             curvature=curvature[k], axial_force=axial[k], bending_stress=stress[k])
-                 for k in range(levels)]
-        return FieldSeries(self.extra["X"].copy(), conn.copy(), self.mesh_positions.copy(), nodal,
-                           np.asarray(self.load_factor, float))
+        forces = _ElementForces(self.extra["element_axial_force"], self.extra["element_end_moments"],
+                                list(disc.el_section), self.mesh_positions - self.extra["X"],
+                                self.mesh_rotations.copy())
+        return FieldSeries(self.extra["X"].copy(), self.connectivity.copy(), self.mesh_positions.copy(),
+                           np.asarray(self.load_factor, float), forces)
 
     def to_vtu(self, prefix: str) -> list:
         """Write one VTU file per level (deformed mesh, line cells, the point data of
@@ -222,13 +192,71 @@ class NodalFields:
 
 
 @dataclass
+class _ElementForces:
+    """What `FieldSeries.nodal` is computed from: per level the element axial forces N (levels,
+    elements) and end moments M (levels, elements, 2), every element's section, the element-node
+    displacements and rotations (levels, n, 2) and (levels, n)."""
+    N: np.ndarray
+    M: np.ndarray
+    sections: list
+    displacement: np.ndarray
+    rotation: np.ndarray
+
+    def section_groups(self) -> list:
+        """(section, element indices) of the elements that share a section (as
+        `Discretisation.section_groups`)."""
+        by_id = {}
+        for e, sec in enumerate(self.sections):
+            by_id.setdefault(id(sec), (sec, []))[1].append(e)
+        return [(sec, np.array(idx)) for sec, idx in by_id.values()]
+
+
+@dataclass
 class FieldSeries:
     """The deformed mesh and its point data at every recorded level (what a ParaView series needs)."""
     reference: np.ndarray        # (n, 2) undeformed element nodes
     connectivity: np.ndarray     # (m, 2)
     positions: np.ndarray        # (levels, n, 2)
-    nodal: list                  # NodalFields per level
     load_factor: np.ndarray      # (levels,) the load factor (or level) of each
+    forces: _ElementForces
+
+    @cached_property
+    def nodal(self) -> list:
+        """`NodalFields` per level: an element node takes the mean of the element ends meeting there
+        (-M1 at a start, +M2 at an end; kappa = M/EI; N), the stress the largest of theirs."""
+        f, conn = self.forces, self.connectivity
+        levels, n = self.positions.shape[0], self.positions.shape[1]
+        count = np.bincount(conn.ravel(), minlength=n).astype(float)
+        count[count == 0] = np.nan
+        # node k of level l is bin l n + k: one bincount sums every level, element by element in order
+        # (the order, and so the sums, of np.add.at level by level)
+        offset = (np.arange(levels) * n)[:, None]
+        starts, ends = (offset + conn[:, 0]).ravel(), (offset + conn[:, 1]).ravel()
+
+        def at_nodes(start, end):
+            first = np.bincount(starts, weights=np.ravel(start), minlength=levels * n).reshape(levels, n)
+            second = np.bincount(ends, weights=np.ravel(end), minlength=levels * n).reshape(levels, n)
+            return (first + second) / count
+
+        N, M = f.N, f.M
+        EI = np.array([sec.EI for sec in f.sections])
+        moment = at_nodes(-M[:, :, 0], M[:, :, 1])
+        curvature = at_nodes(-M[:, :, 0] / EI, M[:, :, 1] / EI)
+        axial = at_nodes(N, N)
+        stress = [None] * levels
+        if f.sections and all(sec.has_stress for sec in f.sections):
+            sigma = np.empty((levels, len(conn)))
+            for sec, idx in f.section_groups():
+                sigma[:, idx] = np.maximum(sec.max_stress(N[:, idx], np.abs(M[:, idx, 0])),
+                                           sec.max_stress(N[:, idx], np.abs(M[:, idx, 1])))
+            top = np.zeros((levels, n))
+            np.maximum.at(top, (slice(None), conn[:, 0]), sigma)
+            np.maximum.at(top, (slice(None), conn[:, 1]), sigma)
+            stress = list(top)
+        return [NodalFields(displacement=f.displacement[k], rotation=f.rotation[k].copy(),
+                            bending_moment=moment[k], curvature=curvature[k], axial_force=axial[k],
+                            bending_stress=stress[k])
+                for k in range(levels)]
 
 
 def _transfer_slave_forces(d, R, u):

@@ -1,5 +1,7 @@
 """The FEM's set-up and result shortcuts compute exactly what their plain definitions compute
 (bit for bit: they exist for speed only)."""
+import pickle
+
 import numpy as np
 import pytest
 
@@ -54,3 +56,41 @@ def test_field_series_sums_are_those_of_add_at_level_by_level():
         np.add.at(second, conn[:, 1], N[k])
         assert np.array_equal(series.nodal[k].axial_force, (first + second) / count, equal_nan=True)
         assert np.array_equal(series.nodal[k].axial_force, result.nodal_fields(k).axial_force, equal_nan=True)
+
+
+def test_field_series_point_data_read_late_or_after_pickling_are_those_of_nodal_fields():
+    model = fem.Model()                      # a section that knows its stress: the stress branch too
+    model.add_node("root", 0.0, 0.0)
+    model.add_node("tip", 1.0, 0.0)
+    model.add_member("root", "tip", fem.Section.rectangle(2e11, 0.02, 0.002), n_elements=6)
+    model.add_support("root", "fixed")
+    model.add_force("tip", [0.0, 0.0], [-0.5, -1.0])
+    result = fem.solve(model)
+    assert result.converged and result.n_levels == 2
+    series = pickle.loads(pickle.dumps(result.field_series()))   # as the run cache stores it, unread
+    for k in range(result.n_levels):
+        one = result.nodal_fields(k)
+        assert one.bending_stress is not None
+        for name in ("displacement", "rotation", "curvature", "bending_moment", "axial_force", "bending_stress"):
+            assert np.array_equal(getattr(series.nodal[k], name), getattr(one, name), equal_nan=True), (k, name)
+    assert np.abs(series.nodal[1].bending_moment).max() > 0.0
+
+
+@pytest.mark.parametrize("direction", [(1.0, 0.0), (0.3, -0.7), (3.0, 4.0), (-1e-3, 2e5)])
+def test_support_direction_is_normalised_as_by_linalg_norm(direction):
+    model = fem.Model()
+    model.add_node("a", 0.0, 0.0)
+    model.add_support("a", "slider", direction=direction)
+    d = np.asarray(direction, dtype=float)
+    assert model.supports[0].direction == tuple(float(v) for v in d / np.linalg.norm(d))   # the definition
+
+
+@pytest.mark.parametrize("end", [(1.0, 0.0), (0.3, -1.7), (-2.9e3, 4.1e-2)])
+def test_one_member_characteristic_length_is_the_mean_chord_of_the_arrays(end):
+    model = fem.Model()
+    model.add_node("a", 0.7, -0.2)
+    model.add_node("b", *end)
+    model.add_member("a", "b", fem.Section.from_EI(1e4, 1.0), n_elements=2)
+    c = np.asarray(model.coords)
+    chords = np.hypot(*(c[[1]] - c[[0]]).T)         # the definition for any number of members
+    assert model.characteristic_length() == float(chords.sum() / len(chords))
