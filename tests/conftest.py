@@ -86,10 +86,11 @@ LONGEST_FIRST = (
 ROOT = Path(__file__).resolve().parent.parent
 
 # method -> case files whose runs take the method's compiled code paths (load control, arc length, rigid
-# links, a mechanism, an inverse problem); the first one compiles almost everything.
+# links, a follower load, a mechanism, an inverse problem); the first one compiles almost everything.
 PRIMERS = {
     "fem": ("benchmarks/cantilever_tip_load.toml", "benchmarks/lee_frame.toml", "benchmarks/williams_toggle.toml",
-            "chapter9/test2_partially_compliant_fourbar.toml", "benchmarks/arch_215_clamped_hinged.toml"),
+            "chapter9/test2_partially_compliant_fourbar.toml", "benchmarks/arch_215_clamped_hinged.toml",
+            "benchmarks/follower_tip_load.toml"),
     "elastica": ("benchmarks/cantilever_tip_load.toml", "chapter3/table3_3_case1_a_b_theta0.toml",
                  "chapter4/fourbar_fixed_pinned_segment.toml", "chapter3/table3_6_exact_inverse.toml"),
 }
