@@ -222,6 +222,10 @@ def chain_from_tip(beam: ChainBeam, *, b: float, theta0: float, n: float = 0.0, 
     state = march(beam, NodalLoads.at_tip(beam, -n * P, P, M), np.vstack([[0.0, 0.0], x[:-2].reshape(-1, 2)]))
     out = {"a": state.nodes[-1, 0], "b": state.nodes[-1, 1], "theta0": state.rotations[-1], "P": P,
            "nP": n * P, "M": M}
+    reach = math.hypot(out["a"], out["b"])  # an inextensible beam's tip stays within its length of the root
+    if ok and reach > beam.length * (1.0 + 1e-9):
+        ok, message = False, (f"the chain's tip is {reach / beam.length:.4g} lengths from the root: the elements "
+                              f"stretched (eq 34) to meet b = {b:g}, beyond an inextensible beam's reach")
     return PRBMResult(ok, message, {k: np.float64(v) for k, v in out.items()}, {"elements": N},
                       "Chain Algorithm with tip displacement conditions, seed 000 eqs (26)-(40)",
                       time.perf_counter() - t0, nfev, np.array([ok]), extras={"nodes": state.nodes})

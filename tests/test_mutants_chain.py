@@ -135,3 +135,13 @@ def test_the_generalised_moment_of_a_body_force_is_its_turned_arm_cross_the_forc
     turned = np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
     g = body.external_force(np.array([0.1, -0.2, phi]), [((2.0, 0.5), tuple(F))], M)
     assert g == pytest.approx([2.0, 3.0, turned[0] * F[1] - turned[1] * F[0] + M], rel=1e-14, abs=1e-14)
+
+
+def test_a_target_beyond_the_beams_reach_is_not_converged():
+    # an inextensible beam of length l cannot put its tip 1.5 l from the root; the Chain Algorithm's
+    # elements stretch (eq 34) until it "meets" b = 1.5 l (found by s6-audit): now reported, not converged
+    beam = ChainBeam(1.0, 1.0, 4)
+    r = chain_from_tip(beam, b=1.5, theta0=math.radians(60.0), steps=10)
+    assert not r.converged and "beyond an inextensible beam's reach" in r.message
+    inside = chain_from_tip(beam, b=0.5, theta0=math.radians(40.0), steps=10)
+    assert inside.converged and math.hypot(inside["a"], inside["b"]) < 1.0
