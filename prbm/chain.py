@@ -170,6 +170,17 @@ def _forward_step(beam, loads, guess: np.ndarray, tol: float):
     return nodes, ok, int(sol.nfev), sol.message
 
 
+def _beyond_reach(beam: ChainBeam, a: float, b: float) -> str | None:
+    """Why a chain solution is not an answer when its tip (a, b) lies farther from the root than the beam's
+    length: an inextensible beam cannot get there; the chain's elements stretched (their chords lengthen
+    with the transverse deflection, eq 34).  None when the tip is within reach (1e-9 relative)."""
+    reach = math.hypot(a, b)
+    if reach <= beam.length * (1.0 + 1e-9):
+        return None
+    return (f"the chain's tip is {reach / beam.length:.4g} lengths from the root, beyond an inextensible "
+            f"beam's reach: the elements stretched (eq 34)")
+
+
 def chain_tip(beam: ChainBeam, loads: NodalLoads, *, steps: int = 10, tol: float = 1e-12) -> PRBMResult:
     """Forward analysis: the deflected chain under dead nodal loads, applied in ``steps`` equal increments.
     Outputs a, b (tip position), theta0 (tip rotation, rad), and the node positions in ``extras``."""
@@ -184,6 +195,9 @@ def chain_tip(beam: ChainBeam, loads: NodalLoads, *, steps: int = 10, tol: float
             break
     state = march(beam, loads, nodes)
     out = {"a": state.nodes[-1, 0], "b": state.nodes[-1, 1], "theta0": state.rotations[-1]}
+    stretched = _beyond_reach(beam, out["a"], out["b"]) if ok else None
+    if stretched:
+        ok, message = False, stretched
     return PRBMResult(ok, message, {k: np.float64(v) for k, v in out.items()},
                       {"elements": beam.elements}, "Chain Algorithm, seed 000 eqs (26)-(40)",
                       time.perf_counter() - t0, nfev, np.array([ok]), extras={"nodes": state.nodes})
@@ -222,10 +236,9 @@ def chain_from_tip(beam: ChainBeam, *, b: float, theta0: float, n: float = 0.0, 
     state = march(beam, NodalLoads.at_tip(beam, -n * P, P, M), np.vstack([[0.0, 0.0], x[:-2].reshape(-1, 2)]))
     out = {"a": state.nodes[-1, 0], "b": state.nodes[-1, 1], "theta0": state.rotations[-1], "P": P,
            "nP": n * P, "M": M}
-    reach = math.hypot(out["a"], out["b"])  # an inextensible beam's tip stays within its length of the root
-    if ok and reach > beam.length * (1.0 + 1e-9):
-        ok, message = False, (f"the chain's tip is {reach / beam.length:.4g} lengths from the root: the elements "
-                              f"stretched (eq 34) to meet b = {b:g}, beyond an inextensible beam's reach")
+    stretched = _beyond_reach(beam, out["a"], out["b"]) if ok else None
+    if stretched:
+        ok, message = False, f"{stretched} to meet b = {b:g}"
     return PRBMResult(ok, message, {k: np.float64(v) for k, v in out.items()}, {"elements": N},
                       "Chain Algorithm with tip displacement conditions, seed 000 eqs (26)-(40)",
                       time.perf_counter() - t0, nfev, np.array([ok]), extras={"nodes": state.nodes})

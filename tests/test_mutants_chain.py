@@ -57,14 +57,19 @@ def test_a_body_point_turned_a_quarter_turn_moves_by_its_rotation():
 def test_a_load_applied_in_one_step_that_the_solver_cannot_reach_is_reported():
     """P L^2/EI = 100 in one step from the straight chain: MINPACK's hybrid method stalls (its own
     words, on one line, after the step that failed); in 20 steps, each started from the last shape,
-    it converges. The tip is then nearly along the force (b close to l)."""
-    beam = ChainBeam(1.0, 1.0, 6)
+    it converges. The tip is then nearly along the force (b close to l) and within the beam's reach.
+    (With 6 elements the 20-step answer lies 1.012 l from the root: stretched, reported as not converged.)"""
+    beam = ChainBeam(1.0, 1.0, 8)
     loads = NodalLoads.at_tip(beam, 0.0, 100.0)
     one = chain_tip(beam, loads, steps=1)
     assert not one.converged and list(one.level_converged) == [False]
     assert one.message.startswith("load step 1/1: The iteration is not making good progress") and "\n" not in one.message
     many = chain_tip(beam, loads, steps=20)
     assert many.converged and many.message == "converged" and 0.95 < float(many["b"]) < 1.0
+    assert math.hypot(float(many["a"]), float(many["b"])) < 1.0
+    six = ChainBeam(1.0, 1.0, 6)
+    stretched = chain_tip(six, NodalLoads.at_tip(six, 0.0, 100.0), steps=20)
+    assert not stretched.converged and "beyond an inextensible beam's reach" in stretched.message
 
 
 def test_function_evaluations_add_up_over_the_load_steps():
@@ -142,6 +147,16 @@ def test_a_target_beyond_the_beams_reach_is_not_converged():
     # elements stretch (eq 34) until it "meets" b = 1.5 l (found by s6-audit): now reported, not converged
     beam = ChainBeam(1.0, 1.0, 4)
     r = chain_from_tip(beam, b=1.5, theta0=math.radians(60.0), steps=10)
-    assert not r.converged and "beyond an inextensible beam's reach" in r.message
+    assert not r.converged and "beyond an inextensible beam's reach" in r.message and "b = 1.5" in r.message
     inside = chain_from_tip(beam, b=0.5, theta0=math.radians(40.0), steps=10)
     assert inside.converged and math.hypot(inside["a"], inside["b"]) < 1.0
+
+
+def test_a_forward_chain_that_stretches_past_the_beams_length_is_not_converged():
+    # two elements under P l^2/EI = 20 at the tip: the chords stretch (eq 34) until the tip is 1.25 l from the
+    # root, which the forward solve used to return as converged; eight elements stay within reach
+    coarse, fine = ChainBeam(1.0, 1.0, 2), ChainBeam(1.0, 1.0, 8)
+    r = chain_tip(coarse, NodalLoads.at_tip(coarse, 0.0, 20.0, 0.0))
+    assert not r.converged and "beyond an inextensible beam's reach" in r.message
+    ok = chain_tip(fine, NodalLoads.at_tip(fine, 0.0, 20.0, 0.0))
+    assert ok.converged and math.hypot(ok["a"], ok["b"]) < 1.0
