@@ -332,6 +332,24 @@ _FLOATS = _Ops(math.sin, math.cos, math.sqrt, math.atan2, lambda x, y: float(np.
 _ARRAYS = _Ops(np.sin, np.cos, np.sqrt, np.arctan2, np.hypot, np.where, _spring_levels)
 
 
+def _mirrored_levels(P_list: list, n_list: list, ratio, level) -> tuple[list, list]:
+    """The level rows of a straight segment model under the end force (-nP, P), in plain floats: each load
+    mirrored to P >= 0 (n_eff = sign n, sign restoring it), the per-ratio constants ``ratio(n_eff)`` worked
+    out once per distinct mirrored ratio, ``level(|P|, sign, constants)`` at each level.
+    Returns (rows, the constants of each level)."""
+    per_ratio: dict = {}
+    rows, fits = [], []
+    for p, m in zip(P_list, n_list):
+        sign = -1.0 if p < 0.0 else 1.0
+        n_eff = sign * m
+        c = per_ratio.get(n_eff)
+        if c is None:
+            c = per_ratio[n_eff] = ratio(n_eff)
+        rows.append(level(abs(p), sign, c))
+        fits.append(c)
+    return rows, fits
+
+
 class _FixedPinnedRatio(NamedTuple):
     """The constants of one (mirrored) load ratio n of the fixed-pinned model: gamma, c_theta, K_theta
     from the fits (41)-(43), the spring k = gamma K_theta EI/l (45), eta = sqrt(1 + n^2) and the force
@@ -383,16 +401,9 @@ def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
         P_list, n_list, shape = _level_lists(P, n)
         if len(P_list) > _SCALAR_LOOP_MAX:  # many levels: the kernel once over arrays
             return _fixed_pinned_arrays(P, n, length, EI, fam, extrapolate, t0)
-    per_ratio: dict[float, _FixedPinnedRatio] = {}
-    rows, fits = [], []
-    for p, m in zip(P_list, n_list):
-        sign = -1.0 if p < 0.0 else 1.0
-        n_eff = sign * m
-        c = per_ratio.get(n_eff)
-        if c is None:
-            c = per_ratio[n_eff] = _fixed_pinned_ratio(_FLOATS, n_eff, length, EI, fam, extrapolate)
-        rows.append(_fixed_pinned_level(_FLOATS, abs(p), sign, c, length, EI))
-        fits.append(c)
+    rows, fits = _mirrored_levels(
+        P_list, n_list, lambda n_eff: _fixed_pinned_ratio(_FLOATS, n_eff, length, EI, fam, extrapolate),
+        lambda Pabs, sign, c: _fixed_pinned_level(_FLOATS, Pabs, sign, c, length, EI))
     ok_levels = [row[5] for row in rows]
     ok_all = all(ok_levels)
     names, constant_names = ("a", "b", "theta0", "Theta", "F"), ("gamma", "c_theta", "K_theta", "k")
@@ -642,16 +653,9 @@ def fixed_guided_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
     P_list, n_list, shape = _level_lists(P, n)
     if len(P_list) > _SCALAR_LOOP_MAX:  # many levels: the kernel once over arrays
         return _fixed_guided_arrays(P, n, length, EI, fam, extrapolate, t0)
-    per_ratio: dict[float, _FixedGuidedRatio] = {}
-    rows, fits = [], []
-    for p, m in zip(P_list, n_list):
-        sign = -1.0 if p < 0.0 else 1.0
-        n_eff = sign * m
-        c = per_ratio.get(n_eff)
-        if c is None:
-            c = per_ratio[n_eff] = _fixed_guided_ratio(_FLOATS, n_eff, length, EI, fam, extrapolate)
-        rows.append(_fixed_guided_level(_FLOATS, abs(p), sign, c, length))
-        fits.append(c)
+    rows, fits = _mirrored_levels(
+        P_list, n_list, lambda n_eff: _fixed_guided_ratio(_FLOATS, n_eff, length, EI, fam, extrapolate),
+        lambda Pabs, sign, c: _fixed_guided_level(_FLOATS, Pabs, sign, c, length))
     out = _table(rows, ("a", "b", "theta0", "Theta", "M"), shape)
     out.update({"P": np.asarray(P, float), "n": np.asarray(n, float)})
     constants = _table(fits, ("gamma", "K_theta", "k_each"), shape)
