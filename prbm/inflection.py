@@ -50,6 +50,7 @@ Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 
+import functools
 import math
 import time
 import warnings
@@ -162,13 +163,17 @@ _PLAIN_FITS: dict[int, tuple[FitFamily, Callable[[float], tuple[float, float, fl
 
 
 def _plain_parameters(family: FitFamily) -> Callable[[float], tuple[float, float, float]]:
-    """(gamma, c_theta, K_theta) at one float n, extrapolating (``family.parameters(n, 'allow')``)."""
+    """(gamma, c_theta, K_theta) at one float n, extrapolating (``family.parameters(n, 'allow')``).
+
+    Memoised per n: a case-2 root search holds n fixed, and F from eq (95) and the state at the same
+    point evaluate the fits at the same n, so most calls repeat an n already seen."""
     known = _PLAIN_FITS.get(id(family))
     if known is not None and known[0] is family:
         return known[1]
     gamma, K = _horner(family.gamma), _horner(family.K_theta)
     c = _horner(family.c_theta) if family.c_theta is not None else (lambda x: math.nan)
 
+    @functools.lru_cache(maxsize=1024)
     def parameters(n: float) -> tuple[float, float, float]:
         return gamma(n), c(n), K(n)
     _PLAIN_FITS[id(family)] = (family, parameters)

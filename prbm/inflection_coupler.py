@@ -280,18 +280,31 @@ def _t_at_ratio(seg: GuidedSegment, drive: CouplerDrive, n: float, warm: _Warm) 
     w = drive.free * cmath.exp(-1j * seg.theta1)   # the free direction in the segment frame
     if abs(w.real) < 1e-3:
         return None   # the free motion hardly changes a: a single segment cannot fix it
-    t = 0.0
+    t, previous = 0.0, None
     for _ in range(30):
         a, b, theta0 = drive.segment_end(seg, t)
         _, b_s, th_s = _mirrored(seg, a, b, theta0)
         state = warm.case2(seg.beam(), b_s, th_s, n)  # n of the problem solved (mirrored: -n)
         if state is None:
             return None
-        step = (state["a"] - a) / w.real
+        gap = state["a"] - a
+        step = _secant_step(t, gap, previous, gap / w.real)
+        previous = (t, gap)
         t += step
         if abs(step) < 1e-9 * seg.length:
             return t
     return None
+
+
+def _secant_step(t: float, gap: float, previous: tuple[float, float] | None, first: float) -> float:
+    """The secant step on gap(t) = a_case2(t) - a_coupler(t) from the last two iterates. The first step
+    (gap / Re w) takes a_case2 as constant; the secant also follows how a_case2 moves with t, so it
+    converges superlinearly where the first step's iteration is only linear. ``first`` where there is no
+    usable secant (the first iterate, or a flat or non-finite slope)."""
+    if previous is None or previous[0] == t:
+        return first
+    slope = (gap - previous[1]) / (t - previous[0])
+    return -gap / slope if slope != 0.0 and math.isfinite(slope) else first
 
 
 def reachable_window(seg: GuidedSegment, drive: CouplerDrive, ratios=RATIOS) -> Window:
