@@ -28,7 +28,8 @@ Readings where the printed equations are incomplete (notes seed-ch2-4 section 3)
   Here C_i = -(P_ax)_i is the compressive axial force, so tension reduces the element's deflection.
 * The deformed-geometry loop of (28) (the lever arms depend on the deflected shape) is not described;
   here it is one nonlinear system in the node positions, X = G(X; loads), solved by Powell's hybrid
-  method with the loads applied in steps (continuation from the previous step's shape).
+  method with the loads applied in steps (continuation from the previous step's shape), with the exact
+  Jacobian of G (``march_jacobian``: G sees X only through the moments (28), linear in X).
 * The shooting method of Her et al. [24] for displacement boundary conditions is not given; here the
   unknown tip loads join the node positions in the same system, with the end position/angle
   conditions as extra equations, continued in steps from the unloaded shape.
@@ -130,18 +131,46 @@ class ChainState:
 
 def march(beam: ChainBeam, loads: NodalLoads, nodes: np.ndarray) -> ChainState:
     """One pass of eqs (26)-(40): the chain deflected under ``loads`` with lever arms taken on ``nodes``."""
-    N, L = beam.elements, beam.element_length
-    EI, theta = beam.stiffness(), beam.theta()
-    # outboard sums (j >= i) for i = 1..N: reverse cumulative sums over nodes 1..N
+    return _march(beam, loads, nodes, False)[0]
+
+
+def march_jacobian(beam: ChainBeam, loads: NodalLoads, nodes: np.ndarray) -> np.ndarray:
+    """d X_out / d X_in of one march at ``nodes`` (2N x 2N, nodes 1..N as x1, y1, x2, y2, ...).
+
+    The march sees the node positions only through the moments (28), which are linear in them,
+    M = M_0 + A X; so dX_out/dX = (dX_out/dM) A, with dX_out/dM carried through (29)-(40) alongside the
+    march for all N moments at once (forward-mode differentiation of the same loop)."""
+    N = beam.elements
+    _, dxy = _march(beam, loads, nodes, True)
+    Fx, Fy, _ = _outboard(loads, nodes)
+    A = np.empty((N, 2 * N))
+    A[:, 0::2] = np.triu(np.broadcast_to(loads.fy[1:], (N, N))) - np.diag(Fy)   # dM_i/dx_j, j >= i
+    A[:, 1::2] = -np.triu(np.broadcast_to(loads.fx[1:], (N, N))) + np.diag(Fx)  # dM_i/dy_j
+    return dxy @ A
+
+
+def _outboard(loads: NodalLoads, nodes: np.ndarray):
+    """(Fx, Fy, M) per element i = 0..N-1: the loads outboard of its end node i+1 and their moment about
+    that node (eqs 26-28), lever arms on ``nodes``."""
     Fx = np.cumsum(loads.fx[:0:-1])[::-1]
     Fy = np.cumsum(loads.fy[:0:-1])[::-1]
     m_out = np.cumsum(loads.m[:0:-1])[::-1]
     # eq (28) about node i: sum_j fy_j x_j - fx_j y_j over j >= i, minus (Fx, Fy) x position of node i
     mom_j = loads.fy[1:] * nodes[1:, 0] - loads.fx[1:] * nodes[1:, 1]
     M = m_out + np.cumsum(mom_j[::-1])[::-1] - (Fy * nodes[1:, 0] - Fx * nodes[1:, 1])
+    return Fx, Fy, M
+
+
+def _march(beam: ChainBeam, loads: NodalLoads, nodes: np.ndarray, tangent: bool):
+    """The march, and with ``tangent`` its derivative with respect to the N moments M_i (rows x1, y1, ...)."""
+    N, L = beam.elements, beam.element_length
+    EI, theta = beam.stiffness(), beam.theta()
+    Fx, Fy, M = _outboard(loads, nodes)
     # plain floats in the sequential march (numpy scalar indexing costs more than the arithmetic)
     Fx, Fy, M, EI, theta = Fx.tolist(), Fy.tolist(), M.tolist(), EI.tolist(), theta.tolist()
     x, y, rot = [0.0] * (N + 1), [0.0] * (N + 1), [0.0] * (N + 1)
+    if tangent:
+        dxy, dx, dy, drot = np.empty((2 * N, N)), np.zeros(N), np.zeros(N), np.zeros(N)
     for i in range(N):
         psi = theta[i] + rot[i]                                           # (29)
         c, s = math.cos(psi), math.sin(psi)
@@ -154,9 +183,19 @@ def march(beam: ChainBeam, loads: NodalLoads, nodes: np.ndarray) -> ChainState:
         x[i + 1] = x[i] + L * c - d_tr * s                                # (34), (37), (39)
         y[i + 1] = y[i] + L * s + d_tr * c                                # (35), (38), (40)
         rot[i + 1] = rot[i] + d_th                                        # (36)
-    out = np.column_stack([x, y])
-    rot = np.array(rot)
-    return ChainState(out, rot)
+        if tangent:   # the same lines differentiated: d/dM_k of every quantity, k = 0..N-1
+            dc, ds = -s * drot, c * drot
+            d_alpha = -4.0 * L * L / (EI[i] * math.pi**2) * (Fx[i] * dc + Fy[i] * ds)
+            dP_eq = ((-Fx[i] * ds + Fy[i] * dc) + P_eq * d_alpha) / (1.0 - alpha)
+            dd_tr, dd_th = dP_eq * (L**3 / 3.0 / EI[i]), dP_eq * (L * L / 2.0 / EI[i])
+            dd_tr[i] += L * L / 2.0 / EI[i]
+            dd_th[i] += L / EI[i]
+            dx = dx + L * dc - dd_tr * s - d_tr * ds
+            dy = dy + L * ds + dd_tr * c + d_tr * dc
+            drot = drot + dd_th
+            dxy[2 * i], dxy[2 * i + 1] = dx, dy
+    state = ChainState(np.column_stack([x, y]), np.array(rot))
+    return state, (dxy if tangent else None)
 
 
 def _forward_step(beam, loads, guess: np.ndarray, tol: float):
@@ -164,10 +203,14 @@ def _forward_step(beam, loads, guess: np.ndarray, tol: float):
         nodes = np.vstack([[0.0, 0.0], x.reshape(-1, 2)])
         return (march(beam, loads, nodes).nodes[1:] - nodes[1:]).ravel()
 
-    sol = root(residual, guess[1:].ravel(), method="hybr", tol=tol)
+    def jacobian(x):
+        nodes = np.vstack([[0.0, 0.0], x.reshape(-1, 2)])
+        return march_jacobian(beam, loads, nodes) - np.eye(x.size)
+
+    sol = root(residual, guess[1:].ravel(), jac=jacobian, method="hybr", tol=tol)
     nodes = np.vstack([[0.0, 0.0], sol.x.reshape(-1, 2)])
     ok = bool(sol.success) and float(np.max(np.abs(residual(sol.x)))) < 1e-8 * beam.length
-    return nodes, ok, int(sol.nfev), sol.message
+    return nodes, ok, int(sol.nfev) + int(sol.njev), sol.message
 
 
 def _beyond_reach(beam: ChainBeam, a: float, b: float) -> str | None:

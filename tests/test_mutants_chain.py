@@ -73,11 +73,11 @@ def test_a_load_applied_in_one_step_that_the_solver_cannot_reach_is_reported():
 
 
 def test_function_evaluations_add_up_over_the_load_steps():
-    # each step's hybrid solve evaluates the residual at least once per unknown (its finite-difference
-    # Jacobian: 2N node coordinates) plus once at its start
+    # each step's hybrid solve evaluates the residual at least once (at its start) and its Jacobian at
+    # least once (march_jacobian): 2 evaluations per step at the least, counted over all 10 steps
     beam = ChainBeam(2.0, 5.0, 8)
     r = chain_tip(beam, NodalLoads.at_tip(beam, 0.0, 1e-4, -3e-4), steps=10)
-    assert r.nit >= 10 * (2 * 8 + 1)
+    assert r.nit >= 10 * 2
 
 
 @pytest.mark.parametrize("inverse", [False, True])
@@ -93,7 +93,7 @@ def test_the_result_record_of_both_chain_solves(inverse):
         model = "Chain Algorithm, seed 000 eqs (26)-(40)"
     assert r.converged and r.message == "converged" and list(r.level_converged) == [True]
     assert r.model == model and r.constants == {"elements": 8}
-    assert 0.0 < r.wall_time < 60.0 and r.nit >= 2 * (2 * 8 + 1)
+    assert 0.0 < r.wall_time < 60.0 and r.nit >= 2 * 2   # >= 2 evaluations per step (see above)
     nodes = r.extras["nodes"]
     assert nodes.shape == (9, 2) and list(nodes[0]) == [0.0, 0.0]
     assert nodes[-1] == pytest.approx([float(r["a"]), float(r["b"])], abs=1e-15)
