@@ -376,7 +376,7 @@ def solve_displacements(beam: InflectionBeam, *, b: float, theta0: float, a: flo
     t0 = time.perf_counter()
     if sum(v is not None for v in (a, n, l1)) != 1:
         raise ValueError("give exactly one of a (case 1), n (case 2a/2b) or l1 (case 2c)")
-    l, EI = beam.length, beam.EI
+    l = beam.length
     scale = 1.0 / l
 
     if a is not None:

@@ -39,7 +39,7 @@ import time
 import numpy as np
 from scipy.optimize import root
 
-from prbm.fits import PAULY_MIDHA, FitRangeError, load_ratio
+from prbm.fits import PAULY_MIDHA, load_ratio
 from prbm.result import PRBMResult
 
 

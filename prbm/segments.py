@@ -59,7 +59,7 @@ from typing import Callable, NamedTuple
 
 import numpy as np
 
-from prbm.fits import (PURE_MOMENT_C_THETA, PURE_MOMENT_GAMMA, PURE_MOMENT_SPRING, FitRangeError,
+from prbm.fits import (PURE_MOMENT_C_THETA, PURE_MOMENT_GAMMA, PURE_MOMENT_SPRING,
                        fit_family)
 from prbm.result import PRBMResult
 from argcheck import checked
@@ -827,7 +827,6 @@ def curved_pinned_pinned(F_axial, *, length: float, EI: float, curvature: float,
     phi = Theta_i + np.angle(np.exp(1j * (phi - Theta_i)))
     Theta, ok, nit = spring_angle(np.abs(F_axial) * rho * h, phi, k, Theta_i)
     a = h - gamma * h + rho * h * np.cos(Theta)
-    b = rho * h * np.sin(Theta)
     chord = 2.0 * a  # the half's end point projected on the chord (the mid-span tangent)
     out = _scalar_or_array({"chord": chord, "Theta": Theta, "F": F_axial})
     return PRBMResult(bool(np.all(ok)), "converged" if np.all(ok) else "not converged", out,

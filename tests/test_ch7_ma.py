@@ -4,7 +4,6 @@
 Expected values: eq (192) with MA_R of eq (199) evaluated by the existing slider-crank model on a
 geometry where both apply (seed 000 Example 1); the energy-free pose, where the compliance torque is
 zero by eq (181); and the SLFP PRBM as the l -> 0 limit of the flexures (seed 000 eq 186)."""
-import math
 
 import numpy as np
 import pytest

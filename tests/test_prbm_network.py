@@ -52,7 +52,6 @@ def test_fixed_free_beam_by_rule_dead_follower_couple_and_prescribed(angle):
     assert np.allclose(record.pivots[0], _rot(((1 - GAMMA) * L, 0.0), angle))
     P = np.array([0.5, 1.5, 3.0])
     n = _rot((0.0, 1.0), angle)  # transverse to the beam
-    tip0 = _rot((L, 0.0), angle)
 
     def tip(theta):
         return _rot(((1 - GAMMA) * L + GAMMA * L * math.cos(theta), GAMMA * L * math.sin(theta)), angle)
@@ -333,7 +332,6 @@ def test_a_beam_pinned_to_the_ground_and_clamped_to_a_link_is_fixed_pinned_from_
     model = pb.build(prbm_network.geometry(case.mechanism))
     (record,) = model.beams
     O2, F = np.array([0.0, 0.0]), np.array([-2.4609, 2.9328])
-    L = float(np.linalg.norm(F - O2))
     assert record.model == "fixed-pinned" and record.ends == ("pinned", "clamped")
     assert np.allclose(record.pivots[0], F + (1 - GAMMA) * (O2 - F))
     assert model.network.mobility() == 1

@@ -161,7 +161,6 @@ def test_a_free_end_with_a_dead_force_takes_the_n_fits(n, path):
     if path == "network":
         assert f"n = {n:.4g}" in run.message
     for level, F in enumerate((1.0, 2.5)):
-        P = F / math.hypot(n, 1.0)
         gamma, K = PRINTED_FITS[n]
         phi = math.atan2(1.0, -n)
         Theta = brentq(lambda t: F * L**2 / EI * math.sin(phi - t) - K * t, 0.0, phi)

@@ -14,10 +14,8 @@ import cmath
 import math
 from pathlib import Path
 
-import numpy as np
 import pytest
 
-import prbm
 from prbm import chain as chain_model
 from prbm.turning_loads import TowardPoint, fixed_pinned_turning_tip
 from validation.case.loader import load_case

@@ -1,5 +1,4 @@
 """Seed 004's PRBM constants: pure-moment gamma and spring, the 1.98 N m/rad remark, the cases run."""
-import math
 from pathlib import Path
 
 import numpy as np

@@ -4,7 +4,6 @@ their findings say, never hidden by a looser tolerance."""
 import math
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 import prbm

@@ -48,7 +48,7 @@ def rectangle_thickness(I: float, width: float) -> float:
 
 
 def slfp(k: float, *, R: float, E: float, width: float, fraction: float = 0.05, link: str = "",
-         springs: list[int] | None = None) -> Segment:
+         springs: list[int] | None = None) -> SegmentDesign:
     """SLFP on a PRB link of length R: L = R / (1 + f), l = f L; I = k l / E (eq. 186)."""
     L = R / (1.0 + fraction)
     l = fraction * L
@@ -57,7 +57,7 @@ def slfp(k: float, *, R: float, E: float, width: float, fraction: float = 0.05, 
 
 
 def fixed_pinned(k: float, *, R: float, E: float, width: float, gamma: float, K_theta: float,
-                 link: str = "", springs: list[int] | None = None) -> Segment:
+                 link: str = "", springs: list[int] | None = None) -> SegmentDesign:
     """Fixed-pinned segment: l = R / gamma, I = k l / (gamma K_Theta E) (eq. 187)."""
     l = R / gamma
     I = k * l / (gamma * K_theta * E)
@@ -66,7 +66,7 @@ def fixed_pinned(k: float, *, R: float, E: float, width: float, gamma: float, K_
 
 
 def fixed_guided(k: float, *, R: float, E: float, width: float, gamma: float, K_theta: float,
-                 link: str = "", springs: list[int] | None = None) -> Segment:
+                 link: str = "", springs: list[int] | None = None) -> SegmentDesign:
     """Fixed-guided segment (two springs k): l = R / gamma, I = k l / (2 gamma K_Theta E) (eq. 188)."""
     l = R / gamma
     I = k * l / (2.0 * gamma * K_theta * E)
