@@ -49,9 +49,17 @@ def _module_file(name: str, root: Path) -> Path | None:
 def _imports(path: Path, root: Path) -> set[Path]:
     """Repository source files a file imports (anywhere in it, also inside functions), with the
     ``__init__.py`` of every package on the way."""
+    stat = path.stat()
+    return _imports_of_version(path, root, stat.st_mtime_ns, stat.st_size)
+
+
+@lru_cache(maxsize=None)
+def _imports_of_version(path: Path, root: Path, mtime_ns: int, size: int) -> frozenset[Path]:
+    """``_imports`` of one version of the file (its modification time and size key the memo: the
+    report asks for the same files once per method)."""
     found = set()
     package = path.relative_to(root).with_suffix("").parts[:-1]
-    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+    for node in _import_statements(ast.parse(path.read_text(encoding="utf-8")).body):
         names = []
         if isinstance(node, ast.Import):
             names = [alias.name for alias in node.names]
@@ -65,7 +73,21 @@ def _imports(path: Path, root: Path) -> set[Path]:
                 file = _module_file(".".join(parts[:i]), root)
                 if file is not None:
                     found.add(file)
-    return found
+    return frozenset(found)
+
+
+def _import_statements(body: list[ast.stmt]):
+    """The import statements among ``body`` and every statement nested in it (function and class
+    bodies, branches, loops, with, try, match): an import is a statement, so expressions, which are
+    most of a syntax tree, need not be walked."""
+    for node in body:
+        if isinstance(node, (ast.Import, ast.ImportFrom)):
+            yield node
+            continue
+        for field in ("body", "orelse", "finalbody"):
+            yield from _import_statements(getattr(node, field, None) or [])
+        for part in getattr(node, "handlers", None) or getattr(node, "cases", None) or []:
+            yield from _import_statements(part.body)
 
 
 def sources_of(start: list[Path], root: Path | None = None) -> list[Path]:

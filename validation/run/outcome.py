@@ -12,7 +12,6 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
@@ -177,43 +176,64 @@ def run_cases(paths: list[Path], methods: list[str] | None = None, use_cache: bo
                       timeline=timeline)
 
 
+def _first_values(part: pd.DataFrame, method: str | None = None) -> dict[tuple, tuple[float, float, float]]:
+    """(method, quantity, point, level) -> (value, error_estimate, scale) of the first row with that key
+    (as ``drop_duplicates`` keeps it), in plain Python: a case has tens of rows, where pandas' per-call
+    cost is most of the time."""
+    first: dict[tuple, tuple[float, float, float]] = {}
+    columns = (part["method"], part["quantity"], part["point"], part["level"], part["value"],
+               part["error_estimate"] if "error_estimate" in part else [math.nan] * len(part),
+               part["scale"] if "scale" in part else [math.nan] * len(part))
+    for m, q, p, lv, value, estimate, scale in zip(*columns):
+        if method is None or m == method:
+            first.setdefault((m, q, p, lv), (float(value), float(estimate), float(scale)))
+    return first
+
+
+def _nanmax(values: list[float]) -> float:
+    finite = [v for v in values if not math.isnan(v)]
+    return max(finite) if finite else math.nan
+
+
 def prbm_fem_errors(part: pd.DataFrame) -> tuple[float, float]:
     """Largest PRBM-to-FEM error of one case: (relative, length error over the characteristic length).
 
     The relative error divides by max(|FEM|, 1 % of the largest |FEM| of the same quantity), so that a
     quantity passing through zero (a displacement at the unloaded level, x of a closed circle) does not
     report a meaningless huge ratio; the length-normalised error covers those."""
-    values = part.drop_duplicates(["method", "quantity", "point", "level"])
-    pivot = values.pivot_table(index=["quantity", "point", "level"], columns="method", values="value",
-                               aggfunc="first")
-    if not {"prbm", "fem"} <= set(pivot.columns):
+    first = _first_values(part)
+    pairs = [(q, value, first[("fem", q, p, lv)][0]) for (m, q, p, lv), (value, _, _) in first.items()
+             if m == "prbm" and ("fem", q, p, lv) in first]
+    pairs = [(q, prbm, fem) for q, prbm, fem in pairs if not (math.isnan(prbm) or math.isnan(fem))]
+    if not pairs:
         return math.nan, math.nan
-    both = pivot[["prbm", "fem"]].dropna()
-    if both.empty:
-        return math.nan, math.nan
-    diff = (both["prbm"] - both["fem"]).abs()
-    scale = both["fem"].abs().groupby(level="quantity").transform("max")
-    rel = diff / np.maximum(both["fem"].abs(), 0.01 * scale).where(scale > 0)
-    lengths = [q for q in both.index.get_level_values("quantity").unique() if QUANTITIES[q].dimension == "length"]
-    char = float(part["scale"].dropna().iloc[0]) if part["scale"].notna().any() else math.nan
-    norm = diff[diff.index.get_level_values("quantity").isin(lengths)] / char
-    return (float(rel.max()) if rel.notna().any() else math.nan,
-            float(norm.max()) if len(norm) and norm.notna().any() else math.nan)
+    scale: dict[str, float] = {}
+    for q, _, fem in pairs:
+        scale[q] = max(scale.get(q, 0.0), abs(fem))
+    rel = [abs(prbm - fem) / max(abs(fem), 0.01 * scale[q]) if scale[q] > 0 else math.nan for q, prbm, fem in pairs]
+    scales = part["scale"].dropna()
+    char = float(scales.iloc[0]) if len(scales) else math.nan
+    norm = [abs(prbm - fem) / char for q, prbm, fem in pairs if QUANTITIES[q].dimension == "length"]
+    return _nanmax(rel), _nanmax(norm)
 
 
 def fem_error_relative(part: pd.DataFrame) -> float:
     """The FEM's own largest error estimate in one case, made dimensionless: lengths over the
     characteristic length, other quantities over max(|value|, 1 % of the largest |value| of the same
     quantity)."""
-    fem = part[(part["method"] == "fem") & part["error_estimate"].notna()].drop_duplicates(
-        ["quantity", "point", "level"])
-    if fem.empty:
+    rows = [(q, value, estimate, scale) for (_, q, _, _), (value, estimate, scale)
+            in _first_values(part[part["error_estimate"].notna()], "fem").items()]
+    if not rows:
         return math.nan
-    biggest = fem["value"].abs().groupby(fem["quantity"]).transform("max")
-    lengths = fem["quantity"].map(lambda q: QUANTITIES[q].dimension == "length")
-    denom = np.where(lengths, fem["scale"], np.maximum(fem["value"].abs(), 0.01 * biggest))
-    ratio = fem["error_estimate"] / np.where(denom > 0, denom, np.nan)
-    return float(ratio.max()) if ratio.notna().any() else math.nan
+    biggest: dict[str, float] = {}
+    for q, value, _, _ in rows:
+        if not math.isnan(value):   # as pandas' max, which skips NaN
+            biggest[q] = max(biggest.get(q, -math.inf), abs(value))
+    ratios = []
+    for q, value, estimate, scale in rows:
+        denom = scale if QUANTITIES[q].dimension == "length" else max(abs(value), 0.01 * biggest.get(q, math.nan))
+        ratios.append(estimate / denom if denom > 0 else math.nan)
+    return _nanmax(ratios)
 
 
 FEM_VALIDATION = "FEM-validation benchmark"
