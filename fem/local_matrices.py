@@ -50,8 +50,10 @@ def member_local_stiffness(s_nodes: np.ndarray, EA_of_xi, EI_of_xi, intorder: in
     xi_l = (linear.global_coordinates()[0] - s_nodes[0]) / total
     kb_full = _bending.coo_data(hermite, EI=EI_of_xi(xi_h)).tolocal()   # (n_el, 4, 4)
     ka_full = _axial.coo_data(linear, EA=EA_of_xi(xi_l)).tolocal()      # (n_el, 2, 2)
-    kb = kb_full[:, [1, 3]][:, :, [1, 3]]
-    ka = ka_full[:, 0, 0]
+    # C-contiguous: the views picked out of scikit-fem's local matrices are strided, and the compiled
+    # FEM kernel is typed (and compiled) once per array layout it is given
+    kb = np.ascontiguousarray(kb_full[:, [1, 3]][:, :, [1, 3]])
+    ka = np.ascontiguousarray(ka_full[:, 0, 0])
     return ka, kb
 
 
