@@ -30,6 +30,27 @@ def _stable_by_degree(items, degree):
 
 
 @njit(cache=True)
+def _stable_order_by_degree(degree):
+    """The nodes sorted by degree, equal degrees by index (``np.argsort(degree, kind='stable')``) by a
+    counting sort: the degrees are small integers, and numba's compiled merge sort costs seconds of
+    compile time in every fresh checkout."""
+    n = degree.shape[0]
+    top = 0
+    for v in range(n):
+        top = max(top, degree[v])
+    first = np.zeros(top + 2, np.int64)     # first[d]: where the nodes of degree d begin
+    for v in range(n):
+        first[degree[v] + 1] += 1
+    for d in range(top + 1):
+        first[d + 1] += first[d]
+    order = np.empty(n, np.int64)
+    for v in range(n):
+        order[first[degree[v]]] = v
+        first[degree[v]] += 1
+    return order
+
+
+@njit(cache=True)
 def _rcm(n_nodes, a, b):
     """Reverse Cuthill-McKee order of the nodes 0 .. n_nodes-1 of the graph with edges (a[k], b[k])."""
     degree = np.zeros(n_nodes, np.int64)
@@ -48,7 +69,7 @@ def _rcm(n_nodes, a, b):
         fill[b[k]] += 1
     for v in range(n_nodes):
         _stable_by_degree(adj[start[v]:start[v + 1]], degree)
-    roots = np.argsort(degree, kind="mergesort")
+    roots = _stable_order_by_degree(degree)
     seen = np.zeros(n_nodes, np.bool_)
     order = np.empty(n_nodes, np.int64)
     tail = 0

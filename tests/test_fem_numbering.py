@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import fem
-from fem.numbering import rcm_order
+from fem.numbering import _stable_order_by_degree, rcm_order
 
 
 def _textbook_rcm(n, edges):
@@ -92,3 +92,11 @@ def test_field_series_is_nodal_fields_at_every_level():
         for name in ("displacement", "rotation", "curvature", "bending_moment", "axial_force", "bending_stress"):
             assert np.array_equal(getattr(series.nodal[k], name), getattr(one, name)), (k, name)
     assert np.max(np.abs(series.nodal[2].bending_moment)) > 0.0
+
+
+@pytest.mark.parametrize("n, top", [(0, 1), (1, 1), (7, 1), (200, 3), (3000, 9)])
+def test_roots_are_taken_in_stable_degree_order(n, top):
+    """The counting sort that orders the search's starting nodes is numpy's stable argsort (nodes of
+    equal degree by index), on random degree lists with many ties."""
+    degree = np.random.default_rng(n).integers(0, top + 1, n).astype(np.int64)
+    assert np.array_equal(_stable_order_by_degree(degree), np.argsort(degree, kind="stable"))
