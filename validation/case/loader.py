@@ -166,7 +166,7 @@ def find_case_files(patterns: list[str] | None = None, root: Path = CASES_DIR,
         matches += [Path(p) for p in below if not _in_data_folder(Path(p))]
         matches = [m for m in matches if m.suffix == ".toml" and m.is_file()]
         if not matches:
-            index = {k: v for r in roots for k, v in _id_index(r).items()}
+            index = _ids_in(roots, pattern)
             matches = [path for case_id, path in index.items() if fnmatch.fnmatchcase(case_id, pattern)]
             if not matches:
                 raise CaseError(pattern, "", "no case file matches this id, file or pattern"
@@ -193,14 +193,29 @@ def _toml_files(root: Path) -> list[Path]:
     return found
 
 
-def _id_index(root: Path) -> dict[str, Path]:
+def _ids_in(roots: list[Path], pattern: str) -> dict[str, Path]:
+    """The ids of the case files under ``roots`` that can match ``pattern``: for a plain id (no glob
+    characters) only the files whose text contains it are parsed; when none of those has it as its
+    id (an id written with escapes, a misspelling), every file is, for the error's nearest ids."""
+    if not any(c in pattern for c in "*?["):
+        index = {k: v for r in roots for k, v in _id_index(r, pattern).items()}
+        if pattern in index:
+            return index
+    return {k: v for r in roots for k, v in _id_index(r).items()}
+
+
+def _id_index(root: Path, containing: str | None = None) -> dict[str, Path]:
     """[case].id of every readable case file under root (files that do not parse are skipped here;
-    loading them reports their error)."""
+    loading them reports their error); with ``containing``, only of the files whose text contains it
+    (reading a file is cheap, parsing it is not)."""
     index = {}
     for path in _toml_files(root):
         try:
-            case_id = tomllib.loads(path.read_text(encoding="utf-8"))["case"]["id"]
-        except (OSError, tomllib.TOMLDecodeError, KeyError, TypeError):
+            text = path.read_text(encoding="utf-8")
+            if containing is not None and containing not in text:
+                continue
+            case_id = tomllib.loads(text)["case"]["id"]
+        except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, KeyError, TypeError):
             continue
         index.setdefault(str(case_id), path)
     return index
@@ -208,7 +223,7 @@ def _id_index(root: Path) -> dict[str, Path]:
 
 def case_by_id(case_id: str, root: Path = CASES_DIR) -> LoadedCase:
     """The case whose [case].id is ``case_id``; ``CaseError`` with the nearest ids otherwise."""
-    index = _id_index(root)
+    index = _ids_in([root], case_id)
     if case_id in index:
         return load_case(index[case_id])
     raise CaseError(case_id, "case.id", "no case file has this id" + nearest(case_id, index))
