@@ -58,9 +58,12 @@ def arc_point(s, kappa: float):
     return np.sin(kappa * s) / kappa, (1.0 - np.cos(kappa * s)) / kappa, kappa * s
 
 
+GAUSS_24 = np.polynomial.legendre.leggauss(24)   # once: numpy solves an eigenproblem for the rule on each call
+
+
 def flexibility(length: float, kappa: float, EI: float, EA: float = np.inf) -> np.ndarray:
     """The 3x3 tip flexibility C of the cantilever (clamped at s = 0), u = C f."""
-    nodes, weights = np.polynomial.legendre.leggauss(24)
+    nodes, weights = GAUSS_24
     s = 0.5 * length * (nodes + 1.0)
     w = 0.5 * length * weights
     x, y, psi = arc_point(s, kappa)
