@@ -38,8 +38,9 @@ def _resolve(module: str, level: int, name: str | None) -> str:
 
 def cross_module_calls(sources: dict[str, str]) -> list[str]:
     """Every place a cached compiled function uses a compiled function of another module.
-    ``sources``: module name (``pkg.mod``) -> source text."""
-    trees = {m: ast.parse(s) for m, s in sources.items()}
+    ``sources``: module name (``pkg.mod``) -> source text. Only the modules whose text says "jit" can
+    define or call a compiled function, so only they are parsed; every name still counts as a module."""
+    trees = {m: ast.parse(s) for m, s in sources.items() if "jit" in s}
     compiled = {m: {f.name for f in ast.walk(t) if isinstance(f, ast.FunctionDef)
                     and any(_decorator_is_compiled(d)[0] for d in f.decorator_list)} for m, t in trees.items()}
     problems = []
@@ -51,7 +52,7 @@ def cross_module_calls(sources: dict[str, str]) -> list[str]:
                 source = _resolve(module, node.level, node.module)
                 for alias in node.names:
                     local = alias.asname or alias.name
-                    if f"{source}.{alias.name}" in trees:
+                    if f"{source}.{alias.name}" in sources:
                         modules[local] = f"{source}.{alias.name}"
                     else:
                         names[local] = (source, alias.name)
