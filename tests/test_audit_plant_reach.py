@@ -30,6 +30,9 @@ import pytest
 from validation.case.loader import find_case_files, load_case
 from validation.stress import plants
 
+# the probe's tests share one xdist worker, so its interpreter starts once, not once per worker
+PLANTED = pytest.mark.xdist_group("planted_probe")
+
 PROBE = r"""
 import json
 from validation.stress import plants
@@ -62,27 +65,32 @@ def planted() -> dict:
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
+@PLANTED
 def test_the_rule_builder_defaults_are_planted(planted):
     # seed 004 sec. 3.1 / seed 000 ch. 2: gamma = 0.85, K_Theta = 2.65
     assert planted["gamma"] == pytest.approx(0.85 * 1.10, rel=1e-12)
     assert planted["K_theta"] == pytest.approx(2.65 * 1.10, rel=1e-12)
 
 
+@PLANTED
 def test_the_pure_moment_constants_are_planted(planted):
     # seed 004, pure end moment: gamma = 0.7346, k = 1.5164 EI/L
     assert planted["pm_gamma"] == pytest.approx(0.7346 * 1.10, rel=1e-12)
     assert planted["pm_spring"] == pytest.approx(1.5164 * 1.10, rel=1e-12)
 
 
+@PLANTED
 def test_the_chain_stiffness_is_planted(planted):
     assert planted["chain"] == pytest.approx([306.0 * 1.10] * 4, rel=1e-12)
 
 
+@PLANTED
 def test_the_bcm_linear_coefficients_are_planted_where_the_mechanisms_read_them(planted):
     assert sum(planted["K0"], []) == pytest.approx([13.2, -6.6, -6.6, 4.4], rel=1e-12)
     assert sum(planted["C0"], []) == pytest.approx([1 / 3.3, 1 / 2.2, 1 / 2.2, 1 / 1.1], rel=1e-12)
 
 
+@PLANTED
 def test_the_elastica_mechanism_beams_are_planted(planted):
     # Test 2's segment: E = 550 ksi, 1.5 x 0.121 in (seed 000 section 9.3.5)
     assert planted["beam_EI"] == pytest.approx(1.10 * planted["section_EI"], rel=1e-9)
@@ -96,6 +104,7 @@ def test_every_method_a_case_runs_has_output_and_sign_plants():
                    for p in plants.PLANTS.values()), f"{method}: no library-constant plant"
 
 
+@PLANTED
 def test_the_fits_are_planted_on_every_evaluation_path(planted):
     # printed constant terms of seed 000 eqs (41)-(43) at n = 0 and seed 004's Howell fits at n = -3
     assert planted["inflection"] == pytest.approx([0.851892 * 1.10, 1.238845, 2.648834 * 1.10], rel=1e-12)
