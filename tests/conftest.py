@@ -64,7 +64,6 @@ LONGEST_FIRST = (
     "test_synthesis.py::test_printed_numbers[bapat2015_ch5_ex3]",
     "test_prbm_chapter2_models.py::test_chain_inverse_converges_where_the_inverse_is_ill_conditioned",
     "tests/test_layout.py::",
-    "test_compiled_cache.py::",
     "test_exit_status.py::test_report_follows_the_rule",
     "test_exit_status_verbs.py::test_bench_",
     "test_startup_and_schedule.py::",
