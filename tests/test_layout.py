@@ -3,6 +3,7 @@
 dependency, at most three functions over 80 lines, and the README's architecture section names
 every package of the tree."""
 import ast
+import functools
 import graphlib
 from pathlib import Path
 
@@ -27,6 +28,16 @@ def modules() -> dict[str, Path]:
     return found
 
 
+@functools.lru_cache(maxsize=None)
+def tree(path: Path) -> ast.Module:
+    """A source file's syntax tree, parsed once for the three checks below (they share one xdist group,
+    so one worker parses the tree once)."""
+    return ast.parse(path.read_text(encoding="utf-8"))
+
+
+SOURCE_TREES = pytest.mark.xdist_group("layout-source-trees")
+
+
 def imported_names(node: ast.AST, package: str) -> list[str]:
     if isinstance(node, ast.Import):
         return [alias.name for alias in node.names]
@@ -44,7 +55,7 @@ def import_graph() -> dict[str, set[str]]:
     for name, path in mods.items():
         package = name if path.name == "__init__.py" else name.rpartition(".")[0]
         targets = set()
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in ast.walk(tree(path)):
             for imported in imported_names(node, package):
                 if imported in mods and mods[imported].name != "__init__.py" and imported != name:
                     targets.add(imported)
@@ -52,6 +63,7 @@ def import_graph() -> dict[str, set[str]]:
     return graph
 
 
+@SOURCE_TREES
 def test_no_import_cycle_between_modules():
     try:
         graphlib.TopologicalSorter(import_graph()).prepare()
@@ -59,14 +71,15 @@ def test_no_import_cycle_between_modules():
         pytest.fail(f"import cycle: {' -> '.join(error.args[1])}")
 
 
-def functions(tree: ast.AST):
-    return [n for n in ast.walk(tree) if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef))]
+def functions(module: ast.AST):
+    return [n for n in ast.walk(module) if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef))]
 
 
+@SOURCE_TREES
 def test_imports_inside_functions_are_of_optional_dependencies_only():
     offenders = []
     for name, path in modules().items():
-        for function in functions(ast.parse(path.read_text(encoding="utf-8"))):
+        for function in functions(tree(path)):
             for node in ast.walk(function):
                 if isinstance(node, (ast.Import, ast.ImportFrom)) and not (
                         isinstance(node, ast.ImportFrom) and node.module == "__future__"):
@@ -76,10 +89,11 @@ def test_imports_inside_functions_are_of_optional_dependencies_only():
     assert not offenders, "imports inside functions:\n" + "\n".join(sorted(set(offenders)))
 
 
+@SOURCE_TREES
 def test_at_most_three_functions_over_80_lines():
     long = []
     for name, path in modules().items():
-        for function in functions(ast.parse(path.read_text(encoding="utf-8"))):
+        for function in functions(tree(path)):
             length = function.end_lineno - function.lineno + 1
             if length > LONG_FUNCTION:
                 long.append(f"{path.relative_to(ROOT)}: {function.name} ({length} lines)")
