@@ -20,12 +20,14 @@ def test_bench_quick_writes_csv_json_and_plots(tmp_path):
     assert frame["elements"].max() <= 8
     plain = frame[frame["method"] == "fem"].sort_values("elements")
     assert plain["error"].is_monotonic_decreasing     # O(h^2): each doubling cuts the error
+    figures = sorted(p.name for p in tmp_path.glob("*.png"))
+    assert figures == ["cantilever_tip_load_error_vs_time.png", "time_vs_elements.png"], figures
 
 
 def test_unavailable_peer_is_reported_as_unavailable_not_as_did_not_reach(tmp_path, monkeypatch):
     monkeypatch.setattr(bench, "_peer_status", lambda: "peer unavailable: OpenSeesPy cannot be imported (test)")
     one = [bench.BenchCase("cantilever_tip_load", [0], single_level=True)]
-    bench.run_bench(tmp_path, quick=True, cases=one, max_elements=4)
+    bench.run_bench(tmp_path, quick=True, cases=one, max_elements=4, plots=False)
     headline = json.loads((tmp_path / "headline.json").read_text())
     for entry in headline["fem_over_opensees_time_at_error"].values():
         assert entry["note"].startswith("peer unavailable") and entry["ratio"] is None

@@ -20,13 +20,13 @@ def tiny_bench_cases():
 
 
 def test_bench_exits_0_when_every_method_converges(tmp_path, tiny_bench_cases, fake):  # noqa: F811
-    assert run_bench(tmp_path, quick=True, cases=tiny_bench_cases, max_elements=4) == 0
+    assert run_bench(tmp_path, quick=True, cases=tiny_bench_cases, max_elements=4, plots=False) == 0
 
 
 def test_bench_exits_1_when_a_method_of_the_case_does_not_converge(tmp_path, tiny_bench_cases,
                                                                      fake, capsys):  # noqa: F811
     fake["behaviour"] = "not converged"
-    assert run_bench(tmp_path, quick=True, cases=tiny_bench_cases, max_elements=4) == 1
+    assert run_bench(tmp_path, quick=True, cases=tiny_bench_cases, max_elements=4, plots=False) == 1
     assert "did not converge: cantilever_tip_load/prbm: no convergence at level 1" in capsys.readouterr().out
 
 
