@@ -93,7 +93,9 @@ def test_the_result_record_of_both_chain_solves(inverse):
         model = "Chain Algorithm, seed 000 eqs (26)-(40)"
     assert r.converged and r.message == "converged" and list(r.level_converged) == [True]
     assert r.model == model and r.constants == {"elements": 8}
-    assert 0.0 < r.wall_time < 60.0 and r.nit >= 2 * 2   # >= 2 evaluations per step (see above)
+    # the forward solve: >= 2 evaluations per step (residual and exact Jacobian, see above); the inverse
+    # still differentiates by finite differences: 2N + 2 unknowns and the start, per step
+    assert 0.0 < r.wall_time < 60.0 and r.nit >= (2 * (2 * 8 + 2 + 1) if inverse else 2 * 2)
     nodes = r.extras["nodes"]
     assert nodes.shape == (9, 2) and list(nodes[0]) == [0.0, 0.0]
     assert nodes[-1] == pytest.approx([float(r["a"]), float(r["b"])], abs=1e-15)
@@ -160,3 +162,77 @@ def test_a_forward_chain_that_stretches_past_the_beams_length_is_not_converged()
     assert not r.converged and "beyond an inextensible beam's reach" in r.message
     ok = chain_tip(fine, NodalLoads.at_tip(fine, 0.0, 20.0, 0.0))
     assert ok.converged and math.hypot(ok["a"], ok["b"]) < 1.0
+
+
+def test_the_outboard_sums_of_eqs_26_to_28_take_the_loads_beyond_each_element():
+    """Element i (nodes i to i+1) carries every load at nodes j >= i+1: (Fx, Fy) their sums and M their
+    moment about node i+1, sum m_j + fy_j (x_j - x_i+1) - fx_j (y_j - y_i+1) (eqs 26-28), written here as
+    the double loop of the equations, on loads at every node (interior axial forces and moments too)."""
+    from prbm.chain import _outboard
+
+    rng = np.random.default_rng(3)
+    n = 6
+    loads = NodalLoads(rng.normal(size=n + 1), rng.normal(size=n + 1), rng.normal(size=n + 1))
+    nodes = rng.normal(size=(n + 1, 2))
+    Fx, Fy, M = _outboard(loads, nodes)
+    for i in range(n):
+        out = range(i + 1, n + 1)
+        assert Fx[i] == pytest.approx(sum(loads.fx[j] for j in out), rel=1e-12)
+        assert Fy[i] == pytest.approx(sum(loads.fy[j] for j in out), rel=1e-12)
+        x, y = nodes[i + 1]
+        assert M[i] == pytest.approx(sum(loads.m[j] + loads.fy[j] * (nodes[j, 0] - x) - loads.fx[j] * (nodes[j, 1] - y)
+                                         for j in out), rel=1e-12)
+
+
+def test_scaled_loads_scale_every_component():
+    loads = NodalLoads(np.array([1.0, -2.0]), np.array([3.0, 4.0]), np.array([-5.0, 6.0])).scaled(0.25)
+    assert list(loads.fx) == [0.25, -0.5] and list(loads.fy) == [0.75, 1.0] and list(loads.m) == [-1.25, 1.5]
+
+
+def test_the_unloaded_chain_starts_at_the_clamp():
+    beam = ChainBeam(3.0, 1.0, 3, orientations=(0.0, math.pi / 2, math.pi))
+    assert np.allclose(beam.undeformed(), [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], rtol=0, atol=1e-15)
+
+
+def test_the_reach_message_gives_the_distance_in_beam_lengths():
+    # two elements of a 2-unit beam under P l^2/EI = 40: the stretched chain's tip lies (a^2 + b^2)^0.5 / l
+    # lengths from the root, the number the message prints
+    beam = ChainBeam(2.0, 1.0, 2)
+    r = chain_tip(beam, NodalLoads.at_tip(beam, 0.0, 10.0, 0.0))
+    assert not r.converged
+    reach = math.hypot(float(r["a"]), float(r["b"])) / 2.0
+    assert reach > 1.0 and f"{reach:.4g} lengths from the root" in r.message
+
+
+def test_the_forward_solve_returns_a_fixed_point_of_the_march():
+    """The answer is the deflected chain that reproduces itself (X = G(X), eqs 26-40) to rounding, not to
+    a loose solver tolerance: one more march from the returned nodes moves no node by 1e-13 l."""
+    from prbm.chain import march
+
+    beam = ChainBeam(2.0, 5.0, 8)
+    loads = NodalLoads.at_tip(beam, -1.0, 4.0, 0.5).plus(lumped_uniform_load(beam, 0.3, 1.0))
+    r = chain_tip(beam, loads)
+    assert r.converged
+    nodes = r.extras["nodes"]
+    assert np.abs(march(beam, loads, nodes).nodes - nodes).max() < 1e-13 * beam.length
+
+
+def test_a_displacement_step_the_solver_cannot_take_says_which_step_in_one_line():
+    beam = ChainBeam(1.0, 1.0, 4)
+    # the tip turned back on itself (theta0 = 3 rad) under a load ratio n = 5, in one step: MINPACK's hybrid
+    # method stops without progress
+    r = chain_from_tip(beam, b=0.3, theta0=3.0, n=5.0, steps=1)
+    assert not r.converged
+    assert r.message.startswith("displacement step 1/1: The iteration is not making good progress")
+    assert "\n" not in r.message and "  " not in r.message
+
+
+def test_the_inverse_solve_reports_the_end_conditions_it_met_and_its_axial_load():
+    """chain_from_tip's outputs: the tip at height b with rotation theta0 as prescribed (its end
+    conditions, met to the solver's tolerance), and nP = n P, the axial component of the tip force
+    (-nP, P) it found (Table 3.1's load ratio)."""
+    beam = ChainBeam(2.0, 5.0, 8)
+    r = chain_from_tip(beam, b=0.4, theta0=0.3, n=2.0)
+    assert r.converged
+    assert float(r["b"]) == pytest.approx(0.4, abs=1e-9) and float(r["theta0"]) == pytest.approx(0.3, abs=1e-9)
+    assert float(r["nP"]) == pytest.approx(2.0 * float(r["P"]), rel=1e-15) and float(r["P"]) != 0.0
