@@ -247,7 +247,8 @@ def _evaluate(q, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, 
     for e in range(n_el):
         for j in range(6):
             p[e, j] = u[edofs[e, j]]
-    element_kernel(X1, X2, p, L0, beta0, beta_prev, ka, kb, True, fe, Ke, N, M, L, beta, theta_bar,
+    tangent = n_el >= 0   # True, typed as a run-time bool like the Python callers' (one compiled variant)
+    element_kernel(X1, X2, p, L0, beta0, beta_prev, ka, kb, tangent, fe, Ke, N, M, L, beta, theta_bar,
                    u_bar, jumped)
     f_int[:] = 0.0
     for e in range(n_el):
