@@ -163,6 +163,7 @@ class _System:
         self.m = mech
         self.forces, self.couples, self.rotations, self.displacements = forces, couples, rotations, displacements
         self.rtol = rtol
+        self._last_end: dict[str, tuple[bytes, np.ndarray]] = {}   # beam -> (its inputs, its end state)
         nb, nbeam, npin = len(mech.bodies), len(mech.beams), len(mech.pins)
         self.i_body = 3 * nbeam
         self.i_pin = self.i_body + 3 * nb
@@ -225,10 +226,16 @@ class _System:
         """End state (x, y, theta, m, U) of a beam from its start under the unknowns u (the compiled
         DOP853 of ``elastica.integrator``)."""
         y0, Fx, Fy = self.start_state(beam, u)
+        key = y0.tobytes() + np.array([Fx, Fy]).tobytes()
+        last = self._last_end.get(beam.name)
+        if last is not None and last[0] == key:   # a finite-difference column that moved another beam's
+            return last[1]                         # unknowns: this beam's inputs, so its end, are the same
         end, ok = integrate_beam(y0, self.tangent0[beam.name][2], Fx, Fy, beam.curvature, beam.EI,
                                  beam.EA or 0.0, self.rtol, self.atol(beam))
         if not ok:
             raise RuntimeError(f"beam '{beam.name}': integration failed (step below the rounding of s)")
+        end.flags.writeable = False
+        self._last_end[beam.name] = (key, end)
         return end
 
     def shape(self, beam, u, n: int):
