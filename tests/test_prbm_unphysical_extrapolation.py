@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from prbm.fits import FitRangeError, fit_family
+from prbm.fits import Branch, FitFamily, FitRangeError, PiecewiseFit, _unphysical, fit_family
 from prbm.segments import fixed_pinned_tip, spring_angle
 
 
@@ -50,3 +50,35 @@ def test_the_spring_solve_has_no_root_without_a_spring(levels):
     assert not np.any(ok) and np.all(np.isnan(theta))
     theta, ok, _ = spring_angle(1.0, 1.0, 0.0)
     assert not ok and math.isnan(theta)
+
+
+def _family(gamma_value: float, k_value: float) -> FitFamily:
+    """A one-branch family on -1 < n <= 1 whose gamma and K_theta are the given constants everywhere
+    (extrapolated as the same constants)."""
+    def constant(name, value):
+        return PiecewiseFit(name, "test", (Branch(-1.0, 1.0, (value,)),))
+    return FitFamily("constant", constant("gamma", gamma_value), constant("K_theta", k_value), None)
+
+
+def test_by_default_a_ratio_outside_the_fits_is_a_range_error_even_where_the_values_are_physical():
+    with pytest.raises(FitRangeError, match="outside"):
+        fit_family("pauly-midha").model_parameters(12.0)   # eq (41)-(43) published for -4 < n <= 10
+    g, _, k = fit_family("pauly-midha").model_parameters(12.0, "allow")
+    assert g > 0 and k > 0                                  # ... though their extrapolation is physical there
+
+
+@pytest.mark.parametrize("gamma_value, k_value", [(0.0, 2.0), (0.8, 0.0)])
+def test_a_zero_radius_or_a_zero_spring_is_no_prb_model(gamma_value, k_value):
+    # the model needs gamma > 0 and K_theta > 0 strictly: a spring of zero stiffness or a zero radius is none
+    with pytest.raises(FitRangeError, match="constant fits extrapolated to n = 2 .*: no PRB model"):
+        _family(gamma_value, k_value).model_parameters(2.0, "allow")
+    assert _family(0.8, 2.0).model_parameters(2.0, "allow")[0] == 0.8
+
+
+def test_the_message_names_the_family_and_the_first_unphysical_ratio_with_its_values():
+    # the first ratio is physical (gamma 0.85 and K_theta 0.5 are below 1 but positive); the second has K < 0
+    message = _unphysical("pauly-midha", np.array([2.0, -60.0]), np.array([0.85, 0.9]), np.array([0.5, -1.5]))
+    assert message == ("pauly-midha fits extrapolated to n = -60 give gamma = 0.9 and K_theta = -1.5: "
+                       "no PRB model there (it needs gamma > 0 and K_theta > 0)")
+    assert "n = 3 give gamma = 0 and" in _unphysical("x", 3.0, 0.0, 1.0)   # a zero radius counts
+    assert "K_theta = 0:" in _unphysical("x", 3.0, 0.5, 0.0)               # so does a zero spring
