@@ -186,7 +186,8 @@ def _first_values(part: pd.DataFrame, method: str | None = None) -> dict[tuple, 
                part["scale"] if "scale" in part else [math.nan] * len(part))
     for m, q, p, lv, value, estimate, scale in zip(*columns):
         if method is None or m == method:
-            first.setdefault((m, q, p, lv), (float(value), float(estimate), float(scale)))
+            key = (m, q, p if isinstance(p, str) else "", lv)   # no point: "" in memory, NaN read back from CSV
+            first.setdefault(key, (float(value), float(estimate), float(scale)))
     return first
 
 
@@ -264,6 +265,25 @@ def no_prbm_fem_reason(result: CaseResult) -> str:
     return "the PRBM and the FEM share no output"
 
 
+def _run_columns(part: pd.DataFrame) -> tuple[dict[str, float], dict]:
+    """Each method's wall time and converged flag in one case, methods in sorted order: the first value
+    that is not missing over the case's distinct (method, quantity, point, level) rows (what
+    ``drop_duplicates`` then ``groupby(method).first()`` give), NaN where every row misses it."""
+    seen, times, status = set(), {}, {}
+    for m, q, p, lv, t, ok in zip(part["method"], part["quantity"], part["point"], part["level"],
+                                  part["wall_time"], part["converged"]):
+        key = (m, q, p if isinstance(p, str) else "", lv)
+        if key in seen:
+            continue
+        seen.add(key)
+        if m not in times or (math.isnan(times[m]) and not pd.isna(t)):
+            times[m] = math.nan if pd.isna(t) else float(t)
+        if m not in status or (pd.isna(status[m]) and not pd.isna(ok)):
+            status[m] = math.nan if pd.isna(ok) else ok
+    order = sorted(times)
+    return {m: times[m] for m in order}, {m: status[m] for m in order}
+
+
 def summary(table: pd.DataFrame, results: list[CaseResult] | None = None) -> pd.DataFrame:
     """One row per case: methods run, largest PRBM-to-FEM error, comparisons passed, wall times, and
     (given the case ``results``) ``no_prbm_fem_reason``: the one-line reason a case without a
@@ -271,20 +291,18 @@ def summary(table: pd.DataFrame, results: list[CaseResult] | None = None) -> pd.
     by_id = {r.loaded.id: r for r in results or []}
     rows = []
     for (group, case_id), part in table.groupby(["group", "case"], sort=True):
-        values = part.drop_duplicates(["method", "quantity", "point", "level"])
         prbm_fem, prbm_fem_norm = prbm_fem_errors(part)
         absent = math.isnan(prbm_fem) and math.isnan(prbm_fem_norm)
         reason = no_prbm_fem_reason(by_id[case_id]) if absent and case_id in by_id else math.nan  # NaN: none
-        claimed = part[part["within_tolerance"].notna()]
-        times = values.groupby("method")["wall_time"].first()
-        status = values.groupby("method")["converged"].first()
+        times, status = _run_columns(part)
+        verdicts = [v for v in part["within_tolerance"] if not pd.isna(v)]
         rows.append(dict(group=group, case=case_id,
-                         methods=" ".join(f"{m}{'' if status[m] else '(!)'}" for m in times.index),
+                         methods=" ".join(f"{m}{'' if status[m] else '(!)'}" for m in times),
                          max_prbm_fem_rel=prbm_fem, max_prbm_fem_per_length=prbm_fem_norm,
                          no_prbm_fem_reason=reason,
                          fem_error_est_rel=fem_error_relative(part),
-                         checks=len(claimed),
-                         failed=int((claimed["within_tolerance"] == False).sum()),  # noqa: E712
+                         checks=len(verdicts),
+                         failed=sum(1 for v in verdicts if v == False),  # noqa: E712
                          findings=int(part["finding"].notna().sum()),
-                         **{f"t_{m}_s": float(t) for m, t in times.items()}))
+                         **{f"t_{m}_s": t for m, t in times.items()}))
     return pd.DataFrame(rows)
