@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from bcm import C0, C1, C2, axial_stiffness_parameter, exact_compliance, slant_parallelogram, strain_energy
-from bcm.mechanisms import BCMBeam, RigidBodyOnBeams
+from bcm.mechanisms import BCMBeam, RigidBodyOnBeams, eq32_printed
 
 
 @pytest.mark.parametrize("fx", [5e-7, -5e-7, 0.0])
@@ -114,3 +114,33 @@ def test_a_ramped_solve_returns_the_body_coordinates(monkeypatch):
     assert q.shape == (3,) and moment == 0.0
     assert q[0] == pytest.approx(2.0 / 24.0, rel=5e-3)
     assert np.max(np.abs(guide.internal_force(q) - guide.external_force(q, forces, 0.0))) <= 1e-10 * 2.0
+
+
+@pytest.mark.parametrize("ux, uy, ka", [(0.01, 0.3, 1000.0), (-0.02, 1.5, 250.0)])
+def test_eq32_is_kept_exactly_as_seed_003_prints_it(ux, uy, ka):
+    """Seed 003 eq (32), the printed (misprinted) load-displacement relation, transcribed here from the
+    seed's text: f_x1 = k_a (700 u_x1 + 420 u_y1^2) / (700 + u_y1^2), f_y1 = k_a (840 u_x1 + 504 u_y1^2) /
+    (700 + u_y1^2) - 7 k_a u_y1 (10 u_x1 + 6 u_y1^2)^2 / (700 + u_y1^2)^2 + 12 u_y1. At u_y1 = 1.5 the
+    second-order term is 0.2 % of f_y1, far above the tolerance, so every coefficient shows."""
+    d = 700.0 + uy**2
+    fx = ka * (700.0 * ux + 420.0 * uy**2) / d
+    fy = ka * (840.0 * ux + 504.0 * uy**2) / d - 7.0 * ka * uy * (10.0 * ux + 6.0 * uy**2) ** 2 / d**2 + 12.0 * uy
+    assert eq32_printed(ux, uy, ka) == pytest.approx((fx, fy), rel=1e-14)
+
+
+@pytest.mark.parametrize("F_h", [0.0, 1.0, 2.0])
+def test_the_slant_parallelograms_end_moment_is_eq3_with_table1(F_h):
+    """Castigliano's forms give m_z1 from eq (3)'s second row with theta_z1 = 0 (seed 003):
+    m_z1 = (k0 + f_x1 k1 + f_x1^2 k2)_21 u_y1 with Table 1's (k0, k1, k2)_21 = (-6, -1/10, 1/1400). The axial
+    load f_x1 ~ 0.1 makes the f_x1^2 term a few parts per million of m_z1, far above the tolerance."""
+    r = slant_parallelogram(F_h, method="castigliano")
+    assert r.converged
+    assert r.mz1 == pytest.approx((-6.0 - r.fx1 / 10.0 + r.fx1**2 / 1400.0) * r.uy1, rel=1e-13)
+    assert abs(r.fx1) > 0.01
+
+
+@pytest.mark.parametrize("method", ["CE2", "CE3"])
+def test_a_closed_form_slant_result_says_so(method):
+    r = slant_parallelogram(1.0, method=method)
+    assert r.converged and r.message == f"closed form ({method})" and r.iterations == 0
+    assert 0.0 < r.wall_time < 10.0
