@@ -215,6 +215,79 @@ def _back_solve(work, banded, ipiv, ints, info, x):
 
 
 @njit(cache=True)
+def band_lu(ab, n, kl, ku, ld, ipiv):
+    """LU with partial pivoting of the column-major LAPACK band ``ab`` in place (A[i, j] at
+    j ld + kl + ku + i - j, ld >= 2 kl + ku + 1): LAPACK's ``dgbtf2`` step for step (what ``dgbtrf``
+    runs when the lower bandwidth is below its block size, always so for a beam mesh), compiled here
+    because scipy's ``dgbtrf`` spends most of a small band's time in its BLAS calls (``idamax``,
+    ``dswap``, ``dscal``, ``dger`` per column). ``ipiv`` 1-based as LAPACK's. Returns LAPACK's info:
+    0, or the 1-based column of the first exactly zero pivot."""
+    kv = ku + kl
+    info = 0
+    for j in range(ku + 1, min(kv, n)):            # zero the fill-in of the first columns
+        for i in range(kv - j, kl):
+            ab[j * ld + i] = 0.0
+    ju = 0                                          # last column touched by the row swaps (0-based)
+    for j in range(n):
+        if j + kv < n:                              # fill-in of column j + kv
+            for i in range(kl):
+                ab[(j + kv) * ld + i] = 0.0
+        km = min(kl, n - 1 - j)                     # subdiagonal entries of column j
+        d = j * ld + kv                             # the diagonal entry
+        jp, big = 0, abs(ab[d])
+        for t in range(1, km + 1):                  # idamax: the first largest magnitude
+            v = abs(ab[d + t])
+            if v > big:
+                jp, big = t, v
+        ipiv[j] = jp + j + 1
+        if ab[d + jp] != 0.0:
+            ju = max(ju, min(j + ku + jp, n - 1))
+            if jp != 0:                             # swap rows j and j + jp over columns j..ju
+                for c in range(ju - j + 1):
+                    a, b = d + jp + c * (ld - 1), d + c * (ld - 1)
+                    ab[a], ab[b] = ab[b], ab[a]
+            if km > 0:
+                r = 1.0 / ab[d]
+                for t in range(1, km + 1):
+                    ab[d + t] *= r
+                for c in range(1, ju - j + 1):      # rank-1 update of the band right of column j
+                    y = ab[d + c * (ld - 1)]
+                    if y != 0.0:
+                        temp = -y
+                        base = d + c * (ld - 1)
+                        for t in range(1, km + 1):
+                            ab[base + t] += ab[d + t] * temp
+        elif info == 0:
+            info = j + 1
+    return info
+
+
+@njit(cache=True)
+def band_solve(ab, n, kl, ku, ld, ipiv, x):
+    """x <- A^-1 x with the factors of `band_lu`: LAPACK's ``dgbtrs`` (no transpose, one right-hand
+    side) step for step: the row swaps and L by columns, then U by ``dtbsv`` (upper, by columns)."""
+    kv = ku + kl
+    if kl > 0:
+        for j in range(n - 1):
+            lm = min(kl, n - 1 - j)
+            p = ipiv[j] - 1
+            if p != j:
+                x[p], x[j] = x[j], x[p]
+            if x[j] != 0.0:
+                temp = -x[j]
+                d = j * ld + kv
+                for t in range(1, lm + 1):
+                    x[j + t] += ab[d + t] * temp
+    for j in range(n - 1, -1, -1):
+        if x[j] != 0.0:
+            d = j * ld + kv
+            x[j] = x[j] / ab[d]
+            temp = x[j]
+            for i in range(j - 1, max(0, j - kv) - 1, -1):
+                x[i] -= temp * ab[d - (j - i)]
+
+
+@njit(cache=True)
 def _det_sign(work, banded, n, kl, ku, ld, ipiv):
     """Sign of det K from the LU factors: signs of U's diagonal times the pivot parity; 0 when a
     pivot is zero or not finite."""
@@ -329,7 +402,10 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
             if not math.isfinite(K[j]):
                 return NON_FINITE_TANGENT, it, sign, scale, 0.0
             work[j] = K[j]
-        _factor(work, banded, n, kl, ku, ld, ipiv, ints, info)
+        if banded:
+            info[0] = band_lu(work, n, kl, ku, ld, ipiv)
+        else:
+            _factor(work, banded, n, kl, ku, ld, ipiv, ints, info)
         if info[0] > 0:
             return SINGULAR, it, sign, scale, 0.0
         sign = _det_sign(work, banded, n, kl, ku, ld, ipiv)
@@ -337,7 +413,10 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
             return SINGULAR, it, 2, scale, 0.0
         for k in range(n):
             dq[k] = -r[k]
-        _back_solve(work, banded, ipiv, ints, info, dq)
+        if banded:
+            band_solve(work, n, kl, ku, ld, ipiv, dq)
+        else:
+            _back_solve(work, banded, ipiv, ints, info, dq)
         if damp > 0.0 and has_rot:
             big = 0.0
             for k in range(n):

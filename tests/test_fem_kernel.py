@@ -4,7 +4,9 @@ import numpy as np
 import pytest
 
 from fem.corotational import element_state, element_state_numpy
-from fem.kernel import scatter
+from scipy.linalg.lapack import dgbtrf, dgbtrs
+
+from fem.kernel import band_lu, band_solve, scatter
 
 
 def _random_elements(rng, n):
@@ -87,3 +89,39 @@ def test_cholesky_inertia_agrees_with_the_lowest_eigenvalue(kind, held):
             assert (lam_min < 0) == (load > np.pi**2 / 4)
         for tol in (-0.999 * lam_min, -1.001 * lam_min, 1e-12):
             assert eigenvalue_below(system, K, held, tol) == (lam_min < -tol), (load, tol, lam_min)
+
+
+def _random_band(rng, n, kl, ku, singular_column=None):
+    """A random n x n matrix of bandwidths kl, ku in LAPACK's band storage (2 kl + ku + 1 rows)."""
+    ab = np.zeros((2 * kl + ku + 1, n))
+    for j in range(n):
+        for i in range(max(0, j - ku), min(n, j + kl + 1)):
+            ab[kl + ku + i - j, j] = rng.normal()
+    if singular_column is not None:     # an all-zero column: an exactly zero pivot there
+        ab[:, singular_column] = 0.0
+    return ab
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_band_lu_is_lapack_dgbtrf_and_dgbtrs_bit_for_bit(seed):
+    """The compiled band LU and solve of the Newton corrector against scipy's own LAPACK (dgbtrf,
+    dgbtrs): the same factors, pivots, info and solution to the last bit, on random bands (every
+    pivot case: rows swapped or not, fill-in beyond ku, a zero pivot)."""
+    rng = np.random.default_rng(seed)
+    for trial in range(60):
+        n, kl, ku = int(rng.integers(1, 30)), int(rng.integers(0, 6)), int(rng.integers(0, 6))
+        zero = int(rng.integers(0, n)) if trial % 10 == 9 else None
+        ab = _random_band(rng, n, kl, ku, zero)
+        lu, piv, info = dgbtrf(ab.copy(), kl, ku)
+        flat = ab.T.copy().ravel()                       # column-major, as the corrector stores it
+        ipiv = np.empty(n, np.int32)
+        assert band_lu(flat, n, kl, ku, 2 * kl + ku + 1, ipiv) == info
+        np.testing.assert_array_equal(flat.reshape(n, -1).T, lu)
+        np.testing.assert_array_equal(ipiv, piv + 1)
+        if zero is not None:
+            assert info > 0
+            continue
+        b = rng.normal(size=n)
+        x = b.copy()
+        band_solve(flat, n, kl, ku, 2 * kl + ku + 1, ipiv, x)
+        np.testing.assert_array_equal(x, dgbtrs(lu, kl, ku, b, piv)[0])
