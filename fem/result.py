@@ -37,10 +37,6 @@ class FemResult:
     load_factor: np.ndarray            # (n_levels,)
     positions: np.ndarray              # (n_levels, n_nodes, 2)
     rotations: np.ndarray              # (n_levels, n_nodes)
-    reactions: np.ndarray              # (n_levels, n_nodes, 3)
-    member_end_forces: np.ndarray      # (n_levels, n_members, 2, 3): [N, V, M] at start/end
-    strain_energy: np.ndarray          # (n_levels,)
-    max_bending_stress: np.ndarray     # (n_levels,), nan when unknown
     critical_points: list
     wall_time: float
     node_names: list
@@ -54,6 +50,30 @@ class FemResult:
     # CPU seconds of the load stepping alone (Newton iterations and step control), without the model's
     # set-up (mesh, DOF numbering, sparsity) and without building this result
     analysis_time: float = 0.0
+    # what the derived fields below are computed from, when first read (most runs read a few positions)
+    derived: "_Derived | None" = field(default=None, repr=False, compare=False)
+
+    # -- derived fields, computed when first read ---------------------------
+    @cached_property
+    def reactions(self) -> np.ndarray:
+        """(n_levels, n_nodes, 3): (Rx, Ry, Mz) exerted by the supports and prescriptions."""
+        return self.derived.reactions()
+
+    @cached_property
+    def member_end_forces(self) -> np.ndarray:
+        """(n_levels, n_members, 2, 3): [N, V, M] at the start and the end of every member."""
+        return self.derived.member_end_forces()
+
+    @cached_property
+    def strain_energy(self) -> np.ndarray:
+        """(n_levels,): the elastic energy of the elements and the joint springs."""
+        return self.derived.strain_energy()
+
+    @cached_property
+    def max_bending_stress(self) -> np.ndarray:
+        """(n_levels,): the largest |E (N/EA +- M c/EI)| over the elements, NaN when the sections do
+        not know E and c."""
+        return self.derived.max_bending_stress()
 
     # -- scipy-like conveniences -------------------------------------------
     @property
@@ -274,8 +294,55 @@ def _transfer_slave_forces(d, R, u):
     return R
 
 
+@dataclass
+class _Derived:
+    """The recorded states a result's derived fields (reactions, member end forces, energy, stress)
+    are computed from, when first read."""
+    disc: object
+    snapshots: list
+    N: np.ndarray      # (levels, elements) axial forces
+    M: np.ndarray      # (levels, elements, 2) end moments
+
+    def reactions(self) -> np.ndarray:
+        d, snaps = self.disc, self.snapshots
+        nm, nl = d.n_model_nodes, len(snaps)
+        mask = np.zeros(d.n_full + 1)
+        mask[:d.n_full] = d.constrained
+        R = np.array([_transfer_slave_forces(d, s["R_full"], s["u"]) for s in snaps]).reshape(nl, d.n_full + 1)
+        R *= mask
+        reac = np.empty((nl, nm, 3))
+        reac[:, :, :2] = R[:, :2 * nm].reshape(nl, nm, 2)
+        reac[:, :, 2] = R[:, d.rot_dof[:nm]]
+        return reac
+
+    def member_end_forces(self) -> np.ndarray:
+        d, snaps = self.disc, self.snapshots
+        L = np.array([s["L"] for s in snaps]).reshape(len(snaps), len(d.conn))
+        return _member_end_forces(d, self.N, self.M, L)
+
+    def strain_energy(self) -> np.ndarray:
+        d, snaps = self.disc, self.snapshots
+        energy = np.zeros(len(snaps))
+        for k, s in enumerate(snaps):
+            energy[k] = strain_energy(d.ka, d.kb, s["u_bar"], s["theta_bar"]).sum()
+            if len(d.springs):
+                dth = s["u"][d.springs[:, 0]] - s["u"][d.springs[:, 1]]
+                energy[k] += 0.5 * np.sum(d.spring_k * dth**2)
+        return energy
+
+    def max_bending_stress(self) -> np.ndarray:
+        d, nl = self.disc, len(self.snapshots)
+        stress = np.full(nl, np.nan)
+        if nl and d.el_section and all(sec.has_stress for sec in d.el_section):
+            Mabs = np.abs(self.M).max(axis=2)
+            stress = np.max([np.max(sec.max_stress(self.N[:, idx], Mabs[:, idx]), axis=1)
+                             for sec, idx in d.section_groups], axis=0)
+        return stress
+
+
 def build_result(model, sys, path, *, converged, message, critical_points, wall_time,
                  control, refine, analysis_time: float = 0.0) -> FemResult:
+    """The result of a path: positions and rotations now, the derived fields (`_Derived`) when read."""
     d = sys.disc
     nm = d.n_model_nodes
     snaps = path.snapshots
@@ -289,33 +356,13 @@ def build_result(model, sys, path, *, converged, message, critical_points, wall_
     rot_dofs_all = d.rot_dof.copy()
     rot_dofs_all[:nm] = node_rot_dof
     rot = U[:, rot_dofs_all]
-    mask = np.zeros(d.n_full + 1)
-    mask[:d.n_full] = d.constrained
-    R = np.array([_transfer_slave_forces(d, s["R_full"], s["u"]) for s in snaps]).reshape(nl, d.n_full + 1)
-    R *= mask
-    reac = np.empty((nl, nm, 3))
-    reac[:, :, :2] = R[:, :2 * nm].reshape(nl, nm, 2)
-    reac[:, :, 2] = R[:, d.rot_dof[:nm]]
-    mef = _member_end_forces(d, N_all, M_all, np.array([s["L"] for s in snaps]).reshape(nl, len(d.conn)))
-    energy = np.zeros(nl)
-    for k, s in enumerate(snaps):
-        energy[k] = strain_energy(d.ka, d.kb, s["u_bar"], s["theta_bar"]).sum()
-        if len(d.springs):
-            dth = s["u"][d.springs[:, 0]] - s["u"][d.springs[:, 1]]
-            energy[k] += 0.5 * np.sum(d.spring_k * dth**2)
-    stress = np.full(nl, np.nan)
-    if nl and d.el_section and all(sec.has_stress for sec in d.el_section):
-        Mabs = np.abs(M_all).max(axis=2)
-        stress = np.max([np.max(sec.max_stress(N_all[:, idx], Mabs[:, idx]), axis=1)
-                         for sec, idx in d.section_groups], axis=0)
     lam = np.array([s["lam"] if control != "load" else s["level"] for s in snaps], dtype=float)
     return FemResult(
         converged=converged, message=message, control=control,
         steps=len(path.iterations), iterations=int(sum(path.iterations)), cutbacks=path.cutbacks,
         rejected_iterations=path.rejected_iterations,
         residual_history=path.residuals, load_factor=lam,
-        positions=pos[:, :nm], rotations=rot[:, :nm], reactions=reac, member_end_forces=mef,
-        strain_energy=energy, max_bending_stress=stress, critical_points=critical_points,
+        positions=pos[:, :nm], rotations=rot[:, :nm], critical_points=critical_points,
         wall_time=wall_time, node_names=list(model.node_names), mesh_positions=pos,
         mesh_rotations=rot, connectivity=d.conn.copy(), det_sign=np.array(path.det_signs),
         refine=refine, n_elements=len(d.conn),
@@ -325,7 +372,8 @@ def build_result(model, sys, path, *, converged, message, critical_points, wall_
                    step_load_factor=np.array(path.step_lams),
                    step_path_parameter=np.array(path.step_s),
                    step_control=np.array(path.step_ctrl),
-                   element_moments=M_all.copy()), analysis_time=analysis_time)
+                   element_moments=M_all.copy()), analysis_time=analysis_time,
+        derived=_Derived(d, list(snaps), N_all, M_all))
 
 
 def _member_end_forces(d, N, M, L) -> np.ndarray:

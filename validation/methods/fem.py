@@ -256,12 +256,23 @@ class _Fields:
     """The nodal arrays ``_extract`` reads: a FemResult's, or its error estimates or extrapolations."""
 
     def __init__(self, names, positions, rotations, reactions, strain_energy):
+        """``reactions`` and ``strain_energy``: arrays, or functions giving them when first read."""
         self.names, self.positions, self.rotations = list(names), positions, rotations
-        self.reactions, self.strain_energy = reactions, strain_energy
+        self._reactions, self._strain_energy = reactions, strain_energy
 
     @classmethod
     def of(cls, result):
-        return cls(result.node_names, result.positions, result.rotations, result.reactions, result.strain_energy)
+        """A FemResult's fields: its reactions and energy computed only if a request reads them."""
+        return cls(result.node_names, result.positions, result.rotations, lambda: result.reactions,
+                   lambda: result.strain_energy)
+
+    @property
+    def reactions(self) -> np.ndarray:
+        return self._reactions() if callable(self._reactions) else self._reactions
+
+    @property
+    def strain_energy(self) -> np.ndarray:
+        return self._strain_energy() if callable(self._strain_energy) else self._strain_energy
 
     def position(self, node, level):
         return self.positions[level, self.names.index(node)]
