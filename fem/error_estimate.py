@@ -82,22 +82,54 @@ def richardson(coarse, fine, order: float = 2.0):
     return np.asarray(fine) + diff / f, np.abs(diff) / f
 
 
-def _estimate(results, levels):
-    err, ext, ext_err = {}, {}, ({} if levels == 3 else None)
-    for name in OUTPUTS:
-        vals = [getattr(r, name) for r in results[-levels:]]
-        ext[name], err[name] = richardson(vals[-2], vals[-1])
-        if levels == 3:
+class _Estimates:
+    """The Richardson (or Romberg) step of every output field, taken when a field is first read: the
+    estimated errors, the extrapolated values and (levels=3) their errors, as three mappings
+    ``error``, ``extrapolated``, ``extrapolated_error`` (a run that reads positions never computes the
+    meshes' reactions and energies)."""
+
+    def __init__(self, results, levels):
+        self.results, self.levels = results[-levels:], levels
+        self.error, self.extrapolated = _Lazy(self), _Lazy(self)
+        self.extrapolated_error = _Lazy(self) if levels == 3 else None
+
+    def fill(self, name: str) -> None:
+        if name not in OUTPUTS:
+            raise KeyError(name)
+        vals = [getattr(r, name) for r in self.results]
+        ext, err = richardson(vals[-2], vals[-1])
+        dict.__setitem__(self.error, name, err)
+        if self.levels == 3:
             r2a, _ = richardson(vals[0], vals[1])
-            r3, _ = richardson(r2a, ext[name], order=4.0)
-            ext_err[name] = np.abs(r3 - ext[name])
-            ext[name] = r3
+            r3, _ = richardson(r2a, ext, order=4.0)
+            dict.__setitem__(self.extrapolated_error, name, np.abs(r3 - ext))
+            ext = r3
+        dict.__setitem__(self.extrapolated, name, ext)
+
+
+class _Lazy(dict):
+    """One mapping of `_Estimates`: field name -> array, the field's step taken when first read."""
+
+    def __init__(self, owner: _Estimates):
+        super().__init__()
+        self._owner = owner
+
+    def __missing__(self, name):
+        self._owner.fill(name)
+        return dict.__getitem__(self, name)
+
+
+def _estimate(results, levels):
+    """(error, extrapolated, extrapolated error or None, observed order); the positions' step taken
+    now (the tolerance reads it), every other field's when read."""
+    est = _Estimates(results, levels)
+    est.fill("positions")
     order = None
     if len(results) >= 3:
         p = [r.positions for r in results[-3:]]
         d1, d2 = np.max(np.abs(p[1] - p[0])), np.max(np.abs(p[2] - p[1]))
         order = float(np.log2(d1 / d2)) if d2 > 0 and d1 > 0 else None
-    return err, ext, ext_err, order
+    return est.error, est.extrapolated, est.extrapolated_error, order
 
 
 def solve_with_error_estimate(model, *args, tol: float | None = None, refine: int = 1,

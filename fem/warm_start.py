@@ -35,31 +35,30 @@ def guess_states(coarse, disc_fine):
         raise ValueError("initial_guess must come from the same model with half the elements")
     chains_c, chains_f = _member_chains(dc), _member_chains(disc_fine)
     nc, nf = len(dc.X), len(disc_fine.X)
-    states = []
-    for u_c in coarse.extra["u_full"]:
-        u = np.zeros(disc_fine.n_full + 1)
-        xc = dc.X + np.column_stack([u_c[0:2 * nc:2], u_c[1:2 * nc:2]])
-        th_c = u_c[dc.rot_dof]
-        xf = np.zeros((nf, 2))
-        th_f = np.zeros(nf)
-        for (cc, cf, els) in zip(chains_c, chains_f, dc.member_elements):
-            xf[cf[0::2]] = xc[cc]
-            th_f[cf[0::2]] = th_c[cc]
-            # midpoints: Hermite curve of each coarse element (end rotations of the element)
-            t1 = u_c[dc.edofs[els, 2]]
-            t2 = u_c[dc.edofs[els, 5]]
-            p1, p2 = dc.beta0[els] + t1, dc.beta0[els] + t2
-            mid = (xc[cc[:-1]] + xc[cc[1:]]) / 2 + (dc.L0[els] / 8)[:, None] * np.column_stack(
-                [np.cos(p1) - np.cos(p2), np.sin(p1) - np.sin(p2)])
-            xf[cf[1::2]] = mid
-            th_f[cf[1::2]] = (t1 + t2) / 2
-        d = xf - disc_fine.X
-        u[0:2 * nf:2], u[1:2 * nf:2] = d[:, 0], d[:, 1]
-        u[disc_fine.rot_dof] = th_f
-        n_extra = disc_fine.n_full - 3 * nf
-        u[3 * nf:3 * nf + n_extra] = u_c[3 * nc:3 * nc + n_extra]   # released member-end rotations
-        states.append(u)
-    return states
+    U_c = np.asarray(coarse.extra["u_full"], dtype=float)     # (levels, coarse DOFs): every level at once
+    nl = len(U_c)
+    U = np.zeros((nl, disc_fine.n_full + 1))
+    xc = dc.X + np.stack([U_c[:, 0:2 * nc:2], U_c[:, 1:2 * nc:2]], axis=-1)
+    th_c = U_c[:, dc.rot_dof]
+    xf = np.zeros((nl, nf, 2))
+    th_f = np.zeros((nl, nf))
+    for (cc, cf, els) in zip(chains_c, chains_f, dc.member_elements):
+        xf[:, cf[0::2]] = xc[:, cc]
+        th_f[:, cf[0::2]] = th_c[:, cc]
+        # midpoints: Hermite curve of each coarse element (end rotations of the element)
+        t1 = U_c[:, dc.edofs[els, 2]]
+        t2 = U_c[:, dc.edofs[els, 5]]
+        p1, p2 = dc.beta0[els] + t1, dc.beta0[els] + t2
+        mid = (xc[:, cc[:-1]] + xc[:, cc[1:]]) / 2 + (dc.L0[els] / 8)[None, :, None] * np.stack(
+            [np.cos(p1) - np.cos(p2), np.sin(p1) - np.sin(p2)], axis=-1)
+        xf[:, cf[1::2]] = mid
+        th_f[:, cf[1::2]] = (t1 + t2) / 2
+    d = xf - disc_fine.X
+    U[:, 0:2 * nf:2], U[:, 1:2 * nf:2] = d[..., 0], d[..., 1]
+    U[:, disc_fine.rot_dof] = th_f
+    n_extra = disc_fine.n_full - 3 * nf
+    U[:, 3 * nf:3 * nf + n_extra] = U_c[:, 3 * nc:3 * nc + n_extra]   # released member-end rotations
+    return list(U)
 
 
 def reduced_from_full(disc, u):

@@ -284,6 +284,19 @@ class _Fields:
         return self.reactions[level, self.names.index(node)]
 
 
+class _ResultFieldMap(dict):
+    """A FemResult's fields by name (positions, rotations, reactions, strain_energy), each read from the
+    result when first asked for (as the error estimate's mappings are)."""
+
+    def __init__(self, result):
+        super().__init__()
+        self._result = result
+
+    def __missing__(self, name):
+        value = self[name] = getattr(self._result, name)
+        return value
+
+
 def _extract(case, fields: _Fields, requests: list[Request], origin: dict | None) -> dict[Request, float]:
     """Values of the requested outputs (angles in degrees). With ``origin=None`` the fields are error
     estimates: displacements then carry the position error and applied loads have none."""
@@ -376,12 +389,10 @@ def _solve_levels(fem, case, model, requests, options: dict):
         return (_extract(case, _Fields.of(result), done, origin), {}, result, False, est.message, iterations,
                 analysis)
     richardson = bool(options.get("richardson"))
-    source = est.extrapolated if richardson else {"positions": result.positions, "rotations": result.rotations,
-                                                  "reactions": result.reactions,
-                                                  "strain_energy": result.strain_energy}
+    source = est.extrapolated if richardson else _ResultFieldMap(result)
     errors = est.extrapolated_error if (richardson and est.extrapolated_error) else est.error
-    fields = [_Fields(result.node_names, f["positions"], f["rotations"], f["reactions"], f["strain_energy"])
-              for f in (source, errors)]
+    fields = [_Fields(result.node_names, f["positions"], f["rotations"], lambda f=f: f["reactions"],
+                      lambda f=f: f["strain_energy"]) for f in (source, errors)]
     values = _extract(case, fields[0], requests, origin)
     errs = {r: abs(v) for r, v in _extract(case, fields[1], requests, None).items()}
     return values, errs, result, est.converged, est.message, iterations, analysis
