@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -422,6 +423,54 @@ def _shapes(result) -> list:
     return [[pts[chain] for chain in chains] for pts in result.mesh_positions[:result.n_levels]]
 
 
+class _DeferredShapes(Sequence):
+    """`_shapes` of a result, built when first read (a report draws them; a benchmark or a plain run
+    never reads them, and the OpenSees peer builds none). Pickles (the cache, a worker's answer) as the
+    plain list."""
+
+    def __init__(self, result):
+        self._result, self._shapes = result, None
+
+    def _built(self) -> list:
+        if self._shapes is None:
+            self._shapes, self._result = _shapes(self._result), None
+        return self._shapes
+
+    def __getitem__(self, index):
+        return self._built()[index]
+
+    def __len__(self) -> int:
+        return len(self._built())
+
+    def __reduce__(self):
+        return list, (self._built(),)
+
+
+def _as_is(value):
+    return value
+
+
+class _DeferredFields:
+    """A result's `fem.result.FieldSeries`, built when an attribute is first read; pickles as the
+    FieldSeries itself."""
+
+    def __init__(self, result):
+        self._result, self._series = result, None
+
+    def _built(self):
+        if self._series is None:
+            self._series, self._result = self._result.field_series(), None
+        return self._series
+
+    def __getattr__(self, name):
+        if name.startswith("__") or name in ("_result", "_series"):
+            raise AttributeError(name)
+        return getattr(self._built(), name)
+
+    def __reduce__(self):
+        return _as_is, (self._built(),)
+
+
 def _arc_point(kappa: float, s: float) -> tuple[float, float]:
     """Unloaded position at arc length s of a segment along +x from the origin (an arc if kappa != 0)."""
     if kappa == 0.0:
@@ -661,8 +710,8 @@ def _run_forward(fem, case, requests: list[Request], options: dict) -> MethodRun
     extras = {"iterations": iterations, "elements": elements,
               "rejected_iterations": getattr(result, "rejected_iterations", 0), "analysis_cpu_s": analysis}
     if result is not None and result.n_levels:
-        extras["shapes"] = _shapes(result)
-        extras["fields"] = result.field_series()  # point data for the ParaView series
+        extras["shapes"] = _DeferredShapes(result)     # built when the report reads them
+        extras["fields"] = _DeferredFields(result)     # point data for the ParaView series, likewise
         path = _continuation_path(case, result)
         if path:
             extras["path"] = path
