@@ -26,17 +26,19 @@ Angles are in radians (degrees appear only in case files and reports).
 from __future__ import annotations
 
 import math
+import struct
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from .integrator import beam_samples, integrate_beam
+from .integrator import beam_end, beam_samples
 
 __all__ = ["ElasticBeam", "RigidBody", "BodyPin", "PointForce", "BodyCouple", "NodeCouple", "BodyRotation", "NodeDisplacement",
            "Mechanism", "MechanismSolution", "solve_mechanism", "GROUND"]
 
 GROUND = "ground"
+_KEY = struct.Struct("6d")    # a beam's inputs (start state, force) as bytes: the key of its last end state
 
 
 @dataclass(frozen=True)
@@ -188,6 +190,14 @@ class _System:
         self.pose_at = {b.name: self.i_body + 3 * i for i, b in enumerate(mech.bodies)}
         self.p0 = {name: np.asarray(xy, float) for name, xy in mech.nodes.items()}
         self.arm = {(b.name, nd): self.p0[nd] - mech.origin[b.name] for b in mech.bodies for nd in mech.nodes}
+        # the same numbers as plain floats, for the residual's scalar arithmetic (`_xy`, `_start`)
+        self._place = {(GROUND, nd): (-1, float(xy[0]), float(xy[1]), 0.0, 0.0) for nd, xy in self.p0.items()}
+        self._place.update({(b, nd): (self.pose_at[b], float(mech.origin[b][0]), float(mech.origin[b][1]),
+                                      float(r[0]), float(r[1])) for (b, nd), r in self.arm.items()})
+        self._origin = {b.name: (self.pose_at[b.name], float(mech.origin[b.name][0]), float(mech.origin[b.name][1]))
+                        for b in mech.bodies}
+        self._span = {beam.name: np.array([0.0, float(self.tangent0[beam.name][2])]) for beam in mech.beams}
+        self._atol = {beam.name: self.rtol * 1e-3 * max(self.tangent0[beam.name][2], 1.0) for beam in mech.beams}
 
     # poses
     def pose(self, u, body):
@@ -206,6 +216,25 @@ class _System:
         o = self.m.origin[body]
         return np.array([o[0] + u[i] + (c * r[0] - s * r[1]), o[1] + u[i + 1] + (s * r[0] + c * r[1])])
 
+    def _xy(self, ul, body, node):
+        """`node_position` in plain floats from the unknowns as a list (the same operations)."""
+        i, o0, o1, r0, r1 = self._place[(body, node)]
+        if i < 0:
+            return o0, o1
+        c, s = math.cos(ul[i + 2]), math.sin(ul[i + 2])
+        return o0 + ul[i] + (c * r0 - s * r1), o1 + ul[i + 1] + (s * r0 + c * r1)
+
+    def _start(self, beam, ul):
+        """`start_state` in plain floats: (x, y, theta, m) at the beam's start and its (Fx, Fy)."""
+        k = 3 * self.beam_index[beam.name]
+        Fx, Fy, a = ul[k], ul[k + 1], ul[k + 2]
+        angle0 = self.tangent0[beam.name][0]
+        x, y = self._xy(ul, beam.start_body, beam.start)
+        phi = 0.0 if beam.start_body == GROUND else ul[self.pose_at[beam.start_body] + 2]
+        if beam.start_kind == "clamped":
+            return x, y, angle0 + phi, a, Fx, Fy
+        return x, y, angle0 + a, 0.0, Fx, Fy
+
     def start_state(self, beam, u):
         """State (x, y, theta, m, U) at a beam's start under the unknowns u, and the beam's (Fx, Fy)."""
         k = 3 * self.beam_index[beam.name]
@@ -222,16 +251,17 @@ class _System:
     def atol(self, beam) -> float:
         return self.rtol * 1e-3 * max(self.tangent0[beam.name][2], 1.0)
 
-    def integrate(self, beam, u):
+    def integrate(self, beam, u, ul=None):
         """End state (x, y, theta, m, U) of a beam from its start under the unknowns u (the compiled
-        DOP853 of ``elastica.integrator``)."""
-        y0, Fx, Fy = self.start_state(beam, u)
-        key = y0.tobytes() + np.array([Fx, Fy]).tobytes()
+        DOP853 of ``elastica.integrator``); ``ul``: u as a list of floats, when the caller has it."""
+        x, y, theta0, m0, Fx, Fy = self._start(beam, u.tolist() if ul is None else ul)
+        key = _KEY.pack(x, y, theta0, m0, Fx, Fy)
         last = self._last_end.get(beam.name)
         if last is not None and last[0] == key:   # a finite-difference column that moved another beam's
             return last[1]                         # unknowns: this beam's inputs, so its end, are the same
-        end, ok = integrate_beam(y0, self.tangent0[beam.name][2], Fx, Fy, beam.curvature, beam.EI,
-                                 beam.EA or 0.0, self.rtol, self.atol(beam))
+        end, ok = beam_end(np.array([x, y, theta0, m0, 0.0]), self._span[beam.name],
+                           np.array([Fx, Fy, beam.curvature, 0.0, 0.0, beam.EI, beam.EA or 0.0,
+                                     self._span[beam.name][1]]), self.rtol, self._atol[beam.name])
         if not ok:
             raise RuntimeError(f"beam '{beam.name}': integration failed (step below the rounding of s)")
         end.flags.writeable = False
@@ -249,78 +279,81 @@ class _System:
         return states[:, :2]
 
     def residual(self, u, level_loads):
+        """The equations at the unknowns u under one level's loads (module docstring), in plain floats."""
         forces, couples, rot_values, disp_values = level_loads
         m = self.m
-        r = np.zeros(self.size)
+        ul = u.tolist()
+        r = [0.0] * self.size
         wrench = {b.name: [0.0, 0.0, 0.0] for b in m.bodies}   # (Fx, Fy, M about the body's current origin)
+        origin = self._origin
 
-        def add(body, F, M, at):
+        def add(body, F0, F1, M, at0, at1):
             if body == GROUND or body is None:
                 return
-            i, o, w = self.pose_at[body], m.origin[body], wrench[body]
-            lever_x, lever_y = at[0] - (o[0] + u[i]), at[1] - (o[1] + u[i + 1])
-            w[0] += F[0]
-            w[1] += F[1]
-            w[2] += M + lever_x * F[1] - lever_y * F[0]
+            i, o0, o1 = origin[body]
+            w = wrench[body]
+            lever_x, lever_y = at0 - (o0 + ul[i]), at1 - (o1 + ul[i + 1])
+            w[0] += F0
+            w[1] += F1
+            w[2] += M + lever_x * F1 - lever_y * F0
 
         applied = {}
         for node, F in forces.items():
-            applied[node] = applied.get(node, np.zeros(3)) + (F[0], F[1], 0.0)
+            a = applied.get(node, [0.0, 0.0, 0.0])
+            applied[node] = [a[0] + float(F[0]), a[1] + float(F[1]), a[2] + 0.0]
         for i, beam in enumerate(m.beams):
-            end = self.integrate(beam, u)
-            F = u[3 * i:3 * i + 2]
-            start_state_m = u[3 * i + 2] if beam.start_kind == "clamped" else 0.0
-            p_start = self.node_position(u, beam.start_body, beam.start)
-            add(beam.start_body, F, start_state_m, p_start)
-            pL = end[:2]
+            end = self.integrate(beam, u, ul).tolist()
+            F0, F1 = ul[3 * i], ul[3 * i + 1]
+            start_m = ul[3 * i + 2] if beam.start_kind == "clamped" else 0.0
+            add(beam.start_body, F0, F1, start_m, *self._xy(ul, beam.start_body, beam.start))
             if beam.end_kind == "clamped":
-                target = self.node_position(u, beam.end_body, beam.end)
-                _, phi = self.pose(u, beam.end_body)
-                r[3 * i:3 * i + 2] = pL - target
+                tx, ty = self._xy(ul, beam.end_body, beam.end)
+                phi = 0.0 if beam.end_body == GROUND else ul[self.pose_at[beam.end_body] + 2]
+                r[3 * i], r[3 * i + 1] = end[0] - tx, end[1] - ty
                 r[3 * i + 2] = end[2] - (self.tangent0[beam.name][1] + phi)
-                add(beam.end_body, -F, -end[3], pL)
+                add(beam.end_body, -F0, -F1, -end[3], end[0], end[1])
             elif beam.end_kind == "pinned":
-                r[3 * i:3 * i + 2] = pL - self.node_position(u, beam.end_body, beam.end)
+                tx, ty = self._xy(ul, beam.end_body, beam.end)
+                r[3 * i], r[3 * i + 1] = end[0] - tx, end[1] - ty
                 r[3 * i + 2] = end[3] - couples.get(("node", beam.end), 0.0)  # a couple on the beam's side
-                add(beam.end_body, -F, 0.0, pL)
+                add(beam.end_body, -F0, -F1, 0.0, end[0], end[1])
             else:
-                load = applied.pop(beam.end, np.zeros(3))
+                load = applied.pop(beam.end, (0.0, 0.0, 0.0))
                 M_end = couples.get(("node", beam.end), 0.0)
-                r[3 * i:3 * i + 2] = F - load[:2]
+                r[3 * i], r[3 * i + 1] = F0 - load[0], F1 - load[1]
                 r[3 * i + 2] = end[3] - M_end
         for node, load in applied.items():
             body = m.body_of.get(node)
             if body is None:
                 raise ValueError(f"a force at node '{node}', which is on no rigid body and at no free beam end")
-            add(body, load[:2], 0.0, self.node_position(u, body, node))
+            add(body, load[0], load[1], 0.0, *self._xy(ul, body, node))
         for (kind, name), value in couples.items():
             if kind == "body":
-                add(name, np.zeros(2), value, np.zeros(2))
+                add(name, 0.0, 0.0, value, 0.0, 0.0)
         for j, pin in enumerate(m.pins):
-            R = u[self.i_pin + 2 * j:self.i_pin + 2 * j + 2]
-            pa = self.node_position(u, pin.a, pin.node)
-            pb = self.node_position(u, pin.b, pin.node)
-            r[self.i_pin + 2 * j:self.i_pin + 2 * j + 2] = pa - pb
-            add(pin.a, R, 0.0, pa)
-            add(pin.b, -R, 0.0, pb)
+            k = self.i_pin + 2 * j
+            R0, R1 = ul[k], ul[k + 1]
+            pa = self._xy(ul, pin.a, pin.node)
+            pb = self._xy(ul, pin.b, pin.node)
+            r[k], r[k + 1] = pa[0] - pb[0], pa[1] - pb[1]
+            add(pin.a, R0, R1, 0.0, *pa)
+            add(pin.b, -R0, -R1, 0.0, *pb)
         for j, (rot, value) in enumerate(zip(self.rotations, rot_values)):
-            M = u[self.i_rot + j]
-            _, phi = self.pose(u, rot.body)
+            M = ul[self.i_rot + j]
+            phi = 0.0 if rot.body == GROUND else ul[self.pose_at[rot.body] + 2]
             r[self.i_rot + j] = phi - value
-            add(rot.body, np.zeros(2), M, np.zeros(2))
+            add(rot.body, 0.0, 0.0, M, 0.0, 0.0)
         for j, (disp, value) in enumerate(zip(self.displacements, disp_values)):
-            P = u[self.i_disp + j]
+            P = ul[self.i_disp + j]
             body = m.body_of[disp.node]
             axis = 0 if disp.axis == "x" else 1
-            p = self.node_position(u, body, disp.node)
+            p = self._xy(ul, body, disp.node)
             r[self.i_disp + j] = p[axis] - m.nodes[disp.node][axis] - value
-            F = np.zeros(2)
-            F[axis] = P
-            add(body, F, 0.0, p)
+            add(body, P if axis == 0 else 0.0, P if axis == 1 else 0.0, 0.0, *p)
         for body in m.bodies:
             i = self.i_body + 3 * m.index[body.name]
             r[i:i + 3] = wrench[body.name]
-        return r
+        return np.array(r)
 
 
 @dataclass
