@@ -38,7 +38,8 @@ __all__ = ["ElasticBeam", "RigidBody", "BodyPin", "PointForce", "BodyCouple", "N
            "Mechanism", "MechanismSolution", "solve_mechanism", "GROUND"]
 
 GROUND = "ground"
-_KEY = struct.Struct("6d")    # a beam's inputs (start state, force) as bytes: the key of its last end state
+_KEY = struct.Struct("6d")    # a beam's inputs (start state, force) as bytes: the key of its end states kept
+_ENDS_KEPT = 4                # end states kept per beam
 
 
 @dataclass(frozen=True)
@@ -165,7 +166,9 @@ class _System:
         self.m = mech
         self.forces, self.couples, self.rotations, self.displacements = forces, couples, rotations, displacements
         self.rtol = rtol
-        self._last_end: dict[str, tuple[bytes, np.ndarray]] = {}   # beam -> (its inputs, its end state)
+        # beam -> {its inputs: its end state}, the last few: a finite-difference Jacobian moves one unknown
+        # at a time, so a beam's inputs go back and forth between the base point and one moved column
+        self._ends: dict[str, dict[bytes, np.ndarray]] = {}
         nb, nbeam, npin = len(mech.bodies), len(mech.beams), len(mech.pins)
         self.i_body = 3 * nbeam
         self.i_pin = self.i_body + 3 * nb
@@ -256,16 +259,19 @@ class _System:
         DOP853 of ``elastica.integrator``); ``ul``: u as a list of floats, when the caller has it."""
         x, y, theta0, m0, Fx, Fy = self._start(beam, u.tolist() if ul is None else ul)
         key = _KEY.pack(x, y, theta0, m0, Fx, Fy)
-        last = self._last_end.get(beam.name)
-        if last is not None and last[0] == key:   # a finite-difference column that moved another beam's
-            return last[1]                         # unknowns: this beam's inputs, so its end, are the same
+        ends = self._ends.setdefault(beam.name, {})
+        known = ends.get(key)
+        if known is not None:   # a finite-difference column that moved another beam's unknowns, or the
+            return known        # base point again: this beam's inputs, so its end, are the same
         end, ok = beam_end(np.array([x, y, theta0, m0, 0.0]), self._span[beam.name],
                            np.array([Fx, Fy, beam.curvature, 0.0, 0.0, beam.EI, beam.EA or 0.0,
                                      self._span[beam.name][1]]), self.rtol, self._atol[beam.name])
         if not ok:
             raise RuntimeError(f"beam '{beam.name}': integration failed (step below the rounding of s)")
         end.flags.writeable = False
-        self._last_end[beam.name] = (key, end)
+        if len(ends) >= _ENDS_KEPT:
+            del ends[next(iter(ends))]      # the oldest
+        ends[key] = end
         return end
 
     def shape(self, beam, u, n: int):
