@@ -12,7 +12,8 @@ from validation.run import cache
 from validation.cli.main import main
 from validation.case.loader import CaseError, find_case_files, load_case
 from validation.methods.base import MethodRun, NotApplicable
-from validation.run.runner import requests_for, run_case
+from validation.run.case_run import run_case
+from validation.run.runner import requests_for
 from validation.run.outcome import run_cases, tabulate
 
 GOOD = """

@@ -10,7 +10,7 @@ import pytest
 import fem
 from validation.report import paraview
 from validation.case.loader import case_by_id
-from validation.run.runner import run_case
+from validation.run.case_run import run_case
 
 
 @pytest.fixture(scope="module")

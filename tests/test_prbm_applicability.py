@@ -21,7 +21,8 @@ from validation.case.loader import LoadedCase
 from validation.case.schema import Case
 from validation.methods.base import Applicability, Request
 from validation.run.outcome import tabulate
-from validation.run.runner import run_case, run_method
+from validation.run.case_run import run_case
+from validation.run.runner import run_method
 
 CANTILEVER = """
 [case]

@@ -17,7 +17,7 @@ from validation.report.paraview import MAX_FRAMES, frames_shown
 from validation.report.format import Badge, run_badge
 from validation.report.overview import overview_points
 from validation.report.summary import CaseSummary, MethodState, round_numbers, summary_tables_html
-from validation.run.runner import run_case
+from validation.run.case_run import run_case
 from validation.run.outcome import summary, tabulate
 
 REPORT_CASES = ["cantilever_tip_load", "follower_tip_load", "bapat2015_test2"]

@@ -9,7 +9,7 @@ from validation.case.loader import load_case
 from validation.report.format import Badge
 from validation.report.summary import summarise
 from validation.run.outcome import tabulate
-from validation.run.runner import run_case
+from validation.run.case_run import run_case
 
 REASON = "the toy model stops at level 1 (a stated limit point)"
 

@@ -10,7 +10,7 @@ from matplotlib.colors import to_rgb
 
 from validation.case.loader import case_by_id
 from validation.report import paraview
-from validation.run.runner import run_case
+from validation.run.case_run import run_case
 
 
 def _legend(canvas) -> dict[str, tuple[float, float, float]]:

@@ -24,7 +24,8 @@ from prbm.inflection_coupler import CouplerDrive, GuidedSegment, solve_coupler
 from validation.case.loader import CaseError, load_case
 from validation.methods.base import MethodRun, Request, RunStatus
 from validation.run.outcome import no_prbm_fem_reason, summary, tabulate
-from validation.run.runner import CaseResult, run_case, run_method
+from validation.run.case_run import run_case
+from validation.run.runner import CaseResult, run_method
 
 SEGMENT = """
 [case]

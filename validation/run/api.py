@@ -32,7 +32,8 @@ from validation.run import tables
 from validation.run.exit_status import ExitStatus
 from validation.case.loader import CaseError, LoadedCase, check_case, find_case_files, load_case
 from validation.methods.base import RunStatus
-from validation.run.runner import CaseResult, run_case
+from validation.run.case_run import run_case
+from validation.run.runner import CaseResult
 from validation.run.outcome import RunOutcome, tabulate
 from validation.case.schema import Case
 

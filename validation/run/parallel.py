@@ -1,7 +1,7 @@
 """Many case files run on a pool of worker processes, scheduled so that no core idles and no compiled
 code is compiled twice.
 
-``run_paths`` runs every case file (``runner.run_case``), in this process when ``jobs`` is 1, else on
+``run_paths`` runs every case file (``case_run.run_case``), in this process when ``jobs`` is 1, else on
 ``jobs`` worker processes:
 
 1. the methods whose code is compiled with numba (``compiled_method``: the adapter's sources, as the
@@ -33,7 +33,8 @@ from typing import Any, Callable
 
 from validation.case.loader import CaseError, load_case
 from validation.run import cache
-from validation.run.runner import CaseResult, run_case, run_method
+from validation.run.case_run import run_case
+from validation.run.runner import CaseResult, run_method
 from validation.run.timeline import Timed, timed
 
 

@@ -1,7 +1,9 @@
-"""Run the methods a case asks for, only on the outputs it asks for (``run_method``, ``run_case``).
+"""Run one method on a case, only on the outputs it asks for (``run_method``); what a case's run holds
+(``CaseResult``) and the findings' re-runs.
 
-No table is built here (``validation.run.outcome`` does that), so ``solve`` and the adapters start
-without pandas.
+No table is built here (``validation.run.outcome`` does that) and no cache is read
+(``validation.run.case_run`` runs a whole case through it), so ``solve`` and the adapters start
+without pandas or the cache's package-metadata lookups.
 """
 from __future__ import annotations
 
@@ -14,7 +16,6 @@ import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from validation.run import cache
 from validation.case.capabilities import QUANTITIES
 from validation.case.loader import LoadedCase
 from validation.methods.base import Misconfigured, MethodRun, NotApplicable, Request, RunStatus
@@ -108,24 +109,6 @@ def reproduce_findings(result: "CaseResult") -> None:
             runs[key] = _reproduce(result.loaded, ref.compare, ref.finding.reproduce_with)
         point = ref.point if QUANTITIES[ref.quantity].at_point else ""
         result.reproduced[i] = runs[key].values.get(Request(ref.quantity, point, ref.level), math.nan)
-
-
-def run_case(loaded: LoadedCase, methods: list[str] | None = None, use_cache: bool = True) -> CaseResult:
-    result = CaseResult(loaded)
-    for method in loaded.case.methods:
-        if methods and method not in methods:
-            continue
-        options = dict(loaded.case.methods[method] or {})
-        key = cache.run_key(loaded.text, method, options)
-        run = cache.load(key) if use_cache else None
-        result.cached[method] = run is not None
-        if run is None:
-            run = run_method(loaded.case, method)
-            if run.status in (RunStatus.OK, RunStatus.NOT_CONVERGED):
-                cache.store(key, run)
-        result.runs[method] = run
-    reproduce_findings(result)
-    return result
 
 
 def characteristic_length(case: Case) -> float:

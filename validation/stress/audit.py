@@ -26,7 +26,7 @@ from validation.case.loader import CaseError, find_case_files, load_case
 from validation.run.compare import case_verdict
 from validation.run.exit_status import ExitStatus, decide
 from validation.run.outcome import tabulate
-from validation.run.runner import run_case
+from validation.run.case_run import run_case
 from validation.stress import plants
 
 BASELINE = "none"
