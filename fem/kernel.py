@@ -214,7 +214,7 @@ def _back_solve(work, banded, ipiv, ints, info, x):
                 ipiv.ctypes, x.ctypes, ints[0:].ctypes, info.ctypes)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def band_lu(ab, n, kl, ku, ld, ipiv):
     """LU with partial pivoting of the column-major LAPACK band ``ab`` in place (A[i, j] at
     j ld + kl + ku + i - j, ld >= 2 kl + ku + 1): LAPACK's ``dgbtf2`` step for step (what ``dgbtrf``
@@ -262,10 +262,11 @@ def band_lu(ab, n, kl, ku, ld, ipiv):
     return info
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def band_solve(ab, n, kl, ku, ld, ipiv, x):
     """x <- A^-1 x with the factors of `band_lu`: LAPACK's ``dgbtrs`` (no transpose, one right-hand
-    side) step for step: the row swaps and L by columns, then U by ``dtbsv`` (upper, by columns)."""
+    side) step for step: the row swaps and L by columns, then U by ``dtbsv`` (upper, by columns). A zero
+    pivot divides as LAPACK does (IEEE: inf or NaN, no exception); the corrector never solves with one."""
     kv = ku + kl
     if kl > 0:
         for j in range(n - 1):
