@@ -127,8 +127,8 @@ class System:
         # full-level sparsity pattern: elements, springs, follower, rigid links (only the parts present)
         e = d.edofs
         n_el = len(e)
-        rows = [np.broadcast_to(e[:, :, None], (n_el, 6, 6)).ravel()]      # = np.repeat(e, 6, axis=1)
-        cols = [np.broadcast_to(e[:, None, :], (n_el, 6, 6)).ravel()]      # = np.tile(e, (1, 6))
+        rows = [np.repeat(e, 6, axis=1).ravel()]             # entry (i, j) of element k at 36 k + 6 i + j
+        cols = [np.concatenate([e] * 6, axis=1).ravel()]     # = np.tile(e, (1, 6)), without tile's overhead
         if len(d.springs):
             rows.append(np.repeat(d.springs, 2, axis=1).ravel())
             cols.append(np.tile(d.springs, (1, 2)).ravel())

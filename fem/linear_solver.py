@@ -55,7 +55,7 @@ class MatrixLayout:
 
     def __init__(self, n, rows, cols, kind="auto"):
         self.n = n
-        bw = int(np.max(np.abs(rows - cols))) if len(rows) else 0
+        bw = int(np.abs(rows - cols).max()) if len(rows) else 0
         if kind == "auto":
             if n <= 24:
                 kind = "dense"

@@ -213,7 +213,9 @@ class Model:
         with the node rotation: F = R(theta) (values_x, values_y); with ``member``
         it turns with that member's end rotation at the node (one side of a hinge).
         """
-        fx, fy = np.broadcast_arrays(_levels(values_x), _levels(values_y))
+        fx, fy = _levels(values_x), _levels(values_y)
+        if fx.shape != fy.shape:
+            fx, fy = np.broadcast_arrays(fx, fy)
         i = self.node(node)
         if member is not None:
             if not follower:
