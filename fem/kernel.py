@@ -32,9 +32,10 @@ One call runs every iteration of
 
 with the same steps, in the same order, as the NumPy corrector: the element loop above,
 the scatter of the element forces and tangents into the full vector and into the solver's
-storage (here column-major, as LAPACK reads it), the factorisation by LAPACK ``dgetrf``/``dgbtrf``
-and back-substitution by ``dgetrs``/``dgbtrs`` (scipy's own LAPACK, called through
-``scipy.linalg.cython_lapack``), the rotation-limited correction, and the convergence tests
+storage (here column-major, as LAPACK reads it), the factorisation and back-substitution (a dense
+tangent: LAPACK ``dgetrf``/``dgetrs``, scipy's own, called through ``scipy.linalg.cython_lapack``; a
+banded one: `band_lu`/`band_solve`, LAPACK's ``dgbtf2``/``dgbtrs`` compiled here, the same factors bit
+for bit), the rotation-limited correction, and the convergence tests
 (residual, energy, negligible correction) and rotation-increment cut of `newton`. Norms and dot
 products are BLAS ``ddot`` as in NumPy, so the numbers are those of the NumPy corrector.
 

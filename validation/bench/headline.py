@@ -85,7 +85,8 @@ QUICK_REPEATS = 3       # timed runs per configuration with --quick (5 without)
 CONFIGURATIONS = {      # how each code is driven (printed beside the headline)
     "fem": ("corotational Euler-Bernoulli beams (validation.methods.fem); load control: each level tried in "
             "one step, cut only on failure (failed tries counted), Newton with the consistent tangent "
-            "compiled whole (numba + LAPACK dgetrf/dgbtrf, RCM-banded), |r| <= 1e-10 max(|f_ext|, |f_int|); "
+            "compiled whole (numba; RCM-banded tangents by a compiled band LU, LAPACK's dgbtf2 step for "
+            "step; small dense ones by LAPACK dgetrf), |r| <= 1e-10 max(|f_ext|, |f_int|); "
             "limit loads by arc length (its corrector, and any model with rigid links or follower loads, in NumPy, "
             "not compiled); fem+richardson: the n and 2n solves (warm-started) extrapolated"),
     "opensees": ("OpenSeesPy elasticBeamColumn with the Corotational transformation "
