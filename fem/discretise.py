@@ -337,7 +337,7 @@ def _constraint_map(n_en, n_full, order, independent, held: _Held, rotation_dofs
     """I, C of u_i = sum_w C[i, w] q[I[i, w]] in the DOF ``order`` (free DOFs, sliders u = d t, then
     the rigid-link slave rows copied from their masters); the number of unknowns and which are
     rotations."""
-    I = np.full((n_full + 1, 2), -1, dtype=int)
+    I = np.empty((n_full + 1, 2), dtype=int)      # every entry not set below: the dummy column n_red
     C = np.zeros((n_full + 1, 2))
     order = np.asarray(order, dtype=int)
     free = order[independent[order] & ~held.fixed[order]]
@@ -349,13 +349,14 @@ def _constraint_map(n_en, n_full, order, independent, held: _Held, rotation_dofs
     else:
         slider = np.zeros(len(free), dtype=bool)
     n_red = len(free)
+    I[:] = n_red
     I[free, 0] = np.arange(n_red)
     C[free, 0] = 1.0
-    for i in free[slider]:          # slider: u = d t on both translations
-        I[i + 1, 0] = I[i, 0]
-        C[i, 0], C[i + 1, 0] = held.slider_dirs[i // 2]
+    if held.slider_dirs:
+        for i in free[slider]:          # slider: u = d t on both translations
+            I[i + 1, 0] = I[i, 0]
+            C[i, 0], C[i + 1, 0] = held.slider_dirs[i // 2]
     red_is_rot = rotation_dofs[free]
-    I[I < 0] = n_red
     for s, m in zip(slaves, masters):     # slave rows: copy the master map (+ theta column)
         I[2 * s] = [I[2 * m, 0], I[rot_dof[m], 0]]
         I[2 * s + 1] = [I[2 * m + 1, 0], I[rot_dof[m], 0]]
@@ -369,9 +370,10 @@ def _constraint_map(n_en, n_full, order, independent, held: _Held, rotation_dofs
 def _first_member_ends(n_mn, conn, edofs) -> np.ndarray:
     """Rotation DOF of the first member end at every model node (-1: none): of the element ends
     in the order (element, start before end), the first one at the node."""
-    first_end = np.full(n_mn, -1, dtype=int)
+    first_end = np.empty(n_mn, dtype=int)
+    first_end[:] = -1
     ends = conn.ravel()                        # (e0 start, e0 end, e1 start, ...)
-    dofs = edofs[:, [2, 5]].ravel()
+    dofs = edofs[:, 2::3].ravel()              # columns 2 and 5: the end rotations
     for k in (ends < n_mn).nonzero()[0][::-1].tolist():   # the ends at model nodes: two per member
         first_end[ends[k]] = dofs[k]
     return first_end
