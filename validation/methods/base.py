@@ -12,6 +12,7 @@ the option. Every run carries a ``RunStatus``, so callers never parse the messag
 """
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any, NamedTuple
@@ -88,6 +89,29 @@ class MethodRun:
     def summary(self) -> str:
         """'<status>: <message>' in words, without saying the status twice."""
         return f"{self.status.value}: {self.message.removeprefix(self.status.value + ': ')}"
+
+
+class DeferredList(Sequence):
+    """A list built by ``build`` when first read (len, index, iteration, truth): what only the report
+    reads (a run's shapes) costs a plain run or a benchmark nothing. Pickles (the cache, a worker's
+    answer) as the plain list."""
+
+    def __init__(self, build: Callable[[], list]):
+        self._build, self._items = build, None
+
+    def _built(self) -> list:
+        if self._items is None:
+            self._items, self._build = list(self._build()), None
+        return self._items
+
+    def __getitem__(self, index):
+        return self._built()[index]
+
+    def __len__(self) -> int:
+        return len(self._built())
+
+    def __reduce__(self):
+        return list, (self._built(),)
 
 
 def reject_loads_along_beams(case, method: str) -> None:

@@ -37,7 +37,6 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Sequence
 
 import numpy as np
 
@@ -47,7 +46,7 @@ from fem.soft_modes import soft_modes
 from validation.methods.inverse_problem import (LOAD_OUTPUTS, POSITION_OUTPUT, InverseLevel, InverseSpec, Tie,
                                                inverse_spec, merge_runs)
 from validation.methods import fem_outputs
-from validation.methods.base import MethodRun, NotApplicable, Request
+from validation.methods.base import DeferredList, MethodRun, NotApplicable, Request
 from validation.case.quantities import boundary_held_tip as _boundary_held_tip
 from validation.case.quantities import load_dofs as _load_dofs
 from validation.methods.slfp import with_flexures
@@ -423,29 +422,6 @@ def _shapes(result) -> list:
     return [[pts[chain] for chain in chains] for pts in result.mesh_positions[:result.n_levels]]
 
 
-class _DeferredShapes(Sequence):
-    """`_shapes` of a result, built when first read (a report draws them; a benchmark or a plain run
-    never reads them, and the OpenSees peer builds none). Pickles (the cache, a worker's answer) as the
-    plain list."""
-
-    def __init__(self, result):
-        self._result, self._shapes = result, None
-
-    def _built(self) -> list:
-        if self._shapes is None:
-            self._shapes, self._result = _shapes(self._result), None
-        return self._shapes
-
-    def __getitem__(self, index):
-        return self._built()[index]
-
-    def __len__(self) -> int:
-        return len(self._built())
-
-    def __reduce__(self):
-        return list, (self._built(),)
-
-
 def _as_is(value):
     return value
 
@@ -710,7 +686,7 @@ def _run_forward(fem, case, requests: list[Request], options: dict) -> MethodRun
     extras = {"iterations": iterations, "elements": elements,
               "rejected_iterations": getattr(result, "rejected_iterations", 0), "analysis_cpu_s": analysis}
     if result is not None and result.n_levels:
-        extras["shapes"] = _DeferredShapes(result)     # built when the report reads them
+        extras["shapes"] = DeferredList(lambda: _shapes(result))   # built when the report reads them
         extras["fields"] = _DeferredFields(result)     # point data for the ParaView series, likewise
         path = _continuation_path(case, result)
         if path:

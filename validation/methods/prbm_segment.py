@@ -41,7 +41,7 @@ import prbm
 from prbm.fits import THETA_RANGE, fit_family
 from prbm.result import PRBMResult
 from validation.case.quantities import boundary_held_tip, unloaded_tip_angle
-from validation.methods.base import Applicability, MethodRun, NotApplicable
+from validation.methods.base import Applicability, DeferredList, MethodRun, NotApplicable
 from validation.methods.prbm_common import levels, per_level, pick, plain
 
 INFLECTION_WARNING = ("inflection point expected: the bending moment changes sign between tip and root "
@@ -153,9 +153,7 @@ def run_segment(case, requests, options: dict) -> tuple[dict, MethodRun]:
     if loads.has_moment:  # no end moment: the bending moment cannot change sign (eq 12)
         _warn_inflection(info, loads.M, out["force_x"], out["force_y"], out["x"], out["y"], solved.a0, solved.b0)
     _flag_fit_range(info, loads, ratio, res, fit, n)
-    shapes = _segment_shapes(seg, res, n, kappa)
-    if shapes:
-        info.extras["shapes"] = shapes
+    info.extras["shapes"] = DeferredList(lambda: _segment_shapes(seg, res, n, kappa) or [])  # the report reads it
     return pick(out, requests, "segment"), info
 
 
