@@ -21,6 +21,7 @@ Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -98,25 +99,32 @@ class _Estimates:
             raise KeyError(name)
         vals = [getattr(r, name) for r in self.results]
         ext, err = richardson(vals[-2], vals[-1])
-        dict.__setitem__(self.error, name, err)
+        self.error.values_[name] = err
         if self.levels == 3:
             r2a, _ = richardson(vals[0], vals[1])
             r3, _ = richardson(r2a, ext, order=4.0)
-            dict.__setitem__(self.extrapolated_error, name, np.abs(r3 - ext))
+            self.extrapolated_error.values_[name] = np.abs(r3 - ext)
             ext = r3
-        dict.__setitem__(self.extrapolated, name, ext)
+        self.extrapolated.values_[name] = ext
 
 
-class _Lazy(dict):
-    """One mapping of `_Estimates`: field name -> array, the field's step taken when first read."""
+class _Lazy(Mapping):
+    """One mapping of `_Estimates`: every field of OUTPUTS by name, each field's step taken when it is
+    first read (iterating, ``dict(...)`` or ``len`` see every field)."""
 
     def __init__(self, owner: _Estimates):
-        super().__init__()
-        self._owner = owner
+        self._owner, self.values_ = owner, {}
 
-    def __missing__(self, name):
-        self._owner.fill(name)
-        return dict.__getitem__(self, name)
+    def __getitem__(self, name):
+        if name not in self.values_:
+            self._owner.fill(name)
+        return self.values_[name]
+
+    def __iter__(self):
+        return iter(OUTPUTS)
+
+    def __len__(self) -> int:
+        return len(OUTPUTS)
 
 
 def _estimate(results, levels):
