@@ -174,6 +174,21 @@ class _Sign:
         self.det_sign = det_sign
 
 
+class _Evaluation(dict):
+    """The evaluation of a compiled Newton run, as `assembly.System.evaluate` gives it; its tangent "K",
+    which only the stability checks read, is turned from the kernel's column-major storage into the
+    row-major storage of `linear_solver.MatrixLayout` when first read."""
+
+    column_major: tuple
+
+    def __missing__(self, key):
+        if key != "K":
+            raise KeyError(key)
+        layout, K = self.column_major
+        value = self["K"] = layout.row_major(K)
+        return value
+
+
 def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start) -> NewtonOutcome:
     """`newton` under load control by `kernel.newton_load`: the same outcome or failure."""
     F_fixed, _, presc = loads
@@ -204,8 +219,9 @@ def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start) -
     if status == cn.ROTATION_TOO_LARGE:
         raise StepFailed(f"rotation increment {dth:.3g} rad too large", it,
                          cut=max(0.1, 0.9 * opts.max_rotation_increment / dth))
-    ev = dict(u=u, C=system.C0, el=el, f_int=f_int, f_ref_full=f_ref, R_full=R, r=r, f_ref=fr,
-              F_scale=scale, K=c.row_major(K))
+    ev = _Evaluation(u=u, C=system.C0, el=el, f_int=f_int, f_ref_full=f_ref, R_full=R, r=r, f_ref=fr,
+                     F_scale=scale)
+    ev.column_major = (c, K)
     return NewtonOutcome(q, lam, ev, history, it, None if sign == 2 else _Sign(sign))
 
 
