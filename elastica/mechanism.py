@@ -383,15 +383,16 @@ class _LoadPath:
         return values[i] if i >= self.n_levels - 1 else values[i] * (1 - f) + values[i + 1] * f
 
     def __call__(self, t: float, u):
-        F = {}
+        F = {}     # node -> (Fx, Fy) in plain floats, the forces at a node summed in order
         for f in self.forces:
-            vec = np.array([self.value(f.fx, t), self.value(f.fy, t)])
+            fx, fy = float(self.value(f.fx, t)), float(self.value(f.fy, t))
             if f.follower:
                 body = self.mech.body_of.get(f.node)
                 phi = self.system.pose(u, body)[1] if body else _free_end_angle(self.system, u, f.node)
                 c, s = math.cos(phi), math.sin(phi)
-                vec = np.array([c * vec[0] - s * vec[1], s * vec[0] + c * vec[1]])
-            F[f.node] = F.get(f.node, np.zeros(2)) + vec
+                fx, fy = c * fx - s * fy, s * fx + c * fy
+            a = F.get(f.node, (0.0, 0.0))
+            F[f.node] = (a[0] + fx, a[1] + fy)
         C = {}
         for c in self.couples:
             key = ("body", c.body) if isinstance(c, BodyCouple) else ("node", c.node)
