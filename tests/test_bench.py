@@ -62,3 +62,20 @@ def test_per_iteration_times_the_load_stepping_of_both_codes_within_their_runs()
     for method in ("fem", bench.PEER) if bench._peer_status() == "" else ("fem",):
         assert 0.0 < entry[method]["analysis_s"] <= entry[method]["time_s"]
         assert entry[method]["loop_per_iteration_s"] == entry[method]["analysis_s"] / entry[method]["iterations"]
+
+
+def test_the_two_codes_take_turns_mesh_by_mesh():
+    """`_interleaved` steps each code's sweep one mesh at a time in turn (so a slow period of the machine
+    falls on both codes' rows), runs the longer sweep to its end, and returns each sweep's result."""
+    from validation.bench.headline import _interleaved
+    order = []
+
+    def sweep(name, meshes):
+        for n in meshes:
+            order.append((name, n))
+            yield
+        return [f"{name} rows"], []
+
+    got = _interleaved({"fem": sweep("fem", [2, 4, 8]), "opensees": sweep("opensees", [2, 4])})
+    assert order == [("fem", 2), ("opensees", 2), ("fem", 4), ("opensees", 4), ("fem", 8)]
+    assert got == {"fem": (["fem rows"], []), "opensees": (["opensees rows"], [])}

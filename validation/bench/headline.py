@@ -9,9 +9,11 @@ the reference's precision), plain and with Richardson extrapolation on the n and
 rows (``fem+richardson``: the FEM's own n/2n solve; ``opensees+richardson``: the peer's n and 2n runs,
 time of both). Beside them: the PRBM, the exact elastica and the FEM with the case's own options.
 
-Each configuration is timed in this process: one warm-up, then the best (smallest) CPU time of this
-process (``time.process_time``; BLAS and the compiled kernels run on one thread, so on an idle machine
-it is the wall time, and on a shared one it leaves out the waits for a core) over ``repeats`` runs,
+The two codes take turns mesh by mesh on each case (a slow period of a shared machine falls on both
+codes' rows alike). Each configuration is timed in this process: one warm-up, then the best (smallest)
+CPU time of this process (``time.process_time``; BLAS and the compiled kernels run on one thread, so on
+an idle machine it is the wall time, and on a shared one it leaves out the waits for a core) over
+``repeats`` runs,
 their median (for the noise) and the best wall time; its error is the largest
 tip-position error over the benchmarked load levels, over the characteristic length, against the
 exact solution (the elastica method on the same case, or the case's 'exact' references). Peak Python
@@ -235,7 +237,9 @@ def _row(case_label, label, n, timing: Timing, exact_from) -> dict:
 
 
 def _sweep(case, bench: BenchCase, method: str, meshes: list[int], repeats: int, exact, scale, log):
-    """Plain and Richardson rows of one method on doubling meshes, until every target is reached."""
+    """Plain and Richardson rows of one method on doubling meshes, until every target is reached: a
+    generator that pauses after each mesh (`_interleaved` alternates the codes mesh by mesh) and returns
+    (rows, skipped)."""
     rows, skipped, plain = [], [], {}
     base = dict(case.methods.get(method) or {}) if method in case.methods else {}
     labels = (f"{method}", f"{method}+richardson")
@@ -287,7 +291,22 @@ def _sweep(case, bench: BenchCase, method: str, meshes: list[int], repeats: int,
             reached[labels[1]] = done(labels[1], row["error"], both.best > RUN_BUDGET_S)
         if all(reached.values()):
             break
+        yield
     return rows, skipped
+
+
+def _interleaved(sweeps: dict) -> dict:
+    """Run the sweeps (method -> `_sweep` generator) one mesh at a time in turn, so that a slow period of a
+    shared machine falls on both codes' rows alike; method -> (rows, skipped)."""
+    results, active = {}, dict(sweeps)
+    while active:
+        for method, steps in list(active.items()):
+            try:
+                next(steps)
+            except StopIteration as end:
+                results[method] = end.value
+                del active[method]
+    return results
 
 
 def _per_iteration(case, bench: BenchCase, repeats: int, with_peer: bool, cap: int) -> dict:
@@ -385,11 +404,12 @@ def run_bench(out: Path, quick: bool = False, cases: list[BenchCase] | dict | No
             _log(row)
             rows.append(row)
         case_rows = []
-        for method in ("fem", PEER):
-            if method == PEER and peer_status:
-                peer_notes[bench.label] = peer_status
-                continue
-            got, why = _sweep(case, bench, method, meshes, repeats, exact, scale, _log)
+        if peer_status:
+            peer_notes[bench.label] = peer_status
+        methods = ("fem",) + (() if peer_status else (PEER,))
+        swept = _interleaved({m: _sweep(case, bench, m, meshes, repeats, exact, scale, _log) for m in methods})
+        for method in methods:
+            got, why = swept[method]
             case_rows += got
             skipped += why
             if method == PEER and not got:
