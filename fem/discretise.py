@@ -184,15 +184,16 @@ def _mesh(model: Model, refine: int) -> _Mesh:
             mid = (s_nodes[:-1] + s_nodes[1:]) / 2 / s_nodes[-1]
             mesh.el_section += [fn(float(t)) for t in mid]
     mesh.X = np.concatenate(X) if len(X) > 1 else X[0]
-    mesh.conn = _joined(mesh.conn, np.zeros((0, 2), int))
+    mesh.conn = _joined(mesh.conn, (0, 2), int)
     return mesh
 
 
-def _joined(parts: list, empty: np.ndarray) -> np.ndarray:
-    """The arrays of every member end to end (the one array itself when there is one member)."""
+def _joined(parts: list, empty_shape: tuple = (0,), dtype=float) -> np.ndarray:
+    """The arrays of every member end to end (the one array itself when there is one member; an empty
+    array of ``empty_shape`` when there is none)."""
     if len(parts) == 1:
         return parts[0]
-    return np.concatenate(parts) if parts else empty
+    return np.concatenate(parts) if parts else np.zeros(empty_shape, dtype)
 
 
 @dataclass
@@ -267,6 +268,8 @@ def _rigid_link_roots(model: Model):
             seen.add(n)
             n = parent[n]
         return n
+    if not parent:
+        return np.zeros(0, dtype=int), np.zeros(0, dtype=int)
     slaves = np.array(sorted(parent), dtype=int)
     return slaves, np.array([root(s) for s in slaves], dtype=int)
 
@@ -276,7 +279,8 @@ def _used_dofs(model, n_en, n_full, edofs, springs, rot_dof, slaves, masters) ->
     rotations, rigid-link rotations (the ground entry excluded)."""
     used = np.zeros(n_full + 1, dtype=bool)
     used[edofs.ravel()] = True
-    used[springs.ravel()] = True
+    if len(springs):
+        used[springs.ravel()] = True
     used[:2 * n_en] = True
     for ld in model.loads:
         if ld.member is None and (ld.kind == "moment" or ld.follower):
@@ -311,14 +315,14 @@ def _supports(model: Model, n_full, used, rot_dof, slaves) -> _Held:
                              "put it on the master")
         n = sp.node
         if sp.kind in ("fixed", "pinned"):
-            fixed[[2 * n, 2 * n + 1]] = True
+            fixed[2 * n:2 * n + 2] = True
         else:
             held.slider_dirs[n] = sp.direction
-        held.constrained[[2 * n, 2 * n + 1]] = True
+        held.constrained[2 * n:2 * n + 2] = True
         if sp.kind in ("fixed", "guided"):
             fixed[rot_dof[n]] = True
             held.constrained[rot_dof[n]] = True
-    n_lev = model.n_levels
+    n_lev = model.n_levels if model.prescribed else 1
     for p in model.prescribed:
         if p.node in slave_set:
             raise ValueError("prescribed DOF on a rigid-link slave node")
@@ -346,8 +350,6 @@ def _constraint_map(n_en, n_full, order, independent, held: _Held, rotation_dofs
         slider = np.isin(node, np.array(list(held.slider_dirs), dtype=int))
         keep = ~(slider & (free % 2 == 1))          # a slider's one unknown t sits on its x DOF
         free, slider = free[keep], slider[keep]
-    else:
-        slider = np.zeros(len(free), dtype=bool)
     n_red = len(free)
     I[:] = n_red
     I[free, 0] = np.arange(n_red)
@@ -364,7 +366,7 @@ def _constraint_map(n_en, n_full, order, independent, held: _Held, rotation_dofs
         C[2 * s + 1] = [C[2 * m + 1, 0], 0.0]
         I[rot_dof[s]] = I[rot_dof[m]]
         C[rot_dof[s]] = C[rot_dof[m]]
-    return I, C, n_red, np.asarray(red_is_rot, dtype=bool)
+    return I, C, n_red, red_is_rot
 
 
 def _first_member_ends(n_mn, conn, edofs) -> np.ndarray:
@@ -396,11 +398,12 @@ def discretise(model: Model, refine: int = 1) -> Discretisation:
     joints = _joints(model, mesh, rot_dof)
     n_full = ground = joints.n_full
     springs = np.array(joints.springs, dtype=int).reshape(-1, 2)
-    springs[springs < 0] = ground
-    edofs = np.empty((len(conn), 6), dtype=int)
-    edofs[:, 0], edofs[:, 3] = 2 * conn[:, 0], 2 * conn[:, 1]
-    edofs[:, 1], edofs[:, 4] = edofs[:, 0] + 1, edofs[:, 3] + 1
-    edofs[:, 2], edofs[:, 5] = joints.end_rot[:, 0], joints.end_rot[:, 1]
+    if len(springs):
+        springs[springs < 0] = ground
+    edofs = np.empty((len(conn), 6), dtype=int)     # per element [ux1, uy1, rz1, ux2, uy2, rz2]
+    edofs[:, 0::3] = 2 * conn
+    edofs[:, 1::3] = edofs[:, 0::3] + 1
+    edofs[:, 2::3] = joints.end_rot
     rotation_dofs = np.zeros(n_full + 1, dtype=bool)
     rotation_dofs[2 * n_en:n_full] = True
     slaves, masters = _rigid_link_roots(model)
@@ -416,8 +419,7 @@ def discretise(model: Model, refine: int = 1) -> Discretisation:
     n_lev = model.n_levels
     return Discretisation(
         X=X, n_model_nodes=n_mn, conn=conn, edofs=edofs,
-        L0=_joined(mesh.L0, np.zeros(0)), beta0=_joined(mesh.beta0, np.zeros(0)),
-        ka=_joined(mesh.ka, np.zeros(0)), kb=_joined(mesh.kb, np.zeros((0, 2, 2))),
+        L0=_joined(mesh.L0), beta0=_joined(mesh.beta0), ka=_joined(mesh.ka), kb=_joined(mesh.kb, (0, 2, 2)),
         el_member=np.array(mesh.el_member, dtype=int), el_section=mesh.el_section,
         member_elements=mesh.member_elements, n_full=n_full, ground=ground, rot_dof=rot_dof,
         rotation_dofs=rotation_dofs, springs=springs, spring_k=np.array(joints.spring_k, dtype=float),
@@ -425,5 +427,5 @@ def discretise(model: Model, refine: int = 1) -> Discretisation:
         prescribed_dofs=np.array(held.p_dofs, dtype=int),
         prescribed_values=np.array(held.p_vals, dtype=float).reshape(len(held.p_dofs), n_lev),
         constrained=held.constrained, slaves=slaves, masters=masters,
-        node_rotation_used=used[rot_dof[:n_mn]] | _marked(n_mn, slaves),
+        node_rotation_used=used[rot_dof[:n_mn]] | _marked(n_mn, slaves) if len(slaves) else used[rot_dof[:n_mn]],
         node_first_end_rot=_first_member_ends(n_mn, conn, edofs), red_is_rotation=red_is_rot)
