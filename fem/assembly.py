@@ -68,8 +68,8 @@ class System:
         self.noise_floor = 4 * EPS * float((d.ka * d.L0).max(initial=0.0))
         # W of the path norm ||dq||_W: rotations weighted by the mean element length squared
         self.path_weights = np.where(d.red_is_rotation, float(d.L0.sum() / len(d.L0)) ** 2 if len(d.L0) else 1.0, 1.0)
-        self.dead_loads = (len(self.fol_nodes) == 0 and not self.pt_angle.any()
-                           and not self.dist_follower.any())     # `stability.conservative`
+        self.dead_loads = (len(self.fol_nodes) == 0 and not (len(self.pt_angle) and self.pt_angle.any())
+                           and not (len(self.dist_follower) and self.dist_follower.any()))  # `stability.conservative`
         # the compiled load-control corrector (`kernel.newton_load`), where it applies
         self.compiled = CompiledLayout(self.layout, rows, cols) if CompiledLayout.applies(self) else None
 
@@ -99,9 +99,12 @@ class System:
         self.fol_nodes = np.array(fol_nodes, dtype=int)
         self.fol_rot = np.array([d.rot_dof[ld.node] if ld.member is None else d.member_end_dof(ld.member, ld.node)
                                  for ld in model.loads if ld.kind == "force" and ld.follower], dtype=int)
-        self.pt_nodes = np.array([ld.node for ld in model.pointed], dtype=int)
-        self.pt_toward = np.array([ld.toward for ld in model.pointed], dtype=float).reshape(-1, 2)
-        self.pt_angle = np.array([ld.angle for ld in model.pointed], dtype=float)
+        if model.pointed:
+            self.pt_nodes = np.array([ld.node for ld in model.pointed], dtype=int)
+            self.pt_toward = np.array([ld.toward for ld in model.pointed], dtype=float).reshape(-1, 2)
+            self.pt_angle = np.array([ld.angle for ld in model.pointed], dtype=float)
+        else:
+            self.pt_nodes, self.pt_toward, self.pt_angle = np.zeros(0, int), np.zeros((0, 2)), np.zeros(0)
         for ld in model.pointed:
             fol_vals.append(np.column_stack([np.broadcast_to(ld.values, (nl,)), np.zeros(nl)]))
         n_el = len(d.L0)
