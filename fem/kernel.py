@@ -158,8 +158,6 @@ def _lapack(name: str, n_args: int):
 
 _dgetrf = _lapack("dgetrf", 6)
 _dgetrs = _lapack("dgetrs", 9)
-_dgbtrf = _lapack("dgbtrf", 8)
-_dgbtrs = _lapack("dgbtrs", 11)
 
 
 class CompiledLayout:
@@ -192,27 +190,26 @@ class CompiledLayout:
 
 @njit(cache=True)
 def _factor(work, banded, n, kl, ku, ld, ipiv, ints, info):
-    """LU of the column-major matrix in ``work`` (in place); info[0] > 0: an exactly zero pivot."""
+    """LU of the column-major matrix in ``work`` (in place): a band by `band_lu`, a dense matrix by
+    LAPACK dgetrf; info[0] > 0: an exactly zero pivot."""
     ints[0], ints[1], ints[2], ints[3] = n, kl, ku, ld
     if banded:
-        _dgbtrf(ints[0:].ctypes, ints[0:].ctypes, ints[1:].ctypes, ints[2:].ctypes, work.ctypes,
-                ints[3:].ctypes, ipiv.ctypes, info.ctypes)
+        info[0] = band_lu(work, n, kl, ku, ld, ipiv)
     else:
         _dgetrf(ints[0:].ctypes, ints[0:].ctypes, work.ctypes, ints[3:].ctypes, ipiv.ctypes, info.ctypes)
 
 
 @njit(cache=True)
 def _back_solve(work, banded, ipiv, ints, info, x):
-    """x <- K^-1 x with the factors in ``work``."""
+    """x <- K^-1 x with the factors `_factor` left in ``work`` (its n, kl, ku, ld in ``ints``)."""
+    if banded:
+        band_solve(work, ints[0], ints[1], ints[2], ints[3], ipiv, x)
+        return
     trans = np.empty(1, np.uint8)
     trans[0] = 78     # 'N'
     ints[4] = 1
-    if banded:
-        _dgbtrs(trans.ctypes, ints[0:].ctypes, ints[1:].ctypes, ints[2:].ctypes, ints[4:].ctypes,
-                work.ctypes, ints[3:].ctypes, ipiv.ctypes, x.ctypes, ints[0:].ctypes, info.ctypes)
-    else:
-        _dgetrs(trans.ctypes, ints[0:].ctypes, ints[4:].ctypes, work.ctypes, ints[3:].ctypes,
-                ipiv.ctypes, x.ctypes, ints[0:].ctypes, info.ctypes)
+    _dgetrs(trans.ctypes, ints[0:].ctypes, ints[4:].ctypes, work.ctypes, ints[3:].ctypes,
+            ipiv.ctypes, x.ctypes, ints[0:].ctypes, info.ctypes)
 
 
 @njit(cache=True, error_model="numpy")
@@ -404,10 +401,7 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
             if not math.isfinite(K[j]):
                 return NON_FINITE_TANGENT, it, sign, scale, 0.0
             work[j] = K[j]
-        if banded:
-            info[0] = band_lu(work, n, kl, ku, ld, ipiv)
-        else:
-            _factor(work, banded, n, kl, ku, ld, ipiv, ints, info)
+        _factor(work, banded, n, kl, ku, ld, ipiv, ints, info)
         if info[0] > 0:
             return SINGULAR, it, sign, scale, 0.0
         sign = _det_sign(work, banded, n, kl, ku, ld, ipiv)
@@ -415,10 +409,7 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
             return SINGULAR, it, 2, scale, 0.0
         for k in range(n):
             dq[k] = -r[k]
-        if banded:
-            band_solve(work, n, kl, ku, ld, ipiv, dq)
-        else:
-            _back_solve(work, banded, ipiv, ints, info, dq)
+        _back_solve(work, banded, ipiv, ints, info, dq)
         if damp > 0.0 and has_rot:
             big = 0.0
             for k in range(n):
