@@ -191,12 +191,16 @@ class _System:
             self.tangent0[beam.name] = (angle0, angle0 + beam.curvature * arc, arc)
         self.beam_index = {beam.name: i for i, beam in enumerate(mech.beams)}
         self.pose_at = {b.name: self.i_body + 3 * i for i, b in enumerate(mech.bodies)}
-        self.p0 = {name: np.asarray(xy, float) for name, xy in mech.nodes.items()}
-        self.arm = {(b.name, nd): self.p0[nd] - mech.origin[b.name] for b in mech.bodies for nd in mech.nodes}
-        # the same numbers as plain floats, for the residual's scalar arithmetic (`_xy`, `_start`)
-        self._place = {(GROUND, nd): (-1, float(xy[0]), float(xy[1]), 0.0, 0.0) for nd, xy in self.p0.items()}
-        self._place.update({(b, nd): (self.pose_at[b], float(mech.origin[b][0]), float(mech.origin[b][1]),
-                                      float(r[0]), float(r[1])) for (b, nd), r in self.arm.items()})
+        # where a node sits, as plain floats for the residual's scalar arithmetic (`_xy`): on the ground
+        # (pose index -1) its reference position; on a body its pose index, the body's origin and its
+        # arm p0 - origin
+        p0 = {name: np.asarray(xy, float) for name, xy in mech.nodes.items()}
+        self._place = {(GROUND, nd): (-1, float(xy[0]), float(xy[1]), 0.0, 0.0) for nd, xy in p0.items()}
+        for b in mech.bodies:
+            o = mech.origin[b.name]
+            for nd, xy in p0.items():
+                r = xy - o
+                self._place[(b.name, nd)] = (self.pose_at[b.name], float(o[0]), float(o[1]), float(r[0]), float(r[1]))
         self._origin = {b.name: (self.pose_at[b.name], float(mech.origin[b.name][0]), float(mech.origin[b.name][1]))
                         for b in mech.bodies}
         self._span = {beam.name: np.array([0.0, float(self.tangent0[beam.name][2])]) for beam in mech.beams}
@@ -210,17 +214,12 @@ class _System:
         return u[i:i + 2], u[i + 2]
 
     def node_position(self, u, body, node):
-        """Current position of a node carried by ``body``: origin + d + R(phi) (p0 - origin)."""
-        if body == GROUND:
-            return self.p0[node].copy()
-        i = self.pose_at[body]
-        c, s = math.cos(u[i + 2]), math.sin(u[i + 2])
-        r = self.arm[(body, node)]
-        o = self.m.origin[body]
-        return np.array([o[0] + u[i] + (c * r[0] - s * r[1]), o[1] + u[i + 1] + (s * r[0] + c * r[1])])
+        """Current position of a node carried by ``body`` (an array; `_xy`)."""
+        return np.array(self._xy(u.tolist(), body, node))
 
     def _xy(self, ul, body, node):
-        """`node_position` in plain floats from the unknowns as a list (the same operations)."""
+        """Current (x, y) of a node carried by ``body``, origin + d + R(phi) (p0 - origin), from the
+        unknowns as a list of floats."""
         i, o0, o1, r0, r1 = self._place[(body, node)]
         if i < 0:
             return o0, o1
@@ -228,7 +227,7 @@ class _System:
         return o0 + ul[i] + (c * r0 - s * r1), o1 + ul[i + 1] + (s * r0 + c * r1)
 
     def _start(self, beam, ul):
-        """`start_state` in plain floats: (x, y, theta, m) at the beam's start and its (Fx, Fy)."""
+        """(x, y, theta, m) at a beam's start under the unknowns (a list of floats), and its (Fx, Fy)."""
         k = 3 * self.beam_index[beam.name]
         Fx, Fy, a = ul[k], ul[k + 1], ul[k + 2]
         angle0 = self.tangent0[beam.name][0]
@@ -237,22 +236,6 @@ class _System:
         if beam.start_kind == "clamped":
             return x, y, angle0 + phi, a, Fx, Fy
         return x, y, angle0 + a, 0.0, Fx, Fy
-
-    def start_state(self, beam, u):
-        """State (x, y, theta, m, U) at a beam's start under the unknowns u, and the beam's (Fx, Fy)."""
-        k = 3 * self.beam_index[beam.name]
-        Fx, Fy, a = u[k:k + 3]
-        angle0 = self.tangent0[beam.name][0]
-        p = self.node_position(u, beam.start_body, beam.start)
-        _, phi = self.pose(u, beam.start_body)
-        if beam.start_kind == "clamped":
-            theta0, m0 = angle0 + phi, a
-        else:
-            theta0, m0 = angle0 + a, 0.0
-        return np.array([p[0], p[1], theta0, m0, 0.0]), float(Fx), float(Fy)
-
-    def atol(self, beam) -> float:
-        return self.rtol * 1e-3 * max(self.tangent0[beam.name][2], 1.0)
 
     def integrate(self, beam, u, ul=None):
         """End state (x, y, theta, m, U) of a beam from its start under the unknowns u (the compiled
@@ -276,10 +259,10 @@ class _System:
 
     def shape(self, beam, u, n: int):
         """(n, 2) positions along a beam at n equally spaced arc lengths (start to end)."""
-        y0, Fx, Fy = self.start_state(beam, u)
+        x, y, theta0, m0, Fx, Fy = self._start(beam, u.tolist())
         s = np.linspace(0.0, self.tangent0[beam.name][2], n)
-        states, ok = beam_samples(y0, s, Fx, Fy, beam.curvature, beam.EI, beam.EA or 0.0, self.rtol,
-                                  self.atol(beam))
+        states, ok = beam_samples(np.array([x, y, theta0, m0, 0.0]), s, Fx, Fy, beam.curvature, beam.EI,
+                                  beam.EA or 0.0, self.rtol, self._atol[beam.name])
         if not ok:
             raise RuntimeError(f"beam '{beam.name}': integration failed (step below the rounding of s)")
         return states[:, :2]
