@@ -13,8 +13,7 @@ The two codes take turns mesh by mesh on each case (a slow period of a shared ma
 codes' rows alike). Each configuration is timed in this process: one warm-up, then the best (smallest)
 CPU time of this process (``time.process_time``; BLAS and the compiled kernels run on one thread, so on
 an idle machine it is the wall time, and on a shared one it leaves out the waits for a core) over
-``repeats`` runs,
-their median (for the noise) and the best wall time; its error is the largest
+``repeats`` runs, their median (for the noise) and the best wall time; its error is the largest
 tip-position error over the benchmarked load levels, over the characteristic length, against the
 exact solution (the elastica method on the same case, or the case's 'exact' references). Peak Python
 memory is measured in a separate run with ``tracemalloc``. The BLAS thread settings are recorded.

@@ -253,26 +253,25 @@ def _applied(case, point: str, level: int, rotation: float = 0.0) -> np.ndarray:
 
 
 class _Fields:
-    """The nodal arrays ``_extract`` reads: a FemResult's, or its error estimates or extrapolations."""
+    """The nodal arrays ``_extract`` reads, by name from ``fields``: a FemResult's (`of`), or its error
+    estimates or extrapolations (`fem.ErrorEstimate`'s mappings). Reactions and energy are read only for
+    a request that asks for them (the result and the estimates compute them then)."""
 
-    def __init__(self, names, positions, rotations, reactions, strain_energy):
-        """``reactions`` and ``strain_energy``: arrays, or functions giving them when first read."""
-        self.names, self.positions, self.rotations = list(names), positions, rotations
-        self._reactions, self._strain_energy = reactions, strain_energy
+    def __init__(self, names, fields):
+        self.names, self.fields = list(names), fields
+        self.positions, self.rotations = fields["positions"], fields["rotations"]
 
     @classmethod
     def of(cls, result):
-        """A FemResult's fields: its reactions and energy computed only if a request reads them."""
-        return cls(result.node_names, result.positions, result.rotations, lambda: result.reactions,
-                   lambda: result.strain_energy)
+        return cls(result.node_names, _ResultFields(result))
 
     @property
     def reactions(self) -> np.ndarray:
-        return self._reactions() if callable(self._reactions) else self._reactions
+        return self.fields["reactions"]
 
     @property
     def strain_energy(self) -> np.ndarray:
-        return self._strain_energy() if callable(self._strain_energy) else self._strain_energy
+        return self.fields["strain_energy"]
 
     def position(self, node, level):
         return self.positions[level, self.names.index(node)]
@@ -284,17 +283,15 @@ class _Fields:
         return self.reactions[level, self.names.index(node)]
 
 
-class _ResultFieldMap(dict):
-    """A FemResult's fields by name (positions, rotations, reactions, strain_energy), each read from the
-    result when first asked for (as the error estimate's mappings are)."""
+class _ResultFields:
+    """A FemResult's fields by name (positions, rotations, reactions, strain_energy), as the error
+    estimate's mappings give theirs."""
 
     def __init__(self, result):
-        super().__init__()
         self._result = result
 
-    def __missing__(self, name):
-        value = self[name] = getattr(self._result, name)
-        return value
+    def __getitem__(self, name):
+        return getattr(self._result, name)
 
 
 def _extract(case, fields: _Fields, requests: list[Request], origin: dict | None) -> dict[Request, float]:
@@ -389,10 +386,9 @@ def _solve_levels(fem, case, model, requests, options: dict):
         return (_extract(case, _Fields.of(result), done, origin), {}, result, False, est.message, iterations,
                 analysis)
     richardson = bool(options.get("richardson"))
-    source = est.extrapolated if richardson else _ResultFieldMap(result)
+    source = est.extrapolated if richardson else _ResultFields(result)
     errors = est.extrapolated_error if (richardson and est.extrapolated_error) else est.error
-    fields = [_Fields(result.node_names, f["positions"], f["rotations"], lambda f=f: f["reactions"],
-                      lambda f=f: f["strain_energy"]) for f in (source, errors)]
+    fields = [_Fields(result.node_names, f) for f in (source, errors)]
     values = _extract(case, fields[0], requests, origin)
     errs = {r: abs(v) for r, v in _extract(case, fields[1], requests, None).items()}
     return values, errs, result, est.converged, est.message, iterations, analysis
