@@ -88,9 +88,10 @@ def _fmt(value, digits: int = 6) -> str:
 def _html_table(frame: pd.DataFrame, row_class=None, digits: int = 4) -> str:
     head = "".join(f"<th>{html.escape(str(c))}</th>" for c in frame.columns)
     body = []
-    for _, row in frame.iterrows():
-        cls = row_class(row) if row_class else ""
-        cells = "".join(f"<td>{html.escape(_fmt(v, digits))}</td>" for v in row.values)
+    columns = list(frame.columns)
+    for values in frame.values:  # the rows as iterrows gives them (its Series are built on these), no Series
+        cls = row_class(dict(zip(columns, values))) if row_class else ""
+        cells = "".join(f"<td>{html.escape(_fmt(v, digits))}</td>" for v in values)
         body.append(f"<tr class='{cls}'>{cells}</tr>")
     return f"<table class='sortable'><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
 
@@ -99,8 +100,8 @@ def _md_table(frame: pd.DataFrame) -> str:
     if frame.empty:
         return "_none_\n"
     lines = ["| " + " | ".join(map(str, frame.columns)) + " |", "|" + "---|" * len(frame.columns)]
-    for _, row in frame.iterrows():
-        lines.append("| " + " | ".join(_fmt(v).replace("|", "/") for v in row.values) + " |")
+    for values in frame.values:  # as in _html_table
+        lines.append("| " + " | ".join(_fmt(v).replace("|", "/") for v in values) + " |")
     return "\n".join(lines) + "\n"
 
 
