@@ -29,10 +29,16 @@ def _values(value) -> np.ndarray:
 
 
 def _ok(value, positive: bool) -> bool:
-    """The value finite (and > 0 when ``positive``): a plain float or int in plain Python (the common
-    case at a library's entry point, a few hundred nanoseconds), anything else through numpy."""
+    """The value finite (and > 0 when ``positive``): a plain float or int, or a flat list of them, in
+    plain Python (the common cases at a library's entry point: a few hundred nanoseconds, about a
+    microsecond for ten load levels), anything else through numpy."""
     if type(value) in _PLAIN:
         return math.isfinite(value) and (not positive or value > 0)
+    if type(value) is list:  # the load levels of a case as plain numbers: a Python loop beats numpy's set-up
+        try:
+            return all(math.isfinite(v) and v > 0 for v in value) if positive else all(map(math.isfinite, value))
+        except TypeError:  # not a flat list of real numbers (nested, complex, None): numpy below decides
+            pass
     if type(value) is np.ndarray and value.dtype.kind in "fiu":  # a real array: ndarray methods, no dispatch
         return bool(np.isfinite(value).all()) and (not positive or bool((value > 0).all()))
     values = _values(value)

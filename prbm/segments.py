@@ -270,6 +270,9 @@ def _spring_angle_reference_scalar(FR, phi, k, theta_i, xtol, maxiter):
 
 def _level_lists(P, n) -> tuple[list[float], list[float], tuple[int, ...]]:
     """P and n over the levels as two equally long lists of floats, and the levels' shape."""
+    if type(P) is list and type(n) is list and len(P) == len(n) and \
+            all(type(v) is float for v in P) and all(type(v) is float for v in n):  # already that (a case's levels)
+        return P, n, (len(P),)
     P_arr, n_arr = np.asarray(P, float), np.asarray(n, float)
     if P_arr.shape != n_arr.shape:
         P_arr, n_arr = np.broadcast_arrays(P_arr, n_arr)

@@ -19,6 +19,12 @@ REFUSALS = {
     "prbm negative EI": (lambda: prbm.fixed_pinned_tip(5.0, length=1.0, EI=-1.0), "EI"),
     "prbm zero length": (lambda: prbm.fixed_guided_tip(1.0, length=0.0, EI=1.0), "length"),
     "prbm infinite EI": (lambda: prbm.pure_moment_tip(1.0, length=1.0, EI=math.inf), "EI"),
+    # load levels as a list of numbers (argcheck's plain-Python path) and as a nested list (numpy's)
+    "prbm NaN level in a list": (lambda: prbm.fixed_pinned_tip([1.0, math.nan, 2.0], length=1.0, EI=1.0), "P"),
+    "prbm infinite ratio in a list": (lambda: prbm.fixed_pinned_tip([1.0, 2.0], [0.0, -math.inf], length=1.0,
+                                                                     EI=1.0), "n"),
+    "prbm NaN in a nested list": (lambda: prbm.fixed_pinned_tip([[1.0], [math.nan]], length=1.0, EI=1.0), "P"),
+    "prbm zero length in a list": (lambda: prbm.fixed_pinned_tip(1.0, length=[1.0, 0.0], EI=1.0), "length"),
     "elastica negative EI": (lambda: elastica.solve_elastica(0.1, -1.0, force=(0.0, 5.0)), "EI"),
     "elastica NaN force": (lambda: elastica.solve_elastica(1.0, 1.0, force=(0.0, math.nan)), "force"),
     "elastica NaN load": (lambda: elastica.cantilever_tip_load(math.nan), "load"),

@@ -167,15 +167,15 @@ def _free_straight(loads: TipLoads, ratio: list[float], L: float, EI: float, fit
         loaded = [r for r, fy in zip(ratio, loads.Fy) if fy != 0.0]  # an unloaded level has no ratio
         if loaded and not all(abs(r - loaded[0]) <= 1e-8 + 1e-5 * abs(loaded[0]) for r in loaded):  # np.allclose
             raise NotApplicable("follower force with a varying load ratio")
-        return SegmentSolve(prbm.composite_beam_tip(np.array(loads.Fy), loaded[0] if loaded else 0.0,
+        return SegmentSolve(prbm.composite_beam_tip(loads.Fy, loaded[0] if loaded else 0.0,
                                                     follower=True, **kw), L, 0.0)
     if has_F and has_M:
-        return SegmentSolve(prbm.fixed_guided_monotonic_tip(np.array(loads.Fy), np.array(ratio), np.array(loads.M),
+        return SegmentSolve(prbm.fixed_guided_monotonic_tip(loads.Fy, ratio, loads.M,
                                                             **kw), L, 0.0,
                             "force and moment: equivalent initial curvature kappa0 = M l/EI (eq 62), no inflection")
     if has_M:
-        return SegmentSolve(prbm.pure_moment_tip(np.array(loads.M), length=L, EI=EI), L, 0.0)
-    return SegmentSolve(prbm.fixed_pinned_tip(np.array(loads.Fy), np.array(ratio), **kw), L, 0.0)
+        return SegmentSolve(prbm.pure_moment_tip(loads.M, length=L, EI=EI), L, 0.0)
+    return SegmentSolve(prbm.fixed_pinned_tip(loads.Fy, ratio, **kw), L, 0.0)
 
 
 def _free_curved(loads: TipLoads, ratio: list[float], L: float, EI: float, kappa: float,
@@ -188,7 +188,7 @@ def _free_curved(loads: TipLoads, ratio: list[float], L: float, EI: float, kappa
         res = _stack([prbm.curved_fixed_pinned_tip(fy, r, curvature=m / EI + kappa, **kw)
                       for fy, r, m in zip(loads.Fy, ratio, loads.M)])
     else:
-        res = prbm.curved_fixed_pinned_tip(np.array(loads.Fy), np.array(ratio), curvature=kappa, **kw)
+        res = prbm.curved_fixed_pinned_tip(loads.Fy, ratio, curvature=kappa, **kw)
     return SegmentSolve(res, math.sin(kappa * L) / kappa, (1 - math.cos(kappa * L)) / kappa)
 
 
@@ -205,9 +205,9 @@ def _guided(case, loads: TipLoads, ratio: list[float], L: float, EI: float, kapp
         raise NotApplicable("a follower force on a fixed-guided segment: no PRBM in the seeds")
     kw = {"length": L, "EI": EI, "family": fit.family, "extrapolate": fit.extrapolate}
     if loads.has_moment:
-        return SegmentSolve(prbm.fixed_guided_monotonic_tip(np.array(loads.Fy), np.array(ratio), np.array(loads.M),
+        return SegmentSolve(prbm.fixed_guided_monotonic_tip(loads.Fy, ratio, loads.M,
                                                             **kw), L, 0.0)
-    res = prbm.fixed_guided_tip(np.array(loads.Fy), np.array(ratio), **kw)
+    res = prbm.fixed_guided_tip(loads.Fy, ratio, **kw)
     res.constants["k"] = 2.0 * np.asarray(res.constants["k_each"])  # U = 2 (k_each Theta^2/2)
     return SegmentSolve(res, L, 0.0)
 

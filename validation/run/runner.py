@@ -27,6 +27,7 @@ def requests_for(case: Case, method: str) -> list[Request]:
     """Every (quantity, point, level) the case wants from this method, in order, without repeats."""
     wanted: dict[Request, None] = {}
     every = None  # range(case.n_levels()), built at most once (n_levels builds the load's level list)
+    new = tuple.__new__  # Request(q, p, level) without the named tuple's Python-level __new__ (a third of the time)
     for out in case.outputs:
         if out.methods is not None and method not in out.methods:
             continue
@@ -36,7 +37,8 @@ def requests_for(case: Case, method: str) -> list[Request]:
             levels = out.levels
         quantity = out.quantity
         point = out.point if QUANTITIES[quantity].at_point else ""
-        wanted.update(dict.fromkeys([Request(quantity, point, level) for level in levels]))
+        for level in levels:
+            wanted[new(Request, (quantity, point, level))] = None
     return list(wanted)
 
 
