@@ -315,7 +315,7 @@ def render_series(pvd_files: list[Path], png: Path, title: str = "") -> Path | N
         reader.set_active_time_point(len(reader.time_values) - 1)
         mesh = reader.read()[0]
         if method == "fem" and "bending_moment" in mesh.point_data:
-            bar = {"title": "FEM bending moment", "color": "black"}
+            bar = {"title": "FEM bending moment", "color": "black", "render": False}
             canvas.shown.append(plotter.add_mesh(mesh, scalars="bending_moment", line_width=6, cmap=FEM_COLOURMAP,
                                                  scalar_bar_args=bar, render=False))
             legend.append(("FEM (colour: bending moment)", FEM_LEGEND_COLOUR))
