@@ -201,16 +201,16 @@ def _first_by(rows: list[tuple], key, column: int, value: int) -> dict[tuple, di
     return out
 
 
-def _spread(by_key: dict[tuple, dict[str, float]], prefix: str = "") -> pd.DataFrame:
-    """A table indexed by the sorted keys with a column per label (sorted): the rows and columns with
-    at least one number (``pivot_table``'s result)."""
-    labels = sorted({label for part in by_key.values() for label in part
-                     if not all(pd.isna(p.get(label, np.nan)) for p in by_key.values())})
-    keys = sorted(k for k, part in by_key.items() if any(not pd.isna(part.get(c, np.nan)) for c in labels))
-    index = pd.MultiIndex.from_tuples(keys, names=GLANCE_KEY) if keys else \
-        pd.MultiIndex.from_arrays([[], [], []], names=GLANCE_KEY)
-    return pd.DataFrame({prefix + c: np.array([by_key[k].get(c, np.nan) for k in keys], float) for c in labels},
-                        index=index)
+def _labels(by_key: dict[tuple, dict[str, float]]) -> list[str]:
+    """The labels (sorted) with at least one number over the keys (``pivot_table``'s columns)."""
+    return sorted({label for part in by_key.values() for label in part
+                   if not all(pd.isna(p.get(label, np.nan)) for p in by_key.values())})
+
+
+def _spread(by_key: dict[tuple, dict[str, float]], keys: list[tuple], prefix: str = "") -> dict[str, np.ndarray]:
+    """A column per label with a number (sorted, ``prefix`` before each name), each over ``keys``
+    (NaN where a key has no value under the label): ``pivot_table``'s columns, left-joined on ``keys``."""
+    return {prefix + c: np.array([by_key.get(k, {}).get(c, np.nan) for k in keys], float) for c in _labels(by_key)}
 
 
 GLANCE_KEY = ["quantity", "point", "level"]
@@ -225,13 +225,18 @@ def glance(table: pd.DataFrame) -> pd.DataFrame:
         return pd.DataFrame()
     rows = [row for row in table[GLANCE_COLUMNS].itertuples(index=False, name=None) if not pd.isna(row[0])]
     key = itemgetter(0, 1, 2)
-    out = _spread(_first_by(rows, key, 3, 4)).join(_spread(_first_by(rows, key, 5, 6), "printed "), how="left")
+    values, printed = _first_by(rows, key, 3, 4), _first_by(rows, key, 5, 6)
+    # a row per output with a method's value (sorted), one frame built at once (no index to join on)
+    shown = _labels(values)
+    keys = sorted(k for k, part in values.items() if any(not pd.isna(part.get(c, np.nan)) for c in shown))
+    out = pd.DataFrame({name: [k[i] for k in keys] for i, name in enumerate(GLANCE_KEY)}
+                       | _spread(values, keys) | _spread(printed, keys, "printed "))
     fem_est = {}
     for row in rows:
         if row[3] == "fem":
             fem_est.setdefault(key(row), row[7])
     if fem_est:
-        out["fem ± (estimate)"] = [fem_est.get(k, np.nan) for k in out.index]
+        out["fem ± (estimate)"] = [fem_est.get(k, np.nan) for k in keys]
     if {"prbm", "fem"} <= set(out.columns):
         out["PRBM - FEM"] = out["prbm"] - out["fem"]
     for method in ("prbm", "fem"):
@@ -243,7 +248,6 @@ def glance(table: pd.DataFrame) -> pd.DataFrame:
     for row in rows:
         labels.setdefault(key(row), row[8])
         units.setdefault(row[0], row[9])
-    out = out.reset_index()
     out.insert(3, "load", [labels.get(k, k[2]) for k in zip(out["quantity"], out["point"], out["level"])])
     out.insert(1, "unit", out["quantity"].map(units))
     return out.drop(columns=["level"])
