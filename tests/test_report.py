@@ -63,6 +63,72 @@ def test_glance_differences_are_the_differences_of_the_values():
     assert row["printed exact"] == 0.810609  # the reference from the case file, beside the methods
 
 
+def _glance_by_pivot_and_join(table: pd.DataFrame) -> pd.DataFrame:
+    """The at-a-glance table by the pandas formulation it replaces: per (quantity, point, level) the
+    first value of each method and of each printed label, as two frames indexed by the sorted keys
+    with a number, the printed one left-joined on the methods' rows."""
+    key_names = ["quantity", "point", "level"]
+    rows = [r for r in table.itertuples(index=False) if not pd.isna(r.quantity)]
+
+    def spread(label_of, value_of, prefix=""):
+        first = {}
+        for r in rows:
+            if not pd.isna(label_of(r)):
+                first.setdefault((r.quantity, r.point, r.level), {}).setdefault(label_of(r), value_of(r))
+        labels = sorted({c for part in first.values() for c in part
+                         if not all(pd.isna(p.get(c, np.nan)) for p in first.values())})
+        keys = sorted(k for k, part in first.items() if any(not pd.isna(part.get(c, np.nan)) for c in labels))
+        index = pd.MultiIndex.from_tuples(keys, names=key_names) if keys else \
+            pd.MultiIndex.from_arrays([[], [], []], names=key_names)
+        return pd.DataFrame({prefix + c: np.array([first[k].get(c, np.nan) for k in keys], float) for c in labels},
+                            index=index)
+
+    out = spread(lambda r: r.method, lambda r: r.value).join(
+        spread(lambda r: r.reference_label, lambda r: r.reference_value, "printed "), how="left")
+    estimates = {}
+    for r in rows:
+        if r.method == "fem":
+            estimates.setdefault((r.quantity, r.point, r.level), r.error_estimate)
+    if estimates:
+        out["fem ± (estimate)"] = [estimates.get(k, np.nan) for k in out.index]
+    for name, left, right in (("PRBM - FEM", "prbm", "fem"), ("PRBM - measured", "prbm", "printed measured"),
+                              ("FEM - measured", "fem", "printed measured"), ("FEM - exact", "fem", "elastica")):
+        if {left, right} <= set(out.columns):
+            out[name] = out[left] - out[right]
+    loads, units = {}, {}
+    for r in rows:
+        loads.setdefault((r.quantity, r.point, r.level), r.level_label)
+        units.setdefault(r.quantity, r.unit)
+    out = out.reset_index()
+    out.insert(3, "load", [loads.get(k, k[2]) for k in zip(out["quantity"], out["point"], out["level"])])
+    out.insert(1, "unit", out["quantity"].map(units))
+    return out.drop(columns=["level"])
+
+
+def test_glance_is_the_pivot_of_the_results_on_tables_no_case_has():
+    """glance (built in one go, issue 15) equals the pivot-and-join formulation, frame and dtypes, on
+    random result tables: missing values and labels, NaN or float levels, printed labels with no
+    method value, empty tables."""
+    rng = np.random.default_rng(15)
+    columns = ["quantity", "point", "level", "method", "value", "reference_label", "reference_value",
+               "error_estimate", "level_label", "unit"]
+    pick = lambda options: options[rng.integers(len(options))]  # noqa: E731
+    nan_or = lambda p: math.nan if rng.random() < p else float(rng.uniform(-2.0, 2.0))  # noqa: E731
+    for trial in range(300):
+        rows = [{"quantity": pick(["x", "y", "rotation", None]), "point": pick(["tip", "", "A"]),
+                 "level": int(rng.integers(5)), "method": pick(["fem", "prbm", "elastica", "bcm", None]),
+                 "value": nan_or(0.3), "reference_label": pick([None, "measured", "ANSYS", "exact"]),
+                 "reference_value": nan_or(0.3), "error_estimate": nan_or(0.5),
+                 "level_label": pick([None, "P = 1 N", "2 N"]), "unit": pick(["mm", "deg", None])}
+                for _ in range(int(rng.integers(1, 25)))]
+        table = pd.DataFrame(rows, columns=columns)
+        if trial % 2:
+            table["level"] = table["level"].astype(float)
+        if table["quantity"].isna().all():
+            continue
+        pd.testing.assert_frame_equal(glance(table), _glance_by_pivot_and_join(table), check_exact=True)
+
+
 def test_summary_reads_in_words_and_short_numbers(built_report):
     index = (built_report / "index.html").read_text()
     tables = re.findall(r"<table class='summary sortable'>.*?</table>", index, flags=re.S)

@@ -229,8 +229,9 @@ def glance(table: pd.DataFrame) -> pd.DataFrame:
     # a row per output with a method's value (sorted), one frame built at once (no index to join on)
     shown = _labels(values)
     keys = sorted(k for k, part in values.items() if any(not pd.isna(part.get(c, np.nan)) for c in shown))
-    out = pd.DataFrame({name: [k[i] for k in keys] for i, name in enumerate(GLANCE_KEY)}
-                       | _spread(values, keys) | _spread(printed, keys, "printed "))
+    key_columns = {name: [k[i] for k in keys] if keys else pd.Series([], dtype=object)  # as an empty index
+                   for i, name in enumerate(GLANCE_KEY)}
+    out = pd.DataFrame(key_columns | _spread(values, keys) | _spread(printed, keys, "printed "))
     fem_est = {}
     for row in rows:
         if row[3] == "fem":
