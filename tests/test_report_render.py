@@ -4,9 +4,11 @@ colour, not the light blue pyvista gives a scalar-coloured mesh), and one canvas
 from pathlib import Path
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 from matplotlib import colormaps
 from matplotlib.colors import to_rgb
+from PIL import Image
 
 from validation.case.loader import case_by_id
 from validation.report import paraview
@@ -38,6 +40,23 @@ def test_the_legend_gives_each_series_its_line_colour(tmp_path: Path):
     assert canvas.title.GetText(2) == "second"
     meshes = [a for a in canvas.plotter.renderer.actors.values() if a in canvas.shown]
     assert len(meshes) == 3   # the FEM mesh, the undeformed mesh and the legend
+
+
+def test_each_picture_shows_its_own_series(tmp_path: Path):
+    """The canvas renders once a picture, just before its screenshot (the calls that add meshes, the
+    scalar bar and the legend are told not to render): a picture taken without that render would show
+    the previous picture. Pictures A, B, A on one canvas: the two A's equal pixel for pixel, B differs."""
+    pytest.importorskip("pyvista")
+    result = run_case(case_by_id("cantilever_tip_load"), use_cache=True)
+    pvds = paraview.write_case_series(result.loaded.case, result.runs, tmp_path / "vtu")
+    only_prbm = [p for p in pvds if p.stem == "prbm"]
+    pictures = [paraview.render_series(files, tmp_path / f"{i}.png", title)
+                for i, (files, title) in enumerate([(pvds, "all"), (only_prbm, "prbm"), (pvds, "all")])]
+    if None in pictures:
+        pytest.skip("pyvista cannot render here")
+    first, second, third = (np.asarray(Image.open(png)) for png in pictures)
+    assert (first == third).all()
+    assert (first != second).any(axis=-1).mean() > 0.01   # another picture, not the last one again
 
 
 def test_without_plotly_the_report_says_so_in_one_line(tmp_path, monkeypatch, capsys):
