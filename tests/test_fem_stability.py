@@ -102,3 +102,30 @@ def test_follower_cantilever_untouched():
     m.add_force("tip", 0.0, [1.0, 2.0], follower=True)
     r = fem.solve(m)
     assert r.converged and "branch" not in r.message
+
+
+def test_a_negative_sign_from_the_last_factorisation_is_confirmed_at_the_converged_state():
+    """The sign of det K comes from Newton's last factorisation, one iterate before convergence; after
+    a long step that iterate can be far from the converged state (Test 2 at 128 elements: |r|/F = 3.2,
+    det K < 0 there, det K > 0 at the converged state), so a negative sign is checked by a fresh
+    factorisation before it counts: a stable state is never called unstable from a stale tangent.
+    A positive sign is taken as it is, and a state that is really unstable stays negative."""
+    from fem import solver
+    from fem.newton import newton
+    from fem.options import SolveOptions
+
+    opts = SolveOptions()
+    for fraction, expected in ((0.5, 1), (1.5, -1)):     # below P_cr: stable; straight above it: unstable
+        model = fem.Model()
+        model.add_node("root", 0.0, 0.0)
+        model.add_node("tip", 1.0, 0.0)
+        model.add_member("root", "tip", fem.Section.from_EI(EA, 1.0), n_elements=8)
+        model.add_support("root", "fixed")
+        model.add_force("tip", [-fraction * P_CR], [0.0])
+        system = solver._prepare(model, opts, None)
+        q0, beta0 = np.zeros(system.n), system.disc.beta0.copy()
+        out = newton(system, q0, 1.0, beta0, system.loads_at(-1, 0, 1.0), opts, q_start=q0)
+        for stale in (-1, 1):            # what the last factorisation may say
+            out.factor = type("Stale", (), {"det_sign": stale})()
+            sign = solver._step_state(system, opts, out, beta0).sign
+            assert sign == (expected if stale < 0 else 1), (fraction, stale)
