@@ -79,3 +79,25 @@ def test_the_two_codes_take_turns_mesh_by_mesh():
     got = _interleaved({"fem": sweep("fem", [2, 4, 8]), "opensees": sweep("opensees", [2, 4])})
     assert order == [("fem", 2), ("opensees", 2), ("fem", 4), ("opensees", 4), ("fem", 8)]
     assert got == {"fem": (["fem rows"], []), "opensees": (["opensees rows"], [])}
+
+
+def test_the_per_iteration_timings_take_turns_run_by_run(monkeypatch):
+    """`_timed_in_turn` times the codes run by run in turn, the order reversed every round (A B, B A,
+    ...), after one warm-up each; a configuration whose warm-up is slow is timed once; each code's
+    best, median and stepping time come from its own runs."""
+    order, cpu = [], {"fem": iter([3.0, 1.0, 2.0]), "opensees": iter([5.0, 4.0, 6.0]), "slow": iter([9.0])}
+
+    def run_method(case, method):
+        return MethodRun(values={}, wall_time=1.0 if method == "slow" else 1e-3)
+
+    def one_run(case, method):
+        order.append(method)
+        return MethodRun(values={}, extras={"analysis_cpu_s": 0.5}), next(cpu[method])
+
+    monkeypatch.setattr(bench, "run_method", run_method)
+    monkeypatch.setattr(bench, "_one_run", one_run)
+    got = bench._timed_in_turn({"fem": None, "opensees": None, "slow": None}, 3)
+    assert order == ["fem", "opensees", "slow", "opensees", "fem", "fem", "opensees"]
+    assert (got["fem"].best, got["fem"].median, got["fem"].repeats) == (1.0, 2.0, 3)
+    assert (got["opensees"].best, got["opensees"].median) == (4.0, 5.0)
+    assert (got["slow"].best, got["slow"].repeats, got["fem"].analysis) == (9.0, 1, 0.5)

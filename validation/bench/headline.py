@@ -156,20 +156,37 @@ def _one_run(case, method: str) -> tuple[MethodRun, float]:
 
 
 def _timed(case, method: str, repeats: int) -> Timing:
-    first = run_method(case, method)  # warm-up (imports, caches, compiled kernels)
-    if first.wall_time > SLOW_RUN_S:  # a slow configuration: its noise is small against its time
-        repeats = 1
-    times, walls, analyses, run = [], [], [], first
-    for _ in range(repeats):
-        run, cpu = _one_run(case, method)
-        times.append(cpu)
-        walls.append(run.wall_time)
-        analyses.append(run.extras.get("analysis_cpu_s", math.nan))
-    tracemalloc.start()
-    run_method(case, method)
-    peak = tracemalloc.get_traced_memory()[1]
-    tracemalloc.stop()
-    return Timing(run, min(times), statistics.median(times), repeats, peak, min(walls), min(analyses))
+    """One configuration timed (`_timed_in_turn` of it alone)."""
+    return _timed_in_turn({method: case}, repeats)[method]
+
+
+def _timed_in_turn(configs: dict, repeats: int) -> dict[str, Timing]:
+    """Each method's case (method -> case) timed, the methods taking turns run by run, the order
+    reversed every round (A B, B A, ...), so that a slow period of the shared machine falls on every
+    method alike; after one warm-up run each (imports, caches, compiled kernels). A configuration whose
+    warm-up is slower than SLOW_RUN_S is timed once (its noise is small against its time)."""
+    first = {method: run_method(case, method) for method, case in configs.items()}
+    rounds = {method: 1 if run.wall_time > SLOW_RUN_S else repeats for method, run in first.items()}
+    times = {method: [] for method in configs}
+    walls, analyses, last = {m: [] for m in configs}, {m: [] for m in configs}, dict(first)
+    order = list(configs)
+    for r in range(max(rounds.values(), default=0)):
+        for method in (order if r % 2 == 0 else order[::-1]):
+            if len(times[method]) < rounds[method]:
+                run, cpu = _one_run(configs[method], method)
+                last[method] = run
+                times[method].append(cpu)
+                walls[method].append(run.wall_time)
+                analyses[method].append(run.extras.get("analysis_cpu_s", math.nan))
+    out = {}
+    for method, case in configs.items():
+        tracemalloc.start()
+        run_method(case, method)
+        peak = tracemalloc.get_traced_memory()[1]
+        tracemalloc.stop()
+        out[method] = Timing(last[method], min(times[method]), statistics.median(times[method]), rounds[method],
+                             peak, min(walls[method]), min(analyses[method]))
+    return out
 
 
 def _exact(case, levels) -> tuple[dict, str]:
@@ -310,14 +327,15 @@ def _interleaved(sweeps: dict) -> dict:
 
 def _per_iteration(case, bench: BenchCase, repeats: int, with_peer: bool, cap: int) -> dict:
     """Wall time over Newton iterations (failed tries included) of the plain FEM and the peer on the
-    same meshes of this case."""
+    same meshes of this case, the two codes timed run by run in turn (`_timed_in_turn`)."""
     cost = {}
     for n in (m for m in ITERATION_MESHES if m <= cap):
         entry = {}
+        subs = {}
         for method in ("fem",) + ((PEER,) if with_peer else ()):
             extra = {"elements": n, "error_estimate": False} if method == "fem" else {"elements": n}
-            sub = _restrict(case, method, dict(case.methods.get(method) or {}) | extra, bench.levels)
-            timing = _timed(sub, method, repeats)
+            subs[method] = _restrict(case, method, dict(case.methods.get(method) or {}) | extra, bench.levels)
+        for method, timing in _timed_in_turn(subs, repeats).items():   # the two codes run by run in turn
             if not timing.run.values:
                 continue
             its = timing.run.extras.get("iterations", 0) + timing.run.extras.get("rejected_iterations", 0)
@@ -496,7 +514,7 @@ def _print_headline(headline: dict) -> None:
     if headline["per_iteration"]:
         print("time of one Newton iteration, single-level cantilever (fem / OpenSees): the whole run over its "
               "iterations, and the load stepping alone (Newton iterations and step control, without model "
-              "set-up and results) over its iterations:")
+              "set-up and results) over its iterations; best of the repeats, the two codes run by run in turn:")
         for n, c in headline["per_iteration"].items():
             parts = [f"{m} {c[m]['per_iteration_s'] * 1e6:.1f} us run / {c[m]['loop_per_iteration_s'] * 1e6:.1f} us "
                      f"stepping ({c[m]['iterations']:.0f} it)" for m in ("fem", PEER) if m in c]
