@@ -86,7 +86,7 @@ from numba import njit
 from scipy.integrate._ivp import dop853_coefficients as _coef   # the tables scipy's DOP853 uses
 
 __all__ = ["STATE_SIZE", "FORCE_STATE_SIZE", "BEAM_STATE_SIZE", "ANGLE", "elastica_rhs", "beam_rhs",
-           "integrate_samples", "integrate_beam", "beam_end", "beam_samples", "plain_samples", "tip_force",
+           "integrate_samples", "integrate_beam", "beam_samples", "plain_samples", "tip_force",
            "follow_path"]
 
 STATE_SIZE = 25
@@ -317,17 +317,12 @@ def _parameters(Fx, Fy, k0, wx=0.0, wy=0.0, EI=1.0, EA=0.0, length=1.0):
 def integrate_beam(y0, length: float, Fx: float, Fy: float, k0: float, EI: float, EA: float,
                    rtol: float, atol: float):
     """A mechanism beam's state (x, y, theta, m, U) at s = length from y0 at s = 0 (physical units,
-    EA = 0: inextensible), and whether the integration succeeded."""
-    states, ok = _samples(np.asarray(y0, dtype=float), np.array([0.0, float(length)]),
-                          _parameters(Fx, Fy, k0, EI=EI, EA=EA, length=length), float(rtol), float(atol),
-                          True)
-    return states[-1], ok
-
-
-def beam_end(y0: np.ndarray, span: np.ndarray, P: np.ndarray, rtol: float, atol: float):
-    """`integrate_beam` from prepared arrays: y0 (x, y, theta, m, U) at s = 0, span = [0, length], the
-    parameter array P (module docstring); the end state and whether the integration succeeded."""
-    states, ok = _samples(y0, span, P, float(rtol), float(atol), True)
+    EA = 0: inextensible), and whether the integration succeeded. (The arrays built directly: the
+    mechanism's residual calls this once a beam an evaluation.)"""
+    length = float(length)
+    states, ok = _samples(np.asarray(y0, dtype=float), np.array([0.0, length]),
+                          np.array([Fx, Fy, k0, 0.0, 0.0, EI, EA, length], dtype=float),   # `_parameters`
+                          float(rtol), float(atol), True)
     return states[-1], ok
 
 

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .integrator import beam_end, beam_samples
+from .integrator import beam_samples, integrate_beam
 
 __all__ = ["ElasticBeam", "RigidBody", "BodyPin", "PointForce", "BodyCouple", "NodeCouple", "BodyRotation", "NodeDisplacement",
            "Mechanism", "MechanismSolution", "solve_mechanism", "GROUND"]
@@ -203,7 +203,6 @@ class _System:
                 self._place[(b.name, nd)] = (self.pose_at[b.name], float(o[0]), float(o[1]), float(r[0]), float(r[1]))
         self._origin = {b.name: (self.pose_at[b.name], float(mech.origin[b.name][0]), float(mech.origin[b.name][1]))
                         for b in mech.bodies}
-        self._span = {beam.name: np.array([0.0, float(self.tangent0[beam.name][2])]) for beam in mech.beams}
         self._atol = {beam.name: self.rtol * 1e-3 * max(self.tangent0[beam.name][2], 1.0) for beam in mech.beams}
 
     # poses
@@ -212,6 +211,10 @@ class _System:
             return np.zeros(2), 0.0
         i = self.pose_at[body]
         return u[i:i + 2], u[i + 2]
+
+    def _phi(self, ul, body) -> float:
+        """The rotation of ``body`` (0 for the ground) from the unknowns as a list of floats."""
+        return 0.0 if body == GROUND else ul[self.pose_at[body] + 2]
 
     def node_position(self, u, body, node):
         """Current position of a node carried by ``body`` (an array; `_xy`)."""
@@ -232,7 +235,7 @@ class _System:
         Fx, Fy, a = ul[k], ul[k + 1], ul[k + 2]
         angle0 = self.tangent0[beam.name][0]
         x, y = self._xy(ul, beam.start_body, beam.start)
-        phi = 0.0 if beam.start_body == GROUND else ul[self.pose_at[beam.start_body] + 2]
+        phi = self._phi(ul, beam.start_body)
         if beam.start_kind == "clamped":
             return x, y, angle0 + phi, a, Fx, Fy
         return x, y, angle0 + a, 0.0, Fx, Fy
@@ -246,9 +249,8 @@ class _System:
         known = ends.get(key)
         if known is not None:   # a finite-difference column that moved another beam's unknowns, or the
             return known        # base point again: this beam's inputs, so its end, are the same
-        end, ok = beam_end(np.array([x, y, theta0, m0, 0.0]), self._span[beam.name],
-                           np.array([Fx, Fy, beam.curvature, 0.0, 0.0, beam.EI, beam.EA or 0.0,
-                                     self._span[beam.name][1]]), self.rtol, self._atol[beam.name])
+        end, ok = integrate_beam([x, y, theta0, m0, 0.0], self.tangent0[beam.name][2], Fx, Fy, beam.curvature,
+                                 beam.EI, beam.EA or 0.0, self.rtol, self._atol[beam.name])
         if not ok:
             raise RuntimeError(f"beam '{beam.name}': integration failed (step below the rounding of s)")
         end.flags.writeable = False
@@ -297,7 +299,7 @@ class _System:
             add(beam.start_body, F0, F1, start_m, *self._xy(ul, beam.start_body, beam.start))
             if beam.end_kind == "clamped":
                 tx, ty = self._xy(ul, beam.end_body, beam.end)
-                phi = 0.0 if beam.end_body == GROUND else ul[self.pose_at[beam.end_body] + 2]
+                phi = self._phi(ul, beam.end_body)
                 r[3 * i], r[3 * i + 1] = end[0] - tx, end[1] - ty
                 r[3 * i + 2] = end[2] - (self.tangent0[beam.name][1] + phi)
                 add(beam.end_body, -F0, -F1, -end[3], end[0], end[1])
@@ -329,7 +331,7 @@ class _System:
             add(pin.b, -R0, -R1, 0.0, *pb)
         for j, (rot, value) in enumerate(zip(self.rotations, rot_values)):
             M = ul[self.i_rot + j]
-            phi = 0.0 if rot.body == GROUND else ul[self.pose_at[rot.body] + 2]
+            phi = self._phi(ul, rot.body)
             r[self.i_rot + j] = phi - value
             add(rot.body, 0.0, 0.0, M, 0.0, 0.0)
         for j, (disp, value) in enumerate(zip(self.displacements, disp_values)):
