@@ -207,10 +207,11 @@ def _labels(by_key: dict[tuple, dict[str, float]]) -> list[str]:
                    if not all(pd.isna(p.get(label, np.nan)) for p in by_key.values())})
 
 
-def _spread(by_key: dict[tuple, dict[str, float]], keys: list[tuple], prefix: str = "") -> dict[str, np.ndarray]:
-    """A column per label with a number (sorted, ``prefix`` before each name), each over ``keys``
-    (NaN where a key has no value under the label): ``pivot_table``'s columns, left-joined on ``keys``."""
-    return {prefix + c: np.array([by_key.get(k, {}).get(c, np.nan) for k in keys], float) for c in _labels(by_key)}
+def _spread(by_key: dict[tuple, dict[str, float]], keys: list[tuple], labels: list[str],
+            prefix: str = "") -> dict[str, np.ndarray]:
+    """A column per label (``prefix`` before each name), each over ``keys`` (NaN where a key has no value
+    under the label): ``pivot_table``'s columns, left-joined on ``keys``."""
+    return {prefix + c: np.array([by_key.get(k, {}).get(c, np.nan) for k in keys], float) for c in labels}
 
 
 GLANCE_KEY = ["quantity", "point", "level"]
@@ -231,7 +232,8 @@ def glance(table: pd.DataFrame) -> pd.DataFrame:
     keys = sorted(k for k, part in values.items() if any(not pd.isna(part.get(c, np.nan)) for c in shown))
     key_columns = {name: [k[i] for k in keys] if keys else pd.Series([], dtype=object)  # as an empty index
                    for i, name in enumerate(GLANCE_KEY)}
-    out = pd.DataFrame(key_columns | _spread(values, keys) | _spread(printed, keys, "printed "))
+    out = pd.DataFrame(key_columns | _spread(values, keys, shown)
+                       | _spread(printed, keys, _labels(printed), "printed "))
     fem_est = {}
     for row in rows:
         if row[3] == "fem":
