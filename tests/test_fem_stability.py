@@ -127,5 +127,5 @@ def test_a_negative_sign_from_the_last_factorisation_is_confirmed_at_the_converg
         out = newton(system, q0, 1.0, beta0, system.loads_at(-1, 0, 1.0), opts, q_start=q0)
         for stale in (-1, 1):            # what the last factorisation may say
             out.factor = type("Stale", (), {"det_sign": stale})()
-            sign = solver._step_state(system, opts, out, beta0).sign
+            sign = solver._step_state(system, opts, out, beta0).sign   # through `newton.det_sign`
             assert sign == (expected if stale < 0 else 1), (fraction, stale)
