@@ -372,8 +372,7 @@ def _constraint_map(n_en, n_full, order, independent, held: _Held, rotation_dofs
 def _first_member_ends(n_mn, conn, edofs) -> np.ndarray:
     """Rotation DOF of the first member end at every model node (-1: none): of the element ends
     in the order (element, start before end), the first one at the node."""
-    first_end = np.empty(n_mn, dtype=int)
-    first_end[:] = -1
+    first_end = np.full(n_mn, -1, dtype=int)
     ends = conn.ravel()                        # (e0 start, e0 end, e1 start, ...)
     dofs = edofs[:, 2::3].ravel()              # columns 2 and 5: the end rotations
     for k in (ends < n_mn).nonzero()[0][::-1].tolist():   # the ends at model nodes: two per member
@@ -427,5 +426,5 @@ def discretise(model: Model, refine: int = 1) -> Discretisation:
         prescribed_dofs=np.array(held.p_dofs, dtype=int),
         prescribed_values=np.array(held.p_vals, dtype=float).reshape(len(held.p_dofs), n_lev),
         constrained=held.constrained, slaves=slaves, masters=masters,
-        node_rotation_used=used[rot_dof[:n_mn]] | _marked(n_mn, slaves) if len(slaves) else used[rot_dof[:n_mn]],
+        node_rotation_used=(used[rot_dof[:n_mn]] | _marked(n_mn, slaves)) if len(slaves) else used[rot_dof[:n_mn]],
         node_first_end_rot=_first_member_ends(n_mn, conn, edofs), red_is_rotation=red_is_rot)
