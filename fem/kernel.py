@@ -364,13 +364,28 @@ def _evaluate(q, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, 
 
 
 @njit(cache=True)
+def _sign_at(K, work, banded, n, kl, ku, ld, ipiv, ints, info):
+    """Sign of det K of the tangent K (column-major) from a factorisation of it: 0 when it is singular,
+    2 (not known) when an entry is not finite."""
+    for j in range(K.shape[0]):
+        if not math.isfinite(K[j]):
+            return 2
+        work[j] = K[j]
+    _factor(work, banded, n, kl, ku, ld, ipiv, ints, info)
+    if info[0] > 0:
+        return 0
+    return _det_sign(work, banded, n, kl, ku, ld, ipiv)
+
+
+@njit(cache=True)
 def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, L0, beta0,
                 ka, kb, springs, spring_k, ground, flat, valid_src, coef, banded, kl, ku, ld, rot,
                 rtol, atol, floor, L_ref, maxiter, damp, max_rot_inc,
                 K, u, f_int, f_ref, R, r, fr, fe, Ke, N, M, L, beta, theta_bar, u_bar, jumped, hist):
     """Every iteration of the load-control corrector from q (updated in place). Returns
-    (status, iterations, det sign of the last factorisation (2: none), F_scale, rotation increment
-    of a ROTATION_TOO_LARGE cut); the evaluation at the final q is left in the output arrays."""
+    (status, iterations, det sign of the last factorisation (2: none; a run that converges before any
+    factorisation factorises the tangent at its state for it), F_scale, rotation increment of a
+    ROTATION_TOO_LARGE cut); the evaluation at the final q is left in the output arrays."""
     n, nf = q.shape[0], u.shape[0]
     work = np.empty(K.shape[0])
     ipiv = np.empty(max(n, 1), np.int32)
@@ -394,6 +409,8 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
         if not math.isfinite(rn):
             return NOT_FINITE, it, sign, scale, 0.0
         if (rn <= tol or dq_small) and (it > 0 or rn <= rtol * scale + atol):
+            if sign == 2 and n > 0:     # converged before any factorisation: the sign at this state
+                sign = _sign_at(K, work, banded, n, kl, ku, ld, ipiv, ints, info)
             return CONVERGED, it, sign, scale, 0.0
         if it == maxiter:
             return NO_CONVERGENCE, it, sign, scale, 0.0

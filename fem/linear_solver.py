@@ -135,6 +135,8 @@ class MatrixLayout:
 class Factor:
     """LU factors of the assembled matrix; ``solve(b)`` and ``det_sign``."""
 
+    final = False   # not known to be of a converged state (`newton.det_sign` confirms a negative sign)
+
     def __init__(self, layout, data):
         self.layout = layout
         n = layout.n

@@ -168,10 +168,12 @@ def newton(system, q, lam, beta, loads, opts: SolveOptions, mode="load", ctrl=No
 
 class _Sign:
     """The sign of det K of the compiled corrector's last factorisation (what load control reads
-    of a `linear_solver.Factor`)."""
+    of a `linear_solver.Factor`); ``final``: that factorisation is of the converged state itself (a run
+    that converged before any Newton correction), so even a negative sign needs no confirmation."""
 
-    def __init__(self, det_sign: int):
+    def __init__(self, det_sign: int, final: bool = False):
         self.det_sign = det_sign
+        self.final = final
 
 
 class _Evaluation(dict):
@@ -222,7 +224,7 @@ def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start) -
     ev = _Evaluation(u=u, C=system.C0, el=el, f_int=f_int, f_ref_full=f_ref, R_full=R, r=r, f_ref=fr,
                      F_scale=scale)
     ev.column_major = (c, K)
-    return NewtonOutcome(q, lam, ev, history, it, None if sign == 2 else _Sign(sign))
+    return NewtonOutcome(q, lam, ev, history, it, None if sign == 2 else _Sign(sign, final=it == 0))
 
 
 def accept_check(system, q_new, q_old, ev, opts: SolveOptions, its):
@@ -252,8 +254,9 @@ def det_sign(system, ev, fac=None):
     convergence, which after a long step can lie far from it (Test 2 at 128 elements: |r|/F = 3.2 there
     and det K < 0, while the converged state has det K > 0), so a negative sign is confirmed before it
     counts as lost stability or a critical point; a positive one is taken as it is (no extra
-    factorisation on a stable path)."""
-    if fac is not None and fac.det_sign > 0:
+    factorisation on a stable path). A factorisation of the converged state itself (``final``, the
+    compiled corrector's when it converged before any correction) is taken whatever its sign."""
+    if fac is not None and (fac.det_sign > 0 or fac.final):
         return fac.det_sign
     try:
         return system.layout.factor(ev["K"]).det_sign

@@ -126,6 +126,38 @@ def test_a_negative_sign_from_the_last_factorisation_is_confirmed_at_the_converg
         q0, beta0 = np.zeros(system.n), system.disc.beta0.copy()
         out = newton(system, q0, 1.0, beta0, system.loads_at(-1, 0, 1.0), opts, q_start=q0)
         for stale in (-1, 1):            # what the last factorisation may say
-            out.factor = type("Stale", (), {"det_sign": stale})()
+            out.factor = type("Stale", (), {"det_sign": stale, "final": False})()
             sign = solver._step_state(system, opts, out, beta0).sign   # through `newton.det_sign`
             assert sign == (expected if stale < 0 else 1), (fraction, stale)
+
+
+def test_a_run_converged_before_any_correction_reads_the_sign_at_its_own_state():
+    """A Newton run that starts on an equilibrium (a zero-load level, or a level equal to the last)
+    converges with no correction and so no factorisation; the compiled corrector then factorises the
+    tangent at that state for the sign of det K, which is final (no confirmation). It is the sign of
+    the straight column's tangent: positive below P_cr, negative above it, as a fresh factorisation
+    of the same tangent says."""
+    from fem import solver
+    from fem.newton import det_sign, newton
+    from fem.options import SolveOptions
+
+    opts = SolveOptions()
+    for fraction, expected in ((0.5, 1), (1.5, -1)):     # below P_cr: stable; straight above it: unstable
+        model = fem.Model()
+        model.add_node("root", 0.0, 0.0)
+        model.add_node("tip", 1.0, 0.0)
+        model.add_member("root", "tip", fem.Section.from_EI(EA, 1.0), n_elements=8)
+        model.add_support("root", "fixed")
+        model.add_force("tip", [-fraction * P_CR], [0.0])
+        system = solver._prepare(model, opts, None)
+        assert system.compiled is not None
+        q0, beta0 = np.zeros(system.n), system.disc.beta0.copy()
+        loads = system.loads_at(-1, 0, 1.0)
+        first = newton(system, q0, 1.0, beta0, loads, opts, q_start=q0)
+        assert first.iterations > 0
+        loose = SolveOptions(rtol=1e-6)     # the first run's state (|r|/F ~ 1e-10) is converged for it
+        again = newton(system, first.q, 1.0, first.ev["el"]["beta"].copy(), loads, loose, q_start=first.q)
+        assert again.iterations == 0 and again.factor is not None and again.factor.final, fraction
+        assert again.factor.det_sign == expected, fraction
+        assert det_sign(system, again.ev, None) == expected, fraction     # a fresh factorisation
+        assert det_sign(system, again.ev, again.factor) == expected, fraction
