@@ -145,6 +145,7 @@ def scatter(target, source, factor, values, size):
     return out
 
 CONVERGED, NOT_FINITE, NO_CONVERGENCE, SINGULAR, NON_FINITE_TANGENT, ROTATION_TOO_LARGE = range(6)
+CONVERGED_JUMPED = 6   # converged, and some element's end rotations are 2 pi off its chord (`newton.accept_check`)
 
 
 
@@ -364,6 +365,25 @@ def _evaluate(q, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, 
 
 
 @njit(cache=True)
+def _converged(jumped):
+    """CONVERGED, or CONVERGED_JUMPED when some element's end rotations jumped by about 2 pi."""
+    for e in range(jumped.shape[0]):
+        if jumped[e]:
+            return CONVERGED_JUMPED
+    return CONVERGED
+
+
+@njit(cache=True)
+def _rotation_increment(q, q_start, rot):
+    """The largest change of a rotation unknown from q_start to q (0 without rotations)."""
+    dth = 0.0
+    for k in range(q.shape[0]):
+        if rot[k]:
+            dth = max(dth, abs(q[k] - q_start[k]))
+    return dth
+
+
+@njit(cache=True)
 def _sign_at(K, work, banded, n, kl, ku, ld, ipiv, ints, info):
     """Sign of det K of the tangent K (column-major) from a factorisation of it: 0 when it is singular,
     2 (not known) when an entry is not finite."""
@@ -384,8 +404,8 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
                 K, u, f_int, f_ref, R, r, fr, fe, Ke, N, M, L, beta, theta_bar, u_bar, jumped, hist):
     """Every iteration of the load-control corrector from q (updated in place). Returns
     (status, iterations, det sign of the last factorisation (2: none; a run that converges before any
-    factorisation factorises the tangent at its state for it), F_scale, rotation increment of a
-    ROTATION_TOO_LARGE cut); the evaluation at the final q is left in the output arrays."""
+    factorisation factorises the tangent at its state for it), F_scale, rotation increment: of a
+    ROTATION_TOO_LARGE cut, or of the converged state from q_start (CONVERGED, CONVERGED_JUMPED)); the evaluation at the final q is left in the output arrays."""
     n, nf = q.shape[0], u.shape[0]
     work = np.empty(K.shape[0])
     ipiv = np.empty(max(n, 1), np.int32)
@@ -411,7 +431,7 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
         if (rn <= tol or dq_small) and (it > 0 or rn <= rtol * scale + atol):
             if sign == 2 and n > 0:     # converged before any factorisation: the sign at this state
                 sign = _sign_at(K, work, banded, n, kl, ku, ld, ipiv, ints, info)
-            return CONVERGED, it, sign, scale, 0.0
+            return _converged(jumped), it, sign, scale, _rotation_increment(q, q_start, rot)
         if it == maxiter:
             return NO_CONVERGENCE, it, sign, scale, 0.0
         for j in range(K.shape[0]):
@@ -436,7 +456,7 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
                 for k in range(n):
                     dq[k] = dq[k] * (damp / big)
         if it > 0 and abs(np.dot(dq, r)) <= rtol ** 2 * scale * L_ref:
-            return CONVERGED, it, sign, scale, 0.0
+            return _converged(jumped), it, sign, scale, _rotation_increment(q, q_start, rot)
         dq_small = True
         for k in range(n):
             q[k] = q[k] + dq[k]

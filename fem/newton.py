@@ -224,18 +224,21 @@ def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start) -
     ev = _Evaluation(u=u, C=system.C0, el=el, f_int=f_int, f_ref_full=f_ref, R_full=R, r=r, f_ref=fr,
                      F_scale=scale)
     ev.column_major = (c, K)
-    return NewtonOutcome(q, lam, ev, history, it, None if sign == 2 else _Sign(sign, final=it == 0))
+    return NewtonOutcome(q, lam, ev, history, it, None if sign == 2 else _Sign(sign, final=it == 0),
+                         accept=(status == cn.CONVERGED_JUMPED, dth))
 
 
-def accept_check(system, q_new, q_old, ev, opts: SolveOptions, its):
-    """Raise StepFailed if a converged state must be rejected."""
+def accept_check(system, q_new, q_old, ev, opts: SolveOptions, its, known: tuple | None = None):
+    """Raise StepFailed if a converged state must be rejected. ``known``: (an element jumped, the
+    largest rotation increment from q_old), as the compiled corrector worked them out
+    (`NewtonOutcome.accept`) when q_old was its start."""
     el = ev["el"]
-    if el["jumped"].any():
+    if el["jumped"].any() if known is None else known[0]:
         e = int(np.argmax(el["jumped"]))
         raise StepFailed(f"rotation jump of about 2 pi between the nodes of element {e}", its)
     rot = system.disc.red_is_rotation
-    if rot.any():
-        dth = float(np.abs(q_new[rot] - q_old[rot]).max())
+    if known is not None or rot.any():
+        dth = known[1] if known is not None else float(np.abs(q_new[rot] - q_old[rot]).max())
         if dth > opts.max_rotation_increment:
             raise StepFailed(f"rotation increment {dth:.3g} rad exceeds max_rotation_increment",
                              its, cut=max(0.1, 0.8 * opts.max_rotation_increment / dth))

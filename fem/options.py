@@ -85,6 +85,7 @@ class NewtonOutcome:
     history: list
     iterations: int
     factor: object
+    accept: tuple | None = None     # (an element jumped, largest rotation increment): `newton.accept_check`
 
 
 @dataclass

@@ -175,7 +175,7 @@ def _load_step(system, opts, path, q, beta, k, t, t_new, dt, prev):
     loads = system.loads_at(k - 1, k, t_new)
     q_pred = q if prev is None else q + (t_new - t) / prev[1] * prev[0]
     out = newton(system, q_pred, 1.0, beta, loads, opts, q_start=q)
-    accept_check(system, out.q, q, out.ev, opts, out.iterations)
+    accept_check(system, out.q, q, out.ev, opts, out.iterations, out.accept)
     if (prev is not None and dt > JUMP_CUT_FLOOR * opts.min_step
             and _turned_back(system, out.q - q, prev[0])):
         path.reject(out.iterations)            # left the path: jumped to another branch

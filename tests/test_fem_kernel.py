@@ -1,5 +1,6 @@
 """The compiled element kernel against the vectorised NumPy element (the same derivation written
 twice, Crisfield 1991 ch. 7), and its tangent against central differences of its own forces."""
+from dataclasses import replace
 import numpy as np
 import pytest
 
@@ -125,3 +126,45 @@ def test_band_lu_is_lapack_dgbtrf_and_dgbtrs_bit_for_bit(seed):
         x = b.copy()
         band_solve(flat, n, kl, ku, 2 * kl + ku + 1, ipiv, x)
         np.testing.assert_array_equal(x, dgbtrs(lu, kl, ku, b, piv)[0])
+
+
+@pytest.mark.parametrize("moment", [1.0, 3.0, 6.0, 7.0])
+def test_the_compiled_corrector_s_acceptance_facts_are_the_numpy_ones(moment):
+    """The compiled load-control corrector reports, with a converged state, whether an element's end
+    rotations jumped by about 2 pi and the largest rotation increment from its start (what
+    `newton.accept_check` reads); they equal the NumPy formulation on the evaluation it returns, and
+    `accept_check` rejects or accepts the state alike with them or without. A roll-up in one step of
+    4 elements: M L/EI = 6 and 7 land on 2 pi-jumped states, 1 and 3 do not."""
+    import fem
+    from fem import solver
+    from fem.newton import StepFailed, accept_check, newton
+    from fem.options import SolveOptions
+
+    opts = SolveOptions()
+    model = fem.Model()
+    model.add_node("root", 0.0, 0.0)
+    model.add_node("tip", 1.0, 0.0)
+    model.add_member("root", "tip", fem.Section.from_EI(1e4, 1.0), n_elements=4)
+    model.add_support("root", "fixed")
+    model.add_moment("tip", [moment])
+    system = solver._prepare(model, opts, None)
+    assert system.compiled is not None
+    q0, beta0 = np.zeros(system.n), system.disc.beta0.copy()
+    out = newton(system, q0, 1.0, beta0, system.loads_at(-1, 0, 1.0), opts, q_start=q0)
+    rot = system.disc.red_is_rotation
+    jumped = bool(out.ev["el"]["jumped"].any())
+    assert out.accept == (jumped, float(np.abs(out.q[rot] - q0[rot]).max()))
+    assert jumped == (moment > 2 * np.pi * 0.9)
+    outcomes = []
+    for known in (None, out.accept):
+        for cap in (np.pi, 0.5 * moment):      # the increment within the cap, and beyond it
+            try:
+                accept_check(system, out.q, q0, out.ev, replace(opts, max_rotation_increment=cap),
+                             out.iterations, known)
+                outcomes.append("accepted")
+            except StepFailed as exc:
+                outcomes.append((str(exc), exc.cut))
+    assert outcomes[:2] == outcomes[2:]
+    reason = "rotation jump of about 2 pi" if jumped else "rotation increment"
+    assert (outcomes[0] == "accepted") == (not jumped)
+    assert all(reason in o[0] for o in outcomes[int(not jumped):2]), outcomes
