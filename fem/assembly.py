@@ -58,6 +58,11 @@ class System:
         self.C0 = d.C[:, :self.width].copy()
         self.I0 = np.ascontiguousarray(d.I[:, 0])
         self.C0_flat = np.ascontiguousarray(self.C0[:, 0])
+        self.I1 = np.ascontiguousarray(d.I[:, 1])       # the second column (rigid-link slaves), compiled corrector
+        self.C1_flat = np.ascontiguousarray(d.C[:, 1])
+        s, m = d.slaves, d.masters
+        self.links = np.column_stack([s, m, d.rot_dof[s], d.rot_dof[m]]).astype(np.int64).reshape(-1, 4)
+        self.links_X = np.column_stack([d.X[s], d.X[m]]).reshape(-1, 4) if len(s) else np.zeros((0, 4))
         self._load_tables(model, n_levels)
         rows, cols = self._sparsity()
         self.layout = MatrixLayout(self.n, rows, cols, kind=solver_kind)
@@ -160,7 +165,9 @@ class System:
         # without rigid links the constraint coefficients are constant: precompute
         # which full entry feeds each reduced entry, and with what factor
         self.valid_src = self.valid.nonzero()[0]
+        self.valid_pair = np.zeros(0, np.int64)     # with them: which two columns, 2 w1 + w2, of each entry
         if w != 1:
+            self.valid_pair = self.valid_src % (w * w)
             self.valid_src //= w * w
         self.coef_const = prod[self.valid]
         return R[self.valid], Cc[self.valid]

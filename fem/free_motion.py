@@ -65,7 +65,9 @@ def _compiled_check(system) -> int | None:
     info = cn.unloaded_pivots(np.zeros(system.presc.shape[1]), np.zeros(system.F_fixed.shape[1]), d.beta0,
                               system.I0, system.C0_flat, d.prescribed_dofs, d.edofs, system.X1, system.X2, d.L0,
                               d.ka, d.kb, d.springs, d.spring_k, d.ground, c.flat, system.valid_src,
-                              system.coef_const, c.banded, c.kl, c.ku, c.ld, system.n, ratios, column)
+                              system.coef_const, c.banded, c.kl, c.ku, c.ld, system.n, ratios, column,
+                              system.links, system.links_X, system.I1, system.C1_flat, system.valid_pair,
+                              system.rows_full, system.cols_full)
     if column.min() == 0.0:      # a DOF nothing touches
         return int(np.argmin(column))
     if info > 0:

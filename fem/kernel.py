@@ -23,8 +23,10 @@ The numbers are those of the NumPy expressions to rounding; the first call compi
 seconds) and writes the machine code to numba's cache beside this module, so later processes load it.
 
 The load-control Newton corrector of `newton` compiled whole (`newton_load`), for the
-common system: no rigid links (constant constraint coefficients), dead loads only (no followers,
-no forces toward points, no distributed loads), a dense or banded tangent.
+common system: dead loads only (no followers, no forces toward points, no distributed loads), a
+dense or banded tangent; with or without rigid links (their slaves placed by the master's rotation,
+the constraint coefficients turned with it and the slaves' geometric tangent term, as
+`assembly.System` has them).
 
 One call runs every iteration of
 
@@ -34,10 +36,13 @@ with the same steps, in the same order, as the NumPy corrector: the element loop
 the scatter of the element forces and tangents into the full vector and into the solver's
 storage (here column-major, as LAPACK reads it), the factorisation and back-substitution (a dense
 tangent: LAPACK ``dgetrf``/``dgetrs``, scipy's own, called through ``scipy.linalg.cython_lapack``; a
-banded one: `band_lu`/`band_solve`, LAPACK's ``dgbtf2``/``dgbtrs`` compiled here, the same factors bit
-for bit), the rotation-limited correction, and the convergence tests
+banded one: `band_lu`/`band_solve`, LAPACK's ``dgbtf2``/``dgbtrs`` compiled here, the same operations
+in the same order: bit for bit scipy's factors and solutions at the narrow bands RCM gives most
+models (half-bandwidth 4 and 6 checked); at wider ones (8 and up) scipy's BLAS (OpenBLAS) updates
+the columns with vector kernels and the two differ in the last bits), the rotation-limited correction, and the convergence tests
 (residual, energy, negligible correction) and rotation-increment cut of `newton`. Norms and dot
-products are BLAS ``ddot`` as in NumPy, so the numbers are those of the NumPy corrector.
+products are BLAS ``ddot`` as in NumPy, so the numbers are those of the NumPy corrector (to rounding
+where the band is wider).
 
 It returns a status code; `newton` turns it into the same `NewtonOutcome` or `StepFailed`.
 
@@ -169,7 +174,7 @@ class CompiledLayout:
 
     @staticmethod
     def applies(system) -> bool:
-        return (system.width == 1 and system.layout.kind in ("dense", "banded") and system.n > 0
+        return (system.layout.kind in ("dense", "banded") and system.n > 0
                 and len(system.fol_nodes) == 0 and len(system.pt_nodes) == 0
                 and len(system.dist_follower) == 0)
 
@@ -306,15 +311,42 @@ def _det_sign(work, banded, n, kl, ku, ld, ipiv):
 @njit(cache=True)
 def _evaluate(q, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, L0, beta0, ka, kb,
               springs, spring_k, ground, flat, valid_src, coef, K, u, f_int, f_ref, R, r, fr,
-              fe, Ke, N, M, L, beta, theta_bar, u_bar, jumped, sp):
+              fe, Ke, N, M, L, beta, theta_bar, u_bar, jumped, sp, links, links_X, I1, C1, C1w, pair,
+              rows_full, cols_full):
     """Residual r, reduced reference load fr and tangent K (column-major storage) at q; returns
-    F_scale = max(|lambda f_ref|, |f_int|). Every output array is filled in place."""
+    F_scale = max(|lambda f_ref|, |f_int|). Every output array is filled in place.
+
+    Rigid links (none: ``links`` has no rows), as `assembly.System.full_displacements` and
+    ``evaluate`` treat them: ``links`` (n_s, 4) the slave and (root) master node and their rotation
+    DOFs, ``links_X`` (n_s, 4) the two nodes' reference positions; the constraint map's second column
+    (I1, C1) with its current coefficients C1w (the slaves' rows turn with the master); the tangent's
+    entries weighted by the current coefficients of the two columns ``pair`` = 2 w1 + w2 of each
+    reduced entry (full entry ``valid_src``, full row and column ``rows_full``, ``cols_full``), the
+    slaves' geometric term -(R_s . (x_s - x_m)) among the full entries after the springs'."""
     n, nf = q.shape[0], u.shape[0]
+    wide = links.shape[0] > 0
     for i in range(nf):
         k = I0[i]
-        u[i] = C0[i] * q[k] if k < n else C0[i] * 0.0
+        t0 = C0[i] * q[k] if k < n else C0[i] * 0.0
+        if wide:
+            k1 = I1[i]
+            u[i] = t0 + (C1[i] * q[k1] if k1 < n else C1[i] * 0.0)
+            C1w[i] = C1[i]
+        else:
+            u[i] = t0
     for j in range(p_dofs.shape[0]):
         u[p_dofs[j]] = presc[j]
+    for t in range(links.shape[0]):      # slaves: x_s = x_m + R(theta_m) (X_s - X_m), theta_s = theta_m
+        s, m, rs, rm = links[t, 0], links[t, 1], links[t, 2], links[t, 3]
+        th = u[rm]
+        d0x, d0y = links_X[t, 0] - links_X[t, 2], links_X[t, 1] - links_X[t, 3]
+        cs, sn = math.cos(th), math.sin(th)
+        rd0, rd1 = cs * d0x - sn * d0y, sn * d0x + cs * d0y
+        u[2 * s] = u[2 * m] + rd0 - d0x
+        u[2 * s + 1] = u[2 * m + 1] + rd1 - d0y
+        u[rs] = th
+        C1w[2 * s] = -rd1
+        C1w[2 * s + 1] = rd0
     n_el = edofs.shape[0]
     p = np.empty((n_el, 6))
     for e in range(n_el):
@@ -348,19 +380,35 @@ def _evaluate(q, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, 
         if k < n:
             r[k] += C0[i] * R[i]
             fr[k] += C0[i] * f_ref[i]
+        if wide:
+            k1 = I1[i]
+            if k1 < n:
+                r[k1] += C1w[i] * R[i]
+                fr[k1] += C1w[i] * f_ref[i]
     f_ext = lam * f_ref
     scale = max(math.sqrt(np.dot(f_ext, f_ext)), math.sqrt(np.dot(f_int, f_int)))
     K[:] = 0.0
     n_ke = n_el * 36
     ke = Ke.reshape(n_ke)       # the element tangents as one flat, row-major vector (a view)
+    n_sp4 = n_ke + 4 * springs.shape[0]
     for j in range(flat.shape[0]):
         src = valid_src[j]
         if src < n_ke:
             v = ke[src]
-        else:
+        elif src < n_sp4:
             s = (src - n_ke) // 4
             v = spring_k[s] * (1.0 if (src - n_ke) % 4 in (0, 3) else -1.0)
-        K[flat[j]] += v * coef[j]
+        else:   # a slave's geometric term on its master's rotation
+            t = src - n_sp4
+            s, m = links[t, 0], links[t, 1]
+            xs = links_X[t, 0] + u[2 * s] - links_X[t, 2] - u[2 * m]
+            ys = links_X[t, 1] + u[2 * s + 1] - links_X[t, 3] - u[2 * m + 1]
+            v = -(R[2 * s] * xs + R[2 * s + 1] * ys)
+        if wide:
+            a, b = rows_full[src], cols_full[src]
+            K[flat[j]] += v * (C0[a] if pair[j] < 2 else C1w[a]) * (C0[b] if pair[j] % 2 == 0 else C1w[b])
+        else:
+            K[flat[j]] += v * coef[j]
     return scale
 
 
@@ -401,7 +449,8 @@ def _sign_at(K, work, banded, n, kl, ku, ld, ipiv, ints, info):
 def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, L0, beta0,
                 ka, kb, springs, spring_k, ground, flat, valid_src, coef, banded, kl, ku, ld, rot,
                 rtol, atol, floor, L_ref, maxiter, damp, max_rot_inc,
-                K, u, f_int, f_ref, R, r, fr, fe, Ke, N, M, L, beta, theta_bar, u_bar, jumped, hist):
+                K, u, f_int, f_ref, R, r, fr, fe, Ke, N, M, L, beta, theta_bar, u_bar, jumped, hist,
+                links, links_X, I1, C1, C1w, pair, rows_full, cols_full):
     """Every iteration of the load-control corrector from q (updated in place). Returns
     (status, iterations, det sign of the last factorisation (2: none; a run that converges before any
     factorisation factorises the tangent at its state for it), F_scale, rotation increment: of a
@@ -422,7 +471,8 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
     for it in range(maxiter + 1):
         scale = _evaluate(q, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, L0, beta0,
                           ka, kb, springs, spring_k, ground, flat, valid_src, coef, K, u, f_int, f_ref,
-                          R, r, fr, fe, Ke, N, M, L, beta, theta_bar, u_bar, jumped, sp)
+                          R, r, fr, fe, Ke, N, M, L, beta, theta_bar, u_bar, jumped, sp, links, links_X,
+                          I1, C1, C1w, pair, rows_full, cols_full)
         rn = math.sqrt(np.dot(r, r))
         tol = rtol * scale + floor + atol
         hist[it] = rn / max(scale, 1e-300)
@@ -475,7 +525,8 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
 
 @njit(cache=True)
 def unloaded_pivots(presc, F_fixed, beta0, I0, C0, p_dofs, edofs, X1, X2, L0, ka, kb, springs, spring_k,
-                    ground, flat, valid_src, coef, banded, kl, ku, ld, n, ratios, column):
+                    ground, flat, valid_src, coef, banded, kl, ku, ld, n, ratios, column, links, links_X,
+                    I1, C1, pair, rows_full, cols_full):
     """The tangent at the unloaded state (q = 0, lambda = 0) factorised: ``ratios[j]`` = |u_jj| over
     the largest entry of column j (the pivot of elimination step j), ``column[j]`` that largest
     entry; returns LAPACK's info (> 0: an exactly zero pivot at column info - 1)."""
@@ -488,7 +539,8 @@ def unloaded_pivots(presc, F_fixed, beta0, I0, C0, p_dofs, edofs, X1, X2, L0, ka
     M, theta_bar, jumped = np.empty((n_el, 2)), np.empty((n_el, 2)), np.empty(n_el, np.bool_)
     _evaluate(np.zeros(n), presc, 0.0, F_fixed, beta0, I0, C0, p_dofs, edofs, X1, X2, L0, beta0, ka, kb,
               springs, spring_k, ground, flat, valid_src, coef, K, u, f_int, f_ref, R, r, fr, fe, Ke, N, M,
-              L, beta, theta_bar, u_bar, jumped, sp)
+              L, beta, theta_bar, u_bar, jumped, sp, links, links_X, I1, C1, np.empty(nf), pair, rows_full,
+              cols_full)
     for j in range(n):
         big = 0.0
         for i in range(ld):

@@ -179,15 +179,22 @@ class _Sign:
 class _Evaluation(dict):
     """The evaluation of a compiled Newton run, as `assembly.System.evaluate` gives it; its tangent "K",
     which only the stability checks read, is turned from the kernel's column-major storage into the
-    row-major storage of `linear_solver.MatrixLayout` when first read."""
+    row-major storage of `linear_solver.MatrixLayout` when first read, and with rigid links the
+    constraint coefficients "C" are put together from their constant first column and the second
+    the kernel turned with the masters (``turned``) likewise."""
 
     column_major: tuple
+    turned: tuple
 
     def __missing__(self, key):
-        if key != "K":
+        if key == "K":
+            layout, K = self.column_major
+            value = self["K"] = layout.row_major(K)
+        elif key == "C":
+            C0, second = self.turned
+            value = self["C"] = np.column_stack([C0[:, 0], second])
+        else:
             raise KeyError(key)
-        layout, K = self.column_major
-        value = self["K"] = layout.row_major(K)
         return value
 
 
@@ -203,6 +210,7 @@ def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start) -
               jumped=np.empty(n_el, dtype=bool))
     K, u, f_int, f_ref, R = np.empty(c.size), np.empty(nf), np.empty(nf), np.empty(nf), np.empty(nf)
     r, fr, hist = np.empty(n), np.empty(n), np.empty(opts.maxiter + 1)
+    C1 = np.empty(nf if system.width == 2 else 0)
     status, it, sign, scale, dth = cn.newton_load(
         q, q_start, np.asarray(presc, dtype=float), float(lam), F_fixed, beta, system.I0, system.C0_flat,
         d.prescribed_dofs, d.edofs, system.X1, system.X2, d.L0, d.beta0, d.ka, d.kb, d.springs,
@@ -210,7 +218,8 @@ def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start) -
         d.red_is_rotation, opts.rtol, opts.atol, system.noise_floor, system.L_ref, opts.maxiter,
         float(opts.max_iteration_rotation or 0.0), opts.max_rotation_increment, K, u, f_int, f_ref, R, r,
         fr, el["f"], el["K"], el["N"], el["M"], el["L"], el["beta"], el["theta_bar"], el["u_bar"],
-        el["jumped"], hist)
+        el["jumped"], hist, system.links, system.links_X, system.I1, system.C1_flat, C1, system.valid_pair,
+        system.rows_full, system.cols_full)
     history = hist[:it + 1].tolist()
     if status == cn.NOT_FINITE:
         raise StepFailed("residual is not finite", it)
@@ -221,9 +230,10 @@ def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start) -
     if status == cn.ROTATION_TOO_LARGE:
         raise StepFailed(f"rotation increment {dth:.3g} rad too large", it,
                          cut=max(0.1, 0.9 * opts.max_rotation_increment / dth))
-    ev = _Evaluation(u=u, C=system.C0, el=el, f_int=f_int, f_ref_full=f_ref, R_full=R, r=r, f_ref=fr,
-                     F_scale=scale)
-    ev.column_major = (c, K)
+    ev = _Evaluation(u=u, el=el, f_int=f_int, f_ref_full=f_ref, R_full=R, r=r, f_ref=fr, F_scale=scale)
+    if system.width == 1:
+        ev["C"] = system.C0
+    ev.column_major, ev.turned = (c, K), (system.C0, C1)
     return NewtonOutcome(q, lam, ev, history, it, None if sign == 2 else _Sign(sign, final=it == 0),
                          accept=(status == cn.CONVERGED_JUMPED, dth))
 

@@ -168,3 +168,58 @@ def test_the_compiled_corrector_s_acceptance_facts_are_the_numpy_ones(moment):
     reason = "rotation jump of about 2 pi" if jumped else "rotation increment"
     assert (outcomes[0] == "accepted") == (not jumped)
     assert all(reason in o[0] for o in outcomes[int(not jumped):2]), outcomes
+
+
+def _compiled_evaluation(system, q, beta, loads):
+    """`kernel._evaluate` at q: (u, r, K in row-major storage, second constraint column, F_scale)."""
+    from fem import kernel as cn
+    d, c = system.disc, system.compiled
+    n_el, nf, n = len(d.L0), d.n_full + 1, system.n
+    el = [np.empty((n_el, 6)), np.zeros((n_el, 6, 6)), np.empty(n_el), np.empty((n_el, 2)), np.empty(n_el),
+          np.empty(n_el), np.empty((n_el, 2)), np.empty(n_el), np.empty(n_el, dtype=bool)]
+    K, u, f_int, f_ref, R = np.empty(c.size), np.empty(nf), np.empty(nf), np.empty(nf), np.empty(nf)
+    r, fr, sp, C1 = np.empty(n), np.empty(n), np.empty(nf), np.empty(nf)
+    F_fixed, _, presc = loads
+    scale = cn._evaluate(q, np.asarray(presc, float), 1.0, F_fixed, beta, system.I0, system.C0_flat,
+                         d.prescribed_dofs, d.edofs, system.X1, system.X2, d.L0, d.beta0, d.ka, d.kb, d.springs,
+                         d.spring_k, d.ground, c.flat, system.valid_src, system.coef_const, K, u, f_int, f_ref, R,
+                         r, fr, *el, sp, system.links, system.links_X, system.I1, system.C1_flat, C1,
+                         system.valid_pair, system.rows_full, system.cols_full)
+    return u, r, c.row_major(K), C1, scale
+
+
+@pytest.mark.parametrize("elements", [2, 24])
+def test_the_compiled_evaluation_with_rigid_links_is_the_numpy_one(elements):
+    """Rigid links in the compiled corrector: a beam, a rigid link from its end to a node off the line,
+    a second beam from there to a pin, a joint spring and a dead load. The slaves placed by their
+    masters' rotation, the constraint coefficients turned with them, the residual, the tangent with
+    the slaves' geometric term and the force scale equal `assembly.System.evaluate`'s bit for bit at
+    random states (dense storage at 2 elements a beam, banded at 24)."""
+    import fem
+    from fem import solver
+    from fem.options import SolveOptions
+
+    model = fem.Model()
+    for name, x, y in (("root", 0.0, 0.0), ("a", 1.0, 0.0), ("b", 1.4, 0.3), ("c", 2.4, 0.5)):
+        model.add_node(name, x, y)
+    section = fem.Section.from_EI(1e3, 1.0)
+    model.add_member("root", "a", section, n_elements=elements)
+    model.add_member("b", "c", section, n_elements=elements)
+    model.add_rigid_link("a", "b")
+    model.add_support("root", "fixed")
+    model.add_support("c", "pinned")
+    model.add_joint("b", k=2.0)
+    model.add_force("b", [0.3], [-0.7])
+    model.add_moment("a", [0.2])
+    system = solver._prepare(model, SolveOptions(), None)
+    assert system.width == 2 and system.compiled is not None
+    assert system.layout.kind == ("dense" if elements == 2 else "banded")
+    loads = system.loads_at(-1, 0, 1.0)
+    rng = np.random.default_rng(elements)
+    for _ in range(5):
+        q = rng.normal(scale=0.1, size=system.n)
+        beta = system.disc.beta0 + rng.normal(scale=0.05, size=len(system.disc.beta0))
+        ev = system.evaluate(q, beta, 1.0, *loads, need_K=True)
+        u, r, K, C1, scale = _compiled_evaluation(system, q, beta, loads)
+        assert np.array_equal(u, ev["u"]) and np.array_equal(C1, ev["C"][:, 1])
+        assert np.array_equal(r, ev["r"]) and np.array_equal(K, ev["K"]) and scale == ev["F_scale"]

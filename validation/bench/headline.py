@@ -88,7 +88,7 @@ CONFIGURATIONS = {      # how each code is driven (printed beside the headline)
             "one step, cut only on failure (failed tries counted), Newton with the consistent tangent "
             "compiled whole (numba; RCM-banded tangents by a compiled band LU, LAPACK's dgbtf2 step for "
             "step; small dense ones by LAPACK dgetrf), |r| <= 1e-10 max(|f_ext|, |f_int|); "
-            "limit loads by arc length (its corrector, and any model with rigid links or follower loads, in NumPy, "
+            "limit loads by arc length (its corrector, and any model with follower loads, in NumPy, "
             "not compiled); fem+richardson: the n and 2n solves (warm-started) extrapolated"),
     "opensees": ("OpenSeesPy elasticBeamColumn with the Corotational transformation "
                  "(validation.methods.opensees); LoadControl one step per level, halved on failure (up to 12 "
