@@ -413,48 +413,18 @@ def _evaluate(q, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, 
 
 
 @njit(cache=True)
-def _converged(jumped):
-    """CONVERGED, or CONVERGED_JUMPED when some element's end rotations jumped by about 2 pi."""
-    for e in range(jumped.shape[0]):
-        if jumped[e]:
-            return CONVERGED_JUMPED
-    return CONVERGED
-
-
-@njit(cache=True)
-def _rotation_increment(q, q_start, rot):
-    """The largest change of a rotation unknown from q_start to q (0 without rotations)."""
-    dth = 0.0
-    for k in range(q.shape[0]):
-        if rot[k]:
-            dth = max(dth, abs(q[k] - q_start[k]))
-    return dth
-
-
-@njit(cache=True)
-def _sign_at(K, work, banded, n, kl, ku, ld, ipiv, ints, info):
-    """Sign of det K of the tangent K (column-major) from a factorisation of it: 0 when it is singular,
-    2 (not known) when an entry is not finite."""
-    for j in range(K.shape[0]):
-        if not math.isfinite(K[j]):
-            return 2
-        work[j] = K[j]
-    _factor(work, banded, n, kl, ku, ld, ipiv, ints, info)
-    if info[0] > 0:
-        return 0
-    return _det_sign(work, banded, n, kl, ku, ld, ipiv)
-
-
-@njit(cache=True)
 def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, L0, beta0,
                 ka, kb, springs, spring_k, ground, flat, valid_src, coef, banded, kl, ku, ld, rot,
                 rtol, atol, floor, L_ref, maxiter, damp, max_rot_inc,
                 K, u, f_int, f_ref, R, r, fr, fe, Ke, N, M, L, beta, theta_bar, u_bar, jumped, hist,
                 links, links_X, I1, C1, C1w, pair, rows_full, cols_full):
     """Every iteration of the load-control corrector from q (updated in place). Returns
-    (status, iterations, det sign of the last factorisation (2: none; a run that converges before any
-    factorisation factorises the tangent at its state for it), F_scale, rotation increment: of a
-    ROTATION_TOO_LARGE cut, or of the converged state from q_start (CONVERGED, CONVERGED_JUMPED)); the evaluation at the final q is left in the output arrays."""
+    (status, iterations, det sign of the last factorisation, F_scale, rotation increment); the
+    evaluation at the final q is left in the output arrays. The sign: 2 when nothing was factorised
+    (a failed first iteration); a run that converges before any correction factorises the tangent at
+    its state for it (0: singular or not finite there). The rotation increment: of a
+    ROTATION_TOO_LARGE cut, or of the converged state from q_start (CONVERGED, or CONVERGED_JUMPED
+    when an element's end rotations jumped by about 2 pi)."""
     n, nf = q.shape[0], u.shape[0]
     work = np.empty(K.shape[0])
     ipiv = np.empty(max(n, 1), np.int32)
@@ -478,20 +448,32 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
         hist[it] = rn / max(scale, 1e-300)
         if not math.isfinite(rn):
             return NOT_FINITE, it, sign, scale, 0.0
-        if (rn <= tol or dq_small) and (it > 0 or rn <= rtol * scale + atol):
-            if sign == 2 and n > 0:     # converged before any factorisation: the sign at this state
-                sign = _sign_at(K, work, banded, n, kl, ku, ld, ipiv, ints, info)
-            return _converged(jumped), it, sign, scale, _rotation_increment(q, q_start, rot)
-        if it == maxiter:
+        converged = (rn <= tol or dq_small) and (it > 0 or rn <= rtol * scale + atol)
+        if converged and (sign != 2 or n == 0):
+            break
+        if not converged and it == maxiter:
             return NO_CONVERGENCE, it, sign, scale, 0.0
+        # the factorisation: of the correction, or (converged before any) for the sign at this state
+        finite = True
         for j in range(K.shape[0]):
             if not math.isfinite(K[j]):
-                return NON_FINITE_TANGENT, it, sign, scale, 0.0
+                finite = False
+                break
             work[j] = K[j]
+        if not finite:
+            if converged:
+                sign = 0
+                break
+            return NON_FINITE_TANGENT, it, sign, scale, 0.0
         _factor(work, banded, n, kl, ku, ld, ipiv, ints, info)
         if info[0] > 0:
+            if converged:
+                sign = 0
+                break
             return SINGULAR, it, sign, scale, 0.0
         sign = _det_sign(work, banded, n, kl, ku, ld, ipiv)
+        if converged:
+            break
         if sign == 0:
             return SINGULAR, it, 2, scale, 0.0
         for k in range(n):
@@ -506,7 +488,7 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
                 for k in range(n):
                     dq[k] = dq[k] * (damp / big)
         if it > 0 and abs(np.dot(dq, r)) <= rtol ** 2 * scale * L_ref:
-            return _converged(jumped), it, sign, scale, _rotation_increment(q, q_start, rot)
+            break       # converged by the energy criterion
         dq_small = True
         for k in range(n):
             q[k] = q[k] + dq[k]
@@ -520,7 +502,16 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
             limit = (2.0 if it == 0 else 4.0) * max_rot_inc
             if dth > limit:
                 return ROTATION_TOO_LARGE, it + 1, sign, scale, dth
-    return NO_CONVERGENCE, maxiter, sign, 0.0, 0.0
+    # converged (every other way out returned above): what `newton.accept_check` reads of the state
+    status = CONVERGED
+    for e in range(jumped.shape[0]):
+        if jumped[e]:
+            status = CONVERGED_JUMPED
+    dth = 0.0
+    for k in range(n):
+        if rot[k]:
+            dth = max(dth, abs(q[k] - q_start[k]))
+    return status, it, sign, scale, dth
 
 
 @njit(cache=True)
