@@ -45,7 +45,7 @@ from .options import (ArcLengthControl, DisplacementControl, LoadControl, SolveO
                       SwitchStatus)
 from .result import FemResult, build_result
 from .stability import DENSE_LIMIT, conservative, eigenvalue_below, held_sign, switch_branch, zero_eigenvalue
-from .warm_start import chord_angles, guess_states, reduced_from_full
+from .warm_start import LevelGuesses, level_guesses
 
 __all__ = ["solve", "solve_load", "solve_displacement", "solve_arclength"]
 
@@ -63,19 +63,22 @@ def _step_state(system, opts: SolveOptions, out, beta) -> StepState:
     return StepState.of(out, beta, det_sign(system, out.ev, out.factor) if opts.watch_det else 0)
 
 
-def _try_guess(system, opts: SolveOptions, path, u_guess, loads):
-    """Newton from a warm-start guess of a whole level; None if not acceptable."""
-    d = system.disc
-    q_g = reduced_from_full(d, u_guess)
-    beta_g = chord_angles(d, u_guess, system.X1, system.X2)
+def _try_guess(system, opts: SolveOptions, path, guesses: LevelGuesses, k: int, loads):
+    """Newton from the warm-start guess of level k; None if not acceptable (an element jumped by 2 pi,
+    or a rotation moved 0.1 rad or more from the guess: another branch)."""
+    q_g, beta_g = guesses.q[k], guesses.beta[k]
     try:
         out = newton(system, q_g, 1.0, beta_g, loads, opts, q_start=q_g)
     except StepFailed as exc:
         path.rejected_iterations += exc.iteration
         return None
-    rot = d.red_is_rotation
-    same_branch = not rot.any() or np.abs(out.q[rot] - q_g[rot]).max() < 0.1
-    if out.ev["el"]["jumped"].any() or not same_branch:
+    if out.accept is not None:       # the compiled corrector's facts, from its start q_g
+        jumped, moved = out.accept
+    else:
+        rot = system.disc.red_is_rotation
+        jumped = bool(out.ev["el"]["jumped"].any())
+        moved = float(np.abs(out.q[rot] - q_g[rot]).max()) if rot.any() else 0.0
+    if jumped or not moved < 0.1:
         path.rejected_iterations += out.iterations
         return None
     return out
@@ -152,9 +155,9 @@ def _leave_unstable(system, opts: SolveOptions, path, st: StepState, loads, q_pr
 
 
 # ---------------------------------------------------------------------------------- load control
-def _guessed_level(system, opts, path, guess, k, beta):
+def _guessed_level(system, opts, path, guesses: LevelGuesses, k, beta):
     """The level k solved in one Newton run from its warm-start guess, or None (step to it)."""
-    out = _try_guess(system, opts, path, guess, system.loads_at(k - 1, k, 1.0))
+    out = _try_guess(system, opts, path, guesses, k, system.loads_at(k - 1, k, 1.0))
     if out is None:
         return None
     st = _step_state(system, opts, out, beta)
@@ -197,7 +200,7 @@ def _run_load(system, opts: SolveOptions, path, guesses=None):
     dt = opts.initial_step
     for k in range(system.n_levels):
         t, prev = 0.0, None
-        got = None if guesses is None else _guessed_level(system, opts, path, guesses[k], k, beta)
+        got = None if guesses is None else _guessed_level(system, opts, path, guesses, k, beta)
         if got is not None:
             q, t, beta, ev = got.q, 1.0, got.ev["el"]["beta"].copy(), got.ev
         while t < 1.0:
@@ -453,7 +456,8 @@ def solve_load(model: Model, control: LoadControl = LoadControl(),
     """Load control: the loads and prescribed values follow their per-level histories."""
     t0 = time.perf_counter()
     system = _prepare(model, opts, control.n_levels)
-    guesses = None if control.initial_guess is None else guess_states(control.initial_guess, system.disc)
+    guesses = (None if control.initial_guess is None
+               else level_guesses(control.initial_guess, system.disc, system.X1, system.X2))
     path = Path()
     cpu = time.process_time()
     failure = _run_load(system, opts, path, guesses)

@@ -18,17 +18,34 @@ Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
-__all__ = ["guess_states"]
+__all__ = ["guess_states", "LevelGuesses", "level_guesses"]
+
+
+@dataclass(frozen=True)
+class LevelGuesses:
+    """The predictor of every load level on the fine mesh: reduced unknowns ``q`` (levels, n) and
+    element chord angles ``beta`` (levels, elements)."""
+    q: np.ndarray
+    beta: np.ndarray
+
+
+def level_guesses(coarse, disc_fine, X1, X2) -> LevelGuesses:
+    """`guess_states` of every level turned into reduced unknowns and chord angles, all levels at once
+    (the same numbers as `reduced_from_full` and `chord_angles` level by level)."""
+    U = guess_states(coarse, disc_fine)
+    return LevelGuesses(reduced_from_full(disc_fine, U), chord_angles(disc_fine, U, X1, X2))
 
 
 def _member_chains(disc):
     return [np.concatenate([[disc.conn[els[0], 0]], disc.conn[els, 1]]) for els in disc.member_elements]
 
 
-def guess_states(coarse, disc_fine):
-    """Per level: full displacement vector on the fine mesh from a coarse FemResult."""
+def guess_states(coarse, disc_fine) -> np.ndarray:
+    """Per level (rows): full displacement vector on the fine mesh from a coarse FemResult."""
     dc = coarse.extra["disc"]
     if len(dc.member_elements) != len(disc_fine.member_elements) or any(
             2 * len(a) != len(b) for a, b in zip(dc.member_elements, disc_fine.member_elements)):
@@ -58,21 +75,28 @@ def guess_states(coarse, disc_fine):
     U[:, disc_fine.rot_dof] = th_f
     n_extra = disc_fine.n_full - 3 * nf
     U[:, 3 * nf:3 * nf + n_extra] = U_c[:, 3 * nc:3 * nc + n_extra]   # released member-end rotations
-    return list(U)
+    return U
 
 
 def reduced_from_full(disc, u):
-    """Least-squares reduced unknowns q for a full displacement vector u."""
+    """Least-squares reduced unknowns q for a full displacement vector u, or for each row of u (levels):
+    one bincount over the rows, each row's bins apart, so every unknown sums its terms in the same
+    order as for one vector."""
     I, C = disc.I[:, 0], disc.C[:, 0] * disc.independent
-    num = np.bincount(I, weights=C * u, minlength=disc.n_red + 1)[:disc.n_red]
-    den = np.bincount(I, weights=C * C, minlength=disc.n_red + 1)[:disc.n_red]
-    return num / np.where(den > 0, den, 1.0)
+    width = disc.n_red + 1
+    rows = u.reshape(-1, len(I))
+    bins = (np.arange(len(rows)) * width)[:, None] + I
+    num = np.bincount(bins.ravel(), weights=(C * rows).ravel(), minlength=len(rows) * width)
+    num = num.reshape(len(rows), width)[:, :disc.n_red]
+    den = np.bincount(I, weights=C * C, minlength=width)[:disc.n_red]
+    q = num / np.where(den > 0, den, 1.0)
+    return q.reshape(u.shape[:-1] + (disc.n_red,))
 
 
 def chord_angles(disc, u, X1, X2):
-    """Chord angles of the elements, continuous with beta0 + mean end rotation."""
-    p = u[disc.edofs]
-    dx = X2[:, 0] - X1[:, 0] + p[:, 3] - p[:, 0]
-    dy = X2[:, 1] - X1[:, 1] + p[:, 4] - p[:, 1]
-    ref = disc.beta0 + (p[:, 2] + p[:, 5]) / 2
+    """Chord angles of the elements, continuous with beta0 + mean end rotation (for u, or each row of u)."""
+    p = u[..., disc.edofs]
+    dx = X2[:, 0] - X1[:, 0] + p[..., 3] - p[..., 0]
+    dy = X2[:, 1] - X1[:, 1] + p[..., 4] - p[..., 1]
+    ref = disc.beta0 + (p[..., 2] + p[..., 5]) / 2
     return ref + np.arctan2(np.sin(np.arctan2(dy, dx) - ref), np.cos(np.arctan2(dy, dx) - ref))

@@ -94,3 +94,41 @@ def test_one_member_characteristic_length_is_the_mean_chord_of_the_arrays(end):
     c = np.asarray(model.coords)
     chords = np.hypot(*(c[[1]] - c[[0]]).T)         # the definition for any number of members
     assert model.characteristic_length() == float(chords.sum() / len(chords))
+
+
+def test_warm_start_guesses_of_all_levels_at_once_are_those_of_each_level():
+    """The reduced unknowns and chord angles of every level's warm-start guess, worked out for all
+    levels in one go (one bincount, each level's bins apart), equal those of each level alone bit for
+    bit: a slider (two full DOFs feed its unknown), a rigid link (rows that feed nothing) and a
+    released joint, on random full vectors. A mixed-up level offset or row would fail."""
+    from fem.assembly import System
+    from fem.warm_start import chord_angles, reduced_from_full
+
+    m = fem.Model()
+    for name, x, y in (("root", 0.0, 0.0), ("a", 1.0, 0.0), ("b", 1.3, 0.4), ("c", 2.2, 0.4)):
+        m.add_node(name, x, y)
+    section = fem.Section.from_EI(1e3, 1.0)
+    m.add_member("root", "a", section, n_elements=3)
+    m.add_member("b", "c", section, n_elements=4)
+    m.add_rigid_link("a", "b")
+    m.add_joint("b", k=1.5)
+    m.add_support("root", "fixed")
+    m.add_support("c", "slider", direction=(0.6, 0.8))
+    m.add_force("c", [0.1, 0.2, 0.3], [0.0, -0.1, -0.2])
+    d = discretise(m)
+    system = System(m, d)
+    U = np.random.default_rng(3).normal(scale=0.2, size=(5, d.n_full + 1))
+    q_all, beta_all = reduced_from_full(d, U), chord_angles(d, U, system.X1, system.X2)
+    assert q_all.shape == (5, d.n_red) and beta_all.shape == (5, len(d.L0))
+    for k in range(5):
+        assert np.array_equal(q_all[k], reduced_from_full(d, U[k]))
+        assert np.array_equal(beta_all[k], chord_angles(d, U[k], system.X1, system.X2))
+    p = U[2][d.edofs]            # the chord of each element in the deformed state, and its angle
+    chord = system.X2 - system.X1 + p[:, 3:5] - p[:, 0:2]
+    assert np.allclose(np.cos(beta_all[2]), chord[:, 0] / np.hypot(*chord.T), rtol=0, atol=1e-12)
+    assert np.allclose(np.sin(beta_all[2]), chord[:, 1] / np.hypot(*chord.T), rtol=0, atol=1e-12)
+    one = reduced_from_full(d, U[2])
+    C, I = d.C[:, 0] * d.independent, d.I[:, 0]
+    for j in range(d.n_red):       # the least-squares formula, unknown by unknown
+        rows = I == j
+        assert one[j] == pytest.approx((C[rows] * U[2][rows]).sum() / (C[rows] ** 2).sum(), rel=1e-12)
