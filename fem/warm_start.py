@@ -37,7 +37,10 @@ def level_guesses(coarse, disc_fine, X1, X2) -> LevelGuesses:
     """`guess_states` of every level turned into reduced unknowns and chord angles, all levels at once
     (the same numbers as `reduced_from_full` and `chord_angles` level by level)."""
     U = guess_states(coarse, disc_fine)
-    return LevelGuesses(reduced_from_full(disc_fine, U), chord_angles(disc_fine, U, X1, X2))
+    # C order (the fancy index of `chord_angles` leaves its result level-minor): each level a contiguous
+    # row, as the compiled corrector is typed (and compiled) for
+    return LevelGuesses(np.ascontiguousarray(reduced_from_full(disc_fine, U)),
+                        np.ascontiguousarray(chord_angles(disc_fine, U, X1, X2)))
 
 
 def _member_chains(disc):

@@ -50,3 +50,47 @@ def test_free_hinge_in_the_span():
     m2.add_joint("mid", k=5.0)          # the same hinge with a spring: held
     r = fem.solve(m2)
     assert r.converged and np.isfinite(r.position("tip")).all()
+
+
+def _linked(support: str | None, k: float) -> fem.Model:
+    """A beam, a rigid link to a second beam's start, a joint spring k there (k = 0: a free hinge)."""
+    m = fem.Model()
+    for name, x, y in (("root", 0.0, 0.0), ("a", 1.0, 0.0), ("b", 1.3, 0.4), ("c", 2.2, 0.4)):
+        m.add_node(name, x, y)
+    sec = fem.Section.from_EI(EA=1e4, EI=1.0)
+    m.add_member("root", "a", sec, n_elements=20)
+    m.add_member("b", "c", sec, n_elements=20)
+    m.add_rigid_link("a", "b")
+    m.add_joint("b", k=k)
+    if support:
+        m.add_support("root", support)
+    m.add_force("c", 0.0, 0.1)
+    return m
+
+
+@pytest.mark.parametrize("model", [
+    lambda: _beam("fixed"), lambda: _beam(None), lambda: _beam("pinned"), lambda: _beam("slider"),
+    lambda: _linked("fixed", 2.0), lambda: _linked("fixed", 0.0), lambda: _linked("pinned", 2.0),
+    lambda: _linked(None, 2.0)])
+def test_the_compiled_check_names_what_the_numpy_check_names(model):
+    """The check on the compiled corrector's factors of the unloaded tangent (dense and banded, with
+    and without rigid links) refuses exactly the models the NumPy check refuses, naming the same DOF."""
+    from fem.free_motion import check_held
+    from fem.options import SolveOptions
+    from fem.solver import discretise, System
+
+    def verdict(system):
+        try:
+            check_held(system)
+            return "held"
+        except fem.FreeMotion as exc:
+            return str(exc)
+
+    m = model()
+    system = System(m, discretise(m))
+    assert system.compiled is not None
+    compiled = verdict(system)
+    system.compiled = None          # the NumPy check (`assembly.System.evaluate`, `linear_solver`)
+    assert compiled == verdict(system)
+    held = bool(m.supports) and m.supports[0].kind == "fixed" and all(j.k > 0 for j in m.joints)
+    assert (compiled == "held") == held, compiled

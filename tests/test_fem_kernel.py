@@ -223,3 +223,30 @@ def test_the_compiled_evaluation_with_rigid_links_is_the_numpy_one(elements):
         u, r, K, C1, scale = _compiled_evaluation(system, q, beta, loads)
         assert np.array_equal(u, ev["u"]) and np.array_equal(C1, ev["C"][:, 1])
         assert np.array_equal(r, ev["r"]) and np.array_equal(K, ev["K"]) and scale == ev["F_scale"]
+
+
+def test_every_compiled_fem_function_is_compiled_once():
+    """numba compiles a function once per combination of argument types and array layouts, each a few
+    seconds of every cold start (the report's, the suite's): the FEM's runs -- a cantilever with its
+    warm-started refined solve, Test 1(a) (a zero first level), Test 2 (rigid links, released joints)
+    -- reach every kernel with one signature each (a strided row among the arguments, say, would add a
+    second). Run in a fresh process, so that no other test's direct calls count."""
+    import json
+    import subprocess
+    import sys
+
+    code = (
+        "import json\n"
+        "from numba.core.registry import CPUDispatcher\n"
+        "import fem.kernel, fem.numbering\n"
+        "from validation.case.loader import case_by_id\n"
+        "from validation.run.runner import run_method\n"
+        "for cid in ('cantilever_tip_load', 'bapat2015_test1a', 'bapat2015_test2'):\n"
+        "    assert run_method(case_by_id(cid).case, 'fem').converged, cid\n"
+        "print(json.dumps({f'{m.__name__}.{k}': len(v.signatures) for m in (fem.kernel, fem.numbering)\n"
+        "                  for k, v in vars(m).items() if isinstance(v, CPUDispatcher) and v.signatures}))\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr[-2000:]
+    counts = json.loads(out.stdout.strip().splitlines()[-1])
+    assert counts.get("fem.kernel.newton_load") == 1, counts      # the entry points called from Python
+    assert all(n == 1 for n in counts.values()), counts
