@@ -40,6 +40,10 @@ __all__ = ["System"]
 EPS = float(np.finfo(float).eps)
 SPRING_SIGN = np.array([[1.0, -1.0], [-1.0, 1.0]])   # d(k (theta_a - theta_b)) / d(theta_a, theta_b)
 SPRING_SIGN.flags.writeable = False
+# the (empty) arrays of what a system lacks, shared; writeable like the others (numba types a read-only
+# array apart, and would compile the corrector for it again)
+_NO_INTS, _NO_FLOATS = np.zeros(0, np.int64), np.zeros(0)
+_NO_LINKS, _NO_LINK_X = np.zeros((0, 4), np.int64), np.zeros((0, 4))
 
 
 class System:
@@ -58,11 +62,14 @@ class System:
         self.C0 = d.C[:, :self.width].copy()
         self.I0 = np.ascontiguousarray(d.I[:, 0])
         self.C0_flat = np.ascontiguousarray(self.C0[:, 0])
-        self.I1 = np.ascontiguousarray(d.I[:, 1])       # the second column (rigid-link slaves), compiled corrector
-        self.C1_flat = np.ascontiguousarray(d.C[:, 1])
-        s, m = d.slaves, d.masters
-        self.links = np.column_stack([s, m, d.rot_dof[s], d.rot_dof[m]]).astype(np.int64).reshape(-1, 4)
-        self.links_X = np.column_stack([d.X[s], d.X[m]]).reshape(-1, 4) if len(s) else np.zeros((0, 4))
+        # rigid links for the compiled corrector: the second constraint column, the slave and master
+        # nodes and rotation DOFs, their reference positions (no rows, none read, without links)
+        self.I1, self.C1_flat, self.links, self.links_X = _NO_INTS, _NO_FLOATS, _NO_LINKS, _NO_LINK_X
+        if self.width == 2:
+            s, m = d.slaves, d.masters
+            self.I1, self.C1_flat = np.ascontiguousarray(d.I[:, 1]), np.ascontiguousarray(d.C[:, 1])
+            self.links = np.column_stack([s, m, d.rot_dof[s], d.rot_dof[m]]).astype(np.int64)
+            self.links_X = np.column_stack([d.X[s], d.X[m]])
         self._load_tables(model, n_levels)
         rows, cols = self._sparsity()
         self.layout = MatrixLayout(self.n, rows, cols, kind=solver_kind)
@@ -134,7 +141,6 @@ class System:
         d = self.disc
         # full-level sparsity pattern: elements, springs, follower, rigid links (only the parts present)
         e = d.edofs
-        n_el = len(e)
         rows = [np.repeat(e, 6, axis=1).ravel()]             # entry (i, j) of element k at 36 k + 6 i + j
         cols = [np.concatenate([e] * 6, axis=1).ravel()]     # = np.tile(e, (1, 6)), without tile's overhead
         if len(d.springs):
@@ -165,7 +171,7 @@ class System:
         # without rigid links the constraint coefficients are constant: precompute
         # which full entry feeds each reduced entry, and with what factor
         self.valid_src = self.valid.nonzero()[0]
-        self.valid_pair = np.zeros(0, np.int64)     # with them: which two columns, 2 w1 + w2, of each entry
+        self.valid_pair = _NO_INTS     # with them: which two columns, 2 w1 + w2, of each entry
         if w != 1:
             self.valid_pair = self.valid_src % (w * w)
             self.valid_src //= w * w
