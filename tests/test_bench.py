@@ -96,8 +96,35 @@ def test_the_per_iteration_timings_take_turns_run_by_run(monkeypatch):
 
     monkeypatch.setattr(bench, "run_method", run_method)
     monkeypatch.setattr(bench, "_one_run", one_run)
+    monkeypatch.setattr(bench, "TIME_BUDGET_S", 2e-3)      # a 1 ms run: 2 fit, so the minimum of 3 counts
     got = bench._timed_in_turn({"fem": None, "opensees": None, "slow": None}, 3)
     assert order == ["fem", "opensees", "slow", "opensees", "fem", "fem", "opensees"]
     assert (got["fem"].best, got["fem"].median, got["fem"].repeats) == (1.0, 2.0, 3)
     assert (got["opensees"].best, got["opensees"].median) == (4.0, 5.0)
     assert (got["slow"].best, got["slow"].repeats, got["fem"].analysis) == (9.0, 1, 0.5)
+
+
+def test_a_fast_configuration_is_timed_as_often_as_fits_in_the_budget(monkeypatch):
+    """The number of timed runs: one for a configuration slower than SLOW_RUN_S; for a fast one as many
+    as fit in TIME_BUDGET_S (50 ms: 50 of a 1 ms run, 500 capped at MAX_REPEATS for 0.1 ms), never
+    fewer than ``repeats``; and `_timed_in_turn` runs each code that often, in turn."""
+    monkeypatch.setattr(bench, "TIME_BUDGET_S", 0.05)
+    monkeypatch.setattr(bench, "MAX_REPEATS", 200)
+    assert bench._rounds(0.5, 5) == 1
+    assert bench._rounds(0.02, 5) == 5
+    assert bench._rounds(1e-3, 5) == 50
+    assert bench._rounds(1e-4, 5) == 200
+    counts = {"fem": 0, "opensees": 0}
+
+    def run_method(case, method):
+        return MethodRun(values={}, wall_time={"fem": 1e-3, "opensees": 2.5e-3}[method])
+
+    def one_run(case, method):
+        counts[method] += 1
+        return MethodRun(values={}), 1.0
+
+    monkeypatch.setattr(bench, "run_method", run_method)
+    monkeypatch.setattr(bench, "_one_run", one_run)
+    got = bench._timed_in_turn({"fem": None, "opensees": None}, 3)
+    assert counts == {"fem": 50, "opensees": 20}
+    assert (got["fem"].repeats, got["opensees"].repeats) == (50, 20)

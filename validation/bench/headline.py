@@ -13,7 +13,8 @@ The two codes take turns mesh by mesh on each case (a slow period of a shared ma
 codes' rows alike). Each configuration is timed in this process: one warm-up, then the best (smallest)
 CPU time of this process (``time.process_time``; BLAS and the compiled kernels run on one thread, so on
 an idle machine it is the wall time, and on a shared one it leaves out the waits for a core) over
-``repeats`` runs, their median (for the noise) and the best wall time; its error is the largest
+``repeats`` runs or more (a fast configuration as many as fit in TIME_BUDGET_S, up to MAX_REPEATS), their
+median (for the noise) and the best wall time; its error is the largest
 tip-position error over the benchmarked load levels, over the characteristic length, against the
 exact solution (the elastica method on the same case, or the case's 'exact' references). Peak Python
 memory is measured in a separate run with ``tracemalloc``. The BLAS thread settings are recorded.
@@ -82,7 +83,9 @@ PEER = "opensees"
 ITERATION_MESHES = (8, 16, 32, 64, 128, 256)
 RUN_BUDGET_S = 20.0     # a method's mesh doubling stops after a run slower than this
 SLOW_RUN_S = 0.2        # a configuration slower than this is timed once after its warm-up
-QUICK_REPEATS = 3       # timed runs per configuration with --quick (5 without)
+QUICK_REPEATS = 3       # timed runs per configuration with --quick (5 without), at least
+TIME_BUDGET_S = 0.05    # a fast configuration is run as often as fits in this (its best is then its
+MAX_REPEATS = 200       # quiet-machine time, not a noise spike's), up to MAX_REPEATS runs
 CONFIGURATIONS = {      # how each code is driven (printed beside the headline)
     "fem": ("corotational Euler-Bernoulli beams (validation.methods.fem); load control: each level tried in "
             "one step, cut only on failure (failed tries counted), Newton with the consistent tangent "
@@ -160,13 +163,23 @@ def _timed(case, method: str, repeats: int) -> Timing:
     return _timed_in_turn({method: case}, repeats)[method]
 
 
+def _rounds(warm_wall: float, repeats: int) -> int:
+    """How many timed runs a configuration gets, from its warm-up's wall time (`_timed_in_turn`)."""
+    if warm_wall > SLOW_RUN_S:
+        return 1
+    return max(repeats, min(MAX_REPEATS, int(TIME_BUDGET_S / max(warm_wall, 1e-9))))
+
+
 def _timed_in_turn(configs: dict, repeats: int) -> dict[str, Timing]:
     """Each method's case (method -> case) timed, the methods taking turns run by run, the order
     reversed every round (A B, B A, ...), so that a slow period of the shared machine falls on every
     method alike; after one warm-up run each (imports, caches, compiled kernels). A configuration whose
-    warm-up is slower than SLOW_RUN_S is timed once (its noise is small against its time)."""
+    warm-up is slower than SLOW_RUN_S is timed once (its noise is small against its time); a fast one
+    as often as fits in TIME_BUDGET_S, at least ``repeats`` and at most MAX_REPEATS times (a
+    millisecond run's best of 5 on a shared machine can still be a slow period's), the same rule for
+    every code."""
     first = {method: run_method(case, method) for method, case in configs.items()}
-    rounds = {method: 1 if run.wall_time > SLOW_RUN_S else repeats for method, run in first.items()}
+    rounds = {method: _rounds(run.wall_time, repeats) for method, run in first.items()}
     times = {method: [] for method in configs}
     walls, analyses, last = {m: [] for m in configs}, {m: [] for m in configs}, dict(first)
     order = list(configs)
