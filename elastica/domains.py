@@ -122,30 +122,42 @@ def fixed_pinned_arrays(theta0, n) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def curved_fixed_pinned_arrays(theta0, n, kappa) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(a, b, alpha) of ``elastica.elliptic.curved_fixed_pinned_from_angle`` on arrays: case A
-    (lambda <= eta, eqs 8, 9 with eta^(5/2)) and case B (eqs 10, 11, NaN beyond 90 deg + atan n)."""
+    (lambda <= eta, eqs 8, 9 with eta^(5/2)) and case B (eqs 10, 11, NaN beyond 90 deg + atan n), each
+    case's formulas evaluated on its own points only (the elliptic integrals are most of the cost)."""
+    theta0, n, kappa = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (theta0, n, kappa)))
     eta = np.hypot(1.0, n)
     s0 = np.sin(theta0) - n * np.cos(theta0)
     lam = kappa + s0
-    t = np.sqrt((eta + lam) / (2.0 * eta))                         # case A
+    case_a, beyond = lam <= eta, theta0 > math.pi / 2 + np.arctan(n)
+    out = [np.full(theta0.shape, np.nan) for _ in range(3)]
+    for pick, case in ((case_a, _case_a), (~case_a & ~beyond, _case_b)):
+        for o, v in zip(out, case(eta[pick], n[pick], s0[pick], lam[pick])):
+            o[pick] = v
+    return out[0], out[1], out[2]
+
+
+def _case_a(eta, n, s0, lam):
+    """(a, b, alpha) of case A (lambda <= eta, eqs 8, 9 with eta^(5/2))."""
+    t = np.sqrt((eta + lam) / (2.0 * eta))
     g1, g2 = _asin_sqrt((eta - n) / (eta + lam)), _asin_sqrt((eta + s0) / (eta + lam))
     dF = _F(g2, t) - _F(g1, t)
-    alpha_a = dF / np.sqrt(eta)
+    alpha = dF / np.sqrt(eta)
     bracket = dF + 2.0 * (_E(g1, t) - _E(g2, t))
     root = np.sqrt(2.0 * eta * (eta + lam)) * (np.cos(g1) - np.cos(g2))
-    den = alpha_a * eta**2.5
-    a_a, b_a = (-n * eta * bracket + root) / den, (eta * bracket + n * root) / den
-    r = np.sqrt(2.0 * eta / (eta + lam))                           # case B
+    den = alpha * eta**2.5
+    return (-n * eta * bracket + root) / den, (eta * bracket + n * root) / den, alpha
+
+
+def _case_b(eta, n, s0, lam):
+    """(a, b, alpha) of case B (lambda > eta, eqs 10, 11)."""
+    r = np.sqrt(2.0 * eta / (eta + lam))
     p1, p2 = _asin_sqrt((eta - n) / (2.0 * eta)), _asin_sqrt((eta + s0) / (2.0 * eta))
     dF = _F(p2, r) - _F(p1, r)
-    alpha_b = np.sqrt(2.0 / (lam + eta)) * dF
+    alpha = np.sqrt(2.0 / (lam + eta)) * dF
     bracket = lam / (eta + lam) * dF + _E(p1, r) - _E(p2, r)
     roots = np.sqrt(1.0 - (eta - n) / (eta + lam)) - np.sqrt(1.0 - (eta + s0) / (eta + lam))
-    pre = np.sqrt(2.0 * (eta + lam)) / (alpha_b * eta**2)
-    a_b, b_b = pre * (-n * bracket + roots), pre * (bracket + n * roots)
-    case_a, beyond = lam <= eta, theta0 > math.pi / 2 + np.arctan(n)
-    pick = [case_a, ~case_a & ~beyond]
-    return (np.select(pick, [a_a, a_b], np.nan), np.select(pick, [b_a, b_b], np.nan),
-            np.select(pick, [alpha_a, alpha_b], np.nan))
+    pre = np.sqrt(2.0 * (eta + lam)) / (alpha * eta**2)
+    return pre * (-n * bracket + roots), pre * (bracket + n * roots), alpha
 
 
 def fixed_guided_inflection_arrays(theta0, n, kappa) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
