@@ -547,12 +547,20 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
                         costs=_last_costs(out))
     pooled = time.perf_counter() - started  # cases, their pages and the domain study, on ``jobs`` processes
     timeline = outcome.timeline
-    with timed("main", "tables (results.csv, summary.csv)", timeline):
-        _write_tables(outcome, out)
-    with timed("main", "pages not drawn in the workers", timeline):
-        pages = _build_pages(outcome.results, outcome.table, out, jobs, done=outcome.after)
-    with timed("main", "index page and overview figure", timeline):
-        _write_index(outcome, pages, out)
+    # the overview figure (a second of matplotlib layout) drawn in a process of its own beside the
+    # tables and the index page, on the core the finished workers left free
+    with ProcessPoolExecutor(max_workers=1) as figure_pool:
+        with timed("main", "overview points", timeline):
+            figure = figure_pool.submit(plot_overview, overview_points(outcome.results, outcome.table),
+                                        out / "overview.png")
+        with timed("main", "tables (results.csv, summary.csv)", timeline):
+            _write_tables(outcome, out)
+        with timed("main", "pages not drawn in the workers", timeline):
+            pages = _build_pages(outcome.results, outcome.table, out, jobs, done=outcome.after)
+        with timed("main", "index page", timeline):
+            _write_index(outcome, pages, out)
+        with timed("main", "waiting for the overview figure", timeline):
+            figure.result()
     page_errors = [page.error for page in pages if page.error]
     for error in outcome.errors:
         print_error(error)
@@ -567,14 +575,13 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
 
 
 def _write_index(outcome, pages: list[PageLink], out: Path) -> None:
-    """``index.html``, ``index.md`` and the overview figure."""
+    """``index.html`` and ``index.md`` (the overview figure beside them: `plot_overview`)."""
     table = outcome.table
     links = {page.case: page.link for page in pages}
     page_errors = [page.error for page in pages if page.error]
     parts = by_case(table)
     drawn = {page.case: page.summary for page in pages if page.summary is not None}
     rows = [drawn.get(r.loaded.id) or summarise(r, rows_of(parts, table, r.loaded.id)) for r in outcome.results]
-    plot_overview(overview_points(outcome.results, table), out / "overview.png")
     items = findings(outcome.results, table)
     failed = outcome.failed_comparisons
     info = reproducibility()
