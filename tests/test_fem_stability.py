@@ -104,6 +104,17 @@ def test_follower_cantilever_untouched():
     assert r.converged and "branch" not in r.message
 
 
+def _column(fraction: float) -> fem.Model:
+    """A straight cantilever column of 8 elements under a compressive tip force fraction * P_cr."""
+    model = fem.Model()
+    model.add_node("root", 0.0, 0.0)
+    model.add_node("tip", 1.0, 0.0)
+    model.add_member("root", "tip", fem.Section.from_EI(EA, 1.0), n_elements=8)
+    model.add_support("root", "fixed")
+    model.add_force("tip", [-fraction * P_CR], [0.0])
+    return model
+
+
 def test_a_negative_sign_from_the_last_factorisation_is_confirmed_at_the_converged_state():
     """The sign of det K comes from Newton's last factorisation, one iterate before convergence; after
     a long step that iterate can be far from the converged state (Test 2 at 128 elements: |r|/F = 3.2,
@@ -116,13 +127,7 @@ def test_a_negative_sign_from_the_last_factorisation_is_confirmed_at_the_converg
 
     opts = SolveOptions()
     for fraction, expected in ((0.5, 1), (1.5, -1)):     # below P_cr: stable; straight above it: unstable
-        model = fem.Model()
-        model.add_node("root", 0.0, 0.0)
-        model.add_node("tip", 1.0, 0.0)
-        model.add_member("root", "tip", fem.Section.from_EI(EA, 1.0), n_elements=8)
-        model.add_support("root", "fixed")
-        model.add_force("tip", [-fraction * P_CR], [0.0])
-        system = solver._prepare(model, opts, None)
+        system = solver._prepare(_column(fraction), opts, None)
         q0, beta0 = np.zeros(system.n), system.disc.beta0.copy()
         out = newton(system, q0, 1.0, beta0, system.loads_at(-1, 0, 1.0), opts, q_start=q0)
         for stale in (-1, 1):            # what the last factorisation may say
@@ -143,13 +148,7 @@ def test_a_run_converged_before_any_correction_reads_the_sign_at_its_own_state()
 
     opts = SolveOptions()
     for fraction, expected in ((0.5, 1), (1.5, -1)):     # below P_cr: stable; straight above it: unstable
-        model = fem.Model()
-        model.add_node("root", 0.0, 0.0)
-        model.add_node("tip", 1.0, 0.0)
-        model.add_member("root", "tip", fem.Section.from_EI(EA, 1.0), n_elements=8)
-        model.add_support("root", "fixed")
-        model.add_force("tip", [-fraction * P_CR], [0.0])
-        system = solver._prepare(model, opts, None)
+        system = solver._prepare(_column(fraction), opts, None)
         assert system.compiled is not None
         q0, beta0 = np.zeros(system.n), system.disc.beta0.copy()
         loads = system.loads_at(-1, 0, 1.0)
