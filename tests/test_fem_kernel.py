@@ -250,3 +250,71 @@ def test_every_compiled_fem_function_is_compiled_once():
     counts = json.loads(out.stdout.strip().splitlines()[-1])
     assert counts.get("fem.kernel.newton_load") == 1, counts      # the entry points called from Python
     assert all(n == 1 for n in counts.values()), counts
+
+
+@pytest.mark.parametrize("prescribed", [True, False])
+def test_the_compiled_evaluation_of_linked_chains_sliders_and_prescribed_masters_is_the_numpy_one(prescribed):
+    """Configurations no case file has: a chain of two rigid links (the second slave's root master is the
+    first master), a slider support at the far end, a prescribed rotation of a link master, a spring to
+    ground and two load levels: the compiled evaluation equals `assembly.System.evaluate` bit for bit at
+    random states of both levels (without the prescribed rotation, a moment there: the slaves' geometric
+    term then reaches the master's free rotation)."""
+    from fem import solver
+    from fem.options import SolveOptions
+
+    model = _linked_chain(prescribed)
+    system = solver._prepare(model, SolveOptions(), None)
+    assert system.width == 2 and system.compiled is not None and len(system.links) == 2
+    assert set(system.links[:, 1].tolist()) == {model.node("a")}
+    rng = np.random.default_rng(11)
+    for level in (0, 1):
+        loads = system.loads_at(level - 1, level, 1.0)
+        for _ in range(4):
+            q = rng.normal(scale=0.1, size=system.n)
+            beta = system.disc.beta0 + rng.normal(scale=0.05, size=len(system.disc.beta0))
+            ev = system.evaluate(q, beta, 1.0, *loads, need_K=True)
+            u, r, K, C1, scale = _compiled_evaluation(system, q, beta, loads)
+            assert np.array_equal(u, ev["u"]) and np.array_equal(C1, ev["C"][:, 1])
+            assert np.array_equal(r, ev["r"]) and np.array_equal(K, ev["K"]) and scale == ev["F_scale"]
+
+
+@pytest.mark.parametrize("prescribed", [True, False])
+def test_a_linked_chain_solves_alike_with_the_compiled_and_the_numpy_corrector(monkeypatch, prescribed):
+    """The same model solved end to end by the compiled corrector and by the NumPy one (the compiled
+    layout refused): the same steps and iterations, positions and rotations equal to rounding."""
+    import fem
+    from fem.kernel import CompiledLayout
+
+    compiled = fem.solve(_linked_chain(prescribed))
+    monkeypatch.setattr(CompiledLayout, "applies", staticmethod(lambda system: False))
+    numpy_run = fem.solve(_linked_chain(prescribed))
+    assert compiled.converged and numpy_run.converged
+    assert (compiled.steps, compiled.iterations) == (numpy_run.steps, numpy_run.iterations)
+    assert np.allclose(compiled.mesh_positions, numpy_run.mesh_positions, rtol=0, atol=1e-12)
+    assert np.allclose(compiled.mesh_rotations, numpy_run.mesh_rotations, rtol=0, atol=1e-12)
+
+
+def _linked_chain(prescribed: bool):
+    """Two beams joined by a chain of two rigid links (the second slave's root master is the first
+    master), a slider at the far end, a joint spring to ground, and a prescribed rotation of the master
+    (or a moment on it)."""
+    import fem
+
+    model = fem.Model()
+    for name, x, y in (("root", 0.0, 0.0), ("a", 1.0, 0.0), ("b", 1.3, 0.3), ("c", 1.5, -0.2),
+                       ("d", 2.5, -0.2)):
+        model.add_node(name, x, y)
+    section = fem.Section.from_EI(2e3, 1.5)
+    model.add_member("root", "a", section, n_elements=5)
+    model.add_member("c", "d", section, n_elements=6)
+    model.add_rigid_link("a", "b")
+    model.add_rigid_link("b", "c")          # c's root master is a
+    model.add_support("root", "fixed")
+    model.add_support("d", "slider", direction=(0.8, -0.6))
+    model.add_joint("c", k=3.0, k_ground=0.5)
+    if prescribed:
+        model.prescribe("a", "rz", [0.1, 0.25])
+    else:
+        model.add_moment("a", [0.3, 0.6])
+    model.add_force("d", [0.2, 0.4], [-0.3, -0.1])
+    return model
