@@ -33,7 +33,7 @@ from . import kernel as cn
 from .linear_solver import SingularMatrix
 from .options import NewtonOutcome, SolveOptions
 
-__all__ = ["StepFailed", "Path", "newton", "accept_check", "snapshot", "det_sign", "growth"]
+__all__ = ["StepFailed", "Path", "newton", "acceptance_facts", "accept_check", "snapshot", "det_sign", "growth"]
 
 
 class StepFailed(Exception):
@@ -238,20 +238,26 @@ def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start) -
                          accept=(status == cn.CONVERGED_JUMPED, dth))
 
 
-def accept_check(system, q_new, q_old, ev, opts: SolveOptions, its, known: tuple | None = None):
-    """Raise StepFailed if a converged state must be rejected. ``known``: (an element jumped, the
-    largest rotation increment from q_old), as the compiled corrector worked them out
-    (`NewtonOutcome.accept`) when q_old was its start."""
-    el = ev["el"]
-    if el["jumped"].any() if known is None else known[0]:
-        e = int(np.argmax(el["jumped"]))
-        raise StepFailed(f"rotation jump of about 2 pi between the nodes of element {e}", its)
+def acceptance_facts(system, q_new, q_old, ev, known: tuple | None = None) -> tuple[bool, float]:
+    """(an element's end rotations jumped by about 2 pi, the largest rotation change from q_old to q_new,
+    0 without rotations) of the converged state ``ev``: ``known`` when given (`NewtonOutcome.accept`, the
+    compiled corrector's own, valid when q_old was its start), else from the evaluation."""
+    if known is not None:
+        return known
     rot = system.disc.red_is_rotation
-    if known is not None or rot.any():
-        dth = known[1] if known is not None else float(np.abs(q_new[rot] - q_old[rot]).max())
-        if dth > opts.max_rotation_increment:
-            raise StepFailed(f"rotation increment {dth:.3g} rad exceeds max_rotation_increment",
-                             its, cut=max(0.1, 0.8 * opts.max_rotation_increment / dth))
+    return (bool(ev["el"]["jumped"].any()),
+            float(np.abs(q_new[rot] - q_old[rot]).max()) if rot.any() else 0.0)
+
+
+def accept_check(system, q_new, q_old, ev, opts: SolveOptions, its, known: tuple | None = None):
+    """Raise StepFailed if a converged state must be rejected (`acceptance_facts`, ``known`` as there)."""
+    jumped, dth = acceptance_facts(system, q_new, q_old, ev, known)
+    if jumped:
+        e = int(np.argmax(ev["el"]["jumped"]))
+        raise StepFailed(f"rotation jump of about 2 pi between the nodes of element {e}", its)
+    if dth > opts.max_rotation_increment:
+        raise StepFailed(f"rotation increment {dth:.3g} rad exceeds max_rotation_increment",
+                         its, cut=max(0.1, 0.8 * opts.max_rotation_increment / dth))
 
 
 def snapshot(system, q, lam, ev, level_param):

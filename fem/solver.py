@@ -40,7 +40,7 @@ from .discretise import discretise
 from .free_motion import check_held
 from .linear_solver import SingularMatrix
 from .model import DOF_NAMES, Model
-from .newton import Path, StepFailed, accept_check, det_sign, growth, newton, snapshot
+from .newton import Path, StepFailed, accept_check, acceptance_facts, det_sign, growth, newton, snapshot
 from .options import (ArcLengthControl, DisplacementControl, LoadControl, SolveOptions, StepState,
                       SwitchStatus)
 from .result import FemResult, build_result
@@ -72,12 +72,7 @@ def _try_guess(system, opts: SolveOptions, path, guesses: LevelGuesses, k: int, 
     except StepFailed as exc:
         path.rejected_iterations += exc.iteration
         return None
-    if out.accept is not None:       # the compiled corrector's facts, from its start q_g
-        jumped, moved = out.accept
-    else:
-        rot = system.disc.red_is_rotation
-        jumped = bool(out.ev["el"]["jumped"].any())
-        moved = float(np.abs(out.q[rot] - q_g[rot]).max()) if rot.any() else 0.0
+    jumped, moved = acceptance_facts(system, out.q, q_g, out.ev, out.accept)   # q_g was its start
     if jumped or not moved < 0.1:
         path.rejected_iterations += out.iterations
         return None
