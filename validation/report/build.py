@@ -375,6 +375,13 @@ class PageLink:
     summary: CaseSummary | None = None
 
 
+# A page's tables hold their text in Python strings rather than pandas 3's pyarrow-backed default: a page
+# filters, sorts and takes rows of small tables hundreds of times, where pyarrow's per-call conversions
+# cost about a quarter of the table work; what a page shows is the same (the results files written by
+# the main process keep the default).
+PAGE_STRINGS = "python"
+
+
 def _page_job(args) -> PageLink:
     """Write one case page unless its digest (case text and results) is unchanged since last time.
     A page that cannot be drawn becomes a page saying why, so one case never costs the others'."""
@@ -406,11 +413,12 @@ class PageWriter:
     out: Path
 
     def __call__(self, result: CaseResult) -> PageLink:
-        part = tabulate(result)
-        if len(part):
-            part = part.sort_values(["group", "case", "method", "quantity", "point", "level"], kind="stable",
-                                    ignore_index=True)
-        return _page_job((result, part, self.out))
+        with pd.option_context("mode.string_storage", PAGE_STRINGS):
+            part = tabulate(result)
+            if len(part):
+                part = part.sort_values(["group", "case", "method", "quantity", "point", "level"], kind="stable",
+                                        ignore_index=True)
+            return _page_job((result, part, self.out))
 
 
 def _build_pages(results: list[CaseResult], table: pd.DataFrame, out: Path, jobs: int,
