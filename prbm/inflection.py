@@ -203,7 +203,21 @@ def _point_state(beam, F: float, phi1: float, theta0: float, l1: float, theta10:
             return {k: float(v) for k, v in inflection_state(beam, F, phi1, theta0, l1, theta10).items()}
 
 
-def _point_equations(beam, F, phi1, theta0, l1, theta10) -> dict[str, float]:
+def _point_ends(beam, F: float, phi1: float, theta0: float, l1: float, theta10: float) -> dict[str, float]:
+    """Only r96, a and b of ``_point_state`` (what the displacement problems' residuals read), the same
+    floats: the root finders' inner loop, without the other 23 variables and their dictionary."""
+    try:
+        core = _point_core(beam, F, phi1, theta0, l1, theta10)
+        return {"r96": core[-3], "a": core[-2], "b": core[-1]}
+    except (ValueError, ZeroDivisionError, OverflowError):
+        with np.errstate(all="ignore"):
+            s = inflection_state(beam, F, phi1, theta0, l1, theta10)
+            return {k: float(s[k]) for k in ("r96", "a", "b")}
+
+
+def _point_core(beam, F, phi1, theta0, l1, theta10) -> tuple:
+    """The variables of eqs (95)-(104) in plain floats up to r96 (96), a (103) and b (104), in the order
+    ``_point_equations`` unpacks them."""
     l, EI = beam.length, beam.EI
     sin1, cos1 = math.sin(phi1), math.cos(phi1)
     phi2 = phi1 - theta0
@@ -213,14 +227,21 @@ def _point_equations(beam, F, phi1, theta0, l1, theta10) -> dict[str, float]:
     l2 = l - l1
     theta20 = theta10 - theta0
     Th1, Th2 = theta10 / c1, theta20 / c2
-    P, nP = F * sin1, -F * cos1
-    r95 = F * (l1 * l1) / EI * math.sin(phi1 - Th1) - K1 * Th1
     r96 = F * (l2 * l2) / EI * math.sin(phi2 - Th2) - K2 * Th2
     ct, st = math.cos(theta0), math.sin(theta0)
-    sT2, cT2 = math.sin(Th2), math.cos(Th2)
-    M = (nP * ct - P * st) * g2 * l2 * sT2 + (P * ct + nP * st) * ((1 - g2) * l2 + g2 * l2 * cT2)
     b = g1 * l1 * math.sin(Th1) + g2 * l2 * math.sin(Th2 + theta0) + (1 - g2) * l2 * st
     a = (1 - g1) * l1 + g1 * l1 * math.cos(Th1) + g2 * l2 * math.cos(Th2 + theta0) + (1 - g2) * l2 * ct
+    return sin1, cos1, phi2, n, n2, g1, c1, K1, g2, c2, K2, l2, theta20, Th1, Th2, ct, st, r96, a, b
+
+
+def _point_equations(beam, F, phi1, theta0, l1, theta10) -> dict[str, float]:
+    (sin1, cos1, phi2, n, n2, g1, c1, K1, g2, c2, K2, l2, theta20, Th1, Th2, ct, st, r96, a,
+     b) = _point_core(beam, F, phi1, theta0, l1, theta10)
+    EI = beam.EI
+    P, nP = F * sin1, -F * cos1
+    r95 = F * (l1 * l1) / EI * math.sin(phi1 - Th1) - K1 * Th1
+    sT2, cT2 = math.sin(Th2), math.cos(Th2)
+    M = (nP * ct - P * st) * g2 * l2 * sT2 + (P * ct + nP * st) * ((1 - g2) * l2 + g2 * l2 * cT2)
     U = 0.5 * (g1 * K1 * EI / l1 * Th1 * Th1 + g2 * K2 * EI / l2 * Th2 * Th2)
     return {"F": F, "phi1": phi1, "phi2": phi2, "theta0": theta0, "l1": l1, "l2": l2, "theta10": theta10,
             "theta20": theta20, "Theta1": Th1, "Theta2": Th2, "n": n, "n2": n2, "gamma1": g1, "gamma2": g2,
@@ -238,6 +259,7 @@ class _Kernel:
 
 VECTOR = _Kernel(inflection_state, _force_from_95)
 POINT = _Kernel(_point_state, _point_force)
+ENDS = _Kernel(_point_ends, _point_force)   # r96, a and b only: the displacement problems' residuals
 
 
 def _valid(beam, s, tol=1e-8) -> tuple[bool, str]:
@@ -260,18 +282,19 @@ def _valid(beam, s, tol=1e-8) -> tuple[bool, str]:
     return True, "valid"
 
 
-def _multistart(residual, grid: np.ndarray, keep: int, xtol: float):
+def _multistart(residual, grid: np.ndarray, keep: int, xtol: float, point_kernel: _Kernel = POINT):
     """Solve residual(x) = 0 from the `keep` grid points of smallest residual; return distinct roots.
 
     ``residual(x, kernel)`` gives the residual list: with ``VECTOR`` over the grid's columns at once,
-    with ``POINT`` at one point in plain floats (MINPACK's calls)."""
+    with ``point_kernel`` (``POINT``, or ``ENDS`` where the residual reads only r96, a and b) at one point in
+    plain floats (MINPACK's calls)."""
     with np.errstate(all="ignore"):
         norms = np.linalg.norm(np.stack(residual(grid.T, VECTOR)), axis=0)
     norms = np.where(np.isfinite(norms), norms, np.inf)
     order = np.argsort(norms)[:keep]
 
     def point(x):
-        return np.array(residual(x, POINT), dtype=float)
+        return np.array(residual(x, point_kernel), dtype=float)
 
     roots, nfev = [], 0
     for i in order:
@@ -419,7 +442,7 @@ def solve_displacements(beam: InflectionBeam, *, b: float, theta0: float, a: flo
 
         grid = np.array([(p, q) for p in np.linspace(5, 175, 35) * DEG for q in np.linspace(2, 88, 44) * DEG])
 
-    roots, nfev = _multistart(residual, grid, starts, xtol)
+    roots, nfev = _multistart(residual, grid, starts, xtol, ENDS)
     states = []
     for x in roots:
         phi1, L1, q = unpack(x)

@@ -51,7 +51,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq, root
 
-from prbm.inflection import InflectionBeam, _point_force, _point_state, _valid, solve_displacements
+from prbm.inflection import InflectionBeam, _point_ends, _point_force, _point_state, _valid, solve_displacements
 from prbm.result import PRBMResult
 
 __all__ = ["GuidedSegment", "CouplerDrive", "SegmentState", "Window", "segment_state", "reachable_window",
@@ -186,7 +186,7 @@ class _Warm:
         x, state = self.x, None
         for k in range(1, steps + 1):
             a, b, theta0 = ends(self.t + (t - self.t) * k / steps)
-            state = _warm_root(beam, x, lambda y: _case1_residual(beam, y, a, b, theta0), 3)
+            state = _warm_root(beam, x, lambda y, eqs: _case1_residual(beam, y, a, b, theta0, eqs), 3)
             if state is None:
                 return None
             x = np.array([state["phi1"], state["l1"] / beam.length, state["theta10"]])
@@ -203,8 +203,8 @@ class _Warm:
                 for k in range(1, steps + 1):
                     nk, bk, thk = self.given + (given - self.given) * k / steps
                     phi1 = math.atan2(1.0, -nk)
-                    state = _warm_root(beam, x, lambda y: _case1_residual(beam, np.r_[phi1, y], None, bk, thk), 2,
-                                       phi1=phi1)
+                    state = _warm_root(beam, x, lambda y, eqs: _case1_residual(beam, np.r_[phi1, y], None, bk, thk,
+                                                                              eqs), 2, phi1=phi1)
                     if state is None:
                         break
                     x = np.array([state["l1"] / beam.length, state["theta10"]])
@@ -219,16 +219,19 @@ class _Warm:
         return {k: float(v) for k, v in o.items()}
 
 
-def _state(beam: InflectionBeam, phi1: float, l1_ratio: float, theta10: float, theta0: float) -> dict:
-    """Every variable of eqs (131)-(152) with F from eq (143) (as ``prbm.inflection`` does), in plain floats."""
+def _state(beam: InflectionBeam, phi1: float, l1_ratio: float, theta10: float, theta0: float,
+           equations=_point_state) -> dict:
+    """Every variable of eqs (131)-(152) with F from eq (143) (as ``prbm.inflection`` does), in plain floats
+    (``equations=_point_ends``: only r96, a and b, what the residuals read)."""
     l1 = l1_ratio * beam.length
-    return _point_state(beam, _point_force(beam, phi1, l1, theta10), phi1, theta0, l1, theta10)
+    return equations(beam, _point_force(beam, phi1, l1, theta10), phi1, theta0, l1, theta10)
 
 
-def _case1_residual(beam, x, a, b, theta0):
-    """Residuals (144), (151), (152) (without (152) when a is None) of the state at x = (phi1, l1/l, theta10)."""
+def _case1_residual(beam, x, a, b, theta0, equations=_point_state):
+    """Residuals (144), (151), (152) (without (152) when a is None) of the state at x = (phi1, l1/l, theta10),
+    and the state (every variable, or with ``equations=_point_ends`` only r96, a and b)."""
     with np.errstate(all="ignore"):
-        st = _state(beam, x[0], x[1], x[2], theta0)
+        st = _state(beam, x[0], x[1], x[2], theta0, equations)
     r = [st["r96"], (st["b"] - b) / beam.length]
     if a is not None:
         r.append((st["a"] - a) / beam.length)
@@ -236,12 +239,15 @@ def _case1_residual(beam, x, a, b, theta0):
 
 
 def _warm_root(beam, x0, residual, size, phi1=None):
-    """Newton-type solve (MINPACK hybrd) from x0; the state if it converged to a valid root, else None."""
+    """Newton-type solve (MINPACK hybrd) from x0; the state if it converged to a valid root, else None.
+    ``residual(x, equations)`` -> (residuals, state): the solve reads the residuals of ``_point_ends``, the
+    converged point is judged on its whole state (``_point_state``), the same floats."""
     full = (lambda x: np.r_[phi1, x]) if phi1 is not None else (lambda x: x)
     try:
         with np.errstate(all="ignore"):
-            sol = root(lambda x: residual(x)[0], np.asarray(x0, float), method="hybr", options={"xtol": 1e-12})
-        r, st = residual(sol.x)
+            sol = root(lambda x: residual(x, _point_ends)[0], np.asarray(x0, float), method="hybr",
+                       options={"xtol": 1e-12})
+        r, st = residual(sol.x, _point_state)
     except (ValueError, ZeroDivisionError, ArithmeticError):
         return None
     if not np.all(np.isfinite(r)) or np.linalg.norm(r) > 1e-9 or len(r) != size:
