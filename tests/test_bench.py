@@ -128,3 +128,28 @@ def test_a_fast_configuration_is_timed_as_often_as_fits_in_the_budget(monkeypatc
     got = bench._timed_in_turn({"fem": None, "opensees": None}, 3)
     assert counts == {"fem": 50, "opensees": 20}
     assert (got["fem"].repeats, got["opensees"].repeats) == (50, 20)
+
+
+def test_both_codes_are_offered_the_same_richardson_step_on_their_plain_runs(tmp_path):
+    """Issue 15 item 1: the same post-processing for both codes. Each code's n and 2n plain runs are
+    extrapolated by the bench (``paired_label``: ``fem+richardson (plain runs)`` beside the FEM's own
+    ``fem+richardson``, ``opensees+richardson``): such a row is at n, costs the best times of the plain
+    runs at n and 2n together, and the headline chooses among all of our rows."""
+    one = [bench.BenchCase("cantilever_tip_load", [0], single_level=True)]
+    bench.run_bench(tmp_path, quick=True, cases=one, max_elements=8, plots=False)
+    frame = pd.read_csv(tmp_path / "bench.csv")
+    codes = ("fem", bench.PEER) if bench._peer_status() == "" else ("fem",)
+    for code in codes:
+        plain = frame[frame["method"] == code].set_index("elements")
+        paired = frame[frame["method"] == bench.paired_label(code)].set_index("elements")
+        assert sorted(paired.index) == [2, 4]
+        for n, row in paired.iterrows():
+            assert row["time_s"] == pytest.approx(plain.loc[n, "time_s"] + plain.loc[2 * n, "time_s"], rel=1e-12)
+            assert row["iterations"] == plain.loc[n, "iterations"] + plain.loc[2 * n, "iterations"]
+            assert row["error"] < plain.loc[2 * n, "error"]     # the step improves on the finer run
+    assert bench.paired_label("fem") != "fem+richardson"           # the FEM's own row stays beside it
+    headline = json.loads((tmp_path / "headline.json").read_text())
+    entry = headline["fem_over_opensees_time_at_error"]["cantilever_tip_load (last level only) @ 0.0001 L"]
+    if entry["fem"] is not None:
+        ours = frame[frame["method"].isin([*bench.OURS, bench.paired_label("fem")]) & (frame["error"] <= 1e-4)]
+        assert entry["fem"]["time_s"] == pytest.approx(ours["time_s"].min(), rel=1e-12)

@@ -6,8 +6,10 @@ per level, halved only on failure, failed tries counted in the time) both run on
 ... elements per member, doubled until the method has reached every target error or 1024 elements
 (256 with ``--quick``), or until two doublings in a row no longer halve the error (an error floor:
 the reference's precision), plain and with Richardson extrapolation on the n and 2n results, as separate
-rows (``fem+richardson``: the FEM's own n/2n solve; ``opensees+richardson``: the peer's n and 2n runs,
-time of both). Beside them: the PRBM, the exact elastica and the FEM with the case's own options.
+rows: each code's n and 2n plain runs extrapolated here by one Richardson step, the time of both
+(``fem+richardson (plain runs)``, ``opensees+richardson``: the same post-processing for both codes),
+and the FEM's own n/2n solve (``fem+richardson``: the 2n solve warm-started from the n one, with the
+FEM's error estimate). Beside them: the PRBM, the exact elastica and the FEM with the case's own options.
 
 The two codes take turns mesh by mesh on each case (a slow period of a shared machine falls on both
 codes' rows alike). Each configuration is timed in this process: one warm-up, then the best (smallest)
@@ -80,6 +82,14 @@ BENCH_CASES: list[BenchCase] = [
 POSITION = ("x", "y", "dx", "dy")
 TARGETS = (1e-4, 1e-6)
 PEER = "opensees"
+OURS = ("fem", "fem+richardson")   # the FEM's plain runs and its own n/2n solve
+
+
+def paired_label(method: str) -> str:
+    """The label of a method's row of Richardson on its n and 2n plain runs, extrapolated by the bench
+    (``_sweep``): ``opensees+richardson`` for the peer, ``fem+richardson (plain runs)`` beside the
+    FEM's own ``fem+richardson``."""
+    return f"{method}+richardson (plain runs)" if method == "fem" else f"{method}+richardson"
 ITERATION_MESHES = (8, 16, 32, 64, 128, 256)
 RUN_BUDGET_S = 20.0     # a method's mesh doubling stops after a run slower than this
 SLOW_RUN_S = 0.2        # a configuration slower than this is timed once after its warm-up
@@ -92,7 +102,9 @@ CONFIGURATIONS = {      # how each code is driven (printed beside the headline)
             "compiled whole (numba; RCM-banded tangents by a compiled band LU, LAPACK's dgbtf2 step for "
             "step; small dense ones by LAPACK dgetrf), |r| <= 1e-10 max(|f_ext|, |f_int|); "
             "limit loads by arc length (its corrector, and any model with follower loads, in NumPy, "
-            "not compiled); fem+richardson: the n and 2n solves (warm-started) extrapolated"),
+            "not compiled); fem+richardson: the n and 2n solves (warm-started) extrapolated; "
+            "fem+richardson (plain runs): the n and 2n plain runs extrapolated by the bench, as for the peer, "
+            "time of both"),
     "opensees": ("OpenSeesPy elasticBeamColumn with the Corotational transformation "
                  "(validation.methods.opensees); LoadControl one step per level, halved on failure (up to 12 "
                  "halvings, failed tries counted), Newton, NormDispIncr 1e-10 (50 iterations), BandGeneral, "
@@ -271,9 +283,10 @@ def _sweep(case, bench: BenchCase, method: str, meshes: list[int], repeats: int,
     (rows, skipped)."""
     rows, skipped, plain = [], [], {}
     base = dict(case.methods.get(method) or {}) if method in case.methods else {}
-    labels = (f"{method}", f"{method}+richardson")
-    reached = {label: False for label in labels}
-    errors = {label: [] for label in labels}
+    paired = paired_label(method)
+    labels = (f"{method}", f"{method}+richardson")   # the plain runs, and the FEM's own n/2n solve
+    reached = {label: False for label in {*labels, paired}}
+    errors = {label: [] for label in reached}
 
     def done(label, error, slow):
         """Reached the smallest target, too slow, or on an error floor (two doublings in a row
@@ -305,7 +318,7 @@ def _sweep(case, bench: BenchCase, method: str, meshes: list[int], repeats: int,
             reached[label] = done(label, row["error"], timing.best > RUN_BUDGET_S)
             if label == labels[0]:
                 plain[n] = timing
-        if method != "fem" and n // 2 in plain and n in plain and not reached[labels[1]]:
+        if n // 2 in plain and n in plain and not reached[paired]:
             coarse, fine = plain[n // 2], plain[n]
             both = Timing(MethodRun(values=_richardson(coarse.run, fine.run), converged=fine.run.converged,
                                     message=fine.run.message,
@@ -313,11 +326,11 @@ def _sweep(case, bench: BenchCase, method: str, meshes: list[int], repeats: int,
                                             + fine.run.extras.get("iterations", 0)}),
                           coarse.best + fine.best, coarse.median + fine.median, fine.repeats,
                           max(coarse.peak_bytes, fine.peak_bytes), coarse.wall + fine.wall)
-            row = _row(bench.label, labels[1], n // 2, both, exact[1])
+            row = _row(bench.label, paired, n // 2, both, exact[1])
             row["error"] = _error(both.run.values, exact[0], scale)
             rows.append(row)
             log(row)
-            reached[labels[1]] = done(labels[1], row["error"], both.best > RUN_BUDGET_S)
+            reached[paired] = done(paired, row["error"], both.best > RUN_BUDGET_S)
         if all(reached.values()):
             break
         yield
@@ -472,8 +485,8 @@ def _headline(frame: pd.DataFrame, quick: bool, peer_notes: dict, max_elements: 
                       "growth_exponent": {}}
     for case_id, part in frame.groupby("case", sort=False) if len(frame) else []:
         for target in TARGETS:
-            ours = _best_at_error(part, ("fem", "fem+richardson"), target)
-            peer = _best_at_error(part, (PEER, f"{PEER}+richardson"), target)
+            ours = _best_at_error(part, (*OURS, paired_label("fem")), target)
+            peer = _best_at_error(part, (PEER, paired_label(PEER)), target)
             if case_id in peer_notes:
                 note = peer_notes[case_id]
             elif ours is None or peer is None:
