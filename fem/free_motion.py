@@ -12,7 +12,10 @@ Rounding leaves such a pivot at about eps times the column's largest entry; a he
 smallest pivot is at least its softest stiffness over its stiffest one, which for a beam of
 thickness h and element length l_e is of order (h / l_e)^2 / n^2 -- far above 1e-13 for the
 meshes the models use. The DOF of that column (node and 'ux' | 'uy' | 'rz') is named in the
-error, before any Newton iteration.
+error, before any Newton correction. A load-controlled run on the compiled corrector that starts from
+the unloaded state with nothing prescribed and no rigid link makes the test on the factors of its first
+iteration, whose tangent is exactly the unloaded one (`kernel.newton_load`'s ``check``, `refusal`),
+instead of a factorisation of its own; every other run is tested here first (`check_held`).
 
 Angles are in radians (degrees appear only in case files and reports).
 """
@@ -20,12 +23,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import kernel as cn
 from .linear_solver import SingularMatrix
+from .newton import PIVOT_TOL, Unheld, unloaded_pivots
 
-__all__ = ["FreeMotion", "check_held"]
-
-PIVOT_TOL = 1e-13
+__all__ = ["FreeMotion", "check_held", "refusal", "PIVOT_TOL"]
 
 
 class FreeMotion(ValueError):
@@ -57,32 +58,28 @@ def _interior(system, node: int) -> str:
     return f"an interior node of member {member.name!r}"
 
 
-def _compiled_check(system) -> int | None:
-    """The same test by the compiled kernel: None when held, else the reduced DOF to name."""
-    c, d = system.compiled, system.disc
-    ratios, column = np.zeros(system.n), np.zeros(system.n)
-    # the unloaded state: no prescribed value, no force (`System.loads_at(-1, 0, 0.0)`, without its copies)
-    info = cn.unloaded_pivots(np.zeros(system.presc.shape[1]), np.zeros(system.F_fixed.shape[1]), d.beta0,
-                              system.I0, system.C0_flat, d.prescribed_dofs, d.edofs, system.X1, system.X2, d.L0,
-                              d.ka, d.kb, d.springs, d.spring_k, d.ground, c.flat, system.valid_src,
-                              system.coef_const, c.banded, c.kl, c.ku, c.ld, system.n, ratios, column,
-                              system.links, system.links_X, system.I1, system.C1_flat, system.valid_pair,
-                              system.rows_full, system.cols_full)
+def free_dof(ratios: np.ndarray, column: np.ndarray) -> int | None:
+    """The reduced DOF to name from the compiled test's column maxima and pivot ratios
+    (`kernel.newton_load`), None when held: an empty column first, else the smallest ratio."""
     if column.min() == 0.0:      # a DOF nothing touches
         return int(np.argmin(column))
-    if info > 0:
-        return int(info - 1)
     return None if ratios.min() > PIVOT_TOL else int(np.argmin(ratios))
+
+
+def refusal(system, unheld: Unheld) -> FreeMotion:
+    """The error for a compiled Newton run whose first factorisation, of the unloaded tangent, failed
+    the test (the check made on the solve's own factors: `solver.solve_load`)."""
+    return FreeMotion(_message(system, free_dof(unheld.ratios, unheld.column)))
 
 
 def check_held(system) -> None:
     """Raise `FreeMotion` naming the free DOF when the unloaded reduced stiffness is singular."""
     if system.n == 0:
         return
-    if system.compiled is not None:
-        k = _compiled_check(system)
-        if k is not None:
-            raise FreeMotion(_message(system, k))
+    if system.compiled is not None:     # the compiled corrector's factors of the unloaded tangent
+        ratios, column, held = unloaded_pivots(system)
+        if not held:
+            raise FreeMotion(_message(system, free_dof(ratios, column)))
         return
     zero = system.loads_at(-1, 0, 0.0)
     ev = system.evaluate(np.zeros(system.n), system.disc.beta0.copy(), 0.0, *zero, need_K=True)

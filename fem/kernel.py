@@ -57,8 +57,9 @@ import numpy as np
 from numba import njit, types
 from numba.extending import get_cython_function_address
 
-__all__ = ["element_kernel", "scatter", "scatter_add", "CompiledLayout", "newton_load", "unloaded_pivots", "CONVERGED",
-           "NOT_FINITE", "NO_CONVERGENCE", "SINGULAR", "NON_FINITE_TANGENT", "ROTATION_TOO_LARGE"]
+__all__ = ["element_kernel", "scatter", "scatter_add", "CompiledLayout", "newton_load", "CONVERGED",
+           "NOT_FINITE", "NO_CONVERGENCE", "SINGULAR", "NON_FINITE_TANGENT", "ROTATION_TOO_LARGE",
+           "FREE_MOTION", "HELD", "CHECK_AND_SOLVE", "CHECK_ONLY"]
 
 
 @njit(cache=True, inline="always")
@@ -151,6 +152,8 @@ def scatter(target, source, factor, values, size):
 
 CONVERGED, NOT_FINITE, NO_CONVERGENCE, SINGULAR, NON_FINITE_TANGENT, ROTATION_TOO_LARGE = range(6)
 CONVERGED_JUMPED = 6   # converged, and some element's end rotations are 2 pi off its chord (`newton.accept_check`)
+FREE_MOTION, HELD = 7, 8   # the free-motion check of the first factorisation (`free_motion`): refused, passed
+NO_CHECK, CHECK_AND_SOLVE, CHECK_ONLY = 0, 1, 2   # newton_load's ``check``
 
 
 
@@ -417,14 +420,21 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
                 ka, kb, springs, spring_k, ground, flat, valid_src, coef, banded, kl, ku, ld, rot,
                 rtol, atol, floor, L_ref, maxiter, damp, max_rot_inc,
                 K, u, f_int, f_ref, R, r, fr, fe, Ke, N, M, L, beta, theta_bar, u_bar, jumped, hist,
-                links, links_X, I1, C1, C1w, pair, rows_full, cols_full):
+                links, links_X, I1, C1, C1w, pair, rows_full, cols_full, check, pivot_tol, ratios, column):
     """Every iteration of the load-control corrector from q (updated in place). Returns
     (status, iterations, det sign of the last factorisation, F_scale, rotation increment); the
     evaluation at the final q is left in the output arrays. The sign: 2 when nothing was factorised
     (a failed first iteration); a run that converges before any correction factorises the tangent at
     its state for it (0: singular or not finite there). The rotation increment: of a
     ROTATION_TOO_LARGE cut, or of the converged state from q_start (CONVERGED, or CONVERGED_JUMPED
-    when an element's end rotations jumped by about 2 pi)."""
+    when an element's end rotations jumped by about 2 pi).
+
+    ``check`` (CHECK_AND_SOLVE, CHECK_ONLY; NO_CHECK: none): the free-motion test of `free_motion` on
+    the first factorisation, whose tangent is the unloaded one when q is zero, nothing is prescribed
+    and no rigid link carries a load (the caller's choice): ``column[j]`` the largest entry of column j
+    before elimination, ``ratios[j]`` |u_jj| over it (an exactly zero pivot, LAPACK's info: its ratio 0,
+    the later ones inf). FREE_MOTION when a column is empty or a ratio is not above ``pivot_tol``
+    (nothing moved); else HELD with CHECK_ONLY, the Newton run itself with CHECK_AND_SOLVE."""
     n, nf = q.shape[0], u.shape[0]
     work = np.empty(K.shape[0])
     ipiv = np.empty(max(n, 1), np.int32)
@@ -465,7 +475,30 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
                 sign = 0
                 break
             return NON_FINITE_TANGENT, it, sign, scale, 0.0
+        checking = check != NO_CHECK and it == 0
+        if checking:
+            empty = False
+            for j in range(n):
+                big = 0.0
+                for i in range(ld):
+                    big = max(big, abs(work[j * ld + i]))
+                column[j] = big
+                empty = empty or big == 0.0
+            if empty:
+                return FREE_MOTION, it, sign, scale, 0.0
         _factor(work, banded, n, kl, ku, ld, ipiv, ints, info)
+        if checking:
+            free = info[0] > 0
+            for j in range(n):
+                if info[0] > 0:
+                    ratios[j] = 0.0 if j == info[0] - 1 else np.inf
+                else:
+                    ratios[j] = abs(work[j * ld + (kl + ku if banded else j)]) / column[j]
+                    free = free or not ratios[j] > pivot_tol
+            if free:
+                return FREE_MOTION, it, sign, scale, 0.0
+            if check == CHECK_ONLY:
+                return HELD, it, sign, scale, 0.0
         if info[0] > 0:
             if converged:
                 sign = 0
@@ -512,37 +545,3 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
         if rot[k]:
             dth = max(dth, abs(q[k] - q_start[k]))
     return status, it, sign, scale, dth
-
-
-@njit(cache=True)
-def unloaded_pivots(presc, F_fixed, beta0, I0, C0, p_dofs, edofs, X1, X2, L0, ka, kb, springs, spring_k,
-                    ground, flat, valid_src, coef, banded, kl, ku, ld, n, ratios, column, links, links_X,
-                    I1, C1, pair, rows_full, cols_full):
-    """The tangent at the unloaded state (q = 0, lambda = 0) factorised: ``ratios[j]`` = |u_jj| over
-    the largest entry of column j (the pivot of elimination step j), ``column[j]`` that largest
-    entry; returns LAPACK's info (> 0: an exactly zero pivot at column info - 1)."""
-    n_el, nf = edofs.shape[0], I0.shape[0]
-    K = np.empty(ld * n)
-    u, f_int, f_ref, R = np.empty(nf), np.empty(nf), np.empty(nf), np.empty(nf)
-    r, fr, sp = np.empty(n), np.empty(n), np.empty(nf)
-    fe, Ke = np.empty((n_el, 6)), np.zeros((n_el, 6, 6))
-    N, L, beta, u_bar = np.empty(n_el), np.empty(n_el), np.empty(n_el), np.empty(n_el)
-    M, theta_bar, jumped = np.empty((n_el, 2)), np.empty((n_el, 2)), np.empty(n_el, np.bool_)
-    _evaluate(np.zeros(n), presc, 0.0, F_fixed, beta0, I0, C0, p_dofs, edofs, X1, X2, L0, beta0, ka, kb,
-              springs, spring_k, ground, flat, valid_src, coef, K, u, f_int, f_ref, R, r, fr, fe, Ke, N, M,
-              L, beta, theta_bar, u_bar, jumped, sp, links, links_X, I1, C1, np.empty(nf), pair, rows_full,
-              cols_full)
-    for j in range(n):
-        big = 0.0
-        for i in range(ld):
-            big = max(big, abs(K[j * ld + i]))
-        column[j] = big
-    ipiv = np.empty(n, np.int32)
-    ints = np.zeros(6, np.int32)
-    info = np.zeros(1, np.int32)
-    _factor(K, banded, n, kl, ku, ld, ipiv, ints, info)
-    if info[0] == 0:
-        for j in range(n):
-            d = K[j * ld + (kl + ku if banded else j)]
-            ratios[j] = abs(d) / column[j] if column[j] > 0.0 else 0.0
-    return info[0]

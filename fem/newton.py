@@ -33,7 +33,8 @@ from . import kernel as cn
 from .linear_solver import SingularMatrix
 from .options import NewtonOutcome, SolveOptions
 
-__all__ = ["StepFailed", "Path", "newton", "acceptance_facts", "accept_check", "snapshot", "det_sign", "growth"]
+__all__ = ["StepFailed", "Path", "newton", "acceptance_facts", "accept_check", "snapshot", "det_sign", "growth",
+           "Unheld", "unloaded_pivots", "PIVOT_TOL"]
 
 
 class StepFailed(Exception):
@@ -88,12 +89,14 @@ class Path:
 
 
 def newton(system, q, lam, beta, loads, opts: SolveOptions, mode="load", ctrl=None, arc=None,
-           q_start=None) -> NewtonOutcome:
+           q_start=None, check: int = 0) -> NewtonOutcome:
     """Corrector.  mode 'load' (lambda fixed), 'disp' (ctrl=(k, coef, target)),
     'arc' (arc=(dl, w, q0)).  Raises `StepFailed` when it does not converge. Under load control a
-    system the compiled corrector handles (`kernel.newton_load`) is solved there, with the same steps."""
+    system the compiled corrector handles (`kernel.newton_load`) is solved there, with the same steps
+    (and with ``check`` = `kernel.CHECK_AND_SOLVE` the free-motion test on its first factorisation:
+    `Unheld`)."""
     if mode == "load" and system.compiled is not None:
-        return _newton_compiled(system, q, lam, beta, loads, opts, q_start)
+        return _newton_compiled(system, q, lam, beta, loads, opts, q_start, check)
     F_fixed, F0, presc = loads
     hist = []
     dq_small = False
@@ -198,12 +201,20 @@ class _Evaluation(dict):
         return value
 
 
-def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start) -> NewtonOutcome:
-    """`newton` under load control by `kernel.newton_load`: the same outcome or failure."""
-    F_fixed, _, presc = loads
+class Unheld(Exception):
+    """The compiled corrector's first factorisation, of the unloaded tangent, has a zero pivot or an
+    empty column (`free_motion` names the DOF from ``ratios`` and ``column``)."""
+
+    def __init__(self, ratios: np.ndarray, column: np.ndarray):
+        super().__init__("the unloaded tangent is singular")
+        self.ratios, self.column = ratios, column
+
+
+def _run_kernel(system, q, q_start, presc, lam, F_fixed, beta, opts: SolveOptions, check: int):
+    """One call of `kernel.newton_load` on the system's arrays: (status, iterations, sign, F_scale,
+    rotation increment, the evaluation's arrays, the history, the free-motion check's (ratios, column)
+    or None when not asked)."""
     c, d = system.compiled, system.disc
-    q = np.array(q, dtype=float)
-    q_start = q.copy() if q_start is None else q_start
     n_el, nf, n = len(d.L0), d.n_full + 1, system.n
     el = dict(f=np.empty((n_el, 6)), K=np.zeros((n_el, 6, 6)), N=np.empty(n_el), M=np.empty((n_el, 2)),
               L=np.empty(n_el), beta=np.empty(n_el), theta_bar=np.empty((n_el, 2)), u_bar=np.empty(n_el),
@@ -211,15 +222,46 @@ def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start) -
     K, u, f_int, f_ref, R = np.empty(c.size), np.empty(nf), np.empty(nf), np.empty(nf), np.empty(nf)
     r, fr, hist = np.empty(n), np.empty(n), np.empty(opts.maxiter + 1)
     C1 = np.empty(nf if system.width == 2 else 0)
+    pivots = (np.empty(n), np.empty(n)) if check != cn.NO_CHECK else (_NONE, _NONE)
     status, it, sign, scale, dth = cn.newton_load(
-        q, q_start, np.asarray(presc, dtype=float), float(lam), F_fixed, beta, system.I0, system.C0_flat,
+        q, q_start, presc, float(lam), F_fixed, beta, system.I0, system.C0_flat,
         d.prescribed_dofs, d.edofs, system.X1, system.X2, d.L0, d.beta0, d.ka, d.kb, d.springs,
         d.spring_k, d.ground, c.flat, system.valid_src, system.coef_const, c.banded, c.kl, c.ku, c.ld,
         d.red_is_rotation, opts.rtol, opts.atol, system.noise_floor, system.L_ref, opts.maxiter,
         float(opts.max_iteration_rotation or 0.0), opts.max_rotation_increment, K, u, f_int, f_ref, R, r,
         fr, el["f"], el["K"], el["N"], el["M"], el["L"], el["beta"], el["theta_bar"], el["u_bar"],
         el["jumped"], hist, system.links, system.links_X, system.I1, system.C1_flat, C1, system.valid_pair,
-        system.rows_full, system.cols_full)
+        system.rows_full, system.cols_full, check, PIVOT_TOL, *pivots)
+    arrays = dict(K=K, u=u, f_int=f_int, f_ref=f_ref, R=R, r=r, fr=fr, el=el, C1=C1)
+    return status, it, sign, scale, dth, arrays, hist, (pivots if check != cn.NO_CHECK else None)
+
+
+_NONE = np.empty(0)
+PIVOT_TOL = 1e-13   # the free-motion test's largest refused pivot ratio (`free_motion` explains it)
+
+
+def unloaded_pivots(system) -> tuple[np.ndarray, np.ndarray, bool]:
+    """The free-motion test at the unloaded state (q = 0, no load, nothing prescribed) by the compiled
+    corrector (CHECK_ONLY): (ratios, column, held) as `kernel.newton_load` documents them."""
+    opts = SolveOptions()
+    status, *_, pivots = _run_kernel(system, np.zeros(system.n), np.zeros(system.n),
+                                     np.zeros(system.presc.shape[1]), 0.0, np.zeros(system.F_fixed.shape[1]),
+                                     system.disc.beta0.copy(), opts, cn.CHECK_ONLY)
+    if status not in (cn.HELD, cn.FREE_MOTION):
+        raise ValueError(f"the tangent at the unloaded state could not be factorised (status {status})")
+    return pivots[0], pivots[1], status == cn.HELD
+
+
+def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start, check: int = 0) -> NewtonOutcome:
+    """`newton` under load control by `kernel.newton_load`: the same outcome or failure; with ``check``
+    (`kernel.CHECK_AND_SOLVE`) the free-motion test on the first factorisation, `Unheld` when it fails."""
+    F_fixed, _, presc = loads
+    q = np.array(q, dtype=float)
+    q_start = q.copy() if q_start is None else q_start
+    status, it, sign, scale, dth, a, hist, pivots = _run_kernel(
+        system, q, q_start, np.asarray(presc, dtype=float), lam, F_fixed, beta, opts, check)
+    if status == cn.FREE_MOTION:
+        raise Unheld(*pivots)
     history = hist[:it + 1].tolist()
     if status == cn.NOT_FINITE:
         raise StepFailed("residual is not finite", it)
@@ -230,10 +272,11 @@ def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start) -
     if status == cn.ROTATION_TOO_LARGE:
         raise StepFailed(f"rotation increment {dth:.3g} rad too large", it,
                          cut=max(0.1, 0.9 * opts.max_rotation_increment / dth))
-    ev = _Evaluation(u=u, el=el, f_int=f_int, f_ref_full=f_ref, R_full=R, r=r, f_ref=fr, F_scale=scale)
+    ev = _Evaluation(u=a["u"], el=a["el"], f_int=a["f_int"], f_ref_full=a["f_ref"], R_full=a["R"], r=a["r"],
+                     f_ref=a["fr"], F_scale=scale)
     if system.width == 1:
         ev["C"] = system.C0
-    ev.column_major, ev.turned = (c, K), (system.C0, C1)
+    ev.column_major, ev.turned = (system.compiled, a["K"]), (system.C0, a["C1"])
     return NewtonOutcome(q, lam, ev, history, it, None if sign == 2 else _Sign(sign, final=it == 0),
                          accept=(status == cn.CONVERGED_JUMPED, dth))
 

@@ -37,10 +37,11 @@ import numpy as np
 from .assembly import System
 from .critical import critical_points
 from .discretise import discretise
-from .free_motion import check_held
+from .free_motion import check_held, refusal
+from .kernel import CHECK_AND_SOLVE, NO_CHECK
 from .linear_solver import SingularMatrix
 from .model import DOF_NAMES, Model
-from .newton import Path, StepFailed, accept_check, acceptance_facts, det_sign, growth, newton, snapshot
+from .newton import Path, StepFailed, Unheld, accept_check, acceptance_facts, det_sign, growth, newton, snapshot
 from .options import (ArcLengthControl, DisplacementControl, LoadControl, SolveOptions, StepState,
                       SwitchStatus)
 from .result import FemResult, build_result
@@ -166,13 +167,14 @@ class NoStableBranch(Exception):
     """A converged step is unstable and no stable state was found beside it."""
 
 
-def _load_step(system, opts, path, q, beta, k, t, t_new, dt, prev):
+def _load_step(system, opts, path, q, beta, k, t, t_new, dt, prev, check: int = 0):
     """One load step (length dt) from t to t_new of the segment to level k: the accepted
     `StepState`, or the factor (float) to cut the step by. Raises StepFailed when Newton fails,
-    NoStableBranch when it lands on an unstable state with no stable one beside it."""
+    NoStableBranch when it lands on an unstable state with no stable one beside it (``check``: the
+    free-motion test on Newton's first factors, `newton`)."""
     loads = system.loads_at(k - 1, k, t_new)
     q_pred = q if prev is None else q + (t_new - t) / prev[1] * prev[0]
-    out = newton(system, q_pred, 1.0, beta, loads, opts, q_start=q)
+    out = newton(system, q_pred, 1.0, beta, loads, opts, q_start=q, check=check)
     accept_check(system, out.q, q, out.ev, opts, out.iterations, out.accept)
     if (prev is not None and dt > JUMP_CUT_FLOOR * opts.min_step
             and _turned_back(system, out.q - q, prev[0])):
@@ -189,7 +191,18 @@ def _load_step(system, opts, path, q, beta, k, t, t_new, dt, prev):
     return st
 
 
-def _run_load(system, opts: SolveOptions, path, guesses=None):
+def _checked_by_first_step(system, control: LoadControl) -> bool:
+    """Whether the free-motion test can be made on the factors of the first Newton iteration instead of
+    beforehand (`free_motion`): the compiled corrector, starting from the unloaded state (no warm-start
+    guess), nothing prescribed at the first level, and no rigid link (a load on a link's slave enters
+    its geometric term, so the first tangent would not be the unloaded one)."""
+    return (system.compiled is not None and control.initial_guess is None and not len(system.disc.slaves)
+            and not (system.presc.size and bool(np.any(system.presc[0] != 0.0))))
+
+
+def _run_load(system, opts: SolveOptions, path, guesses=None, check_first: bool = False):
+    """Load control over the levels; ``check_first``: each try of the first step makes the free-motion
+    test on its first factors (`_checked_by_first_step`; raises `Unheld`)."""
     q = np.zeros(system.n)
     beta = system.disc.beta0.copy()
     dt = opts.initial_step
@@ -202,7 +215,8 @@ def _run_load(system, opts: SolveOptions, path, guesses=None):
             dt = min(dt, 1.0 - t)
             t_new = 1.0 if 1.0 - (t + dt) < 1e-12 else t + dt
             try:
-                st = _load_step(system, opts, path, q, beta, k, t, t_new, dt, prev)
+                st = _load_step(system, opts, path, q, beta, k, t, t_new, dt, prev,
+                                CHECK_AND_SOLVE if check_first and not path.iterations else NO_CHECK)
             except NoStableBranch as exc:
                 return (f"load level {k}: step from t = {t:.6g} to {t_new:.6g} of the "
                         f"segment from level {k - 1}: {exc}")
@@ -419,12 +433,14 @@ def _run_arc(system, model, control: ArcLengthControl, opts: SolveOptions, path)
 
 
 # ------------------------------------------------------------------------------- entry points
-def _prepare(model: Model, opts: SolveOptions, n_levels: int | None = None):
+def _prepare(model: Model, opts: SolveOptions, n_levels: int | None = None, check: bool = True):
+    """The discretised system, tested for free motion (`free_motion`) when ``check``."""
     if n_levels is not None and model.n_levels not in (1, n_levels):
         raise ValueError(f"n_levels={n_levels} but the load histories have {model.n_levels}")
     disc = discretise(model, refine=opts.refine)
     system = System(model, disc, solver_kind=opts.solver, n_levels=n_levels)
-    check_held(system)
+    if check:
+        check_held(system)
     return system
 
 
@@ -450,12 +466,18 @@ def solve_load(model: Model, control: LoadControl = LoadControl(),
                opts: SolveOptions = SolveOptions()) -> FemResult:
     """Load control: the loads and prescribed values follow their per-level histories."""
     t0 = time.perf_counter()
-    system = _prepare(model, opts, control.n_levels)
+    system = _prepare(model, opts, control.n_levels, check=False)
+    on_first_step = _checked_by_first_step(system, control)
+    if not on_first_step:
+        check_held(system)
     guesses = (None if control.initial_guess is None
                else level_guesses(control.initial_guess, system.disc, system.X1, system.X2))
     path = Path()
     cpu = time.process_time()
-    failure = _run_load(system, opts, path, guesses)
+    try:
+        failure = _run_load(system, opts, path, guesses, on_first_step)
+    except Unheld as exc:
+        raise refusal(system, exc) from None
     return _finish(model, system, path, opts, failure, "load", t0, time.process_time() - cpu)
 
 

@@ -94,3 +94,58 @@ def test_the_compiled_check_names_what_the_numpy_check_names(model):
     assert compiled == verdict(system)
     held = bool(m.supports) and m.supports[0].kind == "fixed" and all(j.k > 0 for j in m.joints)
     assert (compiled == "held") == held, compiled
+
+
+def _verdict(run) -> str:
+    try:
+        run()
+        return "held"
+    except fem.FreeMotion as exc:
+        return str(exc)
+
+
+@pytest.mark.parametrize("model", [
+    lambda: _beam("fixed"), lambda: _beam(None), lambda: _beam("pinned"), lambda: _beam("slider"),
+    lambda: _hinged(0.0), lambda: _hinged(5.0)])
+def test_a_load_run_tests_the_factors_of_its_first_iteration_and_names_the_same_dof(model, monkeypatch):
+    """A load-controlled run from the unloaded state, nothing prescribed, no rigid link, makes the
+    free-motion test on its first Newton factors (whose tangent is the unloaded one) instead of a check
+    of its own beforehand: it refuses exactly the models `check_held` refuses, naming the same DOF, and
+    solves the others as before."""
+    from fem import solver
+    from fem.free_motion import check_held
+
+    m = model()
+    system = solver.System(m, solver.discretise(m))
+    before = _verdict(lambda: check_held(system))
+    monkeypatch.setattr(solver, "check_held", lambda s: pytest.fail("checked beforehand"))
+    during = _verdict(lambda: fem.solve(m))
+    assert during == before
+    held = bool(m.supports) and m.supports[0].kind == "fixed" and all(j.k > 0 for j in m.joints)
+    assert (during == "held") == held, during
+
+
+@pytest.mark.parametrize("model", [lambda: _linked("fixed", 0.0), lambda: _linked("fixed", 2.0),
+                                   lambda: _prescribed_tip()])
+def test_a_run_whose_first_tangent_is_not_the_unloaded_one_is_checked_beforehand(model, monkeypatch):
+    """With a rigid link (a load on its slave enters the first tangent) or a prescribed motion at the
+    first level, the test is made beforehand on the unloaded tangent (`check_held`)."""
+    from fem import solver
+    calls = []
+    original = solver.check_held
+    monkeypatch.setattr(solver, "check_held", lambda s: calls.append(1) or original(s))
+    _verdict(lambda: fem.solve(model()))
+    assert calls == [1]
+
+
+def _hinged(k: float) -> fem.Model:
+    m = _beam("fixed")
+    m.add_joint("mid", k=k)
+    return m
+
+
+def _prescribed_tip() -> fem.Model:
+    m = _beam("fixed")
+    m.loads.clear()
+    m.prescribe("tip", "uy", [0.05])
+    return m
