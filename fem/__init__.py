@@ -7,8 +7,8 @@ Build a `Model` (plain data), call `solve` (or `solve_load`, `solve_displacement
 load-control corrector, compiled: one module, so numba's cache cannot go stale across files),
 `local_matrices` (local stiffness by scikit-fem quadrature), `discretise` (mesh, DOF numbering in
 reverse Cuthill-McKee order, constraints), `assembly` (reduced residual and tangent),
-`linear_solver`, `free_motion` (a model that can move without deforming is refused before any
-solve), `newton` (corrector, rotation continuity), `options` (typed options and state), `solver` (load / displacement /
+`linear_solver`, `free_motion` (a model that can move without deforming is refused before any Newton
+correction), `newton` (corrector, rotation continuity), `options` (typed options and state), `solver` (load / displacement /
 arc-length control), `stability`, `critical`, `error_estimate` (Richardson), `warm_start`,
 `result`, `soft_modes`, `tip_inverse` (the end loads that hold a prescribed tip pose, with a tied
 load found by an outer secant solve).
