@@ -234,14 +234,33 @@ def _point_core(beam, F, phi1, theta0, l1, theta10) -> tuple:
     return sin1, cos1, phi2, n, n2, g1, c1, K1, g2, c2, K2, l2, theta20, Th1, Th2, ct, st, r96, a, b
 
 
-def _point_equations(beam, F, phi1, theta0, l1, theta10) -> dict[str, float]:
-    (sin1, cos1, phi2, n, n2, g1, c1, K1, g2, c2, K2, l2, theta20, Th1, Th2, ct, st, r96, a,
-     b) = _point_core(beam, F, phi1, theta0, l1, theta10)
-    EI = beam.EI
+def _point_loads(beam, F: float, phi1: float, theta0: float, l1: float, theta10: float) -> dict[str, float]:
+    """Only r95, r96 and M of ``_point_state`` (what the load problem's residual reads), the same floats."""
+    try:
+        core = _point_core(beam, F, phi1, theta0, l1, theta10)
+        _, _, r95, M = _point_end_loads(beam, F, phi1, l1, core)
+        return {"r95": r95, "r96": core[-3], "M": M}
+    except (ValueError, ZeroDivisionError, OverflowError):
+        with np.errstate(all="ignore"):
+            s = inflection_state(beam, F, phi1, theta0, l1, theta10)
+            return {k: float(s[k]) for k in ("r95", "r96", "M")}
+
+
+def _point_end_loads(beam, F, phi1, l1, core: tuple) -> tuple:
+    """P, nP, r95 (95) and M (99) in plain floats from ``_point_core``'s variables."""
+    sin1, cos1, _, _, _, _, _, K1, g2, _, _, l2, _, Th1, Th2, ct, st, _, _, _ = core
     P, nP = F * sin1, -F * cos1
-    r95 = F * (l1 * l1) / EI * math.sin(phi1 - Th1) - K1 * Th1
+    r95 = F * (l1 * l1) / beam.EI * math.sin(phi1 - Th1) - K1 * Th1
     sT2, cT2 = math.sin(Th2), math.cos(Th2)
     M = (nP * ct - P * st) * g2 * l2 * sT2 + (P * ct + nP * st) * ((1 - g2) * l2 + g2 * l2 * cT2)
+    return P, nP, r95, M
+
+
+def _point_equations(beam, F, phi1, theta0, l1, theta10) -> dict[str, float]:
+    core = _point_core(beam, F, phi1, theta0, l1, theta10)
+    _, _, phi2, n, n2, g1, c1, K1, g2, c2, K2, l2, theta20, Th1, Th2, _, _, r96, a, b = core
+    EI = beam.EI
+    P, nP, r95, M = _point_end_loads(beam, F, phi1, l1, core)
     U = 0.5 * (g1 * K1 * EI / l1 * Th1 * Th1 + g2 * K2 * EI / l2 * Th2 * Th2)
     return {"F": F, "phi1": phi1, "phi2": phi2, "theta0": theta0, "l1": l1, "l2": l2, "theta10": theta10,
             "theta20": theta20, "Theta1": Th1, "Theta2": Th2, "n": n, "n2": n2, "gamma1": g1, "gamma2": g2,
@@ -260,6 +279,7 @@ class _Kernel:
 VECTOR = _Kernel(inflection_state, _force_from_95)
 POINT = _Kernel(_point_state, _point_force)
 ENDS = _Kernel(_point_ends, _point_force)   # r96, a and b only: the displacement problems' residuals
+LOADS = _Kernel(_point_loads, _point_force)  # r95, r96 and M only: the load problem's residual
 
 
 def _valid(beam, s, tol=1e-8) -> tuple[bool, str]:
@@ -286,8 +306,8 @@ def _multistart(residual, grid: np.ndarray, keep: int, xtol: float, point_kernel
     """Solve residual(x) = 0 from the `keep` grid points of smallest residual; return distinct roots.
 
     ``residual(x, kernel)`` gives the residual list: with ``VECTOR`` over the grid's columns at once,
-    with ``point_kernel`` (``POINT``, or ``ENDS`` where the residual reads only r96, a and b) at one point in
-    plain floats (MINPACK's calls)."""
+    with ``point_kernel`` (``POINT``; ``ENDS`` or ``LOADS`` where the residual reads only r96, a and b, or
+    r95, r96 and M) at one point in plain floats (MINPACK's calls)."""
     with np.errstate(all="ignore"):
         norms = np.linalg.norm(np.stack(residual(grid.T, VECTOR)), axis=0)
     norms = np.where(np.isfinite(norms), norms, np.inf)
@@ -381,7 +401,7 @@ def solve_loads(beam: InflectionBeam, P: float, nP: float, M: float, *, prefer="
 
     grid = np.array([(t, f, q) for t in np.linspace(-80, 80, 17) * DEG for f in np.linspace(0.15, 0.85, 8)
                      for q in np.linspace(5, 85, 9) * DEG])
-    roots, nfev = _multistart(residual, grid, starts, xtol)
+    roots, nfev = _multistart(residual, grid, starts, xtol, LOADS)
     states = [inflection_state(beam, F, phi1, x[0], x[1] * l, x[2]) for x in roots]
     given = {"P": P, "nP": nP, "M": "a function of theta0" if callable(M) else M}
     return _package(beam, states, "load BCs", given, t0, nfev, prefer)

@@ -90,7 +90,8 @@ def test_the_root_finders_float_kernel_is_the_numpy_state(family):
     ``_point_force``) is eqs (95)-(104) as ``inflection_state`` evaluates them: every output at points across
     and outside the fits' range, phi1 = pi/2 (n = 0), phi1 = pi (sin = 0: n infinite), theta10 = 0."""
     import numpy as np
-    from prbm.inflection import _force_from_95, _point_ends, _point_force, _point_state, inflection_state
+    from prbm.inflection import (_force_from_95, _point_ends, _point_force, _point_loads, _point_state,
+                                 inflection_state)
 
     beam = InflectionBeam(7.4, 85.0, family)
     rng = np.random.default_rng(5)
@@ -105,7 +106,9 @@ def test_the_root_finders_float_kernel_is_the_numpy_state(family):
         assert got.keys() == want.keys()
         for key, value in want.items():
             assert got[key] == pytest.approx(value, rel=1e-12, abs=1e-300, nan_ok=True), (key, phi1, theta0)
-        # the residuals' lean kernel: r96, a and b of the whole state, the same floats (NaN where it is NaN)
-        ends = _point_ends(beam, F, phi1, theta0, l1, theta10)
-        assert ends.keys() == {"r96", "a", "b"}
-        assert all(ends[k] == got[k] or (math.isnan(ends[k]) and math.isnan(got[k])) for k in ends), (phi1, theta0)
+        # the residuals' lean kernels: r96, a and b, or r95, r96 and M of the whole state, the same floats
+        for lean, keys in ((_point_ends, {"r96", "a", "b"}), (_point_loads, {"r95", "r96", "M"})):
+            part = lean(beam, F, phi1, theta0, l1, theta10)
+            assert part.keys() == keys
+            assert all(part[k] == got[k] or (math.isnan(part[k]) and math.isnan(got[k])) for k in part), (
+                lean.__name__, phi1, theta0)
