@@ -136,13 +136,13 @@ def test_both_codes_are_offered_the_same_richardson_step_on_their_plain_runs(tmp
     ``fem+richardson``, ``opensees+richardson``): such a row is at n, costs the best times of the plain
     runs at n and 2n together, and the headline chooses among all of our rows."""
     one = [bench.BenchCase("cantilever_tip_load", [0], single_level=True)]
-    bench.run_bench(tmp_path, quick=True, cases=one, max_elements=8, plots=False)
+    bench.run_bench(tmp_path, quick=True, cases=one, max_elements=16, plots=False)
     frame = pd.read_csv(tmp_path / "bench.csv")
     codes = ("fem", bench.PEER) if bench._peer_status() == "" else ("fem",)
     for code in codes:
         plain = frame[frame["method"] == code].set_index("elements")
         paired = frame[frame["method"] == bench.paired_label(code)].set_index("elements")
-        assert sorted(paired.index) == [2, 4]
+        assert sorted(paired.index) == [2, 4, 8]
         for n, row in paired.iterrows():
             assert row["time_s"] == pytest.approx(plain.loc[n, "time_s"] + plain.loc[2 * n, "time_s"], rel=1e-12)
             assert row["iterations"] == plain.loc[n, "iterations"] + plain.loc[2 * n, "iterations"]
@@ -153,3 +153,38 @@ def test_both_codes_are_offered_the_same_richardson_step_on_their_plain_runs(tmp
     if entry["fem"] is not None:
         ours = frame[frame["method"].isin([*bench.OURS, bench.paired_label("fem")]) & (frame["error"] <= 1e-4)]
         assert entry["fem"]["time_s"] == pytest.approx(ours["time_s"].min(), rel=1e-12)
+    if bench._peer_status() == "":           # the headline ratio: both configurations re-timed in turn
+        again = entry["confirmed"]
+        assert entry["ratio"] == pytest.approx(again["fem_s"] / again["opensees_s"], rel=1e-12)
+        assert entry["ladder_ratio"] == pytest.approx(entry["fem"]["time_s"] / entry["opensees"]["time_s"])
+
+
+def test_the_headline_configurations_are_timed_again_in_turn(monkeypatch):
+    """The headline ratio comes from the two fastest configurations timed again with the runs of both
+    taking turns run by run (`_confirmed`): a Richardson row on plain runs is its runs at n and 2n, its
+    time their bests summed; the FEM's own n/2n solve is one run."""
+    case = bench._last_level_only(bench.case_by_id("cantilever_tip_load").case)
+    one = bench.BenchCase("cantilever_tip_load", [0], single_level=True)
+    order = []
+    cpu = {("fem", 8): 1.0, ("fem", 16): 2.0, ("opensees", 8): 0.5, ("opensees", 16): 1.5}
+
+    def run_method(sub, method):
+        return MethodRun(values={}, wall_time=1e-3)
+
+    def one_run(sub, method):
+        n = sub.methods[method]["elements"]
+        order.append((method, n))
+        return MethodRun(values={}), cpu[(method, n)]
+
+    monkeypatch.setattr(bench, "run_method", run_method)
+    monkeypatch.setattr(bench, "_one_run", one_run)
+    monkeypatch.setattr(bench, "TIME_BUDGET_S", 2e-3)
+    ours = dict(method=bench.paired_label("fem"), elements=8)
+    peer = dict(method=bench.paired_label(bench.PEER), elements=8)
+    got = bench._confirmed(case, one, ours, peer, 2)
+    assert order[:4] == [("fem", 8), ("fem", 16), ("opensees", 8), ("opensees", 16)]
+    assert order[4:8] == order[:4][::-1]                       # every run in turn, the order reversed
+    assert (got["fem_s"], got["opensees_s"], got["ratio"]) == (3.0, 2.0, 1.5)
+    own = bench._runs_of(case, one, dict(method="fem+richardson", elements=8))
+    (sub, method), = own.values()
+    assert method == "fem" and sub.methods["fem"]["richardson"] and sub.methods["fem"]["elements"] == 8

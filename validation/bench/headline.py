@@ -22,8 +22,11 @@ exact solution (the elastica method on the same case, or the case's 'exact' refe
 memory is measured in a separate run with ``tracemalloc``. The BLAS thread settings are recorded.
 
 The headline, at each target error, is our best time over the peer's best, with both configurations
-beside it; a peer that cannot run (not installed, no system BLAS) is "peer unavailable", a case it
-cannot model "peer not applicable", never "did not reach". Also the time of one Newton iteration
+beside it: the two configurations the sweep found fastest are timed again, every run of both taking
+turns (a Richardson row on plain runs: its two runs), so that both are measured in the same minutes of
+the shared machine, and that ratio is the headline (the sweep's own ratio beside it); a peer that
+cannot run (not installed, no system BLAS) is "peer unavailable", a case it cannot model "peer not
+applicable", never "did not reach". Also the time of one Newton iteration
 (time over iterations, failed tries included) of both codes at 8 to 256 elements, on the
 single-level cantilever.
 
@@ -183,35 +186,71 @@ def _rounds(warm_wall: float, repeats: int) -> int:
 
 
 def _timed_in_turn(configs: dict, repeats: int) -> dict[str, Timing]:
-    """Each method's case (method -> case) timed, the methods taking turns run by run, the order
-    reversed every round (A B, B A, ...), so that a slow period of the shared machine falls on every
-    method alike; after one warm-up run each (imports, caches, compiled kernels). A configuration whose
+    """Each method's case (method -> case) timed, the methods taking turns run by run
+    (`_labelled_in_turn`)."""
+    return _labelled_in_turn({method: (case, method) for method, case in configs.items()}, repeats)
+
+
+def _labelled_in_turn(configs: dict[str, tuple], repeats: int) -> dict[str, Timing]:
+    """Each configuration (label -> (case, method)) timed, the configurations taking turns run by run,
+    the order reversed every round (A B, B A, ...), so that a slow period of the shared machine falls on
+    every one alike; after one warm-up run each (imports, caches, compiled kernels). A configuration whose
     warm-up is slower than SLOW_RUN_S is timed once (its noise is small against its time); a fast one
     as often as fits in TIME_BUDGET_S, at least ``repeats`` and at most MAX_REPEATS times (a
     millisecond run's best of 5 on a shared machine can still be a slow period's), the same rule for
     every code."""
-    first = {method: run_method(case, method) for method, case in configs.items()}
-    rounds = {method: _rounds(run.wall_time, repeats) for method, run in first.items()}
-    times = {method: [] for method in configs}
-    walls, analyses, last = {m: [] for m in configs}, {m: [] for m in configs}, dict(first)
+    first = {label: run_method(*config) for label, config in configs.items()}
+    rounds = {label: _rounds(run.wall_time, repeats) for label, run in first.items()}
+    times = {label: [] for label in configs}
+    walls, analyses, last = {k: [] for k in configs}, {k: [] for k in configs}, dict(first)
     order = list(configs)
     for r in range(max(rounds.values(), default=0)):
-        for method in (order if r % 2 == 0 else order[::-1]):
-            if len(times[method]) < rounds[method]:
-                run, cpu = _one_run(configs[method], method)
-                last[method] = run
-                times[method].append(cpu)
-                walls[method].append(run.wall_time)
-                analyses[method].append(run.extras.get("analysis_cpu_s", math.nan))
+        for label in (order if r % 2 == 0 else order[::-1]):
+            if len(times[label]) < rounds[label]:
+                run, cpu = _one_run(*configs[label])
+                last[label] = run
+                times[label].append(cpu)
+                walls[label].append(run.wall_time)
+                analyses[label].append(run.extras.get("analysis_cpu_s", math.nan))
     out = {}
-    for method, case in configs.items():
+    for label, config in configs.items():
         tracemalloc.start()
-        run_method(case, method)
+        run_method(*config)
         peak = tracemalloc.get_traced_memory()[1]
         tracemalloc.stop()
-        out[method] = Timing(last[method], min(times[method]), statistics.median(times[method]), rounds[method],
-                             peak, min(walls[method]), min(analyses[method]))
+        out[label] = Timing(last[label], min(times[label]), statistics.median(times[label]), rounds[label],
+                            peak, min(walls[label]), min(analyses[label]))
     return out
+
+
+def _runs_of(case, bench: BenchCase, choice: dict) -> dict[str, tuple]:
+    """The runs a headline configuration (a row of `_best_at_error`) is made of, label -> (case, method):
+    one run, or for a Richardson row on plain runs (`paired_label`) the plain runs at n and 2n."""
+    label, n = choice["method"], choice["elements"]
+    method = label.split("+")[0]
+    base = dict(case.methods.get(method) or {}) if method in case.methods else {}
+    plain = {"elements": n, "error_estimate": False} if method == "fem" else {"elements": n}
+    if label == paired_label(method):
+        meshes = (n, 2 * n)
+    elif label == method:
+        meshes = (n,)
+    else:   # the FEM's own n/2n solve
+        return {f"{label} n={n}": (_restrict(case, method, base | {"elements": n, "error_estimate": True,
+                                                                      "richardson": True}, bench.levels), method)}
+    return {f"{method} n={m}": (_restrict(case, method, base | plain | {"elements": m}, bench.levels), method)
+            for m in meshes}
+
+
+def _confirmed(case, bench: BenchCase, ours: dict, peer: dict, repeats: int) -> dict:
+    """The headline's two configurations timed again, every run of both taking turns run by run
+    (`_labelled_in_turn`), so that both are measured in the same minutes of the shared machine: their
+    times (a Richardson row on plain runs: the sum of its runs' bests) and their ratio."""
+    runs = {"fem": _runs_of(case, bench, ours), "opensees": _runs_of(case, bench, peer)}
+    timings = _labelled_in_turn({label: config for part in runs.values() for label, config in part.items()},
+                                repeats)
+    fem_s, peer_s = (sum(timings[label].best for label in runs[code]) for code in ("fem", "opensees"))
+    return dict(ratio=fem_s / peer_s, fem_s=fem_s, opensees_s=peer_s,
+                repeats=min(timings[label].repeats for label in timings))
 
 
 def _exact(case, levels) -> tuple[dict, str]:
@@ -422,7 +461,7 @@ def run_bench(out: Path, quick: bool = False, cases: list[BenchCase] | dict | No
     if isinstance(cases, dict):  # {case id: levels}
         cases = [BenchCase(case_id, levels) for case_id, levels in cases.items()]
     peer_status = _peer_status()
-    rows, skipped, peer_notes, per_iteration = [], [], {}, {}
+    rows, skipped, peer_notes, per_iteration, confirmed = [], [], {}, {}, {}
     unusable, failed = [], []  # exit status 2 and 1 (validation/run/exit_status.py)
 
     for bench in cases or BENCH_CASES:
@@ -460,11 +499,17 @@ def run_bench(out: Path, quick: bool = False, cases: list[BenchCase] | dict | No
                 peer_notes[bench.label] = "peer " + (reason if reason.startswith("not applicable") else
                                                      f"not applicable: {reason}")
         rows += case_rows
+        if case_rows and bench.label not in peer_notes:   # both codes ran: their headline configurations re-timed
+            part = pd.DataFrame(case_rows)
+            for target in TARGETS:
+                ours, peer = _choices(part, target)
+                if ours and peer:
+                    confirmed[f"{bench.label} @ {target:g} L"] = _confirmed(case, bench, ours, peer, repeats)
         if bench == BENCH_CASES[0]:
             per_iteration = _per_iteration(case, bench, repeats, not peer_status, cap)
     frame = pd.DataFrame(rows)
     frame.to_csv(out / "bench.csv", index=False)
-    headline = _headline(frame, quick, peer_notes, max(meshes))
+    headline = _headline(frame, quick, peer_notes, max(meshes), confirmed)
     headline["per_iteration"] = per_iteration
     headline["blas"] = blas
     headline["configurations"] = CONFIGURATIONS
@@ -480,13 +525,23 @@ def run_bench(out: Path, quick: bool = False, cases: list[BenchCase] | dict | No
     return int(decide(bad_input=bool(unusable), failed=bool(failed)))
 
 
-def _headline(frame: pd.DataFrame, quick: bool, peer_notes: dict, max_elements: int) -> dict:
+def _choices(part: pd.DataFrame, target: float) -> tuple[dict | None, dict | None]:
+    """Our fastest configuration and the peer's that reach the target error (`_best_at_error`)."""
+    return (_best_at_error(part, (*OURS, paired_label("fem")), target),
+            _best_at_error(part, (PEER, paired_label(PEER)), target))
+
+
+def _headline(frame: pd.DataFrame, quick: bool, peer_notes: dict, max_elements: int,
+              confirmed: dict | None = None) -> dict:
+    """The headline ratios: at each target, our fastest configuration's time over the peer's fastest, as
+    the sweep measured them (``ladder_ratio``) and as re-timed with every run of both taking turns
+    (``confirmed``, `_confirmed`: the ``ratio`` when present)."""
     headline: dict = {"fem_over_opensees_time_at_error": {}, "per_iteration": {}, "prbm_over_fem": {},
                       "growth_exponent": {}}
+    confirmed = confirmed or {}
     for case_id, part in frame.groupby("case", sort=False) if len(frame) else []:
         for target in TARGETS:
-            ours = _best_at_error(part, (*OURS, paired_label("fem")), target)
-            peer = _best_at_error(part, (PEER, paired_label(PEER)), target)
+            ours, peer = _choices(part, target)
             if case_id in peer_notes:
                 note = peer_notes[case_id]
             elif ours is None or peer is None:
@@ -496,9 +551,12 @@ def _headline(frame: pd.DataFrame, quick: bool, peer_notes: dict, max_elements: 
             else:
                 note = ""
             reference = part["error_reference"].iloc[0]
-            headline["fem_over_opensees_time_at_error"][f"{case_id} @ {target:g} L"] = dict(
-                ratio=ours["time_s"] / peer["time_s"] if ours and peer else None, fem=ours, opensees=peer,
-                note=note, reference=reference)
+            key = f"{case_id} @ {target:g} L"
+            ladder = ours["time_s"] / peer["time_s"] if ours and peer else None
+            again = confirmed.get(key) if ours and peer else None
+            headline["fem_over_opensees_time_at_error"][key] = dict(
+                ratio=again["ratio"] if again else ladder, ladder_ratio=ladder, confirmed=again, fem=ours,
+                opensees=peer, note=note, reference=reference)
         prbm = part[part["method"] == "prbm"]
         fem_case = part[part["method"] == "fem (case options)"]
         if len(prbm) and len(fem_case):
@@ -532,10 +590,14 @@ def _print_headline(headline: dict) -> None:
     print("\nconfigurations:")
     for code, text in CONFIGURATIONS.items():
         print(f"  {code}: {text}")
-    print("\nfem / OpenSees CPU time to reach the error (best of each; configurations beside):")
+    print("\nfem / OpenSees CPU time to reach the error (the fastest configuration of each, beside; the ratio "
+          "as re-timed with the runs of both taking turns, and as the sweep measured them):")
     for key, h in headline["fem_over_opensees_time_at_error"].items():
         ratio = "   -  " if h["ratio"] is None else f"{h['ratio']:6.2f}"
-        print(f"  {key:<52} {ratio}   fem: {_config(h['fem'])}   opensees: {_config(h['opensees'])}"
+        again = h.get("confirmed")
+        ladder = (f"   (re-timed in turn: fem {again['fem_s'] * 1e3:.2f} ms, opensees {again['opensees_s'] * 1e3:.2f}"
+                  f" ms; sweep {h['ladder_ratio']:.2f})") if again else ""
+        print(f"  {key:<52} {ratio}   fem: {_config(h['fem'])}   opensees: {_config(h['opensees'])}{ladder}"
               + (f"   [{h['note']}]" if h["note"] else ""))
     if headline["per_iteration"]:
         print("time of one Newton iteration, single-level cantilever (fem / OpenSees): the whole run over its "
