@@ -191,13 +191,14 @@ def _load_step(system, opts, path, q, beta, k, t, t_new, dt, prev, check: int = 
     return st
 
 
-def _checked_by_first_step(system, control: LoadControl) -> bool:
+def _checked_by_first_step(system, control: LoadControl, opts: SolveOptions) -> bool:
     """Whether the free-motion test can be made on the factors of the first Newton iteration instead of
     beforehand (`free_motion`): the compiled corrector, starting from the unloaded state (no warm-start
-    guess), nothing prescribed at the first level, and no rigid link (a load on a link's slave enters
-    its geometric term, so the first tangent would not be the unloaded one)."""
+    guess), nothing prescribed at the first level, no rigid link (a load on a link's slave enters its
+    geometric term, so the first tangent would not be the unloaded one), and at least one iteration
+    allowed (with none, Newton stops before it factorises)."""
     return (system.compiled is not None and control.initial_guess is None and not len(system.disc.slaves)
-            and not (system.presc.size and bool(np.any(system.presc[0] != 0.0))))
+            and not (system.presc.size and bool(np.any(system.presc[0] != 0.0))) and opts.maxiter >= 1)
 
 
 def _run_load(system, opts: SolveOptions, path, guesses=None, check_first: bool = False):
@@ -467,7 +468,7 @@ def solve_load(model: Model, control: LoadControl = LoadControl(),
     """Load control: the loads and prescribed values follow their per-level histories."""
     t0 = time.perf_counter()
     system = _prepare(model, opts, control.n_levels, check=False)
-    on_first_step = _checked_by_first_step(system, control)
+    on_first_step = _checked_by_first_step(system, control, opts)
     if not on_first_step:
         check_held(system)
     guesses = (None if control.initial_guess is None

@@ -76,7 +76,6 @@ def test_the_compiled_check_names_what_the_numpy_check_names(model):
     """The check on the compiled corrector's factors of the unloaded tangent (dense and banded, with
     and without rigid links) refuses exactly the models the NumPy check refuses, naming the same DOF."""
     from fem.free_motion import check_held
-    from fem.options import SolveOptions
     from fem.solver import discretise, System
 
     def verdict(system):
@@ -125,17 +124,20 @@ def test_a_load_run_tests_the_factors_of_its_first_iteration_and_names_the_same_
     assert (during == "held") == held, during
 
 
-@pytest.mark.parametrize("model", [lambda: _linked("fixed", 0.0), lambda: _linked("fixed", 2.0),
-                                   lambda: _prescribed_tip()])
-def test_a_run_whose_first_tangent_is_not_the_unloaded_one_is_checked_beforehand(model, monkeypatch):
-    """With a rigid link (a load on its slave enters the first tangent) or a prescribed motion at the
-    first level, the test is made beforehand on the unloaded tangent (`check_held`)."""
+@pytest.mark.parametrize("model, options", [(lambda: _linked("fixed", 0.0), {}), (lambda: _linked("fixed", 2.0), {}),
+                                            (lambda: _prescribed_tip(), {}), (lambda: _beam(None), {"maxiter": 0})])
+def test_a_run_whose_first_tangent_is_not_the_unloaded_one_is_checked_beforehand(model, options, monkeypatch):
+    """With a rigid link (a load on its slave enters the first tangent), a prescribed motion at the
+    first level, or no Newton iteration allowed (Newton would stop before it factorises), the test is
+    made beforehand on the unloaded tangent (`check_held`): a free beam is refused even with maxiter 0."""
     from fem import solver
     calls = []
     original = solver.check_held
     monkeypatch.setattr(solver, "check_held", lambda s: calls.append(1) or original(s))
-    _verdict(lambda: fem.solve(model()))
+    verdict = _verdict(lambda: fem.solve(model(), **options))
     assert calls == [1]
+    if options:
+        assert "can move without deforming" in verdict
 
 
 def _hinged(k: float) -> fem.Model:
