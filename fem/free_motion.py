@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from .linear_solver import SingularMatrix
-from .newton import PIVOT_TOL, Unheld, unloaded_pivots
+from .newton import PIVOT_TOL, Unheld, unloaded_check
 
 __all__ = ["FreeMotion", "check_held", "refusal", "PIVOT_TOL"]
 
@@ -58,18 +58,13 @@ def _interior(system, node: int) -> str:
     return f"an interior node of member {member.name!r}"
 
 
-def free_dof(ratios: np.ndarray, column: np.ndarray) -> int | None:
-    """The reduced DOF to name from the compiled test's column maxima and pivot ratios
-    (`kernel.newton_load`), None when held: an empty column first, else the smallest ratio."""
-    if column.min() == 0.0:      # a DOF nothing touches
-        return int(np.argmin(column))
-    return None if ratios.min() > PIVOT_TOL else int(np.argmin(ratios))
-
-
 def refusal(system, unheld: Unheld) -> FreeMotion:
-    """The error for a compiled Newton run whose first factorisation, of the unloaded tangent, failed
-    the test (the check made on the solve's own factors: `solver.solve_load`)."""
-    return FreeMotion(_message(system, free_dof(unheld.ratios, unheld.column)))
+    """The error naming the free DOF of a failed compiled test (`kernel.newton_load`'s ``check``: made
+    beforehand by `check_held`, or on a run's own first factors by `solver.solve_load`): an empty
+    column first (a DOF nothing touches), else the smallest pivot ratio (an exactly zero pivot's is 0)."""
+    column = unheld.column
+    k = np.argmin(column) if column.min() == 0.0 else np.argmin(unheld.ratios)
+    return FreeMotion(_message(system, int(k)))
 
 
 def check_held(system) -> None:
@@ -77,9 +72,9 @@ def check_held(system) -> None:
     if system.n == 0:
         return
     if system.compiled is not None:     # the compiled corrector's factors of the unloaded tangent
-        ratios, column, held = unloaded_pivots(system)
-        if not held:
-            raise FreeMotion(_message(system, free_dof(ratios, column)))
+        unheld = unloaded_check(system)
+        if unheld is not None:
+            raise refusal(system, unheld)
         return
     zero = system.loads_at(-1, 0, 0.0)
     ev = system.evaluate(np.zeros(system.n), system.disc.beta0.copy(), 0.0, *zero, need_K=True)

@@ -488,13 +488,14 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
                 return FREE_MOTION, it, sign, scale, 0.0
         _factor(work, banded, n, kl, ku, ld, ipiv, ints, info)
         if checking:
-            free = info[0] > 0
-            for j in range(n):
-                if info[0] > 0:
+            if info[0] > 0:     # an exactly zero pivot
+                for j in range(n):
                     ratios[j] = 0.0 if j == info[0] - 1 else np.inf
-                else:
-                    ratios[j] = abs(work[j * ld + (kl + ku if banded else j)]) / column[j]
-                    free = free or not ratios[j] > pivot_tol
+                return FREE_MOTION, it, sign, scale, 0.0
+            free = False
+            for j in range(n):
+                ratios[j] = abs(work[j * ld + (kl + ku if banded else j)]) / column[j]
+                free = free or not ratios[j] > pivot_tol
             if free:
                 return FREE_MOTION, it, sign, scale, 0.0
             if check == CHECK_ONLY:

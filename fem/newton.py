@@ -34,7 +34,7 @@ from .linear_solver import SingularMatrix
 from .options import NewtonOutcome, SolveOptions
 
 __all__ = ["StepFailed", "Path", "newton", "acceptance_facts", "accept_check", "snapshot", "det_sign", "growth",
-           "Unheld", "unloaded_pivots", "PIVOT_TOL"]
+           "Unheld", "unloaded_check", "PIVOT_TOL"]
 
 
 class StepFailed(Exception):
@@ -240,16 +240,16 @@ _NONE = np.empty(0)
 PIVOT_TOL = 1e-13   # the free-motion test's largest refused pivot ratio (`free_motion` explains it)
 
 
-def unloaded_pivots(system) -> tuple[np.ndarray, np.ndarray, bool]:
+def unloaded_check(system) -> Unheld | None:
     """The free-motion test at the unloaded state (q = 0, no load, nothing prescribed) by the compiled
-    corrector (CHECK_ONLY): (ratios, column, held) as `kernel.newton_load` documents them."""
-    opts = SolveOptions()
+    corrector (CHECK_ONLY): None when held, else `Unheld` with the pivot data, as a run that makes the
+    test on its first factors raises it."""
     status, *_, pivots = _run_kernel(system, np.zeros(system.n), np.zeros(system.n),
                                      np.zeros(system.presc.shape[1]), 0.0, np.zeros(system.F_fixed.shape[1]),
-                                     system.disc.beta0.copy(), opts, cn.CHECK_ONLY)
+                                     system.disc.beta0.copy(), SolveOptions(), cn.CHECK_ONLY)
     if status not in (cn.HELD, cn.FREE_MOTION):
         raise ValueError(f"the tangent at the unloaded state could not be factorised (status {status})")
-    return pivots[0], pivots[1], status == cn.HELD
+    return None if status == cn.HELD else Unheld(*pivots)
 
 
 def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start, check: int = 0) -> NewtonOutcome:
