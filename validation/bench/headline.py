@@ -86,13 +86,6 @@ POSITION = ("x", "y", "dx", "dy")
 TARGETS = (1e-4, 1e-6)
 PEER = "opensees"
 OURS = ("fem", "fem+richardson")   # the FEM's plain runs and its own n/2n solve
-
-
-def paired_label(method: str) -> str:
-    """The label of a method's row of Richardson on its n and 2n plain runs, extrapolated by the bench
-    (``_sweep``): ``opensees+richardson`` for the peer, ``fem+richardson (plain runs)`` beside the
-    FEM's own ``fem+richardson``."""
-    return f"{method}+richardson (plain runs)" if method == "fem" else f"{method}+richardson"
 ITERATION_MESHES = (8, 16, 32, 64, 128, 256)
 RUN_BUDGET_S = 20.0     # a method's mesh doubling stops after a run slower than this
 SLOW_RUN_S = 0.2        # a configuration slower than this is timed once after its warm-up
@@ -133,6 +126,23 @@ def _last_level_only(case):
     refs = [r.model_copy(update={"level": 0}) for r in case.references if r.level == last]
     labels = None if case.level_labels is None else [case.level_labels[-1]]
     return case.model_copy(update={"loads": loads, "outputs": outputs, "references": refs, "level_labels": labels})
+
+
+def paired_label(method: str) -> str:
+    """The label of a method's row of Richardson on its n and 2n plain runs, extrapolated by the bench
+    (``_sweep``): ``opensees+richardson`` for the peer, ``fem+richardson (plain runs)`` beside the
+    FEM's own ``fem+richardson``."""
+    return f"{method}+richardson (plain runs)" if method == "fem" else f"{method}+richardson"
+
+
+def _at(case, bench: BenchCase, method: str, n: int, own_richardson: bool = False):
+    """The case as the benchmark runs ``method`` on it with n elements per member: the case's own
+    options of the method, the mesh, and for the FEM no error estimate (a plain run) or, with
+    ``own_richardson``, its own n/2n solve with Richardson extrapolation."""
+    mesh = {"elements": n}
+    if method == "fem":
+        mesh |= {"error_estimate": True, "richardson": True} if own_richardson else {"error_estimate": False}
+    return _restrict(case, method, dict(case.methods.get(method) or {}) | mesh, bench.levels)
 
 
 def _restrict(case, method: str, options: dict, levels: list[int] | None):
@@ -228,17 +238,13 @@ def _runs_of(case, bench: BenchCase, choice: dict) -> dict[str, tuple]:
     one run, or for a Richardson row on plain runs (`paired_label`) the plain runs at n and 2n."""
     label, n = choice["method"], choice["elements"]
     method = label.split("+")[0]
-    base = dict(case.methods.get(method) or {}) if method in case.methods else {}
-    plain = {"elements": n, "error_estimate": False} if method == "fem" else {"elements": n}
     if label == paired_label(method):
         meshes = (n, 2 * n)
     elif label == method:
         meshes = (n,)
     else:   # the FEM's own n/2n solve
-        return {f"{label} n={n}": (_restrict(case, method, base | {"elements": n, "error_estimate": True,
-                                                                      "richardson": True}, bench.levels), method)}
-    return {f"{method} n={m}": (_restrict(case, method, base | plain | {"elements": m}, bench.levels), method)
-            for m in meshes}
+        return {f"{label} n={n}": (_at(case, bench, method, n, own_richardson=True), method)}
+    return {f"{method} n={m}": (_at(case, bench, method, m), method) for m in meshes}
 
 
 def _confirmed(case, bench: BenchCase, ours: dict, peer: dict, repeats: int) -> dict:
@@ -321,7 +327,6 @@ def _sweep(case, bench: BenchCase, method: str, meshes: list[int], repeats: int,
     generator that pauses after each mesh (`_interleaved` alternates the codes mesh by mesh) and returns
     (rows, skipped)."""
     rows, skipped, plain = [], [], {}
-    base = dict(case.methods.get(method) or {}) if method in case.methods else {}
     paired = paired_label(method)
     labels = (f"{method}", f"{method}+richardson")   # the plain runs, and the FEM's own n/2n solve
     reached = {label: False for label in {*labels, paired}}
@@ -336,15 +341,11 @@ def _sweep(case, bench: BenchCase, method: str, meshes: list[int], repeats: int,
         return error <= min(TARGETS) or slow or floor
 
     for n in meshes:
-        if method == "fem":
-            configs = [(labels[0], {"elements": n, "error_estimate": False}),
-                       (labels[1], {"elements": n, "error_estimate": True, "richardson": True})]
-        else:
-            configs = [(labels[0], {"elements": n})]
-        for label, extra in configs:
+        configs = [(labels[0], False)] + ([(labels[1], True)] if method == "fem" else [])
+        for label, own_richardson in configs:
             if reached[label]:
                 continue
-            sub = _restrict(case, method, base | extra, bench.levels)
+            sub = _at(case, bench, method, n, own_richardson)
             timing = _timed(sub, method, repeats)
             if not timing.run.values:
                 skipped.append(f"{bench.label}/{label} n={n}: {timing.run.message}")
@@ -398,8 +399,7 @@ def _per_iteration(case, bench: BenchCase, repeats: int, with_peer: bool, cap: i
         entry = {}
         subs = {}
         for method in ("fem",) + ((PEER,) if with_peer else ()):
-            extra = {"elements": n, "error_estimate": False} if method == "fem" else {"elements": n}
-            subs[method] = _restrict(case, method, dict(case.methods.get(method) or {}) | extra, bench.levels)
+            subs[method] = _at(case, bench, method, n)
         for method, timing in _timed_in_turn(subs, repeats).items():   # the two codes run by run in turn
             if not timing.run.values:
                 continue
@@ -477,8 +477,7 @@ def run_bench(out: Path, quick: bool = False, cases: list[BenchCase] | dict | No
         exact = _exact(case, bench.levels)
         fixed = _case_option_rows(case, bench, repeats, exact, skipped, failed)
         if not exact[0]:  # no exact solution (a mechanism): the finest extrapolated FEM is the reference
-            sub = _restrict(case, "fem", dict(case.methods.get("fem") or {}) | {
-                "elements": meshes[-1], "error_estimate": True, "richardson": True}, bench.levels)
+            sub = _at(case, bench, "fem", meshes[-1], own_richardson=True)
             exact = (run_method(sub, "fem").values, f"fem+richardson at {meshes[-1]} elements (finest)")
         for row, run in fixed:
             row["error"] = _error(run.values, exact[0], scale)
