@@ -199,8 +199,15 @@ def _point_state(beam, F: float, phi1: float, theta0: float, l1: float, theta10:
     try:
         return _point_equations(beam, F, phi1, theta0, l1, theta10)
     except (ValueError, ZeroDivisionError, OverflowError):
-        with np.errstate(all="ignore"):
-            return {k: float(v) for k, v in inflection_state(beam, F, phi1, theta0, l1, theta10).items()}
+        return _numpy_point(beam, None, F, phi1, theta0, l1, theta10)
+
+
+def _numpy_point(beam, keys: tuple[str, ...] | None, F, phi1, theta0, l1, theta10) -> dict[str, float]:
+    """``keys`` (None: all) of ``inflection_state`` at one point as floats, numpy's inf/NaN arithmetic
+    where the plain-float kernels' ``math`` raises."""
+    with np.errstate(all="ignore"):
+        s = inflection_state(beam, F, phi1, theta0, l1, theta10)
+    return {k: float(s[k]) for k in (s if keys is None else keys)}
 
 
 def _point_ends(beam, F: float, phi1: float, theta0: float, l1: float, theta10: float) -> dict[str, float]:
@@ -210,9 +217,7 @@ def _point_ends(beam, F: float, phi1: float, theta0: float, l1: float, theta10: 
         core = _point_core(beam, F, phi1, theta0, l1, theta10)
         return {"r96": core[-3], "a": core[-2], "b": core[-1]}
     except (ValueError, ZeroDivisionError, OverflowError):
-        with np.errstate(all="ignore"):
-            s = inflection_state(beam, F, phi1, theta0, l1, theta10)
-            return {k: float(s[k]) for k in ("r96", "a", "b")}
+        return _numpy_point(beam, ("r96", "a", "b"), F, phi1, theta0, l1, theta10)
 
 
 def _point_core(beam, F, phi1, theta0, l1, theta10) -> tuple:
@@ -241,9 +246,7 @@ def _point_loads(beam, F: float, phi1: float, theta0: float, l1: float, theta10:
         _, _, r95, M = _point_end_loads(beam, F, phi1, l1, core)
         return {"r95": r95, "r96": core[-3], "M": M}
     except (ValueError, ZeroDivisionError, OverflowError):
-        with np.errstate(all="ignore"):
-            s = inflection_state(beam, F, phi1, theta0, l1, theta10)
-            return {k: float(s[k]) for k in ("r95", "r96", "M")}
+        return _numpy_point(beam, ("r95", "r96", "M"), F, phi1, theta0, l1, theta10)
 
 
 def _point_end_loads(beam, F, phi1, l1, core: tuple) -> tuple:

@@ -96,7 +96,8 @@ def test_the_root_finders_float_kernel_is_the_numpy_state(family):
     beam = InflectionBeam(7.4, 85.0, family)
     rng = np.random.default_rng(5)
     points = [(rng.uniform(0.05, 3.1), rng.uniform(-1.4, 1.4), rng.uniform(0.3, 7.1), rng.uniform(-1, 1.5))
-              for _ in range(200)] + [(math.pi / 2, 0.1, 3.0, 0.5), (math.pi, 0.2, 3.0, 0.4), (1.0, 0.0, 3.0, 0.0)]
+              for _ in range(200)] + [(math.pi / 2, 0.1, 3.0, 0.5), (math.pi, 0.2, 3.0, 0.4), (1.0, 0.0, 3.0, 0.0),
+                                      (1.0, 0.2, 3.0, math.inf)]   # math raises: the numpy fallback
     for phi1, theta0, l1, theta10 in points:
         with np.errstate(all="ignore"):
             F = float(_force_from_95(beam, phi1, l1, theta10))
