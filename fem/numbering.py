@@ -18,41 +18,14 @@ __all__ = ["rcm_order"]
 
 
 @njit(cache=True)
-def _stable_by_degree(items, degree):
-    """Insertion sort of ``items`` (in place) by degree, equal degrees kept in their order."""
-    for i in range(1, items.shape[0]):
-        v = items[i]
-        j = i - 1
-        while j >= 0 and degree[items[j]] > degree[v]:
-            items[j + 1] = items[j]
-            j -= 1
-        items[j + 1] = v
-
-
-@njit(cache=True)
-def _stable_order_by_degree(degree):
-    """The nodes sorted by degree, equal degrees by index (``np.argsort(degree, kind='stable')``) by a
-    counting sort: the degrees are small integers, and numba's compiled merge sort costs seconds of
-    compile time in every fresh checkout."""
-    n = degree.shape[0]
-    top = 0
-    for v in range(n):
-        top = max(top, degree[v])
-    first = np.zeros(top + 2, np.int64)     # first[d]: where the nodes of degree d begin
-    for v in range(n):
-        first[degree[v] + 1] += 1
-    for d in range(top + 1):
-        first[d + 1] += first[d]
-    order = np.empty(n, np.int64)
-    for v in range(n):
-        order[first[degree[v]]] = v
-        first[degree[v]] += 1
-    return order
-
-
-@njit(cache=True)
 def _rcm(n_nodes, a, b):
-    """Reverse Cuthill-McKee order of the nodes 0 .. n_nodes-1 of the graph with edges (a[k], b[k])."""
+    """Reverse Cuthill-McKee order of the nodes 0 .. n_nodes-1 of the graph with edges (a[k], b[k]).
+
+    One compiled function (numba compiles and optimises each jitted function on its own: the two sorts
+    as functions of their own cost 0.3-0.4 CPU-s more of compile in every fresh checkout): each node's
+    neighbours sorted by degree by an insertion sort, equal degrees kept in the order their edges are
+    listed; the search's starting nodes by degree, equal degrees by index (``np.argsort(degree,
+    kind='stable')``), by a counting sort (the degrees are small integers)."""
     degree = np.zeros(n_nodes, np.int64)
     for k in range(a.shape[0]):
         degree[a[k]] += 1
@@ -67,13 +40,30 @@ def _rcm(n_nodes, a, b):
         fill[a[k]] += 1
         adj[fill[b[k]]] = a[k]
         fill[b[k]] += 1
+    top = 0
+    for v in range(n_nodes):           # each node's neighbours by degree (stable insertion sort)
+        for i in range(start[v] + 1, start[v + 1]):
+            w = adj[i]
+            j = i - 1
+            while j >= start[v] and degree[adj[j]] > degree[w]:
+                adj[j + 1] = adj[j]
+                j -= 1
+            adj[j + 1] = w
+        top = max(top, degree[v])
+    first = np.zeros(top + 2, np.int64)     # the starting nodes by degree: first[d], where degree d begins
     for v in range(n_nodes):
-        _stable_by_degree(adj[start[v]:start[v + 1]], degree)
-    roots = _stable_order_by_degree(degree)
+        first[degree[v] + 1] += 1
+    for d in range(top + 1):
+        first[d + 1] += first[d]
+    roots = np.empty(n_nodes, np.int64)
+    for v in range(n_nodes):
+        roots[first[degree[v]]] = v
+        first[degree[v]] += 1
     seen = np.zeros(n_nodes, np.bool_)
     order = np.empty(n_nodes, np.int64)
     tail = 0
-    for r in roots:
+    for i in range(n_nodes):
+        r = roots[i]
         if seen[r]:
             continue
         seen[r] = True
@@ -89,7 +79,10 @@ def _rcm(n_nodes, a, b):
                     seen[w] = True
                     order[tail] = w
                     tail += 1
-    return order[::-1].copy()
+    reverse = np.empty(n_nodes, np.int64)
+    for i in range(n_nodes):
+        reverse[i] = order[n_nodes - 1 - i]
+    return reverse
 
 
 def rcm_order(n_nodes: int, conn: np.ndarray, slaves: np.ndarray, masters: np.ndarray) -> np.ndarray:
