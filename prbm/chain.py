@@ -41,6 +41,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 from scipy.optimize import root
@@ -162,15 +163,15 @@ def _outboard(loads: NodalLoads, nodes: np.ndarray):
 
 
 def _march(beam: ChainBeam, loads: NodalLoads, nodes: np.ndarray, tangent: bool):
-    """The march, and with ``tangent`` its derivative with respect to the N moments M_i (rows x1, y1, ...)."""
+    """The march, and with ``tangent`` its derivative with respect to the N moments M_i (rows x1, y1, ...,
+    ``_moment_derivative``)."""
     N, L = beam.elements, beam.element_length
     EI, theta = beam.stiffness(), beam.theta()
     Fx, Fy, M = _outboard(loads, nodes)
     # plain floats in the sequential march (numpy scalar indexing costs more than the arithmetic)
     Fx, Fy, M, EI, theta = Fx.tolist(), Fy.tolist(), M.tolist(), EI.tolist(), theta.tolist()
     x, y, rot = [0.0] * (N + 1), [0.0] * (N + 1), [0.0] * (N + 1)
-    if tangent:
-        dxy, dx, dy, drot = np.empty((2 * N, N)), np.zeros(N), np.zeros(N), np.zeros(N)
+    terms = []       # with ``tangent``: each element's (c, s, P_ax, P_tr, alpha, P_eq, d_tr)
     for i in range(N):
         psi = theta[i] + rot[i]                                           # (29)
         c, s = math.cos(psi), math.sin(psi)
@@ -183,19 +184,54 @@ def _march(beam: ChainBeam, loads: NodalLoads, nodes: np.ndarray, tangent: bool)
         x[i + 1] = x[i] + L * c - d_tr * s                                # (34), (37), (39)
         y[i + 1] = y[i] + L * s + d_tr * c                                # (35), (38), (40)
         rot[i + 1] = rot[i] + d_th                                        # (36)
-        if tangent:   # the same lines differentiated: d/dM_k of every quantity, k = 0..N-1
-            dc, ds = -s * drot, c * drot
-            d_alpha = -4.0 * L * L / (EI[i] * math.pi**2) * (Fx[i] * dc + Fy[i] * ds)
-            dP_eq = ((-Fx[i] * ds + Fy[i] * dc) + P_eq * d_alpha) / (1.0 - alpha)
-            dd_tr, dd_th = dP_eq * (L**3 / 3.0 / EI[i]), dP_eq * (L * L / 2.0 / EI[i])
-            dd_tr[i] += L * L / 2.0 / EI[i]
-            dd_th[i] += L / EI[i]
-            dx = dx + L * dc - dd_tr * s - d_tr * ds
-            dy = dy + L * ds + dd_tr * c + d_tr * dc
-            drot = drot + dd_th
-            dxy[2 * i], dxy[2 * i + 1] = dx, dy
+        if tangent:
+            terms.append((c, s, P_ax, P_tr, alpha, P_eq, d_tr))
     state = ChainState(np.column_stack([x, y]), np.array(rot))
-    return state, (dxy if tangent else None)
+    return state, (_moment_derivative(np.array(terms).reshape(N, 7), L, np.array(EI)) if tangent else None)
+
+
+@lru_cache(maxsize=16)
+def _triangles(N: int) -> tuple[np.ndarray, np.ndarray]:
+    """The strictly lower triangle of an N x N matrix (bool) and the lower one with the diagonal (float),
+    read-only (the chain's length changes little between calls)."""
+    below, lower = np.tri(N, k=-1, dtype=bool), np.tri(N)
+    below.flags.writeable = lower.flags.writeable = False
+    return below, lower
+
+
+def _moment_derivative(terms: np.ndarray, L: float, EI: np.ndarray) -> np.ndarray:
+    """d(x_i, y_i)/dM_k of the march (rows x1, y1, x2, y2, ...; columns k = 0..N-1) from each element's
+    (c, s, P_ax, P_tr, alpha, P_eq, d_tr) (``terms``, one row an element).
+
+    The march's lines differentiated: with r_i = d Dtheta_{i-1}/dM the rotation before element i (r_0 = 0),
+    dc = -s r_i, ds = c r_i, d alpha = kappa P_tr r_i (kappa = -4 L^2/(EI pi^2)) and
+    dP_eq = g_i r_i, g_i = (-P_ax + P_eq kappa P_tr)/(1 - alpha); so every derivative is linear in r_i:
+
+        r_{i+1} = (1 + g_i L^2/(2 EI)) r_i + (L/EI) e_i,
+        dx_{i+1} = dx_i - (L s + s g_i L^3/(3 EI) + d_tr c) r_i - s L^2/(2 EI) e_i,
+        dy_{i+1} = dy_i + (L c + c g_i L^3/(3 EI) - d_tr s) r_i + c L^2/(2 EI) e_i,
+
+    with e_i the unit row of M_i (eqs (32)-(33) read M_i directly).  So r_{i+1, k} = (L/EI_k) prod_{k<j<=i}
+    (1 + g_j L^2/(2 EI_j)) for k <= i (0 beyond): one running product down the columns of a triangular
+    matrix, then the positions' rows as running sums (numpy over the whole matrix, not a loop of
+    length-N vector operations per element)."""
+    c, s, P_ax, P_tr, alpha, P_eq, d_tr = terms.T
+    N = len(c)
+    below, lower = _triangles(N)
+    kappa = -4.0 * L * L / (EI * math.pi**2)
+    g = (-P_ax + P_eq * kappa * P_tr) / (1.0 - alpha)
+    factor = np.where(below, (1.0 + g * (L * L / 2.0) / EI)[:, None], 1.0)   # rows j, columns k
+    np.fill_diagonal(factor, L / EI)
+    after = np.cumprod(factor, axis=0)
+    after *= lower                                             # row i: r_{i+1}
+    before = np.zeros((N, N))
+    before[1:] = after[:-1]                                    # row i: r_i
+    bend = g * (L**3 / 3.0) / EI
+    half = (L * L / 2.0) / EI
+    dxy = np.empty((2 * N, N))
+    dxy[0::2] = np.cumsum(-(L * s + s * bend + d_tr * c)[:, None] * before - np.diag(s * half), axis=0)
+    dxy[1::2] = np.cumsum((L * c + c * bend - d_tr * s)[:, None] * before + np.diag(c * half), axis=0)
+    return dxy
 
 
 def _forward_step(beam, loads, guess: np.ndarray, tol: float):
