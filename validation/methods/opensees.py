@@ -2,9 +2,24 @@
 
 Only for benchmarking and cross-checks (the ``peer`` extra). It models straight or curved beams
 (curved ones as chains of straight elements on the arc), fixed and pinned supports, rigid
-corners (beams sharing a node), and proportional dead loads at nodes. Follower loads, released
-joints, rigid links, prescribed motions and non-proportional paths are outside it and raise
-``NotApplicable``. ``limit_load`` is found with displacement control of the loaded point.
+corners (beams sharing a node), rigid links, revolute joints without springs, and proportional
+dead loads at nodes. Follower loads, sprung joints, prescribed motions and non-proportional paths
+are outside it and raise ``NotApplicable``. ``limit_load`` is found with displacement control of
+the loaded point.
+
+Rigid links and joints (``_mechanism``), as an OpenSees user builds them for large rotations
+(``rigidLink`` is a linear constraint, right only for small rotations): a link is stiff
+``elasticBeamColumn`` elements from one of its nodes (its hub) to each other node, their EA and EI
+``rigid_ratio`` (default 1e6, the FEM's own stiff bars) times the stiffest beam's; a revolute joint
+releases the end moments of the elements of the members it names at its node (the element's
+``-release`` option): all of them when something else holds the node's rotation (a fixed or guided
+support, or a member at the node the joint does not name), else all but one, which keeps the node's
+rotation (the body a couple at the node acts on, if the joint names it; else the first named). A
+link's hub is a node where it is not released (else, with three nodes or more, an extra node at
+their centroid), so its elements stay joined rigidly. Every node keeps an element end that holds
+its rotation, or a fixed support holds it (a joint releases all its members only where something
+else holds the node). A couple on a released member end, and a rotation asked at a node with a
+released end (which side's?), are refused.
 
 Load stepping is what a competent user does: one load step per level (``steps_per_level``,
 default 1), halved on failure (OpenSees reverts the failed try to the last converged state) up to
@@ -75,8 +90,9 @@ def load_to(ops, current: float, target: float, steps: int, max_halvings: int) -
     return True, iterations, target
 
 
-def _geometry(case, elements: int):
-    """Nodes (name -> index), coordinates, element connectivity with (EA, EI) per element."""
+def _geometry(case, elements: int, options: dict | None = None):
+    """Coordinates, nodes (name -> index), elements (i, j, EA, EI, release code) and supports (node ->
+    kind)."""
     coords, names, elems = [], {}, []
 
     def add(x, y):
@@ -95,41 +111,112 @@ def _geometry(case, elements: int):
         idx = [add(x, 0.0) for x in xs]
         names.update(root=idx[0], tip=idx[-1])
         EA, EI = seg.axial_stiffness(), seg.bending_stiffness()
-        elems = [(idx[i], idx[i + 1], EA, EI) for i in range(elements)]
+        elems = [(idx[i], idx[i + 1], EA, EI, 0) for i in range(elements)]
         supports = {idx[0]: "fixed"}
         return coords, names, elems, supports
+    return _mechanism(case, elements, options or {}, coords, names, add)
+
+
+def _arc_chain(a, b, curvature: float, elements: int) -> list[np.ndarray]:
+    """The interior points of a beam from a to b cut into ``elements`` straight elements (on the arc of
+    signed ``curvature``, or on the chord)."""
+    points = []
+    for k in range(1, elements):
+        t = k / elements
+        if curvature:
+            chord = b - a
+            c = np.linalg.norm(chord)
+            R = 1.0 / curvature
+            half = math.asin(min(1.0, c / (2 * abs(R))))
+            mid = (a + b) / 2
+            normal = np.array([-chord[1], chord[0]]) / c
+            centre = mid + normal * math.copysign(abs(R) * math.cos(half), R)
+            ang0 = math.atan2(*(a - centre)[::-1])
+            sweep = math.copysign(2 * half, R)
+            points.append(centre + abs(R) * np.array([math.cos(ang0 + sweep * t), math.sin(ang0 + sweep * t)]))
+        else:
+            points.append(a + t * (b - a))
+    return points
+
+
+def _released(case) -> dict[tuple[str, str], bool]:
+    """(member, node) -> True where a revolute joint releases that member's end at the node (module
+    docstring: all named members when something else holds the node's rotation, else all but the
+    keeper)."""
     mech = case.mechanism
-    if mech.links or mech.joints:
-        raise NotApplicable("released joints and rigid links are not built for the OpenSees peer")
+    at_node: dict[str, list[str]] = {}
+    for beam in mech.beams:
+        for node in (beam.start, beam.end):
+            at_node.setdefault(node, []).append(beam.name)
+    for link in mech.links:
+        for node in link.nodes:
+            at_node.setdefault(node, []).append(link.name)
+    holds_rotation = {sup.node for sup in mech.supports if sup.kind in ("fixed", "guided")}
+    couples = {(load.point, load.body) for load in case.loads if load.kind == "moment" and load.body}
+    released = {}
+    for joint in mech.joints:
+        if joint.spring:
+            raise NotApplicable(f"the sprung joint at '{joint.node}' is not built for the OpenSees peer")
+        named = [m for m in dict.fromkeys(joint.members) if m in at_node.get(joint.node, [])]
+        others = [m for m in at_node.get(joint.node, []) if m not in named]
+        if joint.node in holds_rotation or others:
+            free = named
+        elif len(named) >= 2:
+            keeper = next((m for m in named if (joint.node, m) in couples), named[0])
+            free = [m for m in named if m != keeper]
+        else:
+            free = []
+        for member in free:
+            released[(member, joint.node)] = True
+    return released
+
+
+def _mechanism(case, elements: int, options: dict, coords, names, add):
+    """A mechanism's nodes, elements (i, j, EA, EI, release code: 1 the end at i, 2 at j, 3 both) and
+    supports, with its links and joints (module docstring)."""
+    mech = case.mechanism
     for node in mech.nodes:
         names[node.name] = add(node.x, node.y)
+    released = _released(case)
+    elems, stiffest = [], (0.0, 0.0)
+
+    def element(i: int, j: int, EA: float, EI: float, member: str, start: str | None, end: str | None):
+        code = (1 if released.get((member, start)) else 0) + (2 if released.get((member, end)) else 0)
+        elems.append((i, j, EA, EI, code))
+
     for beam in mech.beams:
         EA, EI = beam.section.stiffness(beam.E or mech.E)
+        stiffest = (max(stiffest[0], EA), max(stiffest[1], EI))
         a, b = np.array(coords[names[beam.start]]), np.array(coords[names[beam.end]])
-        chain = [names[beam.start]]
-        for k in range(1, elements):
-            t = k / elements
-            if beam.curvature:
-                chord = b - a
-                c = np.linalg.norm(chord)
-                R = 1.0 / beam.curvature
-                half = math.asin(min(1.0, c / (2 * abs(R))))
-                mid = (a + b) / 2
-                normal = np.array([-chord[1], chord[0]]) / c
-                centre = mid + normal * math.copysign(abs(R) * math.cos(half), R)
-                ang0 = math.atan2(*(a - centre)[::-1])
-                sweep = math.copysign(2 * half, R)
-                p = centre + abs(R) * np.array([math.cos(ang0 + sweep * t), math.sin(ang0 + sweep * t)])
-            else:
-                p = a + t * (b - a)
-            chain.append(add(*p))
-        chain.append(names[beam.end])
-        elems += [(chain[i], chain[i + 1], EA, EI) for i in range(len(chain) - 1)]
+        chain = [names[beam.start]] + [add(*p) for p in _arc_chain(a, b, beam.curvature, elements)] + [names[beam.end]]
+        for k in range(len(chain) - 1):
+            element(chain[k], chain[k + 1], EA, EI, beam.name, beam.start if k == 0 else None,
+                    beam.end if k == len(chain) - 2 else None)
+    if mech.links and not mech.beams:
+        raise NotApplicable("rigid links without a beam: no stiffness to scale the links' by")
+    ratio = float(options.get("rigid_ratio", 1e6))
+    for link in mech.links:
+        EA, EI = ratio * stiffest[0], ratio * stiffest[1]
+        hub = next((n for n in link.nodes if not released.get((link.name, n))), None)
+        if hub is not None:
+            for node in link.nodes:
+                if node != hub:
+                    element(names[hub], names[node], EA, EI, link.name, hub, node)
+        elif len(link.nodes) == 2:
+            element(names[link.nodes[0]], names[link.nodes[1]], EA, EI, link.name, *link.nodes)
+        else:
+            centre = add(*np.mean([coords[names[n]] for n in link.nodes], axis=0))
+            for node in link.nodes:
+                element(centre, names[node], EA, EI, link.name, None, node)
     supports = {}
     for sup in mech.supports:
         if sup.kind not in ("fixed", "pinned"):
             raise NotApplicable(f"'{sup.kind}' supports are not built for the OpenSees peer")
         supports[names[sup.node]] = sup.kind
+    for load in case.loads:
+        if load.kind == "moment" and released.get((load.body, load.point)):
+            raise NotApplicable(f"a couple on the released end of '{load.body}' at '{load.point}' is not built "
+                                "for the OpenSees peer")
     return coords, names, elems, supports
 
 
@@ -168,9 +255,9 @@ def _build(ops, coords, elems, supports, nodal):
     for node, kind in supports.items():
         ops.fix(node + 1, 1, 1, 1 if kind == "fixed" else 0)
     ops.geomTransf("Corotational", 1)
-    for k, (i, j, EA, EI) in enumerate(elems):
+    for k, (i, j, EA, EI, release) in enumerate(elems):
         # elasticBeamColumn takes A, E, Iz: pass E = 1 so that A = EA and Iz = EI
-        ops.element("elasticBeamColumn", k + 1, i + 1, j + 1, EA, 1.0, EI, 1)
+        ops.element("elasticBeamColumn", k + 1, i + 1, j + 1, EA, 1.0, EI, 1, *(("-release", release) if release else ()))
     ops.timeSeries("Linear", 1)
     ops.pattern("Plain", 1, 1)
     for node, vec in nodal.items():
@@ -192,7 +279,11 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
     substeps = int(options.get("steps_per_level", 1))
     max_halvings = int(options.get("max_halvings", 12))
     start = time.perf_counter()
-    coords, names, elems, supports = _geometry(case, elements)
+    coords, names, elems, supports = _geometry(case, elements, options)
+    hinged = {node for i, j, *_, code in elems for node, end in ((i, 1), (j, 2)) if code & end}
+    asked = next((r.point for r in requests if r.quantity == "rotation" and names.get(r.point) in hinged), None)
+    if asked is not None:
+        raise NotApplicable(f"a rotation at '{asked}', where a joint releases a member end (whose rotation?)")
     nodal, factors = _reference_loads(case, names)
     _build(ops, coords, elems, supports, nodal)
     values, iterations, converged, message = {}, 0, True, ""
