@@ -39,6 +39,8 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from functools import lru_cache
+
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
@@ -116,6 +118,19 @@ def lowest_modes(system, K, held=None, count=2):
     return vals, full
 
 
+@lru_cache(maxsize=32)
+def _upper_band(n: int, ku: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The entries of the upper band storage (ku + 1, n) that lie in the matrix (row i = j + r - ku >= 0),
+    as a mask, and their rows i and columns j (read-only: the same for every step of a system)."""
+    j = np.broadcast_to(np.arange(n), (ku + 1, n))
+    i = j + np.arange(-ku, 1)[:, None]
+    inside = i >= 0
+    out = (inside, i[inside], j[inside])
+    for a in out:
+        a.flags.writeable = False
+    return out
+
+
 def eigenvalue_below(system, K, held, tol: float) -> bool:
     """True when the Jacobi-scaled K (K_ff with DOF ``held`` removed, see `lowest_modes`) has an
     eigenvalue below -tol, without an eigensolver: Cholesky of  S K S + tol I  succeeds iff every
@@ -130,14 +145,10 @@ def eigenvalue_below(system, K, held, tol: float) -> bool:
         upper = ab[layout.kl:layout.kl + ku + 1].copy()        # upper[ku + i - j, j] = K[i, j], i <= j
         d = np.sqrt(np.abs(upper[ku]))
         d[d == 0.0] = 1.0
-        j = np.arange(n)
-        for r in range(ku + 1):
-            i = j + r - ku
-            ok = i >= 0
-            upper[r, ok] /= d[i[ok]] * d[j[ok]]
-            if held is not None:
-                upper[r, ok & ((i == held) | (j == held))] = 0.0
+        inside, i, j = _upper_band(n, ku)
+        upper[inside] /= d[i] * d[j]
         if held is not None:
+            upper[inside] = np.where((i == held) | (j == held), 0.0, upper[inside])
             upper[ku, held] = 1.0
         upper[ku] += tol
         _, info = lapack.dpbtrf(upper, lower=0, overwrite_ab=1)
