@@ -95,6 +95,7 @@ class OpenSeesOptions(Options):
     steps_per_level: Count | None = None
     max_halvings: Annotated[int, Field(ge=0)] = Field(12, description="load-step halvings on failure")
     control_step: Positive | None = None
+    rigid_ratio: Positive = Field(1e6, description="stiffness of the rigid links' elements over the stiffest beam")
 
 
 class PrbmOptions(Options):
