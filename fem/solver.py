@@ -4,7 +4,8 @@ All three solve  r(q, lambda) = f_int(q) - lambda f_ref(q) = 0  on the reduced
 unknowns q (`assembly.System`) by Newton-Raphson with the consistent tangent K.
 
 * Load control (lambda = 1, loads and prescribed values interpolated linearly
-  between load levels, parameter t in [0, 1] per segment): adaptive substeps,
+  between load levels, parameter t in [0, 1] per segment): every level is
+  first tried in one step (``initial_step``), then in adaptive substeps,
   cut on failure (halved, or in proportion to an excessive rotation
   increment), grown after easy steps; secant predictor within a segment.
   A step is also cut when its increment points against the previous one
@@ -206,9 +207,9 @@ def _run_load(system, opts: SolveOptions, path, guesses=None, check_first: bool 
     test on its first factors (`_checked_by_first_step`; raises `Unheld`)."""
     q = np.zeros(system.n)
     beta = system.disc.beta0.copy()
-    dt = opts.initial_step
     for k in range(system.n_levels):
         t, prev = 0.0, None
+        dt = opts.initial_step       # a level that needed cuts does not shorten the first try of the next
         got = None if guesses is None else _guessed_level(system, opts, path, guesses, k, beta)
         if got is not None:
             q, t, beta, ev = got.q, 1.0, got.ev["el"]["beta"].copy(), got.ev

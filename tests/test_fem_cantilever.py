@@ -198,3 +198,23 @@ def test_displacement_control_recovers_load():
     for a, lf, le, lx in zip(alphas, lam_fine, lam_err, lam_ext):
         assert abs(lf - a) <= 1.5 * le + 1e-9
         assert abs(lx - a) <= 0.1 * le + 1e-9
+
+
+def test_every_level_is_first_tried_in_one_step():
+    """Load control tries each level in one step, cut only on failure: a level that needed cuts (the
+    roll-up's first half-circle, past a 0.5 rad cap on the rotation increment of a step) does not
+    shorten the first try of the next, which turns the tip by 0.01 rad and is taken in one step.
+    (Carrying the shortened step over took the small second level in as many steps as the first.)"""
+    m = fem.Model()
+    m.add_node("root", 0.0, 0.0)
+    m.add_node("tip", L, 0.0)
+    m.add_member("root", "tip", fem.Section.from_EI(EA, EI), n_elements=12)
+    m.add_support("root", "fixed")
+    m.add_moment("tip", [np.pi * EI / L, (np.pi + 0.01) * EI / L])
+    r = fem.solve(m, max_rotation_increment=0.5)
+    assert r.converged, r.message
+    steps = np.asarray(r.extra["step_load_factor"])
+    first, second = steps[steps <= 0.0], steps[steps > 0.0]      # the level parameter k - 1 + t
+    assert len(first) >= 7 and first[-1] == 0.0                  # pi rad in steps of at most 0.5
+    assert list(second) == [1.0]
+    assert abs(r.rotation("tip", 1) - (np.pi + 0.01)) < 1e-9
