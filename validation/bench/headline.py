@@ -102,7 +102,8 @@ CONFIGURATIONS = {      # how each code is driven (printed beside the headline)
             "fem+richardson (plain runs): the n and 2n plain runs extrapolated by the bench, as for the peer, "
             "time of both"),
     "opensees": ("OpenSeesPy elasticBeamColumn with the Corotational transformation "
-                 "(validation.methods.opensees); LoadControl one step per level, halved on failure (up to 12 "
+                 "(validation.methods.opensees; rigid links as elements 1e6 times the stiffest beam, hinges "
+                 "by -release of the element ends); LoadControl one step per level, halved on failure (up to 12 "
                  "halvings, failed tries counted), Newton, NormDispIncr 1e-10 (50 iterations), BandGeneral, "
                  "RCM numbering; limit loads by DisplacementControl and a parabola through the peak; "
                  "opensees+richardson: the n and 2n runs extrapolated, time of both"),
