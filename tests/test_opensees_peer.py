@@ -87,7 +87,7 @@ def test_a_link_released_at_every_node_gets_a_hub_at_their_centroid():
 def test_a_joint_keeps_the_couples_body_on_the_node_and_refuses_a_couple_on_a_released_end():
     """Unanchored, a joint releases every named member but the body a couple at the node acts on; a
     node held by a fixed support releases every named member, and a couple on one of them is refused;
-    sprung joints are refused."""
+    sprung joints, and joints naming a member that does not reach their node, are refused."""
     links = [{"name": "bar", "nodes": ["A", "C"]}]
     joints = [{"node": "A", "members": ["beam", "bar"]}]
     couple = [{"kind": "moment", "point": "A", "body": "bar", "values": [1e-3]}]
@@ -97,6 +97,8 @@ def test_a_joint_keeps_the_couples_body_on_the_node_and_refuses_a_couple_on_a_re
     with pytest.raises(NotApplicable, match="released end of 'bar'"):
         _geometry(_mechanism_case(links, joints, couple, supports=[HELD[0], HELD[1], HELD[3]]), 2)
     force = [{"kind": "force", "point": "B", "direction": [0.0, 1.0], "values": [1e-3]}]
+    with pytest.raises(NotApplicable, match="names 'bar', which does not reach that node"):
+        _geometry(_mechanism_case(links, [{"node": "B", "members": ["bar"]}], force), 2)
     with pytest.raises(NotApplicable, match="sprung joint"):
         _geometry(_mechanism_case(links, [{"node": "A", "members": ["beam", "bar"], "spring": 2.0}], force), 2)
 

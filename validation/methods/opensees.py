@@ -157,7 +157,10 @@ def _released(case) -> dict[tuple[str, str], bool]:
     for joint in mech.joints:
         if joint.spring:
             raise NotApplicable(f"the sprung joint at '{joint.node}' is not built for the OpenSees peer")
-        named = [m for m in dict.fromkeys(joint.members) if m in at_node.get(joint.node, [])]
+        named = list(dict.fromkeys(joint.members))
+        stray = [m for m in named if m not in at_node.get(joint.node, [])]
+        if stray:
+            raise NotApplicable(f"the joint at '{joint.node}' names '{stray[0]}', which does not reach that node")
         others = [m for m in at_node.get(joint.node, []) if m not in named]
         if joint.node in holds_rotation or others:
             free = named
