@@ -38,7 +38,6 @@ Angles are in radians (degrees appear only in case files and reports).
 from __future__ import annotations
 
 from dataclasses import replace
-
 from functools import lru_cache
 
 import numpy as np

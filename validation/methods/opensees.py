@@ -120,27 +120,22 @@ def _geometry(case, elements: int, options: dict | None = None):
 def _arc_chain(a, b, curvature: float, elements: int) -> list[np.ndarray]:
     """The interior points of a beam from a to b cut into ``elements`` straight elements (on the arc of
     signed ``curvature``, or on the chord)."""
-    points = []
-    for k in range(1, elements):
-        t = k / elements
-        if curvature:
-            chord = b - a
-            c = np.linalg.norm(chord)
-            R = 1.0 / curvature
-            half = math.asin(min(1.0, c / (2 * abs(R))))
-            mid = (a + b) / 2
-            normal = np.array([-chord[1], chord[0]]) / c
-            centre = mid + normal * math.copysign(abs(R) * math.cos(half), R)
-            ang0 = math.atan2(*(a - centre)[::-1])
-            sweep = math.copysign(2 * half, R)
-            points.append(centre + abs(R) * np.array([math.cos(ang0 + sweep * t), math.sin(ang0 + sweep * t)]))
-        else:
-            points.append(a + t * (b - a))
-    return points
+    ts = [k / elements for k in range(1, elements)]
+    if not curvature:
+        return [a + t * (b - a) for t in ts]
+    chord = b - a
+    c = np.linalg.norm(chord)
+    R = 1.0 / curvature
+    half = math.asin(min(1.0, c / (2 * abs(R))))
+    normal = np.array([-chord[1], chord[0]]) / c
+    centre = (a + b) / 2 + normal * math.copysign(abs(R) * math.cos(half), R)
+    ang0 = math.atan2(*(a - centre)[::-1])
+    sweep = math.copysign(2 * half, R)
+    return [centre + abs(R) * np.array([math.cos(ang0 + sweep * t), math.sin(ang0 + sweep * t)]) for t in ts]
 
 
-def _released(case) -> dict[tuple[str, str], bool]:
-    """(member, node) -> True where a revolute joint releases that member's end at the node (module
+def _released(case) -> set[tuple[str, str]]:
+    """The (member, node) pairs where a revolute joint releases that member's end at the node (module
     docstring: all named members when something else holds the node's rotation, else all but the
     keeper)."""
     mech = case.mechanism
@@ -153,7 +148,7 @@ def _released(case) -> dict[tuple[str, str], bool]:
             at_node.setdefault(node, []).append(link.name)
     holds_rotation = {sup.node for sup in mech.supports if sup.kind in ("fixed", "guided")}
     couples = {(load.point, load.body) for load in case.loads if load.kind == "moment" and load.body}
-    released = {}
+    released = set()
     for joint in mech.joints:
         if joint.spring:
             raise NotApplicable(f"the sprung joint at '{joint.node}' is not built for the OpenSees peer")
@@ -169,8 +164,7 @@ def _released(case) -> dict[tuple[str, str], bool]:
             free = [m for m in named if m != keeper]
         else:
             free = []
-        for member in free:
-            released[(member, joint.node)] = True
+        released.update((member, joint.node) for member in free)
     return released
 
 
@@ -184,7 +178,7 @@ def _mechanism(case, elements: int, options: dict, coords, names, add):
     elems, stiffest = [], (0.0, 0.0)
 
     def element(i: int, j: int, EA: float, EI: float, member: str, start: str | None, end: str | None):
-        code = (1 if released.get((member, start)) else 0) + (2 if released.get((member, end)) else 0)
+        code = (1 if (member, start) in released else 0) + (2 if (member, end) in released else 0)
         elems.append((i, j, EA, EI, code))
 
     for beam in mech.beams:
@@ -200,7 +194,7 @@ def _mechanism(case, elements: int, options: dict, coords, names, add):
     ratio = float(options.get("rigid_ratio", 1e6))
     for link in mech.links:
         EA, EI = ratio * stiffest[0], ratio * stiffest[1]
-        hub = next((n for n in link.nodes if not released.get((link.name, n))), None)
+        hub = next((n for n in link.nodes if (link.name, n) not in released), None)
         if hub is not None:
             for node in link.nodes:
                 if node != hub:
@@ -217,7 +211,7 @@ def _mechanism(case, elements: int, options: dict, coords, names, add):
             raise NotApplicable(f"'{sup.kind}' supports are not built for the OpenSees peer")
         supports[names[sup.node]] = sup.kind
     for load in case.loads:
-        if load.kind == "moment" and released.get((load.body, load.point)):
+        if load.kind == "moment" and (load.body, load.point) in released:
             raise NotApplicable(f"a couple on the released end of '{load.body}' at '{load.point}' is not built "
                                 "for the OpenSees peer")
     return coords, names, elems, supports
