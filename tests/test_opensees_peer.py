@@ -121,3 +121,28 @@ def test_the_peer_lands_on_the_fem_equilibrium_of_a_linked_mechanism(case_id, li
     worst = max(abs(fem.values[r] - peer.values[r]) for r in positions) / scale
     assert worst < limit
     assert max(abs(fem.values[r]) for r in positions) / scale > 0.05 and math.isfinite(worst)
+
+
+def test_curved_beams_are_cut_into_equal_chords_on_their_arc():
+    """The arch's two curved beams (curvature 1/R, counter-clockwise from start to end): the peer's nodes
+    of each are n equal chords of the arc, 2 R sin(theta / 2n) each with theta = 2 asin(c / 2R) the angle
+    the chord c subtends, turning counter-clockwise (the sign of the curvature) from chord to chord."""
+    case = case_by_id("arch_215_clamped_hinged").case
+    n = 6
+    coords, names, elems, _ = _geometry(case, n)
+    interior = len(case.mechanism.nodes)      # the nodes the peer adds along the beams are numbered after these
+    for beam in case.mechanism.beams:
+        chain = [names[beam.start]]
+        while len(chain) < n:                  # walk the beam's elements through its interior nodes
+            chain.append(next(j for i, j, *_ in elems if i == chain[-1] and j >= interior and j not in chain))
+        chain.append(names[beam.end])
+        points = [coords[k] for k in chain]
+        assert len(points) == n + 1
+        R = 1.0 / beam.curvature
+        c = math.dist(points[0], points[-1])
+        theta = 2 * math.asin(c / (2 * abs(R)))
+        chords = [math.dist(p, q) for p, q in zip(points, points[1:])]
+        assert chords == pytest.approx([2 * abs(R) * math.sin(theta / (2 * n))] * n, rel=1e-12)
+        turns = [(q[0] - p[0]) * (s[1] - q[1]) - (q[1] - p[1]) * (s[0] - q[0])
+                 for p, q, s in zip(points, points[1:], points[2:])]
+        assert all(math.copysign(1.0, t) == math.copysign(1.0, beam.curvature) for t in turns)
