@@ -195,8 +195,9 @@ def _toml_files(root: Path) -> list[Path]:
 
 def _ids_in(roots: list[Path], pattern: str) -> dict[str, Path]:
     """The ids of the case files under ``roots`` that can match ``pattern``: for a plain id (no glob
-    characters) only the files whose text contains it are parsed; when none of those has it as its
-    id (an id written with escapes, a misspelling), every file is, for the error's nearest ids."""
+    characters) only the files with a line ``id = "<pattern>"`` are parsed; when none of those has it
+    as its id (an id written with escapes or as a dotted or inline key, a misspelling), every file
+    is, for the error's nearest ids."""
     if not any(c in pattern for c in "*?["):
         index = {k: v for r in roots for k, v in _id_index(r, pattern).items()}
         if pattern in index:
@@ -206,13 +207,16 @@ def _ids_in(roots: list[Path], pattern: str) -> dict[str, Path]:
 
 def _id_index(root: Path, containing: str | None = None) -> dict[str, Path]:
     """[case].id of every readable case file under root (files that do not parse are skipped here;
-    loading them reports their error); with ``containing``, only of the files whose text contains it
-    (reading a file is cheap, parsing it is not)."""
+    loading them reports their error); with ``containing``, only of the files with a line giving some
+    key ``id`` that quoted value (reading a file is cheap, parsing it is not: a case's id is also
+    named in other files' references)."""
     index = {}
+    id_line = None if containing is None else re.compile(
+        r"^[ \t]*id[ \t]*=[ \t]*([\"'])" + re.escape(containing) + r"\1", re.MULTILINE)
     for path in _toml_files(root):
         try:
             text = path.read_text(encoding="utf-8")
-            if containing is not None and containing not in text:
+            if id_line is not None and (containing not in text or not id_line.search(text)):
                 continue
             case_id = tomllib.loads(text)["case"]["id"]
         except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, KeyError, TypeError):
