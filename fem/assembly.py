@@ -68,8 +68,8 @@ class System:
         if self.width == 2:
             s, m = d.slaves, d.masters
             self.I1, self.C1_flat = np.ascontiguousarray(d.I[:, 1]), np.ascontiguousarray(d.C[:, 1])
-            self.links = np.column_stack([s, m, d.rot_dof[s], d.rot_dof[m]]).astype(np.int64)
-            self.links_X = np.column_stack([d.X[s], d.X[m]])
+            self.links = np.stack([s, m, d.rot_dof[s], d.rot_dof[m]], axis=1).astype(np.int64)
+            self.links_X = np.concatenate([d.X[s], d.X[m]], axis=1)
         self._load_tables(model, n_levels)
         rows, cols = self._sparsity()
         self.layout = MatrixLayout(self.n, rows, cols, kind=solver_kind)
@@ -163,10 +163,12 @@ class System:
         if w == 1:      # one column per row: the same arrays as the broadcast below, without it
             R, Cc = self.I0[self.rows_full], self.I0[self.cols_full]
             prod = self.C0_flat[self.rows_full] * self.C0_flat[self.cols_full]
-        else:
-            R, Cc = np.broadcast_arrays(self.I[self.rows_full][:, :, None], self.I[self.cols_full][:, None, :])
-            R, Cc = R.ravel(), Cc.ravel()
-            prod = (self.C0[self.rows_full][:, :, None] * self.C0[self.cols_full][:, None, :]).ravel()
+        else:           # entry (k, a, b) at w^2 k + w a + b: row column a of entry k, column column b
+            # (np.broadcast_arrays of [:, :, None] against [:, None, :], without its overhead)
+            R = np.repeat(self.I[self.rows_full], w, axis=1).ravel()
+            Cc = np.concatenate([self.I[self.cols_full]] * w, axis=1).ravel()
+            prod = np.repeat(self.C0[self.rows_full], w, axis=1).ravel() * \
+                np.concatenate([self.C0[self.cols_full]] * w, axis=1).ravel()
         self.valid = (R < self.n) & (Cc < self.n)
         # without rigid links the constraint coefficients are constant: precompute
         # which full entry feeds each reduced entry, and with what factor

@@ -154,15 +154,17 @@ def eigenvalue_below(system, K, held, tol: float) -> bool:
         return info > 0
     if layout.kind == "dense":
         A = K.reshape(n, n)
-        A = 0.5 * (A + A.T)
-        d = np.sqrt(np.abs(np.diag(A)))
+        A = A + A.T                 # a new array: scaled in place below (the same floats as 0.5 (A + A^T)
+        A *= 0.5                    # / d_i / d_j in new arrays)
+        d = np.sqrt(np.abs(A.diagonal()))
         d[d == 0.0] = 1.0
-        A = A / d[:, None] / d[None, :]
+        A /= d[:, None]
+        A /= d
         if held is not None:
             A[held, :] = 0.0
             A[:, held] = 0.0
             A[held, held] = 1.0
-        A[np.diag_indices(n)] += tol
+        A.flat[::n + 1] += tol      # the diagonal
         _, info = lapack.dpotrf(A, lower=0, overwrite_a=1)
         return info > 0
     vals, _ = lowest_modes(system, K, held, count=1)
