@@ -44,7 +44,13 @@ def level_guesses(coarse, disc_fine, X1, X2) -> LevelGuesses:
 
 
 def _member_chains(disc):
-    return [np.concatenate([[disc.conn[els[0], 0]], disc.conn[els, 1]]) for els in disc.member_elements]
+    """Each member's nodes in order: its first element's start, then every element's end."""
+    chains = []
+    for els in disc.member_elements:
+        chain = np.empty(len(els) + 1, dtype=disc.conn.dtype)
+        chain[0], chain[1:] = disc.conn[els[0], 0], disc.conn[els, 1]
+        chains.append(chain)
+    return chains
 
 
 def guess_states(coarse, disc_fine) -> np.ndarray:
@@ -58,7 +64,7 @@ def guess_states(coarse, disc_fine) -> np.ndarray:
     U_c = np.asarray(coarse.extra["u_full"], dtype=float)     # (levels, coarse DOFs): every level at once
     nl = len(U_c)
     U = np.zeros((nl, disc_fine.n_full + 1))
-    xc = dc.X + np.stack([U_c[:, 0:2 * nc:2], U_c[:, 1:2 * nc:2]], axis=-1)
+    xc = dc.X + U_c[:, :2 * nc].reshape(nl, nc, 2)          # node i's (ux, uy) are DOFs 2i, 2i + 1
     th_c = U_c[:, dc.rot_dof]
     xf = np.zeros((nl, nf, 2))
     th_f = np.zeros((nl, nf))
@@ -69,9 +75,10 @@ def guess_states(coarse, disc_fine) -> np.ndarray:
         t1 = U_c[:, dc.edofs[els, 2]]
         t2 = U_c[:, dc.edofs[els, 5]]
         p1, p2 = dc.beta0[els] + t1, dc.beta0[els] + t2
-        mid = (xc[:, cc[:-1]] + xc[:, cc[1:]]) / 2 + (dc.L0[els] / 8)[None, :, None] * np.stack(
-            [np.cos(p1) - np.cos(p2), np.sin(p1) - np.sin(p2)], axis=-1)
-        xf[:, cf[1::2]] = mid
+        tangents = np.empty(p1.shape + (2,))                 # t(phi_1) - t(phi_2)
+        tangents[..., 0] = np.cos(p1) - np.cos(p2)
+        tangents[..., 1] = np.sin(p1) - np.sin(p2)
+        xf[:, cf[1::2]] = (xc[:, cc[:-1]] + xc[:, cc[1:]]) / 2 + (dc.L0[els] / 8)[None, :, None] * tangents
         th_f[:, cf[1::2]] = (t1 + t2) / 2
     d = xf - disc_fine.X
     U[:, 0:2 * nf:2], U[:, 1:2 * nf:2] = d[..., 0], d[..., 1]
@@ -102,4 +109,5 @@ def chord_angles(disc, u, X1, X2):
     dx = X2[:, 0] - X1[:, 0] + p[..., 3] - p[..., 0]
     dy = X2[:, 1] - X1[:, 1] + p[..., 4] - p[..., 1]
     ref = disc.beta0 + (p[..., 2] + p[..., 5]) / 2
-    return ref + np.arctan2(np.sin(np.arctan2(dy, dx) - ref), np.cos(np.arctan2(dy, dx) - ref))
+    turn = np.arctan2(dy, dx) - ref
+    return ref + np.arctan2(np.sin(turn), np.cos(turn))
