@@ -161,8 +161,9 @@ def test_both_codes_are_offered_the_same_richardson_step_on_their_plain_runs(tmp
 
 def test_the_headline_configurations_are_timed_again_in_turn(monkeypatch):
     """The headline ratio comes from the two fastest configurations timed again with the runs of both
-    taking turns run by run (`_confirmed`): a Richardson row on plain runs is its runs at n and 2n, its
-    time their bests summed; the FEM's own n/2n solve is one run."""
+    taking turns run by run (`_confirmed`), each as often as fits in the headline's budget (not the
+    sweep's): a Richardson row on plain runs is its runs at n and 2n, its time their bests summed; the
+    FEM's own n/2n solve is one run."""
     case = bench._last_level_only(bench.case_by_id("cantilever_tip_load").case)
     one = bench.BenchCase("cantilever_tip_load", [0], single_level=True)
     order = []
@@ -178,12 +179,14 @@ def test_the_headline_configurations_are_timed_again_in_turn(monkeypatch):
 
     monkeypatch.setattr(bench, "run_method", run_method)
     monkeypatch.setattr(bench, "_one_run", one_run)
-    monkeypatch.setattr(bench, "TIME_BUDGET_S", 2e-3)
+    monkeypatch.setattr(bench, "TIME_BUDGET_S", 2e-3)       # the sweep's: 2 runs of a 1 ms configuration
+    monkeypatch.setattr(bench, "HEADLINE_BUDGET_S", 6e-3)   # the headline's: 6
     ours = dict(method=bench.paired_label("fem"), elements=8)
     peer = dict(method=bench.paired_label(bench.PEER), elements=8)
     got = bench._confirmed(case, one, ours, peer, 2)
     assert order[:4] == [("fem", 8), ("fem", 16), ("opensees", 8), ("opensees", 16)]
     assert order[4:8] == order[:4][::-1]                       # every run in turn, the order reversed
+    assert len(order) == 4 * 6 and got["repeats"] == 6
     assert (got["fem_s"], got["opensees_s"], got["ratio"]) == (3.0, 2.0, 1.5)
     own = bench._runs_of(case, one, dict(method="fem+richardson", elements=8))
     (sub, method), = own.values()

@@ -24,11 +24,13 @@ memory is measured in a separate run with ``tracemalloc``. The BLAS thread setti
 The headline, at each target error, is our best time over the peer's best, with both configurations
 beside it: the two configurations the sweep found fastest are timed again, every run of both taking
 turns (a Richardson row on plain runs: its two runs), so that both are measured in the same minutes of
-the shared machine, and that ratio is the headline (the sweep's own ratio beside it); a peer that
+the shared machine, each as often as fits in HEADLINE_BUDGET_S (ten times the sweep's budget: a best of 5
+to 50 runs of a millisecond configuration still moved a ratio near 1 by 5-30 % between bench runs), and
+that ratio is the headline (the sweep's own ratio beside it); a peer that
 cannot run (not installed, no system BLAS) is "peer unavailable", a case it cannot model "peer not
 applicable", never "did not reach". Also the time of one Newton iteration
 (time over iterations, failed tries included) of both codes at 8 to 256 elements, on the
-single-level cantilever.
+single-level cantilever, timed in turn with the headline's budget.
 
 Writes ``bench.csv``, ``headline.json`` and plots (error against time with the Pareto front; time
 against elements with the fitted growth exponent) under the output folder.
@@ -92,6 +94,7 @@ SLOW_RUN_S = 0.2        # a configuration slower than this is timed once after i
 QUICK_REPEATS = 3       # timed runs per configuration with --quick (5 without), at least
 TIME_BUDGET_S = 0.05    # a fast configuration is run as often as fits in this (its best is then its
 MAX_REPEATS = 200       # quiet-machine time, not a noise spike's), up to MAX_REPEATS runs
+HEADLINE_BUDGET_S = 0.5  # the same for the headline's re-timing and the per-iteration table
 CONFIGURATIONS = {      # how each code is driven (printed beside the headline)
     "fem": ("corotational Euler-Bernoulli beams (validation.methods.fem); load control: each level tried in "
             "one step, cut only on failure (failed tries counted), Newton with the consistent tangent "
@@ -189,29 +192,31 @@ def _timed(case, method: str, repeats: int) -> Timing:
     return _timed_in_turn({method: case}, repeats)[method]
 
 
-def _rounds(warm_wall: float, repeats: int) -> int:
-    """How many timed runs a configuration gets, from its warm-up's wall time (`_timed_in_turn`)."""
+def _rounds(warm_wall: float, repeats: int, budget: float | None = None) -> int:
+    """How many timed runs a configuration gets, from its warm-up's wall time (`_timed_in_turn`), as
+    many as fit in ``budget`` (default TIME_BUDGET_S)."""
     if warm_wall > SLOW_RUN_S:
         return 1
-    return max(repeats, min(MAX_REPEATS, int(TIME_BUDGET_S / max(warm_wall, 1e-9))))
+    budget = TIME_BUDGET_S if budget is None else budget
+    return max(repeats, min(MAX_REPEATS, int(budget / max(warm_wall, 1e-9))))
 
 
-def _timed_in_turn(configs: dict, repeats: int) -> dict[str, Timing]:
+def _timed_in_turn(configs: dict, repeats: int, budget: float | None = None) -> dict[str, Timing]:
     """Each method's case (method -> case) timed, the methods taking turns run by run
     (`_labelled_in_turn`)."""
-    return _labelled_in_turn({method: (case, method) for method, case in configs.items()}, repeats)
+    return _labelled_in_turn({method: (case, method) for method, case in configs.items()}, repeats, budget)
 
 
-def _labelled_in_turn(configs: dict[str, tuple], repeats: int) -> dict[str, Timing]:
+def _labelled_in_turn(configs: dict[str, tuple], repeats: int, budget: float | None = None) -> dict[str, Timing]:
     """Each configuration (label -> (case, method)) timed, the configurations taking turns run by run,
     the order reversed every round (A B, B A, ...), so that a slow period of the shared machine falls on
     every one alike; after one warm-up run each (imports, caches, compiled kernels). A configuration whose
     warm-up is slower than SLOW_RUN_S is timed once (its noise is small against its time); a fast one
-    as often as fits in TIME_BUDGET_S, at least ``repeats`` and at most MAX_REPEATS times (a
-    millisecond run's best of 5 on a shared machine can still be a slow period's), the same rule for
-    every code."""
+    as often as fits in ``budget`` (default TIME_BUDGET_S), at least ``repeats`` and at most MAX_REPEATS
+    times (a millisecond run's best of 5 on a shared machine can still be a slow period's), the same rule
+    for every code."""
     first = {label: run_method(*config) for label, config in configs.items()}
-    rounds = {label: _rounds(run.wall_time, repeats) for label, run in first.items()}
+    rounds = {label: _rounds(run.wall_time, repeats, budget) for label, run in first.items()}
     times = {label: [] for label in configs}
     walls, analyses, last = {k: [] for k in configs}, {k: [] for k in configs}, dict(first)
     order = list(configs)
@@ -254,7 +259,7 @@ def _confirmed(case, bench: BenchCase, ours: dict, peer: dict, repeats: int) -> 
     times (a Richardson row on plain runs: the sum of its runs' bests) and their ratio."""
     runs = {"fem": _runs_of(case, bench, ours), "opensees": _runs_of(case, bench, peer)}
     timings = _labelled_in_turn({label: config for part in runs.values() for label, config in part.items()},
-                                repeats)
+                                repeats, HEADLINE_BUDGET_S)
     fem_s, peer_s = (sum(timings[label].best for label in runs[code]) for code in ("fem", "opensees"))
     return dict(ratio=fem_s / peer_s, fem_s=fem_s, opensees_s=peer_s,
                 repeats=min(timings[label].repeats for label in timings))
@@ -401,7 +406,7 @@ def _per_iteration(case, bench: BenchCase, repeats: int, with_peer: bool, cap: i
         subs = {}
         for method in ("fem",) + ((PEER,) if with_peer else ()):
             subs[method] = _at(case, bench, method, n)
-        for method, timing in _timed_in_turn(subs, repeats).items():   # the two codes run by run in turn
+        for method, timing in _timed_in_turn(subs, repeats, HEADLINE_BUDGET_S).items():   # the two codes in turn
             if not timing.run.values:
                 continue
             its = timing.run.extras.get("iterations", 0) + timing.run.extras.get("rejected_iterations", 0)
