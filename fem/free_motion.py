@@ -13,9 +13,10 @@ smallest pivot is at least its softest stiffness over its stiffest one, which fo
 thickness h and element length l_e is of order (h / l_e)^2 / n^2 -- far above 1e-13 for the
 meshes the models use. The DOF of that column (node and 'ux' | 'uy' | 'rz') is named in the
 error, before any Newton correction. A load-controlled run on the compiled corrector that starts from
-the unloaded state with nothing prescribed and no rigid link makes the test on the factors of its first
-iteration, whose tangent is exactly the unloaded one (`kernel.newton_load`'s ``check``, `refusal`),
-instead of a factorisation of its own; every other run is tested here first (`check_held`).
+the unloaded state with nothing prescribed and no force on a rigid link's slave makes the test on the
+factors of its first iteration, whose tangent is exactly the unloaded one (`kernel.newton_load`'s
+``check``, `refusal`), instead of a factorisation of its own; every other run is tested here first
+(`check_held`).
 
 Angles are in radians (degrees appear only in case files and reports).
 """

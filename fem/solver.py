@@ -195,11 +195,24 @@ def _load_step(system, opts, path, q, beta, k, t, t_new, dt, prev, check: int = 
 def _checked_by_first_step(system, control: LoadControl, opts: SolveOptions) -> bool:
     """Whether the free-motion test can be made on the factors of the first Newton iteration instead of
     beforehand (`free_motion`): the compiled corrector, starting from the unloaded state (no warm-start
-    guess), nothing prescribed at the first level, no rigid link (a load on a link's slave enters its
-    geometric term, so the first tangent would not be the unloaded one), and at least one iteration
-    allowed (with none, Newton stops before it factorises)."""
-    return (system.compiled is not None and control.initial_guess is None and not len(system.disc.slaves)
+    guess), nothing prescribed at the first level, no force on a rigid link's slave at the first level
+    (`_slaves_loaded`), and at least one iteration allowed (with none, Newton stops before it
+    factorises)."""
+    return (system.compiled is not None and control.initial_guess is None and not _slaves_loaded(system)
             and not (system.presc.size and bool(np.any(system.presc[0] != 0.0))) and opts.maxiter >= 1)
+
+
+def _slaves_loaded(system) -> bool:
+    """A force on a rigid link's slave node at the first level. The slaves' geometric term in the
+    tangent, -(R_s . (x_s - x_m)) on the master's rotation (`kernel._evaluate`), reads the residual
+    R = f_int - lambda f_ref at the slave: at the unloaded state f_int = 0, so the first tangent is the
+    unloaded one exactly when no slave carries a force there (the compiled corrector's loads are all in
+    F_fixed: it takes no follower, pointed or distributed load)."""
+    slaves = system.disc.slaves
+    if not len(slaves):
+        return False
+    first = system.F_fixed[0]
+    return bool(np.any(first[2 * slaves] != 0.0) or np.any(first[2 * slaves + 1] != 0.0))
 
 
 def _run_load(system, opts: SolveOptions, path, guesses=None, check_first: bool = False):

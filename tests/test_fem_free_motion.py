@@ -52,8 +52,9 @@ def test_free_hinge_in_the_span():
     assert r.converged and np.isfinite(r.position("tip")).all()
 
 
-def _linked(support: str | None, k: float) -> fem.Model:
-    """A beam, a rigid link to a second beam's start, a joint spring k there (k = 0: a free hinge)."""
+def _linked(support: str | None, k: float, slave_force: float = 0.0) -> fem.Model:
+    """A beam, a rigid link to a second beam's start, a joint spring k there (k = 0: a free hinge);
+    the link's slave 'b' carries a force ``slave_force`` besides the one at the tip."""
     m = fem.Model()
     for name, x, y in (("root", 0.0, 0.0), ("a", 1.0, 0.0), ("b", 1.3, 0.4), ("c", 2.2, 0.4)):
         m.add_node(name, x, y)
@@ -65,6 +66,8 @@ def _linked(support: str | None, k: float) -> fem.Model:
     if support:
         m.add_support("root", support)
     m.add_force("c", 0.0, 0.1)
+    if slave_force:
+        m.add_force("b", slave_force, 0.0)
     return m
 
 
@@ -105,12 +108,13 @@ def _verdict(run) -> str:
 
 @pytest.mark.parametrize("model", [
     lambda: _beam("fixed"), lambda: _beam(None), lambda: _beam("pinned"), lambda: _beam("slider"),
-    lambda: _hinged(0.0), lambda: _hinged(5.0)])
+    lambda: _hinged(0.0), lambda: _hinged(5.0), lambda: _linked("fixed", 2.0), lambda: _linked("fixed", 0.0),
+    lambda: _linked("pinned", 2.0), lambda: _linked(None, 2.0)])
 def test_a_load_run_tests_the_factors_of_its_first_iteration_and_names_the_same_dof(model, monkeypatch):
-    """A load-controlled run from the unloaded state, nothing prescribed, no rigid link, makes the
-    free-motion test on its first Newton factors (whose tangent is the unloaded one) instead of a check
-    of its own beforehand: it refuses exactly the models `check_held` refuses, naming the same DOF, and
-    solves the others as before."""
+    """A load-controlled run from the unloaded state, nothing prescribed, no force on a rigid link's
+    slave, makes the free-motion test on its first Newton factors (whose tangent is the unloaded one)
+    instead of a check of its own beforehand: it refuses exactly the models `check_held` refuses,
+    naming the same DOF, and solves the others as before."""
     from fem import solver
     from fem.free_motion import check_held
 
@@ -124,10 +128,11 @@ def test_a_load_run_tests_the_factors_of_its_first_iteration_and_names_the_same_
     assert (during == "held") == held, during
 
 
-@pytest.mark.parametrize("model, options", [(lambda: _linked("fixed", 0.0), {}), (lambda: _linked("fixed", 2.0), {}),
+@pytest.mark.parametrize("model, options", [(lambda: _linked("fixed", 0.0, 0.05), {}),
+                                            (lambda: _linked("fixed", 2.0, 0.05), {}),
                                             (lambda: _prescribed_tip(), {}), (lambda: _beam(None), {"maxiter": 0})])
 def test_a_run_whose_first_tangent_is_not_the_unloaded_one_is_checked_beforehand(model, options, monkeypatch):
-    """With a rigid link (a load on its slave enters the first tangent), a prescribed motion at the
+    """With a force on a rigid link's slave (it enters the first tangent), a prescribed motion at the
     first level, or no Newton iteration allowed (Newton would stop before it factorises), the test is
     made beforehand on the unloaded tangent (`check_held`): a free beam is refused even with maxiter 0."""
     from fem import solver
@@ -151,3 +156,19 @@ def _prescribed_tip() -> fem.Model:
     m.loads.clear()
     m.prescribe("tip", "uy", [0.05])
     return m
+
+
+@pytest.mark.parametrize("slave_force", [0.0, 0.05])
+def test_only_a_force_on_a_slave_makes_the_first_tangent_differ_from_the_unloaded_one(slave_force):
+    """The premise of the rule above: at the unloaded state (q = 0) the tangent under the first level's
+    loads equals the unloaded tangent unless a rigid link's slave carries a force (its geometric term
+    reads the residual there); the tip force, on a beam node, changes nothing."""
+    from fem.solver import System, _slaves_loaded, discretise
+
+    m = _linked("fixed", 2.0, slave_force)
+    system = System(m, discretise(m))
+    q0, beta0 = np.zeros(system.n), system.disc.beta0.copy()
+    loaded = system.evaluate(q0, beta0, 1.0, *system.loads_at(-1, 0, 1.0), need_K=True)["K"]
+    unloaded = system.evaluate(q0, beta0, 0.0, *system.loads_at(-1, 0, 0.0), need_K=True)["K"]
+    assert _slaves_loaded(system) == bool(slave_force)
+    assert np.array_equal(loaded, unloaded) == (not slave_force)
