@@ -22,6 +22,7 @@ Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -44,7 +45,11 @@ class Section:
     def __post_init__(self) -> None:
         for name in ("EA", "EI"):
             value = getattr(self, name)
-            if not (np.isfinite(value) and value > 0):
+            if isinstance(value, (int, float)):         # the usual case (np.float64 too): no numpy call
+                ok = math.isfinite(value) and value > 0
+            else:
+                ok = bool(np.isfinite(value) and value > 0)
+            if not ok:
                 raise ValueError(f"Section: {name} must be finite and > 0, got {value!r}")
 
     @classmethod

@@ -212,7 +212,7 @@ def _slaves_loaded(system) -> bool:
     if not len(slaves):
         return False
     first = system.F_fixed[0]
-    return bool(np.any(first[2 * slaves] != 0.0) or np.any(first[2 * slaves + 1] != 0.0))
+    return bool(first[2 * slaves].any() or first[2 * slaves + 1].any())
 
 
 def _run_load(system, opts: SolveOptions, path, guesses=None, check_first: bool = False):

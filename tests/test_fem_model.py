@@ -300,3 +300,15 @@ def test_moment_on_one_side_of_a_hinge():
     m.loads[-1] = type(m.loads[-1])(m.loads[-1].node, "moment", m.loads[-1].values)
     r2 = fem.solve(m)
     assert r2.converged and abs(r2.reaction("O")[2]) < 1e-6 * M
+
+
+@pytest.mark.parametrize("bad", [0.0, -2, float("nan"), float("inf"), np.float64("nan"), np.array(-1.0), np.array(np.inf)])
+def test_a_section_refuses_a_stiffness_that_is_not_finite_and_positive(bad):
+    """EA and EI must be finite and > 0 whether given as Python numbers, numpy scalars or 0-d arrays
+    (the plain-number check and the numpy one agree); the error names the field."""
+    with pytest.raises(ValueError, match="EA must be finite and > 0"):
+        fem.Section(bad, 1.0)
+    with pytest.raises(ValueError, match="EI must be finite and > 0"):
+        fem.Section(1.0, bad)
+    for good in (2, 2.5, np.float64(3.0), np.array(4.0)):
+        assert fem.Section(good, good).EA == good
