@@ -154,8 +154,8 @@ def eigenvalue_below(system, K, held, tol: float) -> bool:
         return info > 0
     if layout.kind == "dense":
         A = K.reshape(n, n)
-        A = A + A.T                 # a new array: scaled in place below (the same floats as 0.5 (A + A^T)
-        A *= 0.5                    # / d_i / d_j in new arrays)
+        A = A + A.T                 # a new array, scaled in place: the same floats as
+        A *= 0.5                    # 0.5 (A + A^T) / d_i / d_j in new arrays
         d = np.sqrt(np.abs(A.diagonal()))
         d[d == 0.0] = 1.0
         A /= d[:, None]
