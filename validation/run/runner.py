@@ -10,6 +10,7 @@ from __future__ import annotations
 import importlib
 import json
 import math
+import sys
 import tomllib
 import time
 import traceback
@@ -49,7 +50,8 @@ def run_method(case: Case, method: str) -> MethodRun:
     requests = requests_for(case, method)
     start = time.perf_counter()
     try:
-        adapter = importlib.import_module(f"validation.methods.{method}")
+        name = f"validation.methods.{method}"
+        adapter = sys.modules.get(name) or importlib.import_module(name)   # the import system only once
         run = adapter.run(case, requests, options)
     except NotApplicable as exc:
         reason = str(exc) if str(exc).startswith("not applicable") else f"not applicable: {exc}"
