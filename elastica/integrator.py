@@ -52,7 +52,11 @@ formatting of error messages into every function that has one. Small helpers cal
 places (``_combine``, ``_trial``) stay separate functions (LLVM inlines them anyway; numba's inlining
 would type a copy per call site). ``error_model="numpy"``: a float division by zero gives inf/nan
 instead of raising, so no exception branch per division is generated (every division here has a
-nonzero divisor by construction). One problem structure (normalised by L and EI, ``shooting`` derives the equations) is plain arrays:
+nonzero divisor by construction). ``no_cpython_wrapper=True`` on the helpers only compiled code calls
+(not on ``tip_force``, which `shooting` calls, nor ``_reach``, which a test calls): numba builds and
+optimises no Python-callable wrapper for them (~1 CPU-s of LLVM time over these helpers).
+
+One problem structure (normalised by L and EI, ``shooting`` derives the equations) is plain arrays:
 
 * ``dirs`` (nc, 2): unit directions d_k of the prescribed tip-position components, end condition
   d_k . r(1) = c_k; ``fdirs`` (nc, 2): the directions of their unknown forces (multipliers mu_k);
@@ -155,7 +159,7 @@ def beam_rhs(s, Y, Fx, Fy, k0, EI, EA, out, wx=0.0, wy=0.0, length=0.0):
     out[4] = m * m / (2 * EI) + (N * N / (2 * EA) if EA != 0.0 else 0.0)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
 def _rhs(s, Y, P, out):
     """The equations the state's length names (BEAM_STATE_SIZE: the plain beam, else the elastica
     with its sensitivities)."""
@@ -360,7 +364,7 @@ ANGLE = -3          # index of the prescribed tip angle in q; the last two are (
 CONVERGED, NOT_CONVERGED, NO_START = 0, 1, 2
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
 def _norm(v):
     """Euclidean norm (a plain loop: the systems have at most a handful of unknowns)."""
     total = 0.0
@@ -369,7 +373,7 @@ def _norm(v):
     return math.sqrt(total)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
 def _distance(a, b):
     """Euclidean distance |a - b| (a plain loop)."""
     total = 0.0
@@ -378,7 +382,7 @@ def _distance(a, b):
     return math.sqrt(total)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
 def _axpy(x, a, d):
     """x + a d as a new array (a loop: no broadcasting checks to compile)."""
     out = np.empty(x.size)
@@ -387,7 +391,7 @@ def _axpy(x, a, d):
     return out
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
 def _solve(A, b):
     """x with A x = b by Gaussian elimination with partial pivoting, and False when a pivot is
     exactly zero (singular, as LAPACK's gesv reports it)."""
@@ -443,7 +447,7 @@ def tip_force(z, q, fdirs, mdirs, follower):
     return F, dF
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
 def _through_force(Y, dF):
     """(4, m): d(x, y, theta, m)/d(parameters) of the state Y (``integrator`` layout) when the tip
     force depends on them by dF = dF/d(parameters) (2, m)."""
@@ -455,7 +459,7 @@ def _through_force(Y, dF):
     return D
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
 def _unknowns_derivative(Y, dF):
     """(4, n): d(x, y, theta, m)/dz of the state Y: through the tip force (dF = dF/dz) and, in
     column 0, through m(0) = z[0]."""
@@ -579,7 +583,7 @@ def _tangent(z, q, J, states, dq, dirs, fdirs, mdirs, site_at, angle_given, foll
     return dz, regular, _tip_rate(z, q, states[states.shape[0] - 1], dz, dYdq, dq, fdirs, mdirs, follower)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
 def _tip_rate(z, q, Y, dz, dYdq, dq, fdirs, mdirs, follower):
     """d(x, y, theta)(1)/dlambda = (dY/dz) dz/dlambda + (dY/dq) dq at the tip state Y."""
     _, dF = tip_force(z, q, fdirs, mdirs, follower)
@@ -593,7 +597,7 @@ def _tip_rate(z, q, Y, dz, dYdq, dq, fdirs, mdirs, follower):
     return rate
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
 def _trial(z, t, dz, center, radius):
     """The trial point z + t dz, t halved until it lies within ``radius`` of ``center`` (or t < 1e-3)."""
     z_try = _axpy(z, t, dz)
@@ -656,7 +660,7 @@ def _newton(z, q, tol, step_tol, ahead, maxiter, radius, k0, dirs, fdirs, mdirs,
             return z, NOT_CONVERGED, it, norm, J, states, F
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
 def _step_cap(rate, rate_prev, dlam, max_rotation_step, max_position_step):
     """The longest step whose predicted tip motion stays within both limits: the tip's rate and,
     when ``dlam`` > 0, its change (rate - rate_prev)/dlam since the previous point."""

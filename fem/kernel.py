@@ -46,6 +46,10 @@ where the band is wider).
 
 It returns a status code; `newton` turns it into the same `NewtonOutcome` or `StepFailed`.
 
+The helpers only compiled code calls (``_factor``, ``_back_solve``, ``_det_sign``) are compiled with
+``no_cpython_wrapper=True``: numba builds no Python-callable wrapper for them (``band_lu``,
+``band_solve`` and ``_evaluate`` keep theirs: the tests call them).
+
 Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
@@ -197,7 +201,7 @@ class CompiledLayout:
         return np.ascontiguousarray(data.reshape(self.n, self.ld).T).ravel()
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _factor(work, banded, n, kl, ku, ld, ipiv, ints, info):
     """LU of the column-major matrix in ``work`` (in place): a band by `band_lu`, a dense matrix by
     LAPACK dgetrf; info[0] > 0: an exactly zero pivot."""
@@ -208,7 +212,7 @@ def _factor(work, banded, n, kl, ku, ld, ipiv, ints, info):
         _dgetrf(ints[0:].ctypes, ints[0:].ctypes, work.ctypes, ints[3:].ctypes, ipiv.ctypes, info.ctypes)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _back_solve(work, banded, ipiv, ints, info, x):
     """x <- K^-1 x with the factors `_factor` left in ``work`` (its n, kl, ku, ld in ``ints``)."""
     if banded:
@@ -295,7 +299,7 @@ def band_solve(ab, n, kl, ku, ld, ipiv, x):
                 x[i] -= temp * ab[d - (j - i)]
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _det_sign(work, banded, n, kl, ku, ld, ipiv):
     """Sign of det K from the LU factors: signs of U's diagonal times the pivot parity; 0 when a
     pivot is zero or not finite."""
