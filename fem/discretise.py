@@ -152,13 +152,14 @@ def _member_stiffness(m, lengths):
 
 
 def _mesh(model: Model, refine: int) -> _Mesh:
-    """Mesh every member with refine x n_elements elements (interior nodes after the model nodes)."""
+    """Mesh every member with refine x n_elements elements (a member with ``refined`` False: n_elements)
+    (interior nodes after the model nodes)."""
     X = [np.asarray(model.coords, dtype=float).reshape(-1, 2)]
     n_en = model.n_nodes
     mesh = _Mesh(None, [], [], [], [], [], [], [], [])
     first = 0
     for im, m in enumerate(model.members):
-        n = m.n_elements * int(refine)
+        n = m.n_elements * int(refine) if m.refined else m.n_elements
         pts, _ = _arc_points(X[0][m.start], X[0][m.end], m.curvature, n)
         ids = np.arange(n_en - 1, n_en + n)         # [start, interior nodes n_en .. n_en + n - 2, end]
         ids[0], ids[-1] = m.start, m.end
@@ -388,7 +389,8 @@ def _marked(n: int, indices: np.ndarray) -> np.ndarray:
 
 
 def discretise(model: Model, refine: int = 1) -> Discretisation:
-    """Mesh every member with refine x n_elements elements; number and constrain the DOFs."""
+    """Mesh every member with refine x n_elements elements (a member with ``refined`` False keeps
+    n_elements); number and constrain the DOFs."""
     n_mn = model.n_nodes
     mesh = _mesh(model, refine)
     X, conn = mesh.X, mesh.conn

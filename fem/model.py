@@ -67,6 +67,7 @@ class Member:
     n_elements: int = 8
     curvature: float = 0.0
     name: str = ""
+    refined: bool = True     # False: n_elements on every mesh of a refinement study (`discretise`)
 
 
 @dataclass
@@ -169,8 +170,12 @@ class Model:
 
     @checked(positive=('n_elements',), finite=('curvature',))
     def add_member(self, start, end, section, n_elements: int = 8,
-                   curvature: float = 0.0, name: str = "") -> int:
-        """Flexible member start -> end; returns its index."""
+                   curvature: float = 0.0, name: str = "", refined: bool = True) -> int:
+        """Flexible member start -> end; returns its index. ``refined=False``: the member keeps its
+        ``n_elements`` when the mesh is refined (`discretise`'s ``refine``, the error estimate's finer
+        meshes), e.g. a very stiff straight bar standing for a rigid body, whose one element has no
+        discretisation error worth estimating and whose refinement only adds stiff, ill-conditioned
+        unknowns."""
         i, j = self.node(start), self.node(end)
         if i == j:
             raise ValueError("a member needs two different nodes")
@@ -183,7 +188,7 @@ class Model:
         if abs(curvature) * chord / 2 > 1.0:
             raise ValueError("curvature too large for the chord length")
         self.members.append(Member(i, j, section, int(n_elements), float(curvature),
-                                   name or f"m{len(self.members)}"))
+                                   name or f"m{len(self.members)}", bool(refined)))
         return len(self.members) - 1
 
     def add_support(self, node, kind: str, direction=(1.0, 0.0)) -> None:

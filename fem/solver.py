@@ -536,8 +536,9 @@ def solve(model: Model, n_levels: int | None = None, control: str = "load", *,
     ``until=(node, dof, value)`` is crossed, |load factor| >= ``lambda_max``,
     ``max_limit_points`` limit points have been passed, or ``max_steps``
     steps.  ``initial_guess``: a converged load-control `FemResult` of the same
-    model with half the elements per member, used as predictor (`warm_start`).
-    ``refine`` multiplies every member's element count.
+    model with half the elements per member (as many in a member that is not refined), used as
+    predictor (`warm_start`). ``refine`` multiplies the element count of every member but those added
+    with ``refined=False``.
     Tolerance: |r| <= rtol max(|f_ext|, |f_int|) + atol.
     Step control: each level is tried in one step; a Newton correction that turns a node by more
     than ``max_iteration_rotation`` (rad) is scaled down to it (a far-off linear predictor is walked

@@ -1,7 +1,9 @@
 """Warm start of a solve on a refined mesh from a converged coarser result.
 
 With every member of the fine mesh split into twice as many elements, the
-fine nodes are the coarse nodes plus one midpoint per coarse element.  At a
+fine nodes are the coarse nodes plus one midpoint per coarse element (a member
+that is not refined, `Model.add_member`'s ``refined=False``, keeps its nodes and
+their states).  At a
 midpoint the deformed position is taken from the cubic Hermite curve through
 the element's end positions x1, x2 with end tangent angles phi_i = beta0 + theta_i:
 
@@ -57,8 +59,9 @@ def guess_states(coarse, disc_fine) -> np.ndarray:
     """Per level (rows): full displacement vector on the fine mesh from a coarse FemResult."""
     dc = coarse.extra["disc"]
     if len(dc.member_elements) != len(disc_fine.member_elements) or any(
-            2 * len(a) != len(b) for a, b in zip(dc.member_elements, disc_fine.member_elements)):
-        raise ValueError("initial_guess must come from the same model with half the elements")
+            len(b) not in (len(a), 2 * len(a)) for a, b in zip(dc.member_elements, disc_fine.member_elements)):
+        raise ValueError("initial_guess must come from the same model with half the elements (or as many, "
+                         "for a member that is not refined)")
     chains_c, chains_f = _member_chains(dc), _member_chains(disc_fine)
     nc, nf = len(dc.X), len(disc_fine.X)
     U_c = np.asarray(coarse.extra["u_full"], dtype=float)     # (levels, coarse DOFs): every level at once
@@ -69,6 +72,10 @@ def guess_states(coarse, disc_fine) -> np.ndarray:
     xf = np.zeros((nl, nf, 2))
     th_f = np.zeros((nl, nf))
     for (cc, cf, els) in zip(chains_c, chains_f, dc.member_elements):
+        if len(cf) == len(cc):          # a member that is not refined: the same nodes
+            xf[:, cf] = xc[:, cc]
+            th_f[:, cf] = th_c[:, cc]
+            continue
         xf[:, cf[0::2]] = xc[:, cc]
         th_f[:, cf[0::2]] = th_c[:, cc]
         # midpoints: Hermite curve of each coarse element (end rotations of the element)

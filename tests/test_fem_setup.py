@@ -175,3 +175,56 @@ def test_warm_start_midpoints_lie_on_the_hermite_curve_of_the_coarse_elements():
     assert np.array_equal(xy(guess, ends), coarse_xy)        # the coarse nodes keep the coarse solution
     assert chord_miss > 1e-3
     assert hermite_miss < 0.25 * chord_miss
+
+
+def _bar_frame(refined: bool) -> fem.Model:
+    """A beam whose tip carries a stiff straight bar (EI 1e6 times the beam's, as the harness models a
+    pinned rigid link), the bar's far end loaded."""
+    m = fem.Model()
+    for name, x, y in (("root", 0.0, 0.0), ("tip", 1.0, 0.0), ("far", 1.0, 0.5)):
+        m.add_node(name, x, y)
+    m.add_member("root", "tip", fem.Section.from_EI(1e4, 1.0), n_elements=2)
+    m.add_member("tip", "far", fem.Section.from_EI(1e10, 1e6), n_elements=1, refined=refined)
+    m.add_support("root", "fixed")
+    m.add_force("far", [0.0, 0.6], [0.0, -0.4])
+    return m
+
+
+def test_a_member_that_is_not_refined_keeps_its_elements_on_every_mesh():
+    """`Model.add_member(refined=False)`: discretise's ``refine`` multiplies the elements of every other
+    member and leaves this one's: the refined mesh is the mesh of the model written with the other
+    members' elements doubled (the same nodes, the same elements); with ``refined`` (the default)
+    the bar is split too."""
+    m = _bar_frame(refined=False)
+    assert [len(e) for e in discretise(m, refine=2).member_elements] == [4, 1]
+    assert [len(e) for e in discretise(_bar_frame(refined=True), refine=2).member_elements] == [4, 2]
+    doubled = _bar_frame(refined=False)
+    doubled.members[0].n_elements = 4
+    fine, plain = discretise(m, refine=2), discretise(doubled)
+    assert np.array_equal(fine.X, plain.X) and np.array_equal(fine.conn, plain.conn)
+
+
+def test_the_warm_start_keeps_the_nodes_of_a_member_that_is_not_refined():
+    """The fine mesh's guess from the coarse solution (`warm_start.guess_states`): the bar's nodes keep
+    the coarse states (no midpoint to add; to the rounding of (X + u) - X), and the error estimate's
+    warm-started fine solve converges to the cold solve of the same mesh; a coarse result of another
+    mesh family is refused."""
+    from fem.warm_start import guess_states
+
+    m = _bar_frame(refined=False)
+    coarse = fem.solve(m, rtol=1e-12)
+    fine = fem.solve(m, refine=2, rtol=1e-12)
+    assert coarse.converged and fine.converged
+    d_c, d_f = coarse.extra["disc"], fine.extra["disc"]
+    guess = guess_states(coarse, d_f)
+    u_c = np.asarray(coarse.extra["u_full"], dtype=float)
+    far_c, far_f = d_c.conn[d_c.member_elements[1][0], 1], d_f.conn[d_f.member_elements[1][0], 1]
+    dofs_c, dofs_f = [2 * far_c, 2 * far_c + 1, d_c.rot_dof[far_c]], [2 * far_f, 2 * far_f + 1, d_f.rot_dof[far_f]]
+    assert np.allclose(guess[:, dofs_f], u_c[:, dofs_c], rtol=0, atol=1e-15)   # (X + u) - X: rounding only
+    warm = fem.solve_with_error_estimate(m, rtol=1e-12)
+    assert warm.converged
+    # the same state to the corrector's rounding floor, which a bar 1e6 times stiffer raises to ~1e-7 L
+    # (its forces' rounding, 4 eps EA, is the floor of the residual test)
+    assert np.allclose(warm.result.positions, fine.positions, rtol=0, atol=1e-6)
+    with pytest.raises(ValueError, match="half the elements"):
+        guess_states(coarse, discretise(_bar_frame(refined=True), refine=3))

@@ -195,7 +195,10 @@ def _mechanism_model(fem, case, elements: int, options: dict):
             if not mech.beams:
                 raise NotApplicable("pinned rigid links need at least one flexible beam to scale their stiffness")
             bar = fem.Section.from_EI(ratio * stiffest[0], ratio * stiffest[1])
-            first = [model.add_member(link.nodes[0], node, bar, n_elements=1, name=f"{link.name}:{node}")
+            # one element, on every mesh of the error estimate too: a straight bar 1e6 times stiffer than
+            # the beams stands for a rigid body, with no discretisation error of its own to estimate
+            first = [model.add_member(link.nodes[0], node, bar, n_elements=1, name=f"{link.name}:{node}",
+                                      refined=False)
                      for node in link.nodes[1:]]
             member_index[link.name] = first[0]
             continue
