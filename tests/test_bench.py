@@ -191,3 +191,41 @@ def test_the_headline_configurations_are_timed_again_in_turn(monkeypatch):
     own = bench._runs_of(case, one, dict(method="fem+richardson", elements=8))
     (sub, method), = own.values()
     assert method == "fem" and sub.methods["fem"]["richardson"] and sub.methods["fem"]["elements"] == 8
+
+
+def test_the_headline_takes_each_codes_fastest_candidate_as_re_timed(monkeypatch):
+    """With several candidates per code (`_candidates`: the sweep's fastest that reach the error), every
+    run of all of them takes turns, a run two candidates share is timed once, and each code's fastest
+    as re-timed is the headline's: here the sweep put the plain run at 32 elements first (a slow period
+    on the Richardson row's runs, say), and re-timed the Richardson row on the plain runs at 8 and 16
+    (1 + 2 = 3) beats it (4); the peer's plain run at 16 (1.5), a run its Richardson row (0.5 + 1.5)
+    shares, beats that row."""
+    case = bench._last_level_only(bench.case_by_id("cantilever_tip_load").case)
+    one = bench.BenchCase("cantilever_tip_load", [0], single_level=True)
+    order = []
+    cpu = {("fem", 8): 1.0, ("fem", 16): 2.0, ("fem", 32): 4.0, ("opensees", 8): 0.5, ("opensees", 16): 1.5}
+
+    monkeypatch.setattr(bench, "run_method", lambda sub, method: MethodRun(values={}, wall_time=1e-3))
+
+    def one_run(sub, method):
+        n = sub.methods[method]["elements"]
+        order.append((method, n))
+        return MethodRun(values={}), cpu[(method, n)]
+
+    monkeypatch.setattr(bench, "_one_run", one_run)
+    monkeypatch.setattr(bench, "HEADLINE_BUDGET_S", 4e-3)
+    ours = [dict(method="fem", elements=32), dict(method=bench.paired_label("fem"), elements=8)]
+    peer = [dict(method=bench.paired_label(bench.PEER), elements=8), dict(method=bench.PEER, elements=16)]
+    got = bench._confirmed(case, one, ours, peer, 2)
+    first_round = order[:len(cpu)]
+    assert sorted(first_round) == sorted(cpu)        # every run once a round: the shared opensees n=16 too
+    assert got["fem"]["method"] == bench.paired_label("fem") and got["fem"]["elements"] == 8
+    assert got["opensees"]["method"] == bench.PEER and got["opensees"]["elements"] == 16
+    assert (got["fem_s"], got["opensees_s"], got["ratio"]) == (3.0, 1.5, 2.0)
+    assert got["fem"]["time_s"] == 3.0 and got["candidates"] == 4
+    frame = pd.DataFrame([dict(method=m, elements=n, time_s=t, error=e, iterations=1) for m, n, t, e in (
+        ("fem+richardson", 8, 3.0, 1e-5), ("fem", 16, 0.5, 2e-4), (bench.paired_label("fem"), 8, 2.0, 3e-5),
+        ("fem", 32, 1.0, 5e-5), (bench.PEER, 32, 1.5, 5e-5))])   # fem n=16 misses the error
+    mine, theirs = bench._candidates(frame, 1e-4)
+    assert [(c["method"], c["elements"]) for c in mine] == [("fem", 32), (bench.paired_label("fem"), 8)][:bench.CANDIDATES]
+    assert [(c["method"], c["elements"]) for c in theirs] == [(bench.PEER, 32)]
