@@ -72,12 +72,11 @@ def guess_states(coarse, disc_fine) -> np.ndarray:
     xf = np.zeros((nl, nf, 2))
     th_f = np.zeros((nl, nf))
     for (cc, cf, els) in zip(chains_c, chains_f, dc.member_elements):
-        if len(cf) == len(cc):          # a member that is not refined: the same nodes
-            xf[:, cf] = xc[:, cc]
-            th_f[:, cf] = th_c[:, cc]
+        step = 1 if len(cf) == len(cc) else 2   # 1: a member that is not refined, no midpoints
+        xf[:, cf[::step]] = xc[:, cc]
+        th_f[:, cf[::step]] = th_c[:, cc]
+        if step == 1:
             continue
-        xf[:, cf[0::2]] = xc[:, cc]
-        th_f[:, cf[0::2]] = th_c[:, cc]
         # midpoints: Hermite curve of each coarse element (end rotations of the element)
         t1 = U_c[:, dc.edofs[els, 2]]
         t2 = U_c[:, dc.edofs[els, 5]]

@@ -183,7 +183,7 @@ def test_the_headline_configurations_are_timed_again_in_turn(monkeypatch):
     monkeypatch.setattr(bench, "HEADLINE_BUDGET_S", 6e-3)   # the headline's: 6
     ours = dict(method=bench.paired_label("fem"), elements=8)
     peer = dict(method=bench.paired_label(bench.PEER), elements=8)
-    got = bench._confirmed(case, one, ours, peer, 2)
+    got = bench._confirmed(case, one, [ours], [peer], 2)
     assert order[:4] == [("fem", 8), ("fem", 16), ("opensees", 8), ("opensees", 16)]
     assert order[4:8] == order[:4][::-1]                       # every run in turn, the order reversed
     assert len(order) == 4 * 6 and got["repeats"] == 6

@@ -243,7 +243,7 @@ def _labelled_in_turn(configs: dict[str, tuple], repeats: int, budget: float | N
 
 
 def _runs_of(case, bench: BenchCase, choice: dict) -> dict[str, tuple]:
-    """The runs a headline configuration (a row of `_best_at_error`) is made of, label -> (case, method):
+    """The runs a headline configuration (a row of `_fastest_at_error`) is made of, label -> (case, method):
     one run, or for a Richardson row on plain runs (`paired_label`) the plain runs at n and 2n."""
     label, n = choice["method"], choice["elements"]
     method = label.split("+")[0]
@@ -256,14 +256,14 @@ def _runs_of(case, bench: BenchCase, choice: dict) -> dict[str, tuple]:
     return {f"{method} n={m}": (_at(case, bench, method, m), method) for m in meshes}
 
 
-def _confirmed(case, bench: BenchCase, ours: dict | list[dict], peer: dict | list[dict], repeats: int) -> dict:
-    """The headline's candidate configurations of both codes (one each, or lists: `_candidates`) timed
+def _confirmed(case, bench: BenchCase, ours: list[dict], peer: list[dict], repeats: int) -> dict:
+    """The headline's candidate configurations of both codes (`_candidates`) timed
     again, every run of all of them taking turns run by run (`_labelled_in_turn`; a run two candidates
     share, e.g. the plain 2n run of a Richardson row and the plain row at 2n, timed once), so that all are
     measured in the same minutes of the shared machine. Each candidate's time is the sum of its runs'
     bests (a Richardson row on plain runs: its n and 2n runs); each code's fastest candidate as re-timed
     (``fem``, ``opensees``: the configuration with that time) and the ratio of the two."""
-    choices = {code: [c] if isinstance(c, dict) else list(c) for code, c in (("fem", ours), ("opensees", peer))}
+    choices = {"fem": ours, "opensees": peer}
     runs = {(code, i): _runs_of(case, bench, choice) for code, found in choices.items()
             for i, choice in enumerate(found)}
     timings = _labelled_in_turn({label: config for part in runs.values() for label, config in part.items()},
@@ -315,12 +315,6 @@ def _pareto(frame: pd.DataFrame) -> pd.Series:
         flags[idx] = row["error"] < best
         best = min(best, row["error"]) if not math.isnan(row["error"]) else best
     return pd.Series(flags).reindex(frame.index)
-
-
-def _best_at_error(frame: pd.DataFrame, methods: tuple[str, ...], target: float) -> dict | None:
-    """The fastest row of these methods whose error is at most the target, as a configuration."""
-    found = _fastest_at_error(frame, methods, target, 1)
-    return found[0] if found else None
 
 
 def _fastest_at_error(frame: pd.DataFrame, methods: tuple[str, ...], target: float, count: int) -> list[dict]:
@@ -550,17 +544,17 @@ def run_bench(out: Path, quick: bool = False, cases: list[BenchCase] | dict | No
     return int(decide(bad_input=bool(unusable), failed=bool(failed)))
 
 
-def _choices(part: pd.DataFrame, target: float) -> tuple[dict | None, dict | None]:
-    """Our fastest configuration and the peer's that reach the target error (`_best_at_error`)."""
-    return (_best_at_error(part, (*OURS, paired_label("fem")), target),
-            _best_at_error(part, (PEER, paired_label(PEER)), target))
-
-
-def _candidates(part: pd.DataFrame, target: float) -> tuple[list[dict], list[dict]]:
-    """The CANDIDATES fastest configurations of ours and of the peer's that reach the target error, as
+def _candidates(part: pd.DataFrame, target: float, count: int = CANDIDATES) -> tuple[list[dict], list[dict]]:
+    """The ``count`` fastest configurations of ours and of the peer's that reach the target error, as
     the sweep timed them: what the headline times again (`_confirmed`)."""
-    return (_fastest_at_error(part, (*OURS, paired_label("fem")), target, CANDIDATES),
-            _fastest_at_error(part, (PEER, paired_label(PEER)), target, CANDIDATES))
+    return (_fastest_at_error(part, (*OURS, paired_label("fem")), target, count),
+            _fastest_at_error(part, (PEER, paired_label(PEER)), target, count))
+
+
+def _choices(part: pd.DataFrame, target: float) -> tuple[dict | None, dict | None]:
+    """Our fastest configuration and the peer's that reach the target error, as the sweep timed them."""
+    ours, peer = _candidates(part, target, 1)
+    return (ours[0] if ours else None, peer[0] if peer else None)
 
 
 def _headline(frame: pd.DataFrame, quick: bool, peer_notes: dict, max_elements: int,
@@ -614,9 +608,8 @@ def _headline(frame: pd.DataFrame, quick: bool, peer_notes: dict, max_elements: 
 
 def _retimed(again: dict, code: str) -> str:
     """A code's fastest configuration as re-timed for the headline, and its time."""
-    choice = again.get(code)
-    where = f"{choice['method']} n={choice['elements']} " if choice else ""
-    return f"{where}{again[f'{code}_s'] * 1e3:.2f} ms"
+    choice = again[code]
+    return f"{choice['method']} n={choice['elements']} {again[f'{code}_s'] * 1e3:.2f} ms"
 
 
 def _config(c: dict | None) -> str:

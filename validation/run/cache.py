@@ -29,16 +29,15 @@ def cache_dir() -> Path:
     return Path(os.environ.get("PRBM_VALIDATE_CACHE", ROOT / ".cache" / "runs"))
 
 
-@lru_cache(maxsize=None)
 def package_version() -> str:
-    """This package's installed version (read once a process: reading a distribution's metadata
-    parses its METADATA file, ~2 ms, and every run key asks for it)."""
+    """This package's installed version (`_version`: read once a process; every run key asks for it)."""
     return _version("prbm-validate") or "0+unknown"
 
 
 @lru_cache(maxsize=None)
 def _version(name: str) -> str | None:
-    """The installed version of distribution ``name``, or None (read once a process)."""
+    """The installed version of distribution ``name``, or None (read once a process: reading a
+    distribution's metadata parses its METADATA file, ~2 ms)."""
     try:
         return metadata.version(name)
     except metadata.PackageNotFoundError:
