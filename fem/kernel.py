@@ -61,9 +61,9 @@ import numpy as np
 from numba import njit, types
 from numba.extending import get_cython_function_address
 
-__all__ = ["element_kernel", "scatter", "scatter_add", "CompiledLayout", "newton_load", "CONVERGED",
-           "NOT_FINITE", "NO_CONVERGENCE", "SINGULAR", "NON_FINITE_TANGENT", "ROTATION_TOO_LARGE",
-           "FREE_MOTION", "HELD", "CHECK_AND_SOLVE", "CHECK_ONLY"]
+__all__ = ["element_kernel", "scatter", "scatter_add", "CompiledLayout", "newton_load", "shifted_cholesky_fails",
+           "tangent_det_sign", "CONVERGED", "NOT_FINITE", "NO_CONVERGENCE", "SINGULAR", "NON_FINITE_TANGENT",
+           "ROTATION_TOO_LARGE", "FREE_MOTION", "HELD", "CHECK_AND_SOLVE", "CHECK_ONLY"]
 
 
 @njit(cache=True, inline="always")
@@ -313,6 +313,71 @@ def _det_sign(work, banded, n, kl, ku, ld, ipiv):
         if ipiv[j] - 1 != j:
             sign = -sign
     return sign
+
+
+@njit(cache=True)
+def shifted_cholesky_fails(K, banded, n, kl, ku, rs, cs, held, tol):
+    """True when the Cholesky factorisation of  S A S + tol I  breaks down (a pivot not positive), A the
+    symmetric tangent in solver storage ``K``: entry (i, j) at r rs + j cs, r = kl + ku + i - j in
+    LAPACK's general band storage (``banded``, 2 kl + ku + 1 rows; its upper triangle is read) or r = i
+    (dense, read as (A + A^T)/2); (rs, cs) = (n, 1) in `linear_solver.MatrixLayout`'s row-major storage,
+    (1, ld) in the corrector's column-major one. S = diag(1/sqrt|A_ii|) (1 where A_ii = 0), the row and
+    column of DOF ``held`` (>= 0) replaced by a unit diagonal. By Sylvester's law of inertia: some
+    eigenvalue of S A S is below -tol (`stability.eigenvalue_below`). The factorisation is the
+    column-by-column Cholesky U^T U in band storage of half-bandwidth w (ku, or n - 1 for a dense matrix)."""
+    w = ku if banded else n - 1
+    base = kl + ku if banded else 0
+    up = np.zeros((w + 1, n))          # up[w + i - j, j] = entry (i, j) of the shifted matrix, j - w <= i <= j
+    d = np.empty(n)
+    for j in range(n):
+        a = abs(K[(base if banded else j) * rs + j * cs])
+        d[j] = math.sqrt(a) if a != 0.0 else 1.0
+    for j in range(n):
+        for i in range(max(0, j - w), j + 1):
+            if banded:
+                a = K[(base + i - j) * rs + j * cs]
+            else:
+                a = 0.5 * (K[i * rs + j * cs] + K[j * rs + i * cs])
+            a = a / (d[i] * d[j])
+            if i == held or j == held:
+                a = 1.0 if i == j else 0.0
+            up[w + i - j, j] = a
+        up[w, j] += tol
+    for j in range(n):
+        s = up[w, j]
+        for k in range(max(0, j - w), j):
+            s -= up[w + k - j, j] * up[w + k - j, j]
+        if not s > 0.0:
+            return True
+        ujj = math.sqrt(s)
+        up[w, j] = ujj
+        for i in range(j + 1, min(n, j + w + 1)):    # row j of U right of the diagonal
+            t = up[w + j - i, i]
+            for k in range(max(0, i - w), j):
+                t -= up[w + k - j, j] * up[w + k - i, i]
+            up[w + j - i, i] = t / ujj
+    return False
+
+
+@njit(cache=True)
+def tangent_det_sign(K, banded, n, kl, ku, ld):
+    """Sign of det K of the matrix in the corrector's column-major storage ``K`` (left as it is): the LU
+    factors of a copy (`_factor`, as the corrector factorises) and `_det_sign`; 0 when an entry is not
+    finite or a pivot is zero (where `linear_solver.MatrixLayout.factor` raises SingularMatrix)."""
+    if n == 0:
+        return 1
+    work = np.empty(K.shape[0])
+    for j in range(K.shape[0]):
+        if not math.isfinite(K[j]):
+            return 0
+        work[j] = K[j]
+    ipiv = np.empty(n, np.int32)
+    ints = np.zeros(6, np.int32)
+    info = np.zeros(1, np.int32)
+    _factor(work, banded, n, kl, ku, ld, ipiv, ints, info)
+    if info[0] != 0:
+        return 0
+    return _det_sign(work, banded, n, kl, ku, ld, ipiv)
 
 
 @njit(cache=True)

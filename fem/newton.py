@@ -33,8 +33,8 @@ from . import kernel as cn
 from .linear_solver import SingularMatrix
 from .options import NewtonOutcome, SolveOptions
 
-__all__ = ["StepFailed", "Path", "newton", "acceptance_facts", "accept_check", "snapshot", "det_sign", "growth",
-           "Unheld", "unloaded_check", "PIVOT_TOL"]
+__all__ = ["StepFailed", "Path", "newton", "acceptance_facts", "accept_check", "snapshot", "det_sign", "tangent_storage",
+           "growth", "Unheld", "unloaded_check", "PIVOT_TOL"]
 
 
 class StepFailed(Exception):
@@ -320,7 +320,20 @@ def det_sign(system, ev, fac=None):
     compiled corrector's when it converged before any correction) is taken whatever its sign."""
     if fac is not None and (fac.det_sign > 0 or fac.final):
         return fac.det_sign
+    if isinstance(ev, _Evaluation) and "K" not in ev:    # the compiled corrector's storage, as it factorises
+        c, K = ev.column_major
+        return int(cn.tangent_det_sign(K, c.banded, c.n, c.kl, c.ku, c.ld))
     try:
         return system.layout.factor(ev["K"]).det_sign
     except SingularMatrix:
         return 0
+
+
+def tangent_storage(system, ev) -> tuple[np.ndarray, tuple[int, int]]:
+    """The tangent of the evaluation ``ev`` as stored, and the strides (rs, cs) of its entry at storage
+    row r and column j (r rs + j cs; `kernel.shifted_cholesky_fails`): the compiled corrector's
+    column-major storage while nobody has read ev["K"] (no conversion), else the row-major one."""
+    if isinstance(ev, _Evaluation) and "K" not in ev:
+        c, K = ev.column_major
+        return K, (1, c.ld)
+    return ev["K"], (system.n, 1)

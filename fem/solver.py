@@ -42,7 +42,8 @@ from .free_motion import check_held, refusal
 from .kernel import CHECK_AND_SOLVE, NO_CHECK
 from .linear_solver import SingularMatrix
 from .model import DOF_NAMES, Model
-from .newton import Path, StepFailed, Unheld, accept_check, acceptance_facts, det_sign, growth, newton, snapshot
+from .newton import (Path, StepFailed, Unheld, accept_check, acceptance_facts, det_sign, growth, newton, snapshot,
+                     tangent_storage)
 from .options import (ArcLengthControl, DisplacementControl, LoadControl, SolveOptions, StepState,
                       SwitchStatus)
 from .result import FemResult, build_result
@@ -92,7 +93,8 @@ def _even_crossing(system, st: StepState, held) -> bool:
     if float(st.ev["el"]["N"].min(initial=0.0)) >= 0.0:
         return False
     try:   # Jacobi-scaled: unit diagonal
-        return eigenvalue_below(system, st.ev["K"], held, zero_eigenvalue(1.0, system.n))
+        K, strides = tangent_storage(system, st.ev)
+        return eigenvalue_below(system, K, held, zero_eigenvalue(1.0, system.n), strides)
     except (ValueError, np.linalg.LinAlgError, RuntimeError):
         return False
 

@@ -92,6 +92,44 @@ def test_cholesky_inertia_agrees_with_the_lowest_eigenvalue(kind, held):
             assert eigenvalue_below(system, K, held, tol) == (lam_min < -tol), (load, tol, lam_min)
 
 
+@pytest.mark.parametrize("kind", ["banded", "dense"])
+def test_stability_reads_the_compiled_storage_as_the_row_major_one(kind):
+    """The stability checks read the compiled corrector's column-major tangent in place
+    (`newton.tangent_storage`, `newton.det_sign`): the same answers as from the row-major ev["K"],
+    on the column of the test above solved by the compiled corrector under compression past its first
+    two buckling loads (a straight state with one or two negative eigenvalues), thresholds either side
+    of the lowest eigenvalue."""
+    import fem
+    from fem.assembly import System
+    from fem.discretise import discretise
+    from fem.newton import det_sign, newton, tangent_storage
+    from fem.options import SolveOptions
+    from fem.stability import eigenvalue_below, lowest_modes
+
+    signs = set()
+    for load in (1.0, 4.0, 30.0):
+        m = fem.Model()
+        m.add_node("root", 0.0, 0.0)
+        m.add_node("tip", 1.0, 0.0)
+        m.add_member("root", "tip", fem.Section.from_EI(1e4, 1.0), n_elements=12)
+        m.add_support("root", "fixed")
+        m.add_force("tip", -load, 0.0)
+        system = System(m, discretise(m), solver_kind=kind)
+        assert system.compiled is not None
+        out = newton(system, np.zeros(system.n), 1.0, system.disc.beta0.copy(), system.loads_at(-1, 0, 1.0),
+                     SolveOptions())
+        K, strides = tangent_storage(system, out.ev)
+        assert strides == (1, system.compiled.ld)           # read in place: not yet turned row-major
+        sign = det_sign(system, out.ev)
+        row_major = out.ev["K"]
+        lam_min = lowest_modes(system, row_major, None, count=1)[0][0]
+        for tol in (-0.999 * lam_min, -1.001 * lam_min):
+            assert eigenvalue_below(system, K, None, tol, strides) == (lam_min < -tol), (load, tol)
+        assert sign == system.layout.factor(row_major).det_sign
+        signs.add(sign)
+    assert signs == {-1, 1}                                  # one and two eigenvalues below zero
+
+
 def _random_band(rng, n, kl, ku, singular_column=None):
     """A random n x n matrix of bandwidths kl, ku in LAPACK's band storage (2 kl + ku + 1 rows)."""
     ab = np.zeros((2 * kl + ku + 1, n))
@@ -314,3 +352,80 @@ def _linked_chain(prescribed: bool):
         model.add_moment("a", [0.3, 0.6])
     model.add_force("d", [0.2, 0.4], [-0.3, -0.1])
     return model
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_shifted_cholesky_sees_every_eigenvalue_below_minus_tol(seed):
+    """The compiled inertia test of the stability check (`kernel.shifted_cholesky_fails`) against the
+    eigenvalues of the same matrix from LAPACK's dsyevd (numpy eigvalsh): S A S with S = diag(1/sqrt|A_ii|)
+    (1 where A_ii = 0), the held DOF's row and column replaced by a unit diagonal, has an eigenvalue
+    below -tol exactly when the test fails. Random symmetric matrices in both storages (LAPACK's general
+    band rows, row-major; dense row-major, plus an antisymmetric part it must cancel by reading (A + A^T)/2), with one
+    to three eigenvalues shifted below zero, thresholds 0.1 % either side of the lowest eigenvalue."""
+    from fem.kernel import shifted_cholesky_fails
+
+    rng = np.random.default_rng(seed)
+    for trial in range(40):
+        n, w = int(rng.integers(2, 30)), int(rng.integers(1, 6))
+        w = min(w, n - 1)
+        B = np.zeros((n, n))
+        for j in range(n):
+            for i in range(max(0, j - w), j + 1):
+                B[i, j] = B[j, i] = rng.normal()
+        B += np.diag(rng.uniform(2.0 * w, 4.0 * w, n))          # diagonally dominant: positive definite
+        B[np.diag_indices(n)] -= np.where(rng.random(n) < 0.1, 4.0 * w + 3.0, 0.0)   # some made negative
+        if trial % 7 == 3:
+            B[:, n // 2] = B[n // 2, :] = 0.0                      # a zero diagonal: scaled by 1
+        held = int(rng.integers(0, n)) if trial % 3 == 0 else -1
+        d = np.sqrt(np.abs(np.diag(B)))
+        d[d == 0.0] = 1.0
+        A = B / np.outer(d, d)
+        if held >= 0:
+            A[held, :] = A[:, held] = 0.0
+            A[held, held] = 1.0
+        lowest = np.linalg.eigvalsh(A)[0]
+        band = np.zeros((3 * w + 1, n))                           # kl = ku = w
+        for j in range(n):
+            for i in range(max(0, j - w), min(n, j + w + 1)):
+                band[2 * w + i - j, j] = B[i, j]
+        skew = rng.normal(scale=0.5, size=(n, n))
+        dense = B + skew - skew.T
+        storages = [(band.ravel(), True, (n, 1)), (band.T.ravel(), True, (1, 3 * w + 1)),   # row- and column-major
+                    (dense.ravel(), False, (n, 1)), (dense.T.ravel(), False, (1, n))]
+        for tol in (-0.999 * lowest, -1.001 * lowest) if abs(lowest) > 1e-6 else (1e-3,):
+            expected = lowest < -tol
+            for K, banded, (rs, cs) in storages:
+                kl = w if banded else 0
+                assert shifted_cholesky_fails(K, banded, n, kl, kl, rs, cs, held, tol) == expected, (trial, tol, rs)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_tangent_det_sign_is_the_sign_of_the_determinant(seed):
+    """The sign of det K at a converged state from the corrector's column-major storage
+    (`kernel.tangent_det_sign`) against numpy's slogdet of the same matrix: random bands (LAPACK's
+    general band storage) and dense matrices with zero to three negative eigen-directions, the storage
+    left untouched; a non-finite entry or an all-zero column (a zero pivot) gives 0."""
+    from fem.kernel import tangent_det_sign
+
+    rng = np.random.default_rng(seed)
+    signs = set()
+    for trial in range(40):
+        n, kl, ku = int(rng.integers(1, 25)), int(rng.integers(0, 5)), int(rng.integers(0, 5))
+        ab = _random_band(rng, n, kl, ku)
+        A = np.zeros((n, n))
+        for j in range(n):
+            for i in range(max(0, j - ku), min(n, j + kl + 1)):
+                A[i, j] = ab[kl + ku + i - j, j]
+        expected = int(np.linalg.slogdet(A)[0])
+        signs.add(expected)
+        flat = ab.T.copy().ravel()                              # column-major, as the corrector stores it
+        kept = flat.copy()
+        assert tangent_det_sign(flat, True, n, kl, ku, 2 * kl + ku + 1) == expected, trial
+        np.testing.assert_array_equal(flat, kept)
+        assert tangent_det_sign(A.T.copy().ravel(), False, n, 0, 0, n) == expected, trial
+    assert signs == {-1, 1}
+    ab = _random_band(rng, 6, 2, 2, singular_column=3)
+    assert tangent_det_sign(ab.T.copy().ravel(), True, 6, 2, 2, 7) == 0
+    ab = _random_band(rng, 6, 2, 2)
+    ab[4, 1] = np.nan
+    assert tangent_det_sign(ab.T.copy().ravel(), True, 6, 2, 2, 7) == 0
