@@ -82,7 +82,9 @@ class System:
         self.path_weights = np.where(d.red_is_rotation, float(d.L0.sum() / len(d.L0)) ** 2 if len(d.L0) else 1.0, 1.0)
         self.dead_loads = (len(self.fol_nodes) == 0 and not (len(self.pt_angle) and self.pt_angle.any())
                            and not (len(self.dist_follower) and self.dist_follower.any()))  # `stability.conservative`
-        # the compiled load-control corrector (`kernel.newton_load`), where it applies
+        # the compiled load-control corrector (`kernel.newton_load`), where it applies; the threshold
+        # of its inertia test (NaN: none; `solver._prepare` sets it)
+        self.inertia_tol = math.nan
         self.compiled = CompiledLayout(self.layout, rows, cols) if CompiledLayout.applies(self) else None
 
     def _load_tables(self, model: Model, n_levels: int | None) -> None:

@@ -46,9 +46,15 @@ where the band is wider).
 
 It returns a status code; `newton` turns it into the same `NewtonOutcome` or `StepFailed`.
 
-The helpers only compiled code calls (``_factor``, ``_back_solve``, ``_det_sign``) are compiled with
-``no_cpython_wrapper=True``: numba builds no Python-callable wrapper for them (``band_lu``,
-``band_solve`` and ``_evaluate`` keep theirs: the tests call them).
+At the converged state it also does what the Python side did after it: the det-K sign confirmed on
+the converged tangent when the iterate's factors said it is not positive, and the inertia test of the
+stability check (a Cholesky of the shifted, Jacobi-scaled tangent in band storage), so that neither
+leaves compiled code nor turns the tangent row-major.
+
+The helpers only compiled code calls (``_factor``, ``_back_solve``, ``_det_sign``,
+``_shifted_cholesky_fails``) are compiled with ``no_cpython_wrapper=True``: numba builds no
+Python-callable wrapper for them (``band_lu``, ``band_solve`` and ``_evaluate`` keep theirs: the tests
+call them).
 
 Angles are in radians (degrees appear only in case files and reports).
 """
@@ -61,9 +67,9 @@ import numpy as np
 from numba import njit, types
 from numba.extending import get_cython_function_address
 
-__all__ = ["element_kernel", "scatter", "scatter_add", "CompiledLayout", "newton_load", "shifted_cholesky_fails",
-           "tangent_det_sign", "CONVERGED", "NOT_FINITE", "NO_CONVERGENCE", "SINGULAR", "NON_FINITE_TANGENT",
-           "ROTATION_TOO_LARGE", "FREE_MOTION", "HELD", "CHECK_AND_SOLVE", "CHECK_ONLY"]
+__all__ = ["element_kernel", "scatter", "scatter_add", "CompiledLayout", "newton_load", "CONVERGED",
+           "NOT_FINITE", "NO_CONVERGENCE", "SINGULAR", "NON_FINITE_TANGENT", "ROTATION_TOO_LARGE",
+           "FREE_MOTION", "HELD", "CHECK_AND_SOLVE", "CHECK_ONLY"]
 
 
 @njit(cache=True, inline="always")
@@ -315,16 +321,18 @@ def _det_sign(work, banded, n, kl, ku, ld, ipiv):
     return sign
 
 
-@njit(cache=True)
-def shifted_cholesky_fails(K, banded, n, kl, ku, rs, cs, held, tol):
+@njit(cache=True, no_cpython_wrapper=True)
+def _shifted_cholesky_fails(K, banded, n, kl, ku, rs, cs, held, tol):
     """True when the Cholesky factorisation of  S A S + tol I  breaks down (a pivot not positive), A the
     symmetric tangent in solver storage ``K``: entry (i, j) at r rs + j cs, r = kl + ku + i - j in
     LAPACK's general band storage (``banded``, 2 kl + ku + 1 rows; its upper triangle is read) or r = i
     (dense, read as (A + A^T)/2); (rs, cs) = (n, 1) in `linear_solver.MatrixLayout`'s row-major storage,
     (1, ld) in the corrector's column-major one. S = diag(1/sqrt|A_ii|) (1 where A_ii = 0), the row and
     column of DOF ``held`` (>= 0) replaced by a unit diagonal. By Sylvester's law of inertia: some
-    eigenvalue of S A S is below -tol (`stability.eigenvalue_below`). The factorisation is the
-    column-by-column Cholesky U^T U in band storage of half-bandwidth w (ku, or n - 1 for a dense matrix)."""
+    eigenvalue of S A S is below -tol (what `stability.eigenvalue_below` finds with LAPACK's dpbtrf or
+    dpotrf on the same matrix). The factorisation is the column-by-column Cholesky U^T U in band storage
+    of half-bandwidth w (ku, or n - 1 for a dense matrix). Only `newton_load` calls it (no Python
+    wrapper); the tests compile its ``py_func``."""
     w = ku if banded else n - 1
     base = kl + ku if banded else 0
     up = np.zeros((w + 1, n))          # up[w + i - j, j] = entry (i, j) of the shifted matrix, j - w <= i <= j
@@ -357,27 +365,6 @@ def shifted_cholesky_fails(K, banded, n, kl, ku, rs, cs, held, tol):
                 t -= up[w + k - j, j] * up[w + k - i, i]
             up[w + j - i, i] = t / ujj
     return False
-
-
-@njit(cache=True)
-def tangent_det_sign(K, banded, n, kl, ku, ld):
-    """Sign of det K of the matrix in the corrector's column-major storage ``K`` (left as it is): the LU
-    factors of a copy (`_factor`, as the corrector factorises) and `_det_sign`; 0 when an entry is not
-    finite or a pivot is zero (where `linear_solver.MatrixLayout.factor` raises SingularMatrix)."""
-    if n == 0:
-        return 1
-    work = np.empty(K.shape[0])
-    for j in range(K.shape[0]):
-        if not math.isfinite(K[j]):
-            return 0
-        work[j] = K[j]
-    ipiv = np.empty(n, np.int32)
-    ints = np.zeros(6, np.int32)
-    info = np.zeros(1, np.int32)
-    _factor(work, banded, n, kl, ku, ld, ipiv, ints, info)
-    if info[0] != 0:
-        return 0
-    return _det_sign(work, banded, n, kl, ku, ld, ipiv)
 
 
 @njit(cache=True)
@@ -489,14 +476,24 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
                 ka, kb, springs, spring_k, ground, flat, valid_src, coef, banded, kl, ku, ld, rot,
                 rtol, atol, floor, L_ref, maxiter, damp, max_rot_inc,
                 K, u, f_int, f_ref, R, r, fr, fe, Ke, N, M, L, beta, theta_bar, u_bar, jumped, hist,
-                links, links_X, I1, C1, C1w, pair, rows_full, cols_full, check, pivot_tol, ratios, column):
+                links, links_X, I1, C1, C1w, pair, rows_full, cols_full, confirm_sign, inertia_tol,
+                check, pivot_tol, ratios, column):
     """Every iteration of the load-control corrector from q (updated in place). Returns
-    (status, iterations, det sign of the last factorisation, F_scale, rotation increment); the
-    evaluation at the final q is left in the output arrays. The sign: 2 when nothing was factorised
-    (a failed first iteration); a run that converges before any correction factorises the tangent at
-    its state for it (0: singular or not finite there). The rotation increment: of a
+    (status, iterations, det sign of the last factorisation, F_scale, rotation increment, final,
+    below); the evaluation at the final q is left in the output arrays. The sign: 2 when nothing was
+    factorised (a failed first iteration); a run that converges before any correction factorises the
+    tangent at its state for it (0: singular or not finite there). The rotation increment: of a
     ROTATION_TOO_LARGE cut, or of the converged state from q_start (CONVERGED, or CONVERGED_JUMPED
     when an element's end rotations jumped by about 2 pi).
+
+    At a converged state (what `newton.det_sign` and `solver._even_crossing` would otherwise compute
+    afterwards, here without leaving compiled code or turning the tangent row-major):
+    ``confirm_sign``: a sign not positive from the factors of the iterate before convergence is
+    confirmed by factorising the converged tangent (a copy); ``final`` says the sign is of the converged
+    state itself (that factorisation, or one made before any correction). ``inertia_tol`` (NaN: not
+    asked): when the sign is not negative and some element is in compression, ``below`` is 1 when the
+    Jacobi-scaled tangent has an eigenvalue below -inertia_tol (`_shifted_cholesky_fails`), else 0;
+    -1 when not computed.
 
     ``check`` (CHECK_AND_SOLVE, CHECK_ONLY; NO_CHECK: none): the free-motion test of `free_motion` on
     the first factorisation, whose tangent is the unloaded one when q is zero, nothing is prescribed
@@ -526,12 +523,12 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
         tol = rtol * scale + floor + atol
         hist[it] = rn / max(scale, 1e-300)
         if not math.isfinite(rn):
-            return NOT_FINITE, it, sign, scale, 0.0
+            return NOT_FINITE, it, sign, scale, 0.0, False, -1
         converged = (rn <= tol or dq_small) and (it > 0 or rn <= rtol * scale + atol)
         if converged and (sign != 2 or n == 0):
             break
         if not converged and it == maxiter:
-            return NO_CONVERGENCE, it, sign, scale, 0.0
+            return NO_CONVERGENCE, it, sign, scale, 0.0, False, -1
         # the factorisation: of the correction, or (converged before any) for the sign at this state
         finite = True
         for j in range(K.shape[0]):
@@ -543,7 +540,7 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
             if converged:
                 sign = 0
                 break
-            return NON_FINITE_TANGENT, it, sign, scale, 0.0
+            return NON_FINITE_TANGENT, it, sign, scale, 0.0, False, -1
         checking = check != NO_CHECK and it == 0
         if checking:
             empty = False
@@ -554,31 +551,31 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
                 column[j] = big
                 empty = empty or big == 0.0
             if empty:
-                return FREE_MOTION, it, sign, scale, 0.0
+                return FREE_MOTION, it, sign, scale, 0.0, False, -1
         _factor(work, banded, n, kl, ku, ld, ipiv, ints, info)
         if checking:
             if info[0] > 0:     # an exactly zero pivot
                 for j in range(n):
                     ratios[j] = 0.0 if j == info[0] - 1 else np.inf
-                return FREE_MOTION, it, sign, scale, 0.0
+                return FREE_MOTION, it, sign, scale, 0.0, False, -1
             free = False
             for j in range(n):
                 ratios[j] = abs(work[j * ld + (kl + ku if banded else j)]) / column[j]
                 free = free or not ratios[j] > pivot_tol
             if free:
-                return FREE_MOTION, it, sign, scale, 0.0
+                return FREE_MOTION, it, sign, scale, 0.0, False, -1
             if check == CHECK_ONLY:
-                return HELD, it, sign, scale, 0.0
+                return HELD, it, sign, scale, 0.0, False, -1
         if info[0] > 0:
             if converged:
                 sign = 0
                 break
-            return SINGULAR, it, sign, scale, 0.0
+            return SINGULAR, it, sign, scale, 0.0, False, -1
         sign = _det_sign(work, banded, n, kl, ku, ld, ipiv)
         if converged:
             break
         if sign == 0:
-            return SINGULAR, it, 2, scale, 0.0
+            return SINGULAR, it, 2, scale, 0.0, False, -1
         for k in range(n):
             dq[k] = -r[k]
         _back_solve(work, banded, ipiv, ints, info, dq)
@@ -604,7 +601,7 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
                     dth = max(dth, abs(q[k] - q_start[k]))
             limit = (2.0 if it == 0 else 4.0) * max_rot_inc
             if dth > limit:
-                return ROTATION_TOO_LARGE, it + 1, sign, scale, dth
+                return ROTATION_TOO_LARGE, it + 1, sign, scale, dth, False, -1
     # converged (every other way out returned above): what `newton.accept_check` reads of the state
     status = CONVERGED
     for e in range(jumped.shape[0]):
@@ -614,4 +611,24 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
     for k in range(n):
         if rot[k]:
             dth = max(dth, abs(q[k] - q_start[k]))
-    return status, it, sign, scale, dth
+    final = it == 0
+    if confirm_sign and not final and sign <= 0:     # the iterate's factors said not positive: confirm
+        final = True
+        sign = 1
+        for j in range(K.shape[0]):
+            if not math.isfinite(K[j]):
+                sign = 0
+                break
+            work[j] = K[j]
+        if sign != 0:
+            _factor(work, banded, n, kl, ku, ld, ipiv, ints, info)
+            sign = 0 if info[0] != 0 else _det_sign(work, banded, n, kl, ku, ld, ipiv)
+    below = -1
+    if inertia_tol == inertia_tol and 0 <= sign <= 1 and n > 0:
+        compressed = False
+        for e in range(N.shape[0]):
+            if N[e] < 0.0:
+                compressed = True
+        if compressed:
+            below = 1 if _shifted_cholesky_fails(K, banded, n, kl, ku, 1, ld, -1, inertia_tol) else 0
+    return status, it, sign, scale, dth, final, below

@@ -33,8 +33,8 @@ from . import kernel as cn
 from .linear_solver import SingularMatrix
 from .options import NewtonOutcome, SolveOptions
 
-__all__ = ["StepFailed", "Path", "newton", "acceptance_facts", "accept_check", "snapshot", "det_sign", "tangent_storage",
-           "growth", "Unheld", "unloaded_check", "PIVOT_TOL"]
+__all__ = ["StepFailed", "Path", "newton", "acceptance_facts", "accept_check", "snapshot", "det_sign", "growth",
+           "Unheld", "unloaded_check", "PIVOT_TOL"]
 
 
 class StepFailed(Exception):
@@ -172,7 +172,8 @@ def newton(system, q, lam, beta, loads, opts: SolveOptions, mode="load", ctrl=No
 class _Sign:
     """The sign of det K of the compiled corrector's last factorisation (what load control reads
     of a `linear_solver.Factor`); ``final``: that factorisation is of the converged state itself (a run
-    that converged before any Newton correction), so even a negative sign needs no confirmation."""
+    that converged before any Newton correction, or the corrector's own confirmation of a sign not
+    positive), so even a negative sign needs no confirmation."""
 
     def __init__(self, det_sign: int, final: bool = False):
         self.det_sign = det_sign
@@ -188,6 +189,7 @@ class _Evaluation(dict):
 
     column_major: tuple
     turned: tuple
+    inertia_below: int       # the corrector's inertia test at this state (`kernel.newton_load`), -1: not made
 
     def __missing__(self, key):
         if key == "K":
@@ -212,8 +214,11 @@ class Unheld(Exception):
 
 def _run_kernel(system, q, q_start, presc, lam, F_fixed, beta, opts: SolveOptions, check: int):
     """One call of `kernel.newton_load` on the system's arrays: (status, iterations, sign, F_scale,
-    rotation increment, the evaluation's arrays, the history, the free-motion check's (ratios, column)
-    or None when not asked)."""
+    rotation increment, whether the sign is of the converged state itself, the inertia test's answer
+    (-1: not made), the evaluation's arrays, the history, the free-motion check's (ratios, column) or
+    None when not asked). The converged sign is confirmed where `det_sign` would (``opts.watch_det``),
+    and the inertia test of `solver._even_crossing` made where it can be asked (``opts.check_stability``
+    and the system's ``inertia_tol``, set by `solver._prepare`)."""
     c, d = system.compiled, system.disc
     n_el, nf, n = len(d.L0), d.n_full + 1, system.n
     el = dict(f=np.empty((n_el, 6)), K=np.zeros((n_el, 6, 6)), N=np.empty(n_el), M=np.empty((n_el, 2)),
@@ -223,7 +228,7 @@ def _run_kernel(system, q, q_start, presc, lam, F_fixed, beta, opts: SolveOption
     r, fr, hist = np.empty(n), np.empty(n), np.empty(opts.maxiter + 1)
     C1 = np.empty(nf if system.width == 2 else 0)
     pivots = (np.empty(n), np.empty(n)) if check != cn.NO_CHECK else (_NONE, _NONE)
-    status, it, sign, scale, dth = cn.newton_load(
+    status, it, sign, scale, dth, final, below = cn.newton_load(
         q, q_start, presc, float(lam), F_fixed, beta, system.I0, system.C0_flat,
         d.prescribed_dofs, d.edofs, system.X1, system.X2, d.L0, d.beta0, d.ka, d.kb, d.springs,
         d.spring_k, d.ground, c.flat, system.valid_src, system.coef_const, c.banded, c.kl, c.ku, c.ld,
@@ -231,9 +236,10 @@ def _run_kernel(system, q, q_start, presc, lam, F_fixed, beta, opts: SolveOption
         float(opts.max_iteration_rotation or 0.0), opts.max_rotation_increment, K, u, f_int, f_ref, R, r,
         fr, el["f"], el["K"], el["N"], el["M"], el["L"], el["beta"], el["theta_bar"], el["u_bar"],
         el["jumped"], hist, system.links, system.links_X, system.I1, system.C1_flat, C1, system.valid_pair,
-        system.rows_full, system.cols_full, check, PIVOT_TOL, *pivots)
+        system.rows_full, system.cols_full, opts.watch_det, system.inertia_tol if opts.check_stability else math.nan,
+        check, PIVOT_TOL, *pivots)
     arrays = dict(K=K, u=u, f_int=f_int, f_ref=f_ref, R=R, r=r, fr=fr, el=el, C1=C1)
-    return status, it, sign, scale, dth, arrays, hist, (pivots if check != cn.NO_CHECK else None)
+    return status, it, sign, scale, dth, final, below, arrays, hist, (pivots if check != cn.NO_CHECK else None)
 
 
 _NONE = np.empty(0)
@@ -258,7 +264,7 @@ def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start, c
     F_fixed, _, presc = loads
     q = np.array(q, dtype=float)
     q_start = q.copy() if q_start is None else q_start
-    status, it, sign, scale, dth, a, hist, pivots = _run_kernel(
+    status, it, sign, scale, dth, final, below, a, hist, pivots = _run_kernel(
         system, q, q_start, np.asarray(presc, dtype=float), lam, F_fixed, beta, opts, check)
     if status == cn.FREE_MOTION:
         raise Unheld(*pivots)
@@ -277,7 +283,8 @@ def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start, c
     if system.width == 1:
         ev["C"] = system.C0
     ev.column_major, ev.turned = (system.compiled, a["K"]), (system.C0, a["C1"])
-    return NewtonOutcome(q, lam, ev, history, it, None if sign == 2 else _Sign(sign, final=it == 0),
+    ev.inertia_below = below
+    return NewtonOutcome(q, lam, ev, history, it, None if sign == 2 else _Sign(sign, final=final),
                          accept=(status == cn.CONVERGED_JUMPED, dth))
 
 
@@ -320,20 +327,7 @@ def det_sign(system, ev, fac=None):
     compiled corrector's when it converged before any correction) is taken whatever its sign."""
     if fac is not None and (fac.det_sign > 0 or fac.final):
         return fac.det_sign
-    if isinstance(ev, _Evaluation) and "K" not in ev:    # the compiled corrector's storage, as it factorises
-        c, K = ev.column_major
-        return int(cn.tangent_det_sign(K, c.banded, c.n, c.kl, c.ku, c.ld))
     try:
         return system.layout.factor(ev["K"]).det_sign
     except SingularMatrix:
         return 0
-
-
-def tangent_storage(system, ev) -> tuple[np.ndarray, tuple[int, int]]:
-    """The tangent of the evaluation ``ev`` as stored, and the strides (rs, cs) of its entry at storage
-    row r and column j (r rs + j cs; `kernel.shifted_cholesky_fails`): the compiled corrector's
-    column-major storage while nobody has read ev["K"] (no conversion), else the row-major one."""
-    if isinstance(ev, _Evaluation) and "K" not in ev:
-        c, K = ev.column_major
-        return K, (1, c.ld)
-    return ev["K"], (system.n, 1)

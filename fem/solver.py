@@ -31,6 +31,7 @@ Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -42,8 +43,7 @@ from .free_motion import check_held, refusal
 from .kernel import CHECK_AND_SOLVE, NO_CHECK
 from .linear_solver import SingularMatrix
 from .model import DOF_NAMES, Model
-from .newton import (Path, StepFailed, Unheld, accept_check, acceptance_facts, det_sign, growth, newton, snapshot,
-                     tangent_storage)
+from .newton import Path, StepFailed, Unheld, accept_check, acceptance_facts, det_sign, growth, newton, snapshot
 from .options import (ArcLengthControl, DisplacementControl, LoadControl, SolveOptions, StepState,
                       SwitchStatus)
 from .result import FemResult, build_result
@@ -92,9 +92,11 @@ def _even_crossing(system, st: StepState, held) -> bool:
         return False
     if float(st.ev["el"]["N"].min(initial=0.0)) >= 0.0:
         return False
+    known = getattr(st.ev, "inertia_below", -1)      # the compiled corrector's own test (`_prepare`)
+    if held is None and known >= 0:
+        return bool(known)
     try:   # Jacobi-scaled: unit diagonal
-        K, strides = tangent_storage(system, st.ev)
-        return eigenvalue_below(system, K, held, zero_eigenvalue(1.0, system.n), strides)
+        return eigenvalue_below(system, st.ev["K"], held, zero_eigenvalue(1.0, system.n))
     except (ValueError, np.linalg.LinAlgError, RuntimeError):
         return False
 
@@ -456,6 +458,9 @@ def _prepare(model: Model, opts: SolveOptions, n_levels: int | None = None, chec
         raise ValueError(f"n_levels={n_levels} but the load histories have {model.n_levels}")
     disc = discretise(model, refine=opts.refine)
     system = System(model, disc, solver_kind=opts.solver, n_levels=n_levels)
+    # the compiled corrector's inertia test (`_even_crossing`), where that check can be asked
+    system.inertia_tol = (zero_eigenvalue(1.0, system.n) if conservative(system) and system.n <= DENSE_LIMIT
+                          else math.nan)
     if check:
         check_held(system)
     return system

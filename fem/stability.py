@@ -38,14 +38,15 @@ Angles are in radians (degrees appear only in case files and reports).
 from __future__ import annotations
 
 from dataclasses import replace
+from functools import lru_cache
 
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from scipy.linalg import lapack
 
 from .corotational import strain_energy
-from .kernel import shifted_cholesky_fails
 from .linear_solver import SingularMatrix
 from .newton import StepFailed, accept_check, newton
 from .options import BranchSwitch, NewtonOutcome, SwitchStatus
@@ -116,23 +117,56 @@ def lowest_modes(system, K, held=None, count=2):
     return vals, full
 
 
-def eigenvalue_below(system, K, held, tol: float, strides: tuple[int, int] | None = None) -> bool:
+@lru_cache(maxsize=32)
+def _upper_band(n: int, ku: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The entries of the upper band storage (ku + 1, n) that lie in the matrix (row i = j + r - ku >= 0),
+    as a mask, and their rows i and columns j (read-only: the same for every step of a system)."""
+    j = np.broadcast_to(np.arange(n), (ku + 1, n))
+    i = j + np.arange(-ku, 1)[:, None]
+    inside = i >= 0
+    out = (inside, i[inside], j[inside])
+    for a in out:
+        a.flags.writeable = False
+    return out
+
+
+def eigenvalue_below(system, K, held, tol: float) -> bool:
     """True when the Jacobi-scaled K (K_ff with DOF ``held`` removed, see `lowest_modes`) has an
     eigenvalue below -tol, without an eigensolver: Cholesky of  S K S + tol I  succeeds iff every
     eigenvalue of S K S exceeds -tol (Sylvester's law of inertia). The held DOF's row and column are
-    replaced by a unit diagonal (one positive eigenvalue, the others those of K_ff). Banded and dense
-    storage: a compiled Cholesky in band storage (`kernel.shifted_cholesky_fails`, O(n b^2); a dense
-    matrix is a band as wide as the matrix, read as (K + K^T)/2), K in the row-major storage of
-    `linear_solver.MatrixLayout` or, with ``strides`` (1, ld), in the compiled corrector's column-major
-    one (`newton.tangent_storage`); sparse storage by the lowest eigenvalue (`lowest_modes`). K is
-    symmetric (dead loads): a band's upper triangle is used."""
+    replaced by a unit diagonal (one positive eigenvalue, the others those of K_ff). Banded storage
+    is factorised as a band (LAPACK dpbtrf, O(n b^2)), dense storage by dpotrf; sparse storage by
+    the lowest eigenvalue (`lowest_modes`). K is symmetric (dead loads): its upper triangle is used."""
     layout, n = system.layout, system.n
-    if layout.kind in ("banded", "dense"):
-        banded = layout.kind == "banded"
-        rs, cs = strides or (n, 1)
-        return bool(shifted_cholesky_fails(np.ascontiguousarray(K, dtype=float).reshape(-1), banded, n,
-                                           layout.kl if banded else 0, layout.ku if banded else 0, rs, cs,
-                                           -1 if held is None else int(held), float(tol)))
+    if layout.kind == "banded":
+        ab = K.reshape(layout.nrow, n)
+        ku = layout.ku
+        upper = ab[layout.kl:layout.kl + ku + 1].copy()        # upper[ku + i - j, j] = K[i, j], i <= j
+        d = np.sqrt(np.abs(upper[ku]))
+        d[d == 0.0] = 1.0
+        inside, i, j = _upper_band(n, ku)
+        upper[inside] /= d[i] * d[j]
+        if held is not None:
+            upper[inside] = np.where((i == held) | (j == held), 0.0, upper[inside])
+            upper[ku, held] = 1.0
+        upper[ku] += tol
+        _, info = lapack.dpbtrf(upper, lower=0, overwrite_ab=1)
+        return info > 0
+    if layout.kind == "dense":
+        A = K.reshape(n, n)
+        A = A + A.T                 # a new array, scaled in place: the same floats as
+        A *= 0.5                    # 0.5 (A + A^T) / d_i / d_j in new arrays
+        d = np.sqrt(np.abs(A.diagonal()))
+        d[d == 0.0] = 1.0
+        A /= d[:, None]
+        A /= d
+        if held is not None:
+            A[held, :] = 0.0
+            A[:, held] = 0.0
+            A[held, held] = 1.0
+        A.flat[::n + 1] += tol      # the diagonal
+        _, info = lapack.dpotrf(A, lower=0, overwrite_a=1)
+        return info > 0
     vals, _ = lowest_modes(system, K, held, count=1)
     return bool(vals[0] < -tol)
 
