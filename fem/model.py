@@ -291,7 +291,8 @@ class Model:
             m = self.members[0]
             (xi, yi), (xj, yj) = self.coords[m.start], self.coords[m.end]
             return float(np.hypot(xj - xi, yj - yi))
-        c = np.asarray(self.coords)
-        ends = np.array([(m.start, m.end) for m in self.members])
-        chords = np.hypot(*(c[ends[:, 1]] - c[ends[:, 0]]).T)
+        coords = self.coords          # (x, y) floats: the float64 differences the arrays had, without them
+        dx = np.array([coords[m.end][0] - coords[m.start][0] for m in self.members])
+        dy = np.array([coords[m.end][1] - coords[m.start][1] for m in self.members])
+        chords = np.hypot(dx, dy)
         return float(chords.sum() / len(chords))       # = np.mean(chords)

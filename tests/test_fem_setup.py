@@ -96,6 +96,26 @@ def test_one_member_characteristic_length_is_the_mean_chord_of_the_arrays(end):
     assert model.characteristic_length() == float(chords.sum() / len(chords))
 
 
+def test_many_members_characteristic_length_is_the_mean_chord_of_the_arrays():
+    """The multi-member path (differences of the stored float coordinates) against the definition on
+    arrays, to the last bit, on random frames of two to nine members."""
+    rng = np.random.default_rng(7)
+    for trial in range(40):
+        model = fem.Model()
+        points = rng.normal(scale=10.0 ** rng.integers(-3, 4), size=(rng.integers(3, 8), 2))
+        for k, (x, y) in enumerate(points):
+            model.add_node(f"n{k}", x, y)
+        ends = [(int(a), int(b)) for a, b in rng.integers(0, len(points), size=(rng.integers(2, 10), 2)) if a != b]
+        for a, b in ends:
+            model.add_member(f"n{a}", f"n{b}", fem.Section.from_EI(1e4, 1.0), n_elements=2)
+        if len(model.members) < 2:
+            continue
+        c = np.asarray(model.coords)
+        idx = np.array([(m.start, m.end) for m in model.members])
+        chords = np.hypot(*(c[idx[:, 1]] - c[idx[:, 0]]).T)       # the definition
+        assert model.characteristic_length() == float(chords.sum() / len(chords)), trial
+
+
 def test_warm_start_guesses_of_all_levels_at_once_are_those_of_each_level():
     """The reduced unknowns and chord angles of every level's warm-start guess, worked out for all
     levels in one go (one bincount, each level's bins apart), equal those of each level alone bit for
