@@ -1,6 +1,7 @@
 """The report: every image and link resolves, its tables say what the results say, the summary
 reads in words and short numbers, and it works in a real browser (headless Chromium)."""
 import math
+import os
 import re
 import shutil
 from pathlib import Path
@@ -222,8 +223,9 @@ def test_run_badge_reads_the_state_of_a_run():
     assert run_badge(with_status) == (Badge.REFUSED, "why")
 
 
-def _chromium():
-    """A headless Chromium driven by selenium, or a skip saying what is missing."""
+def _chromium(scratch):
+    """A headless Chromium driven by selenium, or a skip saying what is missing. Its profile and its
+    temporary files (the singleton socket folder it would otherwise leave in /tmp) go to ``scratch``."""
     webdriver = pytest.importorskip("selenium.webdriver", reason="selenium is not installed")
     binary = shutil.which("chromium") or shutil.which("chromium-browser")
     driver_path = shutil.which("chromedriver")
@@ -234,14 +236,15 @@ def _chromium():
     options = webdriver.ChromeOptions()
     options.binary_location = binary
     for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
-                 "--disable-component-update", "--no-first-run", "--window-size=1280,800"):
+                 "--disable-component-update", "--no-first-run", "--window-size=1280,800",
+                 f"--user-data-dir={scratch / 'profile'}"):
         options.add_argument(flag)
     options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
-    return webdriver.Chrome(service=Service(driver_path), options=options)
+    return webdriver.Chrome(service=Service(driver_path, env={**os.environ, "TMPDIR": str(scratch)}), options=options)
 
 
-def test_report_in_a_real_browser(built_report):
-    browser = _chromium()
+def test_report_in_a_real_browser(built_report, tmp_path):
+    browser = _chromium(tmp_path)
     try:
         pages = [built_report / "index.html", *sorted((built_report / "cases").glob("*.html"))]
         for page in pages:
