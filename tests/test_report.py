@@ -4,6 +4,7 @@ import math
 import os
 import re
 import shutil
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -225,7 +226,9 @@ def test_run_badge_reads_the_state_of_a_run():
 
 def _chromium(scratch):
     """A headless Chromium driven by selenium, or a skip saying what is missing. Its profile and its
-    temporary files (the singleton socket folder it would otherwise leave in /tmp) go to ``scratch``."""
+    temporary files (the singleton socket folder it would otherwise leave in /tmp) go to ``scratch``
+    (a short path: a unix socket's path has at most 107 characters, which pytest's tmp_path under a
+    worker of pytest-xdist can pass)."""
     webdriver = pytest.importorskip("selenium.webdriver", reason="selenium is not installed")
     binary = shutil.which("chromium") or shutil.which("chromium-browser")
     driver_path = shutil.which("chromedriver")
@@ -243,8 +246,13 @@ def _chromium(scratch):
     return webdriver.Chrome(service=Service(driver_path, env={**os.environ, "TMPDIR": str(scratch)}), options=options)
 
 
-def test_report_in_a_real_browser(built_report, tmp_path):
-    browser = _chromium(tmp_path)
+def test_report_in_a_real_browser(built_report):
+    scratch = Path(tempfile.mkdtemp(prefix="chromium-"))
+    try:
+        browser = _chromium(scratch)
+    except BaseException:
+        shutil.rmtree(scratch, ignore_errors=True)
+        raise
     try:
         pages = [built_report / "index.html", *sorted((built_report / "cases").glob("*.html"))]
         for page in pages:
@@ -290,6 +298,7 @@ def test_report_in_a_real_browser(built_report, tmp_path):
             assert len(values) == 2 and values[0] != values[1] and values == order(values)
     finally:
         browser.quit()
+        shutil.rmtree(scratch, ignore_errors=True)
 
 
 def test_messages_in_the_summary_keep_four_significant_digits():
