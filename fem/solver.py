@@ -87,7 +87,9 @@ def _even_crossing(system, st: StepState, held) -> bool:
     crossed zero in one step, which the sign of det K cannot see. Checked by a Cholesky
     factorisation of the shifted, scaled tangent (`stability.eigenvalue_below`), only where it can
     happen (conservative loads, some member in compression) and only for systems small enough for a
-    dense eigensolver (larger ones rely on the sign of det K)."""
+    dense eigensolver (larger ones rely on the sign of det K). A state of the compiled corrector
+    carries the answer of the same test made there (``inertia_below``, threshold
+    ``system.inertia_tol`` = `zero_eigenvalue` (1, n), set by `_prepare`)."""
     if not conservative(system) or system.n > DENSE_LIMIT:
         return False
     if float(st.ev["el"]["N"].min(initial=0.0)) >= 0.0:
