@@ -305,9 +305,11 @@ def _extract(case, fields: _Fields, requests: list[Request], origin: dict | None
     for req in requests:
         q, p, lv = req
         if q in ("x", "y", "dx", "dy"):
-            x, y = fields.position(p, lv)
-            x0, y0 = origin[p] if origin is not None else (0.0, 0.0)
-            values[req] = float({"x": x, "y": y, "dx": x - x0, "dy": y - y0}[q])
+            axis = 0 if q in ("x", "dx") else 1
+            value = float(fields.position(p, lv)[axis])
+            if q in ("dx", "dy") and origin is not None:
+                value -= origin[p][axis]          # the same float64 difference
+            values[req] = value
         elif q == "rotation":
             values[req] = math.degrees(fields.rotation(p, lv))
         elif q in ("reaction_x", "reaction_y", "reaction_moment"):
