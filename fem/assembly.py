@@ -42,7 +42,8 @@ SPRING_SIGN = np.array([[1.0, -1.0], [-1.0, 1.0]])   # d(k (theta_a - theta_b)) 
 SPRING_SIGN.flags.writeable = False
 # the (empty) arrays of what a system lacks, shared; writeable like the others (numba types a read-only
 # array apart, and would compile the corrector for it again)
-_NO_INTS, _NO_FLOATS = np.zeros(0, np.int64), np.zeros(0)
+_NO_INTS, _NO_FLOATS, _NO_FLAGS = np.zeros(0, np.int64), np.zeros(0), np.zeros(0, bool)
+_NO_POINTS = np.zeros((0, 2))
 _NO_LINKS, _NO_LINK_X = np.zeros((0, 4), np.int64), np.zeros((0, 4))
 
 
@@ -110,6 +111,26 @@ class System:
             else:
                 self.F_fixed[:, 2 * ld.node] += vals[:, 0]
                 self.F_fixed[:, 2 * ld.node + 1] += vals[:, 1]
+        n_el = len(d.L0)
+        if not (fol_nodes or model.pointed or model.distributed):   # dead point loads only: the empty tables
+            self.fol_nodes = self.fol_rot = self.pt_nodes = _NO_INTS
+            self.pt_toward, self.pt_angle, self.dist_follower = _NO_POINTS, _NO_FLOATS, _NO_FLAGS
+            self.dist_members, self.F0 = np.zeros((0, n_el)), np.zeros((nl, 0, 2))
+        else:
+            self._configuration_loads(model, fol_nodes, fol_vals, nl, n_el)
+        self.presc = d.prescribed_values.T.copy()               # (nl, n_p)
+        if n_levels is not None and n_levels != nl:             # proportional ramp
+            ramp = np.arange(1, n_levels + 1) / n_levels
+            self.F_fixed = ramp[:, None] * self.F_fixed[-1]
+            self.F0 = ramp[:, None, None] * self.F0[-1]
+            self.presc = ramp[:, None] * self.presc[-1]
+            self.n_levels = n_levels
+
+    def _configuration_loads(self, model: Model, fol_nodes: list, fol_vals: list, nl: int, n_el: int) -> None:
+        """The tables of the loads that depend on the configuration: followers (their nodes, the rotation
+        each turns with), forces toward points, distributed loads (the elements each covers); their
+        intensities per level in ``F0``."""
+        d = self.disc
         self.fol_nodes = np.array(fol_nodes, dtype=int)
         self.fol_rot = np.array([d.rot_dof[ld.node] if ld.member is None else d.member_end_dof(ld.member, ld.node)
                                  for ld in model.loads if ld.kind == "force" and ld.follower], dtype=int)
@@ -121,20 +142,12 @@ class System:
             self.pt_nodes, self.pt_toward, self.pt_angle = np.zeros(0, int), np.zeros((0, 2)), np.zeros(0)
         for ld in model.pointed:
             fol_vals.append(np.column_stack([np.broadcast_to(ld.values, (nl,)), np.zeros(nl)]))
-        n_el = len(d.L0)
         self.dist_members = np.zeros((len(model.distributed), n_el))   # which elements each load covers
         self.dist_follower = np.array([ld.follower for ld in model.distributed], dtype=bool)
         for k, ld in enumerate(model.distributed):
             self.dist_members[k, d.member_elements[ld.member] if ld.member is not None else slice(None)] = 1.0
             fol_vals.append(np.broadcast_to(ld.values, (nl, 2)))
         self.F0 = np.array(fol_vals).reshape(len(fol_vals), nl, 2).transpose(1, 0, 2)
-        self.presc = d.prescribed_values.T.copy()               # (nl, n_p)
-        if n_levels is not None and n_levels != nl:             # proportional ramp
-            ramp = np.arange(1, n_levels + 1) / n_levels
-            self.F_fixed = ramp[:, None] * self.F_fixed[-1]
-            self.F0 = ramp[:, None, None] * self.F0[-1]
-            self.presc = ramp[:, None] * self.presc[-1]
-            self.n_levels = n_levels
 
     def _sparsity(self):
         """Rows and columns of the reduced tangent's entries (elements, springs, follower and pointed

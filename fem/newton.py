@@ -311,9 +311,16 @@ def accept_check(system, q_new, q_old, ev, opts: SolveOptions, its, known: tuple
 
 
 def snapshot(system, q, lam, ev, level_param):
+    """The state of a recorded level. The arrays of a compiled corrector's evaluation are its own (made
+    for its call, written by nothing after it): kept as they are; those of `assembly.System.evaluate`
+    are copied."""
+    el = ev["el"]
+    if isinstance(ev, _Evaluation):
+        return dict(q=q.copy(), lam=lam, u=ev["u"], R_full=ev["R_full"], N=el["N"], M=el["M"], L=el["L"],
+                    theta_bar=el["theta_bar"], u_bar=el["u_bar"], level=level_param)
     return dict(q=q.copy(), lam=lam, u=ev["u"].copy(), R_full=ev["R_full"].copy(),
-                N=ev["el"]["N"].copy(), M=ev["el"]["M"].copy(), L=ev["el"]["L"].copy(),
-                theta_bar=ev["el"]["theta_bar"].copy(), u_bar=ev["el"]["u_bar"].copy(),
+                N=el["N"].copy(), M=el["M"].copy(), L=el["L"].copy(),
+                theta_bar=el["theta_bar"].copy(), u_bar=el["u_bar"].copy(),
                 level=level_param)
 
 
