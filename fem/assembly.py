@@ -25,6 +25,7 @@ Angles are in radians (degrees appear only in case files and reports).
 from __future__ import annotations
 
 import math
+from functools import cached_property
 
 import numpy as np
 
@@ -79,14 +80,19 @@ class System:
         self.L_ref = model.characteristic_length()
         # residual noise from rounding positions: ~ eps * EA per element
         self.noise_floor = 4 * EPS * float((d.ka * d.L0).max(initial=0.0))
-        # W of the path norm ||dq||_W: rotations weighted by the mean element length squared
-        self.path_weights = np.where(d.red_is_rotation, float(d.L0.sum() / len(d.L0)) ** 2 if len(d.L0) else 1.0, 1.0)
         self.dead_loads = (len(self.fol_nodes) == 0 and not (len(self.pt_angle) and self.pt_angle.any())
                            and not (len(self.dist_follower) and self.dist_follower.any()))  # `stability.conservative`
         # the compiled load-control corrector (`kernel.newton_load`), where it applies; the threshold
         # of its inertia test (NaN: none; `solver._prepare` sets it)
         self.inertia_tol = math.nan
         self.compiled = CompiledLayout(self.layout, rows, cols) if CompiledLayout.applies(self) else None
+
+    @cached_property
+    def path_weights(self) -> np.ndarray:
+        """W of the path norm ||dq||_W: rotations weighted by the mean element length squared (read only
+        by steps after the first of a level, and by arc length)."""
+        d = self.disc
+        return np.where(d.red_is_rotation, float(d.L0.sum() / len(d.L0)) ** 2 if len(d.L0) else 1.0, 1.0)
 
     def _load_tables(self, model: Model, n_levels: int | None) -> None:
         """Fixed forces and moments as full vectors per level (``F_fixed``), the configuration-dependent

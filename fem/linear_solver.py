@@ -67,13 +67,11 @@ class MatrixLayout:
                 kind = "sparse"
         self.kind, self.bw = kind, bw
         if kind == "dense":
-            self.flat = rows * n + cols
             self.size = n * n
         elif kind == "banded":
             kl = ku = bw
             self.kl, self.ku = kl, ku
             self.nrow = 2 * kl + ku + 1
-            self.flat = (kl + ku + rows - cols) * n + cols
             self.size = self.nrow * n
         else:
             key = cols.astype(np.int64) * n + rows
@@ -83,6 +81,15 @@ class MatrixLayout:
             self.indices = (uniq % n).astype(np.int32)
             self.indptr = np.searchsorted(uniq // n, np.arange(n + 1)).astype(np.int32)
         self._rows, self._cols = rows, cols
+
+    @cached_property
+    def flat(self) -> np.ndarray:
+        """The storage index of every (row, col) entry: row-major n x n (dense), LAPACK's band rows
+        (banded; as `kernel.CompiledLayout` has them column by column); set in ``__init__`` for sparse
+        storage. Worked out when first read (the compiled corrector has its own)."""
+        if self.kind == "dense":
+            return self._rows * self.n + self._cols
+        return (self.kl + self.ku + self._rows - self._cols) * self.n + self._cols
 
     @cached_property
     def _entries(self):
