@@ -195,9 +195,13 @@ class Model:
         """kind: 'fixed', 'pinned', 'slider' (free along direction), 'guided'."""
         if kind not in SUPPORT_KINDS:
             raise ValueError(f"support kind must be one of {SUPPORT_KINDS}")
-        d = np.asarray(direction, dtype=float)
-        d = d / math.sqrt(d.dot(d))     # = d / np.linalg.norm(d), the same dot and square root
-        self.supports.append(Support(self.node(node), kind, (float(d[0]), float(d[1]))))
+        if type(direction) is tuple and direction == (1.0, 0.0):
+            unit = (1.0, 0.0)           # the default (a fixed or pinned support's unused direction): exact
+        else:
+            d = np.asarray(direction, dtype=float)
+            d = d / math.sqrt(d.dot(d))     # = d / np.linalg.norm(d), the same dot and square root
+            unit = (float(d[0]), float(d[1]))
+        self.supports.append(Support(self.node(node), kind, unit))
 
     def add_joint(self, node, members=None, k: float | None = 0.0,
                   k_ground: float | None = 0.0) -> None:
@@ -229,8 +233,12 @@ class Model:
             if i not in (m.start, m.end):
                 raise ValueError(f"member {member} does not end at node {self.node_names[i]!r}")
             member = int(member)
-        self.loads.append(PointLoad(i, "force", np.column_stack([fx, fy]), bool(follower),
-                                    member=member))
+        if fx.ndim == 1:      # = np.column_stack([fx, fy]), without its Python-level overhead
+            values = np.empty((len(fx), 2))
+            values[:, 0], values[:, 1] = fx, fy
+        else:
+            values = np.column_stack([fx, fy])
+        self.loads.append(PointLoad(i, "force", values, bool(follower), member=member))
 
     def add_pointed_force(self, node, values, toward, angle: float = 0.0) -> None:
         """Force of magnitude ``values`` (per level) toward the fixed point ``toward`` (x, y),
