@@ -370,15 +370,19 @@ def _constraint_map(n_en, n_full, order, independent, held: _Held, rotation_dofs
     return I, C, n_red, red_is_rot
 
 
-def _first_member_ends(n_mn, conn, edofs) -> np.ndarray:
+def _first_member_ends(n_mn, conn, edofs, member_elements) -> np.ndarray:
     """Rotation DOF of the first member end at every model node (-1: none): of the element ends
-    in the order (element, start before end), the first one at the node."""
-    first_end = np.full(n_mn, -1, dtype=int)
-    ends = conn.ravel()                        # (e0 start, e0 end, e1 start, ...)
-    dofs = edofs[:, 2::3].ravel()              # columns 2 and 5: the end rotations
-    for k in (ends < n_mn).nonzero()[0][::-1].tolist():   # the ends at model nodes: two per member
-        first_end[ends[k]] = dofs[k]
-    return first_end
+    in the order (element, start before end), the first one at the node. Only member ends lie at model
+    nodes (the interior nodes are numbered after them), a member's at its first element's start and its
+    last element's end, and the elements are numbered member by member: so the members' (start, end)
+    in order, in plain Python (a few members)."""
+    first_end = [-1] * n_mn
+    for els in member_elements:
+        for e, side in ((int(els[0]), 0), (int(els[-1]), 1)):
+            node = int(conn[e, side])
+            if first_end[node] < 0:
+                first_end[node] = int(edofs[e, 3 * side + 2])
+    return np.array(first_end, dtype=int)
 
 
 def _marked(n: int, indices: np.ndarray) -> np.ndarray:
@@ -429,4 +433,5 @@ def discretise(model: Model, refine: int = 1) -> Discretisation:
         prescribed_values=np.array(held.p_vals, dtype=float).reshape(len(held.p_dofs), n_lev),
         constrained=held.constrained, slaves=slaves, masters=masters,
         node_rotation_used=(used[rot_dof[:n_mn]] | _marked(n_mn, slaves)) if len(slaves) else used[rot_dof[:n_mn]],
-        node_first_end_rot=_first_member_ends(n_mn, conn, edofs), red_is_rotation=red_is_rot)
+        node_first_end_rot=_first_member_ends(n_mn, conn, edofs, mesh.member_elements),
+        red_is_rotation=red_is_rot)

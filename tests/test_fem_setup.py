@@ -31,14 +31,19 @@ def _frame(elements: int) -> fem.Model:
     return model
 
 
-def test_first_member_end_at_each_model_node_is_the_first_element_end_there():
-    d = discretise(_frame(5))
+@pytest.mark.parametrize("elements", [1, 5])
+@pytest.mark.parametrize("hinged", [False, True])
+def test_first_member_end_at_each_model_node_is_the_first_element_end_there(elements, hinged):
+    model = _frame(elements)
+    if hinged:                                        # the two members at 'b' turn on their own DOFs
+        model.add_joint("b", [0, 1])
+    d = discretise(model)
     expected = np.full(d.n_model_nodes, -1)
     for e in range(len(d.conn) - 1, -1, -1):          # the definition: the last write wins
         for side in (1, 0):
             if d.conn[e, side] < d.n_model_nodes:
                 expected[d.conn[e, side]] = d.edofs[e, 3 * side + 2]
-    assert np.array_equal(_first_member_ends(d.n_model_nodes, d.conn, d.edofs), expected)
+    assert np.array_equal(_first_member_ends(d.n_model_nodes, d.conn, d.edofs, d.member_elements), expected)
     assert (expected >= 0).all()
 
 
