@@ -92,11 +92,11 @@ def _even_crossing(system, st: StepState, held) -> bool:
     ``system.inertia_tol`` = `zero_eigenvalue` (1, n), set by `_prepare`)."""
     if not conservative(system) or system.n > DENSE_LIMIT:
         return False
+    known = getattr(st.ev, "inertia_below", -1)      # the compiled corrector's own test (`_prepare`), made
+    if held is None and known >= 0:                  # where an element is in compression
+        return bool(known)
     if float(st.ev["el"]["N"].min(initial=0.0)) >= 0.0:
         return False
-    known = getattr(st.ev, "inertia_below", -1)      # the compiled corrector's own test (`_prepare`)
-    if held is None and known >= 0:
-        return bool(known)
     try:   # Jacobi-scaled: unit diagonal
         return eigenvalue_below(system, st.ev["K"], held, zero_eigenvalue(1.0, system.n))
     except (ValueError, np.linalg.LinAlgError, RuntimeError):
