@@ -57,25 +57,32 @@ def test_scatter_sums_repeated_targets_like_bincount():
     assert scatter(target, source, factor, values, 9) == pytest.approx(expected, rel=1e-14, abs=1e-14)
 
 
+def _compressed_column(load: float, kind: str):
+    """The system of a straight cantilever (EA = 1e4, EI = 1, L = 1, 12 elements) under the axial
+    compression ``load`` at its tip, with the tangent stored ``kind`` ('banded' or 'dense')."""
+    import fem
+    from fem.assembly import System
+    from fem.discretise import discretise
+
+    m = fem.Model()
+    m.add_node("root", 0.0, 0.0)
+    m.add_node("tip", 1.0, 0.0)
+    m.add_member("root", "tip", fem.Section.from_EI(1e4, 1.0), n_elements=12)
+    m.add_support("root", "fixed")
+    m.add_force("tip", -load, 0.0)
+    return System(m, discretise(m), solver_kind=kind)
+
+
 @pytest.mark.parametrize("kind", ["banded", "dense"])
 @pytest.mark.parametrize("held", [None, 7])
 def test_cholesky_inertia_agrees_with_the_lowest_eigenvalue(kind, held):
     """eigenvalue_below(K, tol) is 'lowest scaled eigenvalue < -tol' (Sylvester), checked on the
     straight cantilever under axial compression past its first (and second) buckling loads
     (P_cr = pi^2 EI / 4 L^2, 9 pi^2 EI / 4 L^2), with thresholds just either side of lambda_min."""
-    import fem
-    from fem.assembly import System
-    from fem.discretise import discretise
     from fem.stability import eigenvalue_below, lowest_modes
 
     for load in (1.0, 4.0, 30.0):                       # below, between, beyond the first two
-        m = fem.Model()
-        m.add_node("root", 0.0, 0.0)
-        m.add_node("tip", 1.0, 0.0)
-        m.add_member("root", "tip", fem.Section.from_EI(1e4, 1.0), n_elements=12)
-        m.add_support("root", "fixed")
-        m.add_force("tip", -load, 0.0)
-        system = System(m, discretise(m), solver_kind=kind)
+        system = _compressed_column(load, kind)
         assert system.layout.kind == kind
         loads = system.loads_at(-1, 0, 1.0)
         d = system.disc
@@ -103,21 +110,12 @@ def test_corrector_confirms_the_sign_and_tests_the_inertia_as_python_would(kind)
     the inertia test sees the eigenvalue below zero), a state converged before any correction keeps its
     own (final) sign; the inertia test, thresholds either side of the lowest eigenvalue, agrees with the
     eigenvalues at loads 1, 4 and 30 (none, one, two below zero); not asked (NaN), not made (-1)."""
-    import fem
-    from fem.assembly import System
-    from fem.discretise import discretise
     from fem.newton import det_sign, newton
     from fem.options import SolveOptions
     from fem.stability import eigenvalue_below, lowest_modes, zero_eigenvalue
 
     def column(load):
-        m = fem.Model()
-        m.add_node("root", 0.0, 0.0)
-        m.add_node("tip", 1.0, 0.0)
-        m.add_member("root", "tip", fem.Section.from_EI(1e4, 1.0), n_elements=12)
-        m.add_support("root", "fixed")
-        m.add_force("tip", -load, 0.0)
-        system = System(m, discretise(m), solver_kind=kind)
+        system = _compressed_column(load, kind)
         assert system.compiled is not None
         return system
 
