@@ -177,6 +177,8 @@ def _lapack(name: str, n_args: int):
 
 _dgetrf = _lapack("dgetrf", 6)
 _dgetrs = _lapack("dgetrs", 9)
+_dpotrf = _lapack("dpotrf", 5)
+_dpbtrf = _lapack("dpbtrf", 6)
 
 
 class CompiledLayout:
@@ -329,13 +331,14 @@ def _shifted_cholesky_fails(K, banded, n, kl, ku, rs, cs, held, tol):
     (dense, read as (A + A^T)/2); (rs, cs) = (n, 1) in `linear_solver.MatrixLayout`'s row-major storage,
     (1, ld) in the corrector's column-major one. S = diag(1/sqrt|A_ii|) (1 where A_ii = 0), the row and
     column of DOF ``held`` (>= 0) replaced by a unit diagonal. By Sylvester's law of inertia: some
-    eigenvalue of S A S is below -tol (what `stability.eigenvalue_below` finds with LAPACK's dpbtrf or
-    dpotrf on the same matrix). The factorisation is the column-by-column Cholesky U^T U in band storage
-    of half-bandwidth w (ku, or n - 1 for a dense matrix). Only `newton_load` calls it (no Python
-    wrapper); the tests compile its ``py_func``."""
+    eigenvalue of S A S is below -tol. The shifted matrix is written in LAPACK's symmetric upper
+    storage, a band of half-bandwidth ku (dpbtrf) or the full matrix (dpotrf), and factorised by
+    scipy's LAPACK, as `stability.eigenvalue_below` does (no factorisation loop of its own for numba to
+    compile). Only `newton_load` calls it (no Python wrapper); the tests compile its ``py_func``."""
     w = ku if banded else n - 1
     base = kl + ku if banded else 0
-    up = np.zeros((w + 1, n))          # up[w + i - j, j] = entry (i, j) of the shifted matrix, j - w <= i <= j
+    ld = w + 1 if banded else n          # entry (i, j), i <= j, at j ld + (w + i - j) (band) or j ld + i
+    up = np.zeros(ld * n)
     d = np.empty(n)
     for j in range(n):
         a = abs(K[(base if banded else j) * rs + j * cs])
@@ -349,22 +352,18 @@ def _shifted_cholesky_fails(K, banded, n, kl, ku, rs, cs, held, tol):
             a = a / (d[i] * d[j])
             if i == held or j == held:
                 a = 1.0 if i == j else 0.0
-            up[w + i - j, j] = a
-        up[w, j] += tol
-    for j in range(n):
-        s = up[w, j]
-        for k in range(max(0, j - w), j):
-            s -= up[w + k - j, j] * up[w + k - j, j]
-        if not s > 0.0:
-            return True
-        ujj = math.sqrt(s)
-        up[w, j] = ujj
-        for i in range(j + 1, min(n, j + w + 1)):    # row j of U right of the diagonal
-            t = up[w + j - i, i]
-            for k in range(max(0, i - w), j):
-                t -= up[w + k - j, j] * up[w + k - i, i]
-            up[w + j - i, i] = t / ujj
-    return False
+            if i == j:
+                a += tol
+            up[j * ld + (w + i - j if banded else i)] = a
+    uplo = np.empty(1, np.uint8)
+    uplo[0] = 85      # 'U'
+    ints = np.zeros(4, np.int32)
+    ints[0], ints[1], ints[2] = n, w, ld
+    if banded:
+        _dpbtrf(uplo.ctypes, ints[0:].ctypes, ints[1:].ctypes, up.ctypes, ints[2:].ctypes, ints[3:].ctypes)
+    else:
+        _dpotrf(uplo.ctypes, ints[0:].ctypes, up.ctypes, ints[2:].ctypes, ints[3:].ctypes)
+    return ints[3] > 0
 
 
 @njit(cache=True)
