@@ -35,10 +35,10 @@ from .discretise import Discretisation
 from .kernel import CompiledLayout, scatter
 from .linear_solver import MatrixLayout
 from .model import Model
+from .stability import DENSE_LIMIT, EPS, zero_eigenvalue
 
 __all__ = ["System"]
 
-EPS = float(np.finfo(float).eps)
 SPRING_SIGN = np.array([[1.0, -1.0], [-1.0, 1.0]])   # d(k (theta_a - theta_b)) / d(theta_a, theta_b)
 SPRING_SIGN.flags.writeable = False
 # the (empty) arrays of what a system lacks, shared; writeable like the others (numba types a read-only
@@ -82,10 +82,14 @@ class System:
         self.noise_floor = 4 * EPS * float((d.ka * d.L0).max(initial=0.0))
         self.dead_loads = (len(self.fol_nodes) == 0 and not (len(self.pt_angle) and self.pt_angle.any())
                            and not (len(self.dist_follower) and self.dist_follower.any()))  # `stability.conservative`
-        # the compiled load-control corrector (`kernel.newton_load`), where it applies; the threshold
-        # of its inertia test (NaN: none; `solver._prepare` sets it)
-        self.inertia_tol = math.nan
+        # the compiled load-control corrector (`kernel.newton_load`), where it applies
         self.compiled = CompiledLayout(self.layout, rows, cols) if CompiledLayout.applies(self) else None
+
+    @cached_property
+    def inertia_tol(self) -> float:
+        """The threshold of the compiled corrector's inertia test, `stability.zero_eigenvalue` (1, n), where
+        `solver._even_crossing` can ask for it (dead loads, n <= DENSE_LIMIT); NaN (no test) elsewhere."""
+        return zero_eigenvalue(1.0, self.n) if self.dead_loads and self.n <= DENSE_LIMIT else math.nan
 
     @cached_property
     def path_weights(self) -> np.ndarray:
@@ -145,7 +149,7 @@ class System:
             self.pt_toward = np.array([ld.toward for ld in model.pointed], dtype=float).reshape(-1, 2)
             self.pt_angle = np.array([ld.angle for ld in model.pointed], dtype=float)
         else:
-            self.pt_nodes, self.pt_toward, self.pt_angle = np.zeros(0, int), np.zeros((0, 2)), np.zeros(0)
+            self.pt_nodes, self.pt_toward, self.pt_angle = _NO_INTS, _NO_POINTS, _NO_FLOATS
         for ld in model.pointed:
             fol_vals.append(np.column_stack([np.broadcast_to(ld.values, (nl,)), np.zeros(nl)]))
         self.dist_members = np.zeros((len(model.distributed), n_el))   # which elements each load covers

@@ -324,13 +324,12 @@ def _det_sign(work, banded, n, kl, ku, ld, ipiv):
 
 
 @njit(cache=True, no_cpython_wrapper=True)
-def _shifted_cholesky_fails(K, banded, n, kl, ku, rs, cs, held, tol):
+def _shifted_cholesky_fails(K, banded, n, kl, ku, ldk, held, tol):
     """True when the Cholesky factorisation of  S A S + tol I  breaks down (a pivot not positive), A the
-    symmetric tangent in solver storage ``K``: entry (i, j) at r rs + j cs, r = kl + ku + i - j in
-    LAPACK's general band storage (``banded``, 2 kl + ku + 1 rows; its upper triangle is read) or r = i
-    (dense, read as (A + A^T)/2); (rs, cs) = (n, 1) in `linear_solver.MatrixLayout`'s row-major storage,
-    (1, ld) in the corrector's column-major one. S = diag(1/sqrt|A_ii|) (1 where A_ii = 0), the row and
-    column of DOF ``held`` (>= 0) replaced by a unit diagonal. By Sylvester's law of inertia: some
+    symmetric tangent in the corrector's column-major storage ``K`` (leading dimension ``ldk``): entry
+    (i, j) at j ldk + r, r = kl + ku + i - j in LAPACK's general band storage (``banded``, its upper
+    triangle read) or r = i (dense, read as (A + A^T)/2). S = diag(1/sqrt|A_ii|) (1 where A_ii = 0),
+    the row and column of DOF ``held`` (>= 0) replaced by a unit diagonal. By Sylvester's law of inertia: some
     eigenvalue of S A S is below -tol. The shifted matrix is written in LAPACK's symmetric upper
     storage, a band of half-bandwidth ku (dpbtrf) or the full matrix (dpotrf), and factorised by
     scipy's LAPACK, as `stability.eigenvalue_below` does (no factorisation loop of its own for numba to
@@ -341,14 +340,14 @@ def _shifted_cholesky_fails(K, banded, n, kl, ku, rs, cs, held, tol):
     up = np.zeros(ld * n)
     d = np.empty(n)
     for j in range(n):
-        a = abs(K[(base if banded else j) * rs + j * cs])
+        a = abs(K[j * ldk + (base if banded else j)])
         d[j] = math.sqrt(a) if a != 0.0 else 1.0
     for j in range(n):
         for i in range(max(0, j - w), j + 1):
             if banded:
-                a = K[(base + i - j) * rs + j * cs]
+                a = K[j * ldk + base + i - j]
             else:
-                a = 0.5 * (K[i * rs + j * cs] + K[j * rs + i * cs])
+                a = 0.5 * (K[j * ldk + i] + K[i * ldk + j])
             a = a / (d[i] * d[j])
             if i == held or j == held:
                 a = 1.0 if i == j else 0.0
@@ -488,8 +487,8 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
     At a converged state (what `newton.det_sign` and `solver._even_crossing` would otherwise compute
     afterwards, here without leaving compiled code or turning the tangent row-major):
     ``confirm_sign``: a sign not positive from the factors of the iterate before convergence is
-    confirmed by factorising the converged tangent (a copy); ``final`` says the sign is of the converged
-    state itself (that factorisation, or one made before any correction). ``inertia_tol`` (NaN: not
+    confirmed by the same factorisation of the converged tangent a run that converges before any
+    correction makes; ``final`` says the sign is of the converged state itself (that factorisation). ``inertia_tol`` (NaN: not
     asked): when the sign is not negative and some element is in compression, ``below`` is 1 when the
     Jacobi-scaled tangent has an eigenvalue below -inertia_tol (`_shifted_cholesky_fails`), else 0;
     -1 when not computed.
@@ -513,6 +512,7 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
             has_rot = True
     dq_small = False
     sign = 2
+    final = False   # the sign is of the converged state's own factors
     for it in range(maxiter + 1):
         scale = _evaluate(q, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, L0, beta0,
                           ka, kb, springs, spring_k, ground, flat, valid_src, coef, K, u, f_int, f_ref,
@@ -524,11 +524,13 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
         if not math.isfinite(rn):
             return NOT_FINITE, it, sign, scale, 0.0, False, -1
         converged = (rn <= tol or dq_small) and (it > 0 or rn <= rtol * scale + atol)
-        if converged and (sign != 2 or n == 0):
+        # the last factors' sign stands (positive, or not asked to be confirmed): done
+        if converged and (n == 0 or sign == 1 or (sign != 2 and not confirm_sign)):
             break
         if not converged and it == maxiter:
             return NO_CONVERGENCE, it, sign, scale, 0.0, False, -1
-        # the factorisation: of the correction, or (converged before any) for the sign at this state
+        # the factorisation: of the correction, or (converged) for the sign at this state itself: before
+        # any correction, or to confirm a sign not positive from the iterate before
         finite = True
         for j in range(K.shape[0]):
             if not math.isfinite(K[j]):
@@ -537,7 +539,7 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
             work[j] = K[j]
         if not finite:
             if converged:
-                sign = 0
+                sign, final = 0, True
                 break
             return NON_FINITE_TANGENT, it, sign, scale, 0.0, False, -1
         checking = check != NO_CHECK and it == 0
@@ -567,11 +569,12 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
                 return HELD, it, sign, scale, 0.0, False, -1
         if info[0] > 0:
             if converged:
-                sign = 0
+                sign, final = 0, True
                 break
             return SINGULAR, it, sign, scale, 0.0, False, -1
         sign = _det_sign(work, banded, n, kl, ku, ld, ipiv)
         if converged:
+            final = True
             break
         if sign == 0:
             return SINGULAR, it, 2, scale, 0.0, False, -1
@@ -610,18 +613,6 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
     for k in range(n):
         if rot[k]:
             dth = max(dth, abs(q[k] - q_start[k]))
-    final = it == 0
-    if confirm_sign and not final and sign <= 0:     # the iterate's factors said not positive: confirm
-        final = True
-        sign = 1
-        for j in range(K.shape[0]):
-            if not math.isfinite(K[j]):
-                sign = 0
-                break
-            work[j] = K[j]
-        if sign != 0:
-            _factor(work, banded, n, kl, ku, ld, ipiv, ints, info)
-            sign = 0 if info[0] != 0 else _det_sign(work, banded, n, kl, ku, ld, ipiv)
     below = -1
     if inertia_tol == inertia_tol and 0 <= sign <= 1 and n > 0:
         compressed = False
@@ -629,5 +620,5 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
             if N[e] < 0.0:
                 compressed = True
         if compressed:
-            below = 1 if _shifted_cholesky_fails(K, banded, n, kl, ku, 1, ld, -1, inertia_tol) else 0
+            below = 1 if _shifted_cholesky_fails(K, banded, n, kl, ku, ld, -1, inertia_tol) else 0
     return status, it, sign, scale, dth, final, below

@@ -218,7 +218,7 @@ def _run_kernel(system, q, q_start, presc, lam, F_fixed, beta, opts: SolveOption
     (-1: not made), the evaluation's arrays, the history, the free-motion check's (ratios, column) or
     None when not asked). The converged sign is confirmed where `det_sign` would (``opts.watch_det``),
     and the inertia test of `solver._even_crossing` made where it can be asked (``opts.check_stability``
-    and the system's ``inertia_tol``, set by `solver._prepare`)."""
+    and the system's ``inertia_tol``)."""
     c, d = system.compiled, system.disc
     n_el, nf, n = len(d.L0), d.n_full + 1, system.n
     el = dict(f=np.empty((n_el, 6)), K=np.zeros((n_el, 6, 6)), N=np.empty(n_el), M=np.empty((n_el, 2)),
@@ -315,13 +315,14 @@ def snapshot(system, q, lam, ev, level_param):
     for its call, written by nothing after it): kept as they are; those of `assembly.System.evaluate`
     are copied."""
     el = ev["el"]
-    if isinstance(ev, _Evaluation):
-        return dict(q=q.copy(), lam=lam, u=ev["u"], R_full=ev["R_full"], N=el["N"], M=el["M"], L=el["L"],
-                    theta_bar=el["theta_bar"], u_bar=el["u_bar"], level=level_param)
-    return dict(q=q.copy(), lam=lam, u=ev["u"].copy(), R_full=ev["R_full"].copy(),
-                N=el["N"].copy(), M=el["M"].copy(), L=el["L"].copy(),
-                theta_bar=el["theta_bar"].copy(), u_bar=el["u_bar"].copy(),
+    kept = _as_it_is if isinstance(ev, _Evaluation) else np.copy
+    return dict(q=q.copy(), lam=lam, u=kept(ev["u"]), R_full=kept(ev["R_full"]), N=kept(el["N"]),
+                M=kept(el["M"]), L=kept(el["L"]), theta_bar=kept(el["theta_bar"]), u_bar=kept(el["u_bar"]),
                 level=level_param)
+
+
+def _as_it_is(array):
+    return array
 
 
 def det_sign(system, ev, fac=None):

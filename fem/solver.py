@@ -31,7 +31,6 @@ Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
@@ -89,10 +88,10 @@ def _even_crossing(system, st: StepState, held) -> bool:
     happen (conservative loads, some member in compression) and only for systems small enough for a
     dense eigensolver (larger ones rely on the sign of det K). A state of the compiled corrector
     carries the answer of the same test made there (``inertia_below``, threshold
-    ``system.inertia_tol`` = `zero_eigenvalue` (1, n), set by `_prepare`)."""
+    ``system.inertia_tol`` = `zero_eigenvalue` (1, n))."""
     if not conservative(system) or system.n > DENSE_LIMIT:
         return False
-    known = getattr(st.ev, "inertia_below", -1)      # the compiled corrector's own test (`_prepare`), made
+    known = getattr(st.ev, "inertia_below", -1)      # the compiled corrector's own test, made
     if held is None and known >= 0:                  # where an element is in compression
         return bool(known)
     if float(st.ev["el"]["N"].min(initial=0.0)) >= 0.0:
@@ -460,9 +459,6 @@ def _prepare(model: Model, opts: SolveOptions, n_levels: int | None = None, chec
         raise ValueError(f"n_levels={n_levels} but the load histories have {model.n_levels}")
     disc = discretise(model, refine=opts.refine)
     system = System(model, disc, solver_kind=opts.solver, n_levels=n_levels)
-    # the compiled corrector's inertia test (`_even_crossing`), where that check can be asked
-    system.inertia_tol = (zero_eigenvalue(1.0, system.n) if conservative(system) and system.n <= DENSE_LIMIT
-                          else math.nan)
     if check:
         check_held(system)
     return system

@@ -53,7 +53,7 @@ from .options import BranchSwitch, NewtonOutcome, SwitchStatus
 
 __all__ = ["conservative", "eigenvalue_below", "held_sign", "lowest_modes", "potential", "switch_branch"]
 
-_EPS = float(np.finfo(float).eps)   # machine epsilon (np.finfo is slow to ask)
+EPS = float(np.finfo(float).eps)   # machine epsilon (np.finfo is slow to ask)
 DENSE_LIMIT = 600        # dense eigh below this many unknowns, shift-invert Lanczos above
 AMPLITUDE = 1e-3       # of L_ref: largest translation of the perturbation (no stretching)
 SIDE_TOL = 1e-8        # |phi . (q_prev - q*)| / (|phi| |q_prev - q*|) below this: no side
@@ -66,7 +66,7 @@ def zero_eigenvalue(scale: float, n: int) -> float:
     A fixed fraction of the largest diagonal (1e-12) was too coarse for slender beams: their
     axial terms exceed the bending terms by (L/h)^2, so a genuinely negative bending eigenvalue
     of a beam with L/h = 7e4 passed as zero."""
-    return 10.0 * n * _EPS * scale
+    return 10.0 * n * EPS * scale
 
 
 def conservative(system) -> bool:

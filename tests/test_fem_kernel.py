@@ -57,9 +57,10 @@ def test_scatter_sums_repeated_targets_like_bincount():
     assert scatter(target, source, factor, values, 9) == pytest.approx(expected, rel=1e-14, abs=1e-14)
 
 
-def _compressed_column(load: float, kind: str):
-    """The system of a straight cantilever (EA = 1e4, EI = 1, L = 1, 12 elements) under the axial
-    compression ``load`` at its tip, with the tangent stored ``kind`` ('banded' or 'dense')."""
+def _compressed_column(load: float, kind: str = "auto", elements: int = 12, follower: bool = False):
+    """The system of a straight cantilever (EA = 1e4, EI = 1, L = 1) of ``elements`` elements under the
+    axial compression ``load`` at its tip (a follower force with ``follower``), with the tangent stored
+    ``kind`` ('banded', 'dense' or the solver's choice)."""
     import fem
     from fem.assembly import System
     from fem.discretise import discretise
@@ -67,10 +68,23 @@ def _compressed_column(load: float, kind: str):
     m = fem.Model()
     m.add_node("root", 0.0, 0.0)
     m.add_node("tip", 1.0, 0.0)
-    m.add_member("root", "tip", fem.Section.from_EI(1e4, 1.0), n_elements=12)
+    m.add_member("root", "tip", fem.Section.from_EI(1e4, 1.0), n_elements=elements)
     m.add_support("root", "fixed")
-    m.add_force("tip", -load, 0.0)
+    m.add_force("tip", -load, 0.0, follower=follower)
     return System(m, discretise(m), solver_kind=kind)
+
+
+def test_the_inertia_threshold_is_the_stability_checks_zero_eigenvalue():
+    """`System.inertia_tol`: `stability.zero_eigenvalue` (1, n) where `solver._even_crossing` makes its
+    test (dead loads, n <= DENSE_LIMIT), NaN (the corrector makes none) under a follower load or past
+    DENSE_LIMIT unknowns."""
+    from fem.stability import DENSE_LIMIT, zero_eigenvalue
+
+    system = _compressed_column(4.0, "banded")
+    assert system.inertia_tol == zero_eigenvalue(1.0, system.n) > 0.0
+    assert np.isnan(_compressed_column(1.0, follower=True).inertia_tol)
+    large = _compressed_column(1.0, elements=DENSE_LIMIT // 3 + 1)
+    assert large.n > DENSE_LIMIT and np.isnan(large.inertia_tol)
 
 
 @pytest.mark.parametrize("kind", ["banded", "dense"])
@@ -373,12 +387,13 @@ def _linked_chain(prescribed: bool):
 
 @pytest.mark.parametrize("seed", range(4))
 def test_shifted_cholesky_sees_every_eigenvalue_below_minus_tol(seed):
-    """The compiled inertia test of the stability check (`kernel.shifted_cholesky_fails`) against the
+    """The compiled inertia test of the stability check (`kernel._shifted_cholesky_fails`) against the
     eigenvalues of the same matrix from LAPACK's dsyevd (numpy eigvalsh): S A S with S = diag(1/sqrt|A_ii|)
     (1 where A_ii = 0), the held DOF's row and column replaced by a unit diagonal, has an eigenvalue
-    below -tol exactly when the test fails. Random symmetric matrices in both storages (LAPACK's general
-    band rows, row-major; dense row-major, plus an antisymmetric part it must cancel by reading (A + A^T)/2), with one
-    to three eigenvalues shifted below zero, thresholds 0.1 % either side of the lowest eigenvalue.
+    below -tol exactly when the test fails. Random symmetric matrices in the corrector's column-major
+    storages (LAPACK's general band; dense, plus an antisymmetric part it must cancel by reading
+    (A + A^T)/2), with one to three eigenvalues shifted below zero, thresholds 0.1 % either side of the
+    lowest eigenvalue.
     (Only the corrector calls the helper; its Python source is compiled here.)"""
     from numba import njit
 
@@ -412,12 +427,11 @@ def test_shifted_cholesky_sees_every_eigenvalue_below_minus_tol(seed):
                 band[2 * w + i - j, j] = B[i, j]
         skew = rng.normal(scale=0.5, size=(n, n))
         dense = B + skew - skew.T
-        storages = [(band.ravel(), True, (n, 1)), (band.T.ravel(), True, (1, 3 * w + 1)),   # row- and column-major
-                    (dense.ravel(), False, (n, 1)), (dense.T.ravel(), False, (1, n))]
+        storages = [(band.T.ravel(), True, 3 * w + 1), (dense.T.ravel(), False, n)]   # column by column
         for tol in (-0.999 * lowest, -1.001 * lowest) if abs(lowest) > 1e-6 else (1e-3,):
             expected = lowest < -tol
-            for K, banded, (rs, cs) in storages:
+            for K, banded, ldk in storages:
                 kl = w if banded else 0
-                assert shifted_cholesky_fails(K, banded, n, kl, kl, rs, cs, held, tol) == expected, (trial, tol, rs)
+                assert shifted_cholesky_fails(K, banded, n, kl, kl, ldk, held, tol) == expected, (trial, tol, ldk)
 
 
