@@ -193,6 +193,34 @@ def test_the_headline_configurations_are_timed_again_in_turn(monkeypatch):
     assert method == "fem" and sub.methods["fem"]["richardson"] and sub.methods["fem"]["elements"] == 8
 
 
+def test_the_headline_ratio_is_also_given_in_consecutive_parts_of_the_re_timing(monkeypatch):
+    """Beside the re-timed ratio, the same ratio in each of NOISE_BLOCKS consecutive parts of the
+    re-timing (`_block_ratios`): each label's runs, in the order they ran, cut into equal parts; per
+    part each run's best, a Richardson row the sum of its two runs' bests. Six runs a label in three
+    parts: fem n=8 bests 1.0, 2.0, 1.0 and n=16 2.0, 2.0, 4.0; the peer's n=8 0.5 throughout and n=16
+    1.5, 1.0, 1.5: the parts' ratios 3/2, 4/1.5 and 5/2, the whole re-timing's (3.0/1.5) 2.0. A
+    configuration timed fewer times than there are parts gives none."""
+    case = bench._last_level_only(bench.case_by_id("cantilever_tip_load").case)
+    one = bench.BenchCase("cantilever_tip_load", [0], single_level=True)
+    cpu = {("fem", 8): [1.0, 1.1, 2.0, 2.2, 1.0, 3.0], ("fem", 16): [2.0, 2.0, 2.0, 2.0, 4.0, 4.0],
+           ("opensees", 8): [0.5] * 6, ("opensees", 16): [1.5, 1.5, 1.0, 1.0, 1.5, 1.5]}
+    runs = {key: iter(times) for key, times in cpu.items()}
+    monkeypatch.setattr(bench, "run_method", lambda sub, method: MethodRun(values={}, wall_time=1e-3))
+    monkeypatch.setattr(bench, "_one_run", lambda sub, method: (
+        MethodRun(values={}), next(runs[(method, sub.methods[method]["elements"])])))
+    monkeypatch.setattr(bench, "HEADLINE_BUDGET_S", 6e-3)       # six runs of a 1 ms configuration
+    ours = dict(method=bench.paired_label("fem"), elements=8)
+    peer = dict(method=bench.paired_label(bench.PEER), elements=8)
+    got = bench._confirmed(case, one, [ours], [peer], 2)
+    assert bench.NOISE_BLOCKS == 3 and got["ratio"] == 2.0
+    assert got["block_ratios"] == pytest.approx([1.5, 4.0 / 1.5, 2.5], rel=1e-12)
+    assert "1.50 2.67 2.50" in bench._noise(got)
+    runs = {key: iter(times) for key, times in cpu.items()}
+    monkeypatch.setattr(bench, "HEADLINE_BUDGET_S", 1e-3)       # two runs each (``repeats``): no parts
+    got = bench._confirmed(case, one, [ours], [peer], 2)
+    assert got["block_ratios"] == [] and bench._noise(got) == ""
+
+
 def test_the_headline_takes_each_codes_fastest_candidate_as_re_timed(monkeypatch):
     """With several candidates per code (`_candidates`: the sweep's fastest that reach the error), every
     run of all of them takes turns, a run two candidates share is timed once, and each code's fastest

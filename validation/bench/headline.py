@@ -28,7 +28,10 @@ timed once), so that all are measured in the same minutes of the shared machine,
 in HEADLINE_BUDGET_S (ten times the sweep's budget: a best of 5 to 50 runs of a millisecond configuration
 still moved a ratio near 1 by 5-30 % between bench runs); each code's fastest as re-timed gives the
 headline ratio (the sweep's own ratio beside it: one noisy sweep time could otherwise pick the slower
-of two close configurations, as a run of Test 1(a) did, 0.95 in one bench and 1.25 in the next); a peer that
+of two close configurations, as a run of Test 1(a) did, 0.95 in one bench and 1.25 in the next). Beside
+it, the same ratio in each of NOISE_BLOCKS consecutive parts of the re-timing (`_block_ratios`): how far
+the machine's load moved it while it was measured, so that a ratio near a target says whether it is
+under it in every part or only on average; a peer that
 cannot run (not installed, no system BLAS) is "peer unavailable", a case it cannot model "peer not
 applicable", never "did not reach". Also the time of one Newton iteration
 (time over iterations, failed tries included) of both codes at 8 to 256 elements, on the
@@ -98,6 +101,7 @@ TIME_BUDGET_S = 0.05    # a fast configuration is run as often as fits in this (
 MAX_REPEATS = 200       # quiet-machine time, not a noise spike's), up to MAX_REPEATS runs
 HEADLINE_BUDGET_S = 0.5  # the same for the headline's re-timing and the per-iteration table
 CANDIDATES = 2           # configurations of each code re-timed for the headline (the sweep's fastest)
+NOISE_BLOCKS = 3         # the re-timing cut into this many consecutive parts, the ratio of each printed
 CONFIGURATIONS = {      # how each code is driven (printed beside the headline)
     "fem": ("corotational Euler-Bernoulli beams (validation.methods.fem); load control: each level tried in "
             "one step, cut only on failure (failed tries counted), Newton with the consistent tangent "
@@ -166,8 +170,9 @@ def _restrict(case, method: str, options: dict, levels: list[int] | None):
 @dataclass
 class Timing:
     """One configuration timed: the last run, the best and median CPU time of this process around
-    the run, the best wall time, the peak Python memory, and the best CPU time of the load stepping
-    alone (``analysis``: the adapter's ``analysis_cpu_s``, without model set-up and results)."""
+    the run, the best wall time, the peak Python memory, the best CPU time of the load stepping
+    alone (``analysis``: the adapter's ``analysis_cpu_s``, without model set-up and results), and the
+    CPU time of every timed run in the order they ran (``times``)."""
     run: MethodRun
     best: float
     median: float
@@ -175,6 +180,7 @@ class Timing:
     peak_bytes: int
     wall: float = math.nan
     analysis: float = math.nan
+    times: tuple[float, ...] = ()
 
 
 def _one_run(case, method: str) -> tuple[MethodRun, float]:
@@ -238,7 +244,7 @@ def _labelled_in_turn(configs: dict[str, tuple], repeats: int, budget: float | N
         peak = tracemalloc.get_traced_memory()[1]
         tracemalloc.stop()
         out[label] = Timing(last[label], min(times[label]), statistics.median(times[label]), rounds[label],
-                            peak, min(walls[label]), min(analyses[label]))
+                            peak, min(walls[label]), min(analyses[label]), tuple(times[label]))
     return out
 
 
@@ -276,7 +282,31 @@ def _confirmed(case, bench: BenchCase, ours: list[dict], peer: list[dict], repea
     (fem_s, fem), (peer_s, peer_choice) = best["fem"], best["opensees"]
     return dict(ratio=fem_s / peer_s, fem_s=fem_s, opensees_s=peer_s, fem=fem, opensees=peer_choice,
                 candidates=sum(len(found) for found in choices.values()),
-                repeats=min(timings[label].repeats for label in timings))
+                repeats=min(timings[label].repeats for label in timings),
+                block_ratios=_block_ratios(timings, runs, len(ours), len(peer)))
+
+
+def _block_ratios(timings: dict[str, Timing], runs: dict, n_ours: int, n_peer: int,
+                  blocks: int = NOISE_BLOCKS) -> list[float]:
+    """The headline ratio again in each of ``blocks`` consecutive parts of the re-timing (each label's
+    runs, in the order they ran, cut into ``blocks`` equal parts: with the runs taking turns, part k of
+    every label falls in the same minutes of the machine): per part, each candidate's time is the sum of
+    its runs' bests within the part, each code's the fastest candidate's. How far these ratios spread is
+    how far the machine's load moved the ratio while it was measured. Empty when a configuration ran
+    fewer than ``blocks`` times (a slow one, timed once)."""
+    if min(len(t.times) for t in timings.values()) < blocks:
+        return []
+
+    def part(label: str, k: int) -> float:
+        times = timings[label].times
+        return min(times[k * len(times) // blocks:(k + 1) * len(times) // blocks])
+
+    ratios = []
+    for k in range(blocks):
+        fem = min(sum(part(label, k) for label in runs[("fem", i)]) for i in range(n_ours))
+        peer = min(sum(part(label, k) for label in runs[("opensees", i)]) for i in range(n_peer))
+        ratios.append(fem / peer)
+    return ratios
 
 
 def _exact(case, levels) -> tuple[dict, str]:
@@ -612,6 +642,14 @@ def _retimed(again: dict, code: str) -> str:
     return f"{choice['method']} n={choice['elements']} {again[f'{code}_s'] * 1e3:.2f} ms"
 
 
+def _noise(again: dict) -> str:
+    """The re-timing's ratio in each of its consecutive parts (`_block_ratios`), when there are any."""
+    parts = again.get("block_ratios") or []
+    if not parts:
+        return ""
+    return f"in {len(parts)} consecutive parts of the re-timing {' '.join(f'{r:.2f}' for r in parts)}; "
+
+
 def _config(c: dict | None) -> str:
     if c is None:
         return "-"
@@ -628,7 +666,7 @@ def _print_headline(headline: dict) -> None:
         ratio = "   -  " if h["ratio"] is None else f"{h['ratio']:6.2f}"
         again = h.get("confirmed")
         ladder = (f"   (re-timed in turn, the {CANDIDATES} fastest of each: fem {_retimed(again, 'fem')}, "
-                  f"opensees {_retimed(again, 'opensees')}; sweep {h['ladder_ratio']:.2f})") if again else ""
+                  f"opensees {_retimed(again, 'opensees')}; {_noise(again)}sweep {h['ladder_ratio']:.2f})") if again else ""
         print(f"  {key:<52} {ratio}   fem: {_config(h['fem'])}   opensees: {_config(h['opensees'])}{ladder}"
               + (f"   [{h['note']}]" if h["note"] else ""))
     if headline["per_iteration"]:
