@@ -294,19 +294,23 @@ def _block_ratios(timings: dict[str, Timing], runs: dict, n_ours: int, n_peer: i
     its runs' bests within the part, each code's the fastest candidate's. How far these ratios spread is
     how far the machine's load moved the ratio while it was measured. Empty when a configuration ran
     fewer than ``blocks`` times (a slow one, timed once)."""
-    if min(len(t.times) for t in timings.values()) < blocks:
+    parts = {label: _part_bests(t.times, blocks) for label, t in timings.items()}
+    if not all(parts.values()):
         return []
-
-    def part(label: str, k: int) -> float:
-        times = timings[label].times
-        return min(times[k * len(times) // blocks:(k + 1) * len(times) // blocks])
-
     ratios = []
     for k in range(blocks):
-        fem = min(sum(part(label, k) for label in runs[("fem", i)]) for i in range(n_ours))
-        peer = min(sum(part(label, k) for label in runs[("opensees", i)]) for i in range(n_peer))
+        fem = min(sum(parts[label][k] for label in runs[("fem", i)]) for i in range(n_ours))
+        peer = min(sum(parts[label][k] for label in runs[("opensees", i)]) for i in range(n_peer))
         ratios.append(fem / peer)
     return ratios
+
+
+def _part_bests(times: tuple[float, ...], blocks: int = NOISE_BLOCKS) -> list[float]:
+    """The best of each of ``blocks`` consecutive, equal parts of ``times`` (in the order the runs ran);
+    empty when there are fewer times than parts."""
+    if len(times) < blocks:
+        return []
+    return [min(times[k * len(times) // blocks:(k + 1) * len(times) // blocks]) for k in range(blocks)]
 
 
 def _exact(case, levels) -> tuple[dict, str]:
@@ -450,7 +454,8 @@ def _per_iteration(case, bench: BenchCase, repeats: int, with_peer: bool, cap: i
         subs = {}
         for method in ("fem",) + ((PEER,) if with_peer else ()):
             subs[method] = _at(case, bench, method, n)
-        for method, timing in _timed_in_turn(subs, repeats, HEADLINE_BUDGET_S).items():   # the two codes in turn
+        timings = _timed_in_turn(subs, repeats, HEADLINE_BUDGET_S)    # the two codes in turn
+        for method, timing in timings.items():
             if not timing.run.values:
                 continue
             its = timing.run.extras.get("iterations", 0) + timing.run.extras.get("rejected_iterations", 0)
@@ -459,6 +464,9 @@ def _per_iteration(case, bench: BenchCase, repeats: int, with_peer: bool, cap: i
         if len(entry) == 2:
             entry["ratio"] = entry["fem"]["per_iteration_s"] / entry[PEER]["per_iteration_s"]
             entry["loop_ratio"] = entry["fem"]["loop_per_iteration_s"] / entry[PEER]["loop_per_iteration_s"]
+            # the run ratio in consecutive parts of the timing (`_block_ratios`): the machine's noise on it
+            its = entry[PEER]["iterations"] / max(entry["fem"]["iterations"], 1)
+            entry["ratio_parts"] = [f / p * its for f, p in zip(*(_part_bests(timings[m].times) for m in ("fem", PEER)))]
         cost[str(n)] = entry
     return cost
 
@@ -676,7 +684,9 @@ def _print_headline(headline: dict) -> None:
         for n, c in headline["per_iteration"].items():
             parts = [f"{m} {c[m]['per_iteration_s'] * 1e6:.1f} us run / {c[m]['loop_per_iteration_s'] * 1e6:.1f} us "
                      f"stepping ({c[m]['iterations']:.0f} it)" for m in ("fem", PEER) if m in c]
-            ratios = (f", ratio {c['ratio']:.2f} run / {c['loop_ratio']:.2f} stepping" if "ratio" in c else "")
+            parts = (f" (in {len(c['ratio_parts'])} consecutive parts of the timing "
+                     f"{' '.join(f'{r:.2f}' for r in c['ratio_parts'])})") if c.get("ratio_parts") else ""
+            ratios = (f", ratio {c['ratio']:.2f} run{parts} / {c['loop_ratio']:.2f} stepping" if "ratio" in c else "")
             print(f"  n={n:>4}: " + ", ".join(parts) + ratios)
     for key in ("suite_cold_s", "suite_warm_s"):
         if key in headline:
