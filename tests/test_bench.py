@@ -64,14 +64,14 @@ def test_per_iteration_times_the_load_stepping_of_both_codes_within_their_runs()
         assert entry[method]["loop_per_iteration_s"] == entry[method]["analysis_s"] / entry[method]["iterations"]
 
 
-def test_the_per_iteration_ratio_is_also_given_in_consecutive_parts_of_the_timing(monkeypatch):
+def test_the_per_iteration_ratio_is_also_given_in_consecutive_parts_of_the_timing(monkeypatch, capsys):
     """The whole-run ratio per Newton iteration beside its value in each of NOISE_BLOCKS consecutive
     parts of the timing (`_part_bests` of each code's runs in the order they ran): fem 8 iterations,
     bests 8, 4, 6 us by part; the peer 9 iterations, 9, 9, 3 us: per iteration 1, 0.5, 0.75 over 1, 1,
     1/3, the parts' ratios 1, 0.5 and 2.25; the whole timing's (4/8)/(3/9) = 1.5."""
     def timing(times, its):
-        run = MethodRun(values={"x": 1.0}, extras={"iterations": its, "analysis_cpu_s": min(times) / 2})
-        return bench.Timing(run, min(times), 0.0, len(times), 0, times=tuple(times))
+        run = MethodRun(values={"x": 1.0}, extras={"iterations": its})
+        return bench.Timing(run, min(times), 0.0, len(times), 0, analysis=min(times) / 2, times=tuple(times))
 
     fake = {"fem": timing([8e-6, 9e-6, 4e-6, 5e-6, 7e-6, 6e-6], 8),
             bench.PEER: timing([9e-6, 9e-6, 9e-6, 9e-6, 3e-6, 4e-6], 9)}
@@ -81,6 +81,10 @@ def test_the_per_iteration_ratio_is_also_given_in_consecutive_parts_of_the_timin
     assert entry["ratio"] == pytest.approx(1.5, rel=1e-12)
     assert entry["ratio_parts"] == pytest.approx([1.0, 0.5, 2.25], rel=1e-12)
     assert bench._part_bests((1.0, 2.0)) == [] and bench._part_bests((3.0, 1.0, 2.0)) == [3.0, 1.0, 2.0]
+    bench._print_headline({"fem_over_opensees_time_at_error": {}, "per_iteration": {"8": entry}})
+    line = next(x for x in capsys.readouterr().out.splitlines() if x.strip().startswith("n="))
+    assert line == ("  n=   8: fem 0.5 us run / 0.2 us stepping (8 it), opensees 0.3 us run / 0.2 us stepping (9 it), "
+                    "ratio 1.50 run (in 3 consecutive parts of the timing 1.00 0.50 2.25) / 1.50 stepping")
 
 
 def test_the_two_codes_take_turns_mesh_by_mesh():

@@ -684,9 +684,9 @@ def _print_headline(headline: dict) -> None:
         for n, c in headline["per_iteration"].items():
             parts = [f"{m} {c[m]['per_iteration_s'] * 1e6:.1f} us run / {c[m]['loop_per_iteration_s'] * 1e6:.1f} us "
                      f"stepping ({c[m]['iterations']:.0f} it)" for m in ("fem", PEER) if m in c]
-            parts = (f" (in {len(c['ratio_parts'])} consecutive parts of the timing "
-                     f"{' '.join(f'{r:.2f}' for r in c['ratio_parts'])})") if c.get("ratio_parts") else ""
-            ratios = (f", ratio {c['ratio']:.2f} run{parts} / {c['loop_ratio']:.2f} stepping" if "ratio" in c else "")
+            spread = (f" (in {len(c['ratio_parts'])} consecutive parts of the timing "
+                      f"{' '.join(f'{r:.2f}' for r in c['ratio_parts'])})") if c.get("ratio_parts") else ""
+            ratios = (f", ratio {c['ratio']:.2f} run{spread} / {c['loop_ratio']:.2f} stepping" if "ratio" in c else "")
             print(f"  n={n:>4}: " + ", ".join(parts) + ratios)
     for key in ("suite_cold_s", "suite_warm_s"):
         if key in headline:
