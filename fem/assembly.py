@@ -70,7 +70,8 @@ class System:
         if self.width == 2:
             s, m = d.slaves, d.masters
             self.I1, self.C1_flat = np.ascontiguousarray(d.I[:, 1]), np.ascontiguousarray(d.C[:, 1])
-            self.links = np.stack([s, m, d.rot_dof[s], d.rot_dof[m]], axis=1).astype(np.int64)
+            self.links = np.empty((len(s), 4), np.int64)      # = np.stack([s, m, rot s, rot m], axis=1)
+            self.links[:, 0], self.links[:, 1], self.links[:, 2], self.links[:, 3] = s, m, d.rot_dof[s], d.rot_dof[m]
             self.links_X = np.concatenate([d.X[s], d.X[m]], axis=1)
         self._load_tables(model, n_levels)
         rows, cols = self._sparsity()

@@ -284,12 +284,13 @@ class Model:
     @property
     def n_levels(self) -> int:
         """Number of load levels implied by the load histories (1 if none)."""
-        lengths = ([len(ld.values) for ld in self.loads] + [len(p.values) for p in self.prescribed]
-                   + [len(ld.values) for ld in self.pointed] + [len(ld.values) for ld in self.distributed])
-        lengths = [n for n in lengths if n > 1]
-        if lengths and min(lengths) != max(lengths):
-            raise ValueError(f"load histories have different lengths: {sorted(set(lengths))}")
-        return max(lengths) if lengths else 1
+        lengths = {len(x.values) for group in (self.loads, self.prescribed, self.pointed, self.distributed)
+                   for x in group}
+        lengths.discard(0)
+        lengths.discard(1)
+        if len(lengths) > 1:
+            raise ValueError(f"load histories have different lengths: {sorted(lengths)}")
+        return lengths.pop() if lengths else 1
 
     def characteristic_length(self) -> float:
         """Mean member chord length (the length scale used for tolerances)."""

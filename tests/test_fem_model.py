@@ -312,3 +312,23 @@ def test_a_section_refuses_a_stiffness_that_is_not_finite_and_positive(bad):
         fem.Section(1.0, bad)
     for good in (2, 2.5, np.float64(3.0), np.array(4.0)):
         assert fem.Section(good, good).EA == good
+
+
+def test_the_number_of_load_levels_is_the_common_length_of_the_histories():
+    """`Model.n_levels`: 1 without loads; a single value counts at every level; histories of one length
+    n > 1 (forces, moments, prescribed values, forces toward points, distributed loads alike) give n;
+    two different lengths are refused, naming both."""
+    model = fem.Model()
+    model.add_node("a", 0.0, 0.0)
+    model.add_node("b", 1.0, 0.0)
+    model.add_member("a", "b", fem.Section.from_EI(1e3, 1.0), n_elements=2)
+    assert model.n_levels == 1
+    model.add_force("b", 0.0, 1.0)
+    model.add_moment("b", [0.1, 0.2, 0.3])
+    model.prescribe("a", "rz", [0.0, 0.0, 0.0])
+    model.add_distributed([0.0, 0.1, 0.2], 0.0)
+    model.add_pointed_force("b", [1.0, 2.0, 3.0], (2.0, 0.0))
+    assert model.n_levels == 3
+    model.add_force("a", [1.0, 2.0, 3.0, 4.0], 0.0)
+    with pytest.raises(ValueError, match=r"different lengths: \[3, 4\]"):
+        model.n_levels
