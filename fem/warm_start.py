@@ -45,24 +45,51 @@ def level_guesses(coarse, disc_fine, X1, X2) -> LevelGuesses:
                         np.ascontiguousarray(chord_angles(disc_fine, U, X1, X2)))
 
 
-def _member_chains(disc):
-    """Each member's nodes in order: its first element's start, then every element's end."""
-    chains = []
-    for els in disc.member_elements:
-        chain = np.empty(len(els) + 1, dtype=disc.conn.dtype)
-        chain[0], chain[1:] = disc.conn[els[0], 0], disc.conn[els, 1]
-        chains.append(chain)
-    return chains
+def _chain(disc, els) -> list[int]:
+    """A member's nodes in order: its first element's start, then every element's end."""
+    return [int(disc.conn[els[0], 0])] + disc.conn[els, 1].tolist()
+
+
+@dataclass(frozen=True)
+class _Refinement:
+    """Where the fine mesh's nodes come from, every member at once: the nodes both meshes have (coarse
+    ``kept_c`` -> fine ``kept_f``), and each coarse element of a refined member (``mid_el``, its start and
+    end nodes ``mid_a``, ``mid_b``) with the fine node at its midpoint (``mid_f``)."""
+    kept_c: np.ndarray
+    kept_f: np.ndarray
+    mid_el: np.ndarray
+    mid_a: np.ndarray
+    mid_b: np.ndarray
+    mid_f: np.ndarray
+
+
+def _refinement(dc, df) -> _Refinement:
+    """`_Refinement` of the fine discretisation ``df`` from the coarse ``dc`` (members in the same order),
+    from the members' node chains in plain Python (a few members)."""
+    kept_c, kept_f, mid_el, mid_a, mid_b, mid_f = [], [], [], [], [], []
+    for els_c, els_f in zip(dc.member_elements, df.member_elements):
+        cc, cf = _chain(dc, els_c), _chain(df, els_f)
+        step = 1 if len(cf) == len(cc) else 2   # 1: a member that is not refined, no midpoints
+        kept_c += cc
+        kept_f += cf[::step]
+        if step == 2:
+            mid_el += els_c.tolist()
+            mid_a += cc[:-1]
+            mid_b += cc[1:]
+            mid_f += cf[1::2]
+    return _Refinement(*(np.array(v, dtype=int) for v in (kept_c, kept_f, mid_el, mid_a, mid_b, mid_f)))
 
 
 def guess_states(coarse, disc_fine) -> np.ndarray:
-    """Per level (rows): full displacement vector on the fine mesh from a coarse FemResult."""
+    """Per level (rows): full displacement vector on the fine mesh from a coarse FemResult (every
+    member's nodes and midpoints at once, `_refinement`: each node's and each midpoint's numbers are
+    those of the member-by-member formulas above)."""
     dc = coarse.extra["disc"]
     if len(dc.member_elements) != len(disc_fine.member_elements) or any(
             len(b) not in (len(a), 2 * len(a)) for a, b in zip(dc.member_elements, disc_fine.member_elements)):
         raise ValueError("initial_guess must come from the same model with half the elements (or as many, "
                          "for a member that is not refined)")
-    chains_c, chains_f = _member_chains(dc), _member_chains(disc_fine)
+    ref = _refinement(dc, disc_fine)
     nc, nf = len(dc.X), len(disc_fine.X)
     U_c = np.asarray(coarse.extra["u_full"], dtype=float)     # (levels, coarse DOFs): every level at once
     nl = len(U_c)
@@ -71,21 +98,19 @@ def guess_states(coarse, disc_fine) -> np.ndarray:
     th_c = U_c[:, dc.rot_dof]
     xf = np.zeros((nl, nf, 2))
     th_f = np.zeros((nl, nf))
-    for (cc, cf, els) in zip(chains_c, chains_f, dc.member_elements):
-        step = 1 if len(cf) == len(cc) else 2   # 1: a member that is not refined, no midpoints
-        xf[:, cf[::step]] = xc[:, cc]
-        th_f[:, cf[::step]] = th_c[:, cc]
-        if step == 1:
-            continue
+    xf[:, ref.kept_f] = xc[:, ref.kept_c]
+    th_f[:, ref.kept_f] = th_c[:, ref.kept_c]
+    if len(ref.mid_el):
         # midpoints: Hermite curve of each coarse element (end rotations of the element)
+        els = ref.mid_el
         t1 = U_c[:, dc.edofs[els, 2]]
         t2 = U_c[:, dc.edofs[els, 5]]
         p1, p2 = dc.beta0[els] + t1, dc.beta0[els] + t2
         tangents = np.empty(p1.shape + (2,))                 # t(phi_1) - t(phi_2)
         tangents[..., 0] = np.cos(p1) - np.cos(p2)
         tangents[..., 1] = np.sin(p1) - np.sin(p2)
-        xf[:, cf[1::2]] = (xc[:, cc[:-1]] + xc[:, cc[1:]]) / 2 + (dc.L0[els] / 8)[None, :, None] * tangents
-        th_f[:, cf[1::2]] = (t1 + t2) / 2
+        xf[:, ref.mid_f] = (xc[:, ref.mid_a] + xc[:, ref.mid_b]) / 2 + (dc.L0[els] / 8)[None, :, None] * tangents
+        th_f[:, ref.mid_f] = (t1 + t2) / 2
     d = xf - disc_fine.X
     U[:, 0:2 * nf:2], U[:, 1:2 * nf:2] = d[..., 0], d[..., 1]
     U[:, disc_fine.rot_dof] = th_f
