@@ -155,7 +155,9 @@ def solve_with_error_estimate(model, *args, tol: float | None = None, refine: in
 
     def solve_refined(r, coarser):
         guess = coarser if (warm and coarser is not None and coarser.converged) else None
-        return solve(model, *args, refine=r, initial_guess=guess, **kwargs)
+        # a coarser mesh of this model converged, so it passed the free-motion test: not made again
+        held = coarser is not None and coarser.converged
+        return solve(model, *args, refine=r, initial_guess=guess, held=held, **kwargs)
     results = []
     for k in range(levels - 1):
         results.append(solve_refined(refine * 2**k, results[-1] if results else None))

@@ -45,9 +45,13 @@ class SolveOptions:
 @dataclass(frozen=True)
 class LoadControl:
     """Loads and prescribed values follow their per-level histories; ``n_levels`` applies single-valued
-    loads in that many equal levels; ``initial_guess``: a converged result with half the elements."""
+    loads in that many equal levels; ``initial_guess``: a converged result with half the elements;
+    ``held``: the model is known to have no free motion (a coarser mesh of this same model passed the
+    free-motion test, `free_motion`: refining adds only interior beam nodes, each joined by two
+    elements), so the test is not made again."""
     n_levels: int | None = None
     initial_guess: object = None
+    held: bool = False
 
 
 @dataclass(frozen=True)

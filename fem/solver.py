@@ -488,7 +488,7 @@ def solve_load(model: Model, control: LoadControl = LoadControl(),
     t0 = time.perf_counter()
     system = _prepare(model, opts, control.n_levels, check=False)
     on_first_step = _checked_by_first_step(system, control, opts)
-    if not on_first_step:
+    if not (on_first_step or control.held):
         check_held(system)
     guesses = (None if control.initial_guess is None
                else level_guesses(control.initial_guess, system.disc, system.X1, system.X2))
@@ -527,7 +527,7 @@ def solve(model: Model, n_levels: int | None = None, control: str = "load", *,
           control_dof=None, targets=None, initial_guess=None, arc_length: float | None = None,
           max_arc_length: float | None = None, max_steps: int = 2000, until=None,
           lambda_max: float | None = None, direction: float = 1.0,
-          max_limit_points: int | None = None, **options) -> FemResult:
+          max_limit_points: int | None = None, held: bool = False, **options) -> FemResult:
     """Solve the model; returns a `FemResult` (the keyword form of `solve_load`,
     `solve_displacement` and `solve_arclength`; ``options`` are the fields of `SolveOptions`).
 
@@ -542,8 +542,9 @@ def solve(model: Model, n_levels: int | None = None, control: str = "load", *,
     ``max_limit_points`` limit points have been passed, or ``max_steps``
     steps.  ``initial_guess``: a converged load-control `FemResult` of the same
     model with half the elements per member (as many in a member that is not refined), used as
-    predictor (`warm_start`). ``refine`` multiplies the element count of every member but those added
-    with ``refined=False``.
+    predictor (`warm_start`). ``held`` (load control): the model is known to have no free motion (a
+    coarser mesh of this same model passed the free-motion test; `LoadControl`), the test is skipped.
+    ``refine`` multiplies the element count of every member but those added with ``refined=False``.
     Tolerance: |r| <= rtol max(|f_ext|, |f_int|) + atol.
     Step control: each level is tried in one step; a Newton correction that turns a node by more
     than ``max_iteration_rotation`` (rad) is scaled down to it (a far-off linear predictor is walked
@@ -557,7 +558,7 @@ def solve(model: Model, n_levels: int | None = None, control: str = "load", *,
     """
     opts = SolveOptions(**options)
     if control == "load":
-        return solve_load(model, LoadControl(n_levels, initial_guess), opts)
+        return solve_load(model, LoadControl(n_levels, initial_guess, held), opts)
     if n_levels is not None and model.n_levels not in (1, n_levels):
         raise ValueError(f"n_levels={n_levels} but the load histories have {model.n_levels}")
     if control == "displacement":

@@ -172,3 +172,24 @@ def test_only_a_force_on_a_slave_makes_the_first_tangent_differ_from_the_unloade
     unloaded = system.evaluate(q0, beta0, 0.0, *system.loads_at(-1, 0, 0.0), need_K=True)["K"]
     assert _slaves_loaded(system) == bool(slave_force)
     assert np.array_equal(loaded, unloaded) == (not slave_force)
+
+
+def test_a_refined_mesh_of_a_model_found_held_is_not_tested_again(monkeypatch):
+    """The error estimate's finer meshes (`solve_with_error_estimate`) are meshes of the model whose
+    coarsest mesh passed the free-motion test (refining adds interior nodes only, each joined by two
+    elements): they are solved without the test (``held``), to the same numbers; a solve given a coarse
+    guess but not told ``held`` still tests, and a free model is still refused by the coarse mesh."""
+    from fem import solver
+    calls = []
+    real = solver.check_held
+    monkeypatch.setattr(solver, "check_held", lambda system: calls.append(system.n) or real(system))
+    model = _beam("fixed")
+    est = fem.solve_with_error_estimate(model, levels=3)
+    assert calls == [] and est.converged and len(est.results) == 3
+    coarse, fine = est.results[0], est.results[1]
+    again = fem.solve(model, refine=2, initial_guess=coarse)        # the same solve, tested
+    assert len(calls) == 1 and np.array_equal(again.mesh_positions, fine.mesh_positions)
+    free = _beam("pinned")
+    free.add_force("tip", 0.0, 0.1, follower=True)     # a follower: the NumPy corrector, tested beforehand
+    with pytest.raises(fem.FreeMotion):
+        fem.solve_with_error_estimate(free, levels=3)
