@@ -277,18 +277,22 @@ def _confirmed(case, bench: BenchCase, ours: list[dict], peer: list[dict], repea
                                 repeats, HEADLINE_BUDGET_S)
     best = {}
     for code, found in choices.items():
-        times = [sum(timings[label].best for label in runs[(code, i)]) for i in range(len(found))]
-        i = min(range(len(found)), key=times.__getitem__)
-        best[code] = (times[i], dict(found[i], time_s=times[i]))
+        time_s, i = _fastest_candidate(runs, code, lambda label: timings[label].best)
+        best[code] = (time_s, dict(found[i], time_s=time_s))
     (fem_s, fem), (peer_s, peer_choice) = best["fem"], best["opensees"]
     return dict(ratio=fem_s / peer_s, fem_s=fem_s, opensees_s=peer_s, fem=fem, opensees=peer_choice,
                 candidates=sum(len(found) for found in choices.values()),
                 repeats=min(timings[label].repeats for label in timings),
-                block_ratios=_block_ratios(timings, runs, len(ours), len(peer)))
+                block_ratios=_block_ratios(timings, runs))
 
 
-def _block_ratios(timings: dict[str, Timing], runs: dict, n_ours: int, n_peer: int,
-                  blocks: int = NOISE_BLOCKS) -> list[float]:
+def _fastest_candidate(runs: dict, code: str, time_of) -> tuple[float, int]:
+    """A code's fastest candidate (``runs``: (code, i) -> its runs' labels) and its time: the sum of its
+    runs' times, ``time_of(label)``."""
+    return min((sum(time_of(label) for label in labels), i) for (c, i), labels in runs.items() if c == code)
+
+
+def _block_ratios(timings: dict[str, Timing], runs: dict, blocks: int = NOISE_BLOCKS) -> list[float]:
     """The headline ratio again in each of ``blocks`` consecutive parts of the re-timing (each label's
     runs, in the order they ran, cut into ``blocks`` equal parts: with the runs taking turns, part k of
     every label falls in the same minutes of the machine): per part, each candidate's time is the sum of
@@ -298,12 +302,8 @@ def _block_ratios(timings: dict[str, Timing], runs: dict, n_ours: int, n_peer: i
     parts = {label: _part_bests(t.times, blocks) for label, t in timings.items()}
     if not all(parts.values()):
         return []
-    ratios = []
-    for k in range(blocks):
-        fem = min(sum(parts[label][k] for label in runs[("fem", i)]) for i in range(n_ours))
-        peer = min(sum(parts[label][k] for label in runs[("opensees", i)]) for i in range(n_peer))
-        ratios.append(fem / peer)
-    return ratios
+    return [_fastest_candidate(runs, "fem", lambda label: parts[label][k])[0]
+            / _fastest_candidate(runs, "opensees", lambda label: parts[label][k])[0] for k in range(blocks)]
 
 
 def _part_bests(times: tuple[float, ...], blocks: int = NOISE_BLOCKS) -> list[float]:
@@ -651,12 +651,18 @@ def _retimed(again: dict, code: str) -> str:
     return f"{choice['method']} n={choice['elements']} {again[f'{code}_s'] * 1e3:.2f} ms"
 
 
-def _noise(again: dict) -> str:
-    """The re-timing's ratio in each of its consecutive parts (`_block_ratios`), when there are any."""
-    parts = again.get("block_ratios") or []
-    if not parts:
+def _in_parts(ratios: list[float], timing: str) -> str:
+    """A ratio in each consecutive part of its ``timing`` (`_block_ratios`, `_part_bests`), as printed;
+    '' when there are none."""
+    if not ratios:
         return ""
-    return f"in {len(parts)} consecutive parts of the re-timing {' '.join(f'{r:.2f}' for r in parts)}; "
+    return f"in {len(ratios)} consecutive parts of the {timing} {' '.join(f'{r:.2f}' for r in ratios)}"
+
+
+def _noise(again: dict) -> str:
+    """The re-timing's ratio in each of its consecutive parts, when there are any."""
+    text = _in_parts(again.get("block_ratios") or [], "re-timing")
+    return f"{text}; " if text else ""
 
 
 def _config(c: dict | None) -> str:
@@ -685,8 +691,8 @@ def _print_headline(headline: dict) -> None:
         for n, c in headline["per_iteration"].items():
             parts = [f"{m} {c[m]['per_iteration_s'] * 1e6:.1f} us run / {c[m]['loop_per_iteration_s'] * 1e6:.1f} us "
                      f"stepping ({c[m]['iterations']:.0f} it)" for m in ("fem", PEER) if m in c]
-            spread = (f" (in {len(c['ratio_parts'])} consecutive parts of the timing "
-                      f"{' '.join(f'{r:.2f}' for r in c['ratio_parts'])})") if c.get("ratio_parts") else ""
+            spread = _in_parts(c.get("ratio_parts") or [], "timing")
+            spread = f" ({spread})" if spread else ""
             ratios = (f", ratio {c['ratio']:.2f} run{spread} / {c['loop_ratio']:.2f} stepping" if "ratio" in c else "")
             print(f"  n={n:>4}: " + ", ".join(parts) + ratios)
     for key in ("suite_cold_s", "suite_warm_s"):
