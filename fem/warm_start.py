@@ -24,6 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .warm_kernel import level_guesses_compiled
+
 __all__ = ["guess_states", "LevelGuesses", "level_guesses"]
 
 
@@ -37,12 +39,25 @@ class LevelGuesses:
 
 def level_guesses(coarse, disc_fine, X1, X2) -> LevelGuesses:
     """`guess_states` of every level turned into reduced unknowns and chord angles, all levels at once
-    (the same numbers as `reduced_from_full` and `chord_angles` level by level)."""
-    U = guess_states(coarse, disc_fine)
-    # C order (the fancy index of `chord_angles` leaves its result level-minor): each level a contiguous
-    # row, as the compiled corrector is typed (and compiled) for
-    return LevelGuesses(np.ascontiguousarray(reduced_from_full(disc_fine, U)),
-                        np.ascontiguousarray(chord_angles(disc_fine, U, X1, X2)))
+    (the numbers of `reduced_from_full` and `chord_angles` level by level, to rounding), by the
+    compiled `warm_kernel.level_guesses_compiled`."""
+    dc = coarse.extra["disc"]
+    ref = _refinement(dc, _checked_fine(dc, disc_fine))
+    q, beta = level_guesses_compiled(
+        np.ascontiguousarray(coarse.extra["u_full"], dtype=float), dc.X, dc.rot_dof, disc_fine.X,
+        disc_fine.rot_dof, disc_fine.n_full - 3 * len(disc_fine.X), ref.kept_c, ref.kept_f, ref.mid_el, ref.mid_a,
+        ref.mid_b, ref.mid_f, dc.edofs, dc.beta0, dc.L0, np.ascontiguousarray(disc_fine.I[:, 0]),
+        disc_fine.C[:, 0] * disc_fine.independent, disc_fine.n_red, disc_fine.edofs, X1, X2, disc_fine.beta0)
+    return LevelGuesses(q, beta)
+
+
+def _checked_fine(dc, disc_fine):
+    """``disc_fine`` when it refines ``dc`` (each member split in two, or kept), else ValueError."""
+    if len(dc.member_elements) != len(disc_fine.member_elements) or any(
+            len(b) not in (len(a), 2 * len(a)) for a, b in zip(dc.member_elements, disc_fine.member_elements)):
+        raise ValueError("initial_guess must come from the same model with half the elements (or as many, "
+                         "for a member that is not refined)")
+    return disc_fine
 
 
 def _chain(disc, els) -> list[int]:
@@ -85,11 +100,7 @@ def guess_states(coarse, disc_fine) -> np.ndarray:
     member's nodes and midpoints at once, `_refinement`: each node's and each midpoint's numbers are
     those of the member-by-member formulas above)."""
     dc = coarse.extra["disc"]
-    if len(dc.member_elements) != len(disc_fine.member_elements) or any(
-            len(b) not in (len(a), 2 * len(a)) for a, b in zip(dc.member_elements, disc_fine.member_elements)):
-        raise ValueError("initial_guess must come from the same model with half the elements (or as many, "
-                         "for a member that is not refined)")
-    ref = _refinement(dc, disc_fine)
+    ref = _refinement(dc, _checked_fine(dc, disc_fine))
     nc, nf = len(dc.X), len(disc_fine.X)
     U_c = np.asarray(coarse.extra["u_full"], dtype=float)     # (levels, coarse DOFs): every level at once
     nl = len(U_c)

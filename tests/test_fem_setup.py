@@ -253,3 +253,50 @@ def test_the_warm_start_keeps_the_nodes_of_a_member_that_is_not_refined():
     assert np.allclose(warm.result.positions, fine.positions, rtol=0, atol=1e-6)
     with pytest.raises(ValueError, match="half the elements"):
         guess_states(coarse, discretise(_bar_frame(refined=True), refine=3))
+
+
+def _joint_link_slider(n: int = 3) -> fem.Model:
+    """A curved beam and a straight one joined by a rigid link, a released joint with a spring, a
+    slider: the constraint map's every kind of row."""
+    m = fem.Model()
+    for name, x, y in (("root", 0.0, 0.0), ("a", 1.0, 0.0), ("b", 1.3, 0.4), ("c", 2.2, 0.4)):
+        m.add_node(name, x, y)
+    section = fem.Section.from_EI(1e3, 1.0)
+    m.add_member("root", "a", section, n_elements=n, curvature=0.4)
+    m.add_member("b", "c", section, n_elements=n + 1)
+    m.add_rigid_link("a", "b")
+    m.add_joint("b", k=1.5)
+    m.add_support("root", "fixed")
+    m.add_support("c", "slider", direction=(0.6, 0.8))
+    m.add_force("c", [0.1, 0.2, 0.3], [0.0, -0.1, -0.2])
+    return m
+
+
+@pytest.mark.parametrize("model", [_joint_link_slider, lambda: _bar_frame(refined=False),
+                                   lambda: _bar_frame(refined=True)], ids=["joint-link-slider", "bar kept", "bar split"])
+def test_the_compiled_warm_start_gives_the_numpy_guess(model):
+    """`warm_start.level_guesses` (compiled, `warm_kernel`) against its definition, the NumPy
+    `guess_states` turned into reduced unknowns (`reduced_from_full`) and chord angles (`chord_angles`),
+    on random coarse states of every level: a curved member, a rigid link, a released joint, a slider, a
+    member that is not refined. The same arithmetic in the same order: equal to the last bits of the
+    sines and cosines (C library against NumPy); a midpoint's Hermite term of the wrong sign, a level
+    mixed up or a released rotation dropped fails by far more."""
+    from types import SimpleNamespace
+
+    from fem.assembly import System
+    from fem.warm_start import chord_angles, guess_states, level_guesses, reduced_from_full
+
+    m = model()
+    d_c, d_f = discretise(m), discretise(m, refine=2)
+    system = System(m, d_f)
+    U_c = np.random.default_rng(7).normal(scale=0.3, size=(3, d_c.n_full + 1))
+    U_c[:, -1] = 0.0                                            # the ground entry
+    coarse = SimpleNamespace(extra={"disc": d_c, "u_full": U_c})
+    got = level_guesses(coarse, d_f, system.X1, system.X2)
+    U = guess_states(coarse, d_f)
+    q, beta = reduced_from_full(d_f, U), chord_angles(d_f, U, system.X1, system.X2)
+    assert got.q.shape == q.shape and got.beta.shape == beta.shape
+    assert got.q.flags.c_contiguous and got.beta.flags.c_contiguous
+    assert np.allclose(got.q, q, rtol=0, atol=1e-14)
+    assert np.allclose(got.beta, beta, rtol=0, atol=1e-14)
+    assert np.abs(q).max() > 0.05 and np.abs(beta - d_f.beta0).max() > 0.05   # a guess that moved

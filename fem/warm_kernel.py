@@ -1,0 +1,90 @@
+"""The warm start's guess of every load level compiled (numba, ``cache=True``): `warm_start.guess_states`
+turned into reduced unknowns (`warm_start.reduced_from_full`) and element chord angles
+(`warm_start.chord_angles`) in one call.
+
+The NumPy functions of `warm_start` are the definition (their docstrings give the formulas); this is
+the same arithmetic, in the same order, element by element: the positions, midpoints, least-squares
+unknowns and chord angles agree with theirs to rounding (the sines, cosines and arctangents are the C
+library's here and may differ from NumPy's SIMD ones in the last bit). On the small meshes of an
+n/2n error estimate the NumPy version is some thirty NumPy calls on arrays of a few dozen entries,
+~120 us of call overhead a refined solve; this one call is a few microseconds.
+
+One module, no call into another file's compiled code: numba's cache is keyed on the defining file
+only (`kernel` explains it; `tests/test_compiled_cache.py` checks it).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+__all__ = ["level_guesses_compiled"]
+
+
+@njit(cache=True, error_model="numpy")
+def level_guesses_compiled(U_c, Xc, rot_c, Xf, rot_f, n_extra, kept_c, kept_f, mid_el, mid_a, mid_b, mid_f,
+                           edofs_c, beta0_c, L0_c, I0, C_independent, n_red, edofs_f, X1, X2, beta0_f):
+    """(q, beta): per level (rows of the coarse full displacements ``U_c``) the fine mesh's reduced
+    unknowns (levels, n_red) and element chord angles (levels, elements) of the warm-start guess.
+
+    ``Xc``, ``rot_c``: the coarse element nodes and their rotation DOFs; ``Xf``, ``rot_f``: the fine
+    ones; ``n_extra``: released member-end rotations (after the node rotations, as many on both
+    meshes); ``kept_*``, ``mid_*``: `warm_start._Refinement`; ``edofs_c``, ``beta0_c``, ``L0_c``: the
+    coarse elements; ``I0``, ``C_independent``: the fine constraint map's first column and its
+    coefficients times the independence mask; ``edofs_f``, ``X1``, ``X2``, ``beta0_f``: the fine
+    elements."""
+    nl = U_c.shape[0]
+    nc, nf = Xc.shape[0], Xf.shape[0]
+    n_full = I0.shape[0]                               # fine full DOFs with the ground entry
+    n_el = edofs_f.shape[0]
+    q = np.empty((nl, n_red))
+    beta = np.empty((nl, n_el))
+    den = np.zeros(n_red + 1)
+    for i in range(n_full):
+        c = C_independent[i]
+        den[I0[i]] += c * c
+    U = np.empty(n_full)
+    xf = np.empty((nf, 2))
+    th_f = np.empty(nf)
+    num = np.empty(n_red + 1)
+    for lv in range(nl):
+        u = U_c[lv]
+        for j in range(nf):
+            xf[j, 0] = 0.0
+            xf[j, 1] = 0.0
+            th_f[j] = 0.0
+        for k in range(kept_c.shape[0]):
+            i, j = kept_c[k], kept_f[k]
+            xf[j, 0] = Xc[i, 0] + u[2 * i]
+            xf[j, 1] = Xc[i, 1] + u[2 * i + 1]
+            th_f[j] = u[rot_c[i]]
+        for k in range(mid_el.shape[0]):
+            e, a, b, j = mid_el[k], mid_a[k], mid_b[k], mid_f[k]
+            t1, t2 = u[edofs_c[e, 2]], u[edofs_c[e, 5]]
+            p1, p2 = beta0_c[e] + t1, beta0_c[e] + t2
+            h = L0_c[e] / 8
+            xf[j, 0] = ((Xc[a, 0] + u[2 * a]) + (Xc[b, 0] + u[2 * b])) / 2 + h * (math.cos(p1) - math.cos(p2))
+            xf[j, 1] = ((Xc[a, 1] + u[2 * a + 1]) + (Xc[b, 1] + u[2 * b + 1])) / 2 + h * (math.sin(p1) - math.sin(p2))
+            th_f[j] = (t1 + t2) / 2
+        for i in range(n_full):
+            U[i] = 0.0
+        for j in range(nf):
+            U[2 * j] = xf[j, 0] - Xf[j, 0]
+            U[2 * j + 1] = xf[j, 1] - Xf[j, 1]
+            U[rot_f[j]] = th_f[j]
+        for k in range(n_extra):
+            U[3 * nf + k] = u[3 * nc + k]
+        for i in range(n_red + 1):
+            num[i] = 0.0
+        for i in range(n_full):
+            num[I0[i]] += C_independent[i] * U[i]
+        for j in range(n_red):
+            q[lv, j] = num[j] / (den[j] if den[j] > 0 else 1.0)
+        for e in range(n_el):
+            dx = X2[e, 0] - X1[e, 0] + U[edofs_f[e, 3]] - U[edofs_f[e, 0]]
+            dy = X2[e, 1] - X1[e, 1] + U[edofs_f[e, 4]] - U[edofs_f[e, 1]]
+            ref = beta0_f[e] + (U[edofs_f[e, 2]] + U[edofs_f[e, 5]]) / 2
+            turn = math.atan2(dy, dx) - ref
+            beta[lv, e] = ref + math.atan2(math.sin(turn), math.cos(turn))
+    return q, beta
