@@ -281,3 +281,25 @@ def test_the_headline_takes_each_codes_fastest_candidate_as_re_timed(monkeypatch
     assert [(c["method"], c["elements"]) for c in mine] == [("fem", 32), (bench.paired_label("fem"), 8),
                                                            ("fem+richardson", 8)][:bench.CANDIDATES]
     assert [(c["method"], c["elements"]) for c in theirs] == [(bench.PEER, 32)]
+
+
+def test_the_headline_re_times_every_configuration_close_to_the_sweeps_fastest():
+    """`_candidates`: of each code the sweep's CANDIDATES fastest that reach the error, and any other within
+    CANDIDATE_SPREAD times its fastest (at most CANDIDATES_MAX): a configuration one slow sweep time put
+    fourth (1.45 ms for a run re-timed at 0.88 ms, a bench of the single-level cantilever) is re-timed,
+    one far slower is not; `_choices` (the sweep's own pick) is the fastest alone."""
+    rows = [("fem+richardson", 8, 1.15, 2e-5), ("fem+richardson", 16, 1.20, 1e-6),
+            (bench.paired_label("fem"), 8, 1.27, 2e-5), ("fem", 64, 1.45, 3e-5), ("fem", 128, 2.25, 7e-6),
+            ("fem", 256, 4.03, 2e-6), ("fem", 32, 0.60, 1.1e-4),          # misses the error
+            (bench.PEER, 8, 0.9, 5e-5), (bench.PEER, 64, 3.0, 1e-5)]
+    frame = pd.DataFrame([dict(method=m, elements=n, time_s=t * 1e-3, error=e, iterations=1) for m, n, t, e in rows])
+    mine, theirs = bench._candidates(frame, 1e-4)
+    assert bench.CANDIDATES == 3 and bench.CANDIDATE_SPREAD == 2.0
+    assert [(c["method"], c["elements"]) for c in mine] == [
+        ("fem+richardson", 8), ("fem+richardson", 16), (bench.paired_label("fem"), 8), ("fem", 64), ("fem", 128)]
+    assert [(c["method"], c["elements"]) for c in theirs] == [(bench.PEER, 8), (bench.PEER, 64)]
+    ours, peer = bench._choices(frame, 1e-4)
+    assert (ours["method"], ours["elements"], peer["elements"]) == ("fem+richardson", 8, 8)
+    crowded = pd.DataFrame([dict(method="fem", elements=n, time_s=1.0 + n * 1e-3, error=1e-5, iterations=1)
+                            for n in range(1, 20)])
+    assert len(bench._candidates(crowded, 1e-4)[0]) == bench.CANDIDATES_MAX
