@@ -101,7 +101,8 @@ def test_pyvista_opens_the_series_and_renders(cantilever_files, tmp_path):
     reader.set_active_time_point(len(reader.time_values) - 1)
     block = reader.read()
     assert len(block[0].point_data.keys()) >= 4
-    png = paraview.render_series(files, tmp_path / "render.png", "cantilever")
+    png = paraview.render_series(paraview.case_series(result.loaded.case, result.runs), tmp_path / "render.png",
+                                 "cantilever")
     if png is None:
         pytest.skip("pyvista cannot render here")
     picture = pv.read(str(png))
@@ -160,3 +161,28 @@ def test_a_mechanism_elastica_centreline_has_its_tangent_angle():
     assert len(frame.lines) == 200
     np.testing.assert_allclose(frame.point_data["rotation"][[0, 100, 200]], [0.0, 45.0, 90.0], atol=0.01)
     np.testing.assert_allclose(frame.point_data["curvature"][1:-1], 0.5, rtol=1e-3)
+
+
+def test_the_picture_draws_the_meshes_the_files_hold(tmp_path):
+    """`render_series` draws each series' last level (and the FEM's undeformed mesh) from memory
+    (`_polydata`), not by reading the files back: those meshes equal what `write_case_series` wrote, as
+    pyvista (ParaView's VTK) reads them: the same points, line cells, vertex cells and bending moment."""
+    pv = pytest.importorskip("pyvista")
+    result = run_case(case_by_id("cantilever_tip_load"), use_cache=True)
+    series = paraview.case_series(result.loaded.case, result.runs)
+    files = paraview.write_case_series(result.loaded.case, result.runs, tmp_path, series)
+    assert [p.stem for p in files] == [s.method for s in series] and len(series) >= 2
+
+    def cells(mesh, size):
+        return [tuple(c.point_ids) for c in mesh.cell if c.n_points == size]
+
+    for part in series:
+        last = len(part.frames) - 1
+        on_disk = pv.read(str(tmp_path / f"{part.method}_{last:04d}.vtu"))
+        drawn = paraview._polydata(pv, part.frames[-1], ("bending_moment",))
+        np.testing.assert_array_equal(drawn.points, on_disk.points)
+        assert cells(drawn, 2) == cells(on_disk, 2) and cells(drawn, 1) == cells(on_disk, 1)
+        if part.method == "fem":
+            np.testing.assert_array_equal(drawn.point_data["bending_moment"], on_disk.point_data["bending_moment"])
+            undeformed = pv.read(str(tmp_path / "fem_undeformed.vtu"))
+            np.testing.assert_array_equal(paraview._polydata(pv, part.undeformed).points, undeformed.points)

@@ -23,8 +23,8 @@ def _legend(canvas) -> dict[str, tuple[float, float, float]]:
 def test_the_legend_gives_each_series_its_line_colour(tmp_path: Path):
     pytest.importorskip("pyvista")
     result = run_case(case_by_id("cantilever_tip_load"), use_cache=True)
-    pvds = paraview.write_case_series(result.loaded.case, result.runs, tmp_path / "vtu")
-    png = paraview.render_series(pvds, tmp_path / "a.png", "first")
+    series = paraview.case_series(result.loaded.case, result.runs)
+    png = paraview.render_series(series, tmp_path / "a.png", "first")
     if png is None:
         pytest.skip("pyvista cannot render here")
     canvas = paraview._CANVASES[(640, 420)]
@@ -34,7 +34,7 @@ def test_the_legend_gives_each_series_its_line_colour(tmp_path: Path):
     assert legend["prbm"] == pytest.approx(to_rgb(paraview.RENDER_COLOURS["prbm"]))
     assert legend["undeformed"] == pytest.approx(to_rgb(paraview.UNDEFORMED_COLOUR))
     # a second picture of fewer series: its own legend and title, nothing left of the first
-    only_fem = [p for p in pvds if p.stem == "fem"]
+    only_fem = [p for p in series if p.method == "fem"]
     paraview.render_series(only_fem, tmp_path / "b.png", "second")
     assert set(_legend(canvas)) == {"FEM (colour: bending moment)", "undeformed"}
     assert canvas.title.GetText(2) == "second"
@@ -48,10 +48,10 @@ def test_each_picture_shows_its_own_series(tmp_path: Path):
     the previous picture. Pictures A, B, A on one canvas: the two A's equal pixel for pixel, B differs."""
     pytest.importorskip("pyvista")
     result = run_case(case_by_id("cantilever_tip_load"), use_cache=True)
-    pvds = paraview.write_case_series(result.loaded.case, result.runs, tmp_path / "vtu")
-    only_prbm = [p for p in pvds if p.stem == "prbm"]
-    pictures = [paraview.render_series(files, tmp_path / f"{i}.png", title)
-                for i, (files, title) in enumerate([(pvds, "all"), (only_prbm, "prbm"), (pvds, "all")])]
+    series = paraview.case_series(result.loaded.case, result.runs)
+    only_prbm = [p for p in series if p.method == "prbm"]
+    pictures = [paraview.render_series(parts, tmp_path / f"{i}.png", title)
+                for i, (parts, title) in enumerate([(series, "all"), (only_prbm, "prbm"), (series, "all")])]
     if None in pictures:
         pytest.skip("pyvista cannot render here")
     first, second, third = (np.asarray(Image.open(png)) for png in pictures)

@@ -259,9 +259,10 @@ def glance(table: pd.DataFrame) -> pd.DataFrame:
 def _case_files(result: CaseResult, out: Path) -> tuple[list[str], str | None]:
     """The ParaView series of the case under ``vtu/<id>/`` and their off-screen rendering (or None)."""
     cid = result.loaded.id
-    pvds = paraview.write_case_series(result.loaded.case, result.runs, out / "vtu" / cid)
-    render = paraview.render_series(pvds, out / "cases" / f"{cid}_render.png",
-                                    f"{cid}: last level") if pvds else None
+    series = paraview.case_series(result.loaded.case, result.runs)
+    pvds = paraview.write_case_series(result.loaded.case, result.runs, out / "vtu" / cid, series)
+    render = paraview.render_series(series, out / "cases" / f"{cid}_render.png",
+                                    f"{cid}: last level") if series else None
     return [str(p.relative_to(out)) for p in pvds], render.name if render else None
 
 

@@ -28,6 +28,7 @@ from pathlib import Path
 
 import meshio
 import numpy as np
+from PIL import Image
 
 from validation.case.schema import Case
 
@@ -226,20 +227,27 @@ def elastica_series(case: Case, shapes) -> ShapeSeries | None:
     return ShapeSeries("elastica", _times(case, _levels(shapes)), frames)
 
 
-def write_case_series(case: Case, runs: dict, folder: Path) -> list[Path]:
-    """Every method's series of one case under ``folder``; returns the ``.pvd`` paths."""
+def case_series(case: Case, runs: dict) -> list[ShapeSeries]:
+    """Every method's series of one case (FEM, PRBM, elastica: those that gave shapes)."""
     builders = {"fem": lambda run: fem_series(case, run.extras.get("fields")),
                 "prbm": lambda run: prbm_series(case, run.extras.get("shapes")),
                 "elastica": lambda run: elastica_series(case, run.extras.get("shapes"))}
-    for stale in [*folder.glob("*.vtu"), *folder.glob("*.pvd")]:  # a level or method that is gone
-        stale.unlink()
-    written, parts = [], []
+    parts = []
     for method, build in builders.items():
         run = runs.get(method)
         series = build(run) if run is not None else None
         if series is not None and series.frames:
-            written.append(write_pvd(series, folder))
             parts.append(series)
+    return parts
+
+
+def write_case_series(case: Case, runs: dict, folder: Path, series: list[ShapeSeries] | None = None) -> list[Path]:
+    """Every method's series of one case under ``folder`` (``series``: `case_series`'s, when the caller
+    has them); returns the ``.pvd`` paths."""
+    parts = case_series(case, runs) if series is None else series
+    for stale in [*folder.glob("*.vtu"), *folder.glob("*.pvd")]:  # a level or method that is gone
+        stale.unlink()
+    written = [write_pvd(part, folder) for part in parts]
     if len(parts) > 1:  # every method in one file, one part each, to scrub through the load together
         _collection(folder / "all_methods.pvd", parts)
     return written
@@ -298,8 +306,24 @@ def _canvas(pv, size: tuple[int, int] = (640, 420)) -> Canvas:
     return canvas
 
 
-def render_series(pvd_files: list[Path], png: Path, title: str = "") -> Path | None:
-    """The last level of every series (and the FEM's undeformed mesh) in one off-screen picture;
+def _polydata(pv, frame: ShapeFrame, scalars: tuple[str, ...] = ()):
+    """A frame as pyvista line (and vertex) cells, with the point arrays named in ``scalars``: the mesh
+    ``write_pvd`` writes for the frame, built in memory (what a picture draws of it)."""
+    lines = np.asarray(frame.lines, int).reshape(-1, 2)
+    mesh = pv.PolyData(np.column_stack([frame.points, np.zeros(len(frame.points))]),
+                       lines=np.column_stack([np.full(len(lines), 2), lines]).ravel())
+    if len(frame.vertices):
+        vertices = np.asarray(frame.vertices, int).ravel()
+        mesh.verts = np.column_stack([np.ones(len(vertices), int), vertices]).ravel()
+    for name in scalars:
+        if name in frame.point_data:
+            mesh.point_data[name] = np.asarray(frame.point_data[name], float)
+    return mesh
+
+
+def render_series(series: list[ShapeSeries], png: Path, title: str = "") -> Path | None:
+    """The last level of every series (and the FEM's undeformed mesh) in one off-screen picture, from
+    the series ``write_case_series`` writes (the same meshes, built in memory: no reading back);
     None when pyvista (VTK) cannot render here."""
     try:
         import pyvista as pv
@@ -309,19 +333,16 @@ def render_series(pvd_files: list[Path], png: Path, title: str = "") -> Path | N
     canvas = _canvas(pv)
     plotter = canvas.plotter
     legend = []   # (label, colour): each entry in its line's colour (pyvista's own legend gives a line
-    for pvd in pvd_files:  # coloured by scalars the mesh's default colour, a light blue)
-        method = pvd.stem
-        reader = pv.get_reader(str(pvd))
-        reader.set_active_time_point(len(reader.time_values) - 1)
-        mesh = reader.read()[0]
+    for part in series:    # coloured by scalars the mesh's default colour, a light blue)
+        method = part.method
+        mesh = _polydata(pv, part.frames[-1], ("bending_moment",) if method == "fem" else ())
         if method == "fem" and "bending_moment" in mesh.point_data:
             bar = {"title": "FEM bending moment", "color": "black", "render": False}
             canvas.shown.append(plotter.add_mesh(mesh, scalars="bending_moment", line_width=6, cmap=FEM_COLOURMAP,
                                                  scalar_bar_args=bar, render=False))
             legend.append(("FEM (colour: bending moment)", FEM_LEGEND_COLOUR))
-            undeformed = pvd.with_name("fem_undeformed.vtu")
-            if undeformed.exists():
-                canvas.shown.append(plotter.add_mesh(pv.read(str(undeformed)), color=UNDEFORMED_COLOUR,
+            if part.undeformed is not None:
+                canvas.shown.append(plotter.add_mesh(_polydata(pv, part.undeformed), color=UNDEFORMED_COLOUR,
                                                      line_width=2, render=False))
                 legend.append(("undeformed", UNDEFORMED_COLOUR))
         else:
@@ -333,5 +354,7 @@ def render_series(pvd_files: list[Path], png: Path, title: str = "") -> Path | N
     plotter.view_xy(render=False)
     canvas.legend(tuple(legend))
     plotter.render()  # the one render of the picture (the calls above are told not to: ~5 ms each)
-    plotter.screenshot(str(png))
+    image = plotter.screenshot(None, return_img=True)
+    # zlib level 1: 5 ms an image instead of 9 (the default, 6), files ~20 % larger
+    Image.fromarray(image).save(png, compress_level=1)
     return png
