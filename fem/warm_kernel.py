@@ -11,6 +11,8 @@ n/2n error estimate the NumPy version is some thirty NumPy calls on arrays of a 
 
 One module, no call into another file's compiled code: numba's cache is keyed on the defining file
 only (`kernel` explains it; `tests/test_compiled_cache.py` checks it).
+
+Angles (the chord angles, the end rotations, the tangent angles of the midpoints) are in radians.
 """
 from __future__ import annotations
 
