@@ -279,9 +279,8 @@ def _prb_model(result: CaseResult) -> tuple[pd.DataFrame | None, str | None]:
     return pd.DataFrame(rows), run.extras.get("lock")
 
 
-def _case_page(result: CaseResult, table: pd.DataFrame, out: Path, sentence: str | None = None) -> tuple[str, str]:
-    """Write the case's page (html and md); ``sentence``: its one-sentence result (`case_sentence`),
-    when the caller has it."""
+def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str, str]:
+    """Write the case's page (html and md); returns its one-sentence result (`case_sentence`) and its link."""
     case = result.loaded.case
     cid = case.case.id
     folder = out / "cases"
@@ -303,7 +302,7 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path, sentence: str
                           "message": r.message[:300]} for m, b, _, r in badges])
     source = case.case.source.label() if case.case.source else ""
     items = findings([result], table)
-    sentence = case_sentence(result, table) if sentence is None else sentence
+    sentence = case_sentence(result, table)
     status = " ".join(f"{METHOD_NAMES.get(m, m)} {b.html(w)}" for m, b, w, _ in badges)
     body = (f"<p><a href='../index.html'>all cases</a></p><h1>{html.escape(case.case.title)}</h1>"
             f"<p class='lead'><b>{html.escape(sentence)}</b></p><p>{status}</p>"
@@ -357,7 +356,7 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path, sentence: str
         md += [f"\nCharts ({', '.join(chart.id for chart in charts)}): drawn in [the HTML page]({cid}.html)."]
     md += [f"\n![{name}]({name})" for name in images]
     (folder / f"{cid}.md").write_text("\n".join(md) + "\n")
-    return cid, f"cases/{cid}.html"
+    return sentence, f"cases/{cid}.html"
 
 
 def _code_digest() -> str:
@@ -396,8 +395,7 @@ def _page_job(args) -> PageLink:
     if stamp.exists() and stamp.read_text() == digest and (out / "cases" / f"{cid}.html").exists():
         return PageLink(cid, f"cases/{cid}.html", summary=summarise(result, part))
     try:
-        summary = summarise(result, part)     # its sentence heads the page too: worked out once
-        _, link = _case_page(result, part, out, summary.sentence)
+        sentence, link = _case_page(result, part, out)
     except Exception as exc:  # noqa: BLE001 - any drawing error is reported, the other pages go on
         error = f"{cid}: its page could not be drawn: {type(exc).__name__}: {exc}"
         link = f"cases/{cid}.html"
@@ -405,7 +403,7 @@ def _page_job(args) -> PageLink:
         stamp.unlink(missing_ok=True)
         return PageLink(cid, link, error)
     stamp.write_text(digest)
-    return PageLink(cid, link, summary=summary)
+    return PageLink(cid, link, summary=summarise(result, part, sentence))   # the page's sentence: once
 
 
 @dataclass(frozen=True)

@@ -152,7 +152,8 @@ def _short(text: str, limit: int = 140) -> str:
     return text if len(text) <= limit else text[:limit - 1].rstrip() + "…"
 
 
-def summarise(result: CaseResult, part: pd.DataFrame) -> CaseSummary:
+def summarise(result: CaseResult, part: pd.DataFrame, sentence: str | None = None) -> CaseSummary:
+    """The case's row of the index; ``sentence``: its `case_sentence` of ``part``, when the caller has it."""
     case = result.loaded.case
     methods = [MethodState(m, *run_badge(r, case.case.expected_failure.get(m))) for m, r in result.runs.items()]
     claimed = part[part["within_tolerance"].notna()]
@@ -181,7 +182,7 @@ def summarise(result: CaseResult, part: pd.DataFrame) -> CaseSummary:
     else:
         relative = length = estimate = math.nan
     return CaseSummary(group=case.case.group, case=case.case.id, title=case.case.title, badge=badge,
-                       reason=reason, methods=methods, sentence=case_sentence(result, part),
+                       reason=reason, methods=methods, sentence=case_sentence(result, part) if sentence is None else sentence,
                        prbm_fem_length=length, prbm_fem_relative=relative, fem_estimate=estimate,
                        checks=len(claimed), checks_passed=int((claimed["within_tolerance"] == True).sum()),  # noqa: E712
                        findings=n_findings, times={m: r.wall_time for m, r in result.runs.items()},
