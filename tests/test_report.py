@@ -186,6 +186,22 @@ def test_output_chart_draws_the_values_against_the_load_with_units():
     assert {"fem", "prbm", "elastica"} <= set(legend)
 
 
+def test_one_number_of_a_whole_case_is_no_panel_of_the_outputs_chart(built_report):
+    """Test 2 asks for the mechanism's degrees of freedom (one count of the PRBM, printed 1 in seed 000
+    section 9.3) beside the coupler point's dx and dy at the design torques: the chart draws dx and dy
+    against the torque and no 'dof' panel (a point at the first torque would say the count belongs to
+    it); the page's table still gives the count. A case whose only output is such a number draws no chart."""
+    page = (built_report / "cases" / "bapat2015_test2.html").read_text()
+    spec = re.search(r"<div id='outputs'.*?const f=(.*?);Plotly\.newPlot\('outputs'", page, flags=re.S).group(1)
+    titles = re.findall(r'"text":"([^"]*\[[^"]*\])"', spec)
+    assert {"dx@P [in]", "dy@P [in]"} <= set(titles)
+    assert not [t for t in titles if t.startswith("dof")]
+    assert re.search(r"<td>prbm</td><td>dof</td><td></td><td>P0 \(unloaded\)</td><td>1</td><td>count</td>", page)
+    table = tabulate(run_case(case_by_id("bapat2015_test3_specimen1"), use_cache=False))
+    assert set(table["quantity"].dropna()) == {"dof"}
+    assert outputs_chart("outputs", np.arange(1.0), "load level", table) is None
+
+
 def test_a_continuation_writes_and_draws_its_limit_points_and_a_few_dozen_frames():
     """A continuation of hundreds of steps: its ParaView series keeps evenly spaced steps, the first, the
     last and every turning point of the load (a limit point), not every step."""

@@ -14,6 +14,8 @@ class Quantity:
     dimension: str  # 'length', 'deg', 'force', 'moment', 'energy', '1', 'count'
     at_point: bool  # True when the quantity belongs to a named point
     description: str
+    per_level: bool = True  # False: one number of the whole case (a count of the model, a limit load),
+    #                         not a value that follows the load levels (the report draws no curve of it)
 
 
 QUANTITIES: dict[str, Quantity] = {
@@ -32,9 +34,9 @@ QUANTITIES: dict[str, Quantity] = {
     "input_torque": Quantity("moment", False, "input torque of a mechanism"),
     "strain_energy": Quantity("energy", False, "total strain energy"),
     "mechanical_advantage": Quantity("1", False, "output force over input force"),
-    "dof": Quantity("count", False, "maximum degrees of freedom"),
+    "dof": Quantity("count", False, "maximum degrees of freedom", per_level=False),
     "prb_angle": Quantity("deg", False, "pseudo-rigid-body angle Theta"),
-    "limit_load": Quantity("force", False, "load at the first limit point"),
+    "limit_load": Quantity("force", False, "load at the first limit point", per_level=False),
     "max_stress": Quantity("modulus", False, "largest bending stress |E (N/EA +- M c/EI)| over every beam"),
     "inflection_points": Quantity("count", False, "number of curvature sign changes along the beams"),
 }

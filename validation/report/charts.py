@@ -12,7 +12,9 @@ Three charts, as the matplotlib figures were:
 - ``outputs_chart``: a panel per output (quantity at a point), its value (in the case's unit) against
   the case's first load (in its unit, else the load level index); a line per method and hollow
   markers per printed column of the source; one legend, an entry per method and per printed column,
-  a click on an entry hiding that method in every panel;
+  a click on an entry hiding that method in every panel. An output that is one number of the whole
+  case (``Quantity.per_level`` False: a mechanism's degrees of freedom, a limit load) gets no panel: a
+  point on the load axis would place it at a load it does not belong to (the page's tables give it);
 - ``shapes_chart``: the deformed shapes of every level, a line per method (levels separated by gaps),
   measured tip points as markers, x and y in the case's length unit on equal scales;
 - ``path_chart``: a FEM continuation's equilibrium path with its limit points.
@@ -28,6 +30,8 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+
+from validation.case.capabilities import QUANTITIES
 
 PLOTLY_JS = "js/plotly.min.js"   # under the report folder
 METHOD_STYLE = {"fem": ("#1f77b4", "solid"), "prbm": ("#ff7f0e", "dash"), "elastica": ("#2ca02c", "dot"),
@@ -132,12 +136,13 @@ class Panel:
 
 
 def _panels(table: pd.DataFrame) -> dict[tuple[str, str], Panel]:
-    """The table's outputs (quantity, point) in order of first appearance, each as a ``Panel``."""
+    """The table's outputs (quantity, point) that follow the load levels (``Quantity.per_level``), in order
+    of first appearance, each as a ``Panel``."""
     panels: dict[tuple[str, str], Panel] = {}
     seen: set[tuple] = set()
     for quantity, point, method, level, value, label, printed, unit in \
             table[OUTPUT_COLUMNS].itertuples(index=False, name=None):
-        if pd.isna(quantity):
+        if pd.isna(quantity) or not QUANTITIES[quantity].per_level:
             continue
         panel = panels.setdefault((quantity, point), Panel(unit, {}, {}))
         panel.methods.setdefault(method, {}).setdefault(int(level), value)
