@@ -316,8 +316,8 @@ def _multistart(residual, grid: np.ndarray, keep: int, xtol: float, point_kernel
     norms = np.where(np.isfinite(norms), norms, np.inf)
     order = np.argsort(norms)[:keep]
 
-    def point(x):
-        return np.array(residual(x, point_kernel), dtype=float)
+    def point(x):   # MINPACK's point as plain floats: numpy scalars would make each operation ~4x slower
+        return np.array(residual(x.tolist(), point_kernel), dtype=float)
 
     roots, nfev = [], 0
     for i in order:

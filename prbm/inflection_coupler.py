@@ -203,7 +203,7 @@ class _Warm:
                 for k in range(1, steps + 1):
                     nk, bk, thk = self.given + (given - self.given) * k / steps
                     phi1 = math.atan2(1.0, -nk)
-                    state = _warm_root(beam, x, lambda y, eqs: _case1_residual(beam, np.r_[phi1, y], None, bk, thk,
+                    state = _warm_root(beam, x, lambda y, eqs: _case1_residual(beam, [phi1, *y], None, bk, thk,
                                                                               eqs), 2, phi1=phi1)
                     if state is None:
                         break
@@ -245,7 +245,7 @@ def _warm_root(beam, x0, residual, size, phi1=None):
     full = (lambda x: np.r_[phi1, x]) if phi1 is not None else (lambda x: x)
     try:
         with np.errstate(all="ignore"):
-            sol = root(lambda x: residual(x, _point_ends)[0], np.asarray(x0, float), method="hybr",
+            sol = root(lambda x: residual(x.tolist(), _point_ends)[0], np.asarray(x0, float), method="hybr",
                        options={"xtol": 1e-12})
         r, st = residual(sol.x, _point_state)
     except (ValueError, ZeroDivisionError, ArithmeticError):
