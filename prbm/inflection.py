@@ -305,6 +305,19 @@ def _valid(beam, s, tol=1e-8) -> tuple[bool, str]:
     return True, "valid"
 
 
+@functools.lru_cache(maxsize=None)
+def _start_grid(*axes: tuple[float, float, int, bool]) -> np.ndarray:
+    """The multistart grid of a problem: every combination of the axes' points, each axis
+    ``(first, last, count, angle)`` = np.linspace(first, last, count) (in degrees turned to radians
+    when ``angle``), the first axis slowest; a constant of the problem, built once (read-only: a few
+    milliseconds of Python tuples a solve otherwise)."""
+    points = [np.linspace(first, last, count) * DEG if angle else np.linspace(first, last, count)
+              for first, last, count, angle in axes]
+    grid = np.stack(np.meshgrid(*points, indexing="ij"), axis=-1).reshape(-1, len(axes))
+    grid.flags.writeable = False
+    return grid
+
+
 def _multistart(residual, grid: np.ndarray, keep: int, xtol: float, point_kernel: _Kernel = POINT):
     """Solve residual(x) = 0 from the `keep` grid points of smallest residual; return distinct roots.
 
@@ -402,8 +415,7 @@ def solve_loads(beam: InflectionBeam, P: float, nP: float, M: float, *, prefer="
         s = kernel.state(beam, F, phi1, x[0], x[1] * l, x[2])
         return [s["r95"], s["r96"], (moment(x[0]) - s["M"]) * l / EI]
 
-    grid = np.array([(t, f, q) for t in np.linspace(-80, 80, 17) * DEG for f in np.linspace(0.15, 0.85, 8)
-                     for q in np.linspace(5, 85, 9) * DEG])
+    grid = _start_grid((-80, 80, 17, True), (0.15, 0.85, 8, False), (5, 85, 9, True))
     roots, nfev = _multistart(residual, grid, starts, xtol, LOADS)
     states = [inflection_state(beam, F, phi1, x[0], x[1] * l, x[2]) for x in roots]
     given = {"P": P, "nP": nP, "M": "a function of theta0" if callable(M) else M}
@@ -436,8 +448,7 @@ def solve_displacements(beam: InflectionBeam, *, b: float, theta0: float, a: flo
             s = kernel.state(beam, kernel.force(beam, phi1, L1, q), phi1, theta0, L1, q)
             return [s["r96"], (s["b"] - b) * scale, (s["a"] - a) * scale]
 
-        grid = np.array([(p, f, q) for p in np.linspace(10, 170, 17) * DEG for f in np.linspace(0.1, 0.9, 9)
-                         for q in np.linspace(3, 88, 12) * DEG])
+        grid = _start_grid((10, 170, 17, True), (0.1, 0.9, 9, False), (3, 88, 12, True))
     elif n is not None:
         problem = "case 2a/2b (b, theta0, n)"
         phi_fixed = math.atan2(1.0, -n)
@@ -450,7 +461,7 @@ def solve_displacements(beam: InflectionBeam, *, b: float, theta0: float, a: flo
             s = kernel.state(beam, kernel.force(beam, phi1, L1, q), phi1, theta0, L1, q)
             return [s["r96"], (s["b"] - b) * scale]
 
-        grid = np.array([(f, q) for f in np.linspace(0.05, 0.95, 19) for q in np.linspace(2, 88, 44) * DEG])
+        grid = _start_grid((0.05, 0.95, 19, False), (2, 88, 44, True))
     else:
         problem = "case 2c (b, theta0, l1)"
         l1_fixed = l1
@@ -463,7 +474,7 @@ def solve_displacements(beam: InflectionBeam, *, b: float, theta0: float, a: flo
             s = kernel.state(beam, kernel.force(beam, phi1, L1, q), phi1, theta0, L1, q)
             return [s["r96"], (s["b"] - b) * scale]
 
-        grid = np.array([(p, q) for p in np.linspace(5, 175, 35) * DEG for q in np.linspace(2, 88, 44) * DEG])
+        grid = _start_grid((5, 175, 35, True), (2, 88, 44, True))
 
     roots, nfev = _multistart(residual, grid, starts, xtol, ENDS)
     states = []
