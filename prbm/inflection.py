@@ -434,6 +434,9 @@ def solve_displacements(beam: InflectionBeam, *, b: float, theta0: float, a: flo
     t0 = time.perf_counter()
     if sum(v is not None for v in (a, n, l1)) != 1:
         raise ValueError("give exactly one of a (case 1), n (case 2a/2b) or l1 (case 2c)")
+    # plain floats for the point kernels (a numpy scalar would turn every operation of theirs into numpy's)
+    b, theta0 = float(b), float(theta0)
+    a, n, l1 = (None if v is None else float(v) for v in (a, n, l1))
     l = beam.length
     scale = 1.0 / l
 

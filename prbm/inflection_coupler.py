@@ -109,7 +109,7 @@ class CouplerDrive:
     def segment_end(self, seg: GuidedSegment, t: float) -> tuple[float, float, float]:
         """(a, b, theta0) of the segment end in the segment's frame (eq 154)."""
         z = (self.end(seg, t) - seg.root) * cmath.exp(-1j * seg.theta1)
-        return z.real, z.imag, self.gamma
+        return z.real, z.imag, float(self.gamma)
 
 
 @dataclass
@@ -201,7 +201,7 @@ class _Warm:
             for steps in (1, 4, 16):
                 x, state = self.x[1:], None
                 for k in range(1, steps + 1):
-                    nk, bk, thk = self.given + (given - self.given) * k / steps
+                    nk, bk, thk = (self.given + (given - self.given) * k / steps).tolist()
                     phi1 = math.atan2(1.0, -nk)
                     state = _warm_root(beam, x, lambda y, eqs: _case1_residual(beam, [phi1, *y], None, bk, thk,
                                                                               eqs), 2, phi1=phi1)
