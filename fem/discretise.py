@@ -271,8 +271,8 @@ def _rigid_link_roots(model: Model):
         return n
     if not parent:
         return np.zeros(0, dtype=int), np.zeros(0, dtype=int)
-    slaves = np.array(sorted(parent), dtype=int)
-    return slaves, np.array([root(s) for s in slaves], dtype=int)
+    slaves = sorted(parent)
+    return np.array(slaves, dtype=int), np.array([root(s) for s in slaves], dtype=int)
 
 
 def _used_dofs(model, n_en, n_full, edofs, springs, rot_dof, slaves, masters) -> np.ndarray:
@@ -286,7 +286,7 @@ def _used_dofs(model, n_en, n_full, edofs, springs, rot_dof, slaves, masters) ->
     for ld in model.loads:
         if ld.member is None and (ld.kind == "moment" or ld.follower):
             used[rot_dof[ld.node]] = True
-    for s, m in zip(slaves, masters):
+    for s, m in zip(slaves.tolist(), masters.tolist()):
         used[rot_dof[m]] = True
         used[rot_dof[s]] = True
     used[n_full] = False
@@ -360,7 +360,7 @@ def _constraint_map(n_en, n_full, order, independent, held: _Held, rotation_dofs
             I[i + 1, 0] = I[i, 0]
             C[i, 0], C[i + 1, 0] = held.slider_dirs[i // 2]
     red_is_rot = rotation_dofs[free]
-    for s, m in zip(slaves, masters):     # slave rows: copy the master map (+ theta column)
+    for s, m in zip(slaves.tolist(), masters.tolist()):     # slave rows: copy the master map (+ theta column)
         I[2 * s] = [I[2 * m, 0], I[rot_dof[m], 0]]
         I[2 * s + 1] = [I[2 * m + 1, 0], I[rot_dof[m], 0]]
         C[2 * s] = [C[2 * m, 0], 0.0]
@@ -415,7 +415,7 @@ def discretise(model: Model, refine: int = 1) -> Discretisation:
     used = _used_dofs(model, n_en, n_full, edofs, springs, rot_dof, slaves, masters)
     independent = np.ones(n_full + 1, dtype=bool)
     independent[ground] = False
-    for s in slaves:
+    for s in slaves.tolist():
         independent[[2 * s, 2 * s + 1, rot_dof[s]]] = False
     held = _supports(model, n_full, used, rot_dof, slaves)
     order = _dof_order(n_en, conn, slaves, masters, joints.extra_owner)
