@@ -164,15 +164,23 @@ class FemResult:
                                 list(disc.el_section), self.mesh_positions - self.extra["X"],
                                 self.mesh_rotations.copy())
         return FieldSeries(self.extra["X"].copy(), self.connectivity.copy(), self.mesh_positions.copy(),
-                           np.asarray(self.load_factor, float), forces)
+                           np.asarray(self.load_factor, float), forces, self.rigid_links())
+
+    def rigid_links(self) -> np.ndarray:
+        """(k, 2) element nodes (master, slave) of every rigid link, the master the root of its chain: the
+        lines a picture draws for them (a rigid body as a star from its master)."""
+        disc = self.extra["disc"]
+        return np.column_stack([disc.masters, disc.slaves]).astype(int).reshape(-1, 2)
 
     def to_vtu(self, prefix: str) -> list:
         """Write one VTU file per level (deformed mesh, line cells, the point data of
         ``nodal_fields``), ``prefix_undeformed.vtu`` and a ParaView collection ``prefix.pvd``
         (time = level's load factor); returns the per-level VTU paths."""
+        lines = np.concatenate([self.connectivity, self.rigid_links()])   # elements, then rigid links
+
         def write(path, xy, point_data):
             meshio.write(path, meshio.Mesh(np.column_stack([xy, np.zeros(len(xy))]),
-                                           [("line", self.connectivity)], point_data=point_data))
+                                           [("line", lines)], point_data=point_data))
 
         write(f"{prefix}_undeformed.vtu", self.extra["X"], {})
         paths = []
@@ -239,6 +247,10 @@ class FieldSeries:
     positions: np.ndarray        # (levels, n, 2)
     load_factor: np.ndarray      # (levels,) the load factor (or level) of each
     forces: _ElementForces
+    # (k, 2) the rigid links' (master, slave) element nodes: drawn as lines (a rigid body as a star from
+    # its master node), no element of their own, so no forces (their nodes' point data come from the
+    # elements meeting there, NaN at a node no element reaches)
+    links: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), int))
 
     @cached_property
     def nodal(self) -> list:

@@ -120,6 +120,41 @@ def test_test2_file_holds_the_prbm_links(tmp_path):
     assert not math.isnan(mesh.points.sum())
 
 
+def test_test2_fem_files_and_shapes_draw_the_rigid_coupler(tmp_path):
+    """Test 2's coupler is a rigid body (seed 000 fig. 9.21: the segment tip A carries B and the coupler
+    point P), in the FEM two rigid links A-B and A-P with no element of their own. The FEM's files, its
+    picture and its shapes chart draw them: two line cells after the elements, both from the master A,
+    each as long at every level as unloaded (rigid); the bending moment at P, which no element reaches,
+    is NaN (no value made up)."""
+    result = run_case(case_by_id("bapat2015_test2"), methods=["fem"], use_cache=False)
+    run = result.runs["fem"]
+    fields = run.extras["fields"]
+    n_elements = len(fields.connectivity)
+    series = paraview.case_series(result.loaded.case, result.runs)
+    paraview.write_case_series(result.loaded.case, result.runs, tmp_path, series)
+    undeformed = meshio.read(tmp_path / "fem_undeformed.vtu")
+    for k in range(result.loaded.case.n_levels()):
+        mesh = meshio.read(tmp_path / f"fem_{k:04d}.vtu")
+        lines = mesh.cells_dict["line"]
+        assert len(lines) == n_elements + 2
+        links = lines[n_elements:]
+        assert links[0, 0] == links[1, 0] and links[0, 1] != links[1, 1]        # a star from the master A
+        length = np.linalg.norm(np.diff(mesh.points[links], axis=1), axis=2).ravel()
+        unloaded = np.linalg.norm(np.diff(undeformed.points[links], axis=1), axis=2).ravel()
+        np.testing.assert_allclose(length, unloaded, rtol=1e-9)
+        assert np.isnan(mesh.point_data["bending_moment"][links[:, 1]]).sum() == 1   # P: no element there
+        drawn = run.extras["shapes"][k][-2:]        # the chart's polylines: the element chains, then the links
+        np.testing.assert_array_equal(np.array(drawn), mesh.points[links][:, :, :2])
+    pv = pytest.importorskip("pyvista")      # the picture: the elements by their moment, the links plain
+    frame = series[0].frames[-1]
+    elements = paraview._polydata(pv, frame, ("bending_moment",), cells="lines")
+    rigid = paraview._polydata(pv, frame, cells="rigid")            # as `render_series` draws them
+    on_disk = pv.read(str(tmp_path / f"fem_{len(series[0].frames) - 1:04d}.vtu"))
+    two = [tuple(c.point_ids) for c in on_disk.cell if c.n_points == 2]
+    assert [tuple(c.point_ids) for mesh in (elements, rigid) for c in mesh.cell if c.n_points == 2] == two
+    assert rigid.n_cells == 2 and "bending_moment" not in rigid.point_data
+
+
 def test_all_methods_collection_has_one_part_per_method(cantilever_files):
     result, files = cantilever_files
     root = ET.parse(files[0].parent / "all_methods.pvd").getroot()

@@ -409,7 +409,8 @@ def _critical_note(result) -> str:
 
 
 def _shapes(result) -> list:
-    """Per level, the deformed mesh as polylines (chains of consecutive elements)."""
+    """Per level, the deformed mesh as polylines (chains of consecutive elements), then each rigid link
+    as a line from its master node to its slave (a rigid body drawn as a star from its master)."""
     conn = np.asarray(result.connectivity)
     chains, current = [], [conn[0, 0], conn[0, 1]] if len(conn) else []
     for a, b in conn[1:].tolist():
@@ -420,6 +421,7 @@ def _shapes(result) -> list:
             current = [a, b]
     if current:
         chains.append(np.array(current))
+    chains += list(result.rigid_links())
     return [[pts[chain] for chain in chains] for pts in result.mesh_positions[:result.n_levels]]
 
 

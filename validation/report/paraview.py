@@ -37,11 +37,24 @@ MAX_FRAMES = 41  # frames of a continuation's series (evenly spaced, with its li
 
 @dataclass
 class ShapeFrame:
-    """One level of one method: points (n, 2), line cells (m, 2), vertex cells (k,), point arrays."""
+    """One level of one method: points (n, 2), line cells (m, 2), vertex cells (k,), point arrays, and the
+    line cells of rigid links (r, 2): no field of their own (the FEM's master-slave links), written after
+    the lines and drawn in one colour."""
     points: np.ndarray
     lines: np.ndarray
     vertices: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
     point_data: dict[str, np.ndarray] = field(default_factory=dict)
+    rigid: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), int))
+
+    def line_cells(self, which: str = "all") -> np.ndarray:
+        """The line cells: ``all`` (the lines, then the rigid links: what the files hold), ``lines`` or
+        ``rigid``."""
+        lines, rigid = np.asarray(self.lines, int).reshape(-1, 2), np.asarray(self.rigid, int).reshape(-1, 2)
+        if which == "lines":
+            return lines
+        if which == "rigid":
+            return rigid
+        return np.concatenate([lines, rigid]) if len(rigid) else lines
 
 
 @dataclass
@@ -54,7 +67,7 @@ class ShapeSeries:
 
 
 def _mesh(frame: ShapeFrame) -> meshio.Mesh:
-    cells = [("line", np.asarray(frame.lines, int).reshape(-1, 2))]
+    cells = [("line", frame.line_cells())]
     if len(frame.vertices):
         cells.append(("vertex", np.asarray(frame.vertices, int).reshape(-1, 1)))
     xyz = np.column_stack([frame.points, np.zeros(len(frame.points))])
@@ -124,8 +137,8 @@ def fem_series(case: Case, fields) -> ShapeSeries | None:
     for k in kept:
         data = fields.nodal[k].point_data()
         data["rotation"] = np.degrees(data["rotation"])
-        frames.append(ShapeFrame(fields.positions[k], fields.connectivity, point_data=data))
-    undeformed = ShapeFrame(fields.reference, fields.connectivity)
+        frames.append(ShapeFrame(fields.positions[k], fields.connectivity, point_data=data, rigid=fields.links))
+    undeformed = ShapeFrame(fields.reference, fields.connectivity, rigid=fields.links)
     if continuation:  # a continuation (limit load): its own steps, timed by the load factor
         times = [float(fields.load_factor[k]) for k in kept]
     else:
@@ -257,6 +270,7 @@ RENDER_COLOURS = {"fem": "steelblue", "prbm": "darkorange", "elastica": "seagree
 FEM_COLOURMAP = "viridis"
 FEM_LEGEND_COLOUR = "#21918c"   # viridis at the middle of its range: the FEM line's colour at a mean moment
 UNDEFORMED_COLOUR = "grey"
+RIGID_COLOUR = "black"          # the FEM's rigid links: no bending moment of their own to colour them by
 
 @dataclass
 class Canvas:
@@ -306,13 +320,14 @@ def _canvas(pv, size: tuple[int, int] = (640, 420)) -> Canvas:
     return canvas
 
 
-def _polydata(pv, frame: ShapeFrame, scalars: tuple[str, ...] = ()):
+def _polydata(pv, frame: ShapeFrame, scalars: tuple[str, ...] = (), cells: str = "all"):
     """A frame as pyvista line (and vertex) cells, with the point arrays named in ``scalars``: the mesh
-    ``write_pvd`` writes for the frame, built in memory (what a picture draws of it)."""
-    lines = np.asarray(frame.lines, int).reshape(-1, 2)
+    ``write_pvd`` writes for the frame, built in memory (what a picture draws of it); ``cells``: its line
+    cells (`ShapeFrame.line_cells`; the vertices with all but the rigid links)."""
+    lines = frame.line_cells(cells)
     mesh = pv.PolyData(np.column_stack([frame.points, np.zeros(len(frame.points))]),
                        lines=np.column_stack([np.full(len(lines), 2), lines]).ravel())
-    if len(frame.vertices):
+    if len(frame.vertices) and cells != "rigid":
         vertices = np.asarray(frame.vertices, int).ravel()
         mesh.verts = np.column_stack([np.ones(len(vertices), int), vertices]).ravel()
     for name in scalars:
@@ -335,17 +350,24 @@ def render_series(series: list[ShapeSeries], png: Path, title: str = "") -> Path
     legend = []   # (label, colour): each entry in its line's colour (pyvista's own legend gives a line
     for part in series:    # coloured by scalars the mesh's default colour, a light blue)
         method = part.method
-        mesh = _polydata(pv, part.frames[-1], ("bending_moment",) if method == "fem" else ())
-        if method == "fem" and "bending_moment" in mesh.point_data:
+        last = part.frames[-1]
+        if method == "fem" and "bending_moment" in last.point_data:
+            # the elements coloured by their bending moment, the rigid links (which have none) in one colour
+            mesh = _polydata(pv, last, ("bending_moment",), cells="lines")
             bar = {"title": "FEM bending moment", "color": "black", "render": False}
             canvas.shown.append(plotter.add_mesh(mesh, scalars="bending_moment", line_width=6, cmap=FEM_COLOURMAP,
                                                  scalar_bar_args=bar, render=False))
             legend.append(("FEM (colour: bending moment)", FEM_LEGEND_COLOUR))
+            if len(last.rigid):
+                canvas.shown.append(plotter.add_mesh(_polydata(pv, last, cells="rigid"), color=RIGID_COLOUR,
+                                                     line_width=4, render=False))
+                legend.append(("FEM rigid links", RIGID_COLOUR))
             if part.undeformed is not None:
                 canvas.shown.append(plotter.add_mesh(_polydata(pv, part.undeformed), color=UNDEFORMED_COLOUR,
                                                      line_width=2, render=False))
                 legend.append(("undeformed", UNDEFORMED_COLOUR))
         else:
+            mesh = _polydata(pv, last)
             colour = RENDER_COLOURS.get(method, "black")
             canvas.shown.append(plotter.add_mesh(mesh, color=colour, line_width=3, point_size=10,
                                                  render_points_as_spheres=True, render=False))
