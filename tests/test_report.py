@@ -17,7 +17,7 @@ from validation.report.build import build_report, glance
 from validation.report.charts import outputs_chart
 from validation.report.paraview import MAX_FRAMES, frames_shown
 from validation.report.format import Badge, run_badge
-from validation.report.overview import overview_points
+from validation.report.overview import OverviewPoint, model_style, overview_points, plot_overview
 from validation.report.summary import CaseSummary, MethodState, round_numbers, summary_tables_html
 from validation.run.case_run import run_case
 from validation.run.outcome import summary, tabulate
@@ -225,6 +225,23 @@ def test_overview_axes_are_the_fem_deflection_and_the_prbm_error():
         assert points[level].deflection == pytest.approx(((x - 1.0) ** 2 + y ** 2) ** 0.5, rel=1e-9)
         error = max(abs(prbm.loc[(q, level), "value"] - fem.loc[(q, level), "value"]) for q in ("x", "y"))
         assert points[level].error_percent == pytest.approx(100 * error, rel=1e-9)
+
+
+def test_overview_gives_every_model_its_own_look(tmp_path, monkeypatch):
+    """The overview tells its PRBM models apart by colour and marker: the report's 16 models (and up to
+    100) each get a (colour, marker) of their own; tab10 alone gave the 11th model the 1st's colour."""
+    import matplotlib.axes
+    drawn = []
+    scatter = matplotlib.axes.Axes.scatter
+
+    def recording(self, *args, **kwargs):
+        drawn.append((tuple(kwargs["color"]), kwargs.get("marker", "o")))
+        return scatter(self, *args, **kwargs)
+    monkeypatch.setattr(matplotlib.axes.Axes, "scatter", recording)
+    points = [OverviewPoint(f"case{k}", 0, 0.1 * (1 + k % 5), 1.0 + k, f"model {k:02d}") for k in range(16)]
+    plot_overview(points, tmp_path / "overview.png")
+    assert len(drawn) == 16 and len(set(drawn)) == 16
+    assert len({model_style(k) for k in range(100)}) == 100
 
 
 def test_run_badge_reads_the_state_of_a_run():

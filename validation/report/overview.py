@@ -103,6 +103,16 @@ def overview_points(results: list[CaseResult], table: pd.DataFrame) -> list[Over
     return points
 
 
+MODEL_MARKERS = ("o", "s", "^", "D", "v", "P", "X", "<", ">", "h")
+
+
+def model_style(k: int) -> tuple[tuple, str]:
+    """(colour, marker) of the k-th PRBM model of the picture: tab10's ten colours, then the same colours
+    with the next marker, so that no two models look alike (100 of them; tab10 alone repeated its colours
+    from the eleventh model on)."""
+    return plt.get_cmap("tab10")(k % 10), MODEL_MARKERS[(k // 10) % len(MODEL_MARKERS)]
+
+
 def plot_overview(points: list[OverviewPoint], png: Path) -> Path:
     """The picture as PNG, and as SVG whose dots link to their case pages; an empty validation still
     gets axes and the claims."""
@@ -110,11 +120,11 @@ def plot_overview(points: list[OverviewPoint], png: Path) -> Path:
     fig, ax = plt.subplots(figsize=(12.0, 4.4))
     fig.subplots_adjust(left=0.06, right=0.56, bottom=0.12, top=0.93)
     models = sorted({p.model for p in points})
-    colours = plt.get_cmap("tab10")
     for k, model in enumerate(models):
         mine = [p for p in points if p.model == model]
+        colour, marker = model_style(k)
         dots = ax.scatter([p.deflection for p in mine], [max(p.error_percent, FLOOR_PERCENT) for p in mine],
-                          s=22, color=colours(k % 10), edgecolor="k", linewidth=0.3,
+                          s=22, color=colour, marker=marker, edgecolor="k", linewidth=0.3,
                           label=f"{model} ({len({p.case for p in mine})} case(s))")
         dots.set_urls([f"cases/{p.case}.html" for p in mine])  # the SVG's dots open their case page
     x_max = max([p.deflection for p in points] + [1.2]) * 1.05
