@@ -422,6 +422,14 @@ def solve_loads(beam: InflectionBeam, P: float, nP: float, M: float, *, prefer="
     return _package(beam, states, "load BCs", given, t0, nfev, prefer)
 
 
+def _one_number(name: str, value) -> float:
+    """``value`` as a Python float; a ValueError naming the argument when it is not one number."""
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"solve_displacements: {name} must be one number, got {value!r}") from None
+
+
 def solve_displacements(beam: InflectionBeam, *, b: float, theta0: float, a: float | None = None,
                         n: float | None = None, l1: float | None = None, prefer="energy",
                         xtol: float = 1e-12, starts: int = 20) -> PRBMResult:
@@ -435,8 +443,8 @@ def solve_displacements(beam: InflectionBeam, *, b: float, theta0: float, a: flo
     if sum(v is not None for v in (a, n, l1)) != 1:
         raise ValueError("give exactly one of a (case 1), n (case 2a/2b) or l1 (case 2c)")
     # plain floats for the point kernels (a numpy scalar would turn every operation of theirs into numpy's)
-    b, theta0 = float(b), float(theta0)
-    a, n, l1 = (None if v is None else float(v) for v in (a, n, l1))
+    b, theta0 = _one_number("b", b), _one_number("theta0", theta0)
+    a, n, l1 = (None if v is None else _one_number(name, v) for name, v in (("a", a), ("n", n), ("l1", l1)))
     l = beam.length
     scale = 1.0 / l
 

@@ -121,3 +121,18 @@ def test_chapter6_prbm_columns():
         for ref in case.references:
             if ref.compare == "prbm" and ref.finding is None:
                 assert _within(ref, _value(run, ref)), ref.source.label()
+
+
+def test_a_displacement_problem_given_several_values_says_which_argument():
+    """solve_displacements takes one pose (b, theta0 and one of a, n, l1): an array of several b is a
+    ValueError naming b (not numpy's broadcasting error deep in the multistart); a numpy scalar is one
+    number and gives the same roots as the float (Table 3.3 Ex. 3's pose, I = 1.02e-5)."""
+    import numpy as np
+    beam = prbm.InflectionBeam(20.0, 30e6 * 1.02e-5)
+    with pytest.raises(ValueError, match="solve_displacements: b must be one number"):
+        prbm.solve_displacements(beam, a=18.5, b=np.array([5.0, 6.0]), theta0=math.radians(-45))
+    with pytest.raises(ValueError, match="solve_displacements: l1 must be one number"):
+        prbm.solve_displacements(beam, b=5.0, theta0=math.radians(-30), l1=[9.0, 8.0])
+    plain = prbm.solve_displacements(beam, a=18.5, b=5.0, theta0=math.radians(-45))
+    scalar = prbm.solve_displacements(beam, a=np.float64(18.5), b=np.float32(5.0), theta0=np.float64(math.radians(-45)))
+    assert [r["nP"] for r in scalar.roots[0]] == [r["nP"] for r in plain.roots[0]]
