@@ -155,6 +155,27 @@ def test_test2_fem_files_and_shapes_draw_the_rigid_coupler(tmp_path):
     assert rigid.n_cells == 2 and "bending_moment" not in rigid.point_data
 
 
+def test_test2_elastica_draws_its_rigid_bodies():
+    """The exact elastica of Test 2 draws its rigid bodies beside the beam, as the FEM does: the coupler
+    A-B-P as lines from A to B and to P, the rigid link O4-B; each as long at every level as in the case
+    file's geometry (rigid), the coupler's lines starting where the beam's centreline ends (A)."""
+    case = case_by_id("bapat2015_test2").case
+    run = run_case(case_by_id("bapat2015_test2"), methods=["elastica"], use_cache=False).runs["elastica"]
+    nodes = {n.name: np.array([n.x, n.y]) for n in case.mechanism.nodes}
+    for k, shape in enumerate(run.extras["shapes"]):
+        beam, *bodies = shape
+        assert len(bodies) == 3
+        for line, (a, b) in zip(bodies, (("A", "B"), ("A", "P"), ("O4", "B"))):
+            assert np.linalg.norm(line[1] - line[0]) == pytest.approx(np.linalg.norm(nodes[b] - nodes[a]), rel=1e-9)
+        np.testing.assert_allclose(bodies[0][0], beam[-1, :2], atol=1e-9)   # A: the beam's end
+        np.testing.assert_allclose(bodies[2][0], nodes["O4"], atol=1e-12)   # O4: the ground pivot, fixed
+    frames = paraview.elastica_series(case, run.extras["shapes"]).frames        # its ParaView files, picture
+    for frame, shape in zip(frames, run.extras["shapes"]):
+        assert len(frame.lines) == len(shape[0]) - 1 and len(frame.rigid) == 3
+        np.testing.assert_array_equal(frame.points[frame.rigid], np.array(shape[1:]))
+        assert np.isnan(frame.point_data["curvature"][frame.rigid]).all()     # no centreline field there
+
+
 def test_all_methods_collection_has_one_part_per_method(cantilever_files):
     result, files = cantilever_files
     root = ET.parse(files[0].parent / "all_methods.pvd").getroot()

@@ -140,6 +140,13 @@ def loads(case, owner: dict[str, str]) -> list:
     return out
 
 
+def _body_lines(mechanism, positions: dict) -> list[np.ndarray]:
+    """The rigid bodies of one level as lines, each from its first node to each of its other nodes (a star,
+    as the FEM draws its rigid links): the beams alone would leave the mechanism's coupler undrawn."""
+    return [np.array([positions[body.nodes[0]], positions[node]], float)
+            for body in mechanism.bodies for node in body.nodes[1:]]
+
+
 def run_mechanism(case, requests, options: dict) -> MethodRun:
     mechanism, owner = model(case)
     try:
@@ -173,7 +180,8 @@ def run_mechanism(case, requests, options: dict) -> MethodRun:
             values[req] = sol.strain_energy[lv]
         else:
             raise NotApplicable(f"the elastica mechanism model gives no '{q}'")
-    shapes = [[np.asarray(s) for s in level.values()] for level in sol.beam_shapes]
+    shapes = [[np.asarray(s) for s in level.values()] + _body_lines(mechanism, positions)
+              for level, positions in zip(sol.beam_shapes, sol.positions)]
     return MethodRun(values=values, converged=sol.converged, message=f"elastica mechanism: {sol.message}",
                      level_converged=dict(enumerate(sol.level_converged)), extras={"shapes": shapes})
 

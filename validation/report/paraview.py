@@ -189,8 +189,14 @@ def prbm_series(case: Case, shapes) -> ShapeSeries | None:
 
 def _lines_frame(polylines: list[np.ndarray]) -> ShapeFrame | None:
     """Polylines as one frame of line cells, with each point's tangent angle (degrees) and the
-    curvature d(angle)/ds along its polyline."""
-    points, lines, angle, curvature = [], [], [], []
+    curvature d(angle)/ds along its polyline; a 2-point line (a rigid body's, `ShapeFrame.rigid`) has no
+    centreline field (NaN)."""
+    points, lines, angle, curvature, rigid = [], [], [], [], []
+    for line in (line for line in polylines if len(line) == 2):
+        rigid.append([len(points), len(points) + 1])
+        points.extend(line.tolist())
+        angle.extend([np.nan, np.nan])
+        curvature.extend([np.nan, np.nan])
     for line in (line for line in polylines if len(line) >= 3):
         start = len(points)
         points.extend(line.tolist())
@@ -203,7 +209,8 @@ def _lines_frame(polylines: list[np.ndarray]) -> ShapeFrame | None:
     if not lines:
         return None
     return ShapeFrame(np.asarray(points), np.asarray(lines),
-                      point_data={"rotation": np.asarray(angle), "curvature": np.asarray(curvature)})
+                      point_data={"rotation": np.asarray(angle), "curvature": np.asarray(curvature)},
+                      rigid=np.asarray(rigid, int).reshape(-1, 2))
 
 
 def elastica_series(case: Case, shapes) -> ShapeSeries | None:
