@@ -38,8 +38,8 @@ MAX_FRAMES = 41  # frames of a continuation's series (evenly spaced, with its li
 @dataclass
 class ShapeFrame:
     """One level of one method: points (n, 2), line cells (m, 2), vertex cells (k,), point arrays, and the
-    line cells of rigid links (r, 2): no field of their own (the FEM's master-slave links), written after
-    the lines and drawn in one colour."""
+    line cells of rigid links (r, 2): no field of their own (the FEM's master-slave links, the exact
+    elastica's rigid bodies), written after the lines and drawn in one colour."""
     points: np.ndarray
     lines: np.ndarray
     vertices: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
