@@ -3,12 +3,18 @@
 The breakdown must add up what was timed (no timing is asserted: speed is measured by the report
 run itself), and a PRB body's outline must not cross itself (a Z across the slant parallelogram's
 coupler was drawn when its pins and points were joined in the order they were listed)."""
+import math
+import subprocess
+import sys
+import time
+
 import numpy as np
 import pandas as pd
 
 from validation.methods.prbm_network import _outline
 from validation.report import build
-from validation.run.timeline import Timed, breakdown, csv_text, timed
+from validation.run import timeline
+from validation.run.timeline import Timed, breakdown, csv_text, process_age, timed
 
 
 def _through_the_body(polyline: np.ndarray) -> int:
@@ -71,3 +77,26 @@ def test_timed_records_wall_and_cpu_of_its_block():
         sum(i * i for i in range(200000))
     assert into == [watch.record] and watch.record.kind == "main"
     assert watch.record.wall > 0 and watch.record.cpu > 0 and watch.record.end >= watch.record.start
+
+
+def test_process_age_counts_from_the_process_start():
+    """The report states the whole command's time, start-up and imports included (what the person who
+    typed it waited). A process that sleeps 0.5 s before asking is at least 0.5 s old, and no older than
+    the parent saw it run (plus one clock tick of the kernel's process table)."""
+    code = "import time; time.sleep(0.5); from validation.run.timeline import process_age; print(process_age())"
+    began = time.perf_counter()
+    age = float(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout)
+    seen = time.perf_counter() - began
+    assert 0.5 <= age <= seen + 0.02
+
+
+def test_without_the_process_table_the_command_time_is_left_out(monkeypatch, tmp_path):
+    def no_proc(*args, **kwargs):
+        raise OSError("no /proc here")
+    monkeypatch.setattr(timeline, "open", no_proc, raising=False)
+    assert math.isnan(process_age())
+    records = [Timed("main", "index page", 0.5, 0.5, 0.0, 1)]
+    started = time.perf_counter()
+    assert "the command" not in build._write_timing(records, tmp_path, 2, started, 0.0, math.nan)
+    text = build._write_timing(records, tmp_path, 2, started, 1.5, 2.0)
+    assert "the command" in text and "2.0 s of start-up and imports before the report began" in text

@@ -57,6 +57,20 @@ def timed(kind: str, name: str, into: list[Timed] | None = None) -> Iterator[Sto
         watch.into.append(watch.record)
 
 
+def process_age() -> float:
+    """Seconds since this process started (the interpreter's start-up and imports included: what the
+    person who typed the command has waited), from the kernel's process table (Linux ``/proc``); NaN
+    where the operating system does not say."""
+    try:
+        with open("/proc/self/stat") as stat:
+            after_name = stat.read().rsplit(")", 1)[1].split()   # the name may hold spaces and ')'
+        with open("/proc/uptime") as uptime:
+            now = float(uptime.read().split()[0])
+        return now - int(after_name[19]) / os.sysconf("SC_CLK_TCK")   # field 22, starttime (clock ticks)
+    except (OSError, ValueError, IndexError):
+        return math.nan
+
+
 def csv_text(records: list[Timed]) -> str:
     """The records as CSV (header: the ``Timed`` fields), longest first."""
     names = [f.name for f in fields(Timed)]
