@@ -4,8 +4,6 @@ The breakdown must add up what was timed (no timing is asserted: speed is measur
 run itself), and a PRB body's outline must not cross itself (a Z across the slant parallelogram's
 coupler was drawn when its pins and points were joined in the order they were listed)."""
 import math
-import subprocess
-import sys
 import time
 
 import numpy as np
@@ -14,7 +12,7 @@ import pandas as pd
 from validation.methods.prbm_network import _outline
 from validation.report import build
 from validation.run import timeline
-from validation.run.timeline import Timed, breakdown, csv_text, process_age, timed
+from validation.run.timeline import Timed, breakdown, command_age, csv_text, timed
 
 
 def _through_the_body(polyline: np.ndarray) -> int:
@@ -79,22 +77,22 @@ def test_timed_records_wall_and_cpu_of_its_block():
     assert watch.record.wall > 0 and watch.record.cpu > 0 and watch.record.end >= watch.record.start
 
 
-def test_process_age_counts_from_the_process_start():
-    """The report states the whole command's time, start-up and imports included (what the person who
-    typed it waited). A process that sleeps 0.5 s before asking is at least 0.5 s old, and no older than
-    the parent saw it run (plus one clock tick of the kernel's process table)."""
-    code = "import time; time.sleep(0.5); from validation.run.timeline import process_age; print(process_age())"
+def test_command_age_counts_from_the_commands_first_line(monkeypatch, capsys):
+    """The report states the whole command's time, its imports included (what the person who typed it
+    waited): ``prbm-validate`` marks its clock at its first line, before its imports."""
+    from validation.cli import main as cli
+    monkeypatch.setattr(timeline, "_command_start", math.nan)
+    assert math.isnan(command_age())                 # the library called from Python: no command to count
     began = time.perf_counter()
-    age = float(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout)
-    seen = time.perf_counter() - began
-    assert 0.5 <= age <= seen + 0.02
+    timeline.mark_command_start(began - 2.0)         # a command that began 2 s ago
+    assert 2.0 <= command_age() <= 2.0 + (time.perf_counter() - began)
+    monkeypatch.setattr(timeline, "_command_start", math.nan)
+    cli.main(["--help"])
+    capsys.readouterr()
+    assert timeline._command_start == cli.STARTED    # the module's first line, before its imports
 
 
-def test_without_the_process_table_the_command_time_is_left_out(monkeypatch, tmp_path):
-    def no_proc(*args, **kwargs):
-        raise OSError("no /proc here")
-    monkeypatch.setattr(timeline, "open", no_proc, raising=False)
-    assert math.isnan(process_age())
+def test_without_a_command_the_command_time_is_left_out(tmp_path):
     records = [Timed("main", "index page", 0.5, 0.5, 0.0, 1)]
     started = time.perf_counter()
     assert "the command" not in build._write_timing(records, tmp_path, 2, started, 0.0, math.nan)

@@ -7,12 +7,17 @@ cannot be used, an unknown name, a missing optional dependency), found before an
 """
 from __future__ import annotations
 
-import importlib
-import os
-import sys
+import time
 
-from validation.cli.arguments import build_parser
-from validation.run.exit_status import ExitStatus, print_error
+STARTED = time.perf_counter()   # the command's clock starts before its imports (`timeline.command_age`)
+
+import importlib  # noqa: E402
+import os  # noqa: E402
+import sys  # noqa: E402
+
+from validation.cli.arguments import build_parser  # noqa: E402
+from validation.run.exit_status import ExitStatus, print_error  # noqa: E402
+from validation.run.timeline import mark_command_start  # noqa: E402
 
 # optional dependency -> the extra that installs it
 EXTRAS = {"distributed": "dask", "dask": "dask", "openseespy": "peer", "pytest": "test"}
@@ -26,6 +31,7 @@ __all__ = ["COMMANDS", "build_parser", "main"]
 
 
 def main(argv: list[str] | None = None) -> int:
+    mark_command_start(STARTED)
     # Start-up: before it builds its first validator pydantic looks for plugins in the entry points of
     # every installed distribution (30-90 ms with this project's dependencies); the harness uses none.
     # PYDANTIC_DISABLE_PLUGINS set by the user (e.g. empty, to load plugins) is kept.

@@ -46,7 +46,7 @@ from validation.report.summary import (METHOD_NAMES, CaseSummary, case_sentence,
                                        summarise, summary_markdown, summary_tables_html)
 from validation.run.runner import CaseResult
 from validation.run.outcome import run_cases, summary, tabulate
-from validation.run.timeline import Timed, breakdown, csv_text, process_age, timed
+from validation.run.timeline import Timed, breakdown, command_age, csv_text, timed
 
 TIMING_CSV = "timing.csv"
 DEPENDENCIES = ["numpy", "scipy", "scikit-fem", "meshio", "pyvista", "pandas", "matplotlib", "plotly", "pydantic",
@@ -527,8 +527,8 @@ def _write_tables(outcome, out: Path) -> pd.DataFrame:
 
 
 def _command_time(started: float, before: float) -> str:
-    """The whole command's wall seconds, from the process's start (``before``: its age when the report
-    began, `process_age`; the interpreter's start-up and the imports), or '' where it is unknown."""
+    """The whole command's wall seconds, from its start (``before``: its age when the report began,
+    `command_age`: the imports and the argument parsing), or '' where it is unknown (not run as a command)."""
     if math.isnan(before):
         return ""
     return f"the command {before + time.perf_counter() - started:.1f} s since it started"
@@ -537,17 +537,16 @@ def _command_time(started: float, before: float) -> str:
 def _write_timing(timeline: list[Timed], out: Path, jobs: int, started: float, cpu: float,
                   before: float = math.nan) -> str:
     """``timing.csv`` (every piece of work) and ``timing.txt`` (the breakdown, headed by the whole
-    run's wall and CPU seconds, this process and its workers, and the command's from its start: the
-    start-up and imports before the report began, ``before`` seconds and ``cpu`` CPU seconds, count
-    for whoever waits for it); returns the text."""
+    run's wall and CPU seconds, this process and its workers, and the command's wall seconds from its
+    first line: the start-up and imports before the report began, ``before`` seconds, count for whoever
+    waits for it); returns the text."""
     times = os.times()
     total_cpu = times.user + times.system + times.children_user + times.children_system - cpu
     head = (f"report: {time.perf_counter() - started:.1f} s wall, {total_cpu:.1f} s CPU (this process and its "
             f"{jobs} worker(s)); load average {' '.join(f'{x:.1f}' for x in os.getloadavg())}")
     command = _command_time(started, before)
     if command:
-        head += (f"\n{command} ({before:.1f} s of start-up and imports before the report began), "
-                 f"{total_cpu + cpu:.1f} s CPU")
+        head += f"\n{command} ({before:.1f} s of start-up and imports before the report began)"
     text = head + "\n" + breakdown(timeline, jobs)
     (out / TIMING_CSV).write_text(csv_text(timeline))
     (out / "timing.txt").write_text(text + "\n")
@@ -556,7 +555,7 @@ def _write_timing(timeline: list[Timed], out: Path, jobs: int, started: float, c
 
 def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[str] | None = None) -> int:
     """Run (or reuse) the cases and write the report (module docstring); prints where the time went."""
-    started, times, before = time.perf_counter(), os.times(), process_age()
+    started, times, before = time.perf_counter(), os.times(), command_age()
     cpu = times.user + times.system + times.children_user + times.children_system
     out.mkdir(parents=True, exist_ok=True)
     (out / "cases").mkdir(exist_ok=True)

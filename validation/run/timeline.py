@@ -57,18 +57,21 @@ def timed(kind: str, name: str, into: list[Timed] | None = None) -> Iterator[Sto
         watch.into.append(watch.record)
 
 
-def process_age() -> float:
-    """Seconds since this process started (the interpreter's start-up and imports included: what the
-    person who typed the command has waited), from the kernel's process table (Linux ``/proc``); NaN
-    where the operating system does not say."""
-    try:
-        with open("/proc/self/stat") as stat:
-            after_name = stat.read().rsplit(")", 1)[1].split()   # the name may hold spaces and ')'
-        with open("/proc/uptime") as uptime:
-            now = float(uptime.read().split()[0])
-        return now - int(after_name[19]) / os.sysconf("SC_CLK_TCK")   # field 22, starttime (clock ticks)
-    except (OSError, ValueError, IndexError):
-        return math.nan
+_command_start = math.nan   # ``time.perf_counter`` when the command's first line ran (`mark_command_start`)
+
+
+def mark_command_start(at: float) -> None:
+    """Note when the command began (``time.perf_counter`` at the first line of ``prbm-validate``, before
+    its imports), for `command_age`."""
+    global _command_start
+    _command_start = at
+
+
+def command_age() -> float:
+    """Seconds since the command began: its imports and argument parsing included (what the person who
+    typed it has waited, less the interpreter's own start-up of a few tens of milliseconds); NaN when no
+    command marked its start (the library called from Python)."""
+    return time.perf_counter() - _command_start
 
 
 def csv_text(records: list[Timed]) -> str:
