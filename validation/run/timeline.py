@@ -62,7 +62,7 @@ _command_start = math.nan   # ``time.perf_counter`` when the command's first lin
 
 def mark_command_start(at: float) -> None:
     """Note when the command began (``time.perf_counter`` at the first line of ``prbm-validate``, before
-    its imports), for `command_age`."""
+    its imports; at its own call for a later ``main()`` of the same process), for `command_age`."""
     global _command_start
     _command_start = at
 
