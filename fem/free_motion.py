@@ -1,55 +1,256 @@
-"""A model that can move without deforming: the last line of defence before any Newton step.
+"""A model that can move without deforming: refused, by name, before any Newton step.
 
-A structure held by its supports has a non-singular reduced stiffness at the unloaded state
-(q = 0, lambda = 0, no prescribed motion), K_0 = J^T K_int(0) J (`assembly.System`): every motion
-of the free DOFs stretches or bends some member or turns some spring. A body that can move as a
-rigid body (too few supports, a revolute joint with nothing to turn against) has a motion v with
-K_0 v = 0, and Gaussian elimination of K_0 then meets a pivot that is zero up to rounding:
+A structure held by its supports has a non-singular reduced stiffness at the unloaded state,
+K_0 = T^T B^T D B T (`assembly.System`): T maps the reduced DOFs q to the full ones (supports,
+sliders, rigid links, linearised at q = 0), B gives each element's three deformations (stretch and
+the two end rotations from the chord) and each joint spring's relative rotation, and D > 0 holds
+their stiffnesses (EA / l, the 2 x 2 bending block of EI / l, k). So K_0 v = 0 exactly when B T v = 0:
+the model can move without deforming exactly when it has a motion in which every element and every
+sprung joint moves as a rigid body. That is a question of kinematics alone, with no stiffness in it:
 
-    |u_kk| <= PIVOT_TOL * max_i |K_0[i, k]|        (column k of the LU factors, k = 0 .. n-1).
+* the rotation DOFs that an element or a sprung joint (k > 0) ties together turn as one body
+  (a rotation class; those tied to a support or to the ground do not turn);
+* the translations follow along a spanning forest of the element nodes (elements and rigid links as
+  edges): t(node) = t(root) + sum_c omega_c perp(A_c(node)), A_c the sum of the reference chords of
+  class c on the path from the root, perp(a) = (-a_y, a_x);
+* what is left to hold are the unknowns z = (omega_c L_ref for every turning class, t(root) for every
+  component), and what holds them: an edge outside the forest closes a loop (two equations), a
+  support or a prescribed DOF fixes a translation (one or two).
 
-Rounding leaves such a pivot at about eps times the column's largest entry; a held structure's
-smallest pivot is at least its softest stiffness over its stiffest one, which for a beam of
-thickness h and element length l_e is of order (h / l_e)^2 / n^2 -- far above 1e-13 for the
-meshes the models use. The DOF of that column (node and 'ux' | 'uy' | 'rz') is named in the
-error, before any Newton correction. A load-controlled run on the compiled corrector that starts from
-the unloaded state with nothing prescribed and no force on a rigid link's slave makes the test on the
-factors of its first iteration, whose tangent is exactly the unloaded one (`kernel.newton_load`'s
-``check``, `refusal`), instead of a factorisation of its own; every other run is tested here first
-(`check_held`).
+The model moves freely when that constraint matrix G (dimensionless: lengths over L_ref) has a null
+space: a singular value at most ``RCOND`` times the largest one, as `numpy.linalg.matrix_rank` decides
+a rank. The margin is wide on both sides: rounding leaves G's entries ~1e-15 relative off, so a
+mechanism's singular value is ~1e-14 sigma_max or less; a held model's smallest one is its relative
+distance from a singular configuration (a four-bar near a dead-centre position, three hinges nearly
+in line), O(1) for any model not built within 1e-10 of one. Neither slenderness nor a soft spring
+enters G, so a very slender member or a very soft spring (k > 0) is held, whatever the CPU; what a
+spring too soft to carry its load does is the Newton solve's to report. The cost grows with the
+number of elements as one pass over them, and the SVD is of the model's size (its rotation classes
+and components), not the mesh's.
+
+The error names the first DOF in model-node order (ux, uy, rz, then any released member end there)
+that the free motions move: its share of the null space, |N^T g_d| for the DOF's row g_d, does not
+depend on which basis N of the null space the SVD returned.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 
+from collections import deque
+from dataclasses import dataclass
+
 import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 
-from .linear_solver import SingularMatrix
-from .newton import PIVOT_TOL, Unheld, unloaded_check
+__all__ = ["FreeMotion", "FreeMotions", "RCOND", "check_held", "free_motions"]
 
-__all__ = ["FreeMotion", "check_held", "refusal", "PIVOT_TOL"]
+RCOND = 1e-10       # a singular value of G at most RCOND * sigma_max counts as zero (a free motion)
+NAMED_SHARE = 1e-6  # a DOF is named when its share of the null space exceeds this times the largest
 
 
 class FreeMotion(ValueError):
     """The model can move as a rigid body (or a mechanism) at the unloaded state."""
 
 
-def _dof_label(system, k: int) -> str:
-    """'node <name> <dof>' of reduced DOF k (the first full DOF that maps to it)."""
-    d = system.disc
+@dataclass(frozen=True)
+class FreeMotions:
+    """The kinematic test's answer: ``count`` independent free motions (0: held), the singular values
+    of the constraint matrix G over its largest (``relative_sigma``, ascending; shows how far the model
+    is from the boundary), and the DOF the error names (None when held)."""
+
+    count: int
+    relative_sigma: np.ndarray
+    named: str | None
+
+    @property
+    def held(self) -> bool:
+        return self.count == 0
+
+
+@dataclass
+class _Kinematics:
+    """The rigid-body kinematics of a discretisation: rotation class of every reduced DOF (-1: not a
+    turning rotation), the forest (component and A of every element node), and the constraint rows."""
+
+    turning: np.ndarray        # (n_red + 1,) column of z of each reduced rotation DOF, -1: does not turn
+    n_turning: int
+    component: np.ndarray      # (n_en,) component of each element node
+    A: np.ndarray              # (n_en, n_turning, 2) chord sums from the root, over L_ref
+    rows: np.ndarray           # (n_rows, n_z) the constraint matrix G
+
+
+def _perp(a: np.ndarray) -> np.ndarray:
+    return np.stack([-a[..., 1], a[..., 0]], axis=-1)
+
+
+def _rotation_classes(disc) -> tuple[np.ndarray, int]:
+    """Column of z of every reduced rotation DOF (-1 for one tied to the ground), and their number.
+    Elements join their two end rotations, sprung joints (k > 0) theirs; the dummy reduced index
+    n_red stands for 'held' (a supported or prescribed rotation, the ground)."""
+    n_red = disc.n_red
+    red = disc.I[:, 0]
+    pairs = [red[disc.edofs[:, [2, 5]]]]
+    if len(disc.springs):
+        pairs.append(red[disc.springs[disc.spring_k > 0.0]])
+    pairs = np.concatenate(pairs)
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n_red + 1, n_red + 1))
+    _, label = connected_components(graph, directed=False)
+    rotation = np.append(disc.red_is_rotation, False)
+    classes = np.unique(label[rotation & (label != label[n_red])])
+    column = np.full(label.max() + 1, -1)
+    column[classes] = np.arange(len(classes))
+    turning = np.where(rotation, column[label], -1)
+    turning[label == label[n_red]] = -1
+    return turning, len(classes)
+
+
+def _edges(disc, turning: np.ndarray):
+    """(a, b, column of z of the edge's rotation or -1, chord b - a) of every element and rigid link."""
+    red = disc.I[:, 0]
+    a = [disc.conn[:, 0], disc.slaves if len(disc.slaves) else np.zeros(0, dtype=int)]
+    b = [disc.conn[:, 1], np.zeros(0, dtype=int)]
+    cls = [turning[red[disc.edofs[:, 2]]]]
+    if len(disc.slaves):
+        a[1] = disc.masters
+        b[1] = disc.slaves
+        cls.append(turning[red[disc.rot_dof[disc.masters]]])
+    a, b, cls = np.concatenate(a), np.concatenate(b), np.concatenate(cls)
+    return a, b, cls, disc.X[b] - disc.X[a]
+
+
+def _forest(n_en: int, a, b):
+    """A spanning forest of the element-node graph: component of every node, the nodes in
+    breadth-first order with their tree edge (index, +1 when traversed a -> b, -1 when b -> a;
+    -1 for a root), and which edges are outside the forest."""
+    adjacency: list[list[int]] = [[] for _ in range(n_en)]
+    for e, (i, j) in enumerate(zip(a.tolist(), b.tolist())):
+        adjacency[i].append(e)
+        adjacency[j].append(e)
+    component = np.full(n_en, -1)
+    order, via, in_tree = [], [], np.zeros(len(a), dtype=bool)
+    a_list, b_list = a.tolist(), b.tolist()
+    n_comp = 0
+    for root in range(n_en):
+        if component[root] >= 0:
+            continue
+        component[root] = n_comp
+        order.append(root)
+        via.append((-1, 0))
+        queue = deque([root])
+        while queue:
+            node = queue.popleft()
+            for e in adjacency[node]:
+                other, sign = (b_list[e], 1) if a_list[e] == node else (a_list[e], -1)
+                if component[other] < 0:
+                    component[other] = n_comp
+                    in_tree[e] = True
+                    order.append(other)
+                    via.append((e, sign))
+                    queue.append(other)
+        n_comp += 1
+    return component, n_comp, order, via, ~in_tree
+
+
+def _translation_held(disc, n_en: int) -> list[tuple[int, np.ndarray]]:
+    """(node, unit normal) for every direction a support or prescribed motion holds a node's
+    translation in: both axes where neither translation maps to an unknown, the slider's normal where
+    both map to one unknown t (u = d t). Rigid-link slaves are held through their masters."""
+    red, coef, n_red = disc.I[:, 0], disc.C[:, 0], disc.n_red
+    slave = np.zeros(n_en, dtype=bool)
+    slave[disc.slaves] = True
+    held = []
+    for node in np.nonzero(~slave)[0].tolist():
+        ix, iy = int(red[2 * node]), int(red[2 * node + 1])
+        free = {i for i in (ix, iy) if i != n_red}
+        if len(free) == 2:
+            continue
+        if not free:
+            held += [(node, np.array([1.0, 0.0])), (node, np.array([0.0, 1.0]))]
+            continue
+        d = np.array([coef[2 * node] if ix != n_red else 0.0, coef[2 * node + 1] if iy != n_red else 0.0])
+        held.append((node, _perp(d / np.hypot(*d))))
+    return held
+
+
+def _kinematics(disc, L_ref: float) -> _Kinematics:
+    n_en = len(disc.X)
+    turning, n_turn = _rotation_classes(disc)
+    a, b, cls, chord = _edges(disc, turning)
+    chord = chord / L_ref
+    component, n_comp, order, via, loose = _forest(n_en, a, b)
+    A = np.zeros((n_en, n_turn, 2))
+    for node, (e, sign) in zip(order, via):
+        if e < 0:
+            continue
+        parent = a[e] if sign > 0 else b[e]
+        A[node] = A[parent]
+        if cls[e] >= 0:
+            A[node, cls[e]] += sign * chord[e]
+    n_z = n_turn + 2 * n_comp
+    rows = []
+    for e in np.nonzero(loose)[0].tolist():      # t(b) - t(a) = omega_c perp(chord): the loop closes
+        gap = A[b[e]] - A[a[e]]
+        if cls[e] >= 0:
+            gap[cls[e]] -= chord[e]
+        for axis in (0, 1):
+            row = np.zeros(n_z)
+            row[:n_turn] = _perp(gap)[:, axis]
+            rows.append(row)
+    for node, normal in _translation_held(disc, n_en):     # normal . t(node) = 0
+        row = np.zeros(n_z)
+        row[:n_turn] = _perp(A[node]) @ normal
+        root = n_turn + 2 * component[node]
+        row[root:root + 2] = normal
+        rows.append(row)
+    G = np.array(rows).reshape(len(rows), n_z)
+    return _Kinematics(turning, n_turn, component, A, G)
+
+
+def _null_space(G: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(orthonormal basis of the null space of G as columns, singular values over the largest)."""
+    n_z = G.shape[1]
+    if G.shape[0] == 0:
+        return np.eye(n_z), np.zeros(n_z)
+    _, sigma, vt = np.linalg.svd(G)
+    top = sigma.max() if sigma.size else 0.0
+    relative = sigma / top if top > 0.0 else np.zeros_like(sigma)
+    rank = int(np.sum(relative > RCOND))
+    relative = np.concatenate([relative, np.zeros(n_z - len(sigma))])
+    return vt[rank:].T, np.sort(relative)
+
+
+def _dof_rows(disc, kin: _Kinematics, system) -> list[tuple[str, np.ndarray]]:
+    """(label, g_d) of the DOFs the error may name, in naming order: each model node's ux, uy, rz and
+    released member ends, then the interior nodes; g_d gives the DOF's motion (rotations times L_ref)
+    from z."""
+    n_z = kin.rows.shape[1]
+    red = disc.I[:, 0]
     names = system.model.node_names
-    full = int(np.nonzero(d.I[:, 0] == k)[0][0])
-    n_en = len(d.X)
-    if full < 2 * n_en:
-        node, dof = full // 2, ("ux", "uy")[full % 2]
-    elif full < 3 * n_en:
-        node, dof = full - 2 * n_en, "rz"
-    else:      # a released member-end rotation: the joint node that owns it
-        node = int(np.nonzero((d.edofs[:, [2, 5]] == full).any(axis=1))[0][0])
-        ends = d.conn[node]
-        node, dof = int(ends[np.argmax(d.edofs[node, [2, 5]] == full)]), "rz (member end at a joint)"
-    where = names[node] if node < d.n_model_nodes else _interior(system, node)
-    return f"{where} {dof}"
+    n_en, n_mn = len(disc.X), disc.n_model_nodes
+    ends: dict[int, list[tuple[int, int]]] = {}
+    released = disc.edofs[:, [2, 5]] >= 3 * n_en
+    for e, side in zip(*np.nonzero(released)):
+        ends.setdefault(int(disc.conn[e, side]), []).append((int(disc.edofs[e, 3 * side + 2]), int(e)))
+    out = []
+    for node in range(n_en):
+        where = names[node] if node < n_mn else _interior(system, node)
+        root = kin.n_turning + 2 * int(kin.component[node])
+        for axis, dof in ((0, "ux"), (1, "uy")):
+            g = np.zeros(n_z)
+            g[:kin.n_turning] = _perp(kin.A[node])[:, axis]
+            g[root + axis] = 1.0
+            out.append((f"{where} {dof}", g))
+        rotations = [(int(disc.rot_dof[node]), "rz")]
+        rotations += [(dof, f"rz of member {system.model.members[int(disc.el_member[e])].name!r}"
+                            " (its end at a joint)") for dof, e in ends.get(node, [])]
+        for full, dof in rotations:
+            column = kin.turning[red[full]]
+            g = np.zeros(n_z)
+            if column >= 0:
+                g[column] = 1.0
+            out.append((f"{where} {dof}", g))
+    return out
 
 
 def _interior(system, node: int) -> str:
@@ -59,43 +260,32 @@ def _interior(system, node: int) -> str:
     return f"an interior node of member {member.name!r}"
 
 
-def refusal(system, unheld: Unheld) -> FreeMotion:
-    """The error naming the free DOF of a failed compiled test (`kernel.newton_load`'s ``check``: made
-    beforehand by `check_held`, or on a run's own first factors by `solver.solve_load`): an empty
-    column first (a DOF nothing touches), else the smallest pivot ratio (an exactly zero pivot's is 0)."""
-    column = unheld.column
-    k = np.argmin(column) if column.min() == 0.0 else np.argmin(unheld.ratios)
-    return FreeMotion(_message(system, int(k)))
+def free_motions(system) -> FreeMotions:
+    """The free motions of the system's model at the unloaded state (module docstring): how many,
+    how far the model is from the boundary, and the DOF an error names."""
+    disc = system.disc
+    kin = _kinematics(disc, system.L_ref)
+    N, relative = _null_space(kin.rows)
+    if N.shape[1] == 0:
+        return FreeMotions(0, relative, None)
+    candidates = _dof_rows(disc, kin, system)
+    share = np.array([np.linalg.norm(g @ N) for _, g in candidates])
+    first = int(np.argmax(share > NAMED_SHARE * share.max()))
+    return FreeMotions(N.shape[1], relative, candidates[first][0])
 
 
 def check_held(system) -> None:
-    """Raise `FreeMotion` naming the free DOF when the unloaded reduced stiffness is singular."""
+    """Raise `FreeMotion` naming a DOF the free motions move when the model can move without
+    deforming (`free_motions`)."""
     if system.n == 0:
         return
-    if system.compiled is not None:     # the compiled corrector's factors of the unloaded tangent
-        unheld = unloaded_check(system)
-        if unheld is not None:
-            raise refusal(system, unheld)
-        return
-    zero = system.loads_at(-1, 0, 0.0)
-    ev = system.evaluate(np.zeros(system.n), system.disc.beta0.copy(), 0.0, *zero, need_K=True)
-    column = system.layout.column_max(ev["K"])
-    try:
-        fac = system.layout.factor(ev["K"])
-    except SingularMatrix as exc:
-        k = exc.column if exc.column is not None else int(np.argmin(column))
-    else:
-        held = column[fac.columns]
-        ratio = np.abs(fac.diag) / np.where(held > 0.0, held, 1.0)
-        k = int(fac.columns[int(np.argmin(ratio))])
-        if ratio.min() > PIVOT_TOL and column.min() > 0.0:
-            return
-    if column.min() == 0.0:      # a DOF nothing touches
-        k = int(np.argmin(column))
-    raise FreeMotion(_message(system, k))
+    motions = free_motions(system)
+    if not motions.held:
+        raise FreeMotion(_message(motions))
 
 
-def _message(system, k: int) -> str:
-    return (f"the model can move without deforming (a rigid-body motion or a mechanism): "
-            f"no stiffness holds {_dof_label(system, k)} at the unloaded state; "
+def _message(motions: FreeMotions) -> str:
+    count = (f"{motions.count} independent motions" if motions.count > 1 else "one motion")
+    return (f"the model can move without deforming (a rigid-body motion or a mechanism, {count}): "
+            f"no stiffness holds {motions.named} at the unloaded state; "
             "add a support, a joint spring or a member there")

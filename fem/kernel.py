@@ -68,8 +68,7 @@ from numba import njit, types
 from numba.extending import get_cython_function_address
 
 __all__ = ["element_kernel", "scatter", "scatter_add", "CompiledLayout", "newton_load", "CONVERGED",
-           "NOT_FINITE", "NO_CONVERGENCE", "SINGULAR", "NON_FINITE_TANGENT", "ROTATION_TOO_LARGE",
-           "FREE_MOTION", "HELD", "CHECK_AND_SOLVE", "CHECK_ONLY"]
+           "NOT_FINITE", "NO_CONVERGENCE", "SINGULAR", "NON_FINITE_TANGENT", "ROTATION_TOO_LARGE"]
 
 
 @njit(cache=True, inline="always")
@@ -162,8 +161,6 @@ def scatter(target, source, factor, values, size):
 
 CONVERGED, NOT_FINITE, NO_CONVERGENCE, SINGULAR, NON_FINITE_TANGENT, ROTATION_TOO_LARGE = range(6)
 CONVERGED_JUMPED = 6   # converged, and some element's end rotations are 2 pi off its chord (`newton.accept_check`)
-FREE_MOTION, HELD = 7, 8   # the free-motion check of the first factorisation (`free_motion`): refused, passed
-NO_CHECK, CHECK_AND_SOLVE, CHECK_ONLY = 0, 1, 2   # newton_load's ``check``
 
 
 
@@ -474,8 +471,7 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
                 ka, kb, springs, spring_k, ground, flat, valid_src, coef, banded, kl, ku, ld, rot,
                 rtol, atol, floor, L_ref, maxiter, damp, max_rot_inc,
                 K, u, f_int, f_ref, R, r, fr, fe, Ke, N, M, L, beta, theta_bar, u_bar, jumped, hist,
-                links, links_X, I1, C1, C1w, pair, rows_full, cols_full, confirm_sign, inertia_tol,
-                check, pivot_tol, ratios, column):
+                links, links_X, I1, C1, C1w, pair, rows_full, cols_full, confirm_sign, inertia_tol):
     """Every iteration of the load-control corrector from q (updated in place). Returns
     (status, iterations, det sign of the last factorisation, F_scale, rotation increment, final,
     below); the evaluation at the final q is left in the output arrays. The sign: 2 when nothing was
@@ -491,14 +487,7 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
     correction makes; ``final`` says the sign is of the converged state itself (that factorisation). ``inertia_tol`` (NaN: not
     asked): when the sign is not negative and some element is in compression, ``below`` is 1 when the
     Jacobi-scaled tangent has an eigenvalue below -inertia_tol (`_shifted_cholesky_fails`), else 0;
-    -1 when not computed.
-
-    ``check`` (CHECK_AND_SOLVE, CHECK_ONLY; NO_CHECK: none): the free-motion test of `free_motion` on
-    the first factorisation, whose tangent is the unloaded one when q is zero, nothing is prescribed
-    and no rigid link carries a load (the caller's choice): ``column[j]`` the largest entry of column j
-    before elimination, ``ratios[j]`` |u_jj| over it (an exactly zero pivot, LAPACK's info: its ratio 0,
-    the later ones inf). FREE_MOTION when a column is empty or a ratio is not above ``pivot_tol``
-    (nothing moved); else HELD with CHECK_ONLY, the Newton run itself with CHECK_AND_SOLVE."""
+    -1 when not computed."""
     n, nf = q.shape[0], u.shape[0]
     work = np.empty(K.shape[0])
     ipiv = np.empty(max(n, 1), np.int32)
@@ -542,31 +531,7 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
                 sign, final = 0, True
                 break
             return NON_FINITE_TANGENT, it, sign, scale, 0.0, False, -1
-        checking = check != NO_CHECK and it == 0
-        if checking:
-            empty = False
-            for j in range(n):
-                big = 0.0
-                for i in range(ld):
-                    big = max(big, abs(work[j * ld + i]))
-                column[j] = big
-                empty = empty or big == 0.0
-            if empty:
-                return FREE_MOTION, it, sign, scale, 0.0, False, -1
         _factor(work, banded, n, kl, ku, ld, ipiv, ints, info)
-        if checking:
-            if info[0] > 0:     # an exactly zero pivot
-                for j in range(n):
-                    ratios[j] = 0.0 if j == info[0] - 1 else np.inf
-                return FREE_MOTION, it, sign, scale, 0.0, False, -1
-            free = False
-            for j in range(n):
-                ratios[j] = abs(work[j * ld + (kl + ku if banded else j)]) / column[j]
-                free = free or not ratios[j] > pivot_tol
-            if free:
-                return FREE_MOTION, it, sign, scale, 0.0, False, -1
-            if check == CHECK_ONLY:
-                return HELD, it, sign, scale, 0.0, False, -1
         if info[0] > 0:
             if converged:
                 sign, final = 0, True

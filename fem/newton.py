@@ -33,8 +33,7 @@ from . import kernel as cn
 from .linear_solver import SingularMatrix
 from .options import NewtonOutcome, SolveOptions
 
-__all__ = ["StepFailed", "Path", "newton", "acceptance_facts", "accept_check", "snapshot", "det_sign", "growth",
-           "Unheld", "unloaded_check", "PIVOT_TOL"]
+__all__ = ["StepFailed", "Path", "newton", "acceptance_facts", "accept_check", "snapshot", "det_sign", "growth"]
 
 
 class StepFailed(Exception):
@@ -89,14 +88,12 @@ class Path:
 
 
 def newton(system, q, lam, beta, loads, opts: SolveOptions, mode="load", ctrl=None, arc=None,
-           q_start=None, check: int = 0) -> NewtonOutcome:
+           q_start=None) -> NewtonOutcome:
     """Corrector.  mode 'load' (lambda fixed), 'disp' (ctrl=(k, coef, target)),
     'arc' (arc=(dl, w, q0)).  Raises `StepFailed` when it does not converge. Under load control a
-    system the compiled corrector handles (`kernel.newton_load`) is solved there, with the same steps
-    (and with ``check`` = `kernel.CHECK_AND_SOLVE` the free-motion test on its first factorisation:
-    `Unheld`)."""
+    system the compiled corrector handles (`kernel.newton_load`) is solved there, with the same steps."""
     if mode == "load" and system.compiled is not None:
-        return _newton_compiled(system, q, lam, beta, loads, opts, q_start, check)
+        return _newton_compiled(system, q, lam, beta, loads, opts, q_start)
     F_fixed, F0, presc = loads
     hist = []
     dq_small = False
@@ -203,20 +200,10 @@ class _Evaluation(dict):
         return value
 
 
-class Unheld(Exception):
-    """The compiled corrector's first factorisation, of the unloaded tangent, has a zero pivot or an
-    empty column (`free_motion` names the DOF from ``ratios`` and ``column``)."""
-
-    def __init__(self, ratios: np.ndarray, column: np.ndarray):
-        super().__init__("the unloaded tangent is singular")
-        self.ratios, self.column = ratios, column
-
-
-def _run_kernel(system, q, q_start, presc, lam, F_fixed, beta, opts: SolveOptions, check: int):
+def _run_kernel(system, q, q_start, presc, lam, F_fixed, beta, opts: SolveOptions):
     """One call of `kernel.newton_load` on the system's arrays: (status, iterations, sign, F_scale,
     rotation increment, whether the sign is of the converged state itself, the inertia test's answer
-    (-1: not made), the evaluation's arrays, the history, the free-motion check's (ratios, column) or
-    None when not asked). The converged sign is confirmed where `det_sign` would (``opts.watch_det``),
+    (-1: not made), the evaluation's arrays, the history). The converged sign is confirmed where `det_sign` would (``opts.watch_det``),
     and the inertia test of `solver._even_crossing` made where it can be asked (``opts.check_stability``
     and the system's ``inertia_tol``)."""
     c, d = system.compiled, system.disc
@@ -227,7 +214,6 @@ def _run_kernel(system, q, q_start, presc, lam, F_fixed, beta, opts: SolveOption
     K, u, f_int, f_ref, R = np.empty(c.size), np.empty(nf), np.empty(nf), np.empty(nf), np.empty(nf)
     r, fr, hist = np.empty(n), np.empty(n), np.empty(opts.maxiter + 1)
     C1 = np.empty(nf if system.width == 2 else 0)
-    pivots = (np.empty(n), np.empty(n)) if check != cn.NO_CHECK else (_NONE, _NONE)
     status, it, sign, scale, dth, final, below = cn.newton_load(
         q, q_start, presc, float(lam), F_fixed, beta, system.I0, system.C0_flat,
         d.prescribed_dofs, d.edofs, system.X1, system.X2, d.L0, d.beta0, d.ka, d.kb, d.springs,
@@ -236,38 +222,18 @@ def _run_kernel(system, q, q_start, presc, lam, F_fixed, beta, opts: SolveOption
         float(opts.max_iteration_rotation or 0.0), opts.max_rotation_increment, K, u, f_int, f_ref, R, r,
         fr, el["f"], el["K"], el["N"], el["M"], el["L"], el["beta"], el["theta_bar"], el["u_bar"],
         el["jumped"], hist, system.links, system.links_X, system.I1, system.C1_flat, C1, system.valid_pair,
-        system.rows_full, system.cols_full, opts.watch_det, system.inertia_tol if opts.check_stability else math.nan,
-        check, PIVOT_TOL, *pivots)
+        system.rows_full, system.cols_full, opts.watch_det, system.inertia_tol if opts.check_stability else math.nan)
     arrays = dict(K=K, u=u, f_int=f_int, f_ref=f_ref, R=R, r=r, fr=fr, el=el, C1=C1)
-    return status, it, sign, scale, dth, final, below, arrays, hist, (pivots if check != cn.NO_CHECK else None)
+    return status, it, sign, scale, dth, final, below, arrays, hist
 
 
-_NONE = np.empty(0)
-PIVOT_TOL = 1e-13   # the free-motion test's largest refused pivot ratio (`free_motion` explains it)
-
-
-def unloaded_check(system) -> Unheld | None:
-    """The free-motion test at the unloaded state (q = 0, no load, nothing prescribed) by the compiled
-    corrector (CHECK_ONLY): None when held, else `Unheld` with the pivot data, as a run that makes the
-    test on its first factors raises it."""
-    status, *_, pivots = _run_kernel(system, np.zeros(system.n), np.zeros(system.n),
-                                     np.zeros(system.presc.shape[1]), 0.0, np.zeros(system.F_fixed.shape[1]),
-                                     system.disc.beta0.copy(), SolveOptions(), cn.CHECK_ONLY)
-    if status not in (cn.HELD, cn.FREE_MOTION):
-        raise ValueError(f"the tangent at the unloaded state could not be factorised (status {status})")
-    return None if status == cn.HELD else Unheld(*pivots)
-
-
-def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start, check: int = 0) -> NewtonOutcome:
-    """`newton` under load control by `kernel.newton_load`: the same outcome or failure; with ``check``
-    (`kernel.CHECK_AND_SOLVE`) the free-motion test on the first factorisation, `Unheld` when it fails."""
+def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start) -> NewtonOutcome:
+    """`newton` under load control by `kernel.newton_load`: the same outcome or failure."""
     F_fixed, _, presc = loads
     q = np.array(q, dtype=float)
     q_start = q.copy() if q_start is None else q_start
-    status, it, sign, scale, dth, final, below, a, hist, pivots = _run_kernel(
-        system, q, q_start, np.asarray(presc, dtype=float), lam, F_fixed, beta, opts, check)
-    if status == cn.FREE_MOTION:
-        raise Unheld(*pivots)
+    status, it, sign, scale, dth, final, below, a, hist = _run_kernel(
+        system, q, q_start, np.asarray(presc, dtype=float), lam, F_fixed, beta, opts)
     history = hist[:it + 1].tolist()
     if status == cn.NOT_FINITE:
         raise StepFailed("residual is not finite", it)

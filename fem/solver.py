@@ -38,11 +38,10 @@ import numpy as np
 from .assembly import System
 from .critical import critical_points
 from .discretise import discretise
-from .free_motion import check_held, refusal
-from .kernel import CHECK_AND_SOLVE, NO_CHECK
+from .free_motion import check_held
 from .linear_solver import SingularMatrix
 from .model import DOF_NAMES, Model
-from .newton import Path, StepFailed, Unheld, accept_check, acceptance_facts, det_sign, growth, newton, snapshot
+from .newton import Path, StepFailed, accept_check, acceptance_facts, det_sign, growth, newton, snapshot
 from .options import (ArcLengthControl, DisplacementControl, LoadControl, SolveOptions, StepState,
                       SwitchStatus)
 from .result import FemResult, build_result
@@ -173,14 +172,13 @@ class NoStableBranch(Exception):
     """A converged step is unstable and no stable state was found beside it."""
 
 
-def _load_step(system, opts, path, q, beta, k, t, t_new, dt, prev, check: int = 0):
+def _load_step(system, opts, path, q, beta, k, t, t_new, dt, prev):
     """One load step (length dt) from t to t_new of the segment to level k: the accepted
     `StepState`, or the factor (float) to cut the step by. Raises StepFailed when Newton fails,
-    NoStableBranch when it lands on an unstable state with no stable one beside it (``check``: the
-    free-motion test on Newton's first factors, `newton`)."""
+    NoStableBranch when it lands on an unstable state with no stable one beside it."""
     loads = system.loads_at(k - 1, k, t_new)
     q_pred = q if prev is None else q + (t_new - t) / prev[1] * prev[0]
-    out = newton(system, q_pred, 1.0, beta, loads, opts, q_start=q, check=check)
+    out = newton(system, q_pred, 1.0, beta, loads, opts, q_start=q)
     accept_check(system, out.q, q, out.ev, opts, out.iterations, out.accept)
     if (prev is not None and dt > JUMP_CUT_FLOOR * opts.min_step
             and _turned_back(system, out.q - q, prev[0])):
@@ -197,32 +195,8 @@ def _load_step(system, opts, path, q, beta, k, t, t_new, dt, prev, check: int = 
     return st
 
 
-def _checked_by_first_step(system, control: LoadControl, opts: SolveOptions) -> bool:
-    """Whether the free-motion test can be made on the factors of the first Newton iteration instead of
-    beforehand (`free_motion`): the compiled corrector, starting from the unloaded state (no warm-start
-    guess), nothing prescribed at the first level, no force on a rigid link's slave at the first level
-    (`_slaves_loaded`), and at least one iteration allowed (with none, Newton stops before it
-    factorises)."""
-    return (system.compiled is not None and control.initial_guess is None and not _slaves_loaded(system)
-            and not (system.presc.size and bool(np.any(system.presc[0] != 0.0))) and opts.maxiter >= 1)
-
-
-def _slaves_loaded(system) -> bool:
-    """A force on a rigid link's slave node at the first level. The slaves' geometric term in the
-    tangent, -(R_s . (x_s - x_m)) on the master's rotation (`kernel._evaluate`), reads the residual
-    R = f_int - lambda f_ref at the slave: at the unloaded state f_int = 0, so the first tangent is the
-    unloaded one exactly when no slave carries a force there (the compiled corrector's loads are all in
-    F_fixed: it takes no follower, pointed or distributed load)."""
-    slaves = system.disc.slaves
-    if not len(slaves):
-        return False
-    first = system.F_fixed[0]
-    return bool(first[2 * slaves].any() or first[2 * slaves + 1].any())
-
-
-def _run_load(system, opts: SolveOptions, path, guesses=None, check_first: bool = False):
-    """Load control over the levels; ``check_first``: each try of the first step makes the free-motion
-    test on its first factors (`_checked_by_first_step`; raises `Unheld`)."""
+def _run_load(system, opts: SolveOptions, path, guesses=None):
+    """Load control over the levels."""
     q = np.zeros(system.n)
     beta = system.disc.beta0.copy()
     for k in range(system.n_levels):
@@ -235,8 +209,7 @@ def _run_load(system, opts: SolveOptions, path, guesses=None, check_first: bool 
             dt = min(dt, 1.0 - t)
             t_new = 1.0 if 1.0 - (t + dt) < 1e-12 else t + dt
             try:
-                st = _load_step(system, opts, path, q, beta, k, t, t_new, dt, prev,
-                                CHECK_AND_SOLVE if check_first and not path.iterations else NO_CHECK)
+                st = _load_step(system, opts, path, q, beta, k, t, t_new, dt, prev)
             except NoStableBranch as exc:
                 return (f"load level {k}: step from t = {t:.6g} to {t_new:.6g} of the "
                         f"segment from level {k - 1}: {exc}")
@@ -486,18 +459,12 @@ def solve_load(model: Model, control: LoadControl = LoadControl(),
                opts: SolveOptions = SolveOptions()) -> FemResult:
     """Load control: the loads and prescribed values follow their per-level histories."""
     t0 = time.perf_counter()
-    system = _prepare(model, opts, control.n_levels, check=False)
-    on_first_step = _checked_by_first_step(system, control, opts)
-    if not (on_first_step or control.held):
-        check_held(system)
+    system = _prepare(model, opts, control.n_levels, check=not control.held)
     guesses = (None if control.initial_guess is None
                else level_guesses(control.initial_guess, system.disc, system.X1, system.X2))
     path = Path()
     cpu = time.process_time()
-    try:
-        failure = _run_load(system, opts, path, guesses, on_first_step)
-    except Unheld as exc:
-        raise refusal(system, exc) from None
+    failure = _run_load(system, opts, path, guesses)
     return _finish(model, system, path, opts, failure, "load", t0, time.process_time() - cpu)
 
 
