@@ -10,7 +10,7 @@ sprung joint moves as a rigid body. That is a question of kinematics alone, with
 
 * the rotation DOFs that an element or a sprung joint (k > 0) ties together turn as one body
   (a rotation class; those tied to a support or to the ground do not turn);
-* the translations follow along a spanning forest of the element nodes (elements and rigid links as
+* the translations follow along a spanning forest of the model nodes (members and rigid links as
   edges): t(node) = t(root) + sum_c omega_c perp(A_c(node)), A_c the sum of the reference chords of
   class c on the path from the root, perp(a) = (-a_y, a_x);
 * what is left to hold are the unknowns z = (omega_c L_ref for every turning class, t(root) for every
@@ -24,9 +24,10 @@ mechanism's singular value is ~1e-14 sigma_max or less; a held model's smallest 
 distance from a singular configuration (a four-bar near a dead-centre position, three hinges nearly
 in line), O(1) for any model not built within 1e-10 of one. Neither slenderness nor a soft spring
 enters G, so a very slender member or a very soft spring (k > 0) is held, whatever the CPU; what a
-spring too soft to carry its load does is the Newton solve's to report. The cost grows with the
-number of elements as one pass over them, and the SVD is of the model's size (its rotation classes
-and components), not the mesh's.
+spring too soft to carry its load does is the Newton solve's to report. A member moves as one rigid
+body exactly when its elements do (they share their interior rotations; nothing else acts at an
+interior node), so the graphs and G are of the model's size, not the mesh's: ~0.1 ms whatever the
+number of elements.
 
 The error names the first DOF in model-node order (ux, uy, rz, then any released member end there)
 that the free motions move: its share of the null space, |N^T g_d| for the DOF's row g_d, does not
@@ -40,8 +41,6 @@ from collections import deque
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
 __all__ = ["FreeMotion", "FreeMotions", "RCOND", "check_held", "free_motions"]
 
@@ -84,19 +83,32 @@ def _perp(a: np.ndarray) -> np.ndarray:
     return np.stack([-a[..., 1], a[..., 0]], axis=-1)
 
 
+def _member_ends(disc) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(start node, end node, start rotation DOF, end rotation DOF) of every member (full DOFs): a
+    member moves as one rigid body exactly when its elements do, since they share their interior node
+    rotations and no support, link or joint acts at an interior node."""
+    first = np.array([els[0] for els in disc.member_elements], dtype=int)
+    last = np.array([els[-1] for els in disc.member_elements], dtype=int)
+    return disc.conn[first, 0], disc.conn[last, 1], disc.edofs[first, 2], disc.edofs[last, 5]
+
+
 def _rotation_classes(disc) -> tuple[np.ndarray, int]:
-    """Column of z of every reduced rotation DOF (-1 for one tied to the ground), and their number.
-    Elements join their two end rotations, sprung joints (k > 0) theirs; the dummy reduced index
-    n_red stands for 'held' (a supported or prescribed rotation, the ground)."""
+    """Column of z of every reduced DOF that is a rotation at a model node or a member end (-1 for any
+    other, and for one tied to the ground), and their number. Members join their two end rotations,
+    sprung joints (k > 0) theirs; the dummy reduced index n_red stands for 'held' (a supported or
+    prescribed rotation, the ground)."""
     n_red = disc.n_red
     red = disc.I[:, 0]
-    pairs = [red[disc.edofs[:, [2, 5]]]]
+    _, _, r1, r2 = _member_ends(disc)
+    pairs = [np.column_stack([red[r1], red[r2]])]
     if len(disc.springs):
         pairs.append(red[disc.springs[disc.spring_k > 0.0]])
     pairs = np.concatenate(pairs)
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n_red + 1, n_red + 1))
-    _, label = connected_components(graph, directed=False)
-    rotation = np.append(disc.red_is_rotation, False)
+    present = np.zeros(n_red + 1, dtype=bool)
+    present[pairs.ravel()] = True
+    present[red[disc.rot_dof[:disc.n_model_nodes]]] = True
+    label = _components(n_red + 1, pairs.tolist())
+    rotation = np.append(disc.red_is_rotation, False) & present
     classes = np.unique(label[rotation & (label != label[n_red])])
     column = np.full(label.max() + 1, -1)
     column[classes] = np.arange(len(classes))
@@ -105,22 +117,38 @@ def _rotation_classes(disc) -> tuple[np.ndarray, int]:
     return turning, len(classes)
 
 
+def _components(n: int, pairs: list) -> np.ndarray:
+    """Connected-component label of each of n vertices joined by ``pairs`` (union-find with path
+    halving; the label is the root's index)."""
+    parent = np.arange(n)
+
+    def find(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+    for i, j in pairs:
+        ri, rj = find(i), find(j)
+        if ri != rj:
+            parent[max(ri, rj)] = min(ri, rj)
+    for i in {i for pair in pairs for i in pair}:
+        parent[i] = find(i)
+    return parent
+
+
 def _edges(disc, turning: np.ndarray):
-    """(a, b, column of z of the edge's rotation or -1, chord b - a) of every element and rigid link."""
+    """(a, b, column of z of the edge's rotation or -1, chord b - a) of every member and rigid link."""
     red = disc.I[:, 0]
-    a = [disc.conn[:, 0], disc.slaves if len(disc.slaves) else np.zeros(0, dtype=int)]
-    b = [disc.conn[:, 1], np.zeros(0, dtype=int)]
-    cls = [turning[red[disc.edofs[:, 2]]]]
+    a, b, r1, _ = _member_ends(disc)
+    cls = turning[red[r1]]
     if len(disc.slaves):
-        a[1] = disc.masters
-        b[1] = disc.slaves
-        cls.append(turning[red[disc.rot_dof[disc.masters]]])
-    a, b, cls = np.concatenate(a), np.concatenate(b), np.concatenate(cls)
+        a, b = np.append(a, disc.masters), np.append(b, disc.slaves)
+        cls = np.append(cls, turning[red[disc.rot_dof[disc.masters]]])
     return a, b, cls, disc.X[b] - disc.X[a]
 
 
 def _forest(n_en: int, a, b):
-    """A spanning forest of the element-node graph: component of every node, the nodes in
+    """A spanning forest of the graph of the model nodes (n_en of them) joined by members and links: component of every node, the nodes in
     breadth-first order with their tree edge (index, +1 when traversed a -> b, -1 when b -> a;
     -1 for a root), and which edges are outside the forest."""
     adjacency: list[list[int]] = [[] for _ in range(n_en)]
@@ -174,7 +202,7 @@ def _translation_held(disc, n_en: int) -> list[tuple[int, np.ndarray]]:
 
 
 def _kinematics(disc, L_ref: float) -> _Kinematics:
-    n_en = len(disc.X)
+    n_en = disc.n_model_nodes
     turning, n_turn = _rotation_classes(disc)
     a, b, cls, chord = _edges(disc, turning)
     chord = chord / L_ref
@@ -222,8 +250,8 @@ def _null_space(G: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _dof_rows(disc, kin: _Kinematics, system) -> list[tuple[str, np.ndarray]]:
     """(label, g_d) of the DOFs the error may name, in naming order: each model node's ux, uy, rz and
-    released member ends, then the interior nodes; g_d gives the DOF's motion (rotations times L_ref)
-    from z."""
+    released member ends; g_d gives the DOF's motion (rotations times L_ref) from z. An interior node
+    moves only with its member, whose motion moves one of its end nodes or turns its end rotations."""
     n_z = kin.rows.shape[1]
     red = disc.I[:, 0]
     names = system.model.node_names
@@ -233,8 +261,8 @@ def _dof_rows(disc, kin: _Kinematics, system) -> list[tuple[str, np.ndarray]]:
     for e, side in zip(*np.nonzero(released)):
         ends.setdefault(int(disc.conn[e, side]), []).append((int(disc.edofs[e, 3 * side + 2]), int(e)))
     out = []
-    for node in range(n_en):
-        where = names[node] if node < n_mn else _interior(system, node)
+    for node in range(n_mn):
+        where = names[node]
         root = kin.n_turning + 2 * int(kin.component[node])
         for axis, dof in ((0, "ux"), (1, "uy")):
             g = np.zeros(n_z)
@@ -251,13 +279,6 @@ def _dof_rows(disc, kin: _Kinematics, system) -> list[tuple[str, np.ndarray]]:
                 g[column] = 1.0
             out.append((f"{where} {dof}", g))
     return out
-
-
-def _interior(system, node: int) -> str:
-    d = system.disc
-    e = int(np.nonzero((d.conn == node).any(axis=1))[0][0])
-    member = system.model.members[int(d.el_member[e])]
-    return f"an interior node of member {member.name!r}"
 
 
 def free_motions(system) -> FreeMotions:

@@ -82,11 +82,13 @@ MODELS = {
     "prescribed tip": lambda: _prescribed_tip(),
     "four-bar, free hinges": lambda: _four_bar(0.0), "four-bar, sprung hinges": lambda: _four_bar(3.0),
     "closed frame, pinned": lambda: _closed_frame(),
+    "closed frame on a pin only": lambda: _closed_frame(slider=False),
     "hinged triangle": lambda: _hinged_polygon(((0.0, 0.0), (1.0, 0.0), (0.4, 0.7))),
     "hinged square": lambda: _hinged_polygon(((0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0))),
 }
 FREE = {"free beam": 3, "pinned beam": 1, "slider beam": 2, "free hinge": 1, "linked, free hinge": 1,
-        "linked, pinned": 1, "linked, free": 3, "four-bar, free hinges": 1, "hinged square": 1}
+        "linked, pinned": 1, "linked, free": 3, "four-bar, free hinges": 1, "hinged square": 1,
+        "closed frame on a pin only": 1}
 
 
 def _expected_verdict(name: str) -> bool:
@@ -277,8 +279,9 @@ def _four_bar(k: float) -> fem.Model:
     return m
 
 
-def _closed_frame() -> fem.Model:
-    """A rigid triangle of three members pinned at one corner and on a slider at another: held."""
+def _closed_frame(slider: bool = True) -> fem.Model:
+    """A rigid triangle of three members pinned at one corner and on a slider at another: held; on the
+    pin alone it turns about it (one motion)."""
     m = fem.Model()
     for name, x, y in (("p", 0.0, 0.0), ("q", 1.0, 0.0), ("r", 0.4, 0.7)):
         m.add_node(name, x, y)
@@ -287,7 +290,8 @@ def _closed_frame() -> fem.Model:
     m.add_member("q", "r", sec, n_elements=2)
     m.add_member("r", "p", sec, n_elements=2)
     m.add_support("p", "pinned")
-    m.add_support("q", "slider", direction=(1.0, 0.0))
+    if slider:
+        m.add_support("q", "slider", direction=(1.0, 0.0))
     m.add_force("r", 0.01, 0.0)
     return m
 
