@@ -260,3 +260,33 @@ def test_parameter_modes():
     assert data["loads"][0]["direction"] == pytest.approx([-2.0, 0.0], abs=1e-12)
     assert data["methods"]["fem"]["elements"] == 8
     assert math.isclose(data["loads"][1]["ramp"]["stop"], 1.5)
+
+
+def test_a_killed_worker_s_points_are_retried_on_resume_and_counted(spec, tmp_path, fake, capsys):
+    """A pool worker killed mid-sweep (os._exit in the task) breaks the pool: the points of every task
+    it took down are 'task_failed' (exit 1), not final outcomes. The same command again runs exactly
+    those points, says how many were retried and how many failed again, and exits 0 only when every
+    point has its own result; a crash that persists is counted as failed again (exit 1)."""
+    import os
+
+    out = tmp_path / "out"
+    fake.fail_when = lambda seg: seg.E == 2.0 and os._exit(1)
+    assert run_sweep(spec, out, executor="process", workers=2, progress=False, chunk=25) == 1
+    first = load_results(out)
+    lost = set(first.loc[first["status"] == "task_failed", "point_id"])
+    assert lost and first["point_id"].nunique() == 1000
+    assert first.loc[first["status"] == "task_failed", "message"].str.contains("BrokenProcessPool").all()
+    assert "run the same command again to retry them" in capsys.readouterr().err
+
+    assert run_sweep(spec, out, executor="process", workers=2, progress=False, chunk=25) == 1
+    again = _runs(out)[-1]
+    assert again["skipped"] == 1000 - len(lost) and again["retried"] == len(lost) and again["task_failed"] > 0
+    assert f"{len(lost)} retried after a failed task" in capsys.readouterr().out
+
+    fake.fail_when, fake.calls = None, 0
+    assert run_sweep(spec, out, executor="serial", progress=False) == 0
+    last = _runs(out)[-1]
+    assert last["ran"] == fake.calls and last["task_failed"] == 0 and last["retried"] == last["ran"] > 0
+    frame = load_results(out)
+    assert frame["point_id"].nunique() == 1000 and (frame["status"] == "ok").all() and len(frame) == 2000
+    assert "0 of them failed again" in capsys.readouterr().out

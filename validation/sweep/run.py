@@ -14,7 +14,9 @@ Points run on local processes (``ProcessPoolExecutor``, the default), on a local
 distribution. Finished points are written as Parquet part files under ``OUT/parts/`` every few
 seconds, so an interrupted sweep is resumed by running the same command again: a point whose id
 (a hash of the prepared case, the methods with their options and code, the outputs and the
-parameter values) is already in the dataset is not run again.
+parameter values) is already in the dataset is not run again. A point whose task failed around it
+(status ``task_failed``: a worker lost, a broken pool) has no outcome of its own: the next run runs it
+again, and its summary says how many were retried and how many failed again.
 
 Spec format (every field; a bad one is a one-line error naming the file and the field)::
 
@@ -74,6 +76,7 @@ import time
 import tomllib
 import uuid
 import zlib
+from collections import Counter
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
@@ -98,7 +101,8 @@ from validation.sweep.task import ROW_COLUMNS, _row, prepare, run_chunk
 SWEEPS_DIR = CASES_DIR / "sweeps"
 EXIT_OK, EXIT_FAILED_POINTS, EXIT_BAD_INPUT, EXIT_INTERRUPTED = (ExitStatus.OK, ExitStatus.FAILED, ExitStatus.BAD_INPUT,
                                                         ExitStatus.INTERRUPTED)  # the rule, in sweep words
-FAILED = ("error", "invalid", "not_converged", "not_applicable")  # exit status 1 (validation/run/exit_status.py)
+FAILED = ("error", "invalid", "not_converged", "not_applicable", "task_failed")  # exit status 1 (exit_status.py)
+TASK_FAILED = "task_failed"   # no outcome of the point itself (a worker lost, a broken pool): run again
 
 
 class Linspace(Strict):
@@ -427,12 +431,16 @@ def _parts(out: Path) -> list[Path]:
     return sorted((out / "parts").glob("part-*.parquet"))
 
 
-def _done_ids(out: Path) -> set[str]:
-
+def _done_ids(out: Path) -> tuple[set[str], set[str]]:
+    """(ids of the points that have their own outcome, ids of those whose every row is a failed task):
+    a point's outcome, ok or not, is final; a task that failed around it is not, and is run again."""
     done: set[str] = set()
+    task_failed: set[str] = set()
     for part in _parts(out):
-        done.update(pq.read_table(part, columns=["point_id"]).column(0).to_pylist())
-    return done
+        table = pq.read_table(part, columns=["point_id", "status"]).to_pydict()
+        for point, status in zip(table["point_id"], table["status"]):
+            (task_failed if status == TASK_FAILED else done).add(point)
+    return done, task_failed - done
 
 
 def load_results(out: Path | str):
@@ -447,6 +455,8 @@ def load_results(out: Path | str):
     if manifest.is_file():
         current = set(json.loads(manifest.read_text())["point_ids"])
         frame = frame[frame["point_id"].isin(current)]
+    answered = set(frame.loc[frame["status"] != TASK_FAILED, "point_id"])
+    frame = frame[(frame["status"] != TASK_FAILED) | ~frame["point_id"].isin(answered)]  # retried since
     frame = frame.drop_duplicates(["point_id", "method", "quantity", "point", "level"], keep="last")
     frame["level"] = frame["level"].astype("Int64")
     return frame.reset_index(drop=True)
@@ -456,9 +466,10 @@ def load_results(out: Path | str):
 
 
 def _failed_chunk(chunk: list[dict], run_id: str, exc: BaseException) -> list[dict]:
-
+    """Rows of a chunk whose task failed (a worker lost, a broken pool): status TASK_FAILED, so that the
+    next run of the sweep runs these points again."""
     message = f"task failed: {type(exc).__name__}: {exc}".replace("\n", " ")
-    return [_row(p, run_id, status="error", message=message) for p in chunk]
+    return [_row(p, run_id, status=TASK_FAILED, message=message) for p in chunk]
 
 
 def _is_dask_client(obj: Any) -> bool:
@@ -612,7 +623,7 @@ def run_sweep(spec_path: Path | str, out: Path | str | None = None, executor: An
     schema = arrow_schema(spec)
     if not _prepare_folder(out, schema, resume):
         return EXIT_BAD_INPUT
-    done = _done_ids(out) if resume else set()
+    done, earlier_failed = _done_ids(out) if resume else (set(), set())
     pending = [p for p in points if p["id"] not in done]
     skipped = len(points) - len(pending)
     if limit is not None:
@@ -629,6 +640,9 @@ def run_sweep(spec_path: Path | str, out: Path | str | None = None, executor: An
     bar = tqdm(total=len(points), initial=skipped, unit="pt", disable=not progress, leave=False,
                desc=spec.sweep.id)
     failed = ran = 0
+    retried = {p["id"] for p in pending} & earlier_failed
+    task_failures: Counter = Counter()      # message -> points, of this run's failed tasks
+    failed_tasks: set[str] = set()          # the points of this run's failed tasks
     status = EXIT_OK
     try:
         for chunk_points, rows in completed(executor, context, chunks, workers, scheduler):
@@ -636,6 +650,10 @@ def run_sweep(spec_path: Path | str, out: Path | str | None = None, executor: An
                 rows = _failed_chunk(chunk_points, run_id, rows)
             bad = {r["point_id"] for r in rows if r["status"] in FAILED}
             failed += len(bad)
+            for r in rows:
+                if r["status"] == TASK_FAILED:
+                    task_failures[r["message"]] += 1
+                    failed_tasks.add(r["point_id"])
             ran += len(chunk_points)
             writer.add(rows, len(chunk_points))
             bar.update(len(chunk_points))
@@ -648,6 +666,7 @@ def run_sweep(spec_path: Path | str, out: Path | str | None = None, executor: An
     record = {"run": run_id, "executor": executor if isinstance(executor, str) else type(executor).__name__,
               "scheduler": scheduler, "workers": n_workers, "chunk": size, "points": len(points),
               "skipped": skipped, "ran": ran, "failed": failed, "left": len(points) - skipped - ran,
+              "retried": len(retried), "task_failed": sum(task_failures.values()),
               "wall_time_s": round(wall, 3), "interrupted": status == EXIT_INTERRUPTED}
     _append_record(out, record)
     if status == EXIT_INTERRUPTED:
@@ -655,8 +674,14 @@ def run_sweep(spec_path: Path | str, out: Path | str | None = None, executor: An
               f"again to resume", file=sys.stderr)
         return status
     left = f", {record['left']} left (run again to continue)" if record["left"] else ""
-    print(f"{spec.sweep.id}: {ran} point(s) run, {skipped} already done, {failed} failed{left}; "
+    again = ""
+    if retried:
+        again = (f" ({len(retried)} retried after a failed task, {len(retried & failed_tasks)} of them "
+                 "failed again)")
+    print(f"{spec.sweep.id}: {ran} point(s) run{again}, {skipped} already done, {failed} failed{left}; "
           f"{wall:.1f} s; results in {out}")
+    for message, count in task_failures.most_common():
+        print(f"  {count} point(s): {message}; run the same command again to retry them", file=sys.stderr)
     return EXIT_FAILED_POINTS if failed else EXIT_OK
 
 
