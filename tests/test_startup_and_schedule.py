@@ -6,7 +6,7 @@ and the parallel run of many cases gives the same results as the serial one.
   parts and scipy.optimize through ``prbm.lazy.LazyModule``;
 - the run cache's source walk still sees every module loaded that way (a result must not go stale);
 - ``validation.run.parallel`` compiles each numba method once (one primer per method whose sources
-  import numba) and returns, on two workers, exactly the values of the serial run.
+  import numba) and returns, on two workers, the values of the serial run (to the solves' tolerance).
 (No timing here: speed is measured by the benchmarks, never asserted in a test.)"""
 import json
 import subprocess
@@ -92,6 +92,14 @@ def case_id(result) -> str:
 
 
 def test_two_workers_give_the_values_of_the_serial_run(tmp_path):
+    """The same cases on two worker processes and serially: the same results in the same order.
+    Values within 1e-8 of their quantity's largest value (per case and method), not to the bit: a
+    worker is another process whose BLAS may run another kernel or thread count, so its roundings may
+    differ. Each value is a converged solve, stopped at a residual of 1e-10 of its force scale (the FEM's
+    `SolveOptions.rtol`; the elastica's 1e-11 and the PRBM's root finders are tighter); on these cases
+    such a stop lies within 1e-10 of the equilibrium (tightening the FEM to 1e-14 and the elastica to
+    1e-13 moves no value by more than 7e-11 of its scale), so 1e-8 leaves a factor 100. Values mixed up
+    between levels, points, cases or methods differ by 1e-4 of the scale or more."""
     paths = [case_by_id(i).path for i in ("bapat2015_table3_1", "segment_curved_fixed_pinned_compressive",
                                           "bapat2015_theta_dependent_k_tension_baseline")]
     paths.append(tmp_path / "broken.toml")
@@ -99,7 +107,15 @@ def test_two_workers_give_the_values_of_the_serial_run(tmp_path):
     serial = run_paths(paths, use_cache=False, jobs=1, after=case_id)
     parallel = run_paths(paths, use_cache=False, jobs=2, after=case_id)
     assert [r.path for r in parallel] == paths
-    assert _values(parallel) == _values(serial) and _values(serial)
+    expected, got = _values(serial), _values(parallel)
+    assert expected and got.keys() == expected.keys()
+    scale = {}
+    for (case, method, request), value in expected.items():
+        key = (case, method, request.quantity)
+        scale[key] = max(scale.get(key, 0.0), abs(value))
+    for (case, method, request), value in expected.items():
+        tol = 1e-8 * scale[case, method, request.quantity]
+        assert abs(got[case, method, request] - value) <= tol, (case, method, request, value)
     assert [r.after for r in parallel] == [r.after for r in serial] == [
         "bapat2015_table3_1", "segment_curved_fixed_pinned_compressive", "bapat2015_theta_dependent_k_tension_baseline", None]
     assert parallel[-1].error and "broken.toml" in parallel[-1].error
