@@ -4,6 +4,17 @@ A key changes whenever the case file text, the method's options, the package ver
 of a numerical library, or any repository source file the method's run imports (found by following
 the imports of its adapter and of the runner: schema, quantity contract, options, the library)
 changes, so a cached result is never stale.
+
+An entry is the file ``<key>.run`` in `cache_dir`, in the format of `validation.run.cache_format`:
+plain data with a schema version and a SHA-256 of its payload, so reading one runs no code and a
+corrupt, truncated, foreign or older entry is found. Such an entry is removed with a one-line
+warning on stderr naming it, and the run is recomputed. An entry is written to a temporary file
+``.<key>.<pid>.tmp`` and renamed into place, so a reader sees a whole entry or none (a write that
+fails or is interrupted removes its temporary); a write that fails (a full disk, no permission) is
+one warning naming the path, and the process goes on without writing to that folder. The first
+use of a folder in a process removes what a run must not find there: temporaries whose writer is no
+longer alive or that are older than ``ORPHAN_AGE`` seconds, and the pickles of an older format
+(``*.pkl``, which can run code when read).
 """
 from __future__ import annotations
 
@@ -11,18 +22,25 @@ import ast
 import hashlib
 import json
 import os
-import pickle
 import re
+import sys
+import time
 from functools import lru_cache
 from importlib import metadata
 from pathlib import Path
 
 from validation.methods.base import MethodRun
+from validation.run import cache_format
 
 ROOT = Path(__file__).resolve().parents[2]
 PACKAGES = ("validation", "prbm", "fem", "elastica", "bcm", "argcheck")
 # third-party libraries whose version can change a result
 LIBRARY_VERSIONS = ("numpy", "scipy", "scikit-fem", "pydantic", "numba", "openseespy")
+ENTRY_SUFFIX = ".run"
+ORPHAN_AGE = 3600.0   # seconds: a temporary this old is an orphan whoever holds its pid now
+_TEMPORARY = re.compile(r"^\.(?P<key>[0-9a-f]+)\.(?P<pid>[0-9]+)\.tmp$")
+_tidied: set[Path] = set()      # folders this process has tidied (`tidy`)
+_unwritable: set[Path] = set()  # folders a write failed in: this process writes no more entries there
 
 
 def cache_dir() -> Path:
@@ -180,26 +198,123 @@ def run_key(case_text: str, method: str, options: dict) -> str:
     return hashlib.sha256(payload.encode()).hexdigest()[:32]
 
 
+def entry_path(key: str) -> Path:
+    """Where the run of ``key`` is stored."""
+    return cache_dir() / f"{key}{ENTRY_SUFFIX}"
+
+
 def load(key: str) -> MethodRun | None:
-    path = cache_dir() / f"{key}.pkl"
-    if not path.is_file():
+    """The run stored under ``key``, or None: none stored, or an entry that cannot be used (removed,
+    with a warning naming it and why)."""
+    path = entry_path(key)
+    tidy(path.parent)
+    try:
+        entry = path.read_bytes()
+    except FileNotFoundError:
+        return None
+    except OSError as exc:
+        warn(f"cannot read {path} ({_strerror(exc)}); recomputing the run")
         return None
     try:
-        with path.open("rb") as handle:
-            return pickle.load(handle)
-    except Exception:  # a corrupt or incompatible entry is simply recomputed
+        return cache_format.decode(entry, key)
+    except cache_format.EntryError as exc:
+        removed = "removed" if _remove(path) else "left in place"
+        warn(f"ignored {path}: {exc}; {removed}, recomputing the run")
         return None
 
 
 def has(key: str) -> bool:
     """Whether a run is stored under ``key`` (without reading it)."""
-    return (cache_dir() / f"{key}.pkl").is_file()
+    return entry_path(key).is_file()
 
 
 def store(key: str, run: MethodRun) -> None:
-    folder = cache_dir()
-    folder.mkdir(parents=True, exist_ok=True)
-    tmp = folder / f"{key}.pkl.tmp{os.getpid()}"
-    with tmp.open("wb") as handle:
-        pickle.dump(run, handle)
-    tmp.replace(folder / f"{key}.pkl")
+    """Store ``run`` under ``key``: written to a temporary file, then renamed into place. A run the
+    format cannot write, or a folder that cannot be written, leaves the run uncached with a warning."""
+    path = entry_path(key)
+    folder = path.parent
+    if folder in _unwritable:
+        return
+    try:
+        entry = cache_format.encode(run, key)
+    except TypeError as exc:
+        warn(f"not cached, {path}: {exc}")
+        return
+    tmp = folder / f".{key}.{os.getpid()}.tmp"
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        tidy(folder)
+        tmp.write_bytes(entry)
+        os.replace(tmp, path)
+    except OSError as exc:
+        _remove(tmp)
+        _unwritable.add(folder)
+        where = f"{path}" if exc.filename in (None, str(tmp), str(path)) else f"{path} ({exc.filename})"
+        warn(f"cannot write {where}: {_strerror(exc)}; going on without caching runs in {folder}")
+    except BaseException:      # an interruption (Ctrl-C, a case's deadline) leaves no temporary behind
+        _remove(tmp)
+        raise
+
+
+def tidy(folder: Path) -> None:
+    """Remove, once a process, the files of ``folder`` no run may find: orphan temporaries (of a
+    writer no longer alive, or older than ``ORPHAN_AGE`` seconds) and pickled entries of an older
+    format, with a warning for the pickles."""
+    if folder in _tidied:
+        return
+    _tidied.add(folder)
+    try:
+        names = os.listdir(folder)
+    except OSError:
+        return
+    now = time.time()
+    pickles = 0
+    for name in names:
+        path = folder / name
+        if name.endswith(".pkl") or ".pkl.tmp" in name:
+            pickles += _remove(path)
+            continue
+        match = _TEMPORARY.match(name)
+        if match is None:
+            continue
+        try:
+            age = now - path.stat().st_mtime
+        except OSError:
+            continue
+        if age > ORPHAN_AGE or not _alive(int(match["pid"])):
+            _remove(path)
+    if pickles:
+        warn(f"removed {pickles} pickled entries of an older format from {folder}")
+
+
+def warn(message: str) -> None:
+    """One line on stderr."""
+    print(f"warning: run cache: {message}".replace("\n", " "), file=sys.stderr)
+
+
+def _alive(pid: int) -> bool:
+    """Whether a process ``pid`` exists (one of another user's counts)."""
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    except (OSError, OverflowError):
+        return False
+    return True
+
+
+def _remove(path: Path) -> bool:
+    """Remove a file if it is there; whether it was removed."""
+    try:
+        path.unlink()
+    except OSError:
+        return False
+    return True
+
+
+def _strerror(exc: OSError) -> str:
+    return f"[Errno {exc.errno}] {exc.strerror}" if exc.strerror else str(exc)
