@@ -9,7 +9,7 @@ load-control corrector, compiled: one module, so numba's cache cannot go stale a
 reverse Cuthill-McKee order, constraints), `assembly` (reduced residual and tangent),
 `linear_solver`, `free_motion` (a model that can move without deforming is refused before any Newton
 correction), `newton` (corrector, rotation continuity), `options` (typed options and state), `solver` (load / displacement /
-arc-length control), `stability`, `critical`, `error_estimate` (Richardson), `warm_start`,
+arc-length control), `stability`, `critical`, `error_estimate` (Richardson, with a test of the asymptotic range), `warm_start`,
 `result`, `soft_modes`, `tip_inverse` (the end loads that hold a prescribed tip pose, with a tied
 load found by an outer secant solve).
 
@@ -29,7 +29,7 @@ cantilever at P L^2/EI = 10 is (0.445, 0.810609)):
 >>> round(float(xy[1]), 5), bool(err[1] < 1e-6)
 (0.81061, True)
 """
-from .error_estimate import ErrorEstimate, solve_with_error_estimate
+from .error_estimate import AsymptoticCheck, ErrorEstimate, solve_with_error_estimate
 from .free_motion import FreeMotion
 from .model import Model
 from .result import FemResult
@@ -39,5 +39,5 @@ from .solver import solve, solve_arclength, solve_displacement, solve_load
 from .tip_inverse import LoadRatio, Position, TipInverseResult, ZeroMoment, solve_tip_inverse
 
 __all__ = ["Model", "Section", "solve", "solve_load", "solve_displacement", "solve_arclength",
-           "SolveOptions", "LoadControl", "DisplacementControl", "ArcLengthControl", "FreeMotion", "solve_with_error_estimate", "FemResult", "ErrorEstimate",
+           "SolveOptions", "LoadControl", "DisplacementControl", "ArcLengthControl", "FreeMotion", "solve_with_error_estimate", "FemResult", "ErrorEstimate", "AsymptoticCheck",
            "solve_tip_inverse", "LoadRatio", "ZeroMoment", "Position", "TipInverseResult"]

@@ -32,6 +32,8 @@ def solve_document(loaded, method: str, run) -> dict:
             outputs[name] = _clean(run.values.get(req))
             if req in run.error_estimate:
                 outputs[name + ":error_estimate"] = _clean(run.error_estimate[req])
+            if req in run.unreliable_estimate:      # the estimate is no bound: why
+                outputs[name + ":error_estimate_unreliable"] = run.unreliable_estimate[req]
         if outputs:
             levels.append({"level": level, "label": labels[level],
                            "loads": [{"name": n, "value": v[level], "unit": u} for n, v, u in loads],

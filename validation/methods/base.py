@@ -40,6 +40,7 @@ class RunStatus(str, Enum):
     NOT_APPLICABLE = "not applicable"  # the method refused the case (NotApplicable), with the reason
     FAILED = "failed"                  # the method raised an unexpected exception (a bug or a crash)
     MISCONFIGURED = "misconfigured"    # a method option of the case is wrong: bad input
+    TIMED_OUT = "timed out"            # stopped at the case's wall-time limit ([limits] seconds)
 
 
 class Applicability(str, Enum):
@@ -58,10 +59,14 @@ class MethodRun:
     message: str = ""
     wall_time: float = 0.0
     error_estimate: dict[Request, float] = field(default_factory=dict)
+    # the values whose error estimate is no bound (the FEM's meshes not in the asymptotic range), with why:
+    # the estimate stays in ``error_estimate`` but no check and no summary reads it
+    unreliable_estimate: dict[Request, str] = field(default_factory=dict)
     level_converged: dict[int, bool] = field(default_factory=dict)
     level_messages: dict[int, str] = field(default_factory=dict)
     # extras["shapes"]: per level, the deformed shape as a list of (n, 2) polylines (the report draws them);
-    # extras["iterations"]: Newton iterations (the benchmark reads it); extras["path"]: a continuation path.
+    # extras["iterations"]: Newton iterations (the benchmark reads it); extras["path"]: a continuation path;
+    # extras["elements"], extras["refine"]: the FEM's elements per member and its finest mesh over them.
     extras: dict[str, Any] = field(default_factory=dict)
     # per level, the model-applicability flags (empty: the model was made for this load)
     applicability: dict[int, list[Applicability]] = field(default_factory=dict)
@@ -81,6 +86,13 @@ class MethodRun:
         flags = self.applicability.setdefault(level, [])
         if flag not in flags:
             flags.append(flag)
+
+    def estimate_reliable(self, req: Request) -> bool | None:
+        """Whether the error estimate of a value is a bound: None without an estimate, False where it is
+        marked unreliable."""
+        if req not in self.error_estimate:
+            return None
+        return req not in self.unreliable_estimate
 
     @property
     def ok(self) -> bool:

@@ -8,9 +8,13 @@ node for node: beams become members, rigid links exact master-slave constraints,
 rotations (with their torsional springs), supports as given.
 
 Options (``[methods.fem]``): ``elements`` per member (default 16), ``error_estimate`` (default true: solve
-on n and 2n elements and report |u_2n - u_n|/3, the Richardson estimate of the O(h^2) error of u_2n),
-``richardson`` (report the extrapolated value instead of u_2n), ``tol`` (refine until the estimate is
-below it), ``inextensible_ratio`` (EA L^2/EI used when a section gives no area; default 1e6),
+on n and 2n elements and report |u_2n - u_n|/3, the Richardson estimate of the O(h^2) error of u_2n,
+after checking on a third mesh that the outputs asked for are in the asymptotic range, the meshes
+doubled up to ``max_refine`` x elements until they are; a value still outside keeps its estimate, marked
+in ``MethodRun.unreliable_estimate``: `fem.error_estimate`; the two-mesh estimates of ``limit_load``, of
+the inverse problem's tip loads and of an ``input_moment_at`` torque are not judged), ``richardson``
+(report the extrapolated value instead of u_2n), ``tol`` (refine until the estimate is below it),
+``inextensible_ratio`` (EA L^2/EI used when a section gives no area; default 1e6),
 and for ``limit_load``: ``arc_length``, ``max_steps``; for ``mechanical_advantage``: ``ma`` (see
 `fem_outputs`, which also gives ``max_stress`` and ``inflection_points`` from the finest mesh);
 ``zero_level``: positions (x, y, dx, dy) measured from the state of that level instead of the unloaded
@@ -37,6 +41,7 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -371,32 +376,96 @@ def _limit_load(fem, case, model, options: dict):
     return abs(limits[0].load_factor) * reference, res, ""
 
 
-def _solve_levels(fem, case, model, requests, options: dict):
+@dataclass
+class _Levels:
+    """What the load-controlled solve gave: the values, their estimates, the values whose estimate is
+    unreliable (with why), the finest result and the refine of its mesh over ``elements`` (1 without an
+    estimate), and how the solve went."""
+    values: dict
+    errors: dict
+    unreliable: dict
+    result: object
+    refine: int
+    converged: bool
+    message: str
+    iterations: int
+    analysis: float
+
+
+def _solve_levels(fem, case, model, requests, options: dict) -> _Levels:
     """Load-controlled solve of the requested outputs, with the Richardson estimate if asked."""
     origin = {name: model.coords[i] for i, name in enumerate(model.node_names)}
     kwargs = dict(n_levels=case.n_levels(), rtol=float(options.get("rtol", 1e-10)))
     if not (options.get("error_estimate", True) or options.get("tol")):
         result = fem.solve(model, **kwargs)
         done = [r for r in requests if r.level < result.n_levels]
-        return (_extract(case, _Fields.of(result), done, origin), {}, result, result.converged,
-                result.message, result.iterations, result.analysis_time)
+        return _Levels(_extract(case, _Fields.of(result), done, origin), {}, {}, result, 1, result.converged,
+                       result.message, result.iterations, result.analysis_time)
     tol = options.get("tol")
     est = fem.solve_with_error_estimate(model, tol=float(tol) if tol else None,
-                                        levels=int(options.get("levels", 2)), **kwargs)
+                                        levels=int(options.get("levels", 2)),
+                                        max_refine=int(options.get("max_refine", 64)),
+                                        check=fem.AsymptoticCheck(fields=_estimated_fields(case, requests)),
+                                        **kwargs)
     result = est.result
     iterations = sum(r.iterations for r in est.results)
     analysis = sum(r.analysis_time for r in est.results)
     if not est.error:  # a mesh failed: report what the finest mesh reached
         done = [r for r in requests if r.level < result.n_levels]
-        return (_extract(case, _Fields.of(result), done, origin), {}, result, False, est.message, iterations,
-                analysis)
+        return _Levels(_extract(case, _Fields.of(result), done, origin), {}, {}, result, est.refine, False,
+                       est.message, iterations, analysis)
     richardson = bool(options.get("richardson"))
     source = est.extrapolated if richardson else _ResultFields(result)
     errors = est.extrapolated_error if (richardson and est.extrapolated_error) else est.error
-    fields = [_Fields(result.node_names, f) for f in (source, errors)]
+    fields = [_Fields(result.node_names, f) for f in (source, errors, _Flags(est.unreliable))]
     values = _extract(case, fields[0], requests, origin)
     errs = {r: abs(v) for r, v in _extract(case, fields[1], requests, None).items()}
-    return values, errs, result, est.converged, est.message, iterations, analysis
+    flagged = [r for r, flag in _extract(case, fields[2], requests, None).items() if flag]
+    unreliable = {r: (f"the FEM's error estimate is unreliable: its meshes (up to refine={est.refine} x "
+                      f"{_mesh_words(model)}) are not in the asymptotic range for this value (observed order "
+                      f"outside 2 +- {est.check.band:g})") for r in flagged}
+    return _Levels(values, errs, unreliable, result, est.refine, est.converged, est.message, iterations, analysis)
+
+
+def _mesh_words(model) -> str:
+    """'16 elements per member' (the model's counts; several when its members differ)."""
+    counts = sorted({m.n_elements for m in model.members if m.refined})
+    return f"{'/'.join(map(str, counts)) or 'the'} elements per member"
+
+
+class _Flags(dict):
+    """The error estimate's ``unreliable`` masks as the numbers ``_extract`` reads (1.0: unreliable)."""
+
+    def __init__(self, masks):
+        super().__init__()
+        self._masks = masks
+
+    def __missing__(self, name):
+        self[name] = np.asarray(self._masks[name], float)
+        return self[name]
+
+
+def _estimated_fields(case, requests) -> tuple:
+    """The FEM result fields whose error estimates the requests read (`_extract`): judged for the
+    asymptotic range and refined for."""
+    held = _held_dofs(case)
+    fields = set()
+    for q, p, _ in requests:
+        if q in ("x", "y", "dx", "dy"):
+            fields.add("positions")
+        elif q in ("rotation", "input_angle"):
+            fields.add("rotations")
+        elif q in ("reaction_x", "reaction_y", "reaction_moment"):
+            fields.add("reactions")
+        elif q in ("force_x", "force_y", "moment"):
+            if ("ux", "uy", "rz")[("force_x", "force_y", "moment").index(q)] in held.get(p, set()):
+                fields.add("reactions")
+        elif q == "input_torque":
+            if "rz" in held.get(_input_node(case), set()):
+                fields.add("reactions")
+        elif q == "strain_energy":
+            fields.add("strain_energy")
+    return tuple(f for f in ("positions", "rotations", "reactions", "strain_energy") if f in fields)
 
 
 def _critical_note(result) -> str:
@@ -637,6 +706,8 @@ def _run_forward(fem, case, requests: list[Request], options: dict) -> MethodRun
     elements = int(options.get("elements", 16))
     model = build_model(case, elements, options)
     values, errors, iterations, converged, messages, result = {}, {}, 0, True, [], None
+    unreliable: dict[Request, str] = {}
+    refine = 1
     analysis = 0.0     # CPU seconds of the load stepping of every solve (without set-up and results)
     zero = options.get("zero_level")
     if zero is not None:
@@ -654,12 +725,14 @@ def _run_forward(fem, case, requests: list[Request], options: dict) -> MethodRun
     beam_outputs = [r for r in requests if r.quantity in BEAM_OUTPUTS]
     limit = [r for r in requests if r.quantity == "limit_load"]
     if ordinary or beam_outputs:
-        vals, errs, result, ok, msg, its, analysis = _solve_levels(fem, case, model, ordinary, options)
-        values.update(vals)
-        errors.update(errs)
-        iterations += its
-        converged &= ok
-        messages.append(msg + _critical_note(result))
+        solved = _solve_levels(fem, case, model, ordinary, options)
+        result, analysis, refine = solved.result, solved.analysis, solved.refine
+        values.update(solved.values)
+        errors.update(solved.errors)
+        unreliable.update(solved.unreliable)
+        iterations += solved.iterations
+        converged &= solved.converged
+        messages.append(solved.message + _critical_note(result))
         values.update(_beam_outputs(fem, case, model, result, beam_outputs, elements, options))
     if limit:
         value, res, why = _limit_load(fem, case, model, options)
@@ -686,7 +759,7 @@ def _run_forward(fem, case, requests: list[Request], options: dict) -> MethodRun
             if r in values and at_zero[r] is not None:
                 unloaded = {"x": origin[r.point][0], "y": origin[r.point][1]}.get(r.quantity, 0.0)
                 values[r] = values[r] - at_zero[r] + unloaded
-    extras = {"iterations": iterations, "elements": elements,
+    extras = {"iterations": iterations, "elements": elements, "refine": refine,
               "rejected_iterations": getattr(result, "rejected_iterations", 0), "analysis_cpu_s": analysis}
     if result is not None and result.n_levels:
         extras["shapes"] = DeferredList(lambda: _shapes(result))   # built when the report reads them
@@ -695,7 +768,8 @@ def _run_forward(fem, case, requests: list[Request], options: dict) -> MethodRun
         if path:
             extras["path"] = path
     return MethodRun(values=values, converged=converged, message="; ".join(m for m in messages if m),
-                     error_estimate=errors, wall_time=time.perf_counter() - start, extras=extras)
+                     error_estimate=errors, unreliable_estimate=unreliable, wall_time=time.perf_counter() - start,
+                     extras=extras)
 
 
 BEAM_OUTPUTS = ("max_stress", "inflection_points", "mechanical_advantage")

@@ -135,4 +135,5 @@ def merge_runs(forward: MethodRun | None, inverse: MethodRun) -> MethodRun:
     return MethodRun(values=forward.values | inverse.values, converged=forward.converged and inverse.converged,
                      message=message or "converged", wall_time=forward.wall_time + inverse.wall_time,
                      error_estimate=forward.error_estimate | inverse.error_estimate,
+                     unreliable_estimate=forward.unreliable_estimate | inverse.unreliable_estimate,
                      level_converged=ok, level_messages=msgs, extras=forward.extras)

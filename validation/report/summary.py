@@ -19,7 +19,8 @@ from validation.case.capabilities import QUANTITIES
 from validation.case.loads import driving_load, load_name, load_unit
 from validation.report.format import Badge, by_case, error_colour, percent, rows_of, run_badge, seconds, sig
 from validation.run.runner import CaseResult
-from validation.run.outcome import FEM_VALIDATION, fem_error_relative, no_prbm_fem_reason, prbm_fem_errors
+from validation.run.outcome import (FEM_VALIDATION, fem_error_relative, fem_estimates_unreliable,
+                                    no_prbm_fem_reason, prbm_fem_errors)
 
 METHOD_NAMES = {"fem": "FEM", "prbm": "PRBM", "elastica": "exact elastica", "bcm": "BCM", "opensees": "OpenSees"}
 
@@ -44,7 +45,7 @@ class CaseSummary:
     sentence: str
     prbm_fem_length: float        # fraction of the characteristic length
     prbm_fem_relative: float
-    fem_estimate: float
+    fem_estimate: float           # the largest reliable estimate, relative (``fem_error_relative``)
     checks: int
     checks_passed: int
     findings: int
@@ -52,6 +53,7 @@ class CaseSummary:
     no_prbm_fem: str = ""
     readings_of: str = ""         # the base case of an experiment this case is one loading reading of
     fem_validation: bool = False  # case.purpose = 'fem-validation': a benchmark of the FEM itself
+    fem_unreliable: int = 0       # FEM values whose error estimate is marked unreliable (left out of fem_estimate)
 
 
 def level_phrase(result: CaseResult, level: int) -> str:
@@ -179,8 +181,10 @@ def summarise(result: CaseResult, part: pd.DataFrame, sentence: str | None = Non
     if len(part):
         relative, length = prbm_fem_errors(part)
         estimate = fem_error_relative(part)
+        unreliable = fem_estimates_unreliable(part)
     else:
         relative = length = estimate = math.nan
+        unreliable = 0
     return CaseSummary(group=case.case.group, case=case.case.id, title=case.case.title, badge=badge,
                        reason=reason, methods=methods, sentence=case_sentence(result, part) if sentence is None else sentence,
                        prbm_fem_length=length, prbm_fem_relative=relative, fem_estimate=estimate,
@@ -189,7 +193,7 @@ def summarise(result: CaseResult, part: pd.DataFrame, sentence: str | None = Non
                        no_prbm_fem=no_prbm_fem_reason(result) if case.case.purpose == "fem-validation"
                        else case.case.no_prbm_fem or "",
                        readings_of=case.case.readings_of or "",
-                       fem_validation=case.case.purpose == "fem-validation")
+                       fem_validation=case.case.purpose == "fem-validation", fem_unreliable=unreliable)
 
 
 def group_order(group: str) -> tuple:
@@ -208,7 +212,7 @@ HEADERS = ["Case", "Status", "Methods", "Result", "PRBM vs FEM, max % of L", "PR
 def _row_html(row: CaseSummary, link: str) -> str:
     methods = " ".join(f"<span class='method' style='border-color:{s.badge.colour}' title='"
                        f"{html.escape(s.badge.value + (': ' + s.reason if s.reason else ''), quote=True)}'>"
-                       f"{METHOD_NAMES.get(s.method, s.method)}</span>" for s in row.methods)
+                       f"{html.escape(METHOD_NAMES.get(s.method, s.method))}</span>" for s in row.methods)
     length_pct = 100 * row.prbm_fem_length
     if math.isnan(length_pct) and not math.isnan(row.prbm_fem_relative):
         error_cell = ("<td class='absent' data-value='-1' title='the PRBM and the FEM share no position output; "
@@ -224,13 +228,29 @@ def _row_html(row: CaseSummary, link: str) -> str:
              f"<td data-value='{row.badge.value}'>{row.badge.html(row.reason)}</td>",
              f"<td>{methods}</td>", f"<td class='sentence'>{html.escape(row.sentence)}</td>", error_cell,
              f"<td data-value='{_raw(row.prbm_fem_relative)}'>{percent(row.prbm_fem_relative)}</td>",
-             f"<td data-value='{_raw(row.fem_estimate)}'>{percent(row.fem_estimate)}</td>",
+             _estimate_cell(row),
              f"<td data-value='{row.checks_passed}'>{row.checks_passed} of {row.checks}</td>"
              if row.checks else "<td data-value='-1'></td>",
              f"<td>{row.findings or ''}</td>"]
     cells += [f"<td data-value='{_raw(row.times.get(m, math.nan))}'>{seconds(row.times.get(m, math.nan))}</td>"
               for m in ("prbm", "fem", "elastica")]
     return "<tr>" + "".join(cells) + "</tr>"
+
+
+def estimate_text(row: CaseSummary) -> str:
+    """The 'FEM error estimate' cell: the largest reliable estimate, and how many estimates are marked
+    unreliable (no bound: the FEM's meshes were not in the asymptotic range), which it leaves out."""
+    if not row.fem_unreliable:
+        return percent(row.fem_estimate)
+    mark = f"{row.fem_unreliable} unreliable"
+    return f"{percent(row.fem_estimate)} ({mark})" if not math.isnan(row.fem_estimate) else mark
+
+
+def _estimate_cell(row: CaseSummary) -> str:
+    why = ("estimates marked unreliable (the FEM's meshes were not in the asymptotic range) are left out: no "
+           "bound, and no FEM-against-elastica check is made with them")
+    title = f" title='{html.escape(why, quote=True)}'" if row.fem_unreliable else ""
+    return f"<td data-value='{_raw(row.fem_estimate)}'{title}>{html.escape(estimate_text(row))}</td>"
 
 
 def _why_not_compared(row: CaseSummary) -> str:
@@ -324,7 +344,7 @@ def summary_markdown(rows: list[CaseSummary]) -> str:
         for r in (r for r in rows if r.group == group):
             pct = _markdown_error(r)
             lines.append(f"| {r.case} | {r.badge.value} | {r.sentence.replace('|', '/')} | {pct} | "
-                         f"{percent(r.fem_estimate)} | {f'{r.checks_passed} of {r.checks}' if r.checks else ''} |")
+                         f"{estimate_text(r)} | {f'{r.checks_passed} of {r.checks}' if r.checks else ''} |")
     lines += ["", without_prbm_fem_line(rows)]
     lines += [f"- {r.case}: {missing_reason(r)}" for r in without_prbm_fem(rows)]
     return "\n".join(lines) + "\n"

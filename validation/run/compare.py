@@ -12,7 +12,10 @@ agreement     an acceptance limit between two methods or a method and a printed 
               (``schema.Agreement``), rel measured on the scale of the quantity over the levels.
 fem-elastica  automatic wherever the FEM and the exact elastica both give a value: |FEM - elastica|
               within ``FEM_ESTIMATE_MULTIPLE`` times the FEM's own discretisation-error estimate (plus a
-              round-off floor); a FEM value without an estimate fails the check.
+              round-off floor); a FEM value without an estimate fails the check; a value whose estimate
+              the FEM marks unreliable (``MethodRun.unreliable_estimate``: its meshes were not in the
+              asymptotic range, the estimate is no bound) is recorded with the reason, not judged
+              (``within_tolerance`` empty).
 """
 from __future__ import annotations
 
@@ -42,7 +45,7 @@ class Check:
     tolerance: Tolerance | None
     abs_error: float
     rel_error: float
-    within: bool
+    within: bool | None             # None: recorded, not judged
     finding: str | None = None
     detail: str = ""
 
@@ -149,7 +152,7 @@ def axial_strain_bound(case: Case, level: int) -> float:
 
 def fem_elastica_checks(case: Case, runs: dict[str, MethodRun], scale: float) -> dict[Request, Check]:
     """The FEM held to the exact elastica wherever both give a value, within a small multiple of its
-    own error estimate."""
+    own error estimate; where the FEM marks that estimate unreliable, the row says so and is not judged."""
     fem, exact = runs.get("fem"), runs.get("elastica")
     if fem is None or exact is None:
         return {}
@@ -158,12 +161,18 @@ def fem_elastica_checks(case: Case, runs: dict[str, MethodRun], scale: float) ->
         other = exact.values.get(req)
         if other is None or math.isnan(other) or math.isnan(value):
             continue
+        abs_error, rel_error = _errors(value, other)
+        if req in fem.unreliable_estimate:
+            checks[req] = Check(kind="fem-elastica", reference_label="elastica", reference_value=other,
+                                source="exact elastica; not judged: estimate unreliable", tolerance=None,
+                                abs_error=abs_error, rel_error=rel_error, within=None,
+                                detail=f"not judged: {fem.unreliable_estimate[req]}")
+            continue
         estimate = fem.error_estimate.get(req, math.nan)
         size = scale if QUANTITIES[req.quantity].dimension == "length" else max(abs(other), 1.0)
         stretch = axial_strain_bound(case, req.level) * (scale if QUANTITIES[req.quantity].dimension == "length"
                                                          else abs(other))
         limit = FEM_ESTIMATE_MULTIPLE * estimate + stretch + ROUND_OFF * size
-        abs_error, rel_error = _errors(value, other)
         detail = "" if not math.isnan(estimate) else "the FEM gave no error estimate for this value"
         checks[req] = Check(kind="fem-elastica", reference_label="elastica", reference_value=other,
                             source=f"exact elastica; limit {FEM_ESTIMATE_MULTIPLE:g} x FEM error estimate "

@@ -12,6 +12,7 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
@@ -25,8 +26,8 @@ from validation.run.timeline import Timed
 
 
 COLUMNS = ["case", "group", "method", "quantity", "point", "level", "level_label", "value", "unit", "scale",
-           "error_estimate", "reference_label", "reference_value", "source", "compare", "tolerance_rel",
-           "tolerance_abs", "abs_error", "rel_error", "norm_error", "within_tolerance", "finding",
+           "error_estimate", "error_estimate_reliable", "reference_label", "reference_value", "source", "compare",
+           "tolerance_rel", "tolerance_abs", "abs_error", "rel_error", "norm_error", "within_tolerance", "finding",
            "wall_time", "converged", "message", "applicability", "cached", "check"]
 
 
@@ -61,6 +62,7 @@ def tabulate(result: CaseResult) -> pd.DataFrame:
                         point=req.point, level=req.level, level_label=labels[req.level], value=value,
                         unit=case.unit(dimension), scale=scale,
                         error_estimate=run.error_estimate.get(req, math.nan),
+                        error_estimate_reliable=run.estimate_reliable(req),
                         wall_time=run.wall_time,
                         converged=run.level_converged.get(req.level, run.converged),
                         message=run.level_messages.get(req.level, run.message),
@@ -218,12 +220,33 @@ def prbm_fem_errors(part: pd.DataFrame) -> tuple[float, float]:
     return _nanmax(rel), _nanmax(norm)
 
 
+def _reliable(part: pd.DataFrame) -> pd.Series:
+    """Rows whose error estimate is not marked unreliable (``error_estimate_reliable`` not False)."""
+    if "error_estimate_reliable" not in part:
+        return pd.Series(True, index=part.index)
+    return part["error_estimate_reliable"].map(_not_false).astype(bool)
+
+
+def _not_false(value) -> bool:
+    """True unless ``value`` is the boolean False (missing, None, NaN and pd.NA are not)."""
+    return not (isinstance(value, (bool, np.bool_)) and not value)
+
+
+def fem_estimates_unreliable(part: pd.DataFrame) -> int:
+    """How many of the FEM's values in one case have an error estimate marked unreliable."""
+    if "error_estimate_reliable" not in part:
+        return 0
+    rows = part[(part["method"] == "fem") & part["error_estimate"].notna() & ~_reliable(part)]
+    return len(rows.drop_duplicates(["quantity", "point", "level"]))
+
+
 def fem_error_relative(part: pd.DataFrame) -> float:
     """The FEM's own largest error estimate in one case, made dimensionless: lengths over the
     characteristic length, other quantities over max(|value|, 1 % of the largest |value| of the same
-    quantity)."""
+    quantity). An estimate marked unreliable (``error_estimate_reliable`` False) is no bound and is left
+    out."""
     rows = [(q, value, estimate, scale) for (_, q, _, _), (value, estimate, scale)
-            in _first_values(part[part["error_estimate"].notna()], "fem").items()]
+            in _first_values(part[part["error_estimate"].notna() & _reliable(part)], "fem").items()]
     if not rows:
         return math.nan
     biggest: dict[str, float] = {}
@@ -301,6 +324,7 @@ def summary(table: pd.DataFrame, results: list[CaseResult] | None = None) -> pd.
                          max_prbm_fem_rel=prbm_fem, max_prbm_fem_per_length=prbm_fem_norm,
                          no_prbm_fem_reason=reason,
                          fem_error_est_rel=fem_error_relative(part),
+                         fem_estimates_unreliable=fem_estimates_unreliable(part),
                          checks=len(verdicts),
                          failed=sum(1 for v in verdicts if v == False),  # noqa: E712
                          findings=int(part["finding"].notna().sum()),

@@ -58,6 +58,8 @@ SCHEMA: dict[str, list[Column]] = {
         Column("value", "float64", "the method's value; angles in degrees"),
         Column("unit", "string", "unit of value in the case's unit system"),
         Column("error_estimate", "float64", "the method's own error estimate (FEM), else empty"),
+        Column("error_estimate_reliable", "boolean", "False: the estimate is unreliable, no bound (the FEM's "
+               "meshes were not in the asymptotic range for this value); empty without an estimate"),
         Column("converged", "boolean", "the method converged at this level")],
     "loads": [Column("case", "string", "case id"), *_AT[2:],
               Column("load", "string", "load name (its label, else 'kind at point')"),
@@ -121,6 +123,7 @@ def values_table(result: CaseResult) -> pd.DataFrame:
                              level=req.level, level_label=labels[req.level],
                              value=run.values.get(req, math.nan), unit=case.unit(dimension),
                              error_estimate=run.error_estimate.get(req, math.nan),
+                             error_estimate_reliable=run.estimate_reliable(req),
                              converged=run.level_converged.get(req.level, run.converged) and req in run.values))
     frame = pd.DataFrame(rows)
     if frame.empty:
@@ -135,8 +138,8 @@ def comparisons_table(results_rows: pd.DataFrame, loads: pd.DataFrame) -> pd.Dat
     schema are kept after it."""
     if results_rows.empty or "reference_label" not in results_rows:
         return typed(pd.DataFrame(), "comparisons")
-    elsewhere = ("load", "load_value", "load_unit", "group", "scale", "error_estimate", "compare", "wall_time",
-                 "converged", "message", "cached")  # in values and runs
+    elsewhere = ("load", "load_value", "load_unit", "group", "scale", "error_estimate", "error_estimate_reliable",
+                 "compare", "wall_time", "converged", "message", "cached")  # in values and runs
     compared = results_rows["reference_label"].notna()
     if "within_tolerance" in results_rows:  # any row the runner judged is a comparison
         compared |= results_rows["within_tolerance"].notna()
