@@ -61,7 +61,8 @@ import pandas as pd
 matplotlib.use("Agg")  # files only, no display
 import matplotlib.pyplot as plt  # noqa: E402
 
-from validation.run.exit_status import decide
+from validation.run.exit_status import ExitStatus, decide
+from validation.run.output_set import OutputSet
 from validation.case.loader import CaseError, case_by_id, find_case_files
 from validation.methods.base import MethodRun, Request
 from validation.run.runner import characteristic_length, requests_for, run_method
@@ -513,11 +514,24 @@ def _case_option_rows(case, bench: BenchCase, repeats: int, exact, skipped: list
     return fixed
 
 
+BENCH_FILES = ("bench.csv", "headline.json", "*.png")   # what the benchmark writes in its folder
+
+
 def run_bench(out: Path, quick: bool = False, cases: list[BenchCase] | dict | None = None,
               max_elements: int | None = None, plots: bool = True) -> int:
-    """Run the benchmark into ``out``; ``max_elements`` caps the mesh doubling (default 1024, 256 quick);
-    ``plots=False`` leaves out the PNG figures (the CSV and JSON are always written)."""
-    out.mkdir(parents=True, exist_ok=True)
+    """Run the benchmark into ``out``, one output set (``validation.run.output_set``: put in place whole,
+    nothing written when no case could run); ``max_elements`` caps the mesh doubling (default 1024, 256
+    quick); ``plots=False`` leaves out the PNG figures (the CSV and JSON are always written)."""
+    with OutputSet(out, owned=BENCH_FILES) as output:
+        status = _bench_into(output.path, quick, cases, max_elements, plots)
+        if status is not None:
+            output.commit()
+    return int(ExitStatus.BAD_INPUT if status is None else status)
+
+
+def _bench_into(out: Path, quick: bool, cases: list[BenchCase] | dict | None, max_elements: int | None,
+                plots: bool) -> int | None:
+    """The benchmark written in ``out``; its exit status, None when no case could run (nothing written)."""
     blas = _pin_blas()
     cap = max_elements or (256 if quick else 1024)
     meshes = [n for n in (2, 4, 8, 16, 32, 64, 128, 256, 512, 1024) if n <= cap]
@@ -570,6 +584,10 @@ def run_bench(out: Path, quick: bool = False, cases: list[BenchCase] | dict | No
                     confirmed[f"{bench.label} @ {target:g} L"] = _confirmed(case, bench, ours, peer, repeats)
         if bench == BENCH_CASES[0]:
             per_iteration = _per_iteration(case, bench, repeats, not peer_status, cap)
+    if unusable and not rows:   # rejected: no case could run
+        for s in skipped:
+            print(f"skipped: {s}")
+        return None
     frame = pd.DataFrame(rows)
     frame.to_csv(out / "bench.csv", index=False)
     headline = _headline(frame, quick, peer_notes, max(meshes), confirmed)

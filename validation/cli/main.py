@@ -2,8 +2,10 @@
 
 Exit status (every verb, defined in validation/run/exit_status.py): 0 everything asked for ran and every
 comparison is inside its tolerance; 1 a comparison outside its tolerance, or a method that failed,
-refused or did not converge on a case that asked for it; 2 bad input (a case, spec or option that
-cannot be used, an unknown name, a missing optional dependency), found before any solve.
+refused or did not converge on a case that asked for it, or results that could not be written (disk
+full, no permission: the path is named); 2 bad input (a case, spec or option that cannot be used, an
+unknown name, a missing optional dependency, an output folder that cannot be used or is in use by
+another command), found before any solve.
 """
 from __future__ import annotations
 
@@ -18,6 +20,7 @@ import sys  # noqa: E402
 
 from validation.cli.arguments import build_parser  # noqa: E402
 from validation.run.exit_status import ExitStatus, print_error  # noqa: E402
+from validation.run.output_set import OutputFolderError  # noqa: E402
 from validation.run.timeline import command_age, mark_command_start  # noqa: E402
 
 # optional dependency -> the extra that installs it
@@ -56,7 +59,11 @@ def main(argv: list[str] | None = None) -> int:
         print(f"error: '{args.command}' needs {top}, an optional dependency: "
               f"pip install 'prbm-validate[{EXTRAS[top]}]'", file=sys.stderr)
         return ExitStatus.BAD_INPUT
-    except OSError as exc:  # an output folder that cannot be written, a file that cannot be read
+    except OutputFolderError as exc:  # an output folder in use, or results that could not be written
+        print_error(exc.problem)
+        print(exc.note, file=sys.stderr)
+        return exc.status
+    except OSError as exc:  # a file that cannot be read
         print_error(exc)
         return ExitStatus.BAD_INPUT
 

@@ -1,4 +1,10 @@
-"""``prbm-validate run``: run cases, compare with the published numbers, write the result tables."""
+"""``prbm-validate run``: run cases, compare with the published numbers, write the result tables.
+
+The tables are one output set (``validation.run.output_set``): written beside ``--out`` and put in place
+whole once all of them are written. A run in which no case could run (every case file bad, no case
+named) is rejected: nothing is written and the previous tables stay as they were; bad files beside good
+ones are reported and the good cases are written (exit 2 all the same).
+"""
 from __future__ import annotations
 
 import sys
@@ -10,7 +16,11 @@ import pandas as pd
 from validation.cli.common import case_paths, unknown_methods
 from validation.run import tables
 from validation.run.exit_status import ExitStatus, print_error
-from validation.run.outcome import run_cases, summary
+from validation.run.outcome import RunOutcome, run_cases, summary
+from validation.run.output_set import OutputSet
+
+TABLES = ("runs", "values", "loads", "comparisons", "results")
+OWNED = tuple(f"{name}.{kind}" for name in TABLES for kind in ("csv", "parquet")) + ("summary.csv",)
 
 
 def _print_table(frame, file=None) -> None:
@@ -19,28 +29,41 @@ def _print_table(frame, file=None) -> None:
         print(frame.to_string(index=False), file=file or sys.stdout)
 
 
-def run(args) -> int:
-    if unknown_methods(args.method):
-        for line in unknown_methods(args.method):
-            print_error(line)
-        return ExitStatus.BAD_INPUT
-    paths, errors = case_paths(args.cases)
-    started = time.perf_counter()
-    outcome = run_cases(paths, methods=args.method, use_cache=not args.no_cache, jobs=args.jobs,
-                        progress=not args.quiet)
-    outcome.errors = sorted(errors + outcome.errors)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+def write_tables(outcome: RunOutcome, out: Path) -> pd.DataFrame | None:
+    """Every table of the run under ``out``; returns the summary (None when no case has a row)."""
     results = outcome.table.astype({"within_tolerance": "boolean", "compare": "boolean", "converged": "boolean",
                                     "finding": "string", "message": "string", "source": "string",
                                     "applicability": "string"})
     results.to_csv(out / "results.csv", index=False)
     results.to_parquet(out / "results.parquet")
-    tidy = tables.tables_of(outcome.results, outcome.table)
-    tables.write(tidy, out)
+    tables.write(tables.tables_of(outcome.results, outcome.table), out)
     table = summary(outcome.table, outcome.results) if len(outcome.table) else None
     if table is not None:
         table.to_csv(out / "summary.csv", index=False)
+    return table
+
+
+def run(args) -> int:
+    out = Path(args.out)
+    problems = unknown_methods(args.method)
+    paths, errors = case_paths(args.cases)
+    if problems or not paths:
+        for line in problems or errors:
+            print_error(line)
+        print(OutputSet(out).note, file=sys.stderr)
+        return ExitStatus.BAD_INPUT
+    started = time.perf_counter()
+    with OutputSet(out, owned=OWNED) as output:
+        outcome = run_cases(paths, methods=args.method, use_cache=not args.no_cache, jobs=args.jobs,
+                            progress=not args.quiet)
+        outcome.errors = sorted(errors + outcome.errors)
+        if not outcome.results:   # rejected: no case could run
+            for error in outcome.errors:
+                print_error(error)
+            return ExitStatus.BAD_INPUT
+        table = write_tables(outcome, output.path)
+        output.commit()
+    if table is not None:
         _print_table(table)
     failed = outcome.failed_comparisons
     if len(failed):

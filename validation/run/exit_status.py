@@ -5,9 +5,11 @@ Every verb (``list``, ``run``, ``solve``, ``report``, ``bench``, ``stress``, ``s
 
 - ``0`` everything asked for ran and every comparison is inside its tolerance;
 - ``1`` a comparison is outside its tolerance, or a method failed, refused or did not converge on
-  a case that asked for it (the summary says which, in words);
-- ``2`` bad input: a case, spec or option that cannot be used, an unknown name, a missing extra;
-  found before any solve and reported in one line naming the file, the field and what is wrong;
+  a case that asked for it (the summary says which, in words); or the results could not be written
+  (disk full, no permission; the line names the folder and the file, and the previous results stay);
+- ``2`` bad input: a case, spec or option that cannot be used, an unknown name, a missing extra, an
+  output folder that cannot be used or is in use by another command ("output folder X is in use by
+  pid N"); found before any solve and reported in one line naming the file, the field and what is wrong;
 - ``130`` interrupted (Ctrl-C).
 
 When several apply, the largest of 0, 1, 2 wins: bad input is never hidden by a failed comparison.
@@ -30,8 +32,10 @@ class ExitStatus(IntEnum):
 
 RULE = ("exit status (every verb): 0 everything asked for ran and every comparison is inside its "
         "tolerance; 1 a comparison outside its tolerance, or a method that failed, refused or did not "
-        "converge on a case that asked for it; 2 bad input (case, spec, option or name), found before "
-        "any solve; 130 interrupted")
+        "converge on a case that asked for it, or results that could not be written (disk full, "
+        "permission); 2 bad input (case, spec, option or name, or an output folder that cannot be used "
+        "or is in use by another command), found before any solve; 130 interrupted. A command that "
+        "ends with nothing written leaves the previous results in its output folder unchanged")
 
 
 def of_run_status(status: RunStatus) -> ExitStatus:

@@ -25,6 +25,7 @@ from threadpoolctl import threadpool_limits
 from validation.case.loader import CaseError, find_case_files, load_case
 from validation.run.compare import case_verdict
 from validation.run.exit_status import ExitStatus, decide
+from validation.run.output_set import OutputSet
 from validation.run.outcome import tabulate
 from validation.run.case_run import run_case
 from validation.stress import plants
@@ -134,10 +135,11 @@ def cmd_audit(args) -> int:
         print(f"error: {exc}", file=sys.stderr)
         return ExitStatus.BAD_INPUT
     started = time.perf_counter()
-    verdicts = audit(paths, names, jobs=args.jobs)
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    verdicts.to_csv(out / "audit.csv", index=False)
+    with OutputSet(out, owned=("audit.csv",)) as output:   # one output set (validation.run.output_set)
+        verdicts = audit(paths, names, jobs=args.jobs)
+        verdicts.to_csv(output.path / "audit.csv", index=False)
+        output.commit()
     table = by_group(verdicts)
     print("cases failing under each planted error, by group (failing / running the method):")
     print(table.to_string())
