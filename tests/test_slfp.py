@@ -11,9 +11,11 @@ from __future__ import annotations
 import math
 
 import pytest
+from pydantic import ValidationError
 
 from validation.methods import fem as fem_adapter
 from validation.methods.base import NotApplicable, Request
+from validation.case.loader import describe_all
 from validation.case.schema import Case
 from validation.methods.slfp import with_flexures
 
@@ -51,7 +53,7 @@ def test_flexure_under_pure_moment_gives_the_spring_torque(length):
 
 
 def test_construction():
-    case = with_flexures(_case([10.0], {}), 0.5, E, thickness_ratio=0.1)
+    case = with_flexures(_case([10.0], {"length": 0.5, "E": E}), 0.5, E, thickness_ratio=0.1)
     mech = case.mechanism
     nodes = {n.name: (n.x, n.y) for n in mech.nodes}
     assert "O" not in nodes                                    # the pivot is no material point
@@ -70,9 +72,9 @@ def test_bad_sizes_are_named():
     case = _case([10.0], {"length": 20.0, "E": E})
     with pytest.raises(NotApplicable, match="methods.fem.slfp: flexure at 'O'"):
         fem_adapter.run(case, [Request("input_torque", "", 0)], dict(case.methods["fem"]))
-    case = _case([10.0], {"E": E})
-    with pytest.raises(NotApplicable, match="methods.fem.slfp: give length"):
-        fem_adapter.run(case, [Request("input_torque", "", 0)], dict(case.methods["fem"]))
+    with pytest.raises(ValidationError) as info:   # a missing size is refused when the case is read
+        _case([10.0], {"E": E})
+    assert ("methods.fem.slfp.length", "Field required") in describe_all(info.value)
 
 
 def test_position_reached_by_an_input_moment():

@@ -19,13 +19,14 @@ import math
 import numpy as np
 import pytest
 
+from pydantic import ValidationError
 from scipy.optimize import brentq
 
 from elastica.shooting import ElasticaProblem, section_moment, solve_path
-from validation.methods.inverse_problem import inverse_spec
 from validation.methods import elastica as elastica_adapter
 from validation.methods import fem as fem_adapter
-from validation.methods.base import NotApplicable, Request
+from validation.methods.base import Request
+from validation.case.loader import describe_all
 from validation.case.schema import Case
 
 KAPPA = 0.4
@@ -121,11 +122,11 @@ def test_forward_outputs_stay_forward():
     ({"b": [0.1, 0.1], "theta0_deg": [1.0, 1.0], "n": [0.0, 0.0], "a": [0.9, 0.9]}, "exactly one of"),
     ({"b": [0.1], "theta0_deg": [1.0, 1.0], "n": [0.0, 0.0]}, "inverse.b: 1 values for 2"),
     ({"b": [0.1, 0.1], "theta0_deg": [1.0, 1.0], "l1": [1.5, 0.5]}, "inverse.l1"),
-    ({"b": [0.1, 0.1], "theta0": [1.0, 1.0], "n": [0.0, 0.0]}, "unknown field(s) theta0"),
+    ({"b": [0.1, 0.1], "theta0": [1.0, 1.0], "n": [0.0, 0.0]}, "unknown field 'theta0'; nearest: theta0_deg"),
 ])
 def test_bad_inverse_options_are_named(inverse, needle):
-    case = _case(inverse)
-    with pytest.raises(NotApplicable) as info:
-        inverse_spec(case, case.methods["fem"], "fem")
-    assert needle in str(info.value)
-    assert "methods.fem.inverse" in str(info.value)
+    """Refused when the case is read (before any solve), naming the option's field."""
+    with pytest.raises(ValidationError) as info:
+        _case(inverse)
+    lines = [f"{field}: {problem}" for field, problem in describe_all(info.value)]
+    assert any(line.startswith("methods.fem.inverse") and needle in line for line in lines), lines

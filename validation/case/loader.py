@@ -21,6 +21,7 @@ from pydantic import ValidationError
 from validation.case import mobility
 from validation.case.names import nearest
 from validation.case.schema import Case
+from validation.case.strict import field_path
 
 CASES_DIR = Path(__file__).resolve().parents[2] / "cases"
 SKIPPED = {"node_modules", "__pycache__", "venv", "site-packages", "reports"}  # never case folders
@@ -58,10 +59,7 @@ class LoadedCase:
 
 def _field_path(location: tuple) -> str:
     """Dotted field path of a pydantic error location, without validator and union-member tags."""
-    def is_tag(part) -> bool:
-        return isinstance(part, str) and (part.startswith("function-") or "[" in part
-                                          or part in ("str", "int", "float", "bool"))
-    return ".".join(str(p) for p in location if not is_tag(p)) or "(top level)"
+    return field_path(location) or "(top level)"
 
 
 _FIELD_PREFIX = re.compile(r"^([A-Za-z_][\w.]*): (.+)$")
@@ -101,6 +99,9 @@ def read_toml_model(path: Path | str, model, error=None):
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise error(path, "", f"cannot read file ({exc.strerror})") from None
+    except UnicodeDecodeError as exc:  # TOML is UTF-8 text
+        raise error(path, "", f"not UTF-8 text: byte 0x{exc.object[exc.start]:02x} at offset {exc.start} "
+                    "(save the file as UTF-8)") from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

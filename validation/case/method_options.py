@@ -1,21 +1,41 @@
-"""Each method's ``[methods.X]`` options as a typed model: a misspelled or unknown option is an error.
+"""Each method's ``[methods.X]`` options as a typed model: a misspelled or unknown option is an error, and
+so is a number outside its range.
 
 The schema validates a case's options with the model of its method (``OPTIONS[name]``) and reports
 the first problem as ``methods.<method>.<option>: <what is wrong>``; the adapters still receive the
 options as a plain dict (only the keys the file gives). Adding an option to an adapter means adding
 it here (``tests/test_method_options.py`` checks that every option an adapter reads is declared).
+
+Ranges: every number is finite and representable (``validation.case.strict``), a direction is longer than
+1e-100; tolerances are fractions
+(0 < rtol < 1: a residual tolerance of the load itself or more accepts any state); stiffness ratios lie
+between 1 and 1e12 (a ratio past 1e12 of the stiffest beam leaves the stiffness matrix singular in
+double precision); counts of work are bounded (``strict.Count``) and, for the meshes, by the case's
+``[limits]`` (``validation.case.scale``). Options that depend on the case (per-level lists as long as the
+load path, an option the method does not read for this case) are checked by ``validation.case.scale``.
 """
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal
+import math
+from typing import Annotated, Literal
 
-from pydantic import Field
+from pydantic import Field, model_validator
 
-from validation.case.strict import Positive, Strict
+from validation.case.strict import REPRESENTABLE, TINY, Count, Finite, Fraction, Index, NonNegative, Positive, Strict
 
-NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
-Count = Annotated[int, Field(ge=1)]
-PerLevel = float | list[float]  # one value for every level, or one per level
+PerLevel = Finite | list[Finite]  # one value for every level, or one per level
+PositivePerLevel = Positive | list[Positive]
+Ratio = Annotated[float, Field(ge=1.0, le=1e12, allow_inf_nan=False)]      # of two stiffnesses
+ThicknessRatio = Annotated[float, Field(ge=1e-3, le=1.0, allow_inf_nan=False), REPRESENTABLE]
+Degrees = Annotated[float, Field(ge=-360.0, le=360.0, allow_inf_nan=False), REPRESENTABLE]
+Friction = Annotated[float, Field(ge=0.0, le=10.0, allow_inf_nan=False), REPRESENTABLE]
+ContactAngle = Annotated[float, Field(ge=0.0, le=180.0, allow_inf_nan=False), REPRESENTABLE]
+Vector = tuple[Finite, Finite]
+
+
+def _nonzero(vector: tuple[float, float] | None, name: str) -> None:
+    if vector is not None and math.hypot(*vector) < TINY:
+        raise ValueError(f"'{name}' must not be the zero vector (its length is below 1e-100)")
 
 
 class Options(Strict):
@@ -26,23 +46,67 @@ class MechanicalAdvantageOptions(Options):
     """``[methods.fem] ma``: the FEM's mechanical advantage (validation.methods.fem_outputs)."""
 
     output: str = Field(description="the held output point")
-    direction: tuple[float, float] | None = Field(None, description="the output force's direction "
-                                                  "(the working motion of a held output point)")
+    direction: Vector | None = Field(None, description="the output force's direction "
+                                     "(the working motion of a held output point)")
     moment_arm: Positive | None = Field(None, description="d_o: the output is a held rotation at 'output'; "
                                         "F_o = its holding moment / d_o")
     sense: Literal[1, -1] = Field(1, description="with moment_arm: +1 if the working motion of the output "
                                   "is counter-clockwise, -1 if clockwise")
-    input: Annotated[int, Field(ge=0)] | None = Field(None, description="index of the input load in [[loads]]")
-    step: Positive = Field(1e-4, description="tangent: input increment over its largest value")
+    input: Index | None = Field(None, description="index of the input load in [[loads]]")
+    step: Fraction = Field(1e-4, description="tangent: input increment over its largest value")
     d_i: Positive | None = Field(None, description="input force distance, for an input moment")
     definition: Literal["tangent", "secant"] = "tangent"
+
+    @model_validator(mode="after")
+    def _direction(self) -> "MechanicalAdvantageOptions":
+        _nonzero(self.direction, "direction")
+        return self
 
 
 class SoftModeOptions(Options):
     """``[methods.fem] dof``: soft modes of the tangent condensed to actuation points (fem.soft_modes)."""
 
     points: list[str] = Field(min_length=1, description="actuation points (ux, uy, rz each)")
-    ratio: Positive = Field(1e-2, description="soft: stiffness below ratio x the members' largest EA/l")
+    ratio: Fraction = Field(1e-2, description="soft: stiffness below ratio x the members' largest EA/l")
+
+
+class InverseOptions(Options):
+    """``inverse``: the inverse tip problem (validation.methods.inverse_problem): per level the tip's y ``b``
+    and absolute slope ``theta0_deg``, and exactly one of ``a``, ``n``, ``axial_load``, ``l1``."""
+
+    b: PerLevel
+    theta0_deg: PerLevel
+    a: PerLevel | None = None
+    n: PerLevel | None = None
+    axial_load: PerLevel | None = None
+    l1: PositivePerLevel | None = None
+    I: Positive | None = None
+    EI: Positive | None = None
+
+    @model_validator(mode="after")
+    def _one_tie(self) -> "InverseOptions":
+        ties = [name for name in ("a", "n", "axial_load", "l1") if getattr(self, name) is not None]
+        if len(ties) != 1:
+            raise ValueError(f"give exactly one of a, n, axial_load, l1 (got {', '.join(ties) or 'none'})")
+        return self
+
+
+class FemInverseOptions(InverseOptions):
+    """``[methods.fem] inverse``: as ``InverseOptions``, with the FEM's own mesh for this problem."""
+
+    elements: Count | None = None
+    richardson: bool | None = None
+    tip_x: bool = False
+
+
+class FemSlfpOptions(Options):
+    """``[methods.fem] slfp``: sprung joints built as small-length flexural pivots (validation.methods.slfp)."""
+
+    length: Positive
+    E: Positive
+    thickness_ratio: ThicknessRatio = Field(
+        0.1, description="flexure thickness over its length: at most 1 (thicker than long is no beam), at least "
+        "1e-3 (the width w = 12 I / t^3 of a thinner one is a plate a thousand times its length)")
 
 
 class FemOptions(Options):
@@ -50,22 +114,24 @@ class FemOptions(Options):
     error_estimate: bool = Field(True, description="solve on n and 2n elements, report |u_2n - u_n|/3")
     richardson: bool = Field(False, description="report the Richardson-extrapolated value")
     tol: Positive | None = Field(None, description="refine until the estimate is below it")
-    levels: Count = Field(2, description="meshes in the error estimate")
-    rtol: Positive = Field(1e-10, description="Newton residual tolerance")
-    inextensible_ratio: Positive = Field(1e6, description="EA L^2/EI when a section gives no area")
-    rigid_ratio: Positive = Field(1e6, description="stiffness of pinned rigid links over the stiffest beam")
+    levels: Annotated[int, Field(ge=1, le=12)] = Field(2, description="meshes in the error estimate")
+    max_refine: Count = Field(64, description="finest mesh of the estimate: at most max_refine x elements (the "
+                              "meshes are doubled until tol is met and the outputs are in the asymptotic range)")
+    rtol: Fraction = Field(1e-10, description="Newton residual tolerance")
+    inextensible_ratio: Ratio = Field(1e6, description="EA L^2/EI when a section gives no area")
+    rigid_ratio: Ratio = Field(1e6, description="stiffness of pinned rigid links over the stiffest beam")
     arc_length: Positive | None = None
     max_steps: Count | None = None
     limit_control: Literal["arclength", "displacement"] = "arclength"
     control_step: Positive | None = None
-    inverse: dict[str, Any] | None = Field(None, description="inverse tip problem; keys checked by "
-                                           "validation.methods.inverse_problem")
-    slfp: dict[str, Any] | None = Field(None, description="sprung joints built as small-length flexural "
+    inverse: FemInverseOptions | None = Field(None, description="inverse tip problem "
+                                              "(validation.methods.inverse_problem)")
+    slfp: FemSlfpOptions | None = Field(None, description="sprung joints built as small-length flexural "
                                         "pivots (validation.methods.slfp)")
     input_moment_at: str | None = Field(None, description="reach the prescribed displacement by a moment "
                                         "at this node")
-    zero_level: Annotated[int, Field(ge=0)] | None = Field(None, description="positions measured from this "
-                                                          "level's state (a scale zeroed under self-weight)")
+    zero_level: Index | None = Field(None, description="positions measured from this "
+                                     "level's state (a scale zeroed under self-weight)")
     ma: MechanicalAdvantageOptions | None = None
     dof: SoftModeOptions | None = None
 
@@ -73,15 +139,15 @@ class FemOptions(Options):
 class ElasticaOptions(Options):
     I: Positive | None = Field(None, description="replaces the section's second moment of area")
     EI: Positive | None = Field(None, description="replaces EI")
-    rtol: Positive | None = None
-    tol: Positive | None = None
-    samples: Annotated[int, Field(ge=2)] = 41
+    rtol: Fraction | None = None
+    tol: Fraction | None = None
+    samples: Annotated[int, Field(ge=2, le=100_000)] = 41
     problem: Literal["inflection"] | None = None
     b: PerLevel | None = None
     theta0: PerLevel | None = None
-    l1: PerLevel | None = None
-    inverse: dict[str, Any] | None = Field(None, description="inverse tip problem; keys checked by "
-                                           "validation.methods.inverse_problem")
+    l1: PositivePerLevel | None = None
+    inverse: InverseOptions | None = Field(None, description="inverse tip problem "
+                                           "(validation.methods.inverse_problem)")
 
 
 class BcmOptions(Options):
@@ -93,38 +159,132 @@ class OpenSeesOptions(Options):
     elements: Count = 16
     max_steps: Count | None = None
     steps_per_level: Count | None = None
-    max_halvings: Annotated[int, Field(ge=0)] = Field(12, description="load-step halvings on failure")
+    max_halvings: Annotated[int, Field(ge=0, le=40)] = Field(12, description="load-step halvings on failure")
     control_step: Positive | None = None
-    rigid_ratio: Positive = Field(1e6, description="stiffness of the rigid links' elements over the stiffest beam")
+    rigid_ratio: Ratio = Field(1e6, description="stiffness of the rigid links' elements over the stiffest beam")
+
+
+class PrbmMechanicalAdvantageOptions(Options):
+    """``[methods.prbm] ma``: chapter 7's mechanical advantage of a hand-given four-bar or slider (seed 000
+    eqs 190-206: ``F_i``, ``d_i``, ``d_o``; with ``model = 'compliance'`` the two-port four-bar's ``d_in``,
+    ``d_out2``, ``d_out3``, ``location_deg``), or, for the network built from the geometry, the FEM's
+    ``output``, ``direction``, ``input``, ``step``, ``definition``. ``F_i`` is an input force the MA divides
+    by; a positive magnitude, not tiny against the model's springs (``validation.case.scale``)."""
+
+    type: Literal[1, 2] | None = Field(None, description="the seed's MA type (1: one input and output)")
+    model: Literal["compliance"] | None = None
+    F_i: PositivePerLevel | None = None
+    d_i: Positive | None = None
+    d_o: Positive | None = None
+    d_in: Positive | None = None
+    d_out2: Positive | None = None
+    d_out3: Positive | None = None
+    location_deg: Degrees | None = None
+    rigid_body: str | None = Field(None, description="the equation of the rigid-body MA, for the reader")
+    compliance: str | None = Field(None, description="the equation of the compliance term, for the reader")
+    output: str | None = None
+    direction: Vector | None = None
+    moment_arm: Positive | None = None
+    sense: Literal[1, -1] = 1
+    input: Index | None = None
+    step: Fraction = 1e-4
+    definition: Literal["tangent", "secant"] = "tangent"
+
+    @model_validator(mode="after")
+    def _direction(self) -> "PrbmMechanicalAdvantageOptions":
+        _nonzero(self.direction, "direction")
+        return self
+
+
+class FourBarSlfpOptions(Options):
+    """``[methods.prbm] slfp``: the four-bar's small-length flexural pivots, k_i = E w t_i^3 / (12 l_i)
+    (seed 000 eq 186), and the rigid lengths beside them (for the reader)."""
+
+    width: Positive
+    t: list[Positive] = Field(min_length=1, max_length=4)
+    l: list[Positive] = Field(min_length=1, max_length=4)
+    L2: Positive | None = None
+    L4: Positive | None = None
+
+    @model_validator(mode="after")
+    def _pairs(self) -> "FourBarSlfpOptions":
+        if len(self.t) != len(self.l):
+            raise ValueError(f"'t' has {len(self.t)} thicknesses for {len(self.l)} lengths 'l'")
+        return self
+
+
+class BeamRuleOptions(Options):
+    """One beam's entry of ``rules.beams`` (prbm.builder.BeamRule)."""
+
+    model: str | None = None
+    gamma: Fraction | None = None
+    K_theta: Positive | None = None
+    stiffness: NonNegative | None = None
+    clamp: str | None = None
+
+
+class RulesOptions(Options):
+    """``[methods.prbm] rules``: the PRB builder's rules (validation.methods.prbm_network.rules)."""
+
+    gamma: Fraction | None = None
+    K_theta: Positive | None = None
+    slfp_ratio: Positive | None = None
+    beams: dict[str, BeamRuleOptions] | None = None
+
+
+DesignValue = Finite | list[Finite] | list[list[Finite]] | str
+
+
+class PrecisionOptions(Options):
+    """``[methods.prbm] precision``: the four-bar's precision positions (seed 000 chapters 5-7). ``phi`` (input
+    rotations) or ``psi`` (output rotations) from position 1, in degrees, one per level, drive the PRB four-bar
+    when no load does (validation.methods.prbm_fourbar); the others are the synthesis data, for the reader."""
+
+    phi: list[Finite] | None = None
+    psi: list[Finite] | None = None
+    gamma: list[Finite] | None = None
+    delta: list[Vector] | None = None
+    theta1: Finite | None = None
+    theta21: Finite | None = None
+    theta31: Finite | None = None
+    theta41: Finite | None = None
+    offset: Finite | None = None
+    dx: Finite | None = None
+    R2: Positive | None = None
+    delta2: Vector | None = None
+    phi2: Finite | None = None
+    gamma2: Finite | None = None
 
 
 class PrbmOptions(Options):
     family: Literal["pauly-midha", "howell"] = "pauly-midha"
     extrapolate: Literal["raise", "warn", "allow"] = "raise"
-    friction_mu: NonNegative = 0.0
-    contact_angle_deg: NonNegative = 0.0
+    friction_mu: Friction = 0.0
+    contact_angle_deg: ContactAngle = 0.0
     # chapter-3 fixed-guided segment with an inflection point
     problem: Literal["loads", "displacement"] = "loads"
-    prefer: str | dict[str, float] = "energy"
+    prefer: str | dict[str, Finite] = "energy"
     a: PerLevel | None = None
     b: PerLevel | None = None
     n: PerLevel | None = None
-    l1: PerLevel | None = None
+    l1: PositivePerLevel | None = None
     theta0_deg: PerLevel | None = None
     # mechanisms
-    links: dict[str, tuple[float, float]] | None = None
-    springs: dict[str, float] | None = None
+    links: dict[str, Vector] | None = None
+    springs: dict[str, NonNegative] | None = Field(None, description="torsion springs k1..k4 (torque/rad) and the "
+                                                   "slider's f_k: finite and not negative")
     spring_joints: dict[str, str] | None = None
-    slfp: dict[str, Any] | None = None
-    energy_free: dict[str, float] | None = None
-    precision: dict[str, Any] | None = None
-    free_levels: list[int] = Field(default_factory=list)
+    slfp: FourBarSlfpOptions | None = None
+    energy_free: dict[str, Finite] | None = None
+    precision: PrecisionOptions | None = None
+    free_levels: list[Index] = Field(default_factory=list)
     drive: Literal["torque", "precision"] | None = None
     coupler_point: str = "P"
-    origin: tuple[float, float] = (0.0, 0.0)
-    ma: dict[str, Any] | None = Field(None, description="four-bar: {F_i, d_i, d_o} (eqs 190, 192); network: "
-                                          "as [methods.fem] ma, {output, direction, input, step, d_i, definition}")
-    max_mode: Count = 2
+    origin: Vector = (0.0, 0.0)
+    ma: PrbmMechanicalAdvantageOptions | None = Field(
+        None, description="four-bar: {F_i, d_i, d_o} (eqs 190, 192); network: as [methods.fem] ma, "
+        "{output, direction, input, step, d_i, definition}")
+    max_mode: Annotated[int, Field(ge=1, le=10)] = 2
     segment_model: Literal["inflection", "fixed-pinned", "fixed-free"] | None = None
     model: Literal["network", "chain", "theta-dependent", "lyon", "feasible-l1"] | None = Field(
         None, description="'network': solve a mechanism by the general network built from the geometry even where "
@@ -135,29 +295,29 @@ class PrbmOptions(Options):
                                                          "(52) for model = 'theta-dependent'")
     chain_elements: Count = Field(40, description="Chain Algorithm elements (section 3.4 used 40)")
     chain_steps: Count = Field(10, description="Chain Algorithm load (or displacement) increments")
-    zero_level: Annotated[int, Field(ge=0)] | None = Field(None, description="positions measured from this "
-                                                          "level's state, as the FEM option (prbm_readings)")
-    rules: dict[str, Any] | None = Field(None, description="the PRB builder's rules; keys checked by "
-                                         "validation.methods.prbm_network.rules")
+    zero_level: Index | None = Field(None, description="positions measured from this "
+                                     "level's state, as the FEM option (prbm_readings)")
+    rules: RulesOptions | None = Field(None, description="the PRB builder's rules "
+                                       "(validation.methods.prbm_network.rules)")
     # the seeds' synthesis data (chapters 5-7), kept beside the model for the reader and the synthesis;
-    # the forward PRBM does not read them
+    # the forward PRBM does not read them, but they are held to the same ranges
     input: str | None = None
-    T: list[float] | None = None
-    U: list[float] | None = None
-    F: list[float] | None = None
+    T: list[Finite] | None = None
+    U: list[Finite] | None = None
+    F: list[Finite] | None = None
     E: Positive | None = None
-    EI: dict[str, float] | float | None = None
-    fixed_guided: dict[str, Any] | None = None
-    theta1: float | None = None
-    theta5: float | None = None
-    R5: float | None = None
-    R6: float | None = None
-    d1: float | None = None
-    d2: float | None = None
-    n1: list[float] | None = None
-    gamma: list[float] | None = None
-    delta: list[list[float]] | None = None
-    segments: list[dict[str, Any]] | None = None
+    EI: dict[str, Positive] | Positive | None = None
+    fixed_guided: dict[str, Positive] | None = None
+    theta1: Finite | None = None
+    theta5: Finite | None = None
+    R5: Finite | None = None
+    R6: Finite | None = None
+    d1: Finite | None = None
+    d2: Finite | None = None
+    n1: list[Finite] | None = None
+    gamma: list[Finite] | None = None
+    delta: list[list[Finite]] | None = None
+    segments: list[dict[str, DesignValue]] | None = None
 
 
 OPTIONS: dict[str, type[Options]] = {"fem": FemOptions, "elastica": ElasticaOptions, "bcm": BcmOptions,

@@ -12,20 +12,30 @@ Conventions (every case file uses them, whatever its unit system):
   angles in outputs and references are in degrees.
 - Load level ``i`` is the i-th entry of every load's path; all loads of a case have the same
   number of levels.
+
+Every number is finite and representable (``validation.case.strict``); ranges that depend on the case's
+own scale (non-dimensional loads, slenderness, tolerances against the characteristic length, the work
+a case asks for against its ``[limits]``) are ``validation.case.scale``'s, and an option its method
+would not read is refused by ``validation.case.option_use``. Ids are file-name-safe (``ID_PATTERN``):
+they name the report's pages and folders.
 """
 from __future__ import annotations
 
 import math
-from typing import Annotated, Any, Literal
+import re
+from typing import Any, Literal
 
 import numpy as np
 from pydantic import Field, ValidationError, field_validator, model_validator
 from pydantic_core import PydanticCustomError
 
+from validation.case import scale
 from validation.case.capabilities import METHODS, QUANTITIES, method_quantities
 from validation.case.method_options import OPTIONS
 from validation.case.names import nearest
-from validation.case.strict import Finite, Positive, Strict
+from validation.case.option_use import unused_options
+from validation.case.overrides import PathError, apply as apply_field
+from validation.case.strict import TINY, Finite, Fraction, NonNegative, Positive, Strict, field_path
 
 UNIT_SYSTEMS: dict[str, dict[str, str]] = {
     "in-lb": {"length": "in", "force": "lbf", "modulus": "psi", "moment": "lbf*in",
@@ -195,7 +205,7 @@ class JointSpec(Strict):
 
     node: str
     members: list[str] = Field(min_length=1)
-    spring: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 0.0
+    spring: NonNegative = 0.0
 
 
 class SupportSpec(Strict):
@@ -203,6 +213,13 @@ class SupportSpec(Strict):
     kind: Literal["fixed", "pinned", "slider", "guided"]
     direction: tuple[Finite, Finite] | None = Field(None, description="free direction of slider/guided")
     member: str | None = Field(None, description="the member a pinned or guided support holds")
+
+    @field_validator("direction")
+    @classmethod
+    def _nonzero(cls, value: tuple[float, float] | None) -> tuple[float, float] | None:
+        if value is not None and math.hypot(*value) < TINY:
+            raise ValueError("the free direction must not be the zero vector (its length is below 1e-100)")
+        return value
 
 
 class MechanismSpec(Strict):
@@ -248,6 +265,9 @@ class MechanismSpec(Strict):
 
 
 class Ramp(Strict):
+    """``count`` evenly spaced levels from ``start`` to ``stop``; the count is held to ``limits.levels``
+    by ``Case`` before the levels are built."""
+
     start: Finite
     stop: Finite
     count: int = Field(ge=1)
@@ -284,7 +304,7 @@ class LoadSpec(Strict):
     member: str | None = Field(None, description="distributed/self-weight: the beam carrying it (default: all)")
     toward: tuple[Finite, Finite] | None = Field(None, description="force: the fixed point it pulls toward")
     angle: Finite = Field(0.0, description="force toward a point: angle (deg, CCW) from the line to it")
-    values: list[Finite] | None = None
+    values: list[Finite] | None = Field(None, min_length=1)
     ramp: Ramp | None = None
     label: str | None = None
 
@@ -301,8 +321,8 @@ class LoadSpec(Strict):
         needs_direction = ("force", "displacement", "distributed", "self_weight")
         if self.kind in needs_direction and self.direction is None and self.toward is None:
             raise ValueError(f"a '{self.kind}' load needs a 'direction' [dx, dy]")
-        if self.direction is not None and math.hypot(*self.direction) == 0.0:
-            raise ValueError("'direction' must not be the zero vector")
+        if self.direction is not None and math.hypot(*self.direction) < TINY:
+            raise ValueError("'direction' must not be the zero vector (its length is below 1e-100)")
         if self.follower and self.kind not in ("force", "distributed"):
             raise ValueError("only a force or a distributed load can be a follower")
         if self.member is not None and self.kind not in ("distributed", "self_weight"):
@@ -339,8 +359,12 @@ class OutputSpec(Strict):
 
 
 class Tolerance(Strict):
-    rel: Annotated[float, Field(gt=0)] | None = None
-    abs: Annotated[float, Field(gt=0)] | None = None
+    """How closely a value must meet another: ``rel`` a fraction (0 < rel < 1: a relative tolerance of 100 %
+    accepts zero), ``abs`` in the quantity's unit (finite and positive; against the characteristic length
+    and 180 degrees in ``validation.case.scale``)."""
+
+    rel: Fraction | None = None
+    abs: Positive | None = None
 
 
 class Finding(Strict):
@@ -437,8 +461,21 @@ class Agreement(Strict):
         return self
 
 
+ID_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,99}$"
+
+
+def safe_id(value: str | None) -> str | None:
+    """An id that can name a file and a folder of the report: a letter or digit, then at most 99 letters,
+    digits, '_', '.', '-', and no '..' (a path out of the folder)."""
+    if value is not None and (not re.fullmatch(ID_PATTERN, value) or ".." in value):
+        shown = value if len(value) <= 40 else f"{value[:40]}... ({len(value)} characters)"
+        raise ValueError(f"'{shown}' is not a valid id: 1 to 100 letters, digits, '_', '.', '-', starting with a "
+                         "letter or digit, without '..'")
+    return value
+
+
 class CaseInfo(Strict):
-    id: str = Field(pattern=r"^[A-Za-z0-9_.-]+$")
+    id: str = Field(description="unique; names the report's page and folders of the case (``safe_id``)")
     title: str
     group: str = Field(description="report grouping, e.g. 'chapter 3', 'chapter 9', 'benchmarks'")
     units: str
@@ -461,6 +498,11 @@ class CaseInfo(Strict):
         "published or exact results) and runs no PRBM, so it has no PRBM-vs-FEM number by design; the summary "
         "labels it so")
 
+    @field_validator("id", "readings_of")
+    @classmethod
+    def _safe(cls, value: str | None) -> str | None:
+        return safe_id(value)
+
     @field_validator("no_prbm_fem")
     @classmethod
     def _one_line(cls, value: str | None) -> str | None:
@@ -476,8 +518,22 @@ class CaseInfo(Strict):
         return value
 
 
+class Limits(Strict):
+    """``[limits]``: the work a case may ask for, checked before any solve (``levels``, ``elements``) or while
+    it runs (``seconds``: a case over it stops with status 'timed out', the other cases go on). The
+    defaults are far above every shipped case (at most 20 levels and 5120 elements in the finest mesh, each
+    case well under a minute) and far below what exhausts a workstation; raise them here for a case that
+    needs more."""
+
+    levels: int = Field(1000, ge=1, le=1_000_000, description="load levels of each load (ramp.count, values)")
+    elements: int = Field(100_000, ge=1, le=10_000_000, description="elements of the finest mesh a method solves")
+    seconds: float = Field(600.0, gt=0, le=86_400.0, allow_inf_nan=False, description="wall time of the case's "
+                           "methods together")
+
+
 class Case(Strict):
     case: CaseInfo
+    limits: Limits = Field(default_factory=Limits)
     segment: SegmentSpec | None = None
     mechanism: MechanismSpec | None = None
     loads: list[LoadSpec] = Field(default_factory=list)
@@ -499,18 +555,26 @@ class Case(Strict):
             try:
                 model.model_validate(options or {})
             except ValidationError as exc:
-                err = exc.errors()[0]
+                # a misspelled name first: it is why a required field then looks missing
+                err = min(exc.errors(), key=lambda e: e["type"] != "extra_forbidden")
                 message = err["msg"]
-                if err["type"] == "extra_forbidden":
+                if err["type"] == "extra_forbidden" and len(err["loc"]) == 1:
                     message = f"unknown option of method '{name}'{nearest(str(err['loc'][0]), model.model_fields)}"
+                elif err["type"] == "extra_forbidden":
+                    known = _fields_at(model, err["loc"][:-1])
+                    message = f"unknown field '{err['loc'][-1]}'{nearest(str(err['loc'][-1]), known)}"
                 raise PydanticCustomError("method_option", "{message}", {
-                    "message": message, "field": ".".join([name, *map(str, err["loc"])])}) from None
+                    "message": message.removeprefix("Value error, "),
+                    "field": ".".join(p for p in (name, field_path(err["loc"])) if p)}) from None
         return methods
 
     @model_validator(mode="after")
     def _coherent(self) -> "Case":
         if (self.segment is None) == (self.mechanism is None):
             raise ValueError("a case describes exactly one of [segment] or [mechanism]")
+        too_many = scale.work_problems(self)  # before anything builds the levels
+        if too_many:
+            raise ValueError("\n".join(too_many))
         problems: list[str] = []  # every problem, one line each ("field: what is wrong")
         n = self.n_levels()
         for i, load in enumerate(self.loads):
@@ -567,9 +631,40 @@ class Case(Strict):
             for method in getattr(self.case, field_name):
                 if method not in self.methods:
                     problems.append(f"case.{field_name}: method '{method}' is not in [methods]")
+        problems += self._range_problems()
         if problems:
             raise ValueError("\n".join(problems))
         return self
+
+    def _range_problems(self) -> list[str]:
+        """Ranges on the case's own scale, bounded work, options its methods would not read, and the case
+        each finding's ``reproduce_with`` makes (``validation.case.scale``, ``validation.case.option_use``)."""
+        problems = scale.stiffness_problems(self)
+        if problems:  # the load ranges divide by these stiffnesses
+            return problems
+        problems = (scale.load_problems(self) + scale.tolerance_problems(self) + scale.mesh_problems(self)
+                    + scale.option_problems(self) + unused_options(self))
+        for i, ref in enumerate(self.references):
+            if ref.finding is not None and ref.finding.reproduce_with:
+                where = f"references.{i}.finding.reproduce_with"
+                problems += self._reproduced_problems(where, ref.finding.reproduce_with)
+        return problems
+
+    def _reproduced_problems(self, where: str, fields: dict[str, Any]) -> list[str]:
+        """The case a finding re-runs with ``fields`` set must itself be a valid case."""
+        data = without_checks(self.model_dump(exclude_unset=True), list(self.methods))
+        try:
+            for path, value in fields.items():
+                apply_field(data, path, "set", value)
+            Case.model_validate(data)
+        except PathError as exc:
+            return [f"{where}: {exc}"]
+        except ValidationError as exc:
+            err = exc.errors()[0]
+            inner = field_path(err["loc"]) or "(the case)"
+            message = err["msg"].removeprefix("Value error, ").split("\n")[0]
+            return [f"{where}: the case it re-runs is invalid: {inner}: {message}"]
+        return []
 
     def _check_body_load(self, i: int, load: LoadSpec) -> None:
         """The beam of a distributed load, the body of a follower force and the weight densities exist."""
@@ -609,6 +704,21 @@ class Case(Strict):
         if dimension in ("deg", "1", "count"):
             return dimension
         return UNIT_SYSTEMS[self.case.units][dimension]
+
+
+def _fields_at(model: type[Strict], location: tuple) -> list[str]:
+    """The field names of the option model that ``location`` (a pydantic error location below a method's
+    options) leads to, for the nearest names of an unknown one; [] where it leads to no model."""
+    for part in location:
+        field = model.model_fields.get(str(part)) if isinstance(model, type) else None
+        if field is None:
+            return []
+        found = [a for a in (field.annotation, *getattr(field.annotation, "__args__", ()))
+                 if isinstance(a, type) and issubclass(a, Strict)]
+        if not found:
+            return []
+        model = found[0]
+    return list(model.model_fields) if isinstance(model, type) else []
 
 
 def without_checks(data: dict, methods: list[str]) -> dict:

@@ -1,5 +1,6 @@
 """Small pieces the PRBM adapter's parts share: picking the requested values out of per-level
-columns, plain (JSON-able) constants, polylines for the shapes, the root preference option.
+columns, plain (JSON-able) constants, polylines for the shapes, the root preference option, the crank
+angles of a slider travel.
 
 Nothing here knows a model; ``prbm.py`` (segments), ``prbm_fourbar.py`` (hand-given four-bars and
 slider-cranks), ``prbm_body.py`` (one beam carrying a rigid body, the curved pinned-pinned beam) and
@@ -11,7 +12,7 @@ import math
 
 import numpy as np
 
-from validation.methods.base import NotApplicable
+from validation.methods.base import Misconfigured, NotApplicable
 
 DEG = math.pi / 180.0
 
@@ -79,3 +80,12 @@ def prefer(options: dict):
     """The ``prefer`` option: 'energy' (default), another rule's name, or {key = value} -> (key, value)."""
     chosen = options.get("prefer", "energy")
     return next(iter(chosen.items())) if isinstance(chosen, dict) else chosen
+
+
+def slider_angles(sc, dx) -> np.ndarray:
+    """The crank angle of every slider travel ``dx``; a travel the linkage cannot reach is the case's input
+    (its links and its displacement load), not a solver failure: ``Misconfigured`` naming them."""
+    try:
+        return np.array([sc.theta2_at(float(d)) for d in dx])
+    except ValueError as exc:
+        raise Misconfigured(f"links r11, r2, r3 and the slider travel of the 'displacement' load: {exc}") from None

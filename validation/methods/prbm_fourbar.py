@@ -28,9 +28,9 @@ import numpy as np
 from scipy.optimize import brentq
 
 import prbm
-from validation.methods.base import MethodRun, NotApplicable
+from validation.methods.base import Misconfigured, MethodRun, NotApplicable
 from validation.methods import prbm_readings
-from validation.methods.prbm_common import DEG, pick
+from validation.methods.prbm_common import DEG, pick, slider_angles
 
 def _complex(pair) -> complex:
     return complex(float(pair[0]), float(pair[1]))
@@ -124,7 +124,10 @@ def fourbar_from_options(case, options: dict) -> FourBarSetup:
             raise NotApplicable("SLFP springs need the mechanism's E")
         # eq (186): k_i = E I_i / l_i, I_i = w t_i^3 / 12
         springs = tuple(E * float(slfp["width"]) * t**3 / 12.0 / l for t, l in zip(slfp["t"], slfp["l"]))
-    fb = prbm.FourBar(Z["r1"], Z["r2"], Z["r3"], Z["r4"], Z.get("r5", 0j), springs=springs)
+    try:
+        fb = prbm.FourBar(Z["r1"], Z["r2"], Z["r3"], Z["r4"], Z.get("r5", 0j), springs=springs)
+    except ValueError as exc:  # the links do not make a four-bar: the case's input, not a solver failure
+        raise Misconfigured(f"links: {exc}") from None
     t21, t31, _ = fb.theta_ref
     ef = options.get("energy_free")
     if not ef:
@@ -274,7 +277,7 @@ def run_slider(case, requests, options: dict, info: MethodRun) -> dict:
             dx = np.asarray(load.levels(), float) * float(load.direction[0]) / math.hypot(*load.direction)
     if dx is None:
         raise NotApplicable("slider-crank: give the slider displacement per level (a 'displacement' load)")
-    theta2 = np.array([sc.theta2_at(float(d)) for d in dx])
+    theta2 = slider_angles(sc, dx)
     out = {"input_angle": np.degrees(theta2), "input_torque": sc.compliance_torque(theta2)}
     ma = options.get("ma") or {}
     if {"F_i", "d_i"} <= set(ma):

@@ -31,7 +31,8 @@ import numpy as np
 
 import prbm
 from prbm.lazy import LazyModule
-from validation.methods.base import MethodRun, NotApplicable
+from validation.methods.base import Misconfigured, MethodRun, NotApplicable
+from validation.methods.prbm_common import slider_angles
 
 if TYPE_CHECKING:  # loaded at first use (below); named here for the static import walks (run-cache hash)
     from prbm import compliance
@@ -78,7 +79,7 @@ def _slider(case, options: dict) -> dict[str, np.ndarray]:
         raise NotApplicable("slider Type 1 MA: give the work-piece locations as one 'displacement' load")
     d = np.asarray(travel[0].direction, float)
     dx = np.asarray(travel[0].levels(), float) * d[0] / math.hypot(*d)
-    theta2 = np.array([sc.theta2_at(float(x)) for x in dx])
+    theta2 = slider_angles(sc, dx)
     theta3 = np.asarray(sc.theta3(theta2), float)
     pose = compliance.SliderPose(sc.R2, sc.R3, theta2, theta3, sc.theta2_ref, sc.theta3_ref, sc.x_ref)
     T_c = compliance.slider_compliance(pose, springs, float(sp.get("f_k", 0.0)), "crank")
@@ -91,7 +92,10 @@ def _slider(case, options: dict) -> dict[str, np.ndarray]:
 def _compliers(case, options: dict) -> dict[str, np.ndarray]:
     links, ma, sp = options.get("links") or {}, options["ma"], options.get("springs") or {}
     _require(ma, ("d_in", "d_out2", "d_out3", "location_deg"), "a two-port Type 2 MA (eq 205)")
-    fb = prbm.FourBar(*(_complex(links[k]) for k in ("r1", "r2", "r3", "r4")))
+    try:
+        fb = prbm.FourBar(*(_complex(links[k]) for k in ("r1", "r2", "r3", "r4")))
+    except ValueError as exc:  # the links do not make a four-bar: the case's input, not a solver failure
+        raise Misconfigured(f"links: {exc}") from None
     t20, t30, t40 = fb.theta_ref
     target = t40 + float(ma["location_deg"]) * DEG
     theta2 = fb.input_for_output(target, t20)

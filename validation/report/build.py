@@ -10,6 +10,15 @@ every output at every level for every method beside the printed values, folded),
 under ``vtu/<id>/`` (``paraview``), rendered off-screen for the case page; ``timing.csv`` and
 ``timing.txt``: where the run's time went (``validation.run.timeline``), the CSV also ordering the next
 report's cases longest first.
+
+Those files are one output set (``validation.run.output_set``): the report is built beside the folder,
+starting from the previous report's pages (a page whose case and code are unchanged is kept, not drawn
+again), and put in place whole; the other commands' folders inside it (``latest/``, ``bench/``,
+``stress/``, ``sweeps/<id>/``, ...) are carried over as they are. A report of which no case could run
+writes nothing. The previous pages come in as hard links (copying and then deleting a report's
+thousands of files costs seconds of disk time): a page drawn again first removes its files
+(``_clear_page``) and the domain study its folder, so that nothing is written through a link into the
+previous report.
 """
 from __future__ import annotations
 
@@ -19,6 +28,7 @@ import html
 import math
 import os
 import platform
+import shutil
 import subprocess
 import sys
 import time
@@ -35,11 +45,12 @@ from validation.report import paraview
 from validation.sweep import domain_study
 from validation.run import cache
 from validation.run.exit_status import ExitStatus, print_error
+from validation.run.output_set import OutputSet, is_leftover
 from validation.report.paraview import normalise_shapes  # noqa: F401  (also used by tests)
 from validation.case.loader import find_case_files
 from validation.case.readings import readings_groups
 from validation.report.charts import (PLOTLY_JS, Chart, PlotlyMissing, ShapeLine, install_plotly, outputs_chart,
-                                      path_chart, shapes_chart)
+                                      path_chart, plotly_bundle, shapes_chart)
 from validation.report.format import by_case, rows_of, run_badge, sig
 from validation.report.overview import CLAIMS, overview_points, plot_overview
 from validation.report.summary import (METHOD_NAMES, CaseSummary, case_sentence, findings, findings_html,
@@ -49,6 +60,14 @@ from validation.run.outcome import run_cases, summary, tabulate
 from validation.run.timeline import Timed, breakdown, command_age, csv_text, timed
 
 TIMING_CSV = "timing.csv"
+DOMAINS = "sweeps/chapter4_domains"   # the chapter-4 domain study the whole report runs (``DomainStudy``)
+# what the report writes in its folder (everything else there is another command's, carried over), and
+# what it reuses of the previous report: the case pages (redrawn only when their digest changes), the
+# ParaView series they link to, the plotly.js bundle, the domain study
+OWNED = ("index.html", "index.md", "overview.png", "overview.svg", "results.csv", "results.parquet", "summary.csv",
+         TIMING_CSV, "timing.txt", "cases", "vtu", "js", DOMAINS)
+REUSED = ("cases", "vtu", "js", DOMAINS)
+LINKED = ("cases", "vtu", DOMAINS)   # reused as hard links: removed, never written through, when redrawn
 DEPENDENCIES = ["numpy", "scipy", "scikit-fem", "meshio", "pyvista", "pandas", "matplotlib", "plotly", "pydantic",
                 "tqdm", "openseespy", "pyarrow"]
 CSS = """body{font-family:system-ui,sans-serif;margin:1.5em 2em;max-width:1400px;color:#222}
@@ -103,6 +122,15 @@ def _md_table(frame: pd.DataFrame) -> str:
     for values in frame.values:  # as in _html_table
         lines.append("| " + " | ".join(_fmt(v).replace("|", "/") for v in values) + " |")
     return "\n".join(lines) + "\n"
+
+
+def _image(src: str, alt: str) -> str:
+    """A picture of the report, its file name escaped for the attribute."""
+    return f"<p><img src='{html.escape(src, quote=True)}' alt='{html.escape(alt, quote=True)}'></p>"
+
+
+def _link(href: str, text: str) -> str:
+    return f"<a href='{html.escape(href, quote=True)}'>{html.escape(text)}</a>"
 
 
 def _page(title: str, body: str, head: str = "") -> str:
@@ -219,12 +247,30 @@ GLANCE_COLUMNS = GLANCE_KEY + ["method", "value", "reference_label", "reference_
                                "level_label", "unit"]
 
 
+UNRELIABLE = "unreliable"
+
+
+def marked_estimates(table: pd.DataFrame) -> pd.DataFrame:
+    """The table with each error estimate marked unreliable (``error_estimate_reliable`` False: the FEM's
+    meshes were not in the asymptotic range, the estimate is no bound) shown as the word ``UNRELIABLE``
+    instead of its number."""
+    if "error_estimate_reliable" not in table:
+        return table
+    marked = table["error_estimate_reliable"].map(lambda v: isinstance(v, (bool, np.bool_)) and not v)
+    if not marked.any():
+        return table
+    out = table.copy()
+    out["error_estimate"] = out["error_estimate"].astype(object).mask(marked.astype(bool), UNRELIABLE)
+    return out
+
+
 def glance(table: pd.DataFrame) -> pd.DataFrame:
     """Every output at every level in one row: each method's value, each printed column, and the
     differences an engineer asks about first (PRBM - FEM, each model - measured, FEM - exact)."""
     if table.empty or table["quantity"].isna().all():
         return pd.DataFrame()
-    rows = [row for row in table[GLANCE_COLUMNS].itertuples(index=False, name=None) if not pd.isna(row[0])]
+    rows = [row for row in marked_estimates(table)[GLANCE_COLUMNS].itertuples(index=False, name=None)
+            if not pd.isna(row[0])]
     key = itemgetter(0, 1, 2)
     values, printed = _first_by(rows, key, 3, 4), _first_by(rows, key, 5, 6)
     # a row per output with a method's value (sorted), one frame built at once (no index to join on)
@@ -239,7 +285,7 @@ def glance(table: pd.DataFrame) -> pd.DataFrame:
         if row[3] == "fem":
             fem_est.setdefault(key(row), row[7])
     if fem_est:
-        out["fem ± (estimate)"] = [fem_est.get(k, np.nan) for k in keys]
+        out["fem ± (estimate)"] = [fem_est.get(k, np.nan) for k in keys]   # floats, or UNRELIABLE
     if {"prbm", "fem"} <= set(out.columns):
         out["PRBM - FEM"] = out["prbm"] - out["fem"]
     for method in ("prbm", "fem"):
@@ -296,23 +342,23 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
     # issue 14 item 3: a value whose model was not made for its load says so in its row
     if "applicability" in table and table["applicability"].fillna("").ne("").any():
         cols["applicability"] = "outside the model's range"
-    shown = table.dropna(subset=["quantity"])[list(cols)].rename(columns=cols)
+    shown = marked_estimates(table.dropna(subset=["quantity"]))[list(cols)].rename(columns=cols)
     badges = [(m, *run_badge(r, case.case.expected_failure.get(m)), r) for m, r in result.runs.items()]
     runs = pd.DataFrame([{"method": METHOD_NAMES.get(m, m), "status": b.value, "time [s]": r.wall_time,
                           "message": r.message[:300]} for m, b, _, r in badges])
     source = case.case.source.label() if case.case.source else ""
     items = findings([result], table)
     sentence = case_sentence(result, table)
-    status = " ".join(f"{METHOD_NAMES.get(m, m)} {b.html(w)}" for m, b, w, _ in badges)
+    status = " ".join(f"{html.escape(METHOD_NAMES.get(m, m))} {b.html(w)}" for m, b, w, _ in badges)
     body = (f"<p><a href='../index.html'>all cases</a></p><h1>{html.escape(case.case.title)}</h1>"
             f"<p class='lead'><b>{html.escape(sentence)}</b></p><p>{status}</p>"
-            f"<p><b>id</b> <code>{cid}</code> &middot; <b>group</b> {html.escape(case.case.group)} &middot; "
-            f"<b>units</b> {case.case.units} &middot; <b>source</b> {html.escape(source)}</p>")
+            f"<p><b>id</b> <code>{html.escape(cid)}</code> &middot; <b>group</b> {html.escape(case.case.group)} "
+            f"&middot; <b>units</b> {html.escape(case.case.units)} &middot; <b>source</b> {html.escape(source)}</p>")
     body += "".join(chart.html() for chart in charts[:2])
     if items:
         body += "<h2>Findings</h2>" + findings_html(items, {cid: f"{cid}.html"}, shown=6)
     body += "".join(chart.html() for chart in charts[2:])
-    body += "".join(f"<p><img src='{name}' alt='{name}'></p>" for name in images)
+    body += "".join(_image(name, name) for name in images)
     details = f"<p>{html.escape(case.case.description)}</p>"
     if case.case.assumptions:
         details += "<h3>Assumptions</h3><ul>" + "".join(f"<li>{html.escape(a)}</li>"
@@ -329,7 +375,7 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
     if len(at_a_glance):
         body += ("<details><summary>At a glance: every method beside the printed columns</summary><p>Differences "
                  "are in the output's unit (FEM - exact uses the exact elastica where the case runs it; "
-                 "'fem ± (estimate)' is the FEM's own Richardson error estimate).</p>"
+                 "'fem ± (estimate)' is the FEM's own Richardson error estimate, or 'unreliable': no bound).</p>"
                  + _html_table(at_a_glance) + "</details>")
     body += ("<details><summary>Every output (full precision)</summary><p>The relative error is relative to "
              "the printed value; error / characteristic length is the absolute error over the segment length "
@@ -339,7 +385,7 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
     if pvds:
         body += ("<details><summary>ParaView files</summary><p>One <code>.pvd</code> series per method, "
                  "time = the case's first load; open it in ParaView and colour by the point data.</p><ul>"
-                 + "".join(f"<li><a href='../{v}'>{v}</a></li>" for v in pvds) + "</ul></details>")
+                 + "".join(f"<li>{_link(f'../{v}', v)}</li>" for v in pvds) + "</ul></details>")
     install_plotly(out)
     (folder / f"{cid}.html").write_text(_page(case.case.title, body, f"<script src='../{PLOTLY_JS}'></script>"))
     md = [f"# {case.case.title}\n", f"**{sentence}**\n",
@@ -394,6 +440,7 @@ def _page_job(args) -> PageLink:
     stamp = out / "cases" / f"{cid}.digest"
     if stamp.exists() and stamp.read_text() == digest and (out / "cases" / f"{cid}.html").exists():
         return PageLink(cid, f"cases/{cid}.html", summary=summarise(result, part))
+    _clear_page(out, cid)
     try:
         sentence, link = _case_page(result, part, out)
     except Exception as exc:  # noqa: BLE001 - any drawing error is reported, the other pages go on
@@ -404,6 +451,14 @@ def _page_job(args) -> PageLink:
         return PageLink(cid, link, error)
     stamp.write_text(digest)
     return PageLink(cid, link, summary=summarise(result, part, sentence))   # the page's sentence: once
+
+
+def _clear_page(out: Path, cid: str) -> None:
+    """Remove the files of a case's page before it is drawn again: they may be hard links to the previous
+    report's (module docstring), which a write would change."""
+    for name in (f"{cid}.html", f"{cid}.md", f"{cid}.digest", f"{cid}_render.png"):
+        (out / "cases" / name).unlink(missing_ok=True)
+    shutil.rmtree(out / "vtu" / cid, ignore_errors=True)
 
 
 @dataclass(frozen=True)
@@ -495,6 +550,7 @@ class DomainStudy:
         if (self.folder / "domains.png").is_file() and stamp.is_file() and stamp.read_text() == digest:
             return
         print("chapter-4 deflection domains (validation.sweep.domain_study) ...", flush=True)
+        shutil.rmtree(self.folder, ignore_errors=True)   # hard links to the previous report's: never written through
         domain_study.run_study(self.folder)
         stamp.write_text(digest)
 
@@ -557,40 +613,48 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     """Run (or reuse) the cases and write the report (module docstring); prints where the time went."""
     started, times, before = time.perf_counter(), os.times(), command_age()
     cpu = times.user + times.system + times.children_user + times.children_system
-    out.mkdir(parents=True, exist_ok=True)
-    (out / "cases").mkdir(exist_ok=True)
     try:
-        install_plotly(out)  # the charts' library, before the workers draw pages
+        plotly_bundle()  # the charts' library, before anything runs
     except PlotlyMissing as exc:
         print_error(f"prbm-validate report: {exc}")
         return ExitStatus.FAILED
-    paths = find_case_files(cases or None)
-    # the whole report: the chapter-4 deflection-domain study beside the sweep studies, run beside the cases
-    extra = [] if cases else [DomainStudy(out / "sweeps" / "chapter4_domains")]
-    outcome = run_cases(paths, use_cache=use_cache, jobs=jobs, progress=True, after=PageWriter(out), extra=extra,
-                        costs=_last_costs(out))
-    pooled = time.perf_counter() - started  # cases, their pages and the domain study, on ``jobs`` processes
-    timeline = outcome.timeline
-    # the overview figure (a second of matplotlib layout) drawn in a process of its own beside the
-    # tables and the index page, on the core the finished workers left free
-    with ProcessPoolExecutor(max_workers=1) as figure_pool:
-        with timed("main", "overview points", timeline):
-            figure = figure_pool.submit(plot_overview, overview_points(outcome.results, outcome.table),
-                                        out / "overview.png")
-        with timed("main", "tables (results.csv, summary.csv)", timeline):
-            _write_tables(outcome, out)
-        with timed("main", "pages not drawn in the workers", timeline):
-            pages = _build_pages(outcome.results, outcome.table, out, jobs, done=outcome.after)
-        with timed("main", "index page", timeline):
-            _write_index(outcome, pages, out)
-        with timed("main", "waiting for the overview figure", timeline):
-            figure.result()
-    page_errors = [page.error for page in pages if page.error]
-    for error in outcome.errors:
-        print_error(error)
-    for line in outcome.unexpected_problems + page_errors:  # what makes the exit status 1, in words
-        print(f"not ok: {line}")
-    print(_write_timing(timeline, out, jobs, started, cpu, before))
+    with OutputSet(out, owned=OWNED, seed=REUSED, link=LINKED) as output:
+        stage = output.path
+        (stage / "cases").mkdir(exist_ok=True)
+        install_plotly(stage)  # before the workers draw pages
+        paths = find_case_files(cases or None)
+        # the whole report: the chapter-4 deflection-domain study beside the sweep studies, run beside the cases
+        extra = [] if cases else [DomainStudy(stage / DOMAINS)]
+        outcome = run_cases(paths, use_cache=use_cache, jobs=jobs, progress=True, after=PageWriter(stage),
+                            extra=extra, costs=_last_costs(out))
+        if not outcome.results and outcome.errors:   # rejected: no case could run
+            for error in outcome.errors:
+                print_error(error)
+            return ExitStatus.BAD_INPUT
+        pooled = time.perf_counter() - started  # cases, their pages and the domain study, on ``jobs`` processes
+        timeline = outcome.timeline
+        # the overview figure (a second of matplotlib layout) drawn in a process of its own beside the
+        # tables and the index page, on the core the finished workers left free
+        with ProcessPoolExecutor(max_workers=1) as figure_pool:
+            with timed("main", "overview points", timeline):
+                figure = figure_pool.submit(plot_overview, overview_points(outcome.results, outcome.table),
+                                            stage / "overview.png")
+            with timed("main", "tables (results.csv, summary.csv)", timeline):
+                _write_tables(outcome, stage)
+            with timed("main", "pages not drawn in the workers", timeline):
+                pages = _build_pages(outcome.results, outcome.table, stage, jobs, done=outcome.after)
+            with timed("main", "index page", timeline):
+                _write_index(outcome, pages, stage, published=out)
+            with timed("main", "waiting for the overview figure", timeline):
+                figure.result()
+        page_errors = [page.error for page in pages if page.error]
+        for error in outcome.errors:
+            print_error(error)
+        for line in outcome.unexpected_problems + page_errors:  # what makes the exit status 1, in words
+            print(f"not ok: {line}")
+        timing = _write_timing(timeline, stage, jobs, started, cpu, before)
+        output.commit()
+    print(timing)
     command = _command_time(started, before)
     print(f"report: {out / 'index.html'} ({len(outcome.results)} cases, {time.perf_counter() - started:.1f} s, "
           f"of which {pooled:.1f} s the cases, their pages and the domain study on {jobs} process(es)"
@@ -600,8 +664,10 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     return outcome.exit_status
 
 
-def _write_index(outcome, pages: list[PageLink], out: Path) -> None:
-    """``index.html`` and ``index.md`` (the overview figure beside them: `plot_overview`)."""
+def _write_index(outcome, pages: list[PageLink], out: Path, published: Path | None = None) -> None:
+    """``index.html`` and ``index.md`` written in ``out`` (the overview figure beside them: `plot_overview`),
+    linking the other commands' pages found in ``published`` (the report's folder; default ``out``)."""
+    published = out if published is None else published
     table = outcome.table
     links = {page.case: page.link for page in pages}
     page_errors = [page.error for page in pages if page.error]
@@ -626,9 +692,10 @@ def _write_index(outcome, pages: list[PageLink], out: Path) -> None:
     md += [f"- {f.case}: {f.text}" + "".join(f"\n  - {e}" for e in f.evidence[:3]) for f in items]
     if len(failed):
         body.append("<h2>Comparisons outside their stated tolerance</h2><ul>" + "".join(
-            f"<li class='bad'><a href='{links.get(r['case'], '#')}'>{r['case']}</a> "
-            f"{METHOD_NAMES.get(r['method'], r['method'])} {r['quantity']} at {r['level_label']}: "
-            f"{sig(r['value'])} against printed {r['reference_label']} {sig(r['reference_value'])}</li>"
+            f"<li class='bad'>{_link(links.get(r['case'], '#'), r['case'])} "
+            + html.escape(f"{METHOD_NAMES.get(r['method'], r['method'])} {r['quantity']} at {r['level_label']}: "
+                          f"{sig(r['value'])} against printed {r['reference_label']} {sig(r['reference_value'])}")
+            + "</li>"
             for _, r in failed.iterrows()) + "</ul>")
         md += [f"- **outside tolerance** {r['case']} {r['method']} {r['quantity']} at {r['level_label']}"
                for _, r in failed.iterrows()]
@@ -645,21 +712,24 @@ def _write_index(outcome, pages: list[PageLink], out: Path) -> None:
              (("stress", "index.html", "stress report (prbm-validate stress)"),
               ("bench", "headline.json", "benchmark headline (prbm-validate bench)"),
               ("bench", "bench.csv", "benchmark table"))
-             if (out / name / page).exists()]
+             if (published / name / page).exists()]
     if extra:
         body.append("<h2>Other pages</h2><ul>" + "".join(f"<li><a href='{link}'>{label}</a></li>"
                                                          for link, label in extra) + "</ul>")
-    studies = sorted(p for p in (out / "sweeps").glob("*") if p.is_dir() and list(p.glob("*.png")))
+    studies: dict[str, Path] = {}
+    for folder in (published, out):   # a study written in ``out`` over the published one of that name
+        studies |= {p.name: p for p in (folder / "sweeps").glob("*")
+                    if p.is_dir() and not is_leftover(p) and list(p.glob("*.png"))}
     if studies:
         body.append("<h2>Sweep studies (prbm-validate sweep)</h2>")
-        for study in studies:
-            pictures = "".join(f"<p><img src='sweeps/{study.name}/{png.name}' alt='{png.name}'></p>"
+        for _, study in sorted(studies.items()):
+            pictures = "".join(_image(f"sweeps/{study.name}/{png.name}", png.name)
                                for png in sorted(study.glob("*.png")))
             body.append(f"<h3>{html.escape(study.name)}</h3>{pictures}")
-    bench_plots = sorted((out / "bench").glob("*.png"))
+    bench_plots = sorted((published / "bench").glob("*.png"))
     if bench_plots:
         body.append("<h2>Benchmark (prbm-validate bench)</h2>" + "".join(
-            f"<p><img src='bench/{png.name}' alt='{png.name}'></p>" for png in bench_plots))
+            _image(f"bench/{png.name}", png.name) for png in bench_plots))
     md += ["\n## Reproducibility\n", _md_table(pd.DataFrame(list(info.items()), columns=["item", "value"]))]
     (out / "index.html").write_text(_page("PRBM validation report", "".join(body)))
     (out / "index.md").write_text("\n".join(md) + "\n")

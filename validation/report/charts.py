@@ -21,6 +21,7 @@ Three charts, as the matplotlib figures were:
 """
 from __future__ import annotations
 
+import html
 import importlib.util
 import json
 import math
@@ -43,6 +44,24 @@ PANEL_WIDTH, PANEL_HEIGHT = 420, 300   # pixels of one output's panel
 FONT = {"size": 11}
 
 
+# '<', '>', '&' (and the two line separators JavaScript once read as line ends) as JSON escapes: a string of
+# the case file can then neither close the <script> element ('</script>'), open a comment ('<!--') nor
+# be read as markup, whatever it holds; the browser's JSON reading gives the same string back
+SCRIPT_SAFE = str.maketrans({"<": "\\u003c", ">": "\\u003e", "&": "\\u0026", "\u2028": "\\u2028",
+                             "\u2029": "\\u2029"})
+
+
+def plotly_text(text: str) -> str:
+    """A label for plotly.js, which reads a few HTML tags in its text (<b>, <a href>, <br>): escaped, so
+    that it shows a case file's string as written and never as markup."""
+    return html.escape(text, quote=False)
+
+
+def script_json(value) -> str:
+    """``value`` as JSON that is safe inside an HTML <script> element (``SCRIPT_SAFE``)."""
+    return json.dumps(value, separators=(",", ":"), allow_nan=False).translate(SCRIPT_SAFE)
+
+
 class PlotlyMissing(RuntimeError):
     """The ``plotly`` package (whose plotly.js bundle draws the charts) is not installed."""
 
@@ -58,8 +77,7 @@ class Chart:
 
     def html(self) -> str:
         """The chart's element and the script that draws it (plotly.js loaded by the page)."""
-        spec = json.dumps({"data": self.data, "layout": self.layout}, separators=(",", ":"), allow_nan=False)
-        spec = spec.replace("</", "<\\/")   # never closes the script element
+        spec = script_json({"data": self.data, "layout": self.layout})   # the id is the report's own word
         return (f"<div id='{self.id}' class='chart' style='height:{self.height}px'></div><script>"
                 f"(function(){{const f={spec};Plotly.newPlot('{self.id}',f.data,f.layout,"
                 "{responsive:true,displaylogo:false});})();</script>")
@@ -91,7 +109,7 @@ def numbers(values) -> list[float | None]:
 
 
 def _axis(title: str, **extra) -> dict:
-    return {"title": {"text": title, "font": FONT}, "tickfont": {"size": 10}, "zeroline": False,
+    return {"title": {"text": plotly_text(title), "font": FONT}, "tickfont": {"size": 10}, "zeroline": False,
             "showline": True, "linecolor": "#444", "mirror": True, "gridcolor": "#e4e4e4", **extra}
 
 
@@ -116,7 +134,7 @@ def _grid_layout(titles: list[tuple[str, str]], ncols: int, height: int) -> dict
 def _trace(x, y, name: str, panel: int, shown: set[str], **style) -> dict:
     """A trace in panel ``panel`` (0-based), in the legend group ``name`` (listed once)."""
     suffix = "" if panel == 0 else str(panel + 1)
-    trace = {"type": "scatter", "x": numbers(x), "y": numbers(y), "name": name, "legendgroup": name,
+    trace = {"type": "scatter", "x": numbers(x), "y": numbers(y), "name": plotly_text(name), "legendgroup": name,
              "showlegend": name not in shown, "xaxis": f"x{suffix}", "yaxis": f"y{suffix}", **style}
     shown.add(name)
     return trace

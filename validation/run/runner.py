@@ -20,6 +20,7 @@ from pathlib import Path
 from validation.case.capabilities import QUANTITIES
 from validation.case.loader import LoadedCase
 from validation.methods.base import Misconfigured, MethodRun, NotApplicable, Request, RunStatus
+from validation.case.scale import characteristic_length  # noqa: F401 - the report and tables read it here
 from validation.case.schema import Case
 from validation.case.overrides import apply as apply_field
 
@@ -113,14 +114,3 @@ def reproduce_findings(result: "CaseResult") -> None:
             runs[key] = _reproduce(result.loaded, ref.compare, ref.finding.reproduce_with)
         point = ref.point if QUANTITIES[ref.quantity].at_point else ""
         result.reproduced[i] = runs[key].values.get(Request(ref.quantity, point, ref.level), math.nan)
-
-
-def characteristic_length(case: Case) -> float:
-    """The length errors are normalised by: the segment's length, or the mechanism's extent."""
-    if case.segment is not None:
-        return case.segment.length
-    xs = [n.x for n in case.mechanism.nodes]
-    ys = [n.y for n in case.mechanism.nodes]
-    return max(max(xs) - min(xs), max(ys) - min(ys)) or 1.0
-
-
