@@ -25,7 +25,10 @@ unknowns q (`assembly.System`) by Newton-Raphson with the consistent tangent K.
   current increment.  Delta l adapts to the iteration count.
 
 The corrector, the convergence tests and the rotation-continuity checks are
-in `newton`; limit points and bifurcations are found by `critical`.
+in `newton`; limit points and bifurcations are found by `critical`. A model whose
+unloaded tangent is singular to working precision (`conditioning`: a mesh too fine
+for double precision) is refused before the first step: the result takes no step and
+its message says why.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
@@ -36,6 +39,7 @@ import time
 import numpy as np
 
 from .assembly import System
+from .conditioning import beyond_precision
 from .critical import critical_points
 from .discretise import discretise
 from .free_motion import check_held
@@ -437,6 +441,12 @@ def _prepare(model: Model, opts: SolveOptions, n_levels: int | None = None, chec
     return system
 
 
+def _refused(model, system, opts: SolveOptions, control: str, t0: float) -> FemResult | None:
+    """The result of a model refused before the first step (`conditioning.beyond_precision`), or None."""
+    why = beyond_precision(system)
+    return None if why is None else _finish(model, system, Path(), opts, why, control, t0, 0.0)
+
+
 def _finish(model, system, path, opts: SolveOptions, failure, control: str, t0: float,
             analysis_time: float) -> FemResult:
     """The result of a path: critical points, the message (steps, branch switches, unassessed sign
@@ -460,6 +470,9 @@ def solve_load(model: Model, control: LoadControl = LoadControl(),
     """Load control: the loads and prescribed values follow their per-level histories."""
     t0 = time.perf_counter()
     system = _prepare(model, opts, control.n_levels, check=not control.held)
+    refused = _refused(model, system, opts, "load", t0)
+    if refused is not None:
+        return refused
     guesses = (None if control.initial_guess is None
                else level_guesses(control.initial_guess, system.disc, system.X1, system.X2))
     path = Path()
@@ -473,6 +486,9 @@ def solve_displacement(model: Model, control: DisplacementControl,
     """Displacement control: one DOF follows its targets, the load factor is free."""
     t0 = time.perf_counter()
     system = _prepare(model, opts)
+    refused = _refused(model, system, opts, "displacement", t0)
+    if refused is not None:
+        return refused
     path = Path()
     cpu = time.process_time()
     failure = _run_disp(system, model, control, opts, path)
@@ -484,6 +500,9 @@ def solve_arclength(model: Model, control: ArcLengthControl = ArcLengthControl()
     """Arc-length control of the model's load pattern (its loads at the last level)."""
     t0 = time.perf_counter()
     system = _prepare(model, opts)
+    refused = _refused(model, system, opts, "arclength", t0)
+    if refused is not None:
+        return refused
     path = Path()
     cpu = time.process_time()
     failure = _run_arc(system, model, control, opts, path)
