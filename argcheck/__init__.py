@@ -30,8 +30,8 @@ def _values(value) -> np.ndarray:
 
 def _ok(value, positive: bool) -> bool:
     """The value finite (and > 0 when ``positive``): a plain float or int, or a flat list of them, in
-    plain Python (the common cases at a library's entry point: a few hundred nanoseconds, about a
-    microsecond for ten load levels), anything else through numpy."""
+    plain Python (the common cases at a library's entry point, where numpy's per-call overhead would
+    exceed the check itself), anything else through numpy."""
     if type(value) in _PLAIN:
         return math.isfinite(value) and (not positive or value > 0)
     if type(value) is list:  # the load levels of a case as plain numbers: a Python loop beats numpy's set-up

@@ -1,4 +1,4 @@
-"""Beam constraint model (seed 003): strain and complementary energies, both energy theorems, examples.
+"""Beam constraint model [chen2021]: strain and complementary energies, both energy theorems, examples.
 
 Loads and deflections are normalised (forces by EI/L^2, moments by EI/L, lengths by L); angles in
 radians.

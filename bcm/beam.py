@@ -1,7 +1,7 @@
 """Beam constraint model (BCM) of a uniform tip-loaded beam, with its strain and complementary energies.
 
-Source: seed 003 (Chen, Ma, Bai, Zhu, Magleby, Howell, "An energy-based framework for nonlinear
-kinetostatic modeling of compliant mechanisms utilizing beam flexures"), sections 2-3, and
+Source: [chen2021, §2-3] (Chen, Ma, Bai, Zhu, Magleby, Howell, "An energy-based framework for
+nonlinear kinetostatic modeling of compliant mechanisms utilizing beam flexures"), and
 notes/seed-003-004.md section 1. Everything is normalised (eq (5)):
 
     f_x = F_x L^2/EI (tension positive), f_y = F_y L^2/EI, m_z = M_z L/EI,
@@ -20,7 +20,7 @@ Complementary energy in loads (eqs (16), (17)), for Crotti-Engesser U_i = dV*/dQ
 
     v* = f_x^2/(2 k_a) + p C0 p/2 - f_x p C1 p/2 + f_x^2 p C2 p/2 [- f_x^3 p C3 p/2],  p = [f_y, m_z].
 
-Eq (15), the exact compliance behind C0..C3, is misprinted in the seed: its (1,1) entry reads
+Eq (15), the exact compliance behind C0..C3, is misprinted in the paper: its (1,1) entry reads
 (r - tanh k)/r^3 and its (2,2) entry r^2 cosh r / tanh r; the corrected entries (notes/seed-003-004.md
 section 1.6, verified by the series of eqs (16), (17)) are (r - tanh r)/r^3 and tanh r / r, r = sqrt(f_x),
 implemented in ``exact_compliance`` (with the compressive form for f_x < 0).
@@ -40,7 +40,7 @@ __all__ = ["K0", "K1", "K2", "C0", "C1", "C2", "C3", "quadratic_forms", "strain_
            "complementary_energy", "deflections_from_complementary", "exact_compliance",
            "solve_mixed", "axial_stiffness_parameter"]
 
-# Table 1 of seed 003 (beam characteristic coefficients, after Awtar et al. 2007)
+# Table 1 of [chen2021] (beam characteristic coefficients, after Awtar et al. 2007)
 K0 = np.array([[12.0, -6.0], [-6.0, 4.0]])
 K1 = np.array([[6.0 / 5.0, -1.0 / 10.0], [-1.0 / 10.0, 2.0 / 15.0]])
 K2 = np.array([[-1.0 / 700.0, 1.0 / 1400.0], [1.0 / 1400.0, -11.0 / 6300.0]])
@@ -53,7 +53,7 @@ C3 = np.array([[62.0 / 2835.0, 277.0 / 8064.0], [277.0 / 8064.0, 17.0 / 315.0]])
 
 
 def axial_stiffness_parameter(length: float, thickness: float) -> float:
-    """k_a = 12 L^2 / T^2 of a rectangular beam (seed 003, after eq (4))."""
+    """k_a = 12 L^2 / T^2 of a rectangular beam [chen2021, after eq 4]."""
     return 12.0 * length**2 / thickness**2
 
 

@@ -1,4 +1,4 @@
-"""The two example mechanisms of seed 003 (section 4), and a rigid body carried by BCM beams.
+"""The two example mechanisms of [chen2021, §4], and a rigid body carried by BCM beams.
 
 - Circular-guided mechanism (section 4.1, Table 2): beam OA clamped at O, rigid crank AB welded
   at A and pinned at B on the beam line (B inferred at L_OA - L_AB from eq (18), see
@@ -56,7 +56,7 @@ def circular_guided_torque(beta: float, R: float, ka: float) -> float:
 
 
 def circular_guided_torque_eq20(beta: float, R: float, ka: float) -> float:
-    """Eq (20) with eq (21), as printed in seed 003 (checked equal to ``circular_guided_torque``)."""
+    """Eq (20) with eq (21), as printed in [chen2021] (checked equal to ``circular_guided_torque``)."""
     sb, cb = math.sin(beta), math.cos(beta)
     k0, k1, k2 = K0, K1, K2
     Q1 = -2 * R + k1[1, 1] * beta**2 + 2 * R * cb + 2 * k1[0, 1] * R * beta * sb + k1[0, 0] * R**2 * sb**2
@@ -81,7 +81,7 @@ def eq32_corrected(ux, uy, ka):
 
 
 def eq32_printed(ux, uy, ka):
-    """Eq (32) exactly as printed in seed 003 (inconsistent with eq (30); kept to show the misprint)."""
+    """Eq (32) exactly as printed in [chen2021] (inconsistent with eq (30); kept to show the misprint)."""
     d = 700.0 + uy * uy
     fx = ka * (700.0 * ux + 420.0 * uy * uy) / d
     fy = (ka * (840.0 * ux + 504.0 * uy * uy) / d
@@ -113,7 +113,7 @@ class SlantResult:
 def slant_parallelogram(F_h: float, *, F_w: float = 0.25, beta: float = 0.1, L: float = 25.0,
                         E: float = 73e3, W: float = 5.1, T: float = 0.25,
                         method: str = "CE3") -> SlantResult:
-    """Coupler displacement of the slant parallelogram (seed 003 section 4.2), one beam by symmetry.
+    """Coupler displacement of the slant parallelogram [chen2021, §4.2], one beam by symmetry.
 
     Units of Table 3 as mm, N, MPa. method: 'CE2' (eq (16): eqs (23)-(27)), 'CE3' (eq (17)),
     'castigliano' (eq (30) with the corrected eq (32)), 'castigliano-printed' (eq (32) as printed).

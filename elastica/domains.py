@@ -1,10 +1,10 @@
-"""Exact characteristic deflection domains (seed 000 chapter 4): clouds of end positions of a
+"""Exact characteristic deflection domains [bapat2015, ch. 4]: clouds of end positions of a
 segment from the closed-form elliptic solutions, over the load grids the chapter prints.
 
 Normalised as ``elastica.elliptic`` (l = EI = 1, so alpha^2 = P l^2/EI, positions a/l, b/l).
 
 * ``fixed_pinned_cloud`` (section 4.4): initially straight fixed-pinned segment under P and nP,
-  eqs (6), (7) with the corrected gamma, over n and theta0 (0 < theta0 < phi); the seed's grid is
+  eqs (6), (7) with the corrected gamma, over n and theta0 (0 < theta0 < phi); the dissertation's grid is
   n = -4..10, theta0 = 1..90 deg.
 * ``curved_fixed_pinned_cloud`` (section 4.5, and section 4.6's fixed-fixed segment with monotonic
   curvature, kappa0 = M l/EI (+ l/R_i), eqs 115, 119): eqs (8)-(11) over n, theta0 and kappa =
@@ -16,12 +16,12 @@ Normalised as ``elastica.elliptic`` (l = EI = 1, so alpha^2 = P l^2/EI, position
   theta'^2 = 2P [lambda - (sin theta - n cos theta)] with sin theta - n cos theta = eta cos(theta - phi)
   must stay >= 0 for theta in [0, theta0], i.e. kappa/eta + cos(theta0 - phi) - 1 >= 0 when phi lies
   inside; so kappa in (112) is normalised by the resultant force F = eta P: kappa_F = M^2/(2 F EI)
-  = kappa/eta (notes seed-ch2-4 section 6.5; the seed prints M^2/(2 P EI), which overstates theta0max
+  = kappa/eta (notes seed-ch2-4 section 6.5; the dissertation prints M^2/(2 P EI), which overstates theta0max
   for n != 0).  ``su_theta0_max`` takes kappa_F.
 * ``fixed_guided_inflection_cloud`` (section 4.6, Figs 4.9-4.12): the straight fixed-fixed segment
   with one inflection point under P, nP and an opposing end moment M, by the Kimball-Tsai elliptic
   form (``fixed_guided_inflection_from_angle``) over n, theta0 and kappa in the range of eq (126),
-  keeping the points whose load lies in the seed's P range.  The seed drew this cloud with Midha et
+  keeping the points whose load lies in the dissertation's P range.  The dissertation drew this cloud with Midha et
   al.'s PRBM (its Fig. 4.12); this is the exact one.
 * ``kappa_min`` (eqs 123, 124) and ``kappa_range`` (the routine of section 4.6.1 / Fig. 4.16: theta0
   > 0: kappa_min with theta_i = theta0 + 5 deg, kappa_max with theta_i = 85 deg; theta0 < 0: kappa_min

@@ -1,9 +1,9 @@
-"""Closed-form elliptic-integral solutions of section 2.1 of Bapat (2015), with the seed's misprints corrected.
+"""Closed-form elliptic-integral solutions of [bapat2015, §2.1], with the dissertation's misprints corrected.
 
 Every function is normalised: the flexible length l = 1 and EI = 1, so the load index is
 alpha = sqrt(P l^2 / EI), positions are a/l and b/l, and moments are M l / EI. Angles are in rad.
 
-Conventions (seed 000, checked against the shooting solver in ``elastica.shooting``): the clamp
+Conventions ([bapat2015], checked against the shooting solver in ``elastica.shooting``): the clamp
 is at the origin with the undeformed tangent along +x; the end force is (Fx, Fy) = (-nP, +P),
 so n > 0 is compressive; theta_0 is the end slope, CCW positive. phi = atan2(1, -n) is the
 direction of the end force. All segment types integrate
@@ -13,7 +13,7 @@ direction of the end force. All segment types integrate
 with lambda = kappa + sin(theta_0) - n cos(theta_0) and kappa = theta'(l)^2 / (2P) = kappa_0^2 / (2 alpha^2).
 
 F(g, t), E(g, t) are the incomplete elliptic integrals with *modulus* t (scipy takes m = t^2);
-the seed prints the complete integrals without the sin^2 in the integrand (a misprint).
+the dissertation prints the complete integrals without the sin^2 in the integrand (a misprint).
 
 Angles are in radians (degrees appear only in case files and reports).
 """
@@ -103,7 +103,7 @@ def pure_moment_tip(moment: float) -> EllipticTip:
     """Closed form for a straight cantilever under an end moment m = M l / EI (a circular arc).
 
     a = sin(m)/m, b = (1 - cos m)/m, theta_0 = m; m = 2 pi closes the full circle (a = b = 0).
-    Source: notes/anchors.md section 2.2; seed 004 (Ananthasuresh) section 3.4.
+    Source: notes/anchors.md section 2.2; [ananthasuresh_l18, 16:59-21:58].
     """
     m = moment
     if abs(m) < 1e-8:
@@ -116,14 +116,14 @@ def pure_moment_tip(moment: float) -> EllipticTip:
 def fixed_pinned_from_angle(theta0: float, load_ratio: float = 0.0) -> EllipticTip:
     """Initially straight fixed-pinned segment under P and nP, given theta_0 (explicit).
 
-    Seed 000 eqs (6), (7) (Howell), for 0 < theta_0 < phi:
+    [bapat2015, eqs 6, 7] (Howell), for 0 < theta_0 < phi:
         alpha = [F(t) - F(g, t)] / sqrt(eta),  t = sqrt((eta + lambda) / (2 eta)),
         b/l = {eta [F(t) - F(g,t) + 2(E(g,t) - E(t))] + n sqrt(2 eta (eta + lambda)) cos g} / (alpha eta^(5/2)),
         a/l = {-n eta [F(t) - F(g,t) + 2(E(g,t) - E(t))] + sqrt(2 eta (eta + lambda)) cos g} / (alpha eta^(5/2)),
     with lambda = sin theta_0 - n cos theta_0, eta = sqrt(1 + n^2).
     Correction (notes/seed-ch2-4.md section 2.2 and section 7 item 2): g = asin sqrt((eta - n)/(eta + lambda));
-    the seed prints (eta + n), whose argument exceeds 1 for n > 0.
-    For n = 0 this is section 2.1.1 (Bisshopp-Drucker), seed eqs (4), (5); eq (5) as printed gives
+    the dissertation prints (eta + n), whose argument exceeds 1 for n > 0.
+    For n = 0 this is section 2.1.1 (Bisshopp-Drucker), [bapat2015, eqs 4, 5]; eq (5) as printed gives
     the shortening 1 - a/l, not a/l (notes section 2.1): a/l = sqrt(2 sin theta_0)/alpha.
     """
     n = load_ratio
@@ -145,7 +145,7 @@ def fixed_pinned_from_angle(theta0: float, load_ratio: float = 0.0) -> EllipticT
 def cantilever_tip_load(load: float) -> EllipticTip:
     """Section 2.1.1: straight cantilever, transverse end load P (load = P l^2/EI > 0), n = 0.
 
-    The seed omits the theta_0 equation; it is alpha = F(t) - F(g, t) (eq (6) with n = 0), solved here.
+    The dissertation omits the theta_0 equation; it is alpha = F(t) - F(g, t) (eq (6) with n = 0), solved here.
     """
     return fixed_pinned_tip(load, 0.0)
 
@@ -184,11 +184,11 @@ def curved_fixed_pinned_from_angle(theta0: float, load_ratio: float, kappa: floa
     """Initially curved fixed-pinned segment (Howell), given n, theta_0 (absolute) and kappa.
 
     kappa = kappa_0^2 / (2 alpha^2), kappa_0 = l/R_i (or the end curvature M l/EI + l/R_i).
-    Case A, 0 < |lambda| < eta, seed eqs (8), (9), alpha = [F(g2,t) - F(g1,t)]/sqrt(eta):
+    Case A, 0 < |lambda| < eta, [bapat2015, eqs 8, 9], alpha = [F(g2,t) - F(g1,t)]/sqrt(eta):
         g1 = asin sqrt((eta - n)/(eta + lambda)), g2 = asin sqrt((eta + sin th0 - n cos th0)/(eta + lambda)),
         t = sqrt((eta + lambda)/(2 eta)).
     Correction (notes/seed-ch2-4.md section 2.3, section 7 item 3): eq (9) needs eta^(5/2), not eta^2.
-    Case B, lambda > eta, seed eqs (10), (11) as printed (eta^2), with r = sqrt(2 eta/(eta + lambda)),
+    Case B, lambda > eta, [bapat2015, eqs 10, 11] as printed (eta^2), with r = sqrt(2 eta/(eta + lambda)),
         psi_i = asin sqrt(.../(2 eta)), alpha = sqrt(2/(lambda + eta)) [F(psi2, r) - F(psi1, r)];
     valid for theta_0 <= 90 deg + atan(n) (principal branch of asin), nan beyond.
     """
@@ -258,7 +258,7 @@ def fixed_guided_inflection_from_angle(theta0: float, load_ratio: float, kappa: 
     """Straight fixed-fixed segment with one inflection point (Kimball & Tsai), given n, theta_0, kappa.
 
     kappa = M^2 / (2 P EI) with M the end moment *opposing* P (clockwise for P > 0).
-    Seed 000 eqs (15), (16) are garbled as printed; this is the corrected form of
+    [bapat2015, eqs 15, 16] are garbled as printed; this is the corrected form of
     notes/seed-ch2-4.md section 2.4 (and section 7 item 4), with s = sin th0 - n cos th0, lambda = kappa + s:
         alpha = [F(g1,k) + F(g2,k)] / sqrt(eta)            (printed: sqrt(2/eta))
         g1 = asin sqrt(2 eta (lambda + n) / ((lambda + eta)(eta + n)))   (printed: lambda + eta in the numerator)
@@ -300,7 +300,7 @@ def fixed_guided_inflection_tips(load: float, load_ratio: float, opposing_moment
     """Section 2.1.4 with loads given: P (load = P l^2/EI > 0), n and the opposing moment M l/EI > 0.
 
     kappa = M^2/(2P) is fixed; theta_0 solves alpha(theta_0) = sqrt(load). Several roots are
-    possible (the seed notes that the load-specified form needs estimates); all are returned,
+    possible (the dissertation notes that the load-specified form needs estimates); all are returned,
     sorted by |theta_0|. The formula sees theta_0 only through s = sin th0 - n cos th0, so every
     (a, b) comes twice, with the two theta_0 of equal s; the one nearer 0 is the branch connected
     to the unloaded beam in every case checked against ``elastica.shooting`` (tests).
@@ -321,7 +321,7 @@ def fixed_guided_monotonic_tip(load: float, load_ratio: float, moment: float,
                                initial_curvature: float = 0.0) -> EllipticTip:
     """Section 2.1.4/2.1.5, monotonic curvature (no inflection): the curved fixed-pinned form.
 
-    Seed eqs (14), (17): kappa0 = M l/EI + l/R_i, with M the end moment in the same sense as the
+    [bapat2015, eqs 14, 17]: kappa0 = M l/EI + l/R_i, with M the end moment in the same sense as the
     curvature (CCW for P > 0; Table 2.1: P and M of the same sign give no inflection point).
     """
     return curved_fixed_pinned_tip(load, load_ratio, moment + initial_curvature)
@@ -334,7 +334,7 @@ def slfp_tip(load: float, load_ratio: float, rigid_length: float,
              initial_curvature: float = 0.0) -> EllipticTip:
     """Small-length flexural pivot (flexible l = 1) carrying a rigid segment L = ``rigid_length`` (in l).
 
-    Seed eqs (18)-(25) (Midha & Kuber): the flexible part is the curved fixed-pinned segment of
+    [bapat2015, eqs 18-25] (Midha & Kuber): the flexible part is the curved fixed-pinned segment of
     section 2.1.3 with end curvature kappa0 = M l/EI + l/R_i, where the moment at the pivot end is
     M = F L sin(phi - theta_0), F = eta P; the end of the rigid segment is then
     (a + L cos theta_0, b + L sin theta_0). Correction (notes/seed-ch2-4.md section 2.6, section 7

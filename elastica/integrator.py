@@ -44,7 +44,7 @@ files of the compiled functions it calls.
 
 Compile cost: numba compiles every jitted function on its own and links a copy of each callee into
 its caller, where LLVM optimises it again, so a chain follow_path -> newton -> residual -> dop853
-optimised the integrator once per level of the chain (31 CPU-s cold). Here only two functions are
+optimised the integrator once per level of the chain. Here only two functions are
 entry points (``follow_path`` and ``_samples``); the large functions they call once are inlined
 into them by numba (``inline='always'``: typed and optimised only as part of the caller), and the
 code uses loops instead of whole-array expressions, whose broadcasting checks drag numba's string
@@ -54,7 +54,7 @@ would type a copy per call site). ``error_model="numpy"``: a float division by z
 instead of raising, so no exception branch per division is generated (every division here has a
 nonzero divisor by construction). ``no_cpython_wrapper=True`` on the helpers only compiled code calls
 (not on ``tip_force``, which `shooting` calls, nor ``_reach``, which a test calls): numba builds and
-optimises no Python-callable wrapper for them (~1 CPU-s of LLVM time over these helpers).
+optimises no Python-callable wrapper for them (LLVM time saved on each helper).
 
 One problem structure (normalised by L and EI, ``shooting`` derives the equations) is plain arrays:
 

@@ -26,13 +26,13 @@ theta(L) = tau. The Jacobian comes from the variational equations integrated alo
 (split at the sections s_j, where the state and its sensitivities are read).
 
 Prescribed section moment (``MomentConstraint``): m(s_j) = m_j at an arc length s_j, the
-unknown being the force along a given direction. With m_j = 0 this is the seeds' inflection
-point (Bapat 2015, section 3.5.2, Case 2c, Table 3.6: b, theta_0 and the inflection location l1
+unknown being the force along a given direction. With m_j = 0 this is the dissertation's inflection
+point ([bapat2015, §3.5.2, Table 3.6], Case 2c: b, theta_0 and the inflection location l1
 given, nP, P, M unknown): the moment of the tip loads about r(s_j),
 
     m(s_j) = M + Fy (x_L - x(s_j)) - Fx (y_L - y(s_j))      (CCW M, global F),
 
-vanishes. In the seeds' signs (Fx = -nP, Fy = P, clockwise M_seed = -M) the same condition
+vanishes. In the dissertation's signs (Fx = -nP, Fy = P, clockwise M_seed = -M) the same condition
 reads M_seed + Fx (y_L - y) - Fy (x_L - x) = 0. The straight beam is singular for it (the axial
 force has no lever arm), so its path starts from a loaded state: the problem without the
 moment conditions (their forces 0), or the state under given start loads (``loaded_start``),
@@ -72,7 +72,7 @@ result; the continuation itself, with its Newton corrector and the integrations,
 (``integrator.follow_path``).
 
 Sign conventions: x along the undeformed (straight) beam from the clamp, y transverse, angles and
-moments counter-clockwise positive. The seeds' (Bapat 2015) P, nP, M for a tip are Fx = -nP,
+moments counter-clockwise positive. The dissertation's [bapat2015] P, nP, M for a tip are Fx = -nP,
 Fy = +P and a CCW moment -M (their tabulated M > 0 is clockwise, "opposing" P).
 
 Angles are in radians (degrees appear only in case files and reports).
@@ -99,7 +99,7 @@ class TipConstraint:
 
     A tip force of unknown magnitude along ``force_direction`` (default: ``direction``) is added
     to the applied loads and solved for. Directions are normalised internally. Example, the
-    seed's "b, theta_0 and n given" (Table 3.5): direction (0, 1), force_direction (-n, 1).
+    dissertation's "b, theta_0 and n given" [bapat2015, Table 3.5]: direction (0, 1), force_direction (-n, 1).
     """
 
     direction: tuple[float, float]
@@ -113,7 +113,7 @@ class MomentConstraint:
 
     A tip force of unknown magnitude along ``force_direction`` is added to the applied loads and
     solved for. ``value = 0`` makes ``at`` an inflection point of a straight beam (zero curvature
-    change). Example, the seed's Case 2c (Table 3.6, b, theta_0 and l1 given): a
+    change). Example, the dissertation's Case 2c (Table 3.6, b, theta_0 and l1 given): a
     ``TipConstraint((0, 1), b)`` (unknown P), ``tip_angle = theta_0`` (unknown M) and
     ``MomentConstraint(l1)`` (unknown nP along (1, 0)).
     """
@@ -501,14 +501,14 @@ def solve_elastica(length: float = 1.0, EI: float = 1.0, *, curvature: float = 0
 
     Load-specified: give ``force`` (Fx, Fy), ``moment`` and/or ``follower`` (tangential, normal),
     and/or ``distributed`` (wx, wy): a uniform dead load per unit length (e.g. self-weight).
-    Displacement-specified: give ``tip_x`` (the seeds' a), ``tip_y`` (b) and/or ``tip_angle``
+    Displacement-specified: give ``tip_x`` (the dissertation's a), ``tip_y`` (b) and/or ``tip_angle``
     (theta_0, rad); the conjugate loads are then unknowns, returned in ``result.force`` and
     ``result.moment``. The remaining components of ``force`` are applied as given, e.g. the
     Table 3.5 inverse problem "b, theta_0 and n given" is not expressible this way; use
     ``TipConstraint`` with a direction (see ``inverse_fixed_ratio``).
     Inflection point: ``inflection_at`` = l1 (arc length from the clamp) adds m(l1) = 0 with the
     axial force Fx unknown (``MomentConstraint(l1)``); with ``tip_y`` and ``tip_angle`` this is
-    the seed's Case 2c (Table 3.6): b, theta_0, l1 given, (Fx, Fy, M) = (-nP, P, -M_seed) out.
+    the dissertation's Case 2c (Table 3.6): b, theta_0, l1 given, (Fx, Fy, M) = (-nP, P, -M_seed) out.
     ``start_loads`` = ((Fx, Fy), M): an approximate solution (e.g. the PRBM loads) to start the
     continuation from (``loaded_start``); default: the problem without the section moments.
     ``options`` go to ``solve_path`` (rtol, atol, tol, initial_step, n_samples, ...).

@@ -26,8 +26,8 @@ in line), O(1) for any model not built within 1e-10 of one. Neither slenderness 
 enters G, so a very slender member or a very soft spring (k > 0) is held, whatever the CPU; what a
 spring too soft to carry its load does is the Newton solve's to report. A member moves as one rigid
 body exactly when its elements do (they share their interior rotations; nothing else acts at an
-interior node), so the graphs and G are of the model's size, not the mesh's: ~0.1 ms whatever the
-number of elements.
+interior node), so the graphs and G are of the model's size, not the mesh's: the check's cost does not grow
+with the number of elements.
 
 The error names the first DOF in model-node order (ux, uy, rz, then any released member end there)
 that the free motions move: its share of the null space, |N^T g_d| for the DOF's row g_d, does not

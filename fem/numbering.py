@@ -22,7 +22,7 @@ def _rcm(n_nodes, a, b):
     """Reverse Cuthill-McKee order of the nodes 0 .. n_nodes-1 of the graph with edges (a[k], b[k]).
 
     One compiled function (numba compiles and optimises each jitted function on its own: the two sorts
-    as functions of their own cost 0.3-0.4 CPU-s more of compile in every fresh checkout): each node's
+    as functions of their own would add their own compile in every fresh checkout): each node's
     neighbours sorted by degree by an insertion sort, equal degrees kept in the order their edges are
     listed; the search's starting nodes by degree, equal degrees by index (``np.argsort(degree,
     kind='stable')``), by a counting sort (the degrees are small integers)."""

@@ -1,5 +1,5 @@
 """Soft modes of a mechanism's tangent stiffness condensed to its actuation points: an FEM count of
-the degrees of freedom that the PRBM's Grubler count (seed 000 ch. 8, eq 208) predicts.
+the degrees of freedom that the PRBM's Grubler count [bapat2015, ch. 8, eq 208] predicts.
 
 At a state q (default: unloaded), the reduced tangent K (`assembly.System`) gives the flexibility of
 the chosen actuation DOFs u_a = T q (T the rows of du/dq for those DOFs, rigid-link slaves included):

@@ -8,13 +8,13 @@ condition g(F) = 0 per load level:
 
 * ``LoadRatio``: the load on the free DOF is a given multiple of the total load on a prescribed
   DOF, F = ratio * P with P = R_ref + (fixed load on the reference DOF), so g = F - ratio * P.
-  Bapat 2015 section 3.5.2, Case 2b (Table 3.5): b and theta_0 prescribed, F_x = -n P.
+  [bapat2015, §3.5.2, Table 3.5], Case 2b: b and theta_0 prescribed, F_x = -n P.
 * ``ZeroMoment``: the bending moment vanishes at a node (an inflection point). With no load
   between the node and the tip, equilibrium of that part gives (CCW moments, global forces)
 
       m(node) = M + F_y (x_tip - x_node) - F_x (y_tip - y_node),
 
-  with (F_x, F_y, M) the total tip load; g = m(node). Bapat 2015, Case 2c (Table 3.6): b, theta_0
+  with (F_x, F_y, M) the total tip load; g = m(node). [bapat2015, Table 3.6], Case 2c: b, theta_0
   and the inflection location l1 prescribed, nP along x unknown.
 
 * ``Position``: the load on the free DOF is what brings the tip (or another node) to a given

@@ -7,7 +7,7 @@ the same arithmetic, in the same order, element by element: the positions, midpo
 unknowns and chord angles agree with theirs to rounding (the sines, cosines and arctangents are the C
 library's here and may differ from NumPy's SIMD ones in the last bit). On the small meshes of an
 n/2n error estimate the NumPy version is some thirty NumPy calls on arrays of a few dozen entries,
-~120 us of call overhead a refined solve; this one call is a few microseconds.
+whose fixed per-call overhead outweighs their arithmetic; this is one call.
 
 One module, no call into another file's compiled code: numba's cache is keyed on the defining file
 only (`kernel` explains it; `tests/test_compiled_cache.py` checks it).

@@ -1,4 +1,5 @@
-"""The PRB model of a compliant mechanism built from its geometry by the seeds' rules.
+"""The PRB model of a compliant mechanism built from its geometry by the rules of [bapat2015] and
+[ananthasuresh_l18].
 
 Input: plain geometry (nodes, beams with their bending stiffness EI, rigid links, joints,
 supports), the same description the FEM reads. Output: a ``prbm.network.Network`` of rigid bodies,
@@ -8,23 +9,23 @@ How each end of a beam is held decides its model:
   clamped  - to the ground (a fixed support), to a rigid link, or to other beams welded at the node
   pinned   - a joint at the node releases the beam, or a pinned support holds it
   free     - nothing else at the node
-Rules (gamma = 0.85, K_Theta = 2.65 by default; seed 000 ch. 2 eqs (41)-(49), seed 004 sec. 3; a straight
-one-pivot beam whose end load ratio n is known (``BeamRule.load_ratio``: a free end loaded by dead forces
+Rules (gamma = 0.85, K_Theta = 2.65 by default; [bapat2015, ch. 2, eqs 41-49], [ananthasuresh_l18]; a
+straight one-pivot beam whose end load ratio n is known (``BeamRule.load_ratio``: a free end loaded by dead forces
 of one direction) takes gamma(n), K_Theta(n) of the Pauly-Midha fits (eqs 41, 43) instead, stated in its
 record):
   clamped-free, clamped-pinned: one pivot (1 - gamma) L from the clamp, characteristic radius gamma L,
       K = gamma K_Theta EI / L (fixed-pinned / fixed-free PRBM). Initially curved: the pivot
       (1 - gamma) L along the clamp tangent, characteristic radius rho L to the end,
-      K = rho K_Theta EI / L (seed 000 eqs (53)-(58)).
+      K = rho K_Theta EI / L [bapat2015, eqs 53-58].
   clamped-clamped: two pivots (1 - gamma) L / 2 from each end, a middle link gamma L, each spring
-      2 gamma K_Theta EI / L (the fixed-guided PRBM of seed 004 sec. 3.3; for a body that also
-      rotates, seed 004 sec. 3.5 says to keep 0.85 and check against the FEM).
+      2 gamma K_Theta EI / L (the fixed-guided PRBM of [ananthasuresh_l18, 07:13-12:05]; for a body that
+      also rotates, [ananthasuresh_l18, 28:08] says to keep 0.85 and check against the FEM).
   clamped-clamped and short (L <= slfp_ratio x the shorter of the two bodies it joins): a
-      small-length flexural pivot at its middle, K = EI / L (seed 000 eq (186)).
+      small-length flexural pivot at its middle, K = EI / L [bapat2015, eq 186].
   pinned-pinned (or pinned-free): a rigid link along the chord, no spring.
 Every choice can be overridden per beam (``BeamRule``).
 
-Lock (seed 003 case 4.1, notes seed-003-004 sec. 4.1): a beam clamped to the ground whose other end
+Lock ([chen2021, §4.1], notes seed-003-004 sec. 4.1): a beam clamped to the ground whose other end
 is clamped to a body pinned to the ground at G makes, with the standard pivots, a zero-mobility
 network. The lock is found from the rank of the joints' Jacobian (``Network.mobility``); the
 workaround the notes derive puts the beam's single pivot at G (gamma = |G end| / L when G lies on
@@ -46,9 +47,9 @@ from prbm.network import GROUND, LockedNetwork, Network, Pin, Slider, TorsionSpr
 __all__ = ["Node", "Beam", "RigidLink", "Joint", "Support", "Geometry", "BeamRule", "Rules", "BeamModel",
            "PRBModel", "build"]
 
-GAMMA = 0.85       # seed 004 sec. 3.1 (Howell and Midha's average)
-K_THETA = 2.65     # seed 000 ch. 2; seed 004: "gamma K_Theta ~ 2.25"
-SLFP_RATIO = 0.1   # a flexure at most a tenth of the links it joins is "short" (seed 000 sec. 2.4)
+GAMMA = 0.85       # [ananthasuresh_l18, 02:10] (Howell and Midha's average)
+K_THETA = 2.65     # [bapat2015, ch. 2]; [ananthasuresh_l18, 12:05]: "gamma K_Theta ~ 2.25"
+SLFP_RATIO = 0.1   # a flexure at most a tenth of the links it joins is "short" [bapat2015, §2.4]
 
 
 @dataclass(frozen=True)
@@ -448,7 +449,7 @@ class _Builder:
 
     def _fitted(self, rule: BeamRule) -> tuple[float, float, str]:
         """gamma and K_Theta of a straight one-pivot beam: the rule's, else the Pauly-Midha fits at the
-        beam's load ratio where the loads define one inside the fits' range (seed 000 eqs 41, 43), else
+        beam's load ratio where the loads define one inside the fits' range [bapat2015, eqs 41, 43], else
         the defaults; and the sentence that says which."""
         n = rule.load_ratio
         if rule.gamma is None and rule.K_theta is None and n is not None:
@@ -512,7 +513,8 @@ class _Builder:
                                       "there is the beam's pivot"))
 
     def _fixed_guided(self, beam: Beam, e0: _End, e1: _End, L: float, rule: BeamRule) -> None:
-        """Clamped-clamped: two pivots (1 - gamma) L/2 from the ends, 2 gamma K_Theta EI/L each (seed 004)."""
+        """Clamped-clamped: two pivots (1 - gamma) L/2 from the ends, 2 gamma K_Theta EI/L each
+        [ananthasuresh_l18, 07:13-12:05]."""
         ends = (e0.kind, e1.kind)
         if ends != ("clamped", "clamped"):
             raise ValueError(f"beam '{beam.name}': model 'fixed-guided' needs both ends clamped ({ends})")
@@ -538,7 +540,7 @@ class _Builder:
                                       "(1-gamma)L/2 from the ends, K = 2 gamma K_Theta EI/L each (seed 004 3.3)"))
 
     def _slfp(self, beam: Beam, e0: _End, e1: _End, L: float, rule: BeamRule) -> None:
-        """A short flexure: one pivot at its middle, K = EI/L (seed 000 eq 186)."""
+        """A short flexure: one pivot at its middle, K = EI/L [bapat2015, eq 186]."""
         ends = (e0.kind, e1.kind)
         if ends != ("clamped", "clamped"):
             raise ValueError(f"beam '{beam.name}': model 'slfp' needs both ends clamped ({ends})")

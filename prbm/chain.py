@@ -1,4 +1,4 @@
-"""The Chain Algorithm (Midha, Her et al.; seed 000 section 2.2, eqs 26-40) for a cantilevered segment.
+"""The Chain Algorithm (Midha, Her et al.; [bapat2015, §2.2, eqs 26-40]) for a cantilevered segment.
 
 The segment is cut into N elements; element i runs from node i-1 to node i, has length L_i, stiffness
 E_i I_i and undeformed orientation theta_i.  Marching from the clamp, each element is deflected as a
@@ -15,7 +15,7 @@ rigid rotation of that node:
 
 with (Fx, Fy) = sum over the loads outboard of node i (j >= i), the moments m_j and the lever arms
 (x_j - x_i, y_j - y_i) taken on the deformed chain (global frame O-X-Y).  The element is inextensible
-(delta_ax = 0, as the seed says is typical).
+(delta_ax = 0, as the dissertation says is typical).
 
 Readings where the printed equations are incomplete (notes seed-ch2-4 section 3):
 
@@ -116,7 +116,7 @@ def lumped_uniform_load(beam: ChainBeam, qx: float, qy: float) -> NodalLoads:
     """A dead load (qx, qy) per unit undeformed length along the whole chain, lumped at the element ends:
     each element's q L_i goes half to each of its nodes (node 0, the clamp, takes its half into the
     support), so the nodal loads keep the resultant q l; the moment of the lumped loads about any node
-    differs from the distributed one by O(L_i^2) (the trapezoid rule).  The seed's chain takes loads at
+    differs from the distributed one by O(L_i^2) (the trapezoid rule).  The dissertation's chain takes loads at
     its nodes only (eqs 26-28: (f_x)_j, (f_y)_j, m_j at node j)."""
     weights = np.full(beam.elements + 1, beam.element_length)
     weights[0] = weights[-1] = 0.5 * beam.element_length

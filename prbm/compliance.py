@@ -1,7 +1,7 @@
 """Compliance torque and compliance force of pseudo-rigid-body four-bars and slider mechanisms with
-the input on any moving link, and the mechanical advantage types of seed 000 chapter 7.
+the input on any moving link, and the mechanical advantage types of [bapat2015, ch. 7].
 
-Four-bar (seed 000 Fig. 7.1): links R2 (O2-A), R3 (A-B), R4 (O4-B) at angles theta2, theta3,
+Four-bar [bapat2015, Fig. 7.1]: links R2 (O2-A), R3 (A-B), R4 (O4-B) at angles theta2, theta3,
 theta4; torsional springs k1..k4 at O2, A, B, O4 on the joint angles beta1 = theta2, beta2 =
 theta3 - theta2, beta3 = theta4 - theta3, beta4 = theta4, each measured from its energy-free value
 (subscript 0).  The compliance torque on the input link q is the virtual work of the springs per

@@ -1,18 +1,18 @@
-"""Composite (sliding-layer) fixed-pinned beam of seed 000 section 9.2-9.3 (Test 1), with the rope
+"""Composite (sliding-layer) fixed-pinned beam of [bapat2015, §9.2-9.3] (Test 1), with the rope
 friction and follower-load options of section 9.2.
 
 * Bending stiffness of unbonded, freely sliding layers that share one deflected shape: each layer
-  bends about its own neutral axis, EI_eq = sum E_i w_i t_i^3 / 12 (the seed states "no bonding
+  bends about its own neutral axis, EI_eq = sum E_i w_i t_i^3 / 12 (the dissertation states "no bonding
   between layers" and "negligible friction that allows sliding between layers"; the composite PRBM
   of its ref. [100] is not printed, so this combination rule is the assumption here).
-* Capstan friction, seed 000 eq (211): T2 = T1 exp(mu beta).  The force delivered to the beam end
+* Capstan friction, [bapat2015, eq 211]: T2 = T1 exp(mu beta).  The force delivered to the beam end
   by a hanger of weight W over pulleys of total contact angle beta is W exp(-mu beta) (the rope
   slides toward the beam while the load is applied); ``capstan_factor`` returns exp(-mu beta).
-  The seed gives mu = 0.01 and "may contain three such pulleys", not the angles.
+  The dissertation gives mu = 0.01 and "may contain three such pulleys", not the angles.
 * Follower option: the end force keeps its angle relative to the end tangent theta0 = c_theta Theta,
   so phi = phi_nominal + c_theta Theta and equilibrium (46)-(47) becomes
   (F l^2/EI) sin(phi_nominal + (c_theta - 1) Theta) = K_Theta Theta (solved by Brent's method on
-  [0, (F l^2/EI + 1)/K_Theta]).  The fits are evaluated at the nominal n (an assumption; the seed
+  [0, (F l^2/EI + 1)/K_Theta]).  The fits are evaluated at the nominal n (an assumption; the dissertation
   gives no equation).
 
 Finding (notes seed-ch5-9 section 8.1, re-checked here): Tables 9.1-9.3's PRBM columns are not

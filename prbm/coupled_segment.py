@@ -8,7 +8,7 @@ point is at
     p = (a + i b) + r0_p e^{i gamma}.
 
 Dead loads (fixed direction) F_k and couples M_k act at body points r0_k.  Transferred to the end
-(seed 000 eq (173) read backwards, with the *current* offset):
+([bapat2015, eq 173] read backwards, with the *current* offset):
 
     F_E = sum_k F_k,        M_E(theta0) = sum_k M_k + sum_k Im(conj(r_k) F_k),  r_k = r0_k e^{i gamma}
 
@@ -18,7 +18,7 @@ transfers the design loads with the body not yet rotated; see ``cases/chapter5/e
 
 Segment models:
 
-* ``InflectionBeam`` (fixed-guided with one inflection point, seed 000 eqs (83)-(104) =
+* ``InflectionBeam`` (fixed-guided with one inflection point, [bapat2015, eqs 83-104] =
   chapter-5 eqs (131)-(152)): eq (99)/(147) takes M_E(theta0) and the three equations
   (95), (96), (99) are solved together (``solve_loads`` with a moment function), so the root
   search and ordering are those of the chapter-3 solver.

@@ -1,8 +1,8 @@
-"""Degrees of freedom and static mode shapes of a compliant mechanism from its PRBM (seed 000 ch. 8).
+"""Degrees of freedom and static mode shapes of a compliant mechanism from its PRBM [bapat2015, ch. 8].
 
 Grubler (207): F = 3(n - 1) - 2j - h, n bodies including the ground, j lower pairs, h higher pairs.
 Eq (208): F_C = f_r + f_e, both by (207) on the PRBM (Prasanna et al.). F_C is Grubler's count on the
-whole PRBM in which every compliant segment is replaced by the PRBM of its static mode shape. The seed
+whole PRBM in which every compliant segment is replaced by the PRBM of its static mode shape. The dissertation
 does not print the rule that splits it (refs [97, 98]); this module reads it off (207) itself: with
 n_r rigid bodies (ground included), j_r rigid-body joints, and l_k links and p_k pivots for segment k,
 

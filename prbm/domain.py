@@ -1,7 +1,7 @@
-"""Characteristic deflection domains (seed 000 chapter 4): reachable end positions of a segment type,
+"""Characteristic deflection domains [bapat2015, ch. 4]: reachable end positions of a segment type,
 found by sweeping its PRBM over load ratios and load levels, and the boundary curves of the cloud.
 
-Procedure of section 4.2 / Fig. 4.1 (the flowchart is missing from the seed): apply a wide range of
+Procedure of section 4.2 / Fig. 4.1 (the flowchart is missing from the dissertation): apply a wide range of
 end-load combinations, compute the end points, extract the lower and upper boundaries.  Here the
 boundaries are, for each normalised transverse deflection b/l (binned), the smallest and largest
 normalised end position a/l of the cloud.  ``fit_radius`` fits a PRBM circle (centre (1 - gamma) l
@@ -165,7 +165,7 @@ def _curved_grid(kappa0, n, fam, theta0_max_deg: float, n_theta: int) -> dict[st
 
 def curved_fixed_pinned_domain(curvature, n_values=None, theta0_max_deg: float = 90.0, n_theta: int = 91,
                                family="pauly-midha", bins: int = 60) -> dict:
-    """Characteristic deflection domain of an initially curved fixed-pinned segment (seed 000 section 4.5).
+    """Characteristic deflection domain of an initially curved fixed-pinned segment [bapat2015, §4.5].
 
     curvature: kappa0 = l/R_i (dimensionless, CCW positive; eq 53), a scalar or an array of values.
     For one kappa0 this is the domain of that beam; for an array the cloud is the union, like the
@@ -173,9 +173,9 @@ def curved_fixed_pinned_domain(curvature, n_values=None, theta0_max_deg: float =
     Swept: n over n_values (default 141 values over -4 < n <= 10), force P > 0 (first quadrant, as the
     seed's theta0 in 1..90 deg), PRB angle from Theta_i until the force-induced end rotation
     |theta0 - kappa0| reaches theta0_max_deg or Theta reaches phi.  Model: eqs (53)-(61) as in
-    ``prbm.segments.curved_fixed_pinned_tip`` (straight-beam gamma, c_theta, K_Theta at n: the seed
+    ``prbm.segments.curved_fixed_pinned_tip`` (straight-beam gamma, c_theta, K_Theta at n: the dissertation
     gives no curvature dependence); as kappa0 -> 0 it becomes ``fixed_pinned_domain``.
-    Not covered: P < 0 (the curved beam is not symmetric about its axis), the seed's elliptic
+    Not covered: P < 0 (the curved beam is not symmetric about its axis), the dissertation's elliptic
     (eqs 8-9) cloud and Su's theta0max (112), so gamma_l = 0.7431, gamma_u = 0.8148 (113-114) are
     not reproduced.  Load ratios outside the fit range are excluded (``excluded`` counts grid points).
 
@@ -192,7 +192,7 @@ def curved_fixed_pinned_domain(curvature, n_values=None, theta0_max_deg: float =
 def fixed_guided_domain(n_values=None, theta0_max_deg: float = 90.0, n_theta: int = 91,
                         family="pauly-midha", bins: int = 60) -> dict:
     """Characteristic deflection domain of an initially straight fixed-guided segment, end slope held
-    at zero, by the two-spring PRBM (seed 000 eq (63), seed 004 "Fixed-guided beam"; section 4.6).
+    at zero, by the two-spring PRBM ([bapat2015, eq 63], [ananthasuresh_l18, 07:13-12:05]; section 4.6).
 
     Each half (l/2) is a fixed-pinned PRBM, so the middle link gamma l turns by Theta between two
     springs k = 2 gamma K_Theta EI/l: a = 1 - gamma (1 - cos Theta), b = gamma sin Theta (normalised
@@ -201,7 +201,7 @@ def fixed_guided_domain(n_values=None, theta0_max_deg: float = 90.0, n_theta: in
     Theta reaches phi.  The end moment that holds the slope is returned as moment = M l/EI
     (= -(2 gamma K_Theta Theta + (1 - gamma) alpha2 / 2), CCW positive, as ``fixed_guided_tip``).
     Not covered: the fixed-guided segment with one inflection point and a free end angle of
-    Figs. 4.9-4.12 (Midha et al.'s PRBM with the kappa range of eq 126), so the seed's lower bound
+    Figs. 4.9-4.12 (Midha et al.'s PRBM with the kappa range of eq 126), so the dissertation's lower bound
     (116)/(117) and gamma_u = 0.9035 (118) are not reproduced; this is the theta0 = 0 slice.
     Since the geometry is the fixed-pinned one with the same gamma(n) and the same Theta cap, the
     cloud coincides with ``fixed_pinned_domain``'s (only the load differs, by a factor 4).
@@ -227,7 +227,7 @@ def fixed_fixed_monotonic_domain(moment_values, n_values=None, curvature: float 
                                  theta0_max_deg: float = 90.0, n_theta: int = 91, family="pauly-midha",
                                  kappa_monotonic: float = 2.0, bins: int = 60) -> dict:
     """Characteristic deflection domain of a fixed-fixed (fixed-guided) segment with monotonic
-    curvature (seed 000 section 4.6, Fig. 4.8), with the moment bounds of section 4.6.1.
+    curvature [bapat2015, §4.6, Fig. 4.8], with the moment bounds of section 4.6.1.
 
     moment_values: end moments m = M l/EI (CCW positive, i.e. the same rotational sense as P > 0);
     curvature: l/R_i of an initially curved segment (eq 119).  The segment is the curved fixed-pinned
@@ -262,7 +262,7 @@ def fixed_fixed_monotonic_domain(moment_values, n_values=None, curvature: float 
 def slfp_domain(flexure_fraction: float, n_values=None, curvature: float = 0.0, theta_max_deg: float = 90.0,
                 n_theta: int = 91, bins: int = 60) -> dict:
     """Characteristic deflection domain of a fixed-free segment made of a small-length flexural pivot
-    (length l) and a rigid segment (length L), seed 000 section 4.7 (eqs 71-82, 127).
+    (length l) and a rigid segment (length L), [bapat2015, §4.7] (eqs 71-82, 127).
 
     flexure_fraction = l/(l + L) (small: the model assumes l << L); curvature: kappa0 = l/R_i of the
     flexure (0 for the initially straight SLFP).  Positions are normalised by the segment length
@@ -272,7 +272,7 @@ def slfp_domain(flexure_fraction: float, n_values=None, curvature: float = 0.0, 
     n_values (default 141 values over -4..10; no fit is involved, so nothing is excluded), P > 0,
     Theta from Theta_i toward phi until |Theta - Theta_i| = theta_max_deg or Theta reaches phi.
     The domain is an arc of radius (l/2 + L) about the pivot (eq 127): a curve, not a region.
-    Not covered: P < 0, and the Midha-Kuber elliptic solution the seed cites.
+    Not covered: P < 0, and the Midha-Kuber elliptic solution the dissertation cites.
 
     Returns a, b, theta0, Theta, alpha2 = P (l + L)^2/EI, n per point, the boundary curves,
     ``radius`` (eq 127, normalised) and ``excluded`` (always 0).

@@ -1,5 +1,5 @@
 """Pseudo-rigid-body representations of the boundaries of characteristic deflection domains
-(seed 000 chapter 4), as curves a/l(b/l) to overlay on a cloud of end points.
+[bapat2015, ch. 4], as curves a/l(b/l) to overlay on a cloud of end points.
 
 * ``prbm_arc``: a bound drawn as the path of a PRB link of length gamma l about the characteristic
   pivot (1 - gamma) l on the undeformed axis (eqs 48, 49): a/l = 1 - gamma + sqrt(gamma^2 - (b/l)^2).
@@ -8,7 +8,7 @@
   a circle of radius gamma-bar_l l about the fixed end (eq 117): a/l = sqrt(gamma-bar^2 - (b/l)^2).
 * ``inflection_lower_bound``: the sixth-order curve fit of that lower bound (eq 116, R^2 = 0.998),
   a^ = 0.934 - 0.0591 b^ - 1.6211 b^2 + 4.9649 b^3 - 11.366 b^4 + 13.746 b^5 - 7.0759 b^6, with
-  a^ = a/l and b^ = b/l; its coefficients are the seed's model (as the n-fits of ``prbm.fits``).
+  a^ = a/l and b^ = b/l; its coefficients are the dissertation's model (as the n-fits of ``prbm.fits``).
 * ``slfp_arc_radius``: the domain of a segment with a small-length flexural pivot is an arc of radius
   l/2 + L about the middle of the flexure (eq 127; a length, not a factor).
 

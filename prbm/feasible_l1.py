@@ -1,4 +1,4 @@
-"""Feasible inflection-point locations of a fixed-guided beam by the PRBM vector loop (seed 000 section 3.6,
+"""Feasible inflection-point locations of a fixed-guided beam by the PRBM vector loop ([bapat2015, §3.6],
 eqs 105-107), and the approximate characteristic deflection domain they sweep.
 
 The PRBM of the beam with one inflection point (Fig. 3.9, missing) is the vector loop (Fig. 3.10, missing)

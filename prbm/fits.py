@@ -2,14 +2,14 @@
 
 Two published families are implemented, each exactly as printed, with its stated n-range enforced:
 
-* ``PAULY_MIDHA``: seed 000 (Bapat 2015) eqs (41) gamma, (42) c_theta, (43) K_Theta, coefficients of
+* ``PAULY_MIDHA``: [bapat2015, eqs 41-43]: (41) gamma, (42) c_theta, (43) K_Theta, coefficients of
   Pauly & Midha, valid for -4 < n <= 10.  This is the family the dissertation uses in chapter 3
   (eqs 83-92) and chapter 9.
-* ``HOWELL``: seed 004 (PRB lecture, slide "A PRB of a cantilever beam with an arbitrary tip-load",
-  Howell 2001): gamma on -5 < n < 10 (three branches, open intervals as printed), K_Theta on
-  -5 < n <= 10.  Seed 004 gives no c_theta; ``c_theta`` of this family is therefore unavailable.
+* ``HOWELL``: [ananthasuresh_l18, 05:41] (slide "A PRB of a cantilever beam with an arbitrary tip-load",
+  after Howell 2001): gamma on -5 < n < 10 (three branches, open intervals as printed), K_Theta on
+  -5 < n <= 10.  The lecture gives no c_theta; ``c_theta`` of this family is therefore unavailable.
 
-Load ratio (seed 000 eq 43 where-clause, sign fixed by reproducing Tables 3.2-3.6): the end force is
+Load ratio ([bapat2015, eq 43] where-clause, sign fixed by reproducing Tables 3.2-3.6): the end force is
 (F_x, F_y) = (-nP, P), i.e. n > 0 is compressive (pushes toward the clamp); phi = atan2(1, -n).
 
 The piecewise fits jump at their breakpoints (they are separate regressions).  The jumps are
@@ -26,8 +26,8 @@ Outside the stated range a ``FitRangeError`` is raised (``extrapolate="raise"``,
 that need to evaluate trial points outside the range use ``extrapolate="allow"`` internally and
 check their converged answer against the range afterwards.
 
-Pure end moment (seed 004, "Cantilever with a pure end moment"): gamma = 0.7346 and a torsion
-spring of 1.5164 EI/L.  Seed 004 calls 1.5164 the spring constant in units of EI/L; in Howell's
+Pure end moment [ananthasuresh_l18, 16:59-21:58]: gamma = 0.7346 and a torsion spring of 1.5164 EI/L.
+The lecture calls 1.5164 the spring constant in units of EI/L; in Howell's
 notation k = gamma K_Theta EI/L, so its K_Theta would be 1.5164/0.7346 = 2.0643.  Since the exact
 tip slope of a cantilever under an end moment is ML/EI = 1.5164 Theta, c_theta = 1.5164 follows.
 
@@ -232,15 +232,15 @@ def fit_family(name: str | FitFamily) -> FitFamily:
         raise ValueError(f"unknown fit family {name!r}; known: {', '.join(FAMILIES)}") from None
 
 
-# The PRB angle range of the fixed-pinned fits: the only range the seed prints for them is that of the
-# Theta-dependent K_Theta fits (51)-(52), "0 < Theta <= 65 deg" (seed 000 section 2.3.1); past it the
+# The PRB angle range of the fixed-pinned fits: the only range the dissertation prints for them is that of the
+# Theta-dependent K_Theta fits (51)-(52), "0 < Theta <= 65 deg" [bapat2015, §2.3.1]; past it the
 # end-point error grows quickly (notes seed-ch2-4 section 4.1: 0.2-1.4 % of l up to Theta ~ 60 deg,
 # 3.8 % and 7.7 % at 97 and 120 deg).
 THETA_RANGE = math.radians(65.0)
 
-# Pure end moment, seed 004 ("Cantilever with a pure end moment").
+# Pure end moment [ananthasuresh_l18, 16:59-21:58].
 PURE_MOMENT_GAMMA = 0.7346
-PURE_MOMENT_SPRING = 1.5164          # k = 1.5164 EI/L (seed 004 wording: "torsion spring constant")
+PURE_MOMENT_SPRING = 1.5164          # k = 1.5164 EI/L (the lecture's wording: "torsion spring constant")
 PURE_MOMENT_K_THETA = PURE_MOMENT_SPRING / PURE_MOMENT_GAMMA  # Howell's K_Theta, k = gamma K_Theta EI/L
 PURE_MOMENT_C_THETA = PURE_MOMENT_SPRING  # from the exact theta_0 = M L / EI
 
@@ -251,5 +251,5 @@ def load_angle(n):
 
 
 def load_ratio(phi):
-    """n = -1/tan(phi) = -cos(phi)/sin(phi) (seed 000 eqs 93/94)."""
+    """n = -1/tan(phi) = -cos(phi)/sin(phi) [bapat2015, eqs 93/94]."""
     return -np.cos(phi) / np.sin(phi)

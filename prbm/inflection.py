@@ -1,8 +1,8 @@
-"""Fixed-guided compliant beam with one inflection point: the chapter-3 PRBM of seed 000 (Bapat 2015).
+"""Fixed-guided compliant beam with one inflection point: the chapter-3 PRBM of [bapat2015].
 
 The inflection point P_i carries no moment, so it is an instantaneous pin splitting the beam into
 segment 1 (clamp O to P_i, length l1, frame O-X-Y) and segment 2 (guided end E back to P_i, length
-l2, frame E-x-y), each a fixed-pinned PRBM with the Pauly-Midha fits (seed 000 eqs 83-104):
+l2, frame E-x-y), each a fixed-pinned PRBM with the Pauly-Midha fits [bapat2015, eqs 83-104]:
 
   gamma_i, c_theta_i, K_theta_i = fits(n_i)                                   (83)-(92), (41)-(43)
   n_i = -1/tan(phi_i)                                                          (93), (94)
@@ -39,11 +39,11 @@ extrapolated during the iteration, and such roots are reported as rejected, neve
 Roots with 0 < phi2 < pi come first (there the fits' n2 = -1/tan(phi2) describes a segment-2 load
 with positive transverse component, as the fits assume; other roots are flagged in their status),
 then by the PRBM strain energy (1/2) sum k_i Theta_i^2, k_i = g_i K_i EI/l_i (minimum total
-potential energy, seed 000 chapter 8), lowest first; ``prefer=(key, target)`` orders by closeness
+potential energy, [bapat2015, ch. 8]), lowest first; ``prefer=(key, target)`` orders by closeness
 of ``key`` to ``target`` instead.  Example: Table 3.3 Ex. 3 has two valid roots, the printed one
 (nP = -35.635, U = 47.15 in-lb) and nP = 8.566, P = 3.328, M = 60.249, l1 = 7.232 (phi2 = 203.8 deg,
 U = 44.42 in-lb); the ordering reports the printed one first.
-Displacement problems search P > 0 (phi1 in (0, pi)), as in every table of the seed; for P < 0
+Displacement problems search P > 0 (phi1 in (0, pi)), as in every table of the dissertation; for P < 0
 mirror the boundary conditions (b, theta0 -> -b, -theta0).
 
 Angles are in radians (degrees appear only in case files and reports).
@@ -309,8 +309,8 @@ def _valid(beam, s, tol=1e-8) -> tuple[bool, str]:
 def _start_grid(*axes: tuple[float, float, int, bool]) -> np.ndarray:
     """The multistart grid of a problem: every combination of the axes' points, each axis
     ``(first, last, count, angle)`` = np.linspace(first, last, count) (in degrees turned to radians
-    when ``angle``), the first axis slowest; a constant of the problem, built once (read-only: a few
-    milliseconds of Python tuples a solve otherwise)."""
+    when ``angle``), the first axis slowest; a constant of the problem, built once (read-only), not again
+    for every solve."""
     points = [np.linspace(first, last, count) * DEG if angle else np.linspace(first, last, count)
               for first, last, count, angle in axes]
     grid = np.stack(np.meshgrid(*points, indexing="ij"), axis=-1).reshape(-1, len(axes))
@@ -329,7 +329,7 @@ def _multistart(residual, grid: np.ndarray, keep: int, xtol: float, point_kernel
     norms = np.where(np.isfinite(norms), norms, np.inf)
     order = np.argsort(norms)[:keep]
 
-    def point(x):   # MINPACK's point as plain floats: numpy scalars would make each operation ~4x slower
+    def point(x):   # MINPACK's point as plain floats: numpy scalar arithmetic is slower than float's
         return np.array(residual(x.tolist(), point_kernel), dtype=float)
 
     roots, nfev = [], 0
@@ -390,7 +390,7 @@ def _package(beam, states, problem, given, t0, nfev, prefer) -> PRBMResult:
 
 def solve_loads(beam: InflectionBeam, P: float, nP: float, M: float, *, prefer="energy",
                 xtol: float = 1e-12, starts: int = 20) -> PRBMResult:
-    """Load-specified problem (seed 000 section 3.5.1, Table 3.2): P, nP, M (M opposing) -> a, b, theta0.
+    """Load-specified problem [bapat2015, §3.5.1, Table 3.2]: P, nP, M (M opposing) -> a, b, theta0.
 
     Unknowns theta0, l1, theta10; residuals (95), (96), (99).  P < 0 is handled by mirroring.
     ``M`` may also be a vectorised function of the end angle theta0 (radians), e.g. the moment of
@@ -433,7 +433,7 @@ def _one_number(name: str, value) -> float:
 def solve_displacements(beam: InflectionBeam, *, b: float, theta0: float, a: float | None = None,
                         n: float | None = None, l1: float | None = None, prefer="energy",
                         xtol: float = 1e-12, starts: int = 20) -> PRBMResult:
-    """Displacement-specified problems of seed 000 section 3.5.2 (theta0 in radians).
+    """Displacement-specified problems of [bapat2015, §3.5.2] (theta0 in radians).
 
     Give b and theta0 and exactly one of: a (case 1, Table 3.3), n (cases 2a/2b, Tables 3.4/3.5;
     n = 0 is the tables' "n1 = 0"), l1 (case 2c, Table 3.6).  Returns P, nP, M (opposing), l1,

@@ -1,12 +1,12 @@
-"""Fixed-guided segments with one inflection point each, joined by one rigid coupler (seed 000 ch. 5).
+"""Fixed-guided segments with one inflection point each, joined by one rigid coupler [bapat2015, ch. 5].
 
-The fully-compliant "Type A" mechanisms of seed 000 section 5.5 (Examples 2 and 3): every segment j
+The fully-compliant "Type A" mechanisms of [bapat2015, §5.5] (Examples 2 and 3): every segment j
 is clamped at its root O_j and rigidly attached at its end E_j to one rigid coupler that carries the
 coupler point P.  Each segment is the chapter-3/5 PRBM of a fixed-guided beam with one inflection
 point (three pivots: two characteristic pivots and the instantaneous pin at the inflection point;
-seed 000 eqs (131)-(152) = (83)-(104), ``prbm.inflection``).
+[bapat2015, eqs 131-152] = (83)-(104), ``prbm.inflection``).
 
-Forward model (the seed's verification: "specifying the transverse deflection and rotation of the
+Forward model (the dissertation's verification: "specifying the transverse deflection and rotation of the
 rigid coupler", Tables 5.5-5.6).  The coupler point is moved by s along a unit direction u and the
 coupler turned by gamma; its motion t along w = i u is free and carries no external force.  For a
 trial t the coupler pose fixes every segment end (the vector loop of eq 154):

@@ -1,6 +1,6 @@
 """A module imported at its first use: ``LazyModule("scipy.optimize")`` stands for the module and
 imports it when one of its attributes is first read, so the heavy dependencies (scipy.optimize,
-~0.7 s to import) are paid for only by the code paths that call them, not by every ``import prbm``.
+slow to import) are paid for only by the code paths that call them, not by every ``import prbm``.
 
 No mathematics and no angles here (radians everywhere in the library). The project's own modules
 loaded this way are also named in an ``if TYPE_CHECKING:`` import beside the ``LazyModule``, so the

@@ -1,4 +1,4 @@
-"""Lyon et al.'s PRBM of a fixed-guided segment with one inflection point (seed 000 section 2.3.4, eqs 64-70).
+"""Lyon et al.'s PRBM of a fixed-guided segment with one inflection point [bapat2015, §2.3.4, eqs 64-70].
 
 The inflection point is taken as a pin: the beam is two fixed-pinned segments, A (clamp to pin, length
 l_A) and B (guided end E back to the pin, length l_B), each a Pauly-Midha PRBM (eqs 41-43) with PRB
@@ -12,7 +12,7 @@ phi (global; psi = phi - 90 deg is the force angle from the beam normal, the rea
     theta_A / theta_B = gamma_B K_B l_A / (gamma_A K_A l_B)   (equal spring torques)             (69)
     l_A + l_B = l                                                                            (70)
 
-What the seed leaves open (its Fig. 2.19 is missing), and the reading taken here:
+What the dissertation leaves open (its Fig. 2.19 is missing), and the reading taken here:
 
 * C_A, C_B are not defined.  C = c_theta - 1 (eq 42) makes (64)-(65) theta_E = c_A theta_A - c_B theta_B,
   the slope compatibility at the inflection point that chapter 3 writes as eq (101).

@@ -19,7 +19,7 @@ class PRBMResult:
     outputs: name -> array over load levels (e.g. 'a', 'b', 'theta0' in radians, 'Theta', 'P', 'M').
     constants: the model constants used (gamma, K_theta, c_theta, k, ...), arrays over levels when
         they depend on the load.
-    model: the model's name and the seed equations it implements.
+    model: the model's name and the source equations it implements (cited by key, ``references``).
     wall_time: seconds spent in the solve.
     roots: for problems with several valid solutions, a list (one entry per level) of lists of
         dicts, one per root found; the first root is the one reported in ``outputs``.

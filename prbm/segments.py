@@ -14,40 +14,41 @@ root is unique.
 Structure: each model's level equations have one implementation, a plain-float kernel for one load
 level (``_fixed_pinned_level``, ``_pure_moment_level``, ``_curved_level``, ``_fixed_guided_level``), fed
 the constants of its load ratio (the n-fits and what follows from them, evaluated once per distinct
-ratio); the public functions loop it over the levels (a case has a few; a numpy call costs about a
-microsecond whatever its length, more than a level's arithmetic).  ``spring_angle`` itself keeps a numpy
+ratio); the public functions loop it over the levels (a case has a few; a numpy call's fixed
+overhead, whatever its length, exceeds a level's arithmetic).  ``spring_angle`` itself keeps a numpy
 iteration for long arrays given to it directly (``slfp_tip``, ``curved_pinned_pinned``).
 
 Conventions: x along the undeformed segment from the fixed end, y transverse, CCW-positive angles;
-the end force is (-nP, P), so n > 0 is compressive (seed 000, notes to Tables 3.2-3.6);
+the end force is (-nP, P), so n > 0 is compressive ([bapat2015], notes to Tables 3.2-3.6);
 phi = atan2(1, -n).  For P < 0 the model is mirrored about x (b, theta0, Theta change sign) and the
 fits are evaluated at the mirrored ratio -n, so that the axial component -nP is preserved.
 Angles in radians; lengths, forces and EI in any consistent units.
 
-Models and their seed equations:
+Models and their source equations:
 * ``fixed_pinned_tip`` / ``fixed_pinned_from_tip``: initially straight fixed-pinned (fixed-free)
-  segment under an end force, seed 000 eqs (41)-(50) (Howell-Midha, Pauly-Midha fits), or seed 004's
-  Howell fits with ``family="howell"`` (no c_theta there: theta0 is then not available).
-* ``pure_moment_tip`` / ``pure_moment_from_tip``: end moment, seed 004 (gamma = 0.7346, k = 1.5164 EI/L).
-* ``curved_fixed_pinned_tip``: initially curved fixed-pinned, seed 000 eqs (53)-(61).  The seed omits
+  segment under an end force, [bapat2015, eqs 41-50] (Howell-Midha, Pauly-Midha fits), or the Howell fits
+  of [ananthasuresh_l18, 05:41] with ``family="howell"`` (no c_theta there: theta0 is then not available).
+* ``pure_moment_tip`` / ``pure_moment_from_tip``: end moment, [ananthasuresh_l18, 16:59-21:58]
+  (gamma = 0.7346, k = 1.5164 EI/L).
+* ``curved_fixed_pinned_tip``: initially curved fixed-pinned, [bapat2015, eqs 53-61].  The dissertation omits
   the load relation, any dependence of gamma, K_Theta, c_theta on the initial curvature, and the
   theta0 map; assumed here (and stated in the result): k = rho K_Theta EI/l with the straight-beam
   K_Theta(n), equilibrium (*) with R = rho l, and theta0 = kappa0 + c_theta (Theta - Theta_i).  The
   dependence on the initial curvature is geometric only (Theta_i and rho from kappa0 = l/R_i).
-* ``fixed_guided_tip``: initially straight fixed-guided segment (end slope held at zero), seed 000
-  eq (63) (k = 2 gamma K_Theta EI/l, two springs) and seed 004 "Fixed-guided beam" (two half-PRBMs,
+* ``fixed_guided_tip``: initially straight fixed-guided segment (end slope held at zero), [bapat2015,
+  eq 63] (k = 2 gamma K_Theta EI/l, two springs) and [ananthasuresh_l18, 07:13-12:05] (two half-PRBMs,
   middle link gamma l, end links (1-gamma) l/2); the end moment that holds the slope is returned.
 * ``fixed_guided_monotonic_tip``: fixed-guided (or fixed-fixed) segment with monotonic curvature:
   the curved fixed-pinned PRBM with the end moment as an equivalent initial curvature
-  kappa0 = M l / EI (+ l/R_i if initially curved), seed 000 eqs (62), (14), (17), (119).
-* ``slfp_tip``: small-length flexural pivot (straight, or initially curved), seed 000 eqs (71)-(82),
+  kappa0 = M l / EI (+ l/R_i if initially curved), [bapat2015, eqs 62, 14, 17, 119].
+* ``slfp_tip``: small-length flexural pivot (straight, or initially curved), [bapat2015, eqs 71-82],
   k = EI/l, pivot at the middle of the flexure, PRB link L + l/2.  Eq (76)'s moment arm is
   L + l/2 (the printed F l sin(phi - theta0) of section 2.1.6 is a misprint, notes seed-ch2-4 s. 2.6).
 * ``curved_pinned_pinned``: initially curved pinned-pinned segment as two initially curved
-  fixed-pinned halves fixed at mid-span (Edwards et al., seed 000 section 2.3.5, which prints no
+  fixed-pinned halves fixed at mid-span (Edwards et al., [bapat2015, §2.3.5], which prints no
   equations).  The force along the chord is a pure axial load on each half (n infinite), outside
-  every published n-fit, so constant gamma and K_Theta are used (default seed 004's averages
-  0.85 and 2.65) and reported.
+  every published n-fit, so constant gamma and K_Theta are used (default the averages of
+  [ananthasuresh_l18], 0.85 and 2.65) and reported.
 """
 from __future__ import annotations
 
@@ -109,7 +110,7 @@ _PLAIN = (float, int, np.float64)  # one load level given as a number
 
 
 def _spring_angle_scalar(FR, phi, k, theta_i, xtol=1e-13, maxiter=60):
-    """``spring_angle`` for one level in plain floats (a few microseconds; called once per load level by
+    """``spring_angle`` for one level in plain floats (called once per load level by
     every segment model's level kernel, so it is written for CPython: module-global math functions,
     each quantity computed once per iteration, no helper calls).
 
@@ -374,7 +375,7 @@ def _fixed_pinned_ratio(xp: _Ops, n_eff, length: float, EI: float, fam, extrapol
 
 
 def _fixed_pinned_level(xp: _Ops, Pabs, sign, c: _FixedPinnedRatio, length: float, EI: float) -> tuple:
-    """The fixed-pinned model at a level (floats) or at all levels (arrays) (seed 000 eqs (44)-(49)), the
+    """The fixed-pinned model at a level (floats) or at all levels (arrays) [bapat2015, eqs 44-49], the
     load mirrored to P >= 0 (sign restores it): F = P eta, (F l^2/EI) sin(phi - Theta) = K_theta Theta,
     a = l - gamma l (1 - cos Theta), b = gamma l sin Theta, theta0 = c_theta Theta.
     Returns (a, b, theta0, Theta, F, converged, iterations)."""
@@ -389,7 +390,7 @@ def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
                      extrapolate: str = "raise") -> PRBMResult:
     """Tip of an initially straight fixed-pinned (fixed-free) segment under the end force (-nP, P).
 
-    Seed 000 eqs (41)-(49): gamma, c_theta, K_theta from the n-fits; F = P sqrt(1+n^2);
+    [bapat2015, eqs 41-49]: gamma, c_theta, K_theta from the n-fits; F = P sqrt(1+n^2);
     (F l^2/EI) sin(phi - Theta) = K_theta Theta (46)-(47), i.e. (*) with R = gamma l and
     k = gamma K_theta EI/l (45); a = l - gamma l (1 - cos Theta) (48); b = gamma l sin Theta (49);
     theta0 = c_theta Theta (44).  Over P (and n): the level kernel ``_fixed_pinned_level`` level by
@@ -475,7 +476,8 @@ def fixed_pinned_from_tip(*, n=0.0, a=None, b=None, theta0=None, length: float, 
 
 @checked(positive=('length', 'EI'), finite=('M',))
 def pure_moment_tip(M, *, length: float, EI: float) -> PRBMResult:
-    """Cantilever under an end moment M (CCW): seed 004 PRBM, gamma = 0.7346, k = 1.5164 EI/L.
+    """Cantilever under an end moment M (CCW): the PRBM of [ananthasuresh_l18, 16:59-21:58],
+    gamma = 0.7346, k = 1.5164 EI/L.
 
     Theta = M / k; a = l - gamma l (1 - cos Theta); b = gamma l sin Theta; theta0 = 1.5164 Theta
     (= M l/EI, exact).  The exact arc is in the outputs too (a_exact, b_exact) for comparison.  Level by
@@ -535,9 +537,9 @@ def curved_fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, curvature: fl
                             family="pauly-midha", extrapolate: str = "raise") -> PRBMResult:
     """Initially curved fixed-pinned segment (initial curvature 1/R_i, CCW positive), end force (-nP, P).
 
-    Seed 000 eqs (53)-(61): kappa0 = l/R_i (53); a_i, b_i (55)-(56); Theta_i (54); rho (57);
+    [bapat2015, eqs 53-61]: kappa0 = l/R_i (53); a_i, b_i (55)-(56); Theta_i (54); rho (57);
     k = rho K_Theta EI/l (58); a = l - gamma l + rho l cos Theta (59); b = rho l sin Theta (60).
-    Assumed (not in the seed): equilibrium (*) with R = rho l, gamma/K_Theta/c_theta from the straight
+    Assumed (not in the dissertation): equilibrium (*) with R = rho l, gamma/K_Theta/c_theta from the straight
     fits at n, theta0 = kappa0 + c_theta (Theta - Theta_i).  Level by level with ``_curved_level``.
     """
     t0 = time.perf_counter()
@@ -597,7 +599,7 @@ def _curved_ratio(xp: _Ops, kappa0: float, fit: tuple, length: float, EI: float)
     else:
         a_i = length / kappa0 * math.sin(kappa0)
         b_i = length / kappa0 * (1.0 - math.cos(kappa0))
-    rho = xp.hypot(a_i / length - (1.0 - gamma), b_i / length)  # numpy's hypot on both paths (as before)
+    rho = xp.hypot(a_i / length - (1.0 - gamma), b_i / length)  # numpy's hypot on both paths: one value on both
     return _CurvedRatio(gamma, c_theta, K, rho, rho * K * EI / length, xp.atan2(b_i, a_i - length * (1.0 - gamma)))
 
 
@@ -644,8 +646,8 @@ def fixed_guided_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
                      extrapolate: str = "raise") -> PRBMResult:
     """Initially straight fixed-guided segment, end slope held at 0, end force (-nP, P).
 
-    Seed 000 eq (63) and seed 004 "Fixed-guided beam": two half-beams of l/2, each a fixed-pinned
-    PRBM, so a middle link gamma l between two springs k = 2 gamma K_Theta EI/l.  Virtual work:
+    [bapat2015, eq 63] and [ananthasuresh_l18, 07:13-12:05]: two half-beams of l/2, each a
+    fixed-pinned PRBM, so a middle link gamma l between two springs k = 2 gamma K_Theta EI/l.  Virtual work:
     2 k Theta = F gamma l sin(phi - Theta), i.e. (F l^2/EI) sin(phi - Theta) = 4 K_Theta Theta;
     a = l - gamma l (1 - cos Theta); b = gamma l sin Theta; theta0 = 0.  The end moment holding the
     slope (CCW, reaction applied to the beam) is M = -k Theta - (1 - gamma) l P / 2 (-> -P l/2 for
@@ -720,8 +722,8 @@ def _fixed_guided_arrays(P, n, length: float, EI: float, fam, extrapolate: str, 
 def fixed_guided_monotonic_tip(P, n=0.0, M=0.0, *, length: float, EI: float, curvature: float = 0.0,
                                family="pauly-midha", extrapolate: str = "raise") -> PRBMResult:
     """Fixed-guided / fixed-fixed segment with monotonic curvature under end force (-nP, P) and end
-    moment M (CCW): the curved fixed-pinned PRBM with kappa0 = M l/EI + l/R_i (seed 000 eqs (62),
-    (14), (17), (119)).  Valid only without an inflection point (Table 2.1: P and M of the same
+    moment M (CCW): the curved fixed-pinned PRBM with kappa0 = M l/EI + l/R_i
+    [bapat2015, eqs 62, 14, 17, 119].  Valid only without an inflection point (Table 2.1: P and M of the same
     rotational sense); otherwise use ``prbm.inflection``.
     """
     t0 = time.perf_counter()
@@ -744,7 +746,7 @@ def slfp_tip(P, n=0.0, *, flexure_length: float, rigid_length: float, EI: float,
              curvature: float = 0.0) -> PRBMResult:
     """Fixed-free segment: small-length flexural pivot (length l) then a rigid segment (length L).
 
-    Seed 000 eqs (71)-(82): pivot at the middle of the flexure, link L + l/2 (71), k = EI/l (72),
+    [bapat2015, eqs 71-82]: pivot at the middle of the flexure, link L + l/2 (71), k = EI/l (72),
     theta0 = Theta (73).  Straight: a = l/2 + (L + l/2) cos Theta (74), b = (L + l/2) sin Theta (75),
     k Theta = F (L + l/2) sin(phi - Theta) (76).  Curved (kappa0 = l * curvature): the pivot at the
     chord midpoint (l/(2 kappa0)) (sin kappa0, 1 - cos kappa0) (77)-(78), Theta_i from (80)-(82),
@@ -780,7 +782,7 @@ def slfp_tip(P, n=0.0, *, flexure_length: float, rigid_length: float, EI: float,
 @checked(positive=('flexure_length', 'EI'), finite=('F', 'M'))
 def slfp_end_tip(F: complex, M: float, *, flexure_length: float, EI: float, xtol: float = 1e-13) -> PRBMResult:
     """Small-length flexural pivot alone, loaded at its end E by a force F (complex, Fx + i Fy) and a
-    couple M (CCW): seed 000 eqs (71)-(76) with whatever the flexure carries folded into (F, M) at E.
+    couple M (CCW): [bapat2015, eqs 71-76] with whatever the flexure carries folded into (F, M) at E.
 
     Pivot at the middle of the flexure (l/2, 0), link l/2 to E, spring k = EI/l (72), theta0 = Theta (73);
     equilibrium about the pivot: k Theta = M + (l/2) (F_y cos Theta - F_x sin Theta), which with M the
@@ -808,8 +810,8 @@ def curved_pinned_pinned(F_axial, *, length: float, EI: float, curvature: float,
     """Initially curved pinned-pinned segment (arc of length l, curvature 1/R_i) under a force F_axial
     along its chord (positive = tension, pulling the pins apart).
 
-    Two initially curved fixed-pinned halves of l/2 fixed at the mid-span (Edwards et al., seed 000
-    section 2.3.5), each with the PRBM geometry of eqs (53)-(57), spring rho K_Theta EI/(l/2) (58)
+    Two initially curved fixed-pinned halves of l/2 fixed at the mid-span (Edwards et al.,
+    [bapat2015, §2.3.5]), each with the PRBM geometry of eqs (53)-(57), spring rho K_Theta EI/(l/2) (58)
     and equilibrium (*).  The chord force is axial in the half's frame (n infinite, outside every
     n-fit), so constant gamma, K_Theta are used.  Outputs: chord length, Theta of each half.
     """

@@ -1,7 +1,7 @@
-"""Fixed-pinned PRBM with the Theta-dependent stiffness coefficient of Midha et al. (seed 000 eqs 51, 52).
+"""Fixed-pinned PRBM with the Theta-dependent stiffness coefficient of Midha et al. [bapat2015, eqs 51, 52].
 
 The initially straight fixed-pinned segment under the end force F (cos phi, sin phi), F = P sqrt(1+n^2),
-phi = atan2(1, -n) (n > 0 compressive, seed 000 eq 43 where-clause), is the Pauly-Midha PRBM of
+phi = atan2(1, -n) (n > 0 compressive, [bapat2015, eq 43] where-clause), is the Pauly-Midha PRBM of
 eqs (41)-(50) with the constant K_Theta(n) of eq (43) replaced by
 
     K_Theta(n, Theta) = p(n, Theta) / Theta                                        (51) / (52)
@@ -66,14 +66,14 @@ class ThetaStiffnessFit:
                                 f"{math.degrees(THETA_MIN):.0f}-65 deg ({self.source})")
 
 
-# seed 000 eq (51): 0.004233 - 0.012972n + 2.567095T + 0.003993n^2 - 0.037173T^2 - 0.000297n^3
+# [bapat2015, eq 51]: 0.004233 - 0.012972n + 2.567095T + 0.003993n^2 - 0.037173T^2 - 0.000297n^3
 #                   + 0.117997T^3 - 0.034678nT + 0.003467n^2T - 0.009474nT^2
 EQ51 = ThetaStiffnessFit("K_Theta(n, Theta) eq (51)", "seed 000 section 2.3.1 eq (51), Midha et al. [81]",
                          (0.0, 10.0),
                          {(0, 0): 0.004233, (1, 0): -0.012972, (0, 1): 2.567095, (2, 0): 0.003993,
                           (0, 2): -0.037173, (3, 0): -0.000297, (0, 3): 0.117997, (1, 1): -0.034678,
                           (2, 1): 0.003467, (1, 2): -0.009474})
-# seed 000 eq (52): 0.000651 - 0.008244n + 2.544577T - 0.004764n^2 + 0.071215T^2 - 0.000104n^3
+# [bapat2015, eq 52]: 0.000651 - 0.008244n + 2.544577T - 0.004764n^2 + 0.071215T^2 - 0.000104n^3
 #                   + 0.079696T^3 + 0.069274nT + 0.061507n^2T - 0.347588nT^2
 EQ52 = ThetaStiffnessFit("K_Theta(n, Theta) eq (52)", "seed 000 section 2.3.1 eq (52), Midha et al. [81]",
                          (0.0, 10.0),

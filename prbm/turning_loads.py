@@ -1,4 +1,5 @@
-"""End forces that turn as the structure deflects, on the seeds' one-spring PRBMs: a follower force,
+"""End forces that turn as the structure deflects, on the one-spring PRBMs of [bapat2015] and
+[ananthasuresh_l18]: a follower force,
 a rope to a fixed point, a force at a fixed angle to the line to a fixed point.
 
 A load law gives the unit direction u of the force at a pose of the loaded point (``TipPose``: its
@@ -11,7 +12,7 @@ position z and the rotation of the end tangent from the unloaded pose):
                                                              the line to D, clockwise from it)
 
 Fixed-pinned segment (``fixed_pinned_turning_tip``).  At equilibrium the beam carries, at that state,
-a dead end force F u.  The seed's fixed-pinned PRBM of a dead end force (seed 000 eqs 41-49: the
+a dead end force F u.  The dissertation's fixed-pinned PRBM of a dead end force ([bapat2015, eqs 41-49]: the
 n-fits gamma, c_theta, K_Theta at n = -u_x/u_y; (F l^2/EI) sin(phi - Theta) = K_Theta Theta (46)-(47);
 a = l - gamma l (1 - cos Theta) (48); b = gamma l sin Theta (49); theta0 = c_theta Theta (44)) places
 the tip; the turning load is in equilibrium when the law at that tip gives back the same u:

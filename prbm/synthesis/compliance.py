@@ -1,6 +1,6 @@
 """Compliance synthesis: torsional-spring constants from energies or torques at precision positions.
 
-Seed 000 (Bapat 2015) section 6.5.  With beta_i the angle of PRBM spring i, beta_i0 its angle in the
+[bapat2015, §6.5].  With beta_i the angle of PRBM spring i, beta_i0 its angle in the
 energy-free state and S the input (Theta2),
 
     U_j = 1/2 sum_i k_i (beta_ij - beta_i0)^2                                  (181)
@@ -10,7 +10,7 @@ Four-bar springs (183): beta1 = Theta2 (O2), beta2 = 180 - (Theta2 - Theta3) (A)
 beta3 = Theta4 - Theta3 (B), beta4 = Theta4 (O4); with h3 = dTheta3/dTheta2 =
 R2 sin(Theta4 - Theta2) / (R3 sin(Theta3 - Theta4)) and h4 = dTheta4/dTheta2 =
 R2 sin(Theta3 - Theta2) / (R4 sin(Theta3 - Theta4)) the rates are 1, h3 - 1, h4 - h3, h4.
-Slider-crank springs (seed eq. 196 with the slider spring f_k = 0): beta1 = Theta2 (O2),
+Slider-crank springs ([bapat2015, eq 196] with the slider spring f_k = 0): beta1 = Theta2 (O2),
 beta2 = Theta3 - Theta2 (A), beta3 = Theta3 (slider pin); g3 = dTheta3/dTheta2 =
 -R2 cos Theta2 / (R3 cos Theta3); rates 1, g3 - 1, g3.
 
@@ -21,7 +21,7 @@ spring, see ``prbm.synthesis.segments``), by SLSQP from several starts (the boun
 solution among them).  Section 6.6: a final F far from zero means the energies/torques do not
 agree with the link rotations -- the result says so and in which direction to change them.
 
-Angles are in degrees here, as in the seed's synthesis tables (chapters 3, 5, 6); the PRBM library they feed works in radians.
+Angles are in degrees here, as in the dissertation's synthesis tables (chapters 3, 5, 6); the PRBM library they feed works in radians.
 """
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """Rigid-body synthesis of four-bar and slider-crank linkages with the standard dyad equations.
 
-Seed 000 (Bapat 2015) section 6.4, complex-number form (Erdman and Sandor).  Position 1 is the
+[bapat2015, §6.4], complex-number form (Erdman and Sandor).  Position 1 is the
 reference; for every further precision position j the two dyads of a four-bar close the loops
 
     Z2 (e^{i phi_j} - 1) + Z5 (e^{i gamma_j} - 1) = delta_j          (179)  left dyad  O2-A-P
@@ -11,7 +11,7 @@ and for function generation the whole loop closes with
     Z2 (1 - e^{i phi_j}) + Z3 (1 - e^{i gamma_j}) + Z4 (e^{i psi_j} - 1) = 0     (178)
 
 Z1 = O2->O4 (ground), Z2 = O2->A, Z3 = A->B, Z4 = O4->B, Z5 = A->P, Z6 = B->P;
-Z2 + Z3 = Z1 + Z4 and Z3 = Z5 - Z6 (seed Figs 6.2, 6.3).  phi, gamma, psi are the rotations of
+Z2 + Z3 = Z1 + Z4 and Z3 = Z5 - Z6 [bapat2015, Figs 6.2, 6.3].  phi, gamma, psi are the rotations of
 links 2, 3, 4 from position 1 and delta_j = P_j - P_1.
 
 One dyad Z (e^{i a_j} - 1) + W (e^{i b_j} - 1) = delta_j at two or three positions is solved in
@@ -30,7 +30,7 @@ closed form for the usual sets of free choices:
 A triangle that does not close (|c| outside [||p| - |q||, |p| + |q|]) means the precision positions
 are incompatible with the free choices: that is returned as a failed result with a message.
 
-Angles are in degrees here, as in the seed's synthesis tables (chapters 3, 5, 6); the PRBM library they feed works in radians.
+Angles are in degrees here, as in the dissertation's synthesis tables (chapters 3, 5, 6); the PRBM library they feed works in radians.
 """
 from __future__ import annotations
 
@@ -272,7 +272,7 @@ def path_generation(deltas, *, phi, gamma=None, Z2=None, Z4=None, psi=None,
 
 def function_generation(phi, psi, *, theta2: float, theta3: float, R4: float, gamma2: float,
                         branch=None, scan: int = 3600) -> FourBarDesign:
-    """Function generation at three positions, eq. (178), with the seed's free choices (section 6.7
+    """Function generation at three positions, eq. (178), with the dissertation's free choices (section 6.7
     Example 2): directions Theta21, Theta31 of Z2, Z3, length R4 and coupler rotation gamma2.
 
     For a trial gamma3 the two complex equations are linear in R2, R3 and Z4 (four reals); the
@@ -359,7 +359,7 @@ def four_bar_position(fb: FourBarDesign, theta2: float, near: tuple[float, float
 @dataclass
 class SliderCrankDesign:
     """Crank Z2 (O2->A), coupler Z3 (A->slider pin C), slider axis along Theta1 through O2 (offset 0):
-    Z2 + Z3 = Z11 at position 1; slider displacement delta_j along the axis (seed Figs 7.2-7.4)."""
+    Z2 + Z3 = Z11 at position 1; slider displacement delta_j along the axis [bapat2015, Figs 7.2-7.4]."""
 
     Z11: complex
     Z2: complex
@@ -378,7 +378,7 @@ class SliderCrankDesign:
 
 def slider_crank_timed(delta: float, phi2: float, *, R2: float, theta3: float, theta1: float = 0.0,
                        offset: float = 0.0, branch: int | None = None) -> SliderCrankDesign:
-    """Two-position slider-crank path generation with prescribed timing (seed 000 chapter 7 Example 1):
+    """Two-position slider-crank path generation with prescribed timing [bapat2015, ch. 7, Example 1]:
     the slider pin moves delta along the axis while the crank turns phi2.  Free choices R2, Theta31.
     Unknowns Theta21, R3, gamma2 from the dyad  Z2 (e^{i phi2} - 1) + Z3 (e^{i gamma2} - 1) = delta e^{i theta1}
     and the offset condition Im[(Z2 + Z3) e^{-i theta1}] = offset: for a trial Theta21 the dyad is

@@ -1,6 +1,6 @@
-"""Two-position synthesis of a fixed-guided segment with one inflection point (seed 000 section 3.8).
+"""Two-position synthesis of a fixed-guided segment with one inflection point [bapat2015, §3.8].
 
-The chapter-3 PRBM (seed eqs 83-104, identical to 131-152) splits the beam at its inflection point
+The chapter-3 PRBM ([bapat2015, eqs 83-104], identical to 131-152) splits the beam at its inflection point
 into two fixed-pinned segments of lengths l1, l2 = l - l1 with the Pauly-Midha fits gamma_i, c_theta_i,
 K_Theta_i at load ratios n1 = n and n2 = -1/tan(phi2) (``prbm.fits.PAULY_MIDHA``, eqs 41-43).
 With the beam-frame end load (-nP, P) (n > 0 compressive), F = P sqrt(1 + n^2), phi1 = atan2(1, -n),
@@ -14,14 +14,14 @@ phi2 = phi1 - theta0, theta20 = theta10 - theta0 and Theta_i = theta_i0 / c_thet
 
 Specified (section 3.8): E, P, n, theta0 and the end displacements; unknown: l, I, M, l1, theta10.
 M is explicit in (99), so four residuals (95), (96), (108), (109) in (l, I, l1, theta10) are solved by
-``scipy.optimize.least_squares`` from a grid of starts.  The seed's end displacements dX', dY' are in a
+``scipy.optimize.least_squares`` from a grid of starts.  The dissertation's end displacements dX', dY' are in a
 frame rotated by the beam orientation alpha; the transverse deflection and axial shortening are
 b = dX' sin(alpha) + dY' cos(alpha) and delta = dX' cos(alpha) - dY' sin(alpha) (for alpha = 45 deg:
 b = (dX' + dY')/sqrt 2, delta = (dX' - dY')/sqrt 2; notes/seed-ch2-4.md section 5.9).
 The l-I pair is ill-conditioned (a family of nearly equivalent designs): the result reports the
 residual and the spread of the roots found.
 
-Angles are in degrees here, as in the seed's synthesis tables (chapters 3, 5, 6); the PRBM library they feed works in radians.
+Angles are in degrees here, as in the dissertation's synthesis tables (chapters 3, 5, 6); the PRBM library they feed works in radians.
 """
 from __future__ import annotations
 
@@ -35,7 +35,7 @@ from prbm.fits import PAULY_MIDHA
 from prbm.synthesis.dyads import DEG, SynthesisError
 
 def pauly_midha(n: float) -> tuple[float, float, float]:
-    """(gamma, c_theta, K_Theta) at load ratio n, seed eqs (41)-(43)."""
+    """(gamma, c_theta, K_Theta) at load ratio n, [bapat2015, eqs 41-43]."""
     return PAULY_MIDHA.parameters(n, extrapolate="allow")
 
 

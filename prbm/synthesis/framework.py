@@ -1,6 +1,6 @@
 """Chapter-5 synthesis framework: a fixed-guided beam with one inflection point carrying a rigid coupler.
 
-Seed 000 (Bapat 2015) section 5.3, Fig. 5.9.  At precision position j (j = 2, 3, ...) the beam is the
+[bapat2015, §5.3], Fig. 5.9.  At precision position j (j = 2, 3, ...) the beam is the
 three-pivot PRBM of chapter 3 (``prbm.synthesis.fixed_guided``) with R1j = (1 - g1j)/g1j R2j (158) and
 R4j = (1 - g2j)/g2j R3j (159); the loop O -> E -> P1 -> Pj -> Ej -> O closes as
 
@@ -22,7 +22,7 @@ forces are specified.  The equations must be as many as the unknowns (design tab
 system is solved by ``least_squares`` from a grid of starts and every valid root (R > 0, Th3j > gam_j
 and load ratios n2j inside the fits' range) is returned, the first ``max_roots`` found.
 
-Angles are in degrees here, as in the seed's synthesis tables (chapters 3, 5, 6); the PRBM library they feed works in radians.
+Angles are in degrees here, as in the dissertation's synthesis tables (chapters 3, 5, 6); the PRBM library they feed works in radians.
 """
 from __future__ import annotations
 

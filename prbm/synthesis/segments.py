@@ -1,6 +1,6 @@
 """Compliant segments realising PRBM torsional springs: dimensions from k, and a stress check.
 
-Seed 000 (Bapat 2015):
+[bapat2015]:
 
 * small-length flexural pivot (SLFP), eq. (72)/(186): k = E I / l, the pivot at the middle of the
   flexure (71), so l/2 + L + l/2 = R with the flexure length l = f L (Example 1 of section 6.7:
@@ -12,7 +12,7 @@ For the fixed-pinned and fixed-guided segments the stress is estimated the same 
 torque M = k Delta-beta and sigma = M c / I -- a PRBM estimate, not the clamp moment of the elastica.
 A rectangular section of width w gives t = (12 I / w)^(1/3) and c = t/2.
 
-Angles are in degrees here, as in the seed's synthesis tables (chapters 3, 5, 6); the PRBM library they feed works in radians.
+Angles are in degrees here, as in the dissertation's synthesis tables (chapters 3, 5, 6); the PRBM library they feed works in radians.
 """
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """Speed of the exact elastica: the whole adapter call ``run_method(case, "elastica")`` for every case
 under cases/ with an elastica method, after a first call that pays numba's compile or cache load, in
-CPU time per call and per load level (one equilibrium solve a level; target: at most 2 ms, issue 15),
+CPU time per call and per load level (one equilibrium solve a level; target: at most 2 ms),
 slowest per level first, with the load average printed beside (the machine is shared).
 
 Run: ``.venv/bin/python -m validation.bench.elastica_speed`` (``--case=ID``, repeatable, times only
@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from validation.case.loader import find_case_files, load_case
 from validation.run.runner import run_method
 
-TARGET_S = 2e-3    # issue 15: at most 2 ms per solve (one load level)
+TARGET_S = 2e-3    # the target: at most 2 ms per solve (one load level)
 
 
 @dataclass(frozen=True)

@@ -1,9 +1,8 @@
 """Benchmark of our FEM against OpenSeesPy alone: the FEM and peer rows of ``prbm-validate bench``.
 
-The old ladder that lived here (ten load sub-steps for the peer, meshes capped at 256, no Richardson
-for the peer) is gone: both codes are driven by `validation.bench.headline`, each as its best user
-would (one load step per level, halved only on failure with the failed tries counted; meshes doubled
-to 1024 elements; plain and Richardson rows for both), and the headline ratio at 1e-4 L and 1e-6 L
+Both codes are driven by `validation.bench.headline`, each as its best user would (one load step per
+level, halved only on failure with the failed tries counted; meshes doubled to 1024 elements; plain
+and Richardson rows for both), and the headline ratio at 1e-4 L and 1e-6 L
 is our best time over the peer's best, with both configurations printed.
 
 Run: ``python -m validation.bench.fem_vs_opensees [--quick] [--out reports/bench]``

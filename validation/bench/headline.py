@@ -26,14 +26,13 @@ beside it: the CANDIDATES configurations of each code the sweep found fastest (a
 CANDIDATE_SPREAD times its fastest, at most CANDIDATES_MAX) are timed again, every run
 of all of them taking turns (a Richardson row on plain runs: its two runs; a run two candidates share is
 timed once), so that all are measured in the same minutes of the shared machine, each as often as fits
-in HEADLINE_BUDGET_S (ten times the sweep's budget: a best of 5 to 50 runs of a millisecond configuration
-still moved a ratio near 1 by 5-30 % between bench runs); each code's fastest as re-timed gives the
-headline ratio (the sweep's own ratio beside it: one noisy sweep time could otherwise pick the slower
-of two close configurations, as a run of Test 1(a) did, 0.95 in one bench and 1.25 in the next). Beside
-it, the same ratio in each of NOISE_BLOCKS consecutive parts of the re-timing (`_block_ratios`): how far
-the machine's load moved it while it was measured, so that a ratio near a target says whether it is
-under it in every part or only on average; a peer that
-cannot run (not installed, no system BLAS) is "peer unavailable", a case it cannot model "peer not
+in HEADLINE_BUDGET_S (ten times the sweep's budget: on a shared machine the best of a few dozen runs of a
+millisecond configuration is not yet steady enough to place a ratio near 1); each code's fastest as
+re-timed gives the headline ratio (the sweep's own ratio beside it: one noisy sweep time could otherwise
+pick the slower of two close configurations). Beside it, the same ratio in each of NOISE_BLOCKS
+consecutive parts of the re-timing (`_block_ratios`): how far the machine's load moved it while it was
+measured, so that a ratio near a target says whether it is under it in every part or only on average;
+a peer that cannot run (not installed, no system BLAS) is "peer unavailable", a case it cannot model "peer not
 applicable", never "did not reach". Also the time of one Newton iteration
 (time over iterations, failed tries included) of both codes at 8 to 256 elements, on the
 single-level cantilever, timed in turn with the headline's budget.
@@ -102,11 +101,10 @@ QUICK_REPEATS = 3       # timed runs per configuration with --quick (5 without),
 TIME_BUDGET_S = 0.05    # a fast configuration is run as often as fits in this (its best is then its
 MAX_REPEATS = 200       # quiet-machine time, not a noise spike's), up to MAX_REPEATS runs
 HEADLINE_BUDGET_S = 0.5  # the same for the headline's re-timing and the per-iteration table
-CANDIDATES = 3           # configurations of each code re-timed for the headline (the sweep's fastest; with 2,
-                         # a noisy sweep left Test 2's fastest of ours out of the re-timing: 1.04 and 1.17)
+CANDIDATES = 3           # configurations of each code re-timed for the headline (the sweep's fastest: one
+                         # noisy sweep time can rank a code's truly fastest configuration second or third)
 CANDIDATE_SPREAD = 2.0   # and every other one the sweep timed within this factor of the code's fastest (one
-                         # slow sweep time, 1.45 ms for a run re-timed at 0.88, left the single-level
-                         # cantilever's fastest of ours fourth: 1.01 where the re-timing of it gave 0.86)
+                         # slow sweep time can rank a code's truly fastest configuration past CANDIDATES)
 CANDIDATES_MAX = 6       # at most this many of each code
 NOISE_BLOCKS = 3         # the re-timing cut into this many consecutive parts, the ratio of each printed
 CONFIGURATIONS = {      # how each code is driven (printed beside the headline)

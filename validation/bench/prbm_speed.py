@@ -3,8 +3,8 @@ chapter-3 inflection solves, a four-bar torque sweep; one load level of four-lin
 (``network_rows``: the parallel-guided mechanism built from its geometry and the chapter-9 Test 2
 four-bar, beside the FEM's time for the same case, target <= 0.5 ms); then the whole adapter call
 ``validation.run.runner.run_method(case, "prbm")`` (what ``prbm-validate bench`` times against the FEM)
-for every case under cases/ with a prbm method, per case and per kind of case (target: 50 us a case,
-issue 15 item 5), in CPU time (the machine is shared: wall time also counts waiting for a core) with the
+for every case under cases/ with a prbm method, per case and per kind of case (target: 50 us a case),
+in CPU time (the machine is shared: wall time also counts waiting for a core) with the
 load average printed beside.  Run: ``.venv/bin/python validation/bench/prbm_speed.py``
 (``--cases-only`` skips the library rows, ``--fast`` leaves out the cases slower than 50 ms a call,
 ``--case=ID`` (repeatable) times only those cases).  (Timing lives here, never in the tests.)"""

@@ -165,8 +165,8 @@ class OpenSeesOptions(Options):
 
 
 class PrbmMechanicalAdvantageOptions(Options):
-    """``[methods.prbm] ma``: chapter 7's mechanical advantage of a hand-given four-bar or slider (seed 000
-    eqs 190-206: ``F_i``, ``d_i``, ``d_o``; with ``model = 'compliance'`` the two-port four-bar's ``d_in``,
+    """``[methods.prbm] ma``: chapter 7's mechanical advantage of a hand-given four-bar or slider ([bapat2015,
+    eqs 190-206]: ``F_i``, ``d_i``, ``d_o``; with ``model = 'compliance'`` the two-port four-bar's ``d_in``,
     ``d_out2``, ``d_out3``, ``location_deg``), or, for the network built from the geometry, the FEM's
     ``output``, ``direction``, ``input``, ``step``, ``definition``. ``F_i`` is an input force the MA divides
     by; a positive magnitude, not tiny against the model's springs (``validation.case.scale``)."""
@@ -198,7 +198,7 @@ class PrbmMechanicalAdvantageOptions(Options):
 
 class FourBarSlfpOptions(Options):
     """``[methods.prbm] slfp``: the four-bar's small-length flexural pivots, k_i = E w t_i^3 / (12 l_i)
-    (seed 000 eq 186), and the rigid lengths beside them (for the reader)."""
+    [bapat2015, eq 186], and the rigid lengths beside them (for the reader)."""
 
     width: Positive
     t: list[Positive] = Field(min_length=1, max_length=4)
@@ -236,7 +236,7 @@ DesignValue = Finite | list[Finite] | list[list[Finite]] | str
 
 
 class PrecisionOptions(Options):
-    """``[methods.prbm] precision``: the four-bar's precision positions (seed 000 chapters 5-7). ``phi`` (input
+    """``[methods.prbm] precision``: the four-bar's precision positions [bapat2015, chs. 5-7]. ``phi`` (input
     rotations) or ``psi`` (output rotations) from position 1, in degrees, one per level, drive the PRB four-bar
     when no load does (validation.methods.prbm_fourbar); the others are the synthesis data, for the reader."""
 
@@ -299,7 +299,7 @@ class PrbmOptions(Options):
                                      "level's state, as the FEM option (prbm_readings)")
     rules: RulesOptions | None = Field(None, description="the PRB builder's rules "
                                        "(validation.methods.prbm_network.rules)")
-    # the seeds' synthesis data (chapters 5-7), kept beside the model for the reader and the synthesis;
+    # the dissertation's synthesis data (chapters 5-7), kept beside the model for the reader and the synthesis;
     # the forward PRBM does not read them, but they are held to the same ranges
     input: str | None = None
     T: list[Finite] | None = None

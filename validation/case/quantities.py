@@ -14,7 +14,7 @@ The meanings:
   change from the unloaded state.
 * ``rotation``: the change of the tangent angle at the point from the unloaded shape (degrees,
   counter-clockwise positive). For an initially curved segment this is *not* the absolute tip
-  angle: the unloaded tangent angle kappa L is subtracted (seed 000 eq (53) names it kappa0).
+  angle: the unloaded tangent angle kappa L is subtracted ([bapat2015, eq 53] names it kappa0).
 * ``force_x``, ``force_y``, ``moment`` at a point: the total external load the point receives,
   applied load plus the reaction of whatever holds that freedom (a guide, a clamp, a prescribed
   motion). A guided tip reports its guiding moment; a prescribed displacement reports the force
@@ -67,7 +67,7 @@ MEANINGS: dict[str, Meaning] = {
     "reaction_y": Meaning("force", Reference.SUPPORT, "+y"),
     "reaction_moment": Meaning("moment", Reference.SUPPORT, CCW),
     "strain_energy": Meaning("energy", Reference.UNLOADED, "non-negative", frame="none"),
-    # seed 000 eq (189): MA = F_o / F_i. F_i > 0 is the input force in the sense that drives the working
+    # [bapat2015, eq 189]: MA = F_o / F_i. F_i > 0 is the input force in the sense that drives the working
     # motion (an input torque T at distance d_i counts as |T| / d_i); F_o is the force the output port
     # exerts on the work piece along the working motion (a held output rotation: its moment / d_o), so
     # MA > 0 when the output pushes the work piece the way the input drives it, and MA = MA_R (1 - F_c/F_i)
@@ -78,7 +78,7 @@ MEANINGS: dict[str, Meaning] = {
 }
 
 # Tip freedoms each segment boundary holds, unless a load acts on or prescribes them
-# (the seeds' load-specified "fixed-guided" beams of Tables 3.2-3.6 give P, nP and M).
+# (the dissertation's load-specified "fixed-guided" beams of Tables 3.2-3.6 give P, nP and M).
 TIP_HELD: dict[str, tuple[str, ...]] = {
     "fixed-free": (), "fixed-pinned": (),
     "fixed-guided": ("rz",), "fixed-fixed": ("ux", "uy", "rz"), "pinned-pinned": ("ux", "uy"),

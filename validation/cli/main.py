@@ -39,7 +39,7 @@ def main(argv: list[str] | None = None) -> int:
     # later one (main() called again from Python, long after the imports) starts at its own call
     mark_command_start(STARTED if math.isnan(command_age()) else time.perf_counter())
     # Start-up: before it builds its first validator pydantic looks for plugins in the entry points of
-    # every installed distribution (30-90 ms with this project's dependencies); the harness uses none.
+    # every installed distribution (a scan of every package's metadata); the harness uses none.
     # PYDANTIC_DISABLE_PLUGINS set by the user (e.g. empty, to load plugins) is kept.
     os.environ.setdefault("PYDANTIC_DISABLE_PLUGINS", "__all__")
     parser = build_parser()

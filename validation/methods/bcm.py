@@ -1,4 +1,4 @@
-"""Adapter: a case -> the beam constraint model of seed 003 (``bcm``).
+"""Adapter: a case -> the beam constraint model of [chen2021] (``bcm``).
 
 Segments: a straight segment (fixed-free, fixed-pinned, fixed-guided, fixed-fixed) with dead tip
 forces, tip moments, and tip displacements along x or y / rotations; one quantity of each pair
@@ -10,7 +10,7 @@ other end, optionally pinned to the ground at one of its nodes, loaded by dead f
 nodes, a moment, or a prescribed rotation (``bcm.RigidBodyOnBeams``; the ``moment`` output at
 the driven point is then the torque needed). Anything else raises ``NotApplicable``.
 
-BCM is trusted for |u_y| <= 0.1 and |theta| <= 0.1 rad (seed 003 section 3); levels outside
+BCM is trusted for |u_y| <= 0.1 and |theta| <= 0.1 rad [chen2021, §3]; levels outside
 this range are reported in ``level_messages`` and ``extras['outside_range']`` (values kept).
 k_a = A L^2 / I of each beam's section (1e12, i.e. inextensible, if the area is not given).
 """

@@ -8,7 +8,7 @@ density). Not applicable: a follower distributed load, a force toward a fixed po
 followed level by level with continuation (each level warm-starts from the previous one).
 
 Boundary handling: a tip freedom that carries a load is load-controlled, whatever the boundary
-(the seed's load-specified "fixed-guided" beams of Tables 3.2-3.6 give P, nP and M). Otherwise
+(the load-specified "fixed-guided" beams of [bapat2015, Tables 3.2-3.6] give P, nP and M). Otherwise
 fixed-guided holds the tip angle at its unloaded value (unless a rotation load prescribes it) and
 the tip moment is solved for; fixed-fixed also holds the tip position components (x, y) that no
 displacement or force load acts along. With prescribed displacements/rotations, the
@@ -18,11 +18,11 @@ the tip angle from the unloaded state (degrees); ``reaction_*`` are the support 
 Options (``[methods.elastica]``): ``I`` (replaces the section's second moment of area, so
 EI = E * I), ``EI`` (replaces EI), ``rtol``, ``tol``, ``samples`` (shape points kept in extras).
 
-Inflection problem (``problem = "inflection"``, the seed's Case 2c, Table 3.6): the options give
+Inflection problem (``problem = "inflection"``, the dissertation's Case 2c, Table 3.6): the options give
 per level (a list, or one value for every level) the tip transverse position ``b`` (the tip's y,
 length units), the absolute tip angle ``theta0`` (degrees) and the inflection location ``l1``
 (arc length from the clamp where the bending moment vanishes). The end loads are unknowns:
-``force_x``, ``force_y``, ``moment`` are the loads needed, ``x`` the tip's x (the seed's a). The
+``force_x``, ``force_y``, ``moment`` are the loads needed, ``x`` the tip's x (the dissertation's a). The
 case's loads at each level (e.g. the PRBM loads) are not applied: they are the initial guess,
 the state the continuation starts from (zero loads: start from the problem without the
 inflection condition). Only a fixed-guided segment with force/moment loads.

@@ -12,8 +12,8 @@ of inflection points, and the mechanical advantage by a small increment of the i
   input load; by a second solve with the input load raised by ``step`` x its largest value
   (``[methods.fem] ma = {output = "S", direction = [1, 0], input = 0, step = 1e-4}``; ``input`` is the
   index of the load in ``[[loads]]``, default the first force or moment). With a moment as input and
-  ``d_i`` given, F_in = T/d_i (the seed's Type 1 input force at distance d_i). ``definition =
-  "secant"`` gives instead MA = F_out/F_in at each level, the ratio the seed's eq (192) uses when the
+  ``d_i`` given, F_in = T/d_i (the Type 1 input force of [bapat2015, ch. 7], at distance d_i). ``definition =
+  "secant"`` gives instead MA = F_out/F_in at each level, the ratio [bapat2015, eq 192] uses when the
   output is held at a prescribed position: the compliance of the mechanism then takes its share of
   the input (MA = MA_R (1 - F_c/F_i)), which the tangent ratio does not see.  The secant ratio is the
   sign convention of ``validation.case.quantities.MEANINGS['mechanical_advantage']``: F_in = |input load|

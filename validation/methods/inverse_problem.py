@@ -2,7 +2,7 @@
 every method that solves it (the FEM and elastica adapters read it; the PRBM's own
 ``problem = 'displacement'`` options use the same names).
 
-Bapat 2015 section 3.5.2 (Tables 3.3-3.6) specifies the tip of a clamped segment by its position
+[bapat2015, §3.5.2] (Tables 3.3-3.6) specifies the tip of a clamped segment by its position
 and slope and asks for the end loads: the tip's y = ``b`` (length units) and its absolute slope
 ``theta0_deg`` (degrees) are prescribed at every level, and the remaining tip freedom (x) is fixed
 by exactly one of
@@ -10,7 +10,7 @@ by exactly one of
 * ``a``: the tip's x is prescribed too (Case 1, Table 3.3);
 * ``n``: the axial load is tied to the transverse one, F_x = -n P with P = F_y (Cases 2a/2b,
   Tables 3.4-3.5; n = 0 is a free x with no axial load);
-* ``axial_load``: a fixed axial load F_x (force units; in the seed's signs F_x = -nP);
+* ``axial_load``: a fixed axial load F_x (force units; in the dissertation's signs F_x = -nP);
 * ``l1``: the bending moment vanishes at arc length l1 from the clamp, an inflection point
   (Case 2c, Table 3.6).
 
@@ -21,7 +21,7 @@ or ``EI`` give the section the inverse problem is solved with (default: the meth
 also takes ``elements`` and ``richardson`` there (its mesh and extrapolation for this problem). The
 method then reports the loads needed (``force_x``, ``force_y``, ``moment`` at the tip: the total
 load acting on the tip) from the inverse problem, and every other output from its forward solve
-under the case's loads, so the seed's forward columns (analyses under the PRBM loads) are kept.
+under the case's loads, so the dissertation's forward columns (analyses under the PRBM loads) are kept.
 With ``tip_x = true`` (FEM) the tip's ``x`` is that of the inverse solution too: the end position
 a that b, theta0 and the tie lead to (section 3.6's vector loop asks for the same a; with the tie
 ``a`` the x is prescribed, so ``tip_x`` is refused there).

@@ -1,8 +1,8 @@
 """Adapter: a case -> the pseudo-rigid-body models of ``prbm`` -> the requested outputs.
 
 Segments (x along the undeformed segment from the fixed end, force = values * direction, CCW
-moments; the tip loads of each level summed into (F_x, F_y, M), P = F_y, n = -F_x/F_y as in seed 000's
-end force (-nP, P)):
+moments; the tip loads of each level summed into (F_x, F_y, M), P = F_y, n = -F_x/F_y as in the end
+force (-nP, P) of [bapat2015]):
 
 * fixed-free / fixed-pinned (straight or initially curved), and fixed-guided without a model:
   ``prbm_segment.py`` (fixed_pinned_tip, pure_moment_tip, fixed_guided_monotonic_tip, composite_beam_tip,
@@ -13,13 +13,13 @@ end force (-nP, P)):
   ``problem = 'displacement'`` with per-level lists ``b``, ``theta0_deg`` and one of ``a``, ``n``,
   ``l1`` (Tables 3.3-3.6); ``prefer`` = 'energy' (default) or {key = value} to pick among roots.
   All roots found are in ``extras['roots']``.
-* loads along the segment or toward a point: ``prbm_readings.py``; seed 000 chapter 2's other segment
-  models (``model`` option): ``prbm_alternatives.py``.
+* loads along the segment or toward a point: ``prbm_readings.py``; the other segment models of
+  [bapat2015, ch. 2] (``model`` option): ``prbm_alternatives.py``.
 
 Mechanisms (``_mechanism`` dispatches): 'dof' requests and hand-given four-bars and slider-cranks
 (``links`` option) -> ``prbm_fourbar.py``; one beam carrying a rigid body (chapter 5 Example 1) and
 the curved pinned-pinned beam on a slider -> ``prbm_body.py``; every other mechanism, or
-``model = 'network'`` -> the PRB model built from the geometry by the seeds' rules and solved as a
+``model = 'network'`` -> the PRB model built from the geometry by the rules of ``prbm.builder`` and solved as a
 general rigid-link network (``prbm_network.py``, ``prbm.build``, ``prbm.solve``).
 
 Shapes: ``extras['shapes']`` holds, per level, the PRB links as (n, 2) polylines in the case frame:
@@ -51,11 +51,11 @@ else:  # the mechanism parts import scipy and the network solver: a segment case
 
 def run(case, requests: list[Request], options: dict) -> MethodRun:
     t0 = time.perf_counter()
-    if prbm_readings.handles(case, options):  # loads along the segment, a force toward a point (issue 20)
+    if prbm_readings.handles(case, options):  # loads along the segment, a force toward a point
         return prbm_readings.run(case, requests, options)
     if not prbm_readings.turning_fourbar(case, options):
         reject_loads_along_beams(case, "the PRBM")
-    if options.get("model") in prbm_alternatives.MODELS:  # seed 000 chapter 2's other segment models
+    if options.get("model") in prbm_alternatives.MODELS:  # the other segment models of [bapat2015, ch. 2]
         return prbm_alternatives.run(case, requests, options)
     try:
         if prbm_ma.handles(case, options):                      # chapter 7 MA by prbm.compliance

@@ -1,4 +1,4 @@
-"""Adapter for the alternative segment models of seed 000 chapter 2, chosen by ``[methods.prbm] model``.
+"""Adapter for the alternative segment models of [bapat2015, ch. 2], chosen by ``[methods.prbm] model``.
 
 * ``model = "theta-dependent"``: the fixed-pinned PRBM with K_Theta(n, Theta) of eq (51) or (52)
   (``prbm.theta_dependent``); option ``theta_fit`` = "51" (default), "52" or "52-tension".  A straight

@@ -13,7 +13,7 @@ the beam, then the body through its nodes.
 
 One initially curved beam pinned at one end and on a slider along its chord at the other, a force
 along the chord at the slider: ``prbm.curved_pinned_pinned`` (two curved fixed-pinned halves fixed at
-mid-span, seed 000 section 2.3.5).
+mid-span, [bapat2015, §2.3.5]).
 """
 from __future__ import annotations
 
@@ -185,7 +185,7 @@ def run_segment_with_body(case, requests, options: dict, info: MethodRun) -> dic
 def run_pinned_pinned(case, requests, info: MethodRun) -> dict:
     """One initially curved beam pinned at one end and on a slider along its chord at the other, a
     force along the chord at the slider: ``prbm.curved_pinned_pinned`` (two curved fixed-pinned halves
-    fixed at mid-span, seed 000 section 2.3.5). Outputs at the slider node: x, y, dx, dy (the chord's
+    fixed at mid-span, [bapat2015, §2.3.5]). Outputs at the slider node: x, y, dx, dy (the chord's
     change along the chord), force_x, force_y (the applied force)."""
     mech = case.mechanism
     beam = mech.beams[0]

@@ -13,7 +13,7 @@ levels at the unloaded pose (``drive = 'precision'`` forces this when both are g
 Outputs: dx, dy of the coupler point from the unloaded pose, x, y (O2 at ``origin``), input_angle,
 input_torque (eq 182), strain_energy (eq 181), mechanical_advantage (``ma = {F_i, d_i, d_o}``, eqs
 190, 192). The unloaded pose, when ``energy_free.theta3`` is given, is placed with the printed
-energy-free angles by the dyad Z2 e^{i(theta20 - theta21)} + Z5 e^{i(theta30 - theta31)} (as the seed
+energy-free angles by the dyad Z2 e^{i(theta20 - theta21)} + Z5 e^{i(theta30 - theta31)} (as [bapat2015]
 does), not re-solved from the loop (the printed vectors close only to about 0.002 in).
 Slider-crank (``links.r11``): crank angle from the prescribed slider displacement of each level,
 compliance torque eq (196) as input_torque, MA = MA_R (1 - F_c/F_i) with eq (199) (``ma = {F_i, d_i}``).
@@ -165,7 +165,7 @@ def fourbar_drive(case, setup: FourBarSetup, options: dict, info: MethodRun) -> 
     fb, t20, t21 = setup.fb, setup.theta20, setup.theta21
     n = case.n_levels()
     torque = _input_torques(case)
-    turning = prbm_readings.link2_turning_forces(case, fb.R2, t20, options)  # follower / rope at A (issue 20)
+    turning = prbm_readings.link2_turning_forces(case, fb.R2, t20, options)  # follower / rope at A
     force_at_A = None if turning else _link2_end_forces(case, fb, t20, complex(*options.get("origin", [0.0, 0.0])))
     precision = options.get("precision", {})
     drive = options.get("drive", "torque" if torque is not None or force_at_A is not None or turning else "precision")

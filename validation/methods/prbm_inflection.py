@@ -4,7 +4,7 @@ A ``[mechanism]`` whose beams are all fixed-guided segments with one inflection 
 (``segment_type = 'fixed-guided-inflection'``, or ``[methods.prbm] segment_model = 'inflection'``),
 each clamped at one end by a 'fixed' support and rigidly attached at the other to one rigid link (the
 coupler), driven by a prescribed translation of a coupler node along one direction and a prescribed
-rotation of the coupler: the verification of seed 000 section 5.5 (Examples 2 and 3, Tables 5.5-5.6:
+rotation of the coupler: the verification of [bapat2015, §5.5] (Examples 2 and 3, Tables 5.5-5.6:
 "specifying the transverse deflection and rotation of the rigid coupler"), the other translation free.
 The model is ``prbm.inflection_coupler`` (every segment the chapter-3/5 three-pivot PRBM, eqs
 (131)-(152); the free translation from the coupler's equilibrium along it).

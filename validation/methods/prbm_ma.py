@@ -1,5 +1,5 @@
-"""PRBM adapter for chapter 7's mechanical advantage evaluated with ``prbm.compliance`` (seed 000
-eqs 192-198, 205), selected by ``[methods.prbm] ma = {model = "compliance", ...}``.
+"""PRBM adapter for chapter 7's mechanical advantage evaluated with ``prbm.compliance``
+[bapat2015, eqs 192-198, 205], selected by ``[methods.prbm] ma = {model = "compliance", ...}``.
 
 * Slider mechanism (``links`` with r11, r2, r3; springs k1..k3, f_k), Type 1: the levels are work-piece
   locations, the slider travel dx of a ``displacement`` load; the crank angle follows from the loop

@@ -1,15 +1,15 @@
 """The mechanism part of the PRBM adapter: a case's ``[mechanism]`` -> ``prbm.build`` -> ``prbm.solve``.
 
 The geometry the FEM reads (nodes, beams with their section and E, rigid links, joints, supports)
-becomes ``prbm.Geometry``; the builder applies the seeds' rules to each beam (see ``prbm.builder``)
+becomes ``prbm.Geometry``; the builder applies its rules to each beam (see ``prbm.builder``)
 and the general rigid-link network solver finds the equilibrium at every load level. No
 ``[methods.prbm]`` input is needed; ``rules = {...}`` may override the builder's rules:
 
   gamma, K_theta, slfp_ratio        defaults of every beam
   beams = { name = { model, gamma, K_theta, stiffness, clamp } }   per beam
 A straight beam with a free end loaded by one dead force of one sense has a defined load ratio n
-(``load_ratios``): the builder then takes gamma(n), K_Theta(n) of the Pauly-Midha fits (seed 000
-eqs 41, 43) and says so in the beam's record. A beam spring turned past the fits' 65 deg flags the
+(``load_ratios``): the builder then takes gamma(n), K_Theta(n) of the Pauly-Midha fits
+[bapat2015, eqs 41, 43] and says so in the beam's record. A beam spring turned past the fits' 65 deg flags the
 level (``Applicability.DEFLECTION``).
 
 Loads, as the FEM takes them: forces at nodes (dead, or ``follower``: turning with the node's body),

@@ -1,21 +1,21 @@
-"""The PRBM adapter for loads that turn with the structure or act along the beam (issue 20).
+"""The PRBM adapter for loads that turn with the structure or act along the beam.
 
 Frames as in ``validation/methods/prbm.py``: a segment's x runs along the undeformed segment from its
 fixed end (the origin), forces are ``values x direction``, CCW moments; a four-bar's frame has O2, the
 characteristic pivot, at ``[methods.prbm] origin`` of the case frame.
 
 * A straight fixed-free / fixed-pinned segment with an end force ``toward = [x, y]`` (a rope to a fixed
-  point, turned by ``angle``): the fixed-pinned PRBM (seed 000 eqs 41-49) of the dead force that acts at
+  point, turned by ``angle``): the fixed-pinned PRBM [bapat2015, eqs 41-49] of the dead force that acts at
   equilibrium, whose tip gives back that force's direction by the load law
   (``prbm.turning_loads.fixed_pinned_turning_tip``): the fits at the equilibrium load ratio n,
   gamma K_Theta (EI/l) Theta = gamma l (F_y cos Theta - F_x sin Theta).  The capstan options ``friction_mu``,
   ``contact_angle_deg`` scale the magnitude (eq 211).  Other end loads beside it are refused.
 * A straight cantilevered segment with distributed or self-weight loads, ``model = 'chain'``: the Chain
-  Algorithm (seed 000 section 2.2, eqs 26-40), the one segment model of the seeds that takes loads
+  Algorithm [bapat2015, §2.2, eqs 26-40], the one segment model of the sources that takes loads
   along the segment (at its nodes): each element's q L_i lumped half to each of its end nodes
   (``prbm.chain.lumped_uniform_load``; self-weight q = section weight per length x gravity direction),
   dead end forces and moments at the last node.  Without ``model = 'chain'`` such a case is refused:
-  no seed gives a one-spring PRBM for a load along the segment.  Follower (pressure) loads are refused:
+  no source gives a one-spring PRBM for a load along the segment.  Follower (pressure) loads are refused:
   the chain's nodal loads are dead loads in the global frame.
 * The input segment of a PRB four-bar (``[methods.prbm] links``) with a follower force (``body`` = the
   segment) or a force ``toward`` a point at A, the end of PRB link 2 (``link2_turning_forces``, used by

@@ -3,20 +3,21 @@ the requested outputs.
 
 Frames: x along the undeformed segment from the fixed end, force = values * direction, CCW moments.
 The tip loads of each level are summed into (F_x, F_y, M); the PRBM load ratio follows as P = F_y,
-n = -F_x/F_y (seed 000: end force (-nP, P)).
+n = -F_x/F_y ([bapat2015]: end force (-nP, P)).
 
 * fixed-free / fixed-pinned, straight: force only -> ``fixed_pinned_tip`` (eqs 41-49; options
-  ``family`` = 'pauly-midha' (default) or 'howell' (seed 004), ``extrapolate``); moment only ->
-  ``pure_moment_tip`` (seed 004); force and moment -> ``fixed_guided_monotonic_tip`` (equivalent
-  initial curvature, valid without inflection); follower force -> ``composite_beam_tip(follower=True)``.
-  A 'layers' section uses EI = sum E_i I_i (sliding layers).  Options ``friction_mu`` and
-  ``contact_angle_deg`` apply the capstan factor exp(-mu beta) (eq 211) to the forces.
+  ``family`` = 'pauly-midha' (default) or 'howell' [ananthasuresh_l18, 05:41], ``extrapolate``); moment
+  only -> ``pure_moment_tip`` [ananthasuresh_l18, 16:59-21:58]; force and moment ->
+  ``fixed_guided_monotonic_tip`` (equivalent initial curvature, valid without inflection); follower
+  force -> ``composite_beam_tip(follower=True)``.  A 'layers' section uses EI = sum E_i I_i (sliding
+  layers).  Options ``friction_mu`` and ``contact_angle_deg`` apply the capstan factor exp(-mu beta)
+  (eq 211) to the forces.
 * fixed-free, initially curved: ``curved_fixed_pinned_tip`` (eqs 53-61).
 * fixed-guided without a model: force only -> ``fixed_guided_tip`` (two springs, eq 63); with a
   moment -> ``fixed_guided_monotonic_tip``.
 Outputs: x = a, y = b, dx, dy (from the unloaded tip), rotation = theta0 (deg), force_x = -nP,
 force_y = P, moment (CCW), prb_angle (deg), strain_energy (PRBM springs).
-Applicability (issue 14 item 3; ``MethodRun.applicability``, per level): ``INFLECTION`` where a force
+Applicability (``MethodRun.applicability``, per level): ``INFLECTION`` where a force
 and an end moment bend the PRBM's deformed state through an inflection point (tip and root moments of
 opposite signs: Table 2.1 and eq (12)) while the monotonic model (eq 62) was used; ``LOAD_RATIO`` where
 n lies outside the fit family's range (only reached with ``extrapolate`` = 'warn' or 'allow'; 'raise'
@@ -24,10 +25,10 @@ refuses the case); ``DEFLECTION`` where |Theta - Theta_i| passes the fits' print
 Shapes: ``extras['shapes']`` holds, per level, the PRB links as (n, 2) polylines in the case frame:
 fixed-pinned segment root -> pivot -> tip; two-spring fixed-guided root -> pivot -> pivot -> tip.
 
-Speed (issue 15 item 5): a case has a few load levels, so everything between the case and the library
+Speed: a case has a few load levels, so everything between the case and the library
 call, and between the library's result and the requested values, is plain Python floats level by level
-(a numpy call costs about a microsecond whatever the length of a 10-level array); the library is called
-once over all the levels.  The arithmetic is that of the array expressions it replaces, in the same
+(a numpy call's fixed overhead exceeds the arithmetic of a 10-level array); the library is called
+once over all the levels.  The arithmetic is that of the equivalent array expressions, in the same
 order, so the values are the same to the last bit.
 """
 from __future__ import annotations
@@ -249,12 +250,12 @@ def _segment_outputs(case, loads: TipLoads, solved: SegmentSolve, n: int, wanted
 
 def _flag_fit_range(info: MethodRun, loads: TipLoads, ratio: list[float], res: PRBMResult, fit: FitOptions,
                     n: int) -> None:
-    """Flag the levels a model with the n-fits (seed 000 eqs 41-43, seed 004) solved outside the fits'
-    ranges: the load ratio n outside the family's published range (reached only with ``extrapolate``
-    'warn' or 'allow'; 'raise' refuses the case), or the PRB angle |Theta - Theta_i| past the printed
+    """Flag the levels a model with the n-fits ([bapat2015, eqs 41-43], [ananthasuresh_l18, 05:41]) solved
+    outside the fits' ranges: the load ratio n outside the family's published range (reached only with
+    ``extrapolate`` 'warn' or 'allow'; 'raise' refuses the case), or the PRB angle |Theta - Theta_i| past the printed
     Theta range of the fits (``prbm.fits.THETA_RANGE``, 65 deg)."""
     if "K_theta" not in res.constants or "family" not in res.constants or not loads.has_force:
-        return  # not a model of the n-fits (pure moment: its own constants, seed 004)
+        return  # not a model of the n-fits (pure moment: its own constants)
     if fit.extrapolate != "raise":  # with 'raise' a ratio outside the fits has refused the case already
         family = fit_family(res.constants["family"])
         lower, upper = family.lower, family.upper

@@ -1,10 +1,10 @@
 """A PRB mechanism's sprung joints realised as small-length flexural pivots (SLFPs), for the FEM.
 
-Chapter 7 of seed 000 designs mechanisms whose compliance sits in SLFPs: a short flexible segment
-of length l between two (much longer) rigid segments. Its PRBM (seed 000 section 2.x, Howell 2001)
+Chapter 7 of [bapat2015] designs mechanisms whose compliance sits in SLFPs: a short flexible segment
+of length l between two (much longer) rigid segments. Its PRBM ([bapat2015, §2.3.6], Howell 2001)
 is a pin at the middle of the flexure with a torsional spring
 
-    k = E I / l                                                    (seed 000 eq 186)
+    k = E I / l                                                    [bapat2015, eq 186]
 
 The dissertation prints k (and E = 450,000 psi for its ANSYS runs) but not l, w or t. Given k and
 E, a flexure of length l has I = k l / E; its thickness t and width w only split I = w t^3/12 and

@@ -339,7 +339,8 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
             "abs_error": "absolute error", "rel_error": "relative error",
             "norm_error": "error / characteristic length", "within_tolerance": "within stated tolerance",
             "converged": "converged"}
-    # issue 14 item 3: a value whose model was not made for its load says so in its row
+    # a value whose model was not made for its load (outside the fits' range, an inflection the model
+    # cannot take) says so in its row
     if "applicability" in table and table["applicability"].fillna("").ne("").any():
         cols["applicability"] = "outside the model's range"
     shown = marked_estimates(table.dropna(subset=["quantity"]))[list(cols)].rename(columns=cols)
@@ -425,7 +426,7 @@ class PageLink:
 
 # A page's tables hold their text in Python strings rather than pandas 3's pyarrow-backed default: a page
 # filters, sorts and takes rows of small tables hundreds of times, where pyarrow's per-call conversions
-# cost about a quarter of the table work; what a page shows is the same (the results files written by
+# are a large part of the table work; what a page shows is the same (the results files written by
 # the main process keep the default).
 PAGE_STRINGS = "python"
 
@@ -537,7 +538,7 @@ def headline(rows) -> str:
 
 @dataclass(frozen=True)
 class DomainStudy:
-    """Seed 000 chapter 4's deflection domains (exact, FEM-free, ~15 s), kept in ``folder`` and run again
+    """The deflection domains of [bapat2015, ch. 4] (exact, FEM-free), kept in ``folder`` and run again
     only when its figure is missing or a source it depends on (code or data) has changed; a task of
     ``run_cases``' pool, run beside the cases."""
 
@@ -633,7 +634,7 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
             return ExitStatus.BAD_INPUT
         pooled = time.perf_counter() - started  # cases, their pages and the domain study, on ``jobs`` processes
         timeline = outcome.timeline
-        # the overview figure (a second of matplotlib layout) drawn in a process of its own beside the
+        # the overview figure (matplotlib's layout is slow) drawn in a process of its own beside the
         # tables and the index page, on the core the finished workers left free
         with ProcessPoolExecutor(max_workers=1) as figure_pool:
             with timed("main", "overview points", timeline):

@@ -1,13 +1,13 @@
 """A case page's charts, drawn by the reader's browser with plotly.js from the numbers embedded in the page.
 
-Drawing a case's charts with matplotlib cost about 0.5 CPU-s a page (tick and text layout, the PNG
-encoder), most of the report's time; here the report only writes each chart's numbers (7 significant
+Drawing a case's charts with matplotlib in the report (tick and text layout, the PNG encoder) would
+be most of the report's time; here the report only writes each chart's numbers (7 significant
 digits) as a plotly.js figure (``data`` traces, ``layout``) and the browser draws it. The plotting library
 is plotly.js, the bundle the ``plotly`` pip package ships (``plotly/package_data/plotly.min.js``),
 copied once into the report's ``js/`` folder (``install_plotly``); the Python side of ``plotly`` is not
 imported.
 
-Three charts, as the matplotlib figures were:
+Three charts:
 
 - ``outputs_chart``: a panel per output (quantity at a point), its value (in the case's unit) against
   the case's first load (in its unit, else the load level index); a line per method and hollow

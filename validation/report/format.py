@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 
 # PRBM error colour scale, in % of the characteristic length: green at or below LOW, red at HIGH and
-# above, logarithmic in between (0.5 % is the seed's target for the PRBM's end-point error).
+# above, logarithmic in between (0.5 % is the target for the PRBM's end-point error, [bapat2015, §2.3]).
 ERROR_SCALE_LOW, ERROR_SCALE_HIGH = 0.5, 10.0
 
 

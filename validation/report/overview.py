@@ -1,6 +1,6 @@
 """One picture of the whole validation: the PRBM's distance from the FEM against how far the structure
 deflects, for every case and every load level, coloured by the PRBM segment model, with the accuracy
-claims printed in the seeds drawn on the same axes.
+claims printed in the sources ([bapat2015], [ananthasuresh_l18]) drawn on the same axes.
 
 Axes (both over the case's characteristic length L, the segment length or the mechanism's extent):
 x = the largest FEM displacement of any element node at the level, |u|max / L;
@@ -8,18 +8,18 @@ y = the largest |PRBM - FEM| of the case's length outputs (positions, displaceme
 
 The claims (``CLAIMS``), each with where it is printed:
 
-- seed 000 §2.3 (the PRBM of a fixed-free / fixed-pinned segment): the PRBM parameters are chosen so
+- [bapat2015, §2.3] (the PRBM of a fixed-free / fixed-pinned segment): the PRBM parameters are chosen so
   that the beam end point lies "within a small error tolerance, of say 0.5%" of the elliptic-integral
   solution; with the Howell-Midha measure (error over tip deflection, notes/anchors.md §2.7) this is the
   line y = 0.5 % of x.
-- seed 000 eqs (51)-(52): the K_Theta(n, Theta) fits hold for 0 < Theta <= 65 deg; the PRB tip of a
+- [bapat2015, eqs 51-52]: the K_Theta(n, Theta) fits hold for 0 < Theta <= 65 deg; the PRB tip of a
   link gamma L turned by Theta has moved 2 gamma L sin(Theta/2), so with gamma = 0.8517 (n = 0) the
   end of the fit range is x = 0.9152.
-- seed 000 §4 (Fig. 4.13): the characteristic radius factor 0.8945 estimates the lower bound of the
+- [bapat2015, ch. 4, Fig. 4.13]: the characteristic radius factor 0.8945 estimates the lower bound of the
   fixed-guided deflection domain within 1 % for normalised transverse deflection 0.4 to 0.85: the
   segment y = 1 % of x over 0.4 <= x <= 0.85.
-- seed 004 (the PRB-modelling lecture) prints no numeric accuracy: it says the n-fits of gamma and
-  K_Theta can be used "comfortably and quite accurately" within their n-ranges; nothing to draw.
+- [ananthasuresh_l18] (the PRB-modelling lecture) prints no numeric accuracy: it says the n-fits of
+  gamma and K_Theta can be used "comfortably and quite accurately" within their n-ranges; nothing to draw.
 """
 from __future__ import annotations
 
@@ -39,8 +39,8 @@ from validation.report.format import by_case, rows_of  # noqa: E402
 from validation.report.summary import prbm_fem_by_level  # noqa: E402
 from validation.run.runner import CaseResult  # noqa: E402
 
-GAMMA_N0 = 0.8517          # Howell-Midha characteristic radius factor at n = 0 (seed 000 eq. 41: 0.851892)
-THETA_FIT_MAX_DEG = 65.0   # seed 000 eqs (51)-(52)
+GAMMA_N0 = 0.8517          # Howell-Midha characteristic radius factor at n = 0 ([bapat2015, eq 41]: 0.851892)
+THETA_FIT_MAX_DEG = 65.0   # [bapat2015, eqs 51-52]
 FLOOR_PERCENT = 1e-3       # errors below this are drawn on it (a log axis has no zero)
 
 

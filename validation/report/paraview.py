@@ -282,8 +282,9 @@ RIGID_COLOUR = "black"          # the FEM's rigid links: no bending moment of th
 @dataclass
 class Canvas:
     """This process's off-screen plotter and what stays on it between pictures: the title (one corner
-    text whose words change), one legend per set of entries (pyvista normalises a legend's symbols at
-    ~10 ms an entry), and the picture's own actors (meshes, the shown legend), removed for the next."""
+    text whose words change), one legend per set of entries (pyvista normalises a legend's symbols, entry
+    by entry, each time one is built), and the picture's own actors (meshes, the shown legend), removed
+    for the next."""
 
     plotter: object
     title: object
@@ -382,8 +383,8 @@ def render_series(series: list[ShapeSeries], png: Path, title: str = "") -> Path
     canvas.title.set_text("upper_left", title or " ")
     plotter.view_xy(render=False)
     canvas.legend(tuple(legend))
-    plotter.render()  # the one render of the picture (the calls above are told not to: ~5 ms each)
+    plotter.render()  # the one render of the picture (the calls above are told not to render)
     image = plotter.screenshot(None, return_img=True)
-    # zlib level 1: 5 ms an image instead of 9 (the default, 6), files ~20 % larger
+    # zlib level 1: faster to compress than the default (6), for somewhat larger files
     Image.fromarray(image).save(png, compress_level=1)
     return png

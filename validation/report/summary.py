@@ -74,7 +74,8 @@ LEVEL_COLUMNS = ["method", "quantity", "point", "level", "value", "scale"]
 def prbm_fem_by_level(part: pd.DataFrame) -> pd.Series:
     """Largest |PRBM - FEM| of the length outputs at each level, over the characteristic length (the
     first value of each method, output and level; the first characteristic length given), indexed by the
-    sorted levels with a difference; read in one pass over the rows (a pandas pivot costs ~20 ms)."""
+    sorted levels with a difference; read in one pass over the rows (cheaper than a pandas pivot on
+    tables this small)."""
     values: dict[str, dict[tuple, float]] = {"prbm": {}, "fem": {}}
     scale = math.nan
     any_length = False
@@ -197,7 +198,8 @@ def summarise(result: CaseResult, part: pd.DataFrame, sentence: str | None = Non
 
 
 def group_order(group: str) -> tuple:
-    """Chapters in number order, then the other seeds, then the classic benchmarks."""
+    """Chapters in number order, then the other source documents' groups, then the classic
+    benchmarks."""
     match = re.match(r"chapter\s+(\d+)", group)
     if match:
         return (0, int(match.group(1)), group)

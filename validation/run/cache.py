@@ -55,7 +55,7 @@ def package_version() -> str:
 @lru_cache(maxsize=None)
 def _version(name: str) -> str | None:
     """The installed version of distribution ``name``, or None (read once a process: reading a
-    distribution's metadata parses its METADATA file, ~2 ms)."""
+    distribution's metadata parses its METADATA file)."""
     try:
         return metadata.version(name)
     except metadata.PackageNotFoundError:

@@ -7,7 +7,7 @@ code is compiled twice.
 1. the methods whose code is compiled with numba (``compiled_method``: the adapter's sources, as the
    run cache walks them, import numba) are compiled first, each by one worker ("primer": that method
    alone on the smallest case file that will run it (not in the run cache), its run discarded so that
-   no case's recorded time includes the compile), so that two workers never spend the same ~10 s
+   no case's recorded time includes the compile), so that two workers never spend the same time
    compiling the same kernels; numba's on-disk cache (``cache=True``) then serves every other process;
 2. while the primers compile, the other workers take the extra tasks (``extra``, e.g. the report's
    chapter-4 domain study) and the cases that need no compiled method, longest first (``estimate``);

@@ -60,7 +60,7 @@ ROOT = ("reaction_x", "reaction_y", "reaction_moment")
 # several times that motion (kappa L = 1.6, a force at 60 deg: 5x; found by this contract). Against
 # sigma_1 |f| (the largest motion a load of that magnitude produces) the linear-limit error of the
 # straight fixed-pinned fit is 2 % of position and 6 % of rotation (gamma = 0.85, c_theta/K_Theta =
-# 0.468 against 1/2; seed 000 eqs (41)-(49)); the initially curved model (eqs (53)-(61) with its
+# 0.468 against 1/2; [bapat2015, eqs 41-49]); the initially curved model (eqs (53)-(61) with its
 # assumed theta0 map) reaches 6 % of position and 15 % of rotation at kappa L = 1.6 (measured over
 # every force direction inside the n-fits). 20 % bounds every model tried.
 PRBM_LINEAR_ERROR = 0.20
@@ -327,12 +327,12 @@ def applicable(method: str, c: Configuration) -> bool:
 
 
 def _prbm_applicable(c: Configuration) -> bool:
-    """The segment PRBMs of the seeds that the adapter maps (load ratio n inside the fits' range)."""
+    """The segment PRBMs of the sources that the adapter maps (load ratio n inside the fits' range)."""
     if c.load not in ("transverse", "oblique", "moment", "force_moment", "follower") or c.boundary == "pinned-pinned":
         return False
     if c.load != "moment":
         n = -math.cos(math.radians(c.angle_deg)) / math.sin(math.radians(c.angle_deg))
-        if not -3.5 <= n <= 9.5:   # Pauly-Midha fits: -4 <= n <= 10 (seed 000 eqs (45)-(49))
+        if not -3.5 <= n <= 9.5:   # Pauly-Midha fits: -4 <= n <= 10 [bapat2015, eqs 45-49]
             return False
     if c.boundary == "fixed-fixed" and c.load not in ("oblique", "force_moment"):
         return False               # a tip translation held: the guided PRBMs let the tip translate
@@ -346,7 +346,7 @@ def _prbm_applicable(c: Configuration) -> bool:
 
 def _inflection_expected(c: Configuration) -> bool:
     """A segment whose bending moment changes sign between tip (M) and root (M + F_y x_t - F_x y_t):
-    seed 000 Table 2.1 (possible only for P and M of opposite sense); in the small-load limit."""
+    [bapat2015, Table 2.1] (possible only for P and M of opposite sense); in the small-load limit."""
     a = math.radians(c.angle_deg)
     k = c.kappa_L
     xt, yt = (math.sin(k) / k, (1 - math.cos(k)) / k) if k else (1.0, 0.0)
@@ -515,7 +515,7 @@ def _prbm_large(c: Configuration, case: Case, run: MethodRun, at_last: MethodRun
     """The PRBM at a large load: its error against the elastica recorded; judged for conventions only
     (``CONVENTION_LIMIT`` of the larger of the elastica's motion and the load's compliance scale, at
     most L). Where the PRBM itself warns that its deformed state has an inflection point (the
-    monotonic force-and-moment model, eq (62), does not fit: seed 000 Table 2.1, eq (12)), the
+    monotonic force-and-moment model, eq (62), does not fit: [bapat2015, Table 2.1, eq 12]), the
     error is recorded and not judged, as in the linear limit."""
     L = case.segment.length
     reach = min(compliance_scale(c, case, linear_reference(c, case)), L)

@@ -12,7 +12,7 @@ library constants the FEM's bending stiffness EI x 1.10 (every member the FEM bu
                   model's defaults), the Chain Algorithm's element EI x 1.10 (prbm.chain, the
                   'chain' model of the PRBM adapter), the elastica's EI x 1.10 (segments and every
                   beam of the elastica mechanism model), the BCM's linear stiffness coefficients
-                  K0 x 1.10 with their compliance C0 / 1.10 (seed 003 Table 1, eqs (3), (16): the
+                  K0 x 1.10 with their compliance C0 / 1.10 ([chen2021, Table 1, eqs 3, 16]: the
                   linear term of EI x 1.10).
 
 Methods that are options of another method's adapter carry that method's plants: the small-length

@@ -1,4 +1,4 @@
-"""Chapter 4 of seed 000: characteristic deflection domains from the exact elliptic solutions beside
+"""Chapter 4 of [bapat2015]: characteristic deflection domains from the exact elliptic solutions beside
 the PRBM, their pseudo-rigid-body bounds fitted and held against the printed ones, and the
 PRBM-vs-exact error of the end position over each domain.
 

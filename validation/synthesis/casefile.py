@@ -3,7 +3,7 @@
 The mesh is built in the energy-free configuration (Theta20, Theta30, Theta40), O2 at the origin,
 following the conventions of ``cases/chapter6/*.toml``: a node shared by a beam end and a rigid link
 is a rigid connection; a revolute joint without a spring is a ``[[joints]]`` entry; a segment is
-placed as the seed places it --
+placed as [bapat2015] places it --
 
 * SLFP (eq. 186): a flexure of length l centred on its PRB pivot, along its link;
 * fixed-guided (eq. 188): one beam of length l = R / gamma centred on the PRB link, clamped to the

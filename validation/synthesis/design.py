@@ -1,6 +1,6 @@
 """From a specification to a PRBM design: rigid-body synthesis, springs, segment dimensions.
 
-The generalised procedure of seed 000 (Bapat 2015) chapter 6, in the order of section 6.3:
+The generalised procedure of [bapat2015, ch. 6], in the order of section 6.3:
 kinematics first (section 6.4, ``prbm.synthesis.dyads``), then the energy/torque equations for the spring
 constants (section 6.5, ``prbm.synthesis.compliance``), then the segments realising them (eqs 186-188,
 ``prbm.synthesis.segments``) with a stress check.  The kinematics and compliance equations are weakly
@@ -118,7 +118,7 @@ def _segment_for(spec: Spec, d: Design, choice) -> sg.SegmentDesign:
 
 
 def _stress_constraints(spec: Spec, d: Design, A_configs) -> dict:
-    """SLFP stress <= yield as constraints g(k) <= 0 while k is unknown (seed Example 1, eq. 186)."""
+    """SLFP stress <= yield as constraints g(k) <= 0 while k is unknown [bapat2015, Example 1, eq 186]."""
     if spec.material.yield_strength is None:
         return {}
     m = d.mechanism
@@ -247,7 +247,7 @@ def framework_design(spec: Spec) -> Design:
 
 
 def two_position_design(spec):
-    """``Design`` for a ``[fixed_guided]`` specification (seed section 3.8)."""
+    """``Design`` for a ``[fixed_guided]`` specification [bapat2015, §3.8]."""
     fg = spec.fixed_guided
     alpha = fg.orientation * DEG
     b = fg.dX * math.sin(alpha) + fg.dY * math.cos(alpha)

@@ -35,7 +35,7 @@ class DesignInfo(Strict):
 
 
 class FreeChoices(Strict):
-    """Free choices of the rigid-body synthesis (seed section 6.4): link lengths R and directions
+    """Free choices of the rigid-body synthesis [bapat2015, §6.4]: link lengths R and directions
     theta (deg) of Z2, Z3, Z4 in position 1, and which closure of a dyad triangle to keep."""
 
     R2: Positive | None = None
@@ -89,7 +89,7 @@ class ExtraPoint(Strict):
 
 
 class Compliance(Strict):
-    """Energies or input torques at the precision positions (seed eqs 181, 182, 185)."""
+    """Energies or input torques at the precision positions [bapat2015, eqs 181, 182, 185]."""
 
     kind: Literal["energy", "torque"]
     values: list[Finite] = Field(min_length=1, description="at P1, P2, ...")
@@ -117,7 +117,7 @@ class Material(Strict):
 
 
 class SegmentChoice(Strict):
-    """A compliant segment realising springs on one PRB link (seed eqs 186-188)."""
+    """A compliant segment realising springs on one PRB link [bapat2015, eqs 186-188]."""
 
     kind: Literal["slfp", "fixed-pinned", "fixed-guided"]
     link: Literal["Z2", "Z3", "Z4"]
@@ -141,7 +141,7 @@ class SegmentChoice(Strict):
 class Verification(Strict):
     """How the generated case drives the FEM: 'input-rotation' (rigid input link turned, torque
     measured), 'output-rotation' (rigid link 4 turned), 'coupler-x-rotation' (coupler-point X and
-    coupler rotation prescribed, Y free, as in the seed's chapter-5 verifications)."""
+    coupler rotation prescribed, Y free, as in the dissertation's chapter-5 verifications)."""
 
     drive: Literal["input-rotation", "output-rotation", "coupler-x-rotation"] = "coupler-x-rotation"
     elements: int = Field(16, ge=1)
@@ -169,7 +169,7 @@ class Printed(Strict):
 
 
 class FixedGuidedTwoPosition(Strict):
-    """Seed section 3.8: fixed-guided segment with one inflection point, two positions.  Beam-frame
+    """[bapat2015, §3.8]: fixed-guided segment with one inflection point, two positions.  Beam-frame
     load P, load ratio n (n > 0 compressive), end angle theta0; end displacements dX, dY in a frame
     rotated by ``orientation`` from the beam."""
 
@@ -184,7 +184,7 @@ class FixedGuidedTwoPosition(Strict):
 
 
 class FrameworkSegment(Strict):
-    """One fixed-guided beam of a chapter-5 design: its free choices (seed section 5.3)."""
+    """One fixed-guided beam of a chapter-5 design: its free choices [bapat2015, §5.3]."""
 
     name: str = Field(pattern=r"^[A-Za-z0-9_]+$")
     theta1: Finite = Field(description="deg, direction of the undeformed beam")
@@ -202,7 +202,7 @@ class FrameworkSegment(Strict):
 
 
 class Framework(Strict):
-    """Seed chapter 5: fixed-guided beams with one inflection point carrying a rigid coupler."""
+    """[bapat2015, ch. 5]: fixed-guided beams with one inflection point carrying a rigid coupler."""
 
     delta: list[Point] = Field(min_length=1, description="coupler-point displacements P_j - P_1")
     gamma: list[Finite] = Field(description="coupler rotations, deg")
