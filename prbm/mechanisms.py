@@ -1,6 +1,6 @@
 """Planar pseudo-rigid-body linkages: four-bar and slider-crank with torsional springs.
 
-Four-bar (seed 000 chapters 6, 7, 9; Figs 6.2, 7.1): complex vectors Z1 (ground O2 -> O4),
+Four-bar [bapat2015, chs. 6, 7, 9, Figs 6.2, 7.1]: complex vectors Z1 (ground O2 -> O4),
 Z2 (input O2 -> A), Z3 (coupler A -> B), Z4 (output O4 -> B), Z5 (A -> coupler point P); loop
 Z2 + Z3 = Z1 + Z4.  Springs k1..k4 at O2, A, B, O4 on the joint angles of eq (183):
 beta1 = Theta2, beta2 = Theta3 - Theta2 (+ const), beta3 = Theta4 - Theta3, beta4 = Theta4, measured
@@ -346,7 +346,8 @@ class SliderCrank:
         of it), so theta3 - theta3_ref is the coupler's rotation from position 1 whatever the
         quadrant the reference was given in."""
         s = (self.offset - self.R2 * np.sin(theta2)) / self.R3
-        t = np.arcsin(s)
+        with np.errstate(invalid="ignore"):   # NaN where the coupler cannot reach (|s| > 1): callers skip it
+            t = np.arcsin(s)
         t = t if self.branch > 0 else np.pi - t
         return self.theta3_ref + np.remainder(t - self.theta3_ref + np.pi, 2.0 * np.pi) - np.pi
 

@@ -71,6 +71,10 @@ def build_parser() -> argparse.ArgumentParser:
     stress.add_argument("--seed", type=int, default=20261122)
     stress.add_argument("--configurations", type=int, default=10_000,
                         help="generated configurations of the quantity contract with --long (default %(default)s)")
+    stress.add_argument("--mutants", type=int, default=None,
+                        help="mutated case files fuzzed through solve/run (default 300, 10000 with --long)")
+    stress.add_argument("--mutant-timeout", type=float, default=20.0,
+                        help="seconds each mutated case file may take (default %(default)s)")
     stress.add_argument("--workers", type=int, default=None, help="worker processes (default 2)")
     stress.add_argument("--dask", action="store_true", help="run --long on a local Dask cluster")
     stress.add_argument("--scheduler", default=None, help="run --long on the Dask cluster at this address")

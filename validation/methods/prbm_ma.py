@@ -20,6 +20,9 @@
   displacement must be the one link 4 turned by ``location_deg`` gives the point, else NotApplicable.
 
 Options (``ma``): F_i, d_i (slider) or d_in, d_out2, d_out3, location_deg (four-bar).
+
+A value that is not finite (MA at a singular pose, where the output cannot move, or with no input
+force) is a run that did not converge, with the quantity and level named, never a silent NaN.
 """
 from __future__ import annotations
 
@@ -168,4 +171,8 @@ def run(case, requests, options: dict) -> tuple[dict, MethodRun]:
             raise NotApplicable(f"the PRB MA model gives no '{req.quantity}'")
         column = np.atleast_1d(out[req.quantity])
         values[req] = float(column[req.level] if column.size > 1 else column[0])
+    lost = next((req for req, value in values.items() if not math.isfinite(value)), None)
+    if lost is not None:
+        return values, MethodRun(values=values, converged=False, message=f"{what}: no finite {lost.quantity} "
+                                 f"at level {lost.level} (a singular pose of the PRB mechanism, or no input force)")
     return values, MethodRun(values=values, message=f"{what} (prbm.compliance)")
