@@ -89,9 +89,11 @@ class Discretisation:
 
 def _arc_points(P0, P1, kappa, n):
     """n+1 points along the arc P0 -> P1 of signed curvature kappa; arc length (None when straight: the
-    sum of the chords)."""
+    sum of the chords). An arc whose sagitta is below rounding of the chord (|kappa| c / 8 < eps: a
+    curvature that underflows the arc's formulas) is straight."""
     d = P1 - P0
-    if kappa == 0.0:     # t = np.linspace(0, 1, n + 1), computed as linspace does (t_k = k (1/n), t_n = 1)
+    if abs(kappa) * float(np.hypot(*d)) < 8.0 * np.finfo(float).eps:
+        # t = np.linspace(0, 1, n + 1), computed as linspace does (t_k = k (1/n), t_n = 1)
         t = np.arange(n + 1) * (1.0 / n)
         t[-1] = 1.0
         return P0 + t[:, None] * d, None

@@ -401,8 +401,10 @@ def _arc_stopped(arc: _Arc, control: ArcLengthControl, path) -> bool:
 def _run_arc(system, model, control: ArcLengthControl, opts: SolveOptions, path):
     loads = _reference_loads(system)
     arc = _Arc(system, model, control)
-    path.snapshots.append(snapshot(system, arc.q, arc.lam,
-                                   system.evaluate(arc.q, arc.beta, arc.lam, *loads, need_K=False), 0.0))
+    start = system.evaluate(arc.q, arc.beta, arc.lam, *loads, need_K=False)
+    path.snapshots.append(snapshot(system, arc.q, arc.lam, start, 0.0))
+    if not np.any(start["f_ref"]):      # lambda scales nothing: no path to follow
+        return "arc-length control needs a load pattern: the loads at the last level are all zero"
     path.mark_start()
     while len(path.iterations) < control.max_steps:
         try:

@@ -200,7 +200,8 @@ def solve_tip_inverse(model: Model, tip: str, tie: LoadRatio | ZeroMoment | Posi
             step = step / 2.0
             f = f_prev + step
         else:
-            return _failed(res, f, it, nfev, t0, f"the FEM did not converge near tied loads {f}: {res.message}")
+            return _failed(res, f, it, nfev, t0, f"the FEM did not converge near tied loads "
+                                                f"[{', '.join(f'{v:.4g}' for v in f)}]: {res.message}")
         done = np.abs(g) <= tie_rtol * np.where(scale > 0, scale, 1.0)
         if done.all():
             return TipInverseResult(True, f"tied load converged in {it} secant iterations ({nfev} FEM solves); "

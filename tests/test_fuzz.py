@@ -52,31 +52,7 @@ class Defect:
 
 
 # name (a regression file's "defect:" line) -> a defect found and not fixed yet
-OPEN: dict[str, Defect] = {
-    "misconfigured-without-error-line": Defect(
-        "exit 2 without an 'error:' line: a method that finds the case misconfigured during its solve (the PRB "
-        "slider's links cannot reach the slider travel: validation/methods/prbm_common.py slider_angles) exits 2, "
-        "but solve prints '<case> prbm: misconfigured: ...' and run lists it on stdout: no 'error: <file>: "
-        "<field>: <problem>' line (validation/cli/solve.py, run.py); or the reach belongs to the load-time checks "
-        "(validation/case)",
-        "exit 2 without an error line", said="misconfigured"),
-    "array-in-fem-message": Defect(
-        "a message over two lines: fem/tip_inverse.py formats the numpy array of tied loads into its message "
-        "('near tied loads [ 1.0e-03 -3.1e+02 ...' wraps at 75 characters), so the run's one-line summary "
-        "breaks in two (solve's stderr, run's list)",
-        "a message that is not one line", said="near tied loads ["),
-    "subnormal-curvature": Defect(
-        "segment.curvature = 5e-324 (subnormal) is accepted (the range check of validation/case leaves "
-        "curvature out): the FEM's element lengths divide by zero, numpy prints RuntimeWarnings "
-        "(fem/local_matrices.py:71) and the run fails with ZeroDivisionError at corotational.py:48",
-        "a message that is not one line", said="RuntimeWarning", fields=("segment.curvature",)),
-    "zero-reference-load": Defect(
-        "a limit-load FEM case whose first load value is 0 (lee_frame loads.0.values.0 = 0): the arc-length "
-        "step divides by the zero reference load (fem/solver.py:352), numpy prints RuntimeWarnings before the "
-        "one-line 'residual is not finite'; the adapter (validation/methods/fem.py) or the schema could refuse "
-        "a zero reference load",
-        "a message that is not one line", said="solver.py:352: RuntimeWarning", fields=("loads.*.values.*",)),
-}
+OPEN: dict[str, Defect] = {}
 
 
 @pytest.fixture(scope="module")

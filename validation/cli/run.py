@@ -75,7 +75,7 @@ def run(args) -> int:
         print(f"\n{len(problems)} method run(s) did not end ok (and their case does not expect it):")
         for line in problems:
             print(f"  {line}")
-    for error in outcome.errors:
+    for error in outcome.errors + outcome.misconfigured:
         print_error(error)
     print(f"\n{len(outcome.results)} case(s) run, {len(outcome.errors)} rejected, in "
           f"{time.perf_counter() - started:.1f} s; results in {out / 'values.csv'} and "

@@ -8,7 +8,8 @@ from pathlib import Path
 
 from validation.case.loader import CaseError, find_case_files, load_case
 from validation.case.loads import level_labels, load_name, load_unit
-from validation.run.exit_status import ExitStatus, combine, of_run_status, print_error
+from validation.methods.base import RunStatus
+from validation.run.exit_status import ExitStatus, combine, misconfigured_line, of_run_status, print_error
 from validation.run.runner import requests_for, run_method
 
 
@@ -63,7 +64,9 @@ def run(args) -> int:
     for method in methods:
         run = run_method(case, method)
         statuses.append(of_run_status(run.status))
-        if not run.ok:
+        if run.status is RunStatus.MISCONFIGURED:
+            print_error(misconfigured_line(loaded.path, run))
+        elif not run.ok:
             print(f"{case.case.id} {method}: {run.summary()}", file=sys.stderr)
         documents.append(solve_document(loaded, method, run))
     document = documents[0] if len(documents) == 1 else {"case": case.case.id, "runs": documents}

@@ -63,6 +63,13 @@ def decide(bad_input: bool = False, failed: bool = False) -> ExitStatus:
     return ExitStatus.FAILED if failed else ExitStatus.OK
 
 
+def misconfigured_line(path, run) -> str:
+    """The error line of a method run that found its case misconfigured while it solved: the case file,
+    then the run's own 'methods.<method>: <problem>' (its message without the status word)."""
+    message = run.message.removeprefix("misconfigured: ")
+    return " ".join(f"{path}: {message}".split())
+
+
 def print_error(message: object) -> None:
     """Print an error to stderr, every line of it prefixed 'error: ' (a case file with three problems
     is three lines, each naming the file and the field)."""

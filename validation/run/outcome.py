@@ -19,7 +19,7 @@ from tqdm import tqdm
 from validation.case.capabilities import QUANTITIES
 from validation.methods.base import RunStatus
 from validation.run.compare import agreement_checks, fem_elastica_checks, reference_check
-from validation.run.exit_status import combine, decide, of_run_status
+from validation.run.exit_status import combine, decide, misconfigured_line, of_run_status
 from validation.run.parallel import PathRun, run_paths
 from validation.run.runner import CaseResult, characteristic_length, requests_for
 from validation.run.timeline import Timed
@@ -135,6 +135,13 @@ class RunOutcome:
         (``case.expected_failure``, with its reason; the suite checks that they do fail)."""
         return [f"{case_id} {method}: {run.summary()}"
                 for case_id, method, run in self._runs_not_expected_to_fail() if not run.ok]
+
+    @property
+    def misconfigured(self) -> list[str]:
+        """One 'file: field: problem' line per method run that found its case misconfigured while it
+        solved (bad input found late: the run's status is misconfigured, exit status 2)."""
+        return [misconfigured_line(r.loaded.path, run) for r in self.results for run in r.runs.values()
+                if run.status is RunStatus.MISCONFIGURED]
 
     def _runs_not_expected_to_fail(self):
         """(case id, method, run) for every run whose case does not record it in expected_failure."""
