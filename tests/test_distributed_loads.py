@@ -202,7 +202,7 @@ error_estimate = false
 def test_self_weight_is_the_section_weight_along_gravity():
     """Self-weight = sum of weight density x area per unit length (0.5*2 + 0.25*2 = 1.5) along gravity."""
     weight = _case('[[loads]]\nkind = "self_weight"\ndirection = [0.0, -2.0]\nvalues = [1.0, 2.0]')
-    line = _case('[[loads]]\nkind = "distributed"\ndirection = [0.0, -1.5]\nvalues = [1.0, 2.0]')
+    line = _case('[[loads]]\nkind = "distributed"\ndirection = [0.0, -1.0]\nvalues = [1.5, 3.0]')
     a = fem_adapter.run(weight, requests_for(weight, "fem"), {"error_estimate": False})
     b = fem_adapter.run(line, requests_for(line, "fem"), {"error_estimate": False})
     assert a.values == pytest.approx(b.values, rel=1e-12)
@@ -239,7 +239,7 @@ def test_point_load_methods_refuse_loads_along_the_beam():
 
     case = case_by_id("cantilever_uniform_load").case
     with pytest.raises(NotApplicable, match="distributed"):
-        prbm_adapter.run(case, [("y", "tip", 0)], {})
+        prbm_adapter.run(case, [("y", "tip", 0)], {"model": "theta-dependent"})
     follower = case.model_copy(update={"loads": [case.loads[0].model_copy(update={"follower": True})]})
     with pytest.raises(NotApplicable, match="follower distributed"):
         elastica_adapter.level_problems(follower, {})

@@ -40,10 +40,10 @@ UNIFORM = (ROOT / "cases" / "benchmarks" / "cantilever_uniform_load.toml").read_
 
 
 def _uniform_files(tmp_path: Path) -> None:
-    """The second test's files: a case asking the PRBM for a distributed load without the Chain Algorithm
-    (model = 'chain', the only PRBM that takes one), and the same case recording that refusal as its
-    expected outcome."""
-    asks_prbm = UNIFORM.replace('model = "chain"', "")
+    """The second test's files: a case asking a one-spring PRBM (model = 'theta-dependent') for a distributed
+    load, which only the Chain Algorithm takes, and the same case recording that refusal as its expected
+    outcome."""
+    asks_prbm = UNIFORM.replace('model = "chain"', 'model = "theta-dependent"')
     assert asks_prbm != UNIFORM
     expects = asks_prbm.replace('group = "benchmarks"', 'group = "benchmarks"\nexpected_failure = { prbm = '
                                 '"no seed PRBM for a distributed load" }')
@@ -168,8 +168,8 @@ def test_every_named_load_as_a_column():
 @pytest.mark.xdist_group("plugin_run")
 def test_plugin_judges_like_the_suite_expected_failures_and_unchecked(plugin_run):
     """The plugin applies the suite's rule (compare.verdict_by_method): the PRBM has no one-spring model
-    for a distributed load (only the Chain Algorithm, model = 'chain', takes it), so a case asking for the
-    PRBM without the chain fails, unless the case records that refusal as its expected outcome
+    for a distributed load (only the Chain Algorithm takes it), so a case asking a one-spring PRBM for one
+    fails, unless the case records that refusal as its expected outcome
     (``_uniform_files``); the FEM's item is judged on its own checks either way."""
     done = plugin_run
     out = done.stdout

@@ -138,7 +138,7 @@ def test_adapter_chain_self_weight_is_the_lumped_chain_zeroed_at_level_0(tmp_pat
 
 
 @pytest.mark.parametrize("loads, options, reason", [
-    (WEIGHT, "", "model = 'chain'"),
+    (WEIGHT, 'model = "theta-dependent"', "model = 'theta-dependent' takes end loads only"),
     (WEIGHT.replace('kind = "self_weight"', 'kind = "distributed"\nfollower = true').replace(
         '[0.0, -2.0]', '[0.0, -1.0]'), 'model = "chain"', "follower distributed"),
     (ROPE + '\n[[loads]]\nkind = "moment"\nvalues = [0.0, 0.1, 0.1]\n', "", "other end loads"),

@@ -290,11 +290,16 @@ class PrbmOptions(Options):
         None, description="'network': solve a mechanism by the general network built from the geometry even where "
         "a special path applies; 'chain', 'theta-dependent', 'lyon': seed 000 chapter 2's other segment models, "
         "'feasible-l1': section 3.6's vector loop "
-        "(validation.methods.prbm_alternatives)")
+        "(validation.methods.prbm_alternatives). A load along a segment without a model takes the chain, its "
+        "elements chosen for chain_tol; any model but 'chain' there is refused")
     theta_fit: Literal["51", "52", "52-tension"] = Field("51", description="K_Theta(n, Theta) of seed 000 eq (51) or "
                                                          "(52) for model = 'theta-dependent'")
-    chain_elements: Count = Field(40, description="Chain Algorithm elements (section 3.4 used 40)")
+    chain_elements: Count = Field(40, description="Chain Algorithm elements (section 3.4 used 40); on a load "
+                                  "along the segment without a model, fixes the count the adapter would choose")
     chain_steps: Count = Field(10, description="Chain Algorithm load (or displacement) increments")
+    chain_tol: Fraction = Field(1e-3, description="a load along the segment without a model: the Chain Algorithm's "
+                                "elements are doubled from 10 until two successive chains' tips differ by less than "
+                                "chain_tol x L at every level (validation.methods.prbm_readings.chain_count)")
     zero_level: Index | None = Field(None, description="positions measured from this "
                                      "level's state, as the FEM option (prbm_readings)")
     rules: RulesOptions | None = Field(None, description="the PRB builder's rules "

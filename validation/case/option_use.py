@@ -61,6 +61,18 @@ def _model(name: str) -> Use:
                f"read only by the PRBM model '{name}' (model = \"{name}\")")
 
 
+def _along_segment(case) -> bool:
+    """A single segment carrying a distributed or self-weight load (the PRBM's chain carries it)."""
+    return case.segment is not None and any(ld.kind in ("distributed", "self_weight") for ld in case.loads)
+
+
+CHAIN = Use(lambda case, options: options.get("model") == "chain" or (options.get("model") is None
+                                                                        and _along_segment(case)),
+            "read only by the Chain Algorithm: model = \"chain\", or a load along a single segment without a model")
+CHAIN_CHOICE = Use(lambda case, options: (options.get("model") is None and _along_segment(case)
+                                          and "chain_elements" not in options),
+                   "read only when the PRBM chooses the Chain Algorithm's elements itself: a load along a single "
+                   "segment, without a model and without chain_elements")
 ESTIMATE = Use(lambda case, options: _estimate(options), "read only with the error estimate (error_estimate = true "
                "or tol), which is off")
 INFLECTION = Use(lambda case, options: options.get("problem") == "inflection",
@@ -97,7 +109,8 @@ USES: dict[str, dict[str, Use]] = {
         **{name: MECHANISM_ONLY for name in ("links", "springs", "spring_joints", "slfp", "energy_free", "precision",
                                              "free_levels", "drive", "coupler_point", "origin", "ma", "rules",
                                              "segment_model")},
-        **{name: _model("chain") for name in ("chain_elements", "chain_steps")},
+        **{name: CHAIN for name in ("chain_elements", "chain_steps")},
+        "chain_tol": CHAIN_CHOICE,
         "theta_fit": _model("theta-dependent"),
         "max_mode": _output("prbm", "dof"),
     },

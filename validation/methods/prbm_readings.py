@@ -14,9 +14,16 @@ characteristic pivot, at ``[methods.prbm] origin`` of the case frame.
   Algorithm [bapat2015, §2.2, eqs 26-40], the one segment model of the sources that takes loads
   along the segment (at its nodes): each element's q L_i lumped half to each of its end nodes
   (``prbm.chain.lumped_uniform_load``; self-weight q = section weight per length x gravity direction),
-  dead end forces and moments at the last node.  Without ``model = 'chain'`` such a case is refused:
-  no source gives a one-spring PRBM for a load along the segment.  Follower (pressure) loads are refused:
-  the chain's nodal loads are dead loads in the global frame.
+  dead end forces and moments at the last node.  No source gives a one-spring PRBM for a load along the
+  segment, so without a ``model`` option the adapter chooses the chain and its number of elements
+  (``chain_count``): it doubles the elements from ``CHAIN_FIRST`` until two successive chains put every
+  requested level's tip within ``chain_tol`` x L of each other (at most ``CHAIN_MOST`` elements) and reports
+  the finer one.  The chain of n elements converges as O(1/n^2) (the lumping is the trapezoid rule, each
+  element a cubic: the tip moves by a factor 4 less at each doubling, measured 3.9-4.0 from q L^3/EI =
+  0.01 to 30), so the finer chain's error is about a third of the last difference, below chain_tol x L / 3.
+  ``chain_elements`` fixes the count instead; ``model = 'chain'`` keeps its fixed count (default 40).  An
+  explicit other model (one-spring or mechanism) is refused with the reason.  Follower (pressure) loads
+  are refused: the chain's nodal loads are dead loads in the global frame.
 * The input segment of a PRB four-bar (``[methods.prbm] links``) with a follower force (``body`` = the
   segment) or a force ``toward`` a point at A, the end of PRB link 2 (``link2_turning_forces``, used by
   ``prbm_fourbar.fourbar_drive``): equilibrium (**) of ``prbm.turning_loads``, the moment about O2 of
@@ -161,35 +168,94 @@ def _chain_loads(case, beam: chain_model.ChainBeam, level: int) -> chain_model.N
     return total
 
 
+CHAIN_FIRST = 10
+"""Elements of the first chain of the automatic choice (its tip is within 3 % of L of the limit even at
+q L^3/EI = 30, the largest shipped load, so the doubling starts in the O(1/n^2) range)."""
+CHAIN_MOST = 320
+"""Most elements the automatic choice tries: 1e-5 L at q L^3/EI = 30 (a few seconds per level beyond)."""
+
+
+@dataclass
+class ChainChoice:
+    """The chain a case's load along the segment is solved with, and why that count."""
+
+    beam: chain_model.ChainBeam
+    levels: dict[int, ChainLevel]
+    reason: str
+    met: bool = True
+    """False when the automatic choice reached ``CHAIN_MOST`` elements without meeting its target."""
+
+
+def _solve_chain(case, beam: chain_model.ChainBeam, levels: list[int], steps: int) -> dict[int, ChainLevel]:
+    out = {}
+    for lv in levels:
+        loads = _chain_loads(case, beam, lv)
+        out[lv] = ChainLevel(chain_model.chain_tip(beam, loads, steps=steps), loads)
+    return out
+
+
+def _tip(level: ChainLevel) -> complex:
+    return complex(float(level.res.outputs["a"]), float(level.res.outputs["b"]))
+
+
+def chain_count(case, levels: list[int], options: dict) -> ChainChoice:
+    """The chain for a load along the segment: the count the options fix (``model = 'chain'``: its
+    ``chain_elements``, default 40; ``chain_elements`` alone), or else the automatic choice: n = CHAIN_FIRST,
+    2n, 4n, ... until max over the levels of |tip_2n - tip_n| < chain_tol x L (the finer chain kept)."""
+    seg = case.segment
+    steps = int(options.get("chain_steps", 10))
+    EI = seg.bending_stiffness()
+    if options.get("model") == "chain" or "chain_elements" in options:
+        beam = chain_model.ChainBeam(seg.length, EI, int(options.get("chain_elements", 40)))
+        given = "model = 'chain'" if options.get("model") == "chain" else "chain_elements"
+        return ChainChoice(beam, _solve_chain(case, beam, levels, steps), f"{beam.elements} elements ({given})")
+    tol = float(options.get("chain_tol", 1e-3))
+    most = min(CHAIN_MOST, case.limits.elements)
+    beam = chain_model.ChainBeam(seg.length, EI, min(CHAIN_FIRST, most))
+    solved = _solve_chain(case, beam, levels, steps)
+    change = math.inf
+    while True:
+        finer = chain_model.ChainBeam(seg.length, EI, 2 * beam.elements)
+        if finer.elements > most:
+            return ChainChoice(beam, solved, f"{beam.elements} elements, the most the automatic choice tries "
+                               f"(limits.elements or {CHAIN_MOST}): the tip still moved by {change:.2e} L at the "
+                               f"last doubling, over the target {tol:g} L (chain_tol)", met=False)
+        refined = _solve_chain(case, finer, levels, steps)
+        change = max(abs(_tip(refined[lv]) - _tip(solved[lv])) for lv in levels) / seg.length
+        beam, solved = finer, refined
+        if change < tol:
+            return ChainChoice(beam, solved, f"{beam.elements} elements, chosen for the load along the segment: the "
+                               f"tip moved by {change:.2e} L from {beam.elements // 2} elements, below the target "
+                               f"{tol:g} L (chain_tol; O(1/n^2), so about {change / 3:.1e} L from the limit)")
+
+
 def _chain(case, requests, options) -> MethodRun:
     seg = case.segment
-    if options.get("model") != "chain":
+    model = options.get("model")
+    if model not in (None, "chain"):
         i, load = next((i, ld) for i, ld in enumerate(case.loads) if ld.kind in ALONG_BEAM)
-        raise NotApplicable(f"loads.{i}: a {load.kind.replace('_', '-')} load along the segment: the seeds' "
-                            "one-spring PRBMs take end loads only; the Chain Algorithm (seed 000 section 2.2) "
-                            "takes loads at its nodes: give [methods.prbm] model = 'chain'")
+        raise NotApplicable(f"loads.{i}: a {load.kind.replace('_', '-')} load along the segment: model = '{model}' "
+                            "takes end loads only, as every one-spring PRBM of the seeds; the Chain Algorithm "
+                            "(seed 000 section 2.2) takes loads at its nodes: give model = 'chain', or no model "
+                            "to let the adapter choose it")
     if seg.boundary not in ("fixed-free", "fixed-pinned"):
         raise NotApplicable(f"a load along a {seg.boundary} segment: the Chain Algorithm here models a "
                             "cantilever (free end)")
-    beam = chain_model.ChainBeam(seg.length, seg.bending_stiffness(), int(options.get("chain_elements", 40)))
-    steps = int(options.get("chain_steps", 10))
-    levels = sorted({r.level for r in requests})
-    solved = {}
-    for lv in levels:
-        loads = _chain_loads(case, beam, lv)
-        solved[lv] = ChainLevel(chain_model.chain_tip(beam, loads, steps=steps), loads)
+    choice = chain_count(case, sorted({r.level for r in requests}), options)
+    solved = choice.levels
     info = MethodRun(values={})
     for req in requests:
         table = _chain_table(seg.length, solved[req.level])
         if req.quantity not in table or req.point != "tip":
             raise NotApplicable(f"the Chain Algorithm gives no '{req.quantity}' at '{req.point}'")
         info.values[req] = table[req.quantity]
-    info.level_converged = {lv: bool(s.res.converged) for lv, s in solved.items()}
+    info.level_converged = {lv: bool(s.res.converged) and choice.met for lv, s in solved.items()}
     info.level_messages = {lv: s.res.message for lv, s in solved.items()}
     info.converged = all(info.level_converged.values())
-    info.message = (f"Chain Algorithm (seed 000 eqs 26-40), {beam.elements} elements, loads along the segment "
+    info.message = (f"Chain Algorithm (seed 000 eqs 26-40), {choice.reason}; loads along the segment "
                     "lumped half to each element end; " + "; ".join(f"level {lv}: {m}" for lv, m in info.level_messages.items()))
-    info.extras = {"model": "Chain Algorithm with lumped loads, seed 000 section 2.2",
+    info.extras = {"model": f"Chain Algorithm with lumped loads, seed 000 section 2.2, {choice.beam.elements} elements",
+                   "chain_elements": choice.beam.elements,
                    "shapes": [[solved[lv].res.extras["nodes"]] if lv in solved else [] for lv in range(case.n_levels())]}
     return info
 
