@@ -149,7 +149,7 @@ def test_solve_json_has_the_loads(tmp_path, capsys):
     document = json.loads((tmp_path / "s.json").read_text())
     assert [run["method"] for run in document["runs"]] == ["prbm", "elastica"]
     last = document["runs"][1]["levels"][-1]
-    assert last["loads"] == [{"name": "force at tip", "value": 10.0, "unit": "EI/L^2"}]
+    assert last["loads"] == [{"name": "force at tip", "value": 10.0, "unit": "EI/L^2", "direction": [0.0, 1.0]}]
     assert last["outputs"]["y@tip"] == pytest.approx(0.810609, abs=2e-6)  # exact, notes/anchors.md 2.1
 
 

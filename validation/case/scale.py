@@ -134,19 +134,19 @@ def stiffness_scales(case) -> dict[str, float] | None:
 
 def nondimensional_load(case, load, scales: dict[str, float]) -> tuple[float, str] | None:
     """The largest non-dimensional magnitude of a load over its levels and its formula, or None for
-    a load whose kind has no stiffness scale (prescribed motions are judged on lengths and angles)."""
+    a load whose kind has no stiffness scale (prescribed motions are judged on lengths and angles);
+    the direction is a unit vector (``LoadSpec``), so a value is the magnitude."""
     largest = max((abs(v) for v in load.levels()), default=0.0)
-    size = math.hypot(*load.direction) if load.direction is not None else 1.0
     if load.kind == "force":
-        return largest * size / scales["force"], "P L^2/EI"
+        return largest / scales["force"], "P L^2/EI"
     if load.kind == "moment":
         return largest / scales["moment"], "M L/EI"
     if load.kind == "distributed":
-        return largest * size / scales["distributed"], "w L^3/EI"
+        return largest / scales["distributed"], "w L^3/EI"
     if load.kind == "self_weight":
         sections = [s for f, _, _, _, _, s in _beams(case)]
         weight = max((s.weight_per_length() or 0.0 for s in sections), default=0.0)
-        return largest * size * weight / scales["distributed"], "q L^3/EI (the weight per length q)"
+        return largest * weight / scales["distributed"], "q L^3/EI (the weight per length q)"
     return None
 
 

@@ -276,11 +276,16 @@ class Ramp(Strict):
 class LoadSpec(Strict):
     """One load along the load path.
 
-    kind 'force': the force at level i is ``values[i] * direction`` (direction need not be a unit
-    vector, so a transverse P with axial nP is direction = [-n, 1]); 'follower' rotates it with the point.
+    ``direction`` is normalised here, once, to the unit vector d / |d| (so [1, 1] is 45 degrees and
+    ``values[i]`` is the load's magnitude); every method reads the unit vector. A zero vector (length
+    below 1e-100) is refused.
+
+    kind 'force': the force at level i is ``values[i] * direction``, of magnitude ``|values[i]|`` (a
+    transverse P with axial nP is direction = [-n, 1] and values = P sqrt(1 + n^2)); 'follower'
+    rotates it with the point.
     kind 'moment': a couple (or input torque) ``values[i]`` at the point, on ``body`` if given.
-    kind 'displacement' / 'rotation': prescribed position change along ``direction`` / prescribed
-    rotation in degrees.
+    kind 'displacement' / 'rotation': prescribed position change of length ``values[i]`` along
+    ``direction`` / prescribed rotation in degrees.
 
     Loads attached to bodies: a follower force with ``body`` (a beam or link ending at the point)
     turns with that body's rotation there, so it keeps its angle to the body. A force with
@@ -308,6 +313,16 @@ class LoadSpec(Strict):
     ramp: Ramp | None = None
     label: str | None = None
 
+    @field_validator("direction")
+    @classmethod
+    def _unit_direction(cls, value: tuple[float, float] | None) -> tuple[float, float] | None:
+        if value is None:
+            return None
+        length = math.hypot(*value)
+        if length < TINY:
+            raise ValueError("must not be the zero vector (its length is below 1e-100)")
+        return (value[0] / length, value[1] / length)
+
     @model_validator(mode="after")
     def _path(self) -> "LoadSpec":
         if (self.values is None) == (self.ramp is None):
@@ -321,8 +336,6 @@ class LoadSpec(Strict):
         needs_direction = ("force", "displacement", "distributed", "self_weight")
         if self.kind in needs_direction and self.direction is None and self.toward is None:
             raise ValueError(f"a '{self.kind}' load needs a 'direction' [dx, dy]")
-        if self.direction is not None and math.hypot(*self.direction) < TINY:
-            raise ValueError("'direction' must not be the zero vector (its length is below 1e-100)")
         if self.follower and self.kind not in ("force", "distributed"):
             raise ValueError("only a force or a distributed load can be a follower")
         if self.member is not None and self.kind not in ("distributed", "self_weight"):

@@ -17,11 +17,20 @@ def _clean(v):
     return None if v is None or (isinstance(v, float) and math.isnan(v)) else v
 
 
+def _load_entry(name: str, value: float, unit: str, direction: tuple[float, float] | None) -> dict:
+    """One load at one level: its value (a force's or displacement's magnitude: the case's direction is a
+    unit vector, ``LoadSpec``) and, for a load along a direction, that unit vector [dx, dy]."""
+    entry = {"name": name, "value": value, "unit": unit}
+    if direction is not None:
+        entry["direction"] = list(direction)
+    return entry
+
+
 def solve_document(loaded, method: str, run) -> dict:
     """The JSON document of ``solve``: every requested output at every level, with the level's loads."""
     case = loaded.case
     labels = level_labels(case)
-    loads = [(load_name(load, i, case), load.levels(), load_unit(load, case))
+    loads = [(load_name(load, i, case), load.levels(), load_unit(load, case), load.direction)
              for i, load in enumerate(case.loads)]
     levels = []
     for level in range(case.n_levels()):
@@ -37,7 +46,7 @@ def solve_document(loaded, method: str, run) -> dict:
                 outputs[name + ":error_estimate_unreliable"] = run.unreliable_estimate[req]
         if outputs:
             levels.append({"level": level, "label": labels[level],
-                           "loads": [{"name": n, "value": v[level], "unit": u} for n, v, u in loads],
+                           "loads": [_load_entry(n, v[level], u, d) for n, v, u, d in loads],
                            "outputs": outputs})
     return {"case": case.case.id, "file": str(loaded.path), "method": method, "units": case.case.units,
             "status": run.status.value, "converged": run.converged, "message": run.message,
