@@ -33,6 +33,7 @@ if TYPE_CHECKING:  # what a type checker and the static import walks see; at run
     from prbm.mechanisms import FourBar, SliderCrank
     from prbm.network import (GROUND, Couple, Force, LockedNetwork, Network, NetworkResult, Pin,
                               PrescribedDisplacement, PrescribedRotation, Slider, TorsionSpring, solve, trace)
+    from prbm.prescribed import LoadForMotion, fixed_guided_displaced_tip, load_for_motion
     from prbm.result import PRBMResult
     from prbm.turning_loads import (DeadDirection, FollowerDirection, TipPose, TowardPoint, fixed_pinned_turning_tip,
                                     input_angle_under_turning_forces)
@@ -51,6 +52,7 @@ __all__ = [
     "load_angle", "load_ratio",
     "InflectionBeam", "inflection_state", "solve_displacements", "solve_loads",
     "FourBar", "SliderCrank", "PRBMResult",
+    "LoadForMotion", "fixed_guided_displaced_tip", "load_for_motion",
     "BeamModel", "BeamRule", "Geometry", "PRBModel", "Rules", "build",
     "GROUND", "Couple", "Force", "LockedNetwork", "Network", "NetworkResult", "Pin", "PrescribedDisplacement",
     "PrescribedRotation", "Slider", "TorsionSpring", "solve", "trace",
@@ -76,6 +78,7 @@ _EXPORTS = {  # public name -> the module that defines it (imported at the first
     **dict.fromkeys(('GROUND', 'Couple', 'Force', 'LockedNetwork', 'Network', 'NetworkResult', 'Pin',
                      'PrescribedDisplacement', 'PrescribedRotation', 'Slider', 'TorsionSpring', 'solve', 'trace'), 'prbm.network'),
     **dict.fromkeys(('PRBMResult',), 'prbm.result'),
+    **dict.fromkeys(('LoadForMotion', 'fixed_guided_displaced_tip', 'load_for_motion'), 'prbm.prescribed'),
     **dict.fromkeys(('DeadDirection', 'FollowerDirection', 'TipPose', 'TowardPoint', 'fixed_pinned_turning_tip',
                      'input_angle_under_turning_forces'), 'prbm.turning_loads'),
     **dict.fromkeys(('curved_fixed_pinned_tip', 'curved_pinned_pinned', 'fixed_guided_monotonic_tip',

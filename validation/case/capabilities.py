@@ -49,7 +49,7 @@ METHODS: dict[str, frozenset[str]] = {
     "fem": frozenset(_POSITIONS | _LOADS | _REACTIONS | {"strain_energy", "input_angle",
                                                          "input_torque", "limit_load", "max_stress",
                                                          "inflection_points", "mechanical_advantage", "dof"}),
-    "prbm": frozenset(_POSITIONS | _LOADS | {"strain_energy", "input_angle", "input_torque",
+    "prbm": frozenset(_POSITIONS | _LOADS | _REACTIONS | {"strain_energy", "input_angle", "input_torque",
                                              "mechanical_advantage", "dof", "prb_angle"}),
     "elastica": frozenset(_POSITIONS | _LOADS | _REACTIONS | {"strain_energy"}),
     "bcm": frozenset(_POSITIONS | _LOADS | {"strain_energy"}),

@@ -15,8 +15,13 @@ n = -F_x/F_y ([bapat2015]: end force (-nP, P)).
 * fixed-free, initially curved: ``curved_fixed_pinned_tip`` (eqs 53-61).
 * fixed-guided without a model: force only -> ``fixed_guided_tip`` (two springs, eq 63); with a
   moment -> ``fixed_guided_monotonic_tip``.
+* a prescribed tip motion (one 'displacement' along d, or one 'rotation', alone): the load that reaches
+  it, a force along d or a moment, by a bracketed root on its magnitude over the model above
+  (``prbm.load_for_motion``); a straight fixed-guided segment moved across its axis in closed form
+  (``fixed_guided_displaced_tip``, eq 63).  No options needed.
 Outputs: x = a, y = b, dx, dy (from the unloaded tip), rotation = theta0 (deg), force_x = -nP,
-force_y = P, moment (CCW), prb_angle (deg), strain_energy (PRBM springs).
+force_y = P, moment (CCW), prb_angle (deg), strain_energy (PRBM springs); at 'root' the clamp's
+reaction_x, reaction_y, reaction_moment (minus the tip's total load and its moment about the root).
 Applicability (``MethodRun.applicability``, per level): ``INFLECTION`` where a force
 and an end moment bend the PRBM's deformed state through an inflection point (tip and root moments of
 opposite signs: Table 2.1 and eq (12)) while the monotonic model (eq 62) was used; ``LOAD_RATIO`` where
@@ -45,6 +50,7 @@ from validation.case.quantities import boundary_held_tip, unloaded_tip_angle
 from validation.methods.base import Applicability, DeferredList, MethodRun, NotApplicable
 from validation.methods.prbm_common import levels, per_level, pick, plain
 
+REACTIONS = {"reaction_x", "reaction_y", "reaction_moment"}
 INFLECTION_WARNING = ("inflection point expected: the bending moment changes sign between tip and root "
                       "(seed 000 Table 2.1, eq (12)); the monotonic-curvature PRBM (eq 62) does not fit this load, "
                       "use segment.model = 'inflection' (fixed-guided)")
@@ -124,23 +130,26 @@ def run_segment(case, requests, options: dict) -> tuple[dict, MethodRun]:
     seg = case.segment
     L, EI, kappa = seg.length, seg.bending_stiffness(), seg.initial_curvature()
     fit = FitOptions(options.get("family", "pauly-midha"), options.get("extrapolate", "raise"))
-    loads = tip_loads(case)
-    n = len(loads.Fy)
     mu, contact = options.get("friction_mu", 0.0), options.get("contact_angle_deg", 0.0)
-    if mu or contact:
-        capstan = prbm.capstan_factor(float(mu), math.radians(float(contact)))
-        if capstan != 1.0:
-            loads = loads.scaled(capstan)
-    ratio = loads.ratio()
-    if seg.boundary in ("fixed-free", "fixed-pinned") and kappa == 0.0:
-        solved = _free_straight(loads, ratio, L, EI, fit)
-    elif seg.boundary in ("fixed-free", "fixed-pinned"):
-        solved = _free_curved(loads, ratio, L, EI, kappa, fit)
-    elif seg.boundary in ("fixed-guided", "fixed-fixed"):
-        solved = _guided(case, loads, ratio, L, EI, kappa, fit)
+    motion = prescribed_motion(case)
+    if motion is not None:
+        if mu or contact:
+            raise NotApplicable("friction_mu / contact_angle_deg with a prescribed motion: the tip load is the "
+                                "unknown, there is no applied force to correct")
+        loads, solved = _solve_prescribed(case, motion, L, EI, kappa, fit)
+        ratio = loads.ratio()
     else:
-        raise NotApplicable(f"boundary '{seg.boundary}' as a single segment case: the seeds' curved "
-                            "pinned-pinned PRBM (prbm.curved_pinned_pinned) takes a chord force only")
+        loads = tip_loads(case)
+        if mu or contact:
+            capstan = prbm.capstan_factor(float(mu), math.radians(float(contact)))
+            if capstan != 1.0:
+                loads = loads.scaled(capstan)
+        ratio = loads.ratio()
+        solved = _forward(case, loads, ratio, L, EI, kappa, fit)
+    n = len(loads.Fy)
+    for r in requests:
+        if r.quantity in REACTIONS and r.point != "root":
+            raise NotApplicable(f"'{r.quantity}' is a support load: ask for it at 'root' (got '{r.point}')")
     wanted = {r.quantity for r in requests}
     if loads.has_moment:  # the inflection check below reads the forces the tip receives
         wanted |= {"force_x", "force_y"}
@@ -156,6 +165,112 @@ def run_segment(case, requests, options: dict) -> tuple[dict, MethodRun]:
     _flag_fit_range(info, loads, ratio, res, fit, n)
     info.extras["shapes"] = DeferredList(lambda: _segment_shapes(seg, res, n, kappa) or [])  # the report reads it
     return pick(out, requests, "segment"), info
+
+
+def _forward(case, loads: TipLoads, ratio: list[float], L: float, EI: float, kappa: float,
+             fit: FitOptions) -> SegmentSolve:
+    """The segment model that fits the boundary and the end loads (module docstring), solved."""
+    boundary = case.segment.boundary
+    if boundary in ("fixed-free", "fixed-pinned") and kappa == 0.0:
+        return _free_straight(loads, ratio, L, EI, fit)
+    if boundary in ("fixed-free", "fixed-pinned"):
+        return _free_curved(loads, ratio, L, EI, kappa, fit)
+    if boundary in ("fixed-guided", "fixed-fixed"):
+        return _guided(case, loads, ratio, L, EI, kappa, fit)
+    raise NotApplicable(f"boundary '{boundary}' as a single segment case: the seeds' curved "
+                        "pinned-pinned PRBM (prbm.curved_pinned_pinned) takes a chord force only")
+
+
+@dataclass(frozen=True)
+class PrescribedMotion:
+    """The one prescribed tip motion of a segment case: ``kind`` 'displacement' (``values`` along the unit
+    ``direction``, length units) or 'rotation' (``values`` in degrees, CCW)."""
+
+    kind: str
+    direction: tuple[float, float]
+    values: list[float]
+
+
+def prescribed_motion(case) -> PrescribedMotion | None:
+    """The case's prescribed tip motion, or None when every load is a force or a moment.  One prescribed
+    displacement or rotation at the tip and no other load is the problem solved here; anything else
+    (two prescribed components, a prescribed motion beside applied loads) is refused."""
+    motions = [ld for ld in case.loads if ld.kind in ("displacement", "rotation")]
+    if not motions:
+        return None
+    if len(case.loads) > 1:
+        raise NotApplicable("a prescribed tip motion together with other loads or motions: the segment PRBM "
+                            "solves one prescribed displacement or rotation alone (for the two-condition "
+                            "problem give the PRBM inverse inputs in [methods.prbm] options)")
+    load = motions[0]
+    if load.point != "tip":
+        raise NotApplicable(f"a prescribed {load.kind} at '{load.point}': the segment PRBMs take end loads only")
+    direction = (float(load.direction[0]), float(load.direction[1])) if load.kind == "displacement" else (0.0, 0.0)
+    return PrescribedMotion(load.kind, direction, [float(v) for v in load.levels()])
+
+
+def _solve_prescribed(case, motion: PrescribedMotion, L: float, EI: float, kappa: float,
+                      fit: FitOptions) -> tuple[TipLoads, SegmentSolve]:
+    """The tip load that reaches the prescribed motion, and the model solved under it.
+
+    A displacement s along the unit d is reached by a force F d (the tip is free across d, so the load
+    holding it acts along d): F solves (u(F d)) . d = s, u the tip's displacement from the unloaded tip.
+    A rotation phi is reached by a moment M: theta0(M) - theta0(0) = phi.  The straight fixed-guided
+    segment moved across its axis has the closed form ``prbm.fixed_guided_displaced_tip``
+    [bapat2015, eq 63]; every other case is the forward model of ``_forward`` and a bracketed root on the
+    load magnitude (``prbm.load_for_motion``), started from the small-deflection stiffness."""
+    seg = case.segment
+    n = len(motion.values)
+    zeros = [0.0] * n
+    dx, dy = motion.direction
+    guided = seg.boundary in ("fixed-guided", "fixed-fixed")
+    if motion.kind == "displacement" and guided and kappa == 0.0 and dx == 0.0:
+        if boundary_held_tip(case) != ["rz"]:
+            raise NotApplicable("fixed-fixed tip with its x held: the seeds' fixed-guided PRBMs leave the "
+                                "tip free to translate")
+        res = prbm.fixed_guided_displaced_tip([v * dy for v in motion.values], length=L, EI=EI, family=fit.family)
+        res.constants["k"] = 2.0 * np.asarray(res.constants["k_each"])  # U = 2 (k_each Theta^2/2)
+        Fy = levels(res.outputs["P"], n)
+        return (TipLoads(zeros, Fy, zeros, False, any(f != 0.0 for f in Fy), False),
+                SegmentSolve(res, L, 0.0, "prescribed transverse tip displacement: closed form (eq 63)"))
+
+    def trial(s: float) -> TipLoads:
+        if motion.kind == "rotation":
+            return TipLoads([0.0], [0.0], [s], False, False, s != 0.0)
+        return TipLoads([s * dx], [s * dy], [0.0], False, s * dy != 0.0, False)
+
+    unloaded = unloaded_tip_angle(L, kappa)
+    a0 = b0 = None
+
+    def response(s: float) -> float:
+        nonlocal a0, b0
+        loads = trial(s)
+        solved = _forward(case, loads, loads.ratio(), L, EI, kappa, fit)
+        if not solved.res.converged:
+            return math.nan
+        o = solved.res.outputs
+        if motion.kind == "rotation":
+            return float(np.ravel(o["theta0"])[0]) - unloaded
+        a0, b0 = solved.a0, solved.b0
+        return (float(np.ravel(o["a"])[0]) - a0) * dx + (float(np.ravel(o["b"])[0]) - b0) * dy
+
+    stiffness = EI / L if motion.kind == "rotation" else (12.0 if guided else 3.0) * EI / L**3
+    targets = [math.radians(v) if motion.kind == "rotation" else v for v in motion.values]
+    magnitudes = []
+    for level, target in enumerate(targets):
+        found = prbm.load_for_motion(response, target, guess=abs(target) * stiffness)
+        if not found.converged:
+            raise NotApplicable(f"prescribed {motion.kind} at level {level}: {found.message}")
+        magnitudes.append(found.x)
+    if motion.kind == "rotation":
+        loads = TipLoads(zeros, zeros, magnitudes, False, False, any(m != 0.0 for m in magnitudes))
+    else:
+        Fy = [s * dy for s in magnitudes]
+        loads = TipLoads([s * dx for s in magnitudes], Fy, zeros, False, any(f != 0.0 for f in Fy), False)
+    solved = _forward(case, loads, loads.ratio(), L, EI, kappa, fit)
+    solved.message = "; ".join(m for m in (solved.message, f"prescribed {motion.kind}: load found by a bracketed "
+                                           "root on its magnitude") if m)
+    return loads, solved
 
 
 def _free_straight(loads: TipLoads, ratio: list[float], L: float, EI: float, fit: FitOptions) -> SegmentSolve:
@@ -226,7 +341,7 @@ def _segment_outputs(case, loads: TipLoads, solved: SegmentSolve, n: int, wanted
         out["dx"] = [v - solved.a0 for v in a]
     if "dy" in wanted:
         out["dy"] = [v - solved.b0 for v in b]
-    if wanted & {"rotation", "force_x", "force_y"}:
+    if wanted & ({"rotation", "force_x", "force_y"} | REACTIONS):
         unloaded = unloaded_tip_angle(seg.length, seg.initial_curvature())
         rotation = [t - unloaded for t in levels(o["theta0"], n)]
         Fx, Fy = loads.Fx, loads.Fy
@@ -238,6 +353,11 @@ def _segment_outputs(case, loads: TipLoads, solved: SegmentSolve, n: int, wanted
         if "M" not in o:
             raise NotApplicable(f"the PRBM ({res.model}) gives no moment holding the {seg.boundary} tip")
         out["moment"] = levels(o["M"], n)
+    if wanted & REACTIONS:  # the clamp balances the tip's total load: R = -F, M_R = -(M + a F_y - b F_x)
+        Fx, Fy, Mt = out["force_x"], out["force_y"], out["moment"]
+        out["reaction_x"] = [-f for f in Fx]
+        out["reaction_y"] = [-f for f in Fy]
+        out["reaction_moment"] = [-(m + x * fy - y * fx) for m, x, y, fx, fy in zip(Mt, a, b, Fx, Fy)]
     if "Theta" in o and wanted & {"prb_angle", "strain_energy"}:
         Theta = levels(o["Theta"], n)
         out["prb_angle"] = [math.degrees(t) for t in Theta]

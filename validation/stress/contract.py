@@ -327,10 +327,13 @@ def applicable(method: str, c: Configuration) -> bool:
 
 
 def _prbm_applicable(c: Configuration) -> bool:
-    """The segment PRBMs of the sources that the adapter maps (load ratio n inside the fits' range)."""
-    if c.load not in ("transverse", "oblique", "moment", "force_moment", "follower") or c.boundary == "pinned-pinned":
+    """The segment PRBMs of the sources that the adapter maps (load ratio n inside the fits' range); a
+    prescribed transverse displacement or rotation is reached by the load along it (``prbm_segment``'s
+    prescribed motion; an axial one would need a purely axial force, outside every n-fit)."""
+    if c.load not in ("transverse", "oblique", "moment", "force_moment", "follower", "displacement_y", "rotation") \
+            or c.boundary == "pinned-pinned":
         return False
-    if c.load != "moment":
+    if c.load not in ("moment", "rotation"):
         n = -math.cos(math.radians(c.angle_deg)) / math.sin(math.radians(c.angle_deg))
         if not -3.5 <= n <= 9.5:   # Pauly-Midha fits: -4 <= n <= 10 [bapat2015, eqs 45-49]
             return False
