@@ -25,6 +25,28 @@ theta(L) = tau. The Jacobian comes from the variational equations integrated alo
 (sensitivities of the state to m(0), Fx, Fy), so each Newton iteration costs one integration
 (split at the sections s_j, where the state and its sensitivities are read).
 
+Force toward a fixed point (``PointedForce``, a rope over a pulley): a tip force of magnitude T
+whose direction is the line from the tip r_L to a fixed point P, turned by a fixed angle a (CCW),
+
+    F = T R(a) (P - r_L) / |P - r_L|,    i.e. its direction angle phi = atan2(P - r_L) + a.
+
+For a given phi it is a dead force T (cos phi, sin phi), so the pointed problem is the dead-force
+problem that the shooting above solves, plus one condition per pointed force at the converged tip:
+
+    g(phi) = wrap(atan2(P - r_L(phi)) + a - phi) = 0      (wrap to (-pi, pi]).
+
+g is solved by Newton's method on phi (one or a few unknowns), dg/dphi by forward differences of
+the warm-started dead solves (each a short continuation from the last state); its exact value is
+-I + (d atan2/d r_L)(dr_L/dphi), so it is regular whenever the tip's motion under a turn of the
+force is less than its distance to P (always for a far pulley, where g -> phi_0 - phi). The
+magnitudes are continued from the start state's (0 from the unloaded beam) to the targets with
+adaptive steps (halved when Newton fails or the step moved the tip by more than
+``max_position_step`` L or turned a force by more than ``max_rotation_step`` rad, doubled after a
+success), each Newton started from the last accepted phi, so the path follows the physically
+connected branch as the dead continuation does (a force at an angle to the line can carry the
+tip round to another side of the point: a long step could land on another equilibrium). Far from the tip (|P - r_L| >> L) the pointed force tends to the dead force of direction
+R(a)(P - r_L0) of the unloaded tip.
+
 Prescribed section moment (``MomentConstraint``): m(s_j) = m_j at an arc length s_j, the
 unknown being the force along a given direction. With m_j = 0 this is the dissertation's inflection
 point ([bapat2015, §3.5.2, Table 3.6], Case 2c: b, theta_0 and the inflection location l1
@@ -89,8 +111,9 @@ from argcheck import checked
 from . import integrator as kernel
 from .integrator import plain_samples
 
-__all__ = ["TipConstraint", "MomentConstraint", "ElasticaProblem", "ElasticaResult",
-           "solve_elastica", "solve_path", "loaded_start", "section_moment", "unloaded_tip"]
+__all__ = ["TipConstraint", "MomentConstraint", "PointedForce", "ElasticaProblem", "ElasticaResult",
+           "solve_elastica", "solve_path", "loaded_start", "section_moment", "unloaded_tip",
+           "dead_equivalent", "line_angles", "pointing_error"]
 
 
 @dataclass(frozen=True)
@@ -124,6 +147,20 @@ class MomentConstraint:
 
 
 @dataclass(frozen=True)
+class PointedForce:
+    """Tip force of magnitude ``magnitude`` toward the fixed point ``toward`` (x, y; length units).
+
+    Its direction is the line from the deformed tip to ``toward``, turned by ``angle`` rad
+    counter-clockwise: F = T R(angle) (P - r_L)/|P - r_L| (a rope over a pulley: angle 0; a force
+    kept perpendicular to the line to a fixed point: angle pi/2). A negative magnitude pushes away.
+    """
+
+    magnitude: float
+    toward: tuple[float, float]
+    angle: float = 0.0
+
+
+@dataclass(frozen=True)
 class ElasticaProblem:
     """A clamped beam with tip loads and/or prescribed tip positions (plain data, physical units).
 
@@ -135,6 +172,7 @@ class ElasticaProblem:
     constraints: prescribed tip position components (fixed-guided, fixed-fixed, inverse problems).
     tip_angle: prescribed absolute tip angle theta(L) in rad (fixed-guided: 0 for a straight beam).
     moment_constraints: prescribed bending moments inside the beam (inflection points).
+    pointed: tip forces toward fixed points (their directions depend on the tip position).
     """
 
     length: float = 1.0
@@ -147,6 +185,7 @@ class ElasticaProblem:
     tip_angle: float | None = None
     moment_constraints: tuple[MomentConstraint, ...] = ()
     distributed: tuple[float, float] = (0.0, 0.0)
+    pointed: tuple[PointedForce, ...] = ()
 
 
 @dataclass
@@ -156,7 +195,8 @@ class ElasticaResult:
     ``force`` and ``moment`` act on the beam at its tip (s = L); ``reaction`` = (Rx, Ry, M) is what
     the clamp exerts on the beam at its root (s = 0), counter-clockwise positive, so that
     reaction + force = 0 for the forces. (The FEM's ``FemResult.reaction(node)`` is what the supports
-    and prescriptions exert at the node asked for.)
+    and prescriptions exert at the node asked for.) With pointed forces, ``pointed_angles`` are
+    their converged direction angles phi_k (rad, global frame) and ``force`` includes them.
     """
 
     converged: bool
@@ -176,6 +216,7 @@ class ElasticaResult:
     residual: float = math.nan
     problem: ElasticaProblem | None = None
     z: np.ndarray = field(default_factory=lambda: np.zeros(0))  # shooting unknowns (warm start)
+    pointed_angles: tuple[float, ...] = ()  # direction angles of the pointed forces (rad)
 
     # the result protocol every library's solve result shares: converged, status, message,
     # iterations, wall_time
@@ -279,7 +320,8 @@ def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
                initial_step: float = 0.25, min_step: float = 1e-5, max_rotation_step: float = 0.5,
                max_position_step: float = 0.25, max_corrector: float = 0.5,
                max_step_iterations: int = 8,
-               maxiter: int = 25, n_samples: int = 101, path_rtol: float = 1e-7) -> ElasticaResult:
+               maxiter: int = 25, n_samples: int = 101, path_rtol: float = 1e-7,
+               angle_tol: float = 1e-10) -> ElasticaResult:
     """Continue from ``start`` (default: the unloaded beam) to ``problem`` and return the end state.
 
     ``start`` must have the same structure (same constraints, follower or not, angle given or
@@ -289,7 +331,17 @@ def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
     Step control (module docstring): ``max_position_step`` (of L), ``max_rotation_step`` (rad),
     ``max_corrector`` (corrector distance / predicted change), ``max_step_iterations``.
     With prescribed tip positions along the tip tangent the path is staged (``_staged_start``).
+    Pointed forces (module docstring): Newton on their direction angles until every
+    |g_k| <= ``angle_tol`` (rad), their magnitudes continued from the start's.
     """
+    options = dict(rtol=rtol, atol=atol, tol=tol, initial_step=initial_step, min_step=min_step,
+                   max_rotation_step=max_rotation_step, max_position_step=max_position_step,
+                   max_corrector=max_corrector, max_step_iterations=max_step_iterations,
+                   maxiter=maxiter, path_rtol=path_rtol)
+    if problem.pointed:
+        return _solve_pointed(problem, start, n_samples, options, angle_tol)
+    if start is not None and start.problem is not None and start.problem.pointed:
+        start = replace(start, problem=dead_equivalent(start.problem, start.pointed_angles))
     t0 = time.perf_counter()
     final = _Shooter(problem, rtol, atol)
     path = _Shooter(problem, path_rtol, path_rtol * 0.1)
@@ -323,6 +375,150 @@ def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
     result.nit, result.nsteps = nit, nsteps
     result.wall_time = time.perf_counter() - t0
     result.residual = norm
+    return result
+
+
+def dead_equivalent(problem: ElasticaProblem, angles) -> ElasticaProblem:
+    """The dead-force problem that ``problem`` is when its pointed forces have the direction angles
+    ``angles`` (rad): force + sum_k T_k (cos phi_k, sin phi_k), and no pointed forces."""
+    F = np.asarray(problem.force, float).copy()
+    for pf, phi in zip(problem.pointed, angles, strict=True):
+        F += pf.magnitude * np.array([math.cos(phi), math.sin(phi)])
+    return replace(problem, force=(float(F[0]), float(F[1])), pointed=())
+
+
+def line_angles(pointed: tuple[PointedForce, ...], x: float, y: float) -> np.ndarray:
+    """Direction angles phi_k = atan2(P_k - r) + a_k (rad) of the pointed forces with the tip at (x, y).
+
+    Raises ValueError when the tip reaches a point P_k (the direction is undefined there): the
+    distance is compared with the scale |P_k| + |r| of the two points."""
+    out = []
+    for pf in pointed:
+        dx, dy = pf.toward[0] - x, pf.toward[1] - y
+        if math.hypot(dx, dy) <= 1e-12 * (math.hypot(*pf.toward) + math.hypot(x, y)):
+            raise ValueError("the tip reached the point a force pulls toward (direction undefined)")
+        out.append(math.atan2(dy, dx) + pf.angle)
+    return np.array(out, float)
+
+
+def _wrap(a: np.ndarray) -> np.ndarray:
+    """Angles wrapped to [-pi, pi)."""
+    return (np.asarray(a, float) + math.pi) % (2.0 * math.pi) - math.pi
+
+
+def pointing_error(result: ElasticaResult) -> np.ndarray:
+    """g_k = wrap(atan2(P_k - r_L) + a_k - phi_k) (rad) of a solved pointed problem: 0 at equilibrium."""
+    return _wrap(line_angles(result.problem.pointed, result.x, result.y) - np.asarray(result.pointed_angles))
+
+
+def _pointed_newton(target: ElasticaProblem, current: ElasticaResult | None, phi: np.ndarray,
+                    options: dict, angle_tol: float, maxiter: int = 20, h: float = 1e-6):
+    """Newton on g(phi) = wrap(atan2(P - r_L(phi)) + a - phi) = 0 at fixed magnitudes, from ``phi``.
+
+    Each evaluation is the dead problem at phi continued from the last state; dg/dphi by forward
+    differences of step ``h`` rad; a step that does not lower max|g| is halved (at most 6 times).
+    Returns (converged, last dead result, phi, max|g|)."""
+    def evaluate(angles, start):
+        res = solve_path(dead_equivalent(target, angles), start=start, n_samples=2, **options)
+        if not res.converged:
+            return res, None
+        return res, _wrap(line_angles(target.pointed, res.x, res.y) - angles)
+
+    res, g = evaluate(phi, current)
+    if g is None:
+        return False, res, phi, math.inf
+    n = phi.size
+    for _ in range(maxiter):
+        norm = float(np.max(np.abs(g)))
+        if norm <= angle_tol:
+            return True, res, phi, norm
+        J = np.empty((n, n))
+        for k in range(n):
+            shifted = phi.copy()
+            shifted[k] += h
+            _, gk = evaluate(shifted, res)
+            if gk is None:
+                return False, res, phi, norm
+            J[:, k] = (gk - g) / h
+        dphi = -np.linalg.solve(J, g)
+        for _halving in range(7):
+            trial_res, trial_g = evaluate(phi + dphi, res)
+            if trial_g is not None and float(np.max(np.abs(trial_g))) < norm:
+                break
+            dphi = 0.5 * dphi
+        else:
+            return False, res, phi, norm
+        phi, res, g = phi + dphi, trial_res, trial_g
+    norm = float(np.max(np.abs(g)))
+    return norm <= angle_tol, res, phi, norm
+
+
+def _same_pointed(a: ElasticaProblem, b: ElasticaProblem) -> bool:
+    """Same pointed forces apart from their magnitudes (same points and angle offsets)."""
+    return len(a.pointed) == len(b.pointed) and all(
+        tuple(p.toward) == tuple(q.toward) and p.angle == q.angle for p, q in zip(a.pointed, b.pointed))
+
+
+def _solve_pointed(problem: ElasticaProblem, start: ElasticaResult | None, n_samples: int,
+                   options: dict, angle_tol: float) -> ElasticaResult:
+    """Pointed forces: continuation of their magnitudes T(t) = T0 + t (T1 - T0), t: 0 -> 1, with
+    Newton on the direction angles at each step (module docstring); the other loads at their targets
+    from the first step, continued by the dead solves from the start state."""
+    t0 = time.perf_counter()
+    T1 = np.array([pf.magnitude for pf in problem.pointed], float)
+    if start is not None and start.problem is not None and start.problem.pointed:
+        if _same_pointed(start.problem, problem):
+            T0, phi = (np.array([pf.magnitude for pf in start.problem.pointed], float),
+                       np.array(start.pointed_angles, float))
+        else:
+            T0 = np.zeros_like(T1)
+            phi = line_angles(problem.pointed, start.x, start.y)
+        current = replace(start, problem=dead_equivalent(start.problem, start.pointed_angles))
+        tip = (start.x, start.y)
+    else:
+        current, T0 = start, np.zeros_like(T1)
+        tip = (start.x, start.y) if start is not None else unloaded_tip(problem.length, problem.curvature)[:2]
+        phi = line_angles(problem.pointed, *tip)
+    t, dt, min_step = 0.0, 1.0, options["min_step"]
+    nit = nsteps = 0
+    last, norm = current, math.inf
+    while t < 1.0:
+        step = min(dt, 1.0 - t)
+        t_next = 1.0 if step >= 1.0 - t else t + step
+        T = T0 + t_next * (T1 - T0)
+        target = replace(problem, pointed=tuple(replace(pf, magnitude=float(v))
+                                                for pf, v in zip(problem.pointed, T)))
+        ok, res, phi_new, norm = _pointed_newton(target, current, phi.copy(), options, angle_tol)
+        nit, nsteps, last = nit + res.nit, nsteps + res.nsteps, res
+        moved = math.hypot(res.x - tip[0], res.y - tip[1]) / problem.length
+        if ok and step > min_step and (moved > options["max_position_step"]
+                                       or float(np.max(np.abs(phi_new - phi))) > options["max_rotation_step"]):
+            ok = False              # too long a step: Newton may have left the connected branch
+        if ok:
+            tip = (res.x, res.y)
+            t, current, phi, dt = t_next, res, phi_new, 2.0 * step
+        else:
+            dt = 0.5 * step
+            if dt < min_step:
+                break
+    converged = t >= 1.0
+    base = current if converged else last
+    equivalent = dead_equivalent(problem, phi)
+    shooter = _Shooter(equivalent, options["rtol"], options["atol"])
+    if base is not None and base.z.size == shooter.n:
+        result = _result(equivalent, shooter, base.z, _load_vector(equivalent), n_samples)
+        residual = base.residual
+    else:                                   # nothing solved: the unloaded beam's shape
+        result = _result(equivalent, shooter, np.zeros(shooter.n), _start_vector(equivalent), n_samples)
+        residual = math.nan
+    result.problem = replace(problem, moment=result.problem.moment)
+    result.pointed_angles = tuple(float(v) for v in phi)
+    result.converged = converged
+    result.message = "converged" if converged else (
+        f"force toward a fixed point: continuation of its magnitude stalled at fraction {t:.6g} "
+        f"(direction error {norm:.3g} rad)")
+    result.nit, result.nsteps, result.residual = nit, nsteps, residual
+    result.wall_time = time.perf_counter() - t0
     return result
 
 
@@ -401,6 +597,8 @@ def loaded_start(problem: ElasticaProblem, force: tuple[float, float], moment: f
     """
     if problem.follower != (0.0, 0.0):
         raise ValueError("loaded_start does not handle follower forces")
+    if problem.pointed:
+        raise ValueError("loaded_start does not handle forces toward fixed points")
     L, EI = problem.length, problem.EI
     forward = solve_path(ElasticaProblem(length=L, EI=EI, curvature=problem.curvature,
                                          force=tuple(force), moment=moment,

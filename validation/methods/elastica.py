@@ -2,10 +2,15 @@
 
 Supported: one ``[segment]`` (straight or initially curved, any section: EI from
 ``segment.bending_stiffness()``), boundaries fixed-free, fixed-pinned, fixed-guided, fixed-fixed;
-tip loads of kind force (dead or follower), moment, displacement and rotation, and a uniform dead
-distributed load along the segment (kind distributed, or self_weight from the section's weight
-density). Not applicable: a follower distributed load, a force toward a fixed point. The load path is
-followed level by level with continuation (each level warm-starts from the previous one).
+tip loads of kind force (dead, follower, or toward a fixed point), moment, displacement and
+rotation, and a uniform dead distributed load along the segment (kind distributed, or self_weight
+from the section's weight density). A force ``toward = [x, y]`` (a rope over a pulley) is
+``elastica.PointedForce``: F = T R(angle) (P - r_tip)/|P - r_tip| at the deformed tip, the case's
+frame being the elastica's (clamp at the origin, unloaded tangent along +x); its direction is one
+more condition of the shooting (``elastica.shooting``), solved on fixed-free, fixed-pinned and
+fixed-guided segments. Not applicable: a follower distributed load, a force toward a fixed point on
+a fixed-fixed segment (which tip components it frees would depend on its turning direction). The
+load path is followed level by level with continuation (each level warm-starts from the previous one).
 
 Boundary handling: a tip freedom that carries a load is load-controlled, whatever the boundary
 (the load-specified "fixed-guided" beams of [bapat2015, Tables 3.2-3.6] give P, nP and M). Otherwise
@@ -41,8 +46,8 @@ import time
 
 import numpy as np
 
-from elastica.shooting import (ElasticaProblem, MomentConstraint, TipConstraint, loaded_start,
-                               solve_path, unloaded_tip)
+from elastica.shooting import (ElasticaProblem, MomentConstraint, PointedForce, TipConstraint,
+                               loaded_start, solve_path, unloaded_tip)
 from validation.methods import elastica_network
 from validation.methods.inverse_problem import LOAD_OUTPUTS, InverseSpec, Tie, inverse_spec, merge_runs
 from validation.methods.base import MethodRun, NotApplicable, Request
@@ -80,8 +85,9 @@ def level_problems(case: Case, options: dict) -> list[ElasticaProblem]:
             raise NotApplicable("loads on a named body belong to mechanisms")
         if load.kind == "distributed" and load.follower:
             raise NotApplicable("a follower distributed load is not in the elastica's shooting equations")
-        if load.toward is not None:
-            raise NotApplicable("a force toward a fixed point is not modelled by the elastica adapter")
+        if load.toward is not None and seg.boundary == "fixed-fixed":
+            raise NotApplicable("a force toward a fixed point on a fixed-fixed segment: the adapter frees "
+                                "the held tip components a force acts along, and this force turns")
     problems = []
     for i in range(case.n_levels()):
         force = np.zeros(2)
@@ -91,10 +97,14 @@ def level_problems(case: Case, options: dict) -> list[ElasticaProblem]:
         prescribed_dirs: list[np.ndarray] = []
         tip_angle = None
         distributed = np.zeros(2)
+        pointed: list[PointedForce] = []
         for load in case.loads:
             v = load.levels()[i]
             d = np.asarray(load.direction if load.direction is not None else (0.0, 0.0), float)
-            if load.kind == "distributed":
+            if load.kind == "force" and load.toward is not None:
+                pointed.append(PointedForce(float(v), (float(load.toward[0]), float(load.toward[1])),
+                                            math.radians(load.angle)))
+            elif load.kind == "distributed":
                 distributed += v * d
             elif load.kind == "self_weight":
                 distributed += v * seg.section.weight_per_length() * d / np.hypot(*d)
@@ -135,7 +145,7 @@ def level_problems(case: Case, options: dict) -> list[ElasticaProblem]:
         problems.append(ElasticaProblem(length=L, EI=EI, curvature=k0, force=tuple(force),
                                         moment=moment, follower=tuple(follower),
                                         constraints=tuple(constraints), tip_angle=tip_angle,
-                                        distributed=tuple(distributed)))
+                                        distributed=tuple(distributed), pointed=tuple(pointed)))
     return problems
 
 
@@ -156,8 +166,8 @@ def inflection_problems(case: Case, options: dict) -> list[tuple[ElasticaProblem
     seg = case.segment
     if seg.boundary != "fixed-guided":
         raise NotApplicable("problem = 'inflection' is a fixed-guided segment problem")
-    if any(ld.kind not in ("force", "moment") or ld.follower or ld.point != "tip"
-           for ld in case.loads):
+    if any(ld.kind not in ("force", "moment") or ld.follower or ld.toward is not None
+           or ld.point != "tip" for ld in case.loads):
         raise NotApplicable("problem = 'inflection' takes dead tip forces/moments (the start loads) only")
     n = case.n_levels()
     b, theta0, l1 = (_per_level(options, k, n) for k in ("b", "theta0", "l1"))
@@ -222,6 +232,9 @@ def inverse_problems(case: Case, spec: InverseSpec, options: dict) -> list[Elast
 def _start_loads(case: Case, level: int) -> tuple[tuple[float, float], float]:
     force, moment = np.zeros(2), 0.0
     for load in case.loads:
+        if load.kind == "force" and load.toward is not None:
+            raise NotApplicable("the inverse tip problem starts from dead tip loads, not a force "
+                                "toward a fixed point")
         if load.kind == "force" and not load.follower:
             force += load.levels()[level] * np.asarray(load.direction, float)
         elif load.kind == "moment":

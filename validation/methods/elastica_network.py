@@ -119,6 +119,11 @@ def loads(case, owner: dict[str, str]) -> list:
     for i, load in enumerate(case.loads):
         v = tuple(float(x) for x in load.levels())
         body = owner.get(f"link:{load.body}") if load.body else owner.get(load.point)
+        if load.kind == "force" and load.toward is not None:
+            raise NotApplicable(f"loads.{i}: a force toward a fixed point on a mechanism: the elastica "
+                                "mechanism model (elastica.mechanism) has point forces of fixed direction "
+                                "or turning with a body only; the line to the point is not one of its "
+                                "conditions")
         if load.kind == "force":
             d = load.direction
             out.append(em.PointForce(load.point, tuple(x * d[0] for x in v), tuple(x * d[1] for x in v), load.follower))
