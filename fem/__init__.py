@@ -10,7 +10,7 @@ reverse Cuthill-McKee order, constraints), `assembly` (reduced residual and tang
 `linear_solver`, `free_motion` (a model that can move without deforming is refused before any Newton
 correction), `newton` (corrector, rotation continuity), `options` (typed options and state), `solver` (load / displacement /
 arc-length control), `stability`, `critical`, `error_estimate` (Richardson, with a test of the asymptotic range), `warm_start`,
-`conditioning` (a mesh too fine for double precision is refused before the first step), `result`, `soft_modes`, `tip_inverse` (the end loads that hold a prescribed tip pose, with a tied
+`conditioning` (a mesh too fine for double precision is stopped, with why, at its first failed step), `result`, `soft_modes`, `tip_inverse` (the end loads that hold a prescribed tip pose, with a tied
 load found by an outer secant solve).
 
 Angles are in radians (degrees only in case files and reports). Example (the exact tip of the

@@ -17,7 +17,8 @@ so that neither the units of translations and rotations nor the stiffness scale 
 is estimated from S's LU factors with a few solves (Hager's method as refined by Higham, the
 iteration of LAPACK's ``dlacn2``: `linear_solver.inverse_norm1`, O(n) for a band). As ||S^-1||_1 is
 never overestimated, rcond is never underestimated: no refusal comes from the estimate's error. The
-model is refused before the first step when rcond < u: S is singular to working precision, the test
+model is stopped (`solver._beyond_precision`: at a run's first failed Newton attempt or its 16th
+step) when rcond < u: S is singular to working precision, the test
 of LAPACK's expert drivers (xGESVX, xPOSVX: INFO = N + 1).
 
 A fine mesh reaches it: the translations of an element carry its bending stiffness 12 EI/L0^3, while
@@ -64,7 +65,7 @@ def beyond_precision(system) -> str | None:
     if not rc < UNIT_ROUNDOFF:
         return None
     coarser = (UNIT_ROUNDOFF / rc) ** 0.25 if rc > 0.0 else float("inf")
-    return (f"refused before the first step: the unloaded tangent (Jacobi-scaled) is singular to working "
+    return (f"stopped: the unloaded tangent (Jacobi-scaled) is singular to working "
             f"precision, its reciprocal condition number {rc:.2e} below the unit roundoff {UNIT_ROUNDOFF:.2e}: "
             "a Newton correction would have no correct digit, and the load steps would converge, if at "
             "all, only linearly and in ever shorter steps. A beam's condition number grows as the fourth "

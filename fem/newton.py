@@ -59,6 +59,7 @@ class Path:
         self.branch_switches = []      # (step index, note)
         self.unassessed = []           # step indices: det K < 0 under follower loads
         self.rejected_iterations = 0
+        self.precision_checked = False   # `solver._beyond_precision` made its one test
 
     def record(self, history, iterations: int, sign: int, load: float, slope: float = np.nan,
                control: float | None = None, parameter: float | None = None) -> None:

@@ -27,8 +27,9 @@ unknowns q (`assembly.System`) by Newton-Raphson with the consistent tangent K.
 The corrector, the convergence tests and the rotation-continuity checks are
 in `newton`; limit points and bifurcations are found by `critical`. A model whose
 unloaded tangent is singular to working precision (`conditioning`: a mesh too fine
-for double precision) is refused before the first step: the result takes no step and
-its message says why.
+for double precision) is stopped at its first failed Newton attempt or its 16th step,
+whichever comes first, with a message that says why (a run whose steps converge at
+once never pays for the test).
 
 Angles are in radians (degrees appear only in case files and reports).
 """
@@ -219,6 +220,9 @@ def _run_load(system, opts: SolveOptions, path, guesses=None):
                         f"segment from level {k - 1}: {exc}")
             except StepFailed as exc:
                 path.reject(exc.iteration)
+                why = _beyond_precision(system, path, failed=True)
+                if why:
+                    return why
                 dt *= exc.cut
                 if dt < opts.min_step:
                     return (f"load level {k}: no convergence between t = {t:.6g} and "
@@ -232,6 +236,9 @@ def _run_load(system, opts: SolveOptions, path, guesses=None):
             prev = (st.q - q, t_new - t) if secant else None
             q, t, beta, ev = st.q, t_new, st.ev["el"]["beta"].copy(), st.ev
             path.record(st.history, st.iterations, st.sign if opts.detect_critical else 0, k - 1 + t)
+            why = _beyond_precision(system, path, failed=False)
+            if why:
+                return why
             dt *= growth(st.iterations)
         path.snapshots.append(snapshot(system, q, 1.0, ev, float(k)))
     return None
@@ -302,6 +309,9 @@ def _run_disp(system, model, control: DisplacementControl, opts: SolveOptions, p
                 return f"load level {lev} (control displacement {u_t:.6g}): {exc}"
             except StepFailed as exc:
                 path.reject(exc.iteration)
+                why = _beyond_precision(system, path, failed=True)
+                if why:
+                    return why
                 frac *= exc.cut
                 if frac < opts.min_step:
                     return (f"load level {lev} (control displacement {u_t:.6g}): no convergence, "
@@ -312,6 +322,9 @@ def _run_disp(system, model, control: DisplacementControl, opts: SolveOptions, p
             q, lam, t, beta, ev = st.q, st.lam, t_new, st.ev["el"]["beta"].copy(), st.ev
             sign, slope = _critical_slope(system, st, k, coef) if opts.detect_critical else (0, np.nan)
             path.record(st.history, st.iterations, sign, lam, slope, control=u_t, parameter=u_t)
+            why = _beyond_precision(system, path, failed=False)
+            if why:
+                return why
             frac *= growth(st.iterations)
         path.snapshots.append(snapshot(system, q, lam, ev, float(lev)))
     return None
@@ -414,6 +427,9 @@ def _run_arc(system, model, control: ArcLengthControl, opts: SolveOptions, path)
             accept_check(system, out.q, arc.q, out.ev, opts, out.iterations)
         except (StepFailed, SingularMatrix) as exc:
             path.reject(getattr(exc, "iteration", 0))
+            why = _beyond_precision(system, path, failed=True)
+            if why:
+                return why
             arc.hist3, arc.cached = arc.hist3[-1:], None
             arc.dl *= getattr(exc, "cut", 0.5)
             if arc.dl < arc.dl_min:
@@ -422,6 +438,9 @@ def _run_arc(system, model, control: ArcLengthControl, opts: SolveOptions, path)
                         f"{getattr(exc, 'reason', exc)}")
             continue
         _arc_accept(system, arc, out, path)
+        why = _beyond_precision(system, path, failed=False)
+        if why:
+            return why
         arc.dl = min(arc.dl * float(np.clip(opts.target_iterations / max(out.iterations, 1), 0.5, 2.0)),
                      arc.dl_max)
         if _arc_stopped(arc, control, path):
@@ -443,10 +462,18 @@ def _prepare(model: Model, opts: SolveOptions, n_levels: int | None = None, chec
     return system
 
 
-def _refused(model, system, opts: SolveOptions, control: str, t0: float) -> FemResult | None:
-    """The result of a model refused before the first step (`conditioning.beyond_precision`), or None."""
-    why = beyond_precision(system)
-    return None if why is None else _finish(model, system, Path(), opts, why, control, t0, 0.0)
+PRECISION_STEPS = 16   # accepted steps after which a run is tested for precision (`_beyond_precision`)
+
+
+def _beyond_precision(system, path, failed: bool) -> str | None:
+    """Why the run stops (its model beyond double precision, `conditioning.beyond_precision`), tested
+    once: at the run's first failed Newton attempt (``failed``) or its PRECISION_STEPS-th accepted step,
+    the two ways a model too fine for double precision shows (corrections without correct digits fail,
+    or converge so slowly that the steps shrink). A run whose steps converge at once never pays for it."""
+    if path.precision_checked or not (failed or len(path.iterations) >= PRECISION_STEPS):
+        return None
+    path.precision_checked = True
+    return beyond_precision(system)
 
 
 def _finish(model, system, path, opts: SolveOptions, failure, control: str, t0: float,
@@ -472,9 +499,6 @@ def solve_load(model: Model, control: LoadControl = LoadControl(),
     """Load control: the loads and prescribed values follow their per-level histories."""
     t0 = time.perf_counter()
     system = _prepare(model, opts, control.n_levels, check=not control.held)
-    refused = _refused(model, system, opts, "load", t0)
-    if refused is not None:
-        return refused
     guesses = (None if control.initial_guess is None
                else level_guesses(control.initial_guess, system.disc, system.X1, system.X2))
     path = Path()
@@ -488,9 +512,6 @@ def solve_displacement(model: Model, control: DisplacementControl,
     """Displacement control: one DOF follows its targets, the load factor is free."""
     t0 = time.perf_counter()
     system = _prepare(model, opts)
-    refused = _refused(model, system, opts, "displacement", t0)
-    if refused is not None:
-        return refused
     path = Path()
     cpu = time.process_time()
     failure = _run_disp(system, model, control, opts, path)
@@ -502,9 +523,6 @@ def solve_arclength(model: Model, control: ArcLengthControl = ArcLengthControl()
     """Arc-length control of the model's load pattern (its loads at the last level)."""
     t0 = time.perf_counter()
     system = _prepare(model, opts)
-    refused = _refused(model, system, opts, "arclength", t0)
-    if refused is not None:
-        return refused
     path = Path()
     cpu = time.process_time()
     failure = _run_arc(system, model, control, opts, path)
