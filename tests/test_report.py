@@ -1,5 +1,6 @@
 """The report: every image and link resolves, its tables say what the results say, the summary
 reads in words and short numbers, and it works in a real browser (headless Chromium)."""
+import html
 import math
 import os
 import re
@@ -16,7 +17,7 @@ from validation.methods.base import MethodRun
 from validation.report.build import build_report, glance
 from validation.report.charts import outputs_chart
 from validation.report.paraview import MAX_FRAMES, frames_shown
-from validation.report.format import Badge, run_badge
+from validation.run.verdict import Verdict, run_verdict
 from validation.report.overview import OverviewPoint, model_style, overview_points, plot_overview
 from validation.report.summary import CaseSummary, MethodState, round_numbers, summary_tables_html
 from validation.run.case_run import run_case
@@ -160,9 +161,12 @@ def test_summary_numbers_and_sentence_say_what_the_results_say(built_report):
     results = pd.read_csv(built_report / "results.csv")
     enforced = results[(results["case"] == "cantilever_tip_load") & results["within_tolerance"].notna()]
     assert len(enforced) > 31                       # the 31 printed numbers and the checks between methods
-    assert "agrees" in cantilever and f"{len(enforced)} of {len(enforced)}" in cantilever
+    verdicts = summary(results).set_index("case")["verdict"]
+    assert f">{html.escape(verdicts['cantilever_tip_load'])}<" in cantilever
+    assert f"{len(enforced)} of {len(enforced)}" in cantilever
     test2 = re.search(r">bapat2015_test2</a></td>(.*?)</tr>", index, flags=re.S).group(1)
-    assert ">finding<" in test2
+    assert f">{html.escape(verdicts['bapat2015_test2'])}<" in test2
+    assert verdicts["bapat2015_test2"] == "no limit claimed"     # its points against the measured: no limit
 
 
 def test_output_chart_draws_the_values_against_the_load_with_units():
@@ -244,17 +248,14 @@ def test_overview_gives_every_model_its_own_look(tmp_path, monkeypatch):
     assert len({model_style(k) for k in range(100)}) == 100
 
 
-def test_run_badge_reads_the_state_of_a_run():
-    assert run_badge(MethodRun(values={}))[0] is Badge.AGREES
+def test_run_verdict_reads_the_state_of_a_run():
+    assert run_verdict(MethodRun(values={}))[0] is None                 # it gave its values: rows decide
     refused = MethodRun(values={}, converged=False, message="not applicable: no PRBM for a closed ring",
                         extras={"not_applicable": True})
-    assert run_badge(refused) == (Badge.REFUSED, "no PRBM for a closed ring")
-    assert run_badge(MethodRun(values={}, converged=False, message="error: ValueError: x"))[0] is Badge.FAILED
-    assert run_badge(MethodRun(values={}, converged=False, message="Newton stalled"))[0] is Badge.FAILED
-    status = type("Status", (), {"name": "REFUSED"})()  # a status enum, as MethodRun may carry
-    with_status = MethodRun(values={}, message="why")
-    with_status.status = status
-    assert run_badge(with_status) == (Badge.REFUSED, "why")
+    assert run_verdict(refused) == (Verdict.REFUSED, "no PRBM for a closed ring")
+    assert run_verdict(MethodRun(values={}, converged=False, message="error: ValueError: x"))[0] is Verdict.FAILED
+    assert run_verdict(MethodRun(values={}, converged=False, message="Newton stalled"))[0] is Verdict.NOT_CONVERGED
+    assert run_verdict(refused, expected="a ring")[0] is Verdict.EXPECTED
 
 
 def _chromium(scratch):
@@ -340,8 +341,8 @@ def test_messages_in_the_summary_keep_four_significant_digits():
 
 
 def test_an_absent_prbm_fem_number_shows_the_case_reason():
-    row = CaseSummary(group="chapter 9", case="x", title="t", badge=Badge.AGREES, reason="",
-                      methods=[MethodState("prbm", Badge.AGREES, "")], sentence="s.", prbm_fem_length=math.nan,
+    row = CaseSummary(group="chapter 9", case="x", title="t", verdict=Verdict.WITHIN, reason="",
+                      methods=[MethodState("prbm", Verdict.WITHIN, "")], sentence="s.", prbm_fem_length=math.nan,
                       prbm_fem_relative=math.nan, fem_estimate=math.nan, checks=0, checks_passed=0, findings=0,
                       no_prbm_fem="geometry not in the seed")
     cell = re.search(r"<td class='absent'[^>]*>(.*?)</td>", summary_tables_html([row], {})).group(1)

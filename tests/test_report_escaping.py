@@ -96,7 +96,7 @@ def test_no_markup_of_the_report_comes_from_the_case_file(report):
         # shown as text: on the index the finding and the list of comparisons outside their tolerance with
         # the level's label; on the case page its title, description, source, assumption and finding
         assert expected <= {k for k in PAYLOADS if f"alert({k})" in text}, page
-    assert "Comparisons outside their stated tolerance" in (report / "index.html").read_text()
+    assert "Comparisons outside the claimed limit" in (report / "index.html").read_text()
 
 
 def test_the_charts_json_cannot_end_its_script_and_gives_the_strings_back(report):

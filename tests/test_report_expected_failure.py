@@ -1,12 +1,12 @@
 """The report shows a failure the case records as expected (``case.expected_failure``) as an expected
-failure, with the case's reason, never as 'failed'; an unexpected failure stays 'failed'."""
+failure, with the case's reason, never as 'did not converge'; an unexpected one stays 'did not converge'."""
 from __future__ import annotations
 
 from test_exit_status import fake, write  # noqa: F401  (the fake prbm adapter fixture)
 from test_foundation import GOOD
 
 from validation.case.loader import load_case
-from validation.report.format import Badge
+from validation.run.verdict import Verdict
 from validation.report.summary import summarise
 from validation.run.outcome import tabulate
 from validation.run.case_run import run_case
@@ -24,11 +24,11 @@ def test_expected_failure_is_shown_as_expected_with_its_reason(tmp_path, fake): 
     expecting = GOOD.replace('group = "tests"', f'group = "tests"\nexpected_failure = {{ prbm = "{REASON}" }}')
     assert expecting != GOOD
     shown = summary_of(tmp_path, expecting)
-    assert shown.badge is Badge.EXPECTED and REASON in shown.reason
-    assert [s.badge for s in shown.methods] == [Badge.EXPECTED]
+    assert shown.verdict is Verdict.EXPECTED and REASON in shown.reason
+    assert [s.verdict for s in shown.methods] == [Verdict.EXPECTED]
 
 
 def test_unexpected_failure_stays_failed(tmp_path, fake):  # noqa: F811
     fake["behaviour"] = "not converged"
     shown = summary_of(tmp_path, GOOD)
-    assert shown.badge is Badge.FAILED and "no convergence at level 1" in shown.reason
+    assert shown.verdict is Verdict.NOT_CONVERGED and "no convergence at level 1" in shown.reason

@@ -3,14 +3,14 @@
 and listed, with the case's own reason (``case.no_prbm_fem``) or what its runs say."""
 import math
 
-from validation.report.format import Badge
+from validation.run.verdict import Verdict
 from validation.report.summary import (CaseSummary, MethodState, summary_markdown, summary_tables_html,
                                        without_prbm_fem, without_prbm_fem_line)
 
 
 def _row(case, length=math.nan, relative=math.nan, reason="", methods=("prbm", "fem"), fem_validation=False):
-    return CaseSummary(group="chapter 5", case=case, title="t", badge=Badge.AGREES, reason="",
-                       methods=[MethodState(m, Badge.AGREES, "") for m in methods], sentence="s.",
+    return CaseSummary(group="chapter 5", case=case, title="t", verdict=Verdict.NO_LIMIT, reason="",
+                       methods=[MethodState(m, Verdict.NO_LIMIT, "") for m in methods], sentence="s.",
                        prbm_fem_length=length, prbm_fem_relative=relative, fem_estimate=math.nan, checks=0,
                        checks_passed=0, findings=0, no_prbm_fem=reason, fem_validation=fem_validation)
 
@@ -44,7 +44,7 @@ def test_the_closing_list_gives_each_reason_in_html_and_markdown():
     assert "with_length" not in closing and "relative_only" not in closing
     md = summary_markdown(ROWS)
     assert "- benchmark: FEM-validation benchmark: a limit load checked against print" in md
-    assert "| relative_only | agrees | s. | relative " in md        # the relative error stands in for % of L
+    assert "| relative_only | no limit claimed | s. | relative " in md        # the relative error stands in for % of L
     assert "none: FEM-validation benchmark" in md
 
 

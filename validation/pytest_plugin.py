@@ -3,12 +3,14 @@
 ``pytest some_folder/`` collects every case file (a TOML file with a ``[case]`` table) under the
 folder as test items, one per case and method: ``mine.toml::my_case[fem]``. The methods of a file run
 once (shared by its items), and each item is judged by the same rule as the project's own suite
-(``validation.run.compare.verdict_by_method``): every enforced check of the method holds (printed
-numbers with a tolerance, findings, agreements between methods, FEM against the elastica); the method
+(``validation.run.compare.verdict_by_method``): every claimed limit of the method holds (printed
+numbers with a tolerance, findings, limits between methods, FEM against the elastica); the method
 ran, unless the case records its failure as expected (``case.expected_failure``); a method with
-values has an enforced check at a loaded level, unless ``case.unchecked`` says why. A failure names
-quantity, point, load with its unit, value, reference, error, tolerance and source. A case file with
-bad input is one failing item listing every problem.
+values has an enforced check at a loaded level, unless ``case.unchecked`` says why. A failing item's
+message opens with the method's verdict (``validation.run.verdict``: outside the claimed limit,
+refused, did not converge or failed) and its reason, then names quantity, point, load with its unit,
+value, reference, error, tolerance and source. A case file with bad input is one failing item listing
+every problem.
 
 Options: ``--case-method NAME`` (repeatable) runs only those methods; ``--case-cache`` reuses the
 on-disk cache of method runs (default: recompute).
@@ -23,6 +25,7 @@ import pytest
 from validation.case.loader import CaseError, LoadedCase, load_case
 from validation.run.api import Validation, validate
 from validation.run.compare import verdict_by_method
+from validation.run.verdict import MethodVerdict, method_verdicts
 
 
 def pytest_addoption(parser) -> None:
@@ -85,6 +88,12 @@ class SharedRun:
         verdict = verdict_by_method(self.loaded.case, result.result.runs, result.results)
         return verdict.get(method, [])
 
+    def verdict(self, method: str) -> MethodVerdict:
+        """The method's verdict in words, as the report and the tables give it."""
+        result = self.result
+        problems = verdict_by_method(self.loaded.case, result.result.runs, result.results)
+        return method_verdicts(self.loaded.case, result.result.runs, result.results, problems)[method]
+
 
 class CaseFailure(Exception):
     """A case item failed; the message is the readable account."""
@@ -100,8 +109,9 @@ class CaseItem(pytest.Item):
         lines = self.shared.problems(self.method)
         lines += readable if lines else []
         if lines:
-            raise CaseFailure(f"{self.loaded.id} ({self.loaded.path}), method {self.method}:\n  "
-                              + "\n  ".join(lines))
+            verdict = self.shared.verdict(self.method)
+            raise CaseFailure(f"{self.loaded.id} ({self.loaded.path}), method {self.method}: {verdict.verdict.value}"
+                              f"{': ' + verdict.reason if verdict.reason else ''}\n  " + "\n  ".join(lines))
 
     def repr_failure(self, excinfo, style=None):
         if isinstance(excinfo.value, CaseFailure):
@@ -113,7 +123,7 @@ class CaseItem(pytest.Item):
 
 
 def comparison_failures(result) -> list[str]:
-    """One readable line per comparison outside its claimed tolerance (no recorded finding)."""
+    """One readable line per comparison outside the claimed limit (no recorded finding)."""
     return [f"{row.method}: {describe_failure(row)}" for row in result.failures.itertuples()]
 
 

@@ -1,4 +1,5 @@
-"""``prbm-validate run``: run cases, compare with the published numbers, write the result tables.
+"""``prbm-validate run``: run cases, compare with the published numbers, write the result tables, and
+print the summary (one row per case with its verdict, then the cases counted per verdict).
 
 The tables are one output set (``validation.run.output_set``): written beside ``--out`` and put in place
 whole once all of them are written. A run in which no case could run (every case file bad, no case
@@ -18,6 +19,7 @@ from validation.run import tables
 from validation.run.exit_status import ExitStatus, print_error
 from validation.run.outcome import RunOutcome, run_cases, summary
 from validation.run.output_set import OutputSet
+from validation.run.verdict import Verdict, counts_sentence
 
 TABLES = ("runs", "values", "loads", "comparisons", "results")
 OWNED = tuple(f"{name}.{kind}" for name in TABLES for kind in ("csv", "parquet")) + ("summary.csv",)
@@ -32,7 +34,7 @@ def _print_table(frame, file=None) -> None:
 def write_tables(outcome: RunOutcome, out: Path) -> pd.DataFrame | None:
     """Every table of the run under ``out``; returns the summary (None when no case has a row)."""
     results = outcome.table.astype({"within_tolerance": "boolean", "compare": "boolean", "converged": "boolean",
-                                    "finding": "string", "message": "string", "source": "string",
+                                    "finding": "string", "message": "string", "source": "string", "verdict": "string",
                                     "applicability": "string"})
     results.to_csv(out / "results.csv", index=False)
     results.to_parquet(out / "results.parquet")
@@ -65,14 +67,16 @@ def run(args) -> int:
         output.commit()
     if table is not None:
         _print_table(table)
+        print(f"\n{counts_sentence([Verdict(v) for v in table['verdict']])} (verdicts: validation/run/verdict.py)")
     failed = outcome.failed_comparisons
     if len(failed):
-        print(f"\n{len(failed)} comparison(s) outside the claimed tolerance:")
+        print(f"\n{len(failed)} row(s) outside the claimed limit:")
         _print_table(failed[["case", "method", "quantity", "point", "level", "value", "reference_label",
                              "reference_value", "abs_error", "rel_error", "tolerance_rel", "tolerance_abs"]])
     problems = outcome.unexpected_problems
     if problems:
-        print(f"\n{len(problems)} method run(s) did not end ok (and their case does not expect it):")
+        print(f"\n{len(problems)} method run(s) failed, refused or did not converge (and their case does not "
+              f"record an expected failure):")
         for line in problems:
             print(f"  {line}")
     for error in outcome.errors + outcome.misconfigured:

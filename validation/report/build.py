@@ -51,10 +51,12 @@ from validation.case.loader import find_case_files
 from validation.case.readings import readings_groups
 from validation.report.charts import (PLOTLY_JS, Chart, PlotlyMissing, ShapeLine, install_plotly, outputs_chart,
                                       path_chart, plotly_bundle, shapes_chart)
-from validation.report.format import by_case, rows_of, run_badge, sig
+from validation.report.format import by_case, rows_of, sig, verdict_html
 from validation.report.overview import CLAIMS, overview_points, plot_overview
 from validation.report.summary import (METHOD_NAMES, CaseSummary, case_sentence, findings, findings_html,
-                                       summarise, summary_markdown, summary_tables_html)
+                                       summarise, summary_markdown, summary_tables_html, verdict_counts_line)
+from validation.run.compare import verdict_by_method
+from validation.run.verdict import method_verdicts, vocabulary_lines
 from validation.run.runner import CaseResult
 from validation.run.outcome import run_cases, summary, tabulate
 from validation.run.timeline import Timed, breakdown, command_age, csv_text, timed
@@ -78,6 +80,7 @@ td:first-child,th:first-child{text-align:left}td.sentence{text-align:left;max-wi
 td.absent{color:#777;font-size:12px;text-align:left;max-width:14em}
 .bad{background:#fdd}.good{background:#dfd}.finding{background:#ffd}img{max-width:100%;border:1px solid #ddd}
 .badge{color:#fff;border-radius:3px;padding:1px 6px;font-size:12px;white-space:nowrap}
+.cellverdict{display:block;font-size:11px;color:#333}
 .method{border:2px solid;border-radius:3px;padding:0 4px;margin:1px;font-size:12px;white-space:nowrap;
 display:inline-block}.lead{font-size:1.15em;margin:0.4em 0 0.8em}ul.evidence{font-size:12px;color:#444}
 details{margin:0.6em 0}summary{cursor:pointer;font-weight:600}.caption{font-size:12px;color:#444;max-width:60em}
@@ -334,7 +337,7 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
     pvds, render = _case_files(result, out)
     images = [render] if render else []
     cols = {"method": "method", "quantity": "quantity", "point": "point", "level_label": "load level",
-            "value": "value", "unit": "unit", "error_estimate": "FEM error estimate",
+            "value": "value", "unit": "unit", "verdict": "verdict", "error_estimate": "FEM error estimate",
             "reference_label": "printed column", "reference_value": "printed value",
             "abs_error": "absolute error", "rel_error": "relative error",
             "norm_error": "error / characteristic length", "within_tolerance": "within stated tolerance",
@@ -344,13 +347,14 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
     if "applicability" in table and table["applicability"].fillna("").ne("").any():
         cols["applicability"] = "outside the model's range"
     shown = marked_estimates(table.dropna(subset=["quantity"]))[list(cols)].rename(columns=cols)
-    badges = [(m, *run_badge(r, case.case.expected_failure.get(m)), r) for m, r in result.runs.items()]
-    runs = pd.DataFrame([{"method": METHOD_NAMES.get(m, m), "status": b.value, "time [s]": r.wall_time,
-                          "message": r.message[:300]} for m, b, _, r in badges])
+    verdicts = method_verdicts(case, result.runs, table, verdict_by_method(case, result.runs, table) if len(table) else {})
+    badges = [(m, verdicts[m].verdict, verdicts[m].reason, r) for m, r in result.runs.items()]
+    runs = pd.DataFrame([{"method": METHOD_NAMES.get(m, m), "verdict": v.value, "why": w[:300], "status": r.status.value,
+                          "time [s]": r.wall_time, "message": r.message[:300]} for m, v, w, r in badges])
     source = case.case.source.label() if case.case.source else ""
     items = findings([result], table)
     sentence = case_sentence(result, table)
-    status = " ".join(f"{html.escape(METHOD_NAMES.get(m, m))} {b.html(w)}" for m, b, w, _ in badges)
+    status = " ".join(f"{html.escape(METHOD_NAMES.get(m, m))} {verdict_html(v, w)}" for m, v, w, _ in badges)
     body = (f"<p><a href='../index.html'>all cases</a></p><h1>{html.escape(case.case.title)}</h1>"
             f"<p class='lead'><b>{html.escape(sentence)}</b></p><p>{status}</p>"
             f"<p><b>id</b> <code>{html.escape(cid)}</code> &middot; <b>group</b> {html.escape(case.case.group)} "
@@ -365,7 +369,7 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
         details += "<h3>Assumptions</h3><ul>" + "".join(f"<li>{html.escape(a)}</li>"
                                                         for a in case.case.assumptions) + "</ul>"
     body += f"<details><summary>Description and assumptions</summary>{details}</details>"
-    body += f"<details><summary>Methods: status, time, message</summary>{_html_table(runs)}</details>"
+    body += f"<details><summary>Methods: verdict, status, time, message</summary>{_html_table(runs)}</details>"
     at_a_glance = glance(table)
     prb_model, prb_lock = _prb_model(result)
     if prb_model is not None:
@@ -410,7 +414,8 @@ def _code_digest() -> str:
     """The source of the modules that draw a case page: a page is rewritten when they change."""
     here = Path(__file__).parent
     names = ["build.py", "charts.py", "format.py", "summary.py", "paraview.py"]
-    return hashlib.sha256(b"".join((here / n).read_bytes() for n in names)).hexdigest()
+    sources = [here / n for n in names] + [here.parent / "run" / "verdict.py"]
+    return hashlib.sha256(b"".join(p.read_bytes() for p in sources)).hexdigest()
 
 
 @dataclass(frozen=True)
@@ -519,21 +524,21 @@ OVERVIEW_CAPTION = (
 
 
 def headline(rows) -> str:
-    """The first sentence of the summary: how far the PRBM is from the FEM, over how many cases."""
+    """The first sentence of the summary: the cases counted per verdict (the counts add up to the number of
+    cases), then how far the PRBM is from the FEM."""
+    counts = verdict_counts_line(rows)
     compared = [r for r in rows if not math.isnan(r.prbm_fem_length)]
-    counts = {}
-    for r in rows:
-        counts[r.badge.value] = counts.get(r.badge.value, 0) + 1
-    words = {"agrees": "agree", "finding": "with findings", "refused": "with a method refused",
-             "expected failure": "with a failure they expect", "failed": "failed"}
-    states = ", ".join(f"{n} {words[state]}" for state, n in counts.items())
     if not compared:
-        return f"{len(rows)} cases ({states}); none compares the PRBM with the FEM on a position."
+        return f"{counts}; none compares the PRBM with the FEM on a position."
     worst = max(compared, key=lambda r: r.prbm_fem_length)
     within = sum(r.prbm_fem_length <= 0.01 for r in compared)
-    return (f"{len(rows)} cases ({states}). The PRBM is within 1 % of L of the FEM on {within} of the "
-            f"{len(compared)} cases that compare positions; the largest difference is "
-            f"{sig(100 * worst.prbm_fem_length, 3)} % of L ({worst.case}).")
+    return (f"{counts}. The PRBM is within 1 % of L of the FEM on {within} of the "
+            f"{len(compared)} cases that compare positions (a difference, not a claimed limit); the largest "
+            f"difference is {sig(100 * worst.prbm_fem_length, 3)} % of L ({worst.case}).")
+
+
+VOCABULARY = ("Verdicts: " + "; ".join(vocabulary_lines()) + ". A case's verdict is the worst of its rows in "
+              "that order; the first four make the exit status 1.")
 
 
 @dataclass(frozen=True)
@@ -574,7 +579,8 @@ def _write_tables(outcome, out: Path) -> pd.DataFrame:
     table = outcome.table
     table.to_csv(out / "results.csv", index=False)
     try:
-        table.astype({"finding": "string", "message": "string", "source": "string", "applicability": "string"}).to_parquet(
+        table.astype({"finding": "string", "message": "string", "source": "string", "applicability": "string",
+                      "verdict": "string"}).to_parquet(
             out / "results.parquet")
     except ImportError:
         pass
@@ -684,21 +690,23 @@ def _write_index(outcome, pages: list[PageLink], out: Path, published: Path | No
             "level'></p>", f"<p class='caption'>{html.escape(OVERVIEW_CAPTION)} <a href='overview.svg'>The same "
             "picture as SVG</a>: click a dot to open its case.</p>",
             "<h2>Cases</h2><p class='caption'>Click a header to sort. Colour: PRBM error from green (at most "
-            "0.5 % of L) to red (10 % of L or more). Hover a status or a method for the reason.</p>",
+            "0.5 % of L) to red (10 % of L or more), whatever its verdict; the cell's label is the verdict of that "
+            "number ('no limit claimed' unless an agreement claims one). Hover a verdict or a method for the "
+            f"reason. {html.escape(VOCABULARY)}</p>",
             summary_tables_html(rows, links), *body_readings,
             "<h2>Findings and their evidence</h2><p class='caption'>Printed numbers not reproduced, misprints, "
             "and readings of the source that decide the answer.</p>", findings_html(items, links)]
     md = ["# PRBM validation report\n", headline(rows) + "\n", "![overview](overview.png)\n",
-          OVERVIEW_CAPTION + "\n", summary_markdown(rows), *md_readings, "\n## Findings\n"]
+          OVERVIEW_CAPTION + "\n", VOCABULARY + "\n", summary_markdown(rows), *md_readings, "\n## Findings\n"]
     md += [f"- {f.case}: {f.text}" + "".join(f"\n  - {e}" for e in f.evidence[:3]) for f in items]
     if len(failed):
-        body.append("<h2>Comparisons outside their stated tolerance</h2><ul>" + "".join(
+        body.append("<h2>Comparisons outside the claimed limit</h2><ul>" + "".join(
             f"<li class='bad'>{_link(links.get(r['case'], '#'), r['case'])} "
             + html.escape(f"{METHOD_NAMES.get(r['method'], r['method'])} {r['quantity']} at {r['level_label']}: "
                           f"{sig(r['value'])} against printed {r['reference_label']} {sig(r['reference_value'])}")
             + "</li>"
             for _, r in failed.iterrows()) + "</ul>")
-        md += [f"- **outside tolerance** {r['case']} {r['method']} {r['quantity']} at {r['level_label']}"
+        md += [f"- **outside the claimed limit** {r['case']} {r['method']} {r['quantity']} at {r['level_label']}"
                for _, r in failed.iterrows()]
     if outcome.errors:
         body.append("<h2>Bad case files</h2><ul>" + "".join(f"<li>{html.escape(e)}</li>"

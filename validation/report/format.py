@@ -1,66 +1,32 @@
-"""How the report writes numbers and run states: at most four significant digits, percentages, a
-colour scale on the PRBM error, and one status badge per method run or case.
-
-``run_badge`` is the one place that turns a ``MethodRun`` into a badge.  It reads the run's
-``status`` enum where the run has one and otherwise infers the state from the adapter's message
-(a refusal starts ``not applicable:``, a crash ``error:``).
+"""How the report writes numbers and verdicts: at most four significant digits, percentages, a
+colour scale on the PRBM error, and a verdict (``validation.run.verdict``) on its colour.
 """
 from __future__ import annotations
 
-import enum
 import html
 import math
 
 import numpy as np
 import pandas as pd
 
+from validation.run.verdict import Verdict
+
 # PRBM error colour scale, in % of the characteristic length: green at or below LOW, red at HIGH and
 # above, logarithmic in between (0.5 % is the target for the PRBM's end-point error, [bapat2015, §2.3]).
 ERROR_SCALE_LOW, ERROR_SCALE_HIGH = 0.5, 10.0
 
 
-class Badge(enum.Enum):
-    """The state of a method run or a case, as the report shows it."""
-    AGREES = "agrees"
-    FINDING = "finding"
-    REFUSED = "refused"
-    EXPECTED = "expected failure"
-    FAILED = "failed"
-
-    @property
-    def colour(self) -> str:
-        return {"agrees": "#2e7d32", "finding": "#b26a00", "refused": "#5f6b7a", "expected failure": "#4a6fa5",
-                "failed": "#c62828"}[self.value]
-
-    def html(self, reason: str = "") -> str:
-        title = f" title='{html.escape(reason, quote=True)}'" if reason else ""
-        return (f"<span class='badge' style='background:{self.colour}'{title}>{self.value}</span>")
+VERDICT_COLOURS = {Verdict.WITHIN: "#2e7d32", Verdict.FINDING: "#b26a00", Verdict.NO_LIMIT: "#6d6d6d",
+                   Verdict.OUTSIDE_VALIDITY: "#8d6e00", Verdict.EXPECTED: "#4a6fa5",
+                   Verdict.OUTSIDE_LIMIT: "#c62828", Verdict.REFUSED: "#5f6b7a", Verdict.NOT_CONVERGED: "#c62828",
+                   Verdict.FAILED: "#c62828"}
 
 
-def run_badge(run, expected: str | None = None) -> tuple[Badge, str]:
-    """(badge, reason) of one method run: refused (the method cannot model the case), failed
-    (crashed or did not converge), or agrees; a refusal or failure the case records as its expected
-    outcome (``case.expected_failure``, passed as ``expected``) is an expected failure, with the reason."""
-    badge, reason = _run_badge(run)
-    if expected and badge in (Badge.REFUSED, Badge.FAILED):
-        return Badge.EXPECTED, f"expected: {expected} ({reason})" if reason else f"expected: {expected}"
-    return badge, reason
-
-
-def _run_badge(run) -> tuple[Badge, str]:
-    status = getattr(run, "status", None)
-    name = str(getattr(status, "name", status or "")).lower()
-    if name:
-        if "refus" in name or "applicable" in name:
-            return Badge.REFUSED, run.message.removeprefix("not applicable: ")
-        if name not in ("ok", "converged", "agrees", "success"):
-            return Badge.FAILED, run.message
-        return Badge.AGREES, ""
-    if run.extras.get("not_applicable") or run.message.startswith("not applicable"):
-        return Badge.REFUSED, run.message.removeprefix("not applicable: ")
-    if run.message.startswith("error:") or not run.converged:
-        return Badge.FAILED, run.message
-    return Badge.AGREES, ""
+def verdict_html(verdict: Verdict, reason: str = "") -> str:
+    """A verdict as the report shows it: its words on its colour, the reason (else its meaning) on hover."""
+    title = html.escape(reason or verdict.meaning, quote=True)
+    return (f"<span class='badge' style='background:{VERDICT_COLOURS[verdict]}' title='{title}'>"
+            f"{html.escape(verdict.value)}</span>")
 
 
 def sig(value, digits: int = 4) -> str:

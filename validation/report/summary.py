@@ -1,6 +1,8 @@
 """The summary an engineer reads first: per chapter, one row per case with headers in words, numbers
-to at most four significant digits, a colour scale on the PRBM error, a status badge, a one-sentence
-result, and beneath the tables the findings with their evidence.
+to at most four significant digits, a colour scale on the PRBM error, a verdict, a one-sentence
+result, and beneath the tables the findings with their evidence. A case's status and each method's are
+verdicts (``validation.run.verdict``: the worst of their rows); the PRBM-vs-FEM cell is coloured by its
+size and labelled by its own verdict (``no limit claimed`` unless an agreement claims one).
 
 The numbers come from ``validation.run.runner`` (``prbm_fem_errors``, ``fem_error_relative``) so the
 summary page and ``summary.csv`` say the same thing.
@@ -17,19 +19,22 @@ import pandas as pd
 
 from validation.case.capabilities import QUANTITIES
 from validation.case.loads import driving_load, load_name, load_unit
-from validation.report.format import Badge, by_case, error_colour, percent, rows_of, run_badge, seconds, sig
+from validation.report.format import VERDICT_COLOURS, by_case, error_colour, percent, rows_of, seconds, sig, verdict_html
+from validation.run.compare import verdict_by_method
 from validation.run.runner import CaseResult
 from validation.run.outcome import (FEM_VALIDATION, fem_error_relative, fem_estimates_unreliable,
                                     no_prbm_fem_reason, prbm_fem_errors)
+from validation.run.verdict import (Verdict, case_verdict_of, counts_sentence, method_verdicts, prbm_fem_verdict,
+                                    run_verdict)
 
 METHOD_NAMES = {"fem": "FEM", "prbm": "PRBM", "elastica": "exact elastica", "bcm": "BCM", "opensees": "OpenSees"}
 
 
 @dataclass(frozen=True)
 class MethodState:
-    """One method's badge in one case, with the reason when it is not 'agrees'."""
+    """One method's verdict in one case, with its reason."""
     method: str
-    badge: Badge
+    verdict: Verdict
     reason: str
 
 
@@ -39,7 +44,7 @@ class CaseSummary:
     group: str
     case: str
     title: str
-    badge: Badge
+    verdict: Verdict
     reason: str
     methods: list[MethodState]
     sentence: str
@@ -54,6 +59,7 @@ class CaseSummary:
     readings_of: str = ""         # the base case of an experiment this case is one loading reading of
     fem_validation: bool = False  # case.purpose = 'fem-validation': a benchmark of the FEM itself
     fem_unreliable: int = 0       # FEM values whose error estimate is marked unreliable (left out of fem_estimate)
+    prbm_fem_verdict: Verdict = Verdict.NO_LIMIT   # the verdict of the PRBM-vs-FEM number (``prbm_fem_verdict``)
 
 
 def level_phrase(result: CaseResult, level: int) -> str:
@@ -122,16 +128,16 @@ def case_sentence(result: CaseResult, part: pd.DataFrame) -> str:
         claimed = part[part["within_tolerance"].notna()]
         if len(claimed):
             good = int((claimed["within_tolerance"] == True).sum())  # noqa: E712
-            clauses.append(f"{good} of {len(claimed)} enforced checks met (printed numbers, findings, "
-                           f"agreements, FEM against the exact elastica)")
+            clauses.append(f"{good} of {len(claimed)} claimed limits met (printed numbers, findings, "
+                           f"limits between methods, FEM against the exact elastica)")
         reason = getattr(result.loaded.case.case, "no_prbm_fem", None)
         if reason:
             clauses.append(f"no PRBM-vs-FEM comparison: {reason}")
     expected = result.loaded.case.case.expected_failure
     for method, run in result.runs.items():
-        badge, why = run_badge(run, expected.get(method))
-        if badge is not Badge.AGREES:
-            clauses.append(f"{METHOD_NAMES.get(method, method)} {badge.value}: {_short(why)}")
+        verdict, why = run_verdict(run, expected.get(method))
+        if verdict is not None:
+            clauses.append(f"{METHOD_NAMES.get(method, method)} {verdict.value}: {_short(why)}")
     findings = part["finding"].dropna().unique()
     if len(findings) or result.loaded.case.case.findings:
         clauses.append(f"{len(findings) + len(result.loaded.case.case.findings)} finding(s) below")
@@ -158,27 +164,13 @@ def _short(text: str, limit: int = 140) -> str:
 def summarise(result: CaseResult, part: pd.DataFrame, sentence: str | None = None) -> CaseSummary:
     """The case's row of the index; ``sentence``: its `case_sentence` of ``part``, when the caller has it."""
     case = result.loaded.case
-    methods = [MethodState(m, *run_badge(r, case.case.expected_failure.get(m))) for m, r in result.runs.items()]
     claimed = part[part["within_tolerance"].notna()]
-    expected = claimed["method"].isin(list(case.case.expected_failure)) & claimed["value"].isna()
-    outside = claimed[(claimed["within_tolerance"] == False) & claimed["finding"].isna()  # noqa: E712
-                      & ~expected]  # no value where a failure is expected is not a comparison outside
     findings = part["finding"].dropna().unique()
     n_findings = len(findings) + len(case.case.findings)
-    if len(outside) or any(s.badge is Badge.FAILED for s in methods):
-        badge = Badge.FAILED
-        reason = "; ".join(f"{s.method}: {_short(s.reason)}" for s in methods if s.badge is Badge.FAILED) or \
-            f"{len(outside)} comparison(s) outside the stated tolerance"
-    elif n_findings:
-        badge, reason = Badge.FINDING, f"{n_findings} finding(s)"
-    elif any(s.badge is Badge.REFUSED for s in methods):
-        badge = Badge.REFUSED
-        reason = "; ".join(f"{s.method}: {_short(s.reason)}" for s in methods if s.badge is Badge.REFUSED)
-    elif any(s.badge is Badge.EXPECTED for s in methods):
-        badge = Badge.EXPECTED
-        reason = "; ".join(f"{s.method}: {_short(s.reason)}" for s in methods if s.badge is Badge.EXPECTED)
-    else:
-        badge, reason = Badge.AGREES, ""
+    verdicts = method_verdicts(case, result.runs, part, verdict_by_method(case, result.runs, part) if len(part) else {})
+    methods = [MethodState(m, v.verdict, v.reason) for m, v in verdicts.items()]
+    verdict = case_verdict_of(verdicts.values())
+    reason = "; ".join(f"{s.method}: {_short(s.reason)}" for s in methods if s.verdict is verdict and s.reason)
     if len(part):
         relative, length = prbm_fem_errors(part)
         estimate = fem_error_relative(part)
@@ -186,7 +178,7 @@ def summarise(result: CaseResult, part: pd.DataFrame, sentence: str | None = Non
     else:
         relative = length = estimate = math.nan
         unreliable = 0
-    return CaseSummary(group=case.case.group, case=case.case.id, title=case.case.title, badge=badge,
+    return CaseSummary(group=case.case.group, case=case.case.id, title=case.case.title, verdict=verdict,
                        reason=reason, methods=methods, sentence=case_sentence(result, part) if sentence is None else sentence,
                        prbm_fem_length=length, prbm_fem_relative=relative, fem_estimate=estimate,
                        checks=len(claimed), checks_passed=int((claimed["within_tolerance"] == True).sum()),  # noqa: E712
@@ -194,7 +186,8 @@ def summarise(result: CaseResult, part: pd.DataFrame, sentence: str | None = Non
                        no_prbm_fem=no_prbm_fem_reason(result) if case.case.purpose == "fem-validation"
                        else case.case.no_prbm_fem or "",
                        readings_of=case.case.readings_of or "",
-                       fem_validation=case.case.purpose == "fem-validation", fem_unreliable=unreliable)
+                       fem_validation=case.case.purpose == "fem-validation", fem_unreliable=unreliable,
+                       prbm_fem_verdict=prbm_fem_verdict(part))
 
 
 def group_order(group: str) -> tuple:
@@ -206,14 +199,14 @@ def group_order(group: str) -> tuple:
     return (1 if group.startswith("seed") else 2, 0, group)
 
 
-HEADERS = ["Case", "Status", "Methods", "Result", "PRBM vs FEM, max % of L", "PRBM vs FEM, max relative error",
+HEADERS = ["Case", "Verdict", "Methods", "Result", "PRBM vs FEM, max % of L", "PRBM vs FEM, max relative error",
            "FEM error estimate", "Printed numbers reproduced", "Findings", "PRBM time", "FEM time",
            "Exact (elastica) time"]
 
 
 def _row_html(row: CaseSummary, link: str) -> str:
-    methods = " ".join(f"<span class='method' style='border-color:{s.badge.colour}' title='"
-                       f"{html.escape(s.badge.value + (': ' + s.reason if s.reason else ''), quote=True)}'>"
+    methods = " ".join(f"<span class='method' style='border-color:{VERDICT_COLOURS[s.verdict]}' title='"
+                       f"{html.escape(s.verdict.value + (': ' + s.reason if s.reason else ''), quote=True)}'>"
                        f"{html.escape(METHOD_NAMES.get(s.method, s.method))}</span>" for s in row.methods)
     length_pct = 100 * row.prbm_fem_length
     if math.isnan(length_pct) and not math.isnan(row.prbm_fem_relative):
@@ -223,13 +216,17 @@ def _row_html(row: CaseSummary, link: str) -> str:
         why = row.no_prbm_fem or _why_not_compared(row)
         error_cell = f"<td class='absent' title='{html.escape(why, quote=True)}'>{html.escape(_short(why, 60))}</td>"
     else:
-        error_cell = (f"<td data-value='{length_pct:.6g}' style='background:{error_colour(length_pct)}'>"
+        error_cell = (f"<td data-value='{length_pct:.6g}' style='background:{error_colour(length_pct)}' "
+                      f"title='{html.escape(row.prbm_fem_verdict.meaning, quote=True)}'>"
+                      f"<span class='cellverdict'>{html.escape(row.prbm_fem_verdict.value)}</span> "
                       f"{sig(length_pct, 3)} %</td>")
     cells = [f"<td><a href='{html.escape(link, quote=True)}' title='{html.escape(row.title, quote=True)}'>"
              f"{html.escape(row.case)}</a></td>",
-             f"<td data-value='{row.badge.value}'>{row.badge.html(row.reason)}</td>",
+             f"<td data-value='{row.verdict.rank}'>{verdict_html(row.verdict, row.reason)}</td>",
              f"<td>{methods}</td>", f"<td class='sentence'>{html.escape(row.sentence)}</td>", error_cell,
-             f"<td data-value='{_raw(row.prbm_fem_relative)}'>{percent(row.prbm_fem_relative)}</td>",
+             f"<td data-value='{_raw(row.prbm_fem_relative)}'"
+             + (f" title='{html.escape(row.prbm_fem_verdict.value, quote=True)}'" if not math.isnan(row.prbm_fem_relative)
+                else "") + f">{percent(row.prbm_fem_relative)}</td>",
              _estimate_cell(row),
              f"<td data-value='{row.checks_passed}'>{row.checks_passed} of {row.checks}</td>"
              if row.checks else "<td data-value='-1'></td>",
@@ -257,11 +254,12 @@ def _estimate_cell(row: CaseSummary) -> str:
 
 def _why_not_compared(row: CaseSummary) -> str:
     """Why a case has no PRBM-vs-FEM number, in a few words."""
-    state = {s.method: s.badge for s in row.methods}
+    state = {s.method: s.verdict for s in row.methods}
     missing = [METHOD_NAMES[m] for m in ("prbm", "fem") if m not in state]
     if missing:
         return f"no {' or '.join(missing)} in this case"
-    refused = [METHOD_NAMES[m] for m in ("prbm", "fem") if state[m] is not Badge.AGREES]
+    refused = [METHOD_NAMES[m] for m in ("prbm", "fem") if state[m] in (Verdict.REFUSED, Verdict.NOT_CONVERGED,
+                                                                          Verdict.FAILED, Verdict.EXPECTED)]
     if refused:
         return f"{' and '.join(refused)} gave no answer"
     if not math.isnan(row.prbm_fem_relative):
@@ -341,11 +339,11 @@ def without_prbm_fem_line(rows: list[CaseSummary]) -> str:
 def summary_markdown(rows: list[CaseSummary]) -> str:
     lines = []
     for group in sorted({r.group for r in rows}, key=group_order):
-        lines += [f"\n### {group.capitalize()}\n", "| Case | Status | Result | PRBM vs FEM, max % of L | "
+        lines += [f"\n### {group.capitalize()}\n", "| Case | Verdict | Result | PRBM vs FEM, max % of L | "
                   "FEM error estimate | Printed numbers reproduced |", "|---|---|---|---|---|---|"]
         for r in (r for r in rows if r.group == group):
             pct = _markdown_error(r)
-            lines.append(f"| {r.case} | {r.badge.value} | {r.sentence.replace('|', '/')} | {pct} | "
+            lines.append(f"| {r.case} | {r.verdict.value} | {r.sentence.replace('|', '/')} | {pct} | "
                          f"{estimate_text(r)} | {f'{r.checks_passed} of {r.checks}' if r.checks else ''} |")
     lines += ["", without_prbm_fem_line(rows)]
     lines += [f"- {r.case}: {missing_reason(r)}" for r in without_prbm_fem(rows)]
@@ -355,9 +353,9 @@ def summary_markdown(rows: list[CaseSummary]) -> str:
 def _markdown_error(row: CaseSummary) -> str:
     """The PRBM-vs-FEM cell: % of L, else the relative error, else the reason there is none."""
     if not math.isnan(row.prbm_fem_length):
-        return f"{sig(100 * row.prbm_fem_length, 3)} %"
+        return f"{sig(100 * row.prbm_fem_length, 3)} % ({row.prbm_fem_verdict.value})"
     if not math.isnan(row.prbm_fem_relative):
-        return f"relative {percent(row.prbm_fem_relative)}"
+        return f"relative {percent(row.prbm_fem_relative)} ({row.prbm_fem_verdict.value})"
     return f"none: {_short(missing_reason(row), 100)}".replace("|", "/")
 
 
@@ -404,3 +402,8 @@ def findings_html(items: list[Finding], links: dict[str, str], shown: int = 3) -
         parts.append(f"<li><a href='{html.escape(links.get(item.case, '#'), quote=True)}'>{html.escape(item.case)}"
                      f"</a>: {html.escape(item.text)}{evidence}</li>")
     return "<ul class='findings'>" + "".join(parts) + "</ul>"
+
+
+def verdict_counts_line(rows: list[CaseSummary]) -> str:
+    """The cases counted per verdict ('N cases: a within the claimed limit, ...'); the counts add up to N."""
+    return counts_sentence([r.verdict for r in rows])

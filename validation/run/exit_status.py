@@ -3,9 +3,11 @@
 Every verb (``list``, ``run``, ``solve``, ``report``, ``bench``, ``stress``, ``sweep``,
 ``synthesize``) ends with one of these codes, so a CI job can gate on any of them:
 
-- ``0`` everything asked for ran and every comparison is inside its tolerance;
-- ``1`` a comparison is outside its tolerance, or a method failed, refused or did not converge on
-  a case that asked for it (the summary says which, in words); or the results could not be written
+- ``0`` everything asked for ran and no row is 'outside the claimed limit' (the verdicts of
+  ``validation.run.verdict``);
+- ``1`` a row is 'outside the claimed limit', or a method 'failed', was 'refused' or 'did not
+  converge' on a case that does not record it as an 'expected failure' (the summary says which, in
+  words); or the results could not be written
   (disk full, no permission; the line names the folder and the file, and the previous results stay);
 - ``2`` bad input: a case, spec or option that cannot be used, an unknown name, a missing extra, an
   output folder that cannot be used or is in use by another command ("output folder X is in use by
@@ -30,9 +32,9 @@ class ExitStatus(IntEnum):
     INTERRUPTED = 130
 
 
-RULE = ("exit status (every verb): 0 everything asked for ran and every comparison is inside its "
-        "tolerance; 1 a comparison outside its tolerance, or a method that failed, refused or did not "
-        "converge on a case that asked for it, or results that could not be written (disk full, "
+RULE = ("exit status (every verb): 0 everything asked for ran and no row is 'outside the claimed limit'; "
+        "1 a row 'outside the claimed limit', or a method that 'failed', was 'refused' or 'did not converge' "
+        "on a case that does not record it as an 'expected failure', or results that could not be written (disk full, "
         "permission); 2 bad input (case, spec, option or name, or an output folder that cannot be used "
         "or is in use by another command), found before any solve; 130 interrupted. A command that "
         "ends with nothing written leaves the previous results in its output folder unchanged")

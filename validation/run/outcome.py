@@ -23,12 +23,13 @@ from validation.run.exit_status import combine, decide, misconfigured_line, of_r
 from validation.run.parallel import PathRun, run_paths
 from validation.run.runner import CaseResult, characteristic_length, requests_for
 from validation.run.timeline import Timed
+from validation.run.verdict import prbm_fem_verdict, row_verdict, run_verdict, table_verdict
 
 
 COLUMNS = ["case", "group", "method", "quantity", "point", "level", "level_label", "value", "unit", "scale",
            "error_estimate", "error_estimate_reliable", "reference_label", "reference_value", "source", "compare",
            "tolerance_rel", "tolerance_abs", "abs_error", "rel_error", "norm_error", "within_tolerance", "finding",
-           "wall_time", "converged", "message", "applicability", "cached", "check"]
+           "wall_time", "converged", "message", "applicability", "cached", "check", "verdict"]
 
 
 def tabulate(result: CaseResult) -> pd.DataFrame:
@@ -89,6 +90,15 @@ def tabulate(result: CaseResult) -> pd.DataFrame:
         for req, check in agreed.get(method, []):
             if req in bases:
                 rows.append(bases[req] | _check_row(check, QUANTITIES[req.quantity].dimension, scale))
+    expected = case.case.expected_failure
+    for row in rows:
+        run = result.runs[row["method"]]
+        level = row.get("level")
+        state, _ = run_verdict(run, expected.get(row["method"]), None if level is None else int(level))
+        verdict = row_verdict(row.get("value", math.nan), row.get("within_tolerance"),
+                              compared=row.get("reference_label") is not None, applicability=row.get("applicability") or "",
+                              run_state=state, kind=row.get("check"))
+        row["verdict"] = None if verdict is None else verdict.value
     frame = pd.DataFrame(rows)
     return frame.reindex(columns=COLUMNS)
 
@@ -150,8 +160,9 @@ class RunOutcome:
 
     @property
     def exit_status(self) -> int:
-        """The rule of validation/run/exit_status.py: bad input 2; a failed comparison or a method that
-        failed, refused or did not converge where its case does not expect it 1; else 0."""
+        """The rule of validation/run/exit_status.py: bad input 2; a row 'outside the claimed limit', or a
+        method that 'failed', 'refused' or 'did not converge' where its case does not record an 'expected
+        failure', 1; else 0."""
         statuses = [decide(bad_input=bool(self.errors), failed=len(self.failed_comparisons) > 0)]
         statuses += [of_run_status(run.status) for _, _, run in self._runs_not_expected_to_fail()]
         return int(combine(statuses))
@@ -315,7 +326,9 @@ def _run_columns(part: pd.DataFrame) -> tuple[dict[str, float], dict]:
 
 
 def summary(table: pd.DataFrame, results: list[CaseResult] | None = None) -> pd.DataFrame:
-    """One row per case: methods run, largest PRBM-to-FEM error, comparisons passed, wall times, and
+    """One row per case: its verdict (the worst of its rows', ``validation.run.verdict``), methods run,
+    largest PRBM-to-FEM error and that number's verdict (``no limit claimed`` unless an agreement claims
+    one; empty without the number), comparisons passed, wall times, and
     (given the case ``results``) ``no_prbm_fem_reason``: the one-line reason a case without a
     PRBM-vs-FEM number has none, missing (NaN, as an empty CSV cell reads back) where the number exists."""
     by_id = {r.loaded.id: r for r in results or []}
@@ -326,9 +339,10 @@ def summary(table: pd.DataFrame, results: list[CaseResult] | None = None) -> pd.
         reason = no_prbm_fem_reason(by_id[case_id]) if absent and case_id in by_id else math.nan  # NaN: none
         times, status = _run_columns(part)
         verdicts = [v for v in part["within_tolerance"] if not pd.isna(v)]
-        rows.append(dict(group=group, case=case_id,
+        rows.append(dict(group=group, case=case_id, verdict=table_verdict(part).value,
                          methods=" ".join(f"{m}{'' if status[m] else '(!)'}" for m in times),
                          max_prbm_fem_rel=prbm_fem, max_prbm_fem_per_length=prbm_fem_norm,
+                         prbm_fem_verdict=math.nan if absent else prbm_fem_verdict(part).value,
                          no_prbm_fem_reason=reason,
                          fem_error_est_rel=fem_error_relative(part),
                          fem_estimates_unreliable=fem_estimates_unreliable(part),

@@ -8,7 +8,8 @@ A run gives four tables, each one row per observation, with fixed columns and dt
 - ``loads``: one row per case, load and level: every load of the path (a case may have several;
   join on ``case, level``);
 - ``comparisons``: one row per value checked against something (a printed reference, or another
-  method where the runner compares them): the errors and whether the claimed tolerance holds.
+  method where the runner compares them): the errors, whether the claimed tolerance holds, and the
+  row's ``verdict`` (``validation.run.verdict``: 'no limit claimed' where nothing is asserted).
 
 ``values`` never repeats a row, so ``values.pivot(index=[...,"level"], columns="method",
 values="value")`` works; ``comparisons`` holds the value it checked but is not needed for plots.
@@ -79,7 +80,10 @@ SCHEMA: dict[str, list[Column]] = {
         Column("rel_error", "float64", "abs_error / |reference_value|"),
         Column("norm_error", "float64", "abs_error over the characteristic length (lengths only)"),
         Column("within_tolerance", "boolean", "the claimed tolerance holds; empty when only recorded"),
-        Column("finding", "string", "known misprint or disagreement that explains a miss")],
+        Column("finding", "string", "known misprint or disagreement that explains a miss"),
+        Column("verdict", "string", "within the claimed limit, finding, no limit claimed, outside the model's "
+               "validity, expected failure, outside the claimed limit, refused, did not converge or failed "
+               "(validation/run/verdict.py)")],
 }
 
 def loads_table(case: Case) -> pd.DataFrame:
