@@ -281,9 +281,38 @@ def _dof_rows(disc, kin: _Kinematics, system) -> list[tuple[str, np.ndarray]]:
     return out
 
 
+_KNOWN: dict[tuple, FreeMotions] = {}   # kinematic signature -> answer, for models solved again
+_KNOWN_MAX = 256
+
+
+def _signature(model) -> tuple:
+    """Everything the answer depends on: node names and coordinates, member ends, joints (which members,
+    whether sprung), supports, rigid links and prescribed DOFs; not stiffnesses, loads or meshes."""
+    return (tuple(model.node_names), tuple(model.coords),
+            tuple((m.start, m.end, m.name) for m in model.members),
+            tuple((j.node, j.members, j.k > 0.0, j.k_ground > 0.0) for j in model.joints),
+            tuple((sp.node, sp.kind, sp.direction) for sp in model.supports),
+            tuple((rl.master, rl.slave) for rl in model.rigid_links),
+            tuple((p.node, p.dof) for p in model.prescribed),
+            tuple(sorted({ld.node for ld in model.loads if ld.kind == "moment" or ld.follower})))
+
+
 def free_motions(system) -> FreeMotions:
     """The free motions of the system's model at the unloaded state (module docstring): how many,
-    how far the model is from the boundary, and the DOF an error names."""
+    how far the model is from the boundary, and the DOF an error names. A model whose kinematics were
+    answered before (a sweep, a benchmark, an error estimate solving one geometry again) gets the same
+    answer without the work (``_signature``)."""
+    key = _signature(system.model)
+    known = _KNOWN.get(key)
+    if known is None:
+        known = _free_motions(system)
+        if len(_KNOWN) >= _KNOWN_MAX:
+            _KNOWN.pop(next(iter(_KNOWN)))
+        _KNOWN[key] = known
+    return known
+
+
+def _free_motions(system) -> FreeMotions:
     disc = system.disc
     kin = _kinematics(disc, system.L_ref)
     N, relative = _null_space(kin.rows)

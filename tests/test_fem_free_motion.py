@@ -312,3 +312,22 @@ def _hinged_polygon(corners) -> fem.Model:
         m.add_joint(name, k=0.0)
     m.add_force(names[-1], 0.01, 0.0)
     return m
+
+
+def test_a_model_solved_again_gets_the_same_answer_and_a_changed_one_its_own():
+    """The answer is kept per kinematic signature (`free_motion._signature`): the same geometry again
+    gives the same answer without the work; a changed support, joint spring, link or coordinate is
+    answered afresh (a pinned root after a clamped one is free; a hinge sprung after a free one held)."""
+    from fem.free_motion import free_motions
+    from fem.solver import System, discretise
+
+    def motions(m):
+        return free_motions(System(m, discretise(m)))
+
+    assert motions(_beam("fixed")).held and motions(_beam("fixed")).held
+    assert motions(_beam("pinned")).count == 1
+    assert motions(_hinged(0.0)).count == 1 and motions(_hinged(5.0)).held
+    moved = _linked("pinned", 2.0)
+    assert motions(moved).count == 1
+    moved.supports[0].kind = "fixed"
+    assert motions(moved).held
