@@ -4,7 +4,7 @@ load-control Newton corrector compiled whole.
 
 One module on purpose: numba's cache is keyed on the source file of each compiled function only,
 so a cached function calling a compiled function of another file keeps running the old machine
-code after that file is edited (numba's "Notes on caching"). `tests/test_compiled_cache.py`
+code after that file is edited (numba's "Notes on caching"). `tests/project/test_compiled_cache.py`
 checks that no cached function calls into another module.
 
 The mathematics is that of `corotational` (Crisfield 1991 ch. 7; Battini 2002 ch. 2), written

@@ -10,7 +10,7 @@ n/2n error estimate the NumPy version is some thirty NumPy calls on arrays of a 
 whose fixed per-call overhead outweighs their arithmetic; this is one call.
 
 One module, no call into another file's compiled code: numba's cache is keyed on the defining file
-only (`kernel` explains it; `tests/test_compiled_cache.py` checks it).
+only (`kernel` explains it; `tests/project/test_compiled_cache.py` checks it).
 
 Angles (the chord angles, the end rotations, the tangent angles of the midpoints) are in radians.
 """

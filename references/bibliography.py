@@ -7,7 +7,7 @@ cites the whole document.  Equation, section, table and figure numbers are the d
 lecture has none, so a place in it is the transcript's slide time ("Refer Slide Time"), e.g.
 ``[ananthasuresh_l18, 07:13-12:05]`` for its fixed-guided beam.  A key is the first author's surname
 and the year (``bapat2015``, ``chen2021``); the lecture transcript prints no year, so its key names
-the lecture instead (``ananthasuresh_l18``).  ``tests/test_no_history.py`` checks that every key cited
+the lecture instead (``ananthasuresh_l18``).  ``tests/project/test_no_history.py`` checks that every key cited
 in a docstring or comment is one of ``REFERENCES``.
 
 The documents themselves (the project's "seed" documents) are kept beside the repository, not in it,

@@ -4,7 +4,7 @@ so is a number outside its range.
 The schema validates a case's options with the model of its method (``OPTIONS[name]``) and reports
 the first problem as ``methods.<method>.<option>: <what is wrong>``; the adapters still receive the
 options as a plain dict (only the keys the file gives). Adding an option to an adapter means adding
-it here (``tests/test_method_options.py`` checks that every option an adapter reads is declared).
+it here (``tests/validation/test_method_options.py`` checks that every option an adapter reads is declared).
 
 Ranges: every number is finite and representable (``validation.case.strict``), a direction is longer than
 1e-100; tolerances are fractions

@@ -3,7 +3,7 @@
 The comparison of two methods is only worth something if ``rotation``, ``moment``, ``force_y`` ...
 mean the same thing in each. This module writes each meaning down once (frame, sign, reference
 state, unit) and holds the one rule every adapter uses to decide what a segment's boundary holds.
-``tests/test_quantity_contract.py`` checks every method against these meanings on generated
+``tests/validation/test_quantity_contract.py`` checks every method against these meanings on generated
 configurations (linear beam theory in the small-load limit, the exact elastica at large deflection).
 
 The meanings:

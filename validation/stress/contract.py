@@ -19,7 +19,7 @@ each method to the contract on it:
   compliance scale capped at L (a reversed sign or an absolute-instead-of-relative angle is 100 % or
   more of it).
 
-Both are used by ``tests/test_quantity_contract.py`` (hypothesis) and ``prbm-validate stress --long``.
+Both are used by ``tests/validation/test_quantity_contract.py`` (hypothesis) and ``prbm-validate stress --long``.
 A method that raises NotApplicable is only accepted where ``applicable`` says it may.
 """
 from __future__ import annotations

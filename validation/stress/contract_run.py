@@ -18,7 +18,7 @@ Tasks run on the sweep executors (``validation.sweep.run.completed``: local proc
 cluster, or a Dask scheduler). Each failure is shrunk (unit system, size, slenderness, curvature,
 load rounded, one at a time while it still fails) and kept as a case file under ``regressions/``,
 stating the failure in ``case.findings`` and its configuration and status in the description (the
-ones kept in ``cases/regressions/`` are re-run by ``tests/test_contract_regressions.py``).
+ones kept in ``cases/regressions/`` are re-run by ``tests/validation/test_contract_regressions.py``).
 """
 from __future__ import annotations
 
@@ -202,7 +202,7 @@ REGRESSION_MARK = "stress-contract regression: "
 def write_regression(category: str, c: Configuration, phi: float, folder: Path, failures: list[str]) -> Path:
     """Keep a shrunk failure as a case file, every method side by side: the failure it showed in
     ``case.findings``, and the configuration in the description after ``REGRESSION_MARK`` as JSON
-    ({category, phi, configuration, status}), so ``tests/test_contract_regressions.py`` can re-run the
+    ({category, phi, configuration, status}), so ``tests/validation/test_contract_regressions.py`` can re-run the
     contract check on it (status 'open': it must still fail; 'fixed': it must pass)."""
     methods = tuple(m for m in ("fem", "elastica", "prbm", "bcm") if applicable(m, c))
     case = mechanism_case(c, phi) if category == "contract mechanism" else build_case(
@@ -211,7 +211,7 @@ def write_regression(category: str, c: Configuration, phi: float, folder: Path, 
     tag = hashlib.sha256(json.dumps([category, asdict(c), phi], sort_keys=True).encode()).hexdigest()[:8]
     record = {"category": category, "phi": phi, "configuration": asdict(c), "status": "open"}
     reason = ("a shrunk stress-contract failure: what it showed is in case.findings; the contract check itself is "
-              "re-run on this configuration by tests/test_contract_regressions.py")
+              "re-run on this configuration by tests/validation/test_contract_regressions.py")
     data["case"] |= {"id": f"contract_regression_{tag}", "title": f"shrunk {category} failure",
                      "group": "stress regressions",
                      "description": f"Found by prbm-validate stress --long. {REGRESSION_MARK}{json.dumps(record)}",

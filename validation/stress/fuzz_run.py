@@ -13,7 +13,7 @@ an exit other than 0, 1, 2, a message that is not one line, exit 0 with a number
 is shrunk (``shrink``: its mutations dropped, then fields of the case deleted, one at a time while the
 same problem persists) and written as a regression file: the mutated bytes under a comment header
 naming the problem, the verb, the source and the mutations (``write_regression``). The files kept in
-``tests/fuzz_regressions/`` are replayed by ``tests/test_fuzz.py``.
+``tests/validation/fuzz_regressions/`` are replayed by ``tests/validation/test_fuzz.py``.
 """
 from __future__ import annotations
 
