@@ -70,12 +70,12 @@ class FreeMotions:
 @dataclass
 class _Kinematics:
     """The rigid-body kinematics of a discretisation: rotation class of every reduced DOF (-1: not a
-    turning rotation), the forest (component and A of every element node), and the constraint rows."""
+    turning rotation), the forest (component and A of every model node), and the constraint rows."""
 
     turning: np.ndarray        # (n_red + 1,) column of z of each reduced rotation DOF, -1: does not turn
     n_turning: int
-    component: np.ndarray      # (n_en,) component of each element node
-    A: np.ndarray              # (n_en, n_turning, 2) chord sums from the root, over L_ref
+    component: np.ndarray      # (n_model_nodes,) component of each model node
+    A: np.ndarray              # (n_model_nodes, n_turning, 2) chord sums from the root, over L_ref
     rows: np.ndarray           # (n_rows, n_z) the constraint matrix G
 
 
@@ -148,9 +148,9 @@ def _edges(disc, turning: np.ndarray):
 
 
 def _forest(n_en: int, a, b):
-    """A spanning forest of the graph of the model nodes (n_en of them) joined by members and links: component of every node, the nodes in
-    breadth-first order with their tree edge (index, +1 when traversed a -> b, -1 when b -> a;
-    -1 for a root), and which edges are outside the forest."""
+    """A spanning forest of the graph of the model nodes (n_en of them) joined by members and links:
+    component of every node, the nodes in breadth-first order with their tree edge (index, +1 when
+    traversed a -> b, -1 when b -> a; -1 for a root), and which edges are outside the forest."""
     adjacency: list[list[int]] = [[] for _ in range(n_en)]
     for e, (i, j) in enumerate(zip(a.tolist(), b.tolist())):
         adjacency[i].append(e)

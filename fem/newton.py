@@ -204,9 +204,9 @@ class _Evaluation(dict):
 def _run_kernel(system, q, q_start, presc, lam, F_fixed, beta, opts: SolveOptions):
     """One call of `kernel.newton_load` on the system's arrays: (status, iterations, sign, F_scale,
     rotation increment, whether the sign is of the converged state itself, the inertia test's answer
-    (-1: not made), the evaluation's arrays, the history). The converged sign is confirmed where `det_sign` would (``opts.watch_det``),
-    and the inertia test of `solver._even_crossing` made where it can be asked (``opts.check_stability``
-    and the system's ``inertia_tol``)."""
+    (-1: not made), the evaluation's arrays, the history). The converged sign is confirmed where
+    `det_sign` would (``opts.watch_det``), and the inertia test of `solver._even_crossing` made where it
+    can be asked (``opts.check_stability`` and the system's ``inertia_tol``)."""
     c, d = system.compiled, system.disc
     n_el, nf, n = len(d.L0), d.n_full + 1, system.n
     el = dict(f=np.empty((n_el, 6)), K=np.zeros((n_el, 6, 6)), N=np.empty(n_el), M=np.empty((n_el, 2)),

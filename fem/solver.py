@@ -27,7 +27,7 @@ unknowns q (`assembly.System`) by Newton-Raphson with the consistent tangent K.
 The corrector, the convergence tests and the rotation-continuity checks are
 in `newton`; limit points and bifurcations are found by `critical`. A model whose
 unloaded tangent is singular to working precision (`conditioning`: a mesh too fine
-for double precision) is stopped at its first failed Newton attempt or its 16th step,
+for double precision) is stopped after its first cut step or at its 16th step,
 whichever comes first, with a message that says why (a run whose steps converge at
 once never pays for the test).
 
@@ -211,6 +211,9 @@ def _run_load(system, opts: SolveOptions, path, guesses=None):
         if got is not None:
             q, t, beta, ev = got.q, 1.0, got.ev["el"]["beta"].copy(), got.ev
         while t < 1.0:
+            why = _beyond_precision(system, path)
+            if why:
+                return why
             dt = min(dt, 1.0 - t)
             t_new = 1.0 if 1.0 - (t + dt) < 1e-12 else t + dt
             try:
@@ -220,9 +223,6 @@ def _run_load(system, opts: SolveOptions, path, guesses=None):
                         f"segment from level {k - 1}: {exc}")
             except StepFailed as exc:
                 path.reject(exc.iteration)
-                why = _beyond_precision(system, path, failed=True)
-                if why:
-                    return why
                 dt *= exc.cut
                 if dt < opts.min_step:
                     return (f"load level {k}: no convergence between t = {t:.6g} and "
@@ -236,9 +236,6 @@ def _run_load(system, opts: SolveOptions, path, guesses=None):
             prev = (st.q - q, t_new - t) if secant else None
             q, t, beta, ev = st.q, t_new, st.ev["el"]["beta"].copy(), st.ev
             path.record(st.history, st.iterations, st.sign if opts.detect_critical else 0, k - 1 + t)
-            why = _beyond_precision(system, path, failed=False)
-            if why:
-                return why
             dt *= growth(st.iterations)
         path.snapshots.append(snapshot(system, q, 1.0, ev, float(k)))
     return None
@@ -300,6 +297,9 @@ def _run_disp(system, model, control: DisplacementControl, opts: SolveOptions, p
     for lev, target in enumerate(targets):
         u_a, t = q[k] * coef, 0.0
         while t < 1.0:
+            why = _beyond_precision(system, path)
+            if why:
+                return why
             frac = min(frac, 1.0 - t)
             t_new = 1.0 if 1.0 - (t + frac) < 1e-12 else t + frac
             u_t = u_a + t_new * (target - u_a)
@@ -309,9 +309,6 @@ def _run_disp(system, model, control: DisplacementControl, opts: SolveOptions, p
                 return f"load level {lev} (control displacement {u_t:.6g}): {exc}"
             except StepFailed as exc:
                 path.reject(exc.iteration)
-                why = _beyond_precision(system, path, failed=True)
-                if why:
-                    return why
                 frac *= exc.cut
                 if frac < opts.min_step:
                     return (f"load level {lev} (control displacement {u_t:.6g}): no convergence, "
@@ -322,9 +319,6 @@ def _run_disp(system, model, control: DisplacementControl, opts: SolveOptions, p
             q, lam, t, beta, ev = st.q, st.lam, t_new, st.ev["el"]["beta"].copy(), st.ev
             sign, slope = _critical_slope(system, st, k, coef) if opts.detect_critical else (0, np.nan)
             path.record(st.history, st.iterations, sign, lam, slope, control=u_t, parameter=u_t)
-            why = _beyond_precision(system, path, failed=False)
-            if why:
-                return why
             frac *= growth(st.iterations)
         path.snapshots.append(snapshot(system, q, lam, ev, float(lev)))
     return None
@@ -420,6 +414,9 @@ def _run_arc(system, model, control: ArcLengthControl, opts: SolveOptions, path)
         return "arc-length control needs a load pattern: the loads at the last level are all zero"
     path.mark_start()
     while len(path.iterations) < control.max_steps:
+        why = _beyond_precision(system, path)
+        if why:
+            return why
         try:
             q_pred, lam_pred = _arc_predictor(system, arc, loads, opts)
             out = newton(system, q_pred, lam_pred, arc.beta, loads, opts, mode="arc",
@@ -427,9 +424,6 @@ def _run_arc(system, model, control: ArcLengthControl, opts: SolveOptions, path)
             accept_check(system, out.q, arc.q, out.ev, opts, out.iterations)
         except (StepFailed, SingularMatrix) as exc:
             path.reject(getattr(exc, "iteration", 0))
-            why = _beyond_precision(system, path, failed=True)
-            if why:
-                return why
             arc.hist3, arc.cached = arc.hist3[-1:], None
             arc.dl *= getattr(exc, "cut", 0.5)
             if arc.dl < arc.dl_min:
@@ -438,9 +432,6 @@ def _run_arc(system, model, control: ArcLengthControl, opts: SolveOptions, path)
                         f"{getattr(exc, 'reason', exc)}")
             continue
         _arc_accept(system, arc, out, path)
-        why = _beyond_precision(system, path, failed=False)
-        if why:
-            return why
         arc.dl = min(arc.dl * float(np.clip(opts.target_iterations / max(out.iterations, 1), 0.5, 2.0)),
                      arc.dl_max)
         if _arc_stopped(arc, control, path):
@@ -465,12 +456,13 @@ def _prepare(model: Model, opts: SolveOptions, n_levels: int | None = None, chec
 PRECISION_STEPS = 16   # accepted steps after which a run is tested for precision (`_beyond_precision`)
 
 
-def _beyond_precision(system, path, failed: bool) -> str | None:
+def _beyond_precision(system, path) -> str | None:
     """Why the run stops (its model beyond double precision, `conditioning.beyond_precision`), tested
-    once: at the run's first failed Newton attempt (``failed``) or its PRECISION_STEPS-th accepted step,
-    the two ways a model too fine for double precision shows (corrections without correct digits fail,
-    or converge so slowly that the steps shrink). A run whose steps converge at once never pays for it."""
-    if path.precision_checked or not (failed or len(path.iterations) >= PRECISION_STEPS):
+    once, before the next step after the run's first cut step (a failed Newton attempt, a step retried
+    shorter) or its PRECISION_STEPS-th accepted step: the two ways a model too fine for double precision
+    shows (corrections without correct digits fail, or converge so slowly that the steps shrink). A run
+    whose steps converge at once never pays for it."""
+    if path.precision_checked or not (path.cutbacks or len(path.iterations) >= PRECISION_STEPS):
         return None
     path.precision_checked = True
     return beyond_precision(system)
