@@ -33,6 +33,7 @@ from scipy.optimize import brentq
 from argcheck import checked
 from prbm.fits import fit_family
 from prbm.result import PRBMResult
+from prbm.segments import _FLOATS, _fixed_guided_ratio
 
 
 @checked(positive=('length', 'EI'), finite=('delta',))
@@ -45,8 +46,7 @@ def fixed_guided_displaced_tip(delta, *, length: float, EI: float, family="pauly
     """
     t0 = time.perf_counter()
     fam = fit_family(family)
-    gamma, _, K = fam.model_parameters(0.0, "raise")
-    k = 2.0 * gamma * K * EI / length                              # [bapat2015, eq 63]
+    gamma, K, k = _fixed_guided_ratio(_FLOATS, 0.0, length, EI, fam, "raise")[:3]   # [bapat2015, eq 63]
     d = np.atleast_1d(np.asarray(delta, float))
     sine = d / (gamma * length)
     ok = np.abs(sine) <= 1.0

@@ -16,7 +16,8 @@ from validation.case.loader import case_by_id
 from validation.case.schema import Case
 from validation.methods.base import NotApplicable
 from validation.methods.opensees import _geometry
-from validation.run.runner import characteristic_length, run_method
+from validation.case.scale import characteristic_length
+from validation.run.runner import run_method
 
 RELEASED_AT_I, RELEASED_AT_J = 1, 2
 

@@ -64,7 +64,8 @@ from validation.run.exit_status import ExitStatus, decide
 from validation.run.output_set import OutputSet
 from validation.case.loader import CaseError, case_by_id, find_case_files
 from validation.methods.base import MethodRun, Request
-from validation.run.runner import characteristic_length, requests_for, run_method
+from validation.case.scale import characteristic_length
+from validation.run.runner import requests_for, run_method
 from validation.run.outcome import run_cases
 
 

@@ -221,7 +221,6 @@ def _solve_prescribed(case, motion: PrescribedMotion, L: float, EI: float, kappa
     load magnitude (``prbm.load_for_motion``), started from the small-deflection stiffness."""
     seg = case.segment
     n = len(motion.values)
-    zeros = [0.0] * n
     dx, dy = motion.direction
     guided = seg.boundary in ("fixed-guided", "fixed-fixed")
     if motion.kind == "displacement" and guided and kappa == 0.0 and dx == 0.0:
@@ -231,20 +230,15 @@ def _solve_prescribed(case, motion: PrescribedMotion, L: float, EI: float, kappa
         res = prbm.fixed_guided_displaced_tip([v * dy for v in motion.values], length=L, EI=EI, family=fit.family)
         res.constants["k"] = 2.0 * np.asarray(res.constants["k_each"])  # U = 2 (k_each Theta^2/2)
         Fy = levels(res.outputs["P"], n)
-        return (TipLoads(zeros, Fy, zeros, False, any(f != 0.0 for f in Fy), False),
+        return (_motion_loads(motion, [f * dy for f in Fy]),        # along (0, dy), |dy| = 1
                 SegmentSolve(res, L, 0.0, "prescribed transverse tip displacement: closed form (eq 63)"))
-
-    def trial(s: float) -> TipLoads:
-        if motion.kind == "rotation":
-            return TipLoads([0.0], [0.0], [s], False, False, s != 0.0)
-        return TipLoads([s * dx], [s * dy], [0.0], False, s * dy != 0.0, False)
 
     unloaded = unloaded_tip_angle(L, kappa)
     a0 = b0 = None
 
     def response(s: float) -> float:
         nonlocal a0, b0
-        loads = trial(s)
+        loads = _motion_loads(motion, [s])
         solved = _forward(case, loads, loads.ratio(), L, EI, kappa, fit)
         if not solved.res.converged:
             return math.nan
@@ -262,15 +256,22 @@ def _solve_prescribed(case, motion: PrescribedMotion, L: float, EI: float, kappa
         if not found.converged:
             raise NotApplicable(f"prescribed {motion.kind} at level {level}: {found.message}")
         magnitudes.append(found.x)
-    if motion.kind == "rotation":
-        loads = TipLoads(zeros, zeros, magnitudes, False, False, any(m != 0.0 for m in magnitudes))
-    else:
-        Fy = [s * dy for s in magnitudes]
-        loads = TipLoads([s * dx for s in magnitudes], Fy, zeros, False, any(f != 0.0 for f in Fy), False)
+    loads = _motion_loads(motion, magnitudes)
     solved = _forward(case, loads, loads.ratio(), L, EI, kappa, fit)
     solved.message = "; ".join(m for m in (solved.message, f"prescribed {motion.kind}: load found by a bracketed "
                                            "root on its magnitude") if m)
     return loads, solved
+
+
+def _motion_loads(motion: PrescribedMotion, magnitudes: list[float]) -> TipLoads:
+    """The tip loads of magnitudes s (one per level) that hold the motion: a moment s for a rotation,
+    a force s d along the displacement's unit direction d."""
+    zeros = [0.0] * len(magnitudes)
+    if motion.kind == "rotation":
+        return TipLoads(zeros, zeros, list(magnitudes), False, False, any(m != 0.0 for m in magnitudes))
+    dx, dy = motion.direction
+    Fy = [s * dy for s in magnitudes]
+    return TipLoads([s * dx for s in magnitudes], Fy, zeros, False, any(f != 0.0 for f in Fy), False)
 
 
 def _free_straight(loads: TipLoads, ratio: list[float], L: float, EI: float, fit: FitOptions) -> SegmentSolve:

@@ -17,11 +17,12 @@ import pandas as pd
 from tqdm import tqdm
 
 from validation.case.capabilities import QUANTITIES
+from validation.case.scale import characteristic_length
 from validation.methods.base import RunStatus
 from validation.run.compare import agreement_checks, fem_elastica_checks, reference_check
 from validation.run.exit_status import combine, decide, misconfigured_line, of_run_status
 from validation.run.parallel import PathRun, run_paths
-from validation.run.runner import CaseResult, characteristic_length, requests_for
+from validation.run.runner import CaseResult, requests_for
 from validation.run.timeline import Timed
 from validation.run.verdict import prbm_fem_verdict, row_verdict, run_verdict, table_verdict
 

@@ -20,7 +20,6 @@ from pathlib import Path
 from validation.case.capabilities import QUANTITIES
 from validation.case.loader import LoadedCase
 from validation.methods.base import Misconfigured, MethodRun, NotApplicable, Request, RunStatus
-from validation.case.scale import characteristic_length  # noqa: F401 - the report and tables read it here
 from validation.case.schema import Case
 from validation.case.overrides import apply as apply_field
 
