@@ -42,10 +42,10 @@ class Options(Strict):
     """Base: unknown options are errors."""
 
 
-class MechanicalAdvantageOptions(Options):
-    """``[methods.fem] ma``: the FEM's mechanical advantage (validation.methods.fem_outputs)."""
+class _HeldOutputOptions(Options):
+    """The mechanical advantage of a held output point, as the FEM computes it (and the PRBM network
+    built from the geometry): the output's working direction or moment arm, the input load, the step."""
 
-    output: str = Field(description="the held output point")
     direction: Vector | None = Field(None, description="the output force's direction "
                                      "(the working motion of a held output point)")
     moment_arm: Positive | None = Field(None, description="d_o: the output is a held rotation at 'output'; "
@@ -58,9 +58,15 @@ class MechanicalAdvantageOptions(Options):
     definition: Literal["tangent", "secant"] = "tangent"
 
     @model_validator(mode="after")
-    def _direction(self) -> "MechanicalAdvantageOptions":
+    def _direction(self) -> "_HeldOutputOptions":
         _nonzero(self.direction, "direction")
         return self
+
+
+class MechanicalAdvantageOptions(_HeldOutputOptions):
+    """``[methods.fem] ma``: the FEM's mechanical advantage (validation.methods.fem_outputs)."""
+
+    output: str = Field(description="the held output point")
 
 
 class SoftModeOptions(Options):
@@ -164,7 +170,7 @@ class OpenSeesOptions(Options):
     rigid_ratio: Ratio = Field(1e6, description="stiffness of the rigid links' elements over the stiffest beam")
 
 
-class PrbmMechanicalAdvantageOptions(Options):
+class PrbmMechanicalAdvantageOptions(_HeldOutputOptions):
     """``[methods.prbm] ma``: chapter 7's mechanical advantage of a hand-given four-bar or slider ([bapat2015,
     eqs 190-206]: ``F_i``, ``d_i``, ``d_o``; with ``model = 'compliance'`` the two-port four-bar's ``d_in``,
     ``d_out2``, ``d_out3``, ``location_deg``), or, for the network built from the geometry, the FEM's
@@ -174,7 +180,6 @@ class PrbmMechanicalAdvantageOptions(Options):
     type: Literal[1, 2] | None = Field(None, description="the seed's MA type (1: one input and output)")
     model: Literal["compliance"] | None = None
     F_i: PositivePerLevel | None = None
-    d_i: Positive | None = None
     d_o: Positive | None = None
     d_in: Positive | None = None
     d_out2: Positive | None = None
@@ -183,17 +188,6 @@ class PrbmMechanicalAdvantageOptions(Options):
     rigid_body: str | None = Field(None, description="the equation of the rigid-body MA, for the reader")
     compliance: str | None = Field(None, description="the equation of the compliance term, for the reader")
     output: str | None = None
-    direction: Vector | None = None
-    moment_arm: Positive | None = None
-    sense: Literal[1, -1] = 1
-    input: Index | None = None
-    step: Fraction = 1e-4
-    definition: Literal["tangent", "secant"] = "tangent"
-
-    @model_validator(mode="after")
-    def _direction(self) -> "PrbmMechanicalAdvantageOptions":
-        _nonzero(self.direction, "direction")
-        return self
 
 
 class FourBarSlfpOptions(Options):
