@@ -282,6 +282,46 @@ def chain_tip(beam: ChainBeam, loads: NodalLoads, *, steps: int = 10, tol: float
                       time.perf_counter() - t0, nfev, np.array([ok]), extras={"nodes": state.nodes})
 
 
+def chain_path(beam: ChainBeam, loads: NodalLoads, factors, *, tol: float = 1e-12,
+               max_step: float = 0.25) -> list[PRBMResult]:
+    """The chain under ``loads`` scaled by each of the increasing ``factors``, each level solved from the
+    previous one's nodes (continuation), with sub-steps of at most ``max_step`` times the largest factor
+    so that the solve follows the branch a slowly loaded beam takes.  One ``PRBMResult`` per factor; after
+    the first level that fails, the rest fail with the same message."""
+    factors = [float(f) for f in factors]
+    nodes, previous, results = beam.undeformed(), 0.0, []
+    step_cap = max_step * max(abs(f) for f in factors) if factors else 0.0
+    failed = None
+    for factor in factors:
+        t0 = time.perf_counter()
+        if failed is not None:
+            results.append(PRBMResult(False, failed, {k: np.float64(np.nan) for k in ("a", "b", "theta0")},
+                                      {"elements": beam.elements}, "Chain Algorithm, seed 000 eqs (26)-(40)",
+                                      0.0, 0, np.array([False])))
+            continue
+        substeps = max(1, math.ceil(abs(factor - previous) / step_cap)) if step_cap > 0 else 1
+        nfev, ok, message = 0, True, "converged"
+        for k in range(1, substeps + 1):
+            level = previous + (factor - previous) * k / substeps
+            nodes, ok, n, msg = _forward_step(beam, loads.scaled(level), nodes, tol)
+            nfev += n
+            if not ok:
+                message = f"load factor {level:.6g}: " + " ".join(str(msg).split())
+                break
+        state = march(beam, loads.scaled(factor), nodes)
+        out = {"a": state.nodes[-1, 0], "b": state.nodes[-1, 1], "theta0": state.rotations[-1]}
+        stretched = _beyond_reach(beam, out["a"], out["b"]) if ok else None
+        if stretched:
+            ok, message = False, stretched
+        if not ok:
+            failed = message
+        results.append(PRBMResult(ok, message, {k: np.float64(v) for k, v in out.items()},
+                                  {"elements": beam.elements}, "Chain Algorithm, seed 000 eqs (26)-(40)",
+                                  time.perf_counter() - t0, nfev, np.array([ok]), extras={"nodes": state.nodes}))
+        previous = factor
+    return results
+
+
 def chain_from_tip(beam: ChainBeam, *, b: float, theta0: float, n: float = 0.0, steps: int = 10,
                    tol: float = 1e-12) -> PRBMResult:
     """Displacement boundary conditions (Table 3.1's Chain row): the tip force (-nP, P) and tip moment M

@@ -220,7 +220,15 @@ HOWELL = FitFamily(
     )),
 )
 
-FAMILIES = {"pauly-midha": PAULY_MIDHA, "howell": HOWELL}
+_CONSTANT_SOURCE = "seed 004 (PRB lecture): the usual averages gamma = 0.85, K_theta = 2.65; c_theta = 1.24"
+CONSTANT = FitFamily(  # the load-independent averages of the n-fits, over the Pauly-Midha range of n
+    name="constant",
+    gamma=PiecewiseFit("gamma", _CONSTANT_SOURCE, (Branch(-4.0, 10.0, (0.85,)),)),
+    c_theta=PiecewiseFit("c_theta", _CONSTANT_SOURCE, (Branch(-4.0, 10.0, (1.24,)),)),
+    K_theta=PiecewiseFit("K_theta", _CONSTANT_SOURCE, (Branch(-4.0, 10.0, (2.65,)),)),
+)
+
+FAMILIES = {"pauly-midha": PAULY_MIDHA, "howell": HOWELL, "constant": CONSTANT}
 
 
 def fit_family(name: str | FitFamily) -> FitFamily:

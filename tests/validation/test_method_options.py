@@ -43,7 +43,7 @@ family = "howell"
     ("elements = 4", "methods.fem.elemnts", "unknown option"),
     ('family = "howell"', "methods.prbm.familly", "unknown option"),
     ("elements = 4", "methods.fem.elements", "valid integer"),
-    ('family = "howell"', "methods.prbm.family", "'pauly-midha' or 'howell'"),
+    ('family = "howell"', "methods.prbm.family", "'pauly-midha', 'howell' or 'constant'"),
 ])
 def test_a_bad_option_is_one_error_naming_file_and_field(tmp_path, replace, field, words):
     option = field.rsplit(".", 1)[1]

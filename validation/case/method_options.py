@@ -251,7 +251,7 @@ class PrecisionOptions(Options):
 
 
 class PrbmOptions(Options):
-    family: Literal["pauly-midha", "howell"] = "pauly-midha"
+    family: Literal["pauly-midha", "howell", "constant"] = "pauly-midha"
     extrapolate: Literal["raise", "warn", "allow"] = "raise"
     friction_mu: Friction = 0.0
     contact_angle_deg: ContactAngle = 0.0
