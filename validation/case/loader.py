@@ -26,7 +26,7 @@ from validation.case.strict import field_path
 CASES_DIR = Path(__file__).resolve().parents[2] / "cases"
 SKIPPED = {"node_modules", "__pycache__", "venv", "site-packages", "reports"}  # never case folders
 # the project's data folders kept with the cases: design specifications and sweep studies, not cases
-DATA_FOLDERS = (CASES_DIR / "specs", CASES_DIR / "sweeps")
+DATA_FOLDERS = (CASES_DIR / "specs", CASES_DIR / "sweeps", CASES_DIR / "atlas")
 
 
 class CaseError(Exception):
@@ -177,14 +177,14 @@ def find_case_files(patterns: list[str] | None = None, root: Path = CASES_DIR,
 
 
 def _in_data_folder(path: Path) -> bool:
-    """The file lies in one of the project's data folders (design specifications, sweeps)."""
+    """The file lies in one of the project's data folders (design specifications, sweeps, the atlas's claims)."""
     resolved = path.resolve()
     return any(folder.resolve() in resolved.parents for folder in DATA_FOLDERS)
 
 
 def _toml_files(root: Path) -> list[Path]:
     """Every ``*.toml`` under root, not looking inside hidden folders, virtual environments or the
-    project's data folders (``cases/specs``, ``cases/sweeps``) unless root is one of them."""
+    project's data folders (``cases/specs``, ``cases/sweeps``, ``cases/atlas``) unless root is one of them."""
     found = []
     root = Path(root).resolve()
     for folder, subfolders, files in os.walk(root):

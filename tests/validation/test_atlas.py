@@ -1,0 +1,184 @@
+"""The PRBM error atlas: its exact side against closed forms, the path/stiffness split on a model whose
+answer is known, the build's resume, the shipped error maps against a fresh coarse atlas, and the PRBM
+adapter's flags on loads no shipped case has."""
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import elastica
+from validation.atlas import dataset
+from validation.atlas.expected import VALIDITY_LIMIT, expectation, load_maps
+from validation.atlas.lines import solve_line
+from validation.atlas.models import MODELS, PrbmLine
+from validation.case.loader import load_case
+from validation.methods.base import Applicability
+from validation.run.runner import run_method
+
+
+@pytest.fixture(scope="module")
+def coarse(tmp_path_factory) -> pd.DataFrame:
+    out = tmp_path_factory.mktemp("atlas")
+    record = dataset.build("coarse", out=out, executor="serial")
+    assert record.lines_run == len(dataset.tasks(list(MODELS), "coarse"))
+    return dataset.load(out, "coarse")
+
+
+def test_every_model_has_ten_thousand_points_on_the_full_grid():
+    for name, m in MODELS.items():
+        assert m.points(coarse=False) >= 10_000, name
+
+
+def test_the_exact_side_is_the_elliptic_solution():
+    """Fixed-pinned lines against [bapat2015, eqs 6-7] (elastica.elliptic, an independent closed form)."""
+    m = MODELS["fixed_pinned_pauly_midha"]
+    loads = m.load.values(coarse=True)
+    for angle in (30.0, 90.0, 150.0):
+        rows = [r for r in solve_line(m, {"load_angle_deg": angle}, loads) if r["status"] == "ok"]
+        assert len(rows) > 10
+        n = -1.0 / math.tan(math.radians(angle))
+        for r in rows[::4]:
+            P = r["load"] * math.sin(math.radians(angle))
+            tip = elastica.fixed_pinned_tip(P, n)
+            assert r["exact_x"] == pytest.approx(tip.a, abs=1e-7)
+            assert r["exact_y"] == pytest.approx(tip.b, abs=1e-7)
+
+
+def _circle(M: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The exact tip of a unit cantilever under an end moment M L/EI: a circular arc."""
+    M = np.asarray(M, float)
+    return np.sin(M) / M, (1.0 - np.cos(M)) / M, M
+
+
+@pytest.mark.parametrize("stiffer", [1.1, 0.9])
+def test_a_model_on_the_exact_path_with_a_wrong_spring_has_only_stiffness_error(stiffer):
+    """A 'PRBM' that lands on the exact arc but needs ``stiffer`` times the moment: path error 0 and
+    stiffness error 100 (stiffer - 1) %, while its error at equal load is not 0."""
+    def prbm(shape, loads):
+        x, y, t = _circle(loads / stiffer)
+        return PrbmLine(x, y, t, t, np.ones(loads.size, bool), np.ones(loads.size, bool))
+    m = replace(MODELS["pure_moment"], prbm=prbm, dense=8)
+    rows = [r for r in solve_line(m, {}, np.geomspace(0.05, 3.0, 200)) if r["status"] == "ok"]
+    inside = [r for r in rows if math.isfinite(r["stiffness_error"])]
+    assert len(inside) >= 180
+    for r in inside:  # the PRBM read between its dense points (steps h <= 0.01 rad): O(h^2) ~ 1e-6 L, and
+        assert r["path_error"] < 1e-3  # the polyline's sag (h |dr/dM|)^2 kappa/8 ~ 1e-6 L: well below 1e-5 L
+        assert r["locus_error"] < 1e-3
+        assert r["stiffness_error"] == pytest.approx(100.0 * (stiffer - 1.0), abs=1e-3)
+    assert max(r["tip_error"] for r in rows) > 1.0
+
+
+def test_the_exact_model_has_no_error():
+    def prbm(shape, loads):
+        x, y, t = _circle(loads)
+        return PrbmLine(x, y, t, t, np.ones(loads.size, bool), np.ones(loads.size, bool))
+    m = replace(MODELS["pure_moment"], prbm=prbm)
+    rows = solve_line(m, {}, np.geomspace(0.05, 3.0, 25))
+    assert max(r["tip_error"] for r in rows) < 1e-7
+    assert max(abs(r["stiffness_error"]) for r in rows if math.isfinite(r["stiffness_error"])) < 1e-3
+
+
+def test_a_build_resumes_and_a_new_line_set_runs_only_what_is_missing(tmp_path: Path):
+    first = dataset.build("coarse", models=["pure_moment", "fixed_pinned_constant"], out=tmp_path, executor="serial")
+    assert first.lines_run == 1 + 9 and first.points == 200 + 9 * 24
+    again = dataset.build("coarse", models=["pure_moment", "fixed_pinned_constant"], out=tmp_path, executor="serial")
+    assert again.lines_run == 0 and again.lines_skipped == 10
+    for part in (dataset.folder(tmp_path, "coarse") / "parts").glob("*.parquet"):
+        part.unlink()
+    third = dataset.build("coarse", models=["pure_moment"], out=tmp_path, executor="serial")
+    assert third.lines_run == 1
+    assert dataset.complete(tmp_path, "coarse", ["pure_moment"])
+    assert not dataset.complete(tmp_path, "coarse", ["fixed_pinned_constant"])
+
+
+def test_the_shipped_maps_predict_a_fresh_coarse_atlas(coarse):
+    """The coarse grid's nodes are not the full grid's: the maps interpolate.  Stated tolerance: at 95 % of
+    a model's points the prediction is within 0.5 % of L or a quarter of the measured error, and the
+    5 % region (in or out) agrees at 97 % of them."""
+    maps = load_maps()
+    assert set(maps) == set(MODELS)
+    for name in MODELS:
+        rows = coarse[(coarse["model"] == name) & (coarse["status"] == "ok")]
+        predicted = np.array([maps[name].expected({k: r[k] for k in maps[name].axes}) for _, r in rows.iterrows()])
+        measured = rows["tip_error"].to_numpy()
+        mapped = np.isfinite(predicted)
+        assert mapped.mean() >= 0.9, name
+        p, m = predicted[mapped], measured[mapped]
+        close = np.abs(p - m) <= np.maximum(0.5, 0.25 * m)
+        assert close.mean() >= 0.95, (name, close.mean())
+        assert ((p > VALIDITY_LIMIT) == (m > VALIDITY_LIMIT)).mean() >= 0.97, name
+
+
+def _segment_case(tmp_path: Path, *, curvature: float = 0.0, direction=(0.0, 1.0), values=(1.0,),
+                  follower: bool = False, boundary: str = "fixed-free") -> Path:
+    path = tmp_path / "user.toml"
+    path.write_text(f"""
+[case]
+id = "user_segment"
+title = "a user's segment"
+group = "user"
+units = "dimensionless"
+description = "a load no shipped case has"
+
+[segment]
+boundary = "{boundary}"
+length = 1.0
+E = 1.0
+curvature = {curvature}
+section = {{ kind = "inertia", I = 1.0, A = 1.0e8 }}
+
+[[loads]]
+kind = "force"
+direction = [{direction[0]}, {direction[1]}]
+follower = {str(follower).lower()}
+values = [{", ".join(str(v) for v in values)}]
+
+[[outputs]]
+quantity = "x"
+[[outputs]]
+quantity = "y"
+
+[methods.prbm]
+""")
+    return path
+
+
+def _prbm(path: Path):
+    return run_method(load_case(path).case, "prbm")
+
+
+def test_a_strongly_curved_segment_is_flagged_where_the_atlas_says(tmp_path):
+    run = _prbm(_segment_case(tmp_path, curvature=2.5, values=(0.5, 5.0)))
+    assert Applicability.OUTSIDE_VALIDITY not in run.applicability.get(0, [])
+    assert Applicability.OUTSIDE_VALIDITY in run.applicability[1]
+    assert run.expected_error[1] > VALIDITY_LIMIT > run.expected_error[0]
+    assert "atlas expects" in run.level_messages[1]
+
+
+def test_a_follower_force_is_flagged_from_moderate_loads_on(tmp_path):
+    run = _prbm(_segment_case(tmp_path, follower=True, values=(1.0, 10.0, 15.0, 20.0)))
+    assert not run.applicability.get(0)
+    for level in (1, 2, 3):
+        assert Applicability.OUTSIDE_VALIDITY in run.applicability[level]
+
+
+def test_a_mirrored_load_has_the_mirrored_expectation(tmp_path):
+    up = _prbm(_segment_case(tmp_path, direction=(-0.6, 0.8), values=(3.0,)))
+    down = _prbm(_segment_case(tmp_path, direction=(-0.6, -0.8), values=(3.0,)))
+    assert up.expected_error[0] == pytest.approx(down.expected_error[0], rel=1e-12)
+    assert 0.0 < up.expected_error[0] < VALIDITY_LIMIT
+
+
+def test_the_expected_error_scales_with_the_segment():
+    """The atlas is dimensionless: a 10x longer, 1000x stiffer segment under the same F L^2/EI has the same
+    expectation."""
+    small = expectation("fixed_pinned_pauly_midha", {"load_angle_deg": 90.0, "load": 4.0})
+    assert small is not None and math.isfinite(small.expected_error)
+    assert small.expected_error > 0.0
+    beyond = expectation("fixed_pinned_pauly_midha", {"load_angle_deg": 90.0, "load": 1e4})
+    assert beyond.outside and not math.isfinite(beyond.expected_error)
