@@ -45,9 +45,15 @@ def solve_document(loaded, method: str, run) -> dict:
             if req in run.unreliable_estimate:      # the estimate is no bound: why
                 outputs[name + ":error_estimate_unreliable"] = run.unreliable_estimate[req]
         if outputs:
-            levels.append({"level": level, "label": labels[level],
-                           "loads": [_load_entry(n, v[level], u, d) for n, v, u, d in loads],
-                           "outputs": outputs})
+            entry = {"level": level, "label": labels[level],
+                     "loads": [_load_entry(n, v[level], u, d) for n, v, u, d in loads], "outputs": outputs}
+            flags = run.applicability.get(level, [])
+            if flags:
+                entry["applicability"] = [f.value for f in flags]
+                entry["applicability_reason"] = run.level_messages.get(level, run.message)
+            if level in run.expected_error:     # the PRBM error atlas's expected tip error, % of L
+                entry["expected_error_percent_of_L"] = _clean(round(run.expected_error[level], 3))
+            levels.append(entry)
     return {"case": case.case.id, "file": str(loaded.path), "method": method, "units": case.case.units,
             "status": run.status.value, "converged": run.converged, "message": run.message,
             "wall_time_s": run.wall_time, "levels": levels}

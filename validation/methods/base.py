@@ -50,6 +50,7 @@ class Applicability(str, Enum):
     INFLECTION = "inflection expected"            # the load bends the segment through an inflection point
     LOAD_RATIO = "load ratio outside the fit"     # n outside the published fit's range (extrapolated)
     DEFLECTION = "PRB angle beyond the fit"       # the pseudo-rigid-body angle past the fit's printed range
+    OUTSIDE_VALIDITY = "outside validity"         # outside the model's 5 % region of the error atlas, or unmapped
 
 
 @dataclass
@@ -70,6 +71,8 @@ class MethodRun:
     extras: dict[str, Any] = field(default_factory=dict)
     # per level, the model-applicability flags (empty: the model was made for this load)
     applicability: dict[int, list[Applicability]] = field(default_factory=dict)
+    # per level, the tip error (% of L) the PRBM error atlas expects for this model and load (validation/atlas)
+    expected_error: dict[int, float] = field(default_factory=dict)
     # None: derived from extras["not_applicable"] (NOT_APPLICABLE) or ``converged`` (OK or NOT_CONVERGED)
     status: RunStatus | None = None
 

@@ -26,7 +26,9 @@ Applicability (``MethodRun.applicability``, per level): ``INFLECTION`` where a f
 and an end moment bend the PRBM's deformed state through an inflection point (tip and root moments of
 opposite signs: Table 2.1 and eq (12)) while the monotonic model (eq 62) was used; ``LOAD_RATIO`` where
 n lies outside the fit family's range (only reached with ``extrapolate`` = 'warn' or 'allow'; 'raise'
-refuses the case); ``DEFLECTION`` where |Theta - Theta_i| passes the fits' printed 65 deg (eqs 51-52).
+refuses the case); ``DEFLECTION`` where |Theta - Theta_i| passes the fits' printed 65 deg (eqs 51-52);
+``OUTSIDE_VALIDITY`` where the PRBM error atlas expects more than 5 % of L or does not map the load
+(``validation.methods.prbm_atlas``), with the expected error of every level in ``MethodRun.expected_error``.
 Shapes: ``extras['shapes']`` holds, per level, the PRB links as (n, 2) polylines in the case frame:
 fixed-pinned segment root -> pivot -> tip; two-spring fixed-guided root -> pivot -> pivot -> tip.
 
@@ -48,6 +50,7 @@ from prbm.fits import THETA_RANGE, fit_family
 from prbm.result import PRBMResult
 from validation.case.quantities import boundary_held_tip, unloaded_tip_angle
 from validation.methods.base import Applicability, DeferredList, MethodRun, NotApplicable
+from validation.methods.prbm_atlas import flag_levels
 from validation.methods.prbm_common import levels, per_level, pick, plain
 
 REACTIONS = {"reaction_x", "reaction_y", "reaction_moment"}
@@ -163,6 +166,7 @@ def run_segment(case, requests, options: dict) -> tuple[dict, MethodRun]:
     if loads.has_moment:  # no end moment: the bending moment cannot change sign (eq 12)
         _warn_inflection(info, loads.M, out["force_x"], out["force_y"], out["x"], out["y"], solved.a0, solved.b0)
     _flag_fit_range(info, loads, ratio, res, fit, n)
+    flag_levels(info, seg.boundary, kappa * L, fit.family, loads.Fx, loads.Fy, loads.M, loads.follower, L, EI)
     info.extras["shapes"] = DeferredList(lambda: _segment_shapes(seg, res, n, kappa) or [])  # the report reads it
     return pick(out, requests, "segment"), info
 

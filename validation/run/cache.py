@@ -169,8 +169,11 @@ def source_files(method: str, root: Path | None = None) -> list[Path]:
     """Every repository source file a method's results can depend on: its adapter, the runner that
     calls it, and everything they import, transitively (schema, quantity contract, options, the library)."""
     root = root or ROOT
-    return sources_of([root / "validation" / "methods" / f"{method}.py", root / "validation" / "run" / "runner.py"],
-                      root)
+    sources = sources_of([root / "validation" / "methods" / f"{method}.py", root / "validation" / "run" / "runner.py"],
+                         root)
+    # data files beside the code are code too (the PRBM's error maps decide its flags)
+    data = sorted({p for folder in {s.parent for s in sources} for p in folder.glob("*.json")})
+    return sources + [p for p in data if p not in sources]
 
 
 def digest_of(paths: list[Path]) -> str:

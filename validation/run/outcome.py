@@ -30,7 +30,7 @@ from validation.run.verdict import prbm_fem_verdict, row_verdict, run_verdict, t
 COLUMNS = ["case", "group", "method", "quantity", "point", "level", "level_label", "value", "unit", "scale",
            "error_estimate", "error_estimate_reliable", "reference_label", "reference_value", "source", "compare",
            "tolerance_rel", "tolerance_abs", "abs_error", "rel_error", "norm_error", "within_tolerance", "finding",
-           "wall_time", "converged", "message", "applicability", "cached", "check", "verdict"]
+           "wall_time", "converged", "message", "applicability", "expected_error", "cached", "check", "verdict"]
 
 
 def tabulate(result: CaseResult) -> pd.DataFrame:
@@ -69,6 +69,7 @@ def tabulate(result: CaseResult) -> pd.DataFrame:
                         converged=run.level_converged.get(req.level, run.converged),
                         message=run.level_messages.get(req.level, run.message),
                         applicability="; ".join(f.value for f in getattr(run, "applicability", {}).get(req.level, ())),
+                        expected_error=getattr(run, "expected_error", {}).get(req.level, math.nan),
                         cached=result.cached.get(method, False))
             bases[req] = base
             matching = refs.get(req, [])

@@ -1,0 +1,76 @@
+"""The PRBM adapter's applicability flags from the error atlas (``validation.atlas``).
+
+A segment case's levels are put in the atlas's terms: the atlas model that is the model the adapter
+ran, and its dimensionless inputs (load angle, F L^2/EI, M L/EI, moment ratio M/(F L), follower angle,
+kappa0 = L/R), mirrored into the half-plane the atlas maps (a load with P < 0 is the mirror image about
+the undeformed axis of one with P > 0: the fits are read at -n, the tip lands at -b).  Each level gets
+the atlas's expected tip error (% of L, ``MethodRun.expected_error``), and a level outside the model's
+5 % region or outside the mapped inputs is flagged ``Applicability.OUTSIDE_VALIDITY`` with the reason in
+its message.  A model the atlas does not map (a curved segment with an end moment, a family the curved
+atlas was not built with) gets no expected error, and the run's message says so.
+"""
+from __future__ import annotations
+
+import math
+
+from validation.atlas.expected import expectation
+from validation.methods.base import Applicability, MethodRun
+
+_FAMILY_MODEL = {"pauly-midha": "fixed_pinned_pauly_midha", "howell": "fixed_pinned_howell",
+                 "constant": "fixed_pinned_constant"}
+
+
+def _mirrored(fx: float, fy: float, m: float) -> tuple[float, float, float]:
+    """The level's loads in the half-plane P >= 0 (mirror image about the undeformed axis)."""
+    return (fx, -fy, -m) if fy < 0.0 else (fx, fy, m)
+
+
+def atlas_inputs(boundary: str, kappa0: float, family: str, Fx: float, Fy: float, M: float, follower: bool,
+                 L: float, EI: float) -> tuple[str | None, dict[str, float]]:
+    """(atlas model, its inputs) of one level of a segment case; (None, {}) where the atlas has no model."""
+    if kappa0 < 0.0:  # a segment curved the other way is the mirror image of one curved this way
+        kappa0, Fy, M = -kappa0, -Fy, -M
+    fx, fy, m = _mirrored(Fx, Fy, M)
+    F = math.hypot(fx, fy)
+    force = F * L * L / EI
+    angle = math.degrees(math.atan2(fy, fx)) if F > 0 else 90.0
+    free = boundary in ("fixed-free", "fixed-pinned")
+    if follower:
+        return ("follower", {"follower_angle_deg": angle, "load": force}) if free and kappa0 == 0.0 else (None, {})
+    if kappa0 != 0.0:
+        if not free or M != 0.0 or family != "pauly-midha":
+            return None, {}
+        return "curved_fixed_pinned", {"kappa0": kappa0, "load_angle_deg": angle, "load": force}
+    if M != 0.0 and F == 0.0:
+        return ("pure_moment", {"load": abs(m) * L / EI}) if free else (None, {})
+    if M != 0.0:
+        if family != "pauly-midha":
+            return None, {}
+        return "force_moment", {"moment_ratio": m / (F * L), "load_angle_deg": angle, "load": force}
+    if free:
+        return _FAMILY_MODEL.get(family), {"load_angle_deg": angle, "load": force}
+    if family == "pauly-midha":
+        return "fixed_guided", {"load_angle_deg": angle, "load": force}
+    return None, {}
+
+
+def flag_levels(info: MethodRun, boundary: str, kappa0: float, family: str, Fx: list[float], Fy: list[float],
+                M: list[float], follower: bool, L: float, EI: float) -> None:
+    """Set ``expected_error`` and the ``OUTSIDE_VALIDITY`` flags of every level (module docstring)."""
+    unmapped = None
+    for level, (fx, fy, m) in enumerate(zip(Fx, Fy, M)):
+        model, inputs = atlas_inputs(boundary, kappa0, family, fx, fy, m, follower, L, EI)
+        found = expectation(model, inputs) if model else None
+        if found is None:
+            unmapped = model or "this load on this segment"
+            continue
+        info.expected_error[level] = found.expected_error
+        info.extras["atlas_model"] = model
+        if found.outside:
+            info.flag(level, Applicability.OUTSIDE_VALIDITY)
+            previous = info.level_messages.get(level, "")
+            info.level_messages[level] = f"{previous}; {found.reason}" if previous else found.reason
+    if unmapped is not None and not info.expected_error:
+        info.extras["atlas_model"] = None
+        note = f"the PRBM error atlas does not map {unmapped}: no expected error"
+        info.message = f"{info.message}; {note}" if info.message else note
