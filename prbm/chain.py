@@ -286,7 +286,8 @@ def chain_path(beam: ChainBeam, loads: NodalLoads, factors, *, tol: float = 1e-1
                max_step: float = 0.25) -> list[PRBMResult]:
     """The chain under ``loads`` scaled by each of the increasing ``factors``, each level solved from the
     previous one's nodes (continuation), with sub-steps of at most ``max_step`` times the largest factor
-    so that the solve follows the branch a slowly loaded beam takes.  One ``PRBMResult`` per factor; after
+    so that the solve follows the branch a slowly loaded beam takes; a level whose solve stalls is tried
+    again from the previous level in twice as many sub-steps (four times at most).  One ``PRBMResult`` per factor; after
     the first level that fails, the rest fail with the same message."""
     factors = [float(f) for f in factors]
     nodes, previous, results = beam.undeformed(), 0.0, []
@@ -300,14 +301,20 @@ def chain_path(beam: ChainBeam, loads: NodalLoads, factors, *, tol: float = 1e-1
                                       0.0, 0, np.array([False])))
             continue
         substeps = max(1, math.ceil(abs(factor - previous) / step_cap)) if step_cap > 0 else 1
-        nfev, ok, message = 0, True, "converged"
-        for k in range(1, substeps + 1):
-            level = previous + (factor - previous) * k / substeps
-            nodes, ok, n, msg = _forward_step(beam, loads.scaled(level), nodes, tol)
-            nfev += n
-            if not ok:
-                message = f"load factor {level:.6g}: " + " ".join(str(msg).split())
+        nfev, ok, message = 0, False, "converged"
+        for _ in range(5):  # a stalled solve is retried from the last level's nodes in twice as many steps
+            trial = nodes
+            for k in range(1, substeps + 1):
+                level = previous + (factor - previous) * k / substeps
+                trial, ok, n, msg = _forward_step(beam, loads.scaled(level), trial, tol)
+                nfev += n
+                if not ok:
+                    message = f"load factor {level:.6g}: " + " ".join(str(msg).split())
+                    break
+            if ok:
+                nodes, message = trial, "converged"
                 break
+            substeps *= 2
         state = march(beam, loads.scaled(factor), nodes)
         out = {"a": state.nodes[-1, 0], "b": state.nodes[-1, 1], "theta0": state.rotations[-1]}
         stretched = _beyond_reach(beam, out["a"], out["b"]) if ok else None

@@ -50,3 +50,13 @@ def test_the_constant_family_is_the_lecture_averages_at_every_n():
     Theta = float(tip.outputs["Theta"])
     assert 2.0 * math.cos(Theta) == pytest.approx(2.65 * Theta, rel=1e-10)
     assert float(tip.outputs["b"]) == pytest.approx(0.85 * math.sin(Theta), rel=1e-12)
+
+
+def test_a_stalled_level_is_retried_in_smaller_steps():
+    """At 100 deg the first solve of w L^3/EI = 4.24 from the level below stalls (hybr); the retry in two
+    sub-steps reaches it, and every level up to 60 is solved."""
+    beam = chain.ChainBeam(1.0, 1.0, 40)
+    phi = math.radians(100.0)
+    unit = chain.lumped_uniform_load(beam, math.cos(phi), math.sin(phi))
+    results = chain.chain_path(beam, unit, np.geomspace(0.1, 60.0, 310))
+    assert all(r.converged for r in results)

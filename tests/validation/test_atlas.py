@@ -12,11 +12,14 @@ import pandas as pd
 import pytest
 
 import elastica
-from validation.atlas import dataset
+import prbm
+from validation.atlas import dataset, regions
 from validation.atlas.expected import VALIDITY_LIMIT, expectation, load_maps
 from validation.atlas.lines import solve_line
+from validation.atlas.measured import _split
 from validation.atlas.models import MODELS, PrbmLine
 from validation.case.loader import load_case
+from validation.cli.main import main
 from validation.methods.base import Applicability
 from validation.run.runner import run_method
 
@@ -182,3 +185,58 @@ def test_the_expected_error_scales_with_the_segment():
     assert small.expected_error > 0.0
     beyond = expectation("fixed_pinned_pauly_midha", {"load_angle_deg": 90.0, "load": 1e4})
     assert beyond.outside and not math.isfinite(beyond.expected_error)
+
+
+def _line(errors, statuses=None) -> pd.DataFrame:
+    n = len(errors)
+    return pd.DataFrame({"model": "pure_moment", "load": np.arange(1.0, n + 1), "tip_error": errors,
+                         "status": statuses or ["ok"] * n, "exact_rotation_deg": 10.0 * np.arange(1.0, n + 1),
+                         "deflection": np.arange(1.0, n + 1)})
+
+
+def test_a_region_ends_at_the_first_level_past_its_threshold():
+    frame = _line([0.1, 0.3, 0.6, 0.2, 2.0, 6.0])
+    limits = {t: regions.line_limits(frame, "pure_moment", t).iloc[0] for t in (0.5, 1.0, 3.0, 5.0)}
+    assert limits[0.5]["load_limit"] == 2.0           # 0.6 at load 3 ends it, though load 4 is back to 0.2
+    assert limits[1.0]["load_limit"] == 4.0 and limits[1.0]["deflection"] == 40.0
+    assert limits[3.0]["load_limit"] == 5.0 and not limits[3.0]["whole_line"]
+    assert limits[5.0]["load_limit"] == 5.0
+
+
+def test_a_region_starts_where_the_model_starts_answering():
+    frame = _line([np.nan, np.nan, 0.2, 0.4, 0.8], ["prbm gives no answer"] * 2 + ["ok"] * 3)
+    row = regions.line_limits(frame, "pure_moment", 0.5).iloc[0]
+    assert row["first_load"] == 3.0 and row["load_limit"] == 4.0
+    silent = _line([np.nan] * 3, ["prbm gives no answer"] * 3)
+    assert regions.line_limits(silent, "pure_moment", 0.5).empty
+
+
+@pytest.mark.parametrize("mirror", [1.0, -1.0])
+def test_a_measured_error_is_split_like_the_atlas(mirror):
+    """A 'FEM' tip that is the PRBM's own tip at 1.1 times the load: all of the error is stiffness
+    (+10 %), none is path, at either side of the axis."""
+    F, angle = 3.0, 70.0
+    n = -1.0 / math.tan(math.radians(angle))
+    P = 1.1 * F * math.sin(math.radians(angle))
+    tip = prbm.fixed_pinned_tip(P, n, length=1.0, EI=1.0).outputs
+    x, y, rotation = float(tip["a"]), mirror * float(tip["b"]), mirror * math.degrees(float(tip["theta0"]))
+    path, stiffness, locus, why = _split("fixed_pinned_pauly_midha", {"load_angle_deg": angle, "load": F}, mirror,
+                                         x, y, rotation)
+    assert why == ""
+    assert path < 1e-3 and locus < 1e-3
+    assert stiffness == pytest.approx(10.0, abs=0.01)
+
+
+def test_the_atlas_command_builds_summarises_and_refuses_a_bad_model(tmp_path, capsys):
+    assert main(["atlas", "nonsense", "--out", str(tmp_path)]) == 2
+    assert "unknown atlas model" in capsys.readouterr().err
+    assert main(["atlas", "pure_moment", "--coarse", "--serial", "--quiet", "--out", str(tmp_path)]) == 0
+    folder = dataset.folder(tmp_path, "coarse")
+    assert (folder / "maps" / "pure_moment.png").stat().st_size > 1000
+    table = pd.read_csv(folder / "regions.csv")
+    assert list(table["threshold"]) == [0.5, 1.0, 3.0, 5.0]
+    assert (table["worst_load"].diff().dropna() >= 0).all()   # a looser threshold reaches at least as far
+    claims = pd.read_csv(folder / "claims.csv")
+    assert set(claims["model"]) == {"pure_moment"}
+    assert main(["atlas", "pure_moment", "--coarse", "--serial", "--quiet", "--out", str(tmp_path)]) == 0
+    assert "0 line(s) run, 1 already done" in capsys.readouterr().out

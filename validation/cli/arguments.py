@@ -7,7 +7,23 @@ import argparse
 
 from validation.run.exit_status import RULE
 
-DESCRIPTION = "prbm-validate: list, run, solve, report, bench, stress, audit, sweep and synthesize."
+DESCRIPTION = "prbm-validate: list, run, solve, report, bench, stress, audit, sweep, synthesize and atlas."
+
+
+def _add_atlas(atlas: argparse.ArgumentParser) -> None:
+    atlas.add_argument("models", nargs="*", metavar="MODEL",
+                       help="atlas models to build (default: all; 'prbm-validate atlas --list' names them)")
+    atlas.add_argument("--list", action="store_true", help="name the models, their inputs and points, and stop")
+    atlas.add_argument("--coarse", action="store_true", help="the coarse grid (a few hundred points a model)")
+    atlas.add_argument("--out", default="reports/atlas", help="folder of the datasets (default %(default)s)")
+    atlas.add_argument("--workers", type=int, help="local worker processes (default: every core)")
+    where = atlas.add_mutually_exclusive_group()
+    where.add_argument("--serial", action="store_true", help="run in this process")
+    where.add_argument("--dask", action="store_true", help="run on a local Dask cluster")
+    where.add_argument("--scheduler", help="run on the Dask cluster at this address (tcp://HOST:PORT)")
+    atlas.add_argument("--write-maps", action="store_true",
+                       help="write the PRBM adapter's error maps (validation/atlas/error_maps.json) from the full atlas")
+    atlas.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def _add_sweep(sweep: argparse.ArgumentParser) -> None:
@@ -87,4 +103,5 @@ def build_parser() -> argparse.ArgumentParser:
     audit.add_argument("--out", default="reports/audit", help="folder for audit.csv (default %(default)s)")
     _add_sweep(add("sweep", "a parameter sweep over a case (grids, Monte Carlo), resumable"))
     _add_synthesize(add("synthesize", "design a compliant mechanism from a specification and check it with the FEM"))
+    _add_atlas(add("atlas", "the PRBM error atlas: every PRBM segment model against the exact elastica, resumable"))
     return parser

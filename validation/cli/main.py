@@ -1,4 +1,4 @@
-"""``prbm-validate``: list, run, solve, report, bench, stress, audit, sweep and synthesize.
+"""``prbm-validate``: list, run, solve, report, bench, stress, audit, sweep, synthesize and atlas.
 
 Exit status (every verb, defined in validation/run/exit_status.py): 0 everything asked for ran and every
 comparison is inside its tolerance; 1 a comparison outside its tolerance, or a method that failed,
@@ -29,7 +29,7 @@ EXTRAS = {"distributed": "dask", "dask": "dask", "openseespy": "peer", "pytest":
 COMMANDS = {"list": "validation.cli.list_cases", "run": "validation.cli.run", "solve": "validation.cli.solve",
             "report": "validation.cli.report", "bench": "validation.cli.bench", "stress": "validation.cli.stress",
             "audit": "validation.cli.audit", "sweep": "validation.cli.sweep",
-            "synthesize": "validation.cli.synthesize"}
+            "synthesize": "validation.cli.synthesize", "atlas": "validation.cli.atlas"}
 
 __all__ = ["COMMANDS", "build_parser", "main"]
 

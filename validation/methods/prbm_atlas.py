@@ -25,6 +25,15 @@ def _mirrored(fx: float, fy: float, m: float) -> tuple[float, float, float]:
     return (fx, -fy, -m) if fy < 0.0 else (fx, fy, m)
 
 
+def mirror_sign(Fy: float, M: float, kappa0: float) -> float:
+    """-1 where the atlas reads the level as its mirror image about the undeformed axis (y and angles
+    change sign), else 1: a segment curved the other way, then a force with P < 0 (or, without a
+    transverse force, a clockwise moment)."""
+    sign = -1.0 if kappa0 < 0.0 else 1.0
+    fy, m = sign * Fy, sign * M
+    return sign * (-1.0 if fy < 0.0 or (fy == 0.0 and m < 0.0) else 1.0)
+
+
 def atlas_inputs(boundary: str, kappa0: float, family: str, Fx: float, Fy: float, M: float, follower: bool,
                  L: float, EI: float) -> tuple[str | None, dict[str, float]]:
     """(atlas model, its inputs) of one level of a segment case; (None, {}) where the atlas has no model."""
@@ -55,8 +64,11 @@ def atlas_inputs(boundary: str, kappa0: float, family: str, Fx: float, Fy: float
 
 
 def flag_levels(info: MethodRun, boundary: str, kappa0: float, family: str, Fx: list[float], Fy: list[float],
-                M: list[float], follower: bool, L: float, EI: float) -> None:
-    """Set ``expected_error`` and the ``OUTSIDE_VALIDITY`` flags of every level (module docstring)."""
+                M: list[float], follower: bool, L: float, EI: float, prescribed: bool = False) -> None:
+    """Set ``expected_error`` and the ``OUTSIDE_VALIDITY`` flags of every level (module docstring).
+    ``prescribed``: the loads are those the PRBM found for a prescribed motion; the atlas's error is at
+    equal load, so a tip-position comparison of the case is not what it predicts (``atlas_equal_load``)."""
+    info.extras["atlas_equal_load"] = not prescribed
     unmapped = None
     for level, (fx, fy, m) in enumerate(zip(Fx, Fy, M)):
         model, inputs = atlas_inputs(boundary, kappa0, family, fx, fy, m, follower, L, EI)
@@ -66,6 +78,9 @@ def flag_levels(info: MethodRun, boundary: str, kappa0: float, family: str, Fx: 
             continue
         info.expected_error[level] = found.expected_error
         info.extras["atlas_model"] = model
+        # the level in the atlas's terms, so that a measured error can be split as the atlas splits it
+        info.extras.setdefault("atlas_inputs", {})[level] = dict(inputs)
+        info.extras.setdefault("atlas_mirror", {})[level] = mirror_sign(fy, m, kappa0)
         if found.outside:
             info.flag(level, Applicability.OUTSIDE_VALIDITY)
             previous = info.level_messages.get(level, "")

@@ -166,7 +166,8 @@ def run_segment(case, requests, options: dict) -> tuple[dict, MethodRun]:
     if loads.has_moment:  # no end moment: the bending moment cannot change sign (eq 12)
         _warn_inflection(info, loads.M, out["force_x"], out["force_y"], out["x"], out["y"], solved.a0, solved.b0)
     _flag_fit_range(info, loads, ratio, res, fit, n)
-    flag_levels(info, seg.boundary, kappa * L, fit.family, loads.Fx, loads.Fy, loads.M, loads.follower, L, EI)
+    flag_levels(info, seg.boundary, kappa * L, fit.family, loads.Fx, loads.Fy, loads.M, loads.follower, L, EI,
+                prescribed=motion is not None)
     info.extras["shapes"] = DeferredList(lambda: _segment_shapes(seg, res, n, kappa) or [])  # the report reads it
     return pick(out, requests, "segment"), info
 

@@ -1,0 +1,186 @@
+"""Each model's regions of validity from the atlas: where its tip error stays below 0.5, 1, 3 and 5 % of L.
+
+Along a line (fixed shape inputs, growing load) the region ends at the first level whose tip error
+passes the threshold, or where the line ends (the exact segment beyond the atlas, a method without an
+answer): ``load_limit`` is the last load inside.  Over a model's map axis (``AtlasModel.map_axes[0]``:
+the load angle, kappa0, the moment ratio, ...) the region is the worst line at each value (the least
+load limit over the other shape inputs), so a region read off the table holds for every line it
+summarises.  ``region_table`` gives, per threshold, the limits over the map axis; ``region_words`` says
+them in a sentence with numbers; ``draw_map`` draws the error over the map axis and the load with the
+region boundaries and the seeds' claimed ranges (``cases/atlas/claims.toml``) over it.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+
+from validation.atlas.claims import Claim  # noqa: E402
+from validation.atlas.expected import REGION_LEVELS  # noqa: E402
+from validation.atlas.models import MODELS  # noqa: E402
+
+
+def line_limits(frame: pd.DataFrame, model: str, threshold: float) -> pd.DataFrame:
+    """Per line on which the model answers: its shape inputs, the first load it answers at, the last load
+    inside the region, the deflection there (the exact tip rotation in deg, or |b| or the chord change in
+    % of L for a guided end or an arc: the model's path coordinate) and whether the whole line stayed inside.
+    A model that gives no answer at the smallest loads (the Theta-dependent fits' constant term) starts its
+    region where it starts answering; a line on which it never answers has no region (not listed)."""
+    m = MODELS[model]
+    rows = frame[frame["model"] == model].sort_values("load")
+    shape_names = [a.name for a in m.shape_axes]
+    out = []
+    groups = rows.groupby(shape_names, sort=True) if shape_names else [((), rows)]
+    for key, line in groups:
+        key = key if isinstance(key, tuple) else (key,)
+        answered = (line["status"] == "ok").to_numpy()
+        if not answered.any():
+            continue
+        start = int(np.argmax(answered))
+        line = line.iloc[start:]
+        inside = (line["status"] == "ok").to_numpy() & (line["tip_error"].to_numpy() <= threshold)
+        first_out = int(np.argmin(inside)) if not inside.all() else len(inside)
+        last = line.iloc[first_out - 1] if first_out > 0 else None
+        out.append({**dict(zip(shape_names, key)), "first_load": float(line["load"].iloc[0]),
+                    "load_limit": float(last["load"]) if last is not None else 0.0,
+                    "deflection": _deflection(m, last) if last is not None else 0.0,
+                    "whole_line": first_out == len(inside)})
+    return pd.DataFrame(out)
+
+
+def _deflection(m, row) -> float:
+    """The deflection a region reaches, in the model's path coordinate (see ``line_limits``)."""
+    if m.coordinate == "tip angle":
+        return float(abs(row["exact_rotation_deg"]))
+    return float(row["deflection"])
+
+
+def deflection_unit(model: str) -> str:
+    return "deg of tip rotation" if MODELS[model].coordinate == "tip angle" else "% of L of tip deflection"
+
+
+def region_table(frame: pd.DataFrame, model: str) -> pd.DataFrame:
+    """Per threshold and value of the map axis: the worst line's load limit and rotation there."""
+    m = MODELS[model]
+    axis = m.map_axes[0] if m.map_axes[0] != "load" else None
+    tables = []
+    for threshold in REGION_LEVELS:
+        lines = line_limits(frame, model, threshold)
+        if axis is None:
+            worst = lines.assign(threshold=threshold)
+        else:
+            pick = lines.groupby(axis)["load_limit"].idxmin()
+            worst = lines.loc[pick].assign(threshold=threshold)
+        tables.append(worst)
+    return pd.concat(tables, ignore_index=True)
+
+
+@dataclass(frozen=True)
+class RegionSummary:
+    """One threshold's region of one model, in numbers: the load limit at the map axis's most favourable
+    and least favourable values, and the deflection (``deflection_unit``) the limit reaches on the worst
+    line and, as a median, over the map axis; ``lines``: the lines on which the model answers."""
+
+    model: str
+    threshold: float
+    axis: str | None
+    best_value: float
+    best_load: float
+    worst_value: float
+    worst_load: float
+    worst_deflection: float
+    median_deflection: float
+    lines: int
+
+
+def summaries(frame: pd.DataFrame, model: str) -> list[RegionSummary]:
+    table = region_table(frame, model)
+    m = MODELS[model]
+    axis = m.map_axes[0] if m.map_axes[0] != "load" else None
+    out = []
+    for threshold, rows in table.groupby("threshold", sort=True):
+        best = rows.loc[rows["load_limit"].idxmax()]
+        worst = rows.loc[rows["load_limit"].idxmin()]
+        out.append(RegionSummary(model, float(threshold), axis,
+                                 float(best[axis]) if axis else math.nan, float(best["load_limit"]),
+                                 float(worst[axis]) if axis else math.nan, float(worst["load_limit"]),
+                                 float(worst["deflection"]), float(rows["deflection"].median()),
+                                 int(len(line_limits(frame, model, float(threshold))))))
+    return out
+
+
+def region_words(s: RegionSummary) -> str:
+    """A region in a sentence: where it reaches furthest and where least far, with the deflection there."""
+    load_label = MODELS[s.model].load.label
+    unit = deflection_unit(s.model)
+    if s.axis is None:
+        return f"below {s.threshold:g} % of L up to {load_label} = {s.worst_load:.3g} ({s.worst_deflection:.0f} {unit})"
+    if s.best_load == s.worst_load:
+        return (f"below {s.threshold:g} % of L on every mapped line up to {load_label} = {s.worst_load:.3g} "
+                f"(median deflection there {s.median_deflection:.0f} {unit})")
+    return (f"below {s.threshold:g} % of L up to {load_label} = {s.best_load:.3g} at {s.axis} = {s.best_value:.4g}, "
+            f"but only to {s.worst_load:.3g} at {s.axis} = {s.worst_value:.4g} "
+            f"({s.worst_deflection:.0f} {unit} there; median over {s.axis}: {s.median_deflection:.0f})")
+
+
+def _grid(frame: pd.DataFrame, model: str, column: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(map-axis values, loads, worst column value over the other shape inputs) on the atlas grid."""
+    m = MODELS[model]
+    rows = frame[(frame["model"] == model)]
+    axis = m.map_axes[0]
+    value = rows[column].where(rows["status"] == "ok")
+    if axis == "load":
+        loads = np.sort(rows["load"].unique())
+        table = value.groupby(rows["load"]).max().reindex(loads).to_numpy()
+        return np.array([0.0, 1.0]), loads, np.vstack([table, table]).T
+    table = value.groupby([rows["load"], rows[axis]]).max().unstack(axis)
+    return table.columns.to_numpy(float), table.index.to_numpy(float), table.to_numpy(float)
+
+
+def draw_map(frame: pd.DataFrame, model: str, path: Path, claims: list[Claim] = ()) -> Path:
+    """The tip error over the map axis and the load (worst over the other shape inputs; grey: beyond the
+    atlas), the 0.5/1/3/5 % region boundaries, and each claim's ranges on these axes."""
+    m = MODELS[model]
+    x, loads, error = _grid(frame, model, "tip_error")
+    fig, ax = plt.subplots(figsize=(6.4, 4.4), layout="constrained")
+    ax.set_facecolor("0.85")
+    shown = np.clip(error, 1e-3, 100.0)
+    mesh = ax.pcolormesh(x, loads, shown, shading="nearest", cmap="viridis",
+                         norm=matplotlib.colors.LogNorm(vmin=0.01, vmax=100.0))
+    bar = fig.colorbar(mesh, ax=ax)
+    bar.set_label("tip error at equal load (% of L)")
+    if x.size > 1:
+        lines = ax.contour(x, loads, np.nan_to_num(error, nan=1e3), levels=list(REGION_LEVELS),
+                           colors=["white", "#ffd166", "#ef476f", "black"], linewidths=1.2)
+        ax.clabel(lines, fmt=lambda v: f"{v:g} %", fontsize=8)
+    for claim in claims:
+        if model not in claim.models:
+            continue
+        for column, lo, hi in claim.range:
+            if column == m.map_axes[0]:
+                for v in (lo, hi):
+                    if x.min() < v < x.max():
+                        ax.axvline(v, color="#06d6a0", ls="--", lw=1.0)
+            elif column in frame and column not in ("in_fit_range",) and x.size > 1:
+                _, _, g = _grid(frame, model, column)
+                g = np.abs(g)
+                for v in (lo, hi):
+                    if np.nanmin(g) < v < np.nanmax(g):
+                        ax.contour(x, loads, g, levels=[v], colors="#06d6a0", linestyles="--", linewidths=1.0)
+    ax.set_yscale("log")
+    ax.set_xlabel(next((a.label for a in m.shape_axes if a.name == m.map_axes[0]), "") if m.map_axes[0] != "load" else "")
+    ax.set_ylabel(m.load.label)
+    ax.set_title(f"{m.title}\n(worst over the other inputs; dashed green: the seeds' claimed ranges)", fontsize=9)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.stem + ".tmp.png")
+    fig.savefig(tmp, dpi=110)
+    plt.close(fig)
+    tmp.replace(path)
+    return path
