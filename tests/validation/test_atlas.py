@@ -18,7 +18,7 @@ from validation.atlas.expected import VALIDITY_LIMIT, expectation, load_maps
 from validation.atlas.lines import solve_line
 from validation.atlas.measured import _split
 from validation.atlas.models import MODELS, PrbmLine
-from validation.case.loader import load_case
+from validation.case.loader import case_by_id, load_case
 from validation.cli.main import main
 from validation.methods.base import Applicability
 from validation.run.runner import run_method
@@ -240,3 +240,19 @@ def test_the_atlas_command_builds_summarises_and_refuses_a_bad_model(tmp_path, c
     assert set(claims["model"]) == {"pure_moment"}
     assert main(["atlas", "pure_moment", "--coarse", "--serial", "--quiet", "--out", str(tmp_path)]) == 0
     assert "0 line(s) run, 1 already done" in capsys.readouterr().out
+
+
+def test_a_transverse_force_is_n_zero_on_the_atlas_grid():
+    """cos(90 deg) is 6e-17: read as n < 0 it put the 90 deg line outside eq 51's printed 0 <= n range and
+    left every n = 0 level of the Theta-dependent model unmapped."""
+    rows = solve_line(MODELS["theta_dependent_51"], {"load_angle_deg": 90.0}, np.array([0.5, 1.0, 2.0]))
+    assert all(r["status"] == "ok" for r in rows)
+
+
+def test_the_alternative_models_get_expected_errors():
+    for case_id, model in (("bapat2015_theta_dependent_k_eq51", "theta_dependent_51"),
+                           ("cantilever_uniform_load", "chain")):
+        run = run_method(case_by_id(case_id).case, "prbm")
+        assert run.extras["atlas_model"] == model
+        assert len(run.expected_error) == len(run.level_converged)
+        assert all(math.isfinite(e) and e < VALIDITY_LIMIT for e in run.expected_error.values())

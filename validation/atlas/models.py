@@ -116,7 +116,8 @@ def _angle_force(shape: dict, F: float) -> tuple[float, float]:
 def _ratio(shape: dict) -> float:
     """n of the force (-nP, P) at the load angle phi (P > 0): n = -cot phi."""
     phi = math.radians(shape["load_angle_deg"])
-    return -math.cos(phi) / math.sin(phi)
+    n = -math.cos(phi) / math.sin(phi)
+    return 0.0 if abs(n) < 1e-12 else n   # cos(90 deg) is 6e-17 in floating point: a transverse force has n = 0
 
 
 def _nan_line(count: int) -> PrbmLine:

@@ -29,6 +29,7 @@ import numpy as np
 from prbm.fits import FitRangeError
 from prbm.lazy import LazyModule
 from validation.methods.base import MethodRun, NotApplicable, Request
+from validation.methods.prbm_atlas import flag_atlas_levels, theta_dependent_levels
 
 if TYPE_CHECKING:  # loaded at first use (below); named here for the static import walks (run-cache hash)
     from prbm import chain as chain_model
@@ -74,6 +75,9 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
     info.converged = all(info.level_converged.values())
     info.message = "; ".join(f"level {lv}: {m}" for lv, m in info.level_messages.items())
     info.extras = {"model": next(r[1].model for r in rows if r is not None)}
+    if model == "theta-dependent":
+        flag_atlas_levels(info, theta_dependent_levels(str(options.get("theta_fit", "51")), loads, seg.length,
+                                                       seg.bending_stiffness()))
     info.wall_time = time.perf_counter() - t0
     return info
 

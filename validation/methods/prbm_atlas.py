@@ -65,13 +65,25 @@ def atlas_inputs(boundary: str, kappa0: float, family: str, Fx: float, Fy: float
 
 def flag_levels(info: MethodRun, boundary: str, kappa0: float, family: str, Fx: list[float], Fy: list[float],
                 M: list[float], follower: bool, L: float, EI: float, prescribed: bool = False) -> None:
-    """Set ``expected_error`` and the ``OUTSIDE_VALIDITY`` flags of every level (module docstring).
-    ``prescribed``: the loads are those the PRBM found for a prescribed motion; the atlas's error is at
-    equal load, so a tip-position comparison of the case is not what it predicts (``atlas_equal_load``)."""
-    info.extras["atlas_equal_load"] = not prescribed
-    unmapped = None
+    """Set ``expected_error`` and the ``OUTSIDE_VALIDITY`` flags of every level of a segment-model run
+    (module docstring).  ``prescribed``: the loads are those the PRBM found for a prescribed motion; the
+    atlas's error is at equal load, so a tip-position comparison of the case is not what it predicts
+    (``atlas_equal_load``)."""
+    levels = {}
     for level, (fx, fy, m) in enumerate(zip(Fx, Fy, M)):
         model, inputs = atlas_inputs(boundary, kappa0, family, fx, fy, m, follower, L, EI)
+        levels[level] = (model, inputs, mirror_sign(fy, m, kappa0))
+    flag_atlas_levels(info, levels, equal_load=not prescribed)
+
+
+def flag_atlas_levels(info: MethodRun, levels: dict[int, tuple[str | None, dict[str, float], float]],
+                      equal_load: bool = True) -> None:
+    """Per level (atlas model or None, its inputs, mirror sign): the expected error, and the flag and its
+    reason where the level lies outside the model's 5 % region or outside the map.  A level of a model the
+    atlas does not map gets no expected error and the run's message says so."""
+    info.extras["atlas_equal_load"] = equal_load
+    unmapped = None
+    for level, (model, inputs, mirror) in sorted(levels.items()):
         found = expectation(model, inputs) if model else None
         if found is None:
             unmapped = model or "this load on this segment"
@@ -80,7 +92,7 @@ def flag_levels(info: MethodRun, boundary: str, kappa0: float, family: str, Fx: 
         info.extras["atlas_model"] = model
         # the level in the atlas's terms, so that a measured error can be split as the atlas splits it
         info.extras.setdefault("atlas_inputs", {})[level] = dict(inputs)
-        info.extras.setdefault("atlas_mirror", {})[level] = mirror_sign(fy, m, kappa0)
+        info.extras.setdefault("atlas_mirror", {})[level] = mirror
         if found.outside:
             info.flag(level, Applicability.OUTSIDE_VALIDITY)
             previous = info.level_messages.get(level, "")
@@ -89,3 +101,29 @@ def flag_levels(info: MethodRun, boundary: str, kappa0: float, family: str, Fx: 
         info.extras["atlas_model"] = None
         note = f"the PRBM error atlas does not map {unmapped}: no expected error"
         info.message = f"{info.message}; {note}" if info.message else note
+
+
+def theta_dependent_levels(fit: str, loads: list[tuple[float, float, float]], L: float, EI: float
+                           ) -> dict[int, tuple[str | None, dict[str, float], float]]:
+    """The levels of a Theta-dependent K_Theta run (eq 51 or 52; end force only) in the atlas's terms."""
+    model = {"51": "theta_dependent_51", "52": "theta_dependent_52"}.get(fit)
+    out = {}
+    for level, (fx, fy, m) in enumerate(loads):
+        mx, my, _ = _mirrored(fx, fy, 0.0)
+        out[level] = (model, {"load_angle_deg": math.degrees(math.atan2(my, mx)), "load": math.hypot(fx, fy) * L * L / EI},
+                      mirror_sign(fy, 0.0, 0.0))
+    return out
+
+
+def chain_levels(elements: int, distributed: list[tuple[float, float]], tip_loaded: bool, L: float, EI: float
+                 ) -> dict[int, tuple[str | None, dict[str, float], float]]:
+    """The levels of a Chain Algorithm run under a uniform dead load (w_x, w_y) per length in the atlas's
+    terms; the atlas maps 40 links under a distributed load alone, so a coarser chain or an added end load
+    is not mapped (a finer chain errs less than the map says)."""
+    model = "chain" if elements >= 40 and not tip_loaded else None
+    out = {}
+    for level, (wx, wy) in enumerate(distributed):
+        mx, my, _ = _mirrored(wx, wy, 0.0)
+        out[level] = (model, {"load_angle_deg": math.degrees(math.atan2(my, mx)),
+                              "load": math.hypot(wx, wy) * L ** 3 / EI}, mirror_sign(wy, 0.0, 0.0))
+    return out

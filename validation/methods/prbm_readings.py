@@ -49,6 +49,7 @@ import prbm
 from prbm.fits import THETA_RANGE, FitRangeError, fit_family
 from prbm.lazy import LazyModule
 from validation.methods.base import Applicability, MethodRun, NotApplicable, Request
+from validation.methods.prbm_atlas import chain_levels, flag_atlas_levels
 from validation.methods.prbm_common import pick
 
 if TYPE_CHECKING:  # loaded at first use (below); named here for the static import walks (run-cache hash)
@@ -257,7 +258,28 @@ def _chain(case, requests, options) -> MethodRun:
     info.extras = {"model": f"Chain Algorithm with lumped loads, seed 000 section 2.2, {choice.beam.elements} elements",
                    "chain_elements": choice.beam.elements,
                    "shapes": [[solved[lv].res.extras["nodes"]] if lv in solved else [] for lv in range(case.n_levels())]}
+    along, tip_loaded = _along_segment(case)
+    flag_atlas_levels(info, chain_levels(choice.beam.elements, along, tip_loaded, seg.length, seg.bending_stiffness()))
     return info
+
+
+def _along_segment(case) -> tuple[list[tuple[float, float]], bool]:
+    """Per level, the uniform dead load (w_x, w_y) per length along the segment (distributed loads and
+    self-weight summed), and whether an end load acts beside it."""
+    seg = case.segment
+    n = case.n_levels()
+    wx, wy, tip = [0.0] * n, [0.0] * n, False
+    for load in case.loads:
+        values = [float(v) for v in load.levels()]
+        if load.kind in ALONG_BEAM:
+            d = np.asarray(load.direction, float)
+            if load.kind == "self_weight":
+                d = d / math.hypot(*d) * (seg.section.weight_per_length() or math.nan)
+            wx = [w + v * d[0] for w, v in zip(wx, values)]
+            wy = [w + v * d[1] for w, v in zip(wy, values)]
+        else:
+            tip = tip or any(v != 0.0 for v in values)
+    return list(zip(wx, wy)), tip
 
 
 def _chain_table(L: float, level: ChainLevel) -> dict[str, float]:

@@ -157,7 +157,10 @@ def rows_reason(verdict: Verdict, rows: pd.DataFrame) -> str:
         return f"{len(rows)} row(s) against {', '.join(against)} shown with no limit claimed"
     if verdict is Verdict.OUTSIDE_VALIDITY:
         flags = sorted({str(s) for s in rows["applicability"].dropna() if s})
-        return f"{len(rows)} row(s) flagged: {'; '.join(flags)}"
+        expected = rows["expected_error"].dropna() if "expected_error" in rows else rows.iloc[:0, 0]
+        atlas = (f" (the PRBM error atlas expects up to {expected.max():.3g} % of L at these levels)"
+                 if len(expected) else "")
+        return f"{len(rows)} row(s) flagged: {'; '.join(flags)}{atlas}"
     if verdict is Verdict.OUTSIDE_LIMIT:
         r = rows.iloc[0]
         return (f"{len(rows)} row(s) outside the claimed limit, e.g. {r['quantity']} level {r['level']} against "
