@@ -25,6 +25,7 @@ import numpy as np
 
 import prbm
 from validation.methods.base import MethodRun, NotApplicable
+from validation.methods.prbm_atlas import flag_atlas_levels
 from validation.methods.prbm_common import plain, polyline, prefer
 
 def one_beam_carrying_a_body(mech) -> bool:
@@ -229,6 +230,9 @@ def run_pinned_pinned(case, requests, info: MethodRun) -> dict:
     info.level_converged = {lv: bool(ok) for lv, ok in enumerate(np.broadcast_to(res.level_converged, (n,)))}
     info.message = f"{res.model}; constant gamma = {res.constants['gamma']}, K_Theta = {res.constants['K_theta']}"
     info.extras.update({"model": res.model, "constants": plain(res.constants)})
+    flag_atlas_levels(info, {lv: ("pinned_pinned", {"kappa0": abs(kappa) * length, "sense": 1.0 if f >= 0 else -1.0,
+                                                    "load": abs(f) * length * length / EI}, 1.0)
+                             for lv, f in enumerate(F_axial.tolist())})
     return values
 
 
