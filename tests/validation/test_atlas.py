@@ -256,3 +256,10 @@ def test_the_alternative_models_get_expected_errors():
         assert run.extras["atlas_model"] == model
         assert len(run.expected_error) == len(run.level_converged)
         assert all(math.isfinite(e) and e < VALIDITY_LIMIT for e in run.expected_error.values())
+
+
+def test_a_build_runs_on_a_local_dask_cluster(tmp_path):
+    pytest.importorskip("distributed")
+    record = dataset.build("coarse", models=["pure_moment"], out=tmp_path, executor="dask", workers=1)
+    assert record.lines_run == 1 and record.points == 200
+    assert dataset.complete(tmp_path, "coarse", ["pure_moment"])

@@ -73,7 +73,8 @@ def tasks(models: list[str], grid: str) -> list[LineTask]:
 
 
 def run_lines(context: dict, chunk: list[LineTask]) -> list[dict]:
-    """A worker's task: every line of the chunk, as rows (``validation.atlas.lines.solve_line``)."""
+    """A worker's task: every line of the chunk, as rows (``validation.atlas.lines.solve_line``); ``context``
+    names the grid (a Dask scatter needs a non-empty one)."""
     rows = []
     for task in chunk:
         m = MODELS[task.model]
@@ -155,7 +156,7 @@ def build(grid: str = "full", models: list[str] | None = None, out: Path | str =
         progress(0, len(todo))
     try:
         if chunks:
-            for chunk, rows in completed(executor, {}, chunks, workers, scheduler, task=run_lines):
+            for chunk, rows in completed(executor, {"grid": grid}, chunks, workers, scheduler, task=run_lines):
                 if isinstance(rows, BaseException):
                     raise RuntimeError(f"atlas lines of {chunk[0].model} failed: {rows}") from rows
                 buffer.extend(rows)
