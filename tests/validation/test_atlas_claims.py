@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from validation.atlas.claims import Claim, check_claims, load_claims
+from validation.atlas.claims import Claim, check_claims, domain_study_rows, load_claims
 from validation.atlas.lines import solve_line
 from validation.atlas.models import MODELS
 
@@ -180,3 +180,14 @@ def test_shipped_claims_name_known_models_and_columns():
                 inputs = {a.name for a in MODELS[name].shape_axes}
                 every_input = {a.name for m in MODELS.values() for a in m.shape_axes}
                 assert column not in every_input or column in inputs, (c.id, column, name)
+
+
+def test_the_domain_study_bounds_become_claim_rows():
+    summary = [{"checks": [{"name": "eq (116)", "claim_percent": 1.0, "max_percent": 5.9, "mean_percent": 2.3,
+                            "over": "0.4 <= b/l <= 0.85"},
+                           {"name": "gamma-bar_l circle (117)", "claim_percent": 1.0, "max_percent": 0.9,
+                            "mean_percent": 0.4, "over": "0.4 <= b/l <= 0.85"}]}, {"checks": []}]
+    rows = domain_study_rows(summary)
+    assert list(rows["verdict"]) == ["does not hold", "holds"]
+    assert list(rows["worst"]) == [5.9, 0.9] and (rows["bound"] == 1.0).all()
+    assert rows["id"].is_unique

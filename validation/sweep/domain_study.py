@@ -79,6 +79,18 @@ class TipError:
 
 
 @dataclass
+class BoundCheck:
+    """A printed bound curve against the exact boundary it claims to follow: its largest and mean relative
+    deviation (%) over the printed range, and the printed claim (%)."""
+
+    name: str
+    claim_percent: float
+    max_percent: float
+    mean_percent: float
+    over: str
+
+
+@dataclass
 class DomainResult:
     segment: str
     points: int
@@ -86,6 +98,7 @@ class DomainResult:
     bounds: list[BoundFit] = field(default_factory=list)
     prbm_error: TipError | None = None
     notes: list[str] = field(default_factory=list)
+    checks: list[BoundCheck] = field(default_factory=list)
 
 
 @dataclass
@@ -204,6 +217,8 @@ def inflection_domain(data: dict, sample: int = 40, bins: int = 40) -> tuple[Dom
     for label, curve in (("eq (116)", inflection_lower_bound(bc["b"][window])),
                          ("gamma-bar_l circle (117)", clamp_arc(spec["gamma_bar_l"], bc["b"][window]))):
         dev = np.abs(curve - bc["lower"][window]) / bc["lower"][window]
+        res.checks.append(BoundCheck(label, 100.0 * spec["lower_fit_claim"], 100.0 * float(dev.max()),
+                                     100.0 * float(dev.mean()), f"{lo} <= b/l <= {hi}"))
         res.notes.append(f"{label} against the exact lower boundary for {lo} <= b/l <= {hi}: max |error| "
                          f"{dev.max():.2%}, mean {dev.mean():.2%} (printed claim for (117): within "
                          f"{spec['lower_fit_claim']:.0%})")
