@@ -16,7 +16,7 @@ import prbm
 from validation.atlas import dataset, regions
 from validation.atlas.expected import VALIDITY_LIMIT, expectation, load_maps
 from validation.atlas.lines import solve_line
-from validation.atlas.measured import _split
+from validation.atlas.measured import _split, agreement, frame_of
 from validation.atlas.models import MODELS, PrbmLine
 from validation.case.loader import case_by_id, load_case
 from validation.cli.main import main
@@ -263,3 +263,7 @@ def test_a_build_runs_on_a_local_dask_cluster(tmp_path):
     record = dataset.build("coarse", models=["pure_moment"], out=tmp_path, executor="dask", workers=1)
     assert record.lines_run == 1 and record.points == 200
     assert dataset.complete(tmp_path, "coarse", ["pure_moment"])
+
+
+def test_no_measured_levels_is_an_agreement_of_nothing():
+    assert agreement(frame_of([])) == {"levels": 0}

@@ -41,7 +41,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from validation.report import paraview
+from validation.report import atlas_page, paraview
+from validation.report.page import CSS, SORT_JS, _fmt, _html_table, _image, _link, _md_table, _page  # noqa: F401
 from validation.sweep import domain_study
 from validation.run import cache
 from validation.run.exit_status import ExitStatus, print_error
@@ -65,82 +66,14 @@ TIMING_CSV = "timing.csv"
 DOMAINS = "sweeps/chapter4_domains"   # the chapter-4 domain study the whole report runs (``DomainStudy``)
 # what the report writes in its folder (everything else there is another command's, carried over), and
 # what it reuses of the previous report: the case pages (redrawn only when their digest changes), the
-# ParaView series they link to, the plotly.js bundle, the domain study
+# ParaView series they link to, the plotly.js bundle, the domain study, the atlas page's pictures (``atlas_page``:
+# redrawn only when the atlas changes; the atlas datasets under ``atlas/`` are ``prbm-validate atlas``'s, carried)
 OWNED = ("index.html", "index.md", "overview.png", "overview.svg", "results.csv", "results.parquet", "summary.csv",
-         TIMING_CSV, "timing.txt", "cases", "vtu", "js", DOMAINS)
-REUSED = ("cases", "vtu", "js", DOMAINS)
-LINKED = ("cases", "vtu", DOMAINS)   # reused as hard links: removed, never written through, when redrawn
+         TIMING_CSV, "timing.txt", "cases", "vtu", "js", DOMAINS, "atlas.html", "atlas_figures")
+REUSED = ("cases", "vtu", "js", DOMAINS, "atlas_figures")
+LINKED = ("cases", "vtu", DOMAINS, "atlas_figures")   # reused as hard links: removed, never written through
 DEPENDENCIES = ["numpy", "scipy", "scikit-fem", "meshio", "pyvista", "pandas", "matplotlib", "plotly", "pydantic",
                 "tqdm", "openseespy", "pyarrow"]
-CSS = """body{font-family:system-ui,sans-serif;margin:1.5em 2em;max-width:1400px;color:#222}
-table{border-collapse:collapse;margin:0.6em 0;font-size:13px}th,td{border:1px solid #ccc;padding:3px 6px;
-text-align:right;vertical-align:top}th{background:#eee;cursor:pointer;user-select:none}
-th.asc::after{content:" \\25B2"}th.desc::after{content:" \\25BC"}
-td:first-child,th:first-child{text-align:left}td.sentence{text-align:left;max-width:34em}
-td.absent{color:#777;font-size:12px;text-align:left;max-width:14em}
-.bad{background:#fdd}.good{background:#dfd}.finding{background:#ffd}img{max-width:100%;border:1px solid #ddd}
-.badge{color:#fff;border-radius:3px;padding:1px 6px;font-size:12px;white-space:nowrap}
-.cellverdict{display:block;font-size:11px;color:#333}
-.method{border:2px solid;border-radius:3px;padding:0 4px;margin:1px;font-size:12px;white-space:nowrap;
-display:inline-block}.lead{font-size:1.15em;margin:0.4em 0 0.8em}ul.evidence{font-size:12px;color:#444}
-details{margin:0.6em 0}summary{cursor:pointer;font-weight:600}.caption{font-size:12px;color:#444;max-width:60em}
-code{background:#f4f4f4;padding:1px 3px}"""
-SORT_JS = """document.querySelectorAll('table.sortable th').forEach(th=>th.addEventListener('click',()=>{
-const i=th.cellIndex,body=th.closest('table').tBodies[0],asc=!th.classList.contains('asc');
-th.closest('tr').querySelectorAll('th').forEach(h=>h.classList.remove('asc','desc'));
-th.classList.add(asc?'asc':'desc');
-const key=r=>{const c=r.children[i],v=c.dataset.value!==undefined?c.dataset.value:c.innerText;
-const n=parseFloat(v);return v!==''&&!isNaN(n)?n:v.toLowerCase()};
-[...body.rows].sort((x,y)=>{const a=key(x),b=key(y);if(a===b)return 0;
-if(a===''||b==='')return a===''?1:-1;
-return (typeof a==typeof b?(a<b?-1:1):(typeof a=='number'?-1:1))*(asc?1:-1)})
-.forEach(r=>body.appendChild(r))}));"""
-
-
-def _fmt(value, digits: int = 6) -> str:
-    if value is None or (isinstance(value, float) and math.isnan(value)):
-        return ""
-    if isinstance(value, (bool, np.bool_)):
-        return "yes" if value else "no"
-    if isinstance(value, (float, np.floating)):
-        return f"{value:.{digits}g}"
-    return str(value)
-
-
-def _html_table(frame: pd.DataFrame, row_class=None, digits: int = 4) -> str:
-    head = "".join(f"<th>{html.escape(str(c))}</th>" for c in frame.columns)
-    body = []
-    columns = list(frame.columns)
-    for values in frame.values:  # the rows as iterrows gives them (its Series are built on these), no Series
-        cls = row_class(dict(zip(columns, values))) if row_class else ""
-        cells = "".join(f"<td>{html.escape(_fmt(v, digits))}</td>" for v in values)
-        body.append(f"<tr class='{cls}'>{cells}</tr>")
-    return f"<table class='sortable'><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
-
-
-def _md_table(frame: pd.DataFrame) -> str:
-    if frame.empty:
-        return "_none_\n"
-    lines = ["| " + " | ".join(map(str, frame.columns)) + " |", "|" + "---|" * len(frame.columns)]
-    for values in frame.values:  # as in _html_table
-        lines.append("| " + " | ".join(_fmt(v).replace("|", "/") for v in values) + " |")
-    return "\n".join(lines) + "\n"
-
-
-def _image(src: str, alt: str) -> str:
-    """A picture of the report, its file name escaped for the attribute."""
-    return f"<p><img src='{html.escape(src, quote=True)}' alt='{html.escape(alt, quote=True)}'></p>"
-
-
-def _link(href: str, text: str) -> str:
-    return f"<a href='{html.escape(href, quote=True)}'>{html.escape(text)}</a>"
-
-
-def _page(title: str, body: str, head: str = "") -> str:
-    return (f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
-            f"<style>{CSS}</style>{head}</head><body>{body}<script>{SORT_JS}</script></body></html>")
-
-
 def reproducibility() -> dict[str, str]:
     info = {"date": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
             "python": sys.version.split()[0], "platform": platform.platform()}
@@ -328,6 +261,19 @@ def _prb_model(result: CaseResult) -> tuple[pd.DataFrame | None, str | None]:
     return pd.DataFrame(rows), run.extras.get("lock")
 
 
+def _with_model_range(cols: dict[str, str], table: pd.DataFrame) -> dict[str, str]:
+    """The shown columns with, where any row has one, the flag of a value whose model was not made for its
+    load (outside the fits' range or the atlas's validity, an inflection the model cannot take), and the
+    PRBM error atlas's expected tip error after the unit (the PRBM's rows; NaN for the other methods)."""
+    if "applicability" in table and table["applicability"].fillna("").ne("").any():
+        cols = {**cols, "applicability": "outside the model's range"}
+    if "expected_error" not in table or not pd.to_numeric(table["expected_error"], errors="coerce").notna().any():
+        return cols
+    items = list(cols.items())
+    at = list(cols).index("unit") + 1
+    return dict(items[:at] + [("expected_error", "atlas expected error (% of L)")] + items[at:])
+
+
 def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str, str]:
     """Write the case's page (html and md); returns its one-sentence result (`case_sentence`) and its link."""
     case = result.loaded.case
@@ -342,10 +288,7 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
             "abs_error": "absolute error", "rel_error": "relative error",
             "norm_error": "error / characteristic length", "within_tolerance": "within stated tolerance",
             "converged": "converged"}
-    # a value whose model was not made for its load (outside the fits' range, an inflection the model
-    # cannot take) says so in its row
-    if "applicability" in table and table["applicability"].fillna("").ne("").any():
-        cols["applicability"] = "outside the model's range"
+    cols = _with_model_range(cols, table)
     shown = marked_estimates(table.dropna(subset=["quantity"]))[list(cols)].rename(columns=cols)
     verdicts = method_verdicts(case, result.runs, table, verdict_by_method(case, result.runs, table) if len(table) else {})
     badges = [(m, verdicts[m].verdict, verdicts[m].reason, r) for m, r in result.runs.items()]
@@ -650,11 +593,13 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
                 _write_tables(outcome, stage)
             with timed("main", "pages not drawn in the workers", timeline):
                 pages = _build_pages(outcome.results, outcome.table, stage, jobs, done=outcome.after)
+            with timed("main", "atlas page", timeline):
+                atlas_line, atlas_error = _atlas_page(outcome, stage, out, jobs, build=not cases)
             with timed("main", "index page", timeline):
-                _write_index(outcome, pages, stage, published=out)
+                _write_index(outcome, pages, stage, published=out, atlas=atlas_line)
             with timed("main", "waiting for the overview figure", timeline):
                 figure.result()
-        page_errors = [page.error for page in pages if page.error]
+        page_errors = [page.error for page in pages if page.error] + ([atlas_error] if atlas_error else [])
         for error in outcome.errors:
             print_error(error)
         for line in outcome.unexpected_problems + page_errors:  # what makes the exit status 1, in words
@@ -671,9 +616,27 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     return outcome.exit_status
 
 
-def _write_index(outcome, pages: list[PageLink], out: Path, published: Path | None = None) -> None:
+def _atlas_page(outcome, stage: Path, published: Path, jobs: int, build: bool) -> tuple[tuple[str, str], str | None]:
+    """The PRBM validity atlas's page (``atlas_page``) in ``stage``, from the best atlas under the report's
+    ``atlas/`` (else, with ``build``: the whole report, the coarse one built); returns the index's line
+    (html, markdown) and the error that kept the page from being drawn (None: drawn or not asked for)."""
+    try:
+        page = atlas_page.build_page(stage, outcome.results, outcome.table, published / atlas_page.DATASETS,
+                                     build=build, workers=jobs)
+    except Exception as exc:  # noqa: BLE001 - the atlas page is optional: its failure is reported, the report goes on
+        error = f"atlas page: could not be drawn: {type(exc).__name__}: {exc}"
+        return (f"<p class='bad'><b>PRBM validity atlas:</b> {html.escape(error)}</p>", error), error
+    if page is None:
+        text = "not drawn: a report of chosen cases builds no atlas (the whole report, or prbm-validate atlas, does)"
+        return (f"<p><b>PRBM validity atlas:</b> {html.escape(text)}</p>", text), None
+    return (page.index_html, f"[{page.index_words}]({page.link}); {page.index_text}"), None
+
+
+def _write_index(outcome, pages: list[PageLink], out: Path, published: Path | None = None,
+                 atlas: tuple[str, str] = ("", "")) -> None:
     """``index.html`` and ``index.md`` written in ``out`` (the overview figure beside them: `plot_overview`),
-    linking the other commands' pages found in ``published`` (the report's folder; default ``out``)."""
+    linking the other commands' pages found in ``published`` (the report's folder; default ``out``);
+    ``atlas``: the line (html, markdown) about the atlas page, under the headline."""
     published = out if published is None else published
     table = outcome.table
     links = {page.case: page.link for page in pages}
@@ -685,7 +648,7 @@ def _write_index(outcome, pages: list[PageLink], out: Path, published: Path | No
     failed = outcome.failed_comparisons
     info = reproducibility()
     body_readings, md_readings = _readings_section(outcome.results, table, links)
-    body = ["<h1>PRBM validation report</h1>", f"<p class='lead'>{html.escape(headline(rows))}</p>",
+    body = ["<h1>PRBM validation report</h1>", f"<p class='lead'>{html.escape(headline(rows))}</p>", atlas[0],
             "<p><img id='overview' src='overview.png' alt='PRBM error against deflection, every case and load "
             "level'></p>", f"<p class='caption'>{html.escape(OVERVIEW_CAPTION)} <a href='overview.svg'>The same "
             "picture as SVG</a>: click a dot to open its case.</p>",
@@ -696,8 +659,10 @@ def _write_index(outcome, pages: list[PageLink], out: Path, published: Path | No
             summary_tables_html(rows, links), *body_readings,
             "<h2>Findings and their evidence</h2><p class='caption'>Printed numbers not reproduced, misprints, "
             "and readings of the source that decide the answer.</p>", findings_html(items, links)]
-    md = ["# PRBM validation report\n", headline(rows) + "\n", "![overview](overview.png)\n",
-          OVERVIEW_CAPTION + "\n", VOCABULARY + "\n", summary_markdown(rows), *md_readings, "\n## Findings\n"]
+    md = ["# PRBM validation report\n", headline(rows) + "\n"]
+    md += [f"PRBM validity atlas: {atlas[1]}\n"] if atlas[1] else []
+    md += ["![overview](overview.png)\n",
+           OVERVIEW_CAPTION + "\n", VOCABULARY + "\n", summary_markdown(rows), *md_readings, "\n## Findings\n"]
     md += [f"- {f.case}: {f.text}" + "".join(f"\n  - {e}" for e in f.evidence[:3]) for f in items]
     if len(failed):
         body.append("<h2>Comparisons outside the claimed limit</h2><ul>" + "".join(
