@@ -275,8 +275,20 @@ def _measured_section(levels: pd.DataFrame, figures: Path) -> tuple[str, dict]:
     return "".join(body), agree
 
 
-def _claims_section(frame: pd.DataFrame, claims: list) -> tuple[str, pd.DataFrame]:
+DOMAIN_SUMMARY = Path("sweeps") / "chapter4_domains" / "summary.json"   # the report's chapter-4 domain study
+
+
+def _claims_section(frame: pd.DataFrame, claims: list, report: Path) -> tuple[str, pd.DataFrame]:
+    """The claims table: the atlas's claims checked, then the chapter-4 bound claims the report's domain
+    study checked (``atlas_claims.domain_study_rows``; they are about a domain boundary, not an atlas column)."""
     checked = atlas_claims.check_claims(frame, claims)
+    try:
+        summary = json.loads((report / DOMAIN_SUMMARY).read_text())
+    except (OSError, ValueError):
+        summary = []
+    domain = atlas_claims.domain_study_rows(summary)
+    if len(domain):
+        checked = pd.concat([checked, domain], ignore_index=True)
     columns = ["id", "model", "source", "bound & metric", "verdict", "holds where", "worst", "share within",
                "quote and note"]
     rows = []
@@ -374,18 +386,23 @@ def _source_digest() -> bytes:
                     (here, atlas / "regions.py", atlas / "claims.py", atlas / "refit.py", atlas / "models.py"))
 
 
-def _static_digest(grid: str, version: str, frame: pd.DataFrame, claims_file: Path) -> str:
-    """What the atlas-only part of the page depends on: grid, version, rows, claims, the code drawing it."""
+def _static_digest(grid: str, version: str, frame: pd.DataFrame, claims_file: Path, report: Path) -> str:
+    """What the atlas-only part of the page depends on: grid, version, rows, claims, the chapter-4 domain
+    study's summary (its bound claims join the table), the code drawing it."""
     rows = pd.util.hash_pandas_object(frame[["line_id", "load", "tip_error"]], index=False).to_numpy()
+    try:
+        domain = (report / DOMAIN_SUMMARY).read_bytes()
+    except OSError:
+        domain = b""
     parts = [grid.encode(), version.encode(), str(len(frame)).encode(), rows.tobytes(),
-             Path(claims_file).read_bytes(), _source_digest()]
+             Path(claims_file).read_bytes(), domain, _source_digest()]
     return hashlib.sha256(b"\0".join(parts)).hexdigest()
 
 
 def _static_part(frame: pd.DataFrame, grid: str, version: str, figures: Path, claims_file: Path) -> str:
     """The claims, the model sections and the refit: read from ``figures`` when its digest matches,
     else drawn again (the folder emptied first: its files may be hard links to the previous report's)."""
-    digest = _static_digest(grid, version, frame, claims_file)
+    digest = _static_digest(grid, version, frame, claims_file, figures.parent)
     stamp, cached = figures / "static.digest", figures / "static.html"
     try:
         if stamp.read_text() == digest and cached.is_file():
@@ -397,7 +414,7 @@ def _static_part(frame: pd.DataFrame, grid: str, version: str, figures: Path, cl
     shutil.rmtree(figures, ignore_errors=True)
     figures.mkdir(parents=True)
     claims = atlas_claims.load_claims(claims_file)
-    claims_html, checked = _claims_section(frame, claims)
+    claims_html, checked = _claims_section(frame, claims, figures.parent)
     text = claims_html + _model_sections(frame, claims, checked, figures) + _refit_section(frame)
     cached.write_text(text)
     (figures / "static.json").write_text(json.dumps(sorted(p.name for p in figures.glob("map_*.png"))))
