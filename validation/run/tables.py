@@ -61,7 +61,11 @@ SCHEMA: dict[str, list[Column]] = {
         Column("error_estimate", "float64", "the method's own error estimate (FEM), else empty"),
         Column("error_estimate_reliable", "boolean", "False: the estimate is unreliable, no bound (the FEM's "
                "meshes were not in the asymptotic range for this value); empty without an estimate"),
-        Column("converged", "boolean", "the method converged at this level")],
+        Column("converged", "boolean", "the method converged at this level"),
+        Column("applicability", "string", "the method's flags on this level's load ('outside validity': outside the "
+               "PRBM error atlas's 5 % region; outside the fits' range; an inflection), empty when none"),
+        Column("expected_error", "float64", "the PRBM error atlas's expected tip error at this level (% of L), "
+               "else empty")],
     "loads": [Column("case", "string", "case id"), *_AT[2:],
               Column("load", "string", "load name (its label, else 'kind at point')"),
               Column("kind", "string", "force, moment, displacement or rotation"),
@@ -128,7 +132,9 @@ def values_table(result: CaseResult) -> pd.DataFrame:
                              value=run.values.get(req, math.nan), unit=case.unit(dimension),
                              error_estimate=run.error_estimate.get(req, math.nan),
                              error_estimate_reliable=run.estimate_reliable(req),
-                             converged=run.level_converged.get(req.level, run.converged) and req in run.values))
+                             converged=run.level_converged.get(req.level, run.converged) and req in run.values,
+                             applicability="; ".join(f.value for f in run.applicability.get(req.level, ())),
+                             expected_error=run.expected_error.get(req.level, math.nan)))
     frame = pd.DataFrame(rows)
     if frame.empty:
         return typed(frame, "values")
@@ -143,7 +149,8 @@ def comparisons_table(results_rows: pd.DataFrame, loads: pd.DataFrame) -> pd.Dat
     if results_rows.empty or "reference_label" not in results_rows:
         return typed(pd.DataFrame(), "comparisons")
     elsewhere = ("load", "load_value", "load_unit", "group", "scale", "error_estimate", "error_estimate_reliable",
-                 "compare", "wall_time", "converged", "message", "cached")  # in values and runs
+                 "compare", "wall_time", "converged", "message", "cached", "applicability",
+                 "expected_error")  # in values and runs
     compared = results_rows["reference_label"].notna()
     if "within_tolerance" in results_rows:  # any row the runner judged is a comparison
         compared |= results_rows["within_tolerance"].notna()
