@@ -12,6 +12,9 @@ import pytest
 import prbm
 from prbm.fits import PAULY_MIDHA
 from validation.atlas import refit
+from validation.atlas.lines import solve_line
+from validation.atlas.models import MODELS
+from validation.atlas.refit import refit_table
 
 LOADS = np.geomspace(0.05, 60.0, 80)
 
@@ -101,3 +104,18 @@ def test_table_and_finding():
     assert row.fit_points + row.test_points == int(((_synthetic(0.80, 2.40).exact_rotation_deg <= 60.0)).sum())
     text = refit.finding_text(table)
     assert "phi 45-90 deg, rotation <= 60 deg" in text and f"{row.published_worst:.2f} %" in text
+
+
+def test_a_whole_atlas_frame_is_refit_by_model_name():
+    """The atlas's own frame (every model, NaN in the columns of other models' inputs) refits by naming
+    the model; without a name it refuses rather than mixing models."""
+    rows = []
+    for name in ("fixed_pinned_pauly_midha", "pure_moment"):
+        m = MODELS[name]
+        for shape in m.shapes(coarse=True):
+            rows += [{"model": name, "line_id": str(shape), **r} for r in solve_line(m, shape, m.load.values(True))]
+    frame = pd.DataFrame(rows)
+    table = refit_table(frame, "fixed_pinned_pauly_midha")
+    assert len(table) == 8 and (table["test_points"] > 0).all()
+    with pytest.raises(ValueError, match="one atlas model at a time"):
+        refit_table(frame)

@@ -53,6 +53,7 @@ from prbm.segments import spring_angle
 
 FIXED_PINNED = "fixed-pinned"
 CURVED = "curved fixed-pinned"
+ATLAS_MODELS = {"fixed_pinned_pauly_midha": FIXED_PINNED, "curved_fixed_pinned": CURVED}   # atlas name -> kind
 LOAD_ANGLE_BANDS = ((5.0, 45.0), (45.0, 90.0), (90.0, 135.0), (135.0, 175.0))
 KAPPA0_BANDS = ((0.0, 1.0), (1.0, 2.0), (2.0, 3.0))
 ROTATION_LIMITS = (60.0, 90.0)
@@ -142,7 +143,8 @@ def holdout(df: pd.DataFrame, split: str = "checkerboard") -> np.ndarray:
     """True for the held-out half of the atlas's grid: (line index + load-level index) odd
     (``checkerboard``), or the line index odd (``lines``).  The line is the shape inputs (the columns
     before ``load``), the level the load's rank in the common load grid."""
-    shape_columns = list(df.columns[: df.columns.get_loc("load")])
+    shape_columns = [c for c in df.columns[: df.columns.get_loc("load")]
+                     if c not in ("model", "line_id") and df[c].notna().all()]
     line = df.groupby(shape_columns, sort=True).ngroup().to_numpy() if shape_columns else np.zeros(len(df), int)
     if split == "lines":
         return line % 2 == 1
@@ -213,7 +215,13 @@ def refit_results(atlas, model: str | None = None, regions: list[Region] | None 
     """Every region's refit of an atlas (a DataFrame or its rows; the model from its columns: kappa0
     present, the curved one)."""
     df = atlas if isinstance(atlas, pd.DataFrame) else pd.DataFrame(list(atlas))
-    model = model or (CURVED if "kappa0" in df else FIXED_PINNED)
+    if model in ATLAS_MODELS or (model is None and "model" in df and df["model"].nunique() == 1):
+        name = model or str(df["model"].iloc[0])
+        df = (df[df["model"] == name] if "model" in df else df).dropna(axis=1, how="all")
+        model = ATLAS_MODELS.get(name, model)
+    if "model" in df and df["model"].nunique() > 1:
+        raise ValueError("refit one atlas model at a time: name it (e.g. 'fixed_pinned_pauly_midha')")
+    model = model or (CURVED if "kappa0" in df and df["kappa0"].notna().any() else FIXED_PINNED)
     results = (refit_region(df, r, model, split) for r in (regions or default_regions(model)))
     return [r for r in results if r is not None]
 
