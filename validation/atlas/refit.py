@@ -92,6 +92,7 @@ class Region:
 
 @dataclass(frozen=True)
 class Params:
+    """The two free parameters of a refit: the characteristic radius factor and the stiffness coefficient."""
     gamma: float
     K_theta: float
 
