@@ -20,7 +20,7 @@ from validation.case.schema import Case, LoadSpec
 from validation.cli.main import main
 from validation.methods.base import RunStatus
 from validation.run.exit_status import ExitStatus
-from validation.run.runner import requests_for, run_method
+from validation.run.runner import run_method
 
 P = 1.0                                  # P L^2/EI: the tip turns by about 15 deg
 UNIT = math.sqrt(0.5)

@@ -58,9 +58,9 @@ def _strides(frame: pd.DataFrame, model: str) -> dict[str, int]:
 
 def write_maps(frame: pd.DataFrame, version: str, path: Path = MAPS_FILE) -> Path:
     """Write the maps of every model in ``frame`` (the full atlas) for the PRBM adapter."""
-    data = {"version": version, "validity_limit": VALIDITY_LIMIT, "models": {}}
-    for model in sorted(frame["model"].unique()):
-        data["models"][model] = from_atlas(frame, model, _strides(frame, model), version).to_json()
+    models = {model: from_atlas(frame, model, _strides(frame, model), version).to_json()
+              for model in sorted(frame["model"].unique())}
+    data = {"version": version, "validity_limit": VALIDITY_LIMIT, "models": models}
     tmp = path.with_suffix(".tmp")
     tmp.write_text(json.dumps(data, separators=(",", ":")))
     tmp.replace(path)

@@ -12,6 +12,7 @@ region boundaries and the seeds' claimed ranges (``cases/atlas/claims.toml``) ov
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -144,7 +145,7 @@ def _grid(frame: pd.DataFrame, model: str, column: str) -> tuple[np.ndarray, np.
     return table.columns.to_numpy(float), table.index.to_numpy(float), table.to_numpy(float)
 
 
-def draw_map(frame: pd.DataFrame, model: str, path: Path, claims: list[Claim] = ()) -> Path:
+def draw_map(frame: pd.DataFrame, model: str, path: Path, claims: Sequence[Claim] = ()) -> Path:
     """The tip error over the map axis and the load (worst over the other shape inputs; grey: beyond the
     atlas), the 0.5/1/3/5 % region boundaries, and each claim's ranges on these axes."""
     m = MODELS[model]

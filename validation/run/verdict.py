@@ -179,12 +179,14 @@ def method_verdicts(case, runs: dict, table: pd.DataFrame, problems: dict[str, l
     expected = case.case.expected_failure
     for method, run in runs.items():
         mine = table[(table["method"] == method) & table["verdict"].notna()] if len(table) else table
-        by_row = {v: mine[mine["verdict"] == v.value] for v in {parse(w) for w in mine["verdict"]}} if len(mine) else {}
+        cells = {parse(w) for w in mine["verdict"]} if len(mine) else set()
+        by_row = {v: mine[mine["verdict"] == v.value] for v in cells if v is not None}
         state, why = run_verdict(run, expected.get(method))
         candidates = list(by_row) + ([state] if state else [])
         verdict = worst(candidates)
         reason = why if verdict is state and state is not None else (rows_reason(verdict, by_row[verdict])
-                                                                       if verdict in by_row else "")
+                                                                       if verdict is not None and verdict in by_row
+                                                                       else "")
         lines = (problems or {}).get(method, [])
         if lines and (verdict is None or not verdict.failing):
             verdict, reason = Verdict.FAILED, "; ".join(lines)

@@ -507,8 +507,8 @@ def _pool_completed(pool, context, chunks, task=run_chunk) -> Iterator[tuple[lis
             future.cancel()
 
 
-def completed(executor: Any, context: dict, chunks: list[list[dict]], workers: int | None = None,
-              scheduler: str | None = None, task=run_chunk) -> Iterator[tuple[list[dict], list[dict] | BaseException]]:
+def completed(executor: Any, context: dict, chunks: list[list[Any]], workers: int | None = None,
+              scheduler: str | None = None, task=run_chunk) -> Iterator[tuple[list[Any], list[dict] | BaseException]]:
     """(chunk, rows or exception) for every chunk, in the order they finish.
 
     ``executor``: 'serial' (this process), 'process' (a ProcessPoolExecutor of ``workers``),
