@@ -3,12 +3,14 @@ answer is known, the build's resume, the shipped error maps against a fresh coar
 adapter's flags on loads no shipped case has."""
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
+import pyarrow.parquet as pq
 import pytest
 
 import elastica
@@ -267,3 +269,12 @@ def test_a_build_runs_on_a_local_dask_cluster(tmp_path):
 
 def test_no_measured_levels_is_an_agreement_of_nothing():
     assert agreement(frame_of([])) == {"levels": 0}
+
+
+def test_a_finished_build_is_one_parquet_file_with_its_spec(tmp_path):
+    dataset.build("coarse", models=["pure_moment"], out=tmp_path, executor="serial")
+    whole = pq.read_table(dataset.folder(tmp_path, "coarse") / "atlas.parquet")
+    meta = whole.schema.metadata
+    assert meta[b"code_version"].decode() == dataset.code_version()
+    spec = json.loads(meta[b"atlas_spec"])
+    assert spec["grid"] == "coarse" and spec["models"]["pure_moment"]["points"] == whole.num_rows == 200

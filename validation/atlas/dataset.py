@@ -7,7 +7,9 @@ models and lines, ``prbm/`` and ``elastica/``).  It lives in ``OUT/<grid>-<versi
 * ``parts/*.parquet``: finished lines, written every few seconds, so an interrupted build is resumed by
   running the same command again (a line whose id is in a part is not run again);
 * ``atlas.json``: the spec (grid, models, their axes), the version, and one record per run (lines run,
-  points, wall time, points per second, executor, workers).
+  points, wall time, points per second, executor, workers);
+* ``atlas.parquet``: once every line is in, all rows in one file with the spec and the code version in
+  its schema metadata.
 
 Lines run on local processes (default), a local Dask cluster or an existing one, through
 ``validation.sweep.run.completed``; each task is a batch of lines.  A different code version is a new
@@ -24,6 +26,8 @@ from pathlib import Path
 from typing import Callable
 
 import pandas as pd
+import pyarrow as pa
+import pyarrow.parquet as pq
 
 from validation.atlas.lines import solve_line
 from validation.atlas.models import MODELS, model as model_named
@@ -174,11 +178,27 @@ def build(grid: str = "full", models: list[str] | None = None, out: Path | str =
                          round(points / seconds, 1) if seconds > 0 and points else 0.0,
                          executor if scheduler is None else f"dask at {scheduler}", workers, str(where))
     record_list.append(record.__dict__)
+    spec = {"grid": grid, "version": version, "models": _spec(models, grid)}
     tmp = manifest.with_suffix(".tmp")
-    tmp.write_text(json.dumps({"grid": grid, "version": version, "models": _spec(models, grid),
-                               "runs": record_list}, indent=1))
+    tmp.write_text(json.dumps({**spec, "runs": record_list}, indent=1))
     tmp.replace(manifest)
+    if complete(out, grid, models):
+        _write_whole(where, grid, spec)
     return record
+
+
+def _write_whole(where: Path, grid: str, spec: dict) -> None:
+    """``atlas.parquet``: every row of the dataset in one file, the spec that generated it and the code
+    version in its schema metadata (``atlas_spec``, ``code_version``), for use outside the harness."""
+    frame = load(where.parent, grid, spec["version"])
+    if frame is None:
+        return
+    table = pa.Table.from_pandas(frame, preserve_index=False)
+    metadata = {**(table.schema.metadata or {}), b"atlas_spec": json.dumps(spec).encode(),
+                b"code_version": spec["version"].encode()}
+    tmp = where / "atlas.parquet.tmp"
+    pq.write_table(table.replace_schema_metadata(metadata), tmp)
+    tmp.replace(where / "atlas.parquet")
 
 
 def load(out: Path | str = DEFAULT_OUT, grid: str = "full", version: str | None = None) -> pd.DataFrame | None:
