@@ -9,7 +9,8 @@ ran, unless the case records its failure as expected (``case.expected_failure``)
 values has an enforced check at a loaded level, unless ``case.unchecked`` says why. A failing item's
 message opens with the method's verdict (``validation.run.verdict``: outside the claimed limit,
 refused, did not converge or failed) and its reason, then names quantity, point, load with its unit,
-value, reference, error, tolerance and source. A case file with bad input is one failing item listing
+value, reference, error, tolerance and source; a method that gave no value is that one line, not a
+row of NaN per reference. A case file with bad input is one failing item listing
 every problem.
 
 Options: ``--case-method NAME`` (repeatable) runs only those methods; ``--case-cache`` reuses the
@@ -17,6 +18,7 @@ on-disk cache of method runs (default: recompute).
 """
 from __future__ import annotations
 
+import re
 import tomllib
 from pathlib import Path
 
@@ -25,7 +27,7 @@ import pytest
 from validation.case.loader import CaseError, LoadedCase, load_case
 from validation.run.api import Validation, validate
 from validation.run.compare import verdict_by_method
-from validation.run.verdict import MethodVerdict, method_verdicts
+from validation.run.verdict import MethodVerdict, Verdict, method_verdicts
 
 
 def pytest_addoption(parser) -> None:
@@ -107,11 +109,12 @@ class CaseItem(pytest.Item):
     def runtest(self) -> None:
         readable = [line for line in comparison_failures(self.shared.result) if line.startswith(f"{self.method}:")]
         lines = self.shared.problems(self.method)
-        lines += readable if lines else []
         if lines:
             verdict = self.shared.verdict(self.method)
+            lines = without_the_run_verdict(lines + readable, self.method, verdict)
             raise CaseFailure(f"{self.loaded.id} ({self.loaded.path}), method {self.method}: {verdict.verdict.value}"
-                              f"{': ' + verdict.reason if verdict.reason else ''}\n  " + "\n  ".join(lines))
+                              f"{': ' + verdict.reason if verdict.reason else ''}"
+                              + "".join(f"\n  {line}" for line in lines))
 
     def repr_failure(self, excinfo, style=None):
         if isinstance(excinfo.value, CaseFailure):
@@ -122,9 +125,25 @@ class CaseItem(pytest.Item):
         return self.path, None, f"case {self.loaded.id} with {self.method}"
 
 
+RUN_VERDICTS = frozenset({Verdict.REFUSED, Verdict.FAILED, Verdict.NOT_CONVERGED, Verdict.EXPECTED})
+NO_VALUE = re.compile(r": nan against ")
+
+
+def without_the_run_verdict(lines: list[str], method: str, verdict: MethodVerdict) -> list[str]:
+    """The failure's lines less what the first line (the method's verdict and its reason) already says:
+    for a run that refused, failed or did not converge, its 'did not give every value' line and the
+    rows it left without a value (NaN against each reference, NaN tolerances): one line, not rows of NaN."""
+    if verdict.verdict not in RUN_VERDICTS:
+        return lines
+    return [line for line in lines if not line.startswith(f"{method} did not give every value:")
+            and not NO_VALUE.search(line)]
+
+
 def comparison_failures(result) -> list[str]:
-    """One readable line per comparison outside the claimed limit (no recorded finding)."""
-    return [f"{row.method}: {describe_failure(row)}" for row in result.failures.itertuples()]
+    """One readable line per comparison outside the claimed limit (no recorded finding) that has a
+    value (a row without one is its run's verdict, said once)."""
+    return [f"{row.method}: {describe_failure(row)}" for row in result.failures.itertuples()
+            if row.value == row.value]
 
 
 def describe_failure(row) -> str:

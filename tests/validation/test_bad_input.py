@@ -73,7 +73,7 @@ def test_three_errors_all_listed_first_first(tmp_path):
     assert len(lines) == 3 and all(line.startswith(f"{path}: ") for line in lines)
     joined = "\n".join(lines)
     assert "segment.section.thickness: Input should be greater than 0" in joined
-    assert "segment.lenght: Extra inputs are not permitted" in joined
+    assert "segment.lenght: unknown field; did you mean 'length'?" in joined
     assert "outputs.0.quantity: Value error, unknown quantity 'yy'; nearest: y" in joined \
         or "outputs.0.quantity: unknown quantity 'yy'; nearest: y" in joined
     assert "(and" not in joined

@@ -182,7 +182,7 @@ def test_failed_points_are_recorded_with_their_message(spec, tmp_path, fake):
 
 BAD = {
     "not TOML": (lambda s: s.replace("[sweep]", "[sweep"), "", "not valid TOML"),
-    "unknown field": (lambda s: s.replace("seed = 7", "seed = 7\nsed = 8"), "sweep.sed", "Extra inputs"),
+    "unknown field": (lambda s: s.replace("seed = 7", "seed = 7\nsed = 8"), "sweep.sed", "unknown field; did you mean 'seed'?"),
     "unknown method": (lambda s: s.replace('methods = ["elastica"]', 'methods = ["fea"]'), "sweep",
                        "unknown method 'fea'"),
     "normal without std": (lambda s: s.replace('kind = "truncnormal", mean = 1.0, std = 0.05, low = 0.9, high = 1.1',

@@ -4,19 +4,22 @@ naming the file, the field and what is wrong.
 A case is checked completely before any solve: the schema (``validation/case/schema.py``, with the options
 of each method, ``validation/case/method_options.py``) and, for a mechanism, whether it is held against
 rigid-body motion (``validation/case/mobility.py``). Case files can live anywhere: ids, files, folders
-and globs are all accepted, and unknown names get the nearest valid ones.
+and globs are all accepted, and unknown names get the nearest valid ones, as do misspelled fields
+("segment.lenght: unknown field; did you mean 'length'?", ``unknown_field``).
 """
 from __future__ import annotations
 
+import difflib
 import fnmatch
 import glob
 import os
 import re
 import tomllib
+import typing
 from dataclasses import dataclass
 from pathlib import Path
 
-from pydantic import ValidationError
+from pydantic import BaseModel, ValidationError
 
 from validation.case import mobility
 from validation.case.names import nearest
@@ -65,8 +68,37 @@ def _field_path(location: tuple) -> str:
 _FIELD_PREFIX = re.compile(r"^([A-Za-z_][\w.]*): (.+)$")
 
 
-def describe_all(exc: ValidationError) -> list[tuple[str, str]]:
-    """(field path, message) of every error of a pydantic ValidationError, in pydantic's order.
+def _models_in(annotation) -> list[type[BaseModel]]:
+    """The pydantic models an annotation holds (``X``, ``X | None``, ``list[X]``, ``dict[str, X]``,
+    ``Annotated[X, ...]``, unions of them)."""
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return [annotation]
+    return [m for arg in typing.get_args(annotation) for m in _models_in(arg)]
+
+
+def field_names(model: type[BaseModel], location: tuple) -> list[str]:
+    """The field names (as a file writes them: aliases) of the model(s) that a pydantic error
+    ``location`` leads to from ``model``; list indices, dict keys and union tags are stepped over."""
+    models = [model]
+    for part in location:
+        below = [m for current in models if isinstance(part, str) and part in current.model_fields
+                 for m in _models_in(current.model_fields[part].annotation)]
+        models = below or models
+    return sorted({field.alias or name for m in models for name, field in m.model_fields.items()})
+
+
+def unknown_field(name: str, known: list[str]) -> str:
+    """"unknown field; did you mean 'length'?" (the nearest names, ``difflib``), or the valid names
+    when none is close."""
+    close = difflib.get_close_matches(name, known, n=2, cutoff=0.6)
+    if close:
+        return f"unknown field; did you mean {' or '.join(repr(c) for c in close)}?"
+    return f"unknown field{nearest(name, known)}"
+
+
+def describe_all(exc: ValidationError, model: type[BaseModel] | None = None) -> list[tuple[str, str]]:
+    """(field path, message) of every error of a pydantic ValidationError, in pydantic's order; with
+    the ``model`` validated, an unknown field comes with the nearest valid names (``unknown_field``).
 
     A model-level check that found several problems reports them one per line, each as
     ``field: message``; those lines become separate errors with their own field."""
@@ -75,13 +107,26 @@ def describe_all(exc: ValidationError) -> list[tuple[str, str]]:
         field = _field_path(err["loc"])
         below = (err.get("ctx") or {}).get("field")  # a method option's path below 'methods'
         field = f"{field}.{below}" if below else field
+        if err["type"] == "extra_forbidden" and model is not None and err["loc"]:
+            problems.append((field, unknown_field(str(err["loc"][-1]), field_names(model, err["loc"][:-1]))))
+            continue
         for part in err["msg"].removeprefix("Value error, ").split("\n"):
             match = _FIELD_PREFIX.match(part)
             if match and field == "(top level)":
                 problems.append((match.group(1), match.group(2)))
             else:
                 problems.append((field, part))
-    return problems
+    return _without_explained_missing(problems)
+
+
+def _without_explained_missing(problems: list[tuple[str, str]]) -> list[tuple[str, str]]:
+    """``problems`` less each required field reported missing that a misspelled field beside it is
+    the nearest name of ('segment.lenght: ... did you mean 'length'?' explains 'segment.length: Field
+    required')."""
+    meant = {f"{field.rpartition('.')[0]}.{name}".lstrip(".") for field, problem in problems
+             if problem.startswith("unknown field; did you mean")
+             for name in re.findall(r"'([^']+)'", problem.partition("did you mean")[2])}
+    return [(f, p) for f, p in problems if not (p == "Field required" and f in meant)] or problems
 
 
 def describe(exc: ValidationError) -> tuple[str, str]:
@@ -109,7 +154,7 @@ def read_toml_model(path: Path | str, model, error=None):
     try:
         return text, model.model_validate(data)
     except ValidationError as exc:
-        problems = describe_all(exc)
+        problems = describe_all(exc, model if isinstance(model, type) else None)
         (field, message), more = problems[0], problems[1:]
         if isinstance(error, type) and issubclass(error, CaseError):
             raise error(path, field, message, more) from None

@@ -61,7 +61,7 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("cases", nargs="*", help="case ids, files, folders or globs (default: all)")
     run.add_argument("--method", action="append", help="only this method (repeatable)")
     run.add_argument("--out", default="reports/latest", help="folder for the result tables (default %(default)s)")
-    run.add_argument("--jobs", type=int, default=1, help="parallel processes")
+    run.add_argument("--jobs", type=int, default=1, help="parallel processes (default %(default)s)")
     run.add_argument("--no-cache", action="store_true", help="recompute even unchanged cases")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
 
@@ -70,21 +70,22 @@ def build_parser() -> argparse.ArgumentParser:
     solve.add_argument("--method", action="append", help="this method (repeatable; default: every method of the case)")
     solve.add_argument("--json", action="store_true", help="JSON (the only format)")
     solve.add_argument("--out", help="write the JSON to this file instead of stdout")
-    solve.add_argument("--compact", action="store_true")
+    solve.add_argument("--compact", action="store_true", help="the JSON on one line (default: indented)")
 
     report = add("report", "run (or reuse) every case and write the report")
-    report.add_argument("cases", nargs="*")
-    report.add_argument("--out", default="reports")
-    report.add_argument("--jobs", type=int, default=2)
-    report.add_argument("--no-cache", action="store_true")
+    report.add_argument("cases", nargs="*",
+                        help="case ids, files, folders or globs (default: all, with the domain study and the atlas page)")
+    report.add_argument("--out", default="reports", help="folder of the report (default %(default)s)")
+    report.add_argument("--jobs", type=int, default=2, help="parallel processes (default %(default)s)")
+    report.add_argument("--no-cache", action="store_true", help="recompute even unchanged cases")
 
     bench = add("bench", "run time against error for every method")
-    bench.add_argument("--out", default="reports/bench")
+    bench.add_argument("--out", default="reports/bench", help="folder of the benchmark's tables and plots (default %(default)s)")
     bench.add_argument("--quick", action="store_true", help="fewer meshes and repeats")
     stress = add("stress", "numerical stability, invariances and bad input")
-    stress.add_argument("--out", default="reports/stress")
+    stress.add_argument("--out", default="reports/stress", help="folder of the stress results (default %(default)s)")
     stress.add_argument("--long", action="store_true", help="many more random cases")
-    stress.add_argument("--seed", type=int, default=20261122)
+    stress.add_argument("--seed", type=int, default=20261122, help="seed of the random cases (default %(default)s)")
     stress.add_argument("--configurations", type=int, default=10_000,
                         help="generated configurations of the quantity contract with --long (default %(default)s)")
     stress.add_argument("--mutants", type=int, default=None,

@@ -27,6 +27,7 @@ OWNED = tuple(f"{name}.{kind}" for name in TABLES for kind in ("csv", "parquet")
 
 def _print_table(frame, file=None) -> None:
     with pd.option_context("display.max_rows", 500, "display.max_columns", 30, "display.width", 200,
+                           "display.max_colwidth", 48,
                            "display.float_format", lambda v: f"{v:.4g}"):
         print(frame.to_string(index=False), file=file or sys.stdout)
 
@@ -67,21 +68,28 @@ def run(args) -> int:
         output.commit()
     if table is not None:
         _print_table(table)
-        print(f"\n{counts_sentence([Verdict(v) for v in table['verdict']])} (verdicts: validation/run/verdict.py)")
-    failed = outcome.failed_comparisons
+    print_findings(outcome)
+    verdicts = [Verdict(v) for v in table["verdict"]] if table is not None else []
+    print(f"\n{counts_sentence(verdicts)} ({len(outcome.errors)} file(s) rejected; verdicts: validation/run/verdict.py)")
+    print(f"results: {out} (values.csv, comparisons.csv, summary.csv, ...; as Parquet too), in "
+          f"{time.perf_counter() - started:.1f} s")
+    return outcome.exit_status
+
+
+def print_findings(outcome: RunOutcome) -> None:
+    """What is wrong, before the counts: the rows outside their claimed limit (with a value: a method
+    that gave none is its run's one line), each run that refused, failed or did not converge with its
+    reason, one line each, and the files that could not be used."""
+    failed = outcome.outside_limit
     if len(failed):
         print(f"\n{len(failed)} row(s) outside the claimed limit:")
         _print_table(failed[["case", "method", "quantity", "point", "level", "value", "reference_label",
                              "reference_value", "abs_error", "rel_error", "tolerance_rel", "tolerance_abs"]])
-    problems = outcome.unexpected_problems
+    problems = outcome.unexpected_verdicts
     if problems:
-        print(f"\n{len(problems)} method run(s) failed, refused or did not converge (and their case does not "
+        print(f"\n{len(problems)} method run(s) refused, failed or did not converge (and their case does not "
               f"record an expected failure):")
         for line in problems:
             print(f"  {line}")
     for error in outcome.errors + outcome.misconfigured:
         print_error(error)
-    print(f"\n{len(outcome.results)} case(s) run, {len(outcome.errors)} rejected, in "
-          f"{time.perf_counter() - started:.1f} s; results in {out / 'values.csv'} and "
-          f"{out / 'comparisons.csv'}")
-    return outcome.exit_status

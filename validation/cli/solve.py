@@ -1,4 +1,11 @@
-"""``prbm-validate solve``: one case, every requested output at every level with its loads, as JSON."""
+"""``prbm-validate solve``: one case, every requested output at every level with its loads, as JSON.
+
+Each output's unit is under ``output_units`` (``units`` names the case's unit system). Numbers are
+rounded to the precision the method has (``ROUNDING``, also written under ``rounding``): a solver's
+result to 10 significant digits (no solver here is converged further; the digits after are round-off,
+0.6000000000000001), a value with an error estimate (the FEM's) to the estimate's second significant
+digit, and the estimate itself to two significant digits.
+"""
 from __future__ import annotations
 
 import json
@@ -6,6 +13,7 @@ import math
 import sys
 from pathlib import Path
 
+from validation.case.capabilities import QUANTITIES
 from validation.case.loader import CaseError, find_case_files, load_case
 from validation.case.loads import level_labels, load_name, load_unit
 from validation.methods.base import RunStatus
@@ -13,8 +21,31 @@ from validation.run.exit_status import ExitStatus, combine, misconfigured_line, 
 from validation.run.runner import requests_for, run_method
 
 
+SIGNIFICANT = 10
+ESTIMATE_DIGITS = 2
+ROUNDING = (f"values to {SIGNIFICANT} significant digits; a value with an error estimate to the estimate's "
+            f"second significant digit; error estimates to {ESTIMATE_DIGITS} significant digits")
+
+
 def _clean(v):
     return None if v is None or (isinstance(v, float) and math.isnan(v)) else v
+
+
+def significant(value, digits: int = SIGNIFICANT):
+    """``value`` rounded to ``digits`` significant digits (None, NaN, 0 and infinities as they are)."""
+    if not isinstance(value, float) or not math.isfinite(value) or value == 0.0:
+        return value
+    return round(value, digits - 1 - math.floor(math.log10(abs(value))))
+
+
+def to_estimate(value, estimate):
+    """``value`` rounded to the second significant digit of its error ``estimate`` (a finite, positive
+    estimate), and never to more than ``SIGNIFICANT`` significant digits."""
+    if not isinstance(value, float) or not math.isfinite(value) or not isinstance(estimate, float) \
+            or not math.isfinite(estimate) or estimate <= 0.0:
+        return significant(value)
+    rounded = round(value, ESTIMATE_DIGITS - 1 - math.floor(math.log10(estimate)))
+    return significant(float(rounded))
 
 
 def _load_entry(name: str, value: float, unit: str, direction: tuple[float, float] | None) -> dict:
@@ -32,21 +63,23 @@ def solve_document(loaded, method: str, run) -> dict:
     labels = level_labels(case)
     loads = [(load_name(load, i, case), load.levels(), load_unit(load, case), load.direction)
              for i, load in enumerate(case.loads)]
-    levels = []
+    levels, units = [], {}
     for level in range(case.n_levels()):
         outputs = {}
         for req in requests_for(case, method):
             if req.level != level:
                 continue
             name = f"{req.quantity}@{req.point}" if req.point else req.quantity
-            outputs[name] = _clean(run.values.get(req))
+            estimate = _clean(run.error_estimate.get(req))
+            outputs[name] = to_estimate(_clean(run.values.get(req)), estimate)
+            units[name] = case.unit(QUANTITIES[req.quantity].dimension)
             if req in run.error_estimate:
-                outputs[name + ":error_estimate"] = _clean(run.error_estimate[req])
+                outputs[name + ":error_estimate"] = significant(estimate, ESTIMATE_DIGITS)
             if req in run.unreliable_estimate:      # the estimate is no bound: why
                 outputs[name + ":error_estimate_unreliable"] = run.unreliable_estimate[req]
         if outputs:
             entry = {"level": level, "label": labels[level],
-                     "loads": [_load_entry(n, v[level], u, d) for n, v, u, d in loads], "outputs": outputs}
+                     "loads": [_load_entry(n, significant(v[level]), u, d) for n, v, u, d in loads], "outputs": outputs}
             flags = run.applicability.get(level, [])
             if flags:
                 entry["applicability"] = [f.value for f in flags]
@@ -55,8 +88,9 @@ def solve_document(loaded, method: str, run) -> dict:
                 entry["expected_error_percent_of_L"] = _clean(round(run.expected_error[level], 3))
             levels.append(entry)
     return {"case": case.case.id, "file": str(loaded.path), "method": method, "units": case.case.units,
+            "output_units": units, "rounding": ROUNDING,
             "status": run.status.value, "converged": run.converged, "message": run.message,
-            "wall_time_s": run.wall_time, "levels": levels}
+            "wall_time_s": round(run.wall_time, 4), "levels": levels}
 
 
 def run(args) -> int:

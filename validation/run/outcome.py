@@ -14,17 +14,17 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from tqdm import tqdm
 
 from validation.case.capabilities import QUANTITIES
 from validation.case.scale import characteristic_length
 from validation.methods.base import RunStatus
 from validation.run.compare import agreement_checks, fem_elastica_checks, reference_check
 from validation.run.exit_status import combine, decide, misconfigured_line, of_run_status
-from validation.run.parallel import PathRun, run_paths
+from validation.run.parallel import run_paths
+from validation.run.progress import CaseProgress
 from validation.run.runner import CaseResult, requests_for
 from validation.run.timeline import Timed
-from validation.run.verdict import prbm_fem_verdict, row_verdict, run_verdict, table_verdict
+from validation.run.verdict import Verdict, prbm_fem_verdict, row_verdict, run_verdict, table_verdict
 
 
 COLUMNS = ["case", "group", "method", "quantity", "point", "level", "level_label", "value", "unit", "scale",
@@ -142,6 +142,28 @@ class RunOutcome:
                 for r in self.results for method, run in r.runs.items() if not run.ok]
 
     @property
+    def outside_limit(self) -> pd.DataFrame:
+        """``failed_comparisons`` that have a value to be outside with: the rows of a method that gave
+        no value there (refused, failed, did not converge) are its run's verdict, said once in
+        ``unexpected_verdicts``, not rows of NaN."""
+        failed = self.failed_comparisons
+        return failed[failed["value"].notna()] if len(failed) else failed
+
+    @property
+    def unexpected_verdicts(self) -> list[str]:
+        """'<case> <method>: <status>: <reason>' for every run that refused, failed or did not converge
+        where its case does not record an expected failure (``unexpected_problems``, a refusal called
+        'refused' as in ``validation.run.verdict``), one line each."""
+        lines = []
+        for case_id, method, run in self._runs_not_expected_to_fail():
+            if run.ok:
+                continue
+            verdict, reason = run_verdict(run)
+            said = f"refused: {reason or 'no message'}" if verdict is Verdict.REFUSED else run.summary()
+            lines.append(f"{case_id} {method}: {' '.join(said.split())}")
+        return lines
+
+    @property
     def unexpected_problems(self) -> list[str]:
         """``method_problems`` less the runs whose case records that outcome as expected
         (``case.expected_failure``, with its reason; the suite checks that they do fail)."""
@@ -176,16 +198,13 @@ def run_cases(paths: list[Path], methods: list[str] | None = None, use_cache: bo
     """Run every case file; bad files are reported as errors and the others still run. ``jobs`` worker
     processes, scheduled by ``validation.run.parallel`` (compiled methods compiled once, ``extra`` tasks
     beside the cases, ``after(result)`` in the worker after each case, longest first by ``costs``)."""
-    bar = tqdm(total=len(paths), unit="case", disable=not progress, leave=False)
-
-    def advance(run: PathRun) -> None:
-        bar.set_postfix_str(run.path.stem)
-        bar.update()
-
+    bar = CaseProgress(len(paths), enabled=progress, jobs=jobs)
     timeline: list[Timed] = []
-    runs = run_paths(paths, methods, use_cache, jobs, after=after, extra=list(extra), progress=advance,
-                     timeline=timeline, costs=costs)
-    bar.close()
+    try:
+        runs = run_paths(paths, methods, use_cache, jobs, after=after, extra=list(extra), progress=bar.advance,
+                         timeline=timeline, costs=costs, watch=bar.watch)
+    finally:
+        bar.close()
     results = sorted((r.result for r in runs if r.result is not None), key=lambda r: str(r.loaded.path))
     errors = [r.error for r in runs if r.error is not None]
     tables = [tabulate(r) for r in results]

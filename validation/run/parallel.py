@@ -20,10 +20,17 @@ order of ``paths``; a case file that cannot be used comes back as its error line
 With ``jobs`` = 1 the primers run first too, in this process, so that in neither path does a case
 report numba's compile as its method's time. Every primer, case, method run, ``after`` and extra
 task is timed (``validation.run.timeline``) into the ``timeline`` list given.
+
+``watch`` (a ``CompileWatch``) is told, once, that the primers are compiling when they have taken more
+than ``CompileWatch.after`` seconds (numba's on-disk cache is cold: the first run on a machine, or after
+an edit of a kernel), and when every primer is done, so that a progress bar can say why it waits and
+start its rate after the compile.
 """
 from __future__ import annotations
 
 import re
+import threading
+import time
 import tomllib
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from dataclasses import dataclass, field
@@ -61,6 +68,8 @@ class Schedule:
     waits_for: dict[Path, frozenset[str]] = field(default_factory=dict)
 
 
+# seconds of primers before a caller hears that they compile (a warm numba cache loads in less)
+NOTICE_AFTER = 3.0
 NUMBA_IMPORT = re.compile(r"^\s*(from|import)\s+numba\b", re.MULTILINE)
 
 
@@ -136,6 +145,31 @@ def prime(path: Path, method: str) -> Timed:
     return watch.record
 
 
+@dataclass
+class CompileWatch:
+    """What a caller is told about the primers: ``compiling(methods)`` once, when they have run longer
+    than ``after`` seconds (a warm numba cache loads in less), and ``compiled()`` once they are all done."""
+
+    compiling: Callable[[tuple[str, ...]], None] = lambda methods: None
+    compiled: Callable[[], None] = lambda: None
+    after: float = field(default_factory=lambda: NOTICE_AFTER)
+
+
+def _serial_primers(plan: Schedule, watch: CompileWatch) -> list[Timed]:
+    """The primers in this process, ``watch.compiling`` called from a timer if they take long."""
+    methods = tuple(method for method, _ in plan.primers)
+    timer = threading.Timer(watch.after, watch.compiling, args=(methods,))
+    timer.daemon = True
+    if methods:
+        timer.start()
+    try:
+        return [prime(path, method) for method, path in plan.primers]
+    finally:
+        timer.cancel()
+        if methods:
+            watch.compiled()
+
+
 def run_extra(task: Callable[[], Any]) -> Timed:
     """An extra task, timed under its ``label`` (else its type's name)."""
     with timed("extra", getattr(task, "label", type(task).__name__)) as watch:
@@ -166,10 +200,10 @@ def run_path(path: Path, methods: list[str] | None, use_cache: bool,
 def run_paths(paths: list[Path], methods: list[str] | None = None, use_cache: bool = True, jobs: int = 1,
               after: Callable[[CaseResult], Any] | None = None, extra: list[Callable[[], Any]] = (),
               progress: Callable[[PathRun], None] | None = None, timeline: list[Timed] | None = None,
-              costs: dict[str, float] | None = None) -> list[PathRun]:
+              costs: dict[str, float] | None = None, watch: CompileWatch | None = None) -> list[PathRun]:
     """Every case file run (module docstring); ``extra`` tasks run beside them; returns the runs in the
     order of ``paths``. Every piece of work's time is appended to ``timeline``; ``costs`` (case id ->
-    seconds, e.g. from the last run) orders the cases longest first."""
+    seconds, e.g. from the last run) orders the cases longest first; ``watch`` hears about the primers."""
     paths = [Path(p) for p in paths]
     timeline = timeline if timeline is not None else []
     done: dict[Path, PathRun] = {}
@@ -184,19 +218,21 @@ def run_paths(paths: list[Path], methods: list[str] | None = None, use_cache: bo
             progress(value)
 
     plan = schedule(paths, methods, use_cache, costs)
+    watch = watch or CompileWatch()
     if jobs <= 1 or len(paths) + len(extra) <= 1:
-        timeline += [prime(path, method) for method, path in plan.primers]
+        timeline += _serial_primers(plan, watch)
         timeline += [run_extra(task) for task in extra]
         for path in paths:
             collect(run_path(path, methods, use_cache, after))
     else:
-        _run_pool(plan, jobs, extra, lambda path: (run_path, path, methods, use_cache, after), collect)
+        _run_pool(plan, jobs, extra, lambda path: (run_path, path, methods, use_cache, after), collect, watch)
     return [done[p] for p in paths]
 
 
-def _run_pool(plan: Schedule, jobs: int, extra, task_of: Callable[[Path], tuple], collect) -> None:
+def _run_pool(plan: Schedule, jobs: int, extra, task_of: Callable[[Path], tuple], collect,
+              watch: CompileWatch) -> None:
     """The parallel run: primers first, then the extra tasks and the free cases (longest first), and
-    each compiled case as soon as the primers of its methods are done."""
+    each compiled case as soon as the primers of its methods are done; ``watch`` told of the primers."""
     with ProcessPoolExecutor(max_workers=jobs) as pool:
         primers: dict[Future, str] = {pool.submit(prime, path, method): method for method, path in plan.primers}
         pending: set[Future] = set(primers)
@@ -204,11 +240,19 @@ def _run_pool(plan: Schedule, jobs: int, extra, task_of: Callable[[Path], tuple]
         pending |= {pool.submit(*task_of(path)) for path in plan.free}
         ready: set[str] = set()
         waiting = list(plan.compiled)
+        told, started = not primers, time.perf_counter()
         while pending:
-            finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+            timeout = None if told else max(0.0, watch.after - (time.perf_counter() - started))
+            finished, pending = wait(pending, timeout=timeout, return_when=FIRST_COMPLETED)
+            if not told and len(ready) < len(primers) and time.perf_counter() - started >= watch.after:
+                told = True
+                watch.compiling(tuple(m for f, m in primers.items() if not f.done()))
             for future in finished:
                 collect(future.result())
                 ready |= {primers[future]} if future in primers else set()
+                if future in primers and len(ready) == len(primers):
+                    told = True
+                    watch.compiled()
             startable = [path for path in waiting if plan.waits_for[path] <= ready]
             waiting = [path for path in waiting if path not in startable]
             pending |= {pool.submit(*task_of(path)) for path in startable}

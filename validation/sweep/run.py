@@ -102,6 +102,9 @@ SWEEPS_DIR = CASES_DIR / "sweeps"
 EXIT_OK, EXIT_FAILED_POINTS, EXIT_BAD_INPUT, EXIT_INTERRUPTED = (ExitStatus.OK, ExitStatus.FAILED, ExitStatus.BAD_INPUT,
                                                         ExitStatus.INTERRUPTED)  # the rule, in sweep words
 FAILED = ("error", "invalid", "not_converged", "not_applicable", "task_failed")  # exit status 1 (exit_status.py)
+SHOWN_FAILURES = 3           # failed points named on screen; the rest are in FAILED_CSV
+MESSAGE_CHARS = 160
+FAILED_CSV = "failed.csv"
 TASK_FAILED = "task_failed"   # no outcome of the point itself (a worker lost, a broken pool): run again
 
 
@@ -673,16 +676,55 @@ def run_sweep(spec_path: Path | str, out: Path | str | None = None, executor: An
         print(f"interrupted: {skipped + ran} of {len(points)} points are in {out}; run the same command "
               f"again to resume", file=sys.stderr)
         return status
+    again = (f" ({len(retried)} retried after a failed task, {len(retried & failed_tasks)} of them "
+             "failed again)") if retried else ""
+    _print_summary(loaded, out, record, again, task_failures)
+    return EXIT_FAILED_POINTS if failed else EXIT_OK
+
+
+def _print_summary(loaded: LoadedSweep, out: Path, record: dict, again: str, task_failures: Counter) -> None:
+    """The run's line (points run, already done, failed, left; wall time; where the results are), then
+    the first ``SHOWN_FAILURES`` failed points of the sweep, each with its parameters and message (and
+    the case's own word when it records that failure as expected), and where every one is
+    (``failed.csv``, ``failed_points``); a failed task's message on stderr."""
+    spec, columns = loaded.spec, [p.column for p in loaded.spec.parameters]
     left = f", {record['left']} left (run again to continue)" if record["left"] else ""
-    again = ""
-    if retried:
-        again = (f" ({len(retried)} retried after a failed task, {len(retried & failed_tasks)} of them "
-                 "failed again)")
-    print(f"{spec.sweep.id}: {ran} point(s) run{again}, {skipped} already done, {failed} failed{left}; "
-          f"{wall:.1f} s; results in {out}")
+    failures = failed_points(out, columns)
+    in_all = failures["point_id"].nunique()
+    earlier = f" ({in_all} in the whole sweep)" if in_all != record["failed"] else ""
+    print(f"{spec.sweep.id}: {record['ran']} point(s) run{again}, {record['skipped']} already done, "
+          f"{record['failed']} failed{earlier}{left}; {record['wall_time_s']:.1f} s; results in {out}")
+    for _, row in failures.head(SHOWN_FAILURES).iterrows():
+        values = ", ".join(f"{c} = {row[c]:g}" if isinstance(row[c], float) else f"{c} = {row[c]}" for c in columns)
+        message = " ".join(str(row["message"]).split())
+        expected = (loaded.cases.get(row["case"], {}).get("case") or {}).get("expected_failure", {})
+        print(f"  failed: point {row['point_id']} ({values}): {row['case']} {row['method']} "
+              f"{row['status']}: {message[:MESSAGE_CHARS]}{'...' if len(message) > MESSAGE_CHARS else ''}"
+              + (" (the case records this as an expected failure)" if row["method"] in expected else ""))
+    if len(failures):
+        more = f"{len(failures) - SHOWN_FAILURES} more; " if len(failures) > SHOWN_FAILURES else ""
+        print(f"  {more}every failed point with its parameters and message: {out / FAILED_CSV} "
+              f"(all rows: {out / 'parts'})")
     for message, count in task_failures.most_common():
         print(f"  {count} point(s): {message}; run the same command again to retry them", file=sys.stderr)
-    return EXIT_FAILED_POINTS if failed else EXIT_OK
+
+
+def failed_points(out: Path, columns: list[str]) -> pd.DataFrame:
+    """Every failed point of the sweep in ``out`` (this run's and the earlier runs'), one row per point
+    and method that failed there: its id, parameters, case, method, status and message, written to
+    ``failed.csv`` (removed when none failed)."""
+    frame = load_results(out)
+    keep = ["point_id", *columns, "case", "method", "status", "message"]
+    if not len(frame):
+        failures = pd.DataFrame(columns=keep)
+    else:
+        failures = frame[frame["status"].isin(FAILED)].drop_duplicates(["point_id", "case", "method"])[keep]
+    target = out / FAILED_CSV
+    if len(failures):
+        failures.to_csv(target, index=False)
+    elif target.exists():
+        target.unlink()
+    return failures.reset_index(drop=True)
 
 
 # ---------------------------------------------------------------- command line
