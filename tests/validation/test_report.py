@@ -176,18 +176,18 @@ def test_output_chart_draws_the_values_against_the_load_with_units():
     table = tabulate(result)
     chart = outputs_chart("outputs", np.arange(1.0, 11.0), "force at tip [EI/L^2]", table)
     titles = {k: v["title"]["text"] for k, v in chart.layout.items() if k.startswith("yaxis")}
-    panel = next(k for k, t in titles.items() if t == "y@tip [L]")
+    panel = next(k for k, t in titles.items() if t == "y position at tip [L]")
     suffix = panel.removeprefix("yaxis")
-    fem = next(t for t in chart.data if t["name"] == "fem" and t["yaxis"] == f"y{suffix}")
+    fem = next(t for t in chart.data if t["name"] == "FEM" and t["yaxis"] == f"y{suffix}")
     rows = table[(table["method"] == "fem") & (table["quantity"] == "y")].drop_duplicates("level").sort_values("level")
     assert fem["y"] == pytest.approx(rows["value"].tolist(), rel=1e-6)
     assert fem["x"] == pytest.approx(list(range(1, 11)))
     assert chart.layout[f"xaxis{suffix}"]["title"]["text"] == "force at tip [EI/L^2]"
-    exact = next(t for t in chart.data if t["name"] == "printed exact" and t["yaxis"] == f"y{suffix}")
+    exact = next(t for t in chart.data if t["name"] == "printed: exact" and t["yaxis"] == f"y{suffix}")
     assert exact["y"][-1] == 0.810609   # the case file's printed value at PL^2/EI = 10
     legend = [t["name"] for t in chart.data if t["showlegend"]]
     assert sorted(legend) == sorted(set(t["name"] for t in chart.data))   # each name once in the legend
-    assert {"fem", "prbm", "elastica"} <= set(legend)
+    assert {"FEM", "PRBM", "exact elastica"} <= set(legend)
 
 
 def test_one_number_of_a_whole_case_is_no_panel_of_the_outputs_chart(built_report):
@@ -198,8 +198,8 @@ def test_one_number_of_a_whole_case_is_no_panel_of_the_outputs_chart(built_repor
     page = (built_report / "cases" / "bapat2015_test2.html").read_text()
     spec = re.search(r"<div id='outputs'.*?const f=(.*?);Plotly\.newPlot\('outputs'", page, flags=re.S).group(1)
     titles = re.findall(r'"text":"([^"]*\[[^"]*\])"', spec)
-    assert {"dx@P [in]", "dy@P [in]"} <= set(titles)
-    assert not [t for t in titles if t.startswith("dof")]
+    assert {"x displacement at P [in]", "y displacement at P [in]"} <= set(titles)
+    assert not [t for t in titles if t.startswith("degrees of freedom")]
     assert re.search(r"<td>prbm</td><td>dof</td><td></td><td>P0 \(unloaded\)</td><td>1</td><td>count</td>", page)
     table = tabulate(run_case(case_by_id("bapat2015_test3_specimen1"), use_cache=False))
     assert set(table["quantity"].dropna()) == {"dof"}
@@ -309,8 +309,8 @@ def test_report_in_a_real_browser(built_report):
                 assert legend, f"{page.name}: chart {chart_id} has no legend"
             if page.name == "cantilever_tip_load.html":
                 by_id = {c[0]: c for c in charts}
-                assert {"fem", "prbm", "elastica", "printed exact"} <= set(by_id["outputs"][3])
-                assert {"fem", "prbm", "elastica"} <= set(by_id["shapes"][3])
+                assert {"FEM", "PRBM", "exact elastica", "printed: exact [notes/anchors.md §2.1]"} <= set(by_id["outputs"][3])
+                assert {"FEM", "PRBM", "exact elastica"} <= set(by_id["shapes"][3])
         browser.get((built_report / "index.html").as_uri())
         # the first screen shows the picture of the whole validation
         top, bottom, height = browser.execute_script(

@@ -27,11 +27,11 @@ def test_the_legend_gives_each_series_its_line_colour(tmp_path: Path):
     png = paraview.render_series(series, tmp_path / "a.png", "first")
     if png is None:
         pytest.skip("pyvista cannot render here")
-    canvas = paraview._CANVASES[(640, 420)]
+    canvas = paraview._CANVASES[paraview.CANVAS]
     legend = _legend(canvas)
     viridis_middle = colormaps[paraview.FEM_COLOURMAP](0.5)[:3]
     assert legend["FEM (colour: bending moment)"] == pytest.approx(viridis_middle, abs=0.01)
-    assert legend["prbm"] == pytest.approx(to_rgb(paraview.RENDER_COLOURS["prbm"]))
+    assert legend["PRBM"] == pytest.approx(to_rgb(paraview.RENDER_COLOURS["prbm"]))
     assert legend["undeformed"] == pytest.approx(to_rgb(paraview.UNDEFORMED_COLOUR))
     # a second picture of fewer series: its own legend and title, nothing left of the first
     only_fem = [p for p in series if p.method == "fem"]

@@ -28,6 +28,7 @@ import html
 import math
 import os
 import platform
+import re
 import shutil
 import subprocess
 import sys
@@ -48,16 +49,19 @@ from validation.run import cache
 from validation.run.exit_status import ExitStatus, print_error
 from validation.run.output_set import OutputSet, is_leftover
 from validation.report.paraview import normalise_shapes  # noqa: F401  (also used by tests)
+from references import key_of_seed_file
 from validation.case.loader import find_case_files
+from validation.case.loads import driving_load, load_name, load_unit
 from validation.case.readings import readings_groups
-from validation.report.charts import (PLOTLY_JS, Chart, PlotlyMissing, ShapeLine, install_plotly, outputs_chart,
-                                      path_chart, plotly_bundle, shapes_chart)
+from validation.report.charts import (PLOTLY_JS, Chart, PlotlyMissing, ShapeLine, axis_title, install_plotly,
+                                      method_name, outputs_chart, path_chart, plotly_bundle, shapes_chart, unit_text)
 from validation.report.format import by_case, rows_of, sig, verdict_html
 from validation.report.overview import CLAIMS, overview_points, plot_overview
 from validation.report.summary import (METHOD_NAMES, CaseSummary, case_sentence, findings, findings_html,
-                                       summarise, summary_markdown, summary_tables_html, verdict_counts_line)
+                                       key_terms, summarise, summary_markdown, summary_tables_html,
+                                       verdict_counts_line)
 from validation.run.compare import verdict_by_method
-from validation.run.verdict import method_verdicts, vocabulary_lines
+from validation.run.verdict import Verdict, counts_sentence, method_verdicts, vocabulary_lines
 from validation.run.runner import CaseResult
 from validation.run.outcome import run_cases, summary, tabulate
 from validation.run.timeline import Timed, breakdown, command_age, csv_text, timed
@@ -100,22 +104,46 @@ def reproducibility() -> dict[str, str]:
     return info
 
 
+UNIT_IN_NAME = re.compile(r"\s*\((?:in-lb|lb-in|lbf?|in|deg|rad|N|mm|m|N\*?mm|N\*?m)\)\s*$")
+
+
 def _level_axis(result: CaseResult) -> tuple[np.ndarray, str]:
+    """The x value of each level, the driving load's (`driving_load`: the first that changes), and its axis
+    title (`axis_title`: its name with a unit written in it, '(in-lb)', given once as the unit)."""
     case = result.loaded.case
-    if case.loads:
-        load = case.loads[0]
-        dim = {"force": "force", "moment": "moment", "displacement": "length", "rotation": "deg"}.get(load.kind)
-        unit = case.unit(dim) if dim else {"distributed": f"{case.unit('force')}/{case.unit('length')}",
-                                           "self_weight": "x weight"}[load.kind]
-        name = load.label or f"{load.kind} at {load.point}"
-        return np.asarray(load.levels(), float), f"{name} [{unit}]"
-    return np.arange(case.n_levels(), dtype=float), "load level"
+    index = driving_load(case)
+    if index is None:
+        return np.arange(case.n_levels(), dtype=float), axis_title("load level", "-")
+    load = case.loads[index]
+    name = UNIT_IN_NAME.sub("", load_name(load, index, case)) or load.kind
+    return np.asarray(load.levels(), float), axis_title(name, load_unit(load, case))
 
 
 def _output_chart(result: CaseResult, table: pd.DataFrame) -> Chart | None:
-    """A panel per output (value against the first load), every method a line, printed columns as markers."""
+    """A panel per output (value against the driving load), every method a line, printed columns as
+    markers saying what was printed and where (`_cited`)."""
     axis, label = _level_axis(result)
-    return outputs_chart("outputs", axis, label, table)
+    sources: dict[str, list[str]] = {}
+    for ref in result.loaded.case.references:
+        where = _cited(ref.source)
+        if where not in sources.setdefault(ref.label, []):
+            sources[ref.label].append(where)
+    cited = {label: "; ".join(places[:2]) + ("; ..." if len(places) > 2 else "") for label, places in sources.items()}
+    return outputs_chart("outputs", axis, label, table, cited)
+
+
+def _cited(source) -> str:
+    """Where a printed number is, short: the document's key ('bapat2015', else the file) and its table
+    ('Table 9.4'), else its section ('§2.1')."""
+    try:
+        document = key_of_seed_file(source.file)
+    except ValueError:
+        document = source.file
+    if source.table and source.table[0].isdigit():
+        return f"{document} Table {source.table}"
+    if source.section or source.table:
+        return f"{document} §{source.section}" if source.section else f"{document} {source.table}"
+    return document
 
 
 def _joined(polylines: list[np.ndarray]) -> np.ndarray:
@@ -125,27 +153,34 @@ def _joined(polylines: list[np.ndarray]) -> np.ndarray:
 
 
 def _shape_chart(result: CaseResult) -> Chart | None:
-    """Deformed shapes: every level of a method as one line (gaps between polylines; a continuation's
-    steps thinned as its ParaView series), measured tip points as markers."""
+    """Deformed shapes, a load level at a time on a slider: each method's shape at each level (a
+    continuation's steps thinned as its ParaView series, each a step of its own), measured points as
+    markers at their level."""
     shapes = {m: normalise_shapes(r.extras["shapes"]) for m, r in result.runs.items() if r.extras.get("shapes")}
     if not shapes:
         return None
+    case = result.loaded.case
+    axis, title = _level_axis(result)
+    steps = case.level_labels or [sig(v, 4) for v in axis]
+    prefix = "load level: " if case.level_labels else title.replace("<br>", " ") + " = "
     lines = []
     for method, per_level in shapes.items():
         fields = result.runs[method].extras.get("fields")
+        own = len(per_level) != case.n_levels()   # a continuation: its own steps, by load factor
         load = fields.load_factor if fields is not None and len(fields.load_factor) == len(per_level) else \
-            np.arange(len(per_level))
-        per_level = [per_level[k] for k in paraview.frames_shown(load)]  # a continuation: as its ParaView series
-        points = _joined([np.asarray(line) for polylines in per_level for line in polylines])
-        if len(points):
-            lines.append(ShapeLine(method, points[:, 0], points[:, 1]))
-    case = result.loaded.case
+            np.arange(len(per_level), dtype=float)
+        for k in paraview.frames_shown(load):
+            if own:
+                steps.append(f"{method_name(method)} path, load factor {sig(load[k], 3)}")
+            points = _joined([np.asarray(line) for line in per_level[k]])
+            if len(points):
+                lines.append(ShapeLine(method, len(steps) - 1 if own else k, points[:, 0], points[:, 1]))
     measured = {}
     for ref in case.references:
         if ref.label == "measured" and ref.quantity in ("x", "y"):
             measured.setdefault((ref.point, ref.level), {})[ref.quantity] = ref.value
-    points = [(v["x"], v["y"]) for v in measured.values() if "x" in v and "y" in v]
-    return shapes_chart("shapes", lines, points, case.unit("length"))
+    points = [(level, v["x"], v["y"]) for (_, level), v in measured.items() if "x" in v and "y" in v]
+    return shapes_chart("shapes", lines, points, case.unit("length"), steps, prefix, first=case.n_levels() - 1)
 
 
 def _path_chart(result: CaseResult) -> Chart | None:
@@ -243,8 +278,10 @@ def _case_files(result: CaseResult, out: Path) -> tuple[list[str], str | None]:
     cid = result.loaded.id
     series = paraview.case_series(result.loaded.case, result.runs)
     pvds = paraview.write_case_series(result.loaded.case, result.runs, out / "vtu" / cid, series)
-    render = paraview.render_series(series, out / "cases" / f"{cid}_render.png",
-                                    f"{cid}: last level") if series else None
+    labels = result.loaded.case.level_labels
+    title = f"{cid}: last load level" + (f" ({labels[-1]})" if labels else "")
+    render = paraview.render_series(series, out / "cases" / f"{cid}_render.png", title,
+                                    unit_text(result.loaded.case.unit("moment"))) if series else None
     return [str(p.relative_to(out)) for p in pvds], render.name if render else None
 
 
@@ -272,6 +309,11 @@ def _with_model_range(cols: dict[str, str], table: pd.DataFrame) -> dict[str, st
     items = list(cols.items())
     at = list(cols).index("unit") + 1
     return dict(items[:at] + [("expected_error", "atlas expected error (% of L)")] + items[at:])
+
+
+# a case page fits the window's width: a chart is as wide as the page (at most its own width), a wide table
+# scrolls inside its fold, a picture shrinks to the page
+CASE_CSS = "div.chart{width:100%}details{max-width:100%;overflow-x:auto}img{max-width:100%;height:auto}"
 
 
 def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str, str]:
@@ -335,7 +377,8 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
                  "time = the case's first load; open it in ParaView and colour by the point data.</p><ul>"
                  + "".join(f"<li>{_link(f'../{v}', v)}</li>" for v in pvds) + "</ul></details>")
     install_plotly(out)
-    (folder / f"{cid}.html").write_text(_page(case.case.title, body, f"<script src='../{PLOTLY_JS}'></script>"))
+    (folder / f"{cid}.html").write_text(_page(case.case.title, body, f"<style>{CASE_CSS}</style>"
+                                              f"<script src='../{PLOTLY_JS}'></script>"))
     md = [f"# {case.case.title}\n", f"**{sentence}**\n",
           f"`{cid}` · {case.case.group} · units {case.case.units} · {source}\n", case.case.description + "\n"]
     md += [f"- {a}" for a in case.case.assumptions]
@@ -442,7 +485,8 @@ def _build_pages(results: list[CaseResult], table: pd.DataFrame, out: Path, jobs
 
 
 def _readings_section(results, table: pd.DataFrame, links: dict) -> tuple[list[str], list[str]]:
-    """Readings of one experiment side by side against the measured points (`readings`)."""
+    """Readings of one experiment side by side against the measured points (`readings`); on the index,
+    each experiment one line (its closest readings), its table behind a click."""
     groups = readings_groups(results, table)
     if not groups:
         return [], []
@@ -452,36 +496,40 @@ def _readings_section(results, table: pd.DataFrame, links: dict) -> tuple[list[s
         best = group.table.groupby("method", sort=False).head(1)        # sorted by rms: each method's closest
         note = "closest: " + "; ".join(f"{r['method']}: {r['case']}, rms {r['rms']:.4g}, largest {r['max']:.4g} "
                                        f"over {r['levels']} levels" for _, r in best.iterrows())
-        body += [f"<h3>{html.escape(group.experiment)}</h3><p>{html.escape(note)}</p>",
-                 _html_table(group.table, lambda r: "good" if r["closest"] else "")]
+        body += [f"<details class='fold'><summary><b>{html.escape(group.experiment)}</b>: {html.escape(note)}"
+                 "</summary>", _html_table(group.table, lambda r: "good" if r["closest"] else ""), "</details>"]
         md += [f"\n### {group.experiment}\n", note + "\n", _md_table(group.table)]
     return body, md
 
 
 OVERVIEW_CAPTION = (
-    "Each dot is one load level of one case where both the PRBM and the FEM give a position: x is the "
-    "largest FEM displacement over the characteristic length L, y the largest PRBM-to-FEM position "
-    "difference in % of L; colour = the PRBM segment model. Lines: the seeds' printed accuracy claims ("
-    + "; ".join(c.label for c in CLAIMS) + "). Seed 004 (the lecture) prints no numeric accuracy, only that "
-    "its n-fits work 'comfortably and quite accurately' within their n-ranges.")
+    "Each dot: one load level of one case that compares a PRBM position with the FEM's (the headline's "
+    "cases; the title names any it cannot place). x: the largest FEM displacement over the characteristic "
+    "length L; y: the largest PRBM-to-FEM position difference in % of L, at equal load; colour and marker: "
+    "the PRBM model. Lines: the accuracy claims printed in the sources, each labelled with what it claims; "
+    "[ananthasuresh_l18] prints no numeric accuracy, only that its n-fits work 'comfortably and quite "
+    "accurately' within their n-ranges.")
+OVERVIEW_ALT = ("PRBM error against deflection, every case and load level, with the printed claims: "
+                + "; ".join(c.label.replace("\n", " ") for c in CLAIMS))
 
 
 def headline(rows) -> str:
     """The first sentence of the summary: the cases counted per verdict (the counts add up to the number of
-    cases), then how far the PRBM is from the FEM."""
+    cases), then, of those, the ones that compare the PRBM with the FEM on a position (the overview's
+    cases) and how far apart the two are."""
     counts = verdict_counts_line(rows)
     compared = [r for r in rows if not math.isnan(r.prbm_fem_length)]
     if not compared:
         return f"{counts}; none compares the PRBM with the FEM on a position."
     worst = max(compared, key=lambda r: r.prbm_fem_length)
     within = sum(r.prbm_fem_length <= 0.01 for r in compared)
-    return (f"{counts}. The PRBM is within 1 % of L of the FEM on {within} of the "
-            f"{len(compared)} cases that compare positions (a difference, not a claimed limit); the largest "
-            f"difference is {sig(100 * worst.prbm_fem_length, 3)} % of L ({worst.case}).")
+    return (f"{counts}. {len(compared)} of the {len(rows)} compare the PRBM with the FEM on a position: the "
+            f"PRBM is within 1 % of L of the FEM on {within} of them (a difference, not a claimed limit), "
+            f"{sig(100 * worst.prbm_fem_length, 3)} % of L at most ({worst.case}).")
 
 
-VOCABULARY = ("Verdicts: " + "; ".join(vocabulary_lines()) + ". A case's verdict is the worst of its rows in "
-              "that order; the first four make the exit status 1.")
+VOCABULARY = ("Verdicts, worst first: " + "; ".join(vocabulary_lines()) + ". A case's verdict is the worst of "
+              "its rows; the first four make the exit status 1.")
 
 
 @dataclass(frozen=True)
@@ -559,6 +607,19 @@ def _write_timing(timeline: list[Timed], out: Path, jobs: int, started: float, c
     return text
 
 
+def screen_lines(timing: str, out: Path) -> list[str]:
+    """What the report prints before its last line: the time breakdown's first line with where the rest
+    is (``timing.txt``), its slowest cases, and the cases counted per verdict (``summary.csv``)."""
+    lines = timing.splitlines()
+    shown = [lines[0].replace("report: ", "time: ", 1) + f"; breakdown in {out / 'timing.txt'}"] if lines else []
+    shown += [line.strip() for line in lines if line.strip().startswith("slowest cases:")][:1]
+    summary_file = out / "summary.csv"
+    if summary_file.is_file():
+        verdicts = pd.read_csv(summary_file, usecols=["verdict"])["verdict"].dropna()
+        shown.append(f"{counts_sentence([Verdict(v) for v in verdicts])} (verdicts: validation/run/verdict.py)")
+    return shown
+
+
 def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[str] | None = None) -> int:
     """Run (or reuse) the cases and write the report (module docstring); prints where the time went."""
     started, times, before = time.perf_counter(), os.times(), command_age()
@@ -606,7 +667,8 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
             print(f"not ok: {line}")
         timing = _write_timing(timeline, stage, jobs, started, cpu, before)
         output.commit()
-    print(timing)
+    for line in screen_lines(timing, out):
+        print(line)
     command = _command_time(started, before)
     print(f"report: {out / 'index.html'} ({len(outcome.results)} cases, {time.perf_counter() - started:.1f} s, "
           f"of which {pooled:.1f} s the cases, their pages and the domain study on {jobs} process(es)"
@@ -649,16 +711,20 @@ def _write_index(outcome, pages: list[PageLink], out: Path, published: Path | No
     info = reproducibility()
     body_readings, md_readings = _readings_section(outcome.results, table, links)
     body = ["<h1>PRBM validation report</h1>", f"<p class='lead'>{html.escape(headline(rows))}</p>", atlas[0],
-            "<p><img id='overview' src='overview.png' alt='PRBM error against deflection, every case and load "
-            "level'></p>", f"<p class='caption'>{html.escape(OVERVIEW_CAPTION)} <a href='overview.svg'>The same "
-            "picture as SVG</a>: click a dot to open its case.</p>",
-            "<h2>Cases</h2><p class='caption'>Click a header to sort. Colour: PRBM error from green (at most "
-            "0.5 % of L) to red (10 % of L or more), whatever its verdict; the cell's label is the verdict of that "
-            "number ('no limit claimed' unless an agreement claims one). Hover a verdict or a method for the "
-            f"reason. {html.escape(VOCABULARY)}</p>",
+            f"<p><img id='overview' src='overview.png' alt='{html.escape(OVERVIEW_ALT, quote=True)}'></p>",
+            f"<p class='caption'>{html.escape(OVERVIEW_CAPTION)} <a href='overview.svg'>The same picture as "
+            "SVG</a>: click a dot to open its case.</p>",
+            f"<h2>Key</h2><p class='caption vocabulary'>{html.escape(VOCABULARY)}</p><dl class='key'>"
+            + "".join(f"<dt>{html.escape(term)}</dt><dd>{html.escape(meaning)}</dd>" for term, meaning in key_terms())
+            + "</dl>",
+            "<h2>Cases</h2><p class='caption'>One line a case: click a header to sort, the case for its page, a "
+            "result to unfold it (hover: the whole sentence). Colour: PRBM error from green (at most 0.5 % of L) "
+            "to red (10 % of L or more), whatever its verdict; a label above the number where a limit is claimed "
+            "for it. Hover a verdict or a method for its reason, the FEM time for the other methods' times.</p>",
             summary_tables_html(rows, links), *body_readings,
             "<h2>Findings and their evidence</h2><p class='caption'>Printed numbers not reproduced, misprints, "
-            "and readings of the source that decide the answer.</p>", findings_html(items, links)]
+            "and readings of the source that decide the answer; one line a case, its findings and their evidence "
+            "behind a click.</p>", findings_html(items, links)]
     md = ["# PRBM validation report\n", headline(rows) + "\n"]
     md += [f"PRBM validity atlas: {atlas[1]}\n"] if atlas[1] else []
     md += ["![overview](overview.png)\n",
@@ -679,9 +745,20 @@ def _write_index(outcome, pages: list[PageLink], out: Path, published: Path | No
     if page_errors:
         body.append("<h2>Pages that could not be drawn</h2><ul>" + "".join(
             f"<li class='bad'>{html.escape(e)}</li>" for e in page_errors) + "</ul>")
-    body.append("<h2>Reproducibility</h2>" + _html_table(pd.DataFrame(list(info.items()),
-                                                                       columns=["item", "value"])))
+    body.append("<h2>Reproducibility</h2><details class='fold'><summary>machine, versions and code digest ("
+                f"{len(info)} items)</summary>" + _html_table(pd.DataFrame(list(info.items()),
+                                                                            columns=["item", "value"])) + "</details>")
     body.append("<p>Files: <a href='results.csv'>results.csv</a>, <a href='summary.csv'>summary.csv</a></p>")
+    body += _other_pages_html(published, out)
+    md += ["\n## Reproducibility\n", _md_table(pd.DataFrame(list(info.items()), columns=["item", "value"]))]
+    (out / "index.html").write_text(_page("PRBM validation report", "".join(body)))
+    (out / "index.md").write_text("\n".join(md) + "\n")
+
+
+def _other_pages_html(published: Path, out: Path) -> list[str]:
+    """The index's links to the other commands' pages and pictures found in ``published`` (and ``out``),
+    each study's and the benchmark's pictures folded under one line."""
+    body = []
     extra = [(f"{name}/{page}", label) for name, page, label in
              (("stress", "index.html", "stress report (prbm-validate stress)"),
               ("bench", "headline.json", "benchmark headline (prbm-validate bench)"),
@@ -697,13 +774,13 @@ def _write_index(outcome, pages: list[PageLink], out: Path, published: Path | No
     if studies:
         body.append("<h2>Sweep studies (prbm-validate sweep)</h2>")
         for _, study in sorted(studies.items()):
-            pictures = "".join(_image(f"sweeps/{study.name}/{png.name}", png.name)
-                               for png in sorted(study.glob("*.png")))
-            body.append(f"<h3>{html.escape(study.name)}</h3>{pictures}")
+            pngs = sorted(study.glob("*.png"))
+            pictures = "".join(_image(f"sweeps/{study.name}/{png.name}", png.name) for png in pngs)
+            body.append(f"<details class='fold'><summary><b>{html.escape(study.name)}</b>: {len(pngs)} "
+                        f"picture(s)</summary>{pictures}</details>")
     bench_plots = sorted((published / "bench").glob("*.png"))
     if bench_plots:
-        body.append("<h2>Benchmark (prbm-validate bench)</h2>" + "".join(
-            _image(f"bench/{png.name}", png.name) for png in bench_plots))
-    md += ["\n## Reproducibility\n", _md_table(pd.DataFrame(list(info.items()), columns=["item", "value"]))]
-    (out / "index.html").write_text(_page("PRBM validation report", "".join(body)))
-    (out / "index.md").write_text("\n".join(md) + "\n")
+        body.append(f"<h2>Benchmark (prbm-validate bench)</h2><details class='fold'><summary>{len(bench_plots)} "
+                    "picture(s)</summary>" + "".join(_image(f"bench/{png.name}", png.name) for png in bench_plots)
+                    + "</details>")
+    return body

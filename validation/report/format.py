@@ -1,14 +1,17 @@
-"""How the report writes numbers and verdicts: at most four significant digits, percentages, a
-colour scale on the PRBM error, and a verdict (``validation.run.verdict``) on its colour.
+"""How the report writes numbers, verdicts and sources: at most four significant digits, percentages,
+a colour scale on the PRBM error, a verdict (``validation.run.verdict``) on its colour, and a source
+document cited by its key (``references``), not by the number of the file it is kept in.
 """
 from __future__ import annotations
 
 import html
 import math
+import re
 
 import numpy as np
 import pandas as pd
 
+from references import REFERENCES, citation
 from validation.run.verdict import Verdict
 
 # PRBM error colour scale, in % of the characteristic length: green at or below LOW, red at HIGH and
@@ -77,3 +80,25 @@ def by_case(table: pd.DataFrame) -> dict[str, pd.DataFrame]:
 def rows_of(parts: dict[str, pd.DataFrame], table: pd.DataFrame, case: str) -> pd.DataFrame:
     """The rows of ``case`` from ``by_case`` (none: the table's empty slice)."""
     return parts[case] if case in parts else table.iloc[0:0]
+
+
+# a source document named by its seed file as the case files' texts name it: 'seed', a space and the
+# file's three digits, with or without the rest of the file name ('_0cc4...txt'), 'Seed' at a sentence's
+# start; a case id has no space after 'seed' and is left alone
+SEED_NAME = re.compile(r"\b[Ss]eed (\d{3})(?:_[0-9a-f]{16}(?:\.txt)?)?\b")
+SEED_KEYS = {ref.seed_file.split("_")[0]: ref.key for ref in REFERENCES.values()}
+
+
+def cite_keys(text: str) -> str:
+    """``text`` with each source document named by its key instead of its seed file ('seed', a space
+    and the seed file's three digits): an equation place after it, 'eqs 131-152', then reads '[bapat2015]
+    eqs 131-152' (the place is the document's own numbering)."""
+    return SEED_NAME.sub(lambda m: f"[{SEED_KEYS[m.group(1)]}]" if m.group(1) in SEED_KEYS else m.group(0), text)
+
+
+def document_title(key: str) -> str:
+    """The title of the document cited as ``key`` (the quoted part of its citation), e.g. 'Pseudo
+    rigid-body (PRB) modeling' for ``ananthasuresh_l18``; the whole citation when it quotes none."""
+    text = citation(key)
+    quoted = re.search(r'"([^"]+)"', text)
+    return quoted.group(1) if quoted else text

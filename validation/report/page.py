@@ -20,7 +20,16 @@ td.absent{color:#777;font-size:12px;text-align:left;max-width:14em}
 .method{border:2px solid;border-radius:3px;padding:0 4px;margin:1px;font-size:12px;white-space:nowrap;
 display:inline-block}.lead{font-size:1.15em;margin:0.4em 0 0.8em}ul.evidence{font-size:12px;color:#444}
 details{margin:0.6em 0}summary{cursor:pointer;font-weight:600}.caption{font-size:12px;color:#444;max-width:60em}
-code{background:#f4f4f4;padding:1px 3px}"""
+code{background:#f4f4f4;padding:1px 3px}
+table.summary{font-size:12px}table.summary td{white-space:nowrap;padding:1px 5px;line-height:1.3}table.summary th{font-size:11px;padding:2px 5px}h3.group{margin:0.9em 0 0.1em;font-size:1.05em}
+table.summary td.sentence{width:100%;max-width:0;overflow:hidden;text-overflow:ellipsis;cursor:pointer}
+table.summary td.sentence.open{white-space:normal}table.summary td.absent{white-space:normal;min-width:8em;font-size:11px}
+table.summary td.methods{text-align:left}table.summary td.relative{color:#777;font-size:11px}table.summary .method{margin:0 1px;padding:0 3px;font-size:11px;border-width:1px;line-height:1.2}
+dl.key{display:grid;grid-template-columns:max-content 1fr max-content 1fr;gap:1px 1em;font-size:12px;margin:0.4em 0}
+dl.key dt{font-weight:600}p.caption.vocabulary{max-width:none}dl.key dd{margin:0}
+details.casefindings,details.fold{margin:0.1em 0}details.casefindings{font-size:13px}
+details.casefindings>summary,details.fold>summary{white-space:nowrap;overflow:hidden;text-overflow:ellipsis;
+font-weight:normal}details.casefindings[open]>summary,details.fold[open]>summary{white-space:normal}"""
 SORT_JS = """document.querySelectorAll('table.sortable th').forEach(th=>th.addEventListener('click',()=>{
 const i=th.cellIndex,body=th.closest('table').tBodies[0],asc=!th.classList.contains('asc');
 th.closest('tr').querySelectorAll('th').forEach(h=>h.classList.remove('asc','desc'));
@@ -30,7 +39,8 @@ const n=parseFloat(v);return v!==''&&!isNaN(n)?n:v.toLowerCase()};
 [...body.rows].sort((x,y)=>{const a=key(x),b=key(y);if(a===b)return 0;
 if(a===''||b==='')return a===''?1:-1;
 return (typeof a==typeof b?(a<b?-1:1):(typeof a=='number'?-1:1))*(asc?1:-1)})
-.forEach(r=>body.appendChild(r))}));"""
+.forEach(r=>body.appendChild(r))}));
+document.querySelectorAll('table.summary td.sentence').forEach(c=>c.addEventListener('click',()=>c.classList.toggle('open')));"""
 
 
 def _fmt(value, digits: int = 6) -> str:

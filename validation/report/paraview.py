@@ -274,10 +274,22 @@ def write_case_series(case: Case, runs: dict, folder: Path, series: list[ShapeSe
 
 
 RENDER_COLOURS = {"fem": "steelblue", "prbm": "darkorange", "elastica": "seagreen"}
+RENDER_NAMES = {"fem": "FEM", "prbm": "PRBM", "elastica": "exact elastica"}   # as the case page names them
 FEM_COLOURMAP = "viridis"
 FEM_LEGEND_COLOUR = "#21918c"   # viridis at the middle of its range: the FEM line's colour at a mean moment
 UNDEFORMED_COLOUR = "grey"
 RIGID_COLOUR = "black"          # the FEM's rigid links: no bending moment of their own to colour them by
+CANVAS = (900, 540)             # pixels of a picture
+# where a picture puts what (fractions of its width and height, from its lower left corner): the
+# mechanism in DRAWN, clear of the title (top left), the legend and the colour bar (the right strip)
+DRAWN = ((0.03, 0.70), (0.05, 0.88))
+LEGEND_LEFT, LEGEND_TOP, LEGEND_ROW = 0.72, 0.90, 0.055
+BAR = {"position_x": 0.74, "position_y": 0.06, "width": 0.22, "height": 0.42, "vertical": True, "n_labels": 5, "fmt": "%.3g",
+       "title_font_size": 14, "label_font_size": 13, "color": "black", "unconstrained_font_size": True}
+BAR_RATIO, BAR_GAP = 0.2, 14   # the colour bar's share of its box's width (the rest: its tick labels), and the
+#                                 pixels between its title and its top
+NOISE = 1e-6   # a field's values within NOISE x its largest magnitude are rounding noise: zero on the colour bar
+
 
 @dataclass
 class Canvas:
@@ -293,15 +305,20 @@ class Canvas:
 
     def clear(self) -> None:
         self.plotter.remove_actor(self.shown, reset_camera=False, render=False)
-        self.plotter.scalar_bars.clear()
+        for title in list(self.plotter.scalar_bars.keys()):   # its actor too (``clear`` forgets, keeps it drawn)
+            self.plotter.scalar_bars.remove_scalar_bar(title, render=False)
         self.shown = []
 
     def legend(self, entries: tuple[tuple[str, str], ...]) -> None:
-        """Show the legend of ``entries`` (label, colour), made the first time it is asked for."""
+        """Show the legend of ``entries`` (label, colour), made the first time it is asked for, in the
+        picture's right strip (``LEGEND_LEFT``, from ``LEGEND_TOP`` down)."""
         actor = self.legends.get(entries)
         if actor is None:
+            height = LEGEND_ROW * len(entries)
             actor = self.legends[entries] = self.plotter.add_legend([list(e) for e in entries], bcolor="white",
-                                                                    face="line", size=(0.34, 0.07 * len(entries)))
+                                                                    face="line", size=(0.27, height))
+            actor.SetPosition(LEGEND_LEFT, LEGEND_TOP - height)
+            actor.SetPosition2(0.27, height)
         else:
             self.plotter.add_actor(actor, reset_camera=False, pickable=False, render=False)
         self.shown.append(actor)
@@ -310,7 +327,7 @@ class Canvas:
 _CANVASES: dict[tuple[int, int], Canvas] = {}  # window size -> this process's canvas
 
 
-def _canvas(pv, size: tuple[int, int] = (640, 420)) -> Canvas:
+def _canvas(pv, size: tuple[int, int] = CANVAS) -> Canvas:
     """This process's off-screen canvas, made once and emptied for each picture: a new VTK render
     window per page costs about as much again as the rendering (its OpenGL context and shaders); one
     sample per pixel (pyvista's default 8-sample anti-aliasing doubles the software rendering's time
@@ -344,10 +361,52 @@ def _polydata(pv, frame: ShapeFrame, scalars: tuple[str, ...] = (), cells: str =
     return mesh
 
 
-def render_series(series: list[ShapeSeries], png: Path, title: str = "") -> Path | None:
+def colour_range(values, noise: float = NOISE) -> tuple[float, float]:
+    """The range a colour bar spans over ``values``: their least and largest, a value within ``noise`` x the
+    largest magnitude counted as zero (a moment of -1e-8 beside 22.9 is rounding: the bar starts at 0);
+    a field of one value spans that value +- 1 (+- 1 % of it)."""
+    finite = np.asarray(values, float)
+    finite = finite[np.isfinite(finite)]
+    if not len(finite):
+        return 0.0, 1.0
+    peak = float(np.abs(finite).max())
+    clipped = np.where(np.abs(finite) <= noise * peak, 0.0, finite)
+    low, high = float(clipped.min()), float(clipped.max())
+    if high - low <= noise * peak:
+        pad = 0.01 * abs(high) or 1.0
+        return low - pad, high + pad
+    return low, high
+
+
+def fit_camera(camera, bounds, size: tuple[int, int] = CANVAS, region=DRAWN, margin: float = 1.06) -> None:
+    """Look down on the x-y plane (parallel projection) so that ``bounds`` (xmin, xmax, ymin, ymax, ...)
+    fill ``region`` of the picture (fractions of its width and height), ``margin`` times over: nothing
+    drawn is cut by the picture's edge or hidden under its title, legend or colour bar."""
+    (x0, x1), (y0, y1) = region
+    aspect = size[0] / size[1]
+    width, height = bounds[1] - bounds[0], bounds[3] - bounds[2]
+    extent = max(width, height, 1e-12)
+    half = margin * max(height / (2 * (y1 - y0)), width / (2 * (x1 - x0) * aspect), 0.02 * extent)
+    cx = (bounds[0] + bounds[1]) / 2 - ((x0 + x1) / 2 - 0.5) * 2 * half * aspect
+    cy = (bounds[2] + bounds[3]) / 2 - ((y0 + y1) / 2 - 0.5) * 2 * half
+    camera.parallel_projection = True
+    camera.focal_point = (cx, cy, 0.0)
+    camera.position = (cx, cy, 10.0 * extent)
+    camera.up = (0.0, 1.0, 0.0)
+    camera.parallel_scale = half
+    camera.clipping_range = (1e-3 * extent, 100.0 * extent)
+
+
+def _bar_title(moment_unit: str) -> str:
+    """The colour bar's title, on two lines over its ticks: the field, then its unit."""
+    return "FEM bending\nmoment" + (f" [{moment_unit}]" if moment_unit else "")
+
+
+def render_series(series: list[ShapeSeries], png: Path, title: str = "", moment_unit: str = "") -> Path | None:
     """The last level of every series (and the FEM's undeformed mesh) in one off-screen picture, from
-    the series ``write_case_series`` writes (the same meshes, built in memory: no reading back);
-    None when pyvista (VTK) cannot render here."""
+    the series ``write_case_series`` writes (the same meshes, built in memory: no reading back): the FEM
+    coloured by its bending moment (``moment_unit``) over ``colour_range``, the view fitted to what is drawn
+    (``fit_camera``); None when pyvista (VTK) cannot render here."""
     try:
         import pyvista as pv
     except ImportError:
@@ -356,21 +415,28 @@ def render_series(series: list[ShapeSeries], png: Path, title: str = "") -> Path
     canvas = _canvas(pv)
     plotter = canvas.plotter
     legend = []   # (label, colour): each entry in its line's colour (pyvista's own legend gives a line
-    for part in series:    # coloured by scalars the mesh's default colour, a light blue)
+    bounds = []   # coloured by scalars the mesh's default colour, a light blue)
+    for part in series:
         method = part.method
         last = part.frames[-1]
+        bounds.append(last.points)
         if method == "fem" and "bending_moment" in last.point_data:
             # the elements coloured by their bending moment, the rigid links (which have none) in one colour
             mesh = _polydata(pv, last, ("bending_moment",), cells="lines")
-            bar = {"title": "FEM bending moment", "color": "black", "render": False}
+            moment = last.point_data["bending_moment"][np.unique(last.line_cells("lines"))]
+            bar = {"title": _bar_title(moment_unit), "render": False, **BAR}
             canvas.shown.append(plotter.add_mesh(mesh, scalars="bending_moment", line_width=6, cmap=FEM_COLOURMAP,
-                                                 scalar_bar_args=bar, render=False))
+                                                 clim=colour_range(moment), scalar_bar_args=bar, render=False))
+            colour_bar = plotter.scalar_bars[bar["title"]]
+            colour_bar.SetBarRatio(BAR_RATIO)                 # a thin bar in a box wide enough for its title,
+            colour_bar.SetVerticalTitleSeparation(BAR_GAP)    # the title clear of the top tick's label
             legend.append(("FEM (colour: bending moment)", FEM_LEGEND_COLOUR))
             if len(last.rigid):
                 canvas.shown.append(plotter.add_mesh(_polydata(pv, last, cells="rigid"), color=RIGID_COLOUR,
                                                      line_width=4, render=False))
                 legend.append(("FEM rigid links", RIGID_COLOUR))
             if part.undeformed is not None:
+                bounds.append(part.undeformed.points)
                 canvas.shown.append(plotter.add_mesh(_polydata(pv, part.undeformed), color=UNDEFORMED_COLOUR,
                                                      line_width=2, render=False))
                 legend.append(("undeformed", UNDEFORMED_COLOUR))
@@ -379,9 +445,11 @@ def render_series(series: list[ShapeSeries], png: Path, title: str = "") -> Path
             colour = RENDER_COLOURS.get(method, "black")
             canvas.shown.append(plotter.add_mesh(mesh, color=colour, line_width=3, point_size=10,
                                                  render_points_as_spheres=True, render=False))
-            legend.append((method, colour))
+            legend.append((RENDER_NAMES.get(method, method), colour))
     canvas.title.set_text("upper_left", title or " ")
-    plotter.view_xy(render=False)
+    points = np.concatenate([np.asarray(b, float).reshape(-1, 2) for b in bounds]) if bounds else np.zeros((1, 2))
+    (xmin, ymin), (xmax, ymax) = points.min(axis=0), points.max(axis=0)
+    fit_camera(plotter.camera, (xmin, xmax, ymin, ymax))
     canvas.legend(tuple(legend))
     plotter.render()  # the one render of the picture (the calls above are told not to render)
     image = plotter.screenshot(None, return_img=True)

@@ -17,9 +17,11 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
+from references import REFERENCES, citation
 from validation.case.capabilities import QUANTITIES
 from validation.case.loads import driving_load, load_name, load_unit
-from validation.report.format import VERDICT_COLOURS, by_case, error_colour, percent, rows_of, seconds, sig, verdict_html
+from validation.report.format import (SEED_KEYS, VERDICT_COLOURS, by_case, cite_keys, document_title, error_colour,
+                                      percent, rows_of, seconds, sig, verdict_html)
 from validation.run.compare import verdict_by_method
 from validation.run.runner import CaseResult
 from validation.run.outcome import (FEM_VALIDATION, fem_error_relative, fem_estimates_unreliable,
@@ -199,41 +201,74 @@ def group_order(group: str) -> tuple:
     return (1 if group.startswith("seed") else 2, 0, group)
 
 
-HEADERS = ["Case", "Verdict", "Methods", "Result", "PRBM vs FEM, max % of L", "PRBM vs FEM, max relative error",
-           "FEM error estimate", "Printed numbers reproduced", "Findings", "PRBM time", "FEM time",
-           "Exact (elastica) time"]
+# The index's columns: one line a case, the result sentence clipped to its column (whole on hover, and
+# on a click); the relative error and the PRBM and exact times are in the hover text of their neighbours
+# (all of them are in summary.csv and on the case page).
+HEADERS = ["Case", "Verdict", "Methods", "Result", "PRBM vs FEM, max % of L", "FEM error estimate",
+           "Printed\u00a0numbers reproduced", "Findings", "FEM time"]
+SHORT_METHOD_NAMES = {**METHOD_NAMES, "elastica": "elastica"}
+
+
+def readable(text: str) -> str:
+    """A case file's or a run's text as the index shows it: sources by their key (`cite_keys`), field
+    names of the case file in words."""
+    return cite_keys(text).replace("case.findings", "the case's findings")
+
+
+def _error_cell(row: CaseSummary) -> str:
+    """The PRBM-vs-FEM cell: % of L on the colour scale, its verdict above it where a limit is claimed;
+    else the relative error of the other outputs; else the reason there is none."""
+    length_pct = 100 * row.prbm_fem_length
+    relative = percent(row.prbm_fem_relative)
+    if math.isnan(length_pct) and not math.isnan(row.prbm_fem_relative):
+        return ("<td class='relative' data-value='-1' title='the PRBM and the FEM share no position output: the "
+                f"largest relative error of their other outputs ({html.escape(row.prbm_fem_verdict.value)})'>"
+                f"relative {relative}</td>")
+    if math.isnan(length_pct):
+        why = readable(row.no_prbm_fem or _why_not_compared(row))
+        return f"<td class='absent' title='{html.escape(why, quote=True)}'>{html.escape(_short(why, 60))}</td>"
+    label = ("" if row.prbm_fem_verdict is Verdict.NO_LIMIT
+             else f"<span class='cellverdict'>{html.escape(row.prbm_fem_verdict.value)}</span> ")
+    title = f"{row.prbm_fem_verdict.value}: {row.prbm_fem_verdict.meaning}; largest relative error {relative}"
+    return (f"<td data-value='{length_pct:.6g}' style='background:{error_colour(length_pct)}' "
+            f"title='{html.escape(title, quote=True)}'>{label}{sig(length_pct, 3)} %</td>")
 
 
 def _row_html(row: CaseSummary, link: str) -> str:
     methods = " ".join(f"<span class='method' style='border-color:{VERDICT_COLOURS[s.verdict]}' title='"
-                       f"{html.escape(s.verdict.value + (': ' + s.reason if s.reason else ''), quote=True)}'>"
-                       f"{html.escape(METHOD_NAMES.get(s.method, s.method))}</span>" for s in row.methods)
-    length_pct = 100 * row.prbm_fem_length
-    if math.isnan(length_pct) and not math.isnan(row.prbm_fem_relative):
-        error_cell = ("<td class='absent' data-value='-1' title='the PRBM and the FEM share no position output; "
-                      "their relative error is in the next column'>no position compared</td>")
-    elif math.isnan(length_pct):
-        why = row.no_prbm_fem or _why_not_compared(row)
-        error_cell = f"<td class='absent' title='{html.escape(why, quote=True)}'>{html.escape(_short(why, 60))}</td>"
-    else:
-        error_cell = (f"<td data-value='{length_pct:.6g}' style='background:{error_colour(length_pct)}' "
-                      f"title='{html.escape(row.prbm_fem_verdict.meaning, quote=True)}'>"
-                      f"<span class='cellverdict'>{html.escape(row.prbm_fem_verdict.value)}</span> "
-                      f"{sig(length_pct, 3)} %</td>")
-    cells = [f"<td><a href='{html.escape(link, quote=True)}' title='{html.escape(row.title, quote=True)}'>"
+                       f"{html.escape(readable(s.verdict.value + (': ' + s.reason if s.reason else '')), quote=True)}'>"
+                       f"{html.escape(SHORT_METHOD_NAMES.get(s.method, s.method))}</span>" for s in sorted(row.methods, key=_method_order))
+    sentence = html.escape(readable(row.sentence), quote=True)
+    others = "; ".join(f"{METHOD_NAMES[m]} {seconds(row.times[m])}" for m in ("prbm", "elastica", "bcm", "opensees")
+                       if not math.isnan(row.times.get(m, math.nan)))
+    cells = [f"<td class='case'><a href='{html.escape(link, quote=True)}' title='{html.escape(row.title, quote=True)}'>"
              f"{html.escape(row.case)}</a></td>",
-             f"<td data-value='{row.verdict.rank}'>{verdict_html(row.verdict, row.reason)}</td>",
-             f"<td>{methods}</td>", f"<td class='sentence'>{html.escape(row.sentence)}</td>", error_cell,
-             f"<td data-value='{_raw(row.prbm_fem_relative)}'"
-             + (f" title='{html.escape(row.prbm_fem_verdict.value, quote=True)}'" if not math.isnan(row.prbm_fem_relative)
-                else "") + f">{percent(row.prbm_fem_relative)}</td>",
+             f"<td data-value='{row.verdict.rank}'>{verdict_html(row.verdict, readable(row.reason))}</td>",
+             f"<td class='methods'>{methods}</td>",
+             f"<td class='sentence' title='{sentence} (click to unfold)'>{sentence}</td>", _error_cell(row),
              _estimate_cell(row),
              f"<td data-value='{row.checks_passed}'>{row.checks_passed} of {row.checks}</td>"
              if row.checks else "<td data-value='-1'></td>",
-             f"<td>{row.findings or ''}</td>"]
-    cells += [f"<td data-value='{_raw(row.times.get(m, math.nan))}'>{seconds(row.times.get(m, math.nan))}</td>"
-              for m in ("prbm", "fem", "elastica")]
+             f"<td>{row.findings or ''}</td>",
+             f"<td data-value='{_raw(row.times.get('fem', math.nan))}' title='{html.escape(others, quote=True)}'>"
+             f"{seconds(row.times.get('fem', math.nan))}</td>"]
     return "<tr>" + "".join(cells) + "</tr>"
+
+
+def _method_order(state: MethodState) -> tuple[int, str]:
+    """Methods in one order on every row: FEM, PRBM, the exact elastica, BCM, OpenSees, then others."""
+    order = ["fem", "prbm", "elastica", "bcm", "opensees"]
+    return (order.index(state.method) if state.method in order else len(order), state.method)
+
+
+def group_heading(group: str) -> str:
+    """A group's heading: 'Chapter 2', or a source document's group (named by its seed file's three
+    digits) as its key and title ('[chen2021] An energy-based framework ...')."""
+    match = re.fullmatch(r"seed (\d{3})", group)
+    if match and match.group(1) in SEED_KEYS:
+        key = SEED_KEYS[match.group(1)]
+        return f"[{key}] {document_title(key)}"
+    return group.capitalize()
 
 
 def estimate_text(row: CaseSummary) -> str:
@@ -279,13 +314,14 @@ def summary_tables_html(rows: list[CaseSummary], links: dict[str, str]) -> str:
         part = [r for r in rows if r.group == group]
         head = "".join(f"<th>{h}</th>" for h in HEADERS)
         body = "".join(_row_html(r, links.get(r.case, "#")) for r in part)
-        out.append(f"<h3>{html.escape(group.capitalize())}</h3>"
+        out.append(f"<h3 class='group'>{html.escape(group_heading(group))}</h3>"
                    f"<table class='summary sortable'><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>")
     missing = without_prbm_fem(rows)
     items = "".join(f"<li><a href='{html.escape(links.get(r.case, '#'), quote=True)}'>{html.escape(r.case)}</a>: "
-                    f"{html.escape(missing_reason(r))}</li>" for r in missing)
-    out.append(f"<p class='caption' id='without-prbm-fem'>{html.escape(without_prbm_fem_line(rows))}</p>"
-               + (f"<ul>{items}</ul>" if items else ""))
+                    f"{html.escape(readable(missing_reason(r)))}</li>" for r in missing)
+    line = f"<span class='caption' id='without-prbm-fem'>{html.escape(without_prbm_fem_line(rows))}</span>"
+    out.append(f"<details class='fold'><summary>{line}</summary><ul>{items}</ul></details>" if items
+               else f"<p>{line}</p>")
     return "".join(out)
 
 
@@ -339,7 +375,7 @@ def without_prbm_fem_line(rows: list[CaseSummary]) -> str:
 def summary_markdown(rows: list[CaseSummary]) -> str:
     lines = []
     for group in sorted({r.group for r in rows}, key=group_order):
-        lines += [f"\n### {group.capitalize()}\n", "| Case | Verdict | Result | PRBM vs FEM, max % of L | "
+        lines += [f"\n### {group_heading(group)}\n", "| Case | Verdict | Result | PRBM vs FEM, max % of L | "
                   "FEM error estimate | Printed numbers reproduced |", "|---|---|---|---|---|---|"]
         for r in (r for r in rows if r.group == group):
             pct = _markdown_error(r)
@@ -387,21 +423,58 @@ def findings(results: list[CaseResult], table: pd.DataFrame) -> list[Finding]:
     return out
 
 
+def _finding_html(item: Finding, shown: int) -> str:
+    """One finding with its evidence: the first ``shown`` rows, the others folded."""
+    evidence = ""
+    if item.evidence:
+        first = "".join(f"<li>{html.escape(readable(e))}</li>" for e in item.evidence[:shown])
+        rest = item.evidence[shown:]
+        more = (f"<details><summary>{len(rest)} more row(s)</summary><ul class='evidence'>"
+                + "".join(f"<li>{html.escape(readable(e))}</li>" for e in rest) + "</ul></details>") if rest else ""
+        evidence = f"<ul class='evidence'>{first}</ul>{more}"
+    return f"<li>{html.escape(readable(item.text))}{evidence}</li>"
+
+
 def findings_html(items: list[Finding], links: dict[str, str], shown: int = 3) -> str:
+    """The findings folded per case: one line each (the case, how many, the first finding's start), the
+    findings and their evidence behind a click."""
     if not items:
         return "<p>none</p>"
-    parts = []
+    cases: dict[str, list[Finding]] = {}
     for item in items:
-        evidence = ""
-        if item.evidence:
-            first = "".join(f"<li>{html.escape(e)}</li>" for e in item.evidence[:shown])
-            rest = item.evidence[shown:]
-            more = (f"<details><summary>{len(rest)} more row(s)</summary><ul>"
-                    + "".join(f"<li>{html.escape(e)}</li>" for e in rest) + "</ul></details>") if rest else ""
-            evidence = f"<ul class='evidence'>{first}</ul>{more}"
-        parts.append(f"<li><a href='{html.escape(links.get(item.case, '#'), quote=True)}'>{html.escape(item.case)}"
-                     f"</a>: {html.escape(item.text)}{evidence}</li>")
-    return "<ul class='findings'>" + "".join(parts) + "</ul>"
+        cases.setdefault(item.case, []).append(item)
+    parts = []
+    for case, mine in cases.items():
+        count = f"{len(mine)} finding{'s' if len(mine) != 1 else ''}"
+        parts.append(f"<details class='casefindings'><summary><a href='{html.escape(links.get(case, '#'), quote=True)}'>"
+                     f"{html.escape(case)}</a> <b>{count}</b>: {html.escape(readable(mine[0].text))}</summary>"
+                     f"<ul class='findings'>{''.join(_finding_html(item, shown) for item in mine)}</ul></details>")
+    return "".join(parts)
+
+
+def _source_line(key: str) -> str:
+    """'S. G. Bapat, 2015: On the design and analysis of ...': a cited document's first author, year and
+    title (its full citation: ``references.citation``)."""
+    authors = citation(key).split(', "')[0]
+    first = re.split(r",| and ", authors)[0]
+    year = re.search(r"\d{4}$", key)     # a key is the surname and the year, or names an undated lecture
+    return (f"{first}{' et al.' if first != authors else ''}, {year.group() if year else 'lecture, no year printed'}: "
+            f"{document_title(key)}")
+
+
+def key_terms() -> list[tuple[str, str]]:
+    """The index's key: each term of its tables and texts an engineer may not know, with its meaning."""
+    return [(f"[{key}]", _source_line(key)) for key in REFERENCES] + [
+        ("eq 47, §2.3, ch. 4, Fig. 4.13", "equation, section, chapter, figure (and table) numbers of the "
+         "document cited just before"),
+        ("L", "the characteristic length: the segment's length, or the mechanism's extent; errors in % of L"),
+        ("P, -nP (n > 0 compressive)", "the end force of a segment in [bapat2015]'s notation: P across the "
+         "undeformed segment, -nP along it, n = -F_x/F_y"),
+        ("Θ, γ, K_Θ", "the PRB angle, the characteristic radius factor and the stiffness coefficient of the "
+         "pseudo-rigid-body model [bapat2015 ch. 2]"),
+        ("FEM error estimate", "the FEM's discretisation error, estimated from its meshes (relative)"),
+        ("finding", "a printed number known not to be reproduced, with the explanation that reproduces it"),
+    ]
 
 
 def verdict_counts_line(rows: list[CaseSummary]) -> str:

@@ -202,10 +202,16 @@ def case_verdict_of(verdicts) -> Verdict:
 
 
 def table_verdict(part: pd.DataFrame) -> Verdict:
-    """A case's verdict from its rows alone (as ``summary.csv`` is read back): the worst row verdict."""
+    """A case's verdict from its rows alone (as ``summary.csv`` is read back), as ``method_verdicts`` and
+    ``case_verdict_of`` give it: per method the worst of its rows' verdicts (``no limit claimed`` for a
+    method whose rows only record values: nothing of it is compared), then the worst over the methods."""
     if "verdict" not in part:
         return Verdict.NO_LIMIT
-    return worst(parse(w) for w in part["verdict"]) or Verdict.NO_LIMIT
+    if "method" not in part:
+        return worst(parse(w) for w in part["verdict"]) or Verdict.NO_LIMIT
+    per_method = [worst(parse(w) for w in rows["verdict"]) or Verdict.NO_LIMIT
+                  for _, rows in part.groupby("method", sort=False)]
+    return worst(per_method) or Verdict.NO_LIMIT
 
 
 def prbm_fem_verdict(part: pd.DataFrame) -> Verdict:

@@ -44,12 +44,33 @@ CHI2_2DOF_95 = 5.991464547107979  # chi-square quantile, 2 degrees of freedom, 0
 
 
 
+NOISE = 1e-9  # a spread below NOISE x the study's largest magnitude is rounding: no spread
+
+
 def _save(fig, path: Path) -> Path:
-    """Lay out, write and close a figure; the path written."""
+    """Lay out, write and close a figure, its legends (below the axes) inside the picture; the path written."""
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    fig.savefig(path, dpi=120, bbox_inches="tight")
     plt.close(fig)
     return path
+
+
+def _legend(ax) -> None:
+    """The axes' legend under them, clear of the data (and of the x label)."""
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(0.0, -0.16), borderaxespad=0.0, frameon=False)
+
+
+def _at_value(set_limits, values, scale: float) -> None:
+    """Values whose spread is below rounding (``NOISE`` x ``scale``, the study's largest magnitude of the
+    quantity) drawn at their value: limits of +- 5 % of ``scale`` around it (+- 1 when the study is all
+    zero) instead of an axis 1e-16 wide; a real spread keeps matplotlib's limits."""
+    values = np.asarray(values, float)
+    values = values[np.isfinite(values)]
+    if not len(values) or values.max() - values.min() > NOISE * scale:
+        return
+    centre = float(values.mean()) if abs(values.mean()) > NOISE * scale else 0.0
+    half = 0.05 * scale or 1.0
+    set_limits(centre - half, centre + half)
 
 def _figure(rows: int = 1, cols: int = 1, size=(6.4, 4.8)):
     fig, axes = plt.subplots(rows, cols, figsize=(size[0] * cols, size[1] * rows), squeeze=False)
@@ -100,7 +121,7 @@ def plot_domain(frame: pd.DataFrame, manifest: dict, out: Path) -> list[Path]:
         ax.set_aspect("equal", adjustable="datalim")
         ax.set_title(f"{case}: deflection domain")
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
+        _legend(ax)
     return [_save(fig, out / "domain.png")]
 
 
@@ -168,8 +189,11 @@ def plot_scatter(frame: pd.DataFrame, manifest: dict, out: Path) -> list[Path]:
         ax.set_title(f"level {level}: {point} ({x}, {y}), 95 % ellipse")
         ax.set_xlabel(x)
         ax.set_ylabel(y)
+        ax.ticklabel_format(useOffset=False)
+        _at_value(ax.set_xlim, part[x], float(wide[x].abs().max()))
+        _at_value(ax.set_ylim, part[y], float(wide[y].abs().max()))
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
+        _legend(ax)
     return [_save(fig, out / "scatter.png")]
 
 
@@ -226,7 +250,7 @@ def plot_convergence(frame: pd.DataFrame, manifest: dict, out: Path) -> list[Pat
         ax.set_ylabel(f"|error| (largest over levels; vs {part['reference'].iloc[0]})")
         ax.set_title(case)
         ax.grid(alpha=0.3, which="both")
-        ax.legend(fontsize=7)
+        _legend(ax)
     return [_save(fig, out / "convergence.png")]
 
 
@@ -253,8 +277,10 @@ def plot_quantities(frame: pd.DataFrame, manifest: dict, out: Path, skip: set[st
         ax.set_title(f"{case}: {quantity}{where}")
         ax.set_xlabel("load level")
         ax.set_ylabel(f"{quantity} [{unit}]")
+        ax.ticklabel_format(useOffset=False)
+        _at_value(ax.set_ylim, part["value"], float(part["value"].abs().max()))
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
+        _legend(ax)
     return [_save(fig, out / "quantities.png")]
 
 
@@ -286,7 +312,7 @@ def plot_difference(frame: pd.DataFrame, manifest: dict, out: Path) -> list[Path
     ax.set_xlabel(by)
     ax.set_ylabel(f"|{methods[0]} - {methods[1]}| / |{methods[1]}| [%] (largest over levels)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
+    _legend(ax)
     return [_save(fig, out / "difference.png")]
 
 
