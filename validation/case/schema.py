@@ -29,6 +29,8 @@ import numpy as np
 from pydantic import Field, ValidationError, field_validator, model_validator
 from pydantic_core import PydanticCustomError
 
+from references import key_of_seed_file
+
 from validation.case import scale
 from validation.case.capabilities import METHODS, QUANTITIES, method_quantities
 from validation.case.method_options import OPTIONS
@@ -62,7 +64,12 @@ class Source(Strict):
     note: str | None = None
 
     def label(self) -> str:
-        parts = [self.file]
+        """Where the number is printed: the document by its key (``[bapat2015]``) when the file is one of
+        the seed documents (``references``), else the file as written; then section, table, row, column."""
+        try:
+            parts = [f"[{key_of_seed_file(self.file)}]"]
+        except ValueError:
+            parts = [self.file]
         for key in ("section", "table", "row", "column"):
             value = getattr(self, key)
             if value:
