@@ -56,6 +56,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     listing = add("list", "every case (or the given ids, files, folders), one line each; checks every file")
     listing.add_argument("cases", nargs="*", help="case ids, files, folders or globs (default: all)")
+    listing.add_argument("--methods", action="store_true",
+                         help="instead of the cases, what each method can do: every load kind on every boundary, "
+                         "each method run on a minimal case (validation/run/coverage.py)")
+    listing.add_argument("--markdown", action="store_true", help="with --methods: as a Markdown table")
 
     run = add("run", "run cases and compare with the published numbers")
     run.add_argument("cases", nargs="*", help="case ids, files, folders or globs (default: all)")
