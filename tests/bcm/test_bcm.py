@@ -18,6 +18,7 @@ from bcm import (C0, K0, K1, K2, axial_stiffness_parameter, bcm_residual, circul
 from validation.case.loader import load_case
 from validation.methods import bcm as adapter
 from validation.methods.base import NotApplicable, Request
+from validation.case.method_options import options_of
 
 CASES = Path(__file__).resolve().parents[2] / "cases"
 KA = axial_stiffness_parameter(25.0, 0.25)          # 120000, Table 2 / Table 3 beam
@@ -118,7 +119,7 @@ def test_slant_parallelogram_loci_agree():
 def test_bcm_adapter_meets_case_references(name):
     case = load_case(CASES / "seed003" / f"{name}.toml").case
     refs = [r for r in case.references if r.compare == "bcm"]
-    run = adapter.run(case, [Request(r.quantity, r.point, r.level) for r in refs], case.methods["bcm"])
+    run = adapter.run(case, [Request(r.quantity, r.point, r.level) for r in refs], options_of("bcm", case.methods["bcm"]))
     assert run.converged and not run.extras["outside_range"]
     for r in refs:
         tol = r.tolerance.abs if r.tolerance.abs is not None else r.tolerance.rel * abs(r.value)
@@ -128,9 +129,9 @@ def test_bcm_adapter_meets_case_references(name):
 def test_bcm_adapter_segment_and_range_flag():
     case = load_case(CASES / "benchmarks" / "cantilever_tip_load.toml").case
     reqs = [Request("y", "tip", 0), Request("strain_energy", "tip", 0)]
-    run = adapter.run(case, reqs, {})
+    run = adapter.run(case, reqs, options_of("bcm", {}))
     assert run.extras["outside_range"] == [0]               # PL^2/EI = 1 is far beyond u_y <= 0.1
     assert abs(run.values[reqs[0]] - 1 / 3) < 1e-3          # BCM is linear in f_y at f_x = 0
     with pytest.raises(NotApplicable):
         adapter.run(load_case(CASES / "benchmarks" / "arch_215_clamped_hinged.toml").case,
-                    [Request("force_y", "crown", 0)], {})
+                    [Request("force_y", "crown", 0)], options_of("bcm", {}))

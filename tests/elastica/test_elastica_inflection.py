@@ -15,6 +15,7 @@ Printed PRBM loads: seed file 000_0cc428dae4265b0a.txt, Table 3.6, column "PRBM 
 from __future__ import annotations
 
 import math
+from validation.case.method_options import options_of
 from pathlib import Path
 
 import numpy as np
@@ -200,7 +201,7 @@ def test_adapter_on_the_case_file(exact):
 
     case = load_case(CASE).case
     reqs = [Request(q, "tip", lv) for lv in range(3) for q in ("force_x", "force_y", "moment", "x")]
-    run = adapter.run(case, reqs, case.methods["elastica"])
+    run = adapter.run(case, reqs, options_of("elastica", case.methods["elastica"]))
     assert run.converged, run.message
     for lv, ex in enumerate(sorted(TABLE_3_6)):
         inv = exact[ex]
@@ -208,4 +209,4 @@ def test_adapter_on_the_case_file(exact):
         assert np.allclose(got, [*inv.force, inv.moment, inv.x], rtol=1e-8, atol=1e-8)
     options = {k: v for k, v in case.methods["elastica"].items() if k != "l1"}
     with pytest.raises(NotApplicable):
-        adapter.run(case, reqs, options)
+        adapter.run(case, reqs, options_of("elastica", options))

@@ -23,6 +23,7 @@ from validation.case.schema import Case
 from validation.methods import elastica as adapter
 from validation.methods.base import NotApplicable, Request, RunStatus
 from validation.run.runner import run_method
+from validation.case.method_options import options_of
 
 ELASTICA_TOL = {"x": 1e-9, "y": 1e-9, "rotation": 1e-7}     # length L = 1; degrees
 
@@ -176,4 +177,4 @@ def test_library_pointed_force_on_a_pinned_tip():
 def test_fixed_fixed_is_refused_with_the_reason():
     case = _case("toward = [1.0, 1.0]", [0.0, 1.0], boundary="fixed-fixed")
     with pytest.raises(NotApplicable, match="fixed-fixed.*turns"):
-        adapter.level_problems(case, {})
+        adapter.level_problems(case, options_of("elastica", {}))

@@ -12,6 +12,7 @@ from elastica import ElasticaProblem, TipConstraint, solve_elastica, solve_path
 from validation.case.loader import load_case
 from validation.methods import elastica as adapter
 from validation.methods.base import NotApplicable, Request
+from validation.case.method_options import options_of
 
 CASES = Path(__file__).resolve().parents[2] / "cases"
 
@@ -99,7 +100,7 @@ def test_initially_curved_unloaded_and_timing():
 def test_adapter_runs_the_cantilever_case():
     case = load_case(CASES / "benchmarks" / "cantilever_tip_load.toml").case
     requests = [Request(r.quantity, r.point, r.level) for r in case.references if r.compare == "elastica"]
-    run = adapter.run(case, requests, case.methods["elastica"])
+    run = adapter.run(case, requests, options_of("elastica", case.methods["elastica"]))
     assert run.converged
     for r in case.references:
         if r.compare == "elastica":
@@ -110,7 +111,7 @@ def test_adapter_runs_the_cantilever_case():
 def test_adapter_meets_case_references(name):
     case = load_case(CASES / "benchmarks" / f"{name}.toml").case
     refs = [r for r in case.references if r.compare == "elastica"]
-    run = adapter.run(case, [Request(r.quantity, r.point, r.level) for r in refs], case.methods["elastica"])
+    run = adapter.run(case, [Request(r.quantity, r.point, r.level) for r in refs], options_of("elastica", case.methods["elastica"]))
     for r in refs:
         tol = r.tolerance.abs if r.tolerance.abs is not None else r.tolerance.rel * abs(r.value)
         assert abs(run.values[Request(r.quantity, r.point, r.level)] - r.value) <= tol, r
@@ -142,7 +143,7 @@ quantity = "force_y"
     case = Case.model_validate(tomllib.loads(text))
     reqs = [Request("force_y", "tip", 0), Request("moment", "tip", 0), Request("force_y", "tip", 1),
             Request("reaction_moment", "root", 1)]
-    run = adapter.run(case, reqs, {})
+    run = adapter.run(case, reqs, options_of("elastica", {}))
     # small deflection: guided beam stiffness 12 EI/L^3, end moment -6 EI delta/L^2
     assert abs(run.values[reqs[0]] - 12 * 0.05) < 0.01 * 12 * 0.05
     assert abs(run.values[reqs[1]] + 6 * 0.05) < 0.02 * 6 * 0.05
@@ -152,4 +153,4 @@ quantity = "force_y"
 def test_adapter_refuses_mechanisms():
     case = load_case(CASES / "benchmarks" / "lee_frame.toml").case
     with pytest.raises(NotApplicable):
-        adapter.run(case, [Request("force_y", "P", 0)], {})
+        adapter.run(case, [Request("force_y", "P", 0)], options_of("elastica", {}))

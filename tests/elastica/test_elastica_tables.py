@@ -16,6 +16,7 @@ same columns from those case files once they exist.
 from __future__ import annotations
 
 import math
+from validation.case.method_options import options_of
 from pathlib import Path
 
 import pytest
@@ -160,7 +161,7 @@ def test_chapter3_case_files_elliptic_columns(name, inertia):
         runs = {lv: {"I": inertia} for lv in {r.level for r in refs}}
     for level, options in runs.items():
         mine = [r for r in refs if r.level == level]
-        run = adapter.run(case, [Request(r.quantity, r.point, r.level) for r in mine], options)
+        run = adapter.run(case, [Request(r.quantity, r.point, r.level) for r in mine], options_of("elastica", options))
         for r in mine:
             if (name, level) in KNOWN_MISSES or (name, level, r.quantity) in KNOWN_MISSES:
                 continue

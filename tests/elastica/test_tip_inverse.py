@@ -28,6 +28,7 @@ from validation.methods import fem as fem_adapter
 from validation.methods.base import Request
 from validation.case.loader import describe_all
 from validation.case.schema import Case
+from validation.case.method_options import options_of
 
 KAPPA = 0.4
 LOADS = ("force_x", "force_y", "moment")
@@ -75,9 +76,9 @@ def _loads(run, level):
 def solved(request):
     case = _case(TIES[request.param])
     requests = [Request(q, "tip", lv) for lv in range(2) for q in LOADS]
-    exact = elastica_adapter.run(case, requests, dict(case.methods["elastica"]))
+    exact = elastica_adapter.run(case, requests, options_of("elastica", case.methods["elastica"]))
     fem = fem_adapter.run(case, [r for r in requests if r.level == LEVEL[request.param]],
-                          dict(case.methods["fem"]))
+                          options_of("fem", case.methods["fem"]))
     assert exact.converged, exact.message
     assert fem.converged, fem.message
     return request.param, case, exact, fem
@@ -113,7 +114,7 @@ def test_forward_outputs_stay_forward():
     """Outputs other than the tip loads come from the forward solve under the case's loads."""
     case = _case(TIES["n"])
     requests = [Request("y", "tip", 1)]
-    run = elastica_adapter.run(case, requests, dict(case.methods["elastica"]))
+    run = elastica_adapter.run(case, requests, options_of("elastica", case.methods["elastica"]))
     assert run.values[requests[0]] == pytest.approx((1 - math.cos(KAPPA)) / KAPPA, rel=1e-9)   # unloaded arc
 
 

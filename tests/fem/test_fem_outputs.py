@@ -14,6 +14,7 @@ import pytest
 from validation.methods import fem as fem_adapter
 from validation.run.runner import requests_for
 from validation.case.schema import Case
+from validation.case.method_options import options_of
 
 SEGMENT = '''
 [case]
@@ -42,7 +43,7 @@ elements = 16
 def _run(text, options=None):
     case = Case.model_validate(tomllib.loads(text))
     options = options if options is not None else dict(case.methods["fem"])
-    return fem_adapter.run(case, requests_for(case, "fem"), options)
+    return fem_adapter.run(case, requests_for(case, "fem"), options_of("fem", options))
 
 
 def test_max_stress_under_a_uniform_moment_is_Mc_over_I():
@@ -158,7 +159,7 @@ def test_the_error_estimate_refines_the_beams_and_not_the_stiff_bars_of_rigid_li
     from validation.case.loader import case_by_id
 
     case = case_by_id("bapat2015_test2").case
-    options = dict(case.methods.get("fem") or {})
+    options = options_of("fem", case.methods.get("fem"))
     coarse, doubled = fem_adapter.build_model(case, 2, options), fem_adapter.build_model(case, 4, options)
     bars = [m for m in coarse.members if ":" in m.name]
     assert bars and all(not m.refined and m.n_elements == 1 for m in bars)

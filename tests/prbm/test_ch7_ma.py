@@ -12,6 +12,7 @@ import prbm
 from validation.case.loader import case_by_id
 from validation.run.runner import run_method
 from validation.methods.slfp import with_flexures
+from validation.case.method_options import options_of
 
 
 def _values(run) -> list[float]:
@@ -25,7 +26,7 @@ def test_prbm_ma_slider_equals_eq192_with_eq199():
     options = dict(case.methods["prbm"])
     options["ma"] = dict(options["ma"], model="compliance")
     from validation.methods import prbm_ma
-    values, _ = prbm_ma.run(case, [r for r in _requests(case)], options)
+    values, _ = prbm_ma.run(case, [r for r in _requests(case)], options_of("prbm", options))
     sc = prbm.SliderCrank.from_vectors(3.779 + 0j, 1.1083 + 2.2409j, 2.6704 - 2.2408j, springs=(0.0, 8.4515, 7.5193))
     theta2 = np.array([sc.theta2_at(dx) for dx in (0.0, 0.3, 0.6, 0.9, 1.2, 1.5)])
     expected = sc.compliant_ma(theta2, 10.0, 4.0)

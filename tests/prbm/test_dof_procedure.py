@@ -13,6 +13,7 @@ import fem
 import prbm
 from fem.soft_modes import soft_modes
 from validation.case.loader import case_by_id
+from validation.case.method_options import FemOptions
 from validation.methods.fem import build_model
 
 
@@ -72,7 +73,7 @@ def test_condensed_tip_stiffness_of_a_cantilever_is_exact():
 def test_fem_soft_modes_of_the_test2_four_bar_match_its_prbm_dof():
     """Seed geometry (Test 2, Table 9.4 vectors): one soft mode at the coupler point, the PRBM's F_C = 1."""
     case = case_by_id("bapat2015_test2").case
-    model = build_model(case, 8, {})
+    model = build_model(case, 8, FemOptions())
     seg = model.members[0]
     reference = seg.section.EA / np.hypot(*np.subtract(model.coords[seg.end], model.coords[seg.start]))
     found = soft_modes(model, [("P", "ux"), ("P", "uy"), ("P", "rz")], reference_stiffness=reference)

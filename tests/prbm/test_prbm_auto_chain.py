@@ -25,6 +25,7 @@ from scipy.integrate import solve_bvp
 from validation.case.loader import CaseError, load_case
 from validation.methods import prbm as prbm_adapter
 from validation.methods.base import NotApplicable, Request
+from validation.case.method_options import options_of
 
 LENGTH, EI = 2.0, 3.0 / 12.0
 TARGET = 1e-3   # chain_tol's default, a fraction of L
@@ -85,7 +86,7 @@ quantity = "y"
 
 def _run(case):
     requests = [Request(q, "tip", lv) for lv in range(case.n_levels()) for q in ("x", "y")]
-    run = prbm_adapter.run(case, requests, dict(case.methods["prbm"]))
+    run = prbm_adapter.run(case, requests, options_of("prbm", case.methods["prbm"]))
     tips = np.array([[run.values[Request("x", "tip", lv)], run.values[Request("y", "tip", lv)]]
                      for lv in range(case.n_levels())])
     return tips, run

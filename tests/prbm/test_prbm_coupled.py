@@ -12,6 +12,7 @@ from validation.case.loader import load_case
 from validation.methods import prbm as adapter
 from validation.methods.base import Request
 from validation.report.build import normalise_shapes
+from validation.case.method_options import options_of
 
 L, EI = 12.895, 450000.0 * 6.735e-4          # chapter 5 Example 1 strip
 
@@ -52,7 +53,7 @@ def test_chapter5_example1_shapes_follow_the_body():
     loaded = load_case("cases/chapter5/example1.toml")
     case = loaded.case
     reqs = [Request(q, "P", lv) for q in ("x", "y", "dx", "dy", "rotation") for lv in range(case.n_levels())]
-    run = adapter.run(case, reqs, dict(case.methods["prbm"]))
+    run = adapter.run(case, reqs, options_of("prbm", case.methods["prbm"]))
     assert run.values[Request("dx", "P", 1)] == pytest.approx(-1.0, abs=0.05)
     shapes = normalise_shapes(run.extras["shapes"])
     assert len(shapes) == case.n_levels()
@@ -70,7 +71,7 @@ def test_fixed_pinned_segment_shape_is_root_pivot_tip():
     case = load_case("cases/benchmarks/cantilever_tip_load.toml").case
     reqs = [Request("x", "tip", lv) for lv in range(case.n_levels())] + \
         [Request("y", "tip", lv) for lv in range(case.n_levels())]
-    run = adapter.run(case, reqs, dict(case.methods.get("prbm", {})))
+    run = adapter.run(case, reqs, options_of("prbm", case.methods.get("prbm", {})))
     shapes = normalise_shapes(run.extras["shapes"])
     for lv, (line,) in enumerate(shapes):
         assert line.shape == (3, 2)
@@ -82,7 +83,7 @@ def test_fixed_pinned_segment_shape_is_root_pivot_tip():
 def test_fourbar_shapes_keep_link_lengths():
     case = load_case("cases/chapter9/test2_partially_compliant_fourbar.toml").case
     reqs = [Request("dx", "P", lv) for lv in range(case.n_levels())]
-    run = adapter.run(case, reqs, dict(case.methods["prbm"]))
+    run = adapter.run(case, reqs, options_of("prbm", case.methods["prbm"]))
     shapes = normalise_shapes(run.extras["shapes"])
     assert len(shapes) == case.n_levels()
     first = None

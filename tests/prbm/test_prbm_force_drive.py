@@ -14,6 +14,7 @@ import prbm
 from validation.case.loader import load_case
 from validation.methods import prbm as prbm_adapter
 from validation.methods.base import Request
+from validation.case.method_options import options_of
 
 CASE = Path(__file__).resolve().parents[2] / "cases" / "chapter9" / "test2_tip_force_variant.toml"
 
@@ -32,7 +33,7 @@ def test_force_at_link2_end_is_an_energy_stationary_point():
     fb, t20 = _fourbar(options)
     (load,) = [ld for ld in case.loads if ld.kind == "force"]
     requests = [Request(q, "P", lv) for lv in range(case.n_levels()) for q in ("dx", "dy")]
-    run = prbm_adapter.run(case, requests, options)
+    run = prbm_adapter.run(case, requests, options_of("prbm", options))
     assert run.converged, run.message
     for level, value in enumerate(load.levels()):
         if value == 0.0:

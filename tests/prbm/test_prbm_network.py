@@ -26,6 +26,7 @@ from prbm import builder as pb
 from validation.case.loader import load_case
 from validation.methods.base import Request
 from validation.run.runner import run_method
+from validation.case.method_options import options_of
 
 ROOT = Path(__file__).resolve().parents[2]
 GAMMA, K_THETA = 0.85, 2.65
@@ -378,11 +379,11 @@ def test_the_rotation_of_a_free_beam_end_is_not_the_prb_link_angle():
                                              "nodes": [n for n in case.mechanism.nodes if n.name in ("G1", "C1")]})
     load = case.loads[0].model_copy(update={"point": "C1"})
     one = case.model_copy(update={"mechanism": mech, "loads": [load]})
-    values = prbm_network.run_mechanism(one, [Request("dy", "C1", 0)], {}, MethodRun(values={}))
+    values = prbm_network.run_mechanism(one, [Request("dy", "C1", 0)], options_of("prbm", {}), MethodRun(values={}))
     # a free end under one transverse dead force: n = 0 is defined, so the builder takes the Pauly-Midha
     # fits there (seed 000 eqs 41, 43 at n = 0: gamma = 0.851892, K_Theta = 2.648834) and eq (47)
     gamma0, K0 = 0.851892, 2.648834
     theta = brentq(lambda t: gamma0 * K0 * t - 2.0 * gamma0 * math.cos(t), 0.0, 1.5)
     assert values[Request("dy", "C1", 0)] == pytest.approx(gamma0 * math.sin(theta), rel=1e-9)
     with pytest.raises(NotApplicable, match="end slope"):
-        prbm_network.run_mechanism(one, [Request("rotation", "C1", 0)], {}, MethodRun(values={}))
+        prbm_network.run_mechanism(one, [Request("rotation", "C1", 0)], options_of("prbm", {}), MethodRun(values={}))

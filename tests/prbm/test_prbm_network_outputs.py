@@ -27,6 +27,7 @@ from validation.methods import prbm as adapter
 from validation.methods import prbm_network as pn
 from validation.methods.base import Request
 from validation.run.runner import run_method
+from validation.case.method_options import options_of
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -42,7 +43,7 @@ def test_parallel_guided_reactions_at_small_load_match_statics():
     case = _parallel_guided([F])
     requests = [Request(q, p, 0) for p in ("G1", "G2") for q in ("reaction_x", "reaction_y", "reaction_moment")]
     case = case.model_copy(update={"outputs": []})
-    run = adapter.run(case, requests, {})
+    run = adapter.run(case, requests, options_of("prbm", {}))
     v = {(r.point, r.quantity): run.values[r] for r in requests}
     assert v[("G1", "reaction_y")] == pytest.approx(-F / 2, rel=1e-4)
     assert v[("G2", "reaction_y")] == pytest.approx(-F / 2, rel=1e-4)
@@ -54,7 +55,7 @@ def test_parallel_guided_reactions_at_small_load_match_statics():
 
 def test_parallel_guided_reactions_balance_the_load_at_large_deflection():
     case = _parallel_guided([2.0, 9.0, 16.0])
-    model = pn.built_model(case.mechanism, {})
+    model = pn.built_model(case.mechanism, None)
     result = pn.solve_case(case, model)
     nodes = {n.name: np.array([n.x, n.y]) for n in case.mechanism.nodes}
     for level, F in enumerate((2.0, 9.0, 16.0)):

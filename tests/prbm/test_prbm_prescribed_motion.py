@@ -31,6 +31,7 @@ from validation.methods import elastica as elastica_adapter
 from validation.methods import prbm as prbm_adapter
 from validation.methods.base import Request
 from validation.run.runner import requests_for
+from validation.case.method_options import options_of
 
 CASE = Path(__file__).resolve().parents[2] / "cases" / "segments" / "fixed_guided_prescribed_displacement.toml"
 GAMMA, K_THETA = 0.851892, 2.648834          # Pauly-Midha fits at n = 0 [bapat2015, eqs 41-43]
@@ -49,7 +50,7 @@ def test_guided_case_meets_the_seed_closed_form():
     case = _guided_case()
     seg = case.segment
     L, EI = seg.length, seg.bending_stiffness()
-    run = prbm_adapter.run(case, requests_for(case, "prbm"), dict(case.methods["prbm"]))
+    run = prbm_adapter.run(case, requests_for(case, "prbm"), options_of("prbm", case.methods["prbm"]))
     assert run.converged
     for level, delta in enumerate(case.loads[0].levels()):
         Theta = math.asin(delta / (GAMMA * L))                       # b = gamma l sin Theta
@@ -70,12 +71,12 @@ def test_guided_case_against_the_elastica_within_the_prbm_accuracy():
     case = _guided_case()
     requests = [Request(q, p, lv) for lv in range(case.n_levels())
                 for q, p in (("force_y", "tip"), ("moment", "tip"), ("reaction_moment", "root"))]
-    exact = elastica_adapter.run(case, requests, dict(case.methods["elastica"]))
+    exact = elastica_adapter.run(case, requests, options_of("elastica", case.methods["elastica"]))
     assert exact.converged
     # the independently checked numbers of the parallel-guide question (delta = 1 in)
     assert _values(exact, "force_y", 2) == pytest.approx(0.10693, abs=5e-6)
     assert _values(exact, "moment", 2) == pytest.approx(-0.2057, abs=5e-5)
-    run = prbm_adapter.run(case, requests, dict(case.methods["prbm"]))
+    run = prbm_adapter.run(case, requests, options_of("prbm", case.methods["prbm"]))
     for req in requests:
         assert run.values[req] == pytest.approx(exact.values[req], rel=PRBM_ACCURACY), req
         assert run.values[req] / exact.values[req] > 1.0   # the two-spring PRBM is stiffer (+3.6 % at small delta)
@@ -135,7 +136,7 @@ def test_fixed_free_prescribed_deflection_reproduced_by_the_forward_prbm():
     deltas = [1e-4, 0.4, 1.0]
     case = _cantilever("displacement", deltas, "direction = [0.0, 1.0]")
     L, EI = 2.0, 3.0
-    run = prbm_adapter.run(case, requests_for(case, "prbm"), {})
+    run = prbm_adapter.run(case, requests_for(case, "prbm"), options_of("prbm", {}))
     assert run.converged
     for level, delta in enumerate(deltas):
         P = _values(run, "force_y", level)
@@ -152,7 +153,7 @@ def test_fixed_free_prescribed_oblique_displacement_is_reached_along_its_directi
     """A displacement 0.5 along (1, 2)/sqrt(5): the force is along the same direction and the tip's
     displacement projected on it is 0.5 (the forward PRBM at the found force)."""
     case = _cantilever("displacement", [0.5], "direction = [1.0, 2.0]")
-    run = prbm_adapter.run(case, requests_for(case, "prbm") + [Request("x", "tip", 0)], {})
+    run = prbm_adapter.run(case, requests_for(case, "prbm") + [Request("x", "tip", 0)], options_of("prbm", {}))
     Fx, Fy = _values(run, "force_x", 0), _values(run, "force_y", 0)
     assert Fy == pytest.approx(2.0 * Fx, rel=1e-12)
     d = (1.0 / math.sqrt(5.0), 2.0 / math.sqrt(5.0))
@@ -165,7 +166,7 @@ def test_fixed_free_prescribed_rotation_gives_the_moment_needed():
     M = EI phi/l (uniform curvature, exact for the beam)."""
     phis = [0.01, 30.0]
     case = _cantilever("rotation", phis)
-    run = prbm_adapter.run(case, requests_for(case, "prbm"), {})
+    run = prbm_adapter.run(case, requests_for(case, "prbm"), options_of("prbm", {}))
     assert run.converged
     for level, phi in enumerate(phis):
         M = _values(run, "moment", level)

@@ -21,6 +21,7 @@ from prbm.turning_loads import TowardPoint, fixed_pinned_turning_tip
 from validation.case.loader import load_case
 from validation.methods import prbm as prbm_adapter
 from validation.methods.base import NotApplicable, Request
+from validation.case.method_options import options_of
 
 CH9 = Path(__file__).resolve().parents[2] / "cases" / "chapter9"
 
@@ -74,7 +75,7 @@ quantity = "force_y"
 
 def _run(case, quantities=("x", "y", "force_x", "force_y")):
     requests = [Request(q, "tip", lv) for lv in range(case.n_levels()) for q in quantities]
-    run = prbm_adapter.run(case, requests, dict(case.methods["prbm"]))
+    run = prbm_adapter.run(case, requests, options_of("prbm", case.methods["prbm"]))
     return {(r.quantity, r.level): v for r, v in run.values.items()}, run
 
 
@@ -165,8 +166,8 @@ def test_fourbar_force_perpendicular_to_O2_A_is_the_design_torque():
     options = dict(reading.methods["prbm"])
     options["springs"] = dict(base.methods["prbm"]["springs"])
     requests = [Request(q, "P", lv) for lv in range(4) for q in ("dx", "dy")]
-    turned = prbm_adapter.run(reading, requests, options)
-    couple = prbm_adapter.run(base, requests, dict(base.methods["prbm"]))
+    turned = prbm_adapter.run(reading, requests, options_of("prbm", options))
+    couple = prbm_adapter.run(base, requests, options_of("prbm", base.methods["prbm"]))
     assert turned.converged and couple.converged
     for req in requests:
         assert turned.values[req] == pytest.approx(couple.values[req], abs=2e-4), req
@@ -178,4 +179,4 @@ def test_fourbar_follower_on_the_coupler_is_refused():
     case = case.model_copy(update={"loads": [load.model_copy(update={"body": "coupler"})]})
     requests = [Request("dy", "P", 1)]
     with pytest.raises(NotApplicable, match="coupler"):
-        prbm_adapter.run(case, requests, dict(case.methods["prbm"]))
+        prbm_adapter.run(case, requests, options_of("prbm", case.methods["prbm"]))

@@ -24,6 +24,7 @@ from validation.methods import elastica as elastica_adapter
 from validation.methods import fem as fem_adapter
 from validation.run.runner import requests_for
 from validation.case.schema import Case, SectionSpec
+from validation.case.method_options import options_of
 
 
 def collocation_elastica(loads, follower=False):
@@ -57,8 +58,8 @@ def test_uniform_dead_load_cantilever_matches_collocation():
     case = loaded.case
     q = case.loads[0].levels()
     exact = collocation_elastica(q)
-    ela = elastica_adapter.run(case, requests_for(case, "elastica"), dict(case.methods["elastica"]))
-    res = fem_adapter.run(case, requests_for(case, "fem"), dict(case.methods["fem"]))
+    ela = elastica_adapter.run(case, requests_for(case, "elastica"), options_of("elastica", case.methods["elastica"]))
+    res = fem_adapter.run(case, requests_for(case, "fem"), options_of("fem", case.methods["fem"]))
     assert ela.converged and res.converged
     for level, (x, y, th) in enumerate(exact):
         for quantity, value in (("x", x), ("y", y), ("rotation", math.degrees(th))):
@@ -203,8 +204,8 @@ def test_self_weight_is_the_section_weight_along_gravity():
     """Self-weight = sum of weight density x area per unit length (0.5*2 + 0.25*2 = 1.5) along gravity."""
     weight = _case('[[loads]]\nkind = "self_weight"\ndirection = [0.0, -2.0]\nvalues = [1.0, 2.0]')
     line = _case('[[loads]]\nkind = "distributed"\ndirection = [0.0, -1.0]\nvalues = [1.5, 3.0]')
-    a = fem_adapter.run(weight, requests_for(weight, "fem"), {"error_estimate": False})
-    b = fem_adapter.run(line, requests_for(line, "fem"), {"error_estimate": False})
+    a = fem_adapter.run(weight, requests_for(weight, "fem"), options_of("fem", {"error_estimate": False}))
+    b = fem_adapter.run(line, requests_for(line, "fem"), options_of("fem", {"error_estimate": False}))
     assert a.values == pytest.approx(b.values, rel=1e-12)
     assert all(v < 0 for v in a.values.values())
 
@@ -239,10 +240,10 @@ def test_point_load_methods_refuse_loads_along_the_beam():
 
     case = case_by_id("cantilever_uniform_load").case
     with pytest.raises(NotApplicable, match="distributed"):
-        prbm_adapter.run(case, [("y", "tip", 0)], {"model": "theta-dependent"})
+        prbm_adapter.run(case, [("y", "tip", 0)], options_of("prbm", {"model": "theta-dependent"}))
     follower = case.model_copy(update={"loads": [case.loads[0].model_copy(update={"follower": True})]})
     with pytest.raises(NotApplicable, match="follower distributed"):
-        elastica_adapter.level_problems(follower, {})
+        elastica_adapter.level_problems(follower, options_of("elastica", {}))
 
 
 BODY_CASE = '''
@@ -280,7 +281,7 @@ def test_follower_force_on_a_named_body_turns_with_it(point, body):
 
     def tip(attached):
         case = Case.model_validate(tomllib.loads(BODY_CASE.format(point=point, attached=attached)))
-        run = fem_adapter.run(case, requests_for(case, "fem"), {"error_estimate": False})
+        run = fem_adapter.run(case, requests_for(case, "fem"), options_of("fem", {"error_estimate": False}))
         return np.array([run.values[("dy", "P", k)] for k in (0, 1)])
 
     on_body = tip(f'follower = true\nbody = "{body}"')
@@ -292,8 +293,8 @@ def test_zero_level_measures_positions_from_that_level():
     """zero_level = 0: a scale zeroed under the self-weight; y(level) - y(0) of the plain run."""
     case = _case('[[loads]]\nkind = "self_weight"\ndirection = [0.0, -1.0]\nvalues = [1.0, 1.0]\n'
                  '[[loads]]\nkind = "force"\ndirection = [0.0, 1.0]\nvalues = [0.0, 2.0]')
-    plain = fem_adapter.run(case, requests_for(case, "fem"), {"error_estimate": False})
-    zeroed = fem_adapter.run(case, requests_for(case, "fem"), {"error_estimate": False, "zero_level": 0})
+    plain = fem_adapter.run(case, requests_for(case, "fem"), options_of("fem", {"error_estimate": False}))
+    zeroed = fem_adapter.run(case, requests_for(case, "fem"), options_of("fem", {"error_estimate": False, "zero_level": 0}))
     sag = plain.values[("y", "tip", 0)]
     assert sag < -0.1
     assert zeroed.values[("y", "tip", 0)] == 0.0

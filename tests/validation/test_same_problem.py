@@ -153,11 +153,14 @@ def test_fem_inverse_reports_the_end_position_of_the_exact_inflection_problem(tm
 
 
 def test_tip_x_is_refused_where_x_is_prescribed_or_not_a_flag(tmp_path):
-    for inverse, words in (("{ b = 0.3, theta0_deg = 20.0, a = 0.9, tip_x = true }", "prescribed"),
-                           ("{ b = 0.3, theta0_deg = 20.0, l1 = 0.6, tip_x = 1 }", "true or false")):
-        path = _case(tmp_path, "bad", quantity="x", options=f"[methods.fem]\ninverse = {inverse}")
-        run = run_method(load_case(path).case, "fem")
-        assert run.status is RunStatus.NOT_APPLICABLE and words in run.message and "tip_x" in run.message
+    inverse = "{ b = 0.3, theta0_deg = 20.0, a = 0.9, tip_x = true }"
+    path = _case(tmp_path, "bad", quantity="x", options=f"[methods.fem]\ninverse = {inverse}")
+    run = run_method(load_case(path).case, "fem")
+    assert run.status is RunStatus.NOT_APPLICABLE and "prescribed" in run.message and "tip_x" in run.message
+    inverse = "{ b = 0.3, theta0_deg = 20.0, l1 = 0.6, tip_x = 1 }"         # a flag, not a number: the schema's
+    path = _case(tmp_path, "flag", quantity="x", options=f"[methods.fem]\ninverse = {inverse}")
+    with pytest.raises(CaseError, match=r"methods\.fem\.inverse\.tip_x: .*valid boolean"):
+        load_case(path)
 
 
 TWINS = """

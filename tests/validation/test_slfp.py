@@ -18,6 +18,7 @@ from validation.methods.base import NotApplicable, Request
 from validation.case.loader import describe_all
 from validation.case.schema import Case
 from validation.methods.slfp import with_flexures
+from validation.case.method_options import options_of
 
 K = 12.5          # in-lb/rad
 E = 450000.0      # psi
@@ -46,7 +47,7 @@ def test_flexure_under_pure_moment_gives_the_spring_torque(length):
     rotations = [10.0, 60.0]
     case = _case(rotations, {"length": length, "E": E})
     requests = [Request("input_torque", "", lv) for lv in range(2)]
-    run = fem_adapter.run(case, requests, dict(case.methods["fem"]))
+    run = fem_adapter.run(case, requests, options_of("fem", case.methods["fem"]))
     assert run.converged, run.message
     for lv, theta in enumerate(rotations):
         assert run.values[requests[lv]] == pytest.approx(K * math.radians(theta), rel=1e-6)
@@ -71,7 +72,7 @@ def test_construction():
 def test_bad_sizes_are_named():
     case = _case([10.0], {"length": 20.0, "E": E})
     with pytest.raises(NotApplicable, match="methods.fem.slfp: flexure at 'O'"):
-        fem_adapter.run(case, [Request("input_torque", "", 0)], dict(case.methods["fem"]))
+        fem_adapter.run(case, [Request("input_torque", "", 0)], options_of("fem", case.methods["fem"]))
     with pytest.raises(ValidationError) as info:   # a missing size is refused when the case is read
         _case([10.0], {"E": E})
     assert ("methods.fem.slfp.length", "Field required") in describe_all(info.value)
@@ -98,7 +99,7 @@ def test_position_reached_by_an_input_moment():
                             "slfp": {"length": length, "E": E}}},
     })
     requests = [Request("input_torque", "", 1), Request("y", "T", 1)]
-    run = fem_adapter.run(case, requests, dict(case.methods["fem"]))
+    run = fem_adapter.run(case, requests, options_of("fem", case.methods["fem"]))
     assert run.converged, run.message
     assert run.values[requests[0]] == pytest.approx(K * theta, rel=2e-5)
     y_T = base[1] + (arc[0] + bar * along[0]) * u[1] + (arc[1] + bar * along[1]) * v[1]

@@ -150,7 +150,7 @@ def network_rows() -> list[tuple[str, float, float, float | None]]:
     Test 2 four-bar under one design torque."""
     rows = []
     case = case_by_id("seed004_parallel_guided").case
-    model = prbm.build(prbm_network.geometry(case.mechanism), prbm_network.rules({}, case.mechanism))
+    model = prbm.build(prbm_network.geometry(case.mechanism), prbm_network.rules(None, case.mechanism))
     net = model.network
     all_loads = prbm_network.network_loads(case, model)
     n = case.n_levels()

@@ -2,9 +2,10 @@
 so is a number outside its range.
 
 The schema validates a case's options with the model of its method (``OPTIONS[name]``) and reports
-the first problem as ``methods.<method>.<option>: <what is wrong>``; the adapters still receive the
-options as a plain dict (only the keys the file gives). Adding an option to an adapter means adding
-it here (``tests/validation/test_method_options.py`` checks that every option an adapter reads is declared).
+the first problem as ``methods.<method>.<option>: <what is wrong>``; the case keeps the file's dict (the
+cache key hashes it), and each adapter receives its method's model (``options_of``) and reads its fields,
+so a default is written here and nowhere else. Adding an option to an adapter means adding it here
+(``tests/validation/test_method_options.py`` checks that every option an adapter reads is declared).
 
 Ranges: every number is finite and representable (``validation.case.strict``), a direction is longer than
 1e-100; tolerances are fractions
@@ -19,7 +20,7 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal
 
-from pydantic import Field, model_validator
+from pydantic import Field, StrictBool, model_validator
 
 from validation.case.strict import REPRESENTABLE, TINY, Count, Finite, Fraction, Index, NonNegative, Positive, Strict
 
@@ -42,7 +43,7 @@ class Options(Strict):
     """Base: unknown options are errors."""
 
 
-class _HeldOutputOptions(Options):
+class HeldOutputOptions(Options):
     """The mechanical advantage of a held output point, as the FEM computes it (and the PRBM network
     built from the geometry): the output's working direction or moment arm, the input load, the step."""
 
@@ -58,12 +59,12 @@ class _HeldOutputOptions(Options):
     definition: Literal["tangent", "secant"] = "tangent"
 
     @model_validator(mode="after")
-    def _direction(self) -> "_HeldOutputOptions":
+    def _direction(self) -> "HeldOutputOptions":
         _nonzero(self.direction, "direction")
         return self
 
 
-class MechanicalAdvantageOptions(_HeldOutputOptions):
+class MechanicalAdvantageOptions(HeldOutputOptions):
     """``[methods.fem] ma``: the FEM's mechanical advantage (validation.methods.fem_outputs)."""
 
     output: str = Field(description="the held output point")
@@ -102,7 +103,7 @@ class FemInverseOptions(InverseOptions):
 
     elements: Count | None = None
     richardson: bool | None = None
-    tip_x: bool = False
+    tip_x: StrictBool = Field(False, description="the tip's x from the inverse solution (true or false)")
 
 
 class FemSlfpOptions(Options):
@@ -127,9 +128,11 @@ class FemOptions(Options):
     inextensible_ratio: Ratio = Field(1e6, description="EA L^2/EI when a section gives no area")
     rigid_ratio: Ratio = Field(1e6, description="stiffness of pinned rigid links over the stiffest beam")
     arc_length: Positive | None = None
-    max_steps: Count | None = None
+    max_steps: Count | None = Field(None, description="limit load: steps of the continuation (none: the "
+                                    "adapter's LIMIT_STEPS of its limit_control)")
     limit_control: Literal["arclength", "displacement"] = "arclength"
-    control_step: Positive | None = None
+    control_step: Positive | None = Field(None, description="limit load by displacement: the step (none: "
+                                          "0.005 x the model's characteristic length)")
     inverse: FemInverseOptions | None = Field(None, description="inverse tip problem "
                                               "(validation.methods.inverse_problem)")
     slfp: FemSlfpOptions | None = Field(None, description="sprung joints built as small-length flexural "
@@ -163,14 +166,15 @@ class BcmOptions(Options):
 
 class OpenSeesOptions(Options):
     elements: Count = 16
-    max_steps: Count | None = None
-    steps_per_level: Count | None = None
+    max_steps: Count = Field(2000, description="limit load: displacement-control steps at most")
+    steps_per_level: Count = Field(1, description="load steps per load level (each halved on failure)")
     max_halvings: Annotated[int, Field(ge=0, le=40)] = Field(12, description="load-step halvings on failure")
-    control_step: Positive | None = None
+    control_step: Positive | None = Field(None, description="limit load: the displacement step (none: 0.002 x "
+                                          "the model's largest extent)")
     rigid_ratio: Ratio = Field(1e6, description="stiffness of the rigid links' elements over the stiffest beam")
 
 
-class PrbmMechanicalAdvantageOptions(_HeldOutputOptions):
+class PrbmMechanicalAdvantageOptions(HeldOutputOptions):
     """``[methods.prbm] ma``: chapter 7's mechanical advantage of a hand-given four-bar or slider ([bapat2015,
     eqs 190-206]: ``F_i``, ``d_i``, ``d_o``; with ``model = 'compliance'`` the two-port four-bar's ``d_in``,
     ``d_out2``, ``d_out3``, ``location_deg``), or, for the network built from the geometry, the FEM's
@@ -318,6 +322,15 @@ class PrbmOptions(Options):
     delta: list[list[Finite]] | None = None
     segments: list[dict[str, DesignValue]] | None = None
 
+    def spring(self, name: str) -> float:
+        """The torsion spring ``name`` (k1..k4) or the slider's ``f_k``; one the case does not give is none (0)."""
+        return (self.springs or {}).get(name, 0.0)
+
 
 OPTIONS: dict[str, type[Options]] = {"fem": FemOptions, "elastica": ElasticaOptions, "bcm": BcmOptions,
                                      "opensees": OpenSeesOptions, "prbm": PrbmOptions}
+
+
+def options_of(method: str, given: dict | None) -> Options:
+    """The options of ``[methods.<method>]`` as its method's model, every option not given at its default."""
+    return OPTIONS[method].model_validate(given or {})

@@ -13,6 +13,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable
 
+from validation.case.method_options import FemOptions
+
 
 def asks(case, method: str, quantity: str) -> bool:
     """The case asks ``method`` for ``quantity`` (an output naming the method, or every method)."""
@@ -25,7 +27,9 @@ def _inertia_without_area(case) -> bool:
 
 
 def _estimate(options: dict) -> bool:
-    return bool(options.get("error_estimate", True) or options.get("tol"))
+    """The FEM's error estimate is on (the options as the file gives them, each default from ``FemOptions``)."""
+    fem = FemOptions.model_validate(options)
+    return fem.error_estimate or fem.tol is not None
 
 
 def _sprung(case) -> bool:

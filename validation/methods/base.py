@@ -2,9 +2,10 @@
 
 An adapter module ``validation/methods/<name>.py`` defines
 
-    def run(case: Case, requests: list[Request], options: dict) -> MethodRun
+    def run(case: Case, requests: list[Request], options: <Method>Options) -> MethodRun
 
-It translates the case into its library's own model, computes *only* the requested outputs,
+``options`` is the method's validated model (``validation.case.method_options``: ``FemOptions``, ...), every
+option the case does not give at the model's default; the adapter reads its fields. It translates the case into its library's own model, computes *only* the requested outputs,
 and returns their values in the case's units (angles in degrees). If the method cannot model
 the case it raises ``NotApplicable`` with the reason, which the results table records; if an
 option of ``[methods.<name>]`` is wrong (unknown name, wrong type) it raises ``Misconfigured`` naming

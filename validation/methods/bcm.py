@@ -26,6 +26,7 @@ from bcm.beam import solve_mixed, strain_energy
 from bcm.mechanisms import BCMBeam, RigidBodyOnBeams
 from validation.methods.base import MethodRun, NotApplicable, Request, reject_loads_along_beams
 from validation.case.quantities import boundary_held_tip
+from validation.case.method_options import BcmOptions
 from validation.case.schema import Case
 
 RANGE = 0.1
@@ -35,15 +36,15 @@ def _ka(EI: float, EA: float, L: float) -> float:
     return EA * L * L / EI if math.isfinite(EA) else 1e12
 
 
-def _segment(case: Case, requests: list[Request], options: dict) -> MethodRun:
+def _segment(case: Case, requests: list[Request], options: BcmOptions) -> MethodRun:
     seg = case.segment
     if seg.initial_curvature() != 0.0:
         raise NotApplicable("BCM models initially straight beams only")
     if seg.boundary == "pinned-pinned":
         raise NotApplicable("boundary 'pinned-pinned' is not a BCM cantilever")
     L = seg.length
-    EI = float(options["EI"]) if "EI" in options else (
-        seg.E * float(options["I"]) if "I" in options else seg.bending_stiffness())
+    EI = options.EI if options.EI is not None else (
+        seg.E * options.I if options.I is not None else seg.bending_stiffness())
     ka = _ka(EI, seg.axial_stiffness(), L)
     f_scale, m_scale = L * L / EI, L / EI
     values, msgs, outside = {}, {}, []
@@ -192,7 +193,7 @@ def _mechanism_value(mech: LinkOnBeams, req: Request, q, needed: float, loads: L
     return float(table[req.quantity])
 
 
-def _mechanism(case: Case, requests: list[Request], options: dict):
+def _mechanism(case: Case, requests: list[Request], options: BcmOptions):
     mech = _link_on_beams(case.mechanism)
     values, msgs, outside = {}, {}, []
     q = None
@@ -214,7 +215,7 @@ def _mechanism(case: Case, requests: list[Request], options: dict):
     return values, msgs, outside
 
 
-def run(case: Case, requests: list[Request], options: dict) -> MethodRun:
+def run(case: Case, requests: list[Request], options: BcmOptions) -> MethodRun:
     t0 = time.perf_counter()
     if not requests:
         return MethodRun(values={})

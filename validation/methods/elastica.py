@@ -20,8 +20,8 @@ displacement or force load acts along. With prescribed displacements/rotations, 
 ``force_x``/``force_y``/``moment`` outputs are the tip loads needed. ``rotation`` is the change of
 the tip angle from the unloaded state (degrees); ``reaction_*`` are the support loads at the root.
 
-Options (``[methods.elastica]``): ``I`` (replaces the section's second moment of area, so
-EI = E * I), ``EI`` (replaces EI), ``rtol``, ``tol``, ``samples`` (shape points kept in extras).
+Options (``[methods.elastica]``, ``method_options.ElasticaOptions``): ``I`` (replaces the section's second moment of area, so
+EI = E * I), ``EI`` (replaces EI), ``rtol``, ``tol`` (none: the shooting solver's own), ``samples`` (shape points kept in extras).
 
 Inflection problem (``problem = "inflection"``, the dissertation's Case 2c, Table 3.6): the options give
 per level (a list, or one value for every level) the tip transverse position ``b`` (the tip's y,
@@ -51,23 +51,29 @@ from elastica.shooting import (ElasticaProblem, MomentConstraint, PointedForce, 
 from validation.methods import elastica_network
 from validation.methods.inverse_problem import LOAD_OUTPUTS, InverseSpec, Tie, inverse_spec, merge_runs
 from validation.methods.base import MethodRun, NotApplicable, Request
+from validation.case.method_options import ElasticaOptions
 from validation.case.schema import Case
 
 SUPPORTED = {"fixed-free", "fixed-pinned", "fixed-guided", "fixed-fixed"}
 
 
-def _stiffness(case: Case, options: dict) -> float:
+def _stiffness(case: Case, options: ElasticaOptions) -> float:
     seg = case.segment
-    if "EI" in options:
-        return float(options["EI"])
-    if "I" in options:
+    if options.EI is not None:
+        return options.EI
+    if options.I is not None:
         if seg.E is None:
             raise NotApplicable("option I needs the segment's E (a layered section has none)")
-        return seg.E * float(options["I"])
+        return seg.E * options.I
     return seg.bending_stiffness()
 
 
-def level_problems(case: Case, options: dict) -> list[ElasticaProblem]:
+def _tolerances(options: ElasticaOptions) -> dict:
+    """The shooting solver's ``rtol`` and ``tol`` the case gives (the solver's own where it gives none)."""
+    return {name: value for name in ("rtol", "tol") if (value := getattr(options, name)) is not None}
+
+
+def level_problems(case: Case, options: ElasticaOptions) -> list[ElasticaProblem]:
     """One ``ElasticaProblem`` per load level of a segment case (raises NotApplicable)."""
     if case.mechanism is not None:
         raise NotApplicable("the exact elastica solves a single segment, not a mechanism")
@@ -149,17 +155,17 @@ def level_problems(case: Case, options: dict) -> list[ElasticaProblem]:
     return problems
 
 
-def _per_level(options: dict, name: str, n: int) -> list[float]:
-    if name not in options:
+def _per_level(options: ElasticaOptions, name: str, n: int) -> list[float]:
+    v = getattr(options, name)
+    if v is None:
         raise NotApplicable(f"problem = 'inflection' needs the option '{name}'")
-    v = options[name]
-    values = [float(x) for x in v] if isinstance(v, (list, tuple)) else [float(v)] * n
+    values = list(v) if isinstance(v, list) else [v] * n
     if len(values) != n:
         raise NotApplicable(f"option '{name}' has {len(values)} values for {n} load levels")
     return values
 
 
-def inflection_problems(case: Case, options: dict) -> list[tuple[ElasticaProblem, tuple, float]]:
+def inflection_problems(case: Case, options: ElasticaOptions) -> list[tuple[ElasticaProblem, tuple, float]]:
     """Per level: the Case 2c problem (b, theta0, l1 given) and its start loads ((Fx, Fy), M)."""
     if case.mechanism is not None:
         raise NotApplicable("the exact elastica solves a single segment, not a mechanism")
@@ -208,7 +214,7 @@ def _value(res, req: Request, case: Case) -> float:
     return float(table[q])
 
 
-def inverse_problems(case: Case, spec: InverseSpec, options: dict) -> list[ElasticaProblem]:
+def inverse_problems(case: Case, spec: InverseSpec, options: ElasticaOptions) -> list[ElasticaProblem]:
     """One ``ElasticaProblem`` per level for the inverse tip problem ``spec``."""
     seg = case.segment
     EI = spec.EI if spec.EI is not None else (
@@ -242,10 +248,10 @@ def _start_loads(case: Case, level: int) -> tuple[tuple[float, float], float]:
     return (float(force[0]), float(force[1])), moment
 
 
-def _run_inverse(case: Case, spec: InverseSpec, requests: list[Request], options: dict) -> MethodRun:
+def _run_inverse(case: Case, spec: InverseSpec, requests: list[Request], options: ElasticaOptions) -> MethodRun:
     """The tip loads of the inverse problem, each level from its own start."""
     t0 = time.perf_counter()
-    kwargs = {k: options[k] for k in ("rtol", "tol") if k in options}
+    kwargs = _tolerances(options)
     problems = inverse_problems(case, spec, options)
     values, ok, msg = {}, {}, {}
     for level in sorted({r.level for r in requests}):
@@ -267,8 +273,8 @@ def _run_inverse(case: Case, spec: InverseSpec, requests: list[Request], options
                      wall_time=time.perf_counter() - t0, level_converged=ok, level_messages=msg)
 
 
-def run(case: Case, requests: list[Request], options: dict) -> MethodRun:
-    spec = inverse_spec(case, options, "elastica")
+def run(case: Case, requests: list[Request], options: ElasticaOptions) -> MethodRun:
+    spec = inverse_spec(case, options.inverse, "elastica")
     if spec is None:
         return _run_forward(case, requests, options)
     loads = [r for r in requests if r.quantity in LOAD_OUTPUTS and r.point == "tip"]
@@ -277,18 +283,16 @@ def run(case: Case, requests: list[Request], options: dict) -> MethodRun:
     return merge_runs(forward, _run_inverse(case, spec, loads, options))
 
 
-def _run_forward(case: Case, requests: list[Request], options: dict) -> MethodRun:
+def _run_forward(case: Case, requests: list[Request], options: ElasticaOptions) -> MethodRun:
     t0 = time.perf_counter()
     if case.mechanism is not None:  # beams coupled through rigid links: validation/methods/elastica_network.py
         run = elastica_network.run_mechanism(case, requests, options)
         run.wall_time = time.perf_counter() - t0
         return run
-    inflection = options.get("problem") == "inflection"
-    if "problem" in options and not inflection:
-        raise NotApplicable(f"unknown elastica problem '{options['problem']}' (known: 'inflection')")
+    inflection = options.problem == "inflection"
     problems = inflection_problems(case, options) if inflection else level_problems(case, options)
-    kwargs = {k: options[k] for k in ("rtol", "tol") if k in options}
-    samples = int(options.get("samples", 41))
+    kwargs = _tolerances(options)
+    samples = options.samples
     wanted = sorted({r.level for r in requests})
     last = max(wanted) if wanted else -1
     values, level_ok, level_msg, shapes = {}, {}, {}, {}

@@ -19,6 +19,7 @@ import math
 import numpy as np
 
 from elastica import mechanism as em
+from validation.case.method_options import ElasticaOptions
 from validation.methods.base import MethodRun, NotApplicable
 
 
@@ -152,11 +153,11 @@ def _body_lines(mechanism, positions: dict) -> list[np.ndarray]:
             for body in mechanism.bodies for node in body.nodes[1:]]
 
 
-def run_mechanism(case, requests, options: dict) -> MethodRun:
+def run_mechanism(case, requests, options: ElasticaOptions) -> MethodRun:
     mechanism, owner = model(case)
+    tolerance = {} if options.rtol is None else {"rtol": options.rtol}    # else the solver's own
     try:
-        sol = em.solve_mechanism(mechanism, loads(case, owner), case.n_levels(),
-                                 rtol=float(options.get("rtol", 1e-11)))
+        sol = em.solve_mechanism(mechanism, loads(case, owner), case.n_levels(), **tolerance)
     except ValueError as exc:
         raise NotApplicable(str(exc)) from None
     drivers = [ld for ld in case.loads if ld.kind in ("rotation", "displacement")]

@@ -7,14 +7,14 @@ every tip DOF that is not loaded or prescribed; pinned-pinned pins both ends. Me
 node for node: beams become members, rigid links exact master-slave constraints, joints release
 rotations (with their torsional springs), supports as given.
 
-Options (``[methods.fem]``): ``elements`` per member (default 16), ``error_estimate`` (default true: solve
-on n and 2n elements and report |u_2n - u_n|/3, the Richardson estimate of the O(h^2) error of u_2n,
+Options (``[methods.fem]``, ``method_options.FemOptions``, which holds their defaults): ``elements`` per
+member, ``error_estimate`` (solve on n and 2n elements and report |u_2n - u_n|/3, the Richardson estimate of the O(h^2) error of u_2n,
 after checking on a third mesh that the outputs asked for are in the asymptotic range, the meshes
 doubled up to ``max_refine`` x elements until they are; a value still outside keeps its estimate, marked
 in ``MethodRun.unreliable_estimate``: `fem.error_estimate`; the two-mesh estimates of ``limit_load``, of
 the inverse problem's tip loads and of an ``input_moment_at`` torque are not judged), ``richardson``
 (report the extrapolated value instead of u_2n), ``tol`` (refine until the estimate is below it),
-``inextensible_ratio`` (EA L^2/EI used when a section gives no area; default 1e6),
+``inextensible_ratio`` (EA L^2/EI used when a section gives no area),
 and for ``limit_load``: ``arc_length``, ``max_steps``; for ``mechanical_advantage``: ``ma`` (see
 `fem_outputs`, which also gives ``max_stress`` and ``inflection_points`` from the finest mesh);
 ``zero_level``: positions (x, y, dx, dy) measured from the state of that level instead of the unloaded
@@ -52,14 +52,16 @@ from validation.methods.inverse_problem import (LOAD_OUTPUTS, POSITION_OUTPUT, I
                                                inverse_spec, merge_runs)
 from validation.methods import fem_outputs
 from validation.methods.base import DeferredList, MethodRun, NotApplicable, Request
+from validation.case.method_options import FemOptions
 from validation.case.quantities import boundary_held_tip as _boundary_held_tip
 from validation.case.quantities import load_dofs as _load_dofs
 from validation.methods.slfp import with_flexures
 
 ROTATION_DOF = "rz"
+LIMIT_STEPS = {"displacement": 400, "arclength": 2000}   # limit load: continuation steps without max_steps
 
 
-def _section(fem, spec, E, length: float, options: dict):
+def _section(fem, spec, E, length: float, options: FemOptions):
     """A ``fem.Section`` from a schema section (E may be None for layers)."""
     if spec.kind == "layers" and spec.bonded:         # one section: (EA, EI) of the transformed stack
         return fem.Section.from_EI(*spec.stiffness(None))
@@ -68,11 +70,11 @@ def _section(fem, spec, E, length: float, options: dict):
     if spec.kind == "rectangle":
         return fem.Section.rectangle(E, spec.width, spec.thickness)
     EI = E * spec.I
-    EA = E * spec.A if spec.A is not None else float(options.get("inextensible_ratio", 1e6)) * EI / length**2
+    EA = E * spec.A if spec.A is not None else options.inextensible_ratio * EI / length**2
     return fem.Section.from_EI(EA, EI, c=spec.c, E=E)
 
 
-def _segment_model(fem, case, elements: int, options: dict):
+def _segment_model(fem, case, elements: int, options: FemOptions):
     seg = case.segment
     model = fem.Model()
     kappa = seg.initial_curvature()
@@ -179,7 +181,7 @@ def _stiff_bar_links(mech) -> set[str]:
     return bars
 
 
-def _mechanism_model(fem, case, elements: int, options: dict):
+def _mechanism_model(fem, case, elements: int, options: FemOptions):
     mech = case.mechanism
     model = fem.Model()
     coords = {node.name: (node.x, node.y) for node in mech.nodes}
@@ -194,7 +196,7 @@ def _mechanism_model(fem, case, elements: int, options: dict):
         member_index[beam.name] = model.add_member(beam.start, beam.end, section, n_elements=elements,
                                                    curvature=beam.curvature, name=beam.name)
     bars = _stiff_bar_links(mech)
-    ratio = float(options.get("rigid_ratio", 1e6))
+    ratio = options.rigid_ratio
     for link in mech.links:
         if link.name in bars:
             if not mech.beams:
@@ -235,7 +237,7 @@ def _mechanism_model(fem, case, elements: int, options: dict):
     return model
 
 
-def build_model(case, elements: int, options: dict):
+def build_model(case, elements: int, options: FemOptions):
     if case.segment is not None:
         return _segment_model(fem, case, elements, options)
     return _mechanism_model(fem, case, elements, options)
@@ -346,19 +348,19 @@ def _input_node(case) -> str:
     raise NotApplicable("input_torque/input_angle need a prescribed rotation or a moment (the input)")
 
 
-def _limit_load(fem, case, model, options: dict):
+def _limit_load(fem, case, model, options: FemOptions):
     """Load at the first limit point: by arc length (default) or by displacement control of the
     loaded point along the load (``limit_control = "displacement"``, step ``control_step``)."""
     if not model.loads:
         raise NotApplicable("limit_load scales the point loads; this case has none (distributed loads only)")
     reference = max(abs(np.asarray(ld.values)[-1]).max() for ld in model.loads)
-    if options.get("limit_control", "arclength") == "displacement":
+    if options.limit_control == "displacement":
         load = max((ld for ld in case.loads if ld.kind == "force"), key=lambda ld: max(map(abs, ld.levels())))
         d = np.asarray(load.direction, float)
         dof = "ux" if abs(d[0]) > abs(d[1]) else "uy"
         sign = math.copysign(1.0, d[0] if dof == "ux" else d[1])
-        step = float(options.get("control_step", 0.005 * model.characteristic_length()))
-        n = int(options.get("max_steps", 400))
+        step = options.control_step or 0.005 * model.characteristic_length()
+        n = options.max_steps or LIMIT_STEPS["displacement"]
         res = fem.solve(model, control="displacement", control_dof=(load.point, dof),
                         targets=sign * step * np.arange(1, n + 1))
         lam = np.asarray(res.load_factor)
@@ -369,7 +371,7 @@ def _limit_load(fem, case, model, options: dict):
         peak, _ = refine_extremum(np.arange(-1.0, 2.0), lam[i - 1:i + 2], np.full(3, np.nan))  # parabola
         return abs(peak) * reference, res, ""
     res = fem.solve(model, control="arclength", max_limit_points=1,
-                    arc_length=options.get("arc_length"), max_steps=int(options.get("max_steps", 2000)))
+                    arc_length=options.arc_length, max_steps=options.max_steps or LIMIT_STEPS["arclength"])
     limits = [c for c in res.critical_points if c.kind == "limit"]
     if not limits:
         return math.nan, res, f"no limit point found ({res.message})"
@@ -392,19 +394,17 @@ class _Levels:
     analysis: float
 
 
-def _solve_levels(fem, case, model, requests, options: dict) -> _Levels:
+def _solve_levels(fem, case, model, requests, options: FemOptions) -> _Levels:
     """Load-controlled solve of the requested outputs, with the Richardson estimate if asked."""
     origin = {name: model.coords[i] for i, name in enumerate(model.node_names)}
-    kwargs = dict(n_levels=case.n_levels(), rtol=float(options.get("rtol", 1e-10)))
-    if not (options.get("error_estimate", True) or options.get("tol")):
+    kwargs = dict(n_levels=case.n_levels(), rtol=options.rtol)
+    if not (options.error_estimate or options.tol):
         result = fem.solve(model, **kwargs)
         done = [r for r in requests if r.level < result.n_levels]
         return _Levels(_extract(case, _Fields.of(result), done, origin), {}, {}, result, 1, result.converged,
                        result.message, result.iterations, result.analysis_time)
-    tol = options.get("tol")
-    est = fem.solve_with_error_estimate(model, tol=float(tol) if tol else None,
-                                        levels=int(options.get("levels", 2)),
-                                        max_refine=int(options.get("max_refine", 64)),
+    est = fem.solve_with_error_estimate(model, tol=options.tol, levels=options.levels,
+                                        max_refine=options.max_refine,
                                         check=fem.AsymptoticCheck(fields=_estimated_fields(case, requests)),
                                         **kwargs)
     result = est.result
@@ -414,7 +414,7 @@ def _solve_levels(fem, case, model, requests, options: dict) -> _Levels:
         done = [r for r in requests if r.level < result.n_levels]
         return _Levels(_extract(case, _Fields.of(result), done, origin), {}, {}, result, est.refine, False,
                        est.message, iterations, analysis)
-    richardson = bool(options.get("richardson"))
+    richardson = options.richardson
     source = est.extrapolated if richardson else _ResultFields(result)
     errors = est.extrapolated_error if (richardson and est.extrapolated_error) else est.error
     fields = [_Fields(result.node_names, f) for f in (source, errors, _Flags(est.unreliable))]
@@ -526,7 +526,7 @@ def _arc_point(kappa: float, s: float) -> tuple[float, float]:
     return math.sin(kappa * s) / kappa, (1.0 - math.cos(kappa * s)) / kappa
 
 
-def _inverse_model(fem, case, spec: InverseSpec, level: InverseLevel, elements: int, options: dict):
+def _inverse_model(fem, case, spec: InverseSpec, level: InverseLevel, elements: int, options: FemOptions):
     """The clamped segment with the prescribed tip of one level (a node 'inflection' at l1)."""
     seg = case.segment
     L, kappa = seg.length, seg.initial_curvature()
@@ -568,13 +568,14 @@ def _tie(fem, level: InverseLevel):
     return None
 
 
-def _run_inverse(fem, case, spec: InverseSpec, requests: list[Request], options: dict) -> MethodRun:
+def _run_inverse(fem, case, spec: InverseSpec, requests: list[Request], options: FemOptions) -> MethodRun:
     """Tip loads of the inverse problem, level by level, on n and 2n elements (Richardson)."""
     t0 = time.perf_counter()
-    elements = int(spec.method_options.get("elements", options.get("elements", 16)))
-    estimate = bool(options.get("error_estimate", True))
-    richardson = bool(spec.method_options.get("richardson", options.get("richardson", False)))
-    solve_options = dict(rtol=float(options.get("rtol", 1e-10)))
+    own = options.inverse                  # its own mesh and extrapolation, else the method's
+    elements = own.elements if own.elements is not None else options.elements
+    richardson = own.richardson if own.richardson is not None else options.richardson
+    estimate = options.error_estimate
+    solve_options = dict(rtol=options.rtol)
     values, errors, ok, msg, iterations = {}, {}, {}, {}, 0
     for lv in sorted({r.level for r in requests}):
         level = spec.levels[lv]
@@ -617,12 +618,12 @@ def _run_inverse(fem, case, spec: InverseSpec, requests: list[Request], options:
                      level_converged=ok, level_messages=msg, extras={"iterations": iterations})
 
 
-def _run_moment_driven(fem, case, requests: list[Request], options: dict) -> MethodRun:
+def _run_moment_driven(fem, case, requests: list[Request], options: FemOptions) -> MethodRun:
     """The case's one prescribed displacement reached by a moment at the input node (option
     ``input_moment_at``), found by the outer secant of ``fem.solve_tip_inverse`` (a Position tie); the
     moment is the ``input_torque`` output, on n and 2n elements with the Richardson estimate."""
     t0 = time.perf_counter()
-    node = str(options["input_moment_at"])
+    node = options.input_moment_at
     case = _realised(case, options)
     moved = [ld for ld in case.loads if ld.kind == "displacement"]
     if len(moved) != 1 or any(ld.kind == "rotation" for ld in case.loads):
@@ -634,8 +635,8 @@ def _run_moment_driven(fem, case, requests: list[Request], options: dict) -> Met
         raise NotApplicable("methods.fem.input_moment_at: the prescribed displacement must be along x or y")
     axis = 0 if abs(d[0]) > 0.5 else 1
     driven = case.model_copy(update={"loads": [ld for ld in case.loads if ld is not target]})
-    elements = int(options.get("elements", 16))
-    estimate = bool(options.get("error_estimate", True))
+    elements = options.elements
+    estimate = options.error_estimate
     n = case.n_levels()
     results, model = [], None
     for count in ((elements, 2 * elements) if estimate else (elements,)):
@@ -647,7 +648,7 @@ def _run_moment_driven(fem, case, requests: list[Request], options: dict) -> Met
         res = fem.solve_tip_inverse(model, node, fem.Position("rz", goal, node=target.point,
                                                               direction=("ux", "uy")[axis]),
                                     guess=results[-1].tied if results else None, n_levels=n,
-                                    rtol=float(options.get("rtol", 1e-10)))
+                                    rtol=options.rtol)
         results.append(res)
         if not res.converged:
             break
@@ -669,10 +670,10 @@ def _run_moment_driven(fem, case, requests: list[Request], options: dict) -> Met
                      extras={"iterations": sum(r.result.iterations for r in results), "elements": elements})
 
 
-def run(case, requests: list[Request], options: dict) -> MethodRun:
-    if "input_moment_at" in options:
+def run(case, requests: list[Request], options: FemOptions) -> MethodRun:
+    if options.input_moment_at is not None:
         return _run_moment_driven(fem, case, requests, options)
-    spec = inverse_spec(case, options, "fem")
+    spec = inverse_spec(case, options.inverse, "fem")
     if spec is None:
         return _run_forward(fem, case, requests, options)
     inverse_outputs = LOAD_OUTPUTS + ((POSITION_OUTPUT,) if spec.tip_x else ())
@@ -682,39 +683,34 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
     return merge_runs(forward, _run_inverse(fem, case, spec, loads, options))
 
 
-def _realised(case, options: dict):
+def _realised(case, options: FemOptions):
     """The case's mechanism with its sprung joints built as flexures (option ``slfp``), else the case."""
-    spec = options.get("slfp")
+    spec = options.slfp
     if spec is None:
         return case
     if case.mechanism is None:
         raise NotApplicable("methods.fem.slfp: realises the sprung joints of a mechanism; this case is a segment")
-    unknown = sorted(set(spec) - {"length", "E", "thickness_ratio"})
-    if unknown or "length" not in spec or ("E" not in spec and case.mechanism.E is None):
-        raise NotApplicable("methods.fem.slfp: give length (and E unless the mechanism has one; optional "
-                            f"thickness_ratio){'; unknown: ' + ', '.join(unknown) if unknown else ''}")
     try:
-        return with_flexures(case, float(spec["length"]), float(spec.get("E", case.mechanism.E or 0.0)),
-                             float(spec.get("thickness_ratio", 0.1)))
+        return with_flexures(case, spec.length, spec.E, spec.thickness_ratio)
     except ValueError as exc:
         raise NotApplicable(f"methods.fem.slfp: {exc}") from None
 
 
-def _run_forward(fem, case, requests: list[Request], options: dict) -> MethodRun:
+def _run_forward(fem, case, requests: list[Request], options: FemOptions) -> MethodRun:
     start = time.perf_counter()
     case = _realised(case, options)
-    elements = int(options.get("elements", 16))
+    elements = options.elements
     model = build_model(case, elements, options)
     values, errors, iterations, converged, messages, result = {}, {}, 0, True, [], None
     unreliable: dict[Request, str] = {}
     refine = 1
     analysis = 0.0     # CPU seconds of the load stepping of every solve (without set-up and results)
-    zero = options.get("zero_level")
+    zero = options.zero_level
     if zero is not None:
-        if not 0 <= int(zero) < case.n_levels():
+        if not 0 <= zero < case.n_levels():
             raise NotApplicable(f"zero_level = {zero}: the case has {case.n_levels()} load levels")
         shifted = [r for r in requests if r.quantity in ZEROED]
-        requests = list(dict.fromkeys(requests + [Request(r.quantity, r.point, int(zero)) for r in shifted]))
+        requests = list(dict.fromkeys(requests + [Request(r.quantity, r.point, zero) for r in shifted]))
     dof = [r for r in requests if r.quantity == "dof"]
     if dof:
         count, note = _soft_mode_count(case, model, options)
@@ -742,18 +738,18 @@ def _run_forward(fem, case, requests: list[Request], options: dict) -> MethodRun
             converged = False
             messages.append(why)
         else:
-            if options.get("error_estimate", True):  # Richardson on the limit load itself (O(h^2))
+            if options.error_estimate:  # Richardson on the limit load itself (O(h^2))
                 fine, res_fine, why_fine = _limit_load(fem, case, build_model(case, 2 * elements, options), options)
                 iterations += res_fine.iterations
                 analysis += res_fine.analysis_time
                 if not why_fine:
                     errors.update({r: abs(fine - value) / 3.0 for r in limit})
-                    value = fine + (fine - value) / 3.0 if options.get("richardson") else fine
+                    value = fine + (fine - value) / 3.0 if options.richardson else fine
             values.update({r: value for r in limit})
-            messages.append(f"limit load by {options.get('limit_control', 'arclength')}: {res.message}")
+            messages.append(f"limit load by {options.limit_control}: {res.message}")
         result = result or res
     if zero is not None:
-        at_zero = {r: values.get(Request(r.quantity, r.point, int(zero))) for r in shifted}
+        at_zero = {r: values.get(Request(r.quantity, r.point, zero)) for r in shifted}
         origin = {name: model.coords[i] for i, name in enumerate(model.node_names)}
         for r in shifted:
             if r in values and at_zero[r] is not None:
@@ -776,15 +772,14 @@ BEAM_OUTPUTS = ("max_stress", "inflection_points", "mechanical_advantage")
 ZEROED = ("x", "y", "dx", "dy")
 
 
-def _soft_mode_count(case, model, options: dict) -> tuple[int, str]:
+def _soft_mode_count(case, model, options: FemOptions) -> tuple[int, str]:
     """dof: soft modes of the unloaded tangent condensed to the actuation points (``fem.soft_modes``),
     ``[methods.fem] dof = {points = [...], ratio = 1e-2}``; the stretching reference is the largest
     EA/l of the case's beams."""
-    spec = options.get("dof") or {}
-    points = spec.get("points")
-    if not points or case.mechanism is None:
+    spec = options.dof
+    if spec is None or case.mechanism is None:
         raise NotApplicable("dof by the FEM needs a mechanism and [methods.fem] dof = {points = [...]}")
-    ratio = float(spec.get("ratio", 1e-2))
+    points, ratio = spec.points, spec.ratio
     reference = max(m.section.EA / math.dist(model.coords[m.start], model.coords[m.end])
                     for m in model.members if ":" not in m.name)
     found = soft_modes(model, [(p, d) for p in points for d in ("ux", "uy", "rz")], ratio=ratio,
@@ -793,7 +788,7 @@ def _soft_mode_count(case, model, options: dict) -> tuple[int, str]:
                          f"k/k_ref = {', '.join(f'{r:.2e}' for r in found.ratios)}, threshold {ratio:g}")
 
 
-def _beam_outputs(fem, case, model, result, requests, elements: int, options: dict) -> dict:
+def _beam_outputs(fem, case, model, result, requests, elements: int, options: FemOptions) -> dict:
     """max_stress and inflection_points of the finest mesh; mechanical_advantage by an increment
     of the input load (`fem_outputs`)."""
     values = {}
@@ -807,19 +802,19 @@ def _beam_outputs(fem, case, model, result, requests, elements: int, options: di
         elif req.quantity == "inflection_points":
             values[req] = float(fem_outputs.inflection_points(result, model, beams, req.level))
         else:
-            if ma is None and fem_outputs.definition(options) == "secant":
-                load = case.loads[fem_outputs.input_load_index(case, options)]
+            if ma is None and options.ma is not None and options.ma.definition == "secant":
+                load = case.loads[fem_outputs.input_load_index(case, options.ma)]
                 ma = fem_outputs.secant_mechanical_advantage(
-                    options, fem_outputs.output_force(case, options, result.reaction), load)
+                    options.ma, fem_outputs.output_force(case, options.ma, result.reaction), load)
             elif ma is None:
-                raised_case, delta, load = fem_outputs.incremented_case(case, options)
-                solves = [fem.solve(m, n_levels=case.n_levels(), rtol=float(options.get("rtol", 1e-10)))
+                raised_case, delta, load = fem_outputs.incremented_case(case, options.ma)
+                solves = [fem.solve(m, n_levels=case.n_levels(), rtol=options.rtol)
                           for m in (model, build_model(raised_case, elements, options))]
                 if not all(r.converged for r in solves):
                     raise NotApplicable("mechanical_advantage: a solve of the increment did not converge: "
                                         + "; ".join(r.message for r in solves))
-                forces = [fem_outputs.output_force(case, options, r.reaction) for r in solves]
-                ma = fem_outputs.mechanical_advantage(case, options, forces[0], forces[1], delta, load)
+                forces = [fem_outputs.output_force(case, options.ma, r.reaction) for r in solves]
+                ma = fem_outputs.mechanical_advantage(options.ma, forces[0], forces[1], delta, load)
             if np.isfinite(ma[req.level]):                      # secant: undefined without input load
                 values[req] = float(ma[req.level])
     return values

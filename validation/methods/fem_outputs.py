@@ -27,9 +27,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from validation.case.method_options import HeldOutputOptions
 from validation.methods.base import NotApplicable
 
 INFLECTION_FLOOR = 1e-3
+_NO_MA = HeldOutputOptions()     # no ``ma`` table: every field at its default
 
 
 def max_stress(result, level: int) -> float:
@@ -56,25 +58,24 @@ def inflection_points(result, model, beams: list[int], level: int) -> int:
     return count
 
 
-def input_load_index(case, options: dict) -> int:
-    ma = options.get("ma") or {}
-    if "input" in ma:
-        index = int(ma["input"])
-        if not 0 <= index < len(case.loads) or case.loads[index].kind not in ("force", "moment"):
-            raise NotApplicable(f"ma.input = {index} is not a force or moment load")
-        return index
+def input_load_index(case, ma: HeldOutputOptions | None) -> int:
+    """The index in ``[[loads]]`` of the input load: ``ma.input``, else the first force or moment."""
+    if ma is not None and ma.input is not None:
+        if not 0 <= ma.input < len(case.loads) or case.loads[ma.input].kind not in ("force", "moment"):
+            raise NotApplicable(f"ma.input = {ma.input} is not a force or moment load")
+        return ma.input
     for index, load in enumerate(case.loads):
         if load.kind in ("force", "moment"):
             return index
     raise NotApplicable("mechanical_advantage needs an input force or moment load")
 
 
-def incremented_case(case, options: dict):
+def incremented_case(case, ma: HeldOutputOptions | None):
     """The case with its input load raised by ``step`` times its largest value, and that increment."""
-    index = input_load_index(case, options)
+    index = input_load_index(case, ma)
     load = case.loads[index]
     levels = np.asarray(load.levels(), float)
-    delta = float((options.get("ma") or {}).get("step", 1e-4)) * float(np.abs(levels).max(initial=0.0))
+    delta = (ma or _NO_MA).step * float(np.abs(levels).max(initial=0.0))
     if delta == 0.0:
         raise NotApplicable("the input load is zero at every level: no increment to take")
     raised = load.model_copy(update={"values": list(levels + delta), "ramp": None})
@@ -83,20 +84,19 @@ def incremented_case(case, options: dict):
     return case.model_copy(update={"loads": loads}), delta, load
 
 
-def output_force(case, options: dict, reaction_of) -> np.ndarray:
+def output_force(case, ma: HeldOutputOptions | None, reaction_of) -> np.ndarray:
     """Per level, the force the mechanism exerts on the output support along ``ma.direction``."""
-    ma = options.get("ma") or {}
     reaction_of = _converged_only(reaction_of)
-    if "output" in ma and ma.get("moment_arm") is not None:
-        sense = float(ma.get("sense", 1))
-        return np.array([-sense * reaction_of(ma["output"], level)[2] / float(ma["moment_arm"])
+    output = None if ma is None else ma.output
+    if output is not None and ma.moment_arm is not None:
+        return np.array([-ma.sense * reaction_of(output, level)[2] / ma.moment_arm
                          for level in range(case.n_levels())])
-    if "output" not in ma or ma.get("direction") is None:
+    if output is None or ma.direction is None:
         raise NotApplicable("mechanical_advantage needs [methods.fem] ma = {output = point, direction = [dx, dy]} "
                             "or {output = point, moment_arm = d_o}")
-    d = np.asarray(ma["direction"], float)
+    d = np.asarray(ma.direction, float)
     d = d / np.hypot(*d)
-    return -np.array([reaction_of(ma["output"], level)[:2] @ d for level in range(case.n_levels())])
+    return -np.array([reaction_of(output, level)[:2] @ d for level in range(case.n_levels())])
 
 
 def _converged_only(reaction_of):
@@ -110,30 +110,22 @@ def _converged_only(reaction_of):
     return reaction
 
 
-def definition(options: dict) -> str:
-    kind = (options.get("ma") or {}).get("definition", "tangent")
-    if kind not in ("tangent", "secant"):
-        raise NotApplicable(f"ma.definition = '{kind}': use 'tangent' or 'secant'")
-    return kind
-
-
-def _input_force(options: dict, input_load, load_values):
-    d_i = (options.get("ma") or {}).get("d_i")
+def _input_force(ma: HeldOutputOptions | None, input_load, load_values):
     if input_load.kind != "moment":
         return load_values
-    if d_i is None:
+    if ma is None or ma.d_i is None:
         raise NotApplicable("an input moment needs ma.d_i (the input force's distance) for a force ratio")
-    return load_values / float(d_i)
+    return load_values / ma.d_i
 
 
-def mechanical_advantage(case, options: dict, base, raised, delta: float, input_load) -> np.ndarray:
+def mechanical_advantage(ma: HeldOutputOptions | None, base, raised, delta: float, input_load) -> np.ndarray:
     """Tangent MA per level from the output forces of the base and raised solves (arrays per level)."""
-    return (raised - base) / _input_force(options, input_load, delta)
+    return (raised - base) / _input_force(ma, input_load, delta)
 
 
-def secant_mechanical_advantage(options: dict, base, input_load) -> np.ndarray:
+def secant_mechanical_advantage(ma: HeldOutputOptions | None, base, input_load) -> np.ndarray:
     """F_out / F_in per level, F_in = |input load| (quantities.MEANINGS['mechanical_advantage']); NaN where
     the input load is zero (the caller leaves those out)."""
-    f_in = np.abs(_input_force(options, input_load, np.asarray(input_load.levels(), float)))
+    f_in = np.abs(_input_force(ma, input_load, np.asarray(input_load.levels(), float)))
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(f_in != 0.0, base / np.where(f_in != 0.0, f_in, 1.0), np.nan)

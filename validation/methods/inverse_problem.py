@@ -29,9 +29,10 @@ a that b, theta0 and the tie lead to (section 3.6's vector loop asks for the sam
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from enum import Enum
 
+from validation.case.method_options import FemInverseOptions, InverseOptions
 from validation.methods.base import MethodRun, NotApplicable
 
 LOAD_OUTPUTS = ("force_x", "force_y", "moment")
@@ -62,65 +63,38 @@ class InverseSpec:
     levels: tuple[InverseLevel, ...]
     I: float | None = None
     EI: float | None = None
-    method_options: dict = field(default_factory=dict)   # the method's own keys (FEM: elements, richardson)
     tip_x: bool = False       # the tip's x is reported from the inverse solution (FEM)
 
 
-KNOWN = {"b", "theta0_deg", "I", "EI"} | {t.value for t in Tie}
-METHOD_KEYS = {"fem": {"elements", "richardson", "tip_x"}, "elastica": set()}
-
-
-def _per_level(table: dict, name: str, n: int, where: str) -> list[float]:
-    v = table[name]
-    values = [float(x) for x in v] if isinstance(v, (list, tuple)) else [float(v)] * n
+def _per_level(value: float | list[float], name: str, n: int, where: str) -> list[float]:
+    values = list(value) if isinstance(value, list) else [value] * n
     if len(values) != n:
         raise NotApplicable(f"{where}.{name}: {len(values)} values for {n} load levels")
-    if not all(math.isfinite(x) for x in values):
-        raise NotApplicable(f"{where}.{name}: values must be finite")
     return values
 
 
-def inverse_spec(case, options: dict, method: str) -> InverseSpec | None:
-    """The inverse problem of the ``inverse`` option table, or None when there is none."""
-    table = options.get("inverse")
+def inverse_spec(case, table: InverseOptions | None, method: str) -> InverseSpec | None:
+    """The inverse problem of the ``inverse`` option table (its model: the names, finite values and exactly
+    one tie are checked there), or None when there is none."""
     if table is None:
         return None
     where = f"methods.{method}.inverse"
-    if not isinstance(table, dict):
-        raise NotApplicable(f"{where}: must be a table of per-level lists")
-    known = KNOWN | METHOD_KEYS.get(method, set())
-    unknown = sorted(set(table) - known)
-    if unknown:
-        raise NotApplicable(f"{where}: unknown field(s) {', '.join(unknown)}; known: {', '.join(sorted(known))}")
     if case.segment is None:
         raise NotApplicable(f"{where}: the inverse tip problem is posed on a single segment")
     if case.segment.boundary == "pinned-pinned":
         raise NotApplicable(f"{where}: needs a segment clamped at its root (boundary is pinned-pinned)")
-    for name in ("b", "theta0_deg"):
-        if name not in table:
-            raise NotApplicable(f"{where}: needs '{name}' (per-level tip y and absolute tip slope)")
-    ties = [t for t in Tie if t.value in table]
-    if len(ties) != 1:
-        raise NotApplicable(f"{where}: give exactly one of a, n, axial_load, l1 (got "
-                            f"{', '.join(t.value for t in ties) or 'none'})")
-    tie = ties[0]
+    tie = next(t for t in Tie if getattr(table, t.value) is not None)
     n = case.n_levels()
-    b = _per_level(table, "b", n, where)
-    theta = _per_level(table, "theta0_deg", n, where)
-    value = _per_level(table, tie.value, n, where)
+    b = _per_level(table.b, "b", n, where)
+    theta = _per_level(table.theta0_deg, "theta0_deg", n, where)
+    value = _per_level(getattr(table, tie.value), tie.value, n, where)
     if tie is Tie.INFLECTION and not all(0.0 < s < case.segment.length for s in value):
         raise NotApplicable(f"{where}.l1: must lie inside the segment (0, {case.segment.length:g})")
     levels = tuple(InverseLevel(b[i], math.radians(theta[i]), tie, value[i]) for i in range(n))
-    stiff = {k: float(table[k]) for k in ("I", "EI") if k in table}
-    if any(v <= 0 or not math.isfinite(v) for v in stiff.values()):
-        raise NotApplicable(f"{where}: I and EI must be positive")
-    own = {k: table[k] for k in METHOD_KEYS.get(method, set()) - {"tip_x"} if k in table}
-    tip_x = table.get("tip_x", False)
-    if not isinstance(tip_x, bool):
-        raise NotApplicable(f"{where}.tip_x: must be true or false")
+    tip_x = isinstance(table, FemInverseOptions) and table.tip_x
     if tip_x and tie is Tie.POSITION_X:
         raise NotApplicable(f"{where}.tip_x: the tip's x is prescribed (a); it is no result of the inverse problem")
-    return InverseSpec(levels, stiff.get("I"), stiff.get("EI"), own, tip_x)
+    return InverseSpec(levels, table.I, table.EI, tip_x)
 
 
 def merge_runs(forward: MethodRun | None, inverse: MethodRun) -> MethodRun:

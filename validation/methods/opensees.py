@@ -10,7 +10,7 @@ the loaded point.
 Rigid links and joints (``_mechanism``), as an OpenSees user builds them for large rotations
 (``rigidLink`` is a linear constraint, right only for small rotations): a link is stiff
 ``elasticBeamColumn`` elements from one of its nodes (its hub) to each other node, their EA and EI
-``rigid_ratio`` (default 1e6, the FEM's own stiff bars) times the stiffest beam's; a revolute joint
+``rigid_ratio`` (as the FEM's own stiff bars) times the stiffest beam's; a revolute joint
 releases the end moments of the elements of the members it names at its node (the element's
 ``-release`` option): all of them when something else holds the node's rotation (a fixed or guided
 support, or a member at the node the joint does not name), else all but one, which keeps the node's
@@ -21,8 +21,8 @@ its rotation, or a fixed support holds it (a joint releases all its members only
 else holds the node). A couple on a released member end, and a rotation asked at a node with a
 released end (which side's?), are refused.
 
-Load stepping is what a competent user does: one load step per level (``steps_per_level``,
-default 1), halved on failure (OpenSees reverts the failed try to the last converged state) up to
+Load stepping is what a competent user does: ``steps_per_level`` load steps per level (one unless the case
+says otherwise; the defaults are ``method_options.OpenSeesOptions``'s), halved on failure (OpenSees reverts the failed try to the last converged state) up to
 ``max_halvings`` times; the failed tries' iterations are counted and their time is in the wall time.
 OpenSees is kept quiet: its log goes to the null device (no warnings on the console) and its
 "Process 0 Terminating" at interpreter exit is dropped.
@@ -38,6 +38,7 @@ import time
 import numpy as np
 
 from fem.critical import refine_extremum
+from validation.case.method_options import OpenSeesOptions
 from validation.methods.base import MethodRun, NotApplicable, Request, reject_loads_along_beams
 from validation.case.quantities import boundary_held_tip
 
@@ -90,7 +91,7 @@ def load_to(ops, current: float, target: float, steps: int, max_halvings: int) -
     return True, iterations, target
 
 
-def _geometry(case, elements: int, options: dict | None = None):
+def _geometry(case, elements: int, options: OpenSeesOptions | None = None):
     """Coordinates, nodes (name -> index), elements (i, j, EA, EI, release code) and supports (node ->
     kind)."""
     coords, names, elems = [], {}, []
@@ -114,7 +115,7 @@ def _geometry(case, elements: int, options: dict | None = None):
         elems = [(idx[i], idx[i + 1], EA, EI, 0) for i in range(elements)]
         supports = {idx[0]: "fixed"}
         return coords, names, elems, supports
-    return _mechanism(case, elements, options or {}, coords, names, add)
+    return _mechanism(case, elements, (options or OpenSeesOptions()).rigid_ratio, coords, names, add)
 
 
 def _arc_chain(a, b, curvature: float, elements: int) -> list[np.ndarray]:
@@ -168,7 +169,7 @@ def _released(case) -> set[tuple[str, str]]:
     return released
 
 
-def _mechanism(case, elements: int, options: dict, coords, names, add):
+def _mechanism(case, elements: int, ratio: float, coords, names, add):
     """A mechanism's nodes, elements (i, j, EA, EI, release code: 1 the end at i, 2 at j, 3 both) and
     supports, with its links and joints (module docstring)."""
     mech = case.mechanism
@@ -191,7 +192,6 @@ def _mechanism(case, elements: int, options: dict, coords, names, add):
                     beam.end if k == len(chain) - 2 else None)
     if mech.links and not mech.beams:
         raise NotApplicable("rigid links without a beam: no stiffness to scale the links' by")
-    ratio = float(options.get("rigid_ratio", 1e6))
     for link in mech.links:
         EA, EI = ratio * stiffest[0], ratio * stiffest[1]
         hub = next((n for n in link.nodes if (link.name, n) not in released), None)
@@ -266,15 +266,13 @@ def _build(ops, coords, elems, supports, nodal):
     ops.algorithm("Newton")
 
 
-def run(case, requests: list[Request], options: dict) -> MethodRun:
+def run(case, requests: list[Request], options: OpenSeesOptions) -> MethodRun:
     reject_loads_along_beams(case, "the OpenSees peer")
     ops = _ops()
     if any(r.quantity not in SUPPORTED for r in requests):
         bad = next(r.quantity for r in requests if r.quantity not in SUPPORTED)
         raise NotApplicable(f"the OpenSees peer does not give '{bad}'")
-    elements = int(options.get("elements", 16))
-    substeps = int(options.get("steps_per_level", 1))
-    max_halvings = int(options.get("max_halvings", 12))
+    elements, substeps, max_halvings = options.elements, options.steps_per_level, options.max_halvings
     start = time.perf_counter()
     coords, names, elems, supports = _geometry(case, elements, options)
     hinged = {node for i, j, *_, code in elems for node, end in ((i, 1), (j, 2)) if code & end}
@@ -290,12 +288,12 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
     if any(r.quantity == "limit_load" for r in requests):
         node, vec = max(nodal.items(), key=lambda kv: np.hypot(*kv[1][:2]))
         dof = 1 if abs(vec[0]) > abs(vec[1]) else 2
-        step = -float(options.get("control_step", 0.002 * max(np.ptp(np.array(coords), axis=0))))
+        step = -(options.control_step or 0.002 * max(np.ptp(np.array(coords), axis=0)))
         step = math.copysign(abs(step), vec[dof - 1])
         ops.integrator("DisplacementControl", node + 1, dof, step)
         ops.analysis("Static")
         history, cpu = [0.0], time.process_time()
-        for _ in range(int(options.get("max_steps", 2000))):
+        for _ in range(options.max_steps):
             if ops.analyze(1) != 0:
                 converged, message = False, f"OpenSees displacement control failed after {len(history)} steps"
                 break

@@ -35,6 +35,7 @@ import numpy as np
 
 import prbm
 from prbm.lazy import LazyModule
+from validation.case.method_options import PrbmOptions
 from validation.methods import prbm_alternatives, prbm_ma, prbm_readings, prbm_segment
 from validation.methods.base import MethodRun, NotApplicable, Request, reject_loads_along_beams
 from validation.methods.prbm_common import DEG
@@ -49,13 +50,13 @@ else:  # the mechanism parts import scipy and the network solver: a segment case
     prbm_network = LazyModule("validation.methods.prbm_network")
 
 
-def run(case, requests: list[Request], options: dict) -> MethodRun:
+def run(case, requests: list[Request], options: PrbmOptions) -> MethodRun:
     t0 = time.perf_counter()
     if prbm_readings.handles(case, options):  # loads along the segment, a force toward a point
         return prbm_readings.run(case, requests, options)
     if not prbm_readings.turning_fourbar(case, options):
         reject_loads_along_beams(case, "the PRBM")
-    if options.get("model") in prbm_alternatives.MODELS:  # the other segment models of [bapat2015, ch. 2]
+    if options.model in prbm_alternatives.MODELS:  # the other segment models of [bapat2015, ch. 2]
         return prbm_alternatives.run(case, requests, options)
     try:
         if prbm_ma.handles(case, options):                      # chapter 7 MA by prbm.compliance
@@ -81,8 +82,8 @@ def _segment(case, requests, options):
 def _inflection(case, requests, options, EI):
     seg = case.segment
     n = case.n_levels()
-    beam = prbm.InflectionBeam(seg.length, EI, options.get("family", "pauly-midha"))
-    problem = options.get("problem", "loads")
+    beam = prbm.InflectionBeam(seg.length, EI, options.family)
+    problem = options.problem
     prefer = prefer_option(options)
     needed = sorted({r.level for r in requests})
     results = {}
@@ -95,7 +96,7 @@ def _inflection(case, requests, options, EI):
                                            prefer=prefer)
     elif problem == "displacement":
         def per_level(key, lv):
-            v = options.get(key)
+            v = getattr(options, key)
             return None if v is None else float(v[lv] if isinstance(v, list) else v)
 
         for lv in needed:
@@ -145,15 +146,15 @@ def _mechanism(case, requests, options):
     if prbm_inflection.applies(case, options):  # chapter 5: inflection segments on one rigid coupler
         values.update(prbm_inflection.run_coupler(case, requests, info))
         return values, info
-    links = options.get("links")
+    links = options.links
     kinds = sorted(sup.kind for sup in mech.supports)
     if not links and not mech.links and len(mech.beams) == 1 and kinds == ["pinned", "slider"]:
         values.update(prbm_body.run_pinned_pinned(case, requests, info))
-    elif not links and prbm_body.one_beam_carrying_a_body(mech) and options.get("model") != "network":
+    elif not links and prbm_body.one_beam_carrying_a_body(mech) and options.model != "network":
         values.update(prbm_body.run_segment_with_body(case, requests, options, info))
     elif links and "r11" in links:
         values.update(prbm_fourbar.run_slider(case, requests, options, info))
-    elif not links or options.get("model") == "network":
+    elif not links or options.model == "network":
         values.update(prbm_network.run_mechanism(case, requests, options, info))
     else:
         values.update(prbm_fourbar.run_fourbar(case, requests, options, info))

@@ -1,13 +1,13 @@
 """Adapter for the alternative segment models of [bapat2015, ch. 2], chosen by ``[methods.prbm] model``.
 
 * ``model = "theta-dependent"``: the fixed-pinned PRBM with K_Theta(n, Theta) of eq (51) or (52)
-  (``prbm.theta_dependent``); option ``theta_fit`` = "51" (default), "52" or "52-tension".  A straight
+  (``prbm.theta_dependent``); option ``theta_fit`` = "51", "52" or "52-tension".  A straight
   fixed-free / fixed-pinned segment with a tip force (no moment).
 * ``model = "chain"``: the Chain Algorithm, eqs (26)-(40) (``prbm.chain``), of a straight cantilevered
   segment (fixed-free, or fixed-guided with its end rotation free under a moment) with tip forces and
-  moment; options ``chain_elements`` (default 40, the number section 3.4 used), ``chain_steps`` (load
-  increments, default 10).  ``problem = "displacement"`` with ``b``, ``theta0_deg`` and ``n`` (per
-  level) solves for the tip loads instead (the Chain row of Table 3.1).
+  moment; options ``chain_elements`` (by default the number section 3.4 used), ``chain_steps`` (load
+  increments; the defaults are ``method_options.PrbmOptions``'s).  ``problem = "displacement"`` with ``b``,
+  ``theta0_deg`` and ``n`` (per level) solves for the tip loads instead (the Chain row of Table 3.1).
 * ``model = "lyon"``: Lyon et al.'s fixed-guided PRBM, eqs (64)-(70) (``prbm.lyon``), under a tip force.
 * ``model = "feasible-l1"``: section 3.6's vector loop, eqs (105)-(107) (``prbm.feasible_l1``), for the
   fixed-guided beam with ``b``, ``theta0_deg`` and ``l1`` given (per level): the end's x (a = l - R5) and
@@ -28,6 +28,7 @@ import numpy as np
 
 from prbm.fits import FitRangeError
 from prbm.lazy import LazyModule
+from validation.case.method_options import PrbmOptions
 from validation.methods.base import MethodRun, NotApplicable, Request
 from validation.methods.prbm_atlas import flag_atlas_levels, theta_dependent_levels
 
@@ -45,15 +46,15 @@ else:  # these models import scipy.optimize: only a case that asks for one pays 
 MODELS = ("theta-dependent", "chain", "lyon", "feasible-l1")
 
 
-def run(case, requests: list[Request], options: dict) -> MethodRun:
+def run(case, requests: list[Request], options: PrbmOptions) -> MethodRun:
     t0 = time.perf_counter()
-    model = options["model"]
+    model = options.model
     seg = case.segment
     if seg is None:
         raise NotApplicable(f"model '{model}' is a single-segment model; this case is a mechanism")
     if seg.initial_curvature() != 0.0:
         raise NotApplicable(f"model '{model}': the seed gives it for initially straight segments only")
-    if model == "chain" and options.get("problem", "loads") == "displacement":
+    if model == "chain" and options.problem == "displacement":
         rows = _chain_inverse(case, requests, options)
     elif model == "feasible-l1":
         rows = _loop(case, requests, options)
@@ -76,7 +77,7 @@ def run(case, requests: list[Request], options: dict) -> MethodRun:
     info.message = "; ".join(f"level {lv}: {m}" for lv, m in info.level_messages.items())
     info.extras = {"model": next(r[1].model for r in rows if r is not None)}
     if model == "theta-dependent":
-        flag_atlas_levels(info, theta_dependent_levels(str(options.get("theta_fit", "51")), loads, seg.length,
+        flag_atlas_levels(info, theta_dependent_levels(options.theta_fit, loads, seg.length,
                                                        seg.bending_stiffness()))
     info.wall_time = time.perf_counter() - t0
     return info
@@ -123,7 +124,7 @@ def _theta_dependent(case, load, options):
         raise NotApplicable("no transverse end force: the fit's load ratio n = -F_x/F_y is undefined")
     try:
         res = theta_dependent.theta_dependent_tip(Fy, -Fx / Fy, length=seg.length, EI=seg.bending_stiffness(),
-                                                  fit=str(options.get("theta_fit", "51")))
+                                                  fit=options.theta_fit)
     except FitRangeError as exc:
         raise NotApplicable(f"PRBM fit range: {exc}") from None
     o = res.outputs
@@ -135,7 +136,7 @@ def _chain_beam(case, options) -> chain_model.ChainBeam:
     seg = case.segment
     if seg.boundary not in ("fixed-free", "fixed-pinned", "fixed-guided"):
         raise NotApplicable(f"the Chain Algorithm here models a cantilevered segment, not {seg.boundary}")
-    return chain_model.ChainBeam(seg.length, seg.bending_stiffness(), int(options.get("chain_elements", 40)))
+    return chain_model.ChainBeam(seg.length, seg.bending_stiffness(), options.chain_elements)
 
 
 def _chain(case, load, options):
@@ -145,13 +146,13 @@ def _chain(case, load, options):
                             "the end moment given (no rotation condition)")
     beam = _chain_beam(case, options)
     res = chain_model.chain_tip(beam, chain_model.NodalLoads.at_tip(beam, Fx, Fy, M),
-                                steps=int(options.get("chain_steps", 10)))
+                                steps=options.chain_steps)
     o = res.outputs
     return _table(case, float(o["a"]), float(o["b"]), float(o["theta0"]), Fx, Fy, M), res
 
 
-def _per_level(options, key, lv):
-    v = options.get(key)
+def _per_level(options: PrbmOptions, key: str, lv: int) -> float:
+    v = getattr(options, key)
     if v is None:
         raise NotApplicable(f"problem = 'displacement' needs [methods.prbm] {key}")
     return float(v[lv] if isinstance(v, list) else v)
@@ -167,7 +168,7 @@ def _chain_inverse(case, requests, options):
         n = _per_level(options, "n", lv)
         res = chain_model.chain_from_tip(beam, b=_per_level(options, "b", lv),
                                          theta0=math.radians(_per_level(options, "theta0_deg", lv)), n=n,
-                                         steps=int(options.get("chain_steps", 10)))
+                                         steps=options.chain_steps)
         o = res.outputs
         rows.append((_table(case, float(o["a"]), float(o["b"]), float(o["theta0"]), -float(o["nP"]),
                             float(o["P"]), float(o["M"])), res))

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 import prbm
+from validation.case.method_options import PrbmOptions
 from validation.methods.base import MethodRun, NotApplicable
 from validation.methods.prbm_atlas import flag_atlas_levels
 from validation.methods.prbm_common import plain, polyline, prefer
@@ -83,16 +84,16 @@ def _carried_body(mech) -> CarriedBody:
                        beam.section.stiffness(beam.E or mech.E)[1], cmath.exp(-1j * cmath.phase(E - O)))
 
 
-def _segment_model(cb: CarriedBody, options: dict):
+def _segment_model(cb: CarriedBody, options: PrbmOptions):
     """(the beam's segment model: an InflectionBeam or a tip(F, M) function, its kind)."""
     L, EI = cb.length, cb.EI
-    kind = cb.beam.segment_type or ("fixed-guided-inflection" if options.get("segment_model") == "inflection"
+    kind = cb.beam.segment_type or ("fixed-guided-inflection" if options.segment_model == "inflection"
                                     else "fixed-pinned")
-    family = options.get("family", "pauly-midha")
+    family = options.family
     if kind in ("fixed-guided-inflection", "inflection"):
         return prbm.InflectionBeam(L, EI, family), kind
     if kind in ("fixed-pinned", "fixed-free"):
-        return _tip_model(L, EI, family, options.get("extrapolate", "raise")), kind
+        return _tip_model(L, EI, family, options.extrapolate), kind
     if kind == "slfp":  # the beam is the flexure; the body is the rigid segment (eqs 71-76)
         def model(F: complex, M: float):
             return prbm.slfp_end_tip(F, M, flexure_length=L, EI=EI)
@@ -160,7 +161,7 @@ def _body_shapes(cb: CarriedBody, results: dict, model, kind: str, n: int) -> li
     return shapes
 
 
-def run_segment_with_body(case, requests, options: dict, info: MethodRun) -> dict:
+def run_segment_with_body(case, requests, options: PrbmOptions, info: MethodRun) -> dict:
     """A [mechanism] of one beam, fixed at one end, whose other end carries the rigid links through it
     (see the module docstring)."""
     cb = _carried_body(case.mechanism)

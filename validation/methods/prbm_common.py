@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 
+from validation.case.method_options import PrbmOptions
 from validation.methods.base import Misconfigured, NotApplicable
 
 DEG = math.pi / 180.0
@@ -76,9 +77,9 @@ def polyline(points) -> np.ndarray:
     return np.column_stack([z.real, z.imag])
 
 
-def prefer(options: dict):
+def prefer(options: PrbmOptions):
     """The ``prefer`` option: 'energy' (default), another rule's name, or {key = value} -> (key, value)."""
-    chosen = options.get("prefer", "energy")
+    chosen = options.prefer
     return next(iter(chosen.items())) if isinstance(chosen, dict) else chosen
 
 

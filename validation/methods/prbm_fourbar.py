@@ -28,6 +28,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 import prbm
+from validation.case.method_options import PrbmOptions, PrecisionOptions
 from validation.methods.base import Misconfigured, MethodRun, NotApplicable
 from validation.methods import prbm_readings
 from validation.methods.prbm_common import DEG, pick, slider_angles
@@ -73,11 +74,11 @@ def topology(mech) -> prbm.PRBMTopology:
     return prbm.PRBMTopology(bodies, joints, segments)
 
 
-def dof_values(mech, requests, options: dict, info: MethodRun) -> tuple[dict, list]:
+def dof_values(mech, requests, options: PrbmOptions, info: MethodRun) -> tuple[dict, list]:
     """The 'dof' requests (the maximum DOF of the PRBM, eq 208 with the mode tables, modes up to
     ``max_mode``) and the requests left; the chapter-8 procedure in ``info.extras``."""
     topo = topology(mech)
-    max_mode = int(options.get("max_mode", 2))
+    max_mode = options.max_mode
     dof = topo.max_dof(max_mode)
     info.extras["mode_table"] = topo.mode_table(max_mode)
     info.extras["procedure"] = topo.procedure(max_mode)      # chapter 8 steps, energy order
@@ -104,32 +105,31 @@ class FourBarSetup:
     P_free: complex
 
 
-def fourbar_from_options(case, options: dict) -> FourBarSetup:
+def fourbar_from_options(case, options: PrbmOptions) -> FourBarSetup:
     """``prbm.FourBar`` from links r1..r5, springs k1..k4 (or slfp sizes) and energy_free angles."""
-    links = options["links"]
+    links = options.links
     if not {"r1", "r2", "r3", "r4"} <= set(links):
         raise NotApplicable("[methods.prbm] links: a PRB four-bar needs r1..r4 (or give no links: the PRB "
                             "model is then built from the geometry)")
     Z = {k: _complex(v) for k, v in links.items()}
-    sp = options.get("springs", {})
-    springs = tuple(float(sp.get(f"k{i}", 0.0)) for i in range(1, 5))
+    springs = tuple(options.spring(f"k{i}") for i in range(1, 5))
     standard = {"k1": "O2", "k2": "A", "k3": "B", "k4": "O4"}
-    for key, joint in (options.get("spring_joints") or {}).items():
+    for key, joint in (options.spring_joints or {}).items():
         if standard.get(key) != joint:
             raise NotApplicable(f"spring {key} at joint '{joint}': only k1..k4 at O2, A, B, O4 are mapped")
-    slfp = options.get("slfp")
-    if slfp and not sp:
+    slfp = options.slfp
+    if slfp and not options.springs:
         E = case.mechanism.E
         if E is None:
             raise NotApplicable("SLFP springs need the mechanism's E")
         # eq (186): k_i = E I_i / l_i, I_i = w t_i^3 / 12
-        springs = tuple(E * float(slfp["width"]) * t**3 / 12.0 / l for t, l in zip(slfp["t"], slfp["l"]))
+        springs = tuple(E * slfp.width * t**3 / 12.0 / l for t, l in zip(slfp.t, slfp.l))
     try:
         fb = prbm.FourBar(Z["r1"], Z["r2"], Z["r3"], Z["r4"], Z.get("r5", 0j), springs=springs)
     except ValueError as exc:  # the links do not make a four-bar: the case's input, not a solver failure
         raise Misconfigured(f"links: {exc}") from None
     t21, t31, _ = fb.theta_ref
-    ef = options.get("energy_free")
+    ef = options.energy_free
     if not ef:
         return FourBarSetup(fb, t21, t21, complex(fb.coupler_point(t21)))
     t20 = float(ef["theta2"]) * DEG
@@ -160,15 +160,15 @@ class Drive:
     name: str
 
 
-def fourbar_drive(case, setup: FourBarSetup, options: dict, info: MethodRun) -> Drive:
+def fourbar_drive(case, setup: FourBarSetup, options: PrbmOptions, info: MethodRun) -> Drive:
     """The input angle of every level and the drive that set it (see the module docstring)."""
     fb, t20, t21 = setup.fb, setup.theta20, setup.theta21
     n = case.n_levels()
     torque = _input_torques(case)
     turning = prbm_readings.link2_turning_forces(case, fb.R2, t20, options)  # follower / rope at A
-    force_at_A = None if turning else _link2_end_forces(case, fb, t20, complex(*options.get("origin", [0.0, 0.0])))
-    precision = options.get("precision", {})
-    drive = options.get("drive", "torque" if torque is not None or force_at_A is not None or turning else "precision")
+    force_at_A = None if turning else _link2_end_forces(case, fb, t20, complex(*options.origin))
+    precision = options.precision or PrecisionOptions()
+    drive = options.drive or ("torque" if torque is not None or force_at_A is not None or turning else "precision")
     if drive == "torque" and turning:
         theta2 = prbm_readings.theta2_under_turning_forces(fb, turning, torque if torque is not None else np.zeros(n),
                                                            t20, options)
@@ -185,23 +185,23 @@ def fourbar_drive(case, setup: FourBarSetup, options: dict, info: MethodRun) -> 
         res = fb.positions_under_torque(torque)
         theta2 = res.outputs["theta2"]
         info.level_converged = {i: bool(c) for i, c in enumerate(res.level_converged)}
-    elif "phi" in precision:
-        theta2 = t21 + np.asarray(precision["phi"], float) * DEG
-    elif "psi" in precision:
+    elif precision.phi is not None:
+        theta2 = t21 + np.asarray(precision.phi, float) * DEG
+    elif precision.psi is not None:
         # output rotations from position 1 as re-solved by the loop (the printed vectors close to ~1e-3)
         t41c = float(fb.angles(t21)[1])
-        theta2 = np.array([_theta2_for_output(fb, t41c + p * DEG, t21) for p in precision["psi"]])
+        theta2 = np.array([_theta2_for_output(fb, t41c + p * DEG, t21) for p in precision.psi])
     else:
         raise NotApplicable("no input torque and no precision positions (phi or psi) to drive the four-bar")
     theta2 = np.asarray(theta2, float)
     if len(theta2) != n:
         raise NotApplicable(f"{len(theta2)} precision positions for {n} load levels")
     free = np.zeros(n, bool)
-    free[[lv for lv in options.get("free_levels", []) if -n <= lv < n]] = True
+    free[[lv for lv in options.free_levels if -n <= lv < n]] = True
     return Drive(np.where(free, t20, theta2), free, drive)
 
 
-def run_fourbar(case, requests, options: dict, info: MethodRun) -> dict:
+def run_fourbar(case, requests, options: PrbmOptions, info: MethodRun) -> dict:
     """The requested outputs of the PRB four-bar of the options (see the module docstring)."""
     setup = fourbar_from_options(case, options)
     fb = setup.fb
@@ -209,23 +209,23 @@ def run_fourbar(case, requests, options: dict, info: MethodRun) -> dict:
     theta2, free = drive.theta2, drive.free
     angles = fb.angles(theta2)  # (Theta3, Theta4) at every level, shared by the outputs below
     P = np.where(free, setup.P_free, fb.coupler_point(theta2, angles))
-    origin = complex(*options.get("origin", [0.0, 0.0]))
+    origin = complex(*options.origin)
     P_free = setup.P_free
     out = {"dx": (P - P_free).real, "dy": (P - P_free).imag, "x": (P + origin).real, "y": (P + origin).imag,
            "input_angle": np.degrees(theta2)}
     wanted = {r.quantity for r in requests}
-    ma = options.get("ma")
-    has_ma = bool(ma) and {"F_i", "d_i", "d_o"} <= set(ma)
+    ma = options.ma
+    has_ma = ma is not None and None not in (ma.F_i, ma.d_i, ma.d_o)
     # the network virtual work (eq 182) and the energy only when the case asks for them
     if "input_torque" in wanted or (has_ma and "mechanical_advantage" in wanted):
         out["input_torque"] = fb.input_torque(theta2, angles)
     if "strain_energy" in wanted:
         out["strain_energy"] = fb.strain_energy(theta2, angles)
     if has_ma and "mechanical_advantage" in wanted:
-        out["mechanical_advantage"] = fb.compliant_ma(theta2, float(ma["F_i"]), float(ma["d_i"]), float(ma["d_o"]),
+        out["mechanical_advantage"] = fb.compliant_ma(theta2, float(ma.F_i), ma.d_i, ma.d_o,
                                                       angles, torque=out["input_torque"])
-    point = options.get("coupler_point", "P")
-    if "origin" not in options and any(r.quantity in ("x", "y") for r in requests):
+    point = options.coupler_point
+    if "origin" not in options.model_fields_set and any(r.quantity in ("x", "y") for r in requests):
         raise NotApplicable("x, y of the PRB four-bar are in its own frame (O2 at the origin): give "
                             "[methods.prbm] origin = [x, y], where O2 is in the case frame")
     for r in requests:
@@ -263,14 +263,13 @@ def _theta2_under_force(fb, force: complex, torque: float, theta20: float, span:
     return prbm.input_angle_under_turning_forces(fb, forces, theta20=theta20, c_theta=1.0, torque=torque, span=span)
 
 
-def run_slider(case, requests, options: dict, info: MethodRun) -> dict:
+def run_slider(case, requests, options: PrbmOptions, info: MethodRun) -> dict:
     """Slider-crank (chapter 7): crank angle from the prescribed slider displacement of each level,
     compliance torque eq (196) as input_torque, MA = MA_R (1 - F_c/F_i) with eq (199) (ma = {F_i, d_i})."""
-    links = options["links"]
-    sp = options.get("springs", {})
+    links = options.links
     sc = prbm.SliderCrank.from_vectors(_complex(links["r11"]), _complex(links["r2"]), _complex(links["r3"]),
-                                       springs=tuple(float(sp.get(f"k{i}", 0.0)) for i in range(1, 4)),
-                                       f_k=float(sp.get("f_k", 0.0)))
+                                       springs=tuple(options.spring(f"k{i}") for i in range(1, 4)),
+                                       f_k=options.spring("f_k"))
     dx = None
     for load in case.loads:
         if load.kind == "displacement":
@@ -279,9 +278,9 @@ def run_slider(case, requests, options: dict, info: MethodRun) -> dict:
         raise NotApplicable("slider-crank: give the slider displacement per level (a 'displacement' load)")
     theta2 = slider_angles(sc, dx)
     out = {"input_angle": np.degrees(theta2), "input_torque": sc.compliance_torque(theta2)}
-    ma = options.get("ma") or {}
-    if {"F_i", "d_i"} <= set(ma):
-        out["mechanical_advantage"] = sc.compliant_ma(theta2, float(ma["F_i"]), float(ma["d_i"]))
+    ma = options.ma
+    if ma is not None and ma.F_i is not None and ma.d_i is not None:
+        out["mechanical_advantage"] = sc.compliant_ma(theta2, float(ma.F_i), ma.d_i)
     info.message = "PRB slider-crank, crank angle from the prescribed slider displacement (eqs 196, 199, 192)"
     return pick(out, requests, "slider-crank")
 

@@ -22,18 +22,19 @@ import cmath
 import math
 
 from prbm.inflection_coupler import CouplerDrive, GuidedSegment, solve_coupler
+from validation.case.method_options import PrbmOptions
 from validation.methods.base import MethodRun, NotApplicable, Request
 
 INFLECTION_TYPES = ("fixed-guided-inflection", "inflection")
 
 
-def applies(case, options: dict) -> bool:
+def applies(case, options: PrbmOptions) -> bool:
     """Is the mechanism a set of inflection fixed-guided segments on one coupler, driven by a prescribed
     translation and rotation of the coupler? (The shape this module models; anything else is not its.)"""
     mech = case.mechanism
     if mech is None or not mech.beams or len(mech.links) != 1 or mech.joints:
         return False
-    inflection = options.get("segment_model") == "inflection"
+    inflection = options.segment_model == "inflection"
     if not all(b.segment_type in INFLECTION_TYPES or (b.segment_type is None and inflection) for b in mech.beams):
         return False
     kinds = {ld.kind for ld in case.loads}

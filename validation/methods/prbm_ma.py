@@ -34,6 +34,7 @@ import numpy as np
 
 import prbm
 from prbm.lazy import LazyModule
+from validation.case.method_options import PrbmMechanicalAdvantageOptions, PrbmOptions
 from validation.methods.base import Misconfigured, MethodRun, NotApplicable
 from validation.methods.prbm_common import slider_angles
 
@@ -45,17 +46,17 @@ else:  # imports scipy.optimize: only a case that asks for the compliance MA pay
 DEG = math.pi / 180.0
 
 
-def handles(case, options: dict) -> bool:
+def handles(case, options: PrbmOptions) -> bool:
     """True when the case asks for this adapter: a mechanism with ma.model = 'compliance'."""
-    return case.mechanism is not None and (options.get("ma") or {}).get("model") == "compliance"
+    return case.mechanism is not None and options.ma is not None and options.ma.model == "compliance"
 
 
 def _complex(pair) -> complex:
     return complex(float(pair[0]), float(pair[1]))
 
 
-def _require(ma: dict, keys: tuple[str, ...], what: str) -> None:
-    missing = [k for k in keys if k not in ma]
+def _require(ma: PrbmMechanicalAdvantageOptions, keys: tuple[str, ...], what: str) -> None:
+    missing = [k for k in keys if getattr(ma, k) is None]
     if missing:
         raise NotApplicable(f"[methods.prbm] ma: {what} needs {', '.join(missing)}")
 
@@ -71,11 +72,11 @@ def _input_sense(case) -> float:
     return float(signs[0])
 
 
-def _slider(case, options: dict) -> dict[str, np.ndarray]:
-    links, ma, sp = options.get("links") or {}, options["ma"], options.get("springs") or {}
+def _slider(case, options: PrbmOptions) -> dict[str, np.ndarray]:
+    links, ma = options.links or {}, options.ma
     _require(ma, ("F_i", "d_i"), "a slider Type 1 MA")
     Z11, Z2, Z3 = (_complex(links[k]) for k in ("r11", "r2", "r3"))
-    springs = tuple(float(sp.get(f"k{i}", 0.0)) for i in range(1, 4))
+    springs = tuple(options.spring(f"k{i}") for i in range(1, 4))
     sc = prbm.SliderCrank.from_vectors(Z11, Z2, Z3)
     travel = [ld for ld in case.loads if ld.kind == "displacement"]
     if len(travel) != 1:
@@ -85,48 +86,47 @@ def _slider(case, options: dict) -> dict[str, np.ndarray]:
     theta2 = slider_angles(sc, dx)
     theta3 = np.asarray(sc.theta3(theta2), float)
     pose = compliance.SliderPose(sc.R2, sc.R3, theta2, theta3, sc.theta2_ref, sc.theta3_ref, sc.x_ref)
-    T_c = compliance.slider_compliance(pose, springs, float(sp.get("f_k", 0.0)), "crank")
-    F_i, d_i = float(ma["F_i"]), float(ma["d_i"])
+    T_c = compliance.slider_compliance(pose, springs, options.spring("f_k"), "crank")
+    F_i, d_i = float(ma.F_i), ma.d_i
     rigid = sc.rigid_ma(theta2, d_i)
     return {"mechanical_advantage": compliance.compliant_ma(rigid, T_c / d_i, _input_sense(case) * F_i),
             "input_torque": T_c, "input_angle": np.degrees(theta2)}
 
 
-def _compliers(case, options: dict) -> dict[str, np.ndarray]:
-    links, ma, sp = options.get("links") or {}, options["ma"], options.get("springs") or {}
+def _compliers(case, options: PrbmOptions) -> dict[str, np.ndarray]:
+    links, ma = options.links or {}, options.ma
     _require(ma, ("d_in", "d_out2", "d_out3", "location_deg"), "a two-port Type 2 MA (eq 205)")
     try:
         fb = prbm.FourBar(*(_complex(links[k]) for k in ("r1", "r2", "r3", "r4")))
     except ValueError as exc:  # the links do not make a four-bar: the case's input, not a solver failure
         raise Misconfigured(f"links: {exc}") from None
     t20, t30, t40 = fb.theta_ref
-    target = t40 + float(ma["location_deg"]) * DEG
+    target = t40 + ma.location_deg * DEG
     theta2 = fb.input_for_output(target, t20)
     if theta2 is None:
-        raise NotApplicable(f"the four-bar cannot turn link 4 by {ma['location_deg']} deg from its measured pose")
+        raise NotApplicable(f"the four-bar cannot turn link 4 by {ma.location_deg} deg from its measured pose")
     theta3 = float(fb.angles(theta2)[0])
     pose = compliance.FourBarPose(fb.R2, fb.R3, fb.R4, theta2, theta3, target, t20, t30, t40)
-    springs = tuple(float(sp.get(f"k{i}", 0.0)) for i in range(1, 5))
+    springs = tuple(options.spring(f"k{i}") for i in range(1, 5))
     T_c = float(compliance.fourbar_compliance_torque(pose, springs, input_link=4))
-    rigid = float(compliance.two_port_rigid_ma(pose, fb.Z1, float(ma["d_in"]), float(ma["d_out2"]),
-                                               float(ma["d_out3"])))
-    _check_location(case, float(ma["location_deg"]) * DEG)
+    rigid = float(compliance.two_port_rigid_ma(pose, fb.Z1, ma.d_in, ma.d_out2, ma.d_out3))
+    _check_location(case, ma.location_deg * DEG)
     F_i = _input_forces(case, ma)
     if np.any(F_i <= 0.0):
         raise NotApplicable("Type 2 MA: the input forces must be positive (magnitudes)")
-    sense = math.copysign(1.0, float(ma["location_deg"]))
+    sense = math.copysign(1.0, ma.location_deg)
     n = case.n_levels()
-    return {"mechanical_advantage": compliance.compliant_ma(rigid, T_c / float(ma["d_in"]), sense * F_i),
+    return {"mechanical_advantage": compliance.compliant_ma(rigid, T_c / ma.d_in, sense * F_i),
             "input_torque": np.full(n, T_c), "input_angle": np.full(n, math.degrees(target))}
 
 
-def _input_forces(case, ma: dict) -> np.ndarray:
+def _input_forces(case, ma: PrbmMechanicalAdvantageOptions) -> np.ndarray:
     """F_i per level: ``ma.F_i`` or the values of the case's one 'force' load."""
     forces = [ld for ld in case.loads if ld.kind == "force"]
-    if "F_i" in ma:
+    if ma.F_i is not None:
         if forces:
             raise NotApplicable("Type 2 MA: give F_i either as ma.F_i or as a 'force' load, not both")
-        F_i = np.broadcast_to(np.asarray(ma["F_i"], float), (case.n_levels(),))
+        F_i = np.broadcast_to(np.asarray(ma.F_i, float), (case.n_levels(),))
     elif len(forces) == 1:
         F_i = np.asarray(forces[0].levels(), float)
     else:
@@ -156,9 +156,9 @@ def _check_location(case, turn: float) -> None:
                                 f"{expected:.6g} that the input link turned by location_deg gives it")
 
 
-def run(case, requests, options: dict) -> tuple[dict, MethodRun]:
+def run(case, requests, options: PrbmOptions) -> tuple[dict, MethodRun]:
     """Values per request and the run record (see the module docstring)."""
-    links = options.get("links") or {}
+    links = options.links or {}
     if "r11" in links:
         out, what = _slider(case, options), "PRB slider, eqs (192), (196), (199)"
     elif {"r1", "r2", "r3", "r4"} <= set(links):

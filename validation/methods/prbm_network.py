@@ -37,6 +37,7 @@ import numpy as np
 
 import prbm
 from prbm.fits import THETA_RANGE
+from validation.case.method_options import PrbmOptions, RulesOptions
 from validation.methods import fem_outputs
 from validation.methods.base import Applicability, MethodRun, NotApplicable
 from prbm import builder as pb
@@ -90,31 +91,25 @@ def load_ratios(mech, loads) -> dict[str, float]:
     return out
 
 
-def rules(options: dict, mech, loads=()) -> pb.Rules:
-    """The builder's rules from ``[methods.prbm] rules = {gamma, K_theta, slfp_ratio, beams}``, and each
-    beam's load ratio where the loads define it (``load_ratios``)."""
-    given = options.get("rules") or {}
-    unknown = set(given) - {"gamma", "K_theta", "slfp_ratio", "beams"}
-    if unknown:
-        raise NotApplicable(f"[methods.prbm] rules: unknown option(s) {sorted(unknown)} "
-                            "(known: gamma, K_theta, slfp_ratio, beams)")
+def rules(given: RulesOptions | None, mech, loads=()) -> pb.Rules:
+    """The builder's rules from ``[methods.prbm] rules = {gamma, K_theta, slfp_ratio, beams}`` (a rule not
+    given: the builder's own), and each beam's load ratio where the loads define it (``load_ratios``)."""
+    given = given or RulesOptions()
     per_beam = {}
     names = {b.name for b in mech.beams}
-    for name, over in (given.get("beams") or {}).items():
+    for name, over in (given.beams or {}).items():
         if name not in names:
             raise NotApplicable(f"[methods.prbm] beams.{name}: no beam of that name")
-        unknown = set(over) - {"model", "gamma", "K_theta", "stiffness", "clamp"}
-        if unknown:
-            raise NotApplicable(f"[methods.prbm] beams.{name}: unknown option(s) {sorted(unknown)}")
-        per_beam[name] = pb.BeamRule(**over)
+        per_beam[name] = pb.BeamRule(**over.model_dump(exclude_none=True))
     for beam in mech.beams:  # the case's own segment_type picks the model unless the rules do
         model = SEGMENT_TYPES.get(beam.segment_type or "")
         if model and beam.name not in per_beam:
             per_beam[beam.name] = pb.BeamRule(model=model)
     for name, n in load_ratios(mech, loads).items():
         per_beam[name] = replace(per_beam.get(name, pb.BeamRule()), load_ratio=n)
-    return pb.Rules(gamma=float(given.get("gamma", pb.GAMMA)), K_theta=float(given.get("K_theta", pb.K_THETA)),
-                    slfp_ratio=float(given.get("slfp_ratio", pb.SLFP_RATIO)), beams=per_beam)
+    builder = {name: value for name in ("gamma", "K_theta", "slfp_ratio")
+               if (value := getattr(given, name)) is not None}       # else the builder's own
+    return pb.Rules(**builder, beams=per_beam)
 
 
 def _body_for(model: pb.PRBModel, load) -> str:
@@ -186,13 +181,13 @@ _MODELS_KEPT = 64
 _LAST: dict[str, tuple] = {}  # the last mechanism object asked for, its rules option and its model
 
 
-def built_model(mech, options: dict, loads=()) -> pb.PRBModel:
+def built_model(mech, given: RulesOptions | None, loads=()) -> pb.PRBModel:
     """The PRB model of the mechanism by the builder's rules; the same geometry and rules give the same
     model, so it is built (and its mobility analysed) once per process."""
     same = _LAST.get("key")
-    if same is not None and same[0] is mech and same[1] is loads and same[2] == options.get("rules"):
+    if same is not None and same[0] is mech and same[1] is loads and same[2] == given:
         return same[3]  # the same mechanism and loads as the last call (a repeated run): no rebuild, no key
-    geo, rl = geometry(mech), rules(options, mech, loads)
+    geo, rl = geometry(mech), rules(given, mech, loads)
     key = repr((geo, rl))
     model = _MODELS.get(key)
     if model is None:
@@ -205,7 +200,7 @@ def built_model(mech, options: dict, loads=()) -> pb.PRBModel:
         if len(_MODELS) >= _MODELS_KEPT:
             _MODELS.pop(next(iter(_MODELS)))
         _MODELS[key] = model
-    _LAST["key"] = (mech, loads, options.get("rules"), model)
+    _LAST["key"] = (mech, loads, given, model)
     return model
 
 
@@ -257,25 +252,26 @@ def reaction(case, model: pb.PRBModel, result, node: str, level: int) -> np.ndar
     return total
 
 
-def mechanical_advantage(case, options: dict, model: pb.PRBModel, result) -> np.ndarray:
+def mechanical_advantage(case, options: PrbmOptions, model: pb.PRBModel, result) -> np.ndarray:
     """MA per level as the FEM defines it (``validation/methods/fem_outputs.py``, ``ma = {output,
     direction, input, step, d_i, definition}``): the force the mechanism exerts on the held output
     along ``direction`` over the input load, tangent (a second solve with the input raised) or secant."""
     n = case.n_levels()
-    base = fem_outputs.output_force(case, options, lambda node, lv: reaction(case, model, result, node, lv))
-    input_load = case.loads[fem_outputs.input_load_index(case, options)]
-    if fem_outputs.definition(options) == "secant":
-        return fem_outputs.secant_mechanical_advantage(options, base, input_load)
-    raised_case, delta, _ = fem_outputs.incremented_case(case, options)
+    ma = options.ma
+    base = fem_outputs.output_force(case, ma, lambda node, lv: reaction(case, model, result, node, lv))
+    input_load = case.loads[fem_outputs.input_load_index(case, ma)]
+    if ma is not None and ma.definition == "secant":
+        return fem_outputs.secant_mechanical_advantage(ma, base, input_load)
+    raised_case, delta, _ = fem_outputs.incremented_case(case, ma)
     raised = solve_case(raised_case, model)
     if not raised.converged:
         raise NotApplicable(f"mechanical advantage: the solve with the input raised did not converge ({raised.message})")
-    up = fem_outputs.output_force(raised_case, options,
+    up = fem_outputs.output_force(raised_case, ma,
                                   lambda node, lv: reaction(raised_case, model, raised, node, lv))
-    return fem_outputs.mechanical_advantage(case, options, base[:n], up[:n], delta, input_load)
+    return fem_outputs.mechanical_advantage(ma, base[:n], up[:n], delta, input_load)
 
 
-def _value(case, model: pb.PRBModel, result, req, inputs: list, options: dict, memo: dict) -> float:
+def _value(case, model: pb.PRBModel, result, req, inputs: list, options: PrbmOptions, memo: dict) -> float:
     """One requested value at a converged level (quantity contract)."""
     net = model.network
     q, p, lv = req
@@ -321,9 +317,9 @@ def _flag_deflection(model: pb.PRBModel, result, info: MethodRun) -> None:
             info.flag(level, Applicability.DEFLECTION)
 
 
-def run_mechanism(case, requests, options: dict, info: MethodRun) -> dict:
+def run_mechanism(case, requests, options: PrbmOptions, info: MethodRun) -> dict:
     """Values of the requested outputs of a mechanism case from the PRB model built by rule."""
-    model = built_model(case.mechanism, options, case.loads)
+    model = built_model(case.mechanism, options.rules, case.loads)
     result = solve_case(case, model)
     inputs = [ld for ld in case.loads if ld.kind in ("rotation", "moment")]
     values, memo = {}, {}

@@ -48,6 +48,7 @@ import numpy as np
 import prbm
 from prbm.fits import THETA_RANGE, FitRangeError, fit_family
 from prbm.lazy import LazyModule
+from validation.case.method_options import PrbmOptions
 from validation.methods.base import Applicability, MethodRun, NotApplicable, Request
 from validation.methods.prbm_atlas import chain_levels, flag_atlas_levels
 from validation.methods.prbm_common import pick
@@ -62,18 +63,18 @@ else:  # both import scipy.optimize: only a case that asks for them pays for it 
 ALONG_BEAM = ("distributed", "self_weight")
 
 
-def handles(case, options: dict) -> bool:
+def handles(case, options: PrbmOptions) -> bool:
     """A segment case with a load along the segment or a force toward a fixed point (this module runs it)."""
     return case.segment is not None and any(ld.kind in ALONG_BEAM or ld.toward is not None for ld in case.loads)
 
 
-def turning_fourbar(case, options: dict) -> bool:
+def turning_fourbar(case, options: PrbmOptions) -> bool:
     """A hand-given PRB four-bar with a follower force or a force toward a point (``link2_turning_forces``)."""
-    return case.mechanism is not None and bool(options.get("links")) and any(
+    return case.mechanism is not None and bool(options.links) and any(
         ld.kind == "force" and (ld.follower or ld.toward is not None) for ld in case.loads)
 
 
-def run(case, requests: list[Request], options: dict) -> MethodRun:
+def run(case, requests: list[Request], options: PrbmOptions) -> MethodRun:
     t0 = time.perf_counter()
     seg = case.segment
     if seg.initial_curvature() != 0.0:
@@ -106,11 +107,11 @@ def _turning_segment(case, requests, options) -> MethodRun:
     if load.point != "tip":
         raise NotApplicable(f"a force toward a fixed point at '{load.point}': the segment PRBM takes end loads only")
     law = turning_loads.TowardPoint(complex(*load.toward), math.radians(load.angle))
-    F = np.asarray(load.levels(), float) * prbm.capstan_factor(float(options.get("friction_mu", 0.0)),
-                                                               math.radians(float(options.get("contact_angle_deg", 0.0))))
+    F = np.asarray(load.levels(), float) * prbm.capstan_factor(options.friction_mu,
+                                                               math.radians(options.contact_angle_deg))
     L, EI = seg.length, seg.bending_stiffness()
-    res = turning_loads.fixed_pinned_turning_tip(F, law, length=L, EI=EI, family=options.get("family", "pauly-midha"),
-                                                 extrapolate=options.get("extrapolate", "raise"))
+    res = turning_loads.fixed_pinned_turning_tip(F, law, length=L, EI=EI, family=options.family,
+                                                 extrapolate=options.extrapolate)
     o, c = res.outputs, res.constants
     out = {"x": o["a"], "y": o["b"], "dx": o["a"] - L, "dy": o["b"], "rotation": np.degrees(o["theta0"]),
            "force_x": o["Fx"], "force_y": o["Fy"], "moment": np.zeros(len(F)), "prb_angle": np.degrees(o["Theta"]),
@@ -199,18 +200,18 @@ def _tip(level: ChainLevel) -> complex:
     return complex(float(level.res.outputs["a"]), float(level.res.outputs["b"]))
 
 
-def chain_count(case, levels: list[int], options: dict) -> ChainChoice:
+def chain_count(case, levels: list[int], options: PrbmOptions) -> ChainChoice:
     """The chain for a load along the segment: the count the options fix (``model = 'chain'``: its
     ``chain_elements``, default 40; ``chain_elements`` alone), or else the automatic choice: n = CHAIN_FIRST,
     2n, 4n, ... until max over the levels of |tip_2n - tip_n| < chain_tol x L (the finer chain kept)."""
     seg = case.segment
-    steps = int(options.get("chain_steps", 10))
+    steps = options.chain_steps
     EI = seg.bending_stiffness()
-    if options.get("model") == "chain" or "chain_elements" in options:
-        beam = chain_model.ChainBeam(seg.length, EI, int(options.get("chain_elements", 40)))
-        given = "model = 'chain'" if options.get("model") == "chain" else "chain_elements"
+    if options.model == "chain" or "chain_elements" in options.model_fields_set:
+        beam = chain_model.ChainBeam(seg.length, EI, options.chain_elements)
+        given = "model = 'chain'" if options.model == "chain" else "chain_elements"
         return ChainChoice(beam, _solve_chain(case, beam, levels, steps), f"{beam.elements} elements ({given})")
-    tol = float(options.get("chain_tol", 1e-3))
+    tol = options.chain_tol
     most = min(CHAIN_MOST, case.limits.elements)
     beam = chain_model.ChainBeam(seg.length, EI, min(CHAIN_FIRST, most))
     solved = _solve_chain(case, beam, levels, steps)
@@ -232,7 +233,7 @@ def chain_count(case, levels: list[int], options: dict) -> ChainChoice:
 
 def _chain(case, requests, options) -> MethodRun:
     seg = case.segment
-    model = options.get("model")
+    model = options.model
     if model not in (None, "chain"):
         i, load = next((i, ld) for i, ld in enumerate(case.loads) if ld.kind in ALONG_BEAM)
         raise NotApplicable(f"loads.{i}: a {load.kind.replace('_', '-')} load along the segment: model = '{model}' "
@@ -295,7 +296,7 @@ ZEROED = ("x", "y", "dx", "dy")
 
 
 def _with_zero_level(requests, options) -> list[Request]:
-    zero = options.get("zero_level")
+    zero = options.zero_level
     if zero is None:
         return list(requests)
     extra = [Request(r.quantity, r.point, int(zero)) for r in requests if r.quantity in ZEROED]
@@ -304,7 +305,7 @@ def _with_zero_level(requests, options) -> list[Request]:
 
 def _apply_zero_level(info: MethodRun, requests, options, case) -> None:
     """Positions from the zero level's state: v(level) - (v(zero) - v(unloaded)), as the FEM option."""
-    zero = options.get("zero_level")
+    zero = options.zero_level
     if zero is None:
         return
     if not 0 <= int(zero) < case.n_levels():
@@ -328,13 +329,13 @@ class LinkForce:
     law: object
 
 
-def link2_turning_forces(case, R2: float, theta20: float, options: dict) -> list[LinkForce] | None:
+def link2_turning_forces(case, R2: float, theta20: float, options: PrbmOptions) -> list[LinkForce] | None:
     """The forces at A = O2 + R2 e^{i theta20} as laws in the four-bar frame (O2 at the origin), or None
     when none of them turns (dead forces keep their own path in ``prbm_fourbar``)."""
     forces = [ld for ld in case.loads if ld.kind == "force"]
     if not any(ld.follower or ld.toward is not None for ld in forces):
         return None
-    origin = complex(*options.get("origin", [0.0, 0.0]))
+    origin = complex(*options.origin)
     nodes = {nd.name: complex(nd.x, nd.y) for nd in case.mechanism.nodes}
     beams = {b.name for b in case.mechanism.beams}
     A = origin + R2 * cmath.exp(1j * theta20)
@@ -358,10 +359,10 @@ def link2_turning_forces(case, R2: float, theta20: float, options: dict) -> list
 
 
 def theta2_under_turning_forces(fb, forces: list[LinkForce], torques: np.ndarray, theta20: float,
-                                options: dict) -> np.ndarray:
+                                options: PrbmOptions) -> np.ndarray:
     """The input angle of every level under the forces at A and the couples (eq (**) of
     ``prbm.turning_loads``); c_theta of the fit family at n = 0."""
-    c_theta = float(fit_family(options.get("family", "pauly-midha")).parameters(0.0)[1])
+    c_theta = float(fit_family(options.family).parameters(0.0)[1])
     if not math.isfinite(c_theta):
         raise NotApplicable("a follower force on the four-bar's segment needs c_theta; the fit family gives none")
     theta2 = []

@@ -48,6 +48,7 @@ import numpy as np
 import prbm
 from prbm.fits import THETA_RANGE, fit_family
 from prbm.result import PRBMResult
+from validation.case.method_options import PrbmOptions
 from validation.case.quantities import boundary_held_tip, unloaded_tip_angle
 from validation.methods.base import Applicability, DeferredList, MethodRun, NotApplicable
 from validation.methods.prbm_atlas import flag_levels
@@ -128,12 +129,12 @@ class FitOptions:
     extrapolate: str
 
 
-def run_segment(case, requests, options: dict) -> tuple[dict, MethodRun]:
+def run_segment(case, requests, options: PrbmOptions) -> tuple[dict, MethodRun]:
     """The requested values and the run of a single segment under end loads (not the inflection model)."""
     seg = case.segment
     L, EI, kappa = seg.length, seg.bending_stiffness(), seg.initial_curvature()
-    fit = FitOptions(options.get("family", "pauly-midha"), options.get("extrapolate", "raise"))
-    mu, contact = options.get("friction_mu", 0.0), options.get("contact_angle_deg", 0.0)
+    fit = FitOptions(options.family, options.extrapolate)
+    mu, contact = options.friction_mu, options.contact_angle_deg
     motion = prescribed_motion(case)
     if motion is not None:
         if mu or contact:

@@ -23,6 +23,7 @@ import math
 from dataclasses import dataclass
 
 from validation.case.capabilities import QUANTITIES
+from validation.case.method_options import options_of
 from validation.methods.base import MethodRun, Request
 from validation.case.schema import Agreement, Case, ReferenceSpec, Tolerance
 
@@ -145,7 +146,7 @@ def axial_strain_bound(case: Case, level: int) -> float:
     force = max(math.hypot(fx, fy), followers)
     EA = case.segment.axial_stiffness()
     if math.isnan(EA):  # no area given: the FEM adapter's stand-in EA = ratio EI / L^2
-        ratio = float((case.methods.get("fem") or {}).get("inextensible_ratio", 1e6))
+        ratio = options_of("fem", case.methods.get("fem")).inextensible_ratio
         EA = ratio * case.segment.bending_stiffness() / case.segment.length**2
     return force / EA if EA > 0 and not math.isnan(EA) else 0.0
 

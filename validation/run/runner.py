@@ -19,6 +19,7 @@ from pathlib import Path
 
 from validation.case.capabilities import QUANTITIES
 from validation.case.loader import LoadedCase
+from validation.case.method_options import options_of
 from validation.methods.base import Misconfigured, MethodRun, NotApplicable, Request, RunStatus
 from validation.case.schema import Case
 from validation.case.overrides import apply as apply_field
@@ -46,10 +47,10 @@ def requests_for(case: Case, method: str) -> list[Request]:
 def run_method(case: Case, method: str) -> MethodRun:
     """Call the adapter; a method that cannot model the case, is misconfigured or fails returns a
     run that says so in its ``status`` and ``message``."""
-    options = dict(case.methods.get(method) or {})
     requests = requests_for(case, method)
     start = time.perf_counter()
     try:
+        options = options_of(method, case.methods.get(method))
         name = f"validation.methods.{method}"
         adapter = sys.modules.get(name) or importlib.import_module(name)   # the import system only once
         run = adapter.run(case, requests, options)
