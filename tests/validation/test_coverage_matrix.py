@@ -77,3 +77,12 @@ def test_list_methods_prints_the_matrix(capsys, cells):
     assert capsys.readouterr().out.strip() == coverage.markdown(cells)
     assert main(["list", "--methods", "cantilever_tip_load"]) == 2
     assert main(["list", "--markdown"]) == 2
+
+
+def test_the_elastica_refuses_a_load_along_a_mechanisms_beams():
+    """A self-weight or distributed load on a mechanism was read as a prescribed displacement of the
+    loaded point (y = 0, status ok, against the FEM's 0.99995): the elastica mechanism model has no load
+    along its beams, so it refuses, naming the load."""
+    for load in ("self-weight", "distributed load"):
+        cell = coverage.cell(load, "parallel-guided mechanism", "elastica")
+        assert cell.status == "refuses" and "along the beams of a mechanism" in cell.reason, cell

@@ -137,6 +137,10 @@ def loads(case, owner: dict[str, str]) -> list:
             if body in (None, em.GROUND):
                 raise NotApplicable(f"loads.{i}: a prescribed rotation of '{load.point}', on no rigid link")
             out.append(em.BodyRotation(body, tuple(math.radians(x) for x in v)))
+        elif load.kind != "displacement":
+            raise NotApplicable(f"loads.{i}: a {load.kind.replace('_', '-')} load along the beams of a mechanism: "
+                                "the elastica mechanism model (elastica.mechanism) takes point forces, couples "
+                                "and prescribed motions only")
         else:
             d = np.asarray(load.direction, float) / math.hypot(*load.direction)
             if abs(d[0]) > 1e-12 and abs(d[1]) > 1e-12:
