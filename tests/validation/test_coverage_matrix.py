@@ -86,3 +86,11 @@ def test_the_elastica_refuses_a_load_along_a_mechanisms_beams():
     for load in ("self-weight", "distributed load"):
         cell = coverage.cell(load, "parallel-guided mechanism", "elastica")
         assert cell.status == "refuses" and "along the beams of a mechanism" in cell.reason, cell
+
+
+def test_the_fem_refuses_two_held_points_of_one_rigid_body():
+    """A prescribed displacement of the crank's end with the crank's pivot pinned: master-slave elimination
+    cannot state it (it raised 'prescribed DOF on a rigid-link slave node', a crash); now a refusal that
+    names the link and both points."""
+    cell = coverage.cell("prescribed displacement", "circular-guided mechanism", "fem")
+    assert cell.status == "refuses" and "rigid link 'crank'" in cell.reason, cell

@@ -212,7 +212,12 @@ def _mechanism_model(fem, case, elements: int, options: FemOptions):
         anchored = {sup.node for sup in mech.supports} | {ld.point for ld in case.loads
                                                            if ld.kind in ("displacement", "rotation")}
         master = next((n for n in link.nodes if n in anchored), link.nodes[0])  # supports and prescribed
-        for node in link.nodes:                                                # motions sit on the master
+        also = [n for n in link.nodes if n in anchored and n != master]        # motions sit on the master
+        if also:  # a second held point of one rigid body is a constraint master-slave elimination cannot state
+            raise NotApplicable(f"rigid link '{link.name}': '{master}' and {', '.join(repr(n) for n in also)} "
+                                "are both held or driven; the FEM's rigid links prescribe motions at one node "
+                                "of a body (prescribe the body's rotation, or one of its points)")
+        for node in link.nodes:
             if node != master:
                 model.add_rigid_link(master, node)
     ends = {}                                            # (body, node) -> the member ending there
