@@ -453,6 +453,19 @@ def write_page(out: Path, grid: str, frame: pd.DataFrame, results=(), table: pd.
     return AtlasPage(PAGE, grid, version, agree)
 
 
+def prepare_static(out: Path, datasets: Path, build: bool = True) -> None:
+    """The atlas-only part of the page (claims, maps, regions, refit) drawn ahead into ``out/atlas_figures``
+    with its digest, from the atlas found under ``datasets`` or (with ``build``) the coarse one built under
+    ``out/atlas`` in this process: a task of the report's pool beside the cases (a pool worker cannot start
+    processes of its own), so that ``write_page`` later finds it drawn and only adds the cases' part."""
+    found = find_atlas(datasets, Path(out) / DATASETS if build else None, workers=1, executor="serial")
+    if found is None:
+        return
+    grid, frame, where = found
+    version = str(manifest(where, grid).get("version") or dataset.code_version())
+    _static_part(frame, grid, version, Path(out) / FIGURES, CLAIMS)
+
+
 def build_page(out: Path, results, table: pd.DataFrame, datasets: Path, build: bool = True,
                workers: int = 2) -> AtlasPage | None:
     """The atlas page of a report written in ``out``: the best atlas under ``datasets`` (the published

@@ -552,6 +552,22 @@ class DomainStudy:
         stamp.write_text(digest)
 
 
+@dataclass
+class DomainsAndAtlas:
+    """The chapter-4 domain study, then the atlas page's atlas-only part (``atlas_page.prepare_static``:
+    the coarse atlas built where none of the current code is found, its claims table reading the study's
+    summary, its maps and refit), in one task of ``run_cases``' pool beside the cases: off the main
+    process's path, which then only adds the cases' predicted-against-measured part."""
+
+    stage: Path
+    datasets: Path
+    label: str = "chapter-4 domain study and atlas maps"
+
+    def __call__(self) -> None:
+        DomainStudy(self.stage / DOMAINS)()
+        atlas_page.prepare_static(self.stage, self.datasets)
+
+
 def _last_costs(out: Path) -> dict[str, float]:
     """Each case's seconds (its run and its page) in the last report's ``timing.csv``, which orders
     this run's cases longest first; empty when there is none."""
@@ -635,7 +651,7 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
         install_plotly(stage)  # before the workers draw pages
         paths = find_case_files(cases or None)
         # the whole report: the chapter-4 deflection-domain study beside the sweep studies, run beside the cases
-        extra = [] if cases else [DomainStudy(stage / DOMAINS)]
+        extra = [] if cases else [DomainsAndAtlas(stage, out / atlas_page.DATASETS)]
         outcome = run_cases(paths, use_cache=use_cache, jobs=jobs, progress=True, after=PageWriter(stage),
                             extra=extra, costs=_last_costs(out))
         if not outcome.results and outcome.errors:   # rejected: no case could run
