@@ -36,8 +36,19 @@ Inverse tip problem (option table ``inverse``, ``validation.methods.inverse_prob
 (``force_x``, ``force_y``, ``moment``) are those that hold the prescribed tip, each level solved on
 its own from the unloaded beam (``l1``: from the case's loads, as for ``problem = 'inflection'``);
 the other outputs come from the forward solve under the case's loads.
-Not applicable: mechanisms, pinned-pinned segments, loads away from the tip. The elastica is
-inextensible and shear-free whatever the section's area.
+Not applicable: loads away from the tip. The shooting's elastica is inextensible and shear-free
+whatever the section's area.
+
+Segments solved as a mechanism (``elastica_network.run_segment``, ``elastica.mechanism``): a pinned-pinned
+segment (a root pin, which the shooting of a clamped beam cannot state), and a straight fixed-fixed segment
+whose tip's axial motion is held or prescribed (an inextensible beam with x(L) = L cannot bend: its chord
+shortens once it bends, so a transverse load or a moment is carried only with the axial stretch). The beam
+is then extensible with the section's EA (inextensible, and refused where it would have to stretch, if an
+'inertia' section gives no A); the tip freedoms held are those of ``quantities.boundary_held_tip`` (the
+FEM's rule: pinned-pinned holds the tip's x and y unless a load acts along them); tip forces (dead or
+follower), moments and prescribed motions only: no distributed load, no force toward a fixed point.
+The outputs are the shooting's (tip x, y, dx, dy, rotation, force_x, force_y, moment; root reactions),
+plus the rotation of a pinned root.
 """
 from __future__ import annotations
 
@@ -54,7 +65,7 @@ from validation.methods.base import MethodRun, NotApplicable, Request
 from validation.case.method_options import ElasticaOptions
 from validation.case.schema import Case
 
-SUPPORTED = {"fixed-free", "fixed-pinned", "fixed-guided", "fixed-fixed"}
+SUPPORTED = {"fixed-free", "fixed-pinned", "fixed-guided", "fixed-fixed"}   # by the shooting (``level_problems``)
 
 
 def _stiffness(case: Case, options: ElasticaOptions) -> float:
@@ -73,13 +84,53 @@ def _tolerances(options: ElasticaOptions) -> dict:
     return {name: value for name in ("rtol", "tol") if (value := getattr(options, name)) is not None}
 
 
+STRAIGHT_FIXED_FIXED = ("a straight fixed-fixed segment whose tip's axial motion is held or prescribed: the "
+                        "inextensible shooting cannot bend it (once it bends its chord shortens); the adapter "
+                        "solves it as an extensible mechanism instead")
+
+
+def _held_tip_directions(case: Case) -> list[np.ndarray]:
+    """The tip-position directions (unit x, y) a fixed-fixed boundary holds at the unloaded tip: those no
+    prescribed displacement and no tip force acts along (at most two prescribed components in all)."""
+    if case.segment.boundary != "fixed-fixed":
+        return []
+    prescribed = [np.asarray(ld.direction, float) / np.hypot(*ld.direction)
+                  for ld in case.loads if ld.kind == "displacement"]
+    forces = [np.asarray(ld.direction, float) if ld.toward is None else np.ones(2)   # a pointed force: both
+              for ld in case.loads if ld.kind == "force"]
+    held: list[np.ndarray] = []
+    for u in (np.array([1.0, 0.0]), np.array([0.0, 1.0])):
+        free = any(abs(u @ p) >= 0.999 for p in prescribed) or any(abs(u @ f) > 1e-12 for f in forces)
+        if not free and len(prescribed) + len(held) < 2:
+            held.append(u)
+    return held
+
+
+def _axially_held(case: Case) -> bool:
+    """A straight fixed-fixed segment whose tip x is held by the boundary or prescribed: the inextensible
+    elastica's tip would have to stay at x = L, which it can only do straight."""
+    seg = case.segment
+    axial = [np.asarray(ld.direction, float) / np.hypot(*ld.direction)
+             for ld in case.loads if ld.kind == "displacement"] + _held_tip_directions(case)
+    return (seg.boundary == "fixed-fixed" and seg.initial_curvature() == 0.0
+            and any(abs(u[0]) > 0.999 for u in axial))
+
+
+def _by_mechanism(case: Case) -> bool:
+    """The segments the shooting of one clamped beam cannot state, solved as a mechanism
+    (``elastica_network.run_segment``): a pinned root, and a straight fixed-fixed segment whose tip's
+    axial motion is held or prescribed (a transverse load or a moment then needs the axial stretch)."""
+    return case.segment.boundary == "pinned-pinned" or _axially_held(case)
+
+
 def level_problems(case: Case, options: ElasticaOptions) -> list[ElasticaProblem]:
     """One ``ElasticaProblem`` per load level of a segment case (raises NotApplicable)."""
     if case.mechanism is not None:
         raise NotApplicable("the exact elastica solves a single segment, not a mechanism")
     seg = case.segment
     if seg.boundary not in SUPPORTED:
-        raise NotApplicable(f"boundary '{seg.boundary}' is not modelled by the elastica adapter")
+        raise NotApplicable(f"boundary '{seg.boundary}' is not a clamped-root problem of the shooting; the "
+                            "adapter solves it as a mechanism instead")
     L, k0 = seg.length, seg.initial_curvature()
     EI = _stiffness(case, options)
     x0, y0, th0 = unloaded_tip(L, k0)
@@ -94,6 +145,9 @@ def level_problems(case: Case, options: ElasticaOptions) -> list[ElasticaProblem
         if load.toward is not None and seg.boundary == "fixed-fixed":
             raise NotApplicable("a force toward a fixed point on a fixed-fixed segment: the adapter frees "
                                 "the held tip components a force acts along, and this force turns")
+    held = _held_tip_directions(case)
+    if _axially_held(case):
+        raise NotApplicable(STRAIGHT_FIXED_FIXED)
     problems = []
     for i in range(case.n_levels()):
         force = np.zeros(2)
@@ -135,17 +189,9 @@ def level_problems(case: Case, options: ElasticaOptions) -> list[ElasticaProblem
         has_moment = any(ld.kind == "moment" for ld in case.loads)
         if seg.boundary in ("fixed-guided", "fixed-fixed") and tip_angle is None and not has_moment:
             tip_angle = th0
-        if seg.boundary == "fixed-fixed":
-            forces = [np.asarray(ld.direction, float) for ld in case.loads if ld.kind == "force"]
-            for u in (np.array([1.0, 0.0]), np.array([0.0, 1.0])):
-                free = any(abs(u @ p) >= 0.999 for p in prescribed_dirs) or any(
-                    abs(u @ f) > 1e-12 for f in forces)
-                if not free and len(prescribed_dirs) < 2:
-                    constraints.append(TipConstraint(tuple(u), float(u @ [x0, y0])))
-                    prescribed_dirs.append(u)
-        if k0 == 0.0 and seg.boundary == "fixed-fixed" and any(abs(u[0]) > 0.999 for u in prescribed_dirs):
-            raise NotApplicable("a straight fixed-fixed segment whose tip cannot move axially: the "
-                                "inextensible elastica cannot bend (only an extensible model can)")
+        for u in held:
+            constraints.append(TipConstraint(tuple(u), float(u @ [x0, y0])))
+            prescribed_dirs.append(u)
         if len(prescribed_dirs) > 2:
             raise NotApplicable("more than two prescribed tip-position components")
         problems.append(ElasticaProblem(length=L, EI=EI, curvature=k0, force=tuple(force),
@@ -290,6 +336,10 @@ def _run_forward(case: Case, requests: list[Request], options: ElasticaOptions) 
         run.wall_time = time.perf_counter() - t0
         return run
     inflection = options.problem == "inflection"
+    if not inflection and _by_mechanism(case):
+        run = elastica_network.run_segment(case, requests, options, _stiffness(case, options))
+        run.wall_time = time.perf_counter() - t0
+        return run
     problems = inflection_problems(case, options) if inflection else level_problems(case, options)
     kwargs = _tolerances(options)
     samples = options.samples

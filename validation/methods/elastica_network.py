@@ -11,15 +11,22 @@ run says so): slider and guided supports, joint springs, beams welded to beams, 
 Outputs: x, y, dx, dy of any node; rotation of the body a node is on (or of a free beam end);
 force_x, force_y, moment received at a node (applied, plus what a prescribed motion there needs);
 input_torque (the prescribed rotation's couple or the applied moment); strain_energy.
+
+Segments (``segment_model``, ``run_segment``): a single segment whose boundary the shooting of one clamped
+beam cannot state (a pinned root; a straight fixed-fixed tip whose axial motion is held) is built as a
+one-beam mechanism with its tip on a one-node body, and answers the segment adapter's outputs.
 """
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from elastica import mechanism as em
+from elastica.shooting import unloaded_tip
 from validation.case.method_options import ElasticaOptions
+from validation.case.quantities import boundary_held_tip
 from validation.methods.base import MethodRun, NotApplicable
 
 
@@ -216,3 +223,159 @@ def _received(case, sol, drivers, point: str, level: int, k: int) -> float:
         if ld.point == point and k == axis:
             total += sol.driver_loads[level][len(rot) + j]
     return float(total)
+
+
+# A single segment as a mechanism: the boundaries the shooting of one clamped beam (``elastica.shooting``)
+# cannot state, or can only state inextensibly.
+
+ROOT_BODY, TIP_BODY = "root end", "tip end"   # the one-node bodies carrying a pinned root and the tip
+SEGMENT_STEP_CUTS = 30                        # load-step halvings per level at most (elastica.mechanism)
+
+
+@dataclass(frozen=True)
+class SegmentMechanism:
+    """One segment as ``elastica.mechanism`` data: the mechanism, its loads (the case's, then the
+    boundary's held tip freedoms as prescribed zero motions) and what each prescribed motion is."""
+
+    mechanism: em.Mechanism
+    loads: list
+    pinned_root: bool
+    driver_axes: tuple[str, ...]       # per prescribed motion, in the solver's order: 'rz', 'ux' or 'uy'
+
+
+def segment_model(case, EI: float) -> SegmentMechanism:
+    """The segment of ``case`` as a mechanism (raises NotApplicable).
+
+    Nodes ``root`` at the origin and ``tip`` at the unloaded tip; one beam between them (EI as given,
+    EA = E A of the section, inextensible if an 'inertia' section gives no A; the initial curvature).
+    The root is clamped to the ground, or for a pinned-pinned segment clamped to a one-node body
+    (``ROOT_BODY``) pinned to the ground there, so that the root's rotation is an unknown and an output.
+    The tip is clamped to a one-node body (``TIP_BODY``) that carries the tip loads (a force at the
+    node, turning with the body if a follower; a moment and a prescribed rotation on the body; a
+    prescribed displacement of the node) and whose freedoms the boundary holds
+    (``quantities.boundary_held_tip``: the same rule as the FEM's) are prescribed zero motions. The
+    body's moment balance makes the beam's end moment the applied moment: a free tip angle.
+    """
+    seg = case.segment
+    L, kappa = seg.length, seg.initial_curvature()
+    if abs(kappa * L) >= math.pi:
+        raise NotApplicable("an arc of |kappa L| >= pi: the elastica mechanism model finds a beam's arc from "
+                            "its chord, which names the minor arc only")
+    EA, _ = seg.section.stiffness(seg.E)
+    if seg.section.kind == "inertia" and seg.section.A is None:
+        EA = None
+    pinned_root = seg.boundary == "pinned-pinned"
+    why = ("pinned-pinned segment (a root pin)" if pinned_root else
+           f"straight {seg.boundary} segment whose tip's axial motion is held (it must stretch to bend)")
+    held = boundary_held_tip(case)
+    moved = set(held) | {"ux" if abs(ld.direction[0]) > abs(ld.direction[1]) else "uy"
+                         for ld in case.loads if ld.kind == "displacement"}
+    if kappa == 0.0 and EA is None and "ux" in moved:
+        raise NotApplicable(f"a straight {seg.boundary} segment whose tip's axial motion is held or prescribed, "
+                            "inextensible (no section area A): once it bends its chord shortens, so it cannot "
+                            "bend at all")
+    x0, y0, _ = unloaded_tip(L, kappa)
+    nodes = {"root": (0.0, 0.0), "tip": (x0, y0)}
+    bodies = [em.RigidBody(TIP_BODY, ("tip",))]
+    pins = []
+    start = em.GROUND
+    if pinned_root:
+        bodies.append(em.RigidBody(ROOT_BODY, ("root",)))
+        pins.append(em.BodyPin(ROOT_BODY, em.GROUND, "root"))
+        start = ROOT_BODY
+    beam = em.ElasticBeam("segment", "root", "tip", EI, start, TIP_BODY, "clamped", "clamped", EA, kappa)
+    n = case.n_levels()
+    applied, rotations, displacements = [], [], []
+    for i, load in enumerate(case.loads):
+        v = tuple(float(x) for x in load.levels())
+        if load.point != "tip" or load.body is not None:
+            raise NotApplicable(f"loads.{i}: the elastica adapter takes tip loads only")
+        if load.kind in ("distributed", "self_weight"):
+            raise NotApplicable(f"loads.{i}: solved as a mechanism here, which takes no load along a beam; a "
+                                f"{load.kind.replace('_', '-')} load on a {why}: elastica.mechanism has tip loads only")
+        if load.kind == "force" and load.toward is not None:
+            raise NotApplicable(f"loads.{i}: solved as a mechanism here, which has no force toward a point; a "
+                                f"{why}: elastica.mechanism's forces keep their direction or turn with a body")
+        if load.kind == "force":
+            d = load.direction
+            applied.append(em.PointForce("tip", tuple(x * d[0] for x in v), tuple(x * d[1] for x in v),
+                                         load.follower))
+        elif load.kind == "moment":
+            applied.append(em.BodyCouple(TIP_BODY, v))
+        elif load.kind == "rotation":
+            rotations.append((em.BodyRotation(TIP_BODY, tuple(math.radians(x) for x in v)), "rz"))
+        else:
+            d = np.asarray(load.direction, float) / math.hypot(*load.direction)
+            if abs(d[0]) > 1e-12 and abs(d[1]) > 1e-12:
+                raise NotApplicable(f"loads.{i}: a prescribed displacement must be along x or along y")
+            axis = "x" if abs(d[0]) > 0.5 else "y"
+            displacements.append((em.NodeDisplacement("tip", axis, tuple(x * d[0 if axis == "x" else 1] for x in v)),
+                                  "u" + axis))
+    for dof in held:
+        if dof == "rz":
+            rotations.append((em.BodyRotation(TIP_BODY, (0.0,) * n), "rz"))
+        else:
+            displacements.append((em.NodeDisplacement("tip", dof[1], (0.0,) * n), dof))
+    drivers = rotations + displacements           # the solver's order of prescribed-motion loads
+    return SegmentMechanism(em.Mechanism(nodes, [beam], bodies, pins), applied + [d for d, _ in drivers],
+                            pinned_root, tuple(axis for _, axis in drivers))
+
+
+def run_segment(case, requests, options: ElasticaOptions, EI: float) -> MethodRun:
+    """A segment case solved as the mechanism ``segment_model``: the segment adapter's outputs.
+
+    At the tip: x, y, dx, dy; ``rotation``, the tip body's (the change of the tip angle, degrees);
+    ``force_x``, ``force_y``, ``moment``, the tip loads acting on the beam (applied, a follower turned
+    with the tip, plus the loads the held and prescribed freedoms need). At the root: its position, its
+    rotation (a pinned root turns), and ``reaction_*``, the support's loads on the beam, from the
+    segment's equilibrium (no load along the beam): R = -F_tip, M_R = -(M_tip + r_tip x F_tip).
+    """
+    built = segment_model(case, EI)
+    tolerance = {} if options.rtol is None else {"rtol": options.rtol}    # else the solver's own
+    try:     # a held tip stiffens by membrane action (N ~ EA (w/L)^2): the path may need many step halvings
+        sol = em.solve_mechanism(built.mechanism, built.loads, case.n_levels(), max_cuts=SEGMENT_STEP_CUTS,
+                                 **tolerance)
+    except ValueError as exc:
+        raise NotApplicable(str(exc)) from None
+    x0, y0 = built.mechanism.nodes["tip"]
+    values, shapes = {}, {}
+    for level in range(len(sol.positions)):
+        tip, phi = sol.positions[level]["tip"], sol.rotations[level][TIP_BODY]
+        force, moment = np.zeros(2), 0.0
+        for ld in built.loads:
+            if isinstance(ld, em.PointForce):
+                f = np.array([ld.fx[level], ld.fy[level]])
+                c, s = math.cos(phi), math.sin(phi)
+                force += np.array([c * f[0] - s * f[1], s * f[0] + c * f[1]]) if ld.follower else f
+            elif isinstance(ld, em.BodyCouple):
+                moment += ld.m[level]
+        for axis, load in zip(built.driver_axes, sol.driver_loads[level]):
+            if axis == "rz":
+                moment += load
+            else:
+                force[0 if axis == "ux" else 1] += load
+        root_turn = sol.rotations[level][ROOT_BODY] if built.pinned_root else 0.0
+        table = {
+            "tip": {"x": tip[0], "y": tip[1], "dx": tip[0] - x0, "dy": tip[1] - y0, "rotation": math.degrees(phi),
+                    "force_x": force[0], "force_y": force[1], "moment": moment},
+            "root": {"x": 0.0, "y": 0.0, "dx": 0.0, "dy": 0.0, "rotation": math.degrees(root_turn),
+                     "reaction_x": -force[0], "reaction_y": -force[1],
+                     "reaction_moment": -(moment + tip[0] * force[1] - tip[1] * force[0])},
+        }
+        for req in requests:
+            if req.level != level:
+                continue
+            if req.quantity == "strain_energy":
+                values[req] = float(sol.strain_energy[level])
+            elif req.quantity in table.get(req.point, {}):
+                values[req] = float(table[req.point][req.quantity])
+            else:
+                raise NotApplicable(f"'{req.quantity}' at '{req.point}' is not an elastica output")
+        shapes[level] = [np.asarray(line) for line in sol.beam_shapes[level].values()]
+    for req in requests:
+        values.setdefault(req, math.nan)              # the levels past the first that did not converge
+    extensible = "inextensible" if built.mechanism.beams[0].EA is None else "extensible (EA of the section)"
+    return MethodRun(values=values, converged=sol.converged, message=f"elastica mechanism: {sol.message}",
+                     level_converged=dict(enumerate(sol.level_converged)),
+                     extras={"shapes": shapes, "model": f"{extensible} elastica of a {case.segment.boundary} "
+                             "segment as a mechanism (elastica.mechanism), DOP853 shooting"})
