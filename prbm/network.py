@@ -30,7 +30,15 @@ Stability of a state: the Hessian K restricted to the tangent space of the const
 Z^T K Z with Z a basis of null(J) (including prescribed motions), positive definite = stable.
 Mobility (degrees of freedom) = number of coordinates - rank J of the joints alone; a network
 whose mobility is smaller than the number of prescribed motions is locked (``mobility``,
-``LockedNetwork``).
+``LockedNetwork``). A prescribed motion must also be one the joints let the network make: its row
+of the Jacobian at the unloaded pose must raise the rank of the joints' rows (and of the prescribed
+motions before it). A row in their span is a motion no joint-compatible velocity makes (the coupler
+of a parallelogram cannot turn: its joints keep its angle), refused before any Newton step
+(``UnreachableMotion``). The rank is taken in the coordinates z = (x, y, L phi), L the network's
+``length_scale``, each row scaled to unit length, as the singular values above ``RCOND`` times the
+largest (``numpy.linalg.matrix_rank``'s rule): rounding leaves a dependent row ~1e-15 off the span,
+while an independent one is O(1) off for any network not built within 1e-10 of a singular pose, and
+the decision does not depend on the unit of length.
 
 Sign conventions: angles CCW positive, rotations are changes from the unloaded pose; the load
 received at a point is the total external load applied there (applied forces and couples, plus
@@ -49,14 +57,29 @@ from scipy.linalg import qr
 from scipy.linalg.lapack import dgesv
 
 __all__ = ["Pin", "Slider", "TorsionSpring", "LinearSpring", "Force", "Couple", "PrescribedDisplacement",
-           "PrescribedRotation", "Network", "NetworkState", "NetworkResult", "GroundLoad", "LockedNetwork", "GROUND",
-           "solve", "trace"]
+           "PrescribedRotation", "Network", "NetworkState", "NetworkResult", "GroundLoad", "LockedNetwork",
+           "UnreachableMotion", "GROUND", "RCOND", "solve", "trace"]
 
 GROUND = "ground"
+RCOND = 1e-10  # a singular value at most RCOND times the largest counts as zero (rank of the Jacobian)
 
 
 class LockedNetwork(ValueError):
     """The network cannot move as its prescribed motions ask (zero or too little mobility)."""
+
+
+class UnreachableMotion(LockedNetwork):
+    """A prescribed motion the network cannot make from its unloaded pose: the joints (with the prescribed
+    motions before it, unless ``by_joints``) hold that rotation of ``load.body`` or that displacement of
+    ``load.point``. ``moves``: the body (of a rotation) or the point (of a displacement) still moves in
+    the motions the joints allow (a parallelogram's coupler translates), else it is held altogether."""
+
+    def __init__(self, message: str, load: "PrescribedDisplacement | PrescribedRotation", by_joints: bool,
+                 moves: bool):
+        super().__init__(message)
+        self.load = load
+        self.by_joints = by_joints
+        self.moves = moves
 
 
 @dataclass(frozen=True)
@@ -212,6 +235,7 @@ class Network:
         self._spring_H = np.zeros((self.n, self.n))
         self._spring_H[2::3, 2::3] = self._spring_D.T @ (self._spring_k[:, None] * self._spring_D)
         self._analysis = None  # (mobility, rank, independent joint rows), computed once by solve
+        self._reachable: dict[tuple, tuple | None] = {}  # prescribed motions -> the unreachable one, if any
         self._length = None
         for ls in self.linear_springs:
             if ls.point not in self.points:
@@ -724,7 +748,76 @@ def _check_mobility(network: Network, problem: _Problem) -> tuple[int, np.ndarra
         raise LockedNetwork(f"the network has {mobility} degree(s) of freedom ({network.n} coordinates, "
                             f"rank of the joint Jacobian {rank}) but {problem.n_prescribed} motion(s) are "
                             "prescribed: it locks")
+    _check_reachable(network, problem)
     return mobility, rows
+
+
+def _rank(rows: np.ndarray) -> int:
+    """Rank by singular values above RCOND times the largest (rows already scaled)."""
+    if rows.shape[0] == 0:
+        return 0
+    sigma = np.linalg.svd(rows, compute_uv=False)
+    return int(np.sum(sigma > RCOND * sigma[0])) if sigma[0] > 0.0 else 0
+
+
+def _scaled(J: np.ndarray, length: float) -> np.ndarray:
+    """Jacobian rows in the coordinates z = (x, y, L phi) (rotation columns over L), each of unit length
+    (a row of zeros stays zero: it constrains nothing)."""
+    A = np.array(J, float)
+    A[:, 2::3] /= length
+    norms = np.linalg.norm(A, axis=1)
+    return A / np.where(norms > 0.0, norms, 1.0)[:, None]
+
+
+def _check_reachable(network: Network, problem: _Problem) -> None:
+    """Raise ``UnreachableMotion`` for the first prescribed motion whose Jacobian row at the unloaded pose
+    lies in the span of the joints' rows and the prescribed ones before it (see the module's docstring).
+    Decided once per network and set of prescribed motions."""
+    prescribed = [*problem.disps, *problem.rots]
+    if not prescribed:
+        return
+    key = tuple((d.point, d.axis) for d in problem.disps) + tuple(r.body for r in problem.rots)
+    if key not in network._reachable:
+        network._reachable[key] = _unreachable(network, problem, prescribed)
+    known = network._reachable[key]
+    if known is not None:
+        message, k, by_joints, moves = known
+        raise UnreachableMotion(message, prescribed[k], by_joints, moves)
+
+
+def _unreachable(network: Network, problem: _Problem, prescribed: list) -> tuple | None:
+    """(message, index, by_joints, moves) of the first unreachable prescribed motion, or None."""
+    length = network.length_scale()
+    q = np.zeros(network.n)
+    joints = _scaled(network.joint_constraints(q)[1], length)
+    rows = _scaled(problem.prescribed(q, 0.0)[1], length)
+    base, rank = joints, _rank(joints)
+    for k, load in enumerate(prescribed):
+        with_it = np.vstack([base, rows[k:k + 1]])
+        if _rank(with_it) > rank:
+            base, rank = with_it, rank + 1
+            continue
+        by_joints = _rank(np.vstack([joints, rows[k:k + 1]])) == _rank(joints)
+        free = np.linalg.svd(base)[2][rank:].T if base.shape[0] else np.eye(network.n)  # allowed motions
+        held_by = "its joints" if by_joints else "its joints and the prescribed motions before it"
+        # the basis is orthonormal in z: a body or point that moves has an O(1) entry, one held ~1e-15
+        if isinstance(load, PrescribedRotation):
+            i = network.index[load.body]
+            moves = bool(free.size) and float(np.abs(free[3 * i:3 * i + 2]).max()) > math.sqrt(RCOND)
+            what = (f"every motion {held_by} allow translates body '{load.body}' without turning it" if moves
+                    else f"{held_by} hold body '{load.body}' still")
+            message = f"the prescribed rotation of body '{load.body}' is no motion of the network: {what}"
+        else:
+            i, r = network.point_arm(load.point)
+            other = 1 if load.axis == "x" else 0
+            arm = np.array([-r[1], r[0]])[other] / length
+            speed = free[3 * i + other] + arm * free[3 * i + 2] if free.size else np.zeros(0)
+            moves = bool(speed.size) and float(np.abs(speed).max()) > math.sqrt(RCOND)
+            message = (f"the prescribed {load.axis}-displacement of point '{load.point}' is no motion of the "
+                       f"network: {held_by} hold that point along {load.axis}")
+        return (f"{message} at the unloaded pose (rank of the constraint Jacobian {rank} with the prescription "
+                "as without)", k, by_joints, moves)
+    return None
 
 
 def solve(network: Network, loads: list, n_levels: int, *, rtol: float = 1e-11, maxiter: int = 30,

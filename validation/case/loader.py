@@ -2,8 +2,8 @@
 naming the file, the field and what is wrong.
 
 A case is checked completely before any solve: the schema (``validation/case/schema.py``, with the options
-of each method, ``validation/case/method_options.py``) and, for a mechanism, whether it is held against
-rigid-body motion (``validation/case/mobility.py``). Case files can live anywhere: ids, files, folders
+of each method, ``validation/case/method_options.py``) and, for a mechanism or a segment, whether it is
+held against rigid-body motion (``validation/case/mobility.py``). Case files can live anywhere: ids, files, folders
 and globs are all accepted, and unknown names get the nearest valid ones, as do misspelled fields
 ("segment.lenght: unknown field; did you mean 'length'?", ``unknown_field``).
 """
@@ -163,7 +163,8 @@ def read_toml_model(path: Path | str, model, error=None):
 
 def check_case(case: Case) -> list[tuple[str, str]]:
     """(field, problem) of everything wrong with a schema-valid case (the schema checks the method
-    options) that would otherwise only show in a solve: a mechanism that can move as a rigid body."""
+    options) that would otherwise only show in a solve: a mechanism, or a segment under its boundary and
+    loads (a pinned-pinned one loaded across its chord), that can move as a rigid body."""
     return mobility.check(case)
 
 

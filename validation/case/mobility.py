@@ -16,6 +16,18 @@ and node velocities, are
 The rigid-body motions are the null space of C. A null vector is reported as the body that moves
 most in it and how it moves (a translation along a direction, or a rotation about a point, named
 when it is a node), which says the constraint that is missing.
+
+A single segment is one such body, its small motion z = (u, v, L w) about the root (length units:
+the rotation times the segment's length L, so every column of C is O(1) and the rank is the same for
+any unit of length). The root holds u = v = 0 ('fixed' also w = 0, every boundary but
+'pinned-pinned'); the tip (X, Y) holds each freedom its boundary holds and no load frees
+(`quantities.boundary_held_tip`: a load frees the tip freedoms it acts on, a follower force or a force
+toward a point both components) and each freedom a prescribed motion there holds:
+
+    ux: u - w Y = 0,    uy: v + w X = 0,    rz: w = 0.
+
+A pinned-pinned segment whose tip is held along the chord only (a force across it, a follower force,
+a force toward a point) swings about its root pin: a mechanism, rejected before any method runs.
 """
 from __future__ import annotations
 
@@ -24,6 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from validation.case.quantities import boundary_held_tip, load_dofs
 from validation.case.schema import Case, MechanismSpec
 
 
@@ -149,8 +162,48 @@ def rigid_body_modes(case: Case) -> list[RigidBodyMode]:
     return [_describe(basis[:, k], idx, case.mechanism) for k in range(basis.shape[1])]
 
 
+def segment_tip(length: float, curvature: float) -> np.ndarray:
+    """The unloaded tip (X, Y) of a segment from the root at the origin along +x (an arc if curved)."""
+    if curvature == 0.0:
+        return np.array([length, 0.0])
+    return np.array([math.sin(curvature * length), 1.0 - math.cos(curvature * length)]) / curvature
+
+
+def segment_constraint_matrix(case: Case) -> np.ndarray:
+    """C of a segment case acting on z = (u, v, L w), its rigid motion about the root (see above)."""
+    seg = case.segment
+    X, Y = segment_tip(seg.length, seg.initial_curvature()) / seg.length
+    rows = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+    if seg.boundary != "pinned-pinned":
+        rows.append([0.0, 0.0, 1.0])
+    prescribed = {dof for load in case.loads if load.point == "tip" and load.kind in ("displacement", "rotation")
+                  for dof in load_dofs(load)}
+    tip_rows = {"ux": [1.0, 0.0, -Y], "uy": [0.0, 1.0, X], "rz": [0.0, 0.0, 1.0]}
+    rows += [tip_rows[dof] for dof in ("ux", "uy", "rz") if dof in set(boundary_held_tip(case)) | prescribed]
+    return np.array(rows)
+
+
+def segment_check(case: Case) -> list[tuple[str, str]]:
+    """(field, problem) for a segment that can move as a rigid body under its boundary and loads: a
+    pinned-pinned segment whose tip is held along the chord only swings about its root pin (the only
+    rigid motion the root pin leaves)."""
+    if null_space(segment_constraint_matrix(case)).shape[1] == 0:
+        return []
+    turning = [f"loads.{i} ({'a follower force' if load.follower else 'a force toward a point'})"
+               for i, load in enumerate(case.loads)
+               if load.point == "tip" and load.kind == "force" and (load.follower or load.toward is not None)]
+    why = (f"{' and '.join(turning)} turns with the tip and frees both of its components" if turning
+           else "no load or prescribed motion holds the tip across the chord")
+    return [("segment", f"a {case.segment.boundary} segment swings about its root pin, its tip free across the "
+             f"chord: hold the tip or load it along the chord; {why}, so the case has a rigid-body motion "
+             "(only a force of fixed direction along the chord leaves the tip held across it)")]
+
+
 def check(case: Case) -> list[tuple[str, str]]:
-    """(field, problem) for each node on no member and for a mechanism that can move as a rigid body."""
+    """(field, problem) for each node on no member and for a mechanism or segment that can move as a
+    rigid body."""
+    if case.segment is not None:
+        return segment_check(case)
     if case.mechanism is None:
         return []
     mech = case.mechanism

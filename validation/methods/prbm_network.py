@@ -37,6 +37,7 @@ import numpy as np
 
 import prbm
 from prbm.fits import THETA_RANGE
+from prbm.network import UnreachableMotion
 from validation.case.method_options import PrbmOptions, RulesOptions
 from validation.methods import fem_outputs
 from validation.methods.base import Applicability, MethodRun, NotApplicable
@@ -204,9 +205,31 @@ def built_model(mech, given: RulesOptions | None, loads=()) -> pb.PRBModel:
     return model
 
 
+def _body_name(body: str) -> str:
+    """A PRB body in the case's words: a rigid link by its name, a beam's PRB link as that beam's."""
+    return f"PRB link of beam '{body.removeprefix('prb:')}'" if body.startswith("prb:") else body
+
+
+def unreachable(exc: UnreachableMotion) -> str:
+    """Why the PRB model cannot make a prescribed motion, and what to prescribe instead."""
+    load = exc.load
+    by = "its joints" if exc.by_joints else "its joints and the motions prescribed before"
+    if isinstance(load, prbm.PrescribedRotation):
+        name = _body_name(load.body)
+        if exc.moves:
+            like = ", as a parallelogram's coupler does" if exc.by_joints else ""
+            return (f"the PRB model's {name} cannot rotate: {by} keep its angle; it only translates{like}: "
+                    "prescribe a translation")
+        return f"the PRB model's {name} cannot rotate: {by} hold it still; prescribe another motion"
+    return (f"the PRB model's point '{load.point}' cannot move along {load.axis}: {by} hold it there; prescribe "
+            f"{'its other component' if exc.moves else 'another motion'}")
+
+
 def solve_case(case, model: pb.PRBModel) -> prbm.NetworkResult:
     try:
         return prbm.solve(model.network, network_loads(case, model), case.n_levels())
+    except UnreachableMotion as exc:
+        raise NotApplicable(unreachable(exc)) from None
     except prbm.LockedNetwork as exc:
         raise NotApplicable(f"PRB model locked under the prescribed motions: {exc} ({model.describe()})") from None
     except ValueError as exc:  # a load the PRB model cannot take (e.g. a prescribed rotation of the ground)
