@@ -426,14 +426,20 @@ def solve_mechanism(mech: Mechanism, loads: list, n_levels: int, *, rtol: float 
     displacements = [ld for ld in loads if isinstance(ld, NodeDisplacement)]
     system = _System(mech, forces, couples, rotations, displacements, rtol)
     level_loads = _LoadPath(mech, system, forces, couples, rotations, displacements, n_levels)
-    scale_F = max([abs(v) for f in forces for v in (*f.fx, *f.fy)] + [1e-300])
+    scale_F = max([abs(v) for f in forces for v in (*f.fx, *f.fy)] + [0.0])
     scale_F = max([scale_F] + [abs(v) for c in couples for v in c.m])
+    # the force unit of the residual and the unknowns: the applied loads' size, else (motions prescribed)
+    # the force EI/L^2 that bends a beam by its length; never a fixed number, so a load 1e-11 EI/L^2 is
+    # solved, not taken for the unloaded state
+    scale_F = scale_F if scale_F > 0.0 else _bending_force(mech, system)
     scale = _scale(system, scale_F)
     u = np.zeros(system.size)  # the unloaded mechanism: no loads, every pose and beam angle as built
     states, ok_levels = [], []
     t, messages = -1.0, []
     jac = None
-    typical = _unknown_scale(system, scale_F)
+    # the finite-difference steps of the force unknowns: at least a bending force's worth, so that a step
+    # moves the beams' ends by more than rounding however small the loads
+    typical = _unknown_scale(system, max(scale_F, _bending_force(mech, system)))
     history = [(t, u)]
     for level in range(n_levels):
         step, cuts = 1.0, 0
@@ -470,18 +476,22 @@ def solve_mechanism(mech: Mechanism, loads: list, n_levels: int, *, rtol: float 
                              time.perf_counter() - t0, ok_levels)
 
 
-def _chord_newton(f, x, jac, typical, tol: float = 1e-10, maxiter: int = 30):
+def _chord_newton(f, x, jac, typical, tol: float = 1e-10, maxiter: int = 30, min_steps: int = 1):
     """Newton on f(x) = 0 with a finite-difference Jacobian kept between iterations and load steps,
     updated by Broyden's rank-one formula, and refreshed when a step does not halve the residual. Returns (x, converged,
-    Jacobian, why not)."""
+    Jacobian, why not).  At least ``min_steps`` steps are taken: a motion or load so small that the starting
+    state's residual is already within the tolerance (a prescribed displacement of 1e-10 L) is still
+    solved, not answered by the starting state; such a step is kept where it lowers the residual."""
     r = f(x)
     fresh = False
-    for _ in range(maxiter):
+    for step in range(maxiter):
         size = float(np.max(np.abs(r)))
         if not math.isfinite(size):
             return x, False, None, "the residual is not finite"
-        if size <= tol:
+        if size <= tol and step >= min_steps:
             return x, True, jac, ""
+        if size <= tol:
+            return _one_more_step(f, x, r, jac, typical, size), True, jac, ""
         if jac is None:
             jac, fresh = _fd_jacobian(f, x, r, typical), True
         try:
@@ -509,6 +519,17 @@ def _chord_newton(f, x, jac, typical, tol: float = 1e-10, maxiter: int = 30):
     return x, False, jac, f"{maxiter} iterations"
 
 
+def _one_more_step(f, x, r, jac, typical, size: float):
+    """x after one Newton step from a state already within the tolerance, kept where it lowers the residual."""
+    jac = _fd_jacobian(f, x, r, typical) if jac is None else jac
+    try:
+        x_try = x + np.linalg.solve(jac, -r)
+    except np.linalg.LinAlgError:
+        return x
+    new = float(np.max(np.abs(f(x_try))))
+    return x_try if math.isfinite(new) and new < size else x
+
+
 def _fd_jacobian(f, x, r, typical) -> np.ndarray:
     J = np.empty((len(r), len(x)))
     for j in range(len(x)):
@@ -519,11 +540,17 @@ def _fd_jacobian(f, x, r, typical) -> np.ndarray:
     return J
 
 
+def _bending_force(mech: Mechanism, system: _System) -> float:
+    """EI/L^2 of the stiffest beam over the longest: the force that bends a beam by about its length."""
+    L = max(v[2] for v in system.tangent0.values())
+    return max(beam.EI for beam in mech.beams) / (L * L)
+
+
 def _unknown_scale(system: _System, scale_F: float) -> np.ndarray:
     """Typical size of each unknown: forces by the load scale, moments by load x length, poses by
     the length (translations) and 1 (angles)."""
     L = max(v[2] for v in system.tangent0.values())
-    F = max(scale_F, 1e-3)
+    F = scale_F
     s = np.empty(system.size)
     for i, beam in enumerate(system.m.beams):
         s[3 * i:3 * i + 2] = F
@@ -540,8 +567,8 @@ def _scale(system: _System, scale_F: float) -> np.ndarray:
     L = max(v[2] for v in system.tangent0.values())
     s = np.ones(system.size)
     for i, beam in enumerate(system.m.beams):
-        s[3 * i:3 * i + 2] = L if beam.end_kind != "free" else max(scale_F, 1.0)
-    s[system.i_body:system.i_pin] = max(scale_F, 1.0)
+        s[3 * i:3 * i + 2] = L if beam.end_kind != "free" else scale_F
+    s[system.i_body:system.i_pin] = scale_F
     s[system.i_pin:system.i_rot] = L
     return s
 
