@@ -9,6 +9,13 @@ state) left out; the group's table lists the rms and the largest distance, and m
 the reading closest to the measurements (smallest rms among that method's rows): the question a reading
 answers is "which loading makes this model match the experiment", so a PRBM row never takes the mark
 from the FEM's closest reading nor the other way round.
+
+Beside the rms (in the case's length unit) the table gives it in % of the characteristic length L
+(``rms_pct_L``) and, where the method estimates its own error (the FEM's Richardson estimate e per
+coordinate), how far the computed rms can be from the exact one (``rms_estimate``): a computed point
+within e_l = sqrt(e_a^2 + e_b^2) of the exact one moves its distance by at most e_l (triangle
+inequality), so the rms moves by at most sqrt(mean_l e_l^2) (Minkowski); empty where a value has no
+estimate or its estimate is marked unreliable (no bound).
 """
 from __future__ import annotations
 
@@ -23,7 +30,8 @@ PAIRS = (("x", "y"), ("dx", "dy"))
 @dataclass
 class ReadingsGroup:
     experiment: str               # the base case id
-    table: pd.DataFrame           # case, title, method, levels, rms, max, closest (per method)
+    table: pd.DataFrame           # case, title, method, levels, unit, rms, rms_pct_L, rms_estimate, max,
+                                  # closest (per method)
 
     def closest(self, method: str) -> str | None:
         """The reading whose ``method`` rows lie closest to the measurements (None: no such rows)."""
@@ -31,20 +39,37 @@ class ReadingsGroup:
         return None if best.empty else str(best["case"].iloc[0])
 
 
+def _estimates(rows: pd.DataFrame) -> pd.Series:
+    """Each row's error estimate, NaN where there is none or it is marked unreliable (no bound)."""
+    if "error_estimate" not in rows:
+        return pd.Series(np.nan, index=rows.index)
+    estimate = rows["error_estimate"].astype(float)
+    if "error_estimate_reliable" in rows:
+        estimate = estimate.where(rows["error_estimate_reliable"].map(lambda r: r is not False))
+    return estimate
+
+
 def _distances(rows: pd.DataFrame) -> pd.DataFrame:
-    """Per (case, method, point, level): the distance over the position pair the rows hold."""
+    """Per (case, method, point, level): the distance over the position pair the rows hold, its error
+    bound from the method's estimate (NaN: none) and the case's length scale L and unit."""
     measured = rows[(rows["reference_label"] == "measured") & rows["finding"].isna()
                     & rows["value"].notna() & rows["reference_value"].notna()]
+    columns = ["case", "method", "point", "level", "distance", "estimate", "L", "unit"]
     frames = []
     for a, b in PAIRS:
         pair = measured[measured["quantity"].isin((a, b))]
         if pair.empty:
             continue
-        squared = (pair["value"] - pair["reference_value"]) ** 2
-        grouped = pair.assign(sq=squared).groupby(["case", "method", "point", "level"])
+        pair = pair.assign(sq=(pair["value"] - pair["reference_value"]) ** 2, esq=_estimates(pair) ** 2,
+                           L=pair["scale"] if "scale" in pair else np.nan, unit=pair["unit"] if "unit" in pair else "")
+        grouped = pair.groupby(["case", "method", "point", "level"])
         both = grouped["quantity"].nunique() == 2
-        frames.append(np.sqrt(grouped["sq"].sum())[both].rename("distance").reset_index())
-    return pd.concat(frames) if frames else pd.DataFrame(columns=["case", "method", "point", "level", "distance"])
+        estimated = grouped["esq"].count() == 2
+        frame = pd.DataFrame({"distance": np.sqrt(grouped["sq"].sum()),
+                              "estimate": np.sqrt(grouped["esq"].sum()).where(estimated),
+                              "L": grouped["L"].first(), "unit": grouped["unit"].first()})
+        frames.append(frame[both].reset_index())
+    return pd.concat(frames) if frames else pd.DataFrame(columns=columns)
 
 
 def readings_groups(results, table: pd.DataFrame) -> list[ReadingsGroup]:
@@ -63,9 +88,14 @@ def readings_groups(results, table: pd.DataFrame) -> list[ReadingsGroup]:
         first = dist["level"].min()                                  # the unloaded state, when every
         if dist.loc[dist["level"] == first, "distance"].max() <= 1e-9:  # reading matches it exactly
             dist = dist[dist["level"] != first]
-        summary = dist.groupby(["case", "method"])["distance"].agg(
+        by_run = dist.groupby(["case", "method"])
+        summary = by_run["distance"].agg(
             levels="count", rms=lambda d: float(np.sqrt(np.mean(np.square(d)))), max="max").reset_index()
         summary.insert(1, "title", [cases[c].case.title for c in summary["case"]])
+        summary.insert(4, "unit", by_run["unit"].first().to_numpy())
+        summary.insert(6, "rms_pct_L", 100 * summary["rms"] / by_run["L"].first().astype(float).to_numpy())
+        summary.insert(7, "rms_estimate", by_run["estimate"].agg(   # NaN if any level has no bound
+            lambda e: float(np.sqrt(np.mean(np.square(e)))) if e.notna().all() else np.nan).to_numpy())
         summary["closest"] = summary["rms"] == summary.groupby("method")["rms"].transform("min")
         groups.append(ReadingsGroup(base, summary.sort_values("rms").reset_index(drop=True)))
     return groups

@@ -53,6 +53,7 @@ from references import key_of_seed_file
 from validation.case.loader import find_case_files
 from validation.case.loads import driving_load, load_name, load_unit
 from validation.case.readings import readings_groups
+from validation.run.readings_rank import Status as RankStatus, rank_readings
 from validation.report.charts import (PLOTLY_JS, Chart, PlotlyMissing, ShapeLine, axis_title, install_plotly,
                                       method_name, outputs_chart, path_chart, plotly_bundle, shapes_chart, unit_text)
 from validation.report.format import by_case, rows_of, sig, verdict_html
@@ -486,16 +487,23 @@ def _build_pages(results: list[CaseResult], table: pd.DataFrame, out: Path, jobs
 
 def _readings_section(results, table: pd.DataFrame, links: dict) -> tuple[list[str], list[str]]:
     """Readings of one experiment side by side against the measured points (`readings`); on the index,
-    each experiment one line (its closest readings), its table behind a click."""
+    each experiment one line: the readings ranked by the FEM's rms distance, nearest first, and whether
+    the ranking its base case records holds (`readings_rank`); its table behind a click."""
     groups = readings_groups(results, table)
     if not groups:
         return [], []
+    ranked = {r.experiment: r for r in rank_readings(results, table)}
     body = ["<h2>Load readings against the measurements</h2>"]
     md = ["\n## Load readings against the measurements\n"]
     for group in groups:
         best = group.table.groupby("method", sort=False).head(1)        # sorted by rms: each method's closest
         note = "closest: " + "; ".join(f"{r['method']}: {r['case']}, rms {r['rms']:.4g}, largest {r['max']:.4g} "
                                        f"over {r['levels']} levels" for _, r in best.iterrows())
+        ranking = ranked.get(group.experiment)
+        if ranking is not None:
+            flag = " class='bad'" if ranking.status is RankStatus.DIFFERS else ""
+            body.append(f"<p{flag}>{html.escape(ranking.line())}</p>")
+            md.append(f"\n{ranking.line()}\n")
         body += [f"<details class='fold'><summary><b>{html.escape(group.experiment)}</b>: {html.escape(note)}"
                  "</summary>", _html_table(group.table, lambda r: "good" if r["closest"] else ""), "</details>"]
         md += [f"\n### {group.experiment}\n", note + "\n", _md_table(group.table)]
