@@ -1,6 +1,7 @@
 """The report: every image and link resolves, its tables say what the results say, the summary
 reads in words and short numbers, and it works in a real browser (headless Chromium)."""
 import html
+import contextlib
 import math
 import os
 import re
@@ -280,7 +281,10 @@ def _chromium(scratch):
     return webdriver.Chrome(service=Service(driver_path, env={**os.environ, "TMPDIR": str(scratch)}), options=options)
 
 
-def test_report_in_a_real_browser(built_report):
+@contextlib.contextmanager
+def chromium_session(width: int | None = None, height: int | None = None):
+    """A headless Chromium (``_chromium``) in a scratch profile, sized ``width`` x ``height`` when given,
+    quit and its profile removed afterwards (or a skip saying what is missing)."""
     scratch = Path(tempfile.mkdtemp(prefix="chromium-"))
     try:
         browser = _chromium(scratch)
@@ -288,6 +292,16 @@ def test_report_in_a_real_browser(built_report):
         shutil.rmtree(scratch, ignore_errors=True)
         raise
     try:
+        if width is not None:
+            browser.set_window_size(width, height)
+        yield browser
+    finally:
+        browser.quit()
+        shutil.rmtree(scratch, ignore_errors=True)
+
+
+def test_report_in_a_real_browser(built_report):
+    with chromium_session() as browser:
         pages = [built_report / "index.html", *sorted((built_report / "cases").glob("*.html"))]
         for page in pages:
             browser.get(page.as_uri())
@@ -330,9 +344,6 @@ def test_report_in_a_real_browser(built_report):
             browser.execute_script(click, index, table)
             values = [float(v) for v in browser.execute_script(read, index, table)]
             assert len(values) == 2 and values[0] != values[1] and values == order(values)
-    finally:
-        browser.quit()
-        shutil.rmtree(scratch, ignore_errors=True)
 
 
 def test_messages_in_the_summary_keep_four_significant_digits():

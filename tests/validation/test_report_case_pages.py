@@ -3,14 +3,12 @@ unit, legends beside the data (never on it), load levels one at a time on a slid
 numbers a source printed (naming the source), the picture's colour bar over the field's real range,
 and, in a real browser at 1366 x 900, no sideways scrolling, no legend on a plot, no 'NaN' shown."""
 import re
-import shutil
-import tempfile
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from tests.validation.test_report import _chromium
+from tests.validation.test_report import chromium_session
 from validation.case.loader import case_by_id, load_case
 from validation.report import paraview
 from validation.report.build import _output_chart, _path_chart, _shape_chart, build_report
@@ -192,20 +190,10 @@ def test_case_pages_fit_a_1366_pixel_window(tmp_path, user_case):
     """At 1366 x 900: no case page scrolls sideways (with every fold open), no legend lies on a plot
     area, and no 'NaN' is shown."""
     build_report(tmp_path, use_cache=True, jobs=1, cases=["cantilever_tip_load", "bapat2015_test2", str(user_case)])
-    scratch = Path(tempfile.mkdtemp(prefix="chromium-"))
-    try:
-        browser = _chromium(scratch)
-    except BaseException:
-        shutil.rmtree(scratch, ignore_errors=True)
-        raise
-    try:
-        browser.set_window_size(1366, 900)
+    with chromium_session(1366, 900) as browser:
         for cid in ("cantilever_tip_load", "bapat2015_test2", "user_beam"):
             browser.get((tmp_path / "cases" / f"{cid}.html").as_uri())
             browser.execute_script("document.querySelectorAll('details').forEach(d => d.open = true)")
             page = browser.execute_script(PAGE_CHECKS)
             assert page["width"] <= page["window"], (cid, page)
             assert page["overlaps"] == [] and not page["nan"], (cid, page)
-    finally:
-        browser.quit()
-        shutil.rmtree(scratch, ignore_errors=True)

@@ -8,13 +8,11 @@ from __future__ import annotations
 
 import os
 import re
-import shutil
-import tempfile
 from pathlib import Path
 
 import pytest
 
-from tests.validation.test_report import _chromium
+from tests.validation.test_report import chromium_session
 from validation.report.build import build_report
 
 WIDTH, HEIGHT = 1366, 900
@@ -74,16 +72,8 @@ def layout_report(tmp_path_factory) -> Path:
 
 @pytest.fixture(scope="module")
 def browser():
-    scratch = Path(tempfile.mkdtemp(prefix="chromium-"))
-    try:
-        driver = _chromium(scratch)
-    except BaseException:
-        shutil.rmtree(scratch, ignore_errors=True)
-        raise
-    driver.set_window_size(WIDTH, HEIGHT)
-    yield driver
-    driver.quit()
-    shutil.rmtree(scratch, ignore_errors=True)
+    with chromium_session(WIDTH, HEIGHT) as driver:
+        yield driver
 
 
 @pytest.fixture(scope="module")
