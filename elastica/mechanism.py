@@ -431,7 +431,8 @@ def solve_mechanism(mech: Mechanism, loads: list, n_levels: int, *, rtol: float 
     # the force unit of the residual and the unknowns: the applied loads' size, else (motions prescribed)
     # the force EI/L^2 that bends a beam by its length; never a fixed number, so a load 1e-11 EI/L^2 is
     # solved, not taken for the unloaded state
-    scale_F = scale_F if scale_F > 0.0 else _bending_force(mech, system)
+    bending = _bending_force(mech, system)
+    scale_F = scale_F if scale_F > 0.0 else bending
     scale = _scale(system, scale_F)
     u = np.zeros(system.size)  # the unloaded mechanism: no loads, every pose and beam angle as built
     states, ok_levels = [], []
@@ -439,7 +440,7 @@ def solve_mechanism(mech: Mechanism, loads: list, n_levels: int, *, rtol: float 
     jac = None
     # the finite-difference steps of the force unknowns: at least a bending force's worth, so that a step
     # moves the beams' ends by more than rounding however small the loads
-    typical = _unknown_scale(system, max(scale_F, _bending_force(mech, system)))
+    typical = _unknown_scale(system, max(scale_F, bending))
     history = [(t, u)]
     for level in range(n_levels):
         step, cuts = 1.0, 0

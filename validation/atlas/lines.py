@@ -54,27 +54,21 @@ class ExactLine:
     seconds: float
 
 
-def _frame(model: AtlasModel, shape: dict, r: ElasticaResult) -> tuple[float, float, float]:
-    """The tip of a shooting result in the atlas frame: the chord of a pinned-pinned arc (twice the half's
-    end along the mid-span tangent), or the end of an SLFP's rigid arm."""
+def _frame(model: AtlasModel, shape: dict, x: float, y: float, theta: float) -> tuple[float, float, float]:
+    """A tip of the exact problem (x, y, theta) in the atlas frame: the chord of a pinned-pinned arc (twice
+    the half's end along the mid-span tangent), or the end of an SLFP's rigid arm."""
     if model.coordinate == "chord":
-        return 2.0 * r.x, 0.0, 0.0
+        return 2.0 * x, 0.0, 0.0
     if model.exact_solver == "slfp":
         arm = 1.0 - shape["flexure_fraction"]
-        return r.x + arm * math.cos(r.theta), r.y + arm * math.sin(r.theta), r.theta
-    return r.x, r.y, r.theta
+        return x + arm * math.cos(theta), y + arm * math.sin(theta), theta
+    return x, y, theta
 
 
 def unloaded(model: AtlasModel, shape: dict) -> tuple[float, float, float]:
     """The unloaded tip (x, y, theta) in the atlas frame."""
     problem = model.exact_problem(shape, 0.0)
-    x, y, t = unloaded_tip(problem.length, problem.curvature)
-    if model.coordinate == "chord":
-        return 2.0 * x, 0.0, 0.0
-    if model.exact_solver == "slfp":
-        arm = 1.0 - shape["flexure_fraction"]
-        return x + arm * math.cos(t), y + arm * math.sin(t), t
-    return x, y, t
+    return _frame(model, shape, *unloaded_tip(problem.length, problem.curvature))
 
 
 def _slfp_level(model: AtlasModel, shape: dict, F: float, start: ElasticaResult | None,
@@ -126,7 +120,7 @@ def exact_line(model: AtlasModel, shape: dict, loads: np.ndarray) -> ExactLine:
         if abs(r.theta - theta_0) > stop or (model.coordinate == "chord" and abs(r.theta) > stop):
             status[j:] = [STATUS_BEYOND] * (count - j)
             break
-        x[j], y[j], th[j] = _frame(model, shape, r)
+        x[j], y[j], th[j] = _frame(model, shape, r.x, r.y, r.theta)
         prev = r
     return ExactLine(x, y, th, status, time.perf_counter() - t0)
 

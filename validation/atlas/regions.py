@@ -68,18 +68,15 @@ def deflection_unit(model: str) -> str:
 
 
 def region_table(frame: pd.DataFrame, model: str) -> pd.DataFrame:
-    """Per threshold and value of the map axis: the worst line's load limit and rotation there."""
+    """Per threshold and value of the map axis: the worst line's load limit and deflection there, and how
+    many lines the model answers on (``lines``)."""
     m = MODELS[model]
     axis = m.map_axes[0] if m.map_axes[0] != "load" else None
     tables = []
     for threshold in REGION_LEVELS:
         lines = line_limits(frame, model, threshold)
-        if axis is None:
-            worst = lines.assign(threshold=threshold)
-        else:
-            pick = lines.groupby(axis)["load_limit"].idxmin()
-            worst = lines.loc[pick].assign(threshold=threshold)
-        tables.append(worst)
+        worst = lines if axis is None else lines.loc[lines.groupby(axis)["load_limit"].idxmin()]
+        tables.append(worst.assign(threshold=threshold, lines=len(lines)))
     return pd.concat(tables, ignore_index=True)
 
 
@@ -113,7 +110,7 @@ def summaries(frame: pd.DataFrame, model: str) -> list[RegionSummary]:
                                  float(best[axis]) if axis else math.nan, float(best["load_limit"]),
                                  float(worst[axis]) if axis else math.nan, float(worst["load_limit"]),
                                  float(worst["deflection"]), float(rows["deflection"].median()),
-                                 int(len(line_limits(frame, model, float(threshold))))))
+                                 int(rows["lines"].iloc[0])))
     return out
 
 
