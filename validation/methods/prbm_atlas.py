@@ -20,47 +20,47 @@ _FAMILY_MODEL = {"pauly-midha": "fixed_pinned_pauly_midha", "howell": "fixed_pin
                  "constant": "fixed_pinned_constant"}
 
 
-def _mirrored(fx: float, fy: float, m: float) -> tuple[float, float, float]:
-    """The level's loads in the half-plane P >= 0 (mirror image about the undeformed axis)."""
-    return (fx, -fy, -m) if fy < 0.0 else (fx, fy, m)
-
-
-def mirror_sign(Fy: float, M: float, kappa0: float) -> float:
-    """-1 where the atlas reads the level as its mirror image about the undeformed axis (y and angles
-    change sign), else 1: a segment curved the other way, then a force with P < 0 (or, without a
-    transverse force, a clockwise moment)."""
-    sign = -1.0 if kappa0 < 0.0 else 1.0
-    fy, m = sign * Fy, sign * M
-    return sign * (-1.0 if fy < 0.0 or (fy == 0.0 and m < 0.0) else 1.0)
+def half_plane(Fx: float, Fy: float, M: float = 0.0, kappa0: float = 0.0
+               ) -> tuple[float, float, float, float, float]:
+    """The level as the atlas maps it, (F_x, F_y, M, kappa0, sign): a segment curved the other way as the
+    mirror image about the undeformed axis of one curved this way, then a force with P < 0 (or, without a
+    transverse force, a clockwise moment) as the mirror image of one with P > 0; ``sign`` is -1 where the
+    level was mirrored an odd number of times (its y and angles change sign), else 1."""
+    sign = 1.0
+    if kappa0 < 0.0:
+        kappa0, Fy, M, sign = -kappa0, -Fy, -M, -sign
+    if Fy < 0.0 or (Fy == 0.0 and M < 0.0):
+        Fy, M, sign = -Fy, -M, -sign
+    return Fx, Fy, M, kappa0, sign
 
 
 def atlas_inputs(boundary: str, kappa0: float, family: str, Fx: float, Fy: float, M: float, follower: bool,
-                 L: float, EI: float) -> tuple[str | None, dict[str, float]]:
-    """(atlas model, its inputs) of one level of a segment case; (None, {}) where the atlas has no model."""
-    if kappa0 < 0.0:  # a segment curved the other way is the mirror image of one curved this way
-        kappa0, Fy, M = -kappa0, -Fy, -M
-    fx, fy, m = _mirrored(Fx, Fy, M)
+                 L: float, EI: float) -> tuple[str | None, dict[str, float], float]:
+    """(atlas model, its inputs, the mirror sign of ``half_plane``) of one level of a segment case; the model
+    None and no inputs where the atlas has no model."""
+    fx, fy, m, kappa0, sign = half_plane(Fx, Fy, M, kappa0)
     F = math.hypot(fx, fy)
     force = F * L * L / EI
     angle = math.degrees(math.atan2(fy, fx)) if F > 0 else 90.0
     free = boundary in ("fixed-free", "fixed-pinned")
     if follower:
-        return ("follower", {"follower_angle_deg": angle, "load": force}) if free and kappa0 == 0.0 else (None, {})
+        return ("follower", {"follower_angle_deg": angle, "load": force}, sign) if free and kappa0 == 0.0 \
+            else (None, {}, sign)
     if kappa0 != 0.0:
         if not free or M != 0.0 or family != "pauly-midha":
-            return None, {}
-        return "curved_fixed_pinned", {"kappa0": kappa0, "load_angle_deg": angle, "load": force}
+            return None, {}, sign
+        return "curved_fixed_pinned", {"kappa0": kappa0, "load_angle_deg": angle, "load": force}, sign
     if M != 0.0 and F == 0.0:
-        return ("pure_moment", {"load": abs(m) * L / EI}) if free else (None, {})
+        return ("pure_moment", {"load": m * L / EI}, sign) if free else (None, {}, sign)
     if M != 0.0:
         if family != "pauly-midha":
-            return None, {}
-        return "force_moment", {"moment_ratio": m / (F * L), "load_angle_deg": angle, "load": force}
+            return None, {}, sign
+        return "force_moment", {"moment_ratio": m / (F * L), "load_angle_deg": angle, "load": force}, sign
     if free:
-        return _FAMILY_MODEL.get(family), {"load_angle_deg": angle, "load": force}
+        return _FAMILY_MODEL.get(family), {"load_angle_deg": angle, "load": force}, sign
     if family == "pauly-midha":
-        return "fixed_guided", {"load_angle_deg": angle, "load": force}
-    return None, {}
+        return "fixed_guided", {"load_angle_deg": angle, "load": force}, sign
+    return None, {}, sign
 
 
 def flag_levels(info: MethodRun, boundary: str, kappa0: float, family: str, Fx: list[float], Fy: list[float],
@@ -71,8 +71,7 @@ def flag_levels(info: MethodRun, boundary: str, kappa0: float, family: str, Fx: 
     (``atlas_equal_load``)."""
     levels = {}
     for level, (fx, fy, m) in enumerate(zip(Fx, Fy, M)):
-        model, inputs = atlas_inputs(boundary, kappa0, family, fx, fy, m, follower, L, EI)
-        levels[level] = (model, inputs, mirror_sign(fy, m, kappa0))
+        levels[level] = atlas_inputs(boundary, kappa0, family, fx, fy, m, follower, L, EI)
     flag_atlas_levels(info, levels, equal_load=not prescribed)
 
 
@@ -109,9 +108,9 @@ def theta_dependent_levels(fit: str, loads: list[tuple[float, float, float]], L:
     model = {"51": "theta_dependent_51", "52": "theta_dependent_52"}.get(fit)
     out = {}
     for level, (fx, fy, m) in enumerate(loads):
-        mx, my, _ = _mirrored(fx, fy, 0.0)
+        mx, my, _, _, sign = half_plane(fx, fy)
         out[level] = (model, {"load_angle_deg": math.degrees(math.atan2(my, mx)), "load": math.hypot(fx, fy) * L * L / EI},
-                      mirror_sign(fy, 0.0, 0.0))
+                      sign)
     return out
 
 
@@ -123,7 +122,7 @@ def chain_levels(elements: int, distributed: list[tuple[float, float]], tip_load
     model = "chain" if elements >= 40 and not tip_loaded else None
     out = {}
     for level, (wx, wy) in enumerate(distributed):
-        mx, my, _ = _mirrored(wx, wy, 0.0)
+        mx, my, _, _, sign = half_plane(wx, wy)
         out[level] = (model, {"load_angle_deg": math.degrees(math.atan2(my, mx)),
-                              "load": math.hypot(wx, wy) * L ** 3 / EI}, mirror_sign(wy, 0.0, 0.0))
+                              "load": math.hypot(wx, wy) * L ** 3 / EI}, sign)
     return out
