@@ -278,3 +278,22 @@ def test_a_finished_build_is_one_parquet_file_with_its_spec(tmp_path):
     assert meta[b"code_version"].decode() == dataset.code_version()
     spec = json.loads(meta[b"atlas_spec"])
     assert spec["grid"] == "coarse" and spec["models"]["pure_moment"]["points"] == whole.num_rows == 200
+
+
+def test_the_maps_return_their_nodes_and_interpolate_linearly_between():
+    """At a node a map gives its stored error; half way between two neighbouring nodes of one axis (load in
+    its logarithm) the mean of the two: multilinear interpolation, checked on every shipped map."""
+    for name, m in load_maps().items():
+        idx = tuple(max(0, v.size // 2 - 1) for v in m.values)
+        at = {a: float(v[i]) for a, v, i in zip(m.axes, m.values, idx)}
+        here = float(m.error[idx])
+        if not math.isfinite(here):
+            continue
+        assert m.expected(at) == pytest.approx(here, rel=1e-12, abs=1e-15), name
+        k = len(m.axes) - 1                                   # the load axis, interpolated in log(load)
+        nxt = idx[:k] + (idx[k] + 1,)
+        there = float(m.error[nxt])
+        if math.isfinite(there):
+            lo, hi = m.values[k][idx[k]], m.values[k][idx[k] + 1]
+            mid = {**at, "load": math.sqrt(lo * hi)}
+            assert m.expected(mid) == pytest.approx(0.5 * (here + there), rel=1e-9), name
