@@ -32,12 +32,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from planar import GROUND, Couple, Force, Pin, PrescribedDisplacement, PrescribedRotation
+
 from .integrator import beam_samples, integrate_beam
 
-__all__ = ["ElasticBeam", "RigidBody", "BodyPin", "PointForce", "BodyCouple", "NodeCouple", "BodyRotation", "NodeDisplacement",
+__all__ = ["ElasticBeam", "RigidBody", "Pin", "Force", "Couple", "EndCouple", "PrescribedRotation", "PrescribedDisplacement",
            "Mechanism", "MechanismSolution", "solve_mechanism", "GROUND"]
 
-GROUND = "ground"
 _KEY = struct.Struct("6d")    # a beam's inputs (start state, force) as bytes: the key of its end states kept
 _ENDS_KEPT = 4                # end states kept per beam
 
@@ -66,51 +67,11 @@ class RigidBody:
 
 
 @dataclass(frozen=True)
-class BodyPin:
-    """Revolute joint at ``node`` between two bodies (``b`` may be GROUND)."""
+class EndCouple:
+    """Couple (CCW) per level on a beam's free or pinned end at ``point`` (on the beam's side of the pin)."""
 
-    a: str
-    b: str
-    node: str
-
-
-@dataclass(frozen=True)
-class PointForce:
-    node: str
-    fx: tuple[float, ...]
-    fy: tuple[float, ...]
-    follower: bool = False
-
-
-@dataclass(frozen=True)
-class BodyCouple:
-    body: str
+    point: str
     m: tuple[float, ...]
-
-
-@dataclass(frozen=True)
-class NodeCouple:
-    """Couple (CCW) per level on a beam's free or pinned end (on the beam's side of the pin)."""
-
-    node: str
-    m: tuple[float, ...]
-
-
-@dataclass(frozen=True)
-class BodyRotation:
-    """Prescribed rotation (rad) per level of a body."""
-
-    body: str
-    values: tuple[float, ...]
-
-
-@dataclass(frozen=True)
-class NodeDisplacement:
-    """Prescribed displacement per level of a body's node along 'x' or 'y'."""
-
-    node: str
-    axis: str
-    values: tuple[float, ...]
 
 
 @dataclass
@@ -118,7 +79,7 @@ class Mechanism:
     nodes: dict[str, tuple[float, float]]
     beams: list[ElasticBeam]
     bodies: list[RigidBody] = field(default_factory=list)
-    pins: list[BodyPin] = field(default_factory=list)
+    pins: list[Pin] = field(default_factory=list)
 
     def __post_init__(self):
         self.body_of: dict[str, str] = {}
@@ -201,6 +162,8 @@ class _System:
             for nd, xy in p0.items():
                 r = xy - o
                 self._place[(b.name, nd)] = (self.pose_at[b.name], float(o[0]), float(o[1]), float(r[0]), float(r[1]))
+        # each pin's place on its two bodies, from its position in the unloaded pose
+        self._pin_place = [(self._place_of(pin.a, pin.at), self._place_of(pin.b, pin.at)) for pin in mech.pins]
         self._origin = {b.name: (self.pose_at[b.name], float(mech.origin[b.name][0]), float(mech.origin[b.name][1]))
                         for b in mech.bodies}
         self._atol = {beam.name: self.rtol * 1e-3 * max(self.tangent0[beam.name][2], 1.0) for beam in mech.beams}
@@ -220,10 +183,22 @@ class _System:
         """Current position of a node carried by ``body`` (an array; `_xy`)."""
         return np.array(self._xy(u.tolist(), body, node))
 
+    def _place_of(self, body, xy):
+        """(pose index, origin, arm) of the point of ``body`` at ``xy`` in the unloaded pose (`_xy`)."""
+        if body == GROUND:
+            return (-1, float(xy[0]), float(xy[1]), 0.0, 0.0)
+        o = self.m.origin[body]
+        return (self.pose_at[body], float(o[0]), float(o[1]), float(xy[0] - o[0]), float(xy[1] - o[1]))
+
     def _xy(self, ul, body, node):
         """Current (x, y) of a node carried by ``body``, origin + d + R(phi) (p0 - origin), from the
         unknowns as a list of floats."""
-        i, o0, o1, r0, r1 = self._place[(body, node)]
+        return self._at(ul, self._place[(body, node)])
+
+    @staticmethod
+    def _at(ul, place):
+        """Current (x, y) of the point at ``place`` (`_place_of`) under the unknowns (a list of floats)."""
+        i, o0, o1, r0, r1 = place
         if i < 0:
             return o0, o1
         c, s = math.cos(ul[i + 2]), math.sin(ul[i + 2])
@@ -324,8 +299,9 @@ class _System:
         for j, pin in enumerate(m.pins):
             k = self.i_pin + 2 * j
             R0, R1 = ul[k], ul[k + 1]
-            pa = self._xy(ul, pin.a, pin.node)
-            pb = self._xy(ul, pin.b, pin.node)
+            place_a, place_b = self._pin_place[j]
+            pa = self._at(ul, place_a)
+            pb = self._at(ul, place_b)
             r[k], r[k + 1] = pa[0] - pb[0], pa[1] - pb[1]
             add(pin.a, R0, R1, 0.0, *pa)
             add(pin.b, -R0, -R1, 0.0, *pb)
@@ -336,10 +312,10 @@ class _System:
             add(rot.body, 0.0, 0.0, M, 0.0, 0.0)
         for j, (disp, value) in enumerate(zip(self.displacements, disp_values)):
             P = ul[self.i_disp + j]
-            body = m.body_of[disp.node]
+            body = m.body_of[disp.point]
             axis = 0 if disp.axis == "x" else 1
-            p = self._xy(ul, body, disp.node)
-            r[self.i_disp + j] = p[axis] - m.nodes[disp.node][axis] - value
+            p = self._xy(ul, body, disp.point)
+            r[self.i_disp + j] = p[axis] - m.nodes[disp.point][axis] - value
             add(body, P if axis == 0 else 0.0, P if axis == 1 else 0.0, 0.0, *p)
         for body in m.bodies:
             i = self.i_body + 3 * m.index[body.name]
@@ -372,15 +348,15 @@ class _LoadPath:
         for f in self.forces:
             fx, fy = float(self.value(f.fx, t)), float(self.value(f.fy, t))
             if f.follower:
-                body = self.mech.body_of.get(f.node)
-                phi = self.system.pose(u, body)[1] if body else _free_end_angle(self.system, u, f.node)
+                body = self.mech.body_of.get(f.point)
+                phi = self.system.pose(u, body)[1] if body else _free_end_angle(self.system, u, f.point)
                 c, s = math.cos(phi), math.sin(phi)
                 fx, fy = c * fx - s * fy, s * fx + c * fy
-            a = F.get(f.node, (0.0, 0.0))
-            F[f.node] = (a[0] + fx, a[1] + fy)
+            a = F.get(f.point, (0.0, 0.0))
+            F[f.point] = (a[0] + fx, a[1] + fy)
         C = {}
         for c in self.couples:
-            key = ("body", c.body) if isinstance(c, BodyCouple) else ("node", c.node)
+            key = ("body", c.body) if isinstance(c, Couple) else ("node", c.point)
             C[key] = C.get(key, 0.0) + self.value(c.m, t)
         return F, C, [self.value(r.values, t) for r in self.rotations], \
             [self.value(d.values, t) for d in self.displacements]
@@ -417,13 +393,13 @@ def _level_state(mech: Mechanism, system: "_System", u) -> _LevelState:
 
 def solve_mechanism(mech: Mechanism, loads: list, n_levels: int, *, rtol: float = 1e-11,
                     max_cuts: int = 8) -> MechanismSolution:
-    """Equilibrium at every load level (loads: PointForce, BodyCouple, BodyRotation, NodeDisplacement,
+    """Equilibrium at every load level (loads: Force, Couple, EndCouple, PrescribedRotation, PrescribedDisplacement,
     each with one value per level)."""
     t0 = time.perf_counter()
-    forces = [ld for ld in loads if isinstance(ld, PointForce)]
-    couples = [ld for ld in loads if isinstance(ld, (BodyCouple, NodeCouple))]
-    rotations = [ld for ld in loads if isinstance(ld, BodyRotation)]
-    displacements = [ld for ld in loads if isinstance(ld, NodeDisplacement)]
+    forces = [ld for ld in loads if isinstance(ld, Force)]
+    couples = [ld for ld in loads if isinstance(ld, (Couple, EndCouple))]
+    rotations = [ld for ld in loads if isinstance(ld, PrescribedRotation)]
+    displacements = [ld for ld in loads if isinstance(ld, PrescribedDisplacement)]
     system = _System(mech, forces, couples, rotations, displacements, rtol)
     level_loads = _LoadPath(mech, system, forces, couples, rotations, displacements, n_levels)
     scale_F = max([abs(v) for f in forces for v in (*f.fx, *f.fy)] + [0.0])

@@ -51,12 +51,12 @@ import numpy as np
 
 from .section import Section
 from argcheck import checked
+from planar.geometry import SUPPORT_KINDS
 
 __all__ = ["Model", "Member", "Support", "Joint", "RigidLink", "PointLoad", "PointedForce",
            "DistributedLoad", "Prescribed"]
 
 DOF_NAMES = {"ux": 0, "uy": 1, "rz": 2}
-SUPPORT_KINDS = ("fixed", "pinned", "slider", "guided")
 
 
 @dataclass

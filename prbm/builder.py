@@ -42,7 +42,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from prbm.fits import PAULY_MIDHA
-from prbm.network import GROUND, LockedNetwork, Network, Pin, Slider, TorsionSpring
+from planar import GROUND, Beam, Geometry, Joint, Node, RigidLink, Support, WeldedBodies, welded_bodies
+from prbm.network import LockedNetwork, Network, Pin, Slider, TorsionSpring
 
 __all__ = ["Node", "Beam", "RigidLink", "Joint", "Support", "Geometry", "BeamRule", "Rules", "BeamModel",
            "PRBModel", "build"]
@@ -50,58 +51,6 @@ __all__ = ["Node", "Beam", "RigidLink", "Joint", "Support", "Geometry", "BeamRul
 GAMMA = 0.85       # [ananthasuresh_l18, 02:10] (Howell and Midha's average)
 K_THETA = 2.65     # [bapat2015, ch. 2]; [ananthasuresh_l18, 12:05]: "gamma K_Theta ~ 2.25"
 SLFP_RATIO = 0.1   # a flexure at most a tenth of the links it joins is "short" [bapat2015, §2.4]
-
-
-@dataclass(frozen=True)
-class Node:
-    name: str
-    x: float
-    y: float
-
-
-@dataclass(frozen=True)
-class Beam:
-    """A flexible member: bending stiffness EI, initial curvature (1/length, CCW from start)."""
-
-    name: str
-    start: str
-    end: str
-    EI: float
-    curvature: float = 0.0
-
-
-@dataclass(frozen=True)
-class RigidLink:
-    name: str
-    nodes: tuple[str, ...]
-
-
-@dataclass(frozen=True)
-class Joint:
-    """A revolute joint at a node between the named members, with an optional torsion spring."""
-
-    node: str
-    members: tuple[str, ...]
-    spring: float = 0.0
-
-
-@dataclass(frozen=True)
-class Support:
-    """kind: 'fixed', 'pinned', 'slider' (pin on a line along ``direction``) or 'guided'."""
-
-    node: str
-    kind: str
-    direction: tuple[float, float] | None = None
-    member: str | None = None
-
-
-@dataclass(frozen=True)
-class Geometry:
-    nodes: tuple[Node, ...]
-    beams: tuple[Beam, ...] = ()
-    links: tuple[RigidLink, ...] = ()
-    joints: tuple[Joint, ...] = ()
-    supports: tuple[Support, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -160,50 +109,6 @@ class PRBModel:
 
 
 # --- ends --------------------------------------------------------------------------------------------
-class _Union:
-    def __init__(self):
-        self.parent: dict[str, str] = {}
-
-    def find(self, a: str) -> str:
-        self.parent.setdefault(a, a)
-        while self.parent[a] != a:
-            self.parent[a] = self.parent[self.parent[a]]
-            a = self.parent[a]
-        return a
-
-    def union(self, a: str, b: str) -> None:
-        ra, rb = self.find(a), self.find(b)
-        if ra != rb:
-            if rb == GROUND:
-                ra, rb = rb, ra
-            self.parent[rb] = ra
-
-
-def _released(geometry: Geometry, node: str, member: str) -> bool:
-    return any(j.node == node and member in j.members for j in geometry.joints)
-
-
-def _rigid_bodies(geometry: Geometry) -> tuple[_Union, dict[str, list[str]]]:
-    """Rigid links welded where they share a node without a joint; a fixed support welds to ground.
-    Returns the union-find over link names (and GROUND) and node -> the link names through it."""
-    uf = _Union()
-    uf.find(GROUND)
-    at: dict[str, list[str]] = {}
-    for link in geometry.links:
-        uf.find(link.name)
-        for nd in link.nodes:
-            at.setdefault(nd, []).append(link.name)
-    for nd, names in at.items():
-        kept = [nm for nm in names if not _released(geometry, nd, nm)]
-        for other in kept[1:]:
-            uf.union(kept[0], other)
-        for sup in geometry.supports:
-            if sup.node == nd and sup.kind == "fixed":
-                for nm in kept:
-                    uf.union(GROUND, nm)
-    return uf, at
-
-
 @dataclass
 class _End:
     kind: str       # 'clamped', 'pinned', 'free'
@@ -278,7 +183,8 @@ class _Builder:
     def __init__(self, geometry: Geometry, rules: Rules, pivot_at: dict):
         self.geometry, self.rules, self.pivot_at = geometry, rules, pivot_at
         self.coords = {nd.name: np.array([nd.x, nd.y], float) for nd in geometry.nodes}
-        self.uf, self.links_at = _rigid_bodies(geometry)
+        self.welded = welded_bodies(geometry)
+        self.links_at = self.welded.links_at
         self.beams_at: dict[str, list[Beam]] = {}
         for beam in geometry.beams:
             for nd in (beam.start, beam.end):
@@ -313,7 +219,7 @@ class _Builder:
             self.ground_nodes[spring.name] = node
 
     def body_of_link(self, name: str) -> str:
-        root = self.uf.find(name)
+        root = self.welded.body_of_link[name]
         if root != GROUND and root not in self.bodies:
             self.bodies.append(root)
         return root
@@ -336,9 +242,9 @@ class _Builder:
         """The body that owns each node (a link, the ground, or a junction of welded beams)."""
         geometry = self.geometry
         for nd in self.coords:
-            kept = [l for l in self.links_at.get(nd, []) if not _released(geometry, nd, l)]
+            kept = [l for l in self.links_at.get(nd, []) if not geometry.released(nd, l)]
             sups = self.supports_at.get(nd, [])
-            clamped_beams = [b for b in self.beams_at.get(nd, []) if not _released(geometry, nd, b.name)]
+            clamped_beams = [b for b in self.beams_at.get(nd, []) if not geometry.released(nd, b.name)]
             if any(s.kind == "fixed" for s in sups):
                 self.node_body[nd] = GROUND
             elif kept:
@@ -368,7 +274,7 @@ class _Builder:
     def end_of(self, beam: Beam, nd: str) -> _End:
         owner = self.node_body.get(nd)
         sups = self.supports_at.get(nd, [])
-        if _released(self.geometry, nd, beam.name):
+        if self.geometry.released(nd, beam.name):
             return _End("pinned", owner)
         if any(s.kind == "pinned" and s.member in (None, beam.name) for s in sups) and owner is None:
             return _End("pinned", GROUND)
@@ -411,8 +317,8 @@ class _Builder:
         if kinds == ["clamped", "clamped"]:
             if e0.body == e1.body:
                 return "rigid-both-ends-on-one-body"
-            short = self.rules.slfp_ratio * min(_size(self.geometry, self.coords, e0.body, self.uf),
-                                                _size(self.geometry, self.coords, e1.body, self.uf))
+            short = self.rules.slfp_ratio * min(_size(self.coords, e0.body, self.welded),
+                                                _size(self.coords, e1.body, self.welded))
             return "slfp" if L <= short else "fixed-guided"
         if "clamped" in kinds:
             return "fixed-pinned" if "pinned" in kinds else "fixed-free"
@@ -672,12 +578,11 @@ def _midpoint(A, B, kappa: float, L: float) -> np.ndarray:
     return C + np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
 
 
-def _size(geometry: Geometry, coords, body: str | None, uf) -> float:
+def _size(coords, body: str | None, welded: WeldedBodies) -> float:
     """Largest distance between two nodes of a body (infinite for the ground)."""
     if body is None or body == GROUND:
         return math.inf
-    nodes = [nd for link in geometry.links if uf.find(link.name) == body for nd in link.nodes]
-    pts = np.array([coords[nd] for nd in dict.fromkeys(nodes)])
+    pts = np.array([coords[nd] for nd in welded.nodes_of.get(body, [])])
     if len(pts) < 2:
         return 0.0
     return float(np.max(np.linalg.norm(pts[:, None] - pts[None], axis=-1)))

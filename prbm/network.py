@@ -56,11 +56,12 @@ import numpy as np
 from scipy.linalg import qr
 from scipy.linalg.lapack import dgesv
 
+from planar import GROUND, Couple, Force, Pin, PrescribedDisplacement, PrescribedRotation
+
 __all__ = ["Pin", "Slider", "TorsionSpring", "LinearSpring", "Force", "Couple", "PrescribedDisplacement",
            "PrescribedRotation", "Network", "NetworkState", "NetworkResult", "GroundLoad", "LockedNetwork",
            "UnreachableMotion", "GROUND", "RCOND", "solve", "trace"]
 
-GROUND = "ground"
 RCOND = 1e-10  # a singular value at most RCOND times the largest counts as zero (rank of the Jacobian)
 
 
@@ -80,16 +81,6 @@ class UnreachableMotion(LockedNetwork):
         self.load = load
         self.by_joints = by_joints
         self.moves = moves
-
-
-@dataclass(frozen=True)
-class Pin:
-    """Revolute joint between bodies ``a`` and ``b`` (``b`` may be GROUND) at ``at`` (unloaded pose)."""
-
-    a: str
-    b: str
-    at: tuple[float, float]
-    name: str = ""
 
 
 @dataclass(frozen=True)
@@ -124,41 +115,6 @@ class LinearSpring:
     direction: tuple[float, float]
     k: float
     name: str = ""
-
-
-@dataclass(frozen=True)
-class Force:
-    """Force (fx, fy) per level at a named point; ``follower`` turns it with the point's body."""
-
-    point: str
-    fx: tuple[float, ...]
-    fy: tuple[float, ...]
-    follower: bool = False
-
-
-@dataclass(frozen=True)
-class Couple:
-    """Couple (CCW) per level on a body."""
-
-    body: str
-    m: tuple[float, ...]
-
-
-@dataclass(frozen=True)
-class PrescribedDisplacement:
-    """Displacement per level of a named point along ``axis`` ('x' or 'y') from the unloaded pose."""
-
-    point: str
-    axis: str
-    values: tuple[float, ...]
-
-
-@dataclass(frozen=True)
-class PrescribedRotation:
-    """Rotation per level (rad, CCW, from the unloaded pose) of a body."""
-
-    body: str
-    values: tuple[float, ...]
 
 
 Load = Force | Couple | PrescribedDisplacement | PrescribedRotation

@@ -13,7 +13,7 @@ import ast
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-PACKAGES = ("prbm", "fem", "elastica", "bcm", "argcheck", "validation")
+PACKAGES = ("prbm", "fem", "elastica", "bcm", "argcheck", "planar", "validation")
 
 
 def _decorator_is_compiled(node: ast.expr) -> tuple[bool, bool]:

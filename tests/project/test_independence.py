@@ -27,3 +27,11 @@ def test_library_imports_no_other_library(library):
                  for p in (ROOT / library).rglob("*.py")}
     offenders = {k: v for k, v in offenders.items() if v}
     assert not offenders, f"{library}/ imports {offenders}"
+
+
+def test_planar_is_a_leaf():
+    """``planar`` (the mechanism vocabulary every library may import) imports nothing of the project."""
+    project = set(LIBRARIES) | {"validation", "argcheck", "references", "tests", "cases"}
+    found = {str(p.relative_to(ROOT)): sorted(imported_top_levels(p) & project)
+             for p in (ROOT / "planar").rglob("*.py")}
+    assert not {k: v for k, v in found.items() if v}, found

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-PACKAGES = ("prbm", "fem", "elastica", "bcm", "argcheck", "validation")
+PACKAGES = ("prbm", "fem", "elastica", "bcm", "argcheck", "planar", "validation")
 # the optional extras of pyproject.toml (peer, dask, test, mutation), and pyvista, which needs the
 # system's GL libraries to import (a report without them still runs): imported where used
 OPTIONAL = {"openseespy", "dask", "distributed", "selenium", "hypothesis", "pytest", "mutmut", "pyvista"}

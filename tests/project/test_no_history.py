@@ -1,6 +1,6 @@
 """No history in the production code, and every citation by a key the bibliography has.
 
-Production code is every ``.py`` file of prbm/, fem/, elastica/, bcm/, argcheck/, references/ and
+Production code is every ``.py`` file of prbm/, fem/, elastica/, bcm/, argcheck/, planar/, references/ and
 validation/ (not tests/, not cases/).  What the code says is what it does and why (the mathematics,
 the reference); where it came from (a tracker's item, a session, a day's timing) belongs in the commit
 message or a benchmark's output.
@@ -31,7 +31,7 @@ import pytest
 from references import REFERENCES, key_of_seed_file
 
 ROOT = Path(__file__).resolve().parents[2]
-PRODUCTION = ("prbm", "fem", "elastica", "bcm", "argcheck", "references", "validation")
+PRODUCTION = ("prbm", "fem", "elastica", "bcm", "argcheck", "planar", "references", "validation")
 PROJECT = set(PRODUCTION) | {"tests", "cases"}
 
 HISTORY_PATTERNS = {

@@ -23,6 +23,7 @@ import numpy as np
 import prbm
 from validation.case.loader import case_by_id, find_case_files, load_case
 from validation.methods import prbm_network
+from validation.methods.geometry import geometry
 from validation.run.runner import run_method
 
 
@@ -150,7 +151,7 @@ def network_rows() -> list[tuple[str, float, float, float | None]]:
     Test 2 four-bar under one design torque."""
     rows = []
     case = case_by_id("seed004_parallel_guided").case
-    model = prbm.build(prbm_network.geometry(case.mechanism), prbm_network.rules(None, case.mechanism))
+    model = prbm.build(geometry(case.mechanism), prbm_network.rules(None, case.mechanism))
     net = model.network
     all_loads = prbm_network.network_loads(case, model)
     n = case.n_levels()

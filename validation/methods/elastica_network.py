@@ -23,47 +23,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+import planar
 from elastica import mechanism as em
 from elastica.shooting import unloaded_tip
 from validation.case.method_options import ElasticaOptions
 from validation.case.quantities import boundary_held_tip
 from validation.methods.base import MethodRun, NotApplicable
-
-
-def _bodies(mech):
-    """node -> body name (GROUND for a fixed support), the movable rigid bodies (welded links), and
-    the union-find root of each link."""
-    released = {(j.node, m) for j in mech.joints for m in j.members}
-    parent = {link.name: link.name for link in mech.links}
-
-    def find(a):
-        while parent[a] != a:
-            a = parent[a]
-        return a
-
-    at: dict[str, list[str]] = {}
-    for link in mech.links:
-        for nd in link.nodes:
-            at.setdefault(nd, []).append(link.name)
-    for nd, names in at.items():
-        kept = [n for n in names if (nd, n) not in released]
-        for other in kept[1:]:
-            parent[find(other)] = find(kept[0])
-    fixed = {s.node for s in mech.supports if s.kind == "fixed"}
-    grounded = {find(n) for nd in fixed for n in at.get(nd, []) if (nd, n) not in released}
-    owner: dict[str, str] = {nd: em.GROUND for nd in fixed}
-    groups: dict[str, list[str]] = {}
-    for link in mech.links:
-        root = find(link.name)
-        body = em.GROUND if root in grounded else root
-        for nd in link.nodes:
-            if nd not in owner and (nd, link.name) not in released:
-                owner[nd] = body
-            if body != em.GROUND:
-                groups.setdefault(body, [])
-                if nd not in groups[body]:
-                    groups[body].append(nd)
-    return owner, [em.RigidBody(name, tuple(nodes)) for name, nodes in groups.items()], find
+from validation.methods.geometry import geometry
 
 
 def model(case) -> tuple[em.Mechanism, dict[str, str]]:
@@ -73,16 +39,16 @@ def model(case) -> tuple[em.Mechanism, dict[str, str]]:
             raise NotApplicable(f"a {s.kind} support at '{s.node}': not in the elastica mechanism model")
     if any(j.spring for j in mech.joints):
         raise NotApplicable("joint torsion springs: not in the elastica mechanism model")
-    owner, bodies, find = _bodies(mech)
-    body_names = {b.name for b in bodies}
-    link_body = {l.name: (find(l.name) if find(l.name) in body_names else em.GROUND) for l in mech.links}
-    nodes = {n.name: (n.x, n.y) for n in mech.nodes}
-    beam_nodes = [nd for b in mech.beams for nd in (b.start, b.end)]
+    geo = geometry(mech)
+    welded = planar.welded_bodies(geo)
+    owner = welded.owner
+    bodies = [em.RigidBody(name, tuple(nodes)) for name, nodes in welded.nodes_of.items()]
+    link_body = welded.body_of_link
+    nodes = {n.name: (n.x, n.y) for n in geo.nodes}
+    beam_nodes = [nd for b in geo.beams for nd in (b.start, b.end)]
     beams = []
-    for beam in mech.beams:
-        EA, EI = beam.section.stiffness(beam.E or mech.E)
-        if beam.section.kind == "inertia" and beam.section.A is None:
-            EA = None
+    for beam in geo.beams:
+        EA, EI = beam.EA, beam.EI
         ends = []
         for nd in (beam.start, beam.end):
             joint = next((j for j in mech.joints if j.node == nd and beam.name in j.members), None)
@@ -113,12 +79,12 @@ def model(case) -> tuple[em.Mechanism, dict[str, str]]:
     for j in mech.joints:
         links = [m for m in j.members if m in link_body]
         for other in links[1:]:
-            pins.append(em.BodyPin(link_body[other], link_body[links[0]], j.node))
+            pins.append(em.Pin(link_body[other], link_body[links[0]], nodes[j.node], j.node))
     for s in mech.supports:
         if s.kind == "pinned":
             target = link_body.get(s.member) if s.member in link_body else owner.get(s.node)
             if target not in (None, em.GROUND):
-                pins.append(em.BodyPin(target, em.GROUND, s.node))
+                pins.append(em.Pin(target, em.GROUND, nodes[s.node], s.node))
     return em.Mechanism(nodes, beams, bodies, pins), {**owner, **{f"link:{k}": v for k, v in link_body.items()}}
 
 
@@ -134,16 +100,16 @@ def loads(case, owner: dict[str, str]) -> list:
                                 "conditions")
         if load.kind == "force":
             d = load.direction
-            out.append(em.PointForce(load.point, tuple(x * d[0] for x in v), tuple(x * d[1] for x in v), load.follower))
+            out.append(em.Force(load.point, tuple(x * d[0] for x in v), tuple(x * d[1] for x in v), load.follower))
         elif load.kind == "moment":
             if body in (None, em.GROUND):
-                out.append(em.NodeCouple(load.point, v))
+                out.append(em.EndCouple(load.point, v))
             else:
-                out.append(em.BodyCouple(body, v))
+                out.append(em.Couple(body, v))
         elif load.kind == "rotation":
             if body in (None, em.GROUND):
                 raise NotApplicable(f"loads.{i}: a prescribed rotation of '{load.point}', on no rigid link")
-            out.append(em.BodyRotation(body, tuple(math.radians(x) for x in v)))
+            out.append(em.PrescribedRotation(body, tuple(math.radians(x) for x in v)))
         elif load.kind != "displacement":
             raise NotApplicable(f"loads.{i}: a {load.kind.replace('_', '-')} load along the beams of a mechanism: "
                                 "the elastica mechanism model (elastica.mechanism) takes point forces, couples "
@@ -153,7 +119,7 @@ def loads(case, owner: dict[str, str]) -> list:
             if abs(d[0]) > 1e-12 and abs(d[1]) > 1e-12:
                 raise NotApplicable(f"loads.{i}: a prescribed displacement must be along x or along y")
             axis = "x" if abs(d[0]) > 0.5 else "y"
-            out.append(em.NodeDisplacement(load.point, axis, tuple(x * (d[0] if axis == "x" else d[1]) for x in v)))
+            out.append(em.PrescribedDisplacement(load.point, axis, tuple(x * (d[0] if axis == "x" else d[1]) for x in v)))
     return out
 
 
@@ -281,7 +247,7 @@ def segment_model(case, EI: float) -> SegmentMechanism:
     start = em.GROUND
     if pinned_root:
         bodies.append(em.RigidBody(ROOT_BODY, ("root",)))
-        pins.append(em.BodyPin(ROOT_BODY, em.GROUND, "root"))
+        pins.append(em.Pin(ROOT_BODY, em.GROUND, nodes["root"], "root"))
         start = ROOT_BODY
     beam = em.ElasticBeam("segment", "root", "tip", EI, start, TIP_BODY, "clamped", "clamped", EA, kappa)
     n = case.n_levels()
@@ -298,24 +264,24 @@ def segment_model(case, EI: float) -> SegmentMechanism:
                                 f"{why}: elastica.mechanism's forces keep their direction or turn with a body")
         if load.kind == "force":
             d = load.direction
-            applied.append(em.PointForce("tip", tuple(x * d[0] for x in v), tuple(x * d[1] for x in v),
+            applied.append(em.Force("tip", tuple(x * d[0] for x in v), tuple(x * d[1] for x in v),
                                          load.follower))
         elif load.kind == "moment":
-            applied.append(em.BodyCouple(TIP_BODY, v))
+            applied.append(em.Couple(TIP_BODY, v))
         elif load.kind == "rotation":
-            rotations.append((em.BodyRotation(TIP_BODY, tuple(math.radians(x) for x in v)), "rz"))
+            rotations.append((em.PrescribedRotation(TIP_BODY, tuple(math.radians(x) for x in v)), "rz"))
         else:
             d = np.asarray(load.direction, float) / math.hypot(*load.direction)
             if abs(d[0]) > 1e-12 and abs(d[1]) > 1e-12:
                 raise NotApplicable(f"loads.{i}: a prescribed displacement must be along x or along y")
             axis = "x" if abs(d[0]) > 0.5 else "y"
-            displacements.append((em.NodeDisplacement("tip", axis, tuple(x * d[0 if axis == "x" else 1] for x in v)),
+            displacements.append((em.PrescribedDisplacement("tip", axis, tuple(x * d[0 if axis == "x" else 1] for x in v)),
                                   "u" + axis))
     for dof in held:
         if dof == "rz":
-            rotations.append((em.BodyRotation(TIP_BODY, (0.0,) * n), "rz"))
+            rotations.append((em.PrescribedRotation(TIP_BODY, (0.0,) * n), "rz"))
         else:
-            displacements.append((em.NodeDisplacement("tip", dof[1], (0.0,) * n), dof))
+            displacements.append((em.PrescribedDisplacement("tip", dof[1], (0.0,) * n), dof))
     drivers = rotations + displacements           # the solver's order of prescribed-motion loads
     return SegmentMechanism(em.Mechanism(nodes, [beam], bodies, pins), applied + [d for d, _ in drivers],
                             pinned_root, tuple(axis for _, axis in drivers))
@@ -343,11 +309,11 @@ def run_segment(case, requests, options: ElasticaOptions, EI: float) -> MethodRu
         tip, phi = sol.positions[level]["tip"], sol.rotations[level][TIP_BODY]
         force, moment = np.zeros(2), 0.0
         for ld in built.loads:
-            if isinstance(ld, em.PointForce):
+            if isinstance(ld, em.Force):
                 f = np.array([ld.fx[level], ld.fy[level]])
                 c, s = math.cos(phi), math.sin(phi)
                 force += np.array([c * f[0] - s * f[1], s * f[0] + c * f[1]]) if ld.follower else f
-            elif isinstance(ld, em.BodyCouple):
+            elif isinstance(ld, em.Couple):
                 moment += ld.m[level]
         for axis, load in zip(built.driver_axes, sol.driver_loads[level]):
             if axis == "rz":

@@ -41,6 +41,7 @@ from prbm.network import UnreachableMotion
 from validation.case.method_options import PrbmOptions, RulesOptions
 from validation.methods import fem_outputs
 from validation.methods.base import Applicability, MethodRun, NotApplicable
+from validation.methods.geometry import geometry
 from prbm import builder as pb
 
 
@@ -48,21 +49,6 @@ from prbm import builder as pb
 #: moves with the load) is no fixed network, so such a beam gets the builder's rule (stated in its record)
 SEGMENT_TYPES = {"fixed-pinned": "fixed-pinned", "fixed-free": "fixed-free", "fixed-guided": "fixed-guided",
                  "fixed-fixed": "fixed-guided", "slfp": "slfp", "pinned-pinned": "rigid"}
-
-
-def geometry(mech) -> pb.Geometry:
-    """prbm's plain geometry from a schema ``MechanismSpec``."""
-    beams = []
-    for beam in mech.beams:
-        EI = beam.section.stiffness(beam.E or mech.E)[1]
-        beams.append(pb.Beam(beam.name, beam.start, beam.end, EI, beam.curvature))
-    return pb.Geometry(
-        nodes=tuple(pb.Node(n.name, n.x, n.y) for n in mech.nodes),
-        beams=tuple(beams),
-        links=tuple(pb.RigidLink(l.name, tuple(l.nodes)) for l in mech.links),
-        joints=tuple(pb.Joint(j.node, tuple(j.members), j.spring) for j in mech.joints),
-        supports=tuple(pb.Support(s.node, s.kind, tuple(s.direction) if s.direction else None, s.member)
-                       for s in mech.supports))
 
 
 def load_ratios(mech, loads) -> dict[str, float]:

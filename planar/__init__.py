@@ -1,0 +1,26 @@
+"""The plain description of a planar compliant mechanism, in one vocabulary for every library.
+
+A leaf package, like ``argcheck``: it imports nothing of the project, and ``prbm``, ``fem``,
+``elastica`` and ``bcm`` may all import it while never importing each other. It holds data only,
+no solver.
+
+The words, each meaning one thing everywhere:
+
+- **node**: a named point of the unloaded geometry (x, y).
+- **beam**: a flexible member between two nodes (bending stiffness EI, axial EA, initial curvature).
+- **rigid link**: a rigid member through two or more nodes (``RigidLink``).
+- **joint**: a revolute hinge at a node between the members it names (``Joint``), with an optional
+  torsion spring; a member not named is welded there.
+- **support**: how a node is held by the ground: fixed, pinned, slider or guided (``Support``).
+- **body**: what moves as one: rigid links welded together (``welded_bodies``), or the ground.
+- **pin**: a revolute pair between two bodies at a point (``Pin``), what a joint becomes once the
+  bodies are known.
+- **point**: where a load acts, named by a node (or a point a library adds, such as a pivot).
+- **force**, **couple**, **prescribed displacement**, **prescribed rotation**: the loads
+  (``Force``, ``Couple``, ``PrescribedDisplacement``, ``PrescribedRotation``), one value per level.
+"""
+from planar.geometry import GROUND, Beam, Geometry, Joint, Node, RigidLink, Support, WeldedBodies, welded_bodies
+from planar.loads import Couple, Force, Pin, PrescribedDisplacement, PrescribedRotation
+
+__all__ = ["GROUND", "Node", "Beam", "RigidLink", "Joint", "Support", "Geometry", "WeldedBodies",
+           "welded_bodies", "Pin", "Force", "Couple", "PrescribedDisplacement", "PrescribedRotation"]

@@ -1,0 +1,57 @@
+"""The loads on a planar mechanism and the pins between its bodies: one value per load level.
+
+Angles are in radians and counter-clockwise; a rotation or displacement is a change from the unloaded
+pose. Units are the caller's, consistent (force, length, force x length).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["Pin", "Force", "Couple", "PrescribedDisplacement", "PrescribedRotation"]
+
+
+@dataclass(frozen=True)
+class Pin:
+    """A revolute pair between bodies ``a`` and ``b`` (``b`` may be the ground) at ``at``, its position in
+    the unloaded pose; ``name`` says what it is (the node it sits at, or the pivot it models)."""
+
+    a: str
+    b: str
+    at: tuple[float, float]
+    name: str = ""
+
+
+@dataclass(frozen=True)
+class Force:
+    """A force (fx, fy) per level at a named point; ``follower``: it turns with the body (or beam end)
+    that carries the point, from its direction in the unloaded pose."""
+
+    point: str
+    fx: tuple[float, ...]
+    fy: tuple[float, ...]
+    follower: bool = False
+
+
+@dataclass(frozen=True)
+class Couple:
+    """A couple (CCW) per level on a body."""
+
+    body: str
+    m: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class PrescribedDisplacement:
+    """The displacement per level of a named point along ``axis`` ('x' or 'y') from the unloaded pose."""
+
+    point: str
+    axis: str
+    values: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class PrescribedRotation:
+    """The rotation per level (rad, CCW, from the unloaded pose) of a body."""
+
+    body: str
+    values: tuple[float, ...]
