@@ -19,8 +19,9 @@ The words, each meaning one thing everywhere:
 - **force**, **couple**, **prescribed displacement**, **prescribed rotation**: the loads
   (``Force``, ``Couple``, ``PrescribedDisplacement``, ``PrescribedRotation``), one value per level.
 """
-from planar.geometry import GROUND, Beam, Geometry, Joint, Node, RigidLink, Support, WeldedBodies, welded_bodies
+from planar.geometry import (GROUND, Beam, Geometry, Joint, Node, RigidLink, Support, SupportKind, WeldedBodies,
+                             welded_bodies)
 from planar.loads import Couple, Force, Pin, PrescribedDisplacement, PrescribedRotation
 
-__all__ = ["GROUND", "Node", "Beam", "RigidLink", "Joint", "Support", "Geometry", "WeldedBodies",
+__all__ = ["GROUND", "Node", "Beam", "RigidLink", "Joint", "Support", "SupportKind", "Geometry", "WeldedBodies",
            "welded_bodies", "Pin", "Force", "Couple", "PrescribedDisplacement", "PrescribedRotation"]

@@ -8,12 +8,25 @@ a node with a fixed support is part of the ground (``welded_bodies``).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from enum import StrEnum
 
-__all__ = ["GROUND", "SUPPORT_KINDS", "Node", "Beam", "RigidLink", "Joint", "Support", "Geometry", "WeldedBodies",
+__all__ = ["GROUND", "SupportKind", "SUPPORT_KINDS", "Node", "Beam", "RigidLink", "Joint", "Support", "Geometry", "WeldedBodies",
            "welded_bodies"]
 
 GROUND = "ground"
-SUPPORT_KINDS = ("fixed", "pinned", "slider", "guided")
+
+
+class SupportKind(StrEnum):
+    """How the ground holds a node: every freedom (fixed), the position (pinned), the position across a
+    line (slider), or the position across a line and the rotation (guided)."""
+
+    FIXED = "fixed"
+    PINNED = "pinned"
+    SLIDER = "slider"
+    GUIDED = "guided"
+
+
+SUPPORT_KINDS = tuple(kind.value for kind in SupportKind)
 
 
 @dataclass(frozen=True)
@@ -60,13 +73,14 @@ class Support:
     'guided' (a slider that also holds the rotation); ``member``: the one member it holds, if not all."""
 
     node: str
-    kind: str
+    kind: SupportKind
     direction: tuple[float, float] | None = None
     member: str | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in SUPPORT_KINDS:
             raise ValueError(f"support at '{self.node}': kind '{self.kind}' is not one of {SUPPORT_KINDS}")
+        object.__setattr__(self, "kind", SupportKind(self.kind))
 
 
 @dataclass(frozen=True)
@@ -125,7 +139,7 @@ def welded_bodies(geometry: Geometry) -> WeldedBodies:
         find(link.name)
         for nd in link.nodes:
             links_at.setdefault(nd, []).append(link.name)
-    fixed = {s.node for s in geometry.supports if s.kind == "fixed"}
+    fixed = {s.node for s in geometry.supports if s.kind == SupportKind.FIXED}
     for nd, names in links_at.items():
         kept = [name for name in names if not geometry.released(nd, name)]
         for other in kept[1:]:

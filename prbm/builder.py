@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from enum import StrEnum
 
 import numpy as np
 
@@ -45,12 +46,36 @@ from prbm.fits import PAULY_MIDHA
 from planar import GROUND, Beam, Geometry, Joint, Node, RigidLink, Support, WeldedBodies, welded_bodies
 from prbm.network import LockedNetwork, Network, Pin, Slider, TorsionSpring
 
-__all__ = ["Node", "Beam", "RigidLink", "Joint", "Support", "Geometry", "BeamRule", "Rules", "BeamModel",
+__all__ = ["Node", "Beam", "RigidLink", "Joint", "Support", "Geometry", "EndKind", "BeamChoice", "BeamRule", "Rules", "BeamModel",
            "PRBModel", "build"]
 
 GAMMA = 0.85       # [ananthasuresh_l18, 02:10] (Howell and Midha's average)
 K_THETA = 2.65     # [bapat2015, ch. 2]; [ananthasuresh_l18, 12:05]: "gamma K_Theta ~ 2.25"
 SLFP_RATIO = 0.1   # a flexure at most a tenth of the links it joins is "short" [bapat2015, §2.4]
+
+
+class EndKind(StrEnum):
+    """How a beam end is held (the module docstring's rules)."""
+
+    CLAMPED = "clamped"
+    PINNED = "pinned"
+    FREE = "free"
+
+
+class BeamChoice(StrEnum):
+    """The PRB model the builder gives a beam; the first five may be named in a ``BeamRule``."""
+
+    FIXED_PINNED = "fixed-pinned"
+    FIXED_FREE = "fixed-free"
+    FIXED_GUIDED = "fixed-guided"
+    SLFP = "slfp"
+    RIGID = "rigid"
+    PIVOT_AT_PIN = "pivot-at-pin"                            # the lock workaround (module docstring)
+    RIGID_ON_ONE_BODY = "rigid-both-ends-on-one-body"        # both ends clamped to one body
+
+
+RULE_CHOICES = (BeamChoice.FIXED_PINNED, BeamChoice.FIXED_FREE, BeamChoice.FIXED_GUIDED, BeamChoice.SLFP,
+                BeamChoice.RIGID)
 
 
 @dataclass(frozen=True)
@@ -111,7 +136,7 @@ class PRBModel:
 # --- ends --------------------------------------------------------------------------------------------
 @dataclass
 class _End:
-    kind: str       # 'clamped', 'pinned', 'free'
+    kind: EndKind
     body: str | None
 
 
@@ -128,7 +153,7 @@ def build(geometry: Geometry, rules: Rules | None = None) -> PRBModel:
     ground_pins = _ground_pins(geometry, model)
     for bm in model.beams:
         beam = next(b for b in geometry.beams if b.name == bm.beam)
-        if bm.ends[0] != "clamped" or bm.ends[1] != "clamped" or beam.curvature != 0.0:
+        if bm.ends[0] != EndKind.CLAMPED or bm.ends[1] != EndKind.CLAMPED or beam.curvature != 0.0:
             continue
         coords = {nd.name: np.array([nd.x, nd.y]) for nd in geometry.nodes}
         for root, tip in ((beam.start, beam.end), (beam.end, beam.start)):
@@ -275,14 +300,14 @@ class _Builder:
         owner = self.node_body.get(nd)
         sups = self.supports_at.get(nd, [])
         if self.geometry.released(nd, beam.name):
-            return _End("pinned", owner)
+            return _End(EndKind.PINNED, owner)
         if any(s.kind == "pinned" and s.member in (None, beam.name) for s in sups) and owner is None:
-            return _End("pinned", GROUND)
+            return _End(EndKind.PINNED, GROUND)
         if any(s.kind == "slider" for s in sups) and owner is None:
-            return _End("pinned", None)  # resolved later with a slider on the beam's own body
+            return _End(EndKind.PINNED, None)  # resolved later with a slider on the beam's own body
         if owner is not None:
-            return _End("clamped", owner)
-        return _End("free", None)
+            return _End(EndKind.CLAMPED, owner)
+        return _End(EndKind.FREE, None)
 
     def _holders(self) -> dict[str, int]:
         """How many beam ends, pins and supports hold each body: a body held by nothing but one clamped
@@ -303,26 +328,29 @@ class _Builder:
         return held_by
 
     def carried(self, end: _End) -> bool:
-        return end.kind == "clamped" and end.body not in (None, GROUND) and self.held_by.get(end.body, 0) == 1
+        return end.kind == EndKind.CLAMPED and end.body not in (None, GROUND) and self.held_by.get(end.body, 0) == 1
 
-    def _choose(self, beam: Beam, e0: _End, e1: _End, L: float, rule: BeamRule) -> str:
+    def _choose(self, beam: Beam, e0: _End, e1: _End, L: float, rule: BeamRule) -> BeamChoice:
         """The beam's model by how its ends are held (module docstring), unless the rule names one."""
         if beam.name in self.pivot_at:
-            return "pivot-at-pin"
+            return BeamChoice.PIVOT_AT_PIN
         if rule.model is not None:
-            return rule.model
+            if rule.model not in RULE_CHOICES:
+                raise ValueError(f"beam '{beam.name}': unknown PRB model '{rule.model}' (use "
+                                 f"{', '.join(RULE_CHOICES)})")
+            return BeamChoice(rule.model)
         kinds = sorted((e0.kind, e1.kind))
-        if kinds == ["clamped", "clamped"] and (self.carried(e0) or self.carried(e1)) and e0.body != e1.body:
-            return "fixed-free"
-        if kinds == ["clamped", "clamped"]:
+        if kinds == [EndKind.CLAMPED, EndKind.CLAMPED] and (self.carried(e0) or self.carried(e1)) and e0.body != e1.body:
+            return BeamChoice.FIXED_FREE
+        if kinds == [EndKind.CLAMPED, EndKind.CLAMPED]:
             if e0.body == e1.body:
-                return "rigid-both-ends-on-one-body"
+                return BeamChoice.RIGID_ON_ONE_BODY
             short = self.rules.slfp_ratio * min(_size(self.coords, e0.body, self.welded),
                                                 _size(self.coords, e1.body, self.welded))
-            return "slfp" if L <= short else "fixed-guided"
-        if "clamped" in kinds:
-            return "fixed-pinned" if "pinned" in kinds else "fixed-free"
-        return "rigid"
+            return BeamChoice.SLFP if L <= short else BeamChoice.FIXED_GUIDED
+        if EndKind.CLAMPED in kinds:
+            return BeamChoice.FIXED_PINNED if EndKind.PINNED in kinds else BeamChoice.FIXED_FREE
+        return BeamChoice.RIGID
 
     def _beam(self, beam: Beam) -> None:
         A, B = self.coords[beam.start], self.coords[beam.end]
@@ -331,22 +359,19 @@ class _Builder:
         e0, e1 = self.end_of(beam, beam.start), self.end_of(beam, beam.end)
         ends = (e0.kind, e1.kind)
         chosen = self._choose(beam, e0, e1, L, rule)
-        if chosen == "rigid-both-ends-on-one-body":
-            self.records.append(BeamModel(beam.name, "rigid", ends, (), (), None, None,
+        if chosen == BeamChoice.RIGID_ON_ONE_BODY:
+            self.records.append(BeamModel(beam.name, BeamChoice.RIGID, ends, (), (), None, None,
                                           "both ends clamped to the same rigid body: the beam cannot deflect"))
-        elif chosen in ("fixed-pinned", "fixed-free"):
+        elif chosen in (BeamChoice.FIXED_PINNED, BeamChoice.FIXED_FREE):
             self._one_pivot(beam, chosen, e0, e1, L, rule)
-        elif chosen == "pivot-at-pin":
+        elif chosen == BeamChoice.PIVOT_AT_PIN:
             self._pivot_at_pin(beam, ends, L, rule)
-        elif chosen == "fixed-guided":
+        elif chosen == BeamChoice.FIXED_GUIDED:
             self._fixed_guided(beam, e0, e1, L, rule)
-        elif chosen == "slfp":
+        elif chosen == BeamChoice.SLFP:
             self._slfp(beam, e0, e1, L, rule)
-        elif chosen == "rigid":
-            self._rigid(beam, e0, e1)
         else:
-            raise ValueError(f"beam '{beam.name}': unknown PRB model '{chosen}' (use fixed-pinned, "
-                             "fixed-free, fixed-guided, slfp or rigid)")
+            self._rigid(beam, e0, e1)
 
     def _parameters(self, rule: BeamRule) -> tuple[float, float]:
         gamma = rule.gamma if rule.gamma is not None else self.rules.gamma
@@ -370,10 +395,10 @@ class _Builder:
     def _one_pivot(self, beam: Beam, chosen: str, e0: _End, e1: _End, L: float, rule: BeamRule) -> None:
         """Fixed-pinned / fixed-free: one pivot (1 - gamma) L from the clamp (eqs 41-49, 53-58)."""
         ends = (e0.kind, e1.kind)
-        if "clamped" not in ends:
+        if EndKind.CLAMPED not in ends:
             raise ValueError(f"beam '{beam.name}': model '{chosen}' needs a clamped end ({ends})")
         gamma, K_theta, fitted = self._fitted(rule) if beam.curvature == 0.0 else (*self._parameters(rule), "")
-        root, tip, er, et = (beam.start, beam.end, e0, e1) if e0.kind == "clamped" and not self.carried(e0) else \
+        root, tip, er, et = (beam.start, beam.end, e0, e1) if e0.kind == EndKind.CLAMPED and not self.carried(e0) else \
             (beam.end, beam.start, e1, e0)
         if rule.clamp is not None and rule.clamp in (beam.start, beam.end) and rule.clamp != root:
             root, tip, er, et = tip, root, et, er
@@ -422,7 +447,7 @@ class _Builder:
         """Clamped-clamped: two pivots (1 - gamma) L/2 from the ends, 2 gamma K_Theta EI/L each
         [ananthasuresh_l18, 07:13-12:05]."""
         ends = (e0.kind, e1.kind)
-        if ends != ("clamped", "clamped"):
+        if ends != (EndKind.CLAMPED, EndKind.CLAMPED):
             raise ValueError(f"beam '{beam.name}': model 'fixed-guided' needs both ends clamped ({ends})")
         if beam.curvature != 0.0:
             raise ValueError(f"beam '{beam.name}': no fixed-guided PRBM for an initially curved beam "
@@ -441,14 +466,14 @@ class _Builder:
         self.spring(TorsionSpring(name, e1.body, k, name=f"{beam.name} pivot 2"), beam.end)
         self.member_body[(beam.name, beam.start)] = e0.body
         self.member_body[(beam.name, beam.end)] = e1.body
-        self.records.append(BeamModel(beam.name, "fixed-guided", ends, (tuple(P1), tuple(P2)), (k, k), gamma,
+        self.records.append(BeamModel(beam.name, BeamChoice.FIXED_GUIDED, ends, (tuple(P1), tuple(P2)), (k, k), gamma,
                                       K_theta, "clamped at both ends to different bodies: two pivots "
                                       "(1-gamma)L/2 from the ends, K = 2 gamma K_Theta EI/L each (seed 004 3.3)"))
 
     def _slfp(self, beam: Beam, e0: _End, e1: _End, L: float, rule: BeamRule) -> None:
         """A short flexure: one pivot at its middle, K = EI/L [bapat2015, eq 186]."""
         ends = (e0.kind, e1.kind)
-        if ends != ("clamped", "clamped"):
+        if ends != (EndKind.CLAMPED, EndKind.CLAMPED):
             raise ValueError(f"beam '{beam.name}': model 'slfp' needs both ends clamped ({ends})")
         P = _midpoint(self.coords[beam.start], self.coords[beam.end], beam.curvature, L)
         k = rule.stiffness or beam.EI / L
@@ -457,7 +482,7 @@ class _Builder:
         self.spring(TorsionSpring(e0.body, e1.body, k, name=f"{beam.name} SLFP"), grounded)
         self.member_body[(beam.name, beam.start)] = e0.body
         self.member_body[(beam.name, beam.end)] = e1.body
-        self.records.append(BeamModel(beam.name, "slfp", ends, (tuple(P),), (k,), None, None,
+        self.records.append(BeamModel(beam.name, BeamChoice.SLFP, ends, (tuple(P),), (k,), None, None,
                                       f"short flexure (L <= {self.rules.slfp_ratio:g} x the bodies it joins): one "
                                       "pivot at its middle, K = EI/L (seed 000 eq 186)"))
 
@@ -478,15 +503,15 @@ class _Builder:
     def _attach_far_end(self, beam: Beam, nd: str, end: _End, body: str) -> None:
         """The beam's PRB body reaches node nd: free -> the node moves with it; pinned -> a pin to the
         node's owner (or pending, when the node has none yet)."""
-        if end.kind == "free":
+        if end.kind == EndKind.FREE:
             self.node_body[nd] = body
             self.points[nd] = (body, tuple(self.coords[nd]))
-        elif end.kind == "pinned" and end.body is not None:
+        elif end.kind == EndKind.PINNED and end.body is not None:
             self.pin(Pin(body, end.body, tuple(self.coords[nd]), name=f"{beam.name} end {nd}"), nd)
             if nd not in self.points:  # a pinned support on a beam end: the node is on the ground
                 self.node_body[nd] = end.body
                 self.points[nd] = (end.body, tuple(self.coords[nd]))
-        elif end.kind == "pinned":
+        elif end.kind == EndKind.PINNED:
             self.pending.append((nd, body, beam))
         else:  # clamped at the far end of a one-pivot model
             raise ValueError(f"beam '{beam.name}': both ends clamped, but a one-pivot model was chosen")

@@ -21,5 +21,5 @@ def geometry(mech) -> planar.Geometry:
         beams=tuple(beams),
         links=tuple(planar.RigidLink(link.name, tuple(link.nodes)) for link in mech.links),
         joints=tuple(planar.Joint(j.node, tuple(j.members), j.spring) for j in mech.joints),
-        supports=tuple(planar.Support(s.node, s.kind, tuple(s.direction) if s.direction else None, s.member)
+        supports=tuple(planar.Support(s.node, planar.SupportKind(s.kind), tuple(s.direction) if s.direction else None, s.member)
                        for s in mech.supports))
