@@ -21,7 +21,7 @@ The words, each meaning one thing everywhere:
 """
 from planar.geometry import (GROUND, Beam, Geometry, Joint, Node, RigidLink, Support, SupportKind, WeldedBodies,
                              welded_bodies)
-from planar.loads import Couple, Force, Pin, PrescribedDisplacement, PrescribedRotation
+from planar.loads import Couple, Force, Load, Pin, PrescribedDisplacement, PrescribedRotation
 
 __all__ = ["GROUND", "Node", "Beam", "RigidLink", "Joint", "Support", "SupportKind", "Geometry", "WeldedBodies",
-           "welded_bodies", "Pin", "Force", "Couple", "PrescribedDisplacement", "PrescribedRotation"]
+           "welded_bodies", "Pin", "Force", "Couple", "PrescribedDisplacement", "PrescribedRotation", "Load"]

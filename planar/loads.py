@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["Pin", "Force", "Couple", "PrescribedDisplacement", "PrescribedRotation"]
+__all__ = ["Pin", "Force", "Couple", "PrescribedDisplacement", "PrescribedRotation", "Load"]
 
 
 @dataclass(frozen=True)
@@ -55,3 +55,7 @@ class PrescribedRotation:
 
     body: str
     values: tuple[float, ...]
+
+
+#: any one of the loads
+Load = Force | Couple | PrescribedDisplacement | PrescribedRotation

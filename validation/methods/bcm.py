@@ -27,27 +27,49 @@ from bcm.mechanisms import BCMBeam, RigidBodyOnBeams
 from validation.methods.base import MethodRun, NotApplicable, Request, reject_loads_along_beams
 from validation.case.quantities import boundary_held_tip
 from validation.case.method_options import BcmOptions
-from validation.case.schema import Case
+from validation.case.schema import Case, LinkSpec, LoadSpec, MechanismSpec, SegmentSpec
 
 RANGE = 0.1
+
+
+@dataclass
+class _Answers:
+    """What a BCM solve gives: the values asked for, a message per level, the levels outside its range."""
+
+    values: dict[Request, float] = field(default_factory=dict)
+    messages: dict[int, str] = field(default_factory=dict)
+    outside: list[int] = field(default_factory=list)
 
 
 def _ka(EI: float, EA: float, L: float) -> float:
     return EA * L * L / EI if math.isfinite(EA) else 1e12
 
 
-def _segment(case: Case, requests: list[Request], options: BcmOptions) -> MethodRun:
-    seg = case.segment
+def _direction(load: LoadSpec) -> tuple[float, float]:
+    """A load's unit direction; a force toward a fixed point has none, and the BCM takes no such force."""
+    if load.direction is None:
+        raise NotApplicable("the BCM takes no force toward a fixed point")
+    return load.direction
+
+
+def _segment(case: Case, seg: SegmentSpec, requests: list[Request], options: BcmOptions) -> _Answers:
     if seg.initial_curvature() != 0.0:
         raise NotApplicable("BCM models initially straight beams only")
     if seg.boundary == "pinned-pinned":
         raise NotApplicable("boundary 'pinned-pinned' is not a BCM cantilever")
     L = seg.length
-    EI = options.EI if options.EI is not None else (
-        seg.E * options.I if options.I is not None else seg.bending_stiffness())
+    if options.EI is not None:
+        EI = options.EI
+    elif options.I is not None:
+        if seg.E is None:
+            raise NotApplicable("[methods.bcm] I needs the segment's modulus E; give EI instead")
+        EI = seg.E * options.I
+    else:
+        EI = seg.bending_stiffness()
     ka = _ka(EI, seg.axial_stiffness(), L)
     f_scale, m_scale = L * L / EI, L / EI
-    values, msgs, outside = {}, {}, []
+    answers = _Answers()
+    values, msgs, outside = answers.values, answers.messages, answers.outside
     for level in sorted({r.level for r in requests}):
         given = {"fx": 0.0, "fy": 0.0, "mz": 0.0}
         disp: dict[str, float] = {}
@@ -58,23 +80,25 @@ def _segment(case: Case, requests: list[Request], options: BcmOptions) -> Method
             if load.kind == "force":
                 if load.follower:
                     raise NotApplicable("BCM has no follower force")
-                given["fx"] += v * load.direction[0] * f_scale
-                given["fy"] += v * load.direction[1] * f_scale
+                direction = _direction(load)
+                given["fx"] += v * direction[0] * f_scale
+                given["fy"] += v * direction[1] * f_scale
             elif load.kind == "moment":
                 given["mz"] += v * m_scale
             elif load.kind == "displacement":
-                d = np.asarray(load.direction, float) * v
-                if load.direction[0] != 0.0 and load.direction[1] != 0.0:
+                direction = _direction(load)
+                moved = np.asarray(direction, float) * v
+                if direction[0] != 0.0 and direction[1] != 0.0:
                     raise NotApplicable("BCM adapter takes displacements along x or y only")
-                key = "ux" if load.direction[0] != 0.0 else "uy"
-                disp[key] = disp.get(key, 0.0) + float(d[0] if key == "ux" else d[1]) / L
+                key = "ux" if direction[0] != 0.0 else "uy"
+                disp[key] = disp.get(key, 0.0) + float(moved[0] if key == "ux" else moved[1]) / L
             elif load.kind == "rotation":
                 disp["theta"] = math.radians(v)
         for dof in boundary_held_tip(case):  # the contract's rule (validation/case/quantities.py)
             disp.setdefault({"rz": "theta"}.get(dof, dof), 0.0)
-        kw = {}
-        for d, f in (("ux", "fx"), ("uy", "fy"), ("theta", "mz")):
-            kw.update({d: disp[d]} if d in disp else {f: given[f]})
+        kw: dict[str, float] = {}
+        for motion, force in (("ux", "fx"), ("uy", "fy"), ("theta", "mz")):
+            kw.update({motion: disp[motion]} if motion in disp else {force: given[force]})
         ux, uy, th, fx, fy, mz = solve_mixed(ka, **kw)
         if abs(uy) > RANGE or abs(th) > RANGE:
             outside.append(level)
@@ -93,14 +117,14 @@ def _segment(case: Case, requests: list[Request], options: BcmOptions) -> Method
                 values[req] = table[req.quantity]
             else:
                 raise NotApplicable(f"'{req.quantity}' at '{req.point}' is not a BCM output")
-    return values, msgs, outside
+    return answers
 
 
 @dataclass
 class LinkOnBeams:
     """The BCM mechanism: the rigid link, node positions, and the link on its beams."""
 
-    link: object
+    link: LinkSpec
     nodes: dict[str, np.ndarray]
     body: RigidBodyOnBeams
 
@@ -121,7 +145,7 @@ class LevelLoads:
     drive_point: str | None = None
 
 
-def _link_on_beams(mech) -> LinkOnBeams:
+def _link_on_beams(mech: MechanismSpec) -> LinkOnBeams:
     if len(mech.links) != 1:
         raise NotApplicable("BCM adapter: exactly one rigid link carried by clamped beams")
     if mech.joints:
@@ -159,7 +183,7 @@ def _level_loads(case: Case, mech: LinkOnBeams, level: int) -> LevelLoads:
             raise NotApplicable(f"load at '{load.point}' is not on the rigid link")
         v = load.levels()[level]
         if load.kind == "force" and not load.follower:
-            F = v * np.asarray(load.direction, float)
+            F = v * np.asarray(_direction(load), float)
             loads.forces.append((tuple(mech.nodes[point]), F))
             loads.applied[point] = loads.applied.get(point, np.zeros(2)) + F
         elif load.kind == "moment":
@@ -193,9 +217,10 @@ def _mechanism_value(mech: LinkOnBeams, req: Request, q, needed: float, loads: L
     return float(table[req.quantity])
 
 
-def _mechanism(case: Case, requests: list[Request], options: BcmOptions):
-    mech = _link_on_beams(case.mechanism)
-    values, msgs, outside = {}, {}, []
+def _mechanism(case: Case, spec: MechanismSpec, requests: list[Request], options: BcmOptions) -> _Answers:
+    mech = _link_on_beams(spec)
+    answers = _Answers()
+    values, msgs, outside = answers.values, answers.messages, answers.outside
     q = None
     for level in range(max(r.level for r in requests) + 1):
         loads = _level_loads(case, mech, level)
@@ -212,7 +237,7 @@ def _mechanism(case: Case, requests: list[Request], options: BcmOptions):
         for req in requests:
             if req.level == level:
                 values[req] = _mechanism_value(mech, req, q, needed, loads)
-    return values, msgs, outside
+    return answers
 
 
 def run(case: Case, requests: list[Request], options: BcmOptions) -> MethodRun:
@@ -222,9 +247,12 @@ def run(case: Case, requests: list[Request], options: BcmOptions) -> MethodRun:
     reject_loads_along_beams(case, "the BCM")
     try:
         if case.segment is not None:
-            values, msgs, outside = _segment(case, requests, options)
+            answers = _segment(case, case.segment, requests, options)
+        elif case.mechanism is not None:
+            answers = _mechanism(case, case.mechanism, requests, options)
         else:
-            values, msgs, outside = _mechanism(case, requests, options)
+            raise NotApplicable("the case has neither a segment nor a mechanism")
+        values, msgs, outside = answers.values, answers.messages, answers.outside
     except RuntimeError as exc:  # the library's solver found no equilibrium: say so, never a bare crash
         return MethodRun(values={}, converged=False, wall_time=time.perf_counter() - t0,
                          message=f"{exc} (the load path leaves what the BCM equations solve)")
@@ -238,4 +266,4 @@ def run(case: Case, requests: list[Request], options: BcmOptions) -> MethodRun:
                      wall_time=time.perf_counter() - t0,
                      level_converged=solved,
                      level_messages={lv: msgs.get(lv, "") for lv in levels},
-                     extras={"outside_range": outside, "model": "beam constraint model (seed 003)"})
+                     extras={"outside_range": outside, "model": "beam constraint model [chen2021]"})

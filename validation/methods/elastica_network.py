@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -49,7 +50,7 @@ def model(case) -> tuple[em.Mechanism, dict[str, str]]:
     beams = []
     for beam in geo.beams:
         EA, EI = beam.EA, beam.EI
-        ends = []
+        ends: list[tuple[str | None, str]] = []
         for nd in (beam.start, beam.end):
             joint = next((j for j in mech.joints if j.node == nd and beam.name in j.members), None)
             pinned_support = any(s.node == nd and s.kind == "pinned" and s.member in (None, beam.name)
@@ -88,8 +89,8 @@ def model(case) -> tuple[em.Mechanism, dict[str, str]]:
     return em.Mechanism(nodes, beams, bodies, pins), {**owner, **{f"link:{k}": v for k, v in link_body.items()}}
 
 
-def loads(case, owner: dict[str, str]) -> list:
-    out = []
+def loads(case, owner: dict[str, str]) -> list[planar.Load | em.EndCouple]:
+    out: list[planar.Load | em.EndCouple] = []
     for i, load in enumerate(case.loads):
         v = tuple(float(x) for x in load.levels())
         body = owner.get(f"link:{load.body}") if load.body else owner.get(load.point)
@@ -132,7 +133,7 @@ def _body_lines(mechanism, positions: dict) -> list[np.ndarray]:
 
 def run_mechanism(case, requests, options: ElasticaOptions) -> MethodRun:
     mechanism, owner = model(case)
-    tolerance = {} if options.rtol is None else {"rtol": options.rtol}    # else the solver's own
+    tolerance: dict[str, Any] = {} if options.rtol is None else {"rtol": options.rtol}  # else the solver's own
     try:
         sol = em.solve_mechanism(mechanism, loads(case, owner), case.n_levels(), **tolerance)
     except ValueError as exc:
@@ -251,7 +252,9 @@ def segment_model(case, EI: float) -> SegmentMechanism:
         start = ROOT_BODY
     beam = em.ElasticBeam("segment", "root", "tip", EI, start, TIP_BODY, "clamped", "clamped", EA, kappa)
     n = case.n_levels()
-    applied, rotations, displacements = [], [], []
+    applied: list[planar.Load] = []
+    rotations: list[tuple[planar.PrescribedRotation, str]] = []
+    displacements: list[tuple[planar.PrescribedDisplacement, str]] = []
     for i, load in enumerate(case.loads):
         v = tuple(float(x) for x in load.levels())
         if load.point != "tip" or load.body is not None:

@@ -42,6 +42,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -52,7 +53,7 @@ from validation.methods.inverse_problem import (LOAD_OUTPUTS, POSITION_OUTPUT, I
                                                inverse_spec, merge_runs)
 from validation.methods import fem_outputs
 from validation.methods.base import DeferredList, MethodRun, NotApplicable, Request
-from validation.case.method_options import FemOptions
+from validation.case.method_options import FemInverseOptions, FemOptions
 from validation.case.quantities import boundary_held_tip as _boundary_held_tip
 from validation.case.quantities import load_dofs as _load_dofs
 from validation.methods.slfp import with_flexures
@@ -388,10 +389,10 @@ class _Levels:
     """What the load-controlled solve gave: the values, their estimates, the values whose estimate is
     unreliable (with why), the finest result and the refine of its mesh over ``elements`` (1 without an
     estimate), and how the solve went."""
-    values: dict
-    errors: dict
-    unreliable: dict
-    result: object
+    values: dict[Request, float]
+    errors: dict[Request, float]
+    unreliable: dict[Request, str]
+    result: Any                  # fem.SolveResult (the fem module is imported where the method runs)
     refine: int
     converged: bool
     message: str
@@ -573,10 +574,11 @@ def _tie(fem, level: InverseLevel):
     return None
 
 
-def _run_inverse(fem, case, spec: InverseSpec, requests: list[Request], options: FemOptions) -> MethodRun:
-    """Tip loads of the inverse problem, level by level, on n and 2n elements (Richardson)."""
+def _run_inverse(fem, case, spec: InverseSpec, requests: list[Request], options: FemOptions,
+                 own: FemInverseOptions) -> MethodRun:
+    """Tip loads of the inverse problem, level by level, on n and 2n elements (Richardson); ``own``: the
+    problem's option table, with its own mesh and extrapolation (else the method's)."""
     t0 = time.perf_counter()
-    own = options.inverse                  # its own mesh and extrapolation, else the method's
     elements = own.elements if own.elements is not None else options.elements
     richardson = own.richardson if own.richardson is not None else options.richardson
     estimate = options.error_estimate
@@ -643,7 +645,8 @@ def _run_moment_driven(fem, case, requests: list[Request], options: FemOptions) 
     elements = options.elements
     estimate = options.error_estimate
     n = case.n_levels()
-    results, model = [], None
+    results: list[Any] = []       # fem.TipInverseResult per mesh
+    model: Any = None
     for count in ((elements, 2 * elements) if estimate else (elements,)):
         model = build_model(driven, count, options)
         if node not in model.node_names:
@@ -679,13 +682,13 @@ def run(case, requests: list[Request], options: FemOptions) -> MethodRun:
     if options.input_moment_at is not None:
         return _run_moment_driven(fem, case, requests, options)
     spec = inverse_spec(case, options.inverse, "fem")
-    if spec is None:
+    if spec is None or options.inverse is None:
         return _run_forward(fem, case, requests, options)
     inverse_outputs = LOAD_OUTPUTS + ((POSITION_OUTPUT,) if spec.tip_x else ())
     loads = [r for r in requests if r.quantity in inverse_outputs and r.point == "tip"]
     others = [r for r in requests if r not in loads]
     forward = _run_forward(fem, case, others, options) if others else None
-    return merge_runs(forward, _run_inverse(fem, case, spec, loads, options))
+    return merge_runs(forward, _run_inverse(fem, case, spec, loads, options, options.inverse))
 
 
 def _realised(case, options: FemOptions):
@@ -706,7 +709,10 @@ def _run_forward(fem, case, requests: list[Request], options: FemOptions) -> Met
     case = _realised(case, options)
     elements = options.elements
     model = build_model(case, elements, options)
-    values, errors, iterations, converged, messages, result = {}, {}, 0, True, [], None
+    values: dict[Request, float] = {}
+    errors: dict[Request, float] = {}
+    iterations, converged, messages = 0, True, []
+    result: Any = None           # the first solve's fem.SolveResult
     unreliable: dict[Request, str] = {}
     refine = 1
     analysis = 0.0     # CPU seconds of the load stepping of every solve (without set-up and results)
@@ -757,9 +763,10 @@ def _run_forward(fem, case, requests: list[Request], options: FemOptions) -> Met
         at_zero = {r: values.get(Request(r.quantity, r.point, zero)) for r in shifted}
         origin = {name: model.coords[i] for i, name in enumerate(model.node_names)}
         for r in shifted:
-            if r in values and at_zero[r] is not None:
+            base = at_zero[r]
+            if r in values and base is not None:
                 unloaded = {"x": origin[r.point][0], "y": origin[r.point][1]}.get(r.quantity, 0.0)
-                values[r] = values[r] - at_zero[r] + unloaded
+                values[r] = values[r] - base + unloaded
     extras = {"iterations": iterations, "elements": elements, "refine": refine,
               "rejected_iterations": getattr(result, "rejected_iterations", 0), "analysis_cpu_s": analysis}
     if result is not None and result.n_levels:

@@ -32,15 +32,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
+import planar
 import prbm
 from prbm.fits import THETA_RANGE
 from prbm.network import UnreachableMotion
 from validation.case.method_options import PrbmOptions, RulesOptions
 from validation.methods import fem_outputs
-from validation.methods.base import Applicability, MethodRun, NotApplicable
+from validation.methods.base import Applicability, MethodRun, NotApplicable, Request
 from validation.methods.geometry import geometry
 from prbm import builder as pb
 
@@ -108,8 +110,8 @@ def _body_for(model: pb.PRBModel, load) -> str:
     return model.node_body[load.point]
 
 
-def network_loads(case, model: pb.PRBModel) -> list:
-    loads = []
+def network_loads(case, model: pb.PRBModel) -> list[planar.Load]:
+    loads: list[planar.Load] = []
     for i, load in enumerate(case.loads):
         v = np.asarray(load.levels(), float)
         if load.kind == "force":
@@ -331,7 +333,8 @@ def run_mechanism(case, requests, options: PrbmOptions, info: MethodRun) -> dict
     model = built_model(case.mechanism, options.rules, case.loads)
     result = solve_case(case, model)
     inputs = [ld for ld in case.loads if ld.kind in ("rotation", "moment")]
-    values, memo = {}, {}
+    values: dict[Request, float] = {}
+    memo: dict[Any, Any] = {}
     for req in requests:
         if result.states[req.level].converged:
             values[req] = _value(case, model, result, req, inputs, options, memo)
@@ -378,7 +381,7 @@ def _shapes(model: pb.PRBModel, result) -> list:
         if len(pts) >= 2:
             i = net.index[body]
             arms[body] = (i, _outline(np.asarray(pts, float)) - net.X0[i])
-    shapes = []
+    shapes: list[list[np.ndarray]] = []
     for state in result.states:
         if not state.converged:
             shapes.append([])
