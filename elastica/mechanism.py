@@ -28,9 +28,12 @@ from __future__ import annotations
 import math
 import struct
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import NDArray
 
 from planar import GROUND, Couple, Force, Pin, PrescribedDisplacement, PrescribedRotation
 
@@ -74,6 +77,11 @@ class EndCouple:
     m: tuple[float, ...]
 
 
+_Load = Force | Couple | EndCouple | PrescribedRotation | PrescribedDisplacement
+_Place = tuple[int, float, float, float, float]   # a point of a body: pose index, origin, arm (`_System._place_of`)
+_Vector = Callable[[NDArray[np.float64]], NDArray[np.float64]]   # the scaled residual of the unknowns
+
+
 @dataclass
 class Mechanism:
     nodes: dict[str, tuple[float, float]]
@@ -81,15 +89,15 @@ class Mechanism:
     bodies: list[RigidBody] = field(default_factory=list)
     pins: list[Pin] = field(default_factory=list)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         self.body_of: dict[str, str] = {}
-        for body in self.bodies:
-            if body.name == GROUND:
+        for rigid in self.bodies:
+            if rigid.name == GROUND:
                 raise ValueError("the ground is not a movable body")
-            for nd in body.nodes:
+            for nd in rigid.nodes:
                 if nd not in self.nodes:
-                    raise ValueError(f"body '{body.name}' names unknown node '{nd}'")
-                self.body_of.setdefault(nd, body.name)
+                    raise ValueError(f"body '{rigid.name}' names unknown node '{nd}'")
+                self.body_of.setdefault(nd, rigid.name)
         names = {b.name for b in self.bodies} | {GROUND}
         for beam in self.beams:
             for nd, body, kind in ((beam.start, beam.start_body, beam.start_kind), (beam.end, beam.end_body, beam.end_kind)):
@@ -111,32 +119,42 @@ class MechanismSolution:
 
     converged: bool
     message: str
-    positions: list[dict[str, np.ndarray]]
+    positions: list[dict[str, NDArray[np.float64]]]
     rotations: list[dict[str, float]]
     driver_loads: list[list[float]]       # per level: the load each prescribed motion needs, in order
     strain_energy: list[float]
-    beam_shapes: list[dict[str, np.ndarray]]
+    beam_shapes: list[dict[str, NDArray[np.float64]]]
     wall_time: float
     level_converged: list[bool]
+
+
+class _LevelLoads(NamedTuple):
+    """One level's loads as the residual reads them (`_LoadPath`), in plain floats."""
+
+    forces: dict[str, tuple[float, float]]      # node -> (Fx, Fy), the forces at a node summed
+    couples: dict[tuple[str, str], float]       # ("body", body) or ("node", node) -> couple
+    rotations: list[float]                      # per prescribed rotation
+    displacements: list[float]                  # per prescribed displacement
 
 
 class _System:
     """Unknown layout, residual and integration of one mechanism under the loads of one level."""
 
-    def __init__(self, mech: Mechanism, forces, couples, rotations, displacements, rtol: float):
+    def __init__(self, mech: Mechanism, forces: list[Force], couples: list[Couple | EndCouple],
+                 rotations: list[PrescribedRotation], displacements: list[PrescribedDisplacement], rtol: float):
         self.m = mech
         self.forces, self.couples, self.rotations, self.displacements = forces, couples, rotations, displacements
         self.rtol = rtol
         # beam -> {its inputs: its end state}, the last few: a finite-difference Jacobian moves one unknown
         # at a time, so a beam's inputs go back and forth between the base point and one moved column
-        self._ends: dict[str, dict[bytes, np.ndarray]] = {}
+        self._ends: dict[str, dict[bytes, NDArray[np.float64]]] = {}
         nb, nbeam, npin = len(mech.bodies), len(mech.beams), len(mech.pins)
         self.i_body = 3 * nbeam
         self.i_pin = self.i_body + 3 * nb
         self.i_rot = self.i_pin + 2 * npin
         self.i_disp = self.i_rot + len(rotations)
         self.size = self.i_disp + len(displacements)
-        self.tangent0 = {}
+        self.tangent0: dict[str, tuple[float, float, float]] = {}   # beam -> (start angle, end angle, arc length)
         for beam in mech.beams:
             A, B = (np.asarray(mech.nodes[n], float) for n in (beam.start, beam.end))
             chord = B - A
@@ -156,7 +174,8 @@ class _System:
         # (pose index -1) its reference position; on a body its pose index, the body's origin and its
         # arm p0 - origin
         p0 = {name: np.asarray(xy, float) for name, xy in mech.nodes.items()}
-        self._place = {(GROUND, nd): (-1, float(xy[0]), float(xy[1]), 0.0, 0.0) for nd, xy in p0.items()}
+        self._place: dict[tuple[str, str], _Place] = {(GROUND, nd): (-1, float(xy[0]), float(xy[1]), 0.0, 0.0)
+                                                      for nd, xy in p0.items()}
         for b in mech.bodies:
             o = mech.origin[b.name]
             for nd, xy in p0.items():
@@ -169,34 +188,34 @@ class _System:
         self._atol = {beam.name: self.rtol * 1e-3 * max(self.tangent0[beam.name][2], 1.0) for beam in mech.beams}
 
     # poses
-    def pose(self, u, body):
+    def pose(self, u: NDArray[np.float64], body: str) -> tuple[NDArray[np.float64], float]:
         if body == GROUND:
             return np.zeros(2), 0.0
         i = self.pose_at[body]
         return u[i:i + 2], u[i + 2]
 
-    def _phi(self, ul, body) -> float:
+    def _phi(self, ul: list[float], body: str) -> float:
         """The rotation of ``body`` (0 for the ground) from the unknowns as a list of floats."""
         return 0.0 if body == GROUND else ul[self.pose_at[body] + 2]
 
-    def node_position(self, u, body, node):
+    def node_position(self, u: NDArray[np.float64], body: str, node: str) -> NDArray[np.float64]:
         """Current position of a node carried by ``body`` (an array; `_xy`)."""
         return np.array(self._xy(u.tolist(), body, node))
 
-    def _place_of(self, body, xy):
+    def _place_of(self, body: str, xy: tuple[float, float]) -> _Place:
         """(pose index, origin, arm) of the point of ``body`` at ``xy`` in the unloaded pose (`_xy`)."""
         if body == GROUND:
             return (-1, float(xy[0]), float(xy[1]), 0.0, 0.0)
         o = self.m.origin[body]
         return (self.pose_at[body], float(o[0]), float(o[1]), float(xy[0] - o[0]), float(xy[1] - o[1]))
 
-    def _xy(self, ul, body, node):
+    def _xy(self, ul: list[float], body: str, node: str) -> tuple[float, float]:
         """Current (x, y) of a node carried by ``body``, origin + d + R(phi) (p0 - origin), from the
         unknowns as a list of floats."""
         return self._at(ul, self._place[(body, node)])
 
     @staticmethod
-    def _at(ul, place):
+    def _at(ul: list[float], place: _Place) -> tuple[float, float]:
         """Current (x, y) of the point at ``place`` (`_place_of`) under the unknowns (a list of floats)."""
         i, o0, o1, r0, r1 = place
         if i < 0:
@@ -204,18 +223,20 @@ class _System:
         c, s = math.cos(ul[i + 2]), math.sin(ul[i + 2])
         return o0 + ul[i] + (c * r0 - s * r1), o1 + ul[i + 1] + (s * r0 + c * r1)
 
-    def _start(self, beam, ul):
+    def _start(self, beam: ElasticBeam, ul: list[float]) -> tuple[float, float, float, float, float, float]:
         """(x, y, theta, m) at a beam's start under the unknowns (a list of floats), and its (Fx, Fy)."""
         k = 3 * self.beam_index[beam.name]
         Fx, Fy, a = ul[k], ul[k + 1], ul[k + 2]
         angle0 = self.tangent0[beam.name][0]
+        assert beam.start_body is not None  # a beam's start is held (`Mechanism` checks it)
         x, y = self._xy(ul, beam.start_body, beam.start)
         phi = self._phi(ul, beam.start_body)
         if beam.start_kind == "clamped":
             return x, y, angle0 + phi, a, Fx, Fy
         return x, y, angle0 + a, 0.0, Fx, Fy
 
-    def integrate(self, beam, u, ul=None):
+    def integrate(self, beam: ElasticBeam, u: NDArray[np.float64], ul: list[float] | None = None
+                  ) -> NDArray[np.float64]:
         """End state (x, y, theta, m, U) of a beam from its start under the unknowns u (the compiled
         DOP853 of ``elastica.integrator``); ``ul``: u as a list of floats, when the caller has it."""
         x, y, theta0, m0, Fx, Fy = self._start(beam, u.tolist() if ul is None else ul)
@@ -224,6 +245,7 @@ class _System:
         known = ends.get(key)
         if known is not None:   # a finite-difference column that moved another beam's unknowns, or the
             return known        # base point again: this beam's inputs, so its end, are the same
+        end: NDArray[np.float64]
         end, ok = integrate_beam([x, y, theta0, m0, 0.0], self.tangent0[beam.name][2], Fx, Fy, beam.curvature,
                                  beam.EI, beam.EA or 0.0, self.rtol, self._atol[beam.name])
         if not ok:
@@ -234,17 +256,18 @@ class _System:
         ends[key] = end
         return end
 
-    def shape(self, beam, u, n: int):
+    def shape(self, beam: ElasticBeam, u: NDArray[np.float64], n: int) -> NDArray[np.float64]:
         """(n, 2) positions along a beam at n equally spaced arc lengths (start to end)."""
         x, y, theta0, m0, Fx, Fy = self._start(beam, u.tolist())
         s = np.linspace(0.0, self.tangent0[beam.name][2], n)
+        states: NDArray[np.float64]
         states, ok = beam_samples(np.array([x, y, theta0, m0, 0.0]), s, Fx, Fy, beam.curvature, beam.EI,
                                   beam.EA or 0.0, self.rtol, self._atol[beam.name])
         if not ok:
             raise RuntimeError(f"beam '{beam.name}': integration failed (step below the rounding of s)")
         return states[:, :2]
 
-    def residual(self, u, level_loads):
+    def residual(self, u: NDArray[np.float64], level_loads: _LevelLoads) -> NDArray[np.float64]:
         """The equations at the unknowns u under one level's loads (module docstring), in plain floats."""
         forces, couples, rot_values, disp_values = level_loads
         m = self.m
@@ -253,7 +276,7 @@ class _System:
         wrench = {b.name: [0.0, 0.0, 0.0] for b in m.bodies}   # (Fx, Fy, M about the body's current origin)
         origin = self._origin
 
-        def add(body, F0, F1, M, at0, at1):
+        def add(body: str | None, F0: float, F1: float, M: float, at0: float, at1: float) -> None:
             if body == GROUND or body is None:
                 return
             i, o0, o1 = origin[body]
@@ -263,7 +286,7 @@ class _System:
             w[1] += F1
             w[2] += M + lever_x * F1 - lever_y * F0
 
-        applied = {}
+        applied: dict[str, list[float]] = {}
         for node, F in forces.items():
             a = applied.get(node, [0.0, 0.0, 0.0])
             applied[node] = [a[0] + float(F[0]), a[1] + float(F[1]), a[2] + 0.0]
@@ -271,14 +294,17 @@ class _System:
             end = self.integrate(beam, u, ul).tolist()
             F0, F1 = ul[3 * i], ul[3 * i + 1]
             start_m = ul[3 * i + 2] if beam.start_kind == "clamped" else 0.0
+            assert beam.start_body is not None  # a beam's start is held (`Mechanism` checks it)
             add(beam.start_body, F0, F1, start_m, *self._xy(ul, beam.start_body, beam.start))
             if beam.end_kind == "clamped":
+                assert beam.end_body is not None  # a clamped end is held (`Mechanism` checks it)
                 tx, ty = self._xy(ul, beam.end_body, beam.end)
                 phi = self._phi(ul, beam.end_body)
                 r[3 * i], r[3 * i + 1] = end[0] - tx, end[1] - ty
                 r[3 * i + 2] = end[2] - (self.tangent0[beam.name][1] + phi)
                 add(beam.end_body, -F0, -F1, -end[3], end[0], end[1])
             elif beam.end_kind == "pinned":
+                assert beam.end_body is not None  # a pinned end is held (`Mechanism` checks it)
                 tx, ty = self._xy(ul, beam.end_body, beam.end)
                 r[3 * i], r[3 * i + 1] = end[0] - tx, end[1] - ty
                 r[3 * i + 2] = end[3] - couples.get(("node", beam.end), 0.0)  # a couple on the beam's side
@@ -317,9 +343,9 @@ class _System:
             p = self._xy(ul, body, disp.point)
             r[self.i_disp + j] = p[axis] - m.nodes[disp.point][axis] - value
             add(body, P if axis == 0 else 0.0, P if axis == 1 else 0.0, 0.0, *p)
-        for body in m.bodies:
-            i = self.i_body + 3 * m.index[body.name]
-            r[i:i + 3] = wrench[body.name]
+        for rigid in m.bodies:
+            i = self.i_body + 3 * m.index[rigid.name]
+            r[i:i + 3] = wrench[rigid.name]
         return np.array(r)
 
 
@@ -330,21 +356,21 @@ class _LoadPath:
 
     mech: Mechanism
     system: "_System"
-    forces: list
-    couples: list
-    rotations: list
-    displacements: list
+    forces: list[Force]
+    couples: list[Couple | EndCouple]
+    rotations: list[PrescribedRotation]
+    displacements: list[PrescribedDisplacement]
     n_levels: int
 
-    def value(self, values, t: float) -> float:
+    def value(self, values: tuple[float, ...], t: float) -> float:
         if t < 0:
             return values[0] * (t + 1.0)
         i = min(int(t), self.n_levels - 1)
         f = t - i
         return values[i] if i >= self.n_levels - 1 else values[i] * (1 - f) + values[i + 1] * f
 
-    def __call__(self, t: float, u):
-        F = {}     # node -> (Fx, Fy) in plain floats, the forces at a node summed in order
+    def __call__(self, t: float, u: NDArray[np.float64]) -> _LevelLoads:
+        F: dict[str, tuple[float, float]] = {}     # node -> (Fx, Fy) in plain floats, the forces at a node summed in order
         for f in self.forces:
             fx, fy = float(self.value(f.fx, t)), float(self.value(f.fy, t))
             if f.follower:
@@ -354,32 +380,35 @@ class _LoadPath:
                 fx, fy = c * fx - s * fy, s * fx + c * fy
             a = F.get(f.point, (0.0, 0.0))
             F[f.point] = (a[0] + fx, a[1] + fy)
-        C = {}
-        for c in self.couples:
-            key = ("body", c.body) if isinstance(c, Couple) else ("node", c.point)
-            C[key] = C.get(key, 0.0) + self.value(c.m, t)
-        return F, C, [self.value(r.values, t) for r in self.rotations], \
-            [self.value(d.values, t) for d in self.displacements]
+        C: dict[tuple[str, str], float] = {}
+        for cp in self.couples:
+            key = ("body", cp.body) if isinstance(cp, Couple) else ("node", cp.point)
+            C[key] = C.get(key, 0.0) + self.value(cp.m, t)
+        return _LevelLoads(F, C, [self.value(r.values, t) for r in self.rotations],
+                           [self.value(d.values, t) for d in self.displacements])
 
 
 @dataclass
 class _LevelState:
     """One solved level: node positions, body rotations, driver multipliers, strain energy, beam shapes."""
 
-    positions: dict
-    rotations: dict
-    drivers: list
+    positions: dict[str, NDArray[np.float64]]
+    rotations: dict[str, float]
+    drivers: list[float]
     energy: float
-    shape: dict
+    shape: dict[str, NDArray[np.float64]]
 
 
-def _level_state(mech: Mechanism, system: "_System", u) -> _LevelState:
-    pos, shape, U = {}, {}, 0.0
+def _level_state(mech: Mechanism, system: "_System", u: NDArray[np.float64]) -> _LevelState:
+    pos: dict[str, NDArray[np.float64]] = {}
+    shape: dict[str, NDArray[np.float64]] = {}
+    U = 0.0
     for beam in mech.beams:
         end = system.integrate(beam, u)
         U += end[4]
         shape[beam.name] = system.shape(beam, u, 33)
         pos[beam.end] = end[:2].copy()
+        assert beam.start_body is not None  # a beam's start is held (`Mechanism` checks it)
         pos[beam.start] = system.node_position(u, beam.start_body, beam.start)
     for node in mech.nodes:
         body = mech.body_of.get(node)
@@ -391,7 +420,7 @@ def _level_state(mech: Mechanism, system: "_System", u) -> _LevelState:
                        [float(x) for x in u[system.i_rot:system.size]], U, shape)
 
 
-def solve_mechanism(mech: Mechanism, loads: list, n_levels: int, *, rtol: float = 1e-11,
+def solve_mechanism(mech: Mechanism, loads: Sequence[_Load], n_levels: int, *, rtol: float = 1e-11,
                     max_cuts: int = 8) -> MechanismSolution:
     """Equilibrium at every load level (loads: Force, Couple, EndCouple, PrescribedRotation, PrescribedDisplacement,
     each with one value per level)."""
@@ -411,9 +440,11 @@ def solve_mechanism(mech: Mechanism, loads: list, n_levels: int, *, rtol: float 
     scale_F = scale_F if scale_F > 0.0 else bending
     scale = _scale(system, scale_F)
     u = np.zeros(system.size)  # the unloaded mechanism: no loads, every pose and beam angle as built
-    states, ok_levels = [], []
-    t, messages = -1.0, []
-    jac = None
+    states: list[_LevelState] = []
+    ok_levels: list[bool] = []
+    t = -1.0
+    messages: list[str] = []
+    jac: NDArray[np.float64] | None = None
     # the finite-difference steps of the force unknowns: at least a bending force's worth, so that a step
     # moves the beams' ends by more than rounding however small the loads
     typical = _unknown_scale(system, max(scale_F, bending))
@@ -453,7 +484,9 @@ def solve_mechanism(mech: Mechanism, loads: list, n_levels: int, *, rtol: float 
                              time.perf_counter() - t0, ok_levels)
 
 
-def _chord_newton(f, x, jac, typical, tol: float = 1e-10, maxiter: int = 30, min_steps: int = 1):
+def _chord_newton(f: _Vector, x: NDArray[np.float64], jac: NDArray[np.float64] | None, typical: NDArray[np.float64],
+                  tol: float = 1e-10, maxiter: int = 30, min_steps: int = 1
+                  ) -> tuple[NDArray[np.float64], bool, NDArray[np.float64] | None, str]:
     """Newton on f(x) = 0 with a finite-difference Jacobian kept between iterations and load steps,
     updated by Broyden's rank-one formula, and refreshed when a step does not halve the residual. Returns (x, converged,
     Jacobian, why not).  At least ``min_steps`` steps are taken: a motion or load so small that the starting
@@ -496,7 +529,8 @@ def _chord_newton(f, x, jac, typical, tol: float = 1e-10, maxiter: int = 30, min
     return x, False, jac, f"{maxiter} iterations"
 
 
-def _one_more_step(f, x, r, jac, typical, size: float):
+def _one_more_step(f: _Vector, x: NDArray[np.float64], r: NDArray[np.float64], jac: NDArray[np.float64] | None,
+                   typical: NDArray[np.float64], size: float) -> NDArray[np.float64]:
     """x after one Newton step from a state already within the tolerance, kept where it lowers the residual."""
     jac = _fd_jacobian(f, x, r, typical) if jac is None else jac
     try:
@@ -507,7 +541,8 @@ def _one_more_step(f, x, r, jac, typical, size: float):
     return x_try if math.isfinite(new) and new < size else x
 
 
-def _fd_jacobian(f, x, r, typical) -> np.ndarray:
+def _fd_jacobian(f: _Vector, x: NDArray[np.float64], r: NDArray[np.float64], typical: NDArray[np.float64]
+                 ) -> NDArray[np.float64]:
     J = np.empty((len(r), len(x)))
     for j in range(len(x)):
         h = 1e-7 * max(abs(x[j]), typical[j])
@@ -523,7 +558,7 @@ def _bending_force(mech: Mechanism, system: _System) -> float:
     return max(beam.EI for beam in mech.beams) / (L * L)
 
 
-def _unknown_scale(system: _System, scale_F: float) -> np.ndarray:
+def _unknown_scale(system: _System, scale_F: float) -> NDArray[np.float64]:
     """Typical size of each unknown: forces by the load scale, moments by load x length, poses by
     the length (translations) and 1 (angles)."""
     L = max(v[2] for v in system.tangent0.values())
@@ -539,7 +574,7 @@ def _unknown_scale(system: _System, scale_F: float) -> np.ndarray:
     return s
 
 
-def _scale(system: _System, scale_F: float) -> np.ndarray:
+def _scale(system: _System, scale_F: float) -> NDArray[np.float64]:
     """Residual scaling: positions by the largest beam length, angles by 1, loads by the load scale."""
     L = max(v[2] for v in system.tangent0.values())
     s = np.ones(system.size)
@@ -550,9 +585,10 @@ def _scale(system: _System, scale_F: float) -> np.ndarray:
     return s
 
 
-def _free_end_angle(system: _System, u, node: str) -> float:
+def _free_end_angle(system: _System, u: NDArray[np.float64], node: str) -> float:
     for beam in system.m.beams:
         if beam.end == node and beam.end_kind == "free":
             end = system.integrate(beam, u)
-            return end[2] - system.tangent0[beam.name][1]
+            angle: float = end[2] - system.tangent0[beam.name][1]
+            return angle
     return 0.0

@@ -44,10 +44,12 @@ Angles are in radians (degrees appear only in case files and reports).
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
-from typing import Callable, Union
+from typing import Any, Callable, SupportsInt, TypeAlias, Union
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from .section import Section
 from argcheck import checked
@@ -57,6 +59,9 @@ __all__ = ["Model", "Member", "Support", "Joint", "RigidLink", "PointLoad", "Poi
            "DistributedLoad", "Prescribed"]
 
 DOF_NAMES = {"ux": 0, "uy": 1, "rz": 2}
+
+#: a node given by its name or its index
+NodeRef: TypeAlias = str | int | np.integer[Any]
 
 
 @dataclass
@@ -74,13 +79,13 @@ class Member:
 class Support:
     node: int
     kind: str
-    direction: tuple = (1.0, 0.0)
+    direction: tuple[float, float] = (1.0, 0.0)
 
 
 @dataclass
 class Joint:
     node: int
-    members: tuple | None = None
+    members: tuple[int, ...] | None = None
     k: float = 0.0
     k_ground: float = 0.0
 
@@ -95,7 +100,7 @@ class RigidLink:
 class PointLoad:
     node: int
     kind: str                 # "force" or "moment"
-    values: np.ndarray        # shape (n_levels, 2) for forces, (n_levels,) for moments
+    values: NDArray[np.float64]   # shape (n_levels, 2) for forces, (n_levels,) for moments
     follower: bool = False
     member: int | None = None  # a moment on this member's end (its released rotation at a joint);
                                # a follower force turning with this member's end rotation
@@ -108,8 +113,8 @@ class PointedForce:
     force that stays at a fixed angle to the line joining a fixed pivot (angle pi/2)."""
 
     node: int
-    values: np.ndarray        # (n_levels,)
-    toward: tuple
+    values: NDArray[np.float64]   # (n_levels,)
+    toward: tuple[float, float]
     angle: float = 0.0
 
 
@@ -119,7 +124,7 @@ class DistributedLoad:
 
     A follower load is given in the reference orientation and turns with each element's chord."""
 
-    values: np.ndarray        # (n_levels, 2)
+    values: NDArray[np.float64]   # (n_levels, 2)
     member: int | None = None
     follower: bool = False
 
@@ -128,10 +133,10 @@ class DistributedLoad:
 class Prescribed:
     node: int
     dof: int
-    values: np.ndarray
+    values: NDArray[np.float64]
 
 
-def _levels(values) -> np.ndarray:
+def _levels(values: ArrayLike) -> NDArray[np.float64]:
     return np.atleast_1d(np.asarray(values, dtype=float))
 
 
@@ -139,19 +144,19 @@ def _levels(values) -> np.ndarray:
 class Model:
     """Plain-data description of a planar compliant mechanism or frame."""
 
-    node_names: list = field(default_factory=list)
-    coords: list = field(default_factory=list)
-    members: list = field(default_factory=list)
-    supports: list = field(default_factory=list)
-    joints: list = field(default_factory=list)
-    rigid_links: list = field(default_factory=list)
-    loads: list = field(default_factory=list)
-    prescribed: list = field(default_factory=list)
-    pointed: list = field(default_factory=list)
-    distributed: list = field(default_factory=list)
+    node_names: list[str] = field(default_factory=list)
+    coords: list[tuple[float, float]] = field(default_factory=list)
+    members: list[Member] = field(default_factory=list)
+    supports: list[Support] = field(default_factory=list)
+    joints: list[Joint] = field(default_factory=list)
+    rigid_links: list[RigidLink] = field(default_factory=list)
+    loads: list[PointLoad] = field(default_factory=list)
+    prescribed: list[Prescribed] = field(default_factory=list)
+    pointed: list[PointedForce] = field(default_factory=list)
+    distributed: list[DistributedLoad] = field(default_factory=list)
 
     # -- building -------------------------------------------------------
-    def node(self, name) -> int:
+    def node(self, name: NodeRef) -> int:
         """Index of a node given by name (or index)."""
         if isinstance(name, (int, np.integer)):
             return int(name)
@@ -169,7 +174,8 @@ class Model:
         return len(self.node_names) - 1
 
     @checked(positive=('n_elements',), finite=('curvature',))
-    def add_member(self, start, end, section, n_elements: int = 8,
+    def add_member(self, start: NodeRef, end: NodeRef, section: Union[Section, Callable[[float], Section]],
+                   n_elements: int = 8,
                    curvature: float = 0.0, name: str = "", refined: bool = True) -> int:
         """Flexible member start -> end; returns its index. ``refined=False``: the member keeps its
         ``n_elements`` when the mesh is refined (`discretise`'s ``refine``, the error estimate's finer
@@ -191,7 +197,8 @@ class Model:
                                    name or f"m{len(self.members)}", bool(refined)))
         return len(self.members) - 1
 
-    def add_support(self, node, kind: str, direction=(1.0, 0.0)) -> None:
+    def add_support(self, node: NodeRef, kind: str, direction: Sequence[float] | NDArray[np.float64] = (1.0, 0.0)
+                    ) -> None:
         """kind: 'fixed', 'pinned', 'slider' (free along direction), 'guided'."""
         if kind not in SUPPORT_KINDS:
             raise ValueError(f"support kind must be one of {SUPPORT_KINDS}")
@@ -203,18 +210,18 @@ class Model:
             unit = (float(d[0]), float(d[1]))
         self.supports.append(Support(self.node(node), kind, unit))
 
-    def add_joint(self, node, members=None, k: float | None = 0.0,
+    def add_joint(self, node: NodeRef, members: Iterable[SupportsInt] | None = None, k: float | None = 0.0,
                   k_ground: float | None = 0.0) -> None:
         """Revolute joint at node between `members` (indices; default all at the
         node), torsional springs k (between members) and k_ground (moment/rad)."""
         mem = None if members is None else tuple(int(m) for m in members)
         self.joints.append(Joint(self.node(node), mem, float(k or 0.0), float(k_ground or 0.0)))
 
-    def add_rigid_link(self, master, slave) -> None:
+    def add_rigid_link(self, master: NodeRef, slave: NodeRef) -> None:
         self.rigid_links.append(RigidLink(self.node(master), self.node(slave)))
 
     @checked(positive=(), finite=('values_x', 'values_y'))
-    def add_force(self, node, values_x, values_y, follower: bool = False,
+    def add_force(self, node: NodeRef, values_x: ArrayLike, values_y: ArrayLike, follower: bool = False,
                   member: int | None = None) -> None:
         """Point force per load level (consistent force units).
 
@@ -240,13 +247,13 @@ class Model:
             values = np.column_stack([fx, fy])
         self.loads.append(PointLoad(i, "force", values, bool(follower), member=member))
 
-    def add_pointed_force(self, node, values, toward, angle: float = 0.0) -> None:
+    def add_pointed_force(self, node: NodeRef, values: ArrayLike, toward: Iterable[float], angle: float = 0.0) -> None:
         """Force of magnitude ``values`` (per level) toward the fixed point ``toward`` (x, y),
         turned by ``angle`` rad from the line node -> toward (a rope over a pulley: angle 0)."""
         tx, ty = (float(v) for v in toward)
         self.pointed.append(PointedForce(self.node(node), _levels(values), (tx, ty), float(angle)))
 
-    def add_distributed(self, values_x, values_y, member: int | None = None,
+    def add_distributed(self, values_x: ArrayLike, values_y: ArrayLike, member: int | None = None,
                         follower: bool = False) -> None:
         """Uniform load per unit reference length (qx, qy) per level on ``member`` (default: every
         member); a follower load turns with each element's chord from its reference orientation."""
@@ -257,7 +264,7 @@ class Model:
                                                 None if member is None else int(member), bool(follower)))
 
     @checked(positive=(), finite=('values',))
-    def add_moment(self, node, values, member: int | None = None) -> None:
+    def add_moment(self, node: NodeRef, values: ArrayLike, member: int | None = None) -> None:
         """Point moment (input torque) per load level, counter-clockwise positive.
 
         With ``member`` the moment acts on that member's end at the node, which is its own rotation
@@ -270,7 +277,7 @@ class Model:
             member = int(member)
         self.loads.append(PointLoad(i, "moment", _levels(values), member=member))
 
-    def prescribe(self, node, dof: str, values) -> None:
+    def prescribe(self, node: NodeRef, dof: str, values: ArrayLike) -> None:
         """Prescribed displacement ('ux', 'uy') or rotation ('rz') per load level."""
         if dof not in DOF_NAMES:
             raise ValueError("dof must be 'ux', 'uy' or 'rz'")

@@ -41,6 +41,7 @@ from dataclasses import dataclass, field
 from enum import StrEnum
 
 import numpy as np
+from numpy.typing import NDArray
 
 from prbm.fits import PAULY_MIDHA
 from planar import GROUND, Beam, Geometry, Joint, Node, RigidLink, Support, WeldedBodies, welded_bodies
@@ -140,6 +141,17 @@ class _End:
     body: str | None
 
 
+#: beam name -> (the clamped end's node, the ground pin G its pivot moves to): the lock workaround
+_PivotAt = dict[str, tuple[str, tuple[float, float]]]
+
+
+def _held(end: _End, beam: Beam) -> str:
+    """The body holding a beam end that the beam's model joins to a body (a clamped end always has one)."""
+    if end.body is None:
+        raise ValueError(f"beam '{beam.name}': its model needs a body at a {end.kind} end that has none")
+    return end.body
+
+
 def build(geometry: Geometry, rules: Rules | None = None) -> PRBModel:
     """The PRB network of a mechanism, with the record of every beam's model (``rules``: the default
     ``Rules()`` made at the call, so it reads the fit constants as they are then). Raises ValueError on an
@@ -149,7 +161,8 @@ def build(geometry: Geometry, rules: Rules | None = None) -> PRBModel:
     if model.network.mobility() > 0 or not geometry.beams:
         return model
     # locked: look for beams clamped to the ground whose far body turns about a ground pin on the beam
-    pivot_at, notes = {}, []
+    pivot_at: _PivotAt = {}
+    notes: list[str] = []
     ground_pins = _ground_pins(geometry, model)
     for bm in model.beams:
         beam = next(b for b in geometry.beams if b.name == bm.beam)
@@ -160,7 +173,7 @@ def build(geometry: Geometry, rules: Rules | None = None) -> PRBModel:
             if model.member_body.get((beam.name, root)) != GROUND:
                 continue
             far = model.member_body.get((beam.name, tip))
-            for G in ground_pins.get(far, []):
+            for G in ground_pins.get(far, []) if far is not None else []:
                 O, A = coords[root], coords[tip]
                 L = float(np.linalg.norm(A - O))
                 s = float(np.dot(G - O, A - O)) / L
@@ -188,15 +201,15 @@ def build(geometry: Geometry, rules: Rules | None = None) -> PRBModel:
     return fixed
 
 
-def _ground_pins(geometry: Geometry, model: PRBModel) -> dict[str, list[np.ndarray]]:
-    out: dict[str, list[np.ndarray]] = {}
+def _ground_pins(geometry: Geometry, model: PRBModel) -> dict[str, list[NDArray[np.float64]]]:
+    out: dict[str, list[NDArray[np.float64]]] = {}
     for pin in model.network.pins:
         if pin.b == GROUND:
             out.setdefault(pin.a, []).append(np.asarray(pin.at, float))
     return out
 
 
-def _build(geometry: Geometry, rules: Rules, pivot_at: dict) -> PRBModel:
+def _build(geometry: Geometry, rules: Rules, pivot_at: _PivotAt) -> PRBModel:
     return _Builder(geometry, rules, pivot_at).model()
 
 
@@ -205,7 +218,7 @@ class _Builder:
     Every joint or spring to the ground is recorded with the support node it belongs to (``ground_nodes``:
     name -> node), so the reactions at a support can be summed from the network's multipliers."""
 
-    def __init__(self, geometry: Geometry, rules: Rules, pivot_at: dict):
+    def __init__(self, geometry: Geometry, rules: Rules, pivot_at: _PivotAt):
         self.geometry, self.rules, self.pivot_at = geometry, rules, pivot_at
         self.coords = {nd.name: np.array([nd.x, nd.y], float) for nd in geometry.nodes}
         self.welded = welded_bodies(geometry)
@@ -415,15 +428,16 @@ class _Builder:
             why = (f"initially curved, clamped at {root}: pivot (1-gamma)L along the clamp tangent, "
                    f"rho = {rho:.4f}, K = rho K_Theta EI/L (seed 000 eqs 53-58)")
         name = f"prb:{beam.name}"
-        if self.carried(et):  # the body at the tip rides on the PRB link: it is the link
+        if self.carried(et) and et.body is not None:  # the body at the tip rides on the PRB link: it is the link
             name = et.body
             why += f"; the body at {tip} is held by this beam only, so it rides on the PRB link"
         else:
             self.bodies.append(name)
             self._attach_far_end(beam, tip, et, name)
-        self.spring(TorsionSpring(name, er.body, k, name=f"{beam.name} pivot"), root)
-        self.pin(Pin(name, er.body, tuple(P), name=f"{beam.name} pivot"), root)
-        self.member_body[(beam.name, root)] = er.body
+        clamp = _held(er, beam)
+        self.spring(TorsionSpring(name, clamp, k, name=f"{beam.name} pivot"), root)
+        self.pin(Pin(name, clamp, tuple(P), name=f"{beam.name} pivot"), root)
+        self.member_body[(beam.name, root)] = clamp
         self.member_body[(beam.name, tip)] = name
         self.records.append(BeamModel(beam.name, chosen, ends, (tuple(P),), (k,), gamma, K_theta, why))
 
@@ -439,7 +453,7 @@ class _Builder:
         self.member_body[(beam.name, root)] = GROUND
         self.member_body[(beam.name, tip)] = far
         self.records.append(BeamModel(beam.name, "fixed-pinned (pivot at the far body's ground pin)", ends,
-                                      (tuple(G),), (k,), g_eff, K_theta,
+                                      (G,), (k,), g_eff, K_theta,
                                       f"lock workaround: gamma = {g_eff:.4f}, K = gamma K_Theta EI/L; the pin "
                                       "there is the beam's pivot"))
 
@@ -460,12 +474,13 @@ class _Builder:
         k = rule.stiffness or 2.0 * gamma * K_theta * beam.EI / L
         name = f"prb:{beam.name}"
         self.bodies.append(name)
-        self.pin(Pin(name, e0.body, tuple(P1), name=f"{beam.name} pivot 1"), beam.start)
-        self.pin(Pin(name, e1.body, tuple(P2), name=f"{beam.name} pivot 2"), beam.end)
-        self.spring(TorsionSpring(name, e0.body, k, name=f"{beam.name} pivot 1"), beam.start)
-        self.spring(TorsionSpring(name, e1.body, k, name=f"{beam.name} pivot 2"), beam.end)
-        self.member_body[(beam.name, beam.start)] = e0.body
-        self.member_body[(beam.name, beam.end)] = e1.body
+        b0, b1 = _held(e0, beam), _held(e1, beam)
+        self.pin(Pin(name, b0, tuple(P1), name=f"{beam.name} pivot 1"), beam.start)
+        self.pin(Pin(name, b1, tuple(P2), name=f"{beam.name} pivot 2"), beam.end)
+        self.spring(TorsionSpring(name, b0, k, name=f"{beam.name} pivot 1"), beam.start)
+        self.spring(TorsionSpring(name, b1, k, name=f"{beam.name} pivot 2"), beam.end)
+        self.member_body[(beam.name, beam.start)] = b0
+        self.member_body[(beam.name, beam.end)] = b1
         self.records.append(BeamModel(beam.name, BeamChoice.FIXED_GUIDED, ends, (tuple(P1), tuple(P2)), (k, k), gamma,
                                       K_theta, "clamped at both ends to different bodies: two pivots "
                                       "(1-gamma)L/2 from the ends, K = 2 gamma K_Theta EI/L each (seed 004 3.3)"))
@@ -478,10 +493,11 @@ class _Builder:
         P = _midpoint(self.coords[beam.start], self.coords[beam.end], beam.curvature, L)
         k = rule.stiffness or beam.EI / L
         grounded = beam.start if e0.body == GROUND else beam.end
-        self.pin(Pin(e0.body, e1.body, tuple(P), name=f"{beam.name} SLFP"), grounded)
-        self.spring(TorsionSpring(e0.body, e1.body, k, name=f"{beam.name} SLFP"), grounded)
-        self.member_body[(beam.name, beam.start)] = e0.body
-        self.member_body[(beam.name, beam.end)] = e1.body
+        b0, b1 = _held(e0, beam), _held(e1, beam)
+        self.pin(Pin(b0, b1, tuple(P), name=f"{beam.name} SLFP"), grounded)
+        self.spring(TorsionSpring(b0, b1, k, name=f"{beam.name} SLFP"), grounded)
+        self.member_body[(beam.name, beam.start)] = b0
+        self.member_body[(beam.name, beam.end)] = b1
         self.records.append(BeamModel(beam.name, BeamChoice.SLFP, ends, (tuple(P),), (k,), None, None,
                                       f"short flexure (L <= {self.rules.slfp_ratio:g} x the bodies it joins): one "
                                       "pivot at its middle, K = EI/L (seed 000 eq 186)"))
@@ -537,7 +553,7 @@ class _Builder:
                     self.pin(Pin(owner, GROUND, tuple(self.coords[nd]), name=f"support {nd}"), nd)
                 elif s.kind in ("slider", "guided"):
                     d = s.direction or (1.0, 0.0)
-                    self.sliders.append(Slider(owner, tuple(self.coords[nd]), tuple(d), guided=s.kind == "guided",
+                    self.sliders.append(Slider(owner, tuple(self.coords[nd]), (d[0], d[1]), guided=s.kind == "guided",
                                                name=f"support {nd}"))
                     self.ground_nodes[f"support {nd}"] = nd
 
@@ -554,7 +570,8 @@ class _Builder:
                     target = self.member_body[(sup.member, sup.node)]
                 self.pin(Pin(target, GROUND, xy, name=f"support {sup.node}"), sup.node)
             elif sup.kind in ("slider", "guided"):
-                self.sliders.append(Slider(owner, xy, tuple(sup.direction or (1.0, 0.0)),
+                d = sup.direction or (1.0, 0.0)
+                self.sliders.append(Slider(owner, xy, (d[0], d[1]),
                                            guided=sup.kind == "guided", name=f"support {sup.node}"))
                 self.ground_nodes[f"support {sup.node}"] = sup.node
 
@@ -572,7 +589,7 @@ class _Builder:
         return PRBModel(net, self.records, self.node_body, self.member_body, ground_nodes=self.ground_nodes)
 
 
-def _arc_length(A, B, kappa: float) -> float:
+def _arc_length(A: NDArray[np.float64], B: NDArray[np.float64], kappa: float) -> float:
     chord = float(np.linalg.norm(B - A))
     if kappa == 0.0:
         return chord
@@ -582,7 +599,7 @@ def _arc_length(A, B, kappa: float) -> float:
     return 2.0 * math.asin(half) / abs(kappa)
 
 
-def _tangent(O, E, kappa: float, L: float) -> np.ndarray:
+def _tangent(O: NDArray[np.float64], E: NDArray[np.float64], kappa: float, L: float) -> NDArray[np.float64]:
     """Unit tangent at O of the arc O -> E of curvature kappa (CCW positive)."""
     u = (E - O) / np.linalg.norm(E - O)
     half_angle = kappa * L / 2
@@ -590,7 +607,7 @@ def _tangent(O, E, kappa: float, L: float) -> np.ndarray:
     return np.array([c * u[0] - s * u[1], s * u[0] + c * u[1]])
 
 
-def _midpoint(A, B, kappa: float, L: float) -> np.ndarray:
+def _midpoint(A: NDArray[np.float64], B: NDArray[np.float64], kappa: float, L: float) -> NDArray[np.float64]:
     if kappa == 0.0:
         return (A + B) / 2
     t = _tangent(A, B, kappa, L)
@@ -600,10 +617,11 @@ def _midpoint(A, B, kappa: float, L: float) -> np.ndarray:
     ang = kappa * L / 2
     c, s = math.cos(ang), math.sin(ang)
     r = A - C
-    return C + np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
+    M: NDArray[np.float64] = C + np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
+    return M
 
 
-def _size(coords, body: str | None, welded: WeldedBodies) -> float:
+def _size(coords: dict[str, NDArray[np.float64]], body: str | None, welded: WeldedBodies) -> float:
     """Largest distance between two nodes of a body (infinite for the ground)."""
     if body is None or body == GROUND:
         return math.inf

@@ -50,9 +50,12 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any, NamedTuple, overload
 
 import numpy as np
+from numpy.typing import NDArray
 from scipy.linalg import qr
 from scipy.linalg.lapack import dgesv
 
@@ -118,6 +121,28 @@ class LinearSpring:
 
 
 Load = Force | Couple | PrescribedDisplacement | PrescribedRotation
+Prescription = PrescribedDisplacement | PrescribedRotation
+#: indices of rows of a Jacobian (int32 from LAPACK's pivots, or the platform's int)
+Rows = NDArray[np.signedinteger[Any]]
+
+
+class _Unreachable(NamedTuple):
+    """The first prescribed motion the network cannot make (``UnreachableMotion``'s fields)."""
+
+    message: str
+    motion: int         # its index among the prescribed motions
+    by_joints: bool
+    moves: bool
+
+
+class _LinearSpringTerm(NamedTuple):
+    """One linear spring at a configuration (``Network._linear_spring_terms``)."""
+
+    body: int
+    k: float
+    stretch: float
+    de: NDArray[np.float64]
+    d2: float
 
 
 @dataclass
@@ -135,7 +160,7 @@ class Network:
     origins: dict[str, tuple[float, float]] = field(default_factory=dict)
     linear_springs: list[LinearSpring] = field(default_factory=list)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if GROUND in self.bodies:
             raise ValueError(f"'{GROUND}' is the fixed frame, not a movable body")
         if len(set(self.bodies)) != len(self.bodies):
@@ -145,7 +170,8 @@ class Network:
         for name, (body, _) in self.points.items():
             if body not in self.index:
                 raise ValueError(f"point '{name}' is on unknown body '{body}'")
-        for item in [*self.pins, *self.sliders, *self.springs]:
+        items: list[Pin | Slider | TorsionSpring] = [*self.pins, *self.sliders, *self.springs]
+        for item in items:
             for body in (item.a, getattr(item, "b", GROUND)):
                 if body not in self.index:
                     raise ValueError(f"{type(item).__name__} {item.name or item}: unknown body '{body}'")
@@ -178,7 +204,7 @@ class Network:
         self._pin_ones = np.concatenate([np.ones(2 * len(k)), -np.ones(2 * len(k))])
         self._joint_rows = 2 * len(self.pins) + sum(1 + s.guided for s in self.sliders)
         self._X0_list = self.X0.tolist()
-        self._pin_list = [(int(a), int(b), *map(float, ra), *map(float, rb))
+        self._pin_list = [(int(a), int(b), float(ra[0]), float(ra[1]), float(rb[0]), float(rb[1]))
                           for a, b, ra, rb in zip(self._pin_a, self._pin_b, self._pin_ra, self._pin_rb)]
         # springs: a constant matrix D (rows: springs, columns: phi of the bodies)
         self._spring_k = np.array([s.k for s in self.springs], float)
@@ -190,20 +216,22 @@ class Network:
         self._spring_D = D[:, :nb]
         self._spring_H = np.zeros((self.n, self.n))
         self._spring_H[2::3, 2::3] = self._spring_D.T @ (self._spring_k[:, None] * self._spring_D)
-        self._analysis = None  # (mobility, rank, independent joint rows), computed once by solve
-        self._reachable: dict[tuple, tuple | None] = {}  # prescribed motions -> the unreachable one, if any
-        self._length = None
+        # (mobility, rank, independent joint rows), computed once by solve
+        self._analysis: tuple[int, int, Rows] | None = None
+        # prescribed motions -> the unreachable one, if any
+        self._reachable: dict[tuple[tuple[str, str] | str, ...], _Unreachable | None] = {}
+        self._length: float | None = None
         for ls in self.linear_springs:
             if ls.point not in self.points:
                 raise ValueError(f"linear spring {ls.name or ''} at unknown point '{ls.point}'")
 
     # --- geometry -------------------------------------------------------------------------------
-    def point_arm(self, point: str) -> tuple[int, np.ndarray]:
+    def point_arm(self, point: str) -> tuple[int, NDArray[np.float64]]:
         body, xy = self.points[point]
         i = self.index[body]
         return i, np.asarray(xy, float) - self.X0[i]
 
-    def state_arrays(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def state_arrays(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """(X, phi) of every body and the ground (last row) for coordinates q."""
         nb = len(self.bodies)
         X = np.empty((nb + 1, 2))
@@ -213,14 +241,25 @@ class Network:
         phi[:nb] = q[2::3]
         return X, phi
 
-    def position(self, q: np.ndarray, point: str) -> np.ndarray:
+    def position(self, q: NDArray[np.float64], point: str) -> NDArray[np.float64]:
         i, r = self.point_arm(point)
         X, phi = self.state_arrays(q)
         c, s = math.cos(phi[i]), math.sin(phi[i])
-        return X[i] + np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
+        p: NDArray[np.float64] = X[i] + np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
+        return p
 
     # --- constraints ----------------------------------------------------------------------------
-    def joint_constraints(self, q: np.ndarray, lam: np.ndarray | None = None, diagonal: bool = False):
+    @overload
+    def joint_constraints(self, q: NDArray[np.float64], lam: None = None, diagonal: bool = False
+                          ) -> tuple[NDArray[np.float64], NDArray[np.float64], None]: ...
+
+    @overload
+    def joint_constraints(self, q: NDArray[np.float64], lam: NDArray[np.float64], diagonal: bool = False
+                          ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
+
+    def joint_constraints(self, q: NDArray[np.float64], lam: NDArray[np.float64] | None = None,
+                          diagonal: bool = False
+                          ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64] | None]:
         """(Phi, J, H_lam) of the pins and sliders: residual, Jacobian, and sum lam_i hess Phi_i (it is
         diagonal, on the rotations: ``diagonal=True`` returns that diagonal only).
 
@@ -235,8 +274,8 @@ class Network:
         Phi = np.empty(self._joint_rows)
         J = np.zeros((self._joint_rows, width))
         Hd = [0.0] * width if lam is not None else None
-        lv = lam.tolist() if lam is not None else None
-        qv = q.tolist() + [0.0, 0.0, 0.0]
+        lv: list[float] = lam.tolist() if lam is not None else []
+        qv: list[float] = q.tolist() + [0.0, 0.0, 0.0]
         X0 = self._X0_list
         for k, (ia, ib, rax, ray, rbx, rby) in enumerate(self._pin_list):
             ca, sa = math.cos(qv[3 * ia + 2]), math.sin(qv[3 * ia + 2])
@@ -263,6 +302,7 @@ class Network:
         X = self.X0[:nb] + q.reshape(nb, 3)[:, :2] if self.sliders else None
         row = m_pin
         for s in self.sliders:
+            assert X is not None  # computed whenever there are sliders
             i = self.index[s.a]
             d = np.asarray(s.direction, float)
             nrm = np.array([-d[1], d[0]]) / math.hypot(*d)
@@ -272,7 +312,7 @@ class Network:
             Phi[row] = nrm @ (X[i] + Rr - np.asarray(s.at, float))
             J[row, 3 * i:3 * i + 2] = nrm
             J[row, 3 * i + 2] = nrm @ np.array([-Rr[1], Rr[0]])
-            if H is not None:
+            if H is not None and lam is not None:  # H is made exactly when lam is given
                 H[3 * i + 2] += -lam[row] * (nrm @ Rr)
             row += 1
             if s.guided:
@@ -283,7 +323,7 @@ class Network:
         H = None if H is None else (H[:n] if diagonal else np.diag(H[:n]))
         return Phi, J[:, :n], H
 
-    def joint_rank(self, q: np.ndarray | None = None, rtol: float = 1e-9) -> tuple[int, np.ndarray]:
+    def joint_rank(self, q: NDArray[np.float64] | None = None, rtol: float = 1e-9) -> tuple[int, Rows]:
         """Rank of the joints' Jacobian and the indices of a maximal independent set of its rows."""
         q = np.zeros(self.n) if q is None else q
         _, J, _ = self.joint_constraints(q)
@@ -339,14 +379,15 @@ class Network:
         return self._length
 
     # --- energy ---------------------------------------------------------------------------------
-    def spring_deflections(self, q: np.ndarray) -> np.ndarray:
-        return self._spring_D @ q[2::3] - self._spring_rest
+    def spring_deflections(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
+        d: NDArray[np.float64] = self._spring_D @ q[2::3] - self._spring_rest
+        return d
 
-    def _linear_spring_terms(self, q: np.ndarray):
+    def _linear_spring_terms(self, q: NDArray[np.float64]) -> list[_LinearSpringTerm]:
         """For each linear spring: (body index, stretch s = e . (p - p0), e . dp/dq on the body's three
         coordinates, e . d2p/dphi2)."""
         nb = len(self.bodies)
-        out = []
+        out: list[_LinearSpringTerm] = []
         for ls in self.linear_springs:
             i, r = self.point_arm(ls.point)
             e = np.asarray(ls.direction, float) / math.hypot(*ls.direction)
@@ -356,24 +397,25 @@ class Network:
             c, sn = math.cos(phi), math.sin(phi)
             Rr = np.array([c * r[0] - sn * r[1], sn * r[0] + c * r[1]])
             stretch = float(e @ (q[3 * i:3 * i + 2] + Rr - r))
-            out.append((i, ls.k, stretch, np.array([e[0], e[1], e @ np.array([-Rr[1], Rr[0]])]), -float(e @ Rr)))
+            out.append(_LinearSpringTerm(i, ls.k, stretch, np.array([e[0], e[1], e @ np.array([-Rr[1], Rr[0]])]),
+                                         -float(e @ Rr)))
         return out
 
-    def strain_energy(self, q: np.ndarray) -> float:
+    def strain_energy(self, q: NDArray[np.float64]) -> float:
         d = self.spring_deflections(q)
         U = 0.5 * float(self._spring_k @ (d * d))
         for _, k, stretch, _, _ in self._linear_spring_terms(q):
             U += 0.5 * k * stretch**2
         return U
 
-    def spring_gradient(self, q: np.ndarray) -> np.ndarray:
+    def spring_gradient(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         g = np.zeros(self.n)
         g[2::3] = self._spring_D.T @ (self._spring_k * self.spring_deflections(q))
         for i, k, stretch, de, _ in self._linear_spring_terms(q):
             g[3 * i:3 * i + 3] += k * stretch * de
         return g
 
-    def spring_hessian(self, q: np.ndarray) -> np.ndarray:
+    def spring_hessian(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         if not self.linear_springs:
             return self._spring_H
         H = self._spring_H.copy()
@@ -382,7 +424,7 @@ class Network:
             H[3 * i + 2, 3 * i + 2] += k * stretch * d2
         return H
 
-    def driving_torque(self, q: np.ndarray, body: str) -> float:
+    def driving_torque(self, q: NDArray[np.float64], body: str) -> float:
         """The torque on ``body`` that holds the springs at the configuration q (joints closed), by
         virtual work: T = grad U . v with v the joint-compatible velocity of unit rotation rate of
         ``body`` (J v = 0, v_phi(body) = 1); a least-squares v where the joints are redundant."""
@@ -401,8 +443,8 @@ class Network:
 class NetworkState:
     """One equilibrium: coordinates, multipliers, and how it was found."""
 
-    q: np.ndarray
-    lam: np.ndarray
+    q: NDArray[np.float64]
+    lam: NDArray[np.float64]
     converged: bool
     iterations: int
     stable: bool | None
@@ -432,17 +474,18 @@ class NetworkResult:
     wall_time: float
     iterations: int
     mobility: int
-    load_factor: np.ndarray | None = None
+    load_factor: NDArray[np.float64] | None = None
 
     @property
     def n_levels(self) -> int:
         return len(self.states)
 
-    def position(self, point: str, level: int) -> np.ndarray:
+    def position(self, point: str, level: int) -> NDArray[np.float64]:
         return self.network.position(self.states[level].q, point)
 
-    def displacement(self, point: str, level: int) -> np.ndarray:
-        return self.position(point, level) - np.asarray(self.network.points[point][1], float)
+    def displacement(self, point: str, level: int) -> NDArray[np.float64]:
+        u: NDArray[np.float64] = self.position(point, level) - np.asarray(self.network.points[point][1], float)
+        return u
 
     def rotation(self, body: str, level: int) -> float:
         """Rotation of a body from the unloaded pose (rad, CCW)."""
@@ -463,6 +506,7 @@ class NetworkResult:
         follows which side the ground is). Raises ValueError where joint rows were dropped as
         redundant: the PRB model is then statically indeterminate and the split is not unique."""
         net = self.network
+        assert net._analysis is not None  # set by the solve that made this result (`_check_mobility`)
         rows = net._analysis[2]
         if len(rows) != net._joint_rows:
             raise ValueError("redundant joints in the PRB model: the loads through its ground joints are "
@@ -480,7 +524,8 @@ class NetworkResult:
             normal = np.array([-d[1], d[0]]) / math.hypot(*d)
             contact = self._slider_point(sl, state.q)
             moment = -float(lam[row + 1]) if sl.guided else 0.0
-            out.append(GroundLoad(sl.name, contact, *(-normal * float(lam[row])), moment))
+            fx, fy = -normal * float(lam[row])
+            out.append(GroundLoad(sl.name, contact, fx, fy, moment))
             row += 1 + sl.guided
         torques = net.spring_deflections(state.q) * net._spring_k
         for spring, torque in zip(net.springs, torques.tolist()):
@@ -488,7 +533,7 @@ class NetworkResult:
                 out.append(GroundLoad(spring.name, None, 0.0, 0.0, -torque if spring.b == GROUND else torque))
         return out
 
-    def _slider_point(self, slider: "Slider", q: np.ndarray) -> tuple[float, float]:
+    def _slider_point(self, slider: "Slider", q: NDArray[np.float64]) -> tuple[float, float]:
         net = self.network
         i = net.index[slider.a]
         r = np.asarray(slider.at, float) - net.X0[i]
@@ -507,7 +552,7 @@ class NetworkResult:
 class _Problem:
     """Loads along the path, evaluated at a load parameter t (level index, fractional between levels)."""
 
-    def __init__(self, network: Network, loads: list, n_levels: int):
+    def __init__(self, network: Network, loads: list[Load], n_levels: int):
         self.net = network
         self.n_levels = n_levels
         self.forces = [ld for ld in loads if isinstance(ld, Force)]
@@ -533,10 +578,11 @@ class _Problem:
         self.disp_arms = [network.point_arm(d.point) for d in self.disps]
         self.n_prescribed = len(self.disps) + len(self.rots)
         self.length = network.length_scale()
-        self.last_kkt = None
+        # the converged state's Hessian and Jacobian, for its stability
+        self.last_kkt: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
 
     @staticmethod
-    def _at(values, t: float) -> float:
+    def _at(values: tuple[float, ...], t: float) -> float:
         """values at the load parameter t: level i at t = i, linear in between, from 0 below level 0."""
         if t <= 0.0:
             return values[0] * max(t + 1.0, 0.0) if t < 0.0 else values[0]
@@ -546,7 +592,8 @@ class _Problem:
         f = t - i
         return values[i] * (1.0 - f) + values[i + 1] * f
 
-    def generalised_forces(self, q: np.ndarray, t: float, scale: float = 1.0):
+    def generalised_forces(self, q: NDArray[np.float64], t: float, scale: float = 1.0
+                           ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """(Q, dQ/dq) of the applied forces and couples at load parameter t (times ``scale``)."""
         net = self.net
         n = net.n
@@ -578,7 +625,8 @@ class _Problem:
                 Q[3 * i + 2] += scale * self._at(cp.m, t)
         return Q, dQ
 
-    def prescribed(self, q: np.ndarray, t: float, scale: float = 1.0):
+    def prescribed(self, q: NDArray[np.float64], t: float, scale: float = 1.0
+                   ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """(Phi, J) of the prescribed motions at load parameter t."""
         net = self.net
         m = self.n_prescribed
@@ -602,7 +650,7 @@ class _Problem:
             J[k, 3 * i + 2] = 1.0
         return Phi, J
 
-    def prescribed_hessian(self, q: np.ndarray, lam: np.ndarray) -> np.ndarray:
+    def prescribed_hessian(self, q: NDArray[np.float64], lam: NDArray[np.float64]) -> NDArray[np.float64]:
         """sum lam_k hess Phi_k of the prescribed displacements (rotations are linear)."""
         net = self.net
         H = np.zeros((net.n, net.n))
@@ -615,7 +663,9 @@ class _Problem:
         return H
 
 
-def _residual(problem: _Problem, rows: np.ndarray, q, lam, t, scale=1.0):
+def _residual(problem: _Problem, rows: Rows, q: NDArray[np.float64], lam: NDArray[np.float64], t: float,
+              scale: float = 1.0) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64],
+                                           NDArray[np.float64], float]:
     """KKT residual and matrix at (q, lam) for load parameter t, and the force scale of the residual
     (the largest of the spring, applied and constraint generalised forces)."""
     net = problem.net
@@ -646,7 +696,9 @@ def _residual(problem: _Problem, rows: np.ndarray, q, lam, t, scale=1.0):
     return g, Phi, K, J, force
 
 
-def _newton(problem, rows, q, lam, t, *, rtol, maxiter, scale=1.0):
+def _newton(problem: _Problem, rows: Rows, q: NDArray[np.float64], lam: NDArray[np.float64], t: float, *,
+            rtol: float, maxiter: int, scale: float = 1.0
+            ) -> tuple[NDArray[np.float64], NDArray[np.float64], bool, int]:
     """Newton on the KKT system at fixed load parameter t, until the residual is below rtol times its
     force scale and the loop closes to rtol times the network's size (a step-size test alone can stop
     on a singular system). Returns (q, lam, converged, linear solves)."""
@@ -659,7 +711,7 @@ def _newton(problem, rows, q, lam, t, *, rtol, maxiter, scale=1.0):
         if not (math.isfinite(g_size) and math.isfinite(phi_size)):
             return q, lam, False, it
         if g_size <= rtol * force and phi_size <= closure:
-            problem.last_kkt = (K, J)  # the converged state's Hessian and Jacobian, for its stability
+            problem.last_kkt = (K, J)
             return q, lam, True, it
         if it == maxiter:
             break
@@ -676,7 +728,9 @@ def _newton(problem, rows, q, lam, t, *, rtol, maxiter, scale=1.0):
     return q, lam, False, maxiter
 
 
-def _stability(problem, rows, q, lam, t, scale=1.0, kkt=None) -> tuple[bool | None, float]:
+def _stability(problem: _Problem, rows: Rows, q: NDArray[np.float64], lam: NDArray[np.float64], t: float,
+               scale: float = 1.0, kkt: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
+               ) -> tuple[bool | None, float]:
     """Positive definiteness of the Hessian on the constraints' tangent space (Z^T K Z); ``kkt``:
     (K, J) at this state when already known."""
     K, J = kkt if kkt is not None else _residual(problem, rows, q, lam, t, scale)[2:4]
@@ -695,7 +749,7 @@ def _stability(problem, rows, q, lam, t, scale=1.0, kkt=None) -> tuple[bool | No
     return ev > -1e-10 * scale_k, ev
 
 
-def _check_mobility(network: Network, problem: _Problem) -> tuple[int, np.ndarray]:
+def _check_mobility(network: Network, problem: _Problem) -> tuple[int, Rows]:
     if network._analysis is None:
         rank, rows = network.joint_rank()
         network._analysis = (network.mobility(), rank, rows)
@@ -708,7 +762,7 @@ def _check_mobility(network: Network, problem: _Problem) -> tuple[int, np.ndarra
     return mobility, rows
 
 
-def _rank(rows: np.ndarray) -> int:
+def _rank(rows: NDArray[np.float64]) -> int:
     """Rank by singular values above RCOND times the largest (rows already scaled)."""
     if rows.shape[0] == 0:
         return 0
@@ -716,7 +770,7 @@ def _rank(rows: np.ndarray) -> int:
     return int(np.sum(sigma > RCOND * sigma[0])) if sigma[0] > 0.0 else 0
 
 
-def _scaled(J: np.ndarray, length: float) -> np.ndarray:
+def _scaled(J: NDArray[np.float64], length: float) -> NDArray[np.float64]:
     """Jacobian rows in the coordinates z = (x, y, L phi) (rotation columns over L), each of unit length
     (a row of zeros stays zero: it constrains nothing)."""
     A = np.array(J, float)
@@ -729,10 +783,11 @@ def _check_reachable(network: Network, problem: _Problem) -> None:
     """Raise ``UnreachableMotion`` for the first prescribed motion whose Jacobian row at the unloaded pose
     lies in the span of the joints' rows and the prescribed ones before it (see the module's docstring).
     Decided once per network and set of prescribed motions."""
-    prescribed = [*problem.disps, *problem.rots]
+    prescribed: list[Prescription] = [*problem.disps, *problem.rots]
     if not prescribed:
         return
-    key = tuple((d.point, d.axis) for d in problem.disps) + tuple(r.body for r in problem.rots)
+    key: tuple[tuple[str, str] | str, ...] = tuple((d.point, d.axis) for d in problem.disps) + \
+        tuple(r.body for r in problem.rots)
     if key not in network._reachable:
         network._reachable[key] = _unreachable(network, problem, prescribed)
     known = network._reachable[key]
@@ -741,7 +796,7 @@ def _check_reachable(network: Network, problem: _Problem) -> None:
         raise UnreachableMotion(message, prescribed[k], by_joints, moves)
 
 
-def _unreachable(network: Network, problem: _Problem, prescribed: list) -> tuple | None:
+def _unreachable(network: Network, problem: _Problem, prescribed: list[Prescription]) -> _Unreachable | None:
     """(message, index, by_joints, moves) of the first unreachable prescribed motion, or None."""
     length = network.length_scale()
     q = np.zeros(network.n)
@@ -771,12 +826,12 @@ def _unreachable(network: Network, problem: _Problem, prescribed: list) -> tuple
             moves = bool(speed.size) and float(np.abs(speed).max()) > math.sqrt(RCOND)
             message = (f"the prescribed {load.axis}-displacement of point '{load.point}' is no motion of the "
                        f"network: {held_by} hold that point along {load.axis}")
-        return (f"{message} at the unloaded pose (rank of the constraint Jacobian {rank} with the prescription "
-                "as without)", k, by_joints, moves)
+        return _Unreachable(f"{message} at the unloaded pose (rank of the constraint Jacobian {rank} with the "
+                            "prescription as without)", k, by_joints, moves)
     return None
 
 
-def solve(network: Network, loads: list, n_levels: int, *, rtol: float = 1e-11, maxiter: int = 30,
+def solve(network: Network, loads: Sequence[Load], n_levels: int, *, rtol: float = 1e-11, maxiter: int = 30,
           max_cuts: int = 12, stability: bool = True) -> NetworkResult:
     """Equilibrium at every load level by Newton with load stepping (each level from the last one;
     a failed step is halved up to ``max_cuts`` times). Raises LockedNetwork if the prescribed motions
@@ -788,9 +843,9 @@ def solve(network: Network, loads: list, n_levels: int, *, rtol: float = 1e-11, 
     lam = np.zeros(len(rows) + problem.n_prescribed)
     states: list[NetworkState] = []
     total_it = 0
-    messages = []
+    messages: list[str] = []
     t_prev = -1.0
-    history: list[tuple[float, np.ndarray, np.ndarray]] = [(t_prev, q, lam)]
+    history: list[tuple[float, NDArray[np.float64], NDArray[np.float64]]] = [(t_prev, q, lam)]
     for level in range(n_levels):
         t_target = float(level)
         t = t_prev
@@ -841,7 +896,7 @@ def solve(network: Network, loads: list, n_levels: int, *, rtol: float = 1e-11, 
     return NetworkResult(network, states, converged, message, time.perf_counter() - t0, total_it, mobility)
 
 
-def trace(network: Network, loads: list, *, steps: int = 200, ds: float = 0.05, t_max: float = 1.0,
+def trace(network: Network, loads: Sequence[Load], *, steps: int = 200, ds: float = 0.05, t_max: float = 1.0,
           rtol: float = 1e-11, maxiter: int = 25) -> NetworkResult:
     """Pseudo-arclength continuation in the load factor lambda (loads = lambda x the last level of
     ``loads``), from the unloaded pose until lambda reaches ``t_max`` or ``steps`` are taken; passes
@@ -855,7 +910,7 @@ def trace(network: Network, loads: list, *, steps: int = 200, ds: float = 0.05, 
     m = len(rows) + problem.n_prescribed
     t_last = float(n_levels - 1)
 
-    def F(z):
+    def F(z: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         q, lam, lf = z[:n], z[n:n + m], z[-1]
         g, Phi, K, J, _ = _residual(problem, rows, q, lam, t_last, lf)
         # d/d lambda of (g, Phi): loads are linear in the scale
@@ -873,7 +928,7 @@ def trace(network: Network, loads: list, *, steps: int = 200, ds: float = 0.05, 
     weight = np.ones(n + m + 1)
     weight[n:n + m] = 0.0
 
-    def unit_tangent(A, previous=None):
+    def unit_tangent(A: NDArray[np.float64], previous: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
         t = _null_vector(A)
         t = t / max(float(np.linalg.norm(weight * t)), 1e-300)
         if previous is not None and (weight * t) @ (weight * previous) < 0:
@@ -885,7 +940,9 @@ def trace(network: Network, loads: list, *, steps: int = 200, ds: float = 0.05, 
     tangent = unit_tangent(A)
     if tangent[-1] < 0:
         tangent = -tangent
-    states, lfs, total = [], [], 0
+    states: list[NetworkState] = []
+    lfs: list[float] = []
+    total = 0
     converged, message = True, ""
     for _ in range(steps):
         pred = z + ds * tangent
@@ -918,7 +975,8 @@ def trace(network: Network, loads: list, *, steps: int = 200, ds: float = 0.05, 
                          load_factor=np.array(lfs))
 
 
-def _null_vector(A: np.ndarray) -> np.ndarray:
+def _null_vector(A: NDArray[np.float64]) -> NDArray[np.float64]:
     """Unit vector spanning the null space of a full-row-rank (k, k+1) matrix."""
     _, _, vt = np.linalg.svd(A)
-    return vt[-1]
+    v: NDArray[np.float64] = vt[-1]
+    return v
