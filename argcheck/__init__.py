@@ -18,17 +18,23 @@ from __future__ import annotations
 import functools
 import inspect
 import math
+from collections.abc import Callable
+from typing import Any, ParamSpec, TypeVar
 
 import numpy as np
+import numpy.typing as npt
+
+_P = ParamSpec("_P")
+_R = TypeVar("_R")
 
 
-def _values(value) -> np.ndarray:
+def _values(value: object) -> npt.NDArray[Any]:
     """The value as a numeric array (complex loads stay complex: finite means both parts finite)."""
     values = np.asarray(value)
     return values if np.issubdtype(values.dtype, np.number) else values.astype(float)
 
 
-def _ok(value, positive: bool) -> bool:
+def _ok(value: Any, positive: bool) -> bool:
     """The value finite (and > 0 when ``positive``): a plain float or int, or a flat list of them, in
     plain Python (the common cases at a library's entry point, where numpy's per-call overhead would
     exceed the check itself), anything else through numpy."""
@@ -48,10 +54,11 @@ def _ok(value, positive: bool) -> bool:
 _PLAIN = (float, int, np.float64)
 
 
-def checked(positive: tuple[str, ...] = (), finite: tuple[str, ...] = ()):
+def checked(positive: tuple[str, ...] = (), finite: tuple[str, ...] = ()
+            ) -> Callable[[Callable[_P, _R]], Callable[_P, _R]]:
     """Decorator: the named arguments (when given and not None) must be finite and > 0 (positive)
     or finite (finite); scalars, sequences and arrays alike."""
-    def wrap(func):
+    def wrap(func: Callable[_P, _R]) -> Callable[_P, _R]:
         signature = inspect.signature(func)
         # where each checked argument sits when given positionally (None: keyword-only)
         slots = {p.name: i for i, p in enumerate(signature.parameters.values())
@@ -60,7 +67,7 @@ def checked(positive: tuple[str, ...] = (), finite: tuple[str, ...] = ()):
                  [(name, False, slots.get(name)) for name in finite]
 
         @functools.wraps(func)
-        def inner(*args, **kwargs):
+        def inner(*args: _P.args, **kwargs: _P.kwargs) -> _R:
             for name, positive_, slot in checks:
                 value = kwargs.get(name) if slot is None or slot >= len(args) else args[slot]
                 if value is not None and not _ok(value, positive_):

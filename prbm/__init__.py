@@ -87,7 +87,7 @@ _EXPORTS = {  # public name -> the module that defines it (imported at the first
 }
 
 
-def __getattr__(name: str):
+def __getattr__(name: str) -> object:
     """PEP 562: a public name imports its module on first use (``import prbm`` alone imports no
     solver, so scipy.optimize is loaded only by the models that need it)."""
     module = _EXPORTS.get(name)

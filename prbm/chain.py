@@ -40,10 +40,13 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from functools import lru_cache
+from typing import Any, Literal, overload
 
 import numpy as np
+from numpy.typing import NDArray
 from scipy.optimize import root
 
 from prbm.result import PRBMResult
@@ -77,13 +80,13 @@ class ChainBeam:
     def element_length(self) -> float:
         return self.length / self.elements
 
-    def theta(self) -> np.ndarray:
+    def theta(self) -> NDArray[np.float64]:
         return np.zeros(self.elements) if self.orientations is None else np.asarray(self.orientations, float)
 
-    def stiffness(self) -> np.ndarray:
+    def stiffness(self) -> NDArray[np.float64]:
         return np.broadcast_to(np.asarray(self.EI, float), (self.elements,))
 
-    def undeformed(self) -> np.ndarray:
+    def undeformed(self) -> NDArray[np.float64]:
         """Node positions (N+1, 2) of the unloaded chain."""
         t = self.theta()
         steps = self.element_length * np.column_stack([np.cos(t), np.sin(t)])
@@ -94,9 +97,9 @@ class ChainBeam:
 class NodalLoads:
     """Dead loads at the nodes in the global frame: arrays of N+1 values (node 0 is the clamp)."""
 
-    fx: np.ndarray
-    fy: np.ndarray
-    m: np.ndarray
+    fx: NDArray[np.float64]
+    fy: NDArray[np.float64]
+    m: NDArray[np.float64]
 
     @classmethod
     def at_tip(cls, beam: ChainBeam, fx: float = 0.0, fy: float = 0.0, m: float = 0.0) -> "NodalLoads":
@@ -125,17 +128,17 @@ def lumped_uniform_load(beam: ChainBeam, qx: float, qy: float) -> NodalLoads:
 
 @dataclass
 class ChainState:
-    nodes: np.ndarray                      # (N+1, 2) deformed node positions
-    rotations: np.ndarray                  # (N+1,) cumulative rotation Dtheta at each node (node 0: 0)
-    extras: dict = field(default_factory=dict)
+    nodes: NDArray[np.float64]             # (N+1, 2) deformed node positions
+    rotations: NDArray[np.float64]         # (N+1,) cumulative rotation Dtheta at each node (node 0: 0)
+    extras: dict[str, Any] = field(default_factory=dict)
 
 
-def march(beam: ChainBeam, loads: NodalLoads, nodes: np.ndarray) -> ChainState:
+def march(beam: ChainBeam, loads: NodalLoads, nodes: NDArray[np.float64]) -> ChainState:
     """One pass of eqs (26)-(40): the chain deflected under ``loads`` with lever arms taken on ``nodes``."""
     return _march(beam, loads, nodes, False)[0]
 
 
-def march_jacobian(beam: ChainBeam, loads: NodalLoads, nodes: np.ndarray) -> np.ndarray:
+def march_jacobian(beam: ChainBeam, loads: NodalLoads, nodes: NDArray[np.float64]) -> NDArray[np.float64]:
     """d X_out / d X_in of one march at ``nodes`` (2N x 2N, nodes 1..N as x1, y1, x2, y2, ...).
 
     The march sees the node positions only through the moments (28), which are linear in them,
@@ -150,7 +153,8 @@ def march_jacobian(beam: ChainBeam, loads: NodalLoads, nodes: np.ndarray) -> np.
     return dxy @ A
 
 
-def _outboard(loads: NodalLoads, nodes: np.ndarray):
+def _outboard(loads: NodalLoads, nodes: NDArray[np.float64]
+              ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """(Fx, Fy, M) per element i = 0..N-1: the loads outboard of its end node i+1 and their moment about
     that node (eqs 26-28), lever arms on ``nodes``."""
     Fx = np.cumsum(loads.fx[:0:-1])[::-1]
@@ -162,7 +166,18 @@ def _outboard(loads: NodalLoads, nodes: np.ndarray):
     return Fx, Fy, M
 
 
-def _march(beam: ChainBeam, loads: NodalLoads, nodes: np.ndarray, tangent: bool):
+@overload
+def _march(beam: ChainBeam, loads: NodalLoads, nodes: NDArray[np.float64],
+           tangent: Literal[False]) -> tuple[ChainState, None]: ...
+
+
+@overload
+def _march(beam: ChainBeam, loads: NodalLoads, nodes: NDArray[np.float64],
+           tangent: Literal[True]) -> tuple[ChainState, NDArray[np.float64]]: ...
+
+
+def _march(beam: ChainBeam, loads: NodalLoads, nodes: NDArray[np.float64],
+           tangent: bool) -> tuple[ChainState, NDArray[np.float64] | None]:
     """The march, and with ``tangent`` its derivative with respect to the N moments M_i (rows x1, y1, ...,
     ``_moment_derivative``)."""
     N, L = beam.elements, beam.element_length
@@ -171,7 +186,7 @@ def _march(beam: ChainBeam, loads: NodalLoads, nodes: np.ndarray, tangent: bool)
     # plain floats in the sequential march (numpy scalar indexing costs more than the arithmetic)
     Fx, Fy, M, EI, theta = Fx.tolist(), Fy.tolist(), M.tolist(), EI.tolist(), theta.tolist()
     x, y, rot = [0.0] * (N + 1), [0.0] * (N + 1), [0.0] * (N + 1)
-    terms = []       # with ``tangent``: each element's (c, s, P_ax, P_tr, alpha, P_eq, d_tr)
+    terms: list[tuple[float, ...]] = []       # with ``tangent``: each element's (c, s, P_ax, P_tr, alpha, P_eq, d_tr)
     for i in range(N):
         psi = theta[i] + rot[i]                                           # (29)
         c, s = math.cos(psi), math.sin(psi)
@@ -191,7 +206,7 @@ def _march(beam: ChainBeam, loads: NodalLoads, nodes: np.ndarray, tangent: bool)
 
 
 @lru_cache(maxsize=16)
-def _triangles(N: int) -> tuple[np.ndarray, np.ndarray]:
+def _triangles(N: int) -> tuple[NDArray[np.bool_], NDArray[np.float64]]:
     """The strictly lower triangle of an N x N matrix (bool) and the lower one with the diagonal (float),
     read-only (the chain's length changes little between calls)."""
     below, lower = np.tri(N, k=-1, dtype=bool), np.tri(N)
@@ -199,7 +214,7 @@ def _triangles(N: int) -> tuple[np.ndarray, np.ndarray]:
     return below, lower
 
 
-def _moment_derivative(terms: np.ndarray, L: float, EI: np.ndarray) -> np.ndarray:
+def _moment_derivative(terms: NDArray[np.float64], L: float, EI: NDArray[np.float64]) -> NDArray[np.float64]:
     """d(x_i, y_i)/dM_k of the march (rows x1, y1, x2, y2, ...; columns k = 0..N-1) from each element's
     (c, s, P_ax, P_tr, alpha, P_eq, d_tr) (``terms``, one row an element).
 
@@ -220,7 +235,7 @@ def _moment_derivative(terms: np.ndarray, L: float, EI: np.ndarray) -> np.ndarra
     below, lower = _triangles(N)
     kappa = -4.0 * L * L / (EI * math.pi**2)
     g = (-P_ax + P_eq * kappa * P_tr) / (1.0 - alpha)
-    factor = np.where(below, (1.0 + g * (L * L / 2.0) / EI)[:, None], 1.0)   # rows j, columns k
+    factor: NDArray[np.float64] = np.where(below, (1.0 + g * (L * L / 2.0) / EI)[:, None], 1.0)   # rows j, columns k
     np.fill_diagonal(factor, L / EI)
     after = np.cumprod(factor, axis=0)
     after *= lower                                             # row i: r_{i+1}
@@ -234,12 +249,13 @@ def _moment_derivative(terms: np.ndarray, L: float, EI: np.ndarray) -> np.ndarra
     return dxy
 
 
-def _forward_step(beam, loads, guess: np.ndarray, tol: float):
-    def residual(x):
-        nodes = np.vstack([[0.0, 0.0], x.reshape(-1, 2)])
+def _forward_step(beam: ChainBeam, loads: NodalLoads, guess: NDArray[np.float64], tol: float
+                  ) -> tuple[NDArray[np.float64], bool, int, str]:
+    def residual(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        nodes: NDArray[np.float64] = np.vstack([[0.0, 0.0], x.reshape(-1, 2)])
         return (march(beam, loads, nodes).nodes[1:] - nodes[1:]).ravel()
 
-    def jacobian(x):
+    def jacobian(x: NDArray[np.float64]) -> NDArray[np.float64]:
         nodes = np.vstack([[0.0, 0.0], x.reshape(-1, 2)])
         return march_jacobian(beam, loads, nodes) - np.eye(x.size)
 
@@ -282,7 +298,7 @@ def chain_tip(beam: ChainBeam, loads: NodalLoads, *, steps: int = 10, tol: float
                       time.perf_counter() - t0, nfev, np.array([ok]), extras={"nodes": state.nodes})
 
 
-def chain_path(beam: ChainBeam, loads: NodalLoads, factors, *, tol: float = 1e-12,
+def chain_path(beam: ChainBeam, loads: NodalLoads, factors: Iterable[float], *, tol: float = 1e-12,
                max_step: float = 0.25) -> list[PRBMResult]:
     """The chain under ``loads`` scaled by each of the increasing ``factors``, each level solved from the
     previous one's nodes (continuation), with sub-steps of at most ``max_step`` times the largest factor
@@ -290,9 +306,10 @@ def chain_path(beam: ChainBeam, loads: NodalLoads, factors, *, tol: float = 1e-1
     again from the previous level in twice as many sub-steps (four times at most).  One ``PRBMResult`` per factor; after
     the first level that fails, the rest fail with the same message."""
     factors = [float(f) for f in factors]
-    nodes, previous, results = beam.undeformed(), 0.0, []
+    nodes, previous = beam.undeformed(), 0.0
+    results: list[PRBMResult] = []
     step_cap = max_step * max(abs(f) for f in factors) if factors else 0.0
-    failed = None
+    failed: str | None = None
     for factor in factors:
         t0 = time.perf_counter()
         if failed is not None:
@@ -342,7 +359,7 @@ def chain_from_tip(beam: ChainBeam, *, b: float, theta0: float, n: float = 0.0, 
     x = np.concatenate([beam.undeformed()[1:].ravel(), [0.0, 0.0]])
     nfev, ok, message = 0, True, "converged"
 
-    def residual(x, b_k, th_k):
+    def residual(x: NDArray[np.float64], b_k: float, th_k: float) -> NDArray[np.float64]:
         P, M = x[-2], x[-1]
         nodes = np.vstack([[0.0, 0.0], x[:-2].reshape(-1, 2)])
         st = march(beam, NodalLoads.at_tip(beam, -n * P, P, M), nodes)

@@ -53,14 +53,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, TypeAlias
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 
 __all__ = ["FourBarPose", "SliderPose", "fourbar_compliance_torque", "slider_compliance",
            "fourbar_instant_centres", "two_port_rigid_ma", "compliant_ma", "type2_ma", "type3_equilibrium",
            "Type3Point"]
+
+#: a quantity at one pose (a float) or at many (an array)
+Value: TypeAlias = float | NDArray[np.float64]
 
 
 @dataclass(frozen=True)
@@ -71,9 +75,9 @@ class FourBarPose:
     R2: float
     R3: float
     R4: float
-    theta2: np.ndarray
-    theta3: np.ndarray
-    theta4: np.ndarray
+    theta2: Value
+    theta3: Value
+    theta4: Value
     theta20: float
     theta30: float
     theta40: float
@@ -86,14 +90,14 @@ class SliderPose:
 
     R2: float
     R3: float
-    theta2: np.ndarray
-    theta3: np.ndarray
+    theta2: Value
+    theta3: Value
     theta20: float
     theta30: float
     R10: float
 
 
-def _fourbar_rates(p: FourBarPose, input_link: int) -> tuple:
+def _fourbar_rates(p: FourBarPose, input_link: int) -> tuple[Value, Value, Value]:
     """(d theta2, d theta3, d theta4) per unit rotation of the input link (2, 3 or 4)."""
     t2, t3, t4 = (np.asarray(v, float) for v in (p.theta2, p.theta3, p.theta4))
     if input_link == 2:
@@ -109,7 +113,7 @@ def _fourbar_rates(p: FourBarPose, input_link: int) -> tuple:
 
 
 def fourbar_compliance_torque(pose: FourBarPose, springs: tuple[float, float, float, float],
-                              input_link: int = 2, *, printed_195: bool = False):
+                              input_link: int = 2, *, printed_195: bool = False) -> Value:
     """T_c on the input link (2: eq 193, 3: eq 194, 4: eq 195 corrected; see the module docstring).
 
     springs: (k1, k2, k3, k4) in moment/rad.  ``printed_195`` (input_link 4 only): the multipliers as
@@ -127,29 +131,34 @@ def fourbar_compliance_torque(pose: FourBarPose, springs: tuple[float, float, fl
 
 
 def slider_compliance(pose: SliderPose, springs: tuple[float, float, float], f_k: float = 0.0,
-                      input_link: str = "crank"):
+                      input_link: str = "crank") -> Value:
     """Compliance torque on the crank (eq 196) or coupler (eq 197), or compliance force on the
     slider (eq 198), per ``input_link`` = 'crank' | 'coupler' | 'slider'."""
     k1, k2, k3 = springs
     t2, t3 = np.asarray(pose.theta2, float), np.asarray(pose.theta3, float)
     D2, D3 = t2 - pose.theta20, t3 - pose.theta30
     dR1 = pose.R2 * np.cos(t2) + pose.R3 * np.cos(t3) - pose.R10
+    compliance: Value
     if input_link == "crank":
         g3 = -pose.R2 * np.cos(t2) / (pose.R3 * np.cos(t3))
-        return (k1 * D2 + k2 * (D3 - D2) * (g3 - 1.0) + k3 * D3 * g3
-                + f_k * dR1 * pose.R2 * np.cos(t2) * (np.tan(t3) - np.tan(t2)))
+        compliance = (k1 * D2 + k2 * (D3 - D2) * (g3 - 1.0) + k3 * D3 * g3
+                      + f_k * dR1 * pose.R2 * np.cos(t2) * (np.tan(t3) - np.tan(t2)))
+        return compliance
     if input_link == "coupler":
         g2 = -pose.R3 * np.cos(t3) / (pose.R2 * np.cos(t2))
-        return (k1 * D2 * g2 + k2 * (D3 - D2) * (1.0 - g2) + k3 * D3
-                + f_k * dR1 * pose.R3 * np.cos(t3) * (np.tan(t2) - np.tan(t3)))
+        compliance = (k1 * D2 * g2 + k2 * (D3 - D2) * (1.0 - g2) + k3 * D3
+                      + f_k * dR1 * pose.R3 * np.cos(t3) * (np.tan(t2) - np.tan(t3)))
+        return compliance
     if input_link == "slider":
         g2 = -np.cos(t3) / (pose.R2 * np.sin(t2 - t3))
         g3 = np.cos(t2) / (pose.R3 * np.sin(t2 - t3))
-        return k1 * D2 * g2 + k2 * (D3 - D2) * (g3 - g2) + k3 * D3 * g3 + f_k * dR1
+        compliance = k1 * D2 * g2 + k2 * (D3 - D2) * (g3 - g2) + k3 * D3 * g3 + f_k * dR1
+        return compliance
     raise ValueError(f"input_link must be 'crank', 'coupler' or 'slider', got {input_link!r}")
 
 
-def _line_intersection(p1, p2, q1, q2):
+def _line_intersection(p1: NDArray[np.complex128], p2: NDArray[np.complex128], q1: NDArray[np.complex128],
+                       q2: NDArray[np.complex128]) -> NDArray[np.complex128]:
     """Intersection of line p1-p2 with line q1-q2 (complex points, arrays); inf if parallel."""
     u, v, w = p2 - p1, q2 - q1, q1 - p1
     det = u.real * v.imag - u.imag * v.real
@@ -158,18 +167,18 @@ def _line_intersection(p1, p2, q1, q2):
     return p1 + s * u
 
 
-def fourbar_instant_centres(O4: complex, A, B) -> dict[str, np.ndarray]:
+def fourbar_instant_centres(O4: complex, A: ArrayLike, B: ArrayLike) -> dict[str, NDArray[np.complex128]]:
     """Instant centres of a four-bar with O2 at the origin (link 1 fixed): I12 = O2, I14 = O4,
     I23 = A, I34 = B, I13 on lines O2-A and O4-B, I24 on lines O2-O4 and A-B (Kennedy)."""
     A, B = np.asarray(A, complex), np.asarray(B, complex)
     O2 = np.zeros_like(A)
-    O4 = np.full_like(A, O4)
-    return {"I12": O2, "I14": O4, "I23": A, "I34": B,
-            "I13": _line_intersection(O2, A, O4, B), "I24": _line_intersection(O2, O4, A, B)}
+    O4_arr = np.full_like(A, O4)
+    return {"I12": O2, "I14": O4_arr, "I23": A, "I34": B,
+            "I13": _line_intersection(O2, A, O4_arr, B), "I24": _line_intersection(O2, O4_arr, A, B)}
 
 
 def two_port_rigid_ma(pose: FourBarPose, O4: complex, d_in: float, d_out2: float, d_out3: float,
-                      *, via: str = "instant_centres"):
+                      *, via: str = "instant_centres") -> Value:
     """Eq (205): MA_R of the four-bar with the input on link 4 and equal output forces on links 2
     and 3 at d_out2, d_out3.  via = 'instant_centres' (as printed) or 'coefficients' (omega2/omega4
     = 1/h4, omega3/omega4 = h3/h4 of the input-at-link-4 rates)."""
@@ -186,12 +195,14 @@ def two_port_rigid_ma(pose: FourBarPose, O4: complex, d_in: float, d_out2: float
     return d_in / (ratio2 * d_out2 + ratio3 * d_out3)
 
 
-def compliant_ma(rigid_ma, compliance_force, input_force):
+def compliant_ma(rigid_ma: ArrayLike, compliance_force: ArrayLike, input_force: ArrayLike) -> NDArray[np.float64]:
     """Eq (192): MA = MA_R (1 - F_c/F_i)."""
-    return np.asarray(rigid_ma, float) * (1.0 - np.asarray(compliance_force, float) / np.asarray(input_force, float))
+    ma: NDArray[np.float64] = np.asarray(rigid_ma, float) * (1.0 - np.asarray(compliance_force, float)
+                                                             / np.asarray(input_force, float))
+    return ma
 
 
-def type2_ma(rigid_ma: float, compliance_force: float, input_forces) -> np.ndarray:
+def type2_ma(rigid_ma: float, compliance_force: float, input_forces: ArrayLike) -> NDArray[np.float64]:
     """Type 2 MA: eq (192) at one work-piece location (MA_R and F_c fixed) over the input forces."""
     forces = np.asarray(input_forces, float)
     if np.any(forces == 0.0):
@@ -219,16 +230,16 @@ def type3_equilibrium(input_force: float, d_in: float, stiffness: float,
     q_contact and q_limit (Brent).  Raises ValueError when no equilibrium lies in that range."""
     h = 1e-6 * max(abs(q_limit - q_contact), 1e-9)
 
-    def rate(q):
+    def rate(q: float) -> float:
         return (travel(q + h) - travel(q - h)) / (2.0 * h)
 
-    def unbalanced(q):
+    def unbalanced(q: float) -> float:
         return input_force * d_in - compliance_torque(q) - stiffness * travel(q) * rate(q)
 
     r0, r1 = unbalanced(q_contact), unbalanced(q_limit)
     if not (math.isfinite(r0) and math.isfinite(r1)) or r0 * r1 > 0.0:
         raise ValueError(f"type3_equilibrium: no equilibrium between q = {q_contact:.6g} and {q_limit:.6g} "
                          f"(unbalanced torque {r0:.4g} and {r1:.4g})")
-    q = brentq(unbalanced, q_contact, q_limit, xtol=1e-14)
+    q: float = brentq(unbalanced, q_contact, q_limit, xtol=1e-14)
     s = travel(q)
     return Type3Point(q, s, stiffness * s, stiffness * s / input_force)

@@ -29,8 +29,9 @@ import time
 from typing import Iterable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from prbm.fits import fit_family
+from prbm.fits import FitFamily, fit_family
 from prbm.result import PRBMResult
 from prbm.segments import fixed_pinned_tip
 from prbm.lazy import LazyModule
@@ -50,9 +51,11 @@ def capstan_factor(mu: float, contact_angle: float) -> float:
     return math.exp(-mu * contact_angle)
 
 
-def composite_beam_tip(force, n=0.0, *, length: float, layers=None, EI: float | None = None,
+def composite_beam_tip(force: ArrayLike, n: float = 0.0, *, length: float,
+                       layers: Iterable[tuple[float, float, float]] | None = None, EI: float | None = None,
                        force_is: str = "transverse", friction_mu: float = 0.0, contact_angle: float = 0.0,
-                       follower: bool = False, family="pauly-midha", extrapolate: str = "raise") -> PRBMResult:
+                       follower: bool = False, family: str | FitFamily = "pauly-midha",
+                       extrapolate: str = "raise") -> PRBMResult:
     """Tip (a, b, theta0) of the Test-1 composite fixed-pinned beam under the 'Applied Force' levels.
 
     force: applied force levels; force_is = 'transverse' (the force is P) or 'resultant' (F = P eta).
@@ -77,15 +80,15 @@ def composite_beam_tip(force, n=0.0, *, length: float, layers=None, EI: float | 
     # P < 0: the model mirrored about x (b, theta0, Theta change sign), fits at -n so that -nP is kept
     sign = np.where(np.asarray(P) < 0, -1.0, 1.0)
     n_eff = np.atleast_1d(float(n) * sign)
-    gamma, c_theta, K = (np.broadcast_to(v, n_eff.shape) for v in fam.model_parameters(n_eff, extrapolate))
+    gamma_n, c_theta_n, K_n = (np.broadcast_to(v, n_eff.shape) for v in fam.model_parameters(n_eff, extrapolate))
     phi = np.arctan2(1.0, -n_eff)
     beta = np.atleast_1d(np.abs(P) * eta * length**2 / EI)
     Theta = np.array([0.0 if bb == 0 else optimize.brentq(lambda t: bb * math.sin(ph + (c - 1) * t) - k * t,
                                                  0.0, (bb + 1.0) / k, xtol=1e-14)
-                      for bb, ph, c, k in zip(beta, phi, c_theta, K)])
+                      for bb, ph, c, k in zip(beta, phi, c_theta_n, K_n)])
     ok, nit = np.ones(Theta.shape, bool), 0
     Theta = Theta.reshape(np.shape(P)) * sign
-    gamma, c_theta, K = (v.reshape(np.shape(P)) if np.ndim(P) else float(v[0]) for v in (gamma, c_theta, K))
+    gamma, c_theta, K = (v.reshape(np.shape(P)) if np.ndim(P) else float(v[0]) for v in (gamma_n, c_theta_n, K_n))
     out = {"a": length - gamma * length * (1 - np.cos(Theta)), "b": gamma * length * np.sin(Theta),
            "theta0": c_theta * Theta, "Theta": Theta, "P": P}
     return PRBMResult(bool(np.all(ok)), "converged" if np.all(ok) else "not converged",

@@ -34,14 +34,15 @@ from __future__ import annotations
 
 import cmath
 import time
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import root_scalar
 
-from prbm.inflection import InflectionBeam, solve_loads
-from prbm.result import PRBMResult
+from prbm.inflection import InflectionBeam, Prefer, solve_loads
+from prbm.result import Levels, PRBMResult
 
 __all__ = ["BodyLoad", "body_end_loads", "solve_segment_with_body", "inflection_pivots"]
 
@@ -55,7 +56,7 @@ class BodyLoad:
     moment: float = 0.0
 
 
-def body_end_loads(loads: list[BodyLoad], rotation) -> tuple[complex, np.ndarray]:
+def body_end_loads(loads: list[BodyLoad], rotation: ArrayLike) -> tuple[complex, NDArray[np.float64]]:
     """(F_E, M_E) at the segment end for the body turned by ``rotation`` (rad, vectorised)."""
     rotation = np.asarray(rotation, float)
     F = sum((ld.force for ld in loads), 0j)
@@ -66,7 +67,7 @@ def body_end_loads(loads: list[BodyLoad], rotation) -> tuple[complex, np.ndarray
     return F, M
 
 
-def inflection_pivots(outputs: dict) -> np.ndarray:
+def inflection_pivots(outputs: Mapping[str, Levels]) -> NDArray[np.float64]:
     """PRB chain of the inflection model, eqs (103)-(104) term by term: fixed end, pivot 1,
     inflection point, pivot 2, end; an (5, 2) array in the segment frame."""
     o = {k: float(np.asarray(v)) for k, v in outputs.items() if np.size(v) == 1}
@@ -81,7 +82,7 @@ def inflection_pivots(outputs: dict) -> np.ndarray:
 
 def solve_segment_with_body(segment: InflectionBeam | Callable[[complex, float], PRBMResult],
                             loads: list[BodyLoad], points: dict[str, complex] | None = None, *,
-                            rest: tuple[float, float, float] | None = None, prefer="energy",
+                            rest: tuple[float, float, float] | None = None, prefer: Prefer = "energy",
                             xtol: float = 1e-12, maxiter: int = 60) -> PRBMResult:
     """Equilibrium of segment + rigid body under dead loads at body points.
 
@@ -102,9 +103,11 @@ def solve_segment_with_body(segment: InflectionBeam | Callable[[complex, float],
     F, _ = body_end_loads(loads, 0.0)
     unloaded = F == 0 and all(ld.moment == 0 for ld in loads)
 
-    def moment(theta0):
+    def moment(theta0: ArrayLike) -> NDArray[np.float64]:
         return body_end_loads(loads, np.asarray(theta0) - t_rest)[1]
 
+    seg: PRBMResult | None
+    outputs: dict[str, Levels]
     if unloaded:
         seg = None
         a, b, t0 = a0, b0, t_rest
@@ -118,7 +121,7 @@ def solve_segment_with_body(segment: InflectionBeam | Callable[[complex, float],
         ok, msg, nit = bool(seg.converged), seg.message, seg.nit
         outputs = {k: v for k, v in o.items() if k not in ("M", "P", "nP")}
     else:
-        def theta_of(theta0):
+        def theta_of(theta0: float) -> float:
             return float(np.asarray(segment(F, float(moment(theta0))).outputs["theta0"]).ravel()[0])
 
         first = theta_of(t_rest)

@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import itertools
 from dataclasses import dataclass
+from typing import TypedDict
 
 __all__ = ["grubler", "Segment", "PRBMTopology", "SEGMENT_MODES", "ModeShape"]
 
@@ -55,6 +56,28 @@ SEGMENT_MODES: dict[str, dict[int, tuple[int, int]]] = {
 def grubler(n_bodies: int, lower_pairs: int, higher_pairs: int = 0) -> int:
     """Planar mobility F = 3(n - 1) - 2j - h, eq (207)."""
     return 3 * (n_bodies - 1) - 2 * lower_pairs - higher_pairs
+
+
+class Mobility(TypedDict):
+    """F_C, f_r, f_e of one mode combination (eq 208, split as in the module docstring)."""
+
+    F_C: int
+    f_r: int
+    f_e: int
+
+
+class ModeRow(Mobility):
+    """One row of ``PRBMTopology.mode_table``: the modes, the inflection count and the counts."""
+
+    modes: tuple[int, ...]
+    inflections: int
+
+
+class ProcedureStep(ModeRow):
+    """One step of ``PRBMTopology.procedure``: a ``ModeRow`` with its energy rank and verdict."""
+
+    rank: int
+    verdict: str
 
 
 @dataclass(frozen=True)
@@ -89,7 +112,7 @@ class PRBMTopology:
     segments: list[Segment]
     higher_pairs: int = 0
 
-    def mobility(self, modes: tuple[int, ...]) -> dict[str, int]:
+    def mobility(self, modes: tuple[int, ...]) -> Mobility:
         """F_C, f_r, f_e for one mode per segment (eq 208, split as in the module docstring)."""
         links = joints = 0
         for seg, mode in zip(self.segments, modes):
@@ -111,9 +134,10 @@ class PRBMTopology:
         shapes.sort(key=lambda s: (s.inflections, max(s.modes, default=1), s.modes))
         return [ModeShape(s.modes, s.F_C, s.f_r, s.f_e, s.inflections, rank) for rank, s in enumerate(shapes, 1)]
 
-    def procedure(self, max_mode: int = 2) -> list[dict]:
+    def procedure(self, max_mode: int = 2) -> list[ProcedureStep]:
         """Section 8.5 steps in energy order: each combination with F_C, f_r, f_e and the verdict."""
-        steps, first = [], None
+        steps: list[ProcedureStep] = []
+        first: ModeShape | None = None
         for shape in self.ranked_modes(max_mode):
             if not shape.feasible:
                 verdict = "F_C <= 0: infeasible (step 4), raise a segment's mode"
@@ -126,13 +150,11 @@ class PRBMTopology:
                           "F_C": shape.F_C, "f_r": shape.f_r, "f_e": shape.f_e, "verdict": verdict})
         return steps
 
-    def mode_table(self, max_mode: int = 2) -> list[dict]:
+    def mode_table(self, max_mode: int = 2) -> list[ModeRow]:
         choices = [[m for m in SEGMENT_MODES[s.kind] if m <= max_mode] for s in self.segments]
-        rows = []
+        rows: list[ModeRow] = []
         for modes in itertools.product(*choices):
-            row = {"modes": modes, "inflections": sum(m - 1 for m in modes)}
-            row.update(self.mobility(modes))
-            rows.append(row)
+            rows.append({"modes": modes, "inflections": sum(m - 1 for m in modes), **self.mobility(modes)})
         return rows
 
     def max_dof(self, max_mode: int = 2) -> int:
@@ -144,7 +166,7 @@ class PRBMTopology:
         feasible = [s for s in self.ranked_modes(max_mode) if s.feasible]
         return feasible[0].F_C if feasible else 0
 
-    def expected_mode(self, max_mode: int = 2) -> dict:
+    def expected_mode(self, max_mode: int = 2) -> ModeRow:
         """Lowest-energy feasible mode shape: fewest inflection points with F_C >= 1 (section 8.5)."""
         feasible = [r for r in self.mode_table(max_mode) if r["F_C"] >= 1]
         if not feasible:

@@ -34,18 +34,25 @@ Angles are in radians (degrees appear only in case files and reports).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
+from typing import TypeAlias
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import least_squares
 
-from prbm.fits import fit_family
+from prbm.fits import FitFamily, fit_family
 
 __all__ = ["fixed_pinned_domain", "curved_fixed_pinned_domain", "fixed_guided_domain",
            "fixed_fixed_monotonic_domain", "slfp_domain", "boundary_curves", "fit_radius"]
 
+#: a swept domain (module docstring): the points' arrays, the boundary curves (arrays), the exclusion
+#: counts (ints), and for the SLFP the arc's radius (a float) and pivot (x, y)
+Domain: TypeAlias = dict[str, NDArray[np.float64] | int | float | tuple[float, float]]
 
-def fixed_pinned_domain(n_values=None, theta0_max_deg: float = 90.0, n_theta: int = 91,
-                        family="pauly-midha") -> dict[str, np.ndarray]:
+
+def fixed_pinned_domain(n_values: ArrayLike | None = None, theta0_max_deg: float = 90.0, n_theta: int = 91,
+                        family: str | FitFamily = "pauly-midha") -> dict[str, NDArray[np.float64]]:
     """End points (a/l, b/l) of the straight fixed-pinned PRBM for n in n_values and PRB angles
     Theta from 0 up to min(theta0_max / c_theta, phi) (theta0 = c_theta Theta <= theta0_max, and
     Theta < phi, the force direction).  Vectorised: one (n, Theta) grid, no root finding (Theta is
@@ -69,13 +76,15 @@ def fixed_pinned_domain(n_values=None, theta0_max_deg: float = 90.0, n_theta: in
             "alpha2": alpha2.ravel()}
 
 
-def boundary_curves(a, b, bins: int = 60) -> dict[str, np.ndarray]:
+def boundary_curves(a: ArrayLike, b: ArrayLike, bins: int = 60) -> dict[str, NDArray[np.float64]]:
     """Lower (min a) and upper (max a) boundary of a point cloud, per bin of b."""
     a = np.asarray(a, float)
     b = np.asarray(b, float)
     edges = np.linspace(b.min(), b.max(), bins + 1)
     idx = np.clip(np.digitize(b, edges) - 1, 0, bins - 1)
-    centres, lower, upper = [], [], []
+    centres: list[float] = []
+    lower: list[float] = []
+    upper: list[float] = []
     for i in range(bins):
         mask = idx == i
         if mask.any():
@@ -85,7 +94,7 @@ def boundary_curves(a, b, bins: int = 60) -> dict[str, np.ndarray]:
     return {"b": np.array(centres), "lower": np.array(lower), "upper": np.array(upper)}
 
 
-def fit_radius(a, b, *, centre: str = "prbm") -> float:
+def fit_radius(a: ArrayLike, b: ArrayLike, *, centre: str = "prbm") -> float:
     """Least-squares gamma of a circle through boundary points (a, b) (normalised by l).
 
     centre='prbm': circle of radius gamma about ((1 - gamma), 0) (eqs 48-49);
@@ -96,37 +105,39 @@ def fit_radius(a, b, *, centre: str = "prbm") -> float:
     if centre == "clamp":
         return float(np.mean(np.hypot(a, b)))
 
-    def residual(g):
-        return np.hypot(a - (1 - g[0]), b) - g[0]
+    def residual(g: NDArray[np.float64]) -> NDArray[np.float64]:
+        r: NDArray[np.float64] = np.hypot(a - (1 - g[0]), b) - g[0]
+        return r
 
     return float(least_squares(residual, [0.85]).x[0])
 
 
-def _default_n(fam) -> np.ndarray:
+def _default_n(fam: FitFamily) -> NDArray[np.float64]:
     """The load-ratio grid of ``fixed_pinned_domain``: 141 values over the fit range clipped to -4..10."""
     return np.linspace(max(fam.lower, -4.0) + 1e-9, min(fam.upper, 10.0), 141)
 
 
-def _fit_range_n(fam, n_values) -> tuple[np.ndarray, int]:
+def _fit_range_n(fam: FitFamily, n_values: ArrayLike | None) -> tuple[NDArray[np.float64], int]:
     """(n inside the family's published range lower < n <= upper, number of n values dropped)."""
     n = np.atleast_1d(np.asarray(_default_n(fam) if n_values is None else n_values, float)).ravel()
     inside = (n > fam.lower) & (n <= fam.upper)
     return n[inside], int(np.count_nonzero(~inside))
 
 
-def _with_boundaries(points: dict, bins: int, **counts) -> dict:
+def _with_boundaries(points: Mapping[str, ArrayLike], bins: int, **counts: int) -> Domain:
     """Flatten the swept grids, attach the boundary curves of the cloud and the exclusion counts."""
-    out = {key: np.ravel(value) for key, value in points.items()}
-    if out["a"].size:
-        bc = boundary_curves(out["a"], out["b"], bins=bins)
+    flat = {key: np.ravel(value) for key, value in points.items()}
+    if flat["a"].size:
+        bc = boundary_curves(flat["a"], flat["b"], bins=bins)
     else:
         bc = {"b": np.empty(0), "lower": np.empty(0), "upper": np.empty(0)}
-    out.update(boundary_b=bc["b"], boundary_lower=bc["lower"], boundary_upper=bc["upper"])
-    out.update(counts)
+    out: Domain = {**flat, "boundary_b": bc["b"], "boundary_lower": bc["lower"], "boundary_upper": bc["upper"],
+                   **counts}
     return out
 
 
-def _curved_grid(kappa0, n, fam, theta0_max_deg: float, n_theta: int) -> dict[str, np.ndarray]:
+def _curved_grid(kappa0: ArrayLike, n: NDArray[np.float64], fam: FitFamily, theta0_max_deg: float,
+                 n_theta: int) -> dict[str, NDArray[np.float64]]:
     """Initially curved fixed-pinned PRBM (l = EI = 1) on the grid kappa0 x n x s, s in [0, 1].
 
     Geometry of eqs (53)-(57): a_i = sin(kappa0)/kappa0, b_i = (1 - cos kappa0)/kappa0,
@@ -163,8 +174,9 @@ def _curved_grid(kappa0, n, fam, theta0_max_deg: float, n_theta: int) -> dict[st
             "n": np.broadcast_to(nn, shape), "kappa0": np.broadcast_to(k0, shape)}
 
 
-def curved_fixed_pinned_domain(curvature, n_values=None, theta0_max_deg: float = 90.0, n_theta: int = 91,
-                               family="pauly-midha", bins: int = 60) -> dict:
+def curved_fixed_pinned_domain(curvature: ArrayLike, n_values: ArrayLike | None = None,
+                               theta0_max_deg: float = 90.0, n_theta: int = 91,
+                               family: str | FitFamily = "pauly-midha", bins: int = 60) -> Domain:
     """Characteristic deflection domain of an initially curved fixed-pinned segment [bapat2015, §4.5].
 
     curvature: kappa0 = l/R_i (dimensionless, CCW positive; eq 53), a scalar or an array of values.
@@ -189,8 +201,8 @@ def curved_fixed_pinned_domain(curvature, n_values=None, theta0_max_deg: float =
     return _with_boundaries(grid, bins, excluded=dropped * n_kappa * n_theta)
 
 
-def fixed_guided_domain(n_values=None, theta0_max_deg: float = 90.0, n_theta: int = 91,
-                        family="pauly-midha", bins: int = 60) -> dict:
+def fixed_guided_domain(n_values: ArrayLike | None = None, theta0_max_deg: float = 90.0, n_theta: int = 91,
+                        family: str | FitFamily = "pauly-midha", bins: int = 60) -> Domain:
     """Characteristic deflection domain of an initially straight fixed-guided segment, end slope held
     at zero, by the two-spring PRBM ([bapat2015, eq 63], [ananthasuresh_l18, 07:13-12:05]; section 4.6).
 
@@ -223,9 +235,10 @@ def fixed_guided_domain(n_values=None, theta0_max_deg: float = 90.0, n_theta: in
     return _with_boundaries(points, bins, excluded=dropped * n_theta)
 
 
-def fixed_fixed_monotonic_domain(moment_values, n_values=None, curvature: float = 0.0,
-                                 theta0_max_deg: float = 90.0, n_theta: int = 91, family="pauly-midha",
-                                 kappa_monotonic: float = 2.0, bins: int = 60) -> dict:
+def fixed_fixed_monotonic_domain(moment_values: ArrayLike, n_values: ArrayLike | None = None,
+                                 curvature: float = 0.0, theta0_max_deg: float = 90.0, n_theta: int = 91,
+                                 family: str | FitFamily = "pauly-midha", kappa_monotonic: float = 2.0,
+                                 bins: int = 60) -> Domain:
     """Characteristic deflection domain of a fixed-fixed (fixed-guided) segment with monotonic
     curvature [bapat2015, §4.6, Fig. 4.8], with the moment bounds of section 4.6.1.
 
@@ -259,8 +272,8 @@ def fixed_fixed_monotonic_domain(moment_values, n_values=None, curvature: float 
                             excluded_inflection=int(np.count_nonzero(~keep)))
 
 
-def slfp_domain(flexure_fraction: float, n_values=None, curvature: float = 0.0, theta_max_deg: float = 90.0,
-                n_theta: int = 91, bins: int = 60) -> dict:
+def slfp_domain(flexure_fraction: float, n_values: ArrayLike | None = None, curvature: float = 0.0,
+                theta_max_deg: float = 90.0, n_theta: int = 91, bins: int = 60) -> Domain:
     """Characteristic deflection domain of a fixed-free segment made of a small-length flexural pivot
     (length l) and a rigid segment (length L), [bapat2015, §4.7] (eqs 71-82, 127).
 

@@ -19,32 +19,34 @@ Angles are in radians (degrees appear only in case files and reports).
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["prbm_arc", "clamp_arc", "inflection_lower_bound", "slfp_arc_radius", "INFLECTION_LOWER_FIT"]
 
 INFLECTION_LOWER_FIT = (0.934, -0.0591, -1.6211, 4.9649, -11.366, 13.746, -7.0759)   # eq (116), b^0..b^6
 
 
-def _root(r2):
+def _root(r2: NDArray[np.float64]) -> NDArray[np.float64]:
     with np.errstate(invalid="ignore"):
         return np.where(r2 >= 0.0, np.sqrt(np.where(r2 >= 0.0, r2, 0.0)), np.nan)
 
 
-def prbm_arc(gamma: float, b):
+def prbm_arc(gamma: float, b: ArrayLike) -> NDArray[np.float64]:
     """a/l of the PRB arc of radius gamma about ((1 - gamma), 0) at height b/l (eqs 48, 49)."""
     b = np.asarray(b, float)
     return 1.0 - gamma + _root(gamma**2 - b**2)
 
 
-def clamp_arc(gamma_bar: float, b):
+def clamp_arc(gamma_bar: float, b: ArrayLike) -> NDArray[np.float64]:
     """a/l of the circle of radius gamma-bar about the fixed end at height b/l (eq 117)."""
     b = np.asarray(b, float)
     return _root(gamma_bar**2 - b**2)
 
 
-def inflection_lower_bound(b):
+def inflection_lower_bound(b: ArrayLike) -> NDArray[np.float64]:
     """Eq (116): the curve fit of the lower bound of the one-inflection fixed-guided domain."""
-    return np.polynomial.polynomial.polyval(np.asarray(b, float), INFLECTION_LOWER_FIT)
+    a: NDArray[np.float64] = np.polynomial.polynomial.polyval(np.asarray(b, float), INFLECTION_LOWER_FIT)
+    return a
 
 
 def slfp_arc_radius(flexure_length: float, rigid_length: float) -> float:

@@ -27,9 +27,11 @@ Angles are in radians (degrees appear only in case files and reports).
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import NDArray
 from scipy.optimize import brentq
 
 from prbm.fits import PAULY_MIDHA
@@ -87,8 +89,8 @@ def feasible_l1(*, length: float, b: float, theta0: float, samples: int = 200, g
             for x in l1s]
 
 
-def approximate_domain(*, length: float, theta0: float, b_values, samples: int = 100, gamma: float = GAMMA_AVERAGE,
-                       c_theta: float = C_THETA_AVERAGE) -> np.ndarray:
+def approximate_domain(*, length: float, theta0: float, b_values: Iterable[float], samples: int = 100,
+                       gamma: float = GAMMA_AVERAGE, c_theta: float = C_THETA_AVERAGE) -> NDArray[np.float64]:
     """Fig. 3.12's approximate characteristic deflection domain for one end angle: the end points (a, b)
     of every feasible (b, l1) pair, as an (m, 2) array."""
     points = [(s.a, b) for b in b_values

@@ -38,8 +38,10 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
+from typing import Any, overload
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 
 class FitRangeError(ValueError):
@@ -74,7 +76,13 @@ class PiecewiseFit:
     def upper(self) -> float:
         return self.branches[-1].upper
 
-    def __call__(self, n, extrapolate: str = "raise"):
+    @overload
+    def __call__(self, n: float, extrapolate: str = "raise") -> float: ...
+
+    @overload
+    def __call__(self, n: NDArray[Any], extrapolate: str = "raise") -> NDArray[np.float64]: ...
+
+    def __call__(self, n: float | NDArray[Any], extrapolate: str = "raise") -> float | NDArray[np.float64]:
         """Evaluate at load ratio(s) n (scalar or array)."""
         if isinstance(n, float) or np.ndim(n) == 0:  # scalar fast path (root finders call this in their inner loop)
             x = float(n)
@@ -155,7 +163,15 @@ class FitFamily:
         fits = [self.gamma, self.K_theta] + ([self.c_theta] if self.c_theta else [])
         return min(f.upper for f in fits)
 
-    def parameters(self, n, extrapolate: str = "raise"):
+    @overload
+    def parameters(self, n: float, extrapolate: str = "raise") -> tuple[float, float, float]: ...
+
+    @overload
+    def parameters(self, n: NDArray[Any], extrapolate: str = "raise") -> tuple[
+            NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
+
+    def parameters(self, n: float | NDArray[Any], extrapolate: str = "raise") -> tuple[
+            float | NDArray[np.float64], float | NDArray[np.float64], float | NDArray[np.float64]]:
         """(gamma, c_theta, K_theta) at n.  c_theta is NaN when the family publishes none."""
         g = self.gamma(n, extrapolate)
         k = self.K_theta(n, extrapolate)
@@ -165,7 +181,15 @@ class FitFamily:
             c = self.c_theta(n, extrapolate)
         return g, c, k
 
-    def model_parameters(self, n, extrapolate: str = "raise"):
+    @overload
+    def model_parameters(self, n: float, extrapolate: str = "raise") -> tuple[float, float, float]: ...
+
+    @overload
+    def model_parameters(self, n: NDArray[Any], extrapolate: str = "raise") -> tuple[
+            NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
+
+    def model_parameters(self, n: float | NDArray[Any], extrapolate: str = "raise") -> tuple[
+            float | NDArray[np.float64], float | NDArray[np.float64], float | NDArray[np.float64]]:
         """``parameters`` for a segment model: extrapolated values that give no PRB model (gamma <= 0 or
         K_theta <= 0, which the polynomials reach far outside their ranges) raise FitRangeError.  (A
         solver's trial point may read ``parameters`` there; a model's answer may not.)"""
@@ -175,7 +199,7 @@ class FitFamily:
         return g, c, k
 
 
-def _unphysical(family: str, n, gamma, K_theta) -> str:
+def _unphysical(family: str, n: ArrayLike, gamma: ArrayLike, K_theta: ArrayLike) -> str:
     """Why an extrapolated fit gives no PRB model: a characteristic radius or a spring that is not
     positive (the fits' polynomials reach that far outside their published ranges; the spring equation
     (*) has no meaningful root with k <= 0)."""
@@ -253,11 +277,28 @@ PURE_MOMENT_K_THETA = PURE_MOMENT_SPRING / PURE_MOMENT_GAMMA  # Howell's K_Theta
 PURE_MOMENT_C_THETA = PURE_MOMENT_SPRING  # from the exact theta_0 = M L / EI
 
 
-def load_angle(n):
+@overload
+def load_angle(n: float) -> float: ...
+
+
+@overload
+def load_angle(n: NDArray[Any]) -> NDArray[np.float64]: ...
+
+
+def load_angle(n: float | NDArray[Any]) -> float | NDArray[np.float64]:
     """phi = atan2(1, -n) in (0, pi): direction of the end force (-nP, P) for P > 0."""
     return np.arctan2(1.0, -np.asarray(n, dtype=float)) if np.ndim(n) else math.atan2(1.0, -float(n))
 
 
-def load_ratio(phi):
+@overload
+def load_ratio(phi: float) -> float: ...
+
+
+@overload
+def load_ratio(phi: NDArray[Any]) -> NDArray[np.float64]: ...
+
+
+def load_ratio(phi: float | NDArray[Any]) -> float | NDArray[np.float64]:
     """n = -1/tan(phi) = -cos(phi)/sin(phi) [bapat2015, eqs 93/94]."""
-    return -np.cos(phi) / np.sin(phi)
+    n: float | NDArray[np.float64] = -np.cos(phi) / np.sin(phi)
+    return n

@@ -54,31 +54,43 @@ import functools
 import math
 import time
 import warnings
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Callable
+from typing import Any, Generic, Literal, TypeAlias, TypeVar
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import root
 
 from prbm.fits import PAULY_MIDHA, FitFamily, PiecewiseFit, fit_family
-from prbm.result import PRBMResult
+from prbm.result import Levels, PRBMResult
 
 __all__ = ["InflectionBeam", "inflection_state", "solve_loads", "solve_displacements"]
 
 DEG = math.pi / 180.0
 
+#: a variable of eqs (83)-(104) at one point (a float) or at the columns of a grid of points (an array)
+Value: TypeAlias = float | NDArray[np.float64]
+#: the unknowns of a problem at one point (MINPACK's, as floats) or at a grid of points (one row an unknown)
+Point: TypeAlias = Sequence[float] | NDArray[np.float64]
+#: the opposing end moment M as a function of the end angle theta0 (rad), at one or many theta0
+Moment: TypeAlias = Callable[[Value], Value]
+#: the ordering of valid roots: "energy" (lowest first), (key, target) (closest first), or None (as found)
+Prefer: TypeAlias = Literal["energy"] | tuple[str, float] | None
+
 
 class InflectionBeam:
     """The beam: length l, bending stiffness EI, fit family (default Pauly-Midha, as in chapter 3)."""
 
-    def __init__(self, length: float, EI: float, family: str | FitFamily = PAULY_MIDHA):
+    def __init__(self, length: float, EI: float, family: str | FitFamily = PAULY_MIDHA) -> None:
         self.length = float(length)
         self.EI = float(EI)
         self.family = fit_family(family)
         self.fits = _plain_parameters(self.family)   # (gamma, c_theta, K_theta) at one float n
 
 
-def inflection_state(beam: InflectionBeam, F, phi1, theta0, l1, theta10) -> dict[str, np.ndarray]:
+def inflection_state(beam: InflectionBeam, F: ArrayLike, phi1: ArrayLike, theta0: ArrayLike, l1: ArrayLike,
+                     theta10: ArrayLike) -> dict[str, NDArray[np.float64]]:
     """Every variable of eqs (83)-(104) from F, phi1, theta0, l1, theta10 (vectorised).
 
     Returns the residuals r95, r96 (dimensionless) and the outputs M (eq 99, opposing-positive),
@@ -112,14 +124,15 @@ def inflection_state(beam: InflectionBeam, F, phi1, theta0, l1, theta10) -> dict
             "a": a, "b": b, "r95": r95, "r96": r96, "U": U}
 
 
-def _force_from_95(beam, phi1, l1, theta10):
+def _force_from_95(beam: InflectionBeam, phi1: Value, l1: Value, theta10: Value) -> Value:
     """F explicit from eq (95) (with c1, K1 at n = n(phi1))."""
     with np.errstate(divide="ignore", invalid="ignore"):
         n = -np.cos(phi1) / np.sin(phi1)
     _, c1, K1 = beam.family.parameters(np.nan_to_num(n, nan=0.0, posinf=1e3, neginf=-1e3), "allow")
     Th1 = theta10 / c1
     with np.errstate(divide="ignore", invalid="ignore"):
-        return K1 * Th1 * beam.EI / (l1**2 * np.sin(phi1 - Th1))
+        F: Value = K1 * Th1 * beam.EI / (l1**2 * np.sin(phi1 - Th1))
+        return F
 
 
 
@@ -171,7 +184,7 @@ def _plain_parameters(family: FitFamily) -> Callable[[float], tuple[float, float
     if known is not None and known[0] is family:
         return known[1]
     gamma, K = _horner(family.gamma), _horner(family.K_theta)
-    c = _horner(family.c_theta) if family.c_theta is not None else (lambda x: math.nan)
+    c: Callable[[float], float] = _horner(family.c_theta) if family.c_theta is not None else (lambda x: math.nan)
 
     @functools.lru_cache(maxsize=1024)
     def parameters(n: float) -> tuple[float, float, float]:
@@ -180,7 +193,7 @@ def _plain_parameters(family: FitFamily) -> Callable[[float], tuple[float, float
     return parameters
 
 
-def _point_force(beam, phi1: float, l1: float, theta10: float) -> float:
+def _point_force(beam: InflectionBeam, phi1: float, l1: float, theta10: float) -> float:
     """``_force_from_95`` at one point in plain floats (the root finders' inner loop)."""
     try:
         _, c1, K1 = beam.fits(_fit_ratio(_ratio(math.cos(phi1), math.sin(phi1))))
@@ -191,7 +204,8 @@ def _point_force(beam, phi1: float, l1: float, theta10: float) -> float:
             return float(_force_from_95(beam, phi1, l1, theta10))
 
 
-def _point_state(beam, F: float, phi1: float, theta0: float, l1: float, theta10: float) -> dict[str, float]:
+def _point_state(beam: InflectionBeam, F: float, phi1: float, theta0: float, l1: float, theta10: float
+                 ) -> dict[str, float]:
     """``inflection_state`` at one point in plain floats: the same equations (95)-(104), the same keys.
 
     The root finders evaluate one point at a time, where numpy's per-call overhead is most of the cost;
@@ -202,7 +216,8 @@ def _point_state(beam, F: float, phi1: float, theta0: float, l1: float, theta10:
         return _numpy_point(beam, None, F, phi1, theta0, l1, theta10)
 
 
-def _numpy_point(beam, keys: tuple[str, ...] | None, F, phi1, theta0, l1, theta10) -> dict[str, float]:
+def _numpy_point(beam: InflectionBeam, keys: tuple[str, ...] | None, F: float, phi1: float, theta0: float,
+                 l1: float, theta10: float) -> dict[str, float]:
     """``keys`` (None: all) of ``inflection_state`` at one point as floats, numpy's inf/NaN arithmetic
     where the plain-float kernels' ``math`` raises."""
     with np.errstate(all="ignore"):
@@ -210,7 +225,8 @@ def _numpy_point(beam, keys: tuple[str, ...] | None, F, phi1, theta0, l1, theta1
     return {k: float(s[k]) for k in (s if keys is None else keys)}
 
 
-def _point_ends(beam, F: float, phi1: float, theta0: float, l1: float, theta10: float) -> dict[str, float]:
+def _point_ends(beam: InflectionBeam, F: float, phi1: float, theta0: float, l1: float, theta10: float
+                ) -> dict[str, float]:
     """Only r96, a and b of ``_point_state`` (what the displacement problems' residuals read), the same
     floats: the root finders' inner loop, without the other 23 variables and their dictionary."""
     try:
@@ -220,7 +236,8 @@ def _point_ends(beam, F: float, phi1: float, theta0: float, l1: float, theta10: 
         return _numpy_point(beam, ("r96", "a", "b"), F, phi1, theta0, l1, theta10)
 
 
-def _point_core(beam, F, phi1, theta0, l1, theta10) -> tuple:
+def _point_core(beam: InflectionBeam, F: float, phi1: float, theta0: float, l1: float, theta10: float
+                ) -> tuple[float, ...]:
     """The variables of eqs (95)-(104) in plain floats up to r96 (96), a (103) and b (104), in the order
     ``_point_equations`` unpacks them."""
     l, EI = beam.length, beam.EI
@@ -239,7 +256,8 @@ def _point_core(beam, F, phi1, theta0, l1, theta10) -> tuple:
     return sin1, cos1, phi2, n, n2, g1, c1, K1, g2, c2, K2, l2, theta20, Th1, Th2, ct, st, r96, a, b
 
 
-def _point_loads(beam, F: float, phi1: float, theta0: float, l1: float, theta10: float) -> dict[str, float]:
+def _point_loads(beam: InflectionBeam, F: float, phi1: float, theta0: float, l1: float, theta10: float
+                 ) -> dict[str, float]:
     """Only r95, r96 and M of ``_point_state`` (what the load problem's residual reads), the same floats."""
     try:
         core = _point_core(beam, F, phi1, theta0, l1, theta10)
@@ -249,7 +267,8 @@ def _point_loads(beam, F: float, phi1: float, theta0: float, l1: float, theta10:
         return _numpy_point(beam, ("r95", "r96", "M"), F, phi1, theta0, l1, theta10)
 
 
-def _point_end_loads(beam, F, phi1, l1, core: tuple) -> tuple:
+def _point_end_loads(beam: InflectionBeam, F: float, phi1: float, l1: float, core: tuple[float, ...]
+                     ) -> tuple[float, float, float, float]:
     """P, nP, r95 (95) and M (99) in plain floats from ``_point_core``'s variables."""
     sin1, cos1, _, _, _, _, _, K1, g2, _, _, l2, _, Th1, Th2, ct, st, _, _, _ = core
     P, nP = F * sin1, -F * cos1
@@ -259,7 +278,8 @@ def _point_end_loads(beam, F, phi1, l1, core: tuple) -> tuple:
     return P, nP, r95, M
 
 
-def _point_equations(beam, F, phi1, theta0, l1, theta10) -> dict[str, float]:
+def _point_equations(beam: InflectionBeam, F: float, phi1: float, theta0: float, l1: float, theta10: float
+                     ) -> dict[str, float]:
     core = _point_core(beam, F, phi1, theta0, l1, theta10)
     _, _, phi2, n, n2, g1, c1, K1, g2, c2, K2, l2, theta20, Th1, Th2, _, _, r96, a, b = core
     EI = beam.EI
@@ -271,21 +291,27 @@ def _point_equations(beam, F, phi1, theta0, l1, theta10) -> dict[str, float]:
             "a": a, "b": b, "r95": r95, "r96": r96, "U": U}
 
 
+_V = TypeVar("_V", float, NDArray[np.float64])   # a kernel's variables: at one point, or over a grid
+
+
 @dataclass(frozen=True)
-class _Kernel:
+class _Kernel(Generic[_V]):
     """The state of eqs (95)-(104) and F from eq (95): vectorised (numpy) or at one point (floats)."""
 
-    state: Callable
-    force: Callable
+    state: Callable[[InflectionBeam, _V | float, _V | float, _V | float, _V | float, _V | float], Mapping[str, _V]]
+    force: Callable[[InflectionBeam, _V | float, _V | float, _V | float], _V | float]
 
 
-VECTOR = _Kernel(inflection_state, _force_from_95)
-POINT = _Kernel(_point_state, _point_force)
-ENDS = _Kernel(_point_ends, _point_force)   # r96, a and b only: the displacement problems' residuals
-LOADS = _Kernel(_point_loads, _point_force)  # r95, r96 and M only: the load problem's residual
+VECTOR: _Kernel[NDArray[np.float64]] = _Kernel(inflection_state, _force_from_95)
+POINT: _Kernel[float] = _Kernel(_point_state, _point_force)
+ENDS: _Kernel[float] = _Kernel(_point_ends, _point_force)   # r96, a and b only: the displacement problems' residuals
+LOADS: _Kernel[float] = _Kernel(_point_loads, _point_force)  # r95, r96 and M only: the load problem's residual
+
+#: a problem's residuals at a point (or a grid of points) evaluated with a kernel
+Residual: TypeAlias = Callable[[Point, _Kernel[Any]], list[Value]]
 
 
-def _valid(beam, s, tol=1e-8) -> tuple[bool, str]:
+def _valid(beam: InflectionBeam, s: Mapping[str, float], tol: float = 1e-8) -> tuple[bool, str]:
     l, fam = beam.length, beam.family
     checks = [
         (np.isfinite(s["F"]) and s["F"] > 0, "F <= 0"),
@@ -306,7 +332,7 @@ def _valid(beam, s, tol=1e-8) -> tuple[bool, str]:
 
 
 @functools.lru_cache(maxsize=None)
-def _start_grid(*axes: tuple[float, float, int, bool]) -> np.ndarray:
+def _start_grid(*axes: tuple[float, float, int, bool]) -> NDArray[np.float64]:
     """The multistart grid of a problem: every combination of the axes' points, each axis
     ``(first, last, count, angle)`` = np.linspace(first, last, count) (in degrees turned to radians
     when ``angle``), the first axis slowest; a constant of the problem, built once (read-only), not again
@@ -318,7 +344,8 @@ def _start_grid(*axes: tuple[float, float, int, bool]) -> np.ndarray:
     return grid
 
 
-def _multistart(residual, grid: np.ndarray, keep: int, xtol: float, point_kernel: _Kernel = POINT):
+def _multistart(residual: Residual, grid: NDArray[np.float64], keep: int, xtol: float,
+                point_kernel: _Kernel[float] = POINT) -> tuple[list[NDArray[np.float64]], int]:
     """Solve residual(x) = 0 from the `keep` grid points of smallest residual; return distinct roots.
 
     ``residual(x, kernel)`` gives the residual list: with ``VECTOR`` over the grid's columns at once,
@@ -329,10 +356,11 @@ def _multistart(residual, grid: np.ndarray, keep: int, xtol: float, point_kernel
     norms = np.where(np.isfinite(norms), norms, np.inf)
     order = np.argsort(norms)[:keep]
 
-    def point(x):   # MINPACK's point as plain floats: numpy scalar arithmetic is slower than float's
-        return np.array(residual(x.tolist(), point_kernel), dtype=float)
+    def point(x: NDArray[np.float64]) -> NDArray[np.float64]:   # MINPACK's point as plain floats: numpy
+        return np.array(residual(x.tolist(), point_kernel), dtype=float)  # scalar arithmetic is slower than float's
 
-    roots, nfev = [], 0
+    roots: list[NDArray[np.float64]] = []
+    nfev = 0
     for i in order:
         if not np.isfinite(norms[i]):
             continue
@@ -350,30 +378,34 @@ def _multistart(residual, grid: np.ndarray, keep: int, xtol: float, point_kernel
     return roots, nfev
 
 
-def _package(beam, states, problem, given, t0, nfev, prefer) -> PRBMResult:
-    valid, rejected, seen = [], [], []
-    for s in states:
-        if s["F"] < 0:  # the same state written with (-F, phi1 + pi)
-            s = inflection_state(beam, -s["F"], s["phi1"] + math.pi, s["theta0"], s["l1"], s["theta10"])
-        s = {k: float(v) for k, v in s.items()}
+def _package(beam: InflectionBeam, states: list[dict[str, NDArray[np.float64]]], problem: str,
+             given: Mapping[str, object], t0: float, nfev: int, prefer: Prefer) -> PRBMResult:
+    valid: list[dict[str, float | str]] = []
+    rejected: list[dict[str, float | str]] = []
+    seen: list[NDArray[np.float64]] = []
+    for state in states:
+        if state["F"] < 0:  # the same state written with (-F, phi1 + pi)
+            state = inflection_state(beam, -state["F"], state["phi1"] + math.pi, state["theta0"], state["l1"],
+                                     state["theta10"])
+        s = {k: float(v) for k, v in state.items()}
         s["phi1"] = math.atan2(math.sin(s["phi1"]), math.cos(s["phi1"]))
         s["phi2"] = s["phi1"] - s["theta0"]
-        key = np.array([s["P"], s["nP"], s["l1"], s["theta10"], s["theta0"]])
-        if any(np.allclose(key, k0, rtol=1e-6, atol=1e-6) for k0 in seen):
+        identity = np.array([s["P"], s["nP"], s["l1"], s["theta10"], s["theta0"]])
+        if any(np.allclose(identity, k0, rtol=1e-6, atol=1e-6) for k0 in seen):
             continue
-        seen.append(key)
+        seen.append(identity)
         ok, why = _valid(beam, s)
         (valid if ok else rejected).append({**s, "status": why})
     if prefer == "energy":
         valid.sort(key=lambda s: (s["status"] != "valid", s["U"]))
     elif prefer is not None:
         key, target = prefer
-        valid.sort(key=lambda s: abs(s[key] - target))
+        valid.sort(key=lambda s: abs(float(s[key]) - target))
     wall = time.perf_counter() - t0
-    constants = {"family": beam.family.name, "length": beam.length, "EI": beam.EI}
+    constants: dict[str, Any] = {"family": beam.family.name, "length": beam.length, "EI": beam.EI}
     if not valid:
-        msg = f"{problem}: no valid root found" + (f" ({len(rejected)} rejected: "
-                                                   + "; ".join(r['status'] for r in rejected[:3]) + ")" if rejected else "")
+        reasons = "; ".join(str(r["status"]) for r in rejected[:3])
+        msg = f"{problem}: no valid root found" + (f" ({len(rejected)} rejected: {reasons})" if rejected else "")
         nan = {k: np.nan for k in ("a", "b", "theta0", "P", "nP", "M", "l1", "theta10", "n", "n2")}
         return PRBMResult(False, msg, {k: np.asarray(v) for k, v in nan.items()}, constants,
                           "fixed-guided with one inflection point, seed 000 eqs (83)-(104)", wall, nfev,
@@ -382,13 +414,18 @@ def _package(beam, states, problem, given, t0, nfev, prefer) -> PRBMResult:
     msg = f"{problem}: {len(valid)} valid root(s)" + (f", {len(rejected)} rejected" if rejected else "")
     for key in ("gamma1", "gamma2", "c_theta1", "c_theta2", "K_theta1", "K_theta2"):
         constants[key] = best[key]
-    outputs = {k: np.asarray(v) for k, v in best.items() if k != "status"}
+    outputs: dict[str, Levels] = {k: np.asarray(v) for k, v in best.items() if k != "status"}
     return PRBMResult(True, msg, outputs, constants,
                       "fixed-guided with one inflection point, seed 000 eqs (83)-(104)", wall, nfev,
                       np.array([True]), roots=[valid], extras={"rejected": rejected, "given": given})
 
 
-def solve_loads(beam: InflectionBeam, P: float, nP: float, M: float, *, prefer="energy",
+def _constant_moment(M: float) -> Moment:
+    """The moment function of a constant M: M at every theta0 (a float, or an array of theta0's shape)."""
+    return lambda theta0: M + 0.0 * np.asarray(theta0)
+
+
+def solve_loads(beam: InflectionBeam, P: float, nP: float, M: float | Moment, *, prefer: Prefer = "energy",
                 xtol: float = 1e-12, starts: int = 20) -> PRBMResult:
     """Load-specified problem [bapat2015, §3.5.1, Table 3.2]: P, nP, M (M opposing) -> a, b, theta0.
 
@@ -398,9 +435,9 @@ def solve_loads(beam: InflectionBeam, P: float, nP: float, M: float, *, prefer="
     M(theta0) - M_state = 0 and the three equations are solved together.
     """
     t0 = time.perf_counter()
-    moment = M if callable(M) else (lambda theta0, M=float(M): M + 0.0 * np.asarray(theta0))
+    moment: Moment = M if callable(M) else _constant_moment(float(M))
     if P < 0:
-        mirrored = (lambda theta0: -moment(-np.asarray(theta0))) if callable(M) else -M
+        mirrored: float | Moment = (lambda theta0: -moment(-np.asarray(theta0))) if callable(M) else -M
         res = solve_loads(beam, -P, nP, mirrored, prefer=prefer, xtol=xtol, starts=starts)
         for key in ("b", "theta0", "P", "M", "theta10", "theta20", "Theta1", "Theta2"):
             if key in res.outputs:
@@ -411,7 +448,7 @@ def solve_loads(beam: InflectionBeam, P: float, nP: float, M: float, *, prefer="
     F = math.hypot(P, nP)
     phi1 = math.atan2(P, -nP)
 
-    def residual(x, kernel=VECTOR):
+    def residual(x: Point, kernel: _Kernel[Any] = VECTOR) -> list[Value]:
         s = kernel.state(beam, F, phi1, x[0], x[1] * l, x[2])
         return [s["r95"], s["r96"], (moment(x[0]) - s["M"]) * l / EI]
 
@@ -422,7 +459,7 @@ def solve_loads(beam: InflectionBeam, P: float, nP: float, M: float, *, prefer="
     return _package(beam, states, "load BCs", given, t0, nfev, prefer)
 
 
-def _one_number(name: str, value) -> float:
+def _one_number(name: str, value: float) -> float:
     """``value`` as a Python float; a ValueError naming the argument when it is not one number."""
     try:
         return float(value)
@@ -431,7 +468,7 @@ def _one_number(name: str, value) -> float:
 
 
 def solve_displacements(beam: InflectionBeam, *, b: float, theta0: float, a: float | None = None,
-                        n: float | None = None, l1: float | None = None, prefer="energy",
+                        n: float | None = None, l1: float | None = None, prefer: Prefer = "energy",
                         xtol: float = 1e-12, starts: int = 20) -> PRBMResult:
     """Displacement-specified problems of [bapat2015, §3.5.2] (theta0 in radians).
 
@@ -451,10 +488,10 @@ def solve_displacements(beam: InflectionBeam, *, b: float, theta0: float, a: flo
     if a is not None:
         problem = "case 1 (a, b, theta0)"
 
-        def unpack(x):
+        def unpack(x: Point) -> tuple[Value, Value, Value]:
             return x[0], x[1] * l, x[2]
 
-        def residual(x, kernel=VECTOR):
+        def residual(x: Point, kernel: _Kernel[Any] = VECTOR) -> list[Value]:
             phi1, L1, q = unpack(x)
             s = kernel.state(beam, kernel.force(beam, phi1, L1, q), phi1, theta0, L1, q)
             return [s["r96"], (s["b"] - b) * scale, (s["a"] - a) * scale]
@@ -464,10 +501,10 @@ def solve_displacements(beam: InflectionBeam, *, b: float, theta0: float, a: flo
         problem = "case 2a/2b (b, theta0, n)"
         phi_fixed = math.atan2(1.0, -n)
 
-        def unpack(x):
+        def unpack(x: Point) -> tuple[Value, Value, Value]:
             return phi_fixed, x[0] * l, x[1]
 
-        def residual(x, kernel=VECTOR):
+        def residual(x: Point, kernel: _Kernel[Any] = VECTOR) -> list[Value]:
             phi1, L1, q = unpack(x)
             s = kernel.state(beam, kernel.force(beam, phi1, L1, q), phi1, theta0, L1, q)
             return [s["r96"], (s["b"] - b) * scale]
@@ -475,12 +512,13 @@ def solve_displacements(beam: InflectionBeam, *, b: float, theta0: float, a: flo
         grid = _start_grid((0.05, 0.95, 19, False), (2, 88, 44, True))
     else:
         problem = "case 2c (b, theta0, l1)"
+        assert l1 is not None  # exactly one of a, n, l1 is given (checked above)
         l1_fixed = l1
 
-        def unpack(x):
+        def unpack(x: Point) -> tuple[Value, Value, Value]:
             return x[0], l1_fixed, x[1]
 
-        def residual(x, kernel=VECTOR):
+        def residual(x: Point, kernel: _Kernel[Any] = VECTOR) -> list[Value]:
             phi1, L1, q = unpack(x)
             s = kernel.state(beam, kernel.force(beam, phi1, L1, q), phi1, theta0, L1, q)
             return [s["r96"], (s["b"] - b) * scale]
@@ -488,7 +526,7 @@ def solve_displacements(beam: InflectionBeam, *, b: float, theta0: float, a: flo
         grid = _start_grid((5, 175, 35, True), (2, 88, 44, True))
 
     roots, nfev = _multistart(residual, grid, starts, xtol, ENDS)
-    states = []
+    states: list[dict[str, NDArray[np.float64]]] = []
     for x in roots:
         phi1, L1, q = unpack(x)
         states.append(inflection_state(beam, _force_from_95(beam, phi1, L1, q), phi1, theta0, L1, q))

@@ -46,13 +46,16 @@ from __future__ import annotations
 import cmath
 import math
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import TypeAlias
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq, root
 
 from prbm.inflection import InflectionBeam, _point_ends, _point_force, _point_state, _valid, solve_displacements
-from prbm.result import PRBMResult
+from prbm.result import Levels, PRBMResult
 
 __all__ = ["GuidedSegment", "CouplerDrive", "SegmentState", "Window", "segment_state", "reachable_window",
            "free_force", "solve_coupler"]
@@ -60,6 +63,15 @@ __all__ = ["GuidedSegment", "CouplerDrive", "SegmentState", "Window", "segment_s
 MODEL = ("fixed-guided segments with one inflection point (seed 000 eqs (131)-(152)) on one rigid coupler, "
          "one coupler translation and its rotation prescribed, the other translation free (seed 000 section 5.5)")
 RATIOS = (-3.95, -3.0, -2.0, -1.0, -0.5, 0.0, 0.5, 1.0, 2.0, 3.0, 5.0, 7.0, 10.0)
+
+#: the variables of eqs (131)-(152) at one point in plain floats: every one (``_point_state``), or only
+#: r96, a and b (``_point_ends``); arguments (beam, F, phi1, theta0, l1, theta10)
+Equations: TypeAlias = Callable[[InflectionBeam, float, float, float, float, float], dict[str, float]]
+#: the end (a, b, theta0) of a segment, in its frame, at the free translation t
+Ends: TypeAlias = Callable[[float], tuple[float, float, float]]
+#: the residuals of a warm-started problem at x, and the state there, with the given equations
+WarmResidual: TypeAlias = Callable[[Sequence[float] | NDArray[np.float64], Equations],
+                                   tuple[NDArray[np.float64], dict[str, float]]]
 
 
 @dataclass(frozen=True)
@@ -161,31 +173,34 @@ class _Warm:
     the multistart solve of ``prbm.inflection`` is the fallback when the warm start fails or gives an
     invalid root, so the answer is the same, only found faster."""
 
-    def __init__(self):
-        self.x = None
-        self.t = None        # the free translation of the last case-1 root
-        self.given = None    # (n, b, theta0) of the last case-2 root
+    def __init__(self) -> None:
+        self.x: NDArray[np.float64] | None = None
+        self.t: float | None = None                    # the free translation of the last case-1 root
+        self.given: NDArray[np.float64] | None = None  # (n, b, theta0) of the last case-2 root
 
-    def case1(self, beam: InflectionBeam, ends, t: float):
-        """The case-1 state at the free translation t (``ends(t)`` = (a, b, theta0) as solved): continued
-        from the last root in 1, 4 or 16 steps of t, else the multistart; or the multistart's message."""
+    def case1(self, beam: InflectionBeam, ends: Ends, t: float) -> tuple[dict[str, float], str] | str:
+        """The case-1 state at the free translation t (``ends(t)`` = (a, b, theta0) as solved) and how it
+        was found: continued from the last root in 1, 4 or 16 steps of t, else the multistart; or the
+        multistart's message."""
         if self.x is not None and self.t is not None:
             for steps in (1, 4, 16):
-                state = self._continue(beam, ends, t, steps)
+                state = self._continue(beam, ends, self.x, self.t, t, steps)
                 if state is not None:
-                    return state
+                    return state, "valid (warm start)"
         a, b, theta0 = ends(t)
         res = solve_displacements(beam, a=a, b=b, theta0=theta0)
         if not res.converged:
             return res.message
         o = res.outputs
         self.x, self.t = np.array([float(o["phi1"]), float(o["l1"]) / beam.length, float(o["theta10"])]), t
-        return {k: float(v) for k, v in o.items()} | {"message": res.message}
+        return {k: float(v) for k, v in o.items()}, res.message
 
-    def _continue(self, beam: InflectionBeam, ends, t: float, steps: int):
-        x, state = self.x, None
+    def _continue(self, beam: InflectionBeam, ends: Ends, x0: NDArray[np.float64], t0: float, t: float,
+                  steps: int) -> dict[str, float] | None:
+        """The case-1 state at t continued from the root x0 at t0 in ``steps`` steps of t; None if a step fails."""
+        x, state = x0, None
         for k in range(1, steps + 1):
-            a, b, theta0 = ends(self.t + (t - self.t) * k / steps)
+            a, b, theta0 = ends(t0 + (t - t0) * k / steps)
             state = _warm_root(beam, x, lambda y, eqs: _case1_residual(beam, y, a, b, theta0, eqs), 3)
             if state is None:
                 return None
@@ -193,7 +208,7 @@ class _Warm:
         self.x, self.t = x, t
         return state
 
-    def case2(self, beam: InflectionBeam, b: float, theta0: float, n: float):
+    def case2(self, beam: InflectionBeam, b: float, theta0: float, n: float) -> dict[str, float] | None:
         """(b, theta0, n) -> the state dict of the valid root, or None: continued from the last case-2 root
         in 1, 4 or 16 steps of (n, b, theta0), else the multistart."""
         given = np.array([n, b, theta0])
@@ -220,14 +235,16 @@ class _Warm:
 
 
 def _state(beam: InflectionBeam, phi1: float, l1_ratio: float, theta10: float, theta0: float,
-           equations=_point_state) -> dict:
+           equations: Equations = _point_state) -> dict[str, float]:
     """Every variable of eqs (131)-(152) with F from eq (143) (as ``prbm.inflection`` does), in plain floats
     (``equations=_point_ends``: only r96, a and b, what the residuals read)."""
     l1 = l1_ratio * beam.length
     return equations(beam, _point_force(beam, phi1, l1, theta10), phi1, theta0, l1, theta10)
 
 
-def _case1_residual(beam, x, a, b, theta0, equations=_point_state):
+def _case1_residual(beam: InflectionBeam, x: Sequence[float] | NDArray[np.float64], a: float | None, b: float,
+                    theta0: float, equations: Equations = _point_state
+                    ) -> tuple[NDArray[np.float64], dict[str, float]]:
     """Residuals (144), (151), (152) (without (152) when a is None) of the state at x = (phi1, l1/l, theta10),
     and the state (every variable, or with ``equations=_point_ends`` only r96, a and b)."""
     with np.errstate(all="ignore"):
@@ -238,11 +255,13 @@ def _case1_residual(beam, x, a, b, theta0, equations=_point_state):
     return np.array(r), st
 
 
-def _warm_root(beam, x0, residual, size, phi1=None):
+def _warm_root(beam: InflectionBeam, x0: ArrayLike, residual: WarmResidual, size: int,
+               phi1: float | None = None) -> dict[str, float] | None:
     """Newton-type solve (MINPACK hybrd) from x0; the state if it converged to a valid root, else None.
     ``residual(x, equations)`` -> (residuals, state): the solve reads the residuals of ``_point_ends``, the
     converged point is judged on its whole state (``_point_state``), the same floats."""
-    full = (lambda x: np.r_[phi1, x]) if phi1 is not None else (lambda x: x)
+    full: Callable[[NDArray[np.float64]], NDArray[np.float64]] = (
+        (lambda x: np.r_[phi1, x]) if phi1 is not None else (lambda x: x))
     try:
         with np.errstate(all="ignore"):
             sol = root(lambda x: residual(x.tolist(), _point_ends)[0], np.asarray(x0, float), method="hybr",
@@ -255,10 +274,10 @@ def _warm_root(beam, x0, residual, size, phi1=None):
     if st["F"] < 0 or not _valid(beam, st)[0]:
         return None
     x = full(sol.x)
-    return st | {"phi1": float(x[0]), "message": "valid (warm start)"}
+    return st | {"phi1": float(x[0])}
 
 
-def _mirrored(seg: GuidedSegment, a: float, b: float, theta0: float):
+def _mirrored(seg: GuidedSegment, a: float, b: float, theta0: float) -> tuple[float, float, float]:
     """sign, (b, theta0) as solved: the displacement problems search P > 0 (prbm.inflection)."""
     sign = -1.0 if b < 0 else 1.0
     return sign, sign * b, sign * theta0
@@ -273,11 +292,12 @@ def segment_state(seg: GuidedSegment, drive: CouplerDrive, t: float, warm: _Warm
         ak, bk, thk = drive.segment_end(seg, tk)
         return ak, sign * bk, sign * thk    # mirrored when b < 0 (the search is for P > 0)
 
-    o = (warm or _Warm()).case1(seg.beam(), ends, t)
-    if isinstance(o, str):
-        return SegmentState(seg, a, b, theta0, False, f"segment '{seg.name}': {o}")
+    found = (warm or _Warm()).case1(seg.beam(), ends, t)
+    if isinstance(found, str):
+        return SegmentState(seg, a, b, theta0, False, f"segment '{seg.name}': {found}")
+    o, message = found
     # eq (147)'s M opposes P (clockwise for P > 0): the CCW moment on the beam is -M; mirrored: P, M flip
-    return SegmentState(seg, a, b, theta0, True, o["message"], P=sign * o["P"], nP=o["nP"],
+    return SegmentState(seg, a, b, theta0, True, message, P=sign * o["P"], nP=o["nP"],
                         moment=-sign * o["M"], energy=o["U"], n=o["n"], l1=o["l1"])
 
 
@@ -313,12 +333,12 @@ def _secant_step(t: float, gap: float, previous: tuple[float, float] | None, fir
     return -gap / slope if slope != 0.0 and math.isfinite(slope) else first
 
 
-def reachable_window(seg: GuidedSegment, drive: CouplerDrive, ratios=RATIOS) -> Window:
+def reachable_window(seg: GuidedSegment, drive: CouplerDrive, ratios: Sequence[float] = RATIOS) -> Window:
     """The t the segment reaches with its load ratio n at each of ``ratios`` (case 2, Tables 3.4-3.5)."""
     warm = _Warm()
     found = [(n, _t_at_ratio(seg, drive, n, warm)) for n in ratios]
-    found = [(n, t) for n, t in found if t is not None]
-    return Window(seg.name, tuple(t for _, t in found), tuple(n for n, _ in found))
+    reached = [(n, t) for n, t in found if t is not None]
+    return Window(seg.name, tuple(t for _, t in reached), tuple(n for n, _ in reached))
 
 
 def free_force(segments: list[GuidedSegment], drive: CouplerDrive, t: float,
@@ -362,9 +382,10 @@ def solve_coupler(segments: list[GuidedSegment], drive: CouplerDrive, *, samples
     P = drive.position(t)
     total = sum(st.force for st in states)
     moment = sum(st.moment + _cross(drive.end(st.segment, t) - P, st.force) for st in states)
-    out = {"t": np.asarray(t), "strain_energy": np.asarray(sum(st.energy for st in states)),
-           "force_along": np.asarray((total * (drive.along / abs(drive.along)).conjugate()).real),
-           "moment": np.asarray(moment)}
+    out: dict[str, Levels] = {
+        "t": np.asarray(t), "strain_energy": np.asarray(sum(st.energy for st in states)),
+        "force_along": np.asarray((total * (drive.along / abs(drive.along)).conjugate()).real),
+        "moment": np.asarray(moment)}
     message = (f"coupler equilibrium at t = {t:.6g} ({text}); "
                + "; ".join(f"{st.segment.name}: n = {st.n:.3g}, {st.message}" for st in states))
     return PRBMResult(ok, message if ok else "free-direction force left at a jump between PRBM roots; " + message,

@@ -35,15 +35,18 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Mapping, Sequence
 
 import numpy as np
+from numpy.typing import NDArray
 from scipy.optimize import root
 
 from prbm.fits import PAULY_MIDHA, load_ratio
 from prbm.result import PRBMResult
 
 
-def _state(x, F, phi, length, EI):
+def _state(x: Sequence[float] | NDArray[np.float64], F: float, phi: float, length: float, EI: float
+           ) -> tuple[list[float], dict[str, float]]:
     lA, tA, tB = x
     lB = length - lA
     gA, cA, KA = PAULY_MIDHA.parameters(load_ratio(phi), "allow")
@@ -62,7 +65,7 @@ def _state(x, F, phi, length, EI):
                  "thA": tA, "thB": tB, "thE": thE, "nB": load_ratio(phi - thE)}
 
 
-def _kinematics(s) -> tuple[np.ndarray, np.ndarray]:
+def _kinematics(s: Mapping[str, float]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Pin and end positions of the PRBM chain (chapter 3's eqs 103-104 form)."""
     lA, lB, gA, gB, tA, tB, thE = s["lA"], s["lB"], s["gA"], s["gB"], s["thA"], s["thB"], s["thE"]
     pin = np.array([(1 - gA) * lA + gA * lA * math.cos(tA), gA * lA * math.sin(tA)])
@@ -81,7 +84,7 @@ def lyon_from_tip(*, b: float, theta0: float, length: float, EI: float) -> PRBMR
     if not (length > 0 and EI > 0 and math.isfinite(b) and math.isfinite(theta0)):
         raise ValueError(f"lyon_from_tip: need length, EI > 0 and finite b, theta0; got {length}, {EI}, {b}, {theta0}")
 
-    def residual(x):
+    def residual(x: NDArray[np.float64]) -> list[float]:
         lA, tA, tB, f, phi = x
         res, s = _state((lA, tA, tB), f * EI / length**2, phi, length, EI)
         _, end = _kinematics(s)

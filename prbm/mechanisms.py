@@ -34,37 +34,52 @@ from __future__ import annotations
 import cmath
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any, TypeVar, overload
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 
 from prbm.network import GROUND, Couple, LinearSpring, Network, Pin, Slider, TorsionSpring, solve
-from prbm.result import PRBMResult
+from prbm.result import Levels, PRBMResult
 
 __all__ = ["FourBar", "SliderCrank", "four_bar_rates", "slider_crank_rate"]
 
 
 LOOP_TOLERANCE = 0.01   # printed vectors close only to their rounding (Test 2: 0.002 in on 7 in)
 
-
-def _wrap(x):
-    return (np.asarray(x) + np.pi) % (2 * np.pi) - np.pi
+_A = TypeVar("_A", float, NDArray[np.float64])   # an angle at one pose (a float) or at many (an array)
 
 
-def four_bar_rates(R2, R3, R4, theta2, theta3, theta4):
+@overload
+def _wrap(x: float) -> float: ...
+
+
+@overload
+def _wrap(x: NDArray[Any]) -> NDArray[np.float64]: ...
+
+
+def _wrap(x: float | NDArray[Any]) -> float | NDArray[np.float64]:
+    wrapped: float | NDArray[np.float64] = (np.asarray(x) + np.pi) % (2 * np.pi) - np.pi
+    return wrapped
+
+
+def four_bar_rates(R2: float, R3: float, R4: float, theta2: _A, theta3: _A, theta4: _A) -> tuple[_A, _A]:
     """(h3, h4) = (dTheta3/dTheta2, dTheta4/dTheta2) of a four-bar at its link angles (rad; floats or
     arrays): h3 = R2 sin(Theta4 - Theta2) / (R3 sin(Theta3 - Theta4)), h4 = R2 sin(Theta3 - Theta2) /
     (R4 sin(Theta3 - Theta4)); the joint-angle rates of eq (183) follow (1, h3 - 1, h4 - h3, h4)."""
-    h3 = R2 * np.sin(theta4 - theta2) / (R3 * np.sin(theta3 - theta4))
-    h4 = R2 * np.sin(theta3 - theta2) / (R4 * np.sin(theta3 - theta4))
+    h3: _A = R2 * np.sin(theta4 - theta2) / (R3 * np.sin(theta3 - theta4))
+    h4: _A = R2 * np.sin(theta3 - theta2) / (R4 * np.sin(theta3 - theta4))
     return h3, h4
 
 
-def slider_crank_rate(R2, R3, theta2, theta3):
+def slider_crank_rate(R2: float, R3: float, theta2: _A, theta3: _A) -> _A:
     """g3 = dTheta3/dTheta2 = -R2 cos Theta2 / (R3 cos Theta3) of a slider-crank whose axis is along its
     x axis (from R2 sin Theta2 + R3 sin Theta3 = offset); the spring rates of eq (196) are (1, g3 - 1, g3)."""
-    return -R2 * np.cos(theta2) / (R3 * np.cos(theta3))
+    g3: _A = -R2 * np.cos(theta2) / (R3 * np.cos(theta3))
+    return g3
 
 
 @dataclass
@@ -83,13 +98,13 @@ class FourBar:
     springs: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
     theta_free: tuple[float, float, float] | None = None
 
-    def __setattr__(self, name, value):
+    def __setattr__(self, name: str, value: object) -> None:
         if name in ("springs", "theta_free"):  # the network is built from them: rebuild on change
             object.__setattr__(self, "_network", None)
         object.__setattr__(self, name, value)
 
-    def __post_init__(self):
-        self._network = None
+    def __post_init__(self) -> None:
+        self._network: Network | None = None
         self.R1, self.R2, self.R3, self.R4 = (abs(z) for z in (self.Z1, self.Z2, self.Z3, self.Z4))
         self.theta1 = cmath.phase(self.Z1)
         t2, t3, t4 = (cmath.phase(z) for z in (self.Z2, self.Z3, self.Z4))
@@ -116,7 +131,14 @@ class FourBar:
                              f"({longest:.4g}); check the vectors")
 
     # --- kinematics -------------------------------------------------------------------------
-    def angles(self, theta2):
+    @overload
+    def angles(self, theta2: float) -> tuple[np.float64, np.float64]: ...
+
+    @overload
+    def angles(self, theta2: NDArray[Any]) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+
+    def angles(self, theta2: float | NDArray[Any]
+               ) -> tuple[np.float64, np.float64] | tuple[NDArray[np.float64], NDArray[np.float64]]:
         """(Theta3, Theta4) for input angle(s) Theta2 (rad), on the position-1 assembly branch.
 
         Loop Z2 + Z3 = Z1 + Z4: with D = Z1 - Z2 (A to O4), B = A + R3 e^{i Theta3} = O4 + R4 e^{i Theta4}.
@@ -139,7 +161,7 @@ class FourBar:
         theta4 = np.angle(B - O4)
         return theta3, theta4
 
-    def _angles_scalar(self, theta2: float):
+    def _angles_scalar(self, theta2: float) -> tuple[np.float64, np.float64]:
         """``angles`` for one input angle in plain floats (the same construction, no numpy overhead)."""
         A = self.R2 * cmath.exp(1j * theta2)
         d = self.Z1 - A
@@ -151,7 +173,7 @@ class FourBar:
         B = A + self.R3 * cmath.exp(1j * theta3)
         return np.float64(theta3), np.float64(cmath.phase(B - self.Z1))
 
-    def input_for_output(self, theta4: float, near: float, *, span: float = math.pi / 2):
+    def input_for_output(self, theta4: float, near: float, *, span: float = math.pi / 2) -> float | None:
         """Input angle Theta2 that puts the output link at theta4 (rad), on the position-1 assembly
         branch, nearest to ``near`` within +-span; None if there is none.
 
@@ -168,7 +190,7 @@ class FourBar:
         if not -1.0 <= cos_beta <= 1.0:
             return None
         base, beta = cmath.phase(B), math.acos(cos_beta)
-        best = None
+        best: float | None = None
         for t2 in (base + beta, base - beta):
             t2 = near + math.remainder(t2 - near, 2 * math.pi)  # the representative nearest `near`
             if abs(t2 - near) > span:
@@ -180,19 +202,31 @@ class FourBar:
                 best = t2
         return best
 
-    def _branch_check(self):
+    def _branch_check(self) -> float:
         t3, t4 = self.angles(self.theta_ref[0])
         return abs(_wrap(t3 - self.theta_ref[1])) + abs(_wrap(t4 - self.theta_ref[2]))
 
-    def coupler_point(self, theta2, angles=None):
+    @overload
+    def coupler_point(self, theta2: float, angles: tuple[float, float] | None = None) -> complex: ...
+
+    @overload
+    def coupler_point(self, theta2: NDArray[Any],
+                      angles: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
+                      ) -> NDArray[np.complex128]: ...
+
+    def coupler_point(self, theta2: float | NDArray[Any],
+                      angles: tuple[float, float] | tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
+                      ) -> complex | NDArray[np.complex128]:
         """Coupler point P = A + R5 e^{i(Theta3 + offset)} (complex, O2 at the origin).
 
         ``angles``: (Theta3, Theta4) of these theta2 when already known (from ``angles``)."""
         theta2 = np.asarray(theta2, dtype=float)
         theta3, _ = self.angles(theta2) if angles is None else angles
-        return self.R2 * np.exp(1j * theta2) + self.R5 * np.exp(1j * (theta3 + self.coupler_offset))
+        point: complex | NDArray[Any] = (self.R2 * np.exp(1j * theta2)
+                                         + self.R5 * np.exp(1j * (theta3 + self.coupler_offset)))
+        return point
 
-    def kinematic_coefficients(self, theta2, angles=None):
+    def kinematic_coefficients(self, theta2: _A, angles: tuple[_A, _A] | None = None) -> tuple[_A, _A]:
         """(h3, h4) = (dTheta3/dTheta2, dTheta4/dTheta2)."""
         t3, t4 = self.angles(theta2) if angles is None else angles
         return four_bar_rates(self.R2, self.R3, self.R4, theta2, t3, t4)
@@ -204,12 +238,15 @@ class FourBar:
         springs k1 (link2-ground), k2 (coupler-link2), k3 (link4-coupler), k4 (link4-ground) on the
         joint angles of eq (183), free at the energy-free angles (Theta20, Theta30, Theta40) as given."""
         if self._network is None:
+            assert self.theta_free is not None  # set in __post_init__ (default: position 1)
             t20, t30, t40 = self.theta_free
             t3, t4 = (float(v) for v in self._angles_scalar(t20))
             A = self.R2 * cmath.exp(1j * t20)
             B = A + self.R3 * cmath.exp(1j * t3)
             P = A + self.R5 * cmath.exp(1j * (t3 + self.coupler_offset))
-            xy = lambda z: (z.real, z.imag)  # noqa: E731
+
+            def xy(z: complex) -> tuple[float, float]:
+                return (z.real, z.imag)
             r3, r4 = float(_wrap(t30 - t3)), float(_wrap(t40 - t4))  # printed angles off the loop
             k1, k2, k3, k4 = self.springs
             self._pose = (t20, t3, t4)
@@ -224,7 +261,7 @@ class FourBar:
                 origins={"link2": (0.0, 0.0), "coupler": xy(A), "link4": xy(self.Z1)})
         return self._network
 
-    def _configuration(self, theta2: float, angles=None) -> np.ndarray:
+    def _configuration(self, theta2: float, angles: tuple[float, float] | None = None) -> NDArray[np.float64]:
         """Network coordinates of the pose at input angle theta2 (closed-form loop, assembly branch)."""
         net = self.network()
         t20, t30c, t40c = self._pose
@@ -237,16 +274,33 @@ class FourBar:
         q[8] = float(_wrap(t4 - t40c))
         return q
 
-    def strain_energy(self, theta2, angles=None):
+    @overload
+    def strain_energy(self, theta2: float, angles: tuple[float, float] | None = None) -> float: ...
+
+    @overload
+    def strain_energy(self, theta2: NDArray[Any], angles: tuple[ArrayLike, ArrayLike] | None = None
+                      ) -> NDArray[np.float64]: ...
+
+    def strain_energy(self, theta2: float | NDArray[Any], angles: tuple[ArrayLike, ArrayLike] | None = None
+                      ) -> float | NDArray[np.float64]:
         """U = 1/2 sum k_i (beta_i - beta_i0)^2 (eq 181), from the network's springs."""
         return self._per_angle(theta2, angles, lambda q: self.network().strain_energy(q))
 
-    def input_torque(self, theta2, angles=None):
+    @overload
+    def input_torque(self, theta2: float, angles: tuple[float, float] | None = None) -> float: ...
+
+    @overload
+    def input_torque(self, theta2: NDArray[Any], angles: tuple[ArrayLike, ArrayLike] | None = None
+                     ) -> NDArray[np.float64]: ...
+
+    def input_torque(self, theta2: float | NDArray[Any], angles: tuple[ArrayLike, ArrayLike] | None = None
+                     ) -> float | NDArray[np.float64]:
         """T on link 2 holding the linkage at Theta2 (eqs 182, 193): the network's driving torque
         (virtual work with the joint-compatible velocity of unit input rate)."""
         return self._per_angle(theta2, angles, lambda q: self.network().driving_torque(q, "link2"))
 
-    def _per_angle(self, theta2, angles, f):
+    def _per_angle(self, theta2: ArrayLike, angles: tuple[ArrayLike, ArrayLike] | None,
+                   f: Callable[[NDArray[np.float64]], float]) -> float | NDArray[np.float64]:
         theta2 = np.asarray(theta2, float)
         if angles is None:
             angles = self.angles(theta2)
@@ -257,7 +311,7 @@ class FourBar:
         out = np.array(flat).reshape(theta2.shape)
         return out if out.ndim else np.float64(out)
 
-    def positions_under_torque(self, torques) -> PRBMResult:
+    def positions_under_torque(self, torques: ArrayLike) -> PRBMResult:
         """Equilibrium under input torque(s) T on link 2: the general network solver (Newton with load
         stepping from the energy-free pose; ``prbm.network.solve``). Outputs theta2, theta3, theta4
         (rad), coupler point x, y (O2 origin), U, T; ``extras['network']`` the network result."""
@@ -270,8 +324,8 @@ class FourBar:
         theta2, t3, t4 = t20 + q[:, 2], t3c + q[:, 5], t4c + q[:, 8]
         P = np.array([complex(*res.position("P", i)) for i in range(len(torques))])
         ok = np.array([s.converged for s in res.states])
-        out = {"theta2": theta2, "theta3": t3, "theta4": t4, "x": P.real, "y": P.imag,
-               "U": np.array([res.strain_energy(i) for i in range(len(torques))]), "T": torques}
+        out: dict[str, Levels] = {"theta2": theta2, "theta3": t3, "theta4": t4, "x": P.real, "y": P.imag,
+                                  "U": np.array([res.strain_energy(i) for i in range(len(torques))]), "T": torques}
         return PRBMResult(bool(ok.all()), res.message, out,
                           {"springs": self.springs, "theta_free": self.theta_free,
                            "R": (self.R1, self.R2, self.R3, self.R4, self.R5)},
@@ -280,7 +334,15 @@ class FourBar:
                           extras={"network": res})
 
     # --- mechanical advantage ---------------------------------------------------------------
-    def instant_centres(self, theta2):
+    @overload
+    def instant_centres(self, theta2: float) -> tuple[complex, complex, complex]: ...
+
+    @overload
+    def instant_centres(self, theta2: NDArray[Any]
+                        ) -> tuple[complex, complex, NDArray[np.complexfloating[Any, Any]]]: ...
+
+    def instant_centres(self, theta2: float | NDArray[Any]
+                        ) -> tuple[complex, complex, complex | NDArray[np.complexfloating[Any, Any]]]:
         """I12 (= O2), I14 (= O4), I24 (intersection of line I12-I14 and line I23-I34) as complex."""
         t3, t4 = self.angles(theta2)
         A = self.R2 * np.exp(1j * np.asarray(theta2, float))
@@ -294,15 +356,19 @@ class FourBar:
         s = (A.real * (-v.imag) - A.imag * (-v.real)) / det
         return 0j, O4, s * u
 
-    def rigid_ma(self, theta2, d_in: float, d_out: float, *, via: str = "coefficients", angles=None):
+    def rigid_ma(self, theta2: _A, d_in: float, d_out: float, *, via: str = "coefficients",
+                 angles: tuple[_A, _A] | None = None) -> _A:
         """MA_R = F_o/F_i for F_i at d_in on link 2 and F_o at d_out on link 4 (eqs 190, 202)."""
         if via == "coefficients":
             _, h4 = self.kinematic_coefficients(theta2, angles)
-            return d_in / d_out / np.abs(h4)
+            ma: _A = d_in / d_out / np.abs(h4)
+            return ma
         I12, I14, I24 = self.instant_centres(theta2)
-        return d_in / d_out * np.abs(I14 - I24) / np.abs(I12 - I24)
+        ma = d_in / d_out * np.abs(I14 - I24) / np.abs(I12 - I24)
+        return ma
 
-    def compliant_ma(self, theta2, F_in: float, d_in: float, d_out: float, angles=None, *, torque=None):
+    def compliant_ma(self, theta2: _A, F_in: float, d_in: float, d_out: float, angles: tuple[_A, _A] | None = None,
+                     *, torque: _A | None = None) -> _A:
         """MA = MA_R (1 - F_c/F_i), F_c = T_c/d_i with T_c the compliance torque (eqs 192, 193).
 
         ``angles``, ``torque``: (Theta3, Theta4) and ``input_torque`` at theta2, when already known."""
@@ -328,20 +394,20 @@ class SliderCrank:
     f_k: float = 0.0
 
     @classmethod
-    def from_vectors(cls, Z11: complex, Z2: complex, Z3: complex, **kw) -> "SliderCrank":
+    def from_vectors(cls, Z11: complex, Z2: complex, Z3: complex, **kw: Any) -> "SliderCrank":
         return cls(abs(Z2), abs(Z3), cmath.phase(Z2), cmath.phase(Z3), offset=(Z2 + Z3).imag, **kw)
 
-    def __setattr__(self, name, value):
+    def __setattr__(self, name: str, value: object) -> None:
         if name in ("springs", "f_k", "theta2_ref", "theta3_ref", "R2", "R3", "offset"):
             object.__setattr__(self, "_network", None)  # the network is built from them
         object.__setattr__(self, name, value)
 
-    def __post_init__(self):
-        self._network = None
+    def __post_init__(self) -> None:
+        self._network: Network | None = None
         self.branch = 1.0 if math.cos(self.theta3_ref) >= 0 else -1.0
         self.x_ref = self.R2 * math.cos(self.theta2_ref) + self.R3 * math.cos(self.theta3_ref)
 
-    def theta3(self, theta2):
+    def theta3(self, theta2: _A) -> _A:
         """Coupler angle on the assembly branch of position 1, in the turn of theta3_ref (within pi
         of it), so theta3 - theta3_ref is the coupler's rotation from position 1 whatever the
         quadrant the reference was given in."""
@@ -349,10 +415,12 @@ class SliderCrank:
         with np.errstate(invalid="ignore"):   # NaN where the coupler cannot reach (|s| > 1): callers skip it
             t = np.arcsin(s)
         t = t if self.branch > 0 else np.pi - t
-        return self.theta3_ref + np.remainder(t - self.theta3_ref + np.pi, 2.0 * np.pi) - np.pi
+        theta3: _A = self.theta3_ref + np.remainder(t - self.theta3_ref + np.pi, 2.0 * np.pi) - np.pi
+        return theta3
 
-    def slider_x(self, theta2):
-        return self.R2 * np.cos(theta2) + self.R3 * np.cos(self.theta3(theta2))
+    def slider_x(self, theta2: _A) -> _A:
+        x: _A = self.R2 * np.cos(theta2) + self.R3 * np.cos(self.theta3(theta2))
+        return x
 
     def theta2_at(self, dx: float) -> float:
         """Crank angle that moves the slider by dx from position 1, nearest to theta2_ref (within pi).
@@ -389,7 +457,8 @@ class SliderCrank:
         if not candidates:
             raise ValueError(f"slider cannot reach dx = {dx}")
         i = min(candidates, key=lambda j: abs(j - i0))
-        return brentq(lambda t: float(self.slider_x(t)) - target, grid[i], grid[i + 1], xtol=1e-14)
+        theta2: float = brentq(lambda t: float(self.slider_x(t)) - target, grid[i], grid[i + 1], xtol=1e-14)
+        return theta2
 
     def network(self) -> Network:
         """This slider-crank as a general network in position 1 (its energy-free pose): bodies 'crank'
@@ -411,14 +480,20 @@ class SliderCrank:
                 linear_springs=[LinearSpring("S", (1.0, 0.0), self.f_k, "f_k")] if self.f_k else [])
         return self._network
 
-    def compliance_torque(self, theta2):
+    @overload
+    def compliance_torque(self, theta2: float) -> float: ...
+
+    @overload
+    def compliance_torque(self, theta2: NDArray[Any]) -> NDArray[np.float64]: ...
+
+    def compliance_torque(self, theta2: float | NDArray[Any]) -> float | NDArray[np.float64]:
         """T_c on the crank (eq 196, = dU/dTheta2): the network's driving torque at the pose of each
         crank angle (coupler angle on the branch of position 1)."""
         net = self.network()
         theta2 = np.asarray(theta2, float)
         t3 = self.theta3(theta2)
         A0 = self.R2 * cmath.exp(1j * self.theta2_ref)
-        out = np.empty(theta2.size)
+        out: NDArray[np.float64] = np.empty(theta2.size)
         for j, (a, b) in enumerate(zip(theta2.ravel(), np.broadcast_to(t3, theta2.shape).ravel())):
             q = np.zeros(net.n)
             dA = self.R2 * cmath.exp(1j * a) - A0
@@ -427,7 +502,13 @@ class SliderCrank:
         out = out.reshape(theta2.shape)
         return out if out.ndim else np.float64(out)
 
-    def rigid_ma(self, theta2, d_in: float):
+    @overload
+    def rigid_ma(self, theta2: float, d_in: float) -> float: ...
+
+    @overload
+    def rigid_ma(self, theta2: NDArray[Any], d_in: float) -> NDArray[np.float64]: ...
+
+    def rigid_ma(self, theta2: float | NDArray[Any], d_in: float) -> float | NDArray[np.float64]:
         """MA_R = d_i/|I12 I24| (eq 199): I24 where the coupler line meets the line through O2
         perpendicular to the slider axis; |I12 I24| = |dx/dTheta2| (slider speed per crank rate)."""
         theta2 = np.asarray(theta2, float)
@@ -436,9 +517,17 @@ class SliderCrank:
         # coupler line A + t e^{i t3} meets x = 0
         t = -A.real / np.cos(t3)
         I24 = A + t * np.exp(1j * t3)
-        return d_in / np.abs(I24)
+        ma: float | NDArray[np.float64] = d_in / np.abs(I24)
+        return ma
 
-    def compliant_ma(self, theta2, F_in: float, d_in: float):
+    @overload
+    def compliant_ma(self, theta2: float, F_in: float, d_in: float) -> float: ...
+
+    @overload
+    def compliant_ma(self, theta2: NDArray[Any], F_in: float, d_in: float) -> NDArray[np.float64]: ...
+
+    def compliant_ma(self, theta2: float | NDArray[Any], F_in: float, d_in: float) -> float | NDArray[np.float64]:
         """MA = MA_R (1 - F_c/F_i), F_c = |T_c|/d_i (compliance opposing the input; eq 192)."""
         F_c = np.abs(self.compliance_torque(theta2)) / d_in
-        return self.rigid_ma(theta2, d_in) * (1.0 - F_c / F_in)
+        ma: float | NDArray[np.float64] = self.rigid_ma(theta2, d_in) * (1.0 - F_c / F_in)
+        return ma

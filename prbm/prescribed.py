@@ -28,16 +28,18 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.optimize import brentq
 
 from argcheck import checked
-from prbm.fits import fit_family
+from prbm.fits import FitFamily, fit_family
 from prbm.result import PRBMResult
 from prbm.segments import _FLOATS, _fixed_guided_ratio
 
 
 @checked(positive=('length', 'EI'), finite=('delta',))
-def fixed_guided_displaced_tip(delta, *, length: float, EI: float, family="pauly-midha") -> PRBMResult:
+def fixed_guided_displaced_tip(delta: ArrayLike, *, length: float, EI: float,
+                               family: str | FitFamily = "pauly-midha") -> PRBMResult:
     """Two-spring fixed-guided PRBM with a prescribed transverse tip displacement ``delta`` (length units).
 
     Outputs over the levels (module docstring for the equations): a, b (= delta), theta0 (= 0), Theta,

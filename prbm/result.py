@@ -5,9 +5,14 @@ Angles are in radians (degrees appear only in case files and reports).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, TypeAlias
 
 import numpy as np
+from numpy.typing import NDArray
+
+#: one output over the load levels: an array of the levels' shape, or one number for a single level
+#: given as scalars (``np.float64`` or ``float``)
+Levels: TypeAlias = NDArray[np.float64] | float
 
 
 @dataclass
@@ -27,16 +32,16 @@ class PRBMResult:
 
     converged: bool
     message: str
-    outputs: dict[str, np.ndarray]
+    outputs: dict[str, Levels]
     constants: dict[str, Any]
     model: str
     wall_time: float = 0.0
     nit: int = 0
-    level_converged: np.ndarray | None = None
-    roots: list[list[dict[str, float]]] | None = None
+    level_converged: NDArray[np.bool_] | None = None
+    roots: list[list[dict[str, float | str]]] | None = None
     extras: dict[str, Any] = field(default_factory=dict)
 
-    def __getitem__(self, name: str) -> np.ndarray:
+    def __getitem__(self, name: str) -> Levels:
         return self.outputs[name]
 
     # the result protocol every library's solve result shares: converged, status, message,

@@ -54,15 +54,17 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from math import cos, sin
-from typing import Callable, NamedTuple
+from typing import Any, Generic, NamedTuple, TypeGuard, TypeVar, cast, overload
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from prbm.fits import (PURE_MOMENT_C_THETA, PURE_MOMENT_GAMMA, PURE_MOMENT_SPRING,
-                       fit_family)
-from prbm.result import PRBMResult
+                       FitFamily, fit_family)
+from prbm.result import Levels, PRBMResult
 from argcheck import checked
 from prbm.lazy import LazyModule
 
@@ -75,7 +77,18 @@ __all__ = [
 ]
 
 
-def spring_angle(FR, phi, k, theta_i=0.0, *, xtol=1e-13, maxiter=60):
+@overload
+def spring_angle(FR: float, phi: float, k: float, theta_i: float = 0.0, *, xtol: float = 1e-13,
+                 maxiter: int = 60) -> tuple[float, bool, int]: ...
+
+
+@overload
+def spring_angle(FR: ArrayLike, phi: ArrayLike, k: ArrayLike, theta_i: ArrayLike = 0.0, *, xtol: float = 1e-13,
+                 maxiter: int = 60) -> tuple[float | NDArray[np.float64], bool | NDArray[np.bool_], int]: ...
+
+
+def spring_angle(FR: ArrayLike, phi: ArrayLike, k: ArrayLike, theta_i: ArrayLike = 0.0, *, xtol: float = 1e-13,
+                 maxiter: int = 60) -> tuple[float | NDArray[np.float64], bool | NDArray[np.bool_], int]:
     """Solve F R sin(phi - Theta) = k (Theta - Theta_i) for Theta, vectorised.
 
     FR >= 0 (force times PRB link), phi the absolute force angle, k > 0 the spring.  The root lies
@@ -91,25 +104,28 @@ def spring_angle(FR, phi, k, theta_i=0.0, *, xtol=1e-13, maxiter=60):
     args = [np.asarray(v, dtype=float) for v in (FR, phi, k, theta_i)]
     shapes = {a.shape for a in args if a.ndim}
     if not shapes:
-        return _spring_angle_scalar(float(FR), float(phi), float(k), float(theta_i), xtol, maxiter)
+        return _spring_angle_scalar(float(args[0]), float(args[1]), float(args[2]), float(args[3]), xtol, maxiter)
     if len(shapes) > 1:
-        args = np.broadcast_arrays(*args)
+        args = list(np.broadcast_arrays(*args))
     shape = args[0].shape if len(shapes) > 1 else shapes.pop()
     size = math.prod(shape)
     if size <= _SCALAR_LOOP_MAX:
         columns = [a.ravel().tolist() if a.ndim else [float(a)] * size for a in args]
-        solved = [_spring_angle_scalar(*level, xtol, maxiter) for level in zip(*columns)]
+        solved = [_spring_angle_scalar(FR_l, phi_l, k_l, theta_l, xtol, maxiter)
+                  for FR_l, phi_l, k_l, theta_l in zip(*columns)]
         Theta = np.array([s[0] for s in solved], dtype=float).reshape(shape)
         ok = np.array([s[1] for s in solved], dtype=bool).reshape(shape)
         return Theta, ok, max((s[2] for s in solved), default=0)
-    return _spring_angle_vector(*np.broadcast_arrays(*args), xtol, maxiter)
+    FR_b, phi_b, k_b, theta_b = np.broadcast_arrays(*args)
+    return _spring_angle_vector(FR_b, phi_b, k_b, theta_b, xtol, maxiter)
 
 
 _SCALAR_LOOP_MAX = 256  # up to this many levels the plain-float loop beats the numpy iteration
 _PLAIN = (float, int, np.float64)  # one load level given as a number
 
 
-def _spring_angle_scalar(FR, phi, k, theta_i, xtol=1e-13, maxiter=60):
+def _spring_angle_scalar(FR: float, phi: float, k: float, theta_i: float, xtol: float = 1e-13,
+                         maxiter: int = 60) -> tuple[float, bool, int]:
     """``spring_angle`` for one level in plain floats (called once per load level by
     every segment model's level kernel, so it is written for CPython: module-global math functions,
     each quantity computed once per iteration, no helper calls).
@@ -158,7 +174,9 @@ def _spring_angle_scalar(FR, phi, k, theta_i, xtol=1e-13, maxiter=60):
     return x, False, maxiter
 
 
-def _spring_angle_vector(FR, phi, k, theta_i, xtol, maxiter):
+def _spring_angle_vector(FR: NDArray[np.float64], phi: NDArray[np.float64], k: NDArray[np.float64],
+                         theta_i: NDArray[np.float64], xtol: float, maxiter: int
+                         ) -> tuple[NDArray[np.float64], NDArray[np.bool_], int]:
     """``spring_angle`` over many levels at once (numpy), the same iteration as the scalar version."""
     lo = np.minimum(theta_i, phi)
     hi = np.maximum(theta_i, phi)
@@ -195,7 +213,10 @@ def _spring_angle_vector(FR, phi, k, theta_i, xtol, maxiter):
     return x, done & np.isfinite(x), it
 
 
-def _spring_angle_reference(FR, phi, k, theta_i=0.0, *, xtol=1e-13, maxiter=60):
+def _spring_angle_reference(FR: float | NDArray[np.float64], phi: float | NDArray[np.float64],
+                            k: float | NDArray[np.float64], theta_i: float | NDArray[np.float64] = 0.0, *,
+                            xtol: float = 1e-13, maxiter: int = 60
+                            ) -> tuple[float | NDArray[np.float64], bool | NDArray[np.bool_], int]:
     """Reference (previous) solver of (*): safeguarded Newton from phi; kept to test ``spring_angle``.
 
     FR >= 0 (force times PRB link), phi the absolute force angle, k > 0 the spring.  The root lies
@@ -208,7 +229,7 @@ def _spring_angle_reference(FR, phi, k, theta_i=0.0, *, xtol=1e-13, maxiter=60):
     lo = np.minimum(theta_i, phi).astype(float)
     hi = np.maximum(theta_i, phi).astype(float)
 
-    def f(t):
+    def f(t: NDArray[np.float64]) -> NDArray[np.float64]:
         return FR * np.sin(phi - t) - k * (t - theta_i)
 
     f_lo = f(lo)
@@ -237,7 +258,8 @@ def _spring_angle_reference(FR, phi, k, theta_i=0.0, *, xtol=1e-13, maxiter=60):
     return x, converged, it
 
 
-def _spring_angle_reference_scalar(FR, phi, k, theta_i, xtol, maxiter):
+def _spring_angle_reference_scalar(FR: float, phi: float, k: float, theta_i: float, xtol: float,
+                                   maxiter: int) -> tuple[float, bool, int]:
     """Scalar version of ``_spring_angle_reference``."""
     if FR == 0.0:
         return theta_i, True, 0
@@ -269,7 +291,8 @@ def _spring_angle_reference_scalar(FR, phi, k, theta_i, xtol, maxiter):
 # case, or a long sweep).
 
 
-def _level_lists(P, n) -> tuple[list[float], list[float], tuple[int, ...]]:
+def _level_lists(P: list[float] | ArrayLike, n: list[float] | ArrayLike
+                 ) -> tuple[list[float], list[float], tuple[int, ...]]:
     """P and n over the levels as two equally long lists of floats, and the levels' shape."""
     if type(P) is list and type(n) is list and len(P) == len(n) and \
             all(type(v) is float for v in P) and all(type(v) is float for v in n):  # already that (a case's levels)
@@ -280,14 +303,15 @@ def _level_lists(P, n) -> tuple[list[float], list[float], tuple[int, ...]]:
     return P_arr.ravel().tolist(), n_arr.ravel().tolist(), P_arr.shape
 
 
-def _arrays(columns: dict[str, list], shape: tuple[int, ...]) -> dict[str, np.ndarray]:
+def _arrays(columns: dict[str, list[float]], shape: tuple[int, ...]) -> dict[str, NDArray[np.float64]]:
     """Each column of floats as an array of the levels' shape (a 0-d array for one scalar level)."""
     if len(shape) == 1:
         return {key: np.array(column, dtype=float) for key, column in columns.items()}
     return {key: np.array(column, dtype=float).reshape(shape) for key, column in columns.items()}
 
 
-def _table(rows: list[tuple], names: tuple[str, ...], shape: tuple[int, ...]) -> dict[str, np.ndarray]:
+def _table(rows: Sequence[tuple[float, ...]], names: tuple[str, ...], shape: tuple[int, ...]
+           ) -> dict[str, NDArray[np.float64]]:
     """Per-level rows (one tuple of floats a level) -> one array of the levels' shape a name (the rows'
     first len(names) entries)."""
     if not rows:
@@ -297,52 +321,68 @@ def _table(rows: list[tuple], names: tuple[str, ...], shape: tuple[int, ...]) ->
     return {name: np.array(column, dtype=float).reshape(shape) for name, column in zip(names, zip(*rows))}
 
 
-def _columns(rows: list[tuple], names: tuple[str, ...]) -> dict[str, list]:
+def _columns(rows: Sequence[tuple[float, ...]], names: tuple[str, ...]) -> dict[str, list[float]]:
     """Per-level rows (one tuple a level) -> one list a name (the rows' first len(names) entries)."""
     if not rows:
         return {name: [] for name in names}
     return dict(zip(names, (list(column) for column in zip(*rows))))
 
 
-def _scalar_or_array(d):
+def _scalar_or_array(d: dict[str, ArrayLike]) -> dict[str, Levels]:
     return {key: np.asarray(v, dtype=float) for key, v in d.items()}
 
 
+_L = TypeVar("_L", float, NDArray[np.float64])   # a quantity at one level (a float) or at all levels (an array)
+_B = TypeVar("_B", bool, NDArray[np.bool_])       # a level's convergence (a bool) or all levels' (an array)
+_R = TypeVar("_R")     # the constants of one load ratio (``_mirrored_levels``)
+_Row = TypeVar("_Row")  # one level's row (``_mirrored_levels``)
+
+
 @dataclass(frozen=True, slots=True)
-class _Ops:
+class _Ops(Generic[_L, _B]):
     """What a level kernel evaluates with: ``FLOATS`` for one level in plain floats (math, the scalar
     spring solve), ``ARRAYS`` for all the levels at once (numpy, the vectorised spring solve)."""
 
-    sin: Callable
-    cos: Callable
-    sqrt: Callable
-    atan2: Callable
-    hypot: Callable
-    where: Callable
-    spring: Callable  # spring(FR, phi, k, Theta_i) -> (Theta, converged, iterations) of (*)
+    sin: Callable[[_L], _L]
+    cos: Callable[[_L], _L]
+    sqrt: Callable[[_L], _L]
+    atan2: Callable[[_L | float, _L | float], _L]
+    hypot: Callable[[_L | float, _L | float], _L]
+    where: Callable[[bool | NDArray[np.bool_], _L | float, _L | float], _L]
+    # spring(FR, phi, k, Theta_i) -> (Theta, converged, iterations) of (*)
+    spring: Callable[[_L, _L, _L | float, _L | float], tuple[_L, _B, int]]
 
 
-def _pick(condition, yes, no):
+def _pick(condition: object, yes: float, no: float) -> float:
     return yes if condition else no
 
 
-def _spring_levels(FR, phi, k, theta_i):
-    return _spring_angle_vector(*np.broadcast_arrays(*(np.asarray(v, float) for v in (FR, phi, k, theta_i))),
-                                1e-13, 60)
+def _is_number(value: object) -> TypeGuard[float]:
+    """One load level given as a number (a float, an int or an np.float64; not a bool or an array)."""
+    return type(value) in _PLAIN
 
 
-_FLOATS = _Ops(math.sin, math.cos, math.sqrt, math.atan2, lambda x, y: float(np.hypot(x, y)), _pick,
-               _spring_angle_scalar)
-_ARRAYS = _Ops(np.sin, np.cos, np.sqrt, np.arctan2, np.hypot, np.where, _spring_levels)
+def _spring_levels(FR: ArrayLike, phi: ArrayLike, k: ArrayLike, theta_i: ArrayLike
+                   ) -> tuple[NDArray[np.float64], NDArray[np.bool_], int]:
+    FR_b, phi_b, k_b, theta_b = np.broadcast_arrays(*(np.asarray(v, float) for v in (FR, phi, k, theta_i)))
+    return _spring_angle_vector(FR_b, phi_b, k_b, theta_b, 1e-13, 60)
 
 
-def _mirrored_levels(P_list: list, n_list: list, ratio, level) -> tuple[list, list]:
+_FLOATS: _Ops[float, bool] = _Ops(math.sin, math.cos, math.sqrt, math.atan2, lambda x, y: float(np.hypot(x, y)),
+                                  _pick, _spring_angle_scalar)
+_ARRAYS: _Ops[NDArray[np.float64], NDArray[np.bool_]] = _Ops(np.sin, np.cos, np.sqrt, np.arctan2, np.hypot,
+                                                             np.where, _spring_levels)
+
+
+def _mirrored_levels(P_list: list[float], n_list: list[float], ratio: Callable[[float], _R],
+                     level: Callable[[float, float, _R], _Row]) -> tuple[list[_Row], list[_R]]:
     """The level rows of a straight segment model under the end force (-nP, P), in plain floats: each load
     mirrored to P >= 0 (n_eff = sign n, sign restoring it), the per-ratio constants ``ratio(n_eff)`` worked
     out once per distinct mirrored ratio, ``level(|P|, sign, constants)`` at each level.
     Returns (rows, the constants of each level)."""
-    per_ratio: dict = {}
-    rows, fits = [], []
+    per_ratio: dict[float, _R] = {}
+    rows: list[_Row] = []
+    fits: list[_R] = []
     for p, m in zip(P_list, n_list):
         sign = -1.0 if p < 0.0 else 1.0
         n_eff = sign * m
@@ -354,27 +394,29 @@ def _mirrored_levels(P_list: list, n_list: list, ratio, level) -> tuple[list, li
     return rows, fits
 
 
-class _FixedPinnedRatio(NamedTuple):
+class _FixedPinnedRatio(NamedTuple, Generic[_L]):
     """The constants of one (mirrored) load ratio n of the fixed-pinned model: gamma, c_theta, K_theta
     from the fits (41)-(43), the spring k = gamma K_theta EI/l (45), eta = sqrt(1 + n^2) and the force
     angle phi = atan2(1, -n) (46)-(47), the PRB link gamma l."""
 
-    gamma: float
-    c_theta: float
-    K: float
-    k: float
-    eta: float
-    phi: float
-    gl: float
+    gamma: _L
+    c_theta: _L
+    K: _L
+    k: _L
+    eta: _L
+    phi: _L
+    gl: _L
 
 
-def _fixed_pinned_ratio(xp: _Ops, n_eff, length: float, EI: float, fam, extrapolate: str) -> _FixedPinnedRatio:
+def _fixed_pinned_ratio(xp: _Ops[_L, _B], n_eff: _L, length: float, EI: float, fam: FitFamily,
+                        extrapolate: str) -> _FixedPinnedRatio[_L]:
     gamma, c_theta, K = fam.model_parameters(n_eff, extrapolate)
     return _FixedPinnedRatio(gamma, c_theta, K, gamma * K * EI / length, xp.sqrt(1.0 + n_eff * n_eff),
                              xp.atan2(1.0, -n_eff), gamma * length)
 
 
-def _fixed_pinned_level(xp: _Ops, Pabs, sign, c: _FixedPinnedRatio, length: float, EI: float) -> tuple:
+def _fixed_pinned_level(xp: _Ops[_L, _B], Pabs: _L, sign: _L, c: _FixedPinnedRatio[_L], length: float,
+                        EI: float) -> tuple[_L, _L, _L, _L, _L, _B, int]:
     """The fixed-pinned model at a level (floats) or at all levels (arrays) [bapat2015, eqs 44-49], the
     load mirrored to P >= 0 (sign restores it): F = P eta, (F l^2/EI) sin(phi - Theta) = K_theta Theta,
     a = l - gamma l (1 - cos Theta), b = gamma l sin Theta, theta0 = c_theta Theta.
@@ -386,8 +428,8 @@ def _fixed_pinned_level(xp: _Ops, Pabs, sign, c: _FixedPinnedRatio, length: floa
 
 
 @checked(positive=('length', 'EI'), finite=('P', 'n'))
-def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha",
-                     extrapolate: str = "raise") -> PRBMResult:
+def fixed_pinned_tip(P: ArrayLike, n: ArrayLike = 0.0, *, length: float, EI: float,
+                     family: str | FitFamily = "pauly-midha", extrapolate: str = "raise") -> PRBMResult:
     """Tip of an initially straight fixed-pinned (fixed-free) segment under the end force (-nP, P).
 
     [bapat2015, eqs 41-49]: gamma, c_theta, K_theta from the n-fits; F = P sqrt(1+n^2);
@@ -399,7 +441,8 @@ def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
     """
     t0 = time.perf_counter()
     fam = fit_family(family)
-    if type(P) in _PLAIN and type(n) in _PLAIN:  # one level given as numbers: no array round trip
+    shape: tuple[int, ...]
+    if _is_number(P) and _is_number(n):  # one level given as numbers: no array round trip
         P_list, n_list, shape = [float(P)], [float(n)], ()
     else:
         P_list, n_list, shape = _level_lists(P, n)
@@ -411,28 +454,30 @@ def fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
     ok_levels = [row[5] for row in rows]
     ok_all = all(ok_levels)
     names, constant_names = ("a", "b", "theta0", "Theta", "F"), ("gamma", "c_theta", "K_theta", "k")
+    out: dict[str, Levels]
+    constants: dict[str, Any]
     if shape == ():  # one level given as scalars
         out = {key: np.float64(v) for key, v in zip(names, rows[0])}
         out.update({"P": np.float64(P_list[0]), "n": np.float64(n_list[0])})
         constants = dict(zip(constant_names, fits[0]))
     else:
-        out = _table(rows, names, shape)
-        out.update({"P": np.asarray(P, float), "n": np.asarray(n, float)})
-        constants = _table(fits, constant_names, shape)
+        out = {**_table(rows, names, shape), "P": np.asarray(P, float), "n": np.asarray(n, float)}
+        constants = {**_table(fits, constant_names, shape)}
     constants["family"] = fam.name
     return PRBMResult(ok_all, "converged" if ok_all else "spring equation did not converge", out, constants,
                       "fixed-pinned, seed 000 eqs (41)-(49)", time.perf_counter() - t0,
                       max((row[6] for row in rows), default=0), np.array(ok_levels, dtype=bool).reshape(shape or (1,)))
 
 
-def _fixed_pinned_arrays(P, n, length: float, EI: float, fam, extrapolate: str, t0: float) -> PRBMResult:
+def _fixed_pinned_arrays(P: ArrayLike, n: ArrayLike, length: float, EI: float, fam: FitFamily, extrapolate: str,
+                         t0: float) -> PRBMResult:
     """``fixed_pinned_tip`` over many levels: the same kernel evaluated once on numpy arrays."""
     P_arr, n_arr = np.broadcast_arrays(np.asarray(P, float), np.asarray(n, float))
     sign = np.where(P_arr < 0.0, -1.0, 1.0)
     c = _fixed_pinned_ratio(_ARRAYS, sign * n_arr, length, EI, fam, extrapolate)
     a, b, theta0, Theta, F, ok, nit = _fixed_pinned_level(_ARRAYS, np.abs(P_arr), sign, c, length, EI)
-    out = {"a": a, "b": b, "theta0": theta0, "Theta": Theta, "F": F, "P": np.asarray(P, float),
-           "n": np.asarray(n, float)}
+    out: dict[str, Levels] = {"a": a, "b": b, "theta0": theta0, "Theta": Theta, "F": F, "P": np.asarray(P, float),
+                              "n": np.asarray(n, float)}
     constants = {"gamma": c.gamma, "c_theta": c.c_theta, "K_theta": c.K, "k": c.k, "family": fam.name}
     ok_all = bool(np.all(ok))
     return PRBMResult(ok_all, "converged" if ok_all else "spring equation did not converge", out, constants,
@@ -440,8 +485,9 @@ def _fixed_pinned_arrays(P, n, length: float, EI: float, fam, extrapolate: str, 
 
 
 @checked(positive=('length', 'EI'), finite=('n', 'a', 'b', 'theta0'))
-def fixed_pinned_from_tip(*, n=0.0, a=None, b=None, theta0=None, length: float, EI: float,
-                          family="pauly-midha", extrapolate: str = "raise") -> PRBMResult:
+def fixed_pinned_from_tip(*, n: ArrayLike = 0.0, a: ArrayLike | None = None, b: ArrayLike | None = None,
+                          theta0: ArrayLike | None = None, length: float, EI: float,
+                          family: str | FitFamily = "pauly-midha", extrapolate: str = "raise") -> PRBMResult:
     """Inverse fixed-pinned problem: tip position (a, b), or b alone, or theta0 -> P (force (-nP, P)).
 
     Theta from eq (50) Theta = atan(b / (a - (1 - gamma) l)) when a and b are given, from eq (49)
@@ -475,7 +521,7 @@ def fixed_pinned_from_tip(*, n=0.0, a=None, b=None, theta0=None, length: float, 
 
 
 @checked(positive=('length', 'EI'), finite=('M',))
-def pure_moment_tip(M, *, length: float, EI: float) -> PRBMResult:
+def pure_moment_tip(M: ArrayLike, *, length: float, EI: float) -> PRBMResult:
     """Cantilever under an end moment M (CCW): the PRBM of [ananthasuresh_l18, 16:59-21:58],
     gamma = 0.7346, k = 1.5164 EI/L.
 
@@ -487,10 +533,12 @@ def pure_moment_tip(M, *, length: float, EI: float) -> PRBMResult:
     M = np.asarray(M, dtype=float)
     k = PURE_MOMENT_SPRING * EI / length
     names = ("a", "b", "theta0", "Theta", "M", "a_exact", "b_exact")
+    out: dict[str, Levels]
     if M.size > _SCALAR_LOOP_MAX:  # many levels: the kernel once over the array
         out = dict(zip(names, _pure_moment_level(_ARRAYS, M, length, EI, k)))
     else:
-        out = _table([_pure_moment_level(_FLOATS, m, length, EI, k) for m in M.ravel().tolist()], names, M.shape)
+        out = {**_table([_pure_moment_level(_FLOATS, m, length, EI, k) for m in M.ravel().tolist()], names,
+                        M.shape)}
     return PRBMResult(True, "closed form", out,
                       {"gamma": PURE_MOMENT_GAMMA, "k": k, "spring_coefficient": PURE_MOMENT_SPRING,
                        "c_theta": PURE_MOMENT_C_THETA},
@@ -498,7 +546,8 @@ def pure_moment_tip(M, *, length: float, EI: float) -> PRBMResult:
                       level_converged=np.ones(np.atleast_1d(M).shape, bool))
 
 
-def _pure_moment_level(xp: _Ops, m, length: float, EI: float, k: float) -> tuple:
+def _pure_moment_level(xp: _Ops[_L, _B], m: _L, length: float, EI: float, k: float
+                       ) -> tuple[_L, _L, _L, _L, _L, _L, _L]:
     """``pure_moment_tip`` at a level (floats) or at all levels (arrays): (a, b, theta0, Theta, M, a_exact,
     b_exact); the exact circular arc of curvature M/EI: rho = EI/M, a = rho sin(M l/EI),
     b = rho (1 - cos(M l/EI)) (a = l, b = 0 without a moment)."""
@@ -514,7 +563,8 @@ def _pure_moment_level(xp: _Ops, m, length: float, EI: float, k: float) -> tuple
 
 
 @checked(positive=('length', 'EI'), finite=('a', 'b', 'theta0'))
-def pure_moment_from_tip(*, length: float, EI: float, a=None, b=None, theta0=None) -> PRBMResult:
+def pure_moment_from_tip(*, length: float, EI: float, a: ArrayLike | None = None, b: ArrayLike | None = None,
+                         theta0: ArrayLike | None = None) -> PRBMResult:
     """Inverse of ``pure_moment_tip``: Theta from (a, b), b, or theta0, then M = k Theta."""
     g = PURE_MOMENT_GAMMA
     if a is not None and b is not None:
@@ -533,8 +583,8 @@ def pure_moment_from_tip(*, length: float, EI: float, a=None, b=None, theta0=Non
 
 
 @checked(positive=('length', 'EI'), finite=('P', 'n', 'curvature'))
-def curved_fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, curvature: float,
-                            family="pauly-midha", extrapolate: str = "raise") -> PRBMResult:
+def curved_fixed_pinned_tip(P: ArrayLike, n: ArrayLike = 0.0, *, length: float, EI: float, curvature: float,
+                            family: str | FitFamily = "pauly-midha", extrapolate: str = "raise") -> PRBMResult:
     """Initially curved fixed-pinned segment (initial curvature 1/R_i, CCW positive), end force (-nP, P).
 
     [bapat2015, eqs 53-61]: kappa0 = l/R_i (53); a_i, b_i (55)-(56); Theta_i (54); rho (57);
@@ -549,12 +599,11 @@ def curved_fixed_pinned_tip(P, n=0.0, *, length: float, EI: float, curvature: fl
     kappa0 = curvature * length
     if P.size > _SCALAR_LOOP_MAX:  # many levels: the kernel once over arrays
         return _curved_arrays(P, n, kappa0, length, EI, fam, extrapolate, t0)
-    columns, constants, ok, nit = _curved_levels(P.ravel().tolist(), n.ravel().tolist(), [kappa0] * P.size,
-                                                 length, EI, fam, extrapolate)
-    out = _arrays(columns, P.shape)
-    out.update({"P": P, "n": n})
-    constants = _arrays(constants, P.shape)
-    constants.update({"kappa0": kappa0, "family": fam.name, "assumptions": CURVED_ASSUMPTIONS})
+    columns, constant_columns, ok, nit = _curved_levels(P.ravel().tolist(), n.ravel().tolist(),
+                                                        [kappa0] * P.size, length, EI, fam, extrapolate)
+    out: dict[str, Levels] = {**_arrays(columns, P.shape), "P": P, "n": n}
+    constants: dict[str, Any] = {**_arrays(constant_columns, P.shape), "kappa0": kappa0, "family": fam.name,
+                                 "assumptions": CURVED_ASSUMPTIONS}
     return PRBMResult(all(ok), "converged" if all(ok) else "not converged", out, constants,
                       "initially curved fixed-pinned, seed 000 eqs (53)-(61)", time.perf_counter() - t0, nit,
                       level_converged=np.array(ok, dtype=bool).reshape(P.shape))
@@ -564,8 +613,8 @@ CURVED_ASSUMPTIONS = ("load relation k(Theta-Theta_i) = F rho l sin(phi-Theta); 
                       "theta0 = kappa0 + c_theta (Theta - Theta_i); straight-beam fits")
 
 
-def _curved_arrays(P: np.ndarray, n: np.ndarray, kappa0: float, length: float, EI: float, fam, extrapolate: str,
-                   t0: float) -> PRBMResult:
+def _curved_arrays(P: NDArray[np.float64], n: NDArray[np.float64], kappa0: float, length: float, EI: float,
+                   fam: FitFamily, extrapolate: str, t0: float) -> PRBMResult:
     """``curved_fixed_pinned_tip`` over many levels: the same kernel evaluated once on numpy arrays."""
     c = _curved_ratio(_ARRAYS, kappa0, fam.model_parameters(np.where(P < 0, -n, n), extrapolate), length, EI)
     a, b, theta0, Theta, ok, nit = _curved_level(_ARRAYS, P, n, kappa0, c, length)
@@ -578,19 +627,20 @@ def _curved_arrays(P: np.ndarray, n: np.ndarray, kappa0: float, length: float, E
                       level_converged=ok)
 
 
-class _CurvedRatio(NamedTuple):
+class _CurvedRatio(NamedTuple, Generic[_L]):
     """The constants of one (kappa0, mirrored load ratio n) of the curved model: the fits gamma, c_theta,
     K_theta (41)-(43), rho (57), the spring k = rho K_theta EI/l (58) and Theta_i (54)."""
 
-    gamma: float
-    c_theta: float
-    K: float
-    rho: float
-    k: float
-    Theta_i: float
+    gamma: _L
+    c_theta: _L
+    K: _L
+    rho: _L
+    k: _L
+    Theta_i: _L
 
 
-def _curved_ratio(xp: _Ops, kappa0: float, fit: tuple, length: float, EI: float) -> _CurvedRatio:
+def _curved_ratio(xp: _Ops[_L, _B], kappa0: float, fit: tuple[_L, _L, _L], length: float, EI: float
+                  ) -> _CurvedRatio[_L]:
     """Eqs (54)-(58) for the initial curvature kappa0 = l/R_i and the fits ``fit`` = (gamma, c_theta, K)
     (floats, or arrays over the levels)."""
     gamma, c_theta, K = fit
@@ -603,7 +653,8 @@ def _curved_ratio(xp: _Ops, kappa0: float, fit: tuple, length: float, EI: float)
     return _CurvedRatio(gamma, c_theta, K, rho, rho * K * EI / length, xp.atan2(b_i, a_i - length * (1.0 - gamma)))
 
 
-def _curved_level(xp: _Ops, p, m, kappa0: float, c: _CurvedRatio, length: float) -> tuple:
+def _curved_level(xp: _Ops[_L, _B], p: _L, m: _L, kappa0: float, c: _CurvedRatio[_L], length: float
+                  ) -> tuple[_L, _L, _L, _L, _B, int]:
     """The curved model at a level (floats) or at all levels (arrays): phi the direction of (-nP, P) on
     its branch within pi of Theta_i, F rho l sin(phi - Theta) = k (Theta - Theta_i),
     a = l - gamma l + rho l cos Theta (59), b = rho l sin Theta (60), theta0 = kappa0 + c_theta (Theta - Theta_i).
@@ -618,15 +669,16 @@ def _curved_level(xp: _Ops, p, m, kappa0: float, c: _CurvedRatio, length: float)
             kappa0 + c_theta * (Theta - Theta_i), Theta, ok, nit)
 
 
-def _curved_levels(P: list[float], n: list[float], kappa0: list[float], length: float, EI: float, fam,
-                   extrapolate: str) -> tuple[dict[str, list], dict[str, list], list[bool], int]:
+def _curved_levels(P: list[float], n: list[float], kappa0: list[float], length: float, EI: float, fam: FitFamily,
+                   extrapolate: str) -> tuple[dict[str, list[float]], dict[str, list[float]], list[bool], int]:
     """``_curved_level`` over the levels, each with its own kappa0 = l/R_i (``fixed_guided_monotonic_tip``
     adds M l/EI); the fits once per distinct load ratio, the geometry once per distinct (kappa0, ratio).
     Returns the output columns (a, b, theta0, Theta), the constants' columns, each level's convergence
     and the iterations."""
     fits: dict[float, tuple[float, float, float]] = {}
-    geometry: dict[tuple[float, float], _CurvedRatio] = {}
-    rows, per_level = [], []
+    geometry: dict[tuple[float, float], _CurvedRatio[float]] = {}
+    rows: list[tuple[float, float, float, float, bool, int]] = []
+    per_level: list[_CurvedRatio[float]] = []
     for p, m, k0 in zip(P, n, kappa0):
         key = (k0, -m if p < 0 else m)
         c = geometry.get(key)
@@ -642,8 +694,8 @@ def _curved_levels(P: list[float], n: list[float], kappa0: list[float], length: 
 
 
 @checked(positive=('length', 'EI'), finite=('P', 'n'))
-def fixed_guided_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha",
-                     extrapolate: str = "raise") -> PRBMResult:
+def fixed_guided_tip(P: ArrayLike, n: ArrayLike = 0.0, *, length: float, EI: float,
+                     family: str | FitFamily = "pauly-midha", extrapolate: str = "raise") -> PRBMResult:
     """Initially straight fixed-guided segment, end slope held at 0, end force (-nP, P).
 
     [bapat2015, eq 63] and [ananthasuresh_l18, 07:13-12:05]: two half-beams of l/2, each a
@@ -661,10 +713,9 @@ def fixed_guided_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
     rows, fits = _mirrored_levels(
         P_list, n_list, lambda n_eff: _fixed_guided_ratio(_FLOATS, n_eff, length, EI, fam, extrapolate),
         lambda Pabs, sign, c: _fixed_guided_level(_FLOATS, Pabs, sign, c, length))
-    out = _table(rows, ("a", "b", "theta0", "Theta", "M"), shape)
-    out.update({"P": np.asarray(P, float), "n": np.asarray(n, float)})
-    constants = _table(fits, ("gamma", "K_theta", "k_each"), shape)
-    constants["family"] = fam.name
+    out: dict[str, Levels] = {**_table(rows, ("a", "b", "theta0", "Theta", "M"), shape),
+                              "P": np.asarray(P, float), "n": np.asarray(n, float)}
+    constants: dict[str, Any] = {**_table(fits, ("gamma", "K_theta", "k_each"), shape), "family": fam.name}
     ok_levels = [row[5] for row in rows]
     ok_all = all(ok_levels)
     return PRBMResult(ok_all, "converged" if ok_all else "not converged", out, constants,
@@ -673,25 +724,27 @@ def fixed_guided_tip(P, n=0.0, *, length: float, EI: float, family="pauly-midha"
                       level_converged=np.array(ok_levels, dtype=bool).reshape(shape))
 
 
-class _FixedGuidedRatio(NamedTuple):
+class _FixedGuidedRatio(NamedTuple, Generic[_L]):
     """The constants of one (mirrored) load ratio n of the two-spring fixed-guided model: gamma and
     K_theta from the fits, the spring of each half k = 2 gamma K_theta EI/l (63), eta = sqrt(1 + n^2),
     phi = atan2(1, -n)."""
 
-    gamma: float
-    K: float
-    k: float
-    eta: float
-    phi: float
+    gamma: _L
+    K: _L
+    k: _L
+    eta: _L
+    phi: _L
 
 
-def _fixed_guided_ratio(xp: _Ops, n_eff, length: float, EI: float, fam, extrapolate: str) -> _FixedGuidedRatio:
+def _fixed_guided_ratio(xp: _Ops[_L, _B], n_eff: _L, length: float, EI: float, fam: FitFamily,
+                        extrapolate: str) -> _FixedGuidedRatio[_L]:
     gamma, _, K = fam.model_parameters(n_eff, extrapolate)
     return _FixedGuidedRatio(gamma, K, 2.0 * gamma * K * EI / length, xp.sqrt(1.0 + n_eff * n_eff),
                              xp.atan2(1.0, -n_eff))
 
 
-def _fixed_guided_level(xp: _Ops, Pabs, sign, c: _FixedGuidedRatio, length: float) -> tuple:
+def _fixed_guided_level(xp: _Ops[_L, _B], Pabs: _L, sign: _L, c: _FixedGuidedRatio[_L], length: float
+                        ) -> tuple[_L, _L, _L, _L, _L, _B, int]:
     """The two-spring fixed-guided model at a level (floats) or at all levels (arrays), the load mirrored
     to P >= 0 (sign restores it): F gamma l sin(phi - Theta) = 2 k Theta, a = l - gamma l (1 - cos Theta),
     b = gamma l sin Theta, theta0 = 0, M = -(k Theta + (1 - gamma) l P/2).
@@ -703,7 +756,8 @@ def _fixed_guided_level(xp: _Ops, Pabs, sign, c: _FixedGuidedRatio, length: floa
             sign * Theta, sign * -(k * Theta + (1.0 - gamma) * length * Pabs / 2.0), ok, nit)
 
 
-def _fixed_guided_arrays(P, n, length: float, EI: float, fam, extrapolate: str, t0: float) -> PRBMResult:
+def _fixed_guided_arrays(P: ArrayLike, n: ArrayLike, length: float, EI: float, fam: FitFamily, extrapolate: str,
+                         t0: float) -> PRBMResult:
     """``fixed_guided_tip`` over many levels: the same kernel evaluated once on numpy arrays."""
     P_arr, n_arr = np.broadcast_arrays(np.asarray(P, float), np.asarray(n, float))
     sign = np.where(P_arr < 0.0, -1.0, 1.0)
@@ -719,8 +773,9 @@ def _fixed_guided_arrays(P, n, length: float, EI: float, fam, extrapolate: str, 
 
 
 @checked(positive=('length', 'EI'), finite=('P', 'n', 'M', 'curvature'))
-def fixed_guided_monotonic_tip(P, n=0.0, M=0.0, *, length: float, EI: float, curvature: float = 0.0,
-                               family="pauly-midha", extrapolate: str = "raise") -> PRBMResult:
+def fixed_guided_monotonic_tip(P: ArrayLike, n: ArrayLike = 0.0, M: ArrayLike = 0.0, *, length: float, EI: float,
+                               curvature: float = 0.0, family: str | FitFamily = "pauly-midha",
+                               extrapolate: str = "raise") -> PRBMResult:
     """Fixed-guided / fixed-fixed segment with monotonic curvature under end force (-nP, P) and end
     moment M (CCW): the curved fixed-pinned PRBM with kappa0 = M l/EI + l/R_i
     [bapat2015, eqs 62, 14, 17, 119].  Valid only without an inflection point (Table 2.1: P and M of the same
@@ -734,15 +789,15 @@ def fixed_guided_monotonic_tip(P, n=0.0, M=0.0, *, length: float, EI: float, cur
     # kappa0 = M l/EI + l/R_i, through the curvature kappa0/l and back, as the per-level solve receives it
     kappa0 = [(m * length / EI + curvature * length) / length * length for m in levels[2]]
     columns, _, ok, _ = _curved_levels(P_list, n_list, kappa0, length, EI, fit_family(family), extrapolate)
-    out = _arrays({**columns, "P": P_list, "n": n_list}, (len(P_list),))
-    out["M"] = np.broadcast_to(M, out["a"].shape).copy()
+    arrays = _arrays({**columns, "P": P_list, "n": n_list}, (len(P_list),))
+    out: dict[str, Levels] = {**arrays, "M": np.broadcast_to(M, arrays["a"].shape).copy()}
     return PRBMResult(all(ok), "monotonic curvature, kappa0 = M l/EI", out, {"kappa0": np.array(kappa0)},
                       "fixed-guided monotonic, seed 000 eq (62)", time.perf_counter() - t0,
                       level_converged=np.array(ok, dtype=bool))
 
 
 @checked(positive=('flexure_length', 'rigid_length', 'EI'), finite=('P', 'n', 'curvature'))
-def slfp_tip(P, n=0.0, *, flexure_length: float, rigid_length: float, EI: float,
+def slfp_tip(P: ArrayLike, n: ArrayLike = 0.0, *, flexure_length: float, rigid_length: float, EI: float,
              curvature: float = 0.0) -> PRBMResult:
     """Fixed-free segment: small-length flexural pivot (length l) then a rigid segment (length L).
 
@@ -756,7 +811,8 @@ def slfp_tip(P, n=0.0, *, flexure_length: float, rigid_length: float, EI: float,
     t0 = time.perf_counter()
     l, L = flexure_length, rigid_length
     P = np.asarray(P, dtype=float)
-    n = np.asarray(n, dtype=float) * np.ones_like(P)
+    # numpy's stubs type this product as Any, which would leave n typed as the argument
+    n = cast(NDArray[np.float64], np.asarray(n, dtype=float) * np.ones_like(P))
     R = L + l / 2.0
     k = EI / l
     kappa0 = curvature * l
@@ -794,18 +850,19 @@ def slfp_end_tip(F: complex, M: float, *, flexure_length: float, EI: float, xtol
     l = flexure_length
     R, k = l / 2.0, EI / l
 
-    def residual(theta):
+    def residual(theta: float) -> float:
         return k * theta - M - R * (F.imag * math.cos(theta) - F.real * math.sin(theta))
 
     lo, hi = (M - R * abs(F)) / k, (M + R * abs(F)) / k
     Theta = lo if lo == hi else optimize.brentq(residual, lo, hi, xtol=xtol)
-    out = {"a": R * (1.0 + math.cos(Theta)), "b": R * math.sin(Theta), "theta0": Theta, "Theta": Theta}
+    out: dict[str, Levels] = {"a": R * (1.0 + math.cos(Theta)), "b": R * math.sin(Theta), "theta0": Theta,
+                              "Theta": Theta}
     return PRBMResult(True, "converged", out, {"k": k, "R": R, "Theta_i": 0.0},
                       "small-length flexural pivot, end loads, seed 000 eqs (71)-(76)", time.perf_counter() - t0)
 
 
 @checked(positive=('length', 'EI', 'gamma', 'K_theta'), finite=('F_axial', 'curvature'))
-def curved_pinned_pinned(F_axial, *, length: float, EI: float, curvature: float, gamma: float = 0.85,
+def curved_pinned_pinned(F_axial: ArrayLike, *, length: float, EI: float, curvature: float, gamma: float = 0.85,
                          K_theta: float = 2.65) -> PRBMResult:
     """Initially curved pinned-pinned segment (arc of length l, curvature 1/R_i) under a force F_axial
     along its chord (positive = tension, pulling the pins apart).

@@ -46,14 +46,16 @@ from __future__ import annotations
 import cmath
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Protocol, Sequence
+from typing import Any, Protocol, Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 
 from prbm.fits import FitRangeError, fit_family
-from prbm.result import PRBMResult
+from prbm.result import Levels, PRBMResult
 from prbm.segments import fixed_pinned_tip
 
 __all__ = ["TipPose", "DeadDirection", "FollowerDirection", "TowardPoint", "fixed_pinned_turning_tip",
@@ -72,6 +74,16 @@ class TipPose:
 class LoadLaw(Protocol):
     def direction(self, pose: TipPose) -> complex:
         """The force's unit direction (complex) at this pose."""
+
+
+class InputLink(Protocol):
+    """What ``input_angle_under_turning_forces`` reads of a PRB four-bar (``prbm.mechanisms.FourBar``): the
+    input link's length R2 and the spring torque that holds the linkage at input angles theta2 (rad)."""
+
+    R2: float
+
+    def input_torque(self, theta2: NDArray[Any]) -> NDArray[np.float64]:
+        """The torque on the input link holding the linkage at each of the angles theta2."""
 
 
 def _unit(u: complex, what: str) -> complex:
@@ -150,7 +162,8 @@ def _mismatch(model: _SegmentModel, F: float, psi: float, law: LoadLaw) -> float
     return cmath.phase(law.direction(_pose(res)) * cmath.exp(-1j * psi))
 
 
-def _nearest_root(r, start: float, step: float, span: float) -> tuple[tuple[float, float] | None, bool]:
+def _nearest_root(r: Callable[[float], float], start: float, step: float, span: float
+                  ) -> tuple[tuple[float, float] | None, bool]:
     """(the bracket of the sign change of r nearest to ``start``, scanned both ways, or None; whether a
     scanned point fell outside the fits (r = nan))."""
     r0 = r(start)
@@ -172,7 +185,8 @@ def _nearest_root(r, start: float, step: float, span: float) -> tuple[tuple[floa
     return None, outside
 
 
-def _segment_level(model: _SegmentModel, F: float, law: LoadLaw, step: float, span: float):
+def _segment_level(model: _SegmentModel, F: float, law: LoadLaw, step: float, span: float
+                   ) -> tuple[PRBMResult | None, float, str]:
     """(result at equilibrium or None, psi, message) of one load level; raises FitRangeError when the
     only directions left unscanned are outside the fits."""
     if F < 0.0:  # a negative magnitude: the force F u = |F| (-u)
@@ -181,7 +195,7 @@ def _segment_level(model: _SegmentModel, F: float, law: LoadLaw, step: float, sp
     if F == 0.0:
         return None, psi0, "no load"
 
-    def r(psi):
+    def r(psi: float) -> float:
         return _mismatch(model, F, psi, law)
 
     bracket, outside = _nearest_root(r, psi0, step, span)
@@ -203,7 +217,7 @@ class _Reversed:
         return -self.law.direction(pose)
 
 
-def fixed_pinned_turning_tip(F, law: LoadLaw, *, length: float, EI: float, family: str = "pauly-midha",
+def fixed_pinned_turning_tip(F: ArrayLike, law: LoadLaw, *, length: float, EI: float, family: str = "pauly-midha",
                              extrapolate: str = "raise", step: float = math.radians(0.5),
                              span: float = math.pi) -> PRBMResult:
     """Tip of an initially straight fixed-pinned (fixed-free) segment under the end force F u, u given by
@@ -216,7 +230,7 @@ def fixed_pinned_turning_tip(F, law: LoadLaw, *, length: float, EI: float, famil
     model = _SegmentModel(float(length), float(EI), family, extrapolate)
     levels = np.atleast_1d(np.asarray(F, float))
     if not np.all(np.isfinite(levels)):
-        raise ValueError(f"fixed_pinned_turning_tip: F must be finite, got {F}")
+        raise ValueError(f"fixed_pinned_turning_tip: F must be finite, got {F!s}")
     keys = ("a", "b", "theta0", "Theta", "Fx", "Fy", "n", "gamma", "c_theta", "K_theta", "k")
     rows, ok, messages = [], [], []
     for f in levels.tolist():
@@ -224,8 +238,8 @@ def fixed_pinned_turning_tip(F, law: LoadLaw, *, length: float, EI: float, famil
         messages.append(message)
         ok.append(res is not None or f == 0.0)
         rows.append(_row(model, res, f, psi))
-    table = {k: np.array([row[k] for row in rows]) for k in keys}
-    constants = {k: table.pop(k) for k in ("gamma", "c_theta", "K_theta", "k")}
+    table: dict[str, Levels] = {k: np.array([row[k] for row in rows]) for k in keys}
+    constants: dict[str, Any] = {k: table.pop(k) for k in ("gamma", "c_theta", "K_theta", "k")}
     constants["family"] = fit_family(family).name
     all_ok = all(ok)
     failures = "; ".join(m for m, level_ok in zip(messages, ok) if not level_ok)
@@ -249,7 +263,7 @@ def _row(model: _SegmentModel, res: PRBMResult | None, F: float, psi: float) -> 
             "k": float(c["k"])}
 
 
-def input_angle_under_turning_forces(fourbar, forces: Sequence[tuple[float, LoadLaw]], *, theta20: float,
+def input_angle_under_turning_forces(fourbar: InputLink, forces: Sequence[tuple[float, LoadLaw]], *, theta20: float,
                                      c_theta: float, torque: float = 0.0, span: float = math.radians(120)) -> float:
     """Input angle theta2 (rad) of the PRB four-bar ``fourbar`` (O2 at the origin of its frame) where the
     spring torque balances the couple ``torque`` plus the moment about O2 of the forces F u at the end A
@@ -262,8 +276,10 @@ def input_angle_under_turning_forces(fourbar, forces: Sequence[tuple[float, Load
         pose = TipPose(A, c_theta * (t - theta20))
         return sum((A.conjugate() * F * law.direction(pose)).imag for F, law in forces)
 
-    def unbalanced_grid(ts: np.ndarray) -> np.ndarray:
-        return np.asarray(fourbar.input_torque(ts), float) - torque - np.array([load_moment(t) for t in ts.tolist()])
+    def unbalanced_grid(ts: NDArray[np.float64]) -> NDArray[np.float64]:
+        r: NDArray[np.float64] = (np.asarray(fourbar.input_torque(ts), float) - torque
+                                  - np.array([load_moment(t) for t in ts.tolist()]))
+        return r
 
     def unbalanced(t: float) -> float:
         return float(unbalanced_grid(np.array([t]))[0])
@@ -276,4 +292,5 @@ def input_angle_under_turning_forces(fourbar, forces: Sequence[tuple[float, Load
     idx = np.nonzero(np.isfinite(r[:-1]) & np.isfinite(r[1:]) & (np.sign(r[:-1]) != np.sign(r[1:])))[0]
     if len(idx) == 0:
         return math.nan
-    return brentq(unbalanced, grid[idx[0]], grid[idx[0] + 1], xtol=1e-14)
+    theta2: float = brentq(unbalanced, grid[idx[0]], grid[idx[0] + 1], xtol=1e-14)
+    return theta2

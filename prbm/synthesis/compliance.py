@@ -26,10 +26,12 @@ Angles are in degrees here, as in the dissertation's synthesis tables (chapters 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, TypedDict
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import lsq_linear, minimize
 
 from prbm.mechanisms import four_bar_rates, slider_crank_rate
@@ -70,7 +72,8 @@ def four_bar_configurations(fb: FourBarDesign, energy_free_theta2: float | None 
     return Configuration("energy-free", (energy_free_theta2, t3, t4)), positions
 
 
-def slider_configurations(sc: SliderCrankDesign, extra_x: list[float] = ()) -> tuple[Configuration, list[Configuration]]:
+def slider_configurations(sc: SliderCrankDesign, extra_x: Sequence[float] = ()
+                          ) -> tuple[Configuration, list[Configuration]]:
     """(energy-free = position 1, [P1, P2, then the slider at each extra displacement])."""
     t21, t31 = sc.angles(0)
     out = [Configuration(f"P{j + 1}", sc.angles(j)) for j in range(len(sc.phi))]
@@ -80,13 +83,15 @@ def slider_configurations(sc: SliderCrankDesign, extra_x: list[float] = ()) -> t
     return Configuration("P1 (energy-free)", (t21, t31)), out
 
 
-def springs_at(mech, config: Configuration) -> tuple[np.ndarray, np.ndarray]:
+def springs_at(mech: FourBarDesign | SliderCrankDesign, config: Configuration
+               ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     if isinstance(mech, SliderCrankDesign):
         return slider_springs(mech, *config.angles)
     return four_bar_springs(mech, *config.angles)
 
 
-def design_rows(mech, free: Configuration, configs: list[Configuration], kind: str) -> np.ndarray:
+def design_rows(mech: FourBarDesign | SliderCrankDesign, free: Configuration, configs: list[Configuration],
+                kind: str) -> NDArray[np.float64]:
     """Row j of A with f_j = A_j k - b_j: 1/2 (beta - beta0)^2 for energy, (beta - beta0) beta' for torque."""
     beta0, _ = springs_at(mech, free)
     rows = []
@@ -112,9 +117,21 @@ class SpringResult:
     constraints: dict[str, float] = field(default_factory=dict)  # name -> g(k) (<= 0 is met)
 
 
-def solve_springs(A: np.ndarray, target, *, springs: list[int], groups: list[list[int]] | None = None,
-                  bounds: tuple[float, float] = (0.0, np.inf),
-                  constraints: dict[str, Callable[[np.ndarray], float]] | None = None,
+class _Inequality(TypedDict):
+    """An inequality constraint fun(x) >= 0 as ``scipy.optimize.minimize`` takes it."""
+
+    type: str
+    fun: Callable[[NDArray[np.float64]], float]
+
+
+def _inequality(g: Callable[[NDArray[np.float64]], float], E: NDArray[np.float64]) -> _Inequality:
+    """The constraint g(k) <= 0 on k = E x as ``minimize``'s inequality -g(E x) >= 0."""
+    return {"type": "ineq", "fun": lambda x: -g(E @ x)}
+
+
+def solve_springs(A: NDArray[np.float64], target: ArrayLike, *, springs: list[int],
+                  groups: list[list[int]] | None = None, bounds: tuple[float, float] = (0.0, np.inf),
+                  constraints: dict[str, Callable[[NDArray[np.float64]], float]] | None = None,
                   ftol: float = 1e-10, rtol: float = 1e-6, label: str = "energy") -> SpringResult:
     """Minimise sum_j (A_j k - b_j)^2 (eq. 185) over the active springs (1-based joint numbers),
     with springs of one group equal, ``bounds`` on every k and ``constraints`` g(k) <= 0."""
@@ -132,17 +149,18 @@ def solve_springs(A: np.ndarray, target, *, springs: list[int], groups: list[lis
     Ax = A @ E
     constraints = constraints or {}
 
-    def objective(x):
+    def objective(x: NDArray[np.float64]) -> float:
         f = Ax @ x - b
         return float(f @ f)
 
-    def gradient(x):
-        return 2.0 * Ax.T @ (Ax @ x - b)
+    def gradient(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        grad: NDArray[np.float64] = 2.0 * Ax.T @ (Ax @ x - b)
+        return grad
 
     lo, hi = bounds
     start = lsq_linear(Ax, b, bounds=(lo, hi)).x
     starts = [start, np.full(len(groups), max(np.mean(np.abs(start)), 1.0)), np.clip(start * 3.0 + 1.0, lo, hi)]
-    cons = [{"type": "ineq", "fun": (lambda x, g=g: -g(E @ x))} for g in constraints.values()]
+    cons = [_inequality(g, E) for g in constraints.values()]
     best, nit, nfev = None, 0, 0
     for x0 in starts:
         res = minimize(objective, x0, jac=gradient, method="SLSQP", bounds=[(lo, None if hi == np.inf else hi)] * len(groups),

@@ -36,9 +36,11 @@ from __future__ import annotations
 
 import cmath
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import NDArray
 from scipy.optimize import brentq
 
 DEG = math.pi / 180.0
@@ -227,8 +229,9 @@ def four_bar_from_dyads(left: Dyad, right: Dyad, deltas: list[complex]) -> FourB
                    phi=left.a, gamma=left.b, psi=right.a, deltas=list(deltas))
 
 
-def motion_generation(deltas, gamma, *, Z2=None, Z4=None, phi=None, psi=None,
-                      branch_left=None, branch_right=None) -> FourBarDesign:
+def motion_generation(deltas: list[complex], gamma: list[float], *, Z2: complex | None = None,
+                      Z4: complex | None = None, phi: list[float] | None = None, psi: list[float] | None = None,
+                      branch_left: int | None = None, branch_right: int | None = None) -> FourBarDesign:
     """Motion generation (delta_j, gamma_j given).  Per dyad, either the link vector (Z2, Z4) or
     its rotations (phi, psi; three positions, or two positions with the link vector too)."""
     left = _side(deltas, gamma, Z2, phi, branch_left, "left dyad (Z2, Z5)")
@@ -236,7 +239,8 @@ def motion_generation(deltas, gamma, *, Z2=None, Z4=None, phi=None, psi=None,
     return four_bar_from_dyads(left, right, deltas)
 
 
-def _side(deltas, gamma, Z, rotations, branch, what) -> Dyad:
+def _side(deltas: list[complex], gamma: list[float], Z: complex | None, rotations: list[float] | None,
+          branch: int | None, what: str) -> Dyad:
     if rotations is not None:
         return dyad_all_rotations(deltas, rotations, gamma, Z)
     if Z is None:
@@ -246,8 +250,10 @@ def _side(deltas, gamma, Z, rotations, branch, what) -> Dyad:
     return _pick(dyad_link_and_coupler_rotations(deltas, Z, gamma), branch, what)
 
 
-def path_generation_timed(deltas, phi, *, Z2=None, gamma=None, Z4=None, psi=None,
-                          branch_left=None, branch_right=None) -> FourBarDesign:
+def path_generation_timed(deltas: list[complex], phi: list[float], *, Z2: complex | None = None,
+                          gamma: list[float] | None = None, Z4: complex | None = None,
+                          psi: list[float] | None = None, branch_left: int | None = None,
+                          branch_right: int | None = None) -> FourBarDesign:
     """Path generation with prescribed timing (delta_j, phi_j given).  Left dyad: Z2 chosen
     (gamma found) or gamma chosen; right dyad as in motion generation with the gamma found."""
     if gamma is not None:
@@ -262,16 +268,17 @@ def path_generation_timed(deltas, phi, *, Z2=None, gamma=None, Z4=None, psi=None
     return four_bar_from_dyads(left, right, deltas)
 
 
-def path_generation(deltas, *, phi, gamma=None, Z2=None, Z4=None, psi=None,
-                    branch_left=None, branch_right=None) -> FourBarDesign:
+def path_generation(deltas: list[complex], *, phi: list[float], gamma: list[float] | None = None,
+                    Z2: complex | None = None, Z4: complex | None = None, psi: list[float] | None = None,
+                    branch_left: int | None = None, branch_right: int | None = None) -> FourBarDesign:
     """Path generation (only delta_j given): the input rotations phi_j are free choices, after
     which it is path generation with prescribed timing."""
     return path_generation_timed(deltas, phi, Z2=Z2, gamma=gamma, Z4=Z4, psi=psi,
                                  branch_left=branch_left, branch_right=branch_right)
 
 
-def function_generation(phi, psi, *, theta2: float, theta3: float, R4: float, gamma2: float,
-                        branch=None, scan: int = 3600) -> FourBarDesign:
+def function_generation(phi: list[float], psi: list[float], *, theta2: float, theta3: float, R4: float,
+                        gamma2: float, branch: int | None = None, scan: int = 3600) -> FourBarDesign:
     """Function generation at three positions, eq. (178), with the dissertation's free choices (section 6.7
     Example 2): directions Theta21, Theta31 of Z2, Z3, length R4 and coupler rotation gamma2.
 
@@ -282,34 +289,36 @@ def function_generation(phi, psi, *, theta2: float, theta3: float, R4: float, ga
         raise SynthesisError("function generation is implemented for three precision positions")
     e2, e3 = rot(theta2), rot(theta3)
 
-    def linear(g3):
-        rows, rhs = [], []
+    def linear(g3: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        rows: list[list[float]] = []
+        rhs: list[float] = []
         for p, s, g in ((phi[0], psi[0], gamma2), (phi[1], psi[1], g3)):
             c = [e2 * (1 - rot(p)), e3 * (1 - rot(g)), rot(s) - 1, 1j * (rot(s) - 1)]
             rows += [[v.real for v in c], [v.imag for v in c]]
             rhs += [0.0, 0.0]
         return np.array(rows), np.array(rhs)
 
-    def solve(g3):
+    def solve(g3: float) -> tuple[NDArray[np.float64], float]:
         # homogeneous in (R2, R3, X4, Y4): the null vector, scaled afterwards to |Z4| = R4
         A, _ = linear(g3)
         _, sv, vt = np.linalg.svd(A)
         v = vt[-1]
         return v, sv[-1]
 
-    def g(g3):
+    def g(g3: float) -> float:
         A, _ = linear(g3)
-        return np.linalg.det(A)
+        det: float = np.linalg.det(A)
+        return det
 
     grid = np.linspace(-179.0, 179.0, scan)
     values = [g(x) for x in grid]
-    roots = []
+    roots: list[float] = []
     for x0, x1, v0, v1 in zip(grid[:-1], grid[1:], values[:-1], values[1:]):
         if v0 == 0 or v0 * v1 < 0:
             r = brentq(g, x0, x1, xtol=1e-13)
             if abs(r) > 1e-6 and abs(r - gamma2) > 1e-6:
                 roots.append(r)
-    candidates = []
+    candidates: list[tuple[float, float, float, complex]] = []
     for g3 in roots:
         v, _ = solve(g3)
         Z4 = complex(v[2], v[3])
@@ -334,7 +343,7 @@ def function_generation(phi, psi, *, theta2: float, theta3: float, R4: float, ga
                                            f"gamma3 = {', '.join(f'{c[0]:.4f}' for c in candidates)} deg"])
 
 
-def four_bar_position(fb: FourBarDesign, theta2: float, near: tuple[float, float]) -> tuple[float, float]:
+def four_bar_position(fb: FourBarDesign, theta2: float, near: Sequence[float]) -> tuple[float, float]:
     """(Theta3, Theta4) for input angle theta2 (deg): circle intersection, the assembly closest to
     ``near`` = (Theta3, Theta4) of a reference configuration."""
     A = polar(abs(fb.Z2), theta2)
@@ -346,13 +355,14 @@ def four_bar_position(fb: FourBarDesign, theta2: float, near: tuple[float, float
         raise SynthesisError(f"the linkage cannot assemble at Theta2 = {theta2:.4f} deg")
     x = (D * D + R3 * R3 - R4 * R4) / (2 * D)
     h = math.sqrt(max(R3 * R3 - x * x, 0.0))
-    best = None
+    best: tuple[float, float, float] | None = None
     for s in (1.0, -1.0):
         B = A + (x + s * 1j * h) * d / D
         t3, t4 = arg_deg(B - A), arg_deg(B - O4)
         dist = abs(_wrap(t3 - near[0])) + abs(_wrap(t4 - near[1]))
         if best is None or dist < best[0]:
             best = (dist, t3, t4)
+    assert best is not None  # set by the first intersection
     return best[1], best[2]
 
 
@@ -385,11 +395,11 @@ def slider_crank_timed(delta: float, phi2: float, *, R2: float, theta3: float, t
     solved by ``dyad_link_and_direction``; the offset residual is then a scalar equation in Theta21."""
     axis = rot(theta1)
 
-    def build(t21):
+    def build(t21: float) -> tuple[Dyad, float]:
         d = dyad_link_and_direction(delta * axis, polar(R2, t21), phi2, theta3)
         return d, ((d.Z + d.W) / axis).imag - offset
 
-    def g(t21):
+    def g(t21: float) -> float:
         try:
             return build(t21)[1]
         except SynthesisError:
@@ -397,11 +407,11 @@ def slider_crank_timed(delta: float, phi2: float, *, R2: float, theta3: float, t
 
     grid = np.linspace(-180.0, 180.0, 1441)
     vals = [g(t) for t in grid]
-    roots = []
+    roots: list[float] = []
     for x0, x1, v0, v1 in zip(grid[:-1], grid[1:], vals[:-1], vals[1:]):
         if np.isfinite(v0) and np.isfinite(v1) and v0 * v1 < 0 and abs(v0 - v1) < 2 * R2 + 10 * abs(delta):
             roots.append(brentq(g, x0, x1, xtol=1e-13))
-    sols = []
+    sols: list[Dyad] = []
     for t21 in roots:
         d, res = build(t21)
         if abs(res) < 1e-8 and ((d.Z + d.W) / axis).real > 0:
@@ -426,11 +436,12 @@ def slider_position(sc: SliderCrankDesign, x: float, near: tuple[float, float]) 
         raise SynthesisError(f"the slider-crank cannot assemble with the slider at {x:.4f}")
     a = (D * D + R2 * R2 - R3 * R3) / (2 * D)
     h = math.sqrt(max(R2 * R2 - a * a, 0.0))
-    best = None
+    best: tuple[float, float, float] | None = None
     for s in (1.0, -1.0):
         A = (a + s * 1j * h) * C / D
         t2, t3 = arg_deg(A), arg_deg(C - A)
         dist = abs(_wrap(t2 - near[0])) + abs(_wrap(t3 - near[1]))
         if best is None or dist < best[0]:
             best = (dist, t2, t3)
+    assert best is not None  # set by the first intersection
     return best[1], best[2]

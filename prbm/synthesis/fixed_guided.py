@@ -26,20 +26,27 @@ Angles are in degrees here, as in the dissertation's synthesis tables (chapters 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from typing import TypeAlias
 
 import numpy as np
+from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
 from prbm import inflection as prbm_inflection
 from prbm.fits import PAULY_MIDHA
 from prbm.synthesis.dyads import DEG, SynthesisError
 
+#: one design: (l, I, M, l1, theta10, the state of ``inflection_state``)
+TwoPositionRoot: TypeAlias = tuple[float, float, float, float, float, dict[str, float]]
+
 def pauly_midha(n: float) -> tuple[float, float, float]:
     """(gamma, c_theta, K_Theta) at load ratio n, [bapat2015, eqs 41-43]."""
     return PAULY_MIDHA.parameters(n, extrapolate="allow")
 
 
-def inflection_state(*, E, I, l, l1, theta10, P, n, theta0):
+def inflection_state(*, E: float, I: float, l: float, l1: float, theta10: float, P: float, n: float,
+                     theta0: float) -> dict[str, float]:
     """Every quantity of the chapter-3 PRBM for a trial (l, I, l1, theta10); angles in radians.
     The equations are ``prbm.inflection.inflection_state`` (eqs 83-104); this names them for the
     synthesis residuals (floats, the end force (-nP, P) from P and n)."""
@@ -51,25 +58,26 @@ def inflection_state(*, E, I, l, l1, theta10, P, n, theta0):
     return {mine: float(state[theirs]) for mine, theirs in names.items()}
 
 
-def solve_two_position(*, E, P, n, theta0_deg, b, delta, guess=None):
+def solve_two_position(*, E: float, P: float, n: float, theta0_deg: float, b: float, delta: float,
+                       guess: Sequence[float] | None = None) -> list[TwoPositionRoot]:
     """(l, I, M, l1, theta10, state, roots) meeting b and delta = l - a; ``SynthesisError`` if none."""
     theta0 = theta0_deg * DEG
     if b == 0:
         raise SynthesisError("zero transverse deflection: the fixed-guided segment is not deflected")
 
-    def residual(x):
+    def residual(x: NDArray[np.float64]) -> list[float]:
         l, logI, s, theta10 = x
         st = inflection_state(E=E, I=math.exp(logI), l=l, l1=s * l, theta10=theta10, P=P, n=n, theta0=theta0)
         return [st["r95"], st["r96"], (st["b"] - b) / abs(b), (l - st["a"] - delta) / abs(b)]
 
     # a cantilever-like first guess: l from b ~ P l^3 / (12 EI) with a moderate slenderness
-    starts = []
+    starts: list[list[float]] = []
     lengths = [guess[0]] if guess else list(np.geomspace(abs(b) * 3, abs(b) * 60, 8))
     for l in lengths:
         I0 = guess[1] if guess else abs(P) * l**3 / (12 * E * abs(b))
         for s in (0.3, 0.5, 0.7):
             starts.append([l, math.log(I0), s, math.copysign(0.1, b)])
-    roots = []
+    roots: list[TwoPositionRoot] = []
     for x0 in starts:
         try:
             res = least_squares(residual, x0, bounds=([1e-9, -80, 1e-3, -1.5], [np.inf, 10, 1 - 1e-3, 1.5]),

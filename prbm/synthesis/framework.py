@@ -32,6 +32,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
 from prbm.synthesis.dyads import DEG, SynthesisError
@@ -63,7 +64,7 @@ class _Framework:
     def need_EI(self) -> bool:
         return self.energy is not None or self.force is not None
 
-    def unpack(self, x) -> dict[str, float]:
+    def unpack(self, x: NDArray[np.float64]) -> dict[str, float]:
         v = dict(self.fixed)
         v.update(zip(self.names, x))
         for k in list(v):
@@ -71,7 +72,7 @@ class _Framework:
                 v[k + "_rad"] = v[k] * DEG
         return v
 
-    def residual(self, x) -> list[float]:
+    def residual(self, x: NDArray[np.float64]) -> list[float]:
         v = self.unpack(x)
         EI = math.exp(v["EI"]) if self.need_EI else 1.0
         out = []
@@ -96,7 +97,7 @@ class _Framework:
                            - K2 * (T3 - gam))
         return out
 
-    def jacobian(self, x) -> np.ndarray:
+    def jacobian(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
         """d residual / d x, analytically (the unknowns' angles in degrees, EI as its logarithm)."""
         v = self.unpack(x)
         col = {name: k for k, name in enumerate(self.names)}
@@ -164,7 +165,7 @@ class _Framework:
                 x0.append(math.log(max(abs(self.force[0]) if self.force else 1.0, 1e-3) * (R6 * scale) ** 2))
         return x0
 
-    def solution(self, x) -> dict[str, float] | None:
+    def solution(self, x: NDArray[np.float64]) -> dict[str, float] | None:
         """The root as named values (EI, Theta5 normalised), or None where it is not a mechanism."""
         v = self.unpack(x)
         ok = all(v[f"R2_{j}"] > 0 and v[f"R3_{j}"] > 0 for j in self.js) and v["R5"] > 0 and v["R6"] > 0
@@ -178,7 +179,8 @@ class _Framework:
         return sol
 
 
-def _framework(theta1, delta, gamma, n1, fixed, energy, force) -> _Framework:
+def _framework(theta1: float, delta: list[complex], gamma: list[float], n1: list[float], fixed: dict[str, float],
+               energy: list[float] | None, force: list[float] | None) -> _Framework:
     """The unknowns left by the free choices; a one-line error when equations and unknowns differ."""
     npos = len(delta)
     gam = [g * DEG for g in gamma]
@@ -199,13 +201,13 @@ def _framework(theta1, delta, gamma, n1, fixed, energy, force) -> _Framework:
 
 def solve_framework(*, theta1: float, delta: list[complex], gamma: list[float], n1: list[float],
                     fixed: dict[str, float] | None = None, energy: list[float] | None = None,
-                    force: list[float] | None = None, max_roots: int = 1) -> list[dict]:
+                    force: list[float] | None = None, max_roots: int = 1) -> list[dict[str, float]]:
     """Roots of the chapter-5 equations; angles in degrees in and out.  ``fixed`` names free choices
     'R2_j', 'Theta2_j', 'R3_j', 'Theta3_j' (j = 2, 3, ...)."""
     problem = _framework(theta1, delta, gamma, n1, dict(fixed or {}), energy, force)
     scale = max(abs(d) for d in delta)
     bounds = problem.bounds(scale)
-    roots = []
+    roots: list[dict[str, float]] = []
     for start in itertools.product((2.0, 4.0, 8.0), (0.3, 1.0), range(-150, 180, 60), (0.3, 0.6), (10.0, 25.0)):
         x0 = np.clip(problem.guess(scale, *start), np.array(bounds[0]) + 1e-9, np.array(bounds[1]) - 1e-9)
         try:

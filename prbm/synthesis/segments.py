@@ -44,7 +44,8 @@ class SegmentDesign:
 
 
 def rectangle_thickness(I: float, width: float) -> float:
-    return (12.0 * I / width) ** (1.0 / 3.0)
+    thickness: float = (12.0 * I / width) ** (1.0 / 3.0)
+    return thickness
 
 
 def slfp(k: float, *, R: float, E: float, width: float, fraction: float = 0.05, link: str = "",
