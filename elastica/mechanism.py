@@ -11,6 +11,10 @@ force (tension positive, t the tangent) and e = N/EA the axial strain (0 if inex
 m the bending moment (the moment the outboard part applies to the inboard part, CCW). The beam
 applies F and m(0) to the body at its start, -F and -m(L) to the body at its end.
 
+A force toward a fixed point (``PointedForce``: a rope over a pulley) pulls along the current line from
+its point to that point, and a follower force turns with its body or beam end: both are evaluated at the
+current unknowns, so their direction is part of every residual and of its Jacobian.
+
 Unknowns: per beam (Fx, Fy) and m(0) (clamped start) or theta(0) (pinned start); per free rigid body
 its pose (x, y, phi) (reference node displacement, rotation from the unloaded pose); per pin between
 bodies its force; per prescribed rotation its couple, per prescribed displacement its force.
@@ -35,11 +39,11 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from planar import GROUND, Couple, Force, Pin, PrescribedDisplacement, PrescribedRotation
+from planar import GROUND, Couple, Force, Pin, PointedForce, PrescribedDisplacement, PrescribedRotation
 
 from .integrator import beam_samples, integrate_beam
 
-__all__ = ["ElasticBeam", "RigidBody", "Pin", "Force", "Couple", "EndCouple", "PrescribedRotation", "PrescribedDisplacement",
+__all__ = ["ElasticBeam", "RigidBody", "Pin", "Force", "PointedForce", "Couple", "EndCouple", "PrescribedRotation", "PrescribedDisplacement",
            "Mechanism", "MechanismSolution", "solve_mechanism", "GROUND"]
 
 _KEY = struct.Struct("6d")    # a beam's inputs (start state, force) as bytes: the key of its end states kept
@@ -77,7 +81,7 @@ class EndCouple:
     m: tuple[float, ...]
 
 
-_Load = Force | Couple | EndCouple | PrescribedRotation | PrescribedDisplacement
+_Load = Force | PointedForce | Couple | EndCouple | PrescribedRotation | PrescribedDisplacement
 _Place = tuple[int, float, float, float, float]   # a point of a body: pose index, origin, arm (`_System._place_of`)
 _Vector = Callable[[NDArray[np.float64]], NDArray[np.float64]]   # the scaled residual of the unknowns
 
@@ -361,6 +365,7 @@ class _LoadPath:
     rotations: list[PrescribedRotation]
     displacements: list[PrescribedDisplacement]
     n_levels: int
+    pointed: list[PointedForce]
 
     def value(self, values: tuple[float, ...], t: float) -> float:
         if t < 0:
@@ -380,6 +385,17 @@ class _LoadPath:
                 fx, fy = c * fx - s * fy, s * fx + c * fy
             a = F.get(f.point, (0.0, 0.0))
             F[f.point] = (a[0] + fx, a[1] + fy)
+        for pf in self.pointed:
+            p = _point_position(self.system, u, pf.point)
+            dx, dy = pf.toward[0] - float(p[0]), pf.toward[1] - float(p[1])
+            length = math.hypot(dx, dy)
+            if length == 0.0:
+                raise ValueError(f"the force at '{pf.point}' pulls toward {pf.toward}, where the point now is")
+            c, s = math.cos(pf.angle), math.sin(pf.angle)
+            size = float(self.value(pf.values, t)) / length
+            fx, fy = size * (c * dx - s * dy), size * (s * dx + c * dy)
+            a = F.get(pf.point, (0.0, 0.0))
+            F[pf.point] = (a[0] + fx, a[1] + fy)
         C: dict[tuple[str, str], float] = {}
         for cp in self.couples:
             key = ("body", cp.body) if isinstance(cp, Couple) else ("node", cp.point)
@@ -426,12 +442,14 @@ def solve_mechanism(mech: Mechanism, loads: Sequence[_Load], n_levels: int, *, r
     each with one value per level)."""
     t0 = time.perf_counter()
     forces = [ld for ld in loads if isinstance(ld, Force)]
+    pointed = [ld for ld in loads if isinstance(ld, PointedForce)]
     couples = [ld for ld in loads if isinstance(ld, (Couple, EndCouple))]
     rotations = [ld for ld in loads if isinstance(ld, PrescribedRotation)]
     displacements = [ld for ld in loads if isinstance(ld, PrescribedDisplacement)]
     system = _System(mech, forces, couples, rotations, displacements, rtol)
-    level_loads = _LoadPath(mech, system, forces, couples, rotations, displacements, n_levels)
-    scale_F = max([abs(v) for f in forces for v in (*f.fx, *f.fy)] + [0.0])
+    level_loads = _LoadPath(mech, system, forces, couples, rotations, displacements, n_levels, pointed)
+    scale_F = max([abs(v) for f in forces for v in (*f.fx, *f.fy)] + [abs(v) for f in pointed for v in f.values]
+                  + [0.0])
     scale_F = max([scale_F] + [abs(v) for c in couples for v in c.m])
     # the force unit of the residual and the unknowns: the applied loads' size, else (motions prescribed)
     # the force EI/L^2 that bends a beam by its length; never a fixed number, so a load 1e-11 EI/L^2 is
@@ -583,6 +601,17 @@ def _scale(system: _System, scale_F: float) -> NDArray[np.float64]:
     s[system.i_body:system.i_pin] = scale_F
     s[system.i_pin:system.i_rot] = L
     return s
+
+
+def _point_position(system: _System, u: NDArray[np.float64], point: str) -> NDArray[np.float64]:
+    """The current position of a named point: on its body, or at the free beam end it is."""
+    body = system.m.body_of.get(point)
+    if body is not None:
+        return system.node_position(u, body, point)
+    for beam in system.m.beams:
+        if beam.end == point and beam.end_kind == "free":
+            return system.integrate(beam, u)[:2]
+    raise ValueError(f"a force at node '{point}', which is on no rigid body and at no free beam end")
 
 
 def _free_end_angle(system: _System, u: NDArray[np.float64], node: str) -> float:

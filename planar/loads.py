@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["Pin", "Force", "Couple", "PrescribedDisplacement", "PrescribedRotation", "Load"]
+__all__ = ["Pin", "Force", "PointedForce", "Couple", "PrescribedDisplacement", "PrescribedRotation", "Load"]
 
 
 @dataclass(frozen=True)
@@ -30,6 +30,19 @@ class Force:
     fx: tuple[float, ...]
     fy: tuple[float, ...]
     follower: bool = False
+
+
+@dataclass(frozen=True)
+class PointedForce:
+    """A force of magnitude ``values`` per level at a named point, along the current line from the point
+    toward the fixed point ``toward``, turned by ``angle`` (rad, CCW) from that line: a rope over a pulley
+    (angle 0), or a force kept at a fixed angle to the line joining a fixed pivot (angle pi/2). Its
+    direction follows the point as it moves."""
+
+    point: str
+    values: tuple[float, ...]
+    toward: tuple[float, float]
+    angle: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -58,4 +71,4 @@ class PrescribedRotation:
 
 
 #: any one of the loads
-Load = Force | Couple | PrescribedDisplacement | PrescribedRotation
+Load = Force | PointedForce | Couple | PrescribedDisplacement | PrescribedRotation

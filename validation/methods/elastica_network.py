@@ -89,17 +89,37 @@ def model(case) -> tuple[em.Mechanism, dict[str, str]]:
     return em.Mechanism(nodes, beams, bodies, pins), {**owner, **{f"link:{k}": v for k, v in link_body.items()}}
 
 
-def loads(case, owner: dict[str, str]) -> list[planar.Load | em.EndCouple]:
+def _follower_body_refused(load, owner: dict[str, str], mechanism: em.Mechanism) -> str | None:
+    """Why a follower force naming ``body`` is not the one the elastica mechanism model turns (with the
+    rigid body carrying its point, or with the free beam end it is at), or None when it is."""
+    carried = mechanism.body_of.get(load.point)
+    if f"link:{load.body}" in owner:
+        named = owner[f"link:{load.body}"]
+        return None if named == carried else f"it turns with link '{load.body}', not the body carrying '{load.point}'"
+    beam = next((b for b in mechanism.beams if b.name == load.body), None)
+    if beam is None:
+        return None
+    kind, body = ((beam.start_kind, beam.start_body) if beam.start == load.point
+                  else (beam.end_kind, beam.end_body))
+    if kind == "free" or (kind == "clamped" and body == carried):
+        return None
+    return f"it turns with beam '{load.body}', {kind} at '{load.point}' (its end turns apart from the body there)"
+
+
+def loads(case, owner: dict[str, str], mechanism: em.Mechanism) -> list[planar.Load | em.EndCouple]:
     out: list[planar.Load | em.EndCouple] = []
     for i, load in enumerate(case.loads):
         v = tuple(float(x) for x in load.levels())
         body = owner.get(f"link:{load.body}") if load.body else owner.get(load.point)
+        if load.kind == "force" and load.follower and load.body is not None:
+            why = _follower_body_refused(load, owner, mechanism)
+            if why is not None:
+                raise NotApplicable(f"loads.{i}: a follower force {why}: the elastica mechanism model turns a "
+                                    "follower with the rigid body carrying its point, or its free beam end")
         if load.kind == "force" and load.toward is not None:
-            raise NotApplicable(f"loads.{i}: a force toward a fixed point on a mechanism: the elastica "
-                                "mechanism model (elastica.mechanism) has point forces of fixed direction "
-                                "or turning with a body only; the line to the point is not one of its "
-                                "conditions")
-        if load.kind == "force":
+            out.append(em.PointedForce(load.point, v, (float(load.toward[0]), float(load.toward[1])),
+                                       math.radians(load.angle)))
+        elif load.kind == "force":
             d = load.direction
             out.append(em.Force(load.point, tuple(x * d[0] for x in v), tuple(x * d[1] for x in v), load.follower))
         elif load.kind == "moment":
@@ -135,7 +155,7 @@ def run_mechanism(case, requests, options: ElasticaOptions) -> MethodRun:
     mechanism, owner = model(case)
     tolerance: dict[str, Any] = {} if options.rtol is None else {"rtol": options.rtol}  # else the solver's own
     try:
-        sol = em.solve_mechanism(mechanism, loads(case, owner), case.n_levels(), **tolerance)
+        sol = em.solve_mechanism(mechanism, loads(case, owner, mechanism), case.n_levels(), **tolerance)
     except ValueError as exc:
         raise NotApplicable(str(exc)) from None
     drivers = [ld for ld in case.loads if ld.kind in ("rotation", "displacement")]
@@ -159,7 +179,7 @@ def run_mechanism(case, requests, options: ElasticaOptions) -> MethodRun:
                                                         if ld.kind in ("rotation", "moment")), None)
             if point is None:
                 raise NotApplicable("input_torque needs a prescribed rotation or a moment (the input)")
-            values[req] = _received(case, sol, drivers, point, lv, min(k, 2))
+            values[req] = _received(case, sol, drivers, mechanism.body_of, point, lv, min(k, 2))
         elif q == "strain_energy":
             values[req] = sol.strain_energy[lv]
         else:
@@ -170,14 +190,17 @@ def run_mechanism(case, requests, options: ElasticaOptions) -> MethodRun:
                      level_converged=dict(enumerate(sol.level_converged)), extras={"shapes": shapes})
 
 
-def _received(case, sol, drivers, point: str, level: int, k: int) -> float:
+def _received(case, sol, drivers, body_of: dict[str, str], point: str, level: int, k: int) -> float:
+    """Component k (force_x, force_y, moment) of the load the mechanism receives at ``point`` at a solved
+    level: the applied loads there in their solved directions (a follower turned with its body, a force
+    toward a fixed point along the solved line to it), plus what a prescribed motion there needs."""
     total = 0.0
     for ld in case.loads:
         if ld.point != point:
             continue
         v = ld.levels()[level]
-        if ld.kind == "force" and k < 2 and not ld.follower:
-            total += v * ld.direction[k]
+        if ld.kind == "force" and k < 2:
+            total += v * _solved_direction(ld, sol, body_of, level)[k]
         elif ld.kind == "moment" and k == 2:
             total += v
     rot = [ld for ld in drivers if ld.kind == "rotation"]
@@ -190,6 +213,26 @@ def _received(case, sol, drivers, point: str, level: int, k: int) -> float:
         if ld.point == point and k == axis:
             total += sol.driver_loads[level][len(rot) + j]
     return float(total)
+
+
+def _solved_direction(load, sol, body_of: dict[str, str], level: int) -> tuple[float, float]:
+    """The unit direction of a force load at a solved level (a follower: turned with the body carrying its
+    point, ``body_of``, as the solver turns it)."""
+    if load.toward is not None:
+        p = sol.positions[level][load.point]
+        dx, dy = load.toward[0] - p[0], load.toward[1] - p[1]
+        c, s = math.cos(math.radians(load.angle)), math.sin(math.radians(load.angle))
+        length = math.hypot(dx, dy)
+        return (c * dx - s * dy) / length, (s * dx + c * dy) / length
+    d = load.direction
+    if not load.follower:
+        return d[0], d[1]
+    body = body_of.get(load.point)
+    if body is None or body not in sol.rotations[level]:
+        raise NotApplicable(f"the load received at '{load.point}': its follower force turns with a free beam "
+                            "end, whose angle the elastica mechanism model does not report")
+    phi = sol.rotations[level][body]
+    return math.cos(phi) * d[0] - math.sin(phi) * d[1], math.sin(phi) * d[0] + math.cos(phi) * d[1]
 
 
 # A single segment as a mechanism: the boundaries the shooting of one clamped beam (``elastica.shooting``)
@@ -263,9 +306,9 @@ def segment_model(case, EI: float) -> SegmentMechanism:
             raise NotApplicable(f"loads.{i}: solved as a mechanism here, which takes no load along a beam; a "
                                 f"{load.kind.replace('_', '-')} load on a {why}: elastica.mechanism has tip loads only")
         if load.kind == "force" and load.toward is not None:
-            raise NotApplicable(f"loads.{i}: solved as a mechanism here, which has no force toward a point; a "
-                                f"{why}: elastica.mechanism's forces keep their direction or turn with a body")
-        if load.kind == "force":
+            applied.append(em.PointedForce("tip", v, (float(load.toward[0]), float(load.toward[1])),
+                                           math.radians(load.angle)))
+        elif load.kind == "force":
             d = load.direction
             applied.append(em.Force("tip", tuple(x * d[0] for x in v), tuple(x * d[1] for x in v),
                                          load.follower))
@@ -316,6 +359,11 @@ def run_segment(case, requests, options: ElasticaOptions, EI: float) -> MethodRu
                 f = np.array([ld.fx[level], ld.fy[level]])
                 c, s = math.cos(phi), math.sin(phi)
                 force += np.array([c * f[0] - s * f[1], s * f[0] + c * f[1]]) if ld.follower else f
+            elif isinstance(ld, em.PointedForce):
+                line = np.asarray(ld.toward) - tip
+                c, s = math.cos(ld.angle), math.sin(ld.angle)
+                force += ld.values[level] / math.hypot(*line) * np.array([c * line[0] - s * line[1],
+                                                                          s * line[0] + c * line[1]])
             elif isinstance(ld, em.Couple):
                 moment += ld.m[level]
         for axis, load in zip(built.driver_axes, sol.driver_loads[level]):
