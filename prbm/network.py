@@ -15,6 +15,7 @@ rotation of a body); their multipliers are the loads needed to hold them.
 
 Torsion springs act on relative rotations: U = 1/2 sum k_s (phi_a - phi_b - rest_s)^2.
 External loads: dead forces at points (work F . p(q)), follower forces that turn with their body,
+forces toward a fixed point (``PointedForce``, a rope over a pulley: along P - p(q), turned by an angle),
 couples on bodies (work M phi_b).
 
 Equilibrium is the stationary point of the total potential Pi = U - W under Phi = 0 (Lagrange):
@@ -59,7 +60,7 @@ from numpy.typing import NDArray
 from scipy.linalg import qr
 from scipy.linalg.lapack import dgesv
 
-from planar import GROUND, Couple, Force, Pin, PrescribedDisplacement, PrescribedRotation
+from planar import GROUND, Couple, Force, Pin, PointedForce, PrescribedDisplacement, PrescribedRotation
 
 __all__ = ["Pin", "Slider", "TorsionSpring", "LinearSpring", "Force", "Couple", "PrescribedDisplacement",
            "PrescribedRotation", "Network", "NetworkState", "NetworkResult", "GroundLoad", "LockedNetwork",
@@ -120,7 +121,7 @@ class LinearSpring:
     name: str = ""
 
 
-Load = Force | Couple | PrescribedDisplacement | PrescribedRotation
+Load = Force | PointedForce | Couple | PrescribedDisplacement | PrescribedRotation
 Prescription = PrescribedDisplacement | PrescribedRotation
 #: indices of rows of a Jacobian (int32 from LAPACK's pivots, or the platform's int)
 Rows = NDArray[np.signedinteger[Any]]
@@ -556,6 +557,7 @@ class _Problem:
         self.net = network
         self.n_levels = n_levels
         self.forces = [ld for ld in loads if isinstance(ld, Force)]
+        self.pointed = [ld for ld in loads if isinstance(ld, PointedForce)]
         self.couples = [ld for ld in loads if isinstance(ld, Couple)]
         self.disps = [ld for ld in loads if isinstance(ld, PrescribedDisplacement)]
         self.rots = [ld for ld in loads if isinstance(ld, PrescribedRotation)]
@@ -575,6 +577,7 @@ class _Problem:
             if isinstance(ld, PrescribedRotation) and ld.body == GROUND:
                 raise ValueError("a prescribed rotation of the ground")
         self.force_arms = [network.point_arm(f.point) for f in self.forces]
+        self.pointed_arms = [network.point_arm(f.point) for f in self.pointed]
         self.disp_arms = [network.point_arm(d.point) for d in self.disps]
         self.n_prescribed = len(self.disps) + len(self.rots)
         self.length = network.length_scale()
@@ -619,11 +622,43 @@ class _Problem:
                 Q[3 * i + 1] += Fy
                 Q[3 * i + 2] += Rr[0] * Fy - Rr[1] * Fx
                 dQ[3 * i + 2, 3 * i + 2] += -(Rr[0] * Fx + Rr[1] * Fy)
+        for pf, (i, r) in zip(self.pointed, self.pointed_arms):
+            if i < nb:
+                self._pointed_force(Q, dQ, q, i, r, pf, scale * self._at(pf.values, t))
         for cp in self.couples:
             i = net.index[cp.body]
             if i < nb:
                 Q[3 * i + 2] += scale * self._at(cp.m, t)
         return Q, dQ
+
+    @staticmethod
+    def _pointed_force(Q: NDArray[np.float64], dQ: NDArray[np.float64], q: NDArray[np.float64], i: int,
+                       r: NDArray[np.float64], pf: PointedForce, T: float) -> None:
+        """Add a force of size T toward ``pf.toward`` (turned by ``pf.angle``) at the point of body i with
+        arm r, and its derivative, to (Q, dQ).
+
+        p = X_i + R(phi_i) r, d = P - p, F = T R(a) d / |d|; with A = T R(a) (I - d d^T / |d|^2) / |d|,
+        dF/dq = -A dp/dq, where dp/dX_i = I and dp/dphi_i = (-(R r)_y, (R r)_x). Q gets F on X_i and
+        (R r) x F on phi_i; d((R r) x F)/dq = d(R r)/dq x F + (R r) x dF/dq."""
+        c, s = math.cos(q[3 * i + 2]), math.sin(q[3 * i + 2])
+        Rr = np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
+        d = np.array(pf.toward, float) - (q[3 * i:3 * i + 2] + Rr)
+        length = math.hypot(d[0], d[1])
+        if length == 0.0:
+            raise ValueError(f"the force at '{pf.point}' pulls toward {pf.toward}, where the point now is")
+        ca, sa = math.cos(pf.angle), math.sin(pf.angle)
+        turn = np.array([[ca, -sa], [sa, ca]])
+        F = T * turn @ d / length
+        unit = d / length
+        A = T * turn @ (np.eye(2) - np.outer(unit, unit)) / length
+        dp = np.array([[1.0, 0.0, -Rr[1]], [0.0, 1.0, Rr[0]]])    # dp/d(x_i, y_i, phi_i)
+        dF = -A @ dp
+        cols = slice(3 * i, 3 * i + 3)
+        Q[3 * i:3 * i + 2] += F
+        Q[3 * i + 2] += Rr[0] * F[1] - Rr[1] * F[0]
+        dQ[3 * i:3 * i + 2, cols] += dF
+        dQ[3 * i + 2, cols] += Rr[0] * dF[1] - Rr[1] * dF[0]
+        dQ[3 * i + 2, 3 * i + 2] += -(Rr[0] * F[0] + Rr[1] * F[1])
 
     def prescribed(self, q: NDArray[np.float64], t: float, scale: float = 1.0
                    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

@@ -114,7 +114,15 @@ def network_loads(case, model: pb.PRBModel) -> list[planar.Load]:
     loads: list[planar.Load] = []
     for i, load in enumerate(case.loads):
         v = np.asarray(load.levels(), float)
-        if load.kind == "force":
+        if load.kind == "force" and load.toward is not None:
+            loads.append(planar.PointedForce(load.point, tuple(float(x) for x in v),
+                                             (float(load.toward[0]), float(load.toward[1])),
+                                             math.radians(load.angle)))
+        elif load.kind == "force":
+            if load.follower and load.body is not None and _body_for(model, load) != model.node_body[load.point]:
+                raise NotApplicable(f"loads.{i}: a follower force turning with '{load.body}', whose PRB body at "
+                                    f"'{load.point}' is not the one carrying the point: the PRB network turns a "
+                                    "follower with the body carrying its point")
             d = np.asarray(load.direction, float)
             loads.append(prbm.Force(load.point, tuple(v * d[0]), tuple(v * d[1]), follower=load.follower))
         elif load.kind == "moment":
@@ -143,7 +151,11 @@ def _received(case, model, result, point: str, level: int) -> np.ndarray:
         if ld.point != point or ld.kind not in ("force", "moment"):
             continue
         v = ld.levels()[level]
-        if ld.kind == "force":
+        if ld.kind == "force" and ld.toward is not None:
+            line = np.asarray(ld.toward, float) - result.position(point, level)
+            c, s = math.cos(math.radians(ld.angle)), math.sin(math.radians(ld.angle))
+            total[:2] += v * np.array([c * line[0] - s * line[1], s * line[0] + c * line[1]]) / math.hypot(*line)
+        elif ld.kind == "force":
             d = np.asarray(ld.direction, float)
             F = v * d
             if ld.follower:
