@@ -32,6 +32,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import NDArray
 from scipy.optimize import fsolve
 from argcheck import checked
 
@@ -39,6 +40,10 @@ __all__ = ["K0", "K1", "K2", "C0", "C1", "C2", "C3", "quadratic_forms", "strain_
            "loads_from_deflections", "bcm_residual", "deflections_from_loads",
            "complementary_energy", "deflections_from_complementary", "exact_compliance",
            "solve_mixed", "axial_stiffness_parameter"]
+
+Matrix = NDArray[np.float64]
+Vector = NDArray[np.float64]
+Six = tuple[float, float, float, float, float, float]     # (u_x, u_y, theta_z, f_x, f_y, m_z)
 
 # Table 1 of [chen2021] (beam characteristic coefficients, after Awtar et al. 2007)
 K0 = np.array([[12.0, -6.0], [-6.0, 4.0]])
@@ -57,21 +62,24 @@ def axial_stiffness_parameter(length: float, thickness: float) -> float:
     return 12.0 * length**2 / thickness**2
 
 
-def quadratic_forms(uy, theta):
+def quadratic_forms(uy: float, theta: float) -> tuple[float, float, float]:
     """S0, S1, S2 of eq (7)."""
     q = np.array([uy, theta])
-    return q @ K0 @ q, q @ K1 @ q, q @ K2 @ q
+    S0: float = q @ K0 @ q
+    S1: float = q @ K1 @ q
+    S2: float = q @ K2 @ q
+    return S0, S1, S2
 
 
 @checked(positive=('ka',), finite=('ux', 'uy', 'theta'))
-def strain_energy(ux, uy, theta, ka):
+def strain_energy(ux: float, uy: float, theta: float, ka: float) -> float:
     """v(u_x, u_y, theta_z) of eq (11), in EI/L."""
     S0, S1, S2 = quadratic_forms(uy, theta)
     return ka * (2.0 * ux + S1) ** 2 / (8.0 * (1.0 - ka * S2)) + 0.5 * S0
 
 
 @checked(positive=('ka',), finite=('ux', 'uy', 'theta'))
-def loads_from_deflections(ux, uy, theta, ka):
+def loads_from_deflections(ux: float, uy: float, theta: float, ka: float) -> tuple[float, float, float]:
     """Castigliano's first theorem on eq (11): (f_x, f_y, m_z) = grad v.
 
     f_x = k_a (2 u_x + S1) / (2 (1 - k_a S2)) is eq (10); then [f_y, m_z] follow as eq (3), which is
@@ -79,11 +87,13 @@ def loads_from_deflections(ux, uy, theta, ka):
     """
     S0, S1, S2 = quadratic_forms(uy, theta)
     fx = ka * (2.0 * ux + S1) / (2.0 * (1.0 - ka * S2))
+    fy: float
+    mz: float
     fy, mz = (K0 + fx * K1 + fx * fx * K2) @ np.array([uy, theta])
     return fx, fy, mz
 
 
-def bcm_residual(ux, uy, theta, fx, fy, mz, ka):
+def bcm_residual(ux: float, uy: float, theta: float, fx: float, fy: float, mz: float, ka: float) -> Vector:
     """Residual of eqs (3) and (4): zero on the BCM load-displacement relation."""
     q = np.array([uy, theta])
     r12 = (K0 + fx * K1 + fx * fx * K2) @ q - np.array([fy, mz])
@@ -92,25 +102,28 @@ def bcm_residual(ux, uy, theta, fx, fy, mz, ka):
 
 
 @checked(positive=('ka',), finite=('fx', 'fy', 'mz'))
-def deflections_from_loads(fx, fy, mz, ka):
+def deflections_from_loads(fx: float, fy: float, mz: float, ka: float) -> tuple[float, float, float]:
     """Eqs (3), (4) solved for the deflections: linear in (u_y, theta_z) once f_x is known."""
+    uy: float
+    theta: float
     uy, theta = np.linalg.solve(K0 + fx * K1 + fx * fx * K2, [fy, mz])
     _, S1, S2 = quadratic_forms(uy, theta)
     return fx / ka - 0.5 * S1 - fx * S2, uy, theta
 
 
 @checked(positive=('ka',), finite=('fx', 'fy', 'mz'))
-def complementary_energy(fx, fy, mz, ka, order: int = 3):
+def complementary_energy(fx: float, fy: float, mz: float, ka: float, order: int = 3) -> float:
     """v*(f_x, f_y, m_z): eq (16) (order 2) or eq (17) (order 3), in EI/L."""
     p = np.array([fy, mz])
-    v = fx * fx / (2.0 * ka) + 0.5 * p @ C0 @ p - 0.5 * fx * p @ C1 @ p + 0.5 * fx**2 * p @ C2 @ p
+    v: float = fx * fx / (2.0 * ka) + 0.5 * p @ C0 @ p - 0.5 * fx * p @ C1 @ p + 0.5 * fx**2 * p @ C2 @ p
     if order == 3:
         v -= 0.5 * fx**3 * p @ C3 @ p
     return v
 
 
 @checked(positive=('ka',), finite=('fx', 'fy', 'mz'))
-def deflections_from_complementary(fx, fy, mz, ka, order: int = 3):
+def deflections_from_complementary(fx: float, fy: float, mz: float, ka: float,
+                                   order: int = 3) -> tuple[float, float, float]:
     """Crotti-Engesser on eq (16)/(17): (u_x, u_y, theta_z) = grad v* (closed-form derivatives)."""
     p = np.array([fy, mz])
     C = C0 - fx * C1 + fx**2 * C2
@@ -118,11 +131,14 @@ def deflections_from_complementary(fx, fy, mz, ka, order: int = 3):
     if order == 3:
         C = C - fx**3 * C3
         dC = dC - 3.0 * fx**2 * C3
+    uy: float
+    theta: float
     uy, theta = C @ p
-    return fx / ka + 0.5 * p @ dC @ p, uy, theta
+    ux: float = fx / ka + 0.5 * p @ dC @ p
+    return ux, uy, theta
 
 
-def exact_compliance(fx):
+def exact_compliance(fx: float) -> Matrix:
     """Corrected eq (15): [u_y, theta] = C(f_x) [f_y, m_z] for the linearised-curvature beam.
 
     Tension (f_x > 0, r = sqrt(f_x)): c11 = (r - tanh r)/r^3, c12 = (cosh r - 1)/(r^2 cosh r),
@@ -145,7 +161,8 @@ def exact_compliance(fx):
 
 
 @checked(positive=('ka',), finite=('ux', 'uy', 'theta', 'fx', 'fy', 'mz'))
-def solve_mixed(ka, *, ux=None, uy=None, theta=None, fx=None, fy=None, mz=None):
+def solve_mixed(ka: float, *, ux: float | None = None, uy: float | None = None, theta: float | None = None,
+                fx: float | None = None, fy: float | None = None, mz: float | None = None) -> Six:
     """BCM with one quantity of each conjugate pair (u_x|f_x, u_y|f_y, theta|m_z) given.
 
     Returns (u_x, u_y, theta, f_x, f_y, m_z) satisfying eqs (3), (4). Pure load or pure
@@ -155,22 +172,25 @@ def solve_mixed(ka, *, ux=None, uy=None, theta=None, fx=None, fy=None, mz=None):
     if any((d is None) == (f is None) for d, f in pairs):
         raise ValueError("give exactly one of each pair (ux|fx, uy|fy, theta|mz)")
     if ux is None and uy is None and theta is None:
+        assert fx is not None and fy is not None and mz is not None     # one of each pair (above)
         return (*deflections_from_loads(fx, fy, mz, ka), fx, fy, mz)
     if fx is None and fy is None and mz is None:
+        assert ux is not None and uy is not None and theta is not None
         return (ux, uy, theta, *loads_from_deflections(ux, uy, theta, ka))
 
-    def unpack(z):
+    def unpack(z: Vector) -> Six:
         vals = iter(z)
-        out = [d if d is not None else next(vals) for d, _ in pairs]
-        out += [f if f is not None else next(vals) for _, f in pairs]
-        return out
+        d = [d if d is not None else next(vals) for d, _ in pairs]
+        f = [f if f is not None else next(vals) for _, f in pairs]
+        return d[0], d[1], d[2], f[0], f[1], f[2]
 
-    def res(z):
+    def res(z: Vector) -> Vector:
         return bcm_residual(*unpack(z), ka)
 
+    z: Vector
     z, info, ok, msg = fsolve(res, np.zeros(3), full_output=True, xtol=1e-13)
     given = max((abs(v) for pair in pairs for v in pair if v is not None), default=0.0)
     # fsolve's progress test can stall at a solution already exact to rounding (small loads): judge by the residual
     if ok != 1 and not np.max(np.abs(res(z))) <= 1e-12 * max(given, 1e-300):
         raise RuntimeError(f"BCM mixed solve failed: {msg}")
-    return tuple(unpack(z))
+    return unpack(z)

@@ -24,9 +24,11 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import fsolve
 
 from bcm.beam import (C0, C1, C2, C3, K0, K1, K2, axial_stiffness_parameter,
@@ -36,10 +38,16 @@ from argcheck import checked
 __all__ = ["circular_guided_torque", "circular_guided_torque_eq20", "slant_parallelogram",
            "eq32_corrected", "eq32_printed", "BCMBeam", "RigidBodyOnBeams"]
 
+Vector = NDArray[np.float64]
+Matrix = NDArray[np.float64]
+Point = Sequence[float] | Vector                 # a position (x, y) or a force (Fx, Fy)
+Forces = Sequence[tuple[Point, Point]]          # dead forces: (where, (Fx, Fy))
+Law = Callable[[float, float, float], tuple[float, float]]     # (u_x1, u_y1, k_a) -> (f_x1, f_y1)
+
 
 # ------------------------------------------------------------------ circular-guided mechanism
 
-def _crank_deflections(beta, R):
+def _crank_deflections(beta: float, R: float) -> tuple[float, float, float]:
     """Eq (18): tip deflections of OA (normalised by L_OA) for crank angle beta."""
     return R * (math.cos(beta) - 1.0), R * math.sin(beta), beta
 
@@ -51,7 +59,8 @@ def circular_guided_torque(beta: float, R: float, ka: float) -> float:
     T_i = f_x du_x/dbeta + f_y du_y/dbeta + m_z, with du_x = -R sin(beta), du_y = R cos(beta);
     the dimensional torque is T = (EI/L_OA) T_i. R = L_AB/L_OA, ka = 12 L_OA^2/T^2.
     """
-    fx, fy, mz = loads_from_deflections(*_crank_deflections(beta, R), ka)
+    ux, uy, theta = _crank_deflections(beta, R)
+    fx, fy, mz = loads_from_deflections(ux, uy, theta, ka)
     return -fx * R * math.sin(beta) + fy * R * math.cos(beta) + mz
 
 
@@ -59,11 +68,12 @@ def circular_guided_torque_eq20(beta: float, R: float, ka: float) -> float:
     """Eq (20) with eq (21), as printed in [chen2021] (checked equal to ``circular_guided_torque``)."""
     sb, cb = math.sin(beta), math.cos(beta)
     k0, k1, k2 = K0, K1, K2
-    Q1 = -2 * R + k1[1, 1] * beta**2 + 2 * R * cb + 2 * k1[0, 1] * R * beta * sb + k1[0, 0] * R**2 * sb**2
-    Q2 = -1 + k2[1, 1] * ka * beta**2 + 2 * k2[0, 1] * ka * R * beta * sb + k2[0, 0] * ka * R**2 * sb**2
+    Q1: float = -2 * R + k1[1, 1] * beta**2 + 2 * R * cb + 2 * k1[0, 1] * R * beta * sb + k1[0, 0] * R**2 * sb**2
+    Q2: float = -1 + k2[1, 1] * ka * beta**2 + 2 * k2[0, 1] * ka * R * beta * sb + k2[0, 0] * ka * R**2 * sb**2
 
-    def term(k, shift=0.0):
-        return k[1, 1] * beta + (k[0, 1] + shift) * R * sb + R * cb * (k[0, 1] * beta + k[0, 0] * R * sb)
+    def term(k: Matrix, shift: float = 0.0) -> float:
+        value: float = k[1, 1] * beta + (k[0, 1] + shift) * R * sb + R * cb * (k[0, 1] * beta + k[0, 0] * R * sb)
+        return value
 
     return (term(k0) - ka * Q1 * term(k1, -1.0) / (2 * Q2)
             + ka**2 * Q1**2 * term(k2) / (4 * Q2**2))
@@ -71,7 +81,7 @@ def circular_guided_torque_eq20(beta: float, R: float, ka: float) -> float:
 
 # ------------------------------------------------------------------ slant parallelogram
 
-def eq32_corrected(ux, uy, ka):
+def eq32_corrected(ux: float, uy: float, ka: float) -> tuple[float, float]:
     """(f_x1, f_y1) = grad of eq (30) at theta_z = 0 (corrected eq (32))."""
     d = 700.0 + ka * uy * uy
     fx = ka * (700.0 * ux + 420.0 * uy * uy) / d
@@ -80,7 +90,7 @@ def eq32_corrected(ux, uy, ka):
     return fx, fy
 
 
-def eq32_printed(ux, uy, ka):
+def eq32_printed(ux: float, uy: float, ka: float) -> tuple[float, float]:
     """Eq (32) exactly as printed in [chen2021] (inconsistent with eq (30); kept to show the misprint)."""
     d = 700.0 + uy * uy
     fx = ka * (700.0 * ux + 420.0 * uy * uy) / d
@@ -147,7 +157,8 @@ def slant_parallelogram(F_h: float, *, F_w: float = 0.25, beta: float = 0.1, L: 
                        iterations=iterations, wall_time=time.perf_counter() - start)
 
 
-def _castigliano_root(law, fx: float, fy: float, ka: float, guess: SlantResult, method: str):
+def _castigliano_root(law: Law, fx: float, fy: float, ka: float, guess: SlantResult,
+                      method: str) -> tuple[float, float, bool, str, int]:
     """(u_x1, u_y1) with law(u_x1, u_y1) = (f_x1, f_y1), by MINPACK's hybrid method from the CE3 answer;
     converged when fsolve says so or when the residual is at rounding (1e-12 of the loads): fsolve's
     progress test stalls on an answer already exact to rounding (residuals ~1e-15 at F_h = 0.5 N), and
@@ -193,18 +204,22 @@ class RigidBodyOnBeams:
     def __init__(self, beams: list[BCMBeam], reference: tuple[float, float], pinned: bool = False):
         self.beams, self.ref, self.pinned = beams, np.asarray(reference, float), pinned
 
-    def position(self, point, q):
+    def position(self, point: Point, q: Vector) -> Vector:
         """Where a body point is: its undeformed position plus its displacement."""
-        return np.asarray(point, float) + self.displacement(point, q)
+        where: Vector = np.asarray(point, float) + self.displacement(point, q)
+        return where
 
-    def displacement(self, point, q):
+    def displacement(self, point: Point, q: Vector) -> Vector:
         """Displacement of a body point, u = (u, v) + (R(phi) - I) r, formed without the point's
         coordinates (cos phi - 1 = -2 sin^2(phi/2)), so a small motion keeps its relative accuracy."""
         r = np.asarray(point, float) - self.ref
         s, c1 = math.sin(q[2]), -2.0 * math.sin(q[2] / 2.0) ** 2
-        return q[:2] + np.array([c1 * r[0] - s * r[1], s * r[0] + c1 * r[1]])
+        u: Vector = q[:2] + np.array([c1 * r[0] - s * r[1], s * r[0] + c1 * r[1]])
+        return u
 
-    def _local(self, beam, q):
+    def _local(self, beam: BCMBeam, q: Vector) -> tuple[float, float, float, Vector, Vector, float]:
+        """The beam's normalised tip deflections (u_x, u_y, theta) at q, its axis e1 and normal e2, its
+        length."""
         X0, X1 = np.asarray(beam.start, float), np.asarray(beam.end, float)
         L = beam.length
         e1 = (X1 - X0) / L
@@ -212,14 +227,15 @@ class RigidBodyOnBeams:
         u = self.displacement(X1, q)                    # d = X1 - X0 + u, with (X1 - X0) . e1 = L
         return (u @ e1) / L, (u @ e2) / L, q[2], e1, e2, L
 
-    def strain_energy(self, q) -> float:
+    def strain_energy(self, q: Vector) -> float:
+        """The beams' strain energy at q (energy units)."""
         total = 0.0
         for b in self.beams:
             ux, uy, th, *_ = self._local(b, q)
             total += b.EI / b.length * strain_energy(ux, uy, th, b.ka)
         return total
 
-    def beam_states(self, q):
+    def beam_states(self, q: Vector) -> list[tuple[float, float, float, float, float, float]]:
         """Per beam: normalised (u_x, u_y, theta, f_x, f_y, m_z)."""
         out = []
         for b in self.beams:
@@ -227,7 +243,7 @@ class RigidBodyOnBeams:
             out.append((ux, uy, th, *loads_from_deflections(ux, uy, th, b.ka)))
         return out
 
-    def internal_force(self, q) -> np.ndarray:
+    def internal_force(self, q: Vector) -> Vector:
         """dV/dq: the generalised load the beams exert back (what the external loads must supply)."""
         g = np.zeros(3)
         c, s = math.cos(q[2]), math.sin(q[2])
@@ -240,7 +256,7 @@ class RigidBodyOnBeams:
             g += np.array([F[0], F[1], F @ dp_dphi + (b.EI / L) * mz])
         return g
 
-    def external_force(self, q, forces, moment: float) -> np.ndarray:
+    def external_force(self, q: Vector, forces: Forces, moment: float) -> Vector:
         """Generalised load of dead forces [(point, (Fx, Fy))] and a body moment."""
         g = np.array([0.0, 0.0, moment])
         c, s = math.cos(q[2]), math.sin(q[2])
@@ -250,7 +266,8 @@ class RigidBodyOnBeams:
             g += np.array([F[0], F[1], np.dot(F, dp_dphi)])
         return g
 
-    def solve(self, forces=(), moment: float = 0.0, rotation: float | None = None, guess=None):
+    def solve(self, forces: Forces = (), moment: float = 0.0, rotation: float | None = None,
+              guess: ArrayLike | None = None) -> tuple[Vector, float]:
         """Equilibrium configuration q; with ``rotation`` prescribed, phi is fixed and the moment
         that must be applied is returned as the second value (else the applied ``moment``).
 
@@ -268,13 +285,13 @@ class RigidBodyOnBeams:
             needed = (self.internal_force(q) - self.external_force(q, forces, 0.0))[2]
         return q, needed
 
-    def _ramped(self, forces, moment, rotation, first: RuntimeError) -> np.ndarray:
+    def _ramped(self, forces: Forces, moment: float, rotation: float | None, first: RuntimeError) -> Vector:
         """Load continuation from rest; re-raises the direct attempt's error with the ramp's."""
         for steps in (4, 16, 64):
             q = np.zeros(3)
             try:
                 for lam in np.arange(1, steps + 1) / steps:
-                    scaled = [(p, lam * np.asarray(F, float)) for p, F in forces]
+                    scaled: Forces = [(p, lam * np.asarray(F, float)) for p, F in forces]
                     q = self._equilibrium(scaled, lam * moment,
                                           None if rotation is None else lam * rotation, q)
                 return q
@@ -282,7 +299,7 @@ class RigidBodyOnBeams:
                 last = exc
         raise RuntimeError(f"{first}; ramped from rest in 64 steps: {last}")
 
-    def _equilibrium(self, forces, moment, rotation, q0: np.ndarray) -> np.ndarray:
+    def _equilibrium(self, forces: Forces, moment: float, rotation: float | None, q0: Vector) -> Vector:
         """Newton on grad Pi = 0 over the free coordinates, from q0."""
         free = [0, 1, 2] if not self.pinned else [2]
         if rotation is not None:
@@ -293,7 +310,7 @@ class RigidBodyOnBeams:
         if not free:
             return q
 
-        def res(z):
+        def res(z: Vector) -> Vector:
             qq = q.copy()
             qq[free] = z
             return (self.internal_force(qq) - self.external_force(qq, forces, moment))[free]
@@ -304,7 +321,7 @@ class RigidBodyOnBeams:
         return q
 
 
-def _central_jacobian(fun, z: np.ndarray, f0: np.ndarray) -> np.ndarray:
+def _central_jacobian(fun: Callable[[Vector], Vector], z: Vector, f0: Vector) -> Matrix:
     """dfun/dz by central differences, step 1e-6 of max(|z_j|, 1e-3) (truncation error ~1e-12)."""
     J = np.empty((f0.size, z.size))
     for j in range(z.size):
@@ -315,7 +332,8 @@ def _central_jacobian(fun, z: np.ndarray, f0: np.ndarray) -> np.ndarray:
     return J
 
 
-def _newton(fun, z0: np.ndarray, reach: np.ndarray, maxiter: int = 60, tol: float = 1e-13) -> np.ndarray:
+def _newton(fun: Callable[[Vector], Vector], z0: Vector, reach: Vector, maxiter: int = 60,
+            tol: float = 1e-13) -> Vector:
     """Root of a normalised residual by Newton's method with a central-difference Jacobian; a step
     is shortened to at most ``reach`` per coordinate (0.1 L and 0.1 rad: the BCM's own range, so a
     far start walks towards the root instead of jumping to a spurious one) and halved where the
@@ -326,7 +344,7 @@ def _newton(fun, z0: np.ndarray, reach: np.ndarray, maxiter: int = 60, tol: floa
     residual norm (the norm rises on the way); full Newton steps converge in under 15 iterations.
     Raises RuntimeError, with the residual reached, when it does not converge.
     """
-    z = np.array(z0, float)
+    z: Vector = np.array(z0, float)
     r = fun(z)
     for _ in range(maxiter):
         if not np.any(r):

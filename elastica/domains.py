@@ -43,23 +43,26 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-
+from numpy.typing import ArrayLike, NDArray
 from scipy.special import ellipeinc, ellipkinc
 
 __all__ = ["DomainCloud", "su_theta0_max", "fixed_pinned_cloud", "curved_fixed_pinned_cloud",
            "fixed_guided_inflection_cloud", "kappa_min", "kappa_range"]
+
+FloatArray = NDArray[np.float64]
+Values = FloatArray | float     # a scalar or an array of them, combined elementwise
 
 
 @dataclass(frozen=True)
 class DomainCloud:
     """End points of a segment type over a load grid (normalised by l and EI; angles in rad)."""
 
-    a: np.ndarray
-    b: np.ndarray
-    theta0: np.ndarray
-    alpha: np.ndarray
-    n: np.ndarray
-    kappa: np.ndarray
+    a: FloatArray
+    b: FloatArray
+    theta0: FloatArray
+    alpha: FloatArray
+    n: FloatArray
+    kappa: FloatArray
     excluded: dict[str, int] = field(default_factory=dict)
 
     @property
@@ -67,11 +70,13 @@ class DomainCloud:
         return int(self.a.size)
 
 
-def _phi(n):
-    return np.arctan2(1.0, -np.asarray(n, float))
+def _phi(n: ArrayLike) -> FloatArray:
+    """phi = atan2(1, -n), the direction of the end force (-nP, P) (rad)."""
+    phi: FloatArray = np.arctan2(1.0, -np.asarray(n, float))
+    return phi
 
 
-def su_theta0_max(load_ratio, kappa_force):
+def su_theta0_max(load_ratio: ArrayLike, kappa_force: ArrayLike) -> FloatArray:
     """Eq (112): the largest end angle (rad) of a curved fixed-pinned segment with monotonic curvature;
     kappa_force = M^2/(2 F EI), F = sqrt(1 + n^2) P (see the module docstring); inf for kappa_F > 2."""
     k = np.asarray(kappa_force, float)
@@ -80,32 +85,39 @@ def su_theta0_max(load_ratio, kappa_force):
     return np.where(k > 2.0, np.inf, bound)
 
 
-def _grid(*axes) -> list[np.ndarray]:
+def _grid(*axes: ArrayLike) -> list[FloatArray]:
     """Every combination of the axes' values, flat, the first axis outermost (the order of nested loops)."""
     return [g.ravel() for g in np.meshgrid(*(np.atleast_1d(np.asarray(a, float)) for a in axes), indexing="ij")]
 
 
-def _cloud(keep: np.ndarray, columns: tuple, excluded: dict[str, int]) -> DomainCloud:
+Columns = tuple[ArrayLike, ArrayLike, ArrayLike, ArrayLike, ArrayLike, ArrayLike]
+
+
+def _cloud(keep: NDArray[np.bool_], columns: Columns, excluded: dict[str, int]) -> DomainCloud:
     """The points where ``keep`` holds, columns (a, b, theta0, alpha, n, kappa)."""
-    return DomainCloud(*(np.broadcast_to(np.asarray(c, float), keep.shape)[keep] for c in columns),
-                       excluded=excluded)
+    a, b, theta0, alpha, n, kappa = (np.broadcast_to(np.asarray(c, float), keep.shape)[keep] for c in columns)
+    return DomainCloud(a=a, b=b, theta0=theta0, alpha=alpha, n=n, kappa=kappa, excluded=excluded)
 
 
-def _asin_sqrt(x: np.ndarray) -> np.ndarray:
+def _asin_sqrt(x: FloatArray) -> FloatArray:
     """asin(sqrt(x)), NaN outside 0 <= x <= 1 + 1e-14 (``elastica.elliptic``'s rule, on arrays)."""
     inside = (x >= 0.0) & (x <= 1.0 + 1e-14)
     return np.where(inside, np.arcsin(np.sqrt(np.clip(x, 0.0, 1.0))), np.nan)
 
 
-def _F(g, t):
-    return ellipkinc(g, t * t)
+def _F(g: Values, t: FloatArray) -> FloatArray:
+    """F(g, t), the incomplete elliptic integral of the first kind with modulus t, elementwise."""
+    value: FloatArray = ellipkinc(g, t * t)
+    return value
 
 
-def _E(g, t):
-    return ellipeinc(g, t * t)
+def _E(g: Values, t: FloatArray) -> FloatArray:
+    """E(g, t), the incomplete elliptic integral of the second kind with modulus t, elementwise."""
+    value: FloatArray = ellipeinc(g, t * t)
+    return value
 
 
-def fixed_pinned_arrays(theta0, n) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def fixed_pinned_arrays(theta0: Values, n: Values) -> tuple[FloatArray, FloatArray, FloatArray]:
     """(a, b, alpha) of ``elastica.elliptic.fixed_pinned_from_angle`` (eqs 6, 7, corrected g) on arrays."""
     eta = np.hypot(1.0, n)
     lam = np.sin(theta0) - n * np.cos(theta0)
@@ -120,23 +132,25 @@ def fixed_pinned_arrays(theta0, n) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return (-n * eta * bracket + root) / den, (eta * bracket + n * root) / den, alpha
 
 
-def curved_fixed_pinned_arrays(theta0, n, kappa) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def curved_fixed_pinned_arrays(theta0: ArrayLike, n: ArrayLike, kappa: ArrayLike
+                               ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """(a, b, alpha) of ``elastica.elliptic.curved_fixed_pinned_from_angle`` on arrays: case A
     (lambda <= eta, eqs 8, 9 with eta^(5/2)) and case B (eqs 10, 11, NaN beyond 90 deg + atan n), each
     case's formulas evaluated on its own points only (the elliptic integrals are most of the cost)."""
-    theta0, n, kappa = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (theta0, n, kappa)))
-    eta = np.hypot(1.0, n)
-    s0 = np.sin(theta0) - n * np.cos(theta0)
-    lam = kappa + s0
-    case_a, beyond = lam <= eta, theta0 > math.pi / 2 + np.arctan(n)
-    out = [np.full(theta0.shape, np.nan) for _ in range(3)]
+    th, nn, kk = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (theta0, n, kappa)))
+    eta = np.hypot(1.0, nn)
+    s0 = np.sin(th) - nn * np.cos(th)
+    lam = kk + s0
+    case_a, beyond = lam <= eta, th > math.pi / 2 + np.arctan(nn)
+    out = [np.full(th.shape, np.nan) for _ in range(3)]
     for pick, case in ((case_a, _case_a), (~case_a & ~beyond, _case_b)):
-        for o, v in zip(out, case(eta[pick], n[pick], s0[pick], lam[pick])):
+        for o, v in zip(out, case(eta[pick], nn[pick], s0[pick], lam[pick])):
             o[pick] = v
     return out[0], out[1], out[2]
 
 
-def _case_a(eta, n, s0, lam):
+def _case_a(eta: FloatArray, n: FloatArray, s0: FloatArray, lam: FloatArray
+            ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """(a, b, alpha) of case A (lambda <= eta, eqs 8, 9 with eta^(5/2))."""
     t = np.sqrt((eta + lam) / (2.0 * eta))
     g1, g2 = _asin_sqrt((eta - n) / (eta + lam)), _asin_sqrt((eta + s0) / (eta + lam))
@@ -148,7 +162,8 @@ def _case_a(eta, n, s0, lam):
     return (-n * eta * bracket + root) / den, (eta * bracket + n * root) / den, alpha
 
 
-def _case_b(eta, n, s0, lam):
+def _case_b(eta: FloatArray, n: FloatArray, s0: FloatArray, lam: FloatArray
+            ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """(a, b, alpha) of case B (lambda > eta, eqs 10, 11)."""
     r = np.sqrt(2.0 * eta / (eta + lam))
     p1, p2 = _asin_sqrt((eta - n) / (2.0 * eta)), _asin_sqrt((eta + s0) / (2.0 * eta))
@@ -160,7 +175,8 @@ def _case_b(eta, n, s0, lam):
     return pre * (-n * bracket + roots), pre * (bracket + n * roots), alpha
 
 
-def fixed_guided_inflection_arrays(theta0, n, kappa) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def fixed_guided_inflection_arrays(theta0: Values, n: Values, kappa: Values
+                                   ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """(a, b, alpha) of ``elastica.elliptic.fixed_guided_inflection_from_angle`` (the corrected
     Kimball-Tsai form) on arrays; NaN where its domain is left."""
     eta = np.hypot(1.0, n)
@@ -182,7 +198,7 @@ def fixed_guided_inflection_arrays(theta0, n, kappa) -> tuple[np.ndarray, np.nda
     return np.where(valid, a, np.nan), np.where(valid, b, np.nan), np.where(valid, alpha, np.nan)
 
 
-def fixed_pinned_cloud(n_values, theta0_values) -> DomainCloud:
+def fixed_pinned_cloud(n_values: ArrayLike, theta0_values: ArrayLike) -> DomainCloud:
     """Section 4.4: eqs (6), (7) at every (n, theta0) with 0 < theta0 < phi(n)."""
     n, th = _grid(n_values, theta0_values)
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -191,7 +207,7 @@ def fixed_pinned_cloud(n_values, theta0_values) -> DomainCloud:
     return _cloud(keep, (a, b, th, alpha, n, 0.0), {"theta0 outside (0, phi)": int(keep.size - keep.sum())})
 
 
-def curved_fixed_pinned_cloud(n_values, theta0_values, kappa_values) -> DomainCloud:
+def curved_fixed_pinned_cloud(n_values: ArrayLike, theta0_values: ArrayLike, kappa_values: ArrayLike) -> DomainCloud:
     """Section 4.5: eqs (8)-(11) at every (n, theta0, kappa = M^2/(2 P EI)) within Su's bound (112)."""
     n, kappa, th = _grid(n_values, kappa_values, theta0_values)
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -203,7 +219,8 @@ def curved_fixed_pinned_cloud(n_values, theta0_values, kappa_values) -> DomainCl
                                                       "outside the elliptic form's range": int((within & ~valid).sum())})
 
 
-def fixed_guided_inflection_cloud(n_values, theta0_values, kappa_values, load_range=(0.0, np.inf),
+def fixed_guided_inflection_cloud(n_values: ArrayLike, theta0_values: ArrayLike, kappa_values: ArrayLike,
+                                  load_range: tuple[float, float] = (0.0, np.inf),
                                   first_quadrant: bool = True) -> DomainCloud:
     """Section 4.6, one inflection point: the Kimball-Tsai form at every (n, theta0, kappa), kept when
     alpha^2 = P l^2/EI lies in ``load_range`` (and, by default, the end in the first quadrant, as the
@@ -219,7 +236,7 @@ def fixed_guided_inflection_cloud(n_values, theta0_values, kappa_values, load_ra
                                                       "load or end outside the range asked": int((valid & ~inside).sum())})
 
 
-def kappa_min(theta0, load_ratio, theta_i):
+def kappa_min(theta0: ArrayLike, load_ratio: ArrayLike, theta_i: ArrayLike) -> FloatArray:
     """Eq (123): kappa_min = cos(theta_i - phi) - cos(theta0 - phi), with kappa = M^2/(2 F EI)."""
     phi = _phi(load_ratio)
     return np.cos(np.asarray(theta_i, float) - phi) - np.cos(np.asarray(theta0, float) - phi)

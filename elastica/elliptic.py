@@ -22,7 +22,8 @@ from __future__ import annotations
 import functools
 import math
 import time
-from typing import NamedTuple
+from collections.abc import Callable
+from typing import NamedTuple, ParamSpec, TypeVar
 
 import numpy as np
 from scipy.optimize import brentq
@@ -67,10 +68,14 @@ class EllipticTip(NamedTuple):
         return 0
 
 
-def _timed(function):
+_P = ParamSpec("_P")
+_Tips = TypeVar("_Tips", EllipticTip, list[EllipticTip])
+
+
+def _timed(function: Callable[_P, _Tips]) -> Callable[_P, _Tips]:
     """Record the call's wall time on the EllipticTip (or each of a list) it returns."""
     @functools.wraps(function)
-    def timed(*args, **kwargs):
+    def timed(*args: _P.args, **kwargs: _P.kwargs) -> _Tips:
         start = time.perf_counter()
         result = function(*args, **kwargs)
         elapsed = time.perf_counter() - start
@@ -80,12 +85,17 @@ def _timed(function):
     return timed
 
 
-def _F(g, t):
-    return ellipkinc(g, t * t)
+def _F(g: float, t: float) -> np.float64:
+    """F(g, t), the incomplete elliptic integral of the first kind with modulus t: a NumPy scalar, so
+    the formulas built on it give inf or nan outside their domain instead of raising."""
+    value: np.float64 = ellipkinc(g, t * t)
+    return value
 
 
-def _E(g, t):
-    return ellipeinc(g, t * t)
+def _E(g: float, t: float) -> np.float64:
+    """E(g, t), the incomplete elliptic integral of the second kind with modulus t (a NumPy scalar)."""
+    value: np.float64 = ellipeinc(g, t * t)
+    return value
 
 
 def _phi(n: float) -> float:
@@ -167,14 +177,14 @@ def fixed_pinned_tip(load: float, load_ratio: float = 0.0) -> EllipticTip:
     phi = _phi(n)
     lo, hi = 1e-12, phi - 1e-9
 
-    def f(th):
+    def f(th: float) -> float:
         return fixed_pinned_from_angle(th, n).alpha - target
 
     # alpha grows without bound as theta_0 -> phi; bracket on a geometric approach to phi
     with np.errstate(invalid="ignore", divide="ignore"):
         while f(hi) < 0.0:
             hi = phi - (phi - hi) * 1e-3
-        th = brentq(f, lo, hi, xtol=1e-15, rtol=1e-15, maxiter=200)
+        th = float(brentq(f, lo, hi, xtol=1e-15, rtol=1e-15, maxiter=200))
     return fixed_pinned_from_angle(th, n)
 
 
@@ -220,17 +230,17 @@ def curved_fixed_pinned_from_angle(theta0: float, load_ratio: float, kappa: floa
     return EllipticTip(pre * (-n * bracket + roots), pre * (bracket + n * roots), theta0, alpha, kappa)
 
 
-def _solve_theta0(residual, lo, hi, samples=400):
+def _solve_theta0(residual: Callable[[float], float], lo: float, hi: float, samples: int = 400) -> list[float]:
     """All roots of ``residual(theta0)`` on [lo, hi] by sampling and Brent; nan samples are skipped."""
     grid = np.linspace(lo, hi, samples)
     with np.errstate(invalid="ignore", divide="ignore"):
         vals = np.array([residual(t) for t in grid])
-    roots = []
+    roots: list[float] = []
     for i in range(samples - 1):
         v0, v1 = vals[i], vals[i + 1]
         if np.isfinite(v0) and np.isfinite(v1) and v0 * v1 <= 0.0 and v0 != v1:
             with np.errstate(invalid="ignore", divide="ignore"):
-                roots.append(brentq(residual, grid[i], grid[i + 1], xtol=1e-15, rtol=1e-15))
+                roots.append(float(brentq(residual, grid[i], grid[i + 1], xtol=1e-15, rtol=1e-15)))
     return roots
 
 
@@ -243,7 +253,7 @@ def curved_fixed_pinned_tip(load: float, load_ratio: float, kappa0: float) -> El
     """
     n, kappa, target = load_ratio, kappa0**2 / (2.0 * load), math.sqrt(load)
 
-    def res(th):
+    def res(th: float) -> float:
         return curved_fixed_pinned_from_angle(th, n, kappa).alpha - target
 
     roots = _solve_theta0(res, 1e-9, 2.0 * math.pi - 1e-9, samples=800)   # nan outside the valid cases
@@ -309,7 +319,7 @@ def fixed_guided_inflection_tips(load: float, load_ratio: float, opposing_moment
     kappa = opposing_moment**2 / (2.0 * load)
     target = math.sqrt(load)
 
-    def res(th):
+    def res(th: float) -> float:
         return fixed_guided_inflection_from_angle(th, n, kappa).alpha - target
 
     roots = _solve_theta0(res, -math.pi + 1e-6, math.pi - 1e-6, samples=1200)
@@ -344,11 +354,11 @@ def slfp_tip(load: float, load_ratio: float, rigid_length: float,
     n, Lr, target = load_ratio, rigid_length, math.sqrt(load)
     eta, phi = math.hypot(1.0, n), _phi(load_ratio)
 
-    def kappa_of(th):
+    def kappa_of(th: float) -> float:
         k0 = eta * load * Lr * math.sin(phi - th) + initial_curvature
         return k0 * k0 / (2.0 * load)
 
-    def res(th):
+    def res(th: float) -> float:
         return curved_fixed_pinned_from_angle(th, n, kappa_of(th)).alpha - target
 
     roots = _solve_theta0(res, 1e-9, min(phi, math.pi / 2 + math.atan(n)) - 1e-9)

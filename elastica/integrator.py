@@ -28,8 +28,7 @@ outboard of s; 0 for a mechanism beam), Nt = N . t the axial force and e = Nt/EA
     m' = (1 + e) (Nx sin(theta) - Ny cos(theta)),   U' = m^2/(2 EI) + Nt^2/(2 EA).
 
 The integrator picks the equations by the state's length (25 or 17: the elastica with its
-sensitivities, 5: the plain beam); the loads travel in one parameter array
-P = (Fx, Fy, kappa0, wx, wy, EI, EA, l) (the elastica's sensitivities ignore EI, EA and l: L = EI = 1).
+sensitivities, 5: the plain beam).
 
 ``dop853`` is scipy's ``solve_ivp(method="DOP853")`` (Hairer, Norsett & Wanner, Solving ODEs I,
 sec. II.5 and II.4 for the first step) step for step: the same coefficients (scipy's own tables),
@@ -41,6 +40,25 @@ The shooting on these integrations (``shooting`` sets it up and reads the result
 Jacobian, Newton corrector and the whole continuation (``follow_path``) are in this one module
 because numba's cache only notices changes to the file that defines a cached function, not to the
 files of the compiled functions it calls.
+
+The compiled functions take their arguments in a few named groups (``typing.NamedTuple``: numba
+passes one as a struct of its fields, so reading a field costs what a scalar argument does), every
+one built with each field named (``Beam(length=..., EI=..., ...)``), never by position:
+
+* ``Beam``: what is integrated (length, EI, EA, initial curvature; ``elastica_beam`` for the
+  normalised elastica);
+* ``Loads``: the end force and the distributed load on it;
+* ``Tolerances``: the DOP853 tolerances (rtol, atol);
+* ``Structure``: the shooting problem's structure (the normalised elastica ``Beam``, the directions of
+  the prescribed tip-position components, the ``UnknownForces``, the integration pieces), built by
+  ``shooting``;
+* ``UnknownForces``: how the tip force depends on the unknowns z (the directions of the unknown
+  forces; a follower force or not), all that ``tip_force`` reads;
+* ``Corrector``: the controls of one Newton run, built by ``follow_path`` for each;
+* ``PathControls``: the controls of the whole continuation, built by ``shooting.solve_path``.
+
+The continuation parameters q and the unknowns z stay plain vectors: they are interpolated and
+solved for as a whole (q(lambda) = q0 + lambda (q1 - q0)).
 
 Compile cost: numba compiles every jitted function on its own and links a copy of each callee into
 its caller, where LLVM optimises it again, so a chain follow_path -> newton -> residual -> dop853
@@ -56,15 +74,16 @@ nonzero divisor by construction). ``no_cpython_wrapper=True`` on the helpers onl
 (not on ``tip_force``, which `shooting` calls, nor ``_reach``, which a test calls): numba builds and
 optimises no Python-callable wrapper for them (LLVM time saved on each helper).
 
-One problem structure (normalised by L and EI, ``shooting`` derives the equations) is plain arrays:
+One problem structure (``Structure``, normalised by L and EI, ``shooting`` derives the equations):
 
 * ``dirs`` (nc, 2): unit directions d_k of the prescribed tip-position components, end condition
-  d_k . r(1) = c_k; ``fdirs`` (nc, 2): the directions of their unknown forces (multipliers mu_k);
-* ``mdirs`` (nm, 2): the directions of the unknown forces of the prescribed section moments
-  (multipliers nu_j), end condition m(s_j) = m_j; ``bounds``: the integration piece boundaries
-  0 < knots < 1 (the interior sites s_j), ``site_at`` (nm,): the boundary index of each s_j;
-* ``angle_given``: theta(1) = q[ANGLE] replaces m(1) = M; ``follower``: the last unknown is the tip
-  angle tau and F = F_dead + R(tau) (ft, fn), with the end condition theta(1) = tau.
+  d_k . r(1) = c_k; ``forces.force_dirs`` (nc, 2): the directions f_k of their unknown forces
+  (multipliers mu_k);
+* ``forces.moment_dirs`` (nm, 2): the directions g_j of the unknown forces of the prescribed section
+  moments (multipliers nu_j), end condition m(s_j) = m_j; ``bounds``: the integration piece
+  boundaries 0 < knots < 1 (the interior sites s_j), ``site_at`` (nm,): the boundary index of each s_j;
+* ``angle_given``: theta(1) = q[ANGLE] replaces m(1) = M; ``forces.follower``: the last unknown is the
+  tip angle tau and F = F_dead + R(tau) (ft, fn), with the end condition theta(1) = tau.
 
 Unknowns z = [m(0), mu_1..mu_nc, nu_1..nu_nm, (tau)]; continuation parameters q = [Fx, Fy, M, ft, fn,
 c_1..c_nc, m_1..m_nm, angle, wx, wy]. The tip force is F(z, q) = (Fx, Fy) + sum mu_k f_k + sum nu_j g_j
@@ -74,9 +93,9 @@ carries (``elastica_rhs``). The Jacobian of the residual r(z, q) w.r.t. z and it
 
 Newton: full step, halved (down to 1/1000) until the residual norm falls by the Armijo factor
 1 - 1e-4 t (the start and the final corrector; a corrector along the path is not damped and stays
-within its trust region, ``_newton``); a point z is converged when |r(z)| < tol and the Newton step from z, J(z)^-1 r(z), is
-below ``step_tol`` (1 + |z|) (1e-9 for the final corrector, the path tolerance for the points along
-the path, which only start the next step), or |r| < 1e-3 tol.
+within its trust region, ``_newton``); a point z is converged when |r(z)| < tol and the Newton step from z,
+J(z)^-1 r(z), is below ``step_tol`` (1 + |z|) (1e-9 for the final corrector, the path tolerance for
+the points along the path, which only start the next step), or |r| < 1e-3 tol.
 A singular Jacobian or a failed integration ends it (status codes below).
 
 Angles are in radians (degrees appear only in case files and reports).
@@ -84,41 +103,135 @@ Angles are in radians (degrees appear only in case files and reports).
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
+from numpy.typing import ArrayLike, NDArray
 from scipy.integrate._ivp import dop853_coefficients as _coef   # the tables scipy's DOP853 uses
 
-__all__ = ["STATE_SIZE", "FORCE_STATE_SIZE", "BEAM_STATE_SIZE", "ANGLE", "elastica_rhs", "beam_rhs",
-           "integrate_samples", "integrate_beam", "beam_samples", "plain_samples", "tip_force",
-           "follow_path"]
+__all__ = ["STATE_SIZE", "FORCE_STATE_SIZE", "BEAM_STATE_SIZE", "ANGLE", "Beam", "Loads", "Tolerances",
+           "UnknownForces", "Structure", "Corrector", "PathControls", "elastica_beam", "elastica_rhs", "beam_rhs",
+           "integrate_samples", "integrate_beam", "beam_samples", "plain_samples", "tip_force", "follow_path"]
+
+Vector = NDArray[np.float64]
+Matrix = NDArray[np.float64]
 
 STATE_SIZE = 25
 FORCE_STATE_SIZE = 17
 BEAM_STATE_SIZE = 5
-_N_STAGES = _coef.N_STAGES
-_A = np.ascontiguousarray(_coef.A[:_N_STAGES, :_N_STAGES])
-_B = np.ascontiguousarray(_coef.B)
-_C = np.ascontiguousarray(_coef.C[:_N_STAGES])
-_E3 = np.ascontiguousarray(_coef.E3)
-_E5 = np.ascontiguousarray(_coef.E5)
-_AB = np.ascontiguousarray(np.vstack([_A, _B]))     # the stage rows of A, then B (one stage-sum site)
+_N_STAGES: int = _coef.N_STAGES
+_A: Matrix = np.ascontiguousarray(_coef.A[:_N_STAGES, :_N_STAGES])
+_B: Vector = np.ascontiguousarray(_coef.B)
+_C: Vector = np.ascontiguousarray(_coef.C[:_N_STAGES])
+_E3: Vector = np.ascontiguousarray(_coef.E3)
+_E5: Vector = np.ascontiguousarray(_coef.E5)
+_AB: Matrix = np.ascontiguousarray(np.vstack([_A, _B]))  # the stage rows of A, then B (one stage-sum site)
 SAFETY, MIN_FACTOR, MAX_FACTOR, ERROR_EXPONENT = 0.9, 0.2, 10.0, -1.0 / 8.0
 
 
+# ------------------------------------------------------------------ the argument groups
+
+class Beam(NamedTuple):
+    """The beam integrated from s = 0: a mechanism beam in physical units, or the elastica
+    normalised by L and EI, ``Beam(length=1.0, EI=1.0, EA=0.0, curvature=kappa0 L)`` (``elastica_beam``;
+    ``elastica_rhs`` reads only its curvature, ``beam_rhs`` on the elastica's plain state all four)."""
+
+    length: float       # l, the beam's length: the distributed load acts on [s, l] (length)
+    EI: float           # bending stiffness (force length^2)
+    EA: float           # axial stiffness (force); 0: inextensible
+    curvature: float    # kappa0, the initial (stress-free) curvature (1/length)
+
+
+class Loads(NamedTuple):
+    """The loads on the beam, global frame: the end force F = (Fx, Fy) at its outboard end (force;
+    the elastica's: F L^2/EI) and a uniform dead load w = (wx, wy) per unit length over the whole
+    beam (force/length; the elastica's: w L^3/EI; 0 for a mechanism beam)."""
+
+    Fx: float
+    Fy: float
+    wx: float
+    wy: float
+
+
+class Tolerances(NamedTuple):
+    """DOP853's relative and absolute tolerances, as scipy's ``rtol`` and ``atol``: a step is accepted
+    when its error estimate, component by component over atol + rtol |y|, has an rms norm below 1."""
+
+    rtol: float
+    atol: float
+
+
+class UnknownForces(NamedTuple):
+    """How the tip force depends on the unknowns z (normalised, module docstring):
+
+        F(z, q) = (q[0], q[1]) + sum_k mu_k f_k + sum_j nu_j g_j (+ R(tau) (q[3], q[4])),
+
+    mu_k = z[1 + k], nu_j = z[1 + nc + j] and, with a follower force, tau = z[-1] the tip angle."""
+
+    force_dirs: Vector      # f_k (nc, 2) unit vectors: the unknown force of tip condition k
+    moment_dirs: Vector     # g_j (nm, 2) unit vectors: the unknown force of section moment j
+    follower: bool          # a follower force (ft, fn) = (q[3], q[4]) in the tip frame, tau unknown
+
+
+class Structure(NamedTuple):
+    """One shooting problem's structure, normalised by L and EI (module docstring, ``shooting``):
+    ``dirs`` (nc, 2) unit vectors, ``bounds`` the piece boundaries [0, s_j..., 1] (arc length / L,
+    increasing), ``site_at`` (nm,) the index in ``bounds`` of each prescribed-moment site s_j."""
+
+    beam: Beam                      # the elastica: length = EI = 1, EA = 0, curvature kappa0 L
+    dirs: Vector                    # d_k: end condition d_k . r(1) = c_k
+    forces: UnknownForces           # the unknown forces of the end conditions
+    bounds: Vector                  # integration piece boundaries, 0 and 1 included
+    site_at: NDArray[np.int64]      # bounds[site_at[j]] = s_j
+    angle_given: bool               # the end condition theta(1) = q[ANGLE] replaces m(1) = M
+
+
+class Corrector(NamedTuple):
+    """The controls of one Newton run (``_newton``): converged when |r| < ``tol`` and the step is below
+    ``step_tol`` (1 + |z|), or |r| < 1e-3 tol; ``ahead``: the step tested is the one from the point
+    (J^-1 r) instead of the one that led to it; at most ``maxiter`` iterations; ``radius``: the
+    trust region about the start point (inf: none, the step damped instead)."""
+
+    tol: float          # on the norm of the normalised residual
+    step_tol: float     # on |dz| / (1 + |z|)
+    ahead: bool
+    maxiter: int
+    radius: float       # on |z - z_start|
+
+
+class PathControls(NamedTuple):
+    """The controls of a continuation (``follow_path``; ``shooting.solve_path`` explains each): the
+    final corrector's integration tolerances and residual tolerance, the path's integration
+    tolerances (the corrector of a path point stops at 10 path.rtol), and the step control."""
+
+    final: Tolerances           # DOP853 tolerances of the final corrector
+    tol: float                  # residual tolerance of the final corrector
+    path: Tolerances            # DOP853 tolerances along the path
+    initial_step: float         # first step in the load fraction lambda
+    min_step: float             # smallest step in lambda before the path is declared stalled
+    max_rotation_step: float    # tip rotation a step may make (rad)
+    max_position_step: float    # tip motion a step may make (of L)
+    max_corrector: float        # corrector distance allowed, in predicted changes of z
+    max_step_iterations: int    # Newton iterations a path point may take
+    maxiter: int                # Newton iterations of the final corrector
+
+
+# ------------------------------------------------------------------ the equations and DOP853
+
 @njit(cache=True, inline="always", error_model="numpy")
-def elastica_rhs(s, Y, Fx, Fy, k0, out, wx=0.0, wy=0.0):
+def elastica_rhs(s: float, Y: Vector, beam: Beam, loads: Loads, out: Vector) -> None:
     """dY/ds into ``out`` (layout in the module docstring: STATE_SIZE entries, or FORCE_STATE_SIZE
-    without the sensitivities to the distributed load); tip force (Fx, Fy), initial curvature k0,
-    distributed load (wx, wy) per unit length (all normalised)."""
+    without the sensitivities to the distributed load) for the normalised elastica ``beam`` (only
+    its curvature enters) under ``loads`` (normalised)."""
     th, m = Y[2], Y[3]
     c, sn = math.cos(th), math.sin(th)
     outboard = 1.0 - s
-    Nx, Ny = Fx + wx * outboard, Fy + wy * outboard
+    Nx, Ny = loads.Fx + loads.wx * outboard, loads.Fy + loads.wy * outboard
     g = Nx * c + Ny * sn
     out[0] = c
     out[1] = sn
-    out[2] = k0 + m
+    out[2] = beam.curvature + m
     out[3] = Nx * sn - Ny * c
     out[4] = 0.5 * m * m
     for k in range(3):
@@ -142,36 +255,38 @@ def elastica_rhs(s, Y, Fx, Fy, k0, out, wx=0.0, wy=0.0):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def beam_rhs(s, Y, Fx, Fy, k0, EI, EA, out, wx=0.0, wy=0.0, length=0.0):
-    """dY/ds into ``out`` for the plain beam (module docstring): tip force (Fx, Fy), initial
-    curvature k0, bending stiffness EI, axial stiffness EA (0: inextensible), a uniform dead load
-    (wx, wy) per unit length over [s, length]."""
+def beam_rhs(s: float, Y: Vector, beam: Beam, loads: Loads, out: Vector) -> None:
+    """dY/ds into ``out`` for the plain beam (module docstring) under ``loads``, the distributed
+    load acting over [s, beam.length]."""
     th, m = Y[2], Y[3]
+    EI, EA = beam.EI, beam.EA
     c, sn = math.cos(th), math.sin(th)
-    outboard = length - s
-    Nx, Ny = Fx + wx * outboard, Fy + wy * outboard
+    outboard = beam.length - s
+    Nx, Ny = loads.Fx + loads.wx * outboard, loads.Fy + loads.wy * outboard
     N = Nx * c + Ny * sn
     stretch = 1.0 + (N / EA if EA != 0.0 else 0.0)
     out[0] = stretch * c
     out[1] = stretch * sn
-    out[2] = k0 + m / EI
+    out[2] = beam.curvature + m / EI
     out[3] = stretch * (Nx * sn - Ny * c)
     out[4] = m * m / (2 * EI) + (N * N / (2 * EA) if EA != 0.0 else 0.0)
 
 
-@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
-def _rhs(s, Y, P, out):
+@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
+def _rhs(s: float, Y: Vector, beam: Beam, loads: Loads, out: Vector) -> None:
     """The equations the state's length names (BEAM_STATE_SIZE: the plain beam, else the elastica
     with its sensitivities)."""
     if Y.size == BEAM_STATE_SIZE:
-        beam_rhs(s, Y, P[0], P[1], P[2], P[5], P[6], out, P[3], P[4], P[7])
+        beam_rhs(s, Y, beam, loads, out)
     else:
-        elastica_rhs(s, Y, P[0], P[1], P[2], out, P[3], P[4])
+        elastica_rhs(s, Y, beam, loads, out)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _first_step(y0, f, t0, interval, P, rtol, atol):
+def _first_step(y0: Vector, f: Vector, t0: float, interval: float, beam: Beam, loads: Loads,
+                tolerances: Tolerances) -> float:
     """scipy's select_initial_step (order 7); rms norms as plain loops."""
+    rtol, atol = tolerances.rtol, tolerances.atol
     n = y0.size
     f1 = np.empty(n)
     y1 = np.empty(n)
@@ -185,7 +300,7 @@ def _first_step(y0, f, t0, interval, P, rtol, atol):
     h0 = min(h0, interval)
     for i in range(n):
         y1[i] = y0[i] + h0 * f[i]
-    _rhs(t0 + h0, y1, P, f1)
+    _rhs(t0 + h0, y1, beam, loads, f1)
     d2 = 0.0
     for i in range(n):
         sc = atol + abs(y0[i]) * rtol
@@ -199,7 +314,7 @@ def _first_step(y0, f, t0, interval, P, rtol, atol):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _combine(K, w, count, out):
+def _combine(K: Matrix, w: Vector, count: int, out: Vector) -> None:
     """out[i] = sum_{j < count} K[j, i] w[j], summed in the order of j (as the loop over j inside
     the loop over i that scipy's dot products amount to), but with the components i in the inner
     loop: independent sums the processor overlaps, instead of one chain of dependent additions.
@@ -215,8 +330,9 @@ def _combine(K, w, count, out):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _error_norm(K, y, y_new, h, rtol, atol):
+def _error_norm(K: Matrix, y: Vector, y_new: Vector, h: float, tolerances: Tolerances) -> float:
     """scipy's DOP853 error norm of a step from y to y_new with the stage derivatives K."""
+    rtol, atol = tolerances.rtol, tolerances.atol
     n = y.size
     e5, e3 = 0.0, 0.0
     for i in range(n):
@@ -233,7 +349,8 @@ def _error_norm(K, y, y_new, h, rtol, atol):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _dop853(y0, t0, t1, P, rtol, atol, h_start):
+def _dop853(y0: Vector, t0: float, t1: float, beam: Beam, loads: Loads, tolerances: Tolerances,
+            h_start: float) -> tuple[Vector, bool, float]:
     """State at t1 from y0 at t0, success, and the step size the controller proposes next.
     ``h_start`` > 0: the first step to try (a previous interval's proposal) instead of scipy's
     initial-step selection."""
@@ -241,12 +358,12 @@ def _dop853(y0, t0, t1, P, rtol, atol, h_start):
     n = y0.size
     K = np.empty((AB.shape[0], n))
     f = np.empty(n)
-    _rhs(t0, y0, P, f)
+    _rhs(t0, y0, beam, loads, f)
     y = y0.copy()
     interval = t1 - t0
     if interval <= 0.0:
         return y, True, h_start
-    h_abs = _first_step(y0, f, t0, interval, P, rtol, atol) if h_start <= 0.0 else h_start
+    h_abs = _first_step(y0, f, t0, interval, beam, loads, tolerances) if h_start <= 0.0 else h_start
     t = t0
     stage = np.empty(n)
     y_new = np.empty(n)
@@ -272,12 +389,12 @@ def _dop853(y0, t0, t1, P, rtol, atol, h_start):
                 if s < last:
                     for i in range(n):
                         stage[i] = y[i] + acc[i] * h
-                    _rhs(t + C[s] * h, stage, P, K[s])
+                    _rhs(t + C[s] * h, stage, beam, loads, K[s])
                 else:
                     for i in range(n):
                         y_new[i] = y[i] + h * acc[i]
-            _rhs(t + h, y_new, P, K[last])
-            error_norm = _error_norm(K, y, y_new, h, rtol, atol)
+            _rhs(t + h, y_new, beam, loads, K[last])
+            error_norm = _error_norm(K, y, y_new, h, tolerances)
             if error_norm < 1.0:
                 factor = MAX_FACTOR if error_norm == 0.0 else min(MAX_FACTOR, SAFETY * error_norm ** ERROR_EXPONENT)
                 if rejected:
@@ -294,7 +411,8 @@ def _dop853(y0, t0, t1, P, rtol, atol, h_start):
 
 
 @njit(cache=True, error_model="numpy")
-def _samples(y0, s, P, rtol, atol, restart):
+def _samples(y0: Vector, s: Vector, beam: Beam, loads: Loads, tolerances: Tolerances,
+             restart: bool) -> tuple[Matrix, bool]:
     """States at the arc lengths s, integrated from sample to sample; each interval starts with the
     step the previous one proposed (the first, and every one when ``restart``, with scipy's
     initial-step selection). The one compiled entry point of the integrator besides the shooting."""
@@ -305,7 +423,7 @@ def _samples(y0, s, P, rtol, atol, restart):
         out[0, i] = y0[i]
     h = 0.0
     for k in range(1, s.size):
-        y, ok, h = _dop853(y, s[k - 1], s[k], P, rtol, atol, 0.0 if restart else h)
+        y, ok, h = _dop853(y, s[k - 1], s[k], beam, loads, tolerances, 0.0 if restart else h)
         if not ok:
             return out, False
         for i in range(n):
@@ -313,48 +431,56 @@ def _samples(y0, s, P, rtol, atol, restart):
     return out, True
 
 
-def _parameters(Fx, Fy, k0, wx=0.0, wy=0.0, EI=1.0, EA=0.0, length=1.0):
-    """The parameter array P (module docstring)."""
-    return np.array([Fx, Fy, k0, wx, wy, EI, EA, length], dtype=float)
+def elastica_beam(curvature: float) -> Beam:
+    """The elastica normalised by L and EI (inextensible): ``Beam`` of unit length and EI, initial
+    curvature ``curvature`` = kappa0 L."""
+    return Beam(length=1.0, EI=1.0, EA=0.0, curvature=float(curvature))
 
 
-def integrate_beam(y0, length: float, Fx: float, Fy: float, k0: float, EI: float, EA: float,
-                   rtol: float, atol: float):
-    """A mechanism beam's state (x, y, theta, m, U) at s = length from y0 at s = 0 (physical units,
-    EA = 0: inextensible), and whether the integration succeeded. (The arrays built directly: the
-    mechanism's residual calls this once a beam an evaluation.)"""
+def integrate_beam(y0: ArrayLike, length: float, Fx: float, Fy: float, k0: float, EI: float, EA: float,
+                   rtol: float, atol: float) -> tuple[Vector, bool]:
+    """A mechanism beam's state (x, y, theta, m, U) at s = length from y0 at s = 0 (physical units:
+    end force (Fx, Fy), initial curvature k0, stiffnesses EI and EA, EA = 0: inextensible), and
+    whether the integration succeeded."""
     length = float(length)
     states, ok = _samples(np.asarray(y0, dtype=float), np.array([0.0, length]),
-                          np.array([Fx, Fy, k0, 0.0, 0.0, EI, EA, length], dtype=float),   # `_parameters`
-                          float(rtol), float(atol), True)
+                          Beam(length=length, EI=float(EI), EA=float(EA), curvature=float(k0)),
+                          Loads(Fx=float(Fx), Fy=float(Fy), wx=0.0, wy=0.0),
+                          Tolerances(rtol=float(rtol), atol=float(atol)), True)
     return states[-1], ok
 
 
-def integrate_samples(y0, s, Fx: float, Fy: float, k0: float, rtol: float, atol: float,
-                      wx: float = 0.0, wy: float = 0.0):
+def integrate_samples(y0: ArrayLike, s: ArrayLike, Fx: float, Fy: float, k0: float, rtol: float, atol: float,
+                      wx: float = 0.0, wy: float = 0.0) -> tuple[Matrix, bool]:
     """The elastica states (len(s), len(y0): STATE_SIZE or FORCE_STATE_SIZE) at the increasing arc
-    lengths ``s`` (s[0]: the start of y0), integrated from sample to sample, and whether every
+    lengths ``s`` (s[0]: the start of y0), integrated from sample to sample, under the tip force
+    (Fx, Fy) and distributed load (wx, wy) with initial curvature k0 (normalised), and whether every
     interval succeeded."""
-    return _samples(np.asarray(y0, dtype=float), np.ascontiguousarray(s, dtype=float),
-                    _parameters(Fx, Fy, k0, wx, wy), float(rtol), float(atol), False)
+    return _samples(np.asarray(y0, dtype=float), np.ascontiguousarray(s, dtype=float), elastica_beam(k0),
+                    Loads(Fx=float(Fx), Fy=float(Fy), wx=float(wx), wy=float(wy)),
+                    Tolerances(rtol=float(rtol), atol=float(atol)), False)
 
 
-def plain_samples(y0, s, Fx: float, Fy: float, k0: float, rtol: float, atol: float,
-                  wx: float = 0.0, wy: float = 0.0, restart: bool = False):
-    """The elastica's plain states (x, y, theta, m, U) (normalised, L = EI = 1, no sensitivities) at
-    the increasing arc lengths ``s`` from y0 at s[0]; ``restart``: every interval starts with
-    scipy's initial-step selection (as the shooting's pieces do). And whether every interval
-    succeeded."""
+def plain_samples(y0: ArrayLike, s: ArrayLike, beam: Beam, loads: Loads, tolerances: Tolerances,
+                  restart: bool = False) -> tuple[Matrix, bool]:
+    """The elastica's plain states (x, y, theta, m, U) (normalised: ``beam`` from ``elastica_beam``,
+    no sensitivities) at the increasing arc lengths ``s`` from y0 at s[0]; ``restart``: every
+    interval starts with scipy's initial-step selection (as the shooting's pieces do). And whether
+    every interval succeeded."""
     return _samples(np.asarray(y0, dtype=float)[:BEAM_STATE_SIZE], np.ascontiguousarray(s, dtype=float),
-                    _parameters(Fx, Fy, k0, wx, wy), float(rtol), float(atol), bool(restart))
+                    beam, loads, tolerances, bool(restart))
 
 
-def beam_samples(y0, s, Fx: float, Fy: float, k0: float, EI: float, EA: float, rtol: float, atol: float):
+def beam_samples(y0: ArrayLike, s: ArrayLike, Fx: float, Fy: float, k0: float, EI: float, EA: float,
+                 rtol: float, atol: float) -> tuple[Matrix, bool]:
     """A mechanism beam's states (len(s), BEAM_STATE_SIZE) at the increasing arc lengths ``s``
-    (s[0]: the start of y0), integrated from sample to sample, and whether every interval succeeded."""
-    s = np.ascontiguousarray(s, dtype=float)
-    return _samples(np.asarray(y0, dtype=float), s, _parameters(Fx, Fy, k0, EI=EI, EA=EA, length=s[-1]),
-                    float(rtol), float(atol), False)
+    (s[0]: the start of y0), integrated from sample to sample, and whether every interval succeeded
+    (the arguments as ``integrate_beam``'s)."""
+    arc = np.ascontiguousarray(s, dtype=float)
+    return _samples(np.asarray(y0, dtype=float), arc,
+                    Beam(length=float(arc[-1]), EI=float(EI), EA=float(EA), curvature=float(k0)),
+                    Loads(Fx=float(Fx), Fy=float(Fy), wx=0.0, wy=0.0),
+                    Tolerances(rtol=float(rtol), atol=float(atol)), False)
 
 
 # ------------------------------------------------------------------ shooting (residual, Newton, path)
@@ -364,8 +490,8 @@ ANGLE = -3          # index of the prescribed tip angle in q; the last two are (
 CONVERGED, NOT_CONVERGED, NO_START = 0, 1, 2
 
 
-@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
-def _norm(v):
+@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
+def _norm(v: Vector) -> float:
     """Euclidean norm (a plain loop: the systems have at most a handful of unknowns)."""
     total = 0.0
     for x in v:
@@ -373,8 +499,8 @@ def _norm(v):
     return math.sqrt(total)
 
 
-@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
-def _distance(a, b):
+@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
+def _distance(a: Vector, b: Vector) -> float:
     """Euclidean distance |a - b| (a plain loop)."""
     total = 0.0
     for i in range(a.size):
@@ -382,8 +508,8 @@ def _distance(a, b):
     return math.sqrt(total)
 
 
-@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
-def _axpy(x, a, d):
+@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
+def _axpy(x: Vector, a: float, d: Vector) -> Vector:
     """x + a d as a new array (a loop: no broadcasting checks to compile)."""
     out = np.empty(x.size)
     for i in range(x.size):
@@ -391,8 +517,8 @@ def _axpy(x, a, d):
     return out
 
 
-@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
-def _solve(A, b):
+@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
+def _solve(A: Matrix, b: Vector) -> tuple[Vector, bool]:
     """x with A x = b by Gaussian elimination with partial pivoting, and False when a pivot is
     exactly zero (singular, as LAPACK's gesv reports it)."""
     n = b.size
@@ -423,8 +549,10 @@ def _solve(A, b):
 
 
 @njit(cache=True, error_model="numpy")
-def tip_force(z, q, fdirs, mdirs, follower):
-    """Tip force F (2,) and dF/dz (2, n) for the unknowns z (normalised)."""
+def tip_force(z: Vector, q: Vector, forces: UnknownForces) -> tuple[Vector, Matrix]:
+    """Tip force F (2,) and dF/dz (2, n) at the unknowns z and parameters q (normalised; ``forces``
+    says how F depends on them)."""
+    fdirs, mdirs = forces.force_dirs, forces.moment_dirs
     n = z.size
     F = np.zeros(2)
     F[0], F[1] = q[0], q[1]
@@ -436,7 +564,7 @@ def tip_force(z, q, fdirs, mdirs, follower):
         F[1] += z[1 + k] * d1
         dF[0, 1 + k] = d0
         dF[1, 1 + k] = d1
-    if follower:
+    if forces.follower:
         tau = z[n - 1]
         c, s = math.cos(tau), math.sin(tau)
         ft, fn = q[3], q[4]
@@ -447,8 +575,8 @@ def tip_force(z, q, fdirs, mdirs, follower):
     return F, dF
 
 
-@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
-def _through_force(Y, dF):
+@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
+def _through_force(Y: Vector, dF: Matrix) -> Matrix:
     """(4, m): d(x, y, theta, m)/d(parameters) of the state Y (``integrator`` layout) when the tip
     force depends on them by dF = dF/d(parameters) (2, m)."""
     D = np.zeros((4, dF.shape[1]))
@@ -459,27 +587,28 @@ def _through_force(Y, dF):
     return D
 
 
-@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
-def _unknowns_derivative(Y, dF):
+@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
+def _unknowns_derivative(Y: Vector, dF: Matrix) -> Matrix:
     """(4, n): d(x, y, theta, m)/dz of the state Y: through the tip force (dF = dF/dz) and, in
     column 0, through m(0) = z[0]."""
-    D = _through_force(Y, dF)
+    D: Matrix = _through_force(Y, dF)
     for i in range(4):
         D[i, 0] += Y[5 + 3 * i]
     return D
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _integrate_pieces(z, F, q, k0, bounds, n_state, rtol, atol):
+def _integrate_pieces(z: Vector, F: Vector, q: Vector, structure: Structure, tolerances: Tolerances,
+                      n_state: int) -> tuple[Matrix, bool]:
     """The states at the piece boundaries (bounds.size, STATE_SIZE; the first ``n_state`` entries
     integrated, the rest 0) from m(0) = z[0] under the tip force F, and whether all succeeded."""
+    bounds = structure.bounds
     y = np.zeros(n_state)
     y[3] = z[0]
     y[5 + 9] = 1.0              # d m(0) / d m0
-    P = np.zeros(8)
-    P[0], P[1], P[2], P[3], P[4], P[5], P[7] = F[0], F[1], k0, q[q.size - 2], q[q.size - 1], 1.0, 1.0
+    loads = Loads(Fx=F[0], Fy=F[1], wx=q[q.size - 2], wy=q[q.size - 1])
     restart = bounds.size > 1   # every piece from scipy's first step (a run-time bool, as Python passes it)
-    pieces, ok = _samples(y, bounds, P, rtol, atol, restart)
+    pieces, ok = _samples(y, bounds, structure.beam, loads, tolerances, restart)
     states = np.zeros((bounds.size, STATE_SIZE))
     for i in range(bounds.size):
         for j in range(n_state):
@@ -488,21 +617,23 @@ def _integrate_pieces(z, F, q, k0, bounds, n_state, rtol, atol):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _residual(z, q, k0, dirs, fdirs, mdirs, site_at, angle_given, follower, bounds, n_state, rtol, atol):
+def _residual(z: Vector, q: Vector, structure: Structure, tolerances: Tolerances,
+              n_state: int) -> tuple[Vector, Matrix, Matrix, Vector, bool]:
     """End-condition residual r (n,), Jacobian dr/dz (n, n), the states at the piece boundaries
     (row 0: s = 0, the last: s = 1) and the tip force F; ok False when the integration failed."""
+    dirs, site_at, bounds = structure.dirs, structure.site_at, structure.bounds
     n = z.size
-    nc, nm = dirs.shape[0], mdirs.shape[0]
-    F, dF = tip_force(z, q, fdirs, mdirs, follower)
+    nc, nm = dirs.shape[0], structure.forces.moment_dirs.shape[0]
+    F, dF = tip_force(z, q, structure.forces)
     r = np.zeros(n)
     J = np.zeros((n, n))
-    states, ok = _integrate_pieces(z, F, q, k0, bounds, n_state, rtol, atol)
+    states, ok = _integrate_pieces(z, F, q, structure, tolerances, n_state)
     if not ok:
         return r, J, states, F, False
     Y = states[bounds.size - 1]
     dYdz = _unknowns_derivative(Y, dF)
     row = 3
-    if angle_given:
+    if structure.angle_given:
         r[0] = Y[2] - q[q.size + ANGLE]
         row = 2
     else:
@@ -520,7 +651,7 @@ def _residual(z, q, k0, dirs, fdirs, mdirs, site_at, angle_given, follower, boun
         r[1 + nc + i] = Yi[3] - q[5 + nc + i]
         for j in range(n):
             J[1 + nc + i, j] = dYi[3, j]
-    if follower:
+    if structure.forces.follower:
         r[n - 1] = Y[2] - z[n - 1]
         for j in range(n):
             J[n - 1, j] = dYdz[2, j]
@@ -529,15 +660,16 @@ def _residual(z, q, k0, dirs, fdirs, mdirs, site_at, angle_given, follower, boun
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _load_derivative(z, states, dirs, mdirs, site_at, angle_given, follower, nq):
-    """d r / d q (n x nq), and d(x, y, theta, m)(1) / d q (4 x nq): the force parameters act through the sensitivities to (Fx, Fy) (and the
-    follower's through the tip angle), the distributed load (the last two) through its own, the
-    others enter the end conditions directly."""
+def _load_derivative(z: Vector, states: Matrix, structure: Structure, nq: int) -> tuple[Matrix, Matrix]:
+    """d r / d q (n x nq), and d(x, y, theta, m)(1) / d q (4 x nq): the force parameters act through
+    the sensitivities to (Fx, Fy) (and the follower's through the tip angle), the distributed load
+    (the last two) through its own, the others enter the end conditions directly."""
+    dirs, site_at, angle_given = structure.dirs, structure.site_at, structure.angle_given
     n = z.size
-    nc, nm = dirs.shape[0], mdirs.shape[0]
+    nc, nm = dirs.shape[0], structure.forces.moment_dirs.shape[0]
     dFdq = np.zeros((2, nq))
     dFdq[0, 0] = dFdq[1, 1] = 1.0
-    if follower:
+    if structure.forces.follower:
         c, sn = math.cos(z[n - 1]), math.sin(z[n - 1])
         dFdq[0, 3], dFdq[1, 3] = c, sn
         dFdq[0, 4], dFdq[1, 4] = -sn, c
@@ -563,30 +695,32 @@ def _load_derivative(z, states, dirs, mdirs, site_at, angle_given, follower, nq)
         D[1 + nc + i, nq - 2] += Yi[17 + 6]
         D[1 + nc + i, nq - 1] += Yi[18 + 6]
         D[1 + nc + i, 5 + nc + i] -= 1.0
-    if follower:
+    if structure.forces.follower:
         for j in range(nq):
             D[n - 1, j] = dYdq[2, j]
     return D, dYdq
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _tangent(z, q, J, states, dq, dirs, fdirs, mdirs, site_at, angle_given, follower):
+def _tangent(z: Vector, q: Vector, J: Matrix, states: Matrix, dq: Vector,
+             structure: Structure) -> tuple[Vector, bool, Vector]:
     """dz/dlambda along q(lambda) with dq/dlambda = dq, from the Jacobian J and the states of the
     residual at z; False when J is singular; and the tip's rate d(x, y, theta)(1)/dlambda =
     (dY/dz) dz/dlambda + (dY/dq) dq (normalised)."""
-    D, dYdq = _load_derivative(z, states, dirs, mdirs, site_at, angle_given, follower, dq.size)
+    D, dYdq = _load_derivative(z, states, structure, dq.size)
     rhs = np.zeros(z.size)
     for i in range(z.size):
         for j in range(dq.size):
             rhs[i] -= D[i, j] * dq[j]
     dz, regular = _solve(J, rhs)
-    return dz, regular, _tip_rate(z, q, states[states.shape[0] - 1], dz, dYdq, dq, fdirs, mdirs, follower)
+    return dz, regular, _tip_rate(z, q, states[states.shape[0] - 1], dz, dYdq, dq, structure)
 
 
-@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
-def _tip_rate(z, q, Y, dz, dYdq, dq, fdirs, mdirs, follower):
+@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
+def _tip_rate(z: Vector, q: Vector, Y: Vector, dz: Vector, dYdq: Matrix, dq: Vector,
+              structure: Structure) -> Vector:
     """d(x, y, theta)(1)/dlambda = (dY/dz) dz/dlambda + (dY/dq) dq at the tip state Y."""
-    _, dF = tip_force(z, q, fdirs, mdirs, follower)
+    _, dF = tip_force(z, q, structure.forces)
     dYdz = _unknowns_derivative(Y, dF)
     rate = np.zeros(3)
     for i in range(3):
@@ -597,8 +731,8 @@ def _tip_rate(z, q, Y, dz, dYdq, dq, fdirs, mdirs, follower):
     return rate
 
 
-@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
-def _trial(z, t, dz, center, radius):
+@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
+def _trial(z: Vector, t: float, dz: Vector, center: Vector, radius: float) -> tuple[Vector, float]:
     """The trial point z + t dz, t halved until it lies within ``radius`` of ``center`` (or t < 1e-3)."""
     z_try = _axpy(z, t, dz)
     while _distance(z_try, center) > radius and t >= 1e-3:
@@ -608,11 +742,12 @@ def _trial(z, t, dz, center, radius):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _newton(z, q, tol, step_tol, ahead, maxiter, radius, k0, dirs, fdirs, mdirs, site_at, angle_given,
-            follower, bounds, n_state, rtol, atol):
-    """Damped Newton on the end conditions (module docstring). Converged: |r| < 1e-3 tol, or |r| <
-    tol and a step below ``step_tol`` (1 + |z|): the step that led to z, or with ``ahead`` the step
-    from z (J^-1 r, known before integrating again: a path point stops one integration earlier).
+def _newton(z: Vector, q: Vector, corrector: Corrector, structure: Structure, tolerances: Tolerances,
+            n_state: int) -> tuple[Vector, int, int, float, Matrix, Matrix, Vector]:
+    """Damped Newton on the end conditions (module docstring) under the controls ``corrector``,
+    integrating the first ``n_state`` state entries at ``tolerances``. Converged: |r| < 1e-3 tol, or
+    |r| < tol and a step below ``step_tol`` (1 + |z|): the step that led to z, or with ``ahead`` the
+    step from z (J^-1 r, known before integrating again: a path point stops one integration earlier).
     A path corrector (finite ``radius``) is not damped: a trial point farther than ``radius`` from
     the start point z (the continuation rejects a corrector that leaves this ball anyway) counts as
     a failed trial, the step halved without integrating it, and a full step whose residual does not
@@ -622,12 +757,12 @@ def _newton(z, q, tol, step_tol, ahead, maxiter, radius, k0, dirs, fdirs, mdirs,
     Returns (z, status, iterations, residual norm, Jacobian, boundary states and tip force at z): z
     is the last accepted point (with maxiter = 0 the start point, evaluated). One residual call site
     (the start point, then every trial point), so the compiled code holds one copy of the integrator."""
+    tol, step_tol, maxiter, radius = corrector.tol, corrector.step_tol, corrector.maxiter, corrector.radius
     it, t, norm, started = 0, 1.0, math.inf, False
     dz = np.zeros_like(z)
     z_try, center = z, z
     while True:
-        r_new, J_new, states_new, F_new, ok = _residual(z_try, q, k0, dirs, fdirs, mdirs, site_at,
-                                                        angle_given, follower, bounds, n_state, rtol, atol)
+        r_new, J_new, states_new, F_new, ok = _residual(z_try, q, structure, tolerances, n_state)
         if not started:
             if not ok:
                 return z, NO_START, 0, math.inf, J_new, states_new, F_new
@@ -650,7 +785,7 @@ def _newton(z, q, tol, step_tol, ahead, maxiter, radius, k0, dirs, fdirs, mdirs,
         for i in range(r.size):
             minus_r[i] = -r[i]
         dz, regular = _solve(J, minus_r)
-        if ahead and regular and norm < tol and _norm(dz) < step_tol * (1.0 + _norm(z)):
+        if corrector.ahead and regular and norm < tol and _norm(dz) < step_tol * (1.0 + _norm(z)):
             return z, CONVERGED, it, norm, J, states, F
         it += 1
         if it > maxiter or not regular:
@@ -660,8 +795,9 @@ def _newton(z, q, tol, step_tol, ahead, maxiter, radius, k0, dirs, fdirs, mdirs,
             return z, NOT_CONVERGED, it, norm, J, states, F
 
 
-@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
-def _step_cap(rate, rate_prev, dlam, max_rotation_step, max_position_step):
+@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
+def _step_cap(rate: Vector, rate_prev: Vector, dlam: float, max_rotation_step: float,
+              max_position_step: float) -> float:
     """The longest step whose predicted tip motion stays within both limits: the tip's rate and,
     when ``dlam`` > 0, its change (rate - rate_prev)/dlam since the previous point."""
     accel = np.zeros(3)
@@ -673,7 +809,7 @@ def _step_cap(rate, rate_prev, dlam, max_rotation_step, max_position_step):
 
 
 @njit(cache=True, error_model="numpy")
-def _reach(speed, accel, limit):
+def _reach(speed: float, accel: float, limit: float) -> float:
     """The largest step h whose predicted tip motion, speed h + accel h^2 / 2 (a second-order
     Taylor bound along the path), stays within ``limit``."""
     if speed <= 0.0 and accel <= 0.0:
@@ -687,21 +823,21 @@ PATH_CONVERGED, PATH_STALLED, PATH_NO_START, PATH_FINAL_FAILED = 0, 1, 2, 3
 
 
 @njit(cache=True, error_model="numpy")
-def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, follower, bounds, rtol, atol,
-                tol, path_rtol, initial_step, min_step, max_rotation_step, max_position_step,
-                max_corrector, max_step_iterations, maxiter):
+def follow_path(z: Vector, q0: Vector, q1: Vector, structure: Structure,
+                controls: PathControls) -> tuple[Vector, int, float, int, int, float, Matrix, Vector]:
     """Continuation from (z, q0) to q1 (``shooting`` module docstring): tangent predictor (from the
-    Jacobian of the last accepted point), Newton corrector at ``path_rtol`` with the step rejections,
-    then the final corrector at ``rtol``/``tol``. One Newton call site (the start point is evaluated by
-    a Newton of 0 iterations; the final corrector is the last call): one compiled copy of it.
-    The sensitivities to the distributed load are integrated only when the path changes it.
+    Jacobian of the last accepted point), Newton corrector at the path tolerances with the step
+    rejections, then the final corrector at the final ones. One Newton call site (the start point is
+    evaluated by a Newton of 0 iterations; the final corrector is the last call): one compiled copy
+    of it. The sensitivities to the distributed load are integrated only when the path changes it.
     Returns (z, status, load fraction reached, Newton iterations, accepted steps, residual norm,
     and when converged the boundary states and tip force at z)."""
-    path_atol = path_rtol * 0.1
-    last = bounds.size - 1
+    max_rotation_step, max_position_step = controls.max_rotation_step, controls.max_position_step
+    max_step_iterations = controls.max_step_iterations
+    last = structure.bounds.size - 1
     dq = _axpy(q1, -1.0, q0)
     n_state = STATE_SIZE if (dq[dq.size - 2] != 0.0 or dq[dq.size - 1] != 0.0) else FORCE_STATE_SIZE
-    lam, dlam, lam_try, lam_prev, curvature = 0.0, min(initial_step, 1.0), 0.0, 0.0, 0.0
+    lam, dlam, lam_try, lam_prev, curvature = 0.0, min(controls.initial_step, 1.0), 0.0, 0.0, 0.0
     nit, nsteps, norm = 0, 0, 0.0
     started, regular = False, True
     dz, tip, step, rate = np.zeros_like(z), np.zeros(3), np.zeros_like(z), np.zeros(3)
@@ -709,23 +845,25 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
     while True:
         final = started and lam >= 1.0
         radius = math.inf
+        tolerances = controls.path
         if not started:
-            q, z_guess, ntol, nrtol, natol, nmax = q0, z, 0.0, path_rtol, path_atol, 0
+            q, z_guess, ntol, nmax = q0, z, 0.0, 0
         elif final:       # final corrector at full accuracy
-            q, z_guess, ntol, nrtol, natol, nmax = _axpy(q0, lam, dq), z, tol, rtol, atol, maxiter
+            q, z_guess, ntol, nmax = _axpy(q0, lam, dq), z, controls.tol, controls.maxiter
+            tolerances = controls.final
         else:
             lam_try = min(1.0, lam + min(dlam, reach))
             q = _axpy(q0, lam_try, dq)
             step = _axpy(np.zeros_like(z), lam_try - lam, dz) if regular else np.zeros_like(z)
             # a step whose corrector needs more than max_step_iterations is rejected: stop there
-            z_guess, ntol, nrtol, natol = _axpy(z, 1.0, step), 10 * path_rtol, path_rtol, path_atol
-            nmax = min(maxiter, max_step_iterations)
+            z_guess, ntol = _axpy(z, 1.0, step), 10 * controls.path.rtol
+            nmax = min(controls.maxiter, max_step_iterations)
             if regular:     # the corrector may move z this far from the predictor (the step test below)
                 bend = curvature * (lam_try - lam) ** 2         # twice the predictor's expected miss
-                radius = max_corrector * _norm(step) + bend + 1e-6 * (1.0 + _norm(z))
-        z_new, nstat, it, norm, J, states, F = _newton(z_guess, q, ntol, 1e-9 if final else ntol, not final, nmax,
-                                                       radius, k0, dirs, fdirs, mdirs, site_at, angle_given,
-                                                       follower, bounds, n_state, nrtol, natol)
+                radius = controls.max_corrector * _norm(step) + bend + 1e-6 * (1.0 + _norm(z))
+        corrector = Corrector(tol=ntol, step_tol=1e-9 if final else ntol, ahead=not final, maxiter=nmax,
+                              radius=radius)
+        z_new, nstat, it, norm, J, states, F = _newton(z_guess, q, corrector, structure, tolerances, n_state)
         new_tip = states[last, :3]
         ok = nstat == CONVERGED
         if not started:
@@ -750,8 +888,7 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
         if ok:                  # the tangent at the new point, and the path's curvature |z''| since the last
             dz_prev, was_regular = dz, regular
             rate_prev = rate
-            dz, regular, rate = _tangent(z, _axpy(q0, lam, dq), J, states, dq, dirs, fdirs, mdirs, site_at,
-                                         angle_given, follower)
+            dz, regular, rate = _tangent(z, _axpy(q0, lam, dq), J, states, dq, structure)
             secant = nsteps > 0 and regular and was_regular   # the last two points give z'' and the tip's
             if secant:
                 curvature = _norm(_axpy(dz, -1.0, dz_prev)) / (lam - lam_prev)
@@ -760,5 +897,5 @@ def follow_path(z, q0, q1, k0, dirs, fdirs, mdirs, site_at, angle_given, followe
             tip = new_tip.copy()
         else:                   # halve the step tried (dlam itself may reach past lambda = 1)
             dlam = 0.5 * (lam_try - lam)
-            if dlam < min_step:
+            if dlam < controls.min_step:
                 return z, PATH_STALLED, lam, nit, nsteps, norm, states, F

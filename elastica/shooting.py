@@ -103,17 +103,23 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
+from typing import TypedDict, Unpack, cast
 
 import numpy as np
 from argcheck import checked
+from numpy.typing import ArrayLike, NDArray
 
 from . import integrator as kernel
 from .integrator import plain_samples
 
 __all__ = ["TipConstraint", "MomentConstraint", "PointedForce", "ElasticaProblem", "ElasticaResult",
            "solve_elastica", "solve_path", "loaded_start", "section_moment", "unloaded_tip",
-           "dead_equivalent", "line_angles", "pointing_error"]
+           "dead_equivalent", "line_angles", "pointing_error", "SolveOptions"]
+
+Vector = NDArray[np.float64]
+Matrix = NDArray[np.float64]
 
 
 @dataclass(frozen=True)
@@ -208,14 +214,14 @@ class ElasticaResult:
     moment: float                       # tip moment acting on the beam (CCW)
     reaction: tuple[float, float, float]  # support reaction (Rx, Ry, M_root) on the beam at s = 0
     strain_energy: float
-    s: np.ndarray
-    shape: np.ndarray                   # (3, n): x(s), y(s), theta(s)
+    s: Vector
+    shape: Matrix                       # (3, n): x(s), y(s), theta(s)
     nit: int = 0                        # Newton iterations, all continuation steps together
     nsteps: int = 0                     # accepted continuation steps
     wall_time: float = 0.0
     residual: float = math.nan
     problem: ElasticaProblem | None = None
-    z: np.ndarray = field(default_factory=lambda: np.zeros(0))  # shooting unknowns (warm start)
+    z: Vector = field(default_factory=lambda: np.zeros(0))  # shooting unknowns (warm start)
     pointed_angles: tuple[float, ...] = ()  # direction angles of the pointed forces (rad)
 
     # the result protocol every library's solve result shares: converged, status, message,
@@ -232,15 +238,22 @@ class ElasticaResult:
 # --------------------------------------------------------------------------------------------
 # normalised problem data (L = 1, EI = 1)
 
-def _unit(d):
-    d = np.asarray(d, float)
-    return d / math.hypot(*d)
+def _pair(v: Sequence[float]) -> tuple[float, float]:
+    """A given pair (a tuple, list or array of two components) as the tuple a problem holds."""
+    return cast(tuple[float, float], tuple(v))      # tuple() forgets the length the signature promises
+
+
+def _unit(d: ArrayLike) -> Vector:
+    """The direction d scaled to unit length."""
+    v = np.asarray(d, np.float64)
+    unit: Vector = v / math.hypot(*v)
+    return unit
 
 
 ANGLE = kernel.ANGLE    # index of the prescribed tip angle in a load vector; the last two are (wx, wy)
 
 
-def _load_vector(p: ElasticaProblem) -> np.ndarray:
+def _load_vector(p: ElasticaProblem) -> Vector:
     """All continuation parameters of a problem, normalised:
     [Fx, Fy, M, ft, fn, c_1..c_k, m_1..m_j, angle, wx, wy]."""
     scale_f = p.length**2 / p.EI
@@ -261,7 +274,7 @@ def unloaded_tip(length: float, curvature: float) -> tuple[float, float, float]:
     return length * math.sin(k) / k, length * (1 - math.cos(k)) / k, k
 
 
-def _start_vector(p: ElasticaProblem) -> np.ndarray:
+def _start_vector(p: ElasticaProblem) -> Vector:
     """Continuation parameters of the unloaded beam (zero loads, prescribed values where it sits)."""
     x0, y0, th0 = unloaded_tip(1.0, p.curvature * p.length)
     q = [0.0] * 5
@@ -279,14 +292,15 @@ class _Shooter:
 
     def __init__(self, p: ElasticaProblem, rtol: float, atol: float):
         self.k0 = float(p.curvature * p.length)
-        self.dirs = np.array([_unit(c.direction) for c in p.constraints], float).reshape(-1, 2)
-        self.fdirs = np.array([_unit(c.force_direction if c.force_direction is not None else c.direction)
-                               for c in p.constraints], float).reshape(-1, 2)
+        self.dirs: Matrix = np.array([_unit(c.direction) for c in p.constraints], np.float64).reshape(-1, 2)
+        self.fdirs: Matrix = np.array([_unit(c.force_direction if c.force_direction is not None else c.direction)
+                                       for c in p.constraints], np.float64).reshape(-1, 2)
         self.nc = len(self.dirs)
         sites = [c.at / p.length for c in p.moment_constraints]     # s_j / L
         if any(not 0.0 <= s <= 1.0 for s in sites):
             raise ValueError("a moment constraint lies outside the beam (0 <= at <= length)")
-        self.mdirs = np.array([_unit(c.force_direction) for c in p.moment_constraints], float).reshape(-1, 2)
+        self.mdirs: Matrix = np.array([_unit(c.force_direction) for c in p.moment_constraints],
+                                      np.float64).reshape(-1, 2)
         self.nm = len(sites)
         knots = sorted({s for s in sites if 0.0 < s < 1.0})
         self.bounds = np.array([0.0] + knots + [1.0])
@@ -296,23 +310,56 @@ class _Shooter:
         self.has_follower = p.follower != (0.0, 0.0)
         self.n = 1 + self.nc + self.nm + (1 if self.has_follower else 0)
         self.rtol, self.atol = float(rtol), float(atol)
-        self.structure = (self.k0, self.dirs, self.fdirs, self.mdirs, self.site_at, self.angle_given,
-                          self.has_follower, self.bounds)
+        self.tolerances = kernel.Tolerances(rtol=self.rtol, atol=self.atol)
+        self.structure = kernel.Structure(beam=kernel.elastica_beam(self.k0), dirs=self.dirs,
+                                          forces=kernel.UnknownForces(force_dirs=self.fdirs, moment_dirs=self.mdirs,
+                                                                      follower=self.has_follower),
+                                          bounds=self.bounds, site_at=self.site_at, angle_given=self.angle_given)
 
-    def unknown_force_directions(self):
+    def unknown_force_directions(self) -> list[Vector]:
         """Unit directions of the force multipliers, in the order of z[1:1 + nc + nm]."""
         return list(self.fdirs) + list(self.mdirs)
 
-    def integrate(self, z, q):
+    def integrate(self, z: ArrayLike, q: ArrayLike) -> tuple[Matrix, Vector, bool]:
         """(plain states (x, y, theta, m, U) at the piece boundaries: row 0 at s = 0, the last at
         s = 1; tip force; ok): the shooting's pieces, without sensitivities."""
-        z, q = np.asarray(z, float), np.asarray(q, float)
-        F, _ = kernel.tip_force(z, q, self.fdirs, self.mdirs, self.has_follower)
+        zv, qv = np.asarray(z, np.float64), np.asarray(q, np.float64)
+        F, _ = kernel.tip_force(zv, qv, self.structure.forces)
         y0 = np.zeros(kernel.BEAM_STATE_SIZE)
-        y0[3] = z[0]
-        states, ok = plain_samples(y0, self.bounds, F[0], F[1], self.k0, self.rtol, self.atol, q[-2], q[-1],
+        y0[3] = zv[0]
+        states, ok = plain_samples(y0, self.bounds, self.structure.beam, self.loads(F, qv), self.tolerances,
                                    restart=True)
         return states, F, ok
+
+    def loads(self, F: Vector, q: Vector) -> kernel.Loads:
+        """The loads on the normalised elastica: the tip force F and the distributed load (q's last
+        two entries)."""
+        return kernel.Loads(Fx=float(F[0]), Fy=float(F[1]), wx=float(q[-2]), wy=float(q[-1]))
+
+
+class _PathOptions(TypedDict, total=False):
+    """The options of ``solve_path``'s continuation by name (``solve_path`` says what each means):
+    the ones a pointed-force solve hands on to each of its dead-force solves."""
+
+    rtol: float
+    atol: float
+    tol: float
+    initial_step: float
+    min_step: float
+    max_rotation_step: float
+    max_position_step: float
+    max_corrector: float
+    max_step_iterations: int
+    maxiter: int
+    path_rtol: float
+
+
+class SolveOptions(_PathOptions, total=False):
+    """Every option of ``solve_path`` by name, as the functions that hand them on take them
+    (``**options``)."""
+
+    n_samples: int
+    angle_tol: float
 
 
 def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
@@ -334,10 +381,10 @@ def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
     Pointed forces (module docstring): Newton on their direction angles until every
     |g_k| <= ``angle_tol`` (rad), their magnitudes continued from the start's.
     """
-    options = dict(rtol=rtol, atol=atol, tol=tol, initial_step=initial_step, min_step=min_step,
-                   max_rotation_step=max_rotation_step, max_position_step=max_position_step,
-                   max_corrector=max_corrector, max_step_iterations=max_step_iterations,
-                   maxiter=maxiter, path_rtol=path_rtol)
+    options = _PathOptions(rtol=rtol, atol=atol, tol=tol, initial_step=initial_step, min_step=min_step,
+                           max_rotation_step=max_rotation_step, max_position_step=max_position_step,
+                           max_corrector=max_corrector, max_step_iterations=max_step_iterations,
+                           maxiter=maxiter, path_rtol=path_rtol)
     if problem.pointed:
         return _solve_pointed(problem, start, n_samples, options, angle_tol)
     if start is not None and start.problem is not None and start.problem.pointed:
@@ -359,10 +406,13 @@ def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
         elif final.nc:
             q0, z, it, ns = _staged_start(problem, path, q0)
             nit, nsteps = nit + it, nsteps + ns
+    controls = kernel.PathControls(final=final.tolerances, tol=float(tol), path=path.tolerances,
+                                   initial_step=float(initial_step), min_step=float(min_step),
+                                   max_rotation_step=float(max_rotation_step),
+                                   max_position_step=float(max_position_step), max_corrector=float(max_corrector),
+                                   max_step_iterations=int(max_step_iterations), maxiter=int(maxiter))
     z, status, lam, it, ns, norm, states, F = kernel.follow_path(
-        np.array(z, float), np.asarray(q0, float), q1, *final.structure, final.rtol, final.atol, float(tol),
-        float(path_rtol), float(initial_step), float(min_step), float(max_rotation_step),
-        float(max_position_step), float(max_corrector), int(max_step_iterations), int(maxiter))
+        np.array(z, float), np.asarray(q0, float), q1, final.structure, controls)
     nit, nsteps = nit + it, nsteps + ns
     converged, message = status == kernel.PATH_CONVERGED, {
         kernel.PATH_CONVERGED: "converged",
@@ -378,7 +428,7 @@ def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
     return result
 
 
-def dead_equivalent(problem: ElasticaProblem, angles) -> ElasticaProblem:
+def dead_equivalent(problem: ElasticaProblem, angles: Sequence[float] | Vector) -> ElasticaProblem:
     """The dead-force problem that ``problem`` is when its pointed forces have the direction angles
     ``angles`` (rad): force + sum_k T_k (cos phi_k, sin phi_k), and no pointed forces."""
     F = np.asarray(problem.force, float).copy()
@@ -387,12 +437,12 @@ def dead_equivalent(problem: ElasticaProblem, angles) -> ElasticaProblem:
     return replace(problem, force=(float(F[0]), float(F[1])), pointed=())
 
 
-def line_angles(pointed: tuple[PointedForce, ...], x: float, y: float) -> np.ndarray:
+def line_angles(pointed: tuple[PointedForce, ...], x: float, y: float) -> Vector:
     """Direction angles phi_k = atan2(P_k - r) + a_k (rad) of the pointed forces with the tip at (x, y).
 
     Raises ValueError when the tip reaches a point P_k (the direction is undefined there): the
     distance is compared with the scale |P_k| + |r| of the two points."""
-    out = []
+    out: list[float] = []
     for pf in pointed:
         dx, dy = pf.toward[0] - x, pf.toward[1] - y
         if math.hypot(dx, dy) <= 1e-12 * (math.hypot(*pf.toward) + math.hypot(x, y)):
@@ -401,24 +451,33 @@ def line_angles(pointed: tuple[PointedForce, ...], x: float, y: float) -> np.nda
     return np.array(out, float)
 
 
-def _wrap(a: np.ndarray) -> np.ndarray:
+def _wrap(a: ArrayLike) -> Vector:
     """Angles wrapped to [-pi, pi)."""
-    return (np.asarray(a, float) + math.pi) % (2.0 * math.pi) - math.pi
+    wrapped: Vector = (np.asarray(a, np.float64) + math.pi) % (2.0 * math.pi) - math.pi
+    return wrapped
 
 
-def pointing_error(result: ElasticaResult) -> np.ndarray:
+def _problem_of(result: ElasticaResult) -> ElasticaProblem:
+    """The problem a result answers (every solve records it)."""
+    if result.problem is None:
+        raise ValueError("the result records no problem (it was not made by a solve)")
+    return result.problem
+
+
+def pointing_error(result: ElasticaResult) -> Vector:
     """g_k = wrap(atan2(P_k - r_L) + a_k - phi_k) (rad) of a solved pointed problem: 0 at equilibrium."""
-    return _wrap(line_angles(result.problem.pointed, result.x, result.y) - np.asarray(result.pointed_angles))
+    return _wrap(line_angles(_problem_of(result).pointed, result.x, result.y) - np.asarray(result.pointed_angles))
 
 
-def _pointed_newton(target: ElasticaProblem, current: ElasticaResult | None, phi: np.ndarray,
-                    options: dict, angle_tol: float, maxiter: int = 20, h: float = 1e-6):
+def _pointed_newton(target: ElasticaProblem, current: ElasticaResult | None, phi: Vector,
+                    options: _PathOptions, angle_tol: float, maxiter: int = 20,
+                    h: float = 1e-6) -> tuple[bool, ElasticaResult, Vector, float]:
     """Newton on g(phi) = wrap(atan2(P - r_L(phi)) + a - phi) = 0 at fixed magnitudes, from ``phi``.
 
     Each evaluation is the dead problem at phi continued from the last state; dg/dphi by forward
     differences of step ``h`` rad; a step that does not lower max|g| is halved (at most 6 times).
     Returns (converged, last dead result, phi, max|g|)."""
-    def evaluate(angles, start):
+    def evaluate(angles: Vector, start: ElasticaResult | None) -> tuple[ElasticaResult, Vector | None]:
         res = solve_path(dead_equivalent(target, angles), start=start, n_samples=2, **options)
         if not res.converged:
             return res, None
@@ -460,12 +519,13 @@ def _same_pointed(a: ElasticaProblem, b: ElasticaProblem) -> bool:
 
 
 def _solve_pointed(problem: ElasticaProblem, start: ElasticaResult | None, n_samples: int,
-                   options: dict, angle_tol: float) -> ElasticaResult:
+                   options: _PathOptions, angle_tol: float) -> ElasticaResult:
     """Pointed forces: continuation of their magnitudes T(t) = T0 + t (T1 - T0), t: 0 -> 1, with
     Newton on the direction angles at each step (module docstring); the other loads at their targets
     from the first step, continued by the dead solves from the start state."""
     t0 = time.perf_counter()
     T1 = np.array([pf.magnitude for pf in problem.pointed], float)
+    current: ElasticaResult | None
     if start is not None and start.problem is not None and start.problem.pointed:
         if _same_pointed(start.problem, problem):
             T0, phi = (np.array([pf.magnitude for pf in start.problem.pointed], float),
@@ -511,7 +571,7 @@ def _solve_pointed(problem: ElasticaProblem, start: ElasticaResult | None, n_sam
     else:                                   # nothing solved: the unloaded beam's shape
         result = _result(equivalent, shooter, np.zeros(shooter.n), _start_vector(equivalent), n_samples)
         residual = math.nan
-    result.problem = replace(problem, moment=result.problem.moment)
+    result.problem = replace(problem, moment=_problem_of(result).moment)
     result.pointed_angles = tuple(float(v) for v in phi)
     result.converged = converged
     result.message = "converged" if converged else (
@@ -522,7 +582,7 @@ def _solve_pointed(problem: ElasticaProblem, start: ElasticaResult | None, n_sam
     return result
 
 
-def _staged_start(problem, shooter, q0):
+def _staged_start(problem: ElasticaProblem, shooter: _Shooter, q0: Vector) -> tuple[Vector, Vector, int, int]:
     """Start of a prescribed-position path that avoids the singular straight state.
 
     An inextensible straight beam has no axial compliance, so prescribing the tip position along
@@ -558,7 +618,8 @@ def _staged_start(problem, shooter, q0):
     return q, z, first.nit, first.nsteps
 
 
-def _moment_start(problem, shooter, q0, z0):
+def _moment_start(problem: ElasticaProblem, shooter: _Shooter, q0: Vector,
+                  z0: Vector) -> tuple[Vector, Vector, int, int]:
     """Start of a path with prescribed section moments: the loaded state without them.
 
     The moment conditions are dropped (their forces stay 0) and that problem is solved from the
@@ -577,16 +638,17 @@ def _moment_start(problem, shooter, q0, z0):
     return q, z, first.nit, first.nsteps
 
 
-def _section_moments(shooter, z, q):
+def _section_moments(shooter: _Shooter, z: Vector, q: Vector) -> Vector:
     """Normalised m(s_j) at the moment-constraint sites for the unknowns z (q's m_j ignored)."""
     states, _, ok = shooter.integrate(z, q)
     if not ok:
         raise RuntimeError("integration failed")
-    return states[shooter.site_at, 3]
+    moments: Vector = states[shooter.site_at, 3]
+    return moments
 
 
 def loaded_start(problem: ElasticaProblem, force: tuple[float, float], moment: float,
-                 **options) -> ElasticaResult:
+                 **options: Unpack[SolveOptions]) -> ElasticaResult:
     """The beam under the tip loads ``force`` (Fx, Fy) and ``moment`` (CCW), as a start for ``problem``.
 
     A forward (load-specified) solve from the unloaded beam, returned with the structure of
@@ -601,7 +663,7 @@ def loaded_start(problem: ElasticaProblem, force: tuple[float, float], moment: f
         raise ValueError("loaded_start does not handle forces toward fixed points")
     L, EI = problem.length, problem.EI
     forward = solve_path(ElasticaProblem(length=L, EI=EI, curvature=problem.curvature,
-                                         force=tuple(force), moment=moment,
+                                         force=_pair(force), moment=moment,
                                          distributed=problem.distributed), **options)
     rtol = options.get("rtol", 1e-12)
     shooter = _Shooter(problem, rtol, options.get("atol", 0.1 * rtol))
@@ -647,7 +709,7 @@ def section_moment(result: ElasticaResult, at: float) -> float:
     integration split at ``at``, and reads the moment state there (m' = Fx sin(theta) -
     Fy cos(theta), the derivative of m = M + Fy (x_L - x) - Fx (y_L - y)).
     """
-    p = result.problem
+    p = _problem_of(result)
     plain = ElasticaProblem(length=p.length, EI=p.EI, curvature=p.curvature, force=result.force,
                             moment=result.moment, moment_constraints=(MomentConstraint(at),),
                             distributed=p.distributed)
@@ -656,7 +718,8 @@ def section_moment(result: ElasticaResult, at: float) -> float:
     return float(_section_moments(shooter, z, _load_vector(plain))[0] * p.EI / p.length)
 
 
-def _result(problem, shooter, z, q, n_samples, evaluated=None):
+def _result(problem: ElasticaProblem, shooter: _Shooter, z: Vector, q: Vector, n_samples: int,
+            evaluated: tuple[Matrix, Vector] | None = None) -> ElasticaResult:
     """The result at the unknowns z: tip values from the integration of the last residual
     (``evaluated`` = (boundary states, tip force) at z, else integrated here), the shape sampled by
     integrating from sample to sample (compiled)."""
@@ -665,19 +728,18 @@ def _result(problem, shooter, z, q, n_samples, evaluated=None):
     if n_samples == 2:          # the ends: the boundary states themselves
         samples = states[[0, -1], :kernel.BEAM_STATE_SIZE]
     else:
-        samples, _ = plain_samples(states[0], s, F[0], F[1], shooter.k0, shooter.rtol, shooter.atol,
-                                   q[-2], q[-1])
+        samples, _ = plain_samples(states[0], s, shooter.structure.beam, shooter.loads(F, q), shooter.tolerances)
     Ys = samples.T
     Y = states[-1]
     L, EI = problem.length, problem.EI
     fs, ms = EI / L**2, EI / L
     m_tip = Y[3]
     # support reaction on the beam: -(F + w L) and the moment balancing the loads about the root
-    reaction = (-(F[0] + q[-2]) * fs, -(F[1] + q[-1]) * fs, -z[0] * ms)
+    reaction = (float(-(F[0] + q[-2]) * fs), float(-(F[1] + q[-1]) * fs), float(-z[0] * ms))
     return ElasticaResult(
         converged=True, message="", x=float(Y[0] * L), y=float(Y[1] * L), theta=float(Y[2]),
         force=(float(F[0] * fs), float(F[1] * fs)), moment=float(m_tip * ms),
-        reaction=tuple(float(r) for r in reaction), strain_energy=float(Y[4] * ms),
+        reaction=reaction, strain_energy=float(Y[4] * ms),
         s=s * L, shape=np.vstack([Ys[0] * L, Ys[1] * L, Ys[2]]),
         problem=replace(problem, moment=m_tip * ms) if shooter.angle_given else problem,
         z=np.array(z, float))
@@ -694,7 +756,7 @@ def solve_elastica(length: float = 1.0, EI: float = 1.0, *, curvature: float = 0
                    moment_constraints: tuple[MomentConstraint, ...] = (),
                    start_loads: tuple[tuple[float, float], float] | None = None,
                    distributed: tuple[float, float] = (0.0, 0.0),
-                   **options) -> ElasticaResult:
+                   **options: Unpack[SolveOptions]) -> ElasticaResult:
     """Solve one clamped-beam elastica from the unloaded state (continuation in the load).
 
     Load-specified: give ``force`` (Fx, Fy), ``moment`` and/or ``follower`` (tangential, normal),
@@ -719,13 +781,17 @@ def solve_elastica(length: float = 1.0, EI: float = 1.0, *, curvature: float = 0
     mcons = list(moment_constraints)
     if inflection_at is not None:
         mcons.append(MomentConstraint(inflection_at))
-    problem = ElasticaProblem(length=length, EI=EI, curvature=curvature, force=tuple(force),
-                              moment=moment, follower=tuple(follower), constraints=tuple(cons),
+    problem = ElasticaProblem(length=length, EI=EI, curvature=curvature, force=_pair(force),
+                              moment=moment, follower=_pair(follower), constraints=tuple(cons),
                               tip_angle=tip_angle, moment_constraints=tuple(mcons),
-                              distributed=tuple(distributed))
+                              distributed=_pair(distributed))
     start = None
     if start_loads is not None:
-        start_options = {k: v for k, v in options.items() if k in ("rtol", "atol")}
+        start_options = SolveOptions()
+        if "rtol" in options:
+            start_options["rtol"] = options["rtol"]
+        if "atol" in options:
+            start_options["atol"] = options["atol"]
         start = loaded_start(problem, start_loads[0], start_loads[1], **start_options)
         if not start.converged:
             start = None

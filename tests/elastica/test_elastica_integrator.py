@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from elastica.integrator import STATE_SIZE, beam_samples, elastica_rhs, integrate_beam, integrate_samples
+from elastica.integrator import (STATE_SIZE, Loads, beam_samples, elastica_beam, elastica_rhs, integrate_beam,
+                                 integrate_samples)
 
 
 def integrate_dop853(y0, a, b, Fx, Fy, k0, rtol, atol, wx=0.0, wy=0.0):
@@ -19,7 +20,7 @@ def integrate_dop853(y0, a, b, Fx, Fy, k0, rtol, atol, wx=0.0, wy=0.0):
 def _rhs(k0):
     def f(s, Y, Fx, Fy):
         out = np.empty(STATE_SIZE)
-        elastica_rhs(s, Y, Fx, Fy, k0, out)
+        elastica_rhs(s, Y, elastica_beam(k0), Loads(Fx=Fx, Fy=Fy, wx=0.0, wy=0.0), out)
         return out
     return f
 
