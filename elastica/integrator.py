@@ -146,7 +146,7 @@ class Beam(NamedTuple):
 class Loads(NamedTuple):
     """The loads on the beam, global frame: the end force F = (Fx, Fy) at its outboard end (force;
     the elastica's: F L^2/EI) and a uniform dead load w = (wx, wy) per unit length over the whole
-    beam (force/length; the elastica's: w L^3/EI; 0 for a mechanism beam)."""
+    beam (force/length, per unit reference length; the elastica's: w L^3/EI)."""
 
     Fx: float
     Fy: float
@@ -438,14 +438,15 @@ def elastica_beam(curvature: float) -> Beam:
 
 
 def integrate_beam(y0: ArrayLike, length: float, Fx: float, Fy: float, k0: float, EI: float, EA: float,
-                   rtol: float, atol: float) -> tuple[Vector, bool]:
+                   rtol: float, atol: float, wx: float = 0.0, wy: float = 0.0) -> tuple[Vector, bool]:
     """A mechanism beam's state (x, y, theta, m, U) at s = length from y0 at s = 0 (physical units:
-    end force (Fx, Fy), initial curvature k0, stiffnesses EI and EA, EA = 0: inextensible), and
-    whether the integration succeeded."""
+    end force (Fx, Fy), initial curvature k0, stiffnesses EI and EA, EA = 0: inextensible, a uniform
+    dead load (wx, wy) per unit reference length along the beam), and whether the integration
+    succeeded."""
     length = float(length)
     states, ok = _samples(np.asarray(y0, dtype=float), np.array([0.0, length]),
                           Beam(length=length, EI=float(EI), EA=float(EA), curvature=float(k0)),
-                          Loads(Fx=float(Fx), Fy=float(Fy), wx=0.0, wy=0.0),
+                          Loads(Fx=float(Fx), Fy=float(Fy), wx=float(wx), wy=float(wy)),
                           Tolerances(rtol=float(rtol), atol=float(atol)), True)
     return states[-1], ok
 
@@ -472,14 +473,14 @@ def plain_samples(y0: ArrayLike, s: ArrayLike, beam: Beam, loads: Loads, toleran
 
 
 def beam_samples(y0: ArrayLike, s: ArrayLike, Fx: float, Fy: float, k0: float, EI: float, EA: float,
-                 rtol: float, atol: float) -> tuple[Matrix, bool]:
+                 rtol: float, atol: float, wx: float = 0.0, wy: float = 0.0) -> tuple[Matrix, bool]:
     """A mechanism beam's states (len(s), BEAM_STATE_SIZE) at the increasing arc lengths ``s``
     (s[0]: the start of y0), integrated from sample to sample, and whether every interval succeeded
     (the arguments as ``integrate_beam``'s)."""
     arc = np.ascontiguousarray(s, dtype=float)
     return _samples(np.asarray(y0, dtype=float), arc,
                     Beam(length=float(arc[-1]), EI=float(EI), EA=float(EA), curvature=float(k0)),
-                    Loads(Fx=float(Fx), Fy=float(Fy), wx=0.0, wy=0.0),
+                    Loads(Fx=float(Fx), Fy=float(Fy), wx=float(wx), wy=float(wy)),
                     Tolerances(rtol=float(rtol), atol=float(atol)), False)
 
 

@@ -2,7 +2,7 @@
 
 Every beam is an (optionally axially extensible) elastica integrated from its start, where the
 pose is that of the body holding it, under the force F carried through it (the force the body at
-its end applies to it, constant along the beam: no distributed load). With N = F . t the axial
+its end applies to it; constant along the beam unless a distributed load acts, below). With N = F . t the axial
 force (tension positive, t the tangent) and e = N/EA the axial strain (0 if inextensible):
 
     x' = (1 + e) cos(theta),  y' = (1 + e) sin(theta),  theta' = kappa0 + m/EI,
@@ -15,6 +15,10 @@ A force toward a fixed point (``PointedForce``: a rope over a pulley) pulls alon
 its point to that point, and a follower force turns with its body or beam end: both are evaluated at the
 current unknowns, so their direction is part of every residual and of its Jacobian.
 
+A uniform dead load w per unit reference length along a beam (``DistributedLoad``; self-weight) makes the
+force through it vary, F(s) = F + w (L - s) with F the force at its end: the beam then applies F + w L to
+the body at its start, -F to the body at its end.
+
 Unknowns: per beam (Fx, Fy) and m(0) (clamped start) or theta(0) (pinned start); per free rigid body
 its pose (x, y, phi) (reference node displacement, rotation from the unloaded pose); per pin between
 bodies its force; per prescribed rotation its couple, per prescribed displacement its force.
@@ -22,7 +26,8 @@ Equations: per beam its end condition (clamped: position and angle of the end bo
 position and m(L) = 0; free: F and m(L) equal to the loads applied there); per body its force and
 moment balance; per pin the coincidence of its node on both bodies; the prescribed motions.
 They are solved by Newton (finite-difference Jacobian kept and updated by Broyden's formula) level
-after level from the unloaded mechanism, halving the load step where a level does not converge. Each
+after level from the unloaded mechanism, halving the load step where a step does not converge and doubling
+it (up to a level) after one that does; a level is given up after ``max_cuts`` halvings in a row. Each
 beam is integrated by the compiled DOP853 of ``elastica.integrator`` (scipy's DOP853 step for step).
 
 Angles are in radians (degrees appear only in case files and reports).
@@ -39,15 +44,19 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from planar import GROUND, Couple, Force, Pin, PointedForce, PrescribedDisplacement, PrescribedRotation
+from planar import (GROUND, Couple, DistributedLoad, Force, Pin, PointedForce, PrescribedDisplacement,
+                    PrescribedRotation)
 
 from .integrator import beam_samples, integrate_beam
 
-__all__ = ["ElasticBeam", "RigidBody", "Pin", "Force", "PointedForce", "Couple", "EndCouple", "PrescribedRotation", "PrescribedDisplacement",
+__all__ = ["ElasticBeam", "RigidBody", "Pin", "Force", "PointedForce", "DistributedLoad", "Couple", "EndCouple", "PrescribedRotation", "PrescribedDisplacement",
            "Mechanism", "MechanismSolution", "solve_mechanism", "GROUND"]
 
-_KEY = struct.Struct("6d")    # a beam's inputs (start state, force) as bytes: the key of its end states kept
+_KEY = struct.Struct("8d")    # a beam's inputs (start state, force, load along it) as bytes: the key of its end states
 _ENDS_KEPT = 4                # end states kept per beam
+# the largest turn of a beam end or a body in one load step (rad): a step that turns more is taken for a
+# jump to another equilibrium (Newton from far away can land on a looped or inverted one) and halved
+MAX_TURN_PER_STEP = 0.5
 
 
 @dataclass(frozen=True)
@@ -81,7 +90,7 @@ class EndCouple:
     m: tuple[float, ...]
 
 
-_Load = Force | PointedForce | Couple | EndCouple | PrescribedRotation | PrescribedDisplacement
+_Load = Force | PointedForce | DistributedLoad | Couple | EndCouple | PrescribedRotation | PrescribedDisplacement
 _Place = tuple[int, float, float, float, float]   # a point of a body: pose index, origin, arm (`_System._place_of`)
 _Vector = Callable[[NDArray[np.float64]], NDArray[np.float64]]   # the scaled residual of the unknowns
 
@@ -130,6 +139,9 @@ class MechanismSolution:
     beam_shapes: list[dict[str, NDArray[np.float64]]]
     wall_time: float
     level_converged: list[bool]
+    # per level, per beam: (Fx, Fy, M) the beam applies at its start to what holds it (the force at its
+    # end plus the load along it, and the start moment m(0); 0 at a pinned start)
+    start_loads: list[dict[str, tuple[float, float, float]]] = field(default_factory=list)
 
 
 class _LevelLoads(NamedTuple):
@@ -148,6 +160,8 @@ class _System:
                  rotations: list[PrescribedRotation], displacements: list[PrescribedDisplacement], rtol: float):
         self.m = mech
         self.forces, self.couples, self.rotations, self.displacements = forces, couples, rotations, displacements
+        # beam -> its uniform load (wx, wy) per unit length at the load parameter being solved (`_LoadPath`)
+        self.along: dict[str, tuple[float, float]] = {}
         self.rtol = rtol
         # beam -> {its inputs: its end state}, the last few: a finite-difference Jacobian moves one unknown
         # at a time, so a beam's inputs go back and forth between the base point and one moved column
@@ -244,14 +258,15 @@ class _System:
         """End state (x, y, theta, m, U) of a beam from its start under the unknowns u (the compiled
         DOP853 of ``elastica.integrator``); ``ul``: u as a list of floats, when the caller has it."""
         x, y, theta0, m0, Fx, Fy = self._start(beam, u.tolist() if ul is None else ul)
-        key = _KEY.pack(x, y, theta0, m0, Fx, Fy)
+        wx, wy = self.along.get(beam.name, (0.0, 0.0))
+        key = _KEY.pack(x, y, theta0, m0, Fx, Fy, wx, wy)
         ends = self._ends.setdefault(beam.name, {})
         known = ends.get(key)
         if known is not None:   # a finite-difference column that moved another beam's unknowns, or the
             return known        # base point again: this beam's inputs, so its end, are the same
         end: NDArray[np.float64]
         end, ok = integrate_beam([x, y, theta0, m0, 0.0], self.tangent0[beam.name][2], Fx, Fy, beam.curvature,
-                                 beam.EI, beam.EA or 0.0, self.rtol, self._atol[beam.name])
+                                 beam.EI, beam.EA or 0.0, self.rtol, self._atol[beam.name], wx, wy)
         if not ok:
             raise RuntimeError(f"beam '{beam.name}': integration failed (step below the rounding of s)")
         end.flags.writeable = False
@@ -266,7 +281,8 @@ class _System:
         s = np.linspace(0.0, self.tangent0[beam.name][2], n)
         states: NDArray[np.float64]
         states, ok = beam_samples(np.array([x, y, theta0, m0, 0.0]), s, Fx, Fy, beam.curvature, beam.EI,
-                                  beam.EA or 0.0, self.rtol, self._atol[beam.name])
+                                  beam.EA or 0.0, self.rtol, self._atol[beam.name],
+                                  *self.along.get(beam.name, (0.0, 0.0)))
         if not ok:
             raise RuntimeError(f"beam '{beam.name}': integration failed (step below the rounding of s)")
         return states[:, :2]
@@ -299,7 +315,9 @@ class _System:
             F0, F1 = ul[3 * i], ul[3 * i + 1]
             start_m = ul[3 * i + 2] if beam.start_kind == "clamped" else 0.0
             assert beam.start_body is not None  # a beam's start is held (`Mechanism` checks it)
-            add(beam.start_body, F0, F1, start_m, *self._xy(ul, beam.start_body, beam.start))
+            wx, wy = self.along.get(beam.name, (0.0, 0.0))
+            arc = self.tangent0[beam.name][2]   # the force at the start: the end's plus the load along the beam
+            add(beam.start_body, F0 + wx * arc, F1 + wy * arc, start_m, *self._xy(ul, beam.start_body, beam.start))
             if beam.end_kind == "clamped":
                 assert beam.end_body is not None  # a clamped end is held (`Mechanism` checks it)
                 tx, ty = self._xy(ul, beam.end_body, beam.end)
@@ -366,6 +384,7 @@ class _LoadPath:
     displacements: list[PrescribedDisplacement]
     n_levels: int
     pointed: list[PointedForce]
+    distributed: list[DistributedLoad]
 
     def value(self, values: tuple[float, ...], t: float) -> float:
         if t < 0:
@@ -375,6 +394,11 @@ class _LoadPath:
         return values[i] if i >= self.n_levels - 1 else values[i] * (1 - f) + values[i + 1] * f
 
     def __call__(self, t: float, u: NDArray[np.float64]) -> _LevelLoads:
+        along: dict[str, tuple[float, float]] = {}
+        for dl in self.distributed:
+            a = along.get(dl.beam, (0.0, 0.0))
+            along[dl.beam] = (a[0] + float(self.value(dl.wx, t)), a[1] + float(self.value(dl.wy, t)))
+        self.system.along = along      # the beams' integrations below and in the residual read it
         F: dict[str, tuple[float, float]] = {}     # node -> (Fx, Fy) in plain floats, the forces at a node summed in order
         for f in self.forces:
             fx, fy = float(self.value(f.fx, t)), float(self.value(f.fy, t))
@@ -413,13 +437,19 @@ class _LevelState:
     drivers: list[float]
     energy: float
     shape: dict[str, NDArray[np.float64]]
+    start_loads: dict[str, tuple[float, float, float]]
 
 
 def _level_state(mech: Mechanism, system: "_System", u: NDArray[np.float64]) -> _LevelState:
     pos: dict[str, NDArray[np.float64]] = {}
     shape: dict[str, NDArray[np.float64]] = {}
     U = 0.0
-    for beam in mech.beams:
+    start_loads: dict[str, tuple[float, float, float]] = {}
+    for i, beam in enumerate(mech.beams):
+        wx, wy = system.along.get(beam.name, (0.0, 0.0))
+        arc = system.tangent0[beam.name][2]
+        m0 = float(u[3 * i + 2]) if beam.start_kind == "clamped" else 0.0
+        start_loads[beam.name] = (float(u[3 * i]) + wx * arc, float(u[3 * i + 1]) + wy * arc, m0)
         end = system.integrate(beam, u)
         U += end[4]
         shape[beam.name] = system.shape(beam, u, 33)
@@ -433,23 +463,30 @@ def _level_state(mech: Mechanism, system: "_System", u: NDArray[np.float64]) -> 
         elif node not in pos:
             pos[node] = np.asarray(mech.nodes[node], float)
     return _LevelState(pos, {b.name: float(system.pose(u, b.name)[1]) for b in mech.bodies},
-                       [float(x) for x in u[system.i_rot:system.size]], U, shape)
+                       [float(x) for x in u[system.i_rot:system.size]], U, shape, start_loads)
 
 
 def solve_mechanism(mech: Mechanism, loads: Sequence[_Load], n_levels: int, *, rtol: float = 1e-11,
                     max_cuts: int = 8) -> MechanismSolution:
-    """Equilibrium at every load level (loads: Force, Couple, EndCouple, PrescribedRotation, PrescribedDisplacement,
-    each with one value per level)."""
+    """Equilibrium at every load level (loads: Force, PointedForce, DistributedLoad, Couple, EndCouple,
+    PrescribedRotation, PrescribedDisplacement, each with one value per level); a level is given up after
+    ``max_cuts`` halvings of its load step in a row."""
     t0 = time.perf_counter()
     forces = [ld for ld in loads if isinstance(ld, Force)]
     pointed = [ld for ld in loads if isinstance(ld, PointedForce)]
+    distributed = [ld for ld in loads if isinstance(ld, DistributedLoad)]
+    names = {beam.name for beam in mech.beams}
+    for dl in distributed:
+        if dl.beam not in names:
+            raise ValueError(f"a distributed load on '{dl.beam}', which is no beam of the mechanism")
     couples = [ld for ld in loads if isinstance(ld, (Couple, EndCouple))]
     rotations = [ld for ld in loads if isinstance(ld, PrescribedRotation)]
     displacements = [ld for ld in loads if isinstance(ld, PrescribedDisplacement)]
     system = _System(mech, forces, couples, rotations, displacements, rtol)
-    level_loads = _LoadPath(mech, system, forces, couples, rotations, displacements, n_levels, pointed)
+    level_loads = _LoadPath(mech, system, forces, couples, rotations, displacements, n_levels, pointed, distributed)
+    arcs = {beam.name: system.tangent0[beam.name][2] for beam in mech.beams}
     scale_F = max([abs(v) for f in forces for v in (*f.fx, *f.fy)] + [abs(v) for f in pointed for v in f.values]
-                  + [0.0])
+                  + [abs(v) * arcs[d.beam] for d in distributed for v in (*d.wx, *d.wy)] + [0.0])
     scale_F = max([scale_F] + [abs(v) for c in couples for v in c.m])
     # the force unit of the residual and the unknowns: the applied loads' size, else (motions prescribed)
     # the force EI/L^2 that bends a beam by its length; never a fixed number, so a load 1e-11 EI/L^2 is
@@ -468,7 +505,7 @@ def solve_mechanism(mech: Mechanism, loads: Sequence[_Load], n_levels: int, *, r
     typical = _unknown_scale(system, max(scale_F, bending))
     history = [(t, u)]
     for level in range(n_levels):
-        step, cuts = 1.0, 0
+        step, cuts = 1.0, 0         # cuts: consecutive halvings since the last accepted step
         converged = True
         while t < level - 1e-12:
             target = min(t + step, float(level))
@@ -481,15 +518,21 @@ def solve_mechanism(mech: Mechanism, loads: Sequence[_Load], n_levels: int, *, r
             if not ok and guess is not u:
                 x, ok, jac, why = _chord_newton(scaled, u, jac, typical)
             if ok:
+                turn = _largest_turn(system, u, x)
+                if turn > MAX_TURN_PER_STEP:     # a jump to another equilibrium, not the path's next state
+                    ok, why = False, f"a step turned a beam end or a body by {turn:.3g} rad"
+            if ok:
                 u, t = x, target
                 history.append((t, u))
                 step = min(2.0 * step, 1.0)
+                cuts = 0
             else:
                 cuts += 1
                 step /= 2
                 if cuts > max_cuts:
                     converged = False
-                    messages.append(f"level {level}: no convergence after {max_cuts} step halvings ({why})")
+                    messages.append(f"level {level}: no convergence after {max_cuts} step halvings in a row, at "
+                                    f"load parameter {t:.6g} ({why})")
                     break
         ok_levels.append(converged)
         if not converged:
@@ -499,7 +542,7 @@ def solve_mechanism(mech: Mechanism, loads: Sequence[_Load], n_levels: int, *, r
     return MechanismSolution(done, "; ".join(messages) or f"converged at {n_levels} level(s)",
                              [s.positions for s in states], [s.rotations for s in states],
                              [s.drivers for s in states], [s.energy for s in states], [s.shape for s in states],
-                             time.perf_counter() - t0, ok_levels)
+                             time.perf_counter() - t0, ok_levels, [s.start_loads for s in states])
 
 
 def _chord_newton(f: _Vector, x: NDArray[np.float64], jac: NDArray[np.float64] | None, typical: NDArray[np.float64],
@@ -601,6 +644,18 @@ def _scale(system: _System, scale_F: float) -> NDArray[np.float64]:
     s[system.i_body:system.i_pin] = scale_F
     s[system.i_pin:system.i_rot] = L
     return s
+
+
+def _largest_turn(system: _System, u: NDArray[np.float64], x: NDArray[np.float64]) -> float:
+    """The largest change of a body's rotation or of a beam's end angles from the state u to x (rad)."""
+    turn = 0.0
+    for body in system.m.bodies:
+        turn = max(turn, abs(system.pose(x, body.name)[1] - system.pose(u, body.name)[1]))
+    ul, xl = u.tolist(), x.tolist()
+    for beam in system.m.beams:
+        turn = max(turn, abs(system._start(beam, xl)[2] - system._start(beam, ul)[2]),
+                   abs(float(system.integrate(beam, x, xl)[2]) - float(system.integrate(beam, u, ul)[2])))
+    return turn
 
 
 def _point_position(system: _System, u: NDArray[np.float64], point: str) -> NDArray[np.float64]:

@@ -16,13 +16,14 @@ The words, each meaning one thing everywhere:
 - **pin**: a revolute pair between two bodies at a point (``Pin``), what a joint becomes once the
   bodies are known.
 - **point**: where a load acts, named by a node (or a point a library adds, such as a pivot).
-- **force**, **pointed force** (toward a fixed point), **couple**, **prescribed displacement**,
-  **prescribed rotation**: the loads (``Force``, ``PointedForce``, ``Couple``, ``PrescribedDisplacement``,
-  ``PrescribedRotation``), one value per level.
+- **force**, **pointed force** (toward a fixed point), **distributed load** (along a beam), **couple**,
+  **prescribed displacement**, **prescribed rotation**: the loads (``Force``, ``PointedForce``,
+  ``DistributedLoad``, ``Couple``, ``PrescribedDisplacement``, ``PrescribedRotation``), one value per level.
 """
 from planar.geometry import (GROUND, Beam, Geometry, Joint, Node, RigidLink, Support, SupportKind, WeldedBodies,
                              welded_bodies)
-from planar.loads import Couple, Force, Load, Pin, PointedForce, PrescribedDisplacement, PrescribedRotation
+from planar.loads import (Couple, DistributedLoad, Force, Load, Pin, PointedForce, PrescribedDisplacement,
+                          PrescribedRotation)
 
 __all__ = ["GROUND", "Node", "Beam", "RigidLink", "Joint", "Support", "SupportKind", "Geometry", "WeldedBodies",
-           "welded_bodies", "Pin", "Force", "PointedForce", "Couple", "PrescribedDisplacement", "PrescribedRotation", "Load"]
+           "welded_bodies", "Pin", "Force", "PointedForce", "DistributedLoad", "Couple", "PrescribedDisplacement", "PrescribedRotation", "Load"]

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["Pin", "Force", "PointedForce", "Couple", "PrescribedDisplacement", "PrescribedRotation", "Load"]
+__all__ = ["Pin", "Force", "PointedForce", "DistributedLoad", "Couple", "PrescribedDisplacement", "PrescribedRotation", "Load"]
 
 
 @dataclass(frozen=True)
@@ -46,6 +46,16 @@ class PointedForce:
 
 
 @dataclass(frozen=True)
+class DistributedLoad:
+    """A uniform dead load (wx, wy) per unit reference length along a named beam, per level (self-weight:
+    the weight per length, along gravity)."""
+
+    beam: str
+    wx: tuple[float, ...]
+    wy: tuple[float, ...]
+
+
+@dataclass(frozen=True)
 class Couple:
     """A couple (CCW) per level on a body."""
 
@@ -71,4 +81,4 @@ class PrescribedRotation:
 
 
 #: any one of the loads
-Load = Force | PointedForce | Couple | PrescribedDisplacement | PrescribedRotation
+Load = Force | PointedForce | DistributedLoad | Couple | PrescribedDisplacement | PrescribedRotation

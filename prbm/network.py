@@ -562,6 +562,9 @@ class _Problem:
         self.disps = [ld for ld in loads if isinstance(ld, PrescribedDisplacement)]
         self.rots = [ld for ld in loads if isinstance(ld, PrescribedRotation)]
         for ld in loads:
+            if not isinstance(ld, (Force, PointedForce, Couple, PrescribedDisplacement, PrescribedRotation)):
+                raise ValueError(f"{type(ld).__name__}: the PRB network takes forces, forces toward a point, "
+                                 "couples and prescribed motions only")
             values = [getattr(ld, f) for f in ("fx", "fy", "m", "values") if hasattr(ld, f)]
             for v in values:
                 if len(v) != n_levels:

@@ -106,11 +106,27 @@ def test_the_inextensible_straight_fixed_fixed_refusal_says_why():
     assert "inextensible" in run.message and "cannot bend" in run.message and "chord shortens" in run.message
 
 
-def test_a_load_along_a_pinned_pinned_segment_is_refused_with_the_reason():
-    case = segment_case("pinned-pinned", [dict(kind="distributed", point="tip", direction=[1.0, 0.0], values=[1.0])],
-                        [("x", "tip")])
+@pytest.mark.parametrize("w", [1.0, -3.0])
+def test_a_load_along_a_pinned_pinned_bar_splits_between_its_ends(w):
+    """A uniform axial load w along a straight pinned-pinned segment (both ends held in x): a bar fixed at
+    both ends, so it stays straight, each end takes w L / 2, and the strain energy is w^2 L^3 / (24 EA)
+    (N(s) = w (L/2 - s); derived here)."""
+    EA = 1e4
+    case = segment_case("pinned-pinned", [dict(kind="distributed", point="tip", direction=[1.0, 0.0], values=[w])],
+                        [("reaction_x", "root"), ("reaction_y", "root"), ("strain_energy", "tip")], area=EA)
     run = run_method(case, "elastica")
-    assert run.status is RunStatus.NOT_APPLICABLE and "no load along a beam" in run.message, run.message
+    assert run.status is RunStatus.OK, run.message
+    values = {req.quantity: v for req, v in run.values.items()}
+    assert values["reaction_x"] == pytest.approx(-w / 2, abs=1e-9)
+    assert values["reaction_y"] == pytest.approx(0.0, abs=1e-9)
+    assert values["strain_energy"] == pytest.approx(w * w / (24 * EA), rel=1e-6)
+
+
+def test_a_follower_load_along_a_segment_solved_as_a_mechanism_is_refused_with_the_reason():
+    case = segment_case("pinned-pinned", [dict(kind="distributed", point="tip", direction=[0.0, 1.0], values=[1.0],
+                                               follower=True)], [("x", "tip")])
+    run = run_method(case, "elastica")
+    assert run.status is RunStatus.NOT_APPLICABLE and "follower distributed load" in run.message, run.message
 
 
 @pytest.mark.parametrize("load", ["force", "moment", "prescribed displacement", "prescribed rotation"])

@@ -106,6 +106,27 @@ def _follower_body_refused(load, owner: dict[str, str], mechanism: em.Mechanism)
     return f"it turns with beam '{load.body}', {kind} at '{load.point}' (its end turns apart from the body there)"
 
 
+def _along_beams(case, i: int, load, values: tuple[float, ...]) -> list[planar.DistributedLoad]:
+    """A distributed or self-weight load as a uniform dead load per unit length on each beam it covers
+    (``member``, else every beam; self-weight: each beam's weight per length along gravity; rigid links
+    carry none, as in the FEM)."""
+    if load.follower:
+        raise NotApplicable(f"loads.{i}: a follower distributed load (a pressure turning with the beam): the "
+                            "elastica mechanism model's loads along a beam are dead")
+    d = np.asarray(load.direction, float)
+    d = d / math.hypot(*d)
+    out = []
+    for beam in case.mechanism.beams:
+        if load.member not in (None, beam.name):
+            continue
+        scale = beam.section.weight_per_length() if load.kind == "self_weight" else 1.0
+        if scale is None:
+            raise NotApplicable(f"loads.{i}: self-weight, but beam '{beam.name}''s section gives no weight density")
+        out.append(planar.DistributedLoad(beam.name, tuple(scale * x * d[0] for x in values),
+                                          tuple(scale * x * d[1] for x in values)))
+    return out
+
+
 def loads(case, owner: dict[str, str], mechanism: em.Mechanism) -> list[planar.Load | em.EndCouple]:
     out: list[planar.Load | em.EndCouple] = []
     for i, load in enumerate(case.loads):
@@ -131,10 +152,10 @@ def loads(case, owner: dict[str, str], mechanism: em.Mechanism) -> list[planar.L
             if body in (None, em.GROUND):
                 raise NotApplicable(f"loads.{i}: a prescribed rotation of '{load.point}', on no rigid link")
             out.append(em.PrescribedRotation(body, tuple(math.radians(x) for x in v)))
+        elif load.kind in ("distributed", "self_weight"):
+            out.extend(_along_beams(case, i, load, v))
         elif load.kind != "displacement":
-            raise NotApplicable(f"loads.{i}: a {load.kind.replace('_', '-')} load along the beams of a mechanism: "
-                                "the elastica mechanism model (elastica.mechanism) takes point forces, couples "
-                                "and prescribed motions only")
+            raise NotApplicable(f"loads.{i}: a {load.kind} load: not in the elastica mechanism model")
         else:
             d = np.asarray(load.direction, float) / math.hypot(*load.direction)
             if abs(d[0]) > 1e-12 and abs(d[1]) > 1e-12:
@@ -275,8 +296,6 @@ def segment_model(case, EI: float) -> SegmentMechanism:
     if seg.section.kind == "inertia" and seg.section.A is None:
         EA = None
     pinned_root = seg.boundary == "pinned-pinned"
-    why = ("pinned-pinned segment (a root pin)" if pinned_root else
-           f"straight {seg.boundary} segment whose tip's axial motion is held (it must stretch to bend)")
     held = boundary_held_tip(case)
     moved = set(held) | {"ux" if abs(ld.direction[0]) > abs(ld.direction[1]) else "uy"
                          for ld in case.loads if ld.kind == "displacement"}
@@ -303,9 +322,8 @@ def segment_model(case, EI: float) -> SegmentMechanism:
         if load.point != "tip" or load.body is not None:
             raise NotApplicable(f"loads.{i}: the elastica adapter takes tip loads only")
         if load.kind in ("distributed", "self_weight"):
-            raise NotApplicable(f"loads.{i}: solved as a mechanism here, which takes no load along a beam; a "
-                                f"{load.kind.replace('_', '-')} load on a {why}: elastica.mechanism has tip loads only")
-        if load.kind == "force" and load.toward is not None:
+            applied.append(_along_segment(seg, i, load, v))
+        elif load.kind == "force" and load.toward is not None:
             applied.append(em.PointedForce("tip", v, (float(load.toward[0]), float(load.toward[1])),
                                            math.radians(load.angle)))
         elif load.kind == "force":
@@ -333,15 +351,29 @@ def segment_model(case, EI: float) -> SegmentMechanism:
                             pinned_root, tuple(axis for _, axis in drivers))
 
 
+def _along_segment(seg, i: int, load, values: tuple[float, ...]) -> planar.DistributedLoad:
+    """A distributed or self-weight load on a segment solved as a mechanism: a uniform dead load per unit
+    length on its one beam (self-weight: the section's weight per length along gravity)."""
+    if load.follower:
+        raise NotApplicable(f"loads.{i}: a follower distributed load (a pressure turning with the beam): the "
+                            "elastica mechanism model's loads along a beam are dead")
+    d = np.asarray(load.direction, float)
+    d = d / math.hypot(*d)
+    scale = seg.section.weight_per_length() if load.kind == "self_weight" else 1.0
+    if scale is None:
+        raise NotApplicable(f"loads.{i}: self-weight, but the section gives no weight density")
+    return planar.DistributedLoad("segment", tuple(scale * x * d[0] for x in values),
+                                  tuple(scale * x * d[1] for x in values))
+
+
 def run_segment(case, requests, options: ElasticaOptions, EI: float) -> MethodRun:
     """A segment case solved as the mechanism ``segment_model``: the segment adapter's outputs.
 
     At the tip: x, y, dx, dy; ``rotation``, the tip body's (the change of the tip angle, degrees);
     ``force_x``, ``force_y``, ``moment``, the tip loads acting on the beam (applied, a follower turned
     with the tip, plus the loads the held and prescribed freedoms need). At the root: its position, its
-    rotation (a pinned root turns), and ``reaction_*``, the support's loads on the beam, from the
-    segment's equilibrium (no load along the beam): R = -F_tip, M_R = -(M_tip + r_tip x F_tip).
-    """
+    rotation (a pinned root turns), and ``reaction_*``, the support's loads on the beam: minus what the
+    beam applies at its root (the tip force plus the load along the beam, and the root moment m(0))."""
     built = segment_model(case, EI)
     tolerance = {} if options.rtol is None else {"rtol": options.rtol}    # else the solver's own
     try:     # a held tip stiffens by membrane action (N ~ EA (w/L)^2): the path may need many step halvings
@@ -372,12 +404,12 @@ def run_segment(case, requests, options: ElasticaOptions, EI: float) -> MethodRu
             else:
                 force[0 if axis == "ux" else 1] += load
         root_turn = sol.rotations[level][ROOT_BODY] if built.pinned_root else 0.0
+        Rx, Ry, M0 = sol.start_loads[level]["segment"]     # what the beam applies at its root
         table = {
             "tip": {"x": tip[0], "y": tip[1], "dx": tip[0] - x0, "dy": tip[1] - y0, "rotation": math.degrees(phi),
                     "force_x": force[0], "force_y": force[1], "moment": moment},
             "root": {"x": 0.0, "y": 0.0, "dx": 0.0, "dy": 0.0, "rotation": math.degrees(root_turn),
-                     "reaction_x": -force[0], "reaction_y": -force[1],
-                     "reaction_moment": -(moment + tip[0] * force[1] - tip[1] * force[0])},
+                     "reaction_x": -Rx, "reaction_y": -Ry, "reaction_moment": -M0},
         }
         for req in requests:
             if req.level != level:
