@@ -26,6 +26,7 @@ import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -36,12 +37,20 @@ from bcm.beam import (C0, C1, C2, C3, K0, K1, K2, axial_stiffness_parameter,
 from argcheck import checked
 
 __all__ = ["circular_guided_torque", "circular_guided_torque_eq20", "slant_parallelogram",
-           "eq32_corrected", "eq32_printed", "BCMBeam", "RigidBodyOnBeams"]
+           "eq32_corrected", "eq32_printed", "BCMBeam", "RigidBodyOnBeams", "Displacement"]
 
 Vector = NDArray[np.float64]
 Matrix = NDArray[np.float64]
 Point = Sequence[float] | Vector                 # a position (x, y) or a force (Fx, Fy)
 Forces = Sequence[tuple[Point, Point]]          # dead forces: (where, (Fx, Fy))
+
+
+class Displacement(NamedTuple):
+    """A prescribed displacement ``value`` of the body point ``point`` along axis 0 (x) or 1 (y)."""
+
+    point: Point
+    axis: int
+    value: float
 Law = Callable[[float, float, float], tuple[float, float]]     # (u_x1, u_y1, k_a) -> (f_x1, f_y1)
 
 
@@ -267,58 +276,98 @@ class RigidBodyOnBeams:
         return g
 
     def solve(self, forces: Forces = (), moment: float = 0.0, rotation: float | None = None,
-              guess: ArrayLike | None = None) -> tuple[Vector, float]:
+              guess: ArrayLike | None = None, displacement: Displacement | None = None) -> tuple[Vector, float]:
         """Equilibrium configuration q; with ``rotation`` prescribed, phi is fixed and the moment
-        that must be applied is returned as the second value (else the applied ``moment``).
+        that must be applied is returned as the second value; with ``displacement`` prescribed (a body
+        point's displacement along x or y), the force along that axis the point needs is returned; else
+        the applied ``moment``.
 
-        Newton from ``guess`` (rest if none); where that finds no root, the loads (and the
-        prescribed rotation) are ramped from rest, where q = 0 is the equilibrium, in 4 steps,
-        then 16, then 64, each step started from the last.
+        A prescribed displacement is the constraint C(q) = e . u(p, q) - value = 0, e the axis: Newton on
+        grad Pi = lambda dC/dq and C = 0 over the free coordinates and lambda, the force the point needs
+        along e (Lagrange). Newton from ``guess`` (rest if none); where that finds no root, the loads
+        and the prescribed motion are ramped from rest, where q = 0 is the equilibrium, in 4 steps, then
+        16, then 64, each step started from the last.
         """
+        if rotation is not None and displacement is not None:
+            raise ValueError("one prescribed motion at a time: a rotation or a displacement")
         start = np.zeros(3) if guess is None else np.array(guess, float)
         try:
-            q = self._equilibrium(forces, moment, rotation, start)
+            q, pull = self._equilibrium(forces, moment, rotation, start, displacement)
         except RuntimeError as first:
-            q = self._ramped(forces, moment, rotation, first)
+            q, pull = self._ramped(forces, moment, rotation, first, displacement)
         needed = moment
         if rotation is not None:
             needed = (self.internal_force(q) - self.external_force(q, forces, 0.0))[2]
+        if displacement is not None:
+            needed = pull
         return q, needed
 
-    def _ramped(self, forces: Forces, moment: float, rotation: float | None, first: RuntimeError) -> Vector:
+    def _ramped(self, forces: Forces, moment: float, rotation: float | None, first: RuntimeError,
+                displacement: Displacement | None = None) -> tuple[Vector, float]:
         """Load continuation from rest; re-raises the direct attempt's error with the ramp's."""
         for steps in (4, 16, 64):
-            q = np.zeros(3)
+            q, pull = np.zeros(3), 0.0
             try:
                 for lam in np.arange(1, steps + 1) / steps:
                     scaled: Forces = [(p, lam * np.asarray(F, float)) for p, F in forces]
-                    q = self._equilibrium(scaled, lam * moment,
-                                          None if rotation is None else lam * rotation, q)
-                return q
+                    moved = None if displacement is None else \
+                        Displacement(displacement.point, displacement.axis, lam * displacement.value)
+                    q, pull = self._equilibrium(scaled, lam * moment, None if rotation is None else lam * rotation,
+                                                q, moved)
+                return q, pull
             except RuntimeError as exc:
                 last = exc
         raise RuntimeError(f"{first}; ramped from rest in 64 steps: {last}")
 
-    def _equilibrium(self, forces: Forces, moment: float, rotation: float | None, q0: Vector) -> Vector:
-        """Newton on grad Pi = 0 over the free coordinates, from q0."""
+    def _equilibrium(self, forces: Forces, moment: float, rotation: float | None, q0: Vector,
+                     displacement: Displacement | None = None) -> tuple[Vector, float]:
+        """Newton on grad Pi = 0 over the free coordinates (with a prescribed displacement, on
+        grad Pi = lambda dC/dq and C = 0, lambda scaled to the beams' force unit), from q0; returns q and
+        lambda (0 without a prescribed displacement)."""
         free = [0, 1, 2] if not self.pinned else [2]
         if rotation is not None:
             free = [i for i in free if i != 2]
         q = np.array(q0, float)
         if rotation is not None:
             q[2] = rotation
-        if not free:
-            return q
-
-        def res(z: Vector) -> Vector:
-            qq = q.copy()
-            qq[free] = z
-            return (self.internal_force(qq) - self.external_force(qq, forces, moment))[free]
-
         scale = max(b.EI / b.length**2 for b in self.beams)     # force unit of the beams
-        reach = 0.1 * np.array([min(b.length for b in self.beams)] * 2 + [1.0])[free]
-        q[free] = _newton(lambda z: res(z) / scale, q[free], reach)
-        return q
+        length = min(b.length for b in self.beams)
+        reach = 0.1 * np.array([length] * 2 + [1.0])[free]
+        if displacement is None:
+            if not free:
+                return q, 0.0
+
+            def res(z: Vector) -> Vector:
+                qq = q.copy()
+                qq[free] = z
+                return (self.internal_force(qq) - self.external_force(qq, forces, moment))[free]
+
+            q[free] = _newton(lambda z: res(z) / scale, q[free], reach)
+            return q, 0.0
+        if not free:
+            raise RuntimeError("a prescribed displacement of a body whose every coordinate is held")
+        axis = np.eye(2)[displacement.axis]
+
+        def constrained(z: Vector) -> Vector:
+            qq = q.copy()
+            qq[free] = z[:-1]
+            pull = z[-1] * scale
+            grad = self._constraint_gradient(displacement.point, axis, qq)[free]
+            g = (self.internal_force(qq) - self.external_force(qq, forces, moment))[free] - pull * grad
+            c = axis @ self.displacement(displacement.point, qq) - displacement.value
+            return np.concatenate([g / scale, [c / length]])
+
+        z = _newton(constrained, np.concatenate([q[free], [0.0]]), np.concatenate([reach, [10.0]]))
+        q[free] = z[:-1]
+        return q, float(z[-1] * scale)
+
+    def _constraint_gradient(self, point: Point, axis: Vector, q: Vector) -> Vector:
+        """d(e . u(p, q))/dq for a body point p and an axis e."""
+        r = np.asarray(point, float) - self.ref
+        c, s = math.cos(q[2]), math.sin(q[2])
+        dp_dphi = np.array([-s * r[0] - c * r[1], c * r[0] - s * r[1]])
+        gradient: Vector = np.array([axis[0], axis[1], axis @ dp_dphi])
+        return gradient
 
 
 def _central_jacobian(fun: Callable[[Vector], Vector], z: Vector, f0: Vector) -> Matrix:

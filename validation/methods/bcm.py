@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from bcm.beam import solve_mixed, strain_energy
-from bcm.mechanisms import BCMBeam, RigidBodyOnBeams
+from bcm.mechanisms import BCMBeam, Displacement, RigidBodyOnBeams
 from validation.methods.base import MethodRun, NotApplicable, Request, reject_loads_along_beams
 from validation.case.quantities import boundary_held_tip
 from validation.case.method_options import BcmOptions
@@ -136,11 +136,13 @@ class LinkOnBeams:
 @dataclass
 class LevelLoads:
     """One level's loads on the link: dead forces (at, F), the couple, the prescribed rotation (rad),
-    the applied force at each node, and the node the couple or rotation drives."""
+    the prescribed displacement of a node, the applied force at each node, and the node the couple or
+    prescribed motion drives."""
 
     forces: list = field(default_factory=list)
     moment: float = 0.0
     rotation: float | None = None
+    displacement: Displacement | None = None
     applied: dict[str, np.ndarray] = field(default_factory=dict)
     drive_point: str | None = None
 
@@ -192,8 +194,17 @@ def _level_loads(case: Case, mech: LinkOnBeams, level: int) -> LevelLoads:
         elif load.kind == "rotation":
             loads.rotation = math.radians(v)
             loads.drive_point = point
+        elif load.kind == "displacement":
+            d = _direction(load)
+            if abs(d[0]) > 1e-12 and abs(d[1]) > 1e-12:
+                raise NotApplicable("BCM adapter: a prescribed displacement along x or along y")
+            axis = 0 if abs(d[0]) > 0.5 else 1
+            loads.displacement = Displacement(tuple(mech.nodes[point]), axis, v * d[axis])
+            loads.drive_point = point
         else:
             raise NotApplicable(f"BCM adapter: load kind '{load.kind}' on a mechanism")
+    if loads.rotation is not None and loads.displacement is not None:
+        raise NotApplicable("BCM adapter: one prescribed motion of the link at a time")
     return loads
 
 
@@ -207,11 +218,14 @@ def _mechanism_value(mech: LinkOnBeams, req: Request, q, needed: float, loads: L
         raise NotApplicable(f"unknown point '{req.point}'")
     X = mech.nodes[point]
     p = mech.body.position(X, q) if on_link else X
-    applied = loads.applied.get(point, np.zeros(2))
+    applied = loads.applied.get(point, np.zeros(2)).copy()
+    driven = point == loads.drive_point
+    if driven and loads.displacement is not None:        # the force the prescribed displacement needs
+        applied[loads.displacement.axis] += needed
     table = {"x": p[0], "y": p[1], "dx": p[0] - X[0], "dy": p[1] - X[1],
              "rotation": math.degrees(q[2]) if on_link else 0.0,
              "force_x": applied[0], "force_y": applied[1],
-             "moment": needed if point == loads.drive_point else 0.0}
+             "moment": needed if driven and loads.displacement is None else 0.0}
     if req.quantity not in table:
         raise NotApplicable(f"'{req.quantity}' is not a BCM mechanism output")
     return float(table[req.quantity])
@@ -225,7 +239,8 @@ def _mechanism(case: Case, spec: MechanismSpec, requests: list[Request], options
     for level in range(max(r.level for r in requests) + 1):
         loads = _level_loads(case, mech, level)
         try:
-            q, needed = mech.body.solve(forces=loads.forces, moment=loads.moment, rotation=loads.rotation, guess=q)
+            q, needed = mech.body.solve(forces=loads.forces, moment=loads.moment, rotation=loads.rotation, guess=q,
+                                        displacement=loads.displacement)
         except RuntimeError as exc:  # no equilibrium from here on: the levels so far stand
             msgs[level] = f"level {level}: {exc}"
             break
