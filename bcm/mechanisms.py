@@ -294,7 +294,7 @@ class RigidBodyOnBeams:
         try:
             q, pull = self._equilibrium(forces, moment, rotation, start, displacement)
         except RuntimeError as first:
-            q, pull = self._ramped(forces, moment, rotation, first, displacement)
+            q, pull = self._ramped(forces, moment, rotation, displacement, first)
         needed = moment
         if rotation is not None:
             needed = (self.internal_force(q) - self.external_force(q, forces, 0.0))[2]
@@ -302,8 +302,8 @@ class RigidBodyOnBeams:
             needed = pull
         return q, needed
 
-    def _ramped(self, forces: Forces, moment: float, rotation: float | None, first: RuntimeError,
-                displacement: Displacement | None = None) -> tuple[Vector, float]:
+    def _ramped(self, forces: Forces, moment: float, rotation: float | None, displacement: Displacement | None,
+                first: RuntimeError) -> tuple[Vector, float]:
         """Load continuation from rest; re-raises the direct attempt's error with the ramp's."""
         for steps in (4, 16, 64):
             q, pull = np.zeros(3), 0.0
