@@ -385,3 +385,83 @@ def chain_from_tip(beam: ChainBeam, *, b: float, theta0: float, n: float = 0.0, 
     return PRBMResult(ok, message, {k: np.float64(v) for k, v in out.items()}, {"elements": N},
                       "Chain Algorithm with tip displacement conditions, seed 000 eqs (26)-(40)",
                       time.perf_counter() - t0, nfev, np.array([ok]), extras={"nodes": state.nodes})
+
+
+HELD_FREEDOMS = ("ux", "uy", "rz")
+
+
+def chain_held_path(beam: ChainBeam, loads: NodalLoads, held: Iterable[str], factors: Iterable[float], *,
+                    tol: float = 1e-12, max_step: float = 0.25) -> list[PRBMResult]:
+    """The chain under ``loads`` scaled by each of the increasing ``factors``, its tip held in the freedoms
+    ``held`` (a subset of 'ux', 'uy', 'rz': the tip's x, its y, its rotation kept where the unloaded chain
+    has them; a fixed-guided segment holds 'rz').
+
+    The tip loads the held freedoms need (Fx, Fy, M at the tip node, global frame, CCW) are unknowns beside
+    the node positions, with one end condition each, as ``chain_from_tip`` poses its displacement
+    conditions; each level is continued from the previous one in sub-steps of at most ``max_step`` times
+    the largest factor. Outputs a, b, theta0 (the tip), and Fx, Fy, M (the held freedoms' tip loads, 0 for
+    a free one). After the first level that fails, the rest fail with the same message."""
+    kept = [HELD_FREEDOMS.index(h) for h in dict.fromkeys(held)]
+    if any(h not in HELD_FREEDOMS for h in held):
+        raise ValueError(f"chain_held_path: held freedoms {sorted(held)} not among {HELD_FREEDOMS}")
+    if beam.orientations is None and 0 in kept:
+        raise ValueError("chain_held_path: a straight chain with its tip's x held cannot bend (its elements "
+                         "are inextensible: a bent chain's chord is shorter)")
+    factors = [float(f) for f in factors]
+    model = "Chain Algorithm with a held tip, seed 000 eqs (26)-(40)"
+    rest = beam.undeformed()
+    target = (rest[-1, 0], rest[-1, 1], 0.0)
+    N = beam.elements
+    x = np.concatenate([rest[1:].ravel(), np.zeros(len(kept))])
+
+    def tip_loads(reactions: NDArray[np.float64]) -> NodalLoads:
+        components = [0.0, 0.0, 0.0]
+        for k, r in zip(kept, reactions):
+            components[k] = float(r)
+        return NodalLoads.at_tip(beam, *components)
+
+    def residual(z: NDArray[np.float64], level: float) -> NDArray[np.float64]:
+        nodes = np.vstack([[0.0, 0.0], z[:2 * N].reshape(-1, 2)])
+        st = march(beam, loads.scaled(level).plus(tip_loads(z[2 * N:])), nodes)
+        tip = (st.nodes[-1, 0], st.nodes[-1, 1], st.rotations[-1])
+        ends = [(tip[k] - target[k]) / (beam.length if k < 2 else 1.0) for k in kept]
+        return np.concatenate([(st.nodes[1:] - nodes[1:]).ravel(), ends])
+
+    results: list[PRBMResult] = []
+    previous, failed = 0.0, None
+    step_cap = max_step * max(abs(f) for f in factors) if factors else 0.0
+    for factor in factors:
+        t0 = time.perf_counter()
+        if failed is None:
+            substeps = max(1, math.ceil(abs(factor - previous) / step_cap)) if step_cap > 0 else 1
+            nfev, ok = 0, True
+            for k in range(1, substeps + 1):
+                level = previous + (factor - previous) * k / substeps
+                sol = root(residual, x, args=(level,), method="hybr", tol=tol)
+                nfev += int(sol.nfev)
+                ok = bool(sol.success) and float(np.max(np.abs(residual(sol.x, level)))) < 1e-8
+                if not ok:
+                    failed = f"load factor {level:.6g}: " + " ".join(str(sol.message).split())
+                    break
+                x = sol.x
+            previous = factor
+        if failed is not None:
+            results.append(PRBMResult(False, failed, {k: np.float64(np.nan) for k in ("a", "b", "theta0")},
+                                      {"elements": N}, model, 0.0, 0, np.array([False])))
+            continue
+        reactions = x[2 * N:]
+        state = march(beam, loads.scaled(factor).plus(tip_loads(reactions)),
+                      np.vstack([[0.0, 0.0], x[:2 * N].reshape(-1, 2)]))
+        tip = tip_loads(reactions)
+        out = {"a": state.nodes[-1, 0], "b": state.nodes[-1, 1], "theta0": state.rotations[-1],
+               "Fx": tip.fx[-1], "Fy": tip.fy[-1], "M": tip.m[-1]}
+        stretched = _beyond_reach(beam, out["a"], out["b"])
+        if stretched:
+            failed = stretched
+            results.append(PRBMResult(False, stretched, {k: np.float64(v) for k, v in out.items()},
+                                      {"elements": N}, model, time.perf_counter() - t0, nfev, np.array([False])))
+            continue
+        results.append(PRBMResult(True, "converged", {k: np.float64(v) for k, v in out.items()}, {"elements": N},
+                                  model, time.perf_counter() - t0, nfev, np.array([True]),
+                                  extras={"nodes": state.nodes}))
+    return results
