@@ -26,16 +26,18 @@ from __future__ import annotations
 
 import math
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 
 from .corotational import element_state
 from .distributed import element_loads
 from .discretise import Discretisation
-from .kernel import CompiledLayout, scatter
-from .linear_solver import MatrixLayout
+from .kernel import Beams, CompiledLayout, Couplings, DofMap, Storage, scatter
+from .linear_solver import MatrixLayout, weighted_bincount
 from .model import Model
-from .stability import DENSE_LIMIT, EPS, zero_eigenvalue
+from .inertia import DENSE_LIMIT, EPS, zero_eigenvalue
+from .types import BoolArray, Evaluation, FloatArray, IntArray, Loads
 
 __all__ = ["System"]
 
@@ -55,6 +57,20 @@ class System:
                  n_levels: int | None = None):
         self.model, self.disc = model, disc
         d = disc
+        self.fol_nodes: IntArray
+        self.fol_rot: IntArray
+        self.pt_nodes: IntArray
+        self.pt_toward: FloatArray
+        self.pt_angle: FloatArray
+        self.dist_follower: BoolArray
+        self.dist_members: FloatArray
+        self.F0: FloatArray
+        self.rows_full: IntArray
+        self.cols_full: IntArray
+        self.valid: BoolArray
+        self.valid_src: IntArray
+        self.valid_pair: IntArray
+        self.coef_const: FloatArray
         self.n_levels = model.n_levels
         self.X1 = d.X[d.conn[:, 0]]
         self.X2 = d.X[d.conn[:, 1]]
@@ -66,7 +82,10 @@ class System:
         self.C0_flat = np.ascontiguousarray(self.C0[:, 0])
         # rigid links for the compiled corrector: the second constraint column, the slave and master
         # nodes and rotation DOFs, their reference positions (no rows, none read, without links)
-        self.I1, self.C1_flat, self.links, self.links_X = _NO_INTS, _NO_FLOATS, _NO_LINKS, _NO_LINK_X
+        self.I1: IntArray = _NO_INTS
+        self.C1_flat: FloatArray = _NO_FLOATS
+        self.links: IntArray = _NO_LINKS
+        self.links_X: FloatArray = _NO_LINK_X
         if self.width == 2:
             s, m = d.slaves, d.masters
             self.I1, self.C1_flat = np.ascontiguousarray(d.I[:, 1]), np.ascontiguousarray(d.C[:, 1])
@@ -83,8 +102,25 @@ class System:
         self.noise_floor = 4 * EPS * float((d.ka * d.L0).max(initial=0.0))
         self.dead_loads = (len(self.fol_nodes) == 0 and not (len(self.pt_angle) and self.pt_angle.any())
                            and not (len(self.dist_follower) and self.dist_follower.any()))  # `stability.conservative`
-        # the compiled load-control corrector (`kernel.newton_load`), where it applies
-        self.compiled = CompiledLayout(self.layout, rows, cols) if CompiledLayout.applies(self) else None
+        self.beams = Beams(X1=self.X1, X2=self.X2, L0=d.L0, beta0=d.beta0, ka=d.ka, kb=d.kb)
+        # the compiled load-control corrector (`kernel.newton_load`), where it applies, and its groups
+        self.compiled: CompiledLayout | None = (CompiledLayout(self.layout, rows, cols) if CompiledLayout.applies(self)
+                                                else None)
+        self.dofs, self.couplings, self.storage = self._kernel_groups()
+
+    def _kernel_groups(self) -> tuple[DofMap, Couplings, Storage | None]:
+        """The compiled corrector's groups of this system (`kernel.DofMap`, `kernel.Couplings`,
+        `kernel.Storage`; no storage where the corrector does not apply)."""
+        d = self.disc
+        dofs = DofMap(I0=self.I0, C0=self.C0_flat, I1=self.I1, C1=self.C1_flat, edofs=d.edofs,
+                      prescribed=d.prescribed_dofs, ground=int(d.ground), rotation=d.red_is_rotation)
+        couplings = Couplings(links=self.links, links_X=self.links_X, springs=d.springs, spring_k=d.spring_k)
+        if self.compiled is None:
+            return dofs, couplings, None
+        storage = Storage(band=self.compiled.band, flat=self.compiled.flat, source=self.valid_src,
+                          coef=self.coef_const, pair=self.valid_pair, rows_full=self.rows_full,
+                          cols_full=self.cols_full)
+        return dofs, couplings, storage
 
     @cached_property
     def inertia_tol(self) -> float:
@@ -93,7 +129,7 @@ class System:
         return zero_eigenvalue(1.0, self.n) if self.dead_loads and self.n <= DENSE_LIMIT else math.nan
 
     @cached_property
-    def path_weights(self) -> np.ndarray:
+    def path_weights(self) -> FloatArray:
         """W of the path norm ||dq||_W: rotations weighted by the mean element length squared (read only
         by steps after the first of a level, and by arc length)."""
         d = self.disc
@@ -108,7 +144,8 @@ class System:
         # loads: fixed forces/moments as full vectors per level, followers as F0 per level
         nl = self.n_levels
         self.F_fixed = np.zeros((nl, nf))
-        fol_nodes, fol_vals = [], []
+        fol_nodes: list[int] = []
+        fol_vals: list[FloatArray] = []
         for ld in model.loads:
             vals = ld.values
             if len(vals) != nl:                         # a single value: same at every level
@@ -137,7 +174,8 @@ class System:
             self.presc = ramp[:, None] * self.presc[-1]
             self.n_levels = n_levels
 
-    def _configuration_loads(self, model: Model, fol_nodes: list, fol_vals: list, nl: int, n_el: int) -> None:
+    def _configuration_loads(self, model: Model, fol_nodes: list[int], fol_vals: list[FloatArray], nl: int,
+                             n_el: int) -> None:
         """The tables of the loads that depend on the configuration: followers (their nodes, the rotation
         each turns with), forces toward points, distributed loads (the elements each covers); their
         intensities per level in ``F0``."""
@@ -151,16 +189,16 @@ class System:
             self.pt_angle = np.array([ld.angle for ld in model.pointed], dtype=float)
         else:
             self.pt_nodes, self.pt_toward, self.pt_angle = _NO_INTS, _NO_POINTS, _NO_FLOATS
-        for ld in model.pointed:
-            fol_vals.append(np.column_stack([np.broadcast_to(ld.values, (nl,)), np.zeros(nl)]))
+        for pointed in model.pointed:
+            fol_vals.append(np.column_stack([np.broadcast_to(pointed.values, (nl,)), np.zeros(nl)]))
         self.dist_members = np.zeros((len(model.distributed), n_el))   # which elements each load covers
-        self.dist_follower = np.array([ld.follower for ld in model.distributed], dtype=bool)
-        for k, ld in enumerate(model.distributed):
-            self.dist_members[k, d.member_elements[ld.member] if ld.member is not None else slice(None)] = 1.0
-            fol_vals.append(np.broadcast_to(ld.values, (nl, 2)))
+        self.dist_follower = np.array([dl.follower for dl in model.distributed], dtype=bool)
+        for k, dl in enumerate(model.distributed):
+            self.dist_members[k, d.member_elements[dl.member] if dl.member is not None else slice(None)] = 1.0
+            fol_vals.append(np.broadcast_to(dl.values, (nl, 2)))
         self.F0 = np.array(fol_vals).reshape(len(fol_vals), nl, 2).transpose(1, 0, 2)
 
-    def _sparsity(self):
+    def _sparsity(self) -> tuple[IntArray, IntArray]:
         """Rows and columns of the reduced tangent's entries (elements, springs, follower and pointed
         loads, rigid links), with which full entry feeds each and the constant factor without rigid
         links."""
@@ -206,25 +244,17 @@ class System:
         self.coef_const = prod[self.valid]
         return R[self.valid], Cc[self.valid]
 
-
     # -- loads along a path ------------------------------------------------
-    def loads_at(self, level_a, level_b, t):
+    def loads_at(self, level_a: int, level_b: int, t: float) -> Loads:
         """Fixed vector, follower F0 and prescribed values between two levels.
 
         level_a = -1 means the unloaded state.
         """
-        def mix(arr):
-            if t == 1.0:            # (1 - t) a + t b = b exactly
-                return arr[level_b].copy()
-            if t == 0.0:
-                return np.zeros_like(arr[0]) if level_a < 0 else arr[level_a].copy()
-            if level_a < 0:         # (1 - t) 0 + t b = t b exactly
-                return t * arr[level_b]
-            return (1.0 - t) * arr[level_a] + t * arr[level_b]
-        return mix(self.F_fixed), mix(self.F0), mix(self.presc)
+        return (_between(self.F_fixed, level_a, level_b, t), _between(self.F0, level_a, level_b, t),
+                _between(self.presc, level_a, level_b, t))
 
     # -- kinematics -----------------------------------------------------------
-    def full_displacements(self, q, presc):
+    def full_displacements(self, q: FloatArray, presc: FloatArray) -> tuple[FloatArray, FloatArray]:
         """u (n_full+1,) and the current constraint coefficients C."""
         d = self.disc
         qx = np.append(q, 0.0)
@@ -245,7 +275,7 @@ class System:
             C[2 * s + 1, 1] = Rd[:, 0]
         return u, C
 
-    def _pointed(self, u, magnitude):
+    def _pointed(self, u: FloatArray, magnitude: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Forces toward fixed points, F = T R(alpha) e, and their stiffness dF/dx (n_pt, 2, 2)."""
         n = self.pt_nodes
         x = self.disc.X[n] + np.column_stack([u[2 * n], u[2 * n + 1]])
@@ -256,22 +286,22 @@ class System:
         e = r / length[:, None]
         cs, sn = np.cos(self.pt_angle), np.sin(self.pt_angle)
         rot = np.stack([np.column_stack([cs, -sn]), np.column_stack([sn, cs])], axis=1)   # R(alpha)
-        F = magnitude[:, None] * np.einsum("kij,kj->ki", rot, e)
+        F: FloatArray = magnitude[:, None] * np.einsum("kij,kj->ki", rot, e)
         proj = np.eye(2)[None] - e[:, :, None] * e[:, None, :]
         K = -(magnitude / length)[:, None, None] * np.matmul(rot, proj)
         return F, K
 
-    def reduce(self, v_full, C):
+    def reduce(self, v_full: FloatArray, C: FloatArray) -> FloatArray:
         """J^T v."""
-        return np.bincount(self.I_flat, weights=(C * v_full[:, None]).ravel(),
-                           minlength=self.n + 1)[:self.n]
+        return weighted_bincount(self.I_flat, (C * v_full[:, None]).ravel(), self.n + 1)[:self.n]
 
-    def evaluate(self, q, beta_prev, lam, F_fixed, F0, presc, need_K=True):
+    def evaluate(self, q: FloatArray, beta_prev: FloatArray, lam: float, F_fixed: FloatArray, F0: FloatArray,
+                 presc: FloatArray, need_K: bool = True) -> Evaluation:
         """Residual, tangent and element state at q for load factor lam."""
         d = self.disc
         u, C = self.full_displacements(q, presc)
         p = u[d.edofs]
-        el = element_state(self.X1, self.X2, p, d.L0, d.beta0, beta_prev, d.ka, d.kb, need_K)
+        el = element_state(self.beams, p, beta_prev, need_K)
         nf = d.n_full + 1
         f_int = np.bincount(d.edofs.ravel(), weights=el["f"].ravel(), minlength=nf).astype(float)
         if len(d.springs):
@@ -291,20 +321,20 @@ class System:
             F_pt, K_pt = self._pointed(u, F0[n_fol:n_fol + n_pt, 0])
             np.add.at(f_ref, 2 * self.pt_nodes, F_pt[:, 0])
             np.add.at(f_ref, 2 * self.pt_nodes + 1, F_pt[:, 1])
-        K_el = el["K"] if need_K else None
+        K_el = el["K"] if need_K else _NO_FLOATS
         if len(self.dist_follower):
-            q = F0[n_fol + n_pt:]
-            q_dead = self.dist_members[~self.dist_follower].T @ q[~self.dist_follower]
-            q_fol = self.dist_members[self.dist_follower].T @ q[self.dist_follower]
-            f_q, K_q = element_loads(self.X1, self.X2, p, d.L0, d.beta0, el["beta"], q_dead, q_fol)
+            q_dist = F0[n_fol + n_pt:]
+            q_dead = self.dist_members[~self.dist_follower].T @ q_dist[~self.dist_follower]
+            q_fol = self.dist_members[self.dist_follower].T @ q_dist[self.dist_follower]
+            f_q, K_q = element_loads(self.beams, p, el["beta"], q_dead, q_fol)
             f_ref += np.bincount(d.edofs.ravel(), weights=f_q.ravel(), minlength=nf)
             if need_K:
                 K_el = K_el - lam * K_q
         f_ref[d.ground] = 0.0
         f_int[d.ground] = 0.0
         R_full = f_int - lam * f_ref
-        out = dict(u=u, C=C, el=el, f_int=f_int, f_ref_full=f_ref, R_full=R_full,
-                   r=self.reduce(R_full, C), f_ref=self.reduce(f_ref, C))
+        out: dict[str, Any] = dict(u=u, C=C, el=el, f_int=f_int, f_ref_full=f_ref, R_full=R_full,
+                                   r=self.reduce(R_full, C), f_ref=self.reduce(f_ref, C))
         f_ext = lam * f_ref       # norms as np.linalg.norm computes them, sqrt(x . x), without its overhead
         out["F_scale"] = max(math.sqrt(float(f_ext.dot(f_ext))), math.sqrt(float(f_int.dot(f_int))))
         if need_K:
@@ -328,3 +358,15 @@ class System:
             else:   # constant constraint coefficients: one compiled scatter into solver storage
                 out["K"] = scatter(self.layout.flat, self.valid_src, self.coef_const, v, self.layout.size)
         return out
+
+
+def _between(table: FloatArray, level_a: int, level_b: int, t: float) -> FloatArray:
+    """(1 - t) table[level_a] + t table[level_b], a new array (level_a = -1: the unloaded state, zero),
+    exact at t = 0 and t = 1."""
+    b: FloatArray = table[level_b]
+    if t == 1.0:            # (1 - t) a + t b = b exactly
+        return b.copy()
+    if level_a < 0:         # (1 - t) 0 + t b = t b exactly
+        return np.zeros_like(table[0]) if t == 0.0 else t * b
+    a: FloatArray = table[level_a]
+    return a.copy() if t == 0.0 else (1.0 - t) * a + t * b

@@ -32,18 +32,25 @@ from __future__ import annotations
 
 import numpy as np
 
+from typing import TYPE_CHECKING
+
 from .linear_solver import SingularMatrix
+
+from .types import FloatArray
+
+if TYPE_CHECKING:
+    from .assembly import System
 
 __all__ = ["UNIT_ROUNDOFF", "scaled_rcond", "beyond_precision"]
 
 UNIT_ROUNDOFF = 0.5 * float(np.finfo(float).eps)   # u = 2^-53, LAPACK's DLAMCH('Epsilon')
 
 
-def scaled_rcond(system) -> float:
+def scaled_rcond(system: System) -> float:
     """rcond_1 of the Jacobi-scaled unloaded tangent S = D K0 D (estimated from its LU factors); NaN
     when S has an exactly zero pivot (a free motion, `free_motion`'s to name)."""
     F_fixed, F0, presc = system.loads_at(-1, 0, 0.0)
-    K0 = system.evaluate(np.zeros(system.n), system.disc.beta0.copy(), 0.0, F_fixed, F0, presc,
+    K0: FloatArray = system.evaluate(np.zeros(system.n), system.disc.beta0.copy(), 0.0, F_fixed, F0, presc,
                          need_K=True)["K"]
     layout = system.layout
     diag = np.abs(layout.diagonal(K0))
@@ -56,7 +63,7 @@ def scaled_rcond(system) -> float:
         return float("nan")
 
 
-def beyond_precision(system) -> str | None:
+def beyond_precision(system: System) -> str | None:
     """Why the model's Newton corrections cannot be resolved in double precision (its Jacobi-scaled
     unloaded tangent is singular to working precision), or None."""
     if system.n == 0:

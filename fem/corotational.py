@@ -26,34 +26,35 @@ from __future__ import annotations
 
 import numpy as np
 
-from .kernel import element_kernel
+from .kernel import Beams, element_kernel, element_outputs
+from .types import FloatArray
 
 __all__ = ["element_state", "element_state_numpy", "wrap"]
 
 
-def wrap(a):
+def wrap(a: FloatArray) -> FloatArray:
     """Angle in (-pi, pi]."""
     return np.arctan2(np.sin(a), np.cos(a))
 
 
-def element_state(X1, X2, p, L0, beta0, beta_prev, ka, kb, need_tangent=True):
-    """Internal forces f (n,6), tangent K (n,6,6) and local state of all elements, by the compiled
+def element_state(beams: Beams, p: FloatArray, beta_prev: FloatArray,
+                  need_tangent: bool = True) -> dict[str, FloatArray]:
+    """Internal forces f (n,6), tangent K (n,6,6) and local state of all elements at the element
+    displacements ``p`` (n,6), chord angles continued from ``beta_prev`` (n,), by the compiled
     `kernel.element_kernel` (the same formulas as `element_state_numpy`, element by element).
 
-    Returns dict with f, K, N, M (n,2), L, beta, theta_bar (n,2), u_bar, jumped."""
-    n = len(L0)
-    out = dict(f=np.empty((n, 6)), N=np.empty(n), M=np.empty((n, 2)), L=np.empty(n), beta=np.empty(n),
-               theta_bar=np.empty((n, 2)), u_bar=np.empty(n), jumped=np.empty(n, dtype=bool))
-    K = np.zeros((n, 6, 6) if need_tangent else (0, 6, 6))
-    element_kernel(X1, X2, np.ascontiguousarray(p, dtype=float), L0, beta0, beta_prev, ka, kb, bool(need_tangent),
-                   out["f"], K, out["N"], out["M"], out["L"], out["beta"], out["theta_bar"], out["u_bar"],
-                   out["jumped"])
-    if need_tangent:
-        out["K"] = K
-    return out
+    Returns dict with f, K, N, M (n,2), L, beta, theta_bar (n,2), u_bar, jumped (`kernel.ElementState`;
+    no K when ``need_tangent`` is false)."""
+    out = element_outputs(len(beams.L0), bool(need_tangent))
+    element_kernel(beams, np.ascontiguousarray(p, dtype=float), beta_prev, bool(need_tangent), out)
+    state = out._asdict()
+    if not need_tangent:
+        del state["K"]
+    return state
 
 
-def element_state_numpy(X1, X2, p, L0, beta0, beta_prev, ka, kb, need_tangent=True):
+def element_state_numpy(beams: Beams, p: FloatArray, beta_prev: FloatArray,
+                        need_tangent: bool = True) -> dict[str, FloatArray]:
     """Internal forces f (n,6), tangent K (n,6,6) and local state of all elements, vectorised NumPy.
 
     Returns dict with f, K, N, M (n,2), L, beta, theta_bar (n,2), u_bar, jumped.
@@ -62,6 +63,7 @@ def element_state_numpy(X1, X2, p, L0, beta0, beta_prev, ka, kb, need_tangent=Tr
     the symmetric 4x4 coefficients C that follow from expanding B^T k_l B
     (b_i = e_i - z/L) plus the geometric terms.
     """
+    X1, X2, L0, beta0, ka, kb = beams.X1, beams.X2, beams.L0, beams.beta0, beams.ka, beams.kb
     dx = X2[:, 0] - X1[:, 0] + p[:, 3] - p[:, 0]
     dy = X2[:, 1] - X1[:, 1] + p[:, 4] - p[:, 1]
     L = np.hypot(dx, dy)
@@ -99,6 +101,7 @@ def element_state_numpy(X1, X2, p, L0, beta0, beta_prev, ka, kb, need_tangent=Tr
     return out
 
 
-def strain_energy(ka, kb, u_bar, theta_bar):
+def strain_energy(ka: FloatArray, kb: FloatArray, u_bar: FloatArray, theta_bar: FloatArray) -> FloatArray:
     """Element strain energies 1/2 (k_a u_bar^2 + theta_bar^T k_b theta_bar)."""
-    return 0.5 * (ka * u_bar**2 + np.einsum("ei,eij,ej->e", theta_bar, kb, theta_bar))
+    bending: FloatArray = np.einsum("ei,eij,ej->e", theta_bar, kb, theta_bar)
+    return 0.5 * (ka * u_bar**2 + bending)

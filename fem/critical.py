@@ -15,15 +15,21 @@ from __future__ import annotations
 
 import numpy as np
 
+from typing import TYPE_CHECKING
+
 from .options import CriticalPoint
+from .types import FloatArray
+
+if TYPE_CHECKING:
+    from .newton import Path
 
 __all__ = ["critical_points", "refine_extremum"]
 
 
-def refine_extremum(x, y, dy):
+def refine_extremum(x: FloatArray, y: FloatArray, dy: FloatArray) -> tuple[float, float]:
     """Extremum of lambda(s) near x[1]: Hermite cubic on the bracketing interval
     when the slopes d lambda/ds are known (error O(ds^4)), else a parabola."""
-    cands = []
+    cands: list[tuple[float, float]] = []
     if np.all(np.isfinite(dy)):
         for j in (0, 1):
             if dy[j] * dy[j + 1] <= 0:
@@ -33,18 +39,18 @@ def refine_extremum(x, y, dy):
                 h01, h11 = -2 * t**3 + 3 * t**2, t**3 - t**2
                 p = h00 * y[j] + h10 * h * dy[j] + h01 * y[j + 1] + h11 * h * dy[j + 1]
                 kk = int(np.argmax(p) if y[1] > y[0] else np.argmin(p))
-                cands.append((p[kk], x[j] + t[kk] * h))
+                cands.append((float(p[kk]), float(x[j] + t[kk] * h)))
     if cands:
         best = max(cands, key=lambda c: c[0]) if y[1] > y[0] else min(cands, key=lambda c: c[0])
         return best
     c2, c1, c0 = np.polyfit(x - x[1], y, 2)
     xm = -c1 / (2 * c2) if c2 != 0 else 0.0
     if abs(xm) > max(abs(x[0] - x[1]), abs(x[2] - x[1])):
-        return y[1], x[1]
-    return c0 + c1 * xm + c2 * xm * xm, x[1] + xm
+        return float(y[1]), float(x[1])
+    return float(c0 + c1 * xm + c2 * xm * xm), float(x[1] + xm)
 
 
-def critical_points(path) -> list[CriticalPoint]:
+def critical_points(path: Path) -> list[CriticalPoint]:
     """Limit points (extremum of lambda with det sign change) and bifurcations, by step."""
     if len(path.step_lams) < 2 and not path.branch_switches:
         return []       # one step (or none): no extremum, no sign change between steps

@@ -24,56 +24,57 @@ Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
 
 from .local_matrices import member_local_stiffness, prismatic_local_stiffness
-from .model import Model
+from .model import Joint, Member, Model
 from .numbering import rcm_order
 from .section import Section
+from .types import BoolArray, FloatArray, IntArray
 
 __all__ = ["Discretisation", "discretise"]
 
 
 @dataclass
 class Discretisation:
-    X: np.ndarray            # (n_enodes, 2) reference coordinates of element nodes
+    X: FloatArray            # (n_enodes, 2) reference coordinates of element nodes
     n_model_nodes: int
-    conn: np.ndarray         # (n_el, 2) element node indices
-    edofs: np.ndarray        # (n_el, 6) full DOFs [ux1, uy1, rz1, ux2, uy2, rz2]
-    L0: np.ndarray           # (n_el,) reference chord lengths
-    beta0: np.ndarray        # (n_el,) reference chord angles
-    ka: np.ndarray           # (n_el,) axial stiffness
-    kb: np.ndarray           # (n_el, 2, 2) bending stiffness
-    el_member: np.ndarray    # (n_el,) owning member
-    el_section: list         # Section at element midpoint (for stresses)
-    member_elements: list    # element indices of each member, in order start -> end
+    conn: IntArray           # (n_el, 2) element node indices
+    edofs: IntArray          # (n_el, 6) full DOFs [ux1, uy1, rz1, ux2, uy2, rz2]
+    L0: FloatArray           # (n_el,) reference chord lengths
+    beta0: FloatArray        # (n_el,) reference chord angles
+    ka: FloatArray           # (n_el,) axial stiffness
+    kb: FloatArray           # (n_el, 2, 2) bending stiffness
+    el_member: IntArray      # (n_el,) owning member
+    el_section: list[Section]    # Section at element midpoint (for stresses)
+    member_elements: list[IntArray]    # element indices of each member, in order start -> end
     n_full: int              # number of full DOFs (without the ground entry)
     ground: int              # index of the ground entry (= n_full)
-    rot_dof: np.ndarray      # (n_enodes,) node rotation DOF
-    rotation_dofs: np.ndarray  # all rotation DOFs (bool mask over full DOFs)
-    springs: np.ndarray      # (n_sp, 2) full DOF pairs (second may be ground)
-    spring_k: np.ndarray     # (n_sp,)
+    rot_dof: IntArray        # (n_enodes,) node rotation DOF
+    rotation_dofs: BoolArray  # all rotation DOFs (bool mask over full DOFs)
+    springs: IntArray        # (n_sp, 2) full DOF pairs (second may be ground)
+    spring_k: FloatArray     # (n_sp,)
     n_red: int
-    I: np.ndarray            # (n_full+1, 2) reduced indices (dummy = n_red)
-    C: np.ndarray            # (n_full+1, 2) coefficients
-    independent: np.ndarray  # bool (n_full+1,): DOF given by the linear map
-    prescribed_dofs: np.ndarray  # (n_p,) full DOFs with prescribed values
-    prescribed_values: np.ndarray  # (n_p, n_levels)
-    constrained: np.ndarray  # bool (n_full,): supported or prescribed (reactions)
-    slaves: np.ndarray       # (n_s,) slave element nodes
-    masters: np.ndarray      # (n_s,) their (root) masters
-    node_rotation_used: np.ndarray  # bool (n_model_nodes,)
-    node_first_end_rot: np.ndarray  # (n_model_nodes,) rotation DOF of first member end
-    red_is_rotation: np.ndarray     # bool (n_red,)
-
+    I: IntArray              # (n_full+1, 2) reduced indices (dummy = n_red)
+    C: FloatArray            # (n_full+1, 2) coefficients
+    independent: BoolArray   # bool (n_full+1,): DOF given by the linear map
+    prescribed_dofs: IntArray    # (n_p,) full DOFs with prescribed values
+    prescribed_values: FloatArray  # (n_p, n_levels)
+    constrained: BoolArray   # bool (n_full,): supported or prescribed (reactions)
+    slaves: IntArray         # (n_s,) slave element nodes
+    masters: IntArray        # (n_s,) their (root) masters
+    node_rotation_used: BoolArray  # bool (n_model_nodes,)
+    node_first_end_rot: IntArray   # (n_model_nodes,) rotation DOF of first member end
+    red_is_rotation: BoolArray     # bool (n_red,)
 
     @cached_property
-    def section_groups(self) -> list:
+    def section_groups(self) -> list[tuple[Section, IntArray]]:
         """(section, element indices) of the elements that share a section (for stresses)."""
-        by_id = {}
+        by_id: dict[int, tuple[Section, list[int]]] = {}
         for e, sec in enumerate(self.el_section):
             by_id.setdefault(id(sec), (sec, []))[1].append(e)
         return [(sec, np.array(idx)) for sec, idx in by_id.values()]
@@ -87,7 +88,7 @@ class Discretisation:
         raise ValueError(f"member {member} does not end at node {node}")
 
 
-def _arc_points(P0, P1, kappa, n):
+def _arc_points(P0: FloatArray, P1: FloatArray, kappa: float, n: int) -> tuple[FloatArray, float | None]:
     """n+1 points along the arc P0 -> P1 of signed curvature kappa; arc length (None when straight: the
     sum of the chords). An arc whose sagitta is below rounding of the chord (|kappa| c / 8 < eps: a
     curvature that underflows the arc's formulas) is straight."""
@@ -106,10 +107,11 @@ def _arc_points(P0, P1, kappa, n):
     pts = P0 + np.column_stack([np.sin(a0 + kappa * s) - np.sin(a0),
                                 np.cos(a0) - np.cos(a0 + kappa * s)]) / kappa
     pts[-1] = P1
-    return pts, S
+    return pts, float(S)
 
 
-def _dof_order(n_en, conn, slaves, masters, extra_owner):
+def _dof_order(n_en: int, conn: IntArray, slaves: IntArray, masters: IntArray,
+               extra_owner: list[int]) -> IntArray | list[int]:
     """Full DOFs node by node in reverse Cuthill-McKee order (small bandwidth; `numbering`): per node
     [ux, uy, rz] and the released member-end rotations it owns."""
     order = rcm_order(n_en, conn, slaves, masters)
@@ -117,30 +119,31 @@ def _dof_order(n_en, conn, slaves, masters, extra_owner):
         dofs = np.empty((len(order), 3), dtype=order.dtype)
         dofs[:, 0], dofs[:, 1], dofs[:, 2] = 2 * order, 2 * order + 1, 2 * n_en + order
         return dofs.ravel()
-    extras = {}
+    extras: dict[int, list[int]] = {}
     for k, owner in enumerate(extra_owner):
         extras.setdefault(owner, []).append(3 * n_en + k)
-    dofs = []
+    listed: list[int] = []
     for n in order.tolist():
-        dofs += [2 * n, 2 * n + 1, 2 * n_en + n] + extras.get(n, [])
-    return dofs
+        listed += [2 * n, 2 * n + 1, 2 * n_en + n] + extras.get(n, [])
+    return listed
 
 
 @dataclass
 class _Mesh:
-    """Element nodes, connectivity and element properties of every member."""
-    X: np.ndarray
-    conn: np.ndarray
-    el_member: list
-    L0: list
-    beta0: list
-    ka: list
-    kb: list
-    el_section: list
-    member_elements: list
+    """Element nodes, connectivity and element properties of every member (per member, joined by
+    `_mesh` into ``X`` and ``conn``)."""
+    X: FloatArray
+    conn: IntArray
+    el_member: list[int]
+    L0: list[FloatArray]
+    beta0: list[FloatArray]
+    ka: list[FloatArray]
+    kb: list[FloatArray]
+    el_section: list[Section]
+    member_elements: list[IntArray]
 
 
-def _member_stiffness(m, lengths):
+def _member_stiffness(m: Member, lengths: FloatArray) -> tuple[Callable[[float], Section], FloatArray, FloatArray]:
     """Section function of a member and its elements' k_a, k_b (`local_matrices`)."""
     if isinstance(m.section, Section):
         sec = m.section
@@ -148,7 +151,13 @@ def _member_stiffness(m, lengths):
         return (lambda xi, sec=sec: sec), a, b
     fn = m.section
     s_nodes = np.concatenate([[0.0], np.cumsum(lengths)])
-    prop = lambda attr: (lambda xi: np.vectorize(lambda t: getattr(fn(float(t)), attr))(xi))
+
+    def prop(attr: str) -> Callable[[FloatArray], FloatArray]:
+        def of(xi: FloatArray) -> FloatArray:
+            values: FloatArray = np.vectorize(lambda t: getattr(fn(float(t)), attr))(xi)
+            return values
+        return of
+
     a, b = member_local_stiffness(s_nodes, prop("EA"), prop("EI"), intorder=8)
     return fn, a, b
 
@@ -158,7 +167,8 @@ def _mesh(model: Model, refine: int) -> _Mesh:
     (interior nodes after the model nodes)."""
     X = [np.asarray(model.coords, dtype=float).reshape(-1, 2)]
     n_en = model.n_nodes
-    mesh = _Mesh(None, [], [], [], [], [], [], [], [])
+    conns: list[IntArray] = []
+    mesh = _Mesh(np.zeros((0, 2)), np.zeros((0, 2), dtype=int), [], [], [], [], [], [], [])
     first = 0
     for im, m in enumerate(model.members):
         n = m.n_elements * int(refine) if m.refined else m.n_elements
@@ -174,7 +184,7 @@ def _mesh(model: Model, refine: int) -> _Mesh:
         first += n
         conn = np.empty((n, 2), dtype=int)
         conn[:, 0], conn[:, 1] = ids[:-1], ids[1:]
-        mesh.conn.append(conn)
+        conns.append(conn)
         mesh.el_member += [im] * n
         mesh.L0.append(lengths)
         mesh.beta0.append(np.arctan2(seg[:, 1], seg[:, 0]))
@@ -187,11 +197,11 @@ def _mesh(model: Model, refine: int) -> _Mesh:
             mid = (s_nodes[:-1] + s_nodes[1:]) / 2 / s_nodes[-1]
             mesh.el_section += [fn(float(t)) for t in mid]
     mesh.X = np.concatenate(X) if len(X) > 1 else X[0]
-    mesh.conn = _joined(mesh.conn, (0, 2), int)
+    mesh.conn = _joined(conns, (0, 2), int)
     return mesh
 
 
-def _joined(parts: list, empty_shape: tuple = (0,), dtype=float) -> np.ndarray:
+def _joined(parts: list[np.ndarray], empty_shape: tuple[int, ...] = (0,), dtype: type = float) -> np.ndarray:
     """The arrays of every member end to end (the one array itself when there is one member; an empty
     array of ``empty_shape`` when there is none)."""
     if len(parts) == 1:
@@ -203,14 +213,14 @@ def _joined(parts: list, empty_shape: tuple = (0,), dtype=float) -> np.ndarray:
 class _Joints:
     """Member-end rotation DOFs (released ends get their own), joint springs, and the owner node of
     every released-end DOF."""
-    end_rot: np.ndarray
-    springs: list
-    spring_k: list
-    extra_owner: list
+    end_rot: IntArray
+    springs: list[tuple[int, int]]
+    spring_k: list[float]
+    extra_owner: list[int]
     n_full: int
 
 
-def _joints(model: Model, mesh: _Mesh, rot_dof: np.ndarray) -> _Joints:
+def _joints(model: Model, mesh: _Mesh, rot_dof: IntArray) -> _Joints:
     """Release member ends at revolute joints: a released end turns on its own DOF, tied to the node
     rotation by the joint spring k; an unanchored single member's spring acts to ground."""
     conn = mesh.conn
@@ -220,7 +230,7 @@ def _joints(model: Model, mesh: _Mesh, rot_dof: np.ndarray) -> _Joints:
     rot_held = {sp.node for sp in model.supports if sp.kind in ("fixed", "guided")}
     for j in model.joints:
         at_node = [im for im, m in enumerate(model.members) if j.node in (m.start, m.end)]
-        listed = tuple(at_node) if j.members is None else tuple(j.members)
+        listed: tuple[int, ...] = tuple(at_node) if j.members is None else tuple(j.members)
         # the node rotation is carried by something else than the listed members?
         anchored = (j.node in link_nodes or j.node in rot_held
                     or any(im not in listed for im in at_node))
@@ -234,12 +244,12 @@ def _joints(model: Model, mesh: _Mesh, rot_dof: np.ndarray) -> _Joints:
         for im in released:
             _release(model, mesh, out, im, j, rot_dof)
         if k_ground > 0.0:
-            out.springs.append((rot_dof[j.node], -1))
+            out.springs.append((int(rot_dof[j.node]), -1))
             out.spring_k.append(k_ground)
     return out
 
 
-def _release(model, mesh, out: _Joints, im, j, rot_dof) -> None:
+def _release(model: Model, mesh: _Mesh, out: _Joints, im: int, j: Joint, rot_dof: IntArray) -> None:
     """Give member ``im``'s end at joint ``j`` its own rotation DOF (the next one)."""
     m = model.members[im]
     if j.node not in (m.start, m.end):
@@ -250,20 +260,20 @@ def _release(model, mesh, out: _Joints, im, j, rot_dof) -> None:
             out.end_rot[e, side] = out.n_full
     out.extra_owner.append(j.node)
     if j.k > 0.0:
-        out.springs.append((out.n_full, rot_dof[j.node]))
+        out.springs.append((out.n_full, int(rot_dof[j.node])))
         out.spring_k.append(j.k)
     out.n_full += 1
 
 
-def _rigid_link_roots(model: Model):
+def _rigid_link_roots(model: Model) -> tuple[IntArray, IntArray]:
     """Slave nodes of rigid links and their root masters (chains resolved)."""
-    parent = {}
+    parent: dict[int, int] = {}
     for rl in model.rigid_links:
         if rl.slave in parent:
             raise ValueError(f"node {model.node_names[rl.slave]} is slave of two rigid links")
         parent[rl.slave] = rl.master
 
-    def root(n):
+    def root(n: int) -> int:
         seen = set()
         while n in parent:
             if n in seen:
@@ -277,7 +287,8 @@ def _rigid_link_roots(model: Model):
     return np.array(slaves, dtype=int), np.array([root(s) for s in slaves], dtype=int)
 
 
-def _used_dofs(model, n_en, n_full, edofs, springs, rot_dof, slaves, masters) -> np.ndarray:
+def _used_dofs(model: Model, n_en: int, n_full: int, edofs: IntArray, springs: IntArray, rot_dof: IntArray,
+               slaves: IntArray, masters: IntArray) -> BoolArray:
     """Full DOFs that carry stiffness or load: translations, element and spring ends, loaded node
     rotations, rigid-link rotations (the ground entry excluded)."""
     used = np.zeros(n_full + 1, dtype=bool)
@@ -298,14 +309,14 @@ def _used_dofs(model, n_en, n_full, edofs, springs, rot_dof, slaves, masters) ->
 @dataclass
 class _Held:
     """What the supports and prescribed motions hold."""
-    fixed: np.ndarray
-    constrained: np.ndarray
-    slider_dirs: dict
-    p_dofs: list
-    p_vals: list
+    fixed: BoolArray
+    constrained: BoolArray
+    slider_dirs: dict[int, tuple[float, float]]
+    p_dofs: list[int]
+    p_vals: list[FloatArray]
 
 
-def _supports(model: Model, n_full, used, rot_dof, slaves) -> _Held:
+def _supports(model: Model, n_full: int, used: BoolArray, rot_dof: IntArray, slaves: IntArray) -> _Held:
     """Fixed, slider and prescribed DOFs."""
     fixed = np.zeros(n_full + 1, dtype=bool)
     fixed[n_full] = True
@@ -329,7 +340,7 @@ def _supports(model: Model, n_full, used, rot_dof, slaves) -> _Held:
     for p in model.prescribed:
         if p.node in slave_set:
             raise ValueError("prescribed DOF on a rigid-link slave node")
-        dof = 2 * p.node + p.dof if p.dof < 2 else rot_dof[p.node]
+        dof = 2 * p.node + p.dof if p.dof < 2 else int(rot_dof[p.node])
         if p.node in held.slider_dirs and p.dof < 2:
             raise ValueError("prescribed translation on a slider/guided node is not supported")
         fixed[dof] = True
@@ -340,13 +351,15 @@ def _supports(model: Model, n_full, used, rot_dof, slaves) -> _Held:
     return held
 
 
-def _constraint_map(n_en, n_full, order, independent, held: _Held, rotation_dofs, slaves, masters, rot_dof):
+def _constraint_map(n_en: int, n_full: int, order_: IntArray | list[int], independent: BoolArray, held: _Held,
+                    rotation_dofs: BoolArray, slaves: IntArray, masters: IntArray,
+                    rot_dof: IntArray) -> tuple[IntArray, FloatArray, int, BoolArray]:
     """I, C of u_i = sum_w C[i, w] q[I[i, w]] in the DOF ``order`` (free DOFs, sliders u = d t, then
     the rigid-link slave rows copied from their masters); the number of unknowns and which are
     rotations."""
     I = np.empty((n_full + 1, 2), dtype=int)      # every entry not set below: the dummy column n_red
     C = np.zeros((n_full + 1, 2))
-    order = np.asarray(order, dtype=int)
+    order = np.asarray(order_, dtype=int)
     free = order[independent[order] & ~held.fixed[order]]
     if held.slider_dirs:
         node = np.where(free < 2 * n_en, free // 2, -1)
@@ -372,7 +385,7 @@ def _constraint_map(n_en, n_full, order, independent, held: _Held, rotation_dofs
     return I, C, n_red, red_is_rot
 
 
-def _first_member_ends(n_mn, conn, edofs, member_elements) -> np.ndarray:
+def _first_member_ends(n_mn: int, conn: IntArray, edofs: IntArray, member_elements: list[IntArray]) -> IntArray:
     """Rotation DOF of the first member end at every model node (-1: none): of the element ends
     in the order (element, start before end), the first one at the node. Only member ends lie at model
     nodes (the interior nodes are numbered after them), a member's at its first element's start and its
@@ -387,7 +400,7 @@ def _first_member_ends(n_mn, conn, edofs, member_elements) -> np.ndarray:
     return np.array(first_end, dtype=int)
 
 
-def _marked(n: int, indices: np.ndarray) -> np.ndarray:
+def _marked(n: int, indices: IntArray) -> BoolArray:
     """Boolean mask of length n, True at the given indices (those in range)."""
     mask = np.zeros(n, dtype=bool)
     mask[indices[(indices >= 0) & (indices < n)]] = True

@@ -38,16 +38,23 @@ from __future__ import annotations
 
 import numpy as np
 
+from .kernel import Beams
+from .types import FloatArray
+
 __all__ = ["element_loads"]
 
 
-def element_loads(X1, X2, p, L0, beta0, beta, q_dead, q_follower):
-    """Consistent nodal loads f (n, 6) and load stiffness K_q = df/dp (n, 6, 6) of all elements.
+def element_loads(beams: Beams, p: FloatArray, beta: FloatArray, q_dead: FloatArray,
+                  q_follower: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Consistent nodal loads f (n, 6) and load stiffness K_q = df/dp (n, 6, 6) of all elements
+    (`kernel.Beams`: their reference geometry) at element displacements ``p`` (n, 6) and chord angles
+    ``beta`` (n,).
 
     ``q_dead``: (n, 2) dead intensities in the global frame; ``q_follower``: (n, 2) follower
     intensities in the reference frame, turned by the chord rotation beta - beta0 (both per unit
     reference length; zero rows for unloaded elements).
     """
+    X1, X2, L0, beta0 = beams.X1, beams.X2, beams.L0, beams.beta0
     d = np.column_stack([X2[:, 0] - X1[:, 0] + p[:, 3] - p[:, 0],
                          X2[:, 1] - X1[:, 1] + p[:, 4] - p[:, 1]])
     L = np.hypot(d[:, 0], d[:, 1])

@@ -43,13 +43,17 @@ Angles are in radians (degrees appear only in case files and reports).
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from .result import FemResult
+from .model import Model, NodeRef
 from .solver import solve
+from .types import BoolArray, FloatArray
 
 __all__ = ["AsymptoticCheck", "ErrorEstimate", "solve_with_error_estimate"]
 
@@ -66,11 +70,11 @@ class AsymptoticCheck:
     converged (round-off level).
     """
 
-    fields: tuple = ("positions", "rotations")
+    fields: tuple[str, ...] = ("positions", "rotations")
     band: float = 0.5
     floor: float = 1e-8
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         unknown = [f for f in self.fields if f not in OUTPUTS]
         if unknown:
             raise ValueError(f"AsymptoticCheck.fields: unknown {unknown}; choose from {OUTPUTS}")
@@ -94,17 +98,17 @@ class ErrorEstimate:
     """
 
     result: FemResult
-    results: list
-    error: dict
-    extrapolated: dict
-    extrapolated_error: dict | None
+    results: list[FemResult]
+    error: Mapping[str, NDArray[Any]]
+    extrapolated: Mapping[str, NDArray[Any]]
+    extrapolated_error: Mapping[str, NDArray[Any]] | None
     observed_order: float | None
     refine: int
     converged: bool
     message: str
-    history: list = field(default_factory=list)
+    history: list[tuple[int, float]] = field(default_factory=list)    # (refine, position error estimate)
     wall_time: float = 0.0
-    unreliable: Mapping = field(default_factory=dict)
+    unreliable: Mapping[str, NDArray[Any]] = field(default_factory=dict)
     reliable: bool = True
     check: AsymptoticCheck | None = None
 
@@ -113,22 +117,22 @@ class ErrorEstimate:
         errs = self.extrapolated_error if self.extrapolated_error else self.error
         return float(np.max(errs["positions"], initial=0.0)) if errs else np.inf
 
-    def _pick(self, name, node, level):
+    def _pick(self, name: str, node: NodeRef, level: int) -> tuple[Any, Any]:
         i = self.result.node_index(node)
         return self.extrapolated[name][level, i], self.error[name][level, i]
 
-    def position(self, node, level=-1):
+    def position(self, node: NodeRef, level: int = -1) -> tuple[FloatArray, FloatArray]:
         """(extrapolated position, estimated error of the finest position)."""
         return self._pick("positions", node, level)
 
-    def rotation(self, node, level=-1):
+    def rotation(self, node: NodeRef, level: int = -1) -> tuple[float, float]:
         return self._pick("rotations", node, level)
 
-    def reaction(self, node, level=-1):
+    def reaction(self, node: NodeRef, level: int = -1) -> tuple[FloatArray, FloatArray]:
         return self._pick("reactions", node, level)
 
 
-def richardson(coarse, fine, order: float = 2.0):
+def richardson(coarse: ArrayLike, fine: ArrayLike, order: float = 2.0) -> tuple[NDArray[Any], NDArray[Any]]:
     """(extrapolated, error estimate of fine) for arrays on meshes h and h/2."""
     f = 2.0**order - 1.0
     diff = np.asarray(fine) - np.asarray(coarse)
@@ -141,7 +145,7 @@ def richardson(coarse, fine, order: float = 2.0):
 ROUNDING_EA = 100.0
 
 
-def _floor(name: str, values: np.ndarray, model_scale: tuple[float, float], floor: float) -> np.ndarray:
+def _floor(name: str, values: FloatArray, model_scale: tuple[float, float], floor: float) -> FloatArray:
     """The round-off level of each value of a field: ``floor`` times its scale (the model's mean
     member length for positions, 1 rad for rotations, the field's largest value otherwise), for
     reactions at least ``ROUNDING_EA`` eps EA (forces; moments that times the length)."""
@@ -154,18 +158,19 @@ def _floor(name: str, values: np.ndarray, model_scale: tuple[float, float], floo
         forces = float(np.max(np.abs(values[..., :2]), initial=0.0))
         moments = float(np.max(np.abs(values[..., 2]), initial=0.0))
         force = max(floor * max(forces, moments / length), ROUNDING_EA * np.finfo(float).eps * axial)
-        return np.broadcast_to(np.array([force, force, force * length]), values.shape)
+        forces_and_moments: FloatArray = np.broadcast_to(np.array([force, force, force * length]), values.shape)
+        return forces_and_moments
     return np.full(np.shape(values), floor * float(np.max(np.abs(values), initial=0.0)))
 
 
-def _axial_stiffness(model) -> float:
+def _axial_stiffness(model: Model) -> float:
     """The largest EA of the model's members (a tapered member's at its ends and middle)."""
     sections = [m.section(xi) for m in model.members if callable(m.section) for xi in (0.0, 0.5, 1.0)]
     sections += [m.section for m in model.members if not callable(m.section)]
     return max((float(s.EA) for s in sections), default=0.0)
 
 
-def asymptotic_ratio(coarse, middle, fine) -> np.ndarray:
+def asymptotic_ratio(coarse: ArrayLike, middle: ArrayLike, fine: ArrayLike) -> FloatArray:
     """r = (Q_M1 - Q_M0)/(Q_M2 - Q_M1) of every value (inf where the last difference is 0)."""
     d1 = np.asarray(middle) - np.asarray(coarse)
     d2 = np.asarray(fine) - np.asarray(middle)
@@ -180,7 +185,8 @@ class _Estimates:
     asymptotic range, ``unreliable`` (a run that reads positions never computes the meshes' reactions
     and energies)."""
 
-    def __init__(self, results, levels, check: AsymptoticCheck | None, model_scale: tuple[float, float]):
+    def __init__(self, results: list[FemResult], levels: int, check: AsymptoticCheck | None,
+                 model_scale: tuple[float, float]):
         self.results, self.levels = results[-levels:], levels
         last3 = results[-3:]
         comparable = (len(last3) == 3 and all(r.converged for r in last3)
@@ -190,7 +196,7 @@ class _Estimates:
         self.error, self.extrapolated = _Lazy(self), _Lazy(self)
         self.extrapolated_error = _Lazy(self) if levels == 3 else None
         self.unreliable = _Lazy(self)
-        self.ratio: dict[str, np.ndarray] = {}
+        self.ratio: dict[str, FloatArray] = {}
 
     def fill(self, name: str) -> None:
         if name not in OUTPUTS:
@@ -201,12 +207,13 @@ class _Estimates:
         if self.levels == 3:
             r2a, _ = richardson(vals[0], vals[1])
             r3, _ = richardson(r2a, ext, order=4.0)
+            assert self.extrapolated_error is not None      # made for levels=3
             self.extrapolated_error.values_[name] = np.abs(r3 - ext)
             ext = r3
         self.extrapolated.values_[name] = ext
         self.unreliable.values_[name] = self._outside(name)
 
-    def _outside(self, name: str) -> np.ndarray:
+    def _outside(self, name: str) -> BoolArray:
         """True where a value is not in the asymptotic range (all False without a check)."""
         fine = np.asarray(getattr(self.results[-1], name))
         if self.check is None:
@@ -220,11 +227,12 @@ class _Estimates:
         converged = np.abs(q2 - q1) <= _floor(name, q2, self.model_scale, self.check.floor)
         band = self.check.band
         inside = (ratio >= 2.0 ** (2.0 - band)) & (ratio <= 2.0 ** (2.0 + band))
-        return ~(converged | inside)
+        outside: BoolArray = ~(converged | inside)
+        return outside
 
-    def worst(self, names) -> str:
+    def worst(self, names: Iterable[str]) -> str:
         """Where the checked fields leave the asymptotic range, in words (empty when nowhere)."""
-        parts = []
+        parts: list[str] = []
         for name in names:
             bad = np.asarray(self.unreliable[name])
             if bad.any():
@@ -238,26 +246,27 @@ class _Estimates:
         return ", ".join(parts)
 
 
-class _Lazy(Mapping):
+class _Lazy(Mapping[str, NDArray[Any]]):
     """One mapping of `_Estimates`: every field of OUTPUTS by name, each field's step taken when it is
     first read (iterating, ``dict(...)`` or ``len`` see every field)."""
 
     def __init__(self, owner: _Estimates):
-        self._owner, self.values_ = owner, {}
+        self._owner = owner
+        self.values_: dict[str, NDArray[Any]] = {}
 
-    def __getitem__(self, name):
+    def __getitem__(self, name: str) -> NDArray[Any]:
         if name not in self.values_:
             self._owner.fill(name)
         return self.values_[name]
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[str]:
         return iter(OUTPUTS)
 
     def __len__(self) -> int:
         return len(OUTPUTS)
 
 
-def _halved(model):
+def _halved(model: Model) -> Model | None:
     """The model with every refined member's element count halved (None if one is odd): its meshes
     refine the model's by 1/2, 1, 2, ... (the same nodes, members and loads)."""
     members = model.members
@@ -267,9 +276,9 @@ def _halved(model):
                                    for m in members])
 
 
-def solve_with_error_estimate(model, *args, tol: float | None = None, refine: int = 1,
+def solve_with_error_estimate(model: Model, *args: Any, tol: float | None = None, refine: int = 1,
                               levels: int = 2, max_refine: int = 64,
-                              check: AsymptoticCheck | None = AsymptoticCheck(), **kwargs) -> ErrorEstimate:
+                              check: AsymptoticCheck | None = AsymptoticCheck(), **kwargs: Any) -> ErrorEstimate:
     """Solve on refine x (1, 2[, 4]) elements per member and extrapolate.
 
     With ``tol`` the meshes are doubled until the position error estimate
@@ -285,7 +294,7 @@ def solve_with_error_estimate(model, *args, tol: float | None = None, refine: in
     warm = kwargs.pop("warm_start", True) and kwargs.get("control", "load") == "load"
     check = check if check is not None and check.fields else None
 
-    def solve_refined(mesh, r, coarser):
+    def solve_refined(mesh: Model, r: int, coarser: FemResult | None) -> FemResult:
         guess = coarser if (warm and coarser is not None and coarser.converged) else None
         # a coarser mesh of this model converged, so it passed the free-motion test: not made again
         held = coarser is not None and coarser.converged
@@ -296,19 +305,20 @@ def solve_with_error_estimate(model, *args, tol: float | None = None, refine: in
     fine_refine = refine * 2 ** (levels - 1)
     coarsest_judges_only = False
     if check is not None and levels == 2:
-        half = (model, refine // 2) if refine % 2 == 0 else (_halved(model), 1)
-        if half[0] is not None:
-            meshes.insert(0, half)
+        half = model if refine % 2 == 0 else _halved(model)
+        if half is not None:
+            meshes.insert(0, (half, refine // 2 if refine % 2 == 0 else 1))
             coarsest_judges_only = True
         else:       # no coarser mesh of the same nodes: the finer 4n is the third
             meshes.append((model, fine_refine))
             fine_refine *= 2
-    results = []
+    results: list[FemResult] = []
     for mesh, r in meshes:
         results.append(solve_refined(mesh, r, results[-1] if results else None))
     if coarsest_judges_only and not results[0].converged:
         results = results[1:]     # the n/2 mesh failed: the order is judged on finer meshes
-    history, doubled = [], []
+    history: list[tuple[int, float]] = []
+    doubled: list[str] = []
     model_scale = (model.characteristic_length(), _axial_stiffness(model))
     while True:
         results.append(solve_refined(model, fine_refine, results[-1]))
@@ -329,6 +339,7 @@ def solve_with_error_estimate(model, *args, tol: float | None = None, refine: in
             msg = (f"estimated position error {emax:.3g} with refine={fine_refine}" if small else
                    f"tol={tol:g} not reached: estimate {emax:.3g} at refine={fine_refine}")
             if outside:
+                assert check is not None      # only a check finds values outside
                 msg += (f"; estimate unreliable: not in the asymptotic range (observed order outside "
                         f"2 +- {check.band:g}) by refine={fine_refine}: {outside}")
             elif doubled:
@@ -341,7 +352,7 @@ def solve_with_error_estimate(model, *args, tol: float | None = None, refine: in
         fine_refine *= 2
 
 
-def _observed_order(results) -> float | None:
+def _observed_order(results: list[FemResult]) -> float | None:
     """p of the largest position differences of the three finest meshes."""
     p = [r.positions for r in results[-3:]]
     d1, d2 = np.max(np.abs(p[1] - p[0])), np.max(np.abs(p[2] - p[1]))

@@ -39,8 +39,16 @@ from __future__ import annotations
 
 from collections import deque
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+from .discretise import Discretisation
+from .model import Model
+from .types import BoolArray, FloatArray, IntArray
+
+if TYPE_CHECKING:
+    from .assembly import System
 
 __all__ = ["FreeMotion", "FreeMotions", "RCOND", "check_held", "free_motions"]
 
@@ -59,7 +67,7 @@ class FreeMotions:
     is from the boundary), and the DOF the error names (None when held)."""
 
     count: int
-    relative_sigma: np.ndarray
+    relative_sigma: FloatArray
     named: str | None
 
     @property
@@ -72,18 +80,18 @@ class _Kinematics:
     """The rigid-body kinematics of a discretisation: rotation class of every reduced DOF (-1: not a
     turning rotation), the forest (component and A of every model node), and the constraint rows."""
 
-    turning: np.ndarray        # (n_red + 1,) column of z of each reduced rotation DOF, -1: does not turn
+    turning: IntArray          # (n_red + 1,) column of z of each reduced rotation DOF, -1: does not turn
     n_turning: int
-    component: np.ndarray      # (n_model_nodes,) component of each model node
-    A: np.ndarray              # (n_model_nodes, n_turning, 2) chord sums from the root, over L_ref
-    rows: np.ndarray           # (n_rows, n_z) the constraint matrix G
+    component: IntArray        # (n_model_nodes,) component of each model node
+    A: FloatArray              # (n_model_nodes, n_turning, 2) chord sums from the root, over L_ref
+    rows: FloatArray           # (n_rows, n_z) the constraint matrix G
 
 
-def _perp(a: np.ndarray) -> np.ndarray:
+def _perp(a: FloatArray) -> FloatArray:
     return np.stack([-a[..., 1], a[..., 0]], axis=-1)
 
 
-def _member_ends(disc) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def _member_ends(disc: Discretisation) -> tuple[IntArray, IntArray, IntArray, IntArray]:
     """(start node, end node, start rotation DOF, end rotation DOF) of every member (full DOFs): a
     member moves as one rigid body exactly when its elements do, since they share their interior node
     rotations and no support, link or joint acts at an interior node."""
@@ -92,7 +100,7 @@ def _member_ends(disc) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     return disc.conn[first, 0], disc.conn[last, 1], disc.edofs[first, 2], disc.edofs[last, 5]
 
 
-def _rotation_classes(disc) -> tuple[np.ndarray, int]:
+def _rotation_classes(disc: Discretisation) -> tuple[IntArray, int]:
     """Column of z of every reduced DOF that is a rotation at a model node or a member end (-1 for any
     other, and for one tied to the ground), and their number. Members join their two end rotations,
     sprung joints (k > 0) theirs; the dummy reduced index n_red stands for 'held' (a supported or
@@ -100,10 +108,10 @@ def _rotation_classes(disc) -> tuple[np.ndarray, int]:
     n_red = disc.n_red
     red = disc.I[:, 0]
     _, _, r1, r2 = _member_ends(disc)
-    pairs = [np.column_stack([red[r1], red[r2]])]
+    parts = [np.column_stack([red[r1], red[r2]])]
     if len(disc.springs):
-        pairs.append(red[disc.springs[disc.spring_k > 0.0]])
-    pairs = np.concatenate(pairs)
+        parts.append(red[disc.springs[disc.spring_k > 0.0]])
+    pairs = np.concatenate(parts)
     present = np.zeros(n_red + 1, dtype=bool)
     present[pairs.ravel()] = True
     present[red[disc.rot_dof[:disc.n_model_nodes]]] = True
@@ -117,7 +125,7 @@ def _rotation_classes(disc) -> tuple[np.ndarray, int]:
     return turning, len(classes)
 
 
-def _components(n: int, pairs: list) -> np.ndarray:
+def _components(n: int, pairs: list[list[int]]) -> IntArray:
     """Connected-component label of each of n vertices joined by ``pairs`` (union-find with path
     halving; the label is the root's index)."""
     parent = np.arange(n)
@@ -125,7 +133,7 @@ def _components(n: int, pairs: list) -> np.ndarray:
     def find(i: int) -> int:
         while parent[i] != i:
             parent[i] = parent[parent[i]]
-            i = parent[i]
+            i = int(parent[i])
         return i
     for i, j in pairs:
         ri, rj = find(i), find(j)
@@ -136,7 +144,7 @@ def _components(n: int, pairs: list) -> np.ndarray:
     return parent
 
 
-def _edges(disc, turning: np.ndarray):
+def _edges(disc: Discretisation, turning: IntArray) -> tuple[IntArray, IntArray, IntArray, FloatArray]:
     """(a, b, column of z of the edge's rotation or -1, chord b - a) of every member and rigid link."""
     red = disc.I[:, 0]
     a, b, r1, _ = _member_ends(disc)
@@ -147,7 +155,8 @@ def _edges(disc, turning: np.ndarray):
     return a, b, cls, disc.X[b] - disc.X[a]
 
 
-def _forest(n_en: int, a, b):
+def _forest(n_en: int, a: IntArray,
+            b: IntArray) -> tuple[IntArray, int, list[int], list[tuple[int, int]], BoolArray]:
     """A spanning forest of the graph of the model nodes (n_en of them) joined by members and links:
     component of every node, the nodes in breadth-first order with their tree edge (index, +1 when
     traversed a -> b, -1 when b -> a; -1 for a root), and which edges are outside the forest."""
@@ -156,7 +165,9 @@ def _forest(n_en: int, a, b):
         adjacency[i].append(e)
         adjacency[j].append(e)
     component = np.full(n_en, -1)
-    order, via, in_tree = [], [], np.zeros(len(a), dtype=bool)
+    order: list[int] = []
+    via: list[tuple[int, int]] = []
+    in_tree = np.zeros(len(a), dtype=bool)
     a_list, b_list = a.tolist(), b.tolist()
     n_comp = 0
     for root in range(n_en):
@@ -180,14 +191,14 @@ def _forest(n_en: int, a, b):
     return component, n_comp, order, via, ~in_tree
 
 
-def _translation_held(disc, n_en: int) -> list[tuple[int, np.ndarray]]:
+def _translation_held(disc: Discretisation, n_en: int) -> list[tuple[int, FloatArray]]:
     """(node, unit normal) for every direction a support or prescribed motion holds a node's
     translation in: both axes where neither translation maps to an unknown, the slider's normal where
     both map to one unknown t (u = d t). Rigid-link slaves are held through their masters."""
     red, coef, n_red = disc.I[:, 0], disc.C[:, 0], disc.n_red
     slave = np.zeros(n_en, dtype=bool)
     slave[disc.slaves] = True
-    held = []
+    held: list[tuple[int, FloatArray]] = []
     for node in np.nonzero(~slave)[0].tolist():
         ix, iy = int(red[2 * node]), int(red[2 * node + 1])
         free = {i for i in (ix, iy) if i != n_red}
@@ -201,7 +212,7 @@ def _translation_held(disc, n_en: int) -> list[tuple[int, np.ndarray]]:
     return held
 
 
-def _kinematics(disc, L_ref: float) -> _Kinematics:
+def _kinematics(disc: Discretisation, L_ref: float) -> _Kinematics:
     n_en = disc.n_model_nodes
     turning, n_turn = _rotation_classes(disc)
     a, b, cls, chord = _edges(disc, turning)
@@ -216,7 +227,7 @@ def _kinematics(disc, L_ref: float) -> _Kinematics:
         if cls[e] >= 0:
             A[node, cls[e]] += sign * chord[e]
     n_z = n_turn + 2 * n_comp
-    rows = []
+    rows: list[FloatArray] = []
     for e in np.nonzero(loose)[0].tolist():      # t(b) - t(a) = omega_c perp(chord): the loop closes
         gap = A[b[e]] - A[a[e]]
         if cls[e] >= 0:
@@ -235,7 +246,7 @@ def _kinematics(disc, L_ref: float) -> _Kinematics:
     return _Kinematics(turning, n_turn, component, A, G)
 
 
-def _null_space(G: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _null_space(G: FloatArray) -> tuple[FloatArray, FloatArray]:
     """(orthonormal basis of the null space of G as columns, singular values over the largest)."""
     n_z = G.shape[1]
     if G.shape[0] == 0:
@@ -248,7 +259,7 @@ def _null_space(G: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return vt[rank:].T, np.sort(relative)
 
 
-def _dof_rows(disc, kin: _Kinematics, system) -> list[tuple[str, np.ndarray]]:
+def _dof_rows(disc: Discretisation, kin: _Kinematics, system: System) -> list[tuple[str, FloatArray]]:
     """(label, g_d) of the DOFs the error may name, in naming order: each model node's ux, uy, rz and
     released member ends; g_d gives the DOF's motion (rotations times L_ref) from z. An interior node
     moves only with its member, whose motion moves one of its end nodes or turns its end rotations."""
@@ -260,7 +271,7 @@ def _dof_rows(disc, kin: _Kinematics, system) -> list[tuple[str, np.ndarray]]:
     released = disc.edofs[:, [2, 5]] >= 3 * n_en
     for e, side in zip(*np.nonzero(released)):
         ends.setdefault(int(disc.conn[e, side]), []).append((int(disc.edofs[e, 3 * side + 2]), int(e)))
-    out = []
+    out: list[tuple[str, FloatArray]] = []
     for node in range(n_mn):
         where = names[node]
         root = kin.n_turning + 2 * int(kin.component[node])
@@ -281,11 +292,11 @@ def _dof_rows(disc, kin: _Kinematics, system) -> list[tuple[str, np.ndarray]]:
     return out
 
 
-_KNOWN: dict[tuple, FreeMotions] = {}   # kinematic signature -> answer, for models solved again
+_KNOWN: dict[tuple[Any, ...], FreeMotions] = {}   # kinematic signature -> answer, for models solved again
 _KNOWN_MAX = 256
 
 
-def _signature(model) -> tuple:
+def _signature(model: Model) -> tuple[Any, ...]:
     """Everything the answer depends on: node names and coordinates, member ends, joints (which members,
     whether sprung), supports, rigid links and prescribed DOFs; not stiffnesses, loads or meshes."""
     return (tuple(model.node_names), tuple(model.coords),
@@ -297,7 +308,7 @@ def _signature(model) -> tuple:
             tuple(sorted({ld.node for ld in model.loads if ld.kind == "moment" or ld.follower})))
 
 
-def free_motions(system) -> FreeMotions:
+def free_motions(system: System) -> FreeMotions:
     """The free motions of the system's model at the unloaded state (module docstring): how many,
     how far the model is from the boundary, and the DOF an error names. A model whose kinematics were
     answered before (a sweep, a benchmark, an error estimate solving one geometry again) gets the same
@@ -312,7 +323,7 @@ def free_motions(system) -> FreeMotions:
     return known
 
 
-def _free_motions(system) -> FreeMotions:
+def _free_motions(system: System) -> FreeMotions:
     disc = system.disc
     kin = _kinematics(disc, system.L_ref)
     N, relative = _null_space(kin.rows)
@@ -324,7 +335,7 @@ def _free_motions(system) -> FreeMotions:
     return FreeMotions(N.shape[1], relative, candidates[first][0])
 
 
-def check_held(system) -> None:
+def check_held(system: System) -> None:
     """Raise `FreeMotion` naming a DOF the free motions move when the model can move without
     deforming (`free_motions`)."""
     if system.n == 0:

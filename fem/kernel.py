@@ -44,7 +44,8 @@ the columns with vector kernels and the two differ in the last bits), the rotati
 products are BLAS ``ddot`` as in NumPy, so the numbers are those of the NumPy corrector (to rounding
 where the band is wider).
 
-It returns a status code; `newton` turns it into the same `NewtonOutcome` or `StepFailed`.
+It returns an `Outcome` (a status code and what goes with it); `newton` turns it into the same
+`NewtonOutcome` or `StepFailed`.
 
 At the converged state it also does what the Python side did after it: the det-K sign confirmed on
 the converged tangent when the iterate's factors said it is not positive, and the inertia test of the
@@ -56,34 +57,291 @@ The helpers only compiled code calls (``_factor``, ``_back_solve``, ``_det_sign`
 Python-callable wrapper for them (``band_lu``, ``band_solve`` and ``_evaluate`` keep theirs: the tests
 call them).
 
+The compiled functions take their arrays in a few named groups (named tuples, each field read by its
+name): `Beams` (the elements' geometry and section), `DofMap` (the constraint map and element DOFs),
+`Couplings` (rigid links and springs), `Storage` (where the tangent's entries go, with the `Band`
+shape of the storage), `Load`, `Start` (the state a step starts from), `Controls` (tolerances and
+limits), `Work` and `ElementState` (the arrays written). `assembly.System` builds the groups of a
+system, `newton` those of a solve, each by keyword.
+
 Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, Any, NamedTuple, Protocol
 
 import llvmlite.binding as llvm
 import numpy as np
 from numba import njit, types
 from numba.extending import get_cython_function_address
 
-__all__ = ["element_kernel", "scatter", "scatter_add", "CompiledLayout", "newton_load", "CONVERGED",
-           "NOT_FINITE", "NO_CONVERGENCE", "SINGULAR", "NON_FINITE_TANGENT", "ROTATION_TOO_LARGE"]
+from .types import BoolArray, FloatArray, Int32Array, IntArray
+
+if TYPE_CHECKING:
+    from .linear_solver import MatrixLayout
+
+__all__ = ["element_kernel", "scatter", "scatter_add", "CompiledLayout", "newton_load", "Beams", "DofMap",
+           "Couplings", "Band", "Storage", "Load", "Start", "Controls", "Work", "ElementState", "Outcome",
+           "element_outputs", "work_arrays", "CONVERGED", "NOT_FINITE", "NO_CONVERGENCE", "SINGULAR",
+           "NON_FINITE_TANGENT", "ROTATION_TOO_LARGE", "CONVERGED_JUMPED"]
+
+
+# -- the argument groups ---------------------------------------------------------------------------------
+# Named tuples of arrays and scalars (numba types each field apart and reads it by name). They live in
+# this module because numba's cache is keyed on this file: a group's fields are part of the compiled code.
+
+class Beams(NamedTuple):
+    """The elements' reference geometry and section stiffness, one row per element (n_el of them).
+
+    X1, X2 : (n_el, 2) reference positions of the start and end nodes (length)
+    L0     : (n_el,) reference length |X2 - X1| (length)
+    beta0  : (n_el,) reference chord angle, the direction of X2 - X1 (rad)
+    ka     : (n_el,) axial stiffness k_a, N = k_a u_bar (force / length)
+    kb     : (n_el, 2, 2) bending stiffness k_b, [M1, M2] = k_b [theta_1, theta_2] (force length / rad)
+    """
+    X1: FloatArray
+    X2: FloatArray
+    L0: FloatArray
+    beta0: FloatArray
+    ka: FloatArray
+    kb: FloatArray
+
+
+class DofMap(NamedTuple):
+    """The full DOFs u (nf = n_full + 1 entries, the last the always-zero ground entry) from the reduced
+    unknowns q (n of them): `discretise`'s constraint map, at most two columns,
+    u_i = C0_i q_{I0_i} + C1_i q_{I1_i}, an index n standing for no unknown (a zero term).
+
+    I0, C0     : (nf,) first column: unknown index (int), coefficient
+    I1, C1     : (nf,) second column, rigid links only ((0,) without them); C1 the reference
+                 coefficients (a slave's rows turn with its master's rotation: `Work.C1w`)
+    edofs      : (n_el, 6) each element's full DOFs [ux1, uy1, rz1, ux2, uy2, rz2] (int)
+    prescribed : (n_p,) full DOFs with prescribed values (int; the values: `Load.presc`)
+    ground     : the ground entry's index (= n_full)
+    rotation   : (n,) bool, q_k is a rotation (rad), else a displacement (length)
+    """
+    I0: IntArray
+    C0: FloatArray
+    I1: IntArray
+    C1: FloatArray
+    edofs: IntArray
+    prescribed: IntArray
+    ground: int
+    rotation: BoolArray
+
+
+class Couplings(NamedTuple):
+    """Rigid links (n_s) and torsional springs (n_sp) between full DOFs; no rows: none.
+
+    links    : (n_s, 4) per link: slave node, (root) master node, their rotation DOFs (int)
+    links_X  : (n_s, 4) reference positions of slave and master, (x_s, y_s, x_m, y_m) (length)
+    springs  : (n_sp, 2) full DOFs (theta_a, theta_b) of each spring, theta_b possibly the ground (int)
+    spring_k : (n_sp,) stiffness k, moment M = k (theta_a - theta_b) (force length / rad)
+    """
+    links: IntArray
+    links_X: FloatArray
+    springs: IntArray
+    spring_k: FloatArray
+
+
+class Band(NamedTuple):
+    """The shape of the reduced tangent's column-major storage (n unknowns): LAPACK's general band,
+    A[i, j] at j ld + kl + ku + i - j (``banded``), or a dense matrix, A[i, j] at j ld + i.
+
+    banded : the band storage (else dense)
+    kl, ku : sub- and superdiagonals of the band (0 when dense)
+    ld     : leading dimension, 2 kl + ku + 1 (band) or n (dense)
+    """
+    banded: bool
+    kl: int
+    ku: int
+    ld: int
+
+
+class Storage(NamedTuple):
+    """Where the full tangent's entries go in the reduced tangent's storage (m reduced entries fed by
+    full entries: the element tangents, 36 each, row-major, then 4 per spring, then one per rigid link,
+    the slave's geometric term on its master's rotation).
+
+    band               : `Band`, the storage's shape
+    flat               : (m,) position of each reduced entry in the storage (int)
+    source             : (m,) the full entry feeding it (int)
+    coef               : (m,) its constant factor C_a C_b (without rigid links)
+    pair               : (m,) with rigid links, the constraint columns w1, w2 of its row and column as
+                         2 w1 + w2 ((0,) without them; int)
+    rows_full, cols_full : (number of full entries,) full row and column of each full entry (int)
+    """
+    band: Band
+    flat: IntArray
+    source: IntArray
+    coef: FloatArray
+    pair: IntArray
+    rows_full: IntArray
+    cols_full: IntArray
+
+
+class Load(NamedTuple):
+    """The load of one Newton solve: lambda f_ref with dead loads only.
+
+    lam     : load factor lambda
+    F_fixed : (nf,) dead forces and moments, full vector (force, force length)
+    presc   : (n_p,) values of the prescribed DOFs `DofMap.prescribed` (length or rad)
+    """
+    lam: float
+    F_fixed: FloatArray
+    presc: FloatArray
+
+
+class Start(NamedTuple):
+    """The converged state a step starts from.
+
+    q    : (n,) its reduced unknowns (the step's rotation increment is measured from them)
+    beta : (n_el,) its chord angles (rad): each element's new chord angle continues from it
+    """
+    q: FloatArray
+    beta: FloatArray
+
+
+class Controls(NamedTuple):
+    """The corrector's tolerances and limits (`options.SolveOptions`, `assembly.System`).
+
+    rtol, atol   : converged when |r| <= rtol F_scale + floor + atol (atol, floor: force)
+    floor        : the residual's rounding floor, ~ eps EA (force)
+    L_ref        : reference length of the energy criterion and of a negligible correction (length)
+    maxiter      : iterations before NO_CONVERGENCE
+    damp         : largest rotation of one correction (rad; 0: no limit)
+    max_rot_inc  : largest rotation increment of a step (rad)
+    confirm_sign : confirm a det K sign that is not positive on the converged tangent
+    inertia_tol  : threshold of the inertia test at a converged state (NaN: no test)
+    """
+    rtol: float
+    atol: float
+    floor: float
+    L_ref: float
+    maxiter: int
+    damp: float
+    max_rot_inc: float
+    confirm_sign: bool
+    inertia_tol: float
+
+
+class ElementState(NamedTuple):
+    """Every element's forces, tangent and local state (n_el rows), written by `element_kernel`.
+
+    f         : (n_el, 6) internal forces in the element DOFs (force, force length)
+    K         : (n_el, 6, 6) tangent ((0, 6, 6) when not asked for)
+    N         : (n_el,) axial force (force)
+    M         : (n_el, 2) end moments M1, M2 (force length)
+    L         : (n_el,) deformed chord length (length)
+    beta      : (n_el,) chord angle (rad)
+    theta_bar : (n_el, 2) end rotations relative to the chord (rad)
+    u_bar     : (n_el,) elongation L - L0 (length)
+    jumped    : (n_el,) bool, an end rotation is about 2 pi off the chord
+    """
+    f: FloatArray
+    K: FloatArray
+    N: FloatArray
+    M: FloatArray
+    L: FloatArray
+    beta: FloatArray
+    theta_bar: FloatArray
+    u_bar: FloatArray
+    jumped: BoolArray
+
+
+class Work(NamedTuple):
+    """The corrector's arrays at the current iterate (written in place; the last evaluation's on return).
+
+    K       : (size,) the reduced tangent in the column-major storage of `Storage.band`
+    u       : (nf,) full displacements (length, rad)
+    f_int   : (nf,) internal forces
+    f_ref   : (nf,) reference load, zero at the ground entry
+    R       : (nf,) full residual f_int - lambda f_ref
+    r       : (n,) reduced residual J^T R
+    fr      : (n,) reduced reference load J^T f_ref
+    C1w     : (nf,) current second constraint coefficients, turned with the masters ((0,) without links)
+    spring  : (nf,) the springs' moments (scratch)
+    hist    : (maxiter + 1,) |r| / F_scale of each iteration
+    """
+    K: FloatArray
+    u: FloatArray
+    f_int: FloatArray
+    f_ref: FloatArray
+    R: FloatArray
+    r: FloatArray
+    fr: FloatArray
+    C1w: FloatArray
+    spring: FloatArray
+    hist: FloatArray
+
+
+class Outcome(NamedTuple):
+    """What `newton_load` returns.
+
+    status     : CONVERGED, CONVERGED_JUMPED or the failure's code
+    iterations : iterations made
+    sign       : sign of det K of the last factorisation (2: none made)
+    scale      : F_scale of the last evaluation (force)
+    rotation   : the largest rotation increment from `Start.q` (rad): of the converged state, or of a
+                 ROTATION_TOO_LARGE cut; 0 otherwise
+    final      : the sign is of the converged state's own factorisation
+    below      : the inertia test: 1 an eigenvalue below -inertia_tol, 0 none, -1 not made
+    """
+    status: int
+    iterations: int
+    sign: int
+    scale: float
+    rotation: float
+    final: bool
+    below: int
+
+
+def element_outputs(n_el: int, tangent: bool = True) -> ElementState:
+    """Empty `ElementState` arrays of ``n_el`` elements (the tangent zeroed; (0, 6, 6) without it)."""
+    return ElementState(f=np.empty((n_el, 6)), K=np.zeros((n_el, 6, 6) if tangent else (0, 6, 6)),
+                        N=np.empty(n_el), M=np.empty((n_el, 2)), L=np.empty(n_el), beta=np.empty(n_el),
+                        theta_bar=np.empty((n_el, 2)), u_bar=np.empty(n_el), jumped=np.empty(n_el, dtype=bool))
+
+
+def work_arrays(n: int, nf: int, size: int, maxiter: int, links: bool) -> Work:
+    """Empty `Work` arrays: n unknowns, nf full DOFs, a storage of ``size`` entries, maxiter + 1
+    iterations, the turned constraint column with rigid ``links``."""
+    return Work(K=np.empty(size), u=np.empty(nf), f_int=np.empty(nf), f_ref=np.empty(nf), R=np.empty(nf),
+                r=np.empty(n), fr=np.empty(n), C1w=np.empty(nf if links else 0), spring=np.empty(nf),
+                hist=np.empty(maxiter + 1))
+
+
+class _Chord(NamedTuple):
+    """One element's deformed chord: direction cosines c, s and length L."""
+    c: float
+    s: float
+    L: float
+
+
+class _Forces(NamedTuple):
+    """One element's axial force N and shear V = (M1 + M2)/L."""
+    N: float
+    V: float
 
 
 @njit(cache=True, inline="always")
-def _wrap(a):
+def _wrap(a: float) -> float:
     """Angle in (-pi, pi]."""
     return math.atan2(math.sin(a), math.cos(a))
 
 
 @njit(cache=True)
-def element_kernel(X1, X2, p, L0, beta0, beta_prev, ka, kb, need_tangent,
-                   f, K, N, M, L, beta, theta_bar, u_bar, jumped):
-    """Into the given arrays: internal forces f (n,6), tangent K (n,6,6) (untouched when not
-    needed), and the local state N (n,), M (n,2), L, beta, theta_bar (n,2), u_bar, jumped (n,) of
-    all elements. (Outputs are passed in, not returned: returning arrays from numba costs more
-    than the loop for small meshes.)"""
+def element_kernel(beams: Beams, p: FloatArray, beta_prev: FloatArray, need_tangent: bool,
+                   out: ElementState) -> None:
+    """Into ``out``: internal forces f (n,6), tangent K (n,6,6) (untouched when not needed), and the
+    local state N (n,), M (n,2), L, beta, theta_bar (n,2), u_bar, jumped (n,) of all elements at the
+    element displacements ``p`` (n,6), each chord angle continued from ``beta_prev`` (n,). (Outputs
+    are passed in, not returned: returning arrays from numba costs more than the loop for small
+    meshes.)"""
+    X1, X2, L0, beta0, ka, kb = beams.X1, beams.X2, beams.L0, beams.beta0, beams.ka, beams.kb
+    f, K, N, M, L, beta = out.f, out.K, out.N, out.M, out.L, out.beta
+    theta_bar, u_bar, jumped = out.theta_bar, out.u_bar, out.jumped
     n = L0.shape[0]
     CE = np.empty((4, 6))
     for e in range(n):
@@ -108,14 +366,18 @@ def element_kernel(X1, X2, p, L0, beta0, beta_prev, ka, kb, need_tangent,
         N[e], M[e, 0], M[e, 1], L[e], beta[e] = Ne, M1, M2, Le, b
         theta_bar[e, 0], theta_bar[e, 1], u_bar[e] = t1, t2, ub
         if need_tangent:
-            _tangent(K, CE, e, c, s, ka[e], Ne, V, Le, k11, k12, k21, k22)
+            _tangent(K[e], CE, _Chord(c=c, s=s, L=Le), _Forces(N=Ne, V=V), ka[e], kb[e])
 
 
 @njit(cache=True, inline="always")
-def _tangent(K, CE, e, c, s, ka, N, V, L, k11, k12, k21, k22):
-    """K[e] = E^T C E with E = [r; z; e3; e6]: the products of the dense loops with the zero entries
-    of E and C left out (adding an exact zero changes no bit, so the sums are those of the dense
-    loops, term for term and in the same order)."""
+def _tangent(Ke: FloatArray, CE: FloatArray, chord: _Chord, forces: _Forces, ka: float, kb: FloatArray) -> None:
+    """Ke = E^T C E (one element's 6 x 6 tangent) with E = [r; z; e3; e6], ``kb`` its (2, 2) bending
+    stiffness: the products of the dense loops with the zero entries of E and C left out (adding an
+    exact zero changes no bit, so the sums are those of the dense loops, term for term and in the same
+    order). ``CE`` (4, 6): scratch."""
+    c, s, L = chord.c, chord.s, chord.L
+    N, V = forces.N, forces.V
+    k11, k12, k21, k22 = kb[0, 0], kb[0, 1], kb[1, 0], kb[1, 1]
     r = (-c, -s, 0.0, c, s, 0.0)
     z = (s, -c, 0.0, -s, c, 0.0)
     c01 = V / L
@@ -136,35 +398,35 @@ def _tangent(K, CE, e, c, s, ka, N, V, L, k11, k12, k21, k22):
         ri, zi = r[i], z[i]
         if i == 2:
             for j in range(6):
-                K[e, i, j] = 0.0 + ce2[j]
+                Ke[i, j] = 0.0 + ce2[j]
         elif i == 5:
             for j in range(6):
-                K[e, i, j] = 0.0 + ce3[j]
+                Ke[i, j] = 0.0 + ce3[j]
         else:
             for j in range(6):
-                K[e, i, j] = 0.0 + ri * ce0[j] + zi * ce1[j]
+                Ke[i, j] = 0.0 + ri * ce0[j] + zi * ce1[j]
 
 
 @njit(cache=True)
-def scatter_add(target, source, factor, values, out):
+def scatter_add(target: IntArray, source: IntArray, factor: FloatArray, values: FloatArray, out: FloatArray) -> None:
     """out[target[j]] += values[source[j]] * factor[j], in the order of j (the assembly of element
     entries into solver storage through precomputed index maps)."""
     for j in range(target.shape[0]):
         out[target[j]] += values[source[j]] * factor[j]
 
 
-def scatter(target, source, factor, values, size):
+def scatter(target: IntArray, source: IntArray, factor: FloatArray, values: FloatArray, size: int) -> FloatArray:
     """A new vector of length ``size``: zeros, then `scatter_add`."""
     out = np.zeros(size)
     scatter_add(target, source, factor, values, out)
     return out
 
+
 CONVERGED, NOT_FINITE, NO_CONVERGENCE, SINGULAR, NON_FINITE_TANGENT, ROTATION_TOO_LARGE = range(6)
 CONVERGED_JUMPED = 6   # converged, and some element's end rotations are 2 pi off its chord (`newton.accept_check`)
 
 
-
-def _lapack(name: str, n_args: int):
+def _lapack(name: str, n_args: int) -> Any:
     """scipy's LAPACK routine ``name`` as a function compiled code calls by symbol (so that numba
     can cache the machine code: the symbol is bound to the address again in every process)."""
     symbol = f"fem_lapack_{name}"
@@ -178,47 +440,61 @@ _dpotrf = _lapack("dpotrf", 5)
 _dpbtrf = _lapack("dpbtrf", 6)
 
 
+class _Loaded(Protocol):
+    """What `CompiledLayout.applies` reads of a system (`assembly.System`): its tangent's storage, its
+    number of unknowns and its configuration-dependent loads."""
+    layout: MatrixLayout
+    n: int
+    fol_nodes: IntArray
+    pt_nodes: IntArray
+    dist_follower: BoolArray
+
+
 class CompiledLayout:
     """Column-major storage indices of the reduced tangent for LAPACK (dense: A[i, j] at j n + i;
     banded: the LAPACK band, ab[kl + ku + i - j, j] at j (2 kl + ku + 1) + kl + ku + i - j), and
     how to turn it back into the row-major storage of `linear_solver.MatrixLayout`.
-    ``applies(system)``: the system is one the compiled corrector handles."""
+    ``applies(system)``: the system is one the compiled corrector handles.
+
+    ``band``: the storage's `Band`; ``flat``: the position of each reduced entry (``rows``, ``cols``);
+    ``size``, ``n``: the storage's length and the number of unknowns."""
 
     @staticmethod
-    def applies(system) -> bool:
+    def applies(system: _Loaded) -> bool:
         return (system.layout.kind in ("dense", "banded") and system.n > 0
                 and len(system.fol_nodes) == 0 and len(system.pt_nodes) == 0
                 and len(system.dist_follower) == 0)
 
-    def __init__(self, layout, rows, cols):
+    def __init__(self, layout: MatrixLayout, rows: IntArray, cols: IntArray):
         n = layout.n
-        self.banded = layout.kind == "banded"
-        if self.banded:
-            self.kl, self.ku, self.ld = layout.kl, layout.ku, layout.nrow
-            self.flat = cols * layout.nrow + (layout.kl + layout.ku + rows - cols)
+        if layout.kind == "banded":
+            self.band = Band(banded=True, kl=int(layout.kl), ku=int(layout.ku), ld=int(layout.nrow))
+            self.flat: IntArray = cols * layout.nrow + (layout.kl + layout.ku + rows - cols)
         else:
-            self.kl, self.ku, self.ld = 0, 0, n
+            self.band = Band(banded=False, kl=0, ku=0, ld=int(n))
             self.flat = cols * n + rows
-        self.size, self.n = layout.size, n
+        self.size, self.n = int(layout.size), int(n)
 
-    def row_major(self, data: np.ndarray) -> np.ndarray:
+    def row_major(self, data: FloatArray) -> FloatArray:
         """The storage of `MatrixLayout` (row-major) from the column-major one."""
-        return np.ascontiguousarray(data.reshape(self.n, self.ld).T).ravel()
+        return np.ascontiguousarray(data.reshape(self.n, self.band.ld).T).ravel()
 
 
-@njit(cache=True, no_cpython_wrapper=True)
-def _factor(work, banded, n, kl, ku, ld, ipiv, ints, info):
-    """LU of the column-major matrix in ``work`` (in place): a band by `band_lu`, a dense matrix by
-    LAPACK dgetrf; info[0] > 0: an exactly zero pivot."""
-    ints[0], ints[1], ints[2], ints[3] = n, kl, ku, ld
-    if banded:
-        info[0] = band_lu(work, n, kl, ku, ld, ipiv)
+@njit(cache=True, no_cpython_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
+def _factor(work: FloatArray, band: Band, n: int, ipiv: Int32Array, ints: Int32Array, info: Int32Array) -> None:
+    """LU of the n x n column-major matrix in ``work`` (in place, storage ``band``): a band by
+    `band_lu`, a dense matrix by LAPACK dgetrf; info[0] > 0: an exactly zero pivot. Leaves n, kl, ku,
+    ld in ints[0:4] for `_back_solve`."""
+    ints[0], ints[1], ints[2], ints[3] = n, band.kl, band.ku, band.ld
+    if band.banded:
+        info[0] = band_lu(work, n, band.kl, band.ku, band.ld, ipiv)
     else:
         _dgetrf(ints[0:].ctypes, ints[0:].ctypes, work.ctypes, ints[3:].ctypes, ipiv.ctypes, info.ctypes)
 
 
-@njit(cache=True, no_cpython_wrapper=True)
-def _back_solve(work, banded, ipiv, ints, info, x):
+@njit(cache=True, no_cpython_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
+def _back_solve(work: FloatArray, banded: bool, ipiv: Int32Array, ints: Int32Array, info: Int32Array,
+                x: FloatArray) -> None:
     """x <- K^-1 x with the factors `_factor` left in ``work`` (its n, kl, ku, ld in ``ints``)."""
     if banded:
         band_solve(work, ints[0], ints[1], ints[2], ints[3], ipiv, x)
@@ -231,7 +507,7 @@ def _back_solve(work, banded, ipiv, ints, info, x):
 
 
 @njit(cache=True, error_model="numpy")
-def band_lu(ab, n, kl, ku, ld, ipiv):
+def band_lu(ab: FloatArray, n: int, kl: int, ku: int, ld: int, ipiv: Int32Array) -> int:
     """LU with partial pivoting of the column-major LAPACK band ``ab`` in place (A[i, j] at
     j ld + kl + ku + i - j, ld >= 2 kl + ku + 1): LAPACK's ``dgbtf2`` step for step (what ``dgbtrf``
     runs when the lower bandwidth is below its block size, always so for a beam mesh), compiled here
@@ -279,7 +555,7 @@ def band_lu(ab, n, kl, ku, ld, ipiv):
 
 
 @njit(cache=True, error_model="numpy")
-def band_solve(ab, n, kl, ku, ld, ipiv, x):
+def band_solve(ab: FloatArray, n: int, kl: int, ku: int, ld: int, ipiv: Int32Array, x: FloatArray) -> None:
     """x <- A^-1 x with the factors of `band_lu`: LAPACK's ``dgbtrs`` (no transpose, one right-hand
     side) step for step: the row swaps and L by columns, then U by ``dtbsv`` (upper, by columns). A zero
     pivot divides as LAPACK does (IEEE: inf or NaN, no exception); the corrector never solves with one."""
@@ -304,13 +580,13 @@ def band_solve(ab, n, kl, ku, ld, ipiv, x):
                 x[i] -= temp * ab[d - (j - i)]
 
 
-@njit(cache=True, no_cpython_wrapper=True)
-def _det_sign(work, banded, n, kl, ku, ld, ipiv):
-    """Sign of det K from the LU factors: signs of U's diagonal times the pivot parity; 0 when a
-    pivot is zero or not finite."""
+@njit(cache=True, no_cpython_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
+def _det_sign(work: FloatArray, band: Band, n: int, ipiv: Int32Array) -> int:
+    """Sign of det K from the LU factors (storage ``band``): signs of U's diagonal times the pivot
+    parity; 0 when a pivot is zero or not finite."""
     sign = 1
     for j in range(n):
-        d = work[j * ld + (kl + ku if banded else j)]
+        d = work[j * band.ld + (band.kl + band.ku if band.banded else j)]
         if d == 0.0 or not math.isfinite(d):
             return 0
         if d < 0.0:
@@ -320,17 +596,18 @@ def _det_sign(work, banded, n, kl, ku, ld, ipiv):
     return sign
 
 
-@njit(cache=True, no_cpython_wrapper=True)
-def _shifted_cholesky_fails(K, banded, n, kl, ku, ldk, held, tol):
+@njit(cache=True, no_cpython_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
+def _shifted_cholesky_fails(K: FloatArray, band: Band, n: int, held: int, tol: float) -> bool:
     """True when the Cholesky factorisation of  S A S + tol I  breaks down (a pivot not positive), A the
-    symmetric tangent in the corrector's column-major storage ``K`` (leading dimension ``ldk``): entry
-    (i, j) at j ldk + r, r = kl + ku + i - j in LAPACK's general band storage (``banded``, its upper
+    symmetric n x n tangent in the corrector's column-major storage ``K`` of shape ``band``: entry
+    (i, j) at j ld + r, r = kl + ku + i - j in LAPACK's general band storage (``banded``, its upper
     triangle read) or r = i (dense, read as (A + A^T)/2). S = diag(1/sqrt|A_ii|) (1 where A_ii = 0),
     the row and column of DOF ``held`` (>= 0) replaced by a unit diagonal. By Sylvester's law of inertia: some
     eigenvalue of S A S is below -tol. The shifted matrix is written in LAPACK's symmetric upper
     storage, a band of half-bandwidth ku (dpbtrf) or the full matrix (dpotrf), and factorised by
     scipy's LAPACK, as `stability.eigenvalue_below` does (no factorisation loop of its own for numba to
     compile). Only `newton_load` calls it (no Python wrapper); the tests compile its ``py_func``."""
+    banded, kl, ku, ldk = band.banded, band.kl, band.ku, band.ld
     w = ku if banded else n - 1
     base = kl + ku if banded else 0
     ld = w + 1 if banded else n          # entry (i, j), i <= j, at j ld + (w + i - j) (band) or j ld + i
@@ -359,24 +636,28 @@ def _shifted_cholesky_fails(K, banded, n, kl, ku, ldk, held, tol):
         _dpbtrf(uplo.ctypes, ints[0:].ctypes, ints[1:].ctypes, up.ctypes, ints[2:].ctypes, ints[3:].ctypes)
     else:
         _dpotrf(uplo.ctypes, ints[0:].ctypes, up.ctypes, ints[2:].ctypes, ints[3:].ctypes)
-    return ints[3] > 0
+    return bool(ints[3] > 0)
 
 
 @njit(cache=True)
-def _evaluate(q, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, L0, beta0, ka, kb,
-              springs, spring_k, ground, flat, valid_src, coef, K, u, f_int, f_ref, R, r, fr,
-              fe, Ke, N, M, L, beta, theta_bar, u_bar, jumped, sp, links, links_X, I1, C1, C1w, pair,
-              rows_full, cols_full):
-    """Residual r, reduced reference load fr and tangent K (column-major storage) at q; returns
-    F_scale = max(|lambda f_ref|, |f_int|). Every output array is filled in place.
+def _evaluate(q: FloatArray, beta_prev: FloatArray, load: Load, beams: Beams, dofs: DofMap,
+              couplings: Couplings, storage: Storage, work: Work, el: ElementState) -> float:
+    """Residual r, reduced reference load fr and tangent K (column-major storage) at q, each element's
+    chord angle continued from ``beta_prev``, into ``work`` and ``el``; returns
+    F_scale = max(|lambda f_ref|, |f_int|).
 
-    Rigid links (none: ``links`` has no rows), as `assembly.System.full_displacements` and
-    ``evaluate`` treat them: ``links`` (n_s, 4) the slave and (root) master node and their rotation
-    DOFs, ``links_X`` (n_s, 4) the two nodes' reference positions; the constraint map's second column
-    (I1, C1) with its current coefficients C1w (the slaves' rows turn with the master); the tangent's
-    entries weighted by the current coefficients of the two columns ``pair`` = 2 w1 + w2 of each
-    reduced entry (full entry ``valid_src``, full row and column ``rows_full``, ``cols_full``), the
-    slaves' geometric term -(R_s . (x_s - x_m)) among the full entries after the springs'."""
+    Rigid links (none: ``couplings.links`` has no rows), as `assembly.System.full_displacements` and
+    ``evaluate`` treat them: the slaves placed by their master's rotation, the constraint map's second
+    column (I1, C1) turned with it into ``work.C1w``; the tangent's entries weighted by the current
+    coefficients of the two columns ``storage.pair`` of each reduced entry, the slaves' geometric term
+    -(R_s . (x_s - x_m)) among the full entries after the springs'."""
+    lam, F_fixed, presc = load.lam, load.F_fixed, load.presc
+    I0, C0, I1, C1, edofs = dofs.I0, dofs.C0, dofs.I1, dofs.C1, dofs.edofs
+    links, links_X, springs, spring_k = couplings.links, couplings.links_X, couplings.springs, couplings.spring_k
+    flat, valid_src, coef, pair = storage.flat, storage.source, storage.coef, storage.pair
+    rows_full, cols_full = storage.rows_full, storage.cols_full
+    K, u, f_int, f_ref, R = work.K, work.u, work.f_int, work.f_ref, work.R
+    r, fr, C1w, sp = work.r, work.fr, work.C1w, work.spring
     n, nf = q.shape[0], u.shape[0]
     wide = links.shape[0] > 0
     for i in range(nf):
@@ -388,8 +669,8 @@ def _evaluate(q, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, 
             C1w[i] = C1[i]
         else:
             u[i] = t0
-    for j in range(p_dofs.shape[0]):
-        u[p_dofs[j]] = presc[j]
+    for j in range(dofs.prescribed.shape[0]):
+        u[dofs.prescribed[j]] = presc[j]
     for t in range(links.shape[0]):      # slaves: x_s = x_m + R(theta_m) (X_s - X_m), theta_s = theta_m
         s, m, rs, rm = links[t, 0], links[t, 1], links[t, 2], links[t, 3]
         th = u[rm]
@@ -407,8 +688,8 @@ def _evaluate(q, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, 
         for j in range(6):
             p[e, j] = u[edofs[e, j]]
     tangent = n_el >= 0   # True, typed as a run-time bool like the Python callers' (one compiled variant)
-    element_kernel(X1, X2, p, L0, beta0, beta_prev, ka, kb, tangent, fe, Ke, N, M, L, beta, theta_bar,
-                   u_bar, jumped)
+    element_kernel(beams, p, beta_prev, tangent, el)
+    fe, Ke = el.f, el.K
     f_int[:] = 0.0
     for e in range(n_el):
         for j in range(6):
@@ -423,8 +704,8 @@ def _evaluate(q, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, 
             f_int[i] += sp[i]
     for i in range(nf):
         f_ref[i] = F_fixed[i]
-    f_ref[ground] = 0.0
-    f_int[ground] = 0.0
+    f_ref[dofs.ground] = 0.0
+    f_int[dofs.ground] = 0.0
     for i in range(nf):
         R[i] = f_int[i] - lam * f_ref[i]
     r[:] = 0.0
@@ -467,33 +748,31 @@ def _evaluate(q, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, 
 
 
 @njit(cache=True)
-def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, L0, beta0,
-                ka, kb, springs, spring_k, ground, flat, valid_src, coef, banded, kl, ku, ld, rot,
-                rtol, atol, floor, L_ref, maxiter, damp, max_rot_inc,
-                K, u, f_int, f_ref, R, r, fr, fe, Ke, N, M, L, beta, theta_bar, u_bar, jumped, hist,
-                links, links_X, I1, C1, C1w, pair, rows_full, cols_full, confirm_sign, inertia_tol):
-    """Every iteration of the load-control corrector from q (updated in place). Returns
-    (status, iterations, det sign of the last factorisation, F_scale, rotation increment, final,
-    below); the evaluation at the final q is left in the output arrays. The sign: 2 when nothing was
-    factorised (a failed first iteration); a run that converges before any correction factorises the
-    tangent at its state for it (0: singular or not finite there). The rotation increment: of a
-    ROTATION_TOO_LARGE cut, or of the converged state from q_start (CONVERGED, or CONVERGED_JUMPED
-    when an element's end rotations jumped by about 2 pi).
+def newton_load(q: FloatArray, start: Start, load: Load, beams: Beams, dofs: DofMap, couplings: Couplings,
+                storage: Storage, controls: Controls, work: Work, el: ElementState) -> Outcome:
+    """Every iteration of the load-control corrector from q (updated in place), the step starting at
+    ``start``. Returns the `Outcome`; the evaluation at the final q is left in ``work`` and ``el``. The
+    sign: 2 when nothing was factorised (a failed first iteration); a run that converges before any
+    correction factorises the tangent at its state for it (0: singular or not finite there). The
+    rotation increment: of a ROTATION_TOO_LARGE cut, or of the converged state from ``start.q``
+    (CONVERGED, or CONVERGED_JUMPED when an element's end rotations jumped by about 2 pi).
 
     At a converged state (what `newton.det_sign` and `solver._even_crossing` would otherwise compute
     afterwards, here without leaving compiled code or turning the tangent row-major):
-    ``confirm_sign``: a sign not positive from the factors of the iterate before convergence is
+    ``controls.confirm_sign``: a sign not positive from the factors of the iterate before convergence is
     confirmed by the same factorisation of the converged tangent a run that converges before any
-    correction makes; ``final`` says the sign is of the converged state itself (that factorisation). ``inertia_tol`` (NaN: not
-    asked): when the sign is not negative and some element is in compression, ``below`` is 1 when the
-    Jacobi-scaled tangent has an eigenvalue below -inertia_tol (`_shifted_cholesky_fails`), else 0;
-    -1 when not computed."""
-    n, nf = q.shape[0], u.shape[0]
-    work = np.empty(K.shape[0])
+    correction makes; ``final`` says the sign is of the converged state itself (that factorisation).
+    ``controls.inertia_tol`` (NaN: not asked): when the sign is not negative and some element is in
+    compression, ``below`` is 1 when the Jacobi-scaled tangent has an eigenvalue below -inertia_tol
+    (`_shifted_cholesky_fails`), else 0; -1 when not computed."""
+    rtol, atol, floor, L_ref = controls.rtol, controls.atol, controls.floor, controls.L_ref
+    damp, q_start, rot, band = controls.damp, start.q, dofs.rotation, storage.band
+    K, r, hist = work.K, work.r, work.hist
+    n = q.shape[0]
+    buffer = np.empty(K.shape[0])      # the factors
     ipiv = np.empty(max(n, 1), np.int32)
     ints = np.zeros(6, np.int32)
     info = np.zeros(1, np.int32)
-    sp = np.empty(nf)
     dq = np.empty(n)
     has_rot = False
     for k in range(n):
@@ -502,22 +781,21 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
     dq_small = False
     sign = 2
     final = False   # the sign is of the converged state's own factors
-    for it in range(maxiter + 1):
-        scale = _evaluate(q, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edofs, X1, X2, L0, beta0,
-                          ka, kb, springs, spring_k, ground, flat, valid_src, coef, K, u, f_int, f_ref,
-                          R, r, fr, fe, Ke, N, M, L, beta, theta_bar, u_bar, jumped, sp, links, links_X,
-                          I1, C1, C1w, pair, rows_full, cols_full)
+    for it in range(controls.maxiter + 1):
+        scale = _evaluate(q, start.beta, load, beams, dofs, couplings, storage, work, el)
         rn = math.sqrt(np.dot(r, r))
         tol = rtol * scale + floor + atol
         hist[it] = rn / max(scale, 1e-300)
         if not math.isfinite(rn):
-            return NOT_FINITE, it, sign, scale, 0.0, False, -1
+            return Outcome(status=NOT_FINITE, iterations=it, sign=sign, scale=scale, rotation=0.0, final=False,
+                           below=-1)
         converged = (rn <= tol or dq_small) and (it > 0 or rn <= rtol * scale + atol)
         # the last factors' sign stands (positive, or not asked to be confirmed): done
-        if converged and (n == 0 or sign == 1 or (sign != 2 and not confirm_sign)):
+        if converged and (n == 0 or sign == 1 or (sign != 2 and not controls.confirm_sign)):
             break
-        if not converged and it == maxiter:
-            return NO_CONVERGENCE, it, sign, scale, 0.0, False, -1
+        if not converged and it == controls.maxiter:
+            return Outcome(status=NO_CONVERGENCE, iterations=it, sign=sign, scale=scale, rotation=0.0,
+                           final=False, below=-1)
         # the factorisation: of the correction, or (converged) for the sign at this state itself: before
         # any correction, or to confirm a sign not positive from the iterate before
         finite = True
@@ -525,27 +803,30 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
             if not math.isfinite(K[j]):
                 finite = False
                 break
-            work[j] = K[j]
+            buffer[j] = K[j]
         if not finite:
             if converged:
                 sign, final = 0, True
                 break
-            return NON_FINITE_TANGENT, it, sign, scale, 0.0, False, -1
-        _factor(work, banded, n, kl, ku, ld, ipiv, ints, info)
+            return Outcome(status=NON_FINITE_TANGENT, iterations=it, sign=sign, scale=scale, rotation=0.0,
+                           final=False, below=-1)
+        _factor(buffer, band, n, ipiv, ints, info)
         if info[0] > 0:
             if converged:
                 sign, final = 0, True
                 break
-            return SINGULAR, it, sign, scale, 0.0, False, -1
-        sign = _det_sign(work, banded, n, kl, ku, ld, ipiv)
+            return Outcome(status=SINGULAR, iterations=it, sign=sign, scale=scale, rotation=0.0, final=False,
+                           below=-1)
+        sign = _det_sign(buffer, band, n, ipiv)
         if converged:
             final = True
             break
         if sign == 0:
-            return SINGULAR, it, 2, scale, 0.0, False, -1
+            return Outcome(status=SINGULAR, iterations=it, sign=2, scale=scale, rotation=0.0, final=False,
+                           below=-1)
         for k in range(n):
             dq[k] = -r[k]
-        _back_solve(work, banded, ipiv, ints, info, dq)
+        _back_solve(buffer, band.banded, ipiv, ints, info, dq)
         if damp > 0.0 and has_rot:
             big = 0.0
             for k in range(n):
@@ -566,24 +847,26 @@ def newton_load(q, q_start, presc, lam, F_fixed, beta_prev, I0, C0, p_dofs, edof
             for k in range(n):
                 if rot[k]:
                     dth = max(dth, abs(q[k] - q_start[k]))
-            limit = (2.0 if it == 0 else 4.0) * max_rot_inc
+            limit = (2.0 if it == 0 else 4.0) * controls.max_rot_inc
             if dth > limit:
-                return ROTATION_TOO_LARGE, it + 1, sign, scale, dth, False, -1
+                return Outcome(status=ROTATION_TOO_LARGE, iterations=it + 1, sign=sign, scale=scale, rotation=dth,
+                               final=False, below=-1)
     # converged (every other way out returned above): what `newton.accept_check` reads of the state
     status = CONVERGED
-    for e in range(jumped.shape[0]):
-        if jumped[e]:
+    for e in range(el.jumped.shape[0]):
+        if el.jumped[e]:
             status = CONVERGED_JUMPED
     dth = 0.0
     for k in range(n):
         if rot[k]:
             dth = max(dth, abs(q[k] - q_start[k]))
     below = -1
+    inertia_tol = controls.inertia_tol
     if inertia_tol == inertia_tol and 0 <= sign <= 1 and n > 0:
         compressed = False
-        for e in range(N.shape[0]):
-            if N[e] < 0.0:
+        for e in range(el.N.shape[0]):
+            if el.N[e] < 0.0:
                 compressed = True
         if compressed:
-            below = 1 if _shifted_cholesky_fails(K, banded, n, kl, ku, ld, -1, inertia_tol) else 0
-    return status, it, sign, scale, dth, final, below
+            below = 1 if _shifted_cholesky_fails(K, band, n, -1, inertia_tol) else 0
+    return Outcome(status=status, iterations=it, sign=sign, scale=scale, rotation=dth, final=final, below=below)

@@ -16,14 +16,18 @@ Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from functools import cached_property
+from typing import cast
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.linalg import lapack
 
-__all__ = ["MatrixLayout", "SingularMatrix", "inverse_norm1"]
+from .types import FloatArray, Int32Array, IntArray
+
+__all__ = ["MatrixLayout", "SingularMatrix", "inverse_norm1", "weighted_bincount"]
 
 
 class SingularMatrix(Exception):
@@ -35,7 +39,7 @@ class SingularMatrix(Exception):
         self.column = column
 
 
-def inverse_norm1(solve, n: int) -> float:
+def inverse_norm1(solve: Callable[..., FloatArray], n: int) -> float:
     """||A^-1||_1 estimated with n-vector solves ``solve(b)``, ``solve(b, True)`` (A^-1 b, A^-T b): Hager's
     method as refined by Higham, the iteration of LAPACK's ``dlacn2`` (Higham 1988, Algorithm 4.1: at most
     five sign vectors and the alternating test vector, at most eleven solves). Every candidate is
@@ -62,9 +66,14 @@ def inverse_norm1(solve, n: int) -> float:
     return max(est, 2.0 * float(np.abs(solve(alternating)).sum()) / (3.0 * n))
 
 
-def _perm_parity(perm):
+def weighted_bincount(index: IntArray, weights: FloatArray, minlength: int = 0) -> FloatArray:
+    """np.bincount(index, weights, minlength): the sums of ``weights`` per index, float64 (numpy's
+    annotations give bincount an integer result whatever the weights)."""
+    return cast(FloatArray, np.bincount(index, weights=weights, minlength=minlength))
+
+
+def _perm_parity(perm: IntArray | Int32Array) -> int:
     """+1 / -1 parity of a permutation array."""
-    perm = np.asarray(perm)
     seen = np.zeros(len(perm), dtype=bool)
     transpositions = 0
     for i in range(len(perm)):
@@ -81,7 +90,7 @@ def _perm_parity(perm):
 class MatrixLayout:
     """Maps (row, col) entries of an n x n matrix to solver storage."""
 
-    def __init__(self, n, rows, cols, kind="auto"):
+    def __init__(self, n: int, rows: IntArray, cols: IntArray, kind: str = "auto"):
         self.n = n
         bw = int(np.abs(rows - cols).max()) if len(rows) else 0
         if kind == "auto":
@@ -94,6 +103,7 @@ class MatrixLayout:
             else:
                 kind = "sparse"
         self.kind, self.bw = kind, bw
+        self.kl = self.ku = self.nrow = 0        # the band's shape (banded storage only)
         if kind == "dense":
             self.size = n * n
         elif kind == "banded":
@@ -104,76 +114,80 @@ class MatrixLayout:
         else:
             key = cols.astype(np.int64) * n + rows
             uniq, inv = np.unique(key, return_inverse=True)
-            self.flat = inv
+            self.flat: IntArray = inv
             self.size = len(uniq)
             self.indices = (uniq % n).astype(np.int32)
             self.indptr = np.searchsorted(uniq // n, np.arange(n + 1)).astype(np.int32)
         self._rows, self._cols = rows, cols
 
     @cached_property
-    def flat(self) -> np.ndarray:
+    def flat(self) -> IntArray:
         """The storage index of every (row, col) entry: row-major n x n (dense), LAPACK's band rows
         (banded; as `kernel.CompiledLayout` has them column by column); set in ``__init__`` for sparse
         storage. Worked out when first read (the compiled corrector has its own)."""
+        flat: IntArray
         if self.kind == "dense":
-            return self._rows * self.n + self._cols
-        return (self.kl + self.ku + self._rows - self._cols) * self.n + self._cols
+            flat = self._rows * self.n + self._cols
+        else:
+            flat = (self.kl + self.ku + self._rows - self._cols) * self.n + self._cols
+        return flat
 
     @cached_property
-    def _entries(self):
+    def _entries(self) -> tuple[IntArray, IntArray, IntArray]:
         """One storage index per distinct (row, col) entry (for `to_sparse`, `column_max`)."""
         _, first = np.unique(self._rows.astype(np.int64) * self.n + self._cols, return_index=True)
         return self._rows[first], self._cols[first], self.flat[first]
 
     @property
-    def entry_rows(self):
+    def entry_rows(self) -> IntArray:
         return self._entries[0]
 
     @property
-    def entry_cols(self):
+    def entry_cols(self) -> IntArray:
         return self._entries[1]
 
     @property
-    def entry_flat(self):
+    def entry_flat(self) -> IntArray:
         return self._entries[2]
 
-    def column_max(self, data):
+    def column_max(self, data: FloatArray) -> FloatArray:
         """max_i |A[i, j]| of every column j of the assembled matrix (any storage kind)."""
         out = np.zeros(self.n)
         np.maximum.at(out, self.entry_cols, np.abs(data[self.entry_flat]))
         return out
 
-    def diagonal(self, data):
+    def diagonal(self, data: FloatArray) -> FloatArray:
         """A[i, i] of the assembled matrix (any storage kind; 0 where the pattern has no entry)."""
         out = np.zeros(self.n)
         on = self.entry_rows == self.entry_cols
         out[self.entry_rows[on]] = data[self.entry_flat[on]]
         return out
 
-    def scaled(self, data, s):
+    def scaled(self, data: FloatArray, s: FloatArray) -> FloatArray:
         """The storage of diag(s) A diag(s) (any storage kind)."""
         out = data.copy()
         out[self.entry_flat] *= s[self.entry_rows] * s[self.entry_cols]
         return out
 
-    def norm1(self, data) -> float:
+    def norm1(self, data: FloatArray) -> float:
         """||A||_1 = max_j sum_i |A[i, j]| of the assembled matrix (any storage kind)."""
         sums = np.bincount(self.entry_cols, weights=np.abs(data[self.entry_flat]), minlength=self.n)
         return float(sums.max(initial=0.0))
 
-    def assemble(self, values):
-        return np.bincount(self.flat, weights=values, minlength=self.size)
+    def assemble(self, values: FloatArray) -> FloatArray:
+        return weighted_bincount(self.flat, values, self.size)
 
-    def to_sparse(self, data):
+    def to_sparse(self, data: FloatArray) -> sp.csc_matrix:
         """The assembled matrix as scipy CSC (any storage kind)."""
         return sp.csc_matrix((data[self.entry_flat], (self.entry_rows, self.entry_cols)),
                              shape=(self.n, self.n))
 
-    def to_dense(self, data):
+    def to_dense(self, data: FloatArray) -> FloatArray:
         if self.kind == "dense":
             return data.reshape(self.n, self.n)
         if self.kind == "sparse":
-            return sp.csc_matrix((data, self.indices, self.indptr), shape=(self.n, self.n)).toarray()
+            dense: FloatArray = sp.csc_matrix((data, self.indices, self.indptr), shape=(self.n, self.n)).toarray()
+            return dense
         ab = data.reshape(self.nrow, self.n)
         A = np.zeros((self.n, self.n))
         for i in range(self.n):
@@ -181,7 +195,7 @@ class MatrixLayout:
                 A[i, j] = ab[self.kl + self.ku + i - j, j]
         return A
 
-    def factor(self, data):
+    def factor(self, data: FloatArray) -> Factor:
         return Factor(self, data)
 
 
@@ -190,7 +204,7 @@ class Factor:
 
     final = False   # not known to be of a converged state (`newton.det_sign` confirms a negative sign)
 
-    def __init__(self, layout, data):
+    def __init__(self, layout: MatrixLayout, data: FloatArray):
         self.layout = layout
         n = layout.n
         if n == 0:
@@ -226,8 +240,9 @@ class Factor:
         if np.any(diag == 0.0) or not np.all(np.isfinite(diag)):
             raise SingularMatrix("singular tangent")
 
-    def solve(self, b, transposed: bool = False):
+    def solve(self, b: FloatArray, transposed: bool = False) -> FloatArray:
         """A^-1 b, or A^-T b when ``transposed``."""
+        x: FloatArray
         if self.kind == "empty":
             return np.zeros(0)
         if self.kind == "dense":
@@ -236,7 +251,8 @@ class Factor:
         if self.kind == "banded":
             x, info = lapack.dgbtrs(self.lu, self.layout.kl, self.layout.ku, b, self.piv, trans=int(transposed))
             return x
-        return self.lu.solve(b, trans="T" if transposed else "N")
+        x = self.lu.solve(b, trans="T" if transposed else "N")
+        return x
 
     def rcond(self, anorm: float) -> float:
         """Estimate of the reciprocal condition number 1 / (||A||_1 ||A^-1||_1), ``anorm`` = ||A||_1, with
@@ -253,6 +269,6 @@ class Factor:
             return 1
         sign = -1 if np.count_nonzero(self.diag < 0) % 2 else 1
         if self.kind in ("dense", "banded"):
-            swaps = np.count_nonzero(self.piv != np.arange(len(self.piv)))
+            swaps = int(np.count_nonzero(self.piv != np.arange(len(self.piv))))
             return sign * (-1 if swaps % 2 else 1)
         return sign * _perm_parity(self.lu.perm_r) * _perm_parity(self.lu.perm_c)

@@ -26,23 +26,35 @@ Angles are in radians (degrees appear only in case files and reports).
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from . import kernel as cn
-from .linear_solver import SingularMatrix
+from .linear_solver import Factor, SingularMatrix
 from .options import NewtonOutcome, SolveOptions
+from .types import Evaluation, FloatArray, Loads, SignedFactor
 
-__all__ = ["StepFailed", "Path", "newton", "acceptance_facts", "accept_check", "snapshot", "det_sign", "growth"]
+if TYPE_CHECKING:
+    from .assembly import System
+
+__all__ = ["StepFailed", "Path", "newton", "acceptance_facts", "accept_check", "snapshot", "det_sign", "growth",
+           "Control", "Arc"]
+
+Control = tuple[int, float, float]       # displacement control: (unknown k, coefficient c, target of c q_k)
+Arc = tuple[float, FloatArray, FloatArray]   # arc length: (dl, weights W of ||.||_W, q at the step's start)
 
 
 class StepFailed(Exception):
-    def __init__(self, reason, iteration, cut=0.5):
+    """A Newton step that did not converge or was rejected: why (``reason``), at which iteration, and
+    the factor to cut the step by."""
+
+    def __init__(self, reason: str, iteration: int, cut: float = 0.5):
         super().__init__(reason)
         self.reason, self.iteration, self.cut = reason, iteration, cut
 
 
-def growth(its):
+def growth(its: int) -> float:
     """Step-size factor after an accepted step that took `its` iterations."""
     return 2.0 if its <= 4 else 1.25 if its <= 6 else 1.0 if its <= 9 else 0.5
 
@@ -50,18 +62,23 @@ def growth(its):
 class Path:
     """Accepted states, per-step statistics and recorded output levels."""
 
-    def __init__(self):
-        self.snapshots, self.residuals, self.iterations = [], [], []
-        self.det_signs, self.step_lams, self.step_ctrl, self.step_s = [], [], [], []
-        self.step_slope = []
+    def __init__(self) -> None:
+        self.snapshots: list[dict[str, Any]] = []      # `snapshot` of each recorded level
+        self.residuals: list[FloatArray] = []
+        self.iterations: list[int] = []
+        self.det_signs: list[int] = []
+        self.step_lams: list[float] = []
+        self.step_ctrl: list[float] = []
+        self.step_s: list[float] = []
+        self.step_slope: list[float] = []
         self.cutbacks = 0
         self.stable = True             # last accepted state stable (load/displacement control)
-        self.branch_switches = []      # (step index, note)
-        self.unassessed = []           # step indices: det K < 0 under follower loads
+        self.branch_switches: list[tuple[int, str]] = []      # (step index, note)
+        self.unassessed: list[int] = []           # step indices: det K < 0 under follower loads
         self.rejected_iterations = 0
         self.precision_checked = False   # `solver._beyond_precision` made its one test
 
-    def record(self, history, iterations: int, sign: int, load: float, slope: float = np.nan,
+    def record(self, history: list[float], iterations: int, sign: int, load: float, slope: float = np.nan,
                control: float | None = None, parameter: float | None = None) -> None:
         """The per-step statistics of one accepted step (the same for every control mode)."""
         self.residuals.append(np.array(history))
@@ -88,17 +105,18 @@ class Path:
         self.rejected_iterations += iterations
 
 
-def newton(system, q, lam, beta, loads, opts: SolveOptions, mode="load", ctrl=None, arc=None,
-           q_start=None) -> NewtonOutcome:
+def newton(system: System, q: FloatArray, lam: float, beta: FloatArray, loads: Loads, opts: SolveOptions,
+           mode: str = "load", ctrl: Control | None = None, arc: Arc | None = None,
+           q_start: FloatArray | None = None) -> NewtonOutcome:
     """Corrector.  mode 'load' (lambda fixed), 'disp' (ctrl=(k, coef, target)),
     'arc' (arc=(dl, w, q0)).  Raises `StepFailed` when it does not converge. Under load control a
     system the compiled corrector handles (`kernel.newton_load`) is solved there, with the same steps."""
     if mode == "load" and system.compiled is not None:
         return _newton_compiled(system, q, lam, beta, loads, opts, q_start)
     F_fixed, F0, presc = loads
-    hist = []
+    hist: list[float] = []
     dq_small = False
-    fac = None
+    fac: Factor | None = None
     rot = system.disc.red_is_rotation
     has_rot = bool(rot.any())
     scale = np.where(rot, 1.0, system.L_ref)
@@ -133,11 +151,13 @@ def newton(system, q, lam, beta, loads, opts: SolveOptions, mode="load", ctrl=No
         else:
             b = fac.solve(ev["f_ref"])
             if mode == "disp":
+                assert ctrl is not None, "mode 'disp' needs ctrl"
                 k, coef, target = ctrl
                 if b[k] == 0.0:
                     raise StepFailed("control DOF does not respond to the load", it)
-                dlam = (target / coef - q[k] - a[k]) / b[k]
+                dlam = float((target / coef - q[k] - a[k]) / b[k])
             else:
+                assert arc is not None, "mode 'arc' needs arc"
                 dl, w, q0 = arc
                 Dq = q - q0
                 v = Dq + a
@@ -149,7 +169,7 @@ def newton(system, q, lam, beta, loads, opts: SolveOptions, mode="load", ctrl=No
                     raise StepFailed("arc-length constraint has no real root", it)
                 roots = (-a2 + np.array([1.0, -1.0]) * np.sqrt(disc)) / (2 * a1)
                 cosines = [np.dot((v + r_ * b) * w, Dq) for r_ in roots]
-                dlam = roots[int(np.argmax(cosines))]
+                dlam = float(roots[int(np.argmax(cosines))])
             dq = a + dlam * b
         if it > 0 and abs(float(np.dot(dq, ev["r"]))) <= opts.rtol ** 2 * ev["F_scale"] * system.L_ref:
             # energy criterion |dq . r| <= (rtol F)(rtol L): the remaining correction is
@@ -178,18 +198,18 @@ class _Sign:
         self.final = final
 
 
-class _Evaluation(dict):
+class _Evaluation(dict[str, Any]):
     """The evaluation of a compiled Newton run, as `assembly.System.evaluate` gives it; its tangent "K",
     which only the stability checks read, is turned from the kernel's column-major storage into the
     row-major storage of `linear_solver.MatrixLayout` when first read, and with rigid links the
     constraint coefficients "C" are put together from their constant first column and the second
     the kernel turned with the masters (``turned``) likewise."""
 
-    column_major: tuple
-    turned: tuple
+    column_major: tuple[cn.CompiledLayout, FloatArray]
+    turned: tuple[FloatArray, FloatArray]
     inertia_below: int       # the corrector's inertia test at this state (`kernel.newton_load`), -1: not made
 
-    def __missing__(self, key):
+    def __missing__(self, key: str) -> Any:
         if key == "K":
             layout, K = self.column_major
             value = self["K"] = layout.row_major(K)
@@ -201,61 +221,55 @@ class _Evaluation(dict):
         return value
 
 
-def _run_kernel(system, q, q_start, presc, lam, F_fixed, beta, opts: SolveOptions):
-    """One call of `kernel.newton_load` on the system's arrays: (status, iterations, sign, F_scale,
-    rotation increment, whether the sign is of the converged state itself, the inertia test's answer
-    (-1: not made), the evaluation's arrays, the history). The converged sign is confirmed where
-    `det_sign` would (``opts.watch_det``), and the inertia test of `solver._even_crossing` made where it
-    can be asked (``opts.check_stability`` and the system's ``inertia_tol``)."""
-    c, d = system.compiled, system.disc
-    n_el, nf, n = len(d.L0), d.n_full + 1, system.n
-    el = dict(f=np.empty((n_el, 6)), K=np.zeros((n_el, 6, 6)), N=np.empty(n_el), M=np.empty((n_el, 2)),
-              L=np.empty(n_el), beta=np.empty(n_el), theta_bar=np.empty((n_el, 2)), u_bar=np.empty(n_el),
-              jumped=np.empty(n_el, dtype=bool))
-    K, u, f_int, f_ref, R = np.empty(c.size), np.empty(nf), np.empty(nf), np.empty(nf), np.empty(nf)
-    r, fr, hist = np.empty(n), np.empty(n), np.empty(opts.maxiter + 1)
-    C1 = np.empty(nf if system.width == 2 else 0)
-    status, it, sign, scale, dth, final, below = cn.newton_load(
-        q, q_start, presc, float(lam), F_fixed, beta, system.I0, system.C0_flat,
-        d.prescribed_dofs, d.edofs, system.X1, system.X2, d.L0, d.beta0, d.ka, d.kb, d.springs,
-        d.spring_k, d.ground, c.flat, system.valid_src, system.coef_const, c.banded, c.kl, c.ku, c.ld,
-        d.red_is_rotation, opts.rtol, opts.atol, system.noise_floor, system.L_ref, opts.maxiter,
-        float(opts.max_iteration_rotation or 0.0), opts.max_rotation_increment, K, u, f_int, f_ref, R, r,
-        fr, el["f"], el["K"], el["N"], el["M"], el["L"], el["beta"], el["theta_bar"], el["u_bar"],
-        el["jumped"], hist, system.links, system.links_X, system.I1, system.C1_flat, C1, system.valid_pair,
-        system.rows_full, system.cols_full, opts.watch_det, system.inertia_tol if opts.check_stability else math.nan)
-    arrays = dict(K=K, u=u, f_int=f_int, f_ref=f_ref, R=R, r=r, fr=fr, el=el, C1=C1)
-    return status, it, sign, scale, dth, final, below, arrays, hist
+def _controls(system: System, opts: SolveOptions) -> cn.Controls:
+    """The compiled corrector's `kernel.Controls` of a solve: the options' tolerances and limits, the
+    system's rounding floor and reference length; the converged sign confirmed where `det_sign` would
+    (``opts.watch_det``), the inertia test of `solver._even_crossing` made where it can be asked
+    (``opts.check_stability`` and the system's ``inertia_tol``)."""
+    return cn.Controls(rtol=float(opts.rtol), atol=float(opts.atol), floor=float(system.noise_floor),
+                       L_ref=float(system.L_ref), maxiter=int(opts.maxiter),
+                       damp=float(opts.max_iteration_rotation or 0.0),
+                       max_rot_inc=float(opts.max_rotation_increment), confirm_sign=bool(opts.watch_det),
+                       inertia_tol=float(system.inertia_tol) if opts.check_stability else math.nan)
 
 
-def _newton_compiled(system, q, lam, beta, loads, opts: SolveOptions, q_start) -> NewtonOutcome:
-    """`newton` under load control by `kernel.newton_load`: the same outcome or failure."""
+def _newton_compiled(system: System, q: FloatArray, lam: float, beta: FloatArray, loads: Loads,
+                     opts: SolveOptions, q_start: FloatArray | None) -> NewtonOutcome:
+    """`newton` under load control by one call of `kernel.newton_load` on the system's groups: the same
+    outcome or failure."""
     F_fixed, _, presc = loads
+    c, d, storage = system.compiled, system.disc, system.storage
+    assert c is not None and storage is not None      # `newton` calls it only then
     q = np.array(q, dtype=float)
-    q_start = q.copy() if q_start is None else q_start
-    status, it, sign, scale, dth, final, below, a, hist = _run_kernel(
-        system, q, q_start, np.asarray(presc, dtype=float), lam, F_fixed, beta, opts)
-    history = hist[:it + 1].tolist()
-    if status == cn.NOT_FINITE:
+    start = cn.Start(q=q.copy() if q_start is None else q_start, beta=beta)
+    load = cn.Load(lam=float(lam), F_fixed=F_fixed, presc=np.asarray(presc, dtype=float))
+    work = cn.work_arrays(n=system.n, nf=d.n_full + 1, size=c.size, maxiter=opts.maxiter, links=system.width == 2)
+    el = cn.element_outputs(len(d.L0))
+    out = cn.newton_load(q, start, load, system.beams, system.dofs, system.couplings, storage,
+                         _controls(system, opts), work, el)
+    it, dth = out.iterations, out.rotation
+    history = work.hist[:it + 1].tolist()
+    if out.status == cn.NOT_FINITE:
         raise StepFailed("residual is not finite", it)
-    if status == cn.NO_CONVERGENCE:
+    if out.status == cn.NO_CONVERGENCE:
         raise StepFailed(f"no convergence in {it} iterations (|r|/F = {history[-1]:.2e})", it)
-    if status in (cn.SINGULAR, cn.NON_FINITE_TANGENT):
-        raise StepFailed("singular tangent" if status == cn.SINGULAR else "non-finite entries in the tangent", it)
-    if status == cn.ROTATION_TOO_LARGE:
+    if out.status in (cn.SINGULAR, cn.NON_FINITE_TANGENT):
+        raise StepFailed("singular tangent" if out.status == cn.SINGULAR else "non-finite entries in the tangent", it)
+    if out.status == cn.ROTATION_TOO_LARGE:
         raise StepFailed(f"rotation increment {dth:.3g} rad too large", it,
                          cut=max(0.1, 0.9 * opts.max_rotation_increment / dth))
-    ev = _Evaluation(u=a["u"], el=a["el"], f_int=a["f_int"], f_ref_full=a["f_ref"], R_full=a["R"], r=a["r"],
-                     f_ref=a["fr"], F_scale=scale)
+    ev = _Evaluation(u=work.u, el=el._asdict(), f_int=work.f_int, f_ref_full=work.f_ref, R_full=work.R, r=work.r,
+                     f_ref=work.fr, F_scale=out.scale)
     if system.width == 1:
         ev["C"] = system.C0
-    ev.column_major, ev.turned = (system.compiled, a["K"]), (system.C0, a["C1"])
-    ev.inertia_below = below
-    return NewtonOutcome(q, lam, ev, history, it, None if sign == 2 else _Sign(sign, final=final),
-                         accept=(status == cn.CONVERGED_JUMPED, dth))
+    ev.column_major, ev.turned = (c, work.K), (system.C0, work.C1w)
+    ev.inertia_below = out.below
+    return NewtonOutcome(q, lam, ev, history, it, None if out.sign == 2 else _Sign(out.sign, final=out.final),
+                         accept=(out.status == cn.CONVERGED_JUMPED, dth))
 
 
-def acceptance_facts(system, q_new, q_old, ev, known: tuple | None = None) -> tuple[bool, float]:
+def acceptance_facts(system: System, q_new: FloatArray, q_old: FloatArray, ev: Evaluation,
+                     known: tuple[bool, float] | None = None) -> tuple[bool, float]:
     """(an element's end rotations jumped by about 2 pi, the largest rotation change from q_old to q_new,
     0 without rotations) of the converged state ``ev``: ``known`` when given (`NewtonOutcome.accept`, the
     compiled corrector's own, valid when q_old was its start), else from the evaluation."""
@@ -266,7 +280,8 @@ def acceptance_facts(system, q_new, q_old, ev, known: tuple | None = None) -> tu
             float(np.abs(q_new[rot] - q_old[rot]).max()) if rot.any() else 0.0)
 
 
-def accept_check(system, q_new, q_old, ev, opts: SolveOptions, its, known: tuple | None = None):
+def accept_check(system: System, q_new: FloatArray, q_old: FloatArray, ev: Evaluation, opts: SolveOptions, its: int,
+                 known: tuple[bool, float] | None = None) -> None:
     """Raise StepFailed if a converged state must be rejected (`acceptance_facts`, ``known`` as there)."""
     jumped, dth = acceptance_facts(system, q_new, q_old, ev, known)
     if jumped:
@@ -277,7 +292,7 @@ def accept_check(system, q_new, q_old, ev, opts: SolveOptions, its, known: tuple
                          its, cut=max(0.1, 0.8 * opts.max_rotation_increment / dth))
 
 
-def snapshot(system, q, lam, ev, level_param):
+def snapshot(system: System, q: FloatArray, lam: float, ev: Evaluation, level_param: float) -> dict[str, Any]:
     """The state of a recorded level. The arrays of a compiled corrector's evaluation are its own (made
     for its call, written by nothing after it): kept as they are; those of `assembly.System.evaluate`
     are copied."""
@@ -288,11 +303,11 @@ def snapshot(system, q, lam, ev, level_param):
                 level=level_param)
 
 
-def _as_it_is(array):
+def _as_it_is(array: FloatArray) -> FloatArray:
     return array
 
 
-def det_sign(system, ev, fac=None):
+def det_sign(system: System, ev: Evaluation, fac: SignedFactor | None = None) -> int:
     """Sign of det K at the converged state ``ev``: from the last Newton factorisation ``fac`` when it
     says positive, else from a fresh factorisation at ``ev``. That factorisation is one iterate before
     convergence, which after a long step can lie far from it (Test 2 at 128 elements: |r|/F = 3.2 there

@@ -14,11 +14,13 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .types import IntArray
+
 __all__ = ["rcm_order"]
 
 
 @njit(cache=True)
-def _rcm(n_nodes, a, b):
+def _rcm(n_nodes: int, a: IntArray, b: IntArray) -> IntArray:
     """Reverse Cuthill-McKee order of the nodes 0 .. n_nodes-1 of the graph with edges (a[k], b[k]).
 
     One compiled function (numba compiles and optimises each jitted function on its own: the two sorts
@@ -85,7 +87,7 @@ def _rcm(n_nodes, a, b):
     return reverse
 
 
-def rcm_order(n_nodes: int, conn: np.ndarray, slaves: np.ndarray, masters: np.ndarray) -> np.ndarray:
+def rcm_order(n_nodes: int, conn: IntArray, slaves: IntArray, masters: IntArray) -> IntArray:
     """Nodes in reverse Cuthill-McKee order, for the elements ``conn`` (n_el, 2) and the rigid links
     (``slaves[k]`` to ``masters[k]``)."""
     a = np.concatenate([np.asarray(conn[:, 0], np.int64), np.asarray(slaves, np.int64)])

@@ -15,6 +15,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from typing import TYPE_CHECKING
+
+from .types import Evaluation, FloatArray, Recorded, SignedFactor
+
+if TYPE_CHECKING:
+    from .model import NodeRef
+
 __all__ = ["SolveOptions", "LoadControl", "DisplacementControl", "ArcLengthControl", "NewtonOutcome",
            "StepState", "SwitchStatus", "BranchSwitch", "CriticalPoint"]
 
@@ -50,15 +57,15 @@ class LoadControl:
     free-motion test, `free_motion`: refining adds only interior beam nodes, each joined by two
     elements), so the test is not made again."""
     n_levels: int | None = None
-    initial_guess: object = None
+    initial_guess: Recorded | None = None
     held: bool = False
 
 
 @dataclass(frozen=True)
 class DisplacementControl:
     """``control_dof`` = (node, 'ux' | 'uy' | 'rz') follows ``targets``; the load factor is free."""
-    control_dof: tuple
-    targets: tuple
+    control_dof: tuple[NodeRef, str]
+    targets: tuple[float, ...]
 
 
 @dataclass(frozen=True)
@@ -68,7 +75,7 @@ class ArcLengthControl:
     arc_length: float | None = None
     max_arc_length: float | None = None
     max_steps: int = 2000
-    until: tuple | None = None
+    until: tuple[NodeRef, str, float] | None = None
     lambda_max: float | None = None
     direction: float = 1.0
     max_limit_points: int | None = None
@@ -83,31 +90,31 @@ class NewtonOutcome:
     """A converged corrector: state, load factor, evaluation there, residual history, iterations and
     the last factorisation of the tangent (one iteration before the converged state; None when the
     start already converged)."""
-    q: np.ndarray
+    q: FloatArray
     lam: float
-    ev: dict
-    history: list
+    ev: Evaluation
+    history: list[float]
     iterations: int
-    factor: object
-    accept: tuple | None = None     # (an element jumped, largest rotation increment): `newton.accept_check`
+    factor: SignedFactor | None
+    accept: tuple[bool, float] | None = None    # (an element jumped, largest rotation increment): `newton.accept_check`
 
 
 @dataclass
 class StepState:
     """A converged step before it is accepted: the Newton outcome, the chord angles it started from,
     the sign of det K there, and whether it was moved to another branch."""
-    q: np.ndarray
+    q: FloatArray
     lam: float
-    ev: dict
-    factor: object
-    history: list
+    ev: Evaluation
+    factor: SignedFactor | None
+    history: list[float]
     iterations: int
-    beta: np.ndarray
+    beta: FloatArray
     sign: int = 0
     switched: bool = False
 
     @classmethod
-    def of(cls, out: NewtonOutcome, beta: np.ndarray, sign: int) -> "StepState":
+    def of(cls, out: NewtonOutcome, beta: FloatArray, sign: int) -> StepState:
         return cls(out.q, out.lam, out.ev, out.factor, out.history, out.iterations, beta, sign)
 
 

@@ -15,11 +15,21 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import meshio
 import numpy as np
 
 from .corotational import strain_energy
+from .section import Section
+from .types import FloatArray, IntArray
+
+if TYPE_CHECKING:
+    from .assembly import System
+    from .discretise import Discretisation
+    from .model import Model, NodeRef
+    from .newton import Path as SolverPath
+    from .options import CriticalPoint
 
 __all__ = ["FemResult", "NodalFields", "FieldSeries"]
 
@@ -33,47 +43,53 @@ class FemResult:
     iterations: int
     cutbacks: int
     rejected_iterations: int           # Newton iterations spent on rejected (cut) steps
-    residual_history: list
-    load_factor: np.ndarray            # (n_levels,)
-    positions: np.ndarray              # (n_levels, n_nodes, 2)
-    rotations: np.ndarray              # (n_levels, n_nodes)
-    critical_points: list
+    residual_history: list[FloatArray]   # |r|/F of every iteration, per accepted step
+    load_factor: FloatArray            # (n_levels,)
+    positions: FloatArray              # (n_levels, n_nodes, 2)
+    rotations: FloatArray              # (n_levels, n_nodes)
+    critical_points: list[CriticalPoint]
     wall_time: float
-    node_names: list
-    mesh_positions: np.ndarray         # (n_levels, n_element_nodes, 2)
-    mesh_rotations: np.ndarray         # (n_levels, n_element_nodes)
-    connectivity: np.ndarray           # (n_elements, 2)
-    det_sign: np.ndarray               # (n_steps,) sign of det K at accepted steps
+    node_names: list[str]
+    mesh_positions: FloatArray         # (n_levels, n_element_nodes, 2)
+    mesh_rotations: FloatArray         # (n_levels, n_element_nodes)
+    connectivity: IntArray             # (n_elements, 2)
+    det_sign: IntArray                 # (n_steps,) sign of det K at accepted steps
     refine: int = 1
     n_elements: int = 0
-    extra: dict = field(default_factory=dict)
+    extra: dict[str, Any] = field(default_factory=dict)
     # CPU seconds of the load stepping alone (Newton iterations and step control), without the model's
     # set-up (mesh, DOF numbering, sparsity) and without building this result
     analysis_time: float = 0.0
     # what the derived fields below are computed from, when first read (most runs read a few positions)
-    derived: "_Derived | None" = field(default=None, repr=False, compare=False)
+    derived: _Derived | None = field(default=None, repr=False, compare=False)
 
     # -- derived fields, computed when first read ---------------------------
+    @property
+    def _states(self) -> _Derived:
+        if self.derived is None:
+            raise AttributeError("this result carries no recorded states (a result of `build_result` does)")
+        return self.derived
+
     @cached_property
-    def reactions(self) -> np.ndarray:
+    def reactions(self) -> FloatArray:
         """(n_levels, n_nodes, 3): (Rx, Ry, Mz) exerted by the supports and prescriptions."""
-        return self.derived.reactions()
+        return self._states.reactions()
 
     @cached_property
-    def member_end_forces(self) -> np.ndarray:
+    def member_end_forces(self) -> FloatArray:
         """(n_levels, n_members, 2, 3): [N, V, M] at the start and the end of every member."""
-        return self.derived.member_end_forces()
+        return self._states.member_end_forces()
 
     @cached_property
-    def strain_energy(self) -> np.ndarray:
+    def strain_energy(self) -> FloatArray:
         """(n_levels,): the elastic energy of the elements and the joint springs."""
-        return self.derived.strain_energy()
+        return self._states.strain_energy()
 
     @cached_property
-    def max_bending_stress(self) -> np.ndarray:
+    def max_bending_stress(self) -> FloatArray:
         """(n_levels,): the largest |E (N/EA +- M c/EI)| over the elements, NaN when the sections do
         not know E and c."""
-        return self.derived.max_bending_stress()
+        return self._states.max_bending_stress()
 
     # -- scipy-like conveniences -------------------------------------------
     @property
@@ -89,45 +105,50 @@ class FemResult:
     def n_levels(self) -> int:
         return len(self.load_factor)
 
-    def node_index(self, node) -> int:
+    def node_index(self, node: NodeRef) -> int:
         """Index of a model node given by name (or index)."""
         if isinstance(node, (int, np.integer)):
             return int(node)
         return self.node_names.index(str(node))
 
-    def position(self, node, level: int = -1) -> np.ndarray:
+    def position(self, node: NodeRef, level: int = -1) -> FloatArray:
         """Current (x, y) of a model node at a recorded level."""
-        return self.positions[level, self.node_index(node)].copy()
+        xy: FloatArray = self.positions[level, self.node_index(node)].copy()
+        return xy
 
-    def displacement(self, node, level: int = -1) -> np.ndarray:
+    def displacement(self, node: NodeRef, level: int = -1) -> FloatArray:
         i = self.node_index(node)
-        return self.positions[level, i] - self.mesh_positions_ref[i]
+        moved: FloatArray = self.positions[level, i] - self.mesh_positions_ref[i]
+        return moved
 
     @property
-    def mesh_positions_ref(self):
-        return self.extra["X"]
+    def mesh_positions_ref(self) -> FloatArray:
+        """(n_element_nodes, 2): the element nodes' reference positions."""
+        reference: FloatArray = self.extra["X"]
+        return reference
 
-    def rotation(self, node, level: int = -1) -> float:
+    def rotation(self, node: NodeRef, level: int = -1) -> float:
         """Accumulated rotation (rad, counter-clockwise) of a model node."""
         return float(self.rotations[level, self.node_index(node)])
 
-    def reaction(self, node, level: int = -1) -> np.ndarray:
+    def reaction(self, node: NodeRef, level: int = -1) -> FloatArray:
         """(Rx, Ry, Mz) exerted by the supports/prescriptions on the node."""
-        return self.reactions[level, self.node_index(node)].copy()
+        force: FloatArray = self.reactions[level, self.node_index(node)].copy()
+        return force
 
     def __repr__(self) -> str:
         return (f"FemResult(converged={self.converged}, message={self.message!r}, "
                 f"levels={self.n_levels}, steps={self.steps}, iterations={self.iterations}, "
                 f"wall_time={self.wall_time:.3g}s)")
 
-    def nodal_fields(self, level: int) -> "NodalFields":
+    def nodal_fields(self, level: int) -> NodalFields:
         """Fields at the element nodes of one recorded level (what a ParaView user colours by).
 
         The internal bending moment at an element end follows from the local end moments
         (a pure bend of curvature kappa gives M1 = -EI kappa, M2 = +EI kappa): -M1 at the start
         node, +M2 at the end node, so M = EI kappa with kappa = d(theta)/ds; the axial force is
         N = k_a u_bar (tension positive).  A node shared by elements takes their mean."""
-        disc = self.extra["disc"]
+        disc: Discretisation = self.extra["disc"]
         N = self.extra["element_axial_force"][level]
         M = self.extra["element_end_moments"][level]
         conn = self.connectivity
@@ -136,11 +157,12 @@ class FemResult:
         count = np.bincount(conn.ravel(), minlength=n).astype(float)
         count[count == 0] = np.nan
 
-        def at_nodes(start, end):
-            return (np.bincount(conn[:, 0], start, n) + np.bincount(conn[:, 1], end, n)) / count
+        def at_nodes(start: FloatArray, end: FloatArray) -> FloatArray:
+            summed: FloatArray = (np.bincount(conn[:, 0], start, n) + np.bincount(conn[:, 1], end, n)) / count
+            return summed
 
         moment = at_nodes(-M[:, 0], M[:, 1])
-        stress = None
+        stress: FloatArray | None = None
         if disc.el_section and all(sec.has_stress for sec in disc.el_section):
             sigma = np.empty(len(conn))      # the larger of the two element ends
             for sec, idx in disc.section_groups:
@@ -155,7 +177,7 @@ class FemResult:
                            curvature=at_nodes(-M[:, 0] / EI, M[:, 1] / EI),
                            axial_force=at_nodes(N, N), bending_stress=stress)
 
-    def field_series(self) -> "FieldSeries":
+    def field_series(self) -> FieldSeries:
         """Every level's element-node positions and ``nodal_fields`` (all levels at once, the same
         sums in the same order as `nodal_fields`): plain data, without the solver. The point data
         are computed when first read (`FieldSeries.nodal`): most runs never draw them."""
@@ -166,19 +188,19 @@ class FemResult:
         return FieldSeries(self.extra["X"].copy(), self.connectivity.copy(), self.mesh_positions.copy(),
                            np.asarray(self.load_factor, float), forces, self.rigid_links())
 
-    def rigid_links(self) -> np.ndarray:
+    def rigid_links(self) -> IntArray:
         """(k, 2) element nodes (master, slave) of every rigid link, the master the root of its chain: the
         lines a picture draws for them (a rigid body as a star from its master)."""
-        disc = self.extra["disc"]
+        disc: Discretisation = self.extra["disc"]
         return np.column_stack([disc.masters, disc.slaves]).astype(int).reshape(-1, 2)
 
-    def to_vtu(self, prefix: str) -> list:
+    def to_vtu(self, prefix: str) -> list[str]:
         """Write one VTU file per level (deformed mesh, line cells, the point data of
         ``nodal_fields``), ``prefix_undeformed.vtu`` and a ParaView collection ``prefix.pvd``
         (time = level's load factor); returns the per-level VTU paths."""
         lines = np.concatenate([self.connectivity, self.rigid_links()])   # elements, then rigid links
 
-        def write(path, xy, point_data):
+        def write(path: str, xy: FloatArray, point_data: dict[str, FloatArray]) -> None:
             meshio.write(path, meshio.Mesh(np.column_stack([xy, np.zeros(len(xy))]),
                                            [("line", lines)], point_data=point_data))
 
@@ -202,14 +224,14 @@ class NodalFields:
     """Point data at the element nodes of one level, in the model's consistent units
     (rotation in radians, counter-clockwise; tension positive; bending stress None when the
     sections do not know E and the extreme-fibre distance)."""
-    displacement: np.ndarray            # (n, 2)
-    rotation: np.ndarray                # (n,)
-    curvature: np.ndarray               # (n,)
-    bending_moment: np.ndarray          # (n,)
-    axial_force: np.ndarray             # (n,)
-    bending_stress: np.ndarray | None   # (n,) largest |sigma| on the sections meeting at the node
+    displacement: FloatArray            # (n, 2)
+    rotation: FloatArray                # (n,)
+    curvature: FloatArray               # (n,)
+    bending_moment: FloatArray          # (n,)
+    axial_force: FloatArray             # (n,)
+    bending_stress: FloatArray | None   # (n,) largest |sigma| on the sections meeting at the node
 
-    def point_data(self) -> dict:
+    def point_data(self) -> dict[str, FloatArray]:
         """VTK point arrays (3-component displacement, as ParaView's Warp By Vector expects)."""
         data = {"displacement": np.column_stack([self.displacement, np.zeros(len(self.displacement))]),
                 "rotation": self.rotation, "curvature": self.curvature,
@@ -224,16 +246,16 @@ class _ElementForces:
     """What `FieldSeries.nodal` is computed from: per level the element axial forces N (levels,
     elements) and end moments M (levels, elements, 2), every element's section, the element-node
     displacements and rotations (levels, n, 2) and (levels, n)."""
-    N: np.ndarray
-    M: np.ndarray
-    sections: list
-    displacement: np.ndarray
-    rotation: np.ndarray
+    N: FloatArray
+    M: FloatArray
+    sections: list[Section]
+    displacement: FloatArray
+    rotation: FloatArray
 
-    def section_groups(self) -> list:
+    def section_groups(self) -> list[tuple[Section, IntArray]]:
         """(section, element indices) of the elements that share a section (as
         `Discretisation.section_groups`)."""
-        by_id = {}
+        by_id: dict[int, tuple[Section, list[int]]] = {}
         for e, sec in enumerate(self.sections):
             by_id.setdefault(id(sec), (sec, []))[1].append(e)
         return [(sec, np.array(idx)) for sec, idx in by_id.values()]
@@ -242,18 +264,18 @@ class _ElementForces:
 @dataclass
 class FieldSeries:
     """The deformed mesh and its point data at every recorded level (what a ParaView series needs)."""
-    reference: np.ndarray        # (n, 2) undeformed element nodes
-    connectivity: np.ndarray     # (m, 2)
-    positions: np.ndarray        # (levels, n, 2)
-    load_factor: np.ndarray      # (levels,) the load factor (or level) of each
+    reference: FloatArray        # (n, 2) undeformed element nodes
+    connectivity: IntArray       # (m, 2)
+    positions: FloatArray        # (levels, n, 2)
+    load_factor: FloatArray      # (levels,) the load factor (or level) of each
     forces: _ElementForces
     # (k, 2) the rigid links' (master, slave) element nodes: drawn as lines (a rigid body as a star from
     # its master node), no element of their own, so no forces (their nodes' point data come from the
     # elements meeting there, NaN at a node no element reaches)
-    links: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), int))
+    links: IntArray = field(default_factory=lambda: np.zeros((0, 2), int))
 
     @cached_property
-    def nodal(self) -> list:
+    def nodal(self) -> list[NodalFields]:
         """`NodalFields` per level: an element node takes the mean of the element ends meeting there
         (-M1 at a start, +M2 at an end; kappa = M/EI; N), the stress the largest of theirs."""
         f, conn = self.forces, self.connectivity
@@ -265,25 +287,27 @@ class FieldSeries:
         offset = (np.arange(levels) * n)[:, None]
         starts, ends = (offset + conn[:, 0]).ravel(), (offset + conn[:, 1]).ravel()
 
-        def at_nodes(start, end):
+        def at_nodes(start: FloatArray, end: FloatArray) -> FloatArray:
             first = np.bincount(starts, weights=np.ravel(start), minlength=levels * n).reshape(levels, n)
             second = np.bincount(ends, weights=np.ravel(end), minlength=levels * n).reshape(levels, n)
-            return (first + second) / count
+            summed: FloatArray = (first + second) / count
+            return summed
 
         N, M = f.N, f.M
         EI = np.array([sec.EI for sec in f.sections])
         moment = at_nodes(-M[:, :, 0], M[:, :, 1])
         curvature = at_nodes(-M[:, :, 0] / EI, M[:, :, 1] / EI)
         axial = at_nodes(N, N)
-        stress = [None] * levels
+        stress: list[FloatArray | None] = [None] * levels
         if f.sections and all(sec.has_stress for sec in f.sections):
             sigma = np.empty((levels, len(conn)))
             for sec, idx in f.section_groups():
                 sigma[:, idx] = np.maximum(sec.max_stress(N[:, idx], np.abs(M[:, idx, 0])),
                                            sec.max_stress(N[:, idx], np.abs(M[:, idx, 1])))
             top = np.zeros((levels, n))
-            np.maximum.at(top, (slice(None), conn[:, 0]), sigma)
-            np.maximum.at(top, (slice(None), conn[:, 1]), sigma)
+            # (numpy's annotations of ufunc.at leave out an index tuple with a slice, which it takes)
+            np.maximum.at(top, (slice(None), conn[:, 0]), sigma)  # type: ignore[arg-type]
+            np.maximum.at(top, (slice(None), conn[:, 1]), sigma)  # type: ignore[arg-type]
             stress = list(top)
         return [NodalFields(displacement=f.displacement[k], rotation=f.rotation[k].copy(),
                             bending_moment=moment[k], curvature=curvature[k], axial_force=axial[k],
@@ -291,7 +315,7 @@ class FieldSeries:
                 for k in range(levels)]
 
 
-def _transfer_slave_forces(d, R, u):
+def _transfer_slave_forces(d: Discretisation, R: FloatArray, u: FloatArray) -> FloatArray:
     """Move the unbalanced forces of rigid-link slaves to their masters (statics)."""
     if not len(d.slaves):
         return R
@@ -310,12 +334,12 @@ def _transfer_slave_forces(d, R, u):
 class _Derived:
     """The recorded states a result's derived fields (reactions, member end forces, energy, stress)
     are computed from, when first read."""
-    disc: object
-    snapshots: list
-    N: np.ndarray      # (levels, elements) axial forces
-    M: np.ndarray      # (levels, elements, 2) end moments
+    disc: Discretisation
+    snapshots: list[dict[str, Any]]     # `newton.snapshot` of every recorded level
+    N: FloatArray      # (levels, elements) axial forces
+    M: FloatArray      # (levels, elements, 2) end moments
 
-    def reactions(self) -> np.ndarray:
+    def reactions(self) -> FloatArray:
         d, snaps = self.disc, self.snapshots
         nm, nl = d.n_model_nodes, len(snaps)
         mask = np.zeros(d.n_full + 1)
@@ -327,12 +351,12 @@ class _Derived:
         reac[:, :, 2] = R[:, d.rot_dof[:nm]]
         return reac
 
-    def member_end_forces(self) -> np.ndarray:
+    def member_end_forces(self) -> FloatArray:
         d, snaps = self.disc, self.snapshots
         L = np.array([s["L"] for s in snaps]).reshape(len(snaps), len(d.conn))
         return _member_end_forces(d, self.N, self.M, L)
 
-    def strain_energy(self) -> np.ndarray:
+    def strain_energy(self) -> FloatArray:
         d, snaps = self.disc, self.snapshots
         energy = np.zeros(len(snaps))
         for k, s in enumerate(snaps):
@@ -342,7 +366,7 @@ class _Derived:
                 energy[k] += 0.5 * np.sum(d.spring_k * dth**2)
         return energy
 
-    def max_bending_stress(self) -> np.ndarray:
+    def max_bending_stress(self) -> FloatArray:
         d, nl = self.disc, len(self.snapshots)
         stress = np.full(nl, np.nan)
         if nl and d.el_section and all(sec.has_stress for sec in d.el_section):
@@ -352,8 +376,9 @@ class _Derived:
         return stress
 
 
-def build_result(model, sys, path, *, converged, message, critical_points, wall_time,
-                 control, refine, analysis_time: float = 0.0) -> FemResult:
+def build_result(model: Model, sys: System, path: SolverPath, *, converged: bool, message: str,
+                 critical_points: list[CriticalPoint], wall_time: float, control: str, refine: int,
+                 analysis_time: float = 0.0) -> FemResult:
     """The result of a path: positions and rotations now, the derived fields (`_Derived`) when read."""
     d = sys.disc
     nm = d.n_model_nodes
@@ -388,7 +413,7 @@ def build_result(model, sys, path, *, converged, message, critical_points, wall_
         derived=_Derived(d, list(snaps), N_all, M_all))
 
 
-def _member_end_forces(d, N, M, L) -> np.ndarray:
+def _member_end_forces(d: Discretisation, N: FloatArray, M: FloatArray, L: FloatArray) -> FloatArray:
     """[N, V, M] at the start and the end of every member, V = -(M1 + M2)/L (levels, members, 2, 3)."""
     first = np.array([els[0] for els in d.member_elements], dtype=int)
     last = np.array([els[-1] for els in d.member_elements], dtype=int)

@@ -23,9 +23,13 @@ Angles are in radians (degrees appear only in case files and reports).
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
+
+from .types import FloatArray
 
 __all__ = ["Section"]
 
@@ -40,7 +44,7 @@ class Section:
 
     EA: float
     EI: float
-    stress_layers: tuple = ()
+    stress_layers: tuple[tuple[float, float], ...] = ()
 
     def __post_init__(self) -> None:
         for name in ("EA", "EI"):
@@ -65,20 +69,20 @@ class Section:
         return cls.layers([(E, width, thickness)])
 
     @classmethod
-    def layers(cls, stack) -> "Section":
+    def layers(cls, stack: Iterable[tuple[float, float, float]]) -> Section:
         """Stack of sliding layers, each ``(E, width, thickness)``."""
-        stack = [(float(E), float(w), float(h)) for E, w, h in stack]
-        if not stack:
+        layers = [(float(E), float(w), float(h)) for E, w, h in stack]
+        if not layers:
             raise ValueError("a layered section needs at least one layer")
-        EA = sum(E * w * h for E, w, h in stack)
-        EI = sum(E * w * h**3 / 12.0 for E, w, h in stack)
-        return cls(EA, EI, tuple((E, h / 2.0) for E, _, h in stack))
+        EA = sum(E * w * h for E, w, h in layers)
+        EI = sum(E * w * h**3 / 12.0 for E, w, h in layers)
+        return cls(EA, EI, tuple((E, h / 2.0) for E, _, h in layers))
 
     @property
     def has_stress(self) -> bool:
         return len(self.stress_layers) > 0
 
-    def max_stress(self, N, M):
+    def max_stress(self, N: ArrayLike, M: ArrayLike) -> FloatArray:
         """Largest |sigma| over the layers for axial force N and moment M (arrays)."""
         if not self.has_stress:
             return np.full(np.shape(M), np.nan)
@@ -87,7 +91,8 @@ class Section:
         layer = (-1,) + (1,) * max(eps.ndim, kappa.ndim)      # layers along the first axis
         E = np.array([E for E, _ in self.stress_layers]).reshape(layer)
         c = np.array([c for _, c in self.stress_layers]).reshape(layer)
-        return np.max(np.abs(E * eps) + np.abs(E * kappa * c), axis=0)
+        stress: FloatArray = np.max(np.abs(E * eps) + np.abs(E * kappa * c), axis=0)
+        return stress
 
     def scaled(self, factor_EA: float = 1.0, factor_EI: float = 1.0) -> "Section":
         return Section(self.EA * factor_EA, self.EI * factor_EI, self.stress_layers)

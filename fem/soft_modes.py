@@ -19,13 +19,15 @@ Angles are in radians (degrees appear only in case files and reports).
 """
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
 
 from .assembly import System
 from .discretise import discretise
-from .model import DOF_NAMES, Model
+from .model import DOF_NAMES, Model, NodeRef
+from .types import FloatArray
 
 __all__ = ["SoftModes", "soft_modes"]
 
@@ -33,14 +35,15 @@ __all__ = ["SoftModes", "soft_modes"]
 @dataclass
 class SoftModes:
     count: int                  # eigenvalues below ratio x the reference stiffness
-    stiffness: np.ndarray       # eigenvalues of K_a, ascending (force/length)
-    ratios: np.ndarray          # stiffness / reference stiffness
+    stiffness: FloatArray       # eigenvalues of K_a, ascending (force/length)
+    ratios: FloatArray          # stiffness / reference stiffness
     ratio: float                # the threshold used
-    dofs: list                  # the actuation DOFs, (node, 'ux' | 'uy' | 'rz')
-    modes: np.ndarray           # (m, m) eigenvectors (columns), in the scaled actuation DOFs
+    dofs: list[tuple[NodeRef, str]]   # the actuation DOFs, (node, 'ux' | 'uy' | 'rz')
+    modes: FloatArray           # (m, m) eigenvectors (columns), in the scaled actuation DOFs
 
 
-def _actuation_rows(system, model, dofs, length_scale):
+def _actuation_rows(system: System, model: Model, dofs: list[tuple[NodeRef, str]],
+                    length_scale: float) -> FloatArray:
     """T (m x n): du_a/dq at the unloaded state, rotations times ``length_scale``."""
     d = system.disc
     _, C = system.full_displacements(np.zeros(system.n), system.presc[0] * 0.0)
@@ -59,8 +62,8 @@ def _actuation_rows(system, model, dofs, length_scale):
     return T
 
 
-def soft_modes(model: Model, dofs, ratio: float = 1e-2, length_scale: float | None = None,
-               reference_stiffness: float | None = None) -> SoftModes:
+def soft_modes(model: Model, dofs: Iterable[tuple[NodeRef, str]], ratio: float = 1e-2,
+               length_scale: float | None = None, reference_stiffness: float | None = None) -> SoftModes:
     """Soft modes of the unloaded mechanism at the actuation DOFs ``dofs`` ((node, 'ux'|'uy'|'rz'), ...)."""
     disc = discretise(model)
     system = System(model, disc, solver_kind="dense")
@@ -68,9 +71,10 @@ def soft_modes(model: Model, dofs, ratio: float = 1e-2, length_scale: float | No
     zero = system.loads_at(-1, 0, 0.0)
     ev = system.evaluate(np.zeros(system.n), disc.beta0.copy(), 0.0, *zero)
     K = system.layout.to_dense(ev["K"])
-    T = _actuation_rows(system, model, list(dofs), L)
+    dofs = list(dofs)
+    T = _actuation_rows(system, model, dofs, L)
     flexibility = T @ np.linalg.solve(K, T.T)
     stiffness_matrix = np.linalg.inv(0.5 * (flexibility + flexibility.T))
     values, vectors = np.linalg.eigh(0.5 * (stiffness_matrix + stiffness_matrix.T))
     ratios = values / (float(reference_stiffness) if reference_stiffness is not None else values[-1])
-    return SoftModes(int(np.count_nonzero(ratios < ratio)), values, ratios, float(ratio), list(dofs), vectors)
+    return SoftModes(int(np.count_nonzero(ratios < ratio)), values, ratios, float(ratio), dofs, vectors)

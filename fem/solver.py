@@ -36,21 +36,26 @@ Angles are in radians (degrees appear only in case files and reports).
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .assembly import System
 from .conditioning import beyond_precision
 from .critical import critical_points
 from .discretise import discretise
 from .free_motion import check_held
-from .linear_solver import SingularMatrix
-from .model import DOF_NAMES, Model
-from .newton import Path, StepFailed, accept_check, acceptance_facts, det_sign, growth, newton, snapshot
-from .options import (ArcLengthControl, DisplacementControl, LoadControl, SolveOptions, StepState,
-                      SwitchStatus)
+from .linear_solver import Factor, SingularMatrix
+from .model import DOF_NAMES, Model, NodeRef
+from .newton import Control, Path, StepFailed, accept_check, acceptance_facts, det_sign, growth, newton, snapshot
+from .options import (ArcLengthControl, DisplacementControl, LoadControl, NewtonOutcome, SolveOptions,
+                      StepState, SwitchStatus)
 from .result import FemResult, build_result
-from .stability import DENSE_LIMIT, conservative, eigenvalue_below, held_sign, switch_branch, zero_eigenvalue
+from .inertia import DENSE_LIMIT, zero_eigenvalue
+from .stability import conservative, eigenvalue_below, held_sign, switch_branch
+from .types import Evaluation, FloatArray, Loads, SignedFactor
 from .warm_start import LevelGuesses, level_guesses
 
 __all__ = ["solve", "solve_load", "solve_displacement", "solve_arclength"]
@@ -59,17 +64,18 @@ SWITCH_STEP = 1.0 / 64    # branch switching is tried from steps no longer than 
 JUMP_CUT_FLOOR = 64       # steps shorter than this many min_step are not cut for turning back
 
 
-def _path_weights(system) -> np.ndarray:
+def _path_weights(system: System) -> FloatArray:
     """W of the norm ||dq||_W: rotations weighted by the mean element length squared."""
     return system.path_weights
 
 
-def _step_state(system, opts: SolveOptions, out, beta) -> StepState:
+def _step_state(system: System, opts: SolveOptions, out: NewtonOutcome, beta: FloatArray) -> StepState:
     """A converged step with the sign of det K (`newton.det_sign`) when it is watched."""
     return StepState.of(out, beta, det_sign(system, out.ev, out.factor) if opts.watch_det else 0)
 
 
-def _try_guess(system, opts: SolveOptions, path, guesses: LevelGuesses, k: int, loads):
+def _try_guess(system: System, opts: SolveOptions, path: Path, guesses: LevelGuesses, k: int,
+               loads: Loads) -> NewtonOutcome | None:
     """Newton from the warm-start guess of level k; None if not acceptable (an element jumped by 2 pi,
     or a rotation moved 0.1 rad or more from the guess: another branch)."""
     q_g, beta_g = guesses.q[k], guesses.beta[k]
@@ -85,7 +91,7 @@ def _try_guess(system, opts: SolveOptions, path, guesses: LevelGuesses, k: int, 
     return out
 
 
-def _even_crossing(system, st: StepState, held) -> bool:
+def _even_crossing(system: System, st: StepState, held: int | None) -> bool:
     """True when det K > 0 hides an unstable state: two (or any even number of) eigenvalues
     crossed zero in one step, which the sign of det K cannot see. Checked by a Cholesky
     factorisation of the shifted, scaled tangent (`stability.eigenvalue_below`), only where it can
@@ -95,7 +101,7 @@ def _even_crossing(system, st: StepState, held) -> bool:
     ``system.inertia_tol`` = `zero_eigenvalue` (1, n))."""
     if not conservative(system) or system.n > DENSE_LIMIT:
         return False
-    known = getattr(st.ev, "inertia_below", -1)      # the compiled corrector's own test, made
+    known: int = getattr(st.ev, "inertia_below", -1)      # the compiled corrector's own test, made
     if held is None and known >= 0:                  # where an element is in compression
         return bool(known)
     if float(st.ev["el"]["N"].min(initial=0.0)) >= 0.0:
@@ -106,7 +112,7 @@ def _even_crossing(system, st: StepState, held) -> bool:
         return False
 
 
-def _turned_back(system, dq, dq_prev) -> bool:
+def _turned_back(system: System, dq: FloatArray, dq_prev: FloatArray) -> bool:
     """True when the increment of a load step points against the previous one (negative
     cosine in the norm ||dq||_W): under load control the path does not turn back within one step,
     the state jumped to another branch (e.g. the buckled state on the far side of an imperfect
@@ -114,7 +120,7 @@ def _turned_back(system, dq, dq_prev) -> bool:
     return bool(np.dot(dq * _path_weights(system), dq_prev) < 0.0)
 
 
-def _lost_stability(system, opts: SolveOptions, path, st: StepState, held=None) -> bool:
+def _lost_stability(system: System, opts: SolveOptions, path: Path, st: StepState, held: int | None = None) -> bool:
     """True when a converged step took the stable path to an unstable state: sign det K (of
     K_ff with the control DOF `held` under displacement control) turned negative, or an even
     number of eigenvalues crossed zero (`_even_crossing`). Dead loads only: under follower
@@ -131,16 +137,22 @@ def _lost_stability(system, opts: SolveOptions, path, st: StepState, held=None) 
         return False
     if held is not None:
         try:
-            fac = st.factor or system.layout.factor(st.ev["K"])
-            if held_sign(fac, st.sign, held) >= 0:
+            if held_sign(_solver_factor(system, st.factor, st.ev), st.sign, held) >= 0:
                 return False
         except SingularMatrix:
             return False
     return True
 
 
-def _leave_unstable(system, opts: SolveOptions, path, st: StepState, loads, q_prev, mode="load",
-                    ctrl=None, held=None):
+def _solver_factor(system: System, factor: SignedFactor | None, ev: Evaluation) -> Factor:
+    """The corrector's factorisation ``factor`` of the tangent when it is one that solves (the NumPy
+    corrector's, under displacement and arc-length control), else a factorisation of ``ev``'s tangent."""
+    return factor if isinstance(factor, Factor) else system.layout.factor(ev["K"])
+
+
+def _leave_unstable(system: System, opts: SolveOptions, path: Path, st: StepState, loads: Loads,
+                    q_prev: FloatArray, mode: str = "load", ctrl: Control | None = None,
+                    held: int | None = None) -> str | None:
     """Replace the unstable state ``st`` (updated in place) by a stable one on another branch,
     preferably the one on the side of the path's last stable state ``q_prev``
     (`stability.switch_branch`). Returns None, or the reason why no stable state was found."""
@@ -153,6 +165,7 @@ def _leave_unstable(system, opts: SolveOptions, path, st: StepState, loads, q_pr
         return ("the converged state is unstable: a bifurcation was crossed (det K < 0, "
                 f"{out.reason}); not returned")
     new = out.outcome
+    assert new is not None      # SWITCHED carries the stable state
     path.branch_switches.append((len(path.step_lams), out.note))
     st.q, st.lam, st.ev, st.factor = new.q, new.lam, new.ev, new.factor
     st.history, st.iterations = st.history + new.history, st.iterations + new.iterations
@@ -161,7 +174,8 @@ def _leave_unstable(system, opts: SolveOptions, path, st: StepState, loads, q_pr
 
 
 # ---------------------------------------------------------------------------------- load control
-def _guessed_level(system, opts, path, guesses: LevelGuesses, k, beta):
+def _guessed_level(system: System, opts: SolveOptions, path: Path, guesses: LevelGuesses, k: int,
+                   beta: FloatArray) -> StepState | None:
     """The level k solved in one Newton run from its warm-start guess, or None (step to it)."""
     out = _try_guess(system, opts, path, guesses, k, system.loads_at(k - 1, k, 1.0))
     if out is None:
@@ -177,7 +191,8 @@ class NoStableBranch(Exception):
     """A converged step is unstable and no stable state was found beside it."""
 
 
-def _load_step(system, opts, path, q, beta, k, t, t_new, dt, prev):
+def _load_step(system: System, opts: SolveOptions, path: Path, q: FloatArray, beta: FloatArray, k: int, t: float,
+               t_new: float, dt: float, prev: tuple[FloatArray, float] | None) -> StepState | float:
     """One load step (length dt) from t to t_new of the segment to level k: the accepted
     `StepState`, or the factor (float) to cut the step by. Raises StepFailed when Newton fails,
     NoStableBranch when it lands on an unstable state with no stable one beside it."""
@@ -200,12 +215,14 @@ def _load_step(system, opts, path, q, beta, k, t, t_new, dt, prev):
     return st
 
 
-def _run_load(system, opts: SolveOptions, path, guesses=None):
+def _run_load(system: System, opts: SolveOptions, path: Path, guesses: LevelGuesses | None = None) -> str | None:
     """Load control over the levels."""
     q = np.zeros(system.n)
     beta = system.disc.beta0.copy()
+    ev: Evaluation = {}
     for k in range(system.n_levels):
-        t, prev = 0.0, None
+        t = 0.0
+        prev: tuple[FloatArray, float] | None = None
         dt = opts.initial_step       # a level that needed cuts does not shorten the first try of the next
         got = None if guesses is None else _guessed_level(system, opts, path, guesses, k, beta)
         if got is not None:
@@ -242,9 +259,10 @@ def _run_load(system, opts: SolveOptions, path, guesses=None):
 
 
 # -------------------------------------------------------------------------- displacement control
-def _control_index(system, model, control):
-    node, dof = control
-    node = model.node(node)
+def _control_index(system: System, model: Model, control: tuple[NodeRef, str]) -> tuple[int, float]:
+    """(reduced unknown, coefficient) of the control DOF ``control`` = (node, 'ux' | 'uy' | 'rz')."""
+    name, dof = control
+    node = model.node(name)
     d = system.disc
     i = 2 * node + DOF_NAMES[dof] if DOF_NAMES[dof] < 2 else d.rot_dof[node]
     k, c = d.I[i, 0], d.C[i, 0]
@@ -253,24 +271,27 @@ def _control_index(system, model, control):
     return int(k), float(c)
 
 
-def _reference_loads(system):
+def _reference_loads(system: System) -> Loads:
+    """The load pattern of displacement and arc-length control: the loads at the last level."""
     if system.presc.size and np.any(system.presc != 0.0):
         raise ValueError("displacement/arc-length control needs zero prescribed values; "
                          "the load pattern is scaled by the load factor")
     return system.F_fixed[-1], system.F0[-1], system.presc[-1] * 0.0
 
 
-def _critical_slope(system, st: StepState, k, coef):
+def _critical_slope(system: System, st: StepState, k: int, coef: float) -> tuple[int, float]:
     """sign det K and d lambda / d u_c = 1 / (K^-1 f_ref)_c at an accepted displacement step."""
     try:
-        fac = st.factor or system.layout.factor(st.ev["K"])
+        fac = _solver_factor(system, st.factor, st.ev)
         bb = fac.solve(st.ev["f_ref"])
         return fac.det_sign, (1.0 / (bb[k] * coef) if bb[k] != 0 else np.nan)
     except SingularMatrix:
         return 0, np.nan
 
 
-def _disp_step(system, opts, path, q, lam, beta, loads, ctrl, prev):
+def _disp_step(system: System, opts: SolveOptions, path: Path, q: FloatArray, lam: float, beta: FloatArray,
+               loads: Loads, ctrl: Control,
+               prev: tuple[FloatArray, float, float] | None) -> StepState:
     """One displacement step to the control value ctrl[2]: the accepted `StepState`. Raises
     StepFailed (Newton) or NoStableBranch."""
     k, coef, u_t = ctrl
@@ -288,12 +309,15 @@ def _disp_step(system, opts, path, q, lam, beta, loads, ctrl, prev):
     return st
 
 
-def _run_disp(system, model, control: DisplacementControl, opts: SolveOptions, path):
+def _run_disp(system: System, model: Model, control: DisplacementControl, opts: SolveOptions,
+              path: Path) -> str | None:
     k, coef = _control_index(system, model, control.control_dof)
     targets = np.atleast_1d(np.asarray(control.targets, dtype=float))
     loads = _reference_loads(system)
     q, lam, beta = np.zeros(system.n), 0.0, system.disc.beta0.copy()
-    frac, prev = opts.initial_step, None
+    frac = opts.initial_step
+    prev: tuple[FloatArray, float, float] | None = None
+    ev: Evaluation = {}
     for lev, target in enumerate(targets):
         u_a, t = q[k] * coef, 0.0
         while t < 1.0:
@@ -328,23 +352,23 @@ def _run_disp(system, model, control: DisplacementControl, opts: SolveOptions, p
 class _Arc:
     """The state of an arc-length trace between steps."""
 
-    def __init__(self, system, model, control: ArcLengthControl):
+    def __init__(self, system: System, model: Model, control: ArcLengthControl):
         self.w = _path_weights(system)
         self.q, self.lam, self.beta = np.zeros(system.n), 0.0, system.disc.beta0.copy()
         self.dl = control.arc_length or 0.05 * system.L_ref
         self.dl_max = control.max_arc_length or 20 * self.dl
         self.dl_min = self.dl * 1e-6
-        self.Dq_prev = None
+        self.Dq_prev: FloatArray | None = None
         self.sign = float(np.sign(control.direction) or 1.0)
         self.s_total, self.n_limits = 0.0, 0
-        self.cached = None                     # (factor, K^-1 f_ref) at the current state
-        self.hist3 = [(0.0, self.q.copy(), self.lam)]
-        self.stop = None
+        self.cached: tuple[Factor, FloatArray] | None = None     # (factor, K^-1 f_ref) at the current state
+        self.hist3: list[tuple[float, FloatArray, float]] = [(0.0, self.q.copy(), self.lam)]
+        self.stop: tuple[int, float, float] | None = None     # (unknown, coefficient, value) of ``until``
         if control.until is not None:
             self.stop = (*_control_index(system, model, control.until[:2]), float(control.until[2]))
 
 
-def _arc_predictor(system, arc: _Arc, loads, opts: SolveOptions):
+def _arc_predictor(system: System, arc: _Arc, loads: Loads, opts: SolveOptions) -> tuple[FloatArray, float]:
     """Tangent predictor Delta lambda = +-dl/||b||_W (b = K^-1 f_ref, sign following the path), or
     quadratic extrapolation through the last three states."""
     if arc.cached is None:
@@ -365,22 +389,22 @@ def _arc_predictor(system, arc: _Arc, loads, opts: SolveOptions):
         c0 = (x - s1) * (x - s2) / ((s0 - s1) * (s0 - s2))
         c1 = (x - s0) * (x - s2) / ((s1 - s0) * (s1 - s2))
         c2 = (x - s0) * (x - s1) / ((s2 - s0) * (s2 - s1))
-        return c0 * q0 + c1 * q1 + c2 * q2, c0 * l0 + c1 * l1 + c2 * l2
-    return arc.q + dlam * b, arc.lam + dlam
+        return c0 * q0 + c1 * q1 + c2 * q2, float(c0 * l0 + c1 * l1 + c2 * l2)
+    return arc.q + dlam * b, float(arc.lam + dlam)
 
 
-def _arc_accept(system, arc: _Arc, out, path) -> None:
+def _arc_accept(system: System, arc: _Arc, out: NewtonOutcome, path: Path) -> None:
     """Move the trace to the converged state and record the step (det K sign and path slope from
     K^-1 f_ref, cached for the next predictor)."""
-    arc.Dq_prev = out.q - arc.q
+    Dq = arc.Dq_prev = out.q - arc.q
     arc.q, arc.lam, arc.beta = out.q, out.lam, out.ev["el"]["beta"].copy()
-    arc.s_total += float(np.sqrt(np.dot(arc.Dq_prev * arc.w, arc.Dq_prev)))
+    arc.s_total += float(np.sqrt(np.dot(Dq * arc.w, Dq)))
     arc.hist3 = (arc.hist3 + [(arc.s_total, arc.q.copy(), arc.lam)])[-3:]
     try:
-        fac = out.factor or system.layout.factor(out.ev["K"])
+        fac = _solver_factor(system, out.factor, out.ev)
         b = fac.solve(out.ev["f_ref"])
         arc.cached = (fac, b)
-        travel = 1.0 if np.dot(b * arc.w, arc.Dq_prev) >= 0 else -1.0
+        travel = 1.0 if np.dot(b * arc.w, Dq) >= 0 else -1.0
         sign, slope = fac.det_sign, travel / np.sqrt(np.dot(b * arc.w, b))
     except SingularMatrix:
         arc.cached, sign, slope = None, 0, np.nan
@@ -389,7 +413,7 @@ def _arc_accept(system, arc: _Arc, out, path) -> None:
     path.snapshots.append(snapshot(system, arc.q, arc.lam, out.ev, float(len(path.snapshots))))
 
 
-def _arc_stopped(arc: _Arc, control: ArcLengthControl, path) -> bool:
+def _arc_stopped(arc: _Arc, control: ArcLengthControl, path: Path) -> bool:
     """The stop crossing, |lambda| >= lambda_max, or the max_limit_points-th limit point."""
     if arc.stop is not None:
         u_stop = arc.stop[2]
@@ -405,7 +429,7 @@ def _arc_stopped(arc: _Arc, control: ArcLengthControl, path) -> bool:
     return False
 
 
-def _run_arc(system, model, control: ArcLengthControl, opts: SolveOptions, path):
+def _run_arc(system: System, model: Model, control: ArcLengthControl, opts: SolveOptions, path: Path) -> str | None:
     loads = _reference_loads(system)
     arc = _Arc(system, model, control)
     start = system.evaluate(arc.q, arc.beta, arc.lam, *loads, need_K=False)
@@ -442,7 +466,7 @@ def _run_arc(system, model, control: ArcLengthControl, opts: SolveOptions, path)
 
 
 # ------------------------------------------------------------------------------- entry points
-def _prepare(model: Model, opts: SolveOptions, n_levels: int | None = None, check: bool = True):
+def _prepare(model: Model, opts: SolveOptions, n_levels: int | None = None, check: bool = True) -> System:
     """The discretised system, tested for free motion (`free_motion`) when ``check``."""
     if n_levels is not None and model.n_levels not in (1, n_levels):
         raise ValueError(f"n_levels={n_levels} but the load histories have {model.n_levels}")
@@ -456,7 +480,7 @@ def _prepare(model: Model, opts: SolveOptions, n_levels: int | None = None, chec
 PRECISION_STEPS = 16   # accepted steps after which a run is tested for precision (`_beyond_precision`)
 
 
-def _beyond_precision(system, path) -> str | None:
+def _beyond_precision(system: System, path: Path) -> str | None:
     """Why the run stops (its model beyond double precision, `conditioning.beyond_precision`), tested
     once, before the next step after the run's first cut step (a failed Newton attempt, a step retried
     shorter) or its PRECISION_STEPS-th accepted step: the two ways a model too fine for double precision
@@ -468,8 +492,8 @@ def _beyond_precision(system, path) -> str | None:
     return beyond_precision(system)
 
 
-def _finish(model, system, path, opts: SolveOptions, failure, control: str, t0: float,
-            analysis_time: float) -> FemResult:
+def _finish(model: Model, system: System, path: Path, opts: SolveOptions, failure: str | None, control: str,
+            t0: float, analysis_time: float) -> FemResult:
     """The result of a path: critical points, the message (steps, branch switches, unassessed sign
     changes) and the recorded levels; ``analysis_time``: CPU seconds of the load stepping."""
     critical = critical_points(path) if opts.detect_critical else []
@@ -522,10 +546,11 @@ def solve_arclength(model: Model, control: ArcLengthControl = ArcLengthControl()
 
 
 def solve(model: Model, n_levels: int | None = None, control: str = "load", *,
-          control_dof=None, targets=None, initial_guess=None, arc_length: float | None = None,
-          max_arc_length: float | None = None, max_steps: int = 2000, until=None,
-          lambda_max: float | None = None, direction: float = 1.0,
-          max_limit_points: int | None = None, held: bool = False, **options) -> FemResult:
+          control_dof: Sequence[Any] | None = None, targets: ArrayLike | None = None,
+          initial_guess: FemResult | None = None, arc_length: float | None = None,
+          max_arc_length: float | None = None, max_steps: int = 2000,
+          until: tuple[NodeRef, str, float] | None = None, lambda_max: float | None = None, direction: float = 1.0,
+          max_limit_points: int | None = None, held: bool = False, **options: Any) -> FemResult:
     """Solve the model; returns a `FemResult` (the keyword form of `solve_load`,
     `solve_displacement` and `solve_arclength`; ``options`` are the fields of `SolveOptions`).
 
@@ -562,7 +587,8 @@ def solve(model: Model, n_levels: int | None = None, control: str = "load", *,
     if control == "displacement":
         if control_dof is None or targets is None:
             raise ValueError("displacement control needs control_dof and targets")
-        return solve_displacement(model, DisplacementControl(tuple(control_dof), tuple(np.atleast_1d(targets))), opts)
+        node, dof = control_dof
+        return solve_displacement(model, DisplacementControl((node, dof), tuple(np.atleast_1d(targets))), opts)
     if control == "arclength":
         return solve_arclength(model, ArcLengthControl(arc_length, max_arc_length, max_steps, until,
                                                        lambda_max, direction, max_limit_points), opts)

@@ -39,6 +39,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 from functools import lru_cache
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.linalg as sla
@@ -47,46 +48,41 @@ import scipy.sparse.linalg as spla
 from scipy.linalg import lapack
 
 from .corotational import strain_energy
-from .linear_solver import SingularMatrix
-from .newton import StepFailed, accept_check, newton
-from .options import BranchSwitch, NewtonOutcome, SwitchStatus
+from .inertia import DENSE_LIMIT, zero_eigenvalue
+from .linear_solver import Factor, SingularMatrix
+from .newton import Control, StepFailed, accept_check, newton
+from .options import BranchSwitch, NewtonOutcome, SolveOptions, SwitchStatus
+from .types import BoolArray, Evaluation, FloatArray, IntArray, Loads
 
-__all__ = ["conservative", "eigenvalue_below", "held_sign", "lowest_modes", "potential", "switch_branch"]
+if TYPE_CHECKING:
+    from .assembly import System
 
-EPS = float(np.finfo(float).eps)   # machine epsilon (np.finfo is slow to ask)
-DENSE_LIMIT = 600        # dense eigh below this many unknowns, shift-invert Lanczos above
+__all__ = ["conservative", "eigenvalue_below", "held_sign", "lowest_modes", "potential", "switch_branch",
+           "DENSE_LIMIT", "zero_eigenvalue"]
+
 AMPLITUDE = 1e-3       # of L_ref: largest translation of the perturbation (no stretching)
 SIDE_TOL = 1e-8        # |phi . (q_prev - q*)| / (|phi| |q_prev - q*|) below this: no side
 
 
-def zero_eigenvalue(scale: float, n: int) -> float:
-    """The size below which an eigenvalue of a tangent with largest diagonal ``scale`` and ``n``
-    unknowns cannot be told from zero: rounding of a symmetric eigensolver, 10 n eps ||K||.
-
-    A fixed fraction of the largest diagonal (1e-12) was too coarse for slender beams: their
-    axial terms exceed the bending terms by (L/h)^2, so a genuinely negative bending eigenvalue
-    of a beam with L/h = 7e4 passed as zero."""
-    return 10.0 * n * EPS * scale
-
-
-def conservative(system) -> bool:
+def conservative(system: System) -> bool:
     """Dead loads only (no followers, no force at an angle to the line to a fixed point): K is
     symmetric, K = d2 Pi / dq2 (a rope force toward a fixed point and a dead distributed load are
     conservative)."""
     return system.dead_loads
 
 
-def held_sign(fac, det_sign, held):
+def held_sign(fac: Factor, det_sign: int, held: int | None) -> int:
     """sign det K_ff with DOF `held` removed: sign det K * sign (K^-1)_hh (Cramer)."""
     if held is None:
         return det_sign
     e = np.zeros(fac.layout.n)
     e[held] = 1.0
-    x = fac.solve(e)[held]
+    x = float(fac.solve(e)[held])
     return det_sign * (1 if x > 0 else -1 if x < 0 else 0)
 
 
-def lowest_modes(system, K, held=None, count=2):
+def lowest_modes(system: System, K: FloatArray, held: int | None = None,
+                 count: int = 2) -> tuple[FloatArray, FloatArray]:
     """The `count` lowest eigenvalues of the Jacobi-scaled K (or K_ff, DOF `held` removed),
     S K S with S = diag(|K_ii|)^(-1/2), ascending, and the directions S psi in reduced coordinates
     (unit length).
@@ -119,19 +115,20 @@ def lowest_modes(system, K, held=None, count=2):
 
 
 @lru_cache(maxsize=32)
-def _upper_band(n: int, ku: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _upper_band(n: int, ku: int) -> tuple[BoolArray, IntArray, IntArray]:
     """The entries of the upper band storage (ku + 1, n) that lie in the matrix (row i = j + r - ku >= 0),
     as a mask, and their rows i and columns j (read-only: the same for every step of a system)."""
     j = np.broadcast_to(np.arange(n), (ku + 1, n))
     i = j + np.arange(-ku, 1)[:, None]
     inside = i >= 0
-    out = (inside, i[inside], j[inside])
-    for a in out:
+    rows: IntArray = i[inside]
+    cols: IntArray = j[inside]
+    for a in (inside, rows, cols):
         a.flags.writeable = False
-    return out
+    return inside, rows, cols
 
 
-def eigenvalue_below(system, K, held, tol: float) -> bool:
+def eigenvalue_below(system: System, K: FloatArray, held: int | None, tol: float) -> bool:
     """True when the Jacobi-scaled K (K_ff with DOF ``held`` removed, see `lowest_modes`) has an
     eigenvalue below -tol, without an eigensolver: Cholesky of  S K S + tol I  succeeds iff every
     eigenvalue of S K S exceeds -tol (Sylvester's law of inertia). The held DOF's row and column are
@@ -152,7 +149,7 @@ def eigenvalue_below(system, K, held, tol: float) -> bool:
             upper[ku, held] = 1.0
         upper[ku] += tol
         _, info = lapack.dpbtrf(upper, lower=0, overwrite_ab=1)
-        return info > 0
+        return bool(info > 0)
     if layout.kind == "dense":
         A = K.reshape(n, n)
         A = A + A.T                 # a new array, scaled in place: the same floats as
@@ -167,12 +164,12 @@ def eigenvalue_below(system, K, held, tol: float) -> bool:
             A[held, held] = 1.0
         A.flat[::n + 1] += tol      # the diagonal
         _, info = lapack.dpotrf(A, lower=0, overwrite_a=1)
-        return info > 0
+        return bool(info > 0)
     vals, _ = lowest_modes(system, K, held, count=1)
     return bool(vals[0] < -tol)
 
 
-def potential(system, ev, lam):
+def potential(system: System, ev: Evaluation, lam: float) -> float:
     """Total potential Pi = U - lambda f_ref . u of a state (dead loads)."""
     d = system.disc
     el, u = ev["el"], ev["u"]
@@ -183,7 +180,7 @@ def potential(system, ev, lam):
     return energy - lam * float(np.dot(ev["f_ref_full"][:d.n_full], u[:d.n_full]))
 
 
-def _lowest(A):
+def _lowest(A: sp.csr_matrix) -> float:
     """Lowest eigenvalue of a symmetric sparse matrix."""
     if A.shape[0] <= DENSE_LIMIT:
         return float(sla.eigh(A.toarray(), eigvals_only=True, subset_by_index=[0, 0])[0])
@@ -192,7 +189,8 @@ def _lowest(A):
     return float(np.min(vals))
 
 
-def _descend(system, q, lam, beta, loads, free, tol, scale, maxiter=200):
+def _descend(system: System, q: FloatArray, lam: float, beta: FloatArray, loads: Loads, free: IntArray,
+             tol: float, scale: float, maxiter: int = 200) -> tuple[FloatArray, float] | None:
     """Minimise Pi over the DOFs `free` from q: Newton on K + mu I (mu = 1.5 |mu_min| while
     K_ff is indefinite, Levenberg-Marquardt) with a backtracking line search on Pi.
     Leaves a saddle along negative curvature; ends near a minimum (a stable state).
@@ -226,7 +224,8 @@ def _descend(system, q, lam, beta, loads, free, tol, scale, maxiter=200):
     return None
 
 
-def _follow_mode(system, opts, q_u, phi, side, beta, loads):
+def _follow_mode(system: System, opts: SolveOptions, q_u: FloatArray, phi: FloatArray, side: float,
+                 beta: FloatArray, loads: Loads) -> tuple[FloatArray | None, str, int]:
     """Follow the branch leaving q_u along phi, with its largest component q_c held at
     q_u,c + xi (displacement control on the mode, load factor lambda free, xi growing),
     until lambda = 1 (the load of the step) is crossed; returns the state interpolated
@@ -237,7 +236,7 @@ def _follow_mode(system, opts, q_u, phi, side, beta, loads):
     unit = system.L_ref if not rot[kc] else 1.0
     xi, dxi = 0.0, 2e-3 * side * unit
     q, lam, its_total = q_u, 1.0, 0
-    prev = None
+    prev: tuple[FloatArray, float, float] | None = None
     while abs(xi) < 2.0 * unit:
         xi_new = xi + dxi
         q_pred = q_u + xi_new * phi if prev is None else q + dxi / prev[2] * prev[0]
@@ -264,7 +263,7 @@ def _follow_mode(system, opts, q_u, phi, side, beta, loads):
     return None, "no crossing of the step's load within |xi| < 2 L_ref", its_total
 
 
-def _stable(system, K, held, scale):
+def _stable(system: System, K: FloatArray, held: int | None, scale: float) -> tuple[bool, float]:
     try:
         vals, _ = lowest_modes(system, K, held, count=1)
     except (ValueError, np.linalg.LinAlgError, RuntimeError):
@@ -272,8 +271,9 @@ def _stable(system, K, held, scale):
     return bool(vals[0] > -zero_eigenvalue(1.0, system.n)), float(vals[0])
 
 
-def switch_branch(system, opts, q_u, lam, beta, ev_u, loads, mode="load", ctrl=None, held=None,
-                  q_prev=None):
+def switch_branch(system: System, opts: SolveOptions, q_u: FloatArray, lam: float, beta: FloatArray,
+                  ev_u: Evaluation, loads: Loads, mode: str = "load", ctrl: Control | None = None,
+                  held: int | None = None, q_prev: FloatArray | None = None) -> BranchSwitch:
     """Leave the unstable equilibrium q_u along its critical eigenvector, preferably to the
     side of ``q_prev`` (the last stable state of the path; see the module docstring).
 
@@ -290,7 +290,9 @@ def switch_branch(system, opts, q_u, lam, beta, ev_u, loads, mode="load", ctrl=N
     free = np.arange(system.n) if held is None else np.delete(np.arange(system.n), held)
     tol = opts.rtol * ev_u["F_scale"] + system.noise_floor + opts.atol
     pi_u = potential(system, ev_u, lam)
-    found, tried, its_total = {}, [], 0
+    found: dict[float, tuple[NewtonOutcome, float]] = {}
+    tried: list[str] = []
+    its_total = 0
     for side in (1.0, -1.0):
         label = "+" if side > 0 else "-"
         if mode == "load":

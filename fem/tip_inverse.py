@@ -42,12 +42,15 @@ from __future__ import annotations
 import copy
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .model import DOF_NAMES, Model
 from .result import FemResult
 from .solver import solve
+from .types import FloatArray
 
 __all__ = ["LoadRatio", "ZeroMoment", "Position", "TipInverseResult", "solve_tip_inverse", "tip_loads"]
 
@@ -59,7 +62,7 @@ class LoadRatio:
 
     free_dof: str
     reference_dof: str
-    ratio: np.ndarray | float
+    ratio: FloatArray | float
 
 
 @dataclass(frozen=True)
@@ -78,7 +81,7 @@ class Position:
     the free DOF itself). E.g. the input torque of a mechanism that brings its slider to a position."""
 
     free_dof: str
-    value: np.ndarray | float
+    value: FloatArray | float
     node: str | None = None
     direction: str | None = None
 
@@ -88,15 +91,15 @@ class TipInverseResult:
     converged: bool
     message: str
     result: FemResult
-    tip_loads: np.ndarray       # (n_levels, 3): F_x, F_y, M acting on the tip
-    tied: np.ndarray            # (n_levels,): the tied load (0 without a tie)
-    residual: np.ndarray        # (n_levels,): g at the solution (0 without a tie)
+    tip_loads: FloatArray       # (n_levels, 3): F_x, F_y, M acting on the tip
+    tied: FloatArray            # (n_levels,): the tied load (0 without a tie)
+    residual: FloatArray        # (n_levels,): g at the solution (0 without a tie)
     nit: int
     nfev: int
     wall_time: float
 
 
-def tip_loads(model: Model, result: FemResult, tip: str) -> np.ndarray:
+def tip_loads(model: Model, result: FemResult, tip: str) -> FloatArray:
     """Total load (F_x, F_y, M) on the tip per level: reactions at its held DOFs plus the dead
     forces and moments applied there (a follower force at the tip is not allowed)."""
     node = model.node(tip)
@@ -113,7 +116,7 @@ def tip_loads(model: Model, result: FemResult, tip: str) -> np.ndarray:
     return total
 
 
-def _with_tied(model: Model, tip: str, dof: str, values: np.ndarray) -> Model:
+def _with_tied(model: Model, tip: str, dof: str, values: FloatArray) -> Model:
     trial = copy.copy(model)
     trial.loads = list(model.loads)
     if dof == "rz":
@@ -124,7 +127,8 @@ def _with_tied(model: Model, tip: str, dof: str, values: np.ndarray) -> Model:
     return trial
 
 
-def _residual(model: Model, result: FemResult, tip: str, tie, tied: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _residual(model: Model, result: FemResult, tip: str, tie: LoadRatio | ZeroMoment | Position,
+              tied: FloatArray) -> tuple[FloatArray, FloatArray]:
     """(g, the scale |g| is measured against) per level for a converged solve: a load scale
     max(|F_x|, |F_y|) + |M|/L_char, or for a position L_char."""
     loads = tip_loads(model, result, tip)
@@ -142,8 +146,8 @@ def _residual(model: Model, result: FemResult, tip: str, tie, tied: np.ndarray) 
 
 
 def solve_tip_inverse(model: Model, tip: str, tie: LoadRatio | ZeroMoment | Position | None = None, *,
-                      guess=None, tie_rtol: float = 1e-7, maxiter: int = 40, n_levels: int | None = None,
-                      **solve_options) -> TipInverseResult:
+                      guess: ArrayLike | None = None, tie_rtol: float = 1e-7, maxiter: int = 40,
+                      n_levels: int | None = None, **solve_options: Any) -> TipInverseResult:
     """Solve the inverse tip problem of ``model`` (its prescribed tip DOFs are the pose).
 
     ``tie``: the condition fixing the load on the one tip DOF that is neither prescribed nor
@@ -169,7 +173,7 @@ def solve_tip_inverse(model: Model, tip: str, tie: LoadRatio | ZeroMoment | Posi
 
     nfev = 0
 
-    def evaluate(tied):
+    def evaluate(tied: FloatArray) -> tuple[FemResult, FloatArray | None, FloatArray | None, Model]:
         nonlocal nfev
         nfev += 1
         trial = _with_tied(model, tip, tie.free_dof, tied)
@@ -190,7 +194,8 @@ def solve_tip_inverse(model: Model, tip: str, tie: LoadRatio | ZeroMoment | Posi
         load_scale = np.max(np.abs(loads0[:, :2]), axis=1) + np.abs(loads0[:, 2]) / model.characteristic_length()
         f1 = f0 + 1e-3 * np.where(load_scale > 0, load_scale, 1.0)
     f_prev, g_prev = f0, g0
-    f, res, g, scale, trial = f1, None, None, scale0, trial0
+    f, res, scale, trial = f1, res0, scale0, trial0
+    g: FloatArray | None = None
     for it in range(1, maxiter + 1):
         step = f - f_prev
         for _ in range(8):
@@ -202,19 +207,21 @@ def solve_tip_inverse(model: Model, tip: str, tie: LoadRatio | ZeroMoment | Posi
         else:
             return _failed(res, f, it, nfev, t0, f"the FEM did not converge near tied loads "
                                                 f"[{', '.join(f'{v:.4g}' for v in f)}]: {res.message}")
-        done = np.abs(g) <= tie_rtol * np.where(scale > 0, scale, 1.0)
-        if done.all():
+        assert g is not None and scale is not None      # a converged solve's (the loop above)
+        settled = np.abs(g) <= tie_rtol * np.where(scale > 0, scale, 1.0)
+        if settled.all():
             return TipInverseResult(True, f"tied load converged in {it} secant iterations ({nfev} FEM solves); "
                                     + res.message, res, tip_loads(trial, res, tip), f.copy(), g,
                                     it, nfev, time.perf_counter() - t0)
         slope = (g - g_prev) / np.where(f != f_prev, f - f_prev, np.nan)
-        f_next = np.where(done | ~np.isfinite(slope) | (slope == 0), f, f - g / slope)
+        f_next = np.where(settled | ~np.isfinite(slope) | (slope == 0), f, f - g / slope)
         f_prev, g_prev, f = f, g, f_next
+    assert g is not None, "maxiter must be at least 1"
     return _failed(res, f, maxiter, nfev, t0,
                    f"tied load not converged in {maxiter} secant iterations: residual {np.abs(g).max():.3g}")
 
 
-def _failed(result, tied, nit, nfev, t0, message) -> TipInverseResult:
+def _failed(result: FemResult, tied: FloatArray, nit: int, nfev: int, t0: float, message: str) -> TipInverseResult:
     n = len(tied)
     return TipInverseResult(False, message, result, np.full((n, 3), np.nan), np.asarray(tied, float),
                             np.full(n, np.nan), nit, nfev, time.perf_counter() - t0)

@@ -9,6 +9,10 @@ library's here and may differ from NumPy's SIMD ones in the last bit). On the sm
 n/2n error estimate the NumPy version is some thirty NumPy calls on arrays of a few dozen entries,
 whose fixed per-call overhead outweighs their arithmetic; this is one call.
 
+The arrays come in three named groups (named tuples, each field read by its name; defined here, as
+numba's cache is keyed on this file): `Coarse` (the converged coarse solution and its mesh), `Fine`
+(the refined mesh) and `Refinement` (where each fine node comes from).
+
 One module, no call into another file's compiled code: numba's cache is keyed on the defining file
 only (`kernel` explains it; `tests/project/test_compiled_cache.py` checks it).
 
@@ -17,25 +21,81 @@ Angles (the chord angles, the end rotations, the tangent angles of the midpoints
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
-__all__ = ["level_guesses_compiled"]
+from .types import FloatArray, IntArray
+
+__all__ = ["level_guesses_compiled", "Coarse", "Fine", "Refinement"]
+
+
+class Coarse(NamedTuple):
+    """The converged coarse solution (levels rows) and its mesh (nc element nodes, n_el_c elements).
+
+    U     : (levels, coarse full DOFs) full displacements of each level (length, rad)
+    X     : (nc, 2) the element nodes' reference positions (length)
+    rot   : (nc,) each node's rotation DOF (int)
+    edofs : (n_el_c, 6) each element's full DOFs (int)
+    beta0 : (n_el_c,) reference chord angles (rad)
+    L0    : (n_el_c,) reference lengths (length)
+    """
+    U: FloatArray
+    X: FloatArray
+    rot: IntArray
+    edofs: IntArray
+    beta0: FloatArray
+    L0: FloatArray
+
+
+class Fine(NamedTuple):
+    """The refined mesh (nf element nodes, n_el elements, n_red reduced unknowns).
+
+    X             : (nf, 2) the element nodes' reference positions (length)
+    rot           : (nf,) each node's rotation DOF (int)
+    n_released    : released member-end rotations, full DOFs after the node rotations (as many on
+                    the coarse mesh)
+    I0            : (fine full DOFs + 1,) the constraint map's first column (int; n_red: no unknown)
+    C_independent : (fine full DOFs + 1,) its coefficients times the independence mask
+    n_red         : number of reduced unknowns
+    edofs         : (n_el, 6) each element's full DOFs (int)
+    X1, X2        : (n_el, 2) reference positions of each element's start and end nodes (length)
+    beta0         : (n_el,) reference chord angles (rad)
+    """
+    X: FloatArray
+    rot: IntArray
+    n_released: int
+    I0: IntArray
+    C_independent: FloatArray
+    n_red: int
+    edofs: IntArray
+    X1: FloatArray
+    X2: FloatArray
+    beta0: FloatArray
+
+
+class Refinement(NamedTuple):
+    """Where the fine mesh's nodes come from, every member at once: the nodes both meshes have (coarse
+    ``kept_c`` -> fine ``kept_f``), and each coarse element of a refined member (``mid_el``, its start
+    and end nodes ``mid_a``, ``mid_b``) with the fine node at its midpoint (``mid_f``); all int."""
+    kept_c: IntArray
+    kept_f: IntArray
+    mid_el: IntArray
+    mid_a: IntArray
+    mid_b: IntArray
+    mid_f: IntArray
 
 
 @njit(cache=True, error_model="numpy")
-def level_guesses_compiled(U_c, Xc, rot_c, Xf, rot_f, n_extra, kept_c, kept_f, mid_el, mid_a, mid_b, mid_f,
-                           edofs_c, beta0_c, L0_c, I0, C_independent, n_red, edofs_f, X1, X2, beta0_f):
-    """(q, beta): per level (rows of the coarse full displacements ``U_c``) the fine mesh's reduced
-    unknowns (levels, n_red) and element chord angles (levels, elements) of the warm-start guess.
-
-    ``Xc``, ``rot_c``: the coarse element nodes and their rotation DOFs; ``Xf``, ``rot_f``: the fine
-    ones; ``n_extra``: released member-end rotations (after the node rotations, as many on both
-    meshes); ``kept_*``, ``mid_*``: `warm_start._Refinement`; ``edofs_c``, ``beta0_c``, ``L0_c``: the
-    coarse elements; ``I0``, ``C_independent``: the fine constraint map's first column and its
-    coefficients times the independence mask; ``edofs_f``, ``X1``, ``X2``, ``beta0_f``: the fine
-    elements."""
+def level_guesses_compiled(coarse: Coarse, fine: Fine, refinement: Refinement) -> tuple[FloatArray, FloatArray]:
+    """(q, beta): per level (rows of the coarse full displacements ``coarse.U``) the fine mesh's reduced
+    unknowns (levels, n_red) and element chord angles (levels, elements) of the warm-start guess."""
+    U_c, Xc, rot_c, edofs_c, beta0_c, L0_c = coarse.U, coarse.X, coarse.rot, coarse.edofs, coarse.beta0, coarse.L0
+    Xf, rot_f, n_extra, I0, C_independent = fine.X, fine.rot, fine.n_released, fine.I0, fine.C_independent
+    n_red, edofs_f, X1, X2, beta0_f = fine.n_red, fine.edofs, fine.X1, fine.X2, fine.beta0
+    kept_c, kept_f = refinement.kept_c, refinement.kept_f
+    mid_el, mid_a, mid_b, mid_f = refinement.mid_el, refinement.mid_a, refinement.mid_b, refinement.mid_f
     nl = U_c.shape[0]
     nc, nf = Xc.shape[0], Xf.shape[0]
     n_full = I0.shape[0]                               # fine full DOFs with the ground entry

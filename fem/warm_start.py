@@ -21,10 +21,11 @@ Angles are in radians (degrees appear only in case files and reports).
 from __future__ import annotations
 
 from dataclasses import dataclass
-
 import numpy as np
 
-from .warm_kernel import level_guesses_compiled
+from .discretise import Discretisation
+from .types import FloatArray, IntArray, Recorded
+from .warm_kernel import Coarse, Fine, Refinement, level_guesses_compiled
 
 __all__ = ["guess_states", "LevelGuesses", "level_guesses"]
 
@@ -33,25 +34,27 @@ __all__ = ["guess_states", "LevelGuesses", "level_guesses"]
 class LevelGuesses:
     """The predictor of every load level on the fine mesh: reduced unknowns ``q`` (levels, n) and
     element chord angles ``beta`` (levels, elements)."""
-    q: np.ndarray
-    beta: np.ndarray
+    q: FloatArray
+    beta: FloatArray
 
 
-def level_guesses(coarse, disc_fine, X1, X2) -> LevelGuesses:
+def level_guesses(coarse: Recorded, disc_fine: Discretisation, X1: FloatArray, X2: FloatArray) -> LevelGuesses:
     """`guess_states` of every level turned into reduced unknowns and chord angles, all levels at once
     (the numbers of `reduced_from_full` and `chord_angles` level by level, to rounding), by the
-    compiled `warm_kernel.level_guesses_compiled`."""
-    dc = coarse.extra["disc"]
-    ref = _refinement(dc, _checked_fine(dc, disc_fine))
-    q, beta = level_guesses_compiled(
-        np.ascontiguousarray(coarse.extra["u_full"], dtype=float), dc.X, dc.rot_dof, disc_fine.X,
-        disc_fine.rot_dof, disc_fine.n_full - 3 * len(disc_fine.X), ref.kept_c, ref.kept_f, ref.mid_el, ref.mid_a,
-        ref.mid_b, ref.mid_f, dc.edofs, dc.beta0, dc.L0, np.ascontiguousarray(disc_fine.I[:, 0]),
-        disc_fine.C[:, 0] * disc_fine.independent, disc_fine.n_red, disc_fine.edofs, X1, X2, disc_fine.beta0)
+    compiled `warm_kernel.level_guesses_compiled`. ``X1``, ``X2``: the fine elements' start and end
+    nodes (length)."""
+    dc: Discretisation = coarse.extra["disc"]
+    df = _checked_fine(dc, disc_fine)
+    coarse_group = Coarse(U=np.ascontiguousarray(coarse.extra["u_full"], dtype=float), X=dc.X, rot=dc.rot_dof,
+                          edofs=dc.edofs, beta0=dc.beta0, L0=dc.L0)
+    fine_group = Fine(X=df.X, rot=df.rot_dof, n_released=int(df.n_full - 3 * len(df.X)),
+                      I0=np.ascontiguousarray(df.I[:, 0]), C_independent=df.C[:, 0] * df.independent,
+                      n_red=int(df.n_red), edofs=df.edofs, X1=X1, X2=X2, beta0=df.beta0)
+    q, beta = level_guesses_compiled(coarse_group, fine_group, _refinement(dc, df))
     return LevelGuesses(q, beta)
 
 
-def _checked_fine(dc, disc_fine):
+def _checked_fine(dc: Discretisation, disc_fine: Discretisation) -> Discretisation:
     """``disc_fine`` when it refines ``dc`` (each member split in two, or kept), else ValueError."""
     if len(dc.member_elements) != len(disc_fine.member_elements) or any(
             len(b) not in (len(a), 2 * len(a)) for a, b in zip(dc.member_elements, disc_fine.member_elements)):
@@ -60,28 +63,21 @@ def _checked_fine(dc, disc_fine):
     return disc_fine
 
 
-def _chain(disc, els) -> list[int]:
+def _chain(disc: Discretisation, els: IntArray) -> list[int]:
     """A member's nodes in order: its first element's start, then every element's end."""
-    return [int(disc.conn[els[0], 0])] + disc.conn[els, 1].tolist()
+    ends: list[int] = disc.conn[els, 1].tolist()
+    return [int(disc.conn[els[0], 0])] + ends
 
 
-@dataclass(frozen=True)
-class _Refinement:
-    """Where the fine mesh's nodes come from, every member at once: the nodes both meshes have (coarse
-    ``kept_c`` -> fine ``kept_f``), and each coarse element of a refined member (``mid_el``, its start and
-    end nodes ``mid_a``, ``mid_b``) with the fine node at its midpoint (``mid_f``)."""
-    kept_c: np.ndarray
-    kept_f: np.ndarray
-    mid_el: np.ndarray
-    mid_a: np.ndarray
-    mid_b: np.ndarray
-    mid_f: np.ndarray
-
-
-def _refinement(dc, df) -> _Refinement:
-    """`_Refinement` of the fine discretisation ``df`` from the coarse ``dc`` (members in the same order),
-    from the members' node chains in plain Python (a few members)."""
-    kept_c, kept_f, mid_el, mid_a, mid_b, mid_f = [], [], [], [], [], []
+def _refinement(dc: Discretisation, df: Discretisation) -> Refinement:
+    """`warm_kernel.Refinement` of the fine discretisation ``df`` from the coarse ``dc`` (members in the
+    same order), from the members' node chains in plain Python (a few members)."""
+    kept_c: list[int] = []
+    kept_f: list[int] = []
+    mid_el: list[int] = []
+    mid_a: list[int] = []
+    mid_b: list[int] = []
+    mid_f: list[int] = []
     for els_c, els_f in zip(dc.member_elements, df.member_elements):
         cc, cf = _chain(dc, els_c), _chain(df, els_f)
         step = 1 if len(cf) == len(cc) else 2   # 1: a member that is not refined, no midpoints
@@ -92,10 +88,15 @@ def _refinement(dc, df) -> _Refinement:
             mid_a += cc[:-1]
             mid_b += cc[1:]
             mid_f += cf[1::2]
-    return _Refinement(*(np.array(v, dtype=int) for v in (kept_c, kept_f, mid_el, mid_a, mid_b, mid_f)))
+
+    def ints(v: list[int]) -> IntArray:
+        return np.array(v, dtype=np.int64)
+
+    return Refinement(kept_c=ints(kept_c), kept_f=ints(kept_f), mid_el=ints(mid_el), mid_a=ints(mid_a),
+                      mid_b=ints(mid_b), mid_f=ints(mid_f))
 
 
-def guess_states(coarse, disc_fine) -> np.ndarray:
+def guess_states(coarse: Recorded, disc_fine: Discretisation) -> FloatArray:
     """Per level (rows): full displacement vector on the fine mesh from a coarse FemResult (every
     member's nodes and midpoints at once, `_refinement`: each node's and each midpoint's numbers are
     those of the member-by-member formulas above)."""
@@ -130,7 +131,7 @@ def guess_states(coarse, disc_fine) -> np.ndarray:
     return U
 
 
-def reduced_from_full(disc, u):
+def reduced_from_full(disc: Discretisation, u: FloatArray) -> FloatArray:
     """Least-squares reduced unknowns q for a full displacement vector u, or for each row of u (levels):
     one bincount over the rows, each row's bins apart, so every unknown sums its terms in the same
     order as for one vector."""
@@ -145,7 +146,7 @@ def reduced_from_full(disc, u):
     return q.reshape(u.shape[:-1] + (disc.n_red,))
 
 
-def chord_angles(disc, u, X1, X2):
+def chord_angles(disc: Discretisation, u: FloatArray, X1: FloatArray, X2: FloatArray) -> FloatArray:
     """Chord angles of the elements, continuous with beta0 + mean end rotation (for u, or each row of u)."""
     p = u[..., disc.edofs]
     dx = X2[:, 0] - X1[:, 0] + p[..., 3] - p[..., 0]

@@ -11,7 +11,7 @@ import pytest
 from fem.corotational import element_state, element_state_numpy
 from scipy.linalg.lapack import dgbtrf, dgbtrs
 
-from fem.kernel import band_lu, band_solve, scatter
+from fem.kernel import Band, Beams, band_lu, band_solve, scatter
 
 EPS = float(np.finfo(float).eps)   # machine epsilon
 
@@ -27,7 +27,7 @@ def _random_elements(rng, n):
     EI = rng.uniform(0.5, 2.0, n)
     kb = (EI / L0)[:, None, None] * np.array([[4.0, 2.0], [2.0, 4.0]]) + rng.normal(scale=0.1, size=(n, 2, 2))
     beta_prev = ang + rng.normal(scale=0.2, size=n)
-    return X1, X2, p, L0, ang, beta_prev, ka, kb
+    return Beams(X1=X1, X2=X2, L0=L0, beta0=ang, ka=ka, kb=kb), p, beta_prev
 
 
 def test_kernel_equals_the_numpy_element_on_random_states():
@@ -40,16 +40,16 @@ def test_kernel_equals_the_numpy_element_on_random_states():
 
 
 def test_kernel_tangent_is_the_derivative_of_its_forces():
-    X1, X2, p, L0, beta0, _, ka, kb = _random_elements(np.random.default_rng(2), 5)
+    beams, p, _ = _random_elements(np.random.default_rng(2), 5)
     p[:, 2::3] *= 0.1                      # away from the wrap discontinuity
-    beta_prev = element_state(X1, X2, p, L0, beta0, beta0, ka, kb)["beta"]
-    K = element_state(X1, X2, p, L0, beta0, beta_prev, ka, kb)["K"]
+    beta_prev = element_state(beams, p, beams.beta0)["beta"]
+    K = element_state(beams, p, beta_prev)["K"]
     h = 1e-6
     for j in range(6):
         dp = np.zeros_like(p)
         dp[:, j] = h
-        fp = element_state(X1, X2, p + dp, L0, beta0, beta_prev, ka, kb, False)["f"]
-        fm = element_state(X1, X2, p - dp, L0, beta0, beta_prev, ka, kb, False)["f"]
+        fp = element_state(beams, p + dp, beta_prev, False)["f"]
+        fm = element_state(beams, p - dp, beta_prev, False)["f"]
         np.testing.assert_allclose(K[:, :, j], (fp - fm) / (2 * h), rtol=1e-6, atol=1e-6 * np.abs(K).max())
 
 
@@ -320,18 +320,12 @@ def _compiled_evaluation(system, q, beta, loads):
     """`kernel._evaluate` at q: (u, r, K in row-major storage, second constraint column, F_scale)."""
     from fem import kernel as cn
     d, c = system.disc, system.compiled
-    n_el, nf, n = len(d.L0), d.n_full + 1, system.n
-    el = [np.empty((n_el, 6)), np.zeros((n_el, 6, 6)), np.empty(n_el), np.empty((n_el, 2)), np.empty(n_el),
-          np.empty(n_el), np.empty((n_el, 2)), np.empty(n_el), np.empty(n_el, dtype=bool)]
-    K, u, f_int, f_ref, R = np.empty(c.size), np.empty(nf), np.empty(nf), np.empty(nf), np.empty(nf)
-    r, fr, sp, C1 = np.empty(n), np.empty(n), np.empty(nf), np.empty(nf)
+    work = cn.work_arrays(n=system.n, nf=d.n_full + 1, size=c.size, maxiter=0, links=True)
+    el = cn.element_outputs(len(d.L0))
     F_fixed, _, presc = loads
-    scale = cn._evaluate(q, np.asarray(presc, float), 1.0, F_fixed, beta, system.I0, system.C0_flat,
-                         d.prescribed_dofs, d.edofs, system.X1, system.X2, d.L0, d.beta0, d.ka, d.kb, d.springs,
-                         d.spring_k, d.ground, c.flat, system.valid_src, system.coef_const, K, u, f_int, f_ref, R,
-                         r, fr, *el, sp, system.links, system.links_X, system.I1, system.C1_flat, C1,
-                         system.valid_pair, system.rows_full, system.cols_full)
-    return u, r, c.row_major(K), C1, scale
+    load = cn.Load(lam=1.0, F_fixed=F_fixed, presc=np.asarray(presc, float))
+    scale = cn._evaluate(q, beta, load, system.beams, system.dofs, system.couplings, system.storage, work, el)
+    return work.u, work.r, c.row_major(work.K), work.C1w, scale
 
 
 @pytest.mark.parametrize("elements", [2, 24])
@@ -545,6 +539,7 @@ def test_shifted_cholesky_sees_every_eigenvalue_below_minus_tol(seed):
             expected = lowest < -tol
             for K, banded, ldk in storages:
                 kl = w if banded else 0
-                assert shifted_cholesky_fails(K, banded, n, kl, kl, ldk, held, tol) == expected, (trial, tol, ldk)
+                band = Band(banded=banded, kl=kl, ku=kl, ld=ldk)
+                assert shifted_cholesky_fails(K, band, n, held, tol) == expected, (trial, tol, ldk)
 
 
