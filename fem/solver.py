@@ -36,7 +36,7 @@ Angles are in radians (degrees appear only in case files and reports).
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -191,11 +191,25 @@ class NoStableBranch(Exception):
     """A converged step is unstable and no stable state was found beside it."""
 
 
+class StepRetry(Exception):
+    """A load step to take again, shorter by ``factor``: it left the path (turned back on it) or lost
+    stability over a step long enough to have jumped off it."""
+
+    def __init__(self, factor: float):
+        super().__init__(f"retry the step {factor:g} times as long")
+        self.factor = factor
+
+
+class PathStopped(Exception):
+    """The path could not be followed further: why, and where (the result's message)."""
+
+
 def _load_step(system: System, opts: SolveOptions, path: Path, q: FloatArray, beta: FloatArray, k: int, t: float,
-               t_new: float, dt: float, prev: tuple[FloatArray, float] | None) -> StepState | float:
+               t_new: float, dt: float, prev: tuple[FloatArray, float] | None) -> StepState:
     """One load step (length dt) from t to t_new of the segment to level k: the accepted
-    `StepState`, or the factor (float) to cut the step by. Raises StepFailed when Newton fails,
-    NoStableBranch when it lands on an unstable state with no stable one beside it."""
+    `StepState`. Raises StepRetry (with the factor to cut the step by) when the step left the path or
+    lost stability over a long step, StepFailed when Newton fails, NoStableBranch when it lands on an
+    unstable state with no stable one beside it."""
     loads = system.loads_at(k - 1, k, t_new)
     q_pred = q if prev is None else q + (t_new - t) / prev[1] * prev[0]
     out = newton(system, q_pred, 1.0, beta, loads, opts, q_start=q)
@@ -203,20 +217,20 @@ def _load_step(system: System, opts: SolveOptions, path: Path, q: FloatArray, be
     if (prev is not None and dt > JUMP_CUT_FLOOR * opts.min_step
             and _turned_back(system, out.q - q, prev[0])):
         path.reject(out.iterations)            # left the path: jumped to another branch
-        return 0.25
+        raise StepRetry(0.25)
     st = _step_state(system, opts, out, beta)
     if _lost_stability(system, opts, path, st):
         if dt > SWITCH_STEP:          # a long step may have jumped off an imperfect path, or
             path.cutbacks += 1        # crossed several critical loads: retry shorter
-            return 0.25
+            raise StepRetry(0.25)
         why = _leave_unstable(system, opts, path, st, loads, q)
         if why:
             raise NoStableBranch(why)
     return st
 
 
-def _run_load(system: System, opts: SolveOptions, path: Path, guesses: LevelGuesses | None = None) -> str | None:
-    """Load control over the levels."""
+def _run_load(system: System, opts: SolveOptions, path: Path, guesses: LevelGuesses | None = None) -> None:
+    """Load control over the levels; raises PathStopped where it cannot go on."""
     q = np.zeros(system.n)
     beta = system.disc.beta0.copy()
     ev: Evaluation = {}
@@ -228,26 +242,24 @@ def _run_load(system: System, opts: SolveOptions, path: Path, guesses: LevelGues
         if got is not None:
             q, t, beta, ev = got.q, 1.0, got.ev["el"]["beta"].copy(), got.ev
         while t < 1.0:
-            why = _beyond_precision(system, path)
-            if why:
-                return why
+            _stop_beyond_precision(system, path)
             dt = min(dt, 1.0 - t)
             t_new = 1.0 if 1.0 - (t + dt) < 1e-12 else t + dt
             try:
                 st = _load_step(system, opts, path, q, beta, k, t, t_new, dt, prev)
+            except StepRetry as retry:
+                dt *= retry.factor
+                continue
             except NoStableBranch as exc:
-                return (f"load level {k}: step from t = {t:.6g} to {t_new:.6g} of the "
-                        f"segment from level {k - 1}: {exc}")
+                raise PathStopped(f"load level {k}: step from t = {t:.6g} to {t_new:.6g} of the "
+                                  f"segment from level {k - 1}: {exc}") from None
             except StepFailed as exc:
                 path.reject(exc.iteration)
                 dt *= exc.cut
                 if dt < opts.min_step:
-                    return (f"load level {k}: no convergence between t = {t:.6g} and "
-                            f"{t_new:.6g} of the segment from level {k - 1} (step < min_step), "
-                            f"iteration {exc.iteration}: {exc.reason}")
-                continue
-            if isinstance(st, float):
-                dt *= st
+                    raise PathStopped(f"load level {k}: no convergence between t = {t:.6g} and "
+                                      f"{t_new:.6g} of the segment from level {k - 1} (step < min_step), "
+                                      f"iteration {exc.iteration}: {exc.reason}") from None
                 continue
             secant = opts.predictor == "secant" and not st.switched
             prev = (st.q - q, t_new - t) if secant else None
@@ -310,7 +322,8 @@ def _disp_step(system: System, opts: SolveOptions, path: Path, q: FloatArray, la
 
 
 def _run_disp(system: System, model: Model, control: DisplacementControl, opts: SolveOptions,
-              path: Path) -> str | None:
+              path: Path) -> None:
+    """Displacement control over the targets; raises PathStopped where it cannot go on."""
     k, coef = _control_index(system, model, control.control_dof)
     targets = np.atleast_1d(np.asarray(control.targets, dtype=float))
     loads = _reference_loads(system)
@@ -321,22 +334,20 @@ def _run_disp(system: System, model: Model, control: DisplacementControl, opts: 
     for lev, target in enumerate(targets):
         u_a, t = q[k] * coef, 0.0
         while t < 1.0:
-            why = _beyond_precision(system, path)
-            if why:
-                return why
+            _stop_beyond_precision(system, path)
             frac = min(frac, 1.0 - t)
             t_new = 1.0 if 1.0 - (t + frac) < 1e-12 else t + frac
             u_t = u_a + t_new * (target - u_a)
             try:
                 st = _disp_step(system, opts, path, q, lam, beta, loads, (k, coef, u_t), prev)
             except NoStableBranch as exc:
-                return f"load level {lev} (control displacement {u_t:.6g}): {exc}"
+                raise PathStopped(f"load level {lev} (control displacement {u_t:.6g}): {exc}") from None
             except StepFailed as exc:
                 path.reject(exc.iteration)
                 frac *= exc.cut
                 if frac < opts.min_step:
-                    return (f"load level {lev} (control displacement {u_t:.6g}): no convergence, "
-                            f"iteration {exc.iteration}: {exc.reason}")
+                    raise PathStopped(f"load level {lev} (control displacement {u_t:.6g}): no convergence, "
+                                      f"iteration {exc.iteration}: {exc.reason}") from None
                 continue
             if opts.predictor == "secant":
                 prev = None if st.switched else (st.q - q, st.lam - lam, (st.q[k] - q[k]) * coef)
@@ -345,7 +356,6 @@ def _run_disp(system: System, model: Model, control: DisplacementControl, opts: 
             path.record(st.history, st.iterations, sign, lam, slope, control=u_t, parameter=u_t)
             frac *= growth(st.iterations)
         path.snapshots.append(snapshot(system, q, lam, ev, float(lev)))
-    return None
 
 
 # ------------------------------------------------------------------------------------ arc length
@@ -429,18 +439,17 @@ def _arc_stopped(arc: _Arc, control: ArcLengthControl, path: Path) -> bool:
     return False
 
 
-def _run_arc(system: System, model: Model, control: ArcLengthControl, opts: SolveOptions, path: Path) -> str | None:
+def _run_arc(system: System, model: Model, control: ArcLengthControl, opts: SolveOptions, path: Path) -> None:
+    """Arc-length steps until the stop condition; raises PathStopped where it cannot go on (or reach it)."""
     loads = _reference_loads(system)
     arc = _Arc(system, model, control)
     start = system.evaluate(arc.q, arc.beta, arc.lam, *loads, need_K=False)
     path.snapshots.append(snapshot(system, arc.q, arc.lam, start, 0.0))
     if not np.any(start["f_ref"]):      # lambda scales nothing: no path to follow
-        return "arc-length control needs a load pattern: the loads at the last level are all zero"
+        raise PathStopped("arc-length control needs a load pattern: the loads at the last level are all zero")
     path.mark_start()
     while len(path.iterations) < control.max_steps:
-        why = _beyond_precision(system, path)
-        if why:
-            return why
+        _stop_beyond_precision(system, path)
         try:
             q_pred, lam_pred = _arc_predictor(system, arc, loads, opts)
             out = newton(system, q_pred, lam_pred, arc.beta, loads, opts, mode="arc",
@@ -451,18 +460,17 @@ def _run_arc(system: System, model: Model, control: ArcLengthControl, opts: Solv
             arc.hist3, arc.cached = arc.hist3[-1:], None
             arc.dl *= getattr(exc, "cut", 0.5)
             if arc.dl < arc.dl_min:
-                return (f"arc-length step {len(path.iterations) + 1} (load factor {arc.lam:.6g}): "
-                        f"no convergence, iteration {getattr(exc, 'iteration', 0)}: "
-                        f"{getattr(exc, 'reason', exc)}")
+                raise PathStopped(f"arc-length step {len(path.iterations) + 1} (load factor {arc.lam:.6g}): "
+                                  f"no convergence, iteration {getattr(exc, 'iteration', 0)}: "
+                                  f"{getattr(exc, 'reason', exc)}") from None
             continue
         _arc_accept(system, arc, out, path)
         arc.dl = min(arc.dl * float(np.clip(opts.target_iterations / max(out.iterations, 1), 0.5, 2.0)),
                      arc.dl_max)
         if _arc_stopped(arc, control, path):
-            return None
-    if not control.has_stop:
-        return None
-    return f"arc-length: max_steps = {control.max_steps} reached before the stop condition"
+            return
+    if control.has_stop:
+        raise PathStopped(f"arc-length: max_steps = {control.max_steps} reached before the stop condition")
 
 
 # ------------------------------------------------------------------------------- entry points
@@ -480,6 +488,13 @@ def _prepare(model: Model, opts: SolveOptions, n_levels: int | None = None, chec
 PRECISION_STEPS = 16   # accepted steps after which a run is tested for precision (`_beyond_precision`)
 
 
+def _stop_beyond_precision(system: System, path: Path) -> None:
+    """Raise PathStopped when the run's model is beyond double precision (`_beyond_precision`)."""
+    why = _beyond_precision(system, path)
+    if why:
+        raise PathStopped(why)
+
+
 def _beyond_precision(system: System, path: Path) -> str | None:
     """Why the run stops (its model beyond double precision, `conditioning.beyond_precision`), tested
     once, before the next step after the run's first cut step (a failed Newton attempt, a step retried
@@ -490,6 +505,15 @@ def _beyond_precision(system: System, path: Path) -> str | None:
         return None
     path.precision_checked = True
     return beyond_precision(system)
+
+
+def _stopped(run: Callable[[], None]) -> str | None:
+    """Follow a path; None when it reached its end, else why it stopped (the result's message)."""
+    try:
+        run()
+    except PathStopped as exc:
+        return str(exc)
+    return None
 
 
 def _finish(model: Model, system: System, path: Path, opts: SolveOptions, failure: str | None, control: str,
@@ -519,7 +543,7 @@ def solve_load(model: Model, control: LoadControl = LoadControl(),
                else level_guesses(control.initial_guess, system.disc, system.X1, system.X2))
     path = Path()
     cpu = time.process_time()
-    failure = _run_load(system, opts, path, guesses)
+    failure = _stopped(lambda: _run_load(system, opts, path, guesses))
     return _finish(model, system, path, opts, failure, "load", t0, time.process_time() - cpu)
 
 
@@ -530,7 +554,7 @@ def solve_displacement(model: Model, control: DisplacementControl,
     system = _prepare(model, opts)
     path = Path()
     cpu = time.process_time()
-    failure = _run_disp(system, model, control, opts, path)
+    failure = _stopped(lambda: _run_disp(system, model, control, opts, path))
     return _finish(model, system, path, opts, failure, "displacement", t0, time.process_time() - cpu)
 
 
@@ -541,7 +565,7 @@ def solve_arclength(model: Model, control: ArcLengthControl = ArcLengthControl()
     system = _prepare(model, opts)
     path = Path()
     cpu = time.process_time()
-    failure = _run_arc(system, model, control, opts, path)
+    failure = _stopped(lambda: _run_arc(system, model, control, opts, path))
     return _finish(model, system, path, opts, failure, "arclength", t0, time.process_time() - cpu)
 
 
