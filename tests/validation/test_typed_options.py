@@ -68,7 +68,7 @@ def test_no_adapter_reads_its_options_as_a_dict(path):
 
 def test_each_default_is_written_once_in_the_options_models():
     assert FemOptions().inextensible_ratio == 1e6 and PrbmOptions().family == "pauly-midha"
-    assert re.search(r"inextensible_ratio: Ratio = Field\(1e6", OPTIONS_FILE.read_text())
+    assert re.search(r"inextensible_ratio: Ratio = Field\(default=1e6", OPTIONS_FILE.read_text())
     for path in [*ADAPTERS, *(ROOT / "validation" / "case").glob("*.py")]:
         if path == OPTIONS_FILE:
             continue

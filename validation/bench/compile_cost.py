@@ -58,9 +58,9 @@ class PrimerCost:
         return sum(n for name, (n, _) in self.functions.items() if "<locals>" in name)
 
 
-def _project_dispatchers() -> dict[str, object]:
+def _project_dispatchers() -> dict[str, CPUDispatcher]:
     """Every numba dispatcher defined in a loaded module of this project, by ``module.name``."""
-    found = {}
+    found: dict[str, CPUDispatcher] = {}
     for name, module in list(sys.modules.items()):
         path = getattr(module, "__file__", None) or ""
         if not path.startswith(str(ROOT)) or ".venv" in path:

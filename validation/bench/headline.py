@@ -52,6 +52,7 @@ import time
 import tracemalloc
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import matplotlib
 import numpy as np
@@ -166,7 +167,7 @@ def _restrict(case, method: str, options: dict, levels: list[int] | None):
     outputs = []
     for out in case.outputs:
         if out.quantity in POSITION + ("limit_load",):
-            update = {"methods": None}
+            update: dict[str, list[int] | None] = {"methods": None}
             if levels is not None and out.quantity != "limit_load":
                 update["levels"] = levels
             outputs.append(out.model_copy(update=update))
@@ -232,8 +233,10 @@ def _labelled_in_turn(configs: dict[str, tuple], repeats: int, budget: float | N
     for every code."""
     first = {label: run_method(*config) for label, config in configs.items()}
     rounds = {label: _rounds(run.wall_time, repeats, budget) for label, run in first.items()}
-    times = {label: [] for label in configs}
-    walls, analyses, last = {k: [] for k in configs}, {k: [] for k in configs}, dict(first)
+    times: dict[str, list[float]] = {label: [] for label in configs}
+    walls: dict[str, list[float]] = {k: [] for k in configs}
+    analyses: dict[str, list[float]] = {k: [] for k in configs}
+    last = dict(first)
     order = list(configs)
     for r in range(max(rounds.values(), default=0)):
         for label in (order if r % 2 == 0 else order[::-1]):
@@ -259,6 +262,7 @@ def _runs_of(case, bench: BenchCase, choice: dict) -> dict[str, tuple]:
     one run, or for a Richardson row on plain runs (`paired_label`) the plain runs at n and 2n."""
     label, n = choice["method"], choice["elements"]
     method = label.split("+")[0]
+    meshes: tuple[int, ...]
     if label == paired_label(method):
         meshes = (n, 2 * n)
     elif label == method:
@@ -335,7 +339,7 @@ def _error(values: dict, exact: dict, scale: float) -> float:
     """Largest tip-position (or limit-load) error over the levels, relative to the scale."""
     worst = 0.0
     found = False
-    by_point = {}
+    by_point: dict[tuple[str, int], dict[str, float]] = {}
     for req, value in values.items():
         if req.quantity == "limit_load" and req in exact:
             worst = max(worst, abs(value - exact[req]) / abs(exact[req]))
@@ -390,7 +394,7 @@ def _sweep(case, bench: BenchCase, method: str, meshes: list[int], repeats: int,
     paired = paired_label(method)
     labels = (f"{method}", f"{method}+richardson")   # the plain runs, and the FEM's own n/2n solve
     reached = {label: False for label in {*labels, paired}}
-    errors = {label: [] for label in reached}
+    errors: dict[str, list[float]] = {label: [] for label in reached}
 
     def done(label, error, slow):
         """Reached the smallest target, too slow, or on an error floor (two doublings in a row
@@ -456,7 +460,7 @@ def _per_iteration(case, bench: BenchCase, repeats: int, with_peer: bool, cap: i
     same meshes of this case, the two codes timed run by run in turn (`_timed_in_turn`)."""
     cost = {}
     for n in (m for m in ITERATION_MESHES if m <= cap):
-        entry = {}
+        entry: dict[str, Any] = {}
         subs = {}
         for method in ("fem",) + ((PEER,) if with_peer else ()):
             subs[method] = _at(case, bench, method, n)
@@ -539,7 +543,8 @@ def _bench_into(out: Path, quick: bool, cases: list[BenchCase] | dict | None, ma
         cases = [BenchCase(case_id, levels) for case_id, levels in cases.items()]
     peer_status = _peer_status()
     rows, skipped, peer_notes, per_iteration, confirmed = [], [], {}, {}, {}
-    unusable, failed = [], []  # exit status 2 and 1 (validation/run/exit_status.py)
+    unusable: list[str] = []  # exit status 2 (validation/run/exit_status.py)
+    failed: list[str] = []    # exit status 1
 
     for bench in cases or BENCH_CASES:
         try:

@@ -149,7 +149,7 @@ def network_rows() -> list[tuple[str, float, float, float | None]]:
     seconds per level of the same case or None): the network built by rule for seed004_parallel_guided (ground, two middle
     links, coupler: four links), solved one level at a time and over its 8 levels; the chapter-9
     Test 2 four-bar under one design torque."""
-    rows = []
+    rows: list[tuple[str, float, float, float | None]] = []
     case = case_by_id("seed004_parallel_guided").case
     model = prbm.build(geometry(case.mechanism), prbm_network.rules(None, case.mechanism))
     net = model.network
@@ -187,9 +187,9 @@ def main() -> None:
             fem_text = f"{fem * 1e3:11.1f} ms" if fem is not None else ""
             print(f"{name:<{width}}  {t * 1e3:7.3f} ms  {cpu * 1e3:7.3f} ms  {fem_text:>14}")
         print()
-        rows = library_rows()
-        width = max(len(r[0]) for r in rows)
-        for name, t in rows:
+        library = library_rows()
+        width = max(len(r[0]) for r in library)
+        for name, t in library:
             print(f"{name:<{width}}  {t * 1e6:12.1f} us")
         print()
     only = [a.split("=", 1)[1] for a in sys.argv if a.startswith("--case=")]

@@ -231,7 +231,7 @@ def _in_data_folder(path: Path) -> bool:
 def _toml_files(root: Path) -> list[Path]:
     """Every ``*.toml`` under root, not looking inside hidden folders, virtual environments or the
     project's data folders (``cases/specs``, ``cases/sweeps``, ``cases/atlas``) unless root is one of them."""
-    found = []
+    found: list[Path] = []
     root = Path(root).resolve()
     for folder, subfolders, files in os.walk(root):
         subfolders[:] = sorted(d for d in subfolders if not d.startswith(".") and d not in SKIPPED
@@ -257,13 +257,14 @@ def _id_index(root: Path, containing: str | None = None) -> dict[str, Path]:
     loading them reports their error); with ``containing``, only of the files with a line giving some
     key ``id`` that quoted value (reading a file is cheap, parsing it is not: a case's id is also
     named in other files' references)."""
-    index = {}
+    index: dict[str, Path] = {}
     id_line = None if containing is None else re.compile(
         r"^[ \t]*id[ \t]*=[ \t]*([\"'])" + re.escape(containing) + r"\1", re.MULTILINE)
     for path in _toml_files(root):
         try:
             text = path.read_text(encoding="utf-8")
-            if id_line is not None and (containing not in text or not id_line.search(text)):
+            if containing is not None and id_line is not None and (containing not in text
+                                                                   or not id_line.search(text)):
                 continue
             case_id = tomllib.loads(text)["case"]["id"]
         except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, KeyError, TypeError):

@@ -47,15 +47,15 @@ class HeldOutputOptions(Options):
     """The mechanical advantage of a held output point, as the FEM computes it (and the PRBM network
     built from the geometry): the output's working direction or moment arm, the input load, the step."""
 
-    direction: Vector | None = Field(None, description="the output force's direction "
+    direction: Vector | None = Field(default=None, description="the output force's direction "
                                      "(the working motion of a held output point)")
-    moment_arm: Positive | None = Field(None, description="d_o: the output is a held rotation at 'output'; "
+    moment_arm: Positive | None = Field(default=None, description="d_o: the output is a held rotation at 'output'; "
                                         "F_o = its holding moment / d_o")
-    sense: Literal[1, -1] = Field(1, description="with moment_arm: +1 if the working motion of the output "
+    sense: Literal[1, -1] = Field(default=1, description="with moment_arm: +1 if the working motion of the output "
                                   "is counter-clockwise, -1 if clockwise")
-    input: Index | None = Field(None, description="index of the input load in [[loads]]")
-    step: Fraction = Field(1e-4, description="tangent: input increment over its largest value")
-    d_i: Positive | None = Field(None, description="input force distance, for an input moment")
+    input: Index | None = Field(default=None, description="index of the input load in [[loads]]")
+    step: Fraction = Field(default=1e-4, description="tangent: input increment over its largest value")
+    d_i: Positive | None = Field(default=None, description="input force distance, for an input moment")
     definition: Literal["tangent", "secant"] = "tangent"
 
     @model_validator(mode="after")
@@ -74,7 +74,7 @@ class SoftModeOptions(Options):
     """``[methods.fem] dof``: soft modes of the tangent condensed to actuation points (fem.soft_modes)."""
 
     points: list[str] = Field(min_length=1, description="actuation points (ux, uy, rz each)")
-    ratio: Fraction = Field(1e-2, description="soft: stiffness below ratio x the members' largest EA/l")
+    ratio: Fraction = Field(default=1e-2, description="soft: stiffness below ratio x the members' largest EA/l")
 
 
 class InverseOptions(Options):
@@ -103,7 +103,7 @@ class FemInverseOptions(InverseOptions):
 
     elements: Count | None = None
     richardson: bool | None = None
-    tip_x: StrictBool = Field(False, description="the tip's x from the inverse solution (true or false)")
+    tip_x: StrictBool = Field(default=False, description="the tip's x from the inverse solution (true or false)")
 
 
 class FemSlfpOptions(Options):
@@ -112,42 +112,42 @@ class FemSlfpOptions(Options):
     length: Positive
     E: Positive
     thickness_ratio: ThicknessRatio = Field(
-        0.1, description="flexure thickness over its length: at most 1 (thicker than long is no beam), at least "
-        "1e-3 (the width w = 12 I / t^3 of a thinner one is a plate a thousand times its length)")
+        default=0.1, description="flexure thickness over its length: at most 1 (thicker than long is no beam), at "
+        "least 1e-3 (the width w = 12 I / t^3 of a thinner one is a plate a thousand times its length)")
 
 
 class FemOptions(Options):
-    elements: Count = Field(16, description="elements per member")
-    error_estimate: bool = Field(True, description="solve on n and 2n elements, report |u_2n - u_n|/3")
-    richardson: bool = Field(False, description="report the Richardson-extrapolated value")
-    tol: Positive | None = Field(None, description="refine until the estimate is below it")
-    levels: Annotated[int, Field(ge=1, le=12)] = Field(2, description="meshes in the error estimate")
-    max_refine: Count = Field(64, description="finest mesh of the estimate: at most max_refine x elements (the "
+    elements: Count = Field(default=16, description="elements per member")
+    error_estimate: bool = Field(default=True, description="solve on n and 2n elements, report |u_2n - u_n|/3")
+    richardson: bool = Field(default=False, description="report the Richardson-extrapolated value")
+    tol: Positive | None = Field(default=None, description="refine until the estimate is below it")
+    levels: Annotated[int, Field(ge=1, le=12)] = Field(default=2, description="meshes in the error estimate")
+    max_refine: Count = Field(default=64, description="finest mesh of the estimate: at most max_refine x elements (the "
                               "meshes are doubled until tol is met and the outputs are in the asymptotic range)")
-    rtol: Fraction = Field(1e-10, description="Newton residual tolerance")
-    inextensible_ratio: Ratio = Field(1e6, description="EA L^2/EI when a section gives no area")
-    rigid_ratio: Ratio = Field(1e6, description="stiffness of pinned rigid links over the stiffest beam")
+    rtol: Fraction = Field(default=1e-10, description="Newton residual tolerance")
+    inextensible_ratio: Ratio = Field(default=1e6, description="EA L^2/EI when a section gives no area")
+    rigid_ratio: Ratio = Field(default=1e6, description="stiffness of pinned rigid links over the stiffest beam")
     arc_length: Positive | None = None
-    max_steps: Count | None = Field(None, description="limit load: steps of the continuation (none: the "
+    max_steps: Count | None = Field(default=None, description="limit load: steps of the continuation (none: the "
                                     "adapter's LIMIT_STEPS of its limit_control)")
     limit_control: Literal["arclength", "displacement"] = "arclength"
-    control_step: Positive | None = Field(None, description="limit load by displacement: the step (none: "
+    control_step: Positive | None = Field(default=None, description="limit load by displacement: the step (none: "
                                           "0.005 x the model's characteristic length)")
-    inverse: FemInverseOptions | None = Field(None, description="inverse tip problem "
+    inverse: FemInverseOptions | None = Field(default=None, description="inverse tip problem "
                                               "(validation.methods.inverse_problem)")
-    slfp: FemSlfpOptions | None = Field(None, description="sprung joints built as small-length flexural "
+    slfp: FemSlfpOptions | None = Field(default=None, description="sprung joints built as small-length flexural "
                                         "pivots (validation.methods.slfp)")
-    input_moment_at: str | None = Field(None, description="reach the prescribed displacement by a moment "
+    input_moment_at: str | None = Field(default=None, description="reach the prescribed displacement by a moment "
                                         "at this node")
-    zero_level: Index | None = Field(None, description="positions measured from this "
+    zero_level: Index | None = Field(default=None, description="positions measured from this "
                                      "level's state (a scale zeroed under self-weight)")
     ma: MechanicalAdvantageOptions | None = None
     dof: SoftModeOptions | None = None
 
 
 class ElasticaOptions(Options):
-    I: Positive | None = Field(None, description="replaces the section's second moment of area")
-    EI: Positive | None = Field(None, description="replaces EI")
+    I: Positive | None = Field(default=None, description="replaces the section's second moment of area")
+    EI: Positive | None = Field(default=None, description="replaces EI")
     rtol: Fraction | None = None
     tol: Fraction | None = None
     samples: Annotated[int, Field(ge=2, le=100_000)] = 41
@@ -155,7 +155,7 @@ class ElasticaOptions(Options):
     b: PerLevel | None = None
     theta0: PerLevel | None = None
     l1: PositivePerLevel | None = None
-    inverse: InverseOptions | None = Field(None, description="inverse tip problem "
+    inverse: InverseOptions | None = Field(default=None, description="inverse tip problem "
                                            "(validation.methods.inverse_problem)")
 
 
@@ -166,12 +166,12 @@ class BcmOptions(Options):
 
 class OpenSeesOptions(Options):
     elements: Count = 16
-    max_steps: Count = Field(2000, description="limit load: displacement-control steps at most")
-    steps_per_level: Count = Field(1, description="load steps per load level (each halved on failure)")
-    max_halvings: Annotated[int, Field(ge=0, le=40)] = Field(12, description="load-step halvings on failure")
-    control_step: Positive | None = Field(None, description="limit load: the displacement step (none: 0.002 x "
+    max_steps: Count = Field(default=2000, description="limit load: displacement-control steps at most")
+    steps_per_level: Count = Field(default=1, description="load steps per load level (each halved on failure)")
+    max_halvings: Annotated[int, Field(ge=0, le=40)] = Field(default=12, description="load-step halvings on failure")
+    control_step: Positive | None = Field(default=None, description="limit load: the displacement step (none: 0.002 x "
                                           "the model's largest extent)")
-    rigid_ratio: Ratio = Field(1e6, description="stiffness of the rigid links' elements over the stiffest beam")
+    rigid_ratio: Ratio = Field(default=1e6, description="stiffness of the rigid links' elements over the stiffest beam")
 
 
 class PrbmMechanicalAdvantageOptions(HeldOutputOptions):
@@ -181,7 +181,7 @@ class PrbmMechanicalAdvantageOptions(HeldOutputOptions):
     ``output``, ``direction``, ``input``, ``step``, ``definition``. ``F_i`` is an input force the MA divides
     by; a positive magnitude, not tiny against the model's springs (``validation.case.scale``)."""
 
-    type: Literal[1, 2] | None = Field(None, description="the seed's MA type (1: one input and output)")
+    type: Literal[1, 2] | None = Field(default=None, description="the seed's MA type (1: one input and output)")
     model: Literal["compliance"] | None = None
     F_i: PositivePerLevel | None = None
     d_o: Positive | None = None
@@ -189,8 +189,8 @@ class PrbmMechanicalAdvantageOptions(HeldOutputOptions):
     d_out2: Positive | None = None
     d_out3: Positive | None = None
     location_deg: Degrees | None = None
-    rigid_body: str | None = Field(None, description="the equation of the rigid-body MA, for the reader")
-    compliance: str | None = Field(None, description="the equation of the compliance term, for the reader")
+    rigid_body: str | None = Field(default=None, description="the equation of the rigid-body MA, for the reader")
+    compliance: str | None = Field(default=None, description="the equation of the compliance term, for the reader")
     output: str | None = None
 
 
@@ -269,8 +269,8 @@ class PrbmOptions(Options):
     theta0_deg: PerLevel | None = None
     # mechanisms
     links: dict[str, Vector] | None = None
-    springs: dict[str, NonNegative] | None = Field(None, description="torsion springs k1..k4 (torque/rad) and the "
-                                                   "slider's f_k: finite and not negative")
+    springs: dict[str, NonNegative] | None = Field(default=None, description="torsion springs k1..k4 (torque/rad) and "
+                                                   "the slider's f_k: finite and not negative")
     spring_joints: dict[str, str] | None = None
     slfp: FourBarSlfpOptions | None = None
     energy_free: dict[str, Finite] | None = None
@@ -280,27 +280,27 @@ class PrbmOptions(Options):
     coupler_point: str = "P"
     origin: Vector = (0.0, 0.0)
     ma: PrbmMechanicalAdvantageOptions | None = Field(
-        None, description="four-bar: {F_i, d_i, d_o} (eqs 190, 192); network: as [methods.fem] ma, "
+        default=None, description="four-bar: {F_i, d_i, d_o} (eqs 190, 192); network: as [methods.fem] ma, "
         "{output, direction, input, step, d_i, definition}")
     max_mode: Annotated[int, Field(ge=1, le=10)] = 2
     segment_model: Literal["inflection", "fixed-pinned", "fixed-free"] | None = None
     model: Literal["network", "chain", "theta-dependent", "lyon", "feasible-l1"] | None = Field(
-        None, description="'network': solve a mechanism by the general network built from the geometry even where "
-        "a special path applies; 'chain', 'theta-dependent', 'lyon': seed 000 chapter 2's other segment models, "
+        default=None, description="'network': solve a mechanism by the general network built from the geometry even "
+        "where a special path applies; 'chain', 'theta-dependent', 'lyon': seed 000 chapter 2's other segment models, "
         "'feasible-l1': section 3.6's vector loop "
         "(validation.methods.prbm_alternatives). A load along a segment without a model takes the chain, its "
         "elements chosen for chain_tol; any model but 'chain' there is refused")
-    theta_fit: Literal["51", "52", "52-tension"] = Field("51", description="K_Theta(n, Theta) of seed 000 eq (51) or "
-                                                         "(52) for model = 'theta-dependent'")
-    chain_elements: Count = Field(40, description="Chain Algorithm elements (section 3.4 used 40); on a load "
+    theta_fit: Literal["51", "52", "52-tension"] = Field(default="51", description="K_Theta(n, Theta) of seed 000 eq "
+                                                         "(51) or (52) for model = 'theta-dependent'")
+    chain_elements: Count = Field(default=40, description="Chain Algorithm elements (section 3.4 used 40); on a load "
                                   "along the segment without a model, fixes the count the adapter would choose")
-    chain_steps: Count = Field(10, description="Chain Algorithm load (or displacement) increments")
-    chain_tol: Fraction = Field(1e-3, description="a load along the segment without a model: the Chain Algorithm's "
-                                "elements are doubled from 10 until two successive chains' tips differ by less than "
-                                "chain_tol x L at every level (validation.methods.prbm_readings.chain_count)")
-    zero_level: Index | None = Field(None, description="positions measured from this "
+    chain_steps: Count = Field(default=10, description="Chain Algorithm load (or displacement) increments")
+    chain_tol: Fraction = Field(default=1e-3, description="a load along the segment without a model: the Chain "
+                                "Algorithm's elements are doubled from 10 until two successive chains' tips differ by "
+                                "less than chain_tol x L at every level (validation.methods.prbm_readings.chain_count)")
+    zero_level: Index | None = Field(default=None, description="positions measured from this "
                                      "level's state, as the FEM option (prbm_readings)")
-    rules: RulesOptions | None = Field(None, description="the PRB builder's rules "
+    rules: RulesOptions | None = Field(default=None, description="the PRB builder's rules "
                                        "(validation.methods.prbm_network.rules)")
     # the dissertation's synthesis data (chapters 5-7), kept beside the model for the reader and the synthesis;
     # the forward PRBM does not read them, but they are held to the same ranges

@@ -68,7 +68,7 @@ def _member_nodes(mech: MechanismSpec) -> dict[str, list[str]]:
 
 def constraint_matrix(case: Case) -> tuple[np.ndarray, _Unknowns, set[str]]:
     """(C, unknowns, node names on some member) of a mechanism case, as described above."""
-    mech = case.mechanism
+    mech = case.require_mechanism()
     xy = {n.name: np.array([n.x, n.y]) for n in mech.nodes}
     idx = _Unknowns(mech)
     members = _member_nodes(mech)
@@ -159,7 +159,7 @@ def rigid_body_modes(case: Case) -> list[RigidBodyMode]:
     """Every independent rigid-body motion of a mechanism case (empty when it is held)."""
     C, idx, _ = constraint_matrix(case)
     basis = null_space(C)
-    return [_describe(basis[:, k], idx, case.mechanism) for k in range(basis.shape[1])]
+    return [_describe(basis[:, k], idx, case.require_mechanism()) for k in range(basis.shape[1])]
 
 
 def segment_tip(length: float, curvature: float) -> np.ndarray:
@@ -171,7 +171,7 @@ def segment_tip(length: float, curvature: float) -> np.ndarray:
 
 def segment_constraint_matrix(case: Case) -> np.ndarray:
     """C of a segment case acting on z = (u, v, L w), its rigid motion about the root (see above)."""
-    seg = case.segment
+    seg = case.require_segment()
     X, Y = segment_tip(seg.length, seg.initial_curvature()) / seg.length
     rows = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
     if seg.boundary != "pinned-pinned":
@@ -194,8 +194,8 @@ def segment_check(case: Case) -> list[tuple[str, str]]:
                if load.point == "tip" and load.kind == "force" and (load.follower or load.toward is not None)]
     why = (f"{' and '.join(turning)} turns with the tip and frees both of its components" if turning
            else "no load or prescribed motion holds the tip across the chord")
-    return [("segment", f"a {case.segment.boundary} segment swings about its root pin, its tip free across the "
-             f"chord: hold the tip or load it along the chord; {why}, so the case has a rigid-body motion "
+    return [("segment", f"a {case.require_segment().boundary} segment swings about its root pin, its tip free across "
+             f"the chord: hold the tip or load it along the chord; {why}, so the case has a rigid-body motion "
              "(only a force of fixed direction along the chord leaves the tip held across it)")]
 
 

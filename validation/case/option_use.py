@@ -11,9 +11,12 @@ reads it; an option absent from ``USES`` is read on every path of its method.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 from validation.case.method_options import FemOptions
+
+if TYPE_CHECKING:  # the schema calls ``unused_options`` while it validates a case: named here for the types only
+    from validation.case.schema import Case
 
 
 def asks(case, method: str, quantity: str) -> bool:
@@ -40,7 +43,7 @@ def _sprung(case) -> bool:
 class Use:
     """When a method reads an option: ``reads(case, options)``, and ``otherwise`` says why it would not."""
 
-    reads: Callable[[object, dict], bool]
+    reads: Callable[[Case, dict], bool]
     otherwise: str
 
 

@@ -37,7 +37,7 @@ import math
 from typing import Any, Iterator
 
 from validation.case.capabilities import QUANTITIES
-from validation.case.method_options import OPTIONS
+from validation.case.method_options import OPTIONS, FemOptions, OpenSeesOptions, PrbmOptions
 
 SLENDERNESS_MAX = 1e12
 LOAD_LIMIT = 1e4
@@ -211,16 +211,16 @@ def element_count(case) -> list[tuple[str, int]]:
         if model is None:
             continue
         options = model.model_validate(raw or {})
-        if method == "fem":
+        if isinstance(options, FemOptions):
             refine = max(2 ** (options.levels - 1), options.max_refine) if (options.error_estimate or options.tol) \
                 else 1
             finest = [options.elements * refine, 2 * options.elements]
             if options.inverse is not None and options.inverse.elements is not None:
                 finest.append(options.inverse.elements * refine)
             counts.append(("methods.fem.elements", members * max(finest)))
-        elif method == "opensees":
+        elif isinstance(options, OpenSeesOptions):
             counts.append(("methods.opensees.elements", members * options.elements))
-        elif method == "prbm":
+        elif isinstance(options, PrbmOptions):
             counts.append(("methods.prbm.chain_elements", options.chain_elements))
     return counts
 

@@ -84,7 +84,8 @@ class Layer(Strict):
     width: Positive
     thickness: Positive
     name: str | None = None
-    weight_density: Positive | None = Field(None, description="weight per unit volume (force/length^3), for self-weight")
+    weight_density: Positive | None = Field(default=None, description="weight per unit volume (force/length^3), "
+                                            "for self-weight")
 
 
 class SectionSpec(Strict):
@@ -95,11 +96,12 @@ class SectionSpec(Strict):
     thickness: Positive | None = None
     I: Positive | None = None
     A: Positive | None = None
-    c: Positive | None = Field(None, description="extreme-fibre distance, for stresses")
+    c: Positive | None = Field(default=None, description="extreme-fibre distance, for stresses")
     layers: list[Layer] | None = None
-    bonded: bool = Field(False, description="layers bonded (one section bending about the E-weighted "
+    bonded: bool = Field(default=False, description="layers bonded (one section bending about the E-weighted "
                          "neutral axis) instead of sliding on each other")
-    weight_density: Positive | None = Field(None, description="weight per unit volume (force/length^3), for self-weight")
+    weight_density: Positive | None = Field(default=None, description="weight per unit volume (force/length^3), "
+                                            "for self-weight")
 
     @model_validator(mode="after")
     def _complete(self) -> "SectionSpec":
@@ -113,43 +115,70 @@ class SectionSpec(Strict):
             raise ValueError("'bonded' applies to a section of kind 'layers'")
         return self
 
+    def _stack(self) -> list[Layer]:
+        """The layers of a 'layers' section (``_complete`` has checked they are given)."""
+        if self.layers is None:
+            raise ValueError(f"section kind '{self.kind}' has no layers")
+        return self.layers
+
+    def _rectangle(self) -> tuple[float, float]:
+        """(width, thickness) of a 'rectangle' section (``_complete`` has checked they are given)."""
+        if self.width is None or self.thickness is None:
+            raise ValueError(f"section kind '{self.kind}' has no width and thickness")
+        return self.width, self.thickness
+
+    def _given_inertia(self) -> float:
+        """I of an 'inertia' section (``_complete`` has checked it is given)."""
+        if self.I is None:
+            raise ValueError(f"section kind '{self.kind}' has no I")
+        return self.I
+
     def weight_per_length(self) -> float | None:
         """Weight per unit length (sum of weight density x area), None when a density is missing."""
         if self.kind != "layers":
             return None if self.weight_density is None else self.weight_density * self.area()
-        if any(layer.weight_density is None for layer in self.layers):
-            return None
-        return sum(layer.weight_density * layer.width * layer.thickness for layer in self.layers)
+        total = 0.0
+        for layer in self._stack():
+            if layer.weight_density is None:
+                return None
+            total += layer.weight_density * layer.width * layer.thickness
+        return total
 
     def inertia(self) -> float:
         """Second moment of area I (for 'layers', the E-weighted stack is in ``bending_stiffness``)."""
         if self.kind == "rectangle":
-            return self.width * self.thickness**3 / 12.0
+            width, thickness = self._rectangle()
+            return width * thickness**3 / 12.0
         if self.kind == "inertia":
-            return self.I
-        return sum(layer.width * layer.thickness**3 / 12.0 for layer in self.layers)
+            return self._given_inertia()
+        return sum(layer.width * layer.thickness**3 / 12.0 for layer in self._stack())
 
     def stiffness(self, E: float | None) -> tuple[float, float]:
         """(EA, EI) of the section with modulus E; sliding layers carry their own moduli (E unused)
         and bend each about its own centroid."""
         if self.kind == "layers" and self.bonded:      # stacked bottom to top, transformed section
-            EA = sum(l.E * l.width * l.thickness for l in self.layers)
-            tops = np.cumsum([l.thickness for l in self.layers])
-            mids = tops - np.array([l.thickness for l in self.layers]) / 2
-            axis = sum(l.E * l.width * l.thickness * z for l, z in zip(self.layers, mids)) / EA
+            layers = self._stack()
+            EA = sum(l.E * l.width * l.thickness for l in layers)
+            tops = np.cumsum([l.thickness for l in layers])
+            mids = tops - np.array([l.thickness for l in layers]) / 2
+            axis = sum(l.E * l.width * l.thickness * z for l, z in zip(layers, mids)) / EA
             return EA, sum(l.E * l.width * (l.thickness**3 / 12.0 + l.thickness * (z - axis) ** 2)
-                           for l, z in zip(self.layers, mids))
+                           for l, z in zip(layers, mids))
         if self.kind == "layers":
-            return (sum(l.E * l.width * l.thickness for l in self.layers),
-                    sum(l.E * l.width * l.thickness**3 / 12.0 for l in self.layers))
+            layers = self._stack()
+            return (sum(l.E * l.width * l.thickness for l in layers),
+                    sum(l.E * l.width * l.thickness**3 / 12.0 for l in layers))
+        if E is None:
+            raise ValueError(f"a section of kind '{self.kind}' needs the modulus E")
         return E * self.area(), E * self.inertia()
 
     def area(self) -> float:
         if self.kind == "rectangle":
-            return self.width * self.thickness
+            width, thickness = self._rectangle()
+            return width * thickness
         if self.kind == "inertia":
             return self.A if self.A is not None else math.nan
-        return sum(layer.width * layer.thickness for layer in self.layers)
+        return sum(layer.width * layer.thickness for layer in self._stack())
 
 
 class SegmentSpec(Strict):
@@ -157,11 +186,11 @@ class SegmentSpec(Strict):
 
     boundary: Literal["fixed-free", "fixed-pinned", "fixed-guided", "fixed-fixed", "pinned-pinned"]
     length: Positive
-    E: Positive | None = Field(None, description="modulus; omit only for a 'layers' section")
+    E: Positive | None = Field(default=None, description="modulus; omit only for a 'layers' section")
     section: SectionSpec
-    curvature: Finite = Field(0.0, description="initial curvature 1/R (1/length), 0 = straight")
-    radius: Positive | None = Field(None, description="initial radius; alternative to curvature")
-    model: str | None = Field(None, description="named PRBM model variant, e.g. 'inflection' or 'slfp'")
+    curvature: Finite = Field(default=0.0, description="initial curvature 1/R (1/length), 0 = straight")
+    radius: Positive | None = Field(default=None, description="initial radius; alternative to curvature")
+    model: str | None = Field(default=None, description="named PRBM model variant, e.g. 'inflection' or 'slfp'")
 
     @model_validator(mode="after")
     def _consistent(self) -> "SegmentSpec":
@@ -197,7 +226,7 @@ class BeamSpec(Strict):
     E: Positive | None = None
     section: SectionSpec
     curvature: Finite = 0.0
-    segment_type: str | None = Field(None, description="PRBM segment model, e.g. 'fixed-pinned', 'slfp'")
+    segment_type: str | None = Field(default=None, description="PRBM segment model, e.g. 'fixed-pinned', 'slfp'")
 
 
 class LinkSpec(Strict):
@@ -218,8 +247,8 @@ class JointSpec(Strict):
 class SupportSpec(Strict):
     node: str
     kind: Literal["fixed", "pinned", "slider", "guided"]
-    direction: tuple[Finite, Finite] | None = Field(None, description="free direction of slider/guided")
-    member: str | None = Field(None, description="the member a pinned or guided support holds")
+    direction: tuple[Finite, Finite] | None = Field(default=None, description="free direction of slider/guided")
+    member: str | None = Field(default=None, description="the member a pinned or guided support holds")
 
     @field_validator("direction")
     @classmethod
@@ -235,7 +264,7 @@ class MechanismSpec(Strict):
     links: list[LinkSpec] = Field(default_factory=list)
     joints: list[JointSpec] = Field(default_factory=list)
     supports: list[SupportSpec] = Field(min_length=1)
-    E: Positive | None = Field(None, description="default modulus of the beams")
+    E: Positive | None = Field(default=None, description="default modulus of the beams")
 
     @model_validator(mode="after")
     def _references_exist(self) -> "MechanismSpec":
@@ -313,10 +342,10 @@ class LoadSpec(Strict):
     direction: tuple[Finite, Finite] | None = None
     follower: bool = False
     body: str | None = None
-    member: str | None = Field(None, description="distributed/self-weight: the beam carrying it (default: all)")
-    toward: tuple[Finite, Finite] | None = Field(None, description="force: the fixed point it pulls toward")
-    angle: Finite = Field(0.0, description="force toward a point: angle (deg, CCW) from the line to it")
-    values: list[Finite] | None = Field(None, min_length=1)
+    member: str | None = Field(default=None, description="distributed/self-weight: the beam carrying it (default: all)")
+    toward: tuple[Finite, Finite] | None = Field(default=None, description="force: the fixed point it pulls toward")
+    angle: Finite = Field(default=0.0, description="force toward a point: angle (deg, CCW) from the line to it")
+    values: list[Finite] | None = Field(default=None, min_length=1)
     ramp: Ramp | None = None
     label: str | None = None
 
@@ -353,10 +382,18 @@ class LoadSpec(Strict):
             raise ValueError("self-weight is a dead load (gravity keeps its direction)")
         return self
 
+    def require_direction(self) -> tuple[float, float]:
+        """The unit direction of a load that needs one (``_path`` has checked it is given)."""
+        if self.direction is None:
+            raise ValueError(f"a '{self.kind}' load has no 'direction'")
+        return self.direction
+
     def levels(self) -> list[float]:
         if self.values is not None:
             return list(self.values)
         r = self.ramp
+        if r is None:
+            raise ValueError("a load gives neither 'values' nor 'ramp'")
         if r.count == 1:
             return [r.stop]
         return [r.start + (r.stop - r.start) * i / (r.count - 1) for i in range(r.count)]
@@ -427,10 +464,10 @@ class ReferenceSpec(Strict):
     value: Finite
     label: Literal["PRBM", "ANSYS", "elliptic", "measured", "exact", "BCM", "chain", "published"]
     source: Source
-    compare: str | None = Field(None, description="method expected to reproduce it; None = record only")
+    compare: str | None = Field(default=None, description="method expected to reproduce it; None = record only")
     tolerance: Tolerance | None = None
-    finding: Finding | None = Field(None, description="a known misprint or disagreement, with its evidence")
-    note: str | None = Field(None, description="a remark that is not a disagreement; the check stays enforced")
+    finding: Finding | None = Field(default=None, description="a known misprint or disagreement, with its evidence")
+    note: str | None = Field(default=None, description="a remark that is not a disagreement; the check stays enforced")
 
     @field_validator("quantity")
     @classmethod
@@ -508,13 +545,13 @@ class CaseInfo(Strict):
                                       "none of its values at a loaded level can be checked")
     expected_failure: dict[str, str] = Field(default_factory=dict, description="method -> why it is "
                                              "expected not to converge or not to apply on this case")
-    readings_of: str | None = Field(None, description="id of the base case of an experiment this case is "
+    readings_of: str | None = Field(default=None, description="id of the base case of an experiment this case is "
                                     "one loading reading of (the report sets them side by side)")
-    no_prbm_fem: str | None = Field(None, description="why this case has no PRBM-vs-FEM number, in one line: "
+    no_prbm_fem: str | None = Field(default=None, description="why this case has no PRBM-vs-FEM number, in one line: "
                                     "no seed PRBM for this configuration, geometry not in the seed, or an "
                                     "FEM-only benchmark validating the FEM itself")
     purpose: Literal["prbm-comparison", "fem-validation"] = Field(
-        "prbm-comparison", description="'fem-validation': a benchmark that validates the FEM itself (against "
+        default="prbm-comparison", description="'fem-validation': a benchmark that validates the FEM itself (against "
         "published or exact results) and runs no PRBM, so it has no PRBM-vs-FEM number by design; the summary "
         "labels it so")
 
@@ -545,9 +582,10 @@ class Limits(Strict):
     case well under a minute) and far below what exhausts a workstation; raise them here for a case that
     needs more."""
 
-    levels: int = Field(1000, ge=1, le=1_000_000, description="load levels of each load (ramp.count, values)")
-    elements: int = Field(100_000, ge=1, le=10_000_000, description="elements of the finest mesh a method solves")
-    seconds: float = Field(600.0, gt=0, le=86_400.0, allow_inf_nan=False, description="wall time of the case's "
+    levels: int = Field(default=1000, ge=1, le=1_000_000, description="load levels of each load (ramp.count, values)")
+    elements: int = Field(default=100_000, ge=1, le=10_000_000, description="elements of the finest mesh a method "
+                          "solves")
+    seconds: float = Field(default=600.0, gt=0, le=86_400.0, allow_inf_nan=False, description="wall time of the case's "
                            "methods together")
 
 
@@ -697,15 +735,16 @@ class Case(Strict):
         if load.kind == "force" and load.body is not None:
             if self.segment is not None:
                 raise ValueError(f"loads.{i}.body: a segment case has one body; omit 'body'")
-            bodies = {b.name: (b.start, b.end) for b in self.mechanism.beams}
-            bodies.update({l.name: tuple(l.nodes) for l in self.mechanism.links})
+            mechanism = self.require_mechanism()
+            bodies: dict[str, tuple[str, ...]] = {b.name: (b.start, b.end) for b in mechanism.beams}
+            bodies.update({l.name: tuple(l.nodes) for l in mechanism.links})
             if load.body not in bodies:
                 raise ValueError(f"loads.{i}.body: unknown beam or link '{load.body}'")
             if load.point not in bodies[load.body]:
                 raise ValueError(f"loads.{i}.body: '{load.body}' does not reach point '{load.point}'")
         if load.kind == "self_weight":
             sections = ([("segment.section", self.segment.section)] if self.segment is not None else
-                        [(f"beam '{b.name}'", b.section) for b in self.mechanism.beams
+                        [(f"beam '{b.name}'", b.section) for b in self.require_mechanism().beams
                          if load.member in (None, b.name)])
             for where, section in sections:
                 if section.weight_per_length() is None:
@@ -715,10 +754,22 @@ class Case(Strict):
     def n_levels(self) -> int:
         return len(self.loads[0].levels()) if self.loads else 1
 
+    def require_segment(self) -> SegmentSpec:
+        """The case's ``[segment]``; a ValueError for a mechanism case."""
+        if self.segment is None:
+            raise ValueError(f"case '{self.case.id}' describes a mechanism, not a segment")
+        return self.segment
+
+    def require_mechanism(self) -> MechanismSpec:
+        """The case's ``[mechanism]``; a ValueError for a segment case."""
+        if self.mechanism is None:
+            raise ValueError(f"case '{self.case.id}' describes a segment, not a mechanism")
+        return self.mechanism
+
     def point_names(self) -> set[str]:
         if self.segment is not None:
             return {"tip", "root"}
-        return {n.name for n in self.mechanism.nodes} | {"input"}
+        return {n.name for n in self.require_mechanism().nodes} | {"input"}
 
     def unit(self, dimension: str) -> str:
         if dimension in ("deg", "1", "count"):

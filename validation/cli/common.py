@@ -9,7 +9,8 @@ from validation.case.names import nearest
 
 
 def case_paths(patterns: list[str]) -> tuple[list[Path], list[str]]:
-    paths, errors = [], []
+    paths: list[Path] = []
+    errors: list[str] = []
     if not patterns:
         return find_case_files(None), errors
     roots = search_roots(patterns)  # an id may name a file in a folder given alongside

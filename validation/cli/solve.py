@@ -112,6 +112,8 @@ def run(args) -> int:
     documents, statuses = [], []
     for method in methods:
         run = run_method(case, method)
+        if run.status is None:   # ``MethodRun`` derives it when made
+            raise ValueError(f"the {method} run has no status")
         statuses.append(of_run_status(run.status))
         if run.status is RunStatus.MISCONFIGURED:
             print_error(misconfigured_line(loaded.path, run))

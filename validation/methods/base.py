@@ -104,6 +104,8 @@ class MethodRun:
 
     def summary(self) -> str:
         """'<status>: <message>' in words, without saying the status twice."""
+        if self.status is None:   # ``__post_init__`` sets it: None only when reset afterwards
+            raise ValueError("the run's status is not set")
         return f"{self.status.value}: {self.message.removeprefix(self.status.value + ': ')}"
 
 
@@ -113,11 +115,11 @@ class DeferredList(Sequence):
     answer) as the plain list."""
 
     def __init__(self, build: Callable[[], list]):
-        self._build, self._items = build, None
+        self._items: list | Callable[[], list] = build   # the builder until first read, then the list
 
     def _built(self) -> list:
-        if self._items is None:
-            self._items, self._build = list(self._build()), None
+        if not isinstance(self._items, list):
+            self._items = list(self._items())
         return self._items
 
     def __getitem__(self, index):

@@ -27,7 +27,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from validation.case.method_options import HeldOutputOptions
+from validation.case.method_options import (HeldOutputOptions, MechanicalAdvantageOptions,
+                                            PrbmMechanicalAdvantageOptions)
 from validation.methods.base import NotApplicable
 
 INFLECTION_FLOOR = 1e-3
@@ -84,16 +85,20 @@ def incremented_case(case, ma: HeldOutputOptions | None):
     return case.model_copy(update={"loads": loads}), delta, load
 
 
-def output_force(case, ma: HeldOutputOptions | None, reaction_of) -> np.ndarray:
+def output_force(case, ma: MechanicalAdvantageOptions | PrbmMechanicalAdvantageOptions | None,
+                 reaction_of) -> np.ndarray:
     """Per level, the force the mechanism exerts on the output support along ``ma.direction``."""
     reaction_of = _converged_only(reaction_of)
-    output = None if ma is None else ma.output
-    if output is not None and ma.moment_arm is not None:
+    needs = ("mechanical_advantage needs [methods.fem] ma = {output = point, direction = [dx, dy]} "
+             "or {output = point, moment_arm = d_o}")
+    if ma is None or ma.output is None:
+        raise NotApplicable(needs)
+    output = ma.output
+    if ma.moment_arm is not None:
         return np.array([-ma.sense * reaction_of(output, level)[2] / ma.moment_arm
                          for level in range(case.n_levels())])
-    if output is None or ma.direction is None:
-        raise NotApplicable("mechanical_advantage needs [methods.fem] ma = {output = point, direction = [dx, dy]} "
-                            "or {output = point, moment_arm = d_o}")
+    if ma.direction is None:
+        raise NotApplicable(needs)
     d = np.asarray(ma.direction, float)
     d = d / np.hypot(*d)
     return -np.array([reaction_of(output, level)[:2] @ d for level in range(case.n_levels())])

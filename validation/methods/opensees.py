@@ -94,7 +94,8 @@ def load_to(ops, current: float, target: float, steps: int, max_halvings: int) -
 def _geometry(case, elements: int, options: OpenSeesOptions | None = None):
     """Coordinates, nodes (name -> index), elements (i, j, EA, EI, release code) and supports (node ->
     kind)."""
-    coords, names, elems = [], {}, []
+    coords: list[tuple[float, float]] = []
+    names: dict[str, int] = {}
 
     def add(x, y):
         coords.append((x, y))
@@ -125,7 +126,7 @@ def _arc_chain(a, b, curvature: float, elements: int) -> list[np.ndarray]:
     if not curvature:
         return [a + t * (b - a) for t in ts]
     chord = b - a
-    c = np.linalg.norm(chord)
+    c = float(np.linalg.norm(chord))
     R = 1.0 / curvature
     half = math.asin(min(1.0, c / (2 * abs(R))))
     normal = np.array([-chord[1], chord[0]]) / c
@@ -149,7 +150,7 @@ def _released(case) -> set[tuple[str, str]]:
             at_node.setdefault(node, []).append(link.name)
     holds_rotation = {sup.node for sup in mech.supports if sup.kind in ("fixed", "guided")}
     couples = {(load.point, load.body) for load in case.loads if load.kind == "moment" and load.body}
-    released = set()
+    released: set[tuple[str, str]] = set()
     for joint in mech.joints:
         if joint.spring:
             raise NotApplicable(f"the sprung joint at '{joint.node}' is not built for the OpenSees peer")
@@ -282,7 +283,7 @@ def run(case, requests: list[Request], options: OpenSeesOptions) -> MethodRun:
     nodal, factors = _reference_loads(case, names)
     _build(ops, coords, elems, supports, nodal)
     values, iterations, converged, message = {}, 0, True, ""
-    wanted = {}
+    wanted: dict[int, list[Request]] = {}
     for r in requests:
         wanted.setdefault(r.level, []).append(r)
     if any(r.quantity == "limit_load" for r in requests):

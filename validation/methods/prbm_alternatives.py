@@ -49,6 +49,8 @@ MODELS = ("theta-dependent", "chain", "lyon", "feasible-l1")
 def run(case, requests: list[Request], options: PrbmOptions) -> MethodRun:
     t0 = time.perf_counter()
     model = options.model
+    if model is None:
+        raise NotApplicable(f"no alternative PRBM model named: give [methods.prbm] model, one of {', '.join(MODELS)}")
     seg = case.segment
     if seg is None:
         raise NotApplicable(f"model '{model}' is a single-segment model; this case is a mechanism")

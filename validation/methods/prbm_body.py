@@ -25,6 +25,7 @@ import numpy as np
 
 import prbm
 from validation.case.method_options import PrbmOptions
+from validation.case.schema import BeamSpec, LinkSpec
 from validation.methods.base import MethodRun, NotApplicable
 from validation.methods.prbm_atlas import flag_atlas_levels
 from validation.methods.prbm_common import plain, polyline, prefer
@@ -47,12 +48,12 @@ class CarriedBody:
     """The beam O -> E (fixed at O) and the rigid body at E: its nodes (complex, case frame), the
     links through E, and the beam frame (x from O along O -> E): ``to_local`` = e^{-i angle(E - O)}."""
 
-    beam: object
+    beam: BeamSpec
     root: str
     end: str
     nodes: dict[str, complex]
     body: set[str]
-    links: list
+    links: list[LinkSpec]
     length: float
     EI: float
     to_local: complex
@@ -103,7 +104,7 @@ def _segment_model(cb: CarriedBody, options: PrbmOptions):
 
 def _body_loads(case, cb: CarriedBody) -> list[list]:
     """Per level, the loads on the body as ``prbm.BodyLoad`` in the beam frame (offsets from E)."""
-    per_level = [[] for _ in range(case.n_levels())]
+    per_level: list[list] = [[] for _ in range(case.n_levels())]
     for i, load in enumerate(case.loads):
         if load.point not in cb.body:
             raise NotApplicable(f"loads.{i} acts on '{load.point}', not on the body carried by '{cb.beam.name}'")
@@ -138,7 +139,7 @@ def _body_values(cb: CarriedBody, results: dict, requests) -> dict:
 
 def _body_shapes(cb: CarriedBody, results: dict, model, kind: str, n: int) -> list:
     """Per level: the PRB chain of the beam, then each body link through its nodes (case frame)."""
-    shapes = []
+    shapes: list[list[np.ndarray]] = []
     to_global = 1.0 / cb.to_local
     L = cb.length
     for lv in range(n):
@@ -228,7 +229,8 @@ def run_pinned_pinned(case, requests, info: MethodRun) -> dict:
             raise NotApplicable(f"the curved pinned-pinned PRBM gives no '{req.quantity}' at '{req.point}'")
         values[req] = float(table[req.quantity][req.level])
     info.converged = bool(res.converged)
-    info.level_converged = {lv: bool(ok) for lv, ok in enumerate(np.broadcast_to(res.level_converged, (n,)))}
+    converged = res.level_converged if res.level_converged is not None else np.asarray(res.converged)
+    info.level_converged = {lv: bool(ok) for lv, ok in enumerate(np.broadcast_to(converged, (n,)))}
     info.message = f"{res.model}; constant gamma = {res.constants['gamma']}, K_Theta = {res.constants['K_theta']}"
     info.extras.update({"model": res.model, "constants": plain(res.constants)})
     flag_atlas_levels(info, {lv: ("pinned_pinned", {"kappa0": abs(kappa) * length, "sense": 1.0 if f >= 0 else -1.0,

@@ -9,6 +9,7 @@ slider-cranks), ``prbm_body.py`` (one beam carrying a rigid body, the curved pin
 from __future__ import annotations
 
 import math
+from typing import Callable
 
 import numpy as np
 
@@ -22,7 +23,8 @@ def pick(out: dict, requests, what: str) -> dict:
     """The requested values from ``out`` (quantity -> its levels as a list of floats or an array, or one
     value for every level)."""
     values = {}
-    columns = {}  # quantity -> its levels as plain floats (one conversion per quantity, not per request)
+    # quantity -> its levels as plain floats (one conversion per quantity, not per request)
+    columns: dict[str, list] = {}
     for req in requests:
         quantity, _, level = req
         column = columns.get(quantity)
@@ -41,6 +43,18 @@ def per_level(v, n: int) -> np.ndarray:
     """v as an array over the n load levels (a scalar repeated); np.broadcast_to without its overhead."""
     v = np.asarray(v)
     return v if v.shape == (n,) else np.broadcast_to(v, (n,))
+
+
+def per_input_force(ma_at: Callable[[float], object], forces: float | list[float], n: int) -> np.ndarray:
+    """A mechanical advantage over the n levels under the input force F_i, given as one value for every level
+    or one per level: ``ma_at(F)`` (the model's MA over every level under the force F) at each distinct
+    force, each level's value taken at its own force."""
+    per = per_level(np.asarray(forces, float), n)
+    out = np.empty(n)
+    for force in np.unique(per):
+        at = per == force
+        out[at] = np.broadcast_to(np.asarray(ma_at(float(force)), float), (n,))[at]
+    return out
 
 
 def levels(v, n: int) -> list:

@@ -31,7 +31,7 @@ import prbm
 from validation.case.method_options import PrbmOptions, PrecisionOptions
 from validation.methods.base import Misconfigured, MethodRun, NotApplicable
 from validation.methods import prbm_readings
-from validation.methods.prbm_common import DEG, pick, slider_angles
+from validation.methods.prbm_common import DEG, per_input_force, pick, slider_angles
 
 def _complex(pair) -> complex:
     return complex(float(pair[0]), float(pair[1]))
@@ -107,12 +107,12 @@ class FourBarSetup:
 
 def fourbar_from_options(case, options: PrbmOptions) -> FourBarSetup:
     """``prbm.FourBar`` from links r1..r5, springs k1..k4 (or slfp sizes) and energy_free angles."""
-    links = options.links
+    links = options.links or {}
     if not {"r1", "r2", "r3", "r4"} <= set(links):
         raise NotApplicable("[methods.prbm] links: a PRB four-bar needs r1..r4 (or give no links: the PRB "
                             "model is then built from the geometry)")
     Z = {k: _complex(v) for k, v in links.items()}
-    springs = tuple(options.spring(f"k{i}") for i in range(1, 5))
+    springs = (options.spring("k1"), options.spring("k2"), options.spring("k3"), options.spring("k4"))
     standard = {"k1": "O2", "k2": "A", "k3": "B", "k4": "O4"}
     for key, joint in (options.spring_joints or {}).items():
         if standard.get(key) != joint:
@@ -122,8 +122,11 @@ def fourbar_from_options(case, options: PrbmOptions) -> FourBarSetup:
         E = case.mechanism.E
         if E is None:
             raise NotApplicable("SLFP springs need the mechanism's E")
+        if len(slfp.t) != 4:
+            raise Misconfigured(f"slfp: a PRB four-bar has four springs k1..k4, the options size {len(slfp.t)}")
         # eq (186): k_i = E I_i / l_i, I_i = w t_i^3 / 12
-        springs = tuple(E * slfp.width * t**3 / 12.0 / l for t, l in zip(slfp.t, slfp.l))
+        k1, k2, k3, k4 = (E * slfp.width * t**3 / 12.0 / l for t, l in zip(slfp.t, slfp.l))
+        springs = (k1, k2, k3, k4)
     try:
         fb = prbm.FourBar(Z["r1"], Z["r2"], Z["r3"], Z["r4"], Z.get("r5", 0j), springs=springs)
     except ValueError as exc:  # the links do not make a four-bar: the case's input, not a solver failure
@@ -183,8 +186,9 @@ def fourbar_drive(case, setup: FourBarSetup, options: PrbmOptions, info: MethodR
         if torque is None:
             raise NotApplicable("drive = 'torque' but the case has no input moment")
         res = fb.positions_under_torque(torque)
-        theta2 = res.outputs["theta2"]
-        info.level_converged = {i: bool(c) for i, c in enumerate(res.level_converged)}
+        theta2 = np.asarray(res.outputs["theta2"], float)
+        converged = res.level_converged if res.level_converged is not None else np.full(n, res.converged)
+        info.level_converged = {i: bool(c) for i, c in enumerate(converged)}
     elif precision.phi is not None:
         theta2 = t21 + np.asarray(precision.phi, float) * DEG
     elif precision.psi is not None:
@@ -215,15 +219,17 @@ def run_fourbar(case, requests, options: PrbmOptions, info: MethodRun) -> dict:
            "input_angle": np.degrees(theta2)}
     wanted = {r.quantity for r in requests}
     ma = options.ma
-    has_ma = ma is not None and None not in (ma.F_i, ma.d_i, ma.d_o)
+    has_ma = ma is not None and ma.F_i is not None and ma.d_i is not None and ma.d_o is not None
     # the network virtual work (eq 182) and the energy only when the case asks for them
     if "input_torque" in wanted or (has_ma and "mechanical_advantage" in wanted):
         out["input_torque"] = fb.input_torque(theta2, angles)
     if "strain_energy" in wanted:
         out["strain_energy"] = fb.strain_energy(theta2, angles)
-    if has_ma and "mechanical_advantage" in wanted:
-        out["mechanical_advantage"] = fb.compliant_ma(theta2, float(ma.F_i), ma.d_i, ma.d_o,
-                                                      angles, torque=out["input_torque"])
+    if (ma is not None and ma.F_i is not None and ma.d_i is not None and ma.d_o is not None
+            and "mechanical_advantage" in wanted):
+        d_i, d_o, torque = ma.d_i, ma.d_o, out["input_torque"]
+        out["mechanical_advantage"] = per_input_force(
+            lambda F_i: fb.compliant_ma(theta2, F_i, d_i, d_o, angles, torque=torque), ma.F_i, len(theta2))
     point = options.coupler_point
     if "origin" not in options.model_fields_set and any(r.quantity in ("x", "y") for r in requests):
         raise NotApplicable("x, y of the PRB four-bar are in its own frame (O2 at the origin): give "
@@ -234,7 +240,8 @@ def run_fourbar(case, requests, options: PrbmOptions, info: MethodRun) -> dict:
     values = pick(out, requests, "four-bar")
     info.extras["shapes"] = fourbar_shapes(fb, theta2, P, origin, angles[0])
     info.message = info.message or f"PRB four-bar, drive = {drive.name}"
-    info.extras.update({"loop_error": fb.loop_error, "theta_free_deg": [math.degrees(t) for t in fb.theta_free]})
+    theta_free = fb.theta_free if fb.theta_free is not None else fb.theta_ref   # set by FourBar itself
+    info.extras.update({"loop_error": fb.loop_error, "theta_free_deg": [math.degrees(t) for t in theta_free]})
     return values
 
 
@@ -266,9 +273,9 @@ def _theta2_under_force(fb, force: complex, torque: float, theta20: float, span:
 def run_slider(case, requests, options: PrbmOptions, info: MethodRun) -> dict:
     """Slider-crank (chapter 7): crank angle from the prescribed slider displacement of each level,
     compliance torque eq (196) as input_torque, MA = MA_R (1 - F_c/F_i) with eq (199) (ma = {F_i, d_i})."""
-    links = options.links
+    links = options.links or {}
     sc = prbm.SliderCrank.from_vectors(_complex(links["r11"]), _complex(links["r2"]), _complex(links["r3"]),
-                                       springs=tuple(options.spring(f"k{i}") for i in range(1, 4)),
+                                       springs=(options.spring("k1"), options.spring("k2"), options.spring("k3")),
                                        f_k=options.spring("f_k"))
     dx = None
     for load in case.loads:
@@ -280,7 +287,9 @@ def run_slider(case, requests, options: PrbmOptions, info: MethodRun) -> dict:
     out = {"input_angle": np.degrees(theta2), "input_torque": sc.compliance_torque(theta2)}
     ma = options.ma
     if ma is not None and ma.F_i is not None and ma.d_i is not None:
-        out["mechanical_advantage"] = sc.compliant_ma(theta2, float(ma.F_i), ma.d_i)
+        d_i = ma.d_i
+        out["mechanical_advantage"] = per_input_force(lambda F_i: sc.compliant_ma(theta2, F_i, d_i), ma.F_i,
+                                                      len(theta2))
     info.message = "PRB slider-crank, crank angle from the prescribed slider displacement (eqs 196, 199, 192)"
     return pick(out, requests, "slider-crank")
 

@@ -22,6 +22,7 @@ import cmath
 import math
 
 from prbm.inflection_coupler import CouplerDrive, GuidedSegment, solve_coupler
+from prbm.result import PRBMResult
 from validation.case.method_options import PrbmOptions
 from validation.methods.base import MethodRun, NotApplicable, Request
 
@@ -73,7 +74,9 @@ def run_coupler(case, requests: list[Request], info: MethodRun) -> dict:
     point, along, shifts, turns = _drive_loads(case, coupler)
     nodes = {nd.name: complex(nd.x, nd.y) for nd in case.mechanism.nodes}
     P0 = nodes[point]
-    results, messages, failed = {}, [], []
+    results: dict[int, PRBMResult | None] = {}   # None: an unloaded level, the free pose
+    messages: list[str] = []
+    failed: list[str] = []
     for lv in sorted({r.level for r in requests}):
         if shifts[lv] == 0.0 and turns[lv] == 0.0:
             results[lv] = None

@@ -36,7 +36,7 @@ import prbm
 from prbm.lazy import LazyModule
 from validation.case.method_options import PrbmMechanicalAdvantageOptions, PrbmOptions
 from validation.methods.base import Misconfigured, MethodRun, NotApplicable
-from validation.methods.prbm_common import slider_angles
+from validation.methods.prbm_common import per_level, slider_angles
 
 if TYPE_CHECKING:  # loaded at first use (below); named here for the static import walks (run-cache hash)
     from prbm import compliance
@@ -55,17 +55,24 @@ def _complex(pair) -> complex:
     return complex(float(pair[0]), float(pair[1]))
 
 
-def _require(ma: PrbmMechanicalAdvantageOptions, keys: tuple[str, ...], what: str) -> None:
+def _ma_options(options: PrbmOptions) -> PrbmMechanicalAdvantageOptions:
+    """``[methods.prbm] ma`` (``handles`` has checked it is given)."""
+    if options.ma is None:
+        raise NotApplicable("ma.model = 'compliance' needs [methods.prbm] ma")
+    return options.ma
+
+
+def _needs(ma: PrbmMechanicalAdvantageOptions, keys: tuple[str, ...], what: str) -> NotApplicable:
+    """The refusal of a model whose options ``keys`` are not all given, naming those missing."""
     missing = [k for k in keys if getattr(ma, k) is None]
-    if missing:
-        raise NotApplicable(f"[methods.prbm] ma: {what} needs {', '.join(missing)}")
+    return NotApplicable(f"[methods.prbm] ma: {what} needs {', '.join(missing)}")
 
 
 def _input_sense(case) -> float:
     moments = [ld for ld in case.loads if ld.kind == "moment"]
     if not moments:
         return 1.0
-    total = sum(np.asarray(ld.levels(), float) for ld in moments)
+    total = np.sum([np.asarray(ld.levels(), float) for ld in moments], axis=0)
     signs = np.sign(total[total != 0.0])
     if signs.size == 0 or np.any(signs != signs[0]):
         raise NotApplicable("the input moment changes sign over the levels: no single driving sense")
@@ -73,10 +80,11 @@ def _input_sense(case) -> float:
 
 
 def _slider(case, options: PrbmOptions) -> dict[str, np.ndarray]:
-    links, ma = options.links or {}, options.ma
-    _require(ma, ("F_i", "d_i"), "a slider Type 1 MA")
+    links, ma = options.links or {}, _ma_options(options)
+    if ma.F_i is None or ma.d_i is None:
+        raise _needs(ma, ("F_i", "d_i"), "a slider Type 1 MA")
     Z11, Z2, Z3 = (_complex(links[k]) for k in ("r11", "r2", "r3"))
-    springs = tuple(options.spring(f"k{i}") for i in range(1, 4))
+    springs = (options.spring("k1"), options.spring("k2"), options.spring("k3"))
     sc = prbm.SliderCrank.from_vectors(Z11, Z2, Z3)
     travel = [ld for ld in case.loads if ld.kind == "displacement"]
     if len(travel) != 1:
@@ -87,36 +95,40 @@ def _slider(case, options: PrbmOptions) -> dict[str, np.ndarray]:
     theta3 = np.asarray(sc.theta3(theta2), float)
     pose = compliance.SliderPose(sc.R2, sc.R3, theta2, theta3, sc.theta2_ref, sc.theta3_ref, sc.x_ref)
     T_c = compliance.slider_compliance(pose, springs, options.spring("f_k"), "crank")
-    F_i, d_i = float(ma.F_i), ma.d_i
+    F_i = per_level(np.asarray(ma.F_i, float), case.n_levels())   # one value, or one per level
+    d_i = ma.d_i
     rigid = sc.rigid_ma(theta2, d_i)
     return {"mechanical_advantage": compliance.compliant_ma(rigid, T_c / d_i, _input_sense(case) * F_i),
             "input_torque": T_c, "input_angle": np.degrees(theta2)}
 
 
 def _compliers(case, options: PrbmOptions) -> dict[str, np.ndarray]:
-    links, ma = options.links or {}, options.ma
-    _require(ma, ("d_in", "d_out2", "d_out3", "location_deg"), "a two-port Type 2 MA (eq 205)")
+    links, ma = options.links or {}, _ma_options(options)
+    d_in, d_out2, d_out3, location_deg = ma.d_in, ma.d_out2, ma.d_out3, ma.location_deg
+    if d_in is None or d_out2 is None or d_out3 is None or location_deg is None:
+        raise _needs(ma, ("d_in", "d_out2", "d_out3", "location_deg"), "a two-port Type 2 MA (eq 205)")
+    Z1, Z2, Z3, Z4 = (_complex(links[k]) for k in ("r1", "r2", "r3", "r4"))
     try:
-        fb = prbm.FourBar(*(_complex(links[k]) for k in ("r1", "r2", "r3", "r4")))
+        fb = prbm.FourBar(Z1, Z2, Z3, Z4)
     except ValueError as exc:  # the links do not make a four-bar: the case's input, not a solver failure
         raise Misconfigured(f"links: {exc}") from None
     t20, t30, t40 = fb.theta_ref
-    target = t40 + ma.location_deg * DEG
+    target = t40 + location_deg * DEG
     theta2 = fb.input_for_output(target, t20)
     if theta2 is None:
-        raise NotApplicable(f"the four-bar cannot turn link 4 by {ma.location_deg} deg from its measured pose")
+        raise NotApplicable(f"the four-bar cannot turn link 4 by {location_deg} deg from its measured pose")
     theta3 = float(fb.angles(theta2)[0])
     pose = compliance.FourBarPose(fb.R2, fb.R3, fb.R4, theta2, theta3, target, t20, t30, t40)
-    springs = tuple(options.spring(f"k{i}") for i in range(1, 5))
+    springs = (options.spring("k1"), options.spring("k2"), options.spring("k3"), options.spring("k4"))
     T_c = float(compliance.fourbar_compliance_torque(pose, springs, input_link=4))
-    rigid = float(compliance.two_port_rigid_ma(pose, fb.Z1, ma.d_in, ma.d_out2, ma.d_out3))
-    _check_location(case, ma.location_deg * DEG)
+    rigid = float(compliance.two_port_rigid_ma(pose, fb.Z1, d_in, d_out2, d_out3))
+    _check_location(case, location_deg * DEG)
     F_i = _input_forces(case, ma)
     if np.any(F_i <= 0.0):
         raise NotApplicable("Type 2 MA: the input forces must be positive (magnitudes)")
-    sense = math.copysign(1.0, ma.location_deg)
+    sense = math.copysign(1.0, location_deg)
     n = case.n_levels()
-    return {"mechanical_advantage": compliance.compliant_ma(rigid, T_c / ma.d_in, sense * F_i),
+    return {"mechanical_advantage": compliance.compliant_ma(rigid, T_c / d_in, sense * F_i),
             "input_torque": np.full(n, T_c), "input_angle": np.full(n, math.degrees(target))}
 
 

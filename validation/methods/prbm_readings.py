@@ -48,6 +48,7 @@ import numpy as np
 import prbm
 from prbm.fits import THETA_RANGE, FitRangeError, fit_family
 from prbm.lazy import LazyModule
+from prbm.result import PRBMResult
 from validation.case.method_options import PrbmOptions
 from validation.methods.base import Applicability, MethodRun, NotApplicable, Request
 from validation.methods.prbm_atlas import chain_levels, flag_atlas_levels
@@ -118,11 +119,13 @@ def _turning_segment(case, requests, options) -> MethodRun:
            "strain_energy": 0.5 * c["k"] * o["Theta"] ** 2}
     out["strain_energy"] = np.where(F == 0.0, 0.0, out["strain_energy"])
     info = MethodRun(values=pick(out, requests, "segment"), converged=bool(res.converged), message=res.message)
-    info.level_converged = {lv: bool(ok) for lv, ok in enumerate(res.level_converged.tolist())}
+    converged = res.level_converged if res.level_converged is not None else np.full(len(F), res.converged)
+    info.level_converged = {lv: bool(ok) for lv, ok in enumerate(converged.tolist())}
     info.extras = {"model": res.model, "constants": {k: np.asarray(v).tolist() if k != "family" else v
                                                       for k, v in c.items()},
                    "shapes": [[np.array([[0.0, 0.0], [(1 - g) * L, 0.0], [a, b]])] if np.isfinite(g) else []
-                              for g, a, b in zip(c["gamma"].tolist(), o["a"].tolist(), o["b"].tolist())]}
+                              for g, a, b in zip(c["gamma"].tolist(), np.asarray(o["a"]).tolist(),
+                                                 np.asarray(o["b"]).tolist())]}
     for lv, angle in enumerate(np.abs(o["Theta"]).tolist()):
         if angle > THETA_RANGE:
             info.flag(lv, Applicability.DEFLECTION)
@@ -135,7 +138,7 @@ def _turning_segment(case, requests, options) -> MethodRun:
 class ChainLevel:
     """One level's chain solve and the nodal loads it carried."""
 
-    res: object
+    res: PRBMResult
     loads: chain_model.NodalLoads
 
 
@@ -326,7 +329,7 @@ class LinkForce:
     """A force at the end A of PRB link 2: its magnitudes per level and its law (four-bar frame)."""
 
     values: np.ndarray
-    law: object
+    law: turning_loads.LoadLaw
 
 
 def link2_turning_forces(case, R2: float, theta20: float, options: PrbmOptions) -> list[LinkForce] | None:
@@ -341,6 +344,7 @@ def link2_turning_forces(case, R2: float, theta20: float, options: PrbmOptions) 
     A = origin + R2 * cmath.exp(1j * theta20)
     out = []
     for i, load in enumerate(forces):
+        law: turning_loads.LoadLaw
         if abs(nodes.get(load.point, complex(math.inf)) - A) > 1e-3 * R2:
             raise NotApplicable(f"a force at '{load.point}': the PRB four-bar takes forces at the end of PRB link 2 "
                                 "only (the tip of its fixed-pinned input segment)")

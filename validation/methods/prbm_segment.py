@@ -42,8 +42,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TypedDict
 
 import numpy as np
+from numpy.typing import NDArray
 
 import prbm
 from prbm.fits import THETA_RANGE, fit_family
@@ -127,6 +129,19 @@ class FitOptions:
 
     family: str
     extrapolate: str
+
+
+class _TipKeywords(TypedDict):
+    """The keywords every ``prbm`` tip model takes: the segment's length and EI, and the fit options."""
+
+    length: float
+    EI: float
+    family: str
+    extrapolate: str
+
+
+def _tip_keywords(L: float, EI: float, fit: FitOptions) -> _TipKeywords:
+    return {"length": L, "EI": EI, "family": fit.family, "extrapolate": fit.extrapolate}
 
 
 def run_segment(case, requests, options: PrbmOptions) -> tuple[dict, MethodRun]:
@@ -282,7 +297,7 @@ def _motion_loads(motion: PrescribedMotion, magnitudes: list[float]) -> TipLoads
 
 def _free_straight(loads: TipLoads, ratio: list[float], L: float, EI: float, fit: FitOptions) -> SegmentSolve:
     """A straight fixed-free (fixed-pinned) segment: the model that fits its load (module docstring)."""
-    kw = {"length": L, "EI": EI, "family": fit.family, "extrapolate": fit.extrapolate}
+    kw = _tip_keywords(L, EI, fit)
     has_F, has_M = loads.has_force, loads.has_moment
     if loads.follower:
         if has_M:
@@ -306,7 +321,7 @@ def _free_curved(loads: TipLoads, ratio: list[float], L: float, EI: float, kappa
     """An initially curved fixed-free segment (eqs 53-61); an end moment adds to the curvature (eq 62)."""
     if loads.follower:
         raise NotApplicable("a follower force on an initially curved segment: no PRBM in the seeds")
-    kw = {"length": L, "EI": EI, "family": fit.family, "extrapolate": fit.extrapolate}
+    kw = _tip_keywords(L, EI, fit)
     if loads.has_moment:
         res = _stack([prbm.curved_fixed_pinned_tip(fy, r, curvature=m / EI + kappa, **kw)
                       for fy, r, m in zip(loads.Fy, ratio, loads.M)])
@@ -326,7 +341,7 @@ def _guided(case, loads: TipLoads, ratio: list[float], L: float, EI: float, kapp
         raise NotApplicable("initially curved fixed-guided segment without model = 'inflection'")
     if loads.follower:
         raise NotApplicable("a follower force on a fixed-guided segment: no PRBM in the seeds")
-    kw = {"length": L, "EI": EI, "family": fit.family, "extrapolate": fit.extrapolate}
+    kw = _tip_keywords(L, EI, fit)
     if loads.has_moment:
         return SegmentSolve(prbm.fixed_guided_monotonic_tip(loads.Fy, ratio, loads.M,
                                                             **kw), L, 0.0)
@@ -414,7 +429,7 @@ def _warn_inflection(info: MethodRun, M, Fx, Fy, a, b, a0: float, b0: float) -> 
 def _stack(results: list[PRBMResult]) -> PRBMResult:
     """One result over the levels from one result per level."""
     keys = results[0].outputs.keys()
-    out = {k: np.array([float(r.outputs[k]) for r in results]) for k in keys}
+    out: dict[str, NDArray[np.float64] | float] = {k: np.array([float(r.outputs[k]) for r in results]) for k in keys}
     return PRBMResult(all(r.converged for r in results), results[0].message, out, results[0].constants,
                       results[0].model, level_converged=np.array([r.converged for r in results]))
 

@@ -61,7 +61,7 @@ def _held_block(node: str, direction, travel: list, n_levels: int) -> list:
 
 def with_flexures(case: Case, length: float, E: float, thickness_ratio: float = 0.1) -> Case:
     """The case with every sprung joint of its mechanism replaced by an SLFP of length ``length``."""
-    mech = case.mechanism
+    mech = case.require_mechanism()
     if length <= 0 or E <= 0 or thickness_ratio <= 0:
         raise ValueError("slfp length, E and thickness_ratio must be positive")
     xy = {n.name: (n.x, n.y) for n in mech.nodes}

@@ -176,12 +176,13 @@ def _shape_chart(result: CaseResult) -> Chart | None:
             points = _joined([np.asarray(line) for line in per_level[k]])
             if len(points):
                 lines.append(ShapeLine(method, len(steps) - 1 if own else k, points[:, 0], points[:, 1]))
-    measured = {}
+    measured: dict[tuple[str, int], dict[str, float]] = {}
     for ref in case.references:
         if ref.label == "measured" and ref.quantity in ("x", "y"):
             measured.setdefault((ref.point, ref.level), {})[ref.quantity] = ref.value
-    points = [(level, v["x"], v["y"]) for (_, level), v in measured.items() if "x" in v and "y" in v]
-    return shapes_chart("shapes", lines, points, case.unit("length"), steps, prefix, first=case.n_levels() - 1)
+    measured_points = [(level, v["x"], v["y"]) for (_, level), v in measured.items() if "x" in v and "y" in v]
+    return shapes_chart("shapes", lines, measured_points, case.unit("length"), steps, prefix,
+                        first=case.n_levels() - 1)
 
 
 def _path_chart(result: CaseResult) -> Chart | None:
@@ -252,7 +253,7 @@ def glance(table: pd.DataFrame) -> pd.DataFrame:
                    for i, name in enumerate(GLANCE_KEY)}
     out = pd.DataFrame(key_columns | _spread(values, keys, shown)
                        | _spread(printed, keys, _labels(printed), "printed "))
-    fem_est = {}
+    fem_est: dict[tuple, object] = {}   # a float, or UNRELIABLE
     for row in rows:
         if row[3] == "fem":
             fem_est.setdefault(key(row), row[7])
@@ -265,7 +266,8 @@ def glance(table: pd.DataFrame) -> pd.DataFrame:
             out[f"{method.upper()} - measured"] = out[method] - out["printed measured"]
     if {"fem", "elastica"} <= set(out.columns):
         out["FEM - exact"] = out["fem"] - out["elastica"]
-    labels, units = {}, {}
+    labels: dict[tuple, str] = {}
+    units: dict[str, str] = {}
     for row in rows:
         labels.setdefault(key(row), row[8])
         units.setdefault(row[0], row[9])
@@ -335,8 +337,9 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
     shown = marked_estimates(table.dropna(subset=["quantity"]))[list(cols)].rename(columns=cols)
     verdicts = method_verdicts(case, result.runs, table, verdict_by_method(case, result.runs, table) if len(table) else {})
     badges = [(m, verdicts[m].verdict, verdicts[m].reason, r) for m, r in result.runs.items()]
-    runs = pd.DataFrame([{"method": METHOD_NAMES.get(m, m), "verdict": v.value, "why": w[:300], "status": r.status.value,
-                          "time [s]": r.wall_time, "message": r.message[:300]} for m, v, w, r in badges])
+    runs = pd.DataFrame([{"method": METHOD_NAMES.get(m, m), "verdict": v.value, "why": w[:300],
+                          "status": r.status.value if r.status else "", "time [s]": r.wall_time,
+                          "message": r.message[:300]} for m, v, w, r in badges])
     source = case.case.source.label() if case.case.source else ""
     items = findings([result], table)
     sentence = case_sentence(result, table)

@@ -252,7 +252,9 @@ def outputs_chart(chart_id: str, axis: np.ndarray, axis_label: str, table: pd.Da
         return None
     ncols = min(3, len(panels))
     nrows = -(-len(panels) // ncols)
-    data, titles, shown = [], [], set()
+    data: list[dict] = []
+    titles: list[tuple[str, str]] = []
+    shown: set[str] = set()
     for index, ((quantity, point), panel) in enumerate(panels.items()):
         for method in sorted(panel.methods):
             levels = sorted(panel.methods[method])
@@ -261,8 +263,8 @@ def outputs_chart(chart_id: str, axis: np.ndarray, axis_label: str, table: pd.Da
                                index, shown, mode="lines+markers", line={"color": color, "dash": dash, "width": 2},
                                marker={"size": 4}))
         for label in sorted(panel.printed):
-            levels, values = zip(*panel.printed[label])
-            data.append(_trace(axis[list(levels)], values, printed_name(label, sources or {}), index, shown,
+            printed_levels, values = zip(*panel.printed[label])
+            data.append(_trace(axis[list(printed_levels)], values, printed_name(label, sources or {}), index, shown,
                                mode="markers", marker={"symbol": REF_MARKER.get(label, "x-open"), "size": 8,
                                                        "color": "black"}))
         titles.append((axis_label, axis_title(quantity_name(quantity, point), panel.unit)))
@@ -286,7 +288,7 @@ class ShapeLine:
     y: np.ndarray
 
 
-def _padded(values: list[np.ndarray]) -> list[float]:
+def _padded(values: list[np.ndarray]) -> list[float | None]:
     """The range of ``values`` (NaN skipped) widened by 5 % each side (a point range by 1)."""
     finite = np.concatenate([v[np.isfinite(v)] for v in values] + [np.zeros(0)])
     if not len(finite):

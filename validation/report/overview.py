@@ -29,6 +29,7 @@ import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import matplotlib
 
@@ -158,10 +159,12 @@ def plot_overview(points: list[OverviewPoint], png: Path) -> Path:
         dots.set_urls([f"cases/{p.case}.html" for p in mine])  # the SVG's dots open their case page
     x_max = max([p.deflection for p in points] + [1.2]) * 1.05
     for k, claim in enumerate(CLAIMS):
-        style = dict(color="0.2", lw=1.2, ls=("--", ":", "-.")[k % 3], label=claim.label)
+        style: dict[str, Any] = dict(color="0.2", lw=1.2, ls=("--", ":", "-.")[k % 3], label=claim.label)
         if claim.vertical is not None:
             ax.axvline(claim.vertical, **style)
         else:
+            if claim.slope is None:
+                raise ValueError(f"claim '{claim.label}' gives neither a slope nor a vertical line")
             xs = np.linspace(max(claim.x_from, 1e-3), min(claim.x_to, x_max), 50)
             ax.plot(xs, claim.slope * xs, **style)
     ax.set_yscale("log")

@@ -25,12 +25,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, Final
 
 import meshio
 import numpy as np
 from PIL import Image
 
 from validation.case.schema import Case
+
+if TYPE_CHECKING:  # pyvista (VTK) is imported at the first picture: a report without pictures never loads it
+    import pyvista
+    from pyvista.plotting._typing import ScalarBarArgs   # the keywords of add_scalar_bar (not exported)
 
 MAX_FRAMES = 41  # frames of a continuation's series (evenly spaced, with its limit points)
 
@@ -174,15 +179,15 @@ def prbm_series(case: Case, shapes) -> ShapeSeries | None:
         return None
     frames = []
     for polylines in normalise_shapes(shapes):
-        points, lines = [], []
+        points: list[list[float]] = []
+        lines: list[list[int]] = []
         for line in (line for line in polylines if len(line) >= 2):
             start = len(points)
             points.extend(line.tolist())
             lines.extend([start + j, start + j + 1] for j in range(len(line) - 1))
         if not lines:
             return None  # a level without links: no series rather than an empty frame
-        points = np.asarray(points)
-        frames.append(ShapeFrame(points, np.asarray(lines), np.arange(len(points)),
+        frames.append(ShapeFrame(np.asarray(points), np.asarray(lines), np.arange(len(points)),
                                  {"pivot": np.ones(len(points))}))
     return ShapeSeries("prbm", _times(case, _levels(shapes)), frames)
 
@@ -191,7 +196,11 @@ def _lines_frame(polylines: list[np.ndarray]) -> ShapeFrame | None:
     """Polylines as one frame of line cells, with each point's tangent angle (degrees) and the
     curvature d(angle)/ds along its polyline; a 2-point line (a rigid body's, `ShapeFrame.rigid`) has no
     centreline field (NaN)."""
-    points, lines, angle, curvature, rigid = [], [], [], [], []
+    points: list[list[float]] = []
+    lines: list[list[int]] = []
+    angle: list[float] = []
+    curvature: list[float] = []
+    rigid: list[list[int]] = []
     for line in (line for line in polylines if len(line) == 2):
         rigid.append([len(points), len(points) + 1])
         points.extend(line.tolist())
@@ -219,10 +228,11 @@ def elastica_series(case: Case, shapes) -> ShapeSeries | None:
     if not shapes:
         return None
     if case.segment is None:
-        frames = [_lines_frame(polylines) for polylines in normalise_shapes(shapes)]
-        if not frames or any(f is None for f in frames):
+        built = [_lines_frame(polylines) for polylines in normalise_shapes(shapes)]
+        lines_frames = [f for f in built if f is not None]
+        if not built or len(lines_frames) != len(built):
             return None
-        return ShapeSeries("elastica", _times(case, _levels(shapes)), frames)
+        return ShapeSeries("elastica", _times(case, _levels(shapes)), lines_frames)
     per_level = [shapes[k] for k in _levels(shapes)]
     _, EI = case.segment.section.stiffness(case.segment.E)
     kappa0 = case.segment.initial_curvature()
@@ -275,7 +285,7 @@ def write_case_series(case: Case, runs: dict, folder: Path, series: list[ShapeSe
 
 RENDER_COLOURS = {"fem": "steelblue", "prbm": "darkorange", "elastica": "seagreen"}
 RENDER_NAMES = {"fem": "FEM", "prbm": "PRBM", "elastica": "exact elastica"}   # as the case page names them
-FEM_COLOURMAP = "viridis"
+FEM_COLOURMAP: Final = "viridis"
 FEM_LEGEND_COLOUR = "#21918c"   # viridis at the middle of its range: the FEM line's colour at a mean moment
 UNDEFORMED_COLOUR = "grey"
 RIGID_COLOUR = "black"          # the FEM's rigid links: no bending moment of their own to colour them by
@@ -284,7 +294,7 @@ CANVAS = (900, 540)             # pixels of a picture
 # mechanism in DRAWN, clear of the title (top left), the legend and the colour bar (the right strip)
 DRAWN = ((0.03, 0.70), (0.05, 0.88))
 LEGEND_LEFT, LEGEND_TOP, LEGEND_ROW = 0.72, 0.90, 0.055
-BAR = {"position_x": 0.74, "position_y": 0.06, "width": 0.22, "height": 0.42, "vertical": True, "n_labels": 5, "fmt": "%.3g",
+BAR: ScalarBarArgs = {"position_x": 0.74, "position_y": 0.06, "width": 0.22, "height": 0.42, "vertical": True, "n_labels": 5, "fmt": "%.3g",
        "title_font_size": 14, "label_font_size": 13, "color": "black", "unconstrained_font_size": True}
 BAR_RATIO, BAR_GAP = 0.2, 14   # the colour bar's share of its box's width (the rest: its tick labels), and the
 #                                 pixels between its title and its top
@@ -298,13 +308,14 @@ class Canvas:
     by entry, each time one is built), and the picture's own actors (meshes, the shown legend), removed
     for the next."""
 
-    plotter: object
-    title: object
+    plotter: pyvista.Plotter
+    title: pyvista.CornerAnnotation
     legends: dict[tuple, object] = field(default_factory=dict)
     shown: list = field(default_factory=list)
 
     def clear(self) -> None:
-        self.plotter.remove_actor(self.shown, reset_camera=False, render=False)
+        # pyvista wraps Renderer's method (functools.wraps): mypy sees it unbound, wanting a plotter first
+        self.plotter.remove_actor(self.shown, reset_camera=False, render=False)  # type: ignore[arg-type]
         for title in list(self.plotter.scalar_bars.keys()):   # its actor too (``clear`` forgets, keeps it drawn)
             self.plotter.scalar_bars.remove_scalar_bar(title, render=False)
         self.shown = []
@@ -315,12 +326,15 @@ class Canvas:
         actor = self.legends.get(entries)
         if actor is None:
             height = LEGEND_ROW * len(entries)
-            actor = self.legends[entries] = self.plotter.add_legend([list(e) for e in entries], bcolor="white",
+            rows = [list(e) for e in entries]
+            # as in ``clear``: a method pyvista wraps, which mypy sees unbound
+            actor = self.legends[entries] = self.plotter.add_legend(rows, bcolor="white",  # type: ignore[arg-type]
                                                                     face="line", size=(0.27, height))
             actor.SetPosition(LEGEND_LEFT, LEGEND_TOP - height)
             actor.SetPosition2(0.27, height)
         else:
-            self.plotter.add_actor(actor, reset_camera=False, pickable=False, render=False)
+            # as in ``clear``: a method pyvista wraps, which mypy sees unbound
+            self.plotter.add_actor(actor, reset_camera=False, pickable=False, render=False)  # type: ignore[arg-type]
         self.shown.append(actor)
 
 
@@ -424,7 +438,7 @@ def render_series(series: list[ShapeSeries], png: Path, title: str = "", moment_
             # the elements coloured by their bending moment, the rigid links (which have none) in one colour
             mesh = _polydata(pv, last, ("bending_moment",), cells="lines")
             moment = last.point_data["bending_moment"][np.unique(last.line_cells("lines"))]
-            bar = {"title": _bar_title(moment_unit), "render": False, **BAR}
+            bar: ScalarBarArgs = {"title": _bar_title(moment_unit), "render": False, **BAR}
             canvas.shown.append(plotter.add_mesh(mesh, scalars="bending_moment", line_width=6, cmap=FEM_COLOURMAP,
                                                  clim=colour_range(moment), scalar_bar_args=bar, render=False))
             colour_bar = plotter.scalar_bars[bar["title"]]
@@ -453,6 +467,8 @@ def render_series(series: list[ShapeSeries], png: Path, title: str = "", moment_
     canvas.legend(tuple(legend))
     plotter.render()  # the one render of the picture (the calls above are told not to render)
     image = plotter.screenshot(None, return_img=True)
+    if image is None:
+        return None
     # zlib level 1: faster to compress than the default (6), for somewhat larger files
     Image.fromarray(image).save(png, compress_level=1)
     return png

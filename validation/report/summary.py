@@ -67,8 +67,8 @@ class CaseSummary:
 def level_phrase(result: CaseResult, level: int) -> str:
     """'force at tip = 10 lbf' for a level, or 'level <label>' when the case has no load."""
     case = result.loaded.case
-    if case.loads:
-        index = driving_load(case)
+    index = driving_load(case)   # None: the case has no load
+    if index is not None:
         load = case.loads[index]
         unit = load_unit(load, case)
         return f"{load_name(load, index, case)} = {sig(load.levels()[level])}{' ' + unit if unit else ''}"

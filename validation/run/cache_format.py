@@ -328,8 +328,9 @@ def _dtype(name: Any) -> np.dtype:
 
 
 @lru_cache(maxsize=None)
-def _class(tag: Any, kind: str | None = None) -> type:
-    """The class of ``CLASSES[tag]`` (of that ``kind`` when given), imported at first use."""
+def _class(tag: Any, kind: str | None = None) -> Any:
+    """The class of ``CLASSES[tag]`` (of that ``kind`` when given), imported at first use (typed Any: an
+    enum, a namedtuple or a dataclass, which kind checked here at run time)."""
     if tag not in CLASSES or kind not in (None, CLASSES[tag][2]):
         raise EntryError(f"an object of tag {tag!r}" + (f" where a {kind} belongs" if kind else ""))
     module, name, kind = CLASSES[tag]

@@ -21,9 +21,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import partial
 
 from validation.case.capabilities import QUANTITIES
-from validation.case.method_options import options_of
+from validation.case.method_options import FemOptions
 from validation.methods.base import MethodRun, Request
 from validation.case.schema import Agreement, Case, ReferenceSpec, Tolerance
 
@@ -66,12 +67,14 @@ def _errors(value: float, printed: float) -> tuple[float, float]:
 def reference_check(ref: ReferenceSpec, value: float, reproduced: float | None) -> Check:
     """The check a compared reference stands for; ``reproduced`` is the method's value re-run with the
     finding's ``reproduce_with`` (None when the finding has none or the re-run failed)."""
+    if ref.tolerance is None:
+        raise ValueError(f"reference {ref.label} {ref.value:g} has no tolerance: it is recorded, not checked")
     abs_error, rel_error = _errors(value, ref.value)
     met = within(ref.tolerance, abs_error, rel_error)
-    base = dict(reference_label=ref.label, reference_value=ref.value, source=ref.source.label(),
-                tolerance=ref.tolerance, abs_error=abs_error, rel_error=rel_error)
+    check = partial(Check, reference_label=ref.label, reference_value=ref.value, source=ref.source.label(),
+                    tolerance=ref.tolerance, abs_error=abs_error, rel_error=rel_error)
     if ref.finding is None:
-        return Check(kind="reference", within=met, **base)
+        return check(kind="reference", within=met)
     finding = ref.finding
     tol = finding.tolerance or ref.tolerance
     problems = []
@@ -89,7 +92,7 @@ def reference_check(ref: ReferenceSpec, value: float, reproduced: float | None) 
         if not within(tol, *got):
             problems.append(f"the re-run with {finding.reproduce_with} gives {reproduced:.6g}, not the printed "
                             f"{ref.value:g} (|error| {got[0]:.3g})")
-    return Check(kind="finding", within=not problems, finding=finding.text, detail="; ".join(problems), **base)
+    return check(kind="finding", within=not problems, finding=finding.text, detail="; ".join(problems))
 
 
 def agreement_checks(case: Case, agreement: Agreement, runs: dict[str, MethodRun]) -> dict[Request, Check]:
@@ -139,14 +142,17 @@ def axial_strain_bound(case: Case, level: int) -> float:
     elastica does not model one) or when the case prescribes no forces."""
     if case.segment is None:
         return 0.0
-    fx = sum(load.levels()[level] * load.direction[0] for load in case.loads if load.kind == "force")
-    fy = sum(load.levels()[level] * load.direction[1] for load in case.loads if load.kind == "force")
-    followers = sum(abs(load.levels()[level]) * math.hypot(*load.direction)
-                    for load in case.loads if load.kind == "force" and load.follower)
+    forces = [load for load in case.loads if load.kind == "force"]
+    fx = sum(load.levels()[level] * load.direction[0] for load in forces if load.direction is not None)
+    fy = sum(load.levels()[level] * load.direction[1] for load in forces if load.direction is not None)
+    # the forces that turn: followers, and forces toward a fixed point (they have no direction)
+    followers = (sum(abs(load.levels()[level]) * math.hypot(*load.direction)
+                     for load in forces if load.follower and load.direction is not None)
+                 + sum(abs(load.levels()[level]) for load in forces if load.toward is not None))
     force = max(math.hypot(fx, fy), followers)
     EA = case.segment.axial_stiffness()
     if math.isnan(EA):  # no area given: the FEM adapter's stand-in EA = ratio EI / L^2
-        ratio = options_of("fem", case.methods.get("fem")).inextensible_ratio
+        ratio = FemOptions.model_validate(case.methods.get("fem") or {}).inextensible_ratio
         EA = ratio * case.segment.bending_stiffness() / case.segment.length**2
     return force / EA if EA > 0 and not math.isnan(EA) else 0.0
 

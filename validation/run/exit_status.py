@@ -52,10 +52,10 @@ def of_run_status(status: RunStatus) -> ExitStatus:
 
 def combine(statuses: Iterable[int]) -> ExitStatus:
     """The status of several outcomes: interrupted if any was, else the largest of 0, 1, 2."""
-    statuses = [ExitStatus(int(s)) for s in statuses]
-    if ExitStatus.INTERRUPTED in statuses:
+    outcomes = [ExitStatus(int(s)) for s in statuses]
+    if ExitStatus.INTERRUPTED in outcomes:
         return ExitStatus.INTERRUPTED
-    return max(statuses, default=ExitStatus.OK)
+    return max(outcomes, default=ExitStatus.OK)
 
 
 def decide(bad_input: bool = False, failed: bool = False) -> ExitStatus:

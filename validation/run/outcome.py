@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -47,7 +48,7 @@ def tabulate(result: CaseResult) -> pd.DataFrame:
     for agreement in case.agreements:
         for req, check in agreement_checks(case, agreement, result.runs).items():
             agreed.setdefault(agreement.method, []).append((req, check))
-    rows = []
+    rows: list[dict[str, Any]] = []
     for method, run in result.runs.items():
         requests = requests_for(case, method)
         if not requests:
@@ -331,7 +332,9 @@ def _run_columns(part: pd.DataFrame) -> tuple[dict[str, float], dict]:
     """Each method's wall time and converged flag in one case, methods in sorted order: the first value
     that is not missing over the case's distinct (method, quantity, point, level) rows (what
     ``drop_duplicates`` then ``groupby(method).first()`` give), NaN where every row misses it."""
-    seen, times, status = set(), {}, {}
+    seen: set[tuple] = set()
+    times: dict[str, float] = {}
+    status: dict[str, object] = {}
     for m, q, p, lv, t, ok in zip(part["method"], part["quantity"], part["point"], part["level"],
                                   part["wall_time"], part["converged"]):
         key = (m, q, p if isinstance(p, str) else "", lv)

@@ -52,6 +52,7 @@ import sys
 import weakref
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Literal
 
 from validation.run.exit_status import ExitStatus
 
@@ -297,7 +298,7 @@ class OutputSet:
 
     def commit(self) -> None:
         """Put the stage in place of the folder (module docstring, step 3)."""
-        carried = self._carry() if self.owned is not None and self.folder.is_dir() else []
+        carried = self._carry(self.owned) if self.owned is not None and self.folder.is_dir() else []
         try:
             if self.folder.exists():
                 shutil.copymode(self.folder, self.path)   # the folder keeps its permissions
@@ -323,7 +324,7 @@ class OutputSet:
             pass
         shutil.rmtree(self.path, ignore_errors=True)   # the old set
 
-    def _carry(self) -> list[Lock]:
+    def _carry(self, owned: tuple[str, ...]) -> list[Lock]:
         """Hard links in the stage to every entry of the previous set the command does not own (an output
         folder among them locked first, waiting for its command); returns the locks held."""
         held: list[Lock] = []
@@ -331,14 +332,14 @@ class OutputSet:
             for lock_file in sorted(self.folder.rglob("*.lock")):
                 inner = lock_file.with_suffix("")
                 relative = inner.relative_to(self.folder).as_posix()
-                if inner.is_dir() and not _matches(relative, self.owned):
+                if inner.is_dir() and not _matches(relative, owned):
                     held.append(Lock(lock_file))
                     if not held[-1].take():
                         print(f"waiting: output folder {self.target / relative} is in use by {held[-1].holder()}",
                               file=sys.stderr, flush=True)
                         held[-1].take(wait=True)
             for relative, source in _files(self.folder):
-                if _matches(relative, self.owned) or any(is_leftover(p) for p in relative.split("/")):
+                if _matches(relative, owned) or any(is_leftover(p) for p in relative.split("/")):
                     continue
                 if not (self.path / relative).exists():
                     _place(source, self.path / relative, link=True)
@@ -348,7 +349,7 @@ class OutputSet:
             raise
         return held
 
-    def __exit__(self, kind, exc, traceback) -> bool:
+    def __exit__(self, kind, exc, traceback) -> Literal[False]:
         try:
             if not self.committed:
                 shutil.rmtree(self.path, ignore_errors=True)

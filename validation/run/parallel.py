@@ -36,7 +36,7 @@ from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wai
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Sequence
 
 from validation.case.loader import CaseError, load_case
 from validation.run import cache
@@ -142,7 +142,7 @@ def prime(path: Path, method: str) -> Timed:
             run_method(load_case(path).case, method)
         except CaseError:
             pass
-    return watch.record
+    return watch.ended()
 
 
 @dataclass
@@ -174,7 +174,7 @@ def run_extra(task: Callable[[], Any]) -> Timed:
     """An extra task, timed under its ``label`` (else its type's name)."""
     with timed("extra", getattr(task, "label", type(task).__name__)) as watch:
         task()
-    return watch.record
+    return watch.ended()
 
 
 def run_path(path: Path, methods: list[str] | None, use_cache: bool,
@@ -187,8 +187,8 @@ def run_path(path: Path, methods: list[str] | None, use_cache: bool,
     times: list[Timed] = []
     with timed("case", loaded.id, times) as watch:
         result = run_case(loaded, methods, use_cache)
-    times += [Timed("method", f"{loaded.id}:{method}", run.wall_time, start=watch.record.start,
-                    pid=watch.record.pid)
+    times += [Timed("method", f"{loaded.id}:{method}", run.wall_time, start=watch.ended().start,
+                    pid=watch.ended().pid)
               for method, run in result.runs.items() if not result.cached.get(method)]
     value = None
     if after is not None:
@@ -198,7 +198,7 @@ def run_path(path: Path, methods: list[str] | None, use_cache: bool,
 
 
 def run_paths(paths: list[Path], methods: list[str] | None = None, use_cache: bool = True, jobs: int = 1,
-              after: Callable[[CaseResult], Any] | None = None, extra: list[Callable[[], Any]] = (),
+              after: Callable[[CaseResult], Any] | None = None, extra: Sequence[Callable[[], Any]] = (),
               progress: Callable[[PathRun], None] | None = None, timeline: list[Timed] | None = None,
               costs: dict[str, float] | None = None, watch: CompileWatch | None = None) -> list[PathRun]:
     """Every case file run (module docstring); ``extra`` tasks run beside them; returns the runs in the

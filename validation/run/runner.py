@@ -28,11 +28,12 @@ from validation.case.overrides import apply as apply_field
 def requests_for(case: Case, method: str) -> list[Request]:
     """Every (quantity, point, level) the case wants from this method, in order, without repeats."""
     wanted: dict[Request, None] = {}
-    every = None  # range(case.n_levels()), built at most once (n_levels builds the load's level list)
+    every: range | None = None  # range(case.n_levels()), built at most once (n_levels builds the load's level list)
     new = tuple.__new__  # Request(q, p, level) without the named tuple's Python-level __new__ (a third of the time)
     for out in case.outputs:
         if out.methods is not None and method not in out.methods:
             continue
+        levels: range | list[int]
         if out.levels == "all":
             levels = every = every if every is not None else range(case.n_levels())
         else:

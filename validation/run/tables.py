@@ -112,7 +112,7 @@ def _load_columns(case: Case) -> pd.DataFrame:
 
 def runs_table(result: CaseResult) -> pd.DataFrame:
     case = result.loaded.case
-    rows = [dict(case=case.case.id, group=case.case.group, method=method, status=run.status.value,
+    rows = [dict(case=case.case.id, group=case.case.group, method=method, status=run.status.value if run.status else "",
                  converged=run.converged, message=run.message, wall_time=run.wall_time,
                  cached=result.cached.get(method, False))
             for method, run in result.runs.items()]

@@ -44,6 +44,12 @@ class Stopwatch:
     record: Timed | None = None
     into: list[Timed] = field(default_factory=list)
 
+    def ended(self) -> Timed:
+        """The block's ``Timed``, once it has ended."""
+        if self.record is None:
+            raise RuntimeError("the timed block has not ended")
+        return self.record
+
 
 @contextmanager
 def timed(kind: str, name: str, into: list[Timed] | None = None) -> Iterator[Stopwatch]:

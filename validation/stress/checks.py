@@ -444,7 +444,7 @@ def _stress_into(out: Path, long: bool, seed: int, *, configurations: int, execu
     if mutants:
         checks.extend(Check(*row) for row in fuzz_checks(out, mutants, seed, long=long, workers=workers,
                                                          timeout=mutant_timeout))
-    categories = {}
+    categories: dict[str, dict[str, int]] = {}
     for c in checks:
         tally = categories.setdefault(c.category, {"tried": 0, "passed": 0, "failed": 0})
         tally["tried"] += 1

@@ -186,7 +186,7 @@ def linear_reference(c: Configuration, case: Case, *, inextensible: bool = False
     ``inextensible``: EA infinite (the elastica's model)."""
     EI, EA = c.stiffness()
     EA = 1e12 * EI / c.length**2 if inextensible else EA  # (inf would leave a held axial force undetermined)
-    seg = case.segment
+    seg = case.require_segment()
     L = seg.length
     held = set(boundary_held_tip(case))
     motion = {dof: 0.0 for dof in held}
@@ -194,14 +194,14 @@ def linear_reference(c: Configuration, case: Case, *, inextensible: bool = False
     for ld in case.loads:
         v = ld.levels()[-1]
         if ld.kind == "force":
-            load["ux"] += v * ld.direction[0]
-            load["uy"] += v * ld.direction[1]
+            load["ux"] += v * ld.require_direction()[0]
+            load["uy"] += v * ld.require_direction()[1]
         elif ld.kind == "moment":
             load["rz"] += v
         elif ld.kind == "rotation":
             motion["rz"] = math.radians(v)
         else:
-            motion["ux" if ld.direction[0] else "uy"] = v
+            motion["ux" if ld.require_direction()[0] else "uy"] = v
     return solve_tip(L, seg.initial_curvature(), EI, EA, root_pinned=seg.boundary == "pinned-pinned",
                      given_load=load, given_motion=motion)
 
@@ -280,9 +280,9 @@ def compliance_scale(c: Configuration, case: Case, tip: LinearTip) -> float:
     (F_x, F_y, M/L) produces in the linear limit, the boundary's held tip freedoms condensed out of the
     compliance (the PRBM's error scale, see ``PRBM_LINEAR_ERROR``)."""
     EI, EA = c.stiffness()
-    L = case.segment.length
+    L = case.require_segment().length
     D = np.diag([1.0, 1.0, L])
-    C = D @ flexibility(L, case.segment.initial_curvature(), EI, EA) @ D
+    C = D @ flexibility(L, case.require_segment().initial_curvature(), EI, EA) @ D
     held = [i for i, name in enumerate(FREEDOMS) if name in boundary_held_tip(case)]
     free = [i for i in range(3) if i not in held]
     Cf = C[np.ix_(free, free)]
@@ -475,7 +475,7 @@ def _prbm_offset(c: Configuration, methods) -> list[str]:
     out = []
     for req, value in run.values.items():
         if req.quantity in ("dx", "dy", "rotation") and abs(value) > 1e-12 * (1 if req.quantity == "rotation"
-                                                                             else zero.segment.length):
+                                                                             else zero.require_segment().length):
             out.append(f"prbm {req.quantity} = {value:.6g} at zero load (offset)")
     return out
 
@@ -491,7 +491,7 @@ def large_deflection_check(c: Configuration, methods=("fem", "elastica", "prbm")
     last = case.n_levels() - 1
     ref = {(r.quantity, r.point): v for r, v in exact.values.items() if r.level == last}
     EI, EA = c.stiffness()
-    L = case.segment.length
+    L = case.require_segment().length
     motion = max(abs(ref[("dx", "tip")]), abs(ref[("dy", "tip")]),
                  abs(math.radians(ref[("rotation", "tip")])) * L)
     load = max(abs(ref[("force_x", "tip")]), abs(ref[("force_y", "tip")]), abs(ref[("moment", "tip")]) / L)
@@ -528,7 +528,7 @@ def _prbm_large(c: Configuration, case: Case, run: MethodRun, at_last: MethodRun
     most L). Where the PRBM itself warns that its deformed state has an inflection point (the
     monotonic force-and-moment model, eq (62), does not fit: [bapat2015, Table 2.1, eq 12]), the
     error is recorded and not judged, as in the linear limit."""
-    L = case.segment.length
+    L = case.require_segment().length
     reach = min(compliance_scale(c, case, linear_reference(c, case)), L)
     prbm_scale = replace(sc, motion=max(sc.motion, reach))
     worst = max((abs(v - ref[(r.quantity, r.point)]) / prbm_scale.of(r.quantity)

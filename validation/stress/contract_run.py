@@ -32,6 +32,7 @@ from pathlib import Path
 
 import numpy as np
 import tomli_w
+from numpy.typing import NDArray
 
 from validation.stress.contract import (Configuration, ContractResult, applicable, build_case,
                                         large_deflection_check, linear_limit_check, linear_reference,
@@ -67,7 +68,7 @@ def _turn(phi: float, v) -> np.ndarray:
 def mechanism_case(c: Configuration, phi_deg: float) -> Case:
     """The configuration's straight fixed-free segment as a one-beam mechanism turned by phi."""
     segment_case = build_case(c, ("fem",), levels=1 if c.magnitude < 1e-3 else 4)
-    seg = segment_case.segment
+    seg = segment_case.require_segment()
     phi = math.radians(phi_deg)
     tip = _turn(phi, (seg.length, 0.0))
     loads = []
@@ -101,7 +102,8 @@ def mechanism_check(c: Configuration, phi_deg: float) -> list[ContractResult]:
     last = case.n_levels() - 1
     small = c.magnitude < 1e-3
     segment = build_case(c, ("fem", "elastica"), levels=case.n_levels())
-    L = segment.segment.length
+    L = segment.require_segment().length
+    ref_reac: NDArray[np.float64] | tuple[float, float, float]   # the root reaction (R_x, R_y, M_root)
     if small:
         tip = linear_reference(c, segment)
         (ux, uy, th), xt = tip.motion, tip.tip
@@ -186,7 +188,7 @@ def shrink(category: str, c: Configuration, phi: float) -> tuple[Configuration, 
     for name, simple in list(SIMPLER.items()) + [("angle_deg", round(c.angle_deg, -1)),
                                                  ("moment_ratio", round(c.moment_ratio, 1))]:
         if getattr(c, name) != simple:
-            trial = replace(c, **{name: simple})
+            trial = Configuration(**(asdict(c) | {name: simple}))
             if trial.units == "dimensionless":
                 trial = replace(trial, length=1.0, E=1.0)
             if fails(trial, phi):

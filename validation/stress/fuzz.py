@@ -21,6 +21,7 @@ import sys
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
+from typing import cast
 
 import tomli_w
 
@@ -51,7 +52,7 @@ NAME_KEYS = frozenset({"point", "node", "start", "end", "nodes", "members", "mem
                        "method", "methods", "output", "compare", "input_moment_at", "points", "quantities",
                        "quantity"})
 ID_KEYS = frozenset({"id", "name"})
-WRONG_TYPES = ("text", 7, 2.5, True, [], {}, [1.0, 2.0], {"x": 1}, "1.0", "")
+WRONG_TYPES: tuple[object, ...] = ("text", 7, 2.5, True, [], {}, [1.0, 2.0], {"x": 1}, "1.0", "")
 UNICODE = ("ñandú", "🚀", "\u202eevil", "a\u0301", "\u200b", "中文", "\U0010ffff", "\x00", "\ud7ff", "Ω" * 40)
 PATH_IDS = ("../../etc/passwd", "a/b", "/tmp/x", "C:\\temp\\x", ".", "..", "", " ", "con", "x" * 300, "a\x00b",
             "~", "$HOME", "*", "?[a]", "nul.toml", "-rf", "\n")
@@ -77,7 +78,7 @@ class Mutation:
     def describe(self) -> str:
         where = ".".join(str(p) for p in self.path)
         if self.kind in RAW_KINDS:
-            fraction, inserted = self.value
+            fraction, inserted = self.raw()
             return (f"truncate: the file cut at {fraction:.1%}" if self.kind == "truncate" else
                     f"non_utf8: {inserted!r} at {fraction:.1%} of the file")
         if self.value == DELETE:
@@ -86,6 +87,10 @@ class Mutation:
             f"[{len(self.value)} entries]"
         text = repr(value)
         return f"{self.kind}: {where} = {text[:60] + '...' if len(text) > 60 else text}"
+
+    def raw(self) -> tuple[float, bytes]:
+        """A raw-byte kind's parameters: the position as a fraction of the file, the bytes inserted."""
+        return cast(tuple[float, bytes], self.value)   # as ``random_mutation`` makes them
 
 
 @dataclass(frozen=True)
@@ -154,7 +159,7 @@ def apply(document: dict, mutation: Mutation) -> bool:
 def apply_raw(data: bytes, mutation: Mutation) -> bytes:
     """A raw-byte mutation: ``truncate`` keeps the first fraction of the file; ``non_utf8`` inserts
     bytes that are not UTF-8 at a fraction of the file (or re-encodes the whole file as UTF-16)."""
-    fraction, inserted = mutation.value
+    fraction, inserted = mutation.raw()
     at = int(fraction * len(data))
     if mutation.kind == "truncate":
         return data[:at]
@@ -208,7 +213,7 @@ def _targets(kind: str, document: dict) -> list[tuple[Where, object]]:
 
 def _zero_length_targets(document: dict) -> list[tuple[Where, object]]:
     """A beam whose end is its start (a mechanism), or a segment's length (set to 0 below)."""
-    found = []
+    found: list[tuple[Where, object]] = []
     mechanism = document.get("mechanism")
     if isinstance(mechanism, dict) and isinstance(mechanism.get("beams"), list):
         for i, beam in enumerate(mechanism["beams"]):
@@ -263,7 +268,7 @@ def random_mutation(document: dict, rng: random.Random, kind: str | None = None)
     if not targets:
         return None
     path, current = rng.choice(targets)
-    if kind in ("unknown_key", "unicode_key"):
+    if kind in ("unknown_key", "unicode_key") and isinstance(current, dict):   # a table (``_targets``)
         return _key_mutation(kind, path, current, rng)
     return Mutation(kind, path, _new_value(kind, current, rng))
 

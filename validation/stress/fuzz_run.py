@@ -25,7 +25,8 @@ import time
 from collections import Counter, deque
 from contextlib import suppress
 from dataclasses import dataclass, field
-from multiprocessing.connection import wait
+from multiprocessing.connection import Connection, wait
+from multiprocessing.process import BaseProcess
 from pathlib import Path
 from typing import Callable, Sequence
 
@@ -62,8 +63,8 @@ def seeded_mutants(count: int, seed: int, long: bool = False) -> list[Mutant]:
 
 @dataclass
 class _Worker:
-    process: multiprocessing.Process
-    conn: object
+    process: BaseProcess
+    conn: Connection
     ready: bool = False
     task: int | None = None
     started: float = 0.0
@@ -129,7 +130,10 @@ class Pool:
                     worker.task, worker.started = index, time.perf_counter()
                     worker.bound = self.bound(len(data))
             self._collect(results, progress)
-        return results
+        done = [outcome for outcome in results if outcome is not None]
+        if len(done) != len(results):
+            raise RuntimeError("a fuzz task ended without an outcome")
+        return done
 
     def bound(self, size: int) -> float:
         """The time bound of a file of ``size`` bytes: ``timeout``, and ``S_PER_MB`` more per megabyte."""
@@ -173,6 +177,8 @@ class Pool:
 
     @staticmethod
     def _finish(worker: _Worker, results: list, outcome: Outcome, progress) -> None:
+        if worker.task is None:
+            raise RuntimeError("a fuzz worker answered without a task")
         results[worker.task] = outcome
         worker.task = None
         if progress:
@@ -196,8 +202,15 @@ def _field_paths(mutant: Mutant) -> list[tuple]:
 def _shortened(mutant: Mutant, index: int) -> Mutant:
     """The mutant with its index-th mutation's huge list cut to the shortest huge length."""
     mutation = mutant.mutations[index]
+    if not isinstance(mutation.value, list):
+        raise ValueError(f"mutation {index} sets no list to shorten")
     short = Mutation(mutation.kind, mutation.path, mutation.value[:LONG_LISTS[0]])
     return Mutant(mutant.source, mutant.mutations[:index] + (short,) + mutant.mutations[index + 1:], mutant.verb)
+
+
+def _huge_list(value: object) -> bool:
+    """A list longer than the shortest huge length (``LONG_LISTS``): one a shrink may shorten."""
+    return isinstance(value, list) and len(value) > LONG_LISTS[0]
 
 
 def _candidates(mutant: Mutant, deletions: bool, rejected: set[tuple]) -> list[tuple[Mutant, tuple | None]]:
@@ -207,8 +220,7 @@ def _candidates(mutant: Mutant, deletions: bool, rejected: set[tuple]) -> list[t
     if len(found) > 1:
         smaller += [(Mutant(mutant.source, mutant.mutations[:i] + mutant.mutations[i + 1:], mutant.verb), None)
                     for i in found]
-    smaller += [(_shortened(mutant, i), None) for i in found
-                if isinstance(mutant.mutations[i].value, list) and len(mutant.mutations[i].value) > LONG_LISTS[0]]
+    smaller += [(_shortened(mutant, i), None) for i in found if _huge_list(mutant.mutations[i].value)]
     if deletions:
         smaller += [(Mutant(mutant.source, mutant.mutations + (Mutation("shrink", p, DELETE),), mutant.verb), p)
                     for p in _field_paths(mutant) if p not in rejected]

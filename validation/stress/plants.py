@@ -63,7 +63,7 @@ def _wrap_adapter(method: str, change: Callable[[str, float], float]) -> None:
         run.values = {req: change(req.quantity, value) for req, value in run.values.items()}
         return run
 
-    adapter.run = planted
+    setattr(adapter, "run", planted)
 
 
 def _scaled_outputs(method: str) -> Callable[[], None]:
@@ -80,7 +80,7 @@ def _fem_EI() -> None:
     def add_member(self, start, end, section, *args, **kwargs):
         return original(self, start, end, section.scaled(factor_EI=FACTOR), *args, **kwargs)
 
-    fem.model.Model.add_member = add_member
+    setattr(fem.model.Model, "add_member", add_member)
 
 
 def _prbm_fit(prefix: str, pure_moment: tuple[str, ...], builder: str, keyword: str) -> Callable[[], None]:
@@ -133,6 +133,8 @@ def _scale_rules_default(field_name: str) -> None:
     ``__init__`` when the class is made, so re-binding the module constant alone changes nothing."""
     init = prbm.builder.Rules.__init__
     names = [f.name for f in dataclasses.fields(prbm.builder.Rules)]
+    if init.__defaults__ is None:
+        raise TypeError("prbm.builder.Rules has no field with a default")
     defaults = list(init.__defaults__)
     first = len(names) - len(defaults)             # the defaults belong to the last fields
     index = names.index(field_name) - first
@@ -142,13 +144,13 @@ def _scale_rules_default(field_name: str) -> None:
 
 def _chain_EI() -> None:
     original = prbm.chain.ChainBeam.stiffness
-    prbm.chain.ChainBeam.stiffness = lambda self: FACTOR * original(self)
+    setattr(prbm.chain.ChainBeam, "stiffness", lambda self: FACTOR * original(self))
 
 
 def _elastica_EI() -> None:
     adapter = importlib.import_module("validation.methods.elastica")
     original = adapter._stiffness
-    adapter._stiffness = lambda case, options: FACTOR * original(case, options)
+    setattr(adapter, "_stiffness", lambda case, options: FACTOR * original(case, options))
     network = importlib.import_module("validation.methods.elastica_network")
     build = network.model
 
@@ -157,7 +159,7 @@ def _elastica_EI() -> None:
         mech.beams = [dataclasses.replace(beam, EI=FACTOR * beam.EI) for beam in mech.beams]
         return mech, owner
 
-    network.model = model
+    setattr(network, "model", model)
 
 
 def _bcm_K0() -> None:

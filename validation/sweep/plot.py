@@ -90,8 +90,8 @@ def axes_of(frame: pd.DataFrame, spec: dict) -> tuple[str, str, str | None]:
     return x, y, point
 
 
-def _positions(frame: pd.DataFrame, x: str, y: str, point: str) -> pd.DataFrame:
-    """One row per (point id, method, level) with columns x and y."""
+def _positions(frame: pd.DataFrame, x: str, y: str, point: str | None) -> pd.DataFrame:
+    """One row per (point id, method, level) with columns x and y (none without a point)."""
     ok = frame[(frame["status"] == "ok") & (frame["point"] == point) & frame["quantity"].isin([x, y])]
     index = [c for c in ok.columns if c not in ("quantity", "value", "unit", "error_estimate", "converged",
                                                   "status", "message", "wall_time", "point_time", "run")]
@@ -133,7 +133,7 @@ def ellipse(mean: np.ndarray, cov: np.ndarray, scale2: float = CHI2_2DOF_95, n: 
     return mean + (circle * np.sqrt(np.clip(values, 0, None) * scale2)) @ vectors.T
 
 
-def spread(frame: pd.DataFrame, x: str, y: str, point: str) -> pd.DataFrame:
+def spread(frame: pd.DataFrame, x: str, y: str, point: str | None) -> pd.DataFrame:
     """Mean, standard deviation and correlation of (x, y) per case, method and level."""
     wide = _positions(frame, x, y, point)
     rows = []
@@ -299,6 +299,8 @@ def difference(frame: pd.DataFrame, by: str, methods: list[str]) -> pd.DataFrame
 
 def plot_difference(frame: pd.DataFrame, manifest: dict, out: Path) -> list[Path]:
     by = manifest["plot"].get("by") or next((p.get("name") or p["path"] for p in manifest["parameters"]), None)
+    if by is None:   # a sweep has at least one parameter (``SweepSpec``)
+        return []
     methods = list(manifest.get("methods") or [])
     table = difference(frame, by, methods)
     if table.empty:

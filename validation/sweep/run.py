@@ -134,28 +134,37 @@ class Distribution(Strict):
             raise ValueError("'low' must be below 'high'")
         return self
 
+    def _needed(self, value: float | None, name: str) -> float:
+        """A parameter the distribution's kind needs (``_complete`` has checked it is given)."""
+        if value is None:
+            raise ValueError(f"distribution '{self.kind}' needs '{name}'")
+        return value
+
     def draw(self, n: int, seed: int, stream: str) -> list[float]:
         """n draws by inverse CDF of seeded uniforms: the first k draws do not depend on n."""
 
         rng = np.random.default_rng([seed, zlib.crc32(stream.encode())])
         u = np.clip(rng.random(n), 1e-15, 1 - 1e-15)
         if self.kind == "uniform":
-            x = self.low + (self.high - self.low) * u
+            low, high = self._needed(self.low, "low"), self._needed(self.high, "high")
+            x = low + (high - low) * u
         elif self.kind == "normal":
-            x = self.mean + self.std * ndtri(u)
+            x = self._needed(self.mean, "mean") + self._needed(self.std, "std") * ndtri(u)
         else:
-            lo, hi = ndtr((self.low - self.mean) / self.std), ndtr((self.high - self.mean) / self.std)
-            x = np.clip(self.mean + self.std * ndtri(lo + u * (hi - lo)), self.low, self.high)
+            mean, std = self._needed(self.mean, "mean"), self._needed(self.std, "std")
+            low, high = self._needed(self.low, "low"), self._needed(self.high, "high")
+            lo, hi = ndtr((low - mean) / std), ndtr((high - mean) / std)
+            x = np.clip(mean + std * ndtri(lo + u * (hi - lo)), low, high)
         return [float(v) for v in x]
 
 
 class Parameter(Strict):
     path: str = Field(pattern=r"^[A-Za-z0-9_-]+(\.[A-Za-z0-9_-]+)*$")
     mode: Literal["set", "scale", "offset", "angle"] = "set"
-    values: list[Any] | None = Field(None, min_length=1)
+    values: list[Any] | None = Field(default=None, min_length=1)
     linspace: Linspace | None = None
     distribution: Distribution | None = None
-    name: str | None = Field(None, pattern=r"^[A-Za-z0-9_.:-]+$")
+    name: str | None = Field(default=None, pattern=r"^[A-Za-z0-9_.:-]+$")
 
     @model_validator(mode="after")
     def _one_source(self) -> "Parameter":
@@ -178,6 +187,8 @@ class Parameter(Strict):
         if self.values is not None:
             return list(self.values)
         s = self.linspace
+        if s is None:
+            raise ValueError("give exactly one of 'values', 'linspace' or 'distribution'")
         if s.num == 1:
             return [float(s.start)]
         return [s.start + (s.stop - s.start) * i / (s.num - 1) for i in range(s.num)]
@@ -192,9 +203,9 @@ class Parameter(Strict):
 
 class PlotSpec(Strict):
     kind: Literal["domain", "scatter", "convergence", "difference", "none"] = "none"
-    x: str | None = Field(None, description="default: x, else dx")
-    y: str | None = Field(None, description="default: y, else dy")
-    point: str | None = Field(None, description="default: the first point with both quantities")
+    x: str | None = Field(default=None, description="default: x, else dx")
+    y: str | None = Field(default=None, description="default: y, else dy")
+    point: str | None = Field(default=None, description="default: the first point with both quantities")
     by: str | None = None
     levels: list[int] | None = None
 
@@ -207,9 +218,9 @@ class SweepInfo(Strict):
     methods: list[str] = Field(min_length=1)
     options: dict[str, dict[str, Any]] = Field(default_factory=dict)
     outputs: Literal["case"] | list[OutputSpec] = "case"
-    samples: int | None = Field(None, ge=1, le=10_000_000)
+    samples: int | None = Field(default=None, ge=1, le=10_000_000)
     seed: int = 0
-    chunk: int = Field(0, ge=0)
+    chunk: int = Field(default=0, ge=0)
 
     @model_validator(mode="after")
     def _coherent(self) -> "SweepInfo":
@@ -302,7 +313,7 @@ def _check_field(data: dict, param: Parameter) -> None:
     if not isinstance(node, dict) or key in node:
         return
     d = param.distribution
-    trial = param.grid()[0] if not param.random else (d.mean if d.mean is not None else d.low)
+    trial = param.grid()[0] if d is None else (d.mean if d.mean is not None else d.low)
     probe = json.loads(json.dumps(data))
     apply(probe, param.path, param.mode, trial)
     try:
@@ -369,7 +380,8 @@ def make_points(loaded: LoadedSweep) -> list[dict]:
     grid = [p for p in spec.parameters if not p.random]
     random = [p for p in spec.parameters if p.random]
     n = spec.sweep.samples or 1
-    draws = {p.column: p.distribution.draw(n, spec.sweep.seed, p.column) for p in random}
+    draws = {p.column: p.distribution.draw(n, spec.sweep.seed, p.column)
+             for p in spec.parameters if p.distribution is not None}
     code = _code_hashes(spec.sweep.methods)
     points: dict[str, dict] = {}
     for case_id, data in loaded.cases.items():

@@ -23,6 +23,7 @@ from __future__ import annotations
 import copy
 import math
 import time
+from collections.abc import Sequence
 
 from pydantic import ValidationError
 from threadpoolctl import threadpool_limits
@@ -30,7 +31,7 @@ from threadpoolctl import threadpool_limits
 from validation.case.capabilities import QUANTITIES, method_quantities
 from validation.case.overrides import PathError, apply
 from validation.case.schema import Case, without_checks
-from validation.methods.base import RunStatus
+from validation.methods.base import Request, RunStatus
 from validation.run.runner import requests_for, run_method
 
 # Columns every result row has, with their Arrow types (the swept parameters come after them).
@@ -101,8 +102,8 @@ def run_point(context: dict, point: dict) -> list[dict]:
     for method in context["methods"]:
         run = run_method(case, method)
         status = {RunStatus.NOT_APPLICABLE: "not_applicable", RunStatus.FAILED: "error",
-                  RunStatus.MISCONFIGURED: "invalid"}.get(run.status)
-        requests = requests_for(case, method) or [None]
+                  RunStatus.MISCONFIGURED: "invalid"}.get(run.status) if run.status is not None else None
+        requests: Sequence[Request | None] = requests_for(case, method) or [None]
         for req in requests:
             if req is None:
                 rows.append(_row(point, run_id, method=method, status=status or "error",

@@ -20,6 +20,7 @@ import math
 from pathlib import Path
 
 from prbm.synthesis import compliance as cp
+from prbm.synthesis.segments import SegmentDesign
 from prbm.synthesis.dyads import FourBarDesign, SynthesisError, arg_deg, polar
 
 
@@ -84,9 +85,12 @@ def _table(lines, name, table):
 
 
 class _Builder:
-    def __init__(self):
+    def __init__(self) -> None:
         self.nodes: dict[str, complex] = {}
-        self.beams, self.links, self.joints, self.supports = [], [], [], []
+        self.beams: list[dict] = []
+        self.links: list[dict] = []
+        self.joints: list[dict] = []
+        self.supports: list[dict] = []
 
     def node(self, name: str, z: complex) -> str:
         self.nodes[name] = z
@@ -98,7 +102,8 @@ class _Builder:
                            "segment_type": seg.kind})
 
 
-def _ground_link(b: _Builder, name: str, G: complex, M: complex, theta: float, segs: dict, coupler: list[str]):
+def _ground_link(b: _Builder, name: str, G: complex, M: complex, theta: float, segs: dict[str, SegmentDesign],
+                 coupler: list[str]):
     """One ground-pivoted link G->M (deg direction theta in the mesh state) with its segments."""
     u = polar(1.0, theta)
     R = abs(M - G)
@@ -220,7 +225,7 @@ def build_case(d, spec_path: Path | str) -> dict:
     b = _Builder()
     b.node("P", P)
     coupler: list[str] = ["P"]
-    by_link = {"Z2": {}, "Z4": {}}
+    by_link: dict[str, dict[str, SegmentDesign]] = {"Z2": {}, "Z4": {}}
     for seg in d.segments:
         if seg.link not in by_link:
             raise SynthesisError(f"a segment on the coupler {seg.link} is not supported by the case generator")

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -43,10 +44,31 @@ class Design:
     success: bool = True
     extra: dict = field(default_factory=dict)
 
+    def linkage(self) -> FourBarDesign | SliderCrankDesign:
+        """The synthesized linkage (``design`` sets it before any step that reads it)."""
+        if self.mechanism is None:
+            raise SynthesisError("no linkage has been synthesized yet")
+        return self.mechanism
+
+    def energy_free(self) -> cp.Configuration:
+        """The energy-free configuration (``design`` sets it with the linkage)."""
+        if self.free_state is None:
+            raise SynthesisError("the energy-free configuration has not been found yet")
+        return self.free_state
+
+    def spring_constants(self) -> cp.SpringResult:
+        """The solved spring constants (``design`` solves them before sizing the segments)."""
+        if self.springs is None:
+            raise SynthesisError("the spring constants have not been solved yet")
+        return self.springs
+
 
 def rigid_body(spec: Spec) -> FourBarDesign | SliderCrankDesign:
     """Section 6.4 with the specification's free choices."""
-    k, f = spec.kinematics, spec.kinematics.free
+    k = spec.kinematics
+    if k is None:
+        raise SynthesisError("rigid-body synthesis needs [kinematics]")
+    f = k.free
     deltas = [complex(*d) for d in k.delta] if k.delta is not None else []
 
     def link(R, theta, name):
@@ -54,29 +76,35 @@ def rigid_body(spec: Spec) -> FourBarDesign | SliderCrankDesign:
             raise SynthesisError(f"free choice {name}: give both R{name[-1]} and theta{name[-1]}")
         return None if R is None else polar(R, theta)
 
+    def needed(rotations: list[float] | None, name: str) -> list[float]:
+        """Rotations the task needs (``Kinematics._complete`` has checked they are given)."""
+        if rotations is None:
+            raise SynthesisError(f"task '{k.task}' needs '{name}'")
+        return rotations
+
     if k.mechanism == "slider-crank":
         if f.R2 is None or f.theta3 is None:
             raise SynthesisError("slider-crank synthesis needs free choices R2 and theta3")
-        return slider_crank_timed(deltas[0].real if k.slider_axis == 0 else abs(deltas[0]), k.phi[0], R2=f.R2,
-                                  theta3=f.theta3, theta1=k.slider_axis, branch=f.branch_left)
+        return slider_crank_timed(deltas[0].real if k.slider_axis == 0 else abs(deltas[0]), needed(k.phi, "phi")[0],
+                                  R2=f.R2, theta3=f.theta3, theta1=k.slider_axis, branch=f.branch_left)
     if k.task == "function":
-        if None in (f.theta2, f.theta3, f.R4, f.gamma2):
+        if f.theta2 is None or f.theta3 is None or f.R4 is None or f.gamma2 is None:
             raise SynthesisError("function generation needs free choices theta2, theta3, R4 and gamma2 (seed 6.7 Example 2)")
-        return function_generation(k.phi, k.psi, theta2=f.theta2, theta3=f.theta3, R4=f.R4, gamma2=f.gamma2,
-                                   branch=f.branch_left)
+        return function_generation(needed(k.phi, "phi"), needed(k.psi, "psi"), theta2=f.theta2, theta3=f.theta3,
+                                   R4=f.R4, gamma2=f.gamma2, branch=f.branch_left)
     Z2, Z4 = link(f.R2, f.theta2, "Z2"), link(f.R4, f.theta4, "Z4")
     if k.task == "motion":
-        return motion_generation(deltas, k.gamma, Z2=Z2, Z4=Z4, phi=k.phi, psi=k.psi,
+        return motion_generation(deltas, needed(k.gamma, "gamma"), Z2=Z2, Z4=Z4, phi=k.phi, psi=k.psi,
                                  branch_left=f.branch_left, branch_right=f.branch_right)
     if k.task == "path-timing":
-        return path_generation_timed(deltas, k.phi, Z2=Z2, gamma=k.gamma, Z4=Z4, psi=k.psi,
+        return path_generation_timed(deltas, needed(k.phi, "phi"), Z2=Z2, gamma=k.gamma, Z4=Z4, psi=k.psi,
                                      branch_left=f.branch_left, branch_right=f.branch_right)
-    return path_generation(deltas, phi=k.phi, gamma=k.gamma, Z2=Z2, Z4=Z4, psi=k.psi,
+    return path_generation(deltas, phi=needed(k.phi, "phi"), gamma=k.gamma, Z2=Z2, Z4=Z4, psi=k.psi,
                            branch_left=f.branch_left, branch_right=f.branch_right)
 
 
 def _record_kinematics(d: Design) -> None:
-    m, v = d.mechanism, d.values
+    m, v = d.linkage(), d.values
     for name, z in m.vectors().items():
         v[name] = z
     n = len(m.phi)
@@ -94,9 +122,9 @@ def _record_kinematics(d: Design) -> None:
 
 
 def _segment_for(spec: Spec, d: Design, choice) -> sg.SegmentDesign:
-    m, mat = d.mechanism, spec.material
+    m, mat = d.linkage(), spec.material
     R = abs(getattr(m, choice.link))
-    ks = [d.springs.k[s - 1] for s in choice.springs]
+    ks = [d.spring_constants().k[s - 1] for s in choice.springs]
     if max(ks) - min(ks) > 1e-9 * max(1.0, max(ks)):
         raise SynthesisError(f"segment on {choice.link} realises springs {choice.springs} with different constants "
                              f"{ks}; add them to one 'equal' group")
@@ -110,7 +138,7 @@ def _segment_for(spec: Spec, d: Design, choice) -> sg.SegmentDesign:
     else:
         seg = sg.fixed_guided(k, R=R, E=mat.E, width=choice.width, gamma=choice.gamma, K_theta=choice.K_theta,
                               link=choice.link, springs=choice.springs)
-    beta0, _ = cp.springs_at(m, d.free_state)
+    beta0, _ = cp.springs_at(m, d.energy_free())
     rotations = [abs(cp.springs_at(m, c)[0][s - 1] - beta0[s - 1]) for c in d.positions for s in choice.springs]
     seg.max_moment = k * max(rotations)
     seg.max_stress = seg.stress(seg.max_moment)
@@ -121,8 +149,8 @@ def _stress_constraints(spec: Spec, d: Design, A_configs) -> dict:
     """SLFP stress <= yield as constraints g(k) <= 0 while k is unknown [bapat2015, Example 1, eq 186]."""
     if spec.material.yield_strength is None:
         return {}
-    m = d.mechanism
-    beta0, _ = cp.springs_at(m, d.free_state)
+    m = d.linkage()
+    beta0, _ = cp.springs_at(m, d.energy_free())
     out = {}
     for choice in spec.segments:
         if choice.kind != "slfp":
@@ -200,7 +228,7 @@ def _groups(c) -> list[list[int]]:
 
 def compare_printed(d: Design) -> list[dict]:
     """Every ``[[printed]]`` design number beside the synthesized one (FEM entries are skipped)."""
-    rows = []
+    rows: list[dict[str, Any]] = []
     for p in d.spec.printed:
         if p.name.startswith("fem."):
             continue
@@ -226,6 +254,8 @@ def framework_design(spec: Spec) -> Design:
     """Chapter 5: every beam of ``[framework]`` solved on its own (they share delta_j and gamma_j)."""
 
     fw, d = spec.framework, Design(spec)
+    if fw is None:
+        raise SynthesisError("framework synthesis needs [framework]")
     for seg in fw.segments:
         try:
             root = solve_framework(theta1=seg.theta1, delta=[complex(*p) for p in fw.delta], gamma=fw.gamma,

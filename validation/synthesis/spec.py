@@ -44,8 +44,8 @@ class FreeChoices(Strict):
     theta4: Finite | None = None
     theta3: Finite | None = None
     gamma2: Finite | None = None
-    branch_left: int | None = Field(None, ge=0)
-    branch_right: int | None = Field(None, ge=0)
+    branch_left: int | None = Field(default=None, ge=0)
+    branch_right: int | None = Field(default=None, ge=0)
 
 
 class Kinematics(Strict):
@@ -53,11 +53,11 @@ class Kinematics(Strict):
 
     mechanism: Literal["four-bar", "slider-crank"] = "four-bar"
     task: Literal["function", "path", "motion", "path-timing"]
-    delta: list[Point] | None = Field(None, description="coupler-point displacements P_j - P_1")
-    phi: list[Finite] | None = Field(None, description="input (link 2) rotations, deg")
-    gamma: list[Finite] | None = Field(None, description="coupler rotations, deg")
-    psi: list[Finite] | None = Field(None, description="output (link 4) rotations, deg")
-    slider_axis: Finite = Field(0.0, description="slider-crank: axis direction Theta1, deg")
+    delta: list[Point] | None = Field(default=None, description="coupler-point displacements P_j - P_1")
+    phi: list[Finite] | None = Field(default=None, description="input (link 2) rotations, deg")
+    gamma: list[Finite] | None = Field(default=None, description="coupler rotations, deg")
+    psi: list[Finite] | None = Field(default=None, description="output (link 4) rotations, deg")
+    slider_axis: Finite = Field(default=0.0, description="slider-crank: axis direction Theta1, deg")
     free: FreeChoices = FreeChoices()
 
     @model_validator(mode="after")
@@ -78,7 +78,10 @@ class Kinematics(Strict):
         return self
 
     def n_positions(self) -> int:
-        return 1 + len(self.delta if self.delta is not None else self.phi)
+        given = self.delta if self.delta is not None else self.phi
+        if given is None:   # ``_complete``: every task needs delta or phi
+            raise ValueError(f"task '{self.task}' gives neither 'delta' nor 'phi'")
+        return 1 + len(given)
 
 
 class ExtraPoint(Strict):
@@ -95,10 +98,12 @@ class Compliance(Strict):
     values: list[Finite] = Field(min_length=1, description="at P1, P2, ...")
     springs: list[int] = Field(min_length=1, description="joints carrying a spring: 1 O2, 2 A, 3 B (or slider pin), 4 O4")
     equal: list[list[int]] = Field(default_factory=list, description="groups of springs with equal constants")
-    energy_free_theta2: Finite | None = Field(None, description="input angle of the energy-free state; default P1")
+    energy_free_theta2: Finite | None = Field(default=None, description="input angle of the energy-free state; "
+                                              "default P1")
     extra: list[ExtraPoint] = Field(default_factory=list)
     bounds: tuple[Finite, Finite] = (0.0, 1e9)
-    rtol: Positive = Field(1e-6, description="accepted relative miss (least-squares designs: fewer springs than values)")
+    rtol: Positive = Field(default=1e-6, description="accepted relative miss (least-squares designs: fewer springs "
+                           "than values)")
 
     @model_validator(mode="after")
     def _springs(self) -> "Compliance":
@@ -112,7 +117,7 @@ class Compliance(Strict):
 
 class Material(Strict):
     E: Positive
-    yield_strength: Positive | None = Field(None, description="for the stress check")
+    yield_strength: Positive | None = Field(default=None, description="for the stress check")
     name: str | None = None
 
 
@@ -123,9 +128,9 @@ class SegmentChoice(Strict):
     link: Literal["Z2", "Z3", "Z4"]
     springs: list[int] = Field(min_length=1, max_length=2)
     width: Positive
-    fraction: Positive = Field(0.05, description="SLFP: flexure length l = fraction * rigid length L")
-    gamma: Positive | None = Field(None, description="characteristic radius factor (fixed-pinned/-guided)")
-    K_theta: Positive | None = Field(None, description="stiffness coefficient (fixed-pinned/-guided)")
+    fraction: Positive = Field(default=0.05, description="SLFP: flexure length l = fraction * rigid length L")
+    gamma: Positive | None = Field(default=None, description="characteristic radius factor (fixed-pinned/-guided)")
+    K_theta: Positive | None = Field(default=None, description="stiffness coefficient (fixed-pinned/-guided)")
 
     @model_validator(mode="after")
     def _params(self) -> "SegmentChoice":
@@ -144,7 +149,7 @@ class Verification(Strict):
     coupler rotation prescribed, Y free, as in the dissertation's chapter-5 verifications)."""
 
     drive: Literal["input-rotation", "output-rotation", "coupler-x-rotation"] = "coupler-x-rotation"
-    elements: int = Field(16, ge=1)
+    elements: int = Field(default=16, ge=1)
     run_fem: bool = True
 
 
@@ -153,7 +158,8 @@ class Printed(Strict):
 
     name: str = Field(description="design quantity, e.g. Z1, gamma3, k1, t2, l4, I2, or fem.input_torque.P2")
     value: Finite | Point
-    decimals: int | None = Field(None, ge=0, description="printed decimals; tolerance = half a unit of the last")
+    decimals: int | None = Field(default=None, ge=0, description="printed decimals; tolerance = half a unit of the "
+                                 "last")
     tolerance: Positive | None = None
     label: Literal["PRBM", "ANSYS", "design"] = "design"
     expect: Literal["reproduce", "misprint", "not-reproduced", "record"] = "reproduce"
@@ -180,7 +186,7 @@ class FixedGuidedTwoPosition(Strict):
     dY: Finite
     orientation: Finite = 0.0
     width: Positive
-    guess: tuple[Positive, Positive] | None = Field(None, description="initial (l, I)")
+    guess: tuple[Positive, Positive] | None = Field(default=None, description="initial (l, I)")
 
 
 class FrameworkSegment(Strict):
@@ -190,7 +196,7 @@ class FrameworkSegment(Strict):
     theta1: Finite = Field(description="deg, direction of the undeformed beam")
     n1: list[Finite] = Field(description="load factors n1j at positions 2, 3, ...")
     fixed: dict[str, Finite] = Field(default_factory=dict, description="free choices R2_j, Theta2_j, R3_j, Theta3_j")
-    energy: list[Positive] | None = Field(None, description="energy stored by this beam at positions 2, 3, ...")
+    energy: list[Positive] | None = Field(default=None, description="energy stored by this beam at positions 2, 3, ...")
     width: Positive | None = None
 
     @model_validator(mode="after")
@@ -206,7 +212,7 @@ class Framework(Strict):
 
     delta: list[Point] = Field(min_length=1, description="coupler-point displacements P_j - P_1")
     gamma: list[Finite] = Field(description="coupler rotations, deg")
-    force: list[Positive] | None = Field(None, description="effecting force magnitudes F_j")
+    force: list[Positive] | None = Field(default=None, description="effecting force magnitudes F_j")
     segments: list[FrameworkSegment] = Field(min_length=1)
 
     @model_validator(mode="after")

@@ -12,6 +12,7 @@ import json
 import math
 import sys
 from pathlib import Path
+from typing import Any
 
 from prbm.synthesis.dyads import SynthesisError
 from validation.case.loader import CaseError, load_case
@@ -36,14 +37,14 @@ def _jsonable(v):
     return v
 
 
-def fem_check(case_path: Path, d: Design) -> dict:
+def fem_check(case_path: Path, d: Design) -> dict[str, Any]:
     """Run the FEM on the generated case through the validation runner; a clear status if it cannot."""
     try:
         loaded = load_case(case_path)
     except CaseError as exc:
         return {"status": "invalid-case", "message": f"generated case file rejected: {exc}"}
     run = run_method(loaded.case, "fem")
-    rows = []
+    rows: list[dict[str, Any]] = []
     refs = {(r.quantity, r.point if r.quantity in ("dx", "dy") else "", r.level, r.label): r.value
             for r in loaded.case.references}
     for req, value in sorted(run.values.items(), key=lambda kv: (kv[0].level, kv[0].quantity)):
@@ -123,7 +124,8 @@ def synthesize(spec_path, out_dir, *, run_fem: bool | None = None, stream=None) 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     printed = compare_printed(d)
-    case_path, fem = None, None
+    case_path: Path | None = None
+    fem: dict[str, Any] | None = None
     if spec.kinematics is not None and spec.compliance is not None and spec.segments:
         try:
             case_path = write_case(d, spec_path, out)
