@@ -46,7 +46,8 @@ shortens once it bends, so a transverse load or a moment is carried only with th
 is then extensible with the section's EA (inextensible, and refused where it would have to stretch, if an
 'inertia' section gives no A); the tip freedoms held are those of ``quantities.boundary_held_tip`` (the
 FEM's rule: pinned-pinned holds the tip's x and y unless a load acts along them); tip forces (dead or
-follower), moments and prescribed motions only: no distributed load, no force toward a fixed point.
+follower, or toward a fixed point), moments and prescribed motions only: no distributed load. A fixed-fixed
+segment pulled toward a fixed point is solved this way too.
 The outputs are the shooting's (tip x, y, dx, dy, rotation, force_x, force_y, moment; root reactions),
 plus the rotation of a pinned root.
 """
@@ -54,8 +55,10 @@ from __future__ import annotations
 
 import math
 import time
+from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from elastica.shooting import (ElasticaProblem, MomentConstraint, PointedForce, TipConstraint,
                                loaded_start, solve_path, unloaded_tip)
@@ -69,7 +72,7 @@ SUPPORTED = {"fixed-free", "fixed-pinned", "fixed-guided", "fixed-fixed"}   # by
 
 
 def _stiffness(case: Case, options: ElasticaOptions) -> float:
-    seg = case.segment
+    seg = case.require_segment()
     if options.EI is not None:
         return options.EI
     if options.I is not None:
@@ -92,9 +95,9 @@ STRAIGHT_FIXED_FIXED = ("a straight fixed-fixed segment whose tip's axial motion
 def _held_tip_directions(case: Case) -> list[np.ndarray]:
     """The tip-position directions (unit x, y) a fixed-fixed boundary holds at the unloaded tip: those no
     prescribed displacement and no tip force acts along (at most two prescribed components in all)."""
-    if case.segment.boundary != "fixed-fixed":
+    if case.require_segment().boundary != "fixed-fixed":
         return []
-    prescribed = [np.asarray(ld.direction, float) / np.hypot(*ld.direction)
+    prescribed = [np.asarray(ld.direction, float) / np.hypot(*ld.require_direction())
                   for ld in case.loads if ld.kind == "displacement"]
     forces = [np.asarray(ld.direction, float) if ld.toward is None else np.ones(2)   # a pointed force: both
               for ld in case.loads if ld.kind == "force"]
@@ -109,8 +112,8 @@ def _held_tip_directions(case: Case) -> list[np.ndarray]:
 def _axially_held(case: Case) -> bool:
     """A straight fixed-fixed segment whose tip x is held by the boundary or prescribed: the inextensible
     elastica's tip would have to stay at x = L, which it can only do straight."""
-    seg = case.segment
-    axial = [np.asarray(ld.direction, float) / np.hypot(*ld.direction)
+    seg = case.require_segment()
+    axial = [np.asarray(ld.direction, float) / np.hypot(*ld.require_direction())
              for ld in case.loads if ld.kind == "displacement"] + _held_tip_directions(case)
     return (seg.boundary == "fixed-fixed" and seg.initial_curvature() == 0.0
             and any(abs(u[0]) > 0.999 for u in axial))
@@ -119,15 +122,19 @@ def _axially_held(case: Case) -> bool:
 def _by_mechanism(case: Case) -> bool:
     """The segments the shooting of one clamped beam cannot state, solved as a mechanism
     (``elastica_network.run_segment``): a pinned root, and a straight fixed-fixed segment whose tip's
-    axial motion is held or prescribed (a transverse load or a moment then needs the axial stretch)."""
-    return case.segment.boundary == "pinned-pinned" or _axially_held(case)
+    axial motion is held or prescribed (a transverse load or a moment then needs the axial stretch), and a
+    fixed-fixed segment pulled toward a fixed point (the shooting frees the held tip components a force acts
+    along, and this force turns; the mechanism holds them as constraints)."""
+    seg = case.require_segment()
+    pointed = seg.boundary == "fixed-fixed" and any(ld.toward is not None for ld in case.loads)
+    return seg.boundary == "pinned-pinned" or _axially_held(case) or pointed
 
 
 def level_problems(case: Case, options: ElasticaOptions) -> list[ElasticaProblem]:
     """One ``ElasticaProblem`` per load level of a segment case (raises NotApplicable)."""
     if case.mechanism is not None:
         raise NotApplicable("the exact elastica solves a single segment, not a mechanism")
-    seg = case.segment
+    seg = case.require_segment()
     if seg.boundary not in SUPPORTED:
         raise NotApplicable(f"boundary '{seg.boundary}' is not a clamped-root problem of the shooting; the "
                             "adapter solves it as a mechanism instead")
@@ -167,7 +174,10 @@ def level_problems(case: Case, options: ElasticaOptions) -> list[ElasticaProblem
             elif load.kind == "distributed":
                 distributed += v * d
             elif load.kind == "self_weight":
-                distributed += v * seg.section.weight_per_length() * d / np.hypot(*d)
+                weight = seg.section.weight_per_length()
+                if weight is None:
+                    raise NotApplicable("self_weight needs the section's weight density")
+                distributed += v * weight * d / np.hypot(*d)
             elif load.kind == "force" and not load.follower:
                 force += v * d
             elif load.kind == "force":
@@ -194,11 +204,16 @@ def level_problems(case: Case, options: ElasticaOptions) -> list[ElasticaProblem
             prescribed_dirs.append(u)
         if len(prescribed_dirs) > 2:
             raise NotApplicable("more than two prescribed tip-position components")
-        problems.append(ElasticaProblem(length=L, EI=EI, curvature=k0, force=tuple(force),
-                                        moment=moment, follower=tuple(follower),
+        problems.append(ElasticaProblem(length=L, EI=EI, curvature=k0, force=_pair(force),
+                                        moment=moment, follower=_pair(follower),
                                         constraints=tuple(constraints), tip_angle=tip_angle,
-                                        distributed=tuple(distributed), pointed=tuple(pointed)))
+                                        distributed=_pair(distributed), pointed=tuple(pointed)))
     return problems
+
+
+def _pair(vector: NDArray[np.float64]) -> tuple[float, float]:
+    """A 2-vector as the (x, y) pair ``ElasticaProblem`` takes."""
+    return float(vector[0]), float(vector[1])
 
 
 def _per_level(options: ElasticaOptions, name: str, n: int) -> list[float]:
@@ -215,7 +230,7 @@ def inflection_problems(case: Case, options: ElasticaOptions) -> list[tuple[Elas
     """Per level: the Case 2c problem (b, theta0, l1 given) and its start loads ((Fx, Fy), M)."""
     if case.mechanism is not None:
         raise NotApplicable("the exact elastica solves a single segment, not a mechanism")
-    seg = case.segment
+    seg = case.require_segment()
     if seg.boundary != "fixed-guided":
         raise NotApplicable("problem = 'inflection' is a fixed-guided segment problem")
     if any(ld.kind not in ("force", "moment") or ld.follower or ld.toward is not None
@@ -242,7 +257,7 @@ def inflection_problems(case: Case, options: ElasticaOptions) -> list[tuple[Elas
 
 
 def _value(res, req: Request, case: Case) -> float:
-    seg = case.segment
+    seg = case.require_segment()
     x0, y0, th0 = unloaded_tip(seg.length, seg.initial_curvature())
     q, point = req.quantity, req.point
     if q == "strain_energy":
@@ -262,13 +277,13 @@ def _value(res, req: Request, case: Case) -> float:
 
 def inverse_problems(case: Case, spec: InverseSpec, options: ElasticaOptions) -> list[ElasticaProblem]:
     """One ``ElasticaProblem`` per level for the inverse tip problem ``spec``."""
-    seg = case.segment
+    seg = case.require_segment()
     EI = spec.EI if spec.EI is not None else (
         seg.E * spec.I if spec.I is not None and seg.E is not None else _stiffness(case, options))
     out = []
     for lv in spec.levels:
         y = TipConstraint((0.0, 1.0), lv.b)
-        common = dict(length=seg.length, EI=EI, curvature=seg.initial_curvature(), tip_angle=lv.theta0)
+        common: dict[str, Any] = dict(length=seg.length, EI=EI, curvature=seg.initial_curvature(), tip_angle=lv.theta0)
         if lv.tie is Tie.POSITION_X:
             problem = ElasticaProblem(constraints=(TipConstraint((1.0, 0.0), lv.value), y), **common)
         elif lv.tie is Tie.LOAD_RATIO:
@@ -340,7 +355,8 @@ def _run_forward(case: Case, requests: list[Request], options: ElasticaOptions) 
         run = elastica_network.run_segment(case, requests, options, _stiffness(case, options))
         run.wall_time = time.perf_counter() - t0
         return run
-    problems = inflection_problems(case, options) if inflection else level_problems(case, options)
+    started = inflection_problems(case, options) if inflection else []
+    problems = [] if inflection else level_problems(case, options)
     kwargs = _tolerances(options)
     samples = options.samples
     wanted = sorted({r.level for r in requests})
@@ -351,7 +367,7 @@ def _run_forward(case: Case, requests: list[Request], options: ElasticaOptions) 
         if inflection:      # each level from its own start loads; skip levels not asked for
             if level not in wanted:
                 continue
-            problem, force, moment = problems[level]
+            problem, force, moment = started[level]
             start = None
             if force != (0.0, 0.0) or moment != 0.0:
                 start = loaded_start(problem, force, moment, n_samples=2,

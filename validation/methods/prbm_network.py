@@ -110,8 +110,8 @@ def _body_for(model: pb.PRBModel, load) -> str:
     return model.node_body[load.point]
 
 
-def network_loads(case, model: pb.PRBModel) -> list[planar.Load]:
-    loads: list[planar.Load] = []
+def network_loads(case, model: pb.PRBModel) -> list[prbm.network.Load]:
+    loads: list[prbm.network.Load] = []
     for i, load in enumerate(case.loads):
         v = np.asarray(load.levels(), float)
         if load.kind == "force" and load.toward is not None:
@@ -355,7 +355,8 @@ def run_mechanism(case, requests, options: PrbmOptions, info: MethodRun) -> dict
     info.level_converged = {i: s.converged for i, s in enumerate(result.states)}
     info.message = (f"PRB model built by rule ({result.mobility} DOF): {model.describe()}; {result.message}")
     info.extras.update({
-        "prb_model": [{"beam": b.beam, "model": b.model, "ends": list(b.ends), "pivots": [list(p) for p in b.pivots],
+        "prb_model": [{"beam": b.beam, "model": str(b.model), "ends": [str(end) for end in b.ends],
+                       "pivots": [list(p) for p in b.pivots],
                        "springs": list(b.springs), "gamma": b.gamma, "K_theta": b.K_theta, "reason": b.reason}
                       for b in model.beams],
         "lock": model.lock,
