@@ -9,6 +9,10 @@ import pytest
 
 from elastica.shooting import ElasticaProblem, solve_path
 from prbm.chain import ChainBeam, chain_held_path, lumped_uniform_load
+from validation.case.method_options import options_of
+from validation.case.schema import Case
+from validation.run import coverage
+from validation.run.runner import run_method
 
 
 def _tip_error(w: float, N: int) -> tuple[float, float]:
@@ -42,3 +46,25 @@ def test_a_straight_chain_held_along_its_axis_is_refused_with_the_reason():
     with pytest.raises(ValueError, match="cannot bend"):
         chain_held_path(ChainBeam(1.0, 1.0, 10), lumped_uniform_load(ChainBeam(1.0, 1.0, 10), 0.0, -1.0),
                         ["ux", "uy", "rz"], [1.0])
+
+
+@pytest.mark.parametrize("load", ["distributed load", "self-weight"])
+def test_the_prbm_adapter_chooses_the_guided_chain_for_a_load_along_a_fixed_guided_segment(load):
+    """No option beyond the case's geometry and loads: the adapter chooses the chain (its count doubled until
+    the tip moves by less than chain_tol L, so it is within about chain_tol L / 3 of the chain's limit, the
+    elastica) and holds its tip angle; against the exact elastica of the same case, within chain_tol L."""
+    data = coverage.minimal_case(load, "fixed-guided", "prbm")
+    data["loads"][0]["values"] = [10.0]
+    data["outputs"] = [{"quantity": q, "point": "tip"} for q in ("x", "y", "rotation", "moment")]
+    data["methods"] = {"prbm": {}, "elastica": {}}
+    case = Case.model_validate(data)
+    prb, exact = run_method(case, "prbm"), run_method(case, "elastica")
+    assert prb.ok and exact.ok, (prb.message, exact.message)
+    assert prb.extras["model"].startswith("Chain Algorithm")
+    tol = options_of("prbm", {}).chain_tol
+    get = {r.quantity: v for r, v in prb.values.items()}
+    want = {r.quantity: v for r, v in exact.values.items()}
+    assert abs(want["y"]) > 0.1
+    assert np.hypot(get["x"] - want["x"], get["y"] - want["y"]) < tol
+    assert get["rotation"] == pytest.approx(0.0, abs=1e-9)
+    assert get["moment"] == pytest.approx(want["moment"], rel=10 * tol)

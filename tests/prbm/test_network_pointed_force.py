@@ -16,6 +16,9 @@ from scipy.optimize import brentq
 import planar
 import prbm
 from prbm.network import _Problem
+from validation.case.schema import Case
+from validation.run import coverage
+from validation.run.runner import run_method
 
 A_LEN, K = 1.5, 4.0
 
@@ -62,3 +65,20 @@ def test_the_derivative_of_the_pull_is_that_of_its_generalised_force():
     numeric = np.column_stack([(problem.generalised_forces(q + h * e, 0.0)[0]
                                 - problem.generalised_forces(q - h * e, 0.0)[0]) / (2 * h) for e in np.eye(3)])
     assert np.allclose(dQ, numeric, atol=1e-8)
+
+
+@pytest.mark.parametrize("boundary", ["parallel-guided mechanism", "circular-guided mechanism"])
+def test_the_prbm_adapter_pulls_a_mechanism_point_along_its_solved_line(boundary):
+    """Through the adapter (the PRB network built from the geometry): the force received at the pulled point
+    is T (P - p)/|P - p| with p the PRB model's own solved position of that point, and the point moved."""
+    data = coverage.minimal_case("force toward a point", boundary, "prbm")
+    load = data["loads"][0]
+    point, toward, T = load["point"], np.array(load["toward"]), load["values"][0]
+    data["outputs"] = [{"quantity": q, "point": point} for q in ("x", "y", "dx", "dy", "force_x", "force_y")]
+    run = run_method(Case.model_validate(data), "prbm")
+    assert run.ok, run.message
+    got = {req.quantity: v for req, v in run.values.items()}
+    p = np.array([got["x"], got["y"]])
+    assert np.hypot(got["dx"], got["dy"]) > 0.01
+    expected = T * (toward - p) / np.linalg.norm(toward - p)
+    assert np.allclose([got["force_x"], got["force_y"]], expected, atol=1e-9)

@@ -132,13 +132,16 @@ class DeferredList(Sequence):
         return list, (self._built(),)
 
 
-def reject_loads_along_beams(case, method: str) -> None:
+def reject_loads_along_beams(case, method: str, turning: bool = False) -> None:
     """Raise NotApplicable for the loads a point-load method cannot take: distributed and self-weight
-    loads, forces toward a fixed point, forces turning with a named body."""
+    loads, and (unless ``turning``: the method takes them) forces toward a fixed point and forces turning
+    with a named body."""
     for i, load in enumerate(case.loads):
         if load.kind in ("distributed", "self_weight"):
             raise NotApplicable(f"loads.{i}: {method} takes no {load.kind.replace('_', '-')} load "
                                 "(a load along the beam)")
+        if turning:
+            continue
         if load.toward is not None:
             raise NotApplicable(f"loads.{i}: {method} takes no force toward a fixed point")
         if load.kind == "force" and load.body is not None:

@@ -29,6 +29,7 @@ mechanism modules describe theirs).
 from __future__ import annotations
 
 import time
+from enum import Enum
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -55,7 +56,7 @@ def run(case, requests: list[Request], options: PrbmOptions) -> MethodRun:
     if prbm_readings.handles(case, options):  # loads along the segment, a force toward a point
         return prbm_readings.run(case, requests, options)
     if not prbm_readings.turning_fourbar(case, options):
-        reject_loads_along_beams(case, "the PRBM")
+        reject_loads_along_beams(case, "the PRBM", turning=_takes_turning_loads(case, options))
     if options.model in prbm_alternatives.MODELS:  # the other segment models of [bapat2015, ch. 2]
         return prbm_alternatives.run(case, requests, options)
     try:
@@ -146,16 +147,47 @@ def _mechanism(case, requests, options):
     if prbm_inflection.applies(case, options):  # chapter 5: inflection segments on one rigid coupler
         values.update(prbm_inflection.run_coupler(case, requests, info))
         return values, info
-    links = options.links
-    kinds = sorted(sup.kind for sup in mech.supports)
-    if not links and not mech.links and len(mech.beams) == 1 and kinds == ["pinned", "slider"]:
+    route = _route(case, options)
+    if route is Route.PINNED_PINNED:
         values.update(prbm_body.run_pinned_pinned(case, requests, info))
-    elif not links and prbm_body.one_beam_carrying_a_body(mech) and options.model != "network":
+    elif route is Route.SEGMENT_WITH_BODY:
         values.update(prbm_body.run_segment_with_body(case, requests, options, info))
-    elif links and "r11" in links:
+    elif route is Route.SLIDER:
         values.update(prbm_fourbar.run_slider(case, requests, options, info))
-    elif not links or options.model == "network":
+    elif route is Route.NETWORK:
         values.update(prbm_network.run_mechanism(case, requests, options, info))
     else:
         values.update(prbm_fourbar.run_fourbar(case, requests, options, info))
     return values, info
+
+
+class Route(Enum):
+    """Which PRB model a mechanism case is solved with."""
+
+    PINNED_PINNED = "one pinned-pinned beam on a slider"
+    SEGMENT_WITH_BODY = "one beam carrying a rigid body"
+    SLIDER = "the hand-given PRB slider-crank"
+    NETWORK = "the PRB network built from the geometry"
+    FOURBAR = "the hand-given PRB four-bar"
+
+
+def _route(case, options: PrbmOptions) -> Route:
+    """The PRB model of a mechanism case (after the chapter-5 inflection coupler and the DOF analysis)."""
+    mech, links = case.mechanism, options.links
+    kinds = sorted(sup.kind for sup in mech.supports)
+    if not links and not mech.links and len(mech.beams) == 1 and kinds == ["pinned", "slider"]:
+        return Route.PINNED_PINNED
+    if not links and prbm_body.one_beam_carrying_a_body(mech) and options.model != "network":
+        return Route.SEGMENT_WITH_BODY
+    if links and "r11" in links:
+        return Route.SLIDER
+    if not links or options.model == "network":
+        return Route.NETWORK
+    return Route.FOURBAR
+
+
+def _takes_turning_loads(case, options: PrbmOptions) -> bool:
+    """Whether the case's PRB model takes forces toward a fixed point and forces turning with a named body:
+    the network built from a mechanism's geometry (``prbm.network``: pulls and followers on its bodies)."""
+    return (case.mechanism is not None and not prbm_ma.handles(case, options)
+            and not prbm_inflection.applies(case, options) and _route(case, options) is Route.NETWORK)

@@ -191,11 +191,20 @@ class ChainChoice:
     """False when the automatic choice reached ``CHAIN_MOST`` elements without meeting its target."""
 
 
+GUIDED_HELD = ("rz",)
+"""The tip freedoms a fixed-guided segment's chain holds (its tip keeps its angle, moves freely)."""
+
+
 def _solve_chain(case, beam: chain_model.ChainBeam, levels: list[int], steps: int) -> dict[int, ChainLevel]:
+    """Each level's chain: a free tip (``chain_tip``), or a fixed-guided segment's tip held in rotation
+    (``chain_held_path``, its tip moment an unknown), each from the unloaded chain in ``steps`` steps."""
     out = {}
+    guided = case.segment.boundary == "fixed-guided"
     for lv in levels:
         loads = _chain_loads(case, beam, lv)
-        out[lv] = ChainLevel(chain_model.chain_tip(beam, loads, steps=steps), loads)
+        res = (chain_model.chain_held_path(beam, loads, GUIDED_HELD, [1.0], max_step=1.0 / steps)[0] if guided
+               else chain_model.chain_tip(beam, loads, steps=steps))
+        out[lv] = ChainLevel(res, loads)
     return out
 
 
@@ -243,9 +252,10 @@ def _chain(case, requests, options) -> MethodRun:
                             "takes end loads only, as every one-spring PRBM of the seeds; the Chain Algorithm "
                             "(seed 000 section 2.2) takes loads at its nodes: give model = 'chain', or no model "
                             "to let the adapter choose it")
-    if seg.boundary not in ("fixed-free", "fixed-pinned"):
+    if seg.boundary not in ("fixed-free", "fixed-pinned", "fixed-guided"):
         raise NotApplicable(f"a load along a {seg.boundary} segment: the Chain Algorithm here models a "
-                            "cantilever (free end)")
+                            "cantilever (free end) or a guided end (tip angle held); its inextensible elements "
+                            "cannot bend with the tip's x held, and its root is clamped")
     choice = chain_count(case, sorted({r.level for r in requests}), options)
     solved = choice.levels
     info = MethodRun(values={})
@@ -262,8 +272,10 @@ def _chain(case, requests, options) -> MethodRun:
     info.extras = {"model": f"Chain Algorithm with lumped loads, seed 000 section 2.2, {choice.beam.elements} elements",
                    "chain_elements": choice.beam.elements,
                    "shapes": [[solved[lv].res.extras["nodes"]] if lv in solved else [] for lv in range(case.n_levels())]}
-    along, tip_loaded = _along_segment(case)
-    flag_atlas_levels(info, chain_levels(choice.beam.elements, along, tip_loaded, seg.length, seg.bending_stiffness()))
+    if seg.boundary != "fixed-guided":      # the atlas maps the chain with a free tip
+        along, tip_loaded = _along_segment(case)
+        flag_atlas_levels(info, chain_levels(choice.beam.elements, along, tip_loaded, seg.length,
+                                             seg.bending_stiffness()))
     return info
 
 
@@ -287,11 +299,13 @@ def _along_segment(case) -> tuple[list[tuple[float, float]], bool]:
 
 
 def _chain_table(L: float, level: ChainLevel) -> dict[str, float]:
-    """x, y, dx, dy, rotation at the tip and the tip's applied end loads."""
+    """x, y, dx, dy, rotation at the tip and the tip's end loads (applied, plus what a held freedom needs)."""
     o, f = level.res.outputs, level.loads
     a, b = float(o["a"]), float(o["b"])
+    held = [float(np.asarray(o[k])) if k in o else 0.0 for k in ("Fx", "Fy", "M")]
     return {"x": a, "y": b, "dx": a - L, "dy": b, "rotation": math.degrees(float(o["theta0"])),
-            "force_x": float(f.fx[-1]), "force_y": float(f.fy[-1]), "moment": float(f.m[-1])}
+            "force_x": float(f.fx[-1]) + held[0], "force_y": float(f.fy[-1]) + held[1],
+            "moment": float(f.m[-1]) + held[2]}
 
 
 # --- zero_level --------------------------------------------------------------------------------------
