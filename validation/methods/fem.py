@@ -163,17 +163,19 @@ def _add_loads(model, case, allowed_points, members: dict | None = None) -> None
             model.prescribe(load.point, dof, values * (d[0] if dof == "ux" else d[1]))
 
 
-def _stiff_bar_links(mech) -> set[str]:
-    """Rigid links joined by a revolute joint to another rigid link: modelled as stiff bars.
+def _stiff_bar_links(mech, anchored: set[str]) -> set[str]:
+    """Rigid links modelled as stiff bars: the smaller of two rigid links joined by a revolute joint, and a
+    link with two or more ``anchored`` nodes (held by a support or driven by a prescribed motion).
 
     Master-slave elimination cannot close a loop of rigid bodies (a node would be the slave of two
-    links), so the smaller of two pinned rigid links becomes a flexible member whose EA and EI are
-    ``rigid_ratio`` times the largest of the mechanism's beams (default 1e6): its strain is then
-    about 1e-6 of the beams', below the discretisation error, while the tangent's condition number
-    grows by the same factor, far inside double precision for the direct solvers used.
+    links), nor prescribe a motion of a slave node (its motion is a function of the master's), so such a
+    link becomes flexible members whose EA and EI are ``rigid_ratio`` times the largest of the mechanism's
+    beams (default 1e6): its strain is then about 1e-6 of the beams', below the discretisation error,
+    while the tangent's condition number grows by the same factor, far inside double precision for the
+    direct solvers used.
     """
     links = {link.name: link for link in mech.links}
-    bars = set()
+    bars = {link.name for link in mech.links if sum(nd in anchored for nd in link.nodes) >= 2}
     for joint in mech.joints:
         pinned = [m for m in joint.members if m in links]
         if len(pinned) >= 2:
@@ -196,12 +198,15 @@ def _mechanism_model(fem, case, elements: int, options: FemOptions):
         stiffest = (max(stiffest[0], section.EA), max(stiffest[1], section.EI))
         member_index[beam.name] = model.add_member(beam.start, beam.end, section, n_elements=elements,
                                                    curvature=beam.curvature, name=beam.name)
-    bars = _stiff_bar_links(mech)
+    anchored = {sup.node for sup in mech.supports} | {ld.point for ld in case.loads
+                                                       if ld.kind in ("displacement", "rotation")}
+    bars = _stiff_bar_links(mech, anchored)
     ratio = options.rigid_ratio
     for link in mech.links:
         if link.name in bars:
             if not mech.beams:
-                raise NotApplicable("pinned rigid links need at least one flexible beam to scale their stiffness")
+                raise NotApplicable(f"rigid link '{link.name}' is modelled as a stiff bar (pinned to another link, or "
+                                    "held at two points), which needs a flexible beam to scale its stiffness")
             bar = fem.Section.from_EI(ratio * stiffest[0], ratio * stiffest[1])
             # one element, on every mesh of the error estimate too: a straight bar 1e6 times stiffer than
             # the beams stands for a rigid body, with no discretisation error of its own to estimate
@@ -210,14 +215,7 @@ def _mechanism_model(fem, case, elements: int, options: FemOptions):
                      for node in link.nodes[1:]]
             member_index[link.name] = first[0]
             continue
-        anchored = {sup.node for sup in mech.supports} | {ld.point for ld in case.loads
-                                                           if ld.kind in ("displacement", "rotation")}
         master = next((n for n in link.nodes if n in anchored), link.nodes[0])  # supports and prescribed
-        also = [n for n in link.nodes if n in anchored and n != master]        # motions sit on the master
-        if also:  # a second held point of one rigid body is a constraint master-slave elimination cannot state
-            raise NotApplicable(f"rigid link '{link.name}': '{master}' and {', '.join(repr(n) for n in also)} "
-                                "are both held or driven; the FEM's rigid links prescribe motions at one node "
-                                "of a body (prescribe the body's rotation, or one of its points)")
         for node in link.nodes:
             if node != master:
                 model.add_rigid_link(master, node)
