@@ -132,13 +132,14 @@ class DeferredList(Sequence):
         return list, (self._built(),)
 
 
-def reject_loads_along_beams(case, method: str, turning: bool = False) -> None:
+def reject_loads_along_beams(case, method: str, turning: bool = False, why: str = "") -> None:
     """Raise NotApplicable for the loads a point-load method cannot take: distributed and self-weight
-    loads, and (unless ``turning``: the method takes them) forces toward a fixed point and forces turning
-    with a named body."""
+    loads (``why``: the reason, appended), and (unless ``turning``: the method takes them) forces toward a
+    fixed point and forces turning with a named body."""
     for i, load in enumerate(case.loads):
         if load.kind in ("distributed", "self_weight"):
-            raise NotApplicable(f"loads.{i}: {method} takes no {load.kind.replace('_', '-')} load "
+            raise NotApplicable(f"loads.{i}: {why}" if why else
+                                f"loads.{i}: {method} takes no {load.kind.replace('_', '-')} load "
                                 "(a load along the beam)")
         if turning:
             continue

@@ -56,7 +56,9 @@ def run(case, requests: list[Request], options: PrbmOptions) -> MethodRun:
     if prbm_readings.handles(case, options):  # loads along the segment, a force toward a point
         return prbm_readings.run(case, requests, options)
     if not prbm_readings.turning_fourbar(case, options):
-        reject_loads_along_beams(case, "the PRBM", turning=_takes_turning_loads(case, options))
+        reject_loads_along_beams(case, "the PRBM", turning=_takes_turning_loads(case, options),
+                                 why="no seed PRB model of a mechanism takes loads along its beams (the Chain "
+                                     "Algorithm models one cantilevered segment)")
     if options.model in prbm_alternatives.MODELS:  # the other segment models of [bapat2015, ch. 2]
         return prbm_alternatives.run(case, requests, options)
     try:
