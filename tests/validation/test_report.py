@@ -14,7 +14,7 @@ import pandas as pd
 import pytest
 
 from validation.case.loader import case_by_id
-from validation.methods.base import MethodRun
+from validation.methods.base import MethodRun, RunStatus
 from validation.report.build import build_report, glance
 from validation.report.charts import outputs_chart
 from validation.report.paraview import MAX_FRAMES, frames_shown
@@ -252,7 +252,7 @@ def test_overview_gives_every_model_its_own_look(tmp_path, monkeypatch):
 def test_run_verdict_reads_the_state_of_a_run():
     assert run_verdict(MethodRun(values={}))[0] is None                 # it gave its values: rows decide
     refused = MethodRun(values={}, converged=False, message="not applicable: no PRBM for a closed ring",
-                        extras={"not_applicable": True})
+                        status=RunStatus.NOT_APPLICABLE)
     assert run_verdict(refused) == (Verdict.REFUSED, "no PRBM for a closed ring")
     assert run_verdict(MethodRun(values={}, converged=False, message="error: ValueError: x"))[0] is Verdict.FAILED
     assert run_verdict(MethodRun(values={}, converged=False, message="Newton stalled"))[0] is Verdict.NOT_CONVERGED

@@ -74,12 +74,10 @@ class MethodRun:
     applicability: dict[int, list[Applicability]] = field(default_factory=dict)
     # per level, the tip error (% of L) the PRBM error atlas expects for this model and load (validation/atlas)
     expected_error: dict[int, float] = field(default_factory=dict)
-    # None: derived from extras["not_applicable"] (NOT_APPLICABLE) or ``converged`` (OK or NOT_CONVERGED)
+    # None: derived from ``converged`` (OK or NOT_CONVERGED)
     status: RunStatus | None = None
 
     def __post_init__(self) -> None:
-        if self.status is None and self.extras.get("not_applicable"):
-            self.status = RunStatus.NOT_APPLICABLE
         if self.status is None:
             self.status = RunStatus.OK if self.converged else RunStatus.NOT_CONVERGED
         elif self.status is not RunStatus.OK:

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from enum import StrEnum
 from functools import partial
 
 from validation.case.capabilities import QUANTITIES
@@ -36,11 +37,20 @@ ROUND_OFF = 1e-7
 RELATIVE_FLOOR = 0.01
 
 
+class CheckKind(StrEnum):
+    """What a check compares a method's value with."""
+
+    REFERENCE = "reference"          # a published number of the case (its tolerance)
+    FINDING = "finding"              # a documented disagreement and the explanation that reproduces it
+    AGREEMENT = "agreement"          # another method's value (the case's agreements)
+    FEM_ELASTICA = "fem-elastica"    # the FEM against the exact elastica, within the FEM's estimate
+
+
 @dataclass(frozen=True)
 class Check:
     """One enforced comparison: what was compared with what, how far apart, and whether it holds."""
 
-    kind: str
+    kind: CheckKind
     reference_label: str
     reference_value: float
     source: str
@@ -74,7 +84,7 @@ def reference_check(ref: ReferenceSpec, value: float, reproduced: float | None) 
     check = partial(Check, reference_label=ref.label, reference_value=ref.value, source=ref.source.label(),
                     tolerance=ref.tolerance, abs_error=abs_error, rel_error=rel_error)
     if ref.finding is None:
-        return check(kind="reference", within=met)
+        return check(kind=CheckKind.REFERENCE, within=met)
     finding = ref.finding
     tol = finding.tolerance or ref.tolerance
     problems = []
@@ -92,7 +102,7 @@ def reference_check(ref: ReferenceSpec, value: float, reproduced: float | None) 
         if not within(tol, *got):
             problems.append(f"the re-run with {finding.reproduce_with} gives {reproduced:.6g}, not the printed "
                             f"{ref.value:g} (|error| {got[0]:.3g})")
-    return check(kind="finding", within=not problems, finding=finding.text, detail="; ".join(problems))
+    return check(kind=CheckKind.FINDING, within=not problems, finding=finding.text, detail="; ".join(problems))
 
 
 def agreement_checks(case: Case, agreement: Agreement, runs: dict[str, MethodRun]) -> dict[Request, Check]:
@@ -118,7 +128,7 @@ def agreement_checks(case: Case, agreement: Agreement, runs: dict[str, MethodRun
             abs_error = abs(value - other)
             denom = max(abs(other), RELATIVE_FLOOR * scale)
             rel_error = abs_error / denom if denom > 0 else math.nan
-            checks[req] = Check(kind="agreement", reference_label=agreement.against, reference_value=other,
+            checks[req] = Check(kind=CheckKind.AGREEMENT, reference_label=agreement.against, reference_value=other,
                                 source=agreement.basis, tolerance=agreement.tolerance, abs_error=abs_error,
                                 rel_error=rel_error, within=within(agreement.tolerance, abs_error, rel_error))
     return checks
@@ -170,7 +180,7 @@ def fem_elastica_checks(case: Case, runs: dict[str, MethodRun], scale: float) ->
             continue
         abs_error, rel_error = _errors(value, other)
         if req in fem.unreliable_estimate:
-            checks[req] = Check(kind="fem-elastica", reference_label="elastica", reference_value=other,
+            checks[req] = Check(kind=CheckKind.FEM_ELASTICA, reference_label="elastica", reference_value=other,
                                 source="exact elastica; not judged: estimate unreliable", tolerance=None,
                                 abs_error=abs_error, rel_error=rel_error, within=None,
                                 detail=f"not judged: {fem.unreliable_estimate[req]}")
@@ -181,7 +191,7 @@ def fem_elastica_checks(case: Case, runs: dict[str, MethodRun], scale: float) ->
                                                          else abs(other))
         limit = FEM_ESTIMATE_MULTIPLE * estimate + stretch + ROUND_OFF * size
         detail = "" if not math.isnan(estimate) else "the FEM gave no error estimate for this value"
-        checks[req] = Check(kind="fem-elastica", reference_label="elastica", reference_value=other,
+        checks[req] = Check(kind=CheckKind.FEM_ELASTICA, reference_label="elastica", reference_value=other,
                             source=f"exact elastica; limit {FEM_ESTIMATE_MULTIPLE:g} x FEM error estimate "
                                    f"+ axial stretch |F| L/EA (the elastica is inextensible) + {ROUND_OFF:g} x scale",
                             tolerance=Tolerance(abs=limit) if limit > 0 else None,

@@ -58,8 +58,7 @@ def run_method(case: Case, method: str) -> MethodRun:
     except NotApplicable as exc:
         reason = str(exc) if str(exc).startswith("not applicable") else f"not applicable: {exc}"
         return MethodRun(values={}, converged=False, message=reason,
-                         wall_time=time.perf_counter() - start, extras={"not_applicable": True},
-                         status=RunStatus.NOT_APPLICABLE)
+                         wall_time=time.perf_counter() - start, status=RunStatus.NOT_APPLICABLE)
     except Misconfigured as exc:
         return MethodRun(values={}, converged=False, message=f"misconfigured: methods.{method}: {exc}",
                          wall_time=time.perf_counter() - start, status=RunStatus.MISCONFIGURED)

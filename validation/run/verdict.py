@@ -108,8 +108,7 @@ def run_verdict(run, expected: str | None = None, level: int | None = None) -> t
 def _run_verdict(run, level: int | None) -> tuple[Verdict | None, str]:
     status = getattr(run, "status", None)
     message = getattr(run, "message", "") or ""
-    if status is RunStatus.NOT_APPLICABLE or (status is None and (
-            getattr(run, "extras", {}).get("not_applicable") or message.startswith("not applicable"))):
+    if status is RunStatus.NOT_APPLICABLE or (status is None and message.startswith("not applicable")):
         return Verdict.REFUSED, message.removeprefix("not applicable: ")
     if status in (RunStatus.FAILED, RunStatus.MISCONFIGURED, RunStatus.TIMED_OUT) or message.startswith("error:"):
         return Verdict.FAILED, message

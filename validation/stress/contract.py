@@ -33,7 +33,7 @@ from dataclasses import asdict, dataclass, replace
 
 from validation.case.capabilities import method_quantities
 from validation.stress.linear_beam import FREEDOMS, LinearTip, flexibility, solve_tip
-from validation.methods.base import MethodRun
+from validation.methods.base import MethodRun, RunStatus
 from validation.case.quantities import boundary_held_tip
 from validation.run.runner import requests_for, run_method
 from validation.case.schema import Case
@@ -436,7 +436,7 @@ def linear_limit_check(c: Configuration, methods=METHODS) -> list[ContractResult
     results = []
     for method in methods:
         run = run_contract_method(case, method)
-        na = bool(run.extras.get("not_applicable"))
+        na = run.status is RunStatus.NOT_APPLICABLE
         expect = applicable(method, c)
         if na or not run.values:
             ok = na and not expect
@@ -502,8 +502,9 @@ def large_deflection_check(c: Configuration, methods=("fem", "elastica", "prbm")
         if method == "elastica":
             continue
         run = runs[method]
-        if run.extras.get("not_applicable") or not run.values:
-            ok = not applicable(method, c) and run.extras.get("not_applicable")
+        refused = run.status is RunStatus.NOT_APPLICABLE
+        if refused or not run.values:
+            ok = not applicable(method, c) and refused
             results.append(ContractResult(method, False, 0, [] if ok else [f"{method}: {run.message}"]))
             continue
         if not run.converged:

@@ -17,6 +17,7 @@ from typing import Any
 from prbm.synthesis.dyads import SynthesisError
 from validation.case.loader import CaseError, load_case
 from validation.run.exit_status import ExitStatus, print_error
+from validation.methods.base import RunStatus
 from validation.run.runner import run_method
 from validation.synthesis.casefile import write_case
 from validation.synthesis.design import Design, compare_printed, design
@@ -64,7 +65,7 @@ def fem_check(case_path: Path, d: Design) -> dict[str, Any]:
             miss = math.hypot(xy["dx"][0] - xy["dx"][1], xy["dy"][0] - xy["dy"][1])
             rows.append({"quantity": "position_error", "point": "P", "position": label, "fem": miss, "prbm": 0.0,
                          "printed_ansys": None, "difference": miss, "relative": None})
-    status = "ok" if run.converged else ("not-applicable" if run.extras.get("not_applicable") else "failed")
+    status = "ok" if run.converged else ("not-applicable" if run.status is RunStatus.NOT_APPLICABLE else "failed")
     return {"status": status, "message": run.message, "wall_time": run.wall_time, "rows": rows,
             "level_converged": {str(k): v for k, v in run.level_converged.items()}}
 
