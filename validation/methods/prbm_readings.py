@@ -212,10 +212,26 @@ def _tip(level: ChainLevel) -> complex:
     return complex(float(level.res.outputs["a"]), float(level.res.outputs["b"]))
 
 
+def _held_moment(level: ChainLevel) -> float:
+    """The end moment a held tip needs (0 for a free tip)."""
+    return float(np.asarray(level.res.outputs.get("M", 0.0)))
+
+
+def _change(solved: dict[int, ChainLevel], refined: dict[int, ChainLevel], levels: list[int], L: float) -> float:
+    """How far a doubling moved the chain: the largest tip move over L, or (a held tip) the largest change of
+    its end moment over the largest end moment of the levels."""
+    change = max(abs(_tip(refined[lv]) - _tip(solved[lv])) for lv in levels) / L
+    scale = max(abs(_held_moment(refined[lv])) for lv in levels)
+    if scale > 0.0:
+        change = max(change, max(abs(_held_moment(refined[lv]) - _held_moment(solved[lv])) for lv in levels) / scale)
+    return change
+
+
 def chain_count(case, levels: list[int], options: PrbmOptions) -> ChainChoice:
     """The chain for a load along the segment: the count the options fix (``model = 'chain'``: its
     ``chain_elements``, default 40; ``chain_elements`` alone), or else the automatic choice: n = CHAIN_FIRST,
-    2n, 4n, ... until max over the levels of |tip_2n - tip_n| < chain_tol x L (the finer chain kept)."""
+    2n, 4n, ... until max over the levels of |tip_2n - tip_n| < chain_tol x L, and for a held (guided) tip
+    also |M_2n - M_n| < chain_tol x max |M| (the finer chain kept)."""
     seg = case.segment
     steps = options.chain_steps
     EI = seg.bending_stiffness()
@@ -232,15 +248,17 @@ def chain_count(case, levels: list[int], options: PrbmOptions) -> ChainChoice:
         finer = chain_model.ChainBeam(seg.length, EI, 2 * beam.elements)
         if finer.elements > most:
             return ChainChoice(beam, solved, f"{beam.elements} elements, the most the automatic choice tries "
-                               f"(limits.elements or {CHAIN_MOST}): the tip still moved by {change:.2e} L at the "
-                               f"last doubling, over the target {tol:g} L (chain_tol)", met=False)
+                               f"(limits.elements or {CHAIN_MOST}): the tip (or a held end's moment) still moved "
+                               f"by {change:.2e} of its scale at the last doubling, over the target {tol:g} "
+                               "(chain_tol)", met=False)
         refined = _solve_chain(case, finer, levels, steps)
-        change = max(abs(_tip(refined[lv]) - _tip(solved[lv])) for lv in levels) / seg.length
+        change = _change(solved, refined, levels, seg.length)
         beam, solved = finer, refined
         if change < tol:
             return ChainChoice(beam, solved, f"{beam.elements} elements, chosen for the load along the segment: the "
-                               f"tip moved by {change:.2e} L from {beam.elements // 2} elements, below the target "
-                               f"{tol:g} L (chain_tol; O(1/n^2), so about {change / 3:.1e} L from the limit)")
+                               f"tip (and a held end's moment) moved by {change:.2e} of its scale (L, the largest "
+                               f"moment) from {beam.elements // 2} elements, below the target {tol:g} (chain_tol; "
+                               f"O(1/n^2), so about {change / 3:.1e} from the limit)")
 
 
 def _chain(case, requests, options) -> MethodRun:
@@ -260,8 +278,9 @@ def _chain(case, requests, options) -> MethodRun:
     solved = choice.levels
     info = MethodRun(values={})
     for req in requests:
-        table = _chain_table(seg.length, solved[req.level])
-        if req.quantity not in table or req.point != "tip":
+        table = (_chain_table(seg.length, solved[req.level]) if req.point == "tip"
+                 else _chain_root(solved[req.level]) if req.point == "root" else {})
+        if req.quantity not in table:
             raise NotApplicable(f"the Chain Algorithm gives no '{req.quantity}' at '{req.point}'")
         info.values[req] = table[req.quantity]
     info.level_converged = {lv: bool(s.res.converged) and choice.met for lv, s in solved.items()}
@@ -306,6 +325,23 @@ def _chain_table(L: float, level: ChainLevel) -> dict[str, float]:
     return {"x": a, "y": b, "dx": a - L, "dy": b, "rotation": math.degrees(float(o["theta0"])),
             "force_x": float(f.fx[-1]) + held[0], "force_y": float(f.fy[-1]) + held[1],
             "moment": float(f.m[-1]) + held[2]}
+
+
+def _chain_root(level: ChainLevel) -> dict[str, float]:
+    """The root's position (the clamp) and the support's loads on the chain: minus every load it carries
+    (the nodal loads, the clamp's node's share included, and a held tip's loads), the moment about the root
+    taken on the deformed nodes."""
+    o, f = level.res.outputs, level.loads
+    nodes = level.res.extras.get("nodes")
+    if nodes is None:
+        return {"x": 0.0, "y": 0.0, "dx": 0.0, "dy": 0.0, "rotation": 0.0}
+    fx, fy, m = f.fx.copy(), f.fy.copy(), f.m.copy()
+    for name, column in (("Fx", fx), ("Fy", fy), ("M", m)):
+        if name in o:
+            column[-1] += float(np.asarray(o[name]))
+    moment = float(np.sum(nodes[:, 0] * fy - nodes[:, 1] * fx) + np.sum(m))
+    return {"x": 0.0, "y": 0.0, "dx": 0.0, "dy": 0.0, "rotation": 0.0,
+            "reaction_x": -float(np.sum(fx)), "reaction_y": -float(np.sum(fy)), "reaction_moment": -moment}
 
 
 # --- zero_level --------------------------------------------------------------------------------------
