@@ -11,12 +11,9 @@ reads it; an option absent from ``USES`` is read on every path of its method.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Callable
+from typing import Any, Callable
 
 from validation.case.method_options import FemOptions
-
-if TYPE_CHECKING:  # the schema calls ``unused_options`` while it validates a case: named here for the types only
-    from validation.case.schema import Case
 
 
 def asks(case, method: str, quantity: str) -> bool:
@@ -43,7 +40,7 @@ def _sprung(case) -> bool:
 class Use:
     """When a method reads an option: ``reads(case, options)``, and ``otherwise`` says why it would not."""
 
-    reads: Callable[[Case, dict], bool]
+    reads: Callable[[Any, dict], bool]      # (the schema's Case, which calls this module while it validates)
     otherwise: str
 
 
