@@ -27,8 +27,21 @@ outboard of s; 0 for a mechanism beam), Nt = N . t the axial force and e = Nt/EA
     x' = (1 + e) cos(theta),  y' = (1 + e) sin(theta),  theta' = kappa0 + m/EI,
     m' = (1 + e) (Nx sin(theta) - Ny cos(theta)),   U' = m^2/(2 EI) + Nt^2/(2 EA).
 
+``beam_sensitivity_rhs`` is the plain beam with its variational equations (BEAM_SENSITIVITY_STATE_SIZE
+= 21): beside (x, y, theta, m, U), the derivatives of (x, y, theta, m) with respect to the start angle,
+the start moment and the end force, p = (theta0, m0, Fx, Fy), row-major (index 5 + 4 i + j: row i of
+(x, y, theta, m), column j of p). With Q = Nx sin(theta) - Ny cos(theta) (so m' = (1 + e) Q) and
+dN = (dFx, dFy) (constant along the beam: the distributed load does not depend on p):
+
+    dNt = -Q dtheta + cos(theta) dNx + sin(theta) dNy,   de = dNt/EA,
+    (dx)' = de cos(theta) - (1 + e) sin(theta) dtheta,   (dy)' = de sin(theta) + (1 + e) cos(theta) dtheta,
+    (dtheta)' = dm/EI,   (dm)' = de Q + (1 + e) (Nt dtheta + sin(theta) dNx - cos(theta) dNy),
+
+from d(theta, m)(0) = the unit vectors of theta0 and m0, d(x, y)(0) = 0. A mechanism's Newton takes a
+beam's block of its Jacobian from them (one integration instead of one per input).
+
 The integrator picks the equations by the state's length (25 or 17: the elastica with its
-sensitivities, 5: the plain beam).
+sensitivities, 21: the plain beam with its variational equations, 5: the plain beam).
 
 ``dop853`` is scipy's ``solve_ivp(method="DOP853")`` (Hairer, Norsett & Wanner, Solving ODEs I,
 sec. II.5 and II.4 for the first step) step for step: the same coefficients (scipy's own tables),
@@ -110,9 +123,10 @@ from numba import njit
 from numpy.typing import ArrayLike, NDArray
 from scipy.integrate._ivp import dop853_coefficients as _coef   # the tables scipy's DOP853 uses
 
-__all__ = ["STATE_SIZE", "FORCE_STATE_SIZE", "BEAM_STATE_SIZE", "ANGLE", "Beam", "Loads", "Tolerances",
-           "UnknownForces", "Structure", "Corrector", "PathControls", "elastica_beam", "elastica_rhs", "beam_rhs",
-           "integrate_samples", "integrate_beam", "beam_samples", "plain_samples", "tip_force", "follow_path"]
+__all__ = ["STATE_SIZE", "FORCE_STATE_SIZE", "BEAM_STATE_SIZE", "BEAM_SENSITIVITY_STATE_SIZE", "ANGLE", "Beam",
+           "Loads", "Tolerances", "UnknownForces", "Structure", "Corrector", "PathControls", "elastica_beam",
+           "elastica_rhs", "beam_rhs", "beam_sensitivity_rhs", "integrate_samples", "integrate_beam",
+           "beam_sensitivities", "beam_samples", "plain_samples", "tip_force", "follow_path"]
 
 Vector = NDArray[np.float64]
 Matrix = NDArray[np.float64]
@@ -120,6 +134,7 @@ Matrix = NDArray[np.float64]
 STATE_SIZE = 25
 FORCE_STATE_SIZE = 17
 BEAM_STATE_SIZE = 5
+BEAM_SENSITIVITY_STATE_SIZE = BEAM_STATE_SIZE + 16
 _N_STAGES: int = _coef.N_STAGES
 _A: Matrix = np.ascontiguousarray(_coef.A[:_N_STAGES, :_N_STAGES])
 _B: Vector = np.ascontiguousarray(_coef.B)
@@ -272,12 +287,38 @@ def beam_rhs(s: float, Y: Vector, beam: Beam, loads: Loads, out: Vector) -> None
     out[4] = m * m / (2 * EI) + (N * N / (2 * EA) if EA != 0.0 else 0.0)
 
 
+@njit(cache=True, inline="always", error_model="numpy")
+def beam_sensitivity_rhs(s: float, Y: Vector, beam: Beam, loads: Loads, out: Vector) -> None:
+    """dY/ds into ``out`` for the plain beam and its variational equations (module docstring;
+    BEAM_SENSITIVITY_STATE_SIZE entries) under ``loads``."""
+    beam_rhs(s, Y, beam, loads, out)
+    th, EI, EA = Y[2], beam.EI, beam.EA
+    c, sn = math.cos(th), math.sin(th)
+    outboard = beam.length - s
+    Nx, Ny = loads.Fx + loads.wx * outboard, loads.Fy + loads.wy * outboard
+    Nt, Q = Nx * c + Ny * sn, Nx * sn - Ny * c
+    stretch = 1.0 + (Nt / EA if EA != 0.0 else 0.0)
+    compliance = 1.0 / EA if EA != 0.0 else 0.0
+    for j in range(4):                      # p = (theta0, m0, Fx, Fy)
+        dth, dm = Y[13 + j], Y[17 + j]
+        dNx = 1.0 if j == 2 else 0.0
+        dNy = 1.0 if j == 3 else 0.0
+        de = (-Q * dth + c * dNx + sn * dNy) * compliance
+        out[5 + j] = de * c - stretch * sn * dth
+        out[9 + j] = de * sn + stretch * c * dth
+        out[13 + j] = dm / EI
+        out[17 + j] = de * Q + stretch * (Nt * dth + sn * dNx - c * dNy)
+
+
 @njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
 def _rhs(s: float, Y: Vector, beam: Beam, loads: Loads, out: Vector) -> None:
-    """The equations the state's length names (BEAM_STATE_SIZE: the plain beam, else the elastica
-    with its sensitivities)."""
+    """The equations the state's length names (BEAM_STATE_SIZE: the plain beam,
+    BEAM_SENSITIVITY_STATE_SIZE: with its variational equations, else the elastica with its
+    sensitivities)."""
     if Y.size == BEAM_STATE_SIZE:
         beam_rhs(s, Y, beam, loads, out)
+    elif Y.size == BEAM_SENSITIVITY_STATE_SIZE:
+        beam_sensitivity_rhs(s, Y, beam, loads, out)
     else:
         elastica_rhs(s, Y, beam, loads, out)
 
@@ -449,6 +490,25 @@ def integrate_beam(y0: ArrayLike, length: float, Fx: float, Fy: float, k0: float
                           Loads(Fx=float(Fx), Fy=float(Fy), wx=float(wx), wy=float(wy)),
                           Tolerances(rtol=float(rtol), atol=float(atol)), True)
     return states[-1], ok
+
+
+def beam_sensitivities(y0: ArrayLike, length: float, Fx: float, Fy: float, k0: float, EI: float, EA: float,
+                       rtol: float, atol: float, wx: float = 0.0, wy: float = 0.0) -> tuple[Vector, Matrix, bool]:
+    """A mechanism beam's state (x, y, theta, m, U) at s = length from y0 = (x0, y0, theta0, m0, U0) at
+    s = 0, its derivative d(x, y, theta, m)/d(theta0, m0, Fx, Fy) (4, 4) by the variational equations
+    (``beam_sensitivity_rhs``), and whether the integration succeeded (the arguments as
+    ``integrate_beam``'s; the tolerances hold on the state and its derivatives alike)."""
+    length = float(length)
+    y = np.zeros(BEAM_SENSITIVITY_STATE_SIZE)
+    y[:BEAM_STATE_SIZE] = np.asarray(y0, dtype=float)
+    y[13] = 1.0                 # d theta(0) / d theta0
+    y[18] = 1.0                 # d m(0) / d m0
+    states, ok = _samples(y, np.array([0.0, length]),
+                          Beam(length=length, EI=float(EI), EA=float(EA), curvature=float(k0)),
+                          Loads(Fx=float(Fx), Fy=float(Fy), wx=float(wx), wy=float(wy)),
+                          Tolerances(rtol=float(rtol), atol=float(atol)), True)
+    end = states[-1]
+    return end[:BEAM_STATE_SIZE], end[BEAM_STATE_SIZE:].reshape(4, 4), ok
 
 
 def integrate_samples(y0: ArrayLike, s: ArrayLike, Fx: float, Fy: float, k0: float, rtol: float, atol: float,

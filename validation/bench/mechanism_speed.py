@@ -96,7 +96,7 @@ def cases(only: list[str], every: bool) -> list[Any]:
     found = []
     for path in find_case_files():
         case = load_case(path).case
-        if case.case.id in only or (every and case.mechanism is not None and reaches_mechanism(case)):
+        if case.case.id in only or (every and reaches_mechanism(case)):
             found.append(case)
     return found
 
