@@ -13,6 +13,7 @@ Traceback (most recent call last):
 ...
 ValueError: tip: length must be finite and > 0, got -1.0
 """
+
 from __future__ import annotations
 
 import functools
@@ -54,17 +55,23 @@ def _ok(value: Any, positive: bool) -> bool:
 _PLAIN = (float, int, np.float64)
 
 
-def checked(positive: tuple[str, ...] = (), finite: tuple[str, ...] = ()
-            ) -> Callable[[Callable[_P, _R]], Callable[_P, _R]]:
+def checked(
+    positive: tuple[str, ...] = (), finite: tuple[str, ...] = ()
+) -> Callable[[Callable[_P, _R]], Callable[_P, _R]]:
     """Decorator: the named arguments (when given and not None) must be finite and > 0 (positive)
     or finite (finite); scalars, sequences and arrays alike."""
+
     def wrap(func: Callable[_P, _R]) -> Callable[_P, _R]:
         signature = inspect.signature(func)
         # where each checked argument sits when given positionally (None: keyword-only)
-        slots = {p.name: i for i, p in enumerate(signature.parameters.values())
-                 if p.kind in (inspect.Parameter.POSITIONAL_ONLY, inspect.Parameter.POSITIONAL_OR_KEYWORD)}
-        checks = [(name, True, slots.get(name)) for name in positive] + \
-                 [(name, False, slots.get(name)) for name in finite]
+        slots = {
+            p.name: i
+            for i, p in enumerate(signature.parameters.values())
+            if p.kind in (inspect.Parameter.POSITIONAL_ONLY, inspect.Parameter.POSITIONAL_OR_KEYWORD)
+        }
+        checks = [(name, True, slots.get(name)) for name in positive] + [
+            (name, False, slots.get(name)) for name in finite
+        ]
 
         @functools.wraps(func)
         def inner(*args: _P.args, **kwargs: _P.kwargs) -> _R:
@@ -74,5 +81,7 @@ def checked(positive: tuple[str, ...] = (), finite: tuple[str, ...] = ()
                     kind = "finite and > 0" if positive_ else "finite"
                     raise ValueError(f"{func.__name__}: {name} must be {kind}, got {value!r}")
             return func(*args, **kwargs)
+
         return inner
+
     return wrap

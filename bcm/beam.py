@@ -27,6 +27,7 @@ implemented in ``exact_compliance`` (with the compressive form for f_x < 0).
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import math
@@ -36,14 +37,29 @@ from numpy.typing import NDArray
 from scipy.optimize import fsolve
 from argcheck import checked
 
-__all__ = ["K0", "K1", "K2", "C0", "C1", "C2", "C3", "quadratic_forms", "strain_energy",
-           "loads_from_deflections", "bcm_residual", "deflections_from_loads",
-           "complementary_energy", "deflections_from_complementary", "exact_compliance",
-           "solve_mixed", "axial_stiffness_parameter"]
+__all__ = [
+    "K0",
+    "K1",
+    "K2",
+    "C0",
+    "C1",
+    "C2",
+    "C3",
+    "quadratic_forms",
+    "strain_energy",
+    "loads_from_deflections",
+    "bcm_residual",
+    "deflections_from_loads",
+    "complementary_energy",
+    "deflections_from_complementary",
+    "exact_compliance",
+    "solve_mixed",
+    "axial_stiffness_parameter",
+]
 
 Matrix = NDArray[np.float64]
 Vector = NDArray[np.float64]
-Six = tuple[float, float, float, float, float, float]     # (u_x, u_y, theta_z, f_x, f_y, m_z)
+Six = tuple[float, float, float, float, float, float]  # (u_x, u_y, theta_z, f_x, f_y, m_z)
 
 # Table 1 of [chen2021] (beam characteristic coefficients, after Awtar et al. 2007)
 K0 = np.array([[12.0, -6.0], [-6.0, 4.0]])
@@ -71,14 +87,14 @@ def quadratic_forms(uy: float, theta: float) -> tuple[float, float, float]:
     return S0, S1, S2
 
 
-@checked(positive=('ka',), finite=('ux', 'uy', 'theta'))
+@checked(positive=("ka",), finite=("ux", "uy", "theta"))
 def strain_energy(ux: float, uy: float, theta: float, ka: float) -> float:
     """v(u_x, u_y, theta_z) of eq (11), in EI/L."""
     S0, S1, S2 = quadratic_forms(uy, theta)
     return ka * (2.0 * ux + S1) ** 2 / (8.0 * (1.0 - ka * S2)) + 0.5 * S0
 
 
-@checked(positive=('ka',), finite=('ux', 'uy', 'theta'))
+@checked(positive=("ka",), finite=("ux", "uy", "theta"))
 def loads_from_deflections(ux: float, uy: float, theta: float, ka: float) -> tuple[float, float, float]:
     """Castigliano's first theorem on eq (11): (f_x, f_y, m_z) = grad v.
 
@@ -101,7 +117,7 @@ def bcm_residual(ux: float, uy: float, theta: float, fx: float, fy: float, mz: f
     return np.array([r12[0], r12[1], fx / ka - 0.5 * S1 - fx * S2 - ux])
 
 
-@checked(positive=('ka',), finite=('fx', 'fy', 'mz'))
+@checked(positive=("ka",), finite=("fx", "fy", "mz"))
 def deflections_from_loads(fx: float, fy: float, mz: float, ka: float) -> tuple[float, float, float]:
     """Eqs (3), (4) solved for the deflections: linear in (u_y, theta_z) once f_x is known."""
     uy: float
@@ -111,7 +127,7 @@ def deflections_from_loads(fx: float, fy: float, mz: float, ka: float) -> tuple[
     return fx / ka - 0.5 * S1 - fx * S2, uy, theta
 
 
-@checked(positive=('ka',), finite=('fx', 'fy', 'mz'))
+@checked(positive=("ka",), finite=("fx", "fy", "mz"))
 def complementary_energy(fx: float, fy: float, mz: float, ka: float, order: int = 3) -> float:
     """v*(f_x, f_y, m_z): eq (16) (order 2) or eq (17) (order 3), in EI/L."""
     p = np.array([fy, mz])
@@ -121,9 +137,10 @@ def complementary_energy(fx: float, fy: float, mz: float, ka: float, order: int 
     return v
 
 
-@checked(positive=('ka',), finite=('fx', 'fy', 'mz'))
-def deflections_from_complementary(fx: float, fy: float, mz: float, ka: float,
-                                   order: int = 3) -> tuple[float, float, float]:
+@checked(positive=("ka",), finite=("fx", "fy", "mz"))
+def deflections_from_complementary(
+    fx: float, fy: float, mz: float, ka: float, order: int = 3
+) -> tuple[float, float, float]:
     """Crotti-Engesser on eq (16)/(17): (u_x, u_y, theta_z) = grad v* (closed-form derivatives)."""
     p = np.array([fy, mz])
     C = C0 - fx * C1 + fx**2 * C2
@@ -160,9 +177,17 @@ def exact_compliance(fx: float) -> Matrix:
     return np.array([[c11, c12], [c12, c22]])
 
 
-@checked(positive=('ka',), finite=('ux', 'uy', 'theta', 'fx', 'fy', 'mz'))
-def solve_mixed(ka: float, *, ux: float | None = None, uy: float | None = None, theta: float | None = None,
-                fx: float | None = None, fy: float | None = None, mz: float | None = None) -> Six:
+@checked(positive=("ka",), finite=("ux", "uy", "theta", "fx", "fy", "mz"))
+def solve_mixed(
+    ka: float,
+    *,
+    ux: float | None = None,
+    uy: float | None = None,
+    theta: float | None = None,
+    fx: float | None = None,
+    fy: float | None = None,
+    mz: float | None = None,
+) -> Six:
     """BCM with one quantity of each conjugate pair (u_x|f_x, u_y|f_y, theta|m_z) given.
 
     Returns (u_x, u_y, theta, f_x, f_y, m_z) satisfying eqs (3), (4). Pure load or pure
@@ -172,7 +197,7 @@ def solve_mixed(ka: float, *, ux: float | None = None, uy: float | None = None, 
     if any((d is None) == (f is None) for d, f in pairs):
         raise ValueError("give exactly one of each pair (ux|fx, uy|fy, theta|mz)")
     if ux is None and uy is None and theta is None:
-        assert fx is not None and fy is not None and mz is not None     # one of each pair (above)
+        assert fx is not None and fy is not None and mz is not None  # one of each pair (above)
         return (*deflections_from_loads(fx, fy, mz, ka), fx, fy, mz)
     if fx is None and fy is None and mz is None:
         assert ux is not None and uy is not None and theta is not None

@@ -20,6 +20,7 @@ point and driven by a prescribed rotation; equilibrium by Castigliano (dV/dq = g
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import math
@@ -32,17 +33,24 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import fsolve
 
-from bcm.beam import (C0, C1, C2, C3, K0, K1, K2, axial_stiffness_parameter,
-                      loads_from_deflections, strain_energy)
+from bcm.beam import C0, C1, C2, C3, K0, K1, K2, axial_stiffness_parameter, loads_from_deflections, strain_energy
 from argcheck import checked
 
-__all__ = ["circular_guided_torque", "circular_guided_torque_eq20", "slant_parallelogram",
-           "eq32_corrected", "eq32_printed", "BCMBeam", "RigidBodyOnBeams", "Displacement"]
+__all__ = [
+    "circular_guided_torque",
+    "circular_guided_torque_eq20",
+    "slant_parallelogram",
+    "eq32_corrected",
+    "eq32_printed",
+    "BCMBeam",
+    "RigidBodyOnBeams",
+    "Displacement",
+]
 
 Vector = NDArray[np.float64]
 Matrix = NDArray[np.float64]
-Point = Sequence[float] | Vector                 # a position (x, y) or a force (Fx, Fy)
-Forces = Sequence[tuple[Point, Point]]          # dead forces: (where, (Fx, Fy))
+Point = Sequence[float] | Vector  # a position (x, y) or a force (Fx, Fy)
+Forces = Sequence[tuple[Point, Point]]  # dead forces: (where, (Fx, Fy))
 
 
 class Displacement(NamedTuple):
@@ -51,17 +59,20 @@ class Displacement(NamedTuple):
     point: Point
     axis: int
     value: float
-Law = Callable[[float, float, float], tuple[float, float]]     # (u_x1, u_y1, k_a) -> (f_x1, f_y1)
+
+
+Law = Callable[[float, float, float], tuple[float, float]]  # (u_x1, u_y1, k_a) -> (f_x1, f_y1)
 
 
 # ------------------------------------------------------------------ circular-guided mechanism
+
 
 def _crank_deflections(beta: float, R: float) -> tuple[float, float, float]:
     """Eq (18): tip deflections of OA (normalised by L_OA) for crank angle beta."""
     return R * (math.cos(beta) - 1.0), R * math.sin(beta), beta
 
 
-@checked(positive=('R', 'ka'), finite=('beta',))
+@checked(positive=("R", "ka"), finite=("beta",))
 def circular_guided_torque(beta: float, R: float, ka: float) -> float:
     """Normalised input torque T_i = dv/dbeta (Castigliano on eq (11) with eqs (18), (19)).
 
@@ -84,18 +95,21 @@ def circular_guided_torque_eq20(beta: float, R: float, ka: float) -> float:
         value: float = k[1, 1] * beta + (k[0, 1] + shift) * R * sb + R * cb * (k[0, 1] * beta + k[0, 0] * R * sb)
         return value
 
-    return (term(k0) - ka * Q1 * term(k1, -1.0) / (2 * Q2)
-            + ka**2 * Q1**2 * term(k2) / (4 * Q2**2))
+    return term(k0) - ka * Q1 * term(k1, -1.0) / (2 * Q2) + ka**2 * Q1**2 * term(k2) / (4 * Q2**2)
 
 
 # ------------------------------------------------------------------ slant parallelogram
+
 
 def eq32_corrected(ux: float, uy: float, ka: float) -> tuple[float, float]:
     """(f_x1, f_y1) = grad of eq (30) at theta_z = 0 (corrected eq (32))."""
     d = 700.0 + ka * uy * uy
     fx = ka * (700.0 * ux + 420.0 * uy * uy) / d
-    fy = (ka * uy * (840.0 * ux + 504.0 * uy * uy) / d
-          - 7.0 * ka**2 * uy * (10.0 * ux + 6.0 * uy * uy) ** 2 / d**2 + 12.0 * uy)
+    fy = (
+        ka * uy * (840.0 * ux + 504.0 * uy * uy) / d
+        - 7.0 * ka**2 * uy * (10.0 * ux + 6.0 * uy * uy) ** 2 / d**2
+        + 12.0 * uy
+    )
     return fx, fy
 
 
@@ -103,8 +117,7 @@ def eq32_printed(ux: float, uy: float, ka: float) -> tuple[float, float]:
     """Eq (32) exactly as printed in [chen2021] (inconsistent with eq (30); kept to show the misprint)."""
     d = 700.0 + uy * uy
     fx = ka * (700.0 * ux + 420.0 * uy * uy) / d
-    fy = (ka * (840.0 * ux + 504.0 * uy * uy) / d
-          - 7.0 * ka * uy * (10.0 * ux + 6.0 * uy * uy) ** 2 / d**2 + 12.0 * uy)
+    fy = ka * (840.0 * ux + 504.0 * uy * uy) / d - 7.0 * ka * uy * (10.0 * ux + 6.0 * uy * uy) ** 2 / d**2 + 12.0 * uy
     return fx, fy
 
 
@@ -112,8 +125,9 @@ def eq32_printed(ux: float, uy: float, ka: float) -> tuple[float, float]:
 class SlantResult:
     """The slant parallelogram's coupler displacement, with the result protocol the libraries share
     (converged, status, message, iterations, wall_time)."""
-    dX: float   # coupler displacement along the weight (paper X, downward), length units
-    dY: float   # coupler displacement along F_h (paper Y)
+
+    dX: float  # coupler displacement along the weight (paper X, downward), length units
+    dY: float  # coupler displacement along F_h (paper Y)
     fx1: float
     fy1: float
     mz1: float
@@ -121,7 +135,7 @@ class SlantResult:
     uy1: float
     converged: bool = True
     message: str = "closed form"
-    iterations: int = 0         # function evaluations of the root find (Castigliano forms); 0 closed form
+    iterations: int = 0  # function evaluations of the root find (Castigliano forms); 0 closed form
     wall_time: float = 0.0
 
     @property
@@ -129,9 +143,17 @@ class SlantResult:
         return "ok" if self.converged else "not converged"
 
 
-def slant_parallelogram(F_h: float, *, F_w: float = 0.25, beta: float = 0.1, L: float = 25.0,
-                        E: float = 73e3, W: float = 5.1, T: float = 0.25,
-                        method: str = "CE3") -> SlantResult:
+def slant_parallelogram(
+    F_h: float,
+    *,
+    F_w: float = 0.25,
+    beta: float = 0.1,
+    L: float = 25.0,
+    E: float = 73e3,
+    W: float = 5.1,
+    T: float = 0.25,
+    method: str = "CE3",
+) -> SlantResult:
     """Coupler displacement of the slant parallelogram [chen2021, §4.2], one beam by symmetry.
 
     Units of Table 3 as mm, N, MPa. method: 'CE2' (eq (16): eqs (23)-(27)), 'CE3' (eq (17)),
@@ -149,31 +171,44 @@ def slant_parallelogram(F_h: float, *, F_w: float = 0.25, beta: float = 0.1, L: 
         C, dC = C0 - fx * C1 + fx**2 * C2, -C1 + 2 * fx * C2
         if method == "CE3":
             C, dC = C - fx**3 * C3, dC - 3 * fx**2 * C3
-        mz = -C[0, 1] / C[1, 1] * fy                     # eq (24)/(25): theta_z1 = dv*/dm_z1 = 0
+        mz = -C[0, 1] / C[1, 1] * fy  # eq (24)/(25): theta_z1 = dv*/dm_z1 = 0
         p = np.array([fy, mz])
-        ux = fx / ka + 0.5 * p @ dC @ p                   # eq (26)
-        uy = (C @ p)[0]                                   # eq (27)
+        ux = fx / ka + 0.5 * p @ dC @ p  # eq (26)
+        uy = (C @ p)[0]  # eq (27)
     elif method in ("castigliano", "castigliano-printed"):
         law = eq32_corrected if method == "castigliano" else eq32_printed
         guess = slant_parallelogram(F_h, F_w=F_w, beta=beta, L=L, E=E, W=W, T=T, method="CE3")
         ux, uy, converged, message, iterations = _castigliano_root(law, fx, fy, ka, guess, method)
-        mz = (K0 + fx * K1 + fx**2 * K2)[1, 0] * uy       # eq (3), second row, theta_z1 = 0
+        mz = (K0 + fx * K1 + fx**2 * K2)[1, 0] * uy  # eq (3), second row, theta_z1 = 0
     else:
         raise ValueError(f"unknown method '{method}'")
     dY = L * (-ux * math.sin(beta) + uy * math.cos(beta))  # eq (28)
-    dX = L * (ux * math.cos(beta) + uy * math.sin(beta))   # eq (29)
-    return SlantResult(dX, dY, fx, fy, mz, ux, uy, converged=bool(converged), message=message,
-                       iterations=iterations, wall_time=time.perf_counter() - start)
+    dX = L * (ux * math.cos(beta) + uy * math.sin(beta))  # eq (29)
+    return SlantResult(
+        dX,
+        dY,
+        fx,
+        fy,
+        mz,
+        ux,
+        uy,
+        converged=bool(converged),
+        message=message,
+        iterations=iterations,
+        wall_time=time.perf_counter() - start,
+    )
 
 
-def _castigliano_root(law: Law, fx: float, fy: float, ka: float, guess: SlantResult,
-                      method: str) -> tuple[float, float, bool, str, int]:
+def _castigliano_root(
+    law: Law, fx: float, fy: float, ka: float, guess: SlantResult, method: str
+) -> tuple[float, float, bool, str, int]:
     """(u_x1, u_y1) with law(u_x1, u_y1) = (f_x1, f_y1), by MINPACK's hybrid method from the CE3 answer;
     converged when fsolve says so or when the residual is at rounding (1e-12 of the loads): fsolve's
     progress test stalls on an answer already exact to rounding (residuals ~1e-15 at F_h = 0.5 N), and
     that is an answer, not a failure. Returns (u_x1, u_y1, converged, message, function evaluations)."""
-    u, info, ier, msg = fsolve(lambda v: np.array(law(v[0], v[1], ka)) - [fx, fy],
-                               [guess.ux1, guess.uy1], xtol=1e-14, full_output=True)
+    u, info, ier, msg = fsolve(
+        lambda v: np.array(law(v[0], v[1], ka)) - [fx, fy], [guess.ux1, guess.uy1], xtol=1e-14, full_output=True
+    )
     residual = float(np.max(np.abs(np.array(law(u[0], u[1], ka)) - [fx, fy])))
     at_rounding = residual <= 1e-12 * max(abs(fx), abs(fy))
     converged = ier == 1 or at_rounding
@@ -187,6 +222,7 @@ def _castigliano_root(law: Law, fx: float, fy: float, ka: float, guess: SlantRes
 
 
 # ------------------------------------------------------------------ general: one rigid body on beams
+
 
 @dataclass(frozen=True)
 class BCMBeam:
@@ -233,7 +269,7 @@ class RigidBodyOnBeams:
         L = beam.length
         e1 = (X1 - X0) / L
         e2 = np.array([-e1[1], e1[0]])
-        u = self.displacement(X1, q)                    # d = X1 - X0 + u, with (X1 - X0) . e1 = L
+        u = self.displacement(X1, q)  # d = X1 - X0 + u, with (X1 - X0) . e1 = L
         return (u @ e1) / L, (u @ e2) / L, q[2], e1, e2, L
 
     def strain_energy(self, q: Vector) -> float:
@@ -259,7 +295,7 @@ class RigidBodyOnBeams:
         for b in self.beams:
             ux, uy, th, e1, e2, L = self._local(b, q)
             fx, fy, mz = loads_from_deflections(ux, uy, th, b.ka)
-            F = (b.EI / L**2) * (fx * e1 + fy * e2)       # force on the beam tip, global
+            F = (b.EI / L**2) * (fx * e1 + fy * e2)  # force on the beam tip, global
             r = np.asarray(b.end, float) - self.ref
             dp_dphi = np.array([-s * r[0] - c * r[1], c * r[0] - s * r[1]])
             g += np.array([F[0], F[1], F @ dp_dphi + (b.EI / L) * mz])
@@ -275,8 +311,14 @@ class RigidBodyOnBeams:
             g += np.array([F[0], F[1], np.dot(F, dp_dphi)])
         return g
 
-    def solve(self, forces: Forces = (), moment: float = 0.0, rotation: float | None = None,
-              guess: ArrayLike | None = None, displacement: Displacement | None = None) -> tuple[Vector, float]:
+    def solve(
+        self,
+        forces: Forces = (),
+        moment: float = 0.0,
+        rotation: float | None = None,
+        guess: ArrayLike | None = None,
+        displacement: Displacement | None = None,
+    ) -> tuple[Vector, float]:
         """Equilibrium configuration q; with ``rotation`` prescribed, phi is fixed and the moment
         that must be applied is returned as the second value; with ``displacement`` prescribed (a body
         point's displacement along x or y), the force along that axis the point needs is returned; else
@@ -302,25 +344,41 @@ class RigidBodyOnBeams:
             needed = pull
         return q, needed
 
-    def _ramped(self, forces: Forces, moment: float, rotation: float | None, displacement: Displacement | None,
-                first: RuntimeError) -> tuple[Vector, float]:
+    def _ramped(
+        self,
+        forces: Forces,
+        moment: float,
+        rotation: float | None,
+        displacement: Displacement | None,
+        first: RuntimeError,
+    ) -> tuple[Vector, float]:
         """Load continuation from rest; re-raises the direct attempt's error with the ramp's."""
         for steps in (4, 16, 64):
             q, pull = np.zeros(3), 0.0
             try:
                 for lam in np.arange(1, steps + 1) / steps:
                     scaled: Forces = [(p, lam * np.asarray(F, float)) for p, F in forces]
-                    moved = None if displacement is None else \
-                        Displacement(displacement.point, displacement.axis, lam * displacement.value)
-                    q, pull = self._equilibrium(scaled, lam * moment, None if rotation is None else lam * rotation,
-                                                q, moved)
+                    moved = (
+                        None
+                        if displacement is None
+                        else Displacement(displacement.point, displacement.axis, lam * displacement.value)
+                    )
+                    q, pull = self._equilibrium(
+                        scaled, lam * moment, None if rotation is None else lam * rotation, q, moved
+                    )
                 return q, pull
             except RuntimeError as exc:
                 last = exc
         raise RuntimeError(f"{first}; ramped from rest in 64 steps: {last}")
 
-    def _equilibrium(self, forces: Forces, moment: float, rotation: float | None, q0: Vector,
-                     displacement: Displacement | None = None) -> tuple[Vector, float]:
+    def _equilibrium(
+        self,
+        forces: Forces,
+        moment: float,
+        rotation: float | None,
+        q0: Vector,
+        displacement: Displacement | None = None,
+    ) -> tuple[Vector, float]:
         """Newton on grad Pi = 0 over the free coordinates (with a prescribed displacement, on
         grad Pi = lambda dC/dq and C = 0, lambda scaled to the beams' force unit), from q0; returns q and
         lambda (0 without a prescribed displacement)."""
@@ -330,7 +388,7 @@ class RigidBodyOnBeams:
         q = np.array(q0, float)
         if rotation is not None:
             q[2] = rotation
-        scale = max(b.EI / b.length**2 for b in self.beams)     # force unit of the beams
+        scale = max(b.EI / b.length**2 for b in self.beams)  # force unit of the beams
         length = min(b.length for b in self.beams)
         reach = 0.1 * np.array([length] * 2 + [1.0])[free]
         if displacement is None:
@@ -381,8 +439,9 @@ def _central_jacobian(fun: Callable[[Vector], Vector], z: Vector, f0: Vector) ->
     return J
 
 
-def _newton(fun: Callable[[Vector], Vector], z0: Vector, reach: Vector, maxiter: int = 60,
-            tol: float = 1e-13) -> Vector:
+def _newton(
+    fun: Callable[[Vector], Vector], z0: Vector, reach: Vector, maxiter: int = 60, tol: float = 1e-13
+) -> Vector:
     """Root of a normalised residual by Newton's method with a central-difference Jacobian; a step
     is shortened to at most ``reach`` per coordinate (0.1 L and 0.1 rad: the BCM's own range, so a
     far start walks towards the root instead of jumping to a spurious one) and halved where the
@@ -402,10 +461,12 @@ def _newton(fun: Callable[[Vector], Vector], z0: Vector, reach: Vector, maxiter:
         step = step / max(1.0, np.max(np.abs(step) / reach))
         trial = fun(z + step)
         while not np.all(np.isfinite(trial)) and np.max(np.abs(step) / reach) > tol:
-            step = step / 2.0           # outside the energy's domain (1 - k_a S2 <= 0): shorten
+            step = step / 2.0  # outside the energy's domain (1 - k_a S2 <= 0): shorten
             trial = fun(z + step)
         z, r = z + step, trial
         if np.max(np.abs(step) / reach) <= tol:
             return z
-    raise RuntimeError(f"BCM equilibrium not found: residual {np.max(np.abs(r)):.3g} (in EI/L^2) "
-                       f"after {maxiter} Newton iterations at q = {z}")
+    raise RuntimeError(
+        f"BCM equilibrium not found: residual {np.max(np.abs(r)):.3g} (in EI/L^2) "
+        f"after {maxiter} Newton iterations at q = {z}"
+    )

@@ -12,19 +12,59 @@ angles in radians everywhere (degrees only in case files and reports).
 >>> tip.converged, round(tip.y, 5)
 (True, 0.81061)
 """
-from elastica.elliptic import (EllipticTip, cantilever_tip_load, curved_fixed_pinned_from_angle,
-                               curved_fixed_pinned_tip, fixed_guided_inflection_from_angle,
-                               fixed_guided_inflection_tips, fixed_guided_monotonic_tip,
-                               fixed_pinned_from_angle, fixed_pinned_tip, pure_moment_tip, slfp_tip)
-from elastica.shooting import (ElasticaProblem, ElasticaResult, MomentConstraint, PointedForce,
-                               TipConstraint, dead_equivalent, line_angles, loaded_start,
-                               pointing_error, section_moment, solve_elastica, solve_path,
-                               unloaded_tip)
 
-__all__ = ["EllipticTip", "cantilever_tip_load", "curved_fixed_pinned_from_angle",
-           "curved_fixed_pinned_tip", "fixed_guided_inflection_from_angle",
-           "fixed_guided_inflection_tips", "fixed_guided_monotonic_tip", "fixed_pinned_from_angle",
-           "fixed_pinned_tip", "pure_moment_tip", "slfp_tip", "ElasticaProblem", "ElasticaResult",
-           "MomentConstraint", "PointedForce", "TipConstraint", "dead_equivalent", "line_angles",
-           "loaded_start", "pointing_error", "section_moment", "solve_elastica", "solve_path",
-           "unloaded_tip"]
+from elastica.elliptic import (
+    EllipticTip,
+    cantilever_tip_load,
+    curved_fixed_pinned_from_angle,
+    curved_fixed_pinned_tip,
+    fixed_guided_inflection_from_angle,
+    fixed_guided_inflection_tips,
+    fixed_guided_monotonic_tip,
+    fixed_pinned_from_angle,
+    fixed_pinned_tip,
+    pure_moment_tip,
+    slfp_tip,
+)
+from elastica.shooting import (
+    ElasticaProblem,
+    ElasticaResult,
+    MomentConstraint,
+    PointedForce,
+    TipConstraint,
+    dead_equivalent,
+    line_angles,
+    loaded_start,
+    pointing_error,
+    section_moment,
+    solve_elastica,
+    solve_path,
+    unloaded_tip,
+)
+
+__all__ = [
+    "EllipticTip",
+    "cantilever_tip_load",
+    "curved_fixed_pinned_from_angle",
+    "curved_fixed_pinned_tip",
+    "fixed_guided_inflection_from_angle",
+    "fixed_guided_inflection_tips",
+    "fixed_guided_monotonic_tip",
+    "fixed_pinned_from_angle",
+    "fixed_pinned_tip",
+    "pure_moment_tip",
+    "slfp_tip",
+    "ElasticaProblem",
+    "ElasticaResult",
+    "MomentConstraint",
+    "PointedForce",
+    "TipConstraint",
+    "dead_equivalent",
+    "line_angles",
+    "loaded_start",
+    "pointing_error",
+    "section_moment",
+    "solve_elastica",
+    "solve_path",
+    "unloaded_tip",
+]

@@ -37,6 +37,7 @@ count of grid points left out and why (``excluded``: outside the formula's or Su
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import math
@@ -46,11 +47,18 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import ellipeinc, ellipkinc
 
-__all__ = ["DomainCloud", "su_theta0_max", "fixed_pinned_cloud", "curved_fixed_pinned_cloud",
-           "fixed_guided_inflection_cloud", "kappa_min", "kappa_range"]
+__all__ = [
+    "DomainCloud",
+    "su_theta0_max",
+    "fixed_pinned_cloud",
+    "curved_fixed_pinned_cloud",
+    "fixed_guided_inflection_cloud",
+    "kappa_min",
+    "kappa_range",
+]
 
 FloatArray = NDArray[np.float64]
-Values = FloatArray | float     # a scalar or an array of them, combined elementwise
+Values = FloatArray | float  # a scalar or an array of them, combined elementwise
 
 
 @dataclass(frozen=True)
@@ -132,8 +140,9 @@ def fixed_pinned_arrays(theta0: Values, n: Values) -> tuple[FloatArray, FloatArr
     return (-n * eta * bracket + root) / den, (eta * bracket + n * root) / den, alpha
 
 
-def curved_fixed_pinned_arrays(theta0: ArrayLike, n: ArrayLike, kappa: ArrayLike
-                               ) -> tuple[FloatArray, FloatArray, FloatArray]:
+def curved_fixed_pinned_arrays(
+    theta0: ArrayLike, n: ArrayLike, kappa: ArrayLike
+) -> tuple[FloatArray, FloatArray, FloatArray]:
     """(a, b, alpha) of ``elastica.elliptic.curved_fixed_pinned_from_angle`` on arrays: case A
     (lambda <= eta, eqs 8, 9 with eta^(5/2)) and case B (eqs 10, 11, NaN beyond 90 deg + atan n), each
     case's formulas evaluated on its own points only (the elliptic integrals are most of the cost)."""
@@ -149,8 +158,9 @@ def curved_fixed_pinned_arrays(theta0: ArrayLike, n: ArrayLike, kappa: ArrayLike
     return out[0], out[1], out[2]
 
 
-def _case_a(eta: FloatArray, n: FloatArray, s0: FloatArray, lam: FloatArray
-            ) -> tuple[FloatArray, FloatArray, FloatArray]:
+def _case_a(
+    eta: FloatArray, n: FloatArray, s0: FloatArray, lam: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray]:
     """(a, b, alpha) of case A (lambda <= eta, eqs 8, 9 with eta^(5/2))."""
     t = np.sqrt((eta + lam) / (2.0 * eta))
     g1, g2 = _asin_sqrt((eta - n) / (eta + lam)), _asin_sqrt((eta + s0) / (eta + lam))
@@ -162,8 +172,9 @@ def _case_a(eta: FloatArray, n: FloatArray, s0: FloatArray, lam: FloatArray
     return (-n * eta * bracket + root) / den, (eta * bracket + n * root) / den, alpha
 
 
-def _case_b(eta: FloatArray, n: FloatArray, s0: FloatArray, lam: FloatArray
-            ) -> tuple[FloatArray, FloatArray, FloatArray]:
+def _case_b(
+    eta: FloatArray, n: FloatArray, s0: FloatArray, lam: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray]:
     """(a, b, alpha) of case B (lambda > eta, eqs 10, 11)."""
     r = np.sqrt(2.0 * eta / (eta + lam))
     p1, p2 = _asin_sqrt((eta - n) / (2.0 * eta)), _asin_sqrt((eta + s0) / (2.0 * eta))
@@ -175,8 +186,9 @@ def _case_b(eta: FloatArray, n: FloatArray, s0: FloatArray, lam: FloatArray
     return pre * (-n * bracket + roots), pre * (bracket + n * roots), alpha
 
 
-def fixed_guided_inflection_arrays(theta0: Values, n: Values, kappa: Values
-                                   ) -> tuple[FloatArray, FloatArray, FloatArray]:
+def fixed_guided_inflection_arrays(
+    theta0: Values, n: Values, kappa: Values
+) -> tuple[FloatArray, FloatArray, FloatArray]:
     """(a, b, alpha) of ``elastica.elliptic.fixed_guided_inflection_from_angle`` (the corrected
     Kimball-Tsai form) on arrays; NaN where its domain is left."""
     eta = np.hypot(1.0, n)
@@ -215,13 +227,23 @@ def curved_fixed_pinned_cloud(n_values: ArrayLike, theta0_values: ArrayLike, kap
         a, b, alpha = curved_fixed_pinned_arrays(th, n, kappa)
         valid = np.isfinite(a + b + alpha) & (alpha > 0.0)
     keep = within & valid
-    return _cloud(keep, (a, b, th, alpha, n, kappa), {"beyond Su's theta0max (eq 112)": int((~within).sum()),
-                                                      "outside the elliptic form's range": int((within & ~valid).sum())})
+    return _cloud(
+        keep,
+        (a, b, th, alpha, n, kappa),
+        {
+            "beyond Su's theta0max (eq 112)": int((~within).sum()),
+            "outside the elliptic form's range": int((within & ~valid).sum()),
+        },
+    )
 
 
-def fixed_guided_inflection_cloud(n_values: ArrayLike, theta0_values: ArrayLike, kappa_values: ArrayLike,
-                                  load_range: tuple[float, float] = (0.0, np.inf),
-                                  first_quadrant: bool = True) -> DomainCloud:
+def fixed_guided_inflection_cloud(
+    n_values: ArrayLike,
+    theta0_values: ArrayLike,
+    kappa_values: ArrayLike,
+    load_range: tuple[float, float] = (0.0, np.inf),
+    first_quadrant: bool = True,
+) -> DomainCloud:
     """Section 4.6, one inflection point: the Kimball-Tsai form at every (n, theta0, kappa), kept when
     alpha^2 = P l^2/EI lies in ``load_range`` (and, by default, the end in the first quadrant, as the
     routine of section 4.6.1)."""
@@ -232,8 +254,14 @@ def fixed_guided_inflection_cloud(n_values: ArrayLike, theta0_values: ArrayLike,
         valid = np.isfinite(a + b + alpha) & (alpha > 0.0)
         inside = (lo <= alpha**2) & (alpha**2 <= hi) & np.logical_or(not first_quadrant, (a >= 0.0) & (b >= 0.0))
     keep = valid & inside
-    return _cloud(keep, (a, b, th, alpha, n, kappa), {"outside the elliptic form's range": int((~valid).sum()),
-                                                      "load or end outside the range asked": int((valid & ~inside).sum())})
+    return _cloud(
+        keep,
+        (a, b, th, alpha, n, kappa),
+        {
+            "outside the elliptic form's range": int((~valid).sum()),
+            "load or end outside the range asked": int((valid & ~inside).sum()),
+        },
+    )
 
 
 def kappa_min(theta0: ArrayLike, load_ratio: ArrayLike, theta_i: ArrayLike) -> FloatArray:
@@ -242,8 +270,9 @@ def kappa_min(theta0: ArrayLike, load_ratio: ArrayLike, theta_i: ArrayLike) -> F
     return np.cos(np.asarray(theta_i, float) - phi) - np.cos(np.asarray(theta0, float) - phi)
 
 
-def kappa_range(theta0: float, load_ratio: float, step: float = math.radians(5.0),
-                theta_i_max: float = math.radians(85.0)) -> tuple[float, float]:
+def kappa_range(
+    theta0: float, load_ratio: float, step: float = math.radians(5.0), theta_i_max: float = math.radians(85.0)
+) -> tuple[float, float]:
     """The routine of section 4.6.1 (Fig. 4.16 is missing; as the text states it): for theta0 >= 0,
     kappa_min with theta_i = theta0 + step (eq 124), for theta0 < 0 with theta_i = step; kappa_max with
     theta_i = theta_i_max; both by eq (123)."""

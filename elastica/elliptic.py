@@ -17,6 +17,7 @@ the dissertation prints the complete integrals without the sin^2 in the integran
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import functools
@@ -30,10 +31,19 @@ from scipy.optimize import brentq
 from scipy.special import ellipeinc, ellipkinc
 from argcheck import checked
 
-__all__ = ["EllipticTip", "pure_moment_tip", "cantilever_tip_load", "fixed_pinned_from_angle",
-           "fixed_pinned_tip", "curved_fixed_pinned_from_angle", "curved_fixed_pinned_tip",
-           "fixed_guided_inflection_from_angle", "fixed_guided_inflection_tips",
-           "fixed_guided_monotonic_tip", "slfp_tip"]
+__all__ = [
+    "EllipticTip",
+    "pure_moment_tip",
+    "cantilever_tip_load",
+    "fixed_pinned_from_angle",
+    "fixed_pinned_tip",
+    "curved_fixed_pinned_from_angle",
+    "curved_fixed_pinned_tip",
+    "fixed_guided_inflection_from_angle",
+    "fixed_guided_inflection_tips",
+    "fixed_guided_monotonic_tip",
+    "slfp_tip",
+]
 
 
 class EllipticTip(NamedTuple):
@@ -60,8 +70,11 @@ class EllipticTip(NamedTuple):
 
     @property
     def message(self) -> str:
-        return "closed form (elliptic integrals)" if self.converged else \
-            "no real solution of the elliptic equations at these arguments"
+        return (
+            "closed form (elliptic integrals)"
+            if self.converged
+            else "no real solution of the elliptic equations at these arguments"
+        )
 
     @property
     def iterations(self) -> int:
@@ -74,6 +87,7 @@ _Tips = TypeVar("_Tips", EllipticTip, list[EllipticTip])
 
 def _timed(function: Callable[_P, _Tips]) -> Callable[_P, _Tips]:
     """Record the call's wall time on the EllipticTip (or each of a list) it returns."""
+
     @functools.wraps(function)
     def timed(*args: _P.args, **kwargs: _P.kwargs) -> _Tips:
         start = time.perf_counter()
@@ -82,6 +96,7 @@ def _timed(function: Callable[_P, _Tips]) -> Callable[_P, _Tips]:
         if isinstance(result, EllipticTip):
             return result._replace(wall_time=elapsed)
         return [tip._replace(wall_time=elapsed) for tip in result]
+
     return timed
 
 
@@ -123,6 +138,7 @@ def pure_moment_tip(moment: float) -> EllipticTip:
 
 # ---------------------------------------------------------------------------- section 2.1.1/2.1.2
 
+
 def fixed_pinned_from_angle(theta0: float, load_ratio: float = 0.0) -> EllipticTip:
     """Initially straight fixed-pinned segment under P and nP, given theta_0 (explicit).
 
@@ -151,7 +167,7 @@ def fixed_pinned_from_angle(theta0: float, load_ratio: float = 0.0) -> EllipticT
 
 
 @_timed
-@checked(positive=(), finite=('load',))
+@checked(positive=(), finite=("load",))
 def cantilever_tip_load(load: float) -> EllipticTip:
     """Section 2.1.1: straight cantilever, transverse end load P (load = P l^2/EI > 0), n = 0.
 
@@ -161,7 +177,7 @@ def cantilever_tip_load(load: float) -> EllipticTip:
 
 
 @_timed
-@checked(positive=(), finite=('load', 'load_ratio'))
+@checked(positive=(), finite=("load", "load_ratio"))
 def fixed_pinned_tip(load: float, load_ratio: float = 0.0) -> EllipticTip:
     """Section 2.1.2 with P (load = P l^2/EI) and n given: root-find theta_0 in (0, phi).
 
@@ -190,6 +206,7 @@ def fixed_pinned_tip(load: float, load_ratio: float = 0.0) -> EllipticTip:
 
 # ---------------------------------------------------------------------------- section 2.1.3
 
+
 def curved_fixed_pinned_from_angle(theta0: float, load_ratio: float, kappa: float) -> EllipticTip:
     """Initially curved fixed-pinned segment (Howell), given n, theta_0 (absolute) and kappa.
 
@@ -206,7 +223,7 @@ def curved_fixed_pinned_from_angle(theta0: float, load_ratio: float, kappa: floa
     eta = math.hypot(1.0, n)
     s0 = math.sin(theta0) - n * math.cos(theta0)
     lam = kappa + s0
-    if lam <= eta:                                  # case A
+    if lam <= eta:  # case A
         t = math.sqrt((eta + lam) / (2.0 * eta))
         g1 = _asin_sqrt((eta - n) / (eta + lam))
         g2 = _asin_sqrt((eta + s0) / (eta + lam))
@@ -215,11 +232,10 @@ def curved_fixed_pinned_from_angle(theta0: float, load_ratio: float, kappa: floa
         bracket = dF + 2.0 * (_E(g1, t) - _E(g2, t))
         root = math.sqrt(2.0 * eta * (eta + lam)) * (math.cos(g1) - math.cos(g2))
         den = alpha * eta**2.5
-        return EllipticTip((-n * eta * bracket + root) / den, (eta * bracket + n * root) / den,
-                           theta0, alpha, kappa)
+        return EllipticTip((-n * eta * bracket + root) / den, (eta * bracket + n * root) / den, theta0, alpha, kappa)
     if theta0 > math.pi / 2 + math.atan(n):
         return EllipticTip(math.nan, math.nan, theta0, math.nan, kappa)
-    r = math.sqrt(2.0 * eta / (eta + lam))          # case B
+    r = math.sqrt(2.0 * eta / (eta + lam))  # case B
     p1 = _asin_sqrt((eta - n) / (2.0 * eta))
     p2 = _asin_sqrt((eta + s0) / (2.0 * eta))
     dF = _F(p2, r) - _F(p1, r)
@@ -256,13 +272,14 @@ def curved_fixed_pinned_tip(load: float, load_ratio: float, kappa0: float) -> El
     def res(th: float) -> float:
         return curved_fixed_pinned_from_angle(th, n, kappa).alpha - target
 
-    roots = _solve_theta0(res, 1e-9, 2.0 * math.pi - 1e-9, samples=800)   # nan outside the valid cases
+    roots = _solve_theta0(res, 1e-9, 2.0 * math.pi - 1e-9, samples=800)  # nan outside the valid cases
     if not roots:
         raise ValueError("no theta_0 solves the curved fixed-pinned equations for these loads")
     return curved_fixed_pinned_from_angle(min(roots, key=lambda r: abs(r - kappa0)), n, kappa)
 
 
 # ---------------------------------------------------------------------------- section 2.1.4
+
 
 def fixed_guided_inflection_from_angle(theta0: float, load_ratio: float, kappa: float) -> EllipticTip:
     """Straight fixed-fixed segment with one inflection point (Kimball & Tsai), given n, theta_0, kappa.
@@ -327,8 +344,9 @@ def fixed_guided_inflection_tips(load: float, load_ratio: float, opposing_moment
 
 
 @_timed
-def fixed_guided_monotonic_tip(load: float, load_ratio: float, moment: float,
-                               initial_curvature: float = 0.0) -> EllipticTip:
+def fixed_guided_monotonic_tip(
+    load: float, load_ratio: float, moment: float, initial_curvature: float = 0.0
+) -> EllipticTip:
     """Section 2.1.4/2.1.5, monotonic curvature (no inflection): the curved fixed-pinned form.
 
     [bapat2015, eqs 14, 17]: kappa0 = M l/EI + l/R_i, with M the end moment in the same sense as the
@@ -339,9 +357,9 @@ def fixed_guided_monotonic_tip(load: float, load_ratio: float, moment: float,
 
 # ---------------------------------------------------------------------------- sections 2.1.6/2.1.7
 
+
 @_timed
-def slfp_tip(load: float, load_ratio: float, rigid_length: float,
-             initial_curvature: float = 0.0) -> EllipticTip:
+def slfp_tip(load: float, load_ratio: float, rigid_length: float, initial_curvature: float = 0.0) -> EllipticTip:
     """Small-length flexural pivot (flexible l = 1) carrying a rigid segment L = ``rigid_length`` (in l).
 
     [bapat2015, eqs 18-25] (Midha & Kuber): the flexible part is the curved fixed-pinned segment of

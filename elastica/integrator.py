@@ -113,6 +113,7 @@ A singular Jacobian or a failed integration ends it (status codes below).
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import math
@@ -121,12 +122,33 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 from numpy.typing import ArrayLike, NDArray
-from scipy.integrate._ivp import dop853_coefficients as _coef   # the tables scipy's DOP853 uses
+from scipy.integrate._ivp import dop853_coefficients as _coef  # the tables scipy's DOP853 uses
 
-__all__ = ["STATE_SIZE", "FORCE_STATE_SIZE", "BEAM_STATE_SIZE", "BEAM_SENSITIVITY_STATE_SIZE", "ANGLE", "Beam",
-           "Loads", "Tolerances", "UnknownForces", "Structure", "Corrector", "PathControls", "elastica_beam",
-           "elastica_rhs", "beam_rhs", "beam_sensitivity_rhs", "integrate_samples", "integrate_beam",
-           "beam_sensitivities", "beam_samples", "plain_samples", "tip_force", "follow_path"]
+__all__ = [
+    "STATE_SIZE",
+    "FORCE_STATE_SIZE",
+    "BEAM_STATE_SIZE",
+    "BEAM_SENSITIVITY_STATE_SIZE",
+    "ANGLE",
+    "Beam",
+    "Loads",
+    "Tolerances",
+    "UnknownForces",
+    "Structure",
+    "Corrector",
+    "PathControls",
+    "elastica_beam",
+    "elastica_rhs",
+    "beam_rhs",
+    "beam_sensitivity_rhs",
+    "integrate_samples",
+    "integrate_beam",
+    "beam_sensitivities",
+    "beam_samples",
+    "plain_samples",
+    "tip_force",
+    "follow_path",
+]
 
 Vector = NDArray[np.float64]
 Matrix = NDArray[np.float64]
@@ -147,15 +169,16 @@ SAFETY, MIN_FACTOR, MAX_FACTOR, ERROR_EXPONENT = 0.9, 0.2, 10.0, -1.0 / 8.0
 
 # ------------------------------------------------------------------ the argument groups
 
+
 class Beam(NamedTuple):
     """The beam integrated from s = 0: a mechanism beam in physical units, or the elastica
     normalised by L and EI, ``Beam(length=1.0, EI=1.0, EA=0.0, curvature=kappa0 L)`` (``elastica_beam``;
     ``elastica_rhs`` reads only its curvature, ``beam_rhs`` on the elastica's plain state all four)."""
 
-    length: float       # l, the beam's length: the distributed load acts on [s, l] (length)
-    EI: float           # bending stiffness (force length^2)
-    EA: float           # axial stiffness (force); 0: inextensible
-    curvature: float    # kappa0, the initial (stress-free) curvature (1/length)
+    length: float  # l, the beam's length: the distributed load acts on [s, l] (length)
+    EI: float  # bending stiffness (force length^2)
+    EA: float  # axial stiffness (force); 0: inextensible
+    curvature: float  # kappa0, the initial (stress-free) curvature (1/length)
 
 
 class Loads(NamedTuple):
@@ -184,9 +207,9 @@ class UnknownForces(NamedTuple):
 
     mu_k = z[1 + k], nu_j = z[1 + nc + j] and, with a follower force, tau = z[-1] the tip angle."""
 
-    force_dirs: Vector      # f_k (nc, 2) unit vectors: the unknown force of tip condition k
-    moment_dirs: Vector     # g_j (nm, 2) unit vectors: the unknown force of section moment j
-    follower: bool          # a follower force (ft, fn) = (q[3], q[4]) in the tip frame, tau unknown
+    force_dirs: Vector  # f_k (nc, 2) unit vectors: the unknown force of tip condition k
+    moment_dirs: Vector  # g_j (nm, 2) unit vectors: the unknown force of section moment j
+    follower: bool  # a follower force (ft, fn) = (q[3], q[4]) in the tip frame, tau unknown
 
 
 class Structure(NamedTuple):
@@ -194,12 +217,12 @@ class Structure(NamedTuple):
     ``dirs`` (nc, 2) unit vectors, ``bounds`` the piece boundaries [0, s_j..., 1] (arc length / L,
     increasing), ``site_at`` (nm,) the index in ``bounds`` of each prescribed-moment site s_j."""
 
-    beam: Beam                      # the elastica: length = EI = 1, EA = 0, curvature kappa0 L
-    dirs: Vector                    # d_k: end condition d_k . r(1) = c_k
-    forces: UnknownForces           # the unknown forces of the end conditions
-    bounds: Vector                  # integration piece boundaries, 0 and 1 included
-    site_at: NDArray[np.int64]      # bounds[site_at[j]] = s_j
-    angle_given: bool               # the end condition theta(1) = q[ANGLE] replaces m(1) = M
+    beam: Beam  # the elastica: length = EI = 1, EA = 0, curvature kappa0 L
+    dirs: Vector  # d_k: end condition d_k . r(1) = c_k
+    forces: UnknownForces  # the unknown forces of the end conditions
+    bounds: Vector  # integration piece boundaries, 0 and 1 included
+    site_at: NDArray[np.int64]  # bounds[site_at[j]] = s_j
+    angle_given: bool  # the end condition theta(1) = q[ANGLE] replaces m(1) = M
 
 
 class Corrector(NamedTuple):
@@ -208,11 +231,11 @@ class Corrector(NamedTuple):
     (J^-1 r) instead of the one that led to it; at most ``maxiter`` iterations; ``radius``: the
     trust region about the start point (inf: none, the step damped instead)."""
 
-    tol: float          # on the norm of the normalised residual
-    step_tol: float     # on |dz| / (1 + |z|)
+    tol: float  # on the norm of the normalised residual
+    step_tol: float  # on |dz| / (1 + |z|)
     ahead: bool
     maxiter: int
-    radius: float       # on |z - z_start|
+    radius: float  # on |z - z_start|
 
 
 class PathControls(NamedTuple):
@@ -220,19 +243,20 @@ class PathControls(NamedTuple):
     final corrector's integration tolerances and residual tolerance, the path's integration
     tolerances (the corrector of a path point stops at 10 path.rtol), and the step control."""
 
-    final: Tolerances           # DOP853 tolerances of the final corrector
-    tol: float                  # residual tolerance of the final corrector
-    path: Tolerances            # DOP853 tolerances along the path
-    initial_step: float         # first step in the load fraction lambda
-    min_step: float             # smallest step in lambda before the path is declared stalled
-    max_rotation_step: float    # tip rotation a step may make (rad)
-    max_position_step: float    # tip motion a step may make (of L)
-    max_corrector: float        # corrector distance allowed, in predicted changes of z
-    max_step_iterations: int    # Newton iterations a path point may take
-    maxiter: int                # Newton iterations of the final corrector
+    final: Tolerances  # DOP853 tolerances of the final corrector
+    tol: float  # residual tolerance of the final corrector
+    path: Tolerances  # DOP853 tolerances along the path
+    initial_step: float  # first step in the load fraction lambda
+    min_step: float  # smallest step in lambda before the path is declared stalled
+    max_rotation_step: float  # tip rotation a step may make (rad)
+    max_position_step: float  # tip motion a step may make (of L)
+    max_corrector: float  # corrector distance allowed, in predicted changes of z
+    max_step_iterations: int  # Newton iterations a path point may take
+    maxiter: int  # Newton iterations of the final corrector
 
 
 # ------------------------------------------------------------------ the equations and DOP853
+
 
 @njit(cache=True, inline="always", error_model="numpy")
 def elastica_rhs(s: float, Y: Vector, beam: Beam, loads: Loads, out: Vector) -> None:
@@ -259,7 +283,7 @@ def elastica_rhs(s: float, Y: Vector, beam: Beam, loads: Loads, out: Vector) -> 
     out[16] -= c
     if Y.size < STATE_SIZE:
         return
-    for k in range(2):                      # sensitivities to (wx, wy)
+    for k in range(2):  # sensitivities to (wx, wy)
         t_k = Y[21 + k]
         out[17 + k] = -sn * t_k
         out[19 + k] = c * t_k
@@ -299,7 +323,7 @@ def beam_sensitivity_rhs(s: float, Y: Vector, beam: Beam, loads: Loads, out: Vec
     Nt, Q = Nx * c + Ny * sn, Nx * sn - Ny * c
     stretch = 1.0 + (Nt / EA if EA != 0.0 else 0.0)
     compliance = 1.0 / EA if EA != 0.0 else 0.0
-    for j in range(4):                      # p = (theta0, m0, Fx, Fy)
+    for j in range(4):  # p = (theta0, m0, Fx, Fy)
         dth, dm = Y[13 + j], Y[17 + j]
         dNx = 1.0 if j == 2 else 0.0
         dNy = 1.0 if j == 3 else 0.0
@@ -324,8 +348,9 @@ def _rhs(s: float, Y: Vector, beam: Beam, loads: Loads, out: Vector) -> None:
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _first_step(y0: Vector, f: Vector, t0: float, interval: float, beam: Beam, loads: Loads,
-                tolerances: Tolerances) -> float:
+def _first_step(
+    y0: Vector, f: Vector, t0: float, interval: float, beam: Beam, loads: Loads, tolerances: Tolerances
+) -> float:
     """scipy's select_initial_step (order 7); rms norms as plain loops."""
     rtol, atol = tolerances.rtol, tolerances.atol
     n = y0.size
@@ -390,12 +415,13 @@ def _error_norm(K: Matrix, y: Vector, y_new: Vector, h: float, tolerances: Toler
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _dop853(y0: Vector, t0: float, t1: float, beam: Beam, loads: Loads, tolerances: Tolerances,
-            h_start: float) -> tuple[Vector, bool, float]:
+def _dop853(
+    y0: Vector, t0: float, t1: float, beam: Beam, loads: Loads, tolerances: Tolerances, h_start: float
+) -> tuple[Vector, bool, float]:
     """State at t1 from y0 at t0, success, and the step size the controller proposes next.
     ``h_start`` > 0: the first step to try (a previous interval's proposal) instead of scipy's
     initial-step selection."""
-    AB, C = _AB, _C     # global arrays: compile-time constants for numba
+    AB, C = _AB, _C  # global arrays: compile-time constants for numba
     n = y0.size
     K = np.empty((AB.shape[0], n))
     f = np.empty(n)
@@ -425,7 +451,7 @@ def _dop853(y0: Vector, t0: float, t1: float, beam: Beam, loads: Loads, toleranc
             h_abs = abs(h)
             for i in range(n):
                 K[0, i] = f[i]
-            for s in range(1, AB.shape[0]):     # the stages, then (the last row, B) the new state
+            for s in range(1, AB.shape[0]):  # the stages, then (the last row, B) the new state
                 _combine(K, AB[s], s, acc)
                 if s < last:
                     for i in range(n):
@@ -437,12 +463,12 @@ def _dop853(y0: Vector, t0: float, t1: float, beam: Beam, loads: Loads, toleranc
             _rhs(t + h, y_new, beam, loads, K[last])
             error_norm = _error_norm(K, y, y_new, h, tolerances)
             if error_norm < 1.0:
-                factor = MAX_FACTOR if error_norm == 0.0 else min(MAX_FACTOR, SAFETY * error_norm ** ERROR_EXPONENT)
+                factor = MAX_FACTOR if error_norm == 0.0 else min(MAX_FACTOR, SAFETY * error_norm**ERROR_EXPONENT)
                 if rejected:
                     factor = min(1.0, factor)
                 h_abs *= factor
                 break
-            h_abs *= max(MIN_FACTOR, SAFETY * error_norm ** ERROR_EXPONENT)
+            h_abs *= max(MIN_FACTOR, SAFETY * error_norm**ERROR_EXPONENT)
             rejected = True
         t = t_new
         for i in range(n):
@@ -452,8 +478,9 @@ def _dop853(y0: Vector, t0: float, t1: float, beam: Beam, loads: Loads, toleranc
 
 
 @njit(cache=True, error_model="numpy")
-def _samples(y0: Vector, s: Vector, beam: Beam, loads: Loads, tolerances: Tolerances,
-             restart: bool) -> tuple[Matrix, bool]:
+def _samples(
+    y0: Vector, s: Vector, beam: Beam, loads: Loads, tolerances: Tolerances, restart: bool
+) -> tuple[Matrix, bool]:
     """States at the arc lengths s, integrated from sample to sample; each interval starts with the
     step the previous one proposed (the first, and every one when ``restart``, with scipy's
     initial-step selection). The one compiled entry point of the integrator besides the shooting."""
@@ -478,22 +505,48 @@ def elastica_beam(curvature: float) -> Beam:
     return Beam(length=1.0, EI=1.0, EA=0.0, curvature=float(curvature))
 
 
-def integrate_beam(y0: ArrayLike, length: float, Fx: float, Fy: float, k0: float, EI: float, EA: float,
-                   rtol: float, atol: float, wx: float = 0.0, wy: float = 0.0) -> tuple[Vector, bool]:
+def integrate_beam(
+    y0: ArrayLike,
+    length: float,
+    Fx: float,
+    Fy: float,
+    k0: float,
+    EI: float,
+    EA: float,
+    rtol: float,
+    atol: float,
+    wx: float = 0.0,
+    wy: float = 0.0,
+) -> tuple[Vector, bool]:
     """A mechanism beam's state (x, y, theta, m, U) at s = length from y0 at s = 0 (physical units:
     end force (Fx, Fy), initial curvature k0, stiffnesses EI and EA, EA = 0: inextensible, a uniform
     dead load (wx, wy) per unit reference length along the beam), and whether the integration
     succeeded."""
     length = float(length)
-    states, ok = _samples(np.asarray(y0, dtype=float), np.array([0.0, length]),
-                          Beam(length=length, EI=float(EI), EA=float(EA), curvature=float(k0)),
-                          Loads(Fx=float(Fx), Fy=float(Fy), wx=float(wx), wy=float(wy)),
-                          Tolerances(rtol=float(rtol), atol=float(atol)), True)
+    states, ok = _samples(
+        np.asarray(y0, dtype=float),
+        np.array([0.0, length]),
+        Beam(length=length, EI=float(EI), EA=float(EA), curvature=float(k0)),
+        Loads(Fx=float(Fx), Fy=float(Fy), wx=float(wx), wy=float(wy)),
+        Tolerances(rtol=float(rtol), atol=float(atol)),
+        True,
+    )
     return states[-1], ok
 
 
-def beam_sensitivities(y0: ArrayLike, length: float, Fx: float, Fy: float, k0: float, EI: float, EA: float,
-                       rtol: float, atol: float, wx: float = 0.0, wy: float = 0.0) -> tuple[Vector, Matrix, bool]:
+def beam_sensitivities(
+    y0: ArrayLike,
+    length: float,
+    Fx: float,
+    Fy: float,
+    k0: float,
+    EI: float,
+    EA: float,
+    rtol: float,
+    atol: float,
+    wx: float = 0.0,
+    wy: float = 0.0,
+) -> tuple[Vector, Matrix, bool]:
     """A mechanism beam's state (x, y, theta, m, U) at s = length from y0 = (x0, y0, theta0, m0, U0) at
     s = 0, its derivative d(x, y, theta, m)/d(theta0, m0, Fx, Fy) (4, 4) by the variational equations
     (``beam_sensitivity_rhs``), and whether the integration succeeded (the arguments as
@@ -501,52 +554,92 @@ def beam_sensitivities(y0: ArrayLike, length: float, Fx: float, Fy: float, k0: f
     length = float(length)
     y = np.zeros(BEAM_SENSITIVITY_STATE_SIZE)
     y[:BEAM_STATE_SIZE] = np.asarray(y0, dtype=float)
-    y[13] = 1.0                 # d theta(0) / d theta0
-    y[18] = 1.0                 # d m(0) / d m0
-    states, ok = _samples(y, np.array([0.0, length]),
-                          Beam(length=length, EI=float(EI), EA=float(EA), curvature=float(k0)),
-                          Loads(Fx=float(Fx), Fy=float(Fy), wx=float(wx), wy=float(wy)),
-                          Tolerances(rtol=float(rtol), atol=float(atol)), True)
+    y[13] = 1.0  # d theta(0) / d theta0
+    y[18] = 1.0  # d m(0) / d m0
+    states, ok = _samples(
+        y,
+        np.array([0.0, length]),
+        Beam(length=length, EI=float(EI), EA=float(EA), curvature=float(k0)),
+        Loads(Fx=float(Fx), Fy=float(Fy), wx=float(wx), wy=float(wy)),
+        Tolerances(rtol=float(rtol), atol=float(atol)),
+        True,
+    )
     end = states[-1]
     return end[:BEAM_STATE_SIZE], end[BEAM_STATE_SIZE:].reshape(4, 4), ok
 
 
-def integrate_samples(y0: ArrayLike, s: ArrayLike, Fx: float, Fy: float, k0: float, rtol: float, atol: float,
-                      wx: float = 0.0, wy: float = 0.0) -> tuple[Matrix, bool]:
+def integrate_samples(
+    y0: ArrayLike,
+    s: ArrayLike,
+    Fx: float,
+    Fy: float,
+    k0: float,
+    rtol: float,
+    atol: float,
+    wx: float = 0.0,
+    wy: float = 0.0,
+) -> tuple[Matrix, bool]:
     """The elastica states (len(s), len(y0): STATE_SIZE or FORCE_STATE_SIZE) at the increasing arc
     lengths ``s`` (s[0]: the start of y0), integrated from sample to sample, under the tip force
     (Fx, Fy) and distributed load (wx, wy) with initial curvature k0 (normalised), and whether every
     interval succeeded."""
-    return _samples(np.asarray(y0, dtype=float), np.ascontiguousarray(s, dtype=float), elastica_beam(k0),
-                    Loads(Fx=float(Fx), Fy=float(Fy), wx=float(wx), wy=float(wy)),
-                    Tolerances(rtol=float(rtol), atol=float(atol)), False)
+    return _samples(
+        np.asarray(y0, dtype=float),
+        np.ascontiguousarray(s, dtype=float),
+        elastica_beam(k0),
+        Loads(Fx=float(Fx), Fy=float(Fy), wx=float(wx), wy=float(wy)),
+        Tolerances(rtol=float(rtol), atol=float(atol)),
+        False,
+    )
 
 
-def plain_samples(y0: ArrayLike, s: ArrayLike, beam: Beam, loads: Loads, tolerances: Tolerances,
-                  restart: bool = False) -> tuple[Matrix, bool]:
+def plain_samples(
+    y0: ArrayLike, s: ArrayLike, beam: Beam, loads: Loads, tolerances: Tolerances, restart: bool = False
+) -> tuple[Matrix, bool]:
     """The elastica's plain states (x, y, theta, m, U) (normalised: ``beam`` from ``elastica_beam``,
     no sensitivities) at the increasing arc lengths ``s`` from y0 at s[0]; ``restart``: every
     interval starts with scipy's initial-step selection (as the shooting's pieces do). And whether
     every interval succeeded."""
-    return _samples(np.asarray(y0, dtype=float)[:BEAM_STATE_SIZE], np.ascontiguousarray(s, dtype=float),
-                    beam, loads, tolerances, bool(restart))
+    return _samples(
+        np.asarray(y0, dtype=float)[:BEAM_STATE_SIZE],
+        np.ascontiguousarray(s, dtype=float),
+        beam,
+        loads,
+        tolerances,
+        bool(restart),
+    )
 
 
-def beam_samples(y0: ArrayLike, s: ArrayLike, Fx: float, Fy: float, k0: float, EI: float, EA: float,
-                 rtol: float, atol: float, wx: float = 0.0, wy: float = 0.0) -> tuple[Matrix, bool]:
+def beam_samples(
+    y0: ArrayLike,
+    s: ArrayLike,
+    Fx: float,
+    Fy: float,
+    k0: float,
+    EI: float,
+    EA: float,
+    rtol: float,
+    atol: float,
+    wx: float = 0.0,
+    wy: float = 0.0,
+) -> tuple[Matrix, bool]:
     """A mechanism beam's states (len(s), BEAM_STATE_SIZE) at the increasing arc lengths ``s``
     (s[0]: the start of y0), integrated from sample to sample, and whether every interval succeeded
     (the arguments as ``integrate_beam``'s)."""
     arc = np.ascontiguousarray(s, dtype=float)
-    return _samples(np.asarray(y0, dtype=float), arc,
-                    Beam(length=float(arc[-1]), EI=float(EI), EA=float(EA), curvature=float(k0)),
-                    Loads(Fx=float(Fx), Fy=float(Fy), wx=float(wx), wy=float(wy)),
-                    Tolerances(rtol=float(rtol), atol=float(atol)), False)
+    return _samples(
+        np.asarray(y0, dtype=float),
+        arc,
+        Beam(length=float(arc[-1]), EI=float(EI), EA=float(EA), curvature=float(k0)),
+        Loads(Fx=float(Fx), Fy=float(Fy), wx=float(wx), wy=float(wy)),
+        Tolerances(rtol=float(rtol), atol=float(atol)),
+        False,
+    )
 
 
 # ------------------------------------------------------------------ shooting (residual, Newton, path)
 
-ANGLE = -3          # index of the prescribed tip angle in q; the last two are (wx, wy)
+ANGLE = -3  # index of the prescribed tip angle in q; the last two are (wx, wy)
 # newton status: converged, not converged, integration failed at the start point
 CONVERGED, NOT_CONVERGED, NO_START = 0, 1, 2
 
@@ -642,7 +735,7 @@ def _through_force(Y: Vector, dF: Matrix) -> Matrix:
     force depends on them by dF = dF/d(parameters) (2, m)."""
     D = np.zeros((4, dF.shape[1]))
     for i in range(4):
-        sx, sy = Y[5 + 3 * i + 1], Y[5 + 3 * i + 2]      # d(row i)/dFx, d(row i)/dFy
+        sx, sy = Y[5 + 3 * i + 1], Y[5 + 3 * i + 2]  # d(row i)/dFx, d(row i)/dFy
         for j in range(dF.shape[1]):
             D[i, j] = sx * dF[0, j] + sy * dF[1, j]
     return D
@@ -659,16 +752,17 @@ def _unknowns_derivative(Y: Vector, dF: Matrix) -> Matrix:
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _integrate_pieces(z: Vector, F: Vector, q: Vector, structure: Structure, tolerances: Tolerances,
-                      n_state: int) -> tuple[Matrix, bool]:
+def _integrate_pieces(
+    z: Vector, F: Vector, q: Vector, structure: Structure, tolerances: Tolerances, n_state: int
+) -> tuple[Matrix, bool]:
     """The states at the piece boundaries (bounds.size, STATE_SIZE; the first ``n_state`` entries
     integrated, the rest 0) from m(0) = z[0] under the tip force F, and whether all succeeded."""
     bounds = structure.bounds
     y = np.zeros(n_state)
     y[3] = z[0]
-    y[5 + 9] = 1.0              # d m(0) / d m0
+    y[5 + 9] = 1.0  # d m(0) / d m0
     loads = Loads(Fx=F[0], Fy=F[1], wx=q[q.size - 2], wy=q[q.size - 1])
-    restart = bounds.size > 1   # every piece from scipy's first step (a run-time bool, as Python passes it)
+    restart = bounds.size > 1  # every piece from scipy's first step (a run-time bool, as Python passes it)
     pieces, ok = _samples(y, bounds, structure.beam, loads, tolerances, restart)
     states = np.zeros((bounds.size, STATE_SIZE))
     for i in range(bounds.size):
@@ -678,8 +772,9 @@ def _integrate_pieces(z: Vector, F: Vector, q: Vector, structure: Structure, tol
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _residual(z: Vector, q: Vector, structure: Structure, tolerances: Tolerances,
-              n_state: int) -> tuple[Vector, Matrix, Matrix, Vector, bool]:
+def _residual(
+    z: Vector, q: Vector, structure: Structure, tolerances: Tolerances, n_state: int
+) -> tuple[Vector, Matrix, Matrix, Vector, bool]:
     """End-condition residual r (n,), Jacobian dr/dz (n, n), the states at the piece boundaries
     (row 0: s = 0, the last: s = 1) and the tip force F; ok False when the integration failed."""
     dirs, site_at, bounds = structure.dirs, structure.site_at, structure.bounds
@@ -736,7 +831,7 @@ def _load_derivative(z: Vector, states: Matrix, structure: Structure, nq: int) -
         dFdq[0, 4], dFdq[1, 4] = -sn, c
     Y = states[states.shape[0] - 1]
     dYdq = _through_force(Y, dFdq)
-    for i in range(4):                              # the distributed load (wx, wy)
+    for i in range(4):  # the distributed load (wx, wy)
         dYdq[i, nq - 2] += Y[17 + 2 * i]
         dYdq[i, nq - 1] += Y[18 + 2 * i]
     D = np.zeros((n, nq))
@@ -763,8 +858,9 @@ def _load_derivative(z: Vector, states: Matrix, structure: Structure, nq: int) -
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _tangent(z: Vector, q: Vector, J: Matrix, states: Matrix, dq: Vector,
-             structure: Structure) -> tuple[Vector, bool, Vector]:
+def _tangent(
+    z: Vector, q: Vector, J: Matrix, states: Matrix, dq: Vector, structure: Structure
+) -> tuple[Vector, bool, Vector]:
     """dz/dlambda along q(lambda) with dq/dlambda = dq, from the Jacobian J and the states of the
     residual at z; False when J is singular; and the tip's rate d(x, y, theta)(1)/dlambda =
     (dY/dz) dz/dlambda + (dY/dq) dq (normalised)."""
@@ -778,8 +874,7 @@ def _tangent(z: Vector, q: Vector, J: Matrix, states: Matrix, dq: Vector,
 
 
 @njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
-def _tip_rate(z: Vector, q: Vector, Y: Vector, dz: Vector, dYdq: Matrix, dq: Vector,
-              structure: Structure) -> Vector:
+def _tip_rate(z: Vector, q: Vector, Y: Vector, dz: Vector, dYdq: Matrix, dq: Vector, structure: Structure) -> Vector:
     """d(x, y, theta)(1)/dlambda = (dY/dz) dz/dlambda + (dY/dq) dq at the tip state Y."""
     _, dF = tip_force(z, q, structure.forces)
     dYdz = _unknowns_derivative(Y, dF)
@@ -803,8 +898,9 @@ def _trial(z: Vector, t: float, dz: Vector, center: Vector, radius: float) -> tu
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _newton(z: Vector, q: Vector, corrector: Corrector, structure: Structure, tolerances: Tolerances,
-            n_state: int) -> tuple[Vector, int, int, float, Matrix, Matrix, Vector]:
+def _newton(
+    z: Vector, q: Vector, corrector: Corrector, structure: Structure, tolerances: Tolerances, n_state: int
+) -> tuple[Vector, int, int, float, Matrix, Matrix, Vector]:
     """Damped Newton on the end conditions (module docstring) under the controls ``corrector``,
     integrating the first ``n_state`` state entries at ``tolerances``. Converged: |r| < 1e-3 tol, or
     |r| < tol and a step below ``step_tol`` (1 + |z|): the step that led to z, or with ``ahead`` the
@@ -835,11 +931,11 @@ def _newton(z: Vector, q: Vector, corrector: Corrector, structure: Structure, to
             z, r, J, states, F, norm = z_try, r_new, J_new, states_new, F_new, _norm(r_new)
             if (norm < tol and t * _norm(dz) < step_tol * (1.0 + _norm(z))) or norm < 1e-3 * tol:
                 return z, CONVERGED, it, norm, J, states, F
-        elif radius < math.inf:     # a path corrector that needs damping: the step is too long
+        elif radius < math.inf:  # a path corrector that needs damping: the step is too long
             return z, NOT_CONVERGED, it, norm, J, states, F
         else:
             z_try, t = _trial(z, 0.5 * t, dz, center, radius)
-            if t < 1e-3:        # no descent left: converged only if already at the noise floor
+            if t < 1e-3:  # no descent left: converged only if already at the noise floor
                 return z, CONVERGED if norm < tol else NOT_CONVERGED, it, norm, J, states, F
             continue
         minus_r = np.empty(r.size)
@@ -852,21 +948,24 @@ def _newton(z: Vector, q: Vector, corrector: Corrector, structure: Structure, to
         if it > maxiter or not regular:
             return z, NOT_CONVERGED, min(it, maxiter), norm, J, states, F
         z_try, t = _trial(z, 1.0, dz, center, radius)
-        if t < 1e-3:            # every descent step leaves the trust region
+        if t < 1e-3:  # every descent step leaves the trust region
             return z, NOT_CONVERGED, it, norm, J, states, F
 
 
 @njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
-def _step_cap(rate: Vector, rate_prev: Vector, dlam: float, max_rotation_step: float,
-              max_position_step: float) -> float:
+def _step_cap(
+    rate: Vector, rate_prev: Vector, dlam: float, max_rotation_step: float, max_position_step: float
+) -> float:
     """The longest step whose predicted tip motion stays within both limits: the tip's rate and,
     when ``dlam`` > 0, its change (rate - rate_prev)/dlam since the previous point."""
     accel = np.zeros(3)
     if dlam > 0.0:
         for i in range(3):
             accel[i] = (rate[i] - rate_prev[i]) / dlam
-    return min(_reach(abs(rate[2]), abs(accel[2]), max_rotation_step),
-               _reach(math.hypot(rate[0], rate[1]), math.hypot(accel[0], accel[1]), max_position_step))
+    return min(
+        _reach(abs(rate[2]), abs(accel[2]), max_rotation_step),
+        _reach(math.hypot(rate[0], rate[1]), math.hypot(accel[0], accel[1]), max_position_step),
+    )
 
 
 @njit(cache=True, error_model="numpy")
@@ -884,8 +983,9 @@ PATH_CONVERGED, PATH_STALLED, PATH_NO_START, PATH_FINAL_FAILED = 0, 1, 2, 3
 
 
 @njit(cache=True, error_model="numpy")
-def follow_path(z: Vector, q0: Vector, q1: Vector, structure: Structure,
-                controls: PathControls) -> tuple[Vector, int, float, int, int, float, Matrix, Vector]:
+def follow_path(
+    z: Vector, q0: Vector, q1: Vector, structure: Structure, controls: PathControls
+) -> tuple[Vector, int, float, int, int, float, Matrix, Vector]:
     """Continuation from (z, q0) to q1 (``shooting`` module docstring): tangent predictor (from the
     Jacobian of the last accepted point), Newton corrector at the path tolerances with the step
     rejections, then the final corrector at the final ones. One Newton call site (the start point is
@@ -909,7 +1009,7 @@ def follow_path(z: Vector, q0: Vector, q1: Vector, structure: Structure,
         tolerances = controls.path
         if not started:
             q, z_guess, ntol, nmax = q0, z, 0.0, 0
-        elif final:       # final corrector at full accuracy
+        elif final:  # final corrector at full accuracy
             q, z_guess, ntol, nmax = _axpy(q0, lam, dq), z, controls.tol, controls.maxiter
             tolerances = controls.final
         else:
@@ -919,11 +1019,10 @@ def follow_path(z: Vector, q0: Vector, q1: Vector, structure: Structure,
             # a step whose corrector needs more than max_step_iterations is rejected: stop there
             z_guess, ntol = _axpy(z, 1.0, step), 10 * controls.path.rtol
             nmax = min(controls.maxiter, max_step_iterations)
-            if regular:     # the corrector may move z this far from the predictor (the step test below)
-                bend = curvature * (lam_try - lam) ** 2         # twice the predictor's expected miss
+            if regular:  # the corrector may move z this far from the predictor (the step test below)
+                bend = curvature * (lam_try - lam) ** 2  # twice the predictor's expected miss
                 radius = controls.max_corrector * _norm(step) + bend + 1e-6 * (1.0 + _norm(z))
-        corrector = Corrector(tol=ntol, step_tol=1e-9 if final else ntol, ahead=not final, maxiter=nmax,
-                              radius=radius)
+        corrector = Corrector(tol=ntol, step_tol=1e-9 if final else ntol, ahead=not final, maxiter=nmax, radius=radius)
         z_new, nstat, it, norm, J, states, F = _newton(z_guess, q, corrector, structure, tolerances, n_state)
         new_tip = states[last, :3]
         ok = nstat == CONVERGED
@@ -939,24 +1038,31 @@ def follow_path(z: Vector, q0: Vector, q1: Vector, structure: Structure,
                 return z, PATH_FINAL_FAILED, lam, nit, nsteps, norm, states, F
             if ok:
                 moved = math.hypot(new_tip[0] - tip[0], new_tip[1] - tip[1])
-                ok = (it <= max_step_iterations and abs(new_tip[2] - tip[2]) <= max_rotation_step
-                      and moved <= max_position_step and _distance(z_new, z_guess) <= radius)
+                ok = (
+                    it <= max_step_iterations
+                    and abs(new_tip[2] - tip[2]) <= max_rotation_step
+                    and moved <= max_position_step
+                    and _distance(z_new, z_guess) <= radius
+                )
             if ok:
                 z, lam_prev, lam = z_new, lam, lam_try
                 nsteps += 1
                 if it <= 3:
                     dlam = min(2.0 * dlam, 1.0)
-        if ok:                  # the tangent at the new point, and the path's curvature |z''| since the last
+        if ok:  # the tangent at the new point, and the path's curvature |z''| since the last
             dz_prev, was_regular = dz, regular
             rate_prev = rate
             dz, regular, rate = _tangent(z, _axpy(q0, lam, dq), J, states, dq, structure)
-            secant = nsteps > 0 and regular and was_regular   # the last two points give z'' and the tip's
+            secant = nsteps > 0 and regular and was_regular  # the last two points give z'' and the tip's
             if secant:
                 curvature = _norm(_axpy(dz, -1.0, dz_prev)) / (lam - lam_prev)
-            reach = _step_cap(rate, rate_prev, lam - lam_prev if secant else 0.0, max_rotation_step,
-                              max_position_step) if regular else math.inf
+            reach = (
+                _step_cap(rate, rate_prev, lam - lam_prev if secant else 0.0, max_rotation_step, max_position_step)
+                if regular
+                else math.inf
+            )
             tip = new_tip.copy()
-        else:                   # halve the step tried (dlam itself may reach past lambda = 1)
+        else:  # halve the step tried (dlam itself may reach past lambda = 1)
             dlam = 0.5 * (lam_try - lam)
             if dlam < controls.min_step:
                 return z, PATH_STALLED, lam, nit, nsteps, norm, states, F

@@ -43,6 +43,7 @@ does not converge and doubling it (up to a level) after one that does; a level i
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import math
@@ -55,16 +56,29 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from planar import (GROUND, Couple, DistributedLoad, Force, Pin, PointedForce, PrescribedDisplacement,
-                    PrescribedRotation)
+from planar import GROUND, Couple, DistributedLoad, Force, Pin, PointedForce, PrescribedDisplacement, PrescribedRotation
 
 from .integrator import beam_samples, beam_sensitivities, integrate_beam
 
-__all__ = ["ElasticBeam", "RigidBody", "Pin", "Force", "PointedForce", "DistributedLoad", "Couple", "EndCouple", "PrescribedRotation", "PrescribedDisplacement",
-           "Mechanism", "MechanismSolution", "solve_mechanism", "GROUND"]
+__all__ = [
+    "ElasticBeam",
+    "RigidBody",
+    "Pin",
+    "Force",
+    "PointedForce",
+    "DistributedLoad",
+    "Couple",
+    "EndCouple",
+    "PrescribedRotation",
+    "PrescribedDisplacement",
+    "Mechanism",
+    "MechanismSolution",
+    "solve_mechanism",
+    "GROUND",
+]
 
-_KEY = struct.Struct("8d")    # a beam's inputs (start state, force, load along it) as bytes: the key of its end states
-_ENDS_KEPT = 4                # end states kept per beam
+_KEY = struct.Struct("8d")  # a beam's inputs (start state, force, load along it) as bytes: the key of its end states
+_ENDS_KEPT = 4  # end states kept per beam
 # the largest turn of a beam end or a body in one load step (rad): a step that turns more is taken for a
 # jump to another equilibrium (Newton from far away can land on a looped or inverted one) and halved
 MAX_TURN_PER_STEP = 0.5
@@ -105,9 +119,9 @@ class EndCouple:
 
 
 _Load = Force | PointedForce | DistributedLoad | Couple | EndCouple | PrescribedRotation | PrescribedDisplacement
-_Place = tuple[int, float, float, float, float]   # a point of a body: pose index, origin, arm (`_System._place_of`)
-_Vector = Callable[[NDArray[np.float64]], NDArray[np.float64]]   # the scaled residual of the unknowns
-_Matrix = Callable[[NDArray[np.float64]], NDArray[np.float64]]   # its Jacobian (``_System.jacobian``, scaled)
+_Place = tuple[int, float, float, float, float]  # a point of a body: pose index, origin, arm (`_System._place_of`)
+_Vector = Callable[[NDArray[np.float64]], NDArray[np.float64]]  # the scaled residual of the unknowns
+_Matrix = Callable[[NDArray[np.float64]], NDArray[np.float64]]  # its Jacobian (``_System.jacobian``, scaled)
 # a derivative with respect to the unknowns as its nonzero terms (index of the unknown, value); an index
 # may repeat (the terms add)
 _Terms = list[tuple[int, float]]
@@ -131,7 +145,10 @@ class Mechanism:
                 self.body_of.setdefault(nd, rigid.name)
         names = {b.name for b in self.bodies} | {GROUND}
         for beam in self.beams:
-            for nd, body, kind in ((beam.start, beam.start_body, beam.start_kind), (beam.end, beam.end_body, beam.end_kind)):
+            for nd, body, kind in (
+                (beam.start, beam.start_body, beam.start_kind),
+                (beam.end, beam.end_body, beam.end_kind),
+            ):
                 if nd not in self.nodes:
                     raise ValueError(f"beam '{beam.name}' names unknown node '{nd}'")
                 if kind not in ("clamped", "pinned", "free"):
@@ -152,7 +169,7 @@ class MechanismSolution:
     message: str
     positions: list[dict[str, NDArray[np.float64]]]
     rotations: list[dict[str, float]]
-    driver_loads: list[list[float]]       # per level: the load each prescribed motion needs, in order
+    driver_loads: list[list[float]]  # per level: the load each prescribed motion needs, in order
     strain_energy: list[float]
     beam_shapes: list[dict[str, NDArray[np.float64]]]
     wall_time: float
@@ -165,17 +182,24 @@ class MechanismSolution:
 class _LevelLoads(NamedTuple):
     """One level's loads as the residual reads them (`_LoadPath`), in plain floats."""
 
-    forces: dict[str, tuple[float, float]]      # node -> (Fx, Fy), the forces at a node summed
-    couples: dict[tuple[str, str], float]       # ("body", body) or ("node", node) -> couple
-    rotations: list[float]                      # per prescribed rotation
-    displacements: list[float]                  # per prescribed displacement
+    forces: dict[str, tuple[float, float]]  # node -> (Fx, Fy), the forces at a node summed
+    couples: dict[tuple[str, str], float]  # ("body", body) or ("node", node) -> couple
+    rotations: list[float]  # per prescribed rotation
+    displacements: list[float]  # per prescribed displacement
 
 
 class _System:
     """Unknown layout, residual and integration of one mechanism under the loads of one level."""
 
-    def __init__(self, mech: Mechanism, forces: list[Force], couples: list[Couple | EndCouple],
-                 rotations: list[PrescribedRotation], displacements: list[PrescribedDisplacement], rtol: float):
+    def __init__(
+        self,
+        mech: Mechanism,
+        forces: list[Force],
+        couples: list[Couple | EndCouple],
+        rotations: list[PrescribedRotation],
+        displacements: list[PrescribedDisplacement],
+        rtol: float,
+    ):
         self.m = mech
         self.forces, self.couples, self.rotations, self.displacements = forces, couples, rotations, displacements
         # beam -> its uniform load (wx, wy) per unit length at the load parameter being solved (`_LoadPath`)
@@ -191,7 +215,7 @@ class _System:
         self.i_rot = self.i_pin + 2 * npin
         self.i_disp = self.i_rot + len(rotations)
         self.size = self.i_disp + len(displacements)
-        self.tangent0: dict[str, tuple[float, float, float]] = {}   # beam -> (start angle, end angle, arc length)
+        self.tangent0: dict[str, tuple[float, float, float]] = {}  # beam -> (start angle, end angle, arc length)
         for beam in mech.beams:
             A, B = (np.asarray(mech.nodes[n], float) for n in (beam.start, beam.end))
             chord = B - A
@@ -211,8 +235,9 @@ class _System:
         # (pose index -1) its reference position; on a body its pose index, the body's origin and its
         # arm p0 - origin
         p0 = {name: np.asarray(xy, float) for name, xy in mech.nodes.items()}
-        self._place: dict[tuple[str, str], _Place] = {(GROUND, nd): (-1, float(xy[0]), float(xy[1]), 0.0, 0.0)
-                                                      for nd, xy in p0.items()}
+        self._place: dict[tuple[str, str], _Place] = {
+            (GROUND, nd): (-1, float(xy[0]), float(xy[1]), 0.0, 0.0) for nd, xy in p0.items()
+        }
         for b in mech.bodies:
             o = mech.origin[b.name]
             for nd, xy in p0.items():
@@ -220,8 +245,10 @@ class _System:
                 self._place[(b.name, nd)] = (self.pose_at[b.name], float(o[0]), float(o[1]), float(r[0]), float(r[1]))
         # each pin's place on its two bodies, from its position in the unloaded pose
         self._pin_place = [(self._place_of(pin.a, pin.at), self._place_of(pin.b, pin.at)) for pin in mech.pins]
-        self._origin = {b.name: (self.pose_at[b.name], float(mech.origin[b.name][0]), float(mech.origin[b.name][1]))
-                        for b in mech.bodies}
+        self._origin = {
+            b.name: (self.pose_at[b.name], float(mech.origin[b.name][0]), float(mech.origin[b.name][1]))
+            for b in mech.bodies
+        }
         self._atol = {beam.name: self.rtol * 1e-3 * max(self.tangent0[beam.name][2], 1.0) for beam in mech.beams}
 
     # poses
@@ -229,7 +256,7 @@ class _System:
         if body == GROUND:
             return np.zeros(2), 0.0
         i = self.pose_at[body]
-        return u[i:i + 2], u[i + 2]
+        return u[i : i + 2], u[i + 2]
 
     def _phi(self, ul: list[float], body: str) -> float:
         """The rotation of ``body`` (0 for the ground) from the unknowns as a list of floats."""
@@ -272,8 +299,9 @@ class _System:
             return x, y, angle0 + phi, a, Fx, Fy
         return x, y, angle0 + a, 0.0, Fx, Fy
 
-    def integrate(self, beam: ElasticBeam, u: NDArray[np.float64], ul: list[float] | None = None
-                  ) -> NDArray[np.float64]:
+    def integrate(
+        self, beam: ElasticBeam, u: NDArray[np.float64], ul: list[float] | None = None
+    ) -> NDArray[np.float64]:
         """End state (x, y, theta, m, U) of a beam from its start under the unknowns u (the compiled
         DOP853 of ``elastica.integrator``); ``ul``: u as a list of floats, when the caller has it."""
         x, y, theta0, m0, Fx, Fy = self._start(beam, u.tolist() if ul is None else ul)
@@ -281,29 +309,42 @@ class _System:
         key = _KEY.pack(x, y, theta0, m0, Fx, Fy, wx, wy)
         ends = self._ends.setdefault(beam.name, {})
         known = ends.get(key)
-        if known is not None:   # the same inputs again (the loads, the residual, the Jacobian and the turn
-            return known        # check at one point; a state that moved only other beams' unknowns)
+        if known is not None:  # the same inputs again (the loads, the residual, the Jacobian and the turn
+            return known  # check at one point; a state that moved only other beams' unknowns)
         end = self._integrate_from(beam, x, y, theta0, m0, Fx, Fy)
         end.flags.writeable = False
         if len(ends) >= _ENDS_KEPT:
-            del ends[next(iter(ends))]      # the oldest
+            del ends[next(iter(ends))]  # the oldest
         ends[key] = end
         return end
 
-    def _integrate_from(self, beam: ElasticBeam, x: float, y: float, theta0: float, m0: float, Fx: float,
-                        Fy: float) -> NDArray[np.float64]:
+    def _integrate_from(
+        self, beam: ElasticBeam, x: float, y: float, theta0: float, m0: float, Fx: float, Fy: float
+    ) -> NDArray[np.float64]:
         """End state (x, y, theta, m, U) of a beam from the start state (x, y, theta0, m0) under the force
         (Fx, Fy) at its end and its load along it (``along``), not kept."""
         wx, wy = self.along.get(beam.name, (0.0, 0.0))
         end: NDArray[np.float64]
-        end, ok = integrate_beam([x, y, theta0, m0, 0.0], self.tangent0[beam.name][2], Fx, Fy, beam.curvature,
-                                 beam.EI, beam.EA or 0.0, self.rtol, self._atol[beam.name], wx, wy)
+        end, ok = integrate_beam(
+            [x, y, theta0, m0, 0.0],
+            self.tangent0[beam.name][2],
+            Fx,
+            Fy,
+            beam.curvature,
+            beam.EI,
+            beam.EA or 0.0,
+            self.rtol,
+            self._atol[beam.name],
+            wx,
+            wy,
+        )
         if not ok:
             raise RuntimeError(f"beam '{beam.name}': integration failed (step below the rounding of s)")
         return end
 
-    def end_derivative(self, beam: ElasticBeam, u: NDArray[np.float64], ul: list[float]
-                       ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    def end_derivative(
+        self, beam: ElasticBeam, u: NDArray[np.float64], ul: list[float]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """A beam's end state under the unknowns u (``ul``: u as a list of floats) and its derivative
         D = d(x, y, theta, m)(L) / d(theta0, m0, Fx, Fy) (4, 4) with respect to its own start inputs (the
         start position enters by translation alone: d(x, y)(L)/d(x0, y0) = I, d(theta, m)(L)/d(x0, y0) = 0),
@@ -315,8 +356,19 @@ class _System:
         wx, wy = self.along.get(beam.name, (0.0, 0.0))
         arc = self.tangent0[beam.name][2]
         D: NDArray[np.float64]
-        _, D, ok = beam_sensitivities([x, y, theta0, m0, 0.0], arc, Fx, Fy, beam.curvature, beam.EI,
-                                      beam.EA or 0.0, JACOBIAN_RTOL, JACOBIAN_RTOL * 1e-3 * max(arc, 1.0), wx, wy)
+        _, D, ok = beam_sensitivities(
+            [x, y, theta0, m0, 0.0],
+            arc,
+            Fx,
+            Fy,
+            beam.curvature,
+            beam.EI,
+            beam.EA or 0.0,
+            JACOBIAN_RTOL,
+            JACOBIAN_RTOL * 1e-3 * max(arc, 1.0),
+            wx,
+            wy,
+        )
         if not ok:
             raise RuntimeError(f"beam '{beam.name}': integration failed (step below the rounding of s)")
         return end, D
@@ -326,9 +378,18 @@ class _System:
         x, y, theta0, m0, Fx, Fy = self._start(beam, u.tolist())
         s = np.linspace(0.0, self.tangent0[beam.name][2], n)
         states: NDArray[np.float64]
-        states, ok = beam_samples(np.array([x, y, theta0, m0, 0.0]), s, Fx, Fy, beam.curvature, beam.EI,
-                                  beam.EA or 0.0, self.rtol, self._atol[beam.name],
-                                  *self.along.get(beam.name, (0.0, 0.0)))
+        states, ok = beam_samples(
+            np.array([x, y, theta0, m0, 0.0]),
+            s,
+            Fx,
+            Fy,
+            beam.curvature,
+            beam.EI,
+            beam.EA or 0.0,
+            self.rtol,
+            self._atol[beam.name],
+            *self.along.get(beam.name, (0.0, 0.0)),
+        )
         if not ok:
             raise RuntimeError(f"beam '{beam.name}': integration failed (step below the rounding of s)")
         return states[:, :2]
@@ -339,7 +400,7 @@ class _System:
         m = self.m
         ul = u.tolist()
         r = [0.0] * self.size
-        wrench = {b.name: [0.0, 0.0, 0.0] for b in m.bodies}   # (Fx, Fy, M about the body's current origin)
+        wrench = {b.name: [0.0, 0.0, 0.0] for b in m.bodies}  # (Fx, Fy, M about the body's current origin)
         origin = self._origin
 
         def add(body: str | None, F0: float, F1: float, M: float, at0: float, at1: float) -> None:
@@ -362,7 +423,7 @@ class _System:
             start_m = ul[3 * i + 2] if beam.start_kind == "clamped" else 0.0
             assert beam.start_body is not None  # a beam's start is held (`Mechanism` checks it)
             wx, wy = self.along.get(beam.name, (0.0, 0.0))
-            arc = self.tangent0[beam.name][2]   # the force at the start: the end's plus the load along the beam
+            arc = self.tangent0[beam.name][2]  # the force at the start: the end's plus the load along the beam
             add(beam.start_body, F0 + wx * arc, F1 + wy * arc, start_m, *self._xy(ul, beam.start_body, beam.start))
             if beam.end_kind == "clamped":
                 assert beam.end_body is not None  # a clamped end is held (`Mechanism` checks it)
@@ -402,11 +463,17 @@ class _System:
         self._motion_rows(ul, r, add, rot_values, disp_values)
         for rigid in m.bodies:
             i = self.i_body + 3 * m.index[rigid.name]
-            r[i:i + 3] = wrench[rigid.name]
+            r[i : i + 3] = wrench[rigid.name]
         return np.array(r)
 
-    def _motion_rows(self, ul: list[float], r: list[float], add: Callable[..., None], rot_values: list[float],
-                     disp_values: list[float]) -> None:
+    def _motion_rows(
+        self,
+        ul: list[float],
+        r: list[float],
+        add: Callable[..., None],
+        rot_values: list[float],
+        disp_values: list[float],
+    ) -> None:
         """The prescribed motions' rows of ``residual`` (r) and the loads they need, on their bodies (add)."""
         for j, (rot, value) in enumerate(zip(self.rotations, rot_values)):
             M = ul[self.i_rot + j]
@@ -421,8 +488,9 @@ class _System:
             r[self.i_disp + j] = p[axis] - self.m.nodes[disp.point][axis] - value
             add(body, P if axis == 0 else 0.0, P if axis == 1 else 0.0, 0.0, *p)
 
-    def jacobian(self, u: NDArray[np.float64], level_loads: _LevelLoads, force_rates: dict[str, list[float]]
-                 ) -> NDArray[np.float64]:
+    def jacobian(
+        self, u: NDArray[np.float64], level_loads: _LevelLoads, force_rates: dict[str, list[float]]
+    ) -> NDArray[np.float64]:
         """dr/du, the derivative of ``residual`` at the unknowns u under one level's loads, row for row.
 
         Each beam's end state e = (x, y, theta, m)(L) depends on u only through its start inputs
@@ -458,8 +526,9 @@ class _JacobianRows:
     """dr/du of one mechanism at the unknowns u, assembled row for row as ``_System.residual`` builds r
     (``_System.jacobian`` gives the chain rule); a derivative is a list of (column, value) terms."""
 
-    def __init__(self, system: _System, u: NDArray[np.float64], level_loads: _LevelLoads,
-                 force_rates: dict[str, list[float]]):
+    def __init__(
+        self, system: _System, u: NDArray[np.float64], level_loads: _LevelLoads, force_rates: dict[str, list[float]]
+    ):
         self.s, self.m, self.u, self.ul = system, system.m, u, u.tolist()
         self.forces, self.force_rates = level_loads.forces, force_rates
         self.J = [[0.0] * system.size for _ in range(system.size)]
@@ -476,12 +545,23 @@ class _JacobianRows:
         for col, value in terms:
             Jr[col] += factor * value
 
-    def add(self, body: str | None, F0: float, F1: float, at0: float, at1: float, dF0: _Terms, dF1: _Terms,
-            dM: _Terms, dat0: _Terms, dat1: _Terms) -> None:
+    def add(
+        self,
+        body: str | None,
+        F0: float,
+        F1: float,
+        at0: float,
+        at1: float,
+        dF0: _Terms,
+        dF1: _Terms,
+        dM: _Terms,
+        dat0: _Terms,
+        dat1: _Terms,
+    ) -> None:
         """The derivative of ``residual``'s add(body, F0, F1, M, at0, at1): (dF0, dF1, dM, d at)."""
         if body == GROUND or body is None:
             return
-        i, o0, o1 = self.s._origin[body]    # the body's pose, and its balance's rows, start at index i
+        i, o0, o1 = self.s._origin[body]  # the body's pose, and its balance's rows, start at index i
         lever_x, lever_y = at0 - (o0 + self.ul[i]), at1 - (o1 + self.ul[i + 1])
         self.put(i, dF0)
         self.put(i + 1, dF1)
@@ -505,8 +585,9 @@ class _JacobianRows:
         assert beam.start_body is not None  # a beam's start is held (`Mechanism` checks it)
         end_state, D = self.s.end_derivative(beam, self.u, self.ul)
         dx0, dy0 = self.place_rate(beam.start_body, beam.start)
-        inputs = ([self.turn(beam.start_body), [(k + 2, 1.0)]] if beam.start_kind == "clamped"
-                  else [[(k + 2, 1.0)], []]) + [[(k, 1.0)], [(k + 1, 1.0)]]   # theta0, m0, Fx, Fy
+        inputs = (
+            [self.turn(beam.start_body), [(k + 2, 1.0)]] if beam.start_kind == "clamped" else [[(k + 2, 1.0)], []]
+        ) + [[(k, 1.0)], [(k + 1, 1.0)]]  # theta0, m0, Fx, Fy
         rates: list[_Terms] = [list(dx0), list(dy0), [], []]
         for row in range(4):
             for col, terms in enumerate(inputs):
@@ -546,9 +627,16 @@ class _JacobianRows:
             wx, wy = self.s.along.get(beam.name, (0.0, 0.0))
             arc = self.s.tangent0[beam.name][2]
             assert beam.start_body is not None  # a beam's start is held (`Mechanism` checks it)
-            self.add(beam.start_body, F0 + wx * arc, F1 + wy * arc, *self.s._xy(ul, beam.start_body, beam.start),
-                     [(k, 1.0)], [(k + 1, 1.0)], [(k + 2, 1.0)] if beam.start_kind == "clamped" else [],
-                     *self.start_rates[i])
+            self.add(
+                beam.start_body,
+                F0 + wx * arc,
+                F1 + wy * arc,
+                *self.s._xy(ul, beam.start_body, beam.start),
+                [(k, 1.0)],
+                [(k + 1, 1.0)],
+                [(k + 2, 1.0)] if beam.start_kind == "clamped" else [],
+                *self.start_rates[i],
+            )
             if beam.end_kind in ("clamped", "pinned"):
                 assert beam.end_body is not None  # a held end is on a body (`Mechanism` checks it)
                 tx, ty = self.place_rate(beam.end_body, beam.end)
@@ -559,8 +647,18 @@ class _JacobianRows:
                 if beam.end_kind == "clamped":
                     self.put(k + 2, de_theta)
                     self.put(k + 2, self.turn(beam.end_body), -1.0)
-                    self.add(beam.end_body, -F0, -F1, end[0], end[1], [(k, -1.0)], [(k + 1, -1.0)],
-                             [(c, -v) for c, v in de_m], de_x, de_y)
+                    self.add(
+                        beam.end_body,
+                        -F0,
+                        -F1,
+                        end[0],
+                        end[1],
+                        [(k, -1.0)],
+                        [(k + 1, -1.0)],
+                        [(c, -v) for c, v in de_m],
+                        de_x,
+                        de_y,
+                    )
                 else:
                     self.put(k + 2, de_m)
                     self.add(beam.end_body, -F0, -F1, end[0], end[1], [(k, -1.0)], [(k + 1, -1.0)], [], de_x, de_y)
@@ -582,8 +680,15 @@ class _JacobianRows:
             body = self.m.body_of.get(node)
             if body is None:
                 raise ValueError(f"a force at node '{node}', which is on no rigid body and at no free beam end")
-            self.add(body, float(F[0]), float(F[1]), *self.s._xy(self.ul, body, node), *self.load_rate(node), [],
-                     *self.place_rate(body, node))
+            self.add(
+                body,
+                float(F[0]),
+                float(F[1]),
+                *self.s._xy(self.ul, body, node),
+                *self.load_rate(node),
+                [],
+                *self.place_rate(body, node),
+            )
 
     def pins(self) -> None:
         """Each pin's coincidence rows and its force on both bodies."""
@@ -598,8 +703,7 @@ class _JacobianRows:
             self.put(k + 1, da_y)
             self.put(k + 1, db_y, -1.0)
             self.add(pin.a, ul[k], ul[k + 1], *self.s._at(ul, place_a), [(k, 1.0)], [(k + 1, 1.0)], [], da_x, da_y)
-            self.add(pin.b, -ul[k], -ul[k + 1], *self.s._at(ul, place_b), [(k, -1.0)], [(k + 1, -1.0)], [], db_x,
-                     db_y)
+            self.add(pin.b, -ul[k], -ul[k + 1], *self.s._at(ul, place_b), [(k, -1.0)], [(k + 1, -1.0)], [], db_x, db_y)
 
     def prescribed_motions(self) -> None:
         """The prescribed rotations' and displacements' rows and the loads they need on their bodies."""
@@ -613,8 +717,17 @@ class _JacobianRows:
             dp_x, dp_y = self.place_rate(body, disp.point)
             self.put(k, dp_x if disp.axis == "x" else dp_y)
             along_x = disp.axis == "x"
-            self.add(body, ul[k] if along_x else 0.0, 0.0 if along_x else ul[k], *self.s._xy(ul, body, disp.point),
-                     [(k, 1.0)] if along_x else [], [] if along_x else [(k, 1.0)], [], dp_x, dp_y)
+            self.add(
+                body,
+                ul[k] if along_x else 0.0,
+                0.0 if along_x else ul[k],
+                *self.s._xy(ul, body, disp.point),
+                [(k, 1.0)] if along_x else [],
+                [] if along_x else [(k, 1.0)],
+                [],
+                dp_x,
+                dp_y,
+            )
 
 
 @dataclass
@@ -644,8 +757,8 @@ class _LoadPath:
         for dl in self.distributed:
             a = along.get(dl.beam, (0.0, 0.0))
             along[dl.beam] = (a[0] + float(self.value(dl.wx, t)), a[1] + float(self.value(dl.wy, t)))
-        self.system.along = along      # the beams' integrations below and in the residual read it
-        F: dict[str, tuple[float, float]] = {}     # node -> (Fx, Fy) in plain floats, the forces at a node summed in order
+        self.system.along = along  # the beams' integrations below and in the residual read it
+        F: dict[str, tuple[float, float]] = {}  # node -> (Fx, Fy) in plain floats, the forces at a node summed in order
         for f in self.forces:
             fx, fy = float(self.value(f.fx, t)), float(self.value(f.fy, t))
             if f.follower:
@@ -670,8 +783,12 @@ class _LoadPath:
         for cp in self.couples:
             key = ("body", cp.body) if isinstance(cp, Couple) else ("node", cp.point)
             C[key] = C.get(key, 0.0) + self.value(cp.m, t)
-        return _LevelLoads(F, C, [self.value(r.values, t) for r in self.rotations],
-                           [self.value(d.values, t) for d in self.displacements])
+        return _LevelLoads(
+            F,
+            C,
+            [self.value(r.values, t) for r in self.rotations],
+            [self.value(d.values, t) for d in self.displacements],
+        )
 
     def force_rates(self, t: float, u: NDArray[np.float64]) -> dict[str, list[float]]:
         """The derivatives of the forces at the nodes (``__call__``) that depend on the unknowns, with
@@ -742,8 +859,14 @@ def _level_state(mech: Mechanism, system: "_System", u: NDArray[np.float64]) -> 
             pos[node] = system.node_position(u, body, node)
         elif node not in pos:
             pos[node] = np.asarray(mech.nodes[node], float)
-    return _LevelState(pos, {b.name: float(system.pose(u, b.name)[1]) for b in mech.bodies},
-                       [float(x) for x in u[system.i_rot:system.size]], U, shape, start_loads)
+    return _LevelState(
+        pos,
+        {b.name: float(system.pose(u, b.name)[1]) for b in mech.bodies},
+        [float(x) for x in u[system.i_rot : system.size]],
+        U,
+        shape,
+        start_loads,
+    )
 
 
 class _Problem(NamedTuple):
@@ -783,8 +906,12 @@ def _problem(mech: Mechanism, loads: Sequence[_Load], n_levels: int, rtol: float
     system = _System(mech, forces, couples, rotations, displacements, rtol)
     level_loads = _LoadPath(mech, system, forces, couples, rotations, displacements, n_levels, pointed, distributed)
     arcs = {beam.name: system.tangent0[beam.name][2] for beam in mech.beams}
-    scale_F = max([abs(v) for f in forces for v in (*f.fx, *f.fy)] + [abs(v) for f in pointed for v in f.values]
-                  + [abs(v) * arcs[d.beam] for d in distributed for v in (*d.wx, *d.wy)] + [0.0])
+    scale_F = max(
+        [abs(v) for f in forces for v in (*f.fx, *f.fy)]
+        + [abs(v) for f in pointed for v in f.values]
+        + [abs(v) * arcs[d.beam] for d in distributed for v in (*d.wx, *d.wy)]
+        + [0.0]
+    )
     scale_F = max([scale_F] + [abs(v) for c in couples for v in c.m])
     # the force unit of the residual and the unknowns: the applied loads' size, else (motions prescribed)
     # the force EI/L^2 that bends a beam by its length; never a fixed number, so a load 1e-11 EI/L^2 is
@@ -797,8 +924,9 @@ def _problem(mech: Mechanism, loads: Sequence[_Load], n_levels: int, rtol: float
     return _Problem(system, level_loads, scale, _unknown_scale(system, max(scale_F, bending)))
 
 
-def solve_mechanism(mech: Mechanism, loads: Sequence[_Load], n_levels: int, *, rtol: float = 1e-11,
-                    max_cuts: int = 8) -> MechanismSolution:
+def solve_mechanism(
+    mech: Mechanism, loads: Sequence[_Load], n_levels: int, *, rtol: float = 1e-11, max_cuts: int = 8
+) -> MechanismSolution:
     """Equilibrium at every load level (loads: Force, PointedForce, DistributedLoad, Couple, EndCouple,
     PrescribedRotation, PrescribedDisplacement, each with one value per level); a level is given up after
     ``max_cuts`` halvings of its load step in a row."""
@@ -813,7 +941,7 @@ def solve_mechanism(mech: Mechanism, loads: Sequence[_Load], n_levels: int, *, r
     jac: NDArray[np.float64] | None = None
     history = [(t, u)]
     for level in range(n_levels):
-        step, cuts = 1.0, 0         # cuts: consecutive halvings since the last accepted step
+        step, cuts = 1.0, 0  # cuts: consecutive halvings since the last accepted step
         converged = True
         while t < level - 1e-12:
             target = min(t + step, float(level))
@@ -828,7 +956,7 @@ def solve_mechanism(mech: Mechanism, loads: Sequence[_Load], n_levels: int, *, r
                 x, ok, jac, why = _chord_newton(scaled, u, jac, tangent)
             if ok:
                 turn = _largest_turn(system, u, x)
-                if turn > MAX_TURN_PER_STEP:     # a jump to another equilibrium, not the path's next state
+                if turn > MAX_TURN_PER_STEP:  # a jump to another equilibrium, not the path's next state
                     ok, why = False, f"a step turned a beam end or a body by {turn:.3g} rad"
             if ok:
                 u, t = x, target
@@ -840,23 +968,40 @@ def solve_mechanism(mech: Mechanism, loads: Sequence[_Load], n_levels: int, *, r
                 step /= 2
                 if cuts > max_cuts:
                     converged = False
-                    messages.append(f"level {level}: no convergence after {max_cuts} step halvings in a row, at "
-                                    f"load parameter {t:.6g} ({why})")
+                    messages.append(
+                        f"level {level}: no convergence after {max_cuts} step halvings in a row, at "
+                        f"load parameter {t:.6g} ({why})"
+                    )
                     break
         ok_levels.append(converged)
         if not converged:
             break
         states.append(_level_state(mech, system, u))
     done = all(ok_levels) and len(ok_levels) == n_levels
-    return MechanismSolution(done, "; ".join(messages) or f"converged at {n_levels} level(s)",
-                             [s.positions for s in states], [s.rotations for s in states],
-                             [s.drivers for s in states], [s.energy for s in states], [s.shape for s in states],
-                             time.perf_counter() - t0, ok_levels, [s.start_loads for s in states])
+    return MechanismSolution(
+        done,
+        "; ".join(messages) or f"converged at {n_levels} level(s)",
+        [s.positions for s in states],
+        [s.rotations for s in states],
+        [s.drivers for s in states],
+        [s.energy for s in states],
+        [s.shape for s in states],
+        time.perf_counter() - t0,
+        ok_levels,
+        [s.start_loads for s in states],
+    )
 
 
-def _chord_newton(f: _Vector, x: NDArray[np.float64], jac: NDArray[np.float64] | None, jacobian: _Matrix,
-                  tol: float = 1e-10, maxiter: int = 30, min_steps: int = 1, refresh: float = 0.1
-                  ) -> tuple[NDArray[np.float64], bool, NDArray[np.float64] | None, str]:
+def _chord_newton(
+    f: _Vector,
+    x: NDArray[np.float64],
+    jac: NDArray[np.float64] | None,
+    jacobian: _Matrix,
+    tol: float = 1e-10,
+    maxiter: int = 30,
+    min_steps: int = 1,
+    refresh: float = 0.1,
+) -> tuple[NDArray[np.float64], bool, NDArray[np.float64] | None, str]:
     """Newton on f(x) = 0 with the Jacobian ``jacobian`` kept between iterations and load steps and updated by
     Broyden's rank-one formula; evaluated afresh at the new point after a step that lowered the residual
     by less than the factor ``refresh`` (from an accurate Jacobian Newton's steps lower it by far more
@@ -903,8 +1048,14 @@ def _chord_newton(f: _Vector, x: NDArray[np.float64], jac: NDArray[np.float64] |
     return x, False, jac, f"{maxiter} iterations"
 
 
-def _one_more_step(f: _Vector, x: NDArray[np.float64], r: NDArray[np.float64], jac: NDArray[np.float64] | None,
-                   jacobian: _Matrix, size: float) -> NDArray[np.float64]:
+def _one_more_step(
+    f: _Vector,
+    x: NDArray[np.float64],
+    r: NDArray[np.float64],
+    jac: NDArray[np.float64] | None,
+    jacobian: _Matrix,
+    size: float,
+) -> NDArray[np.float64]:
     """x after one Newton step from a state already within the tolerance, kept where it lowers the residual."""
     jac = jacobian(x) if jac is None else jac
     try:
@@ -928,12 +1079,12 @@ def _unknown_scale(system: _System, scale_F: float) -> NDArray[np.float64]:
     F = scale_F
     s = np.empty(system.size)
     for i, beam in enumerate(system.m.beams):
-        s[3 * i:3 * i + 2] = F
+        s[3 * i : 3 * i + 2] = F
         s[3 * i + 2] = F * L if beam.start_kind == "clamped" else 1.0
-    s[system.i_body:system.i_pin] = np.tile([L, L, 1.0], (system.i_pin - system.i_body) // 3)
-    s[system.i_pin:system.i_rot] = F
-    s[system.i_rot:system.i_disp] = F * L
-    s[system.i_disp:] = F
+    s[system.i_body : system.i_pin] = np.tile([L, L, 1.0], (system.i_pin - system.i_body) // 3)
+    s[system.i_pin : system.i_rot] = F
+    s[system.i_rot : system.i_disp] = F * L
+    s[system.i_disp :] = F
     return s
 
 
@@ -942,9 +1093,9 @@ def _scale(system: _System, scale_F: float) -> NDArray[np.float64]:
     L = max(v[2] for v in system.tangent0.values())
     s = np.ones(system.size)
     for i, beam in enumerate(system.m.beams):
-        s[3 * i:3 * i + 2] = L if beam.end_kind != "free" else scale_F
-    s[system.i_body:system.i_pin] = scale_F
-    s[system.i_pin:system.i_rot] = L
+        s[3 * i : 3 * i + 2] = L if beam.end_kind != "free" else scale_F
+    s[system.i_body : system.i_pin] = scale_F
+    s[system.i_pin : system.i_rot] = L
     return s
 
 
@@ -955,8 +1106,11 @@ def _largest_turn(system: _System, u: NDArray[np.float64], x: NDArray[np.float64
         turn = max(turn, abs(system.pose(x, body.name)[1] - system.pose(u, body.name)[1]))
     ul, xl = u.tolist(), x.tolist()
     for beam in system.m.beams:
-        turn = max(turn, abs(system._start(beam, xl)[2] - system._start(beam, ul)[2]),
-                   abs(float(system.integrate(beam, x, xl)[2]) - float(system.integrate(beam, u, ul)[2])))
+        turn = max(
+            turn,
+            abs(system._start(beam, xl)[2] - system._start(beam, ul)[2]),
+            abs(float(system.integrate(beam, x, xl)[2]) - float(system.integrate(beam, u, ul)[2])),
+        )
     return turn
 
 

@@ -99,6 +99,7 @@ Fy = +P and a CCW moment -M (their tabulated M > 0 is clockwise, "opposing" P).
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import math
@@ -114,9 +115,22 @@ from numpy.typing import ArrayLike, NDArray
 from . import integrator as kernel
 from .integrator import plain_samples
 
-__all__ = ["TipConstraint", "MomentConstraint", "PointedForce", "ElasticaProblem", "ElasticaResult",
-           "solve_elastica", "solve_path", "loaded_start", "section_moment", "unloaded_tip",
-           "dead_equivalent", "line_angles", "pointing_error", "SolveOptions"]
+__all__ = [
+    "TipConstraint",
+    "MomentConstraint",
+    "PointedForce",
+    "ElasticaProblem",
+    "ElasticaResult",
+    "solve_elastica",
+    "solve_path",
+    "loaded_start",
+    "section_moment",
+    "unloaded_tip",
+    "dead_equivalent",
+    "line_angles",
+    "pointing_error",
+    "SolveOptions",
+]
 
 Vector = NDArray[np.float64]
 Matrix = NDArray[np.float64]
@@ -210,14 +224,14 @@ class ElasticaResult:
     x: float
     y: float
     theta: float
-    force: tuple[float, float]          # total tip force (Fx, Fy) acting on the beam
-    moment: float                       # tip moment acting on the beam (CCW)
+    force: tuple[float, float]  # total tip force (Fx, Fy) acting on the beam
+    moment: float  # tip moment acting on the beam (CCW)
     reaction: tuple[float, float, float]  # support reaction (Rx, Ry, M_root) on the beam at s = 0
     strain_energy: float
     s: Vector
-    shape: Matrix                       # (3, n): x(s), y(s), theta(s)
-    nit: int = 0                        # Newton iterations, all continuation steps together
-    nsteps: int = 0                     # accepted continuation steps
+    shape: Matrix  # (3, n): x(s), y(s), theta(s)
+    nit: int = 0  # Newton iterations, all continuation steps together
+    nsteps: int = 0  # accepted continuation steps
     wall_time: float = 0.0
     residual: float = math.nan
     problem: ElasticaProblem | None = None
@@ -238,9 +252,10 @@ class ElasticaResult:
 # --------------------------------------------------------------------------------------------
 # normalised problem data (L = 1, EI = 1)
 
+
 def _pair(v: Sequence[float]) -> tuple[float, float]:
     """A given pair (a tuple, list or array of two components) as the tuple a problem holds."""
-    return cast(tuple[float, float], tuple(v))      # tuple() forgets the length the signature promises
+    return cast(tuple[float, float], tuple(v))  # tuple() forgets the length the signature promises
 
 
 def _unit(d: ArrayLike) -> Vector:
@@ -250,15 +265,20 @@ def _unit(d: ArrayLike) -> Vector:
     return unit
 
 
-ANGLE = kernel.ANGLE    # index of the prescribed tip angle in a load vector; the last two are (wx, wy)
+ANGLE = kernel.ANGLE  # index of the prescribed tip angle in a load vector; the last two are (wx, wy)
 
 
 def _load_vector(p: ElasticaProblem) -> Vector:
     """All continuation parameters of a problem, normalised:
     [Fx, Fy, M, ft, fn, c_1..c_k, m_1..m_j, angle, wx, wy]."""
     scale_f = p.length**2 / p.EI
-    q = [p.force[0] * scale_f, p.force[1] * scale_f, p.moment * p.length / p.EI,
-         p.follower[0] * scale_f, p.follower[1] * scale_f]
+    q = [
+        p.force[0] * scale_f,
+        p.force[1] * scale_f,
+        p.moment * p.length / p.EI,
+        p.follower[0] * scale_f,
+        p.follower[1] * scale_f,
+    ]
     q += [c.value / p.length for c in p.constraints]
     q += [c.value * p.length / p.EI for c in p.moment_constraints]
     q.append(p.tip_angle if p.tip_angle is not None else 0.0)
@@ -281,7 +301,7 @@ def _start_vector(p: ElasticaProblem) -> Vector:
     for c in p.constraints:
         d = _unit(c.direction)
         q.append(d[0] * x0 + d[1] * y0)
-    q += [0.0] * len(p.moment_constraints)          # the unloaded beam carries no moment
+    q += [0.0] * len(p.moment_constraints)  # the unloaded beam carries no moment
     q += [th0, 0.0, 0.0]
     return np.array(q)
 
@@ -293,28 +313,36 @@ class _Shooter:
     def __init__(self, p: ElasticaProblem, rtol: float, atol: float):
         self.k0 = float(p.curvature * p.length)
         self.dirs: Matrix = np.array([_unit(c.direction) for c in p.constraints], np.float64).reshape(-1, 2)
-        self.fdirs: Matrix = np.array([_unit(c.force_direction if c.force_direction is not None else c.direction)
-                                       for c in p.constraints], np.float64).reshape(-1, 2)
+        self.fdirs: Matrix = np.array(
+            [_unit(c.force_direction if c.force_direction is not None else c.direction) for c in p.constraints],
+            np.float64,
+        ).reshape(-1, 2)
         self.nc = len(self.dirs)
-        sites = [c.at / p.length for c in p.moment_constraints]     # s_j / L
+        sites = [c.at / p.length for c in p.moment_constraints]  # s_j / L
         if any(not 0.0 <= s <= 1.0 for s in sites):
             raise ValueError("a moment constraint lies outside the beam (0 <= at <= length)")
-        self.mdirs: Matrix = np.array([_unit(c.force_direction) for c in p.moment_constraints],
-                                      np.float64).reshape(-1, 2)
+        self.mdirs: Matrix = np.array([_unit(c.force_direction) for c in p.moment_constraints], np.float64).reshape(
+            -1, 2
+        )
         self.nm = len(sites)
         knots = sorted({s for s in sites if 0.0 < s < 1.0})
         self.bounds = np.array([0.0] + knots + [1.0])
-        self.site_at = np.array([0 if s == 0.0 else len(self.bounds) - 1 if s == 1.0 else 1 + knots.index(s)
-                                 for s in sites], dtype=np.int64)
+        self.site_at = np.array(
+            [0 if s == 0.0 else len(self.bounds) - 1 if s == 1.0 else 1 + knots.index(s) for s in sites], dtype=np.int64
+        )
         self.angle_given = p.tip_angle is not None
         self.has_follower = p.follower != (0.0, 0.0)
         self.n = 1 + self.nc + self.nm + (1 if self.has_follower else 0)
         self.rtol, self.atol = float(rtol), float(atol)
         self.tolerances = kernel.Tolerances(rtol=self.rtol, atol=self.atol)
-        self.structure = kernel.Structure(beam=kernel.elastica_beam(self.k0), dirs=self.dirs,
-                                          forces=kernel.UnknownForces(force_dirs=self.fdirs, moment_dirs=self.mdirs,
-                                                                      follower=self.has_follower),
-                                          bounds=self.bounds, site_at=self.site_at, angle_given=self.angle_given)
+        self.structure = kernel.Structure(
+            beam=kernel.elastica_beam(self.k0),
+            dirs=self.dirs,
+            forces=kernel.UnknownForces(force_dirs=self.fdirs, moment_dirs=self.mdirs, follower=self.has_follower),
+            bounds=self.bounds,
+            site_at=self.site_at,
+            angle_given=self.angle_given,
+        )
 
     def unknown_force_directions(self) -> list[Vector]:
         """Unit directions of the force multipliers, in the order of z[1:1 + nc + nm]."""
@@ -327,8 +355,9 @@ class _Shooter:
         F, _ = kernel.tip_force(zv, qv, self.structure.forces)
         y0 = np.zeros(kernel.BEAM_STATE_SIZE)
         y0[3] = zv[0]
-        states, ok = plain_samples(y0, self.bounds, self.structure.beam, self.loads(F, qv), self.tolerances,
-                                   restart=True)
+        states, ok = plain_samples(
+            y0, self.bounds, self.structure.beam, self.loads(F, qv), self.tolerances, restart=True
+        )
         return states, F, ok
 
     def loads(self, F: Vector, q: Vector) -> kernel.Loads:
@@ -362,13 +391,24 @@ class SolveOptions(_PathOptions, total=False):
     angle_tol: float
 
 
-def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
-               rtol: float = 1e-12, atol: float = 1e-13, tol: float = 1e-11,
-               initial_step: float = 0.25, min_step: float = 1e-5, max_rotation_step: float = 0.5,
-               max_position_step: float = 0.25, max_corrector: float = 0.5,
-               max_step_iterations: int = 8,
-               maxiter: int = 25, n_samples: int = 101, path_rtol: float = 1e-7,
-               angle_tol: float = 1e-10) -> ElasticaResult:
+def solve_path(
+    problem: ElasticaProblem,
+    start: ElasticaResult | None = None,
+    *,
+    rtol: float = 1e-12,
+    atol: float = 1e-13,
+    tol: float = 1e-11,
+    initial_step: float = 0.25,
+    min_step: float = 1e-5,
+    max_rotation_step: float = 0.5,
+    max_position_step: float = 0.25,
+    max_corrector: float = 0.5,
+    max_step_iterations: int = 8,
+    maxiter: int = 25,
+    n_samples: int = 101,
+    path_rtol: float = 1e-7,
+    angle_tol: float = 1e-10,
+) -> ElasticaResult:
     """Continue from ``start`` (default: the unloaded beam) to ``problem`` and return the end state.
 
     ``start`` must have the same structure (same constraints, follower or not, angle given or
@@ -381,10 +421,19 @@ def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
     Pointed forces (module docstring): Newton on their direction angles until every
     |g_k| <= ``angle_tol`` (rad), their magnitudes continued from the start's.
     """
-    options = _PathOptions(rtol=rtol, atol=atol, tol=tol, initial_step=initial_step, min_step=min_step,
-                           max_rotation_step=max_rotation_step, max_position_step=max_position_step,
-                           max_corrector=max_corrector, max_step_iterations=max_step_iterations,
-                           maxiter=maxiter, path_rtol=path_rtol)
+    options = _PathOptions(
+        rtol=rtol,
+        atol=atol,
+        tol=tol,
+        initial_step=initial_step,
+        min_step=min_step,
+        max_rotation_step=max_rotation_step,
+        max_position_step=max_position_step,
+        max_corrector=max_corrector,
+        max_step_iterations=max_step_iterations,
+        maxiter=maxiter,
+        path_rtol=path_rtol,
+    )
     if problem.pointed:
         return _solve_pointed(problem, start, n_samples, options, angle_tol)
     if start is not None and start.problem is not None and start.problem.pointed:
@@ -406,19 +455,31 @@ def solve_path(problem: ElasticaProblem, start: ElasticaResult | None = None, *,
         elif final.nc:
             q0, z, it, ns = _staged_start(problem, path, q0)
             nit, nsteps = nit + it, nsteps + ns
-    controls = kernel.PathControls(final=final.tolerances, tol=float(tol), path=path.tolerances,
-                                   initial_step=float(initial_step), min_step=float(min_step),
-                                   max_rotation_step=float(max_rotation_step),
-                                   max_position_step=float(max_position_step), max_corrector=float(max_corrector),
-                                   max_step_iterations=int(max_step_iterations), maxiter=int(maxiter))
+    controls = kernel.PathControls(
+        final=final.tolerances,
+        tol=float(tol),
+        path=path.tolerances,
+        initial_step=float(initial_step),
+        min_step=float(min_step),
+        max_rotation_step=float(max_rotation_step),
+        max_position_step=float(max_position_step),
+        max_corrector=float(max_corrector),
+        max_step_iterations=int(max_step_iterations),
+        maxiter=int(maxiter),
+    )
     z, status, lam, it, ns, norm, states, F = kernel.follow_path(
-        np.array(z, float), np.asarray(q0, float), q1, final.structure, controls)
+        np.array(z, float), np.asarray(q0, float), q1, final.structure, controls
+    )
     nit, nsteps = nit + it, nsteps + ns
-    converged, message = status == kernel.PATH_CONVERGED, {
-        kernel.PATH_CONVERGED: "converged",
-        kernel.PATH_STALLED: f"continuation stalled at load fraction {lam:.6g} (residual {norm:.3g})",
-        kernel.PATH_NO_START: "integration failed at the start state",
-        kernel.PATH_FINAL_FAILED: f"final corrector failed (residual {norm:.3g})"}[status]
+    converged, message = (
+        status == kernel.PATH_CONVERGED,
+        {
+            kernel.PATH_CONVERGED: "converged",
+            kernel.PATH_STALLED: f"continuation stalled at load fraction {lam:.6g} (residual {norm:.3g})",
+            kernel.PATH_NO_START: "integration failed at the start state",
+            kernel.PATH_FINAL_FAILED: f"final corrector failed (residual {norm:.3g})",
+        }[status],
+    )
     q_end = q0 + lam * (q1 - q0)
     result = _result(problem, final, z, q_end, n_samples, (states, F) if converged else None)
     result.converged, result.message = converged, message
@@ -469,14 +530,21 @@ def pointing_error(result: ElasticaResult) -> Vector:
     return _wrap(line_angles(_problem_of(result).pointed, result.x, result.y) - np.asarray(result.pointed_angles))
 
 
-def _pointed_newton(target: ElasticaProblem, current: ElasticaResult | None, phi: Vector,
-                    options: _PathOptions, angle_tol: float, maxiter: int = 20,
-                    h: float = 1e-6) -> tuple[bool, ElasticaResult, Vector, float]:
+def _pointed_newton(
+    target: ElasticaProblem,
+    current: ElasticaResult | None,
+    phi: Vector,
+    options: _PathOptions,
+    angle_tol: float,
+    maxiter: int = 20,
+    h: float = 1e-6,
+) -> tuple[bool, ElasticaResult, Vector, float]:
     """Newton on g(phi) = wrap(atan2(P - r_L(phi)) + a - phi) = 0 at fixed magnitudes, from ``phi``.
 
     Each evaluation is the dead problem at phi continued from the last state; dg/dphi by forward
     differences of step ``h`` rad; a step that does not lower max|g| is halved (at most 6 times).
     Returns (converged, last dead result, phi, max|g|)."""
+
     def evaluate(angles: Vector, start: ElasticaResult | None) -> tuple[ElasticaResult, Vector | None]:
         res = solve_path(dead_equivalent(target, angles), start=start, n_samples=2, **options)
         if not res.converged:
@@ -515,11 +583,13 @@ def _pointed_newton(target: ElasticaProblem, current: ElasticaResult | None, phi
 def _same_pointed(a: ElasticaProblem, b: ElasticaProblem) -> bool:
     """Same pointed forces apart from their magnitudes (same points and angle offsets)."""
     return len(a.pointed) == len(b.pointed) and all(
-        tuple(p.toward) == tuple(q.toward) and p.angle == q.angle for p, q in zip(a.pointed, b.pointed))
+        tuple(p.toward) == tuple(q.toward) and p.angle == q.angle for p, q in zip(a.pointed, b.pointed)
+    )
 
 
-def _solve_pointed(problem: ElasticaProblem, start: ElasticaResult | None, n_samples: int,
-                   options: _PathOptions, angle_tol: float) -> ElasticaResult:
+def _solve_pointed(
+    problem: ElasticaProblem, start: ElasticaResult | None, n_samples: int, options: _PathOptions, angle_tol: float
+) -> ElasticaResult:
     """Pointed forces: continuation of their magnitudes T(t) = T0 + t (T1 - T0), t: 0 -> 1, with
     Newton on the direction angles at each step (module docstring); the other loads at their targets
     from the first step, continued by the dead solves from the start state."""
@@ -528,8 +598,10 @@ def _solve_pointed(problem: ElasticaProblem, start: ElasticaResult | None, n_sam
     current: ElasticaResult | None
     if start is not None and start.problem is not None and start.problem.pointed:
         if _same_pointed(start.problem, problem):
-            T0, phi = (np.array([pf.magnitude for pf in start.problem.pointed], float),
-                       np.array(start.pointed_angles, float))
+            T0, phi = (
+                np.array([pf.magnitude for pf in start.problem.pointed], float),
+                np.array(start.pointed_angles, float),
+            )
         else:
             T0 = np.zeros_like(T1)
             phi = line_angles(problem.pointed, start.x, start.y)
@@ -546,14 +618,19 @@ def _solve_pointed(problem: ElasticaProblem, start: ElasticaResult | None, n_sam
         step = min(dt, 1.0 - t)
         t_next = 1.0 if step >= 1.0 - t else t + step
         T = T0 + t_next * (T1 - T0)
-        target = replace(problem, pointed=tuple(replace(pf, magnitude=float(v))
-                                                for pf, v in zip(problem.pointed, T)))
+        target = replace(problem, pointed=tuple(replace(pf, magnitude=float(v)) for pf, v in zip(problem.pointed, T)))
         ok, res, phi_new, norm = _pointed_newton(target, current, phi.copy(), options, angle_tol)
         nit, nsteps, last = nit + res.nit, nsteps + res.nsteps, res
         moved = math.hypot(res.x - tip[0], res.y - tip[1]) / problem.length
-        if ok and step > min_step and (moved > options["max_position_step"]
-                                       or float(np.max(np.abs(phi_new - phi))) > options["max_rotation_step"]):
-            ok = False              # too long a step: Newton may have left the connected branch
+        if (
+            ok
+            and step > min_step
+            and (
+                moved > options["max_position_step"]
+                or float(np.max(np.abs(phi_new - phi))) > options["max_rotation_step"]
+            )
+        ):
+            ok = False  # too long a step: Newton may have left the connected branch
         if ok:
             tip = (res.x, res.y)
             t, current, phi, dt = t_next, res, phi_new, 2.0 * step
@@ -568,15 +645,20 @@ def _solve_pointed(problem: ElasticaProblem, start: ElasticaResult | None, n_sam
     if base is not None and base.z.size == shooter.n:
         result = _result(equivalent, shooter, base.z, _load_vector(equivalent), n_samples)
         residual = base.residual
-    else:                                   # nothing solved: the unloaded beam's shape
+    else:  # nothing solved: the unloaded beam's shape
         result = _result(equivalent, shooter, np.zeros(shooter.n), _start_vector(equivalent), n_samples)
         residual = math.nan
     result.problem = replace(problem, moment=_problem_of(result).moment)
     result.pointed_angles = tuple(float(v) for v in phi)
     result.converged = converged
-    result.message = "converged" if converged else (
-        f"force toward a fixed point: continuation of its magnitude stalled at fraction {t:.6g} "
-        f"(direction error {norm:.3g} rad)")
+    result.message = (
+        "converged"
+        if converged
+        else (
+            f"force toward a fixed point: continuation of its magnitude stalled at fraction {t:.6g} "
+            f"(direction error {norm:.3g} rad)"
+        )
+    )
     result.nit, result.nsteps, result.residual = nit, nsteps, residual
     result.wall_time = time.perf_counter() - t0
     return result
@@ -600,14 +682,13 @@ def _staged_start(problem: ElasticaProblem, shooter: _Shooter, q0: Vector) -> tu
     if not any(axial):
         return q0, z, 0, 0
     keep = tuple(c for c, a in zip(problem.constraints, axial) if not a)
-    first = solve_path(replace(problem, constraints=keep), rtol=shooter.rtol, atol=shooter.atol,
-                       tol=1e-9, n_samples=2)
-    if not first.converged:                      # fall back to the plain path from the unloaded beam
+    first = solve_path(replace(problem, constraints=keep), rtol=shooter.rtol, atol=shooter.atol, tol=1e-9, n_samples=2)
+    if not first.converged:  # fall back to the plain path from the unloaded beam
         return q0, z, first.nit, first.nsteps
     q = _load_vector(problem)
     x, y = first.x / problem.length, first.y / problem.length
     z[0] = first.z[0]
-    kept = iter(first.z[1:1 + len(keep)])
+    kept = iter(first.z[1 : 1 + len(keep)])
     for k, (d, a) in enumerate(zip(shooter.dirs, axial)):
         if a:
             q[5 + k] = d[0] * x + d[1] * y
@@ -618,23 +699,25 @@ def _staged_start(problem: ElasticaProblem, shooter: _Shooter, q0: Vector) -> tu
     return q, z, first.nit, first.nsteps
 
 
-def _moment_start(problem: ElasticaProblem, shooter: _Shooter, q0: Vector,
-                  z0: Vector) -> tuple[Vector, Vector, int, int]:
+def _moment_start(
+    problem: ElasticaProblem, shooter: _Shooter, q0: Vector, z0: Vector
+) -> tuple[Vector, Vector, int, int]:
     """Start of a path with prescribed section moments: the loaded state without them.
 
     The moment conditions are dropped (their forces stay 0) and that problem is solved from the
     unloaded beam; its state then satisfies every other end condition of ``problem``, and the
     section moments it carries become the start values continued to the targets.
     """
-    first = solve_path(replace(problem, moment_constraints=()), rtol=shooter.rtol,
-                       atol=shooter.atol, tol=1e-9, n_samples=2)
-    if not first.converged:                      # fall back to the plain path from the unloaded beam
+    first = solve_path(
+        replace(problem, moment_constraints=()), rtol=shooter.rtol, atol=shooter.atol, tol=1e-9, n_samples=2
+    )
+    if not first.converged:  # fall back to the plain path from the unloaded beam
         return q0, z0, first.nit, first.nsteps
     z = np.zeros(shooter.n)
-    z[:1 + shooter.nc] = first.z[:1 + shooter.nc]
-    z[1 + shooter.nc + shooter.nm:] = first.z[1 + shooter.nc:]
+    z[: 1 + shooter.nc] = first.z[: 1 + shooter.nc]
+    z[1 + shooter.nc + shooter.nm :] = first.z[1 + shooter.nc :]
     q = _load_vector(problem)
-    q[5 + shooter.nc:5 + shooter.nc + shooter.nm] = _section_moments(shooter, z, q)
+    q[5 + shooter.nc : 5 + shooter.nc + shooter.nm] = _section_moments(shooter, z, q)
     return q, z, first.nit, first.nsteps
 
 
@@ -647,8 +730,9 @@ def _section_moments(shooter: _Shooter, z: Vector, q: Vector) -> Vector:
     return moments
 
 
-def loaded_start(problem: ElasticaProblem, force: tuple[float, float], moment: float,
-                 **options: Unpack[SolveOptions]) -> ElasticaResult:
+def loaded_start(
+    problem: ElasticaProblem, force: tuple[float, float], moment: float, **options: Unpack[SolveOptions]
+) -> ElasticaResult:
     """The beam under the tip loads ``force`` (Fx, Fy) and ``moment`` (CCW), as a start for ``problem``.
 
     A forward (load-specified) solve from the unloaded beam, returned with the structure of
@@ -662,9 +746,17 @@ def loaded_start(problem: ElasticaProblem, force: tuple[float, float], moment: f
     if problem.pointed:
         raise ValueError("loaded_start does not handle forces toward fixed points")
     L, EI = problem.length, problem.EI
-    forward = solve_path(ElasticaProblem(length=L, EI=EI, curvature=problem.curvature,
-                                         force=_pair(force), moment=moment,
-                                         distributed=problem.distributed), **options)
+    forward = solve_path(
+        ElasticaProblem(
+            length=L,
+            EI=EI,
+            curvature=problem.curvature,
+            force=_pair(force),
+            moment=moment,
+            distributed=problem.distributed,
+        ),
+        **options,
+    )
     rtol = options.get("rtol", 1e-12)
     shooter = _Shooter(problem, rtol, options.get("atol", 0.1 * rtol))
     scale_f = L**2 / EI
@@ -673,10 +765,10 @@ def loaded_start(problem: ElasticaProblem, force: tuple[float, float], moment: f
     z = np.zeros(shooter.n)
     z[0] = forward.z[0]
     dead = np.asarray(problem.force, float) * scale_f
-    if dirs:                                    # unknown forces take what they can of F0 - dead
+    if dirs:  # unknown forces take what they can of F0 - dead
         U = np.column_stack(dirs)
         mu = np.linalg.lstsq(U, F0 - dead, rcond=None)[0]
-        z[1:1 + len(dirs)] = mu
+        z[1 : 1 + len(dirs)] = mu
         dead = F0 - U @ mu
     else:
         dead = F0
@@ -689,13 +781,15 @@ def loaded_start(problem: ElasticaProblem, force: tuple[float, float], moment: f
     if shooter.angle_given:
         q[ANGLE] = forward.theta
     m = _section_moments(shooter, z, q)
-    q[5 + shooter.nc:5 + shooter.nc + shooter.nm] = m
-    start = replace(problem, force=tuple(dead / scale_f), moment=moment,
-                    constraints=tuple(replace(c, value=float(q[5 + k] * L))
-                                      for k, c in enumerate(problem.constraints)),
-                    moment_constraints=tuple(replace(c, value=float(mj * EI / L))
-                                             for c, mj in zip(problem.moment_constraints, m)),
-                    tip_angle=forward.theta if shooter.angle_given else None)
+    q[5 + shooter.nc : 5 + shooter.nc + shooter.nm] = m
+    start = replace(
+        problem,
+        force=tuple(dead / scale_f),
+        moment=moment,
+        constraints=tuple(replace(c, value=float(q[5 + k] * L)) for k, c in enumerate(problem.constraints)),
+        moment_constraints=tuple(replace(c, value=float(mj * EI / L)) for c, mj in zip(problem.moment_constraints, m)),
+        tip_angle=forward.theta if shooter.angle_given else None,
+    )
     result = _result(start, shooter, z, q, options.get("n_samples", 101))
     result.converged, result.message = forward.converged, forward.message
     result.nit, result.nsteps, result.wall_time = forward.nit, forward.nsteps, forward.wall_time
@@ -710,23 +804,35 @@ def section_moment(result: ElasticaResult, at: float) -> float:
     Fy cos(theta), the derivative of m = M + Fy (x_L - x) - Fx (y_L - y)).
     """
     p = _problem_of(result)
-    plain = ElasticaProblem(length=p.length, EI=p.EI, curvature=p.curvature, force=result.force,
-                            moment=result.moment, moment_constraints=(MomentConstraint(at),),
-                            distributed=p.distributed)
+    plain = ElasticaProblem(
+        length=p.length,
+        EI=p.EI,
+        curvature=p.curvature,
+        force=result.force,
+        moment=result.moment,
+        moment_constraints=(MomentConstraint(at),),
+        distributed=p.distributed,
+    )
     shooter = _Shooter(plain, 1e-12, 1e-13)
     z = np.array([result.z[0], 0.0])
     return float(_section_moments(shooter, z, _load_vector(plain))[0] * p.EI / p.length)
 
 
-def _result(problem: ElasticaProblem, shooter: _Shooter, z: Vector, q: Vector, n_samples: int,
-            evaluated: tuple[Matrix, Vector] | None = None) -> ElasticaResult:
+def _result(
+    problem: ElasticaProblem,
+    shooter: _Shooter,
+    z: Vector,
+    q: Vector,
+    n_samples: int,
+    evaluated: tuple[Matrix, Vector] | None = None,
+) -> ElasticaResult:
     """The result at the unknowns z: tip values from the integration of the last residual
     (``evaluated`` = (boundary states, tip force) at z, else integrated here), the shape sampled by
     integrating from sample to sample (compiled)."""
     states, F = evaluated if evaluated is not None else shooter.integrate(z, q)[:2]
     s = np.linspace(0.0, 1.0, n_samples)
-    if n_samples == 2:          # the ends: the boundary states themselves
-        samples = states[[0, -1], :kernel.BEAM_STATE_SIZE]
+    if n_samples == 2:  # the ends: the boundary states themselves
+        samples = states[[0, -1], : kernel.BEAM_STATE_SIZE]
     else:
         samples, _ = plain_samples(states[0], s, shooter.structure.beam, shooter.loads(F, q), shooter.tolerances)
     Ys = samples.T
@@ -737,26 +843,44 @@ def _result(problem: ElasticaProblem, shooter: _Shooter, z: Vector, q: Vector, n
     # support reaction on the beam: -(F + w L) and the moment balancing the loads about the root
     reaction = (float(-(F[0] + q[-2]) * fs), float(-(F[1] + q[-1]) * fs), float(-z[0] * ms))
     return ElasticaResult(
-        converged=True, message="", x=float(Y[0] * L), y=float(Y[1] * L), theta=float(Y[2]),
-        force=(float(F[0] * fs), float(F[1] * fs)), moment=float(m_tip * ms),
-        reaction=reaction, strain_energy=float(Y[4] * ms),
-        s=s * L, shape=np.vstack([Ys[0] * L, Ys[1] * L, Ys[2]]),
+        converged=True,
+        message="",
+        x=float(Y[0] * L),
+        y=float(Y[1] * L),
+        theta=float(Y[2]),
+        force=(float(F[0] * fs), float(F[1] * fs)),
+        moment=float(m_tip * ms),
+        reaction=reaction,
+        strain_energy=float(Y[4] * ms),
+        s=s * L,
+        shape=np.vstack([Ys[0] * L, Ys[1] * L, Ys[2]]),
         problem=replace(problem, moment=m_tip * ms) if shooter.angle_given else problem,
-        z=np.array(z, float))
+        z=np.array(z, float),
+    )
 
 
-@checked(positive=('length', 'EI'), finite=('curvature', 'force', 'moment', 'follower', 'tip_x', 'tip_y', 'tip_angle', 'inflection_at'))
-def solve_elastica(length: float = 1.0, EI: float = 1.0, *, curvature: float = 0.0,
-                   force: tuple[float, float] = (0.0, 0.0), moment: float = 0.0,
-                   follower: tuple[float, float] = (0.0, 0.0),
-                   tip_x: float | None = None, tip_y: float | None = None,
-                   tip_angle: float | None = None,
-                   constraints: tuple[TipConstraint, ...] = (),
-                   inflection_at: float | None = None,
-                   moment_constraints: tuple[MomentConstraint, ...] = (),
-                   start_loads: tuple[tuple[float, float], float] | None = None,
-                   distributed: tuple[float, float] = (0.0, 0.0),
-                   **options: Unpack[SolveOptions]) -> ElasticaResult:
+@checked(
+    positive=("length", "EI"),
+    finite=("curvature", "force", "moment", "follower", "tip_x", "tip_y", "tip_angle", "inflection_at"),
+)
+def solve_elastica(
+    length: float = 1.0,
+    EI: float = 1.0,
+    *,
+    curvature: float = 0.0,
+    force: tuple[float, float] = (0.0, 0.0),
+    moment: float = 0.0,
+    follower: tuple[float, float] = (0.0, 0.0),
+    tip_x: float | None = None,
+    tip_y: float | None = None,
+    tip_angle: float | None = None,
+    constraints: tuple[TipConstraint, ...] = (),
+    inflection_at: float | None = None,
+    moment_constraints: tuple[MomentConstraint, ...] = (),
+    start_loads: tuple[tuple[float, float], float] | None = None,
+    distributed: tuple[float, float] = (0.0, 0.0),
+    **options: Unpack[SolveOptions],
+) -> ElasticaResult:
     """Solve one clamped-beam elastica from the unloaded state (continuation in the load).
 
     Load-specified: give ``force`` (Fx, Fy), ``moment`` and/or ``follower`` (tangential, normal),
@@ -781,10 +905,18 @@ def solve_elastica(length: float = 1.0, EI: float = 1.0, *, curvature: float = 0
     mcons = list(moment_constraints)
     if inflection_at is not None:
         mcons.append(MomentConstraint(inflection_at))
-    problem = ElasticaProblem(length=length, EI=EI, curvature=curvature, force=_pair(force),
-                              moment=moment, follower=_pair(follower), constraints=tuple(cons),
-                              tip_angle=tip_angle, moment_constraints=tuple(mcons),
-                              distributed=_pair(distributed))
+    problem = ElasticaProblem(
+        length=length,
+        EI=EI,
+        curvature=curvature,
+        force=_pair(force),
+        moment=moment,
+        follower=_pair(follower),
+        constraints=tuple(cons),
+        tip_angle=tip_angle,
+        moment_constraints=tuple(mcons),
+        distributed=_pair(distributed),
+    )
     start = None
     if start_loads is not None:
         start_options = SolveOptions()

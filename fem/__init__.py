@@ -29,6 +29,7 @@ cantilever at P L^2/EI = 10 is (0.445, 0.810609)):
 >>> round(float(xy[1]), 5), bool(err[1] < 1e-6)
 (0.81061, True)
 """
+
 from .error_estimate import AsymptoticCheck, ErrorEstimate, solve_with_error_estimate
 from .free_motion import FreeMotion
 from .model import Model
@@ -38,6 +39,25 @@ from .options import ArcLengthControl, DisplacementControl, LoadControl, SolveOp
 from .solver import solve, solve_arclength, solve_displacement, solve_load
 from .tip_inverse import LoadRatio, Position, TipInverseResult, ZeroMoment, solve_tip_inverse
 
-__all__ = ["Model", "Section", "solve", "solve_load", "solve_displacement", "solve_arclength",
-           "SolveOptions", "LoadControl", "DisplacementControl", "ArcLengthControl", "FreeMotion", "solve_with_error_estimate", "FemResult", "ErrorEstimate", "AsymptoticCheck",
-           "solve_tip_inverse", "LoadRatio", "ZeroMoment", "Position", "TipInverseResult"]
+__all__ = [
+    "Model",
+    "Section",
+    "solve",
+    "solve_load",
+    "solve_displacement",
+    "solve_arclength",
+    "SolveOptions",
+    "LoadControl",
+    "DisplacementControl",
+    "ArcLengthControl",
+    "FreeMotion",
+    "solve_with_error_estimate",
+    "FemResult",
+    "ErrorEstimate",
+    "AsymptoticCheck",
+    "solve_tip_inverse",
+    "LoadRatio",
+    "ZeroMoment",
+    "Position",
+    "TipInverseResult",
+]

@@ -28,6 +28,7 @@ near n = 5500). The refusal says how many times coarser the mesh must be: (u / r
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -43,15 +44,16 @@ if TYPE_CHECKING:
 
 __all__ = ["UNIT_ROUNDOFF", "scaled_rcond", "beyond_precision"]
 
-UNIT_ROUNDOFF = 0.5 * float(np.finfo(float).eps)   # u = 2^-53, LAPACK's DLAMCH('Epsilon')
+UNIT_ROUNDOFF = 0.5 * float(np.finfo(float).eps)  # u = 2^-53, LAPACK's DLAMCH('Epsilon')
 
 
 def scaled_rcond(system: System) -> float:
     """rcond_1 of the Jacobi-scaled unloaded tangent S = D K0 D (estimated from its LU factors); NaN
     when S has an exactly zero pivot (a free motion, `free_motion`'s to name)."""
     F_fixed, F0, presc = system.loads_at(-1, 0, 0.0)
-    K0: FloatArray = system.evaluate(np.zeros(system.n), system.disc.beta0.copy(), 0.0, F_fixed, F0, presc,
-                         need_K=True)["K"]
+    K0: FloatArray = system.evaluate(
+        np.zeros(system.n), system.disc.beta0.copy(), 0.0, F_fixed, F0, presc, need_K=True
+    )["K"]
     layout = system.layout
     diag = np.abs(layout.diagonal(K0))
     D = np.ones(system.n)
@@ -72,8 +74,10 @@ def beyond_precision(system: System) -> str | None:
     if not rc < UNIT_ROUNDOFF:
         return None
     coarser = (UNIT_ROUNDOFF / rc) ** 0.25 if rc > 0.0 else float("inf")
-    return (f"stopped: the unloaded tangent (Jacobi-scaled) is singular to working "
-            f"precision, its reciprocal condition number {rc:.2e} below the unit roundoff {UNIT_ROUNDOFF:.2e}: "
-            "a Newton correction would have no correct digit, and the load steps would converge, if at "
-            "all, only linearly and in ever shorter steps. A beam's condition number grows as the fourth "
-            f"power of its elements per member: use at least {coarser:.2g} times fewer elements")
+    return (
+        f"stopped: the unloaded tangent (Jacobi-scaled) is singular to working "
+        f"precision, its reciprocal condition number {rc:.2e} below the unit roundoff {UNIT_ROUNDOFF:.2e}: "
+        "a Newton correction would have no correct digit, and the load steps would converge, if at "
+        "all, only linearly and in ever shorter steps. A beam's condition number grows as the fourth "
+        f"power of its elements per member: use at least {coarser:.2g} times fewer elements"
+    )

@@ -22,6 +22,7 @@ differ by about 2 pi, a spurious equilibrium that the solver rejects.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -37,8 +38,9 @@ def wrap(a: FloatArray) -> FloatArray:
     return np.arctan2(np.sin(a), np.cos(a))
 
 
-def element_state(beams: Beams, p: FloatArray, beta_prev: FloatArray,
-                  need_tangent: bool = True) -> dict[str, FloatArray]:
+def element_state(
+    beams: Beams, p: FloatArray, beta_prev: FloatArray, need_tangent: bool = True
+) -> dict[str, FloatArray]:
     """Internal forces f (n,6), tangent K (n,6,6) and local state of all elements at the element
     displacements ``p`` (n,6), chord angles continued from ``beta_prev`` (n,), by the compiled
     `kernel.element_kernel` (the same formulas as `element_state_numpy`, element by element).
@@ -53,8 +55,9 @@ def element_state(beams: Beams, p: FloatArray, beta_prev: FloatArray,
     return state
 
 
-def element_state_numpy(beams: Beams, p: FloatArray, beta_prev: FloatArray,
-                        need_tangent: bool = True) -> dict[str, FloatArray]:
+def element_state_numpy(
+    beams: Beams, p: FloatArray, beta_prev: FloatArray, need_tangent: bool = True
+) -> dict[str, FloatArray]:
     """Internal forces f (n,6), tangent K (n,6,6) and local state of all elements, vectorised NumPy.
 
     Returns dict with f, K, N, M (n,2), L, beta, theta_bar (n,2), u_bar, jumped.
@@ -83,10 +86,10 @@ def element_state_numpy(beams: Beams, p: FloatArray, beta_prev: FloatArray,
     if need_tangent:
         n = len(L)
         E = np.zeros((n, 4, 6))
-        E[:, 0, 0], E[:, 0, 1], E[:, 0, 3], E[:, 0, 4] = -c, -s, c, s      # r
-        E[:, 1, 0], E[:, 1, 1], E[:, 1, 3], E[:, 1, 4] = s, -c, -s, c      # z
-        E[:, 2, 2] = 1.0                                                   # e3
-        E[:, 3, 5] = 1.0                                                   # e6
+        E[:, 0, 0], E[:, 0, 1], E[:, 0, 3], E[:, 0, 4] = -c, -s, c, s  # r
+        E[:, 1, 0], E[:, 1, 1], E[:, 1, 3], E[:, 1, 4] = s, -c, -s, c  # z
+        E[:, 2, 2] = 1.0  # e3
+        E[:, 3, 5] = 1.0  # e6
         k11, k12, k21, k22 = kb[:, 0, 0], kb[:, 0, 1], kb[:, 1, 0], kb[:, 1, 1]
         C = np.zeros((n, 4, 4))
         C[:, 0, 0] = ka

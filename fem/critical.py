@@ -11,6 +11,7 @@ note ``branch_switch``.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -53,7 +54,7 @@ def refine_extremum(x: FloatArray, y: FloatArray, dy: FloatArray) -> tuple[float
 def critical_points(path: Path) -> list[CriticalPoint]:
     """Limit points (extremum of lambda with det sign change) and bifurcations, by step."""
     if len(path.step_lams) < 2 and not path.branch_switches:
-        return []       # one step (or none): no extremum, no sign change between steps
+        return []  # one step (or none): no extremum, no sign change between steps
     lams = np.array(path.step_lams)
     s = np.array(path.step_s) if path.step_s else np.arange(len(lams), dtype=float)
     signs = np.array(path.det_signs)
@@ -63,18 +64,17 @@ def critical_points(path: Path) -> list[CriticalPoint]:
     for i in range(1, n - 1):
         d1, d2 = lams[i] - lams[i - 1], lams[i + 1] - lams[i]
         if d1 * d2 < 0:
-            lam_c, s_c = refine_extremum(s[i - 1:i + 2], lams[i - 1:i + 2], slopes[i - 1:i + 2])
-            found.append(CriticalPoint("limit", "maximum" if d1 > 0 else "minimum", i, float(lam_c),
-                                       float(s_c)))
+            lam_c, s_c = refine_extremum(s[i - 1 : i + 2], lams[i - 1 : i + 2], slopes[i - 1 : i + 2])
+            found.append(CriticalPoint("limit", "maximum" if d1 > 0 else "minimum", i, float(lam_c), float(s_c)))
     limit_steps = {f.step for f in found}
     for i in range(1, n):
         if signs[i] * signs[i - 1] < 0:
             near = any(abs(i - j) <= 1 or abs(i - 1 - j) <= 1 for j in limit_steps)
             if not near:
-                found.append(CriticalPoint("bifurcation", "det K changes sign", i, float(lams[i]),
-                                           float(s[i])))
+                found.append(CriticalPoint("bifurcation", "det K changes sign", i, float(lams[i]), float(s[i])))
     for i, note in path.branch_switches:
         # the step that crossed: its unstable state was replaced by a stable one
-        found.append(CriticalPoint("bifurcation", "det K changes sign", i, float(lams[i]), float(s[i]),
-                                   branch_switch=note))
+        found.append(
+            CriticalPoint("bifurcation", "det K changes sign", i, float(lams[i]), float(s[i]), branch_switch=note)
+        )
     return sorted(found, key=lambda f: f.step)

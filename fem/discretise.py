@@ -22,6 +22,7 @@ columns depend on theta_m and are refreshed by `System`).  Index ``n_red`` in
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -41,35 +42,35 @@ __all__ = ["Discretisation", "discretise"]
 
 @dataclass
 class Discretisation:
-    X: FloatArray            # (n_enodes, 2) reference coordinates of element nodes
+    X: FloatArray  # (n_enodes, 2) reference coordinates of element nodes
     n_model_nodes: int
-    conn: IntArray           # (n_el, 2) element node indices
-    edofs: IntArray          # (n_el, 6) full DOFs [ux1, uy1, rz1, ux2, uy2, rz2]
-    L0: FloatArray           # (n_el,) reference chord lengths
-    beta0: FloatArray        # (n_el,) reference chord angles
-    ka: FloatArray           # (n_el,) axial stiffness
-    kb: FloatArray           # (n_el, 2, 2) bending stiffness
-    el_member: IntArray      # (n_el,) owning member
-    el_section: list[Section]    # Section at element midpoint (for stresses)
-    member_elements: list[IntArray]    # element indices of each member, in order start -> end
-    n_full: int              # number of full DOFs (without the ground entry)
-    ground: int              # index of the ground entry (= n_full)
-    rot_dof: IntArray        # (n_enodes,) node rotation DOF
+    conn: IntArray  # (n_el, 2) element node indices
+    edofs: IntArray  # (n_el, 6) full DOFs [ux1, uy1, rz1, ux2, uy2, rz2]
+    L0: FloatArray  # (n_el,) reference chord lengths
+    beta0: FloatArray  # (n_el,) reference chord angles
+    ka: FloatArray  # (n_el,) axial stiffness
+    kb: FloatArray  # (n_el, 2, 2) bending stiffness
+    el_member: IntArray  # (n_el,) owning member
+    el_section: list[Section]  # Section at element midpoint (for stresses)
+    member_elements: list[IntArray]  # element indices of each member, in order start -> end
+    n_full: int  # number of full DOFs (without the ground entry)
+    ground: int  # index of the ground entry (= n_full)
+    rot_dof: IntArray  # (n_enodes,) node rotation DOF
     rotation_dofs: BoolArray  # all rotation DOFs (bool mask over full DOFs)
-    springs: IntArray        # (n_sp, 2) full DOF pairs (second may be ground)
-    spring_k: FloatArray     # (n_sp,)
+    springs: IntArray  # (n_sp, 2) full DOF pairs (second may be ground)
+    spring_k: FloatArray  # (n_sp,)
     n_red: int
-    I: IntArray              # (n_full+1, 2) reduced indices (dummy = n_red)
-    C: FloatArray            # (n_full+1, 2) coefficients
-    independent: BoolArray   # bool (n_full+1,): DOF given by the linear map
-    prescribed_dofs: IntArray    # (n_p,) full DOFs with prescribed values
+    I: IntArray  # (n_full+1, 2) reduced indices (dummy = n_red)
+    C: FloatArray  # (n_full+1, 2) coefficients
+    independent: BoolArray  # bool (n_full+1,): DOF given by the linear map
+    prescribed_dofs: IntArray  # (n_p,) full DOFs with prescribed values
     prescribed_values: FloatArray  # (n_p, n_levels)
-    constrained: BoolArray   # bool (n_full,): supported or prescribed (reactions)
-    slaves: IntArray         # (n_s,) slave element nodes
-    masters: IntArray        # (n_s,) their (root) masters
+    constrained: BoolArray  # bool (n_full,): supported or prescribed (reactions)
+    slaves: IntArray  # (n_s,) slave element nodes
+    masters: IntArray  # (n_s,) their (root) masters
     node_rotation_used: BoolArray  # bool (n_model_nodes,)
-    node_first_end_rot: IntArray   # (n_model_nodes,) rotation DOF of first member end
-    red_is_rotation: BoolArray     # bool (n_red,)
+    node_first_end_rot: IntArray  # (n_model_nodes,) rotation DOF of first member end
+    red_is_rotation: BoolArray  # bool (n_red,)
 
     @cached_property
     def section_groups(self) -> list[tuple[Section, IntArray]]:
@@ -100,18 +101,18 @@ def _arc_points(P0: FloatArray, P1: FloatArray, kappa: float, n: int) -> tuple[F
         return P0 + t[:, None] * d, None
     c = np.hypot(*d)
     chord_angle = np.arctan2(d[1], d[0])
-    phi = np.arcsin(kappa * c / 2.0)          # half the turning angle
+    phi = np.arcsin(kappa * c / 2.0)  # half the turning angle
     S = 2.0 * phi / kappa
     a0 = chord_angle - phi
     s = np.linspace(0.0, S, n + 1)
-    pts = P0 + np.column_stack([np.sin(a0 + kappa * s) - np.sin(a0),
-                                np.cos(a0) - np.cos(a0 + kappa * s)]) / kappa
+    pts = P0 + np.column_stack([np.sin(a0 + kappa * s) - np.sin(a0), np.cos(a0) - np.cos(a0 + kappa * s)]) / kappa
     pts[-1] = P1
     return pts, float(S)
 
 
-def _dof_order(n_en: int, conn: IntArray, slaves: IntArray, masters: IntArray,
-               extra_owner: list[int]) -> IntArray | list[int]:
+def _dof_order(
+    n_en: int, conn: IntArray, slaves: IntArray, masters: IntArray, extra_owner: list[int]
+) -> IntArray | list[int]:
     """Full DOFs node by node in reverse Cuthill-McKee order (small bandwidth; `numbering`): per node
     [ux, uy, rz] and the released member-end rotations it owns."""
     order = rcm_order(n_en, conn, slaves, masters)
@@ -132,6 +133,7 @@ def _dof_order(n_en: int, conn: IntArray, slaves: IntArray, masters: IntArray,
 class _Mesh:
     """Element nodes, connectivity and element properties of every member (per member, joined by
     `_mesh` into ``X`` and ``conn``)."""
+
     X: FloatArray
     conn: IntArray
     el_member: list[int]
@@ -156,6 +158,7 @@ def _member_stiffness(m: Member, lengths: FloatArray) -> tuple[Callable[[float],
         def of(xi: FloatArray) -> FloatArray:
             values: FloatArray = np.vectorize(lambda t: getattr(fn(float(t)), attr))(xi)
             return values
+
         return of
 
     a, b = member_local_stiffness(s_nodes, prop("EA"), prop("EI"), intorder=8)
@@ -173,7 +176,7 @@ def _mesh(model: Model, refine: int) -> _Mesh:
     for im, m in enumerate(model.members):
         n = m.n_elements * int(refine) if m.refined else m.n_elements
         pts, _ = _arc_points(X[0][m.start], X[0][m.end], m.curvature, n)
-        ids = np.arange(n_en - 1, n_en + n)         # [start, interior nodes n_en .. n_en + n - 2, end]
+        ids = np.arange(n_en - 1, n_en + n)  # [start, interior nodes n_en .. n_en + n - 2, end]
         ids[0], ids[-1] = m.start, m.end
         X.append(pts[1:-1])
         n_en += n - 1
@@ -190,7 +193,7 @@ def _mesh(model: Model, refine: int) -> _Mesh:
         mesh.beta0.append(np.arctan2(seg[:, 1], seg[:, 0]))
         mesh.ka.append(a)
         mesh.kb.append(b)
-        if isinstance(m.section, Section):      # prismatic: one section object for every element
+        if isinstance(m.section, Section):  # prismatic: one section object for every element
             mesh.el_section += [m.section] * n
         else:
             s_nodes = np.concatenate([[0.0], np.cumsum(lengths)])
@@ -213,6 +216,7 @@ def _joined(parts: list[np.ndarray], empty_shape: tuple[int, ...] = (0,), dtype:
 class _Joints:
     """Member-end rotation DOFs (released ends get their own), joint springs, and the owner node of
     every released-end DOF."""
+
     end_rot: IntArray
     springs: list[tuple[int, int]]
     spring_k: list[float]
@@ -232,15 +236,14 @@ def _joints(model: Model, mesh: _Mesh, rot_dof: IntArray) -> _Joints:
         at_node = [im for im, m in enumerate(model.members) if j.node in (m.start, m.end)]
         listed: tuple[int, ...] = tuple(at_node) if j.members is None else tuple(j.members)
         # the node rotation is carried by something else than the listed members?
-        anchored = (j.node in link_nodes or j.node in rot_held
-                    or any(im not in listed for im in at_node))
+        anchored = j.node in link_nodes or j.node in rot_held or any(im not in listed for im in at_node)
         k_ground = j.k
         if anchored:
-            released, k_ground = listed, j.k_ground     # every listed member turns freely (+ spring k)
+            released, k_ground = listed, j.k_ground  # every listed member turns freely (+ spring k)
         elif len(listed) >= 2:
             released, k_ground = listed[1:], j.k_ground  # the first listed member keeps the node rotation
         else:
-            released, k_ground = (), j.k_ground + j.k    # a single member: its spring k acts to ground
+            released, k_ground = (), j.k_ground + j.k  # a single member: its spring k acts to ground
         for im in released:
             _release(model, mesh, out, im, j, rot_dof)
         if k_ground > 0.0:
@@ -281,21 +284,30 @@ def _rigid_link_roots(model: Model) -> tuple[IntArray, IntArray]:
             seen.add(n)
             n = parent[n]
         return n
+
     if not parent:
         return np.zeros(0, dtype=int), np.zeros(0, dtype=int)
     slaves = sorted(parent)
     return np.array(slaves, dtype=int), np.array([root(s) for s in slaves], dtype=int)
 
 
-def _used_dofs(model: Model, n_en: int, n_full: int, edofs: IntArray, springs: IntArray, rot_dof: IntArray,
-               slaves: IntArray, masters: IntArray) -> BoolArray:
+def _used_dofs(
+    model: Model,
+    n_en: int,
+    n_full: int,
+    edofs: IntArray,
+    springs: IntArray,
+    rot_dof: IntArray,
+    slaves: IntArray,
+    masters: IntArray,
+) -> BoolArray:
     """Full DOFs that carry stiffness or load: translations, element and spring ends, loaded node
     rotations, rigid-link rotations (the ground entry excluded)."""
     used = np.zeros(n_full + 1, dtype=bool)
     used[edofs.ravel()] = True
     if len(springs):
         used[springs.ravel()] = True
-    used[:2 * n_en] = True
+    used[: 2 * n_en] = True
     for ld in model.loads:
         if ld.member is None and (ld.kind == "moment" or ld.follower):
             used[rot_dof[ld.node]] = True
@@ -309,6 +321,7 @@ def _used_dofs(model: Model, n_en: int, n_full: int, edofs: IntArray, springs: I
 @dataclass
 class _Held:
     """What the supports and prescribed motions hold."""
+
     fixed: BoolArray
     constrained: BoolArray
     slider_dirs: dict[int, tuple[float, float]]
@@ -325,14 +338,13 @@ def _supports(model: Model, n_full: int, used: BoolArray, rot_dof: IntArray, sla
     slave_set = set(slaves.tolist())
     for sp in model.supports:
         if sp.node in slave_set:
-            raise ValueError(f"support on rigid-link slave node {model.node_names[sp.node]}: "
-                             "put it on the master")
+            raise ValueError(f"support on rigid-link slave node {model.node_names[sp.node]}: put it on the master")
         n = sp.node
         if sp.kind in ("fixed", "pinned"):
-            fixed[2 * n:2 * n + 2] = True
+            fixed[2 * n : 2 * n + 2] = True
         else:
             held.slider_dirs[n] = sp.direction
-        held.constrained[2 * n:2 * n + 2] = True
+        held.constrained[2 * n : 2 * n + 2] = True
         if sp.kind in ("fixed", "guided"):
             fixed[rot_dof[n]] = True
             held.constrained[rot_dof[n]] = True
@@ -351,31 +363,39 @@ def _supports(model: Model, n_full: int, used: BoolArray, rot_dof: IntArray, sla
     return held
 
 
-def _constraint_map(n_en: int, n_full: int, order_: IntArray | list[int], independent: BoolArray, held: _Held,
-                    rotation_dofs: BoolArray, slaves: IntArray, masters: IntArray,
-                    rot_dof: IntArray) -> tuple[IntArray, FloatArray, int, BoolArray]:
+def _constraint_map(
+    n_en: int,
+    n_full: int,
+    order_: IntArray | list[int],
+    independent: BoolArray,
+    held: _Held,
+    rotation_dofs: BoolArray,
+    slaves: IntArray,
+    masters: IntArray,
+    rot_dof: IntArray,
+) -> tuple[IntArray, FloatArray, int, BoolArray]:
     """I, C of u_i = sum_w C[i, w] q[I[i, w]] in the DOF ``order`` (free DOFs, sliders u = d t, then
     the rigid-link slave rows copied from their masters); the number of unknowns and which are
     rotations."""
-    I = np.empty((n_full + 1, 2), dtype=int)      # every entry not set below: the dummy column n_red
+    I = np.empty((n_full + 1, 2), dtype=int)  # every entry not set below: the dummy column n_red
     C = np.zeros((n_full + 1, 2))
     order = np.asarray(order_, dtype=int)
     free = order[independent[order] & ~held.fixed[order]]
     if held.slider_dirs:
         node = np.where(free < 2 * n_en, free // 2, -1)
         slider = np.isin(node, np.array(list(held.slider_dirs), dtype=int))
-        keep = ~(slider & (free % 2 == 1))          # a slider's one unknown t sits on its x DOF
+        keep = ~(slider & (free % 2 == 1))  # a slider's one unknown t sits on its x DOF
         free, slider = free[keep], slider[keep]
     n_red = len(free)
     I[:] = n_red
     I[free, 0] = np.arange(n_red)
     C[free, 0] = 1.0
     if held.slider_dirs:
-        for i in free[slider]:          # slider: u = d t on both translations
+        for i in free[slider]:  # slider: u = d t on both translations
             I[i + 1, 0] = I[i, 0]
             C[i, 0], C[i + 1, 0] = held.slider_dirs[i // 2]
     red_is_rot = rotation_dofs[free]
-    for s, m in zip(slaves.tolist(), masters.tolist()):     # slave rows: copy the master map (+ theta column)
+    for s, m in zip(slaves.tolist(), masters.tolist()):  # slave rows: copy the master map (+ theta column)
         I[2 * s] = [I[2 * m, 0], I[rot_dof[m], 0]]
         I[2 * s + 1] = [I[2 * m + 1, 0], I[rot_dof[m], 0]]
         C[2 * s] = [C[2 * m, 0], 0.0]
@@ -414,18 +434,18 @@ def discretise(model: Model, refine: int = 1) -> Discretisation:
     mesh = _mesh(model, refine)
     X, conn = mesh.X, mesh.conn
     n_en = len(X)
-    rot_dof = 2 * n_en + np.arange(n_en)         # node rotations, then released member ends
+    rot_dof = 2 * n_en + np.arange(n_en)  # node rotations, then released member ends
     joints = _joints(model, mesh, rot_dof)
     n_full = ground = joints.n_full
     springs = np.array(joints.springs, dtype=int).reshape(-1, 2)
     if len(springs):
         springs[springs < 0] = ground
-    edofs = np.empty((len(conn), 6), dtype=int)     # per element [ux1, uy1, rz1, ux2, uy2, rz2]
+    edofs = np.empty((len(conn), 6), dtype=int)  # per element [ux1, uy1, rz1, ux2, uy2, rz2]
     edofs[:, 0::3] = 2 * conn
     edofs[:, 1::3] = edofs[:, 0::3] + 1
     edofs[:, 2::3] = joints.end_rot
     rotation_dofs = np.zeros(n_full + 1, dtype=bool)
-    rotation_dofs[2 * n_en:n_full] = True
+    rotation_dofs[2 * n_en : n_full] = True
     slaves, masters = _rigid_link_roots(model)
     used = _used_dofs(model, n_en, n_full, edofs, springs, rot_dof, slaves, masters)
     independent = np.ones(n_full + 1, dtype=bool)
@@ -434,19 +454,38 @@ def discretise(model: Model, refine: int = 1) -> Discretisation:
         independent[[2 * s, 2 * s + 1, rot_dof[s]]] = False
     held = _supports(model, n_full, used, rot_dof, slaves)
     order = _dof_order(n_en, conn, slaves, masters, joints.extra_owner)
-    I, C, n_red, red_is_rot = _constraint_map(n_en, n_full, order, independent, held, rotation_dofs,
-                                              slaves, masters, rot_dof)
+    I, C, n_red, red_is_rot = _constraint_map(
+        n_en, n_full, order, independent, held, rotation_dofs, slaves, masters, rot_dof
+    )
     n_lev = model.n_levels
     return Discretisation(
-        X=X, n_model_nodes=n_mn, conn=conn, edofs=edofs,
-        L0=_joined(mesh.L0), beta0=_joined(mesh.beta0), ka=_joined(mesh.ka), kb=_joined(mesh.kb, (0, 2, 2)),
-        el_member=np.array(mesh.el_member, dtype=int), el_section=mesh.el_section,
-        member_elements=mesh.member_elements, n_full=n_full, ground=ground, rot_dof=rot_dof,
-        rotation_dofs=rotation_dofs, springs=springs, spring_k=np.array(joints.spring_k, dtype=float),
-        n_red=n_red, I=I, C=C, independent=independent,
+        X=X,
+        n_model_nodes=n_mn,
+        conn=conn,
+        edofs=edofs,
+        L0=_joined(mesh.L0),
+        beta0=_joined(mesh.beta0),
+        ka=_joined(mesh.ka),
+        kb=_joined(mesh.kb, (0, 2, 2)),
+        el_member=np.array(mesh.el_member, dtype=int),
+        el_section=mesh.el_section,
+        member_elements=mesh.member_elements,
+        n_full=n_full,
+        ground=ground,
+        rot_dof=rot_dof,
+        rotation_dofs=rotation_dofs,
+        springs=springs,
+        spring_k=np.array(joints.spring_k, dtype=float),
+        n_red=n_red,
+        I=I,
+        C=C,
+        independent=independent,
         prescribed_dofs=np.array(held.p_dofs, dtype=int),
         prescribed_values=np.array(held.p_vals, dtype=float).reshape(len(held.p_dofs), n_lev),
-        constrained=held.constrained, slaves=slaves, masters=masters,
+        constrained=held.constrained,
+        slaves=slaves,
+        masters=masters,
         node_rotation_used=(used[rot_dof[:n_mn]] | _marked(n_mn, slaves)) if len(slaves) else used[rot_dof[:n_mn]],
         node_first_end_rot=_first_member_ends(n_mn, conn, edofs, mesh.member_elements),
-        red_is_rotation=red_is_rot)
+        red_is_rotation=red_is_rot,
+    )

@@ -34,6 +34,7 @@ as in `corotational`; every array carries the element axis first.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -44,8 +45,9 @@ from .types import FloatArray
 __all__ = ["element_loads"]
 
 
-def element_loads(beams: Beams, p: FloatArray, beta: FloatArray, q_dead: FloatArray,
-                  q_follower: FloatArray) -> tuple[FloatArray, FloatArray]:
+def element_loads(
+    beams: Beams, p: FloatArray, beta: FloatArray, q_dead: FloatArray, q_follower: FloatArray
+) -> tuple[FloatArray, FloatArray]:
     """Consistent nodal loads f (n, 6) and load stiffness K_q = df/dp (n, 6, 6) of all elements
     (`kernel.Beams`: their reference geometry) at element displacements ``p`` (n, 6) and chord angles
     ``beta`` (n,).
@@ -55,14 +57,14 @@ def element_loads(beams: Beams, p: FloatArray, beta: FloatArray, q_dead: FloatAr
     reference length; zero rows for unloaded elements).
     """
     X1, X2, L0, beta0 = beams.X1, beams.X2, beams.L0, beams.beta0
-    d = np.column_stack([X2[:, 0] - X1[:, 0] + p[:, 3] - p[:, 0],
-                         X2[:, 1] - X1[:, 1] + p[:, 4] - p[:, 1]])
+    d = np.column_stack([X2[:, 0] - X1[:, 0] + p[:, 3] - p[:, 0], X2[:, 1] - X1[:, 1] + p[:, 4] - p[:, 1]])
     L = np.hypot(d[:, 0], d[:, 1])
     n_hat = np.column_stack([-d[:, 1], d[:, 0]]) / L[:, None]
     phi = beta - beta0
     cs, sn = np.cos(phi), np.sin(phi)
-    q_turned = np.column_stack([cs * q_follower[:, 0] - sn * q_follower[:, 1],
-                                sn * q_follower[:, 0] + cs * q_follower[:, 1]])
+    q_turned = np.column_stack(
+        [cs * q_follower[:, 0] - sn * q_follower[:, 1], sn * q_follower[:, 0] + cs * q_follower[:, 1]]
+    )
     q = q_dead + q_turned
     g = np.column_stack([q[:, 1], -q[:, 0]])
     A = p[:, 2] - p[:, 5]
@@ -76,17 +78,17 @@ def element_loads(beams: Beams, p: FloatArray, beta: FloatArray, q_dead: FloatAr
     K = np.zeros((len(L0), 6, 6))
     # dead-load (conservative) part: every load turns the same way here, with g of the total q
     c = (L0 / 12)[:, None] * g
-    for row, sign in ((slice(0, 2), -1.0), (slice(3, 5), 1.0)):   # forces w.r.t. theta1, theta2
+    for row, sign in ((slice(0, 2), -1.0), (slice(3, 5), 1.0)):  # forces w.r.t. theta1, theta2
         K[:, row, 2] = sign * c
         K[:, row, 5] = -sign * c
-    K[:, 2, 0:2], K[:, 2, 3:5] = -c, c                              # m1 w.r.t. x1, x2
-    K[:, 5, 0:2], K[:, 5, 3:5] = c, -c                              # m2 = -m1
+    K[:, 2, 0:2], K[:, 2, 3:5] = -c, c  # m1 w.r.t. x1, x2
+    K[:, 5, 0:2], K[:, 5, 3:5] = c, -c  # m2 = -m1
     # follower part: the turning of q with the chord
     if np.any(q_follower):
         qd = np.einsum("ei,ei->e", q_turned, d)
         gt = np.column_stack([q_turned[:, 1], -q_turned[:, 0]])
         w = (L0 / L)[:, None]
-        df1 = w * (-gt / 2 - q_turned * A[:, None] / 12)            # (n, 2): d f_1 / d beta * L0 / L
+        df1 = w * (-gt / 2 - q_turned * A[:, None] / 12)  # (n, 2): d f_1 / d beta * L0 / L
         df2 = w * (-gt / 2 + q_turned * A[:, None] / 12)
         dm1 = L0 * qd / (12 * L)
         for row, vec in ((slice(0, 2), df1), (slice(3, 5), df2)):

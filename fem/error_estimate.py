@@ -40,6 +40,7 @@ tolerance); else it is the finer 4n (and Q_4n is reported).
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import math
@@ -106,7 +107,7 @@ class ErrorEstimate:
     refine: int
     converged: bool
     message: str
-    history: list[tuple[int, float]] = field(default_factory=list)    # (refine, position error estimate)
+    history: list[tuple[int, float]] = field(default_factory=list)  # (refine, position error estimate)
     wall_time: float = 0.0
     unreliable: Mapping[str, NDArray[Any]] = field(default_factory=dict)
     reliable: bool = True
@@ -154,7 +155,7 @@ def _floor(name: str, values: FloatArray, model_scale: tuple[float, float], floo
         return np.full(values.shape, floor * length)
     if name == "rotations":
         return np.full(values.shape, floor)
-    if name == "reactions":        # forces and moments apart, each at least the other's over the length
+    if name == "reactions":  # forces and moments apart, each at least the other's over the length
         forces = float(np.max(np.abs(values[..., :2]), initial=0.0))
         moments = float(np.max(np.abs(values[..., 2]), initial=0.0))
         force = max(floor * max(forces, moments / length), ROUNDING_EA * np.finfo(float).eps * axial)
@@ -185,12 +186,12 @@ class _Estimates:
     asymptotic range, ``unreliable`` (a run that reads positions never computes the meshes' reactions
     and energies)."""
 
-    def __init__(self, results: list[FemResult], levels: int, check: AsymptoticCheck | None,
-                 model_scale: tuple[float, float]):
+    def __init__(
+        self, results: list[FemResult], levels: int, check: AsymptoticCheck | None, model_scale: tuple[float, float]
+    ):
         self.results, self.levels = results[-levels:], levels
         last3 = results[-3:]
-        comparable = (len(last3) == 3 and all(r.converged for r in last3)
-                      and len({r.n_levels for r in last3}) == 1)
+        comparable = len(last3) == 3 and all(r.converged for r in last3) and len({r.n_levels for r in last3}) == 1
         self.judged = last3 if check is not None and comparable else None
         self.check, self.model_scale = check, model_scale
         self.error, self.extrapolated = _Lazy(self), _Lazy(self)
@@ -207,7 +208,7 @@ class _Estimates:
         if self.levels == 3:
             r2a, _ = richardson(vals[0], vals[1])
             r3, _ = richardson(r2a, ext, order=4.0)
-            assert self.extrapolated_error is not None      # made for levels=3
+            assert self.extrapolated_error is not None  # made for levels=3
             self.extrapolated_error.values_[name] = np.abs(r3 - ext)
             ext = r3
         self.extrapolated.values_[name] = ext
@@ -218,7 +219,7 @@ class _Estimates:
         fine = np.asarray(getattr(self.results[-1], name))
         if self.check is None:
             return np.zeros(fine.shape, bool)
-        if self.judged is None:          # fewer than three comparable meshes: nothing could be judged
+        if self.judged is None:  # fewer than three comparable meshes: nothing could be judged
             self.ratio[name] = np.full(fine.shape, np.nan)
             return np.ones(fine.shape, bool)
         q0, q1, q2 = (np.asarray(getattr(r, name)) for r in self.judged)
@@ -240,8 +241,13 @@ class _Estimates:
                 # the ratio farthest from 4 (a change of sign first) names the worst value
                 far = np.where(ratio > 0, np.abs(np.log2(np.where(ratio > 0, ratio, 1.0)) - 2.0), np.inf)
                 r = float(ratio[int(np.argmax(far))])
-                p = (f"p = {math.log2(r):.2f}" if r > 0 else "the differences change sign" if r <= 0
-                     else "fewer than three meshes")
+                p = (
+                    f"p = {math.log2(r):.2f}"
+                    if r > 0
+                    else "the differences change sign"
+                    if r <= 0
+                    else "fewer than three meshes"
+                )
                 parts.append(f"{name} {int(bad.sum())} of {bad.size} ({p})")
         return ", ".join(parts)
 
@@ -272,13 +278,19 @@ def _halved(model: Model) -> Model | None:
     members = model.members
     if any(m.refined and m.n_elements % 2 for m in members):
         return None
-    return replace(model, members=[replace(m, n_elements=m.n_elements // 2) if m.refined else m
-                                   for m in members])
+    return replace(model, members=[replace(m, n_elements=m.n_elements // 2) if m.refined else m for m in members])
 
 
-def solve_with_error_estimate(model: Model, *args: Any, tol: float | None = None, refine: int = 1,
-                              levels: int = 2, max_refine: int = 64,
-                              check: AsymptoticCheck | None = AsymptoticCheck(), **kwargs: Any) -> ErrorEstimate:
+def solve_with_error_estimate(
+    model: Model,
+    *args: Any,
+    tol: float | None = None,
+    refine: int = 1,
+    levels: int = 2,
+    max_refine: int = 64,
+    check: AsymptoticCheck | None = AsymptoticCheck(),
+    **kwargs: Any,
+) -> ErrorEstimate:
     """Solve on refine x (1, 2[, 4]) elements per member and extrapolate.
 
     With ``tol`` the meshes are doubled until the position error estimate
@@ -309,14 +321,14 @@ def solve_with_error_estimate(model: Model, *args: Any, tol: float | None = None
         if half is not None:
             meshes.insert(0, (half, refine // 2 if refine % 2 == 0 else 1))
             coarsest_judges_only = True
-        else:       # no coarser mesh of the same nodes: the finer 4n is the third
+        else:  # no coarser mesh of the same nodes: the finer 4n is the third
             meshes.append((model, fine_refine))
             fine_refine *= 2
     results: list[FemResult] = []
     for mesh, r in meshes:
         results.append(solve_refined(mesh, r, results[-1] if results else None))
     if coarsest_judges_only and not results[0].converged:
-        results = results[1:]     # the n/2 mesh failed: the order is judged on finer meshes
+        results = results[1:]  # the n/2 mesh failed: the order is judged on finer meshes
     history: list[tuple[int, float]] = []
     doubled: list[str] = []
     model_scale = (model.characteristic_length(), _axial_stiffness(model))
@@ -326,8 +338,21 @@ def solve_with_error_estimate(model: Model, *args: Any, tol: float | None = None
         bad = [r for r in results[-levels:] if not r.converged]
         if bad or len({r.n_levels for r in results[-levels:]}) != 1:
             msg = f"refine={bad[0].refine}: {bad[0].message}" if bad else "meshes reached different levels"
-            return ErrorEstimate(results[-1], results, {}, {}, None, None, fine_refine, False,
-                                 msg, history, wall, reliable=False, check=check)
+            return ErrorEstimate(
+                results[-1],
+                results,
+                {},
+                {},
+                None,
+                None,
+                fine_refine,
+                False,
+                msg,
+                history,
+                wall,
+                reliable=False,
+                check=check,
+            )
         est = _Estimates(results, levels, check, model_scale)
         est.fill("positions")
         order = _observed_order(results) if len(results) >= 3 else None
@@ -336,17 +361,35 @@ def solve_with_error_estimate(model: Model, *args: Any, tol: float | None = None
         outside = est.worst(check.fields) if check is not None else ""
         small = tol is None or emax <= tol
         if (small and not outside) or fine_refine >= max_refine:
-            msg = (f"estimated position error {emax:.3g} with refine={fine_refine}" if small else
-                   f"tol={tol:g} not reached: estimate {emax:.3g} at refine={fine_refine}")
+            msg = (
+                f"estimated position error {emax:.3g} with refine={fine_refine}"
+                if small
+                else f"tol={tol:g} not reached: estimate {emax:.3g} at refine={fine_refine}"
+            )
             if outside:
-                assert check is not None      # only a check finds values outside
-                msg += (f"; estimate unreliable: not in the asymptotic range (observed order outside "
-                        f"2 +- {check.band:g}) by refine={fine_refine}: {outside}")
+                assert check is not None  # only a check finds values outside
+                msg += (
+                    f"; estimate unreliable: not in the asymptotic range (observed order outside "
+                    f"2 +- {check.band:g}) by refine={fine_refine}: {outside}"
+                )
             elif doubled:
                 msg += "; meshes doubled for the asymptotic range past " + "; ".join(doubled)
-            return ErrorEstimate(results[-1], results, est.error, est.extrapolated, est.extrapolated_error,
-                                 order, fine_refine, small, msg, history, wall, est.unreliable,
-                                 reliable=not outside, check=check)
+            return ErrorEstimate(
+                results[-1],
+                results,
+                est.error,
+                est.extrapolated,
+                est.extrapolated_error,
+                order,
+                fine_refine,
+                small,
+                msg,
+                history,
+                wall,
+                est.unreliable,
+                reliable=not outside,
+                check=check,
+            )
         if outside:
             doubled.append(f"refine={fine_refine} ({outside})")
         fine_refine *= 2

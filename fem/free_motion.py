@@ -35,6 +35,7 @@ depend on which basis N of the null space the SVD returned.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 from collections import deque
@@ -52,7 +53,7 @@ if TYPE_CHECKING:
 
 __all__ = ["FreeMotion", "FreeMotions", "RCOND", "check_held", "free_motions"]
 
-RCOND = 1e-10       # a singular value of G at most RCOND * sigma_max counts as zero (a free motion)
+RCOND = 1e-10  # a singular value of G at most RCOND * sigma_max counts as zero (a free motion)
 NAMED_SHARE = 1e-6  # a DOF is named when its share of the null space exceeds this times the largest
 
 
@@ -80,11 +81,11 @@ class _Kinematics:
     """The rigid-body kinematics of a discretisation: rotation class of every reduced DOF (-1: not a
     turning rotation), the forest (component and A of every model node), and the constraint rows."""
 
-    turning: IntArray          # (n_red + 1,) column of z of each reduced rotation DOF, -1: does not turn
+    turning: IntArray  # (n_red + 1,) column of z of each reduced rotation DOF, -1: does not turn
     n_turning: int
-    component: IntArray        # (n_model_nodes,) component of each model node
-    A: FloatArray              # (n_model_nodes, n_turning, 2) chord sums from the root, over L_ref
-    rows: FloatArray           # (n_rows, n_z) the constraint matrix G
+    component: IntArray  # (n_model_nodes,) component of each model node
+    A: FloatArray  # (n_model_nodes, n_turning, 2) chord sums from the root, over L_ref
+    rows: FloatArray  # (n_rows, n_z) the constraint matrix G
 
 
 def _perp(a: FloatArray) -> FloatArray:
@@ -114,7 +115,7 @@ def _rotation_classes(disc: Discretisation) -> tuple[IntArray, int]:
     pairs = np.concatenate(parts)
     present = np.zeros(n_red + 1, dtype=bool)
     present[pairs.ravel()] = True
-    present[red[disc.rot_dof[:disc.n_model_nodes]]] = True
+    present[red[disc.rot_dof[: disc.n_model_nodes]]] = True
     label = _components(n_red + 1, pairs.tolist())
     rotation = np.append(disc.red_is_rotation, False) & present
     classes = np.unique(label[rotation & (label != label[n_red])])
@@ -135,6 +136,7 @@ def _components(n: int, pairs: list[list[int]]) -> IntArray:
             parent[i] = parent[parent[i]]
             i = int(parent[i])
         return i
+
     for i, j in pairs:
         ri, rj = find(i), find(j)
         if ri != rj:
@@ -155,8 +157,7 @@ def _edges(disc: Discretisation, turning: IntArray) -> tuple[IntArray, IntArray,
     return a, b, cls, disc.X[b] - disc.X[a]
 
 
-def _forest(n_en: int, a: IntArray,
-            b: IntArray) -> tuple[IntArray, int, list[int], list[tuple[int, int]], BoolArray]:
+def _forest(n_en: int, a: IntArray, b: IntArray) -> tuple[IntArray, int, list[int], list[tuple[int, int]], BoolArray]:
     """A spanning forest of the graph of the model nodes (n_en of them) joined by members and links:
     component of every node, the nodes in breadth-first order with their tree edge (index, +1 when
     traversed a -> b, -1 when b -> a; -1 for a root), and which edges are outside the forest."""
@@ -228,7 +229,7 @@ def _kinematics(disc: Discretisation, L_ref: float) -> _Kinematics:
             A[node, cls[e]] += sign * chord[e]
     n_z = n_turn + 2 * n_comp
     rows: list[FloatArray] = []
-    for e in np.nonzero(loose)[0].tolist():      # t(b) - t(a) = omega_c perp(chord): the loop closes
+    for e in np.nonzero(loose)[0].tolist():  # t(b) - t(a) = omega_c perp(chord): the loop closes
         gap = A[b[e]] - A[a[e]]
         if cls[e] >= 0:
             gap[cls[e]] -= chord[e]
@@ -236,11 +237,11 @@ def _kinematics(disc: Discretisation, L_ref: float) -> _Kinematics:
             row = np.zeros(n_z)
             row[:n_turn] = _perp(gap)[:, axis]
             rows.append(row)
-    for node, normal in _translation_held(disc, n_en):     # normal . t(node) = 0
+    for node, normal in _translation_held(disc, n_en):  # normal . t(node) = 0
         row = np.zeros(n_z)
         row[:n_turn] = _perp(A[node]) @ normal
         root = n_turn + 2 * component[node]
-        row[root:root + 2] = normal
+        row[root : root + 2] = normal
         rows.append(row)
     G = np.array(rows).reshape(len(rows), n_z)
     return _Kinematics(turning, n_turn, component, A, G)
@@ -277,12 +278,14 @@ def _dof_rows(disc: Discretisation, kin: _Kinematics, system: System) -> list[tu
         root = kin.n_turning + 2 * int(kin.component[node])
         for axis, dof in ((0, "ux"), (1, "uy")):
             g = np.zeros(n_z)
-            g[:kin.n_turning] = _perp(kin.A[node])[:, axis]
+            g[: kin.n_turning] = _perp(kin.A[node])[:, axis]
             g[root + axis] = 1.0
             out.append((f"{where} {dof}", g))
         rotations = [(int(disc.rot_dof[node]), "rz")]
-        rotations += [(dof, f"rz of member {system.model.members[int(disc.el_member[e])].name!r}"
-                            " (its end at a joint)") for dof, e in ends.get(node, [])]
+        rotations += [
+            (dof, f"rz of member {system.model.members[int(disc.el_member[e])].name!r} (its end at a joint)")
+            for dof, e in ends.get(node, [])
+        ]
         for full, dof in rotations:
             column = kin.turning[red[full]]
             g = np.zeros(n_z)
@@ -292,20 +295,23 @@ def _dof_rows(disc: Discretisation, kin: _Kinematics, system: System) -> list[tu
     return out
 
 
-_KNOWN: dict[tuple[Any, ...], FreeMotions] = {}   # kinematic signature -> answer, for models solved again
+_KNOWN: dict[tuple[Any, ...], FreeMotions] = {}  # kinematic signature -> answer, for models solved again
 _KNOWN_MAX = 256
 
 
 def _signature(model: Model) -> tuple[Any, ...]:
     """Everything the answer depends on: node names and coordinates, member ends, joints (which members,
     whether sprung), supports, rigid links and prescribed DOFs; not stiffnesses, loads or meshes."""
-    return (tuple(model.node_names), tuple(model.coords),
-            tuple((m.start, m.end, m.name) for m in model.members),
-            tuple((j.node, j.members, j.k > 0.0, j.k_ground > 0.0) for j in model.joints),
-            tuple((sp.node, sp.kind, sp.direction) for sp in model.supports),
-            tuple((rl.master, rl.slave) for rl in model.rigid_links),
-            tuple((p.node, p.dof) for p in model.prescribed),
-            tuple(sorted({ld.node for ld in model.loads if ld.kind == "moment" or ld.follower})))
+    return (
+        tuple(model.node_names),
+        tuple(model.coords),
+        tuple((m.start, m.end, m.name) for m in model.members),
+        tuple((j.node, j.members, j.k > 0.0, j.k_ground > 0.0) for j in model.joints),
+        tuple((sp.node, sp.kind, sp.direction) for sp in model.supports),
+        tuple((rl.master, rl.slave) for rl in model.rigid_links),
+        tuple((p.node, p.dof) for p in model.prescribed),
+        tuple(sorted({ld.node for ld in model.loads if ld.kind == "moment" or ld.follower})),
+    )
 
 
 def free_motions(system: System) -> FreeMotions:
@@ -346,7 +352,9 @@ def check_held(system: System) -> None:
 
 
 def _message(motions: FreeMotions) -> str:
-    count = (f"{motions.count} independent motions" if motions.count > 1 else "one motion")
-    return (f"the model can move without deforming (a rigid-body motion or a mechanism, {count}): "
-            f"no stiffness holds {motions.named} at the unloaded state; "
-            "add a support, a joint spring or a member there")
+    count = f"{motions.count} independent motions" if motions.count > 1 else "one motion"
+    return (
+        f"the model can move without deforming (a rigid-body motion or a mechanism, {count}): "
+        f"no stiffness holds {motions.named} at the unloaded state; "
+        "add a support, a joint spring or a member there"
+    )

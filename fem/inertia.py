@@ -8,14 +8,15 @@ from zero.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import numpy as np
 
 __all__ = ["EPS", "DENSE_LIMIT", "zero_eigenvalue"]
 
-EPS = float(np.finfo(float).eps)   # machine epsilon (np.finfo is slow to ask)
-DENSE_LIMIT = 600        # dense eigh below this many unknowns, shift-invert Lanczos above
+EPS = float(np.finfo(float).eps)  # machine epsilon (np.finfo is slow to ask)
+DENSE_LIMIT = 600  # dense eigh below this many unknowns, shift-invert Lanczos above
 
 
 def zero_eigenvalue(scale: float, n: int) -> float:

@@ -66,6 +66,7 @@ system, `newton` those of a solve, each by keyword.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import math
@@ -81,15 +82,39 @@ from .types import BoolArray, FloatArray, Int32Array, IntArray
 if TYPE_CHECKING:
     from .linear_solver import MatrixLayout
 
-__all__ = ["element_kernel", "scatter", "scatter_add", "CompiledLayout", "newton_load", "Beams", "DofMap",
-           "Couplings", "Band", "Storage", "Load", "Start", "Controls", "Work", "ElementState", "Outcome",
-           "element_outputs", "work_arrays", "CONVERGED", "NOT_FINITE", "NO_CONVERGENCE", "SINGULAR",
-           "NON_FINITE_TANGENT", "ROTATION_TOO_LARGE", "CONVERGED_JUMPED"]
+__all__ = [
+    "element_kernel",
+    "scatter",
+    "scatter_add",
+    "CompiledLayout",
+    "newton_load",
+    "Beams",
+    "DofMap",
+    "Couplings",
+    "Band",
+    "Storage",
+    "Load",
+    "Start",
+    "Controls",
+    "Work",
+    "ElementState",
+    "Outcome",
+    "element_outputs",
+    "work_arrays",
+    "CONVERGED",
+    "NOT_FINITE",
+    "NO_CONVERGENCE",
+    "SINGULAR",
+    "NON_FINITE_TANGENT",
+    "ROTATION_TOO_LARGE",
+    "CONVERGED_JUMPED",
+]
 
 
 # -- the argument groups ---------------------------------------------------------------------------------
 # Named tuples of arrays and scalars (numba types each field apart and reads it by name). They live in
 # this module because numba's cache is keyed on this file: a group's fields are part of the compiled code.
+
 
 class Beams(NamedTuple):
     """The elements' reference geometry and section stiffness, one row per element (n_el of them).
@@ -100,6 +125,7 @@ class Beams(NamedTuple):
     ka     : (n_el,) axial stiffness k_a, N = k_a u_bar (force / length)
     kb     : (n_el, 2, 2) bending stiffness k_b, [M1, M2] = k_b [theta_1, theta_2] (force length / rad)
     """
+
     X1: FloatArray
     X2: FloatArray
     L0: FloatArray
@@ -121,6 +147,7 @@ class DofMap(NamedTuple):
     ground     : the ground entry's index (= n_full)
     rotation   : (n,) bool, q_k is a rotation (rad), else a displacement (length)
     """
+
     I0: IntArray
     C0: FloatArray
     I1: IntArray
@@ -139,6 +166,7 @@ class Couplings(NamedTuple):
     springs  : (n_sp, 2) full DOFs (theta_a, theta_b) of each spring, theta_b possibly the ground (int)
     spring_k : (n_sp,) stiffness k, moment M = k (theta_a - theta_b) (force length / rad)
     """
+
     links: IntArray
     links_X: FloatArray
     springs: IntArray
@@ -153,6 +181,7 @@ class Band(NamedTuple):
     kl, ku : sub- and superdiagonals of the band (0 when dense)
     ld     : leading dimension, 2 kl + ku + 1 (band) or n (dense)
     """
+
     banded: bool
     kl: int
     ku: int
@@ -172,6 +201,7 @@ class Storage(NamedTuple):
                          2 w1 + w2 ((0,) without them; int)
     rows_full, cols_full : (number of full entries,) full row and column of each full entry (int)
     """
+
     band: Band
     flat: IntArray
     source: IntArray
@@ -188,6 +218,7 @@ class Load(NamedTuple):
     F_fixed : (nf,) dead forces and moments, full vector (force, force length)
     presc   : (n_p,) values of the prescribed DOFs `DofMap.prescribed` (length or rad)
     """
+
     lam: float
     F_fixed: FloatArray
     presc: FloatArray
@@ -199,6 +230,7 @@ class Start(NamedTuple):
     q    : (n,) its reduced unknowns (the step's rotation increment is measured from them)
     beta : (n_el,) its chord angles (rad): each element's new chord angle continues from it
     """
+
     q: FloatArray
     beta: FloatArray
 
@@ -215,6 +247,7 @@ class Controls(NamedTuple):
     confirm_sign : confirm a det K sign that is not positive on the converged tangent
     inertia_tol  : threshold of the inertia test at a converged state (NaN: no test)
     """
+
     rtol: float
     atol: float
     floor: float
@@ -239,6 +272,7 @@ class ElementState(NamedTuple):
     u_bar     : (n_el,) elongation L - L0 (length)
     jumped    : (n_el,) bool, an end rotation is about 2 pi off the chord
     """
+
     f: FloatArray
     K: FloatArray
     N: FloatArray
@@ -264,6 +298,7 @@ class Work(NamedTuple):
     spring  : (nf,) the springs' moments (scratch)
     hist    : (maxiter + 1,) |r| / F_scale of each iteration
     """
+
     K: FloatArray
     u: FloatArray
     f_int: FloatArray
@@ -288,6 +323,7 @@ class Outcome(NamedTuple):
     final      : the sign is of the converged state's own factorisation
     below      : the inertia test: 1 an eigenvalue below -inertia_tol, 0 none, -1 not made
     """
+
     status: int
     iterations: int
     sign: int
@@ -299,21 +335,39 @@ class Outcome(NamedTuple):
 
 def element_outputs(n_el: int, tangent: bool = True) -> ElementState:
     """Empty `ElementState` arrays of ``n_el`` elements (the tangent zeroed; (0, 6, 6) without it)."""
-    return ElementState(f=np.empty((n_el, 6)), K=np.zeros((n_el, 6, 6) if tangent else (0, 6, 6)),
-                        N=np.empty(n_el), M=np.empty((n_el, 2)), L=np.empty(n_el), beta=np.empty(n_el),
-                        theta_bar=np.empty((n_el, 2)), u_bar=np.empty(n_el), jumped=np.empty(n_el, dtype=bool))
+    return ElementState(
+        f=np.empty((n_el, 6)),
+        K=np.zeros((n_el, 6, 6) if tangent else (0, 6, 6)),
+        N=np.empty(n_el),
+        M=np.empty((n_el, 2)),
+        L=np.empty(n_el),
+        beta=np.empty(n_el),
+        theta_bar=np.empty((n_el, 2)),
+        u_bar=np.empty(n_el),
+        jumped=np.empty(n_el, dtype=bool),
+    )
 
 
 def work_arrays(n: int, nf: int, size: int, maxiter: int, links: bool) -> Work:
     """Empty `Work` arrays: n unknowns, nf full DOFs, a storage of ``size`` entries, maxiter + 1
     iterations, the turned constraint column with rigid ``links``."""
-    return Work(K=np.empty(size), u=np.empty(nf), f_int=np.empty(nf), f_ref=np.empty(nf), R=np.empty(nf),
-                r=np.empty(n), fr=np.empty(n), C1w=np.empty(nf if links else 0), spring=np.empty(nf),
-                hist=np.empty(maxiter + 1))
+    return Work(
+        K=np.empty(size),
+        u=np.empty(nf),
+        f_int=np.empty(nf),
+        f_ref=np.empty(nf),
+        R=np.empty(nf),
+        r=np.empty(n),
+        fr=np.empty(n),
+        C1w=np.empty(nf if links else 0),
+        spring=np.empty(nf),
+        hist=np.empty(maxiter + 1),
+    )
 
 
 class _Chord(NamedTuple):
     """One element's deformed chord: direction cosines c, s and length L."""
+
     c: float
     s: float
     L: float
@@ -321,6 +375,7 @@ class _Chord(NamedTuple):
 
 class _Forces(NamedTuple):
     """One element's axial force N and shear V = (M1 + M2)/L."""
+
     N: float
     V: float
 
@@ -332,8 +387,7 @@ def _wrap(a: float) -> float:
 
 
 @njit(cache=True)
-def element_kernel(beams: Beams, p: FloatArray, beta_prev: FloatArray, need_tangent: bool,
-                   out: ElementState) -> None:
+def element_kernel(beams: Beams, p: FloatArray, beta_prev: FloatArray, need_tangent: bool, out: ElementState) -> None:
     """Into ``out``: internal forces f (n,6), tangent K (n,6,6) (untouched when not needed), and the
     local state N (n,), M (n,2), L, beta, theta_bar (n,2), u_bar, jumped (n,) of all elements at the
     element displacements ``p`` (n,6), each chord angle continued from ``beta_prev`` (n,). (Outputs
@@ -423,7 +477,7 @@ def scatter(target: IntArray, source: IntArray, factor: FloatArray, values: Floa
 
 
 CONVERGED, NOT_FINITE, NO_CONVERGENCE, SINGULAR, NON_FINITE_TANGENT, ROTATION_TOO_LARGE = range(6)
-CONVERGED_JUMPED = 6   # converged, and some element's end rotations are 2 pi off its chord (`newton.accept_check`)
+CONVERGED_JUMPED = 6  # converged, and some element's end rotations are 2 pi off its chord (`newton.accept_check`)
 
 
 def _lapack(name: str, n_args: int) -> Any:
@@ -443,6 +497,7 @@ _dpbtrf = _lapack("dpbtrf", 6)
 class _Loaded(Protocol):
     """What `CompiledLayout.applies` reads of a system (`assembly.System`): its tangent's storage, its
     number of unknowns and its configuration-dependent loads."""
+
     layout: MatrixLayout
     n: int
     fol_nodes: IntArray
@@ -461,9 +516,13 @@ class CompiledLayout:
 
     @staticmethod
     def applies(system: _Loaded) -> bool:
-        return (system.layout.kind in ("dense", "banded") and system.n > 0
-                and len(system.fol_nodes) == 0 and len(system.pt_nodes) == 0
-                and len(system.dist_follower) == 0)
+        return (
+            system.layout.kind in ("dense", "banded")
+            and system.n > 0
+            and len(system.fol_nodes) == 0
+            and len(system.pt_nodes) == 0
+            and len(system.dist_follower) == 0
+        )
 
     def __init__(self, layout: MatrixLayout, rows: IntArray, cols: IntArray):
         n = layout.n
@@ -493,17 +552,27 @@ def _factor(work: FloatArray, band: Band, n: int, ipiv: Int32Array, ints: Int32A
 
 
 @njit(cache=True, no_cpython_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
-def _back_solve(work: FloatArray, banded: bool, ipiv: Int32Array, ints: Int32Array, info: Int32Array,
-                x: FloatArray) -> None:
+def _back_solve(
+    work: FloatArray, banded: bool, ipiv: Int32Array, ints: Int32Array, info: Int32Array, x: FloatArray
+) -> None:
     """x <- K^-1 x with the factors `_factor` left in ``work`` (its n, kl, ku, ld in ``ints``)."""
     if banded:
         band_solve(work, ints[0], ints[1], ints[2], ints[3], ipiv, x)
         return
     trans = np.empty(1, np.uint8)
-    trans[0] = 78     # 'N'
+    trans[0] = 78  # 'N'
     ints[4] = 1
-    _dgetrs(trans.ctypes, ints[0:].ctypes, ints[4:].ctypes, work.ctypes, ints[3:].ctypes,
-            ipiv.ctypes, x.ctypes, ints[0:].ctypes, info.ctypes)
+    _dgetrs(
+        trans.ctypes,
+        ints[0:].ctypes,
+        ints[4:].ctypes,
+        work.ctypes,
+        ints[3:].ctypes,
+        ipiv.ctypes,
+        x.ctypes,
+        ints[0:].ctypes,
+        info.ctypes,
+    )
 
 
 @njit(cache=True, error_model="numpy")
@@ -516,25 +585,25 @@ def band_lu(ab: FloatArray, n: int, kl: int, ku: int, ld: int, ipiv: Int32Array)
     0, or the 1-based column of the first exactly zero pivot."""
     kv = ku + kl
     info = 0
-    for j in range(ku + 1, min(kv, n)):            # zero the fill-in of the first columns
+    for j in range(ku + 1, min(kv, n)):  # zero the fill-in of the first columns
         for i in range(kv - j, kl):
             ab[j * ld + i] = 0.0
-    ju = 0                                          # last column touched by the row swaps (0-based)
+    ju = 0  # last column touched by the row swaps (0-based)
     for j in range(n):
-        if j + kv < n:                              # fill-in of column j + kv
+        if j + kv < n:  # fill-in of column j + kv
             for i in range(kl):
                 ab[(j + kv) * ld + i] = 0.0
-        km = min(kl, n - 1 - j)                     # subdiagonal entries of column j
-        d = j * ld + kv                             # the diagonal entry
+        km = min(kl, n - 1 - j)  # subdiagonal entries of column j
+        d = j * ld + kv  # the diagonal entry
         jp, big = 0, abs(ab[d])
-        for t in range(1, km + 1):                  # idamax: the first largest magnitude
+        for t in range(1, km + 1):  # idamax: the first largest magnitude
             v = abs(ab[d + t])
             if v > big:
                 jp, big = t, v
         ipiv[j] = jp + j + 1
         if ab[d + jp] != 0.0:
             ju = max(ju, min(j + ku + jp, n - 1))
-            if jp != 0:                             # swap rows j and j + jp over columns j..ju
+            if jp != 0:  # swap rows j and j + jp over columns j..ju
                 for c in range(ju - j + 1):
                     a, b = d + jp + c * (ld - 1), d + c * (ld - 1)
                     ab[a], ab[b] = ab[b], ab[a]
@@ -542,7 +611,7 @@ def band_lu(ab: FloatArray, n: int, kl: int, ku: int, ld: int, ipiv: Int32Array)
                 r = 1.0 / ab[d]
                 for t in range(1, km + 1):
                     ab[d + t] *= r
-                for c in range(1, ju - j + 1):      # rank-1 update of the band right of column j
+                for c in range(1, ju - j + 1):  # rank-1 update of the band right of column j
                     y = ab[d + c * (ld - 1)]
                     if y != 0.0:
                         temp = -y
@@ -610,7 +679,7 @@ def _shifted_cholesky_fails(K: FloatArray, band: Band, n: int, held: int, tol: f
     banded, kl, ku, ldk = band.banded, band.kl, band.ku, band.ld
     w = ku if banded else n - 1
     base = kl + ku if banded else 0
-    ld = w + 1 if banded else n          # entry (i, j), i <= j, at j ld + (w + i - j) (band) or j ld + i
+    ld = w + 1 if banded else n  # entry (i, j), i <= j, at j ld + (w + i - j) (band) or j ld + i
     up = np.zeros(ld * n)
     d = np.empty(n)
     for j in range(n):
@@ -629,7 +698,7 @@ def _shifted_cholesky_fails(K: FloatArray, band: Band, n: int, held: int, tol: f
                 a += tol
             up[j * ld + (w + i - j if banded else i)] = a
     uplo = np.empty(1, np.uint8)
-    uplo[0] = 85      # 'U'
+    uplo[0] = 85  # 'U'
     ints = np.zeros(4, np.int32)
     ints[0], ints[1], ints[2] = n, w, ld
     if banded:
@@ -640,8 +709,17 @@ def _shifted_cholesky_fails(K: FloatArray, band: Band, n: int, held: int, tol: f
 
 
 @njit(cache=True)
-def _evaluate(q: FloatArray, beta_prev: FloatArray, load: Load, beams: Beams, dofs: DofMap,
-              couplings: Couplings, storage: Storage, work: Work, el: ElementState) -> float:
+def _evaluate(
+    q: FloatArray,
+    beta_prev: FloatArray,
+    load: Load,
+    beams: Beams,
+    dofs: DofMap,
+    couplings: Couplings,
+    storage: Storage,
+    work: Work,
+    el: ElementState,
+) -> float:
     """Residual r, reduced reference load fr and tangent K (column-major storage) at q, each element's
     chord angle continued from ``beta_prev``, into ``work`` and ``el``; returns
     F_scale = max(|lambda f_ref|, |f_int|).
@@ -671,7 +749,7 @@ def _evaluate(q: FloatArray, beta_prev: FloatArray, load: Load, beams: Beams, do
             u[i] = t0
     for j in range(dofs.prescribed.shape[0]):
         u[dofs.prescribed[j]] = presc[j]
-    for t in range(links.shape[0]):      # slaves: x_s = x_m + R(theta_m) (X_s - X_m), theta_s = theta_m
+    for t in range(links.shape[0]):  # slaves: x_s = x_m + R(theta_m) (X_s - X_m), theta_s = theta_m
         s, m, rs, rm = links[t, 0], links[t, 1], links[t, 2], links[t, 3]
         th = u[rm]
         d0x, d0y = links_X[t, 0] - links_X[t, 2], links_X[t, 1] - links_X[t, 3]
@@ -687,7 +765,7 @@ def _evaluate(q: FloatArray, beta_prev: FloatArray, load: Load, beams: Beams, do
     for e in range(n_el):
         for j in range(6):
             p[e, j] = u[edofs[e, j]]
-    tangent = n_el >= 0   # True, typed as a run-time bool like the Python callers' (one compiled variant)
+    tangent = n_el >= 0  # True, typed as a run-time bool like the Python callers' (one compiled variant)
     element_kernel(beams, p, beta_prev, tangent, el)
     fe, Ke = el.f, el.K
     f_int[:] = 0.0
@@ -724,7 +802,7 @@ def _evaluate(q: FloatArray, beta_prev: FloatArray, load: Load, beams: Beams, do
     scale = max(math.sqrt(np.dot(f_ext, f_ext)), math.sqrt(np.dot(f_int, f_int)))
     K[:] = 0.0
     n_ke = n_el * 36
-    ke = Ke.reshape(n_ke)       # the element tangents as one flat, row-major vector (a view)
+    ke = Ke.reshape(n_ke)  # the element tangents as one flat, row-major vector (a view)
     n_sp4 = n_ke + 4 * springs.shape[0]
     for j in range(flat.shape[0]):
         src = valid_src[j]
@@ -733,7 +811,7 @@ def _evaluate(q: FloatArray, beta_prev: FloatArray, load: Load, beams: Beams, do
         elif src < n_sp4:
             s = (src - n_ke) // 4
             v = spring_k[s] * (1.0 if (src - n_ke) % 4 in (0, 3) else -1.0)
-        else:   # a slave's geometric term on its master's rotation
+        else:  # a slave's geometric term on its master's rotation
             t = src - n_sp4
             s, m = links[t, 0], links[t, 1]
             xs = links_X[t, 0] + u[2 * s] - links_X[t, 2] - u[2 * m]
@@ -748,8 +826,18 @@ def _evaluate(q: FloatArray, beta_prev: FloatArray, load: Load, beams: Beams, do
 
 
 @njit(cache=True)
-def newton_load(q: FloatArray, start: Start, load: Load, beams: Beams, dofs: DofMap, couplings: Couplings,
-                storage: Storage, controls: Controls, work: Work, el: ElementState) -> Outcome:
+def newton_load(
+    q: FloatArray,
+    start: Start,
+    load: Load,
+    beams: Beams,
+    dofs: DofMap,
+    couplings: Couplings,
+    storage: Storage,
+    controls: Controls,
+    work: Work,
+    el: ElementState,
+) -> Outcome:
     """Every iteration of the load-control corrector from q (updated in place), the step starting at
     ``start``. Returns the `Outcome`; the evaluation at the final q is left in ``work`` and ``el``. The
     sign: 2 when nothing was factorised (a failed first iteration); a run that converges before any
@@ -769,7 +857,7 @@ def newton_load(q: FloatArray, start: Start, load: Load, beams: Beams, dofs: Dof
     damp, q_start, rot, band = controls.damp, start.q, dofs.rotation, storage.band
     K, r, hist = work.K, work.r, work.hist
     n = q.shape[0]
-    buffer = np.empty(K.shape[0])      # the factors
+    buffer = np.empty(K.shape[0])  # the factors
     ipiv = np.empty(max(n, 1), np.int32)
     ints = np.zeros(6, np.int32)
     info = np.zeros(1, np.int32)
@@ -780,22 +868,24 @@ def newton_load(q: FloatArray, start: Start, load: Load, beams: Beams, dofs: Dof
             has_rot = True
     dq_small = False
     sign = 2
-    final = False   # the sign is of the converged state's own factors
+    final = False  # the sign is of the converged state's own factors
     for it in range(controls.maxiter + 1):
         scale = _evaluate(q, start.beta, load, beams, dofs, couplings, storage, work, el)
         rn = math.sqrt(np.dot(r, r))
         tol = rtol * scale + floor + atol
         hist[it] = rn / max(scale, 1e-300)
         if not math.isfinite(rn):
-            return Outcome(status=NOT_FINITE, iterations=it, sign=sign, scale=scale, rotation=0.0, final=False,
-                           below=-1)
+            return Outcome(
+                status=NOT_FINITE, iterations=it, sign=sign, scale=scale, rotation=0.0, final=False, below=-1
+            )
         converged = (rn <= tol or dq_small) and (it > 0 or rn <= rtol * scale + atol)
         # the last factors' sign stands (positive, or not asked to be confirmed): done
         if converged and (n == 0 or sign == 1 or (sign != 2 and not controls.confirm_sign)):
             break
         if not converged and it == controls.maxiter:
-            return Outcome(status=NO_CONVERGENCE, iterations=it, sign=sign, scale=scale, rotation=0.0,
-                           final=False, below=-1)
+            return Outcome(
+                status=NO_CONVERGENCE, iterations=it, sign=sign, scale=scale, rotation=0.0, final=False, below=-1
+            )
         # the factorisation: of the correction, or (converged) for the sign at this state itself: before
         # any correction, or to confirm a sign not positive from the iterate before
         finite = True
@@ -808,22 +898,21 @@ def newton_load(q: FloatArray, start: Start, load: Load, beams: Beams, dofs: Dof
             if converged:
                 sign, final = 0, True
                 break
-            return Outcome(status=NON_FINITE_TANGENT, iterations=it, sign=sign, scale=scale, rotation=0.0,
-                           final=False, below=-1)
+            return Outcome(
+                status=NON_FINITE_TANGENT, iterations=it, sign=sign, scale=scale, rotation=0.0, final=False, below=-1
+            )
         _factor(buffer, band, n, ipiv, ints, info)
         if info[0] > 0:
             if converged:
                 sign, final = 0, True
                 break
-            return Outcome(status=SINGULAR, iterations=it, sign=sign, scale=scale, rotation=0.0, final=False,
-                           below=-1)
+            return Outcome(status=SINGULAR, iterations=it, sign=sign, scale=scale, rotation=0.0, final=False, below=-1)
         sign = _det_sign(buffer, band, n, ipiv)
         if converged:
             final = True
             break
         if sign == 0:
-            return Outcome(status=SINGULAR, iterations=it, sign=2, scale=scale, rotation=0.0, final=False,
-                           below=-1)
+            return Outcome(status=SINGULAR, iterations=it, sign=2, scale=scale, rotation=0.0, final=False, below=-1)
         for k in range(n):
             dq[k] = -r[k]
         _back_solve(buffer, band.banded, ipiv, ints, info, dq)
@@ -835,8 +924,8 @@ def newton_load(q: FloatArray, start: Start, load: Load, beams: Beams, dofs: Dof
             if big > damp:
                 for k in range(n):
                     dq[k] = dq[k] * (damp / big)
-        if it > 0 and abs(np.dot(dq, r)) <= rtol ** 2 * scale * L_ref:
-            break       # converged by the energy criterion
+        if it > 0 and abs(np.dot(dq, r)) <= rtol**2 * scale * L_ref:
+            break  # converged by the energy criterion
         dq_small = True
         for k in range(n):
             q[k] = q[k] + dq[k]
@@ -849,8 +938,15 @@ def newton_load(q: FloatArray, start: Start, load: Load, beams: Beams, dofs: Dof
                     dth = max(dth, abs(q[k] - q_start[k]))
             limit = (2.0 if it == 0 else 4.0) * controls.max_rot_inc
             if dth > limit:
-                return Outcome(status=ROTATION_TOO_LARGE, iterations=it + 1, sign=sign, scale=scale, rotation=dth,
-                               final=False, below=-1)
+                return Outcome(
+                    status=ROTATION_TOO_LARGE,
+                    iterations=it + 1,
+                    sign=sign,
+                    scale=scale,
+                    rotation=dth,
+                    final=False,
+                    below=-1,
+                )
     # converged (every other way out returned above): what `newton.accept_check` reads of the state
     status = CONVERGED
     for e in range(el.jumped.shape[0]):

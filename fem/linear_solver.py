@@ -14,6 +14,7 @@ the reciprocal condition number is what `conditioning` reads.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -55,7 +56,7 @@ def inverse_norm1(solve: Callable[..., FloatArray], n: int) -> float:
         x = solve(np.eye(1, n, j).ravel())
         previous, est = est, max(est, float(np.abs(x).sum()))
         new_signs = np.where(x >= 0.0, 1.0, -1.0)
-        if np.array_equal(new_signs, signs) or est <= previous:    # converged, or cycling
+        if np.array_equal(new_signs, signs) or est <= previous:  # converged, or cycling
             break
         signs = new_signs
         z = solve(signs, True)
@@ -103,7 +104,7 @@ class MatrixLayout:
             else:
                 kind = "sparse"
         self.kind, self.bw = kind, bw
-        self.kl = self.ku = self.nrow = 0        # the band's shape (banded storage only)
+        self.kl = self.ku = self.nrow = 0  # the band's shape (banded storage only)
         if kind == "dense":
             self.size = n * n
         elif kind == "banded":
@@ -179,8 +180,7 @@ class MatrixLayout:
 
     def to_sparse(self, data: FloatArray) -> sp.csc_matrix:
         """The assembled matrix as scipy CSC (any storage kind)."""
-        return sp.csc_matrix((data[self.entry_flat], (self.entry_rows, self.entry_cols)),
-                             shape=(self.n, self.n))
+        return sp.csc_matrix((data[self.entry_flat], (self.entry_rows, self.entry_cols)), shape=(self.n, self.n))
 
     def to_dense(self, data: FloatArray) -> FloatArray:
         if self.kind == "dense":
@@ -202,7 +202,7 @@ class MatrixLayout:
 class Factor:
     """LU factors of the assembled matrix; ``solve(b)`` and ``det_sign``."""
 
-    final = False   # not known to be of a converged state (`newton.det_sign` confirms a negative sign)
+    final = False  # not known to be of a converged state (`newton.det_sign` confirms a negative sign)
 
     def __init__(self, layout: MatrixLayout, data: FloatArray):
         self.layout = layout
@@ -234,7 +234,7 @@ class Factor:
             except RuntimeError as exc:
                 raise SingularMatrix(str(exc)) from None
             diag = self.lu.U.diagonal()
-        self.diag = diag        # the pivots, in elimination order
+        self.diag = diag  # the pivots, in elimination order
         # the column of the matrix eliminated at each step (SuperLU permutes the columns)
         self.columns = self.lu.perm_c if self.kind == "sparse" else np.arange(n)
         if np.any(diag == 0.0) or not np.all(np.isfinite(diag)):

@@ -16,6 +16,7 @@ The forms are assembled here only, at model build time, never in Newton.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -41,9 +42,12 @@ def _axial(u: Any, v: Any, w: Any) -> Any:
     return w["EA"] * grad(u)[0] * grad(v)[0]
 
 
-def member_local_stiffness(s_nodes: FloatArray, EA_of_xi: Callable[[FloatArray], FloatArray],
-                           EI_of_xi: Callable[[FloatArray], FloatArray],
-                           intorder: int = 6) -> tuple[FloatArray, FloatArray]:
+def member_local_stiffness(
+    s_nodes: FloatArray,
+    EA_of_xi: Callable[[FloatArray], FloatArray],
+    EI_of_xi: Callable[[FloatArray], FloatArray],
+    intorder: int = 6,
+) -> tuple[FloatArray, FloatArray]:
     """Axial k_a (n_el,) and bending k_b (n_el, 2, 2) for cells with nodes s_nodes.
 
     EA_of_xi, EI_of_xi: callables of xi = s / s_total in [0, 1] (arrays in, arrays out).
@@ -54,8 +58,8 @@ def member_local_stiffness(s_nodes: FloatArray, EA_of_xi: Callable[[FloatArray],
     linear = Basis(mesh, ElementLineP1(), intorder=intorder)
     xi_h = (hermite.global_coordinates()[0] - s_nodes[0]) / total
     xi_l = (linear.global_coordinates()[0] - s_nodes[0]) / total
-    kb_full = _bending.coo_data(hermite, EI=EI_of_xi(xi_h)).tolocal()   # (n_el, 4, 4)
-    ka_full = _axial.coo_data(linear, EA=EA_of_xi(xi_l)).tolocal()      # (n_el, 2, 2)
+    kb_full = _bending.coo_data(hermite, EI=EI_of_xi(xi_h)).tolocal()  # (n_el, 4, 4)
+    ka_full = _axial.coo_data(linear, EA=EA_of_xi(xi_l)).tolocal()  # (n_el, 2, 2)
     # C-contiguous: the views picked out of scikit-fem's local matrices are strided, and the compiled
     # FEM kernel is typed (and compiled) once per array layout it is given
     kb: FloatArray = np.ascontiguousarray(kb_full[:, [1, 3]][:, :, [1, 3]])
@@ -66,8 +70,7 @@ def member_local_stiffness(s_nodes: FloatArray, EA_of_xi: Callable[[FloatArray],
 @lru_cache(maxsize=1)
 def _unit_element() -> tuple[float, FloatArray]:
     """k_a, k_b of one element of unit length with EA = EI = 1 (by scikit-fem)."""
-    ka, kb = member_local_stiffness(np.array([0.0, 1.0]), lambda xi: 1.0 + 0 * xi,
-                                    lambda xi: 1.0 + 0 * xi, intorder=4)
+    ka, kb = member_local_stiffness(np.array([0.0, 1.0]), lambda xi: 1.0 + 0 * xi, lambda xi: 1.0 + 0 * xi, intorder=4)
     return float(ka[0]), kb[0]
 
 

@@ -41,6 +41,7 @@ The model is what the user describes; nothing is discretised here.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import math
@@ -55,8 +56,17 @@ from .section import Section
 from argcheck import checked
 from planar.geometry import SUPPORT_KINDS
 
-__all__ = ["Model", "Member", "Support", "Joint", "RigidLink", "PointLoad", "PointedForce",
-           "DistributedLoad", "Prescribed"]
+__all__ = [
+    "Model",
+    "Member",
+    "Support",
+    "Joint",
+    "RigidLink",
+    "PointLoad",
+    "PointedForce",
+    "DistributedLoad",
+    "Prescribed",
+]
 
 DOF_NAMES = {"ux": 0, "uy": 1, "rz": 2}
 
@@ -72,7 +82,7 @@ class Member:
     n_elements: int = 8
     curvature: float = 0.0
     name: str = ""
-    refined: bool = True     # False: n_elements on every mesh of a refinement study (`discretise`)
+    refined: bool = True  # False: n_elements on every mesh of a refinement study (`discretise`)
 
 
 @dataclass
@@ -99,11 +109,11 @@ class RigidLink:
 @dataclass
 class PointLoad:
     node: int
-    kind: str                 # "force" or "moment"
-    values: NDArray[np.float64]   # shape (n_levels, 2) for forces, (n_levels,) for moments
+    kind: str  # "force" or "moment"
+    values: NDArray[np.float64]  # shape (n_levels, 2) for forces, (n_levels,) for moments
     follower: bool = False
     member: int | None = None  # a moment on this member's end (its released rotation at a joint);
-                               # a follower force turning with this member's end rotation
+    # a follower force turning with this member's end rotation
 
 
 @dataclass
@@ -113,7 +123,7 @@ class PointedForce:
     force that stays at a fixed angle to the line joining a fixed pivot (angle pi/2)."""
 
     node: int
-    values: NDArray[np.float64]   # (n_levels,)
+    values: NDArray[np.float64]  # (n_levels,)
     toward: tuple[float, float]
     angle: float = 0.0
 
@@ -124,7 +134,7 @@ class DistributedLoad:
 
     A follower load is given in the reference orientation and turns with each element's chord."""
 
-    values: NDArray[np.float64]   # (n_levels, 2)
+    values: NDArray[np.float64]  # (n_levels, 2)
     member: int | None = None
     follower: bool = False
 
@@ -165,7 +175,7 @@ class Model:
         except ValueError:
             raise KeyError(f"no node named {name!r}") from None
 
-    @checked(positive=(), finite=('x', 'y'))
+    @checked(positive=(), finite=("x", "y"))
     def add_node(self, name: str, x: float, y: float) -> int:
         if str(name) in self.node_names:
             raise ValueError(f"node {name!r} already exists")
@@ -173,10 +183,17 @@ class Model:
         self.coords.append((float(x), float(y)))
         return len(self.node_names) - 1
 
-    @checked(positive=('n_elements',), finite=('curvature',))
-    def add_member(self, start: NodeRef, end: NodeRef, section: Union[Section, Callable[[float], Section]],
-                   n_elements: int = 8,
-                   curvature: float = 0.0, name: str = "", refined: bool = True) -> int:
+    @checked(positive=("n_elements",), finite=("curvature",))
+    def add_member(
+        self,
+        start: NodeRef,
+        end: NodeRef,
+        section: Union[Section, Callable[[float], Section]],
+        n_elements: int = 8,
+        curvature: float = 0.0,
+        name: str = "",
+        refined: bool = True,
+    ) -> int:
         """Flexible member start -> end; returns its index. ``refined=False``: the member keeps its
         ``n_elements`` when the mesh is refined (`discretise`'s ``refine``, the error estimate's finer
         meshes), e.g. a very stiff straight bar standing for a rigid body, whose one element has no
@@ -188,30 +205,37 @@ class Model:
         if n_elements < 1:
             raise ValueError("n_elements must be >= 1")
         (xi, yi), (xj, yj) = self.coords[i], self.coords[j]
-        chord = math.hypot(xj - xi, yj - yi)        # checked only, not stored
+        chord = math.hypot(xj - xi, yj - yi)  # checked only, not stored
         if not chord > 0.0:
             raise ValueError(f"add_member: nodes {start!r} and {end!r} coincide (zero length)")
         if abs(curvature) * chord / 2 > 1.0:
             raise ValueError("curvature too large for the chord length")
-        self.members.append(Member(i, j, section, int(n_elements), float(curvature),
-                                   name or f"m{len(self.members)}", bool(refined)))
+        self.members.append(
+            Member(i, j, section, int(n_elements), float(curvature), name or f"m{len(self.members)}", bool(refined))
+        )
         return len(self.members) - 1
 
-    def add_support(self, node: NodeRef, kind: str, direction: Sequence[float] | NDArray[np.float64] = (1.0, 0.0)
-                    ) -> None:
+    def add_support(
+        self, node: NodeRef, kind: str, direction: Sequence[float] | NDArray[np.float64] = (1.0, 0.0)
+    ) -> None:
         """kind: 'fixed', 'pinned', 'slider' (free along direction), 'guided'."""
         if kind not in SUPPORT_KINDS:
             raise ValueError(f"support kind must be one of {SUPPORT_KINDS}")
         if type(direction) is tuple and direction == (1.0, 0.0):
-            unit = (1.0, 0.0)           # the default (a fixed or pinned support's unused direction): exact
+            unit = (1.0, 0.0)  # the default (a fixed or pinned support's unused direction): exact
         else:
             d = np.asarray(direction, dtype=float)
-            d = d / math.sqrt(d.dot(d))     # = d / np.linalg.norm(d), the same dot and square root
+            d = d / math.sqrt(d.dot(d))  # = d / np.linalg.norm(d), the same dot and square root
             unit = (float(d[0]), float(d[1]))
         self.supports.append(Support(self.node(node), kind, unit))
 
-    def add_joint(self, node: NodeRef, members: Iterable[SupportsInt] | None = None, k: float | None = 0.0,
-                  k_ground: float | None = 0.0) -> None:
+    def add_joint(
+        self,
+        node: NodeRef,
+        members: Iterable[SupportsInt] | None = None,
+        k: float | None = 0.0,
+        k_ground: float | None = 0.0,
+    ) -> None:
         """Revolute joint at node between `members` (indices; default all at the
         node), torsional springs k (between members) and k_ground (moment/rad)."""
         mem = None if members is None else tuple(int(m) for m in members)
@@ -220,9 +244,10 @@ class Model:
     def add_rigid_link(self, master: NodeRef, slave: NodeRef) -> None:
         self.rigid_links.append(RigidLink(self.node(master), self.node(slave)))
 
-    @checked(positive=(), finite=('values_x', 'values_y'))
-    def add_force(self, node: NodeRef, values_x: ArrayLike, values_y: ArrayLike, follower: bool = False,
-                  member: int | None = None) -> None:
+    @checked(positive=(), finite=("values_x", "values_y"))
+    def add_force(
+        self, node: NodeRef, values_x: ArrayLike, values_y: ArrayLike, follower: bool = False, member: int | None = None
+    ) -> None:
         """Point force per load level (consistent force units).
 
         A follower force is given in the node's reference orientation and turns
@@ -240,7 +265,7 @@ class Model:
             if i not in (m.start, m.end):
                 raise ValueError(f"member {member} does not end at node {self.node_names[i]!r}")
             member = int(member)
-        if fx.ndim == 1:      # = np.column_stack([fx, fy]), without its Python-level overhead
+        if fx.ndim == 1:  # = np.column_stack([fx, fy]), without its Python-level overhead
             values = np.empty((len(fx), 2))
             values[:, 0], values[:, 1] = fx, fy
         else:
@@ -253,17 +278,19 @@ class Model:
         tx, ty = (float(v) for v in toward)
         self.pointed.append(PointedForce(self.node(node), _levels(values), (tx, ty), float(angle)))
 
-    def add_distributed(self, values_x: ArrayLike, values_y: ArrayLike, member: int | None = None,
-                        follower: bool = False) -> None:
+    def add_distributed(
+        self, values_x: ArrayLike, values_y: ArrayLike, member: int | None = None, follower: bool = False
+    ) -> None:
         """Uniform load per unit reference length (qx, qy) per level on ``member`` (default: every
         member); a follower load turns with each element's chord from its reference orientation."""
         qx, qy = np.broadcast_arrays(_levels(values_x), _levels(values_y))
         if member is not None and not 0 <= int(member) < len(self.members):
             raise ValueError(f"no member {member}")
-        self.distributed.append(DistributedLoad(np.column_stack([qx, qy]),
-                                                None if member is None else int(member), bool(follower)))
+        self.distributed.append(
+            DistributedLoad(np.column_stack([qx, qy]), None if member is None else int(member), bool(follower))
+        )
 
-    @checked(positive=(), finite=('values',))
+    @checked(positive=(), finite=("values",))
     def add_moment(self, node: NodeRef, values: ArrayLike, member: int | None = None) -> None:
         """Point moment (input torque) per load level, counter-clockwise positive.
 
@@ -291,8 +318,9 @@ class Model:
     @property
     def n_levels(self) -> int:
         """Number of load levels implied by the load histories (1 if none)."""
-        lengths = {len(x.values) for group in (self.loads, self.prescribed, self.pointed, self.distributed)
-                   for x in group}
+        lengths = {
+            len(x.values) for group in (self.loads, self.prescribed, self.pointed, self.distributed) for x in group
+        }
         lengths.discard(0)
         lengths.discard(1)
         if len(lengths) > 1:
@@ -303,12 +331,12 @@ class Model:
         """Mean member chord length (the length scale used for tolerances)."""
         if not self.members:
             return 1.0
-        if len(self.members) == 1:      # the same float64 difference and hypot, the sum of one chord
+        if len(self.members) == 1:  # the same float64 difference and hypot, the sum of one chord
             m = self.members[0]
             (xi, yi), (xj, yj) = self.coords[m.start], self.coords[m.end]
             return float(np.hypot(xj - xi, yj - yi))
-        coords = self.coords          # (x, y) floats: the float64 differences the arrays had, without them
+        coords = self.coords  # (x, y) floats: the float64 differences the arrays had, without them
         dx = np.array([coords[m.end][0] - coords[m.start][0] for m in self.members])
         dy = np.array([coords[m.end][1] - coords[m.start][1] for m in self.members])
         chords = np.hypot(dx, dy)
-        return float(chords.sum() / len(chords))       # = np.mean(chords)
+        return float(chords.sum() / len(chords))  # = np.mean(chords)

@@ -23,6 +23,7 @@ converges from a linear predictor that is far off (a cantilever at PL^2/EI = 10 
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import math
@@ -38,11 +39,21 @@ from .types import Evaluation, FloatArray, Loads, SignedFactor
 if TYPE_CHECKING:
     from .assembly import System
 
-__all__ = ["StepFailed", "Path", "newton", "acceptance_facts", "accept_check", "snapshot", "det_sign", "growth",
-           "Control", "Arc"]
+__all__ = [
+    "StepFailed",
+    "Path",
+    "newton",
+    "acceptance_facts",
+    "accept_check",
+    "snapshot",
+    "det_sign",
+    "growth",
+    "Control",
+    "Arc",
+]
 
-Control = tuple[int, float, float]       # displacement control: (unknown k, coefficient c, target of c q_k)
-Arc = tuple[float, FloatArray, FloatArray]   # arc length: (dl, weights W of ||.||_W, q at the step's start)
+Control = tuple[int, float, float]  # displacement control: (unknown k, coefficient c, target of c q_k)
+Arc = tuple[float, FloatArray, FloatArray]  # arc length: (dl, weights W of ||.||_W, q at the step's start)
 
 
 class StepFailed(Exception):
@@ -63,7 +74,7 @@ class Path:
     """Accepted states, per-step statistics and recorded output levels."""
 
     def __init__(self) -> None:
-        self.snapshots: list[dict[str, Any]] = []      # `snapshot` of each recorded level
+        self.snapshots: list[dict[str, Any]] = []  # `snapshot` of each recorded level
         self.residuals: list[FloatArray] = []
         self.iterations: list[int] = []
         self.det_signs: list[int] = []
@@ -72,14 +83,22 @@ class Path:
         self.step_s: list[float] = []
         self.step_slope: list[float] = []
         self.cutbacks = 0
-        self.stable = True             # last accepted state stable (load/displacement control)
-        self.branch_switches: list[tuple[int, str]] = []      # (step index, note)
-        self.unassessed: list[int] = []           # step indices: det K < 0 under follower loads
+        self.stable = True  # last accepted state stable (load/displacement control)
+        self.branch_switches: list[tuple[int, str]] = []  # (step index, note)
+        self.unassessed: list[int] = []  # step indices: det K < 0 under follower loads
         self.rejected_iterations = 0
-        self.precision_checked = False   # `solver._beyond_precision` made its one test
+        self.precision_checked = False  # `solver._beyond_precision` made its one test
 
-    def record(self, history: list[float], iterations: int, sign: int, load: float, slope: float = np.nan,
-               control: float | None = None, parameter: float | None = None) -> None:
+    def record(
+        self,
+        history: list[float],
+        iterations: int,
+        sign: int,
+        load: float,
+        slope: float = np.nan,
+        control: float | None = None,
+        parameter: float | None = None,
+    ) -> None:
         """The per-step statistics of one accepted step (the same for every control mode)."""
         self.residuals.append(np.array(history))
         self.iterations.append(iterations)
@@ -105,9 +124,18 @@ class Path:
         self.rejected_iterations += iterations
 
 
-def newton(system: System, q: FloatArray, lam: float, beta: FloatArray, loads: Loads, opts: SolveOptions,
-           mode: str = "load", ctrl: Control | None = None, arc: Arc | None = None,
-           q_start: FloatArray | None = None) -> NewtonOutcome:
+def newton(
+    system: System,
+    q: FloatArray,
+    lam: float,
+    beta: FloatArray,
+    loads: Loads,
+    opts: SolveOptions,
+    mode: str = "load",
+    ctrl: Control | None = None,
+    arc: Arc | None = None,
+    q_start: FloatArray | None = None,
+) -> NewtonOutcome:
     """Corrector.  mode 'load' (lambda fixed), 'disp' (ctrl=(k, coef, target)),
     'arc' (arc=(dl, w, q0)).  Raises `StepFailed` when it does not converge. Under load control a
     system the compiled corrector handles (`kernel.newton_load`) is solved there, with the same steps."""
@@ -124,7 +152,7 @@ def newton(system: System, q: FloatArray, lam: float, beta: FloatArray, loads: L
     for it in range(opts.maxiter + 1):
         ev = system.evaluate(q, beta, lam, F_fixed, F0, presc, need_K=True)
         r = ev["r"]
-        rn = math.sqrt(float(r.dot(r)))    # = np.linalg.norm(r) (its own formula), without its overhead
+        rn = math.sqrt(float(r.dot(r)))  # = np.linalg.norm(r) (its own formula), without its overhead
         floor = system.noise_floor
         tol = opts.rtol * ev["F_scale"] + floor + opts.atol
         hist.append(rn / max(ev["F_scale"], 1e-300))
@@ -144,7 +172,7 @@ def newton(system: System, q: FloatArray, lam: float, beta: FloatArray, loads: L
         if mode == "load":
             dq, dlam = a, 0.0
             damp = opts.max_iteration_rotation
-            if damp and has_rot:    # rotation-limited correction: a far-off predictor is walked in
+            if damp and has_rot:  # rotation-limited correction: a far-off predictor is walked in
                 big = float(np.abs(dq[rot]).max())
                 if big > damp:
                     dq = dq * (damp / big)
@@ -171,7 +199,7 @@ def newton(system: System, q: FloatArray, lam: float, beta: FloatArray, loads: L
                 cosines = [np.dot((v + r_ * b) * w, Dq) for r_ in roots]
                 dlam = float(roots[int(np.argmax(cosines))])
             dq = a + dlam * b
-        if it > 0 and abs(float(np.dot(dq, ev["r"]))) <= opts.rtol ** 2 * ev["F_scale"] * system.L_ref:
+        if it > 0 and abs(float(np.dot(dq, ev["r"]))) <= opts.rtol**2 * ev["F_scale"] * system.L_ref:
             # energy criterion |dq . r| <= (rtol F)(rtol L): the remaining correction is
             # negligible; this stops iterating on rounding noise of stiff axial terms
             return NewtonOutcome(q, lam, ev, hist, it, fac)
@@ -181,9 +209,12 @@ def newton(system: System, q: FloatArray, lam: float, beta: FloatArray, loads: L
         if has_rot:
             dth = float(np.abs(q[rot] - q_start[rot]).max())
             limit = (2 if it == 0 else 4) * opts.max_rotation_increment
-            if dth > limit:   # cut now rather than iterate towards a rejected state
-                raise StepFailed(f"rotation increment {dth:.3g} rad too large", it + 1,
-                                 cut=max(0.1, 0.9 * opts.max_rotation_increment / dth))
+            if dth > limit:  # cut now rather than iterate towards a rejected state
+                raise StepFailed(
+                    f"rotation increment {dth:.3g} rad too large",
+                    it + 1,
+                    cut=max(0.1, 0.9 * opts.max_rotation_increment / dth),
+                )
     raise AssertionError("unreachable")
 
 
@@ -207,7 +238,7 @@ class _Evaluation(dict[str, Any]):
 
     column_major: tuple[cn.CompiledLayout, FloatArray]
     turned: tuple[FloatArray, FloatArray]
-    inertia_below: int       # the corrector's inertia test at this state (`kernel.newton_load`), -1: not made
+    inertia_below: int  # the corrector's inertia test at this state (`kernel.newton_load`), -1: not made
 
     def __missing__(self, key: str) -> Any:
         if key == "K":
@@ -226,29 +257,43 @@ def _controls(system: System, opts: SolveOptions) -> cn.Controls:
     system's rounding floor and reference length; the converged sign confirmed where `det_sign` would
     (``opts.watch_det``), the inertia test of `solver._even_crossing` made where it can be asked
     (``opts.check_stability`` and the system's ``inertia_tol``)."""
-    return cn.Controls(rtol=float(opts.rtol), atol=float(opts.atol), floor=float(system.noise_floor),
-                       L_ref=float(system.L_ref), maxiter=int(opts.maxiter),
-                       damp=float(opts.max_iteration_rotation or 0.0),
-                       max_rot_inc=float(opts.max_rotation_increment), confirm_sign=bool(opts.watch_det),
-                       inertia_tol=float(system.inertia_tol) if opts.check_stability else math.nan)
+    return cn.Controls(
+        rtol=float(opts.rtol),
+        atol=float(opts.atol),
+        floor=float(system.noise_floor),
+        L_ref=float(system.L_ref),
+        maxiter=int(opts.maxiter),
+        damp=float(opts.max_iteration_rotation or 0.0),
+        max_rot_inc=float(opts.max_rotation_increment),
+        confirm_sign=bool(opts.watch_det),
+        inertia_tol=float(system.inertia_tol) if opts.check_stability else math.nan,
+    )
 
 
-def _newton_compiled(system: System, q: FloatArray, lam: float, beta: FloatArray, loads: Loads,
-                     opts: SolveOptions, q_start: FloatArray | None) -> NewtonOutcome:
+def _newton_compiled(
+    system: System,
+    q: FloatArray,
+    lam: float,
+    beta: FloatArray,
+    loads: Loads,
+    opts: SolveOptions,
+    q_start: FloatArray | None,
+) -> NewtonOutcome:
     """`newton` under load control by one call of `kernel.newton_load` on the system's groups: the same
     outcome or failure."""
     F_fixed, _, presc = loads
     c, d, storage = system.compiled, system.disc, system.storage
-    assert c is not None and storage is not None      # `newton` calls it only then
+    assert c is not None and storage is not None  # `newton` calls it only then
     q = np.array(q, dtype=float)
     start = cn.Start(q=q.copy() if q_start is None else q_start, beta=beta)
     load = cn.Load(lam=float(lam), F_fixed=F_fixed, presc=np.asarray(presc, dtype=float))
     work = cn.work_arrays(n=system.n, nf=d.n_full + 1, size=c.size, maxiter=opts.maxiter, links=system.width == 2)
     el = cn.element_outputs(len(d.L0))
-    out = cn.newton_load(q, start, load, system.beams, system.dofs, system.couplings, storage,
-                         _controls(system, opts), work, el)
+    out = cn.newton_load(
+        q, start, load, system.beams, system.dofs, system.couplings, storage, _controls(system, opts), work, el
+    )
     it, dth = out.iterations, out.rotation
-    history = work.hist[:it + 1].tolist()
+    history = work.hist[: it + 1].tolist()
     if out.status == cn.NOT_FINITE:
         raise StepFailed("residual is not finite", it)
     if out.status == cn.NO_CONVERGENCE:
@@ -256,40 +301,66 @@ def _newton_compiled(system: System, q: FloatArray, lam: float, beta: FloatArray
     if out.status in (cn.SINGULAR, cn.NON_FINITE_TANGENT):
         raise StepFailed("singular tangent" if out.status == cn.SINGULAR else "non-finite entries in the tangent", it)
     if out.status == cn.ROTATION_TOO_LARGE:
-        raise StepFailed(f"rotation increment {dth:.3g} rad too large", it,
-                         cut=max(0.1, 0.9 * opts.max_rotation_increment / dth))
-    ev = _Evaluation(u=work.u, el=el._asdict(), f_int=work.f_int, f_ref_full=work.f_ref, R_full=work.R, r=work.r,
-                     f_ref=work.fr, F_scale=out.scale)
+        raise StepFailed(
+            f"rotation increment {dth:.3g} rad too large", it, cut=max(0.1, 0.9 * opts.max_rotation_increment / dth)
+        )
+    ev = _Evaluation(
+        u=work.u,
+        el=el._asdict(),
+        f_int=work.f_int,
+        f_ref_full=work.f_ref,
+        R_full=work.R,
+        r=work.r,
+        f_ref=work.fr,
+        F_scale=out.scale,
+    )
     if system.width == 1:
         ev["C"] = system.C0
     ev.column_major, ev.turned = (c, work.K), (system.C0, work.C1w)
     ev.inertia_below = out.below
-    return NewtonOutcome(q, lam, ev, history, it, None if out.sign == 2 else _Sign(out.sign, final=out.final),
-                         accept=(out.status == cn.CONVERGED_JUMPED, dth))
+    return NewtonOutcome(
+        q,
+        lam,
+        ev,
+        history,
+        it,
+        None if out.sign == 2 else _Sign(out.sign, final=out.final),
+        accept=(out.status == cn.CONVERGED_JUMPED, dth),
+    )
 
 
-def acceptance_facts(system: System, q_new: FloatArray, q_old: FloatArray, ev: Evaluation,
-                     known: tuple[bool, float] | None = None) -> tuple[bool, float]:
+def acceptance_facts(
+    system: System, q_new: FloatArray, q_old: FloatArray, ev: Evaluation, known: tuple[bool, float] | None = None
+) -> tuple[bool, float]:
     """(an element's end rotations jumped by about 2 pi, the largest rotation change from q_old to q_new,
     0 without rotations) of the converged state ``ev``: ``known`` when given (`NewtonOutcome.accept`, the
     compiled corrector's own, valid when q_old was its start), else from the evaluation."""
     if known is not None:
         return known
     rot = system.disc.red_is_rotation
-    return (bool(ev["el"]["jumped"].any()),
-            float(np.abs(q_new[rot] - q_old[rot]).max()) if rot.any() else 0.0)
+    return (bool(ev["el"]["jumped"].any()), float(np.abs(q_new[rot] - q_old[rot]).max()) if rot.any() else 0.0)
 
 
-def accept_check(system: System, q_new: FloatArray, q_old: FloatArray, ev: Evaluation, opts: SolveOptions, its: int,
-                 known: tuple[bool, float] | None = None) -> None:
+def accept_check(
+    system: System,
+    q_new: FloatArray,
+    q_old: FloatArray,
+    ev: Evaluation,
+    opts: SolveOptions,
+    its: int,
+    known: tuple[bool, float] | None = None,
+) -> None:
     """Raise StepFailed if a converged state must be rejected (`acceptance_facts`, ``known`` as there)."""
     jumped, dth = acceptance_facts(system, q_new, q_old, ev, known)
     if jumped:
         e = int(np.argmax(ev["el"]["jumped"]))
         raise StepFailed(f"rotation jump of about 2 pi between the nodes of element {e}", its)
     if dth > opts.max_rotation_increment:
-        raise StepFailed(f"rotation increment {dth:.3g} rad exceeds max_rotation_increment",
-                         its, cut=max(0.1, 0.8 * opts.max_rotation_increment / dth))
+        raise StepFailed(
+            f"rotation increment {dth:.3g} rad exceeds max_rotation_increment",
+            its,
+            cut=max(0.1, 0.8 * opts.max_rotation_increment / dth),
+        )
 
 
 def snapshot(system: System, q: FloatArray, lam: float, ev: Evaluation, level_param: float) -> dict[str, Any]:
@@ -298,9 +369,18 @@ def snapshot(system: System, q: FloatArray, lam: float, ev: Evaluation, level_pa
     are copied."""
     el = ev["el"]
     kept = _as_it_is if isinstance(ev, _Evaluation) else np.copy
-    return dict(q=q.copy(), lam=lam, u=kept(ev["u"]), R_full=kept(ev["R_full"]), N=kept(el["N"]),
-                M=kept(el["M"]), L=kept(el["L"]), theta_bar=kept(el["theta_bar"]), u_bar=kept(el["u_bar"]),
-                level=level_param)
+    return dict(
+        q=q.copy(),
+        lam=lam,
+        u=kept(ev["u"]),
+        R_full=kept(ev["R_full"]),
+        N=kept(el["N"]),
+        M=kept(el["M"]),
+        L=kept(el["L"]),
+        theta_bar=kept(el["theta_bar"]),
+        u_bar=kept(el["u_bar"]),
+        level=level_param,
+    )
 
 
 def _as_it_is(array: FloatArray) -> FloatArray:

@@ -9,6 +9,7 @@ the order their edges are listed (stable sorts), so the numbering is a function 
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -37,13 +38,13 @@ def _rcm(n_nodes: int, a: IntArray, b: IntArray) -> IntArray:
         start[v + 1] = start[v] + degree[v]
     fill = start[:-1].copy()
     adj = np.empty(start[n_nodes], np.int64)
-    for k in range(a.shape[0]):        # neighbours in the order the edges are listed
+    for k in range(a.shape[0]):  # neighbours in the order the edges are listed
         adj[fill[a[k]]] = b[k]
         fill[a[k]] += 1
         adj[fill[b[k]]] = a[k]
         fill[b[k]] += 1
     top = 0
-    for v in range(n_nodes):           # each node's neighbours by degree (stable insertion sort)
+    for v in range(n_nodes):  # each node's neighbours by degree (stable insertion sort)
         for i in range(start[v] + 1, start[v + 1]):
             w = adj[i]
             j = i - 1
@@ -52,7 +53,7 @@ def _rcm(n_nodes: int, a: IntArray, b: IntArray) -> IntArray:
                 j -= 1
             adj[j + 1] = w
         top = max(top, degree[v])
-    first = np.zeros(top + 2, np.int64)     # the starting nodes by degree: first[d], where degree d begins
+    first = np.zeros(top + 2, np.int64)  # the starting nodes by degree: first[d], where degree d begins
     for v in range(n_nodes):
         first[degree[v] + 1] += 1
     for d in range(top + 1):

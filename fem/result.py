@@ -10,6 +10,7 @@ know E and c.  Consistent units throughout.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -42,18 +43,18 @@ class FemResult:
     steps: int
     iterations: int
     cutbacks: int
-    rejected_iterations: int           # Newton iterations spent on rejected (cut) steps
-    residual_history: list[FloatArray]   # |r|/F of every iteration, per accepted step
-    load_factor: FloatArray            # (n_levels,)
-    positions: FloatArray              # (n_levels, n_nodes, 2)
-    rotations: FloatArray              # (n_levels, n_nodes)
+    rejected_iterations: int  # Newton iterations spent on rejected (cut) steps
+    residual_history: list[FloatArray]  # |r|/F of every iteration, per accepted step
+    load_factor: FloatArray  # (n_levels,)
+    positions: FloatArray  # (n_levels, n_nodes, 2)
+    rotations: FloatArray  # (n_levels, n_nodes)
     critical_points: list[CriticalPoint]
     wall_time: float
     node_names: list[str]
-    mesh_positions: FloatArray         # (n_levels, n_element_nodes, 2)
-    mesh_rotations: FloatArray         # (n_levels, n_element_nodes)
-    connectivity: IntArray             # (n_elements, 2)
-    det_sign: IntArray                 # (n_steps,) sign of det K at accepted steps
+    mesh_positions: FloatArray  # (n_levels, n_element_nodes, 2)
+    mesh_rotations: FloatArray  # (n_levels, n_element_nodes)
+    connectivity: IntArray  # (n_elements, 2)
+    det_sign: IntArray  # (n_steps,) sign of det K at accepted steps
     refine: int = 1
     n_elements: int = 0
     extra: dict[str, Any] = field(default_factory=dict)
@@ -137,9 +138,11 @@ class FemResult:
         return force
 
     def __repr__(self) -> str:
-        return (f"FemResult(converged={self.converged}, message={self.message!r}, "
-                f"levels={self.n_levels}, steps={self.steps}, iterations={self.iterations}, "
-                f"wall_time={self.wall_time:.3g}s)")
+        return (
+            f"FemResult(converged={self.converged}, message={self.message!r}, "
+            f"levels={self.n_levels}, steps={self.steps}, iterations={self.iterations}, "
+            f"wall_time={self.wall_time:.3g}s)"
+        )
 
     def nodal_fields(self, level: int) -> NodalFields:
         """Fields at the element nodes of one recorded level (what a ParaView user colours by).
@@ -164,29 +167,43 @@ class FemResult:
         moment = at_nodes(-M[:, 0], M[:, 1])
         stress: FloatArray | None = None
         if disc.el_section and all(sec.has_stress for sec in disc.el_section):
-            sigma = np.empty(len(conn))      # the larger of the two element ends
+            sigma = np.empty(len(conn))  # the larger of the two element ends
             for sec, idx in disc.section_groups:
-                sigma[idx] = np.maximum(sec.max_stress(N[idx], np.abs(M[idx, 0])),
-                                        sec.max_stress(N[idx], np.abs(M[idx, 1])))
+                sigma[idx] = np.maximum(
+                    sec.max_stress(N[idx], np.abs(M[idx, 0])), sec.max_stress(N[idx], np.abs(M[idx, 1]))
+                )
             stress = np.full(n, 0.0)  # the largest stress of the elements meeting at a node
             np.maximum.at(stress, conn[:, 0], sigma)
             np.maximum.at(stress, conn[:, 1], sigma)
-        return NodalFields(displacement=self.mesh_positions[level] - self.extra["X"],
-                           rotation=self.mesh_rotations[level].copy(),
-                           bending_moment=moment,
-                           curvature=at_nodes(-M[:, 0] / EI, M[:, 1] / EI),
-                           axial_force=at_nodes(N, N), bending_stress=stress)
+        return NodalFields(
+            displacement=self.mesh_positions[level] - self.extra["X"],
+            rotation=self.mesh_rotations[level].copy(),
+            bending_moment=moment,
+            curvature=at_nodes(-M[:, 0] / EI, M[:, 1] / EI),
+            axial_force=at_nodes(N, N),
+            bending_stress=stress,
+        )
 
     def field_series(self) -> FieldSeries:
         """Every level's element-node positions and ``nodal_fields`` (all levels at once, the same
         sums in the same order as `nodal_fields`): plain data, without the solver. The point data
         are computed when first read (`FieldSeries.nodal`): most runs never draw them."""
         disc = self.extra["disc"]
-        forces = _ElementForces(self.extra["element_axial_force"], self.extra["element_end_moments"],
-                                list(disc.el_section), self.mesh_positions - self.extra["X"],
-                                self.mesh_rotations.copy())
-        return FieldSeries(self.extra["X"].copy(), self.connectivity.copy(), self.mesh_positions.copy(),
-                           np.asarray(self.load_factor, float), forces, self.rigid_links())
+        forces = _ElementForces(
+            self.extra["element_axial_force"],
+            self.extra["element_end_moments"],
+            list(disc.el_section),
+            self.mesh_positions - self.extra["X"],
+            self.mesh_rotations.copy(),
+        )
+        return FieldSeries(
+            self.extra["X"].copy(),
+            self.connectivity.copy(),
+            self.mesh_positions.copy(),
+            np.asarray(self.load_factor, float),
+            forces,
+            self.rigid_links(),
+        )
 
     def rigid_links(self) -> IntArray:
         """(k, 2) element nodes (master, slave) of every rigid link, the master the root of its chain: the
@@ -198,11 +215,12 @@ class FemResult:
         """Write one VTU file per level (deformed mesh, line cells, the point data of
         ``nodal_fields``), ``prefix_undeformed.vtu`` and a ParaView collection ``prefix.pvd``
         (time = level's load factor); returns the per-level VTU paths."""
-        lines = np.concatenate([self.connectivity, self.rigid_links()])   # elements, then rigid links
+        lines = np.concatenate([self.connectivity, self.rigid_links()])  # elements, then rigid links
 
         def write(path: str, xy: FloatArray, point_data: dict[str, FloatArray]) -> None:
-            meshio.write(path, meshio.Mesh(np.column_stack([xy, np.zeros(len(xy))]),
-                                           [("line", lines)], point_data=point_data))
+            meshio.write(
+                path, meshio.Mesh(np.column_stack([xy, np.zeros(len(xy))]), [("line", lines)], point_data=point_data)
+            )
 
         write(f"{prefix}_undeformed.vtu", self.extra["X"], {})
         paths = []
@@ -212,10 +230,12 @@ class FemResult:
             paths.append(path)
         entries = "\n".join(
             f'    <DataSet timestep="{t:.12g}" part="0" file="{Path(p).name}"/>'
-            for t, p in zip(self.load_factor, paths))
+            for t, p in zip(self.load_factor, paths)
+        )
         Path(f"{prefix}.pvd").write_text(
             '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
-            f"  <Collection>\n{entries}\n  </Collection>\n</VTKFile>\n")
+            f"  <Collection>\n{entries}\n  </Collection>\n</VTKFile>\n"
+        )
         return paths
 
 
@@ -224,18 +244,23 @@ class NodalFields:
     """Point data at the element nodes of one level, in the model's consistent units
     (rotation in radians, counter-clockwise; tension positive; bending stress None when the
     sections do not know E and the extreme-fibre distance)."""
-    displacement: FloatArray            # (n, 2)
-    rotation: FloatArray                # (n,)
-    curvature: FloatArray               # (n,)
-    bending_moment: FloatArray          # (n,)
-    axial_force: FloatArray             # (n,)
-    bending_stress: FloatArray | None   # (n,) largest |sigma| on the sections meeting at the node
+
+    displacement: FloatArray  # (n, 2)
+    rotation: FloatArray  # (n,)
+    curvature: FloatArray  # (n,)
+    bending_moment: FloatArray  # (n,)
+    axial_force: FloatArray  # (n,)
+    bending_stress: FloatArray | None  # (n,) largest |sigma| on the sections meeting at the node
 
     def point_data(self) -> dict[str, FloatArray]:
         """VTK point arrays (3-component displacement, as ParaView's Warp By Vector expects)."""
-        data = {"displacement": np.column_stack([self.displacement, np.zeros(len(self.displacement))]),
-                "rotation": self.rotation, "curvature": self.curvature,
-                "bending_moment": self.bending_moment, "axial_force": self.axial_force}
+        data = {
+            "displacement": np.column_stack([self.displacement, np.zeros(len(self.displacement))]),
+            "rotation": self.rotation,
+            "curvature": self.curvature,
+            "bending_moment": self.bending_moment,
+            "axial_force": self.axial_force,
+        }
         if self.bending_stress is not None:
             data["bending_stress"] = self.bending_stress
         return data
@@ -246,6 +271,7 @@ class _ElementForces:
     """What `FieldSeries.nodal` is computed from: per level the element axial forces N (levels,
     elements) and end moments M (levels, elements, 2), every element's section, the element-node
     displacements and rotations (levels, n, 2) and (levels, n)."""
+
     N: FloatArray
     M: FloatArray
     sections: list[Section]
@@ -264,10 +290,11 @@ class _ElementForces:
 @dataclass
 class FieldSeries:
     """The deformed mesh and its point data at every recorded level (what a ParaView series needs)."""
-    reference: FloatArray        # (n, 2) undeformed element nodes
-    connectivity: IntArray       # (m, 2)
-    positions: FloatArray        # (levels, n, 2)
-    load_factor: FloatArray      # (levels,) the load factor (or level) of each
+
+    reference: FloatArray  # (n, 2) undeformed element nodes
+    connectivity: IntArray  # (m, 2)
+    positions: FloatArray  # (levels, n, 2)
+    load_factor: FloatArray  # (levels,) the load factor (or level) of each
     forces: _ElementForces
     # (k, 2) the rigid links' (master, slave) element nodes: drawn as lines (a rigid body as a star from
     # its master node), no element of their own, so no forces (their nodes' point data come from the
@@ -302,17 +329,25 @@ class FieldSeries:
         if f.sections and all(sec.has_stress for sec in f.sections):
             sigma = np.empty((levels, len(conn)))
             for sec, idx in f.section_groups():
-                sigma[:, idx] = np.maximum(sec.max_stress(N[:, idx], np.abs(M[:, idx, 0])),
-                                           sec.max_stress(N[:, idx], np.abs(M[:, idx, 1])))
+                sigma[:, idx] = np.maximum(
+                    sec.max_stress(N[:, idx], np.abs(M[:, idx, 0])), sec.max_stress(N[:, idx], np.abs(M[:, idx, 1]))
+                )
             top = np.zeros((levels, n))
             # (numpy's annotations of ufunc.at leave out an index tuple with a slice, which it takes)
             np.maximum.at(top, (slice(None), conn[:, 0]), sigma)  # type: ignore[arg-type]
             np.maximum.at(top, (slice(None), conn[:, 1]), sigma)  # type: ignore[arg-type]
             stress = list(top)
-        return [NodalFields(displacement=f.displacement[k], rotation=f.rotation[k].copy(),
-                            bending_moment=moment[k], curvature=curvature[k], axial_force=axial[k],
-                            bending_stress=stress[k])
-                for k in range(levels)]
+        return [
+            NodalFields(
+                displacement=f.displacement[k],
+                rotation=f.rotation[k].copy(),
+                bending_moment=moment[k],
+                curvature=curvature[k],
+                axial_force=axial[k],
+                bending_stress=stress[k],
+            )
+            for k in range(levels)
+        ]
 
 
 def _transfer_slave_forces(d: Discretisation, R: FloatArray, u: FloatArray) -> FloatArray:
@@ -334,20 +369,21 @@ def _transfer_slave_forces(d: Discretisation, R: FloatArray, u: FloatArray) -> F
 class _Derived:
     """The recorded states a result's derived fields (reactions, member end forces, energy, stress)
     are computed from, when first read."""
+
     disc: Discretisation
-    snapshots: list[dict[str, Any]]     # `newton.snapshot` of every recorded level
-    N: FloatArray      # (levels, elements) axial forces
-    M: FloatArray      # (levels, elements, 2) end moments
+    snapshots: list[dict[str, Any]]  # `newton.snapshot` of every recorded level
+    N: FloatArray  # (levels, elements) axial forces
+    M: FloatArray  # (levels, elements, 2) end moments
 
     def reactions(self) -> FloatArray:
         d, snaps = self.disc, self.snapshots
         nm, nl = d.n_model_nodes, len(snaps)
         mask = np.zeros(d.n_full + 1)
-        mask[:d.n_full] = d.constrained
+        mask[: d.n_full] = d.constrained
         R = np.array([_transfer_slave_forces(d, s["R_full"], s["u"]) for s in snaps]).reshape(nl, d.n_full + 1)
         R *= mask
         reac = np.empty((nl, nm, 3))
-        reac[:, :, :2] = R[:, :2 * nm].reshape(nl, nm, 2)
+        reac[:, :, :2] = R[:, : 2 * nm].reshape(nl, nm, 2)
         reac[:, :, 2] = R[:, d.rot_dof[:nm]]
         return reac
 
@@ -371,14 +407,25 @@ class _Derived:
         stress = np.full(nl, np.nan)
         if nl and d.el_section and all(sec.has_stress for sec in d.el_section):
             Mabs = np.abs(self.M).max(axis=2)
-            stress = np.max([np.max(sec.max_stress(self.N[:, idx], Mabs[:, idx]), axis=1)
-                             for sec, idx in d.section_groups], axis=0)
+            stress = np.max(
+                [np.max(sec.max_stress(self.N[:, idx], Mabs[:, idx]), axis=1) for sec, idx in d.section_groups], axis=0
+            )
         return stress
 
 
-def build_result(model: Model, sys: System, path: SolverPath, *, converged: bool, message: str,
-                 critical_points: list[CriticalPoint], wall_time: float, control: str, refine: int,
-                 analysis_time: float = 0.0) -> FemResult:
+def build_result(
+    model: Model,
+    sys: System,
+    path: SolverPath,
+    *,
+    converged: bool,
+    message: str,
+    critical_points: list[CriticalPoint],
+    wall_time: float,
+    control: str,
+    refine: int,
+    analysis_time: float = 0.0,
+) -> FemResult:
     """The result of a path: positions and rotations now, the derived fields (`_Derived`) when read."""
     d = sys.disc
     nm = d.n_model_nodes
@@ -388,29 +435,47 @@ def build_result(model: Model, sys: System, path: SolverPath, *, converged: bool
     U = np.array([s["u"] for s in snaps]).reshape(nl, d.n_full + 1)
     N_all = np.array([s["N"] for s in snaps]).reshape(nl, len(d.conn))
     M_all = np.array([s["M"] for s in snaps]).reshape(nl, len(d.conn), 2)
-    pos = d.X + U[:, :2 * n_x].reshape(nl, n_x, 2)
+    pos = d.X + U[:, : 2 * n_x].reshape(nl, n_x, 2)
     node_rot_dof = np.where(d.node_rotation_used, d.rot_dof[:nm], d.node_first_end_rot)
     rot_dofs_all = d.rot_dof.copy()
     rot_dofs_all[:nm] = node_rot_dof
     rot = U[:, rot_dofs_all]
     lam = np.array([s["lam"] if control != "load" else s["level"] for s in snaps], dtype=float)
     return FemResult(
-        converged=converged, message=message, control=control,
-        steps=len(path.iterations), iterations=int(sum(path.iterations)), cutbacks=path.cutbacks,
+        converged=converged,
+        message=message,
+        control=control,
+        steps=len(path.iterations),
+        iterations=int(sum(path.iterations)),
+        cutbacks=path.cutbacks,
         rejected_iterations=path.rejected_iterations,
-        residual_history=path.residuals, load_factor=lam,
-        positions=pos[:, :nm], rotations=rot[:, :nm], critical_points=critical_points,
-        wall_time=wall_time, node_names=list(model.node_names), mesh_positions=pos,
-        mesh_rotations=rot, connectivity=d.conn.copy(), det_sign=np.array(path.det_signs),
-        refine=refine, n_elements=len(d.conn),
-        extra=dict(X=d.X.copy(), disc=d, u_full=U,
-                   element_axial_force=N_all,
-                   element_end_moments=M_all,
-                   step_load_factor=np.array(path.step_lams),
-                   step_path_parameter=np.array(path.step_s),
-                   step_control=np.array(path.step_ctrl),
-                   element_moments=M_all.copy()), analysis_time=analysis_time,
-        derived=_Derived(d, list(snaps), N_all, M_all))
+        residual_history=path.residuals,
+        load_factor=lam,
+        positions=pos[:, :nm],
+        rotations=rot[:, :nm],
+        critical_points=critical_points,
+        wall_time=wall_time,
+        node_names=list(model.node_names),
+        mesh_positions=pos,
+        mesh_rotations=rot,
+        connectivity=d.conn.copy(),
+        det_sign=np.array(path.det_signs),
+        refine=refine,
+        n_elements=len(d.conn),
+        extra=dict(
+            X=d.X.copy(),
+            disc=d,
+            u_full=U,
+            element_axial_force=N_all,
+            element_end_moments=M_all,
+            step_load_factor=np.array(path.step_lams),
+            step_path_parameter=np.array(path.step_s),
+            step_control=np.array(path.step_ctrl),
+            element_moments=M_all.copy(),
+        ),
+        analysis_time=analysis_time,
+        derived=_Derived(d, list(snaps), N_all, M_all),
+    )
 
 
 def _member_end_forces(d: Discretisation, N: FloatArray, M: FloatArray, L: FloatArray) -> FloatArray:

@@ -20,6 +20,7 @@ distance c and the modulus E are given.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import math
@@ -49,7 +50,7 @@ class Section:
     def __post_init__(self) -> None:
         for name in ("EA", "EI"):
             value = getattr(self, name)
-            if isinstance(value, (int, float)):         # the usual case (np.float64 too): no numpy call
+            if isinstance(value, (int, float)):  # the usual case (np.float64 too): no numpy call
                 ok = math.isfinite(value) and value > 0
             else:
                 ok = bool(np.isfinite(value) and value > 0)
@@ -57,8 +58,7 @@ class Section:
                 raise ValueError(f"Section: {name} must be finite and > 0, got {value!r}")
 
     @classmethod
-    def from_EI(cls, EA: float, EI: float, c: float | None = None,
-                E: float | None = None) -> "Section":
+    def from_EI(cls, EA: float, EI: float, c: float | None = None, E: float | None = None) -> "Section":
         """Section from the stiffnesses; stress needs both ``c`` and ``E``."""
         layers = ((float(E), float(c)),) if (c is not None and E is not None) else ()
         return cls(float(EA), float(EI), layers)
@@ -88,7 +88,7 @@ class Section:
             return np.full(np.shape(M), np.nan)
         eps = np.asarray(N) / self.EA
         kappa = np.asarray(M) / self.EI
-        layer = (-1,) + (1,) * max(eps.ndim, kappa.ndim)      # layers along the first axis
+        layer = (-1,) + (1,) * max(eps.ndim, kappa.ndim)  # layers along the first axis
         E = np.array([E for E, _ in self.stress_layers]).reshape(layer)
         c = np.array([c for _, c in self.stress_layers]).reshape(layer)
         stress: FloatArray = np.max(np.abs(E * eps) + np.abs(E * kappa * c), axis=0)

@@ -17,6 +17,7 @@ stretching a member: the mechanism's mobility as the FEM sees it.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 from collections.abc import Iterable
@@ -34,16 +35,15 @@ __all__ = ["SoftModes", "soft_modes"]
 
 @dataclass
 class SoftModes:
-    count: int                  # eigenvalues below ratio x the reference stiffness
-    stiffness: FloatArray       # eigenvalues of K_a, ascending (force/length)
-    ratios: FloatArray          # stiffness / reference stiffness
-    ratio: float                # the threshold used
-    dofs: list[tuple[NodeRef, str]]   # the actuation DOFs, (node, 'ux' | 'uy' | 'rz')
-    modes: FloatArray           # (m, m) eigenvectors (columns), in the scaled actuation DOFs
+    count: int  # eigenvalues below ratio x the reference stiffness
+    stiffness: FloatArray  # eigenvalues of K_a, ascending (force/length)
+    ratios: FloatArray  # stiffness / reference stiffness
+    ratio: float  # the threshold used
+    dofs: list[tuple[NodeRef, str]]  # the actuation DOFs, (node, 'ux' | 'uy' | 'rz')
+    modes: FloatArray  # (m, m) eigenvectors (columns), in the scaled actuation DOFs
 
 
-def _actuation_rows(system: System, model: Model, dofs: list[tuple[NodeRef, str]],
-                    length_scale: float) -> FloatArray:
+def _actuation_rows(system: System, model: Model, dofs: list[tuple[NodeRef, str]], length_scale: float) -> FloatArray:
     """T (m x n): du_a/dq at the unloaded state, rotations times ``length_scale``."""
     d = system.disc
     _, C = system.full_displacements(np.zeros(system.n), system.presc[0] * 0.0)
@@ -62,8 +62,13 @@ def _actuation_rows(system: System, model: Model, dofs: list[tuple[NodeRef, str]
     return T
 
 
-def soft_modes(model: Model, dofs: Iterable[tuple[NodeRef, str]], ratio: float = 1e-2,
-               length_scale: float | None = None, reference_stiffness: float | None = None) -> SoftModes:
+def soft_modes(
+    model: Model,
+    dofs: Iterable[tuple[NodeRef, str]],
+    ratio: float = 1e-2,
+    length_scale: float | None = None,
+    reference_stiffness: float | None = None,
+) -> SoftModes:
     """Soft modes of the unloaded mechanism at the actuation DOFs ``dofs`` ((node, 'ux'|'uy'|'rz'), ...)."""
     disc = discretise(model)
     system = System(model, disc, solver_kind="dense")

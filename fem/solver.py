@@ -33,6 +33,7 @@ once never pays for the test).
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import time
@@ -50,8 +51,15 @@ from .free_motion import check_held
 from .linear_solver import Factor, SingularMatrix
 from .model import DOF_NAMES, Model, NodeRef
 from .newton import Control, Path, StepFailed, accept_check, acceptance_facts, det_sign, growth, newton, snapshot
-from .options import (ArcLengthControl, DisplacementControl, LoadControl, NewtonOutcome, SolveOptions,
-                      StepState, SwitchStatus)
+from .options import (
+    ArcLengthControl,
+    DisplacementControl,
+    LoadControl,
+    NewtonOutcome,
+    SolveOptions,
+    StepState,
+    SwitchStatus,
+)
 from .result import FemResult, build_result
 from .inertia import DENSE_LIMIT, zero_eigenvalue
 from .stability import conservative, eigenvalue_below, held_sign, switch_branch
@@ -60,8 +68,8 @@ from .warm_start import LevelGuesses, level_guesses
 
 __all__ = ["solve", "solve_load", "solve_displacement", "solve_arclength"]
 
-SWITCH_STEP = 1.0 / 64    # branch switching is tried from steps no longer than this (of a level)
-JUMP_CUT_FLOOR = 64       # steps shorter than this many min_step are not cut for turning back
+SWITCH_STEP = 1.0 / 64  # branch switching is tried from steps no longer than this (of a level)
+JUMP_CUT_FLOOR = 64  # steps shorter than this many min_step are not cut for turning back
 
 
 def _path_weights(system: System) -> FloatArray:
@@ -74,8 +82,9 @@ def _step_state(system: System, opts: SolveOptions, out: NewtonOutcome, beta: Fl
     return StepState.of(out, beta, det_sign(system, out.ev, out.factor) if opts.watch_det else 0)
 
 
-def _try_guess(system: System, opts: SolveOptions, path: Path, guesses: LevelGuesses, k: int,
-               loads: Loads) -> NewtonOutcome | None:
+def _try_guess(
+    system: System, opts: SolveOptions, path: Path, guesses: LevelGuesses, k: int, loads: Loads
+) -> NewtonOutcome | None:
     """Newton from the warm-start guess of level k; None if not acceptable (an element jumped by 2 pi,
     or a rotation moved 0.1 rad or more from the guess: another branch)."""
     q_g, beta_g = guesses.q[k], guesses.beta[k]
@@ -84,7 +93,7 @@ def _try_guess(system: System, opts: SolveOptions, path: Path, guesses: LevelGue
     except StepFailed as exc:
         path.rejected_iterations += exc.iteration
         return None
-    jumped, moved = acceptance_facts(system, out.q, q_g, out.ev, out.accept)   # q_g was its start
+    jumped, moved = acceptance_facts(system, out.q, q_g, out.ev, out.accept)  # q_g was its start
     if jumped or not moved < 0.1:
         path.rejected_iterations += out.iterations
         return None
@@ -101,12 +110,12 @@ def _even_crossing(system: System, st: StepState, held: int | None) -> bool:
     ``system.inertia_tol`` = `zero_eigenvalue` (1, n))."""
     if not conservative(system) or system.n > DENSE_LIMIT:
         return False
-    known: int = getattr(st.ev, "inertia_below", -1)      # the compiled corrector's own test, made
-    if held is None and known >= 0:                  # where an element is in compression
+    known: int = getattr(st.ev, "inertia_below", -1)  # the compiled corrector's own test, made
+    if held is None and known >= 0:  # where an element is in compression
         return bool(known)
     if float(st.ev["el"]["N"].min(initial=0.0)) >= 0.0:
         return False
-    try:   # Jacobi-scaled: unit diagonal
+    try:  # Jacobi-scaled: unit diagonal
         return eigenvalue_below(system, st.ev["K"], held, zero_eigenvalue(1.0, system.n))
     except (ValueError, np.linalg.LinAlgError, RuntimeError):
         return False
@@ -150,22 +159,30 @@ def _solver_factor(system: System, factor: SignedFactor | None, ev: Evaluation) 
     return factor if isinstance(factor, Factor) else system.layout.factor(ev["K"])
 
 
-def _leave_unstable(system: System, opts: SolveOptions, path: Path, st: StepState, loads: Loads,
-                    q_prev: FloatArray, mode: str = "load", ctrl: Control | None = None,
-                    held: int | None = None) -> str | None:
+def _leave_unstable(
+    system: System,
+    opts: SolveOptions,
+    path: Path,
+    st: StepState,
+    loads: Loads,
+    q_prev: FloatArray,
+    mode: str = "load",
+    ctrl: Control | None = None,
+    held: int | None = None,
+) -> str | None:
     """Replace the unstable state ``st`` (updated in place) by a stable one on another branch,
     preferably the one on the side of the path's last stable state ``q_prev``
     (`stability.switch_branch`). Returns None, or the reason why no stable state was found."""
-    out = switch_branch(system, opts, st.q, st.lam, st.beta, st.ev, loads, mode=mode, ctrl=ctrl,
-                        held=held, q_prev=q_prev)
-    if out.status is SwitchStatus.STABLE:   # the eigenvalues (decisive) put it within rounding of stable
+    out = switch_branch(
+        system, opts, st.q, st.lam, st.beta, st.ev, loads, mode=mode, ctrl=ctrl, held=held, q_prev=q_prev
+    )
+    if out.status is SwitchStatus.STABLE:  # the eigenvalues (decisive) put it within rounding of stable
         st.sign = 1
         return None
     if out.status is SwitchStatus.FAILED:
-        return ("the converged state is unstable: a bifurcation was crossed (det K < 0, "
-                f"{out.reason}); not returned")
+        return f"the converged state is unstable: a bifurcation was crossed (det K < 0, {out.reason}); not returned"
     new = out.outcome
-    assert new is not None      # SWITCHED carries the stable state
+    assert new is not None  # SWITCHED carries the stable state
     path.branch_switches.append((len(path.step_lams), out.note))
     st.q, st.lam, st.ev, st.factor = new.q, new.lam, new.ev, new.factor
     st.history, st.iterations = st.history + new.history, st.iterations + new.iterations
@@ -174,15 +191,16 @@ def _leave_unstable(system: System, opts: SolveOptions, path: Path, st: StepStat
 
 
 # ---------------------------------------------------------------------------------- load control
-def _guessed_level(system: System, opts: SolveOptions, path: Path, guesses: LevelGuesses, k: int,
-                   beta: FloatArray) -> StepState | None:
+def _guessed_level(
+    system: System, opts: SolveOptions, path: Path, guesses: LevelGuesses, k: int, beta: FloatArray
+) -> StepState | None:
     """The level k solved in one Newton run from its warm-start guess, or None (step to it)."""
     out = _try_guess(system, opts, path, guesses, k, system.loads_at(k - 1, k, 1.0))
     if out is None:
         return None
     st = _step_state(system, opts, out, beta)
     if _lost_stability(system, opts, path, st):
-        return None      # not a state of the path: step to the level instead
+        return None  # not a state of the path: step to the level instead
     path.record(st.history, st.iterations, st.sign if opts.detect_critical else 0, float(k))
     return st
 
@@ -204,8 +222,18 @@ class PathStopped(Exception):
     """The path could not be followed further: why, and where (the result's message)."""
 
 
-def _load_step(system: System, opts: SolveOptions, path: Path, q: FloatArray, beta: FloatArray, k: int, t: float,
-               t_new: float, dt: float, prev: tuple[FloatArray, float] | None) -> StepState:
+def _load_step(
+    system: System,
+    opts: SolveOptions,
+    path: Path,
+    q: FloatArray,
+    beta: FloatArray,
+    k: int,
+    t: float,
+    t_new: float,
+    dt: float,
+    prev: tuple[FloatArray, float] | None,
+) -> StepState:
     """One load step (length dt) from t to t_new of the segment to level k: the accepted
     `StepState`. Raises StepRetry (with the factor to cut the step by) when the step left the path or
     lost stability over a long step, StepFailed when Newton fails, NoStableBranch when it lands on an
@@ -214,14 +242,13 @@ def _load_step(system: System, opts: SolveOptions, path: Path, q: FloatArray, be
     q_pred = q if prev is None else q + (t_new - t) / prev[1] * prev[0]
     out = newton(system, q_pred, 1.0, beta, loads, opts, q_start=q)
     accept_check(system, out.q, q, out.ev, opts, out.iterations, out.accept)
-    if (prev is not None and dt > JUMP_CUT_FLOOR * opts.min_step
-            and _turned_back(system, out.q - q, prev[0])):
-        path.reject(out.iterations)            # left the path: jumped to another branch
+    if prev is not None and dt > JUMP_CUT_FLOOR * opts.min_step and _turned_back(system, out.q - q, prev[0]):
+        path.reject(out.iterations)  # left the path: jumped to another branch
         raise StepRetry(0.25)
     st = _step_state(system, opts, out, beta)
     if _lost_stability(system, opts, path, st):
-        if dt > SWITCH_STEP:          # a long step may have jumped off an imperfect path, or
-            path.cutbacks += 1        # crossed several critical loads: retry shorter
+        if dt > SWITCH_STEP:  # a long step may have jumped off an imperfect path, or
+            path.cutbacks += 1  # crossed several critical loads: retry shorter
             raise StepRetry(0.25)
         why = _leave_unstable(system, opts, path, st, loads, q)
         if why:
@@ -237,7 +264,7 @@ def _run_load(system: System, opts: SolveOptions, path: Path, guesses: LevelGues
     for k in range(system.n_levels):
         t = 0.0
         prev: tuple[FloatArray, float] | None = None
-        dt = opts.initial_step       # a level that needed cuts does not shorten the first try of the next
+        dt = opts.initial_step  # a level that needed cuts does not shorten the first try of the next
         got = None if guesses is None else _guessed_level(system, opts, path, guesses, k, beta)
         if got is not None:
             q, t, beta, ev = got.q, 1.0, got.ev["el"]["beta"].copy(), got.ev
@@ -251,15 +278,18 @@ def _run_load(system: System, opts: SolveOptions, path: Path, guesses: LevelGues
                 dt *= retry.factor
                 continue
             except NoStableBranch as exc:
-                raise PathStopped(f"load level {k}: step from t = {t:.6g} to {t_new:.6g} of the "
-                                  f"segment from level {k - 1}: {exc}") from None
+                raise PathStopped(
+                    f"load level {k}: step from t = {t:.6g} to {t_new:.6g} of the segment from level {k - 1}: {exc}"
+                ) from None
             except StepFailed as exc:
                 path.reject(exc.iteration)
                 dt *= exc.cut
                 if dt < opts.min_step:
-                    raise PathStopped(f"load level {k}: no convergence between t = {t:.6g} and "
-                                      f"{t_new:.6g} of the segment from level {k - 1} (step < min_step), "
-                                      f"iteration {exc.iteration}: {exc.reason}") from None
+                    raise PathStopped(
+                        f"load level {k}: no convergence between t = {t:.6g} and "
+                        f"{t_new:.6g} of the segment from level {k - 1} (step < min_step), "
+                        f"iteration {exc.iteration}: {exc.reason}"
+                    ) from None
                 continue
             secant = opts.predictor == "secant" and not st.switched
             prev = (st.q - q, t_new - t) if secant else None
@@ -286,8 +316,10 @@ def _control_index(system: System, model: Model, control: tuple[NodeRef, str]) -
 def _reference_loads(system: System) -> Loads:
     """The load pattern of displacement and arc-length control: the loads at the last level."""
     if system.presc.size and np.any(system.presc != 0.0):
-        raise ValueError("displacement/arc-length control needs zero prescribed values; "
-                         "the load pattern is scaled by the load factor")
+        raise ValueError(
+            "displacement/arc-length control needs zero prescribed values; "
+            "the load pattern is scaled by the load factor"
+        )
     return system.F_fixed[-1], system.F0[-1], system.presc[-1] * 0.0
 
 
@@ -301,9 +333,17 @@ def _critical_slope(system: System, st: StepState, k: int, coef: float) -> tuple
         return 0, np.nan
 
 
-def _disp_step(system: System, opts: SolveOptions, path: Path, q: FloatArray, lam: float, beta: FloatArray,
-               loads: Loads, ctrl: Control,
-               prev: tuple[FloatArray, float, float] | None) -> StepState:
+def _disp_step(
+    system: System,
+    opts: SolveOptions,
+    path: Path,
+    q: FloatArray,
+    lam: float,
+    beta: FloatArray,
+    loads: Loads,
+    ctrl: Control,
+    prev: tuple[FloatArray, float, float] | None,
+) -> StepState:
     """One displacement step to the control value ctrl[2]: the accepted `StepState`. Raises
     StepFailed (Newton) or NoStableBranch."""
     k, coef, u_t = ctrl
@@ -321,8 +361,7 @@ def _disp_step(system: System, opts: SolveOptions, path: Path, q: FloatArray, la
     return st
 
 
-def _run_disp(system: System, model: Model, control: DisplacementControl, opts: SolveOptions,
-              path: Path) -> None:
+def _run_disp(system: System, model: Model, control: DisplacementControl, opts: SolveOptions, path: Path) -> None:
     """Displacement control over the targets; raises PathStopped where it cannot go on."""
     k, coef = _control_index(system, model, control.control_dof)
     targets = np.atleast_1d(np.asarray(control.targets, dtype=float))
@@ -346,8 +385,10 @@ def _run_disp(system: System, model: Model, control: DisplacementControl, opts: 
                 path.reject(exc.iteration)
                 frac *= exc.cut
                 if frac < opts.min_step:
-                    raise PathStopped(f"load level {lev} (control displacement {u_t:.6g}): no convergence, "
-                                      f"iteration {exc.iteration}: {exc.reason}") from None
+                    raise PathStopped(
+                        f"load level {lev} (control displacement {u_t:.6g}): no convergence, "
+                        f"iteration {exc.iteration}: {exc.reason}"
+                    ) from None
                 continue
             if opts.predictor == "secant":
                 prev = None if st.switched else (st.q - q, st.lam - lam, (st.q[k] - q[k]) * coef)
@@ -371,9 +412,9 @@ class _Arc:
         self.Dq_prev: FloatArray | None = None
         self.sign = float(np.sign(control.direction) or 1.0)
         self.s_total, self.n_limits = 0.0, 0
-        self.cached: tuple[Factor, FloatArray] | None = None     # (factor, K^-1 f_ref) at the current state
+        self.cached: tuple[Factor, FloatArray] | None = None  # (factor, K^-1 f_ref) at the current state
         self.hist3: list[tuple[float, FloatArray, float]] = [(0.0, self.q.copy(), self.lam)]
-        self.stop: tuple[int, float, float] | None = None     # (unknown, coefficient, value) of ``until``
+        self.stop: tuple[int, float, float] | None = None  # (unknown, coefficient, value) of ``until``
         if control.until is not None:
             self.stop = (*_control_index(system, model, control.until[:2]), float(control.until[2]))
 
@@ -445,28 +486,30 @@ def _run_arc(system: System, model: Model, control: ArcLengthControl, opts: Solv
     arc = _Arc(system, model, control)
     start = system.evaluate(arc.q, arc.beta, arc.lam, *loads, need_K=False)
     path.snapshots.append(snapshot(system, arc.q, arc.lam, start, 0.0))
-    if not np.any(start["f_ref"]):      # lambda scales nothing: no path to follow
+    if not np.any(start["f_ref"]):  # lambda scales nothing: no path to follow
         raise PathStopped("arc-length control needs a load pattern: the loads at the last level are all zero")
     path.mark_start()
     while len(path.iterations) < control.max_steps:
         _stop_beyond_precision(system, path)
         try:
             q_pred, lam_pred = _arc_predictor(system, arc, loads, opts)
-            out = newton(system, q_pred, lam_pred, arc.beta, loads, opts, mode="arc",
-                         arc=(arc.dl, arc.w, arc.q), q_start=arc.q)
+            out = newton(
+                system, q_pred, lam_pred, arc.beta, loads, opts, mode="arc", arc=(arc.dl, arc.w, arc.q), q_start=arc.q
+            )
             accept_check(system, out.q, arc.q, out.ev, opts, out.iterations)
         except (StepFailed, SingularMatrix) as exc:
             path.reject(getattr(exc, "iteration", 0))
             arc.hist3, arc.cached = arc.hist3[-1:], None
             arc.dl *= getattr(exc, "cut", 0.5)
             if arc.dl < arc.dl_min:
-                raise PathStopped(f"arc-length step {len(path.iterations) + 1} (load factor {arc.lam:.6g}): "
-                                  f"no convergence, iteration {getattr(exc, 'iteration', 0)}: "
-                                  f"{getattr(exc, 'reason', exc)}") from None
+                raise PathStopped(
+                    f"arc-length step {len(path.iterations) + 1} (load factor {arc.lam:.6g}): "
+                    f"no convergence, iteration {getattr(exc, 'iteration', 0)}: "
+                    f"{getattr(exc, 'reason', exc)}"
+                ) from None
             continue
         _arc_accept(system, arc, out, path)
-        arc.dl = min(arc.dl * float(np.clip(opts.target_iterations / max(out.iterations, 1), 0.5, 2.0)),
-                     arc.dl_max)
+        arc.dl = min(arc.dl * float(np.clip(opts.target_iterations / max(out.iterations, 1), 0.5, 2.0)), arc.dl_max)
         if _arc_stopped(arc, control, path):
             return
     if control.has_stop:
@@ -485,7 +528,7 @@ def _prepare(model: Model, opts: SolveOptions, n_levels: int | None = None, chec
     return system
 
 
-PRECISION_STEPS = 16   # accepted steps after which a run is tested for precision (`_beyond_precision`)
+PRECISION_STEPS = 16  # accepted steps after which a run is tested for precision (`_beyond_precision`)
 
 
 def _stop_beyond_precision(system: System, path: Path) -> None:
@@ -516,8 +559,16 @@ def _stopped(run: Callable[[], None]) -> str | None:
     return None
 
 
-def _finish(model: Model, system: System, path: Path, opts: SolveOptions, failure: str | None, control: str,
-            t0: float, analysis_time: float) -> FemResult:
+def _finish(
+    model: Model,
+    system: System,
+    path: Path,
+    opts: SolveOptions,
+    failure: str | None,
+    control: str,
+    t0: float,
+    analysis_time: float,
+) -> FemResult:
     """The result of a path: critical points, the message (steps, branch switches, unassessed sign
     changes) and the recorded levels; ``analysis_time``: CPU seconds of the load stepping."""
     critical = critical_points(path) if opts.detect_critical else []
@@ -527,28 +578,39 @@ def _finish(model: Model, system: System, path: Path, opts: SolveOptions, failur
     for i, note in path.branch_switches:
         message += f"; bifurcation at {where} {lams[i] if i < len(lams) else float('nan'):.6g}: {note}"
     for i in path.unassessed:
-        message += (f"; det K changed sign at step {i + 1} under follower (non-conservative) "
-                    "loads: stability not assessed")
-    return build_result(model, system, path, converged=failure is None, message=message,
-                        critical_points=critical, wall_time=time.perf_counter() - t0,
-                        control=control, refine=opts.refine, analysis_time=analysis_time)
+        message += (
+            f"; det K changed sign at step {i + 1} under follower (non-conservative) loads: stability not assessed"
+        )
+    return build_result(
+        model,
+        system,
+        path,
+        converged=failure is None,
+        message=message,
+        critical_points=critical,
+        wall_time=time.perf_counter() - t0,
+        control=control,
+        refine=opts.refine,
+        analysis_time=analysis_time,
+    )
 
 
-def solve_load(model: Model, control: LoadControl = LoadControl(),
-               opts: SolveOptions = SolveOptions()) -> FemResult:
+def solve_load(model: Model, control: LoadControl = LoadControl(), opts: SolveOptions = SolveOptions()) -> FemResult:
     """Load control: the loads and prescribed values follow their per-level histories."""
     t0 = time.perf_counter()
     system = _prepare(model, opts, control.n_levels, check=not control.held)
-    guesses = (None if control.initial_guess is None
-               else level_guesses(control.initial_guess, system.disc, system.X1, system.X2))
+    guesses = (
+        None
+        if control.initial_guess is None
+        else level_guesses(control.initial_guess, system.disc, system.X1, system.X2)
+    )
     path = Path()
     cpu = time.process_time()
     failure = _stopped(lambda: _run_load(system, opts, path, guesses))
     return _finish(model, system, path, opts, failure, "load", t0, time.process_time() - cpu)
 
 
-def solve_displacement(model: Model, control: DisplacementControl,
-                       opts: SolveOptions = SolveOptions()) -> FemResult:
+def solve_displacement(model: Model, control: DisplacementControl, opts: SolveOptions = SolveOptions()) -> FemResult:
     """Displacement control: one DOF follows its targets, the load factor is free."""
     t0 = time.perf_counter()
     system = _prepare(model, opts)
@@ -558,8 +620,9 @@ def solve_displacement(model: Model, control: DisplacementControl,
     return _finish(model, system, path, opts, failure, "displacement", t0, time.process_time() - cpu)
 
 
-def solve_arclength(model: Model, control: ArcLengthControl = ArcLengthControl(),
-                    opts: SolveOptions = SolveOptions()) -> FemResult:
+def solve_arclength(
+    model: Model, control: ArcLengthControl = ArcLengthControl(), opts: SolveOptions = SolveOptions()
+) -> FemResult:
     """Arc-length control of the model's load pattern (its loads at the last level)."""
     t0 = time.perf_counter()
     system = _prepare(model, opts)
@@ -569,12 +632,24 @@ def solve_arclength(model: Model, control: ArcLengthControl = ArcLengthControl()
     return _finish(model, system, path, opts, failure, "arclength", t0, time.process_time() - cpu)
 
 
-def solve(model: Model, n_levels: int | None = None, control: str = "load", *,
-          control_dof: Sequence[Any] | None = None, targets: ArrayLike | None = None,
-          initial_guess: FemResult | None = None, arc_length: float | None = None,
-          max_arc_length: float | None = None, max_steps: int = 2000,
-          until: tuple[NodeRef, str, float] | None = None, lambda_max: float | None = None, direction: float = 1.0,
-          max_limit_points: int | None = None, held: bool = False, **options: Any) -> FemResult:
+def solve(
+    model: Model,
+    n_levels: int | None = None,
+    control: str = "load",
+    *,
+    control_dof: Sequence[Any] | None = None,
+    targets: ArrayLike | None = None,
+    initial_guess: FemResult | None = None,
+    arc_length: float | None = None,
+    max_arc_length: float | None = None,
+    max_steps: int = 2000,
+    until: tuple[NodeRef, str, float] | None = None,
+    lambda_max: float | None = None,
+    direction: float = 1.0,
+    max_limit_points: int | None = None,
+    held: bool = False,
+    **options: Any,
+) -> FemResult:
     """Solve the model; returns a `FemResult` (the keyword form of `solve_load`,
     `solve_displacement` and `solve_arclength`; ``options`` are the fields of `SolveOptions`).
 
@@ -614,6 +689,9 @@ def solve(model: Model, n_levels: int | None = None, control: str = "load", *,
         node, dof = control_dof
         return solve_displacement(model, DisplacementControl((node, dof), tuple(np.atleast_1d(targets))), opts)
     if control == "arclength":
-        return solve_arclength(model, ArcLengthControl(arc_length, max_arc_length, max_steps, until,
-                                                       lambda_max, direction, max_limit_points), opts)
+        return solve_arclength(
+            model,
+            ArcLengthControl(arc_length, max_arc_length, max_steps, until, lambda_max, direction, max_limit_points),
+            opts,
+        )
     raise ValueError("control must be 'load', 'displacement' or 'arclength'")

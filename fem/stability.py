@@ -35,6 +35,7 @@ crossing zero within one step leave sign det K unchanged and go unnoticed.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 from dataclasses import replace
@@ -57,11 +58,19 @@ from .types import BoolArray, Evaluation, FloatArray, IntArray, Loads
 if TYPE_CHECKING:
     from .assembly import System
 
-__all__ = ["conservative", "eigenvalue_below", "held_sign", "lowest_modes", "potential", "switch_branch",
-           "DENSE_LIMIT", "zero_eigenvalue"]
+__all__ = [
+    "conservative",
+    "eigenvalue_below",
+    "held_sign",
+    "lowest_modes",
+    "potential",
+    "switch_branch",
+    "DENSE_LIMIT",
+    "zero_eigenvalue",
+]
 
-AMPLITUDE = 1e-3       # of L_ref: largest translation of the perturbation (no stretching)
-SIDE_TOL = 1e-8        # |phi . (q_prev - q*)| / (|phi| |q_prev - q*|) below this: no side
+AMPLITUDE = 1e-3  # of L_ref: largest translation of the perturbation (no stretching)
+SIDE_TOL = 1e-8  # |phi . (q_prev - q*)| / (|phi| |q_prev - q*|) below this: no side
 
 
 def conservative(system: System) -> bool:
@@ -81,8 +90,9 @@ def held_sign(fac: Factor, det_sign: int, held: int | None) -> int:
     return det_sign * (1 if x > 0 else -1 if x < 0 else 0)
 
 
-def lowest_modes(system: System, K: FloatArray, held: int | None = None,
-                 count: int = 2) -> tuple[FloatArray, FloatArray]:
+def lowest_modes(
+    system: System, K: FloatArray, held: int | None = None, count: int = 2
+) -> tuple[FloatArray, FloatArray]:
     """The `count` lowest eigenvalues of the Jacobi-scaled K (or K_ff, DOF `held` removed),
     S K S with S = diag(|K_ii|)^(-1/2), ascending, and the directions S psi in reduced coordinates
     (unit length).
@@ -103,7 +113,7 @@ def lowest_modes(system: System, K: FloatArray, held: int | None = None,
     count = max(1, min(count, m - 1)) if m > 1 else 1
     if m <= DENSE_LIMIT:
         vals, vecs = sla.eigh(A.toarray(), subset_by_index=[0, count - 1])
-    else:   # eigenvalues nearest zero: the ones that just crossed
+    else:  # eigenvalues nearest zero: the ones that just crossed
         vals, vecs = spla.eigsh(A.tocsc(), k=count, sigma=0.0, which="LM")
         order = np.argsort(vals)
         vals, vecs = vals[order], vecs[:, order]
@@ -139,7 +149,7 @@ def eigenvalue_below(system: System, K: FloatArray, held: int | None, tol: float
     if layout.kind == "banded":
         ab = K.reshape(layout.nrow, n)
         ku = layout.ku
-        upper = ab[layout.kl:layout.kl + ku + 1].copy()        # upper[ku + i - j, j] = K[i, j], i <= j
+        upper = ab[layout.kl : layout.kl + ku + 1].copy()  # upper[ku + i - j, j] = K[i, j], i <= j
         d = np.sqrt(np.abs(upper[ku]))
         d[d == 0.0] = 1.0
         inside, i, j = _upper_band(n, ku)
@@ -152,8 +162,8 @@ def eigenvalue_below(system: System, K: FloatArray, held: int | None, tol: float
         return bool(info > 0)
     if layout.kind == "dense":
         A = K.reshape(n, n)
-        A = A + A.T                 # a new array, scaled in place: the same floats as
-        A *= 0.5                    # 0.5 (A + A^T) / d_i / d_j in new arrays
+        A = A + A.T  # a new array, scaled in place: the same floats as
+        A *= 0.5  # 0.5 (A + A^T) / d_i / d_j in new arrays
         d = np.sqrt(np.abs(A.diagonal()))
         d[d == 0.0] = 1.0
         A /= d[:, None]
@@ -162,7 +172,7 @@ def eigenvalue_below(system: System, K: FloatArray, held: int | None, tol: float
             A[held, :] = 0.0
             A[:, held] = 0.0
             A[held, held] = 1.0
-        A.flat[::n + 1] += tol      # the diagonal
+        A.flat[:: n + 1] += tol  # the diagonal
         _, info = lapack.dpotrf(A, lower=0, overwrite_a=1)
         return bool(info > 0)
     vals, _ = lowest_modes(system, K, held, count=1)
@@ -177,20 +187,28 @@ def potential(system: System, ev: Evaluation, lam: float) -> float:
     if len(d.springs):
         dth = u[d.springs[:, 0]] - u[d.springs[:, 1]]
         energy += 0.5 * float(np.sum(d.spring_k * dth**2))
-    return energy - lam * float(np.dot(ev["f_ref_full"][:d.n_full], u[:d.n_full]))
+    return energy - lam * float(np.dot(ev["f_ref_full"][: d.n_full], u[: d.n_full]))
 
 
 def _lowest(A: sp.csr_matrix) -> float:
     """Lowest eigenvalue of a symmetric sparse matrix."""
     if A.shape[0] <= DENSE_LIMIT:
         return float(sla.eigh(A.toarray(), eigvals_only=True, subset_by_index=[0, 0])[0])
-    vals = spla.eigsh(A.tocsc(), k=min(3, A.shape[0] - 1), sigma=0.0, which="LM",
-                      return_eigenvectors=False)
+    vals = spla.eigsh(A.tocsc(), k=min(3, A.shape[0] - 1), sigma=0.0, which="LM", return_eigenvectors=False)
     return float(np.min(vals))
 
 
-def _descend(system: System, q: FloatArray, lam: float, beta: FloatArray, loads: Loads, free: IntArray,
-             tol: float, scale: float, maxiter: int = 200) -> tuple[FloatArray, float] | None:
+def _descend(
+    system: System,
+    q: FloatArray,
+    lam: float,
+    beta: FloatArray,
+    loads: Loads,
+    free: IntArray,
+    tol: float,
+    scale: float,
+    maxiter: int = 200,
+) -> tuple[FloatArray, float] | None:
     """Minimise Pi over the DOFs `free` from q: Newton on K + mu I (mu = 1.5 |mu_min| while
     K_ff is indefinite, Levenberg-Marquardt) with a backtracking line search on Pi.
     Leaves a saddle along negative curvature; ends near a minimum (a stable state).
@@ -224,8 +242,9 @@ def _descend(system: System, q: FloatArray, lam: float, beta: FloatArray, loads:
     return None
 
 
-def _follow_mode(system: System, opts: SolveOptions, q_u: FloatArray, phi: FloatArray, side: float,
-                 beta: FloatArray, loads: Loads) -> tuple[FloatArray | None, str, int]:
+def _follow_mode(
+    system: System, opts: SolveOptions, q_u: FloatArray, phi: FloatArray, side: float, beta: FloatArray, loads: Loads
+) -> tuple[FloatArray | None, str, int]:
     """Follow the branch leaving q_u along phi, with its largest component q_c held at
     q_u,c + xi (displacement control on the mode, load factor lambda free, xi growing),
     until lambda = 1 (the load of the step) is crossed; returns the state interpolated
@@ -242,8 +261,9 @@ def _follow_mode(system: System, opts: SolveOptions, q_u: FloatArray, phi: Float
         q_pred = q_u + xi_new * phi if prev is None else q + dxi / prev[2] * prev[0]
         lam_pred = lam if prev is None else lam + dxi / prev[2] * prev[1]
         try:
-            out = newton(system, q_pred, lam_pred, beta, loads, opts, mode="disp",
-                         ctrl=(kc, 1.0, q_u[kc] + xi_new), q_start=q)
+            out = newton(
+                system, q_pred, lam_pred, beta, loads, opts, mode="disp", ctrl=(kc, 1.0, q_u[kc] + xi_new), q_start=q
+            )
             q_x, lam_x, ev, its = out.q, out.lam, out.ev, out.iterations
             its_total += its
             accept_check(system, q_x, q, ev, opts, its)
@@ -271,9 +291,19 @@ def _stable(system: System, K: FloatArray, held: int | None, scale: float) -> tu
     return bool(vals[0] > -zero_eigenvalue(1.0, system.n)), float(vals[0])
 
 
-def switch_branch(system: System, opts: SolveOptions, q_u: FloatArray, lam: float, beta: FloatArray,
-                  ev_u: Evaluation, loads: Loads, mode: str = "load", ctrl: Control | None = None,
-                  held: int | None = None, q_prev: FloatArray | None = None) -> BranchSwitch:
+def switch_branch(
+    system: System,
+    opts: SolveOptions,
+    q_u: FloatArray,
+    lam: float,
+    beta: FloatArray,
+    ev_u: Evaluation,
+    loads: Loads,
+    mode: str = "load",
+    ctrl: Control | None = None,
+    held: int | None = None,
+    q_prev: FloatArray | None = None,
+) -> BranchSwitch:
     """Leave the unstable equilibrium q_u along its critical eigenvector, preferably to the
     side of ``q_prev`` (the last stable state of the path; see the module docstring).
 
@@ -281,7 +311,7 @@ def switch_branch(system: System, opts: SolveOptions, q_u: FloatArray, lam: floa
     with the stable state found, or FAILED with the reason."""
     vals, vecs = lowest_modes(system, ev_u["K"], held)
     scale = float(np.abs(system.layout.to_sparse(ev_u["K"]).diagonal()).max())
-    if vals[0] > -zero_eigenvalue(1.0, system.n):   # scaled eigenvalues: unit diagonal
+    if vals[0] > -zero_eigenvalue(1.0, system.n):  # scaled eigenvalues: unit diagonal
         return BranchSwitch(SwitchStatus.STABLE, float(vals[0]))
     phi = vecs[:, 0]
     rot = system.disc.red_is_rotation
@@ -298,18 +328,16 @@ def switch_branch(system: System, opts: SolveOptions, q_u: FloatArray, lam: floa
         if mode == "load":
             start_q, why, its = _follow_mode(system, opts, q_u, phi, side, beta, loads)
         else:
-            down = _descend(system, q_u + side * AMPLITUDE * system.L_ref * phi, lam, beta,
-                            loads, free, tol, scale)
+            down = _descend(system, q_u + side * AMPLITUDE * system.L_ref * phi, lam, beta, loads, free, tol, scale)
             start_q, why, its = (None, "the descent of Pi stalled", 0) if down is None else (down[0], "", 0)
         its_total += its
         if start_q is None:
             tried.append(f"{label}: {why}")
             continue
-        try:     # the solver's own corrector and convergence test, at the same load
+        try:  # the solver's own corrector and convergence test, at the same load
             out = newton(system, start_q, lam, beta, loads, opts, mode=mode, ctrl=ctrl, q_start=start_q)
             its_total += out.iterations
-            accept_check(system, out.q, start_q, out.ev, replace(opts, max_rotation_increment=np.inf),
-                         out.iterations)
+            accept_check(system, out.q, start_q, out.ev, replace(opts, max_rotation_increment=np.inf), out.iterations)
         except (StepFailed, SingularMatrix) as exc:
             tried.append(f"{label}: {getattr(exc, 'reason', exc)}")
             continue
@@ -318,25 +346,40 @@ def switch_branch(system: System, opts: SolveOptions, q_u: FloatArray, lam: floa
         if moved and ok:
             found[side] = (out, potential(system, out.ev, out.lam))
         else:
-            tried.append(f"{label}: " + ("returned to the unstable state" if not moved else
-                                         f"unstable (lowest eigenvalue {mu:.3g})"))
+            tried.append(
+                f"{label}: "
+                + ("returned to the unstable state" if not moved else f"unstable (lowest eigenvalue {mu:.3g})")
+            )
     if not found:
-        return BranchSwitch(SwitchStatus.FAILED, float(vals[0]), reason=(
-            f"lowest eigenvalue {vals[0]:.3g}; no stable state found by Newton from "
-            f"the unstable one perturbed along the critical eigenvector ({'; '.join(tried)})"))
+        return BranchSwitch(
+            SwitchStatus.FAILED,
+            float(vals[0]),
+            reason=(
+                f"lowest eigenvalue {vals[0]:.3g}; no stable state found by Newton from "
+                f"the unstable one perturbed along the critical eigenvector ({'; '.join(tried)})"
+            ),
+        )
     side = min(found, key=lambda s: found[s][1])
     back = 0.0 if q_prev is None else float(np.dot(phi, q_prev - q_u))
-    toward = float(np.sign(back)) if q_prev is not None and abs(back) > SIDE_TOL * (
-        np.linalg.norm(phi) * np.linalg.norm(q_prev - q_u)) else 0.0
+    toward = (
+        float(np.sign(back))
+        if q_prev is not None and abs(back) > SIDE_TOL * (np.linalg.norm(phi) * np.linalg.norm(q_prev - q_u))
+        else 0.0
+    )
     if toward in found:
         side = toward
     out, pi = found[side]
     other = found.get(-side)
-    why_side = ("the side of the path's last stable state" if toward == side
-                else "the lower total potential")
-    note = (f"branch switch: unstable state (lowest eigenvalue {vals[0]:.3g}, Pi = {pi_u:.6g}) "
-            f"left along the critical eigenvector, side {'+' if side > 0 else '-'}, "
-            f"{why_side}; stable "
-            f"state Pi = {pi:.9g}" + (f" (other side Pi = {other[1]:.9g})" if other else ""))
-    return BranchSwitch(SwitchStatus.SWITCHED, float(vals[0]), note=note, outcome=NewtonOutcome(
-        out.q, out.lam, out.ev, out.history, its_total, out.factor))
+    why_side = "the side of the path's last stable state" if toward == side else "the lower total potential"
+    note = (
+        f"branch switch: unstable state (lowest eigenvalue {vals[0]:.3g}, Pi = {pi_u:.6g}) "
+        f"left along the critical eigenvector, side {'+' if side > 0 else '-'}, "
+        f"{why_side}; stable "
+        f"state Pi = {pi:.9g}" + (f" (other side Pi = {other[1]:.9g})" if other else "")
+    )
+    return BranchSwitch(
+        SwitchStatus.SWITCHED,
+        float(vals[0]),
+        note=note,
+        outcome=NewtonOutcome(out.q, out.lam, out.ev, out.history, its_total, out.factor),
+    )

@@ -37,6 +37,7 @@ its residual.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import copy
@@ -91,9 +92,9 @@ class TipInverseResult:
     converged: bool
     message: str
     result: FemResult
-    tip_loads: FloatArray       # (n_levels, 3): F_x, F_y, M acting on the tip
-    tied: FloatArray            # (n_levels,): the tied load (0 without a tie)
-    residual: FloatArray        # (n_levels,): g at the solution (0 without a tie)
+    tip_loads: FloatArray  # (n_levels, 3): F_x, F_y, M acting on the tip
+    tied: FloatArray  # (n_levels,): the tied load (0 without a tie)
+    residual: FloatArray  # (n_levels,): g at the solution (0 without a tie)
     nit: int
     nfev: int
     wall_time: float
@@ -127,8 +128,9 @@ def _with_tied(model: Model, tip: str, dof: str, values: FloatArray) -> Model:
     return trial
 
 
-def _residual(model: Model, result: FemResult, tip: str, tie: LoadRatio | ZeroMoment | Position,
-              tied: FloatArray) -> tuple[FloatArray, FloatArray]:
+def _residual(
+    model: Model, result: FemResult, tip: str, tie: LoadRatio | ZeroMoment | Position, tied: FloatArray
+) -> tuple[FloatArray, FloatArray]:
     """(g, the scale |g| is measured against) per level for a converged solve: a load scale
     max(|F_x|, |F_y|) + |M|/L_char, or for a position L_char."""
     loads = tip_loads(model, result, tip)
@@ -145,9 +147,17 @@ def _residual(model: Model, result: FemResult, tip: str, tie: LoadRatio | ZeroMo
     return m, scale
 
 
-def solve_tip_inverse(model: Model, tip: str, tie: LoadRatio | ZeroMoment | Position | None = None, *,
-                      guess: ArrayLike | None = None, tie_rtol: float = 1e-7, maxiter: int = 40,
-                      n_levels: int | None = None, **solve_options: Any) -> TipInverseResult:
+def solve_tip_inverse(
+    model: Model,
+    tip: str,
+    tie: LoadRatio | ZeroMoment | Position | None = None,
+    *,
+    guess: ArrayLike | None = None,
+    tie_rtol: float = 1e-7,
+    maxiter: int = 40,
+    n_levels: int | None = None,
+    **solve_options: Any,
+) -> TipInverseResult:
     """Solve the inverse tip problem of ``model`` (its prescribed tip DOFs are the pose).
 
     ``tie``: the condition fixing the load on the one tip DOF that is neither prescribed nor
@@ -161,8 +171,17 @@ def solve_tip_inverse(model: Model, tip: str, tie: LoadRatio | ZeroMoment | Posi
         result = solve(model, n_levels=n, **solve_options)
         done = result.converged and result.n_levels == n
         zeros = np.zeros(n)
-        return TipInverseResult(done, result.message, result, tip_loads(model, result, tip)
-                                if done else np.full((n, 3), np.nan), zeros, zeros, 0, 1, time.perf_counter() - t0)
+        return TipInverseResult(
+            done,
+            result.message,
+            result,
+            tip_loads(model, result, tip) if done else np.full((n, 3), np.nan),
+            zeros,
+            zeros,
+            0,
+            1,
+            time.perf_counter() - t0,
+        )
     if tie.free_dof not in DOF_NAMES or (isinstance(tie, Position) and (tie.direction or tie.free_dof) == "rz"):
         raise ValueError(f"free_dof must be one of {sorted(DOF_NAMES)}; a Position is measured along 'ux' or 'uy'")
     prescribed = {(p.node, p.dof) for p in model.prescribed}
@@ -188,7 +207,7 @@ def solve_tip_inverse(model: Model, tip: str, tie: LoadRatio | ZeroMoment | Posi
     if g0 is None:
         return _failed(res0, f0, 0, nfev, t0, f"the start loads do not converge: {res0.message}")
     if isinstance(tie, LoadRatio):
-        f1 = f0 - g0                           # one fixed-point step: F = ratio * P(F0)
+        f1 = f0 - g0  # one fixed-point step: F = ratio * P(F0)
     else:
         loads0 = tip_loads(trial0, res0, tip)
         load_scale = np.max(np.abs(loads0[:, :2]), axis=1) + np.abs(loads0[:, 2]) / model.characteristic_length()
@@ -205,23 +224,52 @@ def solve_tip_inverse(model: Model, tip: str, tie: LoadRatio | ZeroMoment | Posi
             step = step / 2.0
             f = f_prev + step
         else:
-            return _failed(res, f, it, nfev, t0, f"the FEM did not converge near tied loads "
-                                                f"[{', '.join(f'{v:.4g}' for v in f)}]: {res.message}")
-        assert g is not None and scale is not None      # a converged solve's (the loop above)
+            return _failed(
+                res,
+                f,
+                it,
+                nfev,
+                t0,
+                f"the FEM did not converge near tied loads [{', '.join(f'{v:.4g}' for v in f)}]: {res.message}",
+            )
+        assert g is not None and scale is not None  # a converged solve's (the loop above)
         settled = np.abs(g) <= tie_rtol * np.where(scale > 0, scale, 1.0)
         if settled.all():
-            return TipInverseResult(True, f"tied load converged in {it} secant iterations ({nfev} FEM solves); "
-                                    + res.message, res, tip_loads(trial, res, tip), f.copy(), g,
-                                    it, nfev, time.perf_counter() - t0)
+            return TipInverseResult(
+                True,
+                f"tied load converged in {it} secant iterations ({nfev} FEM solves); " + res.message,
+                res,
+                tip_loads(trial, res, tip),
+                f.copy(),
+                g,
+                it,
+                nfev,
+                time.perf_counter() - t0,
+            )
         slope = (g - g_prev) / np.where(f != f_prev, f - f_prev, np.nan)
         f_next = np.where(settled | ~np.isfinite(slope) | (slope == 0), f, f - g / slope)
         f_prev, g_prev, f = f, g, f_next
     assert g is not None, "maxiter must be at least 1"
-    return _failed(res, f, maxiter, nfev, t0,
-                   f"tied load not converged in {maxiter} secant iterations: residual {np.abs(g).max():.3g}")
+    return _failed(
+        res,
+        f,
+        maxiter,
+        nfev,
+        t0,
+        f"tied load not converged in {maxiter} secant iterations: residual {np.abs(g).max():.3g}",
+    )
 
 
 def _failed(result: FemResult, tied: FloatArray, nit: int, nfev: int, t0: float, message: str) -> TipInverseResult:
     n = len(tied)
-    return TipInverseResult(False, message, result, np.full((n, 3), np.nan), np.asarray(tied, float),
-                            np.full(n, np.nan), nit, nfev, time.perf_counter() - t0)
+    return TipInverseResult(
+        False,
+        message,
+        result,
+        np.full((n, 3), np.nan),
+        np.asarray(tied, float),
+        np.full(n, np.nan),
+        nit,
+        nfev,
+        time.perf_counter() - t0,
+    )

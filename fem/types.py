@@ -5,6 +5,7 @@ factorisation's det K sign (`SignedFactor`), a converged result as a warm start 
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 from typing import Any, Protocol

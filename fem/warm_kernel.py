@@ -18,6 +18,7 @@ only (`kernel` explains it; `tests/project/test_compiled_cache.py` checks it).
 
 Angles (the chord angles, the end rotations, the tangent angles of the midpoints) are in radians.
 """
+
 from __future__ import annotations
 
 import math
@@ -41,6 +42,7 @@ class Coarse(NamedTuple):
     beta0 : (n_el_c,) reference chord angles (rad)
     L0    : (n_el_c,) reference lengths (length)
     """
+
     U: FloatArray
     X: FloatArray
     rot: IntArray
@@ -63,6 +65,7 @@ class Fine(NamedTuple):
     X1, X2        : (n_el, 2) reference positions of each element's start and end nodes (length)
     beta0         : (n_el,) reference chord angles (rad)
     """
+
     X: FloatArray
     rot: IntArray
     n_released: int
@@ -79,6 +82,7 @@ class Refinement(NamedTuple):
     """Where the fine mesh's nodes come from, every member at once: the nodes both meshes have (coarse
     ``kept_c`` -> fine ``kept_f``), and each coarse element of a refined member (``mid_el``, its start
     and end nodes ``mid_a``, ``mid_b``) with the fine node at its midpoint (``mid_f``); all int."""
+
     kept_c: IntArray
     kept_f: IntArray
     mid_el: IntArray
@@ -98,7 +102,7 @@ def level_guesses_compiled(coarse: Coarse, fine: Fine, refinement: Refinement) -
     mid_el, mid_a, mid_b, mid_f = refinement.mid_el, refinement.mid_a, refinement.mid_b, refinement.mid_f
     nl = U_c.shape[0]
     nc, nf = Xc.shape[0], Xf.shape[0]
-    n_full = I0.shape[0]                               # fine full DOFs with the ground entry
+    n_full = I0.shape[0]  # fine full DOFs with the ground entry
     n_el = edofs_f.shape[0]
     q = np.empty((nl, n_red))
     beta = np.empty((nl, n_el))

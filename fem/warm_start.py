@@ -18,6 +18,7 @@ same branch; otherwise it falls back to ordinary load stepping.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -34,6 +35,7 @@ __all__ = ["guess_states", "LevelGuesses", "level_guesses"]
 class LevelGuesses:
     """The predictor of every load level on the fine mesh: reduced unknowns ``q`` (levels, n) and
     element chord angles ``beta`` (levels, elements)."""
+
     q: FloatArray
     beta: FloatArray
 
@@ -45,11 +47,26 @@ def level_guesses(coarse: Recorded, disc_fine: Discretisation, X1: FloatArray, X
     nodes (length)."""
     dc: Discretisation = coarse.extra["disc"]
     df = _checked_fine(dc, disc_fine)
-    coarse_group = Coarse(U=np.ascontiguousarray(coarse.extra["u_full"], dtype=float), X=dc.X, rot=dc.rot_dof,
-                          edofs=dc.edofs, beta0=dc.beta0, L0=dc.L0)
-    fine_group = Fine(X=df.X, rot=df.rot_dof, n_released=int(df.n_full - 3 * len(df.X)),
-                      I0=np.ascontiguousarray(df.I[:, 0]), C_independent=df.C[:, 0] * df.independent,
-                      n_red=int(df.n_red), edofs=df.edofs, X1=X1, X2=X2, beta0=df.beta0)
+    coarse_group = Coarse(
+        U=np.ascontiguousarray(coarse.extra["u_full"], dtype=float),
+        X=dc.X,
+        rot=dc.rot_dof,
+        edofs=dc.edofs,
+        beta0=dc.beta0,
+        L0=dc.L0,
+    )
+    fine_group = Fine(
+        X=df.X,
+        rot=df.rot_dof,
+        n_released=int(df.n_full - 3 * len(df.X)),
+        I0=np.ascontiguousarray(df.I[:, 0]),
+        C_independent=df.C[:, 0] * df.independent,
+        n_red=int(df.n_red),
+        edofs=df.edofs,
+        X1=X1,
+        X2=X2,
+        beta0=df.beta0,
+    )
     q, beta = level_guesses_compiled(coarse_group, fine_group, _refinement(dc, df))
     return LevelGuesses(q, beta)
 
@@ -57,9 +74,12 @@ def level_guesses(coarse: Recorded, disc_fine: Discretisation, X1: FloatArray, X
 def _checked_fine(dc: Discretisation, disc_fine: Discretisation) -> Discretisation:
     """``disc_fine`` when it refines ``dc`` (each member split in two, or kept), else ValueError."""
     if len(dc.member_elements) != len(disc_fine.member_elements) or any(
-            len(b) not in (len(a), 2 * len(a)) for a, b in zip(dc.member_elements, disc_fine.member_elements)):
-        raise ValueError("initial_guess must come from the same model with half the elements (or as many, "
-                         "for a member that is not refined)")
+        len(b) not in (len(a), 2 * len(a)) for a, b in zip(dc.member_elements, disc_fine.member_elements)
+    ):
+        raise ValueError(
+            "initial_guess must come from the same model with half the elements (or as many, "
+            "for a member that is not refined)"
+        )
     return disc_fine
 
 
@@ -80,7 +100,7 @@ def _refinement(dc: Discretisation, df: Discretisation) -> Refinement:
     mid_f: list[int] = []
     for els_c, els_f in zip(dc.member_elements, df.member_elements):
         cc, cf = _chain(dc, els_c), _chain(df, els_f)
-        step = 1 if len(cf) == len(cc) else 2   # 1: a member that is not refined, no midpoints
+        step = 1 if len(cf) == len(cc) else 2  # 1: a member that is not refined, no midpoints
         kept_c += cc
         kept_f += cf[::step]
         if step == 2:
@@ -92,8 +112,14 @@ def _refinement(dc: Discretisation, df: Discretisation) -> Refinement:
     def ints(v: list[int]) -> IntArray:
         return np.array(v, dtype=np.int64)
 
-    return Refinement(kept_c=ints(kept_c), kept_f=ints(kept_f), mid_el=ints(mid_el), mid_a=ints(mid_a),
-                      mid_b=ints(mid_b), mid_f=ints(mid_f))
+    return Refinement(
+        kept_c=ints(kept_c),
+        kept_f=ints(kept_f),
+        mid_el=ints(mid_el),
+        mid_a=ints(mid_a),
+        mid_b=ints(mid_b),
+        mid_f=ints(mid_f),
+    )
 
 
 def guess_states(coarse: Recorded, disc_fine: Discretisation) -> FloatArray:
@@ -103,10 +129,10 @@ def guess_states(coarse: Recorded, disc_fine: Discretisation) -> FloatArray:
     dc = coarse.extra["disc"]
     ref = _refinement(dc, _checked_fine(dc, disc_fine))
     nc, nf = len(dc.X), len(disc_fine.X)
-    U_c = np.asarray(coarse.extra["u_full"], dtype=float)     # (levels, coarse DOFs): every level at once
+    U_c = np.asarray(coarse.extra["u_full"], dtype=float)  # (levels, coarse DOFs): every level at once
     nl = len(U_c)
     U = np.zeros((nl, disc_fine.n_full + 1))
-    xc = dc.X + U_c[:, :2 * nc].reshape(nl, nc, 2)          # node i's (ux, uy) are DOFs 2i, 2i + 1
+    xc = dc.X + U_c[:, : 2 * nc].reshape(nl, nc, 2)  # node i's (ux, uy) are DOFs 2i, 2i + 1
     th_c = U_c[:, dc.rot_dof]
     xf = np.zeros((nl, nf, 2))
     th_f = np.zeros((nl, nf))
@@ -118,16 +144,16 @@ def guess_states(coarse: Recorded, disc_fine: Discretisation) -> FloatArray:
         t1 = U_c[:, dc.edofs[els, 2]]
         t2 = U_c[:, dc.edofs[els, 5]]
         p1, p2 = dc.beta0[els] + t1, dc.beta0[els] + t2
-        tangents = np.empty(p1.shape + (2,))                 # t(phi_1) - t(phi_2)
+        tangents = np.empty(p1.shape + (2,))  # t(phi_1) - t(phi_2)
         tangents[..., 0] = np.cos(p1) - np.cos(p2)
         tangents[..., 1] = np.sin(p1) - np.sin(p2)
         xf[:, ref.mid_f] = (xc[:, ref.mid_a] + xc[:, ref.mid_b]) / 2 + (dc.L0[els] / 8)[None, :, None] * tangents
         th_f[:, ref.mid_f] = (t1 + t2) / 2
     d = xf - disc_fine.X
-    U[:, 0:2 * nf:2], U[:, 1:2 * nf:2] = d[..., 0], d[..., 1]
+    U[:, 0 : 2 * nf : 2], U[:, 1 : 2 * nf : 2] = d[..., 0], d[..., 1]
     U[:, disc_fine.rot_dof] = th_f
     n_extra = disc_fine.n_full - 3 * nf
-    U[:, 3 * nf:3 * nf + n_extra] = U_c[:, 3 * nc:3 * nc + n_extra]   # released member-end rotations
+    U[:, 3 * nf : 3 * nf + n_extra] = U_c[:, 3 * nc : 3 * nc + n_extra]  # released member-end rotations
     return U
 
 
@@ -140,8 +166,8 @@ def reduced_from_full(disc: Discretisation, u: FloatArray) -> FloatArray:
     rows = u.reshape(-1, len(I))
     bins = (np.arange(len(rows)) * width)[:, None] + I
     num = np.bincount(bins.ravel(), weights=(C * rows).ravel(), minlength=len(rows) * width)
-    num = num.reshape(len(rows), width)[:, :disc.n_red]
-    den = np.bincount(I, weights=C * C, minlength=width)[:disc.n_red]
+    num = num.reshape(len(rows), width)[:, : disc.n_red]
+    den = np.bincount(I, weights=C * C, minlength=width)[: disc.n_red]
     q = num / np.where(den > 0, den, 1.0)
     return q.reshape(u.shape[:-1] + (disc.n_red,))
 

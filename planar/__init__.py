@@ -20,10 +20,47 @@ The words, each meaning one thing everywhere:
   **prescribed displacement**, **prescribed rotation**: the loads (``Force``, ``PointedForce``,
   ``DistributedLoad``, ``Couple``, ``PrescribedDisplacement``, ``PrescribedRotation``), one value per level.
 """
-from planar.geometry import (GROUND, Beam, Geometry, Joint, Node, RigidLink, Support, SupportKind, WeldedBodies,
-                             welded_bodies)
-from planar.loads import (Couple, DistributedLoad, Force, Load, Pin, PointedForce, PrescribedDisplacement,
-                          PrescribedRotation)
 
-__all__ = ["GROUND", "Node", "Beam", "RigidLink", "Joint", "Support", "SupportKind", "Geometry", "WeldedBodies",
-           "welded_bodies", "Pin", "Force", "PointedForce", "DistributedLoad", "Couple", "PrescribedDisplacement", "PrescribedRotation", "Load"]
+from planar.geometry import (
+    GROUND,
+    Beam,
+    Geometry,
+    Joint,
+    Node,
+    RigidLink,
+    Support,
+    SupportKind,
+    WeldedBodies,
+    welded_bodies,
+)
+from planar.loads import (
+    Couple,
+    DistributedLoad,
+    Force,
+    Load,
+    Pin,
+    PointedForce,
+    PrescribedDisplacement,
+    PrescribedRotation,
+)
+
+__all__ = [
+    "GROUND",
+    "Node",
+    "Beam",
+    "RigidLink",
+    "Joint",
+    "Support",
+    "SupportKind",
+    "Geometry",
+    "WeldedBodies",
+    "welded_bodies",
+    "Pin",
+    "Force",
+    "PointedForce",
+    "DistributedLoad",
+    "Couple",
+    "PrescribedDisplacement",
+    "PrescribedRotation",
+    "Load",
+]

@@ -5,13 +5,25 @@ Plain data in the unloaded pose. Which rigid links move as one body follows from
 links sharing a node are welded there unless a joint at that node names one of them, and a link welded to
 a node with a fixed support is part of the ground (``welded_bodies``).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
 from enum import StrEnum
 
-__all__ = ["GROUND", "SupportKind", "SUPPORT_KINDS", "Node", "Beam", "RigidLink", "Joint", "Support", "Geometry", "WeldedBodies",
-           "welded_bodies"]
+__all__ = [
+    "GROUND",
+    "SupportKind",
+    "SUPPORT_KINDS",
+    "Node",
+    "Beam",
+    "RigidLink",
+    "Joint",
+    "Support",
+    "Geometry",
+    "WeldedBodies",
+    "welded_bodies",
+]
 
 GROUND = "ground"
 

@@ -3,11 +3,21 @@
 Angles are in radians and counter-clockwise; a rotation or displacement is a change from the unloaded
 pose. Units are the caller's, consistent (force, length, force x length).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["Pin", "Force", "PointedForce", "DistributedLoad", "Couple", "PrescribedDisplacement", "PrescribedRotation", "Load"]
+__all__ = [
+    "Pin",
+    "Force",
+    "PointedForce",
+    "DistributedLoad",
+    "Couple",
+    "PrescribedDisplacement",
+    "PrescribedRotation",
+    "Load",
+]
 
 
 @dataclass(frozen=True)

@@ -34,6 +34,7 @@ build raises ``LockedNetwork`` naming the beams.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import math
@@ -47,12 +48,25 @@ from prbm.fits import PAULY_MIDHA
 from planar import GROUND, Beam, Geometry, Joint, Node, RigidLink, Support, WeldedBodies, welded_bodies
 from prbm.network import LockedNetwork, Network, Pin, Slider, TorsionSpring
 
-__all__ = ["Node", "Beam", "RigidLink", "Joint", "Support", "Geometry", "EndKind", "BeamChoice", "BeamRule", "Rules", "BeamModel",
-           "PRBModel", "build"]
+__all__ = [
+    "Node",
+    "Beam",
+    "RigidLink",
+    "Joint",
+    "Support",
+    "Geometry",
+    "EndKind",
+    "BeamChoice",
+    "BeamRule",
+    "Rules",
+    "BeamModel",
+    "PRBModel",
+    "build",
+]
 
-GAMMA = 0.85       # [ananthasuresh_l18, 02:10] (Howell and Midha's average)
-K_THETA = 2.65     # [bapat2015, ch. 2]; [ananthasuresh_l18, 12:05]: "gamma K_Theta ~ 2.25"
-SLFP_RATIO = 0.1   # a flexure at most a tenth of the links it joins is "short" [bapat2015, §2.4]
+GAMMA = 0.85  # [ananthasuresh_l18, 02:10] (Howell and Midha's average)
+K_THETA = 2.65  # [bapat2015, ch. 2]; [ananthasuresh_l18, 12:05]: "gamma K_Theta ~ 2.25"
+SLFP_RATIO = 0.1  # a flexure at most a tenth of the links it joins is "short" [bapat2015, §2.4]
 
 
 class EndKind(StrEnum):
@@ -71,12 +85,17 @@ class BeamChoice(StrEnum):
     FIXED_GUIDED = "fixed-guided"
     SLFP = "slfp"
     RIGID = "rigid"
-    PIVOT_AT_PIN = "pivot-at-pin"                            # the lock workaround (module docstring)
-    RIGID_ON_ONE_BODY = "rigid-both-ends-on-one-body"        # both ends clamped to one body
+    PIVOT_AT_PIN = "pivot-at-pin"  # the lock workaround (module docstring)
+    RIGID_ON_ONE_BODY = "rigid-both-ends-on-one-body"  # both ends clamped to one body
 
 
-RULE_CHOICES = (BeamChoice.FIXED_PINNED, BeamChoice.FIXED_FREE, BeamChoice.FIXED_GUIDED, BeamChoice.SLFP,
-                BeamChoice.RIGID)
+RULE_CHOICES = (
+    BeamChoice.FIXED_PINNED,
+    BeamChoice.FIXED_FREE,
+    BeamChoice.FIXED_GUIDED,
+    BeamChoice.SLFP,
+    BeamChoice.RIGID,
+)
 
 
 @dataclass(frozen=True)
@@ -106,9 +125,9 @@ class BeamModel:
 
     beam: str
     model: str
-    ends: tuple[str, str]               # how the start and end are held
+    ends: tuple[str, str]  # how the start and end are held
     pivots: tuple[tuple[float, float], ...]
-    springs: tuple[float, ...]          # moment/rad, one per pivot
+    springs: tuple[float, ...]  # moment/rad, one per pivot
     gamma: float | None
     K_theta: float | None
     reason: str
@@ -116,17 +135,19 @@ class BeamModel:
     def describe(self) -> str:
         piv = ", ".join(f"({x:.4g}, {y:.4g})" for x, y in self.pivots)
         k = ", ".join(f"{s:.4g}" for s in self.springs)
-        return f"{self.beam}: {self.model} ({self.ends[0]}-{self.ends[1]}); pivots {piv or 'none'}; " \
-               f"K {k or 'none'}; {self.reason}"
+        return (
+            f"{self.beam}: {self.model} ({self.ends[0]}-{self.ends[1]}); pivots {piv or 'none'}; "
+            f"K {k or 'none'}; {self.reason}"
+        )
 
 
 @dataclass
 class PRBModel:
     network: Network
     beams: list[BeamModel]
-    node_body: dict[str, str]          # the body each node moves with
+    node_body: dict[str, str]  # the body each node moves with
     member_body: dict[tuple[str, str], str]  # (member, node) -> the body that member has at that node
-    lock: str | None = None            # the lock found and the workaround applied, if any
+    lock: str | None = None  # the lock found and the workaround applied, if any
     ground_nodes: dict[str, str] = field(default_factory=dict)  # joint/spring to the ground -> its support node
 
     def describe(self) -> str:
@@ -181,19 +202,29 @@ def build(geometry: Geometry, rules: Rules | None = None) -> PRBModel:
                 off = abs(float(u[0] * w[1] - u[1] * w[0])) / L
                 if off <= 1e-9 * L and 0.0 < s < L:
                     pivot_at[beam.name] = (root, tuple(G))
-                    notes.append(f"beam '{beam.name}': pivot moved to the ground pin of its far body at "
-                                 f"({G[0]:.4g}, {G[1]:.4g}), gamma = |G {tip}|/L = {(L - s) / L:.4f}")
+                    notes.append(
+                        f"beam '{beam.name}': pivot moved to the ground pin of its far body at "
+                        f"({G[0]:.4g}, {G[1]:.4g}), gamma = |G {tip}|/L = {(L - s) / L:.4f}"
+                    )
                     break
             if beam.name in pivot_at:
                 break
     net = model.network
-    base = (f"the PRB model has zero mobility ({net.n} coordinates, rank of the joint Jacobian "
-            f"{net.n - net.first_order_mobility()} at the unloaded pose"
-            + (", and its first-order motion does not extend to second order (links in line)"
-               if net.first_order_mobility() else "") + "): the standard pivots and the ground pins lock it")
+    base = (
+        f"the PRB model has zero mobility ({net.n} coordinates, rank of the joint Jacobian "
+        f"{net.n - net.first_order_mobility()} at the unloaded pose"
+        + (
+            ", and its first-order motion does not extend to second order (links in line)"
+            if net.first_order_mobility()
+            else ""
+        )
+        + "): the standard pivots and the ground pins lock it"
+    )
     if not pivot_at:
-        raise LockedNetwork(base + "; no beam's far body turns about a ground pin on the beam's line, "
-                            "so the notes' workaround (pivot at that pin) does not apply")
+        raise LockedNetwork(
+            base + "; no beam's far body turns about a ground pin on the beam's line, "
+            "so the notes' workaround (pivot at that pin) does not apply"
+        )
     fixed = _build(geometry, rules, pivot_at=pivot_at)
     if fixed.network.mobility() == 0:
         raise LockedNetwork(base + "; still locked after " + "; ".join(notes))
@@ -349,17 +380,23 @@ class _Builder:
             return BeamChoice.PIVOT_AT_PIN
         if rule.model is not None:
             if rule.model not in RULE_CHOICES:
-                raise ValueError(f"beam '{beam.name}': unknown PRB model '{rule.model}' (use "
-                                 f"{', '.join(RULE_CHOICES)})")
+                raise ValueError(
+                    f"beam '{beam.name}': unknown PRB model '{rule.model}' (use {', '.join(RULE_CHOICES)})"
+                )
             return BeamChoice(rule.model)
         kinds = sorted((e0.kind, e1.kind))
-        if kinds == [EndKind.CLAMPED, EndKind.CLAMPED] and (self.carried(e0) or self.carried(e1)) and e0.body != e1.body:
+        if (
+            kinds == [EndKind.CLAMPED, EndKind.CLAMPED]
+            and (self.carried(e0) or self.carried(e1))
+            and e0.body != e1.body
+        ):
             return BeamChoice.FIXED_FREE
         if kinds == [EndKind.CLAMPED, EndKind.CLAMPED]:
             if e0.body == e1.body:
                 return BeamChoice.RIGID_ON_ONE_BODY
-            short = self.rules.slfp_ratio * min(_size(self.coords, e0.body, self.welded),
-                                                _size(self.coords, e1.body, self.welded))
+            short = self.rules.slfp_ratio * min(
+                _size(self.coords, e0.body, self.welded), _size(self.coords, e1.body, self.welded)
+            )
             return BeamChoice.SLFP if L <= short else BeamChoice.FIXED_GUIDED
         if EndKind.CLAMPED in kinds:
             return BeamChoice.FIXED_PINNED if EndKind.PINNED in kinds else BeamChoice.FIXED_FREE
@@ -373,8 +410,18 @@ class _Builder:
         ends = (e0.kind, e1.kind)
         chosen = self._choose(beam, e0, e1, L, rule)
         if chosen == BeamChoice.RIGID_ON_ONE_BODY:
-            self.records.append(BeamModel(beam.name, BeamChoice.RIGID, ends, (), (), None, None,
-                                          "both ends clamped to the same rigid body: the beam cannot deflect"))
+            self.records.append(
+                BeamModel(
+                    beam.name,
+                    BeamChoice.RIGID,
+                    ends,
+                    (),
+                    (),
+                    None,
+                    None,
+                    "both ends clamped to the same rigid body: the beam cannot deflect",
+                )
+            )
         elif chosen in (BeamChoice.FIXED_PINNED, BeamChoice.FIXED_FREE):
             self._one_pivot(beam, chosen, e0, e1, L, rule)
         elif chosen == BeamChoice.PIVOT_AT_PIN:
@@ -398,11 +445,20 @@ class _Builder:
         n = rule.load_ratio
         if rule.gamma is None and rule.K_theta is None and n is not None:
             if PAULY_MIDHA.lower < n <= PAULY_MIDHA.upper:
-                return (PAULY_MIDHA.gamma(n), PAULY_MIDHA.K_theta(n),
-                        f"; gamma(n), K_Theta(n) of seed 000 eqs 41, 43 at the end load's ratio n = {n:.4g}")
+                return (
+                    PAULY_MIDHA.gamma(n),
+                    PAULY_MIDHA.K_theta(n),
+                    f"; gamma(n), K_Theta(n) of seed 000 eqs 41, 43 at the end load's ratio n = {n:.4g}",
+                )
             gamma, K_theta = self._parameters(rule)
-            return gamma, K_theta, (f"; the end load's ratio n = {n:.4g} is outside the fits' range "
-                                    f"({PAULY_MIDHA.lower:g} < n <= {PAULY_MIDHA.upper:g}): the defaults")
+            return (
+                gamma,
+                K_theta,
+                (
+                    f"; the end load's ratio n = {n:.4g} is outside the fits' range "
+                    f"({PAULY_MIDHA.lower:g} < n <= {PAULY_MIDHA.upper:g}): the defaults"
+                ),
+            )
         return (*self._parameters(rule), "")
 
     def _one_pivot(self, beam: Beam, chosen: str, e0: _End, e1: _End, L: float, rule: BeamRule) -> None:
@@ -411,8 +467,11 @@ class _Builder:
         if EndKind.CLAMPED not in ends:
             raise ValueError(f"beam '{beam.name}': model '{chosen}' needs a clamped end ({ends})")
         gamma, K_theta, fitted = self._fitted(rule) if beam.curvature == 0.0 else (*self._parameters(rule), "")
-        root, tip, er, et = (beam.start, beam.end, e0, e1) if e0.kind == EndKind.CLAMPED and not self.carried(e0) else \
-            (beam.end, beam.start, e1, e0)
+        root, tip, er, et = (
+            (beam.start, beam.end, e0, e1)
+            if e0.kind == EndKind.CLAMPED and not self.carried(e0)
+            else (beam.end, beam.start, e1, e0)
+        )
         if rule.clamp is not None and rule.clamp in (beam.start, beam.end) and rule.clamp != root:
             root, tip, er, et = tip, root, et, er
         O, E = self.coords[root], self.coords[tip]
@@ -421,12 +480,16 @@ class _Builder:
         rho = float(np.linalg.norm(E - P)) / L
         if kappa == 0.0:
             k = rule.stiffness or gamma * K_theta * beam.EI / L
-            why = (f"clamped at {root}, {et.kind} at {tip}: one pivot (1-gamma)L from the clamp, "
-                   f"K = gamma K_Theta EI/L{fitted}")
+            why = (
+                f"clamped at {root}, {et.kind} at {tip}: one pivot (1-gamma)L from the clamp, "
+                f"K = gamma K_Theta EI/L{fitted}"
+            )
         else:
             k = rule.stiffness or rho * K_theta * beam.EI / L
-            why = (f"initially curved, clamped at {root}: pivot (1-gamma)L along the clamp tangent, "
-                   f"rho = {rho:.4f}, K = rho K_Theta EI/L (seed 000 eqs 53-58)")
+            why = (
+                f"initially curved, clamped at {root}: pivot (1-gamma)L along the clamp tangent, "
+                f"rho = {rho:.4f}, K = rho K_Theta EI/L (seed 000 eqs 53-58)"
+            )
         name = f"prb:{beam.name}"
         if self.carried(et) and et.body is not None:  # the body at the tip rides on the PRB link: it is the link
             name = et.body
@@ -452,10 +515,18 @@ class _Builder:
         self.spring(TorsionSpring(far, GROUND, k, name=f"{beam.name} pivot"), root)
         self.member_body[(beam.name, root)] = GROUND
         self.member_body[(beam.name, tip)] = far
-        self.records.append(BeamModel(beam.name, "fixed-pinned (pivot at the far body's ground pin)", ends,
-                                      (G,), (k,), g_eff, K_theta,
-                                      f"lock workaround: gamma = {g_eff:.4f}, K = gamma K_Theta EI/L; the pin "
-                                      "there is the beam's pivot"))
+        self.records.append(
+            BeamModel(
+                beam.name,
+                "fixed-pinned (pivot at the far body's ground pin)",
+                ends,
+                (G,),
+                (k,),
+                g_eff,
+                K_theta,
+                f"lock workaround: gamma = {g_eff:.4f}, K = gamma K_Theta EI/L; the pin there is the beam's pivot",
+            )
+        )
 
     def _fixed_guided(self, beam: Beam, e0: _End, e1: _End, L: float, rule: BeamRule) -> None:
         """Clamped-clamped: two pivots (1 - gamma) L/2 from the ends, 2 gamma K_Theta EI/L each
@@ -464,8 +535,7 @@ class _Builder:
         if ends != (EndKind.CLAMPED, EndKind.CLAMPED):
             raise ValueError(f"beam '{beam.name}': model 'fixed-guided' needs both ends clamped ({ends})")
         if beam.curvature != 0.0:
-            raise ValueError(f"beam '{beam.name}': no fixed-guided PRBM for an initially curved beam "
-                             "in the seeds")
+            raise ValueError(f"beam '{beam.name}': no fixed-guided PRBM for an initially curved beam in the seeds")
         gamma, K_theta = self._parameters(rule)
         A, B = self.coords[beam.start], self.coords[beam.end]
         u = (B - A) / L
@@ -481,9 +551,19 @@ class _Builder:
         self.spring(TorsionSpring(name, b1, k, name=f"{beam.name} pivot 2"), beam.end)
         self.member_body[(beam.name, beam.start)] = b0
         self.member_body[(beam.name, beam.end)] = b1
-        self.records.append(BeamModel(beam.name, BeamChoice.FIXED_GUIDED, ends, (tuple(P1), tuple(P2)), (k, k), gamma,
-                                      K_theta, "clamped at both ends to different bodies: two pivots "
-                                      "(1-gamma)L/2 from the ends, K = 2 gamma K_Theta EI/L each (seed 004 3.3)"))
+        self.records.append(
+            BeamModel(
+                beam.name,
+                BeamChoice.FIXED_GUIDED,
+                ends,
+                (tuple(P1), tuple(P2)),
+                (k, k),
+                gamma,
+                K_theta,
+                "clamped at both ends to different bodies: two pivots "
+                "(1-gamma)L/2 from the ends, K = 2 gamma K_Theta EI/L each (seed 004 3.3)",
+            )
+        )
 
     def _slfp(self, beam: Beam, e0: _End, e1: _End, L: float, rule: BeamRule) -> None:
         """A short flexure: one pivot at its middle, K = EI/L [bapat2015, eq 186]."""
@@ -498,9 +578,19 @@ class _Builder:
         self.spring(TorsionSpring(b0, b1, k, name=f"{beam.name} SLFP"), grounded)
         self.member_body[(beam.name, beam.start)] = b0
         self.member_body[(beam.name, beam.end)] = b1
-        self.records.append(BeamModel(beam.name, BeamChoice.SLFP, ends, (tuple(P),), (k,), None, None,
-                                      f"short flexure (L <= {self.rules.slfp_ratio:g} x the bodies it joins): one "
-                                      "pivot at its middle, K = EI/L (seed 000 eq 186)"))
+        self.records.append(
+            BeamModel(
+                beam.name,
+                BeamChoice.SLFP,
+                ends,
+                (tuple(P),),
+                (k,),
+                None,
+                None,
+                f"short flexure (L <= {self.rules.slfp_ratio:g} x the bodies it joins): one "
+                "pivot at its middle, K = EI/L (seed 000 eq 186)",
+            )
+        )
 
     def _rigid(self, beam: Beam, e0: _End, e1: _End) -> None:
         """Pinned-pinned (or pinned-free): a two-force member along its chord, no spring."""
@@ -509,12 +599,23 @@ class _Builder:
         for nd, end in ((beam.start, e0), (beam.end, e1)):
             self._attach_far_end(beam, nd, end, name)
             self.member_body[(beam.name, nd)] = name
-        if beam.name not in {b.name for _, _, b in self.pending} and \
-                not any(p.a == name or p.b == name for p in self.pins):
+        if beam.name not in {b.name for _, _, b in self.pending} and not any(
+            p.a == name or p.b == name for p in self.pins
+        ):
             raise ValueError(f"beam '{beam.name}': a rigid link held by nothing")
         ends = (e0.kind, e1.kind)
-        self.records.append(BeamModel(beam.name, "rigid link", ends, (), (), None, None,
-                                      f"{ends[0]}-{ends[1]}: a two-force member along its chord, no spring"))
+        self.records.append(
+            BeamModel(
+                beam.name,
+                "rigid link",
+                ends,
+                (),
+                (),
+                None,
+                None,
+                f"{ends[0]}-{ends[1]}: a two-force member along its chord, no spring",
+            )
+        )
 
     def _attach_far_end(self, beam: Beam, nd: str, end: _End, body: str) -> None:
         """The beam's PRB body reaches node nd: free -> the node moves with it; pinned -> a pin to the
@@ -553,8 +654,11 @@ class _Builder:
                     self.pin(Pin(owner, GROUND, tuple(self.coords[nd]), name=f"support {nd}"), nd)
                 elif s.kind in ("slider", "guided"):
                     d = s.direction or (1.0, 0.0)
-                    self.sliders.append(Slider(owner, tuple(self.coords[nd]), (d[0], d[1]), guided=s.kind == "guided",
-                                               name=f"support {nd}"))
+                    self.sliders.append(
+                        Slider(
+                            owner, tuple(self.coords[nd]), (d[0], d[1]), guided=s.kind == "guided", name=f"support {nd}"
+                        )
+                    )
                     self.ground_nodes[f"support {nd}"] = nd
 
     def _owned_supports(self) -> None:
@@ -571,8 +675,9 @@ class _Builder:
                 self.pin(Pin(target, GROUND, xy, name=f"support {sup.node}"), sup.node)
             elif sup.kind in ("slider", "guided"):
                 d = sup.direction or (1.0, 0.0)
-                self.sliders.append(Slider(owner, xy, (d[0], d[1]),
-                                           guided=sup.kind == "guided", name=f"support {sup.node}"))
+                self.sliders.append(
+                    Slider(owner, xy, (d[0], d[1]), guided=sup.kind == "guided", name=f"support {sup.node}")
+                )
                 self.ground_nodes[f"support {sup.node}"] = sup.node
 
     def _network(self) -> PRBModel:

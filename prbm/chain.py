@@ -36,6 +36,7 @@ Readings where the printed equations are incomplete (notes seed-ch2-4 section 3)
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import math
@@ -128,8 +129,8 @@ def lumped_uniform_load(beam: ChainBeam, qx: float, qy: float) -> NodalLoads:
 
 @dataclass
 class ChainState:
-    nodes: NDArray[np.float64]             # (N+1, 2) deformed node positions
-    rotations: NDArray[np.float64]         # (N+1,) cumulative rotation Dtheta at each node (node 0: 0)
+    nodes: NDArray[np.float64]  # (N+1, 2) deformed node positions
+    rotations: NDArray[np.float64]  # (N+1,) cumulative rotation Dtheta at each node (node 0: 0)
     extras: dict[str, Any] = field(default_factory=dict)
 
 
@@ -148,13 +149,14 @@ def march_jacobian(beam: ChainBeam, loads: NodalLoads, nodes: NDArray[np.float64
     _, dxy = _march(beam, loads, nodes, True)
     Fx, Fy, _ = _outboard(loads, nodes)
     A = np.empty((N, 2 * N))
-    A[:, 0::2] = np.triu(np.broadcast_to(loads.fy[1:], (N, N))) - np.diag(Fy)   # dM_i/dx_j, j >= i
+    A[:, 0::2] = np.triu(np.broadcast_to(loads.fy[1:], (N, N))) - np.diag(Fy)  # dM_i/dx_j, j >= i
     A[:, 1::2] = -np.triu(np.broadcast_to(loads.fx[1:], (N, N))) + np.diag(Fx)  # dM_i/dy_j
     return dxy @ A
 
 
-def _outboard(loads: NodalLoads, nodes: NDArray[np.float64]
-              ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+def _outboard(
+    loads: NodalLoads, nodes: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """(Fx, Fy, M) per element i = 0..N-1: the loads outboard of its end node i+1 and their moment about
     that node (eqs 26-28), lever arms on ``nodes``."""
     Fx = np.cumsum(loads.fx[:0:-1])[::-1]
@@ -167,17 +169,20 @@ def _outboard(loads: NodalLoads, nodes: NDArray[np.float64]
 
 
 @overload
-def _march(beam: ChainBeam, loads: NodalLoads, nodes: NDArray[np.float64],
-           tangent: Literal[False]) -> tuple[ChainState, None]: ...
+def _march(
+    beam: ChainBeam, loads: NodalLoads, nodes: NDArray[np.float64], tangent: Literal[False]
+) -> tuple[ChainState, None]: ...
 
 
 @overload
-def _march(beam: ChainBeam, loads: NodalLoads, nodes: NDArray[np.float64],
-           tangent: Literal[True]) -> tuple[ChainState, NDArray[np.float64]]: ...
+def _march(
+    beam: ChainBeam, loads: NodalLoads, nodes: NDArray[np.float64], tangent: Literal[True]
+) -> tuple[ChainState, NDArray[np.float64]]: ...
 
 
-def _march(beam: ChainBeam, loads: NodalLoads, nodes: NDArray[np.float64],
-           tangent: bool) -> tuple[ChainState, NDArray[np.float64] | None]:
+def _march(
+    beam: ChainBeam, loads: NodalLoads, nodes: NDArray[np.float64], tangent: bool
+) -> tuple[ChainState, NDArray[np.float64] | None]:
     """The march, and with ``tangent`` its derivative with respect to the N moments M_i (rows x1, y1, ...,
     ``_moment_derivative``)."""
     N, L = beam.elements, beam.element_length
@@ -186,19 +191,19 @@ def _march(beam: ChainBeam, loads: NodalLoads, nodes: NDArray[np.float64],
     # plain floats in the sequential march (numpy scalar indexing costs more than the arithmetic)
     Fx, Fy, M, EI, theta = Fx.tolist(), Fy.tolist(), M.tolist(), EI.tolist(), theta.tolist()
     x, y, rot = [0.0] * (N + 1), [0.0] * (N + 1), [0.0] * (N + 1)
-    terms: list[tuple[float, ...]] = []       # with ``tangent``: each element's (c, s, P_ax, P_tr, alpha, P_eq, d_tr)
+    terms: list[tuple[float, ...]] = []  # with ``tangent``: each element's (c, s, P_ax, P_tr, alpha, P_eq, d_tr)
     for i in range(N):
-        psi = theta[i] + rot[i]                                           # (29)
+        psi = theta[i] + rot[i]  # (29)
         c, s = math.cos(psi), math.sin(psi)
-        P_ax = Fx[i] * c + Fy[i] * s                                      # (26), tension positive
-        P_tr = -Fx[i] * s + Fy[i] * c                                     # (27)
-        alpha = -4.0 * P_ax * L * L / (EI[i] * math.pi**2)                # (31), compression positive
-        P_eq = P_tr / (1.0 - alpha)                                       # (30)
-        d_tr = (P_eq * L**3 / 3.0 + M[i] * L * L / 2.0) / EI[i]           # (32)
-        d_th = (P_eq * L * L / 2.0 + M[i] * L) / EI[i]                    # (33)
-        x[i + 1] = x[i] + L * c - d_tr * s                                # (34), (37), (39)
-        y[i + 1] = y[i] + L * s + d_tr * c                                # (35), (38), (40)
-        rot[i + 1] = rot[i] + d_th                                        # (36)
+        P_ax = Fx[i] * c + Fy[i] * s  # (26), tension positive
+        P_tr = -Fx[i] * s + Fy[i] * c  # (27)
+        alpha = -4.0 * P_ax * L * L / (EI[i] * math.pi**2)  # (31), compression positive
+        P_eq = P_tr / (1.0 - alpha)  # (30)
+        d_tr = (P_eq * L**3 / 3.0 + M[i] * L * L / 2.0) / EI[i]  # (32)
+        d_th = (P_eq * L * L / 2.0 + M[i] * L) / EI[i]  # (33)
+        x[i + 1] = x[i] + L * c - d_tr * s  # (34), (37), (39)
+        y[i + 1] = y[i] + L * s + d_tr * c  # (35), (38), (40)
+        rot[i + 1] = rot[i] + d_th  # (36)
         if tangent:
             terms.append((c, s, P_ax, P_tr, alpha, P_eq, d_tr))
     state = ChainState(np.column_stack([x, y]), np.array(rot))
@@ -235,12 +240,12 @@ def _moment_derivative(terms: NDArray[np.float64], L: float, EI: NDArray[np.floa
     below, lower = _triangles(N)
     kappa = -4.0 * L * L / (EI * math.pi**2)
     g = (-P_ax + P_eq * kappa * P_tr) / (1.0 - alpha)
-    factor: NDArray[np.float64] = np.where(below, (1.0 + g * (L * L / 2.0) / EI)[:, None], 1.0)   # rows j, columns k
+    factor: NDArray[np.float64] = np.where(below, (1.0 + g * (L * L / 2.0) / EI)[:, None], 1.0)  # rows j, columns k
     np.fill_diagonal(factor, L / EI)
     after = np.cumprod(factor, axis=0)
-    after *= lower                                             # row i: r_{i+1}
+    after *= lower  # row i: r_{i+1}
     before = np.zeros((N, N))
-    before[1:] = after[:-1]                                    # row i: r_i
+    before[1:] = after[:-1]  # row i: r_i
     bend = g * (L**3 / 3.0) / EI
     half = (L * L / 2.0) / EI
     dxy = np.empty((2 * N, N))
@@ -249,8 +254,9 @@ def _moment_derivative(terms: NDArray[np.float64], L: float, EI: NDArray[np.floa
     return dxy
 
 
-def _forward_step(beam: ChainBeam, loads: NodalLoads, guess: NDArray[np.float64], tol: float
-                  ) -> tuple[NDArray[np.float64], bool, int, str]:
+def _forward_step(
+    beam: ChainBeam, loads: NodalLoads, guess: NDArray[np.float64], tol: float
+) -> tuple[NDArray[np.float64], bool, int, str]:
     def residual(x: NDArray[np.float64]) -> NDArray[np.float64]:
         nodes: NDArray[np.float64] = np.vstack([[0.0, 0.0], x.reshape(-1, 2)])
         return (march(beam, loads, nodes).nodes[1:] - nodes[1:]).ravel()
@@ -272,8 +278,10 @@ def _beyond_reach(beam: ChainBeam, a: float, b: float) -> str | None:
     reach = math.hypot(a, b)
     if reach <= beam.length * (1.0 + 1e-9):
         return None
-    return (f"the chain's tip is {reach / beam.length:.4g} lengths from the root, beyond an inextensible "
-            f"beam's reach: the elements stretched (eq 34)")
+    return (
+        f"the chain's tip is {reach / beam.length:.4g} lengths from the root, beyond an inextensible "
+        f"beam's reach: the elements stretched (eq 34)"
+    )
 
 
 def chain_tip(beam: ChainBeam, loads: NodalLoads, *, steps: int = 10, tol: float = 1e-12) -> PRBMResult:
@@ -293,13 +301,22 @@ def chain_tip(beam: ChainBeam, loads: NodalLoads, *, steps: int = 10, tol: float
     stretched = _beyond_reach(beam, out["a"], out["b"]) if ok else None
     if stretched:
         ok, message = False, stretched
-    return PRBMResult(ok, message, {k: np.float64(v) for k, v in out.items()},
-                      {"elements": beam.elements}, "Chain Algorithm, seed 000 eqs (26)-(40)",
-                      time.perf_counter() - t0, nfev, np.array([ok]), extras={"nodes": state.nodes})
+    return PRBMResult(
+        ok,
+        message,
+        {k: np.float64(v) for k, v in out.items()},
+        {"elements": beam.elements},
+        "Chain Algorithm, seed 000 eqs (26)-(40)",
+        time.perf_counter() - t0,
+        nfev,
+        np.array([ok]),
+        extras={"nodes": state.nodes},
+    )
 
 
-def chain_path(beam: ChainBeam, loads: NodalLoads, factors: Iterable[float], *, tol: float = 1e-12,
-               max_step: float = 0.25) -> list[PRBMResult]:
+def chain_path(
+    beam: ChainBeam, loads: NodalLoads, factors: Iterable[float], *, tol: float = 1e-12, max_step: float = 0.25
+) -> list[PRBMResult]:
     """The chain under ``loads`` scaled by each of the increasing ``factors``, each level solved from the
     previous one's nodes (continuation), with sub-steps of at most ``max_step`` times the largest factor
     so that the solve follows the branch a slowly loaded beam takes; a level whose solve stalls is tried
@@ -313,9 +330,18 @@ def chain_path(beam: ChainBeam, loads: NodalLoads, factors: Iterable[float], *, 
     for factor in factors:
         t0 = time.perf_counter()
         if failed is not None:
-            results.append(PRBMResult(False, failed, {k: np.float64(np.nan) for k in ("a", "b", "theta0")},
-                                      {"elements": beam.elements}, "Chain Algorithm, seed 000 eqs (26)-(40)",
-                                      0.0, 0, np.array([False])))
+            results.append(
+                PRBMResult(
+                    False,
+                    failed,
+                    {k: np.float64(np.nan) for k in ("a", "b", "theta0")},
+                    {"elements": beam.elements},
+                    "Chain Algorithm, seed 000 eqs (26)-(40)",
+                    0.0,
+                    0,
+                    np.array([False]),
+                )
+            )
             continue
         substeps = max(1, math.ceil(abs(factor - previous) / step_cap)) if step_cap > 0 else 1
         nfev, ok, message = 0, False, "converged"
@@ -339,15 +365,26 @@ def chain_path(beam: ChainBeam, loads: NodalLoads, factors: Iterable[float], *, 
             ok, message = False, stretched
         if not ok:
             failed = message
-        results.append(PRBMResult(ok, message, {k: np.float64(v) for k, v in out.items()},
-                                  {"elements": beam.elements}, "Chain Algorithm, seed 000 eqs (26)-(40)",
-                                  time.perf_counter() - t0, nfev, np.array([ok]), extras={"nodes": state.nodes}))
+        results.append(
+            PRBMResult(
+                ok,
+                message,
+                {k: np.float64(v) for k, v in out.items()},
+                {"elements": beam.elements},
+                "Chain Algorithm, seed 000 eqs (26)-(40)",
+                time.perf_counter() - t0,
+                nfev,
+                np.array([ok]),
+                extras={"nodes": state.nodes},
+            )
+        )
         previous = factor
     return results
 
 
-def chain_from_tip(beam: ChainBeam, *, b: float, theta0: float, n: float = 0.0, steps: int = 10,
-                   tol: float = 1e-12) -> PRBMResult:
+def chain_from_tip(
+    beam: ChainBeam, *, b: float, theta0: float, n: float = 0.0, steps: int = 10, tol: float = 1e-12
+) -> PRBMResult:
     """Displacement boundary conditions (Table 3.1's Chain row): the tip force (-nP, P) and tip moment M
     (CCW) that put the tip at height b with rotation theta0 (rad), for a given load ratio n.  Unknowns
     are the node positions and (P, M); the targets are reached in ``steps`` increments from zero.
@@ -364,8 +401,9 @@ def chain_from_tip(beam: ChainBeam, *, b: float, theta0: float, n: float = 0.0, 
         nodes = np.vstack([[0.0, 0.0], x[:-2].reshape(-1, 2)])
         st = march(beam, NodalLoads.at_tip(beam, -n * P, P, M), nodes)
         scale = beam.length
-        return np.concatenate([(st.nodes[1:] - nodes[1:]).ravel(),
-                               [(st.nodes[-1, 1] - b_k) / scale, st.rotations[-1] - th_k]])
+        return np.concatenate(
+            [(st.nodes[1:] - nodes[1:]).ravel(), [(st.nodes[-1, 1] - b_k) / scale, st.rotations[-1] - th_k]]
+        )
 
     for k in range(1, steps + 1):
         sol = root(residual, x, args=(b * k / steps, theta0 * k / steps), method="hybr", tol=tol)
@@ -377,21 +415,35 @@ def chain_from_tip(beam: ChainBeam, *, b: float, theta0: float, n: float = 0.0, 
         x = sol.x
     P, M = float(x[-2]), float(x[-1])
     state = march(beam, NodalLoads.at_tip(beam, -n * P, P, M), np.vstack([[0.0, 0.0], x[:-2].reshape(-1, 2)]))
-    out = {"a": state.nodes[-1, 0], "b": state.nodes[-1, 1], "theta0": state.rotations[-1], "P": P,
-           "nP": n * P, "M": M}
+    out = {"a": state.nodes[-1, 0], "b": state.nodes[-1, 1], "theta0": state.rotations[-1], "P": P, "nP": n * P, "M": M}
     stretched = _beyond_reach(beam, out["a"], out["b"]) if ok else None
     if stretched:
         ok, message = False, f"{stretched} to meet b = {b:g}"
-    return PRBMResult(ok, message, {k: np.float64(v) for k, v in out.items()}, {"elements": N},
-                      "Chain Algorithm with tip displacement conditions, seed 000 eqs (26)-(40)",
-                      time.perf_counter() - t0, nfev, np.array([ok]), extras={"nodes": state.nodes})
+    return PRBMResult(
+        ok,
+        message,
+        {k: np.float64(v) for k, v in out.items()},
+        {"elements": N},
+        "Chain Algorithm with tip displacement conditions, seed 000 eqs (26)-(40)",
+        time.perf_counter() - t0,
+        nfev,
+        np.array([ok]),
+        extras={"nodes": state.nodes},
+    )
 
 
 HELD_FREEDOMS = ("ux", "uy", "rz")
 
 
-def chain_held_path(beam: ChainBeam, loads: NodalLoads, held: Iterable[str], factors: Iterable[float], *,
-                    tol: float = 1e-12, max_step: float = 0.25) -> list[PRBMResult]:
+def chain_held_path(
+    beam: ChainBeam,
+    loads: NodalLoads,
+    held: Iterable[str],
+    factors: Iterable[float],
+    *,
+    tol: float = 1e-12,
+    max_step: float = 0.25,
+) -> list[PRBMResult]:
     """The chain under ``loads`` scaled by each of the increasing ``factors``, its tip held in the freedoms
     ``held`` (a subset of 'ux', 'uy', 'rz': the tip's x, its y, its rotation kept where the unloaded chain
     has them; a fixed-guided segment holds 'rz').
@@ -405,8 +457,10 @@ def chain_held_path(beam: ChainBeam, loads: NodalLoads, held: Iterable[str], fac
     if any(h not in HELD_FREEDOMS for h in held):
         raise ValueError(f"chain_held_path: held freedoms {sorted(held)} not among {HELD_FREEDOMS}")
     if beam.orientations is None and 0 in kept:
-        raise ValueError("chain_held_path: a straight chain with its tip's x held cannot bend (its elements "
-                         "are inextensible: a bent chain's chord is shorter)")
+        raise ValueError(
+            "chain_held_path: a straight chain with its tip's x held cannot bend (its elements "
+            "are inextensible: a bent chain's chord is shorter)"
+        )
     factors = [float(f) for f in factors]
     model = "Chain Algorithm with a held tip, seed 000 eqs (26)-(40)"
     rest = beam.undeformed()
@@ -421,8 +475,8 @@ def chain_held_path(beam: ChainBeam, loads: NodalLoads, held: Iterable[str], fac
         return NodalLoads.at_tip(beam, *components)
 
     def residual(z: NDArray[np.float64], level: float) -> NDArray[np.float64]:
-        nodes = np.vstack([[0.0, 0.0], z[:2 * N].reshape(-1, 2)])
-        st = march(beam, loads.scaled(level).plus(tip_loads(z[2 * N:])), nodes)
+        nodes = np.vstack([[0.0, 0.0], z[: 2 * N].reshape(-1, 2)])
+        st = march(beam, loads.scaled(level).plus(tip_loads(z[2 * N :])), nodes)
         tip = (st.nodes[-1, 0], st.nodes[-1, 1], st.rotations[-1])
         ends = [(tip[k] - target[k]) / (beam.length if k < 2 else 1.0) for k in kept]
         return np.concatenate([(st.nodes[1:] - nodes[1:]).ravel(), ends])
@@ -446,22 +500,59 @@ def chain_held_path(beam: ChainBeam, loads: NodalLoads, held: Iterable[str], fac
                 x = sol.x
             previous = factor
         if failed is not None:
-            results.append(PRBMResult(False, failed, {k: np.float64(np.nan) for k in ("a", "b", "theta0")},
-                                      {"elements": N}, model, 0.0, 0, np.array([False])))
+            results.append(
+                PRBMResult(
+                    False,
+                    failed,
+                    {k: np.float64(np.nan) for k in ("a", "b", "theta0")},
+                    {"elements": N},
+                    model,
+                    0.0,
+                    0,
+                    np.array([False]),
+                )
+            )
             continue
-        reactions = x[2 * N:]
-        state = march(beam, loads.scaled(factor).plus(tip_loads(reactions)),
-                      np.vstack([[0.0, 0.0], x[:2 * N].reshape(-1, 2)]))
+        reactions = x[2 * N :]
+        state = march(
+            beam, loads.scaled(factor).plus(tip_loads(reactions)), np.vstack([[0.0, 0.0], x[: 2 * N].reshape(-1, 2)])
+        )
         tip = tip_loads(reactions)
-        out = {"a": state.nodes[-1, 0], "b": state.nodes[-1, 1], "theta0": state.rotations[-1],
-               "Fx": tip.fx[-1], "Fy": tip.fy[-1], "M": tip.m[-1]}
+        out = {
+            "a": state.nodes[-1, 0],
+            "b": state.nodes[-1, 1],
+            "theta0": state.rotations[-1],
+            "Fx": tip.fx[-1],
+            "Fy": tip.fy[-1],
+            "M": tip.m[-1],
+        }
         stretched = _beyond_reach(beam, out["a"], out["b"])
         if stretched:
             failed = stretched
-            results.append(PRBMResult(False, stretched, {k: np.float64(v) for k, v in out.items()},
-                                      {"elements": N}, model, time.perf_counter() - t0, nfev, np.array([False])))
+            results.append(
+                PRBMResult(
+                    False,
+                    stretched,
+                    {k: np.float64(v) for k, v in out.items()},
+                    {"elements": N},
+                    model,
+                    time.perf_counter() - t0,
+                    nfev,
+                    np.array([False]),
+                )
+            )
             continue
-        results.append(PRBMResult(True, "converged", {k: np.float64(v) for k, v in out.items()}, {"elements": N},
-                                  model, time.perf_counter() - t0, nfev, np.array([True]),
-                                  extras={"nodes": state.nodes}))
+        results.append(
+            PRBMResult(
+                True,
+                "converged",
+                {k: np.float64(v) for k, v in out.items()},
+                {"elements": N},
+                model,
+                time.perf_counter() - t0,
+                nfev,
+                np.array([True]),
+                extras={"nodes": state.nodes},
+            )
+        )
     return results

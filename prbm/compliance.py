@@ -49,6 +49,7 @@ F_o (d_out2 omega2 + d_out3 omega3)/F_i with omega2/omega4 = 1/h4 and omega3/ome
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import math
@@ -59,9 +60,18 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 
-__all__ = ["FourBarPose", "SliderPose", "fourbar_compliance_torque", "slider_compliance",
-           "fourbar_instant_centres", "two_port_rigid_ma", "compliant_ma", "type2_ma", "type3_equilibrium",
-           "Type3Point"]
+__all__ = [
+    "FourBarPose",
+    "SliderPose",
+    "fourbar_compliance_torque",
+    "slider_compliance",
+    "fourbar_instant_centres",
+    "two_port_rigid_ma",
+    "compliant_ma",
+    "type2_ma",
+    "type3_equilibrium",
+    "Type3Point",
+]
 
 #: a quantity at one pose (a float) or at many (an array)
 Value: TypeAlias = float | NDArray[np.float64]
@@ -101,19 +111,29 @@ def _fourbar_rates(p: FourBarPose, input_link: int) -> tuple[Value, Value, Value
     """(d theta2, d theta3, d theta4) per unit rotation of the input link (2, 3 or 4)."""
     t2, t3, t4 = (np.asarray(v, float) for v in (p.theta2, p.theta3, p.theta4))
     if input_link == 2:
-        return (1.0, p.R2 * np.sin(t4 - t2) / (p.R3 * np.sin(t3 - t4)),
-                p.R2 * np.sin(t3 - t2) / (p.R4 * np.sin(t3 - t4)))
+        return (
+            1.0,
+            p.R2 * np.sin(t4 - t2) / (p.R3 * np.sin(t3 - t4)),
+            p.R2 * np.sin(t3 - t2) / (p.R4 * np.sin(t3 - t4)),
+        )
     if input_link == 3:
-        return (p.R3 * np.sin(t3 - t4) / (p.R2 * np.sin(t4 - t2)), 1.0,
-                p.R3 * np.sin(t3 - t2) / (p.R4 * np.sin(t4 - t2)))
+        return (
+            p.R3 * np.sin(t3 - t4) / (p.R2 * np.sin(t4 - t2)),
+            1.0,
+            p.R3 * np.sin(t3 - t2) / (p.R4 * np.sin(t4 - t2)),
+        )
     if input_link == 4:
-        return (p.R4 * np.sin(t3 - t4) / (p.R2 * np.sin(t3 - t2)),
-                p.R4 * np.sin(t4 - t2) / (p.R3 * np.sin(t3 - t2)), 1.0)
+        return (
+            p.R4 * np.sin(t3 - t4) / (p.R2 * np.sin(t3 - t2)),
+            p.R4 * np.sin(t4 - t2) / (p.R3 * np.sin(t3 - t2)),
+            1.0,
+        )
     raise ValueError(f"input_link must be 2, 3 or 4 (a moving link of the four-bar), got {input_link!r}")
 
 
-def fourbar_compliance_torque(pose: FourBarPose, springs: tuple[float, float, float, float],
-                              input_link: int = 2, *, printed_195: bool = False) -> Value:
+def fourbar_compliance_torque(
+    pose: FourBarPose, springs: tuple[float, float, float, float], input_link: int = 2, *, printed_195: bool = False
+) -> Value:
     """T_c on the input link (2: eq 193, 3: eq 194, 4: eq 195 corrected; see the module docstring).
 
     springs: (k1, k2, k3, k4) in moment/rad.  ``printed_195`` (input_link 4 only): the multipliers as
@@ -130,8 +150,9 @@ def fourbar_compliance_torque(pose: FourBarPose, springs: tuple[float, float, fl
     return k1 * D2 * w2 + k2 * (D3 - D2) * (w3 - w2) + k3 * (D4 - D3) * (w4 - w3) + k4 * D4 * w4
 
 
-def slider_compliance(pose: SliderPose, springs: tuple[float, float, float], f_k: float = 0.0,
-                      input_link: str = "crank") -> Value:
+def slider_compliance(
+    pose: SliderPose, springs: tuple[float, float, float], f_k: float = 0.0, input_link: str = "crank"
+) -> Value:
     """Compliance torque on the crank (eq 196) or coupler (eq 197), or compliance force on the
     slider (eq 198), per ``input_link`` = 'crank' | 'coupler' | 'slider'."""
     k1, k2, k3 = springs
@@ -141,13 +162,21 @@ def slider_compliance(pose: SliderPose, springs: tuple[float, float, float], f_k
     compliance: Value
     if input_link == "crank":
         g3 = -pose.R2 * np.cos(t2) / (pose.R3 * np.cos(t3))
-        compliance = (k1 * D2 + k2 * (D3 - D2) * (g3 - 1.0) + k3 * D3 * g3
-                      + f_k * dR1 * pose.R2 * np.cos(t2) * (np.tan(t3) - np.tan(t2)))
+        compliance = (
+            k1 * D2
+            + k2 * (D3 - D2) * (g3 - 1.0)
+            + k3 * D3 * g3
+            + f_k * dR1 * pose.R2 * np.cos(t2) * (np.tan(t3) - np.tan(t2))
+        )
         return compliance
     if input_link == "coupler":
         g2 = -pose.R3 * np.cos(t3) / (pose.R2 * np.cos(t2))
-        compliance = (k1 * D2 * g2 + k2 * (D3 - D2) * (1.0 - g2) + k3 * D3
-                      + f_k * dR1 * pose.R3 * np.cos(t3) * (np.tan(t2) - np.tan(t3)))
+        compliance = (
+            k1 * D2 * g2
+            + k2 * (D3 - D2) * (1.0 - g2)
+            + k3 * D3
+            + f_k * dR1 * pose.R3 * np.cos(t3) * (np.tan(t2) - np.tan(t3))
+        )
         return compliance
     if input_link == "slider":
         g2 = -np.cos(t3) / (pose.R2 * np.sin(t2 - t3))
@@ -157,8 +186,9 @@ def slider_compliance(pose: SliderPose, springs: tuple[float, float, float], f_k
     raise ValueError(f"input_link must be 'crank', 'coupler' or 'slider', got {input_link!r}")
 
 
-def _line_intersection(p1: NDArray[np.complex128], p2: NDArray[np.complex128], q1: NDArray[np.complex128],
-                       q2: NDArray[np.complex128]) -> NDArray[np.complex128]:
+def _line_intersection(
+    p1: NDArray[np.complex128], p2: NDArray[np.complex128], q1: NDArray[np.complex128], q2: NDArray[np.complex128]
+) -> NDArray[np.complex128]:
     """Intersection of line p1-p2 with line q1-q2 (complex points, arrays); inf if parallel."""
     u, v, w = p2 - p1, q2 - q1, q1 - p1
     det = u.real * v.imag - u.imag * v.real
@@ -173,12 +203,19 @@ def fourbar_instant_centres(O4: complex, A: ArrayLike, B: ArrayLike) -> dict[str
     A, B = np.asarray(A, complex), np.asarray(B, complex)
     O2 = np.zeros_like(A)
     O4_arr = np.full_like(A, O4)
-    return {"I12": O2, "I14": O4_arr, "I23": A, "I34": B,
-            "I13": _line_intersection(O2, A, O4_arr, B), "I24": _line_intersection(O2, O4_arr, A, B)}
+    return {
+        "I12": O2,
+        "I14": O4_arr,
+        "I23": A,
+        "I34": B,
+        "I13": _line_intersection(O2, A, O4_arr, B),
+        "I24": _line_intersection(O2, O4_arr, A, B),
+    }
 
 
-def two_port_rigid_ma(pose: FourBarPose, O4: complex, d_in: float, d_out2: float, d_out3: float,
-                      *, via: str = "instant_centres") -> Value:
+def two_port_rigid_ma(
+    pose: FourBarPose, O4: complex, d_in: float, d_out2: float, d_out3: float, *, via: str = "instant_centres"
+) -> Value:
     """Eq (205): MA_R of the four-bar with the input on link 4 and equal output forces on links 2
     and 3 at d_out2, d_out3.  via = 'instant_centres' (as printed) or 'coefficients' (omega2/omega4
     = 1/h4, omega3/omega4 = h3/h4 of the input-at-link-4 rates)."""
@@ -197,8 +234,9 @@ def two_port_rigid_ma(pose: FourBarPose, O4: complex, d_in: float, d_out2: float
 
 def compliant_ma(rigid_ma: ArrayLike, compliance_force: ArrayLike, input_force: ArrayLike) -> NDArray[np.float64]:
     """Eq (192): MA = MA_R (1 - F_c/F_i)."""
-    ma: NDArray[np.float64] = np.asarray(rigid_ma, float) * (1.0 - np.asarray(compliance_force, float)
-                                                             / np.asarray(input_force, float))
+    ma: NDArray[np.float64] = np.asarray(rigid_ma, float) * (
+        1.0 - np.asarray(compliance_force, float) / np.asarray(input_force, float)
+    )
     return ma
 
 
@@ -221,9 +259,15 @@ class Type3Point:
     ma: float
 
 
-def type3_equilibrium(input_force: float, d_in: float, stiffness: float,
-                      compliance_torque: Callable[[float], float], travel: Callable[[float], float],
-                      q_contact: float, q_limit: float) -> Type3Point:
+def type3_equilibrium(
+    input_force: float,
+    d_in: float,
+    stiffness: float,
+    compliance_torque: Callable[[float], float],
+    travel: Callable[[float], float],
+    q_contact: float,
+    q_limit: float,
+) -> Type3Point:
     """Type 3 MA: the input torque F_i d_i rotates the input link from first contact (q_contact, where
     travel = 0) against the springs (T_c) and a work piece of stiffness k_w on the output port:
     F_i d_i = T_c(q) + k_w s(q) s'(q) (virtual work), s' by central differences; solved for q between
@@ -238,8 +282,10 @@ def type3_equilibrium(input_force: float, d_in: float, stiffness: float,
 
     r0, r1 = unbalanced(q_contact), unbalanced(q_limit)
     if not (math.isfinite(r0) and math.isfinite(r1)) or r0 * r1 > 0.0:
-        raise ValueError(f"type3_equilibrium: no equilibrium between q = {q_contact:.6g} and {q_limit:.6g} "
-                         f"(unbalanced torque {r0:.4g} and {r1:.4g})")
+        raise ValueError(
+            f"type3_equilibrium: no equilibrium between q = {q_contact:.6g} and {q_limit:.6g} "
+            f"(unbalanced torque {r0:.4g} and {r1:.4g})"
+        )
     q: float = brentq(unbalanced, q_contact, q_limit, xtol=1e-14)
     s = travel(q)
     return Type3Point(q, s, stiffness * s, stiffness * s / input_force)

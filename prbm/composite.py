@@ -22,6 +22,7 @@ hold is that Test 1(a)'s printed PRBM points lie on the PRBM circle of gamma(0) 
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import math
@@ -51,11 +52,20 @@ def capstan_factor(mu: float, contact_angle: float) -> float:
     return math.exp(-mu * contact_angle)
 
 
-def composite_beam_tip(force: ArrayLike, n: float = 0.0, *, length: float,
-                       layers: Iterable[tuple[float, float, float]] | None = None, EI: float | None = None,
-                       force_is: str = "transverse", friction_mu: float = 0.0, contact_angle: float = 0.0,
-                       follower: bool = False, family: str | FitFamily = "pauly-midha",
-                       extrapolate: str = "raise") -> PRBMResult:
+def composite_beam_tip(
+    force: ArrayLike,
+    n: float = 0.0,
+    *,
+    length: float,
+    layers: Iterable[tuple[float, float, float]] | None = None,
+    EI: float | None = None,
+    force_is: str = "transverse",
+    friction_mu: float = 0.0,
+    contact_angle: float = 0.0,
+    follower: bool = False,
+    family: str | FitFamily = "pauly-midha",
+    extrapolate: str = "raise",
+) -> PRBMResult:
     """Tip (a, b, theta0) of the Test-1 composite fixed-pinned beam under the 'Applied Force' levels.
 
     force: applied force levels; force_is = 'transverse' (the force is P) or 'resultant' (F = P eta).
@@ -83,17 +93,38 @@ def composite_beam_tip(force: ArrayLike, n: float = 0.0, *, length: float,
     gamma_n, c_theta_n, K_n = (np.broadcast_to(v, n_eff.shape) for v in fam.model_parameters(n_eff, extrapolate))
     phi = np.arctan2(1.0, -n_eff)
     beta = np.atleast_1d(np.abs(P) * eta * length**2 / EI)
-    Theta = np.array([0.0 if bb == 0 else optimize.brentq(lambda t: bb * math.sin(ph + (c - 1) * t) - k * t,
-                                                 0.0, (bb + 1.0) / k, xtol=1e-14)
-                      for bb, ph, c, k in zip(beta, phi, c_theta_n, K_n)])
+    Theta = np.array(
+        [
+            0.0
+            if bb == 0
+            else optimize.brentq(lambda t: bb * math.sin(ph + (c - 1) * t) - k * t, 0.0, (bb + 1.0) / k, xtol=1e-14)
+            for bb, ph, c, k in zip(beta, phi, c_theta_n, K_n)
+        ]
+    )
     ok, nit = np.ones(Theta.shape, bool), 0
     Theta = Theta.reshape(np.shape(P)) * sign
     gamma, c_theta, K = (v.reshape(np.shape(P)) if np.ndim(P) else float(v[0]) for v in (gamma_n, c_theta_n, K_n))
-    out = {"a": length - gamma * length * (1 - np.cos(Theta)), "b": gamma * length * np.sin(Theta),
-           "theta0": c_theta * Theta, "Theta": Theta, "P": P}
-    return PRBMResult(bool(np.all(ok)), "converged" if np.all(ok) else "not converged",
-                      {k: np.asarray(v) for k, v in out.items()},
-                      {"gamma": gamma, "c_theta": c_theta, "K_theta": K, "EI": EI, "follower": True,
-                       "capstan": capstan_factor(friction_mu, contact_angle)},
-                      "composite fixed-pinned with follower end force, seed 000 section 9.2",
-                      time.perf_counter() - t0, nit, np.atleast_1d(ok))
+    out = {
+        "a": length - gamma * length * (1 - np.cos(Theta)),
+        "b": gamma * length * np.sin(Theta),
+        "theta0": c_theta * Theta,
+        "Theta": Theta,
+        "P": P,
+    }
+    return PRBMResult(
+        bool(np.all(ok)),
+        "converged" if np.all(ok) else "not converged",
+        {k: np.asarray(v) for k, v in out.items()},
+        {
+            "gamma": gamma,
+            "c_theta": c_theta,
+            "K_theta": K,
+            "EI": EI,
+            "follower": True,
+            "capstan": capstan_factor(friction_mu, contact_angle),
+        },
+        "composite fixed-pinned with follower end force, seed 000 section 9.2",
+        time.perf_counter() - t0,
+        nit,
+        np.atleast_1d(ok),
+    )

@@ -30,6 +30,7 @@ A level whose loads are all zero is the unloaded pose (a, b, theta0) = ``rest``.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import cmath
@@ -80,10 +81,16 @@ def inflection_pivots(outputs: Mapping[str, Levels]) -> NDArray[np.float64]:
     return np.array([[p.real, p.imag] for p in z])
 
 
-def solve_segment_with_body(segment: InflectionBeam | Callable[[complex, float], PRBMResult],
-                            loads: list[BodyLoad], points: dict[str, complex] | None = None, *,
-                            rest: tuple[float, float, float] | None = None, prefer: Prefer = "energy",
-                            xtol: float = 1e-12, maxiter: int = 60) -> PRBMResult:
+def solve_segment_with_body(
+    segment: InflectionBeam | Callable[[complex, float], PRBMResult],
+    loads: list[BodyLoad],
+    points: dict[str, complex] | None = None,
+    *,
+    rest: tuple[float, float, float] | None = None,
+    prefer: Prefer = "energy",
+    xtol: float = 1e-12,
+    maxiter: int = 60,
+) -> PRBMResult:
     """Equilibrium of segment + rigid body under dead loads at body points.
 
     segment: an ``InflectionBeam`` or a callable tip(F, M) (see the module docstring).
@@ -121,6 +128,7 @@ def solve_segment_with_body(segment: InflectionBeam | Callable[[complex, float],
         ok, msg, nit = bool(seg.converged), seg.message, seg.nit
         outputs = {k: v for k, v in o.items() if k not in ("M", "P", "nP")}
     else:
+
         def theta_of(theta0: float) -> float:
             return float(np.asarray(segment(F, float(moment(theta0))).outputs["theta0"]).ravel()[0])
 
@@ -129,8 +137,9 @@ def solve_segment_with_body(segment: InflectionBeam | Callable[[complex, float],
         if second == first:  # the end moment does not turn with the end (every load at E): no iteration
             root, found, flag, nit = first, True, "the end loads do not depend on theta0", 1
         else:
-            sol = root_scalar(lambda t: theta_of(t) - t, x0=first, x1=second, method="secant",
-                              xtol=xtol, maxiter=maxiter)
+            sol = root_scalar(
+                lambda t: theta_of(t) - t, x0=first, x1=second, method="secant", xtol=xtol, maxiter=maxiter
+            )
             root, found, flag, nit = sol.root, sol.converged, sol.flag, sol.iterations
         seg = segment(F, float(moment(root)))
         o = seg.outputs
@@ -141,12 +150,30 @@ def solve_segment_with_body(segment: InflectionBeam | Callable[[complex, float],
     rotation = t0 - t_rest
     end = complex(a, b)
     positions = {name: end + r0 * cmath.exp(1j * rotation) for name, r0 in points.items()}
-    outputs.update({"a": np.asarray(a), "b": np.asarray(b), "theta0": np.asarray(t0),
-                    "rotation": np.asarray(rotation), "Fx": np.asarray(F.real), "Fy": np.asarray(F.imag),
-                    "M": np.asarray(float(moment(t0)))})
+    outputs.update(
+        {
+            "a": np.asarray(a),
+            "b": np.asarray(b),
+            "theta0": np.asarray(t0),
+            "rotation": np.asarray(rotation),
+            "Fx": np.asarray(F.real),
+            "Fy": np.asarray(F.imag),
+            "M": np.asarray(float(moment(t0))),
+        }
+    )
     constants = dict(seg.constants) if seg is not None else {}
     model = "segment + rigid body, end loads M + r x F with the current offset; " + (
-        seg.model if seg is not None else "unloaded")
-    return PRBMResult(ok, msg, outputs, constants, model, time.perf_counter() - t_start, nit,
-                      np.array([ok]), roots=seg.roots if seg is not None else None,
-                      extras={"points": positions, "segment": seg})
+        seg.model if seg is not None else "unloaded"
+    )
+    return PRBMResult(
+        ok,
+        msg,
+        outputs,
+        constants,
+        model,
+        time.perf_counter() - t_start,
+        nit,
+        np.array([ok]),
+        roots=seg.roots if seg is not None else None,
+        extras={"points": positions, "segment": seg},
+    )

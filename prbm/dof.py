@@ -35,6 +35,7 @@ the number of load or displacement boundary conditions it needs; the maximum DOF
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import itertools
@@ -95,7 +96,7 @@ class ModeShape:
     f_r: int
     f_e: int
     inflections: int
-    rank: int = 0               # 1 = lowest energy
+    rank: int = 0  # 1 = lowest energy
 
     @property
     def feasible(self) -> bool:
@@ -129,8 +130,7 @@ class PRBMTopology:
         shapes = []
         for modes in itertools.product(*choices):
             counts = self.mobility(modes)
-            shapes.append(ModeShape(modes, counts["F_C"], counts["f_r"], counts["f_e"],
-                                    sum(m - 1 for m in modes)))
+            shapes.append(ModeShape(modes, counts["F_C"], counts["f_r"], counts["f_e"], sum(m - 1 for m in modes)))
         shapes.sort(key=lambda s: (s.inflections, max(s.modes, default=1), s.modes))
         return [ModeShape(s.modes, s.F_C, s.f_r, s.f_e, s.inflections, rank) for rank, s in enumerate(shapes, 1)]
 
@@ -146,8 +146,17 @@ class PRBMTopology:
                 verdict = f"first static mode shape: {shape.F_C} boundary condition(s) (minimum DOF)"
             else:
                 verdict = f"higher static mode shape: {shape.F_C} boundary condition(s) (steps 5-7)"
-            steps.append({"modes": shape.modes, "rank": shape.rank, "inflections": shape.inflections,
-                          "F_C": shape.F_C, "f_r": shape.f_r, "f_e": shape.f_e, "verdict": verdict})
+            steps.append(
+                {
+                    "modes": shape.modes,
+                    "rank": shape.rank,
+                    "inflections": shape.inflections,
+                    "F_C": shape.F_C,
+                    "f_r": shape.f_r,
+                    "f_e": shape.f_e,
+                    "verdict": verdict,
+                }
+            )
         return steps
 
     def mode_table(self, max_mode: int = 2) -> list[ModeRow]:

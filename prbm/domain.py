@@ -31,6 +31,7 @@ range (never extrapolated), plus any other exclusion count named after its reaso
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import math
@@ -43,16 +44,27 @@ from scipy.optimize import least_squares
 
 from prbm.fits import FitFamily, fit_family
 
-__all__ = ["fixed_pinned_domain", "curved_fixed_pinned_domain", "fixed_guided_domain",
-           "fixed_fixed_monotonic_domain", "slfp_domain", "boundary_curves", "fit_radius"]
+__all__ = [
+    "fixed_pinned_domain",
+    "curved_fixed_pinned_domain",
+    "fixed_guided_domain",
+    "fixed_fixed_monotonic_domain",
+    "slfp_domain",
+    "boundary_curves",
+    "fit_radius",
+]
 
 #: a swept domain (module docstring): the points' arrays, the boundary curves (arrays), the exclusion
 #: counts (ints), and for the SLFP the arc's radius (a float) and pivot (x, y)
 Domain: TypeAlias = dict[str, NDArray[np.float64] | int | float | tuple[float, float]]
 
 
-def fixed_pinned_domain(n_values: ArrayLike | None = None, theta0_max_deg: float = 90.0, n_theta: int = 91,
-                        family: str | FitFamily = "pauly-midha") -> dict[str, NDArray[np.float64]]:
+def fixed_pinned_domain(
+    n_values: ArrayLike | None = None,
+    theta0_max_deg: float = 90.0,
+    n_theta: int = 91,
+    family: str | FitFamily = "pauly-midha",
+) -> dict[str, NDArray[np.float64]]:
     """End points (a/l, b/l) of the straight fixed-pinned PRBM for n in n_values and PRB angles
     Theta from 0 up to min(theta0_max / c_theta, phi) (theta0 = c_theta Theta <= theta0_max, and
     Theta < phi, the force direction).  Vectorised: one (n, Theta) grid, no root finding (Theta is
@@ -72,8 +84,7 @@ def fixed_pinned_domain(n_values: ArrayLike | None = None, theta0_max_deg: float
     with np.errstate(divide="ignore", invalid="ignore"):
         alpha2 = K * Theta / (np.sqrt(1 + n**2) * np.sin(phi - Theta))
     n_grid = np.broadcast_to(n, Theta.shape)
-    return {"a": a.ravel(), "b": b.ravel(), "n": n_grid.ravel(), "Theta": Theta.ravel(),
-            "alpha2": alpha2.ravel()}
+    return {"a": a.ravel(), "b": b.ravel(), "n": n_grid.ravel(), "Theta": Theta.ravel(), "alpha2": alpha2.ravel()}
 
 
 def boundary_curves(a: ArrayLike, b: ArrayLike, bins: int = 60) -> dict[str, NDArray[np.float64]]:
@@ -131,13 +142,19 @@ def _with_boundaries(points: Mapping[str, ArrayLike], bins: int, **counts: int) 
         bc = boundary_curves(flat["a"], flat["b"], bins=bins)
     else:
         bc = {"b": np.empty(0), "lower": np.empty(0), "upper": np.empty(0)}
-    out: Domain = {**flat, "boundary_b": bc["b"], "boundary_lower": bc["lower"], "boundary_upper": bc["upper"],
-                   **counts}
+    out: Domain = {
+        **flat,
+        "boundary_b": bc["b"],
+        "boundary_lower": bc["lower"],
+        "boundary_upper": bc["upper"],
+        **counts,
+    }
     return out
 
 
-def _curved_grid(kappa0: ArrayLike, n: NDArray[np.float64], fam: FitFamily, theta0_max_deg: float,
-                 n_theta: int) -> dict[str, NDArray[np.float64]]:
+def _curved_grid(
+    kappa0: ArrayLike, n: NDArray[np.float64], fam: FitFamily, theta0_max_deg: float, n_theta: int
+) -> dict[str, NDArray[np.float64]]:
     """Initially curved fixed-pinned PRBM (l = EI = 1) on the grid kappa0 x n x s, s in [0, 1].
 
     Geometry of eqs (53)-(57): a_i = sin(kappa0)/kappa0, b_i = (1 - cos kappa0)/kappa0,
@@ -160,23 +177,31 @@ def _curved_grid(kappa0: ArrayLike, n: NDArray[np.float64], fam: FitFamily, thet
     rho = np.hypot(a_i - (1.0 - gamma), b_i)
     phi = np.arctan2(1.0, -nn)
     phi = Theta_i + np.angle(np.exp(1j * (phi - Theta_i)))
-    span = np.sign(phi - Theta_i) * np.minimum(math.radians(theta0_max_deg) / c_theta,
-                                               np.abs(phi - Theta_i) * 0.999)
+    span = np.sign(phi - Theta_i) * np.minimum(math.radians(theta0_max_deg) / c_theta, np.abs(phi - Theta_i) * 0.999)
     Theta = Theta_i + s * span
     eta = np.sqrt(1.0 + nn**2)
     with np.errstate(divide="ignore", invalid="ignore"):
         alpha2 = np.where(Theta == Theta_i, 0.0, K * (Theta - Theta_i) / (eta * np.sin(phi - Theta)))
     shape = Theta.shape
-    return {"a": np.broadcast_to(1.0 - gamma + rho * np.cos(Theta), shape),
-            "b": np.broadcast_to(rho * np.sin(Theta), shape),
-            "theta0": np.broadcast_to(k0 + c_theta * (Theta - Theta_i), shape),
-            "Theta": Theta, "alpha2": np.broadcast_to(alpha2, shape),
-            "n": np.broadcast_to(nn, shape), "kappa0": np.broadcast_to(k0, shape)}
+    return {
+        "a": np.broadcast_to(1.0 - gamma + rho * np.cos(Theta), shape),
+        "b": np.broadcast_to(rho * np.sin(Theta), shape),
+        "theta0": np.broadcast_to(k0 + c_theta * (Theta - Theta_i), shape),
+        "Theta": Theta,
+        "alpha2": np.broadcast_to(alpha2, shape),
+        "n": np.broadcast_to(nn, shape),
+        "kappa0": np.broadcast_to(k0, shape),
+    }
 
 
-def curved_fixed_pinned_domain(curvature: ArrayLike, n_values: ArrayLike | None = None,
-                               theta0_max_deg: float = 90.0, n_theta: int = 91,
-                               family: str | FitFamily = "pauly-midha", bins: int = 60) -> Domain:
+def curved_fixed_pinned_domain(
+    curvature: ArrayLike,
+    n_values: ArrayLike | None = None,
+    theta0_max_deg: float = 90.0,
+    n_theta: int = 91,
+    family: str | FitFamily = "pauly-midha",
+    bins: int = 60,
+) -> Domain:
     """Characteristic deflection domain of an initially curved fixed-pinned segment [bapat2015, §4.5].
 
     curvature: kappa0 = l/R_i (dimensionless, CCW positive; eq 53), a scalar or an array of values.
@@ -201,8 +226,13 @@ def curved_fixed_pinned_domain(curvature: ArrayLike, n_values: ArrayLike | None 
     return _with_boundaries(grid, bins, excluded=dropped * n_kappa * n_theta)
 
 
-def fixed_guided_domain(n_values: ArrayLike | None = None, theta0_max_deg: float = 90.0, n_theta: int = 91,
-                        family: str | FitFamily = "pauly-midha", bins: int = 60) -> Domain:
+def fixed_guided_domain(
+    n_values: ArrayLike | None = None,
+    theta0_max_deg: float = 90.0,
+    n_theta: int = 91,
+    family: str | FitFamily = "pauly-midha",
+    bins: int = 60,
+) -> Domain:
     """Characteristic deflection domain of an initially straight fixed-guided segment, end slope held
     at zero, by the two-spring PRBM ([bapat2015, eq 63], [ananthasuresh_l18, 07:13-12:05]; section 4.6).
 
@@ -230,15 +260,27 @@ def fixed_guided_domain(n_values: ArrayLike | None = None, theta0_max_deg: float
     with np.errstate(divide="ignore", invalid="ignore"):
         alpha2 = 4.0 * K * Theta / (np.sqrt(1.0 + nn**2) * np.sin(phi - Theta))
     moment = -(2.0 * gamma * K * Theta + (1.0 - gamma) * alpha2 / 2.0)
-    points = {"a": 1.0 - gamma * (1.0 - np.cos(Theta)), "b": gamma * np.sin(Theta), "Theta": Theta,
-              "alpha2": alpha2, "moment": moment, "n": np.broadcast_to(nn, Theta.shape)}
+    points = {
+        "a": 1.0 - gamma * (1.0 - np.cos(Theta)),
+        "b": gamma * np.sin(Theta),
+        "Theta": Theta,
+        "alpha2": alpha2,
+        "moment": moment,
+        "n": np.broadcast_to(nn, Theta.shape),
+    }
     return _with_boundaries(points, bins, excluded=dropped * n_theta)
 
 
-def fixed_fixed_monotonic_domain(moment_values: ArrayLike, n_values: ArrayLike | None = None,
-                                 curvature: float = 0.0, theta0_max_deg: float = 90.0, n_theta: int = 91,
-                                 family: str | FitFamily = "pauly-midha", kappa_monotonic: float = 2.0,
-                                 bins: int = 60) -> Domain:
+def fixed_fixed_monotonic_domain(
+    moment_values: ArrayLike,
+    n_values: ArrayLike | None = None,
+    curvature: float = 0.0,
+    theta0_max_deg: float = 90.0,
+    n_theta: int = 91,
+    family: str | FitFamily = "pauly-midha",
+    kappa_monotonic: float = 2.0,
+    bins: int = 60,
+) -> Domain:
     """Characteristic deflection domain of a fixed-fixed (fixed-guided) segment with monotonic
     curvature [bapat2015, §4.6, Fig. 4.8], with the moment bounds of section 4.6.1.
 
@@ -268,12 +310,19 @@ def fixed_fixed_monotonic_domain(moment_values: ArrayLike, n_values: ArrayLike |
     keep = (moment >= 0.0) | (kappa > kappa_monotonic)
     points = {key: value[keep] for key, value in grid.items()}
     points.update(moment=moment[keep], kappa=kappa[keep])
-    return _with_boundaries(points, bins, excluded=dropped * m.size * n_theta,
-                            excluded_inflection=int(np.count_nonzero(~keep)))
+    return _with_boundaries(
+        points, bins, excluded=dropped * m.size * n_theta, excluded_inflection=int(np.count_nonzero(~keep))
+    )
 
 
-def slfp_domain(flexure_fraction: float, n_values: ArrayLike | None = None, curvature: float = 0.0,
-                theta_max_deg: float = 90.0, n_theta: int = 91, bins: int = 60) -> Domain:
+def slfp_domain(
+    flexure_fraction: float,
+    n_values: ArrayLike | None = None,
+    curvature: float = 0.0,
+    theta_max_deg: float = 90.0,
+    n_theta: int = 91,
+    bins: int = 60,
+) -> Domain:
     """Characteristic deflection domain of a fixed-free segment made of a small-length flexural pivot
     (length l) and a rigid segment (length L), [bapat2015, §4.7] (eqs 71-82, 127).
 
@@ -309,10 +358,17 @@ def slfp_domain(flexure_fraction: float, n_values: ArrayLike | None = None, curv
     span = np.sign(phi - Theta_i) * np.minimum(math.radians(theta_max_deg), np.abs(phi - Theta_i) * 0.999)
     Theta = Theta_i + np.linspace(0.0, 1.0, n_theta)[None, :] * span
     with np.errstate(divide="ignore", invalid="ignore"):
-        alpha2 = np.where(Theta == Theta_i, 0.0,
-                          (Theta - Theta_i) / (lam * R * np.sqrt(1.0 + nn**2) * np.sin(phi - Theta)))
-    points = {"a": px + R * np.cos(Theta), "b": py + R * np.sin(Theta), "theta0": Theta - Theta_i + kappa0,
-              "Theta": Theta, "alpha2": alpha2, "n": np.broadcast_to(nn, Theta.shape)}
+        alpha2 = np.where(
+            Theta == Theta_i, 0.0, (Theta - Theta_i) / (lam * R * np.sqrt(1.0 + nn**2) * np.sin(phi - Theta))
+        )
+    points = {
+        "a": px + R * np.cos(Theta),
+        "b": py + R * np.sin(Theta),
+        "theta0": Theta - Theta_i + kappa0,
+        "Theta": Theta,
+        "alpha2": alpha2,
+        "n": np.broadcast_to(nn, Theta.shape),
+    }
     out = _with_boundaries(points, bins, excluded=0)
     out["radius"] = R
     out["pivot"] = (px, py)

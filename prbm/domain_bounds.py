@@ -16,6 +16,7 @@ Where b/l exceeds the arc's radius the arcs return NaN (the arc does not reach t
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -23,7 +24,7 @@ from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["prbm_arc", "clamp_arc", "inflection_lower_bound", "slfp_arc_radius", "INFLECTION_LOWER_FIT"]
 
-INFLECTION_LOWER_FIT = (0.934, -0.0591, -1.6211, 4.9649, -11.366, 13.746, -7.0759)   # eq (116), b^0..b^6
+INFLECTION_LOWER_FIT = (0.934, -0.0591, -1.6211, 4.9649, -11.366, 13.746, -7.0759)  # eq (116), b^0..b^6
 
 
 def _root(r2: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -24,6 +24,7 @@ defaults here are the Pauly-Midha constants at n = 0 (eqs 41, 42): gamma = 0.851
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import math
@@ -51,18 +52,21 @@ class LoopState:
     a: float = math.nan
 
 
-def loop_closure(*, length: float, b: float, theta0: float, l1: float, gamma: float = GAMMA_AVERAGE,
-                 c_theta: float = C_THETA_AVERAGE) -> LoopState:
+def loop_closure(
+    *, length: float, b: float, theta0: float, l1: float, gamma: float = GAMMA_AVERAGE, c_theta: float = C_THETA_AVERAGE
+) -> LoopState:
     """Close the loop of eqs (105)-(107) for end height b, end angle theta0 (rad) and inflection point at
     arc length l1; ``feasible`` is False (with the reason) when no root meets constraints i) and ii)."""
     if not (length > 0 and 0 < l1 < length and 0 < gamma <= 1 and c_theta > 0):
-        raise ValueError(f"loop_closure: need length > 0, 0 < l1 < length, 0 < gamma <= 1, c_theta > 0; got "
-                         f"length={length}, l1={l1}, gamma={gamma}, c_theta={c_theta}")
+        raise ValueError(
+            f"loop_closure: need length > 0, 0 < l1 < length, 0 < gamma <= 1, c_theta > 0; got "
+            f"length={length}, l1={l1}, gamma={gamma}, c_theta={c_theta}"
+        )
     l2 = length - l1
     R1, R2, R3, R4 = (1 - gamma) * l1, gamma * l1, gamma * l2, (1 - gamma) * l2
     shift = theta0 - theta0 / c_theta  # theta3 = Theta2 + theta0 = Theta1 + shift
 
-    def g(T1: float) -> float:                                               # (105) with (107), ii)
+    def g(T1: float) -> float:  # (105) with (107), ii)
         return R2 * math.sin(T1) + R3 * math.sin(T1 + shift) + R4 * math.sin(theta0) - b
 
     lo = max(0.0, theta0 / c_theta)  # Theta1 > 0 and Theta2 = Theta1 - theta0/c_theta > 0 (constraint i)
@@ -77,23 +81,40 @@ def loop_closure(*, length: float, b: float, theta0: float, l1: float, gamma: fl
             th3 = T2 + theta0
             R5 = length - (R1 + R2 * math.cos(T1) + R3 * math.cos(th3) + R4 * math.cos(theta0))  # (106)
             return LoopState(l1, True, "feasible", T1, T2, length - R5)
-    return LoopState(l1, False, "no loop closure with Theta1 > 0 and Theta2 > 0 (theta3 > theta0) "
-                     "for Theta1 up to 90 deg")
+    return LoopState(
+        l1, False, "no loop closure with Theta1 > 0 and Theta2 > 0 (theta3 > theta0) for Theta1 up to 90 deg"
+    )
 
 
-def feasible_l1(*, length: float, b: float, theta0: float, samples: int = 200, gamma: float = GAMMA_AVERAGE,
-                c_theta: float = C_THETA_AVERAGE) -> list[LoopState]:
+def feasible_l1(
+    *,
+    length: float,
+    b: float,
+    theta0: float,
+    samples: int = 200,
+    gamma: float = GAMMA_AVERAGE,
+    c_theta: float = C_THETA_AVERAGE,
+) -> list[LoopState]:
     """Fig. 3.11's sweep: the loop at ``samples`` trial l1 evenly inside (0, length)."""
     l1s = np.linspace(0.0, length, samples + 2)[1:-1]
-    return [loop_closure(length=length, b=b, theta0=theta0, l1=float(x), gamma=gamma, c_theta=c_theta)
-            for x in l1s]
+    return [loop_closure(length=length, b=b, theta0=theta0, l1=float(x), gamma=gamma, c_theta=c_theta) for x in l1s]
 
 
-def approximate_domain(*, length: float, theta0: float, b_values: Iterable[float], samples: int = 100,
-                       gamma: float = GAMMA_AVERAGE, c_theta: float = C_THETA_AVERAGE) -> NDArray[np.float64]:
+def approximate_domain(
+    *,
+    length: float,
+    theta0: float,
+    b_values: Iterable[float],
+    samples: int = 100,
+    gamma: float = GAMMA_AVERAGE,
+    c_theta: float = C_THETA_AVERAGE,
+) -> NDArray[np.float64]:
     """Fig. 3.12's approximate characteristic deflection domain for one end angle: the end points (a, b)
     of every feasible (b, l1) pair, as an (m, 2) array."""
-    points = [(s.a, b) for b in b_values
-              for s in feasible_l1(length=length, b=float(b), theta0=theta0, samples=samples, gamma=gamma,
-                                   c_theta=c_theta) if s.feasible]
+    points = [
+        (s.a, b)
+        for b in b_values
+        for s in feasible_l1(length=length, b=float(b), theta0=theta0, samples=samples, gamma=gamma, c_theta=c_theta)
+        if s.feasible
+    ]
     return np.array(points, dtype=float).reshape(-1, 2)

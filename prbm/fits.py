@@ -33,6 +33,7 @@ tip slope of a cantilever under an end moment is ML/EI = 1.5164 Theta, c_theta =
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import math
@@ -124,8 +125,10 @@ class PiecewiseFit:
         return value
 
     def _out_of_range(self, x: float, extrapolate: str) -> None:
-        message = (f"{self.name}: load ratio n = {x:.6g} outside the fitted range "
-                   f"{self.lower} < n <= {self.upper} ({self.source})")
+        message = (
+            f"{self.name}: load ratio n = {x:.6g} outside the fitted range "
+            f"{self.lower} < n <= {self.upper} ({self.source})"
+        )
         if extrapolate == "raise":
             raise FitRangeError(message)
         if extrapolate == "warn":
@@ -167,11 +170,13 @@ class FitFamily:
     def parameters(self, n: float, extrapolate: str = "raise") -> tuple[float, float, float]: ...
 
     @overload
-    def parameters(self, n: NDArray[Any], extrapolate: str = "raise") -> tuple[
-            NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
+    def parameters(
+        self, n: NDArray[Any], extrapolate: str = "raise"
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
 
-    def parameters(self, n: float | NDArray[Any], extrapolate: str = "raise") -> tuple[
-            float | NDArray[np.float64], float | NDArray[np.float64], float | NDArray[np.float64]]:
+    def parameters(
+        self, n: float | NDArray[Any], extrapolate: str = "raise"
+    ) -> tuple[float | NDArray[np.float64], float | NDArray[np.float64], float | NDArray[np.float64]]:
         """(gamma, c_theta, K_theta) at n.  c_theta is NaN when the family publishes none."""
         g = self.gamma(n, extrapolate)
         k = self.K_theta(n, extrapolate)
@@ -185,11 +190,13 @@ class FitFamily:
     def model_parameters(self, n: float, extrapolate: str = "raise") -> tuple[float, float, float]: ...
 
     @overload
-    def model_parameters(self, n: NDArray[Any], extrapolate: str = "raise") -> tuple[
-            NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
+    def model_parameters(
+        self, n: NDArray[Any], extrapolate: str = "raise"
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
 
-    def model_parameters(self, n: float | NDArray[Any], extrapolate: str = "raise") -> tuple[
-            float | NDArray[np.float64], float | NDArray[np.float64], float | NDArray[np.float64]]:
+    def model_parameters(
+        self, n: float | NDArray[Any], extrapolate: str = "raise"
+    ) -> tuple[float | NDArray[np.float64], float | NDArray[np.float64], float | NDArray[np.float64]]:
         """``parameters`` for a segment model: extrapolated values that give no PRB model (gamma <= 0 or
         K_theta <= 0, which the polynomials reach far outside their ranges) raise FitRangeError.  (A
         solver's trial point may read ``parameters`` there; a model's answer may not.)"""
@@ -206,42 +213,64 @@ def _unphysical(family: str, n: ArrayLike, gamma: ArrayLike, K_theta: ArrayLike)
     bad = ~((np.asarray(gamma) > 0.0) & (np.asarray(K_theta) > 0.0))
     i = int(np.flatnonzero(np.atleast_1d(bad))[0])
     pick = [float(np.atleast_1d(v)[i]) for v in np.broadcast_arrays(n, gamma, K_theta)]
-    return (f"{family} fits extrapolated to n = {pick[0]:g} give gamma = {pick[1]:.4g} and K_theta = "
-            f"{pick[2]:.4g}: no PRB model there (it needs gamma > 0 and K_theta > 0)")
+    return (
+        f"{family} fits extrapolated to n = {pick[0]:g} give gamma = {pick[1]:.4g} and K_theta = "
+        f"{pick[2]:.4g}: no PRB model there (it needs gamma > 0 and K_theta > 0)"
+    )
 
 
 _S000 = "seed 000 (Bapat 2015) eq"
 PAULY_MIDHA = FitFamily(
     name="pauly-midha",
-    gamma=PiecewiseFit("gamma(n)", _S000 + " (41)", (
-        Branch(-4.0, -1.5, (0.855651, -0.016438)),
-        Branch(-1.5, -0.5, (0.852138, -0.018615)),
-        Branch(-0.5, 10.0, (0.851892, -0.020805, 0.005867, -0.000895, 0.000069, -0.000002)),
-    )),
-    c_theta=PiecewiseFit("c_theta(n)", _S000 + " (42)", (
-        Branch(-4.0, -0.5, (1.238945, 0.012035, 0.00454)),
-        Branch(-0.5, 10.0, (1.238845, 0.009113, -0.001929, 0.000191, -0.000007)),
-    )),
-    K_theta=PiecewiseFit("K_theta(n)", _S000 + " (43)", (
-        Branch(-4.0, -0.5, (2.66041, -0.069005, -0.002268)),
-        Branch(-0.5, 10.0, (2.648834, -0.074727, 0.026328, -0.004609, 0.000390, -0.000013)),
-    )),
+    gamma=PiecewiseFit(
+        "gamma(n)",
+        _S000 + " (41)",
+        (
+            Branch(-4.0, -1.5, (0.855651, -0.016438)),
+            Branch(-1.5, -0.5, (0.852138, -0.018615)),
+            Branch(-0.5, 10.0, (0.851892, -0.020805, 0.005867, -0.000895, 0.000069, -0.000002)),
+        ),
+    ),
+    c_theta=PiecewiseFit(
+        "c_theta(n)",
+        _S000 + " (42)",
+        (
+            Branch(-4.0, -0.5, (1.238945, 0.012035, 0.00454)),
+            Branch(-0.5, 10.0, (1.238845, 0.009113, -0.001929, 0.000191, -0.000007)),
+        ),
+    ),
+    K_theta=PiecewiseFit(
+        "K_theta(n)",
+        _S000 + " (43)",
+        (
+            Branch(-4.0, -0.5, (2.66041, -0.069005, -0.002268)),
+            Branch(-0.5, 10.0, (2.648834, -0.074727, 0.026328, -0.004609, 0.000390, -0.000013)),
+        ),
+    ),
 )
 
 _S004 = "seed 004 (PRB lecture), slide 'arbitrary tip-load'"
 HOWELL = FitFamily(
     name="howell",
-    gamma=PiecewiseFit("gamma(n)", _S004, (
-        Branch(-5.0, -1.8316, (0.912364, 0.0145928)),
-        Branch(-1.8316, 0.5, (0.852144, -0.0182867)),
-        Branch(0.5, 10.0 - 1e-12, (0.841655, -0.0067807, 0.000438)),  # printed 0.5 < n < 10.0 (open)
-    )),
+    gamma=PiecewiseFit(
+        "gamma(n)",
+        _S004,
+        (
+            Branch(-5.0, -1.8316, (0.912364, 0.0145928)),
+            Branch(-1.8316, 0.5, (0.852144, -0.0182867)),
+            Branch(0.5, 10.0 - 1e-12, (0.841655, -0.0067807, 0.000438)),  # printed 0.5 < n < 10.0 (open)
+        ),
+    ),
     c_theta=None,
-    K_theta=PiecewiseFit("K_theta(n)", _S004, (
-        Branch(-5.0, -2.5, (3.024112, 0.121290, 0.003169)),
-        Branch(-2.5, -1.0, (1.967647, -2.616021, -3.738166, -2.649437, -0.891906, -0.113063)),
-        Branch(-1.0, 10.0, (2.654855, -0.509896e-1, 0.126749e-1, -0.142039e-2, 0.584525e-4)),
-    )),
+    K_theta=PiecewiseFit(
+        "K_theta(n)",
+        _S004,
+        (
+            Branch(-5.0, -2.5, (3.024112, 0.121290, 0.003169)),
+            Branch(-2.5, -1.0, (1.967647, -2.616021, -3.738166, -2.649437, -0.891906, -0.113063)),
+            Branch(-1.0, 10.0, (2.654855, -0.509896e-1, 0.126749e-1, -0.142039e-2, 0.584525e-4)),
+        ),
+    ),
 )
 
 _CONSTANT_SOURCE = "seed 004 (PRB lecture): the usual averages gamma = 0.85, K_theta = 2.65; c_theta = 1.24"
@@ -272,7 +301,7 @@ THETA_RANGE = math.radians(65.0)
 
 # Pure end moment [ananthasuresh_l18, 16:59-21:58].
 PURE_MOMENT_GAMMA = 0.7346
-PURE_MOMENT_SPRING = 1.5164          # k = 1.5164 EI/L (the lecture's wording: "torsion spring constant")
+PURE_MOMENT_SPRING = 1.5164  # k = 1.5164 EI/L (the lecture's wording: "torsion spring constant")
 PURE_MOMENT_K_THETA = PURE_MOMENT_SPRING / PURE_MOMENT_GAMMA  # Howell's K_Theta, k = gamma K_Theta EI/L
 PURE_MOMENT_C_THETA = PURE_MOMENT_SPRING  # from the exact theta_0 = M L / EI
 

@@ -48,6 +48,7 @@ mirror the boundary conditions (b, theta0 -> -b, -theta0).
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import functools
@@ -86,11 +87,12 @@ class InflectionBeam:
         self.length = float(length)
         self.EI = float(EI)
         self.family = fit_family(family)
-        self.fits = _plain_parameters(self.family)   # (gamma, c_theta, K_theta) at one float n
+        self.fits = _plain_parameters(self.family)  # (gamma, c_theta, K_theta) at one float n
 
 
-def inflection_state(beam: InflectionBeam, F: ArrayLike, phi1: ArrayLike, theta0: ArrayLike, l1: ArrayLike,
-                     theta10: ArrayLike) -> dict[str, NDArray[np.float64]]:
+def inflection_state(
+    beam: InflectionBeam, F: ArrayLike, phi1: ArrayLike, theta0: ArrayLike, l1: ArrayLike, theta10: ArrayLike
+) -> dict[str, NDArray[np.float64]]:
     """Every variable of eqs (83)-(104) from F, phi1, theta0, l1, theta10 (vectorised).
 
     Returns the residuals r95, r96 (dimensionless) and the outputs M (eq 99, opposing-positive),
@@ -118,10 +120,34 @@ def inflection_state(beam: InflectionBeam, F: ArrayLike, phi1: ArrayLike, theta0
     a = (1 - g1) * l1 + g1 * l1 * np.cos(Th1) + g2 * l2 * np.cos(Th2 + theta0) + (1 - g2) * l2 * ct
     with np.errstate(divide="ignore", invalid="ignore"):
         U = 0.5 * (g1 * K1 * EI / l1 * Th1**2 + g2 * K2 * EI / l2 * Th2**2)
-    return {"F": F, "phi1": phi1, "phi2": phi2, "theta0": theta0, "l1": l1, "l2": l2, "theta10": theta10,
-            "theta20": theta20, "Theta1": Th1, "Theta2": Th2, "n": n, "n2": n2, "gamma1": g1, "gamma2": g2,
-            "c_theta1": c1, "c_theta2": c2, "K_theta1": K1, "K_theta2": K2, "P": P, "nP": nP, "M": M,
-            "a": a, "b": b, "r95": r95, "r96": r96, "U": U}
+    return {
+        "F": F,
+        "phi1": phi1,
+        "phi2": phi2,
+        "theta0": theta0,
+        "l1": l1,
+        "l2": l2,
+        "theta10": theta10,
+        "theta20": theta20,
+        "Theta1": Th1,
+        "Theta2": Th2,
+        "n": n,
+        "n2": n2,
+        "gamma1": g1,
+        "gamma2": g2,
+        "c_theta1": c1,
+        "c_theta2": c2,
+        "K_theta1": K1,
+        "K_theta2": K2,
+        "P": P,
+        "nP": nP,
+        "M": M,
+        "a": a,
+        "b": b,
+        "r95": r95,
+        "r96": r96,
+        "U": U,
+    }
 
 
 def _force_from_95(beam: InflectionBeam, phi1: Value, l1: Value, theta10: Value) -> Value:
@@ -133,7 +159,6 @@ def _force_from_95(beam: InflectionBeam, phi1: Value, l1: Value, theta10: Value)
     with np.errstate(divide="ignore", invalid="ignore"):
         F: Value = K1 * Th1 * beam.EI / (l1**2 * np.sin(phi1 - Th1))
         return F
-
 
 
 def _ratio(cos_phi: float, sin_phi: float) -> float:
@@ -169,6 +194,7 @@ def _horner(fit: PiecewiseFit) -> Callable[[float], float]:
         for c in chosen:
             v = v * x + c
         return v
+
     return value
 
 
@@ -189,6 +215,7 @@ def _plain_parameters(family: FitFamily) -> Callable[[float], tuple[float, float
     @functools.lru_cache(maxsize=1024)
     def parameters(n: float) -> tuple[float, float, float]:
         return gamma(n), c(n), K(n)
+
     _PLAIN_FITS[id(family)] = (family, parameters)
     return parameters
 
@@ -204,8 +231,9 @@ def _point_force(beam: InflectionBeam, phi1: float, l1: float, theta10: float) -
             return float(_force_from_95(beam, phi1, l1, theta10))
 
 
-def _point_state(beam: InflectionBeam, F: float, phi1: float, theta0: float, l1: float, theta10: float
-                 ) -> dict[str, float]:
+def _point_state(
+    beam: InflectionBeam, F: float, phi1: float, theta0: float, l1: float, theta10: float
+) -> dict[str, float]:
     """``inflection_state`` at one point in plain floats: the same equations (95)-(104), the same keys.
 
     The root finders evaluate one point at a time, where numpy's per-call overhead is most of the cost;
@@ -216,8 +244,9 @@ def _point_state(beam: InflectionBeam, F: float, phi1: float, theta0: float, l1:
         return _numpy_point(beam, None, F, phi1, theta0, l1, theta10)
 
 
-def _numpy_point(beam: InflectionBeam, keys: tuple[str, ...] | None, F: float, phi1: float, theta0: float,
-                 l1: float, theta10: float) -> dict[str, float]:
+def _numpy_point(
+    beam: InflectionBeam, keys: tuple[str, ...] | None, F: float, phi1: float, theta0: float, l1: float, theta10: float
+) -> dict[str, float]:
     """``keys`` (None: all) of ``inflection_state`` at one point as floats, numpy's inf/NaN arithmetic
     where the plain-float kernels' ``math`` raises."""
     with np.errstate(all="ignore"):
@@ -225,8 +254,9 @@ def _numpy_point(beam: InflectionBeam, keys: tuple[str, ...] | None, F: float, p
     return {k: float(s[k]) for k in (s if keys is None else keys)}
 
 
-def _point_ends(beam: InflectionBeam, F: float, phi1: float, theta0: float, l1: float, theta10: float
-                ) -> dict[str, float]:
+def _point_ends(
+    beam: InflectionBeam, F: float, phi1: float, theta0: float, l1: float, theta10: float
+) -> dict[str, float]:
     """Only r96, a and b of ``_point_state`` (what the displacement problems' residuals read), the same
     floats: the root finders' inner loop, without the other 23 variables and their dictionary."""
     try:
@@ -236,8 +266,9 @@ def _point_ends(beam: InflectionBeam, F: float, phi1: float, theta0: float, l1: 
         return _numpy_point(beam, ("r96", "a", "b"), F, phi1, theta0, l1, theta10)
 
 
-def _point_core(beam: InflectionBeam, F: float, phi1: float, theta0: float, l1: float, theta10: float
-                ) -> tuple[float, ...]:
+def _point_core(
+    beam: InflectionBeam, F: float, phi1: float, theta0: float, l1: float, theta10: float
+) -> tuple[float, ...]:
     """The variables of eqs (95)-(104) in plain floats up to r96 (96), a (103) and b (104), in the order
     ``_point_equations`` unpacks them."""
     l, EI = beam.length, beam.EI
@@ -256,8 +287,9 @@ def _point_core(beam: InflectionBeam, F: float, phi1: float, theta0: float, l1: 
     return sin1, cos1, phi2, n, n2, g1, c1, K1, g2, c2, K2, l2, theta20, Th1, Th2, ct, st, r96, a, b
 
 
-def _point_loads(beam: InflectionBeam, F: float, phi1: float, theta0: float, l1: float, theta10: float
-                 ) -> dict[str, float]:
+def _point_loads(
+    beam: InflectionBeam, F: float, phi1: float, theta0: float, l1: float, theta10: float
+) -> dict[str, float]:
     """Only r95, r96 and M of ``_point_state`` (what the load problem's residual reads), the same floats."""
     try:
         core = _point_core(beam, F, phi1, theta0, l1, theta10)
@@ -267,8 +299,9 @@ def _point_loads(beam: InflectionBeam, F: float, phi1: float, theta0: float, l1:
         return _numpy_point(beam, ("r95", "r96", "M"), F, phi1, theta0, l1, theta10)
 
 
-def _point_end_loads(beam: InflectionBeam, F: float, phi1: float, l1: float, core: tuple[float, ...]
-                     ) -> tuple[float, float, float, float]:
+def _point_end_loads(
+    beam: InflectionBeam, F: float, phi1: float, l1: float, core: tuple[float, ...]
+) -> tuple[float, float, float, float]:
     """P, nP, r95 (95) and M (99) in plain floats from ``_point_core``'s variables."""
     sin1, cos1, _, _, _, _, _, K1, g2, _, _, l2, _, Th1, Th2, ct, st, _, _, _ = core
     P, nP = F * sin1, -F * cos1
@@ -278,20 +311,45 @@ def _point_end_loads(beam: InflectionBeam, F: float, phi1: float, l1: float, cor
     return P, nP, r95, M
 
 
-def _point_equations(beam: InflectionBeam, F: float, phi1: float, theta0: float, l1: float, theta10: float
-                     ) -> dict[str, float]:
+def _point_equations(
+    beam: InflectionBeam, F: float, phi1: float, theta0: float, l1: float, theta10: float
+) -> dict[str, float]:
     core = _point_core(beam, F, phi1, theta0, l1, theta10)
     _, _, phi2, n, n2, g1, c1, K1, g2, c2, K2, l2, theta20, Th1, Th2, _, _, r96, a, b = core
     EI = beam.EI
     P, nP, r95, M = _point_end_loads(beam, F, phi1, l1, core)
     U = 0.5 * (g1 * K1 * EI / l1 * Th1 * Th1 + g2 * K2 * EI / l2 * Th2 * Th2)
-    return {"F": F, "phi1": phi1, "phi2": phi2, "theta0": theta0, "l1": l1, "l2": l2, "theta10": theta10,
-            "theta20": theta20, "Theta1": Th1, "Theta2": Th2, "n": n, "n2": n2, "gamma1": g1, "gamma2": g2,
-            "c_theta1": c1, "c_theta2": c2, "K_theta1": K1, "K_theta2": K2, "P": P, "nP": nP, "M": M,
-            "a": a, "b": b, "r95": r95, "r96": r96, "U": U}
+    return {
+        "F": F,
+        "phi1": phi1,
+        "phi2": phi2,
+        "theta0": theta0,
+        "l1": l1,
+        "l2": l2,
+        "theta10": theta10,
+        "theta20": theta20,
+        "Theta1": Th1,
+        "Theta2": Th2,
+        "n": n,
+        "n2": n2,
+        "gamma1": g1,
+        "gamma2": g2,
+        "c_theta1": c1,
+        "c_theta2": c2,
+        "K_theta1": K1,
+        "K_theta2": K2,
+        "P": P,
+        "nP": nP,
+        "M": M,
+        "a": a,
+        "b": b,
+        "r95": r95,
+        "r96": r96,
+        "U": U,
+    }
 
 
-_V = TypeVar("_V", float, NDArray[np.float64])   # a kernel's variables: at one point, or over a grid
+_V = TypeVar("_V", float, NDArray[np.float64])  # a kernel's variables: at one point, or over a grid
 
 
 @dataclass(frozen=True)
@@ -304,7 +362,7 @@ class _Kernel(Generic[_V]):
 
 VECTOR: _Kernel[NDArray[np.float64]] = _Kernel(inflection_state, _force_from_95)
 POINT: _Kernel[float] = _Kernel(_point_state, _point_force)
-ENDS: _Kernel[float] = _Kernel(_point_ends, _point_force)   # r96, a and b only: the displacement problems' residuals
+ENDS: _Kernel[float] = _Kernel(_point_ends, _point_force)  # r96, a and b only: the displacement problems' residuals
 LOADS: _Kernel[float] = _Kernel(_point_loads, _point_force)  # r95, r96 and M only: the load problem's residual
 
 #: a problem's residuals at a point (or a grid of points) evaluated with a kernel
@@ -337,15 +395,18 @@ def _start_grid(*axes: tuple[float, float, int, bool]) -> NDArray[np.float64]:
     ``(first, last, count, angle)`` = np.linspace(first, last, count) (in degrees turned to radians
     when ``angle``), the first axis slowest; a constant of the problem, built once (read-only), not again
     for every solve."""
-    points = [np.linspace(first, last, count) * DEG if angle else np.linspace(first, last, count)
-              for first, last, count, angle in axes]
+    points = [
+        np.linspace(first, last, count) * DEG if angle else np.linspace(first, last, count)
+        for first, last, count, angle in axes
+    ]
     grid = np.stack(np.meshgrid(*points, indexing="ij"), axis=-1).reshape(-1, len(axes))
     grid.flags.writeable = False
     return grid
 
 
-def _multistart(residual: Residual, grid: NDArray[np.float64], keep: int, xtol: float,
-                point_kernel: _Kernel[float] = POINT) -> tuple[list[NDArray[np.float64]], int]:
+def _multistart(
+    residual: Residual, grid: NDArray[np.float64], keep: int, xtol: float, point_kernel: _Kernel[float] = POINT
+) -> tuple[list[NDArray[np.float64]], int]:
     """Solve residual(x) = 0 from the `keep` grid points of smallest residual; return distinct roots.
 
     ``residual(x, kernel)`` gives the residual list: with ``VECTOR`` over the grid's columns at once,
@@ -356,7 +417,7 @@ def _multistart(residual: Residual, grid: NDArray[np.float64], keep: int, xtol: 
     norms = np.where(np.isfinite(norms), norms, np.inf)
     order = np.argsort(norms)[:keep]
 
-    def point(x: NDArray[np.float64]) -> NDArray[np.float64]:   # MINPACK's point as plain floats: numpy
+    def point(x: NDArray[np.float64]) -> NDArray[np.float64]:  # MINPACK's point as plain floats: numpy
         return np.array(residual(x.tolist(), point_kernel), dtype=float)  # scalar arithmetic is slower than float's
 
     roots: list[NDArray[np.float64]] = []
@@ -378,15 +439,23 @@ def _multistart(residual: Residual, grid: NDArray[np.float64], keep: int, xtol: 
     return roots, nfev
 
 
-def _package(beam: InflectionBeam, states: list[dict[str, NDArray[np.float64]]], problem: str,
-             given: Mapping[str, object], t0: float, nfev: int, prefer: Prefer) -> PRBMResult:
+def _package(
+    beam: InflectionBeam,
+    states: list[dict[str, NDArray[np.float64]]],
+    problem: str,
+    given: Mapping[str, object],
+    t0: float,
+    nfev: int,
+    prefer: Prefer,
+) -> PRBMResult:
     valid: list[dict[str, float | str]] = []
     rejected: list[dict[str, float | str]] = []
     seen: list[NDArray[np.float64]] = []
     for state in states:
         if state["F"] < 0:  # the same state written with (-F, phi1 + pi)
-            state = inflection_state(beam, -state["F"], state["phi1"] + math.pi, state["theta0"], state["l1"],
-                                     state["theta10"])
+            state = inflection_state(
+                beam, -state["F"], state["phi1"] + math.pi, state["theta0"], state["l1"], state["theta10"]
+            )
         s = {k: float(v) for k, v in state.items()}
         s["phi1"] = math.atan2(math.sin(s["phi1"]), math.cos(s["phi1"]))
         s["phi2"] = s["phi1"] - s["theta0"]
@@ -407,17 +476,35 @@ def _package(beam: InflectionBeam, states: list[dict[str, NDArray[np.float64]]],
         reasons = "; ".join(str(r["status"]) for r in rejected[:3])
         msg = f"{problem}: no valid root found" + (f" ({len(rejected)} rejected: {reasons})" if rejected else "")
         nan = {k: np.nan for k in ("a", "b", "theta0", "P", "nP", "M", "l1", "theta10", "n", "n2")}
-        return PRBMResult(False, msg, {k: np.asarray(v) for k, v in nan.items()}, constants,
-                          "fixed-guided with one inflection point, seed 000 eqs (83)-(104)", wall, nfev,
-                          np.array([False]), roots=[[]], extras={"rejected": rejected, "given": given})
+        return PRBMResult(
+            False,
+            msg,
+            {k: np.asarray(v) for k, v in nan.items()},
+            constants,
+            "fixed-guided with one inflection point, seed 000 eqs (83)-(104)",
+            wall,
+            nfev,
+            np.array([False]),
+            roots=[[]],
+            extras={"rejected": rejected, "given": given},
+        )
     best = valid[0]
     msg = f"{problem}: {len(valid)} valid root(s)" + (f", {len(rejected)} rejected" if rejected else "")
     for key in ("gamma1", "gamma2", "c_theta1", "c_theta2", "K_theta1", "K_theta2"):
         constants[key] = best[key]
     outputs: dict[str, Levels] = {k: np.asarray(v) for k, v in best.items() if k != "status"}
-    return PRBMResult(True, msg, outputs, constants,
-                      "fixed-guided with one inflection point, seed 000 eqs (83)-(104)", wall, nfev,
-                      np.array([True]), roots=[valid], extras={"rejected": rejected, "given": given})
+    return PRBMResult(
+        True,
+        msg,
+        outputs,
+        constants,
+        "fixed-guided with one inflection point, seed 000 eqs (83)-(104)",
+        wall,
+        nfev,
+        np.array([True]),
+        roots=[valid],
+        extras={"rejected": rejected, "given": given},
+    )
 
 
 def _constant_moment(M: float) -> Moment:
@@ -425,8 +512,16 @@ def _constant_moment(M: float) -> Moment:
     return lambda theta0: M + 0.0 * np.asarray(theta0)
 
 
-def solve_loads(beam: InflectionBeam, P: float, nP: float, M: float | Moment, *, prefer: Prefer = "energy",
-                xtol: float = 1e-12, starts: int = 20) -> PRBMResult:
+def solve_loads(
+    beam: InflectionBeam,
+    P: float,
+    nP: float,
+    M: float | Moment,
+    *,
+    prefer: Prefer = "energy",
+    xtol: float = 1e-12,
+    starts: int = 20,
+) -> PRBMResult:
     """Load-specified problem [bapat2015, §3.5.1, Table 3.2]: P, nP, M (M opposing) -> a, b, theta0.
 
     Unknowns theta0, l1, theta10; residuals (95), (96), (99).  P < 0 is handled by mirroring.
@@ -467,9 +562,18 @@ def _one_number(name: str, value: float) -> float:
         raise ValueError(f"solve_displacements: {name} must be one number, got {value!r}") from None
 
 
-def solve_displacements(beam: InflectionBeam, *, b: float, theta0: float, a: float | None = None,
-                        n: float | None = None, l1: float | None = None, prefer: Prefer = "energy",
-                        xtol: float = 1e-12, starts: int = 20) -> PRBMResult:
+def solve_displacements(
+    beam: InflectionBeam,
+    *,
+    b: float,
+    theta0: float,
+    a: float | None = None,
+    n: float | None = None,
+    l1: float | None = None,
+    prefer: Prefer = "energy",
+    xtol: float = 1e-12,
+    starts: int = 20,
+) -> PRBMResult:
     """Displacement-specified problems of [bapat2015, §3.5.2] (theta0 in radians).
 
     Give b and theta0 and exactly one of: a (case 1, Table 3.3), n (cases 2a/2b, Tables 3.4/3.5;

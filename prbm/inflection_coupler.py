@@ -41,6 +41,7 @@ exist the one reported is the one the scan follows.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import cmath
@@ -57,11 +58,21 @@ from scipy.optimize import brentq, root
 from prbm.inflection import InflectionBeam, _point_ends, _point_force, _point_state, _valid, solve_displacements
 from prbm.result import Levels, PRBMResult
 
-__all__ = ["GuidedSegment", "CouplerDrive", "SegmentState", "Window", "segment_state", "reachable_window",
-           "free_force", "solve_coupler"]
+__all__ = [
+    "GuidedSegment",
+    "CouplerDrive",
+    "SegmentState",
+    "Window",
+    "segment_state",
+    "reachable_window",
+    "free_force",
+    "solve_coupler",
+]
 
-MODEL = ("fixed-guided segments with one inflection point (seed 000 eqs (131)-(152)) on one rigid coupler, "
-         "one coupler translation and its rotation prescribed, the other translation free (seed 000 section 5.5)")
+MODEL = (
+    "fixed-guided segments with one inflection point (seed 000 eqs (131)-(152)) on one rigid coupler, "
+    "one coupler translation and its rotation prescribed, the other translation free (seed 000 section 5.5)"
+)
 RATIOS = (-3.95, -3.0, -2.0, -1.0, -0.5, 0.0, 0.5, 1.0, 2.0, 3.0, 5.0, 7.0, 10.0)
 
 #: the variables of eqs (131)-(152) at one point in plain floats: every one (``_point_state``), or only
@@ -70,8 +81,9 @@ Equations: TypeAlias = Callable[[InflectionBeam, float, float, float, float, flo
 #: the end (a, b, theta0) of a segment, in its frame, at the free translation t
 Ends: TypeAlias = Callable[[float], tuple[float, float, float]]
 #: the residuals of a warm-started problem at x, and the state there, with the given equations
-WarmResidual: TypeAlias = Callable[[Sequence[float] | NDArray[np.float64], Equations],
-                                   tuple[NDArray[np.float64], dict[str, float]]]
+WarmResidual: TypeAlias = Callable[
+    [Sequence[float] | NDArray[np.float64], Equations], tuple[NDArray[np.float64], dict[str, float]]
+]
 
 
 @dataclass(frozen=True)
@@ -134,10 +146,10 @@ class SegmentState:
     theta0: float
     valid: bool
     message: str
-    P: float = math.nan          # transverse end force on the beam (segment frame)
-    nP: float = math.nan         # axial end force on the beam, compressive positive
-    moment: float = math.nan     # CCW end moment on the beam
-    energy: float = math.nan     # PRBM spring energy (eq 165)
+    P: float = math.nan  # transverse end force on the beam (segment frame)
+    nP: float = math.nan  # axial end force on the beam, compressive positive
+    moment: float = math.nan  # CCW end moment on the beam
+    energy: float = math.nan  # PRBM spring energy (eq 165)
     n: float = math.nan
     l1: float = math.nan
 
@@ -175,7 +187,7 @@ class _Warm:
 
     def __init__(self) -> None:
         self.x: NDArray[np.float64] | None = None
-        self.t: float | None = None                    # the free translation of the last case-1 root
+        self.t: float | None = None  # the free translation of the last case-1 root
         self.given: NDArray[np.float64] | None = None  # (n, b, theta0) of the last case-2 root
 
     def case1(self, beam: InflectionBeam, ends: Ends, t: float) -> tuple[dict[str, float], str] | str:
@@ -195,8 +207,9 @@ class _Warm:
         self.x, self.t = np.array([float(o["phi1"]), float(o["l1"]) / beam.length, float(o["theta10"])]), t
         return {k: float(v) for k, v in o.items()}, res.message
 
-    def _continue(self, beam: InflectionBeam, ends: Ends, x0: NDArray[np.float64], t0: float, t: float,
-                  steps: int) -> dict[str, float] | None:
+    def _continue(
+        self, beam: InflectionBeam, ends: Ends, x0: NDArray[np.float64], t0: float, t: float, steps: int
+    ) -> dict[str, float] | None:
         """The case-1 state at t continued from the root x0 at t0 in ``steps`` steps of t; None if a step fails."""
         x, state = x0, None
         for k in range(1, steps + 1):
@@ -218,8 +231,9 @@ class _Warm:
                 for k in range(1, steps + 1):
                     nk, bk, thk = (self.given + (given - self.given) * k / steps).tolist()
                     phi1 = math.atan2(1.0, -nk)
-                    state = _warm_root(beam, x, lambda y, eqs: _case1_residual(beam, [phi1, *y], None, bk, thk,
-                                                                              eqs), 2, phi1=phi1)
+                    state = _warm_root(
+                        beam, x, lambda y, eqs: _case1_residual(beam, [phi1, *y], None, bk, thk, eqs), 2, phi1=phi1
+                    )
                     if state is None:
                         break
                     x = np.array([state["l1"] / beam.length, state["theta10"]])
@@ -234,17 +248,28 @@ class _Warm:
         return {k: float(v) for k, v in o.items()}
 
 
-def _state(beam: InflectionBeam, phi1: float, l1_ratio: float, theta10: float, theta0: float,
-           equations: Equations = _point_state) -> dict[str, float]:
+def _state(
+    beam: InflectionBeam,
+    phi1: float,
+    l1_ratio: float,
+    theta10: float,
+    theta0: float,
+    equations: Equations = _point_state,
+) -> dict[str, float]:
     """Every variable of eqs (131)-(152) with F from eq (143) (as ``prbm.inflection`` does), in plain floats
     (``equations=_point_ends``: only r96, a and b, what the residuals read)."""
     l1 = l1_ratio * beam.length
     return equations(beam, _point_force(beam, phi1, l1, theta10), phi1, theta0, l1, theta10)
 
 
-def _case1_residual(beam: InflectionBeam, x: Sequence[float] | NDArray[np.float64], a: float | None, b: float,
-                    theta0: float, equations: Equations = _point_state
-                    ) -> tuple[NDArray[np.float64], dict[str, float]]:
+def _case1_residual(
+    beam: InflectionBeam,
+    x: Sequence[float] | NDArray[np.float64],
+    a: float | None,
+    b: float,
+    theta0: float,
+    equations: Equations = _point_state,
+) -> tuple[NDArray[np.float64], dict[str, float]]:
     """Residuals (144), (151), (152) (without (152) when a is None) of the state at x = (phi1, l1/l, theta10),
     and the state (every variable, or with ``equations=_point_ends`` only r96, a and b)."""
     with np.errstate(all="ignore"):
@@ -255,17 +280,23 @@ def _case1_residual(beam: InflectionBeam, x: Sequence[float] | NDArray[np.float6
     return np.array(r), st
 
 
-def _warm_root(beam: InflectionBeam, x0: ArrayLike, residual: WarmResidual, size: int,
-               phi1: float | None = None) -> dict[str, float] | None:
+def _warm_root(
+    beam: InflectionBeam, x0: ArrayLike, residual: WarmResidual, size: int, phi1: float | None = None
+) -> dict[str, float] | None:
     """Newton-type solve (MINPACK hybrd) from x0; the state if it converged to a valid root, else None.
     ``residual(x, equations)`` -> (residuals, state): the solve reads the residuals of ``_point_ends``, the
     converged point is judged on its whole state (``_point_state``), the same floats."""
     full: Callable[[NDArray[np.float64]], NDArray[np.float64]] = (
-        (lambda x: np.r_[phi1, x]) if phi1 is not None else (lambda x: x))
+        (lambda x: np.r_[phi1, x]) if phi1 is not None else (lambda x: x)
+    )
     try:
         with np.errstate(all="ignore"):
-            sol = root(lambda x: residual(x.tolist(), _point_ends)[0], np.asarray(x0, float), method="hybr",
-                       options={"xtol": 1e-12})
+            sol = root(
+                lambda x: residual(x.tolist(), _point_ends)[0],
+                np.asarray(x0, float),
+                method="hybr",
+                options={"xtol": 1e-12},
+            )
         r, st = residual(sol.x, _point_state)
     except (ValueError, ZeroDivisionError, ArithmeticError):
         return None
@@ -290,22 +321,34 @@ def segment_state(seg: GuidedSegment, drive: CouplerDrive, t: float, warm: _Warm
 
     def ends(tk: float) -> tuple[float, float, float]:
         ak, bk, thk = drive.segment_end(seg, tk)
-        return ak, sign * bk, sign * thk    # mirrored when b < 0 (the search is for P > 0)
+        return ak, sign * bk, sign * thk  # mirrored when b < 0 (the search is for P > 0)
 
     found = (warm or _Warm()).case1(seg.beam(), ends, t)
     if isinstance(found, str):
         return SegmentState(seg, a, b, theta0, False, f"segment '{seg.name}': {found}")
     o, message = found
     # eq (147)'s M opposes P (clockwise for P > 0): the CCW moment on the beam is -M; mirrored: P, M flip
-    return SegmentState(seg, a, b, theta0, True, message, P=sign * o["P"], nP=o["nP"],
-                        moment=-sign * o["M"], energy=o["U"], n=o["n"], l1=o["l1"])
+    return SegmentState(
+        seg,
+        a,
+        b,
+        theta0,
+        True,
+        message,
+        P=sign * o["P"],
+        nP=o["nP"],
+        moment=-sign * o["M"],
+        energy=o["U"],
+        n=o["n"],
+        l1=o["l1"],
+    )
 
 
 def _t_at_ratio(seg: GuidedSegment, drive: CouplerDrive, n: float, warm: _Warm) -> float | None:
     """The free translation at which the segment's case-2 end (b, theta0, n -> a) meets the coupler's."""
-    w = drive.free * cmath.exp(-1j * seg.theta1)   # the free direction in the segment frame
+    w = drive.free * cmath.exp(-1j * seg.theta1)  # the free direction in the segment frame
     if abs(w.real) < 1e-3:
-        return None   # the free motion hardly changes a: a single segment cannot fix it
+        return None  # the free motion hardly changes a: a single segment cannot fix it
     t, previous = 0.0, None
     for _ in range(30):
         a, b, theta0 = drive.segment_end(seg, t)
@@ -341,8 +384,9 @@ def reachable_window(seg: GuidedSegment, drive: CouplerDrive, ratios: Sequence[f
     return Window(seg.name, tuple(t for _, t in reached), tuple(n for n, _ in reached))
 
 
-def free_force(segments: list[GuidedSegment], drive: CouplerDrive, t: float,
-               warms: list[_Warm] | None = None) -> tuple[float, list[SegmentState]]:
+def free_force(
+    segments: list[GuidedSegment], drive: CouplerDrive, t: float, warms: list[_Warm] | None = None
+) -> tuple[float, list[SegmentState]]:
     """sum_j Re(conj(w) F_j): the free-direction force the segments need (NaN if a segment has no valid root)."""
     warms = warms or [_Warm() for _ in segments]
     states = [segment_state(s, drive, t, wm) for s, wm in zip(segments, warms)]
@@ -360,19 +404,30 @@ def solve_coupler(segments: list[GuidedSegment], drive: CouplerDrive, *, samples
     ``extras``: windows, states, the bracket."""
     t0 = time.perf_counter()
     windows = [reachable_window(s, drive) for s in segments]
-    text = "; ".join(f"{w.segment}: t in [{w.low:.4g}, {w.high:.4g}]" if not w.empty else f"{w.segment}: none"
-                     for w in windows)
-    low, high = (max(w.low for w in windows), min(w.high for w in windows)) if not any(w.empty for w in windows) \
+    text = "; ".join(
+        f"{w.segment}: t in [{w.low:.4g}, {w.high:.4g}]" if not w.empty else f"{w.segment}: none" for w in windows
+    )
+    low, high = (
+        (max(w.low for w in windows), min(w.high for w in windows))
+        if not any(w.empty for w in windows)
         else (math.inf, -math.inf)
+    )
     if not low < high:
-        return _failed(f"no PRBM state within the fits (-4 < n <= 10): the segments reach disjoint windows of "
-                       f"the free translation ({text})", windows, t0)
+        return _failed(
+            f"no PRBM state within the fits (-4 < n <= 10): the segments reach disjoint windows of "
+            f"the free translation ({text})",
+            windows,
+            t0,
+        )
     pad = 1e-6 * (high - low)
     grid = np.linspace(low + pad, high - pad, samples)
     warms = [_Warm() for _ in segments]
     values = [free_force(segments, drive, float(t), warms)[0] for t in grid]
-    brackets = [(float(grid[i]), float(grid[i + 1])) for i in range(samples - 1)
-                if np.isfinite(values[i]) and np.isfinite(values[i + 1]) and values[i] * values[i + 1] <= 0]
+    brackets = [
+        (float(grid[i]), float(grid[i + 1]))
+        for i in range(samples - 1)
+        if np.isfinite(values[i]) and np.isfinite(values[i + 1]) and values[i] * values[i + 1] <= 0
+    ]
     if not brackets:
         return _failed(f"the free-direction force keeps one sign over the overlap of the windows ({text})", windows, t0)
     lo, hi = min(brackets, key=lambda br: abs(br[0] + br[1]))
@@ -383,19 +438,31 @@ def solve_coupler(segments: list[GuidedSegment], drive: CouplerDrive, *, samples
     total = sum(st.force for st in states)
     moment = sum(st.moment + _cross(drive.end(st.segment, t) - P, st.force) for st in states)
     out: dict[str, Levels] = {
-        "t": np.asarray(t), "strain_energy": np.asarray(sum(st.energy for st in states)),
+        "t": np.asarray(t),
+        "strain_energy": np.asarray(sum(st.energy for st in states)),
         "force_along": np.asarray((total * (drive.along / abs(drive.along)).conjugate()).real),
-        "moment": np.asarray(moment)}
-    message = (f"coupler equilibrium at t = {t:.6g} ({text}); "
-               + "; ".join(f"{st.segment.name}: n = {st.n:.3g}, {st.message}" for st in states))
-    return PRBMResult(ok, message if ok else "free-direction force left at a jump between PRBM roots; " + message,
-                      out, {"segments": [s.name for s in segments]}, MODEL, time.perf_counter() - t0, 0,
-                      np.array([ok]), extras={"windows": windows, "states": states, "bracket": (lo, hi)})
+        "moment": np.asarray(moment),
+    }
+    message = f"coupler equilibrium at t = {t:.6g} ({text}); " + "; ".join(
+        f"{st.segment.name}: n = {st.n:.3g}, {st.message}" for st in states
+    )
+    return PRBMResult(
+        ok,
+        message if ok else "free-direction force left at a jump between PRBM roots; " + message,
+        out,
+        {"segments": [s.name for s in segments]},
+        MODEL,
+        time.perf_counter() - t0,
+        0,
+        np.array([ok]),
+        extras={"windows": windows, "states": states, "bracket": (lo, hi)},
+    )
 
 
 def _failed(message: str, windows: list[Window], t0: float) -> PRBMResult:
-    return PRBMResult(False, message, {}, {}, MODEL, time.perf_counter() - t0, 0, np.array([False]),
-                      extras={"windows": windows})
+    return PRBMResult(
+        False, message, {}, {}, MODEL, time.perf_counter() - t0, 0, np.array([False]), extras={"windows": windows}
+    )
 
 
 def _cross(r: complex, F: complex) -> float:

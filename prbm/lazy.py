@@ -6,6 +6,7 @@ No mathematics and no angles here (radians everywhere in the library). The proje
 loaded this way are also named in an ``if TYPE_CHECKING:`` import beside the ``LazyModule``, so the
 static import walks (the run cache's source hash, the layout test's cycle check) still see them.
 """
+
 from __future__ import annotations
 
 import importlib

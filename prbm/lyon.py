@@ -31,6 +31,7 @@ symmetric guided-beam start (l_A = l/2, theta_A = theta_B).
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import math
@@ -45,32 +46,50 @@ from prbm.fits import PAULY_MIDHA, load_ratio
 from prbm.result import PRBMResult
 
 
-def _state(x: Sequence[float] | NDArray[np.float64], F: float, phi: float, length: float, EI: float
-           ) -> tuple[list[float], dict[str, float]]:
+def _state(
+    x: Sequence[float] | NDArray[np.float64], F: float, phi: float, length: float, EI: float
+) -> tuple[list[float], dict[str, float]]:
     lA, tA, tB = x
     lB = length - lA
     gA, cA, KA = PAULY_MIDHA.parameters(load_ratio(phi), "allow")
     thE = cA * tA
     for _ in range(50):  # theta_E depends on c_B(n_B(theta_E)): fixed point (c_theta varies slowly)
         gB, cB, KB = PAULY_MIDHA.parameters(load_ratio(phi - thE), "allow")
-        new = cA * tA - cB * tB                                                     # (64), (65)
+        new = cA * tA - cB * tB  # (64), (65)
         if abs(new - thE) < 1e-15:
             break
         thE = new
-    kA, kB = gA * KA * EI / lA, gB * KB * EI / lB                                    # (68)
-    res = [F * gA * lA * math.sin(phi - tA) - kA * tA,                               # (66)
-           F * gB * lB * math.sin(phi - thE - tB) - kB * tB,                         # (67*)
-           (kA * tA - kB * tB) / (kA + kB)]                                          # (69)
-    return res, {"lA": lA, "lB": lB, "gA": gA, "gB": gB, "cA": cA, "cB": cB, "KA": KA, "KB": KB,
-                 "thA": tA, "thB": tB, "thE": thE, "nB": load_ratio(phi - thE)}
+    kA, kB = gA * KA * EI / lA, gB * KB * EI / lB  # (68)
+    res = [
+        F * gA * lA * math.sin(phi - tA) - kA * tA,  # (66)
+        F * gB * lB * math.sin(phi - thE - tB) - kB * tB,  # (67*)
+        (kA * tA - kB * tB) / (kA + kB),
+    ]  # (69)
+    return res, {
+        "lA": lA,
+        "lB": lB,
+        "gA": gA,
+        "gB": gB,
+        "cA": cA,
+        "cB": cB,
+        "KA": KA,
+        "KB": KB,
+        "thA": tA,
+        "thB": tB,
+        "thE": thE,
+        "nB": load_ratio(phi - thE),
+    }
 
 
 def _kinematics(s: Mapping[str, float]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Pin and end positions of the PRBM chain (chapter 3's eqs 103-104 form)."""
     lA, lB, gA, gB, tA, tB, thE = s["lA"], s["lB"], s["gA"], s["gB"], s["thA"], s["thB"], s["thE"]
     pin = np.array([(1 - gA) * lA + gA * lA * math.cos(tA), gA * lA * math.sin(tA)])
-    end = pin + gB * lB * np.array([math.cos(thE + tB), math.sin(thE + tB)]) \
+    end = (
+        pin
+        + gB * lB * np.array([math.cos(thE + tB), math.sin(thE + tB)])
         + (1 - gB) * lB * np.array([math.cos(thE), math.sin(thE)])
+    )
     return pin, end
 
 
@@ -92,8 +111,12 @@ def lyon_from_tip(*, b: float, theta0: float, length: float, EI: float) -> PRBMR
 
     best = None
     t_start = math.asin(min(0.95, abs(b) / length))
-    starts = [(lA, phi0, scale) for lA in (0.5, 0.25, 0.75) for scale in (4.0, 16.0)
-              for phi0 in (math.pi / 2, math.pi / 3, 2 * math.pi / 3)]
+    starts = [
+        (lA, phi0, scale)
+        for lA in (0.5, 0.25, 0.75)
+        for scale in (4.0, 16.0)
+        for phi0 in (math.pi / 2, math.pi / 3, 2 * math.pi / 3)
+    ]
     for lA, phi0, scale in starts:  # f = F l^2/EI ~ 4 K Theta (guided beam), or stiffer
         sol = root(residual, [lA * length, t_start, t_start, scale * 2.65 * t_start, phi0], method="hybr", tol=1e-13)
         sol.x[4] = sol.x[4] % (2 * math.pi)  # the force angle, modulo a turn
@@ -102,8 +125,14 @@ def lyon_from_tip(*, b: float, theta0: float, length: float, EI: float) -> PRBMR
             best = sol
             break
     if best is None:
-        return PRBMResult(False, "no solution of eqs (64)-(70) with F > 0 and P > 0 found from the starts tried", {}, {},
-                          "Lyon et al. fixed-guided PRBM, seed 000 eqs (64)-(70)", time.perf_counter() - t0)
+        return PRBMResult(
+            False,
+            "no solution of eqs (64)-(70) with F > 0 and P > 0 found from the starts tried",
+            {},
+            {},
+            "Lyon et al. fixed-guided PRBM, seed 000 eqs (64)-(70)",
+            time.perf_counter() - t0,
+        )
     lA, tA, tB, f, phi = best.x
     F = f * EI / length**2
     _, s = _state((lA, tA, tB), F, phi, length, EI)
@@ -112,12 +141,28 @@ def lyon_from_tip(*, b: float, theta0: float, length: float, EI: float) -> PRBMR
     pin, end = _kinematics(s)
     Fx, Fy = F * math.cos(phi), F * math.sin(phi)
     r = end - pin
-    out = {"a": end[0], "b": end[1], "theta0": s["thE"], "P": Fy, "nP": -Fx, "M": -(r[0] * Fy - r[1] * Fx),
-           "l_A": lA, "theta_A": tA, "theta_B": tB, "n_B": s["nB"]}
-    return PRBMResult(True, "converged", {k: np.float64(v) for k, v in out.items()},
-                      {"gamma_A": s["gA"], "gamma_B": s["gB"], "c_A": s["cA"], "c_B": s["cB"], "K_A": s["KA"],
-                       "K_B": s["KB"]}, "Lyon et al. fixed-guided PRBM, seed 000 eqs (64)-(70)",
-                      time.perf_counter() - t0, int(best.nfev), np.array([True]))
+    out = {
+        "a": end[0],
+        "b": end[1],
+        "theta0": s["thE"],
+        "P": Fy,
+        "nP": -Fx,
+        "M": -(r[0] * Fy - r[1] * Fx),
+        "l_A": lA,
+        "theta_A": tA,
+        "theta_B": tB,
+        "n_B": s["nB"],
+    }
+    return PRBMResult(
+        True,
+        "converged",
+        {k: np.float64(v) for k, v in out.items()},
+        {"gamma_A": s["gA"], "gamma_B": s["gB"], "c_A": s["cA"], "c_B": s["cB"], "K_A": s["KA"], "K_B": s["KB"]},
+        "Lyon et al. fixed-guided PRBM, seed 000 eqs (64)-(70)",
+        time.perf_counter() - t0,
+        int(best.nfev),
+        np.array([True]),
+    )
 
 
 def lyon_tip(Fx: float, Fy: float, *, length: float, EI: float) -> PRBMResult:
@@ -134,18 +179,30 @@ def lyon_tip(Fx: float, Fy: float, *, length: float, EI: float) -> PRBMResult:
     F, phi = math.hypot(Fx, Fy), math.atan2(Fy, Fx)
     PAULY_MIDHA.parameters(load_ratio(phi))  # raises FitRangeError for n outside the fits
     start = min(1.0, F * length**2 / (EI * 4 * 2.65))  # small-angle Theta of the guided beam, (F l^2/EI) = 4 K Theta
-    sol = root(lambda x: _state(x, F, phi, length, EI)[0], [0.5 * length, start, start], method="hybr",
-               tol=1e-13)
+    sol = root(lambda x: _state(x, F, phi, length, EI)[0], [0.5 * length, start, start], method="hybr", tol=1e-13)
     residual, s = _state(sol.x, F, phi, length, EI)
-    ok = bool(sol.success) and max(abs(r) for r in residual) < 1e-9 * max(1.0, F * length) \
-        and 0.0 < s["lA"] < length
+    ok = bool(sol.success) and max(abs(r) for r in residual) < 1e-9 * max(1.0, F * length) and 0.0 < s["lA"] < length
     PAULY_MIDHA.parameters(s["nB"])
     pin, end = _kinematics(s)
     r = end - pin
-    out = {"a": end[0], "b": end[1], "theta0": s["thE"], "M": -(r[0] * Fy - r[1] * Fx), "l_A": s["lA"],
-           "theta_A": s["thA"], "theta_B": s["thB"], "n_B": s["nB"]}
+    out = {
+        "a": end[0],
+        "b": end[1],
+        "theta0": s["thE"],
+        "M": -(r[0] * Fy - r[1] * Fx),
+        "l_A": s["lA"],
+        "theta_A": s["thA"],
+        "theta_B": s["thB"],
+        "n_B": s["nB"],
+    }
     message = "converged" if ok else f"not converged: {sol.message} (l_A = {s['lA']:.4g})"
-    return PRBMResult(ok, message, {k: np.float64(v) for k, v in out.items()},
-                      {"gamma_A": s["gA"], "gamma_B": s["gB"], "c_A": s["cA"], "c_B": s["cB"], "K_A": s["KA"],
-                       "K_B": s["KB"]}, "Lyon et al. fixed-guided PRBM, seed 000 eqs (64)-(70)",
-                      time.perf_counter() - t0, int(sol.nfev), np.array([ok]))
+    return PRBMResult(
+        ok,
+        message,
+        {k: np.float64(v) for k, v in out.items()},
+        {"gamma_A": s["gA"], "gamma_B": s["gB"], "c_A": s["cA"], "c_B": s["cB"], "K_A": s["KA"], "K_B": s["KB"]},
+        "Lyon et al. fixed-guided PRBM, seed 000 eqs (64)-(70)",
+        time.perf_counter() - t0,
+        int(sol.nfev),
+        np.array([ok]),
+    )

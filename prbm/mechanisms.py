@@ -29,6 +29,7 @@ Compliance torque eq (196); MA_R = d_i/|I12 I24| (eq 199).
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import cmath
@@ -48,9 +49,9 @@ from prbm.result import Levels, PRBMResult
 __all__ = ["FourBar", "SliderCrank", "four_bar_rates", "slider_crank_rate"]
 
 
-LOOP_TOLERANCE = 0.01   # printed vectors close only to their rounding (Test 2: 0.002 in on 7 in)
+LOOP_TOLERANCE = 0.01  # printed vectors close only to their rounding (Test 2: 0.002 in on 7 in)
 
-_A = TypeVar("_A", float, NDArray[np.float64])   # an angle at one pose (a float) or at many (an array)
+_A = TypeVar("_A", float, NDArray[np.float64])  # an angle at one pose (a float) or at many (an array)
 
 
 @overload
@@ -126,9 +127,11 @@ class FourBar:
         self.loop_error = abs(self.Z2 + self.Z3 - self.Z1 - self.Z4)
         longest = max(self.R1, self.R2, self.R3, self.R4)
         if self.loop_error > LOOP_TOLERANCE * longest or not math.isfinite(t3_computed):
-            raise ValueError(f"the four-bar loop Z2 + Z3 = Z1 + Z4 does not close: |Z2 + Z3 - Z1 - Z4| = "
-                             f"{self.loop_error:.4g}, more than {LOOP_TOLERANCE:.0%} of the longest link "
-                             f"({longest:.4g}); check the vectors")
+            raise ValueError(
+                f"the four-bar loop Z2 + Z3 = Z1 + Z4 does not close: |Z2 + Z3 - Z1 - Z4| = "
+                f"{self.loop_error:.4g}, more than {LOOP_TOLERANCE:.0%} of the longest link "
+                f"({longest:.4g}); check the vectors"
+            )
 
     # --- kinematics -------------------------------------------------------------------------
     @overload
@@ -137,8 +140,9 @@ class FourBar:
     @overload
     def angles(self, theta2: NDArray[Any]) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
 
-    def angles(self, theta2: float | NDArray[Any]
-               ) -> tuple[np.float64, np.float64] | tuple[NDArray[np.float64], NDArray[np.float64]]:
+    def angles(
+        self, theta2: float | NDArray[Any]
+    ) -> tuple[np.float64, np.float64] | tuple[NDArray[np.float64], NDArray[np.float64]]:
         """(Theta3, Theta4) for input angle(s) Theta2 (rad), on the position-1 assembly branch.
 
         Loop Z2 + Z3 = Z1 + Z4: with D = Z1 - Z2 (A to O4), B = A + R3 e^{i Theta3} = O4 + R4 e^{i Theta4}.
@@ -210,20 +214,23 @@ class FourBar:
     def coupler_point(self, theta2: float, angles: tuple[float, float] | None = None) -> complex: ...
 
     @overload
-    def coupler_point(self, theta2: NDArray[Any],
-                      angles: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
-                      ) -> NDArray[np.complex128]: ...
+    def coupler_point(
+        self, theta2: NDArray[Any], angles: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
+    ) -> NDArray[np.complex128]: ...
 
-    def coupler_point(self, theta2: float | NDArray[Any],
-                      angles: tuple[float, float] | tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
-                      ) -> complex | NDArray[np.complex128]:
+    def coupler_point(
+        self,
+        theta2: float | NDArray[Any],
+        angles: tuple[float, float] | tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
+    ) -> complex | NDArray[np.complex128]:
         """Coupler point P = A + R5 e^{i(Theta3 + offset)} (complex, O2 at the origin).
 
         ``angles``: (Theta3, Theta4) of these theta2 when already known (from ``angles``)."""
         theta2 = np.asarray(theta2, dtype=float)
         theta3, _ = self.angles(theta2) if angles is None else angles
-        point: complex | NDArray[Any] = (self.R2 * np.exp(1j * theta2)
-                                         + self.R5 * np.exp(1j * (theta3 + self.coupler_offset)))
+        point: complex | NDArray[Any] = self.R2 * np.exp(1j * theta2) + self.R5 * np.exp(
+            1j * (theta3 + self.coupler_offset)
+        )
         return point
 
     def kinematic_coefficients(self, theta2: _A, angles: tuple[_A, _A] | None = None) -> tuple[_A, _A]:
@@ -247,18 +254,33 @@ class FourBar:
 
             def xy(z: complex) -> tuple[float, float]:
                 return (z.real, z.imag)
+
             r3, r4 = float(_wrap(t30 - t3)), float(_wrap(t40 - t4))  # printed angles off the loop
             k1, k2, k3, k4 = self.springs
             self._pose = (t20, t3, t4)
             self._network = Network(
                 ["link2", "coupler", "link4"],
-                {"O2": (GROUND, (0.0, 0.0)), "A": ("link2", xy(A)), "B": ("coupler", xy(B)),
-                 "P": ("coupler", xy(P)), "O4": (GROUND, xy(self.Z1))},
-                pins=[Pin("link2", GROUND, (0.0, 0.0), "O2"), Pin("coupler", "link2", xy(A), "A"),
-                      Pin("link4", "coupler", xy(B), "B"), Pin("link4", GROUND, xy(self.Z1), "O4")],
-                springs=[TorsionSpring("link2", GROUND, k1, 0.0, "k1"), TorsionSpring("coupler", "link2", k2, r3, "k2"),
-                         TorsionSpring("link4", "coupler", k3, r4 - r3, "k3"), TorsionSpring("link4", GROUND, k4, r4, "k4")],
-                origins={"link2": (0.0, 0.0), "coupler": xy(A), "link4": xy(self.Z1)})
+                {
+                    "O2": (GROUND, (0.0, 0.0)),
+                    "A": ("link2", xy(A)),
+                    "B": ("coupler", xy(B)),
+                    "P": ("coupler", xy(P)),
+                    "O4": (GROUND, xy(self.Z1)),
+                },
+                pins=[
+                    Pin("link2", GROUND, (0.0, 0.0), "O2"),
+                    Pin("coupler", "link2", xy(A), "A"),
+                    Pin("link4", "coupler", xy(B), "B"),
+                    Pin("link4", GROUND, xy(self.Z1), "O4"),
+                ],
+                springs=[
+                    TorsionSpring("link2", GROUND, k1, 0.0, "k1"),
+                    TorsionSpring("coupler", "link2", k2, r3, "k2"),
+                    TorsionSpring("link4", "coupler", k3, r4 - r3, "k3"),
+                    TorsionSpring("link4", GROUND, k4, r4, "k4"),
+                ],
+                origins={"link2": (0.0, 0.0), "coupler": xy(A), "link4": xy(self.Z1)},
+            )
         return self._network
 
     def _configuration(self, theta2: float, angles: tuple[float, float] | None = None) -> NDArray[np.float64]:
@@ -278,11 +300,13 @@ class FourBar:
     def strain_energy(self, theta2: float, angles: tuple[float, float] | None = None) -> float: ...
 
     @overload
-    def strain_energy(self, theta2: NDArray[Any], angles: tuple[ArrayLike, ArrayLike] | None = None
-                      ) -> NDArray[np.float64]: ...
+    def strain_energy(
+        self, theta2: NDArray[Any], angles: tuple[ArrayLike, ArrayLike] | None = None
+    ) -> NDArray[np.float64]: ...
 
-    def strain_energy(self, theta2: float | NDArray[Any], angles: tuple[ArrayLike, ArrayLike] | None = None
-                      ) -> float | NDArray[np.float64]:
+    def strain_energy(
+        self, theta2: float | NDArray[Any], angles: tuple[ArrayLike, ArrayLike] | None = None
+    ) -> float | NDArray[np.float64]:
         """U = 1/2 sum k_i (beta_i - beta_i0)^2 (eq 181), from the network's springs."""
         return self._per_angle(theta2, angles, lambda q: self.network().strain_energy(q))
 
@@ -290,24 +314,30 @@ class FourBar:
     def input_torque(self, theta2: float, angles: tuple[float, float] | None = None) -> float: ...
 
     @overload
-    def input_torque(self, theta2: NDArray[Any], angles: tuple[ArrayLike, ArrayLike] | None = None
-                     ) -> NDArray[np.float64]: ...
+    def input_torque(
+        self, theta2: NDArray[Any], angles: tuple[ArrayLike, ArrayLike] | None = None
+    ) -> NDArray[np.float64]: ...
 
-    def input_torque(self, theta2: float | NDArray[Any], angles: tuple[ArrayLike, ArrayLike] | None = None
-                     ) -> float | NDArray[np.float64]:
+    def input_torque(
+        self, theta2: float | NDArray[Any], angles: tuple[ArrayLike, ArrayLike] | None = None
+    ) -> float | NDArray[np.float64]:
         """T on link 2 holding the linkage at Theta2 (eqs 182, 193): the network's driving torque
         (virtual work with the joint-compatible velocity of unit input rate)."""
         return self._per_angle(theta2, angles, lambda q: self.network().driving_torque(q, "link2"))
 
-    def _per_angle(self, theta2: ArrayLike, angles: tuple[ArrayLike, ArrayLike] | None,
-                   f: Callable[[NDArray[np.float64]], float]) -> float | NDArray[np.float64]:
+    def _per_angle(
+        self, theta2: ArrayLike, angles: tuple[ArrayLike, ArrayLike] | None, f: Callable[[NDArray[np.float64]], float]
+    ) -> float | NDArray[np.float64]:
         theta2 = np.asarray(theta2, float)
         if angles is None:
             angles = self.angles(theta2)
         t3, t4 = (np.asarray(a, float) for a in angles)
-        flat = [f(self._configuration(float(a), (float(b), float(c)))) if math.isfinite(float(b)) else math.nan
-                for a, b, c in zip(theta2.ravel(), np.broadcast_to(t3, theta2.shape).ravel(),
-                                   np.broadcast_to(t4, theta2.shape).ravel())]
+        flat = [
+            f(self._configuration(float(a), (float(b), float(c)))) if math.isfinite(float(b)) else math.nan
+            for a, b, c in zip(
+                theta2.ravel(), np.broadcast_to(t3, theta2.shape).ravel(), np.broadcast_to(t4, theta2.shape).ravel()
+            )
+        ]
         out = np.array(flat).reshape(theta2.shape)
         return out if out.ndim else np.float64(out)
 
@@ -324,25 +354,43 @@ class FourBar:
         theta2, t3, t4 = t20 + q[:, 2], t3c + q[:, 5], t4c + q[:, 8]
         P = np.array([complex(*res.position("P", i)) for i in range(len(torques))])
         ok = np.array([s.converged for s in res.states])
-        out: dict[str, Levels] = {"theta2": theta2, "theta3": t3, "theta4": t4, "x": P.real, "y": P.imag,
-                                  "U": np.array([res.strain_energy(i) for i in range(len(torques))]), "T": torques}
-        return PRBMResult(bool(ok.all()), res.message, out,
-                          {"springs": self.springs, "theta_free": self.theta_free,
-                           "R": (self.R1, self.R2, self.R3, self.R4, self.R5)},
-                          "PRB four-bar as a rigid-link network, seed 000 eqs (181)-(183), (191)",
-                          time.perf_counter() - t0, nit=res.iterations, level_converged=ok,
-                          extras={"network": res})
+        out: dict[str, Levels] = {
+            "theta2": theta2,
+            "theta3": t3,
+            "theta4": t4,
+            "x": P.real,
+            "y": P.imag,
+            "U": np.array([res.strain_energy(i) for i in range(len(torques))]),
+            "T": torques,
+        }
+        return PRBMResult(
+            bool(ok.all()),
+            res.message,
+            out,
+            {
+                "springs": self.springs,
+                "theta_free": self.theta_free,
+                "R": (self.R1, self.R2, self.R3, self.R4, self.R5),
+            },
+            "PRB four-bar as a rigid-link network, seed 000 eqs (181)-(183), (191)",
+            time.perf_counter() - t0,
+            nit=res.iterations,
+            level_converged=ok,
+            extras={"network": res},
+        )
 
     # --- mechanical advantage ---------------------------------------------------------------
     @overload
     def instant_centres(self, theta2: float) -> tuple[complex, complex, complex]: ...
 
     @overload
-    def instant_centres(self, theta2: NDArray[Any]
-                        ) -> tuple[complex, complex, NDArray[np.complexfloating[Any, Any]]]: ...
+    def instant_centres(
+        self, theta2: NDArray[Any]
+    ) -> tuple[complex, complex, NDArray[np.complexfloating[Any, Any]]]: ...
 
-    def instant_centres(self, theta2: float | NDArray[Any]
-                        ) -> tuple[complex, complex, complex | NDArray[np.complexfloating[Any, Any]]]:
+    def instant_centres(
+        self, theta2: float | NDArray[Any]
+    ) -> tuple[complex, complex, complex | NDArray[np.complexfloating[Any, Any]]]:
         """I12 (= O2), I14 (= O4), I24 (intersection of line I12-I14 and line I23-I34) as complex."""
         t3, t4 = self.angles(theta2)
         A = self.R2 * np.exp(1j * np.asarray(theta2, float))
@@ -356,8 +404,9 @@ class FourBar:
         s = (A.real * (-v.imag) - A.imag * (-v.real)) / det
         return 0j, O4, s * u
 
-    def rigid_ma(self, theta2: _A, d_in: float, d_out: float, *, via: str = "coefficients",
-                 angles: tuple[_A, _A] | None = None) -> _A:
+    def rigid_ma(
+        self, theta2: _A, d_in: float, d_out: float, *, via: str = "coefficients", angles: tuple[_A, _A] | None = None
+    ) -> _A:
         """MA_R = F_o/F_i for F_i at d_in on link 2 and F_o at d_out on link 4 (eqs 190, 202)."""
         if via == "coefficients":
             _, h4 = self.kinematic_coefficients(theta2, angles)
@@ -367,8 +416,16 @@ class FourBar:
         ma = d_in / d_out * np.abs(I14 - I24) / np.abs(I12 - I24)
         return ma
 
-    def compliant_ma(self, theta2: _A, F_in: float, d_in: float, d_out: float, angles: tuple[_A, _A] | None = None,
-                     *, torque: _A | None = None) -> _A:
+    def compliant_ma(
+        self,
+        theta2: _A,
+        F_in: float,
+        d_in: float,
+        d_out: float,
+        angles: tuple[_A, _A] | None = None,
+        *,
+        torque: _A | None = None,
+    ) -> _A:
         """MA = MA_R (1 - F_c/F_i), F_c = T_c/d_i with T_c the compliance torque (eqs 192, 193).
 
         ``angles``, ``torque``: (Theta3, Theta4) and ``input_torque`` at theta2, when already known."""
@@ -412,7 +469,7 @@ class SliderCrank:
         of it), so theta3 - theta3_ref is the coupler's rotation from position 1 whatever the
         quadrant the reference was given in."""
         s = (self.offset - self.R2 * np.sin(theta2)) / self.R3
-        with np.errstate(invalid="ignore"):   # NaN where the coupler cannot reach (|s| > 1): callers skip it
+        with np.errstate(invalid="ignore"):  # NaN where the coupler cannot reach (|s| > 1): callers skip it
             t = np.arcsin(s)
         t = t if self.branch > 0 else np.pi - t
         theta3: _A = self.theta3_ref + np.remainder(t - self.theta3_ref + np.pi, 2.0 * np.pi) - np.pi
@@ -452,8 +509,11 @@ class SliderCrank:
         grid = self.theta2_ref + np.linspace(-math.pi, math.pi, 2001)
         r = self.slider_x(grid) - target
         i0 = np.argmin(np.abs(grid - self.theta2_ref))
-        candidates = [i for i in range(len(grid) - 1) if np.isfinite(r[i]) and np.isfinite(r[i + 1])
-                      and np.sign(r[i]) != np.sign(r[i + 1])]
+        candidates = [
+            i
+            for i in range(len(grid) - 1)
+            if np.isfinite(r[i]) and np.isfinite(r[i + 1]) and np.sign(r[i]) != np.sign(r[i + 1])
+        ]
         if not candidates:
             raise ValueError(f"slider cannot reach dx = {dx}")
         i = min(candidates, key=lambda j: abs(j - i0))
@@ -474,10 +534,14 @@ class SliderCrank:
                 {"O2": (GROUND, (0.0, 0.0)), "A": ("crank", (A.real, A.imag)), "S": ("coupler", (S.real, S.imag))},
                 pins=[Pin("crank", GROUND, (0.0, 0.0), "O2"), Pin("coupler", "crank", (A.real, A.imag), "A")],
                 sliders=[Slider("coupler", (S.real, S.imag), (1.0, 0.0), name="slider")],
-                springs=[TorsionSpring("crank", GROUND, k1, name="k1"), TorsionSpring("coupler", "crank", k2, name="k2"),
-                         TorsionSpring("coupler", GROUND, k3, name="k3")],
+                springs=[
+                    TorsionSpring("crank", GROUND, k1, name="k1"),
+                    TorsionSpring("coupler", "crank", k2, name="k2"),
+                    TorsionSpring("coupler", GROUND, k3, name="k3"),
+                ],
                 origins={"crank": (0.0, 0.0), "coupler": (A.real, A.imag)},
-                linear_springs=[LinearSpring("S", (1.0, 0.0), self.f_k, "f_k")] if self.f_k else [])
+                linear_springs=[LinearSpring("S", (1.0, 0.0), self.f_k, "f_k")] if self.f_k else [],
+            )
         return self._network
 
     @overload

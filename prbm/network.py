@@ -47,6 +47,7 @@ what a prescribed motion there needs).
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import math
@@ -62,9 +63,26 @@ from scipy.linalg.lapack import dgesv
 
 from planar import GROUND, Couple, Force, Pin, PointedForce, PrescribedDisplacement, PrescribedRotation
 
-__all__ = ["Pin", "Slider", "TorsionSpring", "LinearSpring", "Force", "Couple", "PrescribedDisplacement",
-           "PrescribedRotation", "Network", "NetworkState", "NetworkResult", "GroundLoad", "LockedNetwork",
-           "UnreachableMotion", "GROUND", "RCOND", "solve", "trace"]
+__all__ = [
+    "Pin",
+    "Slider",
+    "TorsionSpring",
+    "LinearSpring",
+    "Force",
+    "Couple",
+    "PrescribedDisplacement",
+    "PrescribedRotation",
+    "Network",
+    "NetworkState",
+    "NetworkResult",
+    "GroundLoad",
+    "LockedNetwork",
+    "UnreachableMotion",
+    "GROUND",
+    "RCOND",
+    "solve",
+    "trace",
+]
 
 RCOND = 1e-10  # a singular value at most RCOND times the largest counts as zero (rank of the Jacobian)
 
@@ -79,8 +97,7 @@ class UnreachableMotion(LockedNetwork):
     ``load.point``. ``moves``: the body (of a rotation) or the point (of a displacement) still moves in
     the motions the joints allow (a parallelogram's coupler translates), else it is held altogether."""
 
-    def __init__(self, message: str, load: "PrescribedDisplacement | PrescribedRotation", by_joints: bool,
-                 moves: bool):
+    def __init__(self, message: str, load: "PrescribedDisplacement | PrescribedRotation", by_joints: bool, moves: bool):
         super().__init__(message)
         self.load = load
         self.by_joints = by_joints
@@ -131,7 +148,7 @@ class _Unreachable(NamedTuple):
     """The first prescribed motion the network cannot make (``UnreachableMotion``'s fields)."""
 
     message: str
-    motion: int         # its index among the prescribed motions
+    motion: int  # its index among the prescribed motions
     by_joints: bool
     moves: bool
 
@@ -200,13 +217,16 @@ class Network:
         rx, ry = 2 * k * width, (2 * k + 1) * width
         ca, cb = 3 * self._pin_a, 3 * self._pin_b
         # flat indices of J: (x_a in row x, y_a in row y, -x_b, -y_b) = (+1, +1, -1, -1), then phi_a, phi_b
-        self._pin_flat = np.concatenate([rx + ca, ry + ca + 1, rx + cb, ry + cb + 1,
-                                         rx + ca + 2, ry + ca + 2, rx + cb + 2, ry + cb + 2])
+        self._pin_flat = np.concatenate(
+            [rx + ca, ry + ca + 1, rx + cb, ry + cb + 1, rx + ca + 2, ry + ca + 2, rx + cb + 2, ry + cb + 2]
+        )
         self._pin_ones = np.concatenate([np.ones(2 * len(k)), -np.ones(2 * len(k))])
         self._joint_rows = 2 * len(self.pins) + sum(1 + s.guided for s in self.sliders)
         self._X0_list = self.X0.tolist()
-        self._pin_list = [(int(a), int(b), float(ra[0]), float(ra[1]), float(rb[0]), float(rb[1]))
-                          for a, b, ra, rb in zip(self._pin_a, self._pin_b, self._pin_ra, self._pin_rb)]
+        self._pin_list = [
+            (int(a), int(b), float(ra[0]), float(ra[1]), float(rb[0]), float(rb[1]))
+            for a, b, ra, rb in zip(self._pin_a, self._pin_b, self._pin_ra, self._pin_rb)
+        ]
         # springs: a constant matrix D (rows: springs, columns: phi of the bodies)
         self._spring_k = np.array([s.k for s in self.springs], float)
         self._spring_rest = np.array([s.rest for s in self.springs], float)
@@ -251,16 +271,18 @@ class Network:
 
     # --- constraints ----------------------------------------------------------------------------
     @overload
-    def joint_constraints(self, q: NDArray[np.float64], lam: None = None, diagonal: bool = False
-                          ) -> tuple[NDArray[np.float64], NDArray[np.float64], None]: ...
+    def joint_constraints(
+        self, q: NDArray[np.float64], lam: None = None, diagonal: bool = False
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], None]: ...
 
     @overload
-    def joint_constraints(self, q: NDArray[np.float64], lam: NDArray[np.float64], diagonal: bool = False
-                          ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
+    def joint_constraints(
+        self, q: NDArray[np.float64], lam: NDArray[np.float64], diagonal: bool = False
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
 
-    def joint_constraints(self, q: NDArray[np.float64], lam: NDArray[np.float64] | None = None,
-                          diagonal: bool = False
-                          ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64] | None]:
+    def joint_constraints(
+        self, q: NDArray[np.float64], lam: NDArray[np.float64] | None = None, diagonal: bool = False
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64] | None]:
         """(Phi, J, H_lam) of the pins and sliders: residual, Jacobian, and sum lam_i hess Phi_i (it is
         diagonal, on the rotations: ``diagonal=True`` returns that diagonal only).
 
@@ -311,7 +333,7 @@ class Network:
             c, sn = math.cos(phi[i]), math.sin(phi[i])
             Rr = np.array([c * r[0] - sn * r[1], sn * r[0] + c * r[1]])
             Phi[row] = nrm @ (X[i] + Rr - np.asarray(s.at, float))
-            J[row, 3 * i:3 * i + 2] = nrm
+            J[row, 3 * i : 3 * i + 2] = nrm
             J[row, 3 * i + 2] = nrm @ np.array([-Rr[1], Rr[0]])
             if H is not None and lam is not None:  # H is made exactly when lam is given
                 H[3 * i + 2] += -lam[row] * (nrm @ Rr)
@@ -397,9 +419,12 @@ class Network:
             phi = q[3 * i + 2]
             c, sn = math.cos(phi), math.sin(phi)
             Rr = np.array([c * r[0] - sn * r[1], sn * r[0] + c * r[1]])
-            stretch = float(e @ (q[3 * i:3 * i + 2] + Rr - r))
-            out.append(_LinearSpringTerm(i, ls.k, stretch, np.array([e[0], e[1], e @ np.array([-Rr[1], Rr[0]])]),
-                                         -float(e @ Rr)))
+            stretch = float(e @ (q[3 * i : 3 * i + 2] + Rr - r))
+            out.append(
+                _LinearSpringTerm(
+                    i, ls.k, stretch, np.array([e[0], e[1], e @ np.array([-Rr[1], Rr[0]])]), -float(e @ Rr)
+                )
+            )
         return out
 
     def strain_energy(self, q: NDArray[np.float64]) -> float:
@@ -413,7 +438,7 @@ class Network:
         g = np.zeros(self.n)
         g[2::3] = self._spring_D.T @ (self._spring_k * self.spring_deflections(q))
         for i, k, stretch, de, _ in self._linear_spring_terms(q):
-            g[3 * i:3 * i + 3] += k * stretch * de
+            g[3 * i : 3 * i + 3] += k * stretch * de
         return g
 
     def spring_hessian(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -421,7 +446,7 @@ class Network:
             return self._spring_H
         H = self._spring_H.copy()
         for i, k, stretch, de, d2 in self._linear_spring_terms(q):
-            H[3 * i:3 * i + 3, 3 * i:3 * i + 3] += k * np.outer(de, de)
+            H[3 * i : 3 * i + 3, 3 * i : 3 * i + 3] += k * np.outer(de, de)
             H[3 * i + 2, 3 * i + 2] += k * stretch * d2
         return H
 
@@ -510,8 +535,9 @@ class NetworkResult:
         assert net._analysis is not None  # set by the solve that made this result (`_check_mobility`)
         rows = net._analysis[2]
         if len(rows) != net._joint_rows:
-            raise ValueError("redundant joints in the PRB model: the loads through its ground joints are "
-                             "statically indeterminate")
+            raise ValueError(
+                "redundant joints in the PRB model: the loads through its ground joints are statically indeterminate"
+            )
         state = self.states[level]
         lam = state.lam
         out: list[GroundLoad] = []
@@ -545,8 +571,10 @@ class NetworkResult:
     def spring_torques(self, level: int) -> dict[str, float]:
         """Torque k (phi_a - phi_b - rest) carried by each spring (name or index)."""
         d = self.network.spring_deflections(self.states[level].q)
-        return {s.name or str(i): float(k * x) for i, (s, k, x) in
-                enumerate(zip(self.network.springs, self.network._spring_k, d))}
+        return {
+            s.name or str(i): float(k * x)
+            for i, (s, k, x) in enumerate(zip(self.network.springs, self.network._spring_k, d))
+        }
 
 
 # --- the problem: loads of one level as generalised forces and prescribed-motion constraints ---------
@@ -563,8 +591,10 @@ class _Problem:
         self.rots = [ld for ld in loads if isinstance(ld, PrescribedRotation)]
         for ld in loads:
             if not isinstance(ld, (Force, PointedForce, Couple, PrescribedDisplacement, PrescribedRotation)):
-                raise ValueError(f"{type(ld).__name__}: the PRB network takes forces, forces toward a point, "
-                                 "couples and prescribed motions only")
+                raise ValueError(
+                    f"{type(ld).__name__}: the PRB network takes forces, forces toward a point, "
+                    "couples and prescribed motions only"
+                )
             values = [getattr(ld, f) for f in ("fx", "fy", "m", "values") if hasattr(ld, f)]
             for v in values:
                 if len(v) != n_levels:
@@ -598,8 +628,9 @@ class _Problem:
         f = t - i
         return values[i] * (1.0 - f) + values[i + 1] * f
 
-    def generalised_forces(self, q: NDArray[np.float64], t: float, scale: float = 1.0
-                           ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    def generalised_forces(
+        self, q: NDArray[np.float64], t: float, scale: float = 1.0
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """(Q, dQ/dq) of the applied forces and couples at load parameter t (times ``scale``)."""
         net = self.net
         n = net.n
@@ -635,8 +666,15 @@ class _Problem:
         return Q, dQ
 
     @staticmethod
-    def _pointed_force(Q: NDArray[np.float64], dQ: NDArray[np.float64], q: NDArray[np.float64], i: int,
-                       r: NDArray[np.float64], pf: PointedForce, T: float) -> None:
+    def _pointed_force(
+        Q: NDArray[np.float64],
+        dQ: NDArray[np.float64],
+        q: NDArray[np.float64],
+        i: int,
+        r: NDArray[np.float64],
+        pf: PointedForce,
+        T: float,
+    ) -> None:
         """Add a force of size T toward ``pf.toward`` (turned by ``pf.angle``) at the point of body i with
         arm r, and its derivative, to (Q, dQ).
 
@@ -645,7 +683,7 @@ class _Problem:
         (R r) x F on phi_i; d((R r) x F)/dq = d(R r)/dq x F + (R r) x dF/dq."""
         c, s = math.cos(q[3 * i + 2]), math.sin(q[3 * i + 2])
         Rr = np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
-        d = np.array(pf.toward, float) - (q[3 * i:3 * i + 2] + Rr)
+        d = np.array(pf.toward, float) - (q[3 * i : 3 * i + 2] + Rr)
         length = math.hypot(d[0], d[1])
         if length == 0.0:
             raise ValueError(f"the force at '{pf.point}' pulls toward {pf.toward}, where the point now is")
@@ -654,17 +692,18 @@ class _Problem:
         F = T * turn @ d / length
         unit = d / length
         A = T * turn @ (np.eye(2) - np.outer(unit, unit)) / length
-        dp = np.array([[1.0, 0.0, -Rr[1]], [0.0, 1.0, Rr[0]]])    # dp/d(x_i, y_i, phi_i)
+        dp = np.array([[1.0, 0.0, -Rr[1]], [0.0, 1.0, Rr[0]]])  # dp/d(x_i, y_i, phi_i)
         dF = -A @ dp
         cols = slice(3 * i, 3 * i + 3)
-        Q[3 * i:3 * i + 2] += F
+        Q[3 * i : 3 * i + 2] += F
         Q[3 * i + 2] += Rr[0] * F[1] - Rr[1] * F[0]
-        dQ[3 * i:3 * i + 2, cols] += dF
+        dQ[3 * i : 3 * i + 2, cols] += dF
         dQ[3 * i + 2, cols] += Rr[0] * dF[1] - Rr[1] * dF[0]
         dQ[3 * i + 2, 3 * i + 2] += -(Rr[0] * F[0] + Rr[1] * F[1])
 
-    def prescribed(self, q: NDArray[np.float64], t: float, scale: float = 1.0
-                   ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    def prescribed(
+        self, q: NDArray[np.float64], t: float, scale: float = 1.0
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """(Phi, J) of the prescribed motions at load parameter t."""
         net = self.net
         m = self.n_prescribed
@@ -701,9 +740,9 @@ class _Problem:
         return H
 
 
-def _residual(problem: _Problem, rows: Rows, q: NDArray[np.float64], lam: NDArray[np.float64], t: float,
-              scale: float = 1.0) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64],
-                                           NDArray[np.float64], float]:
+def _residual(
+    problem: _Problem, rows: Rows, q: NDArray[np.float64], lam: NDArray[np.float64], t: float, scale: float = 1.0
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], float]:
     """KKT residual and matrix at (q, lam) for load parameter t, and the force scale of the residual
     (the largest of the spring, applied and constraint generalised forces)."""
     net = problem.net
@@ -720,7 +759,7 @@ def _residual(problem: _Problem, rows: Rows, q: NDArray[np.float64], lam: NDArra
     Q, dQ = problem.generalised_forces(q, t, scale)
     grad = net.spring_gradient(q)
     K = net.spring_hessian(q) - dQ
-    K.flat[::net.n + 1] += H_j
+    K.flat[:: net.n + 1] += H_j
     if problem.n_prescribed:
         Phi_p, J_p = problem.prescribed(q, t, scale)
         Phi = np.concatenate([Phi_j, Phi_p])
@@ -734,9 +773,17 @@ def _residual(problem: _Problem, rows: Rows, q: NDArray[np.float64], lam: NDArra
     return g, Phi, K, J, force
 
 
-def _newton(problem: _Problem, rows: Rows, q: NDArray[np.float64], lam: NDArray[np.float64], t: float, *,
-            rtol: float, maxiter: int, scale: float = 1.0
-            ) -> tuple[NDArray[np.float64], NDArray[np.float64], bool, int]:
+def _newton(
+    problem: _Problem,
+    rows: Rows,
+    q: NDArray[np.float64],
+    lam: NDArray[np.float64],
+    t: float,
+    *,
+    rtol: float,
+    maxiter: int,
+    scale: float = 1.0,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], bool, int]:
     """Newton on the KKT system at fixed load parameter t, until the residual is below rtol times its
     force scale and the loop closes to rtol times the network's size (a step-size test alone can stop
     on a singular system). Returns (q, lam, converged, linear solves)."""
@@ -766,9 +813,15 @@ def _newton(problem: _Problem, rows: Rows, q: NDArray[np.float64], lam: NDArray[
     return q, lam, False, maxiter
 
 
-def _stability(problem: _Problem, rows: Rows, q: NDArray[np.float64], lam: NDArray[np.float64], t: float,
-               scale: float = 1.0, kkt: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
-               ) -> tuple[bool | None, float]:
+def _stability(
+    problem: _Problem,
+    rows: Rows,
+    q: NDArray[np.float64],
+    lam: NDArray[np.float64],
+    t: float,
+    scale: float = 1.0,
+    kkt: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
+) -> tuple[bool | None, float]:
     """Positive definiteness of the Hessian on the constraints' tangent space (Z^T K Z); ``kkt``:
     (K, J) at this state when already known."""
     K, J = kkt if kkt is not None else _residual(problem, rows, q, lam, t, scale)[2:4]
@@ -793,9 +846,11 @@ def _check_mobility(network: Network, problem: _Problem) -> tuple[int, Rows]:
         network._analysis = (network.mobility(), rank, rows)
     mobility, rank, rows = network._analysis
     if problem.n_prescribed > mobility:
-        raise LockedNetwork(f"the network has {mobility} degree(s) of freedom ({network.n} coordinates, "
-                            f"rank of the joint Jacobian {rank}) but {problem.n_prescribed} motion(s) are "
-                            "prescribed: it locks")
+        raise LockedNetwork(
+            f"the network has {mobility} degree(s) of freedom ({network.n} coordinates, "
+            f"rank of the joint Jacobian {rank}) but {problem.n_prescribed} motion(s) are "
+            "prescribed: it locks"
+        )
     _check_reachable(network, problem)
     return mobility, rows
 
@@ -824,8 +879,9 @@ def _check_reachable(network: Network, problem: _Problem) -> None:
     prescribed: list[Prescription] = [*problem.disps, *problem.rots]
     if not prescribed:
         return
-    key: tuple[tuple[str, str] | str, ...] = tuple((d.point, d.axis) for d in problem.disps) + \
-        tuple(r.body for r in problem.rots)
+    key: tuple[tuple[str, str] | str, ...] = tuple((d.point, d.axis) for d in problem.disps) + tuple(
+        r.body for r in problem.rots
+    )
     if key not in network._reachable:
         network._reachable[key] = _unreachable(network, problem, prescribed)
     known = network._reachable[key]
@@ -842,19 +898,22 @@ def _unreachable(network: Network, problem: _Problem, prescribed: list[Prescript
     rows = _scaled(problem.prescribed(q, 0.0)[1], length)
     base, rank = joints, _rank(joints)
     for k, load in enumerate(prescribed):
-        with_it = np.vstack([base, rows[k:k + 1]])
+        with_it = np.vstack([base, rows[k : k + 1]])
         if _rank(with_it) > rank:
             base, rank = with_it, rank + 1
             continue
-        by_joints = _rank(np.vstack([joints, rows[k:k + 1]])) == _rank(joints)
+        by_joints = _rank(np.vstack([joints, rows[k : k + 1]])) == _rank(joints)
         free = np.linalg.svd(base)[2][rank:].T if base.shape[0] else np.eye(network.n)  # allowed motions
         held_by = "its joints" if by_joints else "its joints and the prescribed motions before it"
         # the basis is orthonormal in z: a body or point that moves has an O(1) entry, one held ~1e-15
         if isinstance(load, PrescribedRotation):
             i = network.index[load.body]
-            moves = bool(free.size) and float(np.abs(free[3 * i:3 * i + 2]).max()) > math.sqrt(RCOND)
-            what = (f"every motion {held_by} allow translates body '{load.body}' without turning it" if moves
-                    else f"{held_by} hold body '{load.body}' still")
+            moves = bool(free.size) and float(np.abs(free[3 * i : 3 * i + 2]).max()) > math.sqrt(RCOND)
+            what = (
+                f"every motion {held_by} allow translates body '{load.body}' without turning it"
+                if moves
+                else f"{held_by} hold body '{load.body}' still"
+            )
             message = f"the prescribed rotation of body '{load.body}' is no motion of the network: {what}"
         else:
             i, r = network.point_arm(load.point)
@@ -862,15 +921,29 @@ def _unreachable(network: Network, problem: _Problem, prescribed: list[Prescript
             arm = np.array([-r[1], r[0]])[other] / length
             speed = free[3 * i + other] + arm * free[3 * i + 2] if free.size else np.zeros(0)
             moves = bool(speed.size) and float(np.abs(speed).max()) > math.sqrt(RCOND)
-            message = (f"the prescribed {load.axis}-displacement of point '{load.point}' is no motion of the "
-                       f"network: {held_by} hold that point along {load.axis}")
-        return _Unreachable(f"{message} at the unloaded pose (rank of the constraint Jacobian {rank} with the "
-                            "prescription as without)", k, by_joints, moves)
+            message = (
+                f"the prescribed {load.axis}-displacement of point '{load.point}' is no motion of the "
+                f"network: {held_by} hold that point along {load.axis}"
+            )
+        return _Unreachable(
+            f"{message} at the unloaded pose (rank of the constraint Jacobian {rank} with the prescription as without)",
+            k,
+            by_joints,
+            moves,
+        )
     return None
 
 
-def solve(network: Network, loads: Sequence[Load], n_levels: int, *, rtol: float = 1e-11, maxiter: int = 30,
-          max_cuts: int = 12, stability: bool = True) -> NetworkResult:
+def solve(
+    network: Network,
+    loads: Sequence[Load],
+    n_levels: int,
+    *,
+    rtol: float = 1e-11,
+    maxiter: int = 30,
+    max_cuts: int = 12,
+    stability: bool = True,
+) -> NetworkResult:
     """Equilibrium at every load level by Newton with load stepping (each level from the last one;
     a failed step is halved up to ``max_cuts`` times). Raises LockedNetwork if the prescribed motions
     exceed the mobility."""
@@ -899,12 +972,14 @@ def solve(network: Network, loads: Sequence[Load], n_levels: int, *, rtol: float
                 guess = (q + f * (q1_ - q0_), lam + f * (l1_ - l0_))
             else:
                 guess = (q, lam)
-            q_new, lam_new, conv, it = _newton(problem, rows, guess[0].copy(), guess[1].copy(), t + dt,
-                                               rtol=rtol, maxiter=maxiter)
+            q_new, lam_new, conv, it = _newton(
+                problem, rows, guess[0].copy(), guess[1].copy(), t + dt, rtol=rtol, maxiter=maxiter
+            )
             its += it
             if not conv and guess[0] is not q:
-                q_new, lam_new, conv, it = _newton(problem, rows, q.copy(), lam.copy(), t + dt,
-                                                   rtol=rtol, maxiter=maxiter)
+                q_new, lam_new, conv, it = _newton(
+                    problem, rows, q.copy(), lam.copy(), t + dt, rtol=rtol, maxiter=maxiter
+                )
                 its += it
             if conv:
                 q, lam, t = q_new, lam_new, t + dt
@@ -917,13 +992,16 @@ def solve(network: Network, loads: Sequence[Load], n_levels: int, *, rtol: float
                     break
         total_it += its
         if not ok:
-            messages.append(f"level {level}: Newton did not converge after {max_cuts} step halvings "
-                            f"(load parameter {t:.6g} of {t_target:g})")
+            messages.append(
+                f"level {level}: Newton did not converge after {max_cuts} step halvings "
+                f"(load parameter {t:.6g} of {t_target:g})"
+            )
             for lv in range(level, n_levels):
                 states.append(NetworkState(np.full(network.n, np.nan), lam * np.nan, False, 0, None, math.nan))
             break
-        stable, ev = _stability(problem, rows, q, lam, t_target, kkt=problem.last_kkt) if stability \
-            else (None, math.nan)
+        stable, ev = (
+            _stability(problem, rows, q, lam, t_target, kkt=problem.last_kkt) if stability else (None, math.nan)
+        )
         states.append(NetworkState(q.copy(), lam.copy(), True, its, stable, ev))
         t_prev = t_target
     converged = all(s.converged for s in states)
@@ -934,8 +1012,16 @@ def solve(network: Network, loads: Sequence[Load], n_levels: int, *, rtol: float
     return NetworkResult(network, states, converged, message, time.perf_counter() - t0, total_it, mobility)
 
 
-def trace(network: Network, loads: Sequence[Load], *, steps: int = 200, ds: float = 0.05, t_max: float = 1.0,
-          rtol: float = 1e-11, maxiter: int = 25) -> NetworkResult:
+def trace(
+    network: Network,
+    loads: Sequence[Load],
+    *,
+    steps: int = 200,
+    ds: float = 0.05,
+    t_max: float = 1.0,
+    rtol: float = 1e-11,
+    maxiter: int = 25,
+) -> NetworkResult:
     """Pseudo-arclength continuation in the load factor lambda (loads = lambda x the last level of
     ``loads``), from the unloaded pose until lambda reaches ``t_max`` or ``steps`` are taken; passes
     limit points. Unknowns z = (q, lam, lambda); the extra equation is t_prev . (z - z_pred) = 0
@@ -949,14 +1035,14 @@ def trace(network: Network, loads: Sequence[Load], *, steps: int = 200, ds: floa
     t_last = float(n_levels - 1)
 
     def F(z: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        q, lam, lf = z[:n], z[n:n + m], z[-1]
+        q, lam, lf = z[:n], z[n : n + m], z[-1]
         g, Phi, K, J, _ = _residual(problem, rows, q, lam, t_last, lf)
         # d/d lambda of (g, Phi): loads are linear in the scale
         g1, Phi1, _, _, _ = _residual(problem, rows, q, lam, t_last, 1.0)
         g0, Phi0, _, _, _ = _residual(problem, rows, q, lam, t_last, 0.0)
         A = np.zeros((n + m, n + m + 1))
         A[:n, :n] = K
-        A[:n, n:n + m] = J.T
+        A[:n, n : n + m] = J.T
         A[n:, :n] = J
         A[:, -1] = np.concatenate([g1 - g0, Phi1 - Phi0])
         return np.concatenate([g, Phi]), A
@@ -964,7 +1050,7 @@ def trace(network: Network, loads: Sequence[Load], *, steps: int = 200, ds: floa
     # arc length measured in the coordinates and the load factor (the multipliers are forces and
     # would dominate the metric): weights 1 on q and lambda, 0 on the multipliers
     weight = np.ones(n + m + 1)
-    weight[n:n + m] = 0.0
+    weight[n : n + m] = 0.0
 
     def unit_tangent(A: NDArray[np.float64], previous: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
         t = _null_vector(A)
@@ -993,8 +1079,9 @@ def trace(network: Network, loads: Sequence[Load], *, steps: int = 200, ds: floa
             dz = np.linalg.solve(full, rhs)
             zz = zz + dz
             total += 1
-            if np.max(np.abs(dz[:n])) <= rtol * max(np.max(np.abs(zz[:n])), 1e-3) and \
-                    abs(dz[-1]) <= rtol * max(abs(zz[-1]), 1e-3):
+            if np.max(np.abs(dz[:n])) <= rtol * max(np.max(np.abs(zz[:n])), 1e-3) and abs(dz[-1]) <= rtol * max(
+                abs(zz[-1]), 1e-3
+            ):
                 ok = True
                 break
         if not ok:
@@ -1002,15 +1089,16 @@ def trace(network: Network, loads: Sequence[Load], *, steps: int = 200, ds: floa
             break
         _, A = F(zz)
         z, tangent = zz, unit_tangent(A, tangent)
-        q, lam = z[:n], z[n:n + m]
+        q, lam = z[:n], z[n : n + m]
         stable, ev = _stability(problem, rows, q, lam, t_last, z[-1])
         states.append(NetworkState(q.copy(), lam.copy(), True, it, stable, ev))
         lfs.append(z[-1])
         if z[-1] >= t_max:
             break
     message = message or f"{len(states)} arc-length steps to load factor {lfs[-1] if lfs else 0.0:.6g}"
-    return NetworkResult(network, states, converged, message, time.perf_counter() - t0, total, mobility,
-                         load_factor=np.array(lfs))
+    return NetworkResult(
+        network, states, converged, message, time.perf_counter() - t0, total, mobility, load_factor=np.array(lfs)
+    )
 
 
 def _null_vector(A: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -20,6 +20,7 @@ Two solves, one result type (``PRBMResult``; ``LoadForMotion`` for the scalar ro
   one output of the model along it reaches a prescribed value (a 1-D bracketed root, Brent's method):
   the bracket grows geometrically from ``guess`` until the response passes the target.
 """
+
 from __future__ import annotations
 
 import math
@@ -37,9 +38,10 @@ from prbm.result import PRBMResult
 from prbm.segments import _FLOATS, _fixed_guided_ratio
 
 
-@checked(positive=('length', 'EI'), finite=('delta',))
-def fixed_guided_displaced_tip(delta: ArrayLike, *, length: float, EI: float,
-                               family: str | FitFamily = "pauly-midha") -> PRBMResult:
+@checked(positive=("length", "EI"), finite=("delta",))
+def fixed_guided_displaced_tip(
+    delta: ArrayLike, *, length: float, EI: float, family: str | FitFamily = "pauly-midha"
+) -> PRBMResult:
     """Two-spring fixed-guided PRBM with a prescribed transverse tip displacement ``delta`` (length units).
 
     Outputs over the levels (module docstring for the equations): a, b (= delta), theta0 (= 0), Theta,
@@ -48,7 +50,7 @@ def fixed_guided_displaced_tip(delta: ArrayLike, *, length: float, EI: float,
     """
     t0 = time.perf_counter()
     fam = fit_family(family)
-    gamma, K, k = _fixed_guided_ratio(_FLOATS, 0.0, length, EI, fam, "raise")[:3]   # [bapat2015, eq 63]
+    gamma, K, k = _fixed_guided_ratio(_FLOATS, 0.0, length, EI, fam, "raise")[:3]  # [bapat2015, eq 63]
     d = np.atleast_1d(np.asarray(delta, float))
     sine = d / (gamma * length)
     ok = np.abs(sine) <= 1.0
@@ -57,14 +59,29 @@ def fixed_guided_displaced_tip(delta: ArrayLike, *, length: float, EI: float,
     a = length - gamma * length * (1.0 - np.cos(Theta))
     M = -(k * Theta + (1.0 - gamma) * length * P / 2.0)
     ok_all = bool(np.all(ok))
-    message = "closed form" if ok_all else (
-        f"no PRB state: |delta| > gamma l = {gamma * length:g} at level(s) {np.flatnonzero(~ok).tolist()}")
-    return PRBMResult(ok_all, message,
-                      {"a": a, "b": np.where(ok, d, np.nan), "theta0": np.zeros_like(d), "Theta": Theta, "M": M,
-                       "P": P, "n": np.zeros_like(d)},
-                      {"gamma": gamma, "K_theta": K, "k_each": k, "family": fam.name},
-                      "fixed-guided (two springs), prescribed transverse tip displacement, seed 000 eq (63), seed 004",
-                      time.perf_counter() - t0, 0, level_converged=ok)
+    message = (
+        "closed form"
+        if ok_all
+        else (f"no PRB state: |delta| > gamma l = {gamma * length:g} at level(s) {np.flatnonzero(~ok).tolist()}")
+    )
+    return PRBMResult(
+        ok_all,
+        message,
+        {
+            "a": a,
+            "b": np.where(ok, d, np.nan),
+            "theta0": np.zeros_like(d),
+            "Theta": Theta,
+            "M": M,
+            "P": P,
+            "n": np.zeros_like(d),
+        },
+        {"gamma": gamma, "K_theta": K, "k_each": k, "family": fam.name},
+        "fixed-guided (two springs), prescribed transverse tip displacement, seed 000 eq (63), seed 004",
+        time.perf_counter() - t0,
+        0,
+        level_converged=ok,
+    )
 
 
 @dataclass
@@ -79,8 +96,15 @@ class LoadForMotion:
     bracket: tuple[float, float] = (math.nan, math.nan)
 
 
-def load_for_motion(response: Callable[[float], float], target: float, *, guess: float,
-                    max_expansions: int = 60, xtol: float = 1e-14, rtol: float = 1e-12) -> LoadForMotion:
+def load_for_motion(
+    response: Callable[[float], float],
+    target: float,
+    *,
+    guess: float,
+    max_expansions: int = 60,
+    xtol: float = 1e-14,
+    rtol: float = 1e-12,
+) -> LoadForMotion:
     """The magnitude s of a load of fixed direction at which ``response(s)`` equals ``target``.
 
     ``response(0)`` is the unloaded value (taken as 0: the prescribed motion is measured from the unloaded
@@ -110,8 +134,9 @@ def load_for_motion(response: Callable[[float], float], target: float, *, guess:
         lo, hi = hi, 2.0 * hi
         f_hi = residual(hi)
     else:
-        return LoadForMotion(math.nan, False, f"the response does not reach {target:g} up to load {sign * hi:g}",
-                             nfev, (lo, hi))
+        return LoadForMotion(
+            math.nan, False, f"the response does not reach {target:g} up to load {sign * hi:g}", nfev, (lo, hi)
+        )
     if f_hi == 0.0:
         return LoadForMotion(sign * hi, True, "converged", nfev, (sign * lo, sign * hi))
     s = brentq(residual, lo, hi, xtol=xtol, rtol=rtol)

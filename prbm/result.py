@@ -2,6 +2,7 @@
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field

@@ -50,6 +50,7 @@ Models and their source equations:
   every published n-fit, so constant gamma and K_Theta are used (default the averages of
   [ananthasuresh_l18], 0.85 and 2.65) and reported.
 """
+
 from __future__ import annotations
 
 import math
@@ -62,8 +63,7 @@ from typing import Any, Generic, NamedTuple, TypeGuard, TypeVar, cast, overload
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from prbm.fits import (PURE_MOMENT_C_THETA, PURE_MOMENT_GAMMA, PURE_MOMENT_SPRING,
-                       FitFamily, fit_family)
+from prbm.fits import PURE_MOMENT_C_THETA, PURE_MOMENT_GAMMA, PURE_MOMENT_SPRING, FitFamily, fit_family
 from prbm.result import Levels, PRBMResult
 from argcheck import checked
 from prbm.lazy import LazyModule
@@ -71,24 +71,35 @@ from prbm.lazy import LazyModule
 optimize = LazyModule("scipy.optimize")  # brentq: imported at its first use
 
 __all__ = [
-    "spring_angle", "fixed_pinned_tip", "fixed_pinned_from_tip", "pure_moment_tip",
-    "pure_moment_from_tip", "curved_fixed_pinned_tip", "fixed_guided_tip",
-    "fixed_guided_monotonic_tip", "slfp_tip", "slfp_end_tip", "curved_pinned_pinned",
+    "spring_angle",
+    "fixed_pinned_tip",
+    "fixed_pinned_from_tip",
+    "pure_moment_tip",
+    "pure_moment_from_tip",
+    "curved_fixed_pinned_tip",
+    "fixed_guided_tip",
+    "fixed_guided_monotonic_tip",
+    "slfp_tip",
+    "slfp_end_tip",
+    "curved_pinned_pinned",
 ]
 
 
 @overload
-def spring_angle(FR: float, phi: float, k: float, theta_i: float = 0.0, *, xtol: float = 1e-13,
-                 maxiter: int = 60) -> tuple[float, bool, int]: ...
+def spring_angle(
+    FR: float, phi: float, k: float, theta_i: float = 0.0, *, xtol: float = 1e-13, maxiter: int = 60
+) -> tuple[float, bool, int]: ...
 
 
 @overload
-def spring_angle(FR: ArrayLike, phi: ArrayLike, k: ArrayLike, theta_i: ArrayLike = 0.0, *, xtol: float = 1e-13,
-                 maxiter: int = 60) -> tuple[float | NDArray[np.float64], bool | NDArray[np.bool_], int]: ...
+def spring_angle(
+    FR: ArrayLike, phi: ArrayLike, k: ArrayLike, theta_i: ArrayLike = 0.0, *, xtol: float = 1e-13, maxiter: int = 60
+) -> tuple[float | NDArray[np.float64], bool | NDArray[np.bool_], int]: ...
 
 
-def spring_angle(FR: ArrayLike, phi: ArrayLike, k: ArrayLike, theta_i: ArrayLike = 0.0, *, xtol: float = 1e-13,
-                 maxiter: int = 60) -> tuple[float | NDArray[np.float64], bool | NDArray[np.bool_], int]:
+def spring_angle(
+    FR: ArrayLike, phi: ArrayLike, k: ArrayLike, theta_i: ArrayLike = 0.0, *, xtol: float = 1e-13, maxiter: int = 60
+) -> tuple[float | NDArray[np.float64], bool | NDArray[np.bool_], int]:
     """Solve F R sin(phi - Theta) = k (Theta - Theta_i) for Theta, vectorised.
 
     FR >= 0 (force times PRB link), phi the absolute force angle, k > 0 the spring.  The root lies
@@ -111,8 +122,10 @@ def spring_angle(FR: ArrayLike, phi: ArrayLike, k: ArrayLike, theta_i: ArrayLike
     size = math.prod(shape)
     if size <= _SCALAR_LOOP_MAX:
         columns = [a.ravel().tolist() if a.ndim else [float(a)] * size for a in args]
-        solved = [_spring_angle_scalar(FR_l, phi_l, k_l, theta_l, xtol, maxiter)
-                  for FR_l, phi_l, k_l, theta_l in zip(*columns)]
+        solved = [
+            _spring_angle_scalar(FR_l, phi_l, k_l, theta_l, xtol, maxiter)
+            for FR_l, phi_l, k_l, theta_l in zip(*columns)
+        ]
         Theta = np.array([s[0] for s in solved], dtype=float).reshape(shape)
         ok = np.array([s[1] for s in solved], dtype=bool).reshape(shape)
         return Theta, ok, max((s[2] for s in solved), default=0)
@@ -124,8 +137,9 @@ _SCALAR_LOOP_MAX = 256  # up to this many levels the plain-float loop beats the 
 _PLAIN = (float, int, np.float64)  # one load level given as a number
 
 
-def _spring_angle_scalar(FR: float, phi: float, k: float, theta_i: float, xtol: float = 1e-13,
-                         maxiter: int = 60) -> tuple[float, bool, int]:
+def _spring_angle_scalar(
+    FR: float, phi: float, k: float, theta_i: float, xtol: float = 1e-13, maxiter: int = 60
+) -> tuple[float, bool, int]:
     """``spring_angle`` for one level in plain floats (called once per load level by
     every segment model's level kernel, so it is written for CPython: module-global math functions,
     each quantity computed once per iteration, no helper calls).
@@ -174,9 +188,14 @@ def _spring_angle_scalar(FR: float, phi: float, k: float, theta_i: float, xtol: 
     return x, False, maxiter
 
 
-def _spring_angle_vector(FR: NDArray[np.float64], phi: NDArray[np.float64], k: NDArray[np.float64],
-                         theta_i: NDArray[np.float64], xtol: float, maxiter: int
-                         ) -> tuple[NDArray[np.float64], NDArray[np.bool_], int]:
+def _spring_angle_vector(
+    FR: NDArray[np.float64],
+    phi: NDArray[np.float64],
+    k: NDArray[np.float64],
+    theta_i: NDArray[np.float64],
+    xtol: float,
+    maxiter: int,
+) -> tuple[NDArray[np.float64], NDArray[np.bool_], int]:
     """``spring_angle`` over many levels at once (numpy), the same iteration as the scalar version."""
     lo = np.minimum(theta_i, phi)
     hi = np.maximum(theta_i, phi)
@@ -213,10 +232,15 @@ def _spring_angle_vector(FR: NDArray[np.float64], phi: NDArray[np.float64], k: N
     return x, done & np.isfinite(x), it
 
 
-def _spring_angle_reference(FR: float | NDArray[np.float64], phi: float | NDArray[np.float64],
-                            k: float | NDArray[np.float64], theta_i: float | NDArray[np.float64] = 0.0, *,
-                            xtol: float = 1e-13, maxiter: int = 60
-                            ) -> tuple[float | NDArray[np.float64], bool | NDArray[np.bool_], int]:
+def _spring_angle_reference(
+    FR: float | NDArray[np.float64],
+    phi: float | NDArray[np.float64],
+    k: float | NDArray[np.float64],
+    theta_i: float | NDArray[np.float64] = 0.0,
+    *,
+    xtol: float = 1e-13,
+    maxiter: int = 60,
+) -> tuple[float | NDArray[np.float64], bool | NDArray[np.bool_], int]:
     """Reference (previous) solver of (*): safeguarded Newton from phi; kept to test ``spring_angle``.
 
     FR >= 0 (force times PRB link), phi the absolute force angle, k > 0 the spring.  The root lies
@@ -258,8 +282,9 @@ def _spring_angle_reference(FR: float | NDArray[np.float64], phi: float | NDArra
     return x, converged, it
 
 
-def _spring_angle_reference_scalar(FR: float, phi: float, k: float, theta_i: float, xtol: float,
-                                   maxiter: int) -> tuple[float, bool, int]:
+def _spring_angle_reference_scalar(
+    FR: float, phi: float, k: float, theta_i: float, xtol: float, maxiter: int
+) -> tuple[float, bool, int]:
     """Scalar version of ``_spring_angle_reference``."""
     if FR == 0.0:
         return theta_i, True, 0
@@ -291,11 +316,17 @@ def _spring_angle_reference_scalar(FR: float, phi: float, k: float, theta_i: flo
 # case, or a long sweep).
 
 
-def _level_lists(P: list[float] | ArrayLike, n: list[float] | ArrayLike
-                 ) -> tuple[list[float], list[float], tuple[int, ...]]:
+def _level_lists(
+    P: list[float] | ArrayLike, n: list[float] | ArrayLike
+) -> tuple[list[float], list[float], tuple[int, ...]]:
     """P and n over the levels as two equally long lists of floats, and the levels' shape."""
-    if type(P) is list and type(n) is list and len(P) == len(n) and \
-            all(type(v) is float for v in P) and all(type(v) is float for v in n):  # already that (a case's levels)
+    if (
+        type(P) is list
+        and type(n) is list
+        and len(P) == len(n)
+        and all(type(v) is float for v in P)
+        and all(type(v) is float for v in n)
+    ):  # already that (a case's levels)
         return P, n, (len(P),)
     P_arr, n_arr = np.asarray(P, float), np.asarray(n, float)
     if P_arr.shape != n_arr.shape:
@@ -310,8 +341,9 @@ def _arrays(columns: dict[str, list[float]], shape: tuple[int, ...]) -> dict[str
     return {key: np.array(column, dtype=float).reshape(shape) for key, column in columns.items()}
 
 
-def _table(rows: Sequence[tuple[float, ...]], names: tuple[str, ...], shape: tuple[int, ...]
-           ) -> dict[str, NDArray[np.float64]]:
+def _table(
+    rows: Sequence[tuple[float, ...]], names: tuple[str, ...], shape: tuple[int, ...]
+) -> dict[str, NDArray[np.float64]]:
     """Per-level rows (one tuple of floats a level) -> one array of the levels' shape a name (the rows'
     first len(names) entries)."""
     if not rows:
@@ -332,9 +364,9 @@ def _scalar_or_array(d: dict[str, ArrayLike]) -> dict[str, Levels]:
     return {key: np.asarray(v, dtype=float) for key, v in d.items()}
 
 
-_L = TypeVar("_L", float, NDArray[np.float64])   # a quantity at one level (a float) or at all levels (an array)
-_B = TypeVar("_B", bool, NDArray[np.bool_])       # a level's convergence (a bool) or all levels' (an array)
-_R = TypeVar("_R")     # the constants of one load ratio (``_mirrored_levels``)
+_L = TypeVar("_L", float, NDArray[np.float64])  # a quantity at one level (a float) or at all levels (an array)
+_B = TypeVar("_B", bool, NDArray[np.bool_])  # a level's convergence (a bool) or all levels' (an array)
+_R = TypeVar("_R")  # the constants of one load ratio (``_mirrored_levels``)
 _Row = TypeVar("_Row")  # one level's row (``_mirrored_levels``)
 
 
@@ -362,20 +394,24 @@ def _is_number(value: object) -> TypeGuard[float]:
     return type(value) in _PLAIN
 
 
-def _spring_levels(FR: ArrayLike, phi: ArrayLike, k: ArrayLike, theta_i: ArrayLike
-                   ) -> tuple[NDArray[np.float64], NDArray[np.bool_], int]:
+def _spring_levels(
+    FR: ArrayLike, phi: ArrayLike, k: ArrayLike, theta_i: ArrayLike
+) -> tuple[NDArray[np.float64], NDArray[np.bool_], int]:
     FR_b, phi_b, k_b, theta_b = np.broadcast_arrays(*(np.asarray(v, float) for v in (FR, phi, k, theta_i)))
     return _spring_angle_vector(FR_b, phi_b, k_b, theta_b, 1e-13, 60)
 
 
-_FLOATS: _Ops[float, bool] = _Ops(math.sin, math.cos, math.sqrt, math.atan2, lambda x, y: float(np.hypot(x, y)),
-                                  _pick, _spring_angle_scalar)
-_ARRAYS: _Ops[NDArray[np.float64], NDArray[np.bool_]] = _Ops(np.sin, np.cos, np.sqrt, np.arctan2, np.hypot,
-                                                             np.where, _spring_levels)
+_FLOATS: _Ops[float, bool] = _Ops(
+    math.sin, math.cos, math.sqrt, math.atan2, lambda x, y: float(np.hypot(x, y)), _pick, _spring_angle_scalar
+)
+_ARRAYS: _Ops[NDArray[np.float64], NDArray[np.bool_]] = _Ops(
+    np.sin, np.cos, np.sqrt, np.arctan2, np.hypot, np.where, _spring_levels
+)
 
 
-def _mirrored_levels(P_list: list[float], n_list: list[float], ratio: Callable[[float], _R],
-                     level: Callable[[float, float, _R], _Row]) -> tuple[list[_Row], list[_R]]:
+def _mirrored_levels(
+    P_list: list[float], n_list: list[float], ratio: Callable[[float], _R], level: Callable[[float, float, _R], _Row]
+) -> tuple[list[_Row], list[_R]]:
     """The level rows of a straight segment model under the end force (-nP, P), in plain floats: each load
     mirrored to P >= 0 (n_eff = sign n, sign restoring it), the per-ratio constants ``ratio(n_eff)`` worked
     out once per distinct mirrored ratio, ``level(|P|, sign, constants)`` at each level.
@@ -408,15 +444,18 @@ class _FixedPinnedRatio(NamedTuple, Generic[_L]):
     gl: _L
 
 
-def _fixed_pinned_ratio(xp: _Ops[_L, _B], n_eff: _L, length: float, EI: float, fam: FitFamily,
-                        extrapolate: str) -> _FixedPinnedRatio[_L]:
+def _fixed_pinned_ratio(
+    xp: _Ops[_L, _B], n_eff: _L, length: float, EI: float, fam: FitFamily, extrapolate: str
+) -> _FixedPinnedRatio[_L]:
     gamma, c_theta, K = fam.model_parameters(n_eff, extrapolate)
-    return _FixedPinnedRatio(gamma, c_theta, K, gamma * K * EI / length, xp.sqrt(1.0 + n_eff * n_eff),
-                             xp.atan2(1.0, -n_eff), gamma * length)
+    return _FixedPinnedRatio(
+        gamma, c_theta, K, gamma * K * EI / length, xp.sqrt(1.0 + n_eff * n_eff), xp.atan2(1.0, -n_eff), gamma * length
+    )
 
 
-def _fixed_pinned_level(xp: _Ops[_L, _B], Pabs: _L, sign: _L, c: _FixedPinnedRatio[_L], length: float,
-                        EI: float) -> tuple[_L, _L, _L, _L, _L, _B, int]:
+def _fixed_pinned_level(
+    xp: _Ops[_L, _B], Pabs: _L, sign: _L, c: _FixedPinnedRatio[_L], length: float, EI: float
+) -> tuple[_L, _L, _L, _L, _L, _B, int]:
     """The fixed-pinned model at a level (floats) or at all levels (arrays) [bapat2015, eqs 44-49], the
     load mirrored to P >= 0 (sign restores it): F = P eta, (F l^2/EI) sin(phi - Theta) = K_theta Theta,
     a = l - gamma l (1 - cos Theta), b = gamma l sin Theta, theta0 = c_theta Theta.
@@ -427,9 +466,16 @@ def _fixed_pinned_level(xp: _Ops[_L, _B], Pabs: _L, sign: _L, c: _FixedPinnedRat
     return length - gl * (1.0 - xp.cos(T)), sign * gl * xp.sin(T), sign * c_theta * T, sign * T, F, ok, nit
 
 
-@checked(positive=('length', 'EI'), finite=('P', 'n'))
-def fixed_pinned_tip(P: ArrayLike, n: ArrayLike = 0.0, *, length: float, EI: float,
-                     family: str | FitFamily = "pauly-midha", extrapolate: str = "raise") -> PRBMResult:
+@checked(positive=("length", "EI"), finite=("P", "n"))
+def fixed_pinned_tip(
+    P: ArrayLike,
+    n: ArrayLike = 0.0,
+    *,
+    length: float,
+    EI: float,
+    family: str | FitFamily = "pauly-midha",
+    extrapolate: str = "raise",
+) -> PRBMResult:
     """Tip of an initially straight fixed-pinned (fixed-free) segment under the end force (-nP, P).
 
     [bapat2015, eqs 41-49]: gamma, c_theta, K_theta from the n-fits; F = P sqrt(1+n^2);
@@ -449,8 +495,11 @@ def fixed_pinned_tip(P: ArrayLike, n: ArrayLike = 0.0, *, length: float, EI: flo
         if len(P_list) > _SCALAR_LOOP_MAX:  # many levels: the kernel once over arrays
             return _fixed_pinned_arrays(P, n, length, EI, fam, extrapolate, t0)
     rows, fits = _mirrored_levels(
-        P_list, n_list, lambda n_eff: _fixed_pinned_ratio(_FLOATS, n_eff, length, EI, fam, extrapolate),
-        lambda Pabs, sign, c: _fixed_pinned_level(_FLOATS, Pabs, sign, c, length, EI))
+        P_list,
+        n_list,
+        lambda n_eff: _fixed_pinned_ratio(_FLOATS, n_eff, length, EI, fam, extrapolate),
+        lambda Pabs, sign, c: _fixed_pinned_level(_FLOATS, Pabs, sign, c, length, EI),
+    )
     ok_levels = [row[5] for row in rows]
     ok_all = all(ok_levels)
     names, constant_names = ("a", "b", "theta0", "Theta", "F"), ("gamma", "c_theta", "K_theta", "k")
@@ -464,30 +513,61 @@ def fixed_pinned_tip(P: ArrayLike, n: ArrayLike = 0.0, *, length: float, EI: flo
         out = {**_table(rows, names, shape), "P": np.asarray(P, float), "n": np.asarray(n, float)}
         constants = {**_table(fits, constant_names, shape)}
     constants["family"] = fam.name
-    return PRBMResult(ok_all, "converged" if ok_all else "spring equation did not converge", out, constants,
-                      "fixed-pinned, seed 000 eqs (41)-(49)", time.perf_counter() - t0,
-                      max((row[6] for row in rows), default=0), np.array(ok_levels, dtype=bool).reshape(shape or (1,)))
+    return PRBMResult(
+        ok_all,
+        "converged" if ok_all else "spring equation did not converge",
+        out,
+        constants,
+        "fixed-pinned, seed 000 eqs (41)-(49)",
+        time.perf_counter() - t0,
+        max((row[6] for row in rows), default=0),
+        np.array(ok_levels, dtype=bool).reshape(shape or (1,)),
+    )
 
 
-def _fixed_pinned_arrays(P: ArrayLike, n: ArrayLike, length: float, EI: float, fam: FitFamily, extrapolate: str,
-                         t0: float) -> PRBMResult:
+def _fixed_pinned_arrays(
+    P: ArrayLike, n: ArrayLike, length: float, EI: float, fam: FitFamily, extrapolate: str, t0: float
+) -> PRBMResult:
     """``fixed_pinned_tip`` over many levels: the same kernel evaluated once on numpy arrays."""
     P_arr, n_arr = np.broadcast_arrays(np.asarray(P, float), np.asarray(n, float))
     sign = np.where(P_arr < 0.0, -1.0, 1.0)
     c = _fixed_pinned_ratio(_ARRAYS, sign * n_arr, length, EI, fam, extrapolate)
     a, b, theta0, Theta, F, ok, nit = _fixed_pinned_level(_ARRAYS, np.abs(P_arr), sign, c, length, EI)
-    out: dict[str, Levels] = {"a": a, "b": b, "theta0": theta0, "Theta": Theta, "F": F, "P": np.asarray(P, float),
-                              "n": np.asarray(n, float)}
+    out: dict[str, Levels] = {
+        "a": a,
+        "b": b,
+        "theta0": theta0,
+        "Theta": Theta,
+        "F": F,
+        "P": np.asarray(P, float),
+        "n": np.asarray(n, float),
+    }
     constants = {"gamma": c.gamma, "c_theta": c.c_theta, "K_theta": c.K, "k": c.k, "family": fam.name}
     ok_all = bool(np.all(ok))
-    return PRBMResult(ok_all, "converged" if ok_all else "spring equation did not converge", out, constants,
-                      "fixed-pinned, seed 000 eqs (41)-(49)", time.perf_counter() - t0, nit, ok)
+    return PRBMResult(
+        ok_all,
+        "converged" if ok_all else "spring equation did not converge",
+        out,
+        constants,
+        "fixed-pinned, seed 000 eqs (41)-(49)",
+        time.perf_counter() - t0,
+        nit,
+        ok,
+    )
 
 
-@checked(positive=('length', 'EI'), finite=('n', 'a', 'b', 'theta0'))
-def fixed_pinned_from_tip(*, n: ArrayLike = 0.0, a: ArrayLike | None = None, b: ArrayLike | None = None,
-                          theta0: ArrayLike | None = None, length: float, EI: float,
-                          family: str | FitFamily = "pauly-midha", extrapolate: str = "raise") -> PRBMResult:
+@checked(positive=("length", "EI"), finite=("n", "a", "b", "theta0"))
+def fixed_pinned_from_tip(
+    *,
+    n: ArrayLike = 0.0,
+    a: ArrayLike | None = None,
+    b: ArrayLike | None = None,
+    theta0: ArrayLike | None = None,
+    length: float,
+    EI: float,
+    family: str | FitFamily = "pauly-midha",
+    extrapolate: str = "raise",
+) -> PRBMResult:
     """Inverse fixed-pinned problem: tip position (a, b), or b alone, or theta0 -> P (force (-nP, P)).
 
     Theta from eq (50) Theta = atan(b / (a - (1 - gamma) l)) when a and b are given, from eq (49)
@@ -510,17 +590,28 @@ def fixed_pinned_from_tip(*, n: ArrayLike = 0.0, a: ArrayLike | None = None, b: 
     eta = np.sqrt(1.0 + n**2)
     P = K * Theta * EI / (length**2 * eta * np.sin(phi - Theta))
     ok = np.isfinite(P) & (P > 0)
-    out = _scalar_or_array({"P": P, "Theta": Theta, "a": length - gamma * length * (1 - np.cos(Theta)),
-                            "b": gamma * length * np.sin(Theta), "theta0": c_theta * Theta, "n": n})
-    return PRBMResult(bool(np.all(ok)), "solved" if np.all(ok) else "no positive load reaches this position",
-                      out, {"gamma": gamma, "c_theta": c_theta, "K_theta": K, "family": fam.name},
-                      "fixed-pinned inverse, seed 000 eqs (44), (46)-(50)", time.perf_counter() - t0,
-                      level_converged=np.atleast_1d(ok))
+    out = _scalar_or_array(
+        {
+            "P": P,
+            "Theta": Theta,
+            "a": length - gamma * length * (1 - np.cos(Theta)),
+            "b": gamma * length * np.sin(Theta),
+            "theta0": c_theta * Theta,
+            "n": n,
+        }
+    )
+    return PRBMResult(
+        bool(np.all(ok)),
+        "solved" if np.all(ok) else "no positive load reaches this position",
+        out,
+        {"gamma": gamma, "c_theta": c_theta, "K_theta": K, "family": fam.name},
+        "fixed-pinned inverse, seed 000 eqs (44), (46)-(50)",
+        time.perf_counter() - t0,
+        level_converged=np.atleast_1d(ok),
+    )
 
 
-
-
-@checked(positive=('length', 'EI'), finite=('M',))
+@checked(positive=("length", "EI"), finite=("M",))
 def pure_moment_tip(M: ArrayLike, *, length: float, EI: float) -> PRBMResult:
     """Cantilever under an end moment M (CCW): the PRBM of [ananthasuresh_l18, 16:59-21:58],
     gamma = 0.7346, k = 1.5164 EI/L.
@@ -537,17 +628,21 @@ def pure_moment_tip(M: ArrayLike, *, length: float, EI: float) -> PRBMResult:
     if M.size > _SCALAR_LOOP_MAX:  # many levels: the kernel once over the array
         out = dict(zip(names, _pure_moment_level(_ARRAYS, M, length, EI, k)))
     else:
-        out = {**_table([_pure_moment_level(_FLOATS, m, length, EI, k) for m in M.ravel().tolist()], names,
-                        M.shape)}
-    return PRBMResult(True, "closed form", out,
-                      {"gamma": PURE_MOMENT_GAMMA, "k": k, "spring_coefficient": PURE_MOMENT_SPRING,
-                       "c_theta": PURE_MOMENT_C_THETA},
-                      "pure end moment, seed 004", time.perf_counter() - t0,
-                      level_converged=np.ones(np.atleast_1d(M).shape, bool))
+        out = {**_table([_pure_moment_level(_FLOATS, m, length, EI, k) for m in M.ravel().tolist()], names, M.shape)}
+    return PRBMResult(
+        True,
+        "closed form",
+        out,
+        {"gamma": PURE_MOMENT_GAMMA, "k": k, "spring_coefficient": PURE_MOMENT_SPRING, "c_theta": PURE_MOMENT_C_THETA},
+        "pure end moment, seed 004",
+        time.perf_counter() - t0,
+        level_converged=np.ones(np.atleast_1d(M).shape, bool),
+    )
 
 
-def _pure_moment_level(xp: _Ops[_L, _B], m: _L, length: float, EI: float, k: float
-                       ) -> tuple[_L, _L, _L, _L, _L, _L, _L]:
+def _pure_moment_level(
+    xp: _Ops[_L, _B], m: _L, length: float, EI: float, k: float
+) -> tuple[_L, _L, _L, _L, _L, _L, _L]:
     """``pure_moment_tip`` at a level (floats) or at all levels (arrays): (a, b, theta0, Theta, M, a_exact,
     b_exact); the exact circular arc of curvature M/EI: rho = EI/M, a = rho sin(M l/EI),
     b = rho (1 - cos(M l/EI)) (a = l, b = 0 without a moment)."""
@@ -558,13 +653,21 @@ def _pure_moment_level(xp: _Ops[_L, _B], m: _L, length: float, EI: float, k: flo
     rho = length / xp.where(bent, theta_exact, 1.0)
     a_exact = xp.where(bent, rho * xp.sin(theta_exact), length)
     b_exact = xp.where(bent, rho * (1 - xp.cos(theta_exact)), 0.0)
-    return (length - g * length * (1 - xp.cos(Theta)), g * length * xp.sin(Theta), PURE_MOMENT_C_THETA * Theta,
-            Theta, m, a_exact, b_exact)
+    return (
+        length - g * length * (1 - xp.cos(Theta)),
+        g * length * xp.sin(Theta),
+        PURE_MOMENT_C_THETA * Theta,
+        Theta,
+        m,
+        a_exact,
+        b_exact,
+    )
 
 
-@checked(positive=('length', 'EI'), finite=('a', 'b', 'theta0'))
-def pure_moment_from_tip(*, length: float, EI: float, a: ArrayLike | None = None, b: ArrayLike | None = None,
-                         theta0: ArrayLike | None = None) -> PRBMResult:
+@checked(positive=("length", "EI"), finite=("a", "b", "theta0"))
+def pure_moment_from_tip(
+    *, length: float, EI: float, a: ArrayLike | None = None, b: ArrayLike | None = None, theta0: ArrayLike | None = None
+) -> PRBMResult:
     """Inverse of ``pure_moment_tip``: Theta from (a, b), b, or theta0, then M = k Theta."""
     g = PURE_MOMENT_GAMMA
     if a is not None and b is not None:
@@ -576,15 +679,26 @@ def pure_moment_from_tip(*, length: float, EI: float, a: ArrayLike | None = None
     else:
         raise ValueError("give a and b, or b, or theta0")
     M = PURE_MOMENT_SPRING * EI / length * Theta
-    return PRBMResult(True, "closed form", _scalar_or_array({"M": M, "Theta": Theta}),
-                      {"gamma": g, "k": PURE_MOMENT_SPRING * EI / length}, "pure end moment inverse, seed 004")
+    return PRBMResult(
+        True,
+        "closed form",
+        _scalar_or_array({"M": M, "Theta": Theta}),
+        {"gamma": g, "k": PURE_MOMENT_SPRING * EI / length},
+        "pure end moment inverse, seed 004",
+    )
 
 
-
-
-@checked(positive=('length', 'EI'), finite=('P', 'n', 'curvature'))
-def curved_fixed_pinned_tip(P: ArrayLike, n: ArrayLike = 0.0, *, length: float, EI: float, curvature: float,
-                            family: str | FitFamily = "pauly-midha", extrapolate: str = "raise") -> PRBMResult:
+@checked(positive=("length", "EI"), finite=("P", "n", "curvature"))
+def curved_fixed_pinned_tip(
+    P: ArrayLike,
+    n: ArrayLike = 0.0,
+    *,
+    length: float,
+    EI: float,
+    curvature: float,
+    family: str | FitFamily = "pauly-midha",
+    extrapolate: str = "raise",
+) -> PRBMResult:
     """Initially curved fixed-pinned segment (initial curvature 1/R_i, CCW positive), end force (-nP, P).
 
     [bapat2015, eqs 53-61]: kappa0 = l/R_i (53); a_i, b_i (55)-(56); Theta_i (54); rho (57);
@@ -599,32 +713,68 @@ def curved_fixed_pinned_tip(P: ArrayLike, n: ArrayLike = 0.0, *, length: float, 
     kappa0 = curvature * length
     if P.size > _SCALAR_LOOP_MAX:  # many levels: the kernel once over arrays
         return _curved_arrays(P, n, kappa0, length, EI, fam, extrapolate, t0)
-    columns, constant_columns, ok, nit = _curved_levels(P.ravel().tolist(), n.ravel().tolist(),
-                                                        [kappa0] * P.size, length, EI, fam, extrapolate)
+    columns, constant_columns, ok, nit = _curved_levels(
+        P.ravel().tolist(), n.ravel().tolist(), [kappa0] * P.size, length, EI, fam, extrapolate
+    )
     out: dict[str, Levels] = {**_arrays(columns, P.shape), "P": P, "n": n}
-    constants: dict[str, Any] = {**_arrays(constant_columns, P.shape), "kappa0": kappa0, "family": fam.name,
-                                 "assumptions": CURVED_ASSUMPTIONS}
-    return PRBMResult(all(ok), "converged" if all(ok) else "not converged", out, constants,
-                      "initially curved fixed-pinned, seed 000 eqs (53)-(61)", time.perf_counter() - t0, nit,
-                      level_converged=np.array(ok, dtype=bool).reshape(P.shape))
+    constants: dict[str, Any] = {
+        **_arrays(constant_columns, P.shape),
+        "kappa0": kappa0,
+        "family": fam.name,
+        "assumptions": CURVED_ASSUMPTIONS,
+    }
+    return PRBMResult(
+        all(ok),
+        "converged" if all(ok) else "not converged",
+        out,
+        constants,
+        "initially curved fixed-pinned, seed 000 eqs (53)-(61)",
+        time.perf_counter() - t0,
+        nit,
+        level_converged=np.array(ok, dtype=bool).reshape(P.shape),
+    )
 
 
-CURVED_ASSUMPTIONS = ("load relation k(Theta-Theta_i) = F rho l sin(phi-Theta); "
-                      "theta0 = kappa0 + c_theta (Theta - Theta_i); straight-beam fits")
+CURVED_ASSUMPTIONS = (
+    "load relation k(Theta-Theta_i) = F rho l sin(phi-Theta); "
+    "theta0 = kappa0 + c_theta (Theta - Theta_i); straight-beam fits"
+)
 
 
-def _curved_arrays(P: NDArray[np.float64], n: NDArray[np.float64], kappa0: float, length: float, EI: float,
-                   fam: FitFamily, extrapolate: str, t0: float) -> PRBMResult:
+def _curved_arrays(
+    P: NDArray[np.float64],
+    n: NDArray[np.float64],
+    kappa0: float,
+    length: float,
+    EI: float,
+    fam: FitFamily,
+    extrapolate: str,
+    t0: float,
+) -> PRBMResult:
     """``curved_fixed_pinned_tip`` over many levels: the same kernel evaluated once on numpy arrays."""
     c = _curved_ratio(_ARRAYS, kappa0, fam.model_parameters(np.where(P < 0, -n, n), extrapolate), length, EI)
     a, b, theta0, Theta, ok, nit = _curved_level(_ARRAYS, P, n, kappa0, c, length)
     ok_all = bool(np.all(ok))
-    return PRBMResult(ok_all, "converged" if ok_all else "not converged",
-                      {"a": a, "b": b, "theta0": theta0, "Theta": Theta, "P": P, "n": n},
-                      {"gamma": c.gamma, "c_theta": c.c_theta, "K_theta": c.K, "rho": c.rho, "k": c.k,
-                       "Theta_i": c.Theta_i, "kappa0": kappa0, "family": fam.name, "assumptions": CURVED_ASSUMPTIONS},
-                      "initially curved fixed-pinned, seed 000 eqs (53)-(61)", time.perf_counter() - t0, nit,
-                      level_converged=ok)
+    return PRBMResult(
+        ok_all,
+        "converged" if ok_all else "not converged",
+        {"a": a, "b": b, "theta0": theta0, "Theta": Theta, "P": P, "n": n},
+        {
+            "gamma": c.gamma,
+            "c_theta": c.c_theta,
+            "K_theta": c.K,
+            "rho": c.rho,
+            "k": c.k,
+            "Theta_i": c.Theta_i,
+            "kappa0": kappa0,
+            "family": fam.name,
+            "assumptions": CURVED_ASSUMPTIONS,
+        },
+        "initially curved fixed-pinned, seed 000 eqs (53)-(61)",
+        time.perf_counter() - t0,
+        nit,
+        level_converged=ok,
+    )
 
 
 class _CurvedRatio(NamedTuple, Generic[_L]):
@@ -639,8 +789,9 @@ class _CurvedRatio(NamedTuple, Generic[_L]):
     Theta_i: _L
 
 
-def _curved_ratio(xp: _Ops[_L, _B], kappa0: float, fit: tuple[_L, _L, _L], length: float, EI: float
-                  ) -> _CurvedRatio[_L]:
+def _curved_ratio(
+    xp: _Ops[_L, _B], kappa0: float, fit: tuple[_L, _L, _L], length: float, EI: float
+) -> _CurvedRatio[_L]:
     """Eqs (54)-(58) for the initial curvature kappa0 = l/R_i and the fits ``fit`` = (gamma, c_theta, K)
     (floats, or arrays over the levels)."""
     gamma, c_theta, K = fit
@@ -653,8 +804,9 @@ def _curved_ratio(xp: _Ops[_L, _B], kappa0: float, fit: tuple[_L, _L, _L], lengt
     return _CurvedRatio(gamma, c_theta, K, rho, rho * K * EI / length, xp.atan2(b_i, a_i - length * (1.0 - gamma)))
 
 
-def _curved_level(xp: _Ops[_L, _B], p: _L, m: _L, kappa0: float, c: _CurvedRatio[_L], length: float
-                  ) -> tuple[_L, _L, _L, _L, _B, int]:
+def _curved_level(
+    xp: _Ops[_L, _B], p: _L, m: _L, kappa0: float, c: _CurvedRatio[_L], length: float
+) -> tuple[_L, _L, _L, _L, _B, int]:
     """The curved model at a level (floats) or at all levels (arrays): phi the direction of (-nP, P) on
     its branch within pi of Theta_i, F rho l sin(phi - Theta) = k (Theta - Theta_i),
     a = l - gamma l + rho l cos Theta (59), b = rho l sin Theta (60), theta0 = kappa0 + c_theta (Theta - Theta_i).
@@ -665,12 +817,19 @@ def _curved_level(xp: _Ops[_L, _B], p: _L, m: _L, kappa0: float, c: _CurvedRatio
     d = phi - Theta_i
     phi = Theta_i + xp.atan2(xp.sin(d), xp.cos(d))  # the branch of phi within pi of Theta_i
     Theta, ok, nit = xp.spring(F * rho * length, phi, k, Theta_i)
-    return (length - gamma * length + rho * length * xp.cos(Theta), rho * length * xp.sin(Theta),
-            kappa0 + c_theta * (Theta - Theta_i), Theta, ok, nit)
+    return (
+        length - gamma * length + rho * length * xp.cos(Theta),
+        rho * length * xp.sin(Theta),
+        kappa0 + c_theta * (Theta - Theta_i),
+        Theta,
+        ok,
+        nit,
+    )
 
 
-def _curved_levels(P: list[float], n: list[float], kappa0: list[float], length: float, EI: float, fam: FitFamily,
-                   extrapolate: str) -> tuple[dict[str, list[float]], dict[str, list[float]], list[bool], int]:
+def _curved_levels(
+    P: list[float], n: list[float], kappa0: list[float], length: float, EI: float, fam: FitFamily, extrapolate: str
+) -> tuple[dict[str, list[float]], dict[str, list[float]], list[bool], int]:
     """``_curved_level`` over the levels, each with its own kappa0 = l/R_i (``fixed_guided_monotonic_tip``
     adds M l/EI); the fits once per distinct load ratio, the geometry once per distinct (kappa0, ratio).
     Returns the output columns (a, b, theta0, Theta), the constants' columns, each level's convergence
@@ -690,12 +849,24 @@ def _curved_levels(P: list[float], n: list[float], kappa0: list[float], length: 
         rows.append(_curved_level(_FLOATS, p, m, k0, c, length))
         per_level.append(c)
     names = ("gamma", "c_theta", "K_theta", "rho", "k", "Theta_i")
-    return _columns(rows, ("a", "b", "theta0", "Theta")), _columns(per_level, names), [row[4] for row in rows], max((row[5] for row in rows), default=0)
+    return (
+        _columns(rows, ("a", "b", "theta0", "Theta")),
+        _columns(per_level, names),
+        [row[4] for row in rows],
+        max((row[5] for row in rows), default=0),
+    )
 
 
-@checked(positive=('length', 'EI'), finite=('P', 'n'))
-def fixed_guided_tip(P: ArrayLike, n: ArrayLike = 0.0, *, length: float, EI: float,
-                     family: str | FitFamily = "pauly-midha", extrapolate: str = "raise") -> PRBMResult:
+@checked(positive=("length", "EI"), finite=("P", "n"))
+def fixed_guided_tip(
+    P: ArrayLike,
+    n: ArrayLike = 0.0,
+    *,
+    length: float,
+    EI: float,
+    family: str | FitFamily = "pauly-midha",
+    extrapolate: str = "raise",
+) -> PRBMResult:
     """Initially straight fixed-guided segment, end slope held at 0, end force (-nP, P).
 
     [bapat2015, eq 63] and [ananthasuresh_l18, 07:13-12:05]: two half-beams of l/2, each a
@@ -711,17 +882,29 @@ def fixed_guided_tip(P: ArrayLike, n: ArrayLike = 0.0, *, length: float, EI: flo
     if len(P_list) > _SCALAR_LOOP_MAX:  # many levels: the kernel once over arrays
         return _fixed_guided_arrays(P, n, length, EI, fam, extrapolate, t0)
     rows, fits = _mirrored_levels(
-        P_list, n_list, lambda n_eff: _fixed_guided_ratio(_FLOATS, n_eff, length, EI, fam, extrapolate),
-        lambda Pabs, sign, c: _fixed_guided_level(_FLOATS, Pabs, sign, c, length))
-    out: dict[str, Levels] = {**_table(rows, ("a", "b", "theta0", "Theta", "M"), shape),
-                              "P": np.asarray(P, float), "n": np.asarray(n, float)}
+        P_list,
+        n_list,
+        lambda n_eff: _fixed_guided_ratio(_FLOATS, n_eff, length, EI, fam, extrapolate),
+        lambda Pabs, sign, c: _fixed_guided_level(_FLOATS, Pabs, sign, c, length),
+    )
+    out: dict[str, Levels] = {
+        **_table(rows, ("a", "b", "theta0", "Theta", "M"), shape),
+        "P": np.asarray(P, float),
+        "n": np.asarray(n, float),
+    }
     constants: dict[str, Any] = {**_table(fits, ("gamma", "K_theta", "k_each"), shape), "family": fam.name}
     ok_levels = [row[5] for row in rows]
     ok_all = all(ok_levels)
-    return PRBMResult(ok_all, "converged" if ok_all else "not converged", out, constants,
-                      "fixed-guided (two springs), seed 000 eq (63), seed 004", time.perf_counter() - t0,
-                      max((row[6] for row in rows), default=0),
-                      level_converged=np.array(ok_levels, dtype=bool).reshape(shape))
+    return PRBMResult(
+        ok_all,
+        "converged" if ok_all else "not converged",
+        out,
+        constants,
+        "fixed-guided (two springs), seed 000 eq (63), seed 004",
+        time.perf_counter() - t0,
+        max((row[6] for row in rows), default=0),
+        level_converged=np.array(ok_levels, dtype=bool).reshape(shape),
+    )
 
 
 class _FixedGuidedRatio(NamedTuple, Generic[_L]):
@@ -736,15 +919,18 @@ class _FixedGuidedRatio(NamedTuple, Generic[_L]):
     phi: _L
 
 
-def _fixed_guided_ratio(xp: _Ops[_L, _B], n_eff: _L, length: float, EI: float, fam: FitFamily,
-                        extrapolate: str) -> _FixedGuidedRatio[_L]:
+def _fixed_guided_ratio(
+    xp: _Ops[_L, _B], n_eff: _L, length: float, EI: float, fam: FitFamily, extrapolate: str
+) -> _FixedGuidedRatio[_L]:
     gamma, _, K = fam.model_parameters(n_eff, extrapolate)
-    return _FixedGuidedRatio(gamma, K, 2.0 * gamma * K * EI / length, xp.sqrt(1.0 + n_eff * n_eff),
-                             xp.atan2(1.0, -n_eff))
+    return _FixedGuidedRatio(
+        gamma, K, 2.0 * gamma * K * EI / length, xp.sqrt(1.0 + n_eff * n_eff), xp.atan2(1.0, -n_eff)
+    )
 
 
-def _fixed_guided_level(xp: _Ops[_L, _B], Pabs: _L, sign: _L, c: _FixedGuidedRatio[_L], length: float
-                        ) -> tuple[_L, _L, _L, _L, _L, _B, int]:
+def _fixed_guided_level(
+    xp: _Ops[_L, _B], Pabs: _L, sign: _L, c: _FixedGuidedRatio[_L], length: float
+) -> tuple[_L, _L, _L, _L, _L, _B, int]:
     """The two-spring fixed-guided model at a level (floats) or at all levels (arrays), the load mirrored
     to P >= 0 (sign restores it): F gamma l sin(phi - Theta) = 2 k Theta, a = l - gamma l (1 - cos Theta),
     b = gamma l sin Theta, theta0 = 0, M = -(k Theta + (1 - gamma) l P/2).
@@ -752,30 +938,58 @@ def _fixed_guided_level(xp: _Ops[_L, _B], Pabs: _L, sign: _L, c: _FixedGuidedRat
     gamma, _, k, eta, phi = c
     Theta, ok, nit = xp.spring(Pabs * eta * gamma * length, phi, 2.0 * k, 0.0)
     theta0 = xp.where(True, 0.0, Theta)  # the end slope held at 0 (0.0, or zeros of the levels' shape)
-    return (length - gamma * length * (1.0 - xp.cos(Theta)), sign * (gamma * length * xp.sin(Theta)), theta0,
-            sign * Theta, sign * -(k * Theta + (1.0 - gamma) * length * Pabs / 2.0), ok, nit)
+    return (
+        length - gamma * length * (1.0 - xp.cos(Theta)),
+        sign * (gamma * length * xp.sin(Theta)),
+        theta0,
+        sign * Theta,
+        sign * -(k * Theta + (1.0 - gamma) * length * Pabs / 2.0),
+        ok,
+        nit,
+    )
 
 
-def _fixed_guided_arrays(P: ArrayLike, n: ArrayLike, length: float, EI: float, fam: FitFamily, extrapolate: str,
-                         t0: float) -> PRBMResult:
+def _fixed_guided_arrays(
+    P: ArrayLike, n: ArrayLike, length: float, EI: float, fam: FitFamily, extrapolate: str, t0: float
+) -> PRBMResult:
     """``fixed_guided_tip`` over many levels: the same kernel evaluated once on numpy arrays."""
     P_arr, n_arr = np.broadcast_arrays(np.asarray(P, float), np.asarray(n, float))
     sign = np.where(P_arr < 0.0, -1.0, 1.0)
     c = _fixed_guided_ratio(_ARRAYS, sign * n_arr, length, EI, fam, extrapolate)
     a, b, theta0, Theta, M, ok, nit = _fixed_guided_level(_ARRAYS, np.abs(P_arr), sign, c, length)
     ok_all = bool(np.all(ok))
-    return PRBMResult(ok_all, "converged" if ok_all else "not converged",
-                      {"a": a, "b": b, "theta0": theta0, "Theta": Theta, "M": M, "P": np.asarray(P, float),
-                       "n": np.asarray(n, float)},
-                      {"gamma": c.gamma, "K_theta": c.K, "k_each": c.k, "family": fam.name},
-                      "fixed-guided (two springs), seed 000 eq (63), seed 004", time.perf_counter() - t0, nit,
-                      level_converged=ok)
+    return PRBMResult(
+        ok_all,
+        "converged" if ok_all else "not converged",
+        {
+            "a": a,
+            "b": b,
+            "theta0": theta0,
+            "Theta": Theta,
+            "M": M,
+            "P": np.asarray(P, float),
+            "n": np.asarray(n, float),
+        },
+        {"gamma": c.gamma, "K_theta": c.K, "k_each": c.k, "family": fam.name},
+        "fixed-guided (two springs), seed 000 eq (63), seed 004",
+        time.perf_counter() - t0,
+        nit,
+        level_converged=ok,
+    )
 
 
-@checked(positive=('length', 'EI'), finite=('P', 'n', 'M', 'curvature'))
-def fixed_guided_monotonic_tip(P: ArrayLike, n: ArrayLike = 0.0, M: ArrayLike = 0.0, *, length: float, EI: float,
-                               curvature: float = 0.0, family: str | FitFamily = "pauly-midha",
-                               extrapolate: str = "raise") -> PRBMResult:
+@checked(positive=("length", "EI"), finite=("P", "n", "M", "curvature"))
+def fixed_guided_monotonic_tip(
+    P: ArrayLike,
+    n: ArrayLike = 0.0,
+    M: ArrayLike = 0.0,
+    *,
+    length: float,
+    EI: float,
+    curvature: float = 0.0,
+    family: str | FitFamily = "pauly-midha",
+    extrapolate: str = "raise",
+) -> PRBMResult:
     """Fixed-guided / fixed-fixed segment with monotonic curvature under end force (-nP, P) and end
     moment M (CCW): the curved fixed-pinned PRBM with kappa0 = M l/EI + l/R_i
     [bapat2015, eqs 62, 14, 17, 119].  Valid only without an inflection point (Table 2.1: P and M of the same
@@ -791,14 +1005,21 @@ def fixed_guided_monotonic_tip(P: ArrayLike, n: ArrayLike = 0.0, M: ArrayLike = 
     columns, _, ok, _ = _curved_levels(P_list, n_list, kappa0, length, EI, fit_family(family), extrapolate)
     arrays = _arrays({**columns, "P": P_list, "n": n_list}, (len(P_list),))
     out: dict[str, Levels] = {**arrays, "M": np.broadcast_to(M, arrays["a"].shape).copy()}
-    return PRBMResult(all(ok), "monotonic curvature, kappa0 = M l/EI", out, {"kappa0": np.array(kappa0)},
-                      "fixed-guided monotonic, seed 000 eq (62)", time.perf_counter() - t0,
-                      level_converged=np.array(ok, dtype=bool))
+    return PRBMResult(
+        all(ok),
+        "monotonic curvature, kappa0 = M l/EI",
+        out,
+        {"kappa0": np.array(kappa0)},
+        "fixed-guided monotonic, seed 000 eq (62)",
+        time.perf_counter() - t0,
+        level_converged=np.array(ok, dtype=bool),
+    )
 
 
-@checked(positive=('flexure_length', 'rigid_length', 'EI'), finite=('P', 'n', 'curvature'))
-def slfp_tip(P: ArrayLike, n: ArrayLike = 0.0, *, flexure_length: float, rigid_length: float, EI: float,
-             curvature: float = 0.0) -> PRBMResult:
+@checked(positive=("flexure_length", "rigid_length", "EI"), finite=("P", "n", "curvature"))
+def slfp_tip(
+    P: ArrayLike, n: ArrayLike = 0.0, *, flexure_length: float, rigid_length: float, EI: float, curvature: float = 0.0
+) -> PRBMResult:
     """Fixed-free segment: small-length flexural pivot (length l) then a rigid segment (length L).
 
     [bapat2015, eqs 71-82]: pivot at the middle of the flexure, link L + l/2 (71), k = EI/l (72),
@@ -827,15 +1048,29 @@ def slfp_tip(P: ArrayLike, n: ArrayLike = 0.0, *, flexure_length: float, rigid_l
     phi = np.arctan2(P, -n * P)
     phi = Theta_i + np.angle(np.exp(1j * (phi - Theta_i)))
     Theta, ok, nit = spring_angle(F * R, phi, k, Theta_i)
-    out = _scalar_or_array({"a": px + R * np.cos(Theta), "b": py + R * np.sin(Theta),
-                            "theta0": Theta - Theta_i + kappa0, "Theta": Theta, "P": P, "n": n})
-    return PRBMResult(bool(np.all(ok)), "converged" if np.all(ok) else "not converged", out,
-                      {"k": k, "R": R, "Theta_i": Theta_i, "pivot": (px, py)},
-                      "small-length flexural pivot, seed 000 eqs (71)-(82)", time.perf_counter() - t0, nit,
-                      level_converged=np.atleast_1d(ok))
+    out = _scalar_or_array(
+        {
+            "a": px + R * np.cos(Theta),
+            "b": py + R * np.sin(Theta),
+            "theta0": Theta - Theta_i + kappa0,
+            "Theta": Theta,
+            "P": P,
+            "n": n,
+        }
+    )
+    return PRBMResult(
+        bool(np.all(ok)),
+        "converged" if np.all(ok) else "not converged",
+        out,
+        {"k": k, "R": R, "Theta_i": Theta_i, "pivot": (px, py)},
+        "small-length flexural pivot, seed 000 eqs (71)-(82)",
+        time.perf_counter() - t0,
+        nit,
+        level_converged=np.atleast_1d(ok),
+    )
 
 
-@checked(positive=('flexure_length', 'EI'), finite=('F', 'M'))
+@checked(positive=("flexure_length", "EI"), finite=("F", "M"))
 def slfp_end_tip(F: complex, M: float, *, flexure_length: float, EI: float, xtol: float = 1e-13) -> PRBMResult:
     """Small-length flexural pivot alone, loaded at its end E by a force F (complex, Fx + i Fy) and a
     couple M (CCW): [bapat2015, eqs 71-76] with whatever the flexure carries folded into (F, M) at E.
@@ -855,15 +1090,26 @@ def slfp_end_tip(F: complex, M: float, *, flexure_length: float, EI: float, xtol
 
     lo, hi = (M - R * abs(F)) / k, (M + R * abs(F)) / k
     Theta = lo if lo == hi else optimize.brentq(residual, lo, hi, xtol=xtol)
-    out: dict[str, Levels] = {"a": R * (1.0 + math.cos(Theta)), "b": R * math.sin(Theta), "theta0": Theta,
-                              "Theta": Theta}
-    return PRBMResult(True, "converged", out, {"k": k, "R": R, "Theta_i": 0.0},
-                      "small-length flexural pivot, end loads, seed 000 eqs (71)-(76)", time.perf_counter() - t0)
+    out: dict[str, Levels] = {
+        "a": R * (1.0 + math.cos(Theta)),
+        "b": R * math.sin(Theta),
+        "theta0": Theta,
+        "Theta": Theta,
+    }
+    return PRBMResult(
+        True,
+        "converged",
+        out,
+        {"k": k, "R": R, "Theta_i": 0.0},
+        "small-length flexural pivot, end loads, seed 000 eqs (71)-(76)",
+        time.perf_counter() - t0,
+    )
 
 
-@checked(positive=('length', 'EI', 'gamma', 'K_theta'), finite=('F_axial', 'curvature'))
-def curved_pinned_pinned(F_axial: ArrayLike, *, length: float, EI: float, curvature: float, gamma: float = 0.85,
-                         K_theta: float = 2.65) -> PRBMResult:
+@checked(positive=("length", "EI", "gamma", "K_theta"), finite=("F_axial", "curvature"))
+def curved_pinned_pinned(
+    F_axial: ArrayLike, *, length: float, EI: float, curvature: float, gamma: float = 0.85, K_theta: float = 2.65
+) -> PRBMResult:
     """Initially curved pinned-pinned segment (arc of length l, curvature 1/R_i) under a force F_axial
     along its chord (positive = tension, pulling the pins apart).
 
@@ -891,8 +1137,13 @@ def curved_pinned_pinned(F_axial: ArrayLike, *, length: float, EI: float, curvat
     a = h - gamma * h + rho * h * np.cos(Theta)
     chord = 2.0 * a  # the half's end point projected on the chord (the mid-span tangent)
     out = _scalar_or_array({"chord": chord, "Theta": Theta, "F": F_axial})
-    return PRBMResult(bool(np.all(ok)), "converged" if np.all(ok) else "not converged", out,
-                      {"gamma": gamma, "K_theta": K_theta, "rho": rho, "k_half": k, "Theta_i": Theta_i,
-                       "chord0": 2 * a_i},
-                      "curved pinned-pinned, seed 000 section 2.3.5", time.perf_counter() - t0, nit,
-                      level_converged=np.atleast_1d(ok))
+    return PRBMResult(
+        bool(np.all(ok)),
+        "converged" if np.all(ok) else "not converged",
+        out,
+        {"gamma": gamma, "K_theta": K_theta, "rho": rho, "k_half": k, "Theta_i": Theta_i, "chord0": 2 * a_i},
+        "curved pinned-pinned, seed 000 section 2.3.5",
+        time.perf_counter() - t0,
+        nit,
+        level_converged=np.atleast_1d(ok),
+    )

@@ -41,6 +41,7 @@ load turns link 2.
 
 Angles are in radians (degrees appear only in case files and reports).
 """
+
 from __future__ import annotations
 
 import cmath
@@ -58,8 +59,14 @@ from prbm.fits import FitRangeError, fit_family
 from prbm.result import Levels, PRBMResult
 from prbm.segments import fixed_pinned_tip
 
-__all__ = ["TipPose", "DeadDirection", "FollowerDirection", "TowardPoint", "fixed_pinned_turning_tip",
-           "input_angle_under_turning_forces"]
+__all__ = [
+    "TipPose",
+    "DeadDirection",
+    "FollowerDirection",
+    "TowardPoint",
+    "fixed_pinned_turning_tip",
+    "input_angle_under_turning_forces",
+]
 
 
 @dataclass(frozen=True)
@@ -111,8 +118,9 @@ class FollowerDirection:
 
     def direction(self, pose: TipPose) -> complex:
         if not math.isfinite(pose.rotation):
-            raise ValueError("FollowerDirection: the end tangent's rotation is not available (a fit family "
-                             "without c_theta)")
+            raise ValueError(
+                "FollowerDirection: the end tangent's rotation is not available (a fit family without c_theta)"
+            )
         return _unit(self.u0, "FollowerDirection") * cmath.exp(1j * pose.rotation)
 
 
@@ -126,8 +134,9 @@ class TowardPoint:
     def direction(self, pose: TipPose) -> complex:
         line = complex(self.point) - pose.z
         if abs(line) <= 1e-12 * max(abs(pose.z), abs(self.point), 1.0):
-            raise ValueError("TowardPoint: the loaded point is at the point the force pulls toward "
-                             "(direction undefined)")
+            raise ValueError(
+                "TowardPoint: the loaded point is at the point the force pulls toward (direction undefined)"
+            )
         return cmath.exp(1j * self.angle) * line / abs(line)
 
 
@@ -142,10 +151,12 @@ class _SegmentModel:
         """The fixed-pinned PRBM under the dead end force F e^{i psi} (eqs 41-49)."""
         s, c = math.sin(psi), math.cos(psi)
         if abs(s) < 1e-12:
-            raise FitRangeError(f"end force along the segment (direction {math.degrees(psi):.3f} deg): "
-                                "n infinite, outside every n-fit")
-        return fixed_pinned_tip(F * s, -c / s, length=self.length, EI=self.EI, family=self.family,
-                                extrapolate=self.extrapolate)
+            raise FitRangeError(
+                f"end force along the segment (direction {math.degrees(psi):.3f} deg): n infinite, outside every n-fit"
+            )
+        return fixed_pinned_tip(
+            F * s, -c / s, length=self.length, EI=self.EI, family=self.family, extrapolate=self.extrapolate
+        )
 
 
 def _pose(res: PRBMResult) -> TipPose:
@@ -162,8 +173,9 @@ def _mismatch(model: _SegmentModel, F: float, psi: float, law: LoadLaw) -> float
     return cmath.phase(law.direction(_pose(res)) * cmath.exp(-1j * psi))
 
 
-def _nearest_root(r: Callable[[float], float], start: float, step: float, span: float
-                  ) -> tuple[tuple[float, float] | None, bool]:
+def _nearest_root(
+    r: Callable[[float], float], start: float, step: float, span: float
+) -> tuple[tuple[float, float] | None, bool]:
     """(the bracket of the sign change of r nearest to ``start``, scanned both ways, or None; whether a
     scanned point fell outside the fits (r = nan))."""
     r0 = r(start)
@@ -185,8 +197,9 @@ def _nearest_root(r: Callable[[float], float], start: float, step: float, span: 
     return None, outside
 
 
-def _segment_level(model: _SegmentModel, F: float, law: LoadLaw, step: float, span: float
-                   ) -> tuple[PRBMResult | None, float, str]:
+def _segment_level(
+    model: _SegmentModel, F: float, law: LoadLaw, step: float, span: float
+) -> tuple[PRBMResult | None, float, str]:
     """(result at equilibrium or None, psi, message) of one load level; raises FitRangeError when the
     only directions left unscanned are outside the fits."""
     if F < 0.0:  # a negative magnitude: the force F u = |F| (-u)
@@ -201,8 +214,9 @@ def _segment_level(model: _SegmentModel, F: float, law: LoadLaw, step: float, sp
     bracket, outside = _nearest_root(r, psi0, step, span)
     if bracket is None:
         if outside:
-            raise FitRangeError(f"turning end force |F| = {F:g}: no equilibrium direction inside the "
-                                "n-fits' range (seed 000 eqs 41-43)")
+            raise FitRangeError(
+                f"turning end force |F| = {F:g}: no equilibrium direction inside the n-fits' range (seed 000 eqs 41-43)"
+            )
         return None, math.nan, f"turning end force |F| = {F:g}: no equilibrium direction found"
     lo, hi = bracket
     psi = lo if lo == hi else brentq(r, lo, hi, xtol=1e-14)
@@ -217,9 +231,17 @@ class _Reversed:
         return -self.law.direction(pose)
 
 
-def fixed_pinned_turning_tip(F: ArrayLike, law: LoadLaw, *, length: float, EI: float, family: str = "pauly-midha",
-                             extrapolate: str = "raise", step: float = math.radians(0.5),
-                             span: float = math.pi) -> PRBMResult:
+def fixed_pinned_turning_tip(
+    F: ArrayLike,
+    law: LoadLaw,
+    *,
+    length: float,
+    EI: float,
+    family: str = "pauly-midha",
+    extrapolate: str = "raise",
+    step: float = math.radians(0.5),
+    span: float = math.pi,
+) -> PRBMResult:
     """Tip of an initially straight fixed-pinned (fixed-free) segment under the end force F u, u given by
     ``law`` at the deflected tip (see the module docstring, eq (*)).  F: magnitude per level (a negative
     value reverses the law's direction).  Outputs per level: a, b, theta0 (rad), Theta (rad), Fx, Fy (the
@@ -243,28 +265,61 @@ def fixed_pinned_turning_tip(F: ArrayLike, law: LoadLaw, *, length: float, EI: f
     constants["family"] = fit_family(family).name
     all_ok = all(ok)
     failures = "; ".join(m for m, level_ok in zip(messages, ok) if not level_ok)
-    return PRBMResult(all_ok, "converged" if all_ok else failures,
-                      table, constants, "fixed-pinned under a turning end force, seed 000 eqs (41)-(49) at "
-                      "the equilibrium load ratio", time.perf_counter() - t0, 0, np.array(ok))
+    return PRBMResult(
+        all_ok,
+        "converged" if all_ok else failures,
+        table,
+        constants,
+        "fixed-pinned under a turning end force, seed 000 eqs (41)-(49) at the equilibrium load ratio",
+        time.perf_counter() - t0,
+        0,
+        np.array(ok),
+    )
 
 
 def _row(model: _SegmentModel, res: PRBMResult | None, F: float, psi: float) -> dict[str, float]:
     if res is None:
         nan = math.nan
         unloaded = F == 0.0
-        return {"a": model.length if unloaded else nan, "b": 0.0 if unloaded else nan,
-                "theta0": 0.0 if unloaded else nan, "Theta": 0.0 if unloaded else nan, "Fx": 0.0 if unloaded else nan,
-                "Fy": 0.0 if unloaded else nan, "n": nan, "gamma": nan, "c_theta": nan, "K_theta": nan, "k": nan}
+        return {
+            "a": model.length if unloaded else nan,
+            "b": 0.0 if unloaded else nan,
+            "theta0": 0.0 if unloaded else nan,
+            "Theta": 0.0 if unloaded else nan,
+            "Fx": 0.0 if unloaded else nan,
+            "Fy": 0.0 if unloaded else nan,
+            "n": nan,
+            "gamma": nan,
+            "c_theta": nan,
+            "K_theta": nan,
+            "k": nan,
+        }
     o, c = res.outputs, res.constants
     magnitude = abs(F)
-    return {"a": float(o["a"]), "b": float(o["b"]), "theta0": float(o["theta0"]), "Theta": float(o["Theta"]),
-            "Fx": magnitude * math.cos(psi), "Fy": magnitude * math.sin(psi), "n": float(o["n"]),
-            "gamma": float(c["gamma"]), "c_theta": float(c["c_theta"]), "K_theta": float(c["K_theta"]),
-            "k": float(c["k"])}
+    return {
+        "a": float(o["a"]),
+        "b": float(o["b"]),
+        "theta0": float(o["theta0"]),
+        "Theta": float(o["Theta"]),
+        "Fx": magnitude * math.cos(psi),
+        "Fy": magnitude * math.sin(psi),
+        "n": float(o["n"]),
+        "gamma": float(c["gamma"]),
+        "c_theta": float(c["c_theta"]),
+        "K_theta": float(c["K_theta"]),
+        "k": float(c["k"]),
+    }
 
 
-def input_angle_under_turning_forces(fourbar: InputLink, forces: Sequence[tuple[float, LoadLaw]], *, theta20: float,
-                                     c_theta: float, torque: float = 0.0, span: float = math.radians(120)) -> float:
+def input_angle_under_turning_forces(
+    fourbar: InputLink,
+    forces: Sequence[tuple[float, LoadLaw]],
+    *,
+    theta20: float,
+    c_theta: float,
+    torque: float = 0.0,
+    span: float = math.radians(120),
+) -> float:
     """Input angle theta2 (rad) of the PRB four-bar ``fourbar`` (O2 at the origin of its frame) where the
     spring torque balances the couple ``torque`` plus the moment about O2 of the forces F u at the end A
     of link 2, u = law(A, c_theta (theta2 - theta20)) for each (F, law) (eq (**)).  The first root from
@@ -277,8 +332,9 @@ def input_angle_under_turning_forces(fourbar: InputLink, forces: Sequence[tuple[
         return sum((A.conjugate() * F * law.direction(pose)).imag for F, law in forces)
 
     def unbalanced_grid(ts: NDArray[np.float64]) -> NDArray[np.float64]:
-        r: NDArray[np.float64] = (np.asarray(fourbar.input_torque(ts), float) - torque
-                                  - np.array([load_moment(t) for t in ts.tolist()]))
+        r: NDArray[np.float64] = (
+            np.asarray(fourbar.input_torque(ts), float) - torque - np.array([load_moment(t) for t in ts.tolist()])
+        )
         return r
 
     def unbalanced(t: float) -> float:

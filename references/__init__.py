@@ -2,6 +2,7 @@
 
 A leaf package: it imports nothing of the project, so every package may import it.
 """
+
 from references.bibliography import REFERENCES, Reference, citation, key_of_seed_file
 
 __all__ = ["REFERENCES", "Reference", "citation", "key_of_seed_file"]

@@ -17,6 +17,7 @@ those files (data the harness reads and prints as it is).
 A leaf package: it imports nothing of the project, so every package may import it (no mathematics and
 no angles here).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -32,31 +33,40 @@ class Reference:
     seed_file: str
 
 
-REFERENCES: dict[str, Reference] = {ref.key: ref for ref in (
-    Reference(
-        "bapat2015",
-        "S. G. Bapat, \"On the design and analysis of compliant mechanisms using the pseudo-rigid-body "
-        "model concept\", Ph.D. dissertation (advisor A. Midha), Department of Mechanical and Aerospace "
-        "Engineering, Missouri University of Science and Technology, 2015. Doctoral Dissertations 2376, "
-        "https://scholarsmine.mst.edu/doctoral_dissertations/2376",
-        "bapat", "000_0cc428dae4265b0a.txt"),
-    Reference(
-        "chen2021",
-        "G. Chen, F. Ma, R. Bai, W. Zhu, S. P. Magleby and L. L. Howell, \"An energy-based framework for "
-        "nonlinear kinetostatic modeling of compliant mechanisms utilizing beam flexures\", Journal of "
-        "Computing and Information Science in Engineering 21(6), 064501, 2021 (the beam constraint "
-        "model's strain energy and complementary energy, Castigliano's first theorem and the "
-        "Crotti-Engesser theorem)",
-        "chen", "003_2353723c375451e7.txt"),
-    Reference(
-        "ananthasuresh_l18",
-        "G. K. Ananthasuresh, \"Pseudo rigid-body (PRB) modeling\", Lecture 18 of the course \"Compliant "
-        "Mechanisms: Principles and Design\" (NPTEL), Department of Mechanical Engineering, Indian "
-        "Institute of Science, Bangalore; lecture transcript (no year printed). Its PRB models and n-fits "
-        "are those of L. L. Howell, Compliant Mechanisms, Wiley, 2001, and L. L. Howell and A. Midha, "
-        "J. Mech. Des. 117(1), 156-165, 1995",
-        "ananthasuresh", "004_f476baa17c1f7da6.txt"),
-)}
+REFERENCES: dict[str, Reference] = {
+    ref.key: ref
+    for ref in (
+        Reference(
+            "bapat2015",
+            'S. G. Bapat, "On the design and analysis of compliant mechanisms using the pseudo-rigid-body '
+            'model concept", Ph.D. dissertation (advisor A. Midha), Department of Mechanical and Aerospace '
+            "Engineering, Missouri University of Science and Technology, 2015. Doctoral Dissertations 2376, "
+            "https://scholarsmine.mst.edu/doctoral_dissertations/2376",
+            "bapat",
+            "000_0cc428dae4265b0a.txt",
+        ),
+        Reference(
+            "chen2021",
+            'G. Chen, F. Ma, R. Bai, W. Zhu, S. P. Magleby and L. L. Howell, "An energy-based framework for '
+            'nonlinear kinetostatic modeling of compliant mechanisms utilizing beam flexures", Journal of '
+            "Computing and Information Science in Engineering 21(6), 064501, 2021 (the beam constraint "
+            "model's strain energy and complementary energy, Castigliano's first theorem and the "
+            "Crotti-Engesser theorem)",
+            "chen",
+            "003_2353723c375451e7.txt",
+        ),
+        Reference(
+            "ananthasuresh_l18",
+            'G. K. Ananthasuresh, "Pseudo rigid-body (PRB) modeling", Lecture 18 of the course "Compliant '
+            'Mechanisms: Principles and Design" (NPTEL), Department of Mechanical Engineering, Indian '
+            "Institute of Science, Bangalore; lecture transcript (no year printed). Its PRB models and n-fits "
+            "are those of L. L. Howell, Compliant Mechanisms, Wiley, 2001, and L. L. Howell and A. Midha, "
+            "J. Mech. Des. 117(1), 156-165, 1995",
+            "ananthasuresh",
+            "004_f476baa17c1f7da6.txt",
+        ),
+    )
+}
 
 
 def citation(key: str) -> str:
@@ -71,5 +81,6 @@ def key_of_seed_file(name: str) -> str:
     for ref in REFERENCES.values():
         if ref.seed_file == name:
             return ref.key
-    raise ValueError(f"no reference is kept as {name!r}; known: "
-                     f"{', '.join(sorted(r.seed_file for r in REFERENCES.values()))}")
+    raise ValueError(
+        f"no reference is kept as {name!r}; known: {', '.join(sorted(r.seed_file for r in REFERENCES.values()))}"
+    )

@@ -27,6 +27,7 @@ each running the methods on a few case files that take their main code paths (``
 load the compiled code from the cache.  With a warm cache the primers only load it (about a second); without
 xdist (``-n 0``) nothing is primed ahead, the one process compiles as it goes.
 """
+
 import os
 import subprocess
 import sys
@@ -87,24 +88,42 @@ ROOT = Path(__file__).resolve().parent.parent
 # method -> case files whose runs take the method's compiled code paths (load control, arc length, rigid
 # links, a follower load, a mechanism, an inverse problem); the first one compiles almost everything.
 PRIMERS = {
-    "fem": ("benchmarks/cantilever_tip_load.toml", "benchmarks/lee_frame.toml", "benchmarks/williams_toggle.toml",
-            "chapter9/test2_partially_compliant_fourbar.toml", "benchmarks/arch_215_clamped_hinged.toml",
-            "benchmarks/follower_tip_load.toml"),
-    "elastica": ("benchmarks/cantilever_tip_load.toml", "chapter3/table3_3_case1_a_b_theta0.toml",
-                 "chapter4/fourbar_fixed_pinned_segment.toml", "chapter3/table3_6_exact_inverse.toml"),
+    "fem": (
+        "benchmarks/cantilever_tip_load.toml",
+        "benchmarks/lee_frame.toml",
+        "benchmarks/williams_toggle.toml",
+        "chapter9/test2_partially_compliant_fourbar.toml",
+        "benchmarks/arch_215_clamped_hinged.toml",
+        "benchmarks/follower_tip_load.toml",
+    ),
+    "elastica": (
+        "benchmarks/cantilever_tip_load.toml",
+        "chapter3/table3_3_case1_a_b_theta0.toml",
+        "chapter4/fourbar_fixed_pinned_segment.toml",
+        "chapter3/table3_6_exact_inverse.toml",
+    ),
 }
 
-PRIME = ("import sys; from pathlib import Path; from validation.run.parallel import prime\n"
-         "for path in sys.argv[2:]: prime(Path(path), sys.argv[1])")
+PRIME = (
+    "import sys; from pathlib import Path; from validation.run.parallel import prime\n"
+    "for path in sys.argv[2:]: prime(Path(path), sys.argv[1])"
+)
 
 
 def prime_compiled_code() -> None:
     """Compile (or load) each library's numba code in its own process, all at once, and wait for them.
     A primer that fails only costs the time: the tests that use that code report the failure."""
-    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}   # see "Bytecode" above
-    primers = [subprocess.Popen([sys.executable, "-c", PRIME, method, *(str(ROOT / "cases" / f) for f in files)],
-                                cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-               for method, files in PRIMERS.items()]
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}  # see "Bytecode" above
+    primers = [
+        subprocess.Popen(
+            [sys.executable, "-c", PRIME, method, *(str(ROOT / "cases" / f) for f in files)],
+            cwd=ROOT,
+            env=env,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+        for method, files in PRIMERS.items()
+    ]
     for process in primers:
         process.wait()
 
@@ -121,7 +140,7 @@ def _rank(nodeid: str) -> int:
 
 
 def pytest_collection_modifyitems(config, items):
-    items.sort(key=lambda item: _rank(item.nodeid))   # stable: the rest keep their order
+    items.sort(key=lambda item: _rank(item.nodeid))  # stable: the rest keep their order
     if NodeId is None or not getattr(config.option, "loadgroup", False):
         return
     for item in items:

@@ -16,6 +16,7 @@ every problem.
 Options: ``--case-method NAME`` (repeatable) runs only those methods; ``--case-cache`` reuses the
 on-disk cache of method runs (default: recompute).
 """
+
 from __future__ import annotations
 
 import re
@@ -32,10 +33,19 @@ from validation.run.verdict import MethodVerdict, Verdict, method_verdicts
 
 def pytest_addoption(parser) -> None:
     group = parser.getgroup("prbm-validate", "case files as tests")
-    group.addoption("--case-method", action="append", default=None, metavar="NAME",
-                    help="run only this method of each case file (repeatable)")
-    group.addoption("--case-cache", action="store_true", default=False,
-                    help="reuse cached method runs (.cache/runs or $PRBM_VALIDATE_CACHE)")
+    group.addoption(
+        "--case-method",
+        action="append",
+        default=None,
+        metavar="NAME",
+        help="run only this method of each case file (repeatable)",
+    )
+    group.addoption(
+        "--case-cache",
+        action="store_true",
+        default=False,
+        help="reuse cached method runs (.cache/runs or $PRBM_VALIDATE_CACHE)",
+    )
 
 
 def is_case_file(path: Path) -> bool:
@@ -68,8 +78,7 @@ class CaseFile(pytest.File):
         methods = [m for m in loaded.case.methods if not chosen or m in chosen]
         shared = SharedRun(loaded, methods, self.config.getoption("case_cache"))
         for method in methods:
-            yield CaseItem.from_parent(self, name=f"{loaded.id}[{method}]", loaded=loaded, method=method,
-                                       shared=shared)
+            yield CaseItem.from_parent(self, name=f"{loaded.id}[{method}]", loaded=loaded, method=method, shared=shared)
 
 
 class SharedRun:
@@ -112,9 +121,10 @@ class CaseItem(pytest.Item):
         if lines:
             verdict = self.shared.verdict(self.method)
             lines = without_the_run_verdict(lines + readable, self.method, verdict)
-            raise CaseFailure(f"{self.loaded.id} ({self.loaded.path}), method {self.method}: {verdict.verdict.value}"
-                              f"{': ' + verdict.reason if verdict.reason else ''}"
-                              + "".join(f"\n  {line}" for line in lines))
+            raise CaseFailure(
+                f"{self.loaded.id} ({self.loaded.path}), method {self.method}: {verdict.verdict.value}"
+                f"{': ' + verdict.reason if verdict.reason else ''}" + "".join(f"\n  {line}" for line in lines)
+            )
 
     def repr_failure(self, excinfo, style=None):
         if isinstance(excinfo.value, CaseFailure):
@@ -135,28 +145,37 @@ def without_the_run_verdict(lines: list[str], method: str, verdict: MethodVerdic
     rows it left without a value (NaN against each reference, NaN tolerances): one line, not rows of NaN."""
     if verdict.verdict not in RUN_VERDICTS:
         return lines
-    return [line for line in lines if not line.startswith(f"{method} did not give every value:")
-            and not NO_VALUE.search(line)]
+    return [
+        line
+        for line in lines
+        if not line.startswith(f"{method} did not give every value:") and not NO_VALUE.search(line)
+    ]
 
 
 def comparison_failures(result) -> list[str]:
     """One readable line per comparison outside the claimed limit (no recorded finding) that has a
     value (a row without one is its run's verdict, said once)."""
-    return [f"{row.method}: {describe_failure(row)}" for row in result.failures.itertuples()
-            if row.value == row.value]
+    return [f"{row.method}: {describe_failure(row)}" for row in result.failures.itertuples() if row.value == row.value]
 
 
 def describe_failure(row) -> str:
     """One line: quantity at point, level and load, value against reference, error and tolerance, source."""
-    load = (f", {row.load} = {row.load_value:g} {row.load_unit}"
-            if isinstance(row.load, str) and row.load_value == row.load_value else "")
-    tolerance = " or ".join(f"{kind} {value:g}" for kind, value in (("rel", row.tolerance_rel),
-                                                                     ("abs", row.tolerance_abs))
-                            if value == value and value is not None)
+    load = (
+        f", {row.load} = {row.load_value:g} {row.load_unit}"
+        if isinstance(row.load, str) and row.load_value == row.load_value
+        else ""
+    )
+    tolerance = " or ".join(
+        f"{kind} {value:g}"
+        for kind, value in (("rel", row.tolerance_rel), ("abs", row.tolerance_abs))
+        if value == value and value is not None
+    )
     point = f" at {row.point}" if isinstance(row.point, str) else ""
-    return (f"{row.quantity}{point}, level {row.level_label}{load}: {row.value:.6g} {row.unit} against "
-            f"{row.reference_label} {row.reference_value:.6g}; error {row.abs_error:.3g} abs, "
-            f"{row.rel_error:.3g} rel; tolerance {tolerance or 'none'}; source {row.source}")
+    return (
+        f"{row.quantity}{point}, level {row.level_label}{load}: {row.value:.6g} {row.unit} against "
+        f"{row.reference_label} {row.reference_value:.6g}; error {row.abs_error:.3g} abs, "
+        f"{row.rel_error:.3g} rel; tolerance {tolerance or 'none'}; source {row.source}"
+    )
 
 
 class BadCaseItem(pytest.Item):

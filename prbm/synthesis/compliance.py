@@ -23,6 +23,7 @@ agree with the link rotations -- the result says so and in which direction to ch
 
 Angles are in degrees here, as in the dissertation's synthesis tables (chapters 3, 5, 6); the PRBM library they feed works in radians.
 """
+
 from __future__ import annotations
 
 import math
@@ -61,8 +62,9 @@ class Configuration:
     angles: tuple[float, ...]
 
 
-def four_bar_configurations(fb: FourBarDesign, energy_free_theta2: float | None = None
-                            ) -> tuple[Configuration, list[Configuration]]:
+def four_bar_configurations(
+    fb: FourBarDesign, energy_free_theta2: float | None = None
+) -> tuple[Configuration, list[Configuration]]:
     """(energy-free state, precision positions) of a four-bar.  The energy-free state is position 1
     unless an input angle Theta20 is given (then Theta30, Theta40 follow by position analysis)."""
     positions = [Configuration(f"P{j + 1}", fb.angles(j)) for j in range(len(fb.phi))]
@@ -72,8 +74,9 @@ def four_bar_configurations(fb: FourBarDesign, energy_free_theta2: float | None 
     return Configuration("energy-free", (energy_free_theta2, t3, t4)), positions
 
 
-def slider_configurations(sc: SliderCrankDesign, extra_x: Sequence[float] = ()
-                          ) -> tuple[Configuration, list[Configuration]]:
+def slider_configurations(
+    sc: SliderCrankDesign, extra_x: Sequence[float] = ()
+) -> tuple[Configuration, list[Configuration]]:
     """(energy-free = position 1, [P1, P2, then the slider at each extra displacement])."""
     t21, t31 = sc.angles(0)
     out = [Configuration(f"P{j + 1}", sc.angles(j)) for j in range(len(sc.phi))]
@@ -83,15 +86,17 @@ def slider_configurations(sc: SliderCrankDesign, extra_x: Sequence[float] = ()
     return Configuration("P1 (energy-free)", (t21, t31)), out
 
 
-def springs_at(mech: FourBarDesign | SliderCrankDesign, config: Configuration
-               ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def springs_at(
+    mech: FourBarDesign | SliderCrankDesign, config: Configuration
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     if isinstance(mech, SliderCrankDesign):
         return slider_springs(mech, *config.angles)
     return four_bar_springs(mech, *config.angles)
 
 
-def design_rows(mech: FourBarDesign | SliderCrankDesign, free: Configuration, configs: list[Configuration],
-                kind: str) -> NDArray[np.float64]:
+def design_rows(
+    mech: FourBarDesign | SliderCrankDesign, free: Configuration, configs: list[Configuration], kind: str
+) -> NDArray[np.float64]:
     """Row j of A with f_j = A_j k - b_j: 1/2 (beta - beta0)^2 for energy, (beta - beta0) beta' for torque."""
     beta0, _ = springs_at(mech, free)
     rows = []
@@ -106,11 +111,11 @@ def design_rows(mech: FourBarDesign | SliderCrankDesign, free: Configuration, co
 class SpringResult:
     """Spring constants and how they were obtained (scipy.optimize style)."""
 
-    k: np.ndarray                   # per spring, 0 where the PRBM has no spring
+    k: np.ndarray  # per spring, 0 where the PRBM has no spring
     success: bool
     message: str
-    fun: float                      # F = sum f_j^2 at the answer
-    achieved: np.ndarray            # U_j or T_j with these springs
+    fun: float  # F = sum f_j^2 at the answer
+    achieved: np.ndarray  # U_j or T_j with these springs
     target: np.ndarray
     nit: int = 0
     nfev: int = 0
@@ -129,10 +134,18 @@ def _inequality(g: Callable[[NDArray[np.float64]], float], E: NDArray[np.float64
     return {"type": "ineq", "fun": lambda x: -g(E @ x)}
 
 
-def solve_springs(A: NDArray[np.float64], target: ArrayLike, *, springs: list[int],
-                  groups: list[list[int]] | None = None, bounds: tuple[float, float] = (0.0, np.inf),
-                  constraints: dict[str, Callable[[NDArray[np.float64]], float]] | None = None,
-                  ftol: float = 1e-10, rtol: float = 1e-6, label: str = "energy") -> SpringResult:
+def solve_springs(
+    A: NDArray[np.float64],
+    target: ArrayLike,
+    *,
+    springs: list[int],
+    groups: list[list[int]] | None = None,
+    bounds: tuple[float, float] = (0.0, np.inf),
+    constraints: dict[str, Callable[[NDArray[np.float64]], float]] | None = None,
+    ftol: float = 1e-10,
+    rtol: float = 1e-6,
+    label: str = "energy",
+) -> SpringResult:
     """Minimise sum_j (A_j k - b_j)^2 (eq. 185) over the active springs (1-based joint numbers),
     with springs of one group equal, ``bounds`` on every k and ``constraints`` g(k) <= 0."""
     b = np.asarray(target, dtype=float)
@@ -142,7 +155,7 @@ def solve_springs(A: NDArray[np.float64], target: ArrayLike, *, springs: list[in
     if grouped != set(springs):
         missing = set(springs) ^ grouped
         raise ValueError(f"spring groups and active springs differ at spring(s) {sorted(missing)}")
-    E = np.zeros((n_all, len(groups)))       # k = E x
+    E = np.zeros((n_all, len(groups)))  # k = E x
     for col, g in enumerate(groups):
         for s in g:
             E[s - 1, col] = 1.0
@@ -163,8 +176,15 @@ def solve_springs(A: NDArray[np.float64], target: ArrayLike, *, springs: list[in
     cons = [_inequality(g, E) for g in constraints.values()]
     best, nit, nfev = None, 0, 0
     for x0 in starts:
-        res = minimize(objective, x0, jac=gradient, method="SLSQP", bounds=[(lo, None if hi == np.inf else hi)] * len(groups),
-                       constraints=cons, options={"ftol": 1e-16, "maxiter": 500})
+        res = minimize(
+            objective,
+            x0,
+            jac=gradient,
+            method="SLSQP",
+            bounds=[(lo, None if hi == np.inf else hi)] * len(groups),
+            constraints=cons,
+            options={"ftol": 1e-16, "maxiter": 500},
+        )
         nit += res.nit
         nfev += res.nfev
         feasible = all(c["fun"](res.x) >= -1e-9 for c in cons)
@@ -172,9 +192,18 @@ def solve_springs(A: NDArray[np.float64], target: ArrayLike, *, springs: list[in
             best = res
     if best is None:
         k = E @ start
-        return SpringResult(k, False, "no spring constants satisfy the constraints "
-                            f"({', '.join(constraints)}); relax them or change the specification",
-                            objective(start), A @ k, b, nit, nfev, {n: g(k) for n, g in constraints.items()})
+        return SpringResult(
+            k,
+            False,
+            "no spring constants satisfy the constraints "
+            f"({', '.join(constraints)}); relax them or change the specification",
+            objective(start),
+            A @ k,
+            b,
+            nit,
+            nfev,
+            {n: g(k) for n, g in constraints.items()},
+        )
     k = E @ best.x
     achieved = A @ k
     fun = objective(best.x)
@@ -185,8 +214,10 @@ def solve_springs(A: NDArray[np.float64], target: ArrayLike, *, springs: list[in
     else:
         worst = int(np.argmax(np.abs(achieved - b)))
         direction = "lower" if achieved[worst] < b[worst] else "higher"
-        message = (f"{label} specification cannot be met exactly: F = {fun:.4g}; the best springs give "
-                   f"{', '.join(f'{v:.4g}' for v in achieved)} for {', '.join(f'{v:.4g}' for v in b)} "
-                   f"(largest miss at entry {worst + 1}, {direction} than specified). Seed section 6.6: "
-                   f"check that the {label} agrees with the link rotations, then change the specification")
+        message = (
+            f"{label} specification cannot be met exactly: F = {fun:.4g}; the best springs give "
+            f"{', '.join(f'{v:.4g}' for v in achieved)} for {', '.join(f'{v:.4g}' for v in b)} "
+            f"(largest miss at entry {worst + 1}, {direction} than specified). Seed section 6.6: "
+            f"check that the {label} agrees with the link rotations, then change the specification"
+        )
     return SpringResult(k, ok, message, fun, achieved, b, nit, nfev, {n: g(k) for n, g in constraints.items()})

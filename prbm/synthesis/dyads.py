@@ -32,6 +32,7 @@ are incompatible with the free choices: that is returned as a failed result with
 
 Angles are in degrees here, as in the dissertation's synthesis tables (chapters 3, 5, 6); the PRBM library they feed works in radians.
 """
+
 from __future__ import annotations
 
 import cmath
@@ -77,8 +78,10 @@ class Dyad:
     branches: int = 1
 
     def residual(self, deltas: list[complex]) -> float:
-        return max((abs(self.Z * (rot(a) - 1) + self.W * (rot(b) - 1) - d)
-                    for a, b, d in zip(self.a[1:], self.b[1:], deltas)), default=0.0)
+        return max(
+            (abs(self.Z * (rot(a) - 1) + self.W * (rot(b) - 1) - d) for a, b, d in zip(self.a[1:], self.b[1:], deltas)),
+            default=0.0,
+        )
 
 
 def triangle(p: complex, q: complex, c: complex, tol: float = 1e-12) -> list[tuple[float, float]]:
@@ -104,8 +107,7 @@ def _wrap(angle_deg: float) -> float:
     return (angle_deg + 180.0) % 360.0 - 180.0
 
 
-def dyad_all_rotations(deltas: list[complex], a: list[float], b: list[float],
-                       Z: complex | None = None) -> Dyad:
+def dyad_all_rotations(deltas: list[complex], a: list[float], b: list[float], Z: complex | None = None) -> Dyad:
     """Dyad with every rotation known (deg, positions 2..n).  Three positions: linear solve;
     two positions: W from the chosen Z."""
     if len(deltas) == 1:
@@ -128,7 +130,9 @@ def dyad_all_rotations(deltas: list[complex], a: list[float], b: list[float],
 def dyad_link_and_coupler_rotations(deltas: list[complex], Z: complex, b: list[float]) -> list[Dyad]:
     """Motion generation: Z chosen, rotations b_j of W known (three positions); every branch."""
     if len(deltas) != 2:
-        raise SynthesisError("a chosen link vector with known coupler rotations needs exactly three precision positions")
+        raise SynthesisError(
+            "a chosen link vector with known coupler rotations needs exactly three precision positions"
+        )
     d2, d3 = deltas
     e2, e3 = rot(b[0]) - 1, rot(b[1]) - 1
     if abs(e2) < 1e-12 or abs(e3) < 1e-12:
@@ -163,8 +167,8 @@ def dyad_link_and_direction(delta: complex, Z: complex, a: float, direction_deg:
     A = delta - Z * (rot(a) - 1)
     if abs(A) < 1e-12:
         raise SynthesisError("the chosen link alone reaches the precision position: coupler rotation undefined")
-    u = A / rot(direction_deg)                 # = R_W (e^{ib} - 1), R_W real
-    b = _wrap(2.0 * (arg_deg(u) - 90.0))       # arg(e^{ib} - 1) = b/2 + 90 (mod 180)
+    u = A / rot(direction_deg)  # = R_W (e^{ib} - 1), R_W real
+    b = _wrap(2.0 * (arg_deg(u) - 90.0))  # arg(e^{ib} - 1) = b/2 + 90 (mod 180)
     eb = rot(b) - 1
     if abs(eb) < 1e-12:
         raise SynthesisError("no coupler rotation closes the dyad in the chosen direction")
@@ -210,8 +214,9 @@ class FourBarDesign:
 
 def _pick(dyads: list[Dyad], branch: int | None, what: str) -> Dyad:
     if not dyads:
-        raise SynthesisError(f"{what}: the precision positions cannot be reached with these free choices "
-                             "(the dyad loop does not close)")
+        raise SynthesisError(
+            f"{what}: the precision positions cannot be reached with these free choices (the dyad loop does not close)"
+        )
     if branch is None:  # default: the more compact dyad (the other closure folds the linkage)
         return min(dyads, key=lambda d: abs(d.W))
     if not 0 <= branch < len(dyads):
@@ -225,13 +230,31 @@ def four_bar_from_dyads(left: Dyad, right: Dyad, deltas: list[complex]) -> FourB
         raise SynthesisError("left and right dyads disagree on the coupler rotations")
     Z3 = left.W - right.W
     Z1 = left.Z + left.W - right.W - right.Z
-    return FourBarDesign(Z1=Z1, Z2=left.Z, Z3=Z3, Z4=right.Z, Z5=left.W, Z6=right.W,
-                   phi=left.a, gamma=left.b, psi=right.a, deltas=list(deltas))
+    return FourBarDesign(
+        Z1=Z1,
+        Z2=left.Z,
+        Z3=Z3,
+        Z4=right.Z,
+        Z5=left.W,
+        Z6=right.W,
+        phi=left.a,
+        gamma=left.b,
+        psi=right.a,
+        deltas=list(deltas),
+    )
 
 
-def motion_generation(deltas: list[complex], gamma: list[float], *, Z2: complex | None = None,
-                      Z4: complex | None = None, phi: list[float] | None = None, psi: list[float] | None = None,
-                      branch_left: int | None = None, branch_right: int | None = None) -> FourBarDesign:
+def motion_generation(
+    deltas: list[complex],
+    gamma: list[float],
+    *,
+    Z2: complex | None = None,
+    Z4: complex | None = None,
+    phi: list[float] | None = None,
+    psi: list[float] | None = None,
+    branch_left: int | None = None,
+    branch_right: int | None = None,
+) -> FourBarDesign:
     """Motion generation (delta_j, gamma_j given).  Per dyad, either the link vector (Z2, Z4) or
     its rotations (phi, psi; three positions, or two positions with the link vector too)."""
     left = _side(deltas, gamma, Z2, phi, branch_left, "left dyad (Z2, Z5)")
@@ -239,8 +262,14 @@ def motion_generation(deltas: list[complex], gamma: list[float], *, Z2: complex 
     return four_bar_from_dyads(left, right, deltas)
 
 
-def _side(deltas: list[complex], gamma: list[float], Z: complex | None, rotations: list[float] | None,
-          branch: int | None, what: str) -> Dyad:
+def _side(
+    deltas: list[complex],
+    gamma: list[float],
+    Z: complex | None,
+    rotations: list[float] | None,
+    branch: int | None,
+    what: str,
+) -> Dyad:
     if rotations is not None:
         return dyad_all_rotations(deltas, rotations, gamma, Z)
     if Z is None:
@@ -250,10 +279,17 @@ def _side(deltas: list[complex], gamma: list[float], Z: complex | None, rotation
     return _pick(dyad_link_and_coupler_rotations(deltas, Z, gamma), branch, what)
 
 
-def path_generation_timed(deltas: list[complex], phi: list[float], *, Z2: complex | None = None,
-                          gamma: list[float] | None = None, Z4: complex | None = None,
-                          psi: list[float] | None = None, branch_left: int | None = None,
-                          branch_right: int | None = None) -> FourBarDesign:
+def path_generation_timed(
+    deltas: list[complex],
+    phi: list[float],
+    *,
+    Z2: complex | None = None,
+    gamma: list[float] | None = None,
+    Z4: complex | None = None,
+    psi: list[float] | None = None,
+    branch_left: int | None = None,
+    branch_right: int | None = None,
+) -> FourBarDesign:
     """Path generation with prescribed timing (delta_j, phi_j given).  Left dyad: Z2 chosen
     (gamma found) or gamma chosen; right dyad as in motion generation with the gamma found."""
     if gamma is not None:
@@ -268,17 +304,35 @@ def path_generation_timed(deltas: list[complex], phi: list[float], *, Z2: comple
     return four_bar_from_dyads(left, right, deltas)
 
 
-def path_generation(deltas: list[complex], *, phi: list[float], gamma: list[float] | None = None,
-                    Z2: complex | None = None, Z4: complex | None = None, psi: list[float] | None = None,
-                    branch_left: int | None = None, branch_right: int | None = None) -> FourBarDesign:
+def path_generation(
+    deltas: list[complex],
+    *,
+    phi: list[float],
+    gamma: list[float] | None = None,
+    Z2: complex | None = None,
+    Z4: complex | None = None,
+    psi: list[float] | None = None,
+    branch_left: int | None = None,
+    branch_right: int | None = None,
+) -> FourBarDesign:
     """Path generation (only delta_j given): the input rotations phi_j are free choices, after
     which it is path generation with prescribed timing."""
-    return path_generation_timed(deltas, phi, Z2=Z2, gamma=gamma, Z4=Z4, psi=psi,
-                                 branch_left=branch_left, branch_right=branch_right)
+    return path_generation_timed(
+        deltas, phi, Z2=Z2, gamma=gamma, Z4=Z4, psi=psi, branch_left=branch_left, branch_right=branch_right
+    )
 
 
-def function_generation(phi: list[float], psi: list[float], *, theta2: float, theta3: float, R4: float,
-                        gamma2: float, branch: int | None = None, scan: int = 3600) -> FourBarDesign:
+def function_generation(
+    phi: list[float],
+    psi: list[float],
+    *,
+    theta2: float,
+    theta3: float,
+    R4: float,
+    gamma2: float,
+    branch: int | None = None,
+    scan: int = 3600,
+) -> FourBarDesign:
     """Function generation at three positions, eq. (178), with the dissertation's free choices (section 6.7
     Example 2): directions Theta21, Theta31 of Z2, Z3, length R4 and coupler rotation gamma2.
 
@@ -331,16 +385,30 @@ def function_generation(phi: list[float], psi: list[float], *, theta2: float, th
             continue
         candidates.append((g3, R2, R3, Z4))
     if not candidates:
-        raise SynthesisError("function generation: no four-bar with positive link lengths meets the "
-                             "specified phi/psi pairs with these free choices")
+        raise SynthesisError(
+            "function generation: no four-bar with positive link lengths meets the "
+            "specified phi/psi pairs with these free choices"
+        )
     pick = min(candidates, key=lambda c: abs(c[0])) if branch is None else candidates[branch]
     g3, R2, R3, Z4 = pick
     Z2, Z3 = polar(R2, theta2), polar(R3, theta3)
     Z1 = Z2 + Z3 - Z4
     # the coupler point is not specified in function generation: it is put at the middle of the coupler
-    return FourBarDesign(Z1=Z1, Z2=Z2, Z3=Z3, Z4=Z4, Z5=Z3 / 2, Z6=-Z3 / 2, phi=[0.0, *phi], gamma=[0.0, gamma2, g3],
-                   psi=[0.0, *psi], notes=[f"{len(candidates)} solution(s) with positive link lengths; "
-                                           f"gamma3 = {', '.join(f'{c[0]:.4f}' for c in candidates)} deg"])
+    return FourBarDesign(
+        Z1=Z1,
+        Z2=Z2,
+        Z3=Z3,
+        Z4=Z4,
+        Z5=Z3 / 2,
+        Z6=-Z3 / 2,
+        phi=[0.0, *phi],
+        gamma=[0.0, gamma2, g3],
+        psi=[0.0, *psi],
+        notes=[
+            f"{len(candidates)} solution(s) with positive link lengths; "
+            f"gamma3 = {', '.join(f'{c[0]:.4f}' for c in candidates)} deg"
+        ],
+    )
 
 
 def four_bar_position(fb: FourBarDesign, theta2: float, near: Sequence[float]) -> tuple[float, float]:
@@ -386,8 +454,16 @@ class SliderCrankDesign:
         return {"Z11": self.Z11, "Z2": self.Z2, "Z3": self.Z3}
 
 
-def slider_crank_timed(delta: float, phi2: float, *, R2: float, theta3: float, theta1: float = 0.0,
-                       offset: float = 0.0, branch: int | None = None) -> SliderCrankDesign:
+def slider_crank_timed(
+    delta: float,
+    phi2: float,
+    *,
+    R2: float,
+    theta3: float,
+    theta1: float = 0.0,
+    offset: float = 0.0,
+    branch: int | None = None,
+) -> SliderCrankDesign:
     """Two-position slider-crank path generation with prescribed timing [bapat2015, ch. 7, Example 1]:
     the slider pin moves delta along the axis while the crank turns phi2.  Free choices R2, Theta31.
     Unknowns Theta21, R3, gamma2 from the dyad  Z2 (e^{i phi2} - 1) + Z3 (e^{i gamma2} - 1) = delta e^{i theta1}

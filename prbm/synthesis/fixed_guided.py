@@ -23,6 +23,7 @@ residual and the spread of the roots found.
 
 Angles are in degrees here, as in the dissertation's synthesis tables (chapters 3, 5, 6); the PRBM library they feed works in radians.
 """
+
 from __future__ import annotations
 
 import math
@@ -40,26 +41,47 @@ from prbm.synthesis.dyads import DEG, SynthesisError
 #: one design: (l, I, M, l1, theta10, the state of ``inflection_state``)
 TwoPositionRoot: TypeAlias = tuple[float, float, float, float, float, dict[str, float]]
 
+
 def pauly_midha(n: float) -> tuple[float, float, float]:
     """(gamma, c_theta, K_Theta) at load ratio n, [bapat2015, eqs 41-43]."""
     return PAULY_MIDHA.parameters(n, extrapolate="allow")
 
 
-def inflection_state(*, E: float, I: float, l: float, l1: float, theta10: float, P: float, n: float,
-                     theta0: float) -> dict[str, float]:
+def inflection_state(
+    *, E: float, I: float, l: float, l1: float, theta10: float, P: float, n: float, theta0: float
+) -> dict[str, float]:
     """Every quantity of the chapter-3 PRBM for a trial (l, I, l1, theta10); angles in radians.
     The equations are ``prbm.inflection.inflection_state`` (eqs 83-104); this names them for the
     synthesis residuals (floats, the end force (-nP, P) from P and n)."""
-    state = prbm_inflection.inflection_state(prbm_inflection.InflectionBeam(l, E * I), math.hypot(P, n * P),
-                                             math.atan2(P, -n * P), theta0, l1, theta10)
-    names = {"F": "F", "phi1": "phi1", "phi2": "phi2", "n2": "n2", "gamma1": "gamma1", "gamma2": "gamma2",
-             "c1": "c_theta1", "c2": "c_theta2", "K1": "K_theta1", "K2": "K_theta2", "l2": "l2",
-             "Theta1": "Theta1", "Theta2": "Theta2", "r95": "r95", "r96": "r96", "M": "M", "b": "b", "a": "a"}
+    state = prbm_inflection.inflection_state(
+        prbm_inflection.InflectionBeam(l, E * I), math.hypot(P, n * P), math.atan2(P, -n * P), theta0, l1, theta10
+    )
+    names = {
+        "F": "F",
+        "phi1": "phi1",
+        "phi2": "phi2",
+        "n2": "n2",
+        "gamma1": "gamma1",
+        "gamma2": "gamma2",
+        "c1": "c_theta1",
+        "c2": "c_theta2",
+        "K1": "K_theta1",
+        "K2": "K_theta2",
+        "l2": "l2",
+        "Theta1": "Theta1",
+        "Theta2": "Theta2",
+        "r95": "r95",
+        "r96": "r96",
+        "M": "M",
+        "b": "b",
+        "a": "a",
+    }
     return {mine: float(state[theirs]) for mine, theirs in names.items()}
 
 
-def solve_two_position(*, E: float, P: float, n: float, theta0_deg: float, b: float, delta: float,
-                       guess: Sequence[float] | None = None) -> list[TwoPositionRoot]:
+def solve_two_position(
+    *, E: float, P: float, n: float, theta0_deg: float, b: float, delta: float, guess: Sequence[float] | None = None
+) -> list[TwoPositionRoot]:
     """(l, I, M, l1, theta10, state, roots) meeting b and delta = l - a; ``SynthesisError`` if none."""
     theta0 = theta0_deg * DEG
     if b == 0:
@@ -80,8 +102,15 @@ def solve_two_position(*, E: float, P: float, n: float, theta0_deg: float, b: fl
     roots: list[TwoPositionRoot] = []
     for x0 in starts:
         try:
-            res = least_squares(residual, x0, bounds=([1e-9, -80, 1e-3, -1.5], [np.inf, 10, 1 - 1e-3, 1.5]),
-                                xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=4000)
+            res = least_squares(
+                residual,
+                x0,
+                bounds=([1e-9, -80, 1e-3, -1.5], [np.inf, 10, 1 - 1e-3, 1.5]),
+                xtol=1e-15,
+                ftol=1e-15,
+                gtol=1e-15,
+                max_nfev=4000,
+            )
         except (ValueError, ZeroDivisionError, OverflowError):
             continue
         if res.success and max(abs(v) for v in res.fun) < 1e-9:
@@ -90,7 +119,9 @@ def solve_two_position(*, E: float, P: float, n: float, theta0_deg: float, b: fl
             if -4 < n <= 10 and -4 < st["n2"] <= 10 and st["Theta1"] > 0 and st["Theta2"] > 0:
                 roots.append((l, math.exp(logI), st["M"], s * l, theta10, st))
     if not roots:
-        raise SynthesisError("no fixed-guided segment with one inflection point meets these end displacements "
-                             "under the specified load (no valid root of eqs 95, 96, 108, 109)")
+        raise SynthesisError(
+            "no fixed-guided segment with one inflection point meets these end displacements "
+            "under the specified load (no valid root of eqs 95, 96, 108, 109)"
+        )
     roots.sort(key=lambda r: r[0])
     return roots

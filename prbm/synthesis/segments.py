@@ -14,6 +14,7 @@ A rectangular section of width w gives t = (12 I / w)^(1/3) and c = t/2.
 
 Angles are in degrees here, as in the dissertation's synthesis tables (chapters 3, 5, 6); the PRBM library they feed works in radians.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -23,13 +24,13 @@ from dataclasses import dataclass
 class SegmentDesign:
     """One sized segment: its type, the springs it realises, and its dimensions (consistent units)."""
 
-    kind: str                  # 'slfp', 'fixed-pinned' or 'fixed-guided'
-    link: str                  # PRB link it lies along, e.g. 'Z2'
+    kind: str  # 'slfp', 'fixed-pinned' or 'fixed-guided'
+    link: str  # PRB link it lies along, e.g. 'Z2'
     springs: list[int]
-    k: float                   # spring constant of each of its springs
+    k: float  # spring constant of each of its springs
     E: float
     width: float
-    length: float              # flexible length l
+    length: float  # flexible length l
     I: float
     thickness: float
     rigid_length: float = 0.0  # L of an SLFP link, 0 otherwise
@@ -48,8 +49,16 @@ def rectangle_thickness(I: float, width: float) -> float:
     return thickness
 
 
-def slfp(k: float, *, R: float, E: float, width: float, fraction: float = 0.05, link: str = "",
-         springs: list[int] | None = None) -> SegmentDesign:
+def slfp(
+    k: float,
+    *,
+    R: float,
+    E: float,
+    width: float,
+    fraction: float = 0.05,
+    link: str = "",
+    springs: list[int] | None = None,
+) -> SegmentDesign:
     """SLFP on a PRB link of length R: L = R / (1 + f), l = f L; I = k l / E (eq. 186)."""
     L = R / (1.0 + fraction)
     l = fraction * L
@@ -57,26 +66,67 @@ def slfp(k: float, *, R: float, E: float, width: float, fraction: float = 0.05, 
     return SegmentDesign("slfp", link, springs or [], k, E, width, l, I, rectangle_thickness(I, width), rigid_length=L)
 
 
-def fixed_pinned(k: float, *, R: float, E: float, width: float, gamma: float, K_theta: float,
-                 link: str = "", springs: list[int] | None = None) -> SegmentDesign:
+def fixed_pinned(
+    k: float,
+    *,
+    R: float,
+    E: float,
+    width: float,
+    gamma: float,
+    K_theta: float,
+    link: str = "",
+    springs: list[int] | None = None,
+) -> SegmentDesign:
     """Fixed-pinned segment: l = R / gamma, I = k l / (gamma K_Theta E) (eq. 187)."""
     l = R / gamma
     I = k * l / (gamma * K_theta * E)
-    return SegmentDesign("fixed-pinned", link, springs or [], k, E, width, l, I, rectangle_thickness(I, width),
-                   gamma=gamma, K_theta=K_theta)
+    return SegmentDesign(
+        "fixed-pinned",
+        link,
+        springs or [],
+        k,
+        E,
+        width,
+        l,
+        I,
+        rectangle_thickness(I, width),
+        gamma=gamma,
+        K_theta=K_theta,
+    )
 
 
-def fixed_guided(k: float, *, R: float, E: float, width: float, gamma: float, K_theta: float,
-                 link: str = "", springs: list[int] | None = None) -> SegmentDesign:
+def fixed_guided(
+    k: float,
+    *,
+    R: float,
+    E: float,
+    width: float,
+    gamma: float,
+    K_theta: float,
+    link: str = "",
+    springs: list[int] | None = None,
+) -> SegmentDesign:
     """Fixed-guided segment (two springs k): l = R / gamma, I = k l / (2 gamma K_Theta E) (eq. 188)."""
     l = R / gamma
     I = k * l / (2.0 * gamma * K_theta * E)
-    return SegmentDesign("fixed-guided", link, springs or [], k, E, width, l, I, rectangle_thickness(I, width),
-                   gamma=gamma, K_theta=K_theta)
+    return SegmentDesign(
+        "fixed-guided",
+        link,
+        springs or [],
+        k,
+        E,
+        width,
+        l,
+        I,
+        rectangle_thickness(I, width),
+        gamma=gamma,
+        K_theta=K_theta,
+    )
 
 
-def slfp_stress_from_k(k: float, delta_beta: float, *, R: float, E: float, width: float,
-                       fraction: float = 0.05) -> float:
+def slfp_stress_from_k(
+    k: float, delta_beta: float, *, R: float, E: float, width: float, fraction: float = 0.05
+) -> float:
     """sigma = M t / (2 I) of the SLFP realising k at spring rotation delta_beta (rad): used as a
     constraint while k is still unknown (t and I both depend on k)."""
     seg = slfp(k, R=R, E=E, width=width, fraction=fraction)

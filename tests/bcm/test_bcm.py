@@ -3,6 +3,7 @@
 Numbers quoted from notes/seed-003-004.md are derived there (the seed prints results in figures
 only); the identities are checked here numerically by finite differences.
 """
+
 from __future__ import annotations
 
 import math
@@ -11,17 +12,33 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bcm import (C0, K0, K1, K2, axial_stiffness_parameter, bcm_residual, circular_guided_torque,
-                 circular_guided_torque_eq20, complementary_energy, deflections_from_complementary,
-                 deflections_from_loads, eq32_corrected, eq32_printed, exact_compliance,
-                 loads_from_deflections, slant_parallelogram, solve_mixed, strain_energy)
+from bcm import (
+    C0,
+    K0,
+    K1,
+    K2,
+    axial_stiffness_parameter,
+    bcm_residual,
+    circular_guided_torque,
+    circular_guided_torque_eq20,
+    complementary_energy,
+    deflections_from_complementary,
+    deflections_from_loads,
+    eq32_corrected,
+    eq32_printed,
+    exact_compliance,
+    loads_from_deflections,
+    slant_parallelogram,
+    solve_mixed,
+    strain_energy,
+)
 from validation.case.loader import load_case
 from validation.methods import bcm as adapter
 from validation.methods.base import NotApplicable, Request
 from validation.case.method_options import options_of
 
 CASES = Path(__file__).resolve().parents[2] / "cases"
-KA = axial_stiffness_parameter(25.0, 0.25)          # 120000, Table 2 / Table 3 beam
+KA = axial_stiffness_parameter(25.0, 0.25)  # 120000, Table 2 / Table 3 beam
 
 
 def _grad(f, x, h=1e-6):
@@ -44,7 +61,7 @@ def test_castigliano_on_eq11_reproduces_eqs_3_and_10(ux, uy, th):
     fd = _grad(lambda a, b, c: strain_energy(a, b, c, ka), (ux, uy, th), h=1e-7)
     fx, fy, mz = loads_from_deflections(ux, uy, th, ka)
     assert np.allclose(fd, (fx, fy, mz), rtol=1e-6, atol=1e-6)
-    assert np.allclose(bcm_residual(ux, uy, th, fx, fy, mz, ka), 0.0, atol=1e-12)   # eqs (3), (4)
+    assert np.allclose(bcm_residual(ux, uy, th, fx, fy, mz, ka), 0.0, atol=1e-12)  # eqs (3), (4)
 
 
 @pytest.mark.parametrize("order", [2, 3])
@@ -71,10 +88,10 @@ def test_eq17_is_the_series_of_the_corrected_eq15():
 
 def test_linear_limit_and_mixed_solves():
     q = np.array([0.01, 0.02])
-    ux_free = -0.5 * q @ K1 @ q                             # kinematic shortening: f_x = 0 (eq (4))
+    ux_free = -0.5 * q @ K1 @ q  # kinematic shortening: f_x = 0 (eq (4))
     fx, fy, mz = loads_from_deflections(ux_free, *q, 1e12)
     assert abs(fx) < 1e-9 and np.allclose(K0 @ q, (fy, mz), atol=1e-8)
-    ux, uy, th, fx, fy, mz = solve_mixed(KA, fx=0.2, uy=0.05, theta=0.0)     # guided tip, given u_y
+    ux, uy, th, fx, fy, mz = solve_mixed(KA, fx=0.2, uy=0.05, theta=0.0)  # guided tip, given u_y
     assert np.allclose(bcm_residual(ux, uy, th, fx, fy, mz, KA), 0, atol=1e-10)
     assert np.allclose(deflections_from_loads(fx, fy, mz, KA), (ux, uy, th), atol=1e-12)
     # section 4.3 C5 fixed-guided forms
@@ -87,14 +104,14 @@ def test_circular_guided_eq20_equals_castigliano():
     for beta in (0.01, 0.05, 0.1):
         assert abs(circular_guided_torque_eq20(beta, R, KA) - circular_guided_torque(beta, R, KA)) < 1e-12
     # T = dv/dbeta, checked by a finite difference of eq (11) along eq (18)
-    v = lambda b: strain_energy(R * (math.cos(b) - 1), R * math.sin(b), b, KA)   # noqa: E731
+    v = lambda b: strain_energy(R * (math.cos(b) - 1), R * math.sin(b), b, KA)  # noqa: E731
     assert abs((v(0.1 + 1e-6) - v(0.1 - 1e-6)) / 2e-6 - circular_guided_torque(0.1, R, KA)) < 1e-7
-    assert abs(circular_guided_torque(0.1, R, KA) - 0.26368) < 5e-6      # notes 2.1 table, T_BCM normalised
+    assert abs(circular_guided_torque(0.1, R, KA) - 0.26368) < 5e-6  # notes 2.1 table, T_BCM normalised
 
 
 def test_eq32_corrected_is_the_gradient_of_eq30_and_printed_is_not():
     ux, uy = -1.5e-4, 0.04
-    v = lambda a, b: strain_energy(a, b, 0.0, KA)      # eq (30) = eq (11) with theta_z = 0  # noqa: E731
+    v = lambda a, b: strain_energy(a, b, 0.0, KA)  # eq (30) = eq (11) with theta_z = 0  # noqa: E731
     fd = _grad(v, (ux, uy), h=1e-9)
     assert np.allclose(eq32_corrected(ux, uy, KA), fd, rtol=1e-5)
     assert not np.allclose(eq32_printed(ux, uy, KA), fd, rtol=1e-2)
@@ -119,7 +136,9 @@ def test_slant_parallelogram_loci_agree():
 def test_bcm_adapter_meets_case_references(name):
     case = load_case(CASES / "seed003" / f"{name}.toml").case
     refs = [r for r in case.references if r.compare == "bcm"]
-    run = adapter.run(case, [Request(r.quantity, r.point, r.level) for r in refs], options_of("bcm", case.methods["bcm"]))
+    run = adapter.run(
+        case, [Request(r.quantity, r.point, r.level) for r in refs], options_of("bcm", case.methods["bcm"])
+    )
     assert run.converged and not run.extras["outside_range"]
     for r in refs:
         tol = r.tolerance.abs if r.tolerance.abs is not None else r.tolerance.rel * abs(r.value)
@@ -130,8 +149,11 @@ def test_bcm_adapter_segment_and_range_flag():
     case = load_case(CASES / "benchmarks" / "cantilever_tip_load.toml").case
     reqs = [Request("y", "tip", 0), Request("strain_energy", "tip", 0)]
     run = adapter.run(case, reqs, options_of("bcm", {}))
-    assert run.extras["outside_range"] == [0]               # PL^2/EI = 1 is far beyond u_y <= 0.1
-    assert abs(run.values[reqs[0]] - 1 / 3) < 1e-3          # BCM is linear in f_y at f_x = 0
+    assert run.extras["outside_range"] == [0]  # PL^2/EI = 1 is far beyond u_y <= 0.1
+    assert abs(run.values[reqs[0]] - 1 / 3) < 1e-3  # BCM is linear in f_y at f_x = 0
     with pytest.raises(NotApplicable):
-        adapter.run(load_case(CASES / "benchmarks" / "arch_215_clamped_hinged.toml").case,
-                    [Request("force_y", "crown", 0)], options_of("bcm", {}))
+        adapter.run(
+            load_case(CASES / "benchmarks" / "arch_215_clamped_hinged.toml").case,
+            [Request("force_y", "crown", 0)],
+            options_of("bcm", {}),
+        )

@@ -14,6 +14,7 @@
   1e-15 of the loads: fsolve's progress test stalls on an answer exact to rounding (fixed: judged by the
   residual, as ``solve_mixed`` already was).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -37,12 +38,24 @@ def test_exact_compliance_just_past_the_series_branch_is_continuous_with_it(fx):
 
 # notes/seed-003-004.md section 2.2 table: F_h [N] -> (Delta X, Delta Y) [mm] per method, m_z1 (CE3)
 LOCI = {
-    0.0: {"CE3": (0.00330, 0.03282), "castigliano": (0.00330, 0.03282), "castigliano-printed": (-0.03987, -0.36521),
-          "mz1": -0.0079},
-    0.5: {"CE3": (0.05773, 0.69047), "castigliano": (0.05773, 0.69047), "castigliano-printed": (0.03461, 0.37966),
-          "mz1": -0.1666},
-    1.0: {"CE3": (0.09151, 1.35442), "castigliano": (0.09152, 1.35442), "castigliano-printed": (0.08233, 1.12723),
-          "mz1": -0.3261},
+    0.0: {
+        "CE3": (0.00330, 0.03282),
+        "castigliano": (0.00330, 0.03282),
+        "castigliano-printed": (-0.03987, -0.36521),
+        "mz1": -0.0079,
+    },
+    0.5: {
+        "CE3": (0.05773, 0.69047),
+        "castigliano": (0.05773, 0.69047),
+        "castigliano-printed": (0.03461, 0.37966),
+        "mz1": -0.1666,
+    },
+    1.0: {
+        "CE3": (0.09151, 1.35442),
+        "castigliano": (0.09152, 1.35442),
+        "castigliano-printed": (0.08233, 1.12723),
+        "mz1": -0.3261,
+    },
 }
 
 
@@ -51,7 +64,7 @@ LOCI = {
 def test_slant_parallelogram_displacements_are_the_notes_loci(F_h, method):
     r = slant_parallelogram(F_h, method=method)
     dX, dY = LOCI[F_h][method]
-    assert r.dX == pytest.approx(dX, abs=6e-6)       # the notes' 5 decimals
+    assert r.dX == pytest.approx(dX, abs=6e-6)  # the notes' 5 decimals
     assert r.dY == pytest.approx(dY, abs=6e-6)
 
 

@@ -7,6 +7,7 @@ and f_x = k_a u_x, assembled for a parallel guide of two beams along x, ends at 
 (1, 0.5), the body referenced at (1, 0.25): beam i sees u_y = v, theta = phi,
 u_x = u - phi (y_i - 0.25).
 """
+
 import numpy as np
 import pytest
 

@@ -8,6 +8,7 @@ stiffness 12 EI/L^3), which the BCM meets to second order in the deflection (its
 are O((u/L)^2): under 0.5 % up to u = 0.083 L, where a planted 10 % error or a stall would fail),
 and equilibrium itself (the beams' generalised force equals the load's).
 """
+
 import numpy as np
 import pytest
 

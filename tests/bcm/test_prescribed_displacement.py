@@ -1,6 +1,7 @@
 """A prescribed displacement of a body point in the BCM's rigid body on beams (``RigidBodyOnBeams``): the
 force it needs, applied as a dead force instead, must give that displacement back (the same equilibrium
 read the other way), for a free parallel guide and a crank pinned to the ground."""
+
 import numpy as np
 import pytest
 
@@ -22,11 +23,14 @@ def _crank() -> RigidBodyOnBeams:
     return RigidBodyOnBeams(beams, (0.128, 0.0), pinned=True)
 
 
-@pytest.mark.parametrize("body, point, axis, value", [
-    (_guide(), (0.25, L), 0, 0.06),        # the guide's coupler pushed sideways
-    (_guide(), (0.5, L), 1, -0.004),       # pulled down along the beams (the axial stiffness)
-    (_crank(), (1.0, 0.0), 1, 0.05),       # the crank's end lifted: it turns about its pin
-])
+@pytest.mark.parametrize(
+    "body, point, axis, value",
+    [
+        (_guide(), (0.25, L), 0, 0.06),  # the guide's coupler pushed sideways
+        (_guide(), (0.5, L), 1, -0.004),  # pulled down along the beams (the axial stiffness)
+        (_crank(), (1.0, 0.0), 1, 0.05),  # the crank's end lifted: it turns about its pin
+    ],
+)
 def test_the_force_a_displacement_needs_gives_that_displacement_back(body, point, axis, value):
     q, pull = body.solve(displacement=Displacement(point, axis, value))
     assert (body.displacement(point, q)[axis]) == pytest.approx(value, abs=1e-12)

@@ -4,14 +4,21 @@ bounds (prbm.domain_bounds) and the study that holds them together (validation.s
 Expected values: seed 000 eqs (112), (116), (123), (127) evaluated by hand, the shooting solver
 (elastica.solve_elastica, an independent integration), and the first integral of the elastica
 theta'^2 = 2P [lambda - (sin theta - n cos theta)] (elastica.elliptic's docstring)."""
+
 import math
 
 import numpy as np
 import pytest
 
 import elastica
-from elastica.domains import (curved_fixed_pinned_cloud, fixed_guided_inflection_cloud, fixed_pinned_cloud,
-                              kappa_min, kappa_range, su_theta0_max)
+from elastica.domains import (
+    curved_fixed_pinned_cloud,
+    fixed_guided_inflection_cloud,
+    fixed_pinned_cloud,
+    kappa_min,
+    kappa_range,
+    su_theta0_max,
+)
 from prbm.domain import fit_radius
 from validation.sweep.domain_study import run_study
 from prbm.domain_bounds import clamp_arc, inflection_lower_bound, prbm_arc, slfp_arc_radius
@@ -48,7 +55,7 @@ def test_su_bound_is_where_the_curvature_stops_being_real(n, kappa):
 
 def test_fixed_pinned_cloud_matches_shooting():
     cloud = fixed_pinned_cloud([-1.0, 2.0], np.array([20.0, 60.0]) * DEG)
-    assert cloud.size == 3          # n = -1: phi = 45 deg, theta0 = 60 deg is left out
+    assert cloud.size == 3  # n = -1: phi = 45 deg, theta0 = 60 deg is left out
     for a, b, n, alpha in zip(cloud.a, cloud.b, cloud.n, cloud.alpha):
         P = alpha**2
         tip = elastica.solve_elastica(1.0, 1.0, force=(-n * P, P))
@@ -75,17 +82,17 @@ def test_inflection_cloud_point_is_an_equilibrium_under_its_loads():
     cloud = fixed_guided_inflection_cloud([0.0], [-10.0 * DEG], [0.8])
     a, b, alpha = cloud.a[0], cloud.b[0], cloud.alpha[0]
     P, M = alpha**2, alpha * math.sqrt(2 * 0.8)
-    tip = elastica.solve_elastica(1.0, 1.0, force=(0.0, P), moment=-M)     # M opposes P
+    tip = elastica.solve_elastica(1.0, 1.0, force=(0.0, P), moment=-M)  # M opposes P
     assert (a, b) == pytest.approx((tip.x, tip.y), abs=1e-6)
 
 
 def test_kappa_min_eq123_and_the_routine():
-    n, theta0 = 0.0, 10 * DEG            # phi = 90 deg
+    n, theta0 = 0.0, 10 * DEG  # phi = 90 deg
     assert float(kappa_min(theta0, n, 15 * DEG)) == pytest.approx(math.cos(-75 * DEG) - math.cos(-80 * DEG))
     lo, hi = kappa_range(theta0, n)
     assert lo == pytest.approx(math.cos(-75 * DEG) - math.cos(-80 * DEG))
     assert hi == pytest.approx(math.cos(-5 * DEG) - math.cos(-80 * DEG))
-    lo_neg, _ = kappa_range(-20 * DEG, n)    # theta0 < 0: theta_i = 5 deg
+    lo_neg, _ = kappa_range(-20 * DEG, n)  # theta0 < 0: theta_i = 5 deg
     assert lo_neg == pytest.approx(math.cos(-85 * DEG) - math.cos(-110 * DEG))
 
 
@@ -158,15 +165,21 @@ theta0_deg = { start = -50.0, stop = 50.0, step = 10.0 }
 def test_the_array_forms_are_the_scalar_elliptic_solutions_point_by_point():
     """The clouds are computed on arrays (elastica.domains.*_arrays); each point must be the scalar
     closed form of elastica.elliptic (same formulas), NaN exactly where the scalar form has no solution."""
-    from elastica.elliptic import (curved_fixed_pinned_from_angle, fixed_guided_inflection_from_angle,
-                                   fixed_pinned_from_angle)
+    from elastica.elliptic import (
+        curved_fixed_pinned_from_angle,
+        fixed_guided_inflection_from_angle,
+        fixed_pinned_from_angle,
+    )
     from elastica.domains import curved_fixed_pinned_arrays, fixed_guided_inflection_arrays, fixed_pinned_arrays
+
     rng = np.random.default_rng(7)
     n, th, kappa = rng.uniform(-4.0, 10.0, 600), rng.uniform(-1.2, 2.2, 600), rng.uniform(0.0, 5.0, 600)
     pinned_th = rng.uniform(0.01, 1.5, 600)
-    pairs = [(curved_fixed_pinned_arrays, curved_fixed_pinned_from_angle, (th, n, kappa)),
-             (fixed_guided_inflection_arrays, fixed_guided_inflection_from_angle, (th, n, kappa)),
-             (fixed_pinned_arrays, fixed_pinned_from_angle, (pinned_th, n))]
+    pairs = [
+        (curved_fixed_pinned_arrays, curved_fixed_pinned_from_angle, (th, n, kappa)),
+        (fixed_guided_inflection_arrays, fixed_guided_inflection_from_angle, (th, n, kappa)),
+        (fixed_pinned_arrays, fixed_pinned_from_angle, (pinned_th, n)),
+    ]
     for arrays, scalar, args in pairs:
         with np.errstate(invalid="ignore", divide="ignore"):
             got = np.column_stack(arrays(*args))
@@ -175,5 +188,5 @@ def test_the_array_forms_are_the_scalar_elliptic_solutions_point_by_point():
         got = got[inside]
         assert (np.isfinite(got) == np.isfinite(expected)).all(), arrays.__name__
         finite = np.isfinite(expected)
-        assert finite.sum() > 300, arrays.__name__                       # the comparison is not empty
+        assert finite.sum() > 300, arrays.__name__  # the comparison is not empty
         assert np.abs(got[finite] - expected[finite]).max() < 1e-12 * np.abs(expected[finite]).max()

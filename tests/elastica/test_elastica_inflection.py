@@ -12,6 +12,7 @@ Beam: l = 20 in, E = 30e6 psi, I = w h^3/12 = 1.0172526e-5 in^4 (the I of the se
 Printed PRBM loads: seed file 000_0cc428dae4265b0a.txt, Table 3.6, column "PRBM method"
 (Ex. 3 prints P = 5.41, a misprint for 9.41; notes seed-ch2-4 section 5.6).
 """
+
 from __future__ import annotations
 
 import math
@@ -23,12 +24,20 @@ import pytest
 
 from scipy.optimize import brentq
 
-from elastica import (ElasticaProblem, MomentConstraint, TipConstraint,
-                      fixed_guided_inflection_from_angle, fixed_guided_inflection_tips, loaded_start,
-                      section_moment, solve_elastica, solve_path)
+from elastica import (
+    ElasticaProblem,
+    MomentConstraint,
+    TipConstraint,
+    fixed_guided_inflection_from_angle,
+    fixed_guided_inflection_tips,
+    loaded_start,
+    section_moment,
+    solve_elastica,
+    solve_path,
+)
 
 E, L = 30e6, 20.0
-I_WH = 0.5 * 0.0625**3 / 12.0          # 1.0172526e-5 in^4
+I_WH = 0.5 * 0.0625**3 / 12.0  # 1.0172526e-5 in^4
 EI = E * I_WH
 CASE = Path(__file__).resolve().parents[2] / "cases" / "chapter3" / "table3_6_exact_inverse.toml"
 
@@ -46,8 +55,14 @@ def _seed_loads(nP, P, M):
 
 def _exact(example, start_from_prbm=True):
     b, th, l1, prbm = TABLE_3_6[example]
-    res = solve_elastica(L, EI, tip_y=b, tip_angle=math.radians(th), inflection_at=l1,
-                         start_loads=_seed_loads(*prbm) if start_from_prbm else None)
+    res = solve_elastica(
+        L,
+        EI,
+        tip_y=b,
+        tip_angle=math.radians(th),
+        inflection_at=l1,
+        start_loads=_seed_loads(*prbm) if start_from_prbm else None,
+    )
     assert res.converged, res.message
     return res
 
@@ -86,7 +101,7 @@ def test_kimball_tsai_under_the_exact_loads(exact, example):
     b, th, _, _ = TABLE_3_6[example]
     inv = exact[example]
     nP, P, M_seed = -inv.force[0], inv.force[1], -inv.moment
-    assert P > 0 and M_seed > 0                     # the opposing-moment (inflection) case
+    assert P > 0 and M_seed > 0  # the opposing-moment (inflection) case
     n, load = nP / P, P * L * L / EI
     kappa = (M_seed * L / EI) ** 2 / (2.0 * load)
 
@@ -98,7 +113,7 @@ def test_kimball_tsai_under_the_exact_loads(exact, example):
     tip = fixed_guided_inflection_from_angle(root, n, kappa)
     assert abs(root - th_rad) < 1e-9
     assert abs(tip.b * L - b) < 1e-8 and abs(tip.a * L - inv.x) < 1e-8
-    if example != "Ex3":                            # the library's sampled root finder agrees
+    if example != "Ex3":  # the library's sampled root finder agrees
         tips = fixed_guided_inflection_tips(load, n, M_seed * L / EI)
         assert any(abs(t.theta0 - root) < 1e-9 for t in tips)
 
@@ -114,7 +129,7 @@ def test_two_cantilevers_joined_at_the_inflection(exact, example):
     local_F = (c * F[0] + s * F[1], -s * F[0] + c * F[1])
     second = solve_elastica(L - l1, EI, force=local_F, moment=inv.moment)
     assert first.converged and second.converged
-    assert abs(second.reaction[2]) < 1e-8            # root moment of the outboard part: m(l1) = 0
+    assert abs(second.reaction[2]) < 1e-8  # root moment of the outboard part: m(l1) = 0
     x = first.x + c * second.x - s * second.y
     y = first.y + s * second.x + c * second.y
     assert abs(x - inv.x) < 1e-9 and abs(y - b) < 1e-9
@@ -139,9 +154,8 @@ def test_prbm_loads_are_exact_for_their_own_inflection_location(example):
     force, moment = _seed_loads(*prbm)
     fwd = solve_elastica(L, EI, force=force, moment=moment)
     l1_fwd = brentq(lambda s: section_moment(fwd, s), l1 - 1.0, l1 + 1.0, xtol=1e-13)
-    assert abs(l1_fwd - l1) > 0.01                   # not at l1: the printed loads are the PRBM's, not exact
-    inv = solve_elastica(L, EI, tip_y=fwd.y, tip_angle=fwd.theta, inflection_at=l1_fwd,
-                         start_loads=(force, moment))
+    assert abs(l1_fwd - l1) > 0.01  # not at l1: the printed loads are the PRBM's, not exact
+    inv = solve_elastica(L, EI, tip_y=fwd.y, tip_angle=fwd.theta, inflection_at=l1_fwd, start_loads=(force, moment))
     assert inv.converged
     assert np.allclose(inv.force, force, atol=1e-7) and abs(inv.moment - moment) < 1e-7
 
@@ -157,7 +171,7 @@ def test_printed_prbm_loads_against_the_exact_loads(exact, example):
     nP_exact, P_exact, M_exact = -inv.force[0], inv.force[1], -inv.moment
     for exact_value, printed in ((nP_exact, nP), (P_exact, P), (M_exact, M)):
         assert abs(exact_value - printed) > 0.05 * abs(printed)
-    assert nP_exact < 0 and P_exact > 0 and M_exact > 0     # same load directions as the PRBM
+    assert nP_exact < 0 and P_exact > 0 and M_exact > 0  # same load directions as the PRBM
 
 
 def test_inflection_sensitivity():
@@ -167,8 +181,9 @@ def test_inflection_sensitivity():
     b, th, l1, prbm = TABLE_3_6["Ex1"]
     nPs = []
     for l in (l1 - 0.2, l1 + 0.2):
-        res = solve_elastica(L, EI, tip_y=b, tip_angle=math.radians(th), inflection_at=l,
-                             start_loads=_seed_loads(*prbm))
+        res = solve_elastica(
+            L, EI, tip_y=b, tip_angle=math.radians(th), inflection_at=l, start_loads=_seed_loads(*prbm)
+        )
         assert res.converged
         fwd = solve_elastica(L, EI, force=res.force, moment=res.moment)
         assert abs(fwd.y - b) < 1e-8 and abs(fwd.theta - math.radians(th)) < 1e-8
@@ -180,8 +195,13 @@ def test_inflection_sensitivity():
 def test_moment_constraint_api_and_loaded_start():
     """The same problem built by hand; the start state carries the structure of the target."""
     b, th, l1, prbm = TABLE_3_6["Ex2"]
-    problem = ElasticaProblem(length=L, EI=EI, constraints=(TipConstraint((0.0, 1.0), b),),
-                              tip_angle=math.radians(th), moment_constraints=(MomentConstraint(l1),))
+    problem = ElasticaProblem(
+        length=L,
+        EI=EI,
+        constraints=(TipConstraint((0.0, 1.0), b),),
+        tip_angle=math.radians(th),
+        moment_constraints=(MomentConstraint(l1),),
+    )
     start = loaded_start(problem, *_seed_loads(*prbm))
     # Table 3.6 Ex. 2, elliptic-integral theta0 = -29.81 deg under the PRBM loads, computed with I = w h^3/12
     # (this file's EI): the loaded start is the forward solution under those loads, to the printed digits

@@ -9,6 +9,7 @@ The force at equilibrium is F = T R(a) (P - r_tip)/|P - r_tip|. Expected values 
   plus the elastica's accuracy;
 * equilibrium: the converged tip force has magnitude T and points along R(a)(P - r_tip).
 """
+
 from __future__ import annotations
 
 import math
@@ -17,19 +18,19 @@ import tomllib
 import numpy as np
 import pytest
 
-from elastica import (ElasticaProblem, PointedForce, TipConstraint, pointing_error, solve_path,
-                      unloaded_tip)
+from elastica import ElasticaProblem, PointedForce, TipConstraint, pointing_error, solve_path, unloaded_tip
 from validation.case.schema import Case
 from validation.methods import elastica as adapter
 from validation.methods.base import NotApplicable, Request, RunStatus
 from validation.run.runner import run_method
 from validation.case.method_options import options_of
 
-ELASTICA_TOL = {"x": 1e-9, "y": 1e-9, "rotation": 1e-7}     # length L = 1; degrees
+ELASTICA_TOL = {"x": 1e-9, "y": 1e-9, "rotation": 1e-7}  # length L = 1; degrees
 
 
-def _case(load: str, values: list[float], boundary: str = "fixed-free", curvature: float = 0.0,
-          loads_out: bool = False) -> Case:
+def _case(
+    load: str, values: list[float], boundary: str = "fixed-free", curvature: float = 0.0, loads_out: bool = False
+) -> Case:
     """A unit segment (L = 1, EI = 1, EA = 1e8: the FEM's beam all but inextensible) with one force;
     the tip's x, y, rotation, and with ``loads_out`` the tip force (the elastica's only: the FEM gives
     no components of a force toward a point)."""
@@ -83,7 +84,7 @@ def test_far_point_is_the_dead_force_of_its_direction(direction):
         for level in range(1, len(levels)):
             assert abs(a[level] - b[level]) < 1e-5, (q, level, a[level], b[level])
     moved = math.hypot(_values(dead, "x")[3] - 1.0, _values(dead, "y")[3])
-    assert moved > 0.3                                    # a large deflection, not a trivial limit
+    assert moved > 0.3  # a large deflection, not a trivial limit
 
 
 # (label, load, values, boundary, curvature): rope (angle 0) and a force at 90 deg to the line, on
@@ -113,10 +114,14 @@ def test_against_the_fem_within_its_error_estimate(label, load, values, boundary
         assert abs(v - fem.values[req]) <= bound, (label, req, v, fem.values[req], fem.error_estimate[req])
         checked += 1
     assert checked == 3 * (len(values) - 1)
-    moved = max(math.hypot(ela.values[Request("x", "tip", lv)] - ela.values[Request("x", "tip", 0)],
-                           ela.values[Request("y", "tip", lv)] - ela.values[Request("y", "tip", 0)])
-                for lv in range(len(values)))
-    assert moved > 0.1                                    # large deflections, where the pull turns
+    moved = max(
+        math.hypot(
+            ela.values[Request("x", "tip", lv)] - ela.values[Request("x", "tip", 0)],
+            ela.values[Request("y", "tip", lv)] - ela.values[Request("y", "tip", 0)],
+        )
+        for lv in range(len(values))
+    )
+    assert moved > 0.1  # large deflections, where the pull turns
 
 
 def test_long_load_steps_stay_on_the_connected_branch():
@@ -131,13 +136,18 @@ def test_long_load_steps_stay_on_the_connected_branch():
     for q in ("x", "y"):
         e, f = coarse.values[Request(q, "tip", 2)], fem.values[Request(q, "tip", 30)]
         assert abs(e - f) <= 3.0 * fem.error_estimate[Request(q, "tip", 30)] + 1e-9, (q, e, f)
-    assert coarse.values[Request("y", "tip", 2)] < -0.2       # below the axis, the connected branch
+    assert coarse.values[Request("y", "tip", 2)] < -0.2  # below the axis, the connected branch
 
 
-@pytest.mark.parametrize("load,curvature", [("toward = [1.0, 1.2]", 0.0),
-                                            ("toward = [1.2, 0.0]\nangle = 90.0", 0.0),
-                                            ("toward = [0.2, 1.5]\nangle = 90.0", 0.8),
-                                            ("toward = [-0.5, 0.4]\nangle = 30.0", 0.8)])
+@pytest.mark.parametrize(
+    "load,curvature",
+    [
+        ("toward = [1.0, 1.2]", 0.0),
+        ("toward = [1.2, 0.0]\nangle = 90.0", 0.0),
+        ("toward = [0.2, 1.5]\nangle = 90.0", 0.8),
+        ("toward = [-0.5, 0.4]\nangle = 30.0", 0.8),
+    ],
+)
 def test_converged_force_points_at_the_target(load, curvature):
     """F = T R(a)(P - r_tip)/|P - r_tip| at every level: the tip force's direction within 1e-9 rad."""
     values = [0.0, 0.7, 1.5, 2.5]
@@ -150,8 +160,7 @@ def test_converged_force_points_at_the_target(load, curvature):
         r = np.array([run.values[Request("x", "tip", level)], run.values[Request("y", "tip", level)]])
         F = np.array([run.values[Request("force_x", "tip", level)], run.values[Request("force_y", "tip", level)]])
         line = P - r
-        want = np.array([math.cos(a) * line[0] - math.sin(a) * line[1],
-                         math.sin(a) * line[0] + math.cos(a) * line[1]])
+        want = np.array([math.cos(a) * line[0] - math.sin(a) * line[1], math.sin(a) * line[0] + math.cos(a) * line[1]])
         turn = math.atan2(want[0] * F[1] - want[1] * F[0], want @ F)
         assert abs(turn) < 1e-9, (level, turn)
         assert math.hypot(*F) == pytest.approx(values[level], rel=1e-12)

@@ -1,4 +1,5 @@
 """The general shooting solver (elastica.shooting) and the elastica adapter on the benchmark cases."""
+
 from __future__ import annotations
 
 import math
@@ -23,8 +24,8 @@ def test_full_circle_is_two_pi_not_four_pi():
     assert res.converged
     assert abs(res.x) < 1e-10 and abs(res.y) < 1e-10
     assert abs(res.theta - 2 * math.pi) < 1e-10
-    assert abs(res.strain_energy - 2 * math.pi**2) < 1e-9       # U = M^2 L / (2 EI)
-    assert np.all(np.diff(res.shape[2]) > 0)                      # theta(s) monotone, no 2 pi jumps
+    assert abs(res.strain_energy - 2 * math.pi**2) < 1e-9  # U = M^2 L / (2 EI)
+    assert np.all(np.diff(res.shape[2]) > 0)  # theta(s) monotone, no 2 pi jumps
 
 
 def _follower_bvp(P):
@@ -33,6 +34,7 @@ def _follower_bvp(P):
     y, p = np.zeros((4, s.size)), np.array([0.0])
     y[2] = s
     for load in np.linspace(0.5, P, int(4 * P) + 1):
+
         def f(_s, y, p, load=load):
             return np.vstack([y[1], -load * np.cos(y[0] - p[0]), np.cos(y[0]), np.sin(y[0])])
 
@@ -72,8 +74,9 @@ def test_inverse_with_given_load_ratio():
     n = 1.25
     fwd = solve_elastica(force=(-n * 1.2, 1.2), moment=-0.3)
     assert fwd.converged and 0.0 < fwd.theta < 1.0
-    inv = solve_elastica(tip_angle=fwd.theta,
-                         constraints=(TipConstraint((0.0, 1.0), fwd.y, force_direction=(-n, 1.0)),))
+    inv = solve_elastica(
+        tip_angle=fwd.theta, constraints=(TipConstraint((0.0, 1.0), fwd.y, force_direction=(-n, 1.0)),)
+    )
     assert inv.converged
     assert np.allclose(inv.force, (-n * 1.2, 1.2), atol=1e-8) and abs(inv.moment + 0.3) < 1e-8
     assert abs(inv.x - fwd.x) < 1e-9
@@ -94,7 +97,7 @@ def test_initially_curved_unloaded_and_timing():
     res = solve_elastica(curvature=1.0)
     assert abs(res.x - math.sin(1.0)) < 1e-12 and abs(res.y - (1 - math.cos(1.0))) < 1e-12
     res = solve_elastica(force=(0.0, 1.0))
-    assert res.converged and res.wall_time < 1.0          # typically 20-60 ms on the project VM
+    assert res.converged and res.wall_time < 1.0  # typically 20-60 ms on the project VM
 
 
 def test_adapter_runs_the_cantilever_case():
@@ -111,7 +114,9 @@ def test_adapter_runs_the_cantilever_case():
 def test_adapter_meets_case_references(name):
     case = load_case(CASES / "benchmarks" / f"{name}.toml").case
     refs = [r for r in case.references if r.compare == "elastica"]
-    run = adapter.run(case, [Request(r.quantity, r.point, r.level) for r in refs], options_of("elastica", case.methods["elastica"]))
+    run = adapter.run(
+        case, [Request(r.quantity, r.point, r.level) for r in refs], options_of("elastica", case.methods["elastica"])
+    )
     for r in refs:
         tol = r.tolerance.abs if r.tolerance.abs is not None else r.tolerance.rel * abs(r.value)
         assert abs(run.values[Request(r.quantity, r.point, r.level)] - r.value) <= tol, r
@@ -140,14 +145,19 @@ quantity = "force_y"
 """
     from validation.case.schema import Case
     import tomllib
+
     case = Case.model_validate(tomllib.loads(text))
-    reqs = [Request("force_y", "tip", 0), Request("moment", "tip", 0), Request("force_y", "tip", 1),
-            Request("reaction_moment", "root", 1)]
+    reqs = [
+        Request("force_y", "tip", 0),
+        Request("moment", "tip", 0),
+        Request("force_y", "tip", 1),
+        Request("reaction_moment", "root", 1),
+    ]
     run = adapter.run(case, reqs, options_of("elastica", {}))
     # small deflection: guided beam stiffness 12 EI/L^3, end moment -6 EI delta/L^2
     assert abs(run.values[reqs[0]] - 12 * 0.05) < 0.01 * 12 * 0.05
     assert abs(run.values[reqs[1]] + 6 * 0.05) < 0.02 * 6 * 0.05
-    assert run.values[reqs[2]] > 12 * 0.3                  # geometric stiffening of the guided beam
+    assert run.values[reqs[2]] > 12 * 0.3  # geometric stiffening of the guided beam
 
 
 def test_adapter_refuses_mechanisms():

@@ -12,6 +12,7 @@
   signs: Fx = -nP, Fy = P, CCW moment -M): the long high-load forward level of that case, and the
   same level reached from the unloaded beam.
 """
+
 import math
 
 import numpy as np
@@ -22,8 +23,8 @@ from elastica.integrator import _combine, _reach
 from elastica.shooting import ElasticaProblem
 
 EI, L = 30e6 * 1.02e-5, 20.0
-EX2 = ((-1.559, 1.248), 7.128)       # (nP, P), M of Table 3.3 Ex. 2 (printed PRBM loads)
-EX3 = ((-35.635, 19.577), 130.23)    # Ex. 3
+EX2 = ((-1.559, 1.248), 7.128)  # (nP, P), M of Table 3.3 Ex. 2 (printed PRBM loads)
+EX3 = ((-35.635, 19.577), 130.23)  # Ex. 3
 
 
 def _problem(loads):
@@ -36,7 +37,7 @@ def test_stage_sums_are_the_plain_dot_product_to_the_bit():
     rng = np.random.default_rng(3)
     K = rng.normal(size=(13, 17))
     w = rng.normal(size=13)
-    w[[1, 2, 5]] = 0.0                 # DOP853's tables have zero weights, which are skipped
+    w[[1, 2, 5]] = 0.0  # DOP853's tables have zero weights, which are skipped
     out = np.empty(17)
     for count in (1, 7, 13):
         _combine(K, w, count, out)
@@ -47,8 +48,7 @@ def test_stage_sums_are_the_plain_dot_product_to_the_bit():
             assert out[i] == plain
 
 
-@pytest.mark.parametrize("speed, accel, limit", [(2.0, 0.0, 0.5), (2.0, 30.0, 0.5), (0.0, 4.0, 0.5),
-                                                 (1e-3, 1e3, 0.25)])
+@pytest.mark.parametrize("speed, accel, limit", [(2.0, 0.0, 0.5), (2.0, 30.0, 0.5), (0.0, 4.0, 0.5), (1e-3, 1e3, 0.25)])
 def test_reach_is_where_the_predicted_motion_meets_the_limit(speed, accel, limit):
     h = _reach(speed, accel, limit)
     assert speed * h + 0.5 * accel * h * h == pytest.approx(limit, rel=1e-12)
@@ -65,9 +65,13 @@ def test_step_rule_reaches_the_same_equilibrium_as_short_steps(start_loads):
     default = solve_path(target, start=start, n_samples=2)
     short = solve_path(target, start=start, n_samples=2, max_position_step=0.025, max_rotation_step=0.025)
     assert default.converged and short.converged, (default.message, short.message)
-    assert short.nsteps > 3 * default.nsteps            # the short steps really are a different path
-    for a, b in ((default.x, short.x), (default.y, short.y), (default.theta, short.theta),
-                 (default.reaction[2], short.reaction[2])):
+    assert short.nsteps > 3 * default.nsteps  # the short steps really are a different path
+    for a, b in (
+        (default.x, short.x),
+        (default.y, short.y),
+        (default.theta, short.theta),
+        (default.reaction[2], short.reaction[2]),
+    ):
         assert a == pytest.approx(b, rel=1e-10, abs=1e-12)
 
 

@@ -13,6 +13,7 @@ digit, unless the row says otherwise. The chapter-3 case files (cases/chapter3/)
 when this was written, so the numbers live in the small table below; the last test reads the
 same columns from those case files once they exist.
 """
+
 from __future__ import annotations
 
 import math
@@ -27,7 +28,7 @@ from elastica.elliptic import fixed_guided_inflection_tips
 SEED = "000_0cc428dae4265b0a.txt"
 E, L = 30e6, 20.0
 I_PRINTED = 1.02e-5
-I_WH = 0.5 * 0.0625**3 / 12.0          # 1.0172526e-5
+I_WH = 0.5 * 0.0625**3 / 12.0  # 1.0172526e-5
 
 # id: (table, example, nP, P, M, I that reproduces the row, printed (a, b, theta0); None = not printed)
 ROWS = {
@@ -60,11 +61,16 @@ def _check(computed, printed, units):
 
 # printed precisions: trailing zeros are lost in Python floats, so they are stated per row
 UNITS = {
-    "T3.2-Ex1": (1e-3, 1e-3, 1e-3), "T3.2-Ex2": (1e-3, 1e-3, 1e-2),
-    "T3.3-Ex1": (1e-3, 1e-2, 1e-2), "T3.3-Ex2": (1e-3, 1e-3, 1e-2),
-    "T3.3-Ex4": (1e-2, 1e-3, 1e-2), "T3.4-Ex1": (None, 1e-3, 1e-2),
-    "T3.4-Ex2": (None, 1e-3, 1e-2), "T3.5-Ex1": (None, 1e-3, 1e-2),
-    "T3.5-Ex2": (None, 1e-3, 1e-2), "T3.6-Ex1": (None, 1e-3, 1e-2),
+    "T3.2-Ex1": (1e-3, 1e-3, 1e-3),
+    "T3.2-Ex2": (1e-3, 1e-3, 1e-2),
+    "T3.3-Ex1": (1e-3, 1e-2, 1e-2),
+    "T3.3-Ex2": (1e-3, 1e-3, 1e-2),
+    "T3.3-Ex4": (1e-2, 1e-3, 1e-2),
+    "T3.4-Ex1": (None, 1e-3, 1e-2),
+    "T3.4-Ex2": (None, 1e-3, 1e-2),
+    "T3.5-Ex1": (None, 1e-3, 1e-2),
+    "T3.5-Ex2": (None, 1e-3, 1e-2),
+    "T3.6-Ex1": (None, 1e-3, 1e-2),
     "T3.6-Ex2": (None, 1e-3, 1e-2),
 }
 
@@ -93,7 +99,7 @@ def test_the_other_inertia_does_not_reproduce_table_3_2_ex1():
     """Evidence for the mixed I: Table 3.2 Ex. 1 needs 1.02e-5; w h^3/12 misses a by 0.018 in."""
     a, b, th = forward(1.5, 3.5, 15.0, I_WH)
     assert abs(a - 12.336) > 0.01 and abs(th - 58.231) > 0.04
-    a, b, th = forward(-15.0, 10.0, 55.0, I_PRINTED)       # and Ex. 2 needs w h^3/12
+    a, b, th = forward(-15.0, 10.0, 55.0, I_PRINTED)  # and Ex. 2 needs w h^3/12
     assert abs(th - (-10.42)) > 0.05
 
 
@@ -115,9 +121,9 @@ def test_table_3_6_ex3_misprint():
     the printed -28.71 equals the ANSYS column and is matched by neither I to a unit (0.012 deg off
     with I = 1.02e-5), so theta0 is checked to 0.15 deg here.
     """
-    a, b, th = forward(-11.995, 5.41, 74.098, I_WH)         # as printed
+    a, b, th = forward(-11.995, 5.41, 74.098, I_WH)  # as printed
     assert abs(b - 5.017) > 4.0 and abs(th - (-28.71)) > 15.0
-    a, b, th = forward(-11.995, 9.41, 74.098, I_WH)         # corrected
+    a, b, th = forward(-11.995, 9.41, 74.098, I_WH)  # corrected
     assert abs(b - 5.017) <= 1e-3
     assert abs(th - (-28.71)) <= 0.15
     a, b, th = forward(-11.995, 9.41, 74.098, I_PRINTED)
@@ -129,7 +135,7 @@ def test_table_3_3_ex3_is_not_reproducible():
     for I in (I_PRINTED, I_WH):
         a, b, th = forward(-35.635, 19.577, 130.23, I)
         assert abs(a - 18.705) > 0.04 and abs(b - 4.953) > 0.09
-        assert abs(a - 18.661) < 2e-3 and abs(b - 5.048) < 1e-3       # the elastica's answer
+        assert abs(a - 18.661) < 2e-3 and abs(b - 5.048) < 1e-3  # the elastica's answer
 
 
 # ---------------------------------------------------------------------------------------------
@@ -138,9 +144,13 @@ def test_table_3_3_ex3_is_not_reproducible():
 
 CH3 = Path(__file__).resolve().parents[2] / "cases" / "chapter3"
 # (file, I option); the rows known not to reproduce: Table 3.3 Ex. 3 (all), Table 3.6 Ex. 3 theta0
-CH3_FILES = [("table3_2_load_specified.toml", None), ("table3_3_case1_a_b_theta0.toml", I_WH),
-             ("table3_4_case2a_b_theta0_n0.toml", I_WH), ("table3_5_case2b_b_theta0_n.toml", I_WH),
-             ("table3_6_case2c_b_theta0_l1.toml", I_WH)]
+CH3_FILES = [
+    ("table3_2_load_specified.toml", None),
+    ("table3_3_case1_a_b_theta0.toml", I_WH),
+    ("table3_4_case2a_b_theta0_n0.toml", I_WH),
+    ("table3_5_case2b_b_theta0_n.toml", I_WH),
+    ("table3_6_case2c_b_theta0_l1.toml", I_WH),
+]
 KNOWN_MISSES = {("table3_3_case1_a_b_theta0.toml", 2), ("table3_6_case2c_b_theta0_l1.toml", 2, "rotation")}
 
 
@@ -155,7 +165,7 @@ def test_chapter3_case_files_elliptic_columns(name, inertia):
         pytest.skip(f"{name} not written yet")
     case = load_case(path).case
     refs = [r for r in case.references if r.label == "elliptic"]
-    if name.startswith("table3_2"):                 # Ex. 1 needs 1.02e-5, Ex. 2 w h^3/12
+    if name.startswith("table3_2"):  # Ex. 1 needs 1.02e-5, Ex. 2 w h^3/12
         runs = {0: {"I": I_PRINTED}, 1: {"I": I_WH}}
     else:
         runs = {lv: {"I": inertia} for lv in {r.level for r in refs}}
@@ -168,4 +178,10 @@ def test_chapter3_case_files_elliptic_columns(name, inertia):
             digits = len(repr(r.value).split(".")[1])
             unit = max(10.0**-digits, 1e-2 if r.quantity == "rotation" else 1e-3)
             got = run.values[Request(r.quantity, r.point, r.level)]
-            assert abs(got - r.value) <= unit * 1.0001, (name, r.quantity, level, got, r.value)   # printed digits: one unit of the last printed digit (1.0001: float slack)
+            assert abs(got - r.value) <= unit * 1.0001, (
+                name,
+                r.quantity,
+                level,
+                got,
+                r.value,
+            )  # printed digits: one unit of the last printed digit (1.0001: float slack)

@@ -17,6 +17,7 @@ UnknownForces, Structure, Corrector, PathControls).
      direction d and force direction f (``dirs``, ``forces.force_dirs``) are exchanged prescribes
      -y(L) = b, the mirror image (a, -b).
 """
+
 from __future__ import annotations
 
 import ast
@@ -38,13 +39,16 @@ PACKAGE = Path(ig.__file__).resolve().parent
 
 def _swapping(monkeypatch, group, a: str, b: str) -> None:
     """Replace ``group`` in ``elastica.integrator`` by a builder that swaps the fields ``a`` and ``b``."""
+
     def build(**fields):
         fields[a], fields[b] = fields[b], fields[a]
         return group(**fields)
+
     monkeypatch.setattr(ig, group.__name__, build)
 
 
 # ---------------------------------------------------------------- 1. NamedTuples, built by keyword
+
 
 @pytest.mark.parametrize("group", GROUPS, ids=lambda g: g.__name__)
 def test_every_group_is_a_named_tuple(group):
@@ -69,18 +73,23 @@ def _builds() -> list[tuple[str, int, str, ast.Call]]:
 def test_every_group_is_built_by_keyword_naming_every_field():
     fields = {g.__name__: set(g._fields) for g in GROUPS}
     builds = _builds()
-    assert {name for _, _, name, _ in builds} == set(fields)        # each group is built somewhere
-    wrong = [f"{file}:{line} {name}" for file, line, name, call in builds
-             if call.args or any(k.arg is None for k in call.keywords)
-             or {k.arg for k in call.keywords} != fields[name]]
+    assert {name for _, _, name, _ in builds} == set(fields)  # each group is built somewhere
+    wrong = [
+        f"{file}:{line} {name}"
+        for file, line, name, call in builds
+        if call.args or any(k.arg is None for k in call.keywords) or {k.arg for k in call.keywords} != fields[name]
+    ]
     assert wrong == []
 
 
 def test_the_shooter_puts_each_direction_in_its_field():
-    problem = ElasticaProblem(length=2.0, curvature=0.3, follower=(0.0, 1.0),
-                              constraints=(TipConstraint((3.0, 4.0), 1.0, (0.0, -2.0)),),
-                              moment_constraints=(MomentConstraint(0.5, 0.0, (1.0, 1.0)),
-                                                  MomentConstraint(2.0, 0.0, (-1.0, 0.0))))
+    problem = ElasticaProblem(
+        length=2.0,
+        curvature=0.3,
+        follower=(0.0, 1.0),
+        constraints=(TipConstraint((3.0, 4.0), 1.0, (0.0, -2.0)),),
+        moment_constraints=(MomentConstraint(0.5, 0.0, (1.0, 1.0)), MomentConstraint(2.0, 0.0, (-1.0, 0.0))),
+    )
     shooter = _Shooter(problem, 1e-12, 1e-13)
     s = shooter.structure
     assert type(s) is ig.Structure and s.beam == ig.Beam(length=1.0, EI=1.0, EA=0.0, curvature=0.6)
@@ -101,17 +110,40 @@ def test_solve_path_puts_each_option_in_its_field(monkeypatch):
     def recording(z, q0, q1, structure, controls):
         seen.append(controls)
         return real(z, q0, q1, structure, controls)
+
     monkeypatch.setattr(ig, "follow_path", recording)
-    options = dict(rtol=1e-11, atol=2e-12, tol=3e-11, initial_step=0.2, min_step=2e-5, max_rotation_step=0.4,
-                   max_position_step=0.3, max_corrector=0.6, max_step_iterations=7, maxiter=21, path_rtol=2e-7)
+    options = dict(
+        rtol=1e-11,
+        atol=2e-12,
+        tol=3e-11,
+        initial_step=0.2,
+        min_step=2e-5,
+        max_rotation_step=0.4,
+        max_position_step=0.3,
+        max_corrector=0.6,
+        max_step_iterations=7,
+        maxiter=21,
+        path_rtol=2e-7,
+    )
     assert solve_path(ElasticaProblem(force=(0.0, 2.0)), n_samples=2, **options).converged
-    assert seen == [ig.PathControls(final=ig.Tolerances(rtol=1e-11, atol=2e-12), tol=3e-11,
-                                    path=ig.Tolerances(rtol=2e-7, atol=2e-7 * 0.1), initial_step=0.2,
-                                    min_step=2e-5, max_rotation_step=0.4, max_position_step=0.3,
-                                    max_corrector=0.6, max_step_iterations=7, maxiter=21)]
+    assert seen == [
+        ig.PathControls(
+            final=ig.Tolerances(rtol=1e-11, atol=2e-12),
+            tol=3e-11,
+            path=ig.Tolerances(rtol=2e-7, atol=2e-7 * 0.1),
+            initial_step=0.2,
+            min_step=2e-5,
+            max_rotation_step=0.4,
+            max_position_step=0.3,
+            max_corrector=0.6,
+            max_step_iterations=7,
+            maxiter=21,
+        )
+    ]
 
 
 # ---------------------------------------------------------------- 2. a swap is caught
+
 
 def _arc_tip():
     """Tip (x, y) of a beam L = 2, EI = 3 under the end moment M = 1.7 (a circular arc), and the exact."""
@@ -148,7 +180,7 @@ def test_the_loads_give_the_exact_cantilever_and_swapped_loads_do_not(monkeypatc
 
 
 def test_the_structure_gives_the_exact_tip_and_a_swapped_structure_its_mirror(monkeypatch):
-    load = 3.0                                          # P L^2 / EI, L = EI = 1
+    load = 3.0  # P L^2 / EI, L = EI = 1
     exact = cantilever_tip_load(load)
     problem = ElasticaProblem(constraints=(TipConstraint((0.0, 1.0), float(exact.b), (0.0, -1.0)),))
     right = solve_path(problem, n_samples=2)
@@ -161,8 +193,9 @@ def test_the_structure_gives_the_exact_tip_and_a_swapped_structure_its_mirror(mo
         d, forces = fields["dirs"], fields["forces"]
         fields["dirs"], fields["forces"] = forces.force_dirs, forces._replace(force_dirs=d)
         return real(**fields)
+
     monkeypatch.setattr(ig, "Structure", exchanged)
     swapped = solve_path(problem, n_samples=2)
-    assert swapped.converged, swapped.message           # a problem of its own: -y(L) = b, force along +y
+    assert swapped.converged, swapped.message  # a problem of its own: -y(L) = b, force along +y
     assert abs(swapped.x - exact.a) < 1e-9 and abs(swapped.y + exact.b) < 1e-9
     assert abs(swapped.y - exact.b) > 1.0

@@ -5,6 +5,7 @@ displacements, follower forces and forces toward a fixed point at a body's node 
 couples, a distributed load, extensible, inextensible and curved beams) it agrees with central finite
 differences of the residual, at a state away from the unloaded one (nonzero forces, turned bodies, where
 every lever and rotation term counts). A wrong sign planted in one block is caught."""
+
 import numpy as np
 import pytest
 
@@ -12,14 +13,16 @@ import planar
 from elastica import mechanism as em
 
 G = em.GROUND
-RTOL = 1e-13            # the beams' integrations, tight: the central differences divide their rounding by h
-TOLERANCE = 1e-5        # on the largest entry: the beams' own blocks hold to their integration's 1e-8
+RTOL = 1e-13  # the beams' integrations, tight: the central differences divide their rounding by h
+TOLERANCE = 1e-5  # on the largest entry: the beams' own blocks hold to their integration's 1e-8
 
 
 def _parallel_guide():
     nodes = {"G1": (0.0, 0.0), "G2": (0.5, 0.0), "C1": (0.0, 1.0), "C2": (0.5, 1.0), "M": (0.25, 1.0)}
-    beams = [em.ElasticBeam("left", "G1", "C1", 1.0, G, "coupler", EA=1e6),
-             em.ElasticBeam("right", "G2", "C2", 1.0, G, "coupler", EA=1e6)]
+    beams = [
+        em.ElasticBeam("left", "G1", "C1", 1.0, G, "coupler", EA=1e6),
+        em.ElasticBeam("right", "G2", "C2", 1.0, G, "coupler", EA=1e6),
+    ]
     loads = [planar.Force("M", (1.0, 5.0), (0.0, -1.0)), planar.Couple("coupler", (0.1, 0.3))]
     return em.Mechanism(nodes, beams, [em.RigidBody("coupler", ("C1", "C2", "M"))]), loads
 
@@ -27,8 +30,10 @@ def _parallel_guide():
 def _parallel_guide_pulled():
     """The parallel guide with a follower force and a force toward a fixed point at the coupler's nodes."""
     mech, _ = _parallel_guide()
-    return mech, [planar.Force("M", (1.0, 3.0), (0.5, 1.0), follower=True),
-                  planar.PointedForce("C2", (0.5, 2.0), (2.0, 3.0), 0.3)]
+    return mech, [
+        planar.Force("M", (1.0, 3.0), (0.5, 1.0), follower=True),
+        planar.PointedForce("C2", (0.5, 2.0), (2.0, 3.0), 0.3),
+    ]
 
 
 def _crank():
@@ -53,20 +58,26 @@ def _pinned_bodies():
     """Two bodies pinned to each other, one of them to the ground, held by a beam from the ground clamped
     to the outer one and by a beam from the inner one pinned to the outer one."""
     nodes = {"O": (0.0, 0.0), "P": (0.5, 0.1), "Q": (1.0, 0.3), "G": (1.1, -0.8), "S": (0.2, 0.0)}
-    beams = [em.ElasticBeam("holder", "G", "Q", 1.0, G, "outer", EA=1e3),
-             em.ElasticBeam("link", "S", "Q", 0.5, "inner", "outer", "clamped", "pinned", curvature=-0.3)]
+    beams = [
+        em.ElasticBeam("holder", "G", "Q", 1.0, G, "outer", EA=1e3),
+        em.ElasticBeam("link", "S", "Q", 0.5, "inner", "outer", "clamped", "pinned", curvature=-0.3),
+    ]
     bodies = [em.RigidBody("inner", ("O", "P", "S")), em.RigidBody("outer", ("P", "Q"))]
     pins = [em.Pin("inner", G, (0.0, 0.0), "O"), em.Pin("inner", "outer", (0.5, 0.1), "P")]
-    return em.Mechanism(nodes, beams, bodies, pins), [planar.Force("P", (0.3, 1.0), (-0.5, -1.5)),
-                                                      planar.Couple("inner", (0.2, 0.4))]
+    return em.Mechanism(nodes, beams, bodies, pins), [
+        planar.Force("P", (0.3, 1.0), (-0.5, -1.5)),
+        planar.Couple("inner", (0.2, 0.4)),
+    ]
 
 
 def _free_follower():
     """A curved inextensible cantilever, a follower force at its free end (it turns with the end)."""
     nodes = {"A": (0.0, 0.0), "B": (1.0, 0.2)}
     beams = [em.ElasticBeam("b", "A", "B", 2.0, G, None, "clamped", "free", curvature=0.4)]
-    return em.Mechanism(nodes, beams), [planar.Force("B", (1.0, 2.0), (0.5, 1.5), follower=True),
-                                         em.EndCouple("B", (0.1, -0.2))]
+    return em.Mechanism(nodes, beams), [
+        planar.Force("B", (1.0, 2.0), (0.5, 1.5), follower=True),
+        em.EndCouple("B", (0.1, -0.2)),
+    ]
 
 
 def _free_pointed():
@@ -83,15 +94,22 @@ def _distributed():
     nodes = {"A": (0.0, 0.0), "B": (1.0, 0.0)}
     beams = [em.ElasticBeam("b", "A", "B", 1.0, G, "tip", EA=500.0)]
     mech = em.Mechanism(nodes, beams, [em.RigidBody("tip", ("B",))])
-    return mech, [planar.DistributedLoad("b", (0.2, 0.5), (-1.0, -3.0)),
-                  planar.Force("B", (0.0, 1.0), (0.5, 0.5), follower=True)]
+    return mech, [
+        planar.DistributedLoad("b", (0.2, 0.5), (-1.0, -3.0)),
+        planar.Force("B", (0.0, 1.0), (0.5, 0.5), follower=True),
+    ]
 
 
-MECHANISMS = {"parallel guide": _parallel_guide, "parallel guide, follower and pointed forces": _parallel_guide_pulled,
-              "clamped-pinned beam on a crank": _crank, "pinned start on a rocker": _rocker,
-              "bodies pinned to each other": _pinned_bodies,
-              "free end, follower force, curved": _free_follower, "free end, pointed force, extensible": _free_pointed,
-              "distributed load": _distributed}
+MECHANISMS = {
+    "parallel guide": _parallel_guide,
+    "parallel guide, follower and pointed forces": _parallel_guide_pulled,
+    "clamped-pinned beam on a crank": _crank,
+    "pinned start on a rocker": _rocker,
+    "bodies pinned to each other": _pinned_bodies,
+    "free end, follower force, curved": _free_follower,
+    "free end, pointed force, extensible": _free_pointed,
+    "distributed load": _distributed,
+}
 
 
 def _state(problem, seed: int = 1) -> np.ndarray:
@@ -133,22 +151,24 @@ def test_a_beams_block_is_the_derivative_of_its_end_state(EA, curvature, w):
     nodes = {"O": (0.0, 0.0), "S": (0.2, 0.0), "T": (1.1, 0.4)}
     beam = em.ElasticBeam("b", "S", "T", 1.3, "base", None, "clamped", "free", EA=EA, curvature=curvature)
     mech = em.Mechanism(nodes, [beam], [em.RigidBody("base", ("O", "S"))], [em.Pin("base", G, (0.0, 0.0), "O")])
-    problem = em._problem(mech, [planar.Force("T", (1.0,), (2.0,)), planar.DistributedLoad("b", (w[0],), (w[1],))],
-                          1, RTOL)
+    problem = em._problem(
+        mech, [planar.Force("T", (1.0,), (2.0,)), planar.DistributedLoad("b", (w[0],), (w[1],))], 1, RTOL
+    )
     u = _state(problem)
-    problem.path(0.0, u)            # the loads of the level: the distributed load along the beam
+    problem.path(0.0, u)  # the loads of the level: the distributed load along the beam
     system, ul = problem.system, u.tolist()
     end, D = system.end_derivative(beam, u, ul)
     x, y, *inputs = system._start(beam, ul)
-    sizes = (1.0, problem.typical[2], problem.typical[0], problem.typical[1])     # theta0, m0, Fx, Fy
+    sizes = (1.0, problem.typical[2], problem.typical[0], problem.typical[1])  # theta0, m0, Fx, Fy
     central = np.empty((4, 4))
     for col, size in enumerate(sizes):
         h = 1e-5 * size
         up, down = list(inputs), list(inputs)
         up[col] += h
         down[col] -= h
-        central[:, col] = (system._integrate_from(beam, x, y, *up)[:4]
-                           - system._integrate_from(beam, x, y, *down)[:4]) / (2 * h)
+        central[:, col] = (
+            system._integrate_from(beam, x, y, *up)[:4] - system._integrate_from(beam, x, y, *down)[:4]
+        ) / (2 * h)
     np.testing.assert_array_equal(end, system.integrate(beam, u))
     scaled = np.abs(D - central) * np.array(sizes)
     assert np.max(scaled) < TOLERANCE * np.max(np.abs(central) * np.array(sizes))
@@ -162,8 +182,12 @@ def test_the_unknowns_move_every_block():
         u = _state(problem)
         J = problem.jacobian(0.6, u)
         assert np.all(np.max(np.abs(J), axis=0) > 0), name
-    for name in ("parallel guide, follower and pointed forces", "free end, follower force, curved",
-                 "free end, pointed force, extensible", "distributed load"):
+    for name in (
+        "parallel guide, follower and pointed forces",
+        "free end, follower force, curved",
+        "free end, pointed force, extensible",
+        "distributed load",
+    ):
         problem = _problem(name)
         u = _state(problem)
         problem.path(0.6, u)
@@ -175,34 +199,39 @@ def _flip_force_column(original):
     def flipped(*args):
         end, D = original(*args)
         D = D.copy()
-        D[:, 3] *= -1.0      # d(end)/dFy with the wrong sign
+        D[:, 3] *= -1.0  # d(end)/dFy with the wrong sign
         return end, D
+
     return flipped
 
 
 def _flip_turn(original):
     def flipped(ul, place):
         dx, dy = original(ul, place)
-        return [(c, -v if c == place[0] + 2 else v) for c, v in dx], dy   # d x/d phi with the wrong sign
+        return [(c, -v if c == place[0] + 2 else v) for c, v in dx], dy  # d x/d phi with the wrong sign
+
     return staticmethod(flipped)
 
 
 def _flip_follower(original):
     def flipped(self, t, u):
         rates = original(self, t, u)
-        return {node: [a[0], a[1], -a[2], a[3], a[4], -a[5]] for node, a in rates.items()}   # dF/dphi
+        return {node: [a[0], a[1], -a[2], a[3], a[4], -a[5]] for node, a in rates.items()}  # dF/dphi
+
     return flipped
 
 
-@pytest.mark.parametrize("attribute, plant, name", [
-    ("end_derivative", _flip_force_column, "parallel guide"),
-    ("_place_rate", _flip_turn, "clamped-pinned beam on a crank"),
-    ("force_rates", _flip_follower, "free end, follower force, curved"),
-])
+@pytest.mark.parametrize(
+    "attribute, plant, name",
+    [
+        ("end_derivative", _flip_force_column, "parallel guide"),
+        ("_place_rate", _flip_turn, "clamped-pinned beam on a crank"),
+        ("force_rates", _flip_follower, "free end, follower force, curved"),
+    ],
+)
 def test_a_wrong_sign_in_one_block_is_caught(monkeypatch, attribute, plant, name):
     owner = em._LoadPath if attribute == "force_rates" else em._System
     original = owner.__dict__[attribute]
     monkeypatch.setattr(owner, attribute, plant(original.__func__ if isinstance(original, staticmethod) else original))
     problem = _problem(name)
     assert _mismatch(problem, 0.6, _state(problem)) > 100 * TOLERANCE
-

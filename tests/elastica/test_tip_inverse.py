@@ -12,6 +12,7 @@ F_x; l1) must give the chosen loads back:
 * the FEM's (Richardson-extrapolated from 16 and 32 elements; one level per tie), to 1e-3 of the load scale (a 10 %
   error or a flipped tie sign moves them by more than 1e-2).
 """
+
 from __future__ import annotations
 
 import math
@@ -46,26 +47,37 @@ def _ties() -> dict:
     states = [_forward(loads) for loads in CHOSEN]
     common = {"b": [st.y for st in states], "theta0_deg": [math.degrees(st.theta) for st in states]}
     zero_moment = [brentq(lambda s, st=st: section_moment(st, s), 0.05, 0.95) for st in states]
-    return {"a": common | {"a": [st.x for st in states]},
-            "n": common | {"n": list(-CHOSEN[:, 0] / CHOSEN[:, 1])},
-            "axial_load": common | {"axial_load": list(CHOSEN[:, 0])},
-            "l1": common | {"l1": zero_moment}}
+    return {
+        "a": common | {"a": [st.x for st in states]},
+        "n": common | {"n": list(-CHOSEN[:, 0] / CHOSEN[:, 1])},
+        "axial_load": common | {"axial_load": list(CHOSEN[:, 0])},
+        "l1": common | {"l1": zero_moment},
+    }
 
 
 TIES = _ties()
-LEVEL = {"a": 1, "n": 0, "axial_load": 1, "l1": 0}   # one level each (cost); both loadings covered
+LEVEL = {"a": 1, "n": 0, "axial_load": 1, "l1": 0}  # one level each (cost); both loadings covered
 
 
 def _case(inverse: dict, fem_options: dict | None = None) -> Case:
-    return Case.model_validate({
-        "case": {"id": "inverse_probe", "title": "t", "group": "g", "units": "dimensionless"},
-        "segment": {"boundary": "fixed-guided", "length": 1.0, "E": 1.0, "curvature": KAPPA,
-                    "section": {"kind": "inertia", "I": 1.0, "A": 1.0e9}},
-        "loads": [{"kind": "force", "direction": [1.0, 0.0], "values": [0.0, 0.0]}],
-        "outputs": [{"quantity": q} for q in LOADS],
-        "methods": {"fem": {"elements": 16, "richardson": True, "inverse": inverse, **(fem_options or {})},
-                    "elastica": {"inverse": inverse}},
-    })
+    return Case.model_validate(
+        {
+            "case": {"id": "inverse_probe", "title": "t", "group": "g", "units": "dimensionless"},
+            "segment": {
+                "boundary": "fixed-guided",
+                "length": 1.0,
+                "E": 1.0,
+                "curvature": KAPPA,
+                "section": {"kind": "inertia", "I": 1.0, "A": 1.0e9},
+            },
+            "loads": [{"kind": "force", "direction": [1.0, 0.0], "values": [0.0, 0.0]}],
+            "outputs": [{"quantity": q} for q in LOADS],
+            "methods": {
+                "fem": {"elements": 16, "richardson": True, "inverse": inverse, **(fem_options or {})},
+                "elastica": {"inverse": inverse},
+            },
+        }
+    )
 
 
 def _loads(run, level):
@@ -77,8 +89,9 @@ def solved(request):
     case = _case(TIES[request.param])
     requests = [Request(q, "tip", lv) for lv in range(2) for q in LOADS]
     exact = elastica_adapter.run(case, requests, options_of("elastica", case.methods["elastica"]))
-    fem = fem_adapter.run(case, [r for r in requests if r.level == LEVEL[request.param]],
-                          options_of("fem", case.methods["fem"]))
+    fem = fem_adapter.run(
+        case, [r for r in requests if r.level == LEVEL[request.param]], options_of("fem", case.methods["fem"])
+    )
     assert exact.converged, exact.message
     assert fem.converged, fem.message
     return request.param, case, exact, fem
@@ -103,7 +116,7 @@ def test_fem_keeps_the_tie_and_reports_an_error_estimate(solved):
     for level in (LEVEL[tie],):
         fx, fy, _ = _loads(fem, level)
         if tie == "n":
-            assert fx == pytest.approx(-TIES["n"]["n"][level] * fy, rel=1e-6)   # F_x = -n P
+            assert fx == pytest.approx(-TIES["n"]["n"][level] * fy, rel=1e-6)  # F_x = -n P
         if tie == "axial_load":
             assert fx == pytest.approx(TIES["axial_load"]["axial_load"][level], abs=1e-12)
         estimate = [fem.error_estimate[Request(q, "tip", level)] for q in LOADS]
@@ -115,16 +128,19 @@ def test_forward_outputs_stay_forward():
     case = _case(TIES["n"])
     requests = [Request("y", "tip", 1)]
     run = elastica_adapter.run(case, requests, options_of("elastica", case.methods["elastica"]))
-    assert run.values[requests[0]] == pytest.approx((1 - math.cos(KAPPA)) / KAPPA, rel=1e-9)   # unloaded arc
+    assert run.values[requests[0]] == pytest.approx((1 - math.cos(KAPPA)) / KAPPA, rel=1e-9)  # unloaded arc
 
 
-@pytest.mark.parametrize("inverse, needle", [
-    ({"b": [0.1, 0.1], "theta0_deg": [1.0, 1.0]}, "exactly one of"),
-    ({"b": [0.1, 0.1], "theta0_deg": [1.0, 1.0], "n": [0.0, 0.0], "a": [0.9, 0.9]}, "exactly one of"),
-    ({"b": [0.1], "theta0_deg": [1.0, 1.0], "n": [0.0, 0.0]}, "inverse.b: 1 values for 2"),
-    ({"b": [0.1, 0.1], "theta0_deg": [1.0, 1.0], "l1": [1.5, 0.5]}, "inverse.l1"),
-    ({"b": [0.1, 0.1], "theta0": [1.0, 1.0], "n": [0.0, 0.0]}, "unknown field 'theta0'; nearest: theta0_deg"),
-])
+@pytest.mark.parametrize(
+    "inverse, needle",
+    [
+        ({"b": [0.1, 0.1], "theta0_deg": [1.0, 1.0]}, "exactly one of"),
+        ({"b": [0.1, 0.1], "theta0_deg": [1.0, 1.0], "n": [0.0, 0.0], "a": [0.9, 0.9]}, "exactly one of"),
+        ({"b": [0.1], "theta0_deg": [1.0, 1.0], "n": [0.0, 0.0]}, "inverse.b: 1 values for 2"),
+        ({"b": [0.1, 0.1], "theta0_deg": [1.0, 1.0], "l1": [1.5, 0.5]}, "inverse.l1"),
+        ({"b": [0.1, 0.1], "theta0": [1.0, 1.0], "n": [0.0, 0.0]}, "unknown field 'theta0'; nearest: theta0_deg"),
+    ],
+)
 def test_bad_inverse_options_are_named(inverse, needle):
     """Refused when the case is read (before any solve), naming the option's field."""
     with pytest.raises(ValidationError) as info:

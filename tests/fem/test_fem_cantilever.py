@@ -11,6 +11,7 @@ Tolerances: the fine-mesh error must be within the Richardson estimate
 (|Q_2n - Q_n|/3, up to a safety factor 1.5), and the extrapolated value within
 a small multiple of the next-order term.
 """
+
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
@@ -24,10 +25,12 @@ EA, EI, L = 1e10, 1.0, 1.0
 
 def elastica_tip_load(alpha):
     """(u/L shortening, w/L deflection, tip rotation) for P L^2/EI = alpha."""
+
     def residual(theta0):
         k = np.sqrt((1 + np.sin(theta0)) / 2)
         phi1 = np.arcsin(1 / (np.sqrt(2) * k))
         return ellipk(k * k) - ellipkinc(phi1, k * k) - np.sqrt(alpha)
+
     theta0 = brentq(residual, 1e-12, np.pi / 2 - 1e-14, xtol=1e-15)
     k = np.sqrt((1 + np.sin(theta0)) / 2)
     phi1 = np.arcsin(1 / (np.sqrt(2) * k))
@@ -36,11 +39,18 @@ def elastica_tip_load(alpha):
     return 1 - x, w, theta0
 
 
-TABLE = {1: (0.056433, 0.301721, 0.461352), 2: (0.160642, 0.493457, 0.781750),
-         3: (0.254420, 0.603253, 0.986017), 4: (0.328941, 0.669964, 1.121239),
-         5: (0.387628, 0.713792, 1.215368), 6: (0.434589, 0.744571, 1.283697),
-         7: (0.472927, 0.767369, 1.334960), 8: (0.504828, 0.784982, 1.374432),
-         9: (0.531821, 0.799056, 1.405465), 10: (0.554996, 0.810609, 1.430286)}
+TABLE = {
+    1: (0.056433, 0.301721, 0.461352),
+    2: (0.160642, 0.493457, 0.781750),
+    3: (0.254420, 0.603253, 0.986017),
+    4: (0.328941, 0.669964, 1.121239),
+    5: (0.387628, 0.713792, 1.215368),
+    6: (0.434589, 0.744571, 1.283697),
+    7: (0.472927, 0.767369, 1.334960),
+    8: (0.504828, 0.784982, 1.374432),
+    9: (0.531821, 0.799056, 1.405465),
+    10: (0.554996, 0.810609, 1.430286),
+}
 
 
 def cantilever(n_elements, fx, fy, follower=False):
@@ -108,10 +118,10 @@ def test_full_circle_any_number_of_levels(n_levels, as_history):
     m.add_member("root", "tip", fem.Section.from_EI(EA, EI), n_elements=20)
     m.add_support("root", "fixed")
     phis = 2 * np.pi * np.arange(1, n_levels + 1) / n_levels
-    if as_history:       # one moment value per level
+    if as_history:  # one moment value per level
         m.add_moment("tip", phis * EI / L)
         r = fem.solve(m)
-    else:                # a single value, applied in n_levels equal levels
+    else:  # a single value, applied in n_levels equal levels
         m.add_moment("tip", 2 * np.pi * EI / L)
         r = fem.solve(m, n_levels=n_levels)
     assert r.converged, r.message
@@ -119,7 +129,7 @@ def test_full_circle_any_number_of_levels(n_levels, as_history):
     assert abs(r.rotation("tip") - 2 * np.pi) < 1e-6
     assert np.linalg.norm(r.position("tip") - [0.0, 0.0]) < 1e-6 * L
     n = 20
-    for k, phi in enumerate(phis):       # closed form at every level
+    for k, phi in enumerate(phis):  # closed form at every level
         exact = np.array([np.sin(phi), 1 - np.cos(phi)]) * L / phi
         # straight elements of length L/n put the nodes on a circle of radius
         # R_h = (L/n) / (2 sin(phi/2n)) instead of R = L/phi: relative error eps
@@ -147,17 +157,24 @@ def test_spurious_branch_is_rejected_not_returned():
 
 def follower_reference(alpha):
     """Tip (x, y) and rotation for a follower tip load, by shooting + continuation."""
+
     def shoot(theta_L):
-        sol = solve_ivp(lambda s, y: [y[1], -alpha * np.cos(y[0] - theta_L), np.cos(y[0]), np.sin(y[0])],
-                        (1.0, 0.0), [theta_L, 0.0, 0.0, 0.0], rtol=1e-12, atol=1e-13)
+        sol = solve_ivp(
+            lambda s, y: [y[1], -alpha * np.cos(y[0] - theta_L), np.cos(y[0]), np.sin(y[0])],
+            (1.0, 0.0),
+            [theta_L, 0.0, 0.0, 0.0],
+            rtol=1e-12,
+            atol=1e-13,
+        )
         return sol.y[:, -1]
+
     theta_L = 0.0
     for a in np.linspace(0.0, alpha, 41)[1:]:
         alpha_saved, alpha = alpha, a
         lo, hi = theta_L - 0.05, theta_L + 0.6
         theta_L = brentq(lambda t: shoot(t)[0], lo, hi, xtol=1e-14)
         alpha = alpha_saved
-    end = shoot(theta_L)           # integrated from the tip: x(0)-x(L), y(0)-y(L)
+    end = shoot(theta_L)  # integrated from the tip: x(0)-x(L), y(0)-y(L)
     return np.array([-end[2], -end[3]]), theta_L
 
 
@@ -182,16 +199,18 @@ def test_three_level_romberg_estimate_and_order():
     for i, a in enumerate(alphas):
         u, w, th = elastica_tip_load(a)
         p_ext, _ = est.position("tip", i)
-        assert np.linalg.norm(p_ext - [L - u, w]) <= max(1e-6, 2 * np.linalg.norm(
-            est.extrapolated_error["positions"][i, 1]))
+        assert np.linalg.norm(p_ext - [L - u, w]) <= max(
+            1e-6, 2 * np.linalg.norm(est.extrapolated_error["positions"][i, 1])
+        )
 
 
 def test_displacement_control_recovers_load():
     """Tip deflection w(alpha) from the elastica prescribed; the load factor is alpha."""
     alphas = [1.0, 5.0, 9.0]
     targets = [elastica_tip_load(a)[1] for a in alphas]
-    est = fem.solve_with_error_estimate(cantilever(8, 0.0, 1.0), control="displacement",
-                                        control_dof=("tip", "uy"), targets=targets)
+    est = fem.solve_with_error_estimate(
+        cantilever(8, 0.0, 1.0), control="displacement", control_dof=("tip", "uy"), targets=targets
+    )
     assert est.converged, est.message
     lam_fine = est.result.load_factor
     lam_ext, lam_err = est.extrapolated["load_factor"], est.error["load_factor"]
@@ -214,7 +233,7 @@ def test_every_level_is_first_tried_in_one_step():
     r = fem.solve(m, max_rotation_increment=0.5)
     assert r.converged, r.message
     steps = np.asarray(r.extra["step_load_factor"])
-    first, second = steps[steps <= 0.0], steps[steps > 0.0]      # the level parameter k - 1 + t
-    assert len(first) >= 7 and first[-1] == 0.0                  # pi rad in steps of at most 0.5
+    first, second = steps[steps <= 0.0], steps[steps > 0.0]  # the level parameter k - 1 + t
+    assert len(first) >= 7 and first[-1] == 0.0  # pi rad in steps of at most 0.5
     assert list(second) == [1.0]
     assert abs(r.rotation("tip", 1) - (np.pi + 0.01)) < 1e-9

@@ -1,5 +1,6 @@
 """The FEM library on inputs at the edge of its formulas: each gives the answer of the limit it tends
 to, or one clear message, never a division by zero or a numpy warning."""
+
 import warnings
 
 import numpy as np

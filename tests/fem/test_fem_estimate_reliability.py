@@ -16,6 +16,7 @@ the exact elastica (``elastica.solve_elastica``, shooting to rtol 1e-12), never 
 - differences at round-off level are converged, not unreliable; the default 16 elements needs no
   extra mesh on these cases.
 """
+
 from __future__ import annotations
 
 import math
@@ -39,23 +40,25 @@ from validation.run.outcome import fem_error_relative
 from validation.run.runner import run_method
 from validation.run import tables
 
-LOADS = [2.0, 4.0, 6.0, 8.0, 10.0]          # P L^2/EI (L = 1, EI = 1)
+LOADS = [2.0, 4.0, 6.0, 8.0, 10.0]  # P L^2/EI (L = 1, EI = 1)
 EA = 1.0e6
-KINDS = {"inclined": (135.0, False),         # a dead force at 135 deg: compressive, turned off the axis
-         "follower": (90.0, True)}           # a follower force, normal to the tip in the unloaded state
+KINDS = {
+    "inclined": (135.0, False),  # a dead force at 135 deg: compressive, turned off the axis
+    "follower": (90.0, True),
+}  # a follower force, normal to the tip in the unloaded state
 QUANTITIES = ("x", "y", "rotation")
 
 
 def cantilever(kind: str, elements: int, **fem_options) -> Case:
     angle, follower = KINDS[kind]
     a = math.radians(angle)
-    data = dict(case=dict(id=f"held_out_{kind}", title=f"cantilever, {kind} tip force", group="tests",
-                          units="dimensionless"),
-                segment=dict(boundary="fixed-free", length=1.0, E=1.0, section=dict(kind="inertia", I=1.0, A=EA)),
-                loads=[dict(kind="force", point="tip", direction=[math.cos(a), math.sin(a)], values=LOADS,
-                            follower=follower)],
-                outputs=[dict(quantity=q, point="tip") for q in QUANTITIES],
-                methods={"fem": dict(elements=elements, **fem_options), "elastica": {}})
+    data = dict(
+        case=dict(id=f"held_out_{kind}", title=f"cantilever, {kind} tip force", group="tests", units="dimensionless"),
+        segment=dict(boundary="fixed-free", length=1.0, E=1.0, section=dict(kind="inertia", I=1.0, A=EA)),
+        loads=[dict(kind="force", point="tip", direction=[math.cos(a), math.sin(a)], values=LOADS, follower=follower)],
+        outputs=[dict(quantity=q, point="tip") for q in QUANTITIES],
+        methods={"fem": dict(elements=elements, **fem_options), "elastica": {}},
+    )
     return Case.model_validate(data)
 
 
@@ -66,11 +69,17 @@ def exact_tip(kind: str) -> dict[Request, float]:
     out = {}
     for level, P in enumerate(LOADS):
         load = (P * math.cos(a), P * math.sin(a))
-        tip = elastica.solve_elastica(1.0, 1.0, rtol=1e-12, atol=1e-12,
-                                      **({"follower": (0.0, P)} if follower else {"force": load}))
+        tip = elastica.solve_elastica(
+            1.0, 1.0, rtol=1e-12, atol=1e-12, **({"follower": (0.0, P)} if follower else {"force": load})
+        )
         assert tip.converged, tip.message
-        out.update({Request("x", "tip", level): tip.x, Request("y", "tip", level): tip.y,
-                    Request("rotation", "tip", level): math.degrees(tip.theta)})
+        out.update(
+            {
+                Request("x", "tip", level): tip.x,
+                Request("y", "tip", level): tip.y,
+                Request("rotation", "tip", level): math.degrees(tip.theta),
+            }
+        )
     return out
 
 
@@ -167,8 +176,12 @@ def test_tables_carry_the_mark(marked_validation, tmp_path):
     v = marked_validation
     marked = v.result.runs["fem"].unreliable_estimate
     fem_rows = v.values[v.values["method"] == "fem"]
-    flags = {Request(q, p, int(lv)): f for q, p, lv, f in
-             zip(fem_rows["quantity"], fem_rows["point"], fem_rows["level"], fem_rows["error_estimate_reliable"])}
+    flags = {
+        Request(q, p, int(lv)): f
+        for q, p, lv, f in zip(
+            fem_rows["quantity"], fem_rows["point"], fem_rows["level"], fem_rows["error_estimate_reliable"]
+        )
+    }
     assert {r for r, f in flags.items() if f is False or f == False} == set(marked)  # noqa: E712
     assert all(bool(f) for r, f in flags.items() if r not in marked)
     assert v.values[v.values["method"] == "elastica"]["error_estimate_reliable"].isna().all()
@@ -210,8 +223,9 @@ def test_round_off_differences_are_converged_not_unreliable():
     m.add_support("root", "fixed")
     moments = np.array([1.0, 3.0, 6.0])
     m.add_moment("tip", moments)
-    est = fem.solve_with_error_estimate(m, check=fem.AsymptoticCheck(fields=("rotations", "reactions",
-                                                                             "strain_energy")))
+    est = fem.solve_with_error_estimate(
+        m, check=fem.AsymptoticCheck(fields=("rotations", "reactions", "strain_energy"))
+    )
     assert est.reliable and est.refine == 2, est.message
     assert np.allclose(est.result.rotations[:, est.result.node_index("tip")], moments, rtol=1e-9)  # exact M L/EI
     for name in ("rotations", "reactions", "strain_energy"):
@@ -239,8 +253,11 @@ def test_solve_document_names_the_unreliable_estimate():
     case = cantilever("inclined", 2, max_refine=2)
     run = run_method(case, "fem")
     loaded = LoadedCase(path=Path("<held-out case>"), text=case.model_dump_json(), case=case)
-    outputs = {f"{name}@{level['level']}": value for level in solve_document(loaded, "fem", run)["levels"]
-               for name, value in level["outputs"].items()}
+    outputs = {
+        f"{name}@{level['level']}": value
+        for level in solve_document(loaded, "fem", run)["levels"]
+        for name, value in level["outputs"].items()
+    }
     marked = {k for k in outputs if k.split("@")[1].startswith("tip:error_estimate_unreliable")}
     assert len(marked) == len(run.unreliable_estimate) > 0
     assert all("asymptotic range" in outputs[k] for k in marked)

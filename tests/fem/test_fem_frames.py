@@ -11,6 +11,7 @@ extrapolation must match the reference within the reference's own rounding
 plus the extrapolation remainder, and the two meshes must bracket it the way
 an O(h^2) error does.
 """
+
 import numpy as np
 
 import fem
@@ -34,8 +35,7 @@ def lee_frame(n):
 
 
 def trace_lee(n):
-    return fem.solve(lee_frame(n), control="arclength", arc_length=5.0, max_arc_length=10.0,
-                     until=("P", "uy", -100.0))
+    return fem.solve(lee_frame(n), control="arclength", arc_length=5.0, max_arc_length=10.0, until=("P", "uy", -100.0))
 
 
 def test_lee_frame_both_limit_points_continuous_path():
@@ -61,7 +61,7 @@ def test_lee_frame_both_limit_points_continuous_path():
         # det K changes sign at the limit points (stable -> unstable -> ...)
         assert np.any(np.diff(r.det_sign) != 0)
     extrap = pmax[1] + (pmax[1] - pmax[0]) / 3
-    assert pmax[0] > pmax[1] > extrap            # O(h^2) from above
+    assert pmax[0] > pmax[1] > extrap  # O(h^2) from above
     assert abs(extrap * L2_EI - 18.557) < 2e-3
     # second limit point: about -9.41 (anchors, one method only): loose check
     extrap_min = pmin[1] + (pmin[1] - pmin[0]) / 3
@@ -92,7 +92,7 @@ def test_arch_215_limit_load():
         lim = r.critical_points[0]
         assert lim.kind == "limit" and lim.detail == "maximum"
         p.append(lim.load_factor)
-        if n == 40:   # crown displacement at the limit point (DaDeppo: u/R = 0.6116, v/R = 1.1372)
+        if n == 40:  # crown displacement at the limit point (DaDeppo: u/R = 0.6116, v/R = 1.1372)
             k = lim.step
             d = r.position("crown", k) - [0.0, R]
             assert abs(abs(d[0]) / R - 0.6116) < 0.01 and abs(-d[1] / R - 1.1372) < 0.01
@@ -104,8 +104,7 @@ def test_arch_215_limit_load():
 
 def test_lee_displacement_control_first_limit():
     """Displacement control passes the first limit point (no snap-back before it)."""
-    r = fem.solve(lee_frame(10), control="displacement", control_dof=("P", "uy"),
-                  targets=np.linspace(-5.0, -55.0, 11))
+    r = fem.solve(lee_frame(10), control="displacement", control_dof=("P", "uy"), targets=np.linspace(-5.0, -55.0, 11))
     assert r.converged, r.message
     limits = [c for c in r.critical_points if c.kind == "limit"]
     assert limits and limits[0].detail == "maximum"
@@ -117,9 +116,9 @@ def test_lee_displacement_control_first_limit():
 def test_load_control_beyond_limit_reports_failure():
     m = lee_frame(10)
     m.loads.clear()
-    m.add_force("P", 0.0, [-1.0, -2.5])          # second level beyond P_max = 1.86
+    m.add_force("P", 0.0, [-1.0, -2.5])  # second level beyond P_max = 1.86
     r = fem.solve(m)
     assert not r.converged
     assert "load level 1" in r.message and "iteration" in r.message
-    assert r.n_levels == 1                       # the first level is still reported
+    assert r.n_levels == 1  # the first level is still reported
     assert np.isfinite(r.position("P", 0)).all()

@@ -2,6 +2,7 @@
 (`fem.FreeMotion`) that says which node and DOF nothing holds. The decision is kinematic
 (`fem.free_motion`: the null space of the rigid-body constraint matrix by SVD), so it is the same on
 every CPU, for either corrector, and under relative noise of 1e-12 in coordinates and stiffnesses."""
+
 import numpy as np
 import pytest
 
@@ -48,7 +49,7 @@ def test_free_hinge_in_the_span():
     with pytest.raises(fem.FreeMotion, match="mid|tip|interior node of member 'm1'"):
         fem.solve(m)
     m2 = _beam("fixed")
-    m2.add_joint("mid", k=5.0)          # the same hinge with a spring: held
+    m2.add_joint("mid", k=5.0)  # the same hinge with a spring: held
     r = fem.solve(m2)
     assert r.converged and np.isfinite(r.position("tip")).all()
 
@@ -73,22 +74,37 @@ def _linked(support: str | None, k: float, slave_force: float = 0.0) -> fem.Mode
 
 
 MODELS = {
-    "cantilever": lambda: _beam("fixed"), "free beam": lambda: _beam(None),
-    "pinned beam": lambda: _beam("pinned"), "slider beam": lambda: _beam("slider"),
-    "free hinge": lambda: _hinged(0.0), "sprung hinge": lambda: _hinged(5.0),
-    "linked, clamped": lambda: _linked("fixed", 2.0), "linked, free hinge": lambda: _linked("fixed", 0.0),
-    "linked, pinned": lambda: _linked("pinned", 2.0), "linked, free": lambda: _linked(None, 2.0),
+    "cantilever": lambda: _beam("fixed"),
+    "free beam": lambda: _beam(None),
+    "pinned beam": lambda: _beam("pinned"),
+    "slider beam": lambda: _beam("slider"),
+    "free hinge": lambda: _hinged(0.0),
+    "sprung hinge": lambda: _hinged(5.0),
+    "linked, clamped": lambda: _linked("fixed", 2.0),
+    "linked, free hinge": lambda: _linked("fixed", 0.0),
+    "linked, pinned": lambda: _linked("pinned", 2.0),
+    "linked, free": lambda: _linked(None, 2.0),
     "linked, clamped, slave loaded": lambda: _linked("fixed", 2.0, 0.05),
     "prescribed tip": lambda: _prescribed_tip(),
-    "four-bar, free hinges": lambda: _four_bar(0.0), "four-bar, sprung hinges": lambda: _four_bar(3.0),
+    "four-bar, free hinges": lambda: _four_bar(0.0),
+    "four-bar, sprung hinges": lambda: _four_bar(3.0),
     "closed frame, pinned": lambda: _closed_frame(),
     "closed frame on a pin only": lambda: _closed_frame(slider=False),
     "hinged triangle": lambda: _hinged_polygon(((0.0, 0.0), (1.0, 0.0), (0.4, 0.7))),
     "hinged square": lambda: _hinged_polygon(((0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0))),
 }
-FREE = {"free beam": 3, "pinned beam": 1, "slider beam": 2, "free hinge": 1, "linked, free hinge": 1,
-        "linked, pinned": 1, "linked, free": 3, "four-bar, free hinges": 1, "hinged square": 1,
-        "closed frame on a pin only": 1}
+FREE = {
+    "free beam": 3,
+    "pinned beam": 1,
+    "slider beam": 2,
+    "free hinge": 1,
+    "linked, free hinge": 1,
+    "linked, pinned": 1,
+    "linked, free": 3,
+    "four-bar, free hinges": 1,
+    "hinged square": 1,
+    "closed frame on a pin only": 1,
+}
 
 
 def _expected_verdict(name: str) -> bool:
@@ -117,7 +133,7 @@ def test_the_compiled_and_the_numpy_corrector_get_the_same_verdict(name):
     system.compiled = None
     assert _verdict(lambda: check_held(system)) == compiled
     assert (compiled == "held") == _expected_verdict(name), compiled
-    follower = MODELS[name]()                      # a follower force: the NumPy corrector in fem.solve
+    follower = MODELS[name]()  # a follower force: the NumPy corrector in fem.solve
     follower.add_force(follower.node_names[-1], 0.0, 1e-3, follower=True)
     for run in (_verdict(lambda: fem.solve(m)), _verdict(lambda: fem.solve(follower))):
         assert run == compiled if compiled != "held" else "can move" not in run
@@ -147,13 +163,18 @@ def _perturbed(model: fem.Model, rng, noise: float = 1e-12) -> fem.Model:
     """The model with node coordinates, section stiffnesses and joint springs each multiplied by
     1 + noise * N(0, 1) (a coordinate at 0 moved by noise times the model's length)."""
     scale = model.characteristic_length()
-    model.coords = [(x * (1 + noise * rng.standard_normal()) + noise * scale * rng.standard_normal(),
-                     y * (1 + noise * rng.standard_normal()) + noise * scale * rng.standard_normal())
-                    for x, y in model.coords]
+    model.coords = [
+        (
+            x * (1 + noise * rng.standard_normal()) + noise * scale * rng.standard_normal(),
+            y * (1 + noise * rng.standard_normal()) + noise * scale * rng.standard_normal(),
+        )
+        for x, y in model.coords
+    ]
     for member in model.members:
         s = member.section
-        member.section = fem.Section(s.EA * (1 + noise * rng.standard_normal()),
-                                     s.EI * (1 + noise * rng.standard_normal()), s.stress_layers)
+        member.section = fem.Section(
+            s.EA * (1 + noise * rng.standard_normal()), s.EI * (1 + noise * rng.standard_normal()), s.stress_layers
+        )
     for joint in model.joints:
         joint.k *= 1 + noise * rng.standard_normal()
     return model
@@ -225,8 +246,6 @@ def test_a_very_soft_spring_holds_and_the_solve_says_what_it_found():
     assert _verdict(lambda: fem.solve(_hinged(0.0))) != "held"
 
 
-
-
 def _hinged(k: float) -> fem.Model:
     m = _beam("fixed")
     m.add_joint("mid", k=k)
@@ -246,6 +265,7 @@ def test_a_refined_mesh_of_a_model_found_held_is_not_tested_again(monkeypatch):
     elements): they are solved without the test (``held``), to the same numbers; a solve given a coarse
     guess but not told ``held`` still tests, and a free model is still refused by the coarse mesh."""
     from fem import solver
+
     calls = []
     real = solver.check_held
     monkeypatch.setattr(solver, "check_held", lambda system: calls.append(system.n) or real(system))
@@ -253,10 +273,10 @@ def test_a_refined_mesh_of_a_model_found_held_is_not_tested_again(monkeypatch):
     est = fem.solve_with_error_estimate(model, levels=3)
     assert len(calls) == 1 and est.converged and len(est.results) == 3
     coarse, fine = est.results[0], est.results[1]
-    again = fem.solve(model, refine=2, initial_guess=coarse)        # the same solve, tested
+    again = fem.solve(model, refine=2, initial_guess=coarse)  # the same solve, tested
     assert len(calls) == 2 and np.array_equal(again.mesh_positions, fine.mesh_positions)
     free = _beam("pinned")
-    free.add_force("tip", 0.0, 0.1, follower=True)     # a follower: the NumPy corrector, tested beforehand
+    free.add_force("tip", 0.0, 0.1, follower=True)  # a follower: the NumPy corrector, tested beforehand
     with pytest.raises(fem.FreeMotion):
         fem.solve_with_error_estimate(free, levels=3)
 

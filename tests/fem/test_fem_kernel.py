@@ -4,6 +4,7 @@ twice, Crisfield 1991 ch. 7), and its tangent against central differences of its
 Compiled code and NumPy or LAPACK agree to within bounds of their rounding, stated in each test, never
 to the last bit (the C library's sine is not NumPy's, a BLAS kernel depends on the CPU); rounding
 bounds from Higham 2002 (N. J. Higham, Accuracy and Stability of Numerical Algorithms, 2nd ed., SIAM)."""
+
 from dataclasses import replace
 import numpy as np
 import pytest
@@ -13,7 +14,7 @@ from scipy.linalg.lapack import dgbtrf, dgbtrs
 
 from fem.kernel import Band, Beams, band_lu, band_solve, scatter
 
-EPS = float(np.finfo(float).eps)   # machine epsilon
+EPS = float(np.finfo(float).eps)  # machine epsilon
 
 
 def _random_elements(rng, n):
@@ -22,7 +23,7 @@ def _random_elements(rng, n):
     L0 = rng.uniform(0.2, 2.0, n)
     X2 = X1 + L0[:, None] * np.column_stack([np.cos(ang), np.sin(ang)])
     p = 0.3 * rng.normal(size=(n, 6))
-    p[:, 2::3] *= 5.0                       # rotations beyond pi, where the wrap acts
+    p[:, 2::3] *= 5.0  # rotations beyond pi, where the wrap acts
     ka = rng.uniform(1.0, 1e3, n)
     EI = rng.uniform(0.5, 2.0, n)
     kb = (EI / L0)[:, None, None] * np.array([[4.0, 2.0], [2.0, 4.0]]) + rng.normal(scale=0.1, size=(n, 2, 2))
@@ -33,7 +34,7 @@ def _random_elements(rng, n):
 def test_kernel_equals_the_numpy_element_on_random_states():
     args = _random_elements(np.random.default_rng(1), 200)
     got, ref = element_state(*args), element_state_numpy(*args)
-    assert ref["jumped"].any() and not ref["jumped"].all()     # both branches of the wrap are exercised
+    assert ref["jumped"].any() and not ref["jumped"].all()  # both branches of the wrap are exercised
     for key in ("f", "K", "N", "M", "L", "beta", "theta_bar", "u_bar"):
         np.testing.assert_allclose(got[key], ref[key], rtol=1e-12, atol=1e-12 * np.abs(ref[key]).max(), err_msg=key)
     np.testing.assert_array_equal(got["jumped"], ref["jumped"])
@@ -41,7 +42,7 @@ def test_kernel_equals_the_numpy_element_on_random_states():
 
 def test_kernel_tangent_is_the_derivative_of_its_forces():
     beams, p, _ = _random_elements(np.random.default_rng(2), 5)
-    p[:, 2::3] *= 0.1                      # away from the wrap discontinuity
+    p[:, 2::3] *= 0.1  # away from the wrap discontinuity
     beta_prev = element_state(beams, p, beams.beta0)["beta"]
     K = element_state(beams, p, beta_prev)["K"]
     h = 1e-6
@@ -101,19 +102,19 @@ def test_cholesky_inertia_agrees_with_the_lowest_eigenvalue(kind, held):
     (P_cr = pi^2 EI / 4 L^2, 9 pi^2 EI / 4 L^2), with thresholds just either side of lambda_min."""
     from fem.stability import eigenvalue_below, lowest_modes
 
-    for load in (1.0, 4.0, 30.0):                       # below, between, beyond the first two
+    for load in (1.0, 4.0, 30.0):  # below, between, beyond the first two
         system = _compressed_column(load, kind)
         assert system.layout.kind == kind
         loads = system.loads_at(-1, 0, 1.0)
         d = system.disc
-        q = np.zeros(system.n)                          # the straight state: u = -P x / EA
+        q = np.zeros(system.n)  # the straight state: u = -P x / EA
         for node in range(len(d.X)):
             k = d.I[2 * node, 0]
             if k < system.n:
                 q[k] = -load * d.X[node, 0] / 1e4
         K = system.evaluate(q, system.disc.beta0.copy(), 1.0, *loads)["K"]
         lam_min = lowest_modes(system, K, held, count=1)[0][0]
-        if held is None:                                # holding a DOF stiffens the column
+        if held is None:  # holding a DOF stiffens the column
             assert (lam_min < 0) == (load > np.pi**2 / 4)
         for tol in (-0.999 * lam_min, -1.001 * lam_min, 1e-12):
             assert eigenvalue_below(system, K, held, tol) == (lam_min < -tol), (load, tol, lam_min)
@@ -145,26 +146,26 @@ def test_corrector_confirms_the_sign_and_tests_the_inertia_as_python_would(kind)
 
     zero = np.zeros(column(1.0).n)
     states = {load: solved(column(load), zero).q for load in (1.0, 4.0, 30.0)}
-    for load in (1.0, 4.0, 30.0):                   # from the unloaded state: the positive sign stands
+    for load in (1.0, 4.0, 30.0):  # from the unloaded state: the positive sign stands
         system = column(load)
         out = solved(system, zero)
         assert out.ev.inertia_below == -1 and out.factor.det_sign == 1 and not out.factor.final
         K = out.ev["K"]
         lam_min = lowest_modes(system, K, None, count=1)[0][0]
-        assert (lam_min < 0) == (load > np.pi ** 2 / 4)
+        assert (lam_min < 0) == (load > np.pi**2 / 4)
         for tol in (-0.999 * lam_min, -1.001 * lam_min, zero_eigenvalue(1.0, system.n)):
             below = solved(system, zero, tol).ev.inertia_below
             assert below == int(lam_min < -tol) == int(eigenvalue_below(system, K, None, tol)), (load, tol)
-    system = column(1.0)                           # from the state at 4: det < 0 at the start, > 0 at the end
+    system = column(1.0)  # from the state at 4: det < 0 at the start, > 0 at the end
     out = solved(system, states[4.0], zero_eigenvalue(1.0, system.n))
     assert out.iterations > 0 and out.factor.final
     assert out.factor.det_sign == system.layout.factor(out.ev["K"]).det_sign == 1
     assert det_sign(system, out.ev, out.factor) == 1 and out.ev.inertia_below == 0
-    system = column(4.0)                           # converged at the start: its own factorisation, det < 0
+    system = column(4.0)  # converged at the start: its own factorisation, det < 0
     out = solved(system, states[4.0], zero_eigenvalue(1.0, system.n))
     assert out.iterations == 0 and out.factor.final
     assert out.factor.det_sign == system.layout.factor(out.ev["K"]).det_sign == -1
-    assert out.ev.inertia_below == -1               # lost stability already: no inertia test
+    assert out.ev.inertia_below == -1  # lost stability already: no inertia test
 
 
 def _gamma(k: int) -> float:
@@ -180,7 +181,7 @@ def _random_band(rng, n, kl, ku, singular_column=None):
     for j in range(n):
         for i in range(max(0, j - ku), min(n, j + kl + 1)):
             ab[kl + ku + i - j, j] = rng.normal()
-    if singular_column is not None:     # an all-zero column: an exactly zero pivot there
+    if singular_column is not None:  # an all-zero column: an exactly zero pivot there
         ab[:, singular_column] = 0.0
     return ab
 
@@ -245,7 +246,7 @@ def test_band_lu_is_lapack_dgbtrf_and_dgbtrs_to_rounding(seed):
         ab = _random_band(rng, n, kl, ku, zero)
         A = _dense(ab, n, kl, ku)
         lu, piv, info = dgbtrf(ab.copy(), kl, ku)
-        flat = ab.T.copy().ravel()                       # column-major, as the corrector stores it
+        flat = ab.T.copy().ravel()  # column-major, as the corrector stores it
         ipiv = np.empty(n, np.int32)
         assert band_lu(flat, n, kl, ku, 2 * kl + ku + 1, ipiv) == info, trial
         np.testing.assert_array_equal(ipiv, piv + 1, err_msg=str(trial))
@@ -303,22 +304,24 @@ def test_the_compiled_corrector_s_acceptance_facts_are_the_numpy_ones(moment):
     assert jumped == (moment > 2 * np.pi * 0.9)
     outcomes = []
     for known in (None, out.accept):
-        for cap in (np.pi, 0.5 * moment):      # the increment within the cap, and beyond it
+        for cap in (np.pi, 0.5 * moment):  # the increment within the cap, and beyond it
             try:
-                accept_check(system, out.q, q0, out.ev, replace(opts, max_rotation_increment=cap),
-                             out.iterations, known)
+                accept_check(
+                    system, out.q, q0, out.ev, replace(opts, max_rotation_increment=cap), out.iterations, known
+                )
                 outcomes.append("accepted")
             except StepFailed as exc:
                 outcomes.append((str(exc), exc.cut))
     assert outcomes[:2] == outcomes[2:]
     reason = "rotation jump of about 2 pi" if jumped else "rotation increment"
     assert (outcomes[0] == "accepted") == (not jumped)
-    assert all(reason in o[0] for o in outcomes[int(not jumped):2]), outcomes
+    assert all(reason in o[0] for o in outcomes[int(not jumped) : 2]), outcomes
 
 
 def _compiled_evaluation(system, q, beta, loads):
     """`kernel._evaluate` at q: (u, r, K in row-major storage, second constraint column, F_scale)."""
     from fem import kernel as cn
+
     d, c = system.disc, system.compiled
     work = cn.work_arrays(n=system.n, nf=d.n_full + 1, size=c.size, maxiter=0, links=True)
     el = cn.element_outputs(len(d.L0))
@@ -423,11 +426,12 @@ def test_every_compiled_fem_function_is_compiled_once():
         "for cid in ('cantilever_tip_load', 'bapat2015_test1a', 'bapat2015_test2'):\n"
         "    assert run_method(case_by_id(cid).case, 'fem').converged, cid\n"
         "print(json.dumps({f'{m.__name__}.{k}': len(v.signatures) for m in (fem.kernel, fem.numbering)\n"
-        "                  for k, v in vars(m).items() if isinstance(v, CPUDispatcher) and v.signatures}))\n")
+        "                  for k, v in vars(m).items() if isinstance(v, CPUDispatcher) and v.signatures}))\n"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)
     assert out.returncode == 0, out.stderr[-2000:]
     counts = json.loads(out.stdout.strip().splitlines()[-1])
-    assert counts.get("fem.kernel.newton_load") == 1, counts      # the entry points called from Python
+    assert counts.get("fem.kernel.newton_load") == 1, counts  # the entry points called from Python
     assert all(n == 1 for n in counts.values()), counts
 
 
@@ -473,14 +477,13 @@ def _linked_chain(prescribed: bool):
     import fem
 
     model = fem.Model()
-    for name, x, y in (("root", 0.0, 0.0), ("a", 1.0, 0.0), ("b", 1.3, 0.3), ("c", 1.5, -0.2),
-                       ("d", 2.5, -0.2)):
+    for name, x, y in (("root", 0.0, 0.0), ("a", 1.0, 0.0), ("b", 1.3, 0.3), ("c", 1.5, -0.2), ("d", 2.5, -0.2)):
         model.add_node(name, x, y)
     section = fem.Section.from_EI(2e3, 1.5)
     model.add_member("root", "a", section, n_elements=5)
     model.add_member("c", "d", section, n_elements=6)
     model.add_rigid_link("a", "b")
-    model.add_rigid_link("b", "c")          # c's root master is a
+    model.add_rigid_link("b", "c")  # c's root master is a
     model.add_support("root", "fixed")
     model.add_support("d", "slider", direction=(0.8, -0.6))
     model.add_joint("c", k=3.0, k_ground=0.5)
@@ -516,10 +519,10 @@ def test_shifted_cholesky_sees_every_eigenvalue_below_minus_tol(seed):
         for j in range(n):
             for i in range(max(0, j - w), j + 1):
                 B[i, j] = B[j, i] = rng.normal()
-        B += np.diag(rng.uniform(2.0 * w, 4.0 * w, n))          # diagonally dominant: positive definite
-        B[np.diag_indices(n)] -= np.where(rng.random(n) < 0.1, 4.0 * w + 3.0, 0.0)   # some made negative
+        B += np.diag(rng.uniform(2.0 * w, 4.0 * w, n))  # diagonally dominant: positive definite
+        B[np.diag_indices(n)] -= np.where(rng.random(n) < 0.1, 4.0 * w + 3.0, 0.0)  # some made negative
         if trial % 7 == 3:
-            B[:, n // 2] = B[n // 2, :] = 0.0                      # a zero diagonal: scaled by 1
+            B[:, n // 2] = B[n // 2, :] = 0.0  # a zero diagonal: scaled by 1
         held = int(rng.integers(0, n)) if trial % 3 == 0 else -1
         d = np.sqrt(np.abs(np.diag(B)))
         d[d == 0.0] = 1.0
@@ -528,18 +531,16 @@ def test_shifted_cholesky_sees_every_eigenvalue_below_minus_tol(seed):
             A[held, :] = A[:, held] = 0.0
             A[held, held] = 1.0
         lowest = np.linalg.eigvalsh(A)[0]
-        band = np.zeros((3 * w + 1, n))                           # kl = ku = w
+        band = np.zeros((3 * w + 1, n))  # kl = ku = w
         for j in range(n):
             for i in range(max(0, j - w), min(n, j + w + 1)):
                 band[2 * w + i - j, j] = B[i, j]
         skew = rng.normal(scale=0.5, size=(n, n))
         dense = B + skew - skew.T
-        storages = [(band.T.ravel(), True, 3 * w + 1), (dense.T.ravel(), False, n)]   # column by column
+        storages = [(band.T.ravel(), True, 3 * w + 1), (dense.T.ravel(), False, n)]  # column by column
         for tol in (-0.999 * lowest, -1.001 * lowest) if abs(lowest) > 1e-6 else (1e-3,):
             expected = lowest < -tol
             for K, banded, ldk in storages:
                 kl = w if banded else 0
                 band = Band(banded=banded, kl=kl, ku=kl, ld=ldk)
                 assert shifted_cholesky_fails(K, band, n, held, tol) == expected, (trial, tol, ldk)
-
-

@@ -8,6 +8,7 @@ Stepped anyway, such a mesh gets corrections without a correct digit: Newton con
 takes about as many iterations however short it is, the step control stops growing the steps, and
 the load is crawled through in ever more of them.
 """
+
 import numpy as np
 import pytest
 
@@ -36,8 +37,9 @@ def _system(n_elements: int, kind: str = "auto") -> System:
 def _scaled_unloaded_tangent(system: System) -> np.ndarray:
     """The definition: D K0 D of the dense unloaded tangent, D = diag(|K0_ii|^-1/2)."""
     F_fixed, F0, presc = system.loads_at(-1, 0, 0.0)
-    K0 = system.layout.to_dense(system.evaluate(np.zeros(system.n), system.disc.beta0.copy(), 0.0, F_fixed,
-                                                F0, presc)["K"])
+    K0 = system.layout.to_dense(
+        system.evaluate(np.zeros(system.n), system.disc.beta0.copy(), 0.0, F_fixed, F0, presc)["K"]
+    )
     d = 1.0 / np.sqrt(np.abs(np.diag(K0)))
     return K0 * d[:, None] * d[None, :]
 
@@ -72,7 +74,7 @@ def test_condition_number_grows_as_the_fourth_power_of_the_elements():
     rc = [scaled_rcond(_system(n)) for n in (250, 500, 1000)]
     for coarse, fine in zip(rc, rc[1:]):
         assert 12.0 < coarse / fine < 20.0
-    assert 1e-4 < UNIT_ROUNDOFF / rc[-1] < 1e-2      # 1000 elements: far within working precision
+    assert 1e-4 < UNIT_ROUNDOFF / rc[-1] < 1e-2  # 1000 elements: far within working precision
 
 
 def test_the_limit_lies_between_4000_and_8000_elements():
@@ -89,8 +91,11 @@ def test_a_mesh_too_fine_for_double_precision_stops_with_why(control):
     from fem.solver import PRECISION_STEPS
 
     model = _cantilever(8000)
-    kwargs = {"load": {}, "displacement": dict(control_dof=("tip", "uy"), targets=[0.1]),
-              "arclength": dict(lambda_max=1.0)}[control]
+    kwargs = {
+        "load": {},
+        "displacement": dict(control_dof=("tip", "uy"), targets=[0.1]),
+        "arclength": dict(lambda_max=1.0),
+    }[control]
     result = fem.solve(model, control=control, **kwargs)
     assert not result.converged and result.status == "not converged"
     assert result.steps <= PRECISION_STEPS

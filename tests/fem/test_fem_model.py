@@ -7,6 +7,7 @@ Linear-theory references are used only with loads so small (w/L ~ 1e-7) that
 the geometric nonlinearity is below the tolerance; cubic Hermite elements are
 nodally exact for point loads on prismatic beams.
 """
+
 from pathlib import Path
 
 import numpy as np
@@ -57,14 +58,14 @@ def test_joint_with_spring_between_members_pure_moment(listed):
     m.add_moment("C", M)
     r = fem.solve(m)
     assert r.converged, r.message
-    assert abs(r.rotation("B") - M * L1 / EI) < 1e-9            # node rotation = member 1 end
+    assert abs(r.rotation("B") - M * L1 / EI) < 1e-9  # node rotation = member 1 end
     assert abs(r.rotation("C") - M * (L1 / EI + 1 / k + L2 / EI)) < 1e-9
     assert abs(r.strain_energy[-1] - 0.5 * M**2 * ((L1 + L2) / EI + 1 / k)) < 1e-9
     kappa = M / EI
     B = np.array([np.sin(kappa * L1), 1 - np.cos(kappa * L1)]) / kappa
     a = kappa * L1 + M / k
     C = B + (np.array([np.sin(a + kappa * L2) - np.sin(a), np.cos(a) - np.cos(a + kappa * L2)]) / kappa)
-    assert np.linalg.norm(r.position("C") - C) < 1e-4          # O(h^2) chord effect only
+    assert np.linalg.norm(r.position("C") - C) < 1e-4  # O(h^2) chord effect only
 
 
 def test_ground_pivot_spring_single_member():
@@ -106,7 +107,7 @@ def test_pinned_slider_beam_small_load(angle_deg):
     # the slider reaction is normal to its direction and carries P/2
     R = r.reaction("B")
     assert abs(R[:2] @ np.array([c, s_])) < 1e-12
-    assert abs(np.linalg.norm(R[:2]) - P / 2) < 1e-6 * P     # geometric effect ~ w/L
+    assert abs(np.linalg.norm(R[:2]) - P / 2) < 1e-6 * P  # geometric effect ~ w/L
 
 
 def test_guided_support_small_load():
@@ -223,6 +224,7 @@ def test_vtu_export(tmp_path):
     paths = r.to_vtu(str(tmp_path / "cantilever"))
     assert len(paths) == 2
     import meshio
+
     mesh = meshio.read(paths[1])
     assert np.allclose(mesh.points[:, :2], r.mesh_positions[1])
     assert np.allclose(mesh.point_data["rotation"], r.mesh_rotations[1])
@@ -241,6 +243,7 @@ def test_consistent_tangent_matches_finite_differences():
     """K = dr/dq (elements, springs, rigid link, follower force, slider, curved member)."""
     from fem.assembly import System
     from fem.discretise import discretise
+
     m = fem.Model()
     m.add_node("O", 0.0, 0.0)
     m.add_node("B", 1.0, 0.2)
@@ -285,7 +288,9 @@ def test_moment_on_one_side_of_a_hinge():
 
     L, EI, M = 1.0, 2.0, 1e-6
     m = fem.Model()
-    m.add_node("O", 0.0, 0.0); m.add_node("A", L, 0.0); m.add_node("B", L, 1.0)
+    m.add_node("O", 0.0, 0.0)
+    m.add_node("A", L, 0.0)
+    m.add_node("B", L, 1.0)
     beam = m.add_member("O", "A", fem.Section.from_EI(1e8, EI), n_elements=4)
     m.add_support("O", "fixed")
     m.add_support("B", "pinned")
@@ -302,7 +307,9 @@ def test_moment_on_one_side_of_a_hinge():
     assert r2.converged and abs(r2.reaction("O")[2]) < 1e-6 * M
 
 
-@pytest.mark.parametrize("bad", [0.0, -2, float("nan"), float("inf"), np.float64("nan"), np.array(-1.0), np.array(np.inf)])
+@pytest.mark.parametrize(
+    "bad", [0.0, -2, float("nan"), float("inf"), np.float64("nan"), np.array(-1.0), np.array(np.inf)]
+)
 def test_a_section_refuses_a_stiffness_that_is_not_finite_and_positive(bad):
     """EA and EI must be finite and > 0 whether given as Python numbers, numpy scalars or 0-d arrays
     (the plain-number check and the numpy one agree); the error names the field."""

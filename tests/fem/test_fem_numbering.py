@@ -4,6 +4,7 @@ Expected orders come from the algorithm as Cuthill & McKee (1969) and George (19
 here independently in plain Python (start at the unvisited node of least degree, visit neighbours by
 increasing degree, reverse), and from the bandwidth of graphs whose optimum is known by inspection.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -82,7 +83,7 @@ def test_field_series_is_nodal_fields_at_every_level():
     model.add_member("a", "b", section, n_elements=5)
     model.add_member("b", "c", section, n_elements=7)
     model.add_support("a", "fixed")
-    model.add_force("c", [1e-4, 2e-4, 3e-4], [-2e-4, -4e-4, -6e-4])     # P L^2/EI up to about 0.8
+    model.add_force("c", [1e-4, 2e-4, 3e-4], [-2e-4, -4e-4, -6e-4])  # P L^2/EI up to about 0.8
     result = fem.solve(model)
     assert result.converged
     series = result.field_series()

@@ -4,6 +4,7 @@ Expected values are exact: sigma = M c / I under a uniform moment; no inflection
 under a tip force, one in a fixed-guided beam with a transverse tip offset (antisymmetric S shape);
 MA = a/b for a rigid lever with the input at a and the output at b from the pivot.
 """
+
 from __future__ import annotations
 
 import tomllib
@@ -16,7 +17,7 @@ from validation.run.runner import requests_for
 from validation.case.schema import Case
 from validation.case.method_options import options_of
 
-SEGMENT = '''
+SEGMENT = """
 [case]
 id = "t"
 title = "t"
@@ -37,7 +38,7 @@ quantity = "max_stress"
 quantity = "inflection_points"
 [methods.fem]
 elements = 16
-'''
+"""
 
 
 def _run(text, options=None):
@@ -48,7 +49,7 @@ def _run(text, options=None):
 
 def test_max_stress_under_a_uniform_moment_is_Mc_over_I():
     M, c, I = 3.0, 0.002, 0.02 * 0.004**3 / 12
-    run = _run(SEGMENT.format(boundary="fixed-free", kind="moment", value=M).replace('direction = [0.0, 1.0]\n', ''))
+    run = _run(SEGMENT.format(boundary="fixed-free", kind="moment", value=M).replace("direction = [0.0, 1.0]\n", ""))
     assert run.values[("max_stress", "", 0)] == pytest.approx(M * c / I, rel=1e-6)
     assert run.values[("inflection_points", "", 0)] == 0.0
 
@@ -60,7 +61,7 @@ def test_inflection_points_count_curvature_sign_changes():
     assert s_shape.values[("inflection_points", "", 0)] == 1.0
 
 
-LEVER = '''
+LEVER = """
 [case]
 id = "lever"
 title = "lever"
@@ -84,7 +85,7 @@ quantity = "mechanical_advantage"
 [methods.fem]
 elements = 4
 ma = {{ output = "B", direction = [0.0, 1.0] }}
-'''
+"""
 
 
 @pytest.mark.parametrize("a, b", [(0.3, 0.1), (0.1, 0.4)])
@@ -97,12 +98,12 @@ def test_mechanical_advantage_of_a_lever_is_a_over_b(a, b):
 def test_mechanical_advantage_needs_its_output():
     from validation.methods.base import NotApplicable
 
-    text = LEVER.format(a=0.3, b=0.1).replace('ma = { output = "B", direction = [0.0, 1.0] }', '')
+    text = LEVER.format(a=0.3, b=0.1).replace('ma = { output = "B", direction = [0.0, 1.0] }', "")
     with pytest.raises(NotApplicable, match="ma = "):
         _run(text)
 
 
-SPRUNG_LEVER = '''
+SPRUNG_LEVER = """
 [case]
 id = "sprung_lever"
 title = "sprung lever"
@@ -132,7 +133,7 @@ quantity = "mechanical_advantage"
 [methods.fem]
 elements = 4
 ma = {{ output = "B", direction = [0.0, -1.0], definition = "{definition}" }}
-'''
+"""
 
 
 @pytest.mark.parametrize("definition", ["secant", "tangent"])

@@ -1,5 +1,6 @@
 """The FEM's set-up and result shortcuts compute exactly what their plain definitions compute
 (bit for bit: they exist for speed only)."""
+
 import pickle
 
 import numpy as np
@@ -14,7 +15,7 @@ def test_straight_member_points_are_those_of_linspace(n):
     for p0, p1 in (((0.0, 0.0), (1.0, 0.0)), ((0.3, -1.7), (2.9, 0.41)), ((-5.0, 2.0), (-5.0, -3.3))):
         P0, P1 = np.array(p0), np.array(p1)
         pts, _ = _arc_points(P0, P1, 0.0, n)
-        expected = P0 + np.linspace(0.0, 1.0, n + 1)[:, None] * (P1 - P0)   # the definition
+        expected = P0 + np.linspace(0.0, 1.0, n + 1)[:, None] * (P1 - P0)  # the definition
         assert np.array_equal(pts, expected)
 
 
@@ -23,7 +24,7 @@ def _frame(elements: int) -> fem.Model:
     for name, x, y in (("a", 0.0, 0.0), ("b", 0.0, 1.0), ("c", 1.2, 1.0), ("d", 1.2, 0.0)):
         model.add_node(name, x, y)
     section = fem.Section.from_EI(1e4, 1.0)
-    for start, end in (("a", "b"), ("c", "b"), ("c", "d")):   # 'b' is the end of two members
+    for start, end in (("a", "b"), ("c", "b"), ("c", "d")):  # 'b' is the end of two members
         model.add_member(start, end, section, n_elements=elements)
     model.add_support("a", "fixed")
     model.add_support("d", "pinned")
@@ -35,11 +36,11 @@ def _frame(elements: int) -> fem.Model:
 @pytest.mark.parametrize("hinged", [False, True])
 def test_first_member_end_at_each_model_node_is_the_first_element_end_there(elements, hinged):
     model = _frame(elements)
-    if hinged:                                        # the two members at 'b' turn on their own DOFs
+    if hinged:  # the two members at 'b' turn on their own DOFs
         model.add_joint("b", [0, 1])
     d = discretise(model)
     expected = np.full(d.n_model_nodes, -1)
-    for e in range(len(d.conn) - 1, -1, -1):          # the definition: the last write wins
+    for e in range(len(d.conn) - 1, -1, -1):  # the definition: the last write wins
         for side in (1, 0):
             if d.conn[e, side] < d.n_model_nodes:
                 expected[d.conn[e, side]] = d.edofs[e, 3 * side + 2]
@@ -55,7 +56,7 @@ def test_field_series_sums_are_those_of_add_at_level_by_level():
     n = result.mesh_positions.shape[1]
     count = np.bincount(conn.ravel(), minlength=n).astype(float)
     count[count == 0] = np.nan
-    for k in range(result.n_levels):                   # the definition: np.add.at on one level
+    for k in range(result.n_levels):  # the definition: np.add.at on one level
         first, second = np.zeros(n), np.zeros(n)
         np.add.at(first, conn[:, 0], N[k])
         np.add.at(second, conn[:, 1], N[k])
@@ -64,7 +65,7 @@ def test_field_series_sums_are_those_of_add_at_level_by_level():
 
 
 def test_field_series_point_data_read_late_or_after_pickling_are_those_of_nodal_fields():
-    model = fem.Model()                      # a section that knows its stress: the stress branch too
+    model = fem.Model()  # a section that knows its stress: the stress branch too
     model.add_node("root", 0.0, 0.0)
     model.add_node("tip", 1.0, 0.0)
     model.add_member("root", "tip", fem.Section.rectangle(2e11, 0.02, 0.002), n_elements=6)
@@ -72,7 +73,7 @@ def test_field_series_point_data_read_late_or_after_pickling_are_those_of_nodal_
     model.add_force("tip", [0.0, 0.0], [-0.5, -1.0])
     result = fem.solve(model)
     assert result.converged and result.n_levels == 2
-    series = pickle.loads(pickle.dumps(result.field_series()))   # as the run cache stores it, unread
+    series = pickle.loads(pickle.dumps(result.field_series()))  # as the run cache stores it, unread
     for k in range(result.n_levels):
         one = result.nodal_fields(k)
         assert one.bending_stress is not None
@@ -87,7 +88,7 @@ def test_support_direction_is_normalised_as_by_linalg_norm(direction):
     model.add_node("a", 0.0, 0.0)
     model.add_support("a", "slider", direction=direction)
     d = np.asarray(direction, dtype=float)
-    assert model.supports[0].direction == tuple(float(v) for v in d / np.linalg.norm(d))   # the definition
+    assert model.supports[0].direction == tuple(float(v) for v in d / np.linalg.norm(d))  # the definition
 
 
 @pytest.mark.parametrize("end", [(1.0, 0.0), (0.3, -1.7), (-2.9e3, 4.1e-2)])
@@ -97,7 +98,7 @@ def test_one_member_characteristic_length_is_the_mean_chord_of_the_arrays(end):
     model.add_node("b", *end)
     model.add_member("a", "b", fem.Section.from_EI(1e4, 1.0), n_elements=2)
     c = np.asarray(model.coords)
-    chords = np.hypot(*(c[[1]] - c[[0]]).T)         # the definition for any number of members
+    chords = np.hypot(*(c[[1]] - c[[0]]).T)  # the definition for any number of members
     assert model.characteristic_length() == float(chords.sum() / len(chords))
 
 
@@ -117,7 +118,7 @@ def test_many_members_characteristic_length_is_the_mean_chord_of_the_arrays():
             continue
         c = np.asarray(model.coords)
         idx = np.array([(m.start, m.end) for m in model.members])
-        chords = np.hypot(*(c[idx[:, 1]] - c[idx[:, 0]]).T)       # the definition
+        chords = np.hypot(*(c[idx[:, 1]] - c[idx[:, 0]]).T)  # the definition
         assert model.characteristic_length() == float(chords.sum() / len(chords)), trial
 
 
@@ -148,13 +149,13 @@ def test_warm_start_guesses_of_all_levels_at_once_are_those_of_each_level():
     for k in range(5):
         assert np.array_equal(q_all[k], reduced_from_full(d, U[k]))
         assert np.array_equal(beta_all[k], chord_angles(d, U[k], system.X1, system.X2))
-    p = U[2][d.edofs]            # the chord of each element in the deformed state, and its angle
+    p = U[2][d.edofs]  # the chord of each element in the deformed state, and its angle
     chord = system.X2 - system.X1 + p[:, 3:5] - p[:, 0:2]
     assert np.allclose(np.cos(beta_all[2]), chord[:, 0] / np.hypot(*chord.T), rtol=0, atol=1e-12)
     assert np.allclose(np.sin(beta_all[2]), chord[:, 1] / np.hypot(*chord.T), rtol=0, atol=1e-12)
     one = reduced_from_full(d, U[2])
     C, I = d.C[:, 0] * d.independent, d.I[:, 0]
-    for j in range(d.n_red):       # the least-squares formula, unknown by unknown
+    for j in range(d.n_red):  # the least-squares formula, unknown by unknown
         rows = I == j
         assert one[j] == pytest.approx((C[rows] * U[2][rows]).sum() / (C[rows] ** 2).sum(), rel=1e-12)
 
@@ -185,9 +186,10 @@ def test_warm_start_midpoints_lie_on_the_hermite_curve_of_the_coarse_elements():
     guess = guess_states(coarse, d_fine)[0]
     u_fine = np.asarray(fine.extra["u_full"], dtype=float)[0]
     chain = np.r_[d_fine.conn[0, 0], d_fine.conn[:, 1]]
-    mids = chain[1::2]                                       # the fine nodes that are new midpoints
+    mids = chain[1::2]  # the fine nodes that are new midpoints
     ends = chain[0::2]
-    def xy(u, nodes):      # deformed positions of fine-mesh nodes
+
+    def xy(u, nodes):  # deformed positions of fine-mesh nodes
         return d_fine.X[nodes] + np.stack([u[2 * nodes], u[2 * nodes + 1]], axis=1)
 
     hermite_miss = np.abs(xy(guess, mids) - xy(u_fine, mids)).max()
@@ -196,8 +198,10 @@ def test_warm_start_midpoints_lie_on_the_hermite_curve_of_the_coarse_elements():
     d_coarse = coarse.extra["disc"]
     coarse_chain = np.r_[d_coarse.conn[0, 0], d_coarse.conn[:, 1]]
     u_coarse = np.asarray(coarse.extra["u_full"], dtype=float)[0]
-    coarse_xy = d_coarse.X[coarse_chain] + np.stack([u_coarse[2 * coarse_chain], u_coarse[2 * coarse_chain + 1]], axis=1)
-    assert np.array_equal(xy(guess, ends), coarse_xy)        # the coarse nodes keep the coarse solution
+    coarse_xy = d_coarse.X[coarse_chain] + np.stack(
+        [u_coarse[2 * coarse_chain], u_coarse[2 * coarse_chain + 1]], axis=1
+    )
+    assert np.array_equal(xy(guess, ends), coarse_xy)  # the coarse nodes keep the coarse solution
     assert chord_miss > 1e-3
     assert hermite_miss < 0.25 * chord_miss
 
@@ -245,7 +249,7 @@ def test_the_warm_start_keeps_the_nodes_of_a_member_that_is_not_refined():
     u_c = np.asarray(coarse.extra["u_full"], dtype=float)
     far_c, far_f = d_c.conn[d_c.member_elements[1][0], 1], d_f.conn[d_f.member_elements[1][0], 1]
     dofs_c, dofs_f = [2 * far_c, 2 * far_c + 1, d_c.rot_dof[far_c]], [2 * far_f, 2 * far_f + 1, d_f.rot_dof[far_f]]
-    assert np.allclose(guess[:, dofs_f], u_c[:, dofs_c], rtol=0, atol=1e-15)   # (X + u) - X: rounding only
+    assert np.allclose(guess[:, dofs_f], u_c[:, dofs_c], rtol=0, atol=1e-15)  # (X + u) - X: rounding only
     warm = fem.solve_with_error_estimate(m, rtol=1e-12)
     assert warm.converged
     # the same state to the corrector's rounding floor, which a bar 1e6 times stiffer raises to ~1e-7 L
@@ -272,8 +276,11 @@ def _joint_link_slider(n: int = 3) -> fem.Model:
     return m
 
 
-@pytest.mark.parametrize("model", [_joint_link_slider, lambda: _bar_frame(refined=False),
-                                   lambda: _bar_frame(refined=True)], ids=["joint-link-slider", "bar kept", "bar split"])
+@pytest.mark.parametrize(
+    "model",
+    [_joint_link_slider, lambda: _bar_frame(refined=False), lambda: _bar_frame(refined=True)],
+    ids=["joint-link-slider", "bar kept", "bar split"],
+)
 def test_the_compiled_warm_start_gives_the_numpy_guess(model):
     """`warm_start.level_guesses` (compiled, `warm_kernel`) against its definition, the NumPy
     `guess_states` turned into reduced unknowns (`reduced_from_full`) and chord angles (`chord_angles`),
@@ -290,7 +297,7 @@ def test_the_compiled_warm_start_gives_the_numpy_guess(model):
     d_c, d_f = discretise(m), discretise(m, refine=2)
     system = System(m, d_f)
     U_c = np.random.default_rng(7).normal(scale=0.3, size=(3, d_c.n_full + 1))
-    U_c[:, -1] = 0.0                                            # the ground entry
+    U_c[:, -1] = 0.0  # the ground entry
     coarse = SimpleNamespace(extra={"disc": d_c, "u_full": U_c})
     got = level_guesses(coarse, d_f, system.X1, system.X2)
     U = guess_states(coarse, d_f)
@@ -299,4 +306,4 @@ def test_the_compiled_warm_start_gives_the_numpy_guess(model):
     assert got.q.flags.c_contiguous and got.beta.flags.c_contiguous
     assert np.allclose(got.q, q, rtol=0, atol=1e-14)
     assert np.allclose(got.beta, beta, rtol=0, atol=1e-14)
-    assert np.abs(q).max() > 0.05 and np.abs(beta - d_f.beta0).max() > 0.05   # a guess that moved
+    assert np.abs(q).max() > 0.05 and np.abs(beta - d_f.beta0).max() > 0.05  # a guess that moved

@@ -6,6 +6,7 @@ the Euler load P_cr = pi^2 EI / (4 L^2) to 1.5 P_cr.  The post-buckled elastica
 delta = 2 k / K(k) L  (Timoshenko & Gere sec. 2.7).  The near-straight state
 above P_cr is an equilibrium too, but unstable: it must not be returned.
 """
+
 import numpy as np
 import pytest
 from scipy.optimize import brentq
@@ -42,7 +43,7 @@ def runs():
 
 @pytest.mark.parametrize("imperfection", [1e-5, -1e-5])
 def test_imperfect_column_reaches_post_buckled_elastica(runs, imperfection):
-    exact = elastica_deflection(1.5)                       # 0.78858
+    exact = elastica_deflection(1.5)  # 0.78858
     r32, r64 = runs[32, imperfection], runs[64, imperfection]
     for r in (r32, r64):
         assert r.converged, r.message
@@ -51,7 +52,7 @@ def test_imperfect_column_reaches_post_buckled_elastica(runs, imperfection):
         # jumps to the buckled state on the far side is rejected (`solver._turned_back`)
         assert "branch switch" not in r.message and r.critical_points == []
         assert r.cutbacks > 0
-        assert np.all(r.det_sign > 0)                      # every returned state is stable
+        assert np.all(r.det_sign > 0)  # every returned state is stable
     d32, d64 = (r.position("tip")[1] for r in (r32, r64))
     # buckled towards the imperfection
     assert np.sign(d32) == np.sign(d64) == np.sign(imperfection)
@@ -83,7 +84,7 @@ def test_perfect_column_switches_to_a_buckled_branch():
     assert [c.kind for c in r.critical_points] == ["bifurcation"]
     assert r.critical_points[0].branch_switch
     assert abs(abs(r.position("tip")[1]) - elastica_deflection(1.5)) < 2e-4
-    assert np.all(np.abs(r.positions[:3, 1, 1]) < 1e-12)   # straight below P_cr
+    assert np.all(np.abs(r.positions[:3, 1, 1]) < 1e-12)  # straight below P_cr
 
 
 def test_without_stability_check_the_unstable_state_is_returned():
@@ -126,13 +127,13 @@ def test_a_negative_sign_from_the_last_factorisation_is_confirmed_at_the_converg
     from fem.options import SolveOptions
 
     opts = SolveOptions()
-    for fraction, expected in ((0.5, 1), (1.5, -1)):     # below P_cr: stable; straight above it: unstable
+    for fraction, expected in ((0.5, 1), (1.5, -1)):  # below P_cr: stable; straight above it: unstable
         system = solver._prepare(_column(fraction), opts, None)
         q0, beta0 = np.zeros(system.n), system.disc.beta0.copy()
         out = newton(system, q0, 1.0, beta0, system.loads_at(-1, 0, 1.0), opts, q_start=q0)
-        for stale in (-1, 1):            # what the last factorisation may say
+        for stale in (-1, 1):  # what the last factorisation may say
             out.factor = type("Stale", (), {"det_sign": stale, "final": False})()
-            sign = solver._step_state(system, opts, out, beta0).sign   # through `newton.det_sign`
+            sign = solver._step_state(system, opts, out, beta0).sign  # through `newton.det_sign`
             assert sign == (expected if stale < 0 else 1), (fraction, stale)
 
 
@@ -147,16 +148,16 @@ def test_a_run_converged_before_any_correction_reads_the_sign_at_its_own_state()
     from fem.options import SolveOptions
 
     opts = SolveOptions()
-    for fraction, expected in ((0.5, 1), (1.5, -1)):     # below P_cr: stable; straight above it: unstable
+    for fraction, expected in ((0.5, 1), (1.5, -1)):  # below P_cr: stable; straight above it: unstable
         system = solver._prepare(_column(fraction), opts, None)
         assert system.compiled is not None
         q0, beta0 = np.zeros(system.n), system.disc.beta0.copy()
         loads = system.loads_at(-1, 0, 1.0)
         first = newton(system, q0, 1.0, beta0, loads, opts, q_start=q0)
         assert first.iterations > 0
-        loose = SolveOptions(rtol=1e-6)     # the first run's state (|r|/F ~ 1e-10) is converged for it
+        loose = SolveOptions(rtol=1e-6)  # the first run's state (|r|/F ~ 1e-10) is converged for it
         again = newton(system, first.q, 1.0, first.ev["el"]["beta"].copy(), loads, loose, q_start=first.q)
         assert again.iterations == 0 and again.factor is not None and again.factor.final, fraction
         assert again.factor.det_sign == expected, fraction
-        assert det_sign(system, again.ev, None) == expected, fraction     # a fresh factorisation
+        assert det_sign(system, again.ev, None) == expected, fraction  # a fresh factorisation
         assert det_sign(system, again.ev, again.factor) == expected, fraction

@@ -10,6 +10,7 @@ by keyword, so that two same-shaped arrays cannot be swapped by position.
    is that point to the discretisation error; with two same-shaped fields of `kernel.Beams` swapped
    (start and end nodes, or reference length and axial stiffness) the solve misses it.
 """
+
 from __future__ import annotations
 
 import ast
@@ -24,10 +25,27 @@ import fem
 from fem import assembly, kernel, warm_kernel
 
 ROOT = Path(__file__).resolve().parents[2]
-GROUPS = {cls.__name__: cls for cls in (
-    kernel.Beams, kernel.DofMap, kernel.Couplings, kernel.Band, kernel.Storage, kernel.Load, kernel.Start,
-    kernel.Controls, kernel.Work, kernel.ElementState, kernel.Outcome, kernel._Chord, kernel._Forces,
-    warm_kernel.Coarse, warm_kernel.Fine, warm_kernel.Refinement)}
+GROUPS = {
+    cls.__name__: cls
+    for cls in (
+        kernel.Beams,
+        kernel.DofMap,
+        kernel.Couplings,
+        kernel.Band,
+        kernel.Storage,
+        kernel.Load,
+        kernel.Start,
+        kernel.Controls,
+        kernel.Work,
+        kernel.ElementState,
+        kernel.Outcome,
+        kernel._Chord,
+        kernel._Forces,
+        warm_kernel.Coarse,
+        warm_kernel.Fine,
+        warm_kernel.Refinement,
+    )
+}
 MAX_ARGUMENTS = 12
 
 EI, LENGTH = 1.0, 1.0
@@ -66,13 +84,22 @@ def test_a_system_s_groups_hold_its_arrays():
     system = _system(moment=1.0)
     d = system.disc
     assert system.storage is not None
-    for group, expected in ((system.beams, dict(X1=system.X1, X2=system.X2, L0=d.L0, beta0=d.beta0, ka=d.ka,
-                                                  kb=d.kb)),
-                            (system.dofs, dict(I0=system.I0, C0=system.C0_flat, edofs=d.edofs,
-                                               prescribed=d.prescribed_dofs, rotation=d.red_is_rotation)),
-                            (system.couplings, dict(springs=d.springs, spring_k=d.spring_k)),
-                            (system.storage, dict(source=system.valid_src, coef=system.coef_const,
-                                                  rows_full=system.rows_full, cols_full=system.cols_full))):
+    for group, expected in (
+        (system.beams, dict(X1=system.X1, X2=system.X2, L0=d.L0, beta0=d.beta0, ka=d.ka, kb=d.kb)),
+        (
+            system.dofs,
+            dict(
+                I0=system.I0, C0=system.C0_flat, edofs=d.edofs, prescribed=d.prescribed_dofs, rotation=d.red_is_rotation
+            ),
+        ),
+        (system.couplings, dict(springs=d.springs, spring_k=d.spring_k)),
+        (
+            system.storage,
+            dict(
+                source=system.valid_src, coef=system.coef_const, rows_full=system.rows_full, cols_full=system.cols_full
+            ),
+        ),
+    ):
         for name, array in expected.items():
             assert getattr(group, name) is array, (type(group).__name__, name)
     assert system.dofs.ground == d.ground and system.storage.band == system.compiled.band
@@ -128,7 +155,7 @@ def test_a_swap_of_two_same_shaped_fields_misses_the_exact_arc(monkeypatch, swap
         a, b = swap
 
         def swapped(**fields):
-            assert np.shape(fields[a]) == np.shape(fields[b])      # same-shaped: no type error would tell
+            assert np.shape(fields[a]) == np.shape(fields[b])  # same-shaped: no type error would tell
             fields[a], fields[b] = fields[b], fields[a]
             return kernel.Beams(**fields)
 

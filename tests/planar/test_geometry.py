@@ -2,6 +2,7 @@
 
 Each expected answer is read off the drawing of the geometry: links sharing a node are welded unless a
 joint there names one of them; a link welded at a fixed support is the ground."""
+
 import pytest
 
 import planar
@@ -21,19 +22,24 @@ def test_links_sharing_a_node_without_a_joint_are_one_body():
 
 
 def test_a_joint_keeps_two_bodies_and_its_node_on_both():
-    geo = Geometry(_nodes("A", "B", "C"), links=(RigidLink("ab", ("A", "B")), RigidLink("bc", ("B", "C"))),
-                   joints=(Joint("B", ("bc",)),))
+    geo = Geometry(
+        _nodes("A", "B", "C"),
+        links=(RigidLink("ab", ("A", "B")), RigidLink("bc", ("B", "C"))),
+        joints=(Joint("B", ("bc",)),),
+    )
     bodies = planar.welded_bodies(geo)
     assert bodies.body_of_link == {"ab": "ab", "bc": "bc"}
-    assert bodies.nodes_of == {"ab": ["A", "B"], "bc": ["B", "C"]}     # B: the pin's place on both
-    assert bodies.owner["B"] == "ab"                                     # welded only to ab
+    assert bodies.nodes_of == {"ab": ["A", "B"], "bc": ["B", "C"]}  # B: the pin's place on both
+    assert bodies.owner["B"] == "ab"  # welded only to ab
 
 
 def test_a_fixed_support_grounds_what_is_welded_to_it_and_a_pinned_one_does_not():
-    geo = Geometry(_nodes("A", "B", "C", "D"),
-                   links=(RigidLink("ab", ("A", "B")), RigidLink("bc", ("B", "C")), RigidLink("cd", ("C", "D"))),
-                   joints=(Joint("C", ("cd",)),),
-                   supports=(Support("A", "fixed"), Support("D", "pinned")))
+    geo = Geometry(
+        _nodes("A", "B", "C", "D"),
+        links=(RigidLink("ab", ("A", "B")), RigidLink("bc", ("B", "C")), RigidLink("cd", ("C", "D"))),
+        joints=(Joint("C", ("cd",)),),
+        supports=(Support("A", "fixed"), Support("D", "pinned")),
+    )
     bodies = planar.welded_bodies(geo)
     assert bodies.body_of_link == {"ab": GROUND, "bc": GROUND, "cd": "cd"}
     assert bodies.nodes_of == {"cd": ["C", "D"]}

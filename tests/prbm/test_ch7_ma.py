@@ -26,6 +26,7 @@ def test_prbm_ma_slider_equals_eq192_with_eq199():
     options = dict(case.methods["prbm"])
     options["ma"] = dict(options["ma"], model="compliance")
     from validation.methods import prbm_ma
+
     values, _ = prbm_ma.run(case, [r for r in _requests(case)], options_of("prbm", options))
     sc = prbm.SliderCrank.from_vectors(3.779 + 0j, 1.1083 + 2.2409j, 2.6704 - 2.2408j, springs=(0.0, 8.4515, 7.5193))
     theta2 = np.array([sc.theta2_at(dx) for dx in (0.0, 0.3, 0.6, 0.9, 1.2, 1.5)])
@@ -35,6 +36,7 @@ def test_prbm_ma_slider_equals_eq192_with_eq199():
 
 def _requests(case):
     from validation.methods.base import Request
+
     return [Request("mechanical_advantage", "", lv) for lv in range(case.n_levels())]
 
 
@@ -65,5 +67,5 @@ def test_held_slider_becomes_a_block_with_three_prescribed_freedoms():
     assert not any(s.node == "S-" for s in built.mechanism.supports)
     held = {(ld.kind, tuple(ld.direction or ())) for ld in built.loads if ld.point == "S-"}
     assert held == {("displacement", (1.0, 0.0)), ("displacement", (0.0, 1.0)), ("rotation", ())}
-    alone = case.model_copy(update={"loads": [case.loads[0]]})     # a travel alone: the guided block stays
+    alone = case.model_copy(update={"loads": [case.loads[0]]})  # a travel alone: the guided block stays
     assert any(s.node == "S-" and s.kind == "guided" for s in with_flexures(alone, 0.5, 450000.0).mechanism.supports)

@@ -4,6 +4,7 @@ shooting with the tip angle prescribed, an independent code). The chain is a dis
 (lumped loads, small-deflection elements): its error falls as 1/N^2, so doubling N divides it by about 4.
 Small loads: the linear fixed-guided beam, tip deflection q L^4/(24 EI) and tip moment q L^2/6 (a cantilever's
 q L^4/(8 EI) and q L^3/(6 EI) slope cancelled by a tip moment; derived here)."""
+
 import numpy as np
 import pytest
 
@@ -20,8 +21,9 @@ def _tip_error(w: float, N: int) -> tuple[float, float]:
     beam = ChainBeam(1.0, 1.0, N)
     (res,) = chain_held_path(beam, lumped_uniform_load(beam, 0.0, -w), ["rz"], [1.0])
     assert res.converged, res.message
-    return float(np.hypot(res.outputs["a"] - exact.x, res.outputs["b"] - exact.y)), \
-        float(res.outputs["M"] - exact.moment)
+    return float(np.hypot(res.outputs["a"] - exact.x, res.outputs["b"] - exact.y)), float(
+        res.outputs["M"] - exact.moment
+    )
 
 
 @pytest.mark.parametrize("w", [10.0, 30.0])
@@ -44,8 +46,9 @@ def test_a_small_load_gives_the_linear_guided_beam():
 
 def test_a_straight_chain_held_along_its_axis_is_refused_with_the_reason():
     with pytest.raises(ValueError, match="cannot bend"):
-        chain_held_path(ChainBeam(1.0, 1.0, 10), lumped_uniform_load(ChainBeam(1.0, 1.0, 10), 0.0, -1.0),
-                        ["ux", "uy", "rz"], [1.0])
+        chain_held_path(
+            ChainBeam(1.0, 1.0, 10), lumped_uniform_load(ChainBeam(1.0, 1.0, 10), 0.0, -1.0), ["ux", "uy", "rz"], [1.0]
+        )
 
 
 @pytest.mark.parametrize("load", ["distributed load", "self-weight"])

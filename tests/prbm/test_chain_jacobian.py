@@ -1,6 +1,7 @@
 """The Chain Algorithm's exact Jacobian (``prbm.chain.march_jacobian``) against central differences of
 the march itself (eqs 26-40): the forward solve's Newton steps use it, so a wrong sign or factor in the
 differentiated march would slow or mislead that solve without this check."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -34,5 +35,5 @@ def test_the_exact_jacobian_is_the_march_differentiated(seed):
     nodes = beam.undeformed() + np.vstack([[0.0, 0.0], rng.normal(scale=0.05, size=(n, 2))])
     exact = march_jacobian(beam, loads, nodes)
     assert exact.shape == (2 * n, 2 * n)
-    assert np.abs(exact).max() > 0.1     # the loads are not negligible: a zero Jacobian would not pass
+    assert np.abs(exact).max() > 0.1  # the loads are not negligible: a zero Jacobian would not pass
     assert exact == pytest.approx(_central_differences(beam, loads, nodes), abs=1e-8)

@@ -1,4 +1,5 @@
 """The Chain Algorithm's continuation along growing load, and the constant-parameter fit family."""
+
 from __future__ import annotations
 
 import math

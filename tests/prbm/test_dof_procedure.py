@@ -4,6 +4,7 @@ Expected counts are derived by hand from Grubler's equation (207), F = 3(n - 1) 
 segment's PRBM (links, pivots) of its static mode (fixed-pinned 1/1, SLFP 0/1, fixed-guided mode k:
 k/k+1), never from the tables whose specimens are not in the seed.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -40,7 +41,8 @@ def test_modes_ranked_by_energy_and_min_max_dof():
     # mode 3 of one segment (two inflections) ranks after two segments in mode 2
     three = topo.ranked_modes(max_mode=3)
     assert three.index(next(s for s in three if s.modes == (1, 3))) > three.index(
-        next(s for s in three if s.modes == (2, 2)))
+        next(s for s in three if s.modes == (2, 2))
+    )
 
 
 def test_step_4_raises_a_segment_mode_when_F_C_is_not_positive():
@@ -78,4 +80,4 @@ def test_fem_soft_modes_of_the_test2_four_bar_match_its_prbm_dof():
     reference = seg.section.EA / np.hypot(*np.subtract(model.coords[seg.end], model.coords[seg.start]))
     found = soft_modes(model, [("P", "ux"), ("P", "uy"), ("P", "rz")], reference_stiffness=reference)
     assert found.count == 1
-    assert found.ratios[0] < 1e-3 and found.ratios[1] > 1e-1       # a clear gap, not a threshold artefact
+    assert found.ratios[0] < 1e-3 and found.ratios[1] > 1e-1  # a clear gap, not a threshold artefact

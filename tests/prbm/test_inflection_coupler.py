@@ -7,6 +7,7 @@ Expected values are derivations, not our output:
 * the mirror image of a configuration about the Y axis (x -> -x, gamma -> -gamma) has the same Y;
 * the case-2 problem (b, theta0, n -> a) at the equilibrium's n gives back the coupler's end a.
 """
+
 import functools
 import math
 
@@ -25,8 +26,10 @@ def _EI(t):
 # seed 000 section 5.5 Example 3, segment A (theta1 = 85 deg) and B (110 deg); Example 2 segments (90 deg)
 EX3_A = GuidedSegment("segA", complex(-2.7273, -8.0178), complex(-2.0811, -0.6320), _EI(0.11478))
 EX3_B = GuidedSegment("segB", complex(4.5442, -5.6287), complex(2.5201, -0.0676), _EI(0.08896))
-EX2 = [GuidedSegment("segA", complex(0.6653, -8.1814), complex(0.6653, -0.7114), _EI(0.175)),
-       GuidedSegment("segB", complex(2.9957, -12.2001), complex(2.9957, -3.8701), _EI(0.175))]
+EX2 = [
+    GuidedSegment("segA", complex(0.6653, -8.1814), complex(0.6653, -0.7114), _EI(0.175)),
+    GuidedSegment("segB", complex(2.9957, -12.2001), complex(2.9957, -3.8701), _EI(0.175)),
+]
 
 
 @functools.lru_cache(maxsize=None)
@@ -90,14 +93,19 @@ def test_the_root_finders_float_kernel_is_the_numpy_state(family):
     ``_point_force``) is eqs (95)-(104) as ``inflection_state`` evaluates them: every output at points across
     and outside the fits' range, phi1 = pi/2 (n = 0), phi1 = pi (sin = 0: n infinite), theta10 = 0."""
     import numpy as np
-    from prbm.inflection import (_force_from_95, _point_ends, _point_force, _point_loads, _point_state,
-                                 inflection_state)
+    from prbm.inflection import _force_from_95, _point_ends, _point_force, _point_loads, _point_state, inflection_state
 
     beam = InflectionBeam(7.4, 85.0, family)
     rng = np.random.default_rng(5)
-    points = [(rng.uniform(0.05, 3.1), rng.uniform(-1.4, 1.4), rng.uniform(0.3, 7.1), rng.uniform(-1, 1.5))
-              for _ in range(200)] + [(math.pi / 2, 0.1, 3.0, 0.5), (math.pi, 0.2, 3.0, 0.4), (1.0, 0.0, 3.0, 0.0),
-                                      (1.0, 0.2, 3.0, math.inf)]   # math raises: the numpy fallback
+    points = [
+        (rng.uniform(0.05, 3.1), rng.uniform(-1.4, 1.4), rng.uniform(0.3, 7.1), rng.uniform(-1, 1.5))
+        for _ in range(200)
+    ] + [
+        (math.pi / 2, 0.1, 3.0, 0.5),
+        (math.pi, 0.2, 3.0, 0.4),
+        (1.0, 0.0, 3.0, 0.0),
+        (1.0, 0.2, 3.0, math.inf),
+    ]  # math raises: the numpy fallback
     for phi1, theta0, l1, theta10 in points:
         with np.errstate(all="ignore"):
             F = float(_force_from_95(beam, phi1, l1, theta10))
@@ -112,4 +120,7 @@ def test_the_root_finders_float_kernel_is_the_numpy_state(family):
             part = lean(beam, F, phi1, theta0, l1, theta10)
             assert part.keys() == keys
             assert all(part[k] == got[k] or (math.isnan(part[k]) and math.isnan(got[k])) for k in part), (
-                lean.__name__, phi1, theta0)
+                lean.__name__,
+                phi1,
+                theta0,
+            )

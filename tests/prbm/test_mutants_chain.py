@@ -7,6 +7,7 @@
   turned a quarter turn counter-clockwise, goes to one unit left of it, so it moves by (-1, -1); its
   v-component's cos(phi) - 1 term never showed at the small angles of the other tests.
 """
+
 from __future__ import annotations
 
 import math
@@ -26,9 +27,9 @@ def test_nodal_loads_add_every_component():
 
 
 def test_an_axial_uniform_load_is_lumped_like_a_transverse_one():
-    beam = ChainBeam(2.0, 3.0, 4)                       # elements of 0.5
+    beam = ChainBeam(2.0, 3.0, 4)  # elements of 0.5
     loads = lumped_uniform_load(beam, 0.8, -0.2)
-    assert loads.fx == pytest.approx([0.2, 0.4, 0.4, 0.4, 0.2], rel=1e-15)    # 0.8 x 0.5, halves at the ends
+    assert loads.fx == pytest.approx([0.2, 0.4, 0.4, 0.4, 0.2], rel=1e-15)  # 0.8 x 0.5, halves at the ends
     assert loads.fy == pytest.approx([-0.05, -0.1, -0.1, -0.1, -0.05], rel=1e-15)
     assert loads.fx.sum() == pytest.approx(0.8 * 2.0) and not loads.m.any()
 
@@ -50,7 +51,7 @@ def test_a_body_point_turned_a_quarter_turn_moves_by_its_rotation():
     q = np.array([0.0, 0.0, math.pi / 2])
     assert body.displacement((1.0, 1.0), q) == pytest.approx([-1.0, -1.0], abs=1e-15)
     assert body.position((1.0, 1.0), q) == pytest.approx([0.0, 0.0], abs=1e-15)
-    q = np.array([0.3, -0.2, math.pi])                  # half a turn plus a translation
+    q = np.array([0.3, -0.2, math.pi])  # half a turn plus a translation
     assert body.position((3.0, 0.5), q) == pytest.approx([1.0 - 2.0 + 0.3, -0.5 - 0.2], abs=1e-15)
 
 
@@ -63,7 +64,9 @@ def test_a_load_applied_in_one_step_that_the_solver_cannot_reach_is_reported():
     loads = NodalLoads.at_tip(beam, 0.0, 100.0)
     one = chain_tip(beam, loads, steps=1)
     assert not one.converged and list(one.level_converged) == [False]
-    assert one.message.startswith("load step 1/1: The iteration is not making good progress") and "\n" not in one.message
+    assert (
+        one.message.startswith("load step 1/1: The iteration is not making good progress") and "\n" not in one.message
+    )
     many = chain_tip(beam, loads, steps=20)
     assert many.converged and many.message == "converged" and 0.95 < float(many["b"]) < 1.0
     assert math.hypot(float(many["a"]), float(many["b"])) < 1.0
@@ -101,17 +104,22 @@ def test_the_result_record_of_both_chain_solves(inverse):
     assert nodes[-1] == pytest.approx([float(r["a"]), float(r["b"])], abs=1e-15)
 
 
-@pytest.mark.parametrize("make, message", [
-    (lambda: ChainBeam(0.0, 1.0), r"^ChainBeam: length must be finite and > 0, got 0\.0$"),
-    (lambda: ChainBeam(math.inf, 1.0), r"^ChainBeam: length must be finite and > 0, got inf$"),
-    (lambda: ChainBeam(1.0, 1.0, 0), r"^ChainBeam: elements must be >= 1, got 0$"),
-    (lambda: ChainBeam(1.0, -2.0), r"^ChainBeam: EI must be finite and > 0, got -2\.0$"),
-    (lambda: ChainBeam(1.0, math.nan), r"^ChainBeam: EI must be finite and > 0, got nan$"),
-    (lambda: ChainBeam(1.0, (1.0, 2.0), 3), r"^ChainBeam: EI has 2 values for 3 elements$"),
-    (lambda: ChainBeam(1.0, 1.0, 2, (0.0,)), r"^ChainBeam: 1 orientations for 2 elements$"),
-    (lambda: chain_from_tip(ChainBeam(1.0, 1.0, 2), b=math.nan, theta0=0.1),
-     r"^chain_from_tip: b, theta0, n must be finite, got nan, 0\.1, 0\.0$"),
-])
+@pytest.mark.parametrize(
+    "make, message",
+    [
+        (lambda: ChainBeam(0.0, 1.0), r"^ChainBeam: length must be finite and > 0, got 0\.0$"),
+        (lambda: ChainBeam(math.inf, 1.0), r"^ChainBeam: length must be finite and > 0, got inf$"),
+        (lambda: ChainBeam(1.0, 1.0, 0), r"^ChainBeam: elements must be >= 1, got 0$"),
+        (lambda: ChainBeam(1.0, -2.0), r"^ChainBeam: EI must be finite and > 0, got -2\.0$"),
+        (lambda: ChainBeam(1.0, math.nan), r"^ChainBeam: EI must be finite and > 0, got nan$"),
+        (lambda: ChainBeam(1.0, (1.0, 2.0), 3), r"^ChainBeam: EI has 2 values for 3 elements$"),
+        (lambda: ChainBeam(1.0, 1.0, 2, (0.0,)), r"^ChainBeam: 1 orientations for 2 elements$"),
+        (
+            lambda: chain_from_tip(ChainBeam(1.0, 1.0, 2), b=math.nan, theta0=0.1),
+            r"^chain_from_tip: b, theta0, n must be finite, got nan, 0\.1, 0\.0$",
+        ),
+    ],
+)
 def test_bad_chain_input_names_the_field_and_the_value(make, message):
     with pytest.raises(ValueError, match=message):
         make()
@@ -180,8 +188,9 @@ def test_the_outboard_sums_of_eqs_26_to_28_take_the_loads_beyond_each_element():
         assert Fx[i] == pytest.approx(sum(loads.fx[j] for j in out), rel=1e-12)
         assert Fy[i] == pytest.approx(sum(loads.fy[j] for j in out), rel=1e-12)
         x, y = nodes[i + 1]
-        assert M[i] == pytest.approx(sum(loads.m[j] + loads.fy[j] * (nodes[j, 0] - x) - loads.fx[j] * (nodes[j, 1] - y)
-                                         for j in out), rel=1e-12)
+        assert M[i] == pytest.approx(
+            sum(loads.m[j] + loads.fy[j] * (nodes[j, 0] - x) - loads.fx[j] * (nodes[j, 1] - y) for j in out), rel=1e-12
+        )
 
 
 def test_scaled_loads_scale_every_component():

@@ -12,6 +12,7 @@ here to the same record:
   Howell (seed 004, 'arbitrary tip-load' slide): gamma = 0.852144, K_theta = 2.654855 (no c_theta fit);
 * k = gamma K_theta EI / l (eq 45).
 """
+
 from __future__ import annotations
 
 import math
@@ -23,7 +24,7 @@ from prbm.segments import fixed_pinned_tip
 
 MODEL = "fixed-pinned, seed 000 eqs (41)-(49)"
 PRINTED_AT_ZERO = {"pauly-midha": (0.851892, 1.238845, 2.648834), "howell": (0.852144, math.nan, 2.654855)}
-LENGTH, EI = 20.0, 306.0   # the section 3.4 beam: l = 20 in, E I = 30e6 x 1.02e-5 lb in^2
+LENGTH, EI = 20.0, 306.0  # the section 3.4 beam: l = 20 in, E I = 30e6 x 1.02e-5 lb in^2
 PATHS = {"one level": 1.5, "a few levels": [0.5, 1.0, 1.5], "many levels": np.linspace(0.1, 1.5, 300)}
 
 
@@ -52,6 +53,8 @@ def test_the_tip_obeys_eqs_44_to_49_with_the_printed_constants(path):
     Theta = np.asarray(res.outputs["Theta"], float)
     P = np.asarray(PATHS[path], float)
     assert np.all(np.abs(P * LENGTH**2 / EI * np.cos(Theta) - K * Theta) <= 1e-10 * np.maximum(1.0, K * Theta))
-    assert np.all(np.asarray(res.outputs["a"]) == pytest.approx(LENGTH - gamma * LENGTH * (1 - np.cos(Theta)), rel=1e-12))
+    assert np.all(
+        np.asarray(res.outputs["a"]) == pytest.approx(LENGTH - gamma * LENGTH * (1 - np.cos(Theta)), rel=1e-12)
+    )
     assert np.all(np.asarray(res.outputs["b"]) == pytest.approx(gamma * LENGTH * np.sin(Theta), rel=1e-12))
     assert np.all(np.asarray(res.outputs["theta0"]) == pytest.approx(c_theta * Theta, rel=1e-12))

@@ -13,6 +13,7 @@
 * A level without load is the unloaded tip exactly (a = l, b = theta0 = Theta = Fx = Fy = 0); a level
   whose equilibrium direction is not found in the scanned span is NaN, never the unloaded tip.
 """
+
 from __future__ import annotations
 
 import cmath
@@ -24,15 +25,22 @@ import pytest
 
 import prbm
 from prbm.fits import FitRangeError, FitRangeWarning, fit_family
-from prbm.turning_loads import (DeadDirection, FollowerDirection, TipPose, TowardPoint, _SegmentModel,
-                                fixed_pinned_turning_tip, input_angle_under_turning_forces)
+from prbm.turning_loads import (
+    DeadDirection,
+    FollowerDirection,
+    TipPose,
+    TowardPoint,
+    _SegmentModel,
+    fixed_pinned_turning_tip,
+    input_angle_under_turning_forces,
+)
 
 POSE = TipPose(complex(2.0, 0.5), 0.5)
 
 
 def test_a_law_gives_the_unit_vector_of_its_direction():
     assert DeadDirection(complex(3.0, 4.0)).direction(POSE) == pytest.approx(complex(0.6, 0.8), abs=1e-15)
-    turned = complex(0.6, 0.8) * cmath.exp(0.5j)        # kept at its angle to the end tangent, turned by 0.5 rad
+    turned = complex(0.6, 0.8) * cmath.exp(0.5j)  # kept at its angle to the end tangent, turned by 0.5 rad
     assert FollowerDirection(complex(3.0, 4.0)).direction(POSE) == pytest.approx(turned, abs=1e-15)
 
 
@@ -71,8 +79,7 @@ def test_the_fit_family_reaches_the_segment(family, gamma, K):
 def test_unloaded_and_unsolved_levels():
     L = 3.0
     # a span of 2e-4 rad around the unloaded direction holds no equilibrium of F = 1 toward (4, 6)
-    res = fixed_pinned_turning_tip([0.0, 1.0], TowardPoint(complex(4.0, 6.0)), length=L, EI=7.5,
-                                   step=1e-4, span=2e-4)
+    res = fixed_pinned_turning_tip([0.0, 1.0], TowardPoint(complex(4.0, 6.0)), length=L, EI=7.5, step=1e-4, span=2e-4)
     o = res.outputs
     assert [o[k][0] for k in ("a", "b", "theta0", "Theta", "Fx", "Fy")] == [L, 0.0, 0.0, 0.0, 0.0, 0.0]
     assert all(np.isnan(o[k][1]) for k in ("a", "b", "theta0", "Theta", "Fx", "Fy", "n"))
@@ -83,22 +90,26 @@ def test_unloaded_and_unsolved_levels():
 def test_the_result_record_names_the_model_and_says_it_converged():
     res = fixed_pinned_turning_tip([0.5, 1.0], DeadDirection(1j), length=1.0, EI=1.0)
     assert res.converged and res.message == "converged" and list(res.level_converged) == [True, True]
-    assert res.model == ("fixed-pinned under a turning end force, seed 000 eqs (41)-(49) at the equilibrium "
-                         "load ratio")
+    assert res.model == ("fixed-pinned under a turning end force, seed 000 eqs (41)-(49) at the equilibrium load ratio")
     assert res.iterations == 0 and res.wall_time > 0.0
     assert set(res.constants) == {"gamma", "c_theta", "K_theta", "k", "family"}
 
 
-@pytest.mark.parametrize("length, EI, F", [(0.0, 1.0, 1.0), (1.0, 0.0, 1.0), (math.inf, 1.0, 1.0),
-                                           (1.0, math.inf, 1.0), (1.0, 1.0, math.nan)])
+@pytest.mark.parametrize(
+    "length, EI, F",
+    [(0.0, 1.0, 1.0), (1.0, 0.0, 1.0), (math.inf, 1.0, 1.0), (1.0, math.inf, 1.0), (1.0, 1.0, math.nan)],
+)
 def test_bad_arguments_are_refused_by_name(length, EI, F):
     with pytest.raises(ValueError, match="^fixed_pinned_turning_tip: (length and EI|F) must be finite"):
         fixed_pinned_turning_tip([F], DeadDirection(1j), length=length, EI=EI)
 
 
 def test_toward_point_names_itself_when_undefined():
-    with pytest.raises(ValueError, match=r"^TowardPoint: the loaded point is at the point the force pulls toward "
-                                         r"\(direction undefined\)$"):
+    with pytest.raises(
+        ValueError,
+        match=r"^TowardPoint: the loaded point is at the point the force pulls toward "
+        r"\(direction undefined\)$",
+    ):
         TowardPoint(complex(1.0, 0.0)).direction(TipPose(complex(1.0, 0.0), 0.0))
 
 
@@ -112,8 +123,10 @@ def test_an_axial_dead_force_has_no_direction_inside_the_fits():
     Scanned +-30 deg, each side leaves the fits' range and comes back into it (n = -4 at psi = 14.0 deg,
     n = 10 at psi = -5.7 deg), so a reading that forgot the directions outside the range on the way
     would report 'no equilibrium' where the answer is 'outside the fits'."""
-    message = (r"^turning end force \|F\| = 1: no equilibrium direction inside the n-fits' range "
-               r"\(seed 000 eqs 41-43\)$")
+    message = (
+        r"^turning end force \|F\| = 1: no equilibrium direction inside the n-fits' range "
+        r"\(seed 000 eqs 41-43\)$"
+    )
     for span in (math.radians(30.0), math.pi):
         with pytest.raises(FitRangeError, match=message):
             fixed_pinned_turning_tip([1.0], DeadDirection(complex(1.0, 0.0)), length=L3, EI=EI3, span=span)
@@ -121,8 +134,11 @@ def test_an_axial_dead_force_has_no_direction_inside_the_fits():
 
 def test_an_axial_force_is_refused_by_the_segment_model_itself():
     model = _SegmentModel(L3, EI3, "pauly-midha", "raise")
-    with pytest.raises(FitRangeError, match=r"^end force along the segment \(direction 180\.000 deg\): "
-                                            r"n infinite, outside every n-fit$"):
+    with pytest.raises(
+        FitRangeError,
+        match=r"^end force along the segment \(direction 180\.000 deg\): "
+        r"n infinite, outside every n-fit$",
+    ):
         model.tip(1.0, math.pi)
 
 
@@ -130,14 +146,13 @@ def test_the_failure_message_lists_only_the_levels_that_failed():
     """Level 0 carries no load (converged by definition, the unloaded tip); level 1 has no equilibrium
     in the scanned 2e-4 rad: the message names level 1's failure and nothing else (it once read
     'no load; ...')."""
-    res = fixed_pinned_turning_tip([0.0, 1.0], TowardPoint(complex(4.0, 6.0)), length=L3, EI=EI3,
-                                   step=1e-4, span=2e-4)
+    res = fixed_pinned_turning_tip([0.0, 1.0], TowardPoint(complex(4.0, 6.0)), length=L3, EI=EI3, step=1e-4, span=2e-4)
     assert res.message == "turning end force |F| = 1: no equilibrium direction found"
     loaded_only = fixed_pinned_turning_tip([0.0, 1.0], TowardPoint(complex(4.0, 6.0)), length=L3, EI=EI3)
     assert loaded_only.converged and loaded_only.message == "converged"
 
 
-PULLEY_AHEAD = complex(13.0, 1.2)   # ahead on the axis: the rope pulls nearly axially, n ~ -9 to -10
+PULLEY_AHEAD = complex(13.0, 1.2)  # ahead on the axis: the rope pulls nearly axially, n ~ -9 to -10
 
 
 def _extrapolated_equilibrium(res):
@@ -150,9 +165,10 @@ def _extrapolated_equilibrium(res):
         n = -o["Fx"] / o["Fy"]
         gamma, c_theta, K = fit_family("pauly-midha").parameters(n, extrapolate="allow")
         Theta = o["Theta"]
-        assert -52.0 < n < -4.0                           # outside the range: the option mattered
+        assert -52.0 < n < -4.0  # outside the range: the option mattered
         assert gamma * K * EI3 / L3 * Theta == pytest.approx(
-            gamma * L3 * (o["Fy"] * math.cos(Theta) - o["Fx"] * math.sin(Theta)), rel=1e-9)
+            gamma * L3 * (o["Fy"] * math.cos(Theta) - o["Fx"] * math.sin(Theta)), rel=1e-9
+        )
         assert o["a"] == pytest.approx(L3 - gamma * L3 * (1 - math.cos(Theta)), rel=1e-12)
         assert o["b"] == pytest.approx(gamma * L3 * math.sin(Theta), rel=1e-12)
         assert o["theta0"] == pytest.approx(c_theta * Theta, rel=1e-12)
@@ -167,15 +183,16 @@ def test_extrapolate_allow_reaches_the_fits():
         fixed_pinned_turning_tip([1.0, 3.0], TowardPoint(PULLEY_AHEAD), length=L3, EI=EI3)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        res = fixed_pinned_turning_tip([1.0, 3.0], TowardPoint(PULLEY_AHEAD), length=L3, EI=EI3,
-                                       extrapolate="allow")
+        res = fixed_pinned_turning_tip([1.0, 3.0], TowardPoint(PULLEY_AHEAD), length=L3, EI=EI3, extrapolate="allow")
     assert res.converged
     _extrapolated_equilibrium(res)
 
 
 def test_extrapolate_warn_warns_and_gives_the_same_tip():
-    with pytest.warns(FitRangeWarning, match=r"outside the fitted range -4\.0 < n <= 10\.0 .*nearest branch "
-                                             r"extrapolated$"):
-        res = fixed_pinned_turning_tip([1.0, 3.0], TowardPoint(PULLEY_AHEAD), length=L3, EI=EI3,
-                                       extrapolate="warn")
+    with pytest.warns(
+        FitRangeWarning,
+        match=r"outside the fitted range -4\.0 < n <= 10\.0 .*nearest branch "
+        r"extrapolated$",
+    ):
+        res = fixed_pinned_turning_tip([1.0, 3.0], TowardPoint(PULLEY_AHEAD), length=L3, EI=EI3, extrapolate="warn")
     _extrapolated_equilibrium(res)

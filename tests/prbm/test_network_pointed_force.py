@@ -7,6 +7,7 @@
 * The generalised force's derivative dQ/dq the Newton step uses, against central differences of Q: a sign
   or a missing term in it would slow or stop the Newton iteration without changing a converged answer.
 """
+
 import math
 
 import numpy as np
@@ -24,10 +25,13 @@ A_LEN, K = 1.5, 4.0
 
 
 def _link() -> prbm.Network:
-    return prbm.Network(bodies=["link"], points={"tip": ("link", (A_LEN, 0.0))},
-                        pins=[planar.Pin("link", planar.GROUND, (0.0, 0.0))],
-                        springs=[prbm.TorsionSpring("link", planar.GROUND, K)],
-                        origins={"link": (0.0, 0.0)})
+    return prbm.Network(
+        bodies=["link"],
+        points={"tip": ("link", (A_LEN, 0.0))},
+        pins=[planar.Pin("link", planar.GROUND, (0.0, 0.0))],
+        springs=[prbm.TorsionSpring("link", planar.GROUND, K)],
+        origins={"link": (0.0, 0.0)},
+    )
 
 
 def _exact_phi(T: float, toward: tuple[float, float], angle: float) -> float:
@@ -37,14 +41,18 @@ def _exact_phi(T: float, toward: tuple[float, float], angle: float) -> float:
         c, s = math.cos(angle), math.sin(angle)
         F = T * np.array([c * d[0] - s * d[1], s * d[0] + c * d[1]]) / np.hypot(*d)
         return K * phi - (p[0] * F[1] - p[1] * F[0])
+
     return brentq(moment, -1.5, 1.5, xtol=1e-14)
 
 
-@pytest.mark.parametrize("T, toward, angle", [
-    (3.0, (0.0, 2.0), 0.0),          # a rope up to a pulley above the pivot
-    (2.0, (3.0, -1.0), 0.0),         # ahead and below
-    (1.5, (0.5, 1.0), 0.4),          # turned from the line
-])
+@pytest.mark.parametrize(
+    "T, toward, angle",
+    [
+        (3.0, (0.0, 2.0), 0.0),  # a rope up to a pulley above the pivot
+        (2.0, (3.0, -1.0), 0.0),  # ahead and below
+        (1.5, (0.5, 1.0), 0.4),  # turned from the line
+    ],
+)
 def test_a_pinned_link_pulled_by_a_rope_turns_as_its_moment_balance_says(T, toward, angle):
     exact = _exact_phi(T, toward, angle)
     values = tuple(T * (k + 1) / 4 for k in range(4))
@@ -62,8 +70,12 @@ def test_the_derivative_of_the_pull_is_that_of_its_generalised_force():
     q = np.array([0.05, -0.03, 0.4])
     _, dQ = problem.generalised_forces(q, 0.0)
     h = 1e-6
-    numeric = np.column_stack([(problem.generalised_forces(q + h * e, 0.0)[0]
-                                - problem.generalised_forces(q - h * e, 0.0)[0]) / (2 * h) for e in np.eye(3)])
+    numeric = np.column_stack(
+        [
+            (problem.generalised_forces(q + h * e, 0.0)[0] - problem.generalised_forces(q - h * e, 0.0)[0]) / (2 * h)
+            for e in np.eye(3)
+        ]
+    )
     assert np.allclose(dQ, numeric, atol=1e-8)
 
 

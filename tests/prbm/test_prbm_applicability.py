@@ -12,6 +12,7 @@ made for the load. Expected levels are derived here, not read from our output:
   with |M| < P L make the bending moment change sign along the beam (tip M, root M + P a > 0); the
   same sense cannot (Table 2.1).
 """
+
 import math
 import tomllib
 
@@ -52,8 +53,12 @@ OPTIONS
 
 def _case(forces, direction=(0.0, 1.0), moments=None, options="") -> Case:
     moment = "" if moments is None else f'[[loads]]\nkind = "moment"\npoint = "tip"\nvalues = {list(moments)}'
-    text = (CANTILEVER.replace("DIRECTION", str(list(direction))).replace("FORCES", str(list(forces)))
-            .replace("MOMENT", moment).replace("OPTIONS", options))
+    text = (
+        CANTILEVER.replace("DIRECTION", str(list(direction)))
+        .replace("FORCES", str(list(forces)))
+        .replace("MOMENT", moment)
+        .replace("OPTIONS", options)
+    )
     return Case.model_validate(tomllib.loads(text))
 
 
@@ -62,8 +67,12 @@ def test_theta_past_65_degrees_is_flagged_from_eq_47():
     assert 7.0 < alpha2 < 7.2
     run = run_method(_case([1.0, 7.0, 7.2, 10.0]), "prbm")
     assert run.ok, run.message
-    assert [run.applicability.get(level, []) for level in range(4)] == \
-        [[], [], [Applicability.DEFLECTION], [Applicability.DEFLECTION]]
+    assert [run.applicability.get(level, []) for level in range(4)] == [
+        [],
+        [],
+        [Applicability.DEFLECTION],
+        [Applicability.DEFLECTION],
+    ]
 
 
 def test_load_ratio_outside_the_fit_is_refused_or_flagged():

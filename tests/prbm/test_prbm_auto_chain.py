@@ -14,6 +14,7 @@ Expected tips are independent of the chain:
 
 The segment is L = 2, E = 3, a unit square section (EI = 0.25), so a value off by a factor L or EI shows.
 """
+
 from __future__ import annotations
 
 import re
@@ -28,12 +29,13 @@ from validation.methods.base import NotApplicable, Request
 from validation.case.method_options import options_of
 
 LENGTH, EI = 2.0, 3.0 / 12.0
-TARGET = 1e-3   # chain_tol's default, a fraction of L
+TARGET = 1e-3  # chain_tol's default, a fraction of L
 
 
 def elastica_tip(load_parameters: list[float]) -> np.ndarray:
     """Tip (x, y) / L of the cantilever under a dead uniform load w L^3/EI along +y, per value, continued
     from the previous one."""
+
     def rhs(s, Y, w):
         x, y, th, m, nx, ny = Y
         return np.vstack([np.cos(th), np.sin(th), m, nx * np.sin(th) - ny * np.cos(th), 0.0 * s, -w + 0.0 * s])
@@ -87,8 +89,9 @@ quantity = "y"
 def _run(case):
     requests = [Request(q, "tip", lv) for lv in range(case.n_levels()) for q in ("x", "y")]
     run = prbm_adapter.run(case, requests, options_of("prbm", case.methods["prbm"]))
-    tips = np.array([[run.values[Request("x", "tip", lv)], run.values[Request("y", "tip", lv)]]
-                     for lv in range(case.n_levels())])
+    tips = np.array(
+        [[run.values[Request("x", "tip", lv)], run.values[Request("y", "tip", lv)]] for lv in range(case.n_levels())]
+    )
     return tips, run
 
 
@@ -115,8 +118,8 @@ def test_uniform_load_without_options_runs_the_chosen_chain(tmp_path):
     tips, run = _run(_case(tmp_path, UNIFORM))
     assert run.converged, run.message
     assert "chosen for the load along the segment" in run.message
-    assert _chain_count(run) >= 20                       # at least one doubling from 10
-    linear = UNIFORM_PARAMETERS[0] * LENGTH / 8.0        # w L^4 / (8 EI) = (w L^3/EI) L / 8
+    assert _chain_count(run) >= 20  # at least one doubling from 10
+    linear = UNIFORM_PARAMETERS[0] * LENGTH / 8.0  # w L^4 / (8 EI) = (w L^3/EI) L / 8
     assert abs(tips[0, 1] - linear) < TARGET * LENGTH, (tips[0, 1], linear)
     exact = elastica_tip(UNIFORM_PARAMETERS)[1] * LENGTH
     assert np.hypot(*(tips[1] - exact)) < TARGET * LENGTH, (tips[1], exact)
@@ -124,8 +127,9 @@ def test_uniform_load_without_options_runs_the_chosen_chain(tmp_path):
 
 def test_uniform_load_meets_a_tighter_target(tmp_path):
     """chain_tol = 1e-5: the small load's tip within 1e-5 L of linear theory (1e-3 of its deflection)."""
-    small = UNIFORM.replace(f"values = {[p * EI / LENGTH**3 for p in UNIFORM_PARAMETERS]!r}",
-                            f"values = [{0.1 * EI / LENGTH**3!r}]")
+    small = UNIFORM.replace(
+        f"values = {[p * EI / LENGTH**3 for p in UNIFORM_PARAMETERS]!r}", f"values = [{0.1 * EI / LENGTH**3!r}]"
+    )
     assert small != UNIFORM
     tips, run = _run(_case(tmp_path, small, "chain_tol = 1e-5"))
     assert run.converged, run.message
@@ -151,7 +155,7 @@ def test_self_weight_without_options_runs_the_chosen_chain(tmp_path):
     _chain_count(run)
     linear = -0.1 * LENGTH / 8.0
     assert abs(tips[0, 1] - linear) < TARGET * LENGTH, (tips[0, 1], linear)
-    exact = elastica_tip([5.0])[0] * np.array([1.0, -1.0]) * LENGTH   # the mirror image of a load along +y
+    exact = elastica_tip([5.0])[0] * np.array([1.0, -1.0]) * LENGTH  # the mirror image of a load along +y
     assert np.hypot(*(tips[1] - exact)) < TARGET * LENGTH, (tips[1], exact)
 
 
@@ -162,7 +166,7 @@ def test_chain_elements_alone_fixes_the_count(tmp_path):
     assert _chain_count(run) == 20 and "(chain_elements)" in run.message
 
 
-@pytest.mark.parametrize("options", ["chain_tol = 1e-4\nmodel = \"chain\"", "chain_tol = 1e-4\nchain_elements = 20"])
+@pytest.mark.parametrize("options", ['chain_tol = 1e-4\nmodel = "chain"', "chain_tol = 1e-4\nchain_elements = 20"])
 def test_chain_tol_where_the_count_is_fixed_is_an_error(tmp_path, options):
     with pytest.raises(CaseError, match="chain_tol: the prbm does not use this option here"):
         _case(tmp_path, UNIFORM, options)

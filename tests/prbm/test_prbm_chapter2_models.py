@@ -3,6 +3,7 @@ K_Theta (eqs 51, 52) and Lyon et al.'s fixed-guided PRBM (eqs 64-70).
 
 Expected values come from small-deflection beam theory, the exact elastica (an independent shooting
 solver), the printed coefficients and Table 3.1, each named at its assertion."""
+
 import math
 
 import pytest
@@ -49,8 +50,8 @@ def test_chain_converges_to_the_elastica_at_second_order():
         r = chain_tip(beam, NodalLoads.at_tip(beam, 0.0, 6.75, -72.54))
         assert r.converged
         errors.append(math.hypot(float(r["a"]) - exact.x, float(r["b"]) - exact.y))
-    assert errors[1] < 0.002 * 20.0          # 40 elements: within 0.2 % of l
-    assert errors[0] / errors[1] > 3.5       # halving the element length divides the error by ~4
+    assert errors[1] < 0.002 * 20.0  # 40 elements: within 0.2 % of l
+    assert errors[0] / errors[1] > 3.5  # halving the element length divides the error by ~4
 
 
 def test_chain_table3_1_chain_row():
@@ -73,11 +74,22 @@ def test_chain_bad_input_names_the_field():
 # --- Theta-dependent K_Theta ---------------------------------------------------------------------------
 def test_eq51_and_eq52_values_from_the_printed_coefficients():
     # eq (51) at n = 0, Theta = 0.5 rad: (0.004233 + 2.567095/2 - 0.037173/4 + 0.117997/8) / 0.5
-    assert EQ51(0.0, 0.5) == pytest.approx((0.004233 + 2.567095 * 0.5 - 0.037173 * 0.25 + 0.117997 * 0.125) / 0.5,
-                                          rel=1e-12)
+    assert EQ51(0.0, 0.5) == pytest.approx(
+        (0.004233 + 2.567095 * 0.5 - 0.037173 * 0.25 + 0.117997 * 0.125) / 0.5, rel=1e-12
+    )
     # eq (52) at n = 1, Theta = 0.5: every printed term
-    p = (0.000651 - 0.008244 + 2.544577 * 0.5 - 0.004764 + 0.071215 * 0.25 - 0.000104 + 0.079696 * 0.125
-         + 0.069274 * 0.5 + 0.061507 * 0.5 - 0.347588 * 0.25)
+    p = (
+        0.000651
+        - 0.008244
+        + 2.544577 * 0.5
+        - 0.004764
+        + 0.071215 * 0.25
+        - 0.000104
+        + 0.079696 * 0.125
+        + 0.069274 * 0.5
+        + 0.061507 * 0.5
+        - 0.347588 * 0.25
+    )
     assert EQ52(1.0, 0.5) == pytest.approx(p / 0.5, rel=1e-12)
 
 
@@ -111,7 +123,7 @@ def test_theta_dependent_ranges():
     with pytest.raises(FitRangeError, match="load ratio"):
         theta_dependent_tip(1.0, -0.5, length=1.0, EI=1.0, fit="51")
     with pytest.raises(FitRangeError, match="PRB angle"):
-        theta_dependent_tip(3.0, 1.0, length=1.0, EI=1.0, fit="51")   # Theta about 76 deg > 65 deg
+        theta_dependent_tip(3.0, 1.0, length=1.0, EI=1.0, fit="51")  # Theta about 76 deg > 65 deg
     with pytest.raises(ValueError, match="fit"):
         theta_dependent_tip(1.0, 0.0, length=1.0, EI=1.0, fit="53")
 
@@ -164,6 +176,8 @@ def test_chain_inverse_converges_where_the_inverse_is_ill_conditioned():
     # (40 elements: P off by 1.2 %); the error still falls at second order with the element count
     P, M, n = 4.0, -30.0, 1.5
     exact = elastica.solve_elastica(20.0, EI_34, force=(-n * P, P), moment=M)
-    err = [abs(float(chain_from_tip(ChainBeam(20.0, EI_34, N), b=exact.y, theta0=exact.theta, n=n)["P"]) - P)
-           for N in (40, 80)]
+    err = [
+        abs(float(chain_from_tip(ChainBeam(20.0, EI_34, N), b=exact.y, theta0=exact.theta, n=n)["P"]) - P)
+        for N in (40, 80)
+    ]
     assert err[0] / err[1] > 3.0

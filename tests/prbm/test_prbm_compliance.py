@@ -6,6 +6,7 @@ own position solution (``prbm.FourBar.angles``, the slider loop), the network so
 torque (``prbm.network``), and velocity ratios by differences of positions.  Geometry: seed 000
 section 7.5 Example 2 (four-bar) and Example 1 (slider), as in cases/chapter7/.
 """
+
 import cmath
 import math
 
@@ -13,12 +14,20 @@ import numpy as np
 import pytest
 
 import prbm
-from prbm.compliance import (FourBarPose, SliderPose, compliant_ma, fourbar_compliance_torque,
-                             slider_compliance, two_port_rigid_ma, type2_ma, type3_equilibrium)
+from prbm.compliance import (
+    FourBarPose,
+    SliderPose,
+    compliant_ma,
+    fourbar_compliance_torque,
+    slider_compliance,
+    two_port_rigid_ma,
+    type2_ma,
+    type3_equilibrium,
+)
 
 DEG = math.pi / 180
 Z = dict(r1=2.8759 + 3.0196j, r2=2.3244 + 4.9847j, r3=6.2946 + 2.037j, r4=5.7432 + 4.002j)
-SPRINGS = (1.1204, 2.0, 9.7441, 3.0)          # four different k so every term is seen
+SPRINGS = (1.1204, 2.0, 9.7441, 3.0)  # four different k so every term is seen
 FREE = (55 * DEG, -2.16 * DEG, 10.17 * DEG)
 
 
@@ -75,7 +84,7 @@ SLIDER_SPRINGS, F_K = (4.0, 8.4515, 7.5193), 2.5
 
 
 def _theta3(t2):
-    return np.arcsin((OFFSET - R2 * np.sin(t2)) / R3)       # the branch of position 1 (cos theta3 > 0)
+    return np.arcsin((OFFSET - R2 * np.sin(t2)) / R3)  # the branch of position 1 (cos theta3 > 0)
 
 
 def _slider_energy(t2):
@@ -92,8 +101,9 @@ def test_slider_compliance_is_the_virtual_work(input_link, turn_deg):
     """Eqs (196)-(198): dU/dtheta2, dU/dtheta3, dU/dR1 by differences of U along the slider loop."""
     t2, h = T20 + turn_deg * DEG, 1e-6
     U = [_slider_energy(t2 + s * h) for s in (-1, 1)]
-    coord = {"crank": lambda t: t, "coupler": _theta3,
-             "slider": lambda t: R2 * np.cos(t) + R3 * np.cos(_theta3(t))}[input_link]
+    coord = {"crank": lambda t: t, "coupler": _theta3, "slider": lambda t: R2 * np.cos(t) + R3 * np.cos(_theta3(t))}[
+        input_link
+    ]
     expected = (U[1] - U[0]) / (coord(t2 + h) - coord(t2 - h))
     pose = SliderPose(R2, R3, t2, _theta3(t2), T20, T30, R2 * math.cos(T20) + R3 * math.cos(T30))
     assert slider_compliance(pose, SLIDER_SPRINGS, F_K, input_link) == pytest.approx(expected, rel=1e-6)
@@ -122,7 +132,7 @@ def test_eq205_instant_centres_equal_velocity_ratios():
 
 def test_type2_is_eq192_over_input_forces():
     ma = type2_ma(2.0, 3.0, [6.0, 12.0])
-    assert ma == pytest.approx([1.0, 1.5])          # 2 (1 - 3/6), 2 (1 - 3/12)
+    assert ma == pytest.approx([1.0, 1.5])  # 2 (1 - 3/6), 2 (1 - 3/12)
     with pytest.raises(ValueError, match="zero"):
         type2_ma(2.0, 3.0, [0.0])
 

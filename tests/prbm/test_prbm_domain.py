@@ -1,6 +1,7 @@
 """Characteristic deflection domains of seed 000 chapter 4: every segment type's cloud is non-empty and
 physically bounded, follows the segment PRBMs of ``prbm.segments``, has the limits and equivalences the
 seed states (sections 4.5-4.7), enforces the fit ranges, and is fast (timed, not asserted)."""
+
 import math
 import time
 
@@ -13,11 +14,13 @@ N_GRID = np.linspace(-3.9, 10.0, 15)
 
 DOMAINS = {
     "fixed-pinned": lambda: prbm.fixed_pinned_domain(n_values=N_GRID, n_theta=31),
-    "curved fixed-pinned": lambda: prbm.curved_fixed_pinned_domain([-1.0, 0.3, 1.0, 2.5, 5.0], n_values=N_GRID,
-                                                                   n_theta=31),
+    "curved fixed-pinned": lambda: prbm.curved_fixed_pinned_domain(
+        [-1.0, 0.3, 1.0, 2.5, 5.0], n_values=N_GRID, n_theta=31
+    ),
     "fixed-guided": lambda: prbm.fixed_guided_domain(n_values=N_GRID, n_theta=31),
-    "fixed-fixed monotonic": lambda: prbm.fixed_fixed_monotonic_domain(np.linspace(-4.0, 4.0, 9), n_values=N_GRID,
-                                                                       n_theta=31),
+    "fixed-fixed monotonic": lambda: prbm.fixed_fixed_monotonic_domain(
+        np.linspace(-4.0, 4.0, 9), n_values=N_GRID, n_theta=31
+    ),
     "straight SLFP": lambda: prbm.slfp_domain(0.05, n_values=N_GRID, n_theta=31),
     "curved SLFP": lambda: prbm.slfp_domain(0.05, n_values=N_GRID, curvature=1.2, n_theta=31),
 }
@@ -30,7 +33,7 @@ def test_domain_is_non_empty_and_within_reach_of_the_arc_length(kind):
     assert a.size > 100 and np.all(np.isfinite(a)) and np.all(np.isfinite(b))
     # an inextensible segment of length l cannot put its end farther than l from the fixed end
     assert np.all(np.hypot(a, b) <= 1.0 + 1e-12)
-    assert np.all(d["alpha2"] >= 0.0)                  # P > 0 throughout
+    assert np.all(d["alpha2"] >= 0.0)  # P > 0 throughout
     if "boundary_lower" in d:
         assert d["boundary_b"].size > 10 and np.all(d["boundary_lower"] <= d["boundary_upper"])
 
@@ -40,7 +43,8 @@ def test_curved_fixed_pinned_points_are_curved_prbm_solutions():
     for i in range(0, d["a"].size, 97):
         r = prbm.curved_fixed_pinned_tip(d["alpha2"][i], d["n"][i], length=1.0, EI=1.0, curvature=d["kappa0"][i])
         assert (float(r["a"]), float(r["b"]), float(r["theta0"])) == pytest.approx(
-            (d["a"][i], d["b"][i], d["theta0"][i]), abs=1e-9)
+            (d["a"][i], d["b"][i], d["theta0"][i]), abs=1e-9
+        )
 
 
 def test_straight_fixed_pinned_is_the_zero_curvature_limit():
@@ -59,7 +63,8 @@ def test_fixed_guided_points_are_two_spring_solutions():
     for i in range(0, d["a"].size, 53):
         r = prbm.fixed_guided_tip(d["alpha2"][i], d["n"][i], length=1.0, EI=1.0)
         assert (float(r["a"]), float(r["b"]), float(r["M"])) == pytest.approx(
-            (d["a"][i], d["b"][i], d["moment"][i]), abs=1e-9)
+            (d["a"][i], d["b"][i], d["moment"][i]), abs=1e-9
+        )
 
 
 def test_two_spring_fixed_guided_cloud_lies_in_the_fixed_pinned_envelope():
@@ -110,7 +115,7 @@ def test_opposing_moment_kept_only_beyond_the_no_inflection_bound():
     d = prbm.fixed_fixed_monotonic_domain([-2.0, 2.0], n_values=N_GRID, n_theta=31)
     opposing = d["moment"] < 0
     assert d["excluded_inflection"] > 0 and opposing.any()
-    assert np.all(d["kappa"][opposing] > 2.0)               # eq (125), kappa = M^2/(2 F EI)
+    assert np.all(d["kappa"][opposing] > 2.0)  # eq (125), kappa = M^2/(2 F EI)
     F = d["alpha2"] * np.sqrt(1 + d["n"] ** 2)
     with np.errstate(divide="ignore"):
         assert np.allclose(d["kappa"][opposing & (F > 0)], (4.0 / (2 * F))[opposing & (F > 0)])
@@ -122,35 +127,48 @@ def test_slfp_domain_is_the_arc_of_eq_127(curvature):
     lam = 0.05
     d = prbm.slfp_domain(lam, n_values=N_GRID, curvature=curvature, n_theta=31)
     px, py = d["pivot"]
-    assert d["radius"] == pytest.approx(lam / 2 + (1 - lam))                   # (l/2 + L)/(l + L)
+    assert d["radius"] == pytest.approx(lam / 2 + (1 - lam))  # (l/2 + L)/(l + L)
     assert np.allclose(np.hypot(d["a"] - px, d["b"] - py), d["radius"], atol=1e-12)
     i = 301
-    r = prbm.slfp_tip(d["alpha2"][i], d["n"][i], flexure_length=lam, rigid_length=1 - lam, EI=1.0,
-                      curvature=curvature / lam)
+    r = prbm.slfp_tip(
+        d["alpha2"][i], d["n"][i], flexure_length=lam, rigid_length=1 - lam, EI=1.0, curvature=curvature / lam
+    )
     assert (float(r["a"]), float(r["b"])) == pytest.approx((d["a"][i], d["b"][i]), abs=1e-9)
 
 
-@pytest.mark.parametrize("make", [
-    lambda n: prbm.curved_fixed_pinned_domain(0.7, n_values=n, n_theta=11),
-    lambda n: prbm.fixed_guided_domain(n_values=n, n_theta=11),
-    lambda n: prbm.fixed_fixed_monotonic_domain([1.0], n_values=n, n_theta=11),
-])
+@pytest.mark.parametrize(
+    "make",
+    [
+        lambda n: prbm.curved_fixed_pinned_domain(0.7, n_values=n, n_theta=11),
+        lambda n: prbm.fixed_guided_domain(n_values=n, n_theta=11),
+        lambda n: prbm.fixed_fixed_monotonic_domain([1.0], n_values=n, n_theta=11),
+    ],
+)
 def test_load_ratios_outside_the_fit_range_are_excluded_and_counted(make):
-    d = make(np.array([-6.0, -4.0, -2.0, 0.0, 10.0, 10.5]))   # Pauly-Midha: -4 < n <= 10
+    d = make(np.array([-6.0, -4.0, -2.0, 0.0, 10.0, 10.5]))  # Pauly-Midha: -4 < n <= 10
     assert d["excluded"] == 3 * 11
     assert set(np.unique(d["n"])) == {-2.0, 0.0, 10.0}
 
 
-@pytest.mark.parametrize("kind,make", [
-    ("curved fixed-pinned", lambda: prbm.curved_fixed_pinned_domain(0.5, n_values=np.linspace(-3.9, 10, 100),
-                                                                    n_theta=100)),
-    ("fixed-guided", lambda: prbm.fixed_guided_domain(n_values=np.linspace(-3.9, 10, 100), n_theta=100)),
-    ("fixed-fixed monotonic", lambda: prbm.fixed_fixed_monotonic_domain(
-        np.linspace(0.0, 2.0, 10), n_values=np.linspace(-3.9, 10, 100), n_theta=10)),
-    ("SLFP", lambda: prbm.slfp_domain(0.05, n_values=np.linspace(-3.9, 10, 100), n_theta=100)),
-])
+@pytest.mark.parametrize(
+    "kind,make",
+    [
+        (
+            "curved fixed-pinned",
+            lambda: prbm.curved_fixed_pinned_domain(0.5, n_values=np.linspace(-3.9, 10, 100), n_theta=100),
+        ),
+        ("fixed-guided", lambda: prbm.fixed_guided_domain(n_values=np.linspace(-3.9, 10, 100), n_theta=100)),
+        (
+            "fixed-fixed monotonic",
+            lambda: prbm.fixed_fixed_monotonic_domain(
+                np.linspace(0.0, 2.0, 10), n_values=np.linspace(-3.9, 10, 100), n_theta=10
+            ),
+        ),
+        ("SLFP", lambda: prbm.slfp_domain(0.05, n_values=np.linspace(-3.9, 10, 100), n_theta=100)),
+    ],
+)
 def test_ten_thousand_point_domain_timing(kind, make, record_property):
-    make()                                                   # warm-up
+    make()  # warm-up
     t0 = time.perf_counter()
     d = make()
     elapsed = time.perf_counter() - t0
@@ -164,9 +182,13 @@ def test_fixed_pinned_domain_points_are_eqs_47_to_49_with_the_printed_fits():
     """Each point of Fig. 4.3's cloud is the fixed-pinned PRBM at its (n, Theta): a = 1 - gamma (1 - cos
     Theta), b = gamma sin Theta (48, 49) and alpha^2 sqrt(1 + n^2) sin(phi - Theta) = K_Theta Theta (46-47),
     phi = atan2(1, -n); gamma and K_Theta written out from the printed eqs (41), (43) at n = 0 and n = 1."""
-    printed = {0.0: (0.851892, 2.648834),
-               1.0: (0.851892 - 0.020805 + 0.005867 - 0.000895 + 0.000069 - 0.000002,
-                     2.648834 - 0.074727 + 0.026328 - 0.004609 + 0.000390 - 0.000013)}
+    printed = {
+        0.0: (0.851892, 2.648834),
+        1.0: (
+            0.851892 - 0.020805 + 0.005867 - 0.000895 + 0.000069 - 0.000002,
+            2.648834 - 0.074727 + 0.026328 - 0.004609 + 0.000390 - 0.000013,
+        ),
+    }
     d = prbm.fixed_pinned_domain(n_values=np.array(list(printed)), n_theta=7)
     assert d["a"].size == 14 and np.ptp(d["Theta"]) > 1.0
     for a, b, n, Theta, alpha2 in zip(d["a"], d["b"], d["n"], d["Theta"], d["alpha2"]):

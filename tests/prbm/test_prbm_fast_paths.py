@@ -8,6 +8,7 @@
   ``FourBar.input_for_output`` against the bracketed scan + Brent of the adapter;
 * ``FourBar`` outputs with precomputed angles against the same outputs computing them.
 """
+
 import math
 
 import numpy as np
@@ -44,7 +45,7 @@ def test_spring_angle_paths_agree_with_the_reference_and_solve_the_equation():
     assert ref_ok.all() and vec_ok.all() and small_ok.all()
     assert vec_it <= 10  # quadratic convergence from the linear start (the reference needed ~50)
     for got in (vec, small, one):
-        assert _close(got, ref[:len(got)])
+        assert _close(got, ref[: len(got)])
     residual = FR * np.sin(phi - one) - k * (one - theta_i)
     assert np.all(np.abs(residual) <= 1e-12 * (FR + k))
 
@@ -53,7 +54,7 @@ def test_spring_angle_paths_agree_with_the_reference_and_solve_the_equation():
 def test_fit_small_array_path_equals_polyval(family):
     fam = prbm.fit_family(family)
     n = np.linspace(fam.lower + 1e-6, fam.upper, 200)  # 200 > the small-array limit: polyval
-    n[:3] = [-0.5, 0.5, -1.5]                          # breakpoints of the branches
+    n[:3] = [-0.5, 0.5, -1.5]  # breakpoints of the branches
     for fit in (fam.gamma, fam.K_theta):
         assert np.array_equal(fit(n[:20]), fit(n)[:20])
         assert fit(n[:20].reshape(4, 5)).shape == (4, 5)
@@ -69,8 +70,15 @@ def test_fixed_pinned_tip_matches_the_reference_spring_solver():
         assert _close(r["b"], g * np.sin(ref))
 
 
-FOURBAR = prbm.FourBar(3.902 - 0.8802j, 4.754 + 2.767j, 6.249 - 2.176j, 7.099 + 1.471j, 7.929 - 0.148j,
-                       springs=(38.356, 1.5, 2.0, 3.0), theta_free=(math.radians(15.86), -0.4958, -0.1057))
+FOURBAR = prbm.FourBar(
+    3.902 - 0.8802j,
+    4.754 + 2.767j,
+    6.249 - 2.176j,
+    7.099 + 1.471j,
+    7.929 - 0.148j,
+    springs=(38.356, 1.5, 2.0, 3.0),
+    theta_free=(math.radians(15.86), -0.4958, -0.1057),
+)
 
 
 def test_fourbar_scalar_angles_equal_the_array_construction():
@@ -99,8 +107,9 @@ def test_fourbar_outputs_with_precomputed_angles_are_unchanged():
     assert np.array_equal(FOURBAR.coupler_point(theta2, angles), FOURBAR.coupler_point(theta2))
     assert np.array_equal(FOURBAR.input_torque(theta2, angles), FOURBAR.input_torque(theta2))
     assert np.array_equal(FOURBAR.strain_energy(theta2, angles), FOURBAR.strain_energy(theta2))
-    assert np.array_equal(FOURBAR.compliant_ma(theta2, 10.0, 2.0, 3.0, angles),
-                          FOURBAR.compliant_ma(theta2, 10.0, 2.0, 3.0))
+    assert np.array_equal(
+        FOURBAR.compliant_ma(theta2, 10.0, 2.0, 3.0, angles), FOURBAR.compliant_ma(theta2, 10.0, 2.0, 3.0)
+    )
 
 
 def test_slider_crank_closed_form_inverse_equals_the_scan():

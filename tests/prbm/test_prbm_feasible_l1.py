@@ -1,5 +1,6 @@
 """Section 3.6's vector loop (seed 000 eqs 105-107): closure, constraints and accuracy against the
 exact inflection problem."""
+
 import math
 
 import pytest
@@ -38,14 +39,20 @@ def test_short_first_segment_is_infeasible_for_a_positive_end_angle():
     assert any(st.feasible for st in states) and not all(st.feasible for st in states)
 
 
-@pytest.mark.parametrize("b, theta0, l1, exact_a", [
-    # exact a of the inflection problem (b, theta0, moment zero at l1): the findings of
-    # cases/chapter3/table3_6_exact_inverse.toml (Table 3.6's conditions, verified there independently)
-    (12.0, 40.0, 13.5, 15.4925), (5.0, -30.0, 8.5, 18.6970), (5.0, -30.0, 9.0, 18.9746)])
+@pytest.mark.parametrize(
+    "b, theta0, l1, exact_a",
+    [
+        # exact a of the inflection problem (b, theta0, moment zero at l1): the findings of
+        # cases/chapter3/table3_6_exact_inverse.toml (Table 3.6's conditions, verified there independently)
+        (12.0, 40.0, 13.5, 15.4925),
+        (5.0, -30.0, 8.5, 18.6970),
+        (5.0, -30.0, 9.0, 18.9746),
+    ],
+)
 def test_loop_end_position_near_the_exact_one(b, theta0, l1, exact_a):
     s = loop_closure(length=L, b=b, theta0=math.radians(theta0), l1=l1)
     assert s.feasible
-    assert abs(s.a - exact_a) < 0.015 * L   # measured 0.6 %, 0.08 %, 1.2 % of l
+    assert abs(s.a - exact_a) < 0.015 * L  # measured 0.6 %, 0.08 %, 1.2 % of l
 
 
 def test_domain_points_are_feasible_loops():

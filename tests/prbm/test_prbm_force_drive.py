@@ -2,6 +2,7 @@
 the input angle it returns must make the total potential U(theta2) - F . r_A(theta2) stationary,
 checked with a central difference of the spring energy (eq 181, not the torque formula the solver
 uses) and of the force's work; and the coupler point must be the four-bar's at that angle."""
+
 from __future__ import annotations
 
 import cmath
@@ -23,7 +24,11 @@ def _fourbar(options):
     Z = {k: complex(*v) for k, v in options["links"].items()}
     fb = prbm.FourBar(Z["r1"], Z["r2"], Z["r3"], Z["r4"], Z["r5"], springs=(options["springs"]["k1"], 0.0, 0.0, 0.0))
     t20 = math.radians(options["energy_free"]["theta2"])
-    fb.theta_free = (t20, math.radians(options["energy_free"]["theta3"]), math.radians(options["energy_free"]["theta4"]))
+    fb.theta_free = (
+        t20,
+        math.radians(options["energy_free"]["theta3"]),
+        math.radians(options["energy_free"]["theta4"]),
+    )
     return fb, t20
 
 
@@ -48,6 +53,7 @@ def test_force_at_link2_end_is_an_energy_stationary_point():
 
         def potential(t):
             return float(fb.strain_energy(t)) - (np.conj(F) * fb.R2 * cmath.exp(1j * t)).real
+
         slope = (potential(theta2 + h) - potential(theta2 - h)) / (2 * h)
         spring_torque = (float(fb.strain_energy(theta2 + h)) - float(fb.strain_energy(theta2 - h))) / (2 * h)
         assert abs(slope) <= 2e-3 * abs(spring_torque), (level, slope, spring_torque)

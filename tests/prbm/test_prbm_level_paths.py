@@ -17,6 +17,7 @@ alone (plain floats) equals the same level among 300 (arrays) to 1e-12 (the two 
 stop one Newton step apart), and ``fixed_guided_monotonic_tip`` is the curved solve with
 kappa0 = M l/EI + l/R_i level by level (seed 000 eq (62)).
 """
+
 import math
 
 import numpy as np
@@ -61,16 +62,20 @@ def test_fixed_pinned_kernel_equals_the_seed_equations(family, count):
     length, EI = 2.0, 3.0
     r = prbm.fixed_pinned_tip(P, n, length=length, EI=EI, family=family)
     sign, n_eff, gamma, c_theta, K = _mirrored(P, n, family)
-    F = np.abs(P) * np.sqrt(1.0 + n_eff**2)                                           # eq (46)
+    F = np.abs(P) * np.sqrt(1.0 + n_eff**2)  # eq (46)
     Theta, ok, _ = _spring_angle_reference(F * length**2 / EI, np.arctan2(1.0, -n_eff), K)  # eq (47)
     assert ok.all() and r.converged and np.array_equal(r.level_converged, np.ones(len(P), bool))
-    expected = {"a": length - gamma * length * (1.0 - np.cos(Theta)),                   # eq (48)
-                "b": sign * gamma * length * np.sin(Theta),                            # eq (49)
-                "theta0": sign * c_theta * Theta, "Theta": sign * Theta, "F": F}       # eq (44)
+    expected = {
+        "a": length - gamma * length * (1.0 - np.cos(Theta)),  # eq (48)
+        "b": sign * gamma * length * np.sin(Theta),  # eq (49)
+        "theta0": sign * c_theta * Theta,
+        "Theta": sign * Theta,
+        "F": F,
+    }  # eq (44)
     for key, value in expected.items():
         assert _close(r[key], value), key
     assert _close(r.constants["gamma"], gamma) and _close(r.constants["K_theta"], K)
-    assert _close(r.constants["k"], gamma * K * EI / length)                           # eq (45)
+    assert _close(r.constants["k"], gamma * K * EI / length)  # eq (45)
 
 
 @pytest.mark.parametrize("count", COUNTS)
@@ -81,13 +86,17 @@ def test_fixed_guided_kernel_equals_the_seed_equations(family, count):
     length, EI = 2.0, 3.0
     r = prbm.fixed_guided_tip(P, n, length=length, EI=EI, family=family)
     sign, n_eff, gamma, _, K = _mirrored(P, n, family)
-    k = 2.0 * gamma * K * EI / length                                                  # eq (63): each spring
+    k = 2.0 * gamma * K * EI / length  # eq (63): each spring
     F = np.abs(P) * np.sqrt(1.0 + n_eff**2)
     Theta, ok, _ = _spring_angle_reference(F * gamma * length, np.arctan2(1.0, -n_eff), 2.0 * k)
     assert ok.all() and r.converged
-    expected = {"a": length - gamma * length * (1.0 - np.cos(Theta)), "b": sign * gamma * length * np.sin(Theta),
-                "theta0": np.zeros(len(P)), "Theta": sign * Theta,
-                "M": -sign * (k * Theta + (1.0 - gamma) * length * np.abs(P) / 2.0)}
+    expected = {
+        "a": length - gamma * length * (1.0 - np.cos(Theta)),
+        "b": sign * gamma * length * np.sin(Theta),
+        "theta0": np.zeros(len(P)),
+        "Theta": sign * Theta,
+        "M": -sign * (k * Theta + (1.0 - gamma) * length * np.abs(P) / 2.0),
+    }
     for key, value in expected.items():
         assert _close(r[key], value), key
     assert _close(r.constants["k_each"], k)
@@ -103,22 +112,25 @@ def test_curved_kernel_equals_the_seed_equations(curvature, count):
     length, EI = 1.5, 2.0
     r = prbm.curved_fixed_pinned_tip(P, N, length=length, EI=EI, curvature=curvature)
     gamma, c_theta, K = prbm.PAULY_MIDHA.parameters(np.where(P < 0.0, -N, N))
-    kappa0 = curvature * length                                                        # eq (53)
+    kappa0 = curvature * length  # eq (53)
     if kappa0 == 0.0:
         a_i, b_i = length, 0.0
     else:
         a_i, b_i = length / kappa0 * math.sin(kappa0), length / kappa0 * (1.0 - math.cos(kappa0))  # (55)-(56)
-    Theta_i = np.arctan2(b_i, a_i - length * (1.0 - gamma))                            # eq (54)
-    rho = np.hypot(a_i / length - (1.0 - gamma), b_i / length)                         # eq (57)
-    k = rho * K * EI / length                                                          # eq (58)
+    Theta_i = np.arctan2(b_i, a_i - length * (1.0 - gamma))  # eq (54)
+    rho = np.hypot(a_i / length - (1.0 - gamma), b_i / length)  # eq (57)
+    k = rho * K * EI / length  # eq (58)
     phi = np.where(P == 0.0, Theta_i, np.arctan2(P, -N * P))
     phi = Theta_i + np.angle(np.exp(1j * (phi - Theta_i)))
     F = np.abs(P) * np.sqrt(1.0 + N**2)
     Theta, ok, _ = _spring_angle_reference(F * rho * length, phi, k, Theta_i)
     assert ok.all() and r.converged
-    expected = {"a": length - gamma * length + rho * length * np.cos(Theta),              # eq (59)
-                "b": rho * length * np.sin(Theta),                                       # eq (60)
-                "theta0": kappa0 + c_theta * (Theta - Theta_i), "Theta": Theta}
+    expected = {
+        "a": length - gamma * length + rho * length * np.cos(Theta),  # eq (59)
+        "b": rho * length * np.sin(Theta),  # eq (60)
+        "theta0": kappa0 + c_theta * (Theta - Theta_i),
+        "Theta": Theta,
+    }
     for key, value in expected.items():
         assert _close(r[key], value), key
     for key, value in {"Theta_i": Theta_i, "rho": rho, "k": k}.items():
@@ -129,10 +141,10 @@ def test_curved_kernel_equals_the_seed_equations(curvature, count):
 def test_pure_moment_kernel_equals_the_closed_form(count):
     M, length, EI = np.resize([0.0, 0.5, -1.2, 3.0, 1e-9], count), 1.3, 0.7
     r = prbm.pure_moment_tip(M, length=length, EI=EI)
-    Theta = M / (1.5164 * EI / length)                                                 # seed 004: k = 1.5164 EI/L
-    assert _close(r["a"], length - 0.7346 * length * (1.0 - np.cos(Theta)))          # gamma = 0.7346
+    Theta = M / (1.5164 * EI / length)  # seed 004: k = 1.5164 EI/L
+    assert _close(r["a"], length - 0.7346 * length * (1.0 - np.cos(Theta)))  # gamma = 0.7346
     assert _close(r["b"], 0.7346 * length * np.sin(Theta))
-    assert _close(r["theta0"], 1.5164 * Theta)                                         # = M l/EI
+    assert _close(r["theta0"], 1.5164 * Theta)  # = M l/EI
     theta = M * length / EI
     safe = np.where(theta == 0.0, 1.0, theta)
     assert _close(r["a_exact"], np.where(theta == 0.0, length, length / safe * np.sin(theta)))

@@ -13,6 +13,7 @@
 * one copy: the network's four-bar and slider-crank springs against eqs (181), (182), (196) written
   out here, for every four-bar of chapters 6, 7 and 9.
 """
+
 import math
 import tomllib
 from pathlib import Path
@@ -39,8 +40,11 @@ def _rot(v, angle):
 
 def _beam_geometry(angle: float, L: float = 2.0, EI: float = 3.0):
     tip = _rot((L, 0.0), angle)
-    return pb.Geometry(nodes=(pb.Node("O", 0.0, 0.0), pb.Node("T", float(tip[0]), float(tip[1]))),
-                       beams=(pb.Beam("b", "O", "T", EI),), supports=(pb.Support("O", "fixed"),))
+    return pb.Geometry(
+        nodes=(pb.Node("O", 0.0, 0.0), pb.Node("T", float(tip[0]), float(tip[1]))),
+        beams=(pb.Beam("b", "O", "T", EI),),
+        supports=(pb.Support("O", "fixed"),),
+    )
 
 
 @pytest.mark.parametrize("angle", [0.0, 0.7, -2.3])
@@ -84,7 +88,8 @@ def _parallel_guided(angle: float, spacing: float = 0.5):
         nodes=tuple(pb.Node(k, float(v[0]), float(v[1])) for k, v in nodes.items()),
         beams=(pb.Beam("lower", "G1", "C1", section), pb.Beam("upper", "G2", "C2", section)),
         links=(pb.RigidLink("coupler", ("C1", "M", "C2")),),
-        supports=(pb.Support("G1", "fixed"), pb.Support("G2", "fixed")))
+        supports=(pb.Support("G1", "fixed"), pb.Support("G2", "fixed")),
+    )
 
 
 @pytest.mark.parametrize("angle", [0.0, 1.1])
@@ -119,9 +124,19 @@ def test_parallel_guided_case_runs_the_prbm_built_from_geometry():
 
 # notes/seed-003-004.md sec. 2.2, column "PRBM gamma = 0.85, K_Theta = 2.65": (Delta X, Delta Y) in mm;
 # here dx = Delta Y, dy = -Delta X
-SLANT_PRBM = [(0.00315, 0.03162), (0.01524, 0.15780), (0.02659, 0.28419), (0.03719, 0.41076),
-              (0.04705, 0.53750), (0.05615, 0.66440), (0.06450, 0.79143), (0.07209, 0.91857),
-              (0.07892, 1.04581), (0.08499, 1.17313), (0.09030, 1.30050)]
+SLANT_PRBM = [
+    (0.00315, 0.03162),
+    (0.01524, 0.15780),
+    (0.02659, 0.28419),
+    (0.03719, 0.41076),
+    (0.04705, 0.53750),
+    (0.05615, 0.66440),
+    (0.06450, 0.79143),
+    (0.07209, 0.91857),
+    (0.07892, 1.04581),
+    (0.08499, 1.17313),
+    (0.09030, 1.30050),
+]
 
 
 def test_slant_parallelogram_reproduces_the_notes_prbm_column():
@@ -152,8 +167,10 @@ def test_a_lock_without_the_workaround_raises():
     # the beam's far body is pinned to the ground at two points off the beam's line: it cannot move
     geo = pb.Geometry(
         nodes=(pb.Node("O", 0.0, 0.0), pb.Node("A", 5.0, 0.0), pb.Node("G1", 5.0, 2.0), pb.Node("G2", 6.0, 2.0)),
-        beams=(pb.Beam("b", "O", "A", 1.0),), links=(pb.RigidLink("body", ("A", "G1", "G2")),),
-        supports=(pb.Support("O", "fixed"), pb.Support("G1", "pinned"), pb.Support("G2", "pinned")))
+        beams=(pb.Beam("b", "O", "A", 1.0),),
+        links=(pb.RigidLink("body", ("A", "G1", "G2")),),
+        supports=(pb.Support("O", "fixed"), pb.Support("G1", "pinned"), pb.Support("G2", "pinned")),
+    )
     with pytest.raises(prbm.LockedNetwork, match="zero mobility"):
         pb.build(geo)
 
@@ -165,7 +182,8 @@ def test_four_bar_of_a_fixed_pinned_beam_and_slfp_by_rule():
         beams=(pb.Beam("seg", "C", "A", 2.0),),
         links=(pb.RigidLink("coupler", ("A", "B")), pb.RigidLink("link4", ("O4", "B"))),
         joints=(pb.Joint("A", ("seg", "coupler")), pb.Joint("B", ("coupler", "link4"))),
-        supports=(pb.Support("O4", "pinned", member="link4"), pb.Support("C", "fixed")))
+        supports=(pb.Support("O4", "pinned", member="link4"), pb.Support("C", "fixed")),
+    )
     model = pb.build(geo)
     (record,) = model.beams
     assert record.model == "fixed-pinned"
@@ -174,12 +192,24 @@ def test_four_bar_of_a_fixed_pinned_beam_and_slfp_by_rule():
     assert model.network.mobility() == 1
     # short flexures joining long links become SLFPs, K = EI/l
     geo = pb.Geometry(
-        nodes=(pb.Node("G", 0.0, 0.0), pb.Node("E", 0.0, 0.2), pb.Node("F", 0.0, 5.0), pb.Node("H", 4.0, 5.2),
-               pb.Node("I", 4.0, 5.0), pb.Node("J", 4.0, 0.2), pb.Node("K", 4.0, 0.0)),
-        beams=(pb.Beam("f1", "G", "E", 1.0), pb.Beam("f2", "F", "H", 1.0), pb.Beam("f3", "I", "J", 1.0),
-               pb.Beam("f4", "J", "K", 1.0)),
+        nodes=(
+            pb.Node("G", 0.0, 0.0),
+            pb.Node("E", 0.0, 0.2),
+            pb.Node("F", 0.0, 5.0),
+            pb.Node("H", 4.0, 5.2),
+            pb.Node("I", 4.0, 5.0),
+            pb.Node("J", 4.0, 0.2),
+            pb.Node("K", 4.0, 0.0),
+        ),
+        beams=(
+            pb.Beam("f1", "G", "E", 1.0),
+            pb.Beam("f2", "F", "H", 1.0),
+            pb.Beam("f3", "I", "J", 1.0),
+            pb.Beam("f4", "J", "K", 1.0),
+        ),
         links=(pb.RigidLink("l2", ("E", "F")), pb.RigidLink("l3", ("H", "I"))),
-        supports=(pb.Support("G", "fixed"), pb.Support("K", "fixed")))
+        supports=(pb.Support("G", "fixed"), pb.Support("K", "fixed")),
+    )
     model = pb.build(geo, pb.Rules(beams={"f2": pb.BeamRule(model="slfp")}))
     kinds = {b.beam: b.model for b in model.beams}
     assert kinds["f1"] == "slfp" and kinds["f2"] == "slfp"
@@ -188,9 +218,13 @@ def test_four_bar_of_a_fixed_pinned_beam_and_slfp_by_rule():
 
 def test_stability_of_a_pinned_link_under_axial_thrust():
     l, k = 2.0, 3.0
-    net = prbm.Network(["link"], {"O": (prbm.GROUND, (0.0, 0.0)), "T": ("link", (l, 0.0))},
-                       pins=[prbm.Pin("link", prbm.GROUND, (0.0, 0.0))],
-                       springs=[prbm.TorsionSpring("link", prbm.GROUND, k)], origins={"link": (0.0, 0.0)})
+    net = prbm.Network(
+        ["link"],
+        {"O": (prbm.GROUND, (0.0, 0.0)), "T": ("link", (l, 0.0))},
+        pins=[prbm.Pin("link", prbm.GROUND, (0.0, 0.0))],
+        springs=[prbm.TorsionSpring("link", prbm.GROUND, k)],
+        origins={"link": (0.0, 0.0)},
+    )
     res = prbm.solve(net, [prbm.Force("T", (-0.9 * k / l, -1.1 * k / l), (0.0, 0.0))], 2)
     assert res.converged
     assert res.states[0].stable is True and res.states[1].stable is False
@@ -215,8 +249,9 @@ def _eq182(fb, theta2, free):
 
 def test_bistable_four_bar_traced_through_its_limit_point():
     # chapter 6 Example 2: k2 = 979.9148 in-lb/rad at A, position 1 energy-free
-    fb = prbm.FourBar(-4.504 - 2.1j, -2.094 + 2.496j, -9.305 - 3.387j, -6.895 + 1.209j,
-                      springs=(0.0, 979.9148, 0.0, 0.0))
+    fb = prbm.FourBar(
+        -4.504 - 2.1j, -2.094 + 2.496j, -9.305 - 3.387j, -6.895 + 1.209j, springs=(0.0, 979.9148, 0.0, 0.0)
+    )
     free = fb.theta_free
     res = prbm.trace(fb.network(), [prbm.Couple("link2", (100.0,))], steps=60, ds=0.04, t_max=10.0)
     lf = res.load_factor
@@ -224,9 +259,9 @@ def test_bistable_four_bar_traced_through_its_limit_point():
     T = np.array([_eq182(fb, t, free)[0] for t in theta2])
     assert np.allclose(lf * 100.0, T, rtol=1e-8, atol=1e-8 * np.max(np.abs(T)))
     peak = int(np.argmax(lf))
-    assert 0 < peak < len(lf) - 1 and lf[-1] < lf[peak]          # the path went over the limit point
+    assert 0 < peak < len(lf) - 1 and lf[-1] < lf[peak]  # the path went over the limit point
     stable = np.array([s.stable for s in res.states])
-    assert stable[:peak].all() and not stable[peak + 1:peak + 5].any()  # and lost stability there
+    assert stable[:peak].all() and not stable[peak + 1 : peak + 5].any()  # and lost stability there
 
 
 def _case_four_bars():
@@ -245,8 +280,11 @@ def _case_four_bars():
         if ef:
             t20 = math.radians(ef["theta2"])
             t3, t4 = (float(v) for v in fb.angles(t20))
-            fb.theta_free = (t20, math.radians(ef.get("theta3", math.degrees(t3))),
-                             math.radians(ef.get("theta4", math.degrees(t4))))
+            fb.theta_free = (
+                t20,
+                math.radians(ef.get("theta3", math.degrees(t3))),
+                math.radians(ef.get("theta4", math.degrees(t4))),
+            )
         yield pytest.param(fb, id=path.stem)
 
 
@@ -273,8 +311,12 @@ def test_network_slider_crank_equals_eq_196():
     g3 = -R2 * np.cos(th) / (R3 * np.cos(t3s))
     d2, d3 = th - t2, t3s - t3
     x = R2 * np.cos(th) + R3 * np.cos(t3s)
-    eq196 = (3.0 * d2 + 1.0 * (d3 - d2) * (g3 - 1) + 2.0 * d3 * g3
-             + 5.0 * (x - sc.x_ref) * R2 * np.cos(th) * (np.tan(t3s) - np.tan(th)))
+    eq196 = (
+        3.0 * d2
+        + 1.0 * (d3 - d2) * (g3 - 1)
+        + 2.0 * d3 * g3
+        + 5.0 * (x - sc.x_ref) * R2 * np.cos(th) * (np.tan(t3s) - np.tan(th))
+    )
     assert np.allclose(sc.compliance_torque(th), eq196, rtol=1e-9, atol=1e-12)
 
 
@@ -305,9 +347,12 @@ def test_parallel_guided_fem_error_is_its_own_estimate_against_the_exact_mechani
 def test_a_body_carried_by_one_beam_rides_on_its_prb_link():
     # beam O-E (L = 2, EI = 3) clamped at O; a rigid body E-Q welded at E, held by nothing else; force at Q
     L, EI = 2.0, 3.0
-    geo = pb.Geometry(nodes=(pb.Node("O", 0.0, 0.0), pb.Node("E", L, 0.0), pb.Node("Q", L + 0.5, 0.4)),
-                      beams=(pb.Beam("b", "O", "E", EI),), links=(pb.RigidLink("body", ("E", "Q")),),
-                      supports=(pb.Support("O", "fixed"),))
+    geo = pb.Geometry(
+        nodes=(pb.Node("O", 0.0, 0.0), pb.Node("E", L, 0.0), pb.Node("Q", L + 0.5, 0.4)),
+        beams=(pb.Beam("b", "O", "E", EI),),
+        links=(pb.RigidLink("body", ("E", "Q")),),
+        supports=(pb.Support("O", "fixed"),),
+    )
     model = pb.build(geo)
     (record,) = model.beams
     assert record.model == "fixed-free" and "rides on the PRB link" in record.reason
@@ -330,6 +375,7 @@ def test_a_beam_pinned_to_the_ground_and_clamped_to_a_link_is_fixed_pinned_from_
     # chapter 6 Example 2's input segment: O2 pinned to the ground, F clamped to the coupler
     case = load_case(ROOT / "cases/chapter6/example2.toml").case
     from validation.methods import prbm_network
+
     model = pb.build(prbm_network.geometry(case.mechanism))
     (record,) = model.beams
     O2, F = np.array([0.0, 0.0]), np.array([-2.4609, 2.9328])
@@ -347,16 +393,19 @@ def test_compliant_slider_crank_by_rule_against_virtual_work():
     S = np.array([C[0] + 4.0, C[1] + 0.3])
     geo = pb.Geometry(
         nodes=(pb.Node("C", *C), pb.Node("A", *A), pb.Node("S", *S)),
-        beams=(pb.Beam("crank", "C", "A", EI),), links=(pb.RigidLink("coupler", ("A", "S")),),
+        beams=(pb.Beam("crank", "C", "A", EI),),
+        links=(pb.RigidLink("coupler", ("A", "S")),),
         joints=(pb.Joint("A", ("crank", "coupler")),),
-        supports=(pb.Support("C", "fixed"), pb.Support("S", "slider", direction=(1.0, 0.0))))
+        supports=(pb.Support("C", "fixed"), pb.Support("S", "slider", direction=(1.0, 0.0))),
+    )
     model = pb.build(geo)
     assert [b.model for b in model.beams] == ["fixed-pinned"] and model.network.mobility() == 1
     K = GAMMA * K_THETA * EI / L
     O2 = C + (1 - GAMMA) * L * np.array([math.cos(angle), math.sin(angle)])
     t3 = math.atan2(S[1] - A[1], S[0] - A[0])
-    sc = prbm.SliderCrank(GAMMA * L, float(np.linalg.norm(S - A)), angle, t3, offset=float(S[1] - O2[1]),
-                          springs=(K, 0.0, 0.0))
+    sc = prbm.SliderCrank(
+        GAMMA * L, float(np.linalg.norm(S - A)), angle, t3, offset=float(S[1] - O2[1]), springs=(K, 0.0, 0.0)
+    )
     dx = (-0.2, 0.15, 0.4)
     res = prbm.solve(model.network, [prbm.PrescribedDisplacement("S", "x", dx)], 3)
     assert res.converged
@@ -373,10 +422,16 @@ def test_the_rotation_of_a_free_beam_end_is_not_the_prb_link_angle():
     # quantity contract: rotation = change of the tangent angle at the point; the PRB link's angle is not it
     from validation.methods import prbm_network
     from validation.methods.base import MethodRun, NotApplicable
+
     case = load_case(ROOT / "cases/seed004/parallel_guided.toml").case
-    mech = case.mechanism.model_copy(update={"links": [], "supports": case.mechanism.supports[:1],
-                                             "beams": case.mechanism.beams[:1],
-                                             "nodes": [n for n in case.mechanism.nodes if n.name in ("G1", "C1")]})
+    mech = case.mechanism.model_copy(
+        update={
+            "links": [],
+            "supports": case.mechanism.supports[:1],
+            "beams": case.mechanism.beams[:1],
+            "nodes": [n for n in case.mechanism.nodes if n.name in ("G1", "C1")],
+        }
+    )
     load = case.loads[0].model_copy(update={"point": "C1"})
     one = case.model_copy(update={"mechanism": mech, "loads": [load]})
     values = prbm_network.run_mechanism(one, [Request("dy", "C1", 0)], options_of("prbm", {}), MethodRun(values={}))

@@ -13,6 +13,7 @@ derived here.
   to it, the output B (distance b on the other side) held by a slider across the lever: the force the
   lever exerts on the output support is F a / b, so MA = a/b, tangent and secant alike.
 """
+
 import math
 import tomllib
 from pathlib import Path
@@ -133,10 +134,10 @@ point = "T"
 # seed 000 eq (41) gamma and eq (43) K_Theta at n = 0.75 (branches -0.5 < n <= 10) and n = -1.2 (gamma:
 # -1.5 < n <= -0.5; K_Theta: -4 < n <= -0.5), from the printed coefficients
 PRINTED_FITS = {
-    0.75: (0.851892 - 0.020805 * 0.75 + 0.005867 * 0.75**2 - 0.000895 * 0.75**3 + 0.000069 * 0.75**4
-           - 0.000002 * 0.75**5,
-           2.648834 - 0.074727 * 0.75 + 0.026328 * 0.75**2 - 0.004609 * 0.75**3 + 0.000390 * 0.75**4
-           - 0.000013 * 0.75**5),
+    0.75: (
+        0.851892 - 0.020805 * 0.75 + 0.005867 * 0.75**2 - 0.000895 * 0.75**3 + 0.000069 * 0.75**4 - 0.000002 * 0.75**5,
+        2.648834 - 0.074727 * 0.75 + 0.026328 * 0.75**2 - 0.004609 * 0.75**3 + 0.000390 * 0.75**4 - 0.000013 * 0.75**5,
+    ),
     -1.2: (0.852138 - 0.018615 * -1.2, 2.66041 - 0.069005 * -1.2 - 0.002268 * 1.44),
 }
 
@@ -152,8 +153,12 @@ def test_a_free_end_with_a_dead_force_takes_the_n_fits(n, path):
     c, s = math.cos(angle), math.sin(angle)
     local = np.array([-n, 1.0]) / math.hypot(n, 1.0)  # (-nP, P) in the beam frame
     d = (c * local[0] - s * local[1], s * local[0] + c * local[1])
-    text = (CANTILEVER_BY_RULE.replace("TX", repr(L * c)).replace("TY", repr(L * s))
-            .replace("DX", repr(float(d[0]))).replace("DY", repr(float(d[1]))))
+    text = (
+        CANTILEVER_BY_RULE.replace("TX", repr(L * c))
+        .replace("TY", repr(L * s))
+        .replace("DX", repr(float(d[0])))
+        .replace("DY", repr(float(d[1])))
+    )
     if path == "network":
         text = text.replace("[methods.prbm]", '[methods.prbm]\nmodel = "network"')
     case = Case.model_validate(tomllib.loads(text))

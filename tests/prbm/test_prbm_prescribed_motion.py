@@ -16,6 +16,7 @@ Expected values come from the seeds' equations, evaluated here, and from the exa
   (b = gamma l Theta, K_Theta Theta = P l^2/EI: eqs 44-47 linearised), i.e. 3 EI delta/l^3 times
   K_Theta/(3 gamma) = 1.036.
 """
+
 from __future__ import annotations
 
 import math
@@ -34,8 +35,8 @@ from validation.run.runner import requests_for
 from validation.case.method_options import options_of
 
 CASE = Path(__file__).resolve().parents[2] / "cases" / "segments" / "fixed_guided_prescribed_displacement.toml"
-GAMMA, K_THETA = 0.851892, 2.648834          # Pauly-Midha fits at n = 0 [bapat2015, eqs 41-43]
-PRBM_ACCURACY = 0.05                         # 4 K_Theta/(12 gamma) - 1 = +3.6 % at small deflection
+GAMMA, K_THETA = 0.851892, 2.648834  # Pauly-Midha fits at n = 0 [bapat2015, eqs 41-43]
+PRBM_ACCURACY = 0.05  # 4 K_Theta/(12 gamma) - 1 = +3.6 % at small deflection
 
 
 def _guided_case() -> Case:
@@ -53,9 +54,9 @@ def test_guided_case_meets_the_seed_closed_form():
     run = prbm_adapter.run(case, requests_for(case, "prbm"), options_of("prbm", case.methods["prbm"]))
     assert run.converged
     for level, delta in enumerate(case.loads[0].levels()):
-        Theta = math.asin(delta / (GAMMA * L))                       # b = gamma l sin Theta
-        a = L - GAMMA * L * (1.0 - math.cos(Theta))                  # axial shortening of the middle link
-        P = 4.0 * K_THETA * EI * Theta / (L**2 * math.cos(Theta))    # virtual work with k of eq (63)
+        Theta = math.asin(delta / (GAMMA * L))  # b = gamma l sin Theta
+        a = L - GAMMA * L * (1.0 - math.cos(Theta))  # axial shortening of the middle link
+        P = 4.0 * K_THETA * EI * Theta / (L**2 * math.cos(Theta))  # virtual work with k of eq (63)
         M = -(2.0 * GAMMA * K_THETA * EI / L * Theta + (1.0 - GAMMA) * L * P / 2.0)
         assert M == pytest.approx(-P * a / 2.0, rel=1e-12)
         assert _values(run, "force_y", level) == pytest.approx(P, rel=1e-9)
@@ -69,8 +70,11 @@ def test_guided_case_meets_the_seed_closed_form():
 
 def test_guided_case_against_the_elastica_within_the_prbm_accuracy():
     case = _guided_case()
-    requests = [Request(q, p, lv) for lv in range(case.n_levels())
-                for q, p in (("force_y", "tip"), ("moment", "tip"), ("reaction_moment", "root"))]
+    requests = [
+        Request(q, p, lv)
+        for lv in range(case.n_levels())
+        for q, p in (("force_y", "tip"), ("moment", "tip"), ("reaction_moment", "root"))
+    ]
     exact = elastica_adapter.run(case, requests, options_of("elastica", case.methods["elastica"]))
     assert exact.converged
     # the independently checked numbers of the parallel-guide question (delta = 1 in)
@@ -79,15 +83,16 @@ def test_guided_case_against_the_elastica_within_the_prbm_accuracy():
     run = prbm_adapter.run(case, requests, options_of("prbm", case.methods["prbm"]))
     for req in requests:
         assert run.values[req] == pytest.approx(exact.values[req], rel=PRBM_ACCURACY), req
-        assert run.values[req] / exact.values[req] > 1.0   # the two-spring PRBM is stiffer (+3.6 % at small delta)
+        assert run.values[req] / exact.values[req] > 1.0  # the two-spring PRBM is stiffer (+3.6 % at small delta)
 
 
 def test_generic_root_on_the_guided_model_equals_the_closed_form():
     """The bracketed root on the load magnitude, on the forward two-spring model, lands on the closed form."""
     L, EI, delta = 4.0, 0.5333333, 1.0
     closed = prbm.fixed_guided_displaced_tip(delta, length=L, EI=EI)
-    found = prbm.load_for_motion(lambda P: float(prbm.fixed_guided_tip(P, length=L, EI=EI).outputs["b"]),
-                                 delta, guess=12.0 * EI * delta / L**3)
+    found = prbm.load_for_motion(
+        lambda P: float(prbm.fixed_guided_tip(P, length=L, EI=EI).outputs["b"]), delta, guess=12.0 * EI * delta / L**3
+    )
     assert found.converged
     assert found.x == pytest.approx(float(closed.outputs["P"][0]), rel=1e-9)
 
@@ -171,6 +176,7 @@ def test_fixed_free_prescribed_rotation_gives_the_moment_needed():
     for level, phi in enumerate(phis):
         M = _values(run, "moment", level)
         assert _values(run, "rotation", level) == pytest.approx(phi, rel=1e-9)
-        assert math.degrees(float(prbm.pure_moment_tip(M, length=2.0, EI=3.0).outputs["theta0"])) == \
-            pytest.approx(phi, rel=1e-9)
+        assert math.degrees(float(prbm.pure_moment_tip(M, length=2.0, EI=3.0).outputs["theta0"])) == pytest.approx(
+            phi, rel=1e-9
+        )
     assert _values(run, "moment", 0) == pytest.approx(3.0 * math.radians(0.01) / 2.0, rel=1e-3)

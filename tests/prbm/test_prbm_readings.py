@@ -8,6 +8,7 @@ stops there); the chain is exact in linear theory for loads at its nodes (eqs 32
 end-loaded cantilever).  The adapter's values are checked against the library called directly and
 against the load law; refusals name their reason.
 """
+
 from __future__ import annotations
 
 import cmath
@@ -36,7 +37,7 @@ def test_lumped_uniform_load_linear_limit(length, EI, elements):
     h = length / elements
     w = q * length**4 / (8 * EI) + q * h**2 * length**2 / (24 * EI)
     slope = q * length**3 / (6 * EI) + q * h**2 * length / (12 * EI)
-    assert float(res.outputs["b"]) == pytest.approx(w, rel=1e-6, abs=0.0)        # w ~ 1e-8: no abs floor
+    assert float(res.outputs["b"]) == pytest.approx(w, rel=1e-6, abs=0.0)  # w ~ 1e-8: no abs floor
     assert float(res.outputs["theta0"]) == pytest.approx(slope, rel=1e-6, abs=0.0)
 
 
@@ -126,25 +127,33 @@ def test_adapter_chain_self_weight_is_the_lumped_chain_zeroed_at_level_0(tmp_pat
     values, run = _run(case, ("x", "y"))
     assert run.converged, run.message
     beam = chain_model.ChainBeam(2.0, 0.25, 20)
-    weight = chain_model.lumped_uniform_load(beam, 0.0, -0.4)   # density 0.4 x area 1, gravity -y (unit)
+    weight = chain_model.lumped_uniform_load(beam, 0.0, -0.4)  # density 0.4 x area 1, gravity -y (unit)
     tips = []
     for P in (0.0, 0.2, 0.5):
         res = chain_model.chain_tip(beam, weight.plus(chain_model.NodalLoads.at_tip(beam, 0.0, P)))
         tips.append(complex(float(res.outputs["a"]), float(res.outputs["b"])))
-    assert tips[0].imag < 0.0   # the weight alone sags the beam
+    assert tips[0].imag < 0.0  # the weight alone sags the beam
     for lv, tip in enumerate(tips):
-        expected = tip - (tips[0] - 2.0)      # positions from the level-0 state
+        expected = tip - (tips[0] - 2.0)  # positions from the level-0 state
         assert values[("x", lv)] == pytest.approx(expected.real, rel=1e-9)
         assert values[("y", lv)] == pytest.approx(expected.imag, rel=1e-9, abs=1e-12)
 
 
-@pytest.mark.parametrize("loads, options, reason", [
-    (WEIGHT, 'model = "theta-dependent"', "model = 'theta-dependent' takes end loads only"),
-    (WEIGHT.replace('kind = "self_weight"', 'kind = "distributed"\nfollower = true').replace(
-        '[0.0, -2.0]', '[0.0, -1.0]'), 'model = "chain"', "follower distributed"),
-    (ROPE + '\n[[loads]]\nkind = "moment"\nvalues = [0.0, 0.1, 0.1]\n', "", "other end loads"),
-    (WEIGHT.replace('direction = [0.0, 1.0]', 'toward = [2.0, 3.0]'), 'model = "chain"', "turning end force"),
-])
+@pytest.mark.parametrize(
+    "loads, options, reason",
+    [
+        (WEIGHT, 'model = "theta-dependent"', "model = 'theta-dependent' takes end loads only"),
+        (
+            WEIGHT.replace('kind = "self_weight"', 'kind = "distributed"\nfollower = true').replace(
+                "[0.0, -2.0]", "[0.0, -1.0]"
+            ),
+            'model = "chain"',
+            "follower distributed",
+        ),
+        (ROPE + '\n[[loads]]\nkind = "moment"\nvalues = [0.0, 0.1, 0.1]\n', "", "other end loads"),
+        (WEIGHT.replace("direction = [0.0, 1.0]", "toward = [2.0, 3.0]"), 'model = "chain"', "turning end force"),
+    ],
+)
 def test_adapter_refuses_what_it_cannot_model(tmp_path, loads, options, reason):
     case = _segment_case(tmp_path, loads, options)
     with pytest.raises(NotApplicable, match=reason):

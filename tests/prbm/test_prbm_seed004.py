@@ -1,4 +1,5 @@
 """Seed 004's PRBM constants: pure-moment gamma and spring, the 1.98 N m/rad remark, the cases run."""
+
 from pathlib import Path
 
 import numpy as np
@@ -16,7 +17,7 @@ def test_pure_moment_constants():
     """Printed in seed 004 (PRB lecture, pure-moment slide): gamma = 0.7346, k = 1.5164 EI/L."""
     assert prbm.PURE_MOMENT_GAMMA == 0.7346
     assert prbm.PURE_MOMENT_SPRING == 1.5164
-    assert prbm.PURE_MOMENT_K_THETA == pytest.approx(2.0643, abs=1e-4)   # Howell's K_Theta = k/(gamma EI/L)
+    assert prbm.PURE_MOMENT_K_THETA == pytest.approx(2.0643, abs=1e-4)  # Howell's K_Theta = k/(gamma EI/L)
     r = prbm.pure_moment_tip(np.array([1.0]), length=1.0, EI=0.875)
     assert r.constants["k"] == pytest.approx(1.5164 * 0.875)
     assert r.constants["gamma"] == 0.7346
@@ -26,7 +27,7 @@ def test_spring_of_the_strip_is_1_98_with_seed004_fits():
     case = load_case(CASES / "strip_tip_force_prbm.toml").case
     EI = case.segment.bending_stiffness()
     g, _, K = prbm.HOWELL.parameters(0.0)
-    assert round(g * K * EI / case.segment.length, 2) == 1.98   # "1.98 newton meter per radian"
+    assert round(g * K * EI / case.segment.length, 2) == 1.98  # "1.98 newton meter per radian"
 
 
 def test_strip_moment_case_rotation_is_exact():

@@ -1,4 +1,5 @@
 """Invariants of the segment PRBMs: inverse of forward, vectorised = scalar, mirror symmetry, limits."""
+
 import math
 import time
 
@@ -14,10 +15,10 @@ def test_fixed_pinned_equilibrium_and_kinematics_hold():
     Th = r["Theta"]
     F = r["P"] * math.sqrt(1 + 0.25)
     phi = math.atan2(1, -0.5)
-    assert np.allclose(F * 4.0 / 3.0 * np.sin(phi - Th), K * Th, atol=1e-12)      # eqs (46)-(47)
-    assert np.allclose(r["a"], 2.0 - g * 2.0 * (1 - np.cos(Th)))                    # eq (48)
-    assert np.allclose(r["b"], g * 2.0 * np.sin(Th))                                # eq (49)
-    assert np.allclose(r["theta0"], c * Th)                                         # eq (44)
+    assert np.allclose(F * 4.0 / 3.0 * np.sin(phi - Th), K * Th, atol=1e-12)  # eqs (46)-(47)
+    assert np.allclose(r["a"], 2.0 - g * 2.0 * (1 - np.cos(Th)))  # eq (48)
+    assert np.allclose(r["b"], g * 2.0 * np.sin(Th))  # eq (49)
+    assert np.allclose(r["theta0"], c * Th)  # eq (44)
     assert r.converged and r.wall_time > 0
 
 
@@ -28,7 +29,7 @@ def test_fixed_pinned_inverse_recovers_the_load(n):
     for kw in ({"a": fwd["a"], "b": fwd["b"]}, {"theta0": fwd["theta0"]}):
         inv = prbm.fixed_pinned_from_tip(n=n, length=1.0, EI=1.0, **kw)
         assert np.allclose(inv["P"], P, rtol=1e-9)
-    below = fwd["Theta"] < math.pi / 2          # b alone fixes Theta only up to 90 deg (asin)
+    below = fwd["Theta"] < math.pi / 2  # b alone fixes Theta only up to 90 deg (asin)
     inv = prbm.fixed_pinned_from_tip(n=n, length=1.0, EI=1.0, b=fwd["b"][below])
     assert np.allclose(inv["P"], P[below], rtol=1e-9)
 
@@ -50,9 +51,14 @@ def test_negative_force_mirrors_the_configuration():
 
 # notes seed-ch2-4 section 4.4 (the notes' independent re-implementation of eqs 41-47, PRBM column):
 # (n, P l^2/EI) -> (a/l, b/l, theta0 in degrees), printed to 4 and 2 decimals
-NOTES_4_4 = [(-1.0, 1.5, (0.9510, 0.2880, 23.79)), (0.0, 0.5, (0.9854, 0.1571, 13.17)),
-             (0.0, 3.0, (0.7453, 0.6075, 56.36)), (1.0, 1.5, (0.7363, 0.6094, 58.31)),
-             (1.0, 3.0, (0.3337, 0.8187, 97.55)), (3.0, 1.5, (0.0871, 0.8183, 120.64))]
+NOTES_4_4 = [
+    (-1.0, 1.5, (0.9510, 0.2880, 23.79)),
+    (0.0, 0.5, (0.9854, 0.1571, 13.17)),
+    (0.0, 3.0, (0.7453, 0.6075, 56.36)),
+    (1.0, 1.5, (0.7363, 0.6094, 58.31)),
+    (1.0, 3.0, (0.3337, 0.8187, 97.55)),
+    (3.0, 1.5, (0.0871, 0.8183, 120.64)),
+]
 
 
 @pytest.mark.parametrize("n, load, expected", NOTES_4_4)
@@ -97,8 +103,8 @@ def test_fixed_guided_small_deflection_end_moment_is_minus_pl_over_two():
 def test_slfp_straight_geometry_and_equilibrium():
     r = prbm.slfp_tip(2.0, 0.0, flexure_length=0.1, rigid_length=1.0, EI=0.5)
     Th = float(r["Theta"])
-    assert 5.0 * Th == pytest.approx(2.0 * 1.05 * math.cos(Th))          # eq (76), k = EI/l = 5
-    assert float(r["a"]) == pytest.approx(0.05 + 1.05 * math.cos(Th))    # eq (74)
+    assert 5.0 * Th == pytest.approx(2.0 * 1.05 * math.cos(Th))  # eq (76), k = EI/l = 5
+    assert float(r["a"]) == pytest.approx(0.05 + 1.05 * math.cos(Th))  # eq (74)
 
 
 def test_curved_pinned_pinned_tension_opens_compression_closes():
@@ -120,11 +126,11 @@ def test_curved_pinned_pinned_tension_opens_compression_closes():
 
 def test_composite_layers_and_capstan():
     EI = prbm.layered_bending_stiffness([(550e3, 2.5, 0.125), (30e6, 1.0, 0.025), (550e3, 2.5, 0.125)])
-    assert EI == pytest.approx(486.6536, abs=1e-4)   # derived: 2 x 550e3 x 2.5 x 0.125^3/12 + 30e6 x 1 x 0.025^3/12
+    assert EI == pytest.approx(486.6536, abs=1e-4)  # derived: 2 x 550e3 x 2.5 x 0.125^3/12 + 30e6 x 1 x 0.025^3/12
     assert prbm.capstan_factor(0.01, 3 * math.pi / 2) == pytest.approx(math.exp(-0.01 * 3 * math.pi / 2))
     dead = prbm.composite_beam_tip([4.0], 0.0, length=10.0, EI=EI)
     fol = prbm.composite_beam_tip([4.0], 0.0, length=10.0, EI=EI, follower=True)
-    assert float(fol["b"][0]) > float(dead["b"][0])   # a follower force stays more transverse
+    assert float(fol["b"][0]) > float(dead["b"][0])  # a follower force stays more transverse
 
 
 def test_domain_cloud_and_boundaries():
@@ -142,8 +148,14 @@ def test_four_bar_ma_by_coefficients_equals_instant_centres():
 
 
 def test_four_bar_torque_is_the_energy_derivative():
-    fb = prbm.FourBar(2.8759 + 3.0196j, 2.3244 + 4.9847j, 6.2946 + 2.0370j, 5.7432 + 4.0020j,
-                      springs=(1.1204, 1.1204, 9.7441, 9.7441), theta_free=tuple(np.radians([55.0, -2.16, 10.17])))
+    fb = prbm.FourBar(
+        2.8759 + 3.0196j,
+        2.3244 + 4.9847j,
+        6.2946 + 2.0370j,
+        5.7432 + 4.0020j,
+        springs=(1.1204, 1.1204, 9.7441, 9.7441),
+        theta_free=tuple(np.radians([55.0, -2.16, 10.17])),
+    )
     th = math.radians(80.0)
     h = 1e-6
     dU = (fb.strain_energy(th + h) - fb.strain_energy(th - h)) / (2 * h)
@@ -175,19 +187,19 @@ def test_fixed_pinned_outputs_and_constants_on_every_path(path):
     P = np.linspace(0.3, 3.0, count)
     P_in = float(P[0]) if count == 1 else P
     up = prbm.fixed_pinned_tip(P_in, n, length=length, EI=EI)
-    down = prbm.fixed_pinned_tip(-P_in, -n, length=length, EI=EI)   # the same axial force -nP
+    down = prbm.fixed_pinned_tip(-P_in, -n, length=length, EI=EI)  # the same axial force -nP
     g, c, K = prbm.PAULY_MIDHA.parameters(n)
     for r, sign in ((up, 1.0), (down, -1.0)):
         assert r.converged and r.message == "converged" and "seed 000 eqs (41)-(49)" in r.model
         assert np.allclose(r.constants["gamma"], g, rtol=0, atol=0) and np.allclose(r.constants["K_theta"], K, atol=0)
-        assert np.allclose(r.constants["k"], g * K * EI / length, rtol=1e-15)                      # eq (45)
-        assert np.allclose(r["F"], P * math.sqrt(1 + n * n), rtol=1e-15)                          # eq (46)
+        assert np.allclose(r.constants["k"], g * K * EI / length, rtol=1e-15)  # eq (45)
+        assert np.allclose(r["F"], P * math.sqrt(1 + n * n), rtol=1e-15)  # eq (46)
         assert np.array_equal(r["P"], sign * P_in) and np.array_equal(r["n"], sign * n)
         Theta, _, nit = prbm.spring_angle(P * math.sqrt(1 + n * n) * length**2 / EI, math.atan2(1, -n), K)
         assert np.allclose(r["Theta"], sign * Theta, rtol=1e-12)
-        assert np.allclose(r["b"], sign * g * length * np.sin(Theta), rtol=1e-12)                  # eq (49)
-        assert np.allclose(r["a"], length - g * length * (1 - np.cos(Theta)), rtol=1e-12)          # eq (48)
-        assert np.allclose(r["theta0"], sign * c * Theta, rtol=1e-12)                              # eq (44)
+        assert np.allclose(r["b"], sign * g * length * np.sin(Theta), rtol=1e-12)  # eq (49)
+        assert np.allclose(r["a"], length - g * length * (1 - np.cos(Theta)), rtol=1e-12)  # eq (48)
+        assert np.allclose(r["theta0"], sign * c * Theta, rtol=1e-12)  # eq (44)
         assert r.nit == nit and r.nit > 0
         assert np.array_equal(r.level_converged, np.ones(count, bool))
         assert np.asarray(r["a"]).dtype == np.float64 and np.asarray(r["P"]).dtype == np.float64

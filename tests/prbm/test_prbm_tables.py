@@ -1,6 +1,7 @@
 """The PRBM reproduces the published PRBM columns (read from the case files) of Tables 3.1-3.6, 9.4,
 6.1/6.2 (chapter-6 cases) and the seed-004 constants; known misprints are checked to be what
 their findings say, never hidden by a looser tolerance."""
+
 import math
 from pathlib import Path
 
@@ -15,7 +16,9 @@ from validation.run.runner import run_method
 CASES = Path(__file__).resolve().parents[2] / "cases"
 # Table 9.5 (Test 3) is not here: its specimens are not in the seed, and stand-in geometries chosen to
 # give the printed DOF would make agreement circular (cases/chapter9/README.md).
-TABLE_FILES = sorted(p for p in (CASES / "chapter3").glob("*.toml") if 'compare = "prbm"' in p.read_text()) + [CASES / "chapter9" / "test2_partially_compliant_fourbar.toml"]
+TABLE_FILES = sorted(p for p in (CASES / "chapter3").glob("*.toml") if 'compare = "prbm"' in p.read_text()) + [
+    CASES / "chapter9" / "test2_partially_compliant_fourbar.toml"
+]
 _RUNS = {}
 
 
@@ -47,17 +50,21 @@ def test_prbm_reproduces_printed_prbm_columns(path):
         v = _value(run, ref)
         if ref.finding is None:
             assert _within(ref, v), f"{ref.source.label()}: printed {ref.value}, computed {v}"
-        else:   # a documented misprint/discrepancy: it must really be outside the tolerance
+        else:  # a documented misprint/discrepancy: it must really be outside the tolerance
             assert not _within(ref, v), f"{ref.source.label()}: finding recorded but value reproduced"
 
 
 def test_documented_discrepancies_have_the_stated_values():
     _, run32 = _run(CASES / "chapter3" / "table3_2_load_specified.toml")
-    assert run32.values[Request("y", "tip", 1)] == pytest.approx(6.0833, abs=5e-5)      # printed 6.082; notes seed-ch2-4 5.2 (independent code): 6.0833
+    assert run32.values[Request("y", "tip", 1)] == pytest.approx(
+        6.0833, abs=5e-5
+    )  # printed 6.082; notes seed-ch2-4 5.2 (independent code): 6.0833
     _, run33 = _run(CASES / "chapter3" / "table3_3_case1_a_b_theta0.toml")
-    assert run33.values[Request("force_y", "tip", 0)] == pytest.approx(5.4017, abs=5e-5)  # printed 5.403; notes seed-ch2-4 5.3 (independent code): 5.4017
+    assert run33.values[Request("force_y", "tip", 0)] == pytest.approx(
+        5.4017, abs=5e-5
+    )  # printed 5.403; notes seed-ch2-4 5.3 (independent code): 5.4017
     _, run36 = _run(CASES / "chapter3" / "table3_6_case2c_b_theta0_l1.toml")
-    assert run36.values[Request("force_y", "tip", 2)] == pytest.approx(9.41, abs=5e-4)    # printed 5.41 (misprint)
+    assert run36.values[Request("force_y", "tip", 2)] == pytest.approx(9.41, abs=5e-4)  # printed 5.41 (misprint)
 
 
 def test_table3_3_example3_every_root_is_found_and_is_an_equilibrium():
@@ -69,7 +76,7 @@ def test_table3_3_example3_every_root_is_found_and_is_an_equilibrium():
     roots = run.extras["roots"][2]
     assert len(roots) == 2
     printed = [r for r in case.references if r.compare == "prbm" and r.level == 2 and r.quantity == "force_x"][0]
-    assert -roots[0]["nP"] == pytest.approx(printed.value, abs=1e-3)      # the printed root first
+    assert -roots[0]["nP"] == pytest.approx(printed.value, abs=1e-3)  # the printed root first
     beam = prbm.InflectionBeam(20.0, 30e6 * 1.02e-5)
     for root in roots:
         forward = prbm.solve_loads(beam, root["P"], root["nP"], root["M"], prefer=("l1", root["l1"]))
@@ -86,7 +93,7 @@ def test_inflection_forward_and_inverse_agree():
     beam = prbm.InflectionBeam(20.0, 30e6 * 1.02e-5)
     fwd = prbm.solve_loads(beam, 3.5, 1.5, 15.0)
     o = fwd.outputs
-    assert float(o["a"]) == pytest.approx(12.287, abs=5e-4)          # Table 3.2 Ex. 1, printed digits
+    assert float(o["a"]) == pytest.approx(12.287, abs=5e-4)  # Table 3.2 Ex. 1, printed digits
     assert float(o["b"]) == pytest.approx(14.523, abs=5e-4)
     assert math.degrees(float(o["theta0"])) == pytest.approx(58.60, abs=5e-3)
     inv = prbm.solve_displacements(beam, a=float(o["a"]), b=float(o["b"]), theta0=float(o["theta0"]))
@@ -128,6 +135,7 @@ def test_a_displacement_problem_given_several_values_says_which_argument():
     ValueError naming b (not numpy's broadcasting error deep in the multistart); a numpy scalar is one
     number and gives the same roots as the float (Table 3.3 Ex. 3's pose, I = 1.02e-5)."""
     import numpy as np
+
     beam = prbm.InflectionBeam(20.0, 30e6 * 1.02e-5)
     with pytest.raises(ValueError, match="solve_displacements: b must be one number"):
         prbm.solve_displacements(beam, a=18.5, b=np.array([5.0, 6.0]), theta0=math.radians(-45))

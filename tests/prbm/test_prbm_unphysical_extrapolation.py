@@ -6,6 +6,7 @@ negative beyond n = -52.7 (the root of the quadratic, derived), and eq (41)'s ga
 model used to solve the spring equation (*) with k < 0, return Theta = phi's neighbour and say
 'converged' (a found defect).  Now the fits refuse a non-positive spring and the spring solve reports no
 root for k <= 0 (a solver's trial point may still read the raw fits: prbm.lyon)."""
+
 import math
 
 import numpy as np
@@ -20,7 +21,7 @@ def _k_theta_branch(n):  # eq (43), -4 <= n < -0.5 branch, written out
 
 
 def test_the_k_theta_branch_changes_sign_where_derived():
-    root = (-0.069005 - math.sqrt(0.069005 ** 2 + 4 * 0.002268 * 2.66041)) / (2 * 0.002268)
+    root = (-0.069005 - math.sqrt(0.069005**2 + 4 * 0.002268 * 2.66041)) / (2 * 0.002268)
     assert root == pytest.approx(-52.7, abs=0.05)
     assert _k_theta_branch(root + 1) > 0 > _k_theta_branch(root - 1)
     gamma, _, K = fit_family("pauly-midha").model_parameters(root + 1, "allow")
@@ -41,7 +42,7 @@ def test_a_positive_extrapolated_spring_still_solves_eq_47():
     assert K == pytest.approx(_k_theta_branch(n), rel=1e-12)
     theta, F = r.outputs["Theta"][1], r.outputs["F"][1]
     phi = math.atan2(1.0, -n)  # force (-nP, P): angle of the force from the x axis
-    assert F * math.sin(phi - theta) == pytest.approx(K * theta, rel=1e-9)   # eq (47) with l = EI = 1
+    assert F * math.sin(phi - theta) == pytest.approx(K * theta, rel=1e-9)  # eq (47) with l = EI = 1
 
 
 @pytest.mark.parametrize("levels", [1, 300])
@@ -55,16 +56,18 @@ def test_the_spring_solve_has_no_root_without_a_spring(levels):
 def _family(gamma_value: float, k_value: float) -> FitFamily:
     """A one-branch family on -1 < n <= 1 whose gamma and K_theta are the given constants everywhere
     (extrapolated as the same constants)."""
+
     def constant(name, value):
         return PiecewiseFit(name, "test", (Branch(-1.0, 1.0, (value,)),))
+
     return FitFamily("constant", constant("gamma", gamma_value), constant("K_theta", k_value), None)
 
 
 def test_by_default_a_ratio_outside_the_fits_is_a_range_error_even_where_the_values_are_physical():
     with pytest.raises(FitRangeError, match="outside"):
-        fit_family("pauly-midha").model_parameters(12.0)   # eq (41)-(43) published for -4 < n <= 10
+        fit_family("pauly-midha").model_parameters(12.0)  # eq (41)-(43) published for -4 < n <= 10
     g, _, k = fit_family("pauly-midha").model_parameters(12.0, "allow")
-    assert g > 0 and k > 0                                  # ... though their extrapolation is physical there
+    assert g > 0 and k > 0  # ... though their extrapolation is physical there
 
 
 @pytest.mark.parametrize("gamma_value, k_value", [(0.0, 2.0), (0.8, 0.0)])
@@ -78,7 +81,9 @@ def test_a_zero_radius_or_a_zero_spring_is_no_prb_model(gamma_value, k_value):
 def test_the_message_names_the_family_and_the_first_unphysical_ratio_with_its_values():
     # the first ratio is physical (gamma 0.85 and K_theta 0.5 are below 1 but positive); the second has K < 0
     message = _unphysical("pauly-midha", np.array([2.0, -60.0]), np.array([0.85, 0.9]), np.array([0.5, -1.5]))
-    assert message == ("pauly-midha fits extrapolated to n = -60 give gamma = 0.9 and K_theta = -1.5: "
-                       "no PRB model there (it needs gamma > 0 and K_theta > 0)")
-    assert "n = 3 give gamma = 0 and" in _unphysical("x", 3.0, 0.0, 1.0)   # a zero radius counts
-    assert "K_theta = 0:" in _unphysical("x", 3.0, 0.5, 0.0)               # so does a zero spring
+    assert message == (
+        "pauly-midha fits extrapolated to n = -60 give gamma = 0.9 and K_theta = -1.5: "
+        "no PRB model there (it needs gamma > 0 and K_theta > 0)"
+    )
+    assert "n = 3 give gamma = 0 and" in _unphysical("x", 3.0, 0.0, 1.0)  # a zero radius counts
+    assert "K_theta = 0:" in _unphysical("x", 3.0, 0.5, 0.0)  # so does a zero spring

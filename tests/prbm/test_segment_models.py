@@ -1,4 +1,5 @@
 """Segment PRBMs that had no case (cases/segments/): their conventions against independent solutions."""
+
 import math
 
 import pytest

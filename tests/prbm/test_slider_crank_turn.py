@@ -27,7 +27,7 @@ def _slider(theta3_ref_deg: float) -> prbm.SliderCrank:
 def _closed_form_torque(theta3_ref_deg: float, theta2: float) -> float:
     t3_ref = math.radians(theta3_ref_deg)
     offset = R2 * math.sin(T2_REF) + R3 * math.sin(t3_ref)
-    t3 = math.pi - math.asin((offset - R2 * math.sin(theta2)) / R3)   # cos(theta3_ref) < 0 branch
+    t3 = math.pi - math.asin((offset - R2 * math.sin(theta2)) / R3)  # cos(theta3_ref) < 0 branch
     d3 = math.remainder(t3 - t3_ref, 2.0 * math.pi)
     h3 = -R2 * math.cos(theta2) / (R3 * math.cos(t3))
     return K2 * (d3 - (theta2 - T2_REF)) * (h3 - 1.0)

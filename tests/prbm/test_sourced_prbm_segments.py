@@ -9,6 +9,7 @@ since both directions carry it. Here each direction is pinned to numbers from ou
 * seed 004 pure end moment: gamma = 0.7346, k = 1.5164 EI/L, Theta = M/k, a = l - gamma l (1 - cos Theta),
   b = gamma l sin Theta, and the exact theta0 = M l/EI.
 """
+
 from __future__ import annotations
 
 import math
@@ -20,9 +21,13 @@ import prbm
 from prbm.theta_dependent import theta_dependent_tip
 
 # (n, P l^2/EI, (a/l, b/l, theta0 deg)), notes seed-ch2-4 section 4.4
-NOTES_4_4 = [(-1.0, 1.5, (0.9510, 0.2880, 23.79)), (0.0, 0.5, (0.9854, 0.1571, 13.17)),
-             (0.0, 3.0, (0.7453, 0.6075, 56.36)), (1.0, 1.5, (0.7363, 0.6094, 58.31)),
-             (1.0, 3.0, (0.3337, 0.8187, 97.55))]
+NOTES_4_4 = [
+    (-1.0, 1.5, (0.9510, 0.2880, 23.79)),
+    (0.0, 0.5, (0.9854, 0.1571, 13.17)),
+    (0.0, 3.0, (0.7453, 0.6075, 56.36)),
+    (1.0, 1.5, (0.7363, 0.6094, 58.31)),
+    (1.0, 3.0, (0.3337, 0.8187, 97.55)),
+]
 
 
 @pytest.mark.parametrize("n, load, printed", NOTES_4_4)
@@ -49,15 +54,16 @@ def test_pure_moment_tip_and_its_inverse_use_seed_004s_constants():
     length, EI = 2.0, 3.0
     M = np.array([0.5, 1.0, 2.0])
     r = prbm.pure_moment_tip(M, length=length, EI=EI)
-    Theta = M / (1.5164 * EI / length)                                   # seed 004: k = 1.5164 EI/L
+    Theta = M / (1.5164 * EI / length)  # seed 004: k = 1.5164 EI/L
     np.testing.assert_allclose(r["a"], length - 0.7346 * length * (1 - np.cos(Theta)), rtol=1e-12)
     np.testing.assert_allclose(r["b"], 0.7346 * length * np.sin(Theta), rtol=1e-12)
     np.testing.assert_allclose(r["theta0"], M * length / EI, rtol=1e-12)  # exact end rotation
     inv = prbm.pure_moment_from_tip(length=length, EI=EI, a=r["a"], b=r["b"])
     np.testing.assert_allclose(inv["M"], M, rtol=1e-12)
     # an (a, b) built from seed 004's constants alone gives back its moment
-    inv = prbm.pure_moment_from_tip(length=length, EI=EI, a=length - 0.7346 * length * (1 - math.cos(0.4)),
-                                    b=0.7346 * length * math.sin(0.4))
+    inv = prbm.pure_moment_from_tip(
+        length=length, EI=EI, a=length - 0.7346 * length * (1 - math.cos(0.4)), b=0.7346 * length * math.sin(0.4)
+    )
     assert float(inv["M"]) == pytest.approx(0.4 * 1.5164 * EI / length, rel=1e-12)
 
 
@@ -71,8 +77,18 @@ def test_theta_dependent_tip_solves_eq_51_as_printed_and_mirrors():
     n, P = 0.5, 1.0
     up = theta_dependent_tip(P, n, length=1.0, EI=1.0)
     T = float(up["Theta"])
-    p = (0.004233 - 0.012972 * n + 2.567095 * T + 0.003993 * n**2 - 0.037173 * T**2 - 0.000297 * n**3
-         + 0.117997 * T**3 - 0.034678 * n * T + 0.003467 * n**2 * T - 0.009474 * n * T**2)
+    p = (
+        0.004233
+        - 0.012972 * n
+        + 2.567095 * T
+        + 0.003993 * n**2
+        - 0.037173 * T**2
+        - 0.000297 * n**3
+        + 0.117997 * T**3
+        - 0.034678 * n * T
+        + 0.003467 * n**2 * T
+        - 0.009474 * n * T**2
+    )
     assert P * math.sqrt(1 + n * n) * math.sin(math.atan2(1.0, -n) - T) == pytest.approx(p, rel=1e-9)
     gamma = 0.851892 - 0.020805 * n + 0.005867 * n**2 - 0.000895 * n**3 + 0.000069 * n**4 - 0.000002 * n**5  # eq (41)
     assert float(up["b"]) == pytest.approx(gamma * math.sin(T), rel=1e-12)

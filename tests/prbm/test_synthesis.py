@@ -3,6 +3,7 @@
 Expected values are the ``[[printed]]`` entries of ``cases/specs/*.toml`` (each with its seed source);
 nothing here is calibrated to this code's output.
 """
+
 from __future__ import annotations
 
 import cmath
@@ -41,8 +42,9 @@ def _decimals(value: float) -> int:
     return 0 if "e" in text else len(text.split(".")[1].rstrip("0"))
 
 
-@pytest.mark.parametrize("path", [pytest.param(p, marks=pytest.mark.xdist_group(p.stem)) for p in SPEC_FILES],
-                         ids=lambda p: p.stem)
+@pytest.mark.parametrize(
+    "path", [pytest.param(p, marks=pytest.mark.xdist_group(p.stem)) for p in SPEC_FILES], ids=lambda p: p.stem
+)
 def test_printed_numbers(path):
     """Every printed number marked 'reproduce' is reproduced to its printed digits; every one marked
     'misprint' or 'not-reproduced' really disagrees (the finding is not stale)."""
@@ -143,12 +145,15 @@ def test_unmeetable_energies_are_reported(tmp_path, capsys):
     assert "cannot be met" in out
 
 
-@pytest.mark.parametrize("edit, field", [
-    (("task = \"path-timing\"", "task = \"path-timming\""), "kinematics.task"),
-    (("E = 450000.0", "E = -1.0"), "material.E"),
-    (("values = [0.0, 15.0, 45.0]", "values = [15.0, 45.0]"), "(top level)"),
-    (("width = 0.5\ngamma = 0.851", "wdth = 0.5\ngamma = 0.851"), "segments.0"),
-])
+@pytest.mark.parametrize(
+    "edit, field",
+    [
+        (('task = "path-timing"', 'task = "path-timming"'), "kinematics.task"),
+        (("E = 450000.0", "E = -1.0"), "material.E"),
+        (("values = [0.0, 15.0, 45.0]", "values = [15.0, 45.0]"), "(top level)"),
+        (("width = 0.5\ngamma = 0.851", "wdth = 0.5\ngamma = 0.851"), "segments.0"),
+    ],
+)
 def test_bad_spec_one_line_per_problem_naming_file_and_field(tmp_path, capsys, edit, field):
     """Every problem of the file, one 'error:' line each (a misspelled field is one: the unknown field
     with the nearest name, which explains the required field it leaves missing), the file and the field named."""
@@ -170,8 +175,16 @@ def test_missing_file(tmp_path, capsys):
 
 
 @settings(max_examples=40, deadline=None, derandomize=True, database=None)
-@given(st.floats(3, 8), st.floats(40, 130), st.floats(5, 12), st.floats(50, 140),
-       st.floats(5, 25), st.floats(-40, 40), st.floats(0.5, 3), st.floats(10, 30))
+@given(
+    st.floats(3, 8),
+    st.floats(40, 130),
+    st.floats(5, 12),
+    st.floats(50, 140),
+    st.floats(5, 25),
+    st.floats(-40, 40),
+    st.floats(0.5, 3),
+    st.floats(10, 30),
+)
 def test_dyads_recover_a_known_linkage(R2, t2, R4, t4, dphi, t5, r5, dphi3):
     """Move a known four-bar, read off delta_j and gamma_j, synthesize with its own Z2, Z4: the
     other vectors come back (motion generation), and so do the gammas (prescribed timing)."""
@@ -179,7 +192,7 @@ def test_dyads_recover_a_known_linkage(R2, t2, R4, t4, dphi, t5, r5, dphi3):
     Z2, Z4 = polar(R2, t2), polar(R4, t4)
     Z3 = Z1 + Z4 - Z2
     if abs(Z3) < 1.0 or abs(Z2 - Z4) < 0.5:  # a (near-)parallelogram: the coupler never turns, the
-        return                              # motion-generation dyads are singular (gamma_j = 0)
+        return  # motion-generation dyads are singular (gamma_j = 0)
     Z5 = Z3 * 0.5 + polar(r5, cmath.phase(Z3) * 180 / math.pi + 90 + t5)
     fb = FourBarDesign(Z1, Z2, Z3, Z4, Z5, Z5 - Z3, [0.0], [0.0], [0.0])
     P1 = Z2 + Z5
@@ -251,8 +264,9 @@ FEM = importlib.util.find_spec("validation.methods.fem") is not None and importl
 
 
 @pytest.mark.skipif(not FEM, reason="the fem method is not available")
-@pytest.mark.parametrize("stem, quantity", [("bapat2015_ch6_ex1", "input_torque"),
-                                            ("bapat2015_ch6_ex3", "strain_energy")])
+@pytest.mark.parametrize(
+    "stem, quantity", [("bapat2015_ch6_ex1", "input_torque"), ("bapat2015_ch6_ex3", "strain_energy")]
+)
 def test_fem_check_beside_printed_ansys(tmp_path, stem, quantity):
     """The FEM check runs and lands near the printed ANSYS values (Tables 6.1, 6.2): within 5 %
     (the designs differ slightly from the printed ones, see the findings)."""
@@ -274,15 +288,20 @@ def test_design_table_counting_names_missing_free_choices():
     from prbm.synthesis.framework import solve_framework
 
     with pytest.raises(SynthesisError, match="specify 1 more free choice"):
-        solve_framework(theta1=90.0, delta=[-3 - 0.75j, -3.5 - 1j, -4.5 - 1.75j], gamma=[10.0, 12.5, 20.0],
-                        n1=[-1.0, -1.0, -1.0], fixed={"Theta3_3": 29.0, "Theta3_4": 40.0})
+        solve_framework(
+            theta1=90.0,
+            delta=[-3 - 0.75j, -3.5 - 1j, -4.5 - 1.75j],
+            gamma=[10.0, 12.5, 20.0],
+            n1=[-1.0, -1.0, -1.0],
+            fixed={"Theta3_3": 29.0, "Theta3_4": 40.0},
+        )
 
 
 @pytest.mark.xdist_group("bapat2015_ch5_ex2")
 def test_chapter5_unsolvable_beam_is_a_message(tmp_path, capsys, monkeypatch):
     path = SPECS / "bapat2015_ch5_ex2.toml"
 
-    def designed_once(spec):   # the same design() on the same spec, computed once with test_printed_numbers
+    def designed_once(spec):  # the same design() on the same spec, computed once with test_printed_numbers
         assert spec == load_spec(path)
         return _designed(path)
 
@@ -292,11 +311,14 @@ def test_chapter5_unsolvable_beam_is_a_message(tmp_path, capsys, monkeypatch):
     assert status == 1 and "beam2" in out and "no fixed-guided beam" in out
 
 
-@pytest.mark.parametrize("energy, force, fixed", [
-    (None, None, {"Theta3_2": 20.0, "Theta3_3": 29.0, "R2_2": 2.0}),
-    ([20.0, 40.0], None, {"Theta3_2": 20.0, "Theta3_3": 29.0}),
-    (None, [3.0, 5.0], {}),
-])
+@pytest.mark.parametrize(
+    "energy, force, fixed",
+    [
+        (None, None, {"Theta3_2": 20.0, "Theta3_3": 29.0, "R2_2": 2.0}),
+        ([20.0, 40.0], None, {"Theta3_2": 20.0, "Theta3_3": 29.0}),
+        (None, [3.0, 5.0], {}),
+    ],
+)
 def test_framework_jacobian_matches_finite_differences(energy, force, fixed):
     """The analytic Jacobian of eqs (160), (163)-(167) that the least-squares search uses equals a
     central difference of the residual (a wrong sign or factor in any entry is 1e-1 off, not 1e-7)."""
@@ -305,7 +327,11 @@ def test_framework_jacobian_matches_finite_differences(energy, force, fixed):
 
     problem = _framework(90.0, [-1.5 - 0.5j, -2 - 1j], [-10.0, -20.0], [-1.0, 0.5], fixed, energy, force)
     rng = np.random.default_rng(3)
-    x = np.array([rng.uniform(10, 60) if n.startswith("Theta") else 2.0 if n == "EI" else rng.uniform(1, 3)
-                  for n in problem.names])
+    x = np.array(
+        [
+            rng.uniform(10, 60) if n.startswith("Theta") else 2.0 if n == "EI" else rng.uniform(1, 3)
+            for n in problem.names
+        ]
+    )
     numeric = approx_derivative(lambda y: np.array(problem.residual(y)), x, method="3-point")
     assert np.max(np.abs(problem.jacobian(x) - numeric)) <= 1e-7 * np.max(np.abs(numeric))

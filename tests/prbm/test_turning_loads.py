@@ -12,6 +12,7 @@ Every expected number is a derivation, not our own output:
   central difference of the spring energy (eq 181), and the perpendicular force's moment F R2 equal to
   a couple F R2 solved by the network's own torque path.
 """
+
 from __future__ import annotations
 
 import cmath
@@ -22,10 +23,16 @@ import pytest
 
 import prbm
 from prbm.fits import FitRangeError, fit_family
-from prbm.turning_loads import (DeadDirection, FollowerDirection, TipPose, TowardPoint,
-                                fixed_pinned_turning_tip, input_angle_under_turning_forces)
+from prbm.turning_loads import (
+    DeadDirection,
+    FollowerDirection,
+    TipPose,
+    TowardPoint,
+    fixed_pinned_turning_tip,
+    input_angle_under_turning_forces,
+)
 
-L, EI = 3.0, 7.5        # a segment no case file has
+L, EI = 3.0, 7.5  # a segment no case file has
 FAMILY = fit_family("pauly-midha")
 
 
@@ -36,17 +43,23 @@ def _check_equilibrium(res, level: int) -> None:
     n = -o["Fx"] / o["Fy"]
     gamma, c_theta, K = FAMILY.parameters(sign * n)
     Theta = o["Theta"]
-    assert gamma * K * EI / L * Theta == pytest.approx(gamma * L * (o["Fy"] * math.cos(Theta) - o["Fx"] * math.sin(Theta)),
-                                               rel=1e-9, abs=1e-12)
-    assert o["a"] == pytest.approx(L - gamma * L * (1 - math.cos(Theta)), rel=1e-12)       # eq (48)
-    assert o["b"] == pytest.approx(gamma * L * math.sin(Theta), rel=1e-12, abs=1e-15)      # eq (49)
-    assert o["theta0"] == pytest.approx(c_theta * Theta, rel=1e-12, abs=1e-15)             # eq (44)
+    assert gamma * K * EI / L * Theta == pytest.approx(
+        gamma * L * (o["Fy"] * math.cos(Theta) - o["Fx"] * math.sin(Theta)), rel=1e-9, abs=1e-12
+    )
+    assert o["a"] == pytest.approx(L - gamma * L * (1 - math.cos(Theta)), rel=1e-12)  # eq (48)
+    assert o["b"] == pytest.approx(gamma * L * math.sin(Theta), rel=1e-12, abs=1e-15)  # eq (49)
+    assert o["theta0"] == pytest.approx(c_theta * Theta, rel=1e-12, abs=1e-15)  # eq (44)
 
 
-@pytest.mark.parametrize("pulley", [complex(2.0, 5.0),      # above and behind the tip: compressive pull
-                                    complex(6.0, 2.0),      # ahead and above: tensile
-                                    complex(1.0, -4.0),     # below: the tip bends down (F_y < 0, mirrored fits)
-                                    complex(-2.0, 3.0)])    # behind the clamp
+@pytest.mark.parametrize(
+    "pulley",
+    [
+        complex(2.0, 5.0),  # above and behind the tip: compressive pull
+        complex(6.0, 2.0),  # ahead and above: tensile
+        complex(1.0, -4.0),  # below: the tip bends down (F_y < 0, mirrored fits)
+        complex(-2.0, 3.0),
+    ],
+)  # behind the clamp
 def test_rope_is_in_equilibrium_and_points_at_the_pulley(pulley):
     F = np.array([0.0, 0.5, 2.0, 4.0])
     res = fixed_pinned_turning_tip(F, TowardPoint(pulley), length=L, EI=EI)
@@ -66,7 +79,7 @@ def test_rope_force_turns_the_way_the_tip_moves():
     res = fixed_pinned_turning_tip([1.0, 3.0], TowardPoint(complex(L, 4.0)), length=L, EI=EI)
     assert np.all(res.outputs["a"] < L)
     assert 0.0 < res.outputs["Fx"][0] < res.outputs["Fx"][1]
-    for level in range(2):      # and each state is the PRBM's equilibrium with the rope aimed at the pulley
+    for level in range(2):  # and each state is the PRBM's equilibrium with the rope aimed at the pulley
         _check_equilibrium(res, level)
         tip = complex(res.outputs["a"][level], res.outputs["b"][level])
         force = complex(res.outputs["Fx"][level], res.outputs["Fy"][level])
@@ -85,7 +98,7 @@ def test_angle_to_the_line_keeps_the_force_perpendicular():
 
 
 def test_follower_keeps_its_angle_to_the_end_tangent():
-    u0 = cmath.exp(1j * math.radians(110.0))   # a compressive follower, n = 0.36 at rest
+    u0 = cmath.exp(1j * math.radians(110.0))  # a compressive follower, n = 0.36 at rest
     res = fixed_pinned_turning_tip([0.7, 1.2], FollowerDirection(u0), length=L, EI=EI)
     for level in range(2):
         _check_equilibrium(res, level)
@@ -105,10 +118,10 @@ def test_small_load_limit_is_the_linear_beam_times_three_gamma_over_K():
     pulley = complex(4.0, 6.0)
     F = 1e-6
     res = fixed_pinned_turning_tip([F], TowardPoint(pulley), length=L, EI=EI)
-    u = (pulley - L) / abs(pulley - L)             # the rope's direction at the unloaded tip
+    u = (pulley - L) / abs(pulley - L)  # the rope's direction at the unloaded tip
     n = -u.real / u.imag
     gamma, _, K = FAMILY.parameters(n)
-    linear = F * u.imag * L**3 / (3 * EI)          # Euler-Bernoulli tip deflection under F_perp
+    linear = F * u.imag * L**3 / (3 * EI)  # Euler-Bernoulli tip deflection under F_perp
     assert res.outputs["b"][0] == pytest.approx(linear * 3 * gamma / K, rel=1e-5)
 
 
@@ -118,7 +131,7 @@ def test_negative_magnitude_reverses_the_law():
     turned = fixed_pinned_turning_tip([2.0], TowardPoint(pulley, math.pi), length=L, EI=EI)
     for key in ("a", "b", "Fx", "Fy"):
         assert pushed.outputs[key][0] == pytest.approx(turned.outputs[key][0], rel=1e-10, abs=1e-12)
-    assert pushed.outputs["b"][0] < 0.0   # pushed away from a pulley above: the tip goes down
+    assert pushed.outputs["b"][0] < 0.0  # pushed away from a pulley above: the tip goes down
 
 
 def test_a_nearly_axial_rope_is_outside_the_fits():
@@ -144,9 +157,14 @@ def _spring_torque(fb, theta2: float, h: float = 1e-6) -> float:
     return (float(fb.strain_energy(theta2 + h)) - float(fb.strain_energy(theta2 - h))) / (2 * h)
 
 
-@pytest.mark.parametrize("law", [FollowerDirection(cmath.exp(1j * math.radians(150.0))),
-                                 TowardPoint(complex(-1.0, 4.0)),
-                                 DeadDirection(complex(-0.5, 1.0))])
+@pytest.mark.parametrize(
+    "law",
+    [
+        FollowerDirection(cmath.exp(1j * math.radians(150.0))),
+        TowardPoint(complex(-1.0, 4.0)),
+        DeadDirection(complex(-0.5, 1.0)),
+    ],
+)
 def test_fourbar_input_link_balance_by_virtual_work(law):
     fb, t20 = _fourbar()
     c_theta = 1.238845
@@ -161,7 +179,8 @@ def test_fourbar_input_link_balance_by_virtual_work(law):
 def test_perpendicular_force_is_the_couple_F_R2():
     fb, t20 = _fourbar()
     F = 0.8
-    theta2 = input_angle_under_turning_forces(fb, [(F, TowardPoint(0j, math.radians(-90.0)))], theta20=t20,
-                                              c_theta=1.238845)
+    theta2 = input_angle_under_turning_forces(
+        fb, [(F, TowardPoint(0j, math.radians(-90.0)))], theta20=t20, c_theta=1.238845
+    )
     couple = fb.positions_under_torque(np.array([F * fb.R2]))
     assert theta2 == pytest.approx(float(couple.outputs["theta2"][0]), abs=1e-7)

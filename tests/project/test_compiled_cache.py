@@ -7,6 +7,7 @@ compiled function a cached function calls must live in the cached function's own
 (`fem.kernel`, `fem.numbering`, `elastica.integrator` each hold everything they compile).
 The detector is checked on a planted pair of modules that breaks the rule.
 """
+
 from __future__ import annotations
 
 import ast
@@ -23,8 +24,9 @@ def _decorator_is_compiled(node: ast.expr) -> tuple[bool, bool]:
     name = target.attr if isinstance(target, ast.Attribute) else getattr(target, "id", "")
     if name not in ("njit", "jit"):
         return False, False
-    cached = bool(call) and any(k.arg == "cache" and isinstance(k.value, ast.Constant) and k.value.value is True
-                                for k in call.keywords)
+    cached = bool(call) and any(
+        k.arg == "cache" and isinstance(k.value, ast.Constant) and k.value.value is True for k in call.keywords
+    )
     return True, cached
 
 
@@ -41,12 +43,18 @@ def cross_module_calls(sources: dict[str, str]) -> list[str]:
     ``sources``: module name (``pkg.mod``) -> source text. Only the modules whose text says "jit" can
     define or call a compiled function, so only they are parsed; every name still counts as a module."""
     trees = {m: ast.parse(s) for m, s in sources.items() if "jit" in s}
-    compiled = {m: {f.name for f in ast.walk(t) if isinstance(f, ast.FunctionDef)
-                    and any(_decorator_is_compiled(d)[0] for d in f.decorator_list)} for m, t in trees.items()}
+    compiled = {
+        m: {
+            f.name
+            for f in ast.walk(t)
+            if isinstance(f, ast.FunctionDef) and any(_decorator_is_compiled(d)[0] for d in f.decorator_list)
+        }
+        for m, t in trees.items()
+    }
     problems = []
     for module, tree in trees.items():
-        names: dict[str, tuple[str, str]] = {}     # local name -> (module, function)
-        modules: dict[str, str] = {}               # local name -> module
+        names: dict[str, tuple[str, str]] = {}  # local name -> (module, function)
+        modules: dict[str, str] = {}  # local name -> module
         for node in ast.walk(tree):
             if isinstance(node, ast.ImportFrom):
                 source = _resolve(module, node.level, node.module)
@@ -67,8 +75,7 @@ def cross_module_calls(sources: dict[str, str]) -> list[str]:
                     source, target = names[node.id]
                     if source != module and target in compiled.get(source, ()):
                         problems.append(f"{module}.{function.name} calls {source}.{target}")
-                elif (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)
-                      and node.value.id in modules):
+                elif isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id in modules:
                     source = modules[node.value.id]
                     if source != module and node.attr in compiled.get(source, ()):
                         problems.append(f"{module}.{function.name} calls {source}.{node.attr}")
@@ -91,11 +98,19 @@ def test_no_cached_compiled_function_calls_into_another_module():
 
 def test_the_detector_finds_a_cached_function_calling_another_files_kernel():
     callee = "from numba import njit\n\n@njit(cache=True)\ndef element(x):\n    return 2.0 * x\n"
-    by_name = ("from numba import njit\nfrom .kernel import element\n\n"
-               "@njit(cache=True)\ndef newton(x):\n    return element(x) + 1.0\n")
-    by_module = ("from numba import njit\nfrom . import kernel as k\n\n"
-                 "@njit(cache=True)\ndef newton(x):\n    return k.element(x) + 1.0\n")
-    assert cross_module_calls({"pkg.kernel": callee, "pkg.newton": by_name}) == ["pkg.newton.newton calls pkg.kernel.element"]
-    assert cross_module_calls({"pkg.kernel": callee, "pkg.newton": by_module}) == ["pkg.newton.newton calls pkg.kernel.element"]
+    by_name = (
+        "from numba import njit\nfrom .kernel import element\n\n"
+        "@njit(cache=True)\ndef newton(x):\n    return element(x) + 1.0\n"
+    )
+    by_module = (
+        "from numba import njit\nfrom . import kernel as k\n\n"
+        "@njit(cache=True)\ndef newton(x):\n    return k.element(x) + 1.0\n"
+    )
+    assert cross_module_calls({"pkg.kernel": callee, "pkg.newton": by_name}) == [
+        "pkg.newton.newton calls pkg.kernel.element"
+    ]
+    assert cross_module_calls({"pkg.kernel": callee, "pkg.newton": by_module}) == [
+        "pkg.newton.newton calls pkg.kernel.element"
+    ]
     uncached = by_name.replace("@njit(cache=True)", "@njit")
     assert cross_module_calls({"pkg.kernel": callee, "pkg.newton": uncached}) == []

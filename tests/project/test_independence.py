@@ -1,5 +1,6 @@
 """The libraries stay independent: prbm/, fem/, elastica/ and bcm/ import none of each other,
 nor validation/ (only validation/ and synthesis/ may tie them together)."""
+
 import ast
 from pathlib import Path
 
@@ -23,8 +24,9 @@ def imported_top_levels(path: Path) -> set[str]:
 @pytest.mark.parametrize("library", LIBRARIES)
 def test_library_imports_no_other_library(library):
     forbidden = (set(LIBRARIES) - {library}) | {"validation", "synthesis"}
-    offenders = {str(p.relative_to(ROOT)): sorted(imported_top_levels(p) & forbidden)
-                 for p in (ROOT / library).rglob("*.py")}
+    offenders = {
+        str(p.relative_to(ROOT)): sorted(imported_top_levels(p) & forbidden) for p in (ROOT / library).rglob("*.py")
+    }
     offenders = {k: v for k, v in offenders.items() if v}
     assert not offenders, f"{library}/ imports {offenders}"
 
@@ -32,6 +34,7 @@ def test_library_imports_no_other_library(library):
 def test_planar_is_a_leaf():
     """``planar`` (the mechanism vocabulary every library may import) imports nothing of the project."""
     project = set(LIBRARIES) | {"validation", "argcheck", "references", "tests", "cases"}
-    found = {str(p.relative_to(ROOT)): sorted(imported_top_levels(p) & project)
-             for p in (ROOT / "planar").rglob("*.py")}
+    found = {
+        str(p.relative_to(ROOT)): sorted(imported_top_levels(p) & project) for p in (ROOT / "planar").rglob("*.py")
+    }
     assert not {k: v for k, v in found.items() if v}, found

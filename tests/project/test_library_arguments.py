@@ -2,6 +2,7 @@
 ValueError naming the argument; a zero load gives the undeformed state and a negative load the
 mirror image (about the undeformed axis) of the positive one: both follow from the equations'
 symmetry y -> -y, not from a stored answer."""
+
 from __future__ import annotations
 
 import math
@@ -21,8 +22,10 @@ REFUSALS = {
     "prbm infinite EI": (lambda: prbm.pure_moment_tip(1.0, length=1.0, EI=math.inf), "EI"),
     # load levels as a list of numbers (argcheck's plain-Python path) and as a nested list (numpy's)
     "prbm NaN level in a list": (lambda: prbm.fixed_pinned_tip([1.0, math.nan, 2.0], length=1.0, EI=1.0), "P"),
-    "prbm infinite ratio in a list": (lambda: prbm.fixed_pinned_tip([1.0, 2.0], [0.0, -math.inf], length=1.0,
-                                                                     EI=1.0), "n"),
+    "prbm infinite ratio in a list": (
+        lambda: prbm.fixed_pinned_tip([1.0, 2.0], [0.0, -math.inf], length=1.0, EI=1.0),
+        "n",
+    ),
     "prbm NaN in a nested list": (lambda: prbm.fixed_pinned_tip([[1.0], [math.nan]], length=1.0, EI=1.0), "P"),
     "prbm zero length in a list": (lambda: prbm.fixed_pinned_tip(1.0, length=[1.0, 0.0], EI=1.0), "length"),
     "elastica negative EI": (lambda: elastica.solve_elastica(0.1, -1.0, force=(0.0, 5.0)), "EI"),
@@ -70,8 +73,13 @@ def tips(P: float) -> dict[str, tuple[float, float, float]]:
     e = elastica.cantilever_tip_load(P)
     s = elastica.solve_elastica(1.0, 1.0, force=(0.0, P))
     ux, uy, th = bcm.deflections_from_loads(0.0, P, 0.0, 1e7)
-    return {"prbm": (float(p["a"]), float(p["b"]), float(p["theta0"])), "elliptic": (e.a, e.b, e.theta0),
-            "shooting": (s.x, s.y, s.theta), "fem": fem_cantilever_tip(P), "bcm": (1.0 + ux, uy, th)}
+    return {
+        "prbm": (float(p["a"]), float(p["b"]), float(p["theta0"])),
+        "elliptic": (e.a, e.b, e.theta0),
+        "shooting": (s.x, s.y, s.theta),
+        "fem": fem_cantilever_tip(P),
+        "bcm": (1.0 + ux, uy, th),
+    }
 
 
 def test_zero_load_is_the_undeformed_state_in_every_library():
@@ -86,9 +94,9 @@ def test_negative_load_is_the_mirror_in_every_library():
         assert y > 0.05 and theta > 0.05, name  # the positive load really bends it
         assert down[name] == pytest.approx((x, -y, -theta), rel=1e-9, abs=1e-12), name
     # and the upward tip itself is right (a mirror alone passes with a 10 % error on both sides):
-    exact = up["elliptic"]                                    # closed form (elliptic integrals, Bisshopp-Drucker)
-    assert up["shooting"] == pytest.approx(exact, abs=1e-9)   # the exact elastica by shooting
-    assert up["fem"] == pytest.approx(exact, abs=1e-3)        # 4 elements: discretisation error ~2e-4
+    exact = up["elliptic"]  # closed form (elliptic integrals, Bisshopp-Drucker)
+    assert up["shooting"] == pytest.approx(exact, abs=1e-9)  # the exact elastica by shooting
+    assert up["fem"] == pytest.approx(exact, abs=1e-3)  # 4 elements: discretisation error ~2e-4
     # BCM with f_x = 0: eq (3) of seed 003 is linear, u_y = f_y/3, theta = f_y/2 (linear beam theory)
     assert up["bcm"][1:] == pytest.approx((0.5 / 3, 0.5 / 2), rel=1e-9)
     # PRBM: known small-deflection error 3 gamma/K_Theta - 1 = -3.8 % of b (derived, eqs 41-49)
@@ -109,7 +117,13 @@ def test_argcheck_is_a_leaf():
     from tests.project.test_independence import ROOT, imported_top_levels
 
     assert not imported_top_levels(ROOT / "argcheck" / "__init__.py") & {
-        "prbm", "fem", "elastica", "bcm", "validation", "synthesis"}
+        "prbm",
+        "fem",
+        "elastica",
+        "bcm",
+        "validation",
+        "synthesis",
+    }
 
 
 def test_one_result_protocol_across_the_libraries():
@@ -120,12 +134,15 @@ def test_one_result_protocol_across_the_libraries():
     model.add_member("root", "tip", fem.Section.from_EI(1e7, 1.0), n_elements=4)
     model.add_support("root", "fixed")
     model.add_force("tip", 0.0, [1.0])
-    results = {"prbm": prbm.fixed_pinned_tip(1.0, length=1.0, EI=1.0),
-               "elastica": elastica.solve_elastica(1.0, 1.0, force=(0.0, 1.0)), "fem": fem.solve(model),
-               "elastica elliptic": elastica.cantilever_tip_load(1.0),
-               "elastica elliptic (several roots)": elastica.fixed_guided_inflection_tips(5.0, 0.0, 2.0)[0],
-               "bcm closed form": bcm.slant_parallelogram(1.0, method="CE3"),
-               "bcm root find": bcm.slant_parallelogram(1.0, method="castigliano")}
+    results = {
+        "prbm": prbm.fixed_pinned_tip(1.0, length=1.0, EI=1.0),
+        "elastica": elastica.solve_elastica(1.0, 1.0, force=(0.0, 1.0)),
+        "fem": fem.solve(model),
+        "elastica elliptic": elastica.cantilever_tip_load(1.0),
+        "elastica elliptic (several roots)": elastica.fixed_guided_inflection_tips(5.0, 0.0, 2.0)[0],
+        "bcm closed form": bcm.slant_parallelogram(1.0, method="CE3"),
+        "bcm root find": bcm.slant_parallelogram(1.0, method="castigliano"),
+    }
     for name, result in results.items():
         assert result.converged is True and result.status == "ok", name
         assert isinstance(result.message, str) and result.message, name

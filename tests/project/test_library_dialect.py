@@ -2,6 +2,7 @@
 unit of its angles in its docstring (radians; the synthesis mathematics, which takes the seed's design
 tables, says it works in degrees), and the iteration limit has one name, ``maxiter``, in every public
 signature."""
+
 import ast
 import inspect
 from pathlib import Path

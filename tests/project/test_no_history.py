@@ -19,6 +19,7 @@ message or a benchmark's output.
 4. ``references`` is a leaf: it imports nothing of the project, so every package may import it; and
    every seed file a case file names as its source has a key.
 """
+
 import ast
 import io
 import re
@@ -69,8 +70,11 @@ def prose(text: str) -> list[tuple[int, str]]:
     for node in ast.walk(ast.parse(text)):
         body = getattr(node, "body", None)
         for statement in body if isinstance(body, list) else []:
-            if (isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Constant)
-                    and isinstance(statement.value.value, str)):
+            if (
+                isinstance(statement, ast.Expr)
+                and isinstance(statement.value, ast.Constant)
+                and isinstance(statement.value.value, str)
+            ):
                 found.append((statement.lineno, statement.value.value))
     for token in tokenize.generate_tokens(io.StringIO(text).readline):
         if token.type == tokenize.COMMENT:
@@ -84,14 +88,20 @@ def cited_like_a_key(key: str) -> bool:
 
 
 def unknown_citations(text: str) -> list[str]:
-    return [f"{line + words.count(chr(10), 0, m.start())}: [{m.group('key')}"
-            for line, words in prose(text) for m in CITATION.finditer(words)
-            if cited_like_a_key(m.group("key")) and m.group("key") not in REFERENCES]
+    return [
+        f"{line + words.count(chr(10), 0, m.start())}: [{m.group('key')}"
+        for line, words in prose(text)
+        for m in CITATION.finditer(words)
+        if cited_like_a_key(m.group("key")) and m.group("key") not in REFERENCES
+    ]
 
 
 def seed_numbers(text: str) -> list[str]:
-    return [f"{line + words.count(chr(10), 0, m.start())}: {m.group(0)!r}"
-            for line, words in prose(text) for m in SEED_ID.finditer(words)]
+    return [
+        f"{line + words.count(chr(10), 0, m.start())}: {m.group(0)!r}"
+        for line, words in prose(text)
+        for m in SEED_ID.finditer(words)
+    ]
 
 
 def _offenders(check) -> dict[str, list[str]]:
@@ -102,42 +112,52 @@ def _offenders(check) -> dict[str, list[str]]:
 def test_production_code_has_no_tracker_references_or_dated_timings():
     offenders = _offenders(history_hits)
     assert not offenders, "history in production code (say what the code does and why):\n" + "\n".join(
-        f"{path}:{hit}" for path, hits in offenders.items() for hit in hits)
+        f"{path}:{hit}" for path, hits in offenders.items() for hit in hits
+    )
 
 
 def test_every_citation_names_a_key_of_the_bibliography():
     offenders = _offenders(unknown_citations)
-    assert not offenders, (f"citations of keys not in references.REFERENCES ({', '.join(sorted(REFERENCES))}):\n"
-                           + "\n".join(f"{path}:{hit}" for path, hits in offenders.items() for hit in hits))
+    assert not offenders, (
+        f"citations of keys not in references.REFERENCES ({', '.join(sorted(REFERENCES))}):\n"
+        + "\n".join(f"{path}:{hit}" for path, hits in offenders.items() for hit in hits)
+    )
 
 
 def test_docstrings_and_comments_cite_by_key_not_by_seed_number():
     offenders = _offenders(seed_numbers)
     assert not offenders, "cite by key ([bapat2015, eq 47]), not by seed number:\n" + "\n".join(
-        f"{path}:{hit}" for path, hits in offenders.items() for hit in hits)
+        f"{path}:{hit}" for path, hits in offenders.items() for hit in hits
+    )
 
 
-@pytest.mark.parametrize("text, caught", [
-    ('"""Model applicability (issue 12)."""', True),
-    ("# issue #12 item 3", True),
-    ("x = 1  # item 3 of issue twelve", True),
-    ('"""Found in session 19."""', True),
-    ('"""1.45 ms for a run re-timed at 0.88."""', True),
-    ('"""A FitRangeWarning is issued and the nearest branch is evaluated."""', False),
-    ('"""The tissue 12 mm thick."""', False),
-])
+@pytest.mark.parametrize(
+    "text, caught",
+    [
+        ('"""Model applicability (issue 12)."""', True),
+        ("# issue #12 item 3", True),
+        ("x = 1  # item 3 of issue twelve", True),
+        ('"""Found in session 19."""', True),
+        ('"""1.45 ms for a run re-timed at 0.88."""', True),
+        ('"""A FitRangeWarning is issued and the nearest branch is evaluated."""', False),
+        ('"""The tissue 12 mm thick."""', False),
+    ],
+)
 def test_the_history_patterns_catch_a_planted_reference(text, caught):
     assert bool(history_hits(text)) is caught
 
 
-@pytest.mark.parametrize("text, unknown", [
-    ('"""The fits [bapat2015, eqs 41-49]."""', []),
-    ('"""The fits [bapat2016, eqs 41-49]."""', ["1: [bapat2016"]),
-    ('"""End moment [ananthasuresh_l18, 16:59-21:58]."""', []),
-    ('"""End moment [ananthasuresh_lecture18]."""', ["1: [ananthasuresh_lecture18"]),
-    ("x = 1  # [smith1999] says so", ["1: [smith1999"]),
-    ('"""Units [m], a list [str, int], an index [i]."""', []),
-])
+@pytest.mark.parametrize(
+    "text, unknown",
+    [
+        ('"""The fits [bapat2015, eqs 41-49]."""', []),
+        ('"""The fits [bapat2016, eqs 41-49]."""', ["1: [bapat2016"]),
+        ('"""End moment [ananthasuresh_l18, 16:59-21:58]."""', []),
+        ('"""End moment [ananthasuresh_lecture18]."""', ["1: [ananthasuresh_lecture18"]),
+        ("x = 1  # [smith1999] says so", ["1: [smith1999"]),
+        ('"""Units [m], a list [str, int], an index [i]."""', []),
+    ],
+)
 def test_the_citation_check_knows_a_key_from_other_brackets(text, unknown):
     assert unknown_citations(text) == unknown
 

@@ -5,19 +5,24 @@ derivation on its line or above it in the same test (its docstring or a comment:
 the notes, an exact or closed-form solution, a derivation). This test lists every assertion that
 does not, and the tests known to have been snapshots, which must stay gone.
 """
+
 from __future__ import annotations
 
 import re
 from pathlib import Path
 
-TESTS = Path(__file__).resolve().parents[1]   # tests/, every folder under it
-SOURCE = re.compile(r"(?i)seed|table|\beqs?\b|eq\.|notes|anchors|derived|derivation|exact|closed.form|printed|"
-                    r"source|bisshopp|mattiasson|howell|dadeppo|analytic|input, not output")
+TESTS = Path(__file__).resolve().parents[1]  # tests/, every folder under it
+SOURCE = re.compile(
+    r"(?i)seed|table|\beqs?\b|eq\.|notes|anchors|derived|derivation|exact|closed.form|printed|"
+    r"source|bisshopp|mattiasson|howell|dadeppo|analytic|input, not output"
+)
 LONG_NUMBER = re.compile(r"(?<![\w.])-?\d+\.\d{4,}(?:e-?\d+)?")
 # tests that asserted this project's own output and were replaced by sourced checks (issue 25)
 REMOVED_SNAPSHOTS = {
-    "prbm/test_prbm_tables.py": ["test_test2_pose_under_design_torques_is_the_documented_finding",
-                                 "test_test1_plain_prbm_with_sum_ei_is_the_documented_forward"],
+    "prbm/test_prbm_tables.py": [
+        "test_test2_pose_under_design_torques_is_the_documented_finding",
+        "test_test1_plain_prbm_with_sum_ei_is_the_documented_forward",
+    ]
 }
 
 
@@ -33,7 +38,7 @@ def unsourced_assertions() -> list[str]:
             start = i
             while start > 0 and not lines[start].startswith("def "):
                 start -= 1
-            context = "\n".join(lines[start:i + 1])
+            context = "\n".join(lines[start : i + 1])
             if not SOURCE.search(context):
                 found.append(f"{path.relative_to(TESTS).as_posix()}:{i + 1}: {line.strip()}")
     return found
@@ -51,6 +56,10 @@ def test_the_scan_finds_an_unsourced_number(tmp_path, monkeypatch):
 
 
 def test_removed_snapshot_tests_stay_removed():
-    back = [f"{name}::{test}" for name, tests in REMOVED_SNAPSHOTS.items() for test in tests
-            if f"def {test}(" in (TESTS / name).read_text()]
+    back = [
+        f"{name}::{test}"
+        for name, tests in REMOVED_SNAPSHOTS.items()
+        for test in tests
+        if f"def {test}(" in (TESTS / name).read_text()
+    ]
     assert not back, back

@@ -1,6 +1,7 @@
 """The PRBM error atlas: its exact side against closed forms, the path/stiffness split on a model whose
 answer is known, the build's resume, the shipped error maps against a fresh coarse atlas, and the PRBM
 adapter's flags on loads no shipped case has."""
+
 from __future__ import annotations
 
 import json
@@ -64,9 +65,11 @@ def _circle(M: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def test_a_model_on_the_exact_path_with_a_wrong_spring_has_only_stiffness_error(stiffer):
     """A 'PRBM' that lands on the exact arc but needs ``stiffer`` times the moment: path error 0 and
     stiffness error 100 (stiffer - 1) %, while its error at equal load is not 0."""
+
     def prbm(shape, loads):
         x, y, t = _circle(loads / stiffer)
         return PrbmLine(x, y, t, t, np.ones(loads.size, bool), np.ones(loads.size, bool))
+
     m = replace(MODELS["pure_moment"], prbm=prbm, dense=8)
     rows = [r for r in solve_line(m, {}, np.geomspace(0.05, 3.0, 200)) if r["status"] == "ok"]
     inside = [r for r in rows if math.isfinite(r["stiffness_error"])]
@@ -82,6 +85,7 @@ def test_the_exact_model_has_no_error():
     def prbm(shape, loads):
         x, y, t = _circle(loads)
         return PrbmLine(x, y, t, t, np.ones(loads.size, bool), np.ones(loads.size, bool))
+
     m = replace(MODELS["pure_moment"], prbm=prbm)
     rows = solve_line(m, {}, np.geomspace(0.05, 3.0, 25))
     assert max(r["tip_error"] for r in rows) < 1e-7
@@ -119,8 +123,15 @@ def test_the_shipped_maps_predict_a_fresh_coarse_atlas(coarse):
         assert ((p > VALIDITY_LIMIT) == (m > VALIDITY_LIMIT)).mean() >= 0.97, name
 
 
-def _segment_case(tmp_path: Path, *, curvature: float = 0.0, direction=(0.0, 1.0), values=(1.0,),
-                  follower: bool = False, boundary: str = "fixed-free") -> Path:
+def _segment_case(
+    tmp_path: Path,
+    *,
+    curvature: float = 0.0,
+    direction=(0.0, 1.0),
+    values=(1.0,),
+    follower: bool = False,
+    boundary: str = "fixed-free",
+) -> Path:
     path = tmp_path / "user.toml"
     path.write_text(f"""
 [case]
@@ -191,15 +202,22 @@ def test_the_expected_error_scales_with_the_segment():
 
 def _line(errors, statuses=None) -> pd.DataFrame:
     n = len(errors)
-    return pd.DataFrame({"model": "pure_moment", "load": np.arange(1.0, n + 1), "tip_error": errors,
-                         "status": statuses or ["ok"] * n, "exact_rotation_deg": 10.0 * np.arange(1.0, n + 1),
-                         "deflection": np.arange(1.0, n + 1)})
+    return pd.DataFrame(
+        {
+            "model": "pure_moment",
+            "load": np.arange(1.0, n + 1),
+            "tip_error": errors,
+            "status": statuses or ["ok"] * n,
+            "exact_rotation_deg": 10.0 * np.arange(1.0, n + 1),
+            "deflection": np.arange(1.0, n + 1),
+        }
+    )
 
 
 def test_a_region_ends_at_the_first_level_past_its_threshold():
     frame = _line([0.1, 0.3, 0.6, 0.2, 2.0, 6.0])
     limits = {t: regions.line_limits(frame, "pure_moment", t).iloc[0] for t in (0.5, 1.0, 3.0, 5.0)}
-    assert limits[0.5]["load_limit"] == 2.0           # 0.6 at load 3 ends it, though load 4 is back to 0.2
+    assert limits[0.5]["load_limit"] == 2.0  # 0.6 at load 3 ends it, though load 4 is back to 0.2
     assert limits[1.0]["load_limit"] == 4.0 and limits[1.0]["deflection"] == 40.0
     assert limits[3.0]["load_limit"] == 5.0 and not limits[3.0]["whole_line"]
     assert limits[5.0]["load_limit"] == 5.0
@@ -222,8 +240,9 @@ def test_a_measured_error_is_split_like_the_atlas(mirror):
     P = 1.1 * F * math.sin(math.radians(angle))
     tip = prbm.fixed_pinned_tip(P, n, length=1.0, EI=1.0).outputs
     x, y, rotation = float(tip["a"]), mirror * float(tip["b"]), mirror * math.degrees(float(tip["theta0"]))
-    path, stiffness, locus, why = _split("fixed_pinned_pauly_midha", {"load_angle_deg": angle, "load": F}, mirror,
-                                         x, y, rotation)
+    path, stiffness, locus, why = _split(
+        "fixed_pinned_pauly_midha", {"load_angle_deg": angle, "load": F}, mirror, x, y, rotation
+    )
     assert why == ""
     assert path < 1e-3 and locus < 1e-3
     assert stiffness == pytest.approx(10.0, abs=0.01)
@@ -237,7 +256,7 @@ def test_the_atlas_command_builds_summarises_and_refuses_a_bad_model(tmp_path, c
     assert (folder / "maps" / "pure_moment.png").stat().st_size > 1000
     table = pd.read_csv(folder / "regions.csv")
     assert list(table["threshold"]) == [0.5, 1.0, 3.0, 5.0]
-    assert (table["worst_load"].diff().dropna() >= 0).all()   # a looser threshold reaches at least as far
+    assert (table["worst_load"].diff().dropna() >= 0).all()  # a looser threshold reaches at least as far
     claims = pd.read_csv(folder / "claims.csv")
     assert set(claims["model"]) == {"pure_moment"}
     assert main(["atlas", "pure_moment", "--coarse", "--serial", "--quiet", "--out", str(tmp_path)]) == 0
@@ -252,8 +271,10 @@ def test_a_transverse_force_is_n_zero_on_the_atlas_grid():
 
 
 def test_the_alternative_models_get_expected_errors():
-    for case_id, model in (("bapat2015_theta_dependent_k_eq51", "theta_dependent_51"),
-                           ("cantilever_uniform_load", "chain")):
+    for case_id, model in (
+        ("bapat2015_theta_dependent_k_eq51", "theta_dependent_51"),
+        ("cantilever_uniform_load", "chain"),
+    ):
         run = run_method(case_by_id(case_id).case, "prbm")
         assert run.extras["atlas_model"] == model
         assert len(run.expected_error) == len(run.level_converged)
@@ -290,7 +311,7 @@ def test_the_maps_return_their_nodes_and_interpolate_linearly_between():
         if not math.isfinite(here):
             continue
         assert m.expected(at) == pytest.approx(here, rel=1e-12, abs=1e-15), name
-        k = len(m.axes) - 1                                   # the load axis, interpolated in log(load)
+        k = len(m.axes) - 1  # the load axis, interpolated in log(load)
         nxt = idx[:k] + (idx[k] + 1,)
         there = float(m.error[nxt])
         if math.isfinite(there):

@@ -1,5 +1,6 @@
 """The atlas's claim checker (validation.atlas.claims) on small synthetic atlases, and the shipped
 claims file (cases/atlas/claims.toml) against the atlas's models and columns."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -24,15 +25,24 @@ def atlas(errors, x=None, model="m", status="ok") -> pd.DataFrame:
 
 
 def claim(bound=1.0, range_=(("x", 0.0, 100.0),), model="m", along=None) -> Claim:
-    return Claim("c", (model,) if isinstance(model, str) else tuple(model), "src", "quote", "e", bound, "note",
-                 tuple(range_), along or (range_[0][0] if range_ else "load"))
+    return Claim(
+        "c",
+        (model,) if isinstance(model, str) else tuple(model),
+        "src",
+        "quote",
+        "e",
+        bound,
+        "note",
+        tuple(range_),
+        along or (range_[0][0] if range_ else "load"),
+    )
 
 
 def verdict(df, c) -> pd.Series:
     return check_claims(df, [c]).iloc[0]
 
 
-RAMP = np.linspace(0.05, 0.95, 10)          # within 1.0, worst 0.95
+RAMP = np.linspace(0.05, 0.95, 10)  # within 1.0, worst 0.95
 
 
 def test_holds():
@@ -54,7 +64,7 @@ def test_does_not_hold_when_most_points_fail():
 
 
 def test_does_not_hold_when_it_fails_at_the_low_end():
-    r = verdict(atlas(np.r_[2.0, RAMP[1:]]), claim())          # 90 % within, but not at x = 0
+    r = verdict(atlas(np.r_[2.0, RAMP[1:]]), claim())  # 90 % within, but not at x = 0
     assert r.verdict == "does not hold" and "x = 0" in r.why
 
 
@@ -87,22 +97,25 @@ def test_multi_model_claim_pools_points():
     assert verdict(df, claim(model=("a", "b"))).points == 20
 
 
-@pytest.mark.parametrize("bound, scale, expected", [
-    (1.0, 1.0, "holds"),
-    (0.9, 1.0, "holds on part of its range"),     # the bound 10 % lower
-    (1.0, 1.1, "holds on part of its range"),     # the data 10 % higher
-])
+@pytest.mark.parametrize(
+    "bound, scale, expected",
+    [
+        (1.0, 1.0, "holds"),
+        (0.9, 1.0, "holds on part of its range"),  # the bound 10 % lower
+        (1.0, 1.1, "holds on part of its range"),  # the data 10 % higher
+    ],
+)
 def test_a_planted_ten_percent_change_flips_the_verdict(bound, scale, expected):
     assert verdict(atlas(RAMP * scale), claim(bound=bound)).verdict == expected
 
 
 def test_a_planted_ten_percent_change_flips_does_not_hold():
-    errors = np.r_[np.full(5, 0.95), np.full(5, 2.0)]              # exactly half within
+    errors = np.r_[np.full(5, 0.95), np.full(5, 2.0)]  # exactly half within
     assert verdict(atlas(errors), claim()).verdict == "holds on part of its range"
     assert verdict(atlas(errors * 1.1), claim()).verdict == "does not hold"
 
 
-GOOD = '''
+GOOD = """
 [[claim]]
 id = "a_claim"
 model = "fixed_pinned_pauly_midha"
@@ -113,7 +126,7 @@ bound = 0.5
 note = "n"
 [claim.range]
 prb_angle_deg = [0.0, 65.0]
-'''
+"""
 
 
 def test_load_claims_reads_a_good_file(tmp_path):
@@ -121,19 +134,27 @@ def test_load_claims_reads_a_good_file(tmp_path):
     path.write_text(GOOD)
     (c,) = load_claims(path)
     assert (c.id, c.models, c.bound, c.range, c.along) == (
-        "a_claim", ("fixed_pinned_pauly_midha",), 0.5, (("prb_angle_deg", 0.0, 65.0),), "prb_angle_deg")
+        "a_claim",
+        ("fixed_pinned_pauly_midha",),
+        0.5,
+        (("prb_angle_deg", 0.0, 65.0),),
+        "prb_angle_deg",
+    )
 
 
-@pytest.mark.parametrize("old, new, field", [
-    ("bound = 0.5", 'bound = "half"', "bound"),
-    ("bound = 0.5", "bound = -1", "bound"),
-    ('metric = "tip_error"\n', "", "metric"),
-    ("[0.0, 65.0]", "[65.0, 0.0]", "range.prb_angle_deg"),
-    ("[0.0, 65.0]", "[0.0]", "range.prb_angle_deg"),
-    ('note = "n"', 'note = "n"\nbonud = 1', "bonud"),
-    ('id = "a_claim"', 'id = "A Claim"', "id"),
-    ('model = "fixed_pinned_pauly_midha"', "model = []", "model"),
-])
+@pytest.mark.parametrize(
+    "old, new, field",
+    [
+        ("bound = 0.5", 'bound = "half"', "bound"),
+        ("bound = 0.5", "bound = -1", "bound"),
+        ('metric = "tip_error"\n', "", "metric"),
+        ("[0.0, 65.0]", "[65.0, 0.0]", "range.prb_angle_deg"),
+        ("[0.0, 65.0]", "[0.0]", "range.prb_angle_deg"),
+        ('note = "n"', 'note = "n"\nbonud = 1', "bonud"),
+        ('id = "a_claim"', 'id = "A Claim"', "id"),
+        ('model = "fixed_pinned_pauly_midha"', "model = []", "model"),
+    ],
+)
 def test_a_bad_field_gives_a_one_line_error_naming_it(tmp_path, old, new, field):
     path = tmp_path / "claims.toml"
     path.write_text(GOOD.replace(old, new, 1))
@@ -167,8 +188,15 @@ def atlas_columns() -> set[str]:
 def test_shipped_claims_name_known_models_and_columns():
     claims = load_claims(SHIPPED)
     columns = atlas_columns()
-    errors = {"tip_error", "angle_error_deg", "path_error", "path_error_rel", "stiffness_error", "locus_error",
-              "locus_error_rel"}
+    errors = {
+        "tip_error",
+        "angle_error_deg",
+        "path_error",
+        "path_error_rel",
+        "stiffness_error",
+        "locus_error",
+        "locus_error_rel",
+    }
     assert len(claims) >= 8
     for c in claims:
         assert set(c.models) <= set(MODELS), c.id
@@ -176,17 +204,34 @@ def test_shipped_claims_name_known_models_and_columns():
         assert c.along in columns, c.id
         for column, lo, hi in c.range:
             assert column in columns, (c.id, column)
-            for name in c.models:                       # an input range names an input of the model
+            for name in c.models:  # an input range names an input of the model
                 inputs = {a.name for a in MODELS[name].shape_axes}
                 every_input = {a.name for m in MODELS.values() for a in m.shape_axes}
                 assert column not in every_input or column in inputs, (c.id, column, name)
 
 
 def test_the_domain_study_bounds_become_claim_rows():
-    summary = [{"checks": [{"name": "eq (116)", "claim_percent": 1.0, "max_percent": 5.9, "mean_percent": 2.3,
-                            "over": "0.4 <= b/l <= 0.85"},
-                           {"name": "gamma-bar_l circle (117)", "claim_percent": 1.0, "max_percent": 0.9,
-                            "mean_percent": 0.4, "over": "0.4 <= b/l <= 0.85"}]}, {"checks": []}]
+    summary = [
+        {
+            "checks": [
+                {
+                    "name": "eq (116)",
+                    "claim_percent": 1.0,
+                    "max_percent": 5.9,
+                    "mean_percent": 2.3,
+                    "over": "0.4 <= b/l <= 0.85",
+                },
+                {
+                    "name": "gamma-bar_l circle (117)",
+                    "claim_percent": 1.0,
+                    "max_percent": 0.9,
+                    "mean_percent": 0.4,
+                    "over": "0.4 <= b/l <= 0.85",
+                },
+            ]
+        },
+        {"checks": []},
+    ]
     rows = domain_study_rows(summary)
     assert list(rows["verdict"]) == ["does not hold", "holds"]
     assert list(rows["worst"]) == [5.9, 0.9] and (rows["bound"] == 1.0).all()

@@ -1,6 +1,7 @@
 """The atlas refit (validation/atlas/refit.py): its free-parameter PRBM is the published one at the
 published parameters, the minimax recovers parameters that generated the data, and the held-out half
 of the grid is never used to fit."""
+
 from __future__ import annotations
 
 import math
@@ -47,9 +48,17 @@ def _synthetic(gamma: float, K: float, kappa0=(0.0,), angles=np.linspace(45.0, 9
         for a in angles:
             x, y, theta = refit.prbm_tip(LOADS, math.radians(a), gamma, K, k0, 1.24)
             for F, xi, yi, ti in zip(LOADS, x, y, theta):
-                rows.append({**({"kappa0": k0} if len(kappa0) > 1 else {}), "load_angle_deg": a, "load": F,
-                             "status": "ok", "exact_x": xi, "exact_y": yi,
-                             "exact_rotation_deg": math.degrees(ti - k0)})
+                rows.append(
+                    {
+                        **({"kappa0": k0} if len(kappa0) > 1 else {}),
+                        "load_angle_deg": a,
+                        "load": F,
+                        "status": "ok",
+                        "exact_x": xi,
+                        "exact_y": yi,
+                        "exact_rotation_deg": math.degrees(ti - k0),
+                    }
+                )
     return pd.DataFrame(rows)
 
 
@@ -60,7 +69,7 @@ def test_refit_recovers_the_parameters_that_made_the_data(curved):
     r = refit.refit_region(df, region, refit.CURVED if curved else refit.FIXED_PINNED)
     assert r.fitted.gamma == pytest.approx(0.80, abs=1e-3)
     assert r.fitted.K_theta == pytest.approx(2.40, abs=1e-3)
-    assert r.fit_worst < 1e-4 and r.refit_worst < 1e-4            # % of L
+    assert r.fit_worst < 1e-4 and r.refit_worst < 1e-4  # % of L
     assert r.published_worst > 1.0 and r.gain > 1e3
 
 
@@ -74,9 +83,9 @@ def test_held_out_half_shares_no_point_with_the_fit_half(split):
     assert not fit_keys & test_keys
     assert len(fit_keys) + len(test_keys) == len(df) and abs(len(fit_keys) - len(test_keys)) <= LOADS.size
     lines = {(k, a) for k, a, _ in fit_keys}
-    if split == "lines":    # a held-out line is held out whole
+    if split == "lines":  # a held-out line is held out whole
         assert not lines & {(k, a) for k, a, _ in test_keys}
-    else:                   # every line and every load level is in both halves
+    else:  # every line and every load level is in both halves
         assert lines == {(k, a) for k, a, _ in test_keys}
         assert set(df.loc[held, "load"]) == set(df.loc[~held, "load"])
 
@@ -85,23 +94,25 @@ def test_fit_reads_only_the_fit_half():
     df = _synthetic(0.80, 2.40)
     region = refit.Region((45.0, 90.0), 90.0)
     base = refit.refit_region(df, region, refit.FIXED_PINNED)
-    held = refit.holdout(df)                                      # the default split
+    held = refit.holdout(df)  # the default split
     spoiled = df.copy()
-    spoiled.loc[held, "exact_x"] += 0.05                          # held-out points: fit unchanged
+    spoiled.loc[held, "exact_x"] += 0.05  # held-out points: fit unchanged
     r = refit.refit_region(spoiled, region, refit.FIXED_PINNED)
     assert (r.fitted, r.fit_worst, r.fit_points) == (base.fitted, base.fit_worst, base.fit_points)
-    assert r.refit_worst > 4.0                                    # but the test sees the spoiled points
+    assert r.refit_worst > 4.0  # but the test sees the spoiled points
     spoiled = df.copy()
-    spoiled.loc[~held, "exact_x"] += 0.05                         # fit points: fit changes
+    spoiled.loc[~held, "exact_x"] += 0.05  # fit points: fit changes
     assert refit.refit_region(spoiled, region, refit.FIXED_PINNED).fitted != base.fitted
 
 
 def test_table_and_finding():
-    table = refit.refit_table(_synthetic(0.80, 2.40).to_dict("records"),
-                              regions=[refit.Region((45.0, 90.0), 60.0), refit.Region((95.0, 135.0), 60.0)])
-    assert len(table) == 1                                        # no point in the second region
+    table = refit.refit_table(
+        _synthetic(0.80, 2.40).to_dict("records"),
+        regions=[refit.Region((45.0, 90.0), 60.0), refit.Region((95.0, 135.0), 60.0)],
+    )
+    assert len(table) == 1  # no point in the second region
     row = table.iloc[0]
-    assert row.fit_points + row.test_points == int(((_synthetic(0.80, 2.40).exact_rotation_deg <= 60.0)).sum())
+    assert row.fit_points + row.test_points == int((_synthetic(0.80, 2.40).exact_rotation_deg <= 60.0).sum())
     text = refit.finding_text(table)
     assert "phi 45-90 deg, rotation <= 60 deg" in text and f"{row.published_worst:.2f} %" in text
 

@@ -18,6 +18,7 @@ throw-away interpreter (plants have no undo), against the seeds' constants:
   ``PiecewiseFit.__call__``: a plant on ``__call__`` alone left every inflection case unplanted) and
   section 3.6's loop average gamma(0).
 """
+
 from __future__ import annotations
 
 import json
@@ -100,16 +101,18 @@ def test_every_method_a_case_runs_has_output_and_sign_plants():
     run = {method for path in find_case_files(None) for method in load_case(path).case.methods}
     for method in run:
         assert f"{method}-outputs-x1.10" in plants.PLANTS and f"{method}-sign-flip" in plants.PLANTS, method
-        assert any(p.method == method and "-x1.10" in p.name and "outputs" not in p.name
-                   for p in plants.PLANTS.values()), f"{method}: no library-constant plant"
+        assert any(
+            p.method == method and "-x1.10" in p.name and "outputs" not in p.name for p in plants.PLANTS.values()
+        ), f"{method}: no library-constant plant"
 
 
 @PLANTED
 def test_the_fits_are_planted_on_every_evaluation_path(planted):
     # printed constant terms of seed 000 eqs (41)-(43) at n = 0 and seed 004's Howell fits at n = -3
     assert planted["inflection"] == pytest.approx([0.851892 * 1.10, 1.238845, 2.648834 * 1.10], rel=1e-12)
-    assert planted["howell"] == pytest.approx([(0.912364 - 3 * 0.0145928) * 1.10,
-                                               (3.024112 - 3 * 0.121290 + 9 * 0.003169) * 1.10], rel=1e-12)
+    assert planted["howell"] == pytest.approx(
+        [(0.912364 - 3 * 0.0145928) * 1.10, (3.024112 - 3 * 0.121290 + 9 * 0.003169) * 1.10], rel=1e-12
+    )
     assert planted["loop_gamma"] == pytest.approx(0.851892 * 1.10, rel=1e-12)
     # the loop as the adapter calls it (no gamma given): the symmetric loop b = gamma l sin Theta
     # (tests/prbm/test_prbm_feasible_l1.py) with l = 20, b = 6 gives the planted gamma back

@@ -1,5 +1,6 @@
 """Bad input found before any solve, all of it at once: a free-floating mechanism, a file with
 three errors, an unknown case and an unknown point."""
+
 from __future__ import annotations
 
 import copy
@@ -38,8 +39,10 @@ def test_pinned_four_bar_without_spring_rotates_about_its_pin():
     modes = rigid_body_modes(case)
     assert len(modes) == 1 and "rotates about node" in modes[0].motion
     # a torsional spring at the joint A holds it (its energy is not zero in that motion)
-    assert rigid_body_modes(with_supports({"node": "C", "kind": "pinned"}, {"node": "O4", "kind": "pinned"},
-                                          spring=5.0)) == []
+    assert (
+        rigid_body_modes(with_supports({"node": "C", "kind": "pinned"}, {"node": "O4", "kind": "pinned"}, spring=5.0))
+        == []
+    )
 
 
 def test_free_floating_mechanism_is_one_line_naming_case_body_and_constraint(tmp_path):
@@ -55,17 +58,21 @@ def test_free_floating_mechanism_is_one_line_naming_case_body_and_constraint(tmp
     assert "case 'bapat2015_test2'" in message and "body '" in message and "missing constraint" in message
     # held only against rotation and y at C: the whole model slides along x
     sliding = copy.deepcopy(TEST2)
-    sliding["mechanism"]["supports"] = [{"node": "C", "kind": "guided", "direction": [1.0, 0.0]},
-                                        {"node": "O4", "kind": "slider", "direction": [1.0, 0.0]}]
+    sliding["mechanism"]["supports"] = [
+        {"node": "C", "kind": "guided", "direction": [1.0, 0.0]},
+        {"node": "O4", "kind": "slider", "direction": [1.0, 0.0]},
+    ]
     sliding["mechanism"]["joints"] = []  # weld the joints: one rigid assembly
     modes = rigid_body_modes(Case.model_validate(sliding))
     assert len(modes) == 1 and modes[0].motion in ("translates along (1, 0)", "translates along (-1, 0)")
 
 
 def test_three_errors_all_listed_first_first(tmp_path):
-    text = (GOOD.replace("thickness = 0.0625", "thickness = -0.0625")       # 1: negative thickness
-                .replace("E = 30e6", "E = 30e6\nlenght = 3.0")                # 2: misspelled field
-                .replace('quantity = "y"\n\n[methods', 'quantity = "yy"\n\n[methods'))  # 3: unknown quantity
+    text = (
+        GOOD.replace("thickness = 0.0625", "thickness = -0.0625")  # 1: negative thickness
+        .replace("E = 30e6", "E = 30e6\nlenght = 3.0")  # 2: misspelled field
+        .replace('quantity = "y"\n\n[methods', 'quantity = "yy"\n\n[methods')
+    )  # 3: unknown quantity
     path = write(tmp_path, "three.toml", text)
     with pytest.raises(CaseError) as info:
         load_case(path)
@@ -74,8 +81,10 @@ def test_three_errors_all_listed_first_first(tmp_path):
     joined = "\n".join(lines)
     assert "segment.section.thickness: Input should be greater than 0" in joined
     assert "segment.lenght: unknown field; did you mean 'length'?" in joined
-    assert "outputs.0.quantity: Value error, unknown quantity 'yy'; nearest: y" in joined \
+    assert (
+        "outputs.0.quantity: Value error, unknown quantity 'yy'; nearest: y" in joined
         or "outputs.0.quantity: unknown quantity 'yy'; nearest: y" in joined
+    )
     assert "(and" not in joined
 
 
@@ -148,37 +157,83 @@ def test_bcm_beyond_its_equations_is_a_run_that_did_not_converge_not_a_crash(tmp
 def beams_case(nodes, beams, supports, joints=(), links=()) -> Case:
     """A small SI mechanism of steel strips (no case file has these)."""
     section = {"kind": "rectangle", "width": 0.01, "thickness": 0.001}
-    return Case.model_validate({
-        "case": {"id": "frame", "title": "t", "group": "tests", "units": "SI"},
-        "mechanism": {"E": 2e11, "nodes": [{"name": n, "x": x, "y": y} for n, (x, y) in nodes.items()],
-                      "beams": [{"name": b, "start": s, "end": e, "section": section} for b, (s, e) in beams.items()],
-                      "links": [{"name": k, "nodes": list(v)} for k, v in dict(links).items()],
-                      "joints": [{"node": n, "members": list(m)} for n, m in joints],
-                      "supports": list(supports)},
-        "outputs": [{"quantity": "dy", "point": list(nodes)[-1]}], "methods": {"fem": {}}})
+    return Case.model_validate(
+        {
+            "case": {"id": "frame", "title": "t", "group": "tests", "units": "SI"},
+            "mechanism": {
+                "E": 2e11,
+                "nodes": [{"name": n, "x": x, "y": y} for n, (x, y) in nodes.items()],
+                "beams": [{"name": b, "start": s, "end": e, "section": section} for b, (s, e) in beams.items()],
+                "links": [{"name": k, "nodes": list(v)} for k, v in dict(links).items()],
+                "joints": [{"node": n, "members": list(m)} for n, m in joints],
+                "supports": list(supports),
+            },
+            "outputs": [{"quantity": "dy", "point": list(nodes)[-1]}],
+            "methods": {"fem": {}},
+        }
+    )
 
 
 LINE = {"A": (0.0, 0.0), "B": (0.1, 0.0), "C": (0.2, 0.0)}
 
 
-@pytest.mark.parametrize("name, case, expected", [
-    ("cantilever", beams_case(LINE, {"ab": ("A", "B"), "bc": ("B", "C")}, [{"node": "A", "kind": "fixed"}]), None),
-    ("simply supported", beams_case(LINE, {"ab": ("A", "B"), "bc": ("B", "C")},
-                                    [{"node": "A", "kind": "pinned"}, {"node": "C", "kind": "slider"}]), None),
-    ("one pin", beams_case(LINE, {"ab": ("A", "B"), "bc": ("B", "C")}, [{"node": "A", "kind": "pinned"}]),
-     "rotates about node 'A'"),
-    ("hinge at B", beams_case(LINE, {"ab": ("A", "B"), "bc": ("B", "C")}, [{"node": "A", "kind": "fixed"}],
-                              joints=[("B", ("ab", "bc"))]), "body 'bc' rotates about node 'B'"),
-    ("roller only", beams_case(LINE, {"ab": ("A", "B"), "bc": ("B", "C")},
-                               [{"node": "A", "kind": "guided", "direction": [1.0, 0.0]}]), "translates along (1, 0)"),
-    ("three-hinge arch", beams_case({"A": (0.0, 0.0), "B": (0.1, 0.05), "C": (0.2, 0.0)},
-                                    {"ab": ("A", "B"), "bc": ("B", "C")},
-                                    [{"node": "A", "kind": "pinned"}, {"node": "C", "kind": "pinned"}],
-                                    joints=[("B", ("ab", "bc"))]), None),
-    ("flat three-hinge", beams_case(LINE, {"ab": ("A", "B"), "bc": ("B", "C")},
-                                    [{"node": "A", "kind": "pinned"}, {"node": "C", "kind": "pinned"}],
-                                    joints=[("B", ("ab", "bc"))]), "rotates about"),
-])
+@pytest.mark.parametrize(
+    "name, case, expected",
+    [
+        ("cantilever", beams_case(LINE, {"ab": ("A", "B"), "bc": ("B", "C")}, [{"node": "A", "kind": "fixed"}]), None),
+        (
+            "simply supported",
+            beams_case(
+                LINE,
+                {"ab": ("A", "B"), "bc": ("B", "C")},
+                [{"node": "A", "kind": "pinned"}, {"node": "C", "kind": "slider"}],
+            ),
+            None,
+        ),
+        (
+            "one pin",
+            beams_case(LINE, {"ab": ("A", "B"), "bc": ("B", "C")}, [{"node": "A", "kind": "pinned"}]),
+            "rotates about node 'A'",
+        ),
+        (
+            "hinge at B",
+            beams_case(
+                LINE,
+                {"ab": ("A", "B"), "bc": ("B", "C")},
+                [{"node": "A", "kind": "fixed"}],
+                joints=[("B", ("ab", "bc"))],
+            ),
+            "body 'bc' rotates about node 'B'",
+        ),
+        (
+            "roller only",
+            beams_case(
+                LINE, {"ab": ("A", "B"), "bc": ("B", "C")}, [{"node": "A", "kind": "guided", "direction": [1.0, 0.0]}]
+            ),
+            "translates along (1, 0)",
+        ),
+        (
+            "three-hinge arch",
+            beams_case(
+                {"A": (0.0, 0.0), "B": (0.1, 0.05), "C": (0.2, 0.0)},
+                {"ab": ("A", "B"), "bc": ("B", "C")},
+                [{"node": "A", "kind": "pinned"}, {"node": "C", "kind": "pinned"}],
+                joints=[("B", ("ab", "bc"))],
+            ),
+            None,
+        ),
+        (
+            "flat three-hinge",
+            beams_case(
+                LINE,
+                {"ab": ("A", "B"), "bc": ("B", "C")},
+                [{"node": "A", "kind": "pinned"}, {"node": "C", "kind": "pinned"}],
+                joints=[("B", ("ab", "bc"))],
+            ),
+            "rotates about",
+        ),
+    ],
+)
 def test_rigid_body_check_on_frames_no_case_file_has(name, case, expected):
     from validation.case.mobility import check
 
@@ -190,8 +245,7 @@ def test_rigid_body_check_on_frames_no_case_file_has(name, case, expected):
 
 
 def test_cli_prints_every_problem_as_its_own_error_line(tmp_path, capsys):
-    text = (GOOD.replace("thickness = 0.0625", "thickness = -0.0625")
-                .replace("E = 30e6", "E = 30e6\nlenght = 3.0"))
+    text = GOOD.replace("thickness = 0.0625", "thickness = -0.0625").replace("E = 30e6", "E = 30e6\nlenght = 3.0")
     path = write(tmp_path, "two.toml", text)
     assert main(["list", str(path)]) == 2
     lines = capsys.readouterr().err.splitlines()

@@ -1,5 +1,6 @@
 """The benchmark runs and writes its files, and its headline is honest (timings are measured there,
 never asserted here)."""
+
 import json
 
 import pandas as pd
@@ -19,7 +20,7 @@ def test_bench_quick_writes_csv_json_and_plots(tmp_path):
     assert set(frame.columns) >= {"case", "method", "elements", "time_s", "error", "iterations", "peak_memory_mb"}
     assert frame["elements"].max() <= 8
     plain = frame[frame["method"] == "fem"].sort_values("elements")
-    assert plain["error"].is_monotonic_decreasing     # O(h^2): each doubling cuts the error
+    assert plain["error"].is_monotonic_decreasing  # O(h^2): each doubling cuts the error
     figures = sorted(p.name for p in tmp_path.glob("*.png"))
     assert figures == ["cantilever_tip_load_error_vs_time.png", "time_vs_elements.png"], figures
 
@@ -50,7 +51,8 @@ def test_last_level_only_keeps_the_last_load_and_its_references():
     assert single.loads[0].levels() == [case.loads[0].levels()[-1]]
     last = case.n_levels() - 1
     assert {(r.quantity, r.value) for r in single.references} == {
-        (r.quantity, r.value) for r in case.references if r.level == last}
+        (r.quantity, r.value) for r in case.references if r.level == last
+    }
 
 
 def test_per_iteration_times_the_load_stepping_of_both_codes_within_their_runs():
@@ -69,12 +71,15 @@ def test_the_per_iteration_ratio_is_also_given_in_consecutive_parts_of_the_timin
     parts of the timing (`_part_bests` of each code's runs in the order they ran): fem 8 iterations,
     bests 8, 4, 6 us by part; the peer 9 iterations, 9, 9, 3 us: per iteration 1, 0.5, 0.75 over 1, 1,
     1/3, the parts' ratios 1, 0.5 and 2.25; the whole timing's (4/8)/(3/9) = 1.5."""
+
     def timing(times, its):
         run = MethodRun(values={"x": 1.0}, extras={"iterations": its})
         return bench.Timing(run, min(times), 0.0, len(times), 0, analysis=min(times) / 2, times=tuple(times))
 
-    fake = {"fem": timing([8e-6, 9e-6, 4e-6, 5e-6, 7e-6, 6e-6], 8),
-            bench.PEER: timing([9e-6, 9e-6, 9e-6, 9e-6, 3e-6, 4e-6], 9)}
+    fake = {
+        "fem": timing([8e-6, 9e-6, 4e-6, 5e-6, 7e-6, 6e-6], 8),
+        bench.PEER: timing([9e-6, 9e-6, 9e-6, 9e-6, 3e-6, 4e-6], 9),
+    }
     monkeypatch.setattr(bench, "_timed_in_turn", lambda subs, repeats, budget=None: fake)
     case = bench._last_level_only(bench.case_by_id("cantilever_tip_load").case)
     entry = bench._per_iteration(case, bench.BENCH_CASES[0], 2, True, 8)["8"]
@@ -83,14 +88,17 @@ def test_the_per_iteration_ratio_is_also_given_in_consecutive_parts_of_the_timin
     assert bench._part_bests((1.0, 2.0)) == [] and bench._part_bests((3.0, 1.0, 2.0)) == [3.0, 1.0, 2.0]
     bench._print_headline({"fem_over_opensees_time_at_error": {}, "per_iteration": {"8": entry}})
     line = next(x for x in capsys.readouterr().out.splitlines() if x.strip().startswith("n="))
-    assert line == ("  n=   8: fem 0.5 us run / 0.2 us stepping (8 it), opensees 0.3 us run / 0.2 us stepping (9 it), "
-                    "ratio 1.50 run (in 3 consecutive parts of the timing 1.00 0.50 2.25) / 1.50 stepping")
+    assert line == (
+        "  n=   8: fem 0.5 us run / 0.2 us stepping (8 it), opensees 0.3 us run / 0.2 us stepping (9 it), "
+        "ratio 1.50 run (in 3 consecutive parts of the timing 1.00 0.50 2.25) / 1.50 stepping"
+    )
 
 
 def test_the_two_codes_take_turns_mesh_by_mesh():
     """`_interleaved` steps each code's sweep one mesh at a time in turn (so a slow period of the machine
     falls on both codes' rows), runs the longer sweep to its end, and returns each sweep's result."""
     from validation.bench.headline import _interleaved
+
     order = []
 
     def sweep(name, meshes):
@@ -119,7 +127,7 @@ def test_the_per_iteration_timings_take_turns_run_by_run(monkeypatch):
 
     monkeypatch.setattr(bench, "run_method", run_method)
     monkeypatch.setattr(bench, "_one_run", one_run)
-    monkeypatch.setattr(bench, "TIME_BUDGET_S", 2e-3)      # a 1 ms run: 2 fit, so the minimum of 3 counts
+    monkeypatch.setattr(bench, "TIME_BUDGET_S", 2e-3)  # a 1 ms run: 2 fit, so the minimum of 3 counts
     got = bench._timed_in_turn({"fem": None, "opensees": None, "slow": None}, 3)
     assert order == ["fem", "opensees", "slow", "opensees", "fem", "fem", "opensees"]
     assert (got["fem"].best, got["fem"].median, got["fem"].repeats) == (1.0, 2.0, 3)
@@ -169,14 +177,14 @@ def test_both_codes_are_offered_the_same_richardson_step_on_their_plain_runs(tmp
         for n, row in paired.iterrows():
             assert row["time_s"] == pytest.approx(plain.loc[n, "time_s"] + plain.loc[2 * n, "time_s"], rel=1e-12)
             assert row["iterations"] == plain.loc[n, "iterations"] + plain.loc[2 * n, "iterations"]
-            assert row["error"] < plain.loc[2 * n, "error"]     # the step improves on the finer run
-    assert bench.paired_label("fem") != "fem+richardson"           # the FEM's own row stays beside it
+            assert row["error"] < plain.loc[2 * n, "error"]  # the step improves on the finer run
+    assert bench.paired_label("fem") != "fem+richardson"  # the FEM's own row stays beside it
     headline = json.loads((tmp_path / "headline.json").read_text())
     entry = headline["fem_over_opensees_time_at_error"]["cantilever_tip_load (last level only) @ 0.0001 L"]
     if entry["fem"] is not None:
         ours = frame[frame["method"].isin([*bench.OURS, bench.paired_label("fem")]) & (frame["error"] <= 1e-4)]
         assert entry["fem"]["time_s"] == pytest.approx(ours["time_s"].min(), rel=1e-12)
-    if bench._peer_status() == "":           # the headline ratio: both configurations re-timed in turn
+    if bench._peer_status() == "":  # the headline ratio: both configurations re-timed in turn
         again = entry["confirmed"]
         assert entry["ratio"] == pytest.approx(again["fem_s"] / again["opensees_s"], rel=1e-12)
         assert entry["ladder_ratio"] == pytest.approx(entry["fem"]["time_s"] / entry["opensees"]["time_s"])
@@ -202,17 +210,17 @@ def test_the_headline_configurations_are_timed_again_in_turn(monkeypatch):
 
     monkeypatch.setattr(bench, "run_method", run_method)
     monkeypatch.setattr(bench, "_one_run", one_run)
-    monkeypatch.setattr(bench, "TIME_BUDGET_S", 2e-3)       # the sweep's: 2 runs of a 1 ms configuration
-    monkeypatch.setattr(bench, "HEADLINE_BUDGET_S", 6e-3)   # the headline's: 6
+    monkeypatch.setattr(bench, "TIME_BUDGET_S", 2e-3)  # the sweep's: 2 runs of a 1 ms configuration
+    monkeypatch.setattr(bench, "HEADLINE_BUDGET_S", 6e-3)  # the headline's: 6
     ours = dict(method=bench.paired_label("fem"), elements=8)
     peer = dict(method=bench.paired_label(bench.PEER), elements=8)
     got = bench._confirmed(case, one, [ours], [peer], 2)
     assert order[:4] == [("fem", 8), ("fem", 16), ("opensees", 8), ("opensees", 16)]
-    assert order[4:8] == order[:4][::-1]                       # every run in turn, the order reversed
+    assert order[4:8] == order[:4][::-1]  # every run in turn, the order reversed
     assert len(order) == 4 * 6 and got["repeats"] == 6
     assert (got["fem_s"], got["opensees_s"], got["ratio"]) == (3.0, 2.0, 1.5)
     own = bench._runs_of(case, one, dict(method="fem+richardson", elements=8))
-    (sub, method), = own.values()
+    ((sub, method),) = own.values()
     assert method == "fem" and sub.methods["fem"]["richardson"] and sub.methods["fem"]["elements"] == 8
 
 
@@ -225,13 +233,20 @@ def test_the_headline_ratio_is_also_given_in_consecutive_parts_of_the_re_timing(
     configuration timed fewer times than there are parts gives none."""
     case = bench._last_level_only(bench.case_by_id("cantilever_tip_load").case)
     one = bench.BenchCase("cantilever_tip_load", [0], single_level=True)
-    cpu = {("fem", 8): [1.0, 1.1, 2.0, 2.2, 1.0, 3.0], ("fem", 16): [2.0, 2.0, 2.0, 2.0, 4.0, 4.0],
-           ("opensees", 8): [0.5] * 6, ("opensees", 16): [1.5, 1.5, 1.0, 1.0, 1.5, 1.5]}
+    cpu = {
+        ("fem", 8): [1.0, 1.1, 2.0, 2.2, 1.0, 3.0],
+        ("fem", 16): [2.0, 2.0, 2.0, 2.0, 4.0, 4.0],
+        ("opensees", 8): [0.5] * 6,
+        ("opensees", 16): [1.5, 1.5, 1.0, 1.0, 1.5, 1.5],
+    }
     runs = {key: iter(times) for key, times in cpu.items()}
     monkeypatch.setattr(bench, "run_method", lambda sub, method: MethodRun(values={}, wall_time=1e-3))
-    monkeypatch.setattr(bench, "_one_run", lambda sub, method: (
-        MethodRun(values={}), next(runs[(method, sub.methods[method]["elements"])])))
-    monkeypatch.setattr(bench, "HEADLINE_BUDGET_S", 6e-3)       # six runs of a 1 ms configuration
+    monkeypatch.setattr(
+        bench,
+        "_one_run",
+        lambda sub, method: (MethodRun(values={}), next(runs[(method, sub.methods[method]["elements"])])),
+    )
+    monkeypatch.setattr(bench, "HEADLINE_BUDGET_S", 6e-3)  # six runs of a 1 ms configuration
     ours = dict(method=bench.paired_label("fem"), elements=8)
     peer = dict(method=bench.paired_label(bench.PEER), elements=8)
     got = bench._confirmed(case, one, [ours], [peer], 2)
@@ -239,7 +254,7 @@ def test_the_headline_ratio_is_also_given_in_consecutive_parts_of_the_re_timing(
     assert got["block_ratios"] == pytest.approx([1.5, 4.0 / 1.5, 2.5], rel=1e-12)
     assert "1.50 2.67 2.50" in bench._noise(got)
     runs = {key: iter(times) for key, times in cpu.items()}
-    monkeypatch.setattr(bench, "HEADLINE_BUDGET_S", 1e-3)       # two runs each (``repeats``): no parts
+    monkeypatch.setattr(bench, "HEADLINE_BUDGET_S", 1e-3)  # two runs each (``repeats``): no parts
     got = bench._confirmed(case, one, [ours], [peer], 2)
     assert got["block_ratios"] == [] and bench._noise(got) == ""
 
@@ -268,18 +283,30 @@ def test_the_headline_takes_each_codes_fastest_candidate_as_re_timed(monkeypatch
     ours = [dict(method="fem", elements=32), dict(method=bench.paired_label("fem"), elements=8)]
     peer = [dict(method=bench.paired_label(bench.PEER), elements=8), dict(method=bench.PEER, elements=16)]
     got = bench._confirmed(case, one, ours, peer, 2)
-    first_round = order[:len(cpu)]
-    assert sorted(first_round) == sorted(cpu)        # every run once a round: the shared opensees n=16 too
+    first_round = order[: len(cpu)]
+    assert sorted(first_round) == sorted(cpu)  # every run once a round: the shared opensees n=16 too
     assert got["fem"]["method"] == bench.paired_label("fem") and got["fem"]["elements"] == 8
     assert got["opensees"]["method"] == bench.PEER and got["opensees"]["elements"] == 16
     assert (got["fem_s"], got["opensees_s"], got["ratio"]) == (3.0, 1.5, 2.0)
     assert got["fem"]["time_s"] == 3.0 and got["candidates"] == 4
-    frame = pd.DataFrame([dict(method=m, elements=n, time_s=t, error=e, iterations=1) for m, n, t, e in (
-        ("fem+richardson", 8, 3.0, 1e-5), ("fem", 16, 0.5, 2e-4), (bench.paired_label("fem"), 8, 2.0, 3e-5),
-        ("fem", 32, 1.0, 5e-5), (bench.PEER, 32, 1.5, 5e-5))])   # fem n=16 misses the error
+    frame = pd.DataFrame(
+        [
+            dict(method=m, elements=n, time_s=t, error=e, iterations=1)
+            for m, n, t, e in (
+                ("fem+richardson", 8, 3.0, 1e-5),
+                ("fem", 16, 0.5, 2e-4),
+                (bench.paired_label("fem"), 8, 2.0, 3e-5),
+                ("fem", 32, 1.0, 5e-5),
+                (bench.PEER, 32, 1.5, 5e-5),
+            )
+        ]
+    )  # fem n=16 misses the error
     mine, theirs = bench._candidates(frame, 1e-4)
-    assert [(c["method"], c["elements"]) for c in mine] == [("fem", 32), (bench.paired_label("fem"), 8),
-                                                           ("fem+richardson", 8)][:bench.CANDIDATES]
+    assert [(c["method"], c["elements"]) for c in mine] == [
+        ("fem", 32),
+        (bench.paired_label("fem"), 8),
+        ("fem+richardson", 8),
+    ][: bench.CANDIDATES]
     assert [(c["method"], c["elements"]) for c in theirs] == [(bench.PEER, 32)]
 
 
@@ -288,18 +315,31 @@ def test_the_headline_re_times_every_configuration_close_to_the_sweeps_fastest()
     CANDIDATE_SPREAD times its fastest (at most CANDIDATES_MAX): a configuration one slow sweep time put
     fourth (1.45 ms for a run re-timed at 0.88 ms, a bench of the single-level cantilever) is re-timed,
     one far slower is not; `_choices` (the sweep's own pick) is the fastest alone."""
-    rows = [("fem+richardson", 8, 1.15, 2e-5), ("fem+richardson", 16, 1.20, 1e-6),
-            (bench.paired_label("fem"), 8, 1.27, 2e-5), ("fem", 64, 1.45, 3e-5), ("fem", 128, 2.25, 7e-6),
-            ("fem", 256, 4.03, 2e-6), ("fem", 32, 0.60, 1.1e-4),          # misses the error
-            (bench.PEER, 8, 0.9, 5e-5), (bench.PEER, 64, 3.0, 1e-5)]
+    rows = [
+        ("fem+richardson", 8, 1.15, 2e-5),
+        ("fem+richardson", 16, 1.20, 1e-6),
+        (bench.paired_label("fem"), 8, 1.27, 2e-5),
+        ("fem", 64, 1.45, 3e-5),
+        ("fem", 128, 2.25, 7e-6),
+        ("fem", 256, 4.03, 2e-6),
+        ("fem", 32, 0.60, 1.1e-4),  # misses the error
+        (bench.PEER, 8, 0.9, 5e-5),
+        (bench.PEER, 64, 3.0, 1e-5),
+    ]
     frame = pd.DataFrame([dict(method=m, elements=n, time_s=t * 1e-3, error=e, iterations=1) for m, n, t, e in rows])
     mine, theirs = bench._candidates(frame, 1e-4)
     assert bench.CANDIDATES == 3 and bench.CANDIDATE_SPREAD == 2.0
     assert [(c["method"], c["elements"]) for c in mine] == [
-        ("fem+richardson", 8), ("fem+richardson", 16), (bench.paired_label("fem"), 8), ("fem", 64), ("fem", 128)]
+        ("fem+richardson", 8),
+        ("fem+richardson", 16),
+        (bench.paired_label("fem"), 8),
+        ("fem", 64),
+        ("fem", 128),
+    ]
     assert [(c["method"], c["elements"]) for c in theirs] == [(bench.PEER, 8), (bench.PEER, 64)]
     ours, peer = bench._choices(frame, 1e-4)
     assert (ours["method"], ours["elements"], peer["elements"]) == ("fem+richardson", 8, 8)
-    crowded = pd.DataFrame([dict(method="fem", elements=n, time_s=1.0 + n * 1e-3, error=1e-5, iterations=1)
-                            for n in range(1, 20)])
+    crowded = pd.DataFrame(
+        [dict(method="fem", elements=n, time_s=1.0 + n * 1e-3, error=1e-5, iterations=1) for n in range(1, 20)]
+    )
     assert len(bench._candidates(crowded, 1e-4)[0]) == bench.CANDIDATES_MAX

@@ -1,5 +1,6 @@
 """The run cache's import scan (`validation.run.cache.import_statements`): it reads only the places an
 import can begin instead of parsing whole files, and must find every import a full parse finds."""
+
 from __future__ import annotations
 
 import ast

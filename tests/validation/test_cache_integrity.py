@@ -6,6 +6,7 @@ never the bad-input exit status; orphan temporaries and old pickles are removed;
 representative cases comes back from its entry equal to itself, floats bit for bit
 (`validation.run.cache_format`).
 """
+
 from __future__ import annotations
 
 import ast
@@ -34,7 +35,7 @@ from validation.run.case_run import run_case
 
 pytestmark = pytest.mark.xdist_group("cache_integrity")
 
-CASE = "cantilever_tip_load"          # a segment: PRBM, FEM and elastica, each in well under a second
+CASE = "cantilever_tip_load"  # a segment: PRBM, FEM and elastica, each in well under a second
 # a PRBM segment, a PRBM mechanism (inflection coupler), a PRBM network with the BCM, a four-bar
 # (chapter 8 procedure in extras) and a segment's inverse (roots): every kind of extras the adapters write
 ROUND_TRIP_CASES = (CASE, "bapat2015_ch5_ex1", "seed003_circular_guided", "bapat2015_test2", "bapat2015_table3_1")
@@ -43,8 +44,11 @@ ROUND_TRIP_CASES = (CASE, "bapat2015_ch5_ex1", "seed003_circular_guided", "bapat
 def _as_stored(value):
     """A lazy value as what it stands for (the object its ``__reduce__`` rebuilds)."""
     kind = type(value)
-    if kind.__module__.startswith("validation.") and kind.__reduce__ is not object.__reduce__ \
-            and not isinstance(value, (tuple, MethodRun)):
+    if (
+        kind.__module__.startswith("validation.")
+        and kind.__reduce__ is not object.__reduce__
+        and not isinstance(value, (tuple, MethodRun))
+    ):
         rebuild, args = value.__reduce__()[:2]
         return rebuild(*args)
     return value
@@ -113,7 +117,7 @@ def _assert_recomputed(again, method: str, path: Path, warnings: list[str], clea
     assert len(warnings) == 1 and str(path) in warnings[0], warnings
     assert not again.cached[method]
     assert _results(again.runs[method]) == _results(clean.runs[method])
-    third = run_case(case_by_id(CASE), [method])           # the recomputed run is stored again, whole
+    third = run_case(case_by_id(CASE), [method])  # the recomputed run is stored again, whole
     assert third.cached[method] and _results(third.runs[method]) == _results(clean.runs[method])
 
 
@@ -121,7 +125,7 @@ def test_random_bytes_in_an_elastica_entry_are_a_warning_and_a_recompute(clean, 
     def scramble(path):
         data = bytearray(path.read_bytes())
         middle = len(data) // 2
-        data[middle:middle + 64] = random.Random(45).randbytes(64)
+        data[middle : middle + 64] = random.Random(45).randbytes(64)
         path.write_bytes(bytes(data))
 
     again, path, warnings = _run_twice_then(scramble, "elastica", capsys)
@@ -174,12 +178,13 @@ def test_a_crafted_pickle_in_the_cache_runs_no_code_and_is_recomputed(clean, cap
     assert not list(cache.cache_dir().glob("*.pkl*"))
 
 
-@pytest.mark.parametrize("keep", [0, 10, 60, 0.5, -1], ids=["empty", "in the first line", "in the header",
-                                                       "half", "all but the last byte"])
+@pytest.mark.parametrize(
+    "keep", [0, 10, 60, 0.5, -1], ids=["empty", "in the first line", "in the header", "half", "all but the last byte"]
+)
 def test_a_truncated_entry_is_a_warning_and_a_recompute(keep, clean, capsys):
     def truncate(path):
         data = path.read_bytes()
-        path.write_bytes(data[:int(len(data) * keep) if isinstance(keep, float) else keep])
+        path.write_bytes(data[: int(len(data) * keep) if isinstance(keep, float) else keep])
 
     again, path, warnings = _run_twice_then(truncate, "prbm", capsys)
     assert warnings and "truncated" in warnings[0], warnings
@@ -244,11 +249,11 @@ def test_a_cache_that_cannot_be_written_is_a_warning_naming_the_path(failure, tm
         patch.setattr(pathlib.Path, "open", failing_open)
         status = main(["run", CASE, "--out", str(tmp_path / "uncached"), "--quiet"])
     warnings = [line for line in capsys.readouterr().err.splitlines() if line.strip()]
-    assert status == 0                                            # not 2, not an abort
-    assert len(warnings) == 1, warnings                           # one line, however many runs were not stored
-    assert re.search(rf"{re.escape(str(folder))}/[0-9a-f]+\.\w+", warnings[0]), warnings   # the entry's path
+    assert status == 0  # not 2, not an abort
+    assert len(warnings) == 1, warnings  # one line, however many runs were not stored
+    assert re.search(rf"{re.escape(str(folder))}/[0-9a-f]+\.\w+", warnings[0]), warnings  # the entry's path
     assert os.strerror(errno.ENOSPC if failure == "disk full" else errno.EACCES) in warnings[0]
-    assert not list(folder.iterdir()) if folder.is_dir() else True       # no entry, no temporary left
+    assert not list(folder.iterdir()) if folder.is_dir() else True  # no entry, no temporary left
     assert main(["run", CASE, "--out", str(tmp_path / "clean"), "--quiet", "--no-cache"]) == 0
     assert (tmp_path / "uncached" / "values.csv").read_text() == (tmp_path / "clean" / "values.csv").read_text()
 
@@ -259,16 +264,20 @@ def test_orphan_temporaries_and_old_pickles_are_removed(tmp_path):
     finished = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
     dead = int(finished.stdout)
     me = os.getpid()
-    names = {"of a dead writer": f".{'a' * 32}.{dead}.tmp", "an hour old": f".{'b' * 32}.{me}.tmp",
-             "old pickle": f"{'c' * 32}.pkl", "old temporary": f"{'d' * 32}.pkl.tmp{dead}",
-             "being written": f".{'e' * 32}.{me}.tmp"}
+    names = {
+        "of a dead writer": f".{'a' * 32}.{dead}.tmp",
+        "an hour old": f".{'b' * 32}.{me}.tmp",
+        "old pickle": f"{'c' * 32}.pkl",
+        "old temporary": f"{'d' * 32}.pkl.tmp{dead}",
+        "being written": f".{'e' * 32}.{me}.tmp",
+    }
     for name in names.values():
         (folder / name).write_bytes(b"x")
     two_hours_ago = time.time() - 7200
     os.utime(folder / names["an hour old"], (two_hours_ago, two_hours_ago))
     run_case(case_by_id(CASE), ["prbm"])
     left = {p.name for p in folder.iterdir()}
-    assert names["being written"] in left                      # a live writer's young temporary stays
+    assert names["being written"] in left  # a live writer's young temporary stays
     assert not left & {names[k] for k in ("of a dead writer", "an hour old", "old pickle", "old temporary")}
     assert not [n for n in left if "pkl" in n]
 
@@ -276,9 +285,12 @@ def test_orphan_temporaries_and_old_pickles_are_removed(tmp_path):
 def test_the_cache_modules_do_not_use_pickle():
     for path in sorted((Path(cache.__file__).parent).glob("cache*.py")):
         source = path.read_text(encoding="utf-8")
-        imported = {alias.name.split(".")[0] for node in ast.walk(ast.parse(source))
-                    if isinstance(node, (ast.Import, ast.ImportFrom))
-                    for alias in (node.names if isinstance(node, ast.Import) else [ast.alias(node.module or "")])}
+        imported = {
+            alias.name.split(".")[0]
+            for node in ast.walk(ast.parse(source))
+            if isinstance(node, (ast.Import, ast.ImportFrom))
+            for alias in (node.names if isinstance(node, ast.Import) else [ast.alias(node.module or "")])
+        }
         assert not imported & {"pickle", "cPickle", "_pickle", "dill", "shelve", "marshal", "joblib"}, path
         assert not re.search(r"^\s*import\s+pickle\b", source, re.MULTILINE), path
 
@@ -296,7 +308,7 @@ def test_every_run_of_a_case_comes_back_from_its_entry_equal(case_id):
         back = cache_format.decode(cache_format.encode(run, key), key)
         assert_same(run, back, f"{case_id}:{method}")
         fields = _as_stored(run.extras.get("fields"))
-        if fields is not None:                     # elements that shared a section share it again
+        if fields is not None:  # elements that shared a section share it again
             count = len({id(s) for s in fields.forces.sections})
             assert len({id(s) for s in back.extras["fields"].forces.sections}) == count
         cache.store(key, run)
@@ -306,18 +318,33 @@ def test_every_run_of_a_case_comes_back_from_its_entry_equal(case_id):
 def test_floats_arrays_and_classes_come_back_bit_for_bit():
     from validation.run import cache_format
 
-    quiet_nan = struct.unpack("<d", bytes.fromhex("0100000000f8ff7f"))[0]     # a NaN with a payload
+    quiet_nan = struct.unpack("<d", bytes.fromhex("0100000000f8ff7f"))[0]  # a NaN with a payload
     shared = np.arange(6.0).reshape(2, 3)
-    run = MethodRun(values={Request("x", "tip", 0): -0.0, Request("y", "tip", 1): math.nan,
-                            Request("F", "", 2): math.inf, Request("theta", "tip", 3): 5e-324},
-                    error_estimate={Request("x", "tip", 0): quiet_nan}, level_converged={0: True, 1: False},
-                    level_messages={1: "stalled"}, applicability={1: [Applicability.INFLECTION]},
-                    status=RunStatus.NOT_CONVERGED,
-                    extras={"shapes": DeferredList(lambda: [[shared]]), "same": shared,
-                            "fortran": np.asfortranarray(np.arange(12, dtype=np.int32).reshape(3, 4)),
-                            "flags": np.array([True, False]), "scalar": np.float64(-math.inf),
-                            "tuple": (1, "a", None, (2.5,)), "$": {"nested": [1.0, -math.inf]},
-                            "empty": np.zeros((0, 2)), "complex": np.array([1 + 2j]), "big": 2**70})
+    run = MethodRun(
+        values={
+            Request("x", "tip", 0): -0.0,
+            Request("y", "tip", 1): math.nan,
+            Request("F", "", 2): math.inf,
+            Request("theta", "tip", 3): 5e-324,
+        },
+        error_estimate={Request("x", "tip", 0): quiet_nan},
+        level_converged={0: True, 1: False},
+        level_messages={1: "stalled"},
+        applicability={1: [Applicability.INFLECTION]},
+        status=RunStatus.NOT_CONVERGED,
+        extras={
+            "shapes": DeferredList(lambda: [[shared]]),
+            "same": shared,
+            "fortran": np.asfortranarray(np.arange(12, dtype=np.int32).reshape(3, 4)),
+            "flags": np.array([True, False]),
+            "scalar": np.float64(-math.inf),
+            "tuple": (1, "a", None, (2.5,)),
+            "$": {"nested": [1.0, -math.inf]},
+            "empty": np.zeros((0, 2)),
+            "complex": np.array([1 + 2j]),
+            "big": 2**70,
+        },
+    )
     back = cache_format.decode(cache_format.encode(run, "k"), "k")
     assert_same(run, back)
     assert back.extras["shapes"][0][0] is not None and back.extras["fortran"].flags.f_contiguous
@@ -334,6 +361,7 @@ def test_a_run_holding_what_the_format_cannot_write_is_not_cached(capsys):
 
 def test_an_interrupted_write_leaves_no_temporary(monkeypatch):
     """A write stopped between the temporary and its rename (Ctrl-C, a case's deadline) removes it."""
+
     def interrupted(src, dst):
         raise KeyboardInterrupt
 

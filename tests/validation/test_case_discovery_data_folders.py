@@ -4,6 +4,7 @@ cases/specs/bapat2015_ch7_ex5.toml is a design specification sharing its file na
 the chapter-7 case; a name lookup must give the case file only, while a path written out in full
 still reaches the file it names.
 """
+
 from pathlib import Path
 
 from validation.case.loader import CASES_DIR, find_case_files

@@ -1,5 +1,6 @@
 """The chapter 5-8 case files (Bapat 2015): every file loads, ids are unique, every reference names
 its source (a table or a section of the seed), and every level index is in range."""
+
 from __future__ import annotations
 
 from pathlib import Path

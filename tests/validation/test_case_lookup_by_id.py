@@ -2,6 +2,7 @@
 line ``id = "<the id>"`` are parsed, so the lookup must still be exact where that shortcut could
 mislead: an id that another file only mentions, one that another file gives to a key ``id`` of
 another table, and an id written with a TOML escape."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -49,7 +50,7 @@ def test_an_id_key_of_another_table_does_not_stand_for_the_case_id(tmp_path):
 
 
 def test_an_id_written_with_an_escape_is_still_found(tmp_path):
-    escaped = _case(tmp_path, "c.toml", "mine\\u005f2")     # TOML reads "mine_2"
+    escaped = _case(tmp_path, "c.toml", "mine\\u005f2")  # TOML reads "mine_2"
     assert "mine_2" not in escaped.read_text()
     assert find_case_files(["mine_2"], root=tmp_path) == [escaped.resolve()]
     assert case_by_id("mine_2", root=tmp_path).case.case.id == "mine_2"

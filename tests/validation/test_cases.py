@@ -7,6 +7,7 @@ reproduce), an agreement between methods, or the automatic FEM-against-elastica 
 it lists does not converge or does not apply, unless the case records that as the expected outcome;
 or when a method gives values with no enforced check at a loaded level and the case does not say why.
 """
+
 from __future__ import annotations
 
 import pytest
@@ -31,5 +32,6 @@ def test_case(path):
             assert run.message, f"{method} returned {len(got)}/{len(wanted)} outputs without saying why"
     failed = comparison_failures(result)  # the plugin's readable lines for the claimed comparisons
     problems = case_verdict(loaded.case, result.result.runs, result.results)
-    assert not problems, (f"{len(problems)} problem(s):\n" + "\n".join(problems)
-                          + ("\n" + "\n".join(failed) if failed else ""))
+    assert not problems, (
+        f"{len(problems)} problem(s):\n" + "\n".join(problems) + ("\n" + "\n".join(failed) if failed else "")
+    )

@@ -5,6 +5,7 @@ the pytest plugin), failed sweep points named, help for every option, units and 
 JSON, the nearest name of a misspelled case field, and pytest installed with the package.
 
 The methods are fakes (``sys.modules``) wherever the solvers are not what is under test."""
+
 from __future__ import annotations
 
 import argparse
@@ -51,8 +52,7 @@ def _actions(parser: argparse.ArgumentParser, verb: str = ""):
 
 
 def test_every_option_of_every_verb_has_help():
-    missing = [name for name, action in _actions(build_parser())
-               if not action.help or action.help == argparse.SUPPRESS]
+    missing = [name for name, action in _actions(build_parser()) if not action.help or action.help == argparse.SUPPRESS]
     assert not missing, f"options without --help text: {missing}"
     names = [name for name, _ in _actions(build_parser())]
     assert "solve --compact" in names and "report --jobs" in names and "report --out" in names
@@ -78,23 +78,24 @@ def test_a_cold_compile_is_said_once_and_the_bar_waits_for_it(tmp_path, monkeypa
     monkeypatch.setattr(parallel, "prime", lambda path, method: Timed("compile", method, 0.0))
     run_cases([path], use_cache=False, jobs=1, progress=False)
     assert "compiling" not in capsys.readouterr().err
-    assert compile_notice(("elastica", "fem", "opensees"), 2) == \
-        "compiling the FEM and elastica kernels (once per machine, ~20 s)"
+    assert (
+        compile_notice(("elastica", "fem", "opensees"), 2)
+        == "compiling the FEM and elastica kernels (once per machine, ~20 s)"
+    )
 
 
 def test_the_bar_names_case_ids_and_shows_no_time_left_until_it_means_something():
     stream = io.StringIO()
     bar = CaseProgress(3, enabled=True, stream=stream)
     loaded = types.SimpleNamespace(id="cantilever_tip_load")
-    first = PathRun(Path("cases/benchmarks/some_file_name.toml"),
-                    result=types.SimpleNamespace(loaded=loaded))
+    first = PathRun(Path("cases/benchmarks/some_file_name.toml"), result=types.SimpleNamespace(loaded=loaded))
     bar.watch.compiling(("fem",))
     bar.advance(first)
     assert "cantilever_tip_load" in str(bar.bar) and "some_file_name" not in str(bar.bar)
-    assert bar.bar.bar_format == WITHOUT_ETA          # the compile is still running: no rate yet
+    assert bar.bar.bar_format == WITHOUT_ETA  # the compile is still running: no rate yet
     bar.watch.compiled()
     bar.advance(first)
-    assert bar.bar.bar_format == WITHOUT_ETA          # one case since the compile: no rate yet
+    assert bar.bar.bar_format == WITHOUT_ETA  # one case since the compile: no rate yet
     bar.advance(PathRun(Path("bad_file.toml"), error="bad"))
     assert bar.bar.bar_format == WITH_ETA and "bad_file" in str(bar.bar) and "<" in str(bar.bar)
     bar.close()
@@ -108,7 +109,7 @@ def test_run_says_a_refused_method_in_one_line_and_ends_with_counts_and_where(tm
     assert main(["run", str(path), "--out", str(out), "--quiet", "--no-cache"]) == 1
     lines = capsys.readouterr().out.rstrip().splitlines()
     assert "  toy prbm: refused: cannot model a toy" in lines
-    assert not any("outside the claimed limit:" in line for line in lines)      # no rows of NaN
+    assert not any("outside the claimed limit:" in line for line in lines)  # no rows of NaN
     assert lines[-2].startswith("1 case: 1 refused")
     assert lines[-1].startswith(f"results: {out} (values.csv, comparisons.csv, summary.csv")
 
@@ -116,8 +117,10 @@ def test_run_says_a_refused_method_in_one_line_and_ends_with_counts_and_where(tm
 def test_the_report_ends_with_counts_and_where_and_keeps_the_breakdown_off_screen(tmp_path):
     """The builder's breakdown stays in timing.txt; the screen gets its first line (with where the rest is)
     and the slowest cases, then the cases counted per verdict."""
-    breakdown = ["report: 63.2 s wall, 101.0 s CPU (this process and its 2 worker(s)); load average 1.0",
-                 "time breakdown (wall and CPU seconds of each piece of work; pooled work overlaps):"]
+    breakdown = [
+        "report: 63.2 s wall, 101.0 s CPU (this process and its 2 worker(s)); load average 1.0",
+        "time breakdown (wall and CPU seconds of each piece of work; pooled work overlaps):",
+    ]
     breakdown += [f"  main: step {i}    0.1 s wall    0.1 s CPU" for i in range(15)]
     breakdown += ["  slowest cases: a 4.0, b 2.0", "  workers busy 10 s of 2 x 34.0 s"]
     out = tmp_path / "r"
@@ -151,9 +154,23 @@ def test_the_pytest_plugin_says_a_refused_method_in_one_line(tmp_path):
     write(folder, "toy.toml", GOOD.replace("values = [1.0, 2.0]", "values = [1.0, 2.0, 3.0]"))
     write(folder, "conftest.py", PLUGIN_FAKE)
     write(tmp_path, "pytest.ini", "[pytest]\n")
-    done = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-c",
-                           str(tmp_path / "pytest.ini"), str(folder)], capture_output=True, text=True,
-                          cwd=tmp_path, timeout=120)
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pytest",
+            "-q",
+            "-p",
+            "no:cacheprovider",
+            "-c",
+            str(tmp_path / "pytest.ini"),
+            str(folder),
+        ],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=120,
+    )
     said = done.stdout
     assert done.returncode == 1, said + done.stderr
     assert f"toy ({folder / 'toy.toml'}), method prbm: refused: cannot model a toy\n" in said
@@ -163,7 +180,7 @@ def test_the_pytest_plugin_says_a_refused_method_in_one_line(tmp_path):
 def test_failed_sweep_points_are_named_with_where_the_rest_are(tmp_path, monkeypatch, capsys):
     from tests.validation.test_sweep import CASE, SPEC
 
-    def run(case, requests, options):   # every point with E below 0.7 fails (E_factor 0.5 and 0.67)
+    def run(case, requests, options):  # every point with E below 0.7 fails (E_factor 0.5 and 0.67)
         if case.segment.E < 0.7:
             return MethodRun(values={}, converged=False, message=f"no convergence at E = {case.segment.E:g}")
         return MethodRun(values={r: 1.0 for r in requests}, converged=True)
@@ -172,7 +189,7 @@ def test_failed_sweep_points_are_named_with_where_the_rest_are(tmp_path, monkeyp
     module.run = run
     monkeypatch.setitem(sys.modules, "validation.methods.elastica", module)
     write(tmp_path, "toy.toml", CASE)
-    spec = write(tmp_path, "toy_sweep.toml", SPEC.replace("samples = 100", "samples = 2"))   # 20 points
+    spec = write(tmp_path, "toy_sweep.toml", SPEC.replace("samples = 100", "samples = 2"))  # 20 points
     out = tmp_path / "sweep"
     assert main(["sweep", str(spec), "--out", str(out), "--serial", "--quiet", "--no-plot"]) == 1
     lines = capsys.readouterr().out.splitlines()
@@ -187,14 +204,14 @@ def test_failed_sweep_points_are_named_with_where_the_rest_are(tmp_path, monkeyp
 def test_solve_json_gives_units_and_rounds_to_the_methods_precision(capsys):
     assert main(["solve", "cantilever_tip_load", "--method", "fem", "--json"]) == 0
     document = json.loads(capsys.readouterr().out)
-    assert document["units"] == "dimensionless"          # the unit system, as before
+    assert document["units"] == "dimensionless"  # the unit system, as before
     assert document["output_units"] == {"x@tip": "L", "y@tip": "L", "rotation@tip": "deg"}
     assert "significant digits" in document["rounding"]
     for level in document["levels"]:
         outputs = level["outputs"]
         for name in ("x@tip", "y@tip", "rotation@tip"):
             value, estimate = outputs[name], outputs[f"{name}:error_estimate"]
-            assert estimate == float(f"{estimate:.2g}")                  # two significant digits
+            assert estimate == float(f"{estimate:.2g}")  # two significant digits
             # the value rounded at the estimate's second significant digit
             assert value == round(value, 1 - math.floor(math.log10(estimate)))
         # derived: a load of 10 significant digits prints in fewer than 17 characters (no 0.6000000000000001)
@@ -212,14 +229,19 @@ def test_solve_rounds_float_noise_off_values_without_an_estimate():
 
 
 def test_a_misspelled_case_field_gets_the_nearest_name(tmp_path):
-    path = write(tmp_path, "typo.toml", GOOD.replace("length = 10.0", "lenght = 10.0")
-                 .replace("values = [1.0, 2.0]", "values = [1.0, 2.0]\nvaleus = 3"))
+    path = write(
+        tmp_path,
+        "typo.toml",
+        GOOD.replace("length = 10.0", "lenght = 10.0").replace(
+            "values = [1.0, 2.0]", "values = [1.0, 2.0]\nvaleus = 3"
+        ),
+    )
     with pytest.raises(CaseError) as info:
         load_case(path)
     lines = str(info.value).splitlines()
     assert f"{path}: segment.lenght: unknown field; did you mean 'length'?" in lines
     assert f"{path}: loads.0.valeus: unknown field; did you mean 'values'?" in lines
-    assert not any("segment.length: Field required" in line for line in lines)   # the typo explains it
+    assert not any("segment.length: Field required" in line for line in lines)  # the typo explains it
     far = write(tmp_path, "far.toml", GOOD.replace("length = 10.0", "length = 10.0\nzzzz = 1"))
     with pytest.raises(CaseError) as info:
         load_case(far)
@@ -234,7 +256,7 @@ def test_pytest_comes_with_the_package_for_its_plugin():
     assert {"pytest", "pytest-xdist"} <= names
     assert project["entry-points"]["pytest11"] == {"prbm_validate": "validation.pytest_plugin"}
     readme = (ROOT / "README.md").read_text()
-    install = readme[readme.index("## The two commands"):readme.index("## Everyday use")]
+    install = readme[readme.index("## The two commands") : readme.index("## Everyday use")]
     assert "pytest my_cases/" in install and "pip install -q -e . &&" in install
 
 

@@ -9,6 +9,7 @@
 - a case run by methods whose code imports no numba schedules no primer and, run by the BCM, imports
   no compiled module (the PRBM's solve: ``test_startup_and_schedule``).
 """
+
 import ast
 import json
 import subprocess
@@ -65,36 +66,48 @@ def test_every_compiled_function_is_cached_on_disk():
                 seen += 1
                 cached = isinstance(decorator, ast.Call) and any(
                     k.arg == "cache" and isinstance(k.value, ast.Constant) and k.value.value is True
-                    for k in decorator.keywords)
+                    for k in decorator.keywords
+                )
                 if not cached:
                     missing.append(f"{path.relative_to(ROOT)}:{function}")
     assert seen > 10 and missing == []
 
 
 def test_one_specialisation_per_compiled_function_after_segment_and_mechanism_runs():
-    out = subprocess.run([sys.executable, "-c", SPECIALISATIONS], capture_output=True, text=True, check=True,
-                         cwd=ROOT)
+    out = subprocess.run([sys.executable, "-c", SPECIALISATIONS], capture_output=True, text=True, check=True, cwd=ROOT)
     found = json.loads(out.stdout.strip().splitlines()[-1])
-    for entry in ("fem.kernel.newton_load", "fem.warm_kernel.level_guesses_compiled",
-                  "elastica.integrator.follow_path", "elastica.integrator._samples"):
+    for entry in (
+        "fem.kernel.newton_load",
+        "fem.warm_kernel.level_guesses_compiled",
+        "elastica.integrator.follow_path",
+        "elastica.integrator._samples",
+    ):
         assert entry in found, (entry, sorted(found))
     assert {name: sigs for name, sigs in found.items() if len(sigs) != 1} == {}
 
 
 def test_methods_without_compiled_code_schedule_no_primer():
     paths = find_case_files()
-    free = sorted({m for p in paths for m in tomllib.loads(p.read_text(encoding="utf-8")).get("methods", {})
-                   if not compiled_method(m)})
+    free = sorted(
+        {
+            m
+            for p in paths
+            for m in tomllib.loads(p.read_text(encoding="utf-8")).get("methods", {})
+            if not compiled_method(m)
+        }
+    )
     assert "bcm" in free and "prbm" in free
     assert schedule(paths, free).primers == []
 
 
 def test_a_bcm_run_imports_no_compiled_module():
-    code = ("import sys\n"
-            "from validation.case.loader import case_by_id\n"
-            "from validation.run.runner import run_method\n"
-            "run = run_method(case_by_id('seed003_slant_parallelogram').case, 'bcm')\n"
-            "assert run.values, run.message\n"
-            f"print(' '.join(m for m in {COMPILED!r} if m in sys.modules))")
+    code = (
+        "import sys\n"
+        "from validation.case.loader import case_by_id\n"
+        "from validation.run.runner import run_method\n"
+        "run = run_method(case_by_id('seed003_slant_parallelogram').case, 'bcm')\n"
+        "assert run.values, run.message\n"
+        f"print(' '.join(m for m in {COMPILED!r} if m in sys.modules))"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT)
     assert out.stdout.split() == []

@@ -6,6 +6,7 @@ configuration and a status: 'fixed' files failed before a fix and must pass the 
 check would fail again if the fix were undone); 'open' files record a failure not fixed yet and must
 still fail (when one passes, the fix is in and the file's status and findings are to be updated).
 """
+
 from pathlib import Path
 
 import pytest

@@ -1,6 +1,7 @@
 """The coverage matrix (``validation/run/coverage.py``): generated from the adapters, it is the README's
 table "What each method can do" (so the table cannot drift from the code), and a few of its cells are
 known from the methods' own documentation."""
+
 from pathlib import Path
 
 import pytest
@@ -25,15 +26,16 @@ def cell(cells, load: str, boundary: str, method: str) -> coverage.Cell:
 
 def readme_table() -> str:
     text = (ROOT / "README.md").read_text(encoding="utf-8")
-    section = text[text.index(SECTION):]
-    section = section[:section.find("\n## ", 1)] if "\n## " in section[1:] else section
+    section = text[text.index(SECTION) :]
+    section = section[: section.find("\n## ", 1)] if "\n## " in section[1:] else section
     return "\n".join(line for line in section.splitlines() if line.startswith("|"))
 
 
 def test_the_readme_table_is_the_generated_matrix(cells):
     assert readme_table() == coverage.markdown(cells), (
         "README.md's table 'What each method can do' differs from the generated matrix: paste the output of "
-        "'prbm-validate list --methods --markdown' into it")
+        "'prbm-validate list --methods --markdown' into it"
+    )
 
 
 def test_every_load_kind_on_every_boundary_for_every_method(cells):
@@ -59,14 +61,18 @@ def test_the_prbm_answers_a_distributed_load_by_the_chain_algorithm():
 
 def test_a_rejected_combination_is_a_gap_of_the_case_format(monkeypatch):
     """A load the schema refuses is 'invalid case', with the schema's reason, not a method's refusal."""
-    monkeypatch.setattr(coverage, "_load", lambda kind, boundary: dict(kind="moment", point="tip", values=[1.0], follower=True))
+    monkeypatch.setattr(
+        coverage, "_load", lambda kind, boundary: dict(kind="moment", point="tip", values=[1.0], follower=True)
+    )
     found = coverage.cell("moment", "fixed-free", "fem")
     assert found.status == "invalid case" and "follower" in found.reason
 
 
 def test_shorten_keeps_the_reason():
-    assert coverage.shorten("not applicable: loads.0: the BCM takes no force toward a fixed point") == \
-        "the BCM takes no force toward a fixed point"
+    assert (
+        coverage.shorten("not applicable: loads.0: the BCM takes no force toward a fixed point")
+        == "the BCM takes no force toward a fixed point"
+    )
     assert coverage.shorten("error: FreeMotion: the model can move (at free_motion.py:334)") == "the model can move"
     long = coverage.shorten("not applicable: " + "word " * 40)
     assert len(long) <= 72 and long.endswith("...")
@@ -80,8 +86,9 @@ def test_list_methods_prints_the_matrix(capsys, cells):
 
 
 @pytest.mark.parametrize("load", ["distributed load", "self-weight"])
-@pytest.mark.parametrize("boundary", ["fixed-fixed", "pinned-pinned", "parallel-guided mechanism",
-                                      "circular-guided mechanism"])
+@pytest.mark.parametrize(
+    "boundary", ["fixed-fixed", "pinned-pinned", "parallel-guided mechanism", "circular-guided mechanism"]
+)
 def test_the_elastica_carries_a_load_along_the_beams_as_the_fem_does(load, boundary):
     """A distributed or self-weight load on the segments solved as a mechanism and on the mechanisms: the
     exact elastica (a uniform load along each beam, elastica.mechanism) against the FEM, whose own estimate
@@ -97,13 +104,15 @@ def _agree_with_the_fem(load: str, boundary: str) -> None:
     data["methods"] = {"elastica": {}, "fem": {"elements": 16, "error_estimate": True}}
     point = data["loads"][0]["point"]
     if load != "force toward a point":
-        data["loads"][0]["values"] = [20.0]        # a large deflection (the matrix's unit load bends little)
-    if load == "self-weight" and boundary not in coverage.SEGMENTS:   # gravity across the beams (as the
+        data["loads"][0]["values"] = [20.0]  # a large deflection (the matrix's unit load bends little)
+    if load == "self-weight" and boundary not in coverage.SEGMENTS:  # gravity across the beams (as the
         data["loads"][0]["direction"] = list(coverage.MECHANISMS[boundary].direction)  # row's force): along
         # them, 20 times the weight would buckle the parallel guide's beams
-    data["outputs"] = ([{"quantity": q, "point": "root"} for q in ("reaction_x", "reaction_y", "reaction_moment")]
-                       if boundary in coverage.SEGMENTS else
-                       [{"quantity": q, "point": point} for q in ("dx", "dy")])
+    data["outputs"] = (
+        [{"quantity": q, "point": "root"} for q in ("reaction_x", "reaction_y", "reaction_moment")]
+        if boundary in coverage.SEGMENTS
+        else [{"quantity": q, "point": point} for q in ("dx", "dy")]
+    )
     data["outputs"].append({"quantity": "strain_energy", "point": point})
     case = Case.model_validate(data)
     exact, fem = run_method(case, "elastica"), run_method(case, "fem")

@@ -9,6 +9,7 @@ project's shooting: collocation (scipy.integrate.solve_bvp) of
 with x(0) = y(0) = theta(0) = 0 at the clamp and m(1) = 0, N(1) = 0 at the free end (L = EI = 1).
 A dead load has q constant; a follower load q(s) = R(theta(s)) q0 turns with the beam.
 """
+
 from __future__ import annotations
 
 import math
@@ -30,6 +31,7 @@ from validation.case.method_options import options_of
 def collocation_elastica(loads, follower=False):
     """Tip (x, y, theta) of the unit cantilever under a uniform load (0, w) per unit length, for each
     w in ``loads`` (continued from the previous one), by collocation."""
+
     def rhs(s, Y, w):
         x, y, th, m, nx, ny = Y
         c, sn = np.cos(th), np.sin(th)
@@ -120,8 +122,10 @@ def _tangent_error(model):
     for i in range(s.n):
         e = np.zeros(s.n)
         e[i] = h
-        J[:, i] = (s.evaluate(q + e, beta, 1.0, *loads, need_K=False)["r"]
-                   - s.evaluate(q - e, beta, 1.0, *loads, need_K=False)["r"]) / (2 * h)
+        J[:, i] = (
+            s.evaluate(q + e, beta, 1.0, *loads, need_K=False)["r"]
+            - s.evaluate(q - e, beta, 1.0, *loads, need_K=False)["r"]
+        ) / (2 * h)
     return np.abs(J - K).max() / np.abs(K).max()
 
 
@@ -168,18 +172,20 @@ def test_rope_force_points_at_its_pulley_and_matches_the_elastica():
     assert np.allclose(-reaction[:2], T * e, atol=1e-6)
     ref = solve_elastica(1.0, 1.0, force=tuple(T * e))
     assert np.all(np.abs(tip - [ref.x, ref.y]) <= 2 * err + 1e-9)
-    assert math.hypot(*(tip - [1.0, 0.0])) > 0.3           # a large deflection
+    assert math.hypot(*(tip - [1.0, 0.0])) > 0.3  # a large deflection
 
 
-LAYERS = ('{ kind = "layers", layers = [{ E = 1.0, width = 1.0, thickness = 2.0, weight_density = 0.5 }, '
-          '{ E = 3.0, width = 2.0, thickness = 1.0, weight_density = 0.25 }] }')
+LAYERS = (
+    '{ kind = "layers", layers = [{ E = 1.0, width = 1.0, thickness = 2.0, weight_density = 0.5 }, '
+    "{ E = 3.0, width = 2.0, thickness = 1.0, weight_density = 0.25 }] }"
+)
 
 
 def _case(loads, section=LAYERS):
     """A one-segment case (dimensionless, fixed-free, L = 1) with the given section and [[loads]] text."""
     import tomllib
 
-    text = f'''
+    text = f"""
 [case]
 id = "t"
 title = "t"
@@ -196,7 +202,7 @@ quantity = "y"
 [methods.fem]
 elements = 8
 error_estimate = false
-'''
+"""
     return Case.model_validate(tomllib.loads(text))
 
 
@@ -221,14 +227,17 @@ def test_bonded_layers_bend_as_one_section():
     assert sliding.stiffness(None)[1] == pytest.approx(2.0 * (1 + 8) / 12.0)
 
 
-@pytest.mark.parametrize("loads, message", [
-    ('[[loads]]\nkind = "self_weight"\ndirection = [0.0, -1.0]\nvalues = [1.0]', "weight_density"),
-    ('[[loads]]\nkind = "distributed"\nvalues = [1.0]', "direction"),
-    ('[[loads]]\nkind = "distributed"\nmember = "b"\ndirection = [0.0, 1.0]\nvalues = [1.0]', "member"),
-    ('[[loads]]\nkind = "force"\ntoward = [0.0, 1.0]\ndirection = [0.0, 1.0]\nvalues = [1.0]', "toward"),
-    ('[[loads]]\nkind = "force"\nangle = 90.0\ndirection = [0.0, 1.0]\nvalues = [1.0]', "angle"),
-    ('[[loads]]\nkind = "self_weight"\nfollower = true\ndirection = [0.0, -1.0]\nvalues = [1.0]', "follower"),
-])
+@pytest.mark.parametrize(
+    "loads, message",
+    [
+        ('[[loads]]\nkind = "self_weight"\ndirection = [0.0, -1.0]\nvalues = [1.0]', "weight_density"),
+        ('[[loads]]\nkind = "distributed"\nvalues = [1.0]', "direction"),
+        ('[[loads]]\nkind = "distributed"\nmember = "b"\ndirection = [0.0, 1.0]\nvalues = [1.0]', "member"),
+        ('[[loads]]\nkind = "force"\ntoward = [0.0, 1.0]\ndirection = [0.0, 1.0]\nvalues = [1.0]', "toward"),
+        ('[[loads]]\nkind = "force"\nangle = 90.0\ndirection = [0.0, 1.0]\nvalues = [1.0]', "angle"),
+        ('[[loads]]\nkind = "self_weight"\nfollower = true\ndirection = [0.0, -1.0]\nvalues = [1.0]', "follower"),
+    ],
+)
 def test_bad_distributed_or_attached_loads_are_named(loads, message):
     with pytest.raises(ValueError, match=message):
         _case(loads, section='{ kind = "inertia", I = 1.0 }')
@@ -246,7 +255,7 @@ def test_point_load_methods_refuse_loads_along_the_beam():
         elastica_adapter.level_problems(follower, options_of("elastica", {}))
 
 
-BODY_CASE = '''
+BODY_CASE = """
 [case]
 id = "t"
 title = "t"
@@ -270,7 +279,7 @@ point = "P"
 [methods.fem]
 elements = 8
 error_estimate = false
-'''
+"""
 
 
 @pytest.mark.parametrize("point, body", [("P", "ext"), ("A", "b")])
@@ -291,10 +300,14 @@ def test_follower_force_on_a_named_body_turns_with_it(point, body):
 
 def test_zero_level_measures_positions_from_that_level():
     """zero_level = 0: a scale zeroed under the self-weight; y(level) - y(0) of the plain run."""
-    case = _case('[[loads]]\nkind = "self_weight"\ndirection = [0.0, -1.0]\nvalues = [1.0, 1.0]\n'
-                 '[[loads]]\nkind = "force"\ndirection = [0.0, 1.0]\nvalues = [0.0, 2.0]')
+    case = _case(
+        '[[loads]]\nkind = "self_weight"\ndirection = [0.0, -1.0]\nvalues = [1.0, 1.0]\n'
+        '[[loads]]\nkind = "force"\ndirection = [0.0, 1.0]\nvalues = [0.0, 2.0]'
+    )
     plain = fem_adapter.run(case, requests_for(case, "fem"), options_of("fem", {"error_estimate": False}))
-    zeroed = fem_adapter.run(case, requests_for(case, "fem"), options_of("fem", {"error_estimate": False, "zero_level": 0}))
+    zeroed = fem_adapter.run(
+        case, requests_for(case, "fem"), options_of("fem", {"error_estimate": False, "zero_level": 0})
+    )
     sag = plain.values[("y", "tip", 0)]
     assert sag < -0.1
     assert zeroed.values[("y", "tip", 0)] == 0.0

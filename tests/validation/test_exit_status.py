@@ -3,6 +3,7 @@ outside tolerance or a method that failed, refused or did not converge, 2 bad in
 
 The harness logic is tested with fake adapters (the solvers are not what is under test here); one
 test runs a real solver end to end."""
+
 from __future__ import annotations
 
 import json
@@ -21,8 +22,9 @@ from tests.validation.test_foundation import GOOD  # the toy cantilever with one
 
 BEHAVIOURS = {
     "ok": lambda levels, requests: MethodRun(values={r: 2.0 * levels[r.level] for r in requests}),
-    "not converged": lambda levels, requests: MethodRun(values={r: 2.0 * levels[r.level] for r in requests},
-                                                        converged=False, message="no convergence at level 1"),
+    "not converged": lambda levels, requests: MethodRun(
+        values={r: 2.0 * levels[r.level] for r in requests}, converged=False, message="no convergence at level 1"
+    ),
     "refuses": lambda levels, requests: (_ for _ in ()).throw(NotApplicable("cannot model a toy")),
     "crashes": lambda levels, requests: (_ for _ in ()).throw(RuntimeError("singular matrix")),
     "misconfigured": lambda levels, requests: (_ for _ in ()).throw(Misconfigured("option 'x': unknown")),
@@ -53,7 +55,7 @@ def write(tmp_path: Path, name: str, text: str) -> Path:
 def test_rule_combines_largest_and_maps_run_status():
     assert combine([0, 1, 2, 0]) is ExitStatus.BAD_INPUT and combine([]) is ExitStatus.OK
     assert combine([1, 130]) is ExitStatus.INTERRUPTED
-    assert [of_run_status(s) for s in RunStatus] == [0, 1, 1, 1, 2, 1]   # timed out: 1, as a failed run
+    assert [of_run_status(s) for s in RunStatus] == [0, 1, 1, 1, 2, 1]  # timed out: 1, as a failed run
 
 
 def test_rule_is_in_help(capsys):
@@ -64,8 +66,9 @@ def test_rule_is_in_help(capsys):
         assert " ".join(capsys.readouterr().out.split()).endswith(RULE)
 
 
-@pytest.mark.parametrize("behaviour, expected", [("ok", 0), ("not converged", 1), ("refuses", 1),
-                                                 ("crashes", 1), ("misconfigured", 2)])
+@pytest.mark.parametrize(
+    "behaviour, expected", [("ok", 0), ("not converged", 1), ("refuses", 1), ("crashes", 1), ("misconfigured", 2)]
+)
 def test_run_and_solve_exit_by_method_status(tmp_path, capsys, fake, behaviour, expected):
     fake["behaviour"] = behaviour
     path = write(tmp_path, "toy.toml", GOOD)
@@ -75,8 +78,16 @@ def test_run_and_solve_exit_by_method_status(tmp_path, capsys, fake, behaviour, 
         assert any("toy" in line and "prbm" in line for line in out.splitlines()[-6:])
     assert main(["solve", str(path), "--method", "prbm"]) == expected
     document = json.loads(capsys.readouterr().out)
-    assert document["status"] == {"ok": "ok", "not converged": "not converged", "refuses": "not applicable",
-                                  "crashes": "failed", "misconfigured": "misconfigured"}[behaviour]
+    assert (
+        document["status"]
+        == {
+            "ok": "ok",
+            "not converged": "not converged",
+            "refuses": "not applicable",
+            "crashes": "failed",
+            "misconfigured": "misconfigured",
+        }[behaviour]
+    )
 
 
 def test_run_and_solve_exit_1_on_tolerance_and_2_on_bad_case(tmp_path, capsys, fake):
@@ -89,10 +100,13 @@ def test_run_and_solve_exit_1_on_tolerance_and_2_on_bad_case(tmp_path, capsys, f
     assert main(["run", "no_such_case_anywhere", "--out", str(tmp_path / "o"), "--quiet"]) == 2
 
 
-@pytest.mark.parametrize("option, words", [('elemnts = 8', "methods.fem.elemnts: unknown option of method "
-                                            "'fem'; nearest: elements"),
-                                           ('elements = "many"', "methods.fem.elements: Input should be a "
-                                            "valid integer")])
+@pytest.mark.parametrize(
+    "option, words",
+    [
+        ("elemnts = 8", "methods.fem.elemnts: unknown option of method 'fem'; nearest: elements"),
+        ('elements = "many"', "methods.fem.elements: Input should be a valid integer"),
+    ],
+)
 def test_misspelled_or_mistyped_option_exits_2_naming_it(tmp_path, capsys, option, words):
     text = GOOD.replace("[methods.prbm]", f"[methods.fem]\n{option}").replace('compare = "prbm"', 'compare = "fem"')
     path = write(tmp_path, "opt.toml", text)
@@ -127,12 +141,36 @@ def test_real_solver_end_to_end(tmp_path, capsys):
     """The elastica on the cantilever: a true claim exits 0, the same claim 10 % off exits 1."""
     source = Path(__file__).resolve().parents[2] / "cases" / "benchmarks" / "cantilever_tip_load.toml"
     text = source.read_text()
-    assert main(["run", str(write(tmp_path, "c.toml", text)), "--method", "elastica", "--quiet",
-                 "--out", str(tmp_path / "o")]) == 0
+    assert (
+        main(
+            [
+                "run",
+                str(write(tmp_path, "c.toml", text)),
+                "--method",
+                "elastica",
+                "--quiet",
+                "--out",
+                str(tmp_path / "o"),
+            ]
+        )
+        == 0
+    )
     wrong = text.replace("value = 0.810609", "value = 0.891670")  # 10 % above the exact 0.810609
     assert wrong != text
-    assert main(["run", str(write(tmp_path, "w.toml", wrong)), "--method", "elastica", "--quiet",
-                 "--out", str(tmp_path / "o")]) == 1
+    assert (
+        main(
+            [
+                "run",
+                str(write(tmp_path, "w.toml", wrong)),
+                "--method",
+                "elastica",
+                "--quiet",
+                "--out",
+                str(tmp_path / "o"),
+            ]
+        )
+        == 1
+    )
 
 
 @pytest.mark.parametrize("behaviour, expected", [("ok", 0), ("not converged", 1), ("refuses", 1)])
@@ -148,8 +186,13 @@ def test_sweep_follows_the_rule(tmp_path, monkeypatch, behaviour, expected):
     module.run = run
     monkeypatch.setitem(sys.modules, "validation.methods.elastica", module)
     (tmp_path / "toy.toml").write_text(CASE)
-    spec = write(tmp_path, "toy_sweep.toml", SPEC.replace("samples = 100", "samples = 2")
-                 .replace("linspace = { start = 0.5, stop = 2.0, num = 10 }", "values = [1.0]"))
+    spec = write(
+        tmp_path,
+        "toy_sweep.toml",
+        SPEC.replace("samples = 100", "samples = 2").replace(
+            "linspace = { start = 0.5, stop = 2.0, num = 10 }", "values = [1.0]"
+        ),
+    )
     assert run_sweep(spec, tmp_path / "out", executor="serial", progress=False) == expected
 
 

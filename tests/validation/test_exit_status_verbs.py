@@ -1,6 +1,7 @@
 """The exit-status rule (validation/run/exit_status.py) on the verbs whose 0 and 1 are not covered
 by tests/validation/test_exit_status.py: ``bench`` and ``stress`` each give 0 when everything ran and passed,
 1 when a method did not converge or a check failed, 2 on bad input."""
+
 from __future__ import annotations
 
 import pytest
@@ -23,8 +24,7 @@ def test_bench_exits_0_when_every_method_converges(tmp_path, tiny_bench_cases, f
     assert run_bench(tmp_path, quick=True, cases=tiny_bench_cases, max_elements=4, plots=False) == 0
 
 
-def test_bench_exits_1_when_a_method_of_the_case_does_not_converge(tmp_path, tiny_bench_cases,
-                                                                     fake, capsys):  # noqa: F811
+def test_bench_exits_1_when_a_method_of_the_case_does_not_converge(tmp_path, tiny_bench_cases, fake, capsys):  # noqa: F811
     fake["behaviour"] = "not converged"
     assert run_bench(tmp_path, quick=True, cases=tiny_bench_cases, max_elements=4, plots=False) == 1
     assert "did not converge: cantilever_tip_load/prbm: no convergence at level 1" in capsys.readouterr().out
@@ -40,8 +40,9 @@ def test_stress_exits_0_when_every_check_passes(tmp_path):
 
 
 def test_stress_exits_1_when_a_check_fails(tmp_path, monkeypatch, capsys):
-    monkeypatch.setattr(stress_checks, "bad_input_checks",
-                        lambda: [Check("bad input", "planted", False, "a planted failing check")])
+    monkeypatch.setattr(
+        stress_checks, "bad_input_checks", lambda: [Check("bad input", "planted", False, "a planted failing check")]
+    )
     assert run_stress(tmp_path) == 1
     assert "FAILED bad input: planted: a planted failing check" in capsys.readouterr().out
 

@@ -1,4 +1,5 @@
 """Schema, loader, runner, cache and CLI of the harness (the solvers are faked here)."""
+
 from __future__ import annotations
 
 import json
@@ -76,7 +77,9 @@ def fake_prbm(monkeypatch):
 def test_good_case_loads_and_derives(tmp_path):
     case = load_case(write(tmp_path, "good.toml", GOOD)).case
     assert case.n_levels() == 2
-    assert case.segment.bending_stiffness() == pytest.approx(30e6 * 0.5 * 0.0625**3 / 12)   # derived: E w h^3/12 of the case file
+    assert case.segment.bending_stiffness() == pytest.approx(
+        30e6 * 0.5 * 0.0625**3 / 12
+    )  # derived: E w h^3/12 of the case file
     assert case.unit("length") == "in" and case.unit("moment") == "lbf*in"
 
 
@@ -86,13 +89,20 @@ BAD = {
     "wrong type": (GOOD.replace("length = 10.0", 'length = "ten"'), "segment.length", "valid number"),
     "zero E": (GOOD.replace("E = 30e6", "E = 0"), "segment.E", "greater than 0"),
     "negative length": (GOOD.replace("length = 10.0", "length = -1"), "segment.length", "greater than 0"),
-    "zero thickness": (GOOD.replace("thickness = 0.0625", "thickness = 0"), "segment.section.thickness",
-                       "greater than 0"),
+    "zero thickness": (
+        GOOD.replace("thickness = 0.0625", "thickness = 0"),
+        "segment.section.thickness",
+        "greater than 0",
+    ),
     "unknown unit": (GOOD.replace('units = "in-lb"', 'units = "furlong"'), "case.units", "unknown unit system"),
-    "output not given": (GOOD.replace('quantity = "y"\n\n[methods', 'quantity = "dof"\n\n[methods')
-                         .replace("[methods.prbm]", "[methods.elastica]").replace('compare = "prbm"\n', "")
-                         .replace("tolerance = { rel = 1e-3 }\n", ""), "outputs.0",
-                         "method 'elastica' cannot give 'dof'"),
+    "output not given": (
+        GOOD.replace('quantity = "y"\n\n[methods', 'quantity = "dof"\n\n[methods')
+        .replace("[methods.prbm]", "[methods.elastica]")
+        .replace('compare = "prbm"\n', "")
+        .replace("tolerance = { rel = 1e-3 }\n", ""),
+        "outputs.0",
+        "method 'elastica' cannot give 'dof'",
+    ),
     "NaN": (GOOD.replace("values = [1.0, 2.0]", "values = [1.0, nan]"), "loads.0.values.1", "finite"),
 }
 
@@ -136,8 +146,7 @@ def test_runner_table_and_tolerance(tmp_path, fake_prbm):
 def test_tolerance_violation_exits_1(tmp_path, fake_prbm):
     path = write(tmp_path, "off.toml", GOOD.replace("value = 4.0", "value = 4.1"))
     assert main(["run", str(path), "--out", str(tmp_path / "o"), "--quiet"]) == 1
-    assert main(["run", str(write(tmp_path, "good.toml", GOOD)), "--out", str(tmp_path / "o"),
-                 "--quiet"]) == 0
+    assert main(["run", str(write(tmp_path, "good.toml", GOOD)), "--out", str(tmp_path / "o"), "--quiet"]) == 0
 
 
 def test_cache_hit_and_no_cache(tmp_path, fake_prbm):

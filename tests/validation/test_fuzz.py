@@ -11,6 +11,7 @@ case files through ``prbm-validate solve`` and ``run`` on two worker processes, 
 - the judge (``Outcome.problem``), an exception escaping ``main``, the time bound of the pool and the
   shrinker, each on a planted failure.
 """
+
 from __future__ import annotations
 
 import fnmatch
@@ -28,8 +29,8 @@ from validation.stress.fuzz_worker import Outcome, run_mutant
 pytestmark = pytest.mark.xdist_group("fuzz")  # one pool of workers for the whole module
 
 COUNT = 300
-SEED = 20261122          # the seed of `prbm-validate stress`: the test runs the command's own 300 mutants
-BOUND = 10.0             # seconds a mutant may take (the shipped cases of fuzz.SOURCES solve in under 1 s)
+SEED = 20261122  # the seed of `prbm-validate stress`: the test runs the command's own 300 mutants
+BOUND = 10.0  # seconds a mutant may take (the shipped cases of fuzz.SOURCES solve in under 1 s)
 REGRESSIONS = Path(__file__).resolve().parent / "fuzz_regressions"
 
 
@@ -47,8 +48,12 @@ class Defect:
     def explains(self, mutant: Mutant, outcome: Outcome) -> bool:
         def at(m: Mutation) -> str:
             return ".".join("*" if isinstance(p, int) else str(p) for p in m.path)
-        return outcome.problem.startswith(self.problem) and self.said in outcome.stderr and \
-            (not self.fields or any(fnmatch.fnmatchcase(at(m), f) for m in mutant.mutations for f in self.fields))
+
+        return (
+            outcome.problem.startswith(self.problem)
+            and self.said in outcome.stderr
+            and (not self.fields or any(fnmatch.fnmatchcase(at(m), f) for m in mutant.mutations for f in self.fields))
+        )
 
 
 # name (a regression file's "defect:" line) -> a defect found and not fixed yet
@@ -72,10 +77,10 @@ def _said(outcome: Outcome) -> str:
 
 
 def test_mutants_keep_the_contract(fuzzed):
-    unexplained = [(m, o) for m, o in fuzzed
-                   if o.problem and not any(d.explains(m, o) for d in OPEN.values())]
-    assert not unexplained, "\n".join(f"{o.problem}: {m.verb} {m.source.relative_to(CASES_DIR)}: {m.describe()} "
-                                      f"({_said(o)})" for m, o in unexplained)
+    unexplained = [(m, o) for m, o in fuzzed if o.problem and not any(d.explains(m, o) for d in OPEN.values())]
+    assert not unexplained, "\n".join(
+        f"{o.problem}: {m.verb} {m.source.relative_to(CASES_DIR)}: {m.describe()} ({_said(o)})" for m, o in unexplained
+    )
 
 
 def test_mutants_cover_every_kind_verb_and_ending(fuzzed):
@@ -104,20 +109,31 @@ def test_regression_keeps_the_contract(pool, path):
 
 
 def test_the_judge_names_each_failure():
-    assert Outcome(exit=2, seconds=0.1, stderr="error: f.toml: segment.E: Input should be greater than 0\n"
-                   "nothing written; the previous results in out are unchanged\n").problem == ""
+    assert (
+        Outcome(
+            exit=2,
+            seconds=0.1,
+            stderr="error: f.toml: segment.E: Input should be greater than 0\n"
+            "nothing written; the previous results in out are unchanged\n",
+        ).problem
+        == ""
+    )
     assert Outcome(exit=None, seconds=10.0).problem == "timed out"
     assert Outcome(exit=1, seconds=0.1, exception="KeyError at x.py:f").problem == "traceback: KeyError at x.py:f"
     assert Outcome(exit=-9, seconds=0.1, stderr="the worker process died").problem == "exit -9"
     assert Outcome(exit=1, seconds=0.1, silent=True).problem == "exit 1 without a message"
     assert Outcome(exit=2, seconds=0.1, stderr="nothing written\n").problem == "exit 2 without an error line"
-    assert Outcome(exit=2, seconds=0.1, stderr="error: f.toml: bad\n  For further information visit x\n").problem \
+    assert (
+        Outcome(exit=2, seconds=0.1, stderr="error: f.toml: bad\n  For further information visit x\n").problem
         == "a message that is not one line"
+    )
     warned = "/x/prbm/mechanisms.py:349: RuntimeWarning: invalid value encountered in arcsin\n  t = np.arcsin(s)\n"
     assert Outcome(exit=1, seconds=0.1, stderr=warned).problem == "a message that is not one line"
     assert Outcome(exit=1, seconds=0.1, stderr=warned).offending_line.startswith("mechanisms.py:349: RuntimeWarning")
-    assert Outcome(exit=0, seconds=0.1, nonfinite="prbm y@P at level 2 = None").problem \
+    assert (
+        Outcome(exit=0, seconds=0.1, nonfinite="prbm y@P at level 2 = None").problem
         == "exit 0 with a number that is not finite"
+    )
 
 
 def test_an_exception_escaping_main_is_a_traceback(tmp_path, monkeypatch):
@@ -126,20 +142,21 @@ def test_an_exception_escaping_main_is_a_traceback(tmp_path, monkeypatch):
 
     def boom(path):
         raise RuntimeError("planted")
+
     monkeypatch.setattr("validation.cli.solve.load_case", boom)
     outcome = run_mutant(source, "solve", tmp_path)
     assert outcome.exit == 1 and outcome.problem == "traceback: RuntimeError at tests/validation/test_fuzz.py:boom"
 
 
 def test_a_mutant_past_its_bound_is_stopped_and_its_worker_replaced(pool):
-    slow = (CASES_DIR / "benchmarks" / "arch_215_clamped_hinged.toml").read_bytes   # about 1 s to solve
-    restarts, pool.timeout = pool.restarts, 0.0   # the bound: the file's size allowance alone, a few ms
+    slow = (CASES_DIR / "benchmarks" / "arch_215_clamped_hinged.toml").read_bytes  # about 1 s to solve
+    restarts, pool.timeout = pool.restarts, 0.0  # the bound: the file's size allowance alone, a few ms
     try:
         outcome = pool.map([("solve", slow)])[0]
     finally:
         pool.timeout = BOUND
     assert outcome.timed_out and outcome.problem == "timed out" and pool.restarts == restarts + 1
-    assert pool.map([("solve", slow)])[0].exit == 0   # the replacement worker runs the next one
+    assert pool.map([("solve", slow)])[0].exit == 0  # the replacement worker runs the next one
 
 
 class PlantedPool:
@@ -148,8 +165,12 @@ class PlantedPool:
     workers = [None, None]
 
     def map(self, tasks):
-        return [Outcome(exit=1, seconds=0.0, exception="Planted at x.py:f") if b"nan" in make()
-                else Outcome(exit=2, seconds=0.0, stderr="error: bad") for _, make in tasks]
+        return [
+            Outcome(exit=1, seconds=0.0, exception="Planted at x.py:f")
+            if b"nan" in make()
+            else Outcome(exit=2, seconds=0.0, stderr="error: bad")
+            for _, make in tasks
+        ]
 
 
 def test_shrink_keeps_the_failing_mutation_and_drops_the_rest():
@@ -161,5 +182,5 @@ def test_shrink_keeps_the_failing_mutation_and_drops_the_rest():
     small, small_outcome = shrink(pool, mutant, outcome, budget=200)
     assert small_outcome.problem == outcome.problem
     assert [m for m in small.mutations if m.kind != "shrink"] == [failing]
-    assert len(small.bytes()) < len(source.read_bytes()) / 2   # references, agreements, ... deleted
+    assert len(small.bytes()) < len(source.read_bytes()) / 2  # references, agreements, ... deleted
     assert "references" not in small.document() and math.isnan(small.document()["mechanism"]["E"])

@@ -1,5 +1,6 @@
 """The harness as a library: the pytest plugin on case files it has never seen, the Python API,
 the tidy tables against their one schema, and the README's examples."""
+
 from __future__ import annotations
 
 import doctest
@@ -32,8 +33,25 @@ def run_pytest(*args: str, cwd: Path) -> subprocess.CompletedProcess:
     """``pytest -q ARGS`` in a fresh interpreter in ``cwd``, as a user runs it (the plugin found through its
     ``pytest11`` entry point); hypothesis's and pytest-benchmark's plugins, which a case-file run never
     uses, are not loaded (a few CPU-seconds of imports on the shared machine)."""
-    return subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-p", "no:hypothesispytest",
-                           "-p", "no:benchmark", *args], cwd=cwd, capture_output=True, text=True, timeout=300)
+    return subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pytest",
+            "-q",
+            "-p",
+            "no:cacheprovider",
+            "-p",
+            "no:hypothesispytest",
+            "-p",
+            "no:benchmark",
+            *args,
+        ],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
 
 
 UNIFORM = (ROOT / "cases" / "benchmarks" / "cantilever_uniform_load.toml").read_text()
@@ -45,8 +63,10 @@ def _uniform_files(tmp_path: Path) -> None:
     outcome."""
     asks_prbm = UNIFORM.replace('model = "chain"', 'model = "theta-dependent"')
     assert asks_prbm != UNIFORM
-    expects = asks_prbm.replace('group = "benchmarks"', 'group = "benchmarks"\nexpected_failure = { prbm = '
-                                '"no seed PRBM for a distributed load" }')
+    expects = asks_prbm.replace(
+        'group = "benchmarks"',
+        'group = "benchmarks"\nexpected_failure = { prbm = "no seed PRBM for a distributed load" }',
+    )
     assert expects != asks_prbm
     user_case(tmp_path, "refused.toml", asks_prbm.replace('id = "cantilever_uniform_load"', 'id = "refused"'))
     user_case(tmp_path, "expected.toml", expects.replace('id = "cantilever_uniform_load"', 'id = "expected"'))
@@ -60,8 +80,11 @@ def plugin_run(tmp_path_factory) -> subprocess.CompletedProcess:
     assert EXACT_Y_10 in CANTILEVER
     user_case(tmp_path, "true_claim.toml", CANTILEVER)
     user_case(tmp_path, "false_claim.toml", CANTILEVER.replace(EXACT_Y_10, "value = 0.891670"))  # +10 %
-    user_case(tmp_path, "bad.toml", CANTILEVER.replace("length = 1.0", "length = -1.0")
-              .replace("E = 1.0", "E = 1.0\nlenght = 2.0"))
+    user_case(
+        tmp_path,
+        "bad.toml",
+        CANTILEVER.replace("length = 1.0", "length = -1.0").replace("E = 1.0", "E = 1.0\nlenght = 2.0"),
+    )
     (tmp_path / "my_cases" / "notes.toml").write_text("[tool]\nx = 1\n")  # not a case file: not collected
     _uniform_files(tmp_path)
     return run_pytest("my_cases/", "--case-method", "elastica", "--case-method", "prbm", "-rA", cwd=tmp_path)
@@ -79,17 +102,24 @@ def test_plugin_passes_a_true_claim_and_fails_a_false_one(plugin_run):
     assert done.returncode == 1, out + done.stderr
     # one item per (case file, method it lists and the run chose), one for a bad file, none for notes.toml
     assert _outcomes(out) == {
-        "PASSED my_cases/true_claim.toml::true_claim[elastica]", "FAILED my_cases/false_claim.toml::false_claim[elastica]",
+        "PASSED my_cases/true_claim.toml::true_claim[elastica]",
+        "FAILED my_cases/false_claim.toml::false_claim[elastica]",
         # the PRBM's own check (its agreement with the elastica) holds in both: the false claim is the elastica's
-        "PASSED my_cases/true_claim.toml::true_claim[prbm]", "PASSED my_cases/false_claim.toml::false_claim[prbm]",
-        "FAILED my_cases/bad.toml::input", "PASSED my_cases/refused.toml::refused[elastica]",
-        "FAILED my_cases/refused.toml::refused[prbm]", "PASSED my_cases/expected.toml::expected[elastica]",
-        "PASSED my_cases/expected.toml::expected[prbm]"}
+        "PASSED my_cases/true_claim.toml::true_claim[prbm]",
+        "PASSED my_cases/false_claim.toml::false_claim[prbm]",
+        "FAILED my_cases/bad.toml::input",
+        "PASSED my_cases/refused.toml::refused[elastica]",
+        "FAILED my_cases/refused.toml::refused[prbm]",
+        "PASSED my_cases/expected.toml::expected[elastica]",
+        "PASSED my_cases/expected.toml::expected[prbm]",
+    }
     assert "3 failed, 6 passed" in out
     # the message a person reads: quantity, point, level and load with unit, value, reference, error,
     # tolerance, source
-    assert ("y at tip, level 9, force at tip = 10 EI/L^2: 0.810609 L against exact 0.89167; error 0.0811 abs, "
-            "0.0909 rel; tolerance abs 2e-06; source notes/anchors.md, section 2.1") in out
+    assert (
+        "y at tip, level 9, force at tip = 10 EI/L^2: 0.810609 L against exact 0.89167; error 0.0811 abs, "
+        "0.0909 rel; tolerance abs 2e-06; source notes/anchors.md, section 2.1"
+    ) in out
     # a bad file is one failing item listing every problem
     assert "segment.length: Input should be greater than 0" in out
     assert "segment.lenght: unknown field; did you mean 'length'?" in out
@@ -98,8 +128,10 @@ def test_plugin_passes_a_true_claim_and_fails_a_false_one(plugin_run):
 def test_plot_against_load_from_the_table_alone(tmp_path):
     """PRBM and FEM against load with no TOML reading and no de-duplication."""
     path = user_case(tmp_path, "mine.toml", CANTILEVER)
-    assert main(["run", str(path), "--method", "prbm", "--method", "elastica", "--quiet",
-                 "--out", str(tmp_path / "out")]) == 0
+    assert (
+        main(["run", str(path), "--method", "prbm", "--method", "elastica", "--quiet", "--out", str(tmp_path / "out")])
+        == 0
+    )
     values = tables.read(tmp_path / "out" / "values.parquet", "values")
     tip = values[(values["quantity"] == "y") & (values["point"] == "tip")]
     curve = tip.pivot(index="load_value", columns="method", values="value")  # raises on duplicates
@@ -114,9 +146,12 @@ def test_written_tables_match_the_one_schema(tmp_path, kind):
     path = user_case(tmp_path, "mine.toml", CANTILEVER)
     assert main(["run", str(path), "--method", "elastica", "--quiet", "--out", str(tmp_path / "out")]) == 0
     for name, columns in tables.SCHEMA.items():
-        raw = (pd.read_csv(tmp_path / "out" / f"{name}.csv") if kind == "csv"
-               else pd.read_parquet(tmp_path / "out" / f"{name}.parquet"))
-        assert list(raw.columns)[:len(columns)] == [c.name for c in columns], name
+        raw = (
+            pd.read_csv(tmp_path / "out" / f"{name}.csv")
+            if kind == "csv"
+            else pd.read_parquet(tmp_path / "out" / f"{name}.parquet")
+        )
+        assert list(raw.columns)[: len(columns)] == [c.name for c in columns], name
         typed = tables.read(tmp_path / "out" / f"{name}.{kind}", name)
         for col in columns:
             assert str(typed[col.name].dtype) == str(pd.Series([], dtype=col.dtype).dtype), (name, col.name)
@@ -142,8 +177,9 @@ def test_api_and_readme_doctests():
 
 def test_solve_json_has_the_loads(tmp_path, capsys):
     path = user_case(tmp_path, "mine.toml", CANTILEVER)
-    assert main(["solve", str(path), "--method", "prbm", "--method", "elastica", "--out",
-                 str(tmp_path / "s.json")]) == 0
+    assert (
+        main(["solve", str(path), "--method", "prbm", "--method", "elastica", "--out", str(tmp_path / "s.json")]) == 0
+    )
     import json
 
     document = json.loads((tmp_path / "s.json").read_text())
@@ -155,8 +191,9 @@ def test_solve_json_has_the_loads(tmp_path, capsys):
 
 def test_every_named_load_as_a_column():
     """Table 3.1's load combination (P and a moment per level) as columns beside each value."""
-    result = validation.run.api.validate(ROOT / "cases" / "chapter3" / "table3_1_load_combination.toml",
-                                     methods=["prbm"])
+    result = validation.run.api.validate(
+        ROOT / "cases" / "chapter3" / "table3_1_load_combination.toml", methods=["prbm"]
+    )
     wide = result.values_with_loads
     columns = [c for c in wide.columns if c.endswith("]")]
     assert columns == ["-M (printed M > 0 is clockwise, opposing P) [lbf*in]", "P [lbf]"]
@@ -175,6 +212,6 @@ def test_plugin_judges_like_the_suite_expected_failures_and_unchecked(plugin_run
     out = done.stdout
     assert done.returncode == 1, out + done.stderr
     assert "FAILED my_cases/refused.toml::refused[prbm]" in out
-    assert "method prbm: refused: " in out        # one line: the verdict and its reason
+    assert "method prbm: refused: " in out  # one line: the verdict and its reason
     assert "PASSED my_cases/expected.toml::expected[prbm]" in out
     assert "PASSED my_cases/refused.toml::refused[elastica]" in out

@@ -6,6 +6,7 @@ The case file may give any non-zero vector: it is normalised once, when the case
 cantilever (L = EI = 1, inextensible) under a dead tip force P (cos 45, sin 45), solved by the
 ``elastica`` package directly (shooting, ``elastica.solve_elastica``).
 """
+
 from __future__ import annotations
 
 import json
@@ -22,7 +23,7 @@ from validation.methods.base import RunStatus
 from validation.run.exit_status import ExitStatus
 from validation.run.runner import run_method
 
-P = 1.0                                  # P L^2/EI: the tip turns by about 15 deg
+P = 1.0  # P L^2/EI: the tip turns by about 15 deg
 UNIT = math.sqrt(0.5)
 
 # Tip-position tolerance of each method against the exact elastica, in units of L: the FEM's
@@ -89,7 +90,7 @@ def exact_tip() -> tuple[float, float]:
 def test_a_direction_is_normalised_to_a_unit_vector_when_loaded():
     load = LoadSpec(kind="force", direction=(3.0, 4.0), values=[2.0])
     assert load.direction == pytest.approx((0.6, 0.8), abs=1e-15)
-    assert load.levels() == [2.0]                       # the value stays the magnitude
+    assert load.levels() == [2.0]  # the value stays the magnitude
 
 
 @pytest.mark.parametrize("method", sorted(TOLERANCE))

@@ -8,6 +8,7 @@ answer says why, before it tries.
   point frees both tip components) swings about its root pin: the case's mobility check rejects it
   before any method runs, as it does a mechanism that can move as a rigid body.
 """
+
 import pytest
 
 import prbm
@@ -23,11 +24,16 @@ def parallelogram(scale: float) -> prbm.Network:
     """Two cranks of length ``scale`` pinned to the ground at (0, 0) and (scale/2, 0), and to a coupler
     at (0, scale) and (scale/2, scale); springs at the four pins."""
     h, w = scale, scale / 2
-    pins = [prbm.Pin("left", prbm.GROUND, (0.0, 0.0)), prbm.Pin("left", "coupler", (0.0, h)),
-            prbm.Pin("right", prbm.GROUND, (w, 0.0)), prbm.Pin("right", "coupler", (w, h))]
+    pins = [
+        prbm.Pin("left", prbm.GROUND, (0.0, 0.0)),
+        prbm.Pin("left", "coupler", (0.0, h)),
+        prbm.Pin("right", prbm.GROUND, (w, 0.0)),
+        prbm.Pin("right", "coupler", (w, h)),
+    ]
     springs = [prbm.TorsionSpring("left", prbm.GROUND, 1.0), prbm.TorsionSpring("right", "coupler", 1.0)]
-    return prbm.Network(["left", "right", "coupler"],
-                        {"M": ("coupler", (w / 2, h)), "B": ("left", (0.0, h))}, pins, springs=springs)
+    return prbm.Network(
+        ["left", "right", "coupler"], {"M": ("coupler", (w / 2, h)), "B": ("left", (0.0, h))}, pins, springs=springs
+    )
 
 
 @pytest.mark.parametrize("scale", [1e-3, 1.0, 1e3])
@@ -82,7 +88,7 @@ def test_a_pinned_pinned_segment_free_across_its_chord_is_rejected_for_every_met
 def segment_case(load: dict, length: float = 1.0, curvature: float = 0.0) -> Case:
     data = coverage.minimal_case("force", "pinned-pinned", "fem")
     data["segment"].update(length=length, curvature=curvature)
-    data["loads"] = [dict(load, values=[1.0 / length**2])]       # P L^2/EI = 1 at every length
+    data["loads"] = [dict(load, values=[1.0 / length**2])]  # P L^2/EI = 1 at every length
     return Case.model_validate(data)
 
 
@@ -93,12 +99,14 @@ def test_the_swing_is_found_at_any_scale(length):
     assert len(problems) == 1
     field, problem = problems[0]
     assert field == "segment"
-    assert problem.startswith("a pinned-pinned segment swings about its root pin, its tip free across the chord: "
-                              "hold the tip or load it along the chord; loads.0 (a follower force)")
+    assert problem.startswith(
+        "a pinned-pinned segment swings about its root pin, its tip free across the chord: "
+        "hold the tip or load it along the chord; loads.0 (a follower force)"
+    )
     across = dict(kind="force", point="tip", direction=[0.0, 1.0], values=[1.0])
-    assert check_case(segment_case(across, length))                  # a dead force across the chord frees uy
+    assert check_case(segment_case(across, length))  # a dead force across the chord frees uy
     along = dict(kind="force", point="tip", direction=[1.0, 0.0], values=[1.0])
-    assert check_case(segment_case(along, length)) == []             # along the chord: uy held, no swing
+    assert check_case(segment_case(along, length)) == []  # along the chord: uy held, no swing
 
 
 def test_a_curved_pinned_pinned_segment_held_along_x_does_not_swing():
@@ -106,7 +114,7 @@ def test_a_curved_pinned_pinned_segment_held_along_x_does_not_swing():
     along_x = dict(kind="force", point="tip", direction=[1.0, 0.0], values=[1.0])
     assert check_case(segment_case(along_x, curvature=1.0)) == []
     toward = dict(kind="force", point="tip", toward=[2.0, 0.0], values=[1.0])
-    assert check_case(segment_case(toward, curvature=1.0))           # both tip components free: it swings
+    assert check_case(segment_case(toward, curvature=1.0))  # both tip components free: it swings
 
 
 def test_the_other_boundaries_are_held_whatever_the_tip_load():

@@ -1,4 +1,5 @@
 """Strict method options (validation/case/method_options.py) and a cache key that cannot go stale."""
+
 import re
 import shutil
 from pathlib import Path
@@ -39,16 +40,23 @@ family = "howell"
 """
 
 
-@pytest.mark.parametrize("replace, field, words", [
-    ("elements = 4", "methods.fem.elemnts", "unknown option"),
-    ('family = "howell"', "methods.prbm.familly", "unknown option"),
-    ("elements = 4", "methods.fem.elements", "valid integer"),
-    ('family = "howell"', "methods.prbm.family", "'pauly-midha', 'howell' or 'constant'"),
-])
+@pytest.mark.parametrize(
+    "replace, field, words",
+    [
+        ("elements = 4", "methods.fem.elemnts", "unknown option"),
+        ('family = "howell"', "methods.prbm.familly", "unknown option"),
+        ("elements = 4", "methods.fem.elements", "valid integer"),
+        ('family = "howell"', "methods.prbm.family", "'pauly-midha', 'howell' or 'constant'"),
+    ],
+)
 def test_a_bad_option_is_one_error_naming_file_and_field(tmp_path, replace, field, words):
     option = field.rsplit(".", 1)[1]
-    value = {"elemnts": "elemnts = 8", "familly": 'familly = "howell"', "elements": 'elements = "eight"',
-             "family": 'family = "hwell"'}[option]
+    value = {
+        "elemnts": "elemnts = 8",
+        "familly": 'familly = "howell"',
+        "elements": 'elements = "eight"',
+        "family": 'family = "hwell"',
+    }[option]
     path = tmp_path / "bad.toml"
     path.write_text(CASE.replace(replace, value))
     with pytest.raises(CaseError) as info:
@@ -68,7 +76,7 @@ def test_a_bad_option_exits_2_and_the_good_case_loads(tmp_path, capsys):
 
 
 def test_every_option_an_adapter_reads_is_declared():
-    pattern = re.compile(r"""\boptions\.(?!model_)(\w+)\b(?!\()""")    # the fields read off the method's options model
+    pattern = re.compile(r"""\boptions\.(?!model_)(\w+)\b(?!\()""")  # the fields read off the method's options model
     for method, model in OPTIONS.items():
         folder = ROOT / "validation" / "methods"  # the adapter and its parts (prbm_fourbar.py, ...)
         source = "\n".join(p.read_text() for p in [folder / f"{method}.py", *sorted(folder.glob(f"{method}_*.py"))])
@@ -79,13 +87,21 @@ def test_every_option_an_adapter_reads_is_declared():
 
 def test_the_cache_key_covers_schema_contract_options_adapter_and_library():
     names = {p.relative_to(cache.ROOT).as_posix() for p in cache.source_files("prbm")}
-    assert {"validation/case/schema.py", "validation/case/quantities.py", "validation/case/method_options.py",
-            "validation/methods/prbm.py", "validation/methods/base.py", "prbm/segments.py"} <= names
+    assert {
+        "validation/case/schema.py",
+        "validation/case/quantities.py",
+        "validation/case/method_options.py",
+        "validation/methods/prbm.py",
+        "validation/methods/base.py",
+        "prbm/segments.py",
+    } <= names
     assert "fem/solver.py" not in names  # another method's library does not invalidate this one
 
 
-@pytest.mark.parametrize("edited", ["validation/case/schema.py", "validation/case/quantities.py", "fem/newton.py",
-                                    "validation/methods/fem.py"])
+@pytest.mark.parametrize(
+    "edited",
+    ["validation/case/schema.py", "validation/case/quantities.py", "fem/newton.py", "validation/methods/fem.py"],
+)
 def test_an_edit_invalidates_the_cache(tmp_path, monkeypatch, edited):
     copy = tmp_path / "repo"
     for package in cache.PACKAGES:

@@ -6,6 +6,7 @@ positions are checked against our FEM's on the same mesh: two independent corota
 with exact rigid links and extra rotation DOFs at the hinges, the other with stiff elements and
 released element ends, must land on the same equilibrium.
 """
+
 from __future__ import annotations
 
 import math
@@ -26,8 +27,11 @@ def _elements_between(coords, elems, a, b):
     """The release codes of the elements joining the nodes at a and b (either direction)."""
     index = {tuple(round(v, 9) for v in xy): k for k, xy in enumerate(coords)}
     i, j = index[a], index[b]
-    return [(code if (e0, e1) == (i, j) else {1: 2, 2: 1}.get(code, code))
-            for e0, e1, _, _, code in elems if {e0, e1} == {i, j}]
+    return [
+        (code if (e0, e1) == (i, j) else {1: 2, 2: 1}.get(code, code))
+        for e0, e1, _, _, code in elems
+        if {e0, e1} == {i, j}
+    ]
 
 
 def test_test2_hinges_release_the_coupler_at_A_and_link4_at_B():
@@ -41,7 +45,7 @@ def test_test2_hinges_release_the_coupler_at_A_and_link4_at_B():
     assert _elements_between(coords, elems, xy["B"], xy["A"]) == [RELEASED_AT_J]
     assert _elements_between(coords, elems, xy["B"], xy["P"]) == [0]
     assert _elements_between(coords, elems, xy["O4"], xy["B"]) == [RELEASED_AT_J]
-    beam = [code for i, j, EA, EI, code in elems if EI < 1e3]          # the Delrin segment's elements
+    beam = [code for i, j, EA, EI, code in elems if EI < 1e3]  # the Delrin segment's elements
     assert beam == [0, 0, 0, 0]
     assert supports == {names["C"]: "fixed", names["O4"]: "pinned"}
     stiff = [EI for *_, EI, code in elems if EI > 1e3]
@@ -53,10 +57,13 @@ def _mechanism_case(links, joints, loads, supports=None):
         "case": {"id": "peer_links", "title": "a made-up linked mechanism", "group": "tests", "units": "dimensionless"},
         "mechanism": {
             "E": 1.0,
-            "nodes": [{"name": n, "x": x, "y": y} for n, x, y in
-                      (("G", 0.0, 0.0), ("A", 1.0, 0.0), ("B", 1.5, 0.5), ("C", 2.0, 0.0))],
+            "nodes": [
+                {"name": n, "x": x, "y": y}
+                for n, x, y in (("G", 0.0, 0.0), ("A", 1.0, 0.0), ("B", 1.5, 0.5), ("C", 2.0, 0.0))
+            ],
             "beams": [{"name": "beam", "start": "G", "end": "A", "section": {"kind": "inertia", "I": 1.0, "A": 1e4}}],
-            "links": links, "joints": joints,
+            "links": links,
+            "joints": joints,
             "supports": supports or [{"node": "G", "kind": "fixed"}, {"node": "C", "kind": "pinned"}],
         },
         "loads": loads,
@@ -73,16 +80,21 @@ def test_a_link_released_at_every_node_gets_a_hub_at_their_centroid():
     """A three-node link hinged at all three nodes (at A to the beam, which keeps A's rotation; at B and
     C, whose supports hold the rotation) keeps its shape through an extra hub node at the centroid, its
     three elements released at the link's nodes only."""
-    case = _mechanism_case([{"name": "tri", "nodes": ["A", "B", "C"]}],
-                           [{"node": "A", "members": ["beam", "tri"]}, {"node": "B", "members": ["tri"]},
-                            {"node": "C", "members": ["tri"]}],
-                           [{"kind": "force", "point": "A", "direction": [0.0, 1.0], "values": [1e-3]}],
-                           supports=[HELD[0], HELD[2], HELD[3]])
+    case = _mechanism_case(
+        [{"name": "tri", "nodes": ["A", "B", "C"]}],
+        [
+            {"node": "A", "members": ["beam", "tri"]},
+            {"node": "B", "members": ["tri"]},
+            {"node": "C", "members": ["tri"]},
+        ],
+        [{"kind": "force", "point": "A", "direction": [0.0, 1.0], "values": [1e-3]}],
+        supports=[HELD[0], HELD[2], HELD[3]],
+    )
     coords, names, elems, supports = _geometry(case, 2)
     centre = (1.5, round(0.5 / 3, 9))
     for node in ("A", "B", "C"):
         assert _elements_between(coords, elems, centre, coords[names[node]]) == [RELEASED_AT_J]
-    assert len(coords) == 4 + 1 + 1      # the beam's midpoint, the hub
+    assert len(coords) == 4 + 1 + 1  # the beam's midpoint, the hub
 
 
 def test_a_joint_keeps_the_couples_body_on_the_node_and_refuses_a_couple_on_a_released_end():
@@ -93,7 +105,7 @@ def test_a_joint_keeps_the_couples_body_on_the_node_and_refuses_a_couple_on_a_re
     joints = [{"node": "A", "members": ["beam", "bar"]}]
     couple = [{"kind": "moment", "point": "A", "body": "bar", "values": [1e-3]}]
     coords, names, elems, _ = _geometry(_mechanism_case(links, joints, couple), 2)
-    assert _elements_between(coords, elems, coords[names["A"]], coords[names["C"]]) == [0]    # bar keeps A
+    assert _elements_between(coords, elems, coords[names["A"]], coords[names["C"]]) == [0]  # bar keeps A
     assert [code for i, j, *_, code in elems if names["A"] in (i, j) and names["C"] not in (i, j)] == [RELEASED_AT_J]
     with pytest.raises(NotApplicable, match="released end of 'bar'"):
         _geometry(_mechanism_case(links, joints, couple, supports=[HELD[0], HELD[1], HELD[3]]), 2)
@@ -131,10 +143,10 @@ def test_curved_beams_are_cut_into_equal_chords_on_their_arc():
     case = case_by_id("arch_215_clamped_hinged").case
     n = 6
     coords, names, elems, _ = _geometry(case, n)
-    interior = len(case.mechanism.nodes)      # the nodes the peer adds along the beams are numbered after these
+    interior = len(case.mechanism.nodes)  # the nodes the peer adds along the beams are numbered after these
     for beam in case.mechanism.beams:
         chain = [names[beam.start]]
-        while len(chain) < n:                  # walk the beam's elements through its interior nodes
+        while len(chain) < n:  # walk the beam's elements through its interior nodes
             chain.append(next(j for i, j, *_ in elems if i == chain[-1] and j >= interior and j not in chain))
         chain.append(names[beam.end])
         points = [coords[k] for k in chain]
@@ -144,6 +156,8 @@ def test_curved_beams_are_cut_into_equal_chords_on_their_arc():
         theta = 2 * math.asin(c / (2 * abs(R)))
         chords = [math.dist(p, q) for p, q in zip(points, points[1:])]
         assert chords == pytest.approx([2 * abs(R) * math.sin(theta / (2 * n))] * n, rel=1e-12)
-        turns = [(q[0] - p[0]) * (s[1] - q[1]) - (q[1] - p[1]) * (s[0] - q[0])
-                 for p, q, s in zip(points, points[1:], points[2:])]
+        turns = [
+            (q[0] - p[0]) * (s[1] - q[1]) - (q[1] - p[1]) * (s[0] - q[0])
+            for p, q, s in zip(points, points[1:], points[2:])
+        ]
         assert all(math.copysign(1.0, t) == math.copysign(1.0, beam.curvature) for t in turns)

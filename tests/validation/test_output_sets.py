@@ -11,6 +11,7 @@ The harness runs on the fake PRBM adapter of tests/validation/test_exit_status.p
 The killed runs are forked children of the test process (no start-up: a run is a fraction of a
 second), their table writes slowed so that the kills fall inside the writing.
 """
+
 from __future__ import annotations
 
 import errno
@@ -52,8 +53,9 @@ def snapshot(folder: Path) -> dict[str, bytes]:
 
 def leftovers(folder: Path) -> list[str]:
     """Stages and set-aside sets of ``folder`` still beside it."""
-    return sorted(p.name for p in folder.parent.iterdir() if p.name.startswith(f"{folder.name}.")
-                  and not p.name.endswith(".lock"))
+    return sorted(
+        p.name for p in folder.parent.iterdir() if p.name.startswith(f"{folder.name}.") and not p.name.endswith(".lock")
+    )
 
 
 def two_cases(tmp_path: Path) -> tuple[Path, Path]:
@@ -74,10 +76,12 @@ def forked_run(argv: list[str], marker: Path, pause: float) -> int:
     code = 70
     try:
         for name in ("to_csv", "to_parquet"):
+
             def slow(self, *args, _write=getattr(pd.DataFrame, name), **kwargs):
                 marker.touch()
                 time.sleep(pause)
                 return _write(self, *args, **kwargs)
+
             setattr(pd.DataFrame, name, slow)
         code = main(argv)
     finally:
@@ -120,12 +124,12 @@ def test_a_run_killed_at_any_instant_leaves_the_old_set_or_the_new_one(tmp_path,
     out, pristine, marker = tmp_path / "latest", tmp_path / "pristine", tmp_path / "writing"
     assert main(run_argv(old, out)) == 0
     shutil.copytree(out, pristine)
-    pid = forked_run(run_argv(new, out), marker, pause=0.01)   # one run to its end: how long it writes
+    pid = forked_run(run_argv(new, out), marker, pause=0.01)  # one run to its end: how long it writes
     began = wait_for(marker, pid)
     assert exit_code(pid) == 0 and case_ids(out) == {"toy_new"}
     span = time.monotonic() - began
     seen = []
-    for instant in range(15):   # 14 kills spread over the writing, then one run left to finish
+    for instant in range(15):  # 14 kills spread over the writing, then one run left to finish
         shutil.rmtree(out)
         shutil.copytree(pristine, out)
         marker.unlink()
@@ -140,13 +144,13 @@ def test_a_run_killed_at_any_instant_leaves_the_old_set_or_the_new_one(tmp_path,
         seen.append(case_ids(out))
     assert seen[0] == {"toy"} and seen[-1] == {"toy_new"}
     assert all(ids in ({"toy"}, {"toy_new"}) for ids in seen)
-    assert not leftovers(out)   # the finished run deleted the stages the killed ones left
+    assert not leftovers(out)  # the finished run deleted the stages the killed ones left
 
 
 def test_two_runs_on_one_folder_do_not_interleave(tmp_path, fake, capsys):  # noqa: F811
     old, new = two_cases(tmp_path)
     out, marker = tmp_path / "latest", tmp_path / "writing"
-    pid = forked_run(run_argv(old, out), marker, pause=0.2)   # writes for over 2 s
+    pid = forked_run(run_argv(old, out), marker, pause=0.2)  # writes for over 2 s
     wait_for(marker, pid)
     status = main(run_argv(new, out))
     err = capsys.readouterr().err
@@ -154,11 +158,10 @@ def test_two_runs_on_one_folder_do_not_interleave(tmp_path, fake, capsys):  # no
     assert f"error: output folder {out} is in use by pid {pid}" in err and "nothing written" in err
     assert exit_code(pid) == 0
     assert case_ids(out) == {"toy"}
-    assert main(run_argv(new, out)) == 0 and case_ids(out) == {"toy_new"}   # free again
+    assert main(run_argv(new, out)) == 0 and case_ids(out) == {"toy_new"}  # free again
 
 
-def test_a_full_disk_while_writing_exits_1_naming_the_folder_and_keeps_the_old_set(
-        tmp_path, fake, monkeypatch, capsys):  # noqa: F811
+def test_a_full_disk_while_writing_exits_1_naming_the_folder_and_keeps_the_old_set(tmp_path, fake, monkeypatch, capsys):  # noqa: F811
     old, new = two_cases(tmp_path)
     out = tmp_path / "latest"
     assert main(run_argv(old, out)) == 0
@@ -194,10 +197,18 @@ def held(out: Path):
         os.close(fd)
 
 
-@pytest.mark.parametrize("argv", [["run", "cantilever_tip_load", "--quiet"], ["report", "cantilever_tip_load"],
-                                  ["sweep", "mesh_convergence", "--quiet"], ["stress"], ["bench", "--quick"],
-                                  ["audit", "cantilever_tip_load", "--plant", "fem-EI-x1.10"]],
-                         ids=lambda argv: argv[0])
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["run", "cantilever_tip_load", "--quiet"],
+        ["report", "cantilever_tip_load"],
+        ["sweep", "mesh_convergence", "--quiet"],
+        ["stress"],
+        ["bench", "--quick"],
+        ["audit", "cantilever_tip_load", "--plant", "fem-EI-x1.10"],
+    ],
+    ids=lambda argv: argv[0],
+)
 def test_every_verb_is_refused_while_its_folder_is_in_use(tmp_path, capsys, argv):
     out = tmp_path / "out"
     out.mkdir()
@@ -211,30 +222,33 @@ def test_every_verb_is_refused_while_its_folder_is_in_use(tmp_path, capsys, argv
     assert snapshot(out) == {"earlier.txt": b"an earlier result"} and not leftovers(out)
 
 
-def test_the_report_carries_other_folders_and_never_writes_into_the_previous_report(tmp_path, fake,  # noqa: F811
-                                                                                  monkeypatch):
+def test_the_report_carries_other_folders_and_never_writes_into_the_previous_report(
+    tmp_path,
+    fake,  # noqa: F811
+    monkeypatch,
+):
     from validation.report import build
 
     good = write(tmp_path, "toy.toml", GOOD)
     out = tmp_path / "reports"
     assert build.build_report(out, use_cache=False, jobs=1, cases=[str(good)]) == 0
     (out / "latest").mkdir()
-    (out / "latest" / "values.csv").write_text("case\ntoy\n")   # another command's folder, with its lock
+    (out / "latest" / "values.csv").write_text("case\ntoy\n")  # another command's folder, with its lock
     (out / "latest.lock").write_text("")
     (out / "notes.txt").write_text("the user's own file")
     backup, before = tmp_path / "backup", {}
-    for path in (p for p in out.rglob("*") if p.is_file() and p.suffix != ".lock"):   # a second name for each file
+    for path in (p for p in out.rglob("*") if p.is_file() and p.suffix != ".lock"):  # a second name for each file
         relative = path.relative_to(out)
         (backup / relative).parent.mkdir(parents=True, exist_ok=True)
         os.link(path, backup / relative)
         before[relative] = (path.stat().st_mtime_ns, hashlib.sha256(path.read_bytes()).hexdigest())
     assert any(r.parts[0] == "cases" for r in before)
-    monkeypatch.setattr(build, "_code_digest", lambda: "other page code")   # every page drawn again
+    monkeypatch.setattr(build, "_code_digest", lambda: "other page code")  # every page drawn again
     assert build.build_report(out, use_cache=False, jobs=1, cases=[str(good)]) == 0
-    for relative, (mtime, digest) in before.items():   # no file of the previous report was written to
+    for relative, (mtime, digest) in before.items():  # no file of the previous report was written to
         kept = backup / relative
         assert (kept.stat().st_mtime_ns, hashlib.sha256(kept.read_bytes()).hexdigest()) == (mtime, digest), relative
-    assert (out / "latest" / "values.csv").samefile(backup / "latest" / "values.csv")   # carried as it was
+    assert (out / "latest" / "values.csv").samefile(backup / "latest" / "values.csv")  # carried as it was
     assert (out / "notes.txt").read_text() == "the user's own file" and (out / "latest.lock").exists()
     assert (out / "index.html").is_file() and (out / "cases" / "toy.html").is_file() and not leftovers(out)
 
@@ -247,7 +261,7 @@ def test_an_interrupted_sweep_keeps_its_finished_points_and_names_its_own_folder
 
     calls, interrupt_at = [], [12]
 
-    def run(case, requests, options):   # y = 1 everywhere; Ctrl-C in the 12th point of the first run
+    def run(case, requests, options):  # y = 1 everywhere; Ctrl-C in the 12th point of the first run
         calls.append(case.segment.E)
         if len(calls) in interrupt_at:
             raise KeyboardInterrupt
@@ -257,13 +271,13 @@ def test_an_interrupted_sweep_keeps_its_finished_points_and_names_its_own_folder
     module.run = run
     monkeypatch.setitem(sys.modules, "validation.methods.elastica", module)
     (tmp_path / "toy.toml").write_text(CASE)
-    spec = write(tmp_path, "toy_sweep.toml", SPEC.replace("samples = 100", "samples = 3"))   # 30 points
+    spec = write(tmp_path, "toy_sweep.toml", SPEC.replace("samples = 100", "samples = 3"))  # 30 points
     out = tmp_path / "sweep"
     argv = ["sweep", str(spec), "--out", str(out), "--serial", "--quiet", "--no-plot", "--chunk", "5"]
     assert main(argv) == 130
     said = capsys.readouterr()
-    assert f"are in {out};" in said.err and ".tmp-" not in said.err + said.out   # the folder, not the stage
-    assert load_results(out)["point_id"].nunique() == 10   # the two finished chunks, put in place
+    assert f"are in {out};" in said.err and ".tmp-" not in said.err + said.out  # the folder, not the stage
+    assert load_results(out)["point_id"].nunique() == 10  # the two finished chunks, put in place
     calls.clear()
     interrupt_at.clear()
     assert main(argv) == 0
@@ -274,18 +288,18 @@ def test_an_interrupted_sweep_keeps_its_finished_points_and_names_its_own_folder
 def test_without_the_exchange_the_set_is_renamed_aside_and_a_killed_swap_is_put_back(tmp_path, monkeypatch, capsys):
     from validation.run import output_set
 
-    monkeypatch.setattr(output_set, "_exchange", lambda a, b: False)   # a system without renameat2
+    monkeypatch.setattr(output_set, "_exchange", lambda a, b: False)  # a system without renameat2
     out = tmp_path / "set"
     for text in ("first", "second"):
         with output_set.OutputSet(out, owned=("a.txt",)) as output:
             (output.path / "a.txt").write_text(text)
             output.commit()
         assert (out / "a.txt").read_text() == text and not leftovers(out)
-    out.rename(tmp_path / "set.old-999999")          # killed between the two renames: no folder, the old set
-    (tmp_path / "set.tmp-999999").mkdir()            # aside, the new one staged
+    out.rename(tmp_path / "set.old-999999")  # killed between the two renames: no folder, the old set
+    (tmp_path / "set.tmp-999999").mkdir()  # aside, the new one staged
     (tmp_path / "set.tmp-999999" / "a.txt").write_text("third")
     with output_set.OutputSet(out, owned=("a.txt",)):
-        assert (out / "a.txt").read_text() == "second"   # put back before anything else
+        assert (out / "a.txt").read_text() == "second"  # put back before anything else
     assert capsys.readouterr().err.strip() == f"nothing written; the previous results in {out} are unchanged"
     assert (out / "a.txt").read_text() == "second" and not leftovers(out)
 

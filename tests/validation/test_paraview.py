@@ -1,5 +1,6 @@
 """ParaView files: the FEM's point data obey statics, the series read back with meshio and pyvista
 hold the arrays, lengths and time values the case implies, and the PRBM links are written."""
+
 import math
 import xml.etree.ElementTree as ET
 
@@ -101,8 +102,9 @@ def test_pyvista_opens_the_series_and_renders(cantilever_files, tmp_path):
     reader.set_active_time_point(len(reader.time_values) - 1)
     block = reader.read()
     assert len(block[0].point_data.keys()) >= 4
-    png = paraview.render_series(paraview.case_series(result.loaded.case, result.runs), tmp_path / "render.png",
-                                 "cantilever")
+    png = paraview.render_series(
+        paraview.case_series(result.loaded.case, result.runs), tmp_path / "render.png", "cantilever"
+    )
     if png is None:
         pytest.skip("pyvista cannot render here")
     picture = pv.read(str(png))
@@ -138,17 +140,17 @@ def test_test2_fem_files_and_shapes_draw_the_rigid_coupler(tmp_path):
         lines = mesh.cells_dict["line"]
         assert len(lines) == n_elements + 2
         links = lines[n_elements:]
-        assert links[0, 0] == links[1, 0] and links[0, 1] != links[1, 1]        # a star from the master A
+        assert links[0, 0] == links[1, 0] and links[0, 1] != links[1, 1]  # a star from the master A
         length = np.linalg.norm(np.diff(mesh.points[links], axis=1), axis=2).ravel()
         unloaded = np.linalg.norm(np.diff(undeformed.points[links], axis=1), axis=2).ravel()
         np.testing.assert_allclose(length, unloaded, rtol=1e-9)
-        assert np.isnan(mesh.point_data["bending_moment"][links[:, 1]]).sum() == 1   # P: no element there
-        drawn = run.extras["shapes"][k][-2:]        # the chart's polylines: the element chains, then the links
+        assert np.isnan(mesh.point_data["bending_moment"][links[:, 1]]).sum() == 1  # P: no element there
+        drawn = run.extras["shapes"][k][-2:]  # the chart's polylines: the element chains, then the links
         np.testing.assert_array_equal(np.array(drawn), mesh.points[links][:, :, :2])
-    pv = pytest.importorskip("pyvista")      # the picture: the elements by their moment, the links plain
+    pv = pytest.importorskip("pyvista")  # the picture: the elements by their moment, the links plain
     frame = series[0].frames[-1]
     elements = paraview._polydata(pv, frame, ("bending_moment",), cells="lines")
-    rigid = paraview._polydata(pv, frame, cells="rigid")            # as `render_series` draws them
+    rigid = paraview._polydata(pv, frame, cells="rigid")  # as `render_series` draws them
     on_disk = pv.read(str(tmp_path / f"fem_{len(series[0].frames) - 1:04d}.vtu"))
     two = [tuple(c.point_ids) for c in on_disk.cell if c.n_points == 2]
     assert [tuple(c.point_ids) for mesh in (elements, rigid) for c in mesh.cell if c.n_points == 2] == two
@@ -167,13 +169,13 @@ def test_test2_elastica_draws_its_rigid_bodies():
         assert len(bodies) == 3
         for line, (a, b) in zip(bodies, (("A", "B"), ("A", "P"), ("O4", "B"))):
             assert np.linalg.norm(line[1] - line[0]) == pytest.approx(np.linalg.norm(nodes[b] - nodes[a]), rel=1e-9)
-        np.testing.assert_allclose(bodies[0][0], beam[-1, :2], atol=1e-9)   # A: the beam's end
-        np.testing.assert_allclose(bodies[2][0], nodes["O4"], atol=1e-12)   # O4: the ground pivot, fixed
-    frames = paraview.elastica_series(case, run.extras["shapes"]).frames        # its ParaView files, picture
+        np.testing.assert_allclose(bodies[0][0], beam[-1, :2], atol=1e-9)  # A: the beam's end
+        np.testing.assert_allclose(bodies[2][0], nodes["O4"], atol=1e-12)  # O4: the ground pivot, fixed
+    frames = paraview.elastica_series(case, run.extras["shapes"]).frames  # its ParaView files, picture
     for frame, shape in zip(frames, run.extras["shapes"]):
         assert len(frame.lines) == len(shape[0]) - 1 and len(frame.rigid) == 3
         np.testing.assert_array_equal(frame.points[frame.rigid], np.array(shape[1:]))
-        assert np.isnan(frame.point_data["curvature"][frame.rigid]).all()     # no centreline field there
+        assert np.isnan(frame.point_data["curvature"][frame.rigid]).all()  # no centreline field there
 
 
 def test_all_methods_collection_has_one_part_per_method(cantilever_files):
@@ -200,8 +202,14 @@ def test_fem_library_export_writes_the_series(tip_loaded_cantilever, tmp_path):
     paths = result.to_vtu(str(tmp_path / "beam"))
     assert _times(tmp_path / "beam.pvd") == pytest.approx(list(result.load_factor))
     last = meshio.read(paths[-1])
-    assert set(last.point_data) == {"displacement", "rotation", "curvature", "bending_moment", "axial_force",
-                                    "bending_stress"}  # a rectangle knows E and c: stress too
+    assert set(last.point_data) == {
+        "displacement",
+        "rotation",
+        "curvature",
+        "bending_moment",
+        "axial_force",
+        "bending_stress",
+    }  # a rectangle knows E and c: stress too
     np.testing.assert_allclose(last.point_data["bending_moment"], result.nodal_fields(1).bending_moment)
     assert len(meshio.read(tmp_path / "beam_undeformed.vtu").points) == len(last.points)
 

@@ -9,6 +9,7 @@ cantilever and guided-beam deflections) and a Castigliano derivation for the qua
     theta_tip = int M ds / EI = F_y R^2/EI int_0^{pi/2} (1 - sin phi) dphi = F_y R^2 (pi/2 - 1)/EI,
     u_y = int M (x_t - x) ds / EI = F_y R^3/EI int (1 - sin phi)^2 dphi = F_y R^3 (3 pi/4 - 2)/EI.
 """
+
 import math
 import random
 
@@ -18,30 +19,38 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from validation.stress import contract
-from validation.stress.contract import (Configuration, build_case, large_deflection_check, linear_limit_check,
-                                 random_configuration)
+from validation.stress.contract import (
+    Configuration,
+    build_case,
+    large_deflection_check,
+    linear_limit_check,
+    random_configuration,
+)
 from validation.stress.linear_beam import flexibility, solve_tip
 from validation.methods.base import Request
 from validation.run.runner import run_method
 from validation.case.schema import Case
 
-CHEAP = dict(deadline=None, derandomize=True, database=None,
-             suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+CHEAP = dict(
+    deadline=None,
+    derandomize=True,
+    database=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
+)
 
 
 def test_linear_theory_is_the_textbook():
     L, EI, P, M = 2.0, 3.0, 0.7, 0.4
     C = flexibility(L, 0.0, EI)
-    assert C[1, 1] == pytest.approx(L**3 / (3 * EI))      # P L^3/3EI
-    assert C[2, 1] == pytest.approx(L**2 / (2 * EI))      # P L^2/2EI
-    assert C[1, 2] == pytest.approx(L**2 / (2 * EI))      # M L^2/2EI
-    assert C[2, 2] == pytest.approx(L / EI)               # M L/EI
+    assert C[1, 1] == pytest.approx(L**3 / (3 * EI))  # P L^3/3EI
+    assert C[2, 1] == pytest.approx(L**2 / (2 * EI))  # P L^2/2EI
+    assert C[1, 2] == pytest.approx(L**2 / (2 * EI))  # M L^2/2EI
+    assert C[2, 2] == pytest.approx(L / EI)  # M L/EI
     guided = solve_tip(L, 0.0, EI, math.inf, root_pinned=False, given_load={"uy": P}, given_motion={"rz": 0.0})
-    assert guided.motion[1] == pytest.approx(P * L**3 / (12 * EI))   # guided beam P L^3/12EI
-    assert guided.load[2] == pytest.approx(-P * L / 2)              # holding moment P L/2, clockwise
-    pinned = solve_tip(L, 0.0, EI, 1e12, root_pinned=True, given_load={"rz": M},
-                       given_motion={"ux": 0.0, "uy": 0.0})
-    assert pinned.motion[2] == pytest.approx(M * L / (3 * EI))       # simply supported, end moment M L/3EI
+    assert guided.motion[1] == pytest.approx(P * L**3 / (12 * EI))  # guided beam P L^3/12EI
+    assert guided.load[2] == pytest.approx(-P * L / 2)  # holding moment P L/2, clockwise
+    pinned = solve_tip(L, 0.0, EI, 1e12, root_pinned=True, given_load={"rz": M}, given_motion={"ux": 0.0, "uy": 0.0})
+    assert pinned.motion[2] == pytest.approx(M * L / (3 * EI))  # simply supported, end moment M L/3EI
     R = 2 * L / math.pi
     quarter = flexibility(L, 1 / R, EI)
     assert quarter[2, 1] == pytest.approx(R**2 * (math.pi / 2 - 1) / EI)
@@ -52,10 +61,15 @@ def _segment_case(boundary, loads, radius=None, outputs=("rotation", "moment", "
     segment = dict(boundary=boundary, length=1.0, E=1.0, section=dict(kind="inertia", I=1.0, A=1e6))
     if radius:
         segment["radius"] = radius
-    return Case.model_validate(dict(
-        case=dict(id="t", title="t", group="t", units="dimensionless"), segment=segment, loads=loads,
-        outputs=[dict(quantity=q) for q in outputs],
-        methods={"fem": {"elements": 16}, "elastica": {}, "prbm": {}}))
+    return Case.model_validate(
+        dict(
+            case=dict(id="t", title="t", group="t", units="dimensionless"),
+            segment=segment,
+            loads=loads,
+            outputs=[dict(quantity=q) for q in outputs],
+            methods={"fem": {"elements": 16}, "elastica": {}, "prbm": {}},
+        )
+    )
 
 
 def test_curved_rotation_is_the_change_from_the_unloaded_tangent():
@@ -85,8 +99,11 @@ def test_fixed_guided_moment_is_the_guiding_moment():
 
 def test_prbm_follower_force_downwards_bends_downwards():
     """A follower force with P < 0 deflects the tip to -y (on main the composite model took |P|)."""
-    case = _segment_case("fixed-free", [dict(kind="force", direction=[0.0, -1.0], values=[1e-4], follower=True)],
-                         outputs=("y", "rotation"))
+    case = _segment_case(
+        "fixed-free",
+        [dict(kind="force", direction=[0.0, -1.0], values=[1e-4], follower=True)],
+        outputs=("y", "rotation"),
+    )
     run = run_method(case, "prbm")
     assert run.values[Request("y", "tip", 0)] == pytest.approx(-1e-4 / 3, rel=0.1)
 
@@ -114,9 +131,12 @@ def test_every_method_meets_linear_theory_in_the_small_load_limit(rng):
 @settings(max_examples=40, **CHEAP)
 @given(st.randoms(use_true_random=False))
 def test_fem_meets_the_elastica_and_the_prbm_keeps_the_conventions_at_large_deflection(rng):
-    c = random_configuration(rng, small=False, boundaries=("fixed-free", "fixed-pinned", "fixed-guided"),
-                             loads=("transverse", "oblique", "moment", "force_moment", "follower",
-                                    "displacement_y", "rotation"))
+    c = random_configuration(
+        rng,
+        small=False,
+        boundaries=("fixed-free", "fixed-pinned", "fixed-guided"),
+        loads=("transverse", "oblique", "moment", "force_moment", "follower", "displacement_y", "rotation"),
+    )
     _assert_conforms(large_deflection_check(c), c.label())
 
 
@@ -124,16 +144,34 @@ def test_the_generator_covers_every_boundary_load_and_unit_system():
     rng = random.Random(0)
     seen = [random_configuration(rng, small=True) for _ in range(300)]
     assert {c.boundary for c in seen} == {"fixed-free", "fixed-pinned", "fixed-guided", "fixed-fixed", "pinned-pinned"}
-    assert {c.load for c in seen} >= {"transverse", "oblique", "tension", "compression", "moment", "force_moment",
-                                      "follower", "displacement_x", "displacement_y", "rotation"}
+    assert {c.load for c in seen} >= {
+        "transverse",
+        "oblique",
+        "tension",
+        "compression",
+        "moment",
+        "force_moment",
+        "follower",
+        "displacement_x",
+        "displacement_y",
+        "rotation",
+    }
     assert {c.units for c in seen} == {"SI", "mm-N", "in-lb", "dimensionless"}
     assert any(c.kappa_L for c in seen) and any(not c.kappa_L for c in seen)
 
 
 def test_a_planted_sign_error_is_caught():
     """The check fails when a method's rotation has the wrong sign (a 'method' that negates it)."""
-    c = Configuration(boundary="fixed-free", units="dimensionless", length=1.0, E=1.0, slenderness=100.0,
-                      kappa_L=0.0, load="transverse", magnitude=1e-5)
+    c = Configuration(
+        boundary="fixed-free",
+        units="dimensionless",
+        length=1.0,
+        E=1.0,
+        slenderness=100.0,
+        kappa_L=0.0,
+        load="transverse",
+        magnitude=1e-5,
+    )
     case = build_case(c, ("fem",))
     assert all(r.passed for r in linear_limit_check(c, ("fem",)))
     run = run_method(case, "fem")

@@ -21,6 +21,7 @@ What every case asserts beyond the order is its stability: the second reading is
 nearest by more than the FEM's own error bound on the two rms distances (E_1 + E_2, from the Richardson
 estimates), never a snapshot of the distances themselves.
 """
+
 from __future__ import annotations
 
 import math
@@ -65,7 +66,7 @@ def test_the_recorded_nearest_reading_holds(experiment):
 def test_every_experiment_is_ranked_in_its_case_units_and_in_percent_of_L():
     rankings = _rankings()
     assert set(rankings) == set(EXPERIMENTS)
-    length = _runs()[1].groupby("case")["scale"].first()          # each case's characteristic length L
+    length = _runs()[1].groupby("case")["scale"].first()  # each case's characteristic length L
     for ranking in rankings.values():
         assert [r.rms for r in ranking.readings] == sorted(r.rms for r in ranking.readings)
         for r in ranking.readings:
@@ -104,7 +105,10 @@ def test_an_order_within_the_fem_error_bound_is_not_separated():
 
 
 def test_the_recorded_ranking_is_read_from_the_finding():
-    findings = ["something else", "Readings ranking (FEM): nearest a_b-1, then c_d; why ...", "Readings ranking "
-                "(FEM): nearest x, then y"]
+    findings = [
+        "something else",
+        "Readings ranking (FEM): nearest a_b-1, then c_d; why ...",
+        "Readings ranking (FEM): nearest x, then y",
+    ]
     assert recorded_ranking(findings) == Recorded("a_b-1", "c_d")
     assert recorded_ranking(["no ranking here"]) is None

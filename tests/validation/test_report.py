@@ -1,5 +1,6 @@
 """The report: every image and link resolves, its tables say what the results say, the summary
 reads in words and short numbers, and it works in a real browser (headless Chromium)."""
+
 import html
 import contextlib
 import math
@@ -48,8 +49,7 @@ def test_report_links_resolve_and_tables_match(built_report):
     results = pd.read_csv(tmp_path / "results.csv")
     shown = pd.read_csv(tmp_path / "summary.csv")
     expected = summary(results)
-    pd.testing.assert_frame_equal(shown.reset_index(drop=True), expected.reset_index(drop=True),
-                                  check_dtype=False)
+    pd.testing.assert_frame_equal(shown.reset_index(drop=True), expected.reset_index(drop=True), check_dtype=False)
     case_page = (tmp_path / "cases" / "cantilever_tip_load.html").read_text()
     fem_rows = results[(results["method"] == "fem") & (results["quantity"] == "y") & (results["level"] == 9)]
     assert f"{fem_rows['value'].iloc[0]:.6g}" in case_page  # the page shows the computed value
@@ -79,24 +79,34 @@ def _glance_by_pivot_and_join(table: pd.DataFrame) -> pd.DataFrame:
         for r in rows:
             if not pd.isna(label_of(r)):
                 first.setdefault((r.quantity, r.point, r.level), {}).setdefault(label_of(r), value_of(r))
-        labels = sorted({c for part in first.values() for c in part
-                         if not all(pd.isna(p.get(c, np.nan)) for p in first.values())})
+        labels = sorted(
+            {c for part in first.values() for c in part if not all(pd.isna(p.get(c, np.nan)) for p in first.values())}
+        )
         keys = sorted(k for k, part in first.items() if any(not pd.isna(part.get(c, np.nan)) for c in labels))
-        index = pd.MultiIndex.from_tuples(keys, names=key_names) if keys else \
-            pd.MultiIndex.from_arrays([[], [], []], names=key_names)
-        return pd.DataFrame({prefix + c: np.array([first[k].get(c, np.nan) for k in keys], float) for c in labels},
-                            index=index)
+        index = (
+            pd.MultiIndex.from_tuples(keys, names=key_names)
+            if keys
+            else pd.MultiIndex.from_arrays([[], [], []], names=key_names)
+        )
+        return pd.DataFrame(
+            {prefix + c: np.array([first[k].get(c, np.nan) for k in keys], float) for c in labels}, index=index
+        )
 
     out = spread(lambda r: r.method, lambda r: r.value).join(
-        spread(lambda r: r.reference_label, lambda r: r.reference_value, "printed "), how="left")
+        spread(lambda r: r.reference_label, lambda r: r.reference_value, "printed "), how="left"
+    )
     estimates = {}
     for r in rows:
         if r.method == "fem":
             estimates.setdefault((r.quantity, r.point, r.level), r.error_estimate)
     if estimates:
         out["fem ± (estimate)"] = [estimates.get(k, np.nan) for k in out.index]
-    for name, left, right in (("PRBM - FEM", "prbm", "fem"), ("PRBM - measured", "prbm", "printed measured"),
-                              ("FEM - measured", "fem", "printed measured"), ("FEM - exact", "fem", "elastica")):
+    for name, left, right in (
+        ("PRBM - FEM", "prbm", "fem"),
+        ("PRBM - measured", "prbm", "printed measured"),
+        ("FEM - measured", "fem", "printed measured"),
+        ("FEM - exact", "fem", "elastica"),
+    ):
         if {left, right} <= set(out.columns):
             out[name] = out[left] - out[right]
     loads, units = {}, {}
@@ -114,17 +124,36 @@ def test_glance_is_the_pivot_of_the_results_on_tables_no_case_has():
     random result tables: missing values and labels, NaN or float levels, printed labels with no
     method value, empty tables."""
     rng = np.random.default_rng(15)
-    columns = ["quantity", "point", "level", "method", "value", "reference_label", "reference_value",
-               "error_estimate", "level_label", "unit"]
+    columns = [
+        "quantity",
+        "point",
+        "level",
+        "method",
+        "value",
+        "reference_label",
+        "reference_value",
+        "error_estimate",
+        "level_label",
+        "unit",
+    ]
     pick = lambda options: options[rng.integers(len(options))]  # noqa: E731
     nan_or = lambda p: math.nan if rng.random() < p else float(rng.uniform(-2.0, 2.0))  # noqa: E731
     for trial in range(300):
-        rows = [{"quantity": pick(["x", "y", "rotation", None]), "point": pick(["tip", "", "A"]),
-                 "level": int(rng.integers(5)), "method": pick(["fem", "prbm", "elastica", "bcm", None]),
-                 "value": nan_or(0.3), "reference_label": pick([None, "measured", "ANSYS", "exact"]),
-                 "reference_value": nan_or(0.3), "error_estimate": nan_or(0.5),
-                 "level_label": pick([None, "P = 1 N", "2 N"]), "unit": pick(["mm", "deg", None])}
-                for _ in range(int(rng.integers(1, 25)))]
+        rows = [
+            {
+                "quantity": pick(["x", "y", "rotation", None]),
+                "point": pick(["tip", "", "A"]),
+                "level": int(rng.integers(5)),
+                "method": pick(["fem", "prbm", "elastica", "bcm", None]),
+                "value": nan_or(0.3),
+                "reference_label": pick([None, "measured", "ANSYS", "exact"]),
+                "reference_value": nan_or(0.3),
+                "error_estimate": nan_or(0.5),
+                "level_label": pick([None, "P = 1 N", "2 N"]),
+                "unit": pick(["mm", "deg", None]),
+            }
+            for _ in range(int(rng.integers(1, 25)))
+        ]
         table = pd.DataFrame(rows, columns=columns)
         if trial % 2:
             table["level"] = table["level"].astype(float)
@@ -161,13 +190,13 @@ def test_summary_numbers_and_sentence_say_what_the_results_say(built_report):
     cantilever = re.search(r">cantilever_tip_load</a></td>(.*?)</tr>", index, flags=re.S).group(1)
     results = pd.read_csv(built_report / "results.csv")
     enforced = results[(results["case"] == "cantilever_tip_load") & results["within_tolerance"].notna()]
-    assert len(enforced) > 31                       # the 31 printed numbers and the checks between methods
+    assert len(enforced) > 31  # the 31 printed numbers and the checks between methods
     verdicts = summary(results).set_index("case")["verdict"]
     assert f">{html.escape(verdicts['cantilever_tip_load'])}<" in cantilever
     assert f"{len(enforced)} of {len(enforced)}" in cantilever
     test2 = re.search(r">bapat2015_test2</a></td>(.*?)</tr>", index, flags=re.S).group(1)
     assert f">{html.escape(verdicts['bapat2015_test2'])}<" in test2
-    assert verdicts["bapat2015_test2"] == "no limit claimed"     # its points against the measured: no limit
+    assert verdicts["bapat2015_test2"] == "no limit claimed"  # its points against the measured: no limit
 
 
 def test_output_chart_draws_the_values_against_the_load_with_units():
@@ -185,9 +214,9 @@ def test_output_chart_draws_the_values_against_the_load_with_units():
     assert fem["x"] == pytest.approx(list(range(1, 11)))
     assert chart.layout[f"xaxis{suffix}"]["title"]["text"] == "force at tip [EI/L^2]"
     exact = next(t for t in chart.data if t["name"] == "printed: exact" and t["yaxis"] == f"y{suffix}")
-    assert exact["y"][-1] == 0.810609   # the case file's printed value at PL^2/EI = 10
+    assert exact["y"][-1] == 0.810609  # the case file's printed value at PL^2/EI = 10
     legend = [t["name"] for t in chart.data if t["showlegend"]]
-    assert sorted(legend) == sorted(set(t["name"] for t in chart.data))   # each name once in the legend
+    assert sorted(legend) == sorted(set(t["name"] for t in chart.data))  # each name once in the legend
     assert {"FEM", "PRBM", "exact elastica"} <= set(legend)
 
 
@@ -213,9 +242,9 @@ def test_a_continuation_writes_and_draws_its_limit_points_and_a_few_dozen_frames
     load = np.concatenate([np.linspace(0, 3, 150), np.linspace(3, 2, 100), np.linspace(2, 9, 150)])
     kept = frames_shown(load)
     assert kept[0] == 0 and kept[-1] == len(load) - 1
-    assert {149, 249} <= set(kept)              # the load's maximum and minimum
+    assert {149, 249} <= set(kept)  # the load's maximum and minimum
     assert len(kept) <= MAX_FRAMES + 2
-    assert frames_shown(np.arange(12.0)) == list(range(12))   # a short series: every frame
+    assert frames_shown(np.arange(12.0)) == list(range(12))  # a short series: every frame
 
 
 def test_overview_axes_are_the_fem_deflection_and_the_prbm_error():
@@ -227,7 +256,7 @@ def test_overview_axes_are_the_fem_deflection_and_the_prbm_error():
     prbm = table[table["method"] == "prbm"].drop_duplicates(["quantity", "level"]).set_index(["quantity", "level"])
     for level in (0, 9):  # the tip moves most (L = 1); the error is the larger of |dx| and |dy|
         x, y = fem.loc[("x", level), "value"], fem.loc[("y", level), "value"]
-        assert points[level].deflection == pytest.approx(((x - 1.0) ** 2 + y ** 2) ** 0.5, rel=1e-9)
+        assert points[level].deflection == pytest.approx(((x - 1.0) ** 2 + y**2) ** 0.5, rel=1e-9)
         error = max(abs(prbm.loc[(q, level), "value"] - fem.loc[(q, level), "value"]) for q in ("x", "y"))
         assert points[level].error_percent == pytest.approx(100 * error, rel=1e-9)
 
@@ -236,12 +265,14 @@ def test_overview_gives_every_model_its_own_look(tmp_path, monkeypatch):
     """The overview tells its PRBM models apart by colour and marker: the report's 16 models (and up to
     100) each get a (colour, marker) of their own; tab10 alone gave the 11th model the 1st's colour."""
     import matplotlib.axes
+
     drawn = []
     scatter = matplotlib.axes.Axes.scatter
 
     def recording(self, *args, **kwargs):
         drawn.append((tuple(kwargs["color"]), kwargs.get("marker", "o")))
         return scatter(self, *args, **kwargs)
+
     monkeypatch.setattr(matplotlib.axes.Axes, "scatter", recording)
     points = [OverviewPoint(f"case{k}", 0, 0.1 * (1 + k % 5), 1.0 + k, f"model {k:02d}") for k in range(16)]
     plot_overview(points, tmp_path / "overview.png")
@@ -250,9 +281,10 @@ def test_overview_gives_every_model_its_own_look(tmp_path, monkeypatch):
 
 
 def test_run_verdict_reads_the_state_of_a_run():
-    assert run_verdict(MethodRun(values={}))[0] is None                 # it gave its values: rows decide
-    refused = MethodRun(values={}, converged=False, message="not applicable: no PRBM for a closed ring",
-                        status=RunStatus.NOT_APPLICABLE)
+    assert run_verdict(MethodRun(values={}))[0] is None  # it gave its values: rows decide
+    refused = MethodRun(
+        values={}, converged=False, message="not applicable: no PRBM for a closed ring", status=RunStatus.NOT_APPLICABLE
+    )
     assert run_verdict(refused) == (Verdict.REFUSED, "no PRBM for a closed ring")
     assert run_verdict(MethodRun(values={}, converged=False, message="error: ValueError: x"))[0] is Verdict.FAILED
     assert run_verdict(MethodRun(values={}, converged=False, message="Newton stalled"))[0] is Verdict.NOT_CONVERGED
@@ -273,9 +305,16 @@ def _chromium(scratch):
 
     options = webdriver.ChromeOptions()
     options.binary_location = binary
-    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
-                 "--disable-component-update", "--no-first-run", "--window-size=1280,800",
-                 f"--user-data-dir={scratch / 'profile'}"):
+    for flag in (
+        "--headless=new",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--no-first-run",
+        "--window-size=1280,800",
+        f"--user-data-dir={scratch / 'profile'}",
+    ):
         options.add_argument(flag)
     options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
     return webdriver.Chrome(service=Service(driver_path, env={**os.environ, "TMPDIR": str(scratch)}), options=options)
@@ -306,7 +345,8 @@ def test_report_in_a_real_browser(built_report):
         for page in pages:
             browser.get(page.as_uri())
             broken = browser.execute_script(
-                "return [...document.images].filter(i => !(i.complete && i.naturalWidth > 0)).map(i => i.src)")
+                "return [...document.images].filter(i => !(i.complete && i.naturalWidth > 0)).map(i => i.src)"
+            )
             assert broken == [], f"{page.name}: images that do not load: {broken}"
             errors = [e for e in browser.get_log("browser") if e["level"] == "SEVERE"]
             assert errors == [], f"{page.name}: console errors {errors}"
@@ -314,31 +354,40 @@ def test_report_in_a_real_browser(built_report):
             charts = browser.execute_script(
                 "return [...document.querySelectorAll('div.chart')].map(c => [c.id, "
                 "c.querySelectorAll('svg.main-svg').length, "
-                "[...c.querySelectorAll('.g-xtitle, .g-ytitle, [class*=\"g-x\"][class*=\"title\"], "
-                "[class*=\"g-y\"][class*=\"title\"]')].map(t => t.textContent), "
-                "[...c.querySelectorAll('.legend .traces .legendtext')].map(t => t.textContent)])")
+                '[...c.querySelectorAll(\'.g-xtitle, .g-ytitle, [class*="g-x"][class*="title"], '
+                '[class*="g-y"][class*="title"]\')].map(t => t.textContent), '
+                "[...c.querySelectorAll('.legend .traces .legendtext')].map(t => t.textContent)])"
+            )
             for chart_id, svgs, titles, legend in charts:
                 assert svgs > 0, f"{page.name}: chart {chart_id} not drawn"
                 assert titles and all("[" in t for t in titles if t), f"{page.name} {chart_id}: {titles}"
                 assert legend, f"{page.name}: chart {chart_id} has no legend"
             if page.name == "cantilever_tip_load.html":
                 by_id = {c[0]: c for c in charts}
-                assert {"FEM", "PRBM", "exact elastica", "printed: exact [notes/anchors.md §2.1]"} <= set(by_id["outputs"][3])
+                assert {"FEM", "PRBM", "exact elastica", "printed: exact [notes/anchors.md §2.1]"} <= set(
+                    by_id["outputs"][3]
+                )
                 assert {"FEM", "PRBM", "exact elastica"} <= set(by_id["shapes"][3])
         browser.get((built_report / "index.html").as_uri())
         # the first screen shows the picture of the whole validation
         top, bottom, height = browser.execute_script(
             "const r = document.getElementById('overview').getBoundingClientRect();"
-            "return [r.top, r.bottom, window.innerHeight]")
+            "return [r.top, r.bottom, window.innerHeight]"
+        )
         assert 0 <= top and bottom <= height, (top, bottom, height)
         # sorting a column: click the FEM-time header of the benchmarks table (two cases), twice
         column, table = "FEM time", 1
         index = browser.execute_script(
             "return [...document.querySelectorAll('table.summary')[arguments[1]].tHead.rows[0].cells]"
-            ".findIndex(c => c.innerText.trim() === arguments[0])", column, table)
+            ".findIndex(c => c.innerText.trim() === arguments[0])",
+            column,
+            table,
+        )
         assert index > 0
-        read = ("return [...document.querySelectorAll('table.summary')[arguments[1]].tBodies[0].rows]"
-                ".map(r => r.cells[arguments[0]].dataset.value)")
+        read = (
+            "return [...document.querySelectorAll('table.summary')[arguments[1]].tBodies[0].rows]"
+            ".map(r => r.cells[arguments[0]].dataset.value)"
+        )
         click = "document.querySelectorAll('table.summary')[arguments[1]].tHead.rows[0].cells[arguments[0]].click()"
         for order in (sorted, lambda v: sorted(v, reverse=True)):
             browser.execute_script(click, index, table)
@@ -348,14 +397,28 @@ def test_report_in_a_real_browser(built_report):
 
 def test_messages_in_the_summary_keep_four_significant_digits():
     text = "no convergence between t = 0.209595 and 0.3 at theta20 = 15.86, EI 1.0172526e-5, r1..r4"
-    assert round_numbers(text) == "no convergence between t = 0.2096 and 0.3 at theta20 = 15.86, EI 1.017e-05, r1..r4"  # the input, not output, rounded
+    assert (
+        round_numbers(text) == "no convergence between t = 0.2096 and 0.3 at theta20 = 15.86, EI 1.017e-05, r1..r4"
+    )  # the input, not output, rounded
 
 
 def test_an_absent_prbm_fem_number_shows_the_case_reason():
-    row = CaseSummary(group="chapter 9", case="x", title="t", verdict=Verdict.WITHIN, reason="",
-                      methods=[MethodState("prbm", Verdict.WITHIN, "")], sentence="s.", prbm_fem_length=math.nan,
-                      prbm_fem_relative=math.nan, fem_estimate=math.nan, checks=0, checks_passed=0, findings=0,
-                      no_prbm_fem="geometry not in the seed")
+    row = CaseSummary(
+        group="chapter 9",
+        case="x",
+        title="t",
+        verdict=Verdict.WITHIN,
+        reason="",
+        methods=[MethodState("prbm", Verdict.WITHIN, "")],
+        sentence="s.",
+        prbm_fem_length=math.nan,
+        prbm_fem_relative=math.nan,
+        fem_estimate=math.nan,
+        checks=0,
+        checks_passed=0,
+        findings=0,
+        no_prbm_fem="geometry not in the seed",
+    )
     cell = re.search(r"<td class='absent'[^>]*>(.*?)</td>", summary_tables_html([row], {})).group(1)
     assert cell == "geometry not in the seed"
     without = summary_tables_html([CaseSummary(**{**row.__dict__, "no_prbm_fem": ""})], {})

@@ -2,6 +2,7 @@
 the page and every model's map exist, every claim is in the claims table, the predicted-against-measured
 sentence has its numbers, a second page reuses the atlas-only part, text is escaped, and the report's
 hook turns a failure into a line of the index instead of losing the report."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -17,13 +18,16 @@ from validation.atlas.measured import MeasuredLevel
 from validation.atlas.models import MODELS
 from validation.report import atlas_page, build
 
-pytestmark = pytest.mark.xdist_group("report_atlas")   # one worker builds the atlas and the page, once
+pytestmark = pytest.mark.xdist_group("report_atlas")  # one worker builds the atlas and the page, once
 
 # two made-up case levels on the diagonal and one off it: the sentence's numbers are known
-LEVELS = [MeasuredLevel("case_a", 1, "fixed_pinned_pauly_midha", 0.50, 0.55, 0.40, -3.0, 0.20, ""),
-          MeasuredLevel("case_a", 2, "fixed_pinned_pauly_midha", 2.00, 2.10, 1.50, -6.0, 0.50, ""),
-          MeasuredLevel("case_b", 1, "pure_moment", 8.00, 1.00, float("nan"), float("nan"), 0.30,
-                        "the FEM gave no tip rotation")]
+LEVELS = [
+    MeasuredLevel("case_a", 1, "fixed_pinned_pauly_midha", 0.50, 0.55, 0.40, -3.0, 0.20, ""),
+    MeasuredLevel("case_a", 2, "fixed_pinned_pauly_midha", 2.00, 2.10, 1.50, -6.0, 0.50, ""),
+    MeasuredLevel(
+        "case_b", 1, "pure_moment", 8.00, 1.00, float("nan"), float("nan"), 0.30, "the FEM gave no tip rotation"
+    ),
+]
 
 
 def made_up_levels(results, table, cached):
@@ -59,10 +63,13 @@ def test_the_page_and_every_model_map_exist(page, coarse):
         src = f"{atlas_page.FIGURES}/map_{name}.png"
         assert f"src='{src}'" in text
         assert (out / src).is_file() and (out / src).stat().st_size > 1000
-    for title in ("Predicted against measured", "The seeds' claims, checked",
-                  "Beyond the seeds: refit (gamma, K_Theta)"):
+    for title in (
+        "Predicted against measured",
+        "The seeds' claims, checked",
+        "Beyond the seeds: refit (gamma, K_Theta)",
+    ):
         assert title in text
-    assert re.search(r"\d+ points solved in [\d.]+ s", text)   # from the dataset's atlas.json
+    assert re.search(r"\d+ points solved in [\d.]+ s", text)  # from the dataset's atlas.json
 
 
 def test_the_claims_table_has_every_claim(page):
@@ -77,8 +84,11 @@ def test_the_predicted_against_measured_sentence_has_numbers(page):
     a = written.agreement
     assert (a["levels"], a["cases"]) == (3, 2)
     sentence = atlas_page.agreement_words(a)
-    assert re.search(r"on 3 levels of 2 cases: 67 % within a factor 2 .* 67 % on the same side of the 5 % "
-                     r"validity limit, Spearman rank correlation -?\d\.\d\d", sentence)
+    assert re.search(
+        r"on 3 levels of 2 cases: 67 % within a factor 2 .* 67 % on the same side of the 5 % "
+        r"validity limit, Spearman rank correlation -?\d\.\d\d",
+        sentence,
+    )
     text = (out / atlas_page.PAGE).read_text()
     assert atlas_page._capital(sentence).replace("'", "&#x27;") in text
     assert (out / atlas_page.FIGURES / "scatter.png").is_file()

@@ -2,6 +2,7 @@
 unit, legends beside the data (never on it), load levels one at a time on a slider, markers only for
 numbers a source printed (naming the source), the picture's colour bar over the field's real range,
 and, in a real browser at 1366 x 900, no sideways scrolling, no legend on a plot, no 'NaN' shown."""
+
 import re
 from pathlib import Path
 
@@ -55,7 +56,7 @@ quantities = ["y"]
 tolerance = { rel = 0.05 }
 basis = "the user's own limit"
 """
-SNAKE = re.compile(r"\b[a-z]+_[a-z_]+\b")   # a case file's name for a quantity ('input_angle'), not words
+SNAKE = re.compile(r"\b[a-z]+_[a-z_]+\b")  # a case file's name for a quantity ('input_angle'), not words
 
 
 @pytest.fixture(scope="module")
@@ -91,7 +92,7 @@ def test_units_and_long_titles_read_as_written_by_hand():
     assert unit_text("lbf*in") == "lbf·in" and unit_text("EI/L^2") == "EI/L²" and unit_text("1") == "-"
     long = axis_title("M_j at the beam end (printed M at Q 27.844, 58.678 cw, moved to E by eq. 173)", "lbf*in")
     assert long.count("<br>") == 1 and all(len(line) <= 60 for line in long.split("<br>"))
-    assert axis_title("</script> & x", "N") == "&lt;/script&gt; &amp; x [N]"   # escaped for plotly.js
+    assert axis_title("</script> & x", "N") == "&lt;/script&gt; &amp; x [N]"  # escaped for plotly.js
 
 
 def test_legends_stand_beside_the_data():
@@ -103,7 +104,7 @@ def test_legends_stand_beside_the_data():
             beside = legend.get("x", 1.02) > 1 and legend.get("xanchor", "left") == "left"
             above = legend.get("y", 1) > 1 and legend.get("yanchor") == "bottom"
             assert beside or above, (cid, chart.id, legend)
-            assert "width" not in chart.layout and chart.layout["autosize"], (cid, chart.id)   # as wide as the page
+            assert "width" not in chart.layout and chart.layout["autosize"], (cid, chart.id)  # as wide as the page
 
 
 def test_load_levels_are_steps_of_a_slider_not_a_tangle():
@@ -121,7 +122,7 @@ def test_load_levels_are_steps_of_a_slider_not_a_tangle():
     assert slider["active"] == len(case.case.level_labels) - 1
     assert [t.get("visible", True) for t in shapes.data] == first
     levels_shown = [sum(step["args"][0]["visible"]) for step in steps[:-1]]
-    assert max(levels_shown) < sum(steps[-1]["args"][0]["visible"])   # one level at a time, 'all' shows all
+    assert max(levels_shown) < sum(steps[-1]["args"][0]["visible"])  # one level at a time, 'all' shows all
     styles = {t["name"]: (t["line"]["color"], t["line"]["dash"]) for t in shapes.data if t.get("name")}
     assert len(set(styles.values())) == len(styles) >= 3, styles
 
@@ -148,8 +149,10 @@ def test_the_colour_bar_spans_the_real_range():
 
 def test_the_picture_fits_the_mechanism_in_its_free_part():
     """The camera puts what is drawn inside ``DRAWN`` (clear of the title, legend and colour bar)."""
+
     class Camera:
         pass
+
     camera, bounds = Camera(), (-1.0, 13.0, -2.0, 8.0)
     paraview.fit_camera(camera, bounds)
     width, height = paraview.CANVAS
@@ -157,8 +160,8 @@ def test_the_picture_fits_the_mechanism_in_its_free_part():
     half_w = half_h * width / height
     cx, cy, _ = camera.focal_point
     (x0, x1), (y0, y1) = paraview.DRAWN
-    to_x = lambda x: (x - (cx - half_w)) / (2 * half_w)   # noqa: E731 - world x as a fraction of the width
-    to_y = lambda y: (y - (cy - half_h)) / (2 * half_h)   # noqa: E731
+    to_x = lambda x: (x - (cx - half_w)) / (2 * half_w)  # noqa: E731 - world x as a fraction of the width
+    to_y = lambda y: (y - (cy - half_h)) / (2 * half_h)  # noqa: E731
     assert x0 <= to_x(bounds[0]) < to_x(bounds[1]) <= x1
     assert y0 <= to_y(bounds[2]) < to_y(bounds[3]) <= y1
 

@@ -7,6 +7,7 @@ A case whose title, group, description, source, assumptions, findings, level lab
 reference source and note carry script (ids are refused at load: ``test_input_ranges``) is built into a
 report; both its pages are parsed with ``html.parser`` and no element, attribute or script of them may
 come from those strings."""
+
 from __future__ import annotations
 
 import json
@@ -36,17 +37,33 @@ PAYLOADS = {
 }
 CASE = {
     "level_labels": [PAYLOADS[9], PAYLOADS[10]],
-    "case": {"id": "hostile_strings", "title": PAYLOADS[1], "group": PAYLOADS[2], "units": "dimensionless",
-             "description": PAYLOADS[3], "source": {"file": PAYLOADS[4], "section": PAYLOADS[5], "note": "<!-- note"},
-             "assumptions": [PAYLOADS[6]], "findings": [PAYLOADS[7]]},
+    "case": {
+        "id": "hostile_strings",
+        "title": PAYLOADS[1],
+        "group": PAYLOADS[2],
+        "units": "dimensionless",
+        "description": PAYLOADS[3],
+        "source": {"file": PAYLOADS[4], "section": PAYLOADS[5], "note": "<!-- note"},
+        "assumptions": [PAYLOADS[6]],
+        "findings": [PAYLOADS[7]],
+    },
     "segment": {"boundary": "fixed-free", "length": 1.0, "E": 1.0, "section": {"kind": "inertia", "I": 1.0, "A": 1e6}},
     "loads": [{"kind": "force", "point": "tip", "direction": [0.0, 1.0], "values": [0.5, 1.0], "label": PAYLOADS[8]}],
     "outputs": [{"quantity": "y"}, {"quantity": "rotation"}],
     "methods": {"prbm": {}},
     # printed 999 against ~0.3: a comparison outside its tolerance, listed on the index with its level label
-    "references": [{"quantity": "y", "level": 1, "value": 999.0, "label": "published", "compare": "prbm",
-                    "tolerance": {"rel": 0.01}, "note": PAYLOADS[13],
-                    "source": {"file": PAYLOADS[11], "table": "</script>", "row": "<!--", "column": PAYLOADS[12]}}],
+    "references": [
+        {
+            "quantity": "y",
+            "level": 1,
+            "value": 999.0,
+            "label": "published",
+            "compare": "prbm",
+            "tolerance": {"rel": 0.01},
+            "note": PAYLOADS[13],
+            "source": {"file": PAYLOADS[11], "table": "</script>", "row": "<!--", "column": PAYLOADS[12]},
+        }
+    ],
 }
 
 
@@ -108,6 +125,8 @@ def test_the_charts_json_cannot_end_its_script_and_gives_the_strings_back(report
         spec = re.search(r"const f=(.*?);Plotly\.newPlot\(", script, flags=re.S).group(1)
         assert not set("<>&") & set(spec), "'<', '>' and '&' only as JSON escapes"
         figure = json.loads(spec)
-        labels += [axis["title"]["text"] for key, axis in figure["layout"].items() if key.startswith(("xaxis", "yaxis"))]
+        labels += [
+            axis["title"]["text"] for key, axis in figure["layout"].items() if key.startswith(("xaxis", "yaxis"))
+        ]
     # the load's label is the outputs chart's x title: as written, HTML-escaped for plotly.js's text
     assert any("&lt;/script&gt;&lt;img src=x onerror=alert(8)&gt; load &amp; &lt;!--" in label for label in labels)

@@ -4,6 +4,7 @@ only that page: it says why, the other pages and the index are written, the exit
 (A report of the uniform-load cantilever once stopped the whole report with KeyError 'distributed'
 in the summary sentence, after every case had been computed.)
 """
+
 from types import SimpleNamespace
 
 import pandas as pd
@@ -47,7 +48,7 @@ def test_a_page_that_cannot_be_drawn_says_why_and_the_rest_goes_on(tmp_path, mon
     assert page.case == "some_case" and page.link == "cases/some_case.html"
     assert page.error is not None and "KeyError" in page.error and "distributed" in page.error
     assert "could not be drawn" in (tmp_path / page.link).read_text()
-    assert not (tmp_path / "cases" / "some_case.digest").exists()   # drawn again next time
+    assert not (tmp_path / "cases" / "some_case.digest").exists()  # drawn again next time
 
 
 def test_the_report_is_written_and_fails_when_a_page_cannot_be_drawn(tmp_path, monkeypatch):

@@ -1,5 +1,6 @@
 """The report shows a failure the case records as expected (``case.expected_failure``) as an expected
 failure, with the case's reason, never as 'did not converge'; an unexpected one stays 'did not converge'."""
+
 from __future__ import annotations
 
 from tests.validation.test_exit_status import fake, write  # noqa: F401  (the fake prbm adapter fixture)

@@ -4,6 +4,7 @@ and checks, in the page, that nothing is wider than the window, that the index i
 6000 px with every chapter expanded, the findings folded), that no plotly legend lies over a plot area,
 and that no 'NaN' is shown. A screenshot of each page goes to the folder named by ``REPORT_SCREENSHOTS``
 (a CI artefact), else to the test's temporary folder."""
+
 from __future__ import annotations
 
 import os
@@ -16,7 +17,7 @@ from tests.validation.test_report import chromium_session
 from validation.report.build import build_report
 
 WIDTH, HEIGHT = 1366, 900
-INDEX_HEIGHT = 6000      # px at WIDTH: the index an engineer scrolls once
+INDEX_HEIGHT = 6000  # px at WIDTH: the index an engineer scrolls once
 USER_CASE_ID = "layout_user_cantilever"
 USER_CASE = f"""
 [case]
@@ -45,9 +46,9 @@ quantity = "y"
 [methods.fem]
 [methods.prbm]
 """
-CASES = ["cantilever_tip_load", "bapat2015_test2"]          # a segment, a mechanism
+CASES = ["cantilever_tip_load", "bapat2015_test2"]  # a segment, a mechanism
 PAGES = ["index.html", *(f"cases/{case}.html" for case in CASES + [USER_CASE_ID])]
-pytestmark = pytest.mark.xdist_group("report-layout")   # one worker builds the report and runs the browser
+pytestmark = pytest.mark.xdist_group("report-layout")  # one worker builds the report and runs the browser
 
 # each plotly chart: its legend's box and the boxes of its plot areas (the subplots' background
 # rectangles, else their drag areas, which cover the plot area exactly)
@@ -121,7 +122,7 @@ def test_no_legend_lies_over_a_plot_area(layout_report, browser, shots, page):
 def test_no_page_shows_nan(layout_report, browser, shots, page):
     load(browser, layout_report, page, shots)
     text = browser.execute_script("return document.body.innerText")
-    shown = [text[max(m.start() - 40, 0):m.end() + 40] for m in re.finditer(r"\bnan\b", text, flags=re.I)]
+    shown = [text[max(m.start() - 40, 0) : m.end() + 40] for m in re.finditer(r"\bnan\b", text, flags=re.I)]
     assert not shown, f"{page}: {shown}"
 
 
@@ -132,7 +133,8 @@ def test_the_index_is_scrolled_once(layout_report, browser, shots):
     # the findings folded: one line a case, none open
     lines = browser.execute_script(
         "return [...document.querySelectorAll('details.casefindings')].map(d => [d.open, "
-        "d.querySelector('summary').getBoundingClientRect().height])")
+        "d.querySelector('summary').getBoundingClientRect().height])"
+    )
     assert lines and not [line for line in lines if line[0] or line[1] > 30], lines
 
 
@@ -140,16 +142,18 @@ def test_the_first_screen_answers_and_cites_by_key(layout_report, browser, shots
     load(browser, layout_report, "index.html", shots)
     lead, top, bottom, window = browser.execute_script(
         "const r = document.getElementById('overview').getBoundingClientRect();"
-        "return [document.querySelector('p.lead').innerText, r.top, r.bottom, window.innerHeight]")
+        "return [document.querySelector('p.lead').innerText, r.top, r.bottom, window.innerHeight]"
+    )
     counted = re.match(r"(\d+) cases: ", lead)
-    assert counted and int(counted.group(1)) == len(CASES) + 1, lead   # the answer, counted per verdict
-    assert 0 <= top and bottom <= window, (top, bottom, window)        # the picture on the first screen
+    assert counted and int(counted.group(1)) == len(CASES) + 1, lead  # the answer, counted per verdict
+    assert 0 <= top and bottom <= window, (top, bottom, window)  # the picture on the first screen
     text = browser.execute_script("return document.body.innerText")
-    assert not re.findall(r"\bseed \d{3}\b", text, flags=re.I)         # sources by key ('[bapat2015]')
+    assert not re.findall(r"\bseed \d{3}\b", text, flags=re.I)  # sources by key ('[bapat2015]')
     # every result on one line of a readable width, the whole sentence on hover
     rows = browser.execute_script(
         "return [...document.querySelectorAll('table.summary td.sentence')].map(c => {"
         "const r = document.createRange(); r.selectNodeContents(c);"
         "return [c.getBoundingClientRect().width, new Set([...r.getClientRects()].map(b => Math.round(b.top))).size,"
-        " c.title.startsWith(c.innerText)]})")
+        " c.title.startsWith(c.innerText)]})"
+    )
     assert rows and all(width >= 250 and lines == 1 and whole for width, lines, whole in rows), rows

@@ -2,6 +2,7 @@
 Python strings (``build.PAGE_STRINGS``, faster for their many small filters and sorts than pandas 3's
 pyarrow-backed default), and the page, its Markdown and its one-line summary must equal the ones
 drawn with pyarrow strings, on a case with references, findings and three methods."""
+
 import pytest
 
 from validation.case.loader import case_by_id
@@ -19,6 +20,5 @@ def test_a_page_drawn_with_python_strings_equals_the_pyarrow_one(tmp_path, monke
         monkeypatch.setattr(build, "PAGE_STRINGS", storage)
         link = build.PageWriter(out)(result)
         assert link.error is None
-        pages[storage] = ((out / link.link).read_text(), (out / link.link).with_suffix(".md").read_text(),
-                          link.summary)
+        pages[storage] = ((out / link.link).read_text(), (out / link.link).with_suffix(".md").read_text(), link.summary)
     assert pages["python"] == pages["pyarrow"]

@@ -1,6 +1,7 @@
 """The off-screen ParaView picture of a case page: its legend names each series in the colour of its
 line (the FEM line is coloured by its bending moment on viridis: its entry takes viridis's middle
 colour, not the light blue pyvista gives a scalar-coloured mesh), and one canvas serves many pictures."""
+
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -39,7 +40,7 @@ def test_the_legend_gives_each_series_its_line_colour(tmp_path: Path):
     assert set(_legend(canvas)) == {"FEM (colour: bending moment)", "undeformed"}
     assert canvas.title.GetText(2) == "second"
     meshes = [a for a in canvas.plotter.renderer.actors.values() if a in canvas.shown]
-    assert len(meshes) == 3   # the FEM mesh, the undeformed mesh and the legend
+    assert len(meshes) == 3  # the FEM mesh, the undeformed mesh and the legend
 
 
 def test_each_picture_shows_its_own_series(tmp_path: Path):
@@ -50,13 +51,15 @@ def test_each_picture_shows_its_own_series(tmp_path: Path):
     result = run_case(case_by_id("cantilever_tip_load"), use_cache=True)
     series = paraview.case_series(result.loaded.case, result.runs)
     only_prbm = [p for p in series if p.method == "prbm"]
-    pictures = [paraview.render_series(parts, tmp_path / f"{i}.png", title)
-                for i, (parts, title) in enumerate([(series, "all"), (only_prbm, "prbm"), (series, "all")])]
+    pictures = [
+        paraview.render_series(parts, tmp_path / f"{i}.png", title)
+        for i, (parts, title) in enumerate([(series, "all"), (only_prbm, "prbm"), (series, "all")])
+    ]
     if None in pictures:
         pytest.skip("pyvista cannot render here")
     first, second, third = (np.asarray(Image.open(png)) for png in pictures)
     assert (first == third).all()
-    assert (first != second).any(axis=-1).mean() > 0.01   # another picture, not the last one again
+    assert (first != second).any(axis=-1).mean() > 0.01  # another picture, not the last one again
 
 
 def test_without_plotly_the_report_says_so_in_one_line(tmp_path, monkeypatch, capsys):

@@ -12,6 +12,7 @@
 * chapter 7's two-port Type 2 MA takes its input forces from ``ma.F_i`` when the case's load is the
   work-piece location, which must be the motion link 4 turned by ``location_deg`` gives that point.
 """
+
 from __future__ import annotations
 
 import cmath
@@ -56,14 +57,20 @@ methods = {methods}
 
 def _case(tmp_path, name, info="", load="1.0", quantity="y", methods='["fem"]', options="[methods.fem]\nelements = 4"):
     path = tmp_path / f"{name}.toml"
-    path.write_text(SEGMENT.format(name=name, info=info, load=load, quantity=quantity, methods=methods,
-                                   options=options))
+    path.write_text(
+        SEGMENT.format(name=name, info=info, load=load, quantity=quantity, methods=methods, options=options)
+    )
     return path
 
 
 def test_a_fem_validation_benchmark_runs_no_prbm(tmp_path):
-    path = _case(tmp_path, "bench", info='purpose = "fem-validation"', methods='["fem", "prbm"]',
-                 options="[methods.fem]\n[methods.prbm]")
+    path = _case(
+        tmp_path,
+        "bench",
+        info='purpose = "fem-validation"',
+        methods='["fem", "prbm"]',
+        options="[methods.fem]\n[methods.prbm]",
+    )
     with pytest.raises(CaseError, match="purpose"):
         load_case(path)
     with pytest.raises(CaseError, match="purpose"):
@@ -72,11 +79,25 @@ def test_a_fem_validation_benchmark_runs_no_prbm(tmp_path):
 
 
 def test_every_case_without_a_number_gets_its_reason_in_the_summary(tmp_path):
-    bench = run_case(load_case(_case(tmp_path, "bench", info='purpose = "fem-validation"\nno_prbm_fem = "a limit '
-                                                                   'load against print"')), use_cache=False)
+    bench = run_case(
+        load_case(
+            _case(tmp_path, "bench", info='purpose = "fem-validation"\nno_prbm_fem = "a limit load against print"')
+        ),
+        use_cache=False,
+    )
     alone = run_case(load_case(_case(tmp_path, "alone")), use_cache=False)
-    both = run_case(load_case(_case(tmp_path, "both", quantity="y", methods='["fem", "prbm"]',
-                                    options="[methods.fem]\nelements = 4\n[methods.prbm]")), use_cache=False)
+    both = run_case(
+        load_case(
+            _case(
+                tmp_path,
+                "both",
+                quantity="y",
+                methods='["fem", "prbm"]',
+                options="[methods.fem]\nelements = 4\n[methods.prbm]",
+            )
+        ),
+        use_cache=False,
+    )
     assert no_prbm_fem_reason(bench) == "FEM-validation benchmark: a limit load against print"
     assert no_prbm_fem_reason(alone) == "no PRBM in this case (the case states no reason)"
     results = [bench, alone, both]
@@ -88,13 +109,16 @@ def test_every_case_without_a_number_gets_its_reason_in_the_summary(tmp_path):
 
 def test_a_refusing_prbm_is_named_with_its_message(tmp_path):
     loaded = load_case(_case(tmp_path, "refuse", methods='["fem", "prbm"]', options="[methods.fem]\n[methods.prbm]"))
-    refused = MethodRun(values={}, converged=False, message="no state  within\nthe fits",
-                        status=RunStatus.NOT_APPLICABLE)
+    refused = MethodRun(
+        values={}, converged=False, message="no state  within\nthe fits", status=RunStatus.NOT_APPLICABLE
+    )
     result = CaseResult(loaded, {"fem": MethodRun(values={}), "prbm": refused})
     assert no_prbm_fem_reason(result) == "PRBM refuses: no state within the fits"
     stalled = MethodRun(values={}, converged=False, message="stopped at level 1")
-    assert no_prbm_fem_reason(CaseResult(loaded, {"fem": stalled, "prbm": MethodRun(values={})})) == \
-        "FEM gave no answer: stopped at level 1"
+    assert (
+        no_prbm_fem_reason(CaseResult(loaded, {"fem": stalled, "prbm": MethodRun(values={})}))
+        == "FEM gave no answer: stopped at level 1"
+    )
 
 
 INFLECTION = """
@@ -146,7 +170,7 @@ def test_fem_inverse_reports_the_end_position_of_the_exact_inflection_problem(tm
     fem, exact = run_method(case, "fem"), run_method(case, "elastica")
     assert fem.ok and exact.ok, (fem.message, exact.message)
     req = Request("x", "tip", 0)
-    assert 0.9 < exact.values[req] < 1.0                       # a real end position, shortened by bending
+    assert 0.9 < exact.values[req] < 1.0  # a real end position, shortened by bending
     estimate = fem.error_estimate[req]
     assert 0 < estimate < 1e-3
     assert fem.values[req] == pytest.approx(exact.values[req], abs=3 * estimate + 1e-6)
@@ -157,7 +181,7 @@ def test_tip_x_is_refused_where_x_is_prescribed_or_not_a_flag(tmp_path):
     path = _case(tmp_path, "bad", quantity="x", options=f"[methods.fem]\ninverse = {inverse}")
     run = run_method(load_case(path).case, "fem")
     assert run.status is RunStatus.NOT_APPLICABLE and "prescribed" in run.message and "tip_x" in run.message
-    inverse = "{ b = 0.3, theta0_deg = 20.0, l1 = 0.6, tip_x = 1 }"         # a flag, not a number: the schema's
+    inverse = "{ b = 0.3, theta0_deg = 20.0, l1 = 0.6, tip_x = 1 }"  # a flag, not a number: the schema's
     path = _case(tmp_path, "flag", quantity="x", options=f"[methods.fem]\ninverse = {inverse}")
     with pytest.raises(CaseError, match=r"methods\.fem\.inverse\.tip_x: .*valid boolean"):
         load_case(path)
@@ -226,7 +250,8 @@ def _compliers(tmp_path, load: str, ma_extra: str, location: float = 3.0):
     text = text[:start] + load + "\n" + text[end:]
     text = text.replace('level_labels = ["F_i=10", "F_i=20", "F_i=40", "F_i=80"]', "")
     text = text.replace("location_deg = 5.0", f"location_deg = {location}").replace(
-        "F_i = [10.0, 20.0, 40.0, 80.0], ", ma_extra)
+        "F_i = [10.0, 20.0, 40.0, 80.0], ", ma_extra
+    )
     path = tmp_path / "compliers.toml"
     path.write_text(text)
     return load_case(path).case
@@ -236,21 +261,33 @@ def test_the_two_port_ma_takes_the_work_piece_location_as_its_load(tmp_path):
     """Link 4 turned 3 deg (not the case file's 5): the x displacement of IN is |O4 IN| (e^{i 3 deg} - 1)."""
     arm = complex(-1.7941, 2.5916) - complex(0.7745, 0.6004)
     dx = (arm * (cmath.exp(1j * math.radians(3.0)) - 1.0)).real
-    held = _compliers(tmp_path, f'[[loads]]\nkind = "displacement"\npoint = "IN"\ndirection = [1.0, 0.0]\n'
-                                f'values = [{dx}, {dx}]', "F_i = [10.0, 40.0], ")
-    forced = _compliers(tmp_path, '[[loads]]\nkind = "force"\npoint = "IN"\ndirection = [-0.6127, -0.7903]\n'
-                                  'values = [10.0, 40.0]', "")
+    held = _compliers(
+        tmp_path,
+        f'[[loads]]\nkind = "displacement"\npoint = "IN"\ndirection = [1.0, 0.0]\nvalues = [{dx}, {dx}]',
+        "F_i = [10.0, 40.0], ",
+    )
+    forced = _compliers(
+        tmp_path, '[[loads]]\nkind = "force"\npoint = "IN"\ndirection = [-0.6127, -0.7903]\nvalues = [10.0, 40.0]', ""
+    )
     a, b = run_method(held, "prbm"), run_method(forced, "prbm")
     assert a.ok and b.ok, (a.message, b.message)
-    assert a.values == b.values and len(a.values) == 2 * 2     # MA and T_c at two input forces
-    wrong = _compliers(tmp_path, f'[[loads]]\nkind = "displacement"\npoint = "IN"\ndirection = [1.0, 0.0]\n'
-                                 f'values = [{1.1 * dx}, {1.1 * dx}]', "F_i = [10.0, 40.0], ")
+    assert a.values == b.values and len(a.values) == 2 * 2  # MA and T_c at two input forces
+    wrong = _compliers(
+        tmp_path,
+        f'[[loads]]\nkind = "displacement"\npoint = "IN"\ndirection = [1.0, 0.0]\nvalues = [{1.1 * dx}, {1.1 * dx}]',
+        "F_i = [10.0, 40.0], ",
+    )
     run = run_method(wrong, "prbm")
     assert run.status is RunStatus.NOT_APPLICABLE and "location_deg" in run.message
 
 
-TABLES = ["table3_3_case1_a_b_theta0", "table3_4_case2a_b_theta0_n0", "table3_5_case2b_b_theta0_n",
-          "table3_6_case2c_b_theta0_l1", "table3_6_exact_inverse"]
+TABLES = [
+    "table3_3_case1_a_b_theta0",
+    "table3_4_case2a_b_theta0_n0",
+    "table3_5_case2b_b_theta0_n",
+    "table3_6_case2c_b_theta0_l1",
+    "table3_6_exact_inverse",
+]
 
 
 @pytest.mark.parametrize("name", TABLES)
@@ -263,5 +300,6 @@ def test_tables_3_3_to_3_6_give_the_fem_the_prbms_displacement_problem(name):
     posed = {k: v for k, v in prbm.items() if k in ("a", "b", "theta0_deg", "n", "l1")}
     assert posed and {k: inverse.get(k) for k in posed} == posed
     for quantity in ("force_x", "force_y", "moment"):
-        assert any(o.quantity == quantity and {"prbm", "fem"} <= set(o.methods or case.methods)
-                   for o in case.outputs), quantity
+        assert any(
+            o.quantity == quantity and {"prbm", "fem"} <= set(o.methods or case.methods) for o in case.outputs
+        ), quantity

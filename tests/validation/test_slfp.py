@@ -6,6 +6,7 @@ under which a beam bends into an arc with end rotation M l / (E I) exactly, so t
 torque must be k * theta for any flexure length, at any angle (a 10 % error in I, or a flexure of
 the wrong length, fails). Also: the construction (node placement, supports) and bad sizes.
 """
+
 from __future__ import annotations
 
 import math
@@ -20,11 +21,11 @@ from validation.case.schema import Case
 from validation.methods.slfp import with_flexures
 from validation.case.method_options import options_of
 
-K = 12.5          # in-lb/rad
-E = 450000.0      # psi
+K = 12.5  # in-lb/rad
+E = 450000.0  # psi
 
 
-BAR = {   # a rigid bar O -> T pinned at O to the ground with a torsional spring K
+BAR = {  # a rigid bar O -> T pinned at O to the ground with a torsional spring K
     "nodes": [{"name": "O", "x": 0.0, "y": 0.0}, {"name": "T", "x": 3.0, "y": 4.0}],
     "links": [{"name": "bar", "nodes": ["O", "T"]}],
     "joints": [{"node": "O", "members": ["bar"], "spring": K}],
@@ -33,13 +34,15 @@ BAR = {   # a rigid bar O -> T pinned at O to the ground with a torsional spring
 
 
 def _case(rotations_deg, slfp):
-    return Case.model_validate({
-        "case": {"id": "slfp_probe", "title": "t", "group": "g", "units": "in-lb"},
-        "mechanism": BAR,
-        "loads": [{"kind": "rotation", "point": "T", "body": "bar", "values": rotations_deg}],
-        "outputs": [{"quantity": "input_torque"}],
-        "methods": {"fem": {"elements": 4, "error_estimate": False, "slfp": slfp}},
-    })
+    return Case.model_validate(
+        {
+            "case": {"id": "slfp_probe", "title": "t", "group": "g", "units": "in-lb"},
+            "mechanism": BAR,
+            "loads": [{"kind": "rotation", "point": "T", "body": "bar", "values": rotations_deg}],
+            "outputs": [{"quantity": "input_torque"}],
+            "methods": {"fem": {"elements": 4, "error_estimate": False, "slfp": slfp}},
+        }
+    )
 
 
 @pytest.mark.parametrize("length", [0.1, 0.8])
@@ -57,12 +60,12 @@ def test_construction():
     case = with_flexures(_case([10.0], {"length": 0.5, "E": E}), 0.5, E, thickness_ratio=0.1)
     mech = case.mechanism
     nodes = {n.name: (n.x, n.y) for n in mech.nodes}
-    assert "O" not in nodes                                    # the pivot is no material point
-    assert nodes["O-"] == pytest.approx((-0.15, -0.2))         # centred on O, along O -> T
+    assert "O" not in nodes  # the pivot is no material point
+    assert nodes["O-"] == pytest.approx((-0.15, -0.2))  # centred on O, along O -> T
     assert nodes["O+"] == pytest.approx((0.15, 0.2))
     (flexure,) = mech.beams
     EI = E * flexure.section.inertia()
-    assert EI / 0.5 == pytest.approx(K)                         # k = E I / l
+    assert EI / 0.5 == pytest.approx(K)  # k = E I / l
     assert flexure.section.thickness == pytest.approx(0.05)
     assert [(s.node, s.kind) for s in mech.supports] == [("O-", "fixed")]
     assert mech.links[0].nodes == ["O+", "T"]
@@ -73,7 +76,7 @@ def test_bad_sizes_are_named():
     case = _case([10.0], {"length": 20.0, "E": E})
     with pytest.raises(NotApplicable, match="methods.fem.slfp: flexure at 'O'"):
         fem_adapter.run(case, [Request("input_torque", "", 0)], options_of("fem", case.methods["fem"]))
-    with pytest.raises(ValidationError) as info:   # a missing size is refused when the case is read
+    with pytest.raises(ValidationError) as info:  # a missing size is refused when the case is read
         _case([10.0], {"E": E})
     assert ("methods.fem.slfp.length", "Field required") in describe_all(info.value)
 
@@ -84,23 +87,31 @@ def test_position_reached_by_an_input_moment():
     the bar then along the rotated u); the moment found must be k theta (to the O(h^2) error of the
     chord elements' arc, about 2e-6 with 16 elements)."""
     length, theta = 0.4, math.radians(35.0)
-    u, v = (0.6, 0.8), (-0.8, 0.6)                      # along O -> T, and its normal
+    u, v = (0.6, 0.8), (-0.8, 0.6)  # along O -> T, and its normal
     base = (-0.5 * length * u[0], -0.5 * length * u[1])
     arc = (length / theta * math.sin(theta), length / theta * (1 - math.cos(theta)))
-    bar = 5.0 - 0.5 * length                            # |T - O+|
+    bar = 5.0 - 0.5 * length  # |T - O+|
     along = (math.cos(theta), math.sin(theta))
     x_T = base[0] + (arc[0] + bar * along[0]) * u[0] + (arc[1] + bar * along[1]) * v[0]
-    case = Case.model_validate({
-        "case": {"id": "slfp_drive", "title": "t", "group": "g", "units": "in-lb"},
-        "mechanism": BAR,
-        "loads": [{"kind": "displacement", "point": "T", "direction": [1.0, 0.0], "values": [0.0, x_T - 3.0]}],
-        "outputs": [{"quantity": "input_torque"}, {"quantity": "y", "point": "T"}],
-        "methods": {"fem": {"elements": 16, "error_estimate": False, "input_moment_at": "O+",
-                            "slfp": {"length": length, "E": E}}},
-    })
+    case = Case.model_validate(
+        {
+            "case": {"id": "slfp_drive", "title": "t", "group": "g", "units": "in-lb"},
+            "mechanism": BAR,
+            "loads": [{"kind": "displacement", "point": "T", "direction": [1.0, 0.0], "values": [0.0, x_T - 3.0]}],
+            "outputs": [{"quantity": "input_torque"}, {"quantity": "y", "point": "T"}],
+            "methods": {
+                "fem": {
+                    "elements": 16,
+                    "error_estimate": False,
+                    "input_moment_at": "O+",
+                    "slfp": {"length": length, "E": E},
+                }
+            },
+        }
+    )
     requests = [Request("input_torque", "", 1), Request("y", "T", 1)]
     run = fem_adapter.run(case, requests, options_of("fem", case.methods["fem"]))
     assert run.converged, run.message
     assert run.values[requests[0]] == pytest.approx(K * theta, rel=2e-5)
     y_T = base[1] + (arc[0] + bar * along[0]) * u[1] + (arc[1] + bar * along[1]) * v[1]
-    assert run.values[requests[1]] == pytest.approx(y_T, abs=1e-4)   # 2e-5 in theta times the 5 in lever
+    assert run.values[requests[1]] == pytest.approx(y_T, abs=1e-4)  # 2e-5 in theta times the 5 in lever

@@ -1,5 +1,6 @@
 """Start-up: the CLI builds its parser and solves one case without the heavy libraries it does not use
 (a fresh interpreter, so that other tests' imports do not count)."""
+
 import subprocess
 import sys
 
@@ -19,4 +20,3 @@ print(" ".join(sorted(m for m in ("pandas", "validation.synthesis.design", "matp
 def test_parser_and_a_prbm_solve_load_no_pandas_synthesis_solvers_cache_or_other_methods():
     out = subprocess.run([sys.executable, "-c", SCRIPT], capture_output=True, text=True, check=True)
     assert out.stdout.split() == []
-

@@ -8,6 +8,7 @@ and the parallel run of many cases gives the same results as the serial one.
 - ``validation.run.parallel`` compiles each numba method once (one primer per method whose sources
   import numba) and returns, on two workers, the values of the serial run (to the solves' tolerance).
 (No timing here: speed is measured by the benchmarks, never asserted in a test.)"""
+
 import json
 import subprocess
 import sys
@@ -22,8 +23,17 @@ from validation.run import cache, parallel
 from validation.run.parallel import compiled_method, run_paths, schedule
 
 ROOT = Path(__file__).resolve().parents[2]
-HEAVY = ("scipy.optimize", "scipy.integrate", "pandas", "numba", "skfem", "matplotlib", "prbm.network", "fem",
-         "elastica")
+HEAVY = (
+    "scipy.optimize",
+    "scipy.integrate",
+    "pandas",
+    "numba",
+    "skfem",
+    "matplotlib",
+    "prbm.network",
+    "fem",
+    "elastica",
+)
 
 
 def loaded_after(code: str) -> list[str]:
@@ -40,8 +50,10 @@ def test_import_prbm_and_a_segment_solve_load_no_solver_library():
 
 def test_solve_of_a_segment_case_by_the_prbm_imports_no_heavy_module(tmp_path):
     out = tmp_path / "solve.json"
-    code = ("from validation.cli.main import main\n"
-            f"assert main(['solve', 'cantilever_tip_load', '--method', 'prbm', '--out', {str(out)!r}]) == 0")
+    code = (
+        "from validation.cli.main import main\n"
+        f"assert main(['solve', 'cantilever_tip_load', '--method', 'prbm', '--out', {str(out)!r}]) == 0"
+    )
     assert loaded_after(code) == []
     document = json.loads(out.read_text())
     assert document["method"] == "prbm" and document["levels"]
@@ -66,8 +78,15 @@ def test_a_lazy_module_imports_at_first_attribute_read():
 
 def test_the_run_cache_hashes_the_modules_loaded_lazily():
     files = {p.relative_to(ROOT).as_posix() for p in cache.source_files("prbm")}
-    for lazy in ("prbm/chain.py", "prbm/compliance.py", "prbm/segments.py", "prbm/network.py",
-                 "validation/methods/prbm_network.py", "validation/methods/prbm_fourbar.py", "prbm/lazy.py"):
+    for lazy in (
+        "prbm/chain.py",
+        "prbm/compliance.py",
+        "prbm/segments.py",
+        "prbm/network.py",
+        "validation/methods/prbm_network.py",
+        "validation/methods/prbm_fourbar.py",
+        "prbm/lazy.py",
+    ):
         assert lazy in files, lazy
 
 
@@ -82,9 +101,13 @@ def test_primers_compile_each_numba_method_once():
 
 
 def _values(runs) -> dict:
-    return {(r.result.loaded.id, method, req): value for r in runs if r.result is not None
-            for method, run in r.result.runs.items()
-            for req, value in run.values.items()}
+    return {
+        (r.result.loaded.id, method, req): value
+        for r in runs
+        if r.result is not None
+        for method, run in r.result.runs.items()
+        for req, value in run.values.items()
+    }
 
 
 def case_id(result) -> str:
@@ -100,8 +123,14 @@ def test_two_workers_give_the_values_of_the_serial_run(tmp_path):
     such a stop lies within 1e-10 of the equilibrium (tightening the FEM to 1e-14 and the elastica to
     1e-13 moves no value by more than 7e-11 of its scale), so 1e-8 leaves a factor 100. Values mixed up
     between levels, points, cases or methods differ by 1e-4 of the scale or more."""
-    paths = [case_by_id(i).path for i in ("bapat2015_table3_1", "segment_curved_fixed_pinned_compressive",
-                                          "bapat2015_theta_dependent_k_tension_baseline")]
+    paths = [
+        case_by_id(i).path
+        for i in (
+            "bapat2015_table3_1",
+            "segment_curved_fixed_pinned_compressive",
+            "bapat2015_theta_dependent_k_tension_baseline",
+        )
+    ]
     paths.append(tmp_path / "broken.toml")
     paths[-1].write_text("[case]\nid = 'broken'\n")
     serial = run_paths(paths, use_cache=False, jobs=1, after=case_id)
@@ -116,8 +145,16 @@ def test_two_workers_give_the_values_of_the_serial_run(tmp_path):
     for (case, method, request), value in expected.items():
         tol = 1e-8 * scale[case, method, request.quantity]
         assert abs(got[case, method, request] - value) <= tol, (case, method, request, value)
-    assert [r.after for r in parallel] == [r.after for r in serial] == [
-        "bapat2015_table3_1", "segment_curved_fixed_pinned_compressive", "bapat2015_theta_dependent_k_tension_baseline", None]
+    assert (
+        [r.after for r in parallel]
+        == [r.after for r in serial]
+        == [
+            "bapat2015_table3_1",
+            "segment_curved_fixed_pinned_compressive",
+            "bapat2015_theta_dependent_k_tension_baseline",
+            None,
+        ]
+    )
     assert parallel[-1].error and "broken.toml" in parallel[-1].error
 
 
@@ -131,7 +168,7 @@ def test_a_primer_compiles_without_keeping_its_run(tmp_path, monkeypatch):
     parallel.prime(path, "prbm")
     assert cache.load(key) is None
     parallel.run_path(path, ["prbm"], use_cache=True)
-    assert cache.load(key) is not None          # an ordinary run is kept (the check can fail)
+    assert cache.load(key) is not None  # an ordinary run is kept (the check can fail)
 
 
 def test_the_lazy_export_table_names_exactly_the_public_names():
@@ -142,16 +179,22 @@ def test_the_serial_path_primes_before_any_case(monkeypatch):
     """``jobs`` = 1 compiles each numba method by a primer before the first case, so no case's method
     time holds the compile (the parallel path does the same on its workers)."""
     order = []
-    monkeypatch.setattr(parallel, "prime", lambda path, method: order.append(("prime", method)) or
-                        parallel.Timed("compile", method, 0.0))
-    monkeypatch.setattr(parallel, "run_path", lambda path, methods, use_cache, after=None:
-                        order.append(("case", path.stem)) or parallel.PathRun(path))
+    monkeypatch.setattr(
+        parallel,
+        "prime",
+        lambda path, method: order.append(("prime", method)) or parallel.Timed("compile", method, 0.0),
+    )
+    monkeypatch.setattr(
+        parallel,
+        "run_path",
+        lambda path, methods, use_cache, after=None: order.append(("case", path.stem)) or parallel.PathRun(path),
+    )
     paths = [case_by_id(i).path for i in ("bapat2015_table3_1", "cantilever_tip_load", "seed004_parallel_guided")]
     timeline = []
     run_paths(paths, use_cache=False, jobs=1, timeline=timeline)
     kinds = [kind for kind, _ in order]
     assert sorted(m for kind, m in order if kind == "prime") == ["elastica", "fem"]
-    assert kinds.index("case") == 2 and kinds.count("case") == 3          # both primers before the first case
+    assert kinds.index("case") == 2 and kinds.count("case") == 3  # both primers before the first case
     assert [r.kind for r in timeline] == ["compile", "compile"]
 
 
@@ -170,11 +213,14 @@ def test_no_primer_for_a_method_whose_runs_are_all_cached(tmp_path, monkeypatch)
 
 
 def test_cases_are_scheduled_longest_first_by_their_last_times():
-    ids = ("bapat2015_table3_1", "segment_curved_fixed_pinned_compressive", "cantilever_tip_load",
-           "bapat2015_test2")
+    ids = ("bapat2015_table3_1", "segment_curved_fixed_pinned_compressive", "cantilever_tip_load", "bapat2015_test2")
     paths = [case_by_id(i).path for i in ids]
-    costs = {"bapat2015_table3_1": 0.1, "segment_curved_fixed_pinned_compressive": 3.0, "cantilever_tip_load": 2.0,
-             "bapat2015_test2": 5.0}
+    costs = {
+        "bapat2015_table3_1": 0.1,
+        "segment_curved_fixed_pinned_compressive": 3.0,
+        "cantilever_tip_load": 2.0,
+        "bapat2015_test2": 5.0,
+    }
     plan = schedule(paths, None, costs=costs)
     ordered = plan.free + plan.compiled
     for part in (plan.free, plan.compiled):

@@ -1,4 +1,5 @@
 """``stress --long`` machinery (validation/stress/contract_run.py) and the PRBM's model applicability."""
+
 import math
 
 import pytest
@@ -20,8 +21,17 @@ def test_every_category_runs_and_passes_on_an_executor(tmp_path):
 
 def test_the_mechanism_check_fails_on_a_wrong_turn(monkeypatch):
     """The turned mechanism must give the segment's answer turned by phi: checked against phi + 10 deg it fails."""
-    c = Configuration(boundary="fixed-free", units="SI", length=0.5, E=2e11, slenderness=100.0, kappa_L=0.0,
-                      load="oblique", magnitude=1e-5, angle_deg=70.0)
+    c = Configuration(
+        boundary="fixed-free",
+        units="SI",
+        length=0.5,
+        E=2e11,
+        slenderness=100.0,
+        kappa_L=0.0,
+        load="oblique",
+        magnitude=1e-5,
+        angle_deg=70.0,
+    )
     assert all(r.passed for r in stress_contract.mechanism_check(c, 35.0))
     real = stress_contract.mechanism_case
     monkeypatch.setattr(stress_contract, "mechanism_case", lambda c, phi: real(c, phi + 10.0))
@@ -40,11 +50,15 @@ def test_a_failure_is_shrunk_into_a_case_file(tmp_path, monkeypatch):
 
 
 def _force_and_moment(M):
-    return Case.model_validate(dict(
-        case=dict(id="t", title="t", group="t", units="dimensionless"),
-        segment=dict(boundary="fixed-free", length=1.0, E=1.0, section=dict(kind="inertia", I=1.0, A=1e6)),
-        loads=[dict(kind="force", direction=[0.0, 1.0], values=[1.0]), dict(kind="moment", values=[M])],
-        outputs=[dict(quantity="y")], methods={"prbm": {}}))
+    return Case.model_validate(
+        dict(
+            case=dict(id="t", title="t", group="t", units="dimensionless"),
+            segment=dict(boundary="fixed-free", length=1.0, E=1.0, section=dict(kind="inertia", I=1.0, A=1e6)),
+            loads=[dict(kind="force", direction=[0.0, 1.0], values=[1.0]), dict(kind="moment", values=[M])],
+            outputs=[dict(quantity="y")],
+            methods={"prbm": {}},
+        )
+    )
 
 
 @pytest.mark.parametrize("M, inflection", [(-0.3, True), (0.3, False), (-1.5, False)])

@@ -2,6 +2,7 @@
 and from its CSV read back (``prbm-validate report`` writes results.csv and summary.csv; a user
 recomputes the second from the first). Quantities with no point (strain energy, an input torque) are
 written as an empty cell and read back as NaN; they must still count in the PRBM-to-FEM error."""
+
 from __future__ import annotations
 
 import math
@@ -35,7 +36,7 @@ def test_the_summary_reads_the_same_from_the_csv(table_and_result, tmp_path):
     table, result = table_and_result
     table.to_csv(tmp_path / "results.csv", index=False)
     back = pd.read_csv(tmp_path / "results.csv")
-    assert back["point"].isna().any()              # the empty cells come back as NaN
+    assert back["point"].isna().any()  # the empty cells come back as NaN
     live, read = summary(table, [result]).iloc[0], summary(back, [result]).iloc[0]
     for column in ("max_prbm_fem_rel", "max_prbm_fem_per_length", "fem_error_est_rel"):
         a, b = float(live[column]), float(read[column])

@@ -3,6 +3,7 @@
 The method is a fake 'elastica' adapter (the linear cantilever tip deflection y = P L^3 / 3EI),
 injected into ``sys.modules``; forked pool workers and in-process Dask workers inherit it.
 """
+
 from __future__ import annotations
 
 import json
@@ -83,8 +84,7 @@ def fake(monkeypatch):
             raise RuntimeError("diverged on purpose")
         levels = case.loads[0].levels()
         direction = case.loads[0].direction
-        values = {r: levels[r.level] * direction[1] * seg.length**3 / (3 * seg.bending_stiffness())
-                  for r in requests}
+        values = {r: levels[r.level] * direction[1] * seg.length**3 / (3 * seg.bending_stiffness()) for r in requests}
         return MethodRun(values=values, converged=True)
 
     module = types.ModuleType("validation.methods.elastica")
@@ -115,8 +115,10 @@ def test_thousand_points_locally_and_on_dask_identical(spec, tmp_path, fake):
     started = time.perf_counter()
     assert run_sweep(spec, tmp_path / "local", executor="process", workers=2, progress=False) == 0
     local_time = time.perf_counter() - started
-    with LocalCluster(n_workers=2, processes=False, threads_per_worker=1, dashboard_address=None) as cluster, \
-            Client(cluster) as client:
+    with (
+        LocalCluster(n_workers=2, processes=False, threads_per_worker=1, dashboard_address=None) as cluster,
+        Client(cluster) as client,
+    ):
         started = time.perf_counter()
         assert run_sweep(spec, tmp_path / "dask", executor=client, progress=False) == 0
         dask_time = time.perf_counter() - started
@@ -129,8 +131,10 @@ def test_thousand_points_locally_and_on_dask_identical(spec, tmp_path, fake):
     row = local.iloc[0]
     expected = [0.5, 1.0][row["level"]] * row["segment.length"] ** 3 / (3 * row["E_factor"])
     assert row["value"] == pytest.approx(expected, rel=1e-12)
-    print(f"\n1,000 points: local 2 processes {local_time:.2f} s, Dask LocalCluster (2 in-process workers) "
-          f"{dask_time:.2f} s")
+    print(
+        f"\n1,000 points: local 2 processes {local_time:.2f} s, Dask LocalCluster (2 in-process workers) "
+        f"{dask_time:.2f} s"
+    )
 
 
 def test_resume_after_a_partial_run_recomputes_nothing(spec, tmp_path, fake):
@@ -182,25 +186,46 @@ def test_failed_points_are_recorded_with_their_message(spec, tmp_path, fake):
 
 BAD = {
     "not TOML": (lambda s: s.replace("[sweep]", "[sweep"), "", "not valid TOML"),
-    "unknown field": (lambda s: s.replace("seed = 7", "seed = 7\nsed = 8"), "sweep.sed", "unknown field; did you mean 'seed'?"),
-    "unknown method": (lambda s: s.replace('methods = ["elastica"]', 'methods = ["fea"]'), "sweep",
-                       "unknown method 'fea'"),
-    "normal without std": (lambda s: s.replace('kind = "truncnormal", mean = 1.0, std = 0.05, low = 0.9, high = 1.1',
-                                               'kind = "normal", mean = 1.0'),
-                           "parameters.1.distribution", "needs 'std'"),
-    "two sources": (lambda s: s.replace("num = 10 }", "num = 10 }\nvalues = [1.0]"), "parameters.0",
-                    "exactly one of"),
+    "unknown field": (
+        lambda s: s.replace("seed = 7", "seed = 7\nsed = 8"),
+        "sweep.sed",
+        "unknown field; did you mean 'seed'?",
+    ),
+    "unknown method": (
+        lambda s: s.replace('methods = ["elastica"]', 'methods = ["fea"]'),
+        "sweep",
+        "unknown method 'fea'",
+    ),
+    "normal without std": (
+        lambda s: s.replace(
+            'kind = "truncnormal", mean = 1.0, std = 0.05, low = 0.9, high = 1.1', 'kind = "normal", mean = 1.0'
+        ),
+        "parameters.1.distribution",
+        "needs 'std'",
+    ),
+    "two sources": (lambda s: s.replace("num = 10 }", "num = 10 }\nvalues = [1.0]"), "parameters.0", "exactly one of"),
     "no samples": (lambda s: s.replace("samples = 100\n", ""), "(top level)", "need 'sweep.samples'"),
-    "path not in case": (lambda s: s.replace('path = "segment.length"', 'path = "segment.lenght"'),
-                         "parameters.1.path", "case 'toy_cantilever': 'segment.lenght': no such field"),
-    "path into a value": (lambda s: s.replace('path = "segment.length"', 'path = "segment.E.x"'),
-                          "parameters.1.path", "segment.E is a value"),
-    "list index": (lambda s: s.replace('path = "segment.length"', 'path = "loads.3.values"'),
-                   "parameters.1.path", "no item 3"),
-    "unknown case id": (lambda s: s.replace('case = "toy.toml"', 'case = "test2_four_bar_nonexistent"'),
-                        "sweep.case", "no case file under cases/ has id 'test2_four_bar_nonexistent'"),
-    "missing case file": (lambda s: s.replace('case = "toy.toml"', 'case = "nowhere.toml"'), "sweep.case",
-                          "not found"),
+    "path not in case": (
+        lambda s: s.replace('path = "segment.length"', 'path = "segment.lenght"'),
+        "parameters.1.path",
+        "case 'toy_cantilever': 'segment.lenght': no such field",
+    ),
+    "path into a value": (
+        lambda s: s.replace('path = "segment.length"', 'path = "segment.E.x"'),
+        "parameters.1.path",
+        "segment.E is a value",
+    ),
+    "list index": (
+        lambda s: s.replace('path = "segment.length"', 'path = "loads.3.values"'),
+        "parameters.1.path",
+        "no item 3",
+    ),
+    "unknown case id": (
+        lambda s: s.replace('case = "toy.toml"', 'case = "test2_four_bar_nonexistent"'),
+        "sweep.case",
+        "no case file under cases/ has id 'test2_four_bar_nonexistent'",
+    ),
+    "missing case file": (lambda s: s.replace('case = "toy.toml"', 'case = "nowhere.toml"'), "sweep.case", "not found"),
 }
 
 
@@ -243,10 +268,14 @@ def test_random_draws_are_seeded_prefix_stable_and_truncated(spec, tmp_path):
 
 
 def test_parameter_modes():
-    data = {"segment": {"E": 2.0, "section": {"thickness": 0.1}},
-            "loads": [{"kind": "force", "direction": [0.0, 2.0], "values": [1.0, 2.0]},
-                      {"kind": "force", "direction": [1.0, 0.0], "ramp": {"start": 1.0, "stop": 3.0, "count": 3}}],
-            "methods": {"fem": {}}}
+    data = {
+        "segment": {"E": 2.0, "section": {"thickness": 0.1}},
+        "loads": [
+            {"kind": "force", "direction": [0.0, 2.0], "values": [1.0, 2.0]},
+            {"kind": "force", "direction": [1.0, 0.0], "ramp": {"start": 1.0, "stop": 3.0, "count": 3}},
+        ],
+        "methods": {"fem": {}},
+    }
     apply(data, "segment.E", "scale", 1.5)
     apply(data, "segment.section.thickness", "offset", -0.02)
     apply(data, "loads.0", "scale", 2.0)

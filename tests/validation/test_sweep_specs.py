@@ -1,4 +1,5 @@
 """Every sweep spec shipped under cases/sweeps/ is valid; a missing base case is a one-line error."""
+
 from __future__ import annotations
 
 import pytest

@@ -1,6 +1,7 @@
 """The adapters receive their method's validated options model and read its fields: no adapter reads the
 options as a dict, each default is written once (in ``validation/case/method_options.py``), and a value the
 case gives reaches the solver."""
+
 import re
 import tomllib
 from pathlib import Path
@@ -21,8 +22,14 @@ OPTIONS_FILE = ROOT / "validation" / "case" / "method_options.py"
 # the options read as a dict: options.get("x"...), options["x"], "x" in options, (options...).get("x", default)
 DICT_READS = re.compile(r"""\boptions\.get\(|\boptions\[|\bin\s+options\b(?!\.)|\(options[^)]*\)\s*\.get\(""")
 # a default restated: .get("<option>", <default>) for an option whose model gives a default
-DEFAULTED = sorted({name for model in OPTIONS.values() for name, field in model.model_fields.items()
-                    if field.default is not None and not field.is_required()})
+DEFAULTED = sorted(
+    {
+        name
+        for model in OPTIONS.values()
+        for name, field in model.model_fields.items()
+        if field.default is not None and not field.is_required()
+    }
+)
 RESTATED = re.compile(r"""\.get\(\s*["'](%s)["']\s*,""" % "|".join(DEFAULTED))
 
 CASE = """\
@@ -81,7 +88,7 @@ def test_each_default_is_written_once_in_the_options_models():
 def test_the_runner_hands_the_adapter_the_model_with_the_case_values():
     run = run_method(_case(), "fem")
     assert run.ok, run.message
-    assert run.extras["elements"] == 5 and not run.error_estimate    # elements = 5, error_estimate = false
+    assert run.extras["elements"] == 5 and not run.error_estimate  # elements = 5, error_estimate = false
 
 
 def test_a_non_default_fem_value_reaches_the_solver():
@@ -99,7 +106,7 @@ def test_a_non_default_fem_value_reaches_the_solver():
 
 def test_compare_reads_the_fem_ratio_from_the_model():
     case = _case()
-    assert axial_strain_bound(case, 0) == pytest.approx(2.0 / 1e6)       # the model's default ratio
+    assert axial_strain_bound(case, 0) == pytest.approx(2.0 / 1e6)  # the model's default ratio
     ratio = _case(CASE.replace("elements = 5", "elements = 5\ninextensible_ratio = 100.0"))
     assert axial_strain_bound(ratio, 0) == pytest.approx(2.0 / 100.0)
 

@@ -2,6 +2,7 @@
 claimed' whatever its error, a limit that fails is 'outside the claimed limit', the PRBM's 145 %
 relative error of seed004_prbm_strip_moment is never 'within the claimed limit', the report's first
 sentence counts every case once, and the old word 'agrees' appears nowhere in a report or its tables."""
+
 from __future__ import annotations
 
 import math
@@ -16,8 +17,7 @@ from validation.report.summary import CaseSummary, MethodState
 from validation.run import tables
 from validation.run.case_run import run_case
 from validation.run.outcome import summary, tabulate
-from validation.run.verdict import (FAILING, ORDER, Verdict, counts_sentence, prbm_fem_verdict, row_verdict,
-                                    worst)
+from validation.run.verdict import FAILING, ORDER, Verdict, counts_sentence, prbm_fem_verdict, row_verdict, worst
 
 pytestmark = pytest.mark.xdist_group("verdicts")
 CASES = ["seed004_prbm_strip_moment", "bapat2015_test2"]
@@ -35,7 +35,7 @@ def test_every_verdict_has_a_meaning_and_a_place_in_the_order():
 def test_a_row_with_no_claimed_limit_is_no_limit_claimed_whatever_its_error(error):
     assert row_verdict(1.0 + error, None, compared=True, applicability="", run_state=None) is Verdict.NO_LIMIT
     assert row_verdict(1.0 + error, math.nan, compared=True, applicability="", run_state=None) is Verdict.NO_LIMIT
-    assert row_verdict(1.0, None, compared=False, applicability="", run_state=None) is None   # values only
+    assert row_verdict(1.0, None, compared=False, applicability="", run_state=None) is None  # values only
 
 
 def test_a_failed_limit_is_outside_the_claimed_limit_even_outside_the_models_validity():
@@ -45,8 +45,10 @@ def test_a_failed_limit_is_outside_the_claimed_limit_even_outside_the_models_val
     assert row_verdict(2.0, True, compared=True, applicability=flagged, run_state=None) is Verdict.OUTSIDE_VALIDITY
     assert row_verdict(2.0, True, compared=True, applicability="", run_state=None) is Verdict.WITHIN
     assert row_verdict(2.0, True, compared=True, applicability="", run_state=None, kind="finding") is Verdict.FINDING
-    assert row_verdict(math.nan, False, compared=True, applicability="",
-                       run_state=Verdict.NOT_CONVERGED) is Verdict.NOT_CONVERGED
+    assert (
+        row_verdict(math.nan, False, compared=True, applicability="", run_state=Verdict.NOT_CONVERGED)
+        is Verdict.NOT_CONVERGED
+    )
     assert row_verdict(math.nan, False, compared=True, applicability="", run_state=Verdict.EXPECTED) is Verdict.EXPECTED
 
 
@@ -58,7 +60,7 @@ def strip_moment() -> pd.DataFrame:
 def test_the_prbm_strip_moment_is_never_within_a_limit(strip_moment):
     prbm = strip_moment[(strip_moment["method"] == "prbm") & strip_moment["reference_label"].notna()]
     big = prbm[prbm["rel_error"] > 1.0]
-    assert len(big) and (big["rel_error"].max() > 1.4)            # the 145 % the issue names
+    assert len(big) and (big["rel_error"].max() > 1.4)  # the 145 % the issue names
     assert not (big["verdict"] == Verdict.WITHIN.value).any()
     assert set(big["verdict"]) <= {Verdict.NO_LIMIT.value, Verdict.OUTSIDE_LIMIT.value, Verdict.OUTSIDE_VALIDITY.value}
     assert prbm_fem_verdict(strip_moment) is not Verdict.WITHIN
@@ -68,16 +70,28 @@ def test_the_prbm_strip_moment_is_never_within_a_limit(strip_moment):
 
 def test_within_needs_a_claimed_limit_that_holds_on_every_row(strip_moment):
     within = strip_moment[strip_moment["verdict"] == Verdict.WITHIN.value]
-    assert len(within) and (within["within_tolerance"] == True).all()                  # noqa: E712
+    assert len(within) and (within["within_tolerance"] == True).all()  # noqa: E712
     assert within["tolerance_rel"].notna().sum() + within["tolerance_abs"].notna().sum() >= len(within)
     no_limit = strip_moment[strip_moment["verdict"] == Verdict.NO_LIMIT.value]
     assert len(no_limit) and no_limit["within_tolerance"].isna().all()
 
 
 def _row(case: str, verdict: Verdict) -> CaseSummary:
-    return CaseSummary(group="g", case=case, title="t", verdict=verdict, reason="",
-                       methods=[MethodState("prbm", verdict, "")], sentence="s.", prbm_fem_length=0.02,
-                       prbm_fem_relative=0.1, fem_estimate=math.nan, checks=0, checks_passed=0, findings=0)
+    return CaseSummary(
+        group="g",
+        case=case,
+        title="t",
+        verdict=verdict,
+        reason="",
+        methods=[MethodState("prbm", verdict, "")],
+        sentence="s.",
+        prbm_fem_length=0.02,
+        prbm_fem_relative=0.1,
+        fem_estimate=math.nan,
+        checks=0,
+        checks_passed=0,
+        findings=0,
+    )
 
 
 def _counted(sentence: str) -> tuple[int, int]:
@@ -89,8 +103,15 @@ def _counted(sentence: str) -> tuple[int, int]:
 
 
 def test_the_first_sentence_counts_add_up_to_the_case_count():
-    verdicts = [Verdict.WITHIN, Verdict.NO_LIMIT, Verdict.NO_LIMIT, Verdict.OUTSIDE_VALIDITY, Verdict.EXPECTED,
-                Verdict.FINDING, Verdict.OUTSIDE_LIMIT]
+    verdicts = [
+        Verdict.WITHIN,
+        Verdict.NO_LIMIT,
+        Verdict.NO_LIMIT,
+        Verdict.OUTSIDE_VALIDITY,
+        Verdict.EXPECTED,
+        Verdict.FINDING,
+        Verdict.OUTSIDE_LIMIT,
+    ]
     assert _counted(counts_sentence(verdicts)) == (7, 7)
     rows = [_row(f"c{i}", v) for i, v in enumerate(verdicts)]
     assert _counted(headline(rows)) == (7, 7)

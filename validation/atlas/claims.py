@@ -22,6 +22,7 @@ says nothing either way about the claim; ``unmeasured`` counts them.  The verdic
 Sources: [bapat2015] section 2.3 (the 0.5 % end-point tolerance) and the equations each claim cites;
 [ananthasuresh_l18] (the lecture's fits and the pure-moment model).
 """
+
 from __future__ import annotations
 
 import math
@@ -50,8 +51,8 @@ class Claim:
     metric: str
     bound: float
     note: str
-    range: tuple[tuple[str, float, float], ...] = ()     # (column, lo, hi), in file order
-    along: str = "load"                                  # the axis ``holds_where`` is told along
+    range: tuple[tuple[str, float, float], ...] = ()  # (column, lo, hi), in file order
+    along: str = "load"  # the axis ``holds_where`` is told along
 
     @property
     def model(self) -> str:
@@ -96,16 +97,28 @@ def _claim(path, index: int, raw) -> Claim:
         raise _fail(path, cid, "range", "must be a table of column = [lo, hi]")
     spans = []
     for column, pair in ranges.items():
-        ok = (isinstance(pair, list) and len(pair) == 2
-              and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in pair))
+        ok = (
+            isinstance(pair, list)
+            and len(pair) == 2
+            and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in pair)
+        )
         if not ok or not pair[0] <= pair[1]:
             raise _fail(path, cid, f"range.{column}", f"must be [lo, hi] with lo <= hi, not {pair!r}")
         spans.append((column, float(pair[0]), float(pair[1])))
     along = raw.get("along", spans[0][0] if spans else "load")
     if not isinstance(along, str) or not along:
         raise _fail(path, cid, "along", "must be a column name")
-    return Claim(raw["id"], tuple(models), _text(path, cid, raw, "source"), _text(path, cid, raw, "quote"),
-                 _text(path, cid, raw, "metric"), float(bound), _text(path, cid, raw, "note"), tuple(spans), along)
+    return Claim(
+        raw["id"],
+        tuple(models),
+        _text(path, cid, raw, "source"),
+        _text(path, cid, raw, "quote"),
+        _text(path, cid, raw, "metric"),
+        float(bound),
+        _text(path, cid, raw, "note"),
+        tuple(spans),
+        along,
+    )
 
 
 def load_claims(path: Path | str) -> list[Claim]:
@@ -145,17 +158,32 @@ def _points(atlas: pd.DataFrame, claim: Claim) -> tuple[pd.DataFrame, str]:
         inside = rows[(values >= lo) & (values <= hi)]
         if inside.empty:
             span = values.agg(["min", "max"])
-            return inside, (f"no ok point has {column} in [{lo:g}, {hi:g}] "
-                            f"(the ok points span [{span['min']:.4g}, {span['max']:.4g}])")
+            return inside, (
+                f"no ok point has {column} in [{lo:g}, {hi:g}] "
+                f"(the ok points span [{span['min']:.4g}, {span['max']:.4g}])"
+            )
         rows = inside
     return rows, ""
 
 
 def check_claim(atlas: pd.DataFrame, claim: Claim) -> dict:
     """One claim's row of ``check_claims``."""
-    row = {"id": claim.id, "model": claim.model, "source": claim.source, "metric": claim.metric,
-           "bound": claim.bound, "points": 0, "unmeasured": 0, "worst": math.nan, "share_within": math.nan,
-           "verdict": "not testable", "holds_where": "", "why": "", "quote": claim.quote, "note": claim.note}
+    row = {
+        "id": claim.id,
+        "model": claim.model,
+        "source": claim.source,
+        "metric": claim.metric,
+        "bound": claim.bound,
+        "points": 0,
+        "unmeasured": 0,
+        "worst": math.nan,
+        "share_within": math.nan,
+        "verdict": "not testable",
+        "holds_where": "",
+        "why": "",
+        "quote": claim.quote,
+        "note": claim.note,
+    }
     rows, why = _points(atlas, claim)
     if rows.empty:
         return {**row, "why": why}
@@ -187,8 +215,10 @@ def check_claims(atlas: pd.DataFrame, claims: list[Claim]) -> pd.DataFrame:
     return pd.DataFrame([check_claim(atlas, c) for c in claims])
 
 
-DOMAIN_QUOTE = ("The value of gamma-bar_l = 0.8945 can estimate the lower bound within an error of 1% for "
-                "normalized transverse deflection between 0.4 and 0.85.")
+DOMAIN_QUOTE = (
+    "The value of gamma-bar_l = 0.8945 can estimate the lower bound within an error of 1% for "
+    "normalized transverse deflection between 0.4 and 0.85."
+)
 
 
 def domain_study_rows(summary: list[dict]) -> pd.DataFrame:
@@ -201,14 +231,23 @@ def domain_study_rows(summary: list[dict]) -> pd.DataFrame:
     for result in summary:
         for check in result.get("checks", []):
             holds = check["max_percent"] <= check["claim_percent"]
-            rows.append({"id": "domain_lower_bound_" + re.sub(r"[^a-z0-9]+", "_", check["name"].lower()).strip("_"),
-                         "model": "fixed_guided (chapter-4 deflection domain)",
-                         "source": "bapat2015, section 4.6, eqs 116-117, Fig. 4.13", "metric": "relative deviation from "
-                         "the exact lower boundary (%)", "bound": check["claim_percent"], "points": math.nan,
-                         "unmeasured": 0, "worst": check["max_percent"], "share_within": math.nan,
-                         "verdict": "holds" if holds else "does not hold", "holds_where": "",
-                         "why": f"{check['name']} over {check['over']}: mean deviation {check['mean_percent']:.2f} %",
-                         "quote": DOMAIN_QUOTE,
-                         "note": "checked by the chapter-4 domain study on the exact deflection domain (not an atlas "
-                                 "column): the printed curve against the least a/l per bin of b/l"})
+            rows.append(
+                {
+                    "id": "domain_lower_bound_" + re.sub(r"[^a-z0-9]+", "_", check["name"].lower()).strip("_"),
+                    "model": "fixed_guided (chapter-4 deflection domain)",
+                    "source": "bapat2015, section 4.6, eqs 116-117, Fig. 4.13",
+                    "metric": "relative deviation from the exact lower boundary (%)",
+                    "bound": check["claim_percent"],
+                    "points": math.nan,
+                    "unmeasured": 0,
+                    "worst": check["max_percent"],
+                    "share_within": math.nan,
+                    "verdict": "holds" if holds else "does not hold",
+                    "holds_where": "",
+                    "why": f"{check['name']} over {check['over']}: mean deviation {check['mean_percent']:.2f} %",
+                    "quote": DOMAIN_QUOTE,
+                    "note": "checked by the chapter-4 domain study on the exact deflection domain (not an atlas "
+                    "column): the printed curve against the least a/l per bin of b/l",
+                }
+            )
     return pd.DataFrame(rows)

@@ -12,6 +12,7 @@ came from, on a grid thinned from the atlas's.  The test suite builds the coarse
 maps predict it (tests/validation/test_atlas.py).  This module imports numpy only: the PRBM adapter
 reads it on every run.
 """
+
 from __future__ import annotations
 
 import json
@@ -23,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 MAPS_FILE = Path(__file__).with_name("error_maps.json")
-VALIDITY_LIMIT = 5.0          # % of L: the region outside which a level is flagged ``outside validity``
+VALIDITY_LIMIT = 5.0  # % of L: the region outside which a level is flagged ``outside validity``
 REGION_LEVELS = (0.5, 1.0, 3.0, 5.0)
 
 
@@ -59,9 +60,12 @@ class ErrorMap:
         return _multilinear(coords, self.error, q)
 
     def to_json(self) -> dict:
-        return {"axes": list(self.axes), "values": [[float(f"{x:.6g}") for x in v] for v in self.values],
-                "error": [None if not math.isfinite(e) else float(f"{e:.3g}") for e in self.error.ravel()],
-                "version": self.version}
+        return {
+            "axes": list(self.axes),
+            "values": [[float(f"{x:.6g}") for x in v] for v in self.values],
+            "error": [None if not math.isfinite(e) else float(f"{e:.3g}") for e in self.error.ravel()],
+            "version": self.version,
+        }
 
     @classmethod
     def from_json(cls, model: str, data: dict) -> "ErrorMap":
@@ -125,6 +129,11 @@ def expectation(model: str, inputs: dict[str, float]) -> Expectation | None:
     if not math.isfinite(e):
         return Expectation(model, math.nan, True, f"outside the {model} atlas ({where}): its error is not mapped")
     if e > VALIDITY_LIMIT:
-        return Expectation(model, e, True, f"the {model} atlas expects a tip error of {e:.3g} % of L here ({where}), "
-                                           f"above its {VALIDITY_LIMIT:g} % validity limit")
+        return Expectation(
+            model,
+            e,
+            True,
+            f"the {model} atlas expects a tip error of {e:.3g} % of L here ({where}), "
+            f"above its {VALIDITY_LIMIT:g} % validity limit",
+        )
     return Expectation(model, e, False, "")

@@ -25,6 +25,7 @@ Along a line the shape inputs are fixed and the load magnitude grows (``validati
   so that the circle stays near the exact path), free of how the PRBM parameterises that curve (its
   tip angle c_theta Theta, its load).
 """
+
 from __future__ import annotations
 
 import math
@@ -71,8 +72,9 @@ def unloaded(model: AtlasModel, shape: dict) -> tuple[float, float, float]:
     return _frame(model, shape, *unloaded_tip(problem.length, problem.curvature))
 
 
-def _slfp_level(model: AtlasModel, shape: dict, F: float, start: ElasticaResult | None,
-                moment: float) -> tuple[ElasticaResult | None, float]:
+def _slfp_level(
+    model: AtlasModel, shape: dict, F: float, start: ElasticaResult | None, moment: float
+) -> tuple[ElasticaResult | None, float]:
     """The flexure's end state with the rigid arm's moment consistent with its end angle (secant on M)."""
     arm = 1.0 - shape["flexure_fraction"]
     base = model.exact_problem(shape, F)
@@ -168,8 +170,9 @@ class Split:
     y: np.ndarray
 
 
-def split_at_coordinate(model: AtlasModel, exact: ExactLine, dense: np.ndarray, prb: PrbmLine,
-                        c_unloaded: float) -> Split:
+def split_at_coordinate(
+    model: AtlasModel, exact: ExactLine, dense: np.ndarray, prb: PrbmLine, c_unloaded: float
+) -> Split:
     """The PRBM's load and tip at each exact level's path coordinate, along its own dense line."""
     c_exact = coordinate(model, exact.x, exact.y, exact.theta) - c_unloaded
     c_prbm = coordinate(model, prb.x, prb.y, prb.theta) - c_unloaded
@@ -230,19 +233,29 @@ def solve_line(model: AtlasModel, shape: dict, loads: np.ndarray) -> list[dict]:
             status = STATUS_PRBM_FAILED
         deflection = math.hypot(ex - x0, ey - y0)
         path = math.hypot(split.x[j] - ex, split.y[j] - ey)
-        rows.append({
-            **shape, "load": float(F), "status": status, "in_fit_range": bool(prb.in_fit[i]),
-            "exact_x": ex, "exact_y": ey, "exact_theta_deg": math.degrees(et),
-            "exact_rotation_deg": math.degrees(et - t0_), "deflection": 100.0 * deflection / L,
-            "prbm_x": px, "prbm_y": py, "prbm_theta_deg": math.degrees(pt),
-            "prb_angle_deg": math.degrees(prb.prb_angle[i]),
-            "tip_error": 100.0 * math.hypot(px - ex, py - ey) / L,
-            "angle_error_deg": math.degrees(pt - et),
-            "path_error": 100.0 * path / L,
-            "path_error_rel": 100.0 * path / deflection if deflection > 0 else math.nan,
-            "stiffness_error": 100.0 * (split.load[j] / F - 1.0),
-            "locus_error": 100.0 * locus[j] / L,
-            "locus_error_rel": 100.0 * locus[j] / deflection if deflection > 0 else math.nan,
-            "seconds": per_point,
-        })
+        rows.append(
+            {
+                **shape,
+                "load": float(F),
+                "status": status,
+                "in_fit_range": bool(prb.in_fit[i]),
+                "exact_x": ex,
+                "exact_y": ey,
+                "exact_theta_deg": math.degrees(et),
+                "exact_rotation_deg": math.degrees(et - t0_),
+                "deflection": 100.0 * deflection / L,
+                "prbm_x": px,
+                "prbm_y": py,
+                "prbm_theta_deg": math.degrees(pt),
+                "prb_angle_deg": math.degrees(prb.prb_angle[i]),
+                "tip_error": 100.0 * math.hypot(px - ex, py - ey) / L,
+                "angle_error_deg": math.degrees(pt - et),
+                "path_error": 100.0 * path / L,
+                "path_error_rel": 100.0 * path / deflection if deflection > 0 else math.nan,
+                "stiffness_error": 100.0 * (split.load[j] / F - 1.0),
+                "locus_error": 100.0 * locus[j] / L,
+                "locus_error_rel": 100.0 * locus[j] / deflection if deflection > 0 else math.nan,
+                "seconds": per_point,
+            }
+        )
     return rows

@@ -6,6 +6,7 @@ beyond the atlas or a method gave no answer), thins the grid (every k-th node of
 until a model has at most ``MAX_NODES`` nodes) and writes the maps the PRBM adapter reads
 (``validation.atlas.expected``), with the code version of the atlas they came from.
 """
+
 from __future__ import annotations
 
 import json
@@ -18,7 +19,7 @@ import pandas as pd
 from validation.atlas.expected import MAPS_FILE, VALIDITY_LIMIT, ErrorMap, load_maps
 from validation.atlas.models import MODELS
 
-MAX_NODES = 6000             # per model, in the shipped maps
+MAX_NODES = 6000  # per model, in the shipped maps
 
 
 def from_atlas(frame: pd.DataFrame, model: str, stride: dict[str, int] | None = None, version: str = "") -> ErrorMap:
@@ -58,8 +59,10 @@ def _strides(frame: pd.DataFrame, model: str) -> dict[str, int]:
 
 def write_maps(frame: pd.DataFrame, version: str, path: Path = MAPS_FILE) -> Path:
     """Write the maps of every model in ``frame`` (the full atlas) for the PRBM adapter."""
-    models = {model: from_atlas(frame, model, _strides(frame, model), version).to_json()
-              for model in sorted(frame["model"].unique())}
+    models = {
+        model: from_atlas(frame, model, _strides(frame, model), version).to_json()
+        for model in sorted(frame["model"].unique())
+    }
     data = {"version": version, "validity_limit": VALIDITY_LIMIT, "models": models}
     tmp = path.with_suffix(".tmp")
     tmp.write_text(json.dumps(data, separators=(",", ":")))

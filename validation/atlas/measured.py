@@ -17,6 +17,7 @@ by ``validation.methods.prbm_atlas``) and whose FEM gave the tip position:
 The FEM is the measurement because it is what the harness compares the PRBM with on a case; the
 atlas's own reference is the exact elastica, which the FEM matches to its error estimate.
 """
+
 from __future__ import annotations
 
 import math
@@ -49,12 +50,18 @@ class MeasuredLevel:
 
 
 def _tip(table: pd.DataFrame, method: str, quantity: str, level: int) -> float:
-    rows = table[(table["method"] == method) & (table["quantity"] == quantity) & (table["level"] == level)
-                 & (table["point"].fillna("tip").isin(["tip", ""]))]
+    rows = table[
+        (table["method"] == method)
+        & (table["quantity"] == quantity)
+        & (table["level"] == level)
+        & (table["point"].fillna("tip").isin(["tip", ""]))
+    ]
     return float(rows["value"].iloc[0]) if len(rows) else math.nan
 
 
-def _split(model: str, inputs: dict, mirror: float, x: float, y: float, rotation_deg: float) -> tuple[float, float, float, str]:
+def _split(
+    model: str, inputs: dict, mirror: float, x: float, y: float, rotation_deg: float
+) -> tuple[float, float, float, str]:
     """(path %, stiffness %, locus %, why NaN) of a FEM tip (unit frame) against the PRBM's line."""
     m = MODELS[model]
     shape = {k: v for k, v in inputs.items() if k != "load"}
@@ -100,15 +107,15 @@ def measured_levels(results, table: pd.DataFrame) -> list[MeasuredLevel]:
             measured = 100.0 * math.hypot(xp - xf, yp - yf) / L
             rotation = _tip(rows, "fem", "rotation", level)
             model = prbm.extras["atlas_model"]
-            path, stiffness, locus, why = _split(model, inputs[level], mirrors.get(level, 1.0), xf / L, yf / L,
-                                                 rotation)
+            path, stiffness, locus, why = _split(
+                model, inputs[level], mirrors.get(level, 1.0), xf / L, yf / L, rotation
+            )
             out.append(MeasuredLevel(cid, int(level), model, float(predicted), measured, path, stiffness, locus, why))
     return out
 
 
 def frame_of(levels: list[MeasuredLevel]) -> pd.DataFrame:
-    return pd.DataFrame([lv.__dict__ for lv in levels],
-                        columns=list(MeasuredLevel.__dataclass_fields__))
+    return pd.DataFrame([lv.__dict__ for lv in levels], columns=list(MeasuredLevel.__dataclass_fields__))
 
 
 def agreement(frame: pd.DataFrame) -> dict[str, float]:
@@ -123,8 +130,13 @@ def agreement(frame: pd.DataFrame) -> dict[str, float]:
     near = (np.abs(p - m) <= 0.25) | ((p <= 2 * m) & (m <= 2 * p))
     same_side = (p > 5.0) == (m > 5.0)
     rank = float(pd.Series(p).corr(pd.Series(m), method="spearman")) if len(ok) > 2 else math.nan
-    return {"levels": int(len(ok)), "cases": int(ok["case"].nunique()), "within_factor_2": float(near.mean()),
-            "same_side_of_5_percent": float(same_side.mean()), "spearman": rank}
+    return {
+        "levels": int(len(ok)),
+        "cases": int(ok["case"].nunique()),
+        "within_factor_2": float(near.mean()),
+        "same_side_of_5_percent": float(same_side.mean()),
+        "spearman": rank,
+    }
 
 
 def draw_scatter(frame: pd.DataFrame, path) -> None:
@@ -136,8 +148,13 @@ def draw_scatter(frame: pd.DataFrame, path) -> None:
     ax.fill_between(grid, grid / 2, grid * 2, color="0.9", label="within a factor 2")
     ax.plot(grid, grid, color="0.4", lw=1.0, label="predicted = measured")
     for i, (model, rows) in enumerate(ok.groupby("model")):
-        ax.scatter(np.clip(rows["predicted"], lo, hi), np.clip(rows["measured"], lo, hi), s=18,
-                   color=plt.get_cmap("tab10")(i % 10), label=MODELS[model].title if model in MODELS else model)
+        ax.scatter(
+            np.clip(rows["predicted"], lo, hi),
+            np.clip(rows["measured"], lo, hi),
+            s=18,
+            color=plt.get_cmap("tab10")(i % 10),
+            label=MODELS[model].title if model in MODELS else model,
+        )
     ax.axvline(5.0, color="#ef476f", ls="--", lw=1.0)
     ax.axhline(5.0, color="#ef476f", ls="--", lw=1.0, label="5 % validity limit")
     ax.set_xscale("log")

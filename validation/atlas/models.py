@@ -23,6 +23,7 @@ References: [bapat2015] eqs 41-49 (fixed-pinned), 51-52 (Theta-dependent K_Theta
 26-40 (Chain Algorithm), section 2.3.5 (pinned-pinned), section 9.2 (follower force);
 [ananthasuresh_l18] (Howell's fits, the constant gamma = 0.85, K_Theta = 2.65).
 """
+
 from __future__ import annotations
 
 import math
@@ -49,7 +50,7 @@ class Axis:
     hi: float
     full: int
     coarse: int
-    spacing: str = "linear"          # linear | geometric
+    spacing: str = "linear"  # linear | geometric
 
     def values(self, coarse: bool) -> np.ndarray:
         count = self.coarse if coarse else self.full
@@ -84,13 +85,13 @@ class AtlasModel:
     load: Axis
     prbm: Callable[[dict, np.ndarray], PrbmLine]
     exact_problem: Callable[[dict, float], ElasticaProblem]
-    coordinate: str = "tip angle"                 # tip angle | b | chord
-    reference_length: float = 1.0                 # errors are in % of this length
-    stop_rotation_deg: float = 170.0              # the exact line stops past this tip rotation
-    dense: int = 4                                # PRBM evaluations per level for the path/stiffness split
+    coordinate: str = "tip angle"  # tip angle | b | chord
+    reference_length: float = 1.0  # errors are in % of this length
+    stop_rotation_deg: float = 170.0  # the exact line stops past this tip rotation
+    dense: int = 4  # PRBM evaluations per level for the path/stiffness split
     notes: str = ""
-    map_axes: tuple[str, str] = ("", "")          # the two inputs its region map is drawn over
-    exact_solver: str = "shooting"                # shooting | slfp (the rigid-arm moment by a secant)
+    map_axes: tuple[str, str] = ("", "")  # the two inputs its region map is drawn over
+    exact_solver: str = "shooting"  # shooting | slfp (the rigid-arm moment by a secant)
 
     def shapes(self, coarse: bool) -> list[dict]:
         """Every line's shape inputs: the Cartesian product of the shape axes."""
@@ -117,7 +118,7 @@ def _ratio(shape: dict) -> float:
     """n of the force (-nP, P) at the load angle phi (P > 0): n = -cot phi."""
     phi = math.radians(shape["load_angle_deg"])
     n = -math.cos(phi) / math.sin(phi)
-    return 0.0 if abs(n) < 1e-12 else n   # cos(90 deg) is 6e-17 in floating point: a transverse force has n = 0
+    return 0.0 if abs(n) < 1e-12 else n  # cos(90 deg) is 6e-17 in floating point: a transverse force has n = 0
 
 
 def _nan_line(count: int) -> PrbmLine:
@@ -141,11 +142,14 @@ def _from_result(res, loads: np.ndarray, in_fit: bool, theta_key: str = "theta0"
     o = res.outputs
     ok = np.broadcast_to(np.asarray(res.level_converged, bool), loads.shape).copy()
     shape = loads.shape
-    return PrbmLine(np.broadcast_to(np.asarray(o["a"], float), shape).copy(),
-                    np.broadcast_to(np.asarray(o["b"], float), shape).copy(),
-                    np.broadcast_to(np.asarray(o[theta_key], float), shape).copy(),
-                    np.broadcast_to(np.asarray(o[prb], float), shape).copy(), ok,
-                    np.full(shape, in_fit))
+    return PrbmLine(
+        np.broadcast_to(np.asarray(o["a"], float), shape).copy(),
+        np.broadcast_to(np.asarray(o["b"], float), shape).copy(),
+        np.broadcast_to(np.asarray(o[theta_key], float), shape).copy(),
+        np.broadcast_to(np.asarray(o[prb], float), shape).copy(),
+        ok,
+        np.full(shape, in_fit),
+    )
 
 
 def _fixed_pinned(family: str) -> Callable[[dict, np.ndarray], PrbmLine]:
@@ -157,6 +161,7 @@ def _fixed_pinned(family: str) -> Callable[[dict, np.ndarray], PrbmLine]:
         except (FitRangeError, ValueError):
             return _nan_line(loads.size)
         return _from_result(res, loads, _fit_range(n, family))
+
     return run
 
 
@@ -170,10 +175,11 @@ def _theta_dependent(fit: str) -> Callable[[dict, np.ndarray], PrbmLine]:
             try:
                 o = _quiet(lambda: theta_dependent_tip(float(p), n, length=1.0, EI=1.0, fit=fit)).outputs
             except (FitRangeError, ValueError):
-                continue   # outside the fit's printed n or Theta range: the model gives no answer
+                continue  # outside the fit's printed n or Theta range: the model gives no answer
             line.x[i], line.y[i], line.theta[i], line.prb_angle[i] = o["a"], o["b"], o["theta0"], o["Theta"]
             line.ok[i] = True
         return line
+
     return run
 
 
@@ -181,8 +187,11 @@ def _curved(shape: dict, loads: np.ndarray) -> PrbmLine:
     n = _ratio(shape)
     P = loads * math.sin(math.radians(shape["load_angle_deg"]))
     try:
-        res = _quiet(lambda: prbm.curved_fixed_pinned_tip(P, n, length=1.0, EI=1.0, curvature=shape["kappa0"],
-                                                           extrapolate="allow"))
+        res = _quiet(
+            lambda: prbm.curved_fixed_pinned_tip(
+                P, n, length=1.0, EI=1.0, curvature=shape["kappa0"], extrapolate="allow"
+            )
+        )
     except (FitRangeError, ValueError):
         return _nan_line(loads.size)
     return _from_result(res, loads, _fit_range(n, "pauly-midha"))
@@ -233,8 +242,14 @@ def _pinned_pinned(shape: dict, loads: np.ndarray) -> PrbmLine:
     res = _quiet(lambda: prbm.curved_pinned_pinned(F, length=1.0, EI=1.0, curvature=shape["kappa0"]))
     o = res.outputs
     chord = np.asarray(o["chord"], float)
-    line = PrbmLine(chord, np.zeros_like(chord), np.zeros_like(chord), np.asarray(o["Theta"], float),
-                    np.broadcast_to(np.asarray(res.level_converged, bool), loads.shape).copy(), np.ones(loads.shape, bool))
+    line = PrbmLine(
+        chord,
+        np.zeros_like(chord),
+        np.zeros_like(chord),
+        np.asarray(o["Theta"], float),
+        np.broadcast_to(np.asarray(res.level_converged, bool), loads.shape).copy(),
+        np.ones(loads.shape, bool),
+    )
     return line
 
 
@@ -258,7 +273,13 @@ def _chain(shape: dict, loads: np.ndarray) -> PrbmLine:
     for i, res in enumerate(_quiet(lambda: chain_model.chain_path(beam, unit, loads))):
         if res.converged:
             o = res.outputs
-            line.x[i], line.y[i], line.theta[i], line.prb_angle[i], line.ok[i] = o["a"], o["b"], o["theta0"], o["theta0"], True
+            line.x[i], line.y[i], line.theta[i], line.prb_angle[i], line.ok[i] = (
+                o["a"],
+                o["b"],
+                o["theta0"],
+                o["theta0"],
+                True,
+            )
     return line
 
 
@@ -270,67 +291,169 @@ LOAD_ANGLE = Axis("load_angle_deg", "load angle phi (deg from the undeformed axi
 FORCE = Axis("load", "force F L^2/EI", 0.05, 60.0, 300, 24, "geometric")
 
 
-MODELS: dict[str, AtlasModel] = {m.name: m for m in (
-    AtlasModel("fixed_pinned_pauly_midha", "fixed-pinned, Pauly-Midha n-fits", "[bapat2015, eqs 41-49]",
-               (LOAD_ANGLE,), FORCE, _fixed_pinned("pauly-midha"), _force_problem,
-               map_axes=("load_angle_deg", "load")),
-    AtlasModel("fixed_pinned_howell", "fixed-pinned, Howell's n-fits", "[ananthasuresh_l18]",
-               (LOAD_ANGLE,), FORCE, _fixed_pinned("howell"), _force_problem, coordinate="b",
-               notes="Howell's fits publish no c_theta: no tip angle, the path is read at b",
-               map_axes=("load_angle_deg", "load")),
-    AtlasModel("fixed_pinned_constant", "fixed-pinned, constant gamma = 0.85, K_Theta = 2.65",
-               "[ananthasuresh_l18]; [bapat2015, eqs 44-49]", (LOAD_ANGLE,), FORCE, _fixed_pinned("constant"),
-               _force_problem, map_axes=("load_angle_deg", "load")),
-    AtlasModel("theta_dependent_51", "fixed-pinned, Theta-dependent K_Theta (eq 51)", "[bapat2015, eqs 41, 42, 51]",
-               (LOAD_ANGLE,), FORCE, _theta_dependent("51"), _force_problem, dense=2,
-               map_axes=("load_angle_deg", "load")),
-    AtlasModel("theta_dependent_52", "fixed-pinned, Theta-dependent K_Theta (eq 52)", "[bapat2015, eqs 41, 42, 52]",
-               (LOAD_ANGLE,), FORCE, _theta_dependent("52"), _force_problem, dense=2,
-               map_axes=("load_angle_deg", "load")),
-    AtlasModel("curved_fixed_pinned", "initially curved fixed-pinned", "[bapat2015, eqs 53-61]",
-               (Axis("kappa0", "initial curvature kappa0 = L/R", 0.0, 3.0, 16, 4), Axis(
-                   "load_angle_deg", LOAD_ANGLE.label, 5.0, 175.0, 18, 5)), Axis(
-                   "load", FORCE.label, 0.05, 60.0, 40, 12, "geometric"), _curved,
-               lambda s, F: ElasticaProblem(curvature=s["kappa0"], force=_angle_force(s, F)),
-               map_axes=("kappa0", "load")),
-    AtlasModel("pure_moment", "end moment only (circular arc PRBM)", "[ananthasuresh_l18]; [bapat2015, eq 14]",
-               (), Axis("load", "moment M L/EI", 0.01, 6.0, 10000, 200, "geometric"), _pure_moment,
-               lambda s, M: ElasticaProblem(moment=M), dense=1, stop_rotation_deg=350.0, map_axes=("load", "load")),
-    AtlasModel("force_moment", "force plus end moment, monotonic curvature (fixed-guided without inflection)",
-               "[bapat2015, eqs 62, 14, 17]",
-               (Axis("moment_ratio", "moment ratio mu = M/(F L)", -1.0, 2.0, 16, 4), Axis(
-                   "load_angle_deg", LOAD_ANGLE.label, 10.0, 170.0, 17, 5)), Axis(
-                   "load", FORCE.label, 0.05, 40.0, 40, 12, "geometric"), _force_moment,
-               lambda s, F: ElasticaProblem(force=_angle_force(s, F), moment=s["moment_ratio"] * F),
-               map_axes=("moment_ratio", "load")),
-    AtlasModel("follower", "fixed-pinned under a follower end force", "[bapat2015, section 9.2]",
-               (Axis("follower_angle_deg", "follower angle (deg from the deformed tip tangent)", 30.0, 150.0, 25, 5),),
-               Axis("load", FORCE.label, 0.05, 30.0, 400, 30, "geometric"), _follower,
-               lambda s, F: ElasticaProblem(follower=(F * math.cos(math.radians(s["follower_angle_deg"])),
-                                                      F * math.sin(math.radians(s["follower_angle_deg"])))),
-               dense=2, map_axes=("follower_angle_deg", "load")),
-    AtlasModel("fixed_guided", "fixed-guided with an inflection point (two springs)", "[bapat2015, eq 63]",
-               (LOAD_ANGLE,), Axis("load", FORCE.label, 0.1, 150.0, 300, 24, "geometric"), _fixed_guided,
-               lambda s, F: ElasticaProblem(force=_angle_force(s, F), tip_angle=0.0), coordinate="b",
-               map_axes=("load_angle_deg", "load")),
-    AtlasModel("pinned_pinned", "initially curved pinned-pinned arc under a chord force", "[bapat2015, section 2.3.5]",
-               (Axis("kappa0", "arc angle kappa0 = L/R", 0.2, 3.0, 50, 6), Axis("sense", "chord force (+1 tension, -1 compression)",
-                                                                                 -1.0, 1.0, 2, 2)),
-               Axis("load", "chord force F L^2/EI", 0.05, 60.0, 100, 16, "geometric"), _pinned_pinned,
-               lambda s, F: ElasticaProblem(length=0.5, curvature=s["kappa0"], force=(s["sense"] * F, 0.0)),
-               coordinate="chord", map_axes=("kappa0", "load")),
-    AtlasModel("slfp", "small-length flexural pivot with a rigid arm", "[bapat2015, eqs 71-82]",
-               (Axis("flexure_fraction", "flexure length / total length", 0.02, 0.3, 8, 3), Axis(
-                   "load_angle_deg", LOAD_ANGLE.label, 10.0, 170.0, 17, 5)),
-               Axis("load", "force F L^2/EI (L: total length)", 0.01, 20.0, 80, 12, "geometric"), _slfp,
-               lambda s, F: ElasticaProblem(length=s["flexure_fraction"], force=_angle_force(s, F)),
-               exact_solver="slfp", map_axes=("flexure_fraction", "load")),
-    AtlasModel("chain", "Chain Algorithm (40 links), uniform distributed load", "[bapat2015, eqs 26-40]",
-               (Axis("load_angle_deg", "distributed-load angle (deg)", 10.0, 170.0, 33, 5),),
-               Axis("load", "distributed load w L^3/EI", 0.1, 60.0, 310, 16, "geometric"), _chain,
-               lambda s, w: ElasticaProblem(distributed=_angle_force(s, w)), dense=1,
-               map_axes=("load_angle_deg", "load")),
-)}
+MODELS: dict[str, AtlasModel] = {
+    m.name: m
+    for m in (
+        AtlasModel(
+            "fixed_pinned_pauly_midha",
+            "fixed-pinned, Pauly-Midha n-fits",
+            "[bapat2015, eqs 41-49]",
+            (LOAD_ANGLE,),
+            FORCE,
+            _fixed_pinned("pauly-midha"),
+            _force_problem,
+            map_axes=("load_angle_deg", "load"),
+        ),
+        AtlasModel(
+            "fixed_pinned_howell",
+            "fixed-pinned, Howell's n-fits",
+            "[ananthasuresh_l18]",
+            (LOAD_ANGLE,),
+            FORCE,
+            _fixed_pinned("howell"),
+            _force_problem,
+            coordinate="b",
+            notes="Howell's fits publish no c_theta: no tip angle, the path is read at b",
+            map_axes=("load_angle_deg", "load"),
+        ),
+        AtlasModel(
+            "fixed_pinned_constant",
+            "fixed-pinned, constant gamma = 0.85, K_Theta = 2.65",
+            "[ananthasuresh_l18]; [bapat2015, eqs 44-49]",
+            (LOAD_ANGLE,),
+            FORCE,
+            _fixed_pinned("constant"),
+            _force_problem,
+            map_axes=("load_angle_deg", "load"),
+        ),
+        AtlasModel(
+            "theta_dependent_51",
+            "fixed-pinned, Theta-dependent K_Theta (eq 51)",
+            "[bapat2015, eqs 41, 42, 51]",
+            (LOAD_ANGLE,),
+            FORCE,
+            _theta_dependent("51"),
+            _force_problem,
+            dense=2,
+            map_axes=("load_angle_deg", "load"),
+        ),
+        AtlasModel(
+            "theta_dependent_52",
+            "fixed-pinned, Theta-dependent K_Theta (eq 52)",
+            "[bapat2015, eqs 41, 42, 52]",
+            (LOAD_ANGLE,),
+            FORCE,
+            _theta_dependent("52"),
+            _force_problem,
+            dense=2,
+            map_axes=("load_angle_deg", "load"),
+        ),
+        AtlasModel(
+            "curved_fixed_pinned",
+            "initially curved fixed-pinned",
+            "[bapat2015, eqs 53-61]",
+            (
+                Axis("kappa0", "initial curvature kappa0 = L/R", 0.0, 3.0, 16, 4),
+                Axis("load_angle_deg", LOAD_ANGLE.label, 5.0, 175.0, 18, 5),
+            ),
+            Axis("load", FORCE.label, 0.05, 60.0, 40, 12, "geometric"),
+            _curved,
+            lambda s, F: ElasticaProblem(curvature=s["kappa0"], force=_angle_force(s, F)),
+            map_axes=("kappa0", "load"),
+        ),
+        AtlasModel(
+            "pure_moment",
+            "end moment only (circular arc PRBM)",
+            "[ananthasuresh_l18]; [bapat2015, eq 14]",
+            (),
+            Axis("load", "moment M L/EI", 0.01, 6.0, 10000, 200, "geometric"),
+            _pure_moment,
+            lambda s, M: ElasticaProblem(moment=M),
+            dense=1,
+            stop_rotation_deg=350.0,
+            map_axes=("load", "load"),
+        ),
+        AtlasModel(
+            "force_moment",
+            "force plus end moment, monotonic curvature (fixed-guided without inflection)",
+            "[bapat2015, eqs 62, 14, 17]",
+            (
+                Axis("moment_ratio", "moment ratio mu = M/(F L)", -1.0, 2.0, 16, 4),
+                Axis("load_angle_deg", LOAD_ANGLE.label, 10.0, 170.0, 17, 5),
+            ),
+            Axis("load", FORCE.label, 0.05, 40.0, 40, 12, "geometric"),
+            _force_moment,
+            lambda s, F: ElasticaProblem(force=_angle_force(s, F), moment=s["moment_ratio"] * F),
+            map_axes=("moment_ratio", "load"),
+        ),
+        AtlasModel(
+            "follower",
+            "fixed-pinned under a follower end force",
+            "[bapat2015, section 9.2]",
+            (Axis("follower_angle_deg", "follower angle (deg from the deformed tip tangent)", 30.0, 150.0, 25, 5),),
+            Axis("load", FORCE.label, 0.05, 30.0, 400, 30, "geometric"),
+            _follower,
+            lambda s, F: ElasticaProblem(
+                follower=(
+                    F * math.cos(math.radians(s["follower_angle_deg"])),
+                    F * math.sin(math.radians(s["follower_angle_deg"])),
+                )
+            ),
+            dense=2,
+            map_axes=("follower_angle_deg", "load"),
+        ),
+        AtlasModel(
+            "fixed_guided",
+            "fixed-guided with an inflection point (two springs)",
+            "[bapat2015, eq 63]",
+            (LOAD_ANGLE,),
+            Axis("load", FORCE.label, 0.1, 150.0, 300, 24, "geometric"),
+            _fixed_guided,
+            lambda s, F: ElasticaProblem(force=_angle_force(s, F), tip_angle=0.0),
+            coordinate="b",
+            map_axes=("load_angle_deg", "load"),
+        ),
+        AtlasModel(
+            "pinned_pinned",
+            "initially curved pinned-pinned arc under a chord force",
+            "[bapat2015, section 2.3.5]",
+            (
+                Axis("kappa0", "arc angle kappa0 = L/R", 0.2, 3.0, 50, 6),
+                Axis("sense", "chord force (+1 tension, -1 compression)", -1.0, 1.0, 2, 2),
+            ),
+            Axis("load", "chord force F L^2/EI", 0.05, 60.0, 100, 16, "geometric"),
+            _pinned_pinned,
+            lambda s, F: ElasticaProblem(length=0.5, curvature=s["kappa0"], force=(s["sense"] * F, 0.0)),
+            coordinate="chord",
+            map_axes=("kappa0", "load"),
+        ),
+        AtlasModel(
+            "slfp",
+            "small-length flexural pivot with a rigid arm",
+            "[bapat2015, eqs 71-82]",
+            (
+                Axis("flexure_fraction", "flexure length / total length", 0.02, 0.3, 8, 3),
+                Axis("load_angle_deg", LOAD_ANGLE.label, 10.0, 170.0, 17, 5),
+            ),
+            Axis("load", "force F L^2/EI (L: total length)", 0.01, 20.0, 80, 12, "geometric"),
+            _slfp,
+            lambda s, F: ElasticaProblem(length=s["flexure_fraction"], force=_angle_force(s, F)),
+            exact_solver="slfp",
+            map_axes=("flexure_fraction", "load"),
+        ),
+        AtlasModel(
+            "chain",
+            "Chain Algorithm (40 links), uniform distributed load",
+            "[bapat2015, eqs 26-40]",
+            (Axis("load_angle_deg", "distributed-load angle (deg)", 10.0, 170.0, 33, 5),),
+            Axis("load", "distributed load w L^3/EI", 0.1, 60.0, 310, 16, "geometric"),
+            _chain,
+            lambda s, w: ElasticaProblem(distributed=_angle_force(s, w)),
+            dense=1,
+            map_axes=("load_angle_deg", "load"),
+        ),
+    )
+}
 
 
 def model(name: str) -> AtlasModel:

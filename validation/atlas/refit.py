@@ -39,6 +39,7 @@ a load cap; bands closed, so a line on a band's edge belongs to both neighbours)
 
 The refit is one constant pair per region, the published fits vary with n across the region's lines.
 """
+
 from __future__ import annotations
 
 import math
@@ -53,7 +54,7 @@ from prbm.segments import spring_angle
 
 FIXED_PINNED = "fixed-pinned"
 CURVED = "curved fixed-pinned"
-ATLAS_MODELS = {"fixed_pinned_pauly_midha": FIXED_PINNED, "curved_fixed_pinned": CURVED}   # atlas name -> kind
+ATLAS_MODELS = {"fixed_pinned_pauly_midha": FIXED_PINNED, "curved_fixed_pinned": CURVED}  # atlas name -> kind
 LOAD_ANGLE_BANDS = ((5.0, 45.0), (45.0, 90.0), (90.0, 135.0), (135.0, 175.0))
 KAPPA0_BANDS = ((0.0, 1.0), (1.0, 2.0), (2.0, 3.0))
 ROTATION_LIMITS = (60.0, 90.0)
@@ -67,8 +68,8 @@ class Region:
     load_angle_deg: tuple[float, float]
     max_rotation_deg: float
     kappa0: tuple[float, float] | None = None
-    max_load: float = math.inf     # F L^2/EI (the rotation limit does not bound the load on a line whose
-                                   # tip turns toward the force by less than the limit)
+    max_load: float = math.inf  # F L^2/EI (the rotation limit does not bound the load on a line whose
+    # tip turns toward the force by less than the limit)
 
     @property
     def name(self) -> str:
@@ -93,6 +94,7 @@ class Region:
 @dataclass(frozen=True)
 class Params:
     """The two free parameters of a refit: the characteristic radius factor and the stiffness coefficient."""
+
     gamma: float
     K_theta: float
 
@@ -103,12 +105,12 @@ class RefitResult:
 
     model: str
     region: Region
-    split: str                     # checkerboard | lines (``holdout``)
+    split: str  # checkerboard | lines (``holdout``)
     fitted: Params
-    start: Params                  # the published values averaged over the fit points
-    fit_worst: float               # the refit on its own fit points
-    published_worst: float         # held out, the published n-fits
-    refit_worst: float             # held out, the refit pair
+    start: Params  # the published values averaged over the fit points
+    fit_worst: float  # the refit on its own fit points
+    published_worst: float  # held out, the published n-fits
+    refit_worst: float  # held out, the refit pair
     fit_points: int
     test_points: int
 
@@ -121,7 +123,8 @@ def prbm_tip(load, phi, gamma, K_theta, kappa0=0.0, c_theta=1.0) -> tuple[np.nda
     """The PRBM tip (x, y, theta) of a unit segment (module docstring), broadcast over the arguments:
     load F L^2/EI, phi the force angle (rad), gamma, K_theta, kappa0 = L/R_i, c_theta."""
     load, phi, gamma, K_theta, kappa0 = np.broadcast_arrays(
-        *(np.asarray(v, float) for v in (load, phi, gamma, K_theta, kappa0)))
+        *(np.asarray(v, float) for v in (load, phi, gamma, K_theta, kappa0))
+    )
     bent = np.abs(kappa0) > 1e-12
     k0 = np.where(bent, kappa0, 1.0)
     a_i = np.where(bent, np.sin(k0) / k0, 1.0)
@@ -144,8 +147,9 @@ def holdout(df: pd.DataFrame, split: str = "checkerboard") -> np.ndarray:
     """True for the held-out half of the atlas's grid: (line index + load-level index) odd
     (``checkerboard``), or the line index odd (``lines``).  The line is the shape inputs (the columns
     before ``load``), the level the load's rank in the common load grid."""
-    shape_columns = [c for c in df.columns[: df.columns.get_loc("load")]
-                     if c not in ("model", "line_id") and df[c].notna().all()]
+    shape_columns = [
+        c for c in df.columns[: df.columns.get_loc("load")] if c not in ("model", "line_id") and df[c].notna().all()
+    ]
     line = df.groupby(shape_columns, sort=True).ngroup().to_numpy() if shape_columns else np.zeros(len(df), int)
     if split == "lines":
         return line % 2 == 1
@@ -156,10 +160,14 @@ def holdout(df: pd.DataFrame, split: str = "checkerboard") -> np.ndarray:
 
 
 def _points(df: pd.DataFrame) -> dict[str, np.ndarray]:
-    return {"load": df["load"].to_numpy(float), "phi": np.radians(df["load_angle_deg"].to_numpy(float)),
-            "kappa0": df["kappa0"].to_numpy(float) if "kappa0" in df else np.zeros(len(df)),
-            "x": df["exact_x"].to_numpy(float), "y": df["exact_y"].to_numpy(float),
-            "load_angle_deg": df["load_angle_deg"].to_numpy(float)}
+    return {
+        "load": df["load"].to_numpy(float),
+        "phi": np.radians(df["load_angle_deg"].to_numpy(float)),
+        "kappa0": df["kappa0"].to_numpy(float) if "kappa0" in df else np.zeros(len(df)),
+        "x": df["exact_x"].to_numpy(float),
+        "y": df["exact_y"].to_numpy(float),
+        "load_angle_deg": df["load_angle_deg"].to_numpy(float),
+    }
 
 
 def worst_error(p: dict[str, np.ndarray], gamma, K_theta) -> float:
@@ -172,13 +180,13 @@ def worst_error(p: dict[str, np.ndarray], gamma, K_theta) -> float:
 
 def minimax(p: dict[str, np.ndarray], start: Params, restarts: int = 4) -> tuple[Params, float]:
     """(gamma, K_theta) minimising ``worst_error`` on the points (module docstring, step 2)."""
+
     def objective(v: np.ndarray) -> float:
         return worst_error(p, v[0], v[1]) if v[0] > 0.0 and v[1] > 0.0 else math.inf
 
     best, value = np.array([start.gamma, start.K_theta]), objective(np.array([start.gamma, start.K_theta]))
     for _ in range(restarts):
-        res = minimize(objective, best, method="Nelder-Mead",
-                       options={"xatol": 1e-8, "fatol": 1e-10, "maxiter": 4000})
+        res = minimize(objective, best, method="Nelder-Mead", options={"xatol": 1e-8, "fatol": 1e-10, "maxiter": 4000})
         improved = res.fun < value - 1e-9
         if res.fun < value:
             best, value = res.x, float(res.fun)
@@ -198,9 +206,18 @@ def refit_region(df: pd.DataFrame, region: Region, model: str, split: str = "che
     start = Params(float(np.mean(pub_fit.gamma)), float(np.mean(pub_fit.K_theta)))
     fitted, fit_worst = minimax(fit, start)
     pub_test = published(test["load_angle_deg"])
-    return RefitResult(model, region, split, fitted, start, fit_worst,
-                       worst_error(test, pub_test.gamma, pub_test.K_theta),
-                       worst_error(test, fitted.gamma, fitted.K_theta), fit["load"].size, test["load"].size)
+    return RefitResult(
+        model,
+        region,
+        split,
+        fitted,
+        start,
+        fit_worst,
+        worst_error(test, pub_test.gamma, pub_test.K_theta),
+        worst_error(test, fitted.gamma, fitted.K_theta),
+        fit["load"].size,
+        test["load"].size,
+    )
 
 
 def default_regions(model: str) -> list[Region]:
@@ -211,8 +228,9 @@ def default_regions(model: str) -> list[Region]:
     return [Region(b, r) for b in LOAD_ANGLE_BANDS for r in ROTATION_LIMITS]
 
 
-def refit_results(atlas, model: str | None = None, regions: list[Region] | None = None,
-                  split: str = "checkerboard") -> list[RefitResult]:
+def refit_results(
+    atlas, model: str | None = None, regions: list[Region] | None = None, split: str = "checkerboard"
+) -> list[RefitResult]:
     """Every region's refit of an atlas (a DataFrame or its rows; the model from its columns: kappa0
     present, the curved one)."""
     df = atlas if isinstance(atlas, pd.DataFrame) else pd.DataFrame(list(atlas))
@@ -227,29 +245,48 @@ def refit_results(atlas, model: str | None = None, regions: list[Region] | None 
     return [r for r in results if r is not None]
 
 
-def refit_table(atlas, model: str | None = None, regions: list[Region] | None = None,
-                split: str = "checkerboard") -> pd.DataFrame:
+def refit_table(
+    atlas, model: str | None = None, regions: list[Region] | None = None, split: str = "checkerboard"
+) -> pd.DataFrame:
     """``refit_results`` as a table, one row a region."""
-    return pd.DataFrame([{
-        "model": r.model, "region": r.region.name, "split": r.split,
-        "gamma": r.fitted.gamma, "K_theta": r.fitted.K_theta,
-        "gamma_published": r.start.gamma, "K_theta_published": r.start.K_theta,
-        "fit_worst": r.fit_worst, "published_worst": r.published_worst, "refit_worst": r.refit_worst,
-        "gain": r.gain, "fit_points": r.fit_points, "test_points": r.test_points,
-    } for r in refit_results(atlas, model, regions, split)])
+    return pd.DataFrame(
+        [
+            {
+                "model": r.model,
+                "region": r.region.name,
+                "split": r.split,
+                "gamma": r.fitted.gamma,
+                "K_theta": r.fitted.K_theta,
+                "gamma_published": r.start.gamma,
+                "K_theta_published": r.start.K_theta,
+                "fit_worst": r.fit_worst,
+                "published_worst": r.published_worst,
+                "refit_worst": r.refit_worst,
+                "gain": r.gain,
+                "fit_points": r.fit_points,
+                "test_points": r.test_points,
+            }
+            for r in refit_results(atlas, model, regions, split)
+        ]
+    )
 
 
 def finding_text(table: pd.DataFrame) -> str:
     """A short paragraph with the numbers of a ``refit_table``."""
     if table.empty:
         return "No region of the atlas had points to refit."
-    parts = [f"in {row.region} from {row.published_worst:.2f} % to {row.refit_worst:.2f} % of L "
-             f"(gamma = {row.gamma:.3f}, K_Theta = {row.K_theta:.3f})" for row in table.itertuples()]
+    parts = [
+        f"in {row.region} from {row.published_worst:.2f} % to {row.refit_worst:.2f} % of L "
+        f"(gamma = {row.gamma:.3f}, K_Theta = {row.K_theta:.3f})"
+        for row in table.itertuples()
+    ]
     better = table["gain"] > 1.0
-    text = (f"{table['model'].iloc[0].capitalize()}: on held-out points (the {table['split'].iloc[0]} half of "
-            f"each region not used to fit) the refit pair takes the worst tip error (at equal load) of the published "
-            f"n-fits " + "; ".join(parts) + f": lower in {int(better.sum())} of {len(table)} regions "
-            f"(gain {table['gain'].min():.2f}x to {table['gain'].max():.2f}x).")
+    text = (
+        f"{table['model'].iloc[0].capitalize()}: on held-out points (the {table['split'].iloc[0]} half of "
+        f"each region not used to fit) the refit pair takes the worst tip error (at equal load) of the published "
+        f"n-fits " + "; ".join(parts) + f": lower in {int(better.sum())} of {len(table)} regions "
+        f"(gain {table['gain'].min():.2f}x to {table['gain'].max():.2f}x)."
+    )
     if not better.all():
         text += " Not lower in " + ", ".join(table.loc[~better, "region"]) + "."
     return text

@@ -9,6 +9,7 @@ summarises.  ``region_table`` gives, per threshold, the limits over the map axis
 them in a sentence with numbers; ``draw_map`` draws the error over the map axis and the load with the
 region boundaries and the seeds' claimed ranges (``cases/atlas/claims.toml``) over it.
 """
+
 from __future__ import annotations
 
 import math
@@ -49,10 +50,15 @@ def line_limits(frame: pd.DataFrame, model: str, threshold: float) -> pd.DataFra
         inside = (line["status"] == "ok").to_numpy() & (line["tip_error"].to_numpy() <= threshold)
         first_out = int(np.argmin(inside)) if not inside.all() else len(inside)
         last = line.iloc[first_out - 1] if first_out > 0 else None
-        out.append({**dict(zip(shape_names, key)), "first_load": float(line["load"].iloc[0]),
-                    "load_limit": float(last["load"]) if last is not None else 0.0,
-                    "deflection": _deflection(m, last) if last is not None else 0.0,
-                    "whole_line": first_out == len(inside)})
+        out.append(
+            {
+                **dict(zip(shape_names, key)),
+                "first_load": float(line["load"].iloc[0]),
+                "load_limit": float(last["load"]) if last is not None else 0.0,
+                "deflection": _deflection(m, last) if last is not None else 0.0,
+                "whole_line": first_out == len(inside),
+            }
+        )
     return pd.DataFrame(out)
 
 
@@ -106,11 +112,20 @@ def summaries(frame: pd.DataFrame, model: str) -> list[RegionSummary]:
     for threshold, rows in table.groupby("threshold", sort=True):
         best = rows.loc[rows["load_limit"].idxmax()]
         worst = rows.loc[rows["load_limit"].idxmin()]
-        out.append(RegionSummary(model, float(threshold), axis,
-                                 float(best[axis]) if axis else math.nan, float(best["load_limit"]),
-                                 float(worst[axis]) if axis else math.nan, float(worst["load_limit"]),
-                                 float(worst["deflection"]), float(rows["deflection"].median()),
-                                 int(rows["lines"].iloc[0])))
+        out.append(
+            RegionSummary(
+                model,
+                float(threshold),
+                axis,
+                float(best[axis]) if axis else math.nan,
+                float(best["load_limit"]),
+                float(worst[axis]) if axis else math.nan,
+                float(worst["load_limit"]),
+                float(worst["deflection"]),
+                float(rows["deflection"].median()),
+                int(rows["lines"].iloc[0]),
+            )
+        )
     return out
 
 
@@ -121,11 +136,15 @@ def region_words(s: RegionSummary) -> str:
     if s.axis is None:
         return f"below {s.threshold:g} % of L up to {load_label} = {s.worst_load:.3g} ({s.worst_deflection:.0f} {unit})"
     if s.best_load == s.worst_load:
-        return (f"below {s.threshold:g} % of L on every mapped line up to {load_label} = {s.worst_load:.3g} "
-                f"(median deflection there {s.median_deflection:.0f} {unit})")
-    return (f"below {s.threshold:g} % of L up to {load_label} = {s.best_load:.3g} at {s.axis} = {s.best_value:.4g}, "
-            f"but only to {s.worst_load:.3g} at {s.axis} = {s.worst_value:.4g} "
-            f"({s.worst_deflection:.0f} {unit} there; median over {s.axis}: {s.median_deflection:.0f})")
+        return (
+            f"below {s.threshold:g} % of L on every mapped line up to {load_label} = {s.worst_load:.3g} "
+            f"(median deflection there {s.median_deflection:.0f} {unit})"
+        )
+    return (
+        f"below {s.threshold:g} % of L up to {load_label} = {s.best_load:.3g} at {s.axis} = {s.best_value:.4g}, "
+        f"but only to {s.worst_load:.3g} at {s.axis} = {s.worst_value:.4g} "
+        f"({s.worst_deflection:.0f} {unit} there; median over {s.axis}: {s.median_deflection:.0f})"
+    )
 
 
 def _grid(frame: pd.DataFrame, model: str, column: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -150,13 +169,20 @@ def draw_map(frame: pd.DataFrame, model: str, path: Path, claims: Sequence[Claim
     fig, ax = plt.subplots(figsize=(6.4, 4.4), layout="constrained")
     ax.set_facecolor("0.85")
     shown = np.clip(error, 1e-3, 100.0)
-    mesh = ax.pcolormesh(x, loads, shown, shading="nearest", cmap="viridis",
-                         norm=matplotlib.colors.LogNorm(vmin=0.01, vmax=100.0))
+    mesh = ax.pcolormesh(
+        x, loads, shown, shading="nearest", cmap="viridis", norm=matplotlib.colors.LogNorm(vmin=0.01, vmax=100.0)
+    )
     bar = fig.colorbar(mesh, ax=ax)
     bar.set_label("tip error at equal load (% of L)")
     if x.size > 1:
-        lines = ax.contour(x, loads, np.nan_to_num(error, nan=1e3), levels=list(REGION_LEVELS),
-                           colors=["white", "#ffd166", "#ef476f", "black"], linewidths=1.2)
+        lines = ax.contour(
+            x,
+            loads,
+            np.nan_to_num(error, nan=1e3),
+            levels=list(REGION_LEVELS),
+            colors=["white", "#ffd166", "#ef476f", "black"],
+            linewidths=1.2,
+        )
         ax.clabel(lines, fmt=lambda v: f"{v:g} %", fontsize=8)
     for claim in claims:
         if model not in claim.models:
@@ -173,7 +199,9 @@ def draw_map(frame: pd.DataFrame, model: str, path: Path, claims: Sequence[Claim
                     if np.nanmin(g) < v < np.nanmax(g):
                         ax.contour(x, loads, g, levels=[v], colors="#06d6a0", linestyles="--", linewidths=1.0)
     ax.set_yscale("log")
-    ax.set_xlabel(next((a.label for a in m.shape_axes if a.name == m.map_axes[0]), "") if m.map_axes[0] != "load" else "")
+    ax.set_xlabel(
+        next((a.label for a in m.shape_axes if a.name == m.map_axes[0]), "") if m.map_axes[0] != "load" else ""
+    )
     ax.set_ylabel(m.load.label)
     ax.set_title(f"{m.title}\n(worst over the other inputs; dashed green: the seeds' claimed ranges)", fontsize=9)
     path.parent.mkdir(parents=True, exist_ok=True)

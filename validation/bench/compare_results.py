@@ -8,6 +8,7 @@ Prints every row that differs and exits 1 if any does.
 
 Run:  python validation/bench/compare_results.py BEFORE/results.csv AFTER/results.csv [--rtol 1e-8] [--atol 1e-10]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -45,8 +46,10 @@ def main() -> int:
         frame["point"] = frame["point"].fillna("")
         frame["reference_label"] = frame["reference_label"].fillna("")
     diff = differences(before, after, args.rtol, args.atol)
-    print(f"{len(before)} rows before, {len(after)} after; {len(diff)} differ "
-          f"(rtol {args.rtol:g}, atol {args.atol:g} x scale)")
+    print(
+        f"{len(before)} rows before, {len(after)} after; {len(diff)} differ "
+        f"(rtol {args.rtol:g}, atol {args.atol:g} x scale)"
+    )
     if len(diff):
         cols = KEY[:5] + ["value_before", "value_after", "error_estimate_before", "error_estimate_after", "_merge"]
         with pd.option_context("display.width", 250, "display.max_rows", 200, "display.max_columns", 20):

@@ -16,6 +16,7 @@ would otherwise read as a fast compile.
 Run: ``.venv/bin/python -m validation.bench.compile_cost`` (``--repeat=N``, default 3;
 ``--method=NAME``, repeatable, only those primers). Timing lives here, never in the tests.
 """
+
 from __future__ import annotations
 
 import json
@@ -73,7 +74,7 @@ def _project_dispatchers() -> dict[str, CPUDispatcher]:
 
 def measure_here(method: str, path: Path) -> PrimerCost:
     """The primer ``method`` on ``path`` in this process, numba's compile events recorded."""
-    stack: list[list] = []           # [name, start CPU s, CPU s of nested compiles]
+    stack: list[list] = []  # [name, start CPU s, CPU s of nested compiles]
     functions: dict[str, tuple[int, float]] = {}
 
     class Recorder(event.Listener):
@@ -96,15 +97,22 @@ def measure_here(method: str, path: Path) -> PrimerCost:
     message = run.message or ""
     ok = bool(run.values) and not message.startswith("error")
     specialisations = {name: len(d.signatures) for name, d in _project_dispatchers().items() if d.signatures}
-    return PrimerCost(cpu, sum(c for _, c in functions.values()), functions, specialisations, ok,
-                      "" if ok else message[:300])
+    return PrimerCost(
+        cpu, sum(c for _, c in functions.values()), functions, specialisations, ok, "" if ok else message[:300]
+    )
 
 
 def measure(method: str, path: Path, cache_dir: str) -> PrimerCost:
     """``measure_here`` in a fresh interpreter whose numba cache is ``cache_dir``."""
     env = dict(os.environ, NUMBA_CACHE_DIR=cache_dir)
-    out = subprocess.run([sys.executable, "-m", "validation.bench.compile_cost", CHILD, method, str(path)],
-                         capture_output=True, text=True, cwd=ROOT, env=env, check=True)
+    out = subprocess.run(
+        [sys.executable, "-m", "validation.bench.compile_cost", CHILD, method, str(path)],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        env=env,
+        check=True,
+    )
     data = json.loads(out.stdout.strip().splitlines()[-1])
     data["functions"] = {k: tuple(v) for k, v in data["functions"].items()}
     return PrimerCost(**data)
@@ -133,22 +141,36 @@ def main(argv: list[str] | None = None) -> int:
         first = cold[0]
         cpus = [c.cpu for c in cold]
         totals.append(min(cpus))
-        print(f"primer {method} on {path.relative_to(ROOT)}"
-              + ("" if all(c.ok for c in cold + warm) else f"  RUN FAILED: {next(c for c in cold + warm if not c.ok).message}"))
-        print(f"  cold: {min(cpus):6.2f} CPU s best, {statistics.median(cpus):6.2f} median of {repeats} "
-              f"(numba compiling: {min(c.compile_cpu for c in cold):.2f}); "
-              f"warm cache: {min(w.cpu for w in warm):.2f} CPU s, {max(len(w.functions) for w in warm)} function(s) compiled")
-        print(f"  compiled: {sum(n for name, (n, _) in first.functions.items() if '<locals>' not in name)} "
-              f"project function(s), {first.overloads} of numba's overload implementations "
-              f"({sum(c for name, (_, c) in first.functions.items() if '<locals>' in name):.2f} CPU s)")
+        print(
+            f"primer {method} on {path.relative_to(ROOT)}"
+            + (
+                ""
+                if all(c.ok for c in cold + warm)
+                else f"  RUN FAILED: {next(c for c in cold + warm if not c.ok).message}"
+            )
+        )
+        print(
+            f"  cold: {min(cpus):6.2f} CPU s best, {statistics.median(cpus):6.2f} median of {repeats} "
+            f"(numba compiling: {min(c.compile_cpu for c in cold):.2f}); "
+            f"warm cache: {min(w.cpu for w in warm):.2f} CPU s, {max(len(w.functions) for w in warm)} function(s) compiled"
+        )
+        print(
+            f"  compiled: {sum(n for name, (n, _) in first.functions.items() if '<locals>' not in name)} "
+            f"project function(s), {first.overloads} of numba's overload implementations "
+            f"({sum(c for name, (_, c) in first.functions.items() if '<locals>' in name):.2f} CPU s)"
+        )
         for name, (count, cpu) in sorted(first.functions.items(), key=lambda kv: -kv[1][1]):
             if "<locals>" not in name:
                 print(f"    {name:<28} {cpu:6.2f} CPU s (own){'' if count == 1 else f'  compiled {count} times'}")
         many = {k: v for k, v in first.specialisations.items() if v > 1}
-        print(f"  specialisations: {len(first.specialisations)} function(s) compiled, "
-              + (", ".join(f"{k}: {v}" for k, v in many.items()) if many else "each exactly once"))
-    print(f"\ncold compile of every primer: {sum(totals):.2f} CPU s (best of {repeats} each); "
-          f"load average {os.getloadavg()[0]:.1f}")
+        print(
+            f"  specialisations: {len(first.specialisations)} function(s) compiled, "
+            + (", ".join(f"{k}: {v}" for k, v in many.items()) if many else "each exactly once")
+        )
+    print(
+        f"\ncold compile of every primer: {sum(totals):.2f} CPU s (best of {repeats} each); "
+        f"load average {os.getloadavg()[0]:.1f}"
+    )
     return 0
 
 

@@ -6,6 +6,7 @@ slowest per level first, with the load average printed beside (the machine is sh
 Run: ``.venv/bin/python -m validation.bench.elastica_speed`` (``--case=ID``, repeatable, times only
 those cases). Timing lives here, never in the tests.
 """
+
 from __future__ import annotations
 
 import os
@@ -17,7 +18,7 @@ from dataclasses import dataclass
 from validation.case.loader import find_case_files, load_case
 from validation.run.runner import run_method
 
-TARGET_S = 2e-3    # the target: at most 2 ms per solve (one load level)
+TARGET_S = 2e-3  # the target: at most 2 ms per solve (one load level)
 
 
 @dataclass(frozen=True)
@@ -57,15 +58,19 @@ def main(argv: list[str] | None = None) -> int:
     only = [a.split("=", 1)[1] for a in args if a.startswith("--case=")]
     table = rows(only or None)
     width = max((len(r.case_id) for r in table), default=4)
-    print(f"{'case':<{width}}  {'CPU/level':>10}  {'CPU/call':>10}  levels  (best of {table[0].repeats if table else 0} "
-          f"single calls, run_method(case, 'elastica'), first call excluded)")
+    print(
+        f"{'case':<{width}}  {'CPU/level':>10}  {'CPU/call':>10}  levels  (best of {table[0].repeats if table else 0} "
+        f"single calls, run_method(case, 'elastica'), first call excluded)"
+    )
     for r in table:
         flag = "" if r.converged else "  NOT CONVERGED"
         print(f"{r.case_id:<{width}}  {r.per_level * 1e3:7.2f} ms  {r.cpu * 1e3:7.2f} ms  {r.levels:6d}{flag}")
     over = [r for r in table if r.per_level > TARGET_S]
-    print(f"\n{len(over)} of {len(table)} case(s) above {TARGET_S * 1e3:.0f} ms a level"
-          + (f": {', '.join(r.case_id for r in over)}" if over else "")
-          + f"; load average {os.getloadavg()[0]:.1f}")
+    print(
+        f"\n{len(over)} of {len(table)} case(s) above {TARGET_S * 1e3:.0f} ms a level"
+        + (f": {', '.join(r.case_id for r in over)}" if over else "")
+        + f"; load average {os.getloadavg()[0]:.1f}"
+    )
     return 0
 
 

@@ -8,6 +8,7 @@ is our best time over the peer's best, with both configurations printed.
 Run: ``python -m validation.bench.fem_vs_opensees [--quick] [--out reports/bench]``
 (the same as ``prbm-validate bench``).
 """
+
 from __future__ import annotations
 
 import argparse

@@ -40,6 +40,7 @@ single-level cantilever, timed in turn with the headline's budget.
 Writes ``bench.csv``, ``headline.json`` and plots (error against time with the Pareto front; time
 against elements with the fitted growth exponent) under the output folder.
 """
+
 from __future__ import annotations
 
 import gc
@@ -74,8 +75,9 @@ from validation.run.outcome import run_cases
 class BenchCase:
     """A case of the benchmark: which levels are compared, and whether only the last level is loaded
     (``single_level``: the loads jump from zero to their last value in one level)."""
+
     case_id: str
-    levels: list[int] | None = None     # None = all
+    levels: list[int] | None = None  # None = all
     single_level: bool = False
 
     @property
@@ -84,8 +86,8 @@ class BenchCase:
 
 
 BENCH_CASES: list[BenchCase] = [
-    BenchCase("cantilever_tip_load", [0], single_level=True),   # PL^2/EI = 10 in one level
-    BenchCase("cantilever_tip_load", [0, 4, 9]),                # PL^2/EI = 1..10, ten levels
+    BenchCase("cantilever_tip_load", [0], single_level=True),  # PL^2/EI = 10 in one level
+    BenchCase("cantilever_tip_load", [0, 4, 9]),  # PL^2/EI = 1..10, ten levels
     BenchCase("pure_moment_roll_up"),
     BenchCase("lee_frame"),
     BenchCase("bapat2015_test1a"),
@@ -95,35 +97,39 @@ BENCH_CASES: list[BenchCase] = [
 POSITION = ("x", "y", "dx", "dy")
 TARGETS = (1e-4, 1e-6)
 PEER = "opensees"
-OURS = ("fem", "fem+richardson")   # the FEM's plain runs and its own n/2n solve
+OURS = ("fem", "fem+richardson")  # the FEM's plain runs and its own n/2n solve
 ITERATION_MESHES = (8, 16, 32, 64, 128, 256)
-RUN_BUDGET_S = 20.0     # a method's mesh doubling stops after a run slower than this
-SLOW_RUN_S = 0.2        # a configuration slower than this is timed once after its warm-up
-QUICK_REPEATS = 3       # timed runs per configuration with --quick (5 without), at least
-TIME_BUDGET_S = 0.05    # a fast configuration is run as often as fits in this (its best is then its
-MAX_REPEATS = 200       # quiet-machine time, not a noise spike's), up to MAX_REPEATS runs
+RUN_BUDGET_S = 20.0  # a method's mesh doubling stops after a run slower than this
+SLOW_RUN_S = 0.2  # a configuration slower than this is timed once after its warm-up
+QUICK_REPEATS = 3  # timed runs per configuration with --quick (5 without), at least
+TIME_BUDGET_S = 0.05  # a fast configuration is run as often as fits in this (its best is then its
+MAX_REPEATS = 200  # quiet-machine time, not a noise spike's), up to MAX_REPEATS runs
 HEADLINE_BUDGET_S = 0.5  # the same for the headline's re-timing and the per-iteration table
-CANDIDATES = 3           # configurations of each code re-timed for the headline (the sweep's fastest: one
-                         # noisy sweep time can rank a code's truly fastest configuration second or third)
-CANDIDATE_SPREAD = 2.0   # and every other one the sweep timed within this factor of the code's fastest (one
-                         # slow sweep time can rank a code's truly fastest configuration past CANDIDATES)
-CANDIDATES_MAX = 6       # at most this many of each code
-NOISE_BLOCKS = 3         # the re-timing cut into this many consecutive parts, the ratio of each printed
-CONFIGURATIONS = {      # how each code is driven (printed beside the headline)
-    "fem": ("corotational Euler-Bernoulli beams (validation.methods.fem); load control: each level tried in "
-            "one step, cut only on failure (failed tries counted), Newton with the consistent tangent "
-            "compiled whole (numba; RCM-banded tangents by a compiled band LU, LAPACK's dgbtf2 step for "
-            "step; small dense ones by LAPACK dgetrf), |r| <= 1e-10 max(|f_ext|, |f_int|); "
-            "limit loads by arc length (its corrector, and any model with follower loads, in NumPy, "
-            "not compiled); fem+richardson: the n and 2n solves (warm-started) extrapolated; "
-            "fem+richardson (plain runs): the n and 2n plain runs extrapolated by the bench, as for the peer, "
-            "time of both"),
-    "opensees": ("OpenSeesPy elasticBeamColumn with the Corotational transformation "
-                 "(validation.methods.opensees; rigid links as elements 1e6 times the stiffest beam, hinges "
-                 "by -release of the element ends); LoadControl one step per level, halved on failure (up to 12 "
-                 "halvings, failed tries counted), Newton, NormDispIncr 1e-10 (50 iterations), BandGeneral, "
-                 "RCM numbering; limit loads by DisplacementControl and a parabola through the peak; "
-                 "opensees+richardson: the n and 2n runs extrapolated, time of both"),
+CANDIDATES = 3  # configurations of each code re-timed for the headline (the sweep's fastest: one
+# noisy sweep time can rank a code's truly fastest configuration second or third)
+CANDIDATE_SPREAD = 2.0  # and every other one the sweep timed within this factor of the code's fastest (one
+# slow sweep time can rank a code's truly fastest configuration past CANDIDATES)
+CANDIDATES_MAX = 6  # at most this many of each code
+NOISE_BLOCKS = 3  # the re-timing cut into this many consecutive parts, the ratio of each printed
+CONFIGURATIONS = {  # how each code is driven (printed beside the headline)
+    "fem": (
+        "corotational Euler-Bernoulli beams (validation.methods.fem); load control: each level tried in "
+        "one step, cut only on failure (failed tries counted), Newton with the consistent tangent "
+        "compiled whole (numba; RCM-banded tangents by a compiled band LU, LAPACK's dgbtf2 step for "
+        "step; small dense ones by LAPACK dgetrf), |r| <= 1e-10 max(|f_ext|, |f_int|); "
+        "limit loads by arc length (its corrector, and any model with follower loads, in NumPy, "
+        "not compiled); fem+richardson: the n and 2n solves (warm-started) extrapolated; "
+        "fem+richardson (plain runs): the n and 2n plain runs extrapolated by the bench, as for the peer, "
+        "time of both"
+    ),
+    "opensees": (
+        "OpenSeesPy elasticBeamColumn with the Corotational transformation "
+        "(validation.methods.opensees; rigid links as elements 1e6 times the stiffest beam, hinges "
+        "by -release of the element ends); LoadControl one step per level, halved on failure (up to 12 "
+        "halvings, failed tries counted), Newton, NormDispIncr 1e-10 (50 iterations), BandGeneral, "
+        "RCM numbering; limit loads by DisplacementControl and a parabola through the peak; "
+        "opensees+richardson: the n and 2n runs extrapolated, time of both"
+    ),
 }
 
 
@@ -131,8 +137,10 @@ def _pin_blas() -> dict[str, str]:
     """The BLAS thread settings of the environment, recorded with the results (set
     OPENBLAS_NUM_THREADS=1 before the run to pin them: the factorisations here are small, and both codes
     call LAPACK on one thread either way)."""
-    return {k: os.environ.get(k, "") for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
-                                               "OPENBLAS_CORETYPE")}
+    return {
+        k: os.environ.get(k, "")
+        for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_CORETYPE")
+    }
 
 
 def _last_level_only(case):
@@ -180,6 +188,7 @@ class Timing:
     the run, the best wall time, the peak Python memory, the best CPU time of the load stepping
     alone (``analysis``: the adapter's ``analysis_cpu_s``, without model set-up and results), and the
     CPU time of every timed run in the order they ran (``times``)."""
+
     run: MethodRun
     best: float
     median: float
@@ -239,7 +248,7 @@ def _labelled_in_turn(configs: dict[str, tuple], repeats: int, budget: float | N
     last = dict(first)
     order = list(configs)
     for r in range(max(rounds.values(), default=0)):
-        for label in (order if r % 2 == 0 else order[::-1]):
+        for label in order if r % 2 == 0 else order[::-1]:
             if len(times[label]) < rounds[label]:
                 run, cpu = _one_run(*configs[label])
                 last[label] = run
@@ -252,8 +261,16 @@ def _labelled_in_turn(configs: dict[str, tuple], repeats: int, budget: float | N
         run_method(*config)
         peak = tracemalloc.get_traced_memory()[1]
         tracemalloc.stop()
-        out[label] = Timing(last[label], min(times[label]), statistics.median(times[label]), rounds[label],
-                            peak, min(walls[label]), min(analyses[label]), tuple(times[label]))
+        out[label] = Timing(
+            last[label],
+            min(times[label]),
+            statistics.median(times[label]),
+            rounds[label],
+            peak,
+            min(walls[label]),
+            min(analyses[label]),
+            tuple(times[label]),
+        )
     return out
 
 
@@ -267,7 +284,7 @@ def _runs_of(case, bench: BenchCase, choice: dict) -> dict[str, tuple]:
         meshes = (n, 2 * n)
     elif label == method:
         meshes = (n,)
-    else:   # the FEM's own n/2n solve
+    else:  # the FEM's own n/2n solve
         return {f"{label} n={n}": (_at(case, bench, method, n, own_richardson=True), method)}
     return {f"{method} n={m}": (_at(case, bench, method, m), method) for m in meshes}
 
@@ -280,19 +297,27 @@ def _confirmed(case, bench: BenchCase, ours: list[dict], peer: list[dict], repea
     bests (a Richardson row on plain runs: its n and 2n runs); each code's fastest candidate as re-timed
     (``fem``, ``opensees``: the configuration with that time) and the ratio of the two."""
     choices = {"fem": ours, "opensees": peer}
-    runs = {(code, i): _runs_of(case, bench, choice) for code, found in choices.items()
-            for i, choice in enumerate(found)}
-    timings = _labelled_in_turn({label: config for part in runs.values() for label, config in part.items()},
-                                repeats, HEADLINE_BUDGET_S)
+    runs = {
+        (code, i): _runs_of(case, bench, choice) for code, found in choices.items() for i, choice in enumerate(found)
+    }
+    timings = _labelled_in_turn(
+        {label: config for part in runs.values() for label, config in part.items()}, repeats, HEADLINE_BUDGET_S
+    )
     best = {}
     for code, found in choices.items():
         time_s, i = _fastest_candidate(runs, code, lambda label: timings[label].best)
         best[code] = (time_s, dict(found[i], time_s=time_s))
     (fem_s, fem), (peer_s, peer_choice) = best["fem"], best["opensees"]
-    return dict(ratio=fem_s / peer_s, fem_s=fem_s, opensees_s=peer_s, fem=fem, opensees=peer_choice,
-                candidates=sum(len(found) for found in choices.values()),
-                repeats=min(timings[label].repeats for label in timings),
-                block_ratios=_block_ratios(timings, runs))
+    return dict(
+        ratio=fem_s / peer_s,
+        fem_s=fem_s,
+        opensees_s=peer_s,
+        fem=fem,
+        opensees=peer_choice,
+        candidates=sum(len(found) for found in choices.values()),
+        repeats=min(timings[label].repeats for label in timings),
+        block_ratios=_block_ratios(timings, runs),
+    )
 
 
 def _fastest_candidate(runs: dict, code: str, time_of) -> tuple[float, int]:
@@ -311,8 +336,11 @@ def _block_ratios(timings: dict[str, Timing], runs: dict, blocks: int = NOISE_BL
     parts = {label: _part_bests(t.times, blocks) for label, t in timings.items()}
     if not all(parts.values()):
         return []
-    return [_fastest_candidate(runs, "fem", lambda label: parts[label][k])[0]
-            / _fastest_candidate(runs, "opensees", lambda label: parts[label][k])[0] for k in range(blocks)]
+    return [
+        _fastest_candidate(runs, "fem", lambda label: parts[label][k])[0]
+        / _fastest_candidate(runs, "opensees", lambda label: parts[label][k])[0]
+        for k in range(blocks)
+    ]
 
 
 def _part_bests(times: tuple[float, ...], blocks: int = NOISE_BLOCKS) -> list[float]:
@@ -320,7 +348,7 @@ def _part_bests(times: tuple[float, ...], blocks: int = NOISE_BLOCKS) -> list[fl
     empty when there are fewer times than parts."""
     if len(times) < blocks:
         return []
-    return [min(times[k * len(times) // blocks:(k + 1) * len(times) // blocks]) for k in range(blocks)]
+    return [min(times[k * len(times) // blocks : (k + 1) * len(times) // blocks]) for k in range(blocks)]
 
 
 def _exact(case, levels) -> tuple[dict, str]:
@@ -329,9 +357,11 @@ def _exact(case, levels) -> tuple[dict, str]:
         run = run_method(_restrict(case, "elastica", dict(case.methods["elastica"] or {}), levels), "elastica")
         if run.converged and run.values:
             return run.values, "elastica"
-    refs = {Request(r.quantity, r.point if r.quantity != "limit_load" else "", r.level): r.value
-            for r in case.references
-            if r.label in ("exact", "elliptic") or (r.quantity == "limit_load" and r.label == "published")}
+    refs = {
+        Request(r.quantity, r.point if r.quantity != "limit_load" else "", r.level): r.value
+        for r in case.references
+        if r.label in ("exact", "elliptic") or (r.quantity == "limit_load" and r.label == "published")
+    }
     return refs, "references"
 
 
@@ -366,9 +396,16 @@ def _fastest_at_error(frame: pd.DataFrame, methods: tuple[str, ...], target: flo
     first of equal times as the rows come), as configurations."""
     rows = frame[frame["method"].isin(methods) & (frame["error"] <= target)]
     rows = rows.sort_values("time_s", kind="stable").head(count)
-    return [dict(method=row["method"], elements=int(row["elements"]), time_s=float(row["time_s"]),
-                 error=float(row["error"]), iterations=None if pd.isna(row["iterations"]) else int(row["iterations"]))
-            for _, row in rows.iterrows()]
+    return [
+        dict(
+            method=row["method"],
+            elements=int(row["elements"]),
+            time_s=float(row["time_s"]),
+            error=float(row["error"]),
+            iterations=None if pd.isna(row["iterations"]) else int(row["iterations"]),
+        )
+        for _, row in rows.iterrows()
+    ]
 
 
 def _richardson(coarse: MethodRun, fine: MethodRun) -> dict:
@@ -379,11 +416,22 @@ def _richardson(coarse: MethodRun, fine: MethodRun) -> dict:
 def _row(case_label, label, n, timing: Timing, exact_from) -> dict:
     run = timing.run
     iterations = run.extras.get("iterations", math.nan)
-    return dict(case=case_label, method=label, elements=n, time_s=timing.best, time_median_s=timing.median,
-                wall_s=timing.wall,
-                repeats=timing.repeats, error=math.nan, error_reference=exact_from, iterations=iterations,
-                failed_iterations=run.extras.get("rejected_iterations", 0),
-                peak_memory_mb=timing.peak_bytes / 2**20, converged=run.converged, message=run.message[:200])
+    return dict(
+        case=case_label,
+        method=label,
+        elements=n,
+        time_s=timing.best,
+        time_median_s=timing.median,
+        wall_s=timing.wall,
+        repeats=timing.repeats,
+        error=math.nan,
+        error_reference=exact_from,
+        iterations=iterations,
+        failed_iterations=run.extras.get("rejected_iterations", 0),
+        peak_memory_mb=timing.peak_bytes / 2**20,
+        converged=run.converged,
+        message=run.message[:200],
+    )
 
 
 def _sweep(case, bench: BenchCase, method: str, meshes: list[int], repeats: int, exact, scale, log):
@@ -392,7 +440,7 @@ def _sweep(case, bench: BenchCase, method: str, meshes: list[int], repeats: int,
     (rows, skipped)."""
     rows, skipped, plain = [], [], {}
     paired = paired_label(method)
-    labels = (f"{method}", f"{method}+richardson")   # the plain runs, and the FEM's own n/2n solve
+    labels = (f"{method}", f"{method}+richardson")  # the plain runs, and the FEM's own n/2n solve
     reached = {label: False for label in {*labels, paired}}
     errors: dict[str, list[float]] = {label: [] for label in reached}
 
@@ -413,7 +461,7 @@ def _sweep(case, bench: BenchCase, method: str, meshes: list[int], repeats: int,
             timing = _timed(sub, method, repeats)
             if not timing.run.values:
                 skipped.append(f"{bench.label}/{label} n={n}: {timing.run.message}")
-                reached[label] = True           # nothing more to learn from finer meshes
+                reached[label] = True  # nothing more to learn from finer meshes
                 continue
             row = _row(bench.label, label, n, timing, exact[1])
             row["error"] = _error(timing.run.values, exact[0], scale)
@@ -424,12 +472,21 @@ def _sweep(case, bench: BenchCase, method: str, meshes: list[int], repeats: int,
                 plain[n] = timing
         if n // 2 in plain and n in plain and not reached[paired]:
             coarse, fine = plain[n // 2], plain[n]
-            both = Timing(MethodRun(values=_richardson(coarse.run, fine.run), converged=fine.run.converged,
-                                    message=fine.run.message,
-                                    extras={"iterations": coarse.run.extras.get("iterations", 0)
-                                            + fine.run.extras.get("iterations", 0)}),
-                          coarse.best + fine.best, coarse.median + fine.median, fine.repeats,
-                          max(coarse.peak_bytes, fine.peak_bytes), coarse.wall + fine.wall)
+            both = Timing(
+                MethodRun(
+                    values=_richardson(coarse.run, fine.run),
+                    converged=fine.run.converged,
+                    message=fine.run.message,
+                    extras={
+                        "iterations": coarse.run.extras.get("iterations", 0) + fine.run.extras.get("iterations", 0)
+                    },
+                ),
+                coarse.best + fine.best,
+                coarse.median + fine.median,
+                fine.repeats,
+                max(coarse.peak_bytes, fine.peak_bytes),
+                coarse.wall + fine.wall,
+            )
             row = _row(bench.label, paired, n // 2, both, exact[1])
             row["error"] = _error(both.run.values, exact[0], scale)
             rows.append(row)
@@ -464,19 +521,26 @@ def _per_iteration(case, bench: BenchCase, repeats: int, with_peer: bool, cap: i
         subs = {}
         for method in ("fem",) + ((PEER,) if with_peer else ()):
             subs[method] = _at(case, bench, method, n)
-        timings = _timed_in_turn(subs, repeats, HEADLINE_BUDGET_S)    # the two codes in turn
+        timings = _timed_in_turn(subs, repeats, HEADLINE_BUDGET_S)  # the two codes in turn
         for method, timing in timings.items():
             if not timing.run.values:
                 continue
             its = timing.run.extras.get("iterations", 0) + timing.run.extras.get("rejected_iterations", 0)
-            entry[method] = dict(time_s=timing.best, iterations=its, per_iteration_s=timing.best / max(its, 1),
-                                 analysis_s=timing.analysis, loop_per_iteration_s=timing.analysis / max(its, 1))
+            entry[method] = dict(
+                time_s=timing.best,
+                iterations=its,
+                per_iteration_s=timing.best / max(its, 1),
+                analysis_s=timing.analysis,
+                loop_per_iteration_s=timing.analysis / max(its, 1),
+            )
         if len(entry) == 2:
             entry["ratio"] = entry["fem"]["per_iteration_s"] / entry[PEER]["per_iteration_s"]
             entry["loop_ratio"] = entry["fem"]["loop_per_iteration_s"] / entry[PEER]["loop_per_iteration_s"]
             # the run ratio in consecutive parts of the timing (`_block_ratios`): the machine's noise on it
             its = entry[PEER]["iterations"] / max(entry["fem"]["iterations"], 1)
-            entry["ratio_parts"] = [f / p * its for f, p in zip(*(_part_bests(timings[m].times) for m in ("fem", PEER)))]
+            entry["ratio_parts"] = [
+                f / p * its for f, p in zip(*(_part_bests(timings[m].times) for m in ("fem", PEER)))
+            ]
         cost[str(n)] = entry
     return cost
 
@@ -491,8 +555,11 @@ def _peer_status() -> str:
 
 
 def _log(row) -> None:
-    print(f"  {row['case']:<40} {row['method']:<20} n={row['elements']!s:<5} {row['time_s'] * 1e3:10.2f} ms  "
-          f"error={row['error']:.2e}  iterations={row['iterations']}", flush=True)
+    print(
+        f"  {row['case']:<40} {row['method']:<20} n={row['elements']!s:<5} {row['time_s'] * 1e3:10.2f} ms  "
+        f"error={row['error']:.2e}  iterations={row['iterations']}",
+        flush=True,
+    )
 
 
 def _case_option_rows(case, bench: BenchCase, repeats: int, exact, skipped: list, failed: list) -> list:
@@ -512,16 +579,22 @@ def _case_option_rows(case, bench: BenchCase, repeats: int, exact, skipped: list
         if not timing.run.values:
             skipped.append(f"{bench.label}/{label}: {timing.run.message}")
             continue
-        fixed.append((_row(bench.label, label if label != "fem" else "fem (case options)", None, timing,
-                           exact[1]), timing.run))
+        fixed.append(
+            (_row(bench.label, label if label != "fem" else "fem (case options)", None, timing, exact[1]), timing.run)
+        )
     return fixed
 
 
-BENCH_FILES = ("bench.csv", "headline.json", "*.png")   # what the benchmark writes in its folder
+BENCH_FILES = ("bench.csv", "headline.json", "*.png")  # what the benchmark writes in its folder
 
 
-def run_bench(out: Path, quick: bool = False, cases: list[BenchCase] | dict | None = None,
-              max_elements: int | None = None, plots: bool = True) -> int:
+def run_bench(
+    out: Path,
+    quick: bool = False,
+    cases: list[BenchCase] | dict | None = None,
+    max_elements: int | None = None,
+    plots: bool = True,
+) -> int:
     """Run the benchmark into ``out``, one output set (``validation.run.output_set``: put in place whole,
     nothing written when no case could run); ``max_elements`` caps the mesh doubling (default 1024, 256
     quick); ``plots=False`` leaves out the PNG figures (the CSV and JSON are always written)."""
@@ -532,8 +605,9 @@ def run_bench(out: Path, quick: bool = False, cases: list[BenchCase] | dict | No
     return int(ExitStatus.BAD_INPUT if status is None else status)
 
 
-def _bench_into(out: Path, quick: bool, cases: list[BenchCase] | dict | None, max_elements: int | None,
-                plots: bool) -> int | None:
+def _bench_into(
+    out: Path, quick: bool, cases: list[BenchCase] | dict | None, max_elements: int | None, plots: bool
+) -> int | None:
     """The benchmark written in ``out``; its exit status, None when no case could run (nothing written)."""
     blas = _pin_blas()
     cap = max_elements or (256 if quick else 1024)
@@ -544,7 +618,7 @@ def _bench_into(out: Path, quick: bool, cases: list[BenchCase] | dict | None, ma
     peer_status = _peer_status()
     rows, skipped, peer_notes, per_iteration, confirmed = [], [], {}, {}, {}
     unusable: list[str] = []  # exit status 2 (validation/run/exit_status.py)
-    failed: list[str] = []    # exit status 1
+    failed: list[str] = []  # exit status 1
 
     for bench in cases or BENCH_CASES:
         try:
@@ -577,10 +651,11 @@ def _bench_into(out: Path, quick: bool, cases: list[BenchCase] | dict | None, ma
             skipped += why
             if method == PEER and not got:
                 reason = why[0].split(": ", 1)[-1] if why else "no run"
-                peer_notes[bench.label] = "peer " + (reason if reason.startswith("not applicable") else
-                                                     f"not applicable: {reason}")
+                peer_notes[bench.label] = "peer " + (
+                    reason if reason.startswith("not applicable") else f"not applicable: {reason}"
+                )
         rows += case_rows
-        if case_rows and bench.label not in peer_notes:   # both codes ran: their headline configurations re-timed
+        if case_rows and bench.label not in peer_notes:  # both codes ran: their headline configurations re-timed
             part = pd.DataFrame(case_rows)
             for target in TARGETS:
                 ours, peer = _candidates(part, target)
@@ -588,7 +663,7 @@ def _bench_into(out: Path, quick: bool, cases: list[BenchCase] | dict | None, ma
                     confirmed[f"{bench.label} @ {target:g} L"] = _confirmed(case, bench, ours, peer, repeats)
         if bench == BENCH_CASES[0]:
             per_iteration = _per_iteration(case, bench, repeats, not peer_status, cap)
-    if unusable and not rows:   # rejected: no case could run
+    if unusable and not rows:  # rejected: no case could run
         for s in skipped:
             print(f"skipped: {s}")
         return None
@@ -610,15 +685,18 @@ def _bench_into(out: Path, quick: bool, cases: list[BenchCase] | dict | None, ma
     return int(decide(bad_input=bool(unusable), failed=bool(failed)))
 
 
-def _candidates(part: pd.DataFrame, target: float, count: int = CANDIDATES,
-                spread: float = CANDIDATE_SPREAD) -> tuple[list[dict], list[dict]]:
+def _candidates(
+    part: pd.DataFrame, target: float, count: int = CANDIDATES, spread: float = CANDIDATE_SPREAD
+) -> tuple[list[dict], list[dict]]:
     """The configurations of ours and of the peer's that reach the target error that the headline times
     again (`_confirmed`): of each code the ``count`` fastest as the sweep timed them, and any other
     within ``spread`` times its fastest (at most CANDIDATES_MAX): one slow sweep time must not leave a
     code's fastest configuration out."""
+
     def chosen(methods: tuple[str, ...]) -> list[dict]:
         found = _fastest_at_error(part, methods, target, max(count, CANDIDATES_MAX))
         return [c for i, c in enumerate(found) if i < count or c["time_s"] <= spread * found[0]["time_s"]]
+
     return chosen((*OURS, paired_label("fem"))), chosen((PEER, paired_label(PEER)))
 
 
@@ -628,13 +706,18 @@ def _choices(part: pd.DataFrame, target: float) -> tuple[dict | None, dict | Non
     return (ours[0] if ours else None, peer[0] if peer else None)
 
 
-def _headline(frame: pd.DataFrame, quick: bool, peer_notes: dict, max_elements: int,
-              confirmed: dict | None = None) -> dict:
+def _headline(
+    frame: pd.DataFrame, quick: bool, peer_notes: dict, max_elements: int, confirmed: dict | None = None
+) -> dict:
     """The headline ratios: at each target, our fastest configuration's time over the peer's fastest, as
     the sweep measured them (``ladder_ratio``) and as re-timed with every run of both taking turns
     (``confirmed``, `_confirmed`: the ``ratio`` when present)."""
-    headline: dict = {"fem_over_opensees_time_at_error": {}, "per_iteration": {}, "prbm_over_fem": {},
-                      "growth_exponent": {}}
+    headline: dict = {
+        "fem_over_opensees_time_at_error": {},
+        "per_iteration": {},
+        "prbm_over_fem": {},
+        "growth_exponent": {},
+    }
     confirmed = confirmed or {}
     for case_id, part in frame.groupby("case", sort=False) if len(frame) else []:
         for target in TARGETS:
@@ -642,9 +725,17 @@ def _headline(frame: pd.DataFrame, quick: bool, peer_notes: dict, max_elements: 
             if case_id in peer_notes:
                 note = peer_notes[case_id]
             elif ours is None or peer is None:
-                note = {(True, False): f"OpenSees did not reach this error (up to {max_elements} elements, or its error stopped falling)",
-                        (False, True): f"our FEM did not reach this error (up to {max_elements} elements, or its error stopped falling)",
-                        (False, False): "neither reached it"}.get((ours is not None, peer is not None), "")
+                note = {
+                    (
+                        True,
+                        False,
+                    ): f"OpenSees did not reach this error (up to {max_elements} elements, or its error stopped falling)",
+                    (
+                        False,
+                        True,
+                    ): f"our FEM did not reach this error (up to {max_elements} elements, or its error stopped falling)",
+                    (False, False): "neither reached it",
+                }.get((ours is not None, peer is not None), "")
             else:
                 note = ""
             reference = part["error_reference"].iloc[0]
@@ -652,14 +743,22 @@ def _headline(frame: pd.DataFrame, quick: bool, peer_notes: dict, max_elements: 
             ladder = ours["time_s"] / peer["time_s"] if ours and peer else None
             again = confirmed.get(key) if ours and peer else None
             headline["fem_over_opensees_time_at_error"][key] = dict(
-                ratio=again["ratio"] if again else ladder, ladder_ratio=ladder, confirmed=again, fem=ours,
-                opensees=peer, note=note, reference=reference)
+                ratio=again["ratio"] if again else ladder,
+                ladder_ratio=ladder,
+                confirmed=again,
+                fem=ours,
+                opensees=peer,
+                note=note,
+                reference=reference,
+            )
         prbm = part[part["method"] == "prbm"]
         fem_case = part[part["method"] == "fem (case options)"]
         if len(prbm) and len(fem_case):
             headline["prbm_over_fem"][case_id] = dict(
-                prbm_time_s=float(prbm["time_s"].iloc[0]), fem_time_s=float(fem_case["time_s"].iloc[0]),
-                ratio=float(prbm["time_s"].iloc[0] / fem_case["time_s"].iloc[0]))
+                prbm_time_s=float(prbm["time_s"].iloc[0]),
+                fem_time_s=float(fem_case["time_s"].iloc[0]),
+                ratio=float(prbm["time_s"].iloc[0] / fem_case["time_s"].iloc[0]),
+            )
         fem = part[part["method"] == "fem"]
         big = fem[fem["elements"] >= 16]
         if len(big) >= 2:
@@ -707,27 +806,43 @@ def _print_headline(headline: dict) -> None:
     print("\nconfigurations:")
     for code, text in CONFIGURATIONS.items():
         print(f"  {code}: {text}")
-    print("\nfem / OpenSees CPU time to reach the error (the fastest configuration of each, beside; the ratio "
-          "as re-timed with the runs of both taking turns, and as the sweep measured them):")
+    print(
+        "\nfem / OpenSees CPU time to reach the error (the fastest configuration of each, beside; the ratio "
+        "as re-timed with the runs of both taking turns, and as the sweep measured them):"
+    )
     for key, h in headline["fem_over_opensees_time_at_error"].items():
         ratio = "   -  " if h["ratio"] is None else f"{h['ratio']:6.2f}"
         again = h.get("confirmed")
-        ladder = (f"   (re-timed in turn, {again['candidates']} candidates: of each code the sweep's "
-                  f"{CANDIDATES} fastest and any within {CANDIDATE_SPREAD:g}x its fastest; the fastest as re-timed: "
-                  f"fem {_retimed(again, 'fem')}, "
-                  f"opensees {_retimed(again, 'opensees')}; {_noise(again)}sweep {h['ladder_ratio']:.2f})") if again else ""
-        print(f"  {key:<52} {ratio}   fem: {_config(h['fem'])}   opensees: {_config(h['opensees'])}{ladder}"
-              + (f"   [{h['note']}]" if h["note"] else ""))
+        ladder = (
+            (
+                f"   (re-timed in turn, {again['candidates']} candidates: of each code the sweep's "
+                f"{CANDIDATES} fastest and any within {CANDIDATE_SPREAD:g}x its fastest; the fastest as re-timed: "
+                f"fem {_retimed(again, 'fem')}, "
+                f"opensees {_retimed(again, 'opensees')}; {_noise(again)}sweep {h['ladder_ratio']:.2f})"
+            )
+            if again
+            else ""
+        )
+        print(
+            f"  {key:<52} {ratio}   fem: {_config(h['fem'])}   opensees: {_config(h['opensees'])}{ladder}"
+            + (f"   [{h['note']}]" if h["note"] else "")
+        )
     if headline["per_iteration"]:
-        print("time of one Newton iteration, single-level cantilever (fem / OpenSees): the whole run over its "
-              "iterations, and the load stepping alone (Newton iterations and step control, without model "
-              "set-up and results) over its iterations; best of the repeats, the two codes run by run in turn:")
+        print(
+            "time of one Newton iteration, single-level cantilever (fem / OpenSees): the whole run over its "
+            "iterations, and the load stepping alone (Newton iterations and step control, without model "
+            "set-up and results) over its iterations; best of the repeats, the two codes run by run in turn:"
+        )
         for n, c in headline["per_iteration"].items():
-            parts = [f"{m} {c[m]['per_iteration_s'] * 1e6:.1f} us run / {c[m]['loop_per_iteration_s'] * 1e6:.1f} us "
-                     f"stepping ({c[m]['iterations']:.0f} it)" for m in ("fem", PEER) if m in c]
+            parts = [
+                f"{m} {c[m]['per_iteration_s'] * 1e6:.1f} us run / {c[m]['loop_per_iteration_s'] * 1e6:.1f} us "
+                f"stepping ({c[m]['iterations']:.0f} it)"
+                for m in ("fem", PEER)
+                if m in c
+            ]
             spread = _in_parts(c.get("ratio_parts") or [], "timing")
             spread = f" ({spread})" if spread else ""
-            ratios = (f", ratio {c['ratio']:.2f} run{spread} / {c['loop_ratio']:.2f} stepping" if "ratio" in c else "")
+            ratios = f", ratio {c['ratio']:.2f} run{spread} / {c['loop_ratio']:.2f} stepping" if "ratio" in c else ""
             print(f"  n={n:>4}: " + ", ".join(parts) + ratios)
     for key in ("suite_cold_s", "suite_warm_s"):
         if key in headline:
@@ -744,8 +859,7 @@ def _plots(frame: pd.DataFrame, out: Path) -> None:
         fig, ax = plt.subplots(figsize=(6, 4.5))
         for method, rows in part.groupby("method"):
             rows = rows.sort_values("time_s")
-            ax.loglog(rows["time_s"], rows["error"], "o-" if rows["elements"].notna().any() else "s",
-                      label=method)
+            ax.loglog(rows["time_s"], rows["error"], "o-" if rows["elements"].notna().any() else "s", label=method)
         front = part[_pareto(part).astype(bool)].sort_values("time_s")
         ax.loglog(front["time_s"], front["error"], "k--", lw=1, label="Pareto front")
         ax.set_xlabel("CPU time, best of the repeats [s]")

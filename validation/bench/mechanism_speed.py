@@ -9,6 +9,7 @@ evaluations and the beam integrations (plain end states, from ``integrate_beam``
 Run: ``.venv/bin/python -m validation.bench.mechanism_speed [--case=ID ...] [--all] [--repeats=N]``.
 The load average is printed beside (the machine is shared). Timing lives here, never in the tests.
 """
+
 from __future__ import annotations
 
 import os
@@ -88,8 +89,9 @@ def time_case(case: Any, repeats: int = 9, module: ModuleType = mechanism) -> Me
     timer = timeit.Timer(lambda: run_method(case, "elastica"), timer=time.process_time)
     cpu = min(timer.repeat(number=1, repeat=repeats))
     c = counts.counts
-    return MechanismRow(case.case.id, cpu, case.n_levels(), c["residual"], c["jacobian"], c["integrate_beam"],
-                        run.converged)
+    return MechanismRow(
+        case.case.id, cpu, case.n_levels(), c["residual"], c["jacobian"], c["integrate_beam"], run.converged
+    )
 
 
 def cases(only: list[str], every: bool) -> list[Any]:
@@ -108,12 +110,16 @@ def main(argv: list[str] | None = None) -> int:
     every = "--all" in args
     table = [time_case(case, repeats) for case in cases(only or ([] if every else [DEFAULT_CASE]), every)]
     width = max((len(r.case_id) for r in table), default=4)
-    print(f"{'case':<{width}}  {'ms/level':>8}  {'residuals/level':>15}  {'Jacobians/level':>15}  "
-          f"{'integrations/level':>18}  levels  (best of {repeats} CPU times)")
+    print(
+        f"{'case':<{width}}  {'ms/level':>8}  {'residuals/level':>15}  {'Jacobians/level':>15}  "
+        f"{'integrations/level':>18}  levels  (best of {repeats} CPU times)"
+    )
     for r in sorted(table, key=lambda r: -r.cpu / r.levels):
-        print(f"{r.case_id:<{width}}  {1e3 * r.per_level(r.cpu):8.3f}  {r.per_level(r.residuals):15.1f}  "
-              f"{r.per_level(r.jacobians):15.1f}  {r.per_level(r.integrations):18.1f}  {r.levels:6d}"
-              f"{'' if r.converged else '  (not converged)'}")
+        print(
+            f"{r.case_id:<{width}}  {1e3 * r.per_level(r.cpu):8.3f}  {r.per_level(r.residuals):15.1f}  "
+            f"{r.per_level(r.jacobians):15.1f}  {r.per_level(r.integrations):18.1f}  {r.levels:6d}"
+            f"{'' if r.converged else '  (not converged)'}"
+        )
     print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     return 0
 

@@ -8,6 +8,7 @@ in CPU time (the machine is shared: wall time also counts waiting for a core) wi
 load average printed beside.  Run: ``.venv/bin/python validation/bench/prbm_speed.py``
 (``--cases-only`` skips the library rows, ``--fast`` leaves out the cases slower than 50 ms a call,
 ``--case=ID`` (repeatable) times only those cases).  (Timing lives here, never in the tests.)"""
+
 from __future__ import annotations
 
 import math
@@ -67,8 +68,9 @@ def case_kind(case) -> str:
     mech = case.mechanism
     if options.get("links"):
         return "mechanism, hand-given " + ("slider-crank" if "r11" in options["links"] else "four-bar")
-    return f"mechanism, {len(mech.beams)} beam(s), {len(mech.links)} link(s)" + \
-        (f", model {options['model']}" if options.get("model") else "")
+    return f"mechanism, {len(mech.beams)} beam(s), {len(mech.links)} link(s)" + (
+        f", model {options['model']}" if options.get("model") else ""
+    )
 
 
 def time_adapter(case, budget: float = 0.05) -> AdapterRow:
@@ -104,8 +106,10 @@ def adapter_rows(only: list[str] | None = None, slower_than: float = math.inf) -
 def print_adapter_rows(rows: list[AdapterRow]) -> None:
     """One line per case, then per kind of case the median and the largest CPU time per call."""
     width = max(len(r.case_id) for r in rows)
-    print(f"{'case':<{width}}  {'CPU/call':>12}  {'wall/call':>12}  kind; message (whole adapter call, "
-          f"run_method(case, 'prbm'), first call excluded)")
+    print(
+        f"{'case':<{width}}  {'CPU/call':>12}  {'wall/call':>12}  kind; message (whole adapter call, "
+        f"run_method(case, 'prbm'), first call excluded)"
+    )
     for r in sorted(rows, key=lambda r: (r.kind, r.case_id)):
         print(f"{r.case_id:<{width}}  {r.cpu * 1e6:9.1f} us  {r.wall * 1e6:9.1f} us  {r.kind}; {r.message[:50]}")
     print()
@@ -122,22 +126,63 @@ def library_rows() -> list[tuple[str, float]]:
     rows = []
     rows.append(("fixed_pinned_tip, 1 level", best(lambda: prbm.fixed_pinned_tip(2.0, 0.5, length=1.0, EI=1.0), 2000)))
     P = np.linspace(0.0, 5.0, 10_000)
-    rows.append(("fixed_pinned_tip, 10,000 levels", best(lambda: prbm.fixed_pinned_tip(P, 0.5, length=1.0, EI=1.0), 20)))
+    rows.append(
+        ("fixed_pinned_tip, 10,000 levels", best(lambda: prbm.fixed_pinned_tip(P, 0.5, length=1.0, EI=1.0), 20))
+    )
     n = np.linspace(-3.9, 9.9, 10_000)
-    rows.append(("fixed_pinned_tip, 10,000 (P, n) pairs", best(lambda: prbm.fixed_pinned_tip(P, n, length=1.0, EI=1.0), 20)))
-    rows.append(("fixed_pinned_from_tip, 10,000 levels", best(lambda: prbm.fixed_pinned_from_tip(n=0.5, b=0.5 * P / 5.0, length=1.0, EI=1.0), 20)))
+    rows.append(
+        ("fixed_pinned_tip, 10,000 (P, n) pairs", best(lambda: prbm.fixed_pinned_tip(P, n, length=1.0, EI=1.0), 20))
+    )
+    rows.append(
+        (
+            "fixed_pinned_from_tip, 10,000 levels",
+            best(lambda: prbm.fixed_pinned_from_tip(n=0.5, b=0.5 * P / 5.0, length=1.0, EI=1.0), 20),
+        )
+    )
     rows.append(("pure_moment_tip, 10,000 levels", best(lambda: prbm.pure_moment_tip(P, length=1.0, EI=1.0), 50)))
-    rows.append(("curved_fixed_pinned_tip, 10,000 levels", best(lambda: prbm.curved_fixed_pinned_tip(P, 0.5, length=1.0, EI=1.0, curvature=0.5), 20)))
-    rows.append(("fixed_guided_tip, 10,000 levels", best(lambda: prbm.fixed_guided_tip(P, 0.5, length=1.0, EI=1.0), 20)))
-    rows.append(("slfp_tip, 10,000 levels", best(lambda: prbm.slfp_tip(P, 0.5, flexure_length=0.1, rigid_length=1.0, EI=1.0), 20)))
+    rows.append(
+        (
+            "curved_fixed_pinned_tip, 10,000 levels",
+            best(lambda: prbm.curved_fixed_pinned_tip(P, 0.5, length=1.0, EI=1.0, curvature=0.5), 20),
+        )
+    )
+    rows.append(
+        ("fixed_guided_tip, 10,000 levels", best(lambda: prbm.fixed_guided_tip(P, 0.5, length=1.0, EI=1.0), 20))
+    )
+    rows.append(
+        (
+            "slfp_tip, 10,000 levels",
+            best(lambda: prbm.slfp_tip(P, 0.5, flexure_length=0.1, rigid_length=1.0, EI=1.0), 20),
+        )
+    )
     beam = prbm.InflectionBeam(20.0, 30e6 * 1.02e-5)
-    rows.append(("inflection solve_loads (Table 3.2 Ex. 1, all roots)", best(lambda: prbm.solve_loads(beam, 3.5, 1.5, 15.0), 3, 3)))
-    rows.append(("inflection case 1 (Table 3.3 Ex. 3, all roots)",
-                 best(lambda: prbm.solve_displacements(beam, a=18.5, b=5.0, theta0=math.radians(-45)), 3, 3)))
-    rows.append(("inflection case 2c (Table 3.6 Ex. 3, all roots)",
-                 best(lambda: prbm.solve_displacements(beam, b=5.0, theta0=math.radians(-30), l1=9.0), 3, 3)))
-    fb = prbm.FourBar(3.902 - 0.8802j, 4.754 + 2.767j, 6.249 - 2.176j, 7.099 + 1.471j, 7.929 - 0.148j,
-                      springs=(38.356, 0, 0, 0), theta_free=(math.radians(15.86), -0.4958, -0.1057))
+    rows.append(
+        (
+            "inflection solve_loads (Table 3.2 Ex. 1, all roots)",
+            best(lambda: prbm.solve_loads(beam, 3.5, 1.5, 15.0), 3, 3),
+        )
+    )
+    rows.append(
+        (
+            "inflection case 1 (Table 3.3 Ex. 3, all roots)",
+            best(lambda: prbm.solve_displacements(beam, a=18.5, b=5.0, theta0=math.radians(-45)), 3, 3),
+        )
+    )
+    rows.append(
+        (
+            "inflection case 2c (Table 3.6 Ex. 3, all roots)",
+            best(lambda: prbm.solve_displacements(beam, b=5.0, theta0=math.radians(-30), l1=9.0), 3, 3),
+        )
+    )
+    fb = prbm.FourBar(
+        3.902 - 0.8802j,
+        4.754 + 2.767j,
+        6.249 - 2.176j,
+        7.099 + 1.471j,
+        7.929 - 0.148j,
+        springs=(38.356, 0, 0, 0),
+        theta_free=(math.radians(15.86), -0.4958, -0.1057),
+    )
     th = np.linspace(0.3, 0.9, 100)
     rows.append(("FourBar.input_torque (network virtual work), 100 angles", best(lambda: fb.input_torque(th), 5)))
     rows.append(("FourBar.positions_under_torque, 1 level", best(lambda: fb.positions_under_torque([9.75]), 20)))
@@ -159,21 +204,50 @@ def network_rows() -> list[tuple[str, float, float, float | None]]:
     prbm.solve(net, one, 1)  # warm-up: the network's mobility analysis is done once
     run_method(case, "fem")
     fem = min(timeit.repeat(lambda: run_method(case, "fem"), number=1, repeat=3)) / n
-    rows.append(("parallel-guided network, 1 level from the unloaded pose",
-                 best(lambda: prbm.solve(net, one, 1), 50), best_cpu(lambda: prbm.solve(net, one, 1), 50), fem))
-    rows.append(("parallel-guided network, per level of 8 (stability on)",
-                 best(lambda: prbm.solve(net, all_loads, n), 20) / n,
-                 best_cpu(lambda: prbm.solve(net, all_loads, n), 20) / n, fem))
-    rows.append(("parallel-guided network, per level of 8 (stability off)",
-                 best(lambda: prbm.solve(net, all_loads, n, stability=False), 20) / n,
-                 best_cpu(lambda: prbm.solve(net, all_loads, n, stability=False), 20) / n, fem))
-    fb = prbm.FourBar(3.902 - 0.8802j, 4.754 + 2.767j, 6.249 - 2.176j, 7.099 + 1.471j, 7.929 - 0.148j,
-                      springs=(38.356, 0, 0, 0), theta_free=(math.radians(15.86), -0.4958, -0.1057))
+    rows.append(
+        (
+            "parallel-guided network, 1 level from the unloaded pose",
+            best(lambda: prbm.solve(net, one, 1), 50),
+            best_cpu(lambda: prbm.solve(net, one, 1), 50),
+            fem,
+        )
+    )
+    rows.append(
+        (
+            "parallel-guided network, per level of 8 (stability on)",
+            best(lambda: prbm.solve(net, all_loads, n), 20) / n,
+            best_cpu(lambda: prbm.solve(net, all_loads, n), 20) / n,
+            fem,
+        )
+    )
+    rows.append(
+        (
+            "parallel-guided network, per level of 8 (stability off)",
+            best(lambda: prbm.solve(net, all_loads, n, stability=False), 20) / n,
+            best_cpu(lambda: prbm.solve(net, all_loads, n, stability=False), 20) / n,
+            fem,
+        )
+    )
+    fb = prbm.FourBar(
+        3.902 - 0.8802j,
+        4.754 + 2.767j,
+        6.249 - 2.176j,
+        7.099 + 1.471j,
+        7.929 - 0.148j,
+        springs=(38.356, 0, 0, 0),
+        theta_free=(math.radians(15.86), -0.4958, -0.1057),
+    )
     net4 = fb.network()
     torque = [prbm.Couple("link2", (9.75,))]
     prbm.solve(net4, torque, 1)
-    rows.append(("Test 2 four-bar network, 1 design torque", best(lambda: prbm.solve(net4, torque, 1), 50),
-                 best_cpu(lambda: prbm.solve(net4, torque, 1), 50), None))
+    rows.append(
+        (
+            "Test 2 four-bar network, 1 design torque",
+            best(lambda: prbm.solve(net4, torque, 1), 50),
+            best_cpu(lambda: prbm.solve(net4, torque, 1), 50),
+            None,
+        )
+    )
     return rows
 
 
@@ -181,8 +255,10 @@ def main() -> None:
     if "--cases-only" not in sys.argv:
         rows = network_rows()
         width = max(len(r[0]) for r in rows)
-        print(f"{'PRB network (one load level, after warm-up)':<{width}}  {'PRBM wall':>10}  {'PRBM CPU':>10}  "
-              f"{'FEM same case':>14}")
+        print(
+            f"{'PRB network (one load level, after warm-up)':<{width}}  {'PRBM wall':>10}  {'PRBM CPU':>10}  "
+            f"{'FEM same case':>14}"
+        )
         for name, t, cpu, fem in rows:
             fem_text = f"{fem * 1e3:11.1f} ms" if fem is not None else ""
             print(f"{name:<{width}}  {t * 1e3:7.3f} ms  {cpu * 1e3:7.3f} ms  {fem_text:>14}")

@@ -16,6 +16,7 @@ timed separately and not included. Results are printed and written as JSON.
 
 Run: ``python -m validation.bench.sweep_scale [--out reports/bench/sweep_scale.json]``.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -82,11 +83,19 @@ def _timed(spec: Path, out: Path, **kwargs) -> dict:
     chunk = runs[-1]["chunk"]
     tasks = -(-len(per_point) // chunk)
     own = float(per_point["point_time"].sum())
-    return {"status": status, "points": len(per_point), "tasks": tasks, "chunk": chunk, "workers": workers,
-            "wall_s": round(wall, 3), "task_time_sum_s": round(own, 3),
-            "mean_point_time_ms": round(1e3 * own / max(len(per_point), 1), 3),
-            "overhead_per_task_ms": round(1e3 * (wall * workers - own) / max(tasks, 1), 3),
-            "ok_rows": int((frame["status"] == "ok").sum()), "rows": len(frame)}
+    return {
+        "status": status,
+        "points": len(per_point),
+        "tasks": tasks,
+        "chunk": chunk,
+        "workers": workers,
+        "wall_s": round(wall, 3),
+        "task_time_sum_s": round(own, 3),
+        "mean_point_time_ms": round(1e3 * own / max(len(per_point), 1), 3),
+        "overhead_per_task_ms": round(1e3 * (wall * workers - own) / max(tasks, 1), 3),
+        "ok_rows": int((frame["status"] == "ok").sum()),
+        "rows": len(frame),
+    }
 
 
 def measure(folder: Path) -> dict:
@@ -96,8 +105,9 @@ def measure(folder: Path) -> dict:
     heavy, light = folder / "heavy.toml", folder / "light.toml"
     heavy.write_text(HEAVY.format(case=CASE.as_posix()))
     light.write_text(LIGHT.format(case=CASE.as_posix()))
-    result: dict = {"machine": {"cpus": os.cpu_count(), "python": platform.python_version(),
-                                "platform": platform.platform()}}
+    result: dict = {
+        "machine": {"cpus": os.cpu_count(), "python": platform.python_version(), "platform": platform.platform()}
+    }
     # warm the page cache and imports once
     run_sweep(heavy, folder / "warm", executor="serial", progress=False, limit=1)
     h1 = _timed(heavy, folder / "h1", executor="process", workers=1)
@@ -105,8 +115,12 @@ def measure(folder: Path) -> dict:
     result["heavy"] = {"process_1": h1, "process_2": h2, "speedup_2_over_1": round(h1["wall_s"] / h2["wall_s"], 3)}
     result["light"] = {"process_2": _timed(light, folder / "l_proc", executor="process", workers=2)}
     started = time.perf_counter()
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
-                      silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
+    with (
+        LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=logging.ERROR
+        ) as cluster,
+        Client(cluster) as client,
+    ):
         startup = time.perf_counter() - started
         client.run(lambda: __import__("validation.methods.fem"))  # imports on the workers, untimed
         result["dask_localcluster_startup_s"] = round(startup, 3)

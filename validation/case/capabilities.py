@@ -4,6 +4,7 @@ The schema uses this to reject a case that asks a method for an output it cannot
 before anything runs. Quantities carry their physical dimension, which the unit system of
 the case turns into a unit string.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -46,11 +47,27 @@ _LOADS = {"force_x", "force_y", "moment"}
 _REACTIONS = {"reaction_x", "reaction_y", "reaction_moment"}
 
 METHODS: dict[str, frozenset[str]] = {
-    "fem": frozenset(_POSITIONS | _LOADS | _REACTIONS | {"strain_energy", "input_angle",
-                                                         "input_torque", "limit_load", "max_stress",
-                                                         "inflection_points", "mechanical_advantage", "dof"}),
-    "prbm": frozenset(_POSITIONS | _LOADS | _REACTIONS | {"strain_energy", "input_angle", "input_torque",
-                                             "mechanical_advantage", "dof", "prb_angle"}),
+    "fem": frozenset(
+        _POSITIONS
+        | _LOADS
+        | _REACTIONS
+        | {
+            "strain_energy",
+            "input_angle",
+            "input_torque",
+            "limit_load",
+            "max_stress",
+            "inflection_points",
+            "mechanical_advantage",
+            "dof",
+        }
+    ),
+    "prbm": frozenset(
+        _POSITIONS
+        | _LOADS
+        | _REACTIONS
+        | {"strain_energy", "input_angle", "input_torque", "mechanical_advantage", "dof", "prb_angle"}
+    ),
     "elastica": frozenset(_POSITIONS | _LOADS | _REACTIONS | {"strain_energy"}),
     "bcm": frozenset(_POSITIONS | _LOADS | {"strain_energy"}),
     # peer, for benchmarks and cross-checks (the 'peer' extra)

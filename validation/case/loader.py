@@ -7,6 +7,7 @@ held against rigid-body motion (``validation/case/mobility.py``). Case files can
 and globs are all accepted, and unknown names get the nearest valid ones, as do misspelled fields
 ("segment.lenght: unknown field; did you mean 'length'?", ``unknown_field``).
 """
+
 from __future__ import annotations
 
 import difflib
@@ -81,14 +82,18 @@ def field_names(model: type[BaseModel], location: tuple) -> list[str]:
     ``location`` leads to from ``model``; list indices, dict keys and union tags are stepped over."""
     models = [model]
     for part in location:
-        below = [m for current in models if isinstance(part, str) and part in current.model_fields
-                 for m in _models_in(current.model_fields[part].annotation)]
+        below = [
+            m
+            for current in models
+            if isinstance(part, str) and part in current.model_fields
+            for m in _models_in(current.model_fields[part].annotation)
+        ]
         models = below or models
     return sorted({field.alias or name for m in models for name, field in m.model_fields.items()})
 
 
 def unknown_field(name: str, known: list[str]) -> str:
-    """"unknown field; did you mean 'length'?" (the nearest names, ``difflib``), or the valid names
+    """ "unknown field; did you mean 'length'?" (the nearest names, ``difflib``), or the valid names
     when none is close."""
     close = difflib.get_close_matches(name, known, n=2, cutoff=0.6)
     if close:
@@ -123,9 +128,12 @@ def _without_explained_missing(problems: list[tuple[str, str]]) -> list[tuple[st
     """``problems`` less each required field reported missing that a misspelled field beside it is
     the nearest name of ('segment.lenght: ... did you mean 'length'?' explains 'segment.length: Field
     required')."""
-    meant = {f"{field.rpartition('.')[0]}.{name}".lstrip(".") for field, problem in problems
-             if problem.startswith("unknown field; did you mean")
-             for name in re.findall(r"'([^']+)'", problem.partition("did you mean")[2])}
+    meant = {
+        f"{field.rpartition('.')[0]}.{name}".lstrip(".")
+        for field, problem in problems
+        if problem.startswith("unknown field; did you mean")
+        for name in re.findall(r"'([^']+)'", problem.partition("did you mean")[2])
+    }
     return [(f, p) for f, p in problems if not (p == "Field required" and f in meant)] or problems
 
 
@@ -145,8 +153,11 @@ def read_toml_model(path: Path | str, model, error=None):
     except OSError as exc:
         raise error(path, "", f"cannot read file ({exc.strerror})") from None
     except UnicodeDecodeError as exc:  # TOML is UTF-8 text
-        raise error(path, "", f"not UTF-8 text: byte 0x{exc.object[exc.start]:02x} at offset {exc.start} "
-                    "(save the file as UTF-8)") from None
+        raise error(
+            path,
+            "",
+            f"not UTF-8 text: byte 0x{exc.object[exc.start]:02x} at offset {exc.start} (save the file as UTF-8)",
+        ) from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -191,8 +202,9 @@ def search_roots(patterns: list[str], root: Path = CASES_DIR) -> list[Path]:
     return list(dict.fromkeys(r.resolve() for r in roots))
 
 
-def find_case_files(patterns: list[str] | None = None, root: Path = CASES_DIR,
-                    roots: list[Path] | None = None) -> list[Path]:
+def find_case_files(
+    patterns: list[str] | None = None, root: Path = CASES_DIR, roots: list[Path] | None = None
+) -> list[Path]:
     """Case files matching ids, files, folders (every ``*.toml`` below) or globs; all of ``root``
     if none given. Ids are looked up in ``roots`` (default: ``root`` and the folders named
     alongside). An unknown name raises ``CaseError`` with the nearest valid ids."""
@@ -207,8 +219,8 @@ def find_case_files(patterns: list[str] | None = None, root: Path = CASES_DIR,
                 raise CaseError(pattern, "", "the folder holds no case file (*.toml)")
             found.extend(m.resolve() for m in matches)
             continue
-        matches = [Path(p) for p in glob.glob(pattern, recursive=True)]           # a path as given
-        below = glob.glob(str(root / "**" / pattern), recursive=True)             # a name found below root
+        matches = [Path(p) for p in glob.glob(pattern, recursive=True)]  # a path as given
+        below = glob.glob(str(root / "**" / pattern), recursive=True)  # a name found below root
         below += glob.glob(str(root / "**" / f"{pattern}.toml"), recursive=True)
         matches += [Path(p) for p in below if not _in_data_folder(Path(p))]
         matches = [m for m in matches if m.suffix == ".toml" and m.is_file()]
@@ -216,8 +228,7 @@ def find_case_files(patterns: list[str] | None = None, root: Path = CASES_DIR,
             index = _ids_in(roots, pattern)
             matches = [path for case_id, path in index.items() if fnmatch.fnmatchcase(case_id, pattern)]
             if not matches:
-                raise CaseError(pattern, "", "no case file matches this id, file or pattern"
-                                + nearest(pattern, index))
+                raise CaseError(pattern, "", "no case file matches this id, file or pattern" + nearest(pattern, index))
         found.extend(sorted(set(m.resolve() for m in matches)))
     return list(dict.fromkeys(found))
 
@@ -234,8 +245,11 @@ def _toml_files(root: Path) -> list[Path]:
     found: list[Path] = []
     root = Path(root).resolve()
     for folder, subfolders, files in os.walk(root):
-        subfolders[:] = sorted(d for d in subfolders if not d.startswith(".") and d not in SKIPPED
-                               and (Path(folder) / d).resolve() not in DATA_FOLDERS)
+        subfolders[:] = sorted(
+            d
+            for d in subfolders
+            if not d.startswith(".") and d not in SKIPPED and (Path(folder) / d).resolve() not in DATA_FOLDERS
+        )
         found.extend(Path(folder) / f for f in sorted(files) if f.endswith(".toml"))
     return found
 
@@ -258,13 +272,15 @@ def _id_index(root: Path, containing: str | None = None) -> dict[str, Path]:
     key ``id`` that quoted value (reading a file is cheap, parsing it is not: a case's id is also
     named in other files' references)."""
     index: dict[str, Path] = {}
-    id_line = None if containing is None else re.compile(
-        r"^[ \t]*id[ \t]*=[ \t]*([\"'])" + re.escape(containing) + r"\1", re.MULTILINE)
+    id_line = (
+        None
+        if containing is None
+        else re.compile(r"^[ \t]*id[ \t]*=[ \t]*([\"'])" + re.escape(containing) + r"\1", re.MULTILINE)
+    )
     for path in _toml_files(root):
         try:
             text = path.read_text(encoding="utf-8")
-            if containing is not None and id_line is not None and (containing not in text
-                                                                   or not id_line.search(text)):
+            if containing is not None and id_line is not None and (containing not in text or not id_line.search(text)):
                 continue
             case_id = tomllib.loads(text)["case"]["id"]
         except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, KeyError, TypeError):

@@ -1,5 +1,6 @@
 """The loads of a case's load path, by name, value and unit per level (no pandas: the CLI's ``solve``
 uses it at start-up; ``validation/run/tables.py`` builds its tables from it)."""
+
 from __future__ import annotations
 
 from validation.case.schema import Case, LoadSpec
@@ -12,8 +13,11 @@ def load_name(load: LoadSpec, index: int, case: Case) -> str:
     if load.label:
         return load.label
     name = f"{load.kind} at {load.point}"
-    same = [i for i, other in enumerate(case.loads) if not other.label
-            and (other.kind, other.point) == (load.kind, load.point)]
+    same = [
+        i
+        for i, other in enumerate(case.loads)
+        if not other.label and (other.kind, other.point) == (load.kind, load.point)
+    ]
     return name if len(same) == 1 else f"{name} #{index}"
 
 
@@ -21,9 +25,9 @@ def load_unit(load: LoadSpec, case: Case) -> str:
     """Unit of a load's values in the case's unit system (degrees for a prescribed rotation)."""
     if load.kind == "rotation":
         return "deg"
-    if load.kind == "distributed":                       # per unit length of the beam
+    if load.kind == "distributed":  # per unit length of the beam
         return f"{case.unit('force')}/{case.unit('length')}"
-    if load.kind == "self_weight":                       # a multiple of full gravity
+    if load.kind == "self_weight":  # a multiple of full gravity
         return "x gravity"
     dimension = LOAD_UNITS.get(load.kind)
     return case.unit(dimension) if dimension else ""

@@ -15,6 +15,7 @@ double precision); counts of work are bounded (``strict.Count``) and, for the me
 ``[limits]`` (``validation.case.scale``). Options that depend on the case (per-level lists as long as the
 load path, an option the method does not read for this case) are checked by ``validation.case.scale``.
 """
+
 from __future__ import annotations
 
 import math
@@ -26,7 +27,7 @@ from validation.case.strict import REPRESENTABLE, TINY, Count, Finite, Fraction,
 
 PerLevel = Finite | list[Finite]  # one value for every level, or one per level
 PositivePerLevel = Positive | list[Positive]
-Ratio = Annotated[float, Field(ge=1.0, le=1e12, allow_inf_nan=False)]      # of two stiffnesses
+Ratio = Annotated[float, Field(ge=1.0, le=1e12, allow_inf_nan=False)]  # of two stiffnesses
 ThicknessRatio = Annotated[float, Field(ge=1e-3, le=1.0, allow_inf_nan=False), REPRESENTABLE]
 Degrees = Annotated[float, Field(ge=-360.0, le=360.0, allow_inf_nan=False), REPRESENTABLE]
 Friction = Annotated[float, Field(ge=0.0, le=10.0, allow_inf_nan=False), REPRESENTABLE]
@@ -47,12 +48,16 @@ class HeldOutputOptions(Options):
     """The mechanical advantage of a held output point, as the FEM computes it (and the PRBM network
     built from the geometry): the output's working direction or moment arm, the input load, the step."""
 
-    direction: Vector | None = Field(default=None, description="the output force's direction "
-                                     "(the working motion of a held output point)")
-    moment_arm: Positive | None = Field(default=None, description="d_o: the output is a held rotation at 'output'; "
-                                        "F_o = its holding moment / d_o")
-    sense: Literal[1, -1] = Field(default=1, description="with moment_arm: +1 if the working motion of the output "
-                                  "is counter-clockwise, -1 if clockwise")
+    direction: Vector | None = Field(
+        default=None, description="the output force's direction (the working motion of a held output point)"
+    )
+    moment_arm: Positive | None = Field(
+        default=None, description="d_o: the output is a held rotation at 'output'; F_o = its holding moment / d_o"
+    )
+    sense: Literal[1, -1] = Field(
+        default=1,
+        description="with moment_arm: +1 if the working motion of the output is counter-clockwise, -1 if clockwise",
+    )
     input: Index | None = Field(default=None, description="index of the input load in [[loads]]")
     step: Fraction = Field(default=1e-4, description="tangent: input increment over its largest value")
     d_i: Positive | None = Field(default=None, description="input force distance, for an input moment")
@@ -112,8 +117,10 @@ class FemSlfpOptions(Options):
     length: Positive
     E: Positive
     thickness_ratio: ThicknessRatio = Field(
-        default=0.1, description="flexure thickness over its length: at most 1 (thicker than long is no beam), at "
-        "least 1e-3 (the width w = 12 I / t^3 of a thinner one is a plate a thousand times its length)")
+        default=0.1,
+        description="flexure thickness over its length: at most 1 (thicker than long is no beam), at "
+        "least 1e-3 (the width w = 12 I / t^3 of a thinner one is a plate a thousand times its length)",
+    )
 
 
 class FemOptions(Options):
@@ -122,25 +129,36 @@ class FemOptions(Options):
     richardson: bool = Field(default=False, description="report the Richardson-extrapolated value")
     tol: Positive | None = Field(default=None, description="refine until the estimate is below it")
     levels: Annotated[int, Field(ge=1, le=12)] = Field(default=2, description="meshes in the error estimate")
-    max_refine: Count = Field(default=64, description="finest mesh of the estimate: at most max_refine x elements (the "
-                              "meshes are doubled until tol is met and the outputs are in the asymptotic range)")
+    max_refine: Count = Field(
+        default=64,
+        description="finest mesh of the estimate: at most max_refine x elements (the "
+        "meshes are doubled until tol is met and the outputs are in the asymptotic range)",
+    )
     rtol: Fraction = Field(default=1e-10, description="Newton residual tolerance")
     inextensible_ratio: Ratio = Field(default=1e6, description="EA L^2/EI when a section gives no area")
     rigid_ratio: Ratio = Field(default=1e6, description="stiffness of pinned rigid links over the stiffest beam")
     arc_length: Positive | None = None
-    max_steps: Count | None = Field(default=None, description="limit load: steps of the continuation (none: the "
-                                    "adapter's LIMIT_STEPS of its limit_control)")
+    max_steps: Count | None = Field(
+        default=None,
+        description="limit load: steps of the continuation (none: the adapter's LIMIT_STEPS of its limit_control)",
+    )
     limit_control: Literal["arclength", "displacement"] = "arclength"
-    control_step: Positive | None = Field(default=None, description="limit load by displacement: the step (none: "
-                                          "0.005 x the model's characteristic length)")
-    inverse: FemInverseOptions | None = Field(default=None, description="inverse tip problem "
-                                              "(validation.methods.inverse_problem)")
-    slfp: FemSlfpOptions | None = Field(default=None, description="sprung joints built as small-length flexural "
-                                        "pivots (validation.methods.slfp)")
-    input_moment_at: str | None = Field(default=None, description="reach the prescribed displacement by a moment "
-                                        "at this node")
-    zero_level: Index | None = Field(default=None, description="positions measured from this "
-                                     "level's state (a scale zeroed under self-weight)")
+    control_step: Positive | None = Field(
+        default=None,
+        description="limit load by displacement: the step (none: 0.005 x the model's characteristic length)",
+    )
+    inverse: FemInverseOptions | None = Field(
+        default=None, description="inverse tip problem (validation.methods.inverse_problem)"
+    )
+    slfp: FemSlfpOptions | None = Field(
+        default=None, description="sprung joints built as small-length flexural pivots (validation.methods.slfp)"
+    )
+    input_moment_at: str | None = Field(
+        default=None, description="reach the prescribed displacement by a moment at this node"
+    )
+    zero_level: Index | None = Field(
+        default=None, description="positions measured from this level's state (a scale zeroed under self-weight)"
+    )
     ma: MechanicalAdvantageOptions | None = None
     dof: SoftModeOptions | None = None
 
@@ -155,8 +173,9 @@ class ElasticaOptions(Options):
     b: PerLevel | None = None
     theta0: PerLevel | None = None
     l1: PositivePerLevel | None = None
-    inverse: InverseOptions | None = Field(default=None, description="inverse tip problem "
-                                           "(validation.methods.inverse_problem)")
+    inverse: InverseOptions | None = Field(
+        default=None, description="inverse tip problem (validation.methods.inverse_problem)"
+    )
 
 
 class BcmOptions(Options):
@@ -169,8 +188,9 @@ class OpenSeesOptions(Options):
     max_steps: Count = Field(default=2000, description="limit load: displacement-control steps at most")
     steps_per_level: Count = Field(default=1, description="load steps per load level (each halved on failure)")
     max_halvings: Annotated[int, Field(ge=0, le=40)] = Field(default=12, description="load-step halvings on failure")
-    control_step: Positive | None = Field(default=None, description="limit load: the displacement step (none: 0.002 x "
-                                          "the model's largest extent)")
+    control_step: Positive | None = Field(
+        default=None, description="limit load: the displacement step (none: 0.002 x the model's largest extent)"
+    )
     rigid_ratio: Ratio = Field(default=1e6, description="stiffness of the rigid links' elements over the stiffest beam")
 
 
@@ -269,8 +289,9 @@ class PrbmOptions(Options):
     theta0_deg: PerLevel | None = None
     # mechanisms
     links: dict[str, Vector] | None = None
-    springs: dict[str, NonNegative] | None = Field(default=None, description="torsion springs k1..k4 (torque/rad) and "
-                                                   "the slider's f_k: finite and not negative")
+    springs: dict[str, NonNegative] | None = Field(
+        default=None, description="torsion springs k1..k4 (torque/rad) and the slider's f_k: finite and not negative"
+    )
     spring_joints: dict[str, str] | None = None
     slfp: FourBarSlfpOptions | None = None
     energy_free: dict[str, Finite] | None = None
@@ -280,28 +301,41 @@ class PrbmOptions(Options):
     coupler_point: str = "P"
     origin: Vector = (0.0, 0.0)
     ma: PrbmMechanicalAdvantageOptions | None = Field(
-        default=None, description="four-bar: {F_i, d_i, d_o} (eqs 190, 192); network: as [methods.fem] ma, "
-        "{output, direction, input, step, d_i, definition}")
+        default=None,
+        description="four-bar: {F_i, d_i, d_o} (eqs 190, 192); network: as [methods.fem] ma, "
+        "{output, direction, input, step, d_i, definition}",
+    )
     max_mode: Annotated[int, Field(ge=1, le=10)] = 2
     segment_model: Literal["inflection", "fixed-pinned", "fixed-free"] | None = None
     model: Literal["network", "chain", "theta-dependent", "lyon", "feasible-l1"] | None = Field(
-        default=None, description="'network': solve a mechanism by the general network built from the geometry even "
+        default=None,
+        description="'network': solve a mechanism by the general network built from the geometry even "
         "where a special path applies; 'chain', 'theta-dependent', 'lyon': seed 000 chapter 2's other segment models, "
         "'feasible-l1': section 3.6's vector loop "
         "(validation.methods.prbm_alternatives). A load along a segment without a model takes the chain, its "
-        "elements chosen for chain_tol; any model but 'chain' there is refused")
-    theta_fit: Literal["51", "52", "52-tension"] = Field(default="51", description="K_Theta(n, Theta) of seed 000 eq "
-                                                         "(51) or (52) for model = 'theta-dependent'")
-    chain_elements: Count = Field(default=40, description="Chain Algorithm elements (section 3.4 used 40); on a load "
-                                  "along the segment without a model, fixes the count the adapter would choose")
+        "elements chosen for chain_tol; any model but 'chain' there is refused",
+    )
+    theta_fit: Literal["51", "52", "52-tension"] = Field(
+        default="51", description="K_Theta(n, Theta) of seed 000 eq (51) or (52) for model = 'theta-dependent'"
+    )
+    chain_elements: Count = Field(
+        default=40,
+        description="Chain Algorithm elements (section 3.4 used 40); on a load "
+        "along the segment without a model, fixes the count the adapter would choose",
+    )
     chain_steps: Count = Field(default=10, description="Chain Algorithm load (or displacement) increments")
-    chain_tol: Fraction = Field(default=1e-3, description="a load along the segment without a model: the Chain "
-                                "Algorithm's elements are doubled from 10 until two successive chains' tips differ by "
-                                "less than chain_tol x L at every level (validation.methods.prbm_readings.chain_count)")
-    zero_level: Index | None = Field(default=None, description="positions measured from this "
-                                     "level's state, as the FEM option (prbm_readings)")
-    rules: RulesOptions | None = Field(default=None, description="the PRB builder's rules "
-                                       "(validation.methods.prbm_network.rules)")
+    chain_tol: Fraction = Field(
+        default=1e-3,
+        description="a load along the segment without a model: the Chain "
+        "Algorithm's elements are doubled from 10 until two successive chains' tips differ by "
+        "less than chain_tol x L at every level (validation.methods.prbm_readings.chain_count)",
+    )
+    zero_level: Index | None = Field(
+        default=None, description="positions measured from this level's state, as the FEM option (prbm_readings)"
+    )
+    rules: RulesOptions | None = Field(
+        default=None, description="the PRB builder's rules (validation.methods.prbm_network.rules)"
+    )
     # the dissertation's synthesis data (chapters 5-7), kept beside the model for the reader and the synthesis;
     # the forward PRBM does not read them, but they are held to the same ranges
     input: str | None = None
@@ -327,8 +361,13 @@ class PrbmOptions(Options):
         return (self.springs or {}).get(name, 0.0)
 
 
-OPTIONS: dict[str, type[Options]] = {"fem": FemOptions, "elastica": ElasticaOptions, "bcm": BcmOptions,
-                                     "opensees": OpenSeesOptions, "prbm": PrbmOptions}
+OPTIONS: dict[str, type[Options]] = {
+    "fem": FemOptions,
+    "elastica": ElasticaOptions,
+    "bcm": BcmOptions,
+    "opensees": OpenSeesOptions,
+    "prbm": PrbmOptions,
+}
 
 
 def options_of(method: str, given: dict | None) -> Options:

@@ -29,6 +29,7 @@ toward a point both components) and each freedom a prescribed motion there holds
 A pinned-pinned segment whose tip is held along the chord only (a force across it, a follower force,
 a force toward a point) swings about its root pin: a mechanism, rejected before any method runs.
 """
+
 from __future__ import annotations
 
 import math
@@ -87,7 +88,7 @@ def constraint_matrix(case: Case) -> tuple[np.ndarray, _Unknowns, set[str]]:
         for name in names:
             attached.setdefault(name, []).append(member)
             n, (rx, ry) = idx.node[name], xy[name] - origin
-            row({n: 1.0, m: -1.0, m + 2: ry})       # u_node = u_m - w_m * ry
+            row({n: 1.0, m: -1.0, m + 2: ry})  # u_node = u_m - w_m * ry
             row({n + 1: 1.0, m + 1: -1.0, m + 2: -rx})  # v_node = v_m + w_m * rx
             if (name, member) not in released:
                 row({n + 2: 1.0, m + 2: -1.0})
@@ -125,25 +126,31 @@ def _describe(vector: np.ndarray, idx: _Unknowns, mech: MechanismSpec) -> RigidB
     scale = max(1e-12, max(np.ptp([p[0] for p in xy.values()]), np.ptp([p[1] for p in xy.values()])))
 
     def speed(member: str) -> float:
-        u, v, w = vector[idx.member[member]:idx.member[member] + 3]
+        u, v, w = vector[idx.member[member] : idx.member[member] + 3]
         return math.hypot(u, v) + abs(w) * scale
 
     body = max(members, key=speed)
-    u, v, w = vector[idx.member[body]:idx.member[body] + 3]
+    u, v, w = vector[idx.member[body] : idx.member[body] + 3]
     origin = xy[members[body][0]]
     if abs(w) * scale < 1e-9 * max(math.hypot(u, v), 1e-300):
         direction = np.array([u, v]) / math.hypot(u, v)
         direction = np.where(np.abs(direction) < 1e-9, 0.0, direction) + 0.0  # no -0 or 1e-15 in the message
-        return RigidBodyMode(body, f"translates along ({direction[0]:.3g}, {direction[1]:.3g})",
-                             "a support or member holding that direction")
+        return RigidBodyMode(
+            body,
+            f"translates along ({direction[0]:.3g}, {direction[1]:.3g})",
+            "a support or member holding that direction",
+        )
     centre = origin + np.array([-v, u]) / w
     near = min(xy, key=lambda name: np.linalg.norm(xy[name] - centre))
     if np.linalg.norm(xy[near] - centre) <= 1e-6 * scale:
-        return RigidBodyMode(body, f"rotates about node '{near}'",
-                             f"a rotational restraint at '{near}' (a fixed support, a joint spring or a "
-                             "prescribed rotation)")
-    return RigidBodyMode(body, f"rotates about ({centre[0]:.4g}, {centre[1]:.4g})",
-                         "a support or member resisting that rotation")
+        return RigidBodyMode(
+            body,
+            f"rotates about node '{near}'",
+            f"a rotational restraint at '{near}' (a fixed support, a joint spring or a prescribed rotation)",
+        )
+    return RigidBodyMode(
+        body, f"rotates about ({centre[0]:.4g}, {centre[1]:.4g})", "a support or member resisting that rotation"
+    )
 
 
 def null_space(C: np.ndarray, rcond: float = 1e-10) -> np.ndarray:
@@ -176,8 +183,12 @@ def segment_constraint_matrix(case: Case) -> np.ndarray:
     rows = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
     if seg.boundary != "pinned-pinned":
         rows.append([0.0, 0.0, 1.0])
-    prescribed = {dof for load in case.loads if load.point == "tip" and load.kind in ("displacement", "rotation")
-                  for dof in load_dofs(load)}
+    prescribed = {
+        dof
+        for load in case.loads
+        if load.point == "tip" and load.kind in ("displacement", "rotation")
+        for dof in load_dofs(load)
+    }
     tip_rows = {"ux": [1.0, 0.0, -Y], "uy": [0.0, 1.0, X], "rz": [0.0, 0.0, 1.0]}
     rows += [tip_rows[dof] for dof in ("ux", "uy", "rz") if dof in set(boundary_held_tip(case)) | prescribed]
     return np.array(rows)
@@ -189,14 +200,24 @@ def segment_check(case: Case) -> list[tuple[str, str]]:
     rigid motion the root pin leaves)."""
     if null_space(segment_constraint_matrix(case)).shape[1] == 0:
         return []
-    turning = [f"loads.{i} ({'a follower force' if load.follower else 'a force toward a point'})"
-               for i, load in enumerate(case.loads)
-               if load.point == "tip" and load.kind == "force" and (load.follower or load.toward is not None)]
-    why = (f"{' and '.join(turning)} turns with the tip and frees both of its components" if turning
-           else "no load or prescribed motion holds the tip across the chord")
-    return [("segment", f"a {case.require_segment().boundary} segment swings about its root pin, its tip free across "
-             f"the chord: hold the tip or load it along the chord; {why}, so the case has a rigid-body motion "
-             "(only a force of fixed direction along the chord leaves the tip held across it)")]
+    turning = [
+        f"loads.{i} ({'a follower force' if load.follower else 'a force toward a point'})"
+        for i, load in enumerate(case.loads)
+        if load.point == "tip" and load.kind == "force" and (load.follower or load.toward is not None)
+    ]
+    why = (
+        f"{' and '.join(turning)} turns with the tip and frees both of its components"
+        if turning
+        else "no load or prescribed motion holds the tip across the chord"
+    )
+    return [
+        (
+            "segment",
+            f"a {case.require_segment().boundary} segment swings about its root pin, its tip free across "
+            f"the chord: hold the tip or load it along the chord; {why}, so the case has a rigid-body motion "
+            "(only a force of fixed direction along the chord leaves the tip held across it)",
+        )
+    ]
 
 
 def check(case: Case) -> list[tuple[str, str]]:
@@ -208,14 +229,22 @@ def check(case: Case) -> list[tuple[str, str]]:
         return []
     mech = case.mechanism
     _, _, on_members = constraint_matrix(case)
-    problems = [(f"mechanism.nodes.{i}", f"node '{n.name}' belongs to no beam or link")
-                for i, n in enumerate(mech.nodes) if n.name not in on_members]
+    problems = [
+        (f"mechanism.nodes.{i}", f"node '{n.name}' belongs to no beam or link")
+        for i, n in enumerate(mech.nodes)
+        if n.name not in on_members
+    ]
     if problems:
         return problems
     modes = rigid_body_modes(case)
     if modes:
         mode = modes[0]
         more = f" ({len(modes)} independent rigid-body motions)" if len(modes) > 1 else ""
-        problems.append(("mechanism", f"case '{case.case.id}': body '{mode.body}' {mode.motion} without "
-                         f"deforming anything{more}; missing constraint: {mode.missing}"))
+        problems.append(
+            (
+                "mechanism",
+                f"case '{case.case.id}': body '{mode.body}' {mode.motion} without "
+                f"deforming anything{more}; missing constraint: {mode.missing}",
+            )
+        )
     return problems

@@ -1,4 +1,5 @@
 """Nearest valid names for a misspelled one, for error messages ("did you mean")."""
+
 from __future__ import annotations
 
 import difflib

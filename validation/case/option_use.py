@@ -8,6 +8,7 @@ estimate off, a mechanism's setting on a single segment. Such an option is almos
 the option's field and the reason. ``USES`` states, per method and option, the case in which the adapter
 reads it; an option absent from ``USES`` is read on every path of its method.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -40,29 +41,36 @@ def _sprung(case) -> bool:
 class Use:
     """When a method reads an option: ``reads(case, options)``, and ``otherwise`` says why it would not."""
 
-    reads: Callable[[Any, dict], bool]      # (the schema's Case, which calls this module while it validates)
+    reads: Callable[[Any, dict], bool]  # (the schema's Case, which calls this module while it validates)
     otherwise: str
 
 
-SEGMENT_ONLY = Use(lambda case, options: case.segment is not None, "read for a single segment only, this case is a "
-                   "mechanism")
-MECHANISM_ONLY = Use(lambda case, options: case.mechanism is not None, "read for a mechanism only, this case is a "
-                     "single segment")
+SEGMENT_ONLY = Use(
+    lambda case, options: case.segment is not None, "read for a single segment only, this case is a mechanism"
+)
+MECHANISM_ONLY = Use(
+    lambda case, options: case.mechanism is not None, "read for a mechanism only, this case is a single segment"
+)
 
 
 def _limit(method: str) -> Use:
-    return Use(lambda case, options: asks(case, method, "limit_load"),
-               f"read only when the case asks the {method} for a limit_load (a continuation); it asks for none")
+    return Use(
+        lambda case, options: asks(case, method, "limit_load"),
+        f"read only when the case asks the {method} for a limit_load (a continuation); it asks for none",
+    )
 
 
 def _output(method: str, quantity: str) -> Use:
-    return Use(lambda case, options: asks(case, method, quantity),
-               f"read only when the case asks the {method} for {quantity}; it does not")
+    return Use(
+        lambda case, options: asks(case, method, quantity),
+        f"read only when the case asks the {method} for {quantity}; it does not",
+    )
 
 
 def _model(name: str) -> Use:
-    return Use(lambda case, options: options.get("model") == name,
-               f"read only by the PRBM model '{name}' (model = \"{name}\")")
+    return Use(
+        lambda case, options: options.get("model") == name, f"read only by the PRBM model '{name}' (model = \"{name}\")"
+    )
 
 
 def _along_segment(case) -> bool:
@@ -70,19 +78,26 @@ def _along_segment(case) -> bool:
     return case.segment is not None and any(ld.kind in ("distributed", "self_weight") for ld in case.loads)
 
 
-CHAIN = Use(lambda case, options: options.get("model") == "chain" or (options.get("model") is None
-                                                                        and _along_segment(case)),
-            "read only by the Chain Algorithm: model = \"chain\", or a load along a single segment without a model")
-CHAIN_CHOICE = Use(lambda case, options: (options.get("model") is None and _along_segment(case)
-                                          and "chain_elements" not in options),
-                   "read only when the PRBM chooses the Chain Algorithm's elements itself: a load along a single "
-                   "segment, without a model and without chain_elements")
-ESTIMATE = Use(lambda case, options: _estimate(options), "read only with the error estimate (error_estimate = true "
-               "or tol), which is off")
-INFLECTION = Use(lambda case, options: options.get("problem") == "inflection",
-                 "read only by the inflection problem (problem = \"inflection\")")
-MECHANISM_ELASTICA = Use(lambda case, options: case.segment is not None,
-                         "not read for a mechanism (its exact elastica reads only rtol)")
+CHAIN = Use(
+    lambda case, options: options.get("model") == "chain" or (options.get("model") is None and _along_segment(case)),
+    'read only by the Chain Algorithm: model = "chain", or a load along a single segment without a model',
+)
+CHAIN_CHOICE = Use(
+    lambda case, options: options.get("model") is None and _along_segment(case) and "chain_elements" not in options,
+    "read only when the PRBM chooses the Chain Algorithm's elements itself: a load along a single "
+    "segment, without a model and without chain_elements",
+)
+ESTIMATE = Use(
+    lambda case, options: _estimate(options),
+    "read only with the error estimate (error_estimate = true or tol), which is off",
+)
+INFLECTION = Use(
+    lambda case, options: options.get("problem") == "inflection",
+    'read only by the inflection problem (problem = "inflection")',
+)
+MECHANISM_ELASTICA = Use(
+    lambda case, options: case.segment is not None, "not read for a mechanism (its exact elastica reads only rtol)"
+)
 
 USES: dict[str, dict[str, Use]] = {
     "fem": {
@@ -90,14 +105,19 @@ USES: dict[str, dict[str, Use]] = {
         "ma": _output("fem", "mechanical_advantage"),
         "dof": _output("fem", "dof"),
         **{name: ESTIMATE for name in ("levels", "max_refine", "richardson")},
-        "rigid_ratio": Use(lambda case, options: case.mechanism is not None and bool(case.mechanism.links),
-                           "read only for a mechanism's rigid links; this case has none"),
-        "slfp": Use(lambda case, options: _sprung(case), "read only for a mechanism with sprung joints (spring > 0); "
-                    "this case has none"),
+        "rigid_ratio": Use(
+            lambda case, options: case.mechanism is not None and bool(case.mechanism.links),
+            "read only for a mechanism's rigid links; this case has none",
+        ),
+        "slfp": Use(
+            lambda case, options: _sprung(case),
+            "read only for a mechanism with sprung joints (spring > 0); this case has none",
+        ),
         "input_moment_at": MECHANISM_ONLY,
-        "inextensible_ratio": Use(lambda case, options: _inertia_without_area(case),
-                                  "read only for a section of kind 'inertia' without an area A; every section "
-                                  "here gives its area"),
+        "inextensible_ratio": Use(
+            lambda case, options: _inertia_without_area(case),
+            "read only for a section of kind 'inertia' without an area A; every section here gives its area",
+        ),
         "inverse": SEGMENT_ONLY,
     },
     "elastica": {
@@ -105,14 +125,26 @@ USES: dict[str, dict[str, Use]] = {
         **{name: MECHANISM_ELASTICA for name in ("I", "EI", "tol", "samples", "problem", "inverse")},
     },
     "bcm": {name: SEGMENT_ONLY for name in ("I", "EI")},
-    "opensees": {
-        **{name: _limit("opensees") for name in ("control_step", "max_steps")},
-        "rigid_ratio": MECHANISM_ONLY,
-    },
+    "opensees": {**{name: _limit("opensees") for name in ("control_step", "max_steps")}, "rigid_ratio": MECHANISM_ONLY},
     "prbm": {
-        **{name: MECHANISM_ONLY for name in ("links", "springs", "spring_joints", "slfp", "energy_free", "precision",
-                                             "free_levels", "drive", "coupler_point", "origin", "ma", "rules",
-                                             "segment_model")},
+        **{
+            name: MECHANISM_ONLY
+            for name in (
+                "links",
+                "springs",
+                "spring_joints",
+                "slfp",
+                "energy_free",
+                "precision",
+                "free_levels",
+                "drive",
+                "coupler_point",
+                "origin",
+                "ma",
+                "rules",
+                "segment_model",
+            )
+        },
         **{name: CHAIN for name in ("chain_elements", "chain_steps")},
         "chain_tol": CHAIN_CHOICE,
         "theta_fit": _model("theta-dependent"),

@@ -7,6 +7,7 @@
     offset  data[path] = v + base          (numbers and lists elementwise)
     angle   data[path] = |base| (cos v, sin v), v in degrees   (a direction vector)
 """
+
 from __future__ import annotations
 
 import math

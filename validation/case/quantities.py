@@ -26,6 +26,7 @@ The meanings:
 A method that cannot give a quantity's true meaning for a configuration raises ``NotApplicable``
 with the reason; it never returns a placeholder (0.0, NaN, the input).
 """
+
 from __future__ import annotations
 
 import enum
@@ -72,25 +73,31 @@ MEANINGS: dict[str, Meaning] = {
     # exerts on the work piece along the working motion (a held output rotation: its moment / d_o), so
     # MA > 0 when the output pushes the work piece the way the input drives it, and MA = MA_R (1 - F_c/F_i)
     # (eq 192) with F_c the compliance force opposing the input. The same in the PRBM and the FEM.
-    "mechanical_advantage": Meaning("dimensionless", Reference.NONE,
-                                    "F_o / F_i, F_i > 0 in the driving sense, F_o along the working motion",
-                                    frame="none"),
+    "mechanical_advantage": Meaning(
+        "dimensionless",
+        Reference.NONE,
+        "F_o / F_i, F_i > 0 in the driving sense, F_o along the working motion",
+        frame="none",
+    ),
 }
 
 # Tip freedoms each segment boundary holds, unless a load acts on or prescribes them
 # (the dissertation's load-specified "fixed-guided" beams of Tables 3.2-3.6 give P, nP and M).
 TIP_HELD: dict[str, tuple[str, ...]] = {
-    "fixed-free": (), "fixed-pinned": (),
-    "fixed-guided": ("rz",), "fixed-fixed": ("ux", "uy", "rz"), "pinned-pinned": ("ux", "uy"),
+    "fixed-free": (),
+    "fixed-pinned": (),
+    "fixed-guided": ("rz",),
+    "fixed-fixed": ("ux", "uy", "rz"),
+    "pinned-pinned": ("ux", "uy"),
 }
 
 
 def load_dofs(load) -> set[str]:
     """The freedoms ('ux', 'uy', 'rz') of its point that a load acts on or prescribes."""
     if load.kind in ("distributed", "self_weight"):
-        return set()                       # along the beam, not at the point
+        return set()  # along the beam, not at the point
     if load.toward is not None or load.follower:
-        return {"ux", "uy"}                # the direction turns: both components
+        return {"ux", "uy"}  # the direction turns: both components
     if load.kind in ("moment", "rotation"):
         return {"rz"}
     d = load.direction

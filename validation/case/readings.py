@@ -17,6 +17,7 @@ within e_l = sqrt(e_a^2 + e_b^2) of the exact one moves its distance by at most 
 inequality), so the rms moves by at most sqrt(mean_l e_l^2) (Minkowski); empty where a value has no
 estimate or its estimate is marked unreliable (no bound).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -29,9 +30,9 @@ PAIRS = (("x", "y"), ("dx", "dy"))
 
 @dataclass
 class ReadingsGroup:
-    experiment: str               # the base case id
-    table: pd.DataFrame           # case, title, method, levels, unit, rms, rms_pct_L, rms_estimate, max,
-                                  # closest (per method)
+    experiment: str  # the base case id
+    table: pd.DataFrame  # case, title, method, levels, unit, rms, rms_pct_L, rms_estimate, max,
+    # closest (per method)
 
     def closest(self, method: str) -> str | None:
         """The reading whose ``method`` rows lie closest to the measurements (None: no such rows)."""
@@ -52,22 +53,35 @@ def _estimates(rows: pd.DataFrame) -> pd.Series:
 def _distances(rows: pd.DataFrame) -> pd.DataFrame:
     """Per (case, method, point, level): the distance over the position pair the rows hold, its error
     bound from the method's estimate (NaN: none) and the case's length scale L and unit."""
-    measured = rows[(rows["reference_label"] == "measured") & rows["finding"].isna()
-                    & rows["value"].notna() & rows["reference_value"].notna()]
+    measured = rows[
+        (rows["reference_label"] == "measured")
+        & rows["finding"].isna()
+        & rows["value"].notna()
+        & rows["reference_value"].notna()
+    ]
     columns = ["case", "method", "point", "level", "distance", "estimate", "L", "unit"]
     frames = []
     for a, b in PAIRS:
         pair = measured[measured["quantity"].isin((a, b))]
         if pair.empty:
             continue
-        pair = pair.assign(sq=(pair["value"] - pair["reference_value"]) ** 2, esq=_estimates(pair) ** 2,
-                           L=pair["scale"] if "scale" in pair else np.nan, unit=pair["unit"] if "unit" in pair else "")
+        pair = pair.assign(
+            sq=(pair["value"] - pair["reference_value"]) ** 2,
+            esq=_estimates(pair) ** 2,
+            L=pair["scale"] if "scale" in pair else np.nan,
+            unit=pair["unit"] if "unit" in pair else "",
+        )
         grouped = pair.groupby(["case", "method", "point", "level"])
         both = grouped["quantity"].nunique() == 2
         estimated = grouped["esq"].count() == 2
-        frame = pd.DataFrame({"distance": np.sqrt(grouped["sq"].sum()),
-                              "estimate": np.sqrt(grouped["esq"].sum()).where(estimated),
-                              "L": grouped["L"].first(), "unit": grouped["unit"].first()})
+        frame = pd.DataFrame(
+            {
+                "distance": np.sqrt(grouped["sq"].sum()),
+                "estimate": np.sqrt(grouped["esq"].sum()).where(estimated),
+                "L": grouped["L"].first(),
+                "unit": grouped["unit"].first(),
+            }
+        )
         frames.append(frame[both].reset_index())
     return pd.concat(frames) if frames else pd.DataFrame(columns=columns)
 
@@ -85,17 +99,27 @@ def readings_groups(results, table: pd.DataFrame) -> list[ReadingsGroup]:
         dist = _distances(table[table["case"].isin(ids)])
         if dist.empty:
             continue
-        first = dist["level"].min()                                  # the unloaded state, when every
+        first = dist["level"].min()  # the unloaded state, when every
         if dist.loc[dist["level"] == first, "distance"].max() <= 1e-9:  # reading matches it exactly
             dist = dist[dist["level"] != first]
         by_run = dist.groupby(["case", "method"])
-        summary = by_run["distance"].agg(
-            levels="count", rms=lambda d: float(np.sqrt(np.mean(np.square(d)))), max="max").reset_index()
+        summary = (
+            by_run["distance"]
+            .agg(levels="count", rms=lambda d: float(np.sqrt(np.mean(np.square(d)))), max="max")
+            .reset_index()
+        )
         summary.insert(1, "title", [cases[c].case.title for c in summary["case"]])
         summary.insert(4, "unit", by_run["unit"].first().to_numpy())
         summary.insert(6, "rms_pct_L", 100 * summary["rms"] / by_run["L"].first().astype(float).to_numpy())
-        summary.insert(7, "rms_estimate", by_run["estimate"].agg(   # NaN if any level has no bound
-            lambda e: float(np.sqrt(np.mean(np.square(e)))) if e.notna().all() else np.nan).to_numpy())
+        summary.insert(
+            7,
+            "rms_estimate",
+            by_run["estimate"]
+            .agg(  # NaN if any level has no bound
+                lambda e: float(np.sqrt(np.mean(np.square(e)))) if e.notna().all() else np.nan
+            )
+            .to_numpy(),
+        )
         summary["closest"] = summary["rms"] == summary.groupby("method")["rms"].transform("min")
         groups.append(ReadingsGroup(base, summary.sort_values("rms").reset_index(drop=True)))
     return groups

@@ -31,6 +31,7 @@ judged against each other, in the non-dimensional groups the mechanics is writte
   of the finest mesh a method may solve at most ``limits.elements``; both checked before any level list
   or mesh is built, so a ramp of 10^7 levels is refused at once.
 """
+
 from __future__ import annotations
 
 import math
@@ -45,7 +46,7 @@ DISPLACEMENT_LIMIT = 10.0
 ROTATION_LIMIT = 3600.0
 ANGLE_TOLERANCE = 180.0
 INPUT_FORCE_FLOOR = 1e-6
-LOOP_TOLERANCE = 0.01   # prbm.mechanisms.LOOP_TOLERANCE (not imported: it would load scipy into every ``list``)
+LOOP_TOLERANCE = 0.01  # prbm.mechanisms.LOOP_TOLERANCE (not imported: it would load scipy into every ``list``)
 
 # the options whose list values are one per load level
 PER_LEVEL = {"elastica": ("b", "theta0", "l1"), "prbm": ("a", "b", "n", "l1", "theta0_deg")}
@@ -74,8 +75,10 @@ def work_problems(case) -> list[str]:
         count = load_count(load)
         if count > limit:
             where = f"loads.{i}.ramp.count" if load.ramp is not None else f"loads.{i}.values"
-            out.append(f"{where}: {count} load levels exceed the limit of {limit} (limits.levels; raise it in "
-                       "[limits] if the case needs more)")
+            out.append(
+                f"{where}: {count} load levels exceed the limit of {limit} (limits.levels; raise it in "
+                "[limits] if the case needs more)"
+            )
     return out
 
 
@@ -99,21 +102,29 @@ def stiffness_problems(case) -> list[str]:
     out = []
     for field, length, EI, EA, kappa, _ in _beams(case):
         if not (0.0 < EI < math.inf):
-            out.append(f"{field}.section: the bending stiffness EI = {EI:g} is not a positive finite number "
-                       "(the product of the modulus and the section's dimensions under- or overflows)")
+            out.append(
+                f"{field}.section: the bending stiffness EI = {EI:g} is not a positive finite number "
+                "(the product of the modulus and the section's dimensions under- or overflows)"
+            )
             continue
         if not math.isnan(EA):
             ratio = EA * length**2 / EI
             if not (0.0 < EA < math.inf) or not ratio <= SLENDERNESS_MAX:
-                out.append(f"{field}.section: slenderness EA L^2/EI = {ratio:.3g} above {SLENDERNESS_MAX:g}: the "
-                           "stiffness matrix cannot resolve bending beside stretching (is A or I in another unit?)")
+                out.append(
+                    f"{field}.section: slenderness EA L^2/EI = {ratio:.3g} above {SLENDERNESS_MAX:g}: the "
+                    "stiffness matrix cannot resolve bending beside stretching (is A or I in another unit?)"
+                )
         if field == "segment" and abs(kappa) * length > 2.0 * math.pi:
             name = "radius" if case.segment.radius is not None else "curvature"
-            out.append(f"segment.{name}: the arc turns {math.degrees(abs(kappa) * length):.4g} degrees, more than "
-                       "one full turn (|curvature| x length <= 2 pi): the segment would run through itself")
+            out.append(
+                f"segment.{name}: the arc turns {math.degrees(abs(kappa) * length):.4g} degrees, more than "
+                "one full turn (|curvature| x length <= 2 pi): the segment would run through itself"
+            )
         elif field != "segment" and abs(kappa) * length > 2.0:
-            out.append(f"{field}.curvature: no circular arc of curvature {kappa:g} joins nodes {length:g} apart "
-                       "(|curvature| x chord <= 2)")
+            out.append(
+                f"{field}.curvature: no circular arc of curvature {kappa:g} joins nodes {length:g} apart "
+                "(|curvature| x chord <= 2)"
+            )
     return out
 
 
@@ -122,8 +133,11 @@ def stiffness_scales(case) -> dict[str, float] | None:
     torsion spring's k/L, k and k/L^2 (L the mechanism's extent); None where the case has neither."""
     beams = [(length, EI) for _, length, EI, _, _, _ in _beams(case) if 0.0 < EI < math.inf and length > 0.0]
     if beams:
-        return {"force": max(EI / L**2 for L, EI in beams), "moment": max(EI / L for L, EI in beams),
-                "distributed": max(EI / L**3 for L, EI in beams)}
+        return {
+            "force": max(EI / L**2 for L, EI in beams),
+            "moment": max(EI / L for L, EI in beams),
+            "distributed": max(EI / L**3 for L, EI in beams),
+        }
     springs = [j.spring for j in case.mechanism.joints] if case.mechanism is not None else []
     k = max(springs, default=0.0)
     if k <= 0.0:
@@ -159,18 +173,23 @@ def load_problems(case) -> list[str]:
         where = f"loads.{i}.{'ramp' if load.ramp is not None else 'values'}"
         largest = max((abs(v) for v in load.levels()), default=0.0)
         if load.kind == "displacement" and largest > DISPLACEMENT_LIMIT * length:
-            out.append(f"{where}: a prescribed displacement of {largest:g} is more than {DISPLACEMENT_LIMIT:g} "
-                       f"times the characteristic length {length:g}")
+            out.append(
+                f"{where}: a prescribed displacement of {largest:g} is more than {DISPLACEMENT_LIMIT:g} "
+                f"times the characteristic length {length:g}"
+            )
         elif load.kind == "rotation" and largest > ROTATION_LIMIT:
-            out.append(f"{where}: a prescribed rotation of {largest:g} degrees is more than {ROTATION_LIMIT:g} "
-                       "(ten turns)")
+            out.append(
+                f"{where}: a prescribed rotation of {largest:g} degrees is more than {ROTATION_LIMIT:g} (ten turns)"
+            )
         elif scales is not None:
             measure = nondimensional_load(case, load, scales)
             if measure is not None and not measure[0] <= LOAD_LIMIT:
-                out.append(f"{where}: non-dimensional load {measure[1]} = {measure[0]:.3g} with the stiffest "
-                           f"beam (or spring), above {LOAD_LIMIT:g}: the bending would be confined to the "
-                           "first ~1 % of the beam, which no method resolves (is the modulus, a section "
-                           "dimension or the load's unit wrong?)")
+                out.append(
+                    f"{where}: non-dimensional load {measure[1]} = {measure[0]:.3g} with the stiffest "
+                    f"beam (or spring), above {LOAD_LIMIT:g}: the bending would be confined to the "
+                    "first ~1 % of the beam, which no method resolves (is the modulus, a section "
+                    "dimension or the load's unit wrong?)"
+                )
     return out
 
 
@@ -185,8 +204,10 @@ def tolerance_problems(case) -> list[str]:
             return
         dimension = from_quantity.get(quantity)
         if dimension == "length" and tolerance.abs >= length:
-            out.append(f"{where}.abs: {tolerance.abs:g} is not shorter than the characteristic length {length:g}: "
-                       "it accepts any position")
+            out.append(
+                f"{where}.abs: {tolerance.abs:g} is not shorter than the characteristic length {length:g}: "
+                "it accepts any position"
+            )
         elif dimension == "deg" and tolerance.abs >= ANGLE_TOLERANCE:
             out.append(f"{where}.abs: {tolerance.abs:g} degrees accepts any direction (at most {ANGLE_TOLERANCE:g})")
 
@@ -203,8 +224,11 @@ def tolerance_problems(case) -> list[str]:
 def element_count(case) -> list[tuple[str, int]]:
     """(option field, elements of the finest mesh it makes a method solve) for each meshing method: the FEM's
     elements per member x its finest refinement x members, the OpenSees peer's, the PRBM's Chain Algorithm."""
-    members = 1 if case.segment is not None else max(1, len(case.mechanism.beams)) + sum(
-        1 for j in case.mechanism.joints if j.spring > 0)
+    members = (
+        1
+        if case.segment is not None
+        else max(1, len(case.mechanism.beams)) + sum(1 for j in case.mechanism.joints if j.spring > 0)
+    )
     counts = []
     for method, raw in case.methods.items():
         model = OPTIONS.get(method)
@@ -212,8 +236,9 @@ def element_count(case) -> list[tuple[str, int]]:
             continue
         options = model.model_validate(raw or {})
         if isinstance(options, FemOptions):
-            refine = max(2 ** (options.levels - 1), options.max_refine) if (options.error_estimate or options.tol) \
-                else 1
+            refine = (
+                max(2 ** (options.levels - 1), options.max_refine) if (options.error_estimate or options.tol) else 1
+            )
             finest = [options.elements * refine, 2 * options.elements]
             if options.inverse is not None and options.inverse.elements is not None:
                 finest.append(options.inverse.elements * refine)
@@ -228,9 +253,12 @@ def element_count(case) -> list[tuple[str, int]]:
 def mesh_problems(case) -> list[str]:
     """Meshes over ``limits.elements``."""
     limit = case.limits.elements
-    return [f"{field}: the finest mesh has {count} elements, over the limit of {limit} (limits.elements; the FEM "
-            "counts elements per member x its finest refinement (levels, max_refine) x members)"
-            for field, count in element_count(case) if count > limit]
+    return [
+        f"{field}: the finest mesh has {count} elements, over the limit of {limit} (limits.elements; the FEM "
+        "counts elements per member x its finest refinement (levels, max_refine) x members)"
+        for field, count in element_count(case)
+        if count > limit
+    ]
 
 
 def option_problems(case) -> list[str]:
@@ -255,8 +283,11 @@ def option_problems(case) -> list[str]:
         out += _per_level("methods.prbm.ma", prbm["ma"], ("F_i",), n) + _input_force(case, prbm["ma"])
     if prbm.get("precision") and _driven_by_precision(case, prbm):
         out += _per_level("methods.prbm.precision", prbm["precision"], ("phi", "psi"), n)
-    out += [f"methods.prbm.free_levels: level {lv}, but the case has {n} load levels"
-            for lv in prbm.get("free_levels", []) if lv >= n]
+    out += [
+        f"methods.prbm.free_levels: level {lv}, but the case has {n} load levels"
+        for lv in prbm.get("free_levels", [])
+        if lv >= n
+    ]
     return out
 
 
@@ -268,8 +299,10 @@ def _four_bar_loop(links: dict) -> list[str]:
     Z1, Z2, Z3, Z4 = (complex(*links[k]) for k in ("r1", "r2", "r3", "r4"))
     error, longest = abs(Z2 + Z3 - Z1 - Z4), max(abs(Z1), abs(Z2), abs(Z3), abs(Z4))
     if error > LOOP_TOLERANCE * longest:
-        return [f"methods.prbm.links: the four-bar loop Z2 + Z3 = Z1 + Z4 does not close: |Z2 + Z3 - Z1 - Z4| = "
-                f"{error:.4g}, more than {LOOP_TOLERANCE:.0%} of the longest link ({longest:.4g})"]
+        return [
+            f"methods.prbm.links: the four-bar loop Z2 + Z3 = Z1 + Z4 does not close: |Z2 + Z3 - Z1 - Z4| = "
+            f"{error:.4g}, more than {LOOP_TOLERANCE:.0%} of the longest link ({longest:.4g})"
+        ]
     return []
 
 
@@ -282,8 +315,11 @@ def _driven_by_precision(case, options: dict) -> bool:
 
 
 def _per_level(where: str, options: dict, names: tuple[str, ...], n: int) -> list[str]:
-    return [f"{where}.{name}: {len(options[name])} values for {n} load levels (give one per level, or one number)"
-            for name in names if isinstance(options.get(name), list) and len(options[name]) != n]
+    return [
+        f"{where}.{name}: {len(options[name])} values for {n} load levels (give one per level, or one number)"
+        for name in names
+        if isinstance(options.get(name), list) and len(options[name]) != n
+    ]
 
 
 def _inverse(case, where: str, inverse: dict, n: int) -> list[str]:
@@ -313,7 +349,9 @@ def _input_force(case, ma: dict) -> list[str]:
         return []
     torque = min(abs(float(f)) for f in forces) * float(arm)
     if torque < INPUT_FORCE_FLOOR * stiffest:
-        return [f"methods.prbm.ma.F_i: the input torque F_i d_i = {torque:.3g} is below {INPUT_FORCE_FLOOR:g} of the "
-                f"stiffest spring's {stiffest:.4g} per radian: the mechanical advantage 1 - T_c/(F_i d_i) would "
-                "measure the springs, not the input (is F_i in the case's force unit?)"]
+        return [
+            f"methods.prbm.ma.F_i: the input torque F_i d_i = {torque:.3g} is below {INPUT_FORCE_FLOOR:g} of the "
+            f"stiffest spring's {stiffest:.4g} per radian: the mechanical advantage 1 - T_c/(F_i d_i) would "
+            "measure the springs, not the input (is F_i in the case's force unit?)"
+        ]
     return []

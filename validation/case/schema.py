@@ -19,6 +19,7 @@ a case asks for against its ``[limits]``) are ``validation.case.scale``'s, and a
 would not read is refused by ``validation.case.option_use``. Ids are file-name-safe (``ID_PATTERN``):
 they name the report's pages and folders.
 """
+
 from __future__ import annotations
 
 import math
@@ -40,16 +41,25 @@ from validation.case.overrides import PathError, apply as apply_field
 from validation.case.strict import TINY, Finite, Fraction, NonNegative, Positive, Strict, field_path
 
 UNIT_SYSTEMS: dict[str, dict[str, str]] = {
-    "in-lb": {"length": "in", "force": "lbf", "modulus": "psi", "moment": "lbf*in",
-              "energy": "lbf*in", "stiffness": "lbf*in/rad"},
-    "SI": {"length": "m", "force": "N", "modulus": "Pa", "moment": "N*m",
-           "energy": "J", "stiffness": "N*m/rad"},
-    "mm-N": {"length": "mm", "force": "N", "modulus": "MPa", "moment": "N*mm",
-             "energy": "mJ", "stiffness": "N*mm/rad"},
-    "dimensionless": {"length": "L", "force": "EI/L^2", "modulus": "E", "moment": "EI/L",
-                      "energy": "EI/L", "stiffness": "EI/L"},
+    "in-lb": {
+        "length": "in",
+        "force": "lbf",
+        "modulus": "psi",
+        "moment": "lbf*in",
+        "energy": "lbf*in",
+        "stiffness": "lbf*in/rad",
+    },
+    "SI": {"length": "m", "force": "N", "modulus": "Pa", "moment": "N*m", "energy": "J", "stiffness": "N*m/rad"},
+    "mm-N": {"length": "mm", "force": "N", "modulus": "MPa", "moment": "N*mm", "energy": "mJ", "stiffness": "N*mm/rad"},
+    "dimensionless": {
+        "length": "L",
+        "force": "EI/L^2",
+        "modulus": "E",
+        "moment": "EI/L",
+        "energy": "EI/L",
+        "stiffness": "EI/L",
+    },
 }
-
 
 
 class Source(Strict):
@@ -84,8 +94,9 @@ class Layer(Strict):
     width: Positive
     thickness: Positive
     name: str | None = None
-    weight_density: Positive | None = Field(default=None, description="weight per unit volume (force/length^3), "
-                                            "for self-weight")
+    weight_density: Positive | None = Field(
+        default=None, description="weight per unit volume (force/length^3), for self-weight"
+    )
 
 
 class SectionSpec(Strict):
@@ -98,10 +109,14 @@ class SectionSpec(Strict):
     A: Positive | None = None
     c: Positive | None = Field(default=None, description="extreme-fibre distance, for stresses")
     layers: list[Layer] | None = None
-    bonded: bool = Field(default=False, description="layers bonded (one section bending about the E-weighted "
-                         "neutral axis) instead of sliding on each other")
-    weight_density: Positive | None = Field(default=None, description="weight per unit volume (force/length^3), "
-                                            "for self-weight")
+    bonded: bool = Field(
+        default=False,
+        description="layers bonded (one section bending about the E-weighted "
+        "neutral axis) instead of sliding on each other",
+    )
+    weight_density: Positive | None = Field(
+        default=None, description="weight per unit volume (force/length^3), for self-weight"
+    )
 
     @model_validator(mode="after")
     def _complete(self) -> "SectionSpec":
@@ -156,18 +171,21 @@ class SectionSpec(Strict):
     def stiffness(self, E: float | None) -> tuple[float, float]:
         """(EA, EI) of the section with modulus E; sliding layers carry their own moduli (E unused)
         and bend each about its own centroid."""
-        if self.kind == "layers" and self.bonded:      # stacked bottom to top, transformed section
+        if self.kind == "layers" and self.bonded:  # stacked bottom to top, transformed section
             layers = self._stack()
             EA = sum(l.E * l.width * l.thickness for l in layers)
             tops = np.cumsum([l.thickness for l in layers])
             mids = tops - np.array([l.thickness for l in layers]) / 2
             axis = sum(l.E * l.width * l.thickness * z for l, z in zip(layers, mids)) / EA
-            return EA, sum(l.E * l.width * (l.thickness**3 / 12.0 + l.thickness * (z - axis) ** 2)
-                           for l, z in zip(layers, mids))
+            return EA, sum(
+                l.E * l.width * (l.thickness**3 / 12.0 + l.thickness * (z - axis) ** 2) for l, z in zip(layers, mids)
+            )
         if self.kind == "layers":
             layers = self._stack()
-            return (sum(l.E * l.width * l.thickness for l in layers),
-                    sum(l.E * l.width * l.thickness**3 / 12.0 for l in layers))
+            return (
+                sum(l.E * l.width * l.thickness for l in layers),
+                sum(l.E * l.width * l.thickness**3 / 12.0 for l in layers),
+            )
         if E is None:
             raise ValueError(f"a section of kind '{self.kind}' needs the modulus E")
         return E * self.area(), E * self.inertia()
@@ -365,8 +383,9 @@ class LoadSpec(Strict):
             raise ValueError("give exactly one of 'values' (a list of levels) or 'ramp'")
         if self.toward is not None:
             if self.kind != "force" or self.follower or self.direction is not None:
-                raise ValueError("'toward' makes a force pull toward a fixed point: a 'force' load "
-                                 "without 'direction' or 'follower'")
+                raise ValueError(
+                    "'toward' makes a force pull toward a fixed point: a 'force' load without 'direction' or 'follower'"
+                )
         elif self.angle != 0.0:
             raise ValueError("'angle' is the angle from the line to the point 'toward', which is missing")
         needs_direction = ("force", "displacement", "distributed", "self_weight")
@@ -444,9 +463,11 @@ class Finding(Strict):
     @model_validator(mode="after")
     def _explains(self) -> "Finding":
         if (self.computed is None) == (self.reproduce_with is None):
-            raise ValueError("a finding states exactly one of 'computed' (the value the method gives "
-                             "instead) or 'reproduce_with' (the inputs that reproduce the printed value); "
-                             "a remark that is not a disagreement is a 'note'")
+            raise ValueError(
+                "a finding states exactly one of 'computed' (the value the method gives "
+                "instead) or 'reproduce_with' (the inputs that reproduce the printed value); "
+                "a remark that is not a disagreement is a 'note'"
+            )
         if self.reproduce_with is not None and not self.reproduce_with:
             raise ValueError("'reproduce_with' is empty")
         return self
@@ -526,8 +547,10 @@ def safe_id(value: str | None) -> str | None:
     digits, '_', '.', '-', and no '..' (a path out of the folder)."""
     if value is not None and (not re.fullmatch(ID_PATTERN, value) or ".." in value):
         shown = value if len(value) <= 40 else f"{value[:40]}... ({len(value)} characters)"
-        raise ValueError(f"'{shown}' is not a valid id: 1 to 100 letters, digits, '_', '.', '-', starting with a "
-                         "letter or digit, without '..'")
+        raise ValueError(
+            f"'{shown}' is not a valid id: 1 to 100 letters, digits, '_', '.', '-', starting with a "
+            "letter or digit, without '..'"
+        )
     return value
 
 
@@ -539,21 +562,34 @@ class CaseInfo(Strict):
     description: str = ""
     source: Source | None = None
     assumptions: list[str] = Field(default_factory=list)
-    findings: list[str] = Field(default_factory=list, description="case-level misprints and disagreements, "
-                                "with their evidence, that no single reference carries")
-    unchecked: dict[str, str] = Field(default_factory=dict, description="method -> the one-line reason "
-                                      "none of its values at a loaded level can be checked")
-    expected_failure: dict[str, str] = Field(default_factory=dict, description="method -> why it is "
-                                             "expected not to converge or not to apply on this case")
-    readings_of: str | None = Field(default=None, description="id of the base case of an experiment this case is "
-                                    "one loading reading of (the report sets them side by side)")
-    no_prbm_fem: str | None = Field(default=None, description="why this case has no PRBM-vs-FEM number, in one line: "
-                                    "no seed PRBM for this configuration, geometry not in the seed, or an "
-                                    "FEM-only benchmark validating the FEM itself")
+    findings: list[str] = Field(
+        default_factory=list,
+        description="case-level misprints and disagreements, with their evidence, that no single reference carries",
+    )
+    unchecked: dict[str, str] = Field(
+        default_factory=dict,
+        description="method -> the one-line reason none of its values at a loaded level can be checked",
+    )
+    expected_failure: dict[str, str] = Field(
+        default_factory=dict, description="method -> why it is expected not to converge or not to apply on this case"
+    )
+    readings_of: str | None = Field(
+        default=None,
+        description="id of the base case of an experiment this case is "
+        "one loading reading of (the report sets them side by side)",
+    )
+    no_prbm_fem: str | None = Field(
+        default=None,
+        description="why this case has no PRBM-vs-FEM number, in one line: "
+        "no seed PRBM for this configuration, geometry not in the seed, or an "
+        "FEM-only benchmark validating the FEM itself",
+    )
     purpose: Literal["prbm-comparison", "fem-validation"] = Field(
-        default="prbm-comparison", description="'fem-validation': a benchmark that validates the FEM itself (against "
+        default="prbm-comparison",
+        description="'fem-validation': a benchmark that validates the FEM itself (against "
         "published or exact results) and runs no PRBM, so it has no PRBM-vs-FEM number by design; the summary "
-        "labels it so")
+        "labels it so",
+    )
 
     @field_validator("id", "readings_of")
     @classmethod
@@ -583,10 +619,12 @@ class Limits(Strict):
     needs more."""
 
     levels: int = Field(default=1000, ge=1, le=1_000_000, description="load levels of each load (ramp.count, values)")
-    elements: int = Field(default=100_000, ge=1, le=10_000_000, description="elements of the finest mesh a method "
-                          "solves")
-    seconds: float = Field(default=600.0, gt=0, le=86_400.0, allow_inf_nan=False, description="wall time of the case's "
-                           "methods together")
+    elements: int = Field(
+        default=100_000, ge=1, le=10_000_000, description="elements of the finest mesh a method solves"
+    )
+    seconds: float = Field(
+        default=600.0, gt=0, le=86_400.0, allow_inf_nan=False, description="wall time of the case's methods together"
+    )
 
 
 class Case(Strict):
@@ -621,9 +659,14 @@ class Case(Strict):
                 elif err["type"] == "extra_forbidden":
                     known = _fields_at(model, err["loc"][:-1])
                     message = f"unknown field '{err['loc'][-1]}'{nearest(str(err['loc'][-1]), known)}"
-                raise PydanticCustomError("method_option", "{message}", {
-                    "message": message.removeprefix("Value error, "),
-                    "field": ".".join(p for p in (name, field_path(err["loc"])) if p)}) from None
+                raise PydanticCustomError(
+                    "method_option",
+                    "{message}",
+                    {
+                        "message": message.removeprefix("Value error, "),
+                        "field": ".".join(p for p in (name, field_path(err["loc"])) if p),
+                    },
+                ) from None
         return methods
 
     @model_validator(mode="after")
@@ -657,8 +700,9 @@ class Case(Strict):
             chosen = out.methods if out.methods is not None else list(self.methods)
             for method in chosen:
                 if method not in self.methods:
-                    problems.append(f"outputs.{i}.methods: method '{method}' is not in [methods]"
-                                    f"{nearest(method, self.methods)}")
+                    problems.append(
+                        f"outputs.{i}.methods: method '{method}' is not in [methods]{nearest(method, self.methods)}"
+                    )
                     continue
                 if method in METHODS and out.quantity not in method_quantities(method):
                     problems.append(f"outputs.{i}: method '{method}' cannot give '{out.quantity}'")
@@ -676,15 +720,18 @@ class Case(Strict):
             if agr.method not in self.methods:
                 problems.append(f"agreements.{i}.method: method '{agr.method}' is not in [methods]")
             if agr.against not in self.methods and agr.against not in labels:
-                problems.append(f"agreements.{i}.against: '{agr.against}' is neither a method in [methods] "
-                                 f"nor a reference label of this case")
+                problems.append(
+                    f"agreements.{i}.against: '{agr.against}' is neither a method in [methods] "
+                    f"nor a reference label of this case"
+                )
             if agr.against == agr.method:
                 problems.append(f"agreements.{i}: a method against itself checks nothing")
             if agr.levels != "all" and any(not 0 <= lv < max(n, 1) for lv in agr.levels):
                 problems.append(f"agreements.{i}.levels: level outside 0..{max(n, 1) - 1}")
         if self.case.purpose == "fem-validation" and "prbm" in self.methods:
-            problems.append("case.purpose: a 'fem-validation' benchmark runs no PRBM (remove [methods.prbm] "
-                            "or the purpose)")
+            problems.append(
+                "case.purpose: a 'fem-validation' benchmark runs no PRBM (remove [methods.prbm] or the purpose)"
+            )
         for field_name in ("unchecked", "expected_failure"):
             for method in getattr(self.case, field_name):
                 if method not in self.methods:
@@ -700,8 +747,13 @@ class Case(Strict):
         problems = scale.stiffness_problems(self)
         if problems:  # the load ranges divide by these stiffnesses
             return problems
-        problems = (scale.load_problems(self) + scale.tolerance_problems(self) + scale.mesh_problems(self)
-                    + scale.option_problems(self) + unused_options(self))
+        problems = (
+            scale.load_problems(self)
+            + scale.tolerance_problems(self)
+            + scale.mesh_problems(self)
+            + scale.option_problems(self)
+            + unused_options(self)
+        )
         for i, ref in enumerate(self.references):
             if ref.finding is not None and ref.finding.reproduce_with:
                 where = f"references.{i}.finding.reproduce_with"
@@ -743,13 +795,20 @@ class Case(Strict):
             if load.point not in bodies[load.body]:
                 raise ValueError(f"loads.{i}.body: '{load.body}' does not reach point '{load.point}'")
         if load.kind == "self_weight":
-            sections = ([("segment.section", self.segment.section)] if self.segment is not None else
-                        [(f"beam '{b.name}'", b.section) for b in self.require_mechanism().beams
-                         if load.member in (None, b.name)])
+            sections = (
+                [("segment.section", self.segment.section)]
+                if self.segment is not None
+                else [
+                    (f"beam '{b.name}'", b.section)
+                    for b in self.require_mechanism().beams
+                    if load.member in (None, b.name)
+                ]
+            )
             for where, section in sections:
                 if section.weight_per_length() is None:
-                    raise ValueError(f"loads.{i}: self_weight needs the weight_density of {where} "
-                                     "(or of each of its layers)")
+                    raise ValueError(
+                        f"loads.{i}: self_weight needs the weight_density of {where} (or of each of its layers)"
+                    )
 
     def n_levels(self) -> int:
         return len(self.loads[0].levels()) if self.loads else 1
@@ -784,8 +843,11 @@ def _fields_at(model: type[Strict], location: tuple) -> list[str]:
         field = model.model_fields.get(str(part)) if isinstance(model, type) else None
         if field is None:
             return []
-        found = [a for a in (field.annotation, *getattr(field.annotation, "__args__", ()))
-                 if isinstance(a, type) and issubclass(a, Strict)]
+        found = [
+            a
+            for a in (field.annotation, *getattr(field.annotation, "__args__", ()))
+            if isinstance(a, type) and issubclass(a, Strict)
+        ]
         if not found:
             return []
         model = found[0]
@@ -803,4 +865,3 @@ def without_checks(data: dict, methods: list[str]) -> dict:
         if key in info:
             info[key] = {m: why for m, why in info[key].items() if m in methods}
     return data
-

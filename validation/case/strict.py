@@ -16,6 +16,7 @@ scale (a non-dimensional load, a slenderness) are checked on the whole case (``v
 ``defer_build`` leaves each model's validator unbuilt until its first use, so ``prbm-validate solve`` of
 one case builds only the models that case reaches (the case schema and the options of its own methods),
 not every option, sweep and specification model of the harness."""
+
 from __future__ import annotations
 
 from typing import Annotated
@@ -28,16 +29,20 @@ TINY, HUGE = 1e-100, 1e100
 def representable(value: float) -> float:
     """``value`` when it is 0 or TINY <= |value| <= HUGE (a magnitude: module docstring); ValueError otherwise."""
     if value != 0.0 and not TINY <= abs(value) <= HUGE:
-        raise ValueError(f"{value:g} is outside the representable range: give 0 or a magnitude between "
-                         f"{TINY:g} and {HUGE:g} (products of such numbers overflow or underflow)")
+        raise ValueError(
+            f"{value:g} is outside the representable range: give 0 or a magnitude between "
+            f"{TINY:g} and {HUGE:g} (products of such numbers overflow or underflow)"
+        )
     return value
 
 
 def bounded(value: float) -> float:
     """``value`` when |value| <= HUGE (a signed value: module docstring); ValueError otherwise."""
     if abs(value) > HUGE:
-        raise ValueError(f"{value:g} is outside the representable range: give a magnitude of at most {HUGE:g} "
-                         "(products of such numbers overflow)")
+        raise ValueError(
+            f"{value:g} is outside the representable range: give a magnitude of at most {HUGE:g} "
+            "(products of such numbers overflow)"
+        )
     return value
 
 
@@ -55,9 +60,12 @@ Index = Annotated[int, Field(ge=0, le=1_000_000, strict=True)]
 def field_path(location: tuple) -> str:
     """Dotted field path of a pydantic error location, without validator and union-member tags
     (``function-after[...]``, ``list[...]``, ``float``)."""
+
     def is_tag(part) -> bool:
-        return isinstance(part, str) and (part.startswith("function-") or "[" in part
-                                          or part in ("str", "int", "float", "bool"))
+        return isinstance(part, str) and (
+            part.startswith("function-") or "[" in part or part in ("str", "int", "float", "bool")
+        )
+
     return ".".join(str(p) for p in location if not is_tag(p))
 
 

@@ -1,6 +1,7 @@
 """The command line of ``prbm-validate``: every verb and its arguments, with no solver imported
 (``--help`` and a bad command line answer at once; ``validation.cli.main`` loads the verb's module).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -11,8 +12,12 @@ DESCRIPTION = "prbm-validate: list, run, solve, report, bench, stress, audit, sw
 
 
 def _add_atlas(atlas: argparse.ArgumentParser) -> None:
-    atlas.add_argument("models", nargs="*", metavar="MODEL",
-                       help="atlas models to build (default: all; 'prbm-validate atlas --list' names them)")
+    atlas.add_argument(
+        "models",
+        nargs="*",
+        metavar="MODEL",
+        help="atlas models to build (default: all; 'prbm-validate atlas --list' names them)",
+    )
     atlas.add_argument("--list", action="store_true", help="name the models, their inputs and points, and stop")
     atlas.add_argument("--coarse", action="store_true", help="the coarse grid (a few hundred points a model)")
     atlas.add_argument("--out", default="reports/atlas", help="folder of the datasets (default %(default)s)")
@@ -21,8 +26,11 @@ def _add_atlas(atlas: argparse.ArgumentParser) -> None:
     where.add_argument("--serial", action="store_true", help="run in this process")
     where.add_argument("--dask", action="store_true", help="run on a local Dask cluster")
     where.add_argument("--scheduler", help="run on the Dask cluster at this address (tcp://HOST:PORT)")
-    atlas.add_argument("--write-maps", action="store_true",
-                       help="write the PRBM adapter's error maps (validation/atlas/error_maps.json) from the full atlas")
+    atlas.add_argument(
+        "--write-maps",
+        action="store_true",
+        help="write the PRBM adapter's error maps (validation/atlas/error_maps.json) from the full atlas",
+    )
     atlas.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
@@ -56,9 +64,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     listing = add("list", "every case (or the given ids, files, folders), one line each; checks every file")
     listing.add_argument("cases", nargs="*", help="case ids, files, folders or globs (default: all)")
-    listing.add_argument("--methods", action="store_true",
-                         help="instead of the cases, what each method can do: every load kind on every boundary, "
-                         "each method run on a minimal case (validation/run/coverage.py)")
+    listing.add_argument(
+        "--methods",
+        action="store_true",
+        help="instead of the cases, what each method can do: every load kind on every boundary, "
+        "each method run on a minimal case (validation/run/coverage.py)",
+    )
     listing.add_argument("--markdown", action="store_true", help="with --methods: as a Markdown table")
 
     run = add("run", "run cases and compare with the published numbers")
@@ -77,33 +88,53 @@ def build_parser() -> argparse.ArgumentParser:
     solve.add_argument("--compact", action="store_true", help="the JSON on one line (default: indented)")
 
     report = add("report", "run (or reuse) every case and write the report")
-    report.add_argument("cases", nargs="*",
-                        help="case ids, files, folders or globs (default: all, with the domain study and the atlas page)")
+    report.add_argument(
+        "cases",
+        nargs="*",
+        help="case ids, files, folders or globs (default: all, with the domain study and the atlas page)",
+    )
     report.add_argument("--out", default="reports", help="folder of the report (default %(default)s)")
     report.add_argument("--jobs", type=int, default=2, help="parallel processes (default %(default)s)")
     report.add_argument("--no-cache", action="store_true", help="recompute even unchanged cases")
 
     bench = add("bench", "run time against error for every method")
-    bench.add_argument("--out", default="reports/bench", help="folder of the benchmark's tables and plots (default %(default)s)")
+    bench.add_argument(
+        "--out", default="reports/bench", help="folder of the benchmark's tables and plots (default %(default)s)"
+    )
     bench.add_argument("--quick", action="store_true", help="fewer meshes and repeats")
     stress = add("stress", "numerical stability, invariances and bad input")
     stress.add_argument("--out", default="reports/stress", help="folder of the stress results (default %(default)s)")
     stress.add_argument("--long", action="store_true", help="many more random cases")
     stress.add_argument("--seed", type=int, default=20261122, help="seed of the random cases (default %(default)s)")
-    stress.add_argument("--configurations", type=int, default=10_000,
-                        help="generated configurations of the quantity contract with --long (default %(default)s)")
-    stress.add_argument("--mutants", type=int, default=None,
-                        help="mutated case files fuzzed through solve/run (default 300, 10000 with --long)")
-    stress.add_argument("--mutant-timeout", type=float, default=20.0,
-                        help="seconds each mutated case file may take (default %(default)s)")
+    stress.add_argument(
+        "--configurations",
+        type=int,
+        default=10_000,
+        help="generated configurations of the quantity contract with --long (default %(default)s)",
+    )
+    stress.add_argument(
+        "--mutants",
+        type=int,
+        default=None,
+        help="mutated case files fuzzed through solve/run (default 300, 10000 with --long)",
+    )
+    stress.add_argument(
+        "--mutant-timeout",
+        type=float,
+        default=20.0,
+        help="seconds each mutated case file may take (default %(default)s)",
+    )
     stress.add_argument("--workers", type=int, default=None, help="worker processes (default 2)")
     stress.add_argument("--dask", action="store_true", help="run --long on a local Dask cluster")
     stress.add_argument("--scheduler", default=None, help="run --long on the Dask cluster at this address")
 
     audit = add("audit", "plant errors in each method and count the cases that catch them")
     audit.add_argument("cases", nargs="*", help="case ids, files or globs (default: all)")
-    audit.add_argument("--plant", action="append",
-                       help="only this planted error (repeatable; default: all; names in validation/stress/plants.py)")
+    audit.add_argument(
+        "--plant",
+        action="append",
+        help="only this planted error (repeatable; default: all; names in validation/stress/plants.py)",
+    )
     audit.add_argument("--jobs", type=int, default=2, help="worker processes")
     audit.add_argument("--out", default="reports/audit", help="folder for audit.csv (default %(default)s)")
     _add_sweep(add("sweep", "a parameter sweep over a case (grids, Monte Carlo), resumable"))

@@ -10,6 +10,7 @@ the current code runs nothing.  After a build of every model the folder gets ``r
 
 Exit status: 0 built, 2 a bad model name or option, 130 interrupted (finished lines kept).
 """
+
 from __future__ import annotations
 
 import sys
@@ -82,15 +83,24 @@ def run(args) -> int:
 
     started = time.perf_counter()
     try:
-        record = dataset.build(grid, models, out=args.out, executor=executor, workers=args.workers,
-                               scheduler=args.scheduler, progress=progress)
+        record = dataset.build(
+            grid,
+            models,
+            out=args.out,
+            executor=executor,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            progress=progress,
+        )
     except KeyboardInterrupt:
         bar.close()
         print("atlas: interrupted; the finished lines are kept, run the same command to go on", file=sys.stderr)
         return 130
     bar.close()
-    print(f"atlas: {record.lines_run} line(s) run, {record.lines_skipped} already done, {record.points} points in "
-          f"{record.seconds:.1f} s ({record.points_per_second:.0f} points/s) -> {record.folder}")
+    print(
+        f"atlas: {record.lines_run} line(s) run, {record.lines_skipped} already done, {record.points} points in "
+        f"{record.seconds:.1f} s ({record.points_per_second:.0f} points/s) -> {record.folder}"
+    )
     frame = dataset.load(args.out, grid)
     if frame is not None and dataset.complete(args.out, grid, models):
         _summaries(frame, Path(record.folder), models)

@@ -1,4 +1,5 @@
 """``prbm-validate bench``: run time against error for every method."""
+
 from __future__ import annotations
 
 from pathlib import Path

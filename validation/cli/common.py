@@ -1,4 +1,5 @@
 """What several verbs share: the case files named on the command line, and --method checks."""
+
 from __future__ import annotations
 
 from pathlib import Path

@@ -7,11 +7,12 @@ full, no permission: the path is named); 2 bad input (a case, spec or option tha
 unknown name, a missing optional dependency, an output folder that cannot be used or is in use by
 another command), found before any solve.
 """
+
 from __future__ import annotations
 
 import time
 
-STARTED = time.perf_counter()   # the command's clock starts before its imports (`timeline.command_age`)
+STARTED = time.perf_counter()  # the command's clock starts before its imports (`timeline.command_age`)
 
 import importlib  # noqa: E402
 import math  # noqa: E402
@@ -26,10 +27,18 @@ from validation.run.timeline import command_age, mark_command_start  # noqa: E40
 # optional dependency -> the extra that installs it
 EXTRAS = {"distributed": "dask", "dask": "dask", "openseespy": "peer", "pytest": "test"}
 # verb -> the module that runs it (``run(args) -> int``), loaded only when the verb is asked for
-COMMANDS = {"list": "validation.cli.list_cases", "run": "validation.cli.run", "solve": "validation.cli.solve",
-            "report": "validation.cli.report", "bench": "validation.cli.bench", "stress": "validation.cli.stress",
-            "audit": "validation.cli.audit", "sweep": "validation.cli.sweep",
-            "synthesize": "validation.cli.synthesize", "atlas": "validation.cli.atlas"}
+COMMANDS = {
+    "list": "validation.cli.list_cases",
+    "run": "validation.cli.run",
+    "solve": "validation.cli.solve",
+    "report": "validation.cli.report",
+    "bench": "validation.cli.bench",
+    "stress": "validation.cli.stress",
+    "audit": "validation.cli.audit",
+    "sweep": "validation.cli.sweep",
+    "synthesize": "validation.cli.synthesize",
+    "atlas": "validation.cli.atlas",
+}
 
 __all__ = ["COMMANDS", "build_parser", "main"]
 
@@ -56,8 +65,10 @@ def main(argv: list[str] | None = None) -> int:
         top = (exc.name or "").split(".")[0]
         if top not in EXTRAS:
             raise
-        print(f"error: '{args.command}' needs {top}, an optional dependency: "
-              f"pip install 'prbm-validate[{EXTRAS[top]}]'", file=sys.stderr)
+        print(
+            f"error: '{args.command}' needs {top}, an optional dependency: pip install 'prbm-validate[{EXTRAS[top]}]'",
+            file=sys.stderr,
+        )
         return ExitStatus.BAD_INPUT
     except OutputFolderError as exc:  # an output folder in use, or results that could not be written
         print_error(exc.problem)

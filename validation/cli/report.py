@@ -1,4 +1,5 @@
 """``prbm-validate report``: run (or reuse) every case and write the HTML/Markdown report."""
+
 from __future__ import annotations
 
 from pathlib import Path

@@ -6,6 +6,7 @@ whole once all of them are written. A run in which no case could run (every case
 named) is rejected: nothing is written and the previous tables stay as they were; bad files beside good
 ones are reported and the good cases are written (exit 2 all the same).
 """
+
 from __future__ import annotations
 
 import sys
@@ -26,17 +27,35 @@ OWNED = tuple(f"{name}.{kind}" for name in TABLES for kind in ("csv", "parquet")
 
 
 def _print_table(frame, file=None) -> None:
-    with pd.option_context("display.max_rows", 500, "display.max_columns", 30, "display.width", 200,
-                           "display.max_colwidth", 48,
-                           "display.float_format", lambda v: f"{v:.4g}"):
+    with pd.option_context(
+        "display.max_rows",
+        500,
+        "display.max_columns",
+        30,
+        "display.width",
+        200,
+        "display.max_colwidth",
+        48,
+        "display.float_format",
+        lambda v: f"{v:.4g}",
+    ):
         print(frame.to_string(index=False), file=file or sys.stdout)
 
 
 def write_tables(outcome: RunOutcome, out: Path) -> pd.DataFrame | None:
     """Every table of the run under ``out``; returns the summary (None when no case has a row)."""
-    results = outcome.table.astype({"within_tolerance": "boolean", "compare": "boolean", "converged": "boolean",
-                                    "finding": "string", "message": "string", "source": "string", "verdict": "string",
-                                    "applicability": "string"})
+    results = outcome.table.astype(
+        {
+            "within_tolerance": "boolean",
+            "compare": "boolean",
+            "converged": "boolean",
+            "finding": "string",
+            "message": "string",
+            "source": "string",
+            "verdict": "string",
+            "applicability": "string",
+        }
+    )
     results.to_csv(out / "results.csv", index=False)
     results.to_parquet(out / "results.parquet")
     tables.write(tables.tables_of(outcome.results, outcome.table), out)
@@ -57,10 +76,11 @@ def run(args) -> int:
         return ExitStatus.BAD_INPUT
     started = time.perf_counter()
     with OutputSet(out, owned=OWNED) as output:
-        outcome = run_cases(paths, methods=args.method, use_cache=not args.no_cache, jobs=args.jobs,
-                            progress=not args.quiet)
+        outcome = run_cases(
+            paths, methods=args.method, use_cache=not args.no_cache, jobs=args.jobs, progress=not args.quiet
+        )
         outcome.errors = sorted(errors + outcome.errors)
-        if not outcome.results:   # rejected: no case could run
+        if not outcome.results:  # rejected: no case could run
             for error in outcome.errors:
                 print_error(error)
             return ExitStatus.BAD_INPUT
@@ -70,9 +90,13 @@ def run(args) -> int:
         _print_table(table)
     print_findings(outcome)
     verdicts = [Verdict(v) for v in table["verdict"]] if table is not None else []
-    print(f"\n{counts_sentence(verdicts)} ({len(outcome.errors)} file(s) rejected; verdicts: validation/run/verdict.py)")
-    print(f"results: {out} (values.csv, comparisons.csv, summary.csv, ...; as Parquet too), in "
-          f"{time.perf_counter() - started:.1f} s")
+    print(
+        f"\n{counts_sentence(verdicts)} ({len(outcome.errors)} file(s) rejected; verdicts: validation/run/verdict.py)"
+    )
+    print(
+        f"results: {out} (values.csv, comparisons.csv, summary.csv, ...; as Parquet too), in "
+        f"{time.perf_counter() - started:.1f} s"
+    )
     return outcome.exit_status
 
 
@@ -83,12 +107,30 @@ def print_findings(outcome: RunOutcome) -> None:
     failed = outcome.outside_limit
     if len(failed):
         print(f"\n{len(failed)} row(s) outside the claimed limit:")
-        _print_table(failed[["case", "method", "quantity", "point", "level", "value", "reference_label",
-                             "reference_value", "abs_error", "rel_error", "tolerance_rel", "tolerance_abs"]])
+        _print_table(
+            failed[
+                [
+                    "case",
+                    "method",
+                    "quantity",
+                    "point",
+                    "level",
+                    "value",
+                    "reference_label",
+                    "reference_value",
+                    "abs_error",
+                    "rel_error",
+                    "tolerance_rel",
+                    "tolerance_abs",
+                ]
+            ]
+        )
     problems = outcome.unexpected_verdicts
     if problems:
-        print(f"\n{len(problems)} method run(s) refused, failed or did not converge (and their case does not "
-              f"record an expected failure):")
+        print(
+            f"\n{len(problems)} method run(s) refused, failed or did not converge (and their case does not "
+            f"record an expected failure):"
+        )
         for line in problems:
             print(f"  {line}")
     for error in outcome.errors + outcome.misconfigured:

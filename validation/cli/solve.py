@@ -6,6 +6,7 @@ result to 10 significant digits (no solver here is converged further; the digits
 0.6000000000000001), a value with an error estimate (the FEM's) to the estimate's second significant
 digit, and the estimate itself to two significant digits.
 """
+
 from __future__ import annotations
 
 import json
@@ -23,8 +24,10 @@ from validation.run.runner import requests_for, run_method
 
 SIGNIFICANT = 10
 ESTIMATE_DIGITS = 2
-ROUNDING = (f"values to {SIGNIFICANT} significant digits; a value with an error estimate to the estimate's "
-            f"second significant digit; error estimates to {ESTIMATE_DIGITS} significant digits")
+ROUNDING = (
+    f"values to {SIGNIFICANT} significant digits; a value with an error estimate to the estimate's "
+    f"second significant digit; error estimates to {ESTIMATE_DIGITS} significant digits"
+)
 
 
 def _clean(v):
@@ -41,8 +44,13 @@ def significant(value, digits: int = SIGNIFICANT):
 def to_estimate(value, estimate):
     """``value`` rounded to the second significant digit of its error ``estimate`` (a finite, positive
     estimate), and never to more than ``SIGNIFICANT`` significant digits."""
-    if not isinstance(value, float) or not math.isfinite(value) or not isinstance(estimate, float) \
-            or not math.isfinite(estimate) or estimate <= 0.0:
+    if (
+        not isinstance(value, float)
+        or not math.isfinite(value)
+        or not isinstance(estimate, float)
+        or not math.isfinite(estimate)
+        or estimate <= 0.0
+    ):
         return significant(value)
     rounded = round(value, ESTIMATE_DIGITS - 1 - math.floor(math.log10(estimate)))
     return significant(float(rounded))
@@ -61,8 +69,10 @@ def solve_document(loaded, method: str, run) -> dict:
     """The JSON document of ``solve``: every requested output at every level, with the level's loads."""
     case = loaded.case
     labels = level_labels(case)
-    loads = [(load_name(load, i, case), load.levels(), load_unit(load, case), load.direction)
-             for i, load in enumerate(case.loads)]
+    loads = [
+        (load_name(load, i, case), load.levels(), load_unit(load, case), load.direction)
+        for i, load in enumerate(case.loads)
+    ]
     levels, units = [], {}
     for level in range(case.n_levels()):
         outputs = {}
@@ -75,22 +85,35 @@ def solve_document(loaded, method: str, run) -> dict:
             units[name] = case.unit(QUANTITIES[req.quantity].dimension)
             if req in run.error_estimate:
                 outputs[name + ":error_estimate"] = significant(estimate, ESTIMATE_DIGITS)
-            if req in run.unreliable_estimate:      # the estimate is no bound: why
+            if req in run.unreliable_estimate:  # the estimate is no bound: why
                 outputs[name + ":error_estimate_unreliable"] = run.unreliable_estimate[req]
         if outputs:
-            entry = {"level": level, "label": labels[level],
-                     "loads": [_load_entry(n, significant(v[level]), u, d) for n, v, u, d in loads], "outputs": outputs}
+            entry = {
+                "level": level,
+                "label": labels[level],
+                "loads": [_load_entry(n, significant(v[level]), u, d) for n, v, u, d in loads],
+                "outputs": outputs,
+            }
             flags = run.applicability.get(level, [])
             if flags:
                 entry["applicability"] = [f.value for f in flags]
                 entry["applicability_reason"] = run.level_messages.get(level, run.message)
-            if level in run.expected_error:     # the PRBM error atlas's expected tip error, % of L
+            if level in run.expected_error:  # the PRBM error atlas's expected tip error, % of L
                 entry["expected_error_percent_of_L"] = _clean(round(run.expected_error[level], 3))
             levels.append(entry)
-    return {"case": case.case.id, "file": str(loaded.path), "method": method, "units": case.case.units,
-            "output_units": units, "rounding": ROUNDING,
-            "status": run.status.value, "converged": run.converged, "message": run.message,
-            "wall_time_s": round(run.wall_time, 4), "levels": levels}
+    return {
+        "case": case.case.id,
+        "file": str(loaded.path),
+        "method": method,
+        "units": case.case.units,
+        "output_units": units,
+        "rounding": ROUNDING,
+        "status": run.status.value,
+        "converged": run.converged,
+        "message": run.message,
+        "wall_time_s": round(run.wall_time, 4),
+        "levels": levels,
+    }
 
 
 def run(args) -> int:
@@ -106,13 +129,16 @@ def run(args) -> int:
     methods = args.method or list(case.methods)
     unknown = [m for m in methods if m not in case.methods]
     if unknown:
-        print(f"error: {loaded.path}: methods: the case does not ask for method '{unknown[0]}' "
-              f"(it has {', '.join(case.methods)})", file=sys.stderr)
+        print(
+            f"error: {loaded.path}: methods: the case does not ask for method '{unknown[0]}' "
+            f"(it has {', '.join(case.methods)})",
+            file=sys.stderr,
+        )
         return ExitStatus.BAD_INPUT
     documents, statuses = [], []
     for method in methods:
         run = run_method(case, method)
-        if run.status is None:   # ``MethodRun`` derives it when made
+        if run.status is None:  # ``MethodRun`` derives it when made
             raise ValueError(f"the {method} run has no status")
         statuses.append(of_run_status(run.status))
         if run.status is RunStatus.MISCONFIGURED:

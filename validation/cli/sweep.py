@@ -6,6 +6,7 @@ rewritten), put in place whole when the sweep ends, interrupted (Ctrl-C) include
 run resumes from every finished point. A sweep killed outright leaves the folder as it was; the next
 run on it takes over the parts the killed one had finished.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -19,7 +20,7 @@ from validation.run.output_set import OutputSet
 from validation.sweep.plot import plot_sweep, sensitivity_summary
 from validation.sweep.run import EXIT_FAILED_POINTS, EXIT_INTERRUPTED, EXIT_OK, find_spec, load_spec, run_sweep
 
-PARTS = "parts/part-*.parquet"   # a finished part: whole, or not there
+PARTS = "parts/part-*.parquet"  # a finished part: whole, or not there
 
 
 class _Named:
@@ -44,11 +45,21 @@ def run(args) -> int:
     out = Path(args.out) if args.out else Path("reports") / "sweeps" / spec.sweep.id
     executor = "serial" if args.serial else ("dask" if args.dask else "process")
     with OutputSet(out, seed=("*",), link=("parts",), adopt=(PARTS,)) as output:
-        with contextlib.redirect_stdout(_Named(sys.stdout, output.path, out)), \
-                contextlib.redirect_stderr(_Named(sys.stderr, output.path, out)):
-            status = run_sweep(args.spec, output.path, executor=executor, scheduler=args.scheduler,
-                               workers=args.workers, resume=not args.restart, progress=not args.quiet,
-                               chunk=args.chunk, limit=args.limit)
+        with (
+            contextlib.redirect_stdout(_Named(sys.stdout, output.path, out)),
+            contextlib.redirect_stderr(_Named(sys.stderr, output.path, out)),
+        ):
+            status = run_sweep(
+                args.spec,
+                output.path,
+                executor=executor,
+                scheduler=args.scheduler,
+                workers=args.workers,
+                resume=not args.restart,
+                progress=not args.quiet,
+                chunk=args.chunk,
+                limit=args.limit,
+            )
             if status not in (EXIT_OK, EXIT_FAILED_POINTS, EXIT_INTERRUPTED):
                 return status
             ended = status in (EXIT_OK, EXIT_FAILED_POINTS)

@@ -1,4 +1,5 @@
 """``prbm-validate synthesize``: design from a specification, write it, check it with the FEM."""
+
 from __future__ import annotations
 
 from validation.synthesis.synthesize import synthesize

@@ -11,6 +11,7 @@ the case it raises ``NotApplicable`` with the reason, which the results table re
 option of ``[methods.<name>]`` is wrong (unknown name, wrong type) it raises ``Misconfigured`` naming
 the option. Every run carries a ``RunStatus``, so callers never parse the message text.
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
@@ -36,22 +37,22 @@ class Misconfigured(Exception):
 class RunStatus(str, Enum):
     """How a method run ended: the one field callers read instead of parsing ``message``."""
 
-    OK = "ok"                          # every requested output computed, converged
-    NOT_CONVERGED = "not converged"    # the solver ran but did not converge (at some level)
+    OK = "ok"  # every requested output computed, converged
+    NOT_CONVERGED = "not converged"  # the solver ran but did not converge (at some level)
     NOT_APPLICABLE = "not applicable"  # the method refused the case (NotApplicable), with the reason
-    FAILED = "failed"                  # the method raised an unexpected exception (a bug or a crash)
-    MISCONFIGURED = "misconfigured"    # a method option of the case is wrong: bad input
-    TIMED_OUT = "timed out"            # stopped at the case's wall-time limit ([limits] seconds)
+    FAILED = "failed"  # the method raised an unexpected exception (a bug or a crash)
+    MISCONFIGURED = "misconfigured"  # a method option of the case is wrong: bad input
+    TIMED_OUT = "timed out"  # stopped at the case's wall-time limit ([limits] seconds)
 
 
 class Applicability(str, Enum):
     """Why a method's value at a level lies outside what its model was made for (a structured flag the
     results table carries in its ``applicability`` column, beside the human message)."""
 
-    INFLECTION = "inflection expected"            # the load bends the segment through an inflection point
-    LOAD_RATIO = "load ratio outside the fit"     # n outside the published fit's range (extrapolated)
-    DEFLECTION = "PRB angle beyond the fit"       # the pseudo-rigid-body angle past the fit's printed range
-    OUTSIDE_VALIDITY = "outside validity"         # outside the model's 5 % region of the error atlas, or unmapped
+    INFLECTION = "inflection expected"  # the load bends the segment through an inflection point
+    LOAD_RATIO = "load ratio outside the fit"  # n outside the published fit's range (extrapolated)
+    DEFLECTION = "PRB angle beyond the fit"  # the pseudo-rigid-body angle past the fit's printed range
+    OUTSIDE_VALIDITY = "outside validity"  # outside the model's 5 % region of the error atlas, or unmapped
 
 
 @dataclass
@@ -102,7 +103,7 @@ class MethodRun:
 
     def summary(self) -> str:
         """'<status>: <message>' in words, without saying the status twice."""
-        if self.status is None:   # ``__post_init__`` sets it: None only when reset afterwards
+        if self.status is None:  # ``__post_init__`` sets it: None only when reset afterwards
             raise ValueError("the run's status is not set")
         return f"{self.status.value}: {self.message.removeprefix(self.status.value + ': ')}"
 
@@ -113,7 +114,7 @@ class DeferredList(Sequence):
     answer) as the plain list."""
 
     def __init__(self, build: Callable[[], list]):
-        self._items: list | Callable[[], list] = build   # the builder until first read, then the list
+        self._items: list | Callable[[], list] = build  # the builder until first read, then the list
 
     def _built(self) -> list:
         if not isinstance(self._items, list):
@@ -136,9 +137,11 @@ def reject_loads_along_beams(case, method: str, turning: bool = False, why: str 
     fixed point and forces turning with a named body."""
     for i, load in enumerate(case.loads):
         if load.kind in ("distributed", "self_weight"):
-            raise NotApplicable(f"loads.{i}: {why}" if why else
-                                f"loads.{i}: {method} takes no {load.kind.replace('_', '-')} load "
-                                "(a load along the beam)")
+            raise NotApplicable(
+                f"loads.{i}: {why}"
+                if why
+                else f"loads.{i}: {method} takes no {load.kind.replace('_', '-')} load (a load along the beam)"
+            )
         if turning:
             continue
         if load.toward is not None:

@@ -14,6 +14,7 @@ BCM is trusted for |u_y| <= 0.1 and |theta| <= 0.1 rad [chen2021, §3]; levels o
 this range are reported in ``level_messages`` and ``extras['outside_range']`` (values kept).
 k_a = A L^2 / I of each beam's section (1e12, i.e. inextensible, if the area is not given).
 """
+
 from __future__ import annotations
 
 import math
@@ -103,9 +104,16 @@ def _segment(case: Case, seg: SegmentSpec, requests: list[Request], options: Bcm
         if abs(uy) > RANGE or abs(th) > RANGE:
             outside.append(level)
             msgs[level] = f"outside the BCM range (u_y = {uy:.3g}, theta = {th:.3g} rad)"
-        table = {"x": L * (1 + ux), "y": L * uy, "dx": L * ux, "dy": L * uy,
-                 "rotation": math.degrees(th), "force_x": fx / f_scale, "force_y": fy / f_scale,
-                 "moment": mz / m_scale}
+        table = {
+            "x": L * (1 + ux),
+            "y": L * uy,
+            "dx": L * ux,
+            "dy": L * uy,
+            "rotation": math.degrees(th),
+            "force_x": fx / f_scale,
+            "force_y": fy / f_scale,
+            "moment": mz / m_scale,
+        }
         for req in requests:
             if req.level != level:
                 continue
@@ -220,12 +228,18 @@ def _mechanism_value(mech: LinkOnBeams, req: Request, q, needed: float, loads: L
     p = mech.body.position(X, q) if on_link else X
     applied = loads.applied.get(point, np.zeros(2)).copy()
     driven = point == loads.drive_point
-    if driven and loads.displacement is not None:        # the force the prescribed displacement needs
+    if driven and loads.displacement is not None:  # the force the prescribed displacement needs
         applied[loads.displacement.axis] += needed
-    table = {"x": p[0], "y": p[1], "dx": p[0] - X[0], "dy": p[1] - X[1],
-             "rotation": math.degrees(q[2]) if on_link else 0.0,
-             "force_x": applied[0], "force_y": applied[1],
-             "moment": needed if driven and loads.displacement is None else 0.0}
+    table = {
+        "x": p[0],
+        "y": p[1],
+        "dx": p[0] - X[0],
+        "dy": p[1] - X[1],
+        "rotation": math.degrees(q[2]) if on_link else 0.0,
+        "force_x": applied[0],
+        "force_y": applied[1],
+        "moment": needed if driven and loads.displacement is None else 0.0,
+    }
     if req.quantity not in table:
         raise NotApplicable(f"'{req.quantity}' is not a BCM mechanism output")
     return float(table[req.quantity])
@@ -239,16 +253,20 @@ def _mechanism(case: Case, spec: MechanismSpec, requests: list[Request], options
     for level in range(max(r.level for r in requests) + 1):
         loads = _level_loads(case, mech, level)
         try:
-            q, needed = mech.body.solve(forces=loads.forces, moment=loads.moment, rotation=loads.rotation, guess=q,
-                                        displacement=loads.displacement)
+            q, needed = mech.body.solve(
+                forces=loads.forces,
+                moment=loads.moment,
+                rotation=loads.rotation,
+                guess=q,
+                displacement=loads.displacement,
+            )
         except RuntimeError as exc:  # no equilibrium from here on: the levels so far stand
             msgs[level] = f"level {level}: {exc}"
             break
         states = mech.body.beam_states(q)
         if any(abs(s[1]) > RANGE or abs(s[2]) > RANGE for s in states):
             outside.append(level)
-            msgs[level] = "outside the BCM range: " + ", ".join(
-                f"u_y = {s[1]:.3g}, theta = {s[2]:.3g}" for s in states)
+            msgs[level] = "outside the BCM range: " + ", ".join(f"u_y = {s[1]:.3g}, theta = {s[2]:.3g}" for s in states)
         for req in requests:
             if req.level == level:
                 values[req] = _mechanism_value(mech, req, q, needed, loads)
@@ -269,16 +287,24 @@ def run(case: Case, requests: list[Request], options: BcmOptions) -> MethodRun:
             raise NotApplicable("the case has neither a segment nor a mechanism")
         values, msgs, outside = answers.values, answers.messages, answers.outside
     except RuntimeError as exc:  # the library's solver found no equilibrium: say so, never a bare crash
-        return MethodRun(values={}, converged=False, wall_time=time.perf_counter() - t0,
-                         message=f"{exc} (the load path leaves what the BCM equations solve)")
+        return MethodRun(
+            values={},
+            converged=False,
+            wall_time=time.perf_counter() - t0,
+            message=f"{exc} (the load path leaves what the BCM equations solve)",
+        )
     levels = sorted({r.level for r in requests})
     solved = {lv: all(r in values for r in requests if r.level == lv) for lv in levels}
     message = "converged" if not outside else f"BCM range exceeded at levels {outside}"
     if not all(solved.values()):
         first = min(lv for lv, ok in solved.items() if not ok)
         message = f"no BCM equilibrium from level {first} on: {msgs.get(first, '')}"
-    return MethodRun(values=values, converged=all(solved.values()), message=message,
-                     wall_time=time.perf_counter() - t0,
-                     level_converged=solved,
-                     level_messages={lv: msgs.get(lv, "") for lv in levels},
-                     extras={"outside_range": outside, "model": "beam constraint model [chen2021]"})
+    return MethodRun(
+        values=values,
+        converged=all(solved.values()),
+        message=message,
+        wall_time=time.perf_counter() - t0,
+        level_converged=solved,
+        level_messages={lv: msgs.get(lv, "") for lv in levels},
+        extras={"outside_range": outside, "model": "beam constraint model [chen2021]"},
+    )

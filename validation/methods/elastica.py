@@ -51,6 +51,7 @@ segment pulled toward a fixed point is solved this way too.
 The outputs are the shooting's (tip x, y, dx, dy, rotation, force_x, force_y, moment; root reactions),
 plus the rotation of a pinned root.
 """
+
 from __future__ import annotations
 
 import math
@@ -60,15 +61,22 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from elastica.shooting import (ElasticaProblem, MomentConstraint, PointedForce, TipConstraint,
-                               loaded_start, solve_path, unloaded_tip)
+from elastica.shooting import (
+    ElasticaProblem,
+    MomentConstraint,
+    PointedForce,
+    TipConstraint,
+    loaded_start,
+    solve_path,
+    unloaded_tip,
+)
 from validation.methods import elastica_network
 from validation.methods.inverse_problem import LOAD_OUTPUTS, InverseSpec, Tie, inverse_spec, merge_runs
 from validation.methods.base import MethodRun, NotApplicable, Request
 from validation.case.method_options import ElasticaOptions
 from validation.case.schema import Case
 
-SUPPORTED = {"fixed-free", "fixed-pinned", "fixed-guided", "fixed-fixed"}   # by the shooting (``level_problems``)
+SUPPORTED = {"fixed-free", "fixed-pinned", "fixed-guided", "fixed-fixed"}  # by the shooting (``level_problems``)
 
 
 def _stiffness(case: Case, options: ElasticaOptions) -> float:
@@ -87,9 +95,11 @@ def _tolerances(options: ElasticaOptions) -> dict:
     return {name: value for name in ("rtol", "tol") if (value := getattr(options, name)) is not None}
 
 
-STRAIGHT_FIXED_FIXED = ("a straight fixed-fixed segment whose tip's axial motion is held or prescribed: the "
-                        "inextensible shooting cannot bend it (once it bends its chord shortens); the adapter "
-                        "solves it as an extensible mechanism instead")
+STRAIGHT_FIXED_FIXED = (
+    "a straight fixed-fixed segment whose tip's axial motion is held or prescribed: the "
+    "inextensible shooting cannot bend it (once it bends its chord shortens); the adapter "
+    "solves it as an extensible mechanism instead"
+)
 
 
 def _held_tip_directions(case: Case) -> list[np.ndarray]:
@@ -97,10 +107,16 @@ def _held_tip_directions(case: Case) -> list[np.ndarray]:
     prescribed displacement and no tip force acts along (at most two prescribed components in all)."""
     if case.require_segment().boundary != "fixed-fixed":
         return []
-    prescribed = [np.asarray(ld.direction, float) / np.hypot(*ld.require_direction())
-                  for ld in case.loads if ld.kind == "displacement"]
-    forces = [np.asarray(ld.direction, float) if ld.toward is None else np.ones(2)   # a pointed force: both
-              for ld in case.loads if ld.kind == "force"]
+    prescribed = [
+        np.asarray(ld.direction, float) / np.hypot(*ld.require_direction())
+        for ld in case.loads
+        if ld.kind == "displacement"
+    ]
+    forces = [
+        np.asarray(ld.direction, float) if ld.toward is None else np.ones(2)  # a pointed force: both
+        for ld in case.loads
+        if ld.kind == "force"
+    ]
     held: list[np.ndarray] = []
     for u in (np.array([1.0, 0.0]), np.array([0.0, 1.0])):
         free = any(abs(u @ p) >= 0.999 for p in prescribed) or any(abs(u @ f) > 1e-12 for f in forces)
@@ -113,10 +129,12 @@ def _axially_held(case: Case) -> bool:
     """A straight fixed-fixed segment whose tip x is held by the boundary or prescribed: the inextensible
     elastica's tip would have to stay at x = L, which it can only do straight."""
     seg = case.require_segment()
-    axial = [np.asarray(ld.direction, float) / np.hypot(*ld.require_direction())
-             for ld in case.loads if ld.kind == "displacement"] + _held_tip_directions(case)
-    return (seg.boundary == "fixed-fixed" and seg.initial_curvature() == 0.0
-            and any(abs(u[0]) > 0.999 for u in axial))
+    axial = [
+        np.asarray(ld.direction, float) / np.hypot(*ld.require_direction())
+        for ld in case.loads
+        if ld.kind == "displacement"
+    ] + _held_tip_directions(case)
+    return seg.boundary == "fixed-fixed" and seg.initial_curvature() == 0.0 and any(abs(u[0]) > 0.999 for u in axial)
 
 
 def _by_mechanism(case: Case) -> bool:
@@ -136,8 +154,10 @@ def level_problems(case: Case, options: ElasticaOptions) -> list[ElasticaProblem
         raise NotApplicable("the exact elastica solves a single segment, not a mechanism")
     seg = case.require_segment()
     if seg.boundary not in SUPPORTED:
-        raise NotApplicable(f"boundary '{seg.boundary}' is not a clamped-root problem of the shooting; the "
-                            "adapter solves it as a mechanism instead")
+        raise NotApplicable(
+            f"boundary '{seg.boundary}' is not a clamped-root problem of the shooting; the "
+            "adapter solves it as a mechanism instead"
+        )
     L, k0 = seg.length, seg.initial_curvature()
     EI = _stiffness(case, options)
     x0, y0, th0 = unloaded_tip(L, k0)
@@ -150,8 +170,10 @@ def level_problems(case: Case, options: ElasticaOptions) -> list[ElasticaProblem
         if load.kind == "distributed" and load.follower:
             raise NotApplicable("a follower distributed load is not in the elastica's shooting equations")
         if load.toward is not None and seg.boundary == "fixed-fixed":
-            raise NotApplicable("a force toward a fixed point on a fixed-fixed segment: the adapter frees "
-                                "the held tip components a force acts along, and this force turns")
+            raise NotApplicable(
+                "a force toward a fixed point on a fixed-fixed segment: the adapter frees "
+                "the held tip components a force acts along, and this force turns"
+            )
     held = _held_tip_directions(case)
     if _axially_held(case):
         raise NotApplicable(STRAIGHT_FIXED_FIXED)
@@ -169,8 +191,9 @@ def level_problems(case: Case, options: ElasticaOptions) -> list[ElasticaProblem
             v = load.levels()[i]
             d = np.asarray(load.direction if load.direction is not None else (0.0, 0.0), float)
             if load.kind == "force" and load.toward is not None:
-                pointed.append(PointedForce(float(v), (float(load.toward[0]), float(load.toward[1])),
-                                            math.radians(load.angle)))
+                pointed.append(
+                    PointedForce(float(v), (float(load.toward[0]), float(load.toward[1])), math.radians(load.angle))
+                )
             elif load.kind == "distributed":
                 distributed += v * d
             elif load.kind == "self_weight":
@@ -189,8 +212,10 @@ def level_problems(case: Case, options: ElasticaOptions) -> list[ElasticaProblem
             elif load.kind == "displacement":
                 u = d / np.hypot(*d)
                 if k0 == 0.0 and abs(u[0]) > 0.999 and v != 0.0:
-                    raise NotApplicable("a prescribed axial displacement of a straight segment: the "
-                                        "inextensible elastica has no unbuckled solution")
+                    raise NotApplicable(
+                        "a prescribed axial displacement of a straight segment: the "
+                        "inextensible elastica has no unbuckled solution"
+                    )
                 constraints.append(TipConstraint(tuple(u), float(u @ [x0, y0] + v * np.hypot(*d))))
                 prescribed_dirs.append(u)
             elif load.kind == "rotation":
@@ -204,10 +229,20 @@ def level_problems(case: Case, options: ElasticaOptions) -> list[ElasticaProblem
             prescribed_dirs.append(u)
         if len(prescribed_dirs) > 2:
             raise NotApplicable("more than two prescribed tip-position components")
-        problems.append(ElasticaProblem(length=L, EI=EI, curvature=k0, force=_pair(force),
-                                        moment=moment, follower=_pair(follower),
-                                        constraints=tuple(constraints), tip_angle=tip_angle,
-                                        distributed=_pair(distributed), pointed=tuple(pointed)))
+        problems.append(
+            ElasticaProblem(
+                length=L,
+                EI=EI,
+                curvature=k0,
+                force=_pair(force),
+                moment=moment,
+                follower=_pair(follower),
+                constraints=tuple(constraints),
+                tip_angle=tip_angle,
+                distributed=_pair(distributed),
+                pointed=tuple(pointed),
+            )
+        )
     return problems
 
 
@@ -233,8 +268,10 @@ def inflection_problems(case: Case, options: ElasticaOptions) -> list[tuple[Elas
     seg = case.require_segment()
     if seg.boundary != "fixed-guided":
         raise NotApplicable("problem = 'inflection' is a fixed-guided segment problem")
-    if any(ld.kind not in ("force", "moment") or ld.follower or ld.toward is not None
-           or ld.point != "tip" for ld in case.loads):
+    if any(
+        ld.kind not in ("force", "moment") or ld.follower or ld.toward is not None or ld.point != "tip"
+        for ld in case.loads
+    ):
         raise NotApplicable("problem = 'inflection' takes dead tip forces/moments (the start loads) only")
     n = case.n_levels()
     b, theta0, l1 = (_per_level(options, k, n) for k in ("b", "theta0", "l1"))
@@ -248,10 +285,14 @@ def inflection_problems(case: Case, options: ElasticaOptions) -> list[tuple[Elas
                 force += v * np.asarray(load.direction, float)
             else:
                 moment += v
-        problem = ElasticaProblem(length=L, EI=EI, curvature=k0,
-                                  constraints=(TipConstraint((0.0, 1.0), b[i]),),
-                                  tip_angle=math.radians(theta0[i]),
-                                  moment_constraints=(MomentConstraint(l1[i]),))
+        problem = ElasticaProblem(
+            length=L,
+            EI=EI,
+            curvature=k0,
+            constraints=(TipConstraint((0.0, 1.0), b[i]),),
+            tip_angle=math.radians(theta0[i]),
+            moment_constraints=(MomentConstraint(l1[i]),),
+        )
         out.append((problem, (float(force[0]), float(force[1])), moment))
     return out
 
@@ -263,13 +304,27 @@ def _value(res, req: Request, case: Case) -> float:
     if q == "strain_energy":
         return res.strain_energy
     if point == "root":
-        table = {"x": 0.0, "y": 0.0, "dx": 0.0, "dy": 0.0, "rotation": 0.0,
-                 "reaction_x": res.reaction[0], "reaction_y": res.reaction[1],
-                 "reaction_moment": res.reaction[2]}
+        table = {
+            "x": 0.0,
+            "y": 0.0,
+            "dx": 0.0,
+            "dy": 0.0,
+            "rotation": 0.0,
+            "reaction_x": res.reaction[0],
+            "reaction_y": res.reaction[1],
+            "reaction_moment": res.reaction[2],
+        }
     else:
-        table = {"x": res.x, "y": res.y, "dx": res.x - x0, "dy": res.y - y0,
-                 "rotation": math.degrees(res.theta - th0), "force_x": res.force[0],
-                 "force_y": res.force[1], "moment": res.moment}
+        table = {
+            "x": res.x,
+            "y": res.y,
+            "dx": res.x - x0,
+            "dy": res.y - y0,
+            "rotation": math.degrees(res.theta - th0),
+            "force_x": res.force[0],
+            "force_y": res.force[1],
+            "moment": res.moment,
+        }
     if q not in table:
         raise NotApplicable(f"'{q}' at '{point}' is not an elastica output")
     return float(table[q])
@@ -278,8 +333,11 @@ def _value(res, req: Request, case: Case) -> float:
 def inverse_problems(case: Case, spec: InverseSpec, options: ElasticaOptions) -> list[ElasticaProblem]:
     """One ``ElasticaProblem`` per level for the inverse tip problem ``spec``."""
     seg = case.require_segment()
-    EI = spec.EI if spec.EI is not None else (
-        seg.E * spec.I if spec.I is not None and seg.E is not None else _stiffness(case, options))
+    EI = (
+        spec.EI
+        if spec.EI is not None
+        else (seg.E * spec.I if spec.I is not None and seg.E is not None else _stiffness(case, options))
+    )
     out = []
     for lv in spec.levels:
         y = TipConstraint((0.0, 1.0), lv.b)
@@ -300,8 +358,7 @@ def _start_loads(case: Case, level: int) -> tuple[tuple[float, float], float]:
     force, moment = np.zeros(2), 0.0
     for load in case.loads:
         if load.kind == "force" and load.toward is not None:
-            raise NotApplicable("the inverse tip problem starts from dead tip loads, not a force "
-                                "toward a fixed point")
+            raise NotApplicable("the inverse tip problem starts from dead tip loads, not a force toward a fixed point")
         if load.kind == "force" and not load.follower:
             force += load.levels()[level] * np.asarray(load.direction, float)
         elif load.kind == "moment":
@@ -320,18 +377,25 @@ def _run_inverse(case: Case, spec: InverseSpec, requests: list[Request], options
         if problem.moment_constraints:
             force, moment = _start_loads(case, level)
             if force != (0.0, 0.0) or moment != 0.0:
-                start = loaded_start(problem, force, moment, n_samples=2,
-                                     **{k: v for k, v in kwargs.items() if k == "rtol"})
+                start = loaded_start(
+                    problem, force, moment, n_samples=2, **{k: v for k, v in kwargs.items() if k == "rtol"}
+                )
                 start = start if start.converged else None
-        res = solve_path(problem, start=start, n_samples=2, **kwargs)     # loads only: no shape
+        res = solve_path(problem, start=start, n_samples=2, **kwargs)  # loads only: no shape
         ok[level], msg[level] = res.converged, res.message
         loads = {"force_x": res.force[0], "force_y": res.force[1], "moment": res.moment}
         for req in requests:
             if req.level == level:
                 values[req] = float(loads[req.quantity]) if res.converged else math.nan
     bad = "; ".join(f"inverse level {lv}: {m}" for lv, m in msg.items() if not ok[lv])
-    return MethodRun(values=values, converged=all(ok.values()), message=bad or "converged",
-                     wall_time=time.perf_counter() - t0, level_converged=ok, level_messages=msg)
+    return MethodRun(
+        values=values,
+        converged=all(ok.values()),
+        message=bad or "converged",
+        wall_time=time.perf_counter() - t0,
+        level_converged=ok,
+        level_messages=msg,
+    )
 
 
 def run(case: Case, requests: list[Request], options: ElasticaOptions) -> MethodRun:
@@ -364,14 +428,15 @@ def _run_forward(case: Case, requests: list[Request], options: ElasticaOptions) 
     values, level_ok, level_msg, shapes = {}, {}, {}, {}
     previous = None
     for level in range(last + 1):
-        if inflection:      # each level from its own start loads; skip levels not asked for
+        if inflection:  # each level from its own start loads; skip levels not asked for
             if level not in wanted:
                 continue
             problem, force, moment = started[level]
             start = None
             if force != (0.0, 0.0) or moment != 0.0:
-                start = loaded_start(problem, force, moment, n_samples=2,
-                                     **{k: v for k, v in kwargs.items() if k == "rtol"})
+                start = loaded_start(
+                    problem, force, moment, n_samples=2, **{k: v for k, v in kwargs.items() if k == "rtol"}
+                )
                 start = start if start.converged else None
             res = solve_path(problem, start=start, n_samples=samples, **kwargs)
         else:
@@ -385,9 +450,16 @@ def _run_forward(case: Case, requests: list[Request], options: ElasticaOptions) 
         previous = res if res.converged else None
     converged = all(level_ok.get(lv, False) for lv in wanted)
     message = "; ".join(f"level {lv}: {m}" for lv, m in level_msg.items() if not level_ok[lv])
-    return MethodRun(values=values, converged=converged, message=message or "converged",
-                     wall_time=time.perf_counter() - t0,
-                     level_converged={lv: level_ok[lv] for lv in wanted},
-                     level_messages={lv: level_msg[lv] for lv in wanted},
-                     extras={"shapes": shapes, "model": "inextensible elastica, DOP853 shooting"
-                             + (", inverse problem with a given inflection point" if inflection else "")})
+    return MethodRun(
+        values=values,
+        converged=converged,
+        message=message or "converged",
+        wall_time=time.perf_counter() - t0,
+        level_converged={lv: level_ok[lv] for lv in wanted},
+        level_messages={lv: level_msg[lv] for lv in wanted},
+        extras={
+            "shapes": shapes,
+            "model": "inextensible elastica, DOP853 shooting"
+            + (", inverse problem with a given inflection point" if inflection else ""),
+        },
+    )

@@ -16,6 +16,7 @@ Segments (``segment_model``, ``run_segment``): a single segment whose boundary t
 beam cannot state (a pinned root; a straight fixed-fixed tip whose axial motion is held) is built as a
 one-beam mechanism with its tip on a one-node body, and answers the segment adapter's outputs.
 """
+
 from __future__ import annotations
 
 import math
@@ -53,8 +54,9 @@ def model(case) -> tuple[em.Mechanism, dict[str, str]]:
         ends: list[tuple[str | None, str]] = []
         for nd in (beam.start, beam.end):
             joint = next((j for j in mech.joints if j.node == nd and beam.name in j.members), None)
-            pinned_support = any(s.node == nd and s.kind == "pinned" and s.member in (None, beam.name)
-                                 for s in mech.supports)
+            pinned_support = any(
+                s.node == nd and s.kind == "pinned" and s.member in (None, beam.name) for s in mech.supports
+            )
             body = owner.get(nd)
             if joint:
                 body = next((link_body[m] for m in joint.members if m in link_body), body)
@@ -99,8 +101,7 @@ def _follower_body_refused(load, owner: dict[str, str], mechanism: em.Mechanism)
     beam = next((b for b in mechanism.beams if b.name == load.body), None)
     if beam is None:
         return None
-    kind, body = ((beam.start_kind, beam.start_body) if beam.start == load.point
-                  else (beam.end_kind, beam.end_body))
+    kind, body = (beam.start_kind, beam.start_body) if beam.start == load.point else (beam.end_kind, beam.end_body)
     if kind == "free" or (kind == "clamped" and body == carried):
         return None
     return f"it turns with beam '{load.body}', {kind} at '{load.point}' (its end turns apart from the body there)"
@@ -111,8 +112,10 @@ def _along_beams(case, i: int, load, values: tuple[float, ...]) -> list[planar.D
     (``member``, else every beam; self-weight: each beam's weight per length along gravity; rigid links
     carry none, as in the FEM)."""
     if load.follower:
-        raise NotApplicable(f"loads.{i}: a follower distributed load (a pressure turning with the beam): the "
-                            "elastica mechanism model's loads along a beam are dead")
+        raise NotApplicable(
+            f"loads.{i}: a follower distributed load (a pressure turning with the beam): the "
+            "elastica mechanism model's loads along a beam are dead"
+        )
     d = np.asarray(load.direction, float)
     d = d / math.hypot(*d)
     out = []
@@ -122,8 +125,11 @@ def _along_beams(case, i: int, load, values: tuple[float, ...]) -> list[planar.D
         scale = beam.section.weight_per_length() if load.kind == "self_weight" else 1.0
         if scale is None:
             raise NotApplicable(f"loads.{i}: self-weight, but beam '{beam.name}''s section gives no weight density")
-        out.append(planar.DistributedLoad(beam.name, tuple(scale * x * d[0] for x in values),
-                                          tuple(scale * x * d[1] for x in values)))
+        out.append(
+            planar.DistributedLoad(
+                beam.name, tuple(scale * x * d[0] for x in values), tuple(scale * x * d[1] for x in values)
+            )
+        )
     return out
 
 
@@ -135,11 +141,14 @@ def loads(case, owner: dict[str, str], mechanism: em.Mechanism) -> list[planar.L
         if load.kind == "force" and load.follower and load.body is not None:
             why = _follower_body_refused(load, owner, mechanism)
             if why is not None:
-                raise NotApplicable(f"loads.{i}: a follower force {why}: the elastica mechanism model turns a "
-                                    "follower with the rigid body carrying its point, or its free beam end")
+                raise NotApplicable(
+                    f"loads.{i}: a follower force {why}: the elastica mechanism model turns a "
+                    "follower with the rigid body carrying its point, or its free beam end"
+                )
         if load.kind == "force" and load.toward is not None:
-            out.append(em.PointedForce(load.point, v, (float(load.toward[0]), float(load.toward[1])),
-                                       math.radians(load.angle)))
+            out.append(
+                em.PointedForce(load.point, v, (float(load.toward[0]), float(load.toward[1])), math.radians(load.angle))
+            )
         elif load.kind == "force":
             d = load.direction
             out.append(em.Force(load.point, tuple(x * d[0] for x in v), tuple(x * d[1] for x in v), load.follower))
@@ -161,15 +170,20 @@ def loads(case, owner: dict[str, str], mechanism: em.Mechanism) -> list[planar.L
             if abs(d[0]) > 1e-12 and abs(d[1]) > 1e-12:
                 raise NotApplicable(f"loads.{i}: a prescribed displacement must be along x or along y")
             axis = "x" if abs(d[0]) > 0.5 else "y"
-            out.append(em.PrescribedDisplacement(load.point, axis, tuple(x * (d[0] if axis == "x" else d[1]) for x in v)))
+            out.append(
+                em.PrescribedDisplacement(load.point, axis, tuple(x * (d[0] if axis == "x" else d[1]) for x in v))
+            )
     return out
 
 
 def _body_lines(mechanism, positions: dict) -> list[np.ndarray]:
     """The rigid bodies of one level as lines, each from its first node to each of its other nodes (a star,
     as the FEM draws its rigid links): the beams alone would leave the mechanism's coupler undrawn."""
-    return [np.array([positions[body.nodes[0]], positions[node]], float)
-            for body in mechanism.bodies for node in body.nodes[1:]]
+    return [
+        np.array([positions[body.nodes[0]], positions[node]], float)
+        for body in mechanism.bodies
+        for node in body.nodes[1:]
+    ]
 
 
 def run_mechanism(case, requests, options: ElasticaOptions) -> MethodRun:
@@ -196,8 +210,11 @@ def run_mechanism(case, requests, options: ElasticaOptions) -> MethodRun:
             values[req] = math.degrees(sol.rotations[lv][body])
         elif q in ("force_x", "force_y", "moment", "input_torque"):
             k = ("force_x", "force_y", "moment", "input_torque").index(q)
-            point = p if q != "input_torque" else next((ld.point for ld in case.loads
-                                                        if ld.kind in ("rotation", "moment")), None)
+            point = (
+                p
+                if q != "input_torque"
+                else next((ld.point for ld in case.loads if ld.kind in ("rotation", "moment")), None)
+            )
             if point is None:
                 raise NotApplicable("input_torque needs a prescribed rotation or a moment (the input)")
             values[req] = _received(case, sol, drivers, mechanism.body_of, point, lv, min(k, 2))
@@ -205,10 +222,17 @@ def run_mechanism(case, requests, options: ElasticaOptions) -> MethodRun:
             values[req] = sol.strain_energy[lv]
         else:
             raise NotApplicable(f"the elastica mechanism model gives no '{q}'")
-    shapes = [[np.asarray(s) for s in level.values()] + _body_lines(mechanism, positions)
-              for level, positions in zip(sol.beam_shapes, sol.positions)]
-    return MethodRun(values=values, converged=sol.converged, message=f"elastica mechanism: {sol.message}",
-                     level_converged=dict(enumerate(sol.level_converged)), extras={"shapes": shapes})
+    shapes = [
+        [np.asarray(s) for s in level.values()] + _body_lines(mechanism, positions)
+        for level, positions in zip(sol.beam_shapes, sol.positions)
+    ]
+    return MethodRun(
+        values=values,
+        converged=sol.converged,
+        message=f"elastica mechanism: {sol.message}",
+        level_converged=dict(enumerate(sol.level_converged)),
+        extras={"shapes": shapes},
+    )
 
 
 def _received(case, sol, drivers, body_of: dict[str, str], point: str, level: int, k: int) -> float:
@@ -250,8 +274,10 @@ def _solved_direction(load, sol, body_of: dict[str, str], level: int) -> tuple[f
         return d[0], d[1]
     body = body_of.get(load.point)
     if body is None or body not in sol.rotations[level]:
-        raise NotApplicable(f"the load received at '{load.point}': its follower force turns with a free beam "
-                            "end, whose angle the elastica mechanism model does not report")
+        raise NotApplicable(
+            f"the load received at '{load.point}': its follower force turns with a free beam "
+            "end, whose angle the elastica mechanism model does not report"
+        )
     phi = sol.rotations[level][body]
     return math.cos(phi) * d[0] - math.sin(phi) * d[1], math.sin(phi) * d[0] + math.cos(phi) * d[1]
 
@@ -259,8 +285,8 @@ def _solved_direction(load, sol, body_of: dict[str, str], level: int) -> tuple[f
 # A single segment as a mechanism: the boundaries the shooting of one clamped beam (``elastica.shooting``)
 # cannot state, or can only state inextensibly.
 
-ROOT_BODY, TIP_BODY = "root end", "tip end"   # the one-node bodies carrying a pinned root and the tip
-SEGMENT_STEP_CUTS = 30                        # load-step halvings per level at most (elastica.mechanism)
+ROOT_BODY, TIP_BODY = "root end", "tip end"  # the one-node bodies carrying a pinned root and the tip
+SEGMENT_STEP_CUTS = 30  # load-step halvings per level at most (elastica.mechanism)
 
 
 @dataclass(frozen=True)
@@ -271,7 +297,7 @@ class SegmentMechanism:
     mechanism: em.Mechanism
     loads: list
     pinned_root: bool
-    driver_axes: tuple[str, ...]       # per prescribed motion, in the solver's order: 'rz', 'ux' or 'uy'
+    driver_axes: tuple[str, ...]  # per prescribed motion, in the solver's order: 'rz', 'ux' or 'uy'
 
 
 def segment_model(case, EI: float) -> SegmentMechanism:
@@ -290,19 +316,24 @@ def segment_model(case, EI: float) -> SegmentMechanism:
     seg = case.segment
     L, kappa = seg.length, seg.initial_curvature()
     if abs(kappa * L) >= math.pi:
-        raise NotApplicable("an arc of |kappa L| >= pi: the elastica mechanism model finds a beam's arc from "
-                            "its chord, which names the minor arc only")
+        raise NotApplicable(
+            "an arc of |kappa L| >= pi: the elastica mechanism model finds a beam's arc from "
+            "its chord, which names the minor arc only"
+        )
     EA, _ = seg.section.stiffness(seg.E)
     if seg.section.kind == "inertia" and seg.section.A is None:
         EA = None
     pinned_root = seg.boundary == "pinned-pinned"
     held = boundary_held_tip(case)
-    moved = set(held) | {"ux" if abs(ld.direction[0]) > abs(ld.direction[1]) else "uy"
-                         for ld in case.loads if ld.kind == "displacement"}
+    moved = set(held) | {
+        "ux" if abs(ld.direction[0]) > abs(ld.direction[1]) else "uy" for ld in case.loads if ld.kind == "displacement"
+    }
     if kappa == 0.0 and EA is None and "ux" in moved:
-        raise NotApplicable(f"a straight {seg.boundary} segment whose tip's axial motion is held or prescribed, "
-                            "inextensible (no section area A): once it bends its chord shortens, so it cannot "
-                            "bend at all")
+        raise NotApplicable(
+            f"a straight {seg.boundary} segment whose tip's axial motion is held or prescribed, "
+            "inextensible (no section area A): once it bends its chord shortens, so it cannot "
+            "bend at all"
+        )
     x0, y0, _ = unloaded_tip(L, kappa)
     nodes = {"root": (0.0, 0.0), "tip": (x0, y0)}
     bodies = [em.RigidBody(TIP_BODY, ("tip",))]
@@ -324,12 +355,12 @@ def segment_model(case, EI: float) -> SegmentMechanism:
         if load.kind in ("distributed", "self_weight"):
             applied.append(_along_segment(seg, i, load, v))
         elif load.kind == "force" and load.toward is not None:
-            applied.append(em.PointedForce("tip", v, (float(load.toward[0]), float(load.toward[1])),
-                                           math.radians(load.angle)))
+            applied.append(
+                em.PointedForce("tip", v, (float(load.toward[0]), float(load.toward[1])), math.radians(load.angle))
+            )
         elif load.kind == "force":
             d = load.direction
-            applied.append(em.Force("tip", tuple(x * d[0] for x in v), tuple(x * d[1] for x in v),
-                                         load.follower))
+            applied.append(em.Force("tip", tuple(x * d[0] for x in v), tuple(x * d[1] for x in v), load.follower))
         elif load.kind == "moment":
             applied.append(em.Couple(TIP_BODY, v))
         elif load.kind == "rotation":
@@ -339,31 +370,39 @@ def segment_model(case, EI: float) -> SegmentMechanism:
             if abs(d[0]) > 1e-12 and abs(d[1]) > 1e-12:
                 raise NotApplicable(f"loads.{i}: a prescribed displacement must be along x or along y")
             axis = "x" if abs(d[0]) > 0.5 else "y"
-            displacements.append((em.PrescribedDisplacement("tip", axis, tuple(x * d[0 if axis == "x" else 1] for x in v)),
-                                  "u" + axis))
+            displacements.append(
+                (em.PrescribedDisplacement("tip", axis, tuple(x * d[0 if axis == "x" else 1] for x in v)), "u" + axis)
+            )
     for dof in held:
         if dof == "rz":
             rotations.append((em.PrescribedRotation(TIP_BODY, (0.0,) * n), "rz"))
         else:
             displacements.append((em.PrescribedDisplacement("tip", dof[1], (0.0,) * n), dof))
-    drivers = rotations + displacements           # the solver's order of prescribed-motion loads
-    return SegmentMechanism(em.Mechanism(nodes, [beam], bodies, pins), applied + [d for d, _ in drivers],
-                            pinned_root, tuple(axis for _, axis in drivers))
+    drivers = rotations + displacements  # the solver's order of prescribed-motion loads
+    return SegmentMechanism(
+        em.Mechanism(nodes, [beam], bodies, pins),
+        applied + [d for d, _ in drivers],
+        pinned_root,
+        tuple(axis for _, axis in drivers),
+    )
 
 
 def _along_segment(seg, i: int, load, values: tuple[float, ...]) -> planar.DistributedLoad:
     """A distributed or self-weight load on a segment solved as a mechanism: a uniform dead load per unit
     length on its one beam (self-weight: the section's weight per length along gravity)."""
     if load.follower:
-        raise NotApplicable(f"loads.{i}: a follower distributed load (a pressure turning with the beam): the "
-                            "elastica mechanism model's loads along a beam are dead")
+        raise NotApplicable(
+            f"loads.{i}: a follower distributed load (a pressure turning with the beam): the "
+            "elastica mechanism model's loads along a beam are dead"
+        )
     d = np.asarray(load.direction, float)
     d = d / math.hypot(*d)
     scale = seg.section.weight_per_length() if load.kind == "self_weight" else 1.0
     if scale is None:
         raise NotApplicable(f"loads.{i}: self-weight, but the section gives no weight density")
-    return planar.DistributedLoad("segment", tuple(scale * x * d[0] for x in values),
-                                  tuple(scale * x * d[1] for x in values))
+    return planar.DistributedLoad(
+        "segment", tuple(scale * x * d[0] for x in values), tuple(scale * x * d[1] for x in values)
+    )
 
 
 def run_segment(case, requests, options: ElasticaOptions, EI: float) -> MethodRun:
@@ -375,10 +414,9 @@ def run_segment(case, requests, options: ElasticaOptions, EI: float) -> MethodRu
     rotation (a pinned root turns), and ``reaction_*``, the support's loads on the beam: minus what the
     beam applies at its root (the tip force plus the load along the beam, and the root moment m(0))."""
     built = segment_model(case, EI)
-    tolerance = {} if options.rtol is None else {"rtol": options.rtol}    # else the solver's own
-    try:     # a held tip stiffens by membrane action (N ~ EA (w/L)^2): the path may need many step halvings
-        sol = em.solve_mechanism(built.mechanism, built.loads, case.n_levels(), max_cuts=SEGMENT_STEP_CUTS,
-                                 **tolerance)
+    tolerance = {} if options.rtol is None else {"rtol": options.rtol}  # else the solver's own
+    try:  # a held tip stiffens by membrane action (N ~ EA (w/L)^2): the path may need many step halvings
+        sol = em.solve_mechanism(built.mechanism, built.loads, case.n_levels(), max_cuts=SEGMENT_STEP_CUTS, **tolerance)
     except ValueError as exc:
         raise NotApplicable(str(exc)) from None
     x0, y0 = built.mechanism.nodes["tip"]
@@ -394,8 +432,11 @@ def run_segment(case, requests, options: ElasticaOptions, EI: float) -> MethodRu
             elif isinstance(ld, em.PointedForce):
                 line = np.asarray(ld.toward) - tip
                 c, s = math.cos(ld.angle), math.sin(ld.angle)
-                force += ld.values[level] / math.hypot(*line) * np.array([c * line[0] - s * line[1],
-                                                                          s * line[0] + c * line[1]])
+                force += (
+                    ld.values[level]
+                    / math.hypot(*line)
+                    * np.array([c * line[0] - s * line[1], s * line[0] + c * line[1]])
+                )
             elif isinstance(ld, em.Couple):
                 moment += ld.m[level]
         for axis, load in zip(built.driver_axes, sol.driver_loads[level]):
@@ -404,12 +445,28 @@ def run_segment(case, requests, options: ElasticaOptions, EI: float) -> MethodRu
             else:
                 force[0 if axis == "ux" else 1] += load
         root_turn = sol.rotations[level][ROOT_BODY] if built.pinned_root else 0.0
-        Rx, Ry, M0 = sol.start_loads[level]["segment"]     # what the beam applies at its root
+        Rx, Ry, M0 = sol.start_loads[level]["segment"]  # what the beam applies at its root
         table = {
-            "tip": {"x": tip[0], "y": tip[1], "dx": tip[0] - x0, "dy": tip[1] - y0, "rotation": math.degrees(phi),
-                    "force_x": force[0], "force_y": force[1], "moment": moment},
-            "root": {"x": 0.0, "y": 0.0, "dx": 0.0, "dy": 0.0, "rotation": math.degrees(root_turn),
-                     "reaction_x": -Rx, "reaction_y": -Ry, "reaction_moment": -M0},
+            "tip": {
+                "x": tip[0],
+                "y": tip[1],
+                "dx": tip[0] - x0,
+                "dy": tip[1] - y0,
+                "rotation": math.degrees(phi),
+                "force_x": force[0],
+                "force_y": force[1],
+                "moment": moment,
+            },
+            "root": {
+                "x": 0.0,
+                "y": 0.0,
+                "dx": 0.0,
+                "dy": 0.0,
+                "rotation": math.degrees(root_turn),
+                "reaction_x": -Rx,
+                "reaction_y": -Ry,
+                "reaction_moment": -M0,
+            },
         }
         for req in requests:
             if req.level != level:
@@ -422,9 +479,16 @@ def run_segment(case, requests, options: ElasticaOptions, EI: float) -> MethodRu
                 raise NotApplicable(f"'{req.quantity}' at '{req.point}' is not an elastica output")
         shapes[level] = [np.asarray(line) for line in sol.beam_shapes[level].values()]
     for req in requests:
-        values.setdefault(req, math.nan)              # the levels past the first that did not converge
+        values.setdefault(req, math.nan)  # the levels past the first that did not converge
     extensible = "inextensible" if built.mechanism.beams[0].EA is None else "extensible (EA of the section)"
-    return MethodRun(values=values, converged=sol.converged, message=f"elastica mechanism: {sol.message}",
-                     level_converged=dict(enumerate(sol.level_converged)),
-                     extras={"shapes": shapes, "model": f"{extensible} elastica of a {case.segment.boundary} "
-                             "segment as a mechanism (elastica.mechanism), DOP853 shooting"})
+    return MethodRun(
+        values=values,
+        converged=sol.converged,
+        message=f"elastica mechanism: {sol.message}",
+        level_converged=dict(enumerate(sol.level_converged)),
+        extras={
+            "shapes": shapes,
+            "model": f"{extensible} elastica of a {case.segment.boundary} "
+            "segment as a mechanism (elastica.mechanism), DOP853 shooting",
+        },
+    )

@@ -37,6 +37,7 @@ the Richardson estimate |F_2n - F_n|/3 (unless ``error_estimate = false``; n and
 ``inverse.tip_x = true`` the tip's ``x`` is that of the inverse solution too (same estimate); every
 other output comes from the forward solve under the case's loads.
 """
+
 from __future__ import annotations
 
 import math
@@ -49,8 +50,15 @@ import numpy as np
 import fem
 from fem.critical import refine_extremum
 from fem.soft_modes import soft_modes
-from validation.methods.inverse_problem import (LOAD_OUTPUTS, POSITION_OUTPUT, InverseLevel, InverseSpec, Tie,
-                                               inverse_spec, merge_runs)
+from validation.methods.inverse_problem import (
+    LOAD_OUTPUTS,
+    POSITION_OUTPUT,
+    InverseLevel,
+    InverseSpec,
+    Tie,
+    inverse_spec,
+    merge_runs,
+)
 from validation.methods import fem_outputs
 from validation.methods.base import DeferredList, MethodRun, NotApplicable, Request
 from validation.case.method_options import FemInverseOptions, FemOptions
@@ -59,12 +67,12 @@ from validation.case.quantities import load_dofs as _load_dofs
 from validation.methods.slfp import with_flexures
 
 ROTATION_DOF = "rz"
-LIMIT_STEPS = {"displacement": 400, "arclength": 2000}   # limit load: continuation steps without max_steps
+LIMIT_STEPS = {"displacement": 400, "arclength": 2000}  # limit load: continuation steps without max_steps
 
 
 def _section(fem, spec, E, length: float, options: FemOptions):
     """A ``fem.Section`` from a schema section (E may be None for layers)."""
-    if spec.kind == "layers" and spec.bonded:         # one section: (EA, EI) of the transformed stack
+    if spec.kind == "layers" and spec.bonded:  # one section: (EA, EI) of the transformed stack
         return fem.Section.from_EI(*spec.stiffness(None))
     if spec.kind == "layers":
         return fem.Section.layers([(l.E, l.width, l.thickness) for l in spec.layers])
@@ -113,8 +121,7 @@ def _add_distributed(model, case, beams: dict) -> None:
             if load.member not in (None, name):
                 continue
             scale = section.weight_per_length() if load.kind == "self_weight" else 1.0
-            model.add_distributed(scale * values * d[0], scale * values * d[1], member=member,
-                                  follower=load.follower)
+            model.add_distributed(scale * values * d[0], scale * values * d[1], member=member, follower=load.follower)
 
 
 def _held_dofs(case) -> dict[str, set]:
@@ -147,8 +154,7 @@ def _add_loads(model, case, allowed_points, members: dict | None = None) -> None
         elif load.kind == "force":
             d = np.asarray(load.direction, float)
             member = (members or {}).get((load.body, load.point)) if load.body else None
-            model.add_force(load.point, values * d[0], values * d[1], follower=load.follower,
-                            member=member)
+            model.add_force(load.point, values * d[0], values * d[1], follower=load.follower, member=member)
         elif load.kind == "moment":
             member = (members or {}).get(load.body) if load.body else None
             model.add_moment(load.point, values, member=member)
@@ -196,30 +202,35 @@ def _mechanism_model(fem, case, elements: int, options: FemOptions):
         (ax, ay), (bx, by) = coords[beam.start], coords[beam.end]
         section = _section(fem, beam.section, E, math.hypot(bx - ax, by - ay), options)
         stiffest = (max(stiffest[0], section.EA), max(stiffest[1], section.EI))
-        member_index[beam.name] = model.add_member(beam.start, beam.end, section, n_elements=elements,
-                                                   curvature=beam.curvature, name=beam.name)
-    anchored = {sup.node for sup in mech.supports} | {ld.point for ld in case.loads
-                                                       if ld.kind in ("displacement", "rotation")}
+        member_index[beam.name] = model.add_member(
+            beam.start, beam.end, section, n_elements=elements, curvature=beam.curvature, name=beam.name
+        )
+    anchored = {sup.node for sup in mech.supports} | {
+        ld.point for ld in case.loads if ld.kind in ("displacement", "rotation")
+    }
     bars = _stiff_bar_links(mech, anchored)
     ratio = options.rigid_ratio
     for link in mech.links:
         if link.name in bars:
             if not mech.beams:
-                raise NotApplicable(f"rigid link '{link.name}' is modelled as a stiff bar (pinned to another link, or "
-                                    "held at two points), which needs a flexible beam to scale its stiffness")
+                raise NotApplicable(
+                    f"rigid link '{link.name}' is modelled as a stiff bar (pinned to another link, or "
+                    "held at two points), which needs a flexible beam to scale its stiffness"
+                )
             bar = fem.Section.from_EI(ratio * stiffest[0], ratio * stiffest[1])
             # one element, on every mesh of the error estimate too: a straight bar 1e6 times stiffer than
             # the beams stands for a rigid body, with no discretisation error of its own to estimate
-            first = [model.add_member(link.nodes[0], node, bar, n_elements=1, name=f"{link.name}:{node}",
-                                      refined=False)
-                     for node in link.nodes[1:]]
+            first = [
+                model.add_member(link.nodes[0], node, bar, n_elements=1, name=f"{link.name}:{node}", refined=False)
+                for node in link.nodes[1:]
+            ]
             member_index[link.name] = first[0]
             continue
         master = next((n for n in link.nodes if n in anchored), link.nodes[0])  # supports and prescribed
         for node in link.nodes:
             if node != master:
                 model.add_rigid_link(master, node)
-    ends = {}                                            # (body, node) -> the member ending there
+    ends = {}  # (body, node) -> the member ending there
     for name, index in member_index.items():
         if name in bars:
             link = next(l for l in mech.links if l.name == name)
@@ -256,8 +267,9 @@ def _applied(case, point: str, level: int, rotation: float = 0.0) -> np.ndarray:
             continue
         v = load.levels()[level]
         if load.kind == "force" and load.toward is not None:
-            raise NotApplicable(f"the force at '{point}' pulls toward a fixed point: its components "
-                                "depend on the solution")
+            raise NotApplicable(
+                f"the force at '{point}' pulls toward a fixed point: its components depend on the solution"
+            )
         if load.kind == "force":
             fx, fy = v * np.asarray(load.direction, float)
             total[:2] += (c * fx - s * fy, s * fx + c * fy) if load.follower else (fx, fy)
@@ -319,7 +331,7 @@ def _extract(case, fields: _Fields, requests: list[Request], origin: dict | None
             axis = 0 if q in ("x", "dx") else 1
             value = float(fields.position(p, lv)[axis])
             if q in ("dx", "dy") and origin is not None:
-                value -= origin[p][axis]          # the same float64 difference
+                value -= origin[p][axis]  # the same float64 difference
             values[req] = value
         elif q == "rotation":
             values[req] = math.degrees(fields.rotation(p, lv))
@@ -365,17 +377,23 @@ def _limit_load(fem, case, model, options: FemOptions):
         sign = math.copysign(1.0, d[0] if dof == "ux" else d[1])
         step = options.control_step or 0.005 * model.characteristic_length()
         n = options.max_steps or LIMIT_STEPS["displacement"]
-        res = fem.solve(model, control="displacement", control_dof=(load.point, dof),
-                        targets=sign * step * np.arange(1, n + 1))
+        res = fem.solve(
+            model, control="displacement", control_dof=(load.point, dof), targets=sign * step * np.arange(1, n + 1)
+        )
         lam = np.asarray(res.load_factor)
         peaks = [i for i in range(1, len(lam) - 1) if lam[i] >= lam[i - 1] and lam[i] > lam[i + 1]]
         if not peaks:
             return math.nan, res, f"no limit point within {len(lam)} displacement steps ({res.message})"
         i = peaks[0]
-        peak, _ = refine_extremum(np.arange(-1.0, 2.0), lam[i - 1:i + 2], np.full(3, np.nan))  # parabola
+        peak, _ = refine_extremum(np.arange(-1.0, 2.0), lam[i - 1 : i + 2], np.full(3, np.nan))  # parabola
         return abs(peak) * reference, res, ""
-    res = fem.solve(model, control="arclength", max_limit_points=1,
-                    arc_length=options.arc_length, max_steps=options.max_steps or LIMIT_STEPS["arclength"])
+    res = fem.solve(
+        model,
+        control="arclength",
+        max_limit_points=1,
+        arc_length=options.arc_length,
+        max_steps=options.max_steps or LIMIT_STEPS["arclength"],
+    )
     limits = [c for c in res.critical_points if c.kind == "limit"]
     if not limits:
         return math.nan, res, f"no limit point found ({res.message})"
@@ -387,10 +405,11 @@ class _Levels:
     """What the load-controlled solve gave: the values, their estimates, the values whose estimate is
     unreliable (with why), the finest result and the refine of its mesh over ``elements`` (1 without an
     estimate), and how the solve went."""
+
     values: dict[Request, float]
     errors: dict[Request, float]
     unreliable: dict[Request, str]
-    result: Any                  # fem.SolveResult (the fem module is imported where the method runs)
+    result: Any  # fem.SolveResult (the fem module is imported where the method runs)
     refine: int
     converged: bool
     message: str
@@ -405,19 +424,41 @@ def _solve_levels(fem, case, model, requests, options: FemOptions) -> _Levels:
     if not (options.error_estimate or options.tol):
         result = fem.solve(model, **kwargs)
         done = [r for r in requests if r.level < result.n_levels]
-        return _Levels(_extract(case, _Fields.of(result), done, origin), {}, {}, result, 1, result.converged,
-                       result.message, result.iterations, result.analysis_time)
-    est = fem.solve_with_error_estimate(model, tol=options.tol, levels=options.levels,
-                                        max_refine=options.max_refine,
-                                        check=fem.AsymptoticCheck(fields=_estimated_fields(case, requests)),
-                                        **kwargs)
+        return _Levels(
+            _extract(case, _Fields.of(result), done, origin),
+            {},
+            {},
+            result,
+            1,
+            result.converged,
+            result.message,
+            result.iterations,
+            result.analysis_time,
+        )
+    est = fem.solve_with_error_estimate(
+        model,
+        tol=options.tol,
+        levels=options.levels,
+        max_refine=options.max_refine,
+        check=fem.AsymptoticCheck(fields=_estimated_fields(case, requests)),
+        **kwargs,
+    )
     result = est.result
     iterations = sum(r.iterations for r in est.results)
     analysis = sum(r.analysis_time for r in est.results)
     if not est.error:  # a mesh failed: report what the finest mesh reached
         done = [r for r in requests if r.level < result.n_levels]
-        return _Levels(_extract(case, _Fields.of(result), done, origin), {}, {}, result, est.refine, False,
-                       est.message, iterations, analysis)
+        return _Levels(
+            _extract(case, _Fields.of(result), done, origin),
+            {},
+            {},
+            result,
+            est.refine,
+            False,
+            est.message,
+            iterations,
+            analysis,
+        )
     richardson = options.richardson
     source = est.extrapolated if richardson else _ResultFields(result)
     errors = est.extrapolated_error if (richardson and est.extrapolated_error) else est.error
@@ -425,9 +466,14 @@ def _solve_levels(fem, case, model, requests, options: FemOptions) -> _Levels:
     values = _extract(case, fields[0], requests, origin)
     errs = {r: abs(v) for r, v in _extract(case, fields[1], requests, None).items()}
     flagged = [r for r, flag in _extract(case, fields[2], requests, None).items() if flag]
-    unreliable = {r: (f"the FEM's error estimate is unreliable: its meshes (up to refine={est.refine} x "
-                      f"{_mesh_words(model)}) are not in the asymptotic range for this value (observed order "
-                      f"outside 2 +- {est.check.band:g})") for r in flagged}
+    unreliable = {
+        r: (
+            f"the FEM's error estimate is unreliable: its meshes (up to refine={est.refine} x "
+            f"{_mesh_words(model)}) are not in the asymptotic range for this value (observed order "
+            f"outside 2 +- {est.check.band:g})"
+        )
+        for r in flagged
+    }
     return _Levels(values, errs, unreliable, result, est.refine, est.converged, est.message, iterations, analysis)
 
 
@@ -477,8 +523,10 @@ def _critical_note(result) -> str:
     if not found or result.control == "arclength":
         return ""
     c = found[0]
-    return (f"; warning: det K changed sign at load factor {c.load_factor:.4g} ({c.detail}):"
-            " states beyond it may lie on an unstable branch")
+    return (
+        f"; warning: det K changed sign at load factor {c.load_factor:.4g} ({c.detail}):"
+        " states beyond it may lie on an unstable branch"
+    )
 
 
 def _shapes(result) -> list:
@@ -495,7 +543,7 @@ def _shapes(result) -> list:
     if current:
         chains.append(np.array(current))
     chains += list(result.rigid_links())
-    return [[pts[chain] for chain in chains] for pts in result.mesh_positions[:result.n_levels]]
+    return [[pts[chain] for chain in chains] for pts in result.mesh_positions[: result.n_levels]]
 
 
 def _as_is(value):
@@ -550,8 +598,9 @@ def _inverse_model(fem, case, spec: InverseSpec, level: InverseLevel, elements: 
         model.add_node("inflection", *_arc_point(kappa, level.value))
         n1 = min(max(1, round(elements * level.value / L)), elements - 1) if elements > 1 else 1
         model.add_member("root", "inflection", section, n_elements=n1, curvature=kappa, name="segment:root")
-        model.add_member("inflection", "tip", section, n_elements=max(1, elements - n1), curvature=kappa,
-                         name="segment:tip")
+        model.add_member(
+            "inflection", "tip", section, n_elements=max(1, elements - n1), curvature=kappa, name="segment:tip"
+        )
     else:
         model.add_member("root", "tip", section, n_elements=elements, curvature=kappa, name="segment")
     model.add_support("root", "fixed")
@@ -566,14 +615,15 @@ def _inverse_model(fem, case, spec: InverseSpec, level: InverseLevel, elements: 
 
 def _tie(fem, level: InverseLevel):
     if level.tie is Tie.LOAD_RATIO:
-        return fem.LoadRatio("ux", "uy", -level.value)      # F_x = -n F_y
+        return fem.LoadRatio("ux", "uy", -level.value)  # F_x = -n F_y
     if level.tie is Tie.INFLECTION:
         return fem.ZeroMoment("ux", "inflection")
     return None
 
 
-def _run_inverse(fem, case, spec: InverseSpec, requests: list[Request], options: FemOptions,
-                 own: FemInverseOptions) -> MethodRun:
+def _run_inverse(
+    fem, case, spec: InverseSpec, requests: list[Request], options: FemOptions, own: FemInverseOptions
+) -> MethodRun:
     """Tip loads of the inverse problem, level by level, on n and 2n elements (Richardson); ``own``: the
     problem's option table, with its own mesh and extrapolation (else the method's)."""
     t0 = time.perf_counter()
@@ -586,17 +636,17 @@ def _run_inverse(fem, case, spec: InverseSpec, requests: list[Request], options:
         level = spec.levels[lv]
         guess = _applied(case, "tip", lv)[0]
         results, tip_xs = [], []
-        for n in ((elements, 2 * elements) if estimate else (elements,)):
+        for n in (elements, 2 * elements) if estimate else (elements,):
             model = _inverse_model(fem, case, spec, level, n, options)
             res = fem.solve_tip_inverse(model, "tip", _tie(fem, level), guess=guess, **solve_options)
             if not res.converged and level.tie is Tie.POSITION_X:
                 # displacement control of x met a singular state (a buckling load of the clamped-
                 # clamped beam on the straight path to the target): reach the same x by the
                 # axial load that puts the tip there
-                free = _inverse_model(fem, case, spec, InverseLevel(level.b, level.theta0, Tie.AXIAL_LOAD, 0.0),
-                                      n, options)
-                res = fem.solve_tip_inverse(free, "tip", fem.Position("ux", level.value), guess=guess,
-                                            **solve_options)
+                free = _inverse_model(
+                    fem, case, spec, InverseLevel(level.b, level.theta0, Tie.AXIAL_LOAD, 0.0), n, options
+                )
+                res = fem.solve_tip_inverse(free, "tip", fem.Position("ux", level.value), guess=guess, **solve_options)
                 res.message = f"x reached by its axial load (displacement control of x failed): {res.message}"
             iterations += res.result.iterations
             results.append(res)
@@ -606,7 +656,7 @@ def _run_inverse(fem, case, spec: InverseSpec, requests: list[Request], options:
             guess = res.tied[0]
         final = results[-1]
         ok[lv], msg[lv] = final.converged, final.message
-        state = np.append(final.tip_loads[0], tip_xs[-1])          # F_x, F_y, M, x of the inverse solution
+        state = np.append(final.tip_loads[0], tip_xs[-1])  # F_x, F_y, M, x of the inverse solution
         coarse = np.append(results[0].tip_loads[0], tip_xs[0])
         error = abs(state - coarse) / 3.0 if len(results) == 2 and final.converged else None
         if richardson and error is not None:
@@ -618,9 +668,16 @@ def _run_inverse(fem, case, spec: InverseSpec, requests: list[Request], options:
                 if error is not None:
                     errors[req] = float(error[k])
     bad = "; ".join(f"inverse level {lv}: {m}" for lv, m in msg.items() if not ok[lv])
-    return MethodRun(values=values, converged=all(ok.values()), message=bad or "converged",
-                     error_estimate=errors, wall_time=time.perf_counter() - t0,
-                     level_converged=ok, level_messages=msg, extras={"iterations": iterations})
+    return MethodRun(
+        values=values,
+        converged=all(ok.values()),
+        message=bad or "converged",
+        error_estimate=errors,
+        wall_time=time.perf_counter() - t0,
+        level_converged=ok,
+        level_messages=msg,
+        extras={"iterations": iterations},
+    )
 
 
 def _run_moment_driven(fem, case, requests: list[Request], options: FemOptions) -> MethodRun:
@@ -632,8 +689,10 @@ def _run_moment_driven(fem, case, requests: list[Request], options: FemOptions) 
     case = _realised(case, options)
     moved = [ld for ld in case.loads if ld.kind == "displacement"]
     if len(moved) != 1 or any(ld.kind == "rotation" for ld in case.loads):
-        raise NotApplicable("methods.fem.input_moment_at: needs exactly one prescribed displacement (the target) "
-                            "and no prescribed rotation")
+        raise NotApplicable(
+            "methods.fem.input_moment_at: needs exactly one prescribed displacement (the target) "
+            "and no prescribed rotation"
+        )
     target = moved[0]
     d = np.asarray(target.direction, float) / math.hypot(*target.direction)
     if min(abs(d[0]), abs(d[1])) > 1e-12:
@@ -643,18 +702,22 @@ def _run_moment_driven(fem, case, requests: list[Request], options: FemOptions) 
     elements = options.elements
     estimate = options.error_estimate
     n = case.n_levels()
-    results: list[Any] = []       # fem.TipInverseResult per mesh
+    results: list[Any] = []  # fem.TipInverseResult per mesh
     model: Any = None
-    for count in ((elements, 2 * elements) if estimate else (elements,)):
+    for count in (elements, 2 * elements) if estimate else (elements,):
         model = build_model(driven, count, options)
         if node not in model.node_names:
             raise NotApplicable(f"methods.fem.input_moment_at: no node '{node}' in the FEM model")
         origin = model.coords[model.node(target.point)][axis]
         goal = origin + np.asarray(target.levels(), float) * d[axis]
-        res = fem.solve_tip_inverse(model, node, fem.Position("rz", goal, node=target.point,
-                                                              direction=("ux", "uy")[axis]),
-                                    guess=results[-1].tied if results else None, n_levels=n,
-                                    rtol=options.rtol)
+        res = fem.solve_tip_inverse(
+            model,
+            node,
+            fem.Position("rz", goal, node=target.point, direction=("ux", "uy")[axis]),
+            guess=results[-1].tied if results else None,
+            n_levels=n,
+            rtol=options.rtol,
+        )
         results.append(res)
         if not res.converged:
             break
@@ -670,10 +733,14 @@ def _run_moment_driven(fem, case, requests: list[Request], options: FemOptions) 
             values[req] = float(torque[req.level]) if final.converged else math.nan
             if error is not None:
                 errors[req] = float(error[req.level])
-    return MethodRun(values=values, converged=final.converged, error_estimate=errors,
-                     message=f"input moment at '{node}' found by an outer solve: {final.message}",
-                     wall_time=time.perf_counter() - t0,
-                     extras={"iterations": sum(r.result.iterations for r in results), "elements": elements})
+    return MethodRun(
+        values=values,
+        converged=final.converged,
+        error_estimate=errors,
+        message=f"input moment at '{node}' found by an outer solve: {final.message}",
+        wall_time=time.perf_counter() - t0,
+        extras={"iterations": sum(r.result.iterations for r in results), "elements": elements},
+    )
 
 
 def run(case, requests: list[Request], options: FemOptions) -> MethodRun:
@@ -710,10 +777,10 @@ def _run_forward(fem, case, requests: list[Request], options: FemOptions) -> Met
     values: dict[Request, float] = {}
     errors: dict[Request, float] = {}
     iterations, converged, messages = 0, True, []
-    result: Any = None           # the first solve's fem.SolveResult
+    result: Any = None  # the first solve's fem.SolveResult
     unreliable: dict[Request, str] = {}
     refine = 1
-    analysis = 0.0     # CPU seconds of the load stepping of every solve (without set-up and results)
+    analysis = 0.0  # CPU seconds of the load stepping of every solve (without set-up and results)
     zero = options.zero_level
     if zero is not None:
         if not 0 <= zero < case.n_levels():
@@ -765,17 +832,28 @@ def _run_forward(fem, case, requests: list[Request], options: FemOptions) -> Met
             if r in values and base is not None:
                 unloaded = {"x": origin[r.point][0], "y": origin[r.point][1]}.get(r.quantity, 0.0)
                 values[r] = values[r] - base + unloaded
-    extras = {"iterations": iterations, "elements": elements, "refine": refine,
-              "rejected_iterations": getattr(result, "rejected_iterations", 0), "analysis_cpu_s": analysis}
+    extras = {
+        "iterations": iterations,
+        "elements": elements,
+        "refine": refine,
+        "rejected_iterations": getattr(result, "rejected_iterations", 0),
+        "analysis_cpu_s": analysis,
+    }
     if result is not None and result.n_levels:
-        extras["shapes"] = DeferredList(lambda: _shapes(result))   # built when the report reads them
-        extras["fields"] = _DeferredFields(result)     # point data for the ParaView series, likewise
+        extras["shapes"] = DeferredList(lambda: _shapes(result))  # built when the report reads them
+        extras["fields"] = _DeferredFields(result)  # point data for the ParaView series, likewise
         path = _continuation_path(case, result)
         if path:
             extras["path"] = path
-    return MethodRun(values=values, converged=converged, message="; ".join(m for m in messages if m),
-                     error_estimate=errors, unreliable_estimate=unreliable, wall_time=time.perf_counter() - start,
-                     extras=extras)
+    return MethodRun(
+        values=values,
+        converged=converged,
+        message="; ".join(m for m in messages if m),
+        error_estimate=errors,
+        unreliable_estimate=unreliable,
+        wall_time=time.perf_counter() - start,
+        extras=extras,
+    )
 
 
 BEAM_OUTPUTS = ("max_stress", "inflection_points", "mechanical_advantage")
@@ -790,19 +868,23 @@ def _soft_mode_count(case, model, options: FemOptions) -> tuple[int, str]:
     if spec is None or case.mechanism is None:
         raise NotApplicable("dof by the FEM needs a mechanism and [methods.fem] dof = {points = [...]}")
     points, ratio = spec.points, spec.ratio
-    reference = max(m.section.EA / math.dist(model.coords[m.start], model.coords[m.end])
-                    for m in model.members if ":" not in m.name)
-    found = soft_modes(model, [(p, d) for p in points for d in ("ux", "uy", "rz")], ratio=ratio,
-                       reference_stiffness=reference)
-    return found.count, (f"dof: {found.count} soft mode(s) of the tangent condensed to {', '.join(points)}, "
-                         f"k/k_ref = {', '.join(f'{r:.2e}' for r in found.ratios)}, threshold {ratio:g}")
+    reference = max(
+        m.section.EA / math.dist(model.coords[m.start], model.coords[m.end]) for m in model.members if ":" not in m.name
+    )
+    found = soft_modes(
+        model, [(p, d) for p in points for d in ("ux", "uy", "rz")], ratio=ratio, reference_stiffness=reference
+    )
+    return found.count, (
+        f"dof: {found.count} soft mode(s) of the tangent condensed to {', '.join(points)}, "
+        f"k/k_ref = {', '.join(f'{r:.2e}' for r in found.ratios)}, threshold {ratio:g}"
+    )
 
 
 def _beam_outputs(fem, case, model, result, requests, elements: int, options: FemOptions) -> dict:
     """max_stress and inflection_points of the finest mesh; mechanical_advantage by an increment
     of the input load (`fem_outputs`)."""
     values = {}
-    beams = [i for i, m in enumerate(model.members) if ":" not in m.name]    # stiff bars are 'link:node'
+    beams = [i for i, m in enumerate(model.members) if ":" not in m.name]  # stiff bars are 'link:node'
     ma = None
     for req in requests:
         if req.level >= result.n_levels:
@@ -815,17 +897,22 @@ def _beam_outputs(fem, case, model, result, requests, elements: int, options: Fe
             if ma is None and options.ma is not None and options.ma.definition == "secant":
                 load = case.loads[fem_outputs.input_load_index(case, options.ma)]
                 ma = fem_outputs.secant_mechanical_advantage(
-                    options.ma, fem_outputs.output_force(case, options.ma, result.reaction), load)
+                    options.ma, fem_outputs.output_force(case, options.ma, result.reaction), load
+                )
             elif ma is None:
                 raised_case, delta, load = fem_outputs.incremented_case(case, options.ma)
-                solves = [fem.solve(m, n_levels=case.n_levels(), rtol=options.rtol)
-                          for m in (model, build_model(raised_case, elements, options))]
+                solves = [
+                    fem.solve(m, n_levels=case.n_levels(), rtol=options.rtol)
+                    for m in (model, build_model(raised_case, elements, options))
+                ]
                 if not all(r.converged for r in solves):
-                    raise NotApplicable("mechanical_advantage: a solve of the increment did not converge: "
-                                        + "; ".join(r.message for r in solves))
+                    raise NotApplicable(
+                        "mechanical_advantage: a solve of the increment did not converge: "
+                        + "; ".join(r.message for r in solves)
+                    )
                 forces = [fem_outputs.output_force(case, options.ma, r.reaction) for r in solves]
                 ma = fem_outputs.mechanical_advantage(options.ma, forces[0], forces[1], delta, load)
-            if np.isfinite(ma[req.level]):                      # secant: undefined without input load
+            if np.isfinite(ma[req.level]):  # secant: undefined without input load
                 values[req] = float(ma[req.level])
     return values
 
@@ -839,14 +926,23 @@ def _continuation_path(case, result):
     point = loads[0].point
     d = np.asarray(loads[0].direction, float)
     d = d / np.hypot(*d)
-    disp = [float((result.position(point, k) - result.mesh_positions_ref[result.node_index(point)]) @ d)
-            for k in range(result.n_levels)]
+    disp = [
+        float((result.position(point, k) - result.mesh_positions_ref[result.node_index(point)]) @ d)
+        for k in range(result.n_levels)
+    ]
     reference = max(abs(np.asarray(ld.levels())).max() for ld in loads)
     load = list(np.asarray(result.load_factor) * reference)
-    limits = [(disp[c.step], c.load_factor * reference) for c in result.critical_points
-              if c.kind == "limit" and 0 <= c.step < len(disp)]
+    limits = [
+        (disp[c.step], c.load_factor * reference)
+        for c in result.critical_points
+        if c.kind == "limit" and 0 <= c.step < len(disp)
+    ]
     if result.control == "displacement" and not limits:
         limits = [(disp[i], load[i]) for i in range(1, len(load) - 1) if load[i - 1] <= load[i] > load[i + 1]][:1]
-    return {"displacement": disp, "load": load, "limit_points": limits,
-            "displacement_label": f"displacement of {point} along the load [{case.unit('length')}]",
-            "load_label": f"load [{case.unit('force')}]"}
+    return {
+        "displacement": disp,
+        "load": load,
+        "limit_points": limits,
+        "displacement_label": f"displacement of {point} along the load [{case.unit('length')}]",
+        "load_label": f"load [{case.unit('force')}]",
+    }

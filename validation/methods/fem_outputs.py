@@ -23,23 +23,25 @@ of inflection points, and the mechanical advantage by a small increment of the i
   F_out = -sense M_hold / d_o with M_hold the moment the prescribed rotation needs (the mechanism
   presses on the work piece with the opposite moment; sense +1 for a counter-clockwise working motion).
 """
+
 from __future__ import annotations
 
 import numpy as np
 
-from validation.case.method_options import (HeldOutputOptions, MechanicalAdvantageOptions,
-                                            PrbmMechanicalAdvantageOptions)
+from validation.case.method_options import HeldOutputOptions, MechanicalAdvantageOptions, PrbmMechanicalAdvantageOptions
 from validation.methods.base import NotApplicable
 
 INFLECTION_FLOOR = 1e-3
-_NO_MA = HeldOutputOptions()     # no ``ma`` table: every field at its default
+_NO_MA = HeldOutputOptions()  # no ``ma`` table: every field at its default
 
 
 def max_stress(result, level: int) -> float:
     value = float(result.max_bending_stress[level])
     if not np.isfinite(value):
-        raise NotApplicable("max_stress needs sections that know E and the extreme-fibre distance "
-                            "(a rectangle, layers, or inertia with 'c')")
+        raise NotApplicable(
+            "max_stress needs sections that know E and the extreme-fibre distance "
+            "(a rectangle, layers, or inertia with 'c')"
+        )
     return value
 
 
@@ -51,7 +53,7 @@ def inflection_points(result, model, beams: list[int], level: int) -> int:
     count = 0
     for im in beams:
         els = d.member_elements[im]
-        m = np.concatenate([[-moments[els[0], 0]], moments[els, 1]])      # bending moment at the nodes
+        m = np.concatenate([[-moments[els[0], 0]], moments[els, 1]])  # bending moment at the nodes
         EI_nodes = np.concatenate([[EI[els[0]]], EI[els]])
         kappa = model.members[im].curvature + m / EI_nodes
         significant = kappa[np.abs(kappa) > INFLECTION_FLOOR * np.abs(kappa).max(initial=0.0)]
@@ -85,18 +87,20 @@ def incremented_case(case, ma: HeldOutputOptions | None):
     return case.model_copy(update={"loads": loads}), delta, load
 
 
-def output_force(case, ma: MechanicalAdvantageOptions | PrbmMechanicalAdvantageOptions | None,
-                 reaction_of) -> np.ndarray:
+def output_force(
+    case, ma: MechanicalAdvantageOptions | PrbmMechanicalAdvantageOptions | None, reaction_of
+) -> np.ndarray:
     """Per level, the force the mechanism exerts on the output support along ``ma.direction``."""
     reaction_of = _converged_only(reaction_of)
-    needs = ("mechanical_advantage needs [methods.fem] ma = {output = point, direction = [dx, dy]} "
-             "or {output = point, moment_arm = d_o}")
+    needs = (
+        "mechanical_advantage needs [methods.fem] ma = {output = point, direction = [dx, dy]} "
+        "or {output = point, moment_arm = d_o}"
+    )
     if ma is None or ma.output is None:
         raise NotApplicable(needs)
     output = ma.output
     if ma.moment_arm is not None:
-        return np.array([-ma.sense * reaction_of(output, level)[2] / ma.moment_arm
-                         for level in range(case.n_levels())])
+        return np.array([-ma.sense * reaction_of(output, level)[2] / ma.moment_arm for level in range(case.n_levels())])
     if ma.direction is None:
         raise NotApplicable(needs)
     d = np.asarray(ma.direction, float)
@@ -106,12 +110,16 @@ def output_force(case, ma: MechanicalAdvantageOptions | PrbmMechanicalAdvantageO
 
 def _converged_only(reaction_of):
     """``reaction_of`` that says which level the solve did not reach instead of an IndexError."""
+
     def reaction(point, level):
         try:
             return reaction_of(point, level)
         except IndexError:
-            raise NotApplicable(f"mechanical_advantage: the FEM solve stopped before level {level} "
-                                "(no converged state to read the output force from)") from None
+            raise NotApplicable(
+                f"mechanical_advantage: the FEM solve stopped before level {level} "
+                "(no converged state to read the output force from)"
+            ) from None
+
     return reaction
 
 

@@ -26,6 +26,7 @@ With ``tip_x = true`` (FEM) the tip's ``x`` is that of the inverse solution too:
 a that b, theta0 and the tie lead to (section 3.6's vector loop asks for the same a; with the tie
 ``a`` the x is prescribed, so ``tip_x`` is refused there).
 """
+
 from __future__ import annotations
 
 import math
@@ -36,7 +37,7 @@ from validation.case.method_options import FemInverseOptions, InverseOptions
 from validation.methods.base import MethodRun, NotApplicable
 
 LOAD_OUTPUTS = ("force_x", "force_y", "moment")
-POSITION_OUTPUT = "x"          # the tip's x of the inverse solution, with ``tip_x = true``
+POSITION_OUTPUT = "x"  # the tip's x of the inverse solution, with ``tip_x = true``
 
 
 class Tie(Enum):
@@ -52,10 +53,10 @@ class Tie(Enum):
 class InverseLevel:
     """The prescribed tip state of one load level."""
 
-    b: float                  # tip y, length units
-    theta0: float             # absolute tip slope, rad
+    b: float  # tip y, length units
+    theta0: float  # absolute tip slope, rad
     tie: Tie
-    value: float              # a (length), n (1), axial load (force) or l1 (length)
+    value: float  # a (length), n (1), axial load (force) or l1 (length)
 
 
 @dataclass(frozen=True)
@@ -63,7 +64,7 @@ class InverseSpec:
     levels: tuple[InverseLevel, ...]
     I: float | None = None
     EI: float | None = None
-    tip_x: bool = False       # the tip's x is reported from the inverse solution (FEM)
+    tip_x: bool = False  # the tip's x is reported from the inverse solution (FEM)
 
 
 def _per_level(value: float | list[float], name: str, n: int, where: str) -> list[float]:
@@ -103,11 +104,22 @@ def merge_runs(forward: MethodRun | None, inverse: MethodRun) -> MethodRun:
         return inverse
     levels = set(forward.level_converged) | set(inverse.level_converged)
     ok = {lv: forward.level_converged.get(lv, True) and inverse.level_converged.get(lv, True) for lv in levels}
-    msgs = {lv: "; ".join(m for m in (forward.level_messages.get(lv), inverse.level_messages.get(lv))
-                          if m and m != "converged") or "converged" for lv in levels}
+    msgs = {
+        lv: "; ".join(
+            m for m in (forward.level_messages.get(lv), inverse.level_messages.get(lv)) if m and m != "converged"
+        )
+        or "converged"
+        for lv in levels
+    }
     message = "; ".join(m for m in (forward.message, inverse.message) if m and m != "converged")
-    return MethodRun(values=forward.values | inverse.values, converged=forward.converged and inverse.converged,
-                     message=message or "converged", wall_time=forward.wall_time + inverse.wall_time,
-                     error_estimate=forward.error_estimate | inverse.error_estimate,
-                     unreliable_estimate=forward.unreliable_estimate | inverse.unreliable_estimate,
-                     level_converged=ok, level_messages=msgs, extras=forward.extras)
+    return MethodRun(
+        values=forward.values | inverse.values,
+        converged=forward.converged and inverse.converged,
+        message=message or "converged",
+        wall_time=forward.wall_time + inverse.wall_time,
+        error_estimate=forward.error_estimate | inverse.error_estimate,
+        unreliable_estimate=forward.unreliable_estimate | inverse.unreliable_estimate,
+        level_converged=ok,
+        level_messages=msgs,
+        extras=forward.extras,
+    )

@@ -27,6 +27,7 @@ says otherwise; the defaults are ``method_options.OpenSeesOptions``'s), halved o
 OpenSees is kept quiet: its log goes to the null device (no warnings on the console) and its
 "Process 0 Terminating" at interpreter exit is dropped.
 """
+
 from __future__ import annotations
 
 import atexit
@@ -52,7 +53,7 @@ def _ops():
         raise NotApplicable(f"OpenSeesPy is not available ({exc})") from None
     global _QUIET
     if not _QUIET:
-        ops.logFile(os.devnull, "-noEcho")     # warnings and failed-step messages off the console
+        ops.logFile(os.devnull, "-noEcho")  # warnings and failed-step messages off the console
         atexit.register(_drop_exit_banner)
         _QUIET = True
     return ops
@@ -107,8 +108,10 @@ def _geometry(case, elements: int, options: OpenSeesOptions | None = None):
             raise NotApplicable("curved segments are not built for the OpenSees peer")
         held = boundary_held_tip(case)
         if held or seg.boundary == "pinned-pinned":  # the peer builds a clamped root and a free tip only
-            raise NotApplicable(f"a {seg.boundary} segment (tip {', '.join(held) or 'root pin'} held) is not "
-                                "built for the OpenSees peer")
+            raise NotApplicable(
+                f"a {seg.boundary} segment (tip {', '.join(held) or 'root pin'} held) is not "
+                "built for the OpenSees peer"
+            )
         xs = np.linspace(0.0, seg.length, elements + 1)
         idx = [add(x, 0.0) for x in xs]
         names.update(root=idx[0], tip=idx[-1])
@@ -189,8 +192,15 @@ def _mechanism(case, elements: int, ratio: float, coords, names, add):
         a, b = np.array(coords[names[beam.start]]), np.array(coords[names[beam.end]])
         chain = [names[beam.start]] + [add(*p) for p in _arc_chain(a, b, beam.curvature, elements)] + [names[beam.end]]
         for k in range(len(chain) - 1):
-            element(chain[k], chain[k + 1], EA, EI, beam.name, beam.start if k == 0 else None,
-                    beam.end if k == len(chain) - 2 else None)
+            element(
+                chain[k],
+                chain[k + 1],
+                EA,
+                EI,
+                beam.name,
+                beam.start if k == 0 else None,
+                beam.end if k == len(chain) - 2 else None,
+            )
     if mech.links and not mech.beams:
         raise NotApplicable("rigid links without a beam: no stiffness to scale the links' by")
     for link in mech.links:
@@ -213,8 +223,9 @@ def _mechanism(case, elements: int, ratio: float, coords, names, add):
         supports[names[sup.node]] = sup.kind
     for load in case.loads:
         if load.kind == "moment" and (load.body, load.point) in released:
-            raise NotApplicable(f"a couple on the released end of '{load.body}' at '{load.point}' is not built "
-                                "for the OpenSees peer")
+            raise NotApplicable(
+                f"a couple on the released end of '{load.body}' at '{load.point}' is not built for the OpenSees peer"
+            )
     return coords, names, elems, supports
 
 
@@ -255,7 +266,9 @@ def _build(ops, coords, elems, supports, nodal):
     ops.geomTransf("Corotational", 1)
     for k, (i, j, EA, EI, release) in enumerate(elems):
         # elasticBeamColumn takes A, E, Iz: pass E = 1 so that A = EA and Iz = EI
-        ops.element("elasticBeamColumn", k + 1, i + 1, j + 1, EA, 1.0, EI, 1, *(("-release", release) if release else ()))
+        ops.element(
+            "elasticBeamColumn", k + 1, i + 1, j + 1, EA, 1.0, EI, 1, *(("-release", release) if release else ())
+        )
     ops.timeSeries("Linear", 1)
     ops.pattern("Plain", 1, 1)
     for node, vec in nodal.items():
@@ -302,7 +315,7 @@ def run(case, requests: list[Request], options: OpenSeesOptions) -> MethodRun:
             history.append(ops.getLoadFactor(1))
             if len(history) > 2 and history[-1] < history[-2]:
                 i = len(history) - 2  # the same parabola through the three points around the peak as our FEM
-                peak, _ = refine_extremum(np.arange(-1.0, 2.0), np.asarray(history[i - 1:i + 2]), np.full(3, np.nan))
+                peak, _ = refine_extremum(np.arange(-1.0, 2.0), np.asarray(history[i - 1 : i + 2]), np.full(3, np.nan))
                 scale = np.abs(np.concatenate([np.atleast_1d(np.asarray(l.levels())) for l in case.loads])).max()
                 for r in requests:
                     if r.quantity == "limit_load":
@@ -310,11 +323,15 @@ def run(case, requests: list[Request], options: OpenSeesOptions) -> MethodRun:
                 break
         else:
             converged, message = False, "no limit point within max_steps"
-        return MethodRun(values=values, converged=converged, message=message,
-                         wall_time=time.perf_counter() - start,
-                         extras={"iterations": iterations, "analysis_cpu_s": time.process_time() - cpu})
+        return MethodRun(
+            values=values,
+            converged=converged,
+            message=message,
+            wall_time=time.perf_counter() - start,
+            extras={"iterations": iterations, "analysis_cpu_s": time.process_time() - cpu},
+        )
     ops.analysis("Static")
-    current, analysis = 0.0, 0.0      # analysis: CPU seconds of the load stepping alone
+    current, analysis = 0.0, 0.0  # analysis: CPU seconds of the load stepping alone
     for level, factor in enumerate(factors):
         if factor != current:
             cpu = time.process_time()
@@ -323,14 +340,20 @@ def run(case, requests: list[Request], options: OpenSeesOptions) -> MethodRun:
             iterations += its
             if not ok:
                 converged = False
-                message = (f"OpenSees Newton failed between levels {level - 1} and {level} "
-                           f"(load factor {current:.6g} reached, {max_halvings} halvings)")
+                message = (
+                    f"OpenSees Newton failed between levels {level - 1} and {level} "
+                    f"(load factor {current:.6g} reached, {max_halvings} halvings)"
+                )
                 break
         for r in wanted.get(level, []):
             tag = names[r.point] + 1
             x0, y0 = coords[tag - 1]
             ux, uy, rz = (ops.nodeDisp(tag, k) for k in (1, 2, 3))
             values[r] = {"x": x0 + ux, "y": y0 + uy, "dx": ux, "dy": uy, "rotation": math.degrees(rz)}[r.quantity]
-    return MethodRun(values=values, converged=converged, message=message,
-                     wall_time=time.perf_counter() - start,
-                     extras={"iterations": iterations, "analysis_cpu_s": analysis})
+    return MethodRun(
+        values=values,
+        converged=converged,
+        message=message,
+        wall_time=time.perf_counter() - start,
+        extras={"iterations": iterations, "analysis_cpu_s": analysis},
+    )

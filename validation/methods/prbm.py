@@ -26,6 +26,7 @@ Shapes: ``extras['shapes']`` holds, per level, the PRB links as (n, 2) polylines
 inflection model root -> pivot 1 -> inflection point -> pivot 2 -> end (``prbm_segment.py`` and the
 mechanism modules describe theirs).
 """
+
 from __future__ import annotations
 
 import time
@@ -56,13 +57,17 @@ def run(case, requests: list[Request], options: PrbmOptions) -> MethodRun:
     if prbm_readings.handles(case, options):  # loads along the segment, a force toward a point
         return prbm_readings.run(case, requests, options)
     if not prbm_readings.turning_fourbar(case, options):
-        reject_loads_along_beams(case, "the PRBM", turning=_takes_turning_loads(case, options),
-                                 why="no seed PRB model of a mechanism takes loads along its beams (the Chain "
-                                     "Algorithm models one cantilevered segment)")
+        reject_loads_along_beams(
+            case,
+            "the PRBM",
+            turning=_takes_turning_loads(case, options),
+            why="no seed PRB model of a mechanism takes loads along its beams (the Chain "
+            "Algorithm models one cantilevered segment)",
+        )
     if options.model in prbm_alternatives.MODELS:  # the other segment models of [bapat2015, ch. 2]
         return prbm_alternatives.run(case, requests, options)
     try:
-        if prbm_ma.handles(case, options):                      # chapter 7 MA by prbm.compliance
+        if prbm_ma.handles(case, options):  # chapter 7 MA by prbm.compliance
             values, run_info = prbm_ma.run(case, requests, options)
         elif case.segment is not None:
             values, run_info = _segment(case, requests, options)
@@ -95,18 +100,24 @@ def _inflection(case, requests, options, EI):
         if loads.follower:
             raise NotApplicable("follower loads on the chapter-3 fixed-guided PRBM")
         for lv in needed:
-            results[lv] = prbm.solve_loads(beam, float(loads.Fy[lv]), float(-loads.Fx[lv]), float(-loads.M[lv]),
-                                           prefer=prefer)
+            results[lv] = prbm.solve_loads(
+                beam, float(loads.Fy[lv]), float(-loads.Fx[lv]), float(-loads.M[lv]), prefer=prefer
+            )
     elif problem == "displacement":
+
         def per_level(key, lv):
             v = getattr(options, key)
             return None if v is None else float(v[lv] if isinstance(v, list) else v)
 
         for lv in needed:
             kw = {k: per_level(k, lv) for k in ("a", "n", "l1")}
-            results[lv] = prbm.solve_displacements(beam, b=per_level("b", lv),
-                                                   theta0=per_level("theta0_deg", lv) * DEG, prefer=prefer,
-                                                   **{k: v for k, v in kw.items() if v is not None})
+            results[lv] = prbm.solve_displacements(
+                beam,
+                b=per_level("b", lv),
+                theta0=per_level("theta0_deg", lv) * DEG,
+                prefer=prefer,
+                **{k: v for k, v in kw.items() if v is not None},
+            )
     else:
         raise NotApplicable(f"unknown PRBM problem '{problem}' (use 'loads' or 'displacement')")
     values = {}
@@ -115,9 +126,16 @@ def _inflection(case, requests, options, EI):
     for req in requests:
         res = results[req.level]
         o = res.outputs
-        table = {"x": o["a"], "y": o["b"], "dx": o["a"] - seg.length, "dy": o["b"],
-                 "rotation": np.degrees(o["theta0"]), "force_x": -o["nP"], "force_y": o["P"],
-                 "moment": -o["M"]}
+        table = {
+            "x": o["a"],
+            "y": o["b"],
+            "dx": o["a"] - seg.length,
+            "dy": o["b"],
+            "rotation": np.degrees(o["theta0"]),
+            "force_x": -o["nP"],
+            "force_y": o["P"],
+            "moment": -o["M"],
+        }
         if "U" in o:
             table["strain_energy"] = o["U"]
         if req.quantity not in table:
@@ -129,11 +147,11 @@ def _inflection(case, requests, options, EI):
         messages.append(f"level {lv}: {res.message}")
     info.converged = all(r.converged for r in results.values())
     info.message = "; ".join(messages)
-    info.extras = {"roots": {lv: [{k: v for k, v in root.items()} for root in res.roots[0]]
-                             for lv, res in results.items()},
-                   "model": "fixed-guided with one inflection point, seed 000 eqs (83)-(104)",
-                   "shapes": {lv: [prbm.inflection_pivots(res.outputs)] if res.converged else []
-                              for lv, res in results.items()}}
+    info.extras = {
+        "roots": {lv: [{k: v for k, v in root.items()} for root in res.roots[0]] for lv, res in results.items()},
+        "model": "fixed-guided with one inflection point, seed 000 eqs (83)-(104)",
+        "shapes": {lv: [prbm.inflection_pivots(res.outputs)] if res.converged else [] for lv, res in results.items()},
+    }
     return values, info
 
 
@@ -191,5 +209,9 @@ def _route(case, options: PrbmOptions) -> Route:
 def _takes_turning_loads(case, options: PrbmOptions) -> bool:
     """Whether the case's PRB model takes forces toward a fixed point and forces turning with a named body:
     the network built from a mechanism's geometry (``prbm.network``: pulls and followers on its bodies)."""
-    return (case.mechanism is not None and not prbm_ma.handles(case, options)
-            and not prbm_inflection.applies(case, options) and _route(case, options) is Route.NETWORK)
+    return (
+        case.mechanism is not None
+        and not prbm_ma.handles(case, options)
+        and not prbm_inflection.applies(case, options)
+        and _route(case, options) is Route.NETWORK
+    )

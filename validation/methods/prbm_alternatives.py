@@ -17,6 +17,7 @@ Frames and signs as in ``validation/methods/prbm.py``: x along the undeformed se
 force = values x direction, CCW moments; outputs x = a, y = b, dx, dy, rotation (deg), force_x, force_y,
 moment (CCW), prb_angle (deg, theta-dependent).
 """
+
 from __future__ import annotations
 
 import math
@@ -63,8 +64,7 @@ def run(case, requests: list[Request], options: PrbmOptions) -> MethodRun:
     else:
         loads = _tip_loads(case)
         solve = {"theta-dependent": _theta_dependent, "chain": _chain, "lyon": _lyon}[model]
-        rows = [solve(case, loads[lv], options) if lv in _levels(requests) else None
-                for lv in range(case.n_levels())]
+        rows = [solve(case, loads[lv], options) if lv in _levels(requests) else None for lv in range(case.n_levels())]
     info = MethodRun(values={})
     for req in requests:
         table, _ = rows[req.level]
@@ -79,8 +79,7 @@ def run(case, requests: list[Request], options: PrbmOptions) -> MethodRun:
     info.message = "; ".join(f"level {lv}: {m}" for lv, m in info.level_messages.items())
     info.extras = {"model": next(r[1].model for r in rows if r is not None)}
     if model == "theta-dependent":
-        flag_atlas_levels(info, theta_dependent_levels(options.theta_fit, loads, seg.length,
-                                                       seg.bending_stiffness()))
+        flag_atlas_levels(info, theta_dependent_levels(options.theta_fit, loads, seg.length, seg.bending_stiffness()))
     info.wall_time = time.perf_counter() - t0
     return info
 
@@ -111,8 +110,17 @@ def _tip_loads(case) -> list[tuple[float, float, float]]:
 
 def _table(case, a, b, theta0, Fx, Fy, M, **extra) -> dict[str, float]:
     L = case.segment.length
-    return {"x": a, "y": b, "dx": a - L, "dy": b, "rotation": math.degrees(theta0), "force_x": Fx,
-            "force_y": Fy, "moment": M, **extra}
+    return {
+        "x": a,
+        "y": b,
+        "dx": a - L,
+        "dy": b,
+        "rotation": math.degrees(theta0),
+        "force_x": Fx,
+        "force_y": Fy,
+        "moment": M,
+        **extra,
+    }
 
 
 def _theta_dependent(case, load, options):
@@ -125,13 +133,15 @@ def _theta_dependent(case, load, options):
     if Fy == 0.0:
         raise NotApplicable("no transverse end force: the fit's load ratio n = -F_x/F_y is undefined")
     try:
-        res = theta_dependent.theta_dependent_tip(Fy, -Fx / Fy, length=seg.length, EI=seg.bending_stiffness(),
-                                                  fit=options.theta_fit)
+        res = theta_dependent.theta_dependent_tip(
+            Fy, -Fx / Fy, length=seg.length, EI=seg.bending_stiffness(), fit=options.theta_fit
+        )
     except FitRangeError as exc:
         raise NotApplicable(f"PRBM fit range: {exc}") from None
     o = res.outputs
-    return _table(case, float(o["a"]), float(o["b"]), float(o["theta0"]), Fx, Fy, M,
-                  prb_angle=math.degrees(float(o["Theta"]))), res
+    return _table(
+        case, float(o["a"]), float(o["b"]), float(o["theta0"]), Fx, Fy, M, prb_angle=math.degrees(float(o["Theta"]))
+    ), res
 
 
 def _chain_beam(case, options) -> chain_model.ChainBeam:
@@ -144,11 +154,12 @@ def _chain_beam(case, options) -> chain_model.ChainBeam:
 def _chain(case, load, options):
     Fx, Fy, M = load
     if case.segment.boundary == "fixed-guided" and M == 0.0:
-        raise NotApplicable("fixed-guided end without a moment load: the Chain Algorithm here needs "
-                            "the end moment given (no rotation condition)")
+        raise NotApplicable(
+            "fixed-guided end without a moment load: the Chain Algorithm here needs "
+            "the end moment given (no rotation condition)"
+        )
     beam = _chain_beam(case, options)
-    res = chain_model.chain_tip(beam, chain_model.NodalLoads.at_tip(beam, Fx, Fy, M),
-                                steps=options.chain_steps)
+    res = chain_model.chain_tip(beam, chain_model.NodalLoads.at_tip(beam, Fx, Fy, M), steps=options.chain_steps)
     o = res.outputs
     return _table(case, float(o["a"]), float(o["b"]), float(o["theta0"]), Fx, Fy, M), res
 
@@ -168,12 +179,28 @@ def _chain_inverse(case, requests, options):
             rows.append(None)
             continue
         n = _per_level(options, "n", lv)
-        res = chain_model.chain_from_tip(beam, b=_per_level(options, "b", lv),
-                                         theta0=math.radians(_per_level(options, "theta0_deg", lv)), n=n,
-                                         steps=options.chain_steps)
+        res = chain_model.chain_from_tip(
+            beam,
+            b=_per_level(options, "b", lv),
+            theta0=math.radians(_per_level(options, "theta0_deg", lv)),
+            n=n,
+            steps=options.chain_steps,
+        )
         o = res.outputs
-        rows.append((_table(case, float(o["a"]), float(o["b"]), float(o["theta0"]), -float(o["nP"]),
-                            float(o["P"]), float(o["M"])), res))
+        rows.append(
+            (
+                _table(
+                    case,
+                    float(o["a"]),
+                    float(o["b"]),
+                    float(o["theta0"]),
+                    -float(o["nP"]),
+                    float(o["P"]),
+                    float(o["M"]),
+                ),
+                res,
+            )
+        )
     return rows
 
 
@@ -183,8 +210,9 @@ def _lyon(case, load, options):
     if seg.boundary not in ("fixed-guided", "fixed-fixed"):
         raise NotApplicable(f"Lyon et al.'s PRBM (eqs 64-70) is a fixed-guided model, not {seg.boundary}")
     if M != 0.0:
-        raise NotApplicable("Lyon et al.'s PRBM (eqs 64-70) takes the end force only; its equal-torque "
-                            "condition fixes the end moment")
+        raise NotApplicable(
+            "Lyon et al.'s PRBM (eqs 64-70) takes the end force only; its equal-torque condition fixes the end moment"
+        )
     try:
         res = lyon_model.lyon_tip(Fx, Fy, length=seg.length, EI=seg.bending_stiffness())
     except FitRangeError as exc:

@@ -9,6 +9,7 @@ the atlas's expected tip error (% of L, ``MethodRun.expected_error``), and a lev
 its message.  A model the atlas does not map (a curved segment with an end moment, a family the curved
 atlas was not built with) gets no expected error, and the run's message says so.
 """
+
 from __future__ import annotations
 
 import math
@@ -16,12 +17,14 @@ import math
 from validation.atlas.expected import expectation
 from validation.methods.base import Applicability, MethodRun
 
-_FAMILY_MODEL = {"pauly-midha": "fixed_pinned_pauly_midha", "howell": "fixed_pinned_howell",
-                 "constant": "fixed_pinned_constant"}
+_FAMILY_MODEL = {
+    "pauly-midha": "fixed_pinned_pauly_midha",
+    "howell": "fixed_pinned_howell",
+    "constant": "fixed_pinned_constant",
+}
 
 
-def half_plane(Fx: float, Fy: float, M: float = 0.0, kappa0: float = 0.0
-               ) -> tuple[float, float, float, float, float]:
+def half_plane(Fx: float, Fy: float, M: float = 0.0, kappa0: float = 0.0) -> tuple[float, float, float, float, float]:
     """The level as the atlas maps it, (F_x, F_y, M, kappa0, sign): a segment curved the other way as the
     mirror image about the undeformed axis of one curved this way, then a force with P < 0 (or, without a
     transverse force, a clockwise moment) as the mirror image of one with P > 0; ``sign`` is -1 where the
@@ -34,8 +37,9 @@ def half_plane(Fx: float, Fy: float, M: float = 0.0, kappa0: float = 0.0
     return Fx, Fy, M, kappa0, sign
 
 
-def atlas_inputs(boundary: str, kappa0: float, family: str, Fx: float, Fy: float, M: float, follower: bool,
-                 L: float, EI: float) -> tuple[str | None, dict[str, float], float]:
+def atlas_inputs(
+    boundary: str, kappa0: float, family: str, Fx: float, Fy: float, M: float, follower: bool, L: float, EI: float
+) -> tuple[str | None, dict[str, float], float]:
     """(atlas model, its inputs, the mirror sign of ``half_plane``) of one level of a segment case; the model
     None and no inputs where the atlas has no model."""
     fx, fy, m, kappa0, sign = half_plane(Fx, Fy, M, kappa0)
@@ -44,8 +48,11 @@ def atlas_inputs(boundary: str, kappa0: float, family: str, Fx: float, Fy: float
     angle = math.degrees(math.atan2(fy, fx)) if F > 0 else 90.0
     free = boundary in ("fixed-free", "fixed-pinned")
     if follower:
-        return ("follower", {"follower_angle_deg": angle, "load": force}, sign) if free and kappa0 == 0.0 \
+        return (
+            ("follower", {"follower_angle_deg": angle, "load": force}, sign)
+            if free and kappa0 == 0.0
             else (None, {}, sign)
+        )
     if kappa0 != 0.0:
         if not free or M != 0.0 or family != "pauly-midha":
             return None, {}, sign
@@ -63,8 +70,19 @@ def atlas_inputs(boundary: str, kappa0: float, family: str, Fx: float, Fy: float
     return None, {}, sign
 
 
-def flag_levels(info: MethodRun, boundary: str, kappa0: float, family: str, Fx: list[float], Fy: list[float],
-                M: list[float], follower: bool, L: float, EI: float, prescribed: bool = False) -> None:
+def flag_levels(
+    info: MethodRun,
+    boundary: str,
+    kappa0: float,
+    family: str,
+    Fx: list[float],
+    Fy: list[float],
+    M: list[float],
+    follower: bool,
+    L: float,
+    EI: float,
+    prescribed: bool = False,
+) -> None:
     """Set ``expected_error`` and the ``OUTSIDE_VALIDITY`` flags of every level of a segment-model run
     (module docstring).  ``prescribed``: the loads are those the PRBM found for a prescribed motion; the
     atlas's error is at equal load, so a tip-position comparison of the case is not what it predicts
@@ -75,8 +93,9 @@ def flag_levels(info: MethodRun, boundary: str, kappa0: float, family: str, Fx: 
     flag_atlas_levels(info, levels, equal_load=not prescribed)
 
 
-def flag_atlas_levels(info: MethodRun, levels: dict[int, tuple[str | None, dict[str, float], float]],
-                      equal_load: bool = True) -> None:
+def flag_atlas_levels(
+    info: MethodRun, levels: dict[int, tuple[str | None, dict[str, float], float]], equal_load: bool = True
+) -> None:
     """Per level (atlas model or None, its inputs, mirror sign): the expected error, and the flag and its
     reason where the level lies outside the model's 5 % region or outside the map.  A level of a model the
     atlas does not map gets no expected error and the run's message says so."""
@@ -102,20 +121,25 @@ def flag_atlas_levels(info: MethodRun, levels: dict[int, tuple[str | None, dict[
         info.message = f"{info.message}; {note}" if info.message else note
 
 
-def theta_dependent_levels(fit: str, loads: list[tuple[float, float, float]], L: float, EI: float
-                           ) -> dict[int, tuple[str | None, dict[str, float], float]]:
+def theta_dependent_levels(
+    fit: str, loads: list[tuple[float, float, float]], L: float, EI: float
+) -> dict[int, tuple[str | None, dict[str, float], float]]:
     """The levels of a Theta-dependent K_Theta run (eq 51 or 52; end force only) in the atlas's terms."""
     model = {"51": "theta_dependent_51", "52": "theta_dependent_52"}.get(fit)
     out = {}
     for level, (fx, fy, m) in enumerate(loads):
         mx, my, _, _, sign = half_plane(fx, fy)
-        out[level] = (model, {"load_angle_deg": math.degrees(math.atan2(my, mx)), "load": math.hypot(fx, fy) * L * L / EI},
-                      sign)
+        out[level] = (
+            model,
+            {"load_angle_deg": math.degrees(math.atan2(my, mx)), "load": math.hypot(fx, fy) * L * L / EI},
+            sign,
+        )
     return out
 
 
-def chain_levels(elements: int, distributed: list[tuple[float, float]], tip_loaded: bool, L: float, EI: float
-                 ) -> dict[int, tuple[str | None, dict[str, float], float]]:
+def chain_levels(
+    elements: int, distributed: list[tuple[float, float]], tip_loaded: bool, L: float, EI: float
+) -> dict[int, tuple[str | None, dict[str, float], float]]:
     """The levels of a Chain Algorithm run under a uniform dead load (w_x, w_y) per length in the atlas's
     terms; the atlas maps 40 links under a distributed load alone, so a coarser chain or an added end load
     is not mapped (a finer chain errs less than the map says)."""
@@ -123,6 +147,9 @@ def chain_levels(elements: int, distributed: list[tuple[float, float]], tip_load
     out = {}
     for level, (wx, wy) in enumerate(distributed):
         mx, my, _, _, sign = half_plane(wx, wy)
-        out[level] = (model, {"load_angle_deg": math.degrees(math.atan2(my, mx)),
-                              "load": math.hypot(wx, wy) * L ** 3 / EI}, sign)
+        out[level] = (
+            model,
+            {"load_angle_deg": math.degrees(math.atan2(my, mx)), "load": math.hypot(wx, wy) * L**3 / EI},
+            sign,
+        )
     return out

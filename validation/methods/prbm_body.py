@@ -15,6 +15,7 @@ One initially curved beam pinned at one end and on a slider along its chord at t
 along the chord at the slider: ``prbm.curved_pinned_pinned`` (two curved fixed-pinned halves fixed at
 mid-span, [bapat2015, §2.3.5]).
 """
+
 from __future__ import annotations
 
 import cmath
@@ -29,6 +30,7 @@ from validation.case.schema import BeamSpec, LinkSpec
 from validation.methods.base import MethodRun, NotApplicable
 from validation.methods.prbm_atlas import flag_atlas_levels
 from validation.methods.prbm_common import plain, polyline, prefer
+
 
 def one_beam_carrying_a_body(mech) -> bool:
     """One beam, fixed at one end by the only support, its other end not released by a joint
@@ -72,8 +74,10 @@ def _carried_body(mech) -> CarriedBody:
     nodes = {nd.name: complex(nd.x, nd.y) for nd in mech.nodes}
     fixed = {s.node for s in mech.supports if s.kind == "fixed"}
     if len(mech.supports) != 1 or not fixed & {beam.start, beam.end}:
-        raise NotApplicable("one beam with one fixed end and nothing else supported is the only "
-                            "non-four-bar mechanism the PRBM adapter models")
+        raise NotApplicable(
+            "one beam with one fixed end and nothing else supported is the only "
+            "non-four-bar mechanism the PRBM adapter models"
+        )
     root, end = (beam.start, beam.end) if beam.start in fixed else (beam.end, beam.start)
     if any(j.node == end for j in mech.joints):
         raise NotApplicable(f"a joint at the beam end '{end}': the body is not rigidly attached")
@@ -81,23 +85,35 @@ def _carried_body(mech) -> CarriedBody:
         raise NotApplicable("an initially curved beam carrying a rigid body")
     links = [lk for lk in mech.links if end in lk.nodes]
     O, E = nodes[root], nodes[end]
-    return CarriedBody(beam, root, end, nodes, {end} | {nd for lk in links for nd in lk.nodes}, links, abs(E - O),
-                       beam.section.stiffness(beam.E or mech.E)[1], cmath.exp(-1j * cmath.phase(E - O)))
+    return CarriedBody(
+        beam,
+        root,
+        end,
+        nodes,
+        {end} | {nd for lk in links for nd in lk.nodes},
+        links,
+        abs(E - O),
+        beam.section.stiffness(beam.E or mech.E)[1],
+        cmath.exp(-1j * cmath.phase(E - O)),
+    )
 
 
 def _segment_model(cb: CarriedBody, options: PrbmOptions):
     """(the beam's segment model: an InflectionBeam or a tip(F, M) function, its kind)."""
     L, EI = cb.length, cb.EI
-    kind = cb.beam.segment_type or ("fixed-guided-inflection" if options.segment_model == "inflection"
-                                    else "fixed-pinned")
+    kind = cb.beam.segment_type or (
+        "fixed-guided-inflection" if options.segment_model == "inflection" else "fixed-pinned"
+    )
     family = options.family
     if kind in ("fixed-guided-inflection", "inflection"):
         return prbm.InflectionBeam(L, EI, family), kind
     if kind in ("fixed-pinned", "fixed-free"):
         return _tip_model(L, EI, family, options.extrapolate), kind
     if kind == "slfp":  # the beam is the flexure; the body is the rigid segment (eqs 71-76)
+
         def model(F: complex, M: float):
             return prbm.slfp_end_tip(F, M, flexure_length=L, EI=EI)
+
         return model, kind
     raise NotApplicable(f"segment type '{kind}' carrying a rigid body: not modelled")
 
@@ -128,9 +144,14 @@ def _body_values(cb: CarriedBody, results: dict, requests) -> dict:
             raise NotApplicable(f"point '{req.point}' is not on the body carried by '{cb.beam.name}'")
         z = cb.O + res.extras["points"][req.point] * to_global
         z0 = cb.nodes[req.point]
-        table = {"x": z.real, "y": z.imag, "dx": (z - z0).real, "dy": (z - z0).imag,
-                 "rotation": math.degrees(float(res.outputs["rotation"])),
-                 "strain_energy": float(res.outputs.get("U", res.outputs.get("strain_energy", np.nan)))}
+        table = {
+            "x": z.real,
+            "y": z.imag,
+            "dx": (z - z0).real,
+            "dy": (z - z0).imag,
+            "rotation": math.degrees(float(res.outputs["rotation"])),
+            "strain_energy": float(res.outputs.get("U", res.outputs.get("strain_energy", np.nan))),
+        }
         if req.quantity not in table:
             raise NotApplicable(f"the PRBM of a segment with a rigid body gives no '{req.quantity}'")
         values[req] = float(table[req.quantity]) if res.converged else math.nan
@@ -171,17 +192,27 @@ def run_segment_with_body(case, requests, options: PrbmOptions, info: MethodRun)
     per_level = _body_loads(case, cb)
     offsets = {name: (cb.nodes[name] - cb.E) * cb.to_local for name in cb.body}
     needed = sorted({r.level for r in requests} | set(range(n)))
-    results = {lv: prbm.solve_segment_with_body(model, per_level[lv], offsets, rest=(cb.length, 0.0, 0.0),
-                                                prefer=prefer(options)) for lv in needed}
+    results = {
+        lv: prbm.solve_segment_with_body(
+            model, per_level[lv], offsets, rest=(cb.length, 0.0, 0.0), prefer=prefer(options)
+        )
+        for lv in needed
+    }
     values = _body_values(cb, results, requests)
     info.converged = all(results[lv].converged for lv in needed)
     info.level_converged = {lv: bool(results[lv].converged) for lv in needed}
     info.level_messages = {lv: results[lv].message for lv in needed}
-    info.message = f"PRBM {kind} segment '{cb.beam.name}' carrying a rigid body (M + r x F at the current pose); " + \
-        "; ".join(f"level {lv}: {results[lv].message}" for lv in needed)
-    info.extras.update({"shapes": _body_shapes(cb, results, model, kind, n), "model": results[needed[-1]].model,
-                        "end_loads": {lv: {k: float(results[lv].outputs[k]) for k in ("Fx", "Fy", "M")}
-                                      for lv in needed}})
+    info.message = (
+        f"PRBM {kind} segment '{cb.beam.name}' carrying a rigid body (M + r x F at the current pose); "
+        + "; ".join(f"level {lv}: {results[lv].message}" for lv in needed)
+    )
+    info.extras.update(
+        {
+            "shapes": _body_shapes(cb, results, model, kind, n),
+            "model": results[needed[-1]].model,
+            "end_loads": {lv: {k: float(results[lv].outputs[k]) for k in ("Fx", "Fy", "M")} for lv in needed},
+        }
+    )
     return values
 
 
@@ -200,9 +231,11 @@ def run_pinned_pinned(case, requests, info: MethodRun) -> dict:
     chord_vector = nodes[slider.node] - nodes[pin]
     chord0 = abs(chord_vector)
     along = chord_vector / chord0
-    if slider.direction is None or abs(abs(complex(*slider.direction) / abs(complex(*slider.direction))
-                                           * along.conjugate()) - 1.0) > 1e-9 \
-            or abs((complex(*slider.direction) * along.conjugate()).imag) > 1e-9 * abs(complex(*slider.direction)):
+    if (
+        slider.direction is None
+        or abs(abs(complex(*slider.direction) / abs(complex(*slider.direction)) * along.conjugate()) - 1.0) > 1e-9
+        or abs((complex(*slider.direction) * along.conjugate()).imag) > 1e-9 * abs(complex(*slider.direction))
+    ):
         raise NotApplicable("the slider's free direction is not along the chord")
     if beam.curvature == 0.0:
         raise NotApplicable("a straight pinned-pinned beam under a chord force does not bend (no PRBM)")
@@ -221,8 +254,14 @@ def run_pinned_pinned(case, requests, info: MethodRun) -> dict:
     res = prbm.curved_pinned_pinned(F_axial, length=length, EI=EI, curvature=abs(kappa))
     chord = np.broadcast_to(res.outputs["chord"], (n,))
     tip = nodes[pin] + chord * along
-    table = {"x": tip.real, "y": tip.imag, "dx": (tip - nodes[slider.node]).real,
-             "dy": (tip - nodes[slider.node]).imag, "force_x": force.real, "force_y": force.imag}
+    table = {
+        "x": tip.real,
+        "y": tip.imag,
+        "dx": (tip - nodes[slider.node]).real,
+        "dy": (tip - nodes[slider.node]).imag,
+        "force_x": force.real,
+        "force_y": force.imag,
+    }
     values = {}
     for req in requests:
         if req.point != slider.node or req.quantity not in table:
@@ -233,14 +272,27 @@ def run_pinned_pinned(case, requests, info: MethodRun) -> dict:
     info.level_converged = {lv: bool(ok) for lv, ok in enumerate(np.broadcast_to(converged, (n,)))}
     info.message = f"{res.model}; constant gamma = {res.constants['gamma']}, K_Theta = {res.constants['K_theta']}"
     info.extras.update({"model": res.model, "constants": plain(res.constants)})
-    flag_atlas_levels(info, {lv: ("pinned_pinned", {"kappa0": abs(kappa) * length, "sense": 1.0 if f >= 0 else -1.0,
-                                                    "load": abs(f) * length * length / EI}, 1.0)
-                             for lv, f in enumerate(F_axial.tolist())})
+    flag_atlas_levels(
+        info,
+        {
+            lv: (
+                "pinned_pinned",
+                {
+                    "kappa0": abs(kappa) * length,
+                    "sense": 1.0 if f >= 0 else -1.0,
+                    "load": abs(f) * length * length / EI,
+                },
+                1.0,
+            )
+            for lv, f in enumerate(F_axial.tolist())
+        },
+    )
     return values
 
 
 def _tip_model(L: float, EI: float, family: str, extrapolate: str):
     """tip(F, M) of a straight fixed-free segment (segment frame, M CCW), as the single-segment branch."""
+
     def tip(F: complex, M: float):
         if F.imag == 0 and F.real != 0:
             raise NotApplicable("a purely axial end force: outside every PRBM n-fit (n infinite)")
@@ -249,6 +301,8 @@ def _tip_model(L: float, EI: float, family: str, extrapolate: str):
         n_ratio = -F.real / F.imag
         if M == 0:
             return prbm.fixed_pinned_tip(F.imag, n_ratio, length=L, EI=EI, family=family, extrapolate=extrapolate)
-        return prbm.fixed_guided_monotonic_tip(F.imag, n_ratio, M, length=L, EI=EI, family=family,
-                                               extrapolate=extrapolate)
+        return prbm.fixed_guided_monotonic_tip(
+            F.imag, n_ratio, M, length=L, EI=EI, family=family, extrapolate=extrapolate
+        )
+
     return tip

@@ -6,6 +6,7 @@ Nothing here knows a model; ``prbm.py`` (segments), ``prbm_fourbar.py`` (hand-gi
 slider-cranks), ``prbm_body.py`` (one beam carrying a rigid body, the curved pinned-pinned beam) and
 ``prbm_network.py`` (mechanisms built by rule) use it.
 """
+
 from __future__ import annotations
 
 import math

@@ -18,6 +18,7 @@ does), not re-solved from the loop (the printed vectors close only to about 0.00
 Slider-crank (``links.r11``): crank angle from the prescribed slider displacement of each level,
 compliance torque eq (196) as input_torque, MA = MA_R (1 - F_c/F_i) with eq (199) (``ma = {F_i, d_i}``).
 """
+
 from __future__ import annotations
 
 import cmath
@@ -32,6 +33,7 @@ from validation.case.method_options import PrbmOptions, PrecisionOptions
 from validation.methods.base import Misconfigured, MethodRun, NotApplicable
 from validation.methods import prbm_readings
 from validation.methods.prbm_common import DEG, per_input_force, pick, slider_angles
+
 
 def _complex(pair) -> complex:
     return complex(float(pair[0]), float(pair[1]))
@@ -81,16 +83,18 @@ def dof_values(mech, requests, options: PrbmOptions, info: MethodRun) -> tuple[d
     max_mode = options.max_mode
     dof = topo.max_dof(max_mode)
     info.extras["mode_table"] = topo.mode_table(max_mode)
-    info.extras["procedure"] = topo.procedure(max_mode)      # chapter 8 steps, energy order
+    info.extras["procedure"] = topo.procedure(max_mode)  # chapter 8 steps, energy order
     info.extras["min_dof"] = topo.min_dof(max_mode)
     info.extras["expected_mode"] = topo.expected_mode(max_mode)
     values = {r: float(dof) for r in requests if r.quantity == "dof"}
     rest = [r for r in requests if r.quantity != "dof"]
     if not rest:
         first = next(step for step in info.extras["procedure"] if step["F_C"] >= 1)
-        info.message = (f"maximum DOF {dof}, minimum {topo.min_dof(max_mode)} (Grubler on the PRBM, modes up "
-                        f"to {max_mode}; first static mode {first['modes']}: F_C = f_r + f_e = "
-                        f"{first['f_r']} + {first['f_e']})")
+        info.message = (
+            f"maximum DOF {dof}, minimum {topo.min_dof(max_mode)} (Grubler on the PRBM, modes up "
+            f"to {max_mode}; first static mode {first['modes']}: F_C = f_r + f_e = "
+            f"{first['f_r']} + {first['f_e']})"
+        )
     return values, rest
 
 
@@ -109,8 +113,10 @@ def fourbar_from_options(case, options: PrbmOptions) -> FourBarSetup:
     """``prbm.FourBar`` from links r1..r5, springs k1..k4 (or slfp sizes) and energy_free angles."""
     links = options.links or {}
     if not {"r1", "r2", "r3", "r4"} <= set(links):
-        raise NotApplicable("[methods.prbm] links: a PRB four-bar needs r1..r4 (or give no links: the PRB "
-                            "model is then built from the geometry)")
+        raise NotApplicable(
+            "[methods.prbm] links: a PRB four-bar needs r1..r4 (or give no links: the PRB "
+            "model is then built from the geometry)"
+        )
     Z = {k: _complex(v) for k, v in links.items()}
     springs = (options.spring("k1"), options.spring("k2"), options.spring("k3"), options.spring("k4"))
     standard = {"k1": "O2", "k2": "A", "k3": "B", "k4": "O4"}
@@ -140,8 +146,11 @@ def fourbar_from_options(case, options: PrbmOptions) -> FourBarSetup:
     t30 = float(ef["theta3"]) * DEG if "theta3" in ef else t3c
     t40 = float(ef["theta4"]) * DEG if "theta4" in ef else t4c
     fb.theta_free = (t20, t30, t40)
-    P_free = Z["r2"] * cmath.exp(1j * (t20 - t21)) + Z.get("r5", 0j) * cmath.exp(1j * (t30 - t31)) \
-        if "theta3" in ef else complex(fb.coupler_point(t20))
+    P_free = (
+        Z["r2"] * cmath.exp(1j * (t20 - t21)) + Z.get("r5", 0j) * cmath.exp(1j * (t30 - t31))
+        if "theta3" in ef
+        else complex(fb.coupler_point(t20))
+    )
     return FourBarSetup(fb, t20, t21, P_free)
 
 
@@ -173,8 +182,9 @@ def fourbar_drive(case, setup: FourBarSetup, options: PrbmOptions, info: MethodR
     precision = options.precision or PrecisionOptions()
     drive = options.drive or ("torque" if torque is not None or force_at_A is not None or turning else "precision")
     if drive == "torque" and turning:
-        theta2 = prbm_readings.theta2_under_turning_forces(fb, turning, torque if torque is not None else np.zeros(n),
-                                                           t20, options)
+        theta2 = prbm_readings.theta2_under_turning_forces(
+            fb, turning, torque if torque is not None else np.zeros(n), t20, options
+        )
         info.level_converged = {i: bool(np.isfinite(t)) for i, t in enumerate(theta2)}
         info.message = "PRB four-bar under a turning force at the end of PRB link 2 (eq (**) of prbm.turning_loads)"
     elif drive == "torque" and force_at_A is not None:
@@ -215,8 +225,13 @@ def run_fourbar(case, requests, options: PrbmOptions, info: MethodRun) -> dict:
     P = np.where(free, setup.P_free, fb.coupler_point(theta2, angles))
     origin = complex(*options.origin)
     P_free = setup.P_free
-    out = {"dx": (P - P_free).real, "dy": (P - P_free).imag, "x": (P + origin).real, "y": (P + origin).imag,
-           "input_angle": np.degrees(theta2)}
+    out = {
+        "dx": (P - P_free).real,
+        "dy": (P - P_free).imag,
+        "x": (P + origin).real,
+        "y": (P + origin).imag,
+        "input_angle": np.degrees(theta2),
+    }
     wanted = {r.quantity for r in requests}
     ma = options.ma
     has_ma = ma is not None and ma.F_i is not None and ma.d_i is not None and ma.d_o is not None
@@ -225,22 +240,30 @@ def run_fourbar(case, requests, options: PrbmOptions, info: MethodRun) -> dict:
         out["input_torque"] = fb.input_torque(theta2, angles)
     if "strain_energy" in wanted:
         out["strain_energy"] = fb.strain_energy(theta2, angles)
-    if (ma is not None and ma.F_i is not None and ma.d_i is not None and ma.d_o is not None
-            and "mechanical_advantage" in wanted):
+    if (
+        ma is not None
+        and ma.F_i is not None
+        and ma.d_i is not None
+        and ma.d_o is not None
+        and "mechanical_advantage" in wanted
+    ):
         d_i, d_o, torque = ma.d_i, ma.d_o, out["input_torque"]
         out["mechanical_advantage"] = per_input_force(
-            lambda F_i: fb.compliant_ma(theta2, F_i, d_i, d_o, angles, torque=torque), ma.F_i, len(theta2))
+            lambda F_i: fb.compliant_ma(theta2, F_i, d_i, d_o, angles, torque=torque), ma.F_i, len(theta2)
+        )
     point = options.coupler_point
     if "origin" not in options.model_fields_set and any(r.quantity in ("x", "y") for r in requests):
-        raise NotApplicable("x, y of the PRB four-bar are in its own frame (O2 at the origin): give "
-                            "[methods.prbm] origin = [x, y], where O2 is in the case frame")
+        raise NotApplicable(
+            "x, y of the PRB four-bar are in its own frame (O2 at the origin): give "
+            "[methods.prbm] origin = [x, y], where O2 is in the case frame"
+        )
     for r in requests:
         if r.quantity in ("dx", "dy", "x", "y") and r.point != point:
             raise NotApplicable(f"the PRB four-bar tracks the coupler point '{point}' only, not '{r.point}'")
     values = pick(out, requests, "four-bar")
     info.extras["shapes"] = fourbar_shapes(fb, theta2, P, origin, angles[0])
     info.message = info.message or f"PRB four-bar, drive = {drive.name}"
-    theta_free = fb.theta_free if fb.theta_free is not None else fb.theta_ref   # set by FourBar itself
+    theta_free = fb.theta_free if fb.theta_free is not None else fb.theta_ref  # set by FourBar itself
     info.extras.update({"loop_error": fb.loop_error, "theta_free_deg": [math.degrees(t) for t in theta_free]})
     return values
 
@@ -256,8 +279,10 @@ def _link2_end_forces(case, fb, theta20: float, origin: complex):
     total = np.zeros(case.n_levels(), complex)
     for load in forces:
         if load.follower or abs(nodes.get(load.point, complex(math.inf)) - A) > 1e-3 * fb.R2:
-            raise NotApplicable(f"a force at '{load.point}': the PRB four-bar takes dead forces at the end of "
-                                "PRB link 2 only (the segment tip of a fixed-pinned input segment)")
+            raise NotApplicable(
+                f"a force at '{load.point}': the PRB four-bar takes dead forces at the end of "
+                "PRB link 2 only (the segment tip of a fixed-pinned input segment)"
+            )
         total += np.asarray(load.levels(), float) * complex(*load.direction)
     return total
 
@@ -274,9 +299,13 @@ def run_slider(case, requests, options: PrbmOptions, info: MethodRun) -> dict:
     """Slider-crank (chapter 7): crank angle from the prescribed slider displacement of each level,
     compliance torque eq (196) as input_torque, MA = MA_R (1 - F_c/F_i) with eq (199) (ma = {F_i, d_i})."""
     links = options.links or {}
-    sc = prbm.SliderCrank.from_vectors(_complex(links["r11"]), _complex(links["r2"]), _complex(links["r3"]),
-                                       springs=(options.spring("k1"), options.spring("k2"), options.spring("k3")),
-                                       f_k=options.spring("f_k"))
+    sc = prbm.SliderCrank.from_vectors(
+        _complex(links["r11"]),
+        _complex(links["r2"]),
+        _complex(links["r3"]),
+        springs=(options.spring("k1"), options.spring("k2"), options.spring("k3")),
+        f_k=options.spring("f_k"),
+    )
     dx = None
     for load in case.loads:
         if load.kind == "displacement":
@@ -288,8 +317,9 @@ def run_slider(case, requests, options: PrbmOptions, info: MethodRun) -> dict:
     ma = options.ma
     if ma is not None and ma.F_i is not None and ma.d_i is not None:
         d_i = ma.d_i
-        out["mechanical_advantage"] = per_input_force(lambda F_i: sc.compliant_ma(theta2, F_i, d_i), ma.F_i,
-                                                      len(theta2))
+        out["mechanical_advantage"] = per_input_force(
+            lambda F_i: sc.compliant_ma(theta2, F_i, d_i), ma.F_i, len(theta2)
+        )
     info.message = "PRB slider-crank, crank angle from the prescribed slider displacement (eqs 196, 199, 192)"
     return pick(out, requests, "slider-crank")
 
@@ -311,8 +341,9 @@ def _theta2_for_output_scan(fb, theta4_target: float, theta2_start: float) -> fl
     if len(idx) == 0:
         raise NotApplicable("output rotation not reachable")
     i = idx[np.argmin(np.abs(grid[idx] - theta2_start))]
-    return brentq(lambda t: float(np.angle(np.exp(1j * (fb.angles(t)[1] - theta4_target)))), grid[i], grid[i + 1],
-                  xtol=1e-14)
+    return brentq(
+        lambda t: float(np.angle(np.exp(1j * (fb.angles(t)[1] - theta4_target)))), grid[i], grid[i + 1], xtol=1e-14
+    )
 
 
 def fourbar_shapes(fb, theta2, P, origin: complex, theta3=None) -> list:

@@ -16,6 +16,7 @@ the unloaded pose. Where the PRBM has no state within its fits at a loaded level
 value and says why (each segment's reachable window of the free translation; the run is then not
 converged, per level); where it has none at any loaded level, NotApplicable with those reasons.
 """
+
 from __future__ import annotations
 
 import cmath
@@ -52,8 +53,10 @@ def _segments(case) -> tuple[list[GuidedSegment], set[str]]:
     for beam in mech.beams:
         root, end = (beam.start, beam.end) if beam.start in fixed else (beam.end, beam.start)
         if root not in fixed or end not in coupler:
-            raise NotApplicable(f"beam '{beam.name}' is not clamped at one end and held by the coupler "
-                                f"'{mech.links[0].name}' at the other")
+            raise NotApplicable(
+                f"beam '{beam.name}' is not clamped at one end and held by the coupler "
+                f"'{mech.links[0].name}' at the other"
+            )
         EI = beam.section.stiffness(beam.E or mech.E)[1]
         segments.append(GuidedSegment(beam.name, nodes[root], nodes[end], EI))
     return segments, coupler
@@ -74,7 +77,7 @@ def run_coupler(case, requests: list[Request], info: MethodRun) -> dict:
     point, along, shifts, turns = _drive_loads(case, coupler)
     nodes = {nd.name: complex(nd.x, nd.y) for nd in case.mechanism.nodes}
     P0 = nodes[point]
-    results: dict[int, PRBMResult | None] = {}   # None: an unloaded level, the free pose
+    results: dict[int, PRBMResult | None] = {}  # None: an unloaded level, the free pose
     messages: list[str] = []
     failed: list[str] = []
     for lv in sorted({r.level for r in requests}):
@@ -90,21 +93,28 @@ def run_coupler(case, requests: list[Request], info: MethodRun) -> dict:
     values = {}
     for req in requests:
         if results[req.level] is None or req.level in solved:
-            values[req] = _value(req, results[req.level], nodes, P0, point, along, shifts[req.level],
-                                 turns[req.level])
+            values[req] = _value(req, results[req.level], nodes, P0, point, along, shifts[req.level], turns[req.level])
     info.converged = not failed
     info.level_converged = {lv: res is None or lv in solved for lv, res in results.items()}
     info.level_messages = {lv: "unloaded" if res is None else res.message for lv, res in results.items()}
     info.message = "; ".join(failed + messages) or "unloaded"
-    info.extras.update({"model": "fixed-guided segments with one inflection point on a rigid coupler, seed 000 "
-                                 "eqs (131)-(152), section 5.5", "windows": {
-                            lv: {w.segment: None if w.empty else [w.low, w.high] for w in r.extras["windows"]}
-                            for lv, r in results.items() if r is not None}})
+    info.extras.update(
+        {
+            "model": "fixed-guided segments with one inflection point on a rigid coupler, seed 000 "
+            "eqs (131)-(152), section 5.5",
+            "windows": {
+                lv: {w.segment: None if w.empty else [w.low, w.high] for w in r.extras["windows"]}
+                for lv, r in results.items()
+                if r is not None
+            },
+        }
+    )
     return values
 
 
-def _value(req: Request, res, nodes: dict, P0: complex, point: str, along: complex, shift: float,
-           gamma: float) -> float:
+def _value(
+    req: Request, res, nodes: dict, P0: complex, point: str, along: complex, shift: float, gamma: float
+) -> float:
     """One output of one level (res None: the unloaded pose)."""
     if req.point not in nodes and req.quantity not in ("strain_energy",):
         raise NotApplicable(f"point '{req.point}' is not a node of the mechanism")
@@ -115,8 +125,13 @@ def _value(req: Request, res, nodes: dict, P0: complex, point: str, along: compl
         return 0.0 if res is None else float(res.outputs["strain_energy"])
     if req.quantity in ("x", "y", "dx", "dy", "rotation"):
         z = P + (nodes[req.point] - P0) * cmath.exp(1j * gamma)
-        return {"x": z.real, "y": z.imag, "dx": (z - nodes[req.point]).real, "dy": (z - nodes[req.point]).imag,
-                "rotation": math.degrees(gamma)}[req.quantity]
+        return {
+            "x": z.real,
+            "y": z.imag,
+            "dx": (z - nodes[req.point]).real,
+            "dy": (z - nodes[req.point]).imag,
+            "rotation": math.degrees(gamma),
+        }[req.quantity]
     if req.quantity in ("force_x", "force_y", "moment") and req.point == point:
         if res is None:
             return 0.0

@@ -24,6 +24,7 @@ Options (``ma``): F_i, d_i (slider) or d_in, d_out2, d_out3, location_deg (four-
 A value that is not finite (MA at a singular pose, where the output cannot move, or with no input
 force) is a run that did not converge, with the quantity and level named, never a silent NaN.
 """
+
 from __future__ import annotations
 
 import cmath
@@ -95,11 +96,14 @@ def _slider(case, options: PrbmOptions) -> dict[str, np.ndarray]:
     theta3 = np.asarray(sc.theta3(theta2), float)
     pose = compliance.SliderPose(sc.R2, sc.R3, theta2, theta3, sc.theta2_ref, sc.theta3_ref, sc.x_ref)
     T_c = compliance.slider_compliance(pose, springs, options.spring("f_k"), "crank")
-    F_i = per_level(np.asarray(ma.F_i, float), case.n_levels())   # one value, or one per level
+    F_i = per_level(np.asarray(ma.F_i, float), case.n_levels())  # one value, or one per level
     d_i = ma.d_i
     rigid = sc.rigid_ma(theta2, d_i)
-    return {"mechanical_advantage": compliance.compliant_ma(rigid, T_c / d_i, _input_sense(case) * F_i),
-            "input_torque": T_c, "input_angle": np.degrees(theta2)}
+    return {
+        "mechanical_advantage": compliance.compliant_ma(rigid, T_c / d_i, _input_sense(case) * F_i),
+        "input_torque": T_c,
+        "input_angle": np.degrees(theta2),
+    }
 
 
 def _compliers(case, options: PrbmOptions) -> dict[str, np.ndarray]:
@@ -128,8 +132,11 @@ def _compliers(case, options: PrbmOptions) -> dict[str, np.ndarray]:
         raise NotApplicable("Type 2 MA: the input forces must be positive (magnitudes)")
     sense = math.copysign(1.0, location_deg)
     n = case.n_levels()
-    return {"mechanical_advantage": compliance.compliant_ma(rigid, T_c / d_in, sense * F_i),
-            "input_torque": np.full(n, T_c), "input_angle": np.full(n, math.degrees(target))}
+    return {
+        "mechanical_advantage": compliance.compliant_ma(rigid, T_c / d_in, sense * F_i),
+        "input_torque": np.full(n, T_c),
+        "input_angle": np.full(n, math.degrees(target)),
+    }
 
 
 def _input_forces(case, ma: PrbmMechanicalAdvantageOptions) -> np.ndarray:
@@ -155,17 +162,25 @@ def _check_location(case, turn: float) -> None:
     for i, ld in enumerate(case.loads):
         if ld.kind != "displacement":
             continue
-        pivots = [s.node for link in mech.links if ld.point in link.nodes
-                  for s in mech.supports if s.node in link.nodes and s.node != ld.point]
+        pivots = [
+            s.node
+            for link in mech.links
+            if ld.point in link.nodes
+            for s in mech.supports
+            if s.node in link.nodes and s.node != ld.point
+        ]
         if len(pivots) != 1:
-            raise NotApplicable(f"loads.{i}: the work-piece location must move a point of the input link, "
-                                "pinned at one support")
+            raise NotApplicable(
+                f"loads.{i}: the work-piece location must move a point of the input link, pinned at one support"
+            )
         arm = nodes[ld.point] - nodes[pivots[0]]
         d = complex(*ld.direction) / abs(complex(*ld.direction))
         expected = (arm * (cmath.exp(1j * turn) - 1.0) * d.conjugate()).real
         if any(abs(v - expected) > 1e-4 * abs(arm) for v in ld.levels()):
-            raise NotApplicable(f"loads.{i}: displacement {ld.levels()[0]:.6g} of '{ld.point}' is not the "
-                                f"{expected:.6g} that the input link turned by location_deg gives it")
+            raise NotApplicable(
+                f"loads.{i}: displacement {ld.levels()[0]:.6g} of '{ld.point}' is not the "
+                f"{expected:.6g} that the input link turned by location_deg gives it"
+            )
 
 
 def run(case, requests, options: PrbmOptions) -> tuple[dict, MethodRun]:
@@ -185,6 +200,10 @@ def run(case, requests, options: PrbmOptions) -> tuple[dict, MethodRun]:
         values[req] = float(column[req.level] if column.size > 1 else column[0])
     lost = next((req for req, value in values.items() if not math.isfinite(value)), None)
     if lost is not None:
-        return values, MethodRun(values=values, converged=False, message=f"{what}: no finite {lost.quantity} "
-                                 f"at level {lost.level} (a singular pose of the PRB mechanism, or no input force)")
+        return values, MethodRun(
+            values=values,
+            converged=False,
+            message=f"{what}: no finite {lost.quantity} "
+            f"at level {lost.level} (a singular pose of the PRB mechanism, or no input force)",
+        )
     return values, MethodRun(values=values, message=f"{what} (prbm.compliance)")

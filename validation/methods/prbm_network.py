@@ -28,6 +28,7 @@ The model built for a geometry and rules is kept for the process (``built_model`
 the same mechanism only solves. The model chosen for every beam is
 in the message and in ``extras['prb_model']``; each state's stability in ``extras['stable']``.
 """
+
 from __future__ import annotations
 
 import math
@@ -49,8 +50,14 @@ from prbm import builder as pb
 
 #: a beam's ``segment_type`` -> the builder's model; 'fixed-guided-inflection' (chapter 3/5, a pivot that
 #: moves with the load) is no fixed network, so such a beam gets the builder's rule (stated in its record)
-SEGMENT_TYPES = {"fixed-pinned": "fixed-pinned", "fixed-free": "fixed-free", "fixed-guided": "fixed-guided",
-                 "fixed-fixed": "fixed-guided", "slfp": "slfp", "pinned-pinned": "rigid"}
+SEGMENT_TYPES = {
+    "fixed-pinned": "fixed-pinned",
+    "fixed-free": "fixed-free",
+    "fixed-guided": "fixed-guided",
+    "fixed-fixed": "fixed-guided",
+    "slfp": "slfp",
+    "pinned-pinned": "rigid",
+}
 
 
 def load_ratios(mech, loads) -> dict[str, float]:
@@ -67,8 +74,14 @@ def load_ratios(mech, loads) -> dict[str, float]:
                 continue
             load = at[0]
             values = [v for v in load.levels() if v != 0.0]
-            if load.kind != "force" or load.follower or load.body is not None or load.toward is not None \
-                    or not values or min(values) * max(values) < 0:
+            if (
+                load.kind != "force"
+                or load.follower
+                or load.body is not None
+                or load.toward is not None
+                or not values
+                or min(values) * max(values) < 0
+            ):
                 continue
             xy = {nd.name: np.array([nd.x, nd.y]) for nd in mech.nodes}
             t = xy[free] - xy[root]
@@ -96,8 +109,9 @@ def rules(given: RulesOptions | None, mech, loads=()) -> pb.Rules:
             per_beam[beam.name] = pb.BeamRule(model=model)
     for name, n in load_ratios(mech, loads).items():
         per_beam[name] = replace(per_beam.get(name, pb.BeamRule()), load_ratio=n)
-    builder = {name: value for name in ("gamma", "K_theta", "slfp_ratio")
-               if (value := getattr(given, name)) is not None}       # else the builder's own
+    builder = {
+        name: value for name in ("gamma", "K_theta", "slfp_ratio") if (value := getattr(given, name)) is not None
+    }  # else the builder's own
     return pb.Rules(**builder, beams=per_beam)
 
 
@@ -115,14 +129,21 @@ def network_loads(case, model: pb.PRBModel) -> list[prbm.network.Load]:
     for i, load in enumerate(case.loads):
         v = np.asarray(load.levels(), float)
         if load.kind == "force" and load.toward is not None:
-            loads.append(planar.PointedForce(load.point, tuple(float(x) for x in v),
-                                             (float(load.toward[0]), float(load.toward[1])),
-                                             math.radians(load.angle)))
+            loads.append(
+                planar.PointedForce(
+                    load.point,
+                    tuple(float(x) for x in v),
+                    (float(load.toward[0]), float(load.toward[1])),
+                    math.radians(load.angle),
+                )
+            )
         elif load.kind == "force":
             if load.follower and load.body is not None and _body_for(model, load) != model.node_body[load.point]:
-                raise NotApplicable(f"loads.{i}: a follower force turning with '{load.body}', whose PRB body at "
-                                    f"'{load.point}' is not the one carrying the point: the PRB network turns a "
-                                    "follower with the body carrying its point")
+                raise NotApplicable(
+                    f"loads.{i}: a follower force turning with '{load.body}', whose PRB body at "
+                    f"'{load.point}' is not the one carrying the point: the PRB network turns a "
+                    "follower with the body carrying its point"
+                )
             d = np.asarray(load.direction, float)
             loads.append(prbm.Force(load.point, tuple(v * d[0]), tuple(v * d[1]), follower=load.follower))
         elif load.kind == "moment":
@@ -218,11 +239,15 @@ def unreachable(exc: UnreachableMotion) -> str:
         name = _body_name(load.body)
         if exc.moves:
             like = ", as a parallelogram's coupler does" if exc.by_joints else ""
-            return (f"the PRB model's {name} cannot rotate: {by} keep its angle; it only translates{like}: "
-                    "prescribe a translation")
+            return (
+                f"the PRB model's {name} cannot rotate: {by} keep its angle; it only translates{like}: "
+                "prescribe a translation"
+            )
         return f"the PRB model's {name} cannot rotate: {by} hold it still; prescribe another motion"
-    return (f"the PRB model's point '{load.point}' cannot move along {load.axis}: {by} hold it there; prescribe "
-            f"{'its other component' if exc.moves else 'another motion'}")
+    return (
+        f"the PRB model's point '{load.point}' cannot move along {load.axis}: {by} hold it there; prescribe "
+        f"{'its other component' if exc.moves else 'another motion'}"
+    )
 
 
 def solve_case(case, model: pb.PRBModel) -> prbm.NetworkResult:
@@ -253,8 +278,10 @@ def reaction(case, model: pb.PRBModel, result, node: str, level: int) -> np.ndar
     if not any(s.node == node for s in mech.supports):
         raise NotApplicable(f"no support at '{node}': reactions are given at supports")
     if model.lock:
-        raise NotApplicable("reactions of a locked PRB model: the lock workaround carries the clamp's force "
-                            "through the pin it moved the pivot to")
+        raise NotApplicable(
+            "reactions of a locked PRB model: the lock workaround carries the clamp's force "
+            "through the pin it moved the pivot to"
+        )
     try:
         loads = result.ground_loads(level)
     except ValueError as exc:
@@ -288,9 +315,10 @@ def mechanical_advantage(case, options: PrbmOptions, model: pb.PRBModel, result)
     raised_case, delta, _ = fem_outputs.incremented_case(case, ma)
     raised = solve_case(raised_case, model)
     if not raised.converged:
-        raise NotApplicable(f"mechanical advantage: the solve with the input raised did not converge ({raised.message})")
-    up = fem_outputs.output_force(raised_case, ma,
-                                  lambda node, lv: reaction(raised_case, model, raised, node, lv))
+        raise NotApplicable(
+            f"mechanical advantage: the solve with the input raised did not converge ({raised.message})"
+        )
+    up = fem_outputs.output_force(raised_case, ma, lambda node, lv: reaction(raised_case, model, raised, node, lv))
     return fem_outputs.mechanical_advantage(ma, base[:n], up[:n], delta, input_load)
 
 
@@ -307,8 +335,10 @@ def _value(case, model: pb.PRBModel, result, req, inputs: list, options: PrbmOpt
     if q == "rotation":
         body = model.node_body[p]
         if body.startswith("prb:"):  # a free beam end riding on its PRB link
-            raise NotApplicable(f"the rotation of '{p}': the PRB link's angle Theta is not the beam's end "
-                                "slope (theta_0 = c_theta Theta needs a c_theta the builder's model does not carry)")
+            raise NotApplicable(
+                f"the rotation of '{p}': the PRB link's angle Theta is not the beam's end "
+                "slope (theta_0 = c_theta Theta needs a c_theta the builder's model does not carry)"
+            )
         return math.degrees(result.rotation(body, lv))
     if q in ("force_x", "force_y", "moment"):
         return float(_received(case, model, result, p, lv)[("force_x", "force_y", "moment").index(q)])
@@ -332,7 +362,9 @@ def _value(case, model: pb.PRBModel, result, req, inputs: list, options: PrbmOpt
 def _flag_deflection(model: pb.PRBModel, result, info: MethodRun) -> None:
     """Flag the levels where a beam's PRB spring (a fixed-pinned, fixed-free or fixed-guided pivot) has
     turned past the printed Theta range of the fits (``prbm.fits.THETA_RANGE``, 65 deg)."""
-    beam_springs = [i for i, sp in enumerate(model.network.springs) if sp.name.endswith(("pivot", "pivot 1", "pivot 2"))]
+    beam_springs = [
+        i for i, sp in enumerate(model.network.springs) if sp.name.endswith(("pivot", "pivot 1", "pivot 2"))
+    ]
     if not beam_springs:
         return
     for level, state in enumerate(result.states):
@@ -353,18 +385,29 @@ def run_mechanism(case, requests, options: PrbmOptions, info: MethodRun) -> dict
     _flag_deflection(model, result, info)
     info.converged = result.converged
     info.level_converged = {i: s.converged for i, s in enumerate(result.states)}
-    info.message = (f"PRB model built by rule ({result.mobility} DOF): {model.describe()}; {result.message}")
-    info.extras.update({
-        "prb_model": [{"beam": b.beam, "model": str(b.model), "ends": [str(end) for end in b.ends],
-                       "pivots": [list(p) for p in b.pivots],
-                       "springs": list(b.springs), "gamma": b.gamma, "K_theta": b.K_theta, "reason": b.reason}
-                      for b in model.beams],
-        "lock": model.lock,
-        "stable": {i: s.stable for i, s in enumerate(result.states)},
-        "spring_torques": {i: result.spring_torques(i) for i, s in enumerate(result.states) if s.converged},
-        "iterations": result.iterations,
-        "shapes": _shapes(model, result),
-    })
+    info.message = f"PRB model built by rule ({result.mobility} DOF): {model.describe()}; {result.message}"
+    info.extras.update(
+        {
+            "prb_model": [
+                {
+                    "beam": b.beam,
+                    "model": str(b.model),
+                    "ends": [str(end) for end in b.ends],
+                    "pivots": [list(p) for p in b.pivots],
+                    "springs": list(b.springs),
+                    "gamma": b.gamma,
+                    "K_theta": b.K_theta,
+                    "reason": b.reason,
+                }
+                for b in model.beams
+            ],
+            "lock": model.lock,
+            "stable": {i: s.stable for i, s in enumerate(result.states)},
+            "spring_torques": {i: result.spring_torques(i) for i, s in enumerate(result.states) if s.converged},
+            "iterations": result.iterations,
+            "shapes": _shapes(model, result),
+        }
+    )
     return values
 
 

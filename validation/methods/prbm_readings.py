@@ -35,6 +35,7 @@ as the FEM's option of the same name (an experiment zeroed under a load present 
 Outputs: x, y, dx, dy, rotation (deg), force_x, force_y (the end force acting at equilibrium), moment
 (the end moment); with a force toward a point also prb_angle (deg) and strain_energy (the PRBM spring).
 """
+
 from __future__ import annotations
 
 import cmath
@@ -71,16 +72,18 @@ def handles(case, options: PrbmOptions) -> bool:
 
 def turning_fourbar(case, options: PrbmOptions) -> bool:
     """A hand-given PRB four-bar with a follower force or a force toward a point (``link2_turning_forces``)."""
-    return case.mechanism is not None and bool(options.links) and any(
-        ld.kind == "force" and (ld.follower or ld.toward is not None) for ld in case.loads)
+    return (
+        case.mechanism is not None
+        and bool(options.links)
+        and any(ld.kind == "force" and (ld.follower or ld.toward is not None) for ld in case.loads)
+    )
 
 
 def run(case, requests: list[Request], options: PrbmOptions) -> MethodRun:
     t0 = time.perf_counter()
     seg = case.segment
     if seg.initial_curvature() != 0.0:
-        raise NotApplicable("a load along the segment or toward a point on an initially curved segment: "
-                            "no seed PRBM")
+        raise NotApplicable("a load along the segment or toward a point on an initially curved segment: no seed PRBM")
     try:
         if any(ld.kind in ALONG_BEAM for ld in case.loads):
             info = _chain(case, _with_zero_level(requests, options), options)
@@ -97,35 +100,52 @@ def run(case, requests: list[Request], options: PrbmOptions) -> MethodRun:
 def _turning_segment(case, requests, options) -> MethodRun:
     seg = case.segment
     if seg.boundary not in ("fixed-free", "fixed-pinned"):
-        raise NotApplicable(f"a force toward a fixed point on a {seg.boundary} segment: the seeds' turning-load "
-                            "PRBM here is the fixed-pinned one (eqs 41-49)")
+        raise NotApplicable(
+            f"a force toward a fixed point on a {seg.boundary} segment: the seeds' turning-load "
+            "PRBM here is the fixed-pinned one (eqs 41-49)"
+        )
     loads = [ld for ld in case.loads if ld.kind != "force" or ld.toward is None]
     turning = [ld for ld in case.loads if ld.kind == "force" and ld.toward is not None]
     if loads or len(turning) != 1:
-        raise NotApplicable("a force toward a fixed point together with other end loads: the PRBM here takes "
-                            "that one force alone")
+        raise NotApplicable(
+            "a force toward a fixed point together with other end loads: the PRBM here takes that one force alone"
+        )
     load = turning[0]
     if load.point != "tip":
         raise NotApplicable(f"a force toward a fixed point at '{load.point}': the segment PRBM takes end loads only")
     law = turning_loads.TowardPoint(complex(*load.toward), math.radians(load.angle))
-    F = np.asarray(load.levels(), float) * prbm.capstan_factor(options.friction_mu,
-                                                               math.radians(options.contact_angle_deg))
+    F = np.asarray(load.levels(), float) * prbm.capstan_factor(
+        options.friction_mu, math.radians(options.contact_angle_deg)
+    )
     L, EI = seg.length, seg.bending_stiffness()
-    res = turning_loads.fixed_pinned_turning_tip(F, law, length=L, EI=EI, family=options.family,
-                                                 extrapolate=options.extrapolate)
+    res = turning_loads.fixed_pinned_turning_tip(
+        F, law, length=L, EI=EI, family=options.family, extrapolate=options.extrapolate
+    )
     o, c = res.outputs, res.constants
-    out = {"x": o["a"], "y": o["b"], "dx": o["a"] - L, "dy": o["b"], "rotation": np.degrees(o["theta0"]),
-           "force_x": o["Fx"], "force_y": o["Fy"], "moment": np.zeros(len(F)), "prb_angle": np.degrees(o["Theta"]),
-           "strain_energy": 0.5 * c["k"] * o["Theta"] ** 2}
+    out = {
+        "x": o["a"],
+        "y": o["b"],
+        "dx": o["a"] - L,
+        "dy": o["b"],
+        "rotation": np.degrees(o["theta0"]),
+        "force_x": o["Fx"],
+        "force_y": o["Fy"],
+        "moment": np.zeros(len(F)),
+        "prb_angle": np.degrees(o["Theta"]),
+        "strain_energy": 0.5 * c["k"] * o["Theta"] ** 2,
+    }
     out["strain_energy"] = np.where(F == 0.0, 0.0, out["strain_energy"])
     info = MethodRun(values=pick(out, requests, "segment"), converged=bool(res.converged), message=res.message)
     converged = res.level_converged if res.level_converged is not None else np.full(len(F), res.converged)
     info.level_converged = {lv: bool(ok) for lv, ok in enumerate(converged.tolist())}
-    info.extras = {"model": res.model, "constants": {k: np.asarray(v).tolist() if k != "family" else v
-                                                      for k, v in c.items()},
-                   "shapes": [[np.array([[0.0, 0.0], [(1 - g) * L, 0.0], [a, b]])] if np.isfinite(g) else []
-                              for g, a, b in zip(c["gamma"].tolist(), np.asarray(o["a"]).tolist(),
-                                                 np.asarray(o["b"]).tolist())]}
+    info.extras = {
+        "model": res.model,
+        "constants": {k: np.asarray(v).tolist() if k != "family" else v for k, v in c.items()},
+        "shapes": [
+            [np.array([[0.0, 0.0], [(1 - g) * L, 0.0], [a, b]])] if np.isfinite(g) else []
+            for g, a, b in zip(c["gamma"].tolist(), np.asarray(o["a"]).tolist(), np.asarray(o["b"]).tolist())
+        ],
+    }
     for lv, angle in enumerate(np.abs(o["Theta"]).tolist()):
         if angle > THETA_RANGE:
             info.flag(lv, Applicability.DEFLECTION)
@@ -150,8 +170,10 @@ def _chain_loads(case, beam: chain_model.ChainBeam, level: int) -> chain_model.N
         v = float(load.levels()[level])
         if load.kind in ALONG_BEAM:
             if load.follower:
-                raise NotApplicable(f"loads.{i}: a follower distributed load (pressure): the Chain Algorithm's "
-                                    "nodal loads are dead loads (seed 000 eqs 26-28)")
+                raise NotApplicable(
+                    f"loads.{i}: a follower distributed load (pressure): the Chain Algorithm's "
+                    "nodal loads are dead loads (seed 000 eqs 26-28)"
+                )
             d = np.asarray(load.direction, float)
             if load.kind == "self_weight":
                 weight = seg.section.weight_per_length()
@@ -160,10 +182,14 @@ def _chain_loads(case, beam: chain_model.ChainBeam, level: int) -> chain_model.N
                 d = d / math.hypot(*d) * weight
             total = total.plus(chain_model.lumped_uniform_load(beam, v * d[0], v * d[1]))
         elif load.point != "tip":
-            raise NotApplicable(f"loads.{i} acts on '{load.point}'; the chain takes end loads and loads along the segment")
+            raise NotApplicable(
+                f"loads.{i} acts on '{load.point}'; the chain takes end loads and loads along the segment"
+            )
         elif load.kind == "force" and (load.follower or load.toward is not None or load.body is not None):
-            raise NotApplicable(f"loads.{i}: a turning end force with a load along the segment: not modelled "
-                                "(the chain's nodal loads are dead loads)")
+            raise NotApplicable(
+                f"loads.{i}: a turning end force with a load along the segment: not modelled "
+                "(the chain's nodal loads are dead loads)"
+            )
         elif load.kind == "force":
             total = total.plus(chain_model.NodalLoads.at_tip(beam, v * load.direction[0], v * load.direction[1]))
         elif load.kind == "moment":
@@ -202,8 +228,11 @@ def _solve_chain(case, beam: chain_model.ChainBeam, levels: list[int], steps: in
     guided = case.segment.boundary == "fixed-guided"
     for lv in levels:
         loads = _chain_loads(case, beam, lv)
-        res = (chain_model.chain_held_path(beam, loads, GUIDED_HELD, [1.0], max_step=1.0 / steps)[0] if guided
-               else chain_model.chain_tip(beam, loads, steps=steps))
+        res = (
+            chain_model.chain_held_path(beam, loads, GUIDED_HELD, [1.0], max_step=1.0 / steps)[0]
+            if guided
+            else chain_model.chain_tip(beam, loads, steps=steps)
+        )
         out[lv] = ChainLevel(res, loads)
     return out
 
@@ -247,18 +276,27 @@ def chain_count(case, levels: list[int], options: PrbmOptions) -> ChainChoice:
     while True:
         finer = chain_model.ChainBeam(seg.length, EI, 2 * beam.elements)
         if finer.elements > most:
-            return ChainChoice(beam, solved, f"{beam.elements} elements, the most the automatic choice tries "
-                               f"(limits.elements or {CHAIN_MOST}): the tip (or a held end's moment) still moved "
-                               f"by {change:.2e} of its scale at the last doubling, over the target {tol:g} "
-                               "(chain_tol)", met=False)
+            return ChainChoice(
+                beam,
+                solved,
+                f"{beam.elements} elements, the most the automatic choice tries "
+                f"(limits.elements or {CHAIN_MOST}): the tip (or a held end's moment) still moved "
+                f"by {change:.2e} of its scale at the last doubling, over the target {tol:g} "
+                "(chain_tol)",
+                met=False,
+            )
         refined = _solve_chain(case, finer, levels, steps)
         change = _change(solved, refined, levels, seg.length)
         beam, solved = finer, refined
         if change < tol:
-            return ChainChoice(beam, solved, f"{beam.elements} elements, chosen for the load along the segment: the "
-                               f"tip (and a held end's moment) moved by {change:.2e} of its scale (L, the largest "
-                               f"moment) from {beam.elements // 2} elements, below the target {tol:g} (chain_tol; "
-                               f"O(1/n^2), so about {change / 3:.1e} from the limit)")
+            return ChainChoice(
+                beam,
+                solved,
+                f"{beam.elements} elements, chosen for the load along the segment: the "
+                f"tip (and a held end's moment) moved by {change:.2e} of its scale (L, the largest "
+                f"moment) from {beam.elements // 2} elements, below the target {tol:g} (chain_tol; "
+                f"O(1/n^2), so about {change / 3:.1e} from the limit)",
+            )
 
 
 def _chain(case, requests, options) -> MethodRun:
@@ -266,35 +304,49 @@ def _chain(case, requests, options) -> MethodRun:
     model = options.model
     if model not in (None, "chain"):
         i, load = next((i, ld) for i, ld in enumerate(case.loads) if ld.kind in ALONG_BEAM)
-        raise NotApplicable(f"loads.{i}: a {load.kind.replace('_', '-')} load along the segment: model = '{model}' "
-                            "takes end loads only, as every one-spring PRBM of the seeds; the Chain Algorithm "
-                            "(seed 000 section 2.2) takes loads at its nodes: give model = 'chain', or no model "
-                            "to let the adapter choose it")
+        raise NotApplicable(
+            f"loads.{i}: a {load.kind.replace('_', '-')} load along the segment: model = '{model}' "
+            "takes end loads only, as every one-spring PRBM of the seeds; the Chain Algorithm "
+            "(seed 000 section 2.2) takes loads at its nodes: give model = 'chain', or no model "
+            "to let the adapter choose it"
+        )
     if seg.boundary not in ("fixed-free", "fixed-pinned", "fixed-guided"):
-        raise NotApplicable(f"a load along a {seg.boundary} segment: the Chain Algorithm here models a "
-                            "cantilever (free end) or a guided end (tip angle held); its inextensible elements "
-                            "cannot bend with the tip's x held, and its root is clamped")
+        raise NotApplicable(
+            f"a load along a {seg.boundary} segment: the Chain Algorithm here models a "
+            "cantilever (free end) or a guided end (tip angle held); its inextensible elements "
+            "cannot bend with the tip's x held, and its root is clamped"
+        )
     choice = chain_count(case, sorted({r.level for r in requests}), options)
     solved = choice.levels
     info = MethodRun(values={})
     for req in requests:
-        table = (_chain_table(seg.length, solved[req.level]) if req.point == "tip"
-                 else _chain_root(solved[req.level]) if req.point == "root" else {})
+        table = (
+            _chain_table(seg.length, solved[req.level])
+            if req.point == "tip"
+            else _chain_root(solved[req.level])
+            if req.point == "root"
+            else {}
+        )
         if req.quantity not in table:
             raise NotApplicable(f"the Chain Algorithm gives no '{req.quantity}' at '{req.point}'")
         info.values[req] = table[req.quantity]
     info.level_converged = {lv: bool(s.res.converged) and choice.met for lv, s in solved.items()}
     info.level_messages = {lv: s.res.message for lv, s in solved.items()}
     info.converged = all(info.level_converged.values())
-    info.message = (f"Chain Algorithm (seed 000 eqs 26-40), {choice.reason}; loads along the segment "
-                    "lumped half to each element end; " + "; ".join(f"level {lv}: {m}" for lv, m in info.level_messages.items()))
-    info.extras = {"model": f"Chain Algorithm with lumped loads, seed 000 section 2.2, {choice.beam.elements} elements",
-                   "chain_elements": choice.beam.elements,
-                   "shapes": [[solved[lv].res.extras["nodes"]] if lv in solved else [] for lv in range(case.n_levels())]}
-    if seg.boundary != "fixed-guided":      # the atlas maps the chain with a free tip
+    info.message = (
+        f"Chain Algorithm (seed 000 eqs 26-40), {choice.reason}; loads along the segment "
+        "lumped half to each element end; " + "; ".join(f"level {lv}: {m}" for lv, m in info.level_messages.items())
+    )
+    info.extras = {
+        "model": f"Chain Algorithm with lumped loads, seed 000 section 2.2, {choice.beam.elements} elements",
+        "chain_elements": choice.beam.elements,
+        "shapes": [[solved[lv].res.extras["nodes"]] if lv in solved else [] for lv in range(case.n_levels())],
+    }
+    if seg.boundary != "fixed-guided":  # the atlas maps the chain with a free tip
         along, tip_loaded = _along_segment(case)
-        flag_atlas_levels(info, chain_levels(choice.beam.elements, along, tip_loaded, seg.length,
-                                             seg.bending_stiffness()))
+        flag_atlas_levels(
+            info, chain_levels(choice.beam.elements, along, tip_loaded, seg.length, seg.bending_stiffness())
+        )
     return info
 
 
@@ -322,9 +374,16 @@ def _chain_table(L: float, level: ChainLevel) -> dict[str, float]:
     o, f = level.res.outputs, level.loads
     a, b = float(o["a"]), float(o["b"])
     held = [float(np.asarray(o[k])) if k in o else 0.0 for k in ("Fx", "Fy", "M")]
-    return {"x": a, "y": b, "dx": a - L, "dy": b, "rotation": math.degrees(float(o["theta0"])),
-            "force_x": float(f.fx[-1]) + held[0], "force_y": float(f.fy[-1]) + held[1],
-            "moment": float(f.m[-1]) + held[2]}
+    return {
+        "x": a,
+        "y": b,
+        "dx": a - L,
+        "dy": b,
+        "rotation": math.degrees(float(o["theta0"])),
+        "force_x": float(f.fx[-1]) + held[0],
+        "force_y": float(f.fy[-1]) + held[1],
+        "moment": float(f.m[-1]) + held[2],
+    }
 
 
 def _chain_root(level: ChainLevel) -> dict[str, float]:
@@ -340,8 +399,16 @@ def _chain_root(level: ChainLevel) -> dict[str, float]:
         if name in o:
             column[-1] += float(np.asarray(o[name]))
     moment = float(np.sum(nodes[:, 0] * fy - nodes[:, 1] * fx) + np.sum(m))
-    return {"x": 0.0, "y": 0.0, "dx": 0.0, "dy": 0.0, "rotation": 0.0,
-            "reaction_x": -float(np.sum(fx)), "reaction_y": -float(np.sum(fy)), "reaction_moment": -moment}
+    return {
+        "x": 0.0,
+        "y": 0.0,
+        "dx": 0.0,
+        "dy": 0.0,
+        "rotation": 0.0,
+        "reaction_x": -float(np.sum(fx)),
+        "reaction_y": -float(np.sum(fy)),
+        "reaction_moment": -moment,
+    }
 
 
 # --- zero_level --------------------------------------------------------------------------------------
@@ -396,14 +463,18 @@ def link2_turning_forces(case, R2: float, theta20: float, options: PrbmOptions) 
     for i, load in enumerate(forces):
         law: turning_loads.LoadLaw
         if abs(nodes.get(load.point, complex(math.inf)) - A) > 1e-3 * R2:
-            raise NotApplicable(f"a force at '{load.point}': the PRB four-bar takes forces at the end of PRB link 2 "
-                                "only (the tip of its fixed-pinned input segment)")
+            raise NotApplicable(
+                f"a force at '{load.point}': the PRB four-bar takes forces at the end of PRB link 2 "
+                "only (the tip of its fixed-pinned input segment)"
+            )
         if load.toward is not None:
             law = turning_loads.TowardPoint(complex(*load.toward) - origin, math.radians(load.angle))
         elif load.follower:
             if load.body is not None and load.body not in beams:
-                raise NotApplicable(f"a follower force turning with '{load.body}': the PRB four-bar maps only the "
-                                    "input segment's end rotation, c_theta (theta2 - theta20)")
+                raise NotApplicable(
+                    f"a follower force turning with '{load.body}': the PRB four-bar maps only the "
+                    "input segment's end rotation, c_theta (theta2 - theta20)"
+                )
             law = turning_loads.FollowerDirection(complex(*load.direction))
         else:
             law = turning_loads.DeadDirection(complex(*load.direction))
@@ -412,8 +483,9 @@ def link2_turning_forces(case, R2: float, theta20: float, options: PrbmOptions) 
     return out
 
 
-def theta2_under_turning_forces(fb, forces: list[LinkForce], torques: np.ndarray, theta20: float,
-                                options: PrbmOptions) -> np.ndarray:
+def theta2_under_turning_forces(
+    fb, forces: list[LinkForce], torques: np.ndarray, theta20: float, options: PrbmOptions
+) -> np.ndarray:
     """The input angle of every level under the forces at A and the couples (eq (**) of
     ``prbm.turning_loads``); c_theta of the fit family at n = 0."""
     c_theta = float(fit_family(options.family).parameters(0.0)[1])
@@ -422,6 +494,7 @@ def theta2_under_turning_forces(fb, forces: list[LinkForce], torques: np.ndarray
     theta2 = []
     for lv, torque in enumerate(np.asarray(torques, float).tolist()):
         active = [(float(f.values[lv]), f.law) for f in forces if f.values[lv] != 0.0]
-        theta2.append(turning_loads.input_angle_under_turning_forces(fb, active, theta20=theta20, c_theta=c_theta,
-                                                                     torque=torque))
+        theta2.append(
+            turning_loads.input_angle_under_turning_forces(fb, active, theta20=theta20, c_theta=c_theta, torque=torque)
+        )
     return np.array(theta2)

@@ -38,6 +38,7 @@ call, and between the library's result and the requested values, is plain Python
 once over all the levels.  The arithmetic is that of the equivalent array expressions, in the same
 order, so the values are the same to the last bit.
 """
+
 from __future__ import annotations
 
 import math
@@ -57,9 +58,11 @@ from validation.methods.prbm_atlas import flag_levels
 from validation.methods.prbm_common import levels, per_level, pick, plain
 
 REACTIONS = {"reaction_x", "reaction_y", "reaction_moment"}
-INFLECTION_WARNING = ("inflection point expected: the bending moment changes sign between tip and root "
-                      "(seed 000 Table 2.1, eq (12)); the monotonic-curvature PRBM (eq 62) does not fit this load, "
-                      "use segment.model = 'inflection' (fixed-guided)")
+INFLECTION_WARNING = (
+    "inflection point expected: the bending moment changes sign between tip and root "
+    "(seed 000 Table 2.1, eq (12)); the monotonic-curvature PRBM (eq 62) does not fit this load, "
+    "use segment.model = 'inflection' (fixed-guided)"
+)
 
 
 @dataclass
@@ -85,8 +88,14 @@ class TipLoads:
 
     def scaled(self, factor: float) -> "TipLoads":
         """The forces times ``factor`` (the capstan factor), the moments unchanged."""
-        return TipLoads([f * factor for f in self.Fx], [f * factor for f in self.Fy], self.M, self.follower,
-                        self.has_force, self.has_moment)
+        return TipLoads(
+            [f * factor for f in self.Fx],
+            [f * factor for f in self.Fy],
+            self.M,
+            self.follower,
+            self.has_force,
+            self.has_moment,
+        )
 
 
 def tip_loads(case, n: int | None = None) -> TipLoads:
@@ -108,8 +117,9 @@ def tip_loads(case, n: int | None = None) -> TipLoads:
         elif load.kind == "moment":
             M = [m + float(v) for m, v in zip(M, values)]
         else:
-            raise NotApplicable(f"a prescribed {load.kind} at the tip: give the PRBM inverse inputs in "
-                                "[methods.prbm] options instead")
+            raise NotApplicable(
+                f"a prescribed {load.kind} at the tip: give the PRBM inverse inputs in [methods.prbm] options instead"
+            )
     return TipLoads(Fx, Fy, M, follower, any(f != 0.0 for f in Fy), any(m != 0.0 for m in M))
 
 
@@ -153,8 +163,10 @@ def run_segment(case, requests, options: PrbmOptions) -> tuple[dict, MethodRun]:
     motion = prescribed_motion(case)
     if motion is not None:
         if mu or contact:
-            raise NotApplicable("friction_mu / contact_angle_deg with a prescribed motion: the tip load is the "
-                                "unknown, there is no applied force to correct")
+            raise NotApplicable(
+                "friction_mu / contact_angle_deg with a prescribed motion: the tip load is the "
+                "unknown, there is no applied force to correct"
+            )
         loads, solved = _solve_prescribed(case, motion, L, EI, kappa, fit)
         ratio = loads.ratio()
     else:
@@ -182,14 +194,26 @@ def run_segment(case, requests, options: PrbmOptions) -> tuple[dict, MethodRun]:
     if loads.has_moment:  # no end moment: the bending moment cannot change sign (eq 12)
         _warn_inflection(info, loads.M, out["force_x"], out["force_y"], out["x"], out["y"], solved.a0, solved.b0)
     _flag_fit_range(info, loads, ratio, res, fit, n)
-    flag_levels(info, seg.boundary, kappa * L, fit.family, loads.Fx, loads.Fy, loads.M, loads.follower, L, EI,
-                prescribed=motion is not None)
+    flag_levels(
+        info,
+        seg.boundary,
+        kappa * L,
+        fit.family,
+        loads.Fx,
+        loads.Fy,
+        loads.M,
+        loads.follower,
+        L,
+        EI,
+        prescribed=motion is not None,
+    )
     info.extras["shapes"] = DeferredList(lambda: _segment_shapes(seg, res, n, kappa) or [])  # the report reads it
     return pick(out, requests, "segment"), info
 
 
-def _forward(case, loads: TipLoads, ratio: list[float], L: float, EI: float, kappa: float,
-             fit: FitOptions) -> SegmentSolve:
+def _forward(
+    case, loads: TipLoads, ratio: list[float], L: float, EI: float, kappa: float, fit: FitOptions
+) -> SegmentSolve:
     """The segment model that fits the boundary and the end loads (module docstring), solved."""
     boundary = case.segment.boundary
     if boundary in ("fixed-free", "fixed-pinned") and kappa == 0.0:
@@ -198,8 +222,10 @@ def _forward(case, loads: TipLoads, ratio: list[float], L: float, EI: float, kap
         return _free_curved(loads, ratio, L, EI, kappa, fit)
     if boundary in ("fixed-guided", "fixed-fixed"):
         return _guided(case, loads, ratio, L, EI, kappa, fit)
-    raise NotApplicable(f"boundary '{boundary}' as a single segment case: the seeds' curved "
-                        "pinned-pinned PRBM (prbm.curved_pinned_pinned) takes a chord force only")
+    raise NotApplicable(
+        f"boundary '{boundary}' as a single segment case: the seeds' curved "
+        "pinned-pinned PRBM (prbm.curved_pinned_pinned) takes a chord force only"
+    )
 
 
 @dataclass(frozen=True)
@@ -220,9 +246,11 @@ def prescribed_motion(case) -> PrescribedMotion | None:
     if not motions:
         return None
     if len(case.loads) > 1:
-        raise NotApplicable("a prescribed tip motion together with other loads or motions: the segment PRBM "
-                            "solves one prescribed displacement or rotation alone (for the two-condition "
-                            "problem give the PRBM inverse inputs in [methods.prbm] options)")
+        raise NotApplicable(
+            "a prescribed tip motion together with other loads or motions: the segment PRBM "
+            "solves one prescribed displacement or rotation alone (for the two-condition "
+            "problem give the PRBM inverse inputs in [methods.prbm] options)"
+        )
     load = motions[0]
     if load.point != "tip":
         raise NotApplicable(f"a prescribed {load.kind} at '{load.point}': the segment PRBMs take end loads only")
@@ -230,8 +258,9 @@ def prescribed_motion(case) -> PrescribedMotion | None:
     return PrescribedMotion(load.kind, direction, [float(v) for v in load.levels()])
 
 
-def _solve_prescribed(case, motion: PrescribedMotion, L: float, EI: float, kappa: float,
-                      fit: FitOptions) -> tuple[TipLoads, SegmentSolve]:
+def _solve_prescribed(
+    case, motion: PrescribedMotion, L: float, EI: float, kappa: float, fit: FitOptions
+) -> tuple[TipLoads, SegmentSolve]:
     """The tip load that reaches the prescribed motion, and the model solved under it.
 
     A displacement s along the unit d is reached by a force F d (the tip is free across d, so the load
@@ -246,13 +275,16 @@ def _solve_prescribed(case, motion: PrescribedMotion, L: float, EI: float, kappa
     guided = seg.boundary in ("fixed-guided", "fixed-fixed")
     if motion.kind == "displacement" and guided and kappa == 0.0 and dx == 0.0:
         if boundary_held_tip(case) != ["rz"]:
-            raise NotApplicable("fixed-fixed tip with its x held: the seeds' fixed-guided PRBMs leave the "
-                                "tip free to translate")
+            raise NotApplicable(
+                "fixed-fixed tip with its x held: the seeds' fixed-guided PRBMs leave the tip free to translate"
+            )
         res = prbm.fixed_guided_displaced_tip([v * dy for v in motion.values], length=L, EI=EI, family=fit.family)
         res.constants["k"] = 2.0 * np.asarray(res.constants["k_each"])  # U = 2 (k_each Theta^2/2)
         Fy = levels(res.outputs["P"], n)
-        return (_motion_loads(motion, [f * dy for f in Fy]),        # along (0, dy), |dy| = 1
-                SegmentSolve(res, L, 0.0, "prescribed transverse tip displacement: closed form (eq 63)"))
+        return (
+            _motion_loads(motion, [f * dy for f in Fy]),  # along (0, dy), |dy| = 1
+            SegmentSolve(res, L, 0.0, "prescribed transverse tip displacement: closed form (eq 63)"),
+        )
 
     unloaded = unloaded_tip_angle(L, kappa)
     a0 = b0 = None
@@ -279,8 +311,9 @@ def _solve_prescribed(case, motion: PrescribedMotion, L: float, EI: float, kappa
         magnitudes.append(found.x)
     loads = _motion_loads(motion, magnitudes)
     solved = _forward(case, loads, loads.ratio(), L, EI, kappa, fit)
-    solved.message = "; ".join(m for m in (solved.message, f"prescribed {motion.kind}: load found by a bracketed "
-                                           "root on its magnitude") if m)
+    solved.message = "; ".join(
+        m for m in (solved.message, f"prescribed {motion.kind}: load found by a bracketed root on its magnitude") if m
+    )
     return loads, solved
 
 
@@ -305,46 +338,57 @@ def _free_straight(loads: TipLoads, ratio: list[float], L: float, EI: float, fit
         loaded = [r for r, fy in zip(ratio, loads.Fy) if fy != 0.0]  # an unloaded level has no ratio
         if loaded and not all(abs(r - loaded[0]) <= 1e-8 + 1e-5 * abs(loaded[0]) for r in loaded):  # np.allclose
             raise NotApplicable("follower force with a varying load ratio")
-        return SegmentSolve(prbm.composite_beam_tip(loads.Fy, loaded[0] if loaded else 0.0,
-                                                    follower=True, **kw), L, 0.0)
+        return SegmentSolve(
+            prbm.composite_beam_tip(loads.Fy, loaded[0] if loaded else 0.0, follower=True, **kw), L, 0.0
+        )
     if has_F and has_M:
-        return SegmentSolve(prbm.fixed_guided_monotonic_tip(loads.Fy, ratio, loads.M,
-                                                            **kw), L, 0.0,
-                            "force and moment: equivalent initial curvature kappa0 = M l/EI (eq 62), no inflection")
+        return SegmentSolve(
+            prbm.fixed_guided_monotonic_tip(loads.Fy, ratio, loads.M, **kw),
+            L,
+            0.0,
+            "force and moment: equivalent initial curvature kappa0 = M l/EI (eq 62), no inflection",
+        )
     if has_M:
         return SegmentSolve(prbm.pure_moment_tip(loads.M, length=L, EI=EI), L, 0.0)
     return SegmentSolve(prbm.fixed_pinned_tip(loads.Fy, ratio, **kw), L, 0.0)
 
 
-def _free_curved(loads: TipLoads, ratio: list[float], L: float, EI: float, kappa: float,
-                 fit: FitOptions) -> SegmentSolve:
+def _free_curved(
+    loads: TipLoads, ratio: list[float], L: float, EI: float, kappa: float, fit: FitOptions
+) -> SegmentSolve:
     """An initially curved fixed-free segment (eqs 53-61); an end moment adds to the curvature (eq 62)."""
     if loads.follower:
         raise NotApplicable("a follower force on an initially curved segment: no PRBM in the seeds")
     kw = _tip_keywords(L, EI, fit)
     if loads.has_moment:
-        res = _stack([prbm.curved_fixed_pinned_tip(fy, r, curvature=m / EI + kappa, **kw)
-                      for fy, r, m in zip(loads.Fy, ratio, loads.M)])
+        res = _stack(
+            [
+                prbm.curved_fixed_pinned_tip(fy, r, curvature=m / EI + kappa, **kw)
+                for fy, r, m in zip(loads.Fy, ratio, loads.M)
+            ]
+        )
     else:
         res = prbm.curved_fixed_pinned_tip(loads.Fy, ratio, curvature=kappa, **kw)
     return SegmentSolve(res, math.sin(kappa * L) / kappa, (1 - math.cos(kappa * L)) / kappa)
 
 
-def _guided(case, loads: TipLoads, ratio: list[float], L: float, EI: float, kappa: float,
-            fit: FitOptions) -> SegmentSolve:
+def _guided(
+    case, loads: TipLoads, ratio: list[float], L: float, EI: float, kappa: float, fit: FitOptions
+) -> SegmentSolve:
     """A straight fixed-guided segment: two springs (eq 63), or monotonic with an end moment (eq 62)."""
     translations = [dof for dof in boundary_held_tip(case) if dof != "rz"]
     if translations:
-        raise NotApplicable(f"fixed-fixed tip with {', '.join(translations)} held: the seeds' "
-                            "fixed-guided PRBMs leave the tip free to translate")
+        raise NotApplicable(
+            f"fixed-fixed tip with {', '.join(translations)} held: the seeds' "
+            "fixed-guided PRBMs leave the tip free to translate"
+        )
     if kappa != 0.0:
         raise NotApplicable("initially curved fixed-guided segment without model = 'inflection'")
     if loads.follower:
         raise NotApplicable("a follower force on a fixed-guided segment: no PRBM in the seeds")
     kw = _tip_keywords(L, EI, fit)
     if loads.has_moment:
-        return SegmentSolve(prbm.fixed_guided_monotonic_tip(loads.Fy, ratio, loads.M,
-                                                            **kw), L, 0.0)
+        return SegmentSolve(prbm.fixed_guided_monotonic_tip(loads.Fy, ratio, loads.M, **kw), L, 0.0)
     res = prbm.fixed_guided_tip(loads.Fy, ratio, **kw)
     res.constants["k"] = 2.0 * np.asarray(res.constants["k_each"])  # U = 2 (k_each Theta^2/2)
     return SegmentSolve(res, L, 0.0)
@@ -390,8 +434,9 @@ def _segment_outputs(case, loads: TipLoads, solved: SegmentSolve, n: int, wanted
     return out
 
 
-def _flag_fit_range(info: MethodRun, loads: TipLoads, ratio: list[float], res: PRBMResult, fit: FitOptions,
-                    n: int) -> None:
+def _flag_fit_range(
+    info: MethodRun, loads: TipLoads, ratio: list[float], res: PRBMResult, fit: FitOptions, n: int
+) -> None:
     """Flag the levels a model with the n-fits ([bapat2015, eqs 41-43], [ananthasuresh_l18, 05:41]) solved
     outside the fits' ranges: the load ratio n outside the family's published range (reached only with
     ``extrapolate`` 'warn' or 'allow'; 'raise' refuses the case), or the PRB angle |Theta - Theta_i| past the printed
@@ -417,8 +462,11 @@ def _warn_inflection(info: MethodRun, M, Fx, Fy, a, b, a0: float, b0: float) -> 
     at the root (M + F_y a - F_x b) of opposite signs (Table 2.1's opposite senses, and the sufficient
     condition (12)), on the PRBM's own deformed state or on the unloaded one (a0, b0): the monotonic
     model's state can land on the branch without the inflection that the beam has."""
-    inflected = [level for level, (m, fx, fy, x, y) in enumerate(zip(M, Fx, Fy, a, b))
-                 if m * (m + fy * x - fx * y) < 0 or m * (m + fy * a0 - fx * b0) < 0]
+    inflected = [
+        level
+        for level, (m, fx, fy, x, y) in enumerate(zip(M, Fx, Fy, a, b))
+        if m * (m + fy * x - fx * y) < 0 or m * (m + fy * a0 - fx * b0) < 0
+    ]
     for level in inflected:
         info.level_messages[level] = INFLECTION_WARNING
         info.flag(level, Applicability.INFLECTION)
@@ -430,8 +478,14 @@ def _stack(results: list[PRBMResult]) -> PRBMResult:
     """One result over the levels from one result per level."""
     keys = results[0].outputs.keys()
     out: dict[str, NDArray[np.float64] | float] = {k: np.array([float(r.outputs[k]) for r in results]) for k in keys}
-    return PRBMResult(all(r.converged for r in results), results[0].message, out, results[0].constants,
-                      results[0].model, level_converged=np.array([r.converged for r in results]))
+    return PRBMResult(
+        all(r.converged for r in results),
+        results[0].message,
+        out,
+        results[0].constants,
+        results[0].model,
+        level_converged=np.array([r.converged for r in results]),
+    )
 
 
 def _segment_shapes(seg, res: PRBMResult, n: int, kappa: float) -> list | None:

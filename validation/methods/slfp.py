@@ -33,6 +33,7 @@ Construction, for every joint with a spring k > 0 at pivot node N:
 Section: I = k l / E, thickness t = ``thickness_ratio`` l (default 0.1: slender, t << l << L), width
 w = 12 I / t^3.
 """
+
 from __future__ import annotations
 
 import math
@@ -54,9 +55,16 @@ def _held_block(node: str, direction, travel: list, n_levels: int) -> list:
         raise ValueError(f"a held slider at '{node}' must run along x or y (the FEM prescribes axis motions)")
     across = (0.0, 1.0) if abs(d[0]) > abs(d[1]) else (1.0, 0.0)
     zero = [0.0] * n_levels
-    return [LoadSpec(kind="displacement", point=node, direction=across, values=zero,
-                     label="slider block: no motion across the slider"),
-            LoadSpec(kind="rotation", point=node, values=zero, label="slider block: does not turn")]
+    return [
+        LoadSpec(
+            kind="displacement",
+            point=node,
+            direction=across,
+            values=zero,
+            label="slider block: no motion across the slider",
+        ),
+        LoadSpec(kind="rotation", point=node, values=zero, label="slider block: does not turn"),
+    ]
 
 
 def with_flexures(case: Case, length: float, E: float, thickness_ratio: float = 0.1) -> Case:
@@ -102,8 +110,8 @@ def with_flexures(case: Case, length: float, E: float, thickness_ratio: float = 
             if not held:
                 raise ValueError(f"joint at '{N}' springs a single member but '{N}' has no support")
             ground = held[0]
-            if ground.kind in ("slider", "guided"):   # a sliding block: it translates, never turns
-                renamed[N] = minus                    # loads on the pivot act on the block
+            if ground.kind in ("slider", "guided"):  # a sliding block: it translates, never turns
+                renamed[N] = minus  # loads on the pivot act on the block
                 driven = any(ld.kind in ("force", "moment") for ld in case.loads)
                 held_travel = [ld for ld in case.loads if ld.point == N and ld.kind == "displacement" and driven]
                 base = [] if held_travel else [SupportSpec(node=minus, kind="guided", direction=ground.direction)]
@@ -112,8 +120,12 @@ def with_flexures(case: Case, length: float, E: float, thickness_ratio: float = 
                 base = [SupportSpec(node=minus, kind="fixed")]
             supports = [s for s in supports if s.node != N] + base
     links = [lk.model_copy(update={"nodes": members[lk.name]}) for lk in mech.links]
-    beams = [b.model_copy(update={"start": members[b.name][0], "end": members[b.name][1]})
-             if b.name in members and not b.name.startswith("flexure:") else b for b in beams]
+    beams = [
+        b.model_copy(update={"start": members[b.name][0], "end": members[b.name][1]})
+        if b.name in members and not b.name.startswith("flexure:")
+        else b
+        for b in beams
+    ]
     supports = [s.model_copy(update={"node": renamed.get(s.node, s.node)}) for s in supports]
     loads = [ld.model_copy(update={"point": renamed.get(ld.point, ld.point)}) for ld in case.loads] + extra_loads
     nodes = [n for n in nodes if n.name not in renamed]

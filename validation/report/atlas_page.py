@@ -26,6 +26,7 @@ built, cached by code version); ``write_page`` writes the page; ``build_page`` d
 the ``AtlasPage`` whose ``index_html`` is the report index's line.  Every text on the page is
 HTML-escaped where it is written (``html.escape``; attribute values with ``quote=True``).
 """
+
 from __future__ import annotations
 
 import hashlib
@@ -45,14 +46,18 @@ from validation.atlas.models import MODELS
 from validation.report.page import _fmt, _image, _link, _page
 
 PAGE = "atlas.html"
-FIGURES = "atlas_figures"            # the page's pictures and its cached atlas-only part
-DATASETS = "atlas"                   # the atlas datasets inside the report folder (``prbm-validate atlas``)
+FIGURES = "atlas_figures"  # the page's pictures and its cached atlas-only part
+DATASETS = "atlas"  # the atlas datasets inside the report folder (``prbm-validate atlas``)
 CLAIMS = dataset.ROOT / "cases" / "atlas" / "claims.toml"
-MEASURED = "measured.json"           # in FIGURES: each case's measured levels, by what they depend on
-LARGEST = 12                         # levels shown in the table of the largest measured errors
+MEASURED = "measured.json"  # in FIGURES: each case's measured levels, by what they depend on
+LARGEST = 12  # levels shown in the table of the largest measured errors
 REFIT_MODELS = (("fixed_pinned_pauly_midha", refit.FIXED_PINNED), ("curved_fixed_pinned", refit.CURVED))
-VERDICT_CLASS = {"holds": "v-holds", "holds on part of its range": "v-part", "does not hold": "v-fails",
-                 "not testable": "v-untested"}
+VERDICT_CLASS = {
+    "holds": "v-holds",
+    "holds on part of its range": "v-part",
+    "does not hold": "v-fails",
+    "not testable": "v-untested",
+}
 CSS = """.scroll{overflow-x:auto;max-width:100%}.scroll table{margin:0}
 table.wrap td,table.wrap th{text-align:left;white-space:normal;overflow-wrap:break-word}
 table.wrap td.num{text-align:right;white-space:nowrap}table.wrap td.text{max-width:22em}
@@ -97,14 +102,17 @@ def agreement_words(a: dict) -> str:
     if not a.get("levels"):
         return "no case level has both an atlas prediction and a measured PRBM-vs-FEM error."
     rank = a.get("spearman", math.nan)
-    return (f"predicted against measured PRBM error on {a['levels']} levels of {a['cases']} cases: "
-            f"{100 * a['within_factor_2']:.0f} % within a factor 2 (or 0.25 % of L), "
-            f"{100 * a['same_side_of_5_percent']:.0f} % on the same side of the 5 % validity limit"
-            + (f", Spearman rank correlation {rank:.2f}." if math.isfinite(rank) else "."))
+    return (
+        f"predicted against measured PRBM error on {a['levels']} levels of {a['cases']} cases: "
+        f"{100 * a['within_factor_2']:.0f} % within a factor 2 (or 0.25 % of L), "
+        f"{100 * a['same_side_of_5_percent']:.0f} % on the same side of the 5 % validity limit"
+        + (f", Spearman rank correlation {rank:.2f}." if math.isfinite(rank) else ".")
+    )
 
 
-def find_atlas(datasets: Path, build_into: Path | None = None, workers: int = 2,
-               executor: str = "process") -> tuple[str, pd.DataFrame, Path] | None:
+def find_atlas(
+    datasets: Path, build_into: Path | None = None, workers: int = 2, executor: str = "process"
+) -> tuple[str, pd.DataFrame, Path] | None:
     """(grid, rows, the datasets' folder) of the best atlas of the current code under ``datasets``
     (``dataset.best_available``: the full one, else the coarse one); else the coarse atlas built under
     ``build_into`` (cached there by code version, so a second call builds nothing); None where neither
@@ -131,6 +139,7 @@ def manifest(datasets: Path, grid: str) -> dict:
 
 # ---- HTML pieces -------------------------------------------------------------------------------------
 
+
 def _esc(value, digits: int = 3) -> str:
     return html.escape(_fmt(value, digits))
 
@@ -154,10 +163,14 @@ def _table(columns: list[str], rows: list[list[str]], cls: str = "sortable wrap"
     """A table of cells already written as HTML (each escaped by its writer), in a box that scrolls on
     its own when it is wider than the page."""
     head = "".join(f"<th>{html.escape(c)}</th>" for c in columns)
-    body = "".join("<tr>" + "".join(cell if cell.startswith("<td") else f"<td>{cell}</td>" for cell in row)
-                   + "</tr>" for row in rows)
-    return (f"<div class='scroll'><table class='{html.escape(cls, quote=True)}'><thead><tr>{head}</tr></thead>"
-            f"<tbody>{body}</tbody></table></div>")
+    body = "".join(
+        "<tr>" + "".join(cell if cell.startswith("<td") else f"<td>{cell}</td>" for cell in row) + "</tr>"
+        for row in rows
+    )
+    return (
+        f"<div class='scroll'><table class='{html.escape(cls, quote=True)}'><thead><tr>{head}</tr></thead>"
+        f"<tbody>{body}</tbody></table></div>"
+    )
 
 
 def _capital(text: str) -> str:
@@ -179,6 +192,7 @@ def _model_title(model: str) -> str:
 
 # ---- sections ----------------------------------------------------------------------------------------
 
+
 def _intro(grid: str, version: str, frame: pd.DataFrame, info: dict) -> str:
     runs = info.get("runs", [])
     built = ""
@@ -186,20 +200,28 @@ def _intro(grid: str, version: str, frame: pd.DataFrame, info: dict) -> str:
         seconds = sum(float(r.get("seconds", 0.0)) for r in runs)
         points = sum(int(r.get("points", 0)) for r in runs)
         last = runs[-1]
-        built = (f" Built in {len(runs)} run(s): {points} points solved in {seconds:.1f} s "
-                 f"({last.get('executor', '?')}, {last.get('workers') or '?'} worker(s) in the last run).")
-    which = ("the full grid (at least 10^4 points a model, built by hand with prbm-validate atlas)"
-             if grid == "full" else
-             "the coarse grid (a few hundred points a model, built by the report because the full atlas of "
-             "this code is not there: prbm-validate atlas builds it)")
-    lead = ("The atlas maps every PRBM segment model against the exact elastica over its whole input space, "
-            "and tells where each model holds to 0.5, 1, 3 and 5 % of L.")
-    text = (f"Along lines of growing load (the shape inputs fixed) the PRBM's tip is compared with the exact tip "
-            f"at the same load: errors are at equal load, in % of the segment length L. An error splits in two: the "
-            f"path error (the PRBM read where the exact tip is on its path: the same tip angle, or b for a guided "
-            f"end) and the stiffness error (the load the PRBM needs to reach that point, against the exact load). "
-            f"This page shows {which}: {len(frame)} points over {frame['model'].nunique()} models, code version "
-            f"{version}.{built}")
+        built = (
+            f" Built in {len(runs)} run(s): {points} points solved in {seconds:.1f} s "
+            f"({last.get('executor', '?')}, {last.get('workers') or '?'} worker(s) in the last run)."
+        )
+    which = (
+        "the full grid (at least 10^4 points a model, built by hand with prbm-validate atlas)"
+        if grid == "full"
+        else "the coarse grid (a few hundred points a model, built by the report because the full atlas of "
+        "this code is not there: prbm-validate atlas builds it)"
+    )
+    lead = (
+        "The atlas maps every PRBM segment model against the exact elastica over its whole input space, "
+        "and tells where each model holds to 0.5, 1, 3 and 5 % of L."
+    )
+    text = (
+        f"Along lines of growing load (the shape inputs fixed) the PRBM's tip is compared with the exact tip "
+        f"at the same load: errors are at equal load, in % of the segment length L. An error splits in two: the "
+        f"path error (the PRBM read where the exact tip is on its path: the same tip angle, or b for a guided "
+        f"end) and the stiffness error (the load the PRBM needs to reach that point, against the exact load). "
+        f"This page shows {which}: {len(frame)} points over {frame['model'].nunique()} models, code version "
+        f"{version}.{built}"
+    )
     return f"<p class='lead prose'>{html.escape(lead)}</p><p class='prose'>{html.escape(text)}</p>"
 
 
@@ -210,8 +232,12 @@ def _measured_key(result, rows: pd.DataFrame, code: bytes) -> str:
     extras = {k: run.extras.get(k) for k in ("atlas_model", "atlas_inputs", "atlas_mirror")}
     segment = getattr(result.loaded.case, "segment", None)
     shown = rows[rows["method"].isin(["prbm", "fem"])][["method", "quantity", "point", "level", "value"]]
-    text = (repr(sorted(run.expected_error.items())) + repr(extras) + repr(getattr(segment, "length", None))
-            + shown.to_csv(index=False))
+    text = (
+        repr(sorted(run.expected_error.items()))
+        + repr(extras)
+        + repr(getattr(segment, "length", None))
+        + shown.to_csv(index=False)
+    )
     return hashlib.sha256(code + text.encode()).hexdigest()
 
 
@@ -248,34 +274,56 @@ def _measured_section(levels: pd.DataFrame, figures: Path) -> tuple[str, dict]:
         body.append(f"<p>{html.escape(agreement_words(agree))}</p>")
         return "".join(body), agree
     scatter = figures / "scatter.png"
-    scatter.unlink(missing_ok=True)          # may be a hard link to the previous report's
+    scatter.unlink(missing_ok=True)  # may be a hard link to the previous report's
     measured.draw_scatter(levels, scatter)
-    split = ("Split of the measured error: the path error is the PRBM read at the FEM's tip angle (b for a "
-             "guided end), its distance from the FEM's tip in % of L; the stiffness error is the load the PRBM "
-             "needs for that deflection against the case's load, in %; the locus error is the distance from "
-             "the FEM's tip to the curve the PRBM's tip traces, in % of L.")
+    split = (
+        "Split of the measured error: the path error is the PRBM read at the FEM's tip angle (b for a "
+        "guided end), its distance from the FEM's tip in % of L; the stiffness error is the load the PRBM "
+        "needs for that deflection against the case's load, in %; the locus error is the distance from "
+        "the FEM's tip to the curve the PRBM's tip traces, in % of L."
+    )
     worst = levels.sort_values("measured", ascending=False, na_position="last").head(LARGEST)
     notes = worst["why_no_split"].fillna("").astype(str)
-    columns = ["case", "level", "model", "predicted (% of L)", "measured (% of L)", "path (% of L)",
-               "stiffness (%)", "locus (% of L)"] + (["no split because"] if notes.ne("").any() else [])
+    columns = [
+        "case",
+        "level",
+        "model",
+        "predicted (% of L)",
+        "measured (% of L)",
+        "path (% of L)",
+        "stiffness (%)",
+        "locus (% of L)",
+    ] + (["no split because"] if notes.ne("").any() else [])
     rows = []
     for (_, r), note in zip(worst.iterrows(), notes):
         cid = str(r["case"])
-        row = [_link(f"cases/{cid}.html", cid), _num(r["level"]), _text(_model_title(r["model"])),
-               _num(r["predicted"]), _num(r["measured"]), _num(r["path"]), _num(r["stiffness"]), _num(r["locus"])]
+        row = [
+            _link(f"cases/{cid}.html", cid),
+            _num(r["level"]),
+            _text(_model_title(r["model"])),
+            _num(r["predicted"]),
+            _num(r["measured"]),
+            _num(r["path"]),
+            _num(r["stiffness"]),
+            _num(r["locus"]),
+        ]
         if len(columns) > 8:
             row.append(_text(note))
         rows.append(row)
-    body += ["<div class='pair'>", _image(f"{FIGURES}/{scatter.name}", "predicted against measured PRBM error"),
-             f"<div class='words'><p><b>{html.escape(_capital(agreement_words(agree)))}</b></p>"
-             f"<p class='caption'>Predicted: the atlas's expected PRBM tip error at the level's inputs (the "
-             f"shipped error maps); measured: the PRBM-vs-FEM tip distance at the same load. "
-             f"{html.escape(split)}</p></div></div>",
-             f"<h3>The {len(worst)} levels with the largest measured error</h3>", _table(columns, rows)]
+    body += [
+        "<div class='pair'>",
+        _image(f"{FIGURES}/{scatter.name}", "predicted against measured PRBM error"),
+        f"<div class='words'><p><b>{html.escape(_capital(agreement_words(agree)))}</b></p>"
+        f"<p class='caption'>Predicted: the atlas's expected PRBM tip error at the level's inputs (the "
+        f"shipped error maps); measured: the PRBM-vs-FEM tip distance at the same load. "
+        f"{html.escape(split)}</p></div></div>",
+        f"<h3>The {len(worst)} levels with the largest measured error</h3>",
+        _table(columns, rows),
+    ]
     return "".join(body), agree
 
 
-DOMAIN_SUMMARY = Path("sweeps") / "chapter4_domains" / "summary.json"   # the report's chapter-4 domain study
+DOMAIN_SUMMARY = Path("sweeps") / "chapter4_domains" / "summary.json"  # the report's chapter-4 domain study
 
 
 def _claims_section(frame: pd.DataFrame, claims: list, report: Path) -> tuple[str, pd.DataFrame]:
@@ -289,35 +337,57 @@ def _claims_section(frame: pd.DataFrame, claims: list, report: Path) -> tuple[st
     domain = atlas_claims.domain_study_rows(summary)
     if len(domain):
         checked = pd.concat([checked, domain], ignore_index=True)
-    columns = ["id", "model", "source", "bound & metric", "verdict", "holds where", "worst", "share within",
-               "quote and note"]
+    columns = [
+        "id",
+        "model",
+        "source",
+        "bound & metric",
+        "verdict",
+        "holds where",
+        "worst",
+        "share within",
+        "quote and note",
+    ]
     rows = []
     for _, r in checked.iterrows():
         models = [m.strip() for m in str(r["model"]).split(",")]
-        model_links = ", ".join(_link(f"#{_anchor(m)}", _model_title(m)) if m in MODELS else html.escape(m)
-                                for m in models)
+        model_links = ", ".join(
+            _link(f"#{_anchor(m)}", _model_title(m)) if m in MODELS else html.escape(m) for m in models
+        )
         where = str(r.get("holds_where") or r.get("why") or "")
         share = r["share_within"]
-        details = (f"<details><summary>quote</summary><p class='quote'>{html.escape(str(r['quote']))}</p>"
-                   f"<p>{html.escape(str(r['note']))}</p>"
-                   + (f"<p>{html.escape(str(r['why']))}</p>" if str(r.get("why") or "") else "")
-                   + "</details>")
-        rows.append([f"<td class='id' id='claim-{html.escape(str(r['id']), quote=True)}'>"
-                     f"{_breakable(str(r['id']))}</td>",
-                     f"<td class='text'>{model_links}</td>", _text(str(r["source"])),
-                     f"|{_breakable(str(r['metric']))}| &le; {_esc(r['bound'])}", _verdict(str(r["verdict"])),
-                     _text(where), _num(r["worst"]),
-                     f"<td class='num'>{html.escape('' if pd.isna(share) else f'{100 * share:.0f} %')}</td>",
-                     f"<td class='quotes'>{details}</td>"])
+        details = (
+            f"<details><summary>quote</summary><p class='quote'>{html.escape(str(r['quote']))}</p>"
+            f"<p>{html.escape(str(r['note']))}</p>"
+            + (f"<p>{html.escape(str(r['why']))}</p>" if str(r.get("why") or "") else "")
+            + "</details>"
+        )
+        rows.append(
+            [
+                f"<td class='id' id='claim-{html.escape(str(r['id']), quote=True)}'>{_breakable(str(r['id']))}</td>",
+                f"<td class='text'>{model_links}</td>",
+                _text(str(r["source"])),
+                f"|{_breakable(str(r['metric']))}| &le; {_esc(r['bound'])}",
+                _verdict(str(r["verdict"])),
+                _text(where),
+                _num(r["worst"]),
+                f"<td class='num'>{html.escape('' if pd.isna(share) else f'{100 * share:.0f} %')}</td>",
+                f"<td class='quotes'>{details}</td>",
+            ]
+        )
     counts = checked["verdict"].value_counts()
     tally = "; ".join(f"{v}: {int(counts[v])}" for v in atlas_claims.VERDICTS if v in counts)
-    caption = (f"{len(checked)} printed claims (cases/atlas/claims.toml) read onto the atlas: |metric| <= bound "
-               f"on the model's solved points inside the claim's range ({tally}). Metrics: tip_error, path_error "
-               f"in % of L; locus_error_rel, path_error_rel in % of the deflection; stiffness_error in %. "
-               f"'Holds where' is the largest stretch of the claim's axis from its low end on which every point "
-               f"is within; 'worst' is the largest |metric|, 'share within' that of the measured points.")
-    return ("<h2 id='claims'>The seeds' claims, checked</h2>"
-            f"<p class='caption'>{html.escape(caption)}</p>" + _table(columns, rows)), checked
+    caption = (
+        f"{len(checked)} printed claims (cases/atlas/claims.toml) read onto the atlas: |metric| <= bound "
+        f"on the model's solved points inside the claim's range ({tally}). Metrics: tip_error, path_error "
+        f"in % of L; locus_error_rel, path_error_rel in % of the deflection; stiffness_error in %. "
+        f"'Holds where' is the largest stretch of the claim's axis from its low end on which every point "
+        f"is within; 'worst' is the largest |metric|, 'share within' that of the measured points."
+    )
+    return (
+        "<h2 id='claims'>The seeds' claims, checked</h2>"
+        f"<p class='caption'>{html.escape(caption)}</p>" + _table(columns, rows)
+    ), checked
 
 
 def _model_sections(frame: pd.DataFrame, claims: list, checked: pd.DataFrame, figures: Path) -> str:
@@ -328,22 +398,25 @@ def _model_sections(frame: pd.DataFrame, claims: list, checked: pd.DataFrame, fi
         picture = figures / f"map_{name}.png"
         picture.unlink(missing_ok=True)
         regions.draw_map(frame, name, picture, claims)
-        sentences = "".join(f"<li>{html.escape(regions.region_words(s))}</li>"
-                            for s in regions.summaries(frame, name))
+        sentences = "".join(f"<li>{html.escape(regions.region_words(s))}</li>" for s in regions.summaries(frame, name))
         mine = checked[checked["model"].astype(str).str.split(", ").map(lambda ms: name in ms)]
-        claimed = "".join(f"<li><a href='#claim-{html.escape(str(r['id']), quote=True)}'>{_breakable(str(r['id']))}"
-                          f"</a> {_verdict(str(r['verdict']))}</li>" for _, r in mine.iterrows())
+        claimed = "".join(
+            f"<li><a href='#claim-{html.escape(str(r['id']), quote=True)}'>{_breakable(str(r['id']))}"
+            f"</a> {_verdict(str(r['verdict']))}</li>"
+            for _, r in mine.iterrows()
+        )
         points = int((frame["model"] == name).sum())
         body.append(
             f"<h2 id='{_anchor(name)}'>{html.escape(m.title)}</h2>"
             f"<p class='caption'>{html.escape(m.source)} &middot; load: {html.escape(m.load.label)} &middot; "
             f"{points} atlas rows</p><div class='pair'>"
             + f"<p><img class='map' src='{html.escape(f'{FIGURES}/{picture.name}', quote=True)}' "
-              f"alt='{html.escape(f'error map of {m.title}', quote=True)}'></p>"
+            f"alt='{html.escape(f'error map of {m.title}', quote=True)}'></p>"
             + "<div class='words'><p>Tip error at equal load, regions (the worst line at each value of the map "
-              f"axis):</p><ul class='regions'>{sentences}</ul>"
+            f"axis):</p><ul class='regions'>{sentences}</ul>"
             + (f"<p>The seeds' claims on this model:</p><ul class='regions'>{claimed}</ul>" if claimed else "")
-            + "</div></div>")
+            + "</div></div>"
+        )
     return "".join(body)
 
 
@@ -354,24 +427,49 @@ def _refit_section(frame: pd.DataFrame) -> str:
         if rows.empty:
             continue
         table = refit.refit_table(rows.dropna(axis=1, how="all"), kind)
-        texts.append(refit.finding_text(table) if len(table) else
-                     f"{_model_title(name)}: no region of the atlas had points to refit.")
+        texts.append(
+            refit.finding_text(table)
+            if len(table)
+            else f"{_model_title(name)}: no region of the atlas had points to refit."
+        )
         if len(table):
             tables.append(table)
-    body = ["<h2 id='refit'>Beyond the seeds: refit (gamma, K_Theta)</h2>",
-            "<p class='caption'>One constant (gamma, K_Theta) per region, chosen to minimise the worst tip error "
-            "(at equal load) on half of the region's atlas points; both it and the published n-fits are then "
-            "judged on the other half (held out). Gain: the published worst over the refit worst (above 1: the "
-            "refit is better).</p>"]
+    body = [
+        "<h2 id='refit'>Beyond the seeds: refit (gamma, K_Theta)</h2>",
+        "<p class='caption'>One constant (gamma, K_Theta) per region, chosen to minimise the worst tip error "
+        "(at equal load) on half of the region's atlas points; both it and the published n-fits are then "
+        "judged on the other half (held out). Gain: the published worst over the refit worst (above 1: the "
+        "refit is better).</p>",
+    ]
     if tables:
         t = pd.concat(tables, ignore_index=True)
-        columns = ["model", "region", "gamma", "K_Theta", "published gamma (mean)", "published K_Theta (mean)",
-                   "published worst (% of L)", "refit worst (% of L)", "gain", "fit / held-out points"]
-        rows = [[html.escape(str(r["model"])), _text(str(r["region"])),
-                 _num(r["gamma"], 4), _num(r["K_theta"], 4), _num(r["gamma_published"], 4),
-                 _num(r["K_theta_published"], 4), _num(r["published_worst"]), _num(r["refit_worst"]),
-                 _num(r["gain"]), _num(f"{r['fit_points']} / {r['test_points']}")]
-                for _, r in t.iterrows()]
+        columns = [
+            "model",
+            "region",
+            "gamma",
+            "K_Theta",
+            "published gamma (mean)",
+            "published K_Theta (mean)",
+            "published worst (% of L)",
+            "refit worst (% of L)",
+            "gain",
+            "fit / held-out points",
+        ]
+        rows = [
+            [
+                html.escape(str(r["model"])),
+                _text(str(r["region"])),
+                _num(r["gamma"], 4),
+                _num(r["K_theta"], 4),
+                _num(r["gamma_published"], 4),
+                _num(r["K_theta_published"], 4),
+                _num(r["published_worst"]),
+                _num(r["refit_worst"]),
+                _num(r["gain"]),
+                _num(f"{r['fit_points']} / {r['test_points']}"),
+            ]
+            for _, r in t.iterrows()
+        ]
         body.append(_table(columns, rows))
     body += [f"<p class='prose'>{html.escape(text)}</p>" for text in texts]
     return "".join(body)
@@ -379,11 +477,14 @@ def _refit_section(frame: pd.DataFrame) -> str:
 
 # ---- the page ----------------------------------------------------------------------------------------
 
+
 def _source_digest() -> bytes:
     here = Path(__file__)
     atlas = here.parents[1] / "atlas"
-    return b"".join(p.read_bytes() for p in
-                    (here, atlas / "regions.py", atlas / "claims.py", atlas / "refit.py", atlas / "models.py"))
+    return b"".join(
+        p.read_bytes()
+        for p in (here, atlas / "regions.py", atlas / "claims.py", atlas / "refit.py", atlas / "models.py")
+    )
 
 
 def _static_digest(grid: str, version: str, frame: pd.DataFrame, claims_file: Path, report: Path) -> str:
@@ -394,8 +495,15 @@ def _static_digest(grid: str, version: str, frame: pd.DataFrame, claims_file: Pa
         domain = (report / DOMAIN_SUMMARY).read_bytes()
     except OSError:
         domain = b""
-    parts = [grid.encode(), version.encode(), str(len(frame)).encode(), rows.tobytes(),
-             Path(claims_file).read_bytes(), domain, _source_digest()]
+    parts = [
+        grid.encode(),
+        version.encode(),
+        str(len(frame)).encode(),
+        rows.tobytes(),
+        Path(claims_file).read_bytes(),
+        domain,
+        _source_digest(),
+    ]
     return hashlib.sha256(b"\0".join(parts)).hexdigest()
 
 
@@ -422,8 +530,15 @@ def _static_part(frame: pd.DataFrame, grid: str, version: str, figures: Path, cl
     return text
 
 
-def write_page(out: Path, grid: str, frame: pd.DataFrame, results=(), table: pd.DataFrame | None = None,
-               datasets: Path | None = None, claims_file: Path = CLAIMS) -> AtlasPage:
+def write_page(
+    out: Path,
+    grid: str,
+    frame: pd.DataFrame,
+    results=(),
+    table: pd.DataFrame | None = None,
+    datasets: Path | None = None,
+    claims_file: Path = CLAIMS,
+) -> AtlasPage:
     """``atlas.html`` (and its pictures under ``atlas_figures/``) in ``out`` from the atlas ``frame`` on
     ``grid``, with the cases' ``results`` and their tidy ``table`` (module docstring); ``datasets``: the
     folder holding the dataset (for its ``atlas.json``)."""
@@ -436,18 +551,27 @@ def write_page(out: Path, grid: str, frame: pd.DataFrame, results=(), table: pd.
         cached = json.loads((figures / MEASURED).read_text())
     except (OSError, ValueError):
         cached = {}
-    static = _static_part(frame, grid, version, figures, claims_file)   # first: it may empty the folder
+    static = _static_part(frame, grid, version, figures, claims_file)  # first: it may empty the folder
     levels, keep = _measured_frame(list(results), table if table is not None else pd.DataFrame(), cached)
-    (figures / MEASURED).unlink(missing_ok=True)                       # may be a hard link
+    (figures / MEASURED).unlink(missing_ok=True)  # may be a hard link
     (figures / MEASURED).write_text(json.dumps(keep))
     measured_html, agree = _measured_section(levels, figures)
-    toc = " &middot; ".join([_link("#measured", "predicted against measured"), _link("#claims", "claims"),
-                             *(_link(f"#{_anchor(n)}", m.title) for n, m in MODELS.items()
-                               if (frame["model"] == n).any()),
-                             _link("#refit", "refit")])
-    body = ("<p><a href='index.html'>the report</a></p><h1>PRBM validity atlas</h1>"
-            + _intro(grid, version, frame, info) + f"<nav class='toc'>{toc}</nav>" + measured_html + static
-            + f"<p class='caption'>Page drawn in {time.perf_counter() - started:.1f} s.</p>")
+    toc = " &middot; ".join(
+        [
+            _link("#measured", "predicted against measured"),
+            _link("#claims", "claims"),
+            *(_link(f"#{_anchor(n)}", m.title) for n, m in MODELS.items() if (frame["model"] == n).any()),
+            _link("#refit", "refit"),
+        ]
+    )
+    body = (
+        "<p><a href='index.html'>the report</a></p><h1>PRBM validity atlas</h1>"
+        + _intro(grid, version, frame, info)
+        + f"<nav class='toc'>{toc}</nav>"
+        + measured_html
+        + static
+        + f"<p class='caption'>Page drawn in {time.perf_counter() - started:.1f} s.</p>"
+    )
     (out / PAGE).unlink(missing_ok=True)
     (out / PAGE).write_text(_page("PRBM validity atlas", body, f"<style>{CSS}</style>"))
     return AtlasPage(PAGE, grid, version, agree)
@@ -466,8 +590,9 @@ def prepare_static(out: Path, datasets: Path, build: bool = True) -> None:
     _static_part(frame, grid, version, Path(out) / FIGURES, CLAIMS)
 
 
-def build_page(out: Path, results, table: pd.DataFrame, datasets: Path, build: bool = True,
-               workers: int = 2) -> AtlasPage | None:
+def build_page(
+    out: Path, results, table: pd.DataFrame, datasets: Path, build: bool = True, workers: int = 2
+) -> AtlasPage | None:
     """The atlas page of a report written in ``out``: the best atlas under ``datasets`` (the published
     report's ``atlas/``), else (with ``build``) the coarse atlas built under ``out/atlas`` (carried with
     the report's folder); None where there is none and ``build`` is False."""

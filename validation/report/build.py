@@ -20,6 +20,7 @@ thousands of files costs seconds of disk time): a page drawn again first removes
 (``_clear_page``) and the domain study its folder, so that nothing is written through a link into the
 previous report.
 """
+
 from __future__ import annotations
 
 import datetime as _dt
@@ -54,13 +55,34 @@ from validation.case.loader import find_case_files
 from validation.case.loads import driving_load, load_name, load_unit
 from validation.case.readings import readings_groups
 from validation.run.readings_rank import Status as RankStatus, rank_readings
-from validation.report.charts import (PLOTLY_JS, Chart, PlotlyMissing, ShapeLine, axis_title, install_plotly,
-                                      method_name, outputs_chart, path_chart, plotly_bundle, shapes_chart, unit_text)
+from validation.report.charts import (
+    PLOTLY_JS,
+    Chart,
+    PlotlyMissing,
+    ShapeLine,
+    axis_title,
+    install_plotly,
+    method_name,
+    outputs_chart,
+    path_chart,
+    plotly_bundle,
+    shapes_chart,
+    unit_text,
+)
 from validation.report.format import by_case, rows_of, sig, verdict_html
 from validation.report.overview import CLAIMS, overview_points, plot_overview
-from validation.report.summary import (METHOD_NAMES, CaseSummary, case_sentence, findings, findings_html,
-                                       key_terms, summarise, summary_markdown, summary_tables_html,
-                                       verdict_counts_line)
+from validation.report.summary import (
+    METHOD_NAMES,
+    CaseSummary,
+    case_sentence,
+    findings,
+    findings_html,
+    key_terms,
+    summarise,
+    summary_markdown,
+    summary_tables_html,
+    verdict_counts_line,
+)
 from validation.run.compare import verdict_by_method
 from validation.run.verdict import Verdict, counts_sentence, method_verdicts, vocabulary_lines
 from validation.run.runner import CaseResult
@@ -68,20 +90,52 @@ from validation.run.outcome import run_cases, summary, tabulate
 from validation.run.timeline import Timed, breakdown, command_age, csv_text, timed
 
 TIMING_CSV = "timing.csv"
-DOMAINS = "sweeps/chapter4_domains"   # the chapter-4 domain study the whole report runs (``DomainStudy``)
+DOMAINS = "sweeps/chapter4_domains"  # the chapter-4 domain study the whole report runs (``DomainStudy``)
 # what the report writes in its folder (everything else there is another command's, carried over), and
 # what it reuses of the previous report: the case pages (redrawn only when their digest changes), the
 # ParaView series they link to, the plotly.js bundle, the domain study, the atlas page's pictures (``atlas_page``:
 # redrawn only when the atlas changes; the atlas datasets under ``atlas/`` are ``prbm-validate atlas``'s, carried)
-OWNED = ("index.html", "index.md", "overview.png", "overview.svg", "results.csv", "results.parquet", "summary.csv",
-         TIMING_CSV, "timing.txt", "cases", "vtu", "js", DOMAINS, "atlas.html", "atlas_figures")
+OWNED = (
+    "index.html",
+    "index.md",
+    "overview.png",
+    "overview.svg",
+    "results.csv",
+    "results.parquet",
+    "summary.csv",
+    TIMING_CSV,
+    "timing.txt",
+    "cases",
+    "vtu",
+    "js",
+    DOMAINS,
+    "atlas.html",
+    "atlas_figures",
+)
 REUSED = ("cases", "vtu", "js", DOMAINS, "atlas_figures")
-LINKED = ("cases", "vtu", DOMAINS, "atlas_figures")   # reused as hard links: removed, never written through
-DEPENDENCIES = ["numpy", "scipy", "scikit-fem", "meshio", "pyvista", "pandas", "matplotlib", "plotly", "pydantic",
-                "tqdm", "openseespy", "pyarrow"]
+LINKED = ("cases", "vtu", DOMAINS, "atlas_figures")  # reused as hard links: removed, never written through
+DEPENDENCIES = [
+    "numpy",
+    "scipy",
+    "scikit-fem",
+    "meshio",
+    "pyvista",
+    "pandas",
+    "matplotlib",
+    "plotly",
+    "pydantic",
+    "tqdm",
+    "openseespy",
+    "pyarrow",
+]
+
+
 def reproducibility() -> dict[str, str]:
-    info = {"date": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
-            "python": sys.version.split()[0], "platform": platform.platform()}
+    info = {
+        "date": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        "python": sys.version.split()[0],
+        "platform": platform.platform(),
+    }
     cpu = platform.processor()
     try:
         for line in Path("/proc/cpuinfo").read_text().splitlines():
@@ -92,8 +146,13 @@ def reproducibility() -> dict[str, str]:
         pass
     info["processor"] = cpu or "unknown"
     try:
-        info["git commit"] = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
-                                            text=True, check=True, cwd=Path(__file__).parent).stdout.strip()
+        info["git commit"] = subprocess.run(
+            ["git", "rev-parse", "--short", "HEAD"],
+            capture_output=True,
+            text=True,
+            check=True,
+            cwd=Path(__file__).parent,
+        ).stdout.strip()
     except (OSError, subprocess.CalledProcessError):
         info["git commit"] = "unknown"
     for name in DEPENDENCIES:
@@ -167,9 +226,12 @@ def _shape_chart(result: CaseResult) -> Chart | None:
     lines = []
     for method, per_level in shapes.items():
         fields = result.runs[method].extras.get("fields")
-        own = len(per_level) != case.n_levels()   # a continuation: its own steps, by load factor
-        load = fields.load_factor if fields is not None and len(fields.load_factor) == len(per_level) else \
-            np.arange(len(per_level), dtype=float)
+        own = len(per_level) != case.n_levels()  # a continuation: its own steps, by load factor
+        load = (
+            fields.load_factor
+            if fields is not None and len(fields.load_factor) == len(per_level)
+            else np.arange(len(per_level), dtype=float)
+        )
         for k in paraview.frames_shown(load):
             if own:
                 steps.append(f"{method_name(method)} path, load factor {sig(load[k], 3)}")
@@ -181,8 +243,7 @@ def _shape_chart(result: CaseResult) -> Chart | None:
         if ref.label == "measured" and ref.quantity in ("x", "y"):
             measured.setdefault((ref.point, ref.level), {})[ref.quantity] = ref.value
     measured_points = [(level, v["x"], v["y"]) for (_, level), v in measured.items() if "x" in v and "y" in v]
-    return shapes_chart("shapes", lines, measured_points, case.unit("length"), steps, prefix,
-                        first=case.n_levels() - 1)
+    return shapes_chart("shapes", lines, measured_points, case.unit("length"), steps, prefix, first=case.n_levels() - 1)
 
 
 def _path_chart(result: CaseResult) -> Chart | None:
@@ -204,20 +265,34 @@ def _first_by(rows: list[tuple], key, column: int, value: int) -> dict[tuple, di
 
 def _labels(by_key: dict[tuple, dict[str, float]]) -> list[str]:
     """The labels (sorted) with at least one number over the keys (``pivot_table``'s columns)."""
-    return sorted({label for part in by_key.values() for label in part
-                   if not all(pd.isna(p.get(label, np.nan)) for p in by_key.values())})
+    return sorted(
+        {
+            label
+            for part in by_key.values()
+            for label in part
+            if not all(pd.isna(p.get(label, np.nan)) for p in by_key.values())
+        }
+    )
 
 
-def _spread(by_key: dict[tuple, dict[str, float]], keys: list[tuple], labels: list[str],
-            prefix: str = "") -> dict[str, np.ndarray]:
+def _spread(
+    by_key: dict[tuple, dict[str, float]], keys: list[tuple], labels: list[str], prefix: str = ""
+) -> dict[str, np.ndarray]:
     """A column per label (``prefix`` before each name), each over ``keys`` (NaN where a key has no value
     under the label): ``pivot_table``'s columns, left-joined on ``keys``."""
     return {prefix + c: np.array([by_key.get(k, {}).get(c, np.nan) for k in keys], float) for c in labels}
 
 
 GLANCE_KEY = ["quantity", "point", "level"]
-GLANCE_COLUMNS = GLANCE_KEY + ["method", "value", "reference_label", "reference_value", "error_estimate",
-                               "level_label", "unit"]
+GLANCE_COLUMNS = GLANCE_KEY + [
+    "method",
+    "value",
+    "reference_label",
+    "reference_value",
+    "error_estimate",
+    "level_label",
+    "unit",
+]
 
 
 UNRELIABLE = "unreliable"
@@ -242,23 +317,27 @@ def glance(table: pd.DataFrame) -> pd.DataFrame:
     differences an engineer asks about first (PRBM - FEM, each model - measured, FEM - exact)."""
     if table.empty or table["quantity"].isna().all():
         return pd.DataFrame()
-    rows = [row for row in marked_estimates(table)[GLANCE_COLUMNS].itertuples(index=False, name=None)
-            if not pd.isna(row[0])]
+    rows = [
+        row for row in marked_estimates(table)[GLANCE_COLUMNS].itertuples(index=False, name=None) if not pd.isna(row[0])
+    ]
     key = itemgetter(0, 1, 2)
     values, printed = _first_by(rows, key, 3, 4), _first_by(rows, key, 5, 6)
     # a row per output with a method's value (sorted), one frame built at once (no index to join on)
     shown = _labels(values)
     keys = sorted(k for k, part in values.items() if any(not pd.isna(part.get(c, np.nan)) for c in shown))
-    key_columns = {name: [k[i] for k in keys] if keys else pd.Series([], dtype=object)  # as an empty index
-                   for i, name in enumerate(GLANCE_KEY)}
-    out = pd.DataFrame(key_columns | _spread(values, keys, shown)
-                       | _spread(printed, keys, _labels(printed), "printed "))
-    fem_est: dict[tuple, object] = {}   # a float, or UNRELIABLE
+    key_columns = {
+        name: [k[i] for k in keys] if keys else pd.Series([], dtype=object)  # as an empty index
+        for i, name in enumerate(GLANCE_KEY)
+    }
+    out = pd.DataFrame(
+        key_columns | _spread(values, keys, shown) | _spread(printed, keys, _labels(printed), "printed ")
+    )
+    fem_est: dict[tuple, object] = {}  # a float, or UNRELIABLE
     for row in rows:
         if row[3] == "fem":
             fem_est.setdefault(key(row), row[7])
     if fem_est:
-        out["fem ± (estimate)"] = [fem_est.get(k, np.nan) for k in keys]   # floats, or UNRELIABLE
+        out["fem ± (estimate)"] = [fem_est.get(k, np.nan) for k in keys]  # floats, or UNRELIABLE
     if {"prbm", "fem"} <= set(out.columns):
         out["PRBM - FEM"] = out["prbm"] - out["fem"]
     for method in ("prbm", "fem"):
@@ -283,8 +362,13 @@ def _case_files(result: CaseResult, out: Path) -> tuple[list[str], str | None]:
     pvds = paraview.write_case_series(result.loaded.case, result.runs, out / "vtu" / cid, series)
     labels = result.loaded.case.level_labels
     title = f"{cid}: last load level" + (f" ({labels[-1]})" if labels else "")
-    render = paraview.render_series(series, out / "cases" / f"{cid}_render.png", title,
-                                    unit_text(result.loaded.case.unit("moment"))) if series else None
+    render = (
+        paraview.render_series(
+            series, out / "cases" / f"{cid}_render.png", title, unit_text(result.loaded.case.unit("moment"))
+        )
+        if series
+        else None
+    )
     return [str(p.relative_to(out)) for p in pvds], render.name if render else None
 
 
@@ -294,10 +378,19 @@ def _prb_model(result: CaseResult) -> tuple[pd.DataFrame | None, str | None]:
     run = result.runs.get("prbm")
     if run is None or not run.extras.get("prb_model"):
         return None, None
-    rows = [{"beam": b["beam"], "model": b["model"], "ends": "-".join(b["ends"]),
-             "pivots": "; ".join(f"({x:.4g}, {y:.4g})" for x, y in b["pivots"]),
-             "springs": "; ".join(f"{k:.4g}" for k in b["springs"]), "gamma": b["gamma"], "K_theta": b["K_theta"],
-             "why": b["reason"]} for b in run.extras["prb_model"]]
+    rows = [
+        {
+            "beam": b["beam"],
+            "model": b["model"],
+            "ends": "-".join(b["ends"]),
+            "pivots": "; ".join(f"({x:.4g}, {y:.4g})" for x, y in b["pivots"]),
+            "springs": "; ".join(f"{k:.4g}" for k in b["springs"]),
+            "gamma": b["gamma"],
+            "K_theta": b["K_theta"],
+            "why": b["reason"],
+        }
+        for b in run.extras["prb_model"]
+    ]
     return pd.DataFrame(rows), run.extras.get("lock")
 
 
@@ -327,27 +420,52 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
     charts = [c for c in (_path_chart(result), _shape_chart(result), _output_chart(result, table)) if c]
     pvds, render = _case_files(result, out)
     images = [render] if render else []
-    cols = {"method": "method", "quantity": "quantity", "point": "point", "level_label": "load level",
-            "value": "value", "unit": "unit", "verdict": "verdict", "error_estimate": "FEM error estimate",
-            "reference_label": "printed column", "reference_value": "printed value",
-            "abs_error": "absolute error", "rel_error": "relative error",
-            "norm_error": "error / characteristic length", "within_tolerance": "within stated tolerance",
-            "converged": "converged"}
+    cols = {
+        "method": "method",
+        "quantity": "quantity",
+        "point": "point",
+        "level_label": "load level",
+        "value": "value",
+        "unit": "unit",
+        "verdict": "verdict",
+        "error_estimate": "FEM error estimate",
+        "reference_label": "printed column",
+        "reference_value": "printed value",
+        "abs_error": "absolute error",
+        "rel_error": "relative error",
+        "norm_error": "error / characteristic length",
+        "within_tolerance": "within stated tolerance",
+        "converged": "converged",
+    }
     cols = _with_model_range(cols, table)
     shown = marked_estimates(table.dropna(subset=["quantity"]))[list(cols)].rename(columns=cols)
-    verdicts = method_verdicts(case, result.runs, table, verdict_by_method(case, result.runs, table) if len(table) else {})
+    verdicts = method_verdicts(
+        case, result.runs, table, verdict_by_method(case, result.runs, table) if len(table) else {}
+    )
     badges = [(m, verdicts[m].verdict, verdicts[m].reason, r) for m, r in result.runs.items()]
-    runs = pd.DataFrame([{"method": METHOD_NAMES.get(m, m), "verdict": v.value, "why": w[:300],
-                          "status": r.status.value if r.status else "", "time [s]": r.wall_time,
-                          "message": r.message[:300]} for m, v, w, r in badges])
+    runs = pd.DataFrame(
+        [
+            {
+                "method": METHOD_NAMES.get(m, m),
+                "verdict": v.value,
+                "why": w[:300],
+                "status": r.status.value if r.status else "",
+                "time [s]": r.wall_time,
+                "message": r.message[:300],
+            }
+            for m, v, w, r in badges
+        ]
+    )
     source = case.case.source.label() if case.case.source else ""
     items = findings([result], table)
     sentence = case_sentence(result, table)
     status = " ".join(f"{html.escape(METHOD_NAMES.get(m, m))} {verdict_html(v, w)}" for m, v, w, _ in badges)
-    body = (f"<p><a href='../index.html'>all cases</a></p><h1>{html.escape(case.case.title)}</h1>"
-            f"<p class='lead'><b>{html.escape(sentence)}</b></p><p>{status}</p>"
-            f"<p><b>id</b> <code>{html.escape(cid)}</code> &middot; <b>group</b> {html.escape(case.case.group)} "
-            f"&middot; <b>units</b> {html.escape(case.case.units)} &middot; <b>source</b> {html.escape(source)}</p>")
+    body = (
+        f"<p><a href='../index.html'>all cases</a></p><h1>{html.escape(case.case.title)}</h1>"
+        f"<p class='lead'><b>{html.escape(sentence)}</b></p><p>{status}</p>"
+        f"<p><b>id</b> <code>{html.escape(cid)}</code> &middot; <b>group</b> {html.escape(case.case.group)} "
+        f"&middot; <b>units</b> {html.escape(case.case.units)} &middot; <b>source</b> {html.escape(source)}</p>"
+    )
     body += "".join(chart.html() for chart in charts[:2])
     if items:
         body += "<h2>Findings</h2>" + findings_html(items, {cid: f"{cid}.html"}, shown=6)
@@ -355,41 +473,68 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
     body += "".join(_image(name, name) for name in images)
     details = f"<p>{html.escape(case.case.description)}</p>"
     if case.case.assumptions:
-        details += "<h3>Assumptions</h3><ul>" + "".join(f"<li>{html.escape(a)}</li>"
-                                                        for a in case.case.assumptions) + "</ul>"
+        details += (
+            "<h3>Assumptions</h3><ul>" + "".join(f"<li>{html.escape(a)}</li>" for a in case.case.assumptions) + "</ul>"
+        )
     body += f"<details><summary>Description and assumptions</summary>{details}</details>"
     body += f"<details><summary>Methods: verdict, status, time, message</summary>{_html_table(runs)}</details>"
     at_a_glance = glance(table)
     prb_model, prb_lock = _prb_model(result)
     if prb_model is not None:
-        body += ("<h2>PRB model built from the geometry</h2>"
-                 + (f"<p><b>Lock:</b> {html.escape(prb_lock)}</p>" if prb_lock else "")
-                 + f"<details><summary>Each beam's model, pivots and springs</summary>{_html_table(prb_model)}"
-                 "</details>")
+        body += (
+            "<h2>PRB model built from the geometry</h2>"
+            + (f"<p><b>Lock:</b> {html.escape(prb_lock)}</p>" if prb_lock else "")
+            + f"<details><summary>Each beam's model, pivots and springs</summary>{_html_table(prb_model)}"
+            "</details>"
+        )
     if len(at_a_glance):
-        body += ("<details><summary>At a glance: every method beside the printed columns</summary><p>Differences "
-                 "are in the output's unit (FEM - exact uses the exact elastica where the case runs it; "
-                 "'fem ± (estimate)' is the FEM's own Richardson error estimate, or 'unreliable': no bound).</p>"
-                 + _html_table(at_a_glance) + "</details>")
-    body += ("<details><summary>Every output (full precision)</summary><p>The relative error is relative to "
-             "the printed value; error / characteristic length is the absolute error over the segment length "
-             "or the mechanism's extent (useful where a value is near zero).</p>")
-    body += _html_table(shown, lambda r: "" if pd.isna(r["within stated tolerance"])
-                        else ("good" if r["within stated tolerance"] else "bad"), digits=6) + "</details>"
+        body += (
+            "<details><summary>At a glance: every method beside the printed columns</summary><p>Differences "
+            "are in the output's unit (FEM - exact uses the exact elastica where the case runs it; "
+            "'fem ± (estimate)' is the FEM's own Richardson error estimate, or 'unreliable': no bound).</p>"
+            + _html_table(at_a_glance)
+            + "</details>"
+        )
+    body += (
+        "<details><summary>Every output (full precision)</summary><p>The relative error is relative to "
+        "the printed value; error / characteristic length is the absolute error over the segment length "
+        "or the mechanism's extent (useful where a value is near zero).</p>"
+    )
+    body += (
+        _html_table(
+            shown,
+            lambda r: (
+                "" if pd.isna(r["within stated tolerance"]) else ("good" if r["within stated tolerance"] else "bad")
+            ),
+            digits=6,
+        )
+        + "</details>"
+    )
     if pvds:
-        body += ("<details><summary>ParaView files</summary><p>One <code>.pvd</code> series per method, "
-                 "time = the case's first load; open it in ParaView and colour by the point data.</p><ul>"
-                 + "".join(f"<li>{_link(f'../{v}', v)}</li>" for v in pvds) + "</ul></details>")
+        body += (
+            "<details><summary>ParaView files</summary><p>One <code>.pvd</code> series per method, "
+            "time = the case's first load; open it in ParaView and colour by the point data.</p><ul>"
+            + "".join(f"<li>{_link(f'../{v}', v)}</li>" for v in pvds)
+            + "</ul></details>"
+        )
     install_plotly(out)
-    (folder / f"{cid}.html").write_text(_page(case.case.title, body, f"<style>{CASE_CSS}</style>"
-                                              f"<script src='../{PLOTLY_JS}'></script>"))
-    md = [f"# {case.case.title}\n", f"**{sentence}**\n",
-          f"`{cid}` · {case.case.group} · units {case.case.units} · {source}\n", case.case.description + "\n"]
+    (folder / f"{cid}.html").write_text(
+        _page(case.case.title, body, f"<style>{CASE_CSS}</style><script src='../{PLOTLY_JS}'></script>")
+    )
+    md = [
+        f"# {case.case.title}\n",
+        f"**{sentence}**\n",
+        f"`{cid}` · {case.case.group} · units {case.case.units} · {source}\n",
+        case.case.description + "\n",
+    ]
     md += [f"- {a}" for a in case.case.assumptions]
     md += ["\n## Methods\n", _md_table(runs)]
     if prb_model is not None:
-        md += ["\n## PRB model built from the geometry\n"] + ([f"Lock: {prb_lock}\n"] if prb_lock else []) \
+        md += (
+            ["\n## PRB model built from the geometry\n"]
+            + ([f"Lock: {prb_lock}\n"] if prb_lock else [])
             + [_md_table(prb_model)]
+        )
     if len(at_a_glance):
         md += ["\n## At a glance\n", _md_table(at_a_glance)]
     md += ["\n## Every output\n", _md_table(shown)]
@@ -446,7 +591,7 @@ def _page_job(args) -> PageLink:
         stamp.unlink(missing_ok=True)
         return PageLink(cid, link, error)
     stamp.write_text(digest)
-    return PageLink(cid, link, summary=summarise(result, part, sentence))   # the page's sentence: once
+    return PageLink(cid, link, summary=summarise(result, part, sentence))  # the page's sentence: once
 
 
 def _clear_page(out: Path, cid: str) -> None:
@@ -469,13 +614,15 @@ class PageWriter:
         with pd.option_context("mode.string_storage", PAGE_STRINGS):
             part = tabulate(result)
             if len(part):
-                part = part.sort_values(["group", "case", "method", "quantity", "point", "level"], kind="stable",
-                                        ignore_index=True)
+                part = part.sort_values(
+                    ["group", "case", "method", "quantity", "point", "level"], kind="stable", ignore_index=True
+                )
             return _page_job((result, part, self.out))
 
 
-def _build_pages(results: list[CaseResult], table: pd.DataFrame, out: Path, jobs: int,
-                 done: dict | None = None) -> list[PageLink]:
+def _build_pages(
+    results: list[CaseResult], table: pd.DataFrame, out: Path, jobs: int, done: dict | None = None
+) -> list[PageLink]:
     """The page of every case; the pages not in ``done`` (already drawn) are drawn here."""
     done = done or {}
     parts = by_case(table)
@@ -499,16 +646,21 @@ def _readings_section(results, table: pd.DataFrame, links: dict) -> tuple[list[s
     body = ["<h2>Load readings against the measurements</h2>"]
     md = ["\n## Load readings against the measurements\n"]
     for group in groups:
-        best = group.table.groupby("method", sort=False).head(1)        # sorted by rms: each method's closest
-        note = "closest: " + "; ".join(f"{r['method']}: {r['case']}, rms {r['rms']:.4g}, largest {r['max']:.4g} "
-                                       f"over {r['levels']} levels" for _, r in best.iterrows())
+        best = group.table.groupby("method", sort=False).head(1)  # sorted by rms: each method's closest
+        note = "closest: " + "; ".join(
+            f"{r['method']}: {r['case']}, rms {r['rms']:.4g}, largest {r['max']:.4g} over {r['levels']} levels"
+            for _, r in best.iterrows()
+        )
         ranking = ranked.get(group.experiment)
         if ranking is not None:
             flag = " class='bad'" if ranking.status is RankStatus.DIFFERS else ""
             body.append(f"<p{flag}>{html.escape(ranking.line())}</p>")
             md.append(f"\n{ranking.line()}\n")
-        body += [f"<details class='fold'><summary><b>{html.escape(group.experiment)}</b>: {html.escape(note)}"
-                 "</summary>", _html_table(group.table, lambda r: "good" if r["closest"] else ""), "</details>"]
+        body += [
+            f"<details class='fold'><summary><b>{html.escape(group.experiment)}</b>: {html.escape(note)}</summary>",
+            _html_table(group.table, lambda r: "good" if r["closest"] else ""),
+            "</details>",
+        ]
         md += [f"\n### {group.experiment}\n", note + "\n", _md_table(group.table)]
     return body, md
 
@@ -519,9 +671,11 @@ OVERVIEW_CAPTION = (
     "length L; y: the largest PRBM-to-FEM position difference in % of L, at equal load; colour and marker: "
     "the PRBM model. Lines: the accuracy claims printed in the sources, each labelled with what it claims; "
     "[ananthasuresh_l18] prints no numeric accuracy, only that its n-fits work 'comfortably and quite "
-    "accurately' within their n-ranges.")
-OVERVIEW_ALT = ("PRBM error against deflection, every case and load level, with the printed claims: "
-                + "; ".join(c.label.replace("\n", " ") for c in CLAIMS))
+    "accurately' within their n-ranges."
+)
+OVERVIEW_ALT = "PRBM error against deflection, every case and load level, with the printed claims: " + "; ".join(
+    c.label.replace("\n", " ") for c in CLAIMS
+)
 
 
 def headline(rows) -> str:
@@ -534,13 +688,17 @@ def headline(rows) -> str:
         return f"{counts}; none compares the PRBM with the FEM on a position."
     worst = max(compared, key=lambda r: r.prbm_fem_length)
     within = sum(r.prbm_fem_length <= 0.01 for r in compared)
-    return (f"{counts}. {len(compared)} of the {len(rows)} compare the PRBM with the FEM on a position: the "
-            f"PRBM is within 1 % of L of the FEM on {within} of them (a difference, not a claimed limit), "
-            f"{sig(100 * worst.prbm_fem_length, 3)} % of L at most ({worst.case}).")
+    return (
+        f"{counts}. {len(compared)} of the {len(rows)} compare the PRBM with the FEM on a position: the "
+        f"PRBM is within 1 % of L of the FEM on {within} of them (a difference, not a claimed limit), "
+        f"{sig(100 * worst.prbm_fem_length, 3)} % of L at most ({worst.case})."
+    )
 
 
-VOCABULARY = ("Verdicts, worst first: " + "; ".join(vocabulary_lines()) + ". A case's verdict is the worst of "
-              "its rows; the first four make the exit status 1.")
+VOCABULARY = (
+    "Verdicts, worst first: " + "; ".join(vocabulary_lines()) + ". A case's verdict is the worst of "
+    "its rows; the first four make the exit status 1."
+)
 
 
 @dataclass(frozen=True)
@@ -558,7 +716,7 @@ class DomainStudy:
         if (self.folder / "domains.png").is_file() and stamp.is_file() and stamp.read_text() == digest:
             return
         print("chapter-4 deflection domains (validation.sweep.domain_study) ...", flush=True)
-        shutil.rmtree(self.folder, ignore_errors=True)   # hard links to the previous report's: never written through
+        shutil.rmtree(self.folder, ignore_errors=True)  # hard links to the previous report's: never written through
         domain_study.run_study(self.folder)
         stamp.write_text(digest)
 
@@ -597,9 +755,15 @@ def _write_tables(outcome, out: Path) -> pd.DataFrame:
     table = outcome.table
     table.to_csv(out / "results.csv", index=False)
     try:
-        table.astype({"finding": "string", "message": "string", "source": "string", "applicability": "string",
-                      "verdict": "string"}).to_parquet(
-            out / "results.parquet")
+        table.astype(
+            {
+                "finding": "string",
+                "message": "string",
+                "source": "string",
+                "applicability": "string",
+                "verdict": "string",
+            }
+        ).to_parquet(out / "results.parquet")
     except ImportError:
         pass
     summ = summary(table, outcome.results) if len(table) else pd.DataFrame()
@@ -615,16 +779,19 @@ def _command_time(started: float, before: float) -> str:
     return f"the command {before + time.perf_counter() - started:.1f} s since it started"
 
 
-def _write_timing(timeline: list[Timed], out: Path, jobs: int, started: float, cpu: float,
-                  before: float = math.nan) -> str:
+def _write_timing(
+    timeline: list[Timed], out: Path, jobs: int, started: float, cpu: float, before: float = math.nan
+) -> str:
     """``timing.csv`` (every piece of work) and ``timing.txt`` (the breakdown, headed by the whole
     run's wall and CPU seconds, this process and its workers, and the command's wall seconds from its
     first line: the start-up and imports before the report began, ``before`` seconds, count for whoever
     waits for it); returns the text."""
     times = os.times()
     total_cpu = times.user + times.system + times.children_user + times.children_system - cpu
-    head = (f"report: {time.perf_counter() - started:.1f} s wall, {total_cpu:.1f} s CPU (this process and its "
-            f"{jobs} worker(s)); load average {' '.join(f'{x:.1f}' for x in os.getloadavg())}")
+    head = (
+        f"report: {time.perf_counter() - started:.1f} s wall, {total_cpu:.1f} s CPU (this process and its "
+        f"{jobs} worker(s)); load average {' '.join(f'{x:.1f}' for x in os.getloadavg())}"
+    )
     command = _command_time(started, before)
     if command:
         head += f"\n{command} ({before:.1f} s of start-up and imports before the report began)"
@@ -663,9 +830,16 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
         paths = find_case_files(cases or None)
         # the whole report: the chapter-4 deflection-domain study beside the sweep studies, run beside the cases
         extra = [] if cases else [DomainsAndAtlas(stage, out / atlas_page.DATASETS)]
-        outcome = run_cases(paths, use_cache=use_cache, jobs=jobs, progress=True, after=PageWriter(stage),
-                            extra=extra, costs=_last_costs(out))
-        if not outcome.results and outcome.errors:   # rejected: no case could run
+        outcome = run_cases(
+            paths,
+            use_cache=use_cache,
+            jobs=jobs,
+            progress=True,
+            after=PageWriter(stage),
+            extra=extra,
+            costs=_last_costs(out),
+        )
+        if not outcome.results and outcome.errors:  # rejected: no case could run
             for error in outcome.errors:
                 print_error(error)
             return ExitStatus.BAD_INPUT
@@ -675,8 +849,9 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
         # tables and the index page, on the core the finished workers left free
         with ProcessPoolExecutor(max_workers=1) as figure_pool:
             with timed("main", "overview points", timeline):
-                figure = figure_pool.submit(plot_overview, overview_points(outcome.results, outcome.table),
-                                            stage / "overview.png")
+                figure = figure_pool.submit(
+                    plot_overview, overview_points(outcome.results, outcome.table), stage / "overview.png"
+                )
             with timed("main", "tables (results.csv, summary.csv)", timeline):
                 _write_tables(outcome, stage)
             with timed("main", "pages not drawn in the workers", timeline):
@@ -697,9 +872,12 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     for line in screen_lines(timing, out):
         print(line)
     command = _command_time(started, before)
-    print(f"report: {out / 'index.html'} ({len(outcome.results)} cases, {time.perf_counter() - started:.1f} s, "
-          f"of which {pooled:.1f} s the cases, their pages and the domain study on {jobs} process(es)"
-          + (f"; {command}" if command else "") + ")")
+    print(
+        f"report: {out / 'index.html'} ({len(outcome.results)} cases, {time.perf_counter() - started:.1f} s, "
+        f"of which {pooled:.1f} s the cases, their pages and the domain study on {jobs} process(es)"
+        + (f"; {command}" if command else "")
+        + ")"
+    )
     if page_errors and outcome.exit_status == ExitStatus.OK:
         return ExitStatus.FAILED
     return outcome.exit_status
@@ -710,8 +888,9 @@ def _atlas_page(outcome, stage: Path, published: Path, jobs: int, build: bool) -
     ``atlas/`` (else, with ``build``: the whole report, the coarse one built); returns the index's line
     (html, markdown) and the error that kept the page from being drawn (None: drawn or not asked for)."""
     try:
-        page = atlas_page.build_page(stage, outcome.results, outcome.table, published / atlas_page.DATASETS,
-                                     build=build, workers=jobs)
+        page = atlas_page.build_page(
+            stage, outcome.results, outcome.table, published / atlas_page.DATASETS, build=build, workers=jobs
+        )
     except Exception as exc:  # noqa: BLE001 - the atlas page is optional: its failure is reported, the report goes on
         error = f"atlas page: could not be drawn: {type(exc).__name__}: {exc}"
         return (f"<p class='bad'><b>PRBM validity atlas:</b> {html.escape(error)}</p>", error), error
@@ -721,8 +900,9 @@ def _atlas_page(outcome, stage: Path, published: Path, jobs: int, build: bool) -
     return (page.index_html, f"[{page.index_words}]({page.link}); {page.index_text}"), None
 
 
-def _write_index(outcome, pages: list[PageLink], out: Path, published: Path | None = None,
-                 atlas: tuple[str, str] = ("", "")) -> None:
+def _write_index(
+    outcome, pages: list[PageLink], out: Path, published: Path | None = None, atlas: tuple[str, str] = ("", "")
+) -> None:
     """``index.html`` and ``index.md`` written in ``out`` (the overview figure beside them: `plot_overview`),
     linking the other commands' pages found in ``published`` (the report's folder; default ``out``);
     ``atlas``: the line (html, markdown) about the atlas page, under the headline."""
@@ -737,44 +917,72 @@ def _write_index(outcome, pages: list[PageLink], out: Path, published: Path | No
     failed = outcome.failed_comparisons
     info = reproducibility()
     body_readings, md_readings = _readings_section(outcome.results, table, links)
-    body = ["<h1>PRBM validation report</h1>", f"<p class='lead'>{html.escape(headline(rows))}</p>", atlas[0],
-            f"<p><img id='overview' src='overview.png' alt='{html.escape(OVERVIEW_ALT, quote=True)}'></p>",
-            f"<p class='caption'>{html.escape(OVERVIEW_CAPTION)} <a href='overview.svg'>The same picture as "
-            "SVG</a>: click a dot to open its case.</p>",
-            f"<h2>Key</h2><p class='caption vocabulary'>{html.escape(VOCABULARY)}</p><dl class='key'>"
-            + "".join(f"<dt>{html.escape(term)}</dt><dd>{html.escape(meaning)}</dd>" for term, meaning in key_terms())
-            + "</dl>",
-            "<h2>Cases</h2><p class='caption'>One line a case: click a header to sort, the case for its page, a "
-            "result to unfold it (hover: the whole sentence). Colour: PRBM error from green (at most 0.5 % of L) "
-            "to red (10 % of L or more), whatever its verdict; a label above the number where a limit is claimed "
-            "for it. Hover a verdict or a method for its reason, the FEM time for the other methods' times.</p>",
-            summary_tables_html(rows, links), *body_readings,
-            "<h2>Findings and their evidence</h2><p class='caption'>Printed numbers not reproduced, misprints, "
-            "and readings of the source that decide the answer; one line a case, its findings and their evidence "
-            "behind a click.</p>", findings_html(items, links)]
+    body = [
+        "<h1>PRBM validation report</h1>",
+        f"<p class='lead'>{html.escape(headline(rows))}</p>",
+        atlas[0],
+        f"<p><img id='overview' src='overview.png' alt='{html.escape(OVERVIEW_ALT, quote=True)}'></p>",
+        f"<p class='caption'>{html.escape(OVERVIEW_CAPTION)} <a href='overview.svg'>The same picture as "
+        "SVG</a>: click a dot to open its case.</p>",
+        f"<h2>Key</h2><p class='caption vocabulary'>{html.escape(VOCABULARY)}</p><dl class='key'>"
+        + "".join(f"<dt>{html.escape(term)}</dt><dd>{html.escape(meaning)}</dd>" for term, meaning in key_terms())
+        + "</dl>",
+        "<h2>Cases</h2><p class='caption'>One line a case: click a header to sort, the case for its page, a "
+        "result to unfold it (hover: the whole sentence). Colour: PRBM error from green (at most 0.5 % of L) "
+        "to red (10 % of L or more), whatever its verdict; a label above the number where a limit is claimed "
+        "for it. Hover a verdict or a method for its reason, the FEM time for the other methods' times.</p>",
+        summary_tables_html(rows, links),
+        *body_readings,
+        "<h2>Findings and their evidence</h2><p class='caption'>Printed numbers not reproduced, misprints, "
+        "and readings of the source that decide the answer; one line a case, its findings and their evidence "
+        "behind a click.</p>",
+        findings_html(items, links),
+    ]
     md = ["# PRBM validation report\n", headline(rows) + "\n"]
     md += [f"PRBM validity atlas: {atlas[1]}\n"] if atlas[1] else []
-    md += ["![overview](overview.png)\n",
-           OVERVIEW_CAPTION + "\n", VOCABULARY + "\n", summary_markdown(rows), *md_readings, "\n## Findings\n"]
+    md += [
+        "![overview](overview.png)\n",
+        OVERVIEW_CAPTION + "\n",
+        VOCABULARY + "\n",
+        summary_markdown(rows),
+        *md_readings,
+        "\n## Findings\n",
+    ]
     md += [f"- {f.case}: {f.text}" + "".join(f"\n  - {e}" for e in f.evidence[:3]) for f in items]
     if len(failed):
-        body.append("<h2>Comparisons outside the claimed limit</h2><ul>" + "".join(
-            f"<li class='bad'>{_link(links.get(r['case'], '#'), r['case'])} "
-            + html.escape(f"{METHOD_NAMES.get(r['method'], r['method'])} {r['quantity']} at {r['level_label']}: "
-                          f"{sig(r['value'])} against printed {r['reference_label']} {sig(r['reference_value'])}")
-            + "</li>"
-            for _, r in failed.iterrows()) + "</ul>")
-        md += [f"- **outside the claimed limit** {r['case']} {r['method']} {r['quantity']} at {r['level_label']}"
-               for _, r in failed.iterrows()]
+        body.append(
+            "<h2>Comparisons outside the claimed limit</h2><ul>"
+            + "".join(
+                f"<li class='bad'>{_link(links.get(r['case'], '#'), r['case'])} "
+                + html.escape(
+                    f"{METHOD_NAMES.get(r['method'], r['method'])} {r['quantity']} at {r['level_label']}: "
+                    f"{sig(r['value'])} against printed {r['reference_label']} {sig(r['reference_value'])}"
+                )
+                + "</li>"
+                for _, r in failed.iterrows()
+            )
+            + "</ul>"
+        )
+        md += [
+            f"- **outside the claimed limit** {r['case']} {r['method']} {r['quantity']} at {r['level_label']}"
+            for _, r in failed.iterrows()
+        ]
     if outcome.errors:
-        body.append("<h2>Bad case files</h2><ul>" + "".join(f"<li>{html.escape(e)}</li>"
-                                                              for e in outcome.errors) + "</ul>")
+        body.append(
+            "<h2>Bad case files</h2><ul>" + "".join(f"<li>{html.escape(e)}</li>" for e in outcome.errors) + "</ul>"
+        )
     if page_errors:
-        body.append("<h2>Pages that could not be drawn</h2><ul>" + "".join(
-            f"<li class='bad'>{html.escape(e)}</li>" for e in page_errors) + "</ul>")
-    body.append("<h2>Reproducibility</h2><details class='fold'><summary>machine, versions and code digest ("
-                f"{len(info)} items)</summary>" + _html_table(pd.DataFrame(list(info.items()),
-                                                                            columns=["item", "value"])) + "</details>")
+        body.append(
+            "<h2>Pages that could not be drawn</h2><ul>"
+            + "".join(f"<li class='bad'>{html.escape(e)}</li>" for e in page_errors)
+            + "</ul>"
+        )
+    body.append(
+        "<h2>Reproducibility</h2><details class='fold'><summary>machine, versions and code digest ("
+        f"{len(info)} items)</summary>"
+        + _html_table(pd.DataFrame(list(info.items()), columns=["item", "value"]))
+        + "</details>"
+    )
     body.append("<p>Files: <a href='results.csv'>results.csv</a>, <a href='summary.csv'>summary.csv</a></p>")
     body += _other_pages_html(published, out)
     md += ["\n## Reproducibility\n", _md_table(pd.DataFrame(list(info.items()), columns=["item", "value"]))]
@@ -786,28 +994,43 @@ def _other_pages_html(published: Path, out: Path) -> list[str]:
     """The index's links to the other commands' pages and pictures found in ``published`` (and ``out``),
     each study's and the benchmark's pictures folded under one line."""
     body = []
-    extra = [(f"{name}/{page}", label) for name, page, label in
-             (("stress", "index.html", "stress report (prbm-validate stress)"),
-              ("bench", "headline.json", "benchmark headline (prbm-validate bench)"),
-              ("bench", "bench.csv", "benchmark table"))
-             if (published / name / page).exists()]
+    extra = [
+        (f"{name}/{page}", label)
+        for name, page, label in (
+            ("stress", "index.html", "stress report (prbm-validate stress)"),
+            ("bench", "headline.json", "benchmark headline (prbm-validate bench)"),
+            ("bench", "bench.csv", "benchmark table"),
+        )
+        if (published / name / page).exists()
+    ]
     if extra:
-        body.append("<h2>Other pages</h2><ul>" + "".join(f"<li><a href='{link}'>{label}</a></li>"
-                                                         for link, label in extra) + "</ul>")
+        body.append(
+            "<h2>Other pages</h2><ul>"
+            + "".join(f"<li><a href='{link}'>{label}</a></li>" for link, label in extra)
+            + "</ul>"
+        )
     studies: dict[str, Path] = {}
-    for folder in (published, out):   # a study written in ``out`` over the published one of that name
-        studies |= {p.name: p for p in (folder / "sweeps").glob("*")
-                    if p.is_dir() and not is_leftover(p) and list(p.glob("*.png"))}
+    for folder in (published, out):  # a study written in ``out`` over the published one of that name
+        studies |= {
+            p.name: p
+            for p in (folder / "sweeps").glob("*")
+            if p.is_dir() and not is_leftover(p) and list(p.glob("*.png"))
+        }
     if studies:
         body.append("<h2>Sweep studies (prbm-validate sweep)</h2>")
         for _, study in sorted(studies.items()):
             pngs = sorted(study.glob("*.png"))
             pictures = "".join(_image(f"sweeps/{study.name}/{png.name}", png.name) for png in pngs)
-            body.append(f"<details class='fold'><summary><b>{html.escape(study.name)}</b>: {len(pngs)} "
-                        f"picture(s)</summary>{pictures}</details>")
+            body.append(
+                f"<details class='fold'><summary><b>{html.escape(study.name)}</b>: {len(pngs)} "
+                f"picture(s)</summary>{pictures}</details>"
+            )
     bench_plots = sorted((published / "bench").glob("*.png"))
     if bench_plots:
-        body.append(f"<h2>Benchmark (prbm-validate bench)</h2><details class='fold'><summary>{len(bench_plots)} "
-                    "picture(s)</summary>" + "".join(_image(f"bench/{png.name}", png.name) for png in bench_plots)
-                    + "</details>")
+        body.append(
+            f"<h2>Benchmark (prbm-validate bench)</h2><details class='fold'><summary>{len(bench_plots)} "
+            "picture(s)</summary>"
+            + "".join(_image(f"bench/{png.name}", png.name) for png in bench_plots)
+            + "</details>"
+        )
     return body

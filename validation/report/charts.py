@@ -24,6 +24,7 @@ beside or above the plot area (never on it), every axis a quantity in words with
   the case's length unit on equal scales;
 - ``path_chart``: a FEM continuation's equilibrium path with its limit points.
 """
+
 from __future__ import annotations
 
 import html
@@ -40,27 +41,53 @@ import pandas as pd
 from validation.case.capabilities import QUANTITIES
 from validation.report.summary import METHOD_NAMES
 
-PLOTLY_JS = "js/plotly.min.js"   # under the report folder
-METHOD_STYLE = {"fem": ("#1f77b4", "solid"), "prbm": ("#ff7f0e", "dash"), "elastica": ("#2ca02c", "dot"),
-                "bcm": ("#9467bd", "dashdot")}
-REF_MARKER = {"PRBM": "square-open", "ANSYS": "triangle-up-open", "elliptic": "diamond-open",
-              "measured": "circle-open", "exact": "star-open", "BCM": "triangle-down-open",
-              "chain": "cross-open", "published": "x-open"}
-PANEL_WIDTH, PANEL_HEIGHT = 420, 300   # pixels of one output's panel (its width: at most, the page decides)
-SHAPES_WIDTH = 760                     # pixels, at most, of the deformed-shapes chart
+PLOTLY_JS = "js/plotly.min.js"  # under the report folder
+METHOD_STYLE = {
+    "fem": ("#1f77b4", "solid"),
+    "prbm": ("#ff7f0e", "dash"),
+    "elastica": ("#2ca02c", "dot"),
+    "bcm": ("#9467bd", "dashdot"),
+}
+REF_MARKER = {
+    "PRBM": "square-open",
+    "ANSYS": "triangle-up-open",
+    "elliptic": "diamond-open",
+    "measured": "circle-open",
+    "exact": "star-open",
+    "BCM": "triangle-down-open",
+    "chain": "cross-open",
+    "published": "x-open",
+}
+PANEL_WIDTH, PANEL_HEIGHT = 420, 300  # pixels of one output's panel (its width: at most, the page decides)
+SHAPES_WIDTH = 760  # pixels, at most, of the deformed-shapes chart
 FONT = {"size": 11}
 # what an axis says of each quantity (``QUANTITIES``' names are the case files' words, not a reader's)
-AXIS_NAMES = {"x": "x position", "y": "y position", "dx": "x displacement", "dy": "y displacement",
-              "rotation": "rotation θ", "force_x": "force Fx", "force_y": "force Fy", "moment": "moment M",
-              "reaction_x": "reaction Rx", "reaction_y": "reaction Ry", "reaction_moment": "reaction moment",
-              "input_angle": "input angle θ2", "input_torque": "input torque T", "strain_energy": "strain energy U",
-              "mechanical_advantage": "mechanical advantage", "dof": "degrees of freedom",
-              "prb_angle": "PRB angle Θ", "limit_load": "limit load", "max_stress": "largest bending stress σ",
-              "inflection_points": "inflection points"}
+AXIS_NAMES = {
+    "x": "x position",
+    "y": "y position",
+    "dx": "x displacement",
+    "dy": "y displacement",
+    "rotation": "rotation θ",
+    "force_x": "force Fx",
+    "force_y": "force Fy",
+    "moment": "moment M",
+    "reaction_x": "reaction Rx",
+    "reaction_y": "reaction Ry",
+    "reaction_moment": "reaction moment",
+    "input_angle": "input angle θ2",
+    "input_torque": "input torque T",
+    "strain_energy": "strain energy U",
+    "mechanical_advantage": "mechanical advantage",
+    "dof": "degrees of freedom",
+    "prb_angle": "PRB angle Θ",
+    "limit_load": "limit load",
+    "max_stress": "largest bending stress σ",
+    "inflection_points": "inflection points",
+}
 # printed rows that are another method's value (an agreement between methods, the FEM against the exact
 # elastica): no number of the source, so no 'printed' marker
 METHOD_CHECKS = ("agreement", "fem-elastica")
-TITLE_CHARACTERS = 58   # an axis title longer than this wraps at a space (a panel is about 400 pixels wide)
+TITLE_CHARACTERS = 58  # an axis title longer than this wraps at a space (a panel is about 400 pixels wide)
 UNIT_TEXT = str.maketrans({"*": "·"})
 POWERS = {"^2": "²", "^3": "³", "^4": "⁴", "^-1": "⁻¹"}
 
@@ -68,8 +95,7 @@ POWERS = {"^2": "²", "^3": "³", "^4": "⁴", "^-1": "⁻¹"}
 # '<', '>', '&' (and the two line separators JavaScript once read as line ends) as JSON escapes: a string of
 # the case file can then neither close the <script> element ('</script>'), open a comment ('<!--') nor
 # be read as markup, whatever it holds; the browser's JSON reading gives the same string back
-SCRIPT_SAFE = str.maketrans({"<": "\\u003c", ">": "\\u003e", "&": "\\u0026", "\u2028": "\\u2028",
-                             "\u2029": "\\u2029"})
+SCRIPT_SAFE = str.maketrans({"<": "\\u003c", ">": "\\u003e", "&": "\\u0026", "\u2028": "\\u2028", "\u2029": "\\u2029"})
 
 
 def plotly_text(text: str) -> str:
@@ -101,11 +127,13 @@ class Chart:
 
     def html(self) -> str:
         """The chart's element and the script that draws it (plotly.js loaded by the page)."""
-        spec = script_json({"data": self.data, "layout": self.layout})   # the id is the report's own word
+        spec = script_json({"data": self.data, "layout": self.layout})  # the id is the report's own word
         width = f"max-width:{self.max_width}px;" if self.max_width else ""
-        return (f"<div id='{self.id}' class='chart' style='{width}height:{self.height}px'></div><script>"
-                f"(function(){{const f={spec};Plotly.newPlot('{self.id}',f.data,f.layout,"
-                "{responsive:true,displaylogo:false});})();</script>")
+        return (
+            f"<div id='{self.id}' class='chart' style='{width}height:{self.height}px'></div><script>"
+            f"(function(){{const f={spec};Plotly.newPlot('{self.id}',f.data,f.layout,"
+            "{responsive:true,displaylogo:false});})();</script>"
+        )
 
 
 def plotly_bundle() -> Path:
@@ -164,17 +192,38 @@ def quantity_name(quantity: str, point: str = "") -> str:
 def _axis(title: str, **extra) -> dict:
     """An axis titled ``title`` (already escaped and wrapped: `axis_title`); its margin grows to hold the
     title and the tick labels (``automargin``)."""
-    return {"title": {"text": title, "font": FONT, "standoff": 6}, "tickfont": {"size": 10}, "zeroline": False,
-            "showline": True, "linecolor": "#444", "mirror": True, "gridcolor": "#e4e4e4", "automargin": True,
-            **extra}
+    return {
+        "title": {"text": title, "font": FONT, "standoff": 6},
+        "tickfont": {"size": 10},
+        "zeroline": False,
+        "showline": True,
+        "linecolor": "#444",
+        "mirror": True,
+        "gridcolor": "#e4e4e4",
+        "automargin": True,
+        **extra,
+    }
 
 
 def _layout(height: int, **extra) -> dict:
     """A figure as wide as its element (``autosize``), its legend outside the plot area: on the right of
     it (``x`` past 1), where the figure's margin grows to hold it."""
-    return {"height": height, "autosize": True, "margin": {"l": 70, "r": 20, "t": 30, "b": 55}, "font": FONT,
-            "plot_bgcolor": "white", "legend": {"font": {"size": 11}, "x": 1.02, "xanchor": "left", "y": 1,
-                                                "yanchor": "top", "bgcolor": "rgba(0,0,0,0)"}, **extra}
+    return {
+        "height": height,
+        "autosize": True,
+        "margin": {"l": 70, "r": 20, "t": 30, "b": 55},
+        "font": FONT,
+        "plot_bgcolor": "white",
+        "legend": {
+            "font": {"size": 11},
+            "x": 1.02,
+            "xanchor": "left",
+            "y": 1,
+            "yanchor": "top",
+            "bgcolor": "rgba(0,0,0,0)",
+        },
+        **extra,
+    }
 
 
 def _grid_layout(titles: list[tuple[str, str]], ncols: int, height: int) -> dict:
@@ -182,10 +231,25 @@ def _grid_layout(titles: list[tuple[str, str]], ncols: int, height: int) -> dict
     legend in one row above the panels (clear of the first row's frame: the figure's top margin grows to
     hold it)."""
     nrows = -(-len(titles) // ncols)
-    layout = _layout(height, grid={"rows": nrows, "columns": ncols, "pattern": "independent",
-                                   "xgap": 0.25, "ygap": 0.3 if nrows > 1 else 0.2},
-                     legend={"orientation": "h", "y": 1 + 12 / (PANEL_HEIGHT * nrows), "yanchor": "bottom",
-                             "x": 0, "xanchor": "left", "font": {"size": 11}, "bgcolor": "rgba(0,0,0,0)"})
+    layout = _layout(
+        height,
+        grid={
+            "rows": nrows,
+            "columns": ncols,
+            "pattern": "independent",
+            "xgap": 0.25,
+            "ygap": 0.3 if nrows > 1 else 0.2,
+        },
+        legend={
+            "orientation": "h",
+            "y": 1 + 12 / (PANEL_HEIGHT * nrows),
+            "yanchor": "bottom",
+            "x": 0,
+            "xanchor": "left",
+            "font": {"size": 11},
+            "bgcolor": "rgba(0,0,0,0)",
+        },
+    )
     for k, (xtitle, ytitle) in enumerate(titles):
         suffix = "" if k == 0 else str(k + 1)
         layout[f"xaxis{suffix}"] = _axis(xtitle)
@@ -196,14 +260,32 @@ def _grid_layout(titles: list[tuple[str, str]], ncols: int, height: int) -> dict
 def _trace(x, y, name: str, panel: int, shown: set[str], **style) -> dict:
     """A trace in panel ``panel`` (0-based), in the legend group ``name`` (listed once)."""
     suffix = "" if panel == 0 else str(panel + 1)
-    trace = {"type": "scatter", "x": numbers(x), "y": numbers(y), "name": plotly_text(name), "legendgroup": name,
-             "showlegend": name not in shown, "xaxis": f"x{suffix}", "yaxis": f"y{suffix}", **style}
+    trace = {
+        "type": "scatter",
+        "x": numbers(x),
+        "y": numbers(y),
+        "name": plotly_text(name),
+        "legendgroup": name,
+        "showlegend": name not in shown,
+        "xaxis": f"x{suffix}",
+        "yaxis": f"y{suffix}",
+        **style,
+    }
     shown.add(name)
     return trace
 
 
-OUTPUT_COLUMNS = ["quantity", "point", "method", "level", "value", "reference_label", "reference_value", "unit",
-                  "check"]
+OUTPUT_COLUMNS = [
+    "quantity",
+    "point",
+    "method",
+    "level",
+    "value",
+    "reference_label",
+    "reference_value",
+    "unit",
+    "check",
+]
 
 
 @dataclass
@@ -222,8 +304,9 @@ def _panels(table: pd.DataFrame) -> dict[tuple[str, str], Panel]:
     with another method, ``METHOD_CHECKS``, is none)."""
     panels: dict[tuple[str, str], Panel] = {}
     seen: set[tuple] = set()
-    for quantity, point, method, level, value, label, printed, unit, check in \
-            table.reindex(columns=OUTPUT_COLUMNS)[OUTPUT_COLUMNS].itertuples(index=False, name=None):
+    for quantity, point, method, level, value, label, printed, unit, check in table.reindex(columns=OUTPUT_COLUMNS)[
+        OUTPUT_COLUMNS
+    ].itertuples(index=False, name=None):
         if pd.isna(quantity) or not QUANTITIES[quantity].per_level:
             continue
         panel = panels.setdefault((quantity, point), Panel(unit, {}, {}))
@@ -242,8 +325,9 @@ def printed_name(label: str, sources: dict[str, str]) -> str:
     return f"printed: {label}" + (f" [{sources[label]}]" if sources.get(label) else "")
 
 
-def outputs_chart(chart_id: str, axis: np.ndarray, axis_label: str, table: pd.DataFrame,
-                  sources: dict[str, str] | None = None) -> Chart | None:
+def outputs_chart(
+    chart_id: str, axis: np.ndarray, axis_label: str, table: pd.DataFrame, sources: dict[str, str] | None = None
+) -> Chart | None:
     """A panel per output, every method as a line (its colour and dash) and every printed column as
     markers named by `printed_name` (module docstring); ``axis`` is the x value of each level and
     ``axis_label`` its title (`axis_title`). None when the table has no output."""
@@ -259,14 +343,31 @@ def outputs_chart(chart_id: str, axis: np.ndarray, axis_label: str, table: pd.Da
         for method in sorted(panel.methods):
             levels = sorted(panel.methods[method])
             color, dash = METHOD_STYLE.get(method, ("#000000", "solid"))
-            data.append(_trace(axis[levels], [panel.methods[method][k] for k in levels], method_name(method),
-                               index, shown, mode="lines+markers", line={"color": color, "dash": dash, "width": 2},
-                               marker={"size": 4}))
+            data.append(
+                _trace(
+                    axis[levels],
+                    [panel.methods[method][k] for k in levels],
+                    method_name(method),
+                    index,
+                    shown,
+                    mode="lines+markers",
+                    line={"color": color, "dash": dash, "width": 2},
+                    marker={"size": 4},
+                )
+            )
         for label in sorted(panel.printed):
             printed_levels, values = zip(*panel.printed[label])
-            data.append(_trace(axis[list(printed_levels)], values, printed_name(label, sources or {}), index, shown,
-                               mode="markers", marker={"symbol": REF_MARKER.get(label, "x-open"), "size": 8,
-                                                       "color": "black"}))
+            data.append(
+                _trace(
+                    axis[list(printed_levels)],
+                    values,
+                    printed_name(label, sources or {}),
+                    index,
+                    shown,
+                    mode="markers",
+                    marker={"symbol": REF_MARKER.get(label, "x-open"), "size": 8, "color": "black"},
+                )
+            )
         titles.append((axis_label, axis_title(quantity_name(quantity, point), panel.unit)))
     height = PANEL_HEIGHT * nrows + 90
     return Chart(chart_id, data, _grid_layout(titles, ncols, height), height, max_width=PANEL_WIDTH * ncols + 90)
@@ -298,22 +399,36 @@ def _padded(values: list[np.ndarray]) -> list[float | None]:
     return numbers([low - pad, high + pad])
 
 
-def _slider(steps: list[str], visible: list[list[bool]], opacity: list[list[float]], active: int,
-            prefix: str) -> dict:
+def _slider(steps: list[str], visible: list[list[bool]], opacity: list[list[float]], active: int, prefix: str) -> dict:
     """A plotly.js slider over ``steps``: each step shows its traces (``visible``, ``opacity``: one list a
     step, an entry a trace); the step labels hidden where there are too many to read (the current one is
     said above the slider)."""
     crowded = len(steps) > 12
-    return {"active": active, "currentvalue": {"prefix": plotly_text(prefix), "font": {"size": 12}},
-            "pad": {"t": 45, "b": 10}, "len": 1.0, "x": 0, "y": 0, "yanchor": "top",
-            "font": {"size": 10, "color": "rgba(0,0,0,0)" if crowded else "#444"},
-            "steps": [{"label": plotly_text(label), "method": "restyle",
-                       "args": [{"visible": shown, "opacity": alpha}]}
-                      for label, shown, alpha in zip(steps, visible, opacity)]}
+    return {
+        "active": active,
+        "currentvalue": {"prefix": plotly_text(prefix), "font": {"size": 12}},
+        "pad": {"t": 45, "b": 10},
+        "len": 1.0,
+        "x": 0,
+        "y": 0,
+        "yanchor": "top",
+        "font": {"size": 10, "color": "rgba(0,0,0,0)" if crowded else "#444"},
+        "steps": [
+            {"label": plotly_text(label), "method": "restyle", "args": [{"visible": shown, "opacity": alpha}]}
+            for label, shown, alpha in zip(steps, visible, opacity)
+        ],
+    }
 
 
-def shapes_chart(chart_id: str, lines: list[ShapeLine], measured: list[tuple[int, float, float]],
-                 length_unit: str, steps: list[str], prefix: str = "load level: ", first: int = -1) -> Chart | None:
+def shapes_chart(
+    chart_id: str,
+    lines: list[ShapeLine],
+    measured: list[tuple[int, float, float]],
+    length_unit: str,
+    steps: list[str],
+    prefix: str = "load level: ",
+    first: int = -1,
+) -> Chart | None:
     """Deformed shapes on equal x and y scales, one step of a slider at a time (``steps``: each step's
     label; ``first``: the step first shown, else the last; a last step 'all' draws every step, lighter the
     earlier):
@@ -322,21 +437,69 @@ def shapes_chart(chart_id: str, lines: list[ShapeLine], measured: list[tuple[int
     if not lines:
         return None
     methods = list(dict.fromkeys(line.method for line in lines))
-    legend = [{"type": "scatter", "x": [None], "y": [None], "mode": "lines", "name": plotly_text(method_name(m)),
-               "legendgroup": m, "line": {"color": METHOD_STYLE.get(m, ("#000000",))[0],
-                                          "dash": METHOD_STYLE.get(m, ("", "solid"))[1], "width": 2}}
-              for m in methods]
+    legend = [
+        {
+            "type": "scatter",
+            "x": [None],
+            "y": [None],
+            "mode": "lines",
+            "name": plotly_text(method_name(m)),
+            "legendgroup": m,
+            "line": {
+                "color": METHOD_STYLE.get(m, ("#000000",))[0],
+                "dash": METHOD_STYLE.get(m, ("", "solid"))[1],
+                "width": 2,
+            },
+        }
+        for m in methods
+    ]
     if measured:
-        legend.append({"type": "scatter", "x": [None], "y": [None], "mode": "markers", "name": "measured",
-                       "legendgroup": "measured", "marker": {"symbol": "circle-open", "size": 8, "color": "black"}})
-    drawn = [(line.step, {"type": "scatter", "x": numbers(line.x), "y": numbers(line.y), "mode": "lines",
-                          "legendgroup": line.method, "showlegend": False, "hoverinfo": "skip",
-                          "line": {"color": METHOD_STYLE.get(line.method, ("#000000",))[0],
-                                   "dash": METHOD_STYLE.get(line.method, ("", "solid"))[1], "width": 1.8}})
-             for line in lines]
-    drawn += [(step, {"type": "scatter", "x": numbers([x]), "y": numbers([y]), "mode": "markers", "showlegend": False,
-                      "legendgroup": "measured", "marker": {"symbol": "circle-open", "size": 8, "color": "black"}})
-              for step, x, y in measured]
+        legend.append(
+            {
+                "type": "scatter",
+                "x": [None],
+                "y": [None],
+                "mode": "markers",
+                "name": "measured",
+                "legendgroup": "measured",
+                "marker": {"symbol": "circle-open", "size": 8, "color": "black"},
+            }
+        )
+    drawn = [
+        (
+            line.step,
+            {
+                "type": "scatter",
+                "x": numbers(line.x),
+                "y": numbers(line.y),
+                "mode": "lines",
+                "legendgroup": line.method,
+                "showlegend": False,
+                "hoverinfo": "skip",
+                "line": {
+                    "color": METHOD_STYLE.get(line.method, ("#000000",))[0],
+                    "dash": METHOD_STYLE.get(line.method, ("", "solid"))[1],
+                    "width": 1.8,
+                },
+            },
+        )
+        for line in lines
+    ]
+    drawn += [
+        (
+            step,
+            {
+                "type": "scatter",
+                "x": numbers([x]),
+                "y": numbers([y]),
+                "mode": "markers",
+                "showlegend": False,
+                "legendgroup": "measured",
+                "marker": {"symbol": "circle-open", "size": 8, "color": "black"},
+            },
+        )
+        for step, x, y in measured
+    ]
     used = sorted({step for step, _ in drawn})
     labels = [steps[k] for k in used] + ["all"]
     fixed = [True] * len(legend)
@@ -346,27 +509,52 @@ def shapes_chart(chart_id: str, lines: list[ShapeLine], measured: list[tuple[int
     active = used.index(first) if first in used else len(used) - 1
     data = legend + [dict(trace, visible=visible[active][len(legend) + i]) for i, (_, trace) in enumerate(drawn)]
     height = 520
-    layout = _layout(height, margin={"l": 70, "r": 20, "t": 30, "b": 40},
-                     xaxis=_axis(axis_title("x", length_unit), range=_padded([line.x for line in lines])),
-                     yaxis=_axis(axis_title("y", length_unit), range=_padded([line.y for line in lines]),
-                                 scaleanchor="x", scaleratio=1),
-                     sliders=[_slider(labels, visible, opacity, active, prefix)])
+    layout = _layout(
+        height,
+        margin={"l": 70, "r": 20, "t": 30, "b": 40},
+        xaxis=_axis(axis_title("x", length_unit), range=_padded([line.x for line in lines])),
+        yaxis=_axis(
+            axis_title("y", length_unit), range=_padded([line.y for line in lines]), scaleanchor="x", scaleratio=1
+        ),
+        sliders=[_slider(labels, visible, opacity, active, prefix)],
+    )
     return Chart(chart_id, data, layout, height, max_width=SHAPES_WIDTH)
 
 
 def path_chart(chart_id: str, path: dict) -> Chart:
     """A FEM continuation's equilibrium path (load against its control displacement), limit points marked."""
     shown: set[str] = set()
-    data = [_trace(path["displacement"], path["load"], "FEM path", 0, shown, mode="lines",
-                   line={"color": METHOD_STYLE["fem"][0], "width": 2})]
+    data = [
+        _trace(
+            path["displacement"],
+            path["load"],
+            "FEM path",
+            0,
+            shown,
+            mode="lines",
+            line={"color": METHOD_STYLE["fem"][0], "width": 2},
+        )
+    ]
     limits = list(path.get("limit_points", []))
     if limits:
         d, p = zip(*limits)
-        data.append(_trace(d, p, "limit point", 0, shown, mode="markers",
-                           marker={"symbol": "triangle-down", "size": 10, "color": "red"}))
+        data.append(
+            _trace(
+                d,
+                p,
+                "limit point",
+                0,
+                shown,
+                mode="markers",
+                marker={"symbol": "triangle-down", "size": 10, "color": "red"},
+            )
+        )
     height = 380
-    layout = _layout(height, xaxis=_axis(_titled(path.get("displacement_label", "control displacement"))),
-                     yaxis=_axis(_titled(path.get("load_label", "load"))))
+    layout = _layout(
+        height,
+        xaxis=_axis(_titled(path.get("displacement_label", "control displacement"))),
+        yaxis=_axis(_titled(path.get("load_label", "load"))),
+    )
     return Chart(chart_id, data, layout, height, max_width=SHAPES_WIDTH)
 
 

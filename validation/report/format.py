@@ -2,6 +2,7 @@
 a colour scale on the PRBM error, a verdict (``validation.run.verdict``) on its colour, and a source
 document cited by its key (``references``), not by the number of the file it is kept in.
 """
+
 from __future__ import annotations
 
 import html
@@ -19,17 +20,26 @@ from validation.run.verdict import Verdict
 ERROR_SCALE_LOW, ERROR_SCALE_HIGH = 0.5, 10.0
 
 
-VERDICT_COLOURS = {Verdict.WITHIN: "#2e7d32", Verdict.FINDING: "#b26a00", Verdict.NO_LIMIT: "#6d6d6d",
-                   Verdict.OUTSIDE_VALIDITY: "#8d6e00", Verdict.EXPECTED: "#4a6fa5",
-                   Verdict.OUTSIDE_LIMIT: "#c62828", Verdict.REFUSED: "#5f6b7a", Verdict.NOT_CONVERGED: "#c62828",
-                   Verdict.FAILED: "#c62828"}
+VERDICT_COLOURS = {
+    Verdict.WITHIN: "#2e7d32",
+    Verdict.FINDING: "#b26a00",
+    Verdict.NO_LIMIT: "#6d6d6d",
+    Verdict.OUTSIDE_VALIDITY: "#8d6e00",
+    Verdict.EXPECTED: "#4a6fa5",
+    Verdict.OUTSIDE_LIMIT: "#c62828",
+    Verdict.REFUSED: "#5f6b7a",
+    Verdict.NOT_CONVERGED: "#c62828",
+    Verdict.FAILED: "#c62828",
+}
 
 
 def verdict_html(verdict: Verdict, reason: str = "") -> str:
     """A verdict as the report shows it: its words on its colour, the reason (else its meaning) on hover."""
     title = html.escape(reason or verdict.meaning, quote=True)
-    return (f"<span class='badge' style='background:{VERDICT_COLOURS[verdict]}' title='{title}'>"
-            f"{html.escape(verdict.value)}</span>")
+    return (
+        f"<span class='badge' style='background:{VERDICT_COLOURS[verdict]}' title='{title}'>"
+        f"{html.escape(verdict.value)}</span>"
+    )
 
 
 def sig(value, digits: int = 4) -> str:
@@ -39,7 +49,7 @@ def sig(value, digits: int = 4) -> str:
     if isinstance(value, (bool, np.bool_)):
         return "yes" if value else "no"
     if isinstance(value, (int, np.integer)):
-        return str(int(value)) if abs(int(value)) < 10 ** digits else f"{float(value):.{digits}g}"
+        return str(int(value)) if abs(int(value)) < 10**digits else f"{float(value):.{digits}g}"
     value = float(value)
     if math.isnan(value):
         return ""

@@ -23,6 +23,7 @@ The claims (``CLAIMS``), each with where it is printed:
 - [ananthasuresh_l18] (the PRB-modelling lecture) prints no numeric accuracy: it says the n-fits of
   gamma and K_Theta can be used "comfortably and quite accurately" within their n-ranges; nothing to draw.
 """
+
 from __future__ import annotations
 
 import math
@@ -42,14 +43,15 @@ from validation.report.format import by_case, rows_of  # noqa: E402
 from validation.report.summary import prbm_fem_by_level  # noqa: E402
 from validation.run.runner import CaseResult  # noqa: E402
 
-GAMMA_N0 = 0.8517          # Howell-Midha characteristic radius factor at n = 0 ([bapat2015, eq 41]: 0.851892)
-THETA_FIT_MAX_DEG = 65.0   # [bapat2015, eqs 51-52]
-FLOOR_PERCENT = 1e-3       # errors below this are drawn on it (a log axis has no zero)
+GAMMA_N0 = 0.8517  # Howell-Midha characteristic radius factor at n = 0 ([bapat2015, eq 41]: 0.851892)
+THETA_FIT_MAX_DEG = 65.0  # [bapat2015, eqs 51-52]
+FLOOR_PERCENT = 1e-3  # errors below this are drawn on it (a log axis has no zero)
 
 
 @dataclass(frozen=True)
 class Claim:
     """A printed accuracy claim: y = slope * x (in % of L) over [x_from, x_to], or a vertical line at x."""
+
     label: str
     slope: float | None = None
     x_from: float = 0.0
@@ -58,14 +60,23 @@ class Claim:
 
 
 CLAIMS = (
-    Claim("path claim [bapat2015 §2.3]: PRB end within 0.5 % of the deflection of the\n"
-          "beam's end path (the dots are at equal load: path + stiffness error)", slope=0.5),
-    Claim("domain claim [bapat2015 ch. 4, Fig. 4.13]: the fixed-guided lower bound\n"
-          "within 1 % for b/l 0.4-0.85 (a bound of the domain, not a PRBM-vs-FEM error)",
-          slope=1.0, x_from=0.4, x_to=0.85),
-    Claim(f"fit range [bapat2015 eqs 51-52]: K_Θ fitted up to Θ = {THETA_FIT_MAX_DEG:.0f}°\n"
-          f"(PRB tip moved 2γL sin(Θ/2), γ = {GAMMA_N0})",
-          vertical=2 * GAMMA_N0 * math.sin(math.radians(THETA_FIT_MAX_DEG) / 2)),
+    Claim(
+        "path claim [bapat2015 §2.3]: PRB end within 0.5 % of the deflection of the\n"
+        "beam's end path (the dots are at equal load: path + stiffness error)",
+        slope=0.5,
+    ),
+    Claim(
+        "domain claim [bapat2015 ch. 4, Fig. 4.13]: the fixed-guided lower bound\n"
+        "within 1 % for b/l 0.4-0.85 (a bound of the domain, not a PRBM-vs-FEM error)",
+        slope=1.0,
+        x_from=0.4,
+        x_to=0.85,
+    ),
+    Claim(
+        f"fit range [bapat2015 eqs 51-52]: K_Θ fitted up to Θ = {THETA_FIT_MAX_DEG:.0f}°\n"
+        f"(PRB tip moved 2γL sin(Θ/2), γ = {GAMMA_N0})",
+        vertical=2 * GAMMA_N0 * math.sin(math.radians(THETA_FIT_MAX_DEG) / 2),
+    ),
 )
 
 
@@ -73,8 +84,8 @@ CLAIMS = (
 class OverviewPoint:
     case: str
     level: int
-    deflection: float      # |u|max / L; NaN: the FEM kept no displacement field to place the level by
-    error_percent: float   # max |PRBM - FEM| / L, in %
+    deflection: float  # |u|max / L; NaN: the FEM kept no displacement field to place the level by
+    error_percent: float  # max |PRBM - FEM| / L, in %
     model: str
 
 
@@ -104,8 +115,9 @@ def overview_points(results: list[CaseResult], table: pd.DataFrame) -> list[Over
             continue
         if fields is None:
             worst = int(errors.idxmax())
-            points.append(OverviewPoint(result.loaded.id, worst, math.nan, 100 * float(errors[worst]),
-                                        segment_model(result)))
+            points.append(
+                OverviewPoint(result.loaded.id, worst, math.nan, 100 * float(errors[worst]), segment_model(result))
+            )
             continue
         scale = float(part["scale"].dropna().iloc[0])
         model = segment_model(result)
@@ -137,8 +149,10 @@ def overview_title(drawn: list[OverviewPoint], compared: set[str]) -> str:
         return head + f"{len(placed)} cases (every case that compares a position)"
     missing = sorted(compared - placed)
     named = ", ".join(missing[:2]) + (f" and {len(missing) - 2} more" if len(missing) > 2 else "")
-    return (head + f"{len(placed)} of the {len(compared)} cases that compare a position\n"
-            f"not placed: {named} (no FEM displacement field, or no load, to place it by)")
+    return (
+        head + f"{len(placed)} of the {len(compared)} cases that compare a position\n"
+        f"not placed: {named} (no FEM displacement field, or no load, to place it by)"
+    )
 
 
 def plot_overview(points: list[OverviewPoint], png: Path) -> Path:
@@ -153,9 +167,16 @@ def plot_overview(points: list[OverviewPoint], png: Path) -> Path:
     for k, model in enumerate(models):
         mine = [p for p in points if p.model == model]
         colour, marker = model_style(k)
-        dots = ax.scatter([p.deflection for p in mine], [max(p.error_percent, FLOOR_PERCENT) for p in mine],
-                          s=22, color=colour, marker=marker, edgecolor="k", linewidth=0.3,
-                          label=f"{model} ({len({p.case for p in mine})} case(s))")
+        dots = ax.scatter(
+            [p.deflection for p in mine],
+            [max(p.error_percent, FLOOR_PERCENT) for p in mine],
+            s=22,
+            color=colour,
+            marker=marker,
+            edgecolor="k",
+            linewidth=0.3,
+            label=f"{model} ({len({p.case for p in mine})} case(s))",
+        )
         dots.set_urls([f"cases/{p.case}.html" for p in mine])  # the SVG's dots open their case page
     x_max = max([p.deflection for p in points] + [1.2]) * 1.05
     for k, claim in enumerate(CLAIMS):

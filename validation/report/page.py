@@ -1,5 +1,6 @@
 """The report's HTML page: its style sheet, the sortable-table script, and the small writers every page
 uses (numbers, tables, pictures, links), each text escaped for HTML."""
+
 from __future__ import annotations
 
 import html
@@ -83,5 +84,7 @@ def _link(href: str, text: str) -> str:
 
 
 def _page(title: str, body: str, head: str = "") -> str:
-    return (f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
-            f"<style>{CSS}</style>{head}</head><body>{body}<script>{SORT_JS}</script></body></html>")
+    return (
+        f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
+        f"<style>{CSS}</style>{head}</head><body>{body}<script>{SORT_JS}</script></body></html>"
+    )

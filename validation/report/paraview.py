@@ -21,6 +21,7 @@ case file's; rotations in degrees as everywhere in the harness.  ``render_series
 of every series off-screen with pyvista, on one canvas per process (plotter, title, legends) emptied
 between pictures, its legend giving each series the colour of its line.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -35,7 +36,7 @@ from validation.case.schema import Case
 
 if TYPE_CHECKING:  # pyvista (VTK) is imported at the first picture: a report without pictures never loads it
     import pyvista
-    from pyvista.plotting._typing import ScalarBarArgs   # the keywords of add_scalar_bar (not exported)
+    from pyvista.plotting._typing import ScalarBarArgs  # the keywords of add_scalar_bar (not exported)
 
 MAX_FRAMES = 41  # frames of a continuation's series (evenly spaced, with its limit points)
 
@@ -45,6 +46,7 @@ class ShapeFrame:
     """One level of one method: points (n, 2), line cells (m, 2), vertex cells (k,), point arrays, and the
     line cells of rigid links (r, 2): no field of their own (the FEM's master-slave links, the exact
     elastica's rigid bodies), written after the lines and drawn in one colour."""
+
     points: np.ndarray
     lines: np.ndarray
     vertices: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
@@ -65,6 +67,7 @@ class ShapeFrame:
 @dataclass
 class ShapeSeries:
     """A method's frames, one per load level, with the level's time value."""
+
     method: str
     times: list[float]
     frames: list[ShapeFrame]
@@ -91,10 +94,15 @@ def write_pvd(series: ShapeSeries, folder: Path) -> Path:
 
 def _collection(target: Path, parts: list[ShapeSeries]) -> Path:
     """A ParaView collection: each series is one part, each of its frames one time step."""
-    entries = [f'    <DataSet timestep="{time:.12g}" part="{part}" file="{series.method}_{k:04d}.vtu"/>'
-               for part, series in enumerate(parts) for k, time in enumerate(series.times)]
-    target.write_text('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
-                      "  <Collection>\n" + "\n".join(entries) + "\n  </Collection>\n</VTKFile>\n")
+    entries = [
+        f'    <DataSet timestep="{time:.12g}" part="{part}" file="{series.method}_{k:04d}.vtu"/>'
+        for part, series in enumerate(parts)
+        for k, time in enumerate(series.times)
+    ]
+    target.write_text(
+        '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
+        "  <Collection>\n" + "\n".join(entries) + "\n  </Collection>\n</VTKFile>\n"
+    )
     return target
 
 
@@ -124,9 +132,9 @@ def frames_shown(load: np.ndarray, most: int = MAX_FRAMES) -> list[int]:
     n = len(load)
     if n <= most:
         return list(range(n))
-    steps = np.flatnonzero(np.diff(load) != 0)          # a repeated load (a plateau) turns nothing
+    steps = np.flatnonzero(np.diff(load) != 0)  # a repeated load (a plateau) turns nothing
     rise = np.sign(np.diff(load)[steps])
-    turning = steps[np.flatnonzero(rise[1:] != rise[:-1])] + 1   # the last frame before the load turns
+    turning = steps[np.flatnonzero(rise[1:] != rise[:-1])] + 1  # the last frame before the load turns
     return sorted(set(np.linspace(0, n - 1, most).round().astype(int).tolist()) | set(turning.tolist()))
 
 
@@ -136,8 +144,10 @@ def fem_series(case: Case, fields) -> ShapeSeries | None:
     if fields is None or not len(fields.nodal):
         return None
     continuation = len(fields.nodal) != case.n_levels()
-    kept = frames_shown(fields.load_factor if continuation else np.arange(len(fields.nodal)),
-                        most=MAX_FRAMES if continuation else len(fields.nodal))
+    kept = frames_shown(
+        fields.load_factor if continuation else np.arange(len(fields.nodal)),
+        most=MAX_FRAMES if continuation else len(fields.nodal),
+    )
     frames = []
     for k in kept:
         data = fields.nodal[k].point_data()
@@ -187,8 +197,9 @@ def prbm_series(case: Case, shapes) -> ShapeSeries | None:
             lines.extend([start + j, start + j + 1] for j in range(len(line) - 1))
         if not lines:
             return None  # a level without links: no series rather than an empty frame
-        frames.append(ShapeFrame(np.asarray(points), np.asarray(lines), np.arange(len(points)),
-                                 {"pivot": np.ones(len(points))}))
+        frames.append(
+            ShapeFrame(np.asarray(points), np.asarray(lines), np.arange(len(points)), {"pivot": np.ones(len(points))})
+        )
     return ShapeSeries("prbm", _times(case, _levels(shapes)), frames)
 
 
@@ -211,15 +222,19 @@ def _lines_frame(polylines: list[np.ndarray]) -> ShapeFrame | None:
         points.extend(line.tolist())
         lines.extend([start + j, start + j + 1] for j in range(len(line) - 1))
         s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(line, axis=0).T))])
-        theta = np.unwrap(np.arctan2(np.gradient(line[:, 1], s, edge_order=2),
-                                     np.gradient(line[:, 0], s, edge_order=2)))
+        theta = np.unwrap(
+            np.arctan2(np.gradient(line[:, 1], s, edge_order=2), np.gradient(line[:, 0], s, edge_order=2))
+        )
         angle.extend(np.degrees(theta))
         curvature.extend(np.gradient(theta, s, edge_order=2))
     if not lines:
         return None
-    return ShapeFrame(np.asarray(points), np.asarray(lines),
-                      point_data={"rotation": np.asarray(angle), "curvature": np.asarray(curvature)},
-                      rigid=np.asarray(rigid, int).reshape(-1, 2))
+    return ShapeFrame(
+        np.asarray(points),
+        np.asarray(lines),
+        point_data={"rotation": np.asarray(angle), "curvature": np.asarray(curvature)},
+        rigid=np.asarray(rigid, int).reshape(-1, 2),
+    )
 
 
 def elastica_series(case: Case, shapes) -> ShapeSeries | None:
@@ -249,19 +264,28 @@ def elastica_series(case: Case, shapes) -> ShapeSeries | None:
             reference = np.column_stack([s, np.zeros_like(s)])
         curvature = np.gradient(theta, s, edge_order=2)
         displacement = np.column_stack([x, y]) - reference
-        frames.append(ShapeFrame(np.column_stack([x, y]), np.column_stack([np.arange(len(x) - 1),
-                                                                           np.arange(1, len(x))]),
-                                 point_data={"displacement": np.column_stack([displacement, np.zeros(len(x))]),
-                                             "rotation": np.degrees(theta), "curvature": curvature,
-                                             "bending_moment": EI * (curvature - kappa0)}))
+        frames.append(
+            ShapeFrame(
+                np.column_stack([x, y]),
+                np.column_stack([np.arange(len(x) - 1), np.arange(1, len(x))]),
+                point_data={
+                    "displacement": np.column_stack([displacement, np.zeros(len(x))]),
+                    "rotation": np.degrees(theta),
+                    "curvature": curvature,
+                    "bending_moment": EI * (curvature - kappa0),
+                },
+            )
+        )
     return ShapeSeries("elastica", _times(case, _levels(shapes)), frames)
 
 
 def case_series(case: Case, runs: dict) -> list[ShapeSeries]:
     """Every method's series of one case (FEM, PRBM, elastica: those that gave shapes)."""
-    builders = {"fem": lambda run: fem_series(case, run.extras.get("fields")),
-                "prbm": lambda run: prbm_series(case, run.extras.get("shapes")),
-                "elastica": lambda run: elastica_series(case, run.extras.get("shapes"))}
+    builders = {
+        "fem": lambda run: fem_series(case, run.extras.get("fields")),
+        "prbm": lambda run: prbm_series(case, run.extras.get("shapes")),
+        "elastica": lambda run: elastica_series(case, run.extras.get("shapes")),
+    }
     parts = []
     for method, build in builders.items():
         run = runs.get(method)
@@ -284,21 +308,32 @@ def write_case_series(case: Case, runs: dict, folder: Path, series: list[ShapeSe
 
 
 RENDER_COLOURS = {"fem": "steelblue", "prbm": "darkorange", "elastica": "seagreen"}
-RENDER_NAMES = {"fem": "FEM", "prbm": "PRBM", "elastica": "exact elastica"}   # as the case page names them
+RENDER_NAMES = {"fem": "FEM", "prbm": "PRBM", "elastica": "exact elastica"}  # as the case page names them
 FEM_COLOURMAP: Final = "viridis"
-FEM_LEGEND_COLOUR = "#21918c"   # viridis at the middle of its range: the FEM line's colour at a mean moment
+FEM_LEGEND_COLOUR = "#21918c"  # viridis at the middle of its range: the FEM line's colour at a mean moment
 UNDEFORMED_COLOUR = "grey"
-RIGID_COLOUR = "black"          # the FEM's rigid links: no bending moment of their own to colour them by
-CANVAS = (900, 540)             # pixels of a picture
+RIGID_COLOUR = "black"  # the FEM's rigid links: no bending moment of their own to colour them by
+CANVAS = (900, 540)  # pixels of a picture
 # where a picture puts what (fractions of its width and height, from its lower left corner): the
 # mechanism in DRAWN, clear of the title (top left), the legend and the colour bar (the right strip)
 DRAWN = ((0.03, 0.70), (0.05, 0.88))
 LEGEND_LEFT, LEGEND_TOP, LEGEND_ROW = 0.72, 0.90, 0.055
-BAR: ScalarBarArgs = {"position_x": 0.74, "position_y": 0.06, "width": 0.22, "height": 0.42, "vertical": True, "n_labels": 5, "fmt": "%.3g",
-       "title_font_size": 14, "label_font_size": 13, "color": "black", "unconstrained_font_size": True}
-BAR_RATIO, BAR_GAP = 0.2, 14   # the colour bar's share of its box's width (the rest: its tick labels), and the
+BAR: ScalarBarArgs = {
+    "position_x": 0.74,
+    "position_y": 0.06,
+    "width": 0.22,
+    "height": 0.42,
+    "vertical": True,
+    "n_labels": 5,
+    "fmt": "%.3g",
+    "title_font_size": 14,
+    "label_font_size": 13,
+    "color": "black",
+    "unconstrained_font_size": True,
+}
+BAR_RATIO, BAR_GAP = 0.2, 14  # the colour bar's share of its box's width (the rest: its tick labels), and the
 #                                 pixels between its title and its top
-NOISE = 1e-6   # a field's values within NOISE x its largest magnitude are rounding noise: zero on the colour bar
+NOISE = 1e-6  # a field's values within NOISE x its largest magnitude are rounding noise: zero on the colour bar
 
 
 @dataclass
@@ -316,7 +351,7 @@ class Canvas:
     def clear(self) -> None:
         # pyvista wraps Renderer's method (functools.wraps): mypy sees it unbound, wanting a plotter first
         self.plotter.remove_actor(self.shown, reset_camera=False, render=False)  # type: ignore[arg-type]
-        for title in list(self.plotter.scalar_bars.keys()):   # its actor too (``clear`` forgets, keeps it drawn)
+        for title in list(self.plotter.scalar_bars.keys()):  # its actor too (``clear`` forgets, keeps it drawn)
             self.plotter.scalar_bars.remove_scalar_bar(title, render=False)
         self.shown = []
 
@@ -328,8 +363,12 @@ class Canvas:
             height = LEGEND_ROW * len(entries)
             rows = [list(e) for e in entries]
             # as in ``clear``: a method pyvista wraps, which mypy sees unbound
-            actor = self.legends[entries] = self.plotter.add_legend(rows, bcolor="white",  # type: ignore[arg-type]
-                                                                    face="line", size=(0.27, height))
+            actor = self.legends[entries] = self.plotter.add_legend(
+                rows,  # type: ignore[arg-type]
+                bcolor="white",
+                face="line",
+                size=(0.27, height),
+            )
             actor.SetPosition(LEGEND_LEFT, LEGEND_TOP - height)
             actor.SetPosition2(0.27, height)
         else:
@@ -364,8 +403,10 @@ def _polydata(pv, frame: ShapeFrame, scalars: tuple[str, ...] = (), cells: str =
     ``write_pvd`` writes for the frame, built in memory (what a picture draws of it); ``cells``: its line
     cells (`ShapeFrame.line_cells`; the vertices with all but the rigid links)."""
     lines = frame.line_cells(cells)
-    mesh = pv.PolyData(np.column_stack([frame.points, np.zeros(len(frame.points))]),
-                       lines=np.column_stack([np.full(len(lines), 2), lines]).ravel())
+    mesh = pv.PolyData(
+        np.column_stack([frame.points, np.zeros(len(frame.points))]),
+        lines=np.column_stack([np.full(len(lines), 2), lines]).ravel(),
+    )
     if len(frame.vertices) and cells != "rigid":
         vertices = np.asarray(frame.vertices, int).ravel()
         mesh.verts = np.column_stack([np.ones(len(vertices), int), vertices]).ravel()
@@ -428,8 +469,8 @@ def render_series(series: list[ShapeSeries], png: Path, title: str = "", moment_
     pv.vtk_verbosity("error")  # no "bad X server connection" warning on a headless machine
     canvas = _canvas(pv)
     plotter = canvas.plotter
-    legend = []   # (label, colour): each entry in its line's colour (pyvista's own legend gives a line
-    bounds = []   # coloured by scalars the mesh's default colour, a light blue)
+    legend = []  # (label, colour): each entry in its line's colour (pyvista's own legend gives a line
+    bounds = []  # coloured by scalars the mesh's default colour, a light blue)
     for part in series:
         method = part.method
         last = part.frames[-1]
@@ -439,26 +480,42 @@ def render_series(series: list[ShapeSeries], png: Path, title: str = "", moment_
             mesh = _polydata(pv, last, ("bending_moment",), cells="lines")
             moment = last.point_data["bending_moment"][np.unique(last.line_cells("lines"))]
             bar: ScalarBarArgs = {"title": _bar_title(moment_unit), "render": False, **BAR}
-            canvas.shown.append(plotter.add_mesh(mesh, scalars="bending_moment", line_width=6, cmap=FEM_COLOURMAP,
-                                                 clim=colour_range(moment), scalar_bar_args=bar, render=False))
+            canvas.shown.append(
+                plotter.add_mesh(
+                    mesh,
+                    scalars="bending_moment",
+                    line_width=6,
+                    cmap=FEM_COLOURMAP,
+                    clim=colour_range(moment),
+                    scalar_bar_args=bar,
+                    render=False,
+                )
+            )
             colour_bar = plotter.scalar_bars[bar["title"]]
-            colour_bar.SetBarRatio(BAR_RATIO)                 # a thin bar in a box wide enough for its title,
-            colour_bar.SetVerticalTitleSeparation(BAR_GAP)    # the title clear of the top tick's label
+            colour_bar.SetBarRatio(BAR_RATIO)  # a thin bar in a box wide enough for its title,
+            colour_bar.SetVerticalTitleSeparation(BAR_GAP)  # the title clear of the top tick's label
             legend.append(("FEM (colour: bending moment)", FEM_LEGEND_COLOUR))
             if len(last.rigid):
-                canvas.shown.append(plotter.add_mesh(_polydata(pv, last, cells="rigid"), color=RIGID_COLOUR,
-                                                     line_width=4, render=False))
+                canvas.shown.append(
+                    plotter.add_mesh(_polydata(pv, last, cells="rigid"), color=RIGID_COLOUR, line_width=4, render=False)
+                )
                 legend.append(("FEM rigid links", RIGID_COLOUR))
             if part.undeformed is not None:
                 bounds.append(part.undeformed.points)
-                canvas.shown.append(plotter.add_mesh(_polydata(pv, part.undeformed), color=UNDEFORMED_COLOUR,
-                                                     line_width=2, render=False))
+                canvas.shown.append(
+                    plotter.add_mesh(
+                        _polydata(pv, part.undeformed), color=UNDEFORMED_COLOUR, line_width=2, render=False
+                    )
+                )
                 legend.append(("undeformed", UNDEFORMED_COLOUR))
         else:
             mesh = _polydata(pv, last)
             colour = RENDER_COLOURS.get(method, "black")
-            canvas.shown.append(plotter.add_mesh(mesh, color=colour, line_width=3, point_size=10,
-                                                 render_points_as_spheres=True, render=False))
+            canvas.shown.append(
+                plotter.add_mesh(
+                    mesh, color=colour, line_width=3, point_size=10, render_points_as_spheres=True, render=False
+                )
+            )
             legend.append((RENDER_NAMES.get(method, method), colour))
     canvas.title.set_text("upper_left", title or " ")
     points = np.concatenate([np.asarray(b, float).reshape(-1, 2) for b in bounds]) if bounds else np.zeros((1, 2))

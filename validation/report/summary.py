@@ -7,6 +7,7 @@ size and labelled by its own verdict (``no limit claimed`` unless an agreement c
 The numbers come from ``validation.run.runner`` (``prbm_fem_errors``, ``fem_error_relative``) so the
 summary page and ``summary.csv`` say the same thing.
 """
+
 from __future__ import annotations
 
 import html
@@ -20,14 +21,36 @@ import pandas as pd
 from references import REFERENCES, citation
 from validation.case.capabilities import QUANTITIES
 from validation.case.loads import driving_load, load_name, load_unit
-from validation.report.format import (SEED_KEYS, VERDICT_COLOURS, by_case, cite_keys, document_title, error_colour,
-                                      percent, rows_of, seconds, sig, verdict_html)
+from validation.report.format import (
+    SEED_KEYS,
+    VERDICT_COLOURS,
+    by_case,
+    cite_keys,
+    document_title,
+    error_colour,
+    percent,
+    rows_of,
+    seconds,
+    sig,
+    verdict_html,
+)
 from validation.run.compare import verdict_by_method
 from validation.run.runner import CaseResult
-from validation.run.outcome import (FEM_VALIDATION, fem_error_relative, fem_estimates_unreliable,
-                                    no_prbm_fem_reason, prbm_fem_errors)
-from validation.run.verdict import (Verdict, case_verdict_of, counts_sentence, method_verdicts, prbm_fem_verdict,
-                                    run_verdict)
+from validation.run.outcome import (
+    FEM_VALIDATION,
+    fem_error_relative,
+    fem_estimates_unreliable,
+    no_prbm_fem_reason,
+    prbm_fem_errors,
+)
+from validation.run.verdict import (
+    Verdict,
+    case_verdict_of,
+    counts_sentence,
+    method_verdicts,
+    prbm_fem_verdict,
+    run_verdict,
+)
 
 METHOD_NAMES = {"fem": "FEM", "prbm": "PRBM", "elastica": "exact elastica", "bcm": "BCM", "opensees": "OpenSees"}
 
@@ -35,6 +58,7 @@ METHOD_NAMES = {"fem": "FEM", "prbm": "PRBM", "elastica": "exact elastica", "bcm
 @dataclass(frozen=True)
 class MethodState:
     """One method's verdict in one case, with its reason."""
+
     method: str
     verdict: Verdict
     reason: str
@@ -43,6 +67,7 @@ class MethodState:
 @dataclass
 class CaseSummary:
     """One summary row."""
+
     group: str
     case: str
     title: str
@@ -50,24 +75,24 @@ class CaseSummary:
     reason: str
     methods: list[MethodState]
     sentence: str
-    prbm_fem_length: float        # fraction of the characteristic length
+    prbm_fem_length: float  # fraction of the characteristic length
     prbm_fem_relative: float
-    fem_estimate: float           # the largest reliable estimate, relative (``fem_error_relative``)
+    fem_estimate: float  # the largest reliable estimate, relative (``fem_error_relative``)
     checks: int
     checks_passed: int
     findings: int
     times: dict[str, float] = field(default_factory=dict)
     no_prbm_fem: str = ""
-    readings_of: str = ""         # the base case of an experiment this case is one loading reading of
+    readings_of: str = ""  # the base case of an experiment this case is one loading reading of
     fem_validation: bool = False  # case.purpose = 'fem-validation': a benchmark of the FEM itself
-    fem_unreliable: int = 0       # FEM values whose error estimate is marked unreliable (left out of fem_estimate)
-    prbm_fem_verdict: Verdict = Verdict.NO_LIMIT   # the verdict of the PRBM-vs-FEM number (``prbm_fem_verdict``)
+    fem_unreliable: int = 0  # FEM values whose error estimate is marked unreliable (left out of fem_estimate)
+    prbm_fem_verdict: Verdict = Verdict.NO_LIMIT  # the verdict of the PRBM-vs-FEM number (``prbm_fem_verdict``)
 
 
 def level_phrase(result: CaseResult, level: int) -> str:
     """'force at tip = 10 lbf' for a level, or 'level <label>' when the case has no load."""
     case = result.loaded.case
-    index = driving_load(case)   # None: the case has no load
+    index = driving_load(case)  # None: the case has no load
     if index is not None:
         load = case.loads[index]
         unit = load_unit(load, case)
@@ -117,21 +142,24 @@ def case_sentence(result: CaseResult, part: pd.DataFrame) -> str:
     clauses = []
     if len(by_level):
         last, worst = int(by_level.index.max()), int(by_level.idxmax())
-        clauses.append(f"PRBM within {percent(by_level.max())} of L of the FEM up to {level_phrase(result, last)}"
-                       + (f" (largest at {level_phrase(result, worst)})" if worst != last else ""))
+        clauses.append(
+            f"PRBM within {percent(by_level.max())} of L of the FEM up to {level_phrase(result, last)}"
+            + (f" (largest at {level_phrase(result, worst)})" if worst != last else "")
+        )
         prbm_rows = part[(part["method"] == "prbm") & part["level"].notna()]
         missing = prbm_rows[prbm_rows["value"].isna()]
         if len(missing):
             first = int(missing["level"].min())
             why = str(missing.sort_values("level")["message"].iloc[0] or "")
-            clauses.append(f"no PRBM answer from {level_phrase(result, first)}"
-                           + (f" ({_short(why)})" if why else ""))
+            clauses.append(f"no PRBM answer from {level_phrase(result, first)}" + (f" ({_short(why)})" if why else ""))
     else:
         claimed = part[part["within_tolerance"].notna()]
         if len(claimed):
             good = int((claimed["within_tolerance"] == True).sum())  # noqa: E712
-            clauses.append(f"{good} of {len(claimed)} claimed limits met (printed numbers, findings, "
-                           f"limits between methods, FEM against the exact elastica)")
+            clauses.append(
+                f"{good} of {len(claimed)} claimed limits met (printed numbers, findings, "
+                f"limits between methods, FEM against the exact elastica)"
+            )
         reason = getattr(result.loaded.case.case, "no_prbm_fem", None)
         if reason:
             clauses.append(f"no PRBM-vs-FEM comparison: {reason}")
@@ -160,7 +188,7 @@ def round_numbers(text: str, digits: int = 4) -> str:
 def _short(text: str, limit: int = 140) -> str:
     """A message for a table cell: one line, numbers to four significant digits, at most ``limit`` long."""
     text = round_numbers(re.sub(r"\s+", " ", text).strip())
-    return text if len(text) <= limit else text[:limit - 1].rstrip() + "…"
+    return text if len(text) <= limit else text[: limit - 1].rstrip() + "…"
 
 
 def summarise(result: CaseResult, part: pd.DataFrame, sentence: str | None = None) -> CaseSummary:
@@ -180,16 +208,29 @@ def summarise(result: CaseResult, part: pd.DataFrame, sentence: str | None = Non
     else:
         relative = length = estimate = math.nan
         unreliable = 0
-    return CaseSummary(group=case.case.group, case=case.case.id, title=case.case.title, verdict=verdict,
-                       reason=reason, methods=methods, sentence=case_sentence(result, part) if sentence is None else sentence,
-                       prbm_fem_length=length, prbm_fem_relative=relative, fem_estimate=estimate,
-                       checks=len(claimed), checks_passed=int((claimed["within_tolerance"] == True).sum()),  # noqa: E712
-                       findings=n_findings, times={m: r.wall_time for m, r in result.runs.items()},
-                       no_prbm_fem=no_prbm_fem_reason(result) if case.case.purpose == "fem-validation"
-                       else case.case.no_prbm_fem or "",
-                       readings_of=case.case.readings_of or "",
-                       fem_validation=case.case.purpose == "fem-validation", fem_unreliable=unreliable,
-                       prbm_fem_verdict=prbm_fem_verdict(part))
+    return CaseSummary(
+        group=case.case.group,
+        case=case.case.id,
+        title=case.case.title,
+        verdict=verdict,
+        reason=reason,
+        methods=methods,
+        sentence=case_sentence(result, part) if sentence is None else sentence,
+        prbm_fem_length=length,
+        prbm_fem_relative=relative,
+        fem_estimate=estimate,
+        checks=len(claimed),
+        checks_passed=int((claimed["within_tolerance"] == True).sum()),  # noqa: E712
+        findings=n_findings,
+        times={m: r.wall_time for m, r in result.runs.items()},
+        no_prbm_fem=no_prbm_fem_reason(result)
+        if case.case.purpose == "fem-validation"
+        else case.case.no_prbm_fem or "",
+        readings_of=case.case.readings_of or "",
+        fem_validation=case.case.purpose == "fem-validation",
+        fem_unreliable=unreliable,
+        prbm_fem_verdict=prbm_fem_verdict(part),
+    )
 
 
 def group_order(group: str) -> tuple:
@@ -204,8 +245,17 @@ def group_order(group: str) -> tuple:
 # The index's columns: one line a case, the result sentence clipped to its column (whole on hover, and
 # on a click); the relative error and the PRBM and exact times are in the hover text of their neighbours
 # (all of them are in summary.csv and on the case page).
-HEADERS = ["Case", "Verdict", "Methods", "Result", "PRBM vs FEM, max % of L", "FEM error estimate",
-           "Printed\u00a0numbers reproduced", "Findings", "FEM time"]
+HEADERS = [
+    "Case",
+    "Verdict",
+    "Methods",
+    "Result",
+    "PRBM vs FEM, max % of L",
+    "FEM error estimate",
+    "Printed\u00a0numbers reproduced",
+    "Findings",
+    "FEM time",
+]
 SHORT_METHOD_NAMES = {**METHOD_NAMES, "elastica": "elastica"}
 
 
@@ -221,37 +271,54 @@ def _error_cell(row: CaseSummary) -> str:
     length_pct = 100 * row.prbm_fem_length
     relative = percent(row.prbm_fem_relative)
     if math.isnan(length_pct) and not math.isnan(row.prbm_fem_relative):
-        return ("<td class='relative' data-value='-1' title='the PRBM and the FEM share no position output: the "
-                f"largest relative error of their other outputs ({html.escape(row.prbm_fem_verdict.value)})'>"
-                f"relative {relative}</td>")
+        return (
+            "<td class='relative' data-value='-1' title='the PRBM and the FEM share no position output: the "
+            f"largest relative error of their other outputs ({html.escape(row.prbm_fem_verdict.value)})'>"
+            f"relative {relative}</td>"
+        )
     if math.isnan(length_pct):
         why = readable(row.no_prbm_fem or _why_not_compared(row))
         return f"<td class='absent' title='{html.escape(why, quote=True)}'>{html.escape(_short(why, 60))}</td>"
-    label = ("" if row.prbm_fem_verdict is Verdict.NO_LIMIT
-             else f"<span class='cellverdict'>{html.escape(row.prbm_fem_verdict.value)}</span> ")
+    label = (
+        ""
+        if row.prbm_fem_verdict is Verdict.NO_LIMIT
+        else f"<span class='cellverdict'>{html.escape(row.prbm_fem_verdict.value)}</span> "
+    )
     title = f"{row.prbm_fem_verdict.value}: {row.prbm_fem_verdict.meaning}; largest relative error {relative}"
-    return (f"<td data-value='{length_pct:.6g}' style='background:{error_colour(length_pct)}' "
-            f"title='{html.escape(title, quote=True)}'>{label}{sig(length_pct, 3)} %</td>")
+    return (
+        f"<td data-value='{length_pct:.6g}' style='background:{error_colour(length_pct)}' "
+        f"title='{html.escape(title, quote=True)}'>{label}{sig(length_pct, 3)} %</td>"
+    )
 
 
 def _row_html(row: CaseSummary, link: str) -> str:
-    methods = " ".join(f"<span class='method' style='border-color:{VERDICT_COLOURS[s.verdict]}' title='"
-                       f"{html.escape(readable(s.verdict.value + (': ' + s.reason if s.reason else '')), quote=True)}'>"
-                       f"{html.escape(SHORT_METHOD_NAMES.get(s.method, s.method))}</span>" for s in sorted(row.methods, key=_method_order))
+    methods = " ".join(
+        f"<span class='method' style='border-color:{VERDICT_COLOURS[s.verdict]}' title='"
+        f"{html.escape(readable(s.verdict.value + (': ' + s.reason if s.reason else '')), quote=True)}'>"
+        f"{html.escape(SHORT_METHOD_NAMES.get(s.method, s.method))}</span>"
+        for s in sorted(row.methods, key=_method_order)
+    )
     sentence = html.escape(readable(row.sentence), quote=True)
-    others = "; ".join(f"{METHOD_NAMES[m]} {seconds(row.times[m])}" for m in ("prbm", "elastica", "bcm", "opensees")
-                       if not math.isnan(row.times.get(m, math.nan)))
-    cells = [f"<td class='case'><a href='{html.escape(link, quote=True)}' title='{html.escape(row.title, quote=True)}'>"
-             f"{html.escape(row.case)}</a></td>",
-             f"<td data-value='{row.verdict.rank}'>{verdict_html(row.verdict, readable(row.reason))}</td>",
-             f"<td class='methods'>{methods}</td>",
-             f"<td class='sentence' title='{sentence} (click to unfold)'>{sentence}</td>", _error_cell(row),
-             _estimate_cell(row),
-             f"<td data-value='{row.checks_passed}'>{row.checks_passed} of {row.checks}</td>"
-             if row.checks else "<td data-value='-1'></td>",
-             f"<td>{row.findings or ''}</td>",
-             f"<td data-value='{_raw(row.times.get('fem', math.nan))}' title='{html.escape(others, quote=True)}'>"
-             f"{seconds(row.times.get('fem', math.nan))}</td>"]
+    others = "; ".join(
+        f"{METHOD_NAMES[m]} {seconds(row.times[m])}"
+        for m in ("prbm", "elastica", "bcm", "opensees")
+        if not math.isnan(row.times.get(m, math.nan))
+    )
+    cells = [
+        f"<td class='case'><a href='{html.escape(link, quote=True)}' title='{html.escape(row.title, quote=True)}'>"
+        f"{html.escape(row.case)}</a></td>",
+        f"<td data-value='{row.verdict.rank}'>{verdict_html(row.verdict, readable(row.reason))}</td>",
+        f"<td class='methods'>{methods}</td>",
+        f"<td class='sentence' title='{sentence} (click to unfold)'>{sentence}</td>",
+        _error_cell(row),
+        _estimate_cell(row),
+        f"<td data-value='{row.checks_passed}'>{row.checks_passed} of {row.checks}</td>"
+        if row.checks
+        else "<td data-value='-1'></td>",
+        f"<td>{row.findings or ''}</td>",
+        f"<td data-value='{_raw(row.times.get('fem', math.nan))}' title='{html.escape(others, quote=True)}'>"
+        f"{seconds(row.times.get('fem', math.nan))}</td>",
+    ]
     return "<tr>" + "".join(cells) + "</tr>"
 
 
@@ -281,8 +348,10 @@ def estimate_text(row: CaseSummary) -> str:
 
 
 def _estimate_cell(row: CaseSummary) -> str:
-    why = ("estimates marked unreliable (the FEM's meshes were not in the asymptotic range) are left out: no "
-           "bound, and no FEM-against-elastica check is made with them")
+    why = (
+        "estimates marked unreliable (the FEM's meshes were not in the asymptotic range) are left out: no "
+        "bound, and no FEM-against-elastica check is made with them"
+    )
     title = f" title='{html.escape(why, quote=True)}'" if row.fem_unreliable else ""
     return f"<td data-value='{_raw(row.fem_estimate)}'{title}>{html.escape(estimate_text(row))}</td>"
 
@@ -293,8 +362,11 @@ def _why_not_compared(row: CaseSummary) -> str:
     missing = [METHOD_NAMES[m] for m in ("prbm", "fem") if m not in state]
     if missing:
         return f"no {' or '.join(missing)} in this case"
-    refused = [METHOD_NAMES[m] for m in ("prbm", "fem") if state[m] in (Verdict.REFUSED, Verdict.NOT_CONVERGED,
-                                                                          Verdict.FAILED, Verdict.EXPECTED)]
+    refused = [
+        METHOD_NAMES[m]
+        for m in ("prbm", "fem")
+        if state[m] in (Verdict.REFUSED, Verdict.NOT_CONVERGED, Verdict.FAILED, Verdict.EXPECTED)
+    ]
     if refused:
         return f"{' and '.join(refused)} gave no answer"
     if not math.isnan(row.prbm_fem_relative):
@@ -314,14 +386,20 @@ def summary_tables_html(rows: list[CaseSummary], links: dict[str, str]) -> str:
         part = [r for r in rows if r.group == group]
         head = "".join(f"<th>{h}</th>" for h in HEADERS)
         body = "".join(_row_html(r, links.get(r.case, "#")) for r in part)
-        out.append(f"<h3 class='group'>{html.escape(group_heading(group))}</h3>"
-                   f"<table class='summary sortable'><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>")
+        out.append(
+            f"<h3 class='group'>{html.escape(group_heading(group))}</h3>"
+            f"<table class='summary sortable'><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+        )
     missing = without_prbm_fem(rows)
-    items = "".join(f"<li><a href='{html.escape(links.get(r.case, '#'), quote=True)}'>{html.escape(r.case)}</a>: "
-                    f"{html.escape(readable(missing_reason(r)))}</li>" for r in missing)
+    items = "".join(
+        f"<li><a href='{html.escape(links.get(r.case, '#'), quote=True)}'>{html.escape(r.case)}</a>: "
+        f"{html.escape(readable(missing_reason(r)))}</li>"
+        for r in missing
+    )
     line = f"<span class='caption' id='without-prbm-fem'>{html.escape(without_prbm_fem_line(rows))}</span>"
-    out.append(f"<details class='fold'><summary>{line}</summary><ul>{items}</ul></details>" if items
-               else f"<p>{line}</p>")
+    out.append(
+        f"<details class='fold'><summary>{line}</summary><ul>{items}</ul></details>" if items else f"<p>{line}</p>"
+    )
     return "".join(out)
 
 
@@ -338,19 +416,26 @@ def missing_reason(row: CaseSummary) -> str:
     if row.no_prbm_fem:
         return row.no_prbm_fem
     if row.readings_of:
-        return (f"a loading reading of {row.readings_of} (FEM only): the PRBM-vs-FEM number is in the row of "
-                f"{row.readings_of}")
+        return (
+            f"a loading reading of {row.readings_of} (FEM only): the PRBM-vs-FEM number is in the row of "
+            f"{row.readings_of}"
+        )
     if row.group == REGRESSIONS:
         return f"a stress-contract regression: {_why_not_compared(row)} (see its findings)"
     return _why_not_compared(row)
 
 
 REGRESSIONS = "stress regressions"
-KINDS = (("case", "other case", "other cases"),
-         (FEM_VALIDATION, "FEM-validation benchmark", "FEM-validation benchmarks"),
-         ("regression", "stress-contract regression", "stress-contract regressions"),
-         ("loading reading", "loading reading of an experiment (its base case carries the number)",
-          "loading readings of an experiment (their base case carries the number)"))
+KINDS = (
+    ("case", "other case", "other cases"),
+    (FEM_VALIDATION, "FEM-validation benchmark", "FEM-validation benchmarks"),
+    ("regression", "stress-contract regression", "stress-contract regressions"),
+    (
+        "loading reading",
+        "loading reading of an experiment (its base case carries the number)",
+        "loading readings of an experiment (their base case carries the number)",
+    ),
+)
 
 
 def _kind(row: CaseSummary) -> str:
@@ -368,19 +453,23 @@ def without_prbm_fem_line(rows: list[CaseSummary]) -> str:
         return f"0 of {len(rows)} cases have no PRBM-vs-FEM number."
     counts = {kind: sum(_kind(r) == kind for r in missing) for kind, _, _ in KINDS}
     parts = [f"{counts[kind]} {one if counts[kind] == 1 else many}" for kind, one, many in KINDS if counts[kind]]
-    return (f"{len(missing)} of {len(rows)} cases have no PRBM-vs-FEM number ({', '.join(parts)}), "
-            "each with its reason:")
+    return f"{len(missing)} of {len(rows)} cases have no PRBM-vs-FEM number ({', '.join(parts)}), each with its reason:"
 
 
 def summary_markdown(rows: list[CaseSummary]) -> str:
     lines = []
     for group in sorted({r.group for r in rows}, key=group_order):
-        lines += [f"\n### {group_heading(group)}\n", "| Case | Verdict | Result | PRBM vs FEM, max % of L | "
-                  "FEM error estimate | Printed numbers reproduced |", "|---|---|---|---|---|---|"]
+        lines += [
+            f"\n### {group_heading(group)}\n",
+            "| Case | Verdict | Result | PRBM vs FEM, max % of L | FEM error estimate | Printed numbers reproduced |",
+            "|---|---|---|---|---|---|",
+        ]
         for r in (r for r in rows if r.group == group):
             pct = _markdown_error(r)
-            lines.append(f"| {r.case} | {r.verdict.value} | {r.sentence.replace('|', '/')} | {pct} | "
-                         f"{estimate_text(r)} | {f'{r.checks_passed} of {r.checks}' if r.checks else ''} |")
+            lines.append(
+                f"| {r.case} | {r.verdict.value} | {r.sentence.replace('|', '/')} | {pct} | "
+                f"{estimate_text(r)} | {f'{r.checks_passed} of {r.checks}' if r.checks else ''} |"
+            )
     lines += ["", without_prbm_fem_line(rows)]
     lines += [f"- {r.case}: {missing_reason(r)}" for r in without_prbm_fem(rows)]
     return "\n".join(lines) + "\n"
@@ -398,6 +487,7 @@ def _markdown_error(row: CaseSummary) -> str:
 @dataclass
 class Finding:
     """One finding of one case, with the evidence of every row that carries it."""
+
     case: str
     text: str
     evidence: list[str]
@@ -414,11 +504,13 @@ def findings(results: list[CaseResult], table: pd.DataFrame) -> list[Finding]:
         part = rows_of(parts, noted, cid)
         for text, rows in part.groupby("finding", sort=False):
             rows = rows.drop_duplicates(["method", "quantity", "point", "level", "reference_label"])
-            evidence = [f"{r['quantity']}{'@' + r['point'] if r['point'] else ''} at {r['level_label']}: "
-                        f"{METHOD_NAMES.get(r['method'], r['method'])} {sig(r['value'])} against printed "
-                        f"{r['reference_label']} {sig(r['reference_value'])}"
-                        + (f" ({percent(r['rel_error'])} apart)" if not np.isnan(r["rel_error"]) else "")
-                        for _, r in rows.iterrows()]
+            evidence = [
+                f"{r['quantity']}{'@' + r['point'] if r['point'] else ''} at {r['level_label']}: "
+                f"{METHOD_NAMES.get(r['method'], r['method'])} {sig(r['value'])} against printed "
+                f"{r['reference_label']} {sig(r['reference_value'])}"
+                + (f" ({percent(r['rel_error'])} apart)" if not np.isnan(r["rel_error"]) else "")
+                for _, r in rows.iterrows()
+            ]
             out.append(Finding(cid, str(text), evidence))
     return out
 
@@ -429,8 +521,15 @@ def _finding_html(item: Finding, shown: int) -> str:
     if item.evidence:
         first = "".join(f"<li>{html.escape(readable(e))}</li>" for e in item.evidence[:shown])
         rest = item.evidence[shown:]
-        more = (f"<details><summary>{len(rest)} more row(s)</summary><ul class='evidence'>"
-                + "".join(f"<li>{html.escape(readable(e))}</li>" for e in rest) + "</ul></details>") if rest else ""
+        more = (
+            (
+                f"<details><summary>{len(rest)} more row(s)</summary><ul class='evidence'>"
+                + "".join(f"<li>{html.escape(readable(e))}</li>" for e in rest)
+                + "</ul></details>"
+            )
+            if rest
+            else ""
+        )
         evidence = f"<ul class='evidence'>{first}</ul>{more}"
     return f"<li>{html.escape(readable(item.text))}{evidence}</li>"
 
@@ -446,9 +545,11 @@ def findings_html(items: list[Finding], links: dict[str, str], shown: int = 3) -
     parts = []
     for case, mine in cases.items():
         count = f"{len(mine)} finding{'s' if len(mine) != 1 else ''}"
-        parts.append(f"<details class='casefindings'><summary><a href='{html.escape(links.get(case, '#'), quote=True)}'>"
-                     f"{html.escape(case)}</a> <b>{count}</b>: {html.escape(readable(mine[0].text))}</summary>"
-                     f"<ul class='findings'>{''.join(_finding_html(item, shown) for item in mine)}</ul></details>")
+        parts.append(
+            f"<details class='casefindings'><summary><a href='{html.escape(links.get(case, '#'), quote=True)}'>"
+            f"{html.escape(case)}</a> <b>{count}</b>: {html.escape(readable(mine[0].text))}</summary>"
+            f"<ul class='findings'>{''.join(_finding_html(item, shown) for item in mine)}</ul></details>"
+        )
     return "".join(parts)
 
 
@@ -457,21 +558,31 @@ def _source_line(key: str) -> str:
     title (its full citation: ``references.citation``)."""
     authors = citation(key).split(', "')[0]
     first = re.split(r",| and ", authors)[0]
-    year = re.search(r"\d{4}$", key)     # a key is the surname and the year, or names an undated lecture
-    return (f"{first}{' et al.' if first != authors else ''}, {year.group() if year else 'lecture, no year printed'}: "
-            f"{document_title(key)}")
+    year = re.search(r"\d{4}$", key)  # a key is the surname and the year, or names an undated lecture
+    return (
+        f"{first}{' et al.' if first != authors else ''}, {year.group() if year else 'lecture, no year printed'}: "
+        f"{document_title(key)}"
+    )
 
 
 def key_terms() -> list[tuple[str, str]]:
     """The index's key: each term of its tables and texts an engineer may not know, with its meaning."""
     return [(f"[{key}]", _source_line(key)) for key in REFERENCES] + [
-        ("eq 47, §2.3, ch. 4, Fig. 4.13", "equation, section, chapter, figure (and table) numbers of the "
-         "document cited just before"),
+        (
+            "eq 47, §2.3, ch. 4, Fig. 4.13",
+            "equation, section, chapter, figure (and table) numbers of the document cited just before",
+        ),
         ("L", "the characteristic length: the segment's length, or the mechanism's extent; errors in % of L"),
-        ("P, -nP (n > 0 compressive)", "the end force of a segment in [bapat2015]'s notation: P across the "
-         "undeformed segment, -nP along it, n = -F_x/F_y"),
-        ("Θ, γ, K_Θ", "the PRB angle, the characteristic radius factor and the stiffness coefficient of the "
-         "pseudo-rigid-body model [bapat2015 ch. 2]"),
+        (
+            "P, -nP (n > 0 compressive)",
+            "the end force of a segment in [bapat2015]'s notation: P across the "
+            "undeformed segment, -nP along it, n = -F_x/F_y",
+        ),
+        (
+            "Θ, γ, K_Θ",
+            "the PRB angle, the characteristic radius factor and the stiffness coefficient of the "
+            "pseudo-rigid-body model [bapat2015 ch. 2]",
+        ),
         ("FEM error estimate", "the FEM's discretisation error, estimated from its meshes (relative)"),
         ("finding", "a printed number known not to be reproduced, with the explanation that reproduces it"),
     ]

@@ -19,6 +19,7 @@ True
 exit status of the rule in ``validation/run/exit_status.py`` and ``passed``. Bad input raises
 ``CaseError`` (every problem of the file, one per line) before anything runs.
 """
+
 from __future__ import annotations
 
 import math
@@ -94,8 +95,9 @@ def method_differences(values: pd.DataFrame, method: str, against: str) -> pd.Da
     both = a.merge(b, on=key, how="inner").assign(against=against)
     both["abs_error"] = (both["value"] - both["reference_value"]).abs()
     denom = both["reference_value"].abs().to_numpy(dtype=float)
-    both["rel_error"] = np.where(denom > 0, both["abs_error"].to_numpy(dtype=float) / np.where(denom > 0, denom, 1.0),
-                                 math.nan)
+    both["rel_error"] = np.where(
+        denom > 0, both["abs_error"].to_numpy(dtype=float) / np.where(denom > 0, denom, 1.0), math.nan
+    )
     return both.reset_index(drop=True)
 
 
@@ -114,15 +116,19 @@ def _loaded(case: str | Path | Case | LoadedCase) -> LoadedCase:
     return load_case(paths[0])
 
 
-def validate(case: str | Path | Case | LoadedCase, methods: list[str] | None = None,
-             use_cache: bool = False) -> Validation:
+def validate(
+    case: str | Path | Case | LoadedCase, methods: list[str] | None = None, use_cache: bool = False
+) -> Validation:
     """Run a case (a file path, a case id, or a ``Case``) with its methods (or only ``methods``)
     and compare; raises ``CaseError`` on bad input before anything runs."""
     loaded = _loaded(case)
     unknown = [m for m in methods or [] if m not in loaded.case.methods]
     if unknown:
-        raise CaseError(loaded.path, "methods", f"the case does not ask for method '{unknown[0]}' "
-                        f"(it has {', '.join(loaded.case.methods)})")
+        raise CaseError(
+            loaded.path,
+            "methods",
+            f"the case does not ask for method '{unknown[0]}' (it has {', '.join(loaded.case.methods)})",
+        )
     result = run_case(loaded, methods, use_cache=use_cache)
     rows = tabulate(result)
     tidy = tables.tables_of([result], rows)

@@ -16,6 +16,7 @@ use of a folder in a process removes what a run must not find there: temporaries
 longer alive or that are older than ``ORPHAN_AGE`` seconds, and the pickles of an older format
 (``*.pkl``, which can run code when read).
 """
+
 from __future__ import annotations
 
 import ast
@@ -37,9 +38,9 @@ PACKAGES = ("validation", "prbm", "fem", "elastica", "bcm", "argcheck")
 # third-party libraries whose version can change a result
 LIBRARY_VERSIONS = ("numpy", "scipy", "scikit-fem", "pydantic", "numba", "openseespy")
 ENTRY_SUFFIX = ".run"
-ORPHAN_AGE = 3600.0   # seconds: a temporary this old is an orphan whoever holds its pid now
+ORPHAN_AGE = 3600.0  # seconds: a temporary this old is an orphan whoever holds its pid now
 _TEMPORARY = re.compile(r"^\.(?P<key>[0-9a-f]+)\.(?P<pid>[0-9]+)\.tmp$")
-_tidied: set[Path] = set()      # folders this process has tidied (`tidy`)
+_tidied: set[Path] = set()  # folders this process has tidied (`tidy`)
 _unwritable: set[Path] = set()  # folders a write failed in: this process writes no more entries there
 
 
@@ -91,7 +92,7 @@ def _imports_of_version(path: Path, root: Path, mtime_ns: int, size: int) -> fro
         if isinstance(node, ast.Import):
             names = [alias.name for alias in node.names]
         elif isinstance(node, ast.ImportFrom):
-            base = ".".join(package[:len(package) - node.level + 1]) if node.level else ""
+            base = ".".join(package[: len(package) - node.level + 1]) if node.level else ""
             module = ".".join(p for p in (base, node.module or "") if p)
             names = [module] + [f"{module}.{alias.name}" for alias in node.names]
         for name in names:
@@ -147,7 +148,7 @@ def _logical_line(source: str, start: int) -> str:
         elif ch == "\n" and depth <= 0:
             break
         i += 1
-    return source[start:i if i >= 0 else n]
+    return source[start : i if i >= 0 else n]
 
 
 def sources_of(start: list[Path], root: Path | None = None) -> list[Path]:
@@ -169,8 +170,9 @@ def source_files(method: str, root: Path | None = None) -> list[Path]:
     """Every repository source file a method's results can depend on: its adapter, the runner that
     calls it, and everything they import, transitively (schema, quantity contract, options, the library)."""
     root = root or ROOT
-    sources = sources_of([root / "validation" / "methods" / f"{method}.py", root / "validation" / "run" / "runner.py"],
-                         root)
+    sources = sources_of(
+        [root / "validation" / "methods" / f"{method}.py", root / "validation" / "run" / "runner.py"], root
+    )
     # data files beside the code are code too (the PRBM's error maps decide its flags)
     data = sorted({p for folder in {s.parent for s in sources} for p in folder.glob("*.json")})
     return sources + [p for p in data if p not in sources]
@@ -196,8 +198,9 @@ def code_hash(method: str) -> str:
 
 
 def run_key(case_text: str, method: str, options: dict) -> str:
-    payload = json.dumps([case_text, method, options, package_version(), code_hash(method)],
-                         sort_keys=True, default=str)
+    payload = json.dumps(
+        [case_text, method, options, package_version(), code_hash(method)], sort_keys=True, default=str
+    )
     return hashlib.sha256(payload.encode()).hexdigest()[:32]
 
 
@@ -254,7 +257,7 @@ def store(key: str, run: MethodRun) -> None:
         _unwritable.add(folder)
         where = f"{path}" if exc.filename in (None, str(tmp), str(path)) else f"{path} ({exc.filename})"
         warn(f"cannot write {where}: {_strerror(exc)}; going on without caching runs in {folder}")
-    except BaseException:      # an interruption (Ctrl-C, a case's deadline) leaves no temporary behind
+    except BaseException:  # an interruption (Ctrl-C, a case's deadline) leaves no temporary behind
         _remove(tmp)
         raise
 

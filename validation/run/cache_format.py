@@ -50,6 +50,7 @@ holds is refused when it is written (``TypeError``), so a run is cached exactly 
 The checksum finds corruption (a changed, lost or added byte), not forgery: whoever can write the
 cache folder can write a valid entry, as they could edit the source files.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -80,8 +81,8 @@ CLASSES: dict[str, tuple[str, str, str]] = {
     "Section": ("fem.section", "Section", "dataclass"),
 }
 _TAG_OF = {(module, name): tag for tag, (module, name, _) in CLASSES.items()}
-ARRAY_KINDS = "biufc"   # bool, signed and unsigned integer, float, complex: no object, no record
-ALIGN = 16              # bytes: every array's offset in the data, so that each is aligned as NumPy's own
+ARRAY_KINDS = "biufc"  # bool, signed and unsigned integer, float, complex: no object, no record
+ALIGN = 16  # bytes: every array's offset in the data, so that each is aligned as NumPy's own
 
 
 class EntryError(ValueError):
@@ -93,12 +94,15 @@ def encode(run: MethodRun, key: str) -> bytes:
     """The entry's bytes for ``run`` stored under ``key``. Raises ``TypeError`` for a run holding an
     object the format cannot write exactly."""
     writer = _Writer()
-    structure = json.dumps({"key": key, "run": writer.value(run)}, allow_nan=False,
-                           separators=(",", ":")).encode()
+    structure = json.dumps({"key": key, "run": writer.value(run)}, allow_nan=False, separators=(",", ":")).encode()
     data = writer.data()
     payload = structure + data
-    header = {"schema": SCHEMA_VERSION, "structure": len(structure), "data": len(data),
-              "sha256": hashlib.sha256(payload).hexdigest()}
+    header = {
+        "schema": SCHEMA_VERSION,
+        "structure": len(structure),
+        "data": len(data),
+        "sha256": hashlib.sha256(payload).hexdigest(),
+    }
     return MAGIC + json.dumps(header, separators=(",", ":")).encode() + b"\n" + payload
 
 
@@ -112,7 +116,7 @@ def decode(entry: bytes, key: str) -> MethodRun:
     if end < 0:
         raise EntryError(f"truncated to {len(entry)} bytes, within its header")
     try:
-        header = json.loads(entry[len(MAGIC):end])
+        header = json.loads(entry[len(MAGIC) : end])
         schema, sizes, digest = header["schema"], (header["structure"], header["data"]), header["sha256"]
     except (ValueError, KeyError, TypeError):
         raise EntryError("not an entry of this format (no header)") from None
@@ -120,18 +124,18 @@ def decode(entry: bytes, key: str) -> MethodRun:
         raise EntryError(f"schema version {schema!r}, this code reads {SCHEMA_VERSION}")
     if not all(type(n) is int and n >= 0 for n in sizes) or type(digest) is not str:
         raise EntryError("a header without the payload's sizes and checksum")
-    payload = memoryview(entry)[end + 1:]
+    payload = memoryview(entry)[end + 1 :]
     if len(payload) != sum(sizes):
         raise EntryError(f"truncated or extended: a payload of {len(payload)} bytes, its header says {sum(sizes)}")
     if hashlib.sha256(payload).hexdigest() != digest:
         raise EntryError("its checksum does not match its payload")
-    structure = payload[:sizes[0]]
-    packed = np.frombuffer(payload, dtype=np.uint8, offset=sizes[0]).copy()   # aligned and writable
+    structure = payload[: sizes[0]]
+    packed = np.frombuffer(payload, dtype=np.uint8, offset=sizes[0]).copy()  # aligned and writable
     try:
         document = json.loads(bytes(structure), object_hook=_Reader(packed).tagged)
     except EntryError:
         raise
-    except Exception as exc:     # whatever the structure's text makes the decoder raise: unusable
+    except Exception as exc:  # whatever the structure's text makes the decoder raise: unusable
         raise EntryError(f"undecodable ({_reason(exc)})") from None
     if type(document) is not dict or type(document.get("run")) is not MethodRun:
         raise EntryError("does not hold a method run")
@@ -157,7 +161,7 @@ class _Writer:
         self._size = 0
         self._arrays: dict[int, dict] = {}
         self._refs: dict[int, int] = {}
-        self._keep: list[Any] = []          # what ``id`` keys refer to stays alive while writing
+        self._keep: list[Any] = []  # what ``id`` keys refer to stays alive while writing
 
     def data(self) -> bytes:
         return b"".join(self._chunks)
@@ -175,8 +179,12 @@ class _Writer:
                 return {k: self.value(v) for k, v in obj.items()}
             tag = _keyed_by(obj)
             if tag is not None:
-                return {"$": "keyed", "class": tag, "keys": [[self.value(item) for item in k] for k in obj],
-                        "values": [self.value(v) for v in obj.values()]}
+                return {
+                    "$": "keyed",
+                    "class": tag,
+                    "keys": [[self.value(item) for item in k] for k in obj],
+                    "values": [self.value(v) for v in obj.values()],
+                }
             return {"$": "dict", "items": [[self.value(k), self.value(v)] for k, v in obj.items()]}
         if kind is tuple:
             return {"$": "tuple", "items": [self.value(item) for item in obj]}
@@ -187,14 +195,16 @@ class _Writer:
         tag = _TAG_OF.get((kind.__module__, kind.__qualname__))
         if tag is not None:
             return self._instance(tag, obj)
-        if kind.__reduce__ is not object.__reduce__:      # a lazy value: what it pickles as
+        if kind.__reduce__ is not object.__reduce__:  # a lazy value: what it pickles as
             reduced = obj.__reduce__()
             if isinstance(reduced, tuple) and callable(reduced[0]):
                 value = reduced[0](*reduced[1])
                 if type(value) is not kind:
                     return self.value(value)
-        raise TypeError(f"a {kind.__module__}.{kind.__qualname__} cannot be written to the run cache "
-                        "(validation.run.cache_format.CLASSES lists what can)")
+        raise TypeError(
+            f"a {kind.__module__}.{kind.__qualname__} cannot be written to the run cache "
+            "(validation.run.cache_format.CLASSES lists what can)"
+        )
 
     def _array(self, array: np.ndarray) -> dict:
         """The array's reference: dtype, shape, offset of its bytes (C order, or of its transpose for
@@ -206,8 +216,7 @@ class _Writer:
             raise TypeError(f"an array of dtype {array.dtype} cannot be written to the run cache")
         fortran = array.ndim > 1 and array.flags.f_contiguous and not array.flags.c_contiguous
         padding = -self._size % ALIGN
-        described = {"$": "array", "dtype": array.dtype.str, "shape": list(array.shape),
-                     "at": self._size + padding}
+        described = {"$": "array", "dtype": array.dtype.str, "shape": list(array.shape), "at": self._size + padding}
         if fortran:
             described["order"] = "F"
         raw = (array.T if fortran else array).tobytes()
@@ -228,8 +237,7 @@ class _Writer:
             return {"$": "ref", "ref": ref}
         ref = self._refs[id(obj)] = len(self._refs)
         self._keep.append(obj)
-        return {"$": tag, "ref": ref,
-                "f": {f.name: self.value(getattr(obj, f.name)) for f in dataclasses.fields(obj)}}
+        return {"$": tag, "ref": ref, "f": {f.name: self.value(getattr(obj, f.name)) for f in dataclasses.fields(obj)}}
 
 
 class _Reader:
@@ -284,7 +292,7 @@ class _Reader:
         size = math.prod(shape) * dtype.itemsize
         if type(at) is not int or at < 0 or at % ALIGN or at + size > self.packed.size:
             raise EntryError("an array outside the entry's data")
-        flat = self.packed[at:at + size].view(dtype)
+        flat = self.packed[at : at + size].view(dtype)
         if described.get("order") == "F":
             return flat.reshape(shape[::-1]).T
         return flat.reshape(shape)
@@ -335,8 +343,11 @@ def _class(tag: Any, kind: str | None = None) -> Any:
         raise EntryError(f"an object of tag {tag!r}" + (f" where a {kind} belongs" if kind else ""))
     module, name, kind = CLASSES[tag]
     cls = getattr(importlib.import_module(module), name)
-    expected = {"enum": lambda c: issubclass(c, Enum), "namedtuple": lambda c: issubclass(c, tuple),
-                "dataclass": dataclasses.is_dataclass}[kind]
+    expected = {
+        "enum": lambda c: issubclass(c, Enum),
+        "namedtuple": lambda c: issubclass(c, tuple),
+        "dataclass": dataclasses.is_dataclass,
+    }[kind]
     if not isinstance(cls, type) or not expected(cls):
         raise TypeError(f"{module}.{name} is not a {kind}")
     return cls

@@ -5,6 +5,7 @@ from the cache when the case text, the method, its options and the code are unch
 The case's methods and its findings' re-runs together get the wall time of its ``[limits] seconds``
 (``validation.run.deadline``): past it, the method running stops with status 'timed out', the methods
 not yet run are 'timed out' too (not run), and the case's result is what ran before."""
+
 from __future__ import annotations
 
 import time
@@ -40,13 +41,19 @@ def run_case(loaded: LoadedCase, methods: list[str] | None = None, use_cache: bo
         for method in wanted:
             if method not in result.runs:
                 result.cached[method] = False
-                result.runs[method] = timed_out(seconds, time.perf_counter() - started if method == current else 0.0,
-                                                ran=method == current)
+                result.runs[method] = timed_out(
+                    seconds, time.perf_counter() - started if method == current else 0.0, ran=method == current
+                )
     return result
 
 
 def timed_out(seconds: float, wall_time: float, ran: bool) -> MethodRun:
     """The run of a method stopped (``ran``) or never started at the case's wall-time limit."""
     limit = f"the case's wall-time limit of {seconds:g} s ([limits] seconds)"
-    return MethodRun(values={}, converged=False, wall_time=wall_time, status=RunStatus.TIMED_OUT,
-                     message=f"timed out: stopped at {limit}" if ran else f"timed out: not run, {limit} was spent")
+    return MethodRun(
+        values={},
+        converged=False,
+        wall_time=wall_time,
+        status=RunStatus.TIMED_OUT,
+        message=f"timed out: stopped at {limit}" if ran else f"timed out: not run, {limit} was spent",
+    )

@@ -17,6 +17,7 @@ fem-elastica  automatic wherever the FEM and the exact elastica both give a valu
               asymptotic range, the estimate is no bound) is recorded with the reason, not judged
               (``within_tolerance`` empty).
 """
+
 from __future__ import annotations
 
 import math
@@ -40,10 +41,10 @@ RELATIVE_FLOOR = 0.01
 class CheckKind(StrEnum):
     """What a check compares a method's value with."""
 
-    REFERENCE = "reference"          # a published number of the case (its tolerance)
-    FINDING = "finding"              # a documented disagreement and the explanation that reproduces it
-    AGREEMENT = "agreement"          # another method's value (the case's agreements)
-    FEM_ELASTICA = "fem-elastica"    # the FEM against the exact elastica, within the FEM's estimate
+    REFERENCE = "reference"  # a published number of the case (its tolerance)
+    FINDING = "finding"  # a documented disagreement and the explanation that reproduces it
+    AGREEMENT = "agreement"  # another method's value (the case's agreements)
+    FEM_ELASTICA = "fem-elastica"  # the FEM against the exact elastica, within the FEM's estimate
 
 
 @dataclass(frozen=True)
@@ -57,7 +58,7 @@ class Check:
     tolerance: Tolerance | None
     abs_error: float
     rel_error: float
-    within: bool | None             # None: recorded, not judged
+    within: bool | None  # None: recorded, not judged
     finding: str | None = None
     detail: str = ""
 
@@ -81,8 +82,15 @@ def reference_check(ref: ReferenceSpec, value: float, reproduced: float | None) 
         raise ValueError(f"reference {ref.label} {ref.value:g} has no tolerance: it is recorded, not checked")
     abs_error, rel_error = _errors(value, ref.value)
     met = within(ref.tolerance, abs_error, rel_error)
-    check = partial(Check, reference_label=ref.label, reference_value=ref.value, source=ref.source.label(),
-                    tolerance=ref.tolerance, abs_error=abs_error, rel_error=rel_error)
+    check = partial(
+        Check,
+        reference_label=ref.label,
+        reference_value=ref.value,
+        source=ref.source.label(),
+        tolerance=ref.tolerance,
+        abs_error=abs_error,
+        rel_error=rel_error,
+    )
     if ref.finding is None:
         return check(kind=CheckKind.REFERENCE, within=met)
     finding = ref.finding
@@ -93,15 +101,19 @@ def reference_check(ref: ReferenceSpec, value: float, reproduced: float | None) 
     if finding.computed is not None:
         got = _errors(value, finding.computed)
         if not within(tol, *got):
-            problems.append(f"the explanation does not reproduce: method {value:.6g}, finding says "
-                            f"{finding.computed:.6g} (|error| {got[0]:.3g})")
+            problems.append(
+                f"the explanation does not reproduce: method {value:.6g}, finding says "
+                f"{finding.computed:.6g} (|error| {got[0]:.3g})"
+            )
     elif reproduced is None or math.isnan(reproduced):
         problems.append(f"the re-run with {finding.reproduce_with} gave no value")
     else:
         got = _errors(reproduced, ref.value)
         if not within(tol, *got):
-            problems.append(f"the re-run with {finding.reproduce_with} gives {reproduced:.6g}, not the printed "
-                            f"{ref.value:g} (|error| {got[0]:.3g})")
+            problems.append(
+                f"the re-run with {finding.reproduce_with} gives {reproduced:.6g}, not the printed "
+                f"{ref.value:g} (|error| {got[0]:.3g})"
+            )
     return check(kind=CheckKind.FINDING, within=not problems, finding=finding.text, detail="; ".join(problems))
 
 
@@ -128,9 +140,16 @@ def agreement_checks(case: Case, agreement: Agreement, runs: dict[str, MethodRun
             abs_error = abs(value - other)
             denom = max(abs(other), RELATIVE_FLOOR * scale)
             rel_error = abs_error / denom if denom > 0 else math.nan
-            checks[req] = Check(kind=CheckKind.AGREEMENT, reference_label=agreement.against, reference_value=other,
-                                source=agreement.basis, tolerance=agreement.tolerance, abs_error=abs_error,
-                                rel_error=rel_error, within=within(agreement.tolerance, abs_error, rel_error))
+            checks[req] = Check(
+                kind=CheckKind.AGREEMENT,
+                reference_label=agreement.against,
+                reference_value=other,
+                source=agreement.basis,
+                tolerance=agreement.tolerance,
+                abs_error=abs_error,
+                rel_error=rel_error,
+                within=within(agreement.tolerance, abs_error, rel_error),
+            )
     return checks
 
 
@@ -138,9 +157,14 @@ def _against_value(case: Case, against: str, runs: dict[str, MethodRun], req: Re
     if against in case.methods:
         run = runs.get(against)
         return None if run is None else run.values.get(req)
-    printed = [ref.value for ref in case.references if ref.label == against and ref.quantity == req.quantity
-               and ref.level == req.level
-               and (ref.point if QUANTITIES[ref.quantity].at_point else "") == req.point]
+    printed = [
+        ref.value
+        for ref in case.references
+        if ref.label == against
+        and ref.quantity == req.quantity
+        and ref.level == req.level
+        and (ref.point if QUANTITIES[ref.quantity].at_point else "") == req.point
+    ]
     return printed[0] if printed else None
 
 
@@ -156,9 +180,11 @@ def axial_strain_bound(case: Case, level: int) -> float:
     fx = sum(load.levels()[level] * load.direction[0] for load in forces if load.direction is not None)
     fy = sum(load.levels()[level] * load.direction[1] for load in forces if load.direction is not None)
     # the forces that turn: followers, and forces toward a fixed point (they have no direction)
-    followers = (sum(abs(load.levels()[level]) * math.hypot(*load.direction)
-                     for load in forces if load.follower and load.direction is not None)
-                 + sum(abs(load.levels()[level]) for load in forces if load.toward is not None))
+    followers = sum(
+        abs(load.levels()[level]) * math.hypot(*load.direction)
+        for load in forces
+        if load.follower and load.direction is not None
+    ) + sum(abs(load.levels()[level]) for load in forces if load.toward is not None)
     force = max(math.hypot(fx, fy), followers)
     EA = case.segment.axial_stiffness()
     if math.isnan(EA):  # no area given: the FEM adapter's stand-in EA = ratio EI / L^2
@@ -180,23 +206,37 @@ def fem_elastica_checks(case: Case, runs: dict[str, MethodRun], scale: float) ->
             continue
         abs_error, rel_error = _errors(value, other)
         if req in fem.unreliable_estimate:
-            checks[req] = Check(kind=CheckKind.FEM_ELASTICA, reference_label="elastica", reference_value=other,
-                                source="exact elastica; not judged: estimate unreliable", tolerance=None,
-                                abs_error=abs_error, rel_error=rel_error, within=None,
-                                detail=f"not judged: {fem.unreliable_estimate[req]}")
+            checks[req] = Check(
+                kind=CheckKind.FEM_ELASTICA,
+                reference_label="elastica",
+                reference_value=other,
+                source="exact elastica; not judged: estimate unreliable",
+                tolerance=None,
+                abs_error=abs_error,
+                rel_error=rel_error,
+                within=None,
+                detail=f"not judged: {fem.unreliable_estimate[req]}",
+            )
             continue
         estimate = fem.error_estimate.get(req, math.nan)
         size = scale if QUANTITIES[req.quantity].dimension == "length" else max(abs(other), 1.0)
-        stretch = axial_strain_bound(case, req.level) * (scale if QUANTITIES[req.quantity].dimension == "length"
-                                                         else abs(other))
+        stretch = axial_strain_bound(case, req.level) * (
+            scale if QUANTITIES[req.quantity].dimension == "length" else abs(other)
+        )
         limit = FEM_ESTIMATE_MULTIPLE * estimate + stretch + ROUND_OFF * size
         detail = "" if not math.isnan(estimate) else "the FEM gave no error estimate for this value"
-        checks[req] = Check(kind=CheckKind.FEM_ELASTICA, reference_label="elastica", reference_value=other,
-                            source=f"exact elastica; limit {FEM_ESTIMATE_MULTIPLE:g} x FEM error estimate "
-                                   f"+ axial stretch |F| L/EA (the elastica is inextensible) + {ROUND_OFF:g} x scale",
-                            tolerance=Tolerance(abs=limit) if limit > 0 else None,
-                            abs_error=abs_error, rel_error=rel_error,
-                            within=bool(not math.isnan(limit) and abs_error <= limit), detail=detail)
+        checks[req] = Check(
+            kind=CheckKind.FEM_ELASTICA,
+            reference_label="elastica",
+            reference_value=other,
+            source=f"exact elastica; limit {FEM_ESTIMATE_MULTIPLE:g} x FEM error estimate "
+            f"+ axial stretch |F| L/EA (the elastica is inextensible) + {ROUND_OFF:g} x scale",
+            tolerance=Tolerance(abs=limit) if limit > 0 else None,
+            abs_error=abs_error,
+            rel_error=rel_error,
+            within=bool(not math.isnan(limit) and abs_error <= limit),
+            detail=detail,
+        )
     return checks
 
 
@@ -220,14 +260,17 @@ def verdict_by_method(case: Case, runs: dict[str, MethodRun], table) -> dict[str
             continue  # no value where the method is expected to fail: the expectation is checked below
         problems.setdefault(row["method"], []).append(
             f"{row['check']} {row['method']} {row['quantity']} level {row['level']}: "
-                        f"{row['value']:.6g} against {row['reference_label']} {row['reference_value']:.6g} "
-                        f"(|error| {row['abs_error']:.3g}, rel {row['rel_error']:.3g}; tolerance abs "
-                        f"{row['tolerance_abs']}, rel {row['tolerance_rel']}) {row['message'] or ''}".rstrip())
+            f"{row['value']:.6g} against {row['reference_label']} {row['reference_value']:.6g} "
+            f"(|error| {row['abs_error']:.3g}, rel {row['rel_error']:.3g}; tolerance abs "
+            f"{row['tolerance_abs']}, rel {row['tolerance_rel']}) {row['message'] or ''}".rstrip()
+        )
     for i, agreement in enumerate(case.agreements):
         against_ran = agreement.against in runs or agreement.against not in case.methods
         if agreement.method in runs and against_ran and not agreement_checks(case, agreement, runs):
-            problems[agreement.method].append(f"agreements.{i} ({agreement.method} against {agreement.against}) compares nothing: "
-                            f"no level where both sides have {', '.join(agreement.quantities)}")
+            problems[agreement.method].append(
+                f"agreements.{i} ({agreement.method} against {agreement.against}) compares nothing: "
+                f"no level where both sides have {', '.join(agreement.quantities)}"
+            )
     loaded = loaded_levels(case)
     for method, run in runs.items():
         failed = not run.converged or not run.values
@@ -239,12 +282,12 @@ def verdict_by_method(case: Case, runs: dict[str, MethodRun], table) -> dict[str
         if not run.values or method in case.case.unchecked:
             continue
         mine = claimed[claimed["method"] == method]
-        others = claimed[(claimed["reference_label"] == method) & claimed["check"].isin(["agreement",
-                                                                                        "fem-elastica"])]
+        others = claimed[(claimed["reference_label"] == method) & claimed["check"].isin(["agreement", "fem-elastica"])]
         levels = set(mine["level"].dropna().astype(int)) | set(others["level"].dropna().astype(int))
         if not levels & loaded:
-            problems[method].append(f"{method} has values but no enforced check at a loaded level, and "
-                            f"case.unchecked gives no reason")
+            problems[method].append(
+                f"{method} has values but no enforced check at a loaded level, and case.unchecked gives no reason"
+            )
     return problems
 
 

@@ -30,6 +30,7 @@ The minimal cases (dimensionless: L = 1, EI = 1, EA = 1e4 EI/L^2):
 
 Nothing is cached: each cell is a run of a few milliseconds to a second.
 """
+
 from __future__ import annotations
 
 import math
@@ -45,34 +46,44 @@ from validation.case.schema import Case
 from validation.methods.base import RunStatus
 from validation.run.runner import run_method
 
-LOAD_KINDS = ("force", "follower force", "force toward a point", "moment", "distributed load", "self-weight",
-              "prescribed displacement", "prescribed rotation")
+LOAD_KINDS = (
+    "force",
+    "follower force",
+    "force toward a point",
+    "moment",
+    "distributed load",
+    "self-weight",
+    "prescribed displacement",
+    "prescribed rotation",
+)
 SEGMENTS = ("fixed-free", "fixed-pinned", "fixed-guided", "fixed-fixed", "pinned-pinned", "curved fixed-free")
 METHODS = ("prbm", "fem", "elastica", "bcm")
 FEM_OPTIONS = {"elements": 4, "error_estimate": False}
-CURVATURE = 0.5                  # kappa L of the curved segment
-AREA = 1e4                       # EA L^2/EI of every beam
+CURVATURE = 0.5  # kappa L of the curved segment
+AREA = 1e4  # EA L^2/EI of every beam
 SECTION: dict[str, Any] = {"kind": "inertia", "I": 1.0, "A": AREA}
-WEIGHT_DENSITY = 1.0 / AREA      # weight per volume: a weight of 1 EI/L^3 per length
+WEIGHT_DENSITY = 1.0 / AREA  # weight per volume: a weight of 1 EI/L^3 per length
 
 
 @dataclass(frozen=True)
 class MechanismRow:
     """A mechanism of ``cases/`` and where the row's loads act on it."""
 
-    file: str                    # below cases/
-    point: str                   # the loaded node
-    body: str                    # the rigid link a follower force turns with
+    file: str  # below cases/
+    point: str  # the loaded node
+    body: str  # the rigid link a follower force turns with
     direction: tuple[float, float]
     toward: tuple[float, float]  # the fixed point a rope pulls toward
     driven: tuple[str, str | None]  # (node, body) of the prescribed rotation
 
 
 MECHANISMS = {
-    "parallel-guided mechanism": MechanismRow("segments/parallel_guided_mechanism.toml", "M", "coupler",
-                                              (1.0, 0.0), (1.25, 1.0), ("M", None)),
-    "circular-guided mechanism": MechanismRow("seed003/circular_guided.toml", "A", "crank",
-                                              (0.0, 1.0), (1.0, 1.0), ("B", "crank")),
+    "parallel-guided mechanism": MechanismRow(
+        "segments/parallel_guided_mechanism.toml", "M", "coupler", (1.0, 0.0), (1.25, 1.0), ("M", None)
+    ),
+    "circular-guided mechanism": MechanismRow(
+        "seed003/circular_guided.toml", "A", "crank", (0.0, 1.0), (1.0, 1.0), ("B", "crank")
+    ),
 }
 BOUNDARIES = SEGMENTS + tuple(MECHANISMS)
 
@@ -129,16 +140,15 @@ def _load(kind: str, boundary: str) -> dict[str, Any]:
     rotated, body = row.driven if row is not None else (point, None)
     loads: dict[str, dict[str, Any]] = {
         "force": dict(kind="force", point=point, direction=direction, values=[1.0]),
-        "follower force": dict(kind="force", point=point, direction=direction, values=[1.0], follower=True,
-                               **follower_body),
+        "follower force": dict(
+            kind="force", point=point, direction=direction, values=[1.0], follower=True, **follower_body
+        ),
         "force toward a point": dict(kind="force", point=point, toward=toward, values=[1.0]),
         "moment": dict(kind="moment", point=point, values=[1.0]),
         "distributed load": dict(kind="distributed", point=point, direction=direction, values=[1.0]),
         "self-weight": dict(kind="self_weight", point=point, direction=[0.0, -1.0], values=[1.0]),
-        "prescribed displacement": dict(kind="displacement", point=point, direction=direction,
-                                        values=[displacement]),
-        "prescribed rotation": dict(kind="rotation", point=rotated, values=[10.0],
-                                    **({"body": body} if body else {})),
+        "prescribed displacement": dict(kind="displacement", point=point, direction=direction, values=[displacement]),
+        "prescribed rotation": dict(kind="rotation", point=rotated, values=[10.0], **({"body": body} if body else {})),
     }
     return loads[kind]
 
@@ -168,8 +178,13 @@ def minimal_case(load: str, boundary: str, method: str) -> dict[str, Any]:
         data["mechanism"] = mechanism(MECHANISMS[boundary], weight)
     else:
         section = dict(SECTION, **({"weight_density": WEIGHT_DENSITY} if weight else {}))
-        data["segment"] = {"boundary": boundary.removeprefix("curved "), "length": 1.0, "E": 1.0,
-                           "section": section, "curvature": CURVATURE if boundary.startswith("curved ") else 0.0}
+        data["segment"] = {
+            "boundary": boundary.removeprefix("curved "),
+            "length": 1.0,
+            "E": 1.0,
+            "section": section,
+            "curvature": CURVATURE if boundary.startswith("curved ") else 0.0,
+        }
     return data
 
 
@@ -181,13 +196,13 @@ def shorten(message: str, width: int = 72) -> str:
     failed = [c for c in clauses if re.match(r"^(elastica mechanism: )?level \d+: ", c)]
     text = (failed or clauses)[0]
     text = re.sub(r"^(not applicable|not converged|error|misconfigured): ", "", text)
-    text = re.sub(r"^[A-Z][a-z]+[A-Z]\w*: ", "", text)      # an exception's class name
+    text = re.sub(r"^[A-Z][a-z]+[A-Z]\w*: ", "", text)  # an exception's class name
     text = re.sub(r"^(elastica mechanism|BCM adapter): ", "", text)
     text = re.sub(r"^(loads\.\d+|(load )?level \d+): ", "", text)
     text = re.sub(r" \(at [\w.]+:\d+\)$", "", text).strip().rstrip(".")
     if len(text) <= width:
         return text
-    return text[:width - 3].rsplit(" ", 1)[0].rstrip(",;:") + "..."
+    return text[: width - 3].rsplit(" ", 1)[0].rstrip(",;:") + "..."
 
 
 def cell(load: str, boundary: str, method: str) -> Cell:
@@ -226,8 +241,10 @@ def markdown(cells: list[Cell]) -> str:
     """The matrix as a Markdown table: a row per (load kind, boundary), a column per method."""
     methods, rows = _rows(cells)
     lines = ["| load | boundary | " + " | ".join(methods) + " |", "|---|---|" + "---|" * len(methods)]
-    lines += ["| " + " | ".join([load, boundary, *(t.replace("|", "\\|") for t in texts)]) + " |"
-              for load, boundary, texts in rows]
+    lines += [
+        "| " + " | ".join([load, boundary, *(t.replace("|", "\\|") for t in texts)]) + " |"
+        for load, boundary, texts in rows
+    ]
     return "\n".join(lines)
 
 

@@ -11,6 +11,7 @@ interpreter (a compiled numba kernel is interrupted when it returns, so a single
 returns is not). Elsewhere (another thread, a platform without ``setitimer``) ``deadline`` enforces
 nothing and says so (``Deadline.enforced``). Deadlines do not nest.
 """
+
 from __future__ import annotations
 
 import signal
@@ -36,7 +37,7 @@ class Deadline:
     fired: bool = False
 
     def _alarm(self, signum, frame) -> None:
-        if not self.fired:          # one TimedOut per deadline, however late the work notices it
+        if not self.fired:  # one TimedOut per deadline, however late the work notices it
             self.fired = True
             raise TimedOut(f"over the wall-time limit of {self.seconds:g} s")
 
@@ -56,5 +57,5 @@ def deadline(seconds: float) -> Iterator[Deadline]:
     finally:
         try:
             signal.setitimer(signal.ITIMER_REAL, 0.0)
-        finally:        # restored even when the timer fires on the way out
+        finally:  # restored even when the timer fires on the way out
             signal.signal(signal.SIGALRM, previous)

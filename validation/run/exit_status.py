@@ -16,6 +16,7 @@ Every verb (``list``, ``run``, ``solve``, ``report``, ``bench``, ``stress``, ``s
 
 When several apply, the largest of 0, 1, 2 wins: bad input is never hidden by a failed comparison.
 """
+
 from __future__ import annotations
 
 import sys
@@ -32,12 +33,14 @@ class ExitStatus(IntEnum):
     INTERRUPTED = 130
 
 
-RULE = ("exit status (every verb): 0 everything asked for ran and no row is 'outside the claimed limit'; "
-        "1 a row 'outside the claimed limit', or a method that 'failed', was 'refused' or 'did not converge' "
-        "on a case that does not record it as an 'expected failure', or results that could not be written (disk full, "
-        "permission); 2 bad input (case, spec, option or name, or an output folder that cannot be used "
-        "or is in use by another command), found before any solve; 130 interrupted. A command that "
-        "ends with nothing written leaves the previous results in its output folder unchanged")
+RULE = (
+    "exit status (every verb): 0 everything asked for ran and no row is 'outside the claimed limit'; "
+    "1 a row 'outside the claimed limit', or a method that 'failed', was 'refused' or 'did not converge' "
+    "on a case that does not record it as an 'expected failure', or results that could not be written (disk full, "
+    "permission); 2 bad input (case, spec, option or name, or an output folder that cannot be used "
+    "or is in use by another command), found before any solve; 130 interrupted. A command that "
+    "ends with nothing written leaves the previous results in its output folder unchanged"
+)
 
 
 def of_run_status(status: RunStatus) -> ExitStatus:

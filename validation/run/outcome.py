@@ -6,6 +6,7 @@ exit status), and the one-row-per-case summary with the largest PRBM-to-FEM erro
 with the value, its unit, the published value and its source, the absolute and relative error,
 whether the claimed tolerance is met, the wall time, and whether the method converged.
 """
+
 from __future__ import annotations
 
 import math
@@ -28,10 +29,39 @@ from validation.run.timeline import Timed
 from validation.run.verdict import Verdict, prbm_fem_verdict, row_verdict, run_verdict, table_verdict
 
 
-COLUMNS = ["case", "group", "method", "quantity", "point", "level", "level_label", "value", "unit", "scale",
-           "error_estimate", "error_estimate_reliable", "reference_label", "reference_value", "source", "compare",
-           "tolerance_rel", "tolerance_abs", "abs_error", "rel_error", "norm_error", "within_tolerance", "finding",
-           "wall_time", "converged", "message", "applicability", "expected_error", "cached", "check", "verdict"]
+COLUMNS = [
+    "case",
+    "group",
+    "method",
+    "quantity",
+    "point",
+    "level",
+    "level_label",
+    "value",
+    "unit",
+    "scale",
+    "error_estimate",
+    "error_estimate_reliable",
+    "reference_label",
+    "reference_value",
+    "source",
+    "compare",
+    "tolerance_rel",
+    "tolerance_abs",
+    "abs_error",
+    "rel_error",
+    "norm_error",
+    "within_tolerance",
+    "finding",
+    "wall_time",
+    "converged",
+    "message",
+    "applicability",
+    "expected_error",
+    "cached",
+    "check",
+    "verdict",
+]
 
 
 def tabulate(result: CaseResult) -> pd.DataFrame:
@@ -52,26 +82,48 @@ def tabulate(result: CaseResult) -> pd.DataFrame:
     for method, run in result.runs.items():
         requests = requests_for(case, method)
         if not requests:
-            rows.append(dict(case=case.case.id, group=case.case.group, method=method, quantity=None,
-                             point=None, level=None, level_label=None, value=math.nan, unit=None,
-                             wall_time=run.wall_time, converged=run.converged, message=run.message,
-                             cached=result.cached.get(method, False)))
+            rows.append(
+                dict(
+                    case=case.case.id,
+                    group=case.case.group,
+                    method=method,
+                    quantity=None,
+                    point=None,
+                    level=None,
+                    level_label=None,
+                    value=math.nan,
+                    unit=None,
+                    wall_time=run.wall_time,
+                    converged=run.converged,
+                    message=run.message,
+                    cached=result.cached.get(method, False),
+                )
+            )
             continue
         bases = {}
         for req in requests:
             value = run.values.get(req, math.nan)
             dimension = QUANTITIES[req.quantity].dimension
-            base = dict(case=case.case.id, group=case.case.group, method=method, quantity=req.quantity,
-                        point=req.point, level=req.level, level_label=labels[req.level], value=value,
-                        unit=case.unit(dimension), scale=scale,
-                        error_estimate=run.error_estimate.get(req, math.nan),
-                        error_estimate_reliable=run.estimate_reliable(req),
-                        wall_time=run.wall_time,
-                        converged=run.level_converged.get(req.level, run.converged),
-                        message=run.level_messages.get(req.level, run.message),
-                        applicability="; ".join(f.value for f in getattr(run, "applicability", {}).get(req.level, ())),
-                        expected_error=getattr(run, "expected_error", {}).get(req.level, math.nan),
-                        cached=result.cached.get(method, False))
+            base = dict(
+                case=case.case.id,
+                group=case.case.group,
+                method=method,
+                quantity=req.quantity,
+                point=req.point,
+                level=req.level,
+                level_label=labels[req.level],
+                value=value,
+                unit=case.unit(dimension),
+                scale=scale,
+                error_estimate=run.error_estimate.get(req, math.nan),
+                error_estimate_reliable=run.estimate_reliable(req),
+                wall_time=run.wall_time,
+                converged=run.level_converged.get(req.level, run.converged),
+                message=run.level_messages.get(req.level, run.message),
+                applicability="; ".join(f.value for f in getattr(run, "applicability", {}).get(req.level, ())),
+                expected_error=getattr(run, "expected_error", {}).get(req.level, math.nan),
+                cached=result.cached.get(method, False),
+            )
             bases[req] = base
             matching = refs.get(req, [])
             if not matching:
@@ -82,12 +134,20 @@ def tabulate(result: CaseResult) -> pd.DataFrame:
                     rows.append(base | _check_row(check, dimension, scale))
                     continue
                 abs_error = abs(value - ref.value)
-                rows.append(base | dict(
-                    reference_label=ref.label, reference_value=ref.value, source=ref.source.label(),
-                    compare=False, abs_error=abs_error,
-                    rel_error=abs_error / abs(ref.value) if ref.value != 0 else math.nan,
-                    norm_error=abs_error / scale if dimension == "length" else math.nan,
-                    within_tolerance=None, finding=ref.finding.text if ref.finding else ref.note))
+                rows.append(
+                    base
+                    | dict(
+                        reference_label=ref.label,
+                        reference_value=ref.value,
+                        source=ref.source.label(),
+                        compare=False,
+                        abs_error=abs_error,
+                        rel_error=abs_error / abs(ref.value) if ref.value != 0 else math.nan,
+                        norm_error=abs_error / scale if dimension == "length" else math.nan,
+                        within_tolerance=None,
+                        finding=ref.finding.text if ref.finding else ref.note,
+                    )
+                )
             if method == "fem" and req in automatic:
                 rows.append(base | _check_row(automatic[req], dimension, scale))
         for req, check in agreed.get(method, []):
@@ -98,9 +158,14 @@ def tabulate(result: CaseResult) -> pd.DataFrame:
         run = result.runs[row["method"]]
         level = row.get("level")
         state, _ = run_verdict(run, expected.get(row["method"]), None if level is None else int(level))
-        verdict = row_verdict(row.get("value", math.nan), row.get("within_tolerance"),
-                              compared=row.get("reference_label") is not None, applicability=row.get("applicability") or "",
-                              run_state=state, kind=row.get("check"))
+        verdict = row_verdict(
+            row.get("value", math.nan),
+            row.get("within_tolerance"),
+            compared=row.get("reference_label") is not None,
+            applicability=row.get("applicability") or "",
+            run_state=state,
+            kind=row.get("check"),
+        )
         row["verdict"] = None if verdict is None else verdict.value
     frame = pd.DataFrame(rows)
     return frame.reindex(columns=COLUMNS)
@@ -108,13 +173,20 @@ def tabulate(result: CaseResult) -> pd.DataFrame:
 
 def _check_row(check, dimension: str, scale: float) -> dict:
     """The comparison columns of one enforced check."""
-    row = dict(reference_label=check.reference_label, reference_value=check.reference_value,
-               source=check.source, compare=True,
-               tolerance_rel=check.tolerance.rel if check.tolerance else None,
-               tolerance_abs=check.tolerance.abs if check.tolerance else None,
-               abs_error=check.abs_error, rel_error=check.rel_error,
-               norm_error=check.abs_error / scale if dimension == "length" else math.nan,
-               within_tolerance=check.within, finding=check.finding, check=check.kind)
+    row = dict(
+        reference_label=check.reference_label,
+        reference_value=check.reference_value,
+        source=check.source,
+        compare=True,
+        tolerance_rel=check.tolerance.rel if check.tolerance else None,
+        tolerance_abs=check.tolerance.abs if check.tolerance else None,
+        abs_error=check.abs_error,
+        rel_error=check.rel_error,
+        norm_error=check.abs_error / scale if dimension == "length" else math.nan,
+        within_tolerance=check.within,
+        finding=check.finding,
+        check=check.kind,
+    )
     if check.detail:
         row["message"] = check.detail
     return row
@@ -126,7 +198,7 @@ class RunOutcome:
     errors: list[str]
     results: list[CaseResult] = field(default_factory=list)
     after: dict[str, object] = field(default_factory=dict)  # case id -> what run_cases' ``after`` returned
-    timeline: list[Timed] = field(default_factory=list)     # every primer, case, method, page, extra task
+    timeline: list[Timed] = field(default_factory=list)  # every primer, case, method, page, extra task
 
     @property
     def failed_comparisons(self) -> pd.DataFrame:
@@ -139,8 +211,12 @@ class RunOutcome:
     @property
     def method_problems(self) -> list[str]:
         """'<case> <method>: <status>: <message>' for every method run that did not end ok."""
-        return [f"{r.loaded.id} {method}: {run.summary()}"
-                for r in self.results for method, run in r.runs.items() if not run.ok]
+        return [
+            f"{r.loaded.id} {method}: {run.summary()}"
+            for r in self.results
+            for method, run in r.runs.items()
+            if not run.ok
+        ]
 
     @property
     def outside_limit(self) -> pd.DataFrame:
@@ -168,20 +244,31 @@ class RunOutcome:
     def unexpected_problems(self) -> list[str]:
         """``method_problems`` less the runs whose case records that outcome as expected
         (``case.expected_failure``, with its reason; the suite checks that they do fail)."""
-        return [f"{case_id} {method}: {run.summary()}"
-                for case_id, method, run in self._runs_not_expected_to_fail() if not run.ok]
+        return [
+            f"{case_id} {method}: {run.summary()}"
+            for case_id, method, run in self._runs_not_expected_to_fail()
+            if not run.ok
+        ]
 
     @property
     def misconfigured(self) -> list[str]:
         """One 'file: field: problem' line per method run that found its case misconfigured while it
         solved (bad input found late: the run's status is misconfigured, exit status 2)."""
-        return [misconfigured_line(r.loaded.path, run) for r in self.results for run in r.runs.values()
-                if run.status is RunStatus.MISCONFIGURED]
+        return [
+            misconfigured_line(r.loaded.path, run)
+            for r in self.results
+            for run in r.runs.values()
+            if run.status is RunStatus.MISCONFIGURED
+        ]
 
     def _runs_not_expected_to_fail(self):
         """(case id, method, run) for every run whose case does not record it in expected_failure."""
-        return [(r.loaded.id, method, run) for r in self.results for method, run in r.runs.items()
-                if method not in r.loaded.case.case.expected_failure]
+        return [
+            (r.loaded.id, method, run)
+            for r in self.results
+            for method, run in r.runs.items()
+            if method not in r.loaded.case.case.expected_failure
+        ]
 
     @property
     def exit_status(self) -> int:
@@ -193,17 +280,34 @@ class RunOutcome:
         return int(combine(statuses))
 
 
-def run_cases(paths: list[Path], methods: list[str] | None = None, use_cache: bool = True,
-              jobs: int = 1, progress: bool = False, after=None, extra=(),
-              costs: dict[str, float] | None = None) -> RunOutcome:
+def run_cases(
+    paths: list[Path],
+    methods: list[str] | None = None,
+    use_cache: bool = True,
+    jobs: int = 1,
+    progress: bool = False,
+    after=None,
+    extra=(),
+    costs: dict[str, float] | None = None,
+) -> RunOutcome:
     """Run every case file; bad files are reported as errors and the others still run. ``jobs`` worker
     processes, scheduled by ``validation.run.parallel`` (compiled methods compiled once, ``extra`` tasks
     beside the cases, ``after(result)`` in the worker after each case, longest first by ``costs``)."""
     bar = CaseProgress(len(paths), enabled=progress, jobs=jobs)
     timeline: list[Timed] = []
     try:
-        runs = run_paths(paths, methods, use_cache, jobs, after=after, extra=list(extra), progress=bar.advance,
-                         timeline=timeline, costs=costs, watch=bar.watch)
+        runs = run_paths(
+            paths,
+            methods,
+            use_cache,
+            jobs,
+            after=after,
+            extra=list(extra),
+            progress=bar.advance,
+            timeline=timeline,
+            costs=costs,
+            watch=bar.watch,
+        )
     finally:
         bar.close()
     results = sorted((r.result for r in runs if r.result is not None), key=lambda r: str(r.loaded.path))
@@ -211,11 +315,16 @@ def run_cases(paths: list[Path], methods: list[str] | None = None, use_cache: bo
     tables = [tabulate(r) for r in results]
     table = pd.concat(tables, ignore_index=True) if tables else pd.DataFrame(columns=COLUMNS)
     if len(table):
-        table = table.sort_values(["group", "case", "method", "quantity", "point", "level"],
-                                  kind="stable", ignore_index=True)
-    return RunOutcome(table=table, errors=sorted(errors), results=results,
-                      after={r.result.loaded.id: r.after for r in runs if r.result is not None and r.after is not None},
-                      timeline=timeline)
+        table = table.sort_values(
+            ["group", "case", "method", "quantity", "point", "level"], kind="stable", ignore_index=True
+        )
+    return RunOutcome(
+        table=table,
+        errors=sorted(errors),
+        results=results,
+        after={r.result.loaded.id: r.after for r in runs if r.result is not None and r.after is not None},
+        timeline=timeline,
+    )
 
 
 def _first_values(part: pd.DataFrame, method: str | None = None) -> dict[tuple, tuple[float, float, float]]:
@@ -223,12 +332,18 @@ def _first_values(part: pd.DataFrame, method: str | None = None) -> dict[tuple, 
     (as ``drop_duplicates`` keeps it), in plain Python: a case has tens of rows, where pandas' per-call
     cost is most of the time."""
     first: dict[tuple, tuple[float, float, float]] = {}
-    columns = (part["method"], part["quantity"], part["point"], part["level"], part["value"],
-               part["error_estimate"] if "error_estimate" in part else [math.nan] * len(part),
-               part["scale"] if "scale" in part else [math.nan] * len(part))
+    columns = (
+        part["method"],
+        part["quantity"],
+        part["point"],
+        part["level"],
+        part["value"],
+        part["error_estimate"] if "error_estimate" in part else [math.nan] * len(part),
+        part["scale"] if "scale" in part else [math.nan] * len(part),
+    )
     for m, q, p, lv, value, estimate, scale in zip(*columns):
         if method is None or m == method:
-            key = (m, q, p if isinstance(p, str) else "", lv)   # no point: "" in memory, NaN read back from CSV
+            key = (m, q, p if isinstance(p, str) else "", lv)  # no point: "" in memory, NaN read back from CSV
             first.setdefault(key, (float(value), float(estimate), float(scale)))
     return first
 
@@ -245,8 +360,11 @@ def prbm_fem_errors(part: pd.DataFrame) -> tuple[float, float]:
     quantity passing through zero (a displacement at the unloaded level, x of a closed circle) does not
     report a meaningless huge ratio; the length-normalised error covers those."""
     first = _first_values(part)
-    pairs = [(q, value, first[("fem", q, p, lv)][0]) for (m, q, p, lv), (value, _, _) in first.items()
-             if m == "prbm" and ("fem", q, p, lv) in first]
+    pairs = [
+        (q, value, first[("fem", q, p, lv)][0])
+        for (m, q, p, lv), (value, _, _) in first.items()
+        if m == "prbm" and ("fem", q, p, lv) in first
+    ]
     pairs = [(q, prbm, fem) for q, prbm, fem in pairs if not (math.isnan(prbm) or math.isnan(fem))]
     if not pairs:
         return math.nan, math.nan
@@ -285,13 +403,17 @@ def fem_error_relative(part: pd.DataFrame) -> float:
     characteristic length, other quantities over max(|value|, 1 % of the largest |value| of the same
     quantity). An estimate marked unreliable (``error_estimate_reliable`` False) is no bound and is left
     out."""
-    rows = [(q, value, estimate, scale) for (_, q, _, _), (value, estimate, scale)
-            in _first_values(part[part["error_estimate"].notna() & _reliable(part)], "fem").items()]
+    rows = [
+        (q, value, estimate, scale)
+        for (_, q, _, _), (value, estimate, scale) in _first_values(
+            part[part["error_estimate"].notna() & _reliable(part)], "fem"
+        ).items()
+    ]
     if not rows:
         return math.nan
     biggest: dict[str, float] = {}
     for q, value, _, _ in rows:
-        if not math.isnan(value):   # as pandas' max, which skips NaN
+        if not math.isnan(value):  # as pandas' max, which skips NaN
             biggest[q] = max(biggest.get(q, -math.inf), abs(value))
     ratios = []
     for q, value, estimate, scale in rows:
@@ -315,8 +437,10 @@ def no_prbm_fem_reason(result: CaseResult) -> str:
     if info.no_prbm_fem:
         return info.no_prbm_fem
     if info.readings_of:
-        return (f"a loading reading of {info.readings_of} (FEM only): the PRBM-vs-FEM number is in the row of "
-                f"{info.readings_of}")
+        return (
+            f"a loading reading of {info.readings_of} (FEM only): the PRBM-vs-FEM number is in the row of "
+            f"{info.readings_of}"
+        )
     missing = [METHOD_WORDS[m] for m in ("prbm", "fem") if m not in result.runs]
     if missing:
         return f"no {' or '.join(missing)} in this case (the case states no reason)"
@@ -335,8 +459,9 @@ def _run_columns(part: pd.DataFrame) -> tuple[dict[str, float], dict]:
     seen: set[tuple] = set()
     times: dict[str, float] = {}
     status: dict[str, object] = {}
-    for m, q, p, lv, t, ok in zip(part["method"], part["quantity"], part["point"], part["level"],
-                                  part["wall_time"], part["converged"]):
+    for m, q, p, lv, t, ok in zip(
+        part["method"], part["quantity"], part["point"], part["level"], part["wall_time"], part["converged"]
+    ):
         key = (m, q, p if isinstance(p, str) else "", lv)
         if key in seen:
             continue
@@ -363,15 +488,22 @@ def summary(table: pd.DataFrame, results: list[CaseResult] | None = None) -> pd.
         reason = no_prbm_fem_reason(by_id[case_id]) if absent and case_id in by_id else math.nan  # NaN: none
         times, status = _run_columns(part)
         verdicts = [v for v in part["within_tolerance"] if not pd.isna(v)]
-        rows.append(dict(group=group, case=case_id, verdict=table_verdict(part).value,
-                         methods=" ".join(f"{m}{'' if status[m] else '(!)'}" for m in times),
-                         max_prbm_fem_rel=prbm_fem, max_prbm_fem_per_length=prbm_fem_norm,
-                         prbm_fem_verdict=math.nan if absent else prbm_fem_verdict(part).value,
-                         no_prbm_fem_reason=reason,
-                         fem_error_est_rel=fem_error_relative(part),
-                         fem_estimates_unreliable=fem_estimates_unreliable(part),
-                         checks=len(verdicts),
-                         failed=sum(1 for v in verdicts if v == False),  # noqa: E712
-                         findings=int(part["finding"].notna().sum()),
-                         **{f"t_{m}_s": t for m, t in times.items()}))
+        rows.append(
+            dict(
+                group=group,
+                case=case_id,
+                verdict=table_verdict(part).value,
+                methods=" ".join(f"{m}{'' if status[m] else '(!)'}" for m in times),
+                max_prbm_fem_rel=prbm_fem,
+                max_prbm_fem_per_length=prbm_fem_norm,
+                prbm_fem_verdict=math.nan if absent else prbm_fem_verdict(part).value,
+                no_prbm_fem_reason=reason,
+                fem_error_est_rel=fem_error_relative(part),
+                fem_estimates_unreliable=fem_estimates_unreliable(part),
+                checks=len(verdicts),
+                failed=sum(1 for v in verdicts if v == False),  # noqa: E712
+                findings=int(part["finding"].notna().sum()),
+                **{f"t_{m}_s": t for m, t in times.items()},
+            )
+        )
     return pd.DataFrame(rows)

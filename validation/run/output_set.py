@@ -38,6 +38,7 @@ mix or nothing. Hard links make carrying other commands' folders, and reusing th
 a large previous set, cost no copy; no command writes into a file of a set in place, so a linked file
 never changes under the set that shares it.
 """
+
 from __future__ import annotations
 
 import ctypes
@@ -56,7 +57,7 @@ from typing import Literal
 
 from validation.run.exit_status import ExitStatus
 
-LEFTOVER = re.compile(r"\.(tmp|old)-\d+$")   # a stage or an old set of some output folder
+LEFTOVER = re.compile(r"\.(tmp|old)-\d+$")  # a stage or an old set of some output folder
 # errors that say the path given cannot be a folder (bad input); any other (no space, no permission, a
 # read-only or failing disk) is the system refusing to write
 NOT_A_FOLDER = {errno.ENOTDIR, errno.EEXIST, errno.EISDIR, errno.ENAMETOOLONG, errno.ELOOP}
@@ -106,7 +107,7 @@ def _place(source: Path, target: Path, link: bool) -> None:
 
 
 _LIBC = ctypes.CDLL(None, use_errno=True)
-AT_FDCWD, RENAME_EXCHANGE, RENAME_SWAP = -100, 2, 2   # <fcntl.h>, <linux/fs.h>, macOS <stdio.h>
+AT_FDCWD, RENAME_EXCHANGE, RENAME_SWAP = -100, 2, 2  # <fcntl.h>, <linux/fs.h>, macOS <stdio.h>
 
 
 def _exchange(a: Path, b: Path) -> bool:
@@ -158,7 +159,7 @@ def _fsync_folder(folder: Path) -> None:
 def _current_folder() -> Path | None:
     try:
         return Path(os.path.realpath(os.getcwd()))
-    except OSError:   # deleted under the process
+    except OSError:  # deleted under the process
         return None
 
 
@@ -180,7 +181,7 @@ class Lock:
         for lock in list(cls.held):
             if lock.fd is not None:
                 try:
-                    os.close(lock.fd)   # not flock(LOCK_UN): that would unlock the parent's lock too
+                    os.close(lock.fd)  # not flock(LOCK_UN): that would unlock the parent's lock too
                 except OSError:
                     pass
                 lock.fd = None
@@ -228,9 +229,16 @@ class OutputSet:
     hard-linked instead; ``adopt``: whole files a killed command's stage left, hard-linked into the stage.
     """
 
-    def __init__(self, target: Path | str, *, owned: tuple[str, ...] | None = None, seed: tuple[str, ...] = (),
-                 link: tuple[str, ...] = (), adopt: tuple[str, ...] = ()):
-        self.target = Path(target)                       # as the user named it, for the messages
+    def __init__(
+        self,
+        target: Path | str,
+        *,
+        owned: tuple[str, ...] | None = None,
+        seed: tuple[str, ...] = (),
+        link: tuple[str, ...] = (),
+        adopt: tuple[str, ...] = (),
+    ):
+        self.target = Path(target)  # as the user named it, for the messages
         self.folder = Path(os.path.realpath(self.target))
         self.owned, self.seed, self.link, self.adopt = owned, seed, link, adopt
         self.path = self.folder.parent / f"{self.folder.name}.tmp-{os.getpid()}"
@@ -248,14 +256,18 @@ class OutputSet:
         try:
             here = _current_folder()
             if here is not None and (self.folder == here or self.folder in here.parents):
-                raise OutputFolderError(f"output folder {self.target} holds the current folder; give the results a "
-                                        "folder of their own", ExitStatus.BAD_INPUT, self.note)
+                raise OutputFolderError(
+                    f"output folder {self.target} holds the current folder; give the results a folder of their own",
+                    ExitStatus.BAD_INPUT,
+                    self.note,
+                )
             if self.folder.exists() and not self.folder.is_dir():
                 raise OSError(errno.ENOTDIR, "not a folder", str(self.target))
             self.folder.parent.mkdir(parents=True, exist_ok=True)
             if not self.lock.take():
-                raise OutputFolderError(f"output folder {self.target} is in use by {self.lock.holder()}",
-                                        ExitStatus.BAD_INPUT, self.note)
+                raise OutputFolderError(
+                    f"output folder {self.target} is in use by {self.lock.holder()}", ExitStatus.BAD_INPUT, self.note
+                )
         except OSError as exc:
             raise self._unusable(exc) from exc
         try:
@@ -277,12 +289,15 @@ class OutputSet:
         """Put back an old set a killed command left aside; make the stage with the ``adopt`` files of
         killed commands' stages and the ``seed`` of the previous set; delete the leftovers."""
         name = self.folder.name
-        leftovers = sorted(p for p in self.folder.parent.glob(f"{glob.escape(name)}.*")
-                           if is_leftover(p) and LEFTOVER.sub("", p.name) == name)
+        leftovers = sorted(
+            p
+            for p in self.folder.parent.glob(f"{glob.escape(name)}.*")
+            if is_leftover(p) and LEFTOVER.sub("", p.name) == name
+        )
         olds = [p for p in leftovers if ".old-" in p.name]
         if olds and not self.folder.exists():
             olds[-1].rename(self.folder)
-        shutil.rmtree(self.path, ignore_errors=True)   # a stage of a killed command that had this pid
+        shutil.rmtree(self.path, ignore_errors=True)  # a stage of a killed command that had this pid
         self.path.mkdir()
         for stage in (p for p in leftovers if ".tmp-" in p.name and p != self.path and self.adopt):
             for relative, source in _files(stage):
@@ -301,7 +316,7 @@ class OutputSet:
         carried = self._carry(self.owned) if self.owned is not None and self.folder.is_dir() else []
         try:
             if self.folder.exists():
-                shutil.copymode(self.folder, self.path)   # the folder keeps its permissions
+                shutil.copymode(self.folder, self.path)  # the folder keeps its permissions
             _flush(self.path)
             if not self.folder.exists():
                 os.rename(self.path, self.folder)
@@ -319,10 +334,10 @@ class OutputSet:
             for lock in carried:
                 lock.release()
         try:
-            _fsync_folder(self.folder.parent)   # the swap itself on disk
+            _fsync_folder(self.folder.parent)  # the swap itself on disk
         except OSError:
             pass
-        shutil.rmtree(self.path, ignore_errors=True)   # the old set
+        shutil.rmtree(self.path, ignore_errors=True)  # the old set
 
     def _carry(self, owned: tuple[str, ...]) -> list[Lock]:
         """Hard links in the stage to every entry of the previous set the command does not own (an output
@@ -335,8 +350,11 @@ class OutputSet:
                 if inner.is_dir() and not _matches(relative, owned):
                     held.append(Lock(lock_file))
                     if not held[-1].take():
-                        print(f"waiting: output folder {self.target / relative} is in use by {held[-1].holder()}",
-                              file=sys.stderr, flush=True)
+                        print(
+                            f"waiting: output folder {self.target / relative} is in use by {held[-1].holder()}",
+                            file=sys.stderr,
+                            flush=True,
+                        )
                         held[-1].take(wait=True)
             for relative, source in _files(self.folder):
                 if _matches(relative, owned) or any(is_leftover(p) for p in relative.split("/")):
@@ -354,11 +372,11 @@ class OutputSet:
             if not self.committed:
                 shutil.rmtree(self.path, ignore_errors=True)
                 if isinstance(exc, OSError):
-                    raise OutputFolderError(f"the results could not be written to {self.target}: {exc}",
-                                            ExitStatus.FAILED, self.note) from exc
+                    raise OutputFolderError(
+                        f"the results could not be written to {self.target}: {exc}", ExitStatus.FAILED, self.note
+                    ) from exc
                 if not isinstance(exc, OutputFolderError):
                     print(self.note, file=sys.stderr)
         finally:
             self.lock.release()
         return False
-

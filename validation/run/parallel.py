@@ -26,6 +26,7 @@ than ``CompileWatch.after`` seconds (numba's on-disk cache is cold: the first ru
 an edit of a kernel), and when every primer is done, so that a progress bar can say why it waits and
 start its rate after the compile.
 """
+
 from __future__ import annotations
 
 import re
@@ -101,8 +102,12 @@ class CaseFile:
 
     def to_run(self, methods: list[str] | None, use_cache: bool) -> list[str]:
         """The methods that will run (asked for, and not in the run cache when it is used)."""
-        return [m for m, options in self.methods.items() if (not methods or m in methods)
-                and not (use_cache and cache.has(cache.run_key(self.text, m, dict(options or {}))))]
+        return [
+            m
+            for m, options in self.methods.items()
+            if (not methods or m in methods)
+            and not (use_cache and cache.has(cache.run_key(self.text, m, dict(options or {}))))
+        ]
 
 
 def estimate(case: CaseFile, costs: dict[str, float] | None = None) -> float:
@@ -114,8 +119,9 @@ def estimate(case: CaseFile, costs: dict[str, float] | None = None) -> float:
     return len(case.text) / 1000.0 * max(1, len(case.methods))
 
 
-def schedule(paths: list[Path], methods: list[str] | None, use_cache: bool = False,
-             costs: dict[str, float] | None = None) -> Schedule:
+def schedule(
+    paths: list[Path], methods: list[str] | None, use_cache: bool = False, costs: dict[str, float] | None = None
+) -> Schedule:
     """Primers for the compiled methods the run will run, on the smallest case file that runs each;
     then the cases without and with them, each list longest first."""
     plan = Schedule()
@@ -177,8 +183,9 @@ def run_extra(task: Callable[[], Any]) -> Timed:
     return watch.ended()
 
 
-def run_path(path: Path, methods: list[str] | None, use_cache: bool,
-             after: Callable[[CaseResult], Any] | None = None) -> PathRun:
+def run_path(
+    path: Path, methods: list[str] | None, use_cache: bool, after: Callable[[CaseResult], Any] | None = None
+) -> PathRun:
     """One case file: load, run, then ``after`` on its result; each step timed."""
     try:
         loaded = load_case(path)
@@ -187,9 +194,11 @@ def run_path(path: Path, methods: list[str] | None, use_cache: bool,
     times: list[Timed] = []
     with timed("case", loaded.id, times) as watch:
         result = run_case(loaded, methods, use_cache)
-    times += [Timed("method", f"{loaded.id}:{method}", run.wall_time, start=watch.ended().start,
-                    pid=watch.ended().pid)
-              for method, run in result.runs.items() if not result.cached.get(method)]
+    times += [
+        Timed("method", f"{loaded.id}:{method}", run.wall_time, start=watch.ended().start, pid=watch.ended().pid)
+        for method, run in result.runs.items()
+        if not result.cached.get(method)
+    ]
     value = None
     if after is not None:
         with timed("page", loaded.id, times):
@@ -197,10 +206,18 @@ def run_path(path: Path, methods: list[str] | None, use_cache: bool,
     return PathRun(Path(path), result, after=value, times=times)
 
 
-def run_paths(paths: list[Path], methods: list[str] | None = None, use_cache: bool = True, jobs: int = 1,
-              after: Callable[[CaseResult], Any] | None = None, extra: Sequence[Callable[[], Any]] = (),
-              progress: Callable[[PathRun], None] | None = None, timeline: list[Timed] | None = None,
-              costs: dict[str, float] | None = None, watch: CompileWatch | None = None) -> list[PathRun]:
+def run_paths(
+    paths: list[Path],
+    methods: list[str] | None = None,
+    use_cache: bool = True,
+    jobs: int = 1,
+    after: Callable[[CaseResult], Any] | None = None,
+    extra: Sequence[Callable[[], Any]] = (),
+    progress: Callable[[PathRun], None] | None = None,
+    timeline: list[Timed] | None = None,
+    costs: dict[str, float] | None = None,
+    watch: CompileWatch | None = None,
+) -> list[PathRun]:
     """Every case file run (module docstring); ``extra`` tasks run beside them; returns the runs in the
     order of ``paths``. Every piece of work's time is appended to ``timeline``; ``costs`` (case id ->
     seconds, e.g. from the last run) orders the cases longest first; ``watch`` hears about the primers."""
@@ -229,8 +246,7 @@ def run_paths(paths: list[Path], methods: list[str] | None = None, use_cache: bo
     return [done[p] for p in paths]
 
 
-def _run_pool(plan: Schedule, jobs: int, extra, task_of: Callable[[Path], tuple], collect,
-              watch: CompileWatch) -> None:
+def _run_pool(plan: Schedule, jobs: int, extra, task_of: Callable[[Path], tuple], collect, watch: CompileWatch) -> None:
     """The parallel run: primers first, then the extra tasks and the free cases (longest first), and
     each compiled case as soon as the primers of its methods are done; ``watch`` told of the primers."""
     with ProcessPoolExecutor(max_workers=jobs) as pool:

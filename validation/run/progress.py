@@ -6,6 +6,7 @@ name for a file that could not be used). The time left is shown once ``SETTLED``
 since the kernels were compiled (or since the start, when nothing compiles): before that tqdm's rate
 would divide the cases left by one case's time plus the compile, an hour for a two-minute run.
 """
+
 from __future__ import annotations
 
 import math
@@ -29,10 +30,10 @@ def compile_notice(methods: tuple[str, ...], jobs: int = 1) -> str:
     """'compiling the FEM and elastica kernels (once per machine, ~20 s)': the kernels of ``methods``
     (the FEM's once, though the OpenSees peer's mesh uses them too), and their expected time on ``jobs``
     processes (the longest, or their sum shared out, whichever is longer), rounded up to 5 s."""
-    methods = tuple(sorted(methods, key=lambda m: (-COMPILE_SECONDS.get(m, 10.0), m)))   # longest first
+    methods = tuple(sorted(methods, key=lambda m: (-COMPILE_SECONDS.get(m, 10.0), m)))  # longest first
     names = list(dict.fromkeys(KERNEL_NAMES.get(m, m) for m in methods))
     words = " and ".join(names) if len(names) <= 2 else ", ".join(names[:-1]) + " and " + names[-1]
-    kernels = {KERNEL_NAMES.get(m, m): COMPILE_SECONDS.get(m, 10.0) for m in methods}   # the FEM's once
+    kernels = {KERNEL_NAMES.get(m, m): COMPILE_SECONDS.get(m, 10.0) for m in methods}  # the FEM's once
     seconds = list(kernels.values())
     estimate = max(max(seconds, default=0.0), sum(seconds) / max(1, jobs))
     return f"compiling the {words} kernels (once per machine, ~{5 * math.ceil(estimate / 5):.0f} s)"
@@ -45,9 +46,10 @@ class CaseProgress:
     def __init__(self, total: int, enabled: bool = True, jobs: int = 1, stream=None):
         self.stream = stream or sys.stderr
         self.jobs = jobs
-        self.bar = tqdm(total=total, unit="case", disable=not enabled, leave=False, file=self.stream,
-                        bar_format=WITHOUT_ETA)
-        self.since_clock = 0      # cases finished since the rate's clock (re)started
+        self.bar = tqdm(
+            total=total, unit="case", disable=not enabled, leave=False, file=self.stream, bar_format=WITHOUT_ETA
+        )
+        self.since_clock = 0  # cases finished since the rate's clock (re)started
         self.compiling = False
         self.watch = CompileWatch(compiling=self._compiling, compiled=self._compiled)
 

@@ -22,6 +22,7 @@ computed ranking: it holds when the recorded nearest and second are the computed
 order, and separated. The measured points are the references labelled ``measured`` of [bapat2015,
 Tables 9.1-9.4].
 """
+
 from __future__ import annotations
 
 import math
@@ -43,11 +44,11 @@ class Reading:
     """One reading's FEM against the measured points."""
 
     case: str
-    name: str                # the case id after the experiment's ('base' for the experiment's own case)
+    name: str  # the case id after the experiment's ('base' for the experiment's own case)
     levels: int
-    rms: float               # D_k, in ``unit``
-    rms_pct_L: float         # 100 D_k / L
-    estimate: float          # E_k, the bound on |D_k - exact D_k| (NaN: none)
+    rms: float  # D_k, in ``unit``
+    rms_pct_L: float  # 100 D_k / L
+    estimate: float  # E_k, the bound on |D_k - exact D_k| (NaN: none)
     unit: str
 
 
@@ -60,18 +61,18 @@ class Recorded:
 
 
 class Status(Enum):
-    HOLDS = "holds"                  # recorded first two = computed, in order, separated
-    DIFFERS = "differs"              # another reading is nearer, or the second changed
+    HOLDS = "holds"  # recorded first two = computed, in order, separated
+    DIFFERS = "differs"  # another reading is nearer, or the second changed
     NOT_SEPARATED = "not separated"  # the order is the recorded one, but within the FEM's error bound
-    UNRECORDED = "unrecorded"        # the base case records no ranking
+    UNRECORDED = "unrecorded"  # the base case records no ranking
 
 
 @dataclass(frozen=True)
 class Ranking:
     """One experiment's readings, nearest first, and its recorded ranking."""
 
-    experiment: str          # the base case id
-    label: str               # e.g. 'Test 1(a)', from the readings' titles
+    experiment: str  # the base case id
+    label: str  # e.g. 'Test 1(a)', from the readings' titles
     readings: tuple[Reading, ...]
     recorded: Recorded | None
 
@@ -92,7 +93,7 @@ class Ranking:
     @property
     def separated(self) -> bool:
         """The first two stay in this order under any error within the FEM's estimate."""
-        return bool(self.margin > self.bound)   # False when either is NaN
+        return bool(self.margin > self.bound)  # False when either is NaN
 
     @property
     def status(self) -> Status:
@@ -105,19 +106,28 @@ class Ranking:
 
     def line(self) -> str:
         """'Test 1(a): nearest reading: self weight (RMS 0.125 in, 1.25 % of L); then base (...), ...'."""
+
         def one(r: Reading) -> str:
             return f"{r.name} (RMS {r.rms:.3g} {r.unit}, {r.rms_pct_L:.3g} % of L)"
+
         first, *rest = self.readings
         text = f"{self.label}: nearest reading: {one(first)}"
         if rest:
             text += "; then " + ", ".join(one(r) for r in rest)
-            text += (f". Margin to the second {self.margin:.3g} {first.unit} against the FEM's error bound "
-                     f"{self.bound:.2g} {first.unit}")
-        recorded = {Status.UNRECORDED: "no ranking recorded",
-                    Status.HOLDS: "the recorded ranking holds",
-                    Status.NOT_SEPARATED: "the recorded ranking holds but within the FEM's error bound",
-                    Status.DIFFERS: (f"the recorded ranking (nearest {self.recorded.nearest}, then "
-                                     f"{self.recorded.second}) no longer holds" if self.recorded else "")}
+            text += (
+                f". Margin to the second {self.margin:.3g} {first.unit} against the FEM's error bound "
+                f"{self.bound:.2g} {first.unit}"
+            )
+        recorded = {
+            Status.UNRECORDED: "no ranking recorded",
+            Status.HOLDS: "the recorded ranking holds",
+            Status.NOT_SEPARATED: "the recorded ranking holds but within the FEM's error bound",
+            Status.DIFFERS: (
+                f"the recorded ranking (nearest {self.recorded.nearest}, then {self.recorded.second}) no longer holds"
+                if self.recorded
+                else ""
+            ),
+        }
         return f"{text}; {recorded[self.status]}."
 
 
@@ -151,11 +161,25 @@ def rank_readings(results, table: pd.DataFrame) -> list[Ranking]:
         fem = group.table[group.table["method"] == METHOD].sort_values("rms", kind="stable")
         if fem.empty:
             continue
-        readings = tuple(Reading(case=str(r["case"]), name=_name(str(r["case"]), group.experiment),
-                                 levels=int(r["levels"]), rms=float(r["rms"]), rms_pct_L=float(r["rms_pct_L"]),
-                                 estimate=float(r["rms_estimate"]), unit=str(r["unit"]))
-                         for _, r in fem.iterrows())
+        readings = tuple(
+            Reading(
+                case=str(r["case"]),
+                name=_name(str(r["case"]), group.experiment),
+                levels=int(r["levels"]),
+                rms=float(r["rms"]),
+                rms_pct_L=float(r["rms_pct_L"]),
+                estimate=float(r["rms_estimate"]),
+                unit=str(r["unit"]),
+            )
+            for _, r in fem.iterrows()
+        )
         base = cases[group.experiment].case
-        rankings.append(Ranking(group.experiment, _label(group.experiment, list(group.table["title"])),
-                                readings, recorded_ranking(base.findings)))
+        rankings.append(
+            Ranking(
+                group.experiment,
+                _label(group.experiment, list(group.table["title"])),
+                readings,
+                recorded_ranking(base.findings),
+            )
+        )
     return rankings

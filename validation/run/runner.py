@@ -5,6 +5,7 @@ No table is built here (``validation.run.outcome`` does that) and no cache is re
 (``validation.run.case_run`` runs a whole case through it), so ``solve`` and the adapters start
 without pandas or the cache's package-metadata lookups.
 """
+
 from __future__ import annotations
 
 import importlib
@@ -53,36 +54,50 @@ def run_method(case: Case, method: str) -> MethodRun:
     try:
         options = options_of(method, case.methods.get(method))
         name = f"validation.methods.{method}"
-        adapter = sys.modules.get(name) or importlib.import_module(name)   # the import system only once
+        adapter = sys.modules.get(name) or importlib.import_module(name)  # the import system only once
         run = adapter.run(case, requests, options)
     except NotApplicable as exc:
         reason = str(exc) if str(exc).startswith("not applicable") else f"not applicable: {exc}"
-        return MethodRun(values={}, converged=False, message=reason,
-                         wall_time=time.perf_counter() - start, status=RunStatus.NOT_APPLICABLE)
+        return MethodRun(
+            values={},
+            converged=False,
+            message=reason,
+            wall_time=time.perf_counter() - start,
+            status=RunStatus.NOT_APPLICABLE,
+        )
     except Misconfigured as exc:
-        return MethodRun(values={}, converged=False, message=f"misconfigured: methods.{method}: {exc}",
-                         wall_time=time.perf_counter() - start, status=RunStatus.MISCONFIGURED)
+        return MethodRun(
+            values={},
+            converged=False,
+            message=f"misconfigured: methods.{method}: {exc}",
+            wall_time=time.perf_counter() - start,
+            status=RunStatus.MISCONFIGURED,
+        )
     except Exception as exc:  # a solver bug must not stop the other cases
         last = traceback.extract_tb(exc.__traceback__)[-1]
         where = f"{Path(last.filename).name}:{last.lineno}"
-        return MethodRun(values={}, converged=False,
-                         message=f"error: {type(exc).__name__}: {exc} (at {where})",
-                         wall_time=time.perf_counter() - start, status=RunStatus.FAILED)
+        return MethodRun(
+            values={},
+            converged=False,
+            message=f"error: {type(exc).__name__}: {exc} (at {where})",
+            wall_time=time.perf_counter() - start,
+            status=RunStatus.FAILED,
+        )
     if not run.wall_time:
         run.wall_time = time.perf_counter() - start
     missing = [r for r in requests if r not in run.values]
     if missing and run.converged:
         run.converged = False
-        run.message = (run.message + "; " if run.message else "") + \
-            f"did not return {len(missing)} requested output(s), e.g. {missing[0]}"
+        run.message = (
+            run.message + "; " if run.message else ""
+        ) + f"did not return {len(missing)} requested output(s), e.g. {missing[0]}"
     asked = {r.level for r in requests}
     unconverged = sorted(lv for lv, ok in run.level_converged.items() if not ok and lv in asked)
     if run.status is RunStatus.OK and (not run.converged or unconverged):
         run.status = RunStatus.NOT_CONVERGED
         run.converged = False
         if unconverged and f"level {unconverged[0]}" not in run.message:
-            run.message = (run.message + "; " if run.message else "") + \
-                f"not converged at level(s) {unconverged}"
+            run.message = (run.message + "; " if run.message else "") + f"not converged at level(s) {unconverged}"
     return run
 
 

@@ -8,6 +8,7 @@ that did it (so a worker's CPU while it waited for nothing but the CPU shows as 
 of the machine). A method's time is its run's own ``wall_time`` (the run cache keeps no CPU time);
 its CPU is not measured apart from its case's.
 """
+
 from __future__ import annotations
 
 import csv
@@ -63,7 +64,7 @@ def timed(kind: str, name: str, into: list[Timed] | None = None) -> Iterator[Sto
         watch.into.append(watch.record)
 
 
-_command_start = math.nan   # ``time.perf_counter`` when the command's first line ran (`mark_command_start`)
+_command_start = math.nan  # ``time.perf_counter`` when the command's first line ran (`mark_command_start`)
 
 
 def mark_command_start(at: float) -> None:
@@ -84,11 +85,12 @@ def csv_text(records: list[Timed]) -> str:
     """The records as CSV (header: the ``Timed`` fields), longest first."""
     names = [f.name for f in fields(Timed)]
     text = io.StringIO()
-    writer = csv.writer(text, lineterminator="\n")   # quotes a name with a comma ("tables (results.csv, ...)")
+    writer = csv.writer(text, lineterminator="\n")  # quotes a name with a comma ("tables (results.csv, ...)")
     writer.writerow(names)
     for r in sorted(records, key=lambda r: -r.wall):
-        writer.writerow([f"{getattr(r, n):.4f}" if isinstance(getattr(r, n), float) else str(getattr(r, n))
-                         for n in names])
+        writer.writerow(
+            [f"{getattr(r, n):.4f}" if isinstance(getattr(r, n), float) else str(getattr(r, n)) for n in names]
+        )
     return text.getvalue()
 
 
@@ -109,8 +111,10 @@ def _pool_use(records: list[Timed], jobs: int) -> str:
         return ""
     span = max(r.end for r in pooled) - min(r.start for r in pooled)
     busy = sum(r.wall for r in pooled)
-    return (f"  workers busy {busy:.1f} s of {jobs} x {span:.1f} s = {100 * busy / max(jobs * span, 1e-9):.0f} % "
-            f"({len({r.pid for r in pooled})} process(es))")
+    return (
+        f"  workers busy {busy:.1f} s of {jobs} x {span:.1f} s = {100 * busy / max(jobs * span, 1e-9):.0f} % "
+        f"({len({r.pid for r in pooled})} process(es))"
+    )
 
 
 def critical_path(records: list[Timed]) -> str:
@@ -128,8 +132,10 @@ def critical_path(records: list[Timed]) -> str:
     idle = span - sum(parts.values())
     main = sum(r.wall for r in records if r.kind == "main")
     words = " + ".join(f"{kind} {wall:.1f} s" for kind, wall in parts.items() if wall > 0)
-    return (f"  critical path: the last worker to finish {span:.1f} s ({words}, idle {max(idle, 0.0):.1f} s), then "
-            f"the main process's steps {main:.1f} s")
+    return (
+        f"  critical path: the last worker to finish {span:.1f} s ({words}, idle {max(idle, 0.0):.1f} s), then "
+        f"the main process's steps {main:.1f} s"
+    )
 
 
 def breakdown(records: list[Timed], jobs: int, top: int = 8) -> str:

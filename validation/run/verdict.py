@@ -25,6 +25,7 @@ reason (an agreement that compares nothing, a method with values but no enforced
 level, an expected failure that converged: ``compare.verdict_by_method``) is ``failed``. ``FAILING``
 verdicts make the exit status 1.
 """
+
 from __future__ import annotations
 
 import enum
@@ -77,8 +78,17 @@ MEANINGS = {
 }
 
 # worst first: a case x method (and a case) is the first of these any of its rows is
-ORDER = (Verdict.FAILED, Verdict.NOT_CONVERGED, Verdict.OUTSIDE_LIMIT, Verdict.REFUSED, Verdict.EXPECTED,
-         Verdict.OUTSIDE_VALIDITY, Verdict.NO_LIMIT, Verdict.FINDING, Verdict.WITHIN)
+ORDER = (
+    Verdict.FAILED,
+    Verdict.NOT_CONVERGED,
+    Verdict.OUTSIDE_LIMIT,
+    Verdict.REFUSED,
+    Verdict.EXPECTED,
+    Verdict.OUTSIDE_VALIDITY,
+    Verdict.NO_LIMIT,
+    Verdict.FINDING,
+    Verdict.WITHIN,
+)
 FAILING = frozenset({Verdict.FAILED, Verdict.NOT_CONVERGED, Verdict.OUTSIDE_LIMIT, Verdict.REFUSED})
 
 
@@ -119,8 +129,9 @@ def _run_verdict(run, level: int | None) -> tuple[Verdict | None, str]:
     return None, ""
 
 
-def row_verdict(value: float, within, compared: bool, applicability: str, run_state: Verdict | None,
-                kind: str | None = None) -> Verdict | None:
+def row_verdict(
+    value: float, within, compared: bool, applicability: str, run_state: Verdict | None, kind: str | None = None
+) -> Verdict | None:
     """The verdict of one results row: ``within`` the claimed limit (True, False, or None when no
     limit), ``compared`` (the row has something beside the value), ``applicability`` the row's flags,
     ``run_state`` the run's verdict at the row's level (``run_verdict``), ``kind`` the check's kind."""
@@ -157,20 +168,26 @@ def rows_reason(verdict: Verdict, rows: pd.DataFrame) -> str:
     if verdict is Verdict.OUTSIDE_VALIDITY:
         flags = sorted({str(s) for s in rows["applicability"].dropna() if s})
         expected = rows["expected_error"].dropna() if "expected_error" in rows else rows.iloc[:0, 0]
-        atlas = (f" (the PRBM error atlas expects up to {expected.max():.3g} % of L at these levels)"
-                 if len(expected) else "")
+        atlas = (
+            f" (the PRBM error atlas expects up to {expected.max():.3g} % of L at these levels)"
+            if len(expected)
+            else ""
+        )
         return f"{len(rows)} row(s) flagged: {'; '.join(flags)}{atlas}"
     if verdict is Verdict.OUTSIDE_LIMIT:
         r = rows.iloc[0]
-        return (f"{len(rows)} row(s) outside the claimed limit, e.g. {r['quantity']} level {r['level']} against "
-                f"{r['reference_label']} (rel error {r['rel_error']:.3g})")
+        return (
+            f"{len(rows)} row(s) outside the claimed limit, e.g. {r['quantity']} level {r['level']} against "
+            f"{r['reference_label']} (rel error {r['rel_error']:.3g})"
+        )
     if verdict is Verdict.FINDING:
         return f"{len(rows)} finding row(s)"
     return ""
 
 
-def method_verdicts(case, runs: dict, table: pd.DataFrame, problems: dict[str, list[str]] | None = None
-                    ) -> dict[str, MethodVerdict]:
+def method_verdicts(
+    case, runs: dict, table: pd.DataFrame, problems: dict[str, list[str]] | None = None
+) -> dict[str, MethodVerdict]:
     """Per method of a case: the worst of its rows' verdicts (``table``'s ``verdict`` column) and of how
     its run ended; ``failed`` with the line when ``problems`` (``compare.verdict_by_method``) files one
     under it that its rows do not already explain."""
@@ -183,9 +200,11 @@ def method_verdicts(case, runs: dict, table: pd.DataFrame, problems: dict[str, l
         state, why = run_verdict(run, expected.get(method))
         candidates = list(by_row) + ([state] if state else [])
         verdict = worst(candidates)
-        reason = why if verdict is state and state is not None else (rows_reason(verdict, by_row[verdict])
-                                                                       if verdict is not None and verdict in by_row
-                                                                       else "")
+        reason = (
+            why
+            if verdict is state and state is not None
+            else (rows_reason(verdict, by_row[verdict]) if verdict is not None and verdict in by_row else "")
+        )
         lines = (problems or {}).get(method, [])
         if lines and (verdict is None or not verdict.failing):
             verdict, reason = Verdict.FAILED, "; ".join(lines)
@@ -208,8 +227,9 @@ def table_verdict(part: pd.DataFrame) -> Verdict:
         return Verdict.NO_LIMIT
     if "method" not in part:
         return worst(parse(w) for w in part["verdict"]) or Verdict.NO_LIMIT
-    per_method = [worst(parse(w) for w in rows["verdict"]) or Verdict.NO_LIMIT
-                  for _, rows in part.groupby("method", sort=False)]
+    per_method = [
+        worst(parse(w) for w in rows["verdict"]) or Verdict.NO_LIMIT for _, rows in part.groupby("method", sort=False)
+    ]
     return worst(per_method) or Verdict.NO_LIMIT
 
 

@@ -8,6 +8,7 @@ error that changes some value in a group but fails no case there is a hole in th
 changes no value (the planted constant is not on the group's code path) is marked 'not exercised'.
 The unplanted baseline runs first; a case failing there is reported, since it cannot catch anything.
 """
+
 from __future__ import annotations
 
 import hashlib
@@ -42,7 +43,7 @@ class Verdict:
     group: str
     failed: bool
     first_problem: str
-    fingerprints: dict[str, str]   # method -> digest of its values, to tell whether a plant changed anything
+    fingerprints: dict[str, str]  # method -> digest of its values, to tell whether a plant changed anything
 
 
 def _fingerprint(run) -> str:
@@ -54,8 +55,14 @@ def _judge(plant: str, path: Path) -> Verdict:
     loaded = load_case(path)
     result = run_case(loaded, use_cache=False)
     problems = case_verdict(loaded.case, result.runs, tabulate(result))
-    return Verdict(plant, loaded.id, loaded.case.case.group, bool(problems), problems[0][:200] if problems else "",
-                   {method: _fingerprint(run) for method, run in result.runs.items()})
+    return Verdict(
+        plant,
+        loaded.id,
+        loaded.case.case.group,
+        bool(problems),
+        problems[0][:200] if problems else "",
+        {method: _fingerprint(run) for method, run in result.runs.items()},
+    )
 
 
 def _initialise(plant: str, cache: str) -> None:
@@ -68,8 +75,10 @@ def _initialise(plant: str, cache: str) -> None:
 
 def run_plant(plant: str, paths: list[Path], jobs: int) -> list[Verdict]:
     """Every case of ``paths`` in worker processes that carry the planted error."""
-    with tempfile.TemporaryDirectory(prefix="prbm-audit-") as cache, \
-            ProcessPoolExecutor(max_workers=jobs, initializer=_initialise, initargs=(plant, cache)) as pool:
+    with (
+        tempfile.TemporaryDirectory(prefix="prbm-audit-") as cache,
+        ProcessPoolExecutor(max_workers=jobs, initializer=_initialise, initargs=(plant, cache)) as pool,
+    ):
         return list(pool.map(_judge, [plant] * len(paths), paths))
 
 
@@ -88,14 +97,22 @@ def audit(paths: list[Path], names: list[str], jobs: int = 2) -> pd.DataFrame:
         method = plants.PLANTS[name].method
         wanted = [p for p in paths if method in methods[p]]
         if wanted:
-            rows += [_row(v, exercised=v.fingerprints.get(method) != before[v.case].get(method))
-                     for v in run_plant(name, wanted, jobs)]
+            rows += [
+                _row(v, exercised=v.fingerprints.get(method) != before[v.case].get(method))
+                for v in run_plant(name, wanted, jobs)
+            ]
     return pd.DataFrame(rows)
 
 
 def _row(verdict: Verdict, exercised: bool) -> dict:
-    return dict(plant=verdict.plant, case=verdict.case, group=verdict.group, failed=verdict.failed,
-                exercised=exercised, first_problem=verdict.first_problem)
+    return dict(
+        plant=verdict.plant,
+        case=verdict.case,
+        group=verdict.group,
+        failed=verdict.failed,
+        exercised=exercised,
+        first_problem=verdict.first_problem,
+    )
 
 
 def by_group(verdicts: pd.DataFrame) -> pd.DataFrame:
@@ -126,8 +143,10 @@ def cmd_audit(args) -> int:
     names = args.plant or list(plants.PLANTS)
     unknown = [name for name in names if name not in plants.PLANTS]
     if unknown:
-        print(f"error: --plant: unknown planted error {', '.join(unknown)}; known: {', '.join(plants.PLANTS)}",
-              file=sys.stderr)
+        print(
+            f"error: --plant: unknown planted error {', '.join(unknown)}; known: {', '.join(plants.PLANTS)}",
+            file=sys.stderr,
+        )
         return ExitStatus.BAD_INPUT
     try:
         paths = find_case_files(args.cases or None)
@@ -136,7 +155,7 @@ def cmd_audit(args) -> int:
         return ExitStatus.BAD_INPUT
     started = time.perf_counter()
     out = Path(args.out)
-    with OutputSet(out, owned=("audit.csv",)) as output:   # one output set (validation.run.output_set)
+    with OutputSet(out, owned=("audit.csv",)) as output:  # one output set (validation.run.output_set)
         verdicts = audit(paths, names, jobs=args.jobs)
         verdicts.to_csv(output.path / "audit.csv", index=False)
         output.commit()
@@ -149,6 +168,8 @@ def cmd_audit(args) -> int:
     missed = holes(verdicts)
     for hole in missed:
         print(f"not caught: {hole}")
-    print(f"\n{len(names)} plant(s) over {len(paths)} case(s) in {time.perf_counter() - started:.0f} s; "
-          f"verdicts in {out / 'audit.csv'}")
+    print(
+        f"\n{len(names)} plant(s) over {len(paths)} case(s) in {time.perf_counter() - started:.0f} s; "
+        f"verdicts in {out / 'audit.csv'}"
+    )
     return decide(failed=bool(missed) or len(baseline) > 0)

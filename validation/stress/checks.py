@@ -16,6 +16,7 @@ every check asserts an agreement or a specific error):
 
 The cases are built as case data and run through the same adapters as the validation cases.
 """
+
 from __future__ import annotations
 
 import cmath
@@ -60,9 +61,23 @@ class Check:
         self.passed = bool(self.passed)
 
 
-def cantilever(length=1.0, E=1.0, width=1.0, thickness=0.01, alpha=1.0, angle_deg=90.0, moment=0.0,
-               units="dimensionless", elements=16, levels=1, follower=False, methods=("fem",),
-               error_estimate=True, kappa=0.0, reverse=False) -> Case:
+def cantilever(
+    length=1.0,
+    E=1.0,
+    width=1.0,
+    thickness=0.01,
+    alpha=1.0,
+    angle_deg=90.0,
+    moment=0.0,
+    units="dimensionless",
+    elements=16,
+    levels=1,
+    follower=False,
+    methods=("fem",),
+    error_estimate=True,
+    kappa=0.0,
+    reverse=False,
+) -> Case:
     """A fixed-free segment with a tip force of P L^2/EI = alpha at angle_deg and/or a tip moment."""
     I = width * thickness**3 / 12.0
     EI = E * I
@@ -73,17 +88,25 @@ def cantilever(length=1.0, E=1.0, width=1.0, thickness=0.01, alpha=1.0, angle_de
     loads = []
     if alpha:
         a = math.radians(angle_deg)
-        loads.append(dict(kind="force", point="tip", direction=[math.cos(a), math.sin(a)], values=ramp,
-                          follower=follower))
+        loads.append(
+            dict(kind="force", point="tip", direction=[math.cos(a), math.sin(a)], values=ramp, follower=follower)
+        )
     if moment:
         mvals = [moment * EI / length * (k + 1) / levels for k in range(levels)]
         loads.append(dict(kind="moment", point="tip", values=mvals if not reverse else mvals + [-v for v in mvals]))
-    data = dict(case=dict(id="stress", title="stress cantilever", group="stress", units=units),
-                segment=dict(boundary="fixed-free", length=length, E=E, curvature=kappa,
-                             section=dict(kind="rectangle", width=width, thickness=thickness)),
-                loads=loads, outputs=[dict(quantity=q) for q in ("x", "y", "rotation")],
-                methods={m: ({"elements": elements, "error_estimate": error_estimate} if m == "fem" else {})
-                         for m in methods})
+    data = dict(
+        case=dict(id="stress", title="stress cantilever", group="stress", units=units),
+        segment=dict(
+            boundary="fixed-free",
+            length=length,
+            E=E,
+            curvature=kappa,
+            section=dict(kind="rectangle", width=width, thickness=thickness),
+        ),
+        loads=loads,
+        outputs=[dict(quantity=q) for q in ("x", "y", "rotation")],
+        methods={m: ({"elements": elements, "error_estimate": error_estimate} if m == "fem" else {}) for m in methods},
+    )
     return Case.model_validate(data)
 
 
@@ -101,20 +124,35 @@ def _estimate(run, level=-1):
 
 # --- agreement -----------------------------------------------------------------------------------
 
+
 def random_cantilever_params(rng: random.Random) -> dict:
     moment = rng.random() < 0.3
-    return dict(length=10 ** rng.uniform(-2, 2), E=10 ** rng.uniform(3, 12),
-                slenderness=10 ** rng.uniform(1, 5), alpha=0.0 if moment else rng.uniform(0.05, 50.0),
-                angle_deg=rng.uniform(0, 360), moment=rng.uniform(0.1, 4 * math.pi) if moment else 0.0)
+    return dict(
+        length=10 ** rng.uniform(-2, 2),
+        E=10 ** rng.uniform(3, 12),
+        slenderness=10 ** rng.uniform(1, 5),
+        alpha=0.0 if moment else rng.uniform(0.05, 50.0),
+        angle_deg=rng.uniform(0, 360),
+        moment=rng.uniform(0.1, 4 * math.pi) if moment else 0.0,
+    )
 
 
 def agreement_check(params: dict) -> Check:
     """FEM against the exact elastica for one cantilever; passes on agreement or an honest failure."""
     L, slender = params["length"], params["slenderness"]
     h = L / slender
-    case = cantilever(length=L, E=params["E"], width=h, thickness=h, alpha=params["alpha"],
-                      angle_deg=params["angle_deg"], moment=params["moment"], levels=1,
-                      methods=("fem", "elastica"), elements=16)
+    case = cantilever(
+        length=L,
+        E=params["E"],
+        width=h,
+        thickness=h,
+        alpha=params["alpha"],
+        angle_deg=params["angle_deg"],
+        moment=params["moment"],
+        levels=1,
+        methods=("fem", "elastica"),
+        elements=16,
+    )
     name = ", ".join(f"{k}={v:.4g}" for k, v in params.items())
     fem = run_method(case, "fem")
     exact = run_method(case, "elastica")
@@ -125,35 +163,46 @@ def agreement_check(params: dict) -> Check:
         return Check("agreement", name, ok, f"FEM says converged=False: {fem.message}")
     doubtful = [r for r in fem.unreliable_estimate if r.point == "tip" and r.quantity in ("x", "y")]
     if doubtful:
-        return Check("agreement", name, True, f"FEM says its estimate is unreliable: "
-                                              f"{fem.unreliable_estimate[doubtful[0]]}; not compared")
+        return Check(
+            "agreement",
+            name,
+            True,
+            f"FEM says its estimate is unreliable: {fem.unreliable_estimate[doubtful[0]]}; not compared",
+        )
     diff = np.hypot(*(tip(fem)[:2] - tip(exact)[:2]))
     I = h**4 / 12
     stretch = params["alpha"] * (params["E"] * I / L**2) * L / (params["E"] * h * h)  # P L / EA
     allowed = 3.0 * _estimate(fem) + stretch + 1e-9 * L
-    return Check("agreement", name, diff <= allowed,
-                 f"|FEM - exact| = {diff / L:.3g} L, allowed {allowed / L:.3g} L "
-                 f"(3 x estimate {3 * _estimate(fem) / L:.2g} L + stretch {stretch / L:.2g} L)")
+    return Check(
+        "agreement",
+        name,
+        diff <= allowed,
+        f"|FEM - exact| = {diff / L:.3g} L, allowed {allowed / L:.3g} L "
+        f"(3 x estimate {3 * _estimate(fem) / L:.2g} L + stretch {stretch / L:.2g} L)",
+    )
 
 
 # --- invariances ---------------------------------------------------------------------------------
 
-def rotated_cantilever(phi_deg: float, alpha: float, angle_deg: float, length=1.0, E=1.0, h=0.01,
-                       mirror=False) -> Case:
+
+def rotated_cantilever(phi_deg: float, alpha: float, angle_deg: float, length=1.0, E=1.0, h=0.01, mirror=False) -> Case:
     phi = math.radians(phi_deg)
     sign = -1.0 if mirror else 1.0
     tipx, tipy = length * math.cos(phi), sign * length * math.sin(phi)
     I = h**4 / 12
     P = alpha * E * I / length**2
     a = math.radians(angle_deg + phi_deg)
-    data = dict(case=dict(id="stress_rotated", title="rotated cantilever", group="stress", units="SI"),
-                mechanism=dict(nodes=[dict(name="root", x=0.0, y=0.0), dict(name="tip", x=tipx, y=tipy)],
-                               beams=[dict(name="b", start="root", end="tip", E=E,
-                                           section=dict(kind="rectangle", width=h, thickness=h))],
-                               supports=[dict(node="root", kind="fixed")]),
-                loads=[dict(kind="force", point="tip", direction=[math.cos(a), sign * math.sin(a)], values=[P])],
-                outputs=[dict(quantity=q, point="tip") for q in ("x", "y", "rotation")],
-                methods={"fem": {"elements": 16}})
+    data = dict(
+        case=dict(id="stress_rotated", title="rotated cantilever", group="stress", units="SI"),
+        mechanism=dict(
+            nodes=[dict(name="root", x=0.0, y=0.0), dict(name="tip", x=tipx, y=tipy)],
+            beams=[dict(name="b", start="root", end="tip", E=E, section=dict(kind="rectangle", width=h, thickness=h))],
+            supports=[dict(node="root", kind="fixed")],
+        ),
+        loads=[dict(kind="force", point="tip", direction=[math.cos(a), sign * math.sin(a)], values=[P])],
+        outputs=[dict(quantity=q, point="tip") for q in ("x", "y", "rotation")],
+        methods={"fem": {"elements": 16}},
+    )
     return Case.model_validate(data)
 
 
@@ -166,21 +215,45 @@ def invariance_checks() -> list[Check]:
         c, s = math.cos(math.radians(phi)), math.sin(math.radians(phi))
         expected = np.array([c * p0[0] - s * p0[1], s * p0[0] + c * p0[1]])
         err = np.hypot(*(tip(run)[:2] - expected))
-        checks.append(Check("invariance", f"rotation by {phi} deg", run.converged and err < 1e-9,
-                            f"tip differs from the rotated answer by {err:.2e} L"))
+        checks.append(
+            Check(
+                "invariance",
+                f"rotation by {phi} deg",
+                run.converged and err < 1e-9,
+                f"tip differs from the rotated answer by {err:.2e} L",
+            )
+        )
         drot = abs(tip(run)[2] - p0[2])
-        checks.append(Check("invariance", f"rotation by {phi} deg: tip angle", run.converged and drot < 1e-7,
-                            f"tip rotation differs by {drot:.2e} deg"))
+        checks.append(
+            Check(
+                "invariance",
+                f"rotation by {phi} deg: tip angle",
+                run.converged and drot < 1e-7,
+                f"tip rotation differs by {drot:.2e} deg",
+            )
+        )
     mirrored = run_method(rotated_cantilever(0.0, 3.0, 100.0, mirror=True), "fem")
     pm = tip(mirrored)
     err = abs(pm[0] - p0[0]) + abs(pm[1] + p0[1]) + abs(pm[2] + p0[2]) * 1e-3
-    checks.append(Check("invariance", "mirror y -> -y", mirrored.converged and err < 1e-9,
-                        f"mirrored answer differs by {err:.2e}"))
+    checks.append(
+        Check(
+            "invariance", "mirror y -> -y", mirrored.converged and err < 1e-9, f"mirrored answer differs by {err:.2e}"
+        )
+    )
     # unit systems: the same beam in inch-pound and SI
-    inch = cantilever(length=20.0, E=30e6, width=0.5, thickness=0.0625, alpha=4.0, angle_deg=80.0, units="in-lb",
-                      error_estimate=False)
-    si = cantilever(length=20.0 * IN, E=30e6 * PSI, width=0.5 * IN, thickness=0.0625 * IN, alpha=4.0,
-                    angle_deg=80.0, units="SI", error_estimate=False)
+    inch = cantilever(
+        length=20.0, E=30e6, width=0.5, thickness=0.0625, alpha=4.0, angle_deg=80.0, units="in-lb", error_estimate=False
+    )
+    si = cantilever(
+        length=20.0 * IN,
+        E=30e6 * PSI,
+        width=0.5 * IN,
+        thickness=0.0625 * IN,
+        alpha=4.0,
+        angle_deg=80.0,
+        units="SI",
+        error_estimate=False,
+    )
     a, b = tip(run_method(inch, "fem")), tip(run_method(si, "fem"))
     err = max(abs(a[0] / 20.0 - b[0] / (20.0 * IN)), abs(a[1] / 20.0 - b[1] / (20.0 * IN)))
     checks.append(Check("invariance", "inch-pound vs SI", err < 1e-9, f"dimensionless tip differs by {err:.2e}"))
@@ -189,8 +262,14 @@ def invariance_checks() -> list[Check]:
     run = run_method(cantilever(alpha=tiny, angle_deg=90.0, error_estimate=False, elements=4), "fem")
     y, rot = tip(run)[1], math.radians(tip(run)[2])
     rel = max(abs(y / (tiny / 3) - 1), abs(rot / (tiny / 2) - 1))
-    checks.append(Check("invariance", "linear limit PL^3/3EI, PL^2/2EI", rel < 1e-6 and run.converged,
-                        f"relative difference {rel:.2e} (nonlinear terms are O(alpha^2) = 1e-14)"))
+    checks.append(
+        Check(
+            "invariance",
+            "linear limit PL^3/3EI, PL^2/2EI",
+            rel < 1e-6 and run.converged,
+            f"relative difference {rel:.2e} (nonlinear terms are O(alpha^2) = 1e-14)",
+        )
+    )
     # refinement moves the answer by no more than the estimate said: values on the estimate's finest mesh
     # (16 elements, or finer where 4/8/16 are not in the asymptotic range), a plain run on twice as many
     for alpha in (2.0, 10.0):
@@ -198,28 +277,42 @@ def invariance_checks() -> list[Check]:
         fine = 8 * est.extras["refine"]
         finer = run_method(cantilever(alpha=alpha, elements=2 * fine, error_estimate=False), "fem")
         move = np.hypot(*(tip(finer)[:2] - tip(est)[:2]))
-        checks.append(Check("invariance", f"refinement {fine} -> {2 * fine} elements, alpha = {alpha}",
-                            move <= _estimate(est) * 1.5,
-                            f"moved {move:.2e}, estimate {_estimate(est):.2e}"))
+        checks.append(
+            Check(
+                "invariance",
+                f"refinement {fine} -> {2 * fine} elements, alpha = {alpha}",
+                move <= _estimate(est) * 1.5,
+                f"moved {move:.2e}, estimate {_estimate(est):.2e}",
+            )
+        )
     return checks
 
 
 # --- hard paths ----------------------------------------------------------------------------------
 
+
 def hard_path_checks() -> list[Check]:
     checks = []
     for turns in (1, 2):
-        run = run_method(cantilever(alpha=0.0, moment=2 * math.pi * turns, levels=1, error_estimate=False,
-                                    elements=32), "fem")
+        run = run_method(
+            cantilever(alpha=0.0, moment=2 * math.pi * turns, levels=1, error_estimate=False, elements=32), "fem"
+        )
         x, y, rot = tip(run)
         ok = run.converged and abs(rot - 360.0 * turns) < 1e-4 and math.hypot(x, y) < 1e-6
-        checks.append(Check("hard paths", f"end moment {2 * turns} pi EI/L in one level", ok,
-                            f"tip rotation {rot:.6f} deg, tip at {math.hypot(x, y):.2e} L from the root"))
+        checks.append(
+            Check(
+                "hard paths",
+                f"end moment {2 * turns} pi EI/L in one level",
+                ok,
+                f"tip rotation {rot:.6f} deg, tip at {math.hypot(x, y):.2e} L from the root",
+            )
+        )
     run = run_method(cantilever(alpha=5.0, levels=3, reverse=True, error_estimate=False), "fem")
     up, down = tip(run, 2), tip(run, -1)
     ok = run.converged and abs(up[0] - down[0]) < 1e-9 and abs(up[1] + down[1]) < 1e-9
-    checks.append(Check("hard paths", "load reversal +P then -P", ok,
-                        f"+P tip {up[:2].round(6)}, -P tip {down[:2].round(6)}"))
+    checks.append(
+        Check("hard paths", "load reversal +P then -P", ok, f"+P tip {up[:2].round(6)}, -P tip {down[:2].round(6)}")
+    )
     return checks
 
 
@@ -234,9 +327,14 @@ def column_check() -> list[Check]:
     P_cr = math.pi**2 / 4  # EI = L = 1
     run = run_method(_imperfect_column(P_cr, 1e-5), "fem")  # levels up to 1.5 P_cr
     delta = abs(tip(run)[1]) if run.converged else math.nan
-    checks.append(Check("hard paths", "column past its Euler load (1.5 P_cr, imperfection 1e-5 P)",
-                        run.converged and abs(delta - exact_delta) < 2e-3,
-                        f"lateral tip deflection {delta:.5f} L, post-buckled elastica {exact_delta:.5f} L"))
+    checks.append(
+        Check(
+            "hard paths",
+            "column past its Euler load (1.5 P_cr, imperfection 1e-5 P)",
+            run.converged and abs(delta - exact_delta) < 2e-3,
+            f"lateral tip deflection {delta:.5f} L, post-buckled elastica {exact_delta:.5f} L",
+        )
+    )
     return checks
 
 
@@ -246,13 +344,16 @@ def bistable_check() -> list[Check]:
     between steps), the strain energy must rise to a maximum and fall to the second well, and the
     driving torque must change sign at that maximum (the snap-through a torque-driven test would show)."""
 
-
     loaded = case_by_id("bapat2015_ch6_ex2")
     data = tomllib.loads(loaded.text)
     angles = [float(a) for a in np.linspace(0.0, 60.0, 31)]
     data["loads"] = [dict(data["loads"][0], values=angles)]
-    data["outputs"] = [dict(quantity="strain_energy"), dict(quantity="input_torque"),
-                       dict(quantity="x", point="B"), dict(quantity="y", point="B")]
+    data["outputs"] = [
+        dict(quantity="strain_energy"),
+        dict(quantity="input_torque"),
+        dict(quantity="x", point="B"),
+        dict(quantity="y", point="B"),
+    ]
     data["methods"] = {"fem": dict(data["methods"]["fem"], error_estimate=False)}
     without_checks(data, ["fem"])
     data.pop("level_labels", None)
@@ -265,24 +366,34 @@ def bistable_check() -> list[Check]:
     jumps = np.hypot(*np.diff(A, axis=0).T)
     peak = int(np.argmax(U))
     sign_changes = int(np.sum(np.sign(T[1:-1]) != np.sign(T[2:])))
-    ok = (0 < peak < len(U) - 1 and U[-1] < U[peak] and sign_changes >= 1
-          and jumps.max() < 5.0 * np.median(jumps))
-    return [Check("hard paths", "bistable four-bar (ch. 6 Ex. 2) through both wells", ok,
-                  f"energy peak {U[peak]:.4g} in-lb at {angles[peak]:.0f} deg, {U[-1]:.4g} at 60 deg; torque changes "
-                  f"sign {sign_changes}x; largest step of B {jumps.max():.3g} in (median {np.median(jumps):.3g})")]
+    ok = 0 < peak < len(U) - 1 and U[-1] < U[peak] and sign_changes >= 1 and jumps.max() < 5.0 * np.median(jumps)
+    return [
+        Check(
+            "hard paths",
+            "bistable four-bar (ch. 6 Ex. 2) through both wells",
+            ok,
+            f"energy peak {U[peak]:.4g} in-lb at {angles[peak]:.0f} deg, {U[-1]:.4g} at 60 deg; torque changes "
+            f"sign {sign_changes}x; largest step of B {jumps.max():.3g} in (median {np.median(jumps):.3g})",
+        )
+    ]
 
 
 def prbm_edge_checks() -> list[Check]:
     """PRBM at its edges: fits at and beyond their ranges, four-bars at and past toggle, loops that
     cannot close."""
 
-
     checks = []
     for n, inside in ((10.0, True), (-3.999, True), (10.5, False), (-4.5, False)):
         try:
             gamma = PAULY_MIDHA.parameters(n)[0]
-            checks.append(Check("prbm edges", f"fit at n = {n}", inside and math.isfinite(gamma),
-                                f"gamma = {gamma:.6f}" + ("" if inside else " returned outside the range")))
+            checks.append(
+                Check(
+                    "prbm edges",
+                    f"fit at n = {n}",
+                    inside and math.isfinite(gamma),
+                    f"gamma = {gamma:.6f}" + ("" if inside else " returned outside the range"),
+                )
+            )
         except FitRangeError as exc:
             checks.append(Check("prbm edges", f"fit at n = {n}", not inside, str(exc)))
     # a crank-rocker-like linkage that cannot turn fully: finite up to toggle, NaN past it
@@ -297,8 +408,14 @@ def prbm_edge_checks() -> list[Check]:
         i = edge[0]
         A = fb.R2 * np.exp(1j * grid[i])
         closure = abs(A + fb.R3 * np.exp(1j * t3[i]) - (fb.Z1 + fb.R4 * np.exp(1j * t4[i])))
-        checks.append(Check("prbm edges", "four-bar at its toggle position", closure < 1e-9 and not ok[i + 1],
-                            f"loop closes to {closure:.1e} at {np.degrees(grid[i]):.3f} deg; NaN past it"))
+        checks.append(
+            Check(
+                "prbm edges",
+                "four-bar at its toggle position",
+                closure < 1e-9 and not ok[i + 1],
+                f"loop closes to {closure:.1e} at {np.degrees(grid[i]):.3f} deg; NaN past it",
+            )
+        )
     else:
         checks.append(Check("prbm edges", "four-bar at its toggle position", False, "no toggle found"))
     # a loop that cannot close: a clear error, not NaN positions
@@ -312,15 +429,18 @@ def prbm_edge_checks() -> list[Check]:
 
 def _imperfect_column(P: float, imperfection: float) -> Case:
     levels = [P * f for f in (0.5, 0.9, 0.98, 1.02, 1.1, 1.25, 1.4, 1.5)]
-    data = dict(case=dict(id="stress_column", title="imperfect column", group="stress", units="dimensionless"),
-                segment=dict(boundary="fixed-free", length=1.0, E=1.0, section=dict(kind="inertia", I=1.0, A=1e6)),
-                loads=[dict(kind="force", point="tip", direction=[-1.0, imperfection], values=levels)],
-                outputs=[dict(quantity=q) for q in ("x", "y", "rotation")],
-                methods={"fem": {"elements": 32}})
+    data = dict(
+        case=dict(id="stress_column", title="imperfect column", group="stress", units="dimensionless"),
+        segment=dict(boundary="fixed-free", length=1.0, E=1.0, section=dict(kind="inertia", I=1.0, A=1e6)),
+        loads=[dict(kind="force", point="tip", direction=[-1.0, imperfection], values=levels)],
+        outputs=[dict(quantity=q) for q in ("x", "y", "rotation")],
+        methods={"fem": {"elements": 32}},
+    )
     return Case.model_validate(data)
 
 
 # --- bad input -----------------------------------------------------------------------------------
+
 
 def bad_input_checks() -> list[Check]:
     checks = []
@@ -339,15 +459,18 @@ def bad_input_checks() -> list[Check]:
             checks.append(Check("bad input", name, False, "accepted"))
         except ValidationError as exc:
             field, message = describe(exc)
-            checks.append(Check("bad input", name, "greater than 0" in message or "finite" in message,
-                                f"{field}: {message}"))
+            checks.append(
+                Check("bad input", name, "greater than 0" in message or "finite" in message, f"{field}: {message}")
+            )
     mech = rotated_cantilever(0.0, 1.0, 90.0).model_dump(mode="json")
     coincident = json.loads(json.dumps(mech))
     coincident["mechanism"]["nodes"].append(dict(name="again", x=0.0, y=0.0))
     zero = json.loads(json.dumps(mech))
     zero["mechanism"]["beams"][0]["end"] = "root"
-    for name, data, words in (("coincident nodes", coincident, "coincident"),
-                              ("zero-length member", zero, "zero length")):
+    for name, data, words in (
+        ("coincident nodes", coincident, "coincident"),
+        ("zero-length member", zero, "zero length"),
+    ):
         try:
             Case.model_validate(data)
             checks.append(Check("bad input", name, False, "accepted"))
@@ -359,8 +482,14 @@ def bad_input_checks() -> list[Check]:
     free["mechanism"]["supports"][0]["kind"] = "pinned"
     free["loads"][0]["direction"] = [0.0, 1.0]
     run = run_method(Case.model_validate(free), "fem")
-    checks.append(Check("bad input", "zero-stiffness mode (pinned beam, no spring)",
-                        not run.converged and bool(run.message), f"converged={run.converged}: {run.message[:160]}"))
+    checks.append(
+        Check(
+            "bad input",
+            "zero-stiffness mode (pinned beam, no spring)",
+            not run.converged and bool(run.message),
+            f"converged={run.converged}: {run.message[:160]}",
+        )
+    )
     return checks
 
 
@@ -387,46 +516,85 @@ def shrink(params: dict) -> dict:
 def write_regression(params: dict, folder: Path) -> Path:
     """Keep a shrunk failure as a case file (FEM and elastica side by side) for a developer to adopt."""
 
-
     h = params["length"] / params["slenderness"]
-    case = cantilever(length=params["length"], E=params["E"], width=h, thickness=h, alpha=params["alpha"],
-                      angle_deg=params["angle_deg"], moment=params["moment"], methods=("fem", "elastica"))
+    case = cantilever(
+        length=params["length"],
+        E=params["E"],
+        width=h,
+        thickness=h,
+        alpha=params["alpha"],
+        angle_deg=params["angle_deg"],
+        moment=params["moment"],
+        methods=("fem", "elastica"),
+    )
     data = case.model_dump(mode="json", exclude_none=True, exclude_defaults=True)
     tag = hashlib.sha256(json.dumps(params, sort_keys=True).encode()).hexdigest()[:8]
-    data["case"] |= {"id": f"stress_regression_{tag}", "title": "shrunk stress failure: FEM vs exact elastica",
-                     "description": "Found by prbm-validate stress; parameters " + json.dumps(params)}
+    data["case"] |= {
+        "id": f"stress_regression_{tag}",
+        "title": "shrunk stress failure: FEM vs exact elastica",
+        "description": "Found by prbm-validate stress; parameters " + json.dumps(params),
+    }
     folder.mkdir(parents=True, exist_ok=True)
     path = folder / f"stress_regression_{tag}.toml"
     path.write_text(tomli_w.dumps(data))
     return path
 
 
-STRESS_FILES = ("stress.json", "index.html", "regressions", "fuzz.json", "fuzz_regressions")   # what stress writes
+STRESS_FILES = ("stress.json", "index.html", "regressions", "fuzz.json", "fuzz_regressions")  # what stress writes
 
 
-def run_stress(out: Path, long: bool = False, seed: int = 20261122, *, configurations: int = 10_000,
-               executor: str = "process", workers: int | None = None, scheduler: str | None = None,
-               mutants: int = 0, mutant_timeout: float = 20.0) -> int:
+def run_stress(
+    out: Path,
+    long: bool = False,
+    seed: int = 20261122,
+    *,
+    configurations: int = 10_000,
+    executor: str = "process",
+    workers: int | None = None,
+    scheduler: str | None = None,
+    mutants: int = 0,
+    mutant_timeout: float = 20.0,
+) -> int:
     """The checks below; with ``long``, also the quantity contract on ``configurations`` generated
     configurations on the sweep executors (``validation.stress.contract_run``); ``mutants`` mutated case
     files, each within ``mutant_timeout`` seconds (``validation.stress.fuzz_run``). Written into ``out`` as
     one output set (``validation.run.output_set``), the earlier runs' shrunk regressions kept."""
     with OutputSet(out, owned=STRESS_FILES, seed=("regressions", "fuzz_regressions")) as output:
-        status = _stress_into(output.path, long, seed, configurations=configurations, executor=executor,
-                              workers=workers, scheduler=scheduler, mutants=mutants, mutant_timeout=mutant_timeout)
+        status = _stress_into(
+            output.path,
+            long,
+            seed,
+            configurations=configurations,
+            executor=executor,
+            workers=workers,
+            scheduler=scheduler,
+            mutants=mutants,
+            mutant_timeout=mutant_timeout,
+        )
         output.commit()
     return status
 
 
-def _stress_into(out: Path, long: bool, seed: int, *, configurations: int, executor: str, workers: int | None,
-                 scheduler: str | None, mutants: int = 0, mutant_timeout: float = 20.0) -> int:
+def _stress_into(
+    out: Path,
+    long: bool,
+    seed: int,
+    *,
+    configurations: int,
+    executor: str,
+    workers: int | None,
+    scheduler: str | None,
+    mutants: int = 0,
+    mutant_timeout: float = 20.0,
+) -> int:
     """The stress run written in ``out``; its exit status."""
     started = time.perf_counter()
     checks: list[Check] = []
     contract = None
     if long:
-        rows, contract = run_contract_stress(out, seed=seed, count=configurations, executor=executor,
-                                             workers=workers, scheduler=scheduler)
+        rows, contract = run_contract_stress(
+            out, seed=seed, count=configurations, executor=executor, workers=workers, scheduler=scheduler
+        )
         checks.extend(Check(r["category"], r["name"], r["passed"], r["detail"]) for r in rows)
     rng = random.Random(seed)
     n_random = 200 if long else 25
@@ -438,26 +606,41 @@ def _stress_into(out: Path, long: bool, seed: int, *, configurations: int, execu
             path = write_regression(small, out / "regressions")
             check.detail += f"; shrunk to {json.dumps({k: round(v, 6) for k, v in small.items()})}, kept as {path.name}"
         checks.append(check)
-    for block in (invariance_checks, hard_path_checks, column_check, bistable_check, prbm_edge_checks,
-                  bad_input_checks):
+    for block in (
+        invariance_checks,
+        hard_path_checks,
+        column_check,
+        bistable_check,
+        prbm_edge_checks,
+        bad_input_checks,
+    ):
         checks.extend(block())
     if mutants:
-        checks.extend(Check(*row) for row in fuzz_checks(out, mutants, seed, long=long, workers=workers,
-                                                         timeout=mutant_timeout))
+        checks.extend(
+            Check(*row) for row in fuzz_checks(out, mutants, seed, long=long, workers=workers, timeout=mutant_timeout)
+        )
     categories: dict[str, dict[str, int]] = {}
     for c in checks:
         tally = categories.setdefault(c.category, {"tried": 0, "passed": 0, "failed": 0})
         tally["tried"] += 1
         tally["passed" if c.passed else "failed"] += 1
-    document = {"seed": seed, "long": long, "wall_time_s": time.perf_counter() - started,
-                "categories": categories, "contract": contract, "checks": [asdict(c) for c in checks]}
+    document = {
+        "seed": seed,
+        "long": long,
+        "wall_time_s": time.perf_counter() - started,
+        "categories": categories,
+        "contract": contract,
+        "checks": [asdict(c) for c in checks],
+    }
     (out / "stress.json").write_text(json.dumps(document, indent=2))
     _write_page(out, document)
     for cat, t in categories.items():
         print(f"{cat:<18} tried {t['tried']:5d}  passed {t['passed']:5d}  failed {t['failed']:5d}")
     if contract:
-        print(f"contract: {contract['configurations']} configurations, {contract['compared_values']} values compared, "
-              f"{contract['wall_time_s']:.0f} s on {contract['executor']} ({contract['workers']} workers)")
+        print(
+            f"contract: {contract['configurations']} configurations, {contract['compared_values']} values compared, "
+            f"{contract['wall_time_s']:.0f} s on {contract['executor']} ({contract['workers']} workers)"
+        )
     for c in checks:
         if not c.passed:
             print(f"FAILED {c.category}: {c.name}: {c.detail}")
@@ -466,17 +649,24 @@ def _stress_into(out: Path, long: bool, seed: int, *, configurations: int, execu
 
 def _write_page(out: Path, document: dict) -> None:
 
-    rows = "".join(f"<tr class='{'good' if c['passed'] else 'bad'}'><td>{html.escape(c['category'])}</td>"
-                   f"<td>{html.escape(c['name'])}</td><td>{'pass' if c['passed'] else 'FAIL'}</td>"
-                   f"<td>{html.escape(c['detail'])}</td></tr>" for c in document["checks"])
-    tally = "".join(f"<tr><td>{k}</td><td>{v['tried']}</td><td>{v['passed']}</td><td>{v['failed']}</td></tr>"
-                    for k, v in document["categories"].items())
-    page = (f"<!doctype html><html><head><meta charset='utf-8'><title>Stress report</title><style>"
-            f"body{{font-family:system-ui,sans-serif;margin:2em}}td,th{{border:1px solid #ccc;padding:3px 6px}}"
-            f"table{{border-collapse:collapse}}.bad{{background:#fdd}}.good{{background:#dfd}}</style></head><body>"
-            f"<p><a href='../index.html'>report</a></p><h1>Stress report</h1>"
-            f"<p>seed {document['seed']}, {'long' if document['long'] else 'short'} mode, "
-            f"{document['wall_time_s']:.1f} s</p><table><tr><th>category</th><th>tried</th><th>passed</th>"
-            f"<th>failed</th></tr>{tally}</table><h2>Every check</h2><table><tr><th>category</th><th>check</th>"
-            f"<th>result</th><th>detail</th></tr>{rows}</table></body></html>")
+    rows = "".join(
+        f"<tr class='{'good' if c['passed'] else 'bad'}'><td>{html.escape(c['category'])}</td>"
+        f"<td>{html.escape(c['name'])}</td><td>{'pass' if c['passed'] else 'FAIL'}</td>"
+        f"<td>{html.escape(c['detail'])}</td></tr>"
+        for c in document["checks"]
+    )
+    tally = "".join(
+        f"<tr><td>{k}</td><td>{v['tried']}</td><td>{v['passed']}</td><td>{v['failed']}</td></tr>"
+        for k, v in document["categories"].items()
+    )
+    page = (
+        f"<!doctype html><html><head><meta charset='utf-8'><title>Stress report</title><style>"
+        f"body{{font-family:system-ui,sans-serif;margin:2em}}td,th{{border:1px solid #ccc;padding:3px 6px}}"
+        f"table{{border-collapse:collapse}}.bad{{background:#fdd}}.good{{background:#dfd}}</style></head><body>"
+        f"<p><a href='../index.html'>report</a></p><h1>Stress report</h1>"
+        f"<p>seed {document['seed']}, {'long' if document['long'] else 'short'} mode, "
+        f"{document['wall_time_s']:.1f} s</p><table><tr><th>category</th><th>tried</th><th>passed</th>"
+        f"<th>failed</th></tr>{tally}</table><h2>Every check</h2><table><tr><th>category</th><th>check</th>"
+        f"<th>result</th><th>detail</th></tr>{rows}</table></body></html>"
+    )
     (out / "index.html").write_text(page)

@@ -22,6 +22,7 @@ each method to the contract on it:
 Both are used by ``tests/validation/test_quantity_contract.py`` (hypothesis) and ``prbm-validate stress --long``.
 A method that raises NotApplicable is only accepted where ``applicable`` says it may.
 """
+
 from __future__ import annotations
 
 import importlib.util
@@ -39,8 +40,18 @@ from validation.run.runner import requests_for, run_method
 from validation.case.schema import Case
 
 BOUNDARIES = ("fixed-free", "fixed-pinned", "fixed-guided", "fixed-fixed", "pinned-pinned")
-LOADS = ("transverse", "oblique", "tension", "compression", "moment", "force_moment", "follower",
-         "displacement_x", "displacement_y", "rotation")
+LOADS = (
+    "transverse",
+    "oblique",
+    "tension",
+    "compression",
+    "moment",
+    "force_moment",
+    "follower",
+    "displacement_x",
+    "displacement_y",
+    "rotation",
+)
 # a pinned root with a tip free to move across the chord is a mechanism: these loads keep it a structure
 PINNED_PINNED_LOADS = ("tension", "compression", "moment", "rotation", "displacement_x")
 UNIT_RANGES = {  # (length range, modulus range) of plausible segments in each unit system
@@ -109,8 +120,9 @@ def membrane_factor(boundary: str, load: str, slenderness: float, kappa_L: float
     return 12.0 * slenderness**2 if held else 1.0
 
 
-def random_configuration(rng: random.Random, *, small: bool, boundaries=BOUNDARIES, loads=LOADS,
-                         curved: bool | None = None) -> Configuration:
+def random_configuration(
+    rng: random.Random, *, small: bool, boundaries=BOUNDARIES, loads=LOADS, curved: bool | None = None
+) -> Configuration:
     """A configuration drawn from ``rng``; ``small``: magnitude 1e-6..1e-5, else a large deflection."""
     boundary = rng.choice(boundaries)
     allowed = [ld for ld in loads if boundary != "pinned-pinned" or ld in PINNED_PINNED_LOADS]
@@ -123,15 +135,31 @@ def random_configuration(rng: random.Random, *, small: bool, boundaries=BOUNDARI
     if small:
         magnitude = 10 ** rng.uniform(-6, -5) / membrane_factor(boundary, load, slenderness, kappa_L)
     else:
-        magnitude = {"moment": rng.uniform(0.3, 3.0), "rotation": rng.uniform(0.2, 1.4),
-                     "displacement_y": rng.uniform(0.05, 0.4), "displacement_x": rng.uniform(-0.2, -0.02)
-                     }.get(load, rng.uniform(0.3, 6.0))
-    angle = {"transverse": rng.choice((90.0, -90.0)), "tension": 0.0, "compression": 180.0,
-             "displacement_x": 0.0, "displacement_y": 90.0}.get(load, rng.uniform(20.0, 160.0) * rng.choice((1, -1)))
-    return Configuration(boundary=boundary, units=units, length=math.exp(rng.uniform(math.log(l0), math.log(l1))),
-                         E=math.exp(rng.uniform(math.log(e0), math.log(e1))), slenderness=slenderness,
-                         kappa_L=kappa_L, load=load, magnitude=magnitude, angle_deg=angle,
-                         moment_ratio=rng.uniform(0.2, 1.0) * rng.choice((1, -1)))
+        magnitude = {
+            "moment": rng.uniform(0.3, 3.0),
+            "rotation": rng.uniform(0.2, 1.4),
+            "displacement_y": rng.uniform(0.05, 0.4),
+            "displacement_x": rng.uniform(-0.2, -0.02),
+        }.get(load, rng.uniform(0.3, 6.0))
+    angle = {
+        "transverse": rng.choice((90.0, -90.0)),
+        "tension": 0.0,
+        "compression": 180.0,
+        "displacement_x": 0.0,
+        "displacement_y": 90.0,
+    }.get(load, rng.uniform(20.0, 160.0) * rng.choice((1, -1)))
+    return Configuration(
+        boundary=boundary,
+        units=units,
+        length=math.exp(rng.uniform(math.log(l0), math.log(l1))),
+        E=math.exp(rng.uniform(math.log(e0), math.log(e1))),
+        slenderness=slenderness,
+        kappa_L=kappa_L,
+        load=load,
+        magnitude=magnitude,
+        angle_deg=angle,
+        moment_ratio=rng.uniform(0.2, 1.0) * rng.choice((1, -1)),
+    )
 
 
 def _load_entries(c: Configuration, levels: int) -> list[dict]:
@@ -146,8 +174,10 @@ def _load_entries(c: Configuration, levels: int) -> list[dict]:
     if c.load == "moment":
         return [dict(kind="moment", values=[M * r for r in ramp])]
     if c.load == "force_moment":
-        return [dict(kind="force", direction=force, values=[F * r for r in ramp]),
-                dict(kind="moment", values=[c.moment_ratio * M * r for r in ramp])]
+        return [
+            dict(kind="force", direction=force, values=[F * r for r in ramp]),
+            dict(kind="moment", values=[c.moment_ratio * M * r for r in ramp]),
+        ]
     if c.load == "rotation":
         return [dict(kind="rotation", values=[math.degrees(c.magnitude) * r for r in ramp])]
     direction = [1.0, 0.0] if c.load == "displacement_x" else [0.0, 1.0]
@@ -166,18 +196,29 @@ def build_case(c: Configuration, methods=METHODS, *, levels: int = 1, fem_elemen
     if c.kappa_L:
         segment["curvature"] = c.kappa_L / L
     options = {"fem": {"elements": fem_elements, "error_estimate": True, "levels": 2}}
-    outputs = [dict(quantity=q, point="tip", methods=[m for m in methods if q in method_quantities(m)])
-               for q in TIP]
-    outputs += [dict(quantity=q, point="root", methods=[m for m in methods if q in method_quantities(m)])
-                for q in ROOT]
+    outputs = [dict(quantity=q, point="tip", methods=[m for m in methods if q in method_quantities(m)]) for q in TIP]
+    outputs += [dict(quantity=q, point="root", methods=[m for m in methods if q in method_quantities(m)]) for q in ROOT]
     # the PRBM's strain energy is its springs' (only the single- and two-spring models have one)
-    outputs.append(dict(quantity="strain_energy", methods=[m for m in methods if "strain_energy" in method_quantities(m)
-                                                            and m != "prbm"]))
+    outputs.append(
+        dict(
+            quantity="strain_energy",
+            methods=[m for m in methods if "strain_energy" in method_quantities(m) and m != "prbm"],
+        )
+    )
     outputs = [o for o in outputs if o["methods"]]
-    data = dict(case=dict(id="contract", title="generated contract configuration", group="contract",
-                          units=c.units, description=c.label()),
-                segment=segment, loads=[dict(ld, point="tip") for ld in _load_entries(c, levels)],
-                outputs=outputs, methods={m: options.get(m, {}) for m in methods})
+    data = dict(
+        case=dict(
+            id="contract",
+            title="generated contract configuration",
+            group="contract",
+            units=c.units,
+            description=c.label(),
+        ),
+        segment=segment,
+        loads=[dict(ld, point="tip") for ld in _load_entries(c, levels)],
+        outputs=outputs,
+        methods={m: options.get(m, {}) for m in methods},
+    )
     return Case.model_validate(data)
 
 
@@ -202,18 +243,34 @@ def linear_reference(c: Configuration, case: Case, *, inextensible: bool = False
             motion["rz"] = math.radians(v)
         else:
             motion["ux" if ld.require_direction()[0] else "uy"] = v
-    return solve_tip(L, seg.initial_curvature(), EI, EA, root_pinned=seg.boundary == "pinned-pinned",
-                     given_load=load, given_motion=motion)
+    return solve_tip(
+        L,
+        seg.initial_curvature(),
+        EI,
+        EA,
+        root_pinned=seg.boundary == "pinned-pinned",
+        given_load=load,
+        given_motion=motion,
+    )
 
 
 def expected(tip: LinearTip) -> dict[tuple[str, str], float]:
     (ux, uy, th), (fx, fy, m) = tip.motion, tip.load
     xt, yt = tip.tip
-    return {("x", "tip"): xt + ux, ("y", "tip"): yt + uy, ("dx", "tip"): ux, ("dy", "tip"): uy,
-            ("rotation", "tip"): math.degrees(th), ("force_x", "tip"): fx, ("force_y", "tip"): fy,
-            ("moment", "tip"): m, ("reaction_x", "root"): tip.reaction[0],
-            ("reaction_y", "root"): tip.reaction[1], ("reaction_moment", "root"): tip.reaction[2],
-            ("strain_energy", ""): tip.strain_energy}
+    return {
+        ("x", "tip"): xt + ux,
+        ("y", "tip"): yt + uy,
+        ("dx", "tip"): ux,
+        ("dy", "tip"): uy,
+        ("rotation", "tip"): math.degrees(th),
+        ("force_x", "tip"): fx,
+        ("force_y", "tip"): fy,
+        ("moment", "tip"): m,
+        ("reaction_x", "root"): tip.reaction[0],
+        ("reaction_y", "root"): tip.reaction[1],
+        ("reaction_moment", "root"): tip.reaction[2],
+        ("strain_energy", ""): tip.strain_energy,
+    }
 
 
 @dataclass(frozen=True)
@@ -271,8 +328,7 @@ def scales(c: Configuration, tip: LinearTip) -> Scales:
     (ux, uy, th), (fx, fy, m) = tip.motion, tip.load
     motion = max(abs(ux), abs(uy), abs(th) * L)
     load = max(abs(fx), abs(fy), abs(m) / L, abs(tip.reaction[2]) / L)
-    return Scales(motion=motion, load=load, length=L, stretch=load * L / EA,
-                  energy=max(abs(tip.strain_energy), 1e-300))
+    return Scales(motion=motion, load=load, length=L, stretch=load * L / EA, energy=max(abs(tip.strain_energy), 1e-300))
 
 
 def compliance_scale(c: Configuration, case: Case, tip: LinearTip) -> float:
@@ -320,8 +376,12 @@ def applicable(method: str, c: Configuration) -> bool:
     if method == "prbm":
         return _prbm_applicable(c)
     if method == "opensees":  # straight, clamped root, free tip, proportional dead forces and moments
-        return straight and c.load in ("transverse", "oblique", "tension", "compression", "moment", "force_moment") \
-            and not boundary_held_tip(build_case(c, ("fem",))) and c.boundary != "pinned-pinned"
+        return (
+            straight
+            and c.load in ("transverse", "oblique", "tension", "compression", "moment", "force_moment")
+            and not boundary_held_tip(build_case(c, ("fem",)))
+            and c.boundary != "pinned-pinned"
+        )
     return False
 
 
@@ -337,15 +397,17 @@ def _prbm_applicable(c: Configuration) -> bool:
     """The segment PRBMs of the sources that the adapter maps (load ratio n inside the fits' range); a
     prescribed transverse displacement or rotation is reached by the load along it (``prbm_segment``'s
     prescribed motion; an axial one would need a purely axial force, outside every n-fit)."""
-    if c.load not in ("transverse", "oblique", "moment", "force_moment", "follower", "displacement_y", "rotation") \
-            or c.boundary == "pinned-pinned":
+    if (
+        c.load not in ("transverse", "oblique", "moment", "force_moment", "follower", "displacement_y", "rotation")
+        or c.boundary == "pinned-pinned"
+    ):
         return False
     if c.load not in ("moment", "rotation"):
         n = -math.cos(math.radians(c.angle_deg)) / math.sin(math.radians(c.angle_deg))
-        if not -3.5 <= n <= 9.5:   # Pauly-Midha fits: -4 <= n <= 10 [bapat2015, eqs 45-49]
+        if not -3.5 <= n <= 9.5:  # Pauly-Midha fits: -4 <= n <= 10 [bapat2015, eqs 45-49]
             return False
     if c.boundary == "fixed-fixed" and c.load not in ("oblique", "force_moment"):
-        return False               # a tip translation held: the guided PRBMs let the tip translate
+        return False  # a tip translation held: the guided PRBMs let the tip translate
     guided = c.boundary in ("fixed-guided", "fixed-fixed")
     if c.load == "follower" and (guided or c.kappa_L != 0.0):
         return False
@@ -363,17 +425,27 @@ def _inflection_expected(c: Configuration) -> bool:
     return c.moment_ratio * (c.moment_ratio + math.sin(a) * xt - math.cos(a) * yt) < 0
 
 
-def _compare(method: str, run: MethodRun, reference: dict, sc: Scales, *, eps: float, estimate_factor: float,
-             include_stretch: bool, relative: float | None = None,
-             rotation_relative: float | None = None, axial_stiffness: float = 0.0,
-             against: str = "linear theory") -> tuple[int, list[str]]:
+def _compare(
+    method: str,
+    run: MethodRun,
+    reference: dict,
+    sc: Scales,
+    *,
+    eps: float,
+    estimate_factor: float,
+    include_stretch: bool,
+    relative: float | None = None,
+    rotation_relative: float | None = None,
+    axial_stiffness: float = 0.0,
+    against: str = "linear theory",
+) -> tuple[int, list[str]]:
     failures, compared = [], 0
     for req, value in run.values.items():
         key = (req.quantity, req.point)
         if key not in reference:
             continue
         if estimate_factor and _estimate_unreliable(run, req):
-            continue       # no bound to hold the value to: the run says its estimate is unreliable
+            continue  # no bound to hold the value to: the run says its estimate is unreliable
         want = reference[key]
         scale = sc.of(req.quantity)
         if relative is not None:
@@ -382,17 +454,23 @@ def _compare(method: str, run: MethodRun, reference: dict, sc: Scales, *, eps: f
             share = rotation_relative if req.quantity == "rotation" and rotation_relative else relative
             tol = share * scale + 1e-9 * scale
         else:
-            turn = run.error_estimate.get(req._replace(quantity="rotation", point="tip"), 0.0) \
-                if req.quantity in ("force_x", "force_y") else 0.0  # a follower force turns with the tip
-            tol = estimate_factor * (run.error_estimate.get(req, 0.0) + sc.load * math.radians(turn)) \
-                + (20 * eps + 1e-7) * scale \
+            turn = (
+                run.error_estimate.get(req._replace(quantity="rotation", point="tip"), 0.0)
+                if req.quantity in ("force_x", "force_y")
+                else 0.0
+            )  # a follower force turns with the tip
+            tol = (
+                estimate_factor * (run.error_estimate.get(req, 0.0) + sc.load * math.radians(turn))
+                + (20 * eps + 1e-7) * scale
                 + sc.rounding_of(req.quantity, axial_stiffness)
+            )
             if include_stretch:
                 tol += 2.0 * sc.stretch_of(req.quantity)
         compared += 1
         if not math.isfinite(value) or abs(value - want) > tol:
-            failures.append(f"{method} {req.quantity}@{req.point or '-'} = {value:.6g}, {against} {want:.6g} "
-                            f"(allowed {tol:.3g})")
+            failures.append(
+                f"{method} {req.quantity}@{req.point or '-'} = {value:.6g}, {against} {want:.6g} (allowed {tol:.3g})"
+            )
         elif relative is not None and abs(want) > 0.3 * scale and value * want < 0:
             failures.append(f"{method} {req.quantity}@{req.point} = {value:.6g}: sign opposite to {against} {want:.6g}")
     return compared, failures
@@ -402,8 +480,9 @@ def _estimate_unreliable(run: MethodRun, req) -> bool:
     """The value's error estimate is marked unreliable (or, for a follower force, the tip rotation's,
     which its tolerance uses)."""
     turn = req._replace(quantity="rotation", point="tip")
-    return req in run.unreliable_estimate or (req.quantity in ("force_x", "force_y")
-                                              and turn in run.unreliable_estimate)
+    return req in run.unreliable_estimate or (
+        req.quantity in ("force_x", "force_y") and turn in run.unreliable_estimate
+    )
 
 
 def _not_judged(run: MethodRun, reference: dict) -> str:
@@ -417,8 +496,7 @@ def _nonlinearity(c: Configuration, sc: Scales) -> float:
     its membrane growth when the tip cannot move axially) or the load parameter |f| L^2/EI (the
     geometric stiffness of an axial force, large for a prescribed motion along a stiff direction)."""
     EI, _ = c.stiffness()
-    return max(c.magnitude * membrane_factor(c.boundary, c.load, c.slenderness, c.kappa_L),
-               sc.load * sc.length**2 / EI)
+    return max(c.magnitude * membrane_factor(c.boundary, c.load, c.slenderness, c.kappa_L), sc.load * sc.length**2 / EI)
 
 
 def run_contract_method(case: Case, method: str) -> MethodRun:
@@ -440,30 +518,52 @@ def linear_limit_check(c: Configuration, methods=METHODS) -> list[ContractResult
         expect = applicable(method, c)
         if na or not run.values:
             ok = na and not expect
-            results.append(ContractResult(method, False, 0, [] if ok else
-                                          [f"{method}: {'expected to apply' if expect else 'no NotApplicable'}: {run.message}"]))
+            results.append(
+                ContractResult(
+                    method,
+                    False,
+                    0,
+                    [] if ok else [f"{method}: {'expected to apply' if expect else 'no NotApplicable'}: {run.message}"],
+                )
+            )
             continue
         if not expect and method == "prbm" and _inflection_expected(c) and run.extras.get("inflection_levels"):
             results.append(ContractResult(method, True, 0, [], "warned: inflection point expected"))
             continue
         if not expect:
-            results.append(ContractResult(method, True, 0, [f"{method} gave values where it has no model"
-                                                             f" (expected NotApplicable)"]))
+            results.append(
+                ContractResult(
+                    method, True, 0, [f"{method} gave values where it has no model (expected NotApplicable)"]
+                )
+            )
             continue
         if not run.converged:
             results.append(ContractResult(method, True, 0, [f"{method} did not converge: {run.message}"]))
             continue
         if method == "prbm":
             prbm_scale = replace(sc, motion=max(sc.motion, compliance_scale(c, case, tip)))
-            n, failures = _compare(method, run, ref, prbm_scale, eps=c.magnitude, estimate_factor=0.0,
-                                   include_stretch=False,
-                                   relative=PRBM_LINEAR_ERROR)
+            n, failures = _compare(
+                method,
+                run,
+                ref,
+                prbm_scale,
+                eps=c.magnitude,
+                estimate_factor=0.0,
+                include_stretch=False,
+                relative=PRBM_LINEAR_ERROR,
+            )
             failures += _prbm_offset(c, methods)
         else:
-            n, failures = _compare(method, run, inextensible if method == "elastica" and not elastica_extensible(c)
-                                   else ref, sc,
-                                   eps=_nonlinearity(c, sc),
-                                   estimate_factor=3.0, include_stretch=False, axial_stiffness=c.stiffness()[1])
+            n, failures = _compare(
+                method,
+                run,
+                inextensible if method == "elastica" and not elastica_extensible(c) else ref,
+                sc,
+                eps=_nonlinearity(c, sc),
+                estimate_factor=3.0,
+                include_stretch=False,
+                axial_stiffness=c.stiffness()[1],
+            )
         results.append(ContractResult(method, True, n, failures, _not_judged(run, ref)))
     return results
 
@@ -474,8 +574,9 @@ def _prbm_offset(c: Configuration, methods) -> list[str]:
     run = run_contract_method(zero, "prbm")
     out = []
     for req, value in run.values.items():
-        if req.quantity in ("dx", "dy", "rotation") and abs(value) > 1e-12 * (1 if req.quantity == "rotation"
-                                                                             else zero.require_segment().length):
+        if req.quantity in ("dx", "dy", "rotation") and abs(value) > 1e-12 * (
+            1 if req.quantity == "rotation" else zero.require_segment().length
+        ):
             out.append(f"prbm {req.quantity} = {value:.6g} at zero load (offset)")
     return out
 
@@ -492,11 +593,15 @@ def large_deflection_check(c: Configuration, methods=("fem", "elastica", "prbm")
     ref = {(r.quantity, r.point): v for r, v in exact.values.items() if r.level == last}
     EI, EA = c.stiffness()
     L = case.require_segment().length
-    motion = max(abs(ref[("dx", "tip")]), abs(ref[("dy", "tip")]),
-                 abs(math.radians(ref[("rotation", "tip")])) * L)
+    motion = max(abs(ref[("dx", "tip")]), abs(ref[("dy", "tip")]), abs(math.radians(ref[("rotation", "tip")])) * L)
     load = max(abs(ref[("force_x", "tip")]), abs(ref[("force_y", "tip")]), abs(ref[("moment", "tip")]) / L)
-    sc = Scales(motion=motion, load=load, length=L, stretch=load * L / EA,
-                energy=max(abs(ref.get(("strain_energy", ""), 0.0)), 1e-300))
+    sc = Scales(
+        motion=motion,
+        load=load,
+        length=L,
+        stretch=load * L / EA,
+        energy=max(abs(ref.get(("strain_energy", ""), 0.0)), 1e-300),
+    )
     results = []
     for method in methods:
         if method == "elastica":
@@ -510,20 +615,24 @@ def large_deflection_check(c: Configuration, methods=("fem", "elastica", "prbm")
         if not run.converged:
             results.append(ContractResult(method, True, 0, [f"{method} did not converge: {run.message}"]))
             continue
-        at_last = MethodRun(values={r: v for r, v in run.values.items() if r.level == last},
-                            error_estimate={r: v for r, v in run.error_estimate.items() if r.level == last},
-                            unreliable_estimate={r: v for r, v in run.unreliable_estimate.items() if r.level == last})
+        at_last = MethodRun(
+            values={r: v for r, v in run.values.items() if r.level == last},
+            error_estimate={r: v for r, v in run.error_estimate.items() if r.level == last},
+            unreliable_estimate={r: v for r, v in run.unreliable_estimate.items() if r.level == last},
+        )
         if method == "prbm":
             results.append(_prbm_large(c, case, run, at_last, ref, sc, last))
         else:
-            n, failures = _compare(method, at_last, ref, sc, eps=0.0, estimate_factor=3.0, include_stretch=True,
-                                   against="elastica")
+            n, failures = _compare(
+                method, at_last, ref, sc, eps=0.0, estimate_factor=3.0, include_stretch=True, against="elastica"
+            )
             results.append(ContractResult(method, True, n, failures, _not_judged(at_last, ref)))
     return results
 
 
-def _prbm_large(c: Configuration, case: Case, run: MethodRun, at_last: MethodRun, ref: dict, sc: Scales,
-                last: int) -> ContractResult:
+def _prbm_large(
+    c: Configuration, case: Case, run: MethodRun, at_last: MethodRun, ref: dict, sc: Scales, last: int
+) -> ContractResult:
     """The PRBM at a large load: its error against the elastica recorded; judged for conventions only
     (``CONVENTION_LIMIT`` of the larger of the elastica's motion and the load's compliance scale, at
     most L). Where the PRBM itself warns that its deformed state has an inflection point (the
@@ -532,15 +641,41 @@ def _prbm_large(c: Configuration, case: Case, run: MethodRun, at_last: MethodRun
     L = case.require_segment().length
     reach = min(compliance_scale(c, case, linear_reference(c, case)), L)
     prbm_scale = replace(sc, motion=max(sc.motion, reach))
-    worst = max((abs(v - ref[(r.quantity, r.point)]) / prbm_scale.of(r.quantity)
-                 for r, v in at_last.values.items() if (r.quantity, r.point) in ref
-                 and r.quantity in ("x", "y", "rotation")), default=math.nan)
+    worst = max(
+        (
+            abs(v - ref[(r.quantity, r.point)]) / prbm_scale.of(r.quantity)
+            for r, v in at_last.values.items()
+            if (r.quantity, r.point) in ref and r.quantity in ("x", "y", "rotation")
+        ),
+        default=math.nan,
+    )
     if last in run.extras.get("inflection_levels", ()):
-        return ContractResult("prbm", True, 0, [], f"warned: inflection point expected (PRBM error {worst:.3g} "
-                                                   "of the motion scale, recorded, not judged)")
+        return ContractResult(
+            "prbm",
+            True,
+            0,
+            [],
+            f"warned: inflection point expected (PRBM error {worst:.3g} of the motion scale, recorded, not judged)",
+        )
     if not applicable("prbm", c):
-        return ContractResult("prbm", True, 0, ["prbm gave values where it has no model (expected NotApplicable "
-                                                f"or an inflection warning); PRBM error {worst:.3g}"])
-    n, failures = _compare("prbm", at_last, ref, prbm_scale, eps=0.0, estimate_factor=0.0,
-                           include_stretch=False, relative=CONVENTION_LIMIT, against="elastica")
+        return ContractResult(
+            "prbm",
+            True,
+            0,
+            [
+                "prbm gave values where it has no model (expected NotApplicable "
+                f"or an inflection warning); PRBM error {worst:.3g}"
+            ],
+        )
+    n, failures = _compare(
+        "prbm",
+        at_last,
+        ref,
+        prbm_scale,
+        eps=0.0,
+        estimate_factor=0.0,
+        include_stretch=False,
+        relative=CONVENTION_LIMIT,
+        against="elastica",
+    )
     return ContractResult("prbm", True, n, failures, f"PRBM error {worst:.3g} of the motion scale")

@@ -20,6 +20,7 @@ load rounded, one at a time while it still fails) and kept as a case file under 
 stating the failure in ``case.findings`` and its configuration and status in the description (the
 ones kept in ``cases/regressions/`` are re-run by ``tests/validation/test_contract_regressions.py``).
 """
+
 from __future__ import annotations
 
 import hashlib
@@ -34,9 +35,16 @@ import numpy as np
 import tomli_w
 from numpy.typing import NDArray
 
-from validation.stress.contract import (Configuration, ContractResult, applicable, build_case,
-                                        large_deflection_check, linear_limit_check, linear_reference,
-                                        random_configuration)
+from validation.stress.contract import (
+    Configuration,
+    ContractResult,
+    applicable,
+    build_case,
+    large_deflection_check,
+    linear_limit_check,
+    linear_reference,
+    random_configuration,
+)
 from validation.methods.base import Request
 from validation.run.runner import run_method
 from validation.case.schema import Case
@@ -77,15 +85,24 @@ def mechanism_case(c: Configuration, phi_deg: float) -> Case:
         if ld.direction is not None:
             entry["direction"] = [float(v) for v in _turn(phi, ld.direction)]
         loads.append(entry)
-    data = dict(case=dict(id="contract_mechanism", title="turned one-beam mechanism", group="contract",
-                          units=c.units, description=f"{c.label()}, phi={phi_deg:.4g}"),
-                mechanism=dict(nodes=[dict(name="root", x=0.0, y=0.0), dict(name="tip", x=float(tip[0]), y=float(tip[1]))],
-                               beams=[dict(name="b", start="root", end="tip", E=seg.E,
-                                           section=seg.section.model_dump(exclude_none=True))],
-                               supports=[dict(node="root", kind="fixed")]),
-                loads=loads, outputs=[dict(quantity=q, point="tip") for q in ("x", "y", "rotation")]
-                + [dict(quantity=q, point="root") for q in ("reaction_x", "reaction_y", "reaction_moment")],
-                methods={"fem": {"elements": 8, "error_estimate": True, "levels": 2}})
+    data = dict(
+        case=dict(
+            id="contract_mechanism",
+            title="turned one-beam mechanism",
+            group="contract",
+            units=c.units,
+            description=f"{c.label()}, phi={phi_deg:.4g}",
+        ),
+        mechanism=dict(
+            nodes=[dict(name="root", x=0.0, y=0.0), dict(name="tip", x=float(tip[0]), y=float(tip[1]))],
+            beams=[dict(name="b", start="root", end="tip", E=seg.E, section=seg.section.model_dump(exclude_none=True))],
+            supports=[dict(node="root", kind="fixed")],
+        ),
+        loads=loads,
+        outputs=[dict(quantity=q, point="tip") for q in ("x", "y", "rotation")]
+        + [dict(quantity=q, point="root") for q in ("reaction_x", "reaction_y", "reaction_moment")],
+        methods={"fem": {"elements": 8, "error_estimate": True, "levels": 2}},
+    )
     return Case.model_validate(data)
 
 
@@ -103,7 +120,7 @@ def mechanism_check(c: Configuration, phi_deg: float) -> list[ContractResult]:
     small = c.magnitude < 1e-3
     segment = build_case(c, ("fem", "elastica"), levels=case.n_levels())
     L = segment.require_segment().length
-    ref_reac: NDArray[np.float64] | tuple[float, float, float]   # the root reaction (R_x, R_y, M_root)
+    ref_reac: NDArray[np.float64] | tuple[float, float, float]  # the root reaction (R_x, R_y, M_root)
     if small:
         tip = linear_reference(c, segment)
         (ux, uy, th), xt = tip.motion, tip.tip
@@ -134,17 +151,22 @@ def mechanism_check(c: Configuration, phi_deg: float) -> list[ContractResult]:
     doubtful = {r.quantity for r in run.unreliable_estimate if r.level == last and r.point == "tip"}
     for q, w in want.items():
         if doubtful & ({"x", "y"} if q != "rotation" else {"rotation"}):
-            continue        # its estimate is unreliable (the FEM says so): no bound to hold it to
+            continue  # its estimate is unreliable (the FEM says so): no bound to hold it to
         v = run.values[Request(q, "tip", last)]
-        allowed = 3 * position_estimate + base if q != "rotation" else \
-            3 * est.get("rotation", 0.0) + math.degrees(base / L)
+        allowed = (
+            3 * position_estimate + base if q != "rotation" else 3 * est.get("rotation", 0.0) + math.degrees(base / L)
+        )
         if abs(v - w) > allowed:
-            failures.append(f"fem (mechanism, phi = {phi_deg:.4g}) {q} = {v:.6g}, expected {w:.6g} (allowed {allowed:.3g})")
+            failures.append(
+                f"fem (mechanism, phi = {phi_deg:.4g}) {q} = {v:.6g}, expected {w:.6g} (allowed {allowed:.3g})"
+            )
     for q, w in want_root.items():
         v = run.values[Request(q, "root", last)]
         allowed = (0.02 if not small else 1e-4) * load_scale * (scale if q == "reaction_moment" else 1.0)
         if abs(v - w) > allowed:
-            failures.append(f"fem (mechanism, phi = {phi_deg:.4g}) {q} = {v:.6g}, expected {w:.6g} (allowed {allowed:.3g})")
+            failures.append(
+                f"fem (mechanism, phi = {phi_deg:.4g}) {q} = {v:.6g}, expected {w:.6g} (allowed {allowed:.3g})"
+            )
     return [ContractResult("fem", True, 6, failures)]
 
 
@@ -168,8 +190,16 @@ def contract_chunk(context: dict, chunk: list[dict]) -> list[dict]:
             detail = "; ".join(failures) or "; ".join(r.detail for r in results if r.detail)
         except Exception as exc:  # a crash is a failure with its reason, not a lost task
             failures, compared, detail = [f"{type(exc).__name__}: {exc}"], 0, f"{type(exc).__name__}: {exc}"
-        rows.append(dict(category=item["category"], seed=item["seed"], passed=not failures, compared=compared,
-                         name=c.label() + (f", phi={phi:.4g}" if phi else ""), detail=detail[:2000]))
+        rows.append(
+            dict(
+                category=item["category"],
+                seed=item["seed"],
+                passed=not failures,
+                compared=compared,
+                name=c.label() + (f", phi={phi:.4g}" if phi else ""),
+                detail=detail[:2000],
+            )
+        )
     return rows
 
 
@@ -179,14 +209,17 @@ SIMPLER = {"units": "dimensionless", "length": 1.0, "E": 1.0, "slenderness": 100
 def shrink(category: str, c: Configuration, phi: float) -> tuple[Configuration, float]:
     """A simpler configuration that still fails: each field moved to a plain value, or its load
     rounded, one at a time, kept when the check still fails."""
+
     def fails(candidate: Configuration, turn: float) -> bool:
         try:
             return any(r.failures for r in check(category, candidate, turn))
         except Exception:
             return True
 
-    for name, simple in list(SIMPLER.items()) + [("angle_deg", round(c.angle_deg, -1)),
-                                                 ("moment_ratio", round(c.moment_ratio, 1))]:
+    for name, simple in list(SIMPLER.items()) + [
+        ("angle_deg", round(c.angle_deg, -1)),
+        ("moment_ratio", round(c.moment_ratio, 1)),
+    ]:
         if getattr(c, name) != simple:
             trial = Configuration(**(asdict(c) | {name: simple}))
             if trial.units == "dimensionless":
@@ -207,18 +240,26 @@ def write_regression(category: str, c: Configuration, phi: float, folder: Path, 
     ({category, phi, configuration, status}), so ``tests/validation/test_contract_regressions.py`` can re-run the
     contract check on it (status 'open': it must still fail; 'fixed': it must pass)."""
     methods = tuple(m for m in ("fem", "elastica", "prbm", "bcm") if applicable(m, c))
-    case = mechanism_case(c, phi) if category == "contract mechanism" else build_case(
-        c, methods, levels=1 if category == "contract linear" else 4)
+    case = (
+        mechanism_case(c, phi)
+        if category == "contract mechanism"
+        else build_case(c, methods, levels=1 if category == "contract linear" else 4)
+    )
     data = case.model_dump(mode="json", exclude_none=True)
     tag = hashlib.sha256(json.dumps([category, asdict(c), phi], sort_keys=True).encode()).hexdigest()[:8]
     record = {"category": category, "phi": phi, "configuration": asdict(c), "status": "open"}
-    reason = ("a shrunk stress-contract failure: what it showed is in case.findings; the contract check itself is "
-              "re-run on this configuration by tests/validation/test_contract_regressions.py")
-    data["case"] |= {"id": f"contract_regression_{tag}", "title": f"shrunk {category} failure",
-                     "group": "stress regressions",
-                     "description": f"Found by prbm-validate stress --long. {REGRESSION_MARK}{json.dumps(record)}",
-                     "findings": [f"{category}: {f}" for f in failures] or [f"{category}: the check raised"],
-                     "unchecked": {m: reason for m in data["methods"]}}
+    reason = (
+        "a shrunk stress-contract failure: what it showed is in case.findings; the contract check itself is "
+        "re-run on this configuration by tests/validation/test_contract_regressions.py"
+    )
+    data["case"] |= {
+        "id": f"contract_regression_{tag}",
+        "title": f"shrunk {category} failure",
+        "group": "stress regressions",
+        "description": f"Found by prbm-validate stress --long. {REGRESSION_MARK}{json.dumps(record)}",
+        "findings": [f"{category}: {f}" for f in failures] or [f"{category}: the check raised"],
+        "unchecked": {m: reason for m in data["methods"]},
+    }
     folder.mkdir(parents=True, exist_ok=True)
     path = folder / f"contract_regression_{tag}.toml"
     path.write_text(tomli_w.dumps(data))
@@ -238,9 +279,16 @@ def failures_of(category: str, c: Configuration, phi: float) -> list[str]:
         return [f"{type(exc).__name__}: {exc}"]
 
 
-def run_contract_stress(out: Path, *, seed: int, count: int = 10_000, executor: str = "process",
-                        workers: int | None = None, scheduler: str | None = None,
-                        shares=(0.6, 0.25, 0.15)) -> tuple[list[dict], dict]:
+def run_contract_stress(
+    out: Path,
+    *,
+    seed: int,
+    count: int = 10_000,
+    executor: str = "process",
+    workers: int | None = None,
+    scheduler: str | None = None,
+    shares=(0.6, 0.25, 0.15),
+) -> tuple[list[dict], dict]:
     """Run ``count`` generated configurations (linear, large, mechanism in ``shares``) on the sweep
     executors; shrink each failure into ``out/regressions``. Returns the rows and a run summary."""
     started = time.perf_counter()
@@ -251,22 +299,37 @@ def run_contract_stress(out: Path, *, seed: int, count: int = 10_000, executor: 
     rng.shuffle(items)
     workers = workers or 2
     size = _chunk_size(len(items), workers, 0)
-    chunks = [items[i:i + size] for i in range(0, len(items), size)]
+    chunks = [items[i : i + size] for i in range(0, len(items), size)]
     rows: list[dict] = []
     for chunk, result in completed(executor, {}, chunks, workers=workers, scheduler=scheduler, task=contract_chunk):
         if isinstance(result, BaseException):
-            rows.extend(dict(category=i["category"], seed=i["seed"], passed=False, compared=0, name=str(i["seed"]),
-                             detail=f"task failed: {type(result).__name__}: {result}") for i in chunk)
+            rows.extend(
+                dict(
+                    category=i["category"],
+                    seed=i["seed"],
+                    passed=False,
+                    compared=0,
+                    name=str(i["seed"]),
+                    detail=f"task failed: {type(result).__name__}: {result}",
+                )
+                for i in chunk
+            )
         else:
             rows.extend(result)
     for row in rows:
         if not row["passed"]:
             c, phi = configuration_for(row["category"], row["seed"])
             small, turn = shrink(row["category"], c, phi)
-            path = write_regression(row["category"], small, turn, out / "regressions",
-                                    failures_of(row["category"], small, turn))
+            path = write_regression(
+                row["category"], small, turn, out / "regressions", failures_of(row["category"], small, turn)
+            )
             row["detail"] += f"; shrunk to {small.label()}, kept as {path.name}"
-    summary = {"configurations": len(rows), "executor": scheduler or executor, "workers": workers,
-               "chunk": size, "wall_time_s": time.perf_counter() - started,
-               "compared_values": int(sum(r["compared"] for r in rows))}
+    summary = {
+        "configurations": len(rows),
+        "executor": scheduler or executor,
+        "workers": workers,
+        "chunk": size,
+        "wall_time_s": time.perf_counter() - started,
+        "compared_values": int(sum(r["compared"] for r in rows)),
+    }
     return rows, summary

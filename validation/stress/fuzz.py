@@ -12,6 +12,7 @@ Kinds (``KINDS``): a deleted field or table, a value of the wrong type, NaN, +-i
 bytes that are not UTF-8, and a truncated file. The path of a mutation is picked at random among
 the nodes of the document that the kind applies to (numbers for NaN, names for dangling names, ...).
 """
+
 from __future__ import annotations
 
 import copy
@@ -30,38 +31,102 @@ from validation.case.loader import CASES_DIR, find_case_files
 Where = tuple  # a path into the document: table keys (str) and list indices (int)
 
 # small, fast cases of every kind (segments, mechanisms, chapter examples, seeds): the CI set
-SOURCES = ("segments/slfp_alone.toml", "segments/curved_pinned_pinned.toml",
-           "segments/fixed_guided_two_spring.toml", "segments/parallel_guided_mechanism.toml",
-           "benchmarks/pure_moment_roll_up.toml", "benchmarks/follower_tip_load.toml", "benchmarks/lee_frame.toml",
-           "chapter2/lyon_fixed_guided.toml", "chapter3/table3_1_load_combination.toml",
-           "chapter6/example2.toml", "chapter6/example3.toml", "chapter7/example1_ma.toml",
-           "chapter7/example3.toml", "chapter9/test1a_friction.toml",
-           "chapter9/test2_partially_compliant_fourbar.toml", "chapter9/test3_specimen1_dof.toml",
-           "seed003/circular_guided.toml", "seed004/strip_tip_force_prbm.toml")
+SOURCES = (
+    "segments/slfp_alone.toml",
+    "segments/curved_pinned_pinned.toml",
+    "segments/fixed_guided_two_spring.toml",
+    "segments/parallel_guided_mechanism.toml",
+    "benchmarks/pure_moment_roll_up.toml",
+    "benchmarks/follower_tip_load.toml",
+    "benchmarks/lee_frame.toml",
+    "chapter2/lyon_fixed_guided.toml",
+    "chapter3/table3_1_load_combination.toml",
+    "chapter6/example2.toml",
+    "chapter6/example3.toml",
+    "chapter7/example1_ma.toml",
+    "chapter7/example3.toml",
+    "chapter9/test1a_friction.toml",
+    "chapter9/test2_partially_compliant_fourbar.toml",
+    "chapter9/test3_specimen1_dof.toml",
+    "seed003/circular_guided.toml",
+    "seed004/strip_tip_force_prbm.toml",
+)
 
 DELETE = "<deleted>"  # the value of a deletion
 # the document kinds
-TREE_KINDS = ("delete_field", "delete_table", "wrong_type", "nan", "inf", "minus_inf", "zero", "negative",
-              "tiny", "huge", "huge_count", "unknown_key", "unicode", "unicode_key", "path_id", "dangling_name",
-              "zero_length")
+TREE_KINDS = (
+    "delete_field",
+    "delete_table",
+    "wrong_type",
+    "nan",
+    "inf",
+    "minus_inf",
+    "zero",
+    "negative",
+    "tiny",
+    "huge",
+    "huge_count",
+    "unknown_key",
+    "unicode",
+    "unicode_key",
+    "path_id",
+    "dangling_name",
+    "zero_length",
+)
 RAW_KINDS = ("non_utf8", "truncate")
 KINDS = TREE_KINDS + RAW_KINDS
 
 # keys whose string value (or list of strings) names a node, member, body, method or output of the case
-NAME_KEYS = frozenset({"point", "node", "start", "end", "nodes", "members", "member", "body", "against",
-                       "method", "methods", "output", "compare", "input_moment_at", "points", "quantities",
-                       "quantity"})
+NAME_KEYS = frozenset(
+    {
+        "point",
+        "node",
+        "start",
+        "end",
+        "nodes",
+        "members",
+        "member",
+        "body",
+        "against",
+        "method",
+        "methods",
+        "output",
+        "compare",
+        "input_moment_at",
+        "points",
+        "quantities",
+        "quantity",
+    }
+)
 ID_KEYS = frozenset({"id", "name"})
 WRONG_TYPES: tuple[object, ...] = ("text", 7, 2.5, True, [], {}, [1.0, 2.0], {"x": 1}, "1.0", "")
 UNICODE = ("ñandú", "🚀", "\u202eevil", "a\u0301", "\u200b", "中文", "\U0010ffff", "\x00", "\ud7ff", "Ω" * 40)
-PATH_IDS = ("../../etc/passwd", "a/b", "/tmp/x", "C:\\temp\\x", ".", "..", "", " ", "con", "x" * 300, "a\x00b",
-            "~", "$HOME", "*", "?[a]", "nul.toml", "-rf", "\n")
+PATH_IDS = (
+    "../../etc/passwd",
+    "a/b",
+    "/tmp/x",
+    "C:\\temp\\x",
+    ".",
+    "..",
+    "",
+    " ",
+    "con",
+    "x" * 300,
+    "a\x00b",
+    "~",
+    "$HOME",
+    "*",
+    "?[a]",
+    "nul.toml",
+    "-rf",
+    "\n",
+)
 UNKNOWN_KEYS = ("lenght", "zzz", "Élan", "elements ", "_", "ids", "🚀")
 NON_FINITE = {"nan": math.nan, "inf": math.inf, "minus_inf": -math.inf}
-TINY = (1e-300, -1e-300, 5e-324)                  # 1e-300 and the smallest subnormal
+TINY = (1e-300, -1e-300, 5e-324)  # 1e-300 and the smallest subnormal
 HUGE = (1e300, -1e300, sys.float_info.max)
 HUGE_COUNTS = (10**6, 10**9, 2**63 - 1, 10**30)
-LONG_LISTS = (5_000, 100_000)       # entries of a list made huge: over the default level limit of a case
+LONG_LISTS = (5_000, 100_000)  # entries of a list made huge: over the default level limit of a case
 BAD_BYTES = (b"\xff", b"\xfe\xff", b"\xc3\x28", b"\x80", b"\xe9", b"\xed\xa0\x80", b"\xf8\x88\x80\x80\x80")
 
 
@@ -79,18 +144,22 @@ class Mutation:
         where = ".".join(str(p) for p in self.path)
         if self.kind in RAW_KINDS:
             fraction, inserted = self.raw()
-            return (f"truncate: the file cut at {fraction:.1%}" if self.kind == "truncate" else
-                    f"non_utf8: {inserted!r} at {fraction:.1%} of the file")
+            return (
+                f"truncate: the file cut at {fraction:.1%}"
+                if self.kind == "truncate"
+                else f"non_utf8: {inserted!r} at {fraction:.1%} of the file"
+            )
         if self.value == DELETE:
             return f"{self.kind}: delete {where}"
-        value = self.value if not isinstance(self.value, list) or len(self.value) < 8 else \
-            f"[{len(self.value)} entries]"
+        value = (
+            self.value if not isinstance(self.value, list) or len(self.value) < 8 else f"[{len(self.value)} entries]"
+        )
         text = repr(value)
         return f"{self.kind}: {where} = {text[:60] + '...' if len(text) > 60 else text}"
 
     def raw(self) -> tuple[float, bytes]:
         """A raw-byte kind's parameters: the position as a fraction of the file, the bytes inserted."""
-        return cast(tuple[float, bytes], self.value)   # as ``random_mutation`` makes them
+        return cast(tuple[float, bytes], self.value)  # as ``random_mutation`` makes them
 
 
 @dataclass(frozen=True)
@@ -136,14 +205,24 @@ def apply(document: dict, mutation: Mutation) -> bool:
     *parents, last = mutation.path
     node = document
     for key in parents:
-        if isinstance(node, dict) and key in node or isinstance(node, list) and isinstance(key, int) \
-                and key < len(node):
+        if (
+            isinstance(node, dict)
+            and key in node
+            or isinstance(node, list)
+            and isinstance(key, int)
+            and key < len(node)
+        ):
             node = node[key]
         else:
             return False
     if mutation.value == DELETE:
-        if isinstance(node, dict) and last in node or isinstance(node, list) and isinstance(last, int) \
-                and last < len(node):
+        if (
+            isinstance(node, dict)
+            and last in node
+            or isinstance(node, list)
+            and isinstance(last, int)
+            and last < len(node)
+        ):
             del node[last]
             return True
         return False
@@ -170,8 +249,9 @@ def apply_raw(data: bytes, mutation: Mutation) -> bytes:
 
 def nodes(document, path: Where = ()):
     """(path, value) of every node below the root, depth first."""
-    items = document.items() if isinstance(document, dict) else \
-        enumerate(document) if isinstance(document, list) else ()
+    items = (
+        document.items() if isinstance(document, dict) else enumerate(document) if isinstance(document, list) else ()
+    )
     for key, value in items:
         yield path + (key,), value
         yield from nodes(value, path + (key,))
@@ -196,8 +276,15 @@ def _targets(kind: str, document: dict) -> list[tuple[Where, object]]:
     if kind in ("nan", "inf", "minus_inf", "zero", "negative", "tiny", "huge"):
         return [(p, v) for p, v in every if _is_number(v)]
     if kind == "huge_count":
-        return [(p, v) for p, v in every if isinstance(v, int) and not isinstance(v, bool)
-                or isinstance(v, list) and v and all(_is_number(x) for x in v)]
+        return [
+            (p, v)
+            for p, v in every
+            if isinstance(v, int)
+            and not isinstance(v, bool)
+            or isinstance(v, list)
+            and v
+            and all(_is_number(x) for x in v)
+        ]
     if kind in ("unknown_key", "unicode_key"):
         return [((), document)] + [(p, v) for p, v in every if isinstance(v, dict)]
     if kind == "unicode":
@@ -243,15 +330,16 @@ def _new_value(kind: str, current, rng: random.Random):
         return -abs(current) if current else -1
     if kind == "huge_count":
         if isinstance(current, list):
-            return (current * (rng.choice(LONG_LISTS) // len(current) + 1))[:rng.choice(LONG_LISTS)]
+            return (current * (rng.choice(LONG_LISTS) // len(current) + 1))[: rng.choice(LONG_LISTS)]
         return rng.choice(HUGE_COUNTS)
     if kind == "unicode":
         return rng.choice((rng.choice(UNICODE), current + rng.choice(UNICODE)))
     if kind == "path_id":
         return rng.choice(PATH_IDS)
     if kind == "dangling_name":
-        return rng.choice(("nowhere", current.lower() if current != current.lower() else current.upper(),
-                           current + "2", current[:-1]))
+        return rng.choice(
+            ("nowhere", current.lower() if current != current.lower() else current.upper(), current + "2", current[:-1])
+        )
     if kind == "zero_length":
         return current
     return rng.choice(WRONG_TYPES)
@@ -268,7 +356,7 @@ def random_mutation(document: dict, rng: random.Random, kind: str | None = None)
     if not targets:
         return None
     path, current = rng.choice(targets)
-    if kind in ("unknown_key", "unicode_key") and isinstance(current, dict):   # a table (``_targets``)
+    if kind in ("unknown_key", "unicode_key") and isinstance(current, dict):  # a table (``_targets``)
         return _key_mutation(kind, path, current, rng)
     return Mutation(kind, path, _new_value(kind, current, rng))
 

@@ -15,6 +15,7 @@ same problem persists) and written as a regression file: the mutated bytes under
 naming the problem, the verb, the source and the mutations (``write_regression``). The files kept in
 ``tests/validation/fuzz_regressions/`` are replayed by ``tests/validation/test_fuzz.py``.
 """
+
 from __future__ import annotations
 
 import hashlib
@@ -40,25 +41,32 @@ from validation.stress.fuzz_worker import Outcome, serve
 # the compiled code of every method are loaded
 WARM_UP = ("segments/slfp_alone.toml", "benchmarks/cantilever_tip_load.toml", "segments/parallel_guided_mechanism.toml")
 # tables only ``run`` reads (the comparisons and their bookkeeping): a mutant touching them runs ``run``
-RUN_ONLY = (("references",), ("agreements",), ("case", "expected_failure"), ("case", "unchecked"),
-            ("case", "findings"), ("case", "level_labels"))
-RUN_EVERY = 20         # and every 20th mutant runs ``run`` whatever it touches
-STARTUP_S = 300.0      # a worker that is not ready (imports, warm-up) within this is an error
-S_PER_MB = 10.0        # the time bound grows by this per megabyte of file (tomllib reads ~1 MB/s; run reads it thrice)
+RUN_ONLY = (
+    ("references",),
+    ("agreements",),
+    ("case", "expected_failure"),
+    ("case", "unchecked"),
+    ("case", "findings"),
+    ("case", "level_labels"),
+)
+RUN_EVERY = 20  # and every 20th mutant runs ``run`` whatever it touches
+STARTUP_S = 300.0  # a worker that is not ready (imports, warm-up) within this is an error
+S_PER_MB = 10.0  # the time bound grows by this per megabyte of file (tomllib reads ~1 MB/s; run reads it thrice)
 MEMORY_BYTES = 6 << 30
 
 
 def verb_for(mutant: Mutant, index: int) -> str:
     """``run`` for a mutant of the comparisons (and every ``RUN_EVERY``-th), else the cheaper ``solve``
     (the same loading and solving, without the comparisons and tables)."""
-    touches = any(m.path[:len(prefix)] == prefix for m in mutant.mutations for prefix in RUN_ONLY)
+    touches = any(m.path[: len(prefix)] == prefix for m in mutant.mutations for prefix in RUN_ONLY)
     return "run" if touches or index % RUN_EVERY == 0 else "solve"
 
 
 def seeded_mutants(count: int, seed: int, long: bool = False) -> list[Mutant]:
     """The mutants of a seed (``fuzz.generate`` over ``fuzz.source_files(long)``), each with its verb."""
-    return [Mutant(m.source, m.mutations, verb_for(m, i))
-            for i, m in enumerate(generate(source_files(long), count, seed))]
+    return [
+        Mutant(m.source, m.mutations, verb_for(m, i)) for i, m in enumerate(generate(source_files(long), count, seed))
+    ]
 
 
 @dataclass
@@ -83,8 +91,9 @@ class Pool:
 
     def _start(self) -> _Worker:
         parent, child = self.context.Pipe()
-        process = self.context.Process(target=serve, args=(child, self.memory_bytes, self.warm_up), daemon=True,
-                                       name="prbm-fuzz-worker")
+        process = self.context.Process(
+            target=serve, args=(child, self.memory_bytes, self.warm_up), daemon=True, name="prbm-fuzz-worker"
+        )
         process.start()
         child.close()
         return _Worker(process, parent, started=time.perf_counter())
@@ -100,7 +109,7 @@ class Pool:
         """Idle workers are told to stop; one still warming up or running a mutant is killed."""
         for worker in self.workers:
             if worker.ready and worker.task is None:
-                with suppress(OSError):   # a worker that died meanwhile
+                with suppress(OSError):  # a worker that died meanwhile
                     worker.conn.send(None)
                 worker.process.join(timeout=5)
             if worker.process.is_alive():
@@ -114,8 +123,9 @@ class Pool:
     def __exit__(self, *exc) -> None:
         self.close()
 
-    def map(self, tasks: Sequence[tuple[str, Callable[[], bytes]]],
-            progress: Callable[[Outcome], None] | None = None) -> list[Outcome]:
+    def map(
+        self, tasks: Sequence[tuple[str, Callable[[], bytes]]], progress: Callable[[Outcome], None] | None = None
+    ) -> list[Outcome]:
         """The outcome of each (verb, bytes-maker) task, in order; the bytes are made when the task
         is handed out."""
         pending = deque(range(len(tasks)))
@@ -165,9 +175,16 @@ class Pool:
             if not worker.ready:
                 raise RuntimeError(f"a fuzz worker died while starting (exit {worker.process.exitcode})") from None
             code = worker.process.exitcode
-            self._finish(worker, results, Outcome(exit=code if code is not None else -1,
-                                                  seconds=time.perf_counter() - worker.started,
-                                                  stderr="the worker process died"), progress)
+            self._finish(
+                worker,
+                results,
+                Outcome(
+                    exit=code if code is not None else -1,
+                    seconds=time.perf_counter() - worker.started,
+                    stderr="the worker process died",
+                ),
+                progress,
+            )
             self._replace(worker)
             return
         if message == "ready":
@@ -187,6 +204,7 @@ class Pool:
 
 # --- shrinking -----------------------------------------------------------------------------------
 
+
 def _field_paths(mutant: Mutant) -> list[tuple]:
     """Fields of the mutated document a shrink may delete, largest first: top-level tables and keys,
     entries of lists (last first), then keys of tables; none on the way to or below a mutation."""
@@ -194,7 +212,8 @@ def _field_paths(mutant: Mutant) -> list[tuple]:
     touched = [m.path for m in mutant.mutations if m.kind not in RAW_KINDS]
 
     def related(path: tuple) -> bool:
-        return any(t[:len(path)] == path or path[:len(t)] == t for t in touched)
+        return any(t[: len(path)] == path or path[: len(t)] == t for t in touched)
+
     every = [p for p, _ in nodes(document) if not related(p)]
     return sorted(every, key=lambda p: (len(p), -p[-1] if isinstance(p[-1], int) else 0))
 
@@ -204,8 +223,8 @@ def _shortened(mutant: Mutant, index: int) -> Mutant:
     mutation = mutant.mutations[index]
     if not isinstance(mutation.value, list):
         raise ValueError(f"mutation {index} sets no list to shorten")
-    short = Mutation(mutation.kind, mutation.path, mutation.value[:LONG_LISTS[0]])
-    return Mutant(mutant.source, mutant.mutations[:index] + (short,) + mutant.mutations[index + 1:], mutant.verb)
+    short = Mutation(mutation.kind, mutation.path, mutation.value[: LONG_LISTS[0]])
+    return Mutant(mutant.source, mutant.mutations[:index] + (short,) + mutant.mutations[index + 1 :], mutant.verb)
 
 
 def _huge_list(value: object) -> bool:
@@ -218,12 +237,16 @@ def _candidates(mutant: Mutant, deletions: bool, rejected: set[tuple]) -> list[t
     found = [i for i, m in enumerate(mutant.mutations) if m.kind != "shrink"]
     smaller: list[tuple[Mutant, tuple | None]] = []
     if len(found) > 1:
-        smaller += [(Mutant(mutant.source, mutant.mutations[:i] + mutant.mutations[i + 1:], mutant.verb), None)
-                    for i in found]
+        smaller += [
+            (Mutant(mutant.source, mutant.mutations[:i] + mutant.mutations[i + 1 :], mutant.verb), None) for i in found
+        ]
     smaller += [(_shortened(mutant, i), None) for i in found if _huge_list(mutant.mutations[i].value)]
     if deletions:
-        smaller += [(Mutant(mutant.source, mutant.mutations + (Mutation("shrink", p, DELETE),), mutant.verb), p)
-                    for p in _field_paths(mutant) if p not in rejected]
+        smaller += [
+            (Mutant(mutant.source, mutant.mutations + (Mutation("shrink", p, DELETE),), mutant.verb), p)
+            for p in _field_paths(mutant)
+            if p not in rejected
+        ]
     return smaller
 
 
@@ -236,10 +259,10 @@ def shrink(pool: Pool, mutant: Mutant, outcome: Outcome, budget: int = 60) -> tu
     rejected: set[tuple] = set()
     current = mutant
     while runs < budget:
-        candidates = _candidates(current, not outcome.timed_out, rejected)[:budget - runs]
+        candidates = _candidates(current, not outcome.timed_out, rejected)[: budget - runs]
         found = None
         for start in range(0, len(candidates), len(pool.workers)):
-            batch = candidates[start:start + len(pool.workers)]
+            batch = candidates[start : start + len(pool.workers)]
             results = pool.map([(m.verb, m.bytes) for m, _ in batch])
             runs += len(batch)
             for (candidate, deleted), result in zip(batch, results):
@@ -258,6 +281,7 @@ def shrink(pool: Pool, mutant: Mutant, outcome: Outcome, budget: int = 60) -> tu
 
 # --- regression files ----------------------------------------------------------------------------
 
+
 def _ascii(text: str) -> str:
     return text.encode("ascii", "backslashreplace").decode("ascii").replace("\r", "\\r").replace("\n", "\\n")
 
@@ -267,15 +291,20 @@ def regression_bytes(mutant: Mutant, outcome: Outcome) -> bytes:
     mutations and the status (``open`` until the defect is fixed)."""
     first = [re.sub(r"/\S*/", "", line) for line in outcome.stderr.strip().splitlines()[:1]]  # no folders
     root = CASES_DIR.parent
-    header = [f"# fuzz regression: {outcome.problem}",
-              f"# verb: {mutant.verb}",
-              f"# source: {mutant.source.relative_to(root) if mutant.source.is_relative_to(root) else mutant.source}",
-              *(f"# mutation: {m.describe()}" for m in mutant.mutations),
-              (f"# seen: timed out at {outcome.seconds:.2f} s" if outcome.timed_out else
-               f"# seen: exit {outcome.exit}, {outcome.seconds:.2f} s"
-               + (f"; stderr: {first[0][:200]}" if first else "")),
-              "# status: open",
-              "# defect: not described yet"]
+    header = [
+        f"# fuzz regression: {outcome.problem}",
+        f"# verb: {mutant.verb}",
+        f"# source: {mutant.source.relative_to(root) if mutant.source.is_relative_to(root) else mutant.source}",
+        *(f"# mutation: {m.describe()}" for m in mutant.mutations),
+        (
+            f"# seen: timed out at {outcome.seconds:.2f} s"
+            if outcome.timed_out
+            else f"# seen: exit {outcome.exit}, {outcome.seconds:.2f} s"
+            + (f"; stderr: {first[0][:200]}" if first else "")
+        ),
+        "# status: open",
+        "# defect: not described yet",
+    ]
     return ("\n".join(_ascii(line) for line in header) + "\n").encode("ascii") + mutant.bytes()
 
 
@@ -302,6 +331,7 @@ def read_header(data: bytes) -> dict[str, list[str]]:
 
 # --- the run -------------------------------------------------------------------------------------
 
+
 @dataclass
 class FuzzSummary:
     """What ``run_fuzz`` did: counts by ending, the failures (each with its mutant), the files kept."""
@@ -314,23 +344,34 @@ class FuzzSummary:
     nonfinite: int = 0
     messages: int = 0
     failures: list[tuple[Mutant, Outcome]] = field(default_factory=list)
-    regressions: dict[tuple, Path] = field(default_factory=dict)   # failure_key -> its shrunk regression file
+    regressions: dict[tuple, Path] = field(default_factory=dict)  # failure_key -> its shrunk regression file
     wall_time_s: float = 0.0
 
     def line(self) -> str:
-        return (f"fuzz: {self.tried} mutants (seed {self.seed}): exit 0/1/2 {self.exits[0]}/{self.exits[1]}/"
-                f"{self.exits[2]}, timed out {self.timed_out}, tracebacks {self.tracebacks}, exit 0 with "
-                f"non-finite numbers {self.nonfinite}, messages not one line {self.messages}; "
-                f"{len(self.failures)} failure(s), {len(self.regressions)} regression file(s); "
-                f"{self.wall_time_s:.0f} s")
+        return (
+            f"fuzz: {self.tried} mutants (seed {self.seed}): exit 0/1/2 {self.exits[0]}/{self.exits[1]}/"
+            f"{self.exits[2]}, timed out {self.timed_out}, tracebacks {self.tracebacks}, exit 0 with "
+            f"non-finite numbers {self.nonfinite}, messages not one line {self.messages}; "
+            f"{len(self.failures)} failure(s), {len(self.regressions)} regression file(s); "
+            f"{self.wall_time_s:.0f} s"
+        )
 
     def as_dict(self) -> dict:
-        return {"seed": self.seed, "tried": self.tried, "exits": {str(k): v for k, v in self.exits.items()},
-                "timed_out": self.timed_out, "tracebacks": self.tracebacks, "nonfinite": self.nonfinite,
-                "messages": self.messages, "wall_time_s": self.wall_time_s,
-                "regressions": [p.name for p in self.regressions.values()],
-                "failures": [{"source": m.source.name, "verb": m.verb, "mutations": m.describe(),
-                              **o.as_dict()} for m, o in self.failures]}
+        return {
+            "seed": self.seed,
+            "tried": self.tried,
+            "exits": {str(k): v for k, v in self.exits.items()},
+            "timed_out": self.timed_out,
+            "tracebacks": self.tracebacks,
+            "nonfinite": self.nonfinite,
+            "messages": self.messages,
+            "wall_time_s": self.wall_time_s,
+            "regressions": [p.name for p in self.regressions.values()],
+            "failures": [
+                {"source": m.source.name, "verb": m.verb, "mutations": m.describe(), **o.as_dict()}
+                for m, o in self.failures
+            ],
+        }
 
 
 def tally(summary: FuzzSummary, outcome: Outcome) -> None:
@@ -357,8 +398,18 @@ def failure_key(mutant: Mutant, outcome: Outcome) -> tuple:
     return outcome.problem, where
 
 
-def run_fuzz(out: Path, count: int, seed: int, *, long: bool = False, workers: int = 2, timeout: float = 20.0,
-             progress: bool = False, shrink_budget: int = 60, max_shrunk: int = 40) -> FuzzSummary:
+def run_fuzz(
+    out: Path,
+    count: int,
+    seed: int,
+    *,
+    long: bool = False,
+    workers: int = 2,
+    timeout: float = 20.0,
+    progress: bool = False,
+    shrink_budget: int = 60,
+    max_shrunk: int = 40,
+) -> FuzzSummary:
     """``count`` mutants of ``seed`` (of every shipped case with ``long``, else of ``fuzz.SOURCES``),
     each within ``timeout`` seconds; failures shrunk into ``out/fuzz_regressions``, one per
     ``failure_key`` (at most ``max_shrunk``); ``out/fuzz.json`` has the counts and every failure."""
@@ -389,14 +440,22 @@ def run_fuzz(out: Path, count: int, seed: int, *, long: bool = False, workers: i
     return summary
 
 
-def fuzz_checks(out: Path, count: int, seed: int, *, long: bool = False, workers: int | None = None,
-                timeout: float = 20.0) -> list[tuple[str, str, bool, str]]:
+def fuzz_checks(
+    out: Path, count: int, seed: int, *, long: bool = False, workers: int | None = None, timeout: float = 20.0
+) -> list[tuple[str, str, bool, str]]:
     """``run_fuzz`` as the stress command's checks (category, name, passed, detail): one for the whole
     run, and one per kind of failure (``failure_key``) naming an example and its regression file."""
     summary = run_fuzz(out, count, seed, long=long, workers=workers or 2, timeout=timeout, progress=long)
     print(summary.line())
-    rows = [("fuzz", f"{summary.tried} mutated case files: exit 0, 1 or 2 within {timeout:g} s, one-line "
-                     "messages, no traceback, finite numbers on exit 0", not summary.failures, summary.line())]
+    rows = [
+        (
+            "fuzz",
+            f"{summary.tried} mutated case files: exit 0, 1 or 2 within {timeout:g} s, one-line "
+            "messages, no traceback, finite numbers on exit 0",
+            not summary.failures,
+            summary.line(),
+        )
+    ]
     alike: dict[tuple, list[tuple[Mutant, Outcome]]] = {}
     for mutant, outcome in summary.failures:
         alike.setdefault(failure_key(mutant, outcome), []).append((mutant, outcome))
@@ -404,8 +463,14 @@ def fuzz_checks(out: Path, count: int, seed: int, *, long: bool = False, workers
         mutant, outcome = failures[0]
         kept = summary.regressions.get(key)
         said = outcome.stderr.strip().splitlines()[:1]
-        rows.append(("fuzz", f"{outcome.problem}: {'; '.join(m.describe() for m in mutant.mutations)[:160]}", False,
-                     f"{len(failures)} mutant(s), e.g. {mutant.verb} of {mutant.source.name}"
-                     + (f" ({said[0][:200]})" if said else "")
-                     + (f"; shrunk into fuzz_regressions/{kept.name}" if kept else "")))
+        rows.append(
+            (
+                "fuzz",
+                f"{outcome.problem}: {'; '.join(m.describe() for m in mutant.mutations)[:160]}",
+                False,
+                f"{len(failures)} mutant(s), e.g. {mutant.verb} of {mutant.source.name}"
+                + (f" ({said[0][:200]})" if said else "")
+                + (f"; shrunk into fuzz_regressions/{kept.name}" if kept else ""),
+            )
+        )
     return rows

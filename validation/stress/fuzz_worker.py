@@ -16,6 +16,7 @@ descriptors 1 and 2, so C-level output is caught too) and judges the ending (``O
 Python's warnings are shown as in a fresh process (each once per place; the registries are reset
 around every call). ``serve`` is the loop of a worker process (``validation.stress.fuzz_run``).
 """
+
 from __future__ import annotations
 
 import csv
@@ -42,8 +43,8 @@ from validation.cli.main import main
 ROOT = Path(__file__).resolve().parents[2]
 VERBS = ("solve", "run")
 TRACEBACK = "Traceback (most recent call last)"
-CONTINUED = re.compile(r"^\s+\S")                   # a line that continues the one before
-WARNING = re.compile(r"^\S.*:\d+: \w*Warning: ")        # warnings.formatwarning's first line
+CONTINUED = re.compile(r"^\s+\S")  # a line that continues the one before
+WARNING = re.compile(r"^\S.*:\d+: \w*Warning: ")  # warnings.formatwarning's first line
 KEPT = 4000  # characters of stderr kept in an outcome
 
 
@@ -54,8 +55,8 @@ class Outcome:
     exit: int | None
     seconds: float
     stderr: str = ""
-    exception: str = ""   # 'Type at file:function' of a traceback (escaped from main, or printed)
-    nonfinite: str = ""   # exit 0: the first number that is not finite
+    exception: str = ""  # 'Type at file:function' of a traceback (escaped from main, or printed)
+    nonfinite: str = ""  # exit 0: the first number that is not finite
     silent: bool = False  # exit 1 or 2 and nothing said
 
     @property
@@ -97,8 +98,11 @@ def _where(exc: BaseException) -> str:
     frames = traceback.extract_tb(exc.__traceback__)
     ours = [f for f in frames if f.filename.startswith(str(ROOT)) and "site-packages" not in f.filename]
     frame = (ours or frames)[-1] if frames else None
-    place = f"{Path(frame.filename).relative_to(ROOT) if ours else Path(frame.filename).name}:{frame.name}" \
-        if frame else "?"
+    place = (
+        f"{Path(frame.filename).relative_to(ROOT) if ours else Path(frame.filename).name}:{frame.name}"
+        if frame
+        else "?"
+    )
     return f"{type(exc).__name__} at {place}"
 
 
@@ -106,7 +110,7 @@ def _printed_traceback(text: str) -> str:
     """'Type at file:function' of a traceback printed in ``text``, else ''."""
     if TRACEBACK not in text:
         return ""
-    tail = text[text.rindex(TRACEBACK):].splitlines()
+    tail = text[text.rindex(TRACEBACK) :].splitlines()
     files = [line for line in tail if line.strip().startswith("File ")]
     last = next((line for line in tail[1:] if line and not line[0].isspace()), "?")
     place = re.search(r'File "([^"]+)", line \d+, in (\S+)', files[-1]) if files else None
@@ -183,13 +187,16 @@ def run_nonfinite(folder: Path) -> str:
 
 def run_mutant(data: bytes, verb: str, workdir: Path) -> Outcome:
     """The mutated file ``data`` through ``prbm-validate <verb>``, judged (module docstring)."""
-    for old in workdir.iterdir():   # the previous mutant's file and outputs
+    for old in workdir.iterdir():  # the previous mutant's file and outputs
         shutil.rmtree(old) if old.is_dir() else old.unlink()
     path = workdir / "mutant.toml"
     path.write_bytes(data)
     out = workdir / ("solve.json" if verb == "solve" else "run")
-    argv = ["solve", str(path), "--out", str(out)] if verb == "solve" else \
-        ["run", str(path), "--out", str(out), "--no-cache", "--quiet"]
+    argv = (
+        ["solve", str(path), "--out", str(out)]
+        if verb == "solve"
+        else ["run", str(path), "--out", str(out), "--no-cache", "--quiet"]
+    )
     started = time.perf_counter()
     status, exception, stdout, stderr = _captured(argv)
     seconds = time.perf_counter() - started
@@ -198,8 +205,14 @@ def run_mutant(data: bytes, verb: str, workdir: Path) -> Outcome:
     if status == 0 and not exception:
         nonfinite = solve_nonfinite(out) if verb == "solve" else run_nonfinite(out)
     said = stderr.strip() or (verb == "run" and status == 1 and stdout.strip())
-    return Outcome(exit=status, seconds=seconds, stderr=stderr[:KEPT], exception=exception, nonfinite=nonfinite,
-                   silent=status in (1, 2) and not said)
+    return Outcome(
+        exit=status,
+        seconds=seconds,
+        stderr=stderr[:KEPT],
+        exception=exception,
+        nonfinite=nonfinite,
+        silent=status in (1, 2) and not said,
+    )
 
 
 def serve(conn, memory_bytes: int, warm_up: list[str]) -> None:

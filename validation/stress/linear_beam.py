@@ -29,6 +29,7 @@ gives the other. The strain energy is (1/2) f . u (the root does no work).
 The integrals are evaluated by Gauss-Legendre quadrature (the integrands are trigonometric
 polynomials of low degree in s, so 24 points are exact to rounding).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -58,7 +59,7 @@ def arc_point(s, kappa: float):
     return np.sin(kappa * s) / kappa, (1.0 - np.cos(kappa * s)) / kappa, kappa * s
 
 
-GAUSS_24 = np.polynomial.legendre.leggauss(24)   # once: numpy solves an eigenproblem for the rule on each call
+GAUSS_24 = np.polynomial.legendre.leggauss(24)  # once: numpy solves an eigenproblem for the rule on each call
 
 
 def flexibility(length: float, kappa: float, EI: float, EA: float = np.inf) -> np.ndarray:
@@ -68,7 +69,7 @@ def flexibility(length: float, kappa: float, EI: float, EA: float = np.inf) -> n
     w = 0.5 * length * weights
     x, y, psi = arc_point(s, kappa)
     xt, yt, _ = arc_point(length, kappa)
-    g = np.stack([-(yt - y), xt - x, np.ones_like(s)])          # (3, n)
+    g = np.stack([-(yt - y), xt - x, np.ones_like(s)])  # (3, n)
     t = np.stack([np.cos(psi), np.sin(psi), np.zeros_like(s)])  # (3, n)
     C = (g * w) @ g.T / EI
     if np.isfinite(EA):
@@ -76,8 +77,16 @@ def flexibility(length: float, kappa: float, EI: float, EA: float = np.inf) -> n
     return C
 
 
-def solve_tip(length: float, kappa: float, EI: float, EA: float, *, root_pinned: bool,
-              given_load: dict[str, float], given_motion: dict[str, float]) -> LinearTip:
+def solve_tip(
+    length: float,
+    kappa: float,
+    EI: float,
+    EA: float,
+    *,
+    root_pinned: bool,
+    given_load: dict[str, float],
+    given_motion: dict[str, float],
+) -> LinearTip:
     """Linear response with, for each tip freedom, either its load or its motion given.
 
     ``given_motion`` (freedom -> u_x, u_y [length] or theta [rad]) wins over ``given_load``
@@ -86,14 +95,14 @@ def solve_tip(length: float, kappa: float, EI: float, EA: float, *, root_pinned:
     xt, yt, _ = arc_point(length, kappa)
     xt, yt = float(xt), float(yt)
     rigid = np.array([-yt, xt, 1.0])
-    n = 7 if root_pinned else 6   # unknowns: u (3), f (3), phi
+    n = 7 if root_pinned else 6  # unknowns: u (3), f (3), phi
     A = np.zeros((n, n))
     rhs = np.zeros(n)
-    A[:3, :3] = np.eye(3)            # u - C f - phi rigid = 0
+    A[:3, :3] = np.eye(3)  # u - C f - phi rigid = 0
     A[:3, 3:6] = -C
     if root_pinned:
         A[:3, 6] = -rigid
-        A[6, 3:6] = rigid            # no moment at the pinned root: M + x_t F_y - y_t F_x = 0
+        A[6, 3:6] = rigid  # no moment at the pinned root: M + x_t F_y - y_t F_x = 0
     for i, name in enumerate(FREEDOMS):
         row = 3 + i
         if name in given_motion:

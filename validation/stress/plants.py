@@ -21,6 +21,7 @@ and Chain Algorithm readings (``validation.methods.prbm_readings``) run inside t
 
 ``validation.stress.audit`` runs the case suite under each plant; a good suite fails on every one of them.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -40,8 +41,20 @@ import prbm.segments
 
 FACTOR = 1.10
 # Quantities whose sign flips when the model is mirrored about its axis (what a sign error turns round).
-TRANSVERSE = frozenset({"y", "dy", "rotation", "moment", "force_y", "reaction_y", "reaction_moment",
-                        "input_torque", "input_angle", "prb_angle"})
+TRANSVERSE = frozenset(
+    {
+        "y",
+        "dy",
+        "rotation",
+        "moment",
+        "force_y",
+        "reaction_y",
+        "reaction_moment",
+        "input_torque",
+        "input_angle",
+        "prb_angle",
+    }
+)
 
 
 @dataclass(frozen=True)
@@ -93,12 +106,13 @@ def _prbm_fit(prefix: str, pure_moment: tuple[str, ...], builder: str, keyword: 
     path reads them, including the plain-float Horner twins that bypass ``PiecewiseFit.__call__``
     (prbm.inflection, the chapter-3/5 inflection models) and the module constants computed from them
     at import (prbm.feasible_l1's average gamma, which its functions also hold as a keyword default)."""
+
     def apply() -> None:
         for family in prbm.fits.FAMILIES.values():
             for fit in (family.gamma, family.c_theta, family.K_theta):
                 if fit is not None and fit.name.startswith(prefix):
                     _scale_fit(fit)
-        prbm.inflection._PLAIN_FITS.clear()        # Horner twins made before the plant hold the old coefficients
+        prbm.inflection._PLAIN_FITS.clear()  # Horner twins made before the plant hold the old coefficients
         if prefix == "gamma":
             _scale_loop_gamma()
         for module in (prbm.fits, prbm.segments):
@@ -108,6 +122,7 @@ def _prbm_fit(prefix: str, pure_moment: tuple[str, ...], builder: str, keyword: 
         setattr(prbm.builder, builder, getattr(prbm.builder, builder) * FACTOR)
         _scale_rules_default(builder.lower() if builder == "GAMMA" else "K_theta")
         inspect.unwrap(prbm.segments.curved_pinned_pinned).__kwdefaults__[keyword] *= FACTOR
+
     return apply
 
 
@@ -123,8 +138,10 @@ def _scale_loop_gamma() -> None:
 
 def _scale_fit(fit: prbm.fits.PiecewiseFit) -> None:
     """Every printed coefficient of ``fit`` x FACTOR, in place (the fit objects are frozen and shared)."""
-    scaled = tuple(dataclasses.replace(branch, coefficients=tuple(FACTOR * c for c in branch.coefficients))
-                   for branch in fit.branches)
+    scaled = tuple(
+        dataclasses.replace(branch, coefficients=tuple(FACTOR * c for c in branch.coefficients))
+        for branch in fit.branches
+    )
     object.__setattr__(fit, "branches", scaled)
 
 
@@ -136,7 +153,7 @@ def _scale_rules_default(field_name: str) -> None:
     if init.__defaults__ is None:
         raise TypeError("prbm.builder.Rules has no field with a default")
     defaults = list(init.__defaults__)
-    first = len(names) - len(defaults)             # the defaults belong to the last fields
+    first = len(names) - len(defaults)  # the defaults belong to the last fields
     index = names.index(field_name) - first
     defaults[index] = defaults[index] * FACTOR
     init.__defaults__ = tuple(defaults)
@@ -163,32 +180,53 @@ def _elastica_EI() -> None:
 
 
 def _bcm_K0() -> None:
-    bcm.beam.K0 *= FACTOR   # in place: bcm.mechanisms holds the same arrays
+    bcm.beam.K0 *= FACTOR  # in place: bcm.mechanisms holds the same arrays
     bcm.beam.C0 /= FACTOR
 
 
-PLANTS: dict[str, Plant] = {p.name: p for p in [
-    Plant("fem-outputs-x1.10", "fem", "FEM adapter: every output x 1.10", _scaled_outputs("fem")),
-    Plant("fem-sign-flip", "fem", "FEM adapter: transverse outputs with the sign flipped", _flipped_outputs("fem")),
-    Plant("fem-EI-x1.10", "fem", "FEM library: every member's EI x 1.10", _fem_EI),
-    Plant("prbm-outputs-x1.10", "prbm", "PRBM adapter: every output x 1.10", _scaled_outputs("prbm")),
-    Plant("prbm-sign-flip", "prbm", "PRBM adapter: transverse outputs with the sign flipped", _flipped_outputs("prbm")),
-    Plant("prbm-K_theta-x1.10", "prbm",
-          "PRBM library: K_Theta x 1.10 (fits, pure-moment spring, rule-builder and constant-model defaults)",
-          _prbm_fit("K_theta", ("PURE_MOMENT_SPRING", "PURE_MOMENT_K_THETA"), "K_THETA", "K_theta")),
-    Plant("prbm-gamma-x1.10", "prbm",
-          "PRBM library: gamma x 1.10 (fits, pure-moment gamma, rule-builder and constant-model defaults)",
-          _prbm_fit("gamma", ("PURE_MOMENT_GAMMA",), "GAMMA", "gamma")),
-    Plant("prbm-chain-EI-x1.10", "prbm", "PRBM library: the Chain Algorithm's element EI x 1.10", _chain_EI),
-    Plant("elastica-outputs-x1.10", "elastica", "elastica adapter: every output x 1.10", _scaled_outputs("elastica")),
-    Plant("elastica-sign-flip", "elastica", "elastica adapter: transverse outputs with the sign flipped",
-          _flipped_outputs("elastica")),
-    Plant("elastica-EI-x1.10", "elastica", "elastica: EI x 1.10 (segments and mechanism beams)", _elastica_EI),
-    Plant("bcm-outputs-x1.10", "bcm", "BCM adapter: every output x 1.10", _scaled_outputs("bcm")),
-    Plant("bcm-sign-flip", "bcm", "BCM adapter: transverse outputs with the sign flipped", _flipped_outputs("bcm")),
-    Plant("bcm-K0-x1.10", "bcm", "BCM library: linear stiffness K0 x 1.10, compliance C0 / 1.10 (seed 003 Table 1)",
-          _bcm_K0),
-]}
+PLANTS: dict[str, Plant] = {
+    p.name: p
+    for p in [
+        Plant("fem-outputs-x1.10", "fem", "FEM adapter: every output x 1.10", _scaled_outputs("fem")),
+        Plant("fem-sign-flip", "fem", "FEM adapter: transverse outputs with the sign flipped", _flipped_outputs("fem")),
+        Plant("fem-EI-x1.10", "fem", "FEM library: every member's EI x 1.10", _fem_EI),
+        Plant("prbm-outputs-x1.10", "prbm", "PRBM adapter: every output x 1.10", _scaled_outputs("prbm")),
+        Plant(
+            "prbm-sign-flip", "prbm", "PRBM adapter: transverse outputs with the sign flipped", _flipped_outputs("prbm")
+        ),
+        Plant(
+            "prbm-K_theta-x1.10",
+            "prbm",
+            "PRBM library: K_Theta x 1.10 (fits, pure-moment spring, rule-builder and constant-model defaults)",
+            _prbm_fit("K_theta", ("PURE_MOMENT_SPRING", "PURE_MOMENT_K_THETA"), "K_THETA", "K_theta"),
+        ),
+        Plant(
+            "prbm-gamma-x1.10",
+            "prbm",
+            "PRBM library: gamma x 1.10 (fits, pure-moment gamma, rule-builder and constant-model defaults)",
+            _prbm_fit("gamma", ("PURE_MOMENT_GAMMA",), "GAMMA", "gamma"),
+        ),
+        Plant("prbm-chain-EI-x1.10", "prbm", "PRBM library: the Chain Algorithm's element EI x 1.10", _chain_EI),
+        Plant(
+            "elastica-outputs-x1.10", "elastica", "elastica adapter: every output x 1.10", _scaled_outputs("elastica")
+        ),
+        Plant(
+            "elastica-sign-flip",
+            "elastica",
+            "elastica adapter: transverse outputs with the sign flipped",
+            _flipped_outputs("elastica"),
+        ),
+        Plant("elastica-EI-x1.10", "elastica", "elastica: EI x 1.10 (segments and mechanism beams)", _elastica_EI),
+        Plant("bcm-outputs-x1.10", "bcm", "BCM adapter: every output x 1.10", _scaled_outputs("bcm")),
+        Plant("bcm-sign-flip", "bcm", "BCM adapter: transverse outputs with the sign flipped", _flipped_outputs("bcm")),
+        Plant(
+            "bcm-K0-x1.10",
+            "bcm",
+            "BCM library: linear stiffness K0 x 1.10, compliance C0 / 1.10 (seed 003 Table 1)",
+            _bcm_K0,
+        ),
+    ]
+}
 
 
 def apply(name: str) -> None:

@@ -26,6 +26,7 @@ the printed arcs overlaid) and returns the ``DomainStudy``.  ``python -m validat
 --out DIR``; by default it writes under reports/sweeps/chapter4_domains, where the report
 page shows the figure with the sweep studies.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -39,8 +40,13 @@ import matplotlib
 import numpy as np
 
 import prbm
-from elastica.domains import (DomainCloud, curved_fixed_pinned_cloud, fixed_guided_inflection_cloud,
-                              fixed_pinned_cloud, kappa_range)
+from elastica.domains import (
+    DomainCloud,
+    curved_fixed_pinned_cloud,
+    fixed_guided_inflection_cloud,
+    fixed_pinned_cloud,
+    kappa_range,
+)
 from prbm.domain import boundary_curves, fit_radius
 from prbm.domain_bounds import clamp_arc, inflection_lower_bound, prbm_arc
 
@@ -143,10 +149,20 @@ def _tip_error(model: str, cloud: DomainCloud, idx, prbm_tip) -> TipError:
 
 def _arc_fits(cloud: DomainCloud, printed: dict, bins: int) -> list[BoundFit]:
     bc = boundary_curves(cloud.a, cloud.b, bins=bins)
-    return [BoundFit("gamma_l", printed["gamma_l"], fit_radius(bc["lower"], bc["b"]),
-                     "PRB arc fitted to the least a/l per bin of b/l"),
-            BoundFit("gamma_u", printed["gamma_u"], fit_radius(bc["upper"], bc["b"]),
-                     "PRB arc fitted to the largest a/l per bin of b/l")]
+    return [
+        BoundFit(
+            "gamma_l",
+            printed["gamma_l"],
+            fit_radius(bc["lower"], bc["b"]),
+            "PRB arc fitted to the least a/l per bin of b/l",
+        ),
+        BoundFit(
+            "gamma_u",
+            printed["gamma_u"],
+            fit_radius(bc["upper"], bc["b"]),
+            "PRB arc fitted to the largest a/l per bin of b/l",
+        ),
+    ]
 
 
 def fixed_pinned(data: dict, sample: int = 200, bins: int = 60) -> tuple[DomainResult, DomainCloud]:
@@ -155,8 +171,11 @@ def fixed_pinned(data: dict, sample: int = 200, bins: int = 60) -> tuple[DomainR
     res = DomainResult("fixed-pinned (4.4)", cloud.size, cloud.excluded, _arc_fits(cloud, spec, bins))
     for n, name in ((spec["n"]["stop"], "gamma_l"), (spec["n"]["start"], "gamma_u")):
         on = cloud.n == n
-        res.bounds.append(BoundFit(name, spec[name], fit_radius(cloud.a[on], cloud.b[on]),
-                                   f"PRB arc fitted to the n = {n:g} trajectory"))
+        res.bounds.append(
+            BoundFit(
+                name, spec[name], fit_radius(cloud.a[on], cloud.b[on]), f"PRB arc fitted to the n = {n:g} trajectory"
+            )
+        )
 
     def tip(i):
         out = prbm.fixed_pinned_tip(float(cloud.alpha[i] ** 2), float(cloud.n[i]), length=1.0, EI=1.0).outputs
@@ -169,10 +188,11 @@ def fixed_pinned(data: dict, sample: int = 200, bins: int = 60) -> tuple[DomainR
 def curved_fixed_pinned(data: dict, sample: int = 200, bins: int = 60) -> tuple[DomainResult, DomainCloud]:
     spec = data["curved_fixed_pinned"]
     cloud = curved_fixed_pinned_cloud(_grid(spec["n"]), _grid(spec["theta0_deg"], DEG), _grid(spec["kappa"]))
-    res = DomainResult("initially curved fixed-pinned (4.5)", cloud.size, cloud.excluded,
-                       _arc_fits(cloud, spec, bins))
-    res.notes.append("Su's bound (112) applied with kappa_F = kappa/eta (elastica.domains); the cloud mixes "
-                     "initial curvatures kappa0 = alpha sqrt(2 kappa), as the printed (n, theta0, kappa) grid does")
+    res = DomainResult("initially curved fixed-pinned (4.5)", cloud.size, cloud.excluded, _arc_fits(cloud, spec, bins))
+    res.notes.append(
+        "Su's bound (112) applied with kappa_F = kappa/eta (elastica.domains); the cloud mixes "
+        "initial curvatures kappa0 = alpha sqrt(2 kappa), as the printed (n, theta0, kappa) grid does"
+    )
 
     def tip(i):
         alpha, k0 = float(cloud.alpha[i]), float(cloud.alpha[i] * math.sqrt(2.0 * cloud.kappa[i]))
@@ -194,34 +214,62 @@ def _kappa_note(spec: dict) -> str:
     pairs = [kappa_range(t * DEG, n) for n in _grid(spec["n"]) for t in np.arange(-60.0, 61.0, 5.0)]
     lo, hi = np.array(pairs).T
     k126 = spec["kappa"]
-    return (f"kappa bounds by eqs (123)-(124) and the routine of 4.6.1 over -4 <= n <= 10, -60 <= theta0 <= 60 deg "
-            f"(kappa = M^2/(2 F EI)): kappa_min from {lo.min():.3f} to {lo.max():.3f}, kappa_max from {hi.min():.3f} "
-            f"to {hi.max():.3f} (a negative value: (120) holds at that theta_i for every kappa >= 0); eq (126) adopts "
-            f"{k126['start']} <= kappa <= {k126['stop']}")
+    return (
+        f"kappa bounds by eqs (123)-(124) and the routine of 4.6.1 over -4 <= n <= 10, -60 <= theta0 <= 60 deg "
+        f"(kappa = M^2/(2 F EI)): kappa_min from {lo.min():.3f} to {lo.max():.3f}, kappa_max from {hi.min():.3f} "
+        f"to {hi.max():.3f} (a negative value: (120) holds at that theta_i for every kappa >= 0); eq (126) adopts "
+        f"{k126['start']} <= kappa <= {k126['stop']}"
+    )
 
 
 def inflection_domain(data: dict, sample: int = 40, bins: int = 40) -> tuple[DomainResult, DomainCloud]:
     spec = data["fixed_guided_inflection"]
     length, EI = _beam_EI(data)
-    load_range = tuple(p * length**2 / EI for p in spec["P"])      # alpha^2 = P l^2/EI
-    cloud = fixed_guided_inflection_cloud(_grid(spec["n"]), _grid(spec["theta0_deg"], DEG), _grid(spec["kappa"]),
-                                          load_range=load_range)
+    load_range = tuple(p * length**2 / EI for p in spec["P"])  # alpha^2 = P l^2/EI
+    cloud = fixed_guided_inflection_cloud(
+        _grid(spec["n"]), _grid(spec["theta0_deg"], DEG), _grid(spec["kappa"]), load_range=load_range
+    )
     bc = boundary_curves(cloud.a, cloud.b, bins=bins)
-    res = DomainResult("fixed-guided, one inflection point (4.6)", cloud.size, cloud.excluded, [
-        BoundFit("gamma_bar_l", spec["gamma_bar_l"], fit_radius(bc["lower"], bc["b"], centre="clamp"),
-                 "circle about the clamp fitted to the least a/l per bin of b/l"),
-        BoundFit("gamma_u", spec["gamma_u"], fit_radius(bc["upper"], bc["b"]),
-                 "PRB arc fitted to the largest a/l per bin of b/l")])
+    res = DomainResult(
+        "fixed-guided, one inflection point (4.6)",
+        cloud.size,
+        cloud.excluded,
+        [
+            BoundFit(
+                "gamma_bar_l",
+                spec["gamma_bar_l"],
+                fit_radius(bc["lower"], bc["b"], centre="clamp"),
+                "circle about the clamp fitted to the least a/l per bin of b/l",
+            ),
+            BoundFit(
+                "gamma_u",
+                spec["gamma_u"],
+                fit_radius(bc["upper"], bc["b"]),
+                "PRB arc fitted to the largest a/l per bin of b/l",
+            ),
+        ],
+    )
     lo, hi = spec["lower_fit_range"]
     window = (bc["b"] >= lo) & (bc["b"] <= hi)
-    for label, curve in (("eq (116)", inflection_lower_bound(bc["b"][window])),
-                         ("gamma-bar_l circle (117)", clamp_arc(spec["gamma_bar_l"], bc["b"][window]))):
+    for label, curve in (
+        ("eq (116)", inflection_lower_bound(bc["b"][window])),
+        ("gamma-bar_l circle (117)", clamp_arc(spec["gamma_bar_l"], bc["b"][window])),
+    ):
         dev = np.abs(curve - bc["lower"][window]) / bc["lower"][window]
-        res.checks.append(BoundCheck(label, 100.0 * spec["lower_fit_claim"], 100.0 * float(dev.max()),
-                                     100.0 * float(dev.mean()), f"{lo} <= b/l <= {hi}"))
-        res.notes.append(f"{label} against the exact lower boundary for {lo} <= b/l <= {hi}: max |error| "
-                         f"{dev.max():.2%}, mean {dev.mean():.2%} (printed claim for (117): within "
-                         f"{spec['lower_fit_claim']:.0%})")
+        res.checks.append(
+            BoundCheck(
+                label,
+                100.0 * spec["lower_fit_claim"],
+                100.0 * float(dev.max()),
+                100.0 * float(dev.mean()),
+                f"{lo} <= b/l <= {hi}",
+            )
+        )
+        res.notes.append(
+            f"{label} against the exact lower boundary for {lo} <= b/l <= {hi}: max |error| "
+            f"{dev.max():.2%}, mean {dev.mean():.2%} (printed claim for (117): within "
+            f"{spec['lower_fit_claim']:.0%})"
+        )
     res.notes.append(_kappa_note(spec))
     beam = prbm.InflectionBeam(1.0, 1.0)
 
@@ -231,7 +279,7 @@ def inflection_domain(data: dict, sample: int = 40, bins: int = 40) -> tuple[Dom
         if not out.converged:
             raise ValueError(out.message)
         a, b = np.ravel(out.outputs["a"]), np.ravel(out.outputs["b"])
-        j = int(np.nanargmin(np.hypot(a - cloud.a[i], b - cloud.b[i])))   # the root on the exact branch
+        j = int(np.nanargmin(np.hypot(a - cloud.a[i], b - cloud.b[i])))  # the root on the exact branch
         return float(a[j]), float(b[j])
 
     idx = _sample(cloud, sample)
@@ -240,8 +288,10 @@ def inflection_domain(data: dict, sample: int = 40, bins: int = 40) -> tuple[Dom
     res.prbm_error = _summary(model, errors)
     for label, part in (("n < 1", cloud.n[idx] < 1.0), ("n >= 1", cloud.n[idx] >= 1.0)):
         e = _summary(model, errors[part])
-        res.notes.append(f"PRBM vs exact for {label}: max {e.max:.4f} l, 90th percentile {e.p90:.4f} l, mean "
-                         f"{e.mean:.4f} l over {e.samples} points ({e.failed} without a PRBM root)")
+        res.notes.append(
+            f"PRBM vs exact for {label}: max {e.max:.4f} l, 90th percentile {e.p90:.4f} l, mean "
+            f"{e.mean:.4f} l over {e.samples} points ({e.failed} without a PRBM root)"
+        )
     return res, cloud
 
 
@@ -290,8 +340,9 @@ def run_study(out: Path | str = DEFAULT_OUT, data_file: Path = DATA, *, plot: bo
     study = DomainStudy([res for res, _ in pairs])
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    summary = [asdict(r) | {"bounds": [asdict(bf) | {"relative": bf.relative} for bf in r.bounds]}
-               for r in study.results]
+    summary = [
+        asdict(r) | {"bounds": [asdict(bf) | {"relative": bf.relative} for bf in r.bounds]} for r in study.results
+    ]
     (out / "summary.json").write_text(json.dumps(summary, indent=1))
     if plot:
         _plot(pairs, data, out)
@@ -309,9 +360,11 @@ def main(argv: list[str] | None = None) -> int:
             print(f"  {bf.name}: printed {bf.printed:.4f}, computed {bf.computed:.4f} ({bf.relative:+.2%}) [{bf.rule}]")
         if r.prbm_error:
             e = r.prbm_error
-            print(f"  PRBM vs exact ({e.model}): max {e.max:.4f} l, 90th percentile {e.p90:.4f} l, mean {e.mean:.4f} l "
-                  f"over {e.samples} points "
-                  f"({e.failed} without a PRBM solution)")
+            print(
+                f"  PRBM vs exact ({e.model}): max {e.max:.4f} l, 90th percentile {e.p90:.4f} l, mean {e.mean:.4f} l "
+                f"over {e.samples} points "
+                f"({e.failed} without a PRBM solution)"
+            )
         for note in r.notes:
             print(f"  {note}")
     return 0

@@ -25,6 +25,7 @@ axes (an input torque, an energy) get their own spread plot per level, ``quantit
 
 Only rows with status 'ok' are plotted; failed points stay in the dataset.
 """
+
 from __future__ import annotations
 
 import json
@@ -37,11 +38,11 @@ import pandas as pd
 from validation.sweep.run import load_results
 from validation.sweep.sensitivity import invariance, summary_lines
 import matplotlib
+
 matplotlib.use("Agg")  # files only, no display
 import matplotlib.pyplot as plt  # noqa: E402
 
 CHI2_2DOF_95 = 5.991464547107979  # chi-square quantile, 2 degrees of freedom, 0.95
-
 
 
 NOISE = 1e-9  # a spread below NOISE x the study's largest magnitude is rounding: no spread
@@ -72,6 +73,7 @@ def _at_value(set_limits, values, scale: float) -> None:
     half = 0.05 * scale or 1.0
     set_limits(centre - half, centre + half)
 
+
 def _figure(rows: int = 1, cols: int = 1, size=(6.4, 4.8)):
     fig, axes = plt.subplots(rows, cols, figsize=(size[0] * cols, size[1] * rows), squeeze=False)
     return plt, fig, axes.ravel()
@@ -93,8 +95,23 @@ def axes_of(frame: pd.DataFrame, spec: dict) -> tuple[str, str, str | None]:
 def _positions(frame: pd.DataFrame, x: str, y: str, point: str | None) -> pd.DataFrame:
     """One row per (point id, method, level) with columns x and y (none without a point)."""
     ok = frame[(frame["status"] == "ok") & (frame["point"] == point) & frame["quantity"].isin([x, y])]
-    index = [c for c in ok.columns if c not in ("quantity", "value", "unit", "error_estimate", "converged",
-                                                  "status", "message", "wall_time", "point_time", "run")]
+    index = [
+        c
+        for c in ok.columns
+        if c
+        not in (
+            "quantity",
+            "value",
+            "unit",
+            "error_estimate",
+            "converged",
+            "status",
+            "message",
+            "wall_time",
+            "point_time",
+            "run",
+        )
+    ]
     wide = ok.pivot_table(index=index, columns="quantity", values="value", aggfunc="first").reset_index()
     return wide.dropna(subset=[c for c in (x, y) if c in wide.columns])
 
@@ -141,10 +158,21 @@ def spread(frame: pd.DataFrame, x: str, y: str, point: str | None) -> pd.DataFra
         xy = part[[x, y]].to_numpy(float)
         cov = np.cov(xy.T) if len(xy) > 1 else np.zeros((2, 2))
         sx, sy = math.sqrt(cov[0, 0]), math.sqrt(cov[1, 1])
-        rows.append(dict(case=case, method=method, level=int(level), n=len(xy),
-                         **{f"mean_{x}": xy[:, 0].mean(), f"mean_{y}": xy[:, 1].mean(),
-                            f"std_{x}": sx, f"std_{y}": sy,
-                            "correlation": cov[0, 1] / (sx * sy) if sx * sy > 0 else math.nan}))
+        rows.append(
+            dict(
+                case=case,
+                method=method,
+                level=int(level),
+                n=len(xy),
+                **{
+                    f"mean_{x}": xy[:, 0].mean(),
+                    f"mean_{y}": xy[:, 1].mean(),
+                    f"std_{x}": sx,
+                    f"std_{y}": sy,
+                    "correlation": cov[0, 1] / (sx * sy) if sx * sy > 0 else math.nan,
+                },
+            )
+        )
     return pd.DataFrame(rows)
 
 
@@ -155,8 +183,10 @@ def parameter_columns(manifest: dict) -> list[str]:
 def _constant(frame: pd.DataFrame, manifest: dict) -> set[tuple]:
     """(case, method, quantity, point) of every output that no swept parameter changes."""
     table = invariance(frame, parameter_columns(manifest))
-    return {tuple(r) for r in table[~table["varies"].astype(bool)][["case", "method", "quantity", "point"]]
-            .itertuples(index=False)}
+    return {
+        tuple(r)
+        for r in table[~table["varies"].astype(bool)][["case", "method", "quantity", "point"]].itertuples(index=False)
+    }
 
 
 def plot_scatter(frame: pd.DataFrame, manifest: dict, out: Path) -> list[Path]:
@@ -218,13 +248,26 @@ def convergence(frame: pd.DataFrame, by: str) -> pd.DataFrame:
             for _, row in group.iterrows():
                 if against != "elastica" and row[by] == finest:
                     continue
-                rows.append(dict(case=case, method=method, quantity=key[0], point=key[1], level=key[2],
-                                 by=row[by], error=abs(row["value"] - reference), reference=against))
+                rows.append(
+                    dict(
+                        case=case,
+                        method=method,
+                        quantity=key[0],
+                        point=key[1],
+                        level=key[2],
+                        by=row[by],
+                        error=abs(row["value"] - reference),
+                        reference=against,
+                    )
+                )
     table = pd.DataFrame(rows)
     if table.empty:
         return table
-    return (table.groupby(["case", "method", "quantity", "point", "by", "reference"], as_index=False)["error"]
-            .max().rename(columns={"by": by}))
+    return (
+        table.groupby(["case", "method", "quantity", "point", "by", "reference"], as_index=False)["error"]
+        .max()
+        .rename(columns={"by": by})
+    )
 
 
 def plot_convergence(frame: pd.DataFrame, manifest: dict, out: Path) -> list[Path]:
@@ -284,12 +327,12 @@ def plot_quantities(frame: pd.DataFrame, manifest: dict, out: Path, skip: set[st
     return [_save(fig, out / "quantities.png")]
 
 
-
 def difference(frame: pd.DataFrame, by: str, methods: list[str]) -> pd.DataFrame:
     """Largest |a - b| / |b| over levels and points per case, quantity and value of ``by``."""
     ok = frame[(frame["status"] == "ok") & frame["quantity"].notna() & frame["method"].isin(methods[:2])]
-    wide = ok.pivot_table(index=["case", "quantity", "point", "level", by], columns="method", values="value",
-                          aggfunc="first").dropna()
+    wide = ok.pivot_table(
+        index=["case", "quantity", "point", "level", by], columns="method", values="value", aggfunc="first"
+    ).dropna()
     if len(methods) < 2 or not set(methods[:2]) <= set(wide.columns):
         return pd.DataFrame()
     a, b = wide[methods[0]], wide[methods[1]]
@@ -299,7 +342,7 @@ def difference(frame: pd.DataFrame, by: str, methods: list[str]) -> pd.DataFrame
 
 def plot_difference(frame: pd.DataFrame, manifest: dict, out: Path) -> list[Path]:
     by = manifest["plot"].get("by") or next((p.get("name") or p["path"] for p in manifest["parameters"]), None)
-    if by is None:   # a sweep has at least one parameter (``SweepSpec``)
+    if by is None:  # a sweep has at least one parameter (``SweepSpec``)
         return []
     methods = list(manifest.get("methods") or [])
     table = difference(frame, by, methods)
@@ -318,8 +361,7 @@ def plot_difference(frame: pd.DataFrame, manifest: dict, out: Path) -> list[Path
     return [_save(fig, out / "difference.png")]
 
 
-PLOTS = {"domain": plot_domain, "scatter": plot_scatter, "convergence": plot_convergence,
-         "difference": plot_difference}
+PLOTS = {"domain": plot_domain, "scatter": plot_scatter, "convergence": plot_convergence, "difference": plot_difference}
 
 
 def sensitivity_summary(out: Path | str) -> list[str]:

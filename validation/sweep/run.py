@@ -63,6 +63,7 @@ failed, wall time, executor) and the plots.
 
 Exit status: 0 finished, 1 finished with failed points (recorded), 2 bad spec, 130 interrupted.
 """
+
 from __future__ import annotations
 
 import hashlib
@@ -99,13 +100,17 @@ from validation.run.exit_status import ExitStatus, print_error
 from validation.sweep.task import ROW_COLUMNS, _row, prepare, run_chunk
 
 SWEEPS_DIR = CASES_DIR / "sweeps"
-EXIT_OK, EXIT_FAILED_POINTS, EXIT_BAD_INPUT, EXIT_INTERRUPTED = (ExitStatus.OK, ExitStatus.FAILED, ExitStatus.BAD_INPUT,
-                                                        ExitStatus.INTERRUPTED)  # the rule, in sweep words
+EXIT_OK, EXIT_FAILED_POINTS, EXIT_BAD_INPUT, EXIT_INTERRUPTED = (
+    ExitStatus.OK,
+    ExitStatus.FAILED,
+    ExitStatus.BAD_INPUT,
+    ExitStatus.INTERRUPTED,
+)  # the rule, in sweep words
 FAILED = ("error", "invalid", "not_converged", "not_applicable", "task_failed")  # exit status 1 (exit_status.py)
-SHOWN_FAILURES = 3           # failed points named on screen; the rest are in FAILED_CSV
+SHOWN_FAILURES = 3  # failed points named on screen; the rest are in FAILED_CSV
 MESSAGE_CHARS = 160
 FAILED_CSV = "failed.csv"
-TASK_FAILED = "task_failed"   # no outcome of the point itself (a worker lost, a broken pool): run again
+TASK_FAILED = "task_failed"  # no outcome of the point itself (a worker lost, a broken pool): run again
 
 
 class Linspace(Strict):
@@ -125,8 +130,9 @@ class Distribution(Strict):
 
     @model_validator(mode="after")
     def _complete(self) -> "Distribution":
-        need = {"uniform": ("low", "high"), "normal": ("mean", "std"),
-                "truncnormal": ("mean", "std", "low", "high")}[self.kind]
+        need = {"uniform": ("low", "high"), "normal": ("mean", "std"), "truncnormal": ("mean", "std", "low", "high")}[
+            self.kind
+        ]
         for name in need:
             if getattr(self, name) is None:
                 raise ValueError(f"distribution '{self.kind}' needs '{name}'")
@@ -271,7 +277,7 @@ class LoadedSweep:
     path: Path
     text: str
     spec: SweepSpec
-    cases: dict[str, dict]      # case id -> prepared case data (methods, outputs; references dropped)
+    cases: dict[str, dict]  # case id -> prepared case data (methods, outputs; references dropped)
     case_files: dict[str, str]  # case id -> file
 
 
@@ -344,12 +350,17 @@ def load_spec(path: Path | str) -> LoadedSweep:
         except ValidationError as exc:
             err = exc.errors()[0]
             where = ".".join(str(p) for p in err["loc"])
-            raise SpecError(path, field, f"case '{loaded.id}' with methods {info.methods}: "
-                                         f"{where + ': ' if where else ''}"
-                                         f"{err['msg'].removeprefix('Value error, ')}") from None
+            raise SpecError(
+                path,
+                field,
+                f"case '{loaded.id}' with methods {info.methods}: "
+                f"{where + ': ' if where else ''}"
+                f"{err['msg'].removeprefix('Value error, ')}",
+            ) from None
         if not data["outputs"]:
-            raise SpecError(path, "sweep.outputs", f"no output of case '{loaded.id}' can be given by "
-                                                   f"{', '.join(info.methods)}")
+            raise SpecError(
+                path, "sweep.outputs", f"no output of case '{loaded.id}' can be given by {', '.join(info.methods)}"
+            )
         for j, param in enumerate(spec.parameters):
             try:
                 check_path(data, param.path, param.mode)
@@ -380,8 +391,11 @@ def make_points(loaded: LoadedSweep) -> list[dict]:
     grid = [p for p in spec.parameters if not p.random]
     random = [p for p in spec.parameters if p.random]
     n = spec.sweep.samples or 1
-    draws = {p.column: p.distribution.draw(n, spec.sweep.seed, p.column)
-             for p in spec.parameters if p.distribution is not None}
+    draws = {
+        p.column: p.distribution.draw(n, spec.sweep.seed, p.column)
+        for p in spec.parameters
+        if p.distribution is not None
+    }
     code = _code_hashes(spec.sweep.methods)
     points: dict[str, dict] = {}
     for case_id, data in loaded.cases.items():
@@ -392,10 +406,14 @@ def make_points(loaded: LoadedSweep) -> list[dict]:
                 values |= {p.column: draws[p.column][sample] for p in random}
                 key = [case_hash] + [[p.path, p.mode, values[p.column]] for p in spec.parameters]
                 point_id = hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()[:20]
-                columns = {p.column: (values[p.column] if p.arrow_type() != "string"
-                                      else json.dumps(values[p.column])) for p in spec.parameters}
-                points.setdefault(point_id, dict(id=point_id, case=case_id, sample=sample if random else 0,
-                                                 values=values, columns=columns))
+                columns = {
+                    p.column: (values[p.column] if p.arrow_type() != "string" else json.dumps(values[p.column]))
+                    for p in spec.parameters
+                }
+                points.setdefault(
+                    point_id,
+                    dict(id=point_id, case=case_id, sample=sample if random else 0, values=values, columns=columns),
+                )
     return list(points.values())
 
 
@@ -435,7 +453,7 @@ class PartWriter:
             return
         table = pa.Table.from_pylist(self.rows, schema=self.schema)
         name = f"part-{self.run_id}-{self.parts:05d}.parquet"
-        temporary = self.folder / f".{name}.tmp"   # hidden: a reader never sees a half-written part
+        temporary = self.folder / f".{name}.tmp"  # hidden: a reader never sees a half-written part
         pq.write_table(table, temporary)
         os.replace(temporary, self.folder / name)
         self.parts += 1
@@ -522,8 +540,14 @@ def _pool_completed(pool, context, chunks, task=run_chunk) -> Iterator[tuple[lis
             future.cancel()
 
 
-def completed(executor: Any, context: dict, chunks: list[list[Any]], workers: int | None = None,
-              scheduler: str | None = None, task=run_chunk) -> Iterator[tuple[list[Any], list[dict] | BaseException]]:
+def completed(
+    executor: Any,
+    context: dict,
+    chunks: list[list[Any]],
+    workers: int | None = None,
+    scheduler: str | None = None,
+    task=run_chunk,
+) -> Iterator[tuple[list[Any], list[dict] | BaseException]]:
     """(chunk, rows or exception) for every chunk, in the order they finish.
 
     ``executor``: 'serial' (this process), 'process' (a ProcessPoolExecutor of ``workers``),
@@ -533,15 +557,19 @@ def completed(executor: Any, context: dict, chunks: list[list[Any]], workers: in
     points; ``prbm-validate stress --long`` passes its own).
     """
     if scheduler is not None or executor == "dask":
-
         from distributed import Client, LocalCluster
 
         cluster = None
         if scheduler is not None:
             client = Client(scheduler)
         else:
-            cluster = LocalCluster(n_workers=workers or os.cpu_count(), threads_per_worker=1, processes=True,
-                                   dashboard_address=None, silence_logs=logging.ERROR)
+            cluster = LocalCluster(
+                n_workers=workers or os.cpu_count(),
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=None,
+                silence_logs=logging.ERROR,
+            )
             client = Client(cluster)
         try:
             yield from _dask_completed(client, context, chunks, task)
@@ -553,7 +581,6 @@ def completed(executor: Any, context: dict, chunks: list[list[Any]], workers: in
         for chunk in chunks:
             yield chunk, task(context, chunk)
     elif executor == "process":
-
         pool = ProcessPoolExecutor(max_workers=workers or os.cpu_count())
         try:
             yield from _pool_completed(pool, context, chunks, task)
@@ -586,8 +613,10 @@ def _prepare_folder(out: Path, schema, resume: bool) -> bool:
     elif manifest_path.is_file():
         earlier = json.loads(manifest_path.read_text())
         if earlier.get("schema") != schema.to_string() and _parts(out):
-            print(f"error: {out}: holds results of a sweep with other parameters; use another --out "
-                  f"or --restart", file=sys.stderr)
+            print(
+                f"error: {out}: holds results of a sweep with other parameters; use another --out or --restart",
+                file=sys.stderr,
+            )
             return False
     return True
 
@@ -595,11 +624,17 @@ def _prepare_folder(out: Path, schema, resume: bool) -> bool:
 def _write_manifest(out: Path, loaded: "LoadedSweep", schema, points: list[dict]) -> None:
     spec = loaded.spec
     out.mkdir(parents=True, exist_ok=True)
-    manifest = {"spec_file": str(loaded.path), "spec": loaded.text, "sweep": spec.sweep.id,
-                "cases": loaded.case_files, "plot": spec.plot.model_dump(),
-                "parameters": [p.model_dump(exclude_none=True) for p in spec.parameters],
-                "methods": spec.sweep.methods, "schema": schema.to_string(),
-                "point_ids": [p["id"] for p in points]}
+    manifest = {
+        "spec_file": str(loaded.path),
+        "spec": loaded.text,
+        "sweep": spec.sweep.id,
+        "cases": loaded.case_files,
+        "plot": spec.plot.model_dump(),
+        "parameters": [p.model_dump(exclude_none=True) for p in spec.parameters],
+        "methods": spec.sweep.methods,
+        "schema": schema.to_string(),
+        "point_ids": [p["id"] for p in points],
+    }
     (out / "sweep.json").write_text(json.dumps(manifest, indent=1, default=str))
 
 
@@ -616,10 +651,20 @@ def _append_record(out: Path, record: dict) -> None:
         handle.write(json.dumps(record) + "\n")
 
 
-def run_sweep(spec_path: Path | str, out: Path | str | None = None, executor: Any = "process",
-              scheduler: str | None = None, workers: int | None = None, resume: bool = True,
-              progress: bool = True, *, chunk: int | None = None, limit: int | None = None,
-              flush_every: int = 500, flush_seconds: float = 5.0) -> int:
+def run_sweep(
+    spec_path: Path | str,
+    out: Path | str | None = None,
+    executor: Any = "process",
+    scheduler: str | None = None,
+    workers: int | None = None,
+    resume: bool = True,
+    progress: bool = True,
+    *,
+    chunk: int | None = None,
+    limit: int | None = None,
+    flush_every: int = 500,
+    flush_seconds: float = 5.0,
+) -> int:
     """Run every point of the spec not yet in ``out`` and write it there; the exit status.
 
     ``resume=False`` deletes the part files first. ``limit`` runs at most that many pending
@@ -647,17 +692,20 @@ def run_sweep(spec_path: Path | str, out: Path | str | None = None, executor: An
     run_id = time.strftime("%Y%m%dT%H%M%S") + f"-{uuid.uuid4().hex[:8]}"  # unique: part names never clash
     n_workers = _worker_count(executor, workers)
     size = _chunk_size(len(pending), n_workers, chunk if chunk is not None else spec.sweep.chunk)
-    chunks = [pending[i:i + size] for i in range(0, len(pending), size)]
-    context = {"run": run_id, "cases": loaded.cases, "methods": spec.sweep.methods,
-               "pin_blas": executor != "serial",
-               "parameters": [{"path": p.path, "mode": p.mode, "name": p.column} for p in spec.parameters]}
+    chunks = [pending[i : i + size] for i in range(0, len(pending), size)]
+    context = {
+        "run": run_id,
+        "cases": loaded.cases,
+        "methods": spec.sweep.methods,
+        "pin_blas": executor != "serial",
+        "parameters": [{"path": p.path, "mode": p.mode, "name": p.column} for p in spec.parameters],
+    }
     writer = PartWriter(out / "parts", schema, run_id, every=flush_every, seconds=flush_seconds)
-    bar = tqdm(total=len(points), initial=skipped, unit="pt", disable=not progress, leave=False,
-               desc=spec.sweep.id)
+    bar = tqdm(total=len(points), initial=skipped, unit="pt", disable=not progress, leave=False, desc=spec.sweep.id)
     failed = ran = 0
     retried = {p["id"] for p in pending} & earlier_failed
-    task_failures: Counter = Counter()      # message -> points, of this run's failed tasks
-    failed_tasks: set[str] = set()          # the points of this run's failed tasks
+    task_failures: Counter = Counter()  # message -> points, of this run's failed tasks
+    failed_tasks: set[str] = set()  # the points of this run's failed tasks
     status = EXIT_OK
     try:
         for chunk_points, rows in completed(executor, context, chunks, workers, scheduler):
@@ -678,18 +726,34 @@ def run_sweep(spec_path: Path | str, out: Path | str | None = None, executor: An
         writer.flush()
         bar.close()
     wall = time.perf_counter() - started
-    record = {"run": run_id, "executor": executor if isinstance(executor, str) else type(executor).__name__,
-              "scheduler": scheduler, "workers": n_workers, "chunk": size, "points": len(points),
-              "skipped": skipped, "ran": ran, "failed": failed, "left": len(points) - skipped - ran,
-              "retried": len(retried), "task_failed": sum(task_failures.values()),
-              "wall_time_s": round(wall, 3), "interrupted": status == EXIT_INTERRUPTED}
+    record = {
+        "run": run_id,
+        "executor": executor if isinstance(executor, str) else type(executor).__name__,
+        "scheduler": scheduler,
+        "workers": n_workers,
+        "chunk": size,
+        "points": len(points),
+        "skipped": skipped,
+        "ran": ran,
+        "failed": failed,
+        "left": len(points) - skipped - ran,
+        "retried": len(retried),
+        "task_failed": sum(task_failures.values()),
+        "wall_time_s": round(wall, 3),
+        "interrupted": status == EXIT_INTERRUPTED,
+    }
     _append_record(out, record)
     if status == EXIT_INTERRUPTED:
-        print(f"interrupted: {skipped + ran} of {len(points)} points are in {out}; run the same command "
-              f"again to resume", file=sys.stderr)
+        print(
+            f"interrupted: {skipped + ran} of {len(points)} points are in {out}; run the same command again to resume",
+            file=sys.stderr,
+        )
         return status
-    again = (f" ({len(retried)} retried after a failed task, {len(retried & failed_tasks)} of them "
-             "failed again)") if retried else ""
+    again = (
+        (f" ({len(retried)} retried after a failed task, {len(retried & failed_tasks)} of them failed again)")
+        if retried
+        else ""
+    )
     _print_summary(loaded, out, record, again, task_failures)
     return EXIT_FAILED_POINTS if failed else EXIT_OK
 
@@ -704,19 +768,25 @@ def _print_summary(loaded: LoadedSweep, out: Path, record: dict, again: str, tas
     failures = failed_points(out, columns)
     in_all = failures["point_id"].nunique()
     earlier = f" ({in_all} in the whole sweep)" if in_all != record["failed"] else ""
-    print(f"{spec.sweep.id}: {record['ran']} point(s) run{again}, {record['skipped']} already done, "
-          f"{record['failed']} failed{earlier}{left}; {record['wall_time_s']:.1f} s; results in {out}")
+    print(
+        f"{spec.sweep.id}: {record['ran']} point(s) run{again}, {record['skipped']} already done, "
+        f"{record['failed']} failed{earlier}{left}; {record['wall_time_s']:.1f} s; results in {out}"
+    )
     for _, row in failures.head(SHOWN_FAILURES).iterrows():
         values = ", ".join(f"{c} = {row[c]:g}" if isinstance(row[c], float) else f"{c} = {row[c]}" for c in columns)
         message = " ".join(str(row["message"]).split())
         expected = (loaded.cases.get(row["case"], {}).get("case") or {}).get("expected_failure", {})
-        print(f"  failed: point {row['point_id']} ({values}): {row['case']} {row['method']} "
-              f"{row['status']}: {message[:MESSAGE_CHARS]}{'...' if len(message) > MESSAGE_CHARS else ''}"
-              + (" (the case records this as an expected failure)" if row["method"] in expected else ""))
+        print(
+            f"  failed: point {row['point_id']} ({values}): {row['case']} {row['method']} "
+            f"{row['status']}: {message[:MESSAGE_CHARS]}{'...' if len(message) > MESSAGE_CHARS else ''}"
+            + (" (the case records this as an expected failure)" if row["method"] in expected else "")
+        )
     if len(failures):
         more = f"{len(failures) - SHOWN_FAILURES} more; " if len(failures) > SHOWN_FAILURES else ""
-        print(f"  {more}every failed point with its parameters and message: {out / FAILED_CSV} "
-              f"(all rows: {out / 'parts'})")
+        print(
+            f"  {more}every failed point with its parameters and message: {out / FAILED_CSV} "
+            f"(all rows: {out / 'parts'})"
+        )
     for message, count in task_failures.most_common():
         print(f"  {count} point(s): {message}; run the same command again to retry them", file=sys.stderr)
 

@@ -7,6 +7,7 @@ distinct parameter points, the spread max - min of the value over the points, an
 to rounding (``spread <= RTOL * max(|value|)``, or exactly zero). ``summary_lines`` says it in words
 for the sweep's summary and plots.
 """
+
 from __future__ import annotations
 
 import pandas as pd
@@ -22,15 +23,20 @@ def invariance(frame: pd.DataFrame, parameters: list[str]) -> pd.DataFrame:
         return pd.DataFrame(columns=columns)
     keys = ["case", "method", "quantity", "point", "level"]
     grouped = ok.groupby(keys, dropna=False)
-    per_level = pd.DataFrame({
-        "spread": grouped["value"].max() - grouped["value"].min(),
-        "size": grouped["value"].apply(lambda v: v.abs().max()),
-        "points": grouped["point_id"].nunique() if "point_id" in ok else grouped["value"].size(),
-    }).reset_index()
+    per_level = pd.DataFrame(
+        {
+            "spread": grouped["value"].max() - grouped["value"].min(),
+            "size": grouped["value"].apply(lambda v: v.abs().max()),
+            "points": grouped["point_id"].nunique() if "point_id" in ok else grouped["value"].size(),
+        }
+    ).reset_index()
     per_level = per_level[per_level["points"] >= 2]
     per_level["varies"] = per_level["spread"] > RTOL * per_level["size"]
-    table = per_level.groupby(keys[:-1], dropna=False).agg(
-        varies=("varies", "any"), spread=("spread", "max"), points=("points", "max")).reset_index()
+    table = (
+        per_level.groupby(keys[:-1], dropna=False)
+        .agg(varies=("varies", "any"), spread=("spread", "max"), points=("points", "max"))
+        .reset_index()
+    )
     return table[columns]
 
 
@@ -39,9 +45,12 @@ def summary_lines(table: pd.DataFrame, parameters: list[str]) -> list[str]:
     lines = []
     constant = table[~table["varies"].astype(bool)]
     for (case, method), part in constant.groupby(["case", "method"]):
-        names = ", ".join(f"{q}@{p}" if isinstance(p, str) and p else q
-                          for q, p in zip(part["quantity"], part["point"]))
+        names = ", ".join(
+            f"{q}@{p}" if isinstance(p, str) and p else q for q, p in zip(part["quantity"], part["point"])
+        )
         verb = "does" if len(part) == 1 else "do"
-        lines.append(f"{case} {method}: {names} {verb} not depend on any swept parameter "
-                     f"({', '.join(parameters)}): zero spread by construction, not a result")
+        lines.append(
+            f"{case} {method}: {names} {verb} not depend on any swept parameter "
+            f"({', '.join(parameters)}): zero spread by construction, not a result"
+        )
     return lines

@@ -18,6 +18,7 @@ output: value, unit, error estimate, converged, status, message, wall time.
 
 This module imports no executor: it is what a process-pool or Dask worker unpickles and runs.
 """
+
 from __future__ import annotations
 
 import copy
@@ -36,10 +37,22 @@ from validation.run.runner import requests_for, run_method
 
 # Columns every result row has, with their Arrow types (the swept parameters come after them).
 ROW_COLUMNS: dict[str, str] = {
-    "point_id": "string", "case": "string", "sample": "int64", "method": "string",
-    "quantity": "string", "point": "string", "level": "int64", "value": "float64",
-    "unit": "string", "error_estimate": "float64", "converged": "bool", "status": "string",
-    "message": "string", "wall_time": "float64", "point_time": "float64", "run": "string",
+    "point_id": "string",
+    "case": "string",
+    "sample": "int64",
+    "method": "string",
+    "quantity": "string",
+    "point": "string",
+    "level": "int64",
+    "value": "float64",
+    "unit": "string",
+    "error_estimate": "float64",
+    "converged": "bool",
+    "status": "string",
+    "message": "string",
+    "wall_time": "float64",
+    "point_time": "float64",
+    "run": "string",
 }
 STATUSES = ("ok", "not_converged", "not_applicable", "error", "invalid")
 
@@ -75,10 +88,24 @@ def _one_line(exc: ValidationError) -> str:
 
 
 def _row(task: dict, run_id: str, **fields) -> dict:
-    row = dict(point_id=task["id"], case=task["case"], sample=task["sample"], method=None,
-               quantity=None, point=None, level=None, value=math.nan, unit=None,
-               error_estimate=math.nan, converged=False, status="invalid", message="",
-               wall_time=math.nan, point_time=math.nan, run=run_id)
+    row = dict(
+        point_id=task["id"],
+        case=task["case"],
+        sample=task["sample"],
+        method=None,
+        quantity=None,
+        point=None,
+        level=None,
+        value=math.nan,
+        unit=None,
+        error_estimate=math.nan,
+        converged=False,
+        status="invalid",
+        message="",
+        wall_time=math.nan,
+        point_time=math.nan,
+        run=run_id,
+    )
     row.update(task["columns"])
     row.update(fields)
     return row
@@ -101,25 +128,49 @@ def run_point(context: dict, point: dict) -> list[dict]:
     rows = []
     for method in context["methods"]:
         run = run_method(case, method)
-        status = {RunStatus.NOT_APPLICABLE: "not_applicable", RunStatus.FAILED: "error",
-                  RunStatus.MISCONFIGURED: "invalid"}.get(run.status) if run.status is not None else None
+        status = (
+            {
+                RunStatus.NOT_APPLICABLE: "not_applicable",
+                RunStatus.FAILED: "error",
+                RunStatus.MISCONFIGURED: "invalid",
+            }.get(run.status)
+            if run.status is not None
+            else None
+        )
         requests: Sequence[Request | None] = requests_for(case, method) or [None]
         for req in requests:
             if req is None:
-                rows.append(_row(point, run_id, method=method, status=status or "error",
-                                 message=run.message or "the method was asked for no output",
-                                 wall_time=run.wall_time))
+                rows.append(
+                    _row(
+                        point,
+                        run_id,
+                        method=method,
+                        status=status or "error",
+                        message=run.message or "the method was asked for no output",
+                        wall_time=run.wall_time,
+                    )
+                )
                 continue
             converged = bool(run.level_converged.get(req.level, run.converged))
             value = run.values.get(req, math.nan)
             row_status = status or ("ok" if converged and not math.isnan(value) else "not_converged")
-            rows.append(_row(point, run_id, method=method, quantity=req.quantity, point=req.point,
-                             level=req.level, value=float(value),
-                             unit=case.unit(QUANTITIES[req.quantity].dimension),
-                             error_estimate=float(run.error_estimate.get(req, math.nan)),
-                             converged=converged, status=row_status,
-                             message=run.level_messages.get(req.level, run.message),
-                             wall_time=run.wall_time))
+            rows.append(
+                _row(
+                    point,
+                    run_id,
+                    method=method,
+                    quantity=req.quantity,
+                    point=req.point,
+                    level=req.level,
+                    value=float(value),
+                    unit=case.unit(QUANTITIES[req.quantity].dimension),
+                    error_estimate=float(run.error_estimate.get(req, math.nan)),
+                    converged=converged,
+                    status=row_status,
+                    message=run.level_messages.get(req.level, run.message),
+                    wall_time=run.wall_time,
+                )
+            )
     elapsed = time.perf_counter() - started
     for row in rows:
         row["point_time"] = elapsed

@@ -14,6 +14,7 @@ placed as [bapat2015] places it --
 Load levels are the precision positions P1, P2, ...; the drive is chosen by the specification
 (``[verification].drive``).
 """
+
 from __future__ import annotations
 
 import math
@@ -97,13 +98,20 @@ class _Builder:
         return name
 
     def beam(self, name, start, end, seg):
-        self.beams.append({"name": name, "start": start, "end": end,
-                           "section": {"kind": "rectangle", "width": seg.width, "thickness": seg.thickness},
-                           "segment_type": seg.kind})
+        self.beams.append(
+            {
+                "name": name,
+                "start": start,
+                "end": end,
+                "section": {"kind": "rectangle", "width": seg.width, "thickness": seg.thickness},
+                "segment_type": seg.kind,
+            }
+        )
 
 
-def _ground_link(b: _Builder, name: str, G: complex, M: complex, theta: float, segs: dict[str, SegmentDesign],
-                 coupler: list[str]):
+def _ground_link(
+    b: _Builder, name: str, G: complex, M: complex, theta: float, segs: dict[str, SegmentDesign], coupler: list[str]
+):
     """One ground-pivoted link G->M (deg direction theta in the mesh state) with its segments."""
     u = polar(1.0, theta)
     R = abs(M - G)
@@ -117,12 +125,12 @@ def _ground_link(b: _Builder, name: str, G: complex, M: complex, theta: float, s
             b.beam(f"seg{tag}", g, m, seg)
             b.supports.append({"node": g, "kind": "fixed"})
             coupler.append(m)
-        elif segs.get("moving") is seg:      # pinned at the ground pivot, clamped beyond M to the coupler
+        elif segs.get("moving") is seg:  # pinned at the ground pivot, clamped beyond M to the coupler
             g, f = b.node(f"O{tag}", G), b.node(f"F{tag}", G + seg.length * u)
             b.beam(f"seg{tag}", g, f, seg)
             b.supports.append({"node": g, "kind": "pinned", "member": f"seg{tag}"})
             coupler.append(f)
-        else:                                # clamped to ground behind the pin at M
+        else:  # clamped to ground behind the pin at M
             g, m = b.node(f"G{tag}", M - seg.length * u), b.node(f"M{tag}", M)
             b.beam(f"seg{tag}", g, m, seg)
             b.supports.append({"node": g, "kind": "fixed"})
@@ -160,22 +168,54 @@ def _drive(b: "_Builder", drive: str, positions, free_angles, rigid, P: complex,
         if rigid2 is None:
             raise SynthesisError("drive 'input-rotation' needs a rigid input link 2 (SLFPs or pins on Z2)")
         start = next(l for l in b.links if l["name"] == rigid2)["nodes"][0]
-        loads.append({"kind": "rotation", "point": start, "body": rigid2,
-                      "values": [a[0] - t20 for a in positions], "label": "input rotation Theta2j - Theta20 (deg)"})
-        outputs += [{"quantity": "input_torque"}, {"quantity": "strain_energy"},
-                    {"quantity": "dx", "point": "P"}, {"quantity": "dy", "point": "P"}]
+        loads.append(
+            {
+                "kind": "rotation",
+                "point": start,
+                "body": rigid2,
+                "values": [a[0] - t20 for a in positions],
+                "label": "input rotation Theta2j - Theta20 (deg)",
+            }
+        )
+        outputs += [
+            {"quantity": "input_torque"},
+            {"quantity": "strain_energy"},
+            {"quantity": "dx", "point": "P"},
+            {"quantity": "dy", "point": "P"},
+        ]
     elif drive == "output-rotation":
         if rigid4 is None:
             raise SynthesisError("drive 'output-rotation' needs a rigid link 4")
         start = next(l for l in b.links if l["name"] == rigid4)["nodes"][0]
-        loads.append({"kind": "rotation", "point": start, "body": rigid4,
-                      "values": [a[2] - t40 for a in positions], "label": "output rotation Theta4j - Theta40 (deg)"})
+        loads.append(
+            {
+                "kind": "rotation",
+                "point": start,
+                "body": rigid4,
+                "values": [a[2] - t40 for a in positions],
+                "label": "output rotation Theta4j - Theta40 (deg)",
+            }
+        )
         outputs += [{"quantity": "strain_energy"}, {"quantity": "dx", "point": "P"}, {"quantity": "dy", "point": "P"}]
     else:
-        loads.append({"kind": "displacement", "point": "P", "direction": [1.0, 0.0],
-                      "values": [(p - P).real for p in P_j], "label": "prescribed coupler-point X"})
-        loads.append({"kind": "rotation", "point": "P", "body": "coupler",
-                      "values": [a[1] - t30 for a in positions], "label": "prescribed coupler rotation (deg)"})
+        loads.append(
+            {
+                "kind": "displacement",
+                "point": "P",
+                "direction": [1.0, 0.0],
+                "values": [(p - P).real for p in P_j],
+                "label": "prescribed coupler-point X",
+            }
+        )
+        loads.append(
+            {
+                "kind": "rotation",
+                "point": "P",
+                "body": "coupler",
+                "values": [a[1] - t30 for a in positions],
+                "label": "prescribed coupler rotation (deg)",
+            }
+        )
         outputs += [{"quantity": "strain_energy"}, {"quantity": "dy", "point": "P"}]
     return loads, outputs
 
@@ -188,26 +228,55 @@ def _references(d, name: str, outputs: list[dict], P: complex, P_j: list[complex
     quantity = {"energy": "strain_energy", "torque": "input_torque"}[c.kind]
     if any(o["quantity"] == quantity for o in outputs):
         for j, v in enumerate(c.values):
-            references.append({"quantity": quantity, "level": j, "value": float(d.springs.achieved[j]), "label": "PRBM",
-                               "source": {"file": name, "section": "synthesis", "note": f"specified {v:g}"}})
+            references.append(
+                {
+                    "quantity": quantity,
+                    "level": j,
+                    "value": float(d.springs.achieved[j]),
+                    "label": "PRBM",
+                    "source": {"file": name, "section": "synthesis", "note": f"specified {v:g}"},
+                }
+            )
     if c.kind == "torque" and any(o["quantity"] == "strain_energy" for o in outputs):
         U = cp.design_rows(m, d.free_state, d.positions, "energy") @ d.springs.k
         for j, u in enumerate(U):
-            references.append({"quantity": "strain_energy", "level": j, "value": float(u), "label": "PRBM",
-                               "source": {"file": name, "section": "synthesis", "note": "eq. 181 with the springs"}})
+            references.append(
+                {
+                    "quantity": "strain_energy",
+                    "level": j,
+                    "value": float(u),
+                    "label": "PRBM",
+                    "source": {"file": name, "section": "synthesis", "note": "eq. 181 with the springs"},
+                }
+            )
     wanted = {o["quantity"] for o in outputs}
     for j, p in enumerate(P_j):
         for q, v in (("dx", (p - P).real), ("dy", (p - P).imag)):
             if q in wanted:
-                references.append({"quantity": q, "point": "P", "level": j, "value": v, "label": "PRBM",
-                                   "source": {"file": name, "section": "synthesis", "note": "precision position"}})
+                references.append(
+                    {
+                        "quantity": q,
+                        "point": "P",
+                        "level": j,
+                        "value": v,
+                        "label": "PRBM",
+                        "source": {"file": name, "section": "synthesis", "note": "precision position"},
+                    }
+                )
     for pr in spec.printed:
         if pr.name.startswith("fem.") and pr.label == "ANSYS":
             _, q, lab = pr.name.split(".")
             level = int(lab.lstrip("P")) - 1
             if q in {o["quantity"] for o in outputs} and level in levels:
-                references.append({"quantity": q, "level": level, "value": float(pr.value), "label": "ANSYS",
-                                   "source": pr.source.model_dump(exclude_none=True)})
+                references.append(
+                    {
+                        "quantity": q,
+                        "level": level,
+                        "value": float(pr.value),
+                        "label": "ANSYS",
+                        "source": pr.source.model_dump(exclude_none=True),
+                    }
+                )
     return references
 
 
@@ -242,27 +311,45 @@ def build_case(d, spec_path: Path | str) -> dict:
     loads, outputs = _drive(b, drive, positions, (t20, t30, t40), (rigid2, rigid4), P, P_j)
     name = Path(spec_path).name
     references = _references(d, name, outputs, P, P_j, levels)
-    info = {"id": f"synth_{spec.design.id}", "title": f"Synthesized: {spec.design.title}",
-            "group": "synthesis", "units": spec.design.units,
-            "description": f"Generated by 'prbm-validate synthesize {name}': the PRBM design built as a compliant "
-                           f"mechanism in its energy-free state, driven to the precision positions ({drive}).",
-            "source": {"file": name, "section": "synthesis"},
-            "assumptions": [f"segments placed as in seed 000 eqs 186-188 (see validation/synthesis/casefile.py); "
-                            f"E = {spec.material.E:g}"]}
-    mech = {"E": spec.material.E,
-            "nodes": [{"name": k, "x": round(z.real, 10), "y": round(z.imag, 10)} for k, z in b.nodes.items()],
-            "beams": b.beams, "links": b.links, "supports": b.supports}
+    info = {
+        "id": f"synth_{spec.design.id}",
+        "title": f"Synthesized: {spec.design.title}",
+        "group": "synthesis",
+        "units": spec.design.units,
+        "description": f"Generated by 'prbm-validate synthesize {name}': the PRBM design built as a compliant "
+        f"mechanism in its energy-free state, driven to the precision positions ({drive}).",
+        "source": {"file": name, "section": "synthesis"},
+        "assumptions": [
+            f"segments placed as in seed 000 eqs 186-188 (see validation/synthesis/casefile.py); "
+            f"E = {spec.material.E:g}"
+        ],
+    }
+    mech = {
+        "E": spec.material.E,
+        "nodes": [{"name": k, "x": round(z.real, 10), "y": round(z.imag, 10)} for k, z in b.nodes.items()],
+        "beams": b.beams,
+        "links": b.links,
+        "supports": b.supports,
+    }
     if b.joints:
         mech["joints"] = b.joints
-    return {"level_labels": [c.label.split(" ")[0] for c in d.positions], "case": info, "mechanism": mech,
-            "loads": loads, "outputs": outputs, "methods": {"fem": {"elements": spec.verification.elements}},
-            "references": references}
+    return {
+        "level_labels": [c.label.split(" ")[0] for c in d.positions],
+        "case": info,
+        "mechanism": mech,
+        "loads": loads,
+        "outputs": outputs,
+        "methods": {"fem": {"elements": spec.verification.elements}},
+        "references": references,
+    }
 
 
 def write_case(d, spec_path, out_dir: Path) -> Path:
     data = build_case(d, spec_path)
     path = Path(out_dir) / f"{data['case']['id']}.toml"
-    header = (f"Generated by prbm-validate synthesize from {Path(spec_path).name}; do not edit by hand.\n"
-              "Mesh in the energy-free configuration; load levels are the precision positions.")
+    header = (
+        f"Generated by prbm-validate synthesize from {Path(spec_path).name}; do not edit by hand.\n"
+        "Mesh in the energy-free configuration; load levels are the precision positions."
+    )
     path.write_text(toml_text(data, header), encoding="utf-8")
     return path

@@ -10,6 +10,7 @@ coupled (section 6.2), so each step takes the previous one's answer as given.
 complex, phi2, gamma3, psi2, Theta30, k1..k4, l2, I2, t2, L2, ...), the names used by ``[[printed]]``
 entries of a specification.  A specification with no solution raises ``SynthesisError``.
 """
+
 from __future__ import annotations
 
 import math
@@ -21,8 +22,18 @@ import numpy as np
 from prbm.synthesis import compliance as cp
 from prbm.synthesis import fixed_guided as fixed_guided_prbm
 from prbm.synthesis import segments as sg
-from prbm.synthesis.dyads import (DEG, FourBarDesign, SliderCrankDesign, SynthesisError, function_generation,
-                                  motion_generation, path_generation, path_generation_timed, polar, slider_crank_timed)
+from prbm.synthesis.dyads import (
+    DEG,
+    FourBarDesign,
+    SliderCrankDesign,
+    SynthesisError,
+    function_generation,
+    motion_generation,
+    path_generation,
+    path_generation_timed,
+    polar,
+    slider_crank_timed,
+)
 from prbm.synthesis.framework import solve_framework
 from prbm.synthesis.segments import rectangle_thickness
 from validation.synthesis.spec import Spec
@@ -85,22 +96,61 @@ def rigid_body(spec: Spec) -> FourBarDesign | SliderCrankDesign:
     if k.mechanism == "slider-crank":
         if f.R2 is None or f.theta3 is None:
             raise SynthesisError("slider-crank synthesis needs free choices R2 and theta3")
-        return slider_crank_timed(deltas[0].real if k.slider_axis == 0 else abs(deltas[0]), needed(k.phi, "phi")[0],
-                                  R2=f.R2, theta3=f.theta3, theta1=k.slider_axis, branch=f.branch_left)
+        return slider_crank_timed(
+            deltas[0].real if k.slider_axis == 0 else abs(deltas[0]),
+            needed(k.phi, "phi")[0],
+            R2=f.R2,
+            theta3=f.theta3,
+            theta1=k.slider_axis,
+            branch=f.branch_left,
+        )
     if k.task == "function":
         if f.theta2 is None or f.theta3 is None or f.R4 is None or f.gamma2 is None:
-            raise SynthesisError("function generation needs free choices theta2, theta3, R4 and gamma2 (seed 6.7 Example 2)")
-        return function_generation(needed(k.phi, "phi"), needed(k.psi, "psi"), theta2=f.theta2, theta3=f.theta3,
-                                   R4=f.R4, gamma2=f.gamma2, branch=f.branch_left)
+            raise SynthesisError(
+                "function generation needs free choices theta2, theta3, R4 and gamma2 (seed 6.7 Example 2)"
+            )
+        return function_generation(
+            needed(k.phi, "phi"),
+            needed(k.psi, "psi"),
+            theta2=f.theta2,
+            theta3=f.theta3,
+            R4=f.R4,
+            gamma2=f.gamma2,
+            branch=f.branch_left,
+        )
     Z2, Z4 = link(f.R2, f.theta2, "Z2"), link(f.R4, f.theta4, "Z4")
     if k.task == "motion":
-        return motion_generation(deltas, needed(k.gamma, "gamma"), Z2=Z2, Z4=Z4, phi=k.phi, psi=k.psi,
-                                 branch_left=f.branch_left, branch_right=f.branch_right)
+        return motion_generation(
+            deltas,
+            needed(k.gamma, "gamma"),
+            Z2=Z2,
+            Z4=Z4,
+            phi=k.phi,
+            psi=k.psi,
+            branch_left=f.branch_left,
+            branch_right=f.branch_right,
+        )
     if k.task == "path-timing":
-        return path_generation_timed(deltas, needed(k.phi, "phi"), Z2=Z2, gamma=k.gamma, Z4=Z4, psi=k.psi,
-                                     branch_left=f.branch_left, branch_right=f.branch_right)
-    return path_generation(deltas, phi=needed(k.phi, "phi"), gamma=k.gamma, Z2=Z2, Z4=Z4, psi=k.psi,
-                           branch_left=f.branch_left, branch_right=f.branch_right)
+        return path_generation_timed(
+            deltas,
+            needed(k.phi, "phi"),
+            Z2=Z2,
+            gamma=k.gamma,
+            Z4=Z4,
+            psi=k.psi,
+            branch_left=f.branch_left,
+            branch_right=f.branch_right,
+        )
+    return path_generation(
+        deltas,
+        phi=needed(k.phi, "phi"),
+        gamma=k.gamma,
+        Z2=Z2,
+        Z4=Z4,
+        psi=k.psi,
+        branch_left=f.branch_left,
+        branch_right=f.branch_right,
+    )
 
 
 def _record_kinematics(d: Design) -> None:
@@ -126,18 +176,37 @@ def _segment_for(spec: Spec, d: Design, choice) -> sg.SegmentDesign:
     R = abs(getattr(m, choice.link))
     ks = [d.spring_constants().k[s - 1] for s in choice.springs]
     if max(ks) - min(ks) > 1e-9 * max(1.0, max(ks)):
-        raise SynthesisError(f"segment on {choice.link} realises springs {choice.springs} with different constants "
-                             f"{ks}; add them to one 'equal' group")
+        raise SynthesisError(
+            f"segment on {choice.link} realises springs {choice.springs} with different constants "
+            f"{ks}; add them to one 'equal' group"
+        )
     k = ks[0]
     if choice.kind == "slfp":
-        seg = sg.slfp(k, R=R, E=mat.E, width=choice.width, fraction=choice.fraction, link=choice.link,
-                      springs=choice.springs)
+        seg = sg.slfp(
+            k, R=R, E=mat.E, width=choice.width, fraction=choice.fraction, link=choice.link, springs=choice.springs
+        )
     elif choice.kind == "fixed-pinned":
-        seg = sg.fixed_pinned(k, R=R, E=mat.E, width=choice.width, gamma=choice.gamma, K_theta=choice.K_theta,
-                              link=choice.link, springs=choice.springs)
+        seg = sg.fixed_pinned(
+            k,
+            R=R,
+            E=mat.E,
+            width=choice.width,
+            gamma=choice.gamma,
+            K_theta=choice.K_theta,
+            link=choice.link,
+            springs=choice.springs,
+        )
     else:
-        seg = sg.fixed_guided(k, R=R, E=mat.E, width=choice.width, gamma=choice.gamma, K_theta=choice.K_theta,
-                              link=choice.link, springs=choice.springs)
+        seg = sg.fixed_guided(
+            k,
+            R=R,
+            E=mat.E,
+            width=choice.width,
+            gamma=choice.gamma,
+            K_theta=choice.K_theta,
+            link=choice.link,
+            springs=choice.springs,
+        )
     beta0, _ = cp.springs_at(m, d.energy_free())
     rotations = [abs(cp.springs_at(m, c)[0][s - 1] - beta0[s - 1]) for c in d.positions for s in choice.springs]
     seg.max_moment = k * max(rotations)
@@ -160,9 +229,11 @@ def _stress_constraints(spec: Spec, d: Design, A_configs) -> dict:
         R = abs(getattr(m, choice.link))
 
         def g(k, s=s, rot=rot, R=R, choice=choice):
-            stress = sg.slfp_stress_from_k(max(k[s - 1], 1e-300), rot, R=R, E=spec.material.E,
-                                           width=choice.width, fraction=choice.fraction)
+            stress = sg.slfp_stress_from_k(
+                max(k[s - 1], 1e-300), rot, R=R, E=spec.material.E, width=choice.width, fraction=choice.fraction
+            )
             return stress / spec.material.yield_strength - 1.0
+
         out[f"stress of the SLFP at joint {s} <= yield"] = g
     return out
 
@@ -192,9 +263,16 @@ def design(spec: Spec) -> Design:
         return d
     targets = list(c.values) + [e.value for e in c.extra]
     A = cp.design_rows(m, d.free_state, d.positions, c.kind)
-    d.springs = cp.solve_springs(A, targets, springs=c.springs, groups=_groups(c), bounds=c.bounds,
-                                 constraints=_stress_constraints(spec, d, d.positions), label=c.kind,
-                                 rtol=c.rtol)
+    d.springs = cp.solve_springs(
+        A,
+        targets,
+        springs=c.springs,
+        groups=_groups(c),
+        bounds=c.bounds,
+        constraints=_stress_constraints(spec, d, d.positions),
+        label=c.kind,
+        rtol=c.rtol,
+    )
     d.messages.append(d.springs.message)
     d.success = d.springs.success
     for i, k in enumerate(d.springs.k):
@@ -215,8 +293,10 @@ def design(spec: Spec) -> Design:
         ys = spec.material.yield_strength
         if ys is not None and seg.max_stress > ys * (1 + 1e-9):
             d.success = False
-            d.messages.append(f"segment {seg.kind} on {seg.link}: PRBM stress {seg.max_stress:.4g} exceeds the "
-                              f"yield strength {ys:.4g}; widen the segment or lower the energy/torque")
+            d.messages.append(
+                f"segment {seg.kind} on {seg.link}: PRBM stress {seg.max_stress:.4g} exceeds the "
+                f"yield strength {ys:.4g}; widen the segment or lower the energy/torque"
+            )
     return d
 
 
@@ -234,9 +314,19 @@ def compare_printed(d: Design) -> list[dict]:
             continue
         got = d.values.get(p.name)
         if got is None:
-            rows.append({"name": p.name, "printed": p.value, "synthesized": None, "difference": math.nan,
-                         "allowed": p.allowed(), "agrees": False, "expect": p.expect, "source": p.source.label(),
-                         "finding": p.finding or "not computed by this synthesis"})
+            rows.append(
+                {
+                    "name": p.name,
+                    "printed": p.value,
+                    "synthesized": None,
+                    "difference": math.nan,
+                    "allowed": p.allowed(),
+                    "agrees": False,
+                    "expect": p.expect,
+                    "source": p.source.label(),
+                    "finding": p.finding or "not computed by this synthesis",
+                }
+            )
             continue
         if isinstance(p.value, tuple):
             printed = complex(*p.value)
@@ -244,9 +334,19 @@ def compare_printed(d: Design) -> list[dict]:
         else:
             printed = p.value
             diff = abs(float(np.real(got)) - printed)
-        rows.append({"name": p.name, "printed": p.value, "synthesized": got, "difference": diff,
-                     "allowed": p.allowed(), "agrees": diff <= p.allowed(), "expect": p.expect,
-                     "source": p.source.label(), "finding": p.finding})
+        rows.append(
+            {
+                "name": p.name,
+                "printed": p.value,
+                "synthesized": got,
+                "difference": diff,
+                "allowed": p.allowed(),
+                "agrees": diff <= p.allowed(),
+                "expect": p.expect,
+                "source": p.source.label(),
+                "finding": p.finding,
+            }
+        )
     return rows
 
 
@@ -258,8 +358,15 @@ def framework_design(spec: Spec) -> Design:
         raise SynthesisError("framework synthesis needs [framework]")
     for seg in fw.segments:
         try:
-            root = solve_framework(theta1=seg.theta1, delta=[complex(*p) for p in fw.delta], gamma=fw.gamma,
-                                   n1=seg.n1, fixed=seg.fixed, energy=seg.energy, force=fw.force)[0]
+            root = solve_framework(
+                theta1=seg.theta1,
+                delta=[complex(*p) for p in fw.delta],
+                gamma=fw.gamma,
+                n1=seg.n1,
+                fixed=seg.fixed,
+                energy=seg.energy,
+                force=fw.force,
+            )[0]
         except SynthesisError as exc:
             d.success = False
             d.messages.append(f"beam '{seg.name}': {exc}")
@@ -271,8 +378,9 @@ def framework_design(spec: Spec) -> Design:
             d.values[f"{seg.name}.I"] = I
             if seg.width is not None:
                 d.values[f"{seg.name}.t"] = rectangle_thickness(I, seg.width)
-        d.messages.append(f"beam '{seg.name}': R6 = {root['R6']:.4f}, R5 = {root['R5']:.4f}, "
-                          f"Theta5 = {root['Theta5']:.3f} deg")
+        d.messages.append(
+            f"beam '{seg.name}': R6 = {root['R6']:.4f}, R5 = {root['R5']:.4f}, Theta5 = {root['Theta5']:.3f} deg"
+        )
     return d
 
 
@@ -282,25 +390,39 @@ def two_position_design(spec):
     alpha = fg.orientation * DEG
     b = fg.dX * math.sin(alpha) + fg.dY * math.cos(alpha)
     delta = fg.dX * math.cos(alpha) - fg.dY * math.sin(alpha)
-    roots = fixed_guided_prbm.solve_two_position(E=spec.material.E, P=fg.P, n=fg.n, theta0_deg=fg.theta0, b=b, delta=delta,
-                               guess=fg.guess)
+    roots = fixed_guided_prbm.solve_two_position(
+        E=spec.material.E, P=fg.P, n=fg.n, theta0_deg=fg.theta0, b=b, delta=delta, guess=fg.guess
+    )
     d = Design(spec)
     distinct = []
     for r in roots:
         if not any(abs(r[0] - q[0]) < 1e-6 * r[0] for q in distinct):
             distinct.append(r)
     l, I, M, l1, theta10, st = distinct[0]
-    d.values.update(l=float(l), I=float(I), M=float(M), l1=float(l1), theta10=math.degrees(theta10),
-                    t=rectangle_thickness(I, fg.width), b=b, delta=delta, n2=float(st["n2"]))
+    d.values.update(
+        l=float(l),
+        I=float(I),
+        M=float(M),
+        l1=float(l1),
+        theta10=math.degrees(theta10),
+        t=rectangle_thickness(I, fg.width),
+        b=b,
+        delta=delta,
+        n2=float(st["n2"]),
+    )
     d.extra["roots"] = [{"l": r[0], "I": r[1], "M": r[2], "l1": r[3]} for r in distinct]
-    d.messages.append(f"{len(distinct)} distinct root(s) of the section-3.8 equations; the shortest beam is reported"
-                      + ("" if len(distinct) == 1 else
-                         f" (others: l = {', '.join(f'{r[0]:.4f}' for r in distinct[1:])})"))
+    d.messages.append(
+        f"{len(distinct)} distinct root(s) of the section-3.8 equations; the shortest beam is reported"
+        + ("" if len(distinct) == 1 else f" (others: l = {', '.join(f'{r[0]:.4f}' for r in distinct[1:])})")
+    )
     ys = spec.material.yield_strength
     if ys is not None:
         # largest moment along the beam: the larger end moment of the two fixed-pinned parts
-        stress = max(abs(M), abs(st["F"] * l1 * math.sin(st["phi1"] - st["Theta1"]) * st["gamma1"])) \
-            * d.values["t"] / (2 * I)
+        stress = (
+            max(abs(M), abs(st["F"] * l1 * math.sin(st["phi1"] - st["Theta1"]) * st["gamma1"]))
+            * d.values["t"]
+            / (2 * I)
+        )
         d.values["stress"] = stress
         if stress > ys:
             d.success = False

@@ -6,6 +6,7 @@ printed for the same design (``[[printed]]``, each with its source), which the t
 compare with the synthesis.  Angles are in degrees, other quantities in the file's unit system.
 A bad file gives one line naming the file and the field (``SpecError``).
 """
+
 from __future__ import annotations
 
 import re
@@ -62,8 +63,12 @@ class Kinematics(Strict):
 
     @model_validator(mode="after")
     def _complete(self) -> "Kinematics":
-        need = {"function": ("phi", "psi"), "path": ("delta", "phi"), "motion": ("delta", "gamma"),
-                "path-timing": ("delta", "phi")}[self.task]
+        need = {
+            "function": ("phi", "psi"),
+            "path": ("delta", "phi"),
+            "motion": ("delta", "gamma"),
+            "path-timing": ("delta", "phi"),
+        }[self.task]
         for name in need:
             if getattr(self, name) is None:
                 raise ValueError(f"task '{self.task}' needs '{name}'")
@@ -74,12 +79,14 @@ class Kinematics(Strict):
         if n not in (1, 2):
             raise ValueError(f"{n + 1} precision positions: two or three are supported")
         if self.mechanism == "slider-crank" and (self.task != "path-timing" or n != 1):
-            raise ValueError("slider-crank synthesis is implemented for two-position path generation with prescribed timing")
+            raise ValueError(
+                "slider-crank synthesis is implemented for two-position path generation with prescribed timing"
+            )
         return self
 
     def n_positions(self) -> int:
         given = self.delta if self.delta is not None else self.phi
-        if given is None:   # ``_complete``: every task needs delta or phi
+        if given is None:  # ``_complete``: every task needs delta or phi
             raise ValueError(f"task '{self.task}' gives neither 'delta' nor 'phi'")
         return 1 + len(given)
 
@@ -96,14 +103,18 @@ class Compliance(Strict):
 
     kind: Literal["energy", "torque"]
     values: list[Finite] = Field(min_length=1, description="at P1, P2, ...")
-    springs: list[int] = Field(min_length=1, description="joints carrying a spring: 1 O2, 2 A, 3 B (or slider pin), 4 O4")
+    springs: list[int] = Field(
+        min_length=1, description="joints carrying a spring: 1 O2, 2 A, 3 B (or slider pin), 4 O4"
+    )
     equal: list[list[int]] = Field(default_factory=list, description="groups of springs with equal constants")
-    energy_free_theta2: Finite | None = Field(default=None, description="input angle of the energy-free state; "
-                                              "default P1")
+    energy_free_theta2: Finite | None = Field(
+        default=None, description="input angle of the energy-free state; default P1"
+    )
     extra: list[ExtraPoint] = Field(default_factory=list)
     bounds: tuple[Finite, Finite] = (0.0, 1e9)
-    rtol: Positive = Field(default=1e-6, description="accepted relative miss (least-squares designs: fewer springs "
-                           "than values)")
+    rtol: Positive = Field(
+        default=1e-6, description="accepted relative miss (least-squares designs: fewer springs than values)"
+    )
 
     @model_validator(mode="after")
     def _springs(self) -> "Compliance":
@@ -158,8 +169,9 @@ class Printed(Strict):
 
     name: str = Field(description="design quantity, e.g. Z1, gamma3, k1, t2, l4, I2, or fem.input_torque.P2")
     value: Finite | Point
-    decimals: int | None = Field(default=None, ge=0, description="printed decimals; tolerance = half a unit of the "
-                                 "last")
+    decimals: int | None = Field(
+        default=None, ge=0, description="printed decimals; tolerance = half a unit of the last"
+    )
     tolerance: Positive | None = None
     label: Literal["PRBM", "ANSYS", "design"] = "design"
     expect: Literal["reproduce", "misprint", "not-reproduced", "record"] = "reproduce"
@@ -240,17 +252,22 @@ class Spec(Strict):
     @model_validator(mode="after")
     def _coherent(self) -> "Spec":
         if sum(x is not None for x in (self.kinematics, self.fixed_guided, self.framework)) != 1:
-            raise ValueError("give exactly one of [kinematics] (chapter 6), [fixed_guided] (section 3.8) "
-                             "or [framework] (chapter 5)")
+            raise ValueError(
+                "give exactly one of [kinematics] (chapter 6), [fixed_guided] (section 3.8) or [framework] (chapter 5)"
+            )
         if self.compliance is not None and self.kinematics is not None:
             n = self.kinematics.n_positions()
             if len(self.compliance.values) != n:
-                raise ValueError(f"compliance.values has {len(self.compliance.values)} entries for {n} precision positions")
+                raise ValueError(
+                    f"compliance.values has {len(self.compliance.values)} entries for {n} precision positions"
+                )
         covered = [s for seg in self.segments for s in seg.springs]
         if len(set(covered)) != len(covered):
             raise ValueError("a spring is realised by two segments")
         if self.compliance is not None and self.segments and set(covered) != set(self.compliance.springs):
-            raise ValueError(f"segments realise springs {sorted(covered)} but the PRBM has {sorted(self.compliance.springs)}")
+            raise ValueError(
+                f"segments realise springs {sorted(covered)} but the PRBM has {sorted(self.compliance.springs)}"
+            )
         return self
 
 
