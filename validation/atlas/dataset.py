@@ -15,6 +15,7 @@ Lines run on local processes (default), a local Dask cluster or an existing one,
 ``validation.sweep.run.completed``; each task is a batch of lines.  A different code version is a new
 folder: an old build is never overwritten, and a build of the current code never reads an old one.
 """
+
 from __future__ import annotations
 
 import hashlib
@@ -36,7 +37,7 @@ from validation.sweep.run import completed
 ROOT = Path(__file__).resolve().parents[2]
 DEFAULT_OUT = Path("reports") / "atlas"
 GRIDS = ("full", "coarse")
-_VERSION_SOURCES = ("validation/atlas/models.py", "validation/atlas/lines.py", "prbm", "elastica")
+_VERSION_SOURCES = ("validation/atlas/models.py", "validation/atlas/lines.py", "prbm", "elastica", "planar")
 _FLUSH_SECONDS = 3.0
 
 
@@ -127,15 +128,29 @@ class BuildRecord:
 
 def _spec(models: list[str], grid: str) -> dict:
     coarse = grid == "coarse"
-    return {name: {"title": MODELS[name].title, "source": MODELS[name].source,
-                   "inputs": {a.name: {"label": a.label, "values": [float(v) for v in a.values(coarse)]}
-                              for a in (*MODELS[name].shape_axes, MODELS[name].load)},
-                   "points": MODELS[name].points(coarse)} for name in models}
+    return {
+        name: {
+            "title": MODELS[name].title,
+            "source": MODELS[name].source,
+            "inputs": {
+                a.name: {"label": a.label, "values": [float(v) for v in a.values(coarse)]}
+                for a in (*MODELS[name].shape_axes, MODELS[name].load)
+            },
+            "points": MODELS[name].points(coarse),
+        }
+        for name in models
+    }
 
 
-def build(grid: str = "full", models: list[str] | None = None, out: Path | str = DEFAULT_OUT,
-          executor: str = "process", workers: int | None = None, scheduler: str | None = None,
-          progress: Callable[[int, int], None] | None = None) -> BuildRecord:
+def build(
+    grid: str = "full",
+    models: list[str] | None = None,
+    out: Path | str = DEFAULT_OUT,
+    executor: str = "process",
+    workers: int | None = None,
+    scheduler: str | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> BuildRecord:
     """Build (or resume) the atlas of ``models`` (default: all) on ``grid``; returns what was run."""
     if grid not in GRIDS:
         raise ValueError(f"atlas grid must be one of {', '.join(GRIDS)}, not {grid!r}")
@@ -152,7 +167,7 @@ def build(grid: str = "full", models: list[str] | None = None, out: Path | str =
     done = _done(parts)
     todo = [t for t in todo_all if t.id not in done]
     per_chunk = max(1, min(8, len(todo) // (16 * max(workers or 2, 1)) or 1))
-    chunks = [todo[i:i + per_chunk] for i in range(0, len(todo), per_chunk)]
+    chunks = [todo[i : i + per_chunk] for i in range(0, len(todo), per_chunk)]
     t0 = time.perf_counter()
     buffer: list[dict] = []
     points, lines, last = 0, 0, time.perf_counter()
@@ -174,9 +189,18 @@ def build(grid: str = "full", models: list[str] | None = None, out: Path | str =
     finally:
         _write_part(parts, buffer)
     seconds = time.perf_counter() - t0
-    record = BuildRecord(grid, version, lines, len(todo_all) - len(todo), points, round(seconds, 3),
-                         round(points / seconds, 1) if seconds > 0 and points else 0.0,
-                         executor if scheduler is None else f"dask at {scheduler}", workers, str(where))
+    record = BuildRecord(
+        grid,
+        version,
+        lines,
+        len(todo_all) - len(todo),
+        points,
+        round(seconds, 3),
+        round(points / seconds, 1) if seconds > 0 and points else 0.0,
+        executor if scheduler is None else f"dask at {scheduler}",
+        workers,
+        str(where),
+    )
     record_list.append(record.__dict__)
     spec = {"grid": grid, "version": version, "models": _spec(models, grid)}
     tmp = manifest.with_suffix(".tmp")
@@ -194,8 +218,11 @@ def _write_whole(where: Path, grid: str, spec: dict) -> None:
     if frame is None:
         return
     table = pa.Table.from_pandas(frame, preserve_index=False)
-    metadata = {**(table.schema.metadata or {}), b"atlas_spec": json.dumps(spec).encode(),
-                b"code_version": spec["version"].encode()}
+    metadata = {
+        **(table.schema.metadata or {}),
+        b"atlas_spec": json.dumps(spec).encode(),
+        b"code_version": spec["version"].encode(),
+    }
     tmp = where / "atlas.parquet.tmp"
     pq.write_table(table.replace_schema_metadata(metadata), tmp)
     tmp.replace(where / "atlas.parquet")
@@ -233,4 +260,3 @@ def best_available(out: Path | str = DEFAULT_OUT) -> tuple[str, pd.DataFrame] | 
 def numeric_inputs(frame: pd.DataFrame, name: str) -> list[str]:
     """The input columns of a model present in a frame."""
     return [c for c in MODELS[name].inputs if c in frame]
-
