@@ -536,7 +536,7 @@ class _Builder:
             raise ValueError(f"beam '{beam.name}': model 'fixed-guided' needs both ends clamped ({ends})")
         if beam.curvature != 0.0:
             raise ValueError(f"beam '{beam.name}': no fixed-guided PRBM for an initially curved beam in the seeds")
-        gamma, K_theta = self._parameters(rule)
+        gamma, K_theta, fitted = self._fitted(rule)
         A, B = self.coords[beam.start], self.coords[beam.end]
         u = (B - A) / L
         P1 = A + (1.0 - gamma) * L / 2 * u
@@ -561,7 +561,7 @@ class _Builder:
                 gamma,
                 K_theta,
                 "clamped at both ends to different bodies: two pivots "
-                "(1-gamma)L/2 from the ends, K = 2 gamma K_Theta EI/L each (seed 004 3.3)",
+                "(1-gamma)L/2 from the ends, K = 2 gamma K_Theta EI/L each (seed 004 3.3)" + fitted,
             )
         )
 

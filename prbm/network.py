@@ -560,6 +560,22 @@ class NetworkResult:
                 out.append(GroundLoad(spring.name, None, 0.0, 0.0, -torque if spring.b == GROUND else torque))
         return out
 
+    def pin_force(self, level: int, name: str) -> tuple[float, float]:
+        """The force a pin applies to its first body (``a``) at a level: -lam of its two rows (the
+        generalised constraint force is -J^T lam). Raises ValueError where joint rows were dropped as
+        redundant (the split between the joints is then not unique) or no pin has that name."""
+        net = self.network
+        assert net._analysis is not None  # set by the solve that made this result (`_check_mobility`)
+        if len(net._analysis[2]) != net._joint_rows:
+            raise ValueError(
+                "redundant joints in the PRB model: the loads through its pins are statically indeterminate"
+            )
+        k = next((i for i, pin in enumerate(net.pins) if pin.name == name), None)
+        if k is None:
+            raise ValueError(f"no pin named '{name}'")
+        lam = self.states[level].lam
+        return -float(lam[2 * k]), -float(lam[2 * k + 1])
+
     def _slider_point(self, slider: "Slider", q: NDArray[np.float64]) -> tuple[float, float]:
         net = self.network
         i = net.index[slider.a]

@@ -248,6 +248,12 @@ class RulesOptions(Options):
     K_theta: Positive | None = None
     slfp_ratio: Positive | None = None
     beams: dict[str, BeamRuleOptions] | None = None
+    fixed_guided_fits: StrictBool = Field(
+        default=False,
+        description="give each fixed-guided beam gamma(n), K_Theta(n) of the Pauly-Midha fits at its own end-load "
+        "ratio n, iterated level by level to the n the PRB model's solve gives (else gamma = 0.85, K_Theta = 2.65, "
+        "as the seeds' fixed-guided PRBM)",
+    )
 
 
 DesignValue = Finite | list[Finite] | list[list[Finite]] | str

@@ -359,21 +359,26 @@ def _value(case, model: pb.PRBModel, result, req, inputs: list, options: PrbmOpt
     raise NotApplicable(f"the PRB network gives no '{q}'")
 
 
-def _flag_deflection(model: pb.PRBModel, result, info: MethodRun) -> None:
-    """Flag the levels where a beam's PRB spring (a fixed-pinned, fixed-free or fixed-guided pivot) has
-    turned past the printed Theta range of the fits (``prbm.fits.THETA_RANGE``, 65 deg)."""
+def _flag_deflection(model: pb.PRBModel, result, info: MethodRun, only: int | None = None) -> None:
+    """Flag the levels (``only`` that one) where a beam's PRB spring (a fixed-pinned, fixed-free or
+    fixed-guided pivot) has turned past the printed Theta range of the fits (``prbm.fits.THETA_RANGE``,
+    65 deg)."""
     beam_springs = [
         i for i, sp in enumerate(model.network.springs) if sp.name.endswith(("pivot", "pivot 1", "pivot 2"))
     ]
     if not beam_springs:
         return
     for level, state in enumerate(result.states):
+        if only is not None and level != only:
+            continue
         if state.converged and np.abs(model.network.spring_deflections(state.q)[beam_springs]).max() > THETA_RANGE:
             info.flag(level, Applicability.DEFLECTION)
 
 
 def run_mechanism(case, requests, options: PrbmOptions, info: MethodRun) -> dict:
     """Values of the requested outputs of a mechanism case from the PRB model built by rule."""
+    if options.rules is not None and options.rules.fixed_guided_fits:
+        return _run_fitted(case, requests, options, info)
     model = built_model(case.mechanism, options.rules, case.loads)
     result = solve_case(case, model)
     inputs = [ld for ld in case.loads if ld.kind in ("rotation", "moment")]
@@ -406,6 +411,123 @@ def run_mechanism(case, requests, options: PrbmOptions, info: MethodRun) -> dict
             "spring_torques": {i: result.spring_torques(i) for i, s in enumerate(result.states) if s.converged},
             "iterations": result.iterations,
             "shapes": _shapes(model, result),
+        }
+    )
+    return values
+
+
+FIT_ITERATIONS = 30
+"""Solves at most per level to reach the fixed-guided beams' end-load ratios (``fixed_guided_fits``)."""
+FIT_TOLERANCE = 1e-9
+"""A beam's ratio n settled: it changed by at most this (times max(1, |n|)) between two solves."""
+
+
+def guided_ratios(case, model: pb.PRBModel, result, level: int) -> dict[str, float]:
+    """Each straight fixed-guided beam's end-load ratio at a solved level: the force its guided end's body
+    applies to its PRB link at pivot 2, in the beam's frame (x' along the beam from its root, turned with
+    the root's body; y' across it): (-nP, P), n = -F_x'/|F_y'| as ``load_ratios`` reads a free end. A beam
+    with no transverse force at its end has none."""
+    starts = {beam.name: beam.start for beam in case.mechanism.beams}
+    out: dict[str, float] = {}
+    for record in model.beams:
+        if record.model != pb.BeamChoice.FIXED_GUIDED:
+            continue
+        (x1, y1), (x2, y2) = record.pivots
+        axis = np.array([x2 - x1, y2 - y1]) / math.hypot(x2 - x1, y2 - y1)
+        root = model.member_body[(record.beam, starts[record.beam])]
+        turn = 0.0 if root == prbm.GROUND else result.rotation(root, level)
+        c, s = math.cos(turn), math.sin(turn)
+        along = np.array([c * axis[0] - s * axis[1], s * axis[0] + c * axis[1]])
+        force = np.array(result.pin_force(level, f"{record.beam} pivot 2"))
+        axial, transverse = float(force @ along), float(force @ np.array([-along[1], along[0]]))
+        if abs(transverse) > 1e-12 * max(float(np.hypot(*force)), 1e-300):
+            out[record.beam] = -axial / abs(transverse)
+    return out
+
+
+def _model_at_ratios(case, given: RulesOptions, ratios: dict[str, float]) -> pb.PRBModel:
+    """The PRB model with each fixed-guided beam's gamma(n), K_Theta(n) at ``ratios``."""
+    rl = rules(given, case.mechanism, case.loads)
+    per_beam = dict(rl.beams)
+    for name, n in ratios.items():
+        per_beam[name] = replace(per_beam.get(name, pb.BeamRule()), load_ratio=n)
+    try:
+        return pb.build(geometry(case.mechanism), replace(rl, beams=per_beam))
+    except (prbm.LockedNetwork, ValueError) as exc:
+        raise NotApplicable(f"PRB model not built at the fixed-guided beams' ratios {ratios}: {exc}") from None
+
+
+def _first_levels(loads: list[prbm.network.Load], n: int) -> list[prbm.network.Load]:
+    """The loads of the first n levels."""
+    fields = ("fx", "fy", "m", "values")
+    return [replace(ld, **{f: getattr(ld, f)[:n] for f in fields if hasattr(ld, f)}) for ld in loads]
+
+
+def _fitted_level(case, given: RulesOptions, level: int, model: pb.PRBModel, result) -> tuple:
+    """One level's PRB model with its fixed-guided beams at their own end-load ratios: from the ratios of
+    ``result`` (the model at the default constants), the model rebuilt at them and solved to this level,
+    until no ratio moves by more than FIT_TOLERANCE. Returns (model, result, ratios, settled)."""
+    ratios = guided_ratios(case, model, result, level)
+    for _ in range(FIT_ITERATIONS):
+        model = _model_at_ratios(case, given, ratios)
+        try:
+            result = prbm.solve(model.network, _first_levels(network_loads(case, model), level + 1), level + 1)
+        except ValueError as exc:
+            raise NotApplicable(f"PRB model at the fixed-guided beams' ratios: {exc}") from None
+        if not result.states[level].converged:
+            return model, result, ratios, False
+        new = guided_ratios(case, model, result, level)
+        settled = new.keys() == ratios.keys() and all(
+            abs(new[b] - ratios[b]) <= FIT_TOLERANCE * max(1.0, abs(new[b])) for b in new
+        )
+        ratios = new
+        if settled:
+            return model, result, ratios, True
+    return model, result, ratios, False
+
+
+def _run_fitted(case, requests, options: PrbmOptions, info: MethodRun) -> dict:
+    """``run_mechanism`` with the option ``rules.fixed_guided_fits``: each level from its own PRB model."""
+    assert options.rules is not None  # the option that routes here is one of the rules'
+    base = built_model(case.mechanism, options.rules, case.loads)
+    start = solve_case(case, base)
+    inputs = [ld for ld in case.loads if ld.kind in ("rotation", "moment")]
+    values: dict[Request, float] = {}
+    shapes: list[list[np.ndarray]] = []
+    notes: list[str] = []
+    model = base
+    for level in range(case.n_levels()):
+        if not start.states[level].converged:
+            info.level_converged[level] = False
+            shapes.append([])
+            continue
+        model, result, ratios, settled = _fitted_level(case, options.rules, level, base, start)
+        ok = bool(result.states[level].converged) and settled
+        info.level_converged[level] = ok
+        memo: dict[Any, Any] = {}
+        for req in requests:
+            if req.level == level and ok:
+                values[req] = _value(case, model, result, req, inputs, options, memo)
+        _flag_deflection(model, result, info, only=level)
+        shapes.append(_shapes(model, result)[level])
+        told = (
+            ", ".join(f"{b} n = {n:.6g}" for b, n in ratios.items())
+            or "no fixed-guided beam with a transverse end force"
+        )
+        notes.append(f"level {level}: {told}" + ("" if settled else " (the ratios did not settle)"))
+    info.converged = all(info.level_converged.values())
+    info.message = (
+        f"PRB model built by rule ({start.mobility} DOF), fixed-guided beams at their own end-load ratios "
+        f"(Pauly-Midha fits, iterated per level): {'; '.join(notes)}; last level's model: {model.describe()}"
+    )
+    info.extras.update(
+        {
+            "prb_model": [
+                {"beam": b.beam, "model": str(b.model), "gamma": b.gamma, "K_theta": b.K_theta, "reason": b.reason}
+                for b in model.beams
+            ],
+            "lock": model.lock,
+            "shapes": shapes,
         }
     )
     return values
