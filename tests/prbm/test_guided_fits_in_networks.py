@@ -24,7 +24,7 @@ from validation.run import coverage
 from validation.run.runner import run_method
 
 F = np.array([1.0, -0.5])
-LOADS = (0.5, 2.0)          # the force's size over (1, -1/2), per level
+LOADS = (0.5, 2.0)  # the force's size over (1, -1/2), per level
 
 
 def _case(fits: bool) -> Case:
