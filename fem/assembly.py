@@ -34,7 +34,7 @@ import numpy as np
 from .corotational import element_state
 from .distributed import element_loads
 from .discretise import Discretisation
-from .kernel import Beams, CompiledLayout, Couplings, DofMap, Storage, scatter
+from .kernel import Beams, CompiledLayout, Controls, Couplings, DofMap, Storage, scatter
 from .linear_solver import MatrixLayout, weighted_bincount
 from .model import Model
 from .inertia import DENSE_LIMIT, EPS, zero_eigenvalue
@@ -100,6 +100,8 @@ class System:
         self.L_ref = model.characteristic_length()
         # residual noise from rounding positions: ~ eps * EA per element
         self.noise_floor = 4 * EPS * float((d.ka * d.L0).max(initial=0.0))
+        # the compiled corrector's controls of the last options object it ran with (`newton._controls`)
+        self.controls: tuple[object, Controls] | None = None
         self.dead_loads = (
             len(self.fol_nodes) == 0
             and not (len(self.pt_angle) and self.pt_angle.any())

@@ -289,8 +289,10 @@ def _newton_compiled(
     load = cn.Load(lam=float(lam), F_fixed=F_fixed, presc=np.asarray(presc, dtype=float))
     work = cn.work_arrays(n=system.n, nf=d.n_full + 1, size=c.size, maxiter=opts.maxiter, links=system.width == 2)
     el = cn.element_outputs(len(d.L0))
+    if system.controls is None or system.controls[0] is not opts:  # one solve's options: made once
+        system.controls = (opts, _controls(system, opts))
     out = cn.newton_load(
-        q, start, load, system.beams, system.dofs, system.couplings, storage, _controls(system, opts), work, el
+        q, start, load, system.beams, system.dofs, system.couplings, storage, system.controls[1], work, el
     )
     it, dth = out.iterations, out.rotation
     history = work.hist[: it + 1].tolist()
