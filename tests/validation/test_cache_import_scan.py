@@ -74,3 +74,14 @@ def test_the_scan_loses_no_import_of_any_repository_source():
 def test_prose_that_does_not_parse_as_an_import_adds_nothing():
     source = 'def f():\n    """\n    from the start, import what is needed (a list\n    """\n    return 1\n'
     assert import_statements(source) == []
+
+
+def test_every_package_of_the_repository_keys_the_cache():
+    """A run's key hashes the sources it imports from these packages: one left out (planar's loads, the
+    bibliography's seed keys) would let a change to it reuse results computed before it."""
+    packages = {p.parent.name for p in ROOT.glob("*/__init__.py")} - {"tests"}
+    assert packages <= set(cache.PACKAGES), sorted(packages - set(cache.PACKAGES))
+
+
+def test_a_run_of_the_mechanism_elastica_is_keyed_on_planar():
+    assert any(p.parts[-2] == "planar" for p in cache.source_files("elastica"))

@@ -34,7 +34,7 @@ from validation.methods.base import MethodRun
 from validation.run import cache_format
 
 ROOT = Path(__file__).resolve().parents[2]
-PACKAGES = ("validation", "prbm", "fem", "elastica", "bcm", "argcheck")
+PACKAGES = ("validation", "prbm", "fem", "elastica", "bcm", "argcheck", "planar", "references")
 # third-party libraries whose version can change a result
 LIBRARY_VERSIONS = ("numpy", "scipy", "scikit-fem", "pydantic", "numba", "openseespy")
 ENTRY_SUFFIX = ".run"
