@@ -21,7 +21,7 @@ from validation.case.loader import find_case_files
 from validation.run.parallel import compiled_method, schedule
 
 ROOT = Path(__file__).resolve().parents[2]
-PACKAGES = ("prbm", "fem", "elastica", "bcm", "argcheck", "validation")
+PACKAGES = ("prbm", "fem", "elastica", "bcm", "argcheck", "planar", "references", "validation")
 COMPILED = ("numba", "llvmlite", "fem.kernel", "fem.warm_kernel", "fem.numbering", "elastica.integrator")
 
 SPECIALISATIONS = """
