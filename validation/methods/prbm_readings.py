@@ -340,7 +340,10 @@ def _chain(case, requests, options) -> MethodRun:
     info.extras = {
         "model": f"Chain Algorithm with lumped loads, seed 000 section 2.2, {choice.beam.elements} elements",
         "chain_elements": choice.beam.elements,
-        "shapes": [[solved[lv].res.extras["nodes"]] if lv in solved else [] for lv in range(case.n_levels())],
+        "shapes": [
+            [solved[lv].res.extras["nodes"]] if lv in solved and "nodes" in solved[lv].res.extras else []
+            for lv in range(case.n_levels())
+        ],
     }
     if seg.boundary != "fixed-guided":  # the atlas maps the chain with a free tip
         along, tip_loaded = _along_segment(case)
