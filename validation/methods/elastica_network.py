@@ -107,10 +107,9 @@ def _follower_body_refused(load, owner: dict[str, str], mechanism: em.Mechanism)
     return f"it turns with beam '{load.body}', {kind} at '{load.point}' (its end turns apart from the body there)"
 
 
-def _along_beams(case, i: int, load, values: tuple[float, ...]) -> list[planar.DistributedLoad]:
-    """A distributed or self-weight load as a uniform dead load per unit length on each beam it covers
-    (``member``, else every beam; self-weight: each beam's weight per length along gravity; rigid links
-    carry none, as in the FEM)."""
+def _along_beam(i: int, load, values: tuple[float, ...], beam: str, section) -> planar.DistributedLoad:
+    """A distributed or self-weight load as a uniform dead load per unit length on one beam (self-weight:
+    its section's weight per length along gravity)."""
     if load.follower:
         raise NotApplicable(
             f"loads.{i}: a follower distributed load (a pressure turning with the beam): the "
@@ -118,19 +117,22 @@ def _along_beams(case, i: int, load, values: tuple[float, ...]) -> list[planar.D
         )
     d = np.asarray(load.direction, float)
     d = d / math.hypot(*d)
-    out = []
-    for beam in case.mechanism.beams:
-        if load.member not in (None, beam.name):
-            continue
-        scale = beam.section.weight_per_length() if load.kind == "self_weight" else 1.0
-        if scale is None:
-            raise NotApplicable(f"loads.{i}: self-weight, but beam '{beam.name}''s section gives no weight density")
-        out.append(
-            planar.DistributedLoad(
-                beam.name, tuple(scale * x * d[0] for x in values), tuple(scale * x * d[1] for x in values)
-            )
-        )
-    return out
+    scale = section.weight_per_length() if load.kind == "self_weight" else 1.0
+    if scale is None:
+        raise NotApplicable(f"loads.{i}: self-weight, but beam '{beam}''s section gives no weight density")
+    return planar.DistributedLoad(
+        beam, tuple(scale * x * d[0] for x in values), tuple(scale * x * d[1] for x in values)
+    )
+
+
+def _along_beams(case, i: int, load, values: tuple[float, ...]) -> list[planar.DistributedLoad]:
+    """A distributed or self-weight load on each beam it covers (``member``, else every beam; rigid links
+    carry none, as in the FEM)."""
+    return [
+        _along_beam(i, load, values, beam.name, beam.section)
+        for beam in case.mechanism.beams
+        if load.member in (None, beam.name)
+    ]
 
 
 def loads(case, owner: dict[str, str], mechanism: em.Mechanism) -> list[planar.Load | em.EndCouple]:
@@ -353,7 +355,7 @@ def segment_model(case, EI: float) -> SegmentMechanism:
         if load.point != "tip" or load.body is not None:
             raise NotApplicable(f"loads.{i}: the elastica adapter takes tip loads only")
         if load.kind in ("distributed", "self_weight"):
-            applied.append(_along_segment(seg, i, load, v))
+            applied.append(_along_beam(i, load, v, "segment", seg.section))
         elif load.kind == "force" and load.toward is not None:
             applied.append(
                 em.PointedForce("tip", v, (float(load.toward[0]), float(load.toward[1])), math.radians(load.angle))
@@ -384,24 +386,6 @@ def segment_model(case, EI: float) -> SegmentMechanism:
         applied + [d for d, _ in drivers],
         pinned_root,
         tuple(axis for _, axis in drivers),
-    )
-
-
-def _along_segment(seg, i: int, load, values: tuple[float, ...]) -> planar.DistributedLoad:
-    """A distributed or self-weight load on a segment solved as a mechanism: a uniform dead load per unit
-    length on its one beam (self-weight: the section's weight per length along gravity)."""
-    if load.follower:
-        raise NotApplicable(
-            f"loads.{i}: a follower distributed load (a pressure turning with the beam): the "
-            "elastica mechanism model's loads along a beam are dead"
-        )
-    d = np.asarray(load.direction, float)
-    d = d / math.hypot(*d)
-    scale = seg.section.weight_per_length() if load.kind == "self_weight" else 1.0
-    if scale is None:
-        raise NotApplicable(f"loads.{i}: self-weight, but the section gives no weight density")
-    return planar.DistributedLoad(
-        "segment", tuple(scale * x * d[0] for x in values), tuple(scale * x * d[1] for x in values)
     )
 
 
