@@ -56,7 +56,17 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from planar import GROUND, Couple, DistributedLoad, Force, Pin, PointedForce, PrescribedDisplacement, PrescribedRotation
+from planar import (
+    GROUND,
+    Couple,
+    DistributedLoad,
+    Force,
+    Pin,
+    PointedForce,
+    PrescribedDisplacement,
+    PrescribedRotation,
+    pull_direction,
+)
 
 from .integrator import beam_samples, beam_sensitivities, integrate_beam
 
@@ -770,13 +780,9 @@ class _LoadPath:
             F[f.point] = (a[0] + fx, a[1] + fy)
         for pf in self.pointed:
             p = _point_position(self.system, u, pf.point)
-            dx, dy = pf.toward[0] - float(p[0]), pf.toward[1] - float(p[1])
-            length = math.hypot(dx, dy)
-            if length == 0.0:
-                raise ValueError(f"the force at '{pf.point}' pulls toward {pf.toward}, where the point now is")
-            c, s = math.cos(pf.angle), math.sin(pf.angle)
-            size = float(self.value(pf.values, t)) / length
-            fx, fy = size * (c * dx - s * dy), size * (s * dx + c * dy)
+            ex, ey = pull_direction(pf.toward, pf.angle, (float(p[0]), float(p[1])))
+            size = float(self.value(pf.values, t))
+            fx, fy = size * ex, size * ey
             a = F.get(pf.point, (0.0, 0.0))
             F[pf.point] = (a[0] + fx, a[1] + fy)
         C: dict[tuple[str, str], float] = {}

@@ -1,8 +1,8 @@
 """The plain description of a planar compliant mechanism, in one vocabulary for every library.
 
 A leaf package, like ``argcheck``: it imports nothing of the project, and ``prbm``, ``fem``,
-``elastica`` and ``bcm`` may all import it while never importing each other. It holds data only,
-no solver.
+``elastica`` and ``bcm`` may all import it while never importing each other. It holds data and one
+geometric rule (the direction of a pull toward a fixed point, ``pull_direction``), no solver.
 
 The words, each meaning one thing everywhere:
 
@@ -42,6 +42,7 @@ from planar.loads import (
     PointedForce,
     PrescribedDisplacement,
     PrescribedRotation,
+    pull_direction,
 )
 
 __all__ = [
@@ -63,4 +64,5 @@ __all__ = [
     "PrescribedDisplacement",
     "PrescribedRotation",
     "Load",
+    "pull_direction",
 ]

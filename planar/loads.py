@@ -6,6 +6,7 @@ pose. Units are the caller's, consistent (force, length, force x length).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 __all__ = [
@@ -17,6 +18,7 @@ __all__ = [
     "PrescribedDisplacement",
     "PrescribedRotation",
     "Load",
+    "pull_direction",
 ]
 
 
@@ -63,6 +65,17 @@ class DistributedLoad:
     beam: str
     wx: tuple[float, ...]
     wy: tuple[float, ...]
+
+
+def pull_direction(toward: tuple[float, float], angle: float, at: tuple[float, float]) -> tuple[float, float]:
+    """The unit direction of a force at ``at`` pulling toward the fixed point ``toward``, turned by ``angle``
+    (rad, CCW) from that line: R(angle) (toward - at)/|toward - at|. A ValueError where the two coincide."""
+    dx, dy = toward[0] - at[0], toward[1] - at[1]
+    length = math.hypot(dx, dy)
+    if length == 0.0:
+        raise ValueError(f"a force pulls toward {toward}, where its point now is")
+    c, s = math.cos(angle), math.sin(angle)
+    return (c * dx - s * dy) / length, (s * dx + c * dy) / length
 
 
 @dataclass(frozen=True)

@@ -267,10 +267,7 @@ def _solved_direction(load, sol, body_of: dict[str, str], level: int) -> tuple[f
     point, ``body_of``, as the solver turns it)."""
     if load.toward is not None:
         p = sol.positions[level][load.point]
-        dx, dy = load.toward[0] - p[0], load.toward[1] - p[1]
-        c, s = math.cos(math.radians(load.angle)), math.sin(math.radians(load.angle))
-        length = math.hypot(dx, dy)
-        return (c * dx - s * dy) / length, (s * dx + c * dy) / length
+        return planar.pull_direction(load.toward, math.radians(load.angle), (float(p[0]), float(p[1])))
     d = load.direction
     if not load.follower:
         return d[0], d[1]
@@ -414,13 +411,7 @@ def run_segment(case, requests, options: ElasticaOptions, EI: float) -> MethodRu
                 c, s = math.cos(phi), math.sin(phi)
                 force += np.array([c * f[0] - s * f[1], s * f[0] + c * f[1]]) if ld.follower else f
             elif isinstance(ld, em.PointedForce):
-                line = np.asarray(ld.toward) - tip
-                c, s = math.cos(ld.angle), math.sin(ld.angle)
-                force += (
-                    ld.values[level]
-                    / math.hypot(*line)
-                    * np.array([c * line[0] - s * line[1], s * line[0] + c * line[1]])
-                )
+                force += ld.values[level] * np.array(planar.pull_direction(ld.toward, ld.angle, (tip[0], tip[1])))
             elif isinstance(ld, em.Couple):
                 moment += ld.m[level]
         for axis, load in zip(built.driver_axes, sol.driver_loads[level]):

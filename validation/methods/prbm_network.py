@@ -173,9 +173,8 @@ def _received(case, model, result, point: str, level: int) -> np.ndarray:
             continue
         v = ld.levels()[level]
         if ld.kind == "force" and ld.toward is not None:
-            line = np.asarray(ld.toward, float) - result.position(point, level)
-            c, s = math.cos(math.radians(ld.angle)), math.sin(math.radians(ld.angle))
-            total[:2] += v * np.array([c * line[0] - s * line[1], s * line[0] + c * line[1]]) / math.hypot(*line)
+            p = result.position(point, level)
+            total[:2] += v * np.array(planar.pull_direction(ld.toward, math.radians(ld.angle), (p[0], p[1])))
         elif ld.kind == "force":
             d = np.asarray(ld.direction, float)
             F = v * d
