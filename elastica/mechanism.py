@@ -241,18 +241,12 @@ class _System:
             self.tangent0[beam.name] = (angle0, angle0 + beam.curvature * arc, arc)
         self.beam_index = {beam.name: i for i, beam in enumerate(mech.beams)}
         self.pose_at = {b.name: self.i_body + 3 * i for i, b in enumerate(mech.bodies)}
-        # where a node sits, as plain floats for the residual's scalar arithmetic (`_xy`): on the ground
-        # (pose index -1) its reference position; on a body its pose index, the body's origin and its
-        # arm p0 - origin
-        p0 = {name: np.asarray(xy, float) for name, xy in mech.nodes.items()}
+        # where a node sits on each body (and the ground), as plain floats for the residual (`_place_of`)
         self._place: dict[tuple[str, str], _Place] = {
-            (GROUND, nd): (-1, float(xy[0]), float(xy[1]), 0.0, 0.0) for nd, xy in p0.items()
+            (body, nd): self._place_of(body, (float(xy[0]), float(xy[1])))
+            for body in (GROUND, *(b.name for b in mech.bodies))
+            for nd, xy in mech.nodes.items()
         }
-        for b in mech.bodies:
-            o = mech.origin[b.name]
-            for nd, xy in p0.items():
-                r = xy - o
-                self._place[(b.name, nd)] = (self.pose_at[b.name], float(o[0]), float(o[1]), float(r[0]), float(r[1]))
         # each pin's place on its two bodies, from its position in the unloaded pose
         self._pin_place = [(self._place_of(pin.a, pin.at), self._place_of(pin.b, pin.at)) for pin in mech.pins]
         self._origin = {
