@@ -284,6 +284,48 @@ def _beyond_reach(beam: ChainBeam, a: float, b: float) -> str | None:
     )
 
 
+CHAIN_MODEL = "Chain Algorithm, seed 000 eqs (26)-(40)"
+
+
+def _level_result(
+    model: str,
+    beam: ChainBeam,
+    ok: bool,
+    message: str,
+    out: dict[str, Any],
+    t0: float,
+    nfev: int,
+    nodes: NDArray[np.float64] | None = None,
+) -> PRBMResult:
+    """One chain solve's result: its outputs as float64, its element count, the wall time since ``t0``, and
+    its deformed nodes where they stand."""
+    return PRBMResult(
+        ok,
+        message,
+        {k: np.float64(v) for k, v in out.items()},
+        {"elements": beam.elements},
+        model,
+        time.perf_counter() - t0,
+        nfev,
+        np.array([ok]),
+        extras={} if nodes is None else {"nodes": nodes},
+    )
+
+
+def _failed_level(model: str, beam: ChainBeam, message: str) -> PRBMResult:
+    """A level after the first that failed: the same message, no tip, no time."""
+    return PRBMResult(
+        False,
+        message,
+        {k: np.float64(np.nan) for k in ("a", "b", "theta0")},
+        {"elements": beam.elements},
+        model,
+        0.0,
+        0,
+        np.array([False]),
+    )
+
+
 def chain_tip(beam: ChainBeam, loads: NodalLoads, *, steps: int = 10, tol: float = 1e-12) -> PRBMResult:
     """Forward analysis: the deflected chain under dead nodal loads, applied in ``steps`` equal increments.
     Outputs a, b (tip position), theta0 (tip rotation, rad), and the node positions in ``extras``."""
@@ -301,17 +343,7 @@ def chain_tip(beam: ChainBeam, loads: NodalLoads, *, steps: int = 10, tol: float
     stretched = _beyond_reach(beam, out["a"], out["b"]) if ok else None
     if stretched:
         ok, message = False, stretched
-    return PRBMResult(
-        ok,
-        message,
-        {k: np.float64(v) for k, v in out.items()},
-        {"elements": beam.elements},
-        "Chain Algorithm, seed 000 eqs (26)-(40)",
-        time.perf_counter() - t0,
-        nfev,
-        np.array([ok]),
-        extras={"nodes": state.nodes},
-    )
+    return _level_result(CHAIN_MODEL, beam, ok, message, out, t0, nfev, state.nodes)
 
 
 def chain_path(
@@ -330,18 +362,7 @@ def chain_path(
     for factor in factors:
         t0 = time.perf_counter()
         if failed is not None:
-            results.append(
-                PRBMResult(
-                    False,
-                    failed,
-                    {k: np.float64(np.nan) for k in ("a", "b", "theta0")},
-                    {"elements": beam.elements},
-                    "Chain Algorithm, seed 000 eqs (26)-(40)",
-                    0.0,
-                    0,
-                    np.array([False]),
-                )
-            )
+            results.append(_failed_level(CHAIN_MODEL, beam, failed))
             continue
         substeps = max(1, math.ceil(abs(factor - previous) / step_cap)) if step_cap > 0 else 1
         nfev, ok, message = 0, False, "converged"
@@ -365,19 +386,7 @@ def chain_path(
             ok, message = False, stretched
         if not ok:
             failed = message
-        results.append(
-            PRBMResult(
-                ok,
-                message,
-                {k: np.float64(v) for k, v in out.items()},
-                {"elements": beam.elements},
-                "Chain Algorithm, seed 000 eqs (26)-(40)",
-                time.perf_counter() - t0,
-                nfev,
-                np.array([ok]),
-                extras={"nodes": state.nodes},
-            )
-        )
+        results.append(_level_result(CHAIN_MODEL, beam, ok, message, out, t0, nfev, state.nodes))
         previous = factor
     return results
 
@@ -392,7 +401,6 @@ def chain_from_tip(
     t0 = time.perf_counter()
     if not all(math.isfinite(v) for v in (b, theta0, n)):
         raise ValueError(f"chain_from_tip: b, theta0, n must be finite, got {b}, {theta0}, {n}")
-    N = beam.elements
     x = np.concatenate([beam.undeformed()[1:].ravel(), [0.0, 0.0]])
     nfev, ok, message = 0, True, "converged"
 
@@ -419,17 +427,8 @@ def chain_from_tip(
     stretched = _beyond_reach(beam, out["a"], out["b"]) if ok else None
     if stretched:
         ok, message = False, f"{stretched} to meet b = {b:g}"
-    return PRBMResult(
-        ok,
-        message,
-        {k: np.float64(v) for k, v in out.items()},
-        {"elements": N},
-        "Chain Algorithm with tip displacement conditions, seed 000 eqs (26)-(40)",
-        time.perf_counter() - t0,
-        nfev,
-        np.array([ok]),
-        extras={"nodes": state.nodes},
-    )
+    model = "Chain Algorithm with tip displacement conditions, seed 000 eqs (26)-(40)"
+    return _level_result(model, beam, ok, message, out, t0, nfev, state.nodes)
 
 
 HELD_FREEDOMS = ("ux", "uy", "rz")
@@ -500,18 +499,7 @@ def chain_held_path(
                 x = sol.x
             previous = factor
         if failed is not None:
-            results.append(
-                PRBMResult(
-                    False,
-                    failed,
-                    {k: np.float64(np.nan) for k in ("a", "b", "theta0")},
-                    {"elements": N},
-                    model,
-                    0.0,
-                    0,
-                    np.array([False]),
-                )
-            )
+            results.append(_failed_level(model, beam, failed))
             continue
         reactions = x[2 * N :]
         state = march(
@@ -529,30 +517,7 @@ def chain_held_path(
         stretched = _beyond_reach(beam, out["a"], out["b"])
         if stretched:
             failed = stretched
-            results.append(
-                PRBMResult(
-                    False,
-                    stretched,
-                    {k: np.float64(v) for k, v in out.items()},
-                    {"elements": N},
-                    model,
-                    time.perf_counter() - t0,
-                    nfev,
-                    np.array([False]),
-                )
-            )
+            results.append(_level_result(model, beam, False, stretched, out, t0, nfev))
             continue
-        results.append(
-            PRBMResult(
-                True,
-                "converged",
-                {k: np.float64(v) for k, v in out.items()},
-                {"elements": N},
-                model,
-                time.perf_counter() - t0,
-                nfev,
-                np.array([True]),
-                extras={"nodes": state.nodes},
-            )
-        )
+        results.append(_level_result(model, beam, True, "converged", out, t0, nfev, state.nodes))
     return results
