@@ -23,7 +23,7 @@ def zero_eigenvalue(scale: float, n: int) -> float:
     """The size below which an eigenvalue of a tangent with largest diagonal ``scale`` and ``n``
     unknowns cannot be told from zero: rounding of a symmetric eigensolver, 10 n eps ||K||.
 
-    A fixed fraction of the largest diagonal (1e-12) was too coarse for slender beams: their
-    axial terms exceed the bending terms by (L/h)^2, so a genuinely negative bending eigenvalue
-    of a beam with L/h = 7e4 passed as zero."""
+    Not a fixed fraction of the largest diagonal (such as 1e-12): a slender beam's axial terms exceed
+    its bending terms by (L/h)^2, so at L/h = 7e4 a genuinely negative bending eigenvalue would pass
+    as zero."""
     return 10.0 * n * EPS * scale

@@ -92,8 +92,8 @@ def test_list_methods_prints_the_matrix(capsys, cells):
 def test_the_elastica_carries_a_load_along_the_beams_as_the_fem_does(load, boundary):
     """A distributed or self-weight load on the segments solved as a mechanism and on the mechanisms: the
     exact elastica (a uniform load along each beam, elastica.mechanism) against the FEM, whose own estimate
-    bounds its discretisation error. (It was read once as a prescribed displacement of the loaded point:
-    y = 0 against the FEM's 0.99995; a load left out would miss by the whole deflection.)"""
+    bounds its discretisation error (a load left out, or read as a prescribed displacement of the loaded
+    point, would miss by the whole deflection)."""
     _agree_with_the_fem(load, boundary)
 
 
@@ -126,9 +126,9 @@ def _agree_with_the_fem(load: str, boundary: str) -> None:
 
 def test_the_fem_holds_and_drives_two_points_of_one_rigid_link():
     """A prescribed displacement of the crank's end with the crank's pivot pinned: master-slave elimination
-    cannot prescribe a slave node's motion (it raised 'prescribed DOF on a rigid-link slave node', then was
-    refused); the crank is now a stiff bar, and the force the motion needs agrees with the exact elastica
-    within the FEM's estimate (a bar 1e6 times stiffer than the beam adds ~1e-6 of the beam's strain)."""
+    cannot prescribe a slave node's motion, so the crank is a stiff bar, and the force the motion needs
+    agrees with the exact elastica within the FEM's estimate (a bar 1e6 times stiffer than the beam adds
+    ~1e-6 of the beam's strain)."""
     data = coverage.minimal_case("prescribed displacement", "circular-guided mechanism", "fem")
     data["methods"] = {"fem": {"elements": 16, "error_estimate": True}, "elastica": {}}
     case = Case.model_validate(data)
