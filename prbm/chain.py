@@ -41,7 +41,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Any, Literal, overload
@@ -145,13 +145,23 @@ def march_jacobian(beam: ChainBeam, loads: NodalLoads, nodes: NDArray[np.float64
     The march sees the node positions only through the moments (28), which are linear in them,
     M = M_0 + A X; so dX_out/dX = (dX_out/dM) A, with dX_out/dM carried through (29)-(40) alongside the
     march for all N moments at once (forward-mode differentiation of the same loop)."""
+    dxy, _, A = _march_derivatives(beam, loads, nodes)
+    return dxy @ A
+
+
+def _march_derivatives(
+    beam: ChainBeam, loads: NodalLoads, nodes: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """(dX_out/dM (2N x N), d Dtheta_N/dM (N,), A = dM/dX_in (N x 2N)) of one march at ``nodes``: the
+    output positions' and the tip rotation's derivatives with respect to the N moments (28), and the
+    moments' with respect to the input positions (linear: M = M_0 + A X)."""
     N = beam.elements
-    _, dxy = _march(beam, loads, nodes, True)
+    _, (dxy, dtip) = _march(beam, loads, nodes, True)
     Fx, Fy, _ = _outboard(loads, nodes)
     A = np.empty((N, 2 * N))
     A[:, 0::2] = np.triu(np.broadcast_to(loads.fy[1:], (N, N))) - np.diag(Fy)  # dM_i/dx_j, j >= i
     A[:, 1::2] = -np.triu(np.broadcast_to(loads.fx[1:], (N, N))) + np.diag(Fx)  # dM_i/dy_j
-    return dxy @ A
+    return dxy, dtip, A
 
 
 def _outboard(
@@ -177,14 +187,14 @@ def _march(
 @overload
 def _march(
     beam: ChainBeam, loads: NodalLoads, nodes: NDArray[np.float64], tangent: Literal[True]
-) -> tuple[ChainState, NDArray[np.float64]]: ...
+) -> tuple[ChainState, tuple[NDArray[np.float64], NDArray[np.float64]]]: ...
 
 
 def _march(
     beam: ChainBeam, loads: NodalLoads, nodes: NDArray[np.float64], tangent: bool
-) -> tuple[ChainState, NDArray[np.float64] | None]:
-    """The march, and with ``tangent`` its derivative with respect to the N moments M_i (rows x1, y1, ...,
-    ``_moment_derivative``)."""
+) -> tuple[ChainState, tuple[NDArray[np.float64], NDArray[np.float64]] | None]:
+    """The march, and with ``tangent`` its derivatives with respect to the N moments M_i: of the output
+    positions (rows x1, y1, ...) and of the tip rotation (``_moment_derivative``)."""
     N, L = beam.elements, beam.element_length
     EI, theta = beam.stiffness(), beam.theta()
     Fx, Fy, M = _outboard(loads, nodes)
@@ -219,8 +229,11 @@ def _triangles(N: int) -> tuple[NDArray[np.bool_], NDArray[np.float64]]:
     return below, lower
 
 
-def _moment_derivative(terms: NDArray[np.float64], L: float, EI: NDArray[np.float64]) -> NDArray[np.float64]:
-    """d(x_i, y_i)/dM_k of the march (rows x1, y1, x2, y2, ...; columns k = 0..N-1) from each element's
+def _moment_derivative(
+    terms: NDArray[np.float64], L: float, EI: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """d(x_i, y_i)/dM_k of the march (rows x1, y1, x2, y2, ...; columns k = 0..N-1), and d Dtheta_N/dM_k
+    of its tip rotation (r_N, the last row of the running product below), from each element's
     (c, s, P_ax, P_tr, alpha, P_eq, d_tr) (``terms``, one row an element).
 
     The march's lines differentiated: with r_i = d Dtheta_{i-1}/dM the rotation before element i (r_0 = 0),
@@ -251,7 +264,7 @@ def _moment_derivative(terms: NDArray[np.float64], L: float, EI: NDArray[np.floa
     dxy = np.empty((2 * N, N))
     dxy[0::2] = np.cumsum(-(L * s + s * bend + d_tr * c)[:, None] * before - np.diag(s * half), axis=0)
     dxy[1::2] = np.cumsum((L * c + c * bend - d_tr * s)[:, None] * before + np.diag(c * half), axis=0)
-    return dxy
+    return dxy, after[-1].copy()
 
 
 def _forward_step(
@@ -434,6 +447,46 @@ def chain_from_tip(
 HELD_FREEDOMS = ("ux", "uy", "rz")
 
 
+def _held_jacobian(
+    beam: ChainBeam,
+    applied: NodalLoads,
+    tip_loads: Callable[[NDArray[np.float64]], NodalLoads],
+    kept: list[int],
+    z: NDArray[np.float64],
+    residual: Callable[[NDArray[np.float64], float], NDArray[np.float64]],
+    level: float,
+) -> NDArray[np.float64]:
+    """The Jacobian of ``chain_held_path``'s residual at z = (nodes 1..N, the kept tip loads).
+
+    Node columns: the march sees the nodes only through the moments, so the positions' rows are
+    (dX_out/dM) A - I and a held freedom's row is its own derivative times A (``_march_derivatives``;
+    the tip's x and y over L, its rotation d Dtheta_N/dM). A tip moment adds 1 to every M_i: its column
+    is the derivatives summed over the moments. A tip force also enters every element's axial and
+    transverse force (26)-(27), which the moment derivative does not carry: its column is a central
+    difference of the residual (two marches), with a step of sqrt(eps) times the larger of the force
+    and EI/L^2."""
+    N = beam.elements
+    nodes = np.vstack([[0.0, 0.0], z[: 2 * N].reshape(-1, 2)])
+    dxy, dtip, A = _march_derivatives(beam, applied.plus(tip_loads(z[2 * N :])), nodes)
+    by_moment = (dxy[2 * N - 2] / beam.length, dxy[2 * N - 1] / beam.length, dtip)  # d(end condition)/dM
+    J = np.zeros((z.size, z.size))
+    J[: 2 * N, : 2 * N] = dxy @ A - np.eye(2 * N)
+    force_scale = float(np.max(beam.stiffness())) / beam.length**2
+    for row, k in enumerate(kept):
+        J[2 * N + row, : 2 * N] = by_moment[k] @ A
+    for col, k in enumerate(kept):
+        j = 2 * N + col
+        if k == 2:
+            J[: 2 * N, j] = dxy.sum(axis=1)
+            J[2 * N :, j] = [by_moment[kk].sum() for kk in kept]
+        else:
+            h = math.sqrt(np.finfo(float).eps) * max(abs(float(z[j])), force_scale)
+            step = np.zeros(z.size)
+            step[j] = h
+            J[:, j] = (residual(z + step, level) - residual(z - step, level)) / (2.0 * h)
+    return J
+
+
 def chain_held_path(
     beam: ChainBeam,
     loads: NodalLoads,
@@ -480,6 +533,9 @@ def chain_held_path(
         ends = [(tip[k] - target[k]) / (beam.length if k < 2 else 1.0) for k in kept]
         return np.concatenate([(st.nodes[1:] - nodes[1:]).ravel(), ends])
 
+    def jacobian(z: NDArray[np.float64], level: float) -> NDArray[np.float64]:
+        return _held_jacobian(beam, loads.scaled(level), tip_loads, kept, z, residual, level)
+
     results: list[PRBMResult] = []
     previous, failed = 0.0, None
     step_cap = max_step * max(abs(f) for f in factors) if factors else 0.0
@@ -490,8 +546,8 @@ def chain_held_path(
             nfev, ok = 0, True
             for k in range(1, substeps + 1):
                 level = previous + (factor - previous) * k / substeps
-                sol = root(residual, x, args=(level,), method="hybr", tol=tol)
-                nfev += int(sol.nfev)
+                sol = root(residual, x, args=(level,), jac=jacobian, method="hybr", tol=tol)
+                nfev += int(sol.nfev) + int(sol.njev)
                 ok = bool(sol.success) and float(np.max(np.abs(residual(sol.x, level)))) < 1e-8
                 if not ok:
                     failed = f"load factor {level:.6g}: " + " ".join(str(sol.message).split())
