@@ -145,23 +145,36 @@ def march_jacobian(beam: ChainBeam, loads: NodalLoads, nodes: NDArray[np.float64
     The march sees the node positions only through the moments (28), which are linear in them,
     M = M_0 + A X; so dX_out/dX = (dX_out/dM) A, with dX_out/dM carried through (29)-(40) alongside the
     march for all N moments at once (forward-mode differentiation of the same loop)."""
-    dxy, _, A = _march_derivatives(beam, loads, nodes)
-    return dxy @ A
+    dxy, _, through = _march_derivatives(beam, loads, nodes)
+    return through(dxy)
+
+
+MomentMap = Callable[[NDArray[np.float64]], NDArray[np.float64]]
+"""D -> D A: a derivative with respect to the moments (28) turned into one with respect to the nodes."""
 
 
 def _march_derivatives(
     beam: ChainBeam, loads: NodalLoads, nodes: NDArray[np.float64]
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    """(dX_out/dM (2N x N), d Dtheta_N/dM (N,), A = dM/dX_in (N x 2N)) of one march at ``nodes``: the
-    output positions' and the tip rotation's derivatives with respect to the N moments (28), and the
-    moments' with respect to the input positions (linear: M = M_0 + A X)."""
-    N = beam.elements
+) -> tuple[NDArray[np.float64], NDArray[np.float64], MomentMap]:
+    """(dX_out/dM (2N x N), d Dtheta_N/dM (N,), D -> D A) of one march at ``nodes``: the output positions'
+    and the tip rotation's derivatives with respect to the N moments (28), and the product with the
+    moments' derivative with respect to the input positions, A = dM/dX_in (linear: M = M_0 + A X).
+
+    A's columns are a triangle and a diagonal, dM_i/dx_j = fy_j [j >= i] - Fy_i [j = i] and
+    dM_i/dy_j = -fx_j [j >= i] + Fx_i [j = i], so (D A)[:, x_j] = S_j fy_j - D_j Fy_j with S the running
+    sum of D's columns (and likewise for y_j): O(N^2), no N^3 matrix product."""
     _, (dxy, dtip) = _march(beam, loads, nodes, True)
     Fx, Fy, _ = _outboard(loads, nodes)
-    A = np.empty((N, 2 * N))
-    A[:, 0::2] = np.triu(np.broadcast_to(loads.fy[1:], (N, N))) - np.diag(Fy)  # dM_i/dx_j, j >= i
-    A[:, 1::2] = -np.triu(np.broadcast_to(loads.fx[1:], (N, N))) + np.diag(Fx)  # dM_i/dy_j
-    return dxy, dtip, A
+    fx, fy = loads.fx[1:], loads.fy[1:]
+
+    def through(D: NDArray[np.float64]) -> NDArray[np.float64]:
+        S = np.cumsum(D, axis=-1)
+        out = np.empty(D.shape[:-1] + (2 * D.shape[-1],))
+        out[..., 0::2] = S * fy - D * Fy
+        out[..., 1::2] = D * Fx - S * fx
+        return out
+
+    return dxy, dtip, through
 
 
 def _outboard(
@@ -467,13 +480,13 @@ def _held_jacobian(
     and EI/L^2."""
     N = beam.elements
     nodes = np.vstack([[0.0, 0.0], z[: 2 * N].reshape(-1, 2)])
-    dxy, dtip, A = _march_derivatives(beam, applied.plus(tip_loads(z[2 * N :])), nodes)
+    dxy, dtip, through = _march_derivatives(beam, applied.plus(tip_loads(z[2 * N :])), nodes)
     by_moment = (dxy[2 * N - 2] / beam.length, dxy[2 * N - 1] / beam.length, dtip)  # d(end condition)/dM
     J = np.zeros((z.size, z.size))
-    J[: 2 * N, : 2 * N] = dxy @ A - np.eye(2 * N)
+    J[: 2 * N, : 2 * N] = through(dxy) - np.eye(2 * N)
     force_scale = float(np.max(beam.stiffness())) / beam.length**2
     for row, k in enumerate(kept):
-        J[2 * N + row, : 2 * N] = by_moment[k] @ A
+        J[2 * N + row, : 2 * N] = through(by_moment[k])
     for col, k in enumerate(kept):
         j = 2 * N + col
         if k == 2:
