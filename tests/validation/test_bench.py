@@ -6,7 +6,10 @@ import json
 import pandas as pd
 import pytest
 
+from dataclasses import asdict
+
 from validation.bench import headline as bench
+from validation.bench.opensees_script import SCRIPT
 from validation.methods.base import MethodRun, Request
 
 
@@ -80,7 +83,7 @@ def test_the_per_iteration_ratio_is_also_given_in_consecutive_parts_of_the_timin
         "fem": timing([8e-6, 9e-6, 4e-6, 5e-6, 7e-6, 6e-6], 8),
         bench.PEER: timing([9e-6, 9e-6, 9e-6, 9e-6, 3e-6, 4e-6], 9),
     }
-    monkeypatch.setattr(bench, "_timed_in_turn", lambda subs, repeats, budget=None: fake)
+    monkeypatch.setattr(bench, "_timed_in_turn", lambda subs, repeats, budget=None, memory=True: fake)
     case = bench._last_level_only(bench.case_by_id("cantilever_tip_load").case)
     entry = bench._per_iteration(case, bench.BENCH_CASES[0], 2, True, 8)["8"]
     assert entry["ratio"] == pytest.approx(1.5, rel=1e-12)
@@ -165,11 +168,13 @@ def test_both_codes_are_offered_the_same_richardson_step_on_their_plain_runs(tmp
     """Issue 15 item 1: the same post-processing for both codes. Each code's n and 2n plain runs are
     extrapolated by the bench (``paired_label``: ``fem+richardson (plain runs)`` beside the FEM's own
     ``fem+richardson``, ``opensees+richardson``): such a row is at n, costs the best times of the plain
-    runs at n and 2n together, and the headline chooses among all of our rows."""
+    runs at n and 2n together, and the headline chooses among all of our rows. The plain-script peer
+    (``opensees-script``) gets the same rows, with the adapter's errors (the same answers), and the
+    headline's second ratio."""
     one = [bench.BenchCase("cantilever_tip_load", [0], single_level=True)]
     bench.run_bench(tmp_path, quick=True, cases=one, max_elements=16, plots=False)
     frame = pd.read_csv(tmp_path / "bench.csv")
-    codes = ("fem", bench.PEER) if bench._peer_status() == "" else ("fem",)
+    codes = ("fem", *bench.PEERS) if bench._peer_status() == "" else ("fem",)
     for code in codes:
         plain = frame[frame["method"] == code].set_index("elements")
         paired = frame[frame["method"] == bench.paired_label(code)].set_index("elements")
@@ -188,6 +193,136 @@ def test_both_codes_are_offered_the_same_richardson_step_on_their_plain_runs(tmp
         again = entry["confirmed"]
         assert entry["ratio"] == pytest.approx(again["fem_s"] / again["opensees_s"], rel=1e-12)
         assert entry["ladder_ratio"] == pytest.approx(entry["fem"]["time_s"] / entry["opensees"]["time_s"])
+        script = entry["script"]  # the second ratio: the same FEM configuration over the plain script's
+        assert script["ratio"] == pytest.approx(again["fem_s"] / again["script_s"], rel=1e-12)
+        assert script["ladder_ratio"] == pytest.approx(entry["fem"]["time_s"] / script["script"]["time_s"])
+        assert script["retimed"]["method"].startswith(SCRIPT) and script["note"] == ""
+        by_mesh = {m: frame[frame["method"] == m].set_index("elements") for m in bench.PEERS}
+        assert list(by_mesh[SCRIPT].index) == list(by_mesh[bench.PEER].index)
+        assert (by_mesh[SCRIPT]["error"] - by_mesh[bench.PEER]["error"]).abs().max() <= 1e-9
+        assert by_mesh[SCRIPT]["peak_memory_mb"].isna().all()  # OpenSees' own memory: not Python's
+
+
+def test_the_headline_prints_both_ratios_a_row(capsys):
+    """Each headline row in two lines: our time over the adapter's (``fem/opensees``) with both
+    configurations, then over the plain script's (``fem/script``) with the script's configuration and its
+    re-timing in the same turns; a row without a script ratio says why. The per-iteration table gives the
+    plain script's line under each mesh's."""
+    config = dict(method="opensees-script+richardson", elements=8, time_s=3e-4, error=2e-5, iterations=18)
+    fem = dict(method="fem", elements=64, time_s=6e-4, error=3e-5, iterations=9)
+    peer = dict(method="opensees+richardson", elements=8, time_s=5e-4, error=2e-5, iterations=18)
+    again = dict(
+        ratio=1.1,
+        fem_s=6e-4,
+        fem=fem,
+        opensees_s=5.5e-4,
+        opensees=peer,
+        candidates=5,
+        repeats=9,
+        block_ratios=[],
+        script_s=3.5e-4,
+        script=dict(config, time_s=3.5e-4),
+        script_ratio=6 / 3.5,
+        script_block_ratios=[1.7, 1.8, 1.7],
+    )
+    script = bench.ScriptRatio(6 / 3.5, 2.0, config, again["script"], (1.7, 1.8, 1.7), "")
+    entry = dict(ratio=1.1, ladder_ratio=1.2, confirmed=again, fem=fem, opensees=peer, note="", reference="elastica")
+    missing = bench.ScriptRatio(None, None, None, None, (), "plain script unavailable: a curved segment")
+    per_iteration = dict(fem=dict(per_iteration_s=4e-5, loop_per_iteration_s=1.3e-5, iterations=9))
+    per_iteration |= {
+        bench.PEER: dict(per_iteration_s=2.6e-5, loop_per_iteration_s=1.1e-5, iterations=9),
+        SCRIPT: dict(per_iteration_s=1.35e-5, loop_per_iteration_s=1.0e-5, iterations=9),
+        "ratio": 1.54,
+        "loop_ratio": 1.18,
+        "script_ratio": 2.96,
+        "script_loop_ratio": 1.3,
+    }
+    bench._print_headline(
+        {
+            "fem_over_opensees_time_at_error": {
+                "case @ 0.0001 L": entry | {"script": asdict(script)},
+                "arch @ 0.0001 L": entry | {"script": asdict(missing)},
+            },
+            "per_iteration": {"8": per_iteration},
+        }
+    )
+    lines = capsys.readouterr().out.splitlines()
+    first = next(i for i, line in enumerate(lines) if line.strip().startswith("case @"))
+    assert "fem/opensees   1.10" in lines[first] and "opensees: opensees+richardson n=8 0.50 ms" in lines[first]
+    assert lines[first + 1].strip().startswith("fem/script     1.71   opensees-script: opensees-script+richardson n=8")
+    assert "opensees-script opensees-script+richardson n=8 0.35 ms" in lines[first + 1]
+    assert "1.70 1.80 1.70; sweep 2.00" in lines[first + 1]
+    assert (
+        lines[first + 3].strip()
+        == "fem/script      -     opensees-script: -   [plain script unavailable: a curved segment]"
+    )
+    n8 = next(i for i, line in enumerate(lines) if line.strip().startswith("n=   8"))
+    assert lines[n8 + 1].strip() == (
+        "opensees-script 13.5 us run / 10.0 us stepping (9 it), fem/script ratio 2.96 run / 1.30 stepping"
+    )
+
+
+def test_a_case_the_plain_script_does_not_express_says_so_beside_the_adapters_rows():
+    """The clamped-hinged arch (two curved beams, a limit load): the adapter builds arcs, the plain script
+    only straight beams, so the adapter has rows and the script none, its note "plain script unavailable:
+    ..." (never a number, never "did not reach")."""
+    pytest.importorskip("openseespy.opensees")
+    case = bench.case_by_id("arch_215_clamped_hinged").case
+    one = bench.BenchCase("arch_215_clamped_hinged")
+    exact = bench._exact(case, None)
+    rows, skipped, notes = bench._sweep_codes(case, one, [2], 1, exact, 1.9, "")
+    assert {row["method"] for row in rows} >= {"fem", bench.PEER}
+    assert not any(row["method"].startswith(SCRIPT) for row in rows)
+    assert set(notes) == {SCRIPT} and notes[SCRIPT].startswith("plain script unavailable: the curved beam")
+    assert any(s.startswith(f"{one.label}/{SCRIPT} n=2: unavailable:") for s in skipped)
+
+
+def test_the_plain_script_is_re_timed_in_turn_with_both_codes(monkeypatch):
+    """The script's candidates join the re-timing (`_confirmed`): all three codes' runs take turns, and
+    the script's fastest as re-timed gives the second ratio (fem 3.0 over the script's 1.0)."""
+    case = bench._last_level_only(bench.case_by_id("cantilever_tip_load").case)
+    one = bench.BenchCase("cantilever_tip_load", [0], single_level=True)
+    order = []
+    cpu = {("fem", 8): 1.0, ("fem", 16): 2.0, ("opensees", 16): 1.5, (SCRIPT, 16): 1.0}
+
+    def elements(sub, method):
+        return sub.elements if method == SCRIPT else sub.methods[method]["elements"]
+
+    def one_run(sub, method):
+        order.append((method, elements(sub, method)))
+        return MethodRun(values={}), cpu[(method, elements(sub, method))]
+
+    monkeypatch.setattr(bench, "_run", lambda sub, method: MethodRun(values={}, wall_time=1e-3))
+    monkeypatch.setattr(bench, "_one_run", one_run)
+    monkeypatch.setattr(bench, "HEADLINE_BUDGET_S", 3e-3)
+    ours = [dict(method=bench.paired_label("fem"), elements=8)]
+    got = bench._confirmed(
+        case, one, ours, [dict(method=bench.PEER, elements=16)], 2, [dict(method=SCRIPT, elements=16)]
+    )
+    assert order[:4] == [("fem", 8), ("fem", 16), ("opensees", 16), (SCRIPT, 16)] and order[4:8] == order[:4][::-1]
+    assert (got["ratio"], got["script_ratio"], got["script_s"], got["candidates"]) == (2.0, 3.0, 1.0, 3)
+    assert got["script"]["method"] == SCRIPT and got["script_block_ratios"] == [3.0, 3.0, 3.0]
+
+
+def test_the_plain_scripts_candidates_are_its_fastest_within_the_spread():
+    """`_script_candidates`: of the script's CANDIDATES fastest in the sweep, those within CANDIDATE_SPREAD
+    times its fastest (here 0.31 and 0.6 ms, not 0.63 or 0.92 ms); ours and the adapter's keep their
+    three fastest whatever their spread."""
+    rows = [
+        (SCRIPT + "+richardson", 8, 0.31),
+        (SCRIPT + "+richardson", 16, 0.63),
+        (SCRIPT, 32, 0.6),
+        (SCRIPT, 64, 0.92),
+        (bench.PEER, 64, 1.0),
+        (bench.PEER, 128, 4.0),
+        (bench.PEER, 256, 9.0),
+    ]
+    frame = pd.DataFrame([dict(method=m, elements=n, time_s=t * 1e-3, error=1e-5, iterations=1) for m, n, t in rows])
+    assert [(c["method"], c["elements"]) for c in bench._script_candidates(frame, 1e-4)] == [
+        (SCRIPT + "+richardson", 8),
+        (SCRIPT, 32),
+    ]
+    assert len(bench._candidates(frame, 1e-4)[1]) == 3
 
 
 def test_the_headline_configurations_are_timed_again_in_turn(monkeypatch):
@@ -343,3 +478,35 @@ def test_the_headline_re_times_every_configuration_close_to_the_sweeps_fastest()
         [dict(method="fem", elements=n, time_s=1.0 + n * 1e-3, error=1e-5, iterations=1) for n in range(1, 20)]
     )
     assert len(bench._candidates(crowded, 1e-4)[0]) == bench.CANDIDATES_MAX
+
+
+def test_a_run_that_stopped_before_the_end_of_its_path_never_reaches_a_target():
+    """A peer that stops partway (OpenSees' Newton past M L/EI = pi on the roll-up) has values only for
+    the levels it reached, all exact: its row keeps its time and ``converged`` False, with an infinite
+    error, so the headline never counts it as reaching 1e-4 L against a complete run of ours."""
+    r0, r1 = Request("y", "tip", 0), Request("y", "tip", 1)
+    exact = {r0: 0.5, r1: 0.9}
+    stopped = MethodRun(values={r0: 0.5}, converged=False, message="no convergence at level 1")
+    complete = MethodRun(values={r0: 0.5, r1: 0.9 + 1e-5}, converged=True)
+    assert bench._reached_error(stopped, exact, 1.0) == float("inf")
+    assert bench._reached_error(complete, exact, 1.0) == pytest.approx(1e-5, rel=1e-9)
+    frame = pd.DataFrame(
+        [
+            dict(
+                method="opensees",
+                elements=4,
+                time_s=1e-4,
+                error=bench._reached_error(stopped, exact, 1.0),
+                iterations=3,
+            ),
+            dict(
+                method="opensees",
+                elements=8,
+                time_s=5e-4,
+                error=bench._reached_error(complete, exact, 1.0),
+                iterations=9,
+            ),
+        ]
+    )
+    found = bench._fastest_at_error(frame, ("opensees",), 1e-4, 3)
+    assert [c["elements"] for c in found] == [8]

@@ -11,7 +11,16 @@ rows: each code's n and 2n plain runs extrapolated here by one Richardson step, 
 and the FEM's own n/2n solve (``fem+richardson``: the 2n solve warm-started from the n one, with the
 FEM's error estimate). Beside them: the PRBM, the exact elastica and the FEM with the case's own options.
 
-The two codes take turns mesh by mesh on each case (a slow period of a shared machine falls on both
+OpenSeesPy is timed two ways. Through the harness's adapter (``opensees``, `validation.methods.opensees`),
+through ``run_method`` as our FEM is (the path ``run``, ``report`` and sweeps take): its time includes
+the harness's fixed costs (the case read into a model, the results back). And driven by a plain script
+(``opensees-script``, `validation.bench.opensees_script`): the same model, loads and solver settings, the
+problem's numbers read from the case before the timing, the script's OpenSees calls alone timed, as an
+engineer using OpenSeesPy directly would run it; it gives the adapter's answers at the same mesh, and
+gets the same Richardson rows (``opensees-script+richardson``). A case the script does not express says
+so ("plain script unavailable: ..."), with no numbers.
+
+The codes take turns mesh by mesh on each case (a slow period of a shared machine falls on all the
 codes' rows alike). Each configuration is timed in this process: one warm-up, then the best (smallest)
 CPU time of this process (``time.process_time``; BLAS and the compiled kernels run on one thread, so on
 an idle machine it is the wall time, and on a shared one it leaves out the waits for a core) over
@@ -19,23 +28,26 @@ an idle machine it is the wall time, and on a shared one it leaves out the waits
 median (for the noise) and the best wall time; its error is the largest
 tip-position error over the benchmarked load levels, over the characteristic length, against the
 exact solution (the elastica method on the same case, or the case's 'exact' references). Peak Python
-memory is measured in a separate run with ``tracemalloc``. The BLAS thread settings are recorded.
+memory is measured in a separate run with ``tracemalloc`` (not the plain script's: its memory is
+OpenSees' own, C++, which ``tracemalloc`` does not see). The BLAS thread settings are recorded.
 
-The headline, at each target error, is our best time over the peer's best, with both configurations
-beside it: the CANDIDATES configurations of each code the sweep found fastest (and any other within
-CANDIDATE_SPREAD times its fastest, at most CANDIDATES_MAX) are timed again, every run
+The headline, at each target error, gives two ratios: our best time over the adapter's best, and over
+the plain script's best, with the configurations beside them: the CANDIDATES configurations of ours and
+the adapter's the sweep found fastest (and any other within CANDIDATE_SPREAD times its fastest, at most
+CANDIDATES_MAX), and those of the script's CANDIDATES fastest within CANDIDATE_SPREAD times its fastest
+(`_script_candidates`), are timed again, every run
 of all of them taking turns (a Richardson row on plain runs: its two runs; a run two candidates share is
 timed once), so that all are measured in the same minutes of the shared machine, each as often as fits
 in HEADLINE_BUDGET_S (ten times the sweep's budget: on a shared machine the best of a few dozen runs of a
 millisecond configuration is not yet steady enough to place a ratio near 1); each code's fastest as
-re-timed gives the headline ratio (the sweep's own ratio beside it: one noisy sweep time could otherwise
+re-timed gives the headline ratios (the sweep's own ratio beside each: one noisy sweep time could otherwise
 pick the slower of two close configurations). Beside it, the same ratio in each of NOISE_BLOCKS
 consecutive parts of the re-timing (`_block_ratios`): how far the machine's load moved it while it was
 measured, so that a ratio near a target says whether it is under it in every part or only on average;
 a peer that cannot run (not installed, no system BLAS) is "peer unavailable", a case it cannot model "peer not
 applicable", never "did not reach". Also the time of one Newton iteration
-(time over iterations, failed tries included) of both codes at 8 to 256 elements, on the
-single-level cantilever, timed in turn with the headline's budget.
+(time over iterations, failed tries included) of our FEM, the adapter and the plain script at 8 to 256
+elements, on the single-level cantilever, timed in turn with the headline's budget.
 
 Writes ``bench.csv``, ``headline.json`` and plots (error against time with the Pareto front; time
 against elements with the fitted growth exponent) under the output folder.
@@ -51,7 +63,7 @@ import os
 import statistics
 import time
 import tracemalloc
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
@@ -62,6 +74,7 @@ import pandas as pd
 matplotlib.use("Agg")  # files only, no display
 import matplotlib.pyplot as plt  # noqa: E402
 
+from validation.bench.opensees_script import SCRIPT, script_job
 from validation.run.exit_status import ExitStatus, decide
 from validation.run.output_set import OutputSet
 from validation.case.loader import CaseError, case_by_id, find_case_files
@@ -96,7 +109,10 @@ BENCH_CASES: list[BenchCase] = [
 ]
 POSITION = ("x", "y", "dx", "dy")
 TARGETS = (1e-4, 1e-6)
-PEER = "opensees"
+PEER = "opensees"  # OpenSeesPy through the harness's adapter (validation.methods.opensees), timed through run_method
+# the peers: OpenSeesPy through the adapter, and driven by a plain script (validation.bench.opensees_script),
+# the script's OpenSees calls alone timed
+PEERS = (PEER, SCRIPT)
 OURS = ("fem", "fem+richardson")  # the FEM's plain runs and its own n/2n solve
 ITERATION_MESHES = (8, 16, 32, 64, 128, 256)
 RUN_BUDGET_S = 20.0  # a method's mesh doubling stops after a run slower than this
@@ -128,7 +144,15 @@ CONFIGURATIONS = {  # how each code is driven (printed beside the headline)
         "by -release of the element ends); LoadControl one step per level, halved on failure (up to 12 "
         "halvings, failed tries counted), Newton, NormDispIncr 1e-10 (50 iterations), BandGeneral, "
         "RCM numbering; limit loads by DisplacementControl and a parabola through the peak; "
-        "opensees+richardson: the n and 2n runs extrapolated, time of both"
+        "opensees+richardson: the n and 2n runs extrapolated, time of both; timed through the harness "
+        "(run_method: the case read into the model, the results back), as our FEM is"
+    ),
+    SCRIPT: (
+        "the same OpenSeesPy model, loads and solver settings written as a plain script "
+        "(validation.bench.opensees_script: the problem's numbers read from the case before the timing, "
+        "the script's OpenSees calls alone timed: nodes, elements, supports, loads, one LoadControl step per "
+        "level halved on failure, Newton, NormDispIncr 1e-10, BandGeneral, the displacements read); "
+        "opensees-script+richardson: the n and 2n runs extrapolated, time of both"
     ),
 }
 
@@ -164,8 +188,11 @@ def paired_label(method: str) -> str:
 def _at(case, bench: BenchCase, method: str, n: int, own_richardson: bool = False):
     """The case as the benchmark runs ``method`` on it with n elements per member: the case's own
     options of the method, the mesh, and for the FEM no error estimate (a plain run) or, with
-    ``own_richardson``, its own n/2n solve with Richardson extrapolation."""
+    ``own_richardson``, its own n/2n solve with Richardson extrapolation; for the plain script
+    (``opensees-script``) its job (`script_job`: the case read into the script's inputs, untimed)."""
     mesh = {"elements": n}
+    if method == SCRIPT:  # the peer's options of the case, read into the plain script's inputs
+        return script_job(_restrict(case, PEER, dict(case.methods.get(PEER) or {}) | mesh, bench.levels), n)
     if method == "fem":
         mesh |= {"error_estimate": True, "richardson": True} if own_richardson else {"error_estimate": False}
     return _restrict(case, method, dict(case.methods.get(method) or {}) | mesh, bench.levels)
@@ -193,18 +220,27 @@ class Timing:
     best: float
     median: float
     repeats: int
-    peak_bytes: int
+    peak_bytes: float
     wall: float = math.nan
     analysis: float = math.nan
     times: tuple[float, ...] = ()
 
 
+def _run(case, method: str) -> MethodRun:
+    """One run of a configuration: the plain script's job (``case`` a `ScriptJob`), else the method through
+    the harness (``run_method``, the path ``run``, ``report`` and sweeps take)."""
+    return case.run() if method == SCRIPT else run_method(case, method)
+
+
 def _one_run(case, method: str) -> tuple[MethodRun, float]:
     """One run and its CPU time, with the garbage collector off while it runs (as ``timeit`` does:
     a collection walks the whole process's heap, this benchmark's tables included, whichever code
-    happens to trigger it)."""
+    happens to trigger it). The plain script's time is its OpenSees calls alone (`ScriptJob.timed`); every
+    other method's is the whole ``run_method``."""
     gc.disable()
     try:
+        if method == SCRIPT:
+            return case.timed()
         start = time.process_time()
         run = run_method(case, method)
         return run, time.process_time() - start
@@ -226,21 +262,24 @@ def _rounds(warm_wall: float, repeats: int, budget: float | None = None) -> int:
     return max(repeats, min(MAX_REPEATS, int(budget / max(warm_wall, 1e-9))))
 
 
-def _timed_in_turn(configs: dict, repeats: int, budget: float | None = None) -> dict[str, Timing]:
+def _timed_in_turn(configs: dict, repeats: int, budget: float | None = None, memory: bool = True) -> dict[str, Timing]:
     """Each method's case (method -> case) timed, the methods taking turns run by run
     (`_labelled_in_turn`)."""
-    return _labelled_in_turn({method: (case, method) for method, case in configs.items()}, repeats, budget)
+    return _labelled_in_turn({method: (case, method) for method, case in configs.items()}, repeats, budget, memory)
 
 
-def _labelled_in_turn(configs: dict[str, tuple], repeats: int, budget: float | None = None) -> dict[str, Timing]:
+def _labelled_in_turn(
+    configs: dict[str, tuple], repeats: int, budget: float | None = None, memory: bool = True
+) -> dict[str, Timing]:
     """Each configuration (label -> (case, method)) timed, the configurations taking turns run by run,
     the order reversed every round (A B, B A, ...), so that a slow period of the shared machine falls on
     every one alike; after one warm-up run each (imports, caches, compiled kernels). A configuration whose
     warm-up is slower than SLOW_RUN_S is timed once (its noise is small against its time); a fast one
     as often as fits in ``budget`` (default TIME_BUDGET_S), at least ``repeats`` and at most MAX_REPEATS
     times (a millisecond run's best of 5 on a shared machine can still be a slow period's), the same rule
-    for every code."""
-    first = {label: run_method(*config) for label, config in configs.items()}
+    for every code. With ``memory``, one more run of each measures its peak memory (`_peak_bytes`; the
+    headline's re-timing and the per-iteration table read none, and leave it out)."""
+    first = {label: _run(*config) for label, config in configs.items()}
     rounds = {label: _rounds(run.wall_time, repeats, budget) for label, run in first.items()}
     times: dict[str, list[float]] = {label: [] for label in configs}
     walls: dict[str, list[float]] = {k: [] for k in configs}
@@ -257,21 +296,31 @@ def _labelled_in_turn(configs: dict[str, tuple], repeats: int, budget: float | N
                 analyses[label].append(run.extras.get("analysis_cpu_s", math.nan))
     out = {}
     for label, config in configs.items():
-        tracemalloc.start()
-        run_method(*config)
-        peak = tracemalloc.get_traced_memory()[1]
-        tracemalloc.stop()
         out[label] = Timing(
             last[label],
             min(times[label]),
             statistics.median(times[label]),
             rounds[label],
-            peak,
+            _peak_bytes(*config) if memory else math.nan,
             min(walls[label]),
             min(analyses[label]),
             tuple(times[label]),
         )
     return out
+
+
+def _peak_bytes(case, method: str) -> float:
+    """The peak Python memory of one run (``tracemalloc``); NaN for the plain script, whose memory is
+    OpenSees' own (C++ allocations, which ``tracemalloc`` does not see; its Python side allocates next to
+    nothing), so that its run is not repeated for a number that would say nothing."""
+    if method == SCRIPT:
+        return math.nan
+    tracemalloc.start()
+    try:
+        _run(case, method)
+        return tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
 
 
 def _runs_of(case, bench: BenchCase, choice: dict) -> dict[str, tuple]:
@@ -289,35 +338,46 @@ def _runs_of(case, bench: BenchCase, choice: dict) -> dict[str, tuple]:
     return {f"{method} n={m}": (_at(case, bench, method, m), method) for m in meshes}
 
 
-def _confirmed(case, bench: BenchCase, ours: list[dict], peer: list[dict], repeats: int) -> dict:
-    """The headline's candidate configurations of both codes (`_candidates`) timed
-    again, every run of all of them taking turns run by run (`_labelled_in_turn`; a run two candidates
-    share, e.g. the plain 2n run of a Richardson row and the plain row at 2n, timed once), so that all are
-    measured in the same minutes of the shared machine. Each candidate's time is the sum of its runs'
-    bests (a Richardson row on plain runs: its n and 2n runs); each code's fastest candidate as re-timed
-    (``fem``, ``opensees``: the configuration with that time) and the ratio of the two."""
-    choices = {"fem": ours, "opensees": peer}
+def _confirmed(
+    case, bench: BenchCase, ours: list[dict], peer: list[dict], repeats: int, script: list[dict] | None = None
+) -> dict:
+    """The headline's candidate configurations of the codes (`_candidates`: ours, the peer's through the
+    adapter and, given, the plain script's) timed again, every run of all of them taking turns run by run
+    (`_labelled_in_turn`; a run two candidates share, e.g. the plain 2n run of a Richardson row and the
+    plain row at 2n, timed once), so that all are measured in the same minutes of the shared machine. Each
+    candidate's time is the sum of its runs' bests (a Richardson row on plain runs: its n and 2n runs); each
+    code's fastest candidate as re-timed (``fem``, ``opensees``, ``script``: the configuration with that
+    time, ``*_s`` the time) and our time over each peer's (``ratio``: the adapter's, ``script_ratio``), with
+    the same ratios in consecutive parts of the re-timing (`_block_ratios`)."""
+    choices = {code: found for code, found in (("fem", ours), (PEER, peer), (SCRIPT, script or [])) if found}
     runs = {
         (code, i): _runs_of(case, bench, choice) for code, found in choices.items() for i, choice in enumerate(found)
     }
-    timings = _labelled_in_turn(
-        {label: config for part in runs.values() for label, config in part.items()}, repeats, HEADLINE_BUDGET_S
-    )
+    configs = {label: config for part in runs.values() for label, config in part.items()}
+    timings = _labelled_in_turn(configs, repeats, HEADLINE_BUDGET_S, memory=False)
     best = {}
     for code, found in choices.items():
         time_s, i = _fastest_candidate(runs, code, lambda label: timings[label].best)
         best[code] = (time_s, dict(found[i], time_s=time_s))
-    (fem_s, fem), (peer_s, peer_choice) = best["fem"], best["opensees"]
-    return dict(
-        ratio=fem_s / peer_s,
+    fem_s, fem = best["fem"]
+    got = dict(
         fem_s=fem_s,
-        opensees_s=peer_s,
         fem=fem,
-        opensees=peer_choice,
         candidates=sum(len(found) for found in choices.values()),
         repeats=min(timings[label].repeats for label in timings),
-        block_ratios=_block_ratios(timings, runs),
     )
+    for code, key, ratio, parts in (
+        (PEER, "opensees", "ratio", "block_ratios"),
+        (SCRIPT, "script", "script_ratio", "script_block_ratios"),
+    ):
+        peer_s, choice = best.get(code, (None, None))
+        got |= {
+            f"{key}_s": peer_s,
+            key: choice,
+            ratio: fem_s / peer_s if peer_s else None,
+            parts: _block_ratios(timings, runs, code) if peer_s else [],
+        }
+    return got
 
 
 def _fastest_candidate(runs: dict, code: str, time_of) -> tuple[float, int]:
@@ -326,19 +386,20 @@ def _fastest_candidate(runs: dict, code: str, time_of) -> tuple[float, int]:
     return min((sum(time_of(label) for label in labels), i) for (c, i), labels in runs.items() if c == code)
 
 
-def _block_ratios(timings: dict[str, Timing], runs: dict, blocks: int = NOISE_BLOCKS) -> list[float]:
-    """The headline ratio again in each of ``blocks`` consecutive parts of the re-timing (each label's
-    runs, in the order they ran, cut into ``blocks`` equal parts: with the runs taking turns, part k of
-    every label falls in the same minutes of the machine): per part, each candidate's time is the sum of
-    its runs' bests within the part, each code's the fastest candidate's. How far these ratios spread is
-    how far the machine's load moved the ratio while it was measured. Empty when a configuration ran
-    fewer than ``blocks`` times (a slow one, timed once)."""
-    parts = {label: _part_bests(t.times, blocks) for label, t in timings.items()}
+def _block_ratios(timings: dict[str, Timing], runs: dict, peer: str = PEER, blocks: int = NOISE_BLOCKS) -> list[float]:
+    """The headline ratio, our time over ``peer``'s, again in each of ``blocks`` consecutive parts of the
+    re-timing (each label's runs, in the order they ran, cut into ``blocks`` equal parts: with the runs
+    taking turns, part k of every label falls in the same minutes of the machine): per part, each
+    candidate's time is the sum of its runs' bests within the part, each code's the fastest candidate's.
+    How far these ratios spread is how far the machine's load moved the ratio while it was measured. Empty
+    when a configuration of the two codes ran fewer than ``blocks`` times (a slow one, timed once)."""
+    labels = {label for (code, _), part in runs.items() if code in ("fem", peer) for label in part}
+    parts = {label: _part_bests(timings[label].times, blocks) for label in labels}
     if not all(parts.values()):
         return []
     return [
         _fastest_candidate(runs, "fem", lambda label: parts[label][k])[0]
-        / _fastest_candidate(runs, "opensees", lambda label: parts[label][k])[0]
+        / _fastest_candidate(runs, peer, lambda label: parts[label][k])[0]
         for k in range(blocks)
     ]
 
@@ -380,6 +441,13 @@ def _error(values: dict, exact: dict, scale: float) -> float:
         worst = max(worst, math.hypot(*diffs.values()) / scale)
         found = True
     return worst if found else math.nan
+
+
+def _reached_error(run: MethodRun, exact: dict, scale: float) -> float:
+    """`_error` of a run that reached the end of its path; infinite for one that stopped before (its
+    error on the levels it reached does not say it reached the target: such a row stays in the table,
+    with ``converged`` False, and never enters the headline)."""
+    return _error(run.values, exact, scale) if run.converged else math.inf
 
 
 def _pareto(frame: pd.DataFrame) -> pd.Series:
@@ -464,7 +532,7 @@ def _sweep(case, bench: BenchCase, method: str, meshes: list[int], repeats: int,
                 reached[label] = True  # nothing more to learn from finer meshes
                 continue
             row = _row(bench.label, label, n, timing, exact[1])
-            row["error"] = _error(timing.run.values, exact[0], scale)
+            row["error"] = _reached_error(timing.run, exact[0], scale)
             rows.append(row)
             log(row)
             reached[label] = done(label, row["error"], timing.best > RUN_BUDGET_S)
@@ -475,8 +543,8 @@ def _sweep(case, bench: BenchCase, method: str, meshes: list[int], repeats: int,
             both = Timing(
                 MethodRun(
                     values=_richardson(coarse.run, fine.run),
-                    converged=fine.run.converged,
-                    message=fine.run.message,
+                    converged=coarse.run.converged and fine.run.converged,
+                    message=fine.run.message if fine.run.converged else coarse.run.message,
                     extras={
                         "iterations": coarse.run.extras.get("iterations", 0) + fine.run.extras.get("iterations", 0)
                     },
@@ -488,7 +556,7 @@ def _sweep(case, bench: BenchCase, method: str, meshes: list[int], repeats: int,
                 coarse.wall + fine.wall,
             )
             row = _row(bench.label, paired, n // 2, both, exact[1])
-            row["error"] = _error(both.run.values, exact[0], scale)
+            row["error"] = _reached_error(both.run, exact[0], scale)
             rows.append(row)
             log(row)
             reached[paired] = done(paired, row["error"], both.best > RUN_BUDGET_S)
@@ -513,15 +581,14 @@ def _interleaved(sweeps: dict) -> dict:
 
 
 def _per_iteration(case, bench: BenchCase, repeats: int, with_peer: bool, cap: int) -> dict:
-    """Wall time over Newton iterations (failed tries included) of the plain FEM and the peer on the
-    same meshes of this case, the two codes timed run by run in turn (`_timed_in_turn`)."""
+    """Wall time over Newton iterations (failed tries included) of the plain FEM and the peer (through the
+    adapter and by the plain script) on the same meshes of this case, the codes timed run by run in turn
+    (`_timed_in_turn`)."""
     cost = {}
     for n in (m for m in ITERATION_MESHES if m <= cap):
         entry: dict[str, Any] = {}
-        subs = {}
-        for method in ("fem",) + ((PEER,) if with_peer else ()):
-            subs[method] = _at(case, bench, method, n)
-        timings = _timed_in_turn(subs, repeats, HEADLINE_BUDGET_S)  # the two codes in turn
+        subs = {method: _at(case, bench, method, n) for method in ("fem",) + (PEERS if with_peer else ())}
+        timings = _timed_in_turn(subs, repeats, HEADLINE_BUDGET_S, memory=False)  # the codes in turn
         for method, timing in timings.items():
             if not timing.run.values:
                 continue
@@ -533,16 +600,23 @@ def _per_iteration(case, bench: BenchCase, repeats: int, with_peer: bool, cap: i
                 analysis_s=timing.analysis,
                 loop_per_iteration_s=timing.analysis / max(its, 1),
             )
-        if len(entry) == 2:
-            entry["ratio"] = entry["fem"]["per_iteration_s"] / entry[PEER]["per_iteration_s"]
-            entry["loop_ratio"] = entry["fem"]["loop_per_iteration_s"] / entry[PEER]["loop_per_iteration_s"]
-            # the run ratio in consecutive parts of the timing (`_block_ratios`): the machine's noise on it
-            its = entry[PEER]["iterations"] / max(entry["fem"]["iterations"], 1)
-            entry["ratio_parts"] = [
-                f / p * its for f, p in zip(*(_part_bests(timings[m].times) for m in ("fem", PEER)))
-            ]
+        for peer, prefix in ((PEER, ""), (SCRIPT, "script_")):
+            if "fem" in entry and peer in entry:
+                entry |= _iteration_ratios(entry, timings, peer, prefix)
         cost[str(n)] = entry
     return cost
+
+
+def _iteration_ratios(entry: dict, timings: dict[str, Timing], peer: str, prefix: str) -> dict:
+    """Our time per Newton iteration over the peer's (``ratio``: the whole runs; ``loop_ratio``: the load
+    stepping alone), and the run ratio in consecutive parts of the timing (``ratio_parts``,
+    `_block_ratios`: the machine's noise on it); each key prefixed with ``prefix``."""
+    its = entry[peer]["iterations"] / max(entry["fem"]["iterations"], 1)
+    return {
+        f"{prefix}ratio": entry["fem"]["per_iteration_s"] / entry[peer]["per_iteration_s"],
+        f"{prefix}loop_ratio": entry["fem"]["loop_per_iteration_s"] / entry[peer]["loop_per_iteration_s"],
+        f"{prefix}ratio_parts": [f / p * its for f, p in zip(*(_part_bests(timings[m].times) for m in ("fem", peer)))],
+    }
 
 
 def _peer_status() -> str:
@@ -616,7 +690,9 @@ def _bench_into(
     if isinstance(cases, dict):  # {case id: levels}
         cases = [BenchCase(case_id, levels) for case_id, levels in cases.items()]
     peer_status = _peer_status()
-    rows, skipped, peer_notes, per_iteration, confirmed = [], [], {}, {}, {}
+    rows, skipped, per_iteration = [], [], {}
+    confirmed: dict[str, dict] = {}  # headline row -> its configurations re-timed in turn (`_confirmed`)
+    peer_notes: dict[str, dict[str, str]] = {code: {} for code in PEERS}  # why a peer has no ratio on a case
     unusable: list[str] = []  # exit status 2 (validation/run/exit_status.py)
     failed: list[str] = []  # exit status 1
 
@@ -636,31 +712,17 @@ def _bench_into(
             sub = _at(case, bench, "fem", meshes[-1], own_richardson=True)
             exact = (run_method(sub, "fem").values, f"fem+richardson at {meshes[-1]} elements (finest)")
         for row, run in fixed:
-            row["error"] = _error(run.values, exact[0], scale)
+            row["error"] = _reached_error(run, exact[0], scale)
             row["error_reference"] = exact[1]
             _log(row)
             rows.append(row)
-        case_rows = []
-        if peer_status:
-            peer_notes[bench.label] = peer_status
-        methods = ("fem",) + (() if peer_status else (PEER,))
-        swept = _interleaved({m: _sweep(case, bench, m, meshes, repeats, exact, scale, _log) for m in methods})
-        for method in methods:
-            got, why = swept[method]
-            case_rows += got
-            skipped += why
-            if method == PEER and not got:
-                reason = why[0].split(": ", 1)[-1] if why else "no run"
-                peer_notes[bench.label] = "peer " + (
-                    reason if reason.startswith("not applicable") else f"not applicable: {reason}"
-                )
+        case_rows, why, notes = _sweep_codes(case, bench, meshes, repeats, exact, scale, peer_status)
         rows += case_rows
-        if case_rows and bench.label not in peer_notes:  # both codes ran: their headline configurations re-timed
-            part = pd.DataFrame(case_rows)
-            for target in TARGETS:
-                ours, peer = _candidates(part, target)
-                if ours and peer:
-                    confirmed[f"{bench.label} @ {target:g} L"] = _confirmed(case, bench, ours, peer, repeats)
+        skipped += why
+        for code, note in notes.items():
+            peer_notes[code][bench.label] = note
+        without = {code: bench.label in peer_notes[code] for code in PEERS}
+        confirmed |= _confirm_case(case, bench, case_rows, without, repeats)
         if bench == BENCH_CASES[0]:
             per_iteration = _per_iteration(case, bench, repeats, not peer_status, cap)
     if unusable and not rows:  # rejected: no case could run
@@ -669,7 +731,7 @@ def _bench_into(
         return None
     frame = pd.DataFrame(rows)
     frame.to_csv(out / "bench.csv", index=False)
-    headline = _headline(frame, quick, peer_notes, max(meshes), confirmed)
+    headline = _headline(frame, quick, peer_notes[PEER], max(meshes), confirmed, peer_notes[SCRIPT])
     headline["per_iteration"] = per_iteration
     headline["blas"] = blas
     headline["configurations"] = CONFIGURATIONS
@@ -685,33 +747,110 @@ def _bench_into(
     return int(decide(bad_input=bool(unusable), failed=bool(failed)))
 
 
+def _sweep_codes(case, bench: BenchCase, meshes: list[int], repeats: int, exact, scale: float, peer_status: str):
+    """Our FEM's and the peers' sweeps of the case (`_sweep`), taking turns mesh by mesh (`_interleaved`):
+    their rows, the configurations skipped, and why a peer has no rows (peer -> note: not installed, not
+    applicable to the case, or a case the plain script does not express)."""
+    notes = {code: peer_status for code in PEERS} if peer_status else {}
+    methods = ("fem",) + (() if peer_status else PEERS)
+    swept = _interleaved({m: _sweep(case, bench, m, meshes, repeats, exact, scale, _log) for m in methods})
+    rows, skipped = [], []
+    for method in methods:
+        got, why = swept[method]
+        rows += got
+        skipped += why
+        if method in PEERS and not got:
+            reason = why[0].split(": ", 1)[-1] if why else "no run"
+            notes[method] = _no_rows(method, reason)
+    return rows, skipped, notes
+
+
+def _no_rows(peer: str, reason: str) -> str:
+    """Why a peer has no rows on a case, as the headline says it: the adapter's "peer not applicable: ...",
+    the plain script's "plain script unavailable: ..." (a case it does not express)."""
+    if peer == SCRIPT:
+        return "plain script " + (reason if reason.startswith("unavailable") else f"unavailable: {reason}")
+    return "peer " + (reason if reason.startswith("not applicable") else f"not applicable: {reason}")
+
+
+def _confirm_case(case, bench: BenchCase, case_rows: list[dict], without: dict[str, bool], repeats: int) -> dict:
+    """The headline configurations of the case timed again for each target error (`_confirmed`): ours, the
+    adapter's and the plain script's candidates, all in turn; none of a peer without rows (``without``:
+    peer -> True), nothing when neither peer ran."""
+    if not case_rows or all(without.values()):
+        return {}
+    part = pd.DataFrame(case_rows)
+    confirmed = {}
+    for target in TARGETS:
+        ours, peer = _candidates(part, target)
+        script = [] if without[SCRIPT] else _script_candidates(part, target)
+        peer = [] if without[PEER] else peer
+        if ours and (peer or script):
+            confirmed[f"{bench.label} @ {target:g} L"] = _confirmed(case, bench, ours, peer, repeats, script)
+    return confirmed
+
+
 def _candidates(
-    part: pd.DataFrame, target: float, count: int = CANDIDATES, spread: float = CANDIDATE_SPREAD
+    part: pd.DataFrame, target: float, count: int = CANDIDATES, spread: float = CANDIDATE_SPREAD, peer: str = PEER
 ) -> tuple[list[dict], list[dict]]:
-    """The configurations of ours and of the peer's that reach the target error that the headline times
-    again (`_confirmed`): of each code the ``count`` fastest as the sweep timed them, and any other
-    within ``spread`` times its fastest (at most CANDIDATES_MAX): one slow sweep time must not leave a
-    code's fastest configuration out."""
+    """The configurations of ours and of the peer's (``peer``: the adapter's, or the plain script's) that
+    reach the target error that the headline times again (`_confirmed`): of each code the ``count`` fastest
+    as the sweep timed them, and any other within ``spread`` times its fastest (at most CANDIDATES_MAX):
+    one slow sweep time must not leave a code's fastest configuration out."""
 
     def chosen(methods: tuple[str, ...]) -> list[dict]:
         found = _fastest_at_error(part, methods, target, max(count, CANDIDATES_MAX))
         return [c for i, c in enumerate(found) if i < count or c["time_s"] <= spread * found[0]["time_s"]]
 
-    return chosen((*OURS, paired_label("fem"))), chosen((PEER, paired_label(PEER)))
+    return chosen((*OURS, paired_label("fem"))), chosen((peer, paired_label(peer)))
 
 
-def _choices(part: pd.DataFrame, target: float) -> tuple[dict | None, dict | None]:
-    """Our fastest configuration and the peer's that reach the target error, as the sweep timed them."""
-    ours, peer = _candidates(part, target, 1, spread=0.0)
-    return (ours[0] if ours else None, peer[0] if peer else None)
+def _script_candidates(part: pd.DataFrame, target: float) -> list[dict]:
+    """The plain script's configurations the headline times again: of its CANDIDATES fastest in the sweep,
+    those within CANDIDATE_SPREAD times its fastest. Not its far slower ones, as for ours and the adapter's:
+    the script runs the adapter's OpenSees model less a fixed cost per run, so one the sweep put more than
+    CANDIDATE_SPREAD times slower is not its fastest re-timed, and re-timing it beside three codes' would
+    cost ``--quick`` most of its time."""
+    found = _candidates(part, target, peer=SCRIPT)[1]
+    return [c for c in found[:CANDIDATES] if c["time_s"] <= CANDIDATE_SPREAD * found[0]["time_s"]]
+
+
+def _choices(part: pd.DataFrame, target: float, peer: str = PEER) -> tuple[dict | None, dict | None]:
+    """Our fastest configuration and the peer's (``peer``) that reach the target error, as the sweep timed
+    them."""
+    ours, theirs = _candidates(part, target, 1, spread=0.0, peer=peer)
+    return (ours[0] if ours else None, theirs[0] if theirs else None)
+
+
+@dataclass(frozen=True)
+class ScriptRatio:
+    """Our time over the plain script's (``opensees-script``) to reach one target error, beside the
+    adapter's ratio of the same headline row: ``ratio`` as re-timed in turn with our and the adapter's
+    candidates (`_confirmed`; else as the sweep measured them), ``ladder_ratio`` as the sweep measured them,
+    the script's fastest configuration in the sweep (``script``) and as re-timed (``retimed``, with that
+    time), the ratio in consecutive parts of the re-timing (``block_ratios``), and why there is no ratio
+    (``note``: not installed, a case the script does not express, or the error not reached)."""
+
+    ratio: float | None
+    ladder_ratio: float | None
+    script: dict | None
+    retimed: dict | None
+    block_ratios: tuple[float, ...]
+    note: str
 
 
 def _headline(
-    frame: pd.DataFrame, quick: bool, peer_notes: dict, max_elements: int, confirmed: dict | None = None
+    frame: pd.DataFrame,
+    quick: bool,
+    peer_notes: dict,
+    max_elements: int,
+    confirmed: dict | None = None,
+    script_notes: dict | None = None,
 ) -> dict:
     """The headline ratios: at each target, our fastest configuration's time over the peer's fastest, as
     the sweep measured them (``ladder_ratio``) and as re-timed with every run of both taking turns
-    (``confirmed``, `_confirmed`: the ``ratio`` when present)."""
+    (``confirmed``, `_confirmed`: the ``ratio`` when present); beside it (``script``, `ScriptRatio`) our time
+    over the plain script's, the same way."""
     headline: dict = {
         "fem_over_opensees_time_at_error": {},
         "per_iteration": {},
@@ -719,38 +858,13 @@ def _headline(
         "growth_exponent": {},
     }
     confirmed = confirmed or {}
+    script_notes = script_notes or {}
     for case_id, part in frame.groupby("case", sort=False) if len(frame) else []:
         for target in TARGETS:
-            ours, peer = _choices(part, target)
-            if case_id in peer_notes:
-                note = peer_notes[case_id]
-            elif ours is None or peer is None:
-                note = {
-                    (
-                        True,
-                        False,
-                    ): f"OpenSees did not reach this error (up to {max_elements} elements, or its error stopped falling)",
-                    (
-                        False,
-                        True,
-                    ): f"our FEM did not reach this error (up to {max_elements} elements, or its error stopped falling)",
-                    (False, False): "neither reached it",
-                }.get((ours is not None, peer is not None), "")
-            else:
-                note = ""
-            reference = part["error_reference"].iloc[0]
             key = f"{case_id} @ {target:g} L"
-            ladder = ours["time_s"] / peer["time_s"] if ours and peer else None
-            again = confirmed.get(key) if ours and peer else None
-            headline["fem_over_opensees_time_at_error"][key] = dict(
-                ratio=again["ratio"] if again else ladder,
-                ladder_ratio=ladder,
-                confirmed=again,
-                fem=ours,
-                opensees=peer,
-                note=note,
-                reference=reference,
-            )
+            entry = _adapter_ratio(part, target, confirmed.get(key), peer_notes.get(case_id), max_elements)
+            script = _script_ratio(part, target, confirmed.get(key), script_notes.get(case_id), max_elements)
+            headline["fem_over_opensees_time_at_error"][key] = entry | {"script": asdict(script)}
         prbm = part[part["method"] == "prbm"]
         fem_case = part[part["method"] == "fem (case options)"]
         if len(prbm) and len(fem_case):
@@ -774,6 +888,50 @@ def _headline(
         headline["suite_warm_s"] = time.perf_counter() - start
         headline["suite_cases"] = len(cold.results)
     return headline
+
+
+def _reach_note(ours: dict | None, peer: dict | None, peer_name: str, max_elements: int) -> str:
+    """Why a headline ratio is missing when both codes ran: which of the two did not reach the error."""
+    if ours is not None and peer is not None:
+        return ""
+    if ours is None and peer is None:
+        return "neither reached it"
+    who = "our FEM" if ours is None else peer_name
+    return f"{who} did not reach this error (up to {max_elements} elements, or its error stopped falling)"
+
+
+def _adapter_ratio(part: pd.DataFrame, target: float, again: dict | None, note: str | None, max_elements: int) -> dict:
+    """Our time over the adapter's at the target: the sweep's fastest of each, their ratio (``ladder_ratio``)
+    and the ratio as re-timed (``ratio``, ``confirmed``); ``note`` says why there is none."""
+    ours, peer = _choices(part, target)
+    ladder = ours["time_s"] / peer["time_s"] if ours and peer else None
+    again = again if ours and peer else None
+    return dict(
+        ratio=again["ratio"] if again else ladder,
+        ladder_ratio=ladder,
+        confirmed=again,
+        fem=ours,
+        opensees=peer,
+        note=note or _reach_note(ours, peer, "OpenSees", max_elements),
+        reference=part["error_reference"].iloc[0],
+    )
+
+
+def _script_ratio(
+    part: pd.DataFrame, target: float, again: dict | None, note: str | None, max_elements: int
+) -> ScriptRatio:
+    """Our time over the plain script's at the target (`ScriptRatio`)."""
+    ours, script = _choices(part, target, SCRIPT)
+    ladder = ours["time_s"] / script["time_s"] if ours and script else None
+    again = again if ours and script and again and again.get("script") else None
+    return ScriptRatio(
+        ratio=again["script_ratio"] if again else ladder,
+        ladder_ratio=ladder,
+        script=script,
+        retimed=again["script"] if again else None,
+        block_ratios=tuple(again["script_block_ratios"]) if again else (),
+        note=note or _reach_note(ours, script, "the plain script", max_elements),
+    )
 
 
 def _retimed(again: dict, code: str) -> str:
@@ -807,46 +965,90 @@ def _print_headline(headline: dict) -> None:
     for code, text in CONFIGURATIONS.items():
         print(f"  {code}: {text}")
     print(
-        "\nfem / OpenSees CPU time to reach the error (the fastest configuration of each, beside; the ratio "
-        "as re-timed with the runs of both taking turns, and as the sweep measured them):"
+        "\nfem / OpenSees CPU time to reach the error, two ratios a row: over OpenSees through the harness's "
+        "adapter (fem/opensees: both codes timed through run_method), and over OpenSees driven by a plain script "
+        "(fem/script, the line below: the script's OpenSees calls alone timed); the fastest configuration of each "
+        "beside; the ratio as re-timed with the runs of all three taking turns, and as the sweep measured them:"
     )
     for key, h in headline["fem_over_opensees_time_at_error"].items():
-        ratio = "   -  " if h["ratio"] is None else f"{h['ratio']:6.2f}"
-        again = h.get("confirmed")
-        ladder = (
-            (
-                f"   (re-timed in turn, {again['candidates']} candidates: of each code the sweep's "
-                f"{CANDIDATES} fastest and any within {CANDIDATE_SPREAD:g}x its fastest; the fastest as re-timed: "
-                f"fem {_retimed(again, 'fem')}, "
-                f"opensees {_retimed(again, 'opensees')}; {_noise(again)}sweep {h['ladder_ratio']:.2f})"
-            )
-            if again
-            else ""
-        )
-        print(
-            f"  {key:<52} {ratio}   fem: {_config(h['fem'])}   opensees: {_config(h['opensees'])}{ladder}"
-            + (f"   [{h['note']}]" if h["note"] else "")
-        )
+        print(_adapter_line(key, h))
+        if "script" in h:
+            print(_script_line(h["script"], h.get("confirmed")))
     if headline["per_iteration"]:
         print(
-            "time of one Newton iteration, single-level cantilever (fem / OpenSees): the whole run over its "
-            "iterations, and the load stepping alone (Newton iterations and step control, without model "
-            "set-up and results) over its iterations; best of the repeats, the two codes run by run in turn:"
+            "time of one Newton iteration, single-level cantilever (fem / OpenSees, through the adapter and by "
+            "the plain script): the whole run over its iterations, and the load stepping alone (Newton "
+            "iterations and step control, without model set-up and results) over its iterations; best of the "
+            "repeats, the codes run by run in turn:"
         )
         for n, c in headline["per_iteration"].items():
-            parts = [
-                f"{m} {c[m]['per_iteration_s'] * 1e6:.1f} us run / {c[m]['loop_per_iteration_s'] * 1e6:.1f} us "
-                f"stepping ({c[m]['iterations']:.0f} it)"
-                for m in ("fem", PEER)
-                if m in c
-            ]
-            spread = _in_parts(c.get("ratio_parts") or [], "timing")
-            spread = f" ({spread})" if spread else ""
-            ratios = f", ratio {c['ratio']:.2f} run{spread} / {c['loop_ratio']:.2f} stepping" if "ratio" in c else ""
-            print(f"  n={n:>4}: " + ", ".join(parts) + ratios)
+            print(f"  n={n:>4}: " + _iteration_line(c, ("fem", PEER), ""))
+            if SCRIPT in c:
+                print(" " * 10 + _iteration_line(c, (SCRIPT,), "script_", "fem/script "))
     for key in ("suite_cold_s", "suite_warm_s"):
         if key in headline:
             print(f"{key}: {headline[key]:.1f}")
+
+
+def _ratio_text(ratio: float | None) -> str:
+    return "   -  " if ratio is None else f"{ratio:6.2f}"
+
+
+def _adapter_line(key: str, h: dict) -> str:
+    """A headline row's first line: our time over the adapter's, both configurations, the re-timing."""
+    again = h.get("confirmed")
+    ladder = (
+        (
+            f"   (re-timed in turn, {again['candidates']} candidates: of each code the sweep's "
+            f"{CANDIDATES} fastest and any within {CANDIDATE_SPREAD:g}x its fastest; the fastest as re-timed: "
+            f"fem {_retimed(again, 'fem')}, "
+            f"opensees {_retimed(again, 'opensees')}; {_noise(again)}sweep {h['ladder_ratio']:.2f})"
+        )
+        if again and again.get("opensees")
+        else ""
+    )
+    return (
+        f"  {key:<52} fem/opensees {_ratio_text(h['ratio'])}   fem: {_config(h['fem'])}   "
+        f"opensees: {_config(h['opensees'])}{ladder}" + (f"   [{h['note']}]" if h["note"] else "")
+    )
+
+
+def _script_line(script: dict, again: dict | None) -> str:
+    """A headline row's second line: our time over the plain script's (the same fastest FEM configuration
+    as the first line's), the script's configuration and its re-timing."""
+    retimed = script.get("retimed")
+    ladder = ""
+    if retimed is not None and again is not None:
+        parts = _in_parts(list(script.get("block_ratios") or []), "re-timing")
+        ladder = (
+            f"   (re-timed in the same turns, the fastest: opensees-script {_retimed(again, 'script')}; "
+            + (f"{parts}; " if parts else "")
+            + f"sweep {script['ladder_ratio']:.2f})"
+        )
+    return (
+        f"  {'':<52} fem/script   {_ratio_text(script['ratio'])}   opensees-script: {_config(script['script'])}"
+        + ladder
+        + (f"   [{script['note']}]" if script["note"] else "")
+    )
+
+
+def _iteration_line(c: dict, codes: tuple[str, ...], prefix: str, label: str = "") -> str:
+    """A per-iteration line: each code's time per Newton iteration (whole run, stepping alone) and our ratio
+    over the peer (``prefix``: '' the adapter's ratios, 'script_' the plain script's)."""
+    parts = [
+        f"{m} {c[m]['per_iteration_s'] * 1e6:.1f} us run / {c[m]['loop_per_iteration_s'] * 1e6:.1f} us "
+        f"stepping ({c[m]['iterations']:.0f} it)"
+        for m in codes
+        if m in c
+    ]
+    if f"{prefix}ratio" not in c:
+        return ", ".join(parts)
+    spread = _in_parts(c.get(f"{prefix}ratio_parts") or [], "timing")
+    spread = f" ({spread})" if spread else ""
+    return (
+        ", ".join(parts) + f", {label}ratio {c[f'{prefix}ratio']:.2f} run{spread} / "
+        f"{c[f'{prefix}loop_ratio']:.2f} stepping"
+    )
 
 
 def _plots(frame: pd.DataFrame, out: Path) -> None:
@@ -870,7 +1072,7 @@ def _plots(frame: pd.DataFrame, out: Path) -> None:
         fig.tight_layout()
         fig.savefig(out / f"{case_id}_error_vs_time.png", dpi=90)
         plt.close(fig)
-    fem = frame[frame["method"].isin(["fem", "opensees"]) & frame["elements"].notna()]
+    fem = frame[frame["method"].isin(["fem", *PEERS]) & frame["elements"].notna()]
     if len(fem):
         fig, ax = plt.subplots(figsize=(6, 4.5))
         for (case_id, method), rows in fem.groupby(["case", "method"]):
