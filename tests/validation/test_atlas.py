@@ -318,3 +318,47 @@ def test_the_maps_return_their_nodes_and_interpolate_linearly_between():
             lo, hi = m.values[k][idx[k]], m.values[k][idx[k] + 1]
             mid = {**at, "load": math.sqrt(lo * hi)}
             assert m.expected(mid) == pytest.approx(0.5 * (here + there), rel=1e-9), name
+
+
+def _limits_line_by_line(frame: pd.DataFrame, model: str, threshold: float) -> pd.DataFrame:
+    """``regions.line_limits`` written the plain way, a pandas group per line: the reference."""
+    m = MODELS[model]
+    rows = frame[frame["model"] == model].sort_values("load")
+    names = [a.name for a in m.shape_axes]
+    out = []
+    for key, line in rows.groupby(names, sort=True) if names else [((), rows)]:
+        answered = (line["status"] == "ok").to_numpy()
+        if not answered.any():
+            continue
+        line = line.iloc[int(np.argmax(answered)) :]
+        inside = (line["status"] == "ok").to_numpy() & (line["tip_error"].to_numpy() <= threshold)
+        first_out = int(np.argmin(inside)) if not inside.all() else len(inside)
+        last = line.iloc[first_out - 1] if first_out > 0 else None
+        reached = 0.0
+        if last is not None:
+            reached = abs(last["exact_rotation_deg"]) if m.coordinate == "tip angle" else last["deflection"]
+        out.append(
+            {
+                **dict(zip(names, key if isinstance(key, tuple) else (key,))),
+                "first_load": float(line["load"].iloc[0]),
+                "load_limit": float(last["load"]) if last is not None else 0.0,
+                "deflection": float(reached),
+                "whole_line": first_out == len(inside),
+            }
+        )
+    return pd.DataFrame(out)
+
+
+def test_the_lines_of_a_map_are_read_once_as_each_alone_would_read(coarse):
+    """``line_limits`` reads a model's lines once for every threshold (``answered_lines``): the same
+    table, to the bit, as a pandas group per line, on every model of the coarse atlas and on two
+    interleaved lines given out of load order."""
+    for name in MODELS:
+        for threshold in (0.5, 1.0, 3.0, 5.0, 1e9):
+            got = regions.line_limits(coarse, name, threshold)
+            pd.testing.assert_frame_equal(got, _limits_line_by_line(coarse, name, threshold), check_exact=True)
+    two = pd.concat([_line([0.1, 0.7, 0.2]).assign(load_angle_deg=a) for a in (90.0, 30.0)], ignore_index=True)
+    two = two.assign(model="fixed_pinned_pauly_midha").iloc[[5, 0, 3, 1, 4, 2]]
+    got = regions.line_limits(two, "fixed_pinned_pauly_midha", 0.5)
+    assert got["load_angle_deg"].tolist() == [30.0, 90.0] and got["load_limit"].tolist() == [1.0, 1.0]
+    pd.testing.assert_frame_equal(got, _limits_line_by_line(two, "fixed_pinned_pauly_midha", 0.5))

@@ -1,15 +1,21 @@
 """The report's atlas page (validation/report/atlas_page.py) from the coarse atlas, built once per module:
 the page and every model's map exist, every claim is in the claims table, the predicted-against-measured
 sentence has its numbers, a second page reuses the atlas-only part, text is escaped, and the report's
-hook turns a failure into a line of the index instead of losing the report."""
+hook turns a failure into a line of the index instead of losing the report; the measured levels worked
+out beside a case's page and the scatter drawn in another process are the page's own."""
 
 from __future__ import annotations
 
 import dataclasses
 import json
+import math
 import re
+import shutil
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
+import numpy as np
+import pandas as pd
 import pytest
 
 from validation.atlas import claims as atlas_claims
@@ -156,3 +162,79 @@ def test_measured_levels_of_a_case_are_kept_by_what_they_depend_on(monkeypatch):
     changed.loc[changed["method"] == "fem", "value"] *= 1.01
     with pytest.raises(AssertionError, match="measured again"):
         atlas_page._measured_frame(outcome.results, changed, keep)
+
+
+def test_measured_levels_worked_out_beside_the_case_page_are_used_by_the_atlas_page(tmp_path, monkeypatch):
+    """The page writer works out a case's measured levels where it draws the page (off the report's
+    serial path); the atlas page takes them as they are and the previous report's entries are reused."""
+    from validation.case.loader import find_case_files
+    from validation.run.outcome import run_cases
+
+    outcome = run_cases(find_case_files(["cantilever_tip_load"]), use_cache=True, jobs=1)
+    (tmp_path / "cases").mkdir()
+    link = build.PageWriter(tmp_path, tmp_path / "no_previous.json")(outcome.results[0])
+    assert link.measured is not None and link.measured.levels
+    expected, keep = atlas_page._measured_frame(outcome.results, outcome.table, {})
+
+    def not_again(results, table):
+        raise AssertionError("measured again although the page writer did")
+
+    monkeypatch.setattr(measured, "measured_levels", not_again)
+    cached = {case: got.entry() for case, got in {"cantilever_tip_load": link.measured}.items()}
+    got, _ = atlas_page._measured_frame(outcome.results, outcome.table, cached)
+    assert got.equals(expected)
+    previous = tmp_path / "measured.json"
+    previous.write_text(json.dumps(keep))
+    again = build.PageWriter(tmp_path, previous)(outcome.results[0])
+    assert again.measured == link.measured
+    assert build.PageWriter(tmp_path)(outcome.results[0]).measured is None  # not asked for
+
+
+def test_the_scatter_is_drawn_where_the_caller_says(page, coarse, tmp_path, monkeypatch):
+    """``write_page``'s ``draw`` gets the scatter (the report hands it to its figure process)."""
+    grid, frame, where = coarse
+    monkeypatch.setattr(atlas_page, "_measured_frame", made_up_levels)
+    shutil.copytree(page[0] / atlas_page.FIGURES, tmp_path / atlas_page.FIGURES)  # the atlas part, drawn
+    handed = []
+    atlas_page.write_page(tmp_path, grid, frame, [], None, where, draw=lambda f, *args: handed.append((f, args)))
+    scatter = tmp_path / atlas_page.FIGURES / "scatter.png"
+    assert [f for f, _ in handed] == [measured.draw_scatter] and handed[0][1][1] == scatter
+    assert not scatter.exists()
+    handed[0][0](*handed[0][1])
+    assert scatter.is_file()
+
+
+def test_a_picture_that_fails_in_the_figure_process_is_the_atlas_page_s_error():
+    with ProcessPoolExecutor(max_workers=1) as pool:
+        later = build.FigureProcess(pool)
+        later.draw(math.sqrt, 4.0)
+        assert later.wait() is None
+        later.draw(math.sqrt, -1.0)
+        failed = later.wait()
+    assert isinstance(failed, ValueError)
+    (line_html, _), error = build._atlas_failed(failed)
+    assert error == "atlas page: could not be drawn: ValueError: math domain error" and "class='bad'" in line_html
+
+
+def test_spearman_is_pandas_spearman_to_the_bit():
+    rng = np.random.default_rng(7)
+    for size in (3, 5, 40, 200):
+        a = np.round(rng.random(size), 1)  # ties
+        b = a + rng.normal(size=size)
+        assert measured.spearman(a, b) == float(pd.Series(a).corr(pd.Series(b), method="spearman"))
+    assert math.isnan(measured.spearman(np.ones(4), np.arange(4.0)))
+
+
+def test_a_case_s_tip_readings_are_its_first_rows_at_the_tip():
+    rows = pd.DataFrame(
+        {
+            "method": ["fem", "fem", "fem", "fem", "prbm"],
+            "quantity": ["x", "x", "x", "y", "x"],
+            "level": [1, 1, 1, 1, 1],
+            "point": ["mid", "tip", "", None, "tip"],
+            "value": [9.0, 1.0, 2.0, 3.0, 4.0],
+        }
+    )
+    tips = measured._tips(rows)
+    assert tips[("fem", "x", 1)] == 1.0 and tips[("fem", "y", 1)] == 3.0 and tips[("prbm", "x", 1)] == 4.0
+    assert math.isnan(measured._tip(tips, "fem", "rotation", 1))

@@ -26,7 +26,73 @@ import pandas as pd  # noqa: E402
 
 from validation.atlas.claims import Claim  # noqa: E402
 from validation.atlas.expected import REGION_LEVELS  # noqa: E402
+from validation.atlas.minor_ticks import mark_minor_ticks  # noqa: E402
 from validation.atlas.models import MODELS  # noqa: E402
+
+
+@dataclass(frozen=True)
+class AnsweredLine:
+    """One line of a model on which it answers, from its first answered level on (by load): its shape
+    inputs, loads, whether each level is answered ("ok"), tip errors and the deflection each reaches in the
+    model's path coordinate (the exact tip rotation in deg, else the ``deflection`` column)."""
+
+    key: tuple
+    load: np.ndarray
+    ok: np.ndarray
+    error: np.ndarray
+    deflection: np.ndarray
+
+
+def answered_lines(frame: pd.DataFrame, model: str) -> list[AnsweredLine]:
+    """The model's lines on which it answers (a line on which it never answers has no region), in the
+    order of their shape inputs: read once, for every threshold of ``line_limits``."""
+    m = MODELS[model]
+    rows = frame[frame["model"] == model].sort_values("load")
+    shape_names = [a.name for a in m.shape_axes]
+    if shape_names:
+        group = rows.groupby(shape_names, sort=True).ngroup().to_numpy()
+        order = np.argsort(group, kind="stable")  # line by line, each by load (``rows``' order)
+        group = group[order]
+        keep = group >= 0  # a line with a missing shape input is none (``groupby`` drops it)
+        order, group = order[keep], group[keep]
+        bounds = np.flatnonzero(np.diff(group)) + 1
+        spans = list(zip(np.concatenate([[0], bounds]), np.concatenate([bounds, [group.size]])))
+    else:
+        order, spans = np.arange(len(rows)), [(0, len(rows))] if len(rows) else []
+    shape = rows[shape_names].to_numpy()[order] if shape_names else None
+    ok = (rows["status"] == "ok").to_numpy()[order]
+    load, error = rows["load"].to_numpy(float)[order], rows["tip_error"].to_numpy()[order]
+    column = "exact_rotation_deg" if m.coordinate == "tip angle" else "deflection"
+    reached = rows[column].to_numpy()[order]
+    reached = np.abs(reached) if m.coordinate == "tip angle" else reached
+    out = []
+    for lo, hi in spans:
+        answered = ok[lo:hi]
+        if not answered.any():
+            continue
+        first = lo + int(np.argmax(answered))
+        key = tuple(shape[lo]) if shape is not None else ()
+        out.append(AnsweredLine(key, load[first:hi], ok[first:hi], error[first:hi], reached[first:hi]))
+    return out
+
+
+def _limits(lines: list[AnsweredLine], shape_names: list[str], threshold: float) -> pd.DataFrame:
+    """``line_limits`` of lines already read (``answered_lines``)."""
+    out = []
+    for line in lines:
+        inside = line.ok & (line.error <= threshold)
+        first_out = int(np.argmin(inside)) if not inside.all() else len(inside)
+        last = first_out - 1 if first_out > 0 else None
+        out.append(
+            {
+                **dict(zip(shape_names, line.key)),
+                "first_load": float(line.load[0]),
+                "load_limit": float(line.load[last]) if last is not None else 0.0,
+                "deflection": float(line.deflection[last]) if last is not None else 0.0,
+                "whole_line": first_out == len(inside),
+            }
+        )
+    return pd.DataFrame(out)
 
 
 def line_limits(frame: pd.DataFrame, model: str, threshold: float) -> pd.DataFrame:
@@ -35,38 +101,8 @@ def line_limits(frame: pd.DataFrame, model: str, threshold: float) -> pd.DataFra
     % of L for a guided end or an arc: the model's path coordinate) and whether the whole line stayed inside.
     A model that gives no answer at the smallest loads (the Theta-dependent fits' constant term) starts its
     region where it starts answering; a line on which it never answers has no region (not listed)."""
-    m = MODELS[model]
-    rows = frame[frame["model"] == model].sort_values("load")
-    shape_names = [a.name for a in m.shape_axes]
-    out = []
-    groups = rows.groupby(shape_names, sort=True) if shape_names else [((), rows)]
-    for key, line in groups:
-        key = key if isinstance(key, tuple) else (key,)
-        answered = (line["status"] == "ok").to_numpy()
-        if not answered.any():
-            continue
-        start = int(np.argmax(answered))
-        line = line.iloc[start:]
-        inside = (line["status"] == "ok").to_numpy() & (line["tip_error"].to_numpy() <= threshold)
-        first_out = int(np.argmin(inside)) if not inside.all() else len(inside)
-        last = line.iloc[first_out - 1] if first_out > 0 else None
-        out.append(
-            {
-                **dict(zip(shape_names, key)),
-                "first_load": float(line["load"].iloc[0]),
-                "load_limit": float(last["load"]) if last is not None else 0.0,
-                "deflection": _deflection(m, last) if last is not None else 0.0,
-                "whole_line": first_out == len(inside),
-            }
-        )
-    return pd.DataFrame(out)
-
-
-def _deflection(m, row) -> float:
-    """The deflection a region reaches, in the model's path coordinate (see ``line_limits``)."""
-    if m.coordinate == "tip angle":
-        return float(abs(row["exact_rotation_deg"]))
-    return float(row["deflection"])
+    shape_names = [a.name for a in MODELS[model].shape_axes]
+    return _limits(answered_lines(frame, model), shape_names, threshold)
 
 
 def deflection_unit(model: str) -> str:
@@ -79,8 +115,10 @@ def region_table(frame: pd.DataFrame, model: str) -> pd.DataFrame:
     m = MODELS[model]
     axis = m.map_axes[0] if m.map_axes[0] != "load" else None
     tables = []
+    answered = answered_lines(frame, model)
+    shape_names = [a.name for a in m.shape_axes]
     for threshold in REGION_LEVELS:
-        lines = line_limits(frame, model, threshold)
+        lines = _limits(answered, shape_names, threshold)
         worst = lines if axis is None else lines.loc[lines.groupby(axis)["load_limit"].idxmin()]
         tables.append(worst.assign(threshold=threshold, lines=len(lines)))
     return pd.concat(tables, ignore_index=True)
@@ -206,6 +244,7 @@ def draw_map(frame: pd.DataFrame, model: str, path: Path, claims: Sequence[Claim
     ax.set_title(f"{m.title}\n(worst over the other inputs; dashed green: the seeds' claimed ranges)", fontsize=9)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.stem + ".tmp.png")
+    mark_minor_ticks(fig)
     fig.savefig(tmp, dpi=110)
     plt.close(fig)
     tmp.replace(path)

@@ -17,7 +17,10 @@ What takes seconds is kept in ``atlas_figures/`` and done again only when what i
 the claims, the maps and the refit depend only on the atlas (grid, code version, its rows), the claims
 file and the code drawing them (``static.html`` and its digest); a case's measured levels (following
 the PRBM along its line: about a second a level for the Chain Algorithm) on its PRBM and FEM values
-and the code reading them (``measured.json``, by case).  The figures folder may hold hard links to the
+and the code reading them (``measured.json``, by case).  The report works both out beside its cases, in
+its pool's workers: the atlas-only part ahead (``prepare_static``), each case's measured levels where its
+page is drawn (``case_measured``, handed to ``write_page`` as ``known``); the scatter is drawn in the
+report's figure process (``write_page``'s ``draw``).  The figures folder may hold hard links to the
 previous report's files (the report's output set, ``validation.report.build``): a file is removed
 before it is written again, never written through.
 
@@ -36,7 +39,9 @@ import math
 import shutil
 import time
 from dataclasses import dataclass, field
+from functools import lru_cache
 from pathlib import Path
+from typing import Callable
 
 import pandas as pd
 
@@ -241,32 +246,68 @@ def _measured_key(result, rows: pd.DataFrame, code: bytes) -> str:
     return hashlib.sha256(code + text.encode()).hexdigest()
 
 
-def _measured_frame(results, table: pd.DataFrame, cached: dict) -> tuple[pd.DataFrame, dict]:
-    """``measured.measured_levels`` of every case (a frame) and the cache to keep: a case whose key
-    (``_measured_key``) is in ``cached`` is read from it (following a chain PRBM along its line takes
-    a second a level)."""
+@dataclass(frozen=True)
+class CaseMeasured:
+    """One case's measured levels (``measured.measured_levels``) and what they depend on (``_measured_key``):
+    worked out where the case's page is drawn (a worker of the report's pool, beside the other cases) and
+    handed to ``write_page``, which then follows no PRBM along its line on the report's serial path."""
+
+    key: str
+    levels: tuple[measured.MeasuredLevel, ...]
+
+    def entry(self) -> dict:
+        """The case's entry of ``measured.json``."""
+        return {"key": self.key, "levels": [dict(lv.__dict__) for lv in self.levels]}
+
+
+@lru_cache(maxsize=1)
+def _measured_code() -> bytes:
+    """The code the measured levels depend on: the modules reading them and the atlas's code version."""
     here = Path(__file__).parents[1] / "atlas"
     code = b"".join(p.read_bytes() for p in (here / "measured.py", here / "lines.py"))
-    code += dataset.code_version().encode()
+    return code + dataset.code_version().encode()
+
+
+def case_measured(result, rows: pd.DataFrame, cached: dict) -> CaseMeasured | None:
+    """The measured levels of one case from its rows of the tidy table (None: its PRBM run has no atlas
+    model); read from ``cached`` (``measured.json``'s entries, by case) when its key is there (following
+    a chain PRBM along its line takes a second a level)."""
+    run = result.runs.get("prbm")
+    if run is None or not run.extras.get("atlas_model"):
+        return None
+    key = _measured_key(result, rows, _measured_code())
+    old = cached.get(result.loaded.id, {})
+    if old.get("key") == key:
+        return CaseMeasured(key, tuple(measured.MeasuredLevel(**d) for d in old["levels"]))
+    return CaseMeasured(key, tuple(measured.measured_levels([result], rows)))
+
+
+def _measured_frame(results, table: pd.DataFrame, cached: dict) -> tuple[pd.DataFrame, dict]:
+    """``measured.measured_levels`` of every case (a frame) and the cache to keep: a case whose key
+    (``_measured_key``) is in ``cached`` is read from it (``case_measured``)."""
     by_case = dict(tuple(table.groupby("case", sort=False))) if len(table) and "case" in table else {}
-    keep, levels = {}, []
+    keep: dict[str, dict] = {}
+    levels: list[measured.MeasuredLevel] = []
     for result in results:
-        run = result.runs.get("prbm")
-        if run is None or not run.extras.get("atlas_model") or result.loaded.id not in by_case:
+        if result.loaded.id not in by_case:
             continue
-        rows = by_case[result.loaded.id]
-        key = _measured_key(result, rows, code)
-        old = cached.get(result.loaded.id, {})
-        if old.get("key") == key:
-            got = [measured.MeasuredLevel(**d) for d in old["levels"]]
-        else:
-            got = measured.measured_levels([result], rows)
-        keep[result.loaded.id] = {"key": key, "levels": [dict(lv.__dict__) for lv in got]}
-        levels += got
+        got = case_measured(result, by_case[result.loaded.id], cached)
+        if got is None:
+            continue
+        keep[result.loaded.id] = got.entry()
+        levels += got.levels
     return measured.frame_of(levels), keep
 
 
-def _measured_section(levels: pd.DataFrame, figures: Path) -> tuple[str, dict]:
+Draw = Callable[..., object]  # draw(function, *args): call it now, or have another process call it
+
+
+def draw_now(function: Callable[..., object], *args: object) -> None:
+    """``write_page``'s default ``draw``: the picture drawn here, now."""
+    function(*args)
+
+
+def _measured_section(levels: pd.DataFrame, figures: Path, draw: Draw = draw_now) -> tuple[str, dict]:
     # ``agreement`` of an empty frame (object columns) cannot take isfinite: no level, nothing to agree on
     agree = measured.agreement(levels) if len(levels) else {"levels": 0}
     body = ["<h2 id='measured'>Predicted against measured</h2>"]
@@ -275,7 +316,7 @@ def _measured_section(levels: pd.DataFrame, figures: Path) -> tuple[str, dict]:
         return "".join(body), agree
     scatter = figures / "scatter.png"
     scatter.unlink(missing_ok=True)  # may be a hard link to the previous report's
-    measured.draw_scatter(levels, scatter)
+    draw(measured.draw_scatter, levels, scatter)
     split = (
         "Split of the measured error: the path error is the PRBM read at the FEM's tip angle (b for a "
         "guided end), its distance from the FEM's tip in % of L; the stiffness error is the load the PRBM "
@@ -538,10 +579,14 @@ def write_page(
     table: pd.DataFrame | None = None,
     datasets: Path | None = None,
     claims_file: Path = CLAIMS,
+    known: dict[str, CaseMeasured] | None = None,
+    draw: Draw = draw_now,
 ) -> AtlasPage:
     """``atlas.html`` (and its pictures under ``atlas_figures/``) in ``out`` from the atlas ``frame`` on
     ``grid``, with the cases' ``results`` and their tidy ``table`` (module docstring); ``datasets``: the
-    folder holding the dataset (for its ``atlas.json``)."""
+    folder holding the dataset (for its ``atlas.json``); ``known``: cases' measured levels already worked
+    out (``case_measured``, by case), used where their key still holds; ``draw``: how the scatter is
+    drawn (``draw_now``, or handed to another process: the caller then waits for it)."""
     started = time.perf_counter()
     out = Path(out)
     figures = out / FIGURES
@@ -551,11 +596,12 @@ def write_page(
         cached = json.loads((figures / MEASURED).read_text())
     except (OSError, ValueError):
         cached = {}
+    cached |= {case: got.entry() for case, got in (known or {}).items()}
     static = _static_part(frame, grid, version, figures, claims_file)  # first: it may empty the folder
     levels, keep = _measured_frame(list(results), table if table is not None else pd.DataFrame(), cached)
     (figures / MEASURED).unlink(missing_ok=True)  # may be a hard link
     (figures / MEASURED).write_text(json.dumps(keep))
-    measured_html, agree = _measured_section(levels, figures)
+    measured_html, agree = _measured_section(levels, figures, draw)
     toc = " &middot; ".join(
         [
             _link("#measured", "predicted against measured"),
@@ -591,13 +637,21 @@ def prepare_static(out: Path, datasets: Path, build: bool = True) -> None:
 
 
 def build_page(
-    out: Path, results, table: pd.DataFrame, datasets: Path, build: bool = True, workers: int = 2
+    out: Path,
+    results,
+    table: pd.DataFrame,
+    datasets: Path,
+    build: bool = True,
+    workers: int = 2,
+    known: dict[str, CaseMeasured] | None = None,
+    draw: Draw = draw_now,
 ) -> AtlasPage | None:
     """The atlas page of a report written in ``out``: the best atlas under ``datasets`` (the published
     report's ``atlas/``), else (with ``build``) the coarse atlas built under ``out/atlas`` (carried with
-    the report's folder); None where there is none and ``build`` is False."""
+    the report's folder); None where there is none and ``build`` is False. ``known``, ``draw``: as
+    ``write_page``."""
     found = find_atlas(datasets, Path(out) / DATASETS if build else None, workers=workers)
     if found is None:
         return None
     grid, frame, where = found
-    return write_page(out, grid, frame, results, table, where)
+    return write_page(out, grid, frame, results, table, where, known=known, draw=draw)

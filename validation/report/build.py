@@ -26,6 +26,7 @@ from __future__ import annotations
 import datetime as _dt
 import hashlib
 import html
+import json
 import math
 import os
 import platform
@@ -34,11 +35,13 @@ import shutil
 import subprocess
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass
+from concurrent.futures import Future, ProcessPoolExecutor
+from dataclasses import dataclass, field, replace
+from functools import lru_cache
 from importlib import metadata
 from operator import itemgetter
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 import pandas as pd
@@ -74,9 +77,11 @@ from validation.report.overview import CLAIMS, overview_points, plot_overview
 from validation.report.summary import (
     METHOD_NAMES,
     CaseSummary,
+    Finding,
     case_sentence,
     findings,
     findings_html,
+    group_order,
     key_terms,
     summarise,
     summary_markdown,
@@ -84,7 +89,7 @@ from validation.report.summary import (
     verdict_counts_line,
 )
 from validation.run.compare import verdict_by_method
-from validation.run.verdict import Verdict, counts_sentence, method_verdicts, vocabulary_lines
+from validation.run.verdict import MethodVerdict, Verdict, counts_sentence, method_verdicts, vocabulary_lines
 from validation.run.runner import CaseResult
 from validation.run.outcome import run_cases, summary, tabulate
 from validation.run.timeline import Timed, breakdown, command_age, csv_text, timed
@@ -412,8 +417,20 @@ def _with_model_range(cols: dict[str, str], table: pd.DataFrame) -> dict[str, st
 CASE_CSS = "div.chart{width:100%}details{max-width:100%;overflow-x:auto}img{max-width:100%;height:auto}"
 
 
-def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str, str]:
-    """Write the case's page (html and md); returns its one-sentence result (`case_sentence`) and its link."""
+@dataclass(frozen=True)
+class DrawnPage:
+    """What drawing a case page worked out that the index uses too: its one-sentence result
+    (`case_sentence`), its link, its methods' verdicts (`method_verdicts`) and its findings (`findings`)."""
+
+    sentence: str
+    link: str
+    verdicts: dict[str, MethodVerdict]
+    findings: tuple[Finding, ...]
+
+
+def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> DrawnPage:
+    """Write the case's page (html and md); returns what the index takes from it (``DrawnPage``) rather
+    than working it out again."""
     case = result.loaded.case
     cid = case.case.id
     folder = out / "cases"
@@ -542,7 +559,7 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> tuple[str,
         md += [f"\nCharts ({', '.join(chart.id for chart in charts)}): drawn in [the HTML page]({cid}.html)."]
     md += [f"\n![{name}]({name})" for name in images]
     (folder / f"{cid}.md").write_text("\n".join(md) + "\n")
-    return sentence, f"cases/{cid}.html"
+    return DrawnPage(sentence, f"cases/{cid}.html", verdicts, tuple(items))
 
 
 def _code_digest() -> str:
@@ -562,6 +579,8 @@ class PageLink:
     link: str
     error: str | None = None
     summary: CaseSummary | None = None
+    measured: atlas_page.CaseMeasured | None = None
+    findings: tuple[Finding, ...] | None = None  # the case's `findings`, in the index's order
 
 
 # A page's tables hold their text in Python strings rather than pandas 3's pyarrow-backed default: a page
@@ -580,10 +599,12 @@ def _page_job(args) -> PageLink:
     digest = hashlib.sha256((result.loaded.text + stable.to_csv(index=False) + _code_digest()).encode()).hexdigest()
     stamp = out / "cases" / f"{cid}.digest"
     if stamp.exists() and stamp.read_text() == digest and (out / "cases" / f"{cid}.html").exists():
-        return PageLink(cid, f"cases/{cid}.html", summary=summarise(result, part))
+        return PageLink(
+            cid, f"cases/{cid}.html", summary=summarise(result, part), findings=tuple(findings([result], part))
+        )
     _clear_page(out, cid)
     try:
-        sentence, link = _case_page(result, part, out)
+        drawn = _case_page(result, part, out)
     except Exception as exc:  # noqa: BLE001 - any drawing error is reported, the other pages go on
         error = f"{cid}: its page could not be drawn: {type(exc).__name__}: {exc}"
         link = f"cases/{cid}.html"
@@ -591,7 +612,8 @@ def _page_job(args) -> PageLink:
         stamp.unlink(missing_ok=True)
         return PageLink(cid, link, error)
     stamp.write_text(digest)
-    return PageLink(cid, link, summary=summarise(result, part, sentence))  # the page's sentence: once
+    summary = summarise(result, part, drawn.sentence, drawn.verdicts)  # the page's, not worked out again
+    return PageLink(cid, drawn.link, summary=summary, findings=drawn.findings)
 
 
 def _clear_page(out: Path, cid: str) -> None:
@@ -606,9 +628,13 @@ def _clear_page(out: Path, cid: str) -> None:
 class PageWriter:
     """``run_cases``' ``after``: a case's page drawn in the worker that ran the case, right after it
     (so pages are drawn while other cases still run). Its rows are ``tabulate`` of the case in the
-    order of the whole table (which ``run_cases`` sorts by group, case, method, quantity, point, level)."""
+    order of the whole table (which ``run_cases`` sorts by group, case, method, quantity, point, level).
+    With ``measured`` (the previous report's ``measured.json``, whose entries are reused where their key
+    holds) the case's measured levels for the atlas page (``atlas_page.case_measured``) are worked out
+    here too, beside the other cases rather than on the report's serial path."""
 
     out: Path
+    measured: Path | None = None
 
     def __call__(self, result: CaseResult) -> PageLink:
         with pd.option_context("mode.string_storage", PAGE_STRINGS):
@@ -617,7 +643,36 @@ class PageWriter:
                 part = part.sort_values(
                     ["group", "case", "method", "quantity", "point", "level"], kind="stable", ignore_index=True
                 )
-            return _page_job((result, part, self.out))
+            link = _page_job((result, part, self.out))
+        if self.measured is None:
+            return link
+        return replace(link, measured=_case_measured(result, part, self.measured))
+
+
+def _case_measured(result: CaseResult, part: pd.DataFrame, previous: Path) -> atlas_page.CaseMeasured | None:
+    """``atlas_page.case_measured`` of a case, None where it fails: the atlas page works it out again
+    and reports why it could not."""
+    try:
+        return atlas_page.case_measured(result, part, _previous_measured(previous))
+    except Exception:  # noqa: BLE001 - the atlas page is optional; it says what went wrong
+        return None
+
+
+def _previous_measured(path: Path) -> dict:
+    """The previous report's measured levels (``measured.json``; empty where there is none), read once
+    per process and file version."""
+    try:
+        return _read_measured(str(path), path.stat().st_mtime_ns)
+    except OSError:
+        return {}
+
+
+@lru_cache(maxsize=2)
+def _read_measured(path: str, version: int) -> dict:
+    try:
+        return json.loads(Path(path).read_text())
+    except (OSError, ValueError):
+        return {}
 
 
 def _build_pages(
@@ -625,8 +680,9 @@ def _build_pages(
 ) -> list[PageLink]:
     """The page of every case; the pages not in ``done`` (already drawn) are drawn here."""
     done = done or {}
-    parts = by_case(table)
-    tasks = [(r, rows_of(parts, table, r.loaded.id), out) for r in results if r.loaded.id not in done]
+    todo = [r for r in results if r.loaded.id not in done]
+    parts = by_case(table) if todo else {}  # the whole report's pages are drawn in the pool's workers
+    tasks = [(r, rows_of(parts, table, r.loaded.id), out) for r in todo]
     if jobs > 1 and len(tasks) > 1:
         with ProcessPoolExecutor(max_workers=jobs) as pool:
             drawn = list(pool.map(_page_job, tasks, chunksize=4))
@@ -726,7 +782,8 @@ class DomainsAndAtlas:
     """The chapter-4 domain study, then the atlas page's atlas-only part (``atlas_page.prepare_static``:
     the coarse atlas built where none of the current code is found, its claims table reading the study's
     summary, its maps and refit), in one task of ``run_cases``' pool beside the cases: off the main
-    process's path, which then only adds the cases' predicted-against-measured part."""
+    process's path, which then only adds the cases' predicted-against-measured part (its levels worked
+    out beside each case by ``PageWriter``, its scatter drawn in the figure process)."""
 
     stage: Path
     datasets: Path
@@ -830,12 +887,16 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
         paths = find_case_files(cases or None)
         # the whole report: the chapter-4 deflection-domain study beside the sweep studies, run beside the cases
         extra = [] if cases else [DomainsAndAtlas(stage, out / atlas_page.DATASETS)]
+        # the atlas page's measured levels beside the cases when it will be drawn (the whole report builds
+        # an atlas; a report of chosen cases draws the page from a published one)
+        measure = not cases or (out / atlas_page.DATASETS).is_dir()
+        previous = out / atlas_page.FIGURES / atlas_page.MEASURED if measure else None
         outcome = run_cases(
             paths,
             use_cache=use_cache,
             jobs=jobs,
             progress=True,
-            after=PageWriter(stage),
+            after=PageWriter(stage, previous),
             extra=extra,
             costs=_last_costs(out),
         )
@@ -856,12 +917,17 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
                 _write_tables(outcome, stage)
             with timed("main", "pages not drawn in the workers", timeline):
                 pages = _build_pages(outcome.results, outcome.table, stage, jobs, done=outcome.after)
+            later = FigureProcess(figure_pool)  # the atlas page's scatter, drawn beside the index
             with timed("main", "atlas page", timeline):
-                atlas_line, atlas_error = _atlas_page(outcome, stage, out, jobs, build=not cases)
+                atlas_line, atlas_error = _atlas_page(outcome, stage, out, jobs, build=not cases, draw=later.draw)
             with timed("main", "index page", timeline):
                 _write_index(outcome, pages, stage, published=out, atlas=atlas_line)
-            with timed("main", "waiting for the overview figure", timeline):
+            with timed("main", "waiting for the figure process", timeline):
                 figure.result()
+                failed = later.wait()
+            if failed is not None and atlas_error is None:  # the index says so instead of linking the page
+                atlas_line, atlas_error = _atlas_failed(failed)
+                _write_index(outcome, pages, stage, published=out, atlas=atlas_line)
         page_errors = [page.error for page in pages if page.error] + ([atlas_error] if atlas_error else [])
         for error in outcome.errors:
             print_error(error)
@@ -883,17 +949,51 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     return outcome.exit_status
 
 
-def _atlas_page(outcome, stage: Path, published: Path, jobs: int, build: bool) -> tuple[tuple[str, str], str | None]:
+@dataclass
+class FigureProcess:
+    """Pictures handed to the report's figure process, drawn there while this process writes the index:
+    ``draw`` is ``atlas_page.write_page``'s, ``wait`` waits for every picture handed over."""
+
+    pool: ProcessPoolExecutor
+    pending: list[Future] = field(default_factory=list)
+
+    def draw(self, function: Callable[..., object], *args: object) -> None:
+        self.pending.append(self.pool.submit(function, *args))
+
+    def wait(self) -> BaseException | None:
+        """Wait for every picture; returns the first failure (None: all drawn)."""
+        failures = [future.exception() for future in self.pending]
+        return next((failure for failure in failures if failure is not None), None)
+
+
+def _atlas_failed(exc: BaseException) -> tuple[tuple[str, str], str]:
+    """The index's line (html, markdown) and the error of an atlas page that could not be drawn."""
+    error = f"atlas page: could not be drawn: {type(exc).__name__}: {exc}"
+    return (f"<p class='bad'><b>PRBM validity atlas:</b> {html.escape(error)}</p>", error), error
+
+
+def _atlas_page(
+    outcome, stage: Path, published: Path, jobs: int, build: bool, draw: atlas_page.Draw = atlas_page.draw_now
+) -> tuple[tuple[str, str], str | None]:
     """The PRBM validity atlas's page (``atlas_page``) in ``stage``, from the best atlas under the report's
     ``atlas/`` (else, with ``build``: the whole report, the coarse one built); returns the index's line
-    (html, markdown) and the error that kept the page from being drawn (None: drawn or not asked for)."""
+    (html, markdown) and the error that kept the page from being drawn (None: drawn or not asked for).
+    ``draw``: how its scatter is drawn (``atlas_page.write_page``)."""
+    pages = getattr(outcome, "after", None) or {}
+    known = {case: link.measured for case, link in pages.items() if getattr(link, "measured", None)}
     try:
         page = atlas_page.build_page(
-            stage, outcome.results, outcome.table, published / atlas_page.DATASETS, build=build, workers=jobs
+            stage,
+            outcome.results,
+            outcome.table,
+            published / atlas_page.DATASETS,
+            build=build,
+            workers=jobs,
+            known=known,
+            draw=draw,
         )
     except Exception as exc:  # noqa: BLE001 - the atlas page is optional: its failure is reported, the report goes on
-        error = f"atlas page: could not be drawn: {type(exc).__name__}: {exc}"
-        return (f"<p class='bad'><b>PRBM validity atlas:</b> {html.escape(error)}</p>", error), error
+        return _atlas_failed(exc)
     if page is None:
         text = "not drawn: a report of chosen cases builds no atlas (the whole report, or prbm-validate atlas, does)"
         return (f"<p><b>PRBM validity atlas:</b> {html.escape(text)}</p>", text), None
@@ -910,10 +1010,10 @@ def _write_index(
     table = outcome.table
     links = {page.case: page.link for page in pages}
     page_errors = [page.error for page in pages if page.error]
-    parts = by_case(table)
     drawn = {page.case: page.summary for page in pages if page.summary is not None}
+    parts = by_case(table) if any(r.loaded.id not in drawn for r in outcome.results) else {}
     rows = [drawn.get(r.loaded.id) or summarise(r, rows_of(parts, table, r.loaded.id)) for r in outcome.results]
-    items = findings(outcome.results, table)
+    items = _index_findings(outcome.results, table, pages)
     failed = outcome.failed_comparisons
     info = reproducibility()
     body_readings, md_readings = _readings_section(outcome.results, table, links)
@@ -988,6 +1088,16 @@ def _write_index(
     md += ["\n## Reproducibility\n", _md_table(pd.DataFrame(list(info.items()), columns=["item", "value"]))]
     (out / "index.html").write_text(_page("PRBM validation report", "".join(body)))
     (out / "index.md").write_text("\n".join(md) + "\n")
+
+
+def _index_findings(results: list[CaseResult], table: pd.DataFrame, pages: list[PageLink]) -> list[Finding]:
+    """``findings`` of every case, in its order (by group, then case), each case's as its page worked
+    them out; worked out here when a page did not."""
+    drawn = {page.case: page.findings for page in pages if page.findings is not None}
+    if any(r.loaded.id not in drawn for r in results):
+        return findings(results, table)
+    ordered = sorted(results, key=lambda r: (group_order(r.loaded.case.case.group), r.loaded.id))
+    return [item for r in ordered for item in drawn[r.loaded.id]]
 
 
 def _other_pages_html(published: Path, out: Path) -> list[str]:

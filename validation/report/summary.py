@@ -44,6 +44,7 @@ from validation.run.outcome import (
     prbm_fem_errors,
 )
 from validation.run.verdict import (
+    MethodVerdict,
     Verdict,
     case_verdict_of,
     counts_sentence,
@@ -191,13 +192,21 @@ def _short(text: str, limit: int = 140) -> str:
     return text if len(text) <= limit else text[: limit - 1].rstrip() + "…"
 
 
-def summarise(result: CaseResult, part: pd.DataFrame, sentence: str | None = None) -> CaseSummary:
-    """The case's row of the index; ``sentence``: its `case_sentence` of ``part``, when the caller has it."""
+def summarise(
+    result: CaseResult,
+    part: pd.DataFrame,
+    sentence: str | None = None,
+    verdicts: dict[str, MethodVerdict] | None = None,
+) -> CaseSummary:
+    """The case's row of the index; ``sentence``: its `case_sentence` of ``part``, and ``verdicts``: its
+    `method_verdicts` of ``part``, when the caller has them (the case page works both out)."""
     case = result.loaded.case
     claimed = part[part["within_tolerance"].notna()]
     findings = part["finding"].dropna().unique()
     n_findings = len(findings) + len(case.case.findings)
-    verdicts = method_verdicts(case, result.runs, part, verdict_by_method(case, result.runs, part) if len(part) else {})
+    if verdicts is None:
+        problems = verdict_by_method(case, result.runs, part) if len(part) else {}
+        verdicts = method_verdicts(case, result.runs, part, problems)
     methods = [MethodState(m, v.verdict, v.reason) for m, v in verdicts.items()]
     verdict = case_verdict_of(verdicts.values())
     reason = "; ".join(f"{s.method}: {_short(s.reason)}" for s in methods if s.verdict is verdict and s.reason)
