@@ -43,11 +43,11 @@ beam's block of its Jacobian from them (one integration instead of one per input
 The integrator picks the equations by the state's length (25 or 17: the elastica with its
 sensitivities, 21: the plain beam with its variational equations, 5: the plain beam).
 
-``dop853`` is scipy's ``solve_ivp(method="DOP853")`` (Hairer, Norsett & Wanner, Solving ODEs I,
-sec. II.5 and II.4 for the first step) step for step: the same coefficients (scipy's own tables),
-the same first-step choice, error norm (the 5th- and 3rd-order estimates combined) and step-size
-factors (safety 0.9, between 0.2 and 10, exponent -1/8), so the end state agrees with scipy's to
-rounding, without the Python cost of each stage.
+``_samples`` integrates by scipy's ``solve_ivp(method="DOP853")`` (Hairer, Norsett & Wanner, Solving
+ODEs I, sec. II.5 and II.4 for the first step) step for step: the same coefficients (scipy's own
+tables), the same first-step choice, error norm (the 5th- and 3rd-order estimates combined) and
+step-size factors (safety 0.9, between 0.2 and 10, exponent -1/8), so the end state agrees with
+scipy's to rounding, without the Python cost of each stage.
 
 The shooting on these integrations (``shooting`` sets it up and reads the result): residual,
 Jacobian, Newton corrector and the whole continuation (``follow_path``) are in this one module
@@ -74,18 +74,28 @@ The continuation parameters q and the unknowns z stay plain vectors: they are in
 solved for as a whole (q(lambda) = q0 + lambda (q1 - q0)).
 
 Compile cost: numba compiles every jitted function on its own and links a copy of each callee into
-its caller, where LLVM optimises it again, so a chain follow_path -> newton -> residual -> dop853
-optimised the integrator once per level of the chain. Here only two functions are
-entry points (``follow_path`` and ``_samples``); the large functions they call once are inlined
-into them by numba (``inline='always'``: typed and optimised only as part of the caller), and the
-code uses loops instead of whole-array expressions, whose broadcasting checks drag numba's string
-formatting of error messages into every function that has one. Small helpers called from several
-places (``_combine``, ``_trial``) stay separate functions (LLVM inlines them anyway; numba's inlining
-would type a copy per call site). ``error_model="numpy"``: a float division by zero gives inf/nan
-instead of raising, so no exception branch per division is generated (every division here has a
-nonzero divisor by construction). ``no_cpython_wrapper=True`` on the helpers only compiled code calls
-(not on ``tip_force``, which `shooting` calls, nor ``_reach``, which a test calls): numba builds and
-optimises no Python-callable wrapper for them (LLVM time saved on each helper).
+its caller, where LLVM optimises it and generates its machine code again: code reached through a
+chain of separately compiled functions (follow_path -> newton -> residual -> the integrator) is
+optimised again at each level of the chain. So only two functions are entry points (``follow_path``
+and ``_samples``), and a function that compiled code calls from one place only (``_newton``,
+``_residual``, ``_tangent``, ``_tip_rate``, ``_step_cap``, ``_first_step``, ...) is inlined by numba
+(``inline='always'``: typed, lowered and optimised only as part of its caller). numba's inlining
+copies the callee's IR block by block, each block with all the callee's variables, so the DOP853 step
+loop is written out in ``_samples`` rather than inlined into it. A function called from several
+places (``_axpy``, ``_norm``, ``_solve``, ``_trial``, ``_rhs``, ``tip_force``) stays separate and is
+compiled once (inlined, it would be typed and lowered once per call site; LLVM still inlines the
+small ones), and ``_rhs`` has the plain beam's equations once (``beam_rhs``, then
+``_beam_variations``), not a second time inside ``beam_sensitivity_rhs``. numba compiles each of its
+own overloads (``np.zeros``, ``np.empty``, ``min``, ...) once per argument types and per compile
+options of the calling function (a helper without the Python wrapper and an entry point each compile
+their own), so the code keeps to few of them: ``np.zeros(n)`` rather than ``np.zeros_like``, ``x * x``
+rather than ``x ** 2`` (a compiled integer power; the product is the same number). The code uses
+loops instead of whole-array expressions, whose broadcasting checks drag numba's string formatting of
+error messages into every function that has one. ``error_model="numpy"``: a float division by zero
+gives inf/nan instead of raising, so no exception branch per division is generated (every division
+here has a nonzero divisor by construction). ``no_cpython_wrapper=True`` on the helpers only compiled
+code calls (not on ``tip_force``, which `shooting` calls, nor ``_reach``, which a test calls): numba
+builds and optimises no Python-callable wrapper for them (LLVM time saved on each helper).
 
 One problem structure (``Structure``, normalised by L and EI, ``shooting`` derives the equations):
 
@@ -316,6 +326,13 @@ def beam_sensitivity_rhs(s: float, Y: Vector, beam: Beam, loads: Loads, out: Vec
     """dY/ds into ``out`` for the plain beam and its variational equations (module docstring;
     BEAM_SENSITIVITY_STATE_SIZE entries) under ``loads``."""
     beam_rhs(s, Y, beam, loads, out)
+    _beam_variations(s, Y, beam, loads, out)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _beam_variations(s: float, Y: Vector, beam: Beam, loads: Loads, out: Vector) -> None:
+    """The plain beam's variational equations into out[5:] (``beam_sensitivity_rhs`` but the plain
+    beam's own, ``beam_rhs``)."""
     th, EI, EA = Y[2], beam.EI, beam.EA
     c, sn = math.cos(th), math.sin(th)
     outboard = beam.length - s
@@ -339,10 +356,10 @@ def _rhs(s: float, Y: Vector, beam: Beam, loads: Loads, out: Vector) -> None:
     """The equations the state's length names (BEAM_STATE_SIZE: the plain beam,
     BEAM_SENSITIVITY_STATE_SIZE: with its variational equations, else the elastica with its
     sensitivities)."""
-    if Y.size == BEAM_STATE_SIZE:
+    if Y.size == BEAM_STATE_SIZE or Y.size == BEAM_SENSITIVITY_STATE_SIZE:
         beam_rhs(s, Y, beam, loads, out)
-    elif Y.size == BEAM_SENSITIVITY_STATE_SIZE:
-        beam_sensitivity_rhs(s, Y, beam, loads, out)
+        if Y.size == BEAM_SENSITIVITY_STATE_SIZE:
+            _beam_variations(s, Y, beam, loads, out)
     else:
         elastica_rhs(s, Y, beam, loads, out)
 
@@ -359,8 +376,9 @@ def _first_step(
     d0 = d1 = 0.0
     for i in range(n):
         sc = atol + abs(y0[i]) * rtol
-        d0 += (y0[i] / sc) ** 2
-        d1 += (f[i] / sc) ** 2
+        u0, u1 = y0[i] / sc, f[i] / sc
+        d0 += u0 * u0
+        d1 += u1 * u1
     d0, d1 = math.sqrt(d0 / n), math.sqrt(d1 / n)
     h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
     h0 = min(h0, interval)
@@ -370,7 +388,8 @@ def _first_step(
     d2 = 0.0
     for i in range(n):
         sc = atol + abs(y0[i]) * rtol
-        d2 += ((f1[i] - f[i]) / sc) ** 2
+        u2 = (f1[i] - f[i]) / sc
+        d2 += u2 * u2
     d2 = math.sqrt(d2 / n) / h0
     if d1 <= 1e-15 and d2 <= 1e-15:
         h1 = max(1e-6, h0 * 1e-3)
@@ -407,93 +426,79 @@ def _error_norm(K: Matrix, y: Vector, y_new: Vector, h: float, tolerances: Toler
         for j in range(K.shape[0]):
             a5 += K[j, i] * _E5[j]
             a3 += K[j, i] * _E3[j]
-        e5 += (a5 / sc) ** 2
-        e3 += (a3 / sc) ** 2
+        a5, a3 = a5 / sc, a3 / sc
+        e5 += a5 * a5
+        e3 += a3 * a3
     if e5 == 0.0 and e3 == 0.0:
         return 0.0
     return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _dop853(
-    y0: Vector, t0: float, t1: float, beam: Beam, loads: Loads, tolerances: Tolerances, h_start: float
-) -> tuple[Vector, bool, float]:
-    """State at t1 from y0 at t0, success, and the step size the controller proposes next.
-    ``h_start`` > 0: the first step to try (a previous interval's proposal) instead of scipy's
-    initial-step selection."""
-    AB, C = _AB, _C  # global arrays: compile-time constants for numba
-    n = y0.size
-    K = np.empty((AB.shape[0], n))
-    f = np.empty(n)
-    _rhs(t0, y0, beam, loads, f)
-    y = y0.copy()
-    interval = t1 - t0
-    if interval <= 0.0:
-        return y, True, h_start
-    h_abs = _first_step(y0, f, t0, interval, beam, loads, tolerances) if h_start <= 0.0 else h_start
-    t = t0
-    stage = np.empty(n)
-    y_new = np.empty(n)
-    acc = np.empty(n)
-    last = K.shape[0] - 1
-    while t < t1:
-        min_step = 10 * abs(np.nextafter(t, np.inf) - t)
-        if h_abs < min_step:
-            h_abs = min_step
-        rejected = False
-        while True:
-            if h_abs < min_step:
-                return y, False, h_abs
-            t_new = t + h_abs
-            if t_new > t1:
-                t_new = t1
-            h = t_new - t
-            h_abs = abs(h)
-            for i in range(n):
-                K[0, i] = f[i]
-            for s in range(1, AB.shape[0]):  # the stages, then (the last row, B) the new state
-                _combine(K, AB[s], s, acc)
-                if s < last:
-                    for i in range(n):
-                        stage[i] = y[i] + acc[i] * h
-                    _rhs(t + C[s] * h, stage, beam, loads, K[s])
-                else:
-                    for i in range(n):
-                        y_new[i] = y[i] + h * acc[i]
-            _rhs(t + h, y_new, beam, loads, K[last])
-            error_norm = _error_norm(K, y, y_new, h, tolerances)
-            if error_norm < 1.0:
-                factor = MAX_FACTOR if error_norm == 0.0 else min(MAX_FACTOR, SAFETY * error_norm**ERROR_EXPONENT)
-                if rejected:
-                    factor = min(1.0, factor)
-                h_abs *= factor
-                break
-            h_abs *= max(MIN_FACTOR, SAFETY * error_norm**ERROR_EXPONENT)
-            rejected = True
-        t = t_new
-        for i in range(n):
-            y[i] = y_new[i]
-            f[i] = K[last, i]
-    return y, True, h_abs
 
 
 @njit(cache=True, error_model="numpy")
 def _samples(
     y0: Vector, s: Vector, beam: Beam, loads: Loads, tolerances: Tolerances, restart: bool
 ) -> tuple[Matrix, bool]:
-    """States at the arc lengths s, integrated from sample to sample; each interval starts with the
-    step the previous one proposed (the first, and every one when ``restart``, with scipy's
-    initial-step selection). The one compiled entry point of the integrator besides the shooting."""
+    """States at the arc lengths s by DOP853 (module docstring), integrated from sample to sample;
+    each interval starts with the step the controller proposed at the end of the previous one (the
+    first, and every one when ``restart``, with scipy's initial-step selection). False when a step
+    fell below scipy's minimum. The one compiled entry point of the integrator besides the shooting."""
+    AB, C = _AB, _C  # global arrays: compile-time constants for numba
     n = y0.size
     out = np.empty((s.size, n))
+    K = np.empty((AB.shape[0], n))  # the stage derivatives; the last row: f at the new state
+    last = K.shape[0] - 1
     y = y0.copy()
+    f = np.empty(n)
+    stage = np.empty(n)
+    y_new = np.empty(n)
+    acc = np.empty(n)
     for i in range(n):
         out[0, i] = y0[i]
-    h = 0.0
+    h_abs = 0.0
     for k in range(1, s.size):
-        y, ok, h = _dop853(y, s[k - 1], s[k], beam, loads, tolerances, 0.0 if restart else h)
-        if not ok:
-            return out, False
+        t, t1 = s[k - 1], s[k]
+        _rhs(t, y, beam, loads, f)
+        interval = t1 - t
+        if interval > 0.0 and (restart or h_abs <= 0.0):
+            h_abs = _first_step(y, f, t, interval, beam, loads, tolerances)
+        while t < t1:
+            min_step = 10 * abs(np.nextafter(t, np.inf) - t)
+            if h_abs < min_step:
+                h_abs = min_step
+            rejected = False
+            while True:
+                if h_abs < min_step:
+                    return out, False
+                t_new = t + h_abs
+                if t_new > t1:
+                    t_new = t1
+                h = t_new - t
+                h_abs = abs(h)
+                for i in range(n):
+                    K[0, i] = f[i]
+                for j in range(1, AB.shape[0]):  # the stages, then (the last row, B) the new state
+                    _combine(K, AB[j], j, acc)
+                    if j < last:
+                        for i in range(n):
+                            stage[i] = y[i] + acc[i] * h
+                        _rhs(t + C[j] * h, stage, beam, loads, K[j])
+                    else:
+                        for i in range(n):
+                            y_new[i] = y[i] + h * acc[i]
+                _rhs(t + h, y_new, beam, loads, K[last])
+                error_norm = _error_norm(K, y, y_new, h, tolerances)
+                if error_norm < 1.0:
+                    factor = MAX_FACTOR if error_norm == 0.0 else min(MAX_FACTOR, SAFETY * error_norm**ERROR_EXPONENT)
+                    if rejected:
+                        factor = min(1.0, factor)
+                    h_abs *= factor
+                    break
+                h_abs *= max(MIN_FACTOR, SAFETY * error_norm**ERROR_EXPONENT)
+                rejected = True
+            t = t_new
+            for i in range(n):
+                y[i] = y_new[i]
+                f[i] = K[last, i]
         for i in range(n):
             out[k, i] = y[i]
     return out, True
@@ -658,7 +663,8 @@ def _distance(a: Vector, b: Vector) -> float:
     """Euclidean distance |a - b| (a plain loop)."""
     total = 0.0
     for i in range(a.size):
-        total += (a[i] - b[i]) ** 2
+        d = a[i] - b[i]
+        total += d * d
     return math.sqrt(total)
 
 
@@ -873,7 +879,7 @@ def _tangent(
     return dz, regular, _tip_rate(z, q, states[states.shape[0] - 1], dz, dYdq, dq, structure)
 
 
-@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
+@njit(cache=True, inline="always", error_model="numpy")
 def _tip_rate(z: Vector, q: Vector, Y: Vector, dz: Vector, dYdq: Matrix, dq: Vector, structure: Structure) -> Vector:
     """d(x, y, theta)(1)/dlambda = (dY/dz) dz/dlambda + (dY/dq) dq at the tip state Y."""
     _, dF = tip_force(z, q, structure.forces)
@@ -916,7 +922,7 @@ def _newton(
     (the start point, then every trial point), so the compiled code holds one copy of the integrator."""
     tol, step_tol, maxiter, radius = corrector.tol, corrector.step_tol, corrector.maxiter, corrector.radius
     it, t, norm, started = 0, 1.0, math.inf, False
-    dz = np.zeros_like(z)
+    dz = np.zeros(z.size)
     z_try, center = z, z
     while True:
         r_new, J_new, states_new, F_new, ok = _residual(z_try, q, structure, tolerances, n_state)
@@ -952,7 +958,7 @@ def _newton(
             return z, NOT_CONVERGED, it, norm, J, states, F
 
 
-@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
+@njit(cache=True, inline="always", error_model="numpy")
 def _step_cap(
     rate: Vector, rate_prev: Vector, dlam: float, max_rotation_step: float, max_position_step: float
 ) -> float:
@@ -1001,7 +1007,7 @@ def follow_path(
     lam, dlam, lam_try, lam_prev, curvature = 0.0, min(controls.initial_step, 1.0), 0.0, 0.0, 0.0
     nit, nsteps, norm = 0, 0, 0.0
     started, regular = False, True
-    dz, tip, step, rate = np.zeros_like(z), np.zeros(3), np.zeros_like(z), np.zeros(3)
+    dz, tip, step, rate = np.zeros(z.size), np.zeros(3), np.zeros(z.size), np.zeros(3)
     reach = math.inf
     while True:
         final = started and lam >= 1.0
@@ -1015,12 +1021,12 @@ def follow_path(
         else:
             lam_try = min(1.0, lam + min(dlam, reach))
             q = _axpy(q0, lam_try, dq)
-            step = _axpy(np.zeros_like(z), lam_try - lam, dz) if regular else np.zeros_like(z)
+            step = _axpy(np.zeros(z.size), lam_try - lam, dz) if regular else np.zeros(z.size)
             # a step whose corrector needs more than max_step_iterations is rejected: stop there
             z_guess, ntol = _axpy(z, 1.0, step), 10 * controls.path.rtol
             nmax = min(controls.maxiter, max_step_iterations)
             if regular:  # the corrector may move z this far from the predictor (the step test below)
-                bend = curvature * (lam_try - lam) ** 2  # twice the predictor's expected miss
+                bend = curvature * ((lam_try - lam) * (lam_try - lam))  # twice the predictor's expected miss
                 radius = controls.max_corrector * _norm(step) + bend + 1e-6 * (1.0 + _norm(z))
         corrector = Corrector(tol=ntol, step_tol=1e-9 if final else ntol, ahead=not final, maxiter=nmax, radius=radius)
         z_new, nstat, it, norm, J, states, F = _newton(z_guess, q, corrector, structure, tolerances, n_state)
