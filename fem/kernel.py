@@ -52,10 +52,24 @@ the converged tangent when the iterate's factors said it is not positive, and th
 stability check (a Cholesky of the shifted, Jacobi-scaled tangent in band storage), so that neither
 leaves compiled code nor turns the tangent row-major.
 
-The helpers only compiled code calls (``_factor``, ``_back_solve``, ``_det_sign``,
-``_shifted_cholesky_fails``) are compiled with ``no_cpython_wrapper=True``: numba builds no
-Python-callable wrapper for them (``band_lu``, ``band_solve`` and ``_evaluate`` keep theirs: the tests
-call them).
+What the first run compiles is kept small (``validation.bench.compile_cost`` measures it), and the
+code is written for it:
+
+- the functions only compiled code calls (``_assemble``, ``_band_lu``, ``_band_solve``,
+  ``_cholesky_fails``, ``_tangent``) have no Python-callable wrapper (``no_cpython_wrapper``): the
+  wrapper of a function taking the groups is about as large as its body. The tests call thin
+  functions around them (`_evaluate`, `band_lu`, `band_solve`, `_shifted_cholesky_fails`), compiled
+  only when a test calls them. No function has a C-callable one (``no_cfunc_wrapper``);
+- the functions that allocate nothing are compiled without reference counting (``_nrt=False``): for
+  a function of the groups, the increments and decrements numba writes for every array in a group at
+  every use of it are most of its code. `newton_load` allocates the arrays the others work in, and
+  leaves its loop in one place and returns in one: numba releases every array it holds at each;
+- no function is inlined by numba (``inline="always"`` copies the callee into its caller and compiles
+  it again there); `_tangent` is left to LLVM's inliner (``forceinline``);
+- every NumPy function (and ``min``, ``max``) a compiled function calls is compiled anew for each
+  set of argument types and of the caller's options: the allocating functions share their options
+  and call ``np.empty`` only, with a few argument types (zeroed by loops, ``min``/``max`` written
+  out); LAPACK's arguments by reference are addresses of array entries (`_address`), not slices.
 
 The compiled functions take their arrays in a few named groups (named tuples, each field read by its
 name): `Beams` (the elements' geometry and section), `DofMap` (the constraint map and element DOFs),
@@ -70,12 +84,14 @@ Angles are in radians (degrees appear only in case files and reports).
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any, NamedTuple, Protocol
+from typing import TYPE_CHECKING, Any, Callable, NamedTuple, Protocol, cast
 
 import llvmlite.binding as llvm
 import numpy as np
+from numpy.typing import NDArray
 from numba import njit, types
-from numba.extending import get_cython_function_address
+from numba.core import cgutils
+from numba.extending import get_cython_function_address, intrinsic
 
 from .types import BoolArray, FloatArray, Int32Array, IntArray
 
@@ -380,13 +396,7 @@ class _Forces(NamedTuple):
     V: float
 
 
-@njit(cache=True, inline="always")
-def _wrap(a: float) -> float:
-    """Angle in (-pi, pi]."""
-    return math.atan2(math.sin(a), math.cos(a))
-
-
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
 def element_kernel(beams: Beams, p: FloatArray, beta_prev: FloatArray, need_tangent: bool, out: ElementState) -> None:
     """Into ``out``: internal forces f (n,6), tangent K (n,6,6) (untouched when not needed), and the
     local state N (n,), M (n,2), L, beta, theta_bar (n,2), u_bar, jumped (n,) of all elements at the
@@ -397,18 +407,20 @@ def element_kernel(beams: Beams, p: FloatArray, beta_prev: FloatArray, need_tang
     f, K, N, M, L, beta = out.f, out.K, out.N, out.M, out.L, out.beta
     theta_bar, u_bar, jumped = out.theta_bar, out.u_bar, out.jumped
     n = L0.shape[0]
-    CE = np.empty((4, 6))
     for e in range(n):
         dx = X2[e, 0] - X1[e, 0] + p[e, 3] - p[e, 0]
         dy = X2[e, 1] - X1[e, 1] + p[e, 4] - p[e, 1]
         Le = math.hypot(dx, dy)
         c, s = dx / Le, dy / Le
-        b = beta_prev[e] + _wrap(math.atan2(dy, dx) - beta_prev[e])
+        turn = math.atan2(dy, dx) - beta_prev[e]
+        b = beta_prev[e] + math.atan2(math.sin(turn), math.cos(turn))  # angles wrapped into (-pi, pi]
         ub = (Le * Le - L0[e] * L0[e]) / (Le + L0[e])
         t1_raw = p[e, 2] + (beta0[e] - b)
         t2_raw = p[e, 5] + (beta0[e] - b)
-        t1, t2 = _wrap(t1_raw), _wrap(t2_raw)
-        jumped[e] = max(abs(t1_raw - t1), abs(t2_raw - t2)) > 1.0
+        t1 = math.atan2(math.sin(t1_raw), math.cos(t1_raw))
+        t2 = math.atan2(math.sin(t2_raw), math.cos(t2_raw))
+        j1, j2 = abs(t1_raw - t1), abs(t2_raw - t2)
+        jumped[e] = (j2 if j2 > j1 else j1) > 1.0
         k11, k12, k21, k22 = kb[e, 0, 0], kb[e, 0, 1], kb[e, 1, 0], kb[e, 1, 1]
         Ne = ka[e] * ub
         M1 = k11 * t1 + k12 * t2
@@ -420,15 +432,15 @@ def element_kernel(beams: Beams, p: FloatArray, beta_prev: FloatArray, need_tang
         N[e], M[e, 0], M[e, 1], L[e], beta[e] = Ne, M1, M2, Le, b
         theta_bar[e, 0], theta_bar[e, 1], u_bar[e] = t1, t2, ub
         if need_tangent:
-            _tangent(K[e], CE, _Chord(c=c, s=s, L=Le), _Forces(N=Ne, V=V), ka[e], kb[e])
+            _tangent(K[e], _Chord(c=c, s=s, L=Le), _Forces(N=Ne, V=V), ka[e], kb[e])
 
 
-@njit(cache=True, inline="always")
-def _tangent(Ke: FloatArray, CE: FloatArray, chord: _Chord, forces: _Forces, ka: float, kb: FloatArray) -> None:
+@njit(cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True, _nrt=False, forceinline=True)  # type: ignore[call-overload]  # an option numba's annotations omit
+def _tangent(Ke: FloatArray, chord: _Chord, forces: _Forces, ka: float, kb: FloatArray) -> None:
     """Ke = E^T C E (one element's 6 x 6 tangent) with E = [r; z; e3; e6], ``kb`` its (2, 2) bending
     stiffness: the products of the dense loops with the zero entries of E and C left out (adding an
     exact zero changes no bit, so the sums are those of the dense loops, term for term and in the same
-    order). ``CE`` (4, 6): scratch."""
+    order), column by column: column j of C E, then column j of Ke."""
     c, s, L = chord.c, chord.s, chord.L
     N, V = forces.N, forces.V
     k11, k12, k21, k22 = kb[0, 0], kb[0, 1], kb[1, 0], kb[1, 1]
@@ -438,30 +450,25 @@ def _tangent(Ke: FloatArray, CE: FloatArray, chord: _Chord, forces: _Forces, ka:
     c11 = (k11 + k12 + k21 + k22) / (L * L) + N / L
     c12, c13 = -(k11 + k21) / L, -(k12 + k22) / L
     c21, c31 = -(k11 + k12) / L, -(k21 + k22) / L
-    # CE = C E, row by row (C[0] = [ka, c01, 0, 0], C[1] = [c01, c11, c12, c13],
+    # column j of C E (C[0] = [ka, c01, 0, 0], C[1] = [c01, c11, c12, c13],
     # C[2] = [0, c21, k11, k12], C[3] = [0, c31, k21, k22])
-    ce0, ce1, ce2, ce3 = CE[0], CE[1], CE[2], CE[3]
     for j in range(6):
         e3 = 1.0 if j == 2 else 0.0
         e6 = 1.0 if j == 5 else 0.0
-        ce0[j] = 0.0 + ka * r[j] + c01 * z[j] + 0.0 * e3 + 0.0 * e6
-        ce1[j] = 0.0 + c01 * r[j] + c11 * z[j] + c12 * e3 + c13 * e6
-        ce2[j] = 0.0 + 0.0 * r[j] + c21 * z[j] + k11 * e3 + k12 * e6
-        ce3[j] = 0.0 + 0.0 * r[j] + c31 * z[j] + k21 * e3 + k22 * e6
-    for i in range(6):
-        ri, zi = r[i], z[i]
-        if i == 2:
-            for j in range(6):
-                Ke[i, j] = 0.0 + ce2[j]
-        elif i == 5:
-            for j in range(6):
-                Ke[i, j] = 0.0 + ce3[j]
-        else:
-            for j in range(6):
-                Ke[i, j] = 0.0 + ri * ce0[j] + zi * ce1[j]
+        ce0 = 0.0 + ka * r[j] + c01 * z[j] + 0.0 * e3 + 0.0 * e6
+        ce1 = 0.0 + c01 * r[j] + c11 * z[j] + c12 * e3 + c13 * e6
+        ce2 = 0.0 + 0.0 * r[j] + c21 * z[j] + k11 * e3 + k12 * e6
+        ce3 = 0.0 + 0.0 * r[j] + c31 * z[j] + k21 * e3 + k22 * e6
+        for i in range(6):
+            if i == 2:
+                Ke[i, j] = 0.0 + ce2
+            elif i == 5:
+                Ke[i, j] = 0.0 + ce3
+            else:
+                Ke[i, j] = 0.0 + r[i] * ce0 + z[i] * ce1
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
 def scatter_add(target: IntArray, source: IntArray, factor: FloatArray, values: FloatArray, out: FloatArray) -> None:
     """out[target[j]] += values[source[j]] * factor[j], in the order of j (the assembly of element
     entries into solver storage through precomputed index maps)."""
@@ -539,44 +546,32 @@ class CompiledLayout:
         return np.ascontiguousarray(data.reshape(self.n, self.band.ld).T).ravel()
 
 
-@njit(cache=True, no_cpython_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
-def _factor(work: FloatArray, band: Band, n: int, ipiv: Int32Array, ints: Int32Array, info: Int32Array) -> None:
-    """LU of the n x n column-major matrix in ``work`` (in place, storage ``band``): a band by
-    `band_lu`, a dense matrix by LAPACK dgetrf; info[0] > 0: an exactly zero pivot. Leaves n, kl, ku,
-    ld in ints[0:4] for `_back_solve`."""
-    ints[0], ints[1], ints[2], ints[3] = n, band.kl, band.ku, band.ld
-    if band.banded:
-        info[0] = band_lu(work, n, band.kl, band.ku, band.ld, ipiv)
-    else:
-        _dgetrf(ints[0:].ctypes, ints[0:].ctypes, work.ctypes, ints[3:].ctypes, ipiv.ctypes, info.ctypes)
+def _address_of(typingctx: Any, array: Any, index: Any) -> Any:
+    """The address of ``array[index]`` (a C-contiguous 1-D array) as a ``void *``: LAPACK's arguments
+    by reference (what ``array[index:].ctypes`` passes, without building the slice)."""
+    if not (isinstance(array, types.Array) and array.ndim == 1 and array.layout == "C"):
+        return None
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        data = context.make_array(signature.args[0])(context, builder, args[0]).data
+        return builder.bitcast(builder.gep(data, [args[1]]), cgutils.voidptr_t)
+
+    return types.voidptr(array, index), codegen
 
 
-@njit(cache=True, no_cpython_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
-def _back_solve(
-    work: FloatArray, banded: bool, ipiv: Int32Array, ints: Int32Array, info: Int32Array, x: FloatArray
-) -> None:
-    """x <- K^-1 x with the factors `_factor` left in ``work`` (its n, kl, ku, ld in ``ints``)."""
-    if banded:
-        band_solve(work, ints[0], ints[1], ints[2], ints[3], ipiv, x)
-        return
-    trans = np.empty(1, np.uint8)
-    trans[0] = 78  # 'N'
-    ints[4] = 1
-    _dgetrs(
-        trans.ctypes,
-        ints[0:].ctypes,
-        ints[4:].ctypes,
-        work.ctypes,
-        ints[3:].ctypes,
-        ipiv.ctypes,
-        x.ctypes,
-        ints[0:].ctypes,
-        info.ctypes,
-    )
+# called as _address(array, index) in compiled code (numba's annotations type it by its typing function)
+_address = cast("Callable[[Any, int], Any]", intrinsic(_address_of))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, no_cfunc_wrapper=True, error_model="numpy", _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
 def band_lu(ab: FloatArray, n: int, kl: int, ku: int, ld: int, ipiv: Int32Array) -> int:
+    """`_band_lu` from Python (the tests): the LU of the band ``ab`` in place, LAPACK's info returned."""
+    info: int = _band_lu(ab, n, kl, ku, ld, ipiv)
+    return info
+
+
+@njit(cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True, error_model="numpy", _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
+def _band_lu(ab: FloatArray, n: int, kl: int, ku: int, ld: int, ipiv: Int32Array) -> int:
     """LU with partial pivoting of the column-major LAPACK band ``ab`` in place (A[i, j] at
     j ld + kl + ku + i - j, ld >= 2 kl + ku + 1): LAPACK's ``dgbtf2`` step for step (what ``dgbtrf``
     runs when the lower bandwidth is below its block size, always so for a beam mesh), compiled here
@@ -585,7 +580,7 @@ def band_lu(ab: FloatArray, n: int, kl: int, ku: int, ld: int, ipiv: Int32Array)
     0, or the 1-based column of the first exactly zero pivot."""
     kv = ku + kl
     info = 0
-    for j in range(ku + 1, min(kv, n)):  # zero the fill-in of the first columns
+    for j in range(ku + 1, n if n < kv else kv):  # zero the fill-in of the first columns
         for i in range(kv - j, kl):
             ab[j * ld + i] = 0.0
     ju = 0  # last column touched by the row swaps (0-based)
@@ -593,7 +588,7 @@ def band_lu(ab: FloatArray, n: int, kl: int, ku: int, ld: int, ipiv: Int32Array)
         if j + kv < n:  # fill-in of column j + kv
             for i in range(kl):
                 ab[(j + kv) * ld + i] = 0.0
-        km = min(kl, n - 1 - j)  # subdiagonal entries of column j
+        km = kl if kl <= n - 1 - j else n - 1 - j  # subdiagonal entries of column j
         d = j * ld + kv  # the diagonal entry
         jp, big = 0, abs(ab[d])
         for t in range(1, km + 1):  # idamax: the first largest magnitude
@@ -602,7 +597,9 @@ def band_lu(ab: FloatArray, n: int, kl: int, ku: int, ld: int, ipiv: Int32Array)
                 jp, big = t, v
         ipiv[j] = jp + j + 1
         if ab[d + jp] != 0.0:
-            ju = max(ju, min(j + ku + jp, n - 1))
+            last = j + ku + jp if j + ku + jp < n - 1 else n - 1  # last column the swap reaches
+            if last > ju:
+                ju = last
             if jp != 0:  # swap rows j and j + jp over columns j..ju
                 for c in range(ju - j + 1):
                     a, b = d + jp + c * (ld - 1), d + c * (ld - 1)
@@ -623,15 +620,21 @@ def band_lu(ab: FloatArray, n: int, kl: int, ku: int, ld: int, ipiv: Int32Array)
     return info
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, no_cfunc_wrapper=True, error_model="numpy", _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
 def band_solve(ab: FloatArray, n: int, kl: int, ku: int, ld: int, ipiv: Int32Array, x: FloatArray) -> None:
+    """`_band_solve` from Python (the tests): x <- A^-1 x with the factors of `band_lu`."""
+    _band_solve(ab, n, kl, ku, ld, ipiv, x)
+
+
+@njit(cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True, error_model="numpy", _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
+def _band_solve(ab: FloatArray, n: int, kl: int, ku: int, ld: int, ipiv: Int32Array, x: FloatArray) -> None:
     """x <- A^-1 x with the factors of `band_lu`: LAPACK's ``dgbtrs`` (no transpose, one right-hand
     side) step for step: the row swaps and L by columns, then U by ``dtbsv`` (upper, by columns). A zero
     pivot divides as LAPACK does (IEEE: inf or NaN, no exception); the corrector never solves with one."""
     kv = ku + kl
     if kl > 0:
         for j in range(n - 1):
-            lm = min(kl, n - 1 - j)
+            lm = kl if kl <= n - 1 - j else n - 1 - j
             p = ipiv[j] - 1
             if p != j:
                 x[p], x[j] = x[j], x[p]
@@ -645,27 +648,11 @@ def band_solve(ab: FloatArray, n: int, kl: int, ku: int, ld: int, ipiv: Int32Arr
             d = j * ld + kv
             x[j] = x[j] / ab[d]
             temp = x[j]
-            for i in range(j - 1, max(0, j - kv) - 1, -1):
+            for i in range(j - 1, (j - kv if j > kv else 0) - 1, -1):
                 x[i] -= temp * ab[d - (j - i)]
 
 
-@njit(cache=True, no_cpython_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
-def _det_sign(work: FloatArray, band: Band, n: int, ipiv: Int32Array) -> int:
-    """Sign of det K from the LU factors (storage ``band``): signs of U's diagonal times the pivot
-    parity; 0 when a pivot is zero or not finite."""
-    sign = 1
-    for j in range(n):
-        d = work[j * band.ld + (band.kl + band.ku if band.banded else j)]
-        if d == 0.0 or not math.isfinite(d):
-            return 0
-        if d < 0.0:
-            sign = -sign
-        if ipiv[j] - 1 != j:
-            sign = -sign
-    return sign
-
-
-@njit(cache=True, no_cpython_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
+@njit(cache=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
 def _shifted_cholesky_fails(K: FloatArray, band: Band, n: int, held: int, tol: float) -> bool:
     """True when the Cholesky factorisation of  S A S + tol I  breaks down (a pivot not positive), A the
     symmetric n x n tangent in the corrector's column-major storage ``K`` of shape ``band``: entry
@@ -675,18 +662,43 @@ def _shifted_cholesky_fails(K: FloatArray, band: Band, n: int, held: int, tol: f
     eigenvalue of S A S is below -tol. The shifted matrix is written in LAPACK's symmetric upper
     storage, a band of half-bandwidth ku (dpbtrf) or the full matrix (dpotrf), and factorised by
     scipy's LAPACK, as `stability.eigenvalue_below` does (no factorisation loop of its own for numba to
-    compile). Only `newton_load` calls it (no Python wrapper); the tests compile its ``py_func``."""
+    compile).
+
+    In arrays of its own: the tests compile its ``py_func``; `newton_load` runs `_cholesky_fails` in
+    its own arrays."""
+    size = (band.ku + 1) * n if band.banded else n * n
+    fails: bool = _cholesky_fails(
+        K, band, n, held, tol, np.empty(size), np.empty(n), np.empty(1, np.uint8), np.empty(4, np.int32)
+    )
+    return fails
+
+
+@njit(cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True, _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
+def _cholesky_fails(
+    K: FloatArray,
+    band: Band,
+    n: int,
+    held: int,
+    tol: float,
+    up: FloatArray,
+    d: FloatArray,
+    chars: NDArray[np.uint8],
+    ints: Int32Array,
+) -> bool:
+    """`_shifted_cholesky_fails` in the arrays given: ``up`` (at least (ku + 1) n entries, banded, or
+    n n, dense) for the shifted matrix, ``d`` (n) for the scaling, ``chars`` (1) and ``ints`` (4) for
+    LAPACK's arguments."""
     banded, kl, ku, ldk = band.banded, band.kl, band.ku, band.ld
     w = ku if banded else n - 1
     base = kl + ku if banded else 0
     ld = w + 1 if banded else n  # entry (i, j), i <= j, at j ld + (w + i - j) (band) or j ld + i
-    up = np.zeros(ld * n)
-    d = np.empty(n)
+    for k in range(ld * n):
+        up[k] = 0.0
     for j in range(n):
         a = abs(K[j * ldk + (base if banded else j)])
         d[j] = math.sqrt(a) if a != 0.0 else 1.0
     for j in range(n):
-        for i in range(max(0, j - w), j + 1):
+        for i in range(j - w if j > w else 0, j + 1):
             if banded:
                 a = K[j * ldk + base + i - j]
             else:
@@ -697,18 +709,23 @@ def _shifted_cholesky_fails(K: FloatArray, band: Band, n: int, held: int, tol: f
             if i == j:
                 a += tol
             up[j * ld + (w + i - j if banded else i)] = a
-    uplo = np.empty(1, np.uint8)
-    uplo[0] = 85  # 'U'
-    ints = np.zeros(4, np.int32)
-    ints[0], ints[1], ints[2] = n, w, ld
+    chars[0] = 85  # 'U'
+    ints[0], ints[1], ints[2], ints[3] = n, w, ld, 0
     if banded:
-        _dpbtrf(uplo.ctypes, ints[0:].ctypes, ints[1:].ctypes, up.ctypes, ints[2:].ctypes, ints[3:].ctypes)
+        _dpbtrf(
+            _address(chars, 0),
+            _address(ints, 0),
+            _address(ints, 1),
+            _address(up, 0),
+            _address(ints, 2),
+            _address(ints, 3),
+        )
     else:
-        _dpotrf(uplo.ctypes, ints[0:].ctypes, up.ctypes, ints[2:].ctypes, ints[3:].ctypes)
+        _dpotrf(_address(chars, 0), _address(ints, 0), _address(up, 0), _address(ints, 2), _address(ints, 3))
     return bool(ints[3] > 0)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
 def _evaluate(
     q: FloatArray,
     beta_prev: FloatArray,
@@ -720,9 +737,33 @@ def _evaluate(
     work: Work,
     el: ElementState,
 ) -> float:
+    """`_assemble` at q, from Python (the tests): the residual, reference load and tangent into
+    ``work`` and ``el``; returns F_scale = max(|lambda f_ref|, |f_int|) as `newton_load` computes it.
+    `newton_load` calls `_assemble` itself, which has no Python wrapper: the wrapper of a function
+    taking these groups is about as large as its body, and only this function, compiled when a test
+    first calls it, has one."""
+    _assemble(q, beta_prev, load, beams, dofs, couplings, storage, work, el, np.empty((dofs.edofs.shape[0], 6)))
+    f_ext = load.lam * work.f_ref
+    scale_ext, scale_int = math.sqrt(np.dot(f_ext, f_ext)), math.sqrt(np.dot(work.f_int, work.f_int))
+    return scale_int if scale_int > scale_ext else scale_ext
+
+
+@njit(cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True, _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
+def _assemble(
+    q: FloatArray,
+    beta_prev: FloatArray,
+    load: Load,
+    beams: Beams,
+    dofs: DofMap,
+    couplings: Couplings,
+    storage: Storage,
+    work: Work,
+    el: ElementState,
+    p: FloatArray,
+) -> None:
     """Residual r, reduced reference load fr and tangent K (column-major storage) at q, each element's
-    chord angle continued from ``beta_prev``, into ``work`` and ``el``; returns
-    F_scale = max(|lambda f_ref|, |f_int|).
+    chord angle continued from ``beta_prev``, into ``work`` and ``el``; ``p`` (n_el, 6): scratch for the
+    element displacements. It allocates nothing and calls no NumPy function.
 
     Rigid links (none: ``couplings.links`` has no rows), as `assembly.System.full_displacements` and
     ``evaluate`` treat them: the slaves placed by their master's rotation, the constraint map's second
@@ -761,19 +802,20 @@ def _evaluate(
         C1w[2 * s] = -rd1
         C1w[2 * s + 1] = rd0
     n_el = edofs.shape[0]
-    p = np.empty((n_el, 6))
     for e in range(n_el):
         for j in range(6):
             p[e, j] = u[edofs[e, j]]
     tangent = n_el >= 0  # True, typed as a run-time bool like the Python callers' (one compiled variant)
     element_kernel(beams, p, beta_prev, tangent, el)
     fe, Ke = el.f, el.K
-    f_int[:] = 0.0
+    for i in range(nf):
+        f_int[i] = 0.0
     for e in range(n_el):
         for j in range(6):
             f_int[edofs[e, j]] += fe[e, j]
     if springs.shape[0]:
-        sp[:] = 0.0
+        for i in range(nf):
+            sp[i] = 0.0
         for s in range(springs.shape[0]):
             m = spring_k[s] * (u[springs[s, 0]] - u[springs[s, 1]])
             sp[springs[s, 0]] += m
@@ -786,8 +828,9 @@ def _evaluate(
     f_int[dofs.ground] = 0.0
     for i in range(nf):
         R[i] = f_int[i] - lam * f_ref[i]
-    r[:] = 0.0
-    fr[:] = 0.0
+    for k in range(n):
+        r[k] = 0.0
+        fr[k] = 0.0
     for i in range(nf):
         k = I0[i]
         if k < n:
@@ -798,11 +841,10 @@ def _evaluate(
             if k1 < n:
                 r[k1] += C1w[i] * R[i]
                 fr[k1] += C1w[i] * f_ref[i]
-    f_ext = lam * f_ref
-    scale = max(math.sqrt(np.dot(f_ext, f_ext)), math.sqrt(np.dot(f_int, f_int)))
-    K[:] = 0.0
+    for j in range(K.shape[0]):
+        K[j] = 0.0
     n_ke = n_el * 36
-    ke = Ke.reshape(n_ke)  # the element tangents as one flat, row-major vector (a view)
+    ke = Ke.flat  # the element tangents as one flat, row-major vector
     n_sp4 = n_ke + 4 * springs.shape[0]
     for j in range(flat.shape[0]):
         src = valid_src[j]
@@ -810,7 +852,8 @@ def _evaluate(
             v = ke[src]
         elif src < n_sp4:
             s = (src - n_ke) // 4
-            v = spring_k[s] * (1.0 if (src - n_ke) % 4 in (0, 3) else -1.0)
+            corner = (src - n_ke) % 4  # 0 and 3: the diagonal entries
+            v = spring_k[s] * (1.0 if corner == 0 or corner == 3 else -1.0)
         else:  # a slave's geometric term on its master's rotation
             t = src - n_sp4
             s, m = links[t, 0], links[t, 1]
@@ -822,10 +865,9 @@ def _evaluate(
             K[flat[j]] += v * (C0[a] if pair[j] < 2 else C1w[a]) * (C0[b] if pair[j] % 2 == 0 else C1w[b])
         else:
             K[flat[j]] += v * coef[j]
-    return scale
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
 def newton_load(
     q: FloatArray,
     start: Start,
@@ -858,10 +900,14 @@ def newton_load(
     K, r, hist = work.K, work.r, work.hist
     n = q.shape[0]
     buffer = np.empty(K.shape[0])  # the factors
-    ipiv = np.empty(max(n, 1), np.int32)
-    ints = np.zeros(6, np.int32)
-    info = np.zeros(1, np.int32)
+    ipiv = np.empty(n if n > 1 else 1, np.int32)
+    ints = np.empty(6, np.int32)  # LAPACK's integer arguments: n at 0, ld at 3, nrhs at 4, info at 5
+    for k in range(6):
+        ints[k] = 0
+    chars = np.empty(1, np.uint8)  # LAPACK's character argument
     dq = np.empty(n)
+    p = np.empty((dofs.edofs.shape[0], 6))  # the element displacements (`_assemble`'s scratch)
+    f_ext = np.empty(work.f_ref.shape[0])  # lambda f_ref
     has_rot = False
     for k in range(n):
         if rot[k]:
@@ -869,23 +915,29 @@ def newton_load(
     dq_small = False
     sign = 2
     final = False  # the sign is of the converged state's own factors
+    # one return, after the loop, and three places that leave the loop: at each, numba releases every
+    # array the function holds, those of the groups one by one
+    failed = -1  # the failure's status code; -1: none, converged
+    iterations, rotation, scale = 0, 0.0, 0.0
     for it in range(controls.maxiter + 1):
-        scale = _evaluate(q, start.beta, load, beams, dofs, couplings, storage, work, el)
+        iterations = it
+        _assemble(q, start.beta, load, beams, dofs, couplings, storage, work, el, p)
+        for i in range(f_ext.shape[0]):  # F_scale = max(|lambda f_ref|, |f_int|), as `_evaluate`
+            f_ext[i] = load.lam * work.f_ref[i]
+        scale_ext, scale_int = math.sqrt(np.dot(f_ext, f_ext)), math.sqrt(np.dot(work.f_int, work.f_int))
+        scale = scale_int if scale_int > scale_ext else scale_ext
         rn = math.sqrt(np.dot(r, r))
         tol = rtol * scale + floor + atol
-        hist[it] = rn / max(scale, 1e-300)
-        if not math.isfinite(rn):
-            return Outcome(
-                status=NOT_FINITE, iterations=it, sign=sign, scale=scale, rotation=0.0, final=False, below=-1
-            )
+        hist[it] = rn / (1e-300 if 1e-300 > scale else scale)
         converged = (rn <= tol or dq_small) and (it > 0 or rn <= rtol * scale + atol)
-        # the last factors' sign stands (positive, or not asked to be confirmed): done
-        if converged and (n == 0 or sign == 1 or (sign != 2 and not controls.confirm_sign)):
+        if not math.isfinite(rn):
+            failed = NOT_FINITE
+        elif not converged and it == controls.maxiter:
+            failed = NO_CONVERGENCE
+        # done: failed, or converged with the last factors' sign standing (positive, or not asked to be
+        # confirmed)
+        if failed >= 0 or (converged and (n == 0 or sign == 1 or (sign != 2 and not controls.confirm_sign))):
             break
-        if not converged and it == controls.maxiter:
-            return Outcome(
-                status=NO_CONVERGENCE, iterations=it, sign=sign, scale=scale, rotation=0.0, final=False, below=-1
-            )
         # the factorisation: of the correction, or (converged) for the sign at this state itself: before
         # any correction, or to confirm a sign not positive from the iterate before
         finite = True
@@ -894,75 +946,109 @@ def newton_load(
                 finite = False
                 break
             buffer[j] = K[j]
-        if not finite:
-            if converged:
-                sign, final = 0, True
-                break
-            return Outcome(
-                status=NON_FINITE_TANGENT, iterations=it, sign=sign, scale=scale, rotation=0.0, final=False, below=-1
-            )
-        _factor(buffer, band, n, ipiv, ints, info)
-        if info[0] > 0:
-            if converged:
-                sign, final = 0, True
-                break
-            return Outcome(status=SINGULAR, iterations=it, sign=sign, scale=scale, rotation=0.0, final=False, below=-1)
-        sign = _det_sign(buffer, band, n, ipiv)
-        if converged:
-            final = True
+        if finite:  # LU: a band by `band_lu`, a dense matrix by LAPACK dgetrf
+            if band.banded:
+                ints[5] = _band_lu(buffer, n, band.kl, band.ku, band.ld, ipiv)
+            else:
+                ints[0], ints[3] = n, band.ld
+                _dgetrf(
+                    _address(ints, 0),
+                    _address(ints, 0),
+                    _address(buffer, 0),
+                    _address(ints, 3),
+                    _address(ipiv, 0),
+                    _address(ints, 5),
+                )
+        if finite and ints[5] == 0:
+            sign = 1  # of det K: the signs of U's diagonal times the pivot parity; 0: a pivot zero or not finite
+            for j in range(n):
+                d = buffer[j * band.ld + (band.kl + band.ku if band.banded else j)]
+                if d == 0.0 or not math.isfinite(d):
+                    sign = 0
+                    break
+                if d < 0.0:
+                    sign = -sign
+                if ipiv[j] - 1 != j:
+                    sign = -sign
+            if sign == 0 and not converged:
+                failed, sign = SINGULAR, 2
+        elif converged:  # not finite, or an exactly zero pivot, at the converged state
+            sign = 0
+        else:
+            failed = SINGULAR if finite else NON_FINITE_TANGENT
+        if converged or failed >= 0:
+            final = converged  # the sign is of the converged state itself
             break
-        if sign == 0:
-            return Outcome(status=SINGULAR, iterations=it, sign=2, scale=scale, rotation=0.0, final=False, below=-1)
         for k in range(n):
             dq[k] = -r[k]
-        _back_solve(buffer, band.banded, ipiv, ints, info, dq)
+        if band.banded:
+            _band_solve(buffer, n, band.kl, band.ku, band.ld, ipiv, dq)
+        else:
+            chars[0] = 78  # 'N'
+            ints[4] = 1
+            _dgetrs(
+                _address(chars, 0),
+                _address(ints, 0),
+                _address(ints, 4),
+                _address(buffer, 0),
+                _address(ints, 3),
+                _address(ipiv, 0),
+                _address(dq, 0),
+                _address(ints, 0),
+                _address(ints, 5),
+            )
         if damp > 0.0 and has_rot:
             big = 0.0
             for k in range(n):
                 if rot[k]:
-                    big = max(big, abs(dq[k]))
+                    a = abs(dq[k])
+                    if a > big:
+                        big = a
             if big > damp:
                 for k in range(n):
                     dq[k] = dq[k] * (damp / big)
-        if it > 0 and abs(np.dot(dq, r)) <= rtol**2 * scale * L_ref:
-            break  # converged by the energy criterion
-        dq_small = True
-        for k in range(n):
-            q[k] = q[k] + dq[k]
-            if abs(dq[k]) > 1e-13 * (1.0 if rot[k] else L_ref):
-                dq_small = False
-        if has_rot:
-            dth = 0.0
+        # converged by the energy criterion, or the correction taken
+        energy_small = it > 0 and abs(np.dot(dq, r)) <= rtol * rtol * scale * L_ref
+        if not energy_small:
+            dq_small = True
             for k in range(n):
-                if rot[k]:
-                    dth = max(dth, abs(q[k] - q_start[k]))
-            limit = (2.0 if it == 0 else 4.0) * controls.max_rot_inc
-            if dth > limit:
-                return Outcome(
-                    status=ROTATION_TOO_LARGE,
-                    iterations=it + 1,
-                    sign=sign,
-                    scale=scale,
-                    rotation=dth,
-                    final=False,
-                    below=-1,
-                )
-    # converged (every other way out returned above): what `newton.accept_check` reads of the state
-    status = CONVERGED
-    for e in range(el.jumped.shape[0]):
-        if el.jumped[e]:
-            status = CONVERGED_JUMPED
-    dth = 0.0
-    for k in range(n):
-        if rot[k]:
-            dth = max(dth, abs(q[k] - q_start[k]))
+                q[k] = q[k] + dq[k]
+                if abs(dq[k]) > 1e-13 * (1.0 if rot[k] else L_ref):
+                    dq_small = False
+            if has_rot:
+                dth = 0.0
+                for k in range(n):
+                    if rot[k]:
+                        a = abs(q[k] - q_start[k])
+                        if a > dth:
+                            dth = a
+                limit = (2.0 if it == 0 else 4.0) * controls.max_rot_inc
+                if dth > limit:
+                    failed, iterations, rotation = ROTATION_TOO_LARGE, it + 1, dth
+        if energy_small or failed >= 0:
+            break
     below = -1
-    inertia_tol = controls.inertia_tol
-    if inertia_tol == inertia_tol and 0 <= sign <= 1 and n > 0:
-        compressed = False
-        for e in range(el.N.shape[0]):
-            if el.N[e] < 0.0:
-                compressed = True
-        if compressed:
-            below = 1 if _shifted_cholesky_fails(K, band, n, -1, inertia_tol) else 0
-    return Outcome(status=status, iterations=it, sign=sign, scale=scale, rotation=dth, final=final, below=below)
+    if failed >= 0:
+        status = failed
+    else:  # converged: what `newton.accept_check` reads of the state
+        status = CONVERGED
+        for e in range(el.jumped.shape[0]):
+            if el.jumped[e]:
+                status = CONVERGED_JUMPED
+        for k in range(n):
+            if rot[k]:
+                a = abs(q[k] - q_start[k])
+                if a > rotation:
+                    rotation = a
+        inertia_tol = controls.inertia_tol
+        if inertia_tol == inertia_tol and 0 <= sign <= 1 and n > 0:
+            compressed = False
+            for e in range(el.N.shape[0]):
+                if el.N[e] < 0.0:
+                    compressed = True
+            if compressed:
+                # in the arrays of the factors and the correction (neither is needed any more)
+                below = 1 if _cholesky_fails(K, band, n, -1, inertia_tol, buffer, dq, chars, ints) else 0
+    return Outcome(
+        status=status, iterations=iterations, sign=sign, scale=scale, rotation=rotation, final=final, below=below
+    )

@@ -20,7 +20,7 @@ from .types import IntArray
 __all__ = ["rcm_order"]
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
 def _rcm(n_nodes: int, a: IntArray, b: IntArray) -> IntArray:
     """Reverse Cuthill-McKee order of the nodes 0 .. n_nodes-1 of the graph with edges (a[k], b[k]).
 
@@ -29,14 +29,19 @@ def _rcm(n_nodes: int, a: IntArray, b: IntArray) -> IntArray:
     neighbours sorted by degree by an insertion sort, equal degrees kept in the order their edges are
     listed; the search's starting nodes by degree, equal degrees by index (``np.argsort(degree,
     kind='stable')``), by a counting sort (the degrees are small integers)."""
-    degree = np.zeros(n_nodes, np.int64)
+    degree = np.empty(n_nodes, np.int64)
+    for v in range(n_nodes):
+        degree[v] = 0
     for k in range(a.shape[0]):
         degree[a[k]] += 1
         degree[b[k]] += 1
-    start = np.zeros(n_nodes + 1, np.int64)
+    start = np.empty(n_nodes + 1, np.int64)
+    start[0] = 0
     for v in range(n_nodes):
         start[v + 1] = start[v] + degree[v]
-    fill = start[:-1].copy()
+    fill = np.empty(n_nodes, np.int64)  # where each node's next neighbour goes
+    for v in range(n_nodes):
+        fill[v] = start[v]
     adj = np.empty(start[n_nodes], np.int64)
     for k in range(a.shape[0]):  # neighbours in the order the edges are listed
         adj[fill[a[k]]] = b[k]
@@ -52,8 +57,11 @@ def _rcm(n_nodes: int, a: IntArray, b: IntArray) -> IntArray:
                 adj[j + 1] = adj[j]
                 j -= 1
             adj[j + 1] = w
-        top = max(top, degree[v])
-    first = np.zeros(top + 2, np.int64)  # the starting nodes by degree: first[d], where degree d begins
+        if degree[v] > top:
+            top = degree[v]
+    first = np.empty(top + 2, np.int64)  # the starting nodes by degree: first[d], where degree d begins
+    for d in range(top + 2):
+        first[d] = 0
     for v in range(n_nodes):
         first[degree[v] + 1] += 1
     for d in range(top + 1):
@@ -62,14 +70,16 @@ def _rcm(n_nodes: int, a: IntArray, b: IntArray) -> IntArray:
     for v in range(n_nodes):
         roots[first[degree[v]]] = v
         first[degree[v]] += 1
-    seen = np.zeros(n_nodes, np.bool_)
+    seen = np.empty(n_nodes, np.int64)  # 1: visited
+    for v in range(n_nodes):
+        seen[v] = 0
     order = np.empty(n_nodes, np.int64)
     tail = 0
     for i in range(n_nodes):
         r = roots[i]
         if seen[r]:
             continue
-        seen[r] = True
+        seen[r] = 1
         head = tail
         order[tail] = r
         tail += 1
@@ -79,7 +89,7 @@ def _rcm(n_nodes: int, a: IntArray, b: IntArray) -> IntArray:
             for k in range(start[v], start[v + 1]):
                 w = adj[k]
                 if not seen[w]:
-                    seen[w] = True
+                    seen[w] = 1
                     order[tail] = w
                     tail += 1
     reverse = np.empty(n_nodes, np.int64)
@@ -93,4 +103,5 @@ def rcm_order(n_nodes: int, conn: IntArray, slaves: IntArray, masters: IntArray)
     (``slaves[k]`` to ``masters[k]``)."""
     a = np.concatenate([np.asarray(conn[:, 0], np.int64), np.asarray(slaves, np.int64)])
     b = np.concatenate([np.asarray(conn[:, 1], np.int64), np.asarray(masters, np.int64)])
-    return _rcm(int(n_nodes), a, b)
+    order: IntArray = _rcm(int(n_nodes), a, b)
+    return order

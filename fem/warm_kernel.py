@@ -91,7 +91,7 @@ class Refinement(NamedTuple):
     mid_f: IntArray
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
 def level_guesses_compiled(coarse: Coarse, fine: Fine, refinement: Refinement) -> tuple[FloatArray, FloatArray]:
     """(q, beta): per level (rows of the coarse full displacements ``coarse.U``) the fine mesh's reduced
     unknowns (levels, n_red) and element chord angles (levels, elements) of the warm-start guess."""
@@ -106,7 +106,9 @@ def level_guesses_compiled(coarse: Coarse, fine: Fine, refinement: Refinement) -
     n_el = edofs_f.shape[0]
     q = np.empty((nl, n_red))
     beta = np.empty((nl, n_el))
-    den = np.zeros(n_red + 1)
+    den = np.empty(n_red + 1)
+    for i in range(n_red + 1):
+        den[i] = 0.0
     for i in range(n_full):
         c = C_independent[i]
         den[I0[i]] += c * c
