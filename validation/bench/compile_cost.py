@@ -33,7 +33,7 @@ from numba.core import event
 from numba.core.registry import CPUDispatcher
 
 from validation.case.loader import find_case_files, load_case
-from validation.run.parallel import schedule
+from validation.run.parallel import fewer_collections, schedule
 from validation.run.runner import run_method
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -92,7 +92,8 @@ def measure_here(method: str, path: Path) -> PrimerCost:
     case = load_case(path).case
     event.register("numba:compile", Recorder())
     start = time.process_time()
-    run = run_method(case, method)
+    with fewer_collections():  # as `parallel.prime` runs it
+        run = run_method(case, method)
     cpu = time.process_time() - start
     message = run.message or ""
     ok = bool(run.values) and not message.startswith("error")

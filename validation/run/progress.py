@@ -18,8 +18,9 @@ from tqdm.std import EMA
 from validation.run.parallel import CompileWatch, PathRun
 
 # seconds a method's numba kernels take to compile with a cold cache, one process on an idle core
-# (measured: the FEM's load-control, warm-start and banded-solver kernels, the elastica's integrator)
-COMPILE_SECONDS = {"fem": 20.0, "opensees": 20.0, "elastica": 10.0}
+# (measured by ``validation.bench.compile_cost``: the FEM's load-control, warm-start and banded-solver
+# kernels 4.9-5.4 CPU s, the elastica's integrator 6.6-7.1)
+COMPILE_SECONDS = {"fem": 5.0, "opensees": 5.0, "elastica": 7.0}
 KERNEL_NAMES = {"fem": "FEM", "opensees": "FEM", "elastica": "elastica"}
 SETTLED = 2
 WITHOUT_ETA = "{l_bar}{bar}| {n_fmt}/{total_fmt} [{elapsed}{postfix}]"
@@ -27,7 +28,7 @@ WITH_ETA = "{l_bar}{bar}| {n_fmt}/{total_fmt} [{elapsed}<{remaining}{postfix}]"
 
 
 def compile_notice(methods: tuple[str, ...], jobs: int = 1) -> str:
-    """'compiling the FEM and elastica kernels (once per machine, ~20 s)': the kernels of ``methods``
+    """'compiling the elastica and FEM kernels (once per machine, ~10 s)': the kernels of ``methods``
     (the FEM's once, though the OpenSees peer's mesh uses them too), and their expected time on ``jobs``
     processes (the longest, or their sum shared out, whichever is longer), rounded up to 5 s."""
     methods = tuple(sorted(methods, key=lambda m: (-COMPILE_SECONDS.get(m, 10.0), m)))  # longest first
