@@ -25,6 +25,7 @@ import io
 import re
 import tokenize
 import tomllib
+from functools import lru_cache
 from pathlib import Path
 
 import pytest
@@ -63,9 +64,11 @@ def history_hits(text: str) -> list[str]:
     return [f"{text.count(chr(10), 0, m.start()) + 1}: {m.group(0)!r}" for m in HISTORY.finditer(text)]
 
 
+@lru_cache(maxsize=None)
 def prose(text: str) -> list[tuple[int, str]]:
     """(line, text) of every docstring (module, class, function, and bare string statements) and every
-    comment of a source file."""
+    comment of a source file (parsed once per text: the two prose checks below share one worker,
+    ``xdist_group``, and so one parse of the tree)."""
     found = []
     for node in ast.walk(ast.parse(text)):
         body = getattr(node, "body", None)
@@ -116,6 +119,7 @@ def test_production_code_has_no_tracker_references_or_dated_timings():
     )
 
 
+@pytest.mark.xdist_group("production-prose")
 def test_every_citation_names_a_key_of_the_bibliography():
     offenders = _offenders(unknown_citations)
     assert not offenders, (
@@ -124,6 +128,7 @@ def test_every_citation_names_a_key_of_the_bibliography():
     )
 
 
+@pytest.mark.xdist_group("production-prose")
 def test_docstrings_and_comments_cite_by_key_not_by_seed_number():
     offenders = _offenders(seed_numbers)
     assert not offenders, "cite by key ([bapat2015, eq 47]), not by seed number:\n" + "\n".join(
