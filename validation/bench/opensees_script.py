@@ -31,7 +31,7 @@ import numpy as np
 
 from validation.case.method_options import OpenSeesOptions, options_of
 from validation.methods.base import MethodRun, NotApplicable, Request, RunStatus
-from validation.methods.opensees import _ops, _released
+from validation.methods.opensees import _ops, _released, load_to
 from validation.run.runner import requests_for
 
 SCRIPT = "opensees-script"  # the bench's method label of this peer
@@ -154,7 +154,8 @@ def _build(ops, model: ScriptModel, elements: int) -> None:
 
 def _step_levels(ops, model: ScriptModel) -> ScriptAnswer:
     """Each level in ``steps_per_level`` LoadControl steps, a failed step halved and retried (up to
-    ``max_halvings`` halvings a level), the displacements read where asked."""
+    ``max_halvings`` halvings a level: the adapter's loop of OpenSees calls, `validation.methods.opensees.
+    load_to`), the displacements read where asked."""
     answer = ScriptAnswer()
     read: dict[int, list[int]] = {}
     for level, point in model.readings:
@@ -164,7 +165,7 @@ def _step_levels(ops, model: ScriptModel) -> ScriptAnswer:
     for level, factor in enumerate(model.factors):
         if factor != current:
             start = time.process_time()
-            ok, its, current = _load_to(ops, current, factor, model.steps_per_level, model.max_halvings)
+            ok, its, current = load_to(ops, current, factor, model.steps_per_level, model.max_halvings)
             answer.stepping_s += time.process_time() - start
             answer.iterations += its
             if not ok:
@@ -177,26 +178,6 @@ def _step_levels(ops, model: ScriptModel) -> ScriptAnswer:
         for point in read.get(level, ()):
             answer.displacements[(level, point)] = (ops.nodeDisp(point + 1, 1), ops.nodeDisp(point + 1, 2))
     return answer
-
-
-def _load_to(ops, current: float, target: float, steps: int, max_halvings: int) -> tuple[bool, int, float]:
-    """From load factor ``current`` to ``target`` in ``steps`` steps, a failed step halved and retried:
-    (converged, Newton iterations with the failed tries', load factor reached)."""
-    step = (target - current) / steps
-    iterations, halvings = 0, 0
-    while abs(target - current) > 1e-12 * max(abs(target), 1.0):
-        inc = target - current if abs(target - current) <= abs(step) * (1 + 1e-9) else step
-        ops.integrator("LoadControl", inc)
-        ok = ops.analyze(1)
-        iterations += ops.testIter()
-        if ok == 0:
-            current += inc
-            continue
-        halvings += 1
-        if halvings > max_halvings:
-            return False, iterations, current
-        step = inc / 2
-    return True, iterations, target
 
 
 def _limit_load(ops, limit: LimitControl) -> ScriptAnswer:
