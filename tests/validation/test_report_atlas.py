@@ -49,6 +49,17 @@ def coarse(tmp_path_factory) -> tuple[str, object, Path]:
     return found
 
 
+def test_a_complete_coarse_atlas_is_read_not_built_again(coarse, tmp_path):
+    """The report's worker builds the coarse atlas, then its main process finds it: a second
+    ``find_atlas`` reads it, and the manifest keeps the one run that computed its lines (the page says
+    how many runs built it)."""
+    grid, frame, where = coarse
+    again = atlas_page.find_atlas(tmp_path / "no_published_atlas", build_into=where, executor="serial")
+    assert again is not None and again[0] == grid and len(again[1]) == len(frame)
+    runs = atlas_page.manifest(where, grid)["runs"]
+    assert len(runs) == 1 and runs[0]["lines_run"] > 0
+
+
 @pytest.fixture(scope="module")
 def page(coarse, tmp_path_factory) -> tuple[Path, atlas_page.AtlasPage]:
     out = tmp_path_factory.mktemp("report")

@@ -120,14 +120,16 @@ def find_atlas(
 ) -> tuple[str, pd.DataFrame, Path] | None:
     """(grid, rows, the datasets' folder) of the best atlas of the current code under ``datasets``
     (``dataset.best_available``: the full one, else the coarse one); else the coarse atlas built under
-    ``build_into`` (cached there by code version, so a second call builds nothing); None where neither
-    is there and ``build_into`` is None."""
+    ``build_into`` (cached there by code version: a complete one is read, not built again, so that its
+    manifest records only the runs that computed lines); None where neither is there and
+    ``build_into`` is None."""
     found = dataset.best_available(datasets)
     if found is not None:
         return found[0], found[1], Path(datasets)
     if build_into is None:
         return None
-    dataset.build("coarse", out=build_into, executor=executor, workers=workers)
+    if not dataset.complete(build_into, "coarse"):
+        dataset.build("coarse", out=build_into, executor=executor, workers=workers)
     frame = dataset.load(build_into, "coarse")
     if frame is None:
         raise RuntimeError(f"the coarse atlas built under {build_into} has no rows")
