@@ -14,10 +14,8 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-import numpy as np
 import pytest
 
-from fem.critical import refine_extremum
 from validation.bench import headline as bench
 from validation.bench.opensees_script import (
     NEWTON_TOLERANCE,
@@ -25,7 +23,6 @@ from validation.bench.opensees_script import (
     Member,
     ScriptJob,
     ScriptUnavailable,
-    parabola_peak,
     script_job,
     script_model,
 )
@@ -132,14 +129,3 @@ def test_a_case_the_script_does_not_express_is_unavailable_with_no_numbers():
     follower = case_by_id("bapat2015_test2_follower").case
     with pytest.raises(ScriptUnavailable, match="turning with the structure"):
         script_model(follower, tuple(requests_for(follower, bench.PEER)), OpenSeesOptions())
-
-
-def test_the_limit_load_is_the_peak_of_the_parabola_through_the_last_three_load_factors():
-    """y = 3 - (x - 0.25)^2 at x = -1, 0, 1 peaks at 3; a vertex beyond the three points gives the middle
-    one; the same peak as the adapter's (``fem.critical.refine_extremum`` without slopes)."""
-    y = [3 - (x - 0.25) ** 2 for x in (-1, 0, 1)]
-    assert parabola_peak(*y) == pytest.approx(3.0, abs=1e-14)
-    assert parabola_peak(0.0, 1.0, 2.5) == 1.0 and parabola_peak(1.0, 1.0, 1.0) == 1.0
-    for before, at, after in ((0.9, 1.0, 0.95), (17.0, 18.5, 18.2), (5.0, 5.2, 5.1)):  # the adapter's peak
-        peak, _ = refine_extremum(np.arange(-1.0, 2.0), np.array([before, at, after]), np.full(3, np.nan))
-        assert parabola_peak(before, at, after) == pytest.approx(peak, rel=1e-13)

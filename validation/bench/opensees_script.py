@@ -29,6 +29,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from fem.critical import refine_extremum
 from validation.case.method_options import OpenSeesOptions, options_of
 from validation.methods.base import MethodRun, NotApplicable, Request, RunStatus
 from validation.methods.opensees import _ops, _released, load_to
@@ -194,19 +195,13 @@ def _limit_load(ops, limit: LimitControl) -> ScriptAnswer:
         answer.iterations += ops.testIter()
         history.append(ops.getLoadFactor(1))
         if len(history) > 2 and history[-1] < history[-2]:
-            answer.limit_factor = parabola_peak(*history[-3:])
+            # the adapter's parabola through the three load factors around the peak (our FEM's too)
+            peak, _ = refine_extremum(np.arange(-1.0, 2.0), np.asarray(history[-3:]), np.full(3, np.nan))
+            answer.limit_factor = float(peak)
             answer.converged, answer.message = True, ""
             break
     answer.stepping_s = time.process_time() - start
     return answer
-
-
-def parabola_peak(before: float, at: float, after: float) -> float:
-    """The extreme value of the parabola through (-1, before), (0, at), (1, after); ``at`` when its vertex
-    lies outside [-1, 1] (or the three points are on a line)."""
-    c2, c1 = (after - 2 * at + before) / 2, (after - before) / 2
-    vertex = -c1 / (2 * c2) if c2 != 0 else 0.0
-    return at if abs(vertex) > 1 else at + c1 * vertex + c2 * vertex * vertex
 
 
 # ---------------------------------------------------------------------------------------------------------
