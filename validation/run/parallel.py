@@ -143,8 +143,8 @@ def schedule(
 
 
 # Python's cyclic garbage collector's first-generation threshold while a primer runs: numba's compiler
-# allocates millions of short-lived objects, and at the default 700 the collector walks them about a
-# tenth of a cold compile (0.6-0.9 of the elastica primer's 6.9-7.5 CPU s)
+# allocates millions of short-lived objects, and at the default 700 the collector walks them for about a
+# tenth of a cold compile
 PRIMER_GC_THRESHOLD = 100_000
 
 

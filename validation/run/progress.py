@@ -18,8 +18,8 @@ from tqdm.std import EMA
 from validation.run.parallel import CompileWatch, PathRun
 
 # seconds a method's numba kernels take to compile with a cold cache, one process on an idle core
-# (measured by ``validation.bench.compile_cost``: the FEM's load-control, warm-start and banded-solver
-# kernels 4.9-5.4 CPU s, the elastica's integrator 6.6-7.1)
+# (as ``validation.bench.compile_cost`` measures them: the FEM's load-control, warm-start and
+# banded-solver kernels, the elastica's integrator)
 COMPILE_SECONDS = {"fem": 5.0, "opensees": 5.0, "elastica": 7.0}
 KERNEL_NAMES = {"fem": "FEM", "opensees": "FEM", "elastica": "elastica"}
 SETTLED = 2
