@@ -270,6 +270,16 @@ def _measured_code() -> bytes:
     return code + dataset.code_version().encode()
 
 
+def read_measured(path: Path) -> dict:
+    """A report's ``measured.json`` (its cases' measured levels, by case); empty where it is missing or
+    unreadable."""
+    try:
+        entries: dict = json.loads(Path(path).read_text())
+    except (OSError, ValueError):
+        return {}
+    return entries
+
+
 def case_measured(result, rows: pd.DataFrame, cached: dict) -> CaseMeasured | None:
     """The measured levels of one case from its rows of the tidy table (None: its PRBM run has no atlas
     model); read from ``cached`` (``measured.json``'s entries, by case) when its key is there (following
@@ -594,11 +604,7 @@ def write_page(
     figures = out / FIGURES
     info = manifest(datasets, grid) if datasets is not None else {}
     version = str(info.get("version") or dataset.code_version())
-    try:
-        cached = json.loads((figures / MEASURED).read_text())
-    except (OSError, ValueError):
-        cached = {}
-    cached |= {case: got.entry() for case, got in (known or {}).items()}
+    cached = read_measured(figures / MEASURED) | {case: got.entry() for case, got in (known or {}).items()}
     static = _static_part(frame, grid, version, figures, claims_file)  # first: it may empty the folder
     levels, keep = _measured_frame(list(results), table if table is not None else pd.DataFrame(), cached)
     (figures / MEASURED).unlink(missing_ok=True)  # may be a hard link

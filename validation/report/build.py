@@ -26,7 +26,6 @@ from __future__ import annotations
 import datetime as _dt
 import hashlib
 import html
-import json
 import math
 import os
 import platform
@@ -669,10 +668,8 @@ def _previous_measured(path: Path) -> dict:
 
 @lru_cache(maxsize=2)
 def _read_measured(path: str, version: int) -> dict:
-    try:
-        return json.loads(Path(path).read_text())
-    except (OSError, ValueError):
-        return {}
+    """``atlas_page.read_measured`` once per file version (``version``: its modification time)."""
+    return atlas_page.read_measured(Path(path))
 
 
 def _build_pages(
