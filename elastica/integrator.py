@@ -527,16 +527,35 @@ def integrate_beam(
     end force (Fx, Fy), initial curvature k0, stiffnesses EI and EA, EA = 0: inextensible, a uniform
     dead load (wx, wy) per unit reference length along the beam), and whether the integration
     succeeded."""
+    return _beam_end(np.asarray(y0, dtype=float), length, Fx, Fy, k0, EI, EA, rtol, atol, wx, wy)
+
+
+def _beam_end(
+    y0: Vector,
+    length: float,
+    Fx: float,
+    Fy: float,
+    k0: float,
+    EI: float,
+    EA: float,
+    rtol: float,
+    atol: float,
+    wx: float,
+    wy: float,
+) -> tuple[Vector, bool]:
+    """The state at s = length of a mechanism beam integrated from ``y0`` (the plain state, or with its
+    variational equations: ``_samples`` reads which from y0's size), and whether it succeeded."""
     length = float(length)
     states, ok = _samples(
-        np.asarray(y0, dtype=float),
+        y0,
         np.array([0.0, length]),
         Beam(length=length, EI=float(EI), EA=float(EA), curvature=float(k0)),
         Loads(Fx=float(Fx), Fy=float(Fy), wx=float(wx), wy=float(wy)),
         Tolerances(rtol=float(rtol), atol=float(atol)),
         True,
     )
-    return states[-1], ok
+    end: Vector = states[-1]
+    return end, ok
 
 
 def beam_sensitivities(
@@ -556,20 +575,11 @@ def beam_sensitivities(
     s = 0, its derivative d(x, y, theta, m)/d(theta0, m0, Fx, Fy) (4, 4) by the variational equations
     (``beam_sensitivity_rhs``), and whether the integration succeeded (the arguments as
     ``integrate_beam``'s; the tolerances hold on the state and its derivatives alike)."""
-    length = float(length)
     y = np.zeros(BEAM_SENSITIVITY_STATE_SIZE)
     y[:BEAM_STATE_SIZE] = np.asarray(y0, dtype=float)
     y[13] = 1.0  # d theta(0) / d theta0
     y[18] = 1.0  # d m(0) / d m0
-    states, ok = _samples(
-        y,
-        np.array([0.0, length]),
-        Beam(length=length, EI=float(EI), EA=float(EA), curvature=float(k0)),
-        Loads(Fx=float(Fx), Fy=float(Fy), wx=float(wx), wy=float(wy)),
-        Tolerances(rtol=float(rtol), atol=float(atol)),
-        True,
-    )
-    end = states[-1]
+    end, ok = _beam_end(y, length, Fx, Fy, k0, EI, EA, rtol, atol, wx, wy)
     return end[:BEAM_STATE_SIZE], end[BEAM_STATE_SIZE:].reshape(4, 4), ok
 
 
