@@ -4,8 +4,10 @@ The tangent is assembled straight into the storage of the chosen solver
 (with precomputed flat indices, `np.bincount`):
 
 * banded LAPACK ``dgbtrf``/``dgbtrs`` when the half-bandwidth is small
-  (nodes are numbered in reverse Cuthill-McKee order), cost O(n b^2);
-* dense LAPACK ``dgetrf`` (``scipy.linalg.lu_factor``) for small systems;
+  (nodes are numbered in reverse Cuthill-McKee order), cost O(n b^2), however few the unknowns:
+  the compiled corrector's band LU beats LAPACK's dense ``dgetrf`` from 6 unknowns up on a beam's
+  band (`validation.bench.solver_choice`);
+* dense LAPACK ``dgetrf`` (``scipy.linalg.lu_factor``) for wide bands up to 300 unknowns;
 * SuperLU (``scipy.sparse.linalg.splu``) for large, wide-band systems.
 
 The sign of det K (product of U's diagonal signs times the permutation
@@ -94,10 +96,8 @@ class MatrixLayout:
     def __init__(self, n: int, rows: IntArray, cols: IntArray, kind: str = "auto"):
         self.n = n
         bw = int(np.abs(rows - cols).max()) if len(rows) else 0
-        if kind == "auto":
-            if n <= 24:
-                kind = "dense"
-            elif bw <= max(8, n // 6):
+        if kind == "auto":  # a band of up to 8 (a beam's 3 DOFs a node, RCM-numbered) is banded at any n
+            if bw <= max(8, n // 6):
                 kind = "banded"
             elif n <= 300:
                 kind = "dense"

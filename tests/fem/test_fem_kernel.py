@@ -331,13 +331,13 @@ def _compiled_evaluation(system, q, beta, loads):
     return work.u, work.r, c.row_major(work.K), work.C1w, scale
 
 
-@pytest.mark.parametrize("elements", [2, 24])
-def test_the_compiled_evaluation_with_rigid_links_is_the_numpy_one(elements):
+@pytest.mark.parametrize(("elements", "kind"), [(2, "dense"), (2, "banded"), (24, "banded")])
+def test_the_compiled_evaluation_with_rigid_links_is_the_numpy_one(elements, kind):
     """Rigid links in the compiled corrector: a beam, a rigid link from its end to a node off the line,
     a second beam from there to a pin, a joint spring and a dead load. The slaves placed by their
     masters' rotation, the constraint coefficients turned with them, the residual, the tangent with
     the slaves' geometric term and the force scale equal `assembly.System.evaluate`'s to rounding
-    (`_same_evaluations`) at random states (dense storage at 2 elements a beam, banded at 24)."""
+    (`_same_evaluations`) at random states (dense and banded storage at 2 elements a beam, banded at 24)."""
     import fem
     from fem import solver
     from fem.options import SolveOptions
@@ -354,9 +354,9 @@ def test_the_compiled_evaluation_with_rigid_links_is_the_numpy_one(elements):
     model.add_joint("b", k=2.0)
     model.add_force("b", [0.3], [-0.7])
     model.add_moment("a", [0.2])
-    system = solver._prepare(model, SolveOptions(), None)
+    system = solver._prepare(model, SolveOptions(solver=kind), None)
     assert system.width == 2 and system.compiled is not None
-    assert system.layout.kind == ("dense" if elements == 2 else "banded")
+    assert system.layout.kind == kind
     _same_evaluations(system, system.loads_at(-1, 0, 1.0), np.random.default_rng(elements), 5)
 
 
