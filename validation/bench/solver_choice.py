@@ -20,12 +20,13 @@ import argparse
 import gc
 import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import fem
 import numpy as np
-from fem.solver import SolveOptions, _prepare
+from fem.options import SolveOptions
+from fem.solver import _prepare
 from validation.bench.headline import BENCH_CASES, _at, _last_level_only
 from validation.case.loader import case_by_id
 from validation.case.method_options import FemOptions
@@ -54,7 +55,7 @@ class Choice:
         return self.best["banded"] / self.best["dense"]
 
 
-def _in_turn(runs: dict[str, Callable[[], object]]) -> dict[str, float]:
+def _in_turn(runs: Mapping[str, Callable[[], object]]) -> dict[str, float]:
     """Best CPU seconds of each run, the runs taking turns, the collector off while each runs."""
     times: dict[str, list[float]] = {kind: [] for kind in runs}
     for run in runs.values():  # warm-up
