@@ -90,18 +90,21 @@ def composite_beam_tip(
     # P < 0: the model mirrored about x (b, theta0, Theta change sign), fits at -n so that -nP is kept
     sign = np.where(np.asarray(P) < 0, -1.0, 1.0)
     n_eff = np.atleast_1d(float(n) * sign)
-    gamma_n, c_theta_n, K_n = (np.broadcast_to(v, n_eff.shape) for v in fam.model_parameters(n_eff, extrapolate))
+    gamma_n, c_theta_n, K_n = fam.model_parameters(n_eff, extrapolate)  # arrays of n_eff's shape
     phi = np.arctan2(1.0, -n_eff)
     beta = np.atleast_1d(np.abs(P) * eta * length**2 / EI)
+    brentq = optimize.brentq
+    # one root per level, in plain floats (the residual is called some ten times a level)
     Theta = np.array(
         [
             0.0
             if bb == 0
-            else optimize.brentq(lambda t: bb * math.sin(ph + (c - 1) * t) - k * t, 0.0, (bb + 1.0) / k, xtol=1e-14)
-            for bb, ph, c, k in zip(beta, phi, c_theta_n, K_n)
+            else brentq(lambda t: bb * math.sin(ph + (c - 1) * t) - k * t, 0.0, (bb + 1.0) / k, xtol=1e-14)
+            for bb, ph, c, k in zip(beta.tolist(), phi.tolist(), c_theta_n.tolist(), K_n.tolist())
         ]
     )
     ok, nit = np.ones(Theta.shape, bool), 0
+    converged = bool(ok.all())
     Theta = Theta.reshape(np.shape(P)) * sign
     gamma, c_theta, K = (v.reshape(np.shape(P)) if np.ndim(P) else float(v[0]) for v in (gamma_n, c_theta_n, K_n))
     out = {
@@ -112,8 +115,8 @@ def composite_beam_tip(
         "P": P,
     }
     return PRBMResult(
-        bool(np.all(ok)),
-        "converged" if np.all(ok) else "not converged",
+        converged,
+        "converged" if converged else "not converged",
         {k: np.asarray(v) for k, v in out.items()},
         {
             "gamma": gamma,

@@ -65,16 +65,20 @@ def loop_closure(
     l2 = length - l1
     R1, R2, R3, R4 = (1 - gamma) * l1, gamma * l1, gamma * l2, (1 - gamma) * l2
     shift = theta0 - theta0 / c_theta  # theta3 = Theta2 + theta0 = Theta1 + shift
+    end = R4 * math.sin(theta0)
 
     def g(T1: float) -> float:  # (105) with (107), ii)
-        return R2 * math.sin(T1) + R3 * math.sin(T1 + shift) + R4 * math.sin(theta0) - b
+        return R2 * math.sin(T1) + R3 * math.sin(T1 + shift) + end - b
 
     lo = max(0.0, theta0 / c_theta)  # Theta1 > 0 and Theta2 = Theta1 - theta0/c_theta > 0 (constraint i)
-    grid = np.linspace(lo, math.pi / 2, 181)
-    values = [g(t) for t in grid]
+    # the first sign change of g on a grid of Theta1 up to 90 deg, scanned upwards (g evaluated as the scan
+    # reaches each node: the nodes past the first root meeting the constraints are never needed)
+    grid = np.linspace(lo, math.pi / 2, 181).tolist()
+    g_next = g(grid[0])
     for k in range(len(grid) - 1):
-        if values[k] == 0.0 or values[k] * values[k + 1] < 0:
-            T1 = grid[k] if values[k] == 0.0 else brentq(g, grid[k], grid[k + 1], xtol=1e-14)
+        g_here, g_next = g_next, g(grid[k + 1])
+        if g_here == 0.0 or g_here * g_next < 0:
+            T1 = grid[k] if g_here == 0.0 else brentq(g, grid[k], grid[k + 1], xtol=1e-14)
             T2 = T1 - theta0 / c_theta
             if T1 <= 0 or T2 <= 0:
                 continue

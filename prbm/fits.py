@@ -87,7 +87,8 @@ class PiecewiseFit:
         """Evaluate at load ratio(s) n (scalar or array)."""
         if isinstance(n, float) or np.ndim(n) == 0:  # scalar fast path (root finders call this in their inner loop)
             x = float(n)
-            if not (self.lower < x <= self.upper):
+            branches = self.branches
+            if not (branches[0].lower < x <= branches[-1].upper):  # ``lower`` < x <= ``upper``
                 self._out_of_range(x, extrapolate)
             return self._horner(x)
         n_arr = np.asarray(n, dtype=float)

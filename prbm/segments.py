@@ -163,7 +163,8 @@ def _spring_angle_scalar(
         if lo < x0 < hi:
             x = x0
     for it in range(1, maxiter + 1):
-        s = sin(phi - x)
+        e = phi - x
+        s = sin(e)
         fx = FR * s - k * (x - theta_i)
         if fx == 0.0:
             return x, True, it
@@ -171,7 +172,7 @@ def _spring_angle_scalar(
             lo = x
         else:
             hi = x
-        dfx = -FR * cos(phi - x) - k
+        dfx = -FR * cos(e) - k
         step = fx / dfx if dfx != 0.0 else math.inf
         x_new = x - step
         tol = xtol * (1.0 + abs(x))

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -51,7 +52,20 @@ class ThetaStiffnessFit:
 
     def torque_polynomial(self, n: float, Theta: float) -> float:
         """p(n, Theta) = K_Theta Theta, the non-dimensional spring torque alpha_t^2."""
-        return sum(c * n**i * Theta**j for (i, j), c in self.coefficients.items())
+        return self.torque_at_ratio(n)(Theta)
+
+    def torque_at_ratio(self, n: float) -> Callable[[float], float]:
+        """p(n, .) at one load ratio n (a root search in Theta evaluates it many times): each term's
+        c n^i worked out once, then the sum of c n^i Theta^j term by term, in the coefficients' order."""
+        terms = [(c * n**i, j) for (i, j), c in self.coefficients.items()]
+
+        def p(Theta: float) -> float:
+            total = 0.0
+            for cn, j in terms:
+                total += cn * Theta**j
+            return total
+
+        return p
 
     def __call__(self, n: float, Theta: float) -> float:
         """K_Theta at load ratio n and PRB angle Theta (rad), inside the printed ranges only."""
@@ -140,9 +154,10 @@ def theta_dependent_tip(P: float, n: float = 0.0, *, length: float, EI: float, f
     F = Pabs * math.sqrt(1.0 + n * n)
     phi = math.atan2(1.0, -n)
     alpha2 = F * length**2 / EI
+    torque = kfit.torque_at_ratio(n)
 
     def residual(T: float) -> float:
-        return alpha2 * math.sin(phi - T) - kfit.torque_polynomial(n, T)
+        return alpha2 * math.sin(phi - T) - torque(T)
 
     hi = min(phi, THETA_MAX * 1.5)
     if residual(1e-9) <= 0.0:
@@ -161,7 +176,7 @@ def theta_dependent_tip(P: float, n: float = 0.0, *, length: float, EI: float, f
         "P": P,
         "n": sign * n,
         "F": F,
-        "K_theta": kfit.torque_polynomial(n, Theta) / Theta,
+        "K_theta": torque(Theta) / Theta,
     }
     K = out["K_theta"]
     return PRBMResult(

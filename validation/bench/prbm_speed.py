@@ -1,7 +1,9 @@
 """Speed of the PRBM library: one segment solve at one load level, a 10,000-level sweep, the
 chapter-3 inflection solves, a four-bar torque sweep; one load level of four-link PRB networks
 (``network_rows``: the parallel-guided mechanism built from its geometry and the chapter-9 Test 2
-four-bar, beside the FEM's time for the same case, target <= 0.5 ms); then the whole adapter call
+four-bar, beside the FEM's time for the same case, target <= 0.5 ms); the CPU time per load level of
+each segment model, called for one level and for a case's ten (``segment_level_rows``, target 20 us a
+level); then the whole adapter call
 ``validation.run.runner.run_method(case, "prbm")`` (what ``prbm-validate bench`` times against the FEM)
 for every case under cases/ with a prbm method, per case and per kind of case (target: 50 us a case),
 in CPU time (the machine is shared: wall time also counts waiting for a core) with the
@@ -22,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 import prbm
+from prbm.theta_dependent import theta_dependent_tip
 from validation.case.loader import case_by_id, find_case_files, load_case
 from validation.methods import prbm_network
 from validation.methods.geometry import geometry
@@ -189,6 +192,55 @@ def library_rows() -> list[tuple[str, float]]:
     return rows
 
 
+def segment_level_rows() -> list[tuple[str, float, float | None]]:
+    """(model, best CPU seconds per load level of a one-level call, of a ten-level call or None): each
+    segment model of the library called as the error atlas calls it point by point (one level) and as the
+    adapter calls it for a case (its few levels at once); target: 20 us a level."""
+    P = [0.5 * i for i in range(10)]
+    n = [0.5] * 10
+    M = [0.1 * i for i in range(10)]
+    L, EI = 1.0, 1.0
+    calls = {
+        "fixed_pinned_tip": (
+            lambda: prbm.fixed_pinned_tip(2.0, 0.5, length=L, EI=EI),
+            lambda: prbm.fixed_pinned_tip(P, n, length=L, EI=EI),
+        ),
+        "pure_moment_tip": (
+            lambda: prbm.pure_moment_tip(0.5, length=L, EI=EI),
+            lambda: prbm.pure_moment_tip(M, length=L, EI=EI),
+        ),
+        "curved_fixed_pinned_tip": (
+            lambda: prbm.curved_fixed_pinned_tip(2.0, 0.5, length=L, EI=EI, curvature=0.5),
+            lambda: prbm.curved_fixed_pinned_tip(P, n, length=L, EI=EI, curvature=0.5),
+        ),
+        "fixed_guided_tip": (
+            lambda: prbm.fixed_guided_tip(2.0, 0.5, length=L, EI=EI),
+            lambda: prbm.fixed_guided_tip(P, n, length=L, EI=EI),
+        ),
+        "fixed_guided_monotonic_tip": (
+            lambda: prbm.fixed_guided_monotonic_tip(2.0, 0.5, 0.5, length=L, EI=EI),
+            lambda: prbm.fixed_guided_monotonic_tip(P, n, M, length=L, EI=EI),
+        ),
+        "composite_beam_tip (follower)": (
+            lambda: prbm.composite_beam_tip(2.0, 0.5, length=L, EI=EI, follower=True),
+            lambda: prbm.composite_beam_tip(P, 0.5, length=L, EI=EI, follower=True),
+        ),
+        "slfp_tip": (
+            lambda: prbm.slfp_tip(2.0, 0.5, flexure_length=0.1, rigid_length=L, EI=EI),
+            lambda: prbm.slfp_tip(P, n, flexure_length=0.1, rigid_length=L, EI=EI),
+        ),
+        "fixed_guided_displaced_tip": (
+            lambda: prbm.fixed_guided_displaced_tip(0.2, length=L, EI=EI),
+            lambda: prbm.fixed_guided_displaced_tip(M, length=L, EI=EI),
+        ),
+        "theta_dependent_tip (eq 51)": (lambda: theta_dependent_tip(2.0, 0.5, length=L, EI=EI, fit="51"), None),
+    }
+    rows: list[tuple[str, float, float | None]] = []
+    for name, (one, ten) in calls.items():
+        rows.append((name, best_cpu(one, 500), best_cpu(ten, 100) / 10 if ten is not None else None))
+    return rows
+
+
 def network_rows() -> list[tuple[str, float, float, float | None]]:
     """(what, best wall and CPU seconds per load level of the PRB network after warm-up, FEM wall
     seconds per level of the same case or None): the network built by rule for seed004_parallel_guided (ground, two middle
@@ -267,6 +319,14 @@ def main() -> None:
         width = max(len(r[0]) for r in library)
         for name, t in library:
             print(f"{name:<{width}}  {t * 1e6:12.1f} us")
+        print()
+        levels = segment_level_rows()
+        header = "segment model, CPU per load level"
+        width = max(len(header), *(len(r[0]) for r in levels))
+        print(f"{header:<{width}}  {'1 level':>10}  {'10 levels':>10}")
+        for name, one, ten in levels:
+            ten_text = f"{ten * 1e6:7.1f} us" if ten is not None else ""
+            print(f"{name:<{width}}  {one * 1e6:7.1f} us  {ten_text:>10}")
         print()
     only = [a.split("=", 1)[1] for a in sys.argv if a.startswith("--case=")]
     slower_than = 0.05 if "--fast" in sys.argv else math.inf

@@ -25,8 +25,6 @@ import time
 
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 from prbm.fits import FitRangeError
 from prbm.lazy import LazyModule
 from validation.case.method_options import PrbmOptions
@@ -64,7 +62,9 @@ def run(case, requests: list[Request], options: PrbmOptions) -> MethodRun:
     else:
         loads = _tip_loads(case)
         solve = {"theta-dependent": _theta_dependent, "chain": _chain, "lyon": _lyon}[model]
-        rows = [solve(case, loads[lv], options) if lv in _levels(requests) else None for lv in range(case.n_levels())]
+        asked = _levels(requests)
+        EI = seg.bending_stiffness()
+        rows = [solve(case, loads[lv], options, EI) if lv in asked else None for lv in range(case.n_levels())]
     info = MethodRun(values={})
     for req in requests:
         table, _ = rows[req.level]
@@ -79,7 +79,7 @@ def run(case, requests: list[Request], options: PrbmOptions) -> MethodRun:
     info.message = "; ".join(f"level {lv}: {m}" for lv, m in info.level_messages.items())
     info.extras = {"model": next(r[1].model for r in rows if r is not None)}
     if model == "theta-dependent":
-        flag_atlas_levels(info, theta_dependent_levels(options.theta_fit, loads, seg.length, seg.bending_stiffness()))
+        flag_atlas_levels(info, theta_dependent_levels(options.theta_fit, loads, seg.length, EI))
     info.wall_time = time.perf_counter() - t0
     return info
 
@@ -89,23 +89,25 @@ def _levels(requests) -> set[int]:
 
 
 def _tip_loads(case) -> list[tuple[float, float, float]]:
-    """(F_x, F_y, M) at the tip for each level (dead loads only)."""
+    """(F_x, F_y, M) at the tip for each level (dead loads only): 0 + each load's value times its
+    direction component, in plain floats."""
     n = case.n_levels()
-    Fx, Fy, M = np.zeros(n), np.zeros(n), np.zeros(n)
+    Fx, Fy, M = [0.0] * n, [0.0] * n, [0.0] * n
     for i, load in enumerate(case.loads):
         if load.point != "tip":
             raise NotApplicable(f"loads.{i} acts on '{load.point}'; these segment models take end loads only")
         if load.kind == "force" and (load.follower or load.body is not None or load.toward is not None):
             raise NotApplicable(f"loads.{i}: only dead forces of fixed direction")
-        v = np.asarray(load.levels(), float)
+        values = [float(v) for v in load.levels()]
         if load.kind == "force":
-            Fx += v * load.direction[0]
-            Fy += v * load.direction[1]
+            dx, dy = float(load.direction[0]), float(load.direction[1])
+            Fx = [f + v * dx for f, v in zip(Fx, values)]
+            Fy = [f + v * dy for f, v in zip(Fy, values)]
         elif load.kind == "moment":
-            M += v
+            M = [m + v for m, v in zip(M, values)]
         else:
             raise NotApplicable(f"loads.{i}: a prescribed {load.kind}; these models take forces and moments")
-    return list(zip(Fx.tolist(), Fy.tolist(), M.tolist()))
+    return list(zip(Fx, Fy, M))
 
 
 def _table(case, a, b, theta0, Fx, Fy, M, **extra) -> dict[str, float]:
@@ -123,7 +125,7 @@ def _table(case, a, b, theta0, Fx, Fy, M, **extra) -> dict[str, float]:
     }
 
 
-def _theta_dependent(case, load, options):
+def _theta_dependent(case, load, options, EI: float):
     Fx, Fy, M = load
     seg = case.segment
     if seg.boundary not in ("fixed-free", "fixed-pinned"):
@@ -133,9 +135,7 @@ def _theta_dependent(case, load, options):
     if Fy == 0.0:
         raise NotApplicable("no transverse end force: the fit's load ratio n = -F_x/F_y is undefined")
     try:
-        res = theta_dependent.theta_dependent_tip(
-            Fy, -Fx / Fy, length=seg.length, EI=seg.bending_stiffness(), fit=options.theta_fit
-        )
+        res = theta_dependent.theta_dependent_tip(Fy, -Fx / Fy, length=seg.length, EI=EI, fit=options.theta_fit)
     except FitRangeError as exc:
         raise NotApplicable(f"PRBM fit range: {exc}") from None
     o = res.outputs
@@ -144,21 +144,21 @@ def _theta_dependent(case, load, options):
     ), res
 
 
-def _chain_beam(case, options) -> chain_model.ChainBeam:
+def _chain_beam(case, options, EI: float) -> chain_model.ChainBeam:
     seg = case.segment
     if seg.boundary not in ("fixed-free", "fixed-pinned", "fixed-guided"):
         raise NotApplicable(f"the Chain Algorithm here models a cantilevered segment, not {seg.boundary}")
-    return chain_model.ChainBeam(seg.length, seg.bending_stiffness(), options.chain_elements)
+    return chain_model.ChainBeam(seg.length, EI, options.chain_elements)
 
 
-def _chain(case, load, options):
+def _chain(case, load, options, EI: float):
     Fx, Fy, M = load
     if case.segment.boundary == "fixed-guided" and M == 0.0:
         raise NotApplicable(
             "fixed-guided end without a moment load: the Chain Algorithm here needs "
             "the end moment given (no rotation condition)"
         )
-    beam = _chain_beam(case, options)
+    beam = _chain_beam(case, options, EI)
     res = chain_model.chain_tip(beam, chain_model.NodalLoads.at_tip(beam, Fx, Fy, M), steps=options.chain_steps)
     o = res.outputs
     return _table(case, float(o["a"]), float(o["b"]), float(o["theta0"]), Fx, Fy, M), res
@@ -172,10 +172,11 @@ def _per_level(options: PrbmOptions, key: str, lv: int) -> float:
 
 
 def _chain_inverse(case, requests, options):
-    beam = _chain_beam(case, options)
+    beam = _chain_beam(case, options, case.segment.bending_stiffness())
+    asked = _levels(requests)
     rows = []
     for lv in range(case.n_levels()):
-        if lv not in _levels(requests):
+        if lv not in asked:
             rows.append(None)
             continue
         n = _per_level(options, "n", lv)
@@ -204,7 +205,7 @@ def _chain_inverse(case, requests, options):
     return rows
 
 
-def _lyon(case, load, options):
+def _lyon(case, load, options, EI: float):
     Fx, Fy, M = load
     seg = case.segment
     if seg.boundary not in ("fixed-guided", "fixed-fixed"):
@@ -214,7 +215,7 @@ def _lyon(case, load, options):
             "Lyon et al.'s PRBM (eqs 64-70) takes the end force only; its equal-torque condition fixes the end moment"
         )
     try:
-        res = lyon_model.lyon_tip(Fx, Fy, length=seg.length, EI=seg.bending_stiffness())
+        res = lyon_model.lyon_tip(Fx, Fy, length=seg.length, EI=EI)
     except FitRangeError as exc:
         raise NotApplicable(f"PRBM fit range: {exc}") from None
     o = res.outputs
@@ -225,9 +226,10 @@ def _loop(case, requests, options):
     seg = case.segment
     if seg.boundary not in ("fixed-guided", "fixed-fixed"):
         raise NotApplicable(f"the section 3.6 vector loop is a fixed-guided model, not {seg.boundary}")
+    asked = _levels(requests)
     rows = []
     for lv in range(case.n_levels()):
-        if lv not in _levels(requests):
+        if lv not in asked:
             rows.append(None)
             continue
         b, theta0 = _per_level(options, "b", lv), math.radians(_per_level(options, "theta0_deg", lv))

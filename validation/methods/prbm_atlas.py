@@ -98,25 +98,34 @@ def flag_atlas_levels(
 ) -> None:
     """Per level (atlas model or None, its inputs, mirror sign): the expected error, and the flag and its
     reason where the level lies outside the model's 5 % region or outside the map.  A level of a model the
-    atlas does not map gets no expected error and the run's message says so."""
-    info.extras["atlas_equal_load"] = equal_load
-    unmapped = None
+    atlas does not map gets no expected error and the run's message says so.  Each level's inputs (a dict
+    of its own) are kept in ``extras['atlas_inputs']``."""
+    extras = info.extras
+    extras["atlas_equal_load"] = equal_load
+    expected, messages = info.expected_error, info.level_messages
+    unmapped = mapped = None
+    # the levels in the atlas's terms, so that a measured error can be split as the atlas splits it
+    atlas_inputs: dict[int, dict[str, float]] = {}
+    atlas_mirror: dict[int, float] = {}
     for level, (model, inputs, mirror) in sorted(levels.items()):
         found = expectation(model, inputs) if model else None
         if found is None:
             unmapped = model or "this load on this segment"
             continue
-        info.expected_error[level] = found.expected_error
-        info.extras["atlas_model"] = model
-        # the level in the atlas's terms, so that a measured error can be split as the atlas splits it
-        info.extras.setdefault("atlas_inputs", {})[level] = dict(inputs)
-        info.extras.setdefault("atlas_mirror", {})[level] = mirror
+        expected[level] = found.expected_error
+        mapped = model
+        atlas_inputs[level] = inputs
+        atlas_mirror[level] = mirror
         if found.outside:
             info.flag(level, Applicability.OUTSIDE_VALIDITY)
-            previous = info.level_messages.get(level, "")
-            info.level_messages[level] = f"{previous}; {found.reason}" if previous else found.reason
-    if unmapped is not None and not info.expected_error:
-        info.extras["atlas_model"] = None
+            previous = messages.get(level, "")
+            messages[level] = f"{previous}; {found.reason}" if previous else found.reason
+    if mapped is not None:
+        extras["atlas_model"] = mapped
+        extras.setdefault("atlas_inputs", {}).update(atlas_inputs)
+        extras.setdefault("atlas_mirror", {}).update(atlas_mirror)
+    if unmapped is not None and not expected:
+        extras["atlas_model"] = None
         note = f"the PRBM error atlas does not map {unmapped}: no expected error"
         info.message = f"{info.message}; {note}" if info.message else note
 

@@ -43,7 +43,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TypedDict
+from typing import NamedTuple, TypedDict
 
 import numpy as np
 from numpy.typing import NDArray
@@ -58,6 +58,8 @@ from validation.methods.prbm_atlas import flag_levels
 from validation.methods.prbm_common import levels, per_level, pick, plain
 
 REACTIONS = {"reaction_x", "reaction_y", "reaction_moment"}
+_FROM_ROTATION = {"rotation", "force_x", "force_y"} | REACTIONS  # the outputs that read the tip's rotation
+_FROM_PRB_ANGLE = {"prb_angle", "strain_energy"}
 INFLECTION_WARNING = (
     "inflection point expected: the bending moment changes sign between tip and root "
     "(seed 000 Table 2.1, eq (12)); the monotonic-curvature PRBM (eq 62) does not fit this load, "
@@ -133,8 +135,7 @@ class SegmentSolve:
     message: str = ""
 
 
-@dataclass(frozen=True)
-class FitOptions:
+class FitOptions(NamedTuple):
     """The fit options every segment model takes: ``family`` and ``extrapolate``."""
 
     family: str
@@ -178,10 +179,11 @@ def run_segment(case, requests, options: PrbmOptions) -> tuple[dict, MethodRun]:
         ratio = loads.ratio()
         solved = _forward(case, loads, ratio, L, EI, kappa, fit)
     n = len(loads.Fy)
-    for r in requests:
-        if r.quantity in REACTIONS and r.point != "root":
-            raise NotApplicable(f"'{r.quantity}' is a support load: ask for it at 'root' (got '{r.point}')")
     wanted = {r.quantity for r in requests}
+    if wanted & REACTIONS:
+        for r in requests:
+            if r.quantity in REACTIONS and r.point != "root":
+                raise NotApplicable(f"'{r.quantity}' is a support load: ask for it at 'root' (got '{r.point}')")
     if loads.has_moment:  # the inflection check below reads the forces the tip receives
         wanted |= {"force_x", "force_y"}
     out = _segment_outputs(case, loads, solved, n, wanted)
@@ -407,7 +409,7 @@ def _segment_outputs(case, loads: TipLoads, solved: SegmentSolve, n: int, wanted
         out["dx"] = [v - solved.a0 for v in a]
     if "dy" in wanted:
         out["dy"] = [v - solved.b0 for v in b]
-    if wanted & ({"rotation", "force_x", "force_y"} | REACTIONS):
+    if wanted & _FROM_ROTATION:
         unloaded = unloaded_tip_angle(seg.length, seg.initial_curvature())
         rotation = [t - unloaded for t in levels(o["theta0"], n)]
         Fx, Fy = loads.Fx, loads.Fy
@@ -424,11 +426,12 @@ def _segment_outputs(case, loads: TipLoads, solved: SegmentSolve, n: int, wanted
         out["reaction_x"] = [-f for f in Fx]
         out["reaction_y"] = [-f for f in Fy]
         out["reaction_moment"] = [-(m + x * fy - y * fx) for m, x, y, fx, fy in zip(Mt, a, b, Fx, Fy)]
-    if "Theta" in o and wanted & {"prb_angle", "strain_energy"}:
+    if "Theta" in o and wanted & _FROM_PRB_ANGLE:
         Theta = levels(o["Theta"], n)
-        out["prb_angle"] = [math.degrees(t) for t in Theta]
+        if "prb_angle" in wanted:
+            out["prb_angle"] = [math.degrees(t) for t in Theta]
         k = res.constants.get("k")
-        if k is not None:
+        if k is not None and "strain_energy" in wanted:
             Ti = levels(res.constants.get("Theta_i", 0.0), n)
             out["strain_energy"] = [0.5 * kk * ((t - ti) * (t - ti)) for kk, t, ti in zip(levels(k, n), Theta, Ti)]
     return out
