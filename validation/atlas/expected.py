@@ -17,7 +17,8 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass
+from bisect import bisect_right
+from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
 
@@ -37,9 +38,23 @@ class ErrorMap:
     values: tuple[np.ndarray, ...]
     error: np.ndarray
     version: str = ""
+    # the grid as the interpolation reads it, in plain floats (a lookup is a few scalar operations per
+    # axis, cheaper on floats than through numpy calls): per axis its coordinates (the logarithm of the
+    # load) and its stride in the error table, flattened in C order
+    _coords: tuple[list[float], ...] = field(init=False, repr=False, compare=False)
+    _strides: tuple[int, ...] = field(init=False, repr=False, compare=False)
+    _table: list[float] = field(init=False, repr=False, compare=False)
+    _two_axes: bool = field(init=False, repr=False, compare=False)  # two axes of two nodes or more
 
-    def _coordinates(self) -> list[np.ndarray]:
-        return [np.log(v) if name == "load" else v for name, v in zip(self.axes, self.values)]
+    def __post_init__(self) -> None:
+        coords = tuple(
+            (np.log(v) if name == "load" else np.asarray(v, float)).tolist() for name, v in zip(self.axes, self.values)
+        )
+        sizes = [len(c) for c in coords]
+        object.__setattr__(self, "_coords", coords)
+        object.__setattr__(self, "_strides", tuple(math.prod(sizes[axis + 1 :]) for axis in range(len(sizes))))
+        object.__setattr__(self, "_table", np.asarray(self.error, float).ravel().tolist())
+        object.__setattr__(self, "_two_axes", len(sizes) == 2 and min(sizes) > 1)
 
     def expected(self, inputs: dict[str, float]) -> float:
         """The interpolated tip error at ``inputs`` (every axis named), NaN where the map does not know.
@@ -54,10 +69,12 @@ class ErrorMap:
                     return math.nan
                 x = max(math.log(x), math.log(v[0]))
             q.append(x)
-        coords = self._coordinates()
-        if any(not (c[0] - 1e-9 <= x <= c[-1] + 1e-9) for x, c in zip(q, coords)):
-            return math.nan
-        return _multilinear(coords, self.error, q)
+        for x, c in zip(q, self._coords):
+            if not (c[0] - 1e-9 <= x <= c[-1] + 1e-9):
+                return math.nan
+        if self._two_axes:
+            return _bilinear(self._coords, self._strides[0], self._table, q)
+        return _multilinear(self._coords, self._strides, self._table, q)
 
     def to_json(self) -> dict:
         return {
@@ -74,28 +91,55 @@ class ErrorMap:
         return cls(model, tuple(data["axes"]), values, error, data.get("version", ""))
 
 
-def _multilinear(coords: list[np.ndarray], table: np.ndarray, q: list[float]) -> float:
-    """Linear interpolation on a regular grid (axis by axis, the 2^d corners of the cell holding q);
-    NaN when any corner with a non-zero weight is NaN."""
+def _cell(c: list[float], x: float) -> tuple[int, float]:
+    """The cell of the axis ``c`` (ascending) holding x, as its first node i and x's fraction t in [0, 1]
+    of the way to node i + 1 (the end cells extended, t clipped)."""
+    i = min(max(bisect_right(c, x) - 1, 0), len(c) - 2)
+    return i, min(max((x - c[i]) / (c[i + 1] - c[i]), 0.0), 1.0)
+
+
+def _multilinear(
+    coords: tuple[list[float], ...], strides: tuple[int, ...], table: list[float], q: list[float]
+) -> float:
+    """Linear interpolation on a regular grid (axis by axis, the 2^d corners of the cell holding q; ``table``
+    the values flattened, ``strides`` each axis's step in it); NaN when any corner with a non-zero weight
+    is NaN."""
     index, weight = [], []
-    for c, x in zip(coords, q):
-        if c.size == 1:
+    for c, x, stride in zip(coords, q, strides):
+        if len(c) == 1:
             index.append((0, 0))
             weight.append((1.0, 0.0))
             continue
-        i = int(np.clip(np.searchsorted(c, x, side="right") - 1, 0, c.size - 2))
-        t = float(np.clip((x - c[i]) / (c[i + 1] - c[i]), 0.0, 1.0))
-        index.append((i, i + 1))
+        i, t = _cell(c, x)
+        index.append((i * stride, (i + 1) * stride))
         weight.append((1.0 - t, t))
     total = 0.0
-    for corner in range(2 ** len(coords)):
-        w, at = 1.0, []
-        for axis in range(len(coords)):
+    d = len(coords)
+    for corner in range(1 << d):
+        w, at = 1.0, 0
+        for axis in range(d):
             bit = (corner >> axis) & 1
             w *= weight[axis][bit]
-            at.append(index[axis][bit])
+            at += index[axis][bit]
         if w > 0.0:
-            total += w * float(table[tuple(at)])
+            total += w * table[at]
+    return total
+
+
+def _bilinear(coords: tuple[list[float], ...], stride: int, table: list[float], q: list[float]) -> float:
+    """``_multilinear`` on a grid of two axes (each of two nodes or more; ``stride`` the first axis's step
+    in ``table``): the same four corners, weights and sum, in the same order."""
+    (i, t), (j, u) = _cell(coords[0], q[0]), _cell(coords[1], q[1])
+    at = i * stride + j
+    total = 0.0
+    for w, k in (
+        ((1.0 - t) * (1.0 - u), at),
+        (t * (1.0 - u), at + stride),
+        ((1.0 - t) * u, at + 1),
+        (t * u, at + stride + 1),
+    ):
+        if w > 0.0:
+            total += w * table[k]
     return total
 
 
@@ -125,15 +169,15 @@ def expectation(model: str, inputs: dict[str, float]) -> Expectation | None:
     if model not in maps:
         return None
     e = maps[model].expected(inputs)
+    if -math.inf < e <= VALIDITY_LIMIT:  # inside the region: the reason below is written only outside it
+        return Expectation(model, e, False, "")
     where = ", ".join(f"{k} = {v:.4g}" for k, v in inputs.items())
     if not math.isfinite(e):
         return Expectation(model, math.nan, True, f"outside the {model} atlas ({where}): its error is not mapped")
-    if e > VALIDITY_LIMIT:
-        return Expectation(
-            model,
-            e,
-            True,
-            f"the {model} atlas expects a tip error of {e:.3g} % of L here ({where}), "
-            f"above its {VALIDITY_LIMIT:g} % validity limit",
-        )
-    return Expectation(model, e, False, "")
+    return Expectation(
+        model,
+        e,
+        True,
+        f"the {model} atlas expects a tip error of {e:.3g} % of L here ({where}), "
+        f"above its {VALIDITY_LIMIT:g} % validity limit",
+    )
