@@ -18,20 +18,21 @@ first FORCE_STATE_SIZE = 17 entries are a state of their own: the same equations
 sensitivities to the distributed load, integrated when the continuation does not change (wx, wy)
 (the tangent predictor is the only user of those sensitivities).
 
-``beam_rhs`` is the plain beam (x, y, theta, m, U) (BEAM_STATE_SIZE = 5), no sensitivities: a beam of
-a mechanism (`mechanism` explains it; physical units, optionally axially extensible, EA > 0; EA = 0
-stands for inextensible) and the elastica's shape samples and section moments (EI = 1, EA = 0). With
-the section force N(s) = F + w (l - s) (a uniform dead load w per unit length over the length l
-outboard of s; 0 for a mechanism beam), Nt = N . t the axial force and e = Nt/EA:
+``beam_rhs`` is the plain beam (x, y, theta, m, U) (BEAM_STATE_SIZE = 5): a beam of a mechanism
+(`mechanism` explains it; physical units, optionally axially extensible, EA > 0; EA = 0 stands for
+inextensible) and the elastica's shape samples and section moments (EI = 1, EA = 0). With the
+section force N(s) = F + w (l - s) (a uniform dead load w per unit length over the length l outboard
+of s; 0 for a mechanism beam), Nt = N . t the axial force and e = Nt/EA:
 
     x' = (1 + e) cos(theta),  y' = (1 + e) sin(theta),  theta' = kappa0 + m/EI,
     m' = (1 + e) (Nx sin(theta) - Ny cos(theta)),   U' = m^2/(2 EI) + Nt^2/(2 EA).
 
-``beam_sensitivity_rhs`` is the plain beam with its variational equations (BEAM_SENSITIVITY_STATE_SIZE
-= 21): beside (x, y, theta, m, U), the derivatives of (x, y, theta, m) with respect to the start angle,
-the start moment and the end force, p = (theta0, m0, Fx, Fy), row-major (index 5 + 4 i + j: row i of
-(x, y, theta, m), column j of p). With Q = Nx sin(theta) - Ny cos(theta) (so m' = (1 + e) Q) and
-dN = (dFx, dFy) (constant along the beam: the distributed load does not depend on p):
+With a state of BEAM_SENSITIVITY_STATE_SIZE = 21 entries ``beam_rhs`` adds the plain beam's
+variational equations: beside (x, y, theta, m, U), the derivatives of (x, y, theta, m) with respect
+to the start angle, the start moment and the end force, p = (theta0, m0, Fx, Fy), row-major (index
+5 + 4 i + j: row i of (x, y, theta, m), column j of p). With Q = Nx sin(theta) - Ny cos(theta) (so
+m' = (1 + e) Q) and dN = (dFx, dFy) (constant along the beam: the distributed load does not depend
+on p):
 
     dNt = -Q dtheta + cos(theta) dNx + sin(theta) dNy,   de = dNt/EA,
     (dx)' = de cos(theta) - (1 + e) sin(theta) dtheta,   (dy)' = de sin(theta) + (1 + e) cos(theta) dtheta,
@@ -82,20 +83,32 @@ and ``_samples``), and a function that compiled code calls from one place only (
 (``inline='always'``: typed, lowered and optimised only as part of its caller). numba's inlining
 copies the callee's IR block by block, each block with all the callee's variables, so the DOP853 step
 loop is written out in ``_samples`` rather than inlined into it. A function called from several
-places (``_axpy``, ``_norm``, ``_solve``, ``_trial``, ``_rhs``, ``tip_force``) stays separate and is
-compiled once (inlined, it would be typed and lowered once per call site; LLVM still inlines the
-small ones), and ``_rhs`` has the plain beam's equations once (``beam_rhs``, then
-``_beam_variations``), not a second time inside ``beam_sensitivity_rhs``. numba compiles each of its
-own overloads (``np.zeros``, ``np.empty``, ``min``, ...) once per argument types and per compile
-options of the calling function (a helper without the Python wrapper and an entry point each compile
-their own), so the code keeps to few of them: ``np.zeros(n)`` rather than ``np.zeros_like``, ``x * x``
-rather than ``x ** 2`` (a compiled integer power; the product is the same number). The code uses
-loops instead of whole-array expressions, whose broadcasting checks drag numba's string formatting of
-error messages into every function that has one. ``error_model="numpy"``: a float division by zero
-gives inf/nan instead of raising, so no exception branch per division is generated (every division
-here has a nonzero divisor by construction). ``no_cpython_wrapper=True`` on the helpers only compiled
-code calls (not on ``tip_force``, which `shooting` calls, nor ``_reach``, which a test calls): numba
-builds and optimises no Python-callable wrapper for them (LLVM time saved on each helper).
+places (``_axpy``, ``_norm``, ``_distance``, ``_solve``, ``_trial``, ``_rhs``, ``tip_force``,
+``_condition_rows``) stays separate and is compiled once (inlined, it would be typed and lowered once
+per call site; LLVM still inlines the small ones). What is the same mathematics is written once: the
+end conditions' derivative through the states (``_condition_rows``) serves the Jacobian w.r.t. the
+unknowns and the tangent's derivative w.r.t. the continuation parameters, ``beam_rhs`` has the plain
+beam's equations and their variations in one body, and the DOP853 stages and the new state are
+evaluated at one ``_rhs`` call site. numba compiles a function once per argument types and a literal
+``True`` or ``False`` argument is a type of its own, so a choice between derivatives travels as a
+group (``Parameters``), whose fields are plain bools. numba compiles each of its own overloads
+(``np.zeros``, ``np.empty``, ``min``, ...) once per argument types and per compile options of the
+calling function (a helper without the Python wrapper and an entry point each compile their own), so
+the code keeps to few of them: ``np.zeros(n)`` rather than ``np.zeros_like``, ``x * x`` rather than
+``x ** 2`` (a compiled integer power; the product is the same number), ``len(a)`` rather than
+``a.shape[0]`` (an index into the shape is an overload of its own without numba's rewrites, below).
+The code uses loops instead of whole-array expressions, whose broadcasting checks drag numba's string
+formatting of error messages into every function that has one, and keeps its multiple assignments
+short (four or more names at once are packed into a tuple and unpacked again in the compiled code).
+Options, each on every function: ``error_model="numpy"``, a float division by zero gives inf/nan
+instead of raising, so no exception branch per division is generated (every division here has a
+nonzero divisor by construction); ``no_rewrites=True``, numba skips its rewrite passes (for
+whole-array expressions and raises with constant arguments, none here; a constant index stays an
+ordinary index, compiled to the same machine code); ``no_cfunc_wrapper=True``, no C-callable wrapper
+is built (nothing takes a compiled function's address). ``no_cpython_wrapper=True`` on the helpers
+only compiled code calls (not on ``tip_force``, which `shooting` calls, nor ``_reach``, which a test
+calls): numba builds and optimises no Python-callable wrapper for them (LLVM time saved on each
+helper).
 
 One problem structure (``Structure``, normalised by L and EI, ``shooting`` derives the equations):
 
@@ -150,7 +163,6 @@ __all__ = [
     "elastica_beam",
     "elastica_rhs",
     "beam_rhs",
-    "beam_sensitivity_rhs",
     "integrate_samples",
     "integrate_beam",
     "beam_sensitivities",
@@ -170,7 +182,7 @@ BEAM_SENSITIVITY_STATE_SIZE = BEAM_STATE_SIZE + 16
 _N_STAGES: int = _coef.N_STAGES
 _A: Matrix = np.ascontiguousarray(_coef.A[:_N_STAGES, :_N_STAGES])
 _B: Vector = np.ascontiguousarray(_coef.B)
-_C: Vector = np.ascontiguousarray(_coef.C[:_N_STAGES])
+_C: Vector = np.ascontiguousarray(_coef.C[: _N_STAGES + 1])  # the stages' times, then the new state's: c = 1
 _E3: Vector = np.ascontiguousarray(_coef.E3)
 _E5: Vector = np.ascontiguousarray(_coef.E5)
 _AB: Matrix = np.ascontiguousarray(np.vstack([_A, _B]))  # the stage rows of A, then B (one stage-sum site)
@@ -265,10 +277,24 @@ class PathControls(NamedTuple):
     maxiter: int  # Newton iterations of the final corrector
 
 
+class Parameters(NamedTuple):
+    """The parameters p of a derivative of the state, d(x, y, theta, m)/dp (``_state_derivative``):
+    beside the tip force, through which they all act (dF/dp), p[0] may be the start moment m(0) (the
+    unknowns z, ``UNKNOWNS``) and the last two the distributed load (wx, wy) (the continuation
+    parameters q, ``CONTINUATION``)."""
+
+    start_moment: bool  # p[0] is m(0)
+    distributed_load: bool  # p[-2:] is (wx, wy)
+
+
+UNKNOWNS = Parameters(start_moment=True, distributed_load=False)  # p = z
+CONTINUATION = Parameters(start_moment=False, distributed_load=True)  # p = q
+
+
 # ------------------------------------------------------------------ the equations and DOP853
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def elastica_rhs(s: float, Y: Vector, beam: Beam, loads: Loads, out: Vector) -> None:
     """dY/ds into ``out`` (layout in the module docstring: STATE_SIZE entries, or FORCE_STATE_SIZE
     without the sensitivities to the distributed load) for the normalised elastica ``beam`` (only
@@ -303,42 +329,25 @@ def elastica_rhs(s: float, Y: Vector, beam: Beam, loads: Loads, out: Vector) -> 
     out[24] -= outboard * c
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def beam_rhs(s: float, Y: Vector, beam: Beam, loads: Loads, out: Vector) -> None:
     """dY/ds into ``out`` for the plain beam (module docstring) under ``loads``, the distributed
-    load acting over [s, beam.length]."""
+    load acting over [s, beam.length], and for its variational equations when Y has them
+    (BEAM_SENSITIVITY_STATE_SIZE entries)."""
     th, m = Y[2], Y[3]
     EI, EA = beam.EI, beam.EA
     c, sn = math.cos(th), math.sin(th)
     outboard = beam.length - s
     Nx, Ny = loads.Fx + loads.wx * outboard, loads.Fy + loads.wy * outboard
-    N = Nx * c + Ny * sn
-    stretch = 1.0 + (N / EA if EA != 0.0 else 0.0)
+    Nt, Q = Nx * c + Ny * sn, Nx * sn - Ny * c
+    stretch = 1.0 + (Nt / EA if EA != 0.0 else 0.0)
     out[0] = stretch * c
     out[1] = stretch * sn
     out[2] = beam.curvature + m / EI
-    out[3] = stretch * (Nx * sn - Ny * c)
-    out[4] = m * m / (2 * EI) + (N * N / (2 * EA) if EA != 0.0 else 0.0)
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def beam_sensitivity_rhs(s: float, Y: Vector, beam: Beam, loads: Loads, out: Vector) -> None:
-    """dY/ds into ``out`` for the plain beam and its variational equations (module docstring;
-    BEAM_SENSITIVITY_STATE_SIZE entries) under ``loads``."""
-    beam_rhs(s, Y, beam, loads, out)
-    _beam_variations(s, Y, beam, loads, out)
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _beam_variations(s: float, Y: Vector, beam: Beam, loads: Loads, out: Vector) -> None:
-    """The plain beam's variational equations into out[5:] (``beam_sensitivity_rhs`` but the plain
-    beam's own, ``beam_rhs``)."""
-    th, EI, EA = Y[2], beam.EI, beam.EA
-    c, sn = math.cos(th), math.sin(th)
-    outboard = beam.length - s
-    Nx, Ny = loads.Fx + loads.wx * outboard, loads.Fy + loads.wy * outboard
-    Nt, Q = Nx * c + Ny * sn, Nx * sn - Ny * c
-    stretch = 1.0 + (Nt / EA if EA != 0.0 else 0.0)
+    out[3] = stretch * Q
+    out[4] = m * m / (2 * EI) + (Nt * Nt / (2 * EA) if EA != 0.0 else 0.0)
+    if Y.size < BEAM_SENSITIVITY_STATE_SIZE:
+        return
     compliance = 1.0 / EA if EA != 0.0 else 0.0
     for j in range(4):  # p = (theta0, m0, Fx, Fy)
         dth, dm = Y[13 + j], Y[17 + j]
@@ -351,20 +360,18 @@ def _beam_variations(s: float, Y: Vector, beam: Beam, loads: Loads, out: Vector)
         out[17 + j] = de * Q + stretch * (Nt * dth + sn * dNx - c * dNy)
 
 
-@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
+@njit(cache=True, error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True, no_cpython_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def _rhs(s: float, Y: Vector, beam: Beam, loads: Loads, out: Vector) -> None:
     """The equations the state's length names (BEAM_STATE_SIZE: the plain beam,
     BEAM_SENSITIVITY_STATE_SIZE: with its variational equations, else the elastica with its
     sensitivities)."""
     if Y.size == BEAM_STATE_SIZE or Y.size == BEAM_SENSITIVITY_STATE_SIZE:
         beam_rhs(s, Y, beam, loads, out)
-        if Y.size == BEAM_SENSITIVITY_STATE_SIZE:
-            _beam_variations(s, Y, beam, loads, out)
     else:
         elastica_rhs(s, Y, beam, loads, out)
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def _first_step(
     y0: Vector, f: Vector, t0: float, interval: float, beam: Beam, loads: Loads, tolerances: Tolerances
 ) -> float:
@@ -398,7 +405,7 @@ def _first_step(
     return min(100 * h0, h1, interval)
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def _combine(K: Matrix, w: Vector, count: int, out: Vector) -> None:
     """out[i] = sum_{j < count} K[j, i] w[j], summed in the order of j (as the loop over j inside
     the loop over i that scipy's dot products amount to), but with the components i in the inner
@@ -414,7 +421,7 @@ def _combine(K: Matrix, w: Vector, count: int, out: Vector) -> None:
             out[i] += K[j, i] * wj
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def _error_norm(K: Matrix, y: Vector, y_new: Vector, h: float, tolerances: Tolerances) -> float:
     """scipy's DOP853 error norm of a step from y to y_new with the stage derivatives K."""
     rtol, atol = tolerances.rtol, tolerances.atol
@@ -423,7 +430,7 @@ def _error_norm(K: Matrix, y: Vector, y_new: Vector, h: float, tolerances: Toler
     for i in range(n):
         sc = atol + max(abs(y[i]), abs(y_new[i])) * rtol
         a5, a3 = 0.0, 0.0
-        for j in range(K.shape[0]):
+        for j in range(len(K)):
             a5 += K[j, i] * _E5[j]
             a3 += K[j, i] * _E3[j]
         a5, a3 = a5 / sc, a3 / sc
@@ -434,7 +441,7 @@ def _error_norm(K: Matrix, y: Vector, y_new: Vector, h: float, tolerances: Toler
     return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def _samples(
     y0: Vector, s: Vector, beam: Beam, loads: Loads, tolerances: Tolerances, restart: bool
 ) -> tuple[Matrix, bool]:
@@ -445,12 +452,11 @@ def _samples(
     AB, C = _AB, _C  # global arrays: compile-time constants for numba
     n = y0.size
     out = np.empty((s.size, n))
-    K = np.empty((AB.shape[0], n))  # the stage derivatives; the last row: f at the new state
-    last = K.shape[0] - 1
+    K = np.empty((len(AB), n))  # the stage derivatives: the first row f at y, the last f at the new state
+    last = len(K) - 1
+    f = K[0]
     y = y0.copy()
-    f = np.empty(n)
-    stage = np.empty(n)
-    y_new = np.empty(n)
+    y_new = np.empty(n)  # each stage's state, the new state last
     acc = np.empty(n)
     for i in range(n):
         out[0, i] = y0[i]
@@ -474,18 +480,11 @@ def _samples(
                     t_new = t1
                 h = t_new - t
                 h_abs = abs(h)
-                for i in range(n):
-                    K[0, i] = f[i]
-                for j in range(1, AB.shape[0]):  # the stages, then (the last row, B) the new state
+                for j in range(1, len(AB)):  # the stages, then (the last row, B) the new state at t + h
                     _combine(K, AB[j], j, acc)
-                    if j < last:
-                        for i in range(n):
-                            stage[i] = y[i] + acc[i] * h
-                        _rhs(t + C[j] * h, stage, beam, loads, K[j])
-                    else:
-                        for i in range(n):
-                            y_new[i] = y[i] + h * acc[i]
-                _rhs(t + h, y_new, beam, loads, K[last])
+                    for i in range(n):
+                        y_new[i] = y[i] + acc[i] * h
+                    _rhs(t + C[j] * h, y_new, beam, loads, K[j])
                 error_norm = _error_norm(K, y, y_new, h, tolerances)
                 if error_norm < 1.0:
                     factor = MAX_FACTOR if error_norm == 0.0 else min(MAX_FACTOR, SAFETY * error_norm**ERROR_EXPONENT)
@@ -573,7 +572,7 @@ def beam_sensitivities(
 ) -> tuple[Vector, Matrix, bool]:
     """A mechanism beam's state (x, y, theta, m, U) at s = length from y0 = (x0, y0, theta0, m0, U0) at
     s = 0, its derivative d(x, y, theta, m)/d(theta0, m0, Fx, Fy) (4, 4) by the variational equations
-    (``beam_sensitivity_rhs``), and whether the integration succeeded (the arguments as
+    (``beam_rhs``), and whether the integration succeeded (the arguments as
     ``integrate_beam``'s; the tolerances hold on the state and its derivatives alike)."""
     y = np.zeros(BEAM_SENSITIVITY_STATE_SIZE)
     y[:BEAM_STATE_SIZE] = np.asarray(y0, dtype=float)
@@ -598,7 +597,7 @@ def integrate_samples(
     lengths ``s`` (s[0]: the start of y0), integrated from sample to sample, under the tip force
     (Fx, Fy) and distributed load (wx, wy) with initial curvature k0 (normalised), and whether every
     interval succeeded."""
-    return _samples(
+    samples: tuple[Matrix, bool] = _samples(
         np.asarray(y0, dtype=float),
         np.ascontiguousarray(s, dtype=float),
         elastica_beam(k0),
@@ -606,6 +605,7 @@ def integrate_samples(
         Tolerances(rtol=float(rtol), atol=float(atol)),
         False,
     )
+    return samples
 
 
 def plain_samples(
@@ -615,7 +615,7 @@ def plain_samples(
     no sensitivities) at the increasing arc lengths ``s`` from y0 at s[0]; ``restart``: every
     interval starts with scipy's initial-step selection (as the shooting's pieces do). And whether
     every interval succeeded."""
-    return _samples(
+    samples: tuple[Matrix, bool] = _samples(
         np.asarray(y0, dtype=float)[:BEAM_STATE_SIZE],
         np.ascontiguousarray(s, dtype=float),
         beam,
@@ -623,6 +623,7 @@ def plain_samples(
         tolerances,
         bool(restart),
     )
+    return samples
 
 
 def beam_samples(
@@ -642,7 +643,7 @@ def beam_samples(
     (s[0]: the start of y0), integrated from sample to sample, and whether every interval succeeded
     (the arguments as ``integrate_beam``'s)."""
     arc = np.ascontiguousarray(s, dtype=float)
-    return _samples(
+    samples: tuple[Matrix, bool] = _samples(
         np.asarray(y0, dtype=float),
         arc,
         Beam(length=float(arc[-1]), EI=float(EI), EA=float(EA), curvature=float(k0)),
@@ -650,6 +651,7 @@ def beam_samples(
         Tolerances(rtol=float(rtol), atol=float(atol)),
         False,
     )
+    return samples
 
 
 # ------------------------------------------------------------------ shooting (residual, Newton, path)
@@ -659,7 +661,7 @@ ANGLE = -3  # index of the prescribed tip angle in q; the last two are (wx, wy)
 CONVERGED, NOT_CONVERGED, NO_START = 0, 1, 2
 
 
-@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
+@njit(cache=True, error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True, no_cpython_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def _norm(v: Vector) -> float:
     """Euclidean norm (a plain loop: the systems have at most a handful of unknowns)."""
     total = 0.0
@@ -668,7 +670,7 @@ def _norm(v: Vector) -> float:
     return math.sqrt(total)
 
 
-@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
+@njit(cache=True, error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True, no_cpython_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def _distance(a: Vector, b: Vector) -> float:
     """Euclidean distance |a - b| (a plain loop)."""
     total = 0.0
@@ -678,7 +680,7 @@ def _distance(a: Vector, b: Vector) -> float:
     return math.sqrt(total)
 
 
-@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
+@njit(cache=True, error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True, no_cpython_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def _axpy(x: Vector, a: float, d: Vector) -> Vector:
     """x + a d as a new array (a loop: no broadcasting checks to compile)."""
     out = np.empty(x.size)
@@ -687,7 +689,7 @@ def _axpy(x: Vector, a: float, d: Vector) -> Vector:
     return out
 
 
-@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
+@njit(cache=True, error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True, no_cpython_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def _solve(A: Matrix, b: Vector) -> tuple[Vector, bool]:
     """x with A x = b by Gaussian elimination with partial pivoting, and False when a pivot is
     exactly zero (singular, as LAPACK's gesv reports it)."""
@@ -718,7 +720,7 @@ def _solve(A: Matrix, b: Vector) -> tuple[Vector, bool]:
     return x, True
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def tip_force(z: Vector, q: Vector, forces: UnknownForces) -> tuple[Vector, Matrix]:
     """Tip force F (2,) and dF/dz (2, n) at the unknowns z and parameters q (normalised; ``forces``
     says how F depends on them)."""
@@ -727,8 +729,8 @@ def tip_force(z: Vector, q: Vector, forces: UnknownForces) -> tuple[Vector, Matr
     F = np.zeros(2)
     F[0], F[1] = q[0], q[1]
     dF = np.zeros((2, n))
-    nc = fdirs.shape[0]
-    for k in range(nc + mdirs.shape[0]):
+    nc = len(fdirs)
+    for k in range(nc + len(mdirs)):
         d0, d1 = (fdirs[k, 0], fdirs[k, 1]) if k < nc else (mdirs[k - nc, 0], mdirs[k - nc, 1])
         F[0] += z[1 + k] * d0
         F[1] += z[1 + k] * d1
@@ -745,29 +747,55 @@ def tip_force(z: Vector, q: Vector, forces: UnknownForces) -> tuple[Vector, Matr
     return F, dF
 
 
-@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
-def _through_force(Y: Vector, dF: Matrix) -> Matrix:
-    """(4, m): d(x, y, theta, m)/d(parameters) of the state Y (``integrator`` layout) when the tip
-    force depends on them by dF = dF/d(parameters) (2, m)."""
-    D = np.zeros((4, dF.shape[1]))
+@njit(cache=True, inline="always", error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
+def _state_derivative(Y: Vector, dF: Matrix, parameters: Parameters) -> Matrix:
+    """(4, m): d(x, y, theta, m)/dp of the state Y (``integrator`` layout) for the parameters p
+    (``Parameters``): through the tip force, dF = dF/dp (2, m), and as ``parameters`` says through
+    m(0) (column 0) and the distributed load (the last two columns)."""
+    _, m = dF.shape
+    D = np.zeros((4, m))
     for i in range(4):
         sx, sy = Y[5 + 3 * i + 1], Y[5 + 3 * i + 2]  # d(row i)/dFx, d(row i)/dFy
-        for j in range(dF.shape[1]):
+        for j in range(m):
             D[i, j] = sx * dF[0, j] + sy * dF[1, j]
+        if parameters.start_moment:
+            D[i, 0] += Y[5 + 3 * i]
+        if parameters.distributed_load:
+            D[i, m - 2] += Y[17 + 2 * i]
+            D[i, m - 1] += Y[18 + 2 * i]
     return D
 
 
-@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
-def _unknowns_derivative(Y: Vector, dF: Matrix) -> Matrix:
-    """(4, n): d(x, y, theta, m)/dz of the state Y: through the tip force (dF = dF/dz) and, in
-    column 0, through m(0) = z[0]."""
-    D: Matrix = _through_force(Y, dF)
-    for i in range(4):
-        D[i, 0] += Y[5 + 3 * i]
-    return D
+@njit(cache=True, error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True, no_cpython_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
+def _condition_rows(
+    states: Matrix, dF: Matrix, parameters: Parameters, structure: Structure, n: int
+) -> tuple[Matrix, Matrix]:
+    """(n, m): the derivative of the n end conditions (``_residual``) w.r.t. the parameters p through
+    the states at the piece boundaries (``_state_derivative``: dF = dF/dp), without the conditions'
+    own dependence on p; and the tip state's derivative d(x, y, theta, m)(1)/dp (4, m)."""
+    dirs, site_at = structure.dirs, structure.site_at
+    nc, nm = len(dirs), len(structure.forces.moment_dirs)
+    _, m = dF.shape
+    rows = np.zeros((n, m))
+    for i in range(nm + 1):  # dY/dp at each moment site s_j, then at the tip (the dY used below)
+        dY = _state_derivative(states[site_at[i] if i < nm else len(states) - 1], dF, parameters)
+        if i < nm:
+            for j in range(m):
+                rows[1 + nc + i, j] = dY[3, j]
+    row = 2 if structure.angle_given else 3  # theta(1) or m(1)
+    for j in range(m):
+        rows[0, j] = dY[row, j]
+    for k in range(nc):
+        d0, d1 = dirs[k, 0], dirs[k, 1]
+        for j in range(m):
+            rows[1 + k, j] = d0 * dY[0, j] + d1 * dY[1, j]
+    if structure.forces.follower:
+        for j in range(m):
+            rows[n - 1, j] = dY[2, j]
+    return rows, dY
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def _integrate_pieces(
     z: Vector, F: Vector, q: Vector, structure: Structure, tolerances: Tolerances, n_state: int
 ) -> tuple[Matrix, bool]:
@@ -787,7 +815,7 @@ def _integrate_pieces(
     return states, ok
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def _residual(
     z: Vector, q: Vector, structure: Structure, tolerances: Tolerances, n_state: int
 ) -> tuple[Vector, Matrix, Matrix, Vector, bool]:
@@ -795,85 +823,48 @@ def _residual(
     (row 0: s = 0, the last: s = 1) and the tip force F; ok False when the integration failed."""
     dirs, site_at, bounds = structure.dirs, structure.site_at, structure.bounds
     n = z.size
-    nc, nm = dirs.shape[0], structure.forces.moment_dirs.shape[0]
+    nc, nm = len(dirs), len(structure.forces.moment_dirs)
     F, dF = tip_force(z, q, structure.forces)
     r = np.zeros(n)
-    J = np.zeros((n, n))
     states, ok = _integrate_pieces(z, F, q, structure, tolerances, n_state)
     if not ok:
-        return r, J, states, F, False
+        return r, np.zeros((n, n)), states, F, False
     Y = states[bounds.size - 1]
-    dYdz = _unknowns_derivative(Y, dF)
-    row = 3
-    if structure.angle_given:
-        r[0] = Y[2] - q[q.size + ANGLE]
-        row = 2
-    else:
-        r[0] = Y[3] - q[2]
-    for j in range(n):
-        J[0, j] = dYdz[row, j]
+    r[0] = Y[2] - q[q.size + ANGLE] if structure.angle_given else Y[3] - q[2]
     for k in range(nc):
-        d0, d1 = dirs[k, 0], dirs[k, 1]
-        r[1 + k] = d0 * Y[0] + d1 * Y[1] - q[5 + k]
-        for j in range(n):
-            J[1 + k, j] = d0 * dYdz[0, j] + d1 * dYdz[1, j]
+        r[1 + k] = dirs[k, 0] * Y[0] + dirs[k, 1] * Y[1] - q[5 + k]
     for i in range(nm):
-        Yi = states[site_at[i]]
-        dYi = _unknowns_derivative(Yi, dF)
-        r[1 + nc + i] = Yi[3] - q[5 + nc + i]
-        for j in range(n):
-            J[1 + nc + i, j] = dYi[3, j]
+        r[1 + nc + i] = states[site_at[i], 3] - q[5 + nc + i]
+    J, _ = _condition_rows(states, dF, UNKNOWNS, structure, n)
     if structure.forces.follower:
         r[n - 1] = Y[2] - z[n - 1]
-        for j in range(n):
-            J[n - 1, j] = dYdz[2, j]
-        J[n - 1, n - 1] -= 1.0
+        J[n - 1, n - 1] -= 1.0  # the condition theta(1) = tau
     return r, J, states, F, True
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def _load_derivative(z: Vector, states: Matrix, structure: Structure, nq: int) -> tuple[Matrix, Matrix]:
     """d r / d q (n x nq), and d(x, y, theta, m)(1) / d q (4 x nq): the force parameters act through
     the sensitivities to (Fx, Fy) (and the follower's through the tip angle), the distributed load
     (the last two) through its own, the others enter the end conditions directly."""
-    dirs, site_at, angle_given = structure.dirs, structure.site_at, structure.angle_given
     n = z.size
-    nc, nm = dirs.shape[0], structure.forces.moment_dirs.shape[0]
+    nc, nm = len(structure.dirs), len(structure.forces.moment_dirs)
     dFdq = np.zeros((2, nq))
     dFdq[0, 0] = dFdq[1, 1] = 1.0
     if structure.forces.follower:
         c, sn = math.cos(z[n - 1]), math.sin(z[n - 1])
         dFdq[0, 3], dFdq[1, 3] = c, sn
         dFdq[0, 4], dFdq[1, 4] = -sn, c
-    Y = states[states.shape[0] - 1]
-    dYdq = _through_force(Y, dFdq)
-    for i in range(4):  # the distributed load (wx, wy)
-        dYdq[i, nq - 2] += Y[17 + 2 * i]
-        dYdq[i, nq - 1] += Y[18 + 2 * i]
-    D = np.zeros((n, nq))
-    row = 2 if angle_given else 3
-    for j in range(nq):
-        D[0, j] = dYdq[row, j]
-    D[0, nq + ANGLE if angle_given else 2] -= 1.0
+    D, dYdq = _condition_rows(states, dFdq, CONTINUATION, structure, n)
+    D[0, nq + ANGLE if structure.angle_given else 2] -= 1.0  # the prescribed tip angle or moment
     for k in range(nc):
-        for j in range(nq):
-            D[1 + k, j] = dirs[k, 0] * dYdq[0, j] + dirs[k, 1] * dYdq[1, j]
-        D[1 + k, 5 + k] -= 1.0
+        D[1 + k, 5 + k] -= 1.0  # the prescribed tip-position components c_k
     for i in range(nm):
-        Yi = states[site_at[i]]
-        dYi = _through_force(Yi, dFdq)
-        for j in range(nq):
-            D[1 + nc + i, j] = dYi[3, j]
-        D[1 + nc + i, nq - 2] += Yi[17 + 6]
-        D[1 + nc + i, nq - 1] += Yi[18 + 6]
-        D[1 + nc + i, 5 + nc + i] -= 1.0
-    if structure.forces.follower:
-        for j in range(nq):
-            D[n - 1, j] = dYdq[2, j]
+        D[1 + nc + i, 5 + nc + i] -= 1.0  # the prescribed section moments m_j
     return D, dYdq
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def _tangent(
     z: Vector, q: Vector, J: Matrix, states: Matrix, dq: Vector, structure: Structure
 ) -> tuple[Vector, bool, Vector]:
@@ -886,14 +877,17 @@ def _tangent(
         for j in range(dq.size):
             rhs[i] -= D[i, j] * dq[j]
     dz, regular = _solve(J, rhs)
-    return dz, regular, _tip_rate(z, q, states[states.shape[0] - 1], dz, dYdq, dq, structure)
+    return dz, regular, _tip_rate(z, q, states, dz, dYdq, dq, structure)
 
 
-@njit(cache=True, inline="always", error_model="numpy")
-def _tip_rate(z: Vector, q: Vector, Y: Vector, dz: Vector, dYdq: Matrix, dq: Vector, structure: Structure) -> Vector:
-    """d(x, y, theta)(1)/dlambda = (dY/dz) dz/dlambda + (dY/dq) dq at the tip state Y."""
+@njit(cache=True, inline="always", error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
+def _tip_rate(
+    z: Vector, q: Vector, states: Matrix, dz: Vector, dYdq: Matrix, dq: Vector, structure: Structure
+) -> Vector:
+    """d(x, y, theta)(1)/dlambda = (dY/dz) dz/dlambda + (dY/dq) dq at the tip, from the states of the
+    residual at z (dY/dz: ``_condition_rows``)."""
     _, dF = tip_force(z, q, structure.forces)
-    dYdz = _unknowns_derivative(Y, dF)
+    _, dYdz = _condition_rows(states, dF, UNKNOWNS, structure, z.size)
     rate = np.zeros(3)
     for i in range(3):
         for j in range(z.size):
@@ -903,7 +897,7 @@ def _tip_rate(z: Vector, q: Vector, Y: Vector, dz: Vector, dYdq: Matrix, dq: Vec
     return rate
 
 
-@njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
+@njit(cache=True, error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True, no_cpython_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def _trial(z: Vector, t: float, dz: Vector, center: Vector, radius: float) -> tuple[Vector, float]:
     """The trial point z + t dz, t halved until it lies within ``radius`` of ``center`` (or t < 1e-3)."""
     z_try = _axpy(z, t, dz)
@@ -913,7 +907,7 @@ def _trial(z: Vector, t: float, dz: Vector, center: Vector, radius: float) -> tu
     return z_try, t
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def _newton(
     z: Vector, q: Vector, corrector: Corrector, structure: Structure, tolerances: Tolerances, n_state: int
 ) -> tuple[Vector, int, int, float, Matrix, Matrix, Vector]:
@@ -929,46 +923,56 @@ def _newton(
     wandering off the path are not paid).
     Returns (z, status, iterations, residual norm, Jacobian, boundary states and tip force at z): z
     is the last accepted point (with maxiter = 0 the start point, evaluated). One residual call site
-    (the start point, then every trial point), so the compiled code holds one copy of the integrator."""
+    (the start point, then every trial point), so the compiled code holds one copy of the integrator,
+    and one return (numba releases the arrays it holds at each)."""
     tol, step_tol, maxiter, radius = corrector.tol, corrector.step_tol, corrector.maxiter, corrector.radius
-    it, t, norm, started = 0, 1.0, math.inf, False
+    it, t, status = 0, 1.0, NOT_CONVERGED
+    norm, started = math.inf, False
     dz = np.zeros(z.size)
-    z_try, center = z, z
+    z_try = center = z
     while True:
         r_new, J_new, states_new, F_new, ok = _residual(z_try, q, structure, tolerances, n_state)
         if not started:
-            if not ok:
-                return z, NO_START, 0, math.inf, J_new, states_new, F_new
             started = True
-            r, J, states, F, norm = r_new, J_new, states_new, F_new, _norm(r_new)
+            r, J, states, F = r_new, J_new, states_new, F_new
+            if not ok:
+                status = NO_START
+                break
+            norm = _norm(r)
             if maxiter == 0:
-                return z, NOT_CONVERGED, 0, norm, J, states, F
+                break
         elif ok and _norm(r_new) < max(norm, 1e-300) * (1 - 1e-4 * t) + 1e-14:
-            z, r, J, states, F, norm = z_try, r_new, J_new, states_new, F_new, _norm(r_new)
+            z, r, J = z_try, r_new, J_new
+            states, F, norm = states_new, F_new, _norm(r_new)
             if (norm < tol and t * _norm(dz) < step_tol * (1.0 + _norm(z))) or norm < 1e-3 * tol:
-                return z, CONVERGED, it, norm, J, states, F
+                status = CONVERGED
+                break
         elif radius < math.inf:  # a path corrector that needs damping: the step is too long
-            return z, NOT_CONVERGED, it, norm, J, states, F
+            break
         else:
             z_try, t = _trial(z, 0.5 * t, dz, center, radius)
             if t < 1e-3:  # no descent left: converged only if already at the noise floor
-                return z, CONVERGED if norm < tol else NOT_CONVERGED, it, norm, J, states, F
+                status = CONVERGED if norm < tol else NOT_CONVERGED
+                break
             continue
         minus_r = np.empty(r.size)
         for i in range(r.size):
             minus_r[i] = -r[i]
         dz, regular = _solve(J, minus_r)
         if corrector.ahead and regular and norm < tol and _norm(dz) < step_tol * (1.0 + _norm(z)):
-            return z, CONVERGED, it, norm, J, states, F
+            status = CONVERGED
+            break
         it += 1
         if it > maxiter or not regular:
-            return z, NOT_CONVERGED, min(it, maxiter), norm, J, states, F
+            it = min(it, maxiter)
+            break
         z_try, t = _trial(z, 1.0, dz, center, radius)
         if t < 1e-3:  # every descent step leaves the trust region
-            return z, NOT_CONVERGED, it, norm, J, states, F
+            break
+    return z, status, it, norm, J, states, F
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def _step_cap(
     rate: Vector, rate_prev: Vector, dlam: float, max_rotation_step: float, max_position_step: float
 ) -> float:
@@ -978,13 +982,12 @@ def _step_cap(
     if dlam > 0.0:
         for i in range(3):
             accel[i] = (rate[i] - rate_prev[i]) / dlam
-    return min(
-        _reach(abs(rate[2]), abs(accel[2]), max_rotation_step),
-        _reach(math.hypot(rate[0], rate[1]), math.hypot(accel[0], accel[1]), max_position_step),
-    )
+    rotation: float = _reach(abs(rate[2]), abs(accel[2]), max_rotation_step)
+    position: float = _reach(math.hypot(rate[0], rate[1]), math.hypot(accel[0], accel[1]), max_position_step)
+    return min(rotation, position)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def _reach(speed: float, accel: float, limit: float) -> float:
     """The largest step h whose predicted tip motion, speed h + accel h^2 / 2 (a second-order
     Taylor bound along the path), stays within ``limit``."""
@@ -998,7 +1001,7 @@ def _reach(speed: float, accel: float, limit: float) -> float:
 PATH_CONVERGED, PATH_STALLED, PATH_NO_START, PATH_FINAL_FAILED = 0, 1, 2, 3
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # options numba's annotations omit
 def follow_path(
     z: Vector, q0: Vector, q1: Vector, structure: Structure, controls: PathControls
 ) -> tuple[Vector, int, float, int, int, float, Matrix, Vector]:
@@ -1014,19 +1017,24 @@ def follow_path(
     last = structure.bounds.size - 1
     dq = _axpy(q1, -1.0, q0)
     n_state = STATE_SIZE if (dq[dq.size - 2] != 0.0 or dq[dq.size - 1] != 0.0) else FORCE_STATE_SIZE
-    lam, dlam, lam_try, lam_prev, curvature = 0.0, min(controls.initial_step, 1.0), 0.0, 0.0, 0.0
-    nit, nsteps, norm = 0, 0, 0.0
+    lam = lam_try = lam_prev = curvature = 0.0
+    dlam = min(controls.initial_step, 1.0)
+    nit = nsteps = 0
+    norm = 0.0
     started, regular = False, True
-    dz, tip, step, rate = np.zeros(z.size), np.zeros(3), np.zeros(z.size), np.zeros(3)
+    dz, step = np.zeros(z.size), np.zeros(z.size)
+    tip, rate = np.zeros(3), np.zeros(3)
     reach = math.inf
     while True:
         final = started and lam >= 1.0
         radius = math.inf
         tolerances = controls.path
         if not started:
-            q, z_guess, ntol, nmax = q0, z, 0.0, 0
+            q, z_guess = q0, z
+            ntol, nmax = 0.0, 0
         elif final:  # final corrector at full accuracy
-            q, z_guess, ntol, nmax = _axpy(q0, lam, dq), z, controls.tol, controls.maxiter
+            q, z_guess = _axpy(q0, lam, dq), z
+            ntol, nmax = controls.tol, controls.maxiter
             tolerances = controls.final
         else:
             lam_try = min(1.0, lam + min(dlam, reach))
@@ -1040,12 +1048,13 @@ def follow_path(
                 radius = controls.max_corrector * _norm(step) + bend + 1e-6 * (1.0 + _norm(z))
         corrector = Corrector(tol=ntol, step_tol=1e-9 if final else ntol, ahead=not final, maxiter=nmax, radius=radius)
         z_new, nstat, it, norm, J, states, F = _newton(z_guess, q, corrector, structure, tolerances, n_state)
-        new_tip = states[last, :3]
+        new_tip = states[last]  # the tip's (x, y, theta) are its first three entries
         ok = nstat == CONVERGED
         if not started:
             if nstat == NO_START:
                 return z, PATH_NO_START, lam, nit, nsteps, norm, states, F
-            started, ok, norm = True, True, 0.0
+            started = ok = True
+            norm = 0.0
         else:
             nit += it
             if final:
@@ -1077,7 +1086,7 @@ def follow_path(
                 if regular
                 else math.inf
             )
-            tip = new_tip.copy()
+            tip = new_tip  # a row of the accepted point's states, an array nothing writes again
         else:  # halve the step tried (dlam itself may reach past lambda = 1)
             dlam = 0.5 * (lam_try - lam)
             if dlam < controls.min_step:

@@ -30,7 +30,7 @@ The Jacobian of these equations (``_System.jacobian``) follows from the chain ru
 e = (x, y, theta, m)(L) depends on the unknowns only through its start inputs p = (x0, y0, theta0, m0, Fx, Fy),
 so de/du = (de/dp)(dp/du), where de/dp is the beam's own 4 x 6 block (the identity for the start position,
 which only translates the beam; the columns of theta0, m0 and F from the beam's variational equations,
-integrated beside it: ``elastica.integrator.beam_sensitivity_rhs``) and dp/du is algebra (the start's
+integrated beside it: ``elastica.integrator.beam_rhs`` on its longer state) and dp/du is algebra (the start's
 place on its body). Everything else (body balances, pins, prescribed motions, the loads that move with the
 unknowns) is algebraic in u and the ends, differentiated by hand. One Jacobian thus costs one integration
 of each beam, not a residual per unknown.
@@ -352,7 +352,7 @@ class _System:
         """A beam's end state under the unknowns u (``ul``: u as a list of floats) and its derivative
         D = d(x, y, theta, m)(L) / d(theta0, m0, Fx, Fy) (4, 4) with respect to its own start inputs (the
         start position enters by translation alone: d(x, y)(L)/d(x0, y0) = I, d(theta, m)(L)/d(x0, y0) = 0),
-        by the beam's variational equations (``elastica.integrator.beam_sensitivity_rhs``) integrated
+        by the beam's variational equations (``elastica.integrator.beam_rhs`` on its longer state) integrated
         beside it at the tolerance ``JACOBIAN_RTOL``. The end state is the residual's own (``integrate``),
         so the Jacobian's integration never changes the equations solved."""
         x, y, theta0, m0, Fx, Fy = self._start(beam, ul)

@@ -1,5 +1,5 @@
 """The compiled kernels' named argument groups (``elastica.integrator``: Beam, Loads, Tolerances,
-UnknownForces, Structure, Corrector, PathControls).
+UnknownForces, Structure, Corrector, PathControls, Parameters).
 
 1. Every group is a ``typing.NamedTuple``, every place in ``elastica`` that builds one names every
    field by keyword (no positional field, no ``**`` mapping), and the builders put each value in its
@@ -33,7 +33,16 @@ from elastica import ElasticaProblem, MomentConstraint, TipConstraint, solve_pat
 from elastica.elliptic import cantilever_tip_load
 from elastica.shooting import _Shooter
 
-GROUPS = (ig.Beam, ig.Loads, ig.Tolerances, ig.UnknownForces, ig.Structure, ig.Corrector, ig.PathControls)
+GROUPS = (
+    ig.Beam,
+    ig.Loads,
+    ig.Tolerances,
+    ig.UnknownForces,
+    ig.Structure,
+    ig.Corrector,
+    ig.PathControls,
+    ig.Parameters,
+)
 PACKAGE = Path(ig.__file__).resolve().parent
 
 
