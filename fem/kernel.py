@@ -59,7 +59,9 @@ code is written for it:
   ``_cholesky_fails``, ``_tangent``) have no Python-callable wrapper (``no_cpython_wrapper``): the
   wrapper of a function taking the groups is about as large as its body. The tests call thin
   functions around them (`_evaluate`, `band_lu`, `band_solve`, `_shifted_cholesky_fails`), compiled
-  only when a test calls them. No function has a C-callable one (``no_cfunc_wrapper``);
+  only when a test calls them. No function has a C-callable one (``no_cfunc_wrapper``), and none goes
+  through numba's rewrite passes (``no_rewrites``: whole-array expressions and raises with constant
+  arguments, which the loops here do not use; a constant index compiles to the same machine code);
 - the functions that allocate nothing are compiled without reference counting (``_nrt=False``): for
   a function of the groups, the increments and decrements numba writes for every array in a group at
   every use of it are most of its code. `newton_load` allocates the arrays the others work in, and
@@ -396,7 +398,7 @@ class _Forces(NamedTuple):
     V: float
 
 
-@njit(cache=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
+@njit(cache=True, no_rewrites=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
 def element_kernel(beams: Beams, p: FloatArray, beta_prev: FloatArray, need_tangent: bool, out: ElementState) -> None:
     """Into ``out``: internal forces f (n,6), tangent K (n,6,6) (untouched when not needed), and the
     local state N (n,), M (n,2), L, beta, theta_bar (n,2), u_bar, jumped (n,) of all elements at the
@@ -435,7 +437,7 @@ def element_kernel(beams: Beams, p: FloatArray, beta_prev: FloatArray, need_tang
             _tangent(K[e], _Chord(c=c, s=s, L=Le), _Forces(N=Ne, V=V), ka[e], kb[e])
 
 
-@njit(cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True, _nrt=False, forceinline=True)  # type: ignore[call-overload]  # an option numba's annotations omit
+@njit(cache=True, no_rewrites=True, no_cfunc_wrapper=True, no_cpython_wrapper=True, _nrt=False, forceinline=True)  # type: ignore[call-overload]  # an option numba's annotations omit
 def _tangent(Ke: FloatArray, chord: _Chord, forces: _Forces, ka: float, kb: FloatArray) -> None:
     """Ke = E^T C E (one element's 6 x 6 tangent) with E = [r; z; e3; e6], ``kb`` its (2, 2) bending
     stiffness: the products of the dense loops with the zero entries of E and C left out (adding an
@@ -468,7 +470,7 @@ def _tangent(Ke: FloatArray, chord: _Chord, forces: _Forces, ka: float, kb: Floa
                 Ke[i, j] = 0.0 + r[i] * ce0 + z[i] * ce1
 
 
-@njit(cache=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
+@njit(cache=True, no_rewrites=True, no_cfunc_wrapper=True, _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
 def scatter_add(target: IntArray, source: IntArray, factor: FloatArray, values: FloatArray, out: FloatArray) -> None:
     """out[target[j]] += values[source[j]] * factor[j], in the order of j (the assembly of element
     entries into solver storage through precomputed index maps)."""
@@ -563,14 +565,14 @@ def _address_of(typingctx: Any, array: Any, index: Any) -> Any:
 _address = cast("Callable[[Any, int], Any]", intrinsic(_address_of))
 
 
-@njit(cache=True, no_cfunc_wrapper=True, error_model="numpy", _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
+@njit(cache=True, no_rewrites=True, no_cfunc_wrapper=True, error_model="numpy", _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
 def band_lu(ab: FloatArray, n: int, kl: int, ku: int, ld: int, ipiv: Int32Array) -> int:
     """`_band_lu` from Python (the tests): the LU of the band ``ab`` in place, LAPACK's info returned."""
     info: int = _band_lu(ab, n, kl, ku, ld, ipiv)
     return info
 
 
-@njit(cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True, error_model="numpy", _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
+@njit(cache=True, no_rewrites=True, no_cfunc_wrapper=True, no_cpython_wrapper=True, error_model="numpy", _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
 def _band_lu(ab: FloatArray, n: int, kl: int, ku: int, ld: int, ipiv: Int32Array) -> int:
     """LU with partial pivoting of the column-major LAPACK band ``ab`` in place (A[i, j] at
     j ld + kl + ku + i - j, ld >= 2 kl + ku + 1): LAPACK's ``dgbtf2`` step for step (what ``dgbtrf``
@@ -620,13 +622,13 @@ def _band_lu(ab: FloatArray, n: int, kl: int, ku: int, ld: int, ipiv: Int32Array
     return info
 
 
-@njit(cache=True, no_cfunc_wrapper=True, error_model="numpy", _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
+@njit(cache=True, no_rewrites=True, no_cfunc_wrapper=True, error_model="numpy", _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
 def band_solve(ab: FloatArray, n: int, kl: int, ku: int, ld: int, ipiv: Int32Array, x: FloatArray) -> None:
     """`_band_solve` from Python (the tests): x <- A^-1 x with the factors of `band_lu`."""
     _band_solve(ab, n, kl, ku, ld, ipiv, x)
 
 
-@njit(cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True, error_model="numpy", _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
+@njit(cache=True, no_rewrites=True, no_cfunc_wrapper=True, no_cpython_wrapper=True, error_model="numpy", _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
 def _band_solve(ab: FloatArray, n: int, kl: int, ku: int, ld: int, ipiv: Int32Array, x: FloatArray) -> None:
     """x <- A^-1 x with the factors of `band_lu`: LAPACK's ``dgbtrs`` (no transpose, one right-hand
     side) step for step: the row swaps and L by columns, then U by ``dtbsv`` (upper, by columns). A zero
@@ -652,7 +654,7 @@ def _band_solve(ab: FloatArray, n: int, kl: int, ku: int, ld: int, ipiv: Int32Ar
                 x[i] -= temp * ab[d - (j - i)]
 
 
-@njit(cache=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
+@njit(cache=True, no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
 def _shifted_cholesky_fails(K: FloatArray, band: Band, n: int, held: int, tol: float) -> bool:
     """True when the Cholesky factorisation of  S A S + tol I  breaks down (a pivot not positive), A the
     symmetric n x n tangent in the corrector's column-major storage ``K`` of shape ``band``: entry
@@ -673,7 +675,7 @@ def _shifted_cholesky_fails(K: FloatArray, band: Band, n: int, held: int, tol: f
     return fails
 
 
-@njit(cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True, _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
+@njit(cache=True, no_rewrites=True, no_cfunc_wrapper=True, no_cpython_wrapper=True, _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
 def _cholesky_fails(
     K: FloatArray,
     band: Band,
@@ -725,7 +727,7 @@ def _cholesky_fails(
     return bool(ints[3] > 0)
 
 
-@njit(cache=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
+@njit(cache=True, no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
 def _evaluate(
     q: FloatArray,
     beta_prev: FloatArray,
@@ -748,7 +750,7 @@ def _evaluate(
     return scale_int if scale_int > scale_ext else scale_ext
 
 
-@njit(cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True, _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
+@njit(cache=True, no_rewrites=True, no_cfunc_wrapper=True, no_cpython_wrapper=True, _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
 def _assemble(
     q: FloatArray,
     beta_prev: FloatArray,
@@ -867,7 +869,7 @@ def _assemble(
             K[flat[j]] += v * coef[j]
 
 
-@njit(cache=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
+@njit(cache=True, no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
 def newton_load(
     q: FloatArray,
     start: Start,

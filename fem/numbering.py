@@ -20,7 +20,7 @@ from .types import IntArray
 __all__ = ["rcm_order"]
 
 
-@njit(cache=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
+@njit(cache=True, no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
 def _rcm(n_nodes: int, a: IntArray, b: IntArray) -> IntArray:
     """Reverse Cuthill-McKee order of the nodes 0 .. n_nodes-1 of the graph with edges (a[k], b[k]).
 

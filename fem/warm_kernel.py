@@ -91,7 +91,7 @@ class Refinement(NamedTuple):
     mid_f: IntArray
 
 
-@njit(cache=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
+@njit(cache=True, no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
 def level_guesses_compiled(coarse: Coarse, fine: Fine, refinement: Refinement) -> tuple[FloatArray, FloatArray]:
     """(q, beta): per level (rows of the coarse full displacements ``coarse.U``) the fine mesh's reduced
     unknowns (levels, n_red) and element chord angles (levels, elements) of the warm-start guess."""
