@@ -23,6 +23,7 @@ import json
 import time
 import uuid
 from dataclasses import dataclass
+from functools import lru_cache
 from pathlib import Path
 from typing import Callable
 
@@ -41,8 +42,10 @@ _VERSION_SOURCES = ("validation/atlas/models.py", "validation/atlas/lines.py", "
 _FLUSH_SECONDS = 3.0
 
 
+@lru_cache(maxsize=1)
 def code_version() -> str:
-    """A short hash of the sources that decide the atlas's numbers."""
+    """A short hash of the sources that decide the atlas's numbers (read once a process, as the run
+    cache's code hash is)."""
     digest = hashlib.sha256()
     for rel in _VERSION_SOURCES:
         path = ROOT / rel

@@ -20,7 +20,7 @@ the PRBM along its line: about a second a level for the Chain Algorithm) on its 
 and the code reading them (``measured.json``, by case).  The report works both out beside its cases, in
 its pool's workers: the atlas-only part ahead (``prepare_static``), each case's measured levels where its
 page is drawn (``case_measured``, handed to ``write_page`` as ``known``); the scatter is drawn in the
-report's figure process (``write_page``'s ``draw``).  The figures folder may hold hard links to the
+report's figure processes (``write_page``'s ``draw``).  The figures folder may hold hard links to the
 previous report's files (the report's output set, ``validation.report.build``): a file is removed
 before it is written again, never written through.
 
@@ -284,8 +284,7 @@ def case_measured(result, rows: pd.DataFrame, cached: dict) -> CaseMeasured | No
     """The measured levels of one case from its rows of the tidy table (None: its PRBM run has no atlas
     model); read from ``cached`` (``measured.json``'s entries, by case) when its key is there (following
     a chain PRBM along its line takes a second a level)."""
-    run = result.runs.get("prbm")
-    if run is None or not run.extras.get("atlas_model"):
+    if _atlas_run(result) is None:
         return None
     key = _measured_key(result, rows, _measured_code())
     old = cached.get(result.loaded.id, {})
@@ -294,19 +293,31 @@ def case_measured(result, rows: pd.DataFrame, cached: dict) -> CaseMeasured | No
     return CaseMeasured(key, tuple(measured.measured_levels([result], rows)))
 
 
-def _measured_frame(results, table: pd.DataFrame, cached: dict) -> tuple[pd.DataFrame, dict]:
-    """``measured.measured_levels`` of every case (a frame) and the cache to keep: a case whose key
-    (``_measured_key``) is in ``cached`` is read from it (``case_measured``)."""
-    by_case = dict(tuple(table.groupby("case", sort=False))) if len(table) and "case" in table else {}
+def _atlas_run(result):
+    """The case's PRBM run when it has an atlas model (None: the case has no measured levels)."""
+    run = result.runs.get("prbm")
+    return run if run is not None and run.extras.get("atlas_model") else None
+
+
+def _measured_frame(
+    results, table: pd.DataFrame, cached: dict, known: dict[str, CaseMeasured] | None = None
+) -> tuple[pd.DataFrame, dict]:
+    """``measured.measured_levels`` of every case (a frame) and the cache to keep: a case in ``known``
+    (worked out in this run from its rows, beside its page) is taken as it is; another whose key
+    (``_measured_key``) is in ``cached`` is read from it (``case_measured``). Only the rows of the cases
+    worked out here are split off the table."""
+    known = known or {}
+    todo = {r.loaded.id for r in results if r.loaded.id not in known and _atlas_run(r) is not None}
+    rows = table[table["case"].isin(todo)] if todo and len(table) and "case" in table else table.iloc[0:0]
+    by_case = dict(tuple(rows.groupby("case", sort=False))) if len(rows) else {}
     keep: dict[str, dict] = {}
     levels: list[measured.MeasuredLevel] = []
     for result in results:
-        if result.loaded.id not in by_case:
-            continue
-        got = case_measured(result, by_case[result.loaded.id], cached)
+        cid = result.loaded.id
+        got = known.get(cid) or (case_measured(result, by_case[cid], cached) if cid in by_case else None)
         if got is None:
             continue
-        keep[result.loaded.id] = got.entry()
+        keep[cid] = got.entry()
         levels += got.levels
     return measured.frame_of(levels), keep
 
@@ -596,17 +607,18 @@ def write_page(
 ) -> AtlasPage:
     """``atlas.html`` (and its pictures under ``atlas_figures/``) in ``out`` from the atlas ``frame`` on
     ``grid``, with the cases' ``results`` and their tidy ``table`` (module docstring); ``datasets``: the
-    folder holding the dataset (for its ``atlas.json``); ``known``: cases' measured levels already worked
-    out (``case_measured``, by case), used where their key still holds; ``draw``: how the scatter is
-    drawn (``draw_now``, or handed to another process: the caller then waits for it)."""
+    folder holding the dataset (for its ``atlas.json``); ``known``: cases' measured levels this run
+    already worked out from the same ``results`` and rows (``case_measured``, by case), taken as they
+    are; ``draw``: how the scatter is drawn (``draw_now``, or handed to another process: the caller then
+    waits for it)."""
     started = time.perf_counter()
     out = Path(out)
     figures = out / FIGURES
     info = manifest(datasets, grid) if datasets is not None else {}
     version = str(info.get("version") or dataset.code_version())
-    cached = read_measured(figures / MEASURED) | {case: got.entry() for case, got in (known or {}).items()}
+    cached = read_measured(figures / MEASURED)
     static = _static_part(frame, grid, version, figures, claims_file)  # first: it may empty the folder
-    levels, keep = _measured_frame(list(results), table if table is not None else pd.DataFrame(), cached)
+    levels, keep = _measured_frame(list(results), table if table is not None else pd.DataFrame(), cached, known)
     (figures / MEASURED).unlink(missing_ok=True)  # may be a hard link
     (figures / MEASURED).write_text(json.dumps(keep))
     measured_html, agree = _measured_section(levels, figures, draw)

@@ -40,7 +40,7 @@ from functools import lru_cache
 from importlib import metadata
 from operator import itemgetter
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Sequence
 
 import numpy as np
 import pandas as pd
@@ -72,11 +72,12 @@ from validation.report.charts import (
     unit_text,
 )
 from validation.report.format import by_case, rows_of, sig, verdict_html
-from validation.report.overview import CLAIMS, overview_points, plot_overview
+from validation.report.overview import CLAIMS, OverviewPoint, case_points, overview_points, plot_overview
 from validation.report.summary import (
     METHOD_NAMES,
     CaseSummary,
     Finding,
+    case_numbers,
     case_sentence,
     findings,
     findings_html,
@@ -90,7 +91,7 @@ from validation.report.summary import (
 from validation.run.compare import verdict_by_method
 from validation.run.verdict import MethodVerdict, Verdict, counts_sentence, method_verdicts, vocabulary_lines
 from validation.run.runner import CaseResult
-from validation.run.outcome import run_cases, summary, tabulate
+from validation.run.outcome import run_cases, sorted_rows, summary, summary_row, tabulate
 from validation.run.timeline import Timed, breakdown, command_age, csv_text, timed
 
 TIMING_CSV = "timing.csv"
@@ -561,8 +562,10 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> DrawnPage:
     return DrawnPage(sentence, f"cases/{cid}.html", verdicts, tuple(items))
 
 
+@lru_cache(maxsize=1)
 def _code_digest() -> str:
-    """The source of the modules that draw a case page: a page is rewritten when they change."""
+    """The source of the modules that draw a case page: a page is rewritten when they change (read once
+    a process)."""
     here = Path(__file__).parent
     names = ["build.py", "charts.py", "format.py", "summary.py", "paraview.py"]
     sources = [here / n for n in names] + [here.parent / "run" / "verdict.py"]
@@ -580,6 +583,8 @@ class PageLink:
     summary: CaseSummary | None = None
     measured: atlas_page.CaseMeasured | None = None
     findings: tuple[Finding, ...] | None = None  # the case's `findings`, in the index's order
+    summary_row: dict | None = None  # the case's row of ``summary.csv`` (``outcome.summary_row``)
+    overview: tuple[OverviewPoint, ...] | None = None  # the case's points of the overview (``case_points``)
 
 
 # A page's tables hold their text in Python strings rather than pandas 3's pyarrow-backed default: a page
@@ -598,9 +603,7 @@ def _page_job(args) -> PageLink:
     digest = hashlib.sha256((result.loaded.text + stable.to_csv(index=False) + _code_digest()).encode()).hexdigest()
     stamp = out / "cases" / f"{cid}.digest"
     if stamp.exists() and stamp.read_text() == digest and (out / "cases" / f"{cid}.html").exists():
-        return PageLink(
-            cid, f"cases/{cid}.html", summary=summarise(result, part), findings=tuple(findings([result], part))
-        )
+        return _drawn_link(result, part, f"cases/{cid}.html")
     _clear_page(out, cid)
     try:
         drawn = _case_page(result, part, out)
@@ -611,8 +614,21 @@ def _page_job(args) -> PageLink:
         stamp.unlink(missing_ok=True)
         return PageLink(cid, link, error)
     stamp.write_text(digest)
-    summary = summarise(result, part, drawn.sentence, drawn.verdicts)  # the page's, not worked out again
-    return PageLink(cid, drawn.link, summary=summary, findings=drawn.findings)
+    return _drawn_link(result, part, drawn.link, drawn)
+
+
+def _drawn_link(result: CaseResult, part: pd.DataFrame, link: str, drawn: DrawnPage | None = None) -> PageLink:
+    """The link of a case's page with what the report's main process takes from the case: its row of the
+    index (``summarise``) and of ``summary.csv`` (``summary_row``), both from the same numbers
+    (``case_numbers``), and its findings. The sentence, verdicts and findings of the page just ``drawn``
+    are taken as they are; for a page kept from the last report (``drawn`` None) they are worked out."""
+    numbers = case_numbers(part)
+    if drawn is None:
+        summary, items = summarise(result, part, numbers=numbers), tuple(findings([result], part))
+    else:
+        summary, items = summarise(result, part, drawn.sentence, drawn.verdicts, numbers), drawn.findings
+    row = summary_row(result.loaded.case.case.group, result.loaded.id, part, result, numbers) if len(part) else None
+    return PageLink(result.loaded.id, link, summary=summary, findings=items, summary_row=row)
 
 
 def _clear_page(out: Path, cid: str) -> None:
@@ -626,23 +642,21 @@ def _clear_page(out: Path, cid: str) -> None:
 @dataclass(frozen=True)
 class PageWriter:
     """``run_cases``' ``after``: a case's page drawn in the worker that ran the case, right after it
-    (so pages are drawn while other cases still run). Its rows are ``tabulate`` of the case in the
-    order of the whole table (which ``run_cases`` sorts by group, case, method, quantity, point, level).
-    With ``measured`` (the previous report's ``measured.json``, whose entries are reused where their key
-    holds) the case's measured levels for the atlas page (``atlas_page.case_measured``) are worked out
-    here too, beside the other cases rather than on the report's serial path."""
+    (so pages are drawn while other cases still run), from its ``rows``: ``tabulate`` of the case in the
+    order of the whole table (``outcome.sorted_rows``; tabulated here when not given), with what the
+    report's main process takes from the case (its rows of the index and of ``summary.csv``, its points
+    of the overview: ``PageLink``). With ``measured`` (the previous report's ``measured.json``, whose
+    entries are reused where their key holds) the case's measured levels for the atlas page
+    (``atlas_page.case_measured``) are worked out here too, beside the other cases rather than on the
+    report's serial path."""
 
     out: Path
     measured: Path | None = None
 
-    def __call__(self, result: CaseResult) -> PageLink:
+    def __call__(self, result: CaseResult, rows: pd.DataFrame | None = None) -> PageLink:
         with pd.option_context("mode.string_storage", PAGE_STRINGS):
-            part = tabulate(result)
-            if len(part):
-                part = part.sort_values(
-                    ["group", "case", "method", "quantity", "point", "level"], kind="stable", ignore_index=True
-                )
-            link = _page_job((result, part, self.out))
+            part = sorted_rows(tabulate(result)) if rows is None else rows
+            link = replace(_page_job((result, part, self.out)), overview=tuple(case_points(result, part)))
         if self.measured is None:
             return link
         return replace(link, measured=_case_measured(result, part, self.measured))
@@ -780,7 +794,7 @@ class DomainsAndAtlas:
     the coarse atlas built where none of the current code is found, its claims table reading the study's
     summary, its maps and refit), in one task of ``run_cases``' pool beside the cases: off the main
     process's path, which then only adds the cases' predicted-against-measured part (its levels worked
-    out beside each case by ``PageWriter``, its scatter drawn in the figure process)."""
+    out beside each case by ``PageWriter``, its scatter drawn in a figure process)."""
 
     stage: Path
     datasets: Path
@@ -804,8 +818,9 @@ def _last_costs(out: Path) -> dict[str, float]:
     return {str(k): float(v) for k, v in work.groupby("name")["wall"].sum().items()}
 
 
-def _write_tables(outcome, out: Path) -> pd.DataFrame:
-    """``results.csv`` (and ``.parquet``) and ``summary.csv``; returns the summary."""
+def _write_tables(outcome, out: Path, pages: Sequence[PageLink] = ()) -> pd.DataFrame:
+    """``results.csv`` (and ``.parquet``) and ``summary.csv`` (its rows of the cases whose ``pages`` carry
+    one taken as they are); returns the summary."""
     table = outcome.table
     table.to_csv(out / "results.csv", index=False)
     try:
@@ -820,7 +835,8 @@ def _write_tables(outcome, out: Path) -> pd.DataFrame:
         ).to_parquet(out / "results.parquet")
     except ImportError:
         pass
-    summ = summary(table, outcome.results) if len(table) else pd.DataFrame()
+    rows = {page.case: page.summary_row for page in pages if page.summary_row is not None}
+    summ = summary(table, outcome.results, rows) if len(table) else pd.DataFrame()
     summ.to_csv(out / "summary.csv", index=False)
     return summ
 
@@ -903,24 +919,27 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
             return ExitStatus.BAD_INPUT
         pooled = time.perf_counter() - started  # cases, their pages and the domain study, on ``jobs`` processes
         timeline = outcome.timeline
-        # the overview figure (matplotlib's layout is slow) drawn in a process of its own beside the
-        # tables and the index page, on the core the finished workers left free
-        with ProcessPoolExecutor(max_workers=1) as figure_pool:
+        # the pictures (matplotlib's layout is slow) drawn in processes of their own beside the tables
+        # and the index page, on the cores the finished workers left free: the overview as PNG and as
+        # SVG, each in one (in one together on one core), then the atlas page's scatter in the first free
+        processes = max(1, min(jobs, FIGURE_PROCESSES))
+        with ProcessPoolExecutor(max_workers=processes) as figure_pool:
             with timed("main", "overview points", timeline):
-                figure = figure_pool.submit(
-                    plot_overview, overview_points(outcome.results, outcome.table), stage / "overview.png"
-                )
-            with timed("main", "tables (results.csv, summary.csv)", timeline):
-                _write_tables(outcome, stage)
+                points = _overview_points(outcome)
+                formats = [(f,) for f in OVERVIEW] if processes > 1 else [OVERVIEW]
+                overview = [figure_pool.submit(plot_overview, points, stage / "overview.png", f) for f in formats]
+            later = FigureProcess(figure_pool)  # the atlas page's scatter, drawn beside the index
             with timed("main", "pages not drawn in the workers", timeline):
                 pages = _build_pages(outcome.results, outcome.table, stage, jobs, done=outcome.after)
-            later = FigureProcess(figure_pool)  # the atlas page's scatter, drawn beside the index
+            with timed("main", "tables (results.csv, summary.csv)", timeline):
+                _write_tables(outcome, stage, pages)
             with timed("main", "atlas page", timeline):
                 atlas_line, atlas_error = _atlas_page(outcome, stage, out, jobs, build=not cases, draw=later.draw)
             with timed("main", "index page", timeline):
                 _write_index(outcome, pages, stage, published=out, atlas=atlas_line)
-            with timed("main", "waiting for the figure process", timeline):
-                figure.result()
+            with timed("main", "waiting for the figure processes", timeline):
+                for picture in overview:
+                    picture.result()
                 failed = later.wait()
             if failed is not None and atlas_error is None:  # the index says so instead of linking the page
                 atlas_line, atlas_error = _atlas_failed(failed)
@@ -946,10 +965,25 @@ def build_report(out: Path, use_cache: bool = True, jobs: int = 2, cases: list[s
     return outcome.exit_status
 
 
+FIGURE_PROCESSES = 2  # the report's figure processes (at most ``jobs``): the overview's PNG and SVG side by side
+OVERVIEW = ("png", "svg")  # the overview picture's formats, each drawn by a figure process
+
+
+def _overview_points(outcome) -> list[OverviewPoint]:
+    """``overview_points`` of every case, each case's as its page writer worked them out (``PageLink``)
+    where it did, in the order of the results."""
+    pages = getattr(outcome, "after", None) or {}
+    known = {case: link.overview for case, link in pages.items() if getattr(link, "overview", None) is not None}
+    if any(r.loaded.id not in known for r in outcome.results):
+        return overview_points(outcome.results, outcome.table)
+    return [point for r in outcome.results for point in known[r.loaded.id]]
+
+
 @dataclass
 class FigureProcess:
-    """Pictures handed to the report's figure process, drawn there while this process writes the index:
-    ``draw`` is ``atlas_page.write_page``'s, ``wait`` waits for every picture handed over."""
+    """Pictures handed to the report's figure processes, drawn there while this process writes the
+    tables and the index: ``draw`` (also ``atlas_page.write_page``'s) hands one over, ``wait`` waits for
+    every picture handed over."""
 
     pool: ProcessPoolExecutor
     pending: list[Future] = field(default_factory=list)

@@ -100,33 +100,34 @@ def segment_model(result: CaseResult) -> str:
 
 
 def overview_points(results: list[CaseResult], table: pd.DataFrame) -> list[OverviewPoint]:
-    """Every (case, level) where the PRBM and the FEM both give a length output; a case whose FEM keeps
-    no displacement field gets one point of NaN deflection at its largest error, so that the picture
-    counts the same cases as the index's headline (the cases that compare a position) and names those
-    it cannot place."""
-    points = []
+    """Every (case, level) where the PRBM and the FEM both give a length output (``case_points`` of
+    each case, in the order of ``results``)."""
     parts = by_case(table)
-    for result in results:
-        fem = result.runs.get("fem")
-        fields = fem.extras.get("fields") if fem else None
-        part = rows_of(parts, table, result.loaded.id)
-        errors = prbm_fem_by_level(part).dropna()
-        if errors.empty:
+    return [p for result in results for p in case_points(result, rows_of(parts, table, result.loaded.id))]
+
+
+def case_points(result: CaseResult, part: pd.DataFrame) -> list[OverviewPoint]:
+    """The case's points from its rows ``part``: a point per level where the PRBM and the FEM both give a
+    length output; a case whose FEM keeps no displacement field gets one point of NaN deflection at its
+    largest error, so that the picture counts the same cases as the index's headline (the cases that
+    compare a position) and names those it cannot place."""
+    errors = prbm_fem_by_level(part).dropna()
+    if errors.empty:
+        return []
+    fem = result.runs.get("fem")
+    fields = fem.extras.get("fields") if fem else None
+    model = segment_model(result)
+    if fields is None:
+        worst = int(errors.idxmax())
+        return [OverviewPoint(result.loaded.id, worst, math.nan, 100 * float(errors[worst]), model)]
+    scale = float(part["scale"].dropna().iloc[0])
+    points = []
+    for level, error in errors.items():
+        level = int(level)
+        if level >= len(fields.nodal):
             continue
-        if fields is None:
-            worst = int(errors.idxmax())
-            points.append(
-                OverviewPoint(result.loaded.id, worst, math.nan, 100 * float(errors[worst]), segment_model(result))
-            )
-            continue
-        scale = float(part["scale"].dropna().iloc[0])
-        model = segment_model(result)
-        for level, error in errors.items():
-            level = int(level)
-            if level >= len(fields.nodal):
-                continue
-            deflection = float(np.hypot(*fields.nodal[level].displacement.T).max()) / scale
-            points.append(OverviewPoint(result.loaded.id, level, deflection, 100 * float(error), model))
+        deflection = float(np.hypot(*fields.nodal[level].displacement.T).max()) / scale
+        points.append(OverviewPoint(result.loaded.id, level, deflection, 100 * float(error), model))
     return points
 
 
@@ -155,10 +156,11 @@ def overview_title(drawn: list[OverviewPoint], compared: set[str]) -> str:
     )
 
 
-def plot_overview(points: list[OverviewPoint], png: Path) -> Path:
-    """The picture as PNG, and as SVG whose dots link to their case pages; an empty validation still
-    gets axes and the claims. Its title counts the cases that compare a position (``points``' cases) and
-    says which of them it cannot place (no FEM displacement field, or no load)."""
+def plot_overview(points: list[OverviewPoint], png: Path, formats: tuple[str, ...] = ("png", "svg")) -> Path:
+    """The picture as PNG, and as SVG whose dots link to their case pages (``formats``: which of the two,
+    e.g. each drawn by a process of its own); an empty validation still gets axes and the claims. Its
+    title counts the cases that compare a position (``points``' cases) and says which of them it cannot
+    place (no FEM displacement field, or no load)."""
     compared = {p.case for p in points}
     points = [p for p in points if p.deflection > 1e-9]  # an unloaded level says nothing; NaN: no field
     fig, ax = plt.subplots(figsize=(12.0, 4.4))
@@ -196,7 +198,9 @@ def plot_overview(points: list[OverviewPoint], png: Path) -> Path:
     ax.set_title(overview_title(points, compared), fontsize=10, loc="left")
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), frameon=False)
-    fig.savefig(png, dpi=90)
-    fig.savefig(png.with_suffix(".svg"))
+    if "png" in formats:
+        fig.savefig(png, dpi=90)
+    if "svg" in formats:
+        fig.savefig(png.with_suffix(".svg"))
     plt.close(fig)
     return png

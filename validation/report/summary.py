@@ -4,8 +4,8 @@ result, and beneath the tables the findings with their evidence. A case's status
 verdicts (``validation.run.verdict``: the worst of their rows); the PRBM-vs-FEM cell is coloured by its
 size and labelled by its own verdict (``no limit claimed`` unless an agreement claims one).
 
-The numbers come from ``validation.run.runner`` (``prbm_fem_errors``, ``fem_error_relative``) so the
-summary page and ``summary.csv`` say the same thing.
+The numbers come from ``validation.run.outcome`` (``PrbmFemNumbers``: ``prbm_fem_errors``,
+``fem_error_relative``) so the summary page and ``summary.csv`` say the same thing.
 """
 
 from __future__ import annotations
@@ -36,13 +36,7 @@ from validation.report.format import (
 )
 from validation.run.compare import verdict_by_method
 from validation.run.runner import CaseResult
-from validation.run.outcome import (
-    FEM_VALIDATION,
-    fem_error_relative,
-    fem_estimates_unreliable,
-    no_prbm_fem_reason,
-    prbm_fem_errors,
-)
+from validation.run.outcome import FEM_VALIDATION, PrbmFemNumbers, no_prbm_fem_reason
 from validation.run.verdict import (
     MethodVerdict,
     Verdict,
@@ -197,9 +191,11 @@ def summarise(
     part: pd.DataFrame,
     sentence: str | None = None,
     verdicts: dict[str, MethodVerdict] | None = None,
+    numbers: PrbmFemNumbers | None = None,
 ) -> CaseSummary:
-    """The case's row of the index; ``sentence``: its `case_sentence` of ``part``, and ``verdicts``: its
-    `method_verdicts` of ``part``, when the caller has them (the case page works both out)."""
+    """The case's row of the index; ``sentence``: its `case_sentence` of ``part``, ``verdicts``: its
+    `method_verdicts` of ``part``, and ``numbers``: its ``PrbmFemNumbers``, when the caller has them (the
+    case page works the first two out, the page writer the numbers for ``summary.csv`` too)."""
     case = result.loaded.case
     claimed = part[part["within_tolerance"].notna()]
     findings = part["finding"].dropna().unique()
@@ -210,13 +206,7 @@ def summarise(
     methods = [MethodState(m, v.verdict, v.reason) for m, v in verdicts.items()]
     verdict = case_verdict_of(verdicts.values())
     reason = "; ".join(f"{s.method}: {_short(s.reason)}" for s in methods if s.verdict is verdict and s.reason)
-    if len(part):
-        relative, length = prbm_fem_errors(part)
-        estimate = fem_error_relative(part)
-        unreliable = fem_estimates_unreliable(part)
-    else:
-        relative = length = estimate = math.nan
-        unreliable = 0
+    numbers = numbers or case_numbers(part)
     return CaseSummary(
         group=case.case.group,
         case=case.case.id,
@@ -225,9 +215,9 @@ def summarise(
         reason=reason,
         methods=methods,
         sentence=case_sentence(result, part) if sentence is None else sentence,
-        prbm_fem_length=length,
-        prbm_fem_relative=relative,
-        fem_estimate=estimate,
+        prbm_fem_length=numbers.length,
+        prbm_fem_relative=numbers.relative,
+        fem_estimate=numbers.fem_estimate,
         checks=len(claimed),
         checks_passed=int((claimed["within_tolerance"] == True).sum()),  # noqa: E712
         findings=n_findings,
@@ -237,9 +227,16 @@ def summarise(
         else case.case.no_prbm_fem or "",
         readings_of=case.case.readings_of or "",
         fem_validation=case.case.purpose == "fem-validation",
-        fem_unreliable=unreliable,
-        prbm_fem_verdict=prbm_fem_verdict(part),
+        fem_unreliable=numbers.fem_unreliable,
+        prbm_fem_verdict=numbers.verdict,
     )
+
+
+def case_numbers(part: pd.DataFrame) -> PrbmFemNumbers:
+    """``PrbmFemNumbers`` of a case's rows (none for a case without rows: NaN, no limit claimed)."""
+    if len(part):
+        return PrbmFemNumbers.of(part)
+    return PrbmFemNumbers(math.nan, math.nan, prbm_fem_verdict(part), math.nan, 0)
 
 
 def group_order(group: str) -> tuple:

@@ -4,7 +4,9 @@ exit status), and the one-row-per-case summary with the largest PRBM-to-FEM erro
 
 ``run_cases`` returns one tidy pandas table (a row per method x output x load level x reference)
 with the value, its unit, the published value and its source, the absolute and relative error,
-whether the claimed tolerance is met, the wall time, and whether the method converged.
+whether the claimed tolerance is met, the wall time, and whether the method converged. Each case's rows
+are tabulated in the worker that ran the case (``Tabulate``), beside the other cases, and put together
+here once the last is back.
 """
 
 from __future__ import annotations
@@ -12,7 +14,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable, Mapping
 
 import numpy as np
 import pandas as pd
@@ -171,6 +173,52 @@ def tabulate(result: CaseResult) -> pd.DataFrame:
     return frame.reindex(columns=COLUMNS)
 
 
+ORDER = ["group", "case", "method", "quantity", "point", "level"]  # the order of the table's rows
+# A case's rows hold their text in Python strings (pandas' "python" string storage) where the case ran:
+# on tables of tens of rows, filtered and sorted hundreds of times by a report's page, they are cheaper
+# than pandas 3's pyarrow-backed default; the whole table takes the default once, when the cases' rows
+# are put together (``with_strings``), so that what it holds and writes is the same either way.
+CASE_STRINGS = "python"
+
+
+def sorted_rows(table: pd.DataFrame) -> pd.DataFrame:
+    """The rows in the table's order (``ORDER``; a stable sort: rows with equal keys keep theirs)."""
+    return table.sort_values(ORDER, kind="stable", ignore_index=True) if len(table) else table
+
+
+def with_strings(table: pd.DataFrame, storage: str | None = None) -> pd.DataFrame:
+    """``table`` with its text columns and its column labels in pandas' ``storage`` of strings (None: the
+    default); the values are the same."""
+    dtype = pd.StringDtype(storage, na_value=np.nan)
+    out = table.astype({c: dtype for c, t in table.dtypes.items() if isinstance(t, pd.StringDtype)})
+    out.columns = out.columns.astype(dtype)
+    return out
+
+
+@dataclass(frozen=True)
+class CaseRows:
+    """What the worker that ran a case sends back (``Tabulate``): the case's rows of the table
+    (``tabulate`` in the table's order, text in ``CASE_STRINGS``) and what the caller's ``after`` made
+    of them."""
+
+    rows: pd.DataFrame
+    after: Any = None
+
+
+@dataclass(frozen=True)
+class Tabulate:
+    """``run_cases``' ``after`` of ``run_paths``: the case's rows tabulated in the worker that ran it,
+    beside the other cases rather than all of them in this process after the last, then ``then(result,
+    rows)`` (e.g. the report's page of the case, drawn from them)."""
+
+    then: Callable[[CaseResult, pd.DataFrame], Any] | None = None
+
+    def __call__(self, result: CaseResult) -> CaseRows:
+        with pd.option_context("mode.string_storage", CASE_STRINGS):
+            rows = sorted_rows(tabulate(result))
+            return CaseRows(rows, None if self.then is None else self.then(result, rows))
+
+
 def _check_row(check, dimension: str, scale: float) -> dict:
     """The comparison columns of one enforced check."""
     row = dict(
@@ -286,13 +334,14 @@ def run_cases(
     use_cache: bool = True,
     jobs: int = 1,
     progress: bool = False,
-    after=None,
+    after: Callable[[CaseResult, pd.DataFrame], Any] | None = None,
     extra=(),
     costs: dict[str, float] | None = None,
 ) -> RunOutcome:
     """Run every case file; bad files are reported as errors and the others still run. ``jobs`` worker
     processes, scheduled by ``validation.run.parallel`` (compiled methods compiled once, ``extra`` tasks
-    beside the cases, ``after(result)`` in the worker after each case, longest first by ``costs``)."""
+    beside the cases, longest first by ``costs``); each case tabulated in the worker that ran it
+    (``Tabulate``), then ``after(result, rows)`` there, on its rows."""
     bar = CaseProgress(len(paths), enabled=progress, jobs=jobs)
     timeline: list[Timed] = []
     try:
@@ -301,7 +350,7 @@ def run_cases(
             methods,
             use_cache,
             jobs,
-            after=after,
+            after=Tabulate(after),
             extra=list(extra),
             progress=bar.advance,
             timeline=timeline,
@@ -310,19 +359,17 @@ def run_cases(
         )
     finally:
         bar.close()
-    results = sorted((r.result for r in runs if r.result is not None), key=lambda r: str(r.loaded.path))
+    ran = sorted(((r.result, r.after) for r in runs if r.result is not None), key=lambda done: str(done[0].loaded.path))
+    results = [result for result, _ in ran]
+    cases: list[CaseRows] = [case for _, case in ran]
     errors = [r.error for r in runs if r.error is not None]
-    tables = [tabulate(r) for r in results]
-    table = pd.concat(tables, ignore_index=True) if tables else pd.DataFrame(columns=COLUMNS)
-    if len(table):
-        table = table.sort_values(
-            ["group", "case", "method", "quantity", "point", "level"], kind="stable", ignore_index=True
-        )
+    tables = [case.rows for case in cases]
+    table = with_strings(sorted_rows(pd.concat(tables, ignore_index=True))) if tables else pd.DataFrame(columns=COLUMNS)
     return RunOutcome(
         table=table,
         errors=sorted(errors),
         results=results,
-        after={r.result.loaded.id: r.after for r in runs if r.result is not None and r.after is not None},
+        after={r.loaded.id: case.after for r, case in zip(results, cases) if case.after is not None},
         timeline=timeline,
     )
 
@@ -474,36 +521,73 @@ def _run_columns(part: pd.DataFrame) -> tuple[dict[str, float], dict]:
     return {m: times[m] for m in order}, {m: status[m] for m in order}
 
 
-def summary(table: pd.DataFrame, results: list[CaseResult] | None = None) -> pd.DataFrame:
-    """One row per case: its verdict (the worst of its rows', ``validation.run.verdict``), methods run,
-    largest PRBM-to-FEM error and that number's verdict (``no limit claimed`` unless an agreement claims
-    one; empty without the number), comparisons passed, wall times, and
-    (given the case ``results``) ``no_prbm_fem_reason``: the one-line reason a case without a
-    PRBM-vs-FEM number has none, missing (NaN, as an empty CSV cell reads back) where the number exists."""
+@dataclass(frozen=True)
+class PrbmFemNumbers:
+    """A case's largest PRBM-to-FEM error (relative, and over the characteristic length: ``prbm_fem_errors``)
+    with that number's verdict (``prbm_fem_verdict``), and the FEM's largest reliable error estimate
+    (``fem_error_relative``) and count of unreliable ones: what ``summary`` and the report's index row of a
+    case both give, worked out once where both are wanted."""
+
+    relative: float
+    length: float
+    verdict: Verdict
+    fem_estimate: float
+    fem_unreliable: int
+
+    @classmethod
+    def of(cls, part: pd.DataFrame) -> PrbmFemNumbers:
+        """The numbers of one case's rows."""
+        relative, length = prbm_fem_errors(part)
+        return cls(relative, length, prbm_fem_verdict(part), fem_error_relative(part), fem_estimates_unreliable(part))
+
+
+def summary_row(
+    group: str,
+    case_id: str,
+    part: pd.DataFrame,
+    result: CaseResult | None = None,
+    numbers: PrbmFemNumbers | None = None,
+) -> dict[str, Any]:
+    """The case's row of ``summary`` from its rows ``part`` (its ``result``: for ``no_prbm_fem_reason``;
+    ``numbers``: its ``PrbmFemNumbers`` when the caller has them)."""
+    numbers = numbers or PrbmFemNumbers.of(part)
+    absent = math.isnan(numbers.relative) and math.isnan(numbers.length)
+    reason = no_prbm_fem_reason(result) if absent and result is not None else math.nan  # NaN: none
+    times, status = _run_columns(part)
+    verdicts = [v for v in part["within_tolerance"] if not pd.isna(v)]
+    return dict(
+        group=group,
+        case=case_id,
+        verdict=table_verdict(part).value,
+        methods=" ".join(f"{m}{'' if status[m] else '(!)'}" for m in times),
+        max_prbm_fem_rel=numbers.relative,
+        max_prbm_fem_per_length=numbers.length,
+        prbm_fem_verdict=math.nan if absent else numbers.verdict.value,
+        no_prbm_fem_reason=reason,
+        fem_error_est_rel=numbers.fem_estimate,
+        fem_estimates_unreliable=numbers.fem_unreliable,
+        checks=len(verdicts),
+        failed=sum(1 for v in verdicts if v == False),  # noqa: E712
+        findings=int(part["finding"].notna().sum()),
+        **{f"t_{m}_s": t for m, t in times.items()},
+    )
+
+
+def summary(
+    table: pd.DataFrame, results: list[CaseResult] | None = None, rows: Mapping[str, dict[str, Any]] | None = None
+) -> pd.DataFrame:
+    """One row per case (``summary_row``), by group and case: its verdict (the worst of its rows',
+    ``validation.run.verdict``), methods run, largest PRBM-to-FEM error and that number's verdict (``no
+    limit claimed`` unless an agreement claims one; empty without the number), comparisons passed, wall
+    times, and (given the case ``results``) ``no_prbm_fem_reason``: the one-line reason a case without a
+    PRBM-vs-FEM number has none, missing (NaN, as an empty CSV cell reads back) where the number exists.
+    ``rows``: rows already worked out (by case id, e.g. where the case ran), taken as they are."""
     by_id = {r.loaded.id: r for r in results or []}
-    rows = []
+    known = rows or {}
+    out = []
     for (group, case_id), part in table.groupby(["group", "case"], sort=True):
-        prbm_fem, prbm_fem_norm = prbm_fem_errors(part)
-        absent = math.isnan(prbm_fem) and math.isnan(prbm_fem_norm)
-        reason = no_prbm_fem_reason(by_id[case_id]) if absent and case_id in by_id else math.nan  # NaN: none
-        times, status = _run_columns(part)
-        verdicts = [v for v in part["within_tolerance"] if not pd.isna(v)]
-        rows.append(
-            dict(
-                group=group,
-                case=case_id,
-                verdict=table_verdict(part).value,
-                methods=" ".join(f"{m}{'' if status[m] else '(!)'}" for m in times),
-                max_prbm_fem_rel=prbm_fem,
-                max_prbm_fem_per_length=prbm_fem_norm,
-                prbm_fem_verdict=math.nan if absent else prbm_fem_verdict(part).value,
-                no_prbm_fem_reason=reason,
-                fem_error_est_rel=fem_error_relative(part),
-                fem_estimates_unreliable=fem_estimates_unreliable(part),
-                checks=len(verdicts),
-                failed=sum(1 for v in verdicts if v == False),  # noqa: E712
-                findings=int(part["finding"].notna().sum()),
-                **{f"t_{m}_s": t for m, t in times.items()},
-            )
-        )
-    return pd.DataFrame(rows)
+        row = known.get(case_id)
+        if row is None or row.get("group") != group:
+            row = summary_row(group, case_id, part, by_id.get(case_id))
+        out.append(row)
+    return pd.DataFrame(out)

@@ -17,6 +17,10 @@ code is compiled twice.
 its case, so the report's pages are drawn while other cases still run. Results come back in the
 order of ``paths``; a case file that cannot be used comes back as its error line.
 
+The collectors leave alone what this process holds when the pool starts and, in a worker, what its
+primer compiled (``gc.freeze``): they live as long as the pool, and walking them in each full
+collection costs more than the cases' own objects do.
+
 With ``jobs`` = 1 the primers run first too, in this process, so that in neither path does a case
 report numba's compile as its method's time. Every primer, case, method run, ``after`` and extra
 task is timed (``validation.run.timeline``) into the ``timeline`` list given.
@@ -159,6 +163,32 @@ def fewer_collections() -> Iterator[None]:
         gc.set_threshold(*before)
 
 
+@contextmanager
+def frozen_heap() -> Iterator[None]:
+    """The objects this process holds on entry left out of the cyclic collector's walks inside
+    (``gc.freeze``), and given back on exit (``gc.unfreeze``); a process whose objects some other code
+    froze already is left as it is."""
+    if gc.get_freeze_count():
+        yield
+        return
+    gc.freeze()
+    try:
+        yield
+    finally:
+        gc.unfreeze()
+
+
+def prime_in_worker(path: Path, method: str) -> Timed:
+    """``prime`` in a pool worker, then every object the worker holds (numba's compiled code and type
+    caches, and the compile's garbage alike) left out of the cyclic collector's walks for the rest of the
+    worker's life (``gc.freeze``): the compile leaves hundreds of thousands of objects behind, which
+    every later full collection of the worker would walk again, while the garbage among them is a few
+    megabytes, held until the worker ends with the run."""
+    record = prime(path, method)
+    gc.freeze()
+    return record
+
+
 def prime(path: Path, method: str) -> Timed:
     """Compile ``method``'s numba code by running it once on ``path``; the run is not kept (its wall
     time is mostly the compile), and a case file that cannot be used is reported by its own run.
@@ -269,8 +299,12 @@ def run_paths(
 def _run_pool(plan: Schedule, jobs: int, extra, task_of: Callable[[Path], tuple], collect, watch: CompileWatch) -> None:
     """The parallel run: primers first, then the extra tasks and the free cases (longest first), and
     each compiled case as soon as the primers of its methods are done; ``watch`` told of the primers."""
-    with ProcessPoolExecutor(max_workers=jobs) as pool:
-        primers: dict[Future, str] = {pool.submit(prime, path, method): method for method, path in plan.primers}
+    # this process's modules and objects outlive the pool: neither this process's collector nor a
+    # worker's (which inherits them frozen, or freezes what it starts with) walks them again and again
+    with frozen_heap(), ProcessPoolExecutor(max_workers=jobs, initializer=gc.freeze) as pool:
+        primers: dict[Future, str] = {
+            pool.submit(prime_in_worker, path, method): method for method, path in plan.primers
+        }
         pending: set[Future] = set(primers)
         pending |= {pool.submit(run_extra, task) for task in extra}
         pending |= {pool.submit(*task_of(path)) for path in plan.free}
