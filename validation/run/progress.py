@@ -20,7 +20,7 @@ from validation.run.parallel import CompileWatch, PathRun
 # seconds a method's numba kernels take to compile with a cold cache, one process on an idle core
 # (as ``validation.bench.compile_cost`` measures them: the FEM's load-control, warm-start and
 # banded-solver kernels, the elastica's integrator)
-COMPILE_SECONDS = {"fem": 5.0, "opensees": 5.0, "elastica": 7.0}
+COMPILE_SECONDS = {"fem": 5.0, "opensees": 5.0, "elastica": 6.0}
 KERNEL_NAMES = {"fem": "FEM", "opensees": "FEM", "elastica": "elastica"}
 SETTLED = 2
 WITHOUT_ETA = "{l_bar}{bar}| {n_fmt}/{total_fmt} [{elapsed}{postfix}]"
