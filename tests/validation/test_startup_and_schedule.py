@@ -243,3 +243,39 @@ def test_a_primer_runs_with_fewer_collections_and_restores_the_collector(monkeyp
     parallel.prime(case_by_id("cantilever_tip_load").path, "fem")
     assert seen == [(parallel.PRIMER_GC_THRESHOLD, *before[1:])]
     assert gc.get_threshold() == before
+
+
+def test_an_extra_task_starts_once_the_primers_of_its_compiled_methods_are_done():
+    """The pool's work in ``WorkQueue`` order: an extra task that runs the elastica's compiled code (the
+    report's coarse atlas) is not handed out while the elastica's primer compiles (it would compile the
+    same kernels a second time), the free cases go meanwhile, and once the primer is done the task goes
+    before the cases not yet started; a case that needs the FEM waits for the FEM's primer alone."""
+    from validation.report.build import DomainsAndAtlas
+
+    assert DomainsAndAtlas(Path("stage"), Path("datasets")).compiled == ("elastica",)
+    atlas = DomainsAndAtlas(Path("stage"), Path("datasets"))
+    plain = DomainsAndAtlas(Path("stage"), Path("datasets"), compiled=())  # an extra task with none
+    free, needs_fem, needs_both = [Path(f"free{i}.toml") for i in range(3)], Path("fem.toml"), Path("both.toml")
+    plan = parallel.Schedule(
+        primers=[("fem", needs_fem), ("elastica", needs_both)],
+        free=free,
+        compiled=[needs_both, needs_fem],
+        waits_for={needs_fem: frozenset({"fem"}), needs_both: frozenset({"fem", "elastica"})},
+    )
+    queue = parallel.WorkQueue(plan, [atlas, plain], frozenset({"fem", "elastica"}))
+    ready: set[str] = set()
+    given = [queue.next(ready), queue.next(ready)]  # both primers compiling
+    ready.add("fem")
+    given += [queue.next(ready), queue.next(ready), queue.next(ready)]
+    ready.add("elastica")
+    given += [queue.next(ready), queue.next(ready), queue.next(ready)]
+    assert given == [plain, free[0], free[1], free[2], needs_fem, atlas, needs_both, None]
+
+
+def test_an_extra_task_waits_for_no_primer_a_run_does_not_have():
+    """A compiled method the run has no primer for (no case needs it) leaves nothing to wait for."""
+    from validation.report.build import DomainsAndAtlas
+
+    atlas = DomainsAndAtlas(Path("stage"), Path("datasets"))
+    queue = parallel.WorkQueue(parallel.Schedule(primers=[("fem", Path("a.toml"))]), [atlas], frozenset({"fem"}))
+    assert queue.next(set()) is atlas

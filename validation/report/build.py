@@ -794,11 +794,14 @@ class DomainsAndAtlas:
     the coarse atlas built where none of the current code is found, its claims table reading the study's
     summary, its maps and refit), in one task of ``run_cases``' pool beside the cases: off the main
     process's path, which then only adds the cases' predicted-against-measured part (its levels worked
-    out beside each case by ``PageWriter``, its scatter drawn in a figure process)."""
+    out beside each case by ``PageWriter``, its scatter drawn in a figure process). The coarse atlas runs
+    the elastica's compiled integrator (``compiled``): the pool starts the task once the elastica's primer
+    has compiled it, rather than compile it a second time beside the primer."""
 
     stage: Path
     datasets: Path
     label: str = "chapter-4 domain study and atlas maps"
+    compiled: tuple[str, ...] = ("elastica",)
 
     def __call__(self) -> None:
         DomainStudy(self.stage / DOMAINS)()

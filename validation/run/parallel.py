@@ -11,7 +11,13 @@ code is compiled twice.
    compiling the same kernels; numba's on-disk cache (``cache=True``) then serves every other process;
 2. while the primers compile, the other workers take the extra tasks (``extra``, e.g. the report's
    chapter-4 domain study) and the cases that need no compiled method, longest first (``estimate``);
+   an extra task that runs compiled methods (its ``compiled``, e.g. the report's coarse atlas: the
+   elastica's) waits for their primers, and then goes before the cases not yet started;
 3. each case that needs compiled methods as soon as their primers are done, longest first.
+
+Work is handed to the pool as workers free up (``WorkQueue``: at most one task queued beyond one a
+worker), so that the order above holds for work whose primers finish late, rather than the pool's
+first-come order of everything submitted at the start.
 
 ``after(result)`` (a picklable callable, e.g. the report's page writer) runs in the worker right after
 its case, so the report's pages are drawn while other cases still run. Results come back in the
@@ -296,9 +302,48 @@ def run_paths(
     return [done[p] for p in paths]
 
 
+QUEUED_BEYOND_WORKERS = 1  # tasks handed to the pool beyond one a worker: a worker that finishes finds the next
+
+
+@dataclass
+class WorkQueue:
+    """The work of a pool not yet handed to it, in the order ``run_paths`` gives it out (module
+    docstring): the extra tasks, each once the primers of the compiled methods it runs (its
+    ``compiled``, none when it has no such attribute) are done (a method without a primer in this run
+    has nothing to wait for); then the free cases; then each compiled case once its primers are done.
+    Each list keeps its own order (the cases longest first)."""
+
+    plan: Schedule
+    extra: list[Callable[[], Any]]
+    primed: frozenset[str]  # the methods with a primer in this run
+
+    def __post_init__(self) -> None:
+        self.free = list(self.plan.free)
+        self.compiled = list(self.plan.compiled)
+
+    def waits_for(self, task: Callable[[], Any]) -> frozenset[str]:
+        """The primers an extra task waits for."""
+        return frozenset(getattr(task, "compiled", ())) & self.primed
+
+    def next(self, ready: set[str]) -> Callable[[], Any] | Path | None:
+        """The next piece of work that can start with the primers of ``ready`` done (an extra task, or a
+        case file), taken off the queue; None when nothing can start yet (or nothing is left)."""
+        for task in self.extra:
+            if self.waits_for(task) <= ready:
+                self.extra.remove(task)
+                return task
+        if self.free:
+            return self.free.pop(0)
+        for path in self.compiled:
+            if self.plan.waits_for[path] <= ready:
+                self.compiled.remove(path)
+                return path
+        return None
+
+
 def _run_pool(plan: Schedule, jobs: int, extra, task_of: Callable[[Path], tuple], collect, watch: CompileWatch) -> None:
-    """The parallel run: primers first, then the extra tasks and the free cases (longest first), and
-    each compiled case as soon as the primers of its methods are done; ``watch`` told of the primers."""
+    """The parallel run: primers first, then the work of ``WorkQueue`` handed over as workers free up;
+    ``watch`` told of the primers."""
     # this process's modules and objects outlive the pool: neither this process's collector nor a
     # worker's (which inherits them frozen, or freezes what it starts with) walks them again and again
     with frozen_heap(), ProcessPoolExecutor(max_workers=jobs, initializer=gc.freeze) as pool:
@@ -306,10 +351,17 @@ def _run_pool(plan: Schedule, jobs: int, extra, task_of: Callable[[Path], tuple]
             pool.submit(prime_in_worker, path, method): method for method, path in plan.primers
         }
         pending: set[Future] = set(primers)
-        pending |= {pool.submit(run_extra, task) for task in extra}
-        pending |= {pool.submit(*task_of(path)) for path in plan.free}
+        queue = WorkQueue(plan, list(extra), frozenset(primers.values()))
         ready: set[str] = set()
-        waiting = list(plan.compiled)
+
+        def hand_over() -> None:
+            while len(pending) < jobs + QUEUED_BEYOND_WORKERS:
+                work = queue.next(ready)
+                if work is None:
+                    return
+                pending.add(pool.submit(*task_of(work)) if isinstance(work, Path) else pool.submit(run_extra, work))
+
+        hand_over()
         told, started = not primers, time.perf_counter()
         while pending:
             timeout = None if told else max(0.0, watch.after - (time.perf_counter() - started))
@@ -323,6 +375,4 @@ def _run_pool(plan: Schedule, jobs: int, extra, task_of: Callable[[Path], tuple]
                 if future in primers and len(ready) == len(primers):
                     told = True
                     watch.compiled()
-            startable = [path for path in waiting if plan.waits_for[path] <= ready]
-            waiting = [path for path in waiting if path not in startable]
-            pending |= {pool.submit(*task_of(path)) for path in startable}
+            hand_over()
