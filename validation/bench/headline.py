@@ -132,7 +132,7 @@ CONFIGURATIONS = {  # how each code is driven (printed beside the headline)
         "corotational Euler-Bernoulli beams (validation.methods.fem); load control: each level tried in "
         "one step, cut only on failure (failed tries counted), Newton with the consistent tangent "
         "compiled whole (numba; RCM-banded tangents by a compiled band LU, LAPACK's dgbtf2 step for "
-        "step; small dense ones by LAPACK dgetrf), |r| <= 1e-10 max(|f_ext|, |f_int|); "
+        "step, at any size; wide-band ones by LAPACK dgetrf), |r| <= 1e-10 max(|f_ext|, |f_int|); "
         "limit loads by arc length (its corrector, and any model with follower loads, in NumPy, "
         "not compiled); fem+richardson: the n and 2n solves (warm-started) extrapolated; "
         "fem+richardson (plain runs): the n and 2n plain runs extrapolated by the bench, as for the peer, "
