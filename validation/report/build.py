@@ -77,7 +77,6 @@ from validation.report.summary import (
     METHOD_NAMES,
     CaseSummary,
     Finding,
-    case_numbers,
     case_sentence,
     findings,
     findings_html,
@@ -91,7 +90,7 @@ from validation.report.summary import (
 from validation.run.compare import verdict_by_method
 from validation.run.verdict import MethodVerdict, Verdict, counts_sentence, method_verdicts, vocabulary_lines
 from validation.run.runner import CaseResult
-from validation.run.outcome import run_cases, sorted_rows, summary, summary_row, tabulate
+from validation.run.outcome import CASE_STRINGS, PrbmFemNumbers, run_cases, sorted_rows, summary, summary_row, tabulate
 from validation.run.timeline import Timed, breakdown, command_age, csv_text, timed
 
 TIMING_CSV = "timing.csv"
@@ -587,11 +586,11 @@ class PageLink:
     overview: tuple[OverviewPoint, ...] | None = None  # the case's points of the overview (``case_points``)
 
 
-# A page's tables hold their text in Python strings rather than pandas 3's pyarrow-backed default: a page
-# filters, sorts and takes rows of small tables hundreds of times, where pyarrow's per-call conversions
-# are a large part of the table work; what a page shows is the same (the results files written by
-# the main process keep the default).
-PAGE_STRINGS = "python"
+# A page's tables hold their text in the storage the case's rows come in from ``outcome.Tabulate``
+# (Python strings rather than pandas 3's pyarrow-backed default: a page filters, sorts and takes rows of
+# small tables hundreds of times, where pyarrow's per-call conversions are a large part of the table
+# work); what a page shows is the same (the results files written by the main process keep the default).
+PAGE_STRINGS = CASE_STRINGS
 
 
 def _page_job(args) -> PageLink:
@@ -620,9 +619,9 @@ def _page_job(args) -> PageLink:
 def _drawn_link(result: CaseResult, part: pd.DataFrame, link: str, drawn: DrawnPage | None = None) -> PageLink:
     """The link of a case's page with what the report's main process takes from the case: its row of the
     index (``summarise``) and of ``summary.csv`` (``summary_row``), both from the same numbers
-    (``case_numbers``), and its findings. The sentence, verdicts and findings of the page just ``drawn``
+    (``PrbmFemNumbers``), and its findings. The sentence, verdicts and findings of the page just ``drawn``
     are taken as they are; for a page kept from the last report (``drawn`` None) they are worked out."""
-    numbers = case_numbers(part)
+    numbers = PrbmFemNumbers.of(part)
     if drawn is None:
         summary, items = summarise(result, part, numbers=numbers), tuple(findings([result], part))
     else:

@@ -43,7 +43,6 @@ from validation.run.verdict import (
     case_verdict_of,
     counts_sentence,
     method_verdicts,
-    prbm_fem_verdict,
     run_verdict,
 )
 
@@ -206,7 +205,7 @@ def summarise(
     methods = [MethodState(m, v.verdict, v.reason) for m, v in verdicts.items()]
     verdict = case_verdict_of(verdicts.values())
     reason = "; ".join(f"{s.method}: {_short(s.reason)}" for s in methods if s.verdict is verdict and s.reason)
-    numbers = numbers or case_numbers(part)
+    numbers = numbers or PrbmFemNumbers.of(part)
     return CaseSummary(
         group=case.case.group,
         case=case.case.id,
@@ -230,13 +229,6 @@ def summarise(
         fem_unreliable=numbers.fem_unreliable,
         prbm_fem_verdict=numbers.verdict,
     )
-
-
-def case_numbers(part: pd.DataFrame) -> PrbmFemNumbers:
-    """``PrbmFemNumbers`` of a case's rows (none for a case without rows: NaN, no limit claimed)."""
-    if len(part):
-        return PrbmFemNumbers.of(part)
-    return PrbmFemNumbers(math.nan, math.nan, prbm_fem_verdict(part), math.nan, 0)
 
 
 def group_order(group: str) -> tuple:

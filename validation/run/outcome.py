@@ -536,7 +536,10 @@ class PrbmFemNumbers:
 
     @classmethod
     def of(cls, part: pd.DataFrame) -> PrbmFemNumbers:
-        """The numbers of one case's rows."""
+        """The numbers of one case's rows (a case without rows: NaN, none unreliable, its verdict of
+        none)."""
+        if not len(part):
+            return cls(math.nan, math.nan, prbm_fem_verdict(part), math.nan, 0)
         relative, length = prbm_fem_errors(part)
         return cls(relative, length, prbm_fem_verdict(part), fem_error_relative(part), fem_estimates_unreliable(part))
 
