@@ -544,3 +544,22 @@ def test_shifted_cholesky_sees_every_eigenvalue_below_minus_tol(seed):
                 kl = w if banded else 0
                 band = Band(banded=banded, kl=kl, ku=kl, ld=ldk)
                 assert shifted_cholesky_fails(K, band, n, held, tol) == expected, (trial, tol, ldk)
+
+
+@pytest.mark.parametrize("elements", [1, 2, 8, 200])
+def test_a_beams_band_is_stored_banded_at_any_size(elements):
+    """`MatrixLayout`'s choice (``kind="auto"``): a cantilever's tangent, RCM-numbered, has a half-band of
+    5 (two nodes of 3 DOFs), banded from 3 unknowns to 600 (`validation.bench.solver_choice` measures the
+    compiled band LU as fast as LAPACK's dense LU at 6 unknowns and faster from 12 up)."""
+    system = _compressed_column(1.0, elements=elements)
+    assert system.layout.bw <= 5 and system.layout.kind == "banded"
+
+
+def test_a_wide_band_is_stored_dense_up_to_300_unknowns_and_sparse_beyond():
+    """The same choice for a band wider than max(8, n / 6): a full matrix is stored dense at 20 and at
+    290 unknowns, sparse at 310."""
+    from fem.linear_solver import MatrixLayout
+
+    for n, kind in ((20, "dense"), (290, "dense"), (310, "sparse")):
+        rows, cols = np.divmod(np.arange(n * n), n)
+        assert MatrixLayout(n, rows, cols).kind == kind
