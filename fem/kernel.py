@@ -727,6 +727,17 @@ def _cholesky_fails(
     return bool(ints[3] > 0)
 
 
+@njit(cache=True, no_rewrites=True, no_cfunc_wrapper=True, no_cpython_wrapper=True, _nrt=False)  # type: ignore[call-overload]  # an option numba's annotations omit
+def _dot(a: FloatArray, b: FloatArray) -> float:
+    """The dot product a . b summed in index order: the same rounding on every CPU (NumPy's ``np.dot``
+    is BLAS ``ddot``, whose kernel, and with it the order of the partial sums, depends on the CPU), so
+    the convergence tests that read it decide alike everywhere."""
+    total = 0.0
+    for i in range(a.shape[0]):
+        total += a[i] * b[i]
+    return total
+
+
 @njit(cache=True, no_rewrites=True, no_cfunc_wrapper=True)  # type: ignore[call-overload]  # an option numba's annotations omit
 def _evaluate(
     q: FloatArray,
@@ -746,7 +757,7 @@ def _evaluate(
     first calls it, has one."""
     _assemble(q, beta_prev, load, beams, dofs, couplings, storage, work, el, np.empty((dofs.edofs.shape[0], 6)))
     f_ext = load.lam * work.f_ref
-    scale_ext, scale_int = math.sqrt(np.dot(f_ext, f_ext)), math.sqrt(np.dot(work.f_int, work.f_int))
+    scale_ext, scale_int = math.sqrt(_dot(f_ext, f_ext)), math.sqrt(_dot(work.f_int, work.f_int))
     return scale_int if scale_int > scale_ext else scale_ext
 
 
@@ -926,9 +937,9 @@ def newton_load(
         _assemble(q, start.beta, load, beams, dofs, couplings, storage, work, el, p)
         for i in range(f_ext.shape[0]):  # F_scale = max(|lambda f_ref|, |f_int|), as `_evaluate`
             f_ext[i] = load.lam * work.f_ref[i]
-        scale_ext, scale_int = math.sqrt(np.dot(f_ext, f_ext)), math.sqrt(np.dot(work.f_int, work.f_int))
+        scale_ext, scale_int = math.sqrt(_dot(f_ext, f_ext)), math.sqrt(_dot(work.f_int, work.f_int))
         scale = scale_int if scale_int > scale_ext else scale_ext
-        rn = math.sqrt(np.dot(r, r))
+        rn = math.sqrt(_dot(r, r))
         tol = rtol * scale + floor + atol
         hist[it] = rn / (1e-300 if 1e-300 > scale else scale)
         converged = (rn <= tol or dq_small) and (it > 0 or rn <= rtol * scale + atol)
@@ -1010,7 +1021,7 @@ def newton_load(
                 for k in range(n):
                     dq[k] = dq[k] * (damp / big)
         # converged by the energy criterion, or the correction taken
-        energy_small = it > 0 and abs(np.dot(dq, r)) <= rtol * rtol * scale * L_ref
+        energy_small = it > 0 and abs(_dot(dq, r)) <= rtol * rtol * scale * L_ref
         if not energy_small:
             dq_small = True
             for k in range(n):
