@@ -6,28 +6,20 @@ answer): ``load_limit`` is the last load inside.  Over a model's map axis (``Atl
 the load angle, kappa0, the moment ratio, ...) the region is the worst line at each value (the least
 load limit over the other shape inputs), so a region read off the table holds for every line it
 summarises.  ``region_table`` gives, per threshold, the limits over the map axis; ``region_words`` says
-them in a sentence with numbers; ``draw_map`` draws the error over the map axis and the load with the
-region boundaries and the seeds' claimed ranges (``cases/atlas/claims.toml``) over it.
+them in a sentence with numbers; ``grid`` lays a column out over the map axis and the load (what
+``map_figure`` draws, with the region boundaries and the seeds' claimed ranges over it).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
 
-import matplotlib
+import numpy as np
+import pandas as pd
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import pandas as pd  # noqa: E402
-
-from validation.atlas.claims import Claim  # noqa: E402
-from validation.atlas.expected import REGION_LEVELS  # noqa: E402
-from validation.atlas.minor_ticks import mark_minor_ticks  # noqa: E402
-from validation.atlas.models import MODELS  # noqa: E402
+from validation.atlas.expected import REGION_LEVELS
+from validation.atlas.models import MODELS
 
 
 @dataclass(frozen=True)
@@ -185,7 +177,7 @@ def region_words(s: RegionSummary) -> str:
     )
 
 
-def _grid(frame: pd.DataFrame, model: str, column: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def grid(frame: pd.DataFrame, model: str, column: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(map-axis values, loads, worst column value over the other shape inputs) on the atlas grid."""
     m = MODELS[model]
     rows = frame[(frame["model"] == model)]
@@ -197,55 +189,3 @@ def _grid(frame: pd.DataFrame, model: str, column: str) -> tuple[np.ndarray, np.
         return np.array([0.0, 1.0]), loads, np.vstack([table, table]).T
     table = value.groupby([rows["load"], rows[axis]]).max().unstack(axis)
     return table.columns.to_numpy(float), table.index.to_numpy(float), table.to_numpy(float)
-
-
-def draw_map(frame: pd.DataFrame, model: str, path: Path, claims: Sequence[Claim] = ()) -> Path:
-    """The tip error over the map axis and the load (worst over the other shape inputs; grey: beyond the
-    atlas), the 0.5/1/3/5 % region boundaries, and each claim's ranges on these axes."""
-    m = MODELS[model]
-    x, loads, error = _grid(frame, model, "tip_error")
-    fig, ax = plt.subplots(figsize=(6.4, 4.4), layout="constrained")
-    ax.set_facecolor("0.85")
-    shown = np.clip(error, 1e-3, 100.0)
-    mesh = ax.pcolormesh(
-        x, loads, shown, shading="nearest", cmap="viridis", norm=matplotlib.colors.LogNorm(vmin=0.01, vmax=100.0)
-    )
-    bar = fig.colorbar(mesh, ax=ax)
-    bar.set_label("tip error at equal load (% of L)")
-    if x.size > 1:
-        lines = ax.contour(
-            x,
-            loads,
-            np.nan_to_num(error, nan=1e3),
-            levels=list(REGION_LEVELS),
-            colors=["white", "#ffd166", "#ef476f", "black"],
-            linewidths=1.2,
-        )
-        ax.clabel(lines, fmt=lambda v: f"{v:g} %", fontsize=8)
-    for claim in claims:
-        if model not in claim.models:
-            continue
-        for column, lo, hi in claim.range:
-            if column == m.map_axes[0]:
-                for v in (lo, hi):
-                    if x.min() < v < x.max():
-                        ax.axvline(v, color="#06d6a0", ls="--", lw=1.0)
-            elif column in frame and column not in ("in_fit_range",) and x.size > 1:
-                _, _, g = _grid(frame, model, column)
-                g = np.abs(g)
-                for v in (lo, hi):
-                    if np.nanmin(g) < v < np.nanmax(g):
-                        ax.contour(x, loads, g, levels=[v], colors="#06d6a0", linestyles="--", linewidths=1.0)
-    ax.set_yscale("log")
-    ax.set_xlabel(
-        next((a.label for a in m.shape_axes if a.name == m.map_axes[0]), "") if m.map_axes[0] != "load" else ""
-    )
-    ax.set_ylabel(m.load.label)
-    ax.set_title(f"{m.title}\n(worst over the other inputs; dashed green: the seeds' claimed ranges)", fontsize=9)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.stem + ".tmp.png")
-    mark_minor_ticks(fig)
-    fig.savefig(tmp, dpi=110)
-    plt.close(fig)
-    tmp.replace(path)
-    return path

@@ -22,6 +22,7 @@ from tqdm import tqdm
 
 from validation.atlas import dataset, regions
 from validation.atlas.claims import check_claims, load_claims
+from validation.atlas.map_figure import MapFigure
 from validation.atlas.maps import write_maps
 from validation.atlas.models import MODELS
 from validation.run.exit_status import ExitStatus
@@ -46,8 +47,9 @@ def _summaries(frame: pd.DataFrame, folder: Path, models: list[str]) -> None:
     """Regions, claims and maps of a complete dataset (each file replaced whole)."""
     claims = load_claims(CLAIMS)
     rows = []
+    maps = MapFigure()
     for name in models:
-        regions.draw_map(frame, name, folder / "maps" / f"{name}.png", claims)
+        maps.draw(frame, name, folder / "maps" / f"{name}.png", claims)
         for s in regions.summaries(frame, name):
             rows.append({**s.__dict__, "words": regions.region_words(s)})
             if s.threshold in (1.0, 5.0):

@@ -46,7 +46,7 @@ from typing import Callable
 import pandas as pd
 
 from validation.atlas import claims as atlas_claims
-from validation.atlas import dataset, measured, refit, regions
+from validation.atlas import dataset, map_figure, measured, refit, regions
 from validation.atlas.models import MODELS
 from validation.report.page import _fmt, _image, _link, _page
 
@@ -456,12 +456,13 @@ def _claims_section(frame: pd.DataFrame, claims: list, report: Path) -> tuple[st
 
 def _model_sections(frame: pd.DataFrame, claims: list, checked: pd.DataFrame, figures: Path) -> str:
     body = []
+    maps = map_figure.MapFigure()  # every map on one figure
     for name, m in MODELS.items():
         if not (frame["model"] == name).any():
             continue
         picture = figures / f"map_{name}.png"
         picture.unlink(missing_ok=True)
-        regions.draw_map(frame, name, picture, claims)
+        maps.draw(frame, name, picture, claims)
         sentences = "".join(f"<li>{html.escape(regions.region_words(s))}</li>" for s in regions.summaries(frame, name))
         mine = checked[checked["model"].astype(str).str.split(", ").map(lambda ms: name in ms)]
         claimed = "".join(
@@ -547,7 +548,15 @@ def _source_digest() -> bytes:
     atlas = here.parents[1] / "atlas"
     return b"".join(
         p.read_bytes()
-        for p in (here, atlas / "regions.py", atlas / "claims.py", atlas / "refit.py", atlas / "models.py")
+        for p in (
+            here,
+            atlas / "regions.py",
+            atlas / "map_figure.py",
+            atlas / "minor_ticks.py",
+            atlas / "claims.py",
+            atlas / "refit.py",
+            atlas / "models.py",
+        )
     )
 
 
