@@ -302,17 +302,22 @@ GLANCE_COLUMNS = GLANCE_KEY + [
 UNRELIABLE = "unreliable"
 
 
-def marked_estimates(table: pd.DataFrame) -> pd.DataFrame:
-    """The table with each error estimate marked unreliable (``error_estimate_reliable`` False: the FEM's
-    meshes were not in the asymptotic range, the estimate is no bound) shown as the word ``UNRELIABLE``
-    instead of its number."""
+def unreliable_estimates(table: pd.DataFrame) -> list[bool]:
+    """Per row, whether its error estimate is marked unreliable (``error_estimate_reliable`` the boolean
+    False: the FEM's meshes were not in the asymptotic range, the estimate is no bound)."""
     if "error_estimate_reliable" not in table:
-        return table
-    marked = table["error_estimate_reliable"].map(lambda v: isinstance(v, (bool, np.bool_)) and not v)
-    if not marked.any():
+        return [False] * len(table)
+    return [isinstance(v, (bool, np.bool_)) and not v for v in table["error_estimate_reliable"].tolist()]
+
+
+def marked_estimates(table: pd.DataFrame) -> pd.DataFrame:
+    """The table with each error estimate marked unreliable (``unreliable_estimates``) shown as the word
+    ``UNRELIABLE`` instead of its number."""
+    marked = unreliable_estimates(table)
+    if not any(marked):
         return table
     out = table.copy()
-    out["error_estimate"] = out["error_estimate"].astype(object).mask(marked.astype(bool), UNRELIABLE)
+    out["error_estimate"] = out["error_estimate"].astype(object).mask(np.array(marked), UNRELIABLE)
     return out
 
 
@@ -321,9 +326,10 @@ def glance(table: pd.DataFrame) -> pd.DataFrame:
     differences an engineer asks about first (PRBM - FEM, each model - measured, FEM - exact)."""
     if table.empty or table["quantity"].isna().all():
         return pd.DataFrame()
-    rows = [
-        row for row in marked_estimates(table)[GLANCE_COLUMNS].itertuples(index=False, name=None) if not pd.isna(row[0])
-    ]
+    columns = [table[c].tolist() for c in GLANCE_COLUMNS]
+    estimate = GLANCE_COLUMNS.index("error_estimate")
+    columns[estimate] = [UNRELIABLE if bad else e for e, bad in zip(columns[estimate], unreliable_estimates(table))]
+    rows = [row for row in zip(*columns) if not pd.isna(row[0])]
     key = itemgetter(0, 1, 2)
     values, printed = _first_by(rows, key, 3, 4), _first_by(rows, key, 5, 6)
     # a row per output with a method's value (sorted), one frame built at once (no index to join on)
@@ -333,22 +339,13 @@ def glance(table: pd.DataFrame) -> pd.DataFrame:
         name: [k[i] for k in keys] if keys else pd.Series([], dtype=object)  # as an empty index
         for i, name in enumerate(GLANCE_KEY)
     }
-    out = pd.DataFrame(
-        key_columns | _spread(values, keys, shown) | _spread(printed, keys, _labels(printed), "printed ")
-    )
+    numbers = _spread(values, keys, shown) | _spread(printed, keys, _labels(printed), "printed ")
     fem_est: dict[tuple, object] = {}  # a float, or UNRELIABLE
     for row in rows:
         if row[3] == "fem":
             fem_est.setdefault(key(row), row[7])
-    if fem_est:
-        out["fem ± (estimate)"] = [fem_est.get(k, np.nan) for k in keys]  # floats, or UNRELIABLE
-    if {"prbm", "fem"} <= set(out.columns):
-        out["PRBM - FEM"] = out["prbm"] - out["fem"]
-    for method in ("prbm", "fem"):
-        if method in out.columns and "printed measured" in out.columns:
-            out[f"{method.upper()} - measured"] = out[method] - out["printed measured"]
-    if {"fem", "elastica"} <= set(out.columns):
-        out["FEM - exact"] = out["fem"] - out["elastica"]
+    estimates = {"fem ± (estimate)": [fem_est.get(k, np.nan) for k in keys]} if fem_est else {}  # or UNRELIABLE
+    out = pd.DataFrame(key_columns | numbers | estimates | _differences(numbers))
     labels: dict[tuple, str] = {}
     units: dict[str, str] = {}
     for row in rows:
@@ -357,6 +354,19 @@ def glance(table: pd.DataFrame) -> pd.DataFrame:
     out.insert(3, "load", [labels.get(k, k[2]) for k in zip(out["quantity"], out["point"], out["level"])])
     out.insert(1, "unit", out["quantity"].map(units))
     return out.drop(columns=["level"])
+
+
+def _differences(numbers: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The differences an engineer asks about first, where both sides are columns of ``numbers`` (each
+    method's values, and each printed column as 'printed <label>'): PRBM - FEM, each model - measured,
+    FEM - exact."""
+    pairs = [
+        ("PRBM - FEM", "prbm", "fem"),
+        ("PRBM - measured", "prbm", "printed measured"),
+        ("FEM - measured", "fem", "printed measured"),
+        ("FEM - exact", "fem", "elastica"),
+    ]
+    return {name: numbers[left] - numbers[right] for name, left, right in pairs if {left, right} <= numbers.keys()}
 
 
 def _case_files(result: CaseResult, out: Path) -> tuple[list[str], str | None]:
@@ -454,7 +464,8 @@ def _case_page(result: CaseResult, table: pd.DataFrame, out: Path) -> DrawnPage:
         "converged": "converged",
     }
     cols = _with_model_range(cols, table)
-    shown = marked_estimates(table.dropna(subset=["quantity"]))[list(cols)].rename(columns=cols)
+    listed = table["quantity"].notna()  # a method asked for no output has one row, without a quantity
+    shown = marked_estimates(table if listed.all() else table[listed])[list(cols)].rename(columns=cols)
     verdicts = method_verdicts(
         case, result.runs, table, verdict_by_method(case, result.runs, table) if len(table) else {}
     )
@@ -566,8 +577,8 @@ def _code_digest() -> str:
     """The source of the modules that draw a case page: a page is rewritten when they change (read once
     a process)."""
     here = Path(__file__).parent
-    names = ["build.py", "charts.py", "format.py", "summary.py", "paraview.py"]
-    sources = [here / n for n in names] + [here.parent / "run" / "verdict.py"]
+    names = ["build.py", "charts.py", "format.py", "summary.py", "paraview.py", "page.py"]
+    sources = [here / n for n in names] + [here.parent / "run" / n for n in ("verdict.py", "compare.py", "outcome.py")]
     return hashlib.sha256(b"".join(p.read_bytes() for p in sources)).hexdigest()
 
 
@@ -598,8 +609,7 @@ def _page_job(args) -> PageLink:
     A page that cannot be drawn becomes a page saying why, so one case never costs the others'."""
     result, part, out = args
     cid = result.loaded.id
-    stable = part.drop(columns=["wall_time", "cached"])  # what a page shows, less the timings
-    digest = hashlib.sha256((result.loaded.text + stable.to_csv(index=False) + _code_digest()).encode()).hexdigest()
+    digest = hashlib.sha256((result.loaded.text + _rows_text(part) + _code_digest()).encode()).hexdigest()
     stamp = out / "cases" / f"{cid}.digest"
     if stamp.exists() and stamp.read_text() == digest and (out / "cases" / f"{cid}.html").exists():
         return _drawn_link(result, part, f"cases/{cid}.html")
@@ -614,6 +624,13 @@ def _page_job(args) -> PageLink:
         return PageLink(cid, link, error)
     stamp.write_text(digest)
     return _drawn_link(result, part, drawn.link, drawn)
+
+
+def _rows_text(part: pd.DataFrame) -> str:
+    """What a page shows of a case's rows, less the timings (``wall_time``, ``cached``), as text for its
+    digest: each column's name and the text of its values, in order (the same whatever the table's storage
+    of strings)."""
+    return repr([(c, [str(v) for v in part[c].tolist()]) for c in part.columns if c not in ("wall_time", "cached")])
 
 
 def _drawn_link(result: CaseResult, part: pd.DataFrame, link: str, drawn: DrawnPage | None = None) -> PageLink:

@@ -24,12 +24,10 @@ from validation.case.loads import driving_load, load_name, load_unit
 from validation.report.format import (
     SEED_KEYS,
     VERDICT_COLOURS,
-    by_case,
     cite_keys,
     document_title,
     error_colour,
     percent,
-    rows_of,
     seconds,
     sig,
     verdict_html,
@@ -101,12 +99,20 @@ LEVEL_COLUMNS = ["method", "quantity", "point", "level", "value", "scale"]
 def prbm_fem_by_level(part: pd.DataFrame) -> pd.Series:
     """Largest |PRBM - FEM| of the length outputs at each level, over the characteristic length (the
     first value of each method, output and level; the first characteristic length given), indexed by the
-    sorted levels with a difference; read in one pass over the rows (cheaper than a pandas pivot on
-    tables this small)."""
+    sorted levels with a difference."""
+    worst = worst_by_level(part)
+    if not worst:
+        return pd.Series(dtype=float)
+    return pd.Series(list(worst.values()), index=pd.Index(list(worst), name="level"), dtype=float)
+
+
+def worst_by_level(part: pd.DataFrame) -> dict[int, float]:
+    """``prbm_fem_by_level`` as a dict, level -> largest difference, in the order of the levels; read in
+    one pass over the rows (cheaper than a pandas pivot on tables this small)."""
     values: dict[str, dict[tuple, float]] = {"prbm": {}, "fem": {}}
     scale = math.nan
     any_length = False
-    for method, quantity, point, level, value, row_scale in part[LEVEL_COLUMNS].itertuples(index=False, name=None):
+    for method, quantity, point, level, value, row_scale in zip(*(part[c].tolist() for c in LEVEL_COLUMNS)):
         if not (isinstance(quantity, str) and QUANTITIES[quantity].dimension == "length"):
             continue
         any_length = True
@@ -116,14 +122,13 @@ def prbm_fem_by_level(part: pd.DataFrame) -> pd.Series:
             values[method].setdefault((quantity, point, level), value)
     prbm, fem = values["prbm"], values["fem"]
     if not any_length or not _has_number(prbm) or not _has_number(fem):
-        return pd.Series(dtype=float)
+        return {}
     worst: dict[int, float] = {}
     for key in prbm.keys() & fem.keys():
         diff = abs(prbm[key] - fem[key]) / scale
         if not math.isnan(diff):
             worst[key[2]] = max(worst.get(key[2], -math.inf), diff)
-    levels = sorted(worst)
-    return pd.Series([worst[k] for k in levels], index=pd.Index(levels, name="level"), dtype=float)
+    return {level: worst[level] for level in sorted(worst)}
 
 
 def _has_number(values: dict) -> bool:
@@ -132,26 +137,25 @@ def _has_number(values: dict) -> bool:
 
 def case_sentence(result: CaseResult, part: pd.DataFrame) -> str:
     """The case's answer in one sentence."""
-    by_level = prbm_fem_by_level(part).dropna()
+    by_level = worst_by_level(part)  # no NaN
     clauses = []
-    if len(by_level):
-        last, worst = int(by_level.index.max()), int(by_level.idxmax())
+    if by_level:
+        last, worst = int(max(by_level)), int(max(by_level, key=by_level.__getitem__))  # the first largest
         clauses.append(
-            f"PRBM within {percent(by_level.max())} of L of the FEM up to {level_phrase(result, last)}"
+            f"PRBM within {percent(max(by_level.values()))} of L of the FEM up to {level_phrase(result, last)}"
             + (f" (largest at {level_phrase(result, worst)})" if worst != last else "")
         )
-        prbm_rows = part[(part["method"] == "prbm") & part["level"].notna()]
-        missing = prbm_rows[prbm_rows["value"].isna()]
-        if len(missing):
+        without_value = (part["method"] == "prbm") & part["level"].notna() & part["value"].isna()
+        if without_value.any():
+            missing = part[without_value]
             first = int(missing["level"].min())
             why = str(missing.sort_values("level")["message"].iloc[0] or "")
             clauses.append(f"no PRBM answer from {level_phrase(result, first)}" + (f" ({_short(why)})" if why else ""))
     else:
-        claimed = part[part["within_tolerance"].notna()]
-        if len(claimed):
-            good = int((claimed["within_tolerance"] == True).sum())  # noqa: E712
+        claimed, good = claimed_limits(part)
+        if claimed:
             clauses.append(
-                f"{good} of {len(claimed)} claimed limits met (printed numbers, findings, "
+                f"{good} of {claimed} claimed limits met (printed numbers, findings, "
                 f"limits between methods, FEM against the exact elastica)"
             )
         reason = getattr(result.loaded.case.case, "no_prbm_fem", None)
@@ -169,6 +173,12 @@ def case_sentence(result: CaseResult, part: pd.DataFrame) -> str:
         return "Every method ran; no printed number to compare with."
     sentence = round_numbers("; ".join(clauses))
     return sentence[0].upper() + sentence[1:] + "."
+
+
+def claimed_limits(part: pd.DataFrame) -> tuple[int, int]:
+    """How many rows claim a limit (``within_tolerance`` set), and how many of them meet it."""
+    within = part["within_tolerance"]
+    return int(within.notna().sum()), int((within == True).sum())  # noqa: E712
 
 
 DECIMAL = re.compile(r"(?<![\w.])-?\d+\.\d+(?:[eE][+-]?\d+)?(?![\w.])")
@@ -196,7 +206,7 @@ def summarise(
     `method_verdicts` of ``part``, and ``numbers``: its ``PrbmFemNumbers``, when the caller has them (the
     case page works the first two out, the page writer the numbers for ``summary.csv`` too)."""
     case = result.loaded.case
-    claimed = part[part["within_tolerance"].notna()]
+    claimed, passed = claimed_limits(part)
     findings = part["finding"].dropna().unique()
     n_findings = len(findings) + len(case.case.findings)
     if verdicts is None:
@@ -217,8 +227,8 @@ def summarise(
         prbm_fem_length=numbers.length,
         prbm_fem_relative=numbers.relative,
         fem_estimate=numbers.fem_estimate,
-        checks=len(claimed),
-        checks_passed=int((claimed["within_tolerance"] == True).sum()),  # noqa: E712
+        checks=claimed,
+        checks_passed=passed,
         findings=n_findings,
         times={m: r.wall_time for m, r in result.runs.items()},
         no_prbm_fem=no_prbm_fem_reason(result)
@@ -494,22 +504,38 @@ class Finding:
 def findings(results: list[CaseResult], table: pd.DataFrame) -> list[Finding]:
     """Case-level findings and reference findings, each once, with the printed and computed numbers."""
     out = []
-    noted = table[table["finding"].notna()]
-    parts = by_case(noted)
+    evidence = _evidence(table)
     for result in sorted(results, key=lambda r: (group_order(r.loaded.case.case.group), r.loaded.id)):
         cid = result.loaded.id
         out += [Finding(cid, text, []) for text in result.loaded.case.case.findings]
-        part = rows_of(parts, noted, cid)
-        for text, rows in part.groupby("finding", sort=False):
-            rows = rows.drop_duplicates(["method", "quantity", "point", "level", "reference_label"])
-            evidence = [
-                f"{r['quantity']}{'@' + r['point'] if r['point'] else ''} at {r['level_label']}: "
-                f"{METHOD_NAMES.get(r['method'], r['method'])} {sig(r['value'])} against printed "
-                f"{r['reference_label']} {sig(r['reference_value'])}"
-                + (f" ({percent(r['rel_error'])} apart)" if not np.isnan(r["rel_error"]) else "")
-                for _, r in rows.iterrows()
-            ]
-            out.append(Finding(cid, str(text), evidence))
+        out += [Finding(cid, str(text), lines) for text, lines in evidence.get(cid, {}).items()]
+    return out
+
+
+EVIDENCE_COLUMNS = ["case", "finding", "method", "quantity", "point", "level", "reference_label"]
+EVIDENCE_NUMBERS = ["level_label", "value", "reference_value", "rel_error"]
+
+
+def _evidence(table: pd.DataFrame) -> dict[str, dict[str, list[str]]]:
+    """Per case and per finding (in the order they first appear in ``table``), a line for each row that
+    carries the finding, one for each method, output, level and printed column (the first such row)."""
+    noted = table["finding"].notna().to_numpy()
+    if not noted.any():
+        return {}
+    columns = [table[c].to_numpy()[noted].tolist() for c in EVIDENCE_COLUMNS + EVIDENCE_NUMBERS]
+    out: dict[str, dict[str, list[str]]] = {}
+    seen = set()
+    for row in zip(*columns):
+        key = tuple(None if pd.isna(v) else v for v in row[: len(EVIDENCE_COLUMNS)])  # NaN matches NaN
+        if key in seen:
+            continue
+        seen.add(key)
+        case, text, method, quantity, point, _, label, level_label, value, printed, rel_error = row
+        out.setdefault(str(case), {}).setdefault(text, []).append(
+            f"{quantity}{'@' + point if point else ''} at {level_label}: "
+            f"{METHOD_NAMES.get(method, method)} {sig(value)} against printed {label} {sig(printed)}"
+            + (f" ({percent(rel_error)} apart)" if not np.isnan(rel_error) else "")
+        )
     return out
 
 

@@ -254,8 +254,9 @@ def verdict_by_method(case: Case, runs: dict[str, MethodRun], table) -> dict[str
     a loaded level, unless ``case.unchecked`` gives the reason. Each problem is filed under the method
     it is about (an agreement under the method it holds to the other)."""
     problems: dict[str, list[str]] = {method: [] for method in runs}
-    claimed = table[table["within_tolerance"].notna()]
-    for _, row in claimed[claimed["within_tolerance"] == False].iterrows():  # noqa: E712
+    claimed = table["within_tolerance"].notna()
+    outside = claimed & (table["within_tolerance"] == False)  # noqa: E712
+    for _, row in table[outside].iterrows() if outside.any() else ():
         if row["method"] in case.case.expected_failure and math.isnan(row["value"]):
             continue  # no value where the method is expected to fail: the expectation is checked below
         problems.setdefault(row["method"], []).append(
@@ -272,6 +273,7 @@ def verdict_by_method(case: Case, runs: dict[str, MethodRun], table) -> dict[str
                 f"no level where both sides have {', '.join(agreement.quantities)}"
             )
     loaded = loaded_levels(case)
+    checked = _checked_levels(table, claimed)
     for method, run in runs.items():
         failed = not run.converged or not run.values
         expected = case.case.expected_failure.get(method)
@@ -281,14 +283,26 @@ def verdict_by_method(case: Case, runs: dict[str, MethodRun], table) -> dict[str
             problems[method].append(f"{method} was expected to fail ({expected}) but converged")
         if not run.values or method in case.case.unchecked:
             continue
-        mine = claimed[claimed["method"] == method]
-        others = claimed[(claimed["reference_label"] == method) & claimed["check"].isin(["agreement", "fem-elastica"])]
-        levels = set(mine["level"].dropna().astype(int)) | set(others["level"].dropna().astype(int))
-        if not levels & loaded:
+        if not checked.get(method, set()) & loaded:
             problems[method].append(
                 f"{method} has values but no enforced check at a loaded level, and case.unchecked gives no reason"
             )
     return problems
+
+
+def _checked_levels(table, claimed) -> dict[str, set[int]]:
+    """Per method, the levels at which an enforced check (a row of ``table`` where ``claimed``) holds it
+    to something: its own checks, and the agreements and FEM-elastica checks held against it."""
+    levels: dict[str, set[int]] = {}
+    enforced = claimed & table["level"].notna()
+    columns = (enforced, table["method"], table["reference_label"], table["check"], table["level"])
+    for row_enforced, method, against, kind, level in zip(*(column.tolist() for column in columns)):
+        if not row_enforced:
+            continue
+        levels.setdefault(method, set()).add(int(level))
+        if kind in ("agreement", "fem-elastica"):
+            levels.setdefault(against, set()).add(int(level))
+    return levels
 
 
 def case_verdict(case: Case, runs: dict[str, MethodRun], table) -> list[str]:

@@ -374,22 +374,26 @@ def run_cases(
     )
 
 
-def _first_values(part: pd.DataFrame, method: str | None = None) -> dict[tuple, tuple[float, float, float]]:
+def _first_values(
+    part: pd.DataFrame, method: str | None = None, where: list[bool] | None = None
+) -> dict[tuple, tuple[float, float, float]]:
     """(method, quantity, point, level) -> (value, error_estimate, scale) of the first row with that key
-    (as ``drop_duplicates`` keeps it), in plain Python: a case has tens of rows, where pandas' per-call
-    cost is most of the time."""
+    (as ``drop_duplicates`` keeps it; only the rows of ``method``, and where ``where`` holds, when given),
+    in plain Python: a case has tens of rows, where pandas' per-call cost is most of the time."""
     first: dict[tuple, tuple[float, float, float]] = {}
+    rows = len(part)
     columns = (
-        part["method"],
-        part["quantity"],
-        part["point"],
-        part["level"],
-        part["value"],
-        part["error_estimate"] if "error_estimate" in part else [math.nan] * len(part),
-        part["scale"] if "scale" in part else [math.nan] * len(part),
+        part["method"].tolist(),
+        part["quantity"].tolist(),
+        part["point"].tolist(),
+        part["level"].tolist(),
+        part["value"].tolist(),
+        part["error_estimate"].tolist() if "error_estimate" in part else [math.nan] * rows,
+        part["scale"].tolist() if "scale" in part else [math.nan] * rows,
+        [True] * rows if where is None else where,
     )
-    for m, q, p, lv, value, estimate, scale in zip(*columns):
-        if method is None or m == method:
+    for m, q, p, lv, value, estimate, scale, wanted in zip(*columns):
+        if wanted and (method is None or m == method):
             key = (m, q, p if isinstance(p, str) else "", lv)  # no point: "" in memory, NaN read back from CSV
             first.setdefault(key, (float(value), float(estimate), float(scale)))
     return first
@@ -419,17 +423,16 @@ def prbm_fem_errors(part: pd.DataFrame) -> tuple[float, float]:
     for q, _, fem in pairs:
         scale[q] = max(scale.get(q, 0.0), abs(fem))
     rel = [abs(prbm - fem) / max(abs(fem), 0.01 * scale[q]) if scale[q] > 0 else math.nan for q, prbm, fem in pairs]
-    scales = part["scale"].dropna()
-    char = float(scales.iloc[0]) if len(scales) else math.nan
+    char = next((float(s) for s in part["scale"].tolist() if not pd.isna(s)), math.nan)
     norm = [abs(prbm - fem) / char for q, prbm, fem in pairs if QUANTITIES[q].dimension == "length"]
     return _nanmax(rel), _nanmax(norm)
 
 
-def _reliable(part: pd.DataFrame) -> pd.Series:
-    """Rows whose error estimate is not marked unreliable (``error_estimate_reliable`` not False)."""
+def _reliable(part: pd.DataFrame) -> list[bool]:
+    """Per row, whether its error estimate is not marked unreliable (``error_estimate_reliable`` not False)."""
     if "error_estimate_reliable" not in part:
-        return pd.Series(True, index=part.index)
-    return part["error_estimate_reliable"].map(_not_false).astype(bool)
+        return [True] * len(part)
+    return [_not_false(value) for value in part["error_estimate_reliable"].tolist()]
 
 
 def _not_false(value) -> bool:
@@ -437,12 +440,22 @@ def _not_false(value) -> bool:
     return not (isinstance(value, (bool, np.bool_)) and not value)
 
 
+def _missing_as_none(value: object) -> object:
+    """``value``, or None where it is missing (NaN, None, pd.NA): one key for every missing value, as
+    ``drop_duplicates`` compares them."""
+    return None if pd.isna(value) else value
+
+
 def fem_estimates_unreliable(part: pd.DataFrame) -> int:
     """How many of the FEM's values in one case have an error estimate marked unreliable."""
     if "error_estimate_reliable" not in part:
         return 0
-    rows = part[(part["method"] == "fem") & part["error_estimate"].notna() & ~_reliable(part)]
-    return len(rows.drop_duplicates(["quantity", "point", "level"]))
+    columns = (part["method"], part["error_estimate"].notna(), part["quantity"], part["point"], part["level"])
+    keys = set()  # the distinct (quantity, point, level) of the FEM's rows with an unreliable estimate
+    for (m, estimated, q, p, lv), reliable in zip(zip(*(c.tolist() for c in columns)), _reliable(part)):
+        if m == "fem" and estimated and not reliable:
+            keys.add((_missing_as_none(q), _missing_as_none(p), _missing_as_none(lv)))
+    return len(keys)
 
 
 def fem_error_relative(part: pd.DataFrame) -> float:
@@ -450,11 +463,11 @@ def fem_error_relative(part: pd.DataFrame) -> float:
     characteristic length, other quantities over max(|value|, 1 % of the largest |value| of the same
     quantity). An estimate marked unreliable (``error_estimate_reliable`` False) is no bound and is left
     out."""
+    estimated = part["error_estimate"].notna().tolist()
+    where = [has and reliable for has, reliable in zip(estimated, _reliable(part))]
     rows = [
         (q, value, estimate, scale)
-        for (_, q, _, _), (value, estimate, scale) in _first_values(
-            part[part["error_estimate"].notna() & _reliable(part)], "fem"
-        ).items()
+        for (_, q, _, _), (value, estimate, scale) in _first_values(part, "fem", where).items()
     ]
     if not rows:
         return math.nan
@@ -506,9 +519,8 @@ def _run_columns(part: pd.DataFrame) -> tuple[dict[str, float], dict]:
     seen: set[tuple] = set()
     times: dict[str, float] = {}
     status: dict[str, object] = {}
-    for m, q, p, lv, t, ok in zip(
-        part["method"], part["quantity"], part["point"], part["level"], part["wall_time"], part["converged"]
-    ):
+    columns = ("method", "quantity", "point", "level", "wall_time", "converged")
+    for m, q, p, lv, t, ok in zip(*(part[c].tolist() for c in columns)):
         key = (m, q, p if isinstance(p, str) else "", lv)
         if key in seen:
             continue

@@ -157,25 +157,27 @@ class MethodVerdict:
     reason: str
 
 
-def rows_reason(verdict: Verdict, rows: pd.DataFrame) -> str:
-    """Why a set of rows has ``verdict``, in a few words: the limits, their basis, how many rows."""
+def rows_reason(verdict: Verdict, table: pd.DataFrame, rows: list[int]) -> str:
+    """Why the rows of ``table`` at positions ``rows`` have ``verdict``, in a few words: the limits, their
+    basis, how many rows."""
+
+    def column(name: str) -> list:
+        values = table[name].tolist()
+        return [values[i] for i in rows]
+
     if verdict is Verdict.WITHIN:
-        bases = sorted({str(s) for s in rows["source"].dropna()})
+        bases = sorted({str(s) for s in column("source") if not pd.isna(s)})
         return f"{len(rows)} row(s) within their limit; basis: {'; '.join(bases)}" if bases else ""
     if verdict is Verdict.NO_LIMIT:
-        against = sorted({str(s) for s in rows["reference_label"].dropna()})
+        against = sorted({str(s) for s in column("reference_label") if not pd.isna(s)})
         return f"{len(rows)} row(s) against {', '.join(against)} shown with no limit claimed"
     if verdict is Verdict.OUTSIDE_VALIDITY:
-        flags = sorted({str(s) for s in rows["applicability"].dropna() if s})
-        expected = rows["expected_error"].dropna() if "expected_error" in rows else rows.iloc[:0, 0]
-        atlas = (
-            f" (the PRBM error atlas expects up to {expected.max():.3g} % of L at these levels)"
-            if len(expected)
-            else ""
-        )
+        flags = sorted({str(s) for s in column("applicability") if not pd.isna(s) and s})
+        expected = [e for e in column("expected_error") if not pd.isna(e)] if "expected_error" in table else []
+        atlas = f" (the PRBM error atlas expects up to {max(expected):.3g} % of L at these levels)" if expected else ""
         return f"{len(rows)} row(s) flagged: {'; '.join(flags)}{atlas}"
     if verdict is Verdict.OUTSIDE_LIMIT:
-        r = rows.iloc[0]
+        r = table.iloc[rows[0]]
         return (
             f"{len(rows)} row(s) outside the claimed limit, e.g. {r['quantity']} level {r['level']} against "
             f"{r['reference_label']} (rel error {r['rel_error']:.3g})"
@@ -193,17 +195,16 @@ def method_verdicts(
     under it that its rows do not already explain."""
     out = {}
     expected = case.case.expected_failure
+    rows = _rows_by_verdict(table)
     for method, run in runs.items():
-        mine = table[(table["method"] == method) & table["verdict"].notna()] if len(table) else table
-        cells = {parse(w) for w in mine["verdict"]} if len(mine) else set()
-        by_row = {v: mine[mine["verdict"] == v.value] for v in cells if v is not None}
+        by_row = rows.get(method, {})
         state, why = run_verdict(run, expected.get(method))
         candidates = list(by_row) + ([state] if state else [])
         verdict = worst(candidates)
         reason = (
             why
             if verdict is state and state is not None
-            else (rows_reason(verdict, by_row[verdict]) if verdict is not None and verdict in by_row else "")
+            else (rows_reason(verdict, table, by_row[verdict]) if verdict is not None and verdict in by_row else "")
         )
         lines = (problems or {}).get(method, [])
         if lines and (verdict is None or not verdict.failing):
@@ -214,6 +215,19 @@ def method_verdicts(
     return out
 
 
+def _rows_by_verdict(table: pd.DataFrame) -> dict[str, dict[Verdict, list[int]]]:
+    """Per method, the positions of its rows in ``table`` by their verdict (rows without one left out),
+    in the table's order."""
+    rows: dict[str, dict[Verdict, list[int]]] = {}
+    if not len(table):
+        return rows
+    for position, (method, word) in enumerate(zip(table["method"].tolist(), table["verdict"].tolist())):
+        verdict = parse(word)
+        if verdict is not None and isinstance(method, str):
+            rows.setdefault(method, {}).setdefault(verdict, []).append(position)
+    return rows
+
+
 def case_verdict_of(verdicts) -> Verdict:
     """A case's verdict: the worst of its methods' (``no limit claimed`` for a case without any)."""
     return worst(v.verdict if isinstance(v, MethodVerdict) else v for v in verdicts) or Verdict.NO_LIMIT
@@ -222,15 +236,17 @@ def case_verdict_of(verdicts) -> Verdict:
 def table_verdict(part: pd.DataFrame) -> Verdict:
     """A case's verdict from its rows alone (as ``summary.csv`` is read back), as ``method_verdicts`` and
     ``case_verdict_of`` give it: per method the worst of its rows' verdicts (``no limit claimed`` for a
-    method whose rows only record values: nothing of it is compared), then the worst over the methods."""
+    method whose rows only record values: nothing of it is compared), then the worst over the methods
+    (rows without a method left out)."""
     if "verdict" not in part:
         return Verdict.NO_LIMIT
     if "method" not in part:
         return worst(parse(w) for w in part["verdict"]) or Verdict.NO_LIMIT
-    per_method = [
-        worst(parse(w) for w in rows["verdict"]) or Verdict.NO_LIMIT for _, rows in part.groupby("method", sort=False)
-    ]
-    return worst(per_method) or Verdict.NO_LIMIT
+    per_method: dict[object, Verdict | None] = {}
+    for method, word in zip(part["method"].tolist(), part["verdict"].tolist()):
+        if not pd.isna(method):
+            per_method[method] = worst([per_method.get(method), parse(word)])
+    return worst(v or Verdict.NO_LIMIT for v in per_method.values()) or Verdict.NO_LIMIT
 
 
 def prbm_fem_verdict(part: pd.DataFrame) -> Verdict:
@@ -239,9 +255,16 @@ def prbm_fem_verdict(part: pd.DataFrame) -> Verdict:
     where no such row exists, whatever the size of the difference."""
     if "verdict" not in part or not len(part):
         return Verdict.NO_LIMIT
-    held = part[(part["method"] == "prbm") & (part["reference_label"] == "fem")]
-    flagged = part[(part["method"] == "prbm") & (part["verdict"] == Verdict.OUTSIDE_VALIDITY.value)]
-    found = [parse(w) for w in held["verdict"]] + ([Verdict.OUTSIDE_VALIDITY] if len(flagged) else [])
+    found = []
+    for method, against, word in zip(
+        part["method"].tolist(), part["reference_label"].tolist(), part["verdict"].tolist()
+    ):
+        if method != "prbm":
+            continue
+        if against == "fem":
+            found.append(parse(word))
+        if word == Verdict.OUTSIDE_VALIDITY.value:
+            found.append(Verdict.OUTSIDE_VALIDITY)
     return worst(found) or Verdict.NO_LIMIT
 
 
