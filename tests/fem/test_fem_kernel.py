@@ -15,6 +15,9 @@ from scipy.linalg.lapack import dgbtrf, dgbtrs
 from fem.kernel import Band, Beams, band_lu, band_solve, scatter
 
 EPS = float(np.finfo(float).eps)  # machine epsilon
+# one worker for the module: the kernels called here with arguments no case passes (other sizes, layouts) are
+# compiled once, by one worker, when the compiled cache is cold (about half a CPU-second each in the other)
+pytestmark = pytest.mark.xdist_group("fem_kernel")
 
 
 def _random_elements(rng, n):

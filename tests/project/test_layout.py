@@ -4,11 +4,12 @@ dependency, at most three functions over 80 lines, and the README's architecture
 every package of the tree."""
 
 import ast
-import functools
 import graphlib
 from pathlib import Path
 
 import pytest
+
+from tests.source_trees import SOURCE_TREES, parsed
 
 ROOT = Path(__file__).resolve().parents[2]
 PACKAGES = ("prbm", "fem", "elastica", "bcm", "argcheck", "planar", "validation")
@@ -29,14 +30,10 @@ def modules() -> dict[str, Path]:
     return found
 
 
-@functools.lru_cache(maxsize=None)
 def tree(path: Path) -> ast.Module:
-    """A source file's syntax tree, parsed once for the three checks below (they share one xdist group,
-    so one worker parses the tree once)."""
-    return ast.parse(path.read_text(encoding="utf-8"))
-
-
-SOURCE_TREES = pytest.mark.xdist_group("layout-source-trees")
+    """A source file's syntax tree, parsed once for the three checks below and the other tests of the
+    tree's syntax (tests/source_trees.py: they share one xdist group, so one worker parses the tree once)."""
+    return parsed(path.read_text(encoding="utf-8"))
 
 
 def imported_names(node: ast.AST, package: str) -> list[str]:

@@ -31,6 +31,7 @@ from pathlib import Path
 import pytest
 
 from references import REFERENCES, key_of_seed_file
+from tests.source_trees import SOURCE_TREES, parsed
 
 ROOT = Path(__file__).resolve().parents[2]
 PRODUCTION = ("prbm", "fem", "elastica", "bcm", "argcheck", "planar", "references", "validation")
@@ -67,10 +68,10 @@ def history_hits(text: str) -> list[str]:
 @lru_cache(maxsize=None)
 def prose(text: str) -> list[tuple[int, str]]:
     """(line, text) of every docstring (module, class, function, and bare string statements) and every
-    comment of a source file (parsed once per text: the two prose checks below share one worker,
-    ``xdist_group``, and so one parse of the tree)."""
+    comment of a source file (read once per text: the two prose checks below share one worker with the
+    other tests of the tree's syntax, tests/source_trees.py, and so one parse of the tree)."""
     found = []
-    for node in ast.walk(ast.parse(text)):
+    for node in ast.walk(parsed(text)):
         body = getattr(node, "body", None)
         for statement in body if isinstance(body, list) else []:
             if (
@@ -119,7 +120,7 @@ def test_production_code_has_no_tracker_references_or_dated_timings():
     )
 
 
-@pytest.mark.xdist_group("production-prose")
+@SOURCE_TREES
 def test_every_citation_names_a_key_of_the_bibliography():
     offenders = _offenders(unknown_citations)
     assert not offenders, (
@@ -128,7 +129,7 @@ def test_every_citation_names_a_key_of_the_bibliography():
     )
 
 
-@pytest.mark.xdist_group("production-prose")
+@SOURCE_TREES
 def test_docstrings_and_comments_cite_by_key_not_by_seed_number():
     offenders = _offenders(seed_numbers)
     assert not offenders, "cite by key ([bapat2015, eq 47]), not by seed number:\n" + "\n".join(

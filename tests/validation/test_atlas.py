@@ -28,11 +28,12 @@ from validation.run.runner import run_method
 
 
 @pytest.fixture(scope="module")
-def coarse(tmp_path_factory) -> pd.DataFrame:
-    out = tmp_path_factory.mktemp("atlas")
-    record = dataset.build("coarse", out=out, executor="serial")
-    assert record.lines_run == len(dataset.tasks(list(MODELS), "coarse"))
-    return dataset.load(out, "coarse")
+def coarse(coarse_atlas) -> pd.DataFrame:
+    """The coarse atlas of the current code (built once a session, tests/validation/conftest.py), every
+    line of every model computed by its one build run."""
+    runs = json.loads((dataset.folder(coarse_atlas, "coarse") / "atlas.json").read_text())["runs"]
+    assert [run["lines_run"] for run in runs] == [len(dataset.tasks(list(MODELS), "coarse"))]
+    return dataset.load(coarse_atlas, "coarse")
 
 
 def test_every_model_has_ten_thousand_points_on_the_full_grid():

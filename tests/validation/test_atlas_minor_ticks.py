@@ -21,7 +21,7 @@ from validation.atlas.minor_ticks import MinorTickMarks, mark_minor_ticks  # noq
 
 
 def _map(fig, ax) -> None:
-    """A small error map as ``regions.draw_map`` draws one: log load axis, log colour bar, contours."""
+    """A small error map as ``map_figure.MapFigure`` draws one: log load axis, log colour bar, contours."""
     x, y = np.linspace(5.0, 175.0, 9), np.geomspace(0.04, 70.0, 25)
     z = np.outer(y, 1.0 + x / 50.0) / 3.0
     mesh = ax.pcolormesh(x, y, z, shading="nearest", norm=LogNorm(vmin=0.01, vmax=100.0))

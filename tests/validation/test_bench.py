@@ -1,5 +1,6 @@
 """The benchmark runs and writes its files, and its headline is honest (timings are measured there,
-never asserted here)."""
+never asserted here: a whole ``run_bench`` times each configuration its minimum number of runs,
+``bench_minimum_runs`` in tests/validation/conftest.py)."""
 
 import json
 
@@ -13,6 +14,7 @@ from validation.bench.opensees_script import SCRIPT
 from validation.methods.base import MethodRun, Request
 
 
+@pytest.mark.usefixtures("bench_minimum_runs")
 def test_bench_quick_writes_csv_json_and_plots(tmp_path):
     cases = {"cantilever_tip_load": [0, 9], "no_such_case": None}
     # an unknown case is bad input (exit status 2, validation/run/exit_status.py); the others still run
@@ -28,6 +30,7 @@ def test_bench_quick_writes_csv_json_and_plots(tmp_path):
     assert figures == ["cantilever_tip_load_error_vs_time.png", "time_vs_elements.png"], figures
 
 
+@pytest.mark.usefixtures("bench_minimum_runs")
 def test_unavailable_peer_is_reported_as_unavailable_not_as_did_not_reach(tmp_path, monkeypatch):
     monkeypatch.setattr(bench, "_peer_status", lambda: "peer unavailable: OpenSeesPy cannot be imported (test)")
     one = [bench.BenchCase("cantilever_tip_load", [0], single_level=True)]
@@ -164,6 +167,7 @@ def test_a_fast_configuration_is_timed_as_often_as_fits_in_the_budget(monkeypatc
     assert (got["fem"].repeats, got["opensees"].repeats) == (50, 20)
 
 
+@pytest.mark.usefixtures("bench_minimum_runs")
 def test_both_codes_are_offered_the_same_richardson_step_on_their_plain_runs(tmp_path):
     """Issue 15 item 1: the same post-processing for both codes. Each code's n and 2n plain runs are
     extrapolated by the bench (``paired_label``: ``fem+richardson (plain runs)`` beside the FEM's own

@@ -10,6 +10,8 @@ from functools import lru_cache
 from validation.run import cache
 from validation.run.cache import ROOT, import_statements
 
+from tests.source_trees import SOURCE_TREES, parsed
+
 
 def _walk(body):
     """Every import statement of a parsed body, as a full syntax-tree walk finds them."""
@@ -64,11 +66,12 @@ def _repository_sources():
     return sorted(p for package in cache.PACKAGES for p in (ROOT / package).rglob("*.py"))
 
 
+@SOURCE_TREES  # the full parse of each file is shared with the other tests of the tree's syntax
 def test_the_scan_loses_no_import_of_any_repository_source():
     # a string that reads as an import may add one (a dependency too many invalidates, never goes stale)
     for path in _repository_sources():
         source = path.read_text(encoding="utf-8")
-        assert _dumps(_walk(ast.parse(source).body)) <= _dumps(import_statements(source)), path
+        assert _dumps(_walk(parsed(source).body)) <= _dumps(import_statements(source)), path
 
 
 def test_prose_that_does_not_parse_as_an_import_adds_nothing():

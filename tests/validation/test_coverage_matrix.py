@@ -13,6 +13,9 @@ from validation.run.runner import run_method
 
 ROOT = Path(__file__).resolve().parents[2]
 SECTION = "## What each method can do"
+# one worker for the module: the matrix (``cells``, module scope; every cell a run of its minimal case) is
+# worked out once, not once per worker
+pytestmark = pytest.mark.xdist_group("coverage_matrix")
 
 
 @pytest.fixture(scope="module")
@@ -78,7 +81,13 @@ def test_shorten_keeps_the_reason():
     assert len(long) <= 72 and long.endswith("...")
 
 
-def test_list_methods_prints_the_matrix(capsys, cells):
+def test_list_methods_prints_the_matrix(capsys, cells, monkeypatch):
+    """``list --methods --markdown`` prints the matrix; ``coverage.matrix()`` of every method is the module's
+    ``cells`` (the same function, worked out once), any other selection is worked out again."""
+    whole = coverage.matrix
+    monkeypatch.setattr(
+        coverage, "matrix", lambda methods=coverage.METHODS: cells if methods == coverage.METHODS else whole(methods)
+    )
     assert main(["list", "--methods", "--markdown"]) == 0
     assert capsys.readouterr().out.strip() == coverage.markdown(cells)
     assert main(["list", "--methods", "cantilever_tip_load"]) == 2

@@ -16,14 +16,17 @@ from tests.validation.test_exit_status import fake  # noqa: F401,F811  (the fake
 
 @pytest.fixture
 def tiny_bench_cases():
-    """One level of the cantilever, coarse meshes only: the harness's exit logic, not the timing."""
+    """One level of the cantilever, coarse meshes only: the harness's exit logic, not the timing (each
+    configuration timed its minimum number of runs: ``bench_minimum_runs``, tests/validation/conftest.py)."""
     return {"cantilever_tip_load": [0]}
 
 
+@pytest.mark.usefixtures("bench_minimum_runs")
 def test_bench_exits_0_when_every_method_converges(tmp_path, tiny_bench_cases, fake):  # noqa: F811
     assert run_bench(tmp_path, quick=True, cases=tiny_bench_cases, max_elements=4, plots=False) == 0
 
 
+@pytest.mark.usefixtures("bench_minimum_runs")
 def test_bench_exits_1_when_a_method_of_the_case_does_not_converge(tmp_path, tiny_bench_cases, fake, capsys):  # noqa: F811
     fake["behaviour"] = "not converged"
     assert run_bench(tmp_path, quick=True, cases=tiny_bench_cases, max_elements=4, plots=False) == 1

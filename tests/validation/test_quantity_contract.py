@@ -20,6 +20,9 @@ from hypothesis import strategies as st
 
 from validation.stress import contract
 from validation.stress.contract import (
+    BOUNDARIES,
+    LOADS,
+    PINNED_PINNED_LOADS,
     Configuration,
     build_case,
     large_deflection_check,
@@ -119,13 +122,39 @@ def _assert_conforms(results, label):
     assert not failures, label + "\n" + "\n".join(failures)
 
 
-@settings(max_examples=300, **CHEAP)
-@given(st.randoms(use_true_random=False))
-def test_every_method_meets_linear_theory_in_the_small_load_limit(rng):
-    c = random_configuration(rng, small=True)
-    results = linear_limit_check(c)
-    _assert_conforms(results, c.label())
-    assert next(r for r in results if r.method == "fem").compared >= 8  # the FEM claims every quantity
+def every_class(seed: int) -> list[Configuration]:
+    """A small-load configuration of every boundary with every load it takes (``contract.BOUNDARIES``,
+    ``LOADS``; pinned-pinned only ``PINNED_PINNED_LOADS``), straight and curved: 90 configurations, the
+    rest of each (unit system, length, modulus, slenderness, curvature's sign, magnitude, angles) drawn by
+    ``random_configuration`` from a generator seeded by ``seed`` and the class."""
+    return [
+        random_configuration(
+            random.Random(f"{seed}-{boundary}-{load}-{curved}"),
+            small=True,
+            boundaries=(boundary,),
+            loads=(load,),
+            curved=curved,
+        )
+        for boundary in BOUNDARIES
+        for load in LOADS
+        if boundary != "pinned-pinned" or load in PINNED_PINNED_LOADS
+        for curved in (False, True)
+    ]
+
+
+def test_every_method_meets_linear_theory_in_the_small_load_limit():
+    """Every class of configuration once (``every_class``), not 300 drawn at random: the random draws
+    (hypothesis, derandomized) met 33 of the 45 boundary-load pairs, and a planted 10 % error or rotation
+    sign flip in one method on one pair was caught on 158 of the 450 (method, pair, plant) combinations
+    against 270 of 450 here (and none caught there is missed here; 272 are caught by some set of
+    configurations tried, the others change nothing the contract's tolerances see).
+    ``prbm-validate stress --long`` draws 10,000 at random."""
+    failures = []
+    for c in every_class(0):
+        results = linear_limit_check(c)
+        failures += [f"{c.label()}: {f}" for r in results for f in r.failures]
+        assert next(r for r in results if r.method == "fem").compared >= 8, c.label()  # the FEM claims every quantity
+    assert not failures, "\n".join(failures)
 
 
 @settings(max_examples=40, **CHEAP)

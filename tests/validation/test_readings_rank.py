@@ -36,6 +36,8 @@ from validation.run.readings_rank import Ranking, Recorded, Status, rank_reading
 
 CASES = Path(__file__).resolve().parents[2] / "cases" / "chapter9"
 EXPERIMENTS = ("bapat2015_test1a", "bapat2015_test1b", "bapat2015_test1c", "bapat2015_test2")
+# one worker for the module: the FEM runs (``_runs``, once per process) are computed once, not once per worker
+pytestmark = pytest.mark.xdist_group("readings_rank")
 
 
 @cache

@@ -1,4 +1,4 @@
-"""The report's atlas page (validation/report/atlas_page.py) from the coarse atlas, built once per module:
+"""The report's atlas page (validation/report/atlas_page.py) from the coarse atlas (built once a session):
 the page and every model's map exist, every claim is in the claims table, the predicted-against-measured
 sentence has its numbers, a second page reuses the atlas-only part, text is escaped, and the report's
 hook turns a failure into a line of the index instead of losing the report; the measured levels worked
@@ -19,12 +19,13 @@ import pandas as pd
 import pytest
 
 from validation.atlas import claims as atlas_claims
+from validation.atlas import dataset
 from validation.atlas import measured
 from validation.atlas.measured import MeasuredLevel
 from validation.atlas.models import MODELS
 from validation.report import atlas_page, build
 
-pytestmark = pytest.mark.xdist_group("report_atlas")  # one worker builds the atlas and the page, once
+pytestmark = pytest.mark.xdist_group("report_atlas")  # one worker draws the page, once
 
 # two made-up case levels on the diagonal and one off it: the sentence's numbers are known
 LEVELS = [
@@ -41,12 +42,12 @@ def made_up_levels(results, table, cached, known=None):
 
 
 @pytest.fixture(scope="module")
-def coarse(tmp_path_factory) -> tuple[str, object, Path]:
-    """The coarse atlas of the current code, built serially into the module's folder."""
-    datasets = tmp_path_factory.mktemp("atlas_datasets")
-    found = atlas_page.find_atlas(datasets, build_into=datasets, executor="serial")
-    assert found is not None and found[0] == "coarse"
-    return found
+def coarse(coarse_atlas) -> tuple[str, object, Path]:
+    """(grid, rows, folder) of the coarse atlas of the current code, which ``find_atlas`` built serially
+    where no atlas was published (once a session: tests/validation/conftest.py)."""
+    frame = dataset.load(coarse_atlas, "coarse")
+    assert frame is not None
+    return "coarse", frame, coarse_atlas
 
 
 def test_a_complete_coarse_atlas_is_read_not_built_again(coarse, tmp_path):

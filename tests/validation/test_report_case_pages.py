@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tests.validation.test_report import chromium_session
+from tests.validation.test_report import window
 from validation.case.loader import case_by_id, load_case
 from validation.report import paraview
 from validation.report.build import _output_chart, _path_chart, _shape_chart, build_report
@@ -189,11 +189,11 @@ document.querySelectorAll('div.chart').forEach(chart => {
 return out;"""
 
 
-def test_case_pages_fit_a_1366_pixel_window(tmp_path, user_case):
+def test_case_pages_fit_a_1366_pixel_window(tmp_path, user_case, chromium):
     """At 1366 x 900: no case page scrolls sideways (with every fold open), no legend lies on a plot
     area, and no 'NaN' is shown."""
     build_report(tmp_path, use_cache=True, jobs=1, cases=["cantilever_tip_load", "bapat2015_test2", str(user_case)])
-    with chromium_session(1366, 900) as browser:
+    with window(chromium, 1366, 900) as browser:
         for cid in ("cantilever_tip_load", "bapat2015_test2", "user_beam"):
             browser.get((tmp_path / "cases" / f"{cid}.html").as_uri())
             browser.execute_script("document.querySelectorAll('details').forEach(d => d.open = true)")

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.validation.test_report import chromium_session
+from tests.validation.test_report import window
 from validation.report.build import build_report
 
 WIDTH, HEIGHT = 1366, 900
@@ -48,7 +48,8 @@ quantity = "y"
 """
 CASES = ["cantilever_tip_load", "bapat2015_test2"]  # a segment, a mechanism
 PAGES = ["index.html", *(f"cases/{case}.html" for case in CASES + [USER_CASE_ID])]
-pytestmark = pytest.mark.xdist_group("report-layout")  # one worker builds the report and runs the browser
+# one worker builds the report and runs the browser, the one Chromium of test_report.py and test_report_case_pages.py
+pytestmark = pytest.mark.xdist_group("report")
 
 # each plotly chart: its legend's box and the boxes of its plot areas (the subplots' background
 # rectangles, else their drag areas, which cover the plot area exactly)
@@ -72,8 +73,8 @@ def layout_report(tmp_path_factory) -> Path:
 
 
 @pytest.fixture(scope="module")
-def browser():
-    with chromium_session(WIDTH, HEIGHT) as driver:
+def browser(chromium):
+    with window(chromium, WIDTH, HEIGHT) as driver:
         yield driver
 
 
