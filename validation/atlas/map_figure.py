@@ -1,6 +1,6 @@
 """The atlas's error maps as pictures, drawn one after another on one figure.
 
-A map (``draw_map``) is a model's tip error at equal load over its map axis (``AtlasModel.map_axes[0]``)
+A map (``MapFigure.draw``) is a model's tip error at equal load over its map axis (``AtlasModel.map_axes[0]``)
 and the load, the worst over its other shape inputs (``regions.grid``; grey: beyond the atlas), on a log
 colour scale from 0.01 to 100 % of L, with the 0.5/1/3/5 % region boundaries as labelled contours and
 each seed claim's ranges on these axes as dashed green lines.
@@ -115,11 +115,6 @@ class MapFigure:
         fig.savefig(tmp, dpi=DPI, pil_kwargs={"compress_level": 1})
         tmp.replace(path)
         return path
-
-
-def draw_map(frame: pd.DataFrame, model: str, path: Path, claims: Sequence[Claim] = ()) -> Path:
-    """One map on a figure of its own (``MapFigure.draw``)."""
-    return MapFigure().draw(frame, model, path, claims)
 
 
 def _draw(fig: Figure, ax: Axes, bar_ax: Axes, frame: pd.DataFrame, model: str, claims: Sequence[Claim]) -> None:
