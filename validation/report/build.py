@@ -90,7 +90,16 @@ from validation.report.summary import (
 from validation.run.compare import verdict_by_method
 from validation.run.verdict import MethodVerdict, Verdict, counts_sentence, method_verdicts, vocabulary_lines
 from validation.run.runner import CaseResult
-from validation.run.outcome import CASE_STRINGS, PrbmFemNumbers, run_cases, sorted_rows, summary, summary_row, tabulate
+from validation.run.outcome import (
+    CASE_STRINGS,
+    PrbmFemNumbers,
+    reliable_estimates,
+    run_cases,
+    sorted_rows,
+    summary,
+    summary_row,
+    tabulate,
+)
 from validation.run.timeline import Timed, breakdown, command_age, csv_text, timed
 
 TIMING_CSV = "timing.csv"
@@ -303,11 +312,8 @@ UNRELIABLE = "unreliable"
 
 
 def unreliable_estimates(table: pd.DataFrame) -> list[bool]:
-    """Per row, whether its error estimate is marked unreliable (``error_estimate_reliable`` the boolean
-    False: the FEM's meshes were not in the asymptotic range, the estimate is no bound)."""
-    if "error_estimate_reliable" not in table:
-        return [False] * len(table)
-    return [isinstance(v, (bool, np.bool_)) and not v for v in table["error_estimate_reliable"].tolist()]
+    """Per row, whether its error estimate is marked unreliable (not ``outcome.reliable_estimates``)."""
+    return [not reliable for reliable in reliable_estimates(table)]
 
 
 def marked_estimates(table: pd.DataFrame) -> pd.DataFrame:

@@ -428,8 +428,9 @@ def prbm_fem_errors(part: pd.DataFrame) -> tuple[float, float]:
     return _nanmax(rel), _nanmax(norm)
 
 
-def _reliable(part: pd.DataFrame) -> list[bool]:
-    """Per row, whether its error estimate is not marked unreliable (``error_estimate_reliable`` not False)."""
+def reliable_estimates(part: pd.DataFrame) -> list[bool]:
+    """Per row, whether its error estimate is not marked unreliable (``error_estimate_reliable`` not the
+    boolean False: the FEM's meshes were not in the asymptotic range, the estimate is no bound)."""
     if "error_estimate_reliable" not in part:
         return [True] * len(part)
     return [_not_false(value) for value in part["error_estimate_reliable"].tolist()]
@@ -452,7 +453,7 @@ def fem_estimates_unreliable(part: pd.DataFrame) -> int:
         return 0
     columns = (part["method"], part["error_estimate"].notna(), part["quantity"], part["point"], part["level"])
     keys = set()  # the distinct (quantity, point, level) of the FEM's rows with an unreliable estimate
-    for (m, estimated, q, p, lv), reliable in zip(zip(*(c.tolist() for c in columns)), _reliable(part)):
+    for (m, estimated, q, p, lv), reliable in zip(zip(*(c.tolist() for c in columns)), reliable_estimates(part)):
         if m == "fem" and estimated and not reliable:
             keys.add((_missing_as_none(q), _missing_as_none(p), _missing_as_none(lv)))
     return len(keys)
@@ -464,7 +465,7 @@ def fem_error_relative(part: pd.DataFrame) -> float:
     quantity). An estimate marked unreliable (``error_estimate_reliable`` False) is no bound and is left
     out."""
     estimated = part["error_estimate"].notna().tolist()
-    where = [has and reliable for has, reliable in zip(estimated, _reliable(part))]
+    where = [has and reliable for has, reliable in zip(estimated, reliable_estimates(part))]
     rows = [
         (q, value, estimate, scale)
         for (_, q, _, _), (value, estimate, scale) in _first_values(part, "fem", where).items()
