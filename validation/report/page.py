@@ -45,10 +45,8 @@ document.querySelectorAll('table.summary td.sentence').forEach(c=>c.addEventList
 
 
 def _fmt(value, digits: int = 6) -> str:
-    if type(value) is str:  # the most common cells first: text, as it is
+    if type(value) is str:  # the most common cell first: text, as it is
         return value
-    if type(value) is float:  # and a number
-        return "" if math.isnan(value) else f"{value:.{digits}g}"
     if value is None or (isinstance(value, float) and math.isnan(value)):
         return ""
     if isinstance(value, (bool, np.bool_)):
