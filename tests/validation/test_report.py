@@ -327,9 +327,9 @@ def _chromium(scratch):
 
 
 @contextlib.contextmanager
-def chromium_session(width: int | None = None, height: int | None = None):
-    """A headless Chromium (``_chromium``) in a scratch profile, sized ``width`` x ``height`` when given,
-    quit and its profile removed afterwards (or a skip saying what is missing)."""
+def chromium_session():
+    """A headless Chromium (``_chromium``, 1280 x 800) in a scratch profile, quit and its profile removed
+    afterwards (or a skip saying what is missing); ``window`` sizes it for a test."""
     scratch = Path(tempfile.mkdtemp(prefix="chromium-"))
     try:
         browser = _chromium(scratch)
@@ -337,8 +337,6 @@ def chromium_session(width: int | None = None, height: int | None = None):
         shutil.rmtree(scratch, ignore_errors=True)
         raise
     try:
-        if width is not None:
-            browser.set_window_size(width, height)
         yield browser
     finally:
         browser.quit()
