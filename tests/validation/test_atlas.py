@@ -24,6 +24,7 @@ from validation.atlas.models import MODELS, PrbmLine
 from validation.case.loader import case_by_id, load_case
 from validation.cli.main import main
 from validation.methods.base import Applicability
+from validation.report import atlas_page
 from validation.run.runner import run_method
 
 
@@ -31,7 +32,7 @@ from validation.run.runner import run_method
 def coarse(coarse_atlas) -> pd.DataFrame:
     """The coarse atlas of the current code (built once a session, tests/validation/conftest.py), every
     line of every model computed by its one build run."""
-    runs = json.loads((dataset.folder(coarse_atlas, "coarse") / "atlas.json").read_text())["runs"]
+    runs = atlas_page.manifest(coarse_atlas, "coarse")["runs"]
     assert [run["lines_run"] for run in runs] == [len(dataset.tasks(list(MODELS), "coarse"))]
     return dataset.load(coarse_atlas, "coarse")
 
